@@ -1,0 +1,70 @@
+/* CPU reference of the Fourier opacity optimization formulas (DESIGN §3) on
+ * explicit fragment lists. The shaders implement the same math; tests compare. */
+#ifndef LC_FOO_MATH_H
+#define LC_FOO_MATH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lc_params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Coefficient sums A_k = sum f cos(2 pi k d), B_k = sum f sin(2 pi k d), k = 0..m. */
+typedef struct lc_fourier {
+    int m;
+    double a[LC_MAX_BANDS + 1];
+    double b[LC_MAX_BANDS + 1]; /* b[0] is always 0 */
+} lc_fourier;
+
+void lc_fourier_init(lc_fourier *f, int m);
+void lc_fourier_add(lc_fourier *f, double d, double value);
+/* Reconstructed running sum F(d) = A0 d + sum_k [A_k sin(2pi k d) + B_k (1 - cos(2pi k d))]/(pi k).
+ * F(1) = A0 exactly. */
+double lc_fourier_eval(const lc_fourier *f, double d);
+
+/* Normalized depth d = delta + (1 - 2 delta)(z - zmin)/(zmax - zmin), clamped to [0,1]. */
+double lc_foo_normalize_depth(double z, double zmin, double zmax, double delta);
+
+/* Optimal opacity, FOO Eq. 10: 1 / (1 + (1-g)^(2 lambda) (r max(front,0) + q max(behind,0))).
+ * front = importance (sum g^2) in front of the fragment, behind = behind it. */
+double lc_foo_optimal_alpha(double g, double front, double behind, double q, double r, double lambda);
+
+/* One fragment of a pixel. alpha and color are outputs/inputs as documented below. */
+typedef struct lc_fragment {
+    double depth;      /* normalized, [0,1] */
+    double importance; /* g */
+    double alpha;
+    double color[3];
+} lc_fragment;
+
+/* Sets frag[i].alpha from exact front/behind sums (sorted sums, DOO). Fragments
+ * at equal depth count as in front of each other in list order after a stable sort. */
+void lc_foo_alpha_exact(lc_fragment *frags, size_t n, const lc_foo_params *p);
+/* Sets frag[i].alpha from the Fourier reconstruction with p->bands and p->estimator. */
+void lc_foo_alpha_fourier(lc_fragment *frags, size_t n, const lc_foo_params *p);
+
+/* Exact front-to-back compositing of frags (any order; sorted internally) over bg. */
+void lc_foo_composite_exact(const lc_fragment *frags, size_t n, const double bg[3], double out[3]);
+/* FOO compositing (P4..P6): optical depth series with m bands, weights by
+ * estimator, normalized (Eq. 19), exact background transmittance. alpha clamped
+ * to [0, 0.9999]. Writes the background transmittance to *transmittance if not NULL. */
+void lc_foo_composite_fourier(const lc_fragment *frags, size_t n, int m, lc_estimator est, const double bg[3],
+                              double out[3], double *transmittance);
+/* Same normalized compositing but with the exact tau(d_i) (sum of -ln(1-alpha)
+ * of fragments strictly in front): equals lc_foo_composite_exact. */
+void lc_foo_composite_normalized_exact_tau(const lc_fragment *frags, size_t n, const double bg[3], double out[3]);
+
+/* One Laplacian smoothing iteration over a CSR adjacency: dst[e] = src[e] + omega
+ * (mean(neighbours) - src[e]); elements without neighbours keep their value. */
+void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets,
+                        const uint32_t *adj, double omega);
+/* Fading factor 1 - 2^(-dt/half_life); 1 when half_life <= 0. */
+double lc_foo_fade_factor(double dt, double half_life);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

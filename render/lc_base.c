@@ -1,0 +1,92 @@
+/* Error helpers, leveled logging and the monotonic clock. */
+#define _POSIX_C_SOURCE 200809L
+#include "lc_base.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+int lc_log_threshold = LC_LOG_INFO;
+static pthread_mutex_t log_lock = PTHREAD_MUTEX_INITIALIZER;
+
+int lc_err(lc_error *err, int code, const char *fmt, ...)
+{
+    if (err) {
+        va_list ap;
+        va_start(ap, fmt);
+        err->code = code;
+        vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+        va_end(ap);
+    }
+    return code;
+}
+
+void lc_err_prefix(lc_error *err, const char *fmt, ...)
+{
+    if (!err)
+        return;
+    char prefix[LC_ERROR_MSG_LEN], old[LC_ERROR_MSG_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(prefix, sizeof prefix, fmt, ap);
+    va_end(ap);
+    memcpy(old, err->msg, sizeof old);
+    snprintf(err->msg, sizeof err->msg, "%s: %s", prefix, old);
+}
+
+const char *lc_status_name(int code)
+{
+    switch (code) {
+    case LC_OK: return "ok";
+    case LC_ERR_INVALID: return "invalid";
+    case LC_ERR_IO: return "io";
+    case LC_ERR_NOMEM: return "nomem";
+    case LC_ERR_LIMIT: return "limit";
+    case LC_ERR_GL: return "gl";
+    case LC_ERR_NOT_FOUND: return "not_found";
+    case LC_ERR_UNSUPPORTED: return "unsupported";
+    default: return "internal";
+    }
+}
+
+void lc_log_set_level(lc_log_level level) { lc_log_threshold = (int)level; }
+
+int lc_log_parse_level(const char *name)
+{
+    static const char *names[] = {"error", "warn", "info", "debug"};
+    for (int i = 0; i < 4; i++)
+        if (name && strcmp(name, names[i]) == 0)
+            return i;
+    return -1;
+}
+
+void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...)
+{
+    static const char *tags[] = {"ERROR", "WARN ", "INFO ", "DEBUG"};
+    char text[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    struct tm tm;
+    gmtime_r(&ts.tv_sec, &tm);
+    char when[32];
+    strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%S", &tm);
+
+    pthread_mutex_lock(&log_lock);
+    fprintf(stderr, "%s.%03ldZ %s [%s] %s\n", when, ts.tv_nsec / 1000000L,
+            tags[level < 0 ? 0 : level > 3 ? 3 : level], module ? module : "-", text);
+    fflush(stderr);
+    pthread_mutex_unlock(&log_lock);
+}
+
+double lc_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}

@@ -1,0 +1,69 @@
+/* Errors, status codes and leveled logging shared by every Lucent module. */
+#ifndef LC_BASE_H
+#define LC_BASE_H
+
+#include <stdarg.h>
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes: 0 = ok, negative = error. The code says what kind of failure it
+ * was so that upper layers can map it (the server maps to HTTP statuses). */
+enum {
+    LC_OK = 0,
+    LC_ERR_INVALID = -1,     /* bad argument or malformed input */
+    LC_ERR_IO = -2,          /* file could not be opened / read / written */
+    LC_ERR_NOMEM = -3,       /* allocation failed */
+    LC_ERR_LIMIT = -4,       /* input exceeds a configured cap */
+    LC_ERR_GL = -5,          /* EGL / OpenGL failure */
+    LC_ERR_NOT_FOUND = -6,   /* unknown dataset, attribute, name */
+    LC_ERR_UNSUPPORTED = -7, /* feature not available here */
+    LC_ERR_INTERNAL = -8
+};
+
+#define LC_ERROR_MSG_LEN 256
+
+/* Filled by a failing call; msg names the input and the reason. */
+typedef struct lc_error {
+    int code;
+    char msg[LC_ERROR_MSG_LEN];
+} lc_error;
+
+/* Sets err (may be NULL) and returns code, so callers can write
+ * `return lc_err(err, LC_ERR_IO, "%s: cannot open", path);`. */
+int lc_err(lc_error *err, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* Prefixes err->msg with "prefix: " (e.g. a file name), keeping the code. */
+void lc_err_prefix(lc_error *err, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Short stable name of a status code ("invalid", "io", ...). */
+const char *lc_status_name(int code);
+
+/* Logging. One line per call: "2026-11-21T04:00:00.123Z INFO  [render] text".
+ * The level check happens before the arguments are evaluated. Thread-safe. */
+typedef enum { LC_LOG_ERROR = 0, LC_LOG_WARN = 1, LC_LOG_INFO = 2, LC_LOG_DEBUG = 3 } lc_log_level;
+
+extern int lc_log_threshold; /* messages with level <= threshold are printed; default INFO */
+void lc_log_set_level(lc_log_level level);
+/* Parses "error|warn|info|debug"; returns -1 when unknown. */
+int lc_log_parse_level(const char *name);
+void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+#define LC_LOG(level, module, ...)                                      \
+    do {                                                                \
+        if ((int)(level) <= lc_log_threshold)                           \
+            lc_log_write((level), (module), __VA_ARGS__);               \
+    } while (0)
+#define LC_ERROR(module, ...) LC_LOG(LC_LOG_ERROR, module, __VA_ARGS__)
+#define LC_WARN(module, ...) LC_LOG(LC_LOG_WARN, module, __VA_ARGS__)
+#define LC_INFO(module, ...) LC_LOG(LC_LOG_INFO, module, __VA_ARGS__)
+#define LC_DEBUG(module, ...) LC_LOG(LC_LOG_DEBUG, module, __VA_ARGS__)
+
+/* Monotonic clock in seconds. */
+double lc_now(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

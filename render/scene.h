@@ -1,0 +1,100 @@
+/* Scene: CPU arrays of one dataset (points, polylines or triangles) with named
+ * per-vertex float attributes, optional RGB, bounds, derived attributes and the
+ * optimization elements. */
+#ifndef LC_SCENE_H
+#define LC_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lc_base.h"
+#include "lc_params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Hard caps on what any loader or generator may produce (curl's "toobig"). */
+#define LC_MAX_VERTICES (1u << 28)   /* 268M vertices */
+#define LC_MAX_PRIMITIVES (1u << 29) /* lines or triangles */
+#define LC_MAX_ATTRIBUTES 32
+
+typedef enum { LC_PRIM_POINTS = 0, LC_PRIM_LINES = 1, LC_PRIM_TRIANGLES = 2 } lc_prim_type;
+
+typedef struct lc_attribute {
+    char name[LC_NAME_LEN];
+    float *values; /* vertex_count values, owned by the scene */
+    float min, max; /* over finite values; filled by lc_scene_finalize */
+} lc_attribute;
+
+/* Optimization elements (DESIGN §3 "Elements"): every vertex blends up to three
+ * element opacities; its primary element receives the fragments' atomic-min. */
+typedef struct lc_elements {
+    uint32_t count;
+    uint32_t *vertex_elements; /* 4 per vertex: e0, e1, e2, primary (unused slots repeat e0, weight 0) */
+    float *vertex_weights;     /* 4 per vertex: w0, w1, w2, 0; w0 + w1 + w2 = 1 */
+    uint32_t *adjacency_offsets; /* count + 1, CSR over adjacency */
+    uint32_t *adjacency;         /* neighbour element ids, symmetric */
+    uint32_t adjacency_count;    /* adjacency_offsets[count] */
+} lc_elements;
+
+/* Options for lc_scene_finalize; zero means default. */
+typedef struct lc_elements_desc {
+    uint32_t line_budget;  /* total line segments-elements, default 10000 (at least one per line) */
+    uint32_t patch_count;  /* surface patches, default min(4000, vertices / 8) (at least 1) */
+} lc_elements_desc;
+
+typedef struct lc_scene {
+    char name[LC_NAME_LEN];
+    lc_prim_type type;
+    uint32_t vertex_count;
+    float *positions; /* 3 per vertex */
+    float *rgb;       /* 3 per vertex in [0,1], or NULL */
+    float *normals;   /* triangles: 3 per vertex (area-weighted); NULL otherwise */
+    float *tangents;  /* lines: 3 per vertex (unit, central difference); NULL otherwise */
+
+    uint32_t line_count;
+    uint32_t *line_offsets; /* line_count + 1: vertices of line i are [off[i], off[i+1]) */
+    uint32_t triangle_count;
+    uint32_t *triangles;    /* 3 per triangle */
+
+    int attribute_count;
+    lc_attribute attributes[LC_MAX_ATTRIBUTES];
+
+    double bounds[6]; /* xmin, ymin, zmin, xmax, ymax, zmax */
+    char default_importance[LC_NAME_LEN]; /* attribute used when a request names none */
+    char default_color[LC_NAME_LEN];      /* "importance", "rgb" or an attribute */
+
+    lc_elements elements;
+    int finalized;
+} lc_scene;
+
+/* Creates an empty scene named `name` (copied, truncated). Returns NULL on OOM. */
+lc_scene *lc_scene_create(const char *name, lc_prim_type type);
+void lc_scene_destroy(lc_scene *s);
+
+/* Allocates positions (and rgb if with_rgb) for n vertices. */
+int lc_scene_alloc_vertices(lc_scene *s, uint32_t n, int with_rgb, lc_error *err);
+/* Adds an attribute; the scene takes ownership of values (malloc'd, vertex_count
+ * floats). Replaces an attribute of the same name. Returns its index or < 0. */
+int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_error *err);
+/* Index of the attribute named name, or -1. */
+int lc_scene_find_attribute(const lc_scene *s, const char *name);
+
+/* Validates indices, computes bounds, normals/tangents, attribute ranges, the
+ * derived attributes (lines: arc_length, curvature, line_length; triangles:
+ * mean_curvature) and the elements. Call once after loading or generating. */
+int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err);
+
+/* Builds s->elements; called by lc_scene_finalize (exposed for tests). */
+int lc_elements_build(lc_scene *s, const lc_elements_desc *desc, lc_error *err);
+void lc_elements_free(lc_elements *e);
+
+const char *lc_prim_type_name(lc_prim_type t);
+/* Number of primitives: points, line segments or triangles. */
+uint64_t lc_scene_primitive_count(const lc_scene *s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -32,7 +32,7 @@ void lc_err_prefix(lc_error *err, const char *fmt, ...)
     vsnprintf(prefix, sizeof prefix, fmt, ap);
     va_end(ap);
     memcpy(old, err->msg, sizeof old);
-    snprintf(err->msg, sizeof err->msg, "%s: %s", prefix, old);
+    snprintf(err->msg, sizeof err->msg, "%.120s: %.130s", prefix, old);
 }
 
 const char *lc_status_name(int code)

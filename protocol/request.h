@@ -1,0 +1,110 @@
+/* The render request (version 1): parse, validate, partially update and emit it
+ * as JSON or URL query parameters. Shared by the CLI, POST/GET /api/v1/render,
+ * HTTP sessions and WebSocket sessions; protocol/README.md is its spec.
+ *
+ * Threading: every function is reentrant; nothing here keeps global state.
+ * Knows nothing of GL or HTTP: it fills the plain-data types of lc_params.h. */
+#ifndef LC_PROTOCOL_REQUEST_H
+#define LC_PROTOCOL_REQUEST_H
+
+#include <jansson.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "lc_base.h"
+#include "lc_params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LC_PROTO_VERSION 1
+#define LC_PROTO_DATASET_LEN 512
+#define LC_PROTO_DEFAULT_QUALITY 90
+
+/* One render: which data, how big, which camera and parameters, which image. */
+typedef struct lc_request {
+    char dataset[LC_PROTO_DATASET_LEN]; /* "demo:NAME", a path (CLI only) or a loaded
+                                           dataset's name; "" = the server's default */
+    lc_render_params render;            /* width, height, method, camera, foo, importance, color, style */
+    lc_image_format format;             /* png | jpeg ("jpg" accepted on input) */
+    int quality;                        /* JPEG quality 1..100, default 90 */
+    double dt;                          /* sessions: seconds since the previous frame */
+    bool has_dt;
+} lc_request;
+
+/* Caps on untrusted input. Zero-initialised fields are NOT defaults: always start
+ * from lc_proto_limits_default() and override. */
+typedef struct lc_proto_limits {
+    int min_size, max_size;  /* image width and height, each (default 16..4096) */
+    long long max_pixels;    /* width*height (default 4096*4096 = 16.7M) */
+    int max_depth;           /* JSON nesting: {} and [] levels (default 16) */
+    size_t max_text;         /* bytes of one JSON document (default 64 KiB) */
+} lc_proto_limits;
+
+/* Stable machine-readable error codes (the "code" of error bodies/messages). */
+#define LC_PROTO_BAD_JSON "bad_json"           /* not JSON, NaN/Infinity, number overflow, duplicate key */
+#define LC_PROTO_BAD_FIELD "bad_field"         /* wrong type, unknown enum name, inconsistent values */
+#define LC_PROTO_UNKNOWN_FIELD "unknown_field" /* a key the schema does not define */
+#define LC_PROTO_MISSING_FIELD "missing_field" /* a required key is absent (messages only) */
+#define LC_PROTO_OUT_OF_RANGE "out_of_range"   /* a number or string length outside its range */
+#define LC_PROTO_TOO_DEEP "too_deep"           /* nesting deeper than max_depth */
+#define LC_PROTO_TOO_LARGE "too_large"         /* text longer than max_text */
+
+/* Filled by a failing call. field is the dotted path of the offending key
+ * ("params.bands", "camera.position"; "" when it concerns the whole document);
+ * message is a complete human sentence that starts with the field:
+ * "params.bands: expected an integer". */
+typedef struct lc_proto_error {
+    char code[32];
+    char field[128];
+    char message[256];
+} lc_proto_error;
+
+void lc_proto_limits_default(lc_proto_limits *l);
+
+/* lc_render_params_default() plus format png, quality 90, dataset "", no dt. */
+void lc_request_default(lc_request *r);
+
+/* Parses a whole request: r = defaults + the fields given. lim NULL = defaults,
+ * err may be NULL. Returns 0, LC_ERR_INVALID (malformed/invalid) or LC_ERR_LIMIT
+ * (too_large/too_deep); on error r holds the defaults. json need not be
+ * NUL-terminated. */
+int lc_proto_parse_request(const char *json, size_t len, const lc_proto_limits *lim, lc_request *r,
+                           lc_proto_error *err);
+
+/* Partial update with a parsed object: only the fields present change; every
+ * field and the result as a whole (pixel cap, camera) are validated and on any
+ * error r is left untouched (all or nothing). A "camera" object merges into the
+ * current camera; "camera": null drops it (fit the data). obj is borrowed. */
+int lc_proto_apply_request(const json_t *obj, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err);
+
+/* Applies one URL query parameter (GET /api/v1/render): key is a flat alias
+ * ("q", "bands", "colormap", "importanceRange") or a dotted path ("params.q",
+ * "camera.position"); value is the decoded text ("1,2,3" for vectors, "true"/"false"
+ * or "1"/"0" for booleans). "token" and keys starting with '_' are ignored (the
+ * server reads the token; '_' keys are cache busters). Field checks happen here;
+ * call lc_proto_validate_request() after the last key for the cross-field ones. */
+int lc_proto_apply_query(lc_request *r, const char *key, const char *value, const lc_proto_limits *lim,
+                         lc_proto_error *err);
+
+/* Cross-field checks: pixel cap, camera (position != focalPoint, viewUp not
+ * parallel to the view direction). apply/parse already call it. */
+int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, lc_proto_error *err);
+
+/* The full request as a new JSON object (caller json_decref()s); parsing it gives
+ * back an equal lc_request. camera/ranges/dt appear only when set. */
+json_t *lc_proto_request_to_json(const lc_request *r);
+
+/* Dumps JSON for the wire: compact, reals with 15 significant digits (so 0.1
+ * prints as 0.1). Returns malloc'd text (free()) or NULL on allocation failure. */
+char *lc_proto_dump(const json_t *value);
+
+/* Allowed colormap names (the renderer must provide each of them). */
+extern const char *const lc_proto_colormaps[];
+extern const int lc_proto_colormap_count;
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -73,10 +73,12 @@ typedef struct lc_scene {
 lc_scene *lc_scene_create(const char *name, lc_prim_type type);
 void lc_scene_destroy(lc_scene *s);
 
-/* Allocates positions (and rgb if with_rgb) for n vertices. */
+/* Allocates positions (and rgb if with_rgb) for n vertices (uninitialized).
+ * Any earlier per-vertex data (attributes, normals, elements) is freed. */
 int lc_scene_alloc_vertices(lc_scene *s, uint32_t n, int with_rgb, lc_error *err);
 /* Adds an attribute; the scene takes ownership of values (malloc'd, vertex_count
- * floats). Replaces an attribute of the same name. Returns its index or < 0. */
+ * floats) in every case: on failure they are freed, so callers never free them.
+ * Replaces an attribute of the same name. Returns its index or < 0. */
 int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_error *err);
 /* Index of the attribute named name, or -1. */
 int lc_scene_find_attribute(const lc_scene *s, const char *name);

@@ -1,0 +1,233 @@
+/* Derived per-vertex data: line tangents, arc length, curvature and line length;
+ * surface normals and cotangent-Laplacian mean curvature. All O(n). */
+#include "scene_derive.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct { double x, y, z; } dvec;
+
+static dvec vload(const float *p, uint32_t i)
+{
+    const float *q = p + 3 * (size_t)i;
+    return (dvec){q[0], q[1], q[2]};
+}
+static dvec vsub(dvec a, dvec b) { return (dvec){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static dvec vadd(dvec a, dvec b) { return (dvec){a.x + b.x, a.y + b.y, a.z + b.z}; }
+static dvec vscale(dvec a, double k) { return (dvec){a.x * k, a.y * k, a.z * k}; }
+static double vdot(dvec a, dvec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static double vlen(dvec a) { return sqrt(vdot(a, a)); }
+static dvec vcross(dvec a, dvec b)
+{
+    return (dvec){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+/* Unit vector, or zero when a is (numerically) zero. */
+static dvec vnorm(dvec a)
+{
+    double l = vlen(a);
+    return l > 0 ? vscale(a, 1.0 / l) : (dvec){0, 0, 0};
+}
+
+static double bounds_diagonal(const lc_scene *s)
+{
+    double dx = s->bounds[3] - s->bounds[0], dy = s->bounds[4] - s->bounds[1],
+           dz = s->bounds[5] - s->bounds[2];
+    double d = sqrt(dx * dx + dy * dy + dz * dz);
+    return d > 0 ? d : 1.0;
+}
+
+static void store3(float *dst, uint32_t i, dvec v)
+{
+    float *q = dst + 3 * (size_t)i;
+    q[0] = (float)v.x;
+    q[1] = (float)v.y;
+    q[2] = (float)v.z;
+}
+
+/* Adds (or replaces) a derived attribute; the scene owns values either way. */
+static int add_owned(lc_scene *s, const char *name, float *values, lc_error *err)
+{
+    int rc = lc_scene_add_attribute(s, name, values, err);
+    return rc < 0 ? rc : LC_OK;
+}
+
+/* One line [a, b). Runs of coincident vertices (closer than eps) act as one
+ * vertex: they share tangent and curvature, so a repeated point neither
+ * produces a zero tangent nor a division by a zero segment length. */
+static void derive_line(const float *p, uint32_t a, uint32_t b, double eps, float *tangents,
+                        float *arc, float *curv, float *len)
+{
+    arc[a] = 0.0f;
+    double acc = 0.0;
+    for (uint32_t i = a + 1; i < b; i++) {
+        acc += vlen(vsub(vload(p, i), vload(p, i - 1)));
+        arc[i] = (float)acc;
+    }
+    for (uint32_t i = a; i < b; i++)
+        len[i] = (float)acc;
+
+    uint32_t i = a;
+    while (i < b) {
+        dvec pi = vload(p, i);
+        uint32_t j = i;
+        while (j + 1 < b && vlen(vsub(vload(p, j + 1), pi)) <= eps)
+            j++;
+        int has_prev = i > a, has_next = j + 1 < b;
+        dvec in = {0, 0, 0}, out = {0, 0, 0};
+        double lin = 0, lout = 0;
+        if (has_prev) {
+            in = vsub(pi, vload(p, i - 1));
+            lin = vlen(in);
+            in = vnorm(in);
+        }
+        if (has_next) {
+            out = vsub(vload(p, j + 1), pi);
+            lout = vlen(out);
+            out = vnorm(out);
+        }
+        dvec t;
+        double k = 0.0;
+        if (has_prev && has_next) {
+            /* central difference p[i+1] - p[i-1], i.e. the length-weighted mean
+             * of both directions; a full reversal falls back to the outgoing one */
+            t = vnorm(vadd(vscale(in, lin), vscale(out, lout)));
+            if (vlen(t) < 0.5)
+                t = vnorm(vadd(in, out));
+            if (vlen(t) < 0.5)
+                t = out;
+            double angle = atan2(vlen(vcross(in, out)), vdot(in, out));
+            double mean_len = 0.5 * (lin + lout);
+            k = mean_len > 0 ? angle / mean_len : 0.0;
+        } else if (has_next) {
+            t = out;
+        } else if (has_prev) {
+            t = in;
+        } else {
+            /* a single point (or all coincident): any unit vector keeps the
+             * ribbon shader's normalize() finite */
+            t = (dvec){1, 0, 0};
+        }
+        if (vlen(t) < 0.5)
+            t = (dvec){1, 0, 0};
+        for (uint32_t v = i; v <= j; v++) {
+            store3(tangents, v, t);
+            curv[v] = (float)k;
+        }
+        i = j + 1;
+    }
+}
+
+int lc_scene_derive_lines(lc_scene *s, lc_error *err)
+{
+    uint32_t n = s->vertex_count;
+    s->tangents = malloc((size_t)n * 3 * sizeof(float));
+    float *arc = calloc(n, sizeof(float));
+    float *curv = calloc(n, sizeof(float));
+    float *len = calloc(n, sizeof(float));
+    if (!s->tangents || !arc || !curv || !len) {
+        free(arc);
+        free(curv);
+        free(len);
+        return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate line attributes", s->name);
+    }
+    /* vertices outside every line are never drawn; give them valid values */
+    for (uint32_t i = 0; i < n; i++)
+        store3(s->tangents, i, (dvec){1, 0, 0});
+    /* a millionth of the dataset size: below float noise of RK4 steps that stall */
+    double eps = 1e-6 * bounds_diagonal(s);
+    for (uint32_t l = 0; l < s->line_count; l++) {
+        uint32_t a = s->line_offsets[l], b = s->line_offsets[l + 1];
+        if (b > a)
+            derive_line(s->positions, a, b, eps, s->tangents, arc, curv, len);
+    }
+    int rc = add_owned(s, "arc_length", arc, err);
+    if (rc) {
+        free(curv);
+        free(len);
+        return rc;
+    }
+    rc = add_owned(s, "curvature", curv, err);
+    if (rc) {
+        free(len);
+        return rc;
+    }
+    return add_owned(s, "line_length", len, err);
+}
+
+/* Area-weighted normals and |H| from the cotangent Laplacian with Meyer et al.'s
+ * mixed Voronoi areas. |H| = |L·n| / (4A): projecting on the normal removes the
+ * tangential part that one-sided fans produce at boundary vertices. Triangles
+ * with (near) zero area carry no usable angles and are skipped. */
+int lc_scene_derive_triangles(lc_scene *s, lc_error *err)
+{
+    uint32_t n = s->vertex_count;
+    double *acc = calloc((size_t)n * 7, sizeof(double)); /* normal 3, laplacian 3, area 1 */
+    float *mean = malloc((size_t)n * sizeof(float));
+    s->normals = malloc((size_t)n * 3 * sizeof(float));
+    if (!acc || !mean || !s->normals) {
+        free(acc);
+        free(mean);
+        return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate normals", s->name);
+    }
+    const float *P = s->positions;
+    for (uint32_t t = 0; t < s->triangle_count; t++) {
+        const uint32_t *tri = s->triangles + 3 * (size_t)t;
+        dvec p[3] = {vload(P, tri[0]), vload(P, tri[1]), vload(P, tri[2])};
+        dvec c = vcross(vsub(p[1], p[0]), vsub(p[2], p[0]));
+        for (int k = 0; k < 3; k++) {
+            double *a = acc + 7 * (size_t)tri[k];
+            a[0] += c.x;
+            a[1] += c.y;
+            a[2] += c.z;
+        }
+        double area2 = vlen(c);
+        double l2[3]; /* squared length of the edge opposite corner k */
+        double maxl2 = 0;
+        for (int k = 0; k < 3; k++) {
+            dvec e = vsub(p[(k + 2) % 3], p[(k + 1) % 3]);
+            l2[k] = vdot(e, e);
+            if (l2[k] > maxl2)
+                maxl2 = l2[k];
+        }
+        if (!(area2 > 1e-12 * maxl2) || tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
+            continue;
+        double cot[3];
+        for (int k = 0; k < 3; k++) {
+            dvec u = vsub(p[(k + 1) % 3], p[k]), v = vsub(p[(k + 2) % 3], p[k]);
+            cot[k] = vdot(u, v) / area2;
+        }
+        double area = 0.5 * area2;
+        for (int k = 0; k < 3; k++) {
+            int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+            /* edge (k,k1) is opposite k2, edge (k,k2) opposite k1 */
+            dvec lap = vadd(vscale(vsub(p[k], p[k1]), cot[k2]), vscale(vsub(p[k], p[k2]), cot[k1]));
+            double mixed;
+            if (cot[0] < 0 || cot[1] < 0 || cot[2] < 0)
+                mixed = cot[k] < 0 ? area / 2 : area / 4; /* obtuse: Voronoi area undefined */
+            else
+                mixed = (l2[k1] * cot[k1] + l2[k2] * cot[k2]) / 8; /* |p_k p_k2|² = l2[k1] */
+            double *a = acc + 7 * (size_t)tri[k];
+            a[3] += lap.x;
+            a[4] += lap.y;
+            a[5] += lap.z;
+            a[6] += mixed;
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const double *a = acc + 7 * (size_t)i;
+        dvec nrm = vnorm((dvec){a[0], a[1], a[2]});
+        double h = 0.0;
+        if (vlen(nrm) < 0.5) {
+            nrm = (dvec){0, 0, 1}; /* unreferenced or only degenerate triangles */
+        } else if (a[6] > 0) {
+            h = fabs(vdot((dvec){a[3], a[4], a[5]}, nrm)) / (4.0 * a[6]);
+            if (!isfinite(h))
+                h = 0.0;
+        }
+        store3(s->normals, i, nrm);
+        mean[i] = (float)h;
+    }
+    free(acc);
+    return add_owned(s, "mean_curvature", mean, err);
+}

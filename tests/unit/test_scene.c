@@ -1,0 +1,335 @@
+/* Scene core: ownership, validation errors, bounds, attribute ranges and the
+ * derived attributes on hand-built lines and meshes with known answers. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lc_test.h"
+#include "scene.h"
+
+static float *floats(uint32_t n, float v)
+{
+    float *f = malloc(n * sizeof *f);
+    for (uint32_t i = 0; i < n; i++)
+        f[i] = v;
+    return f;
+}
+
+static const float *attr(const lc_scene *s, const char *name)
+{
+    int i = lc_scene_find_attribute(s, name);
+    return i < 0 ? NULL : s->attributes[i].values;
+}
+
+/* One polyline through the given points. */
+static lc_scene *make_lines(uint32_t nlines, const uint32_t *lens, const float *pos)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < nlines; i++)
+        n += lens[i];
+    lc_scene *s = lc_scene_create("lines", LC_PRIM_LINES);
+    lc_scene_alloc_vertices(s, n, 0, NULL);
+    memcpy(s->positions, pos, 3 * n * sizeof(float));
+    s->line_count = nlines;
+    s->line_offsets = malloc((nlines + 1) * sizeof(uint32_t));
+    s->line_offsets[0] = 0;
+    for (uint32_t i = 0; i < nlines; i++)
+        s->line_offsets[i + 1] = s->line_offsets[i] + lens[i];
+    return s;
+}
+
+static void test_basics(void)
+{
+    lc_scene *s = lc_scene_create("a name that is quite long but fits", LC_PRIM_POINTS);
+    CHECK(s != NULL, "create");
+    CHECK(strcmp(s->name, "a name that is quite long but fits") == 0, "name %s", s->name);
+    char longname[200];
+    memset(longname, 'x', sizeof longname - 1);
+    longname[sizeof longname - 1] = '\0';
+    lc_scene *t = lc_scene_create(longname, LC_PRIM_LINES);
+    CHECK(strlen(t->name) == LC_NAME_LEN - 1, "name truncated to %zu", strlen(t->name));
+    lc_scene_destroy(t);
+    lc_scene_destroy(NULL);
+
+    lc_error err = {0};
+    CHECK(lc_scene_alloc_vertices(s, LC_MAX_VERTICES + 1u, 0, &err) == LC_ERR_LIMIT, "cap");
+    CHECK(lc_scene_alloc_vertices(s, 4, 1, &err) == 0, "alloc");
+    CHECK(s->rgb != NULL && s->vertex_count == 4, "rgb allocated");
+    for (int i = 0; i < 12; i++) {
+        s->positions[i] = (float)i;
+        s->rgb[i] = 0.5f;
+    }
+    CHECK(strcmp(lc_prim_type_name(LC_PRIM_POINTS), "points") == 0, "points name");
+    CHECK(strcmp(lc_prim_type_name(LC_PRIM_LINES), "lines") == 0, "lines name");
+    CHECK(strcmp(lc_prim_type_name(LC_PRIM_TRIANGLES), "triangles") == 0, "triangles name");
+    CHECK(lc_scene_primitive_count(s) == 4, "points count");
+
+    float *a = floats(4, 1.0f);
+    a[2] = NAN;
+    a[3] = 7.0f;
+    CHECK(lc_scene_add_attribute(s, "speed", a, &err) == 0, "add");
+    CHECK(lc_scene_add_attribute(s, "temp", floats(4, -2.0f), &err) == 1, "add second");
+    CHECK(lc_scene_add_attribute(s, "speed", floats(4, 3.0f), &err) == 0, "replace keeps index");
+    CHECK(s->attribute_count == 2, "replace does not add");
+    CHECK(lc_scene_find_attribute(s, "temp") == 1, "find");
+    CHECK(lc_scene_find_attribute(s, "nope") == -1, "find missing");
+    CHECK(lc_scene_add_attribute(s, "", floats(4, 0), &err) < 0, "empty name rejected (freed)");
+    CHECK(lc_scene_add_attribute(s, longname, floats(4, 0), &err) == LC_ERR_INVALID, "long name");
+    CHECK(lc_scene_add_attribute(s, "x", NULL, &err) == LC_ERR_INVALID, "NULL values");
+    for (int i = 2; i < LC_MAX_ATTRIBUTES; i++) {
+        char name[16];
+        snprintf(name, sizeof name, "a%d", i);
+        CHECK(lc_scene_add_attribute(s, name, floats(4, (float)i), &err) == i, "fill %d", i);
+    }
+    CHECK(lc_scene_add_attribute(s, "one-too-many", floats(4, 0), &err) == LC_ERR_LIMIT,
+          "attribute cap: %s", err.msg);
+    s->attributes[0].values[2] = NAN; /* min/max must ignore it */
+    s->attributes[0].values[3] = 9.0f;
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize points: %s", err.msg);
+    CHECK(s->finalized, "finalized");
+    CHECK(s->attributes[0].min == 3.0f && s->attributes[0].max == 9.0f, "range over finite values");
+    CHECK(s->bounds[0] == 0 && s->bounds[1] == 1 && s->bounds[2] == 2, "bounds min");
+    CHECK(s->bounds[3] == 9 && s->bounds[4] == 10 && s->bounds[5] == 11, "bounds max");
+    CHECK(strcmp(s->default_importance, "speed") == 0, "points: first attribute is default");
+    CHECK(strcmp(s->default_color, "importance") == 0, "default colour");
+    CHECK(s->elements.count == 4 && s->elements.adjacency_count == 0, "one element per point");
+    CHECK(s->normals == NULL && s->tangents == NULL, "points have no normals/tangents");
+    /* finalize twice is fine */
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize again");
+    lc_scene_destroy(s);
+
+    /* points without attributes: no default importance (renderer uses g = 1) */
+    s = lc_scene_create("bare", LC_PRIM_POINTS);
+    lc_scene_alloc_vertices(s, 1, 0, NULL);
+    s->positions[0] = s->positions[1] = s->positions[2] = 0;
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "single point");
+    CHECK(s->default_importance[0] == '\0', "no attribute, no default");
+    lc_scene_destroy(s);
+}
+
+static void test_validation(void)
+{
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("empty", LC_PRIM_POINTS);
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "no vertices");
+    CHECK(strstr(err.msg, "empty") != NULL, "message names the scene: %s", err.msg);
+    lc_scene_alloc_vertices(s, 2, 0, NULL);
+    memset(s->positions, 0, 6 * sizeof(float));
+    s->positions[4] = INFINITY;
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "inf position");
+    CHECK(strstr(err.msg, "vertex 1") != NULL, "names the vertex: %s", err.msg);
+    s->positions[4] = NAN;
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "nan position");
+    lc_scene_destroy(s);
+
+    float pos[12] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+    uint32_t lens[2] = {2, 2};
+    s = make_lines(2, lens, pos);
+    s->line_offsets[1] = 3;
+    s->line_offsets[2] = 2;
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "decreasing offsets");
+    CHECK(strstr(err.msg, "line 1") != NULL, "names the line: %s", err.msg);
+    s->line_offsets[1] = 2;
+    s->line_offsets[2] = 5;
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "offsets beyond vertices: %s",
+          err.msg);
+    s->line_offsets[2] = 3; /* ends inside the vertex range: allowed, vertex 3 is unused */
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "offsets within range: %s", err.msg);
+    CHECK(lc_scene_primitive_count(s) == 1, "segments %llu",
+          (unsigned long long)lc_scene_primitive_count(s));
+    free(s->line_offsets);
+    s->line_offsets = NULL;
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "lines without offsets");
+    lc_scene_destroy(s);
+
+    s = lc_scene_create("tri", LC_PRIM_TRIANGLES);
+    lc_scene_alloc_vertices(s, 3, 0, NULL);
+    memcpy(s->positions, pos, 9 * sizeof(float));
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "no triangles");
+    s->triangle_count = 1;
+    s->triangles = malloc(3 * sizeof(uint32_t));
+    s->triangles[0] = 0;
+    s->triangles[1] = 1;
+    s->triangles[2] = 3;
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "index out of range");
+    CHECK(strstr(err.msg, "triangle 0") != NULL, "names the triangle: %s", err.msg);
+    s->triangles[2] = 2; /* degenerate (collinear) but valid */
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "degenerate triangle accepted: %s", err.msg);
+    const float *h = attr(s, "mean_curvature");
+    CHECK(h && h[0] == 0 && h[1] == 0 && h[2] == 0, "degenerate: zero curvature, no NaN");
+    CHECK(isfinite(s->normals[0]) && isfinite(s->normals[2]), "degenerate: finite normal");
+    lc_scene_destroy(s);
+}
+
+static void test_straight_line(void)
+{
+    /* uneven spacing and a repeated vertex: curvature 0, exact arc length */
+    float pos[] = {0, 0, 0, 0.5f, 0, 0, 0.5f, 0, 0, 2, 0, 0, 3, 0, 0};
+    uint32_t lens[1] = {5};
+    lc_scene *s = make_lines(1, lens, pos);
+    lc_error err = {0};
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    const float *arc = attr(s, "arc_length"), *k = attr(s, "curvature"),
+                *len = attr(s, "line_length");
+    CHECK(arc && k && len, "derived attributes present");
+    const float want[] = {0, 0.5f, 0.5f, 2, 3};
+    for (int i = 0; i < 5; i++) {
+        CHECK_NEAR(arc[i], want[i], 1e-6, "arc length");
+        CHECK_NEAR(k[i], 0.0, 1e-6, "curvature of a straight line");
+        CHECK_NEAR(len[i], 3.0, 1e-6, "line length");
+        CHECK_NEAR(s->tangents[3 * i], 1.0, 1e-6, "tangent x");
+        CHECK_NEAR(s->tangents[3 * i + 1], 0.0, 1e-6, "tangent y");
+    }
+    CHECK(strcmp(s->default_importance, "curvature") == 0, "lines default importance");
+    CHECK(lc_scene_primitive_count(s) == 4, "segments");
+    lc_scene_destroy(s);
+}
+
+static void test_circle(void)
+{
+    /* open circle polyline of radius R plus a second line of one vertex */
+    enum { N = 200 };
+    const double R = 2.5;
+    float pos[3 * (N + 1)];
+    for (int i = 0; i < N; i++) {
+        double a = 2 * M_PI * i / N;
+        pos[3 * i] = (float)(R * cos(a));
+        pos[3 * i + 1] = (float)(R * sin(a));
+        pos[3 * i + 2] = 1.0f;
+    }
+    pos[3 * N] = 9;
+    pos[3 * N + 1] = 9;
+    pos[3 * N + 2] = 9;
+    uint32_t lens[2] = {N, 1};
+    lc_scene *s = make_lines(2, lens, pos);
+    lc_error err = {0};
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    const float *k = attr(s, "curvature"), *arc = attr(s, "arc_length");
+    CHECK_NEAR(k[0], 0.0, 0, "end curvature 0");
+    CHECK_NEAR(k[N - 1], 0.0, 0, "end curvature 0");
+    double worst = 0;
+    for (int i = 1; i < N - 1; i++)
+        worst = fmax(worst, fabs(k[i] - 1.0 / R));
+    CHECK_NEAR(worst, 0.0, 1e-3 / R, "circle curvature 1/R (max deviation)");
+    double seg = 2 * R * sin(M_PI / N);
+    CHECK_NEAR(arc[N - 1], (N - 1) * seg, 1e-4, "arc length of the chords");
+    /* tangent at vertex 50 (angle pi/2) points along -x */
+    CHECK_NEAR(s->tangents[3 * 50], -1.0, 1e-4, "tangent along circle");
+    CHECK_NEAR(s->tangents[3 * N], 1.0, 0, "single-vertex line gets a unit tangent");
+    CHECK(k[N] == 0 && arc[N] == 0, "single-vertex line attributes");
+    CHECK(s->bounds[5] == 9 && s->bounds[2] == 1, "bounds z");
+    lc_scene_destroy(s);
+}
+
+/* UV sphere as an indexed mesh with shared poles and seam. */
+static lc_scene *make_sphere(double R, int stacks, int slices)
+{
+    uint32_t nv = (uint32_t)(2 + (stacks - 1) * slices);
+    uint32_t nt = (uint32_t)(2 * slices * (stacks - 1));
+    lc_scene *s = lc_scene_create("sphere", LC_PRIM_TRIANGLES);
+    lc_scene_alloc_vertices(s, nv, 0, NULL);
+    float *p = s->positions;
+    p[0] = 0, p[1] = 0, p[2] = (float)R;
+    p[3] = 0, p[4] = 0, p[5] = (float)-R;
+    for (int i = 1; i < stacks; i++)
+        for (int j = 0; j < slices; j++) {
+            double th = M_PI * i / stacks, ph = 2 * M_PI * j / slices;
+            float *q = p + 3 * (2 + (i - 1) * slices + j);
+            q[0] = (float)(R * sin(th) * cos(ph));
+            q[1] = (float)(R * sin(th) * sin(ph));
+            q[2] = (float)(R * cos(th));
+        }
+    s->triangles = malloc(3 * nt * sizeof(uint32_t));
+    uint32_t *t = s->triangles, k = 0;
+#define V(i, j) (uint32_t)(2 + ((i) - 1) * slices + ((j) % slices))
+    for (int j = 0; j < slices; j++) {
+        t[k++] = 0, t[k++] = V(1, j), t[k++] = V(1, j + 1);
+        t[k++] = 1, t[k++] = V(stacks - 1, j + 1), t[k++] = V(stacks - 1, j);
+    }
+    for (int i = 1; i < stacks - 1; i++)
+        for (int j = 0; j < slices; j++) {
+            t[k++] = V(i, j), t[k++] = V(i + 1, j), t[k++] = V(i + 1, j + 1);
+            t[k++] = V(i, j), t[k++] = V(i + 1, j + 1), t[k++] = V(i, j + 1);
+        }
+#undef V
+    s->triangle_count = k / 3;
+    return s;
+}
+
+static void test_sphere(void)
+{
+    const double R = 3.0;
+    lc_scene *s = make_sphere(R, 60, 120);
+    lc_error err = {0};
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    const float *h = attr(s, "mean_curvature");
+    CHECK(h != NULL, "mean curvature present");
+    double sum = 0, worst = 0;
+    uint32_t n = 0;
+    for (uint32_t v = 2; v < s->vertex_count; v++) {
+        sum += h[v];
+        worst = fmax(worst, fabs(h[v] - 1.0 / R));
+        n++;
+    }
+    CHECK_NEAR(sum / n, 1.0 / R, 0.01 / R, "sphere mean |H| = 1/R");
+    CHECK_NEAR(worst, 0.0, 0.05 / R, "sphere |H| everywhere near 1/R");
+    /* outward unit normals */
+    double worst_n = 0;
+    for (uint32_t v = 0; v < s->vertex_count; v++) {
+        const float *p = s->positions + 3 * v, *nr = s->normals + 3 * v;
+        double d = (p[0] * nr[0] + p[1] * nr[1] + p[2] * nr[2]) / R;
+        worst_n = fmax(worst_n, fabs(d - 1));
+    }
+    CHECK_NEAR(worst_n, 0.0, 1e-3, "normals are outward unit radial");
+    CHECK(strcmp(s->default_importance, "mean_curvature") == 0, "surface default importance");
+    CHECK_NEAR(s->bounds[2], -R, 1e-6, "bounds zmin");
+    CHECK_NEAR(s->bounds[5], R, 1e-6, "bounds zmax");
+    CHECK(lc_scene_primitive_count(s) == s->triangle_count, "triangle count");
+    lc_scene_destroy(s);
+}
+
+static void test_plane_boundary(void)
+{
+    /* flat grid: |H| = 0 inside and on the boundary (normal projection) */
+    enum { G = 10 };
+    lc_scene *s = lc_scene_create("plane", LC_PRIM_TRIANGLES);
+    lc_scene_alloc_vertices(s, G * G, 0, NULL);
+    for (int i = 0; i < G; i++)
+        for (int j = 0; j < G; j++) {
+            float *p = s->positions + 3 * (i * G + j);
+            p[0] = (float)j + (i % 2) * 0.3f;
+            p[1] = (float)i;
+            p[2] = 0;
+        }
+    s->triangle_count = 2 * (G - 1) * (G - 1);
+    s->triangles = malloc(3 * s->triangle_count * sizeof(uint32_t));
+    uint32_t k = 0;
+    for (int i = 0; i + 1 < G; i++)
+        for (int j = 0; j + 1 < G; j++) {
+            uint32_t a = i * G + j, b = a + 1, c = a + G, d = c + 1;
+            uint32_t *t = s->triangles + 3 * k;
+            t[0] = a, t[1] = b, t[2] = d, t[3] = a, t[4] = d, t[5] = c;
+            k += 2;
+        }
+    lc_error err = {0};
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    const float *h = attr(s, "mean_curvature");
+    double worst = 0;
+    for (uint32_t v = 0; v < s->vertex_count; v++)
+        worst = fmax(worst, fabs(h[v]));
+    CHECK_NEAR(worst, 0.0, 1e-5, "flat plane |H| = 0 including boundary");
+    CHECK_NEAR(fabs(s->normals[2]), 1.0, 1e-6, "plane normal");
+    lc_scene_destroy(s);
+}
+
+int main(void)
+{
+    test_basics();
+    test_validation();
+    test_straight_line();
+    test_circle();
+    test_sphere();
+    test_plane_boundary();
+    return lc_test_finish();
+}

@@ -78,12 +78,26 @@ const char *lc_proto_msg_type_name(lc_msg_type t);
 
 /* ---- server -> client text messages */
 
+/* Flow-control and quality settings of a stream (hello/params can change them). */
+typedef struct lc_stream_settings {
+    int window;              /* unacknowledged frames, 1..8 */
+    int quality;             /* still-frame JPEG quality */
+    int interactive_quality; /* JPEG quality while input is active */
+    double interactive_scale; /* resolution factor while input is active */
+} lc_stream_settings;
+
+/* window 2, quality 90, interactiveQuality 70, interactiveScale 0.5. */
+void lc_proto_stream_default(lc_stream_settings *s);
+/* Copies the stream fields a hello/params message gave into s. */
+void lc_proto_stream_apply(lc_stream_settings *s, const lc_client_msg *m);
+
 /* {"type":"ready","session":ID,"dataset":INFO,"defaults":REQUEST,"limits":{...},
  *  "stream":{"window","quality","interactiveQuality","interactiveScale"}}.
- * dataset_info is borrowed (any JSON object the server builds; may be NULL ->
- * null); defaults is the session's initial request; lim NULL = defaults. */
+ * dataset_info is borrowed (any JSON object the server builds; NULL -> null);
+ * defaults is the session's initial request; lim NULL = defaults; stream NULL =
+ * lc_proto_stream_default(). */
 char *lc_proto_ready_json(const char *session, const json_t *dataset_info, const lc_request *defaults,
-                          const lc_proto_limits *lim, int window);
+                          const lc_proto_limits *lim, const lc_stream_settings *stream);
 
 /* {"type":"error","code":..,"message":..,"field":..?,"fatal":bool}. field NULL
  * or "" is omitted. fatal = the server closes the session after sending it. */

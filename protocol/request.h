@@ -100,6 +100,24 @@ json_t *lc_proto_request_to_json(const lc_request *r);
  * prints as 0.1). Returns malloc'd text (free()) or NULL on allocation failure. */
 char *lc_proto_dump(const json_t *value);
 
+/* ---- helpers shared with messages.c and useful to the server */
+
+/* Loads a JSON document under the limits: text length (too_large), nesting
+ * depth checked on the raw text before jansson recurses (too_deep), duplicate
+ * keys, NaN/Infinity and overflowing numbers rejected (bad_json). Returns a new
+ * reference or NULL with err filled. */
+json_t *lc_proto_load(const char *text, size_t len, const lc_proto_limits *lim, lc_proto_error *err);
+
+/* Field checks only (types, ranges, unknown keys) of a partial request object,
+ * without the cross-field checks that need the state it will be applied to. */
+int lc_proto_check_update(const json_t *obj, const lc_proto_limits *lim, lc_proto_error *err);
+
+/* Fills err (may be NULL): code, field, and message = "field: reason" (just the
+ * reason when field is empty). Returns LC_ERR_LIMIT for too_large/too_deep,
+ * LC_ERR_INVALID otherwise, so callers can `return lc_proto_set_error(...)`. */
+int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
 /* Allowed colormap names (the renderer must provide each of them). */
 extern const char *const lc_proto_colormaps[];
 extern const int lc_proto_colormap_count;

@@ -1,0 +1,763 @@
+/* Render request schema: one field table drives JSON parsing, query parameters,
+ * validation and emission, so the four cannot drift apart. */
+#include "request.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *const lc_proto_colormaps[] = {"viridis", "coolwarm", "grayscale", "inferno", "plasma", "turbo"};
+const int lc_proto_colormap_count = (int)(sizeof lc_proto_colormaps / sizeof lc_proto_colormaps[0]);
+
+void lc_proto_limits_default(lc_proto_limits *l)
+{
+    l->min_size = 16;
+    l->max_size = 4096;
+    l->max_pixels = 4096LL * 4096LL;
+    l->max_depth = 16;
+    l->max_text = 64 * 1024;
+}
+
+void lc_request_default(lc_request *r)
+{
+    memset(r, 0, sizeof *r);
+    lc_render_params_default(&r->render);
+    r->format = LC_FORMAT_PNG;
+    r->quality = LC_PROTO_DEFAULT_QUALITY;
+}
+
+/* Copies with truncation; snprintf("%s") would trip -Wformat-truncation. */
+static void copy_str(char *dst, size_t size, const char *src)
+{
+    size_t n = strlen(src);
+    if (n >= size)
+        n = size - 1;
+    memcpy(dst, src, n);
+    dst[n] = '\0';
+}
+
+int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field, const char *fmt, ...)
+{
+    int status = (strcmp(code, LC_PROTO_TOO_LARGE) == 0 || strcmp(code, LC_PROTO_TOO_DEEP) == 0) ? LC_ERR_LIMIT
+                                                                                                 : LC_ERR_INVALID;
+    if (!err)
+        return status;
+    char reason[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(reason, sizeof reason, fmt, ap);
+    va_end(ap);
+    copy_str(err->code, sizeof err->code, code);
+    copy_str(err->field, sizeof err->field, field ? field : "");
+    if (err->field[0]) {
+        size_t n = strlen(err->field);
+        copy_str(err->message, sizeof err->message, err->field);
+        if (n + 2 < sizeof err->message) {
+            memcpy(err->message + n, ": ", 3);
+            copy_str(err->message + n + 2, sizeof err->message - n - 2, reason);
+        }
+    } else {
+        copy_str(err->message, sizeof err->message, reason);
+    }
+    return status;
+}
+
+/* ---- the schema */
+
+typedef enum {
+    T_INT,   /* int */
+    T_NUM,   /* double */
+    T_BOOL,  /* bool */
+    T_STR,   /* char[size], any text shorter than size */
+    T_ENUM,  /* int-sized enum, from a name table */
+    T_NAME,  /* char[size], one of a name table (colormap) */
+    T_VEC3,  /* double[3], finite */
+    T_COLOR, /* double[3] in [0,1] */
+    T_RANGE, /* double[2], finite; sets a bool */
+} ftype;
+
+enum {
+    LO_OPEN = 1,    /* lo excluded */
+    HI_OPEN = 2,    /* hi excluded */
+    SIZE_LIMIT = 4, /* lo/hi come from the limits */
+    CHECK_ONLY = 8  /* validated, not stored (version) */
+};
+
+typedef struct enum_name {
+    const char *name;
+    int value;
+} enum_name;
+
+typedef struct field {
+    const char *section; /* NULL = top level */
+    const char *name;    /* JSON key */
+    const char *alias;   /* flat query-parameter name, NULL = dotted path only */
+    ftype type;
+    double lo, hi;
+    int bounds;
+    size_t offset; /* into lc_request */
+    size_t size;   /* T_STR/T_NAME buffer size */
+    long flag;     /* offset of a bool set when the field is given, -1 = none */
+    const enum_name *names;
+} field;
+
+static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
+                                         {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
+                                         {"wboit", LC_METHOD_WBOIT},     {NULL, 0}};
+static const enum_name format_names[] = {{"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG},
+                                         {NULL, 0}};
+static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoint", LC_ESTIMATOR_MIDPOINT}, {NULL, 0}};
+static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
+static const enum_name colormap_names[] = {{"viridis", 0}, {"coolwarm", 1}, {"grayscale", 2}, {"inferno", 3},
+                                           {"plasma", 4},  {"turbo", 5},    {NULL, 0}};
+
+#define OFF(member) offsetof(lc_request, member)
+#define NOFLAG (-1L)
+#define BIG 1e300 /* "any finite number"; reals from jansson are finite anyway */
+
+/* Caps beyond the issue's ranges (q, r, λ, exponents, dt) only keep values in
+ * float range for the shaders; the documented ranges in README.md match. */
+static const field fields[] = {
+    {NULL, "version", "version", T_INT, 1, 1, CHECK_ONLY, 0, 0, NOFLAG, NULL},
+    {NULL, "dataset", "dataset", T_STR, 0, 0, 0, OFF(dataset), LC_PROTO_DATASET_LEN, NOFLAG, NULL},
+    {NULL, "width", "width", T_INT, 0, 0, SIZE_LIMIT, OFF(render.width), 0, NOFLAG, NULL},
+    {NULL, "height", "height", T_INT, 0, 0, SIZE_LIMIT, OFF(render.height), 0, NOFLAG, NULL},
+    {NULL, "method", "method", T_ENUM, 0, 0, 0, OFF(render.method), 0, NOFLAG, method_names},
+    {NULL, "format", "format", T_ENUM, 0, 0, 0, OFF(format), 0, NOFLAG, format_names},
+    {NULL, "quality", "quality", T_INT, 1, 100, 0, OFF(quality), 0, NOFLAG, NULL},
+    {NULL, "dt", "dt", T_NUM, 0, 3600, 0, OFF(dt), 0, (long)OFF(has_dt), NULL},
+
+    {"camera", "position", "position", T_VEC3, 0, 0, 0, OFF(render.camera.position), 0, NOFLAG, NULL},
+    {"camera", "focalPoint", "focalPoint", T_VEC3, 0, 0, 0, OFF(render.camera.focal_point), 0, NOFLAG, NULL},
+    {"camera", "viewUp", "viewUp", T_VEC3, 0, 0, 0, OFF(render.camera.view_up), 0, NOFLAG, NULL},
+    {"camera", "viewAngle", "viewAngle", T_NUM, 0, 180, LO_OPEN | HI_OPEN, OFF(render.camera.view_angle), 0, NOFLAG,
+     NULL},
+    {"camera", "parallelProjection", "parallelProjection", T_BOOL, 0, 0, 0, OFF(render.camera.parallel_projection), 0,
+     NOFLAG, NULL},
+    {"camera", "parallelScale", "parallelScale", T_NUM, 0, BIG, LO_OPEN, OFF(render.camera.parallel_scale), 0, NOFLAG,
+     NULL},
+
+    {"params", "q", "q", T_NUM, 0, 1e6, 0, OFF(render.foo.q), 0, NOFLAG, NULL},
+    {"params", "r", "r", T_NUM, 0, 1e6, 0, OFF(render.foo.r), 0, NOFLAG, NULL},
+    {"params", "lambda", "lambda", T_NUM, 0, 1000, 0, OFF(render.foo.lambda), 0, NOFLAG, NULL},
+    {"params", "bands", "bands", T_INT, LC_MIN_BANDS, LC_MAX_BANDS, 0, OFF(render.foo.bands), 0, NOFLAG, NULL},
+    {"params", "smoothing", "smoothing", T_INT, 0, 1000, 0, OFF(render.foo.smoothing), 0, NOFLAG, NULL},
+    {"params", "smoothingWeight", "smoothingWeight", T_NUM, 0, 1, 0, OFF(render.foo.smoothing_weight), 0, NOFLAG,
+     NULL},
+    {"params", "fadeHalfLife", "fadeHalfLife", T_NUM, 0, 60, 0, OFF(render.foo.fade_half_life), 0, NOFLAG, NULL},
+    {"params", "resolutionScale", "resolutionScale", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.resolution_scale), 0,
+     NOFLAG, NULL},
+    {"params", "subset", "subset", T_INT, 1, 1024, 0, OFF(render.foo.subset), 0, NOFLAG, NULL},
+    {"params", "depthMargin", "depthMargin", T_NUM, 0, 0.25, 0, OFF(render.foo.depth_margin), 0, NOFLAG, NULL},
+    {"params", "estimator", "estimator", T_ENUM, 0, 0, 0, OFF(render.foo.estimator), 0, NOFLAG, estimator_names},
+    {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
+     NULL},
+
+    {"importance", "attribute", "importance", T_STR, 0, 0, 0, OFF(render.importance.attribute), LC_NAME_LEN, NOFLAG,
+     NULL},
+    {"importance", "range", "importanceRange", T_RANGE, 0, 0, 0, OFF(render.importance.range), 0,
+     (long)OFF(render.importance.has_range), NULL},
+    {"importance", "exponent", "importanceExponent", T_NUM, 0, 1000, LO_OPEN, OFF(render.importance.exponent), 0,
+     NOFLAG, NULL},
+
+    {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
+    {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG,
+     colormap_names},
+    {"color", "range", "colorRange", T_RANGE, 0, 0, 0, OFF(render.color.range), 0, (long)OFF(render.color.has_range),
+     NULL},
+
+    {"style", "background", "background", T_COLOR, 0, 0, 0, OFF(render.style.background), 0, NOFLAG, NULL},
+    {"style", "lineWidth", "lineWidth", T_NUM, 0, BIG, 0, OFF(render.style.line_width), 0, NOFLAG, NULL},
+    {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
+    {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
+    {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
+};
+#define NFIELDS (sizeof fields / sizeof fields[0])
+
+static const char *const sections[] = {"camera", "params", "importance", "color", "style"};
+#define NSECTIONS (sizeof sections / sizeof sections[0])
+
+static bool same(const char *a, const char *b) { return (a == NULL && b == NULL) || (a && b && strcmp(a, b) == 0); }
+
+static const field *find_field(const char *section, const char *name)
+{
+    for (size_t i = 0; i < NFIELDS; i++)
+        if (same(fields[i].section, section) && strcmp(fields[i].name, name) == 0)
+            return &fields[i];
+    return NULL;
+}
+
+static bool is_section(const char *key)
+{
+    for (size_t i = 0; i < NSECTIONS; i++)
+        if (strcmp(sections[i], key) == 0)
+            return true;
+    return false;
+}
+
+/* "a" + "." + "b", truncated to the error field size. */
+static void join_path(char *out, size_t size, const char *prefix, const char *key)
+{
+    if (!prefix || !prefix[0]) {
+        copy_str(out, size, key);
+        return;
+    }
+    copy_str(out, size, prefix);
+    size_t n = strlen(out);
+    if (n + 1 < size) {
+        out[n] = '.';
+        copy_str(out + n + 1, size - n - 1, key);
+    }
+}
+
+static const char *enum_list(const enum_name *names, char *buf, size_t size)
+{
+    buf[0] = '\0';
+    size_t n = 0;
+    for (int i = 0; names[i].name; i++) {
+        int w = snprintf(buf + n, size - n, "%s\"%s\"", i ? ", " : "", names[i].name);
+        if (w < 0 || (size_t)w >= size - n)
+            break;
+        n += (size_t)w;
+    }
+    return buf;
+}
+
+static const char *enum_to_name(const enum_name *names, int value)
+{
+    for (int i = 0; names[i].name; i++)
+        if (names[i].value == value)
+            return names[i].name;
+    return "unknown";
+}
+
+/* Numbers arrive as JSON integers or reals; both mean the same quantity. */
+static int get_finite(const json_t *v, double *out)
+{
+    if (!json_is_number(v))
+        return -1;
+    double d = json_number_value(v);
+    if (!isfinite(d))
+        return -1;
+    *out = d;
+    return 0;
+}
+
+static int check_range(const field *f, double v, double lo, double hi, const char *path, lc_proto_error *err)
+{
+    bool lo_bad = (f->bounds & LO_OPEN) ? !(v > lo) : !(v >= lo);
+    bool hi_bad = (f->bounds & HI_OPEN) ? !(v < hi) : !(v <= hi);
+    if (lo_bad || hi_bad) {
+        const char *lb = (f->bounds & LO_OPEN) ? "(" : "[";
+        const char *hb = (f->bounds & HI_OPEN) ? ")" : "]";
+        if (hi >= BIG)
+            return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, path, "%.15g is not %s %.15g",
+                                      v, (f->bounds & LO_OPEN) ? ">" : ">=", lo);
+        return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, path, "%.15g is outside %s%.15g, %.15g%s", v, lb, lo, hi,
+                                  hb);
+    }
+    return 0;
+}
+
+/* Reads a fixed-length array of finite numbers. */
+static int get_vector(const json_t *v, double *out, size_t n, const char *path, lc_proto_error *err)
+{
+    if (!json_is_array(v) || json_array_size(v) != n)
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of %zu numbers", n);
+    for (size_t i = 0; i < n; i++)
+        if (get_finite(json_array_get(v, i), &out[i]) < 0)
+            return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of %zu numbers", n);
+    return 0;
+}
+
+/* Validates v against f and stores it into r. */
+static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim, lc_request *r, const char *path,
+                     lc_proto_error *err)
+{
+    char *base = (char *)r + f->offset;
+    double lo = f->lo, hi = f->hi;
+    if (f->bounds & SIZE_LIMIT) {
+        lo = lim->min_size;
+        hi = lim->max_size;
+    }
+    switch (f->type) {
+    case T_INT: {
+        double d;
+        /* 5.0 is accepted: JavaScript cannot tell it from 5 anyway. */
+        if (get_finite(v, &d) < 0 || d != floor(d))
+            return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected an integer");
+        int rc = check_range(f, d, lo, hi, path, err);
+        if (rc)
+            return rc;
+        if (!(f->bounds & CHECK_ONLY))
+            *(int *)base = (int)d;
+        break;
+    }
+    case T_NUM: {
+        double d;
+        if (get_finite(v, &d) < 0)
+            return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected a number");
+        int rc = check_range(f, d, lo, hi, path, err);
+        if (rc)
+            return rc;
+        *(double *)base = d;
+        break;
+    }
+    case T_BOOL:
+        if (!json_is_boolean(v))
+            return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected true or false");
+        *(bool *)base = json_is_true(v);
+        break;
+    case T_STR: {
+        if (!json_is_string(v))
+            return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected a string");
+        size_t n = json_string_length(v);
+        if (n >= f->size)
+            return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, path, "longer than %zu bytes", f->size - 1);
+        memcpy(base, json_string_value(v), n + 1); /* jansson rejects embedded NULs on load */
+        break;
+    }
+    case T_ENUM:
+    case T_NAME: {
+        char list[160];
+        if (!json_is_string(v))
+            return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected one of %s",
+                                      enum_list(f->names, list, sizeof list));
+        const char *s = json_string_value(v);
+        const enum_name *e = NULL;
+        for (int i = 0; f->names[i].name; i++)
+            if (strcmp(f->names[i].name, s) == 0)
+                e = &f->names[i];
+        if (!e)
+            return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected one of %s",
+                                      enum_list(f->names, list, sizeof list));
+        if (f->type == T_ENUM)
+            *(int *)base = e->value;
+        else
+            copy_str(base, f->size, e->name);
+        break;
+    }
+    case T_VEC3:
+    case T_COLOR: {
+        double vec[3];
+        int rc = get_vector(v, vec, 3, path, err);
+        if (rc)
+            return rc;
+        if (f->type == T_COLOR)
+            for (int i = 0; i < 3; i++)
+                if (!(vec[i] >= 0 && vec[i] <= 1))
+                    return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, path, "components must be in [0, 1]");
+        memcpy(base, vec, sizeof vec);
+        break;
+    }
+    case T_RANGE: {
+        double vec[2];
+        int rc = get_vector(v, vec, 2, path, err);
+        if (rc)
+            return rc;
+        memcpy(base, vec, sizeof vec);
+        break;
+    }
+    }
+    if (f->flag >= 0)
+        *((bool *)((char *)r + f->flag)) = true;
+    return 0;
+}
+
+/* Applies the members of one object (the request or one of its sections). */
+static int apply_members(const json_t *obj, const char *section, const lc_proto_limits *lim, lc_request *r,
+                         lc_proto_error *err)
+{
+    const char *key;
+    const json_t *v;
+    char path[128];
+    json_object_foreach((json_t *)obj, key, v)
+    {
+        join_path(path, sizeof path, section, key);
+        if (!section && is_section(key)) {
+            if (strcmp(key, "camera") == 0) {
+                if (json_is_null(v)) { /* sessions: back to fitting the data */
+                    lc_render_params def;
+                    lc_render_params_default(&def);
+                    r->render.camera = def.camera;
+                    r->render.has_camera = false;
+                    continue;
+                }
+                if (json_is_object(v) && !r->render.has_camera) {
+                    /* Merge onto the default camera, not stale values. */
+                    lc_render_params def;
+                    lc_render_params_default(&def);
+                    r->render.camera = def.camera;
+                    r->render.has_camera = true;
+                }
+            }
+            if (!json_is_object(v))
+                return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path, "expected an object");
+            int rc = apply_members(v, key, lim, r, err);
+            if (rc)
+                return rc;
+            continue;
+        }
+        const field *f = find_field(section, key);
+        if (!f)
+            return lc_proto_set_error(err, LC_PROTO_UNKNOWN_FIELD, path, "unknown field");
+        int rc = set_field(f, v, lim, r, path, err);
+        if (rc)
+            return rc;
+    }
+    return 0;
+}
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* position != focalPoint and, when check_up, viewUp not parallel to the view
+ * direction. */
+static int check_camera(const lc_camera *c, bool check_up, lc_proto_error *err)
+{
+    double d[3] = {c->focal_point[0] - c->position[0], c->focal_point[1] - c->position[1],
+                   c->focal_point[2] - c->position[2]};
+    const double *u = c->view_up;
+    double dd = dot3(d, d), uu = dot3(u, u);
+    if (!(dd > 0) || !isfinite(dd))
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "camera.focalPoint", "must differ from camera.position");
+    if (!check_up)
+        return 0;
+    if (!(uu > 0) || !isfinite(uu))
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "camera.viewUp", "must not be zero");
+    double cx = d[1] * u[2] - d[2] * u[1], cy = d[2] * u[0] - d[0] * u[2], cz = d[0] * u[1] - d[1] * u[0];
+    /* sin² of the angle between them; below 1e-12 (≈1e-6 rad) the camera basis
+     * would be numerically meaningless. */
+    if (!((cx * cx + cy * cy + cz * cz) > 1e-12 * dd * uu))
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "camera.viewUp",
+                                  "must not be parallel to the view direction");
+    return 0;
+}
+
+int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, lc_proto_error *err)
+{
+    lc_proto_limits dl;
+    if (!lim) {
+        lc_proto_limits_default(&dl);
+        lim = &dl;
+    }
+    long long px = (long long)r->render.width * r->render.height;
+    if (px > lim->max_pixels)
+        return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "width", "%d x %d = %lld pixels exceeds the limit %lld",
+                                  r->render.width, r->render.height, px, lim->max_pixels);
+    if (r->render.has_camera)
+        return check_camera(&r->render.camera, true, err);
+    return 0;
+}
+
+static int apply(const json_t *obj, const lc_proto_limits *lim, lc_request *r, bool cross_checks,
+                 lc_proto_error *err)
+{
+    lc_proto_limits dl;
+    if (!lim) {
+        lc_proto_limits_default(&dl);
+        lim = &dl;
+    }
+    if (!json_is_object(obj))
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
+    lc_request tmp = *r; /* all or nothing */
+    int rc = apply_members(obj, NULL, lim, &tmp, err);
+    if (!rc && cross_checks)
+        rc = lc_proto_validate_request(&tmp, lim, err);
+    if (!rc)
+        *r = tmp;
+    return rc;
+}
+
+int lc_proto_apply_request(const json_t *obj, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)
+{
+    return apply(obj, lim, r, true, err);
+}
+
+int lc_proto_check_update(const json_t *obj, const lc_proto_limits *lim, lc_proto_error *err)
+{
+    lc_request scratch;
+    lc_request_default(&scratch);
+    int rc = apply(obj, lim, &scratch, false, err);
+    if (rc)
+        return rc;
+    /* The state the update will meet is unknown, so check the camera only as far
+     * as the update itself pins it down. */
+    const json_t *cam = json_is_object(obj) ? json_object_get(obj, "camera") : NULL;
+    if (json_is_object(cam) && json_object_get(cam, "position") && json_object_get(cam, "focalPoint"))
+        return check_camera(&scratch.render.camera, json_object_get(cam, "viewUp") != NULL, err);
+    return 0;
+}
+
+/* ---- loading text under limits */
+
+/* Deepest {}/[] nesting of raw JSON text, ignoring brackets inside strings; stops
+ * counting once past max (the exact depth of a hostile document is irrelevant). */
+static int nesting_depth(const char *s, size_t len, int max)
+{
+    int depth = 0, deepest = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < len; i++) {
+        char c = s[i];
+        if (in_string) {
+            if (c == '\\')
+                i++;
+            else if (c == '"')
+                in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '{' || c == '[') {
+            if (++depth > deepest) {
+                deepest = depth;
+                if (deepest > max)
+                    return deepest;
+            }
+        } else if (c == '}' || c == ']') {
+            depth--;
+        }
+    }
+    return deepest;
+}
+
+json_t *lc_proto_load(const char *text, size_t len, const lc_proto_limits *lim, lc_proto_error *err)
+{
+    lc_proto_limits dl;
+    if (!lim) {
+        lc_proto_limits_default(&dl);
+        lim = &dl;
+    }
+    if (!text)
+        len = 0;
+    if (len > lim->max_text) {
+        lc_proto_set_error(err, LC_PROTO_TOO_LARGE, "", "document of %zu bytes exceeds the limit of %zu bytes", len,
+                           lim->max_text);
+        return NULL;
+    }
+    /* Checked before jansson, whose recursion is bounded only at 2048 levels. */
+    if (nesting_depth(text, len, lim->max_depth) > lim->max_depth) {
+        lc_proto_set_error(err, LC_PROTO_TOO_DEEP, "", "nesting deeper than %d levels", lim->max_depth);
+        return NULL;
+    }
+    json_error_t je;
+    json_t *root = json_loadb(text ? text : "", len, JSON_REJECT_DUPLICATES, &je);
+    if (!root) {
+        /* jansson already rejects NaN/Infinity (not JSON) and numbers that
+         * overflow a double or a 64-bit integer. */
+        lc_proto_set_error(err, LC_PROTO_BAD_JSON, "", "invalid JSON at line %d, column %d: %s", je.line, je.column,
+                           je.text);
+        return NULL;
+    }
+    return root;
+}
+
+int lc_proto_parse_request(const char *json, size_t len, const lc_proto_limits *lim, lc_request *r,
+                           lc_proto_error *err)
+{
+    lc_proto_error local;
+    if (!err)
+        err = &local;
+    lc_request_default(r);
+    json_t *root = lc_proto_load(json, len, lim, err);
+    if (!root)
+        return strcmp(err->code, LC_PROTO_BAD_JSON) == 0 ? LC_ERR_INVALID : LC_ERR_LIMIT;
+    int rc = lc_proto_apply_request(root, lim, r, err);
+    json_decref(root);
+    return rc;
+}
+
+/* ---- query parameters */
+
+static const field *find_query_field(const char *key)
+{
+    const char *dot = strchr(key, '.');
+    if (dot) {
+        char section[32];
+        size_t n = (size_t)(dot - key);
+        if (n >= sizeof section)
+            return NULL;
+        memcpy(section, key, n);
+        section[n] = '\0';
+        return is_section(section) ? find_field(section, dot + 1) : NULL;
+    }
+    const field *f = find_field(NULL, key);
+    if (f)
+        return f;
+    for (size_t i = 0; i < NFIELDS; i++)
+        if (fields[i].alias && strcmp(fields[i].alias, key) == 0)
+            return &fields[i];
+    return NULL;
+}
+
+/* strtod accepts "nan", "inf" and hex; a URL parameter gets plain decimal only. */
+static int parse_decimal(const char *s, size_t n, double *out)
+{
+    if (n == 0 || n > 64)
+        return -1;
+    char buf[65];
+    for (size_t i = 0; i < n; i++) {
+        char c = s[i];
+        if (!((c >= '0' && c <= '9') || c == '+' || c == '-' || c == '.' || c == 'e' || c == 'E'))
+            return -1;
+        buf[i] = c;
+    }
+    buf[n] = '\0';
+    char *end;
+    double d = strtod(buf, &end);
+    if (*end || !isfinite(d))
+        return -1;
+    *out = d;
+    return 0;
+}
+
+/* Converts the text of a query value into the JSON value the field expects, so
+ * that both paths share set_field(). Returns NULL when the text has the wrong
+ * shape; set_field() then reports the expected type. */
+static json_t *query_value(const field *f, const char *value)
+{
+    switch (f->type) {
+    case T_INT:
+    case T_NUM: {
+        double d;
+        return parse_decimal(value, strlen(value), &d) < 0 ? NULL : json_real(d);
+    }
+    case T_BOOL:
+        if (!strcmp(value, "true") || !strcmp(value, "1"))
+            return json_true();
+        if (!strcmp(value, "false") || !strcmp(value, "0"))
+            return json_false();
+        return NULL;
+    case T_STR:
+    case T_ENUM:
+    case T_NAME:
+        return json_string(value); /* NULL for invalid UTF-8 */
+    case T_VEC3:
+    case T_COLOR:
+    case T_RANGE: {
+        json_t *arr = json_array();
+        const char *s = value;
+        for (;;) {
+            const char *comma = strchr(s, ',');
+            size_t n = comma ? (size_t)(comma - s) : strlen(s);
+            double d;
+            if (parse_decimal(s, n, &d) < 0 || json_array_size(arr) >= 3) {
+                json_decref(arr);
+                return NULL;
+            }
+            json_array_append_new(arr, json_real(d));
+            if (!comma)
+                break;
+            s = comma + 1;
+        }
+        return arr;
+    }
+    }
+    return NULL;
+}
+
+int lc_proto_apply_query(lc_request *r, const char *key, const char *value, const lc_proto_limits *lim,
+                         lc_proto_error *err)
+{
+    lc_proto_limits dl;
+    if (!lim) {
+        lc_proto_limits_default(&dl);
+        lim = &dl;
+    }
+    if (!key || !key[0] || key[0] == '_' || strcmp(key, "token") == 0)
+        return 0;
+    if (!value)
+        value = "";
+    const field *f = find_query_field(key);
+    if (!f)
+        return lc_proto_set_error(err, LC_PROTO_UNKNOWN_FIELD, key, "unknown query parameter");
+    json_t *v = query_value(f, value);
+    if (!v) {
+        /* A JSON null fails every type check with the right "expected ..." text. */
+        v = json_null();
+    }
+    lc_request tmp = *r;
+    if (f->section && strcmp(f->section, "camera") == 0 && !tmp.render.has_camera) {
+        lc_render_params def;
+        lc_render_params_default(&def);
+        tmp.render.camera = def.camera;
+        tmp.render.has_camera = true;
+    }
+    int rc = set_field(f, v, lim, &tmp, key, err);
+    json_decref(v);
+    if (!rc)
+        *r = tmp;
+    return rc;
+}
+
+/* ---- emission */
+
+static json_t *vec_json(const double *v, size_t n)
+{
+    json_t *a = json_array();
+    for (size_t i = 0; i < n; i++)
+        json_array_append_new(a, json_real(v[i]));
+    return a;
+}
+
+/* Emits one field from the table, so names and types match the parser. */
+static void emit(json_t *obj, const lc_request *r, const char *section, const char *name)
+{
+    const field *f = find_field(section, name);
+    const char *base = (const char *)r + f->offset;
+    json_t *v = NULL;
+    switch (f->type) {
+    case T_INT: v = json_integer(*(const int *)base); break;
+    case T_NUM: v = json_real(*(const double *)base); break;
+    case T_BOOL: v = json_boolean(*(const bool *)base); break;
+    case T_STR:
+    case T_NAME: v = json_string(base); break;
+    case T_ENUM: v = json_string(enum_to_name(f->names, *(const int *)base)); break;
+    case T_VEC3:
+    case T_COLOR: v = vec_json((const double *)base, 3); break;
+    case T_RANGE: v = vec_json((const double *)base, 2); break;
+    }
+    if (v)
+        json_object_set_new(obj, name, v);
+}
+
+static json_t *emit_section(const lc_request *r, const char *section)
+{
+    json_t *obj = json_object();
+    for (size_t i = 0; i < NFIELDS; i++) {
+        const field *f = &fields[i];
+        if (!same(f->section, section))
+            continue;
+        if (f->flag >= 0 && !*(const bool *)((const char *)r + f->flag))
+            continue; /* optional value not set: the renderer's default applies */
+        emit(obj, r, section, f->name);
+    }
+    return obj;
+}
+
+json_t *lc_proto_request_to_json(const lc_request *r)
+{
+    json_t *o = json_object();
+    if (!o)
+        return NULL;
+    emit(o, r, NULL, "dataset");
+    emit(o, r, NULL, "width");
+    emit(o, r, NULL, "height");
+    emit(o, r, NULL, "method");
+    emit(o, r, NULL, "format");
+    emit(o, r, NULL, "quality");
+    if (r->has_dt)
+        emit(o, r, NULL, "dt");
+    if (r->render.has_camera)
+        json_object_set_new(o, "camera", emit_section(r, "camera"));
+    json_object_set_new(o, "params", emit_section(r, "params"));
+    json_object_set_new(o, "importance", emit_section(r, "importance"));
+    json_object_set_new(o, "color", emit_section(r, "color"));
+    json_object_set_new(o, "style", emit_section(r, "style"));
+    return o;
+}
+
+char *lc_proto_dump(const json_t *value)
+{
+    return json_dumps(value, JSON_COMPACT | JSON_ENCODE_ANY | JSON_REAL_PRECISION(15));
+}

@@ -1,0 +1,62 @@
+// Fragment-side helpers shared by all geometry passes: splat discard, the
+// fragment's element (primary of the nearest vertex) and lit colour.
+
+in float v_g;
+in float v_cscalar;
+in vec3 v_rgb;
+in float v_alpha;
+in float v_zview;
+in vec3 v_wpos;
+in vec3 v_normal;
+in vec2 v_quad;
+in vec3 v_bary;
+flat in uvec3 v_primary;
+
+// Round splats: fragments outside the unit disc are not part of the point.
+bool outside_primitive()
+{
+#if PRIM == PRIM_POINTS
+    return dot(v_quad, v_quad) > 1.0;
+#else
+    return false;
+#endif
+}
+
+uint fragment_element()
+{
+#if PRIM == PRIM_POINTS
+    return v_primary.x;
+#elif PRIM == PRIM_LINES
+    return v_quad.y < 0.5 ? v_primary.x : v_primary.y;
+#else
+    if (v_bary.x >= v_bary.y && v_bary.x >= v_bary.z)
+        return v_primary.x;
+    return v_bary.y >= v_bary.z ? v_primary.y : v_primary.z;
+#endif
+}
+
+float fragment_importance() { return clamp(v_g, 0.0, 1.0); }
+
+// Headlight shading: lines as tubes (normal swings across the ribbon), points
+// as spheres, surfaces two-sided.
+vec3 fragment_color()
+{
+    vec3 base = u_color_mode == 2 ? v_rgb : colormap_lookup(v_cscalar);
+    if (u_shading != 0)
+        return base;
+    vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - v_wpos);
+    float ndotl;
+#if PRIM == PRIM_POINTS
+    ndotl = sqrt(max(1.0 - dot(v_quad, v_quad), 0.0));
+#elif PRIM == PRIM_LINES
+    float across = clamp(v_quad.x, -1.0, 1.0);
+    vec3 n = normalize(v_normal * across + to_cam * sqrt(max(1.0 - across * across, 0.0)));
+    ndotl = max(dot(n, to_cam), 0.0);
+#else
+    vec3 n = v_normal;
+    float len = length(n);
+    ndotl = len > 0.0 ? abs(dot(n / len, to_cam)) : 1.0;
+#endif
+    float spec = pow(ndotl, 40.0);
+    return clamp(base * (0.3 + 0.7 * ndotl) + vec3(0.25 * spec), 0.0, 1.0);
+}

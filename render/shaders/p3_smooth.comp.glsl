@@ -1,0 +1,43 @@
+// P3 smoothing and fading of element opacities (DESIGN §3). One dispatch per
+// stage; the host swaps the src/dst bindings between smoothing iterations.
+layout(local_size_x = 256) in;
+
+layout(std430, binding = 7) buffer ElementAlphaMin { uint element_alpha_min[]; };
+layout(std430, binding = 8) buffer ElementAlpha { float element_alpha[]; }; // current opacities, faded in place
+layout(std430, binding = 9) buffer SmoothSrc { float smooth_src[]; };
+layout(std430, binding = 10) buffer SmoothDst { float smooth_dst[]; };
+layout(std430, binding = 11) readonly buffer AdjacencyOffsets { uint adjacency_offsets[]; };
+layout(std430, binding = 12) readonly buffer Adjacency { uint adjacency[]; };
+layout(std430, binding = 13) buffer Stats { uint max_change_bits; };
+
+uniform int u_stage; // 0 gather targets, 1 smooth step, 2 fade
+uniform uint u_count;
+uniform float u_omega;
+uniform float u_fade; // 1 - 2^(-dt / half-life); 1 for one-shot renders
+
+void main()
+{
+    uint e = gl_GlobalInvocationID.x;
+    if (e >= u_count)
+        return;
+    if (u_stage == 0) {
+        // Elements with no fragment this frame keep their current value as target.
+        float a = uintBitsToFloat(element_alpha_min[e]);
+        smooth_dst[e] = a > 1.0 ? element_alpha[e] : a;
+    } else if (u_stage == 1) {
+        uint begin = adjacency_offsets[e], end = adjacency_offsets[e + 1u];
+        float v = smooth_src[e];
+        if (end > begin) {
+            float sum = 0.0;
+            for (uint i = begin; i < end; i++)
+                sum += smooth_src[adjacency[i]];
+            v += u_omega * (sum / float(end - begin) - v);
+        }
+        smooth_dst[e] = v;
+    } else {
+        float cur = element_alpha[e];
+        float next = cur + (smooth_src[e] - cur) * u_fade;
+        element_alpha[e] = next;
+        atomicMax(max_change_bits, floatBitsToUint(abs(next - cur)));
+    }
+}

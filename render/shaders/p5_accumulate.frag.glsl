@@ -1,0 +1,34 @@
+// P5 accumulation (FOO Eq. 19 numerator and weights): w C and w, additively.
+// FOO weight: alpha/(1-alpha) exp(-tau(d_i)); midpoint: alpha exp(-max(tau - f/2, 0)).
+
+uniform int u_estimator;
+uniform float u_direct_exponent;
+
+layout(location = 0) out vec4 o_accum;
+
+float fragment_alpha()
+{
+#ifdef DIRECT_ALPHA
+    return clamp(pow(fragment_importance(), u_direct_exponent), 0.0, 0.9999);
+#else
+    return clamp(v_alpha, 0.0, 0.9999);
+#endif
+}
+
+void main()
+{
+    if (outside_primitive())
+        discard;
+    float alpha = fragment_alpha();
+    float c[NTARGETS * 4];
+    read_coefficients(ivec2(gl_FragCoord.xy), c);
+    float tau = max(fourier_eval(c, normalized_depth(v_zview)), 0.0);
+    float w;
+    if (u_estimator == 1) {
+        float f = -log(1.0 - alpha);
+        w = alpha * exp(-max(tau - 0.5 * f, 0.0));
+    } else {
+        w = alpha / (1.0 - alpha) * exp(-tau);
+    }
+    o_accum = vec4(fragment_color() * w, w);
+}

@@ -541,7 +541,7 @@ json_t *lc_proto_load(const char *text, size_t len, const lc_proto_limits *lim, 
         return NULL;
     }
     json_error_t je;
-    json_t *root = json_loadb(text ? text : "", len, JSON_REJECT_DUPLICATES, &je);
+    json_t *root = json_loadb(text ? text : "", len, JSON_REJECT_DUPLICATES | JSON_DECODE_ANY, &je);
     if (!root) {
         /* jansson already rejects NaN/Infinity (not JSON) and numbers that
          * overflow a double or a 64-bit integer. */

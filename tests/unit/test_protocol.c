@@ -1,0 +1,565 @@
+/* Replays the shared protocol vectors (the JSON files in protocol/vectors/, also read by the
+ * browser client's Node tests) and checks round trips and update semantics. */
+#include <ctype.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "lc_test.h"
+#include "messages.h"
+#include "request.h"
+
+#define VECTORS LUCENT_SOURCE_DIR "/protocol/vectors/"
+
+static json_t *load_manifest(const char *name)
+{
+    char path[512];
+    snprintf(path, sizeof path, VECTORS "%s", name);
+    json_error_t je;
+    json_t *m = json_load_file(path, 0, &je);
+    CHECK(m != NULL, "%s: %s (line %d)", path, je.text, je.line);
+    json_t *cases = m ? json_object_get(m, "cases") : NULL;
+    CHECK(json_is_array(cases) && json_array_size(cases) > 0, "%s: no cases", path);
+    return m;
+}
+
+static int hexval(int c) { return isdigit(c) ? c - '0' : tolower(c) - 'a' + 10; }
+
+/* Decodes hex into a malloc'd buffer. */
+static unsigned char *from_hex(const char *hex, size_t *len)
+{
+    size_t n = strlen(hex) / 2;
+    unsigned char *b = malloc(n + 1);
+    for (size_t i = 0; i < n; i++)
+        b[i] = (unsigned char)(hexval(hex[2 * i]) << 4 | hexval(hex[2 * i + 1]));
+    *len = n;
+    return b;
+}
+
+/* The case's text: "input", "inputHex" or "json" (compact dump). malloc'd. */
+static char *case_text(const json_t *c, size_t *len)
+{
+    const json_t *v;
+    if ((v = json_object_get(c, "input"))) {
+        *len = json_string_length(v);
+        char *s = malloc(*len + 1);
+        memcpy(s, json_string_value(v), *len + 1);
+        return s;
+    }
+    if ((v = json_object_get(c, "inputHex")))
+        return (char *)from_hex(json_string_value(v), len);
+    char *s = json_dumps(json_object_get(c, "json"), JSON_COMPACT | JSON_ENCODE_ANY);
+    *len = strlen(s);
+    return s;
+}
+
+static void case_limits(const json_t *c, lc_proto_limits *lim)
+{
+    lc_proto_limits_default(lim);
+    const json_t *l = json_object_get(c, "limits");
+    if (!l)
+        return;
+    const json_t *v;
+    if ((v = json_object_get(l, "minSize")))
+        lim->min_size = (int)json_integer_value(v);
+    if ((v = json_object_get(l, "maxSize")))
+        lim->max_size = (int)json_integer_value(v);
+    if ((v = json_object_get(l, "maxPixels")))
+        lim->max_pixels = json_integer_value(v);
+    if ((v = json_object_get(l, "maxDepth")))
+        lim->max_depth = (int)json_integer_value(v);
+    if ((v = json_object_get(l, "maxText")))
+        lim->max_text = (size_t)json_integer_value(v);
+}
+
+/* expect ⊆ actual: objects by key, arrays element-wise, numbers within 1e-9 relative. */
+static bool subset(const json_t *expect, const json_t *actual)
+{
+    if (json_is_number(expect)) {
+        if (!json_is_number(actual))
+            return false;
+        double a = json_number_value(expect), b = json_number_value(actual);
+        return fabs(a - b) <= 1e-9 * fmax(1.0, fmax(fabs(a), fabs(b)));
+    }
+    if (json_is_object(expect)) {
+        if (!json_is_object(actual))
+            return false;
+        const char *key;
+        json_t *v;
+        json_object_foreach((json_t *)expect, key, v)
+            if (!subset(v, json_object_get(actual, key)))
+                return false;
+        return true;
+    }
+    if (json_is_array(expect)) {
+        if (!json_is_array(actual) || json_array_size(expect) != json_array_size(actual))
+            return false;
+        for (size_t i = 0; i < json_array_size(expect); i++)
+            if (!subset(json_array_get(expect, i), json_array_get(actual, i)))
+                return false;
+        return true;
+    }
+    return json_equal((json_t *)expect, (json_t *)actual);
+}
+
+/* Looks up a dotted path ("importance.range"). */
+static const json_t *at_path(const json_t *obj, const char *path)
+{
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", path);
+    const json_t *cur = obj;
+    for (char *tok = strtok(buf, "."); tok && cur; tok = strtok(NULL, "."))
+        cur = json_object_get(cur, tok);
+    return cur;
+}
+
+static void check_expect(const char *name, const json_t *c, const json_t *actual)
+{
+    const json_t *expect = json_object_get(c, "expect");
+    if (expect) {
+        bool ok = subset(expect, actual);
+        char *got = ok ? NULL : json_dumps(actual, JSON_COMPACT);
+        CHECK(ok, "%s: output %s does not contain the expected values", name, got ? got : "");
+        free(got);
+    }
+    const json_t *absent = json_object_get(c, "absent");
+    for (size_t i = 0; i < json_array_size(absent); i++) {
+        const char *p = json_string_value(json_array_get(absent, i));
+        CHECK(at_path(actual, p) == NULL, "%s: %s should be absent", name, p);
+    }
+}
+
+/* The error names the expected code and field, and the message starts with the field. */
+static void check_error(const char *name, const json_t *c, int rc, const lc_proto_error *err)
+{
+    const char *code = json_string_value(json_object_get(c, "code"));
+    const char *field = json_string_value(json_object_get(c, "field"));
+    CHECK(rc < 0, "%s: accepted, expected %s", name, code);
+    if (rc >= 0)
+        return;
+    CHECK(strcmp(err->code, code) == 0, "%s: code %s (%s), expected %s", name, err->code, err->message, code);
+    CHECK(strcmp(err->field, field) == 0, "%s: field '%s', expected '%s' (%s)", name, err->field, field, err->message);
+    if (field[0]) {
+        size_t n = strlen(field);
+        CHECK(strncmp(err->message, field, n) == 0 && strncmp(err->message + n, ": ", 2) == 0,
+              "%s: message '%s' should start with the field", name, err->message);
+    }
+    int want = (!strcmp(code, "too_deep") || !strcmp(code, "too_large")) ? LC_ERR_LIMIT : LC_ERR_INVALID;
+    CHECK(rc == want, "%s: status %d, expected %d", name, rc, want);
+}
+
+static json_t *default_json(void)
+{
+    lc_request d;
+    lc_request_default(&d);
+    return lc_proto_request_to_json(&d);
+}
+
+/* to_json -> apply onto defaults -> to_json is exact; through text it is within 15 digits. */
+static void check_request_round_trip(const char *name, const lc_request *r)
+{
+    json_t *a = lc_proto_request_to_json(r);
+    lc_request back;
+    lc_request_default(&back);
+    lc_proto_error err;
+    int rc = lc_proto_apply_request(a, NULL, &back, &err);
+    CHECK(rc == 0, "%s: round trip rejected: %s", name, err.message);
+    json_t *b = lc_proto_request_to_json(&back);
+    CHECK(json_equal(a, b), "%s: round trip through JSON differs", name);
+    char *text = lc_proto_dump(a);
+    rc = lc_proto_parse_request(text, strlen(text), NULL, &back, &err);
+    CHECK(rc == 0, "%s: text round trip rejected: %s", name, err.message);
+    json_t *c = lc_proto_request_to_json(&back);
+    CHECK(subset(a, c) && subset(c, a), "%s: text round trip differs", name);
+    free(text);
+    json_decref(a);
+    json_decref(b);
+    json_decref(c);
+}
+
+/* Every prefix of a valid input must fail cleanly or parse (sanitizer food). */
+static void parse_prefixes(const char *text, size_t len, bool message)
+{
+    for (size_t n = 0; n < len; n++) {
+        lc_request r;
+        lc_client_msg m;
+        lc_proto_error err;
+        if (message) {
+            if (lc_proto_parse_client_message(text, n, NULL, &m, &err) == 0)
+                lc_client_msg_free(&m);
+        } else {
+            (void)lc_proto_parse_request(text, n, NULL, &r, &err);
+        }
+    }
+}
+
+static int replay_requests(void)
+{
+    json_t *man = load_manifest("requests.json");
+    json_t *cases = json_object_get(man, "cases");
+    json_t *defaults = default_json();
+    size_t i;
+    json_t *c;
+    json_array_foreach(cases, i, c)
+    {
+        const char *name = json_string_value(json_object_get(c, "name"));
+        size_t len;
+        char *text = case_text(c, &len);
+        lc_proto_limits lim;
+        case_limits(c, &lim);
+        lc_request r;
+        lc_proto_error err;
+        int rc = lc_proto_parse_request(text, len, &lim, &r, &err);
+        json_t *out = lc_proto_request_to_json(&r);
+        if (json_is_true(json_object_get(c, "valid"))) {
+            CHECK(rc == 0, "%s: rejected: %s", name, err.message);
+            check_expect(name, c, out);
+            check_request_round_trip(name, &r);
+            if (len < 2000)
+                parse_prefixes(text, len, false);
+        } else {
+            check_error(name, c, rc, &err);
+            CHECK(json_equal(out, defaults), "%s: a failed parse must leave the defaults", name);
+        }
+        json_decref(out);
+        free(text);
+    }
+    size_t n = json_array_size(cases);
+    json_decref(defaults);
+    json_decref(man);
+    return (int)n;
+}
+
+/* Percent-decodes in place ('+' is a space, as in HTML forms). */
+static void url_decode(char *s)
+{
+    char *o = s;
+    for (; *s; s++) {
+        if (*s == '%' && isxdigit((unsigned char)s[1]) && isxdigit((unsigned char)s[2])) {
+            *o++ = (char)(hexval(s[1]) << 4 | hexval(s[2]));
+            s += 2;
+        } else {
+            *o++ = *s == '+' ? ' ' : *s;
+        }
+    }
+    *o = '\0';
+}
+
+static int apply_query_string(const char *query, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)
+{
+    char *copy = strdup(query);
+    int rc = 0;
+    char *save = NULL;
+    for (char *pair = strtok_r(copy, "&", &save); pair && !rc; pair = strtok_r(NULL, "&", &save)) {
+        char *eq = strchr(pair, '=');
+        char *value = eq ? eq + 1 : (char *)"";
+        if (eq)
+            *eq = '\0';
+        url_decode(pair);
+        url_decode(value);
+        rc = lc_proto_apply_query(r, pair, value, lim, err);
+    }
+    free(copy);
+    if (!rc)
+        rc = lc_proto_validate_request(r, lim, err);
+    return rc;
+}
+
+static int replay_query(void)
+{
+    json_t *man = load_manifest("query.json");
+    json_t *cases = json_object_get(man, "cases");
+    size_t i;
+    json_t *c;
+    json_array_foreach(cases, i, c)
+    {
+        const char *name = json_string_value(json_object_get(c, "name"));
+        lc_proto_limits lim;
+        case_limits(c, &lim);
+        lc_request r;
+        lc_request_default(&r);
+        lc_proto_error err;
+        int rc = apply_query_string(json_string_value(json_object_get(c, "input")), &lim, &r, &err);
+        if (json_is_true(json_object_get(c, "valid"))) {
+            CHECK(rc == 0, "%s: rejected: %s", name, err.message);
+            json_t *out = lc_proto_request_to_json(&r);
+            check_expect(name, c, out);
+            json_decref(out);
+            check_request_round_trip(name, &r);
+        } else {
+            check_error(name, c, rc, &err);
+        }
+    }
+    size_t n = json_array_size(cases);
+    json_decref(man);
+    return (int)n;
+}
+
+static int replay_client_messages(void)
+{
+    json_t *man = load_manifest("client_messages.json");
+    json_t *cases = json_object_get(man, "cases");
+    size_t i;
+    json_t *c;
+    json_array_foreach(cases, i, c)
+    {
+        const char *name = json_string_value(json_object_get(c, "name"));
+        size_t len;
+        char *text = case_text(c, &len);
+        lc_proto_limits lim;
+        case_limits(c, &lim);
+        lc_client_msg m;
+        lc_proto_error err;
+        int rc = lc_proto_parse_client_message(text, len, &lim, &m, &err);
+        if (json_is_true(json_object_get(c, "valid"))) {
+            CHECK(rc == 0, "%s: rejected: %s", name, err.message);
+            if (rc == 0) {
+                json_t *out = lc_proto_client_message_to_json(&m);
+                check_expect(name, c, out);
+                /* Round trip: dump -> parse -> same message. */
+                char *again = lc_proto_dump(out);
+                lc_client_msg m2;
+                rc = lc_proto_parse_client_message(again, strlen(again), &lim, &m2, &err);
+                CHECK(rc == 0, "%s: round trip rejected: %s", name, err.message);
+                if (rc == 0) {
+                    json_t *out2 = lc_proto_client_message_to_json(&m2);
+                    CHECK(json_equal(out, out2), "%s: round trip differs", name);
+                    json_decref(out2);
+                    lc_client_msg_free(&m2);
+                }
+                free(again);
+                json_decref(out);
+                lc_client_msg_free(&m);
+            }
+            parse_prefixes(text, len, true);
+        } else {
+            check_error(name, c, rc, &err);
+            CHECK(m.update == NULL, "%s: a failed parse must not hold an update", name);
+            lc_client_msg_free(&m); /* safe after failure */
+        }
+        free(text);
+    }
+    size_t n = json_array_size(cases);
+    json_decref(man);
+    return (int)n;
+}
+
+static int replay_frames(void)
+{
+    json_t *man = load_manifest("frames.json");
+    json_t *cases = json_object_get(man, "cases");
+    size_t i;
+    json_t *c;
+    json_array_foreach(cases, i, c)
+    {
+        const char *name = json_string_value(json_object_get(c, "name"));
+        size_t plen;
+        unsigned char *packed = from_hex(json_string_value(json_object_get(c, "packedHex")), &plen);
+        lc_frame_header h;
+        const unsigned char *img;
+        size_t img_len;
+        lc_proto_error err;
+        int rc = lc_proto_unpack_frame(packed, plen, &h, &img, &img_len, &err);
+        if (!json_is_true(json_object_get(c, "valid"))) {
+            CHECK(rc < 0, "%s: unpack accepted an invalid frame", name);
+            free(packed);
+            continue;
+        }
+        CHECK(rc == 0, "%s: unpack failed: %s", name, err.message);
+        const json_t *hj = json_object_get(c, "header");
+        size_t ilen;
+        unsigned char *image = from_hex(json_string_value(json_object_get(c, "imageHex")), &ilen);
+        CHECK(img_len == ilen && (ilen == 0 || memcmp(img, image, ilen) == 0), "%s: image bytes differ", name);
+        CHECK(h.frame == (uint64_t)json_integer_value(json_object_get(hj, "frame")), "%s: frame", name);
+        CHECK(h.width == json_integer_value(json_object_get(hj, "width")), "%s: width", name);
+        CHECK(h.height == json_integer_value(json_object_get(hj, "height")), "%s: height", name);
+        CHECK(h.quality == json_integer_value(json_object_get(hj, "quality")), "%s: quality", name);
+        CHECK(h.camera_seq == (uint64_t)json_integer_value(json_object_get(hj, "cameraSeq")), "%s: cameraSeq", name);
+        CHECK(h.converged == json_is_true(json_object_get(hj, "converged")), "%s: converged", name);
+        CHECK((h.format == LC_FORMAT_PNG) == !strcmp(json_string_value(json_object_get(hj, "format")), "png"),
+              "%s: format", name);
+        CHECK_NEAR(h.encode_ms, json_number_value(json_object_get(hj, "encodeMs")), 1e-12, "encodeMs");
+        const json_t *t = json_object_get(hj, "timings");
+        CHECK((size_t)h.timing_count == json_object_size(t), "%s: %d timings", name, h.timing_count);
+        for (int k = 0; k < h.timing_count; k++)
+            CHECK_NEAR(h.timings[k].ms, json_number_value(json_object_get(t, h.timings[k].pass)), 1e-12, "timing");
+        /* Packing the unpacked header gives the vector's bytes exactly. */
+        unsigned char *out;
+        size_t out_len;
+        rc = lc_proto_pack_frame(&h, image, ilen, &out, &out_len);
+        CHECK(rc == 0 && out_len == plen && memcmp(out, packed, plen) == 0, "%s: pack differs from packedHex", name);
+        if (rc == 0 && (out_len != plen || memcmp(out, packed, plen) != 0))
+            fprintf(stderr, "  packed: %.*s\n", (int)(out_len - 4 - ilen), out + 4);
+        free(out);
+        free(image);
+        free(packed);
+    }
+    size_t n = json_array_size(cases);
+    json_decref(man);
+    return (int)n;
+}
+
+static const char *opt_str(const json_t *o, const char *key) { return json_string_value(json_object_get(o, key)); }
+
+static int replay_server_messages(void)
+{
+    json_t *man = load_manifest("server_messages.json");
+    json_t *cases = json_object_get(man, "cases");
+    size_t i;
+    json_t *c;
+    json_array_foreach(cases, i, c)
+    {
+        const char *name = opt_str(c, "name"), *kind = opt_str(c, "kind");
+        const json_t *a = json_object_get(c, "args");
+        char *text = NULL;
+        if (!strcmp(kind, "error"))
+            text = lc_proto_error_message_json(opt_str(a, "code"), opt_str(a, "message"), opt_str(a, "field"),
+                                               json_is_true(json_object_get(a, "fatal")));
+        else if (!strcmp(kind, "httpError"))
+            text = lc_proto_error_json(opt_str(a, "code"), opt_str(a, "message"), opt_str(a, "field"));
+        else if (!strcmp(kind, "stats"))
+            text = lc_proto_stats_json(json_object_get(a, "fields"));
+        CHECK(text && !strcmp(text, opt_str(c, "output")), "%s: got %s", name, text ? text : "NULL");
+        free(text);
+    }
+    size_t n = json_array_size(cases);
+    json_decref(man);
+    return (int)n;
+}
+
+/* ---- behaviour the vectors cannot express */
+
+static void test_defaults(void)
+{
+    lc_proto_limits l;
+    lc_proto_limits_default(&l);
+    CHECK(l.min_size == 16 && l.max_size == 4096 && l.max_pixels == 4096LL * 4096 && l.max_depth == 16,
+          "limit defaults");
+    lc_request r;
+    lc_request_default(&r);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    CHECK(memcmp(&r.render.foo, &p.foo, sizeof p.foo) == 0, "FOO defaults come from lc_render_params_default");
+    CHECK(r.format == LC_FORMAT_PNG && r.quality == 90 && !r.has_dt && !r.render.has_camera, "request defaults");
+}
+
+static void test_partial_update(void)
+{
+    lc_request r;
+    lc_request_default(&r);
+    lc_proto_error err;
+    json_t *u = json_loads("{\"params\":{\"bands\":3},\"style\":{\"lineWidth\":0.5}}", 0, NULL);
+    CHECK(lc_proto_apply_request(u, NULL, &r, &err) == 0, "update: %s", err.message);
+    json_decref(u);
+    CHECK(r.render.foo.bands == 3 && r.render.style.line_width == 0.5 && r.render.foo.q == 60, "only given fields change");
+
+    /* All or nothing: a bad field after a good one changes nothing. */
+    u = json_loads("{\"params\":{\"bands\":4,\"q\":-1}}", 0, NULL);
+    CHECK(lc_proto_apply_request(u, NULL, &r, &err) == LC_ERR_INVALID, "bad update rejected");
+    json_decref(u);
+    CHECK(r.render.foo.bands == 3, "a rejected update leaves the request untouched");
+
+    /* Camera updates merge; null drops the camera. */
+    u = json_loads("{\"camera\":{\"position\":[0,0,5]}}", 0, NULL);
+    CHECK(lc_proto_apply_request(u, NULL, &r, &err) == 0, "camera: %s", err.message);
+    json_decref(u);
+    u = json_loads("{\"camera\":{\"viewAngle\":50}}", 0, NULL);
+    CHECK(lc_proto_apply_request(u, NULL, &r, &err) == 0, "camera merge: %s", err.message);
+    json_decref(u);
+    CHECK(r.render.has_camera && r.render.camera.position[2] == 5 && r.render.camera.view_angle == 50,
+          "camera fields merge");
+    u = json_loads("{\"camera\":null}", 0, NULL);
+    CHECK(lc_proto_apply_request(u, NULL, &r, &err) == 0, "camera null: %s", err.message);
+    json_decref(u);
+    CHECK(!r.render.has_camera, "camera null drops the camera");
+
+    /* A camera update that makes the merged camera degenerate is rejected. */
+    u = json_loads("{\"camera\":{\"position\":[0,0,5]}}", 0, NULL);
+    lc_proto_apply_request(u, NULL, &r, &err);
+    json_decref(u);
+    u = json_loads("{\"camera\":{\"viewUp\":[0,0,1]}}", 0, NULL);
+    CHECK(lc_proto_apply_request(u, NULL, &r, &err) < 0 && !strcmp(err.field, "camera.viewUp"),
+          "merged camera checked: %s", err.message);
+    json_decref(u);
+    CHECK(r.render.camera.view_up[1] == 1, "merged camera untouched after rejection");
+
+    /* NULL err and NULL limits are allowed. */
+    CHECK(lc_proto_parse_request("{\"width\":1}", 11, NULL, &r, NULL) == LC_ERR_INVALID, "NULL err");
+    CHECK(lc_proto_parse_request("[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]", 38, NULL, &r, NULL) == LC_ERR_LIMIT,
+          "NULL err, limit");
+}
+
+static void test_messages(void)
+{
+    lc_client_msg m;
+    lc_proto_error err;
+    const char *hello = "{\"type\":\"hello\",\"width\":800,\"height\":600,\"params\":{\"q\":80},\"quality\":95}";
+    CHECK(lc_proto_parse_client_message(hello, strlen(hello), NULL, &m, &err) == 0, "hello: %s", err.message);
+    CHECK(m.type == LC_MSG_HELLO && m.window == 2 && !m.has_window && m.device_pixel_ratio == 1.0 &&
+              !m.has_device_pixel_ratio,
+          "hello defaults");
+    CHECK(json_object_size(m.update) == 1 && json_object_get(m.update, "params"), "update holds only params");
+    lc_request r;
+    lc_request_default(&r);
+    CHECK(lc_proto_apply_request(m.update, NULL, &r, &err) == 0 && r.render.foo.q == 80, "update applies");
+    lc_stream_settings s;
+    lc_proto_stream_default(&s);
+    lc_proto_stream_apply(&s, &m);
+    CHECK(s.quality == 95 && s.window == 2 && s.interactive_quality == 70, "stream settings");
+    lc_client_msg_free(&m);
+    lc_client_msg_free(&m); /* idempotent */
+
+    const char *ack = "{\"type\":\"ack\",\"frame\":41}";
+    CHECK(lc_proto_parse_client_message(ack, strlen(ack), NULL, &m, NULL) == 0 && m.frame == 41 && !m.update, "ack");
+
+    json_t *info = json_pack("{s:s, s:i}", "name", "demo:tornado", "lines", 100);
+    char *ready = lc_proto_ready_json("s1", info, NULL, NULL, NULL);
+    json_t *rj = json_loads(ready, 0, NULL);
+    json_t *def = default_json();
+    CHECK(rj && !strcmp(json_string_value(json_object_get(rj, "type")), "ready") &&
+              !strcmp(json_string_value(json_object_get(rj, "session")), "s1") &&
+              json_equal(json_object_get(rj, "dataset"), info),
+          "ready: %s", ready);
+    lc_request back;
+    CHECK(lc_proto_apply_request(json_object_get(rj, "defaults"), NULL, (lc_request_default(&back), &back), &err) == 0,
+          "ready defaults parse back: %s", err.message);
+    json_t *bj = lc_proto_request_to_json(&back);
+    CHECK(json_equal(bj, def), "ready defaults are the default request");
+    CHECK(json_integer_value(at_path(rj, "limits.maxSize")) == 4096 &&
+              json_integer_value(at_path(rj, "stream.window")) == 2,
+          "ready limits and stream");
+    json_decref(bj);
+    json_decref(def);
+    json_decref(rj);
+    json_decref(info);
+    free(ready);
+
+    lc_proto_error e;
+    lc_proto_set_error(&e, LC_PROTO_UNKNOWN_FIELD, "params.bandz", "unknown field");
+    CHECK(!strcmp(e.message, "params.bandz: unknown field"), "message format: %s", e.message);
+    char *body = lc_proto_error_json_from(&e);
+    CHECK(!strcmp(body, "{\"error\":{\"code\":\"unknown_field\",\"message\":\"params.bandz: unknown field\","
+                        "\"field\":\"params.bandz\"}}"),
+          "error body %s", body);
+    free(body);
+
+    /* Frame packing rejects what a client could not represent. */
+    lc_frame_header h = {.frame = LC_PROTO_MAX_SEQ + 1, .width = 1, .height = 1};
+    unsigned char *out;
+    size_t out_len;
+    CHECK(lc_proto_pack_frame(&h, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "frame id above 2^53-1");
+}
+
+int main(void)
+{
+    int nreq = replay_requests();
+    int nq = replay_query();
+    int nmsg = replay_client_messages();
+    int nfr = replay_frames();
+    int nsv = replay_server_messages();
+    printf("vectors: %d requests, %d query, %d client messages, %d frames, %d server messages\n", nreq, nq, nmsg, nfr,
+           nsv);
+    test_defaults();
+    test_partial_update();
+    test_messages();
+    return lc_test_finish();
+}

@@ -1,0 +1,619 @@
+/* PLY/OBJ loaders and writers: the table of valid and invalid files in
+ * tests/data/loaders/cases.txt, exact values, round trips, the number parser
+ * and truncated/mutated inputs (run under ASan to catch memory errors). */
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "lc_test.h"
+#include "loaders.h"
+#include "scene.h"
+#include "scene_io.h"
+
+#define DATA LUCENT_TEST_DATA "/loaders/"
+
+static char *read_all(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(f);
+    if (buf)
+        buf[n] = '\0';
+    *size = (size_t)n;
+    return buf;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t a = strlen(s), b = strlen(suffix);
+    return a >= b && strcmp(s + a - b, suffix) == 0;
+}
+
+static int load_any(const char *path, lc_scene **s, lc_error *err)
+{
+    return ends_with(path, ".obj") ? lc_load_obj(path, s, err) : lc_load_ply(path, s, err);
+}
+
+static int load_any_memory(const char *path, const void *data, size_t size, lc_scene **s, lc_error *err)
+{
+    const char *base = lc_io_basename(path);
+    return ends_with(path, ".obj") ? lc_load_obj_memory(data, size, base, s, err)
+                                   : lc_load_ply_memory(data, size, base, s, err);
+}
+
+/* Two scenes hold the same data (tolerance for rgb, which PLY stores as bytes). */
+static int same_scene(const lc_scene *a, const lc_scene *b, double rgb_tol, const char *what)
+{
+    int before = lc_test_failed;
+    CHECK(a->type == b->type, "%s: type %d vs %d", what, a->type, b->type);
+    CHECK(a->vertex_count == b->vertex_count, "%s: vertices %u vs %u", what, a->vertex_count, b->vertex_count);
+    if (lc_test_failed != before)
+        return 0;
+    CHECK(memcmp(a->positions, b->positions, 3 * sizeof(float) * a->vertex_count) == 0, "%s: positions", what);
+    CHECK(!a->rgb == !b->rgb, "%s: rgb presence", what);
+    if (a->rgb && b->rgb) {
+        double worst = 0;
+        for (size_t i = 0; i < 3 * (size_t)a->vertex_count; i++)
+            worst = fmax(worst, fabs(a->rgb[i] - b->rgb[i]));
+        CHECK(worst <= rgb_tol, "%s: rgb differs by %g", what, worst);
+    }
+    CHECK(a->line_count == b->line_count, "%s: lines %u vs %u", what, a->line_count, b->line_count);
+    if (a->line_count == b->line_count && a->line_count)
+        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0,
+              "%s: line offsets", what);
+    CHECK(a->triangle_count == b->triangle_count, "%s: triangles %u vs %u", what, a->triangle_count,
+          b->triangle_count);
+    if (a->triangle_count == b->triangle_count && a->triangle_count)
+        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0,
+              "%s: triangle indices", what);
+    for (int i = 0; i < a->attribute_count; i++) {
+        int j = lc_scene_find_attribute(b, a->attributes[i].name);
+        CHECK(j >= 0, "%s: attribute %s missing", what, a->attributes[i].name);
+        if (j >= 0)
+            CHECK(memcmp(a->attributes[i].values, b->attributes[j].values, sizeof(float) * a->vertex_count) == 0,
+                  "%s: attribute %s values", what, a->attributes[i].name);
+    }
+    return lc_test_failed == before;
+}
+
+static double sum_floats(const float *v, size_t n)
+{
+    double s = 0;
+    for (size_t i = 0; i < n; i++)
+        s += v[i];
+    return s;
+}
+
+static void check_key(const lc_scene *s, const char *file, const char *key, const char *value)
+{
+    char attrs[512] = "";
+    if (strcmp(key, "type") == 0) {
+        CHECK(strcmp(lc_prim_type_name(s->type), value) == 0, "%s: type %s, expected %s", file,
+              lc_prim_type_name(s->type), value);
+    } else if (strcmp(key, "vertices") == 0) {
+        CHECK(s->vertex_count == strtoul(value, NULL, 10), "%s: %u vertices, expected %s", file, s->vertex_count,
+              value);
+    } else if (strcmp(key, "lines") == 0) {
+        CHECK(s->line_count == strtoul(value, NULL, 10), "%s: %u lines, expected %s", file, s->line_count, value);
+        CHECK(s->line_offsets && s->line_offsets[0] == 0 && s->line_offsets[s->line_count] == s->vertex_count,
+              "%s: line offsets do not cover the vertices", file);
+    } else if (strcmp(key, "triangles") == 0) {
+        CHECK(s->triangle_count == strtoul(value, NULL, 10), "%s: %u triangles, expected %s", file,
+              s->triangle_count, value);
+    } else if (strcmp(key, "rgb") == 0) {
+        CHECK((s->rgb != NULL) == (atoi(value) != 0), "%s: rgb %s, expected %s", file, s->rgb ? "yes" : "no",
+              value);
+        CHECK(strcmp(s->default_color, s->rgb ? "rgb" : "importance") == 0, "%s: default colour '%s'", file,
+              s->default_color);
+    } else if (strcmp(key, "attrs") == 0) {
+        for (int i = 0; i < s->attribute_count; i++)
+            snprintf(attrs + strlen(attrs), sizeof attrs - strlen(attrs), "%s%s", i ? "," : "",
+                     s->attributes[i].name);
+        CHECK(strcmp(attrs, strcmp(value, "-") == 0 ? "" : value) == 0, "%s: attributes '%s', expected '%s'", file,
+              attrs, value);
+    } else if (strcmp(key, "importance") == 0) {
+        CHECK(strcmp(s->default_importance, strcmp(value, "-") == 0 ? "" : value) == 0,
+              "%s: default importance '%s', expected '%s'", file, s->default_importance, value);
+    } else if (strcmp(key, "sum") == 0 || strcmp(key, "asum") == 0 || strcmp(key, "rgbsum") == 0) {
+        double want = strtod(value, NULL), got = NAN;
+        if (key[0] == 's')
+            got = sum_floats(s->positions, 3 * (size_t)s->vertex_count);
+        else if (key[0] == 'r')
+            got = s->rgb ? sum_floats(s->rgb, 3 * (size_t)s->vertex_count) : NAN;
+        else {
+            int a = lc_scene_find_attribute(s, s->default_importance);
+            got = a >= 0 ? sum_floats(s->attributes[a].values, s->vertex_count) : NAN;
+        }
+        char what[160];
+        snprintf(what, sizeof what, "%s: %s", file, key);
+        CHECK_NEAR(got, want, 1e-5 * fmax(1.0, fabs(want)), what);
+    } else {
+        CHECK(0, "%s: unknown key '%s' in cases.txt", file, key);
+    }
+}
+
+/* The table: every file is loaded from disk and from memory (same result),
+ * valid ones also through lc_scene_load_file (finalize included). */
+static void test_cases(void)
+{
+    FILE *f = fopen(DATA "cases.txt", "r");
+    CHECK(f != NULL, "cannot open %scases.txt: %s", DATA, strerror(errno));
+    if (!f)
+        return;
+    char line[1024];
+    int cases = 0;
+    while (fgets(line, sizeof line, f)) {
+        line[strcspn(line, "\r\n")] = '\0';
+        if (!line[0] || line[0] == '#')
+            continue;
+        char *msg = strstr(line, " msg=");
+        if (msg) {
+            *msg = '\0';
+            msg += 5;
+        }
+        char *save = NULL, *file = strtok_r(line, " ", &save);
+        char path[512];
+        snprintf(path, sizeof path, "%s%s", DATA, file);
+        cases++;
+
+        lc_scene *s = NULL;
+        lc_error err = {0};
+        int rc = load_any(path, &s, &err);
+        size_t size = 0;
+        char *bytes = read_all(path, &size);
+        CHECK(bytes != NULL, "%s: cannot read", file);
+        lc_scene *m = NULL;
+        lc_error merr = {0};
+        int mrc = bytes ? load_any_memory(path, bytes, size, &m, &merr) : -1;
+        CHECK(mrc == rc, "%s: memory loader rc %d vs %d", file, mrc, rc);
+
+        char *kv;
+        int expect_error = 0;
+        while ((kv = strtok_r(NULL, " ", &save))) {
+            char *eq = strchr(kv, '=');
+            if (!eq)
+                continue;
+            *eq = '\0';
+            if (strcmp(kv, "error") == 0) {
+                expect_error = 1;
+                CHECK(rc != 0 && strcmp(lc_status_name(rc), eq + 1) == 0, "%s: status %s (%s), expected %s", file,
+                      lc_status_name(rc), err.msg, eq + 1);
+            } else if (rc == 0) {
+                check_key(s, file, kv, eq + 1);
+            }
+        }
+        if (expect_error) {
+            CHECK(s == NULL, "%s: scene returned with an error", file);
+            CHECK(msg && strstr(err.msg, msg) != NULL, "%s: message '%s' lacks '%s'", file, err.msg,
+                  msg ? msg : "");
+            CHECK(strcmp(err.msg, merr.msg) == 0, "%s: memory loader says '%s'", file, merr.msg);
+            lc_scene *fs = NULL;
+            lc_error ferr = {0};
+            CHECK(lc_scene_load_file(path, &fs, &ferr) == rc && fs == NULL && strcmp(ferr.msg, err.msg) == 0,
+                  "%s: lc_scene_load_file says '%s'", file, ferr.msg);
+        } else {
+            CHECK(rc == 0, "%s: %s", file, err.msg);
+            if (rc == 0 && mrc == 0)
+                same_scene(s, m, 0, file);
+            lc_scene *fs = NULL;
+            lc_error ferr = {0};
+            int frc = lc_scene_load_file(path, &fs, &ferr);
+            CHECK(frc == 0 && fs && fs->finalized, "%s: lc_scene_load_file: %s", file, ferr.msg);
+            if (fs) {
+                char stem[LC_NAME_LEN];
+                lc_io_stem(file, stem, sizeof stem);
+                CHECK(strcmp(fs->name, stem) == 0, "%s: scene name '%s'", file, fs->name);
+            }
+            lc_scene_destroy(fs);
+        }
+        lc_scene_destroy(s);
+        lc_scene_destroy(m);
+        free(bytes);
+    }
+    fclose(f);
+    CHECK(cases >= 40, "only %d cases in cases.txt", cases);
+}
+
+static lc_scene *must_load(const char *file)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s%s", DATA, file);
+    lc_scene *s = NULL;
+    lc_error err = {0};
+    int rc = load_any(path, &s, &err);
+    CHECK(rc == 0 && s, "%s: %s", file, err.msg);
+    return s;
+}
+
+static void test_exact_values(void)
+{
+    lc_scene *a = must_load("valid/tetra_ascii.ply");
+    lc_scene *le = must_load("valid/tetra_le.ply");
+    lc_scene *be = must_load("valid/tetra_be.ply");
+    if (a && le && be) {
+        same_scene(a, le, 0, "tetra ascii vs little endian");
+        same_scene(a, be, 0, "tetra ascii vs big endian");
+        static const float rgb1[3] = {0, 1, 0};
+        CHECK(memcmp(a->rgb + 3, rgb1, sizeof rgb1) == 0, "tetra rgb of vertex 1");
+        static const uint32_t tris[12] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+        CHECK(memcmp(a->triangles, tris, sizeof tris) == 0, "tetra triangles");
+        CHECK(a->attributes[0].values[2] == 0.25f, "tetra importance of vertex 2");
+    }
+    lc_scene_destroy(a);
+    lc_scene_destroy(le);
+    lc_scene_destroy(be);
+
+    lc_scene *p = must_load("valid/polygons.ply");
+    if (p) { /* fans: pentagon 0..4, then quad 3 2 5 0 */
+        static const uint32_t tris[15] = {0, 1, 2, 0, 2, 3, 0, 3, 4, 3, 2, 5, 3, 5, 0};
+        CHECK(p->triangle_count == 5 && memcmp(p->triangles, tris, sizeof tris) == 0, "polygon fans");
+    }
+    lc_scene_destroy(p);
+
+    lc_scene *t = must_load("valid/point_types.ply");
+    if (t) {
+        int u32 = lc_scene_find_attribute(t, "u32"), c8 = lc_scene_find_attribute(t, "c8");
+        CHECK(u32 >= 0 && t->attributes[u32].values[0] == 4e9f, "uint attribute");
+        CHECK(c8 >= 0 && t->attributes[c8].values[2] == -128.0f, "char attribute");
+        CHECK(t->positions[3] == -1000.0f && t->positions[4] == 32767.0f && t->positions[5] == 255.0f,
+              "double/int16/uchar coordinates");
+    }
+    lc_scene_destroy(t);
+
+    lc_scene *l = must_load("valid/lines.ply");
+    if (l) { /* vertex 2 duplicated: the lines are [0 1 2] and [2 3 4] */
+        static const uint32_t off[3] = {0, 3, 6};
+        static const float speed[6] = {1, 2, 3, 3, 4, 5};
+        CHECK(l->line_count == 2 && memcmp(l->line_offsets, off, sizeof off) == 0, "ply line offsets");
+        CHECK(memcmp(l->attributes[0].values, speed, sizeof speed) == 0, "ply line attribute gathered");
+        CHECK(l->positions[9] == 2.0f && l->positions[10] == 0.0f, "ply duplicated vertex position");
+    }
+    lc_scene_destroy(l);
+
+    lc_scene *o = must_load("valid/lines.obj");
+    if (o) {
+        static const uint32_t off[3] = {0, 3, 5};
+        static const float vt[5] = {0.1f, 0.2f, 0.3f, 0.3f, 0.4f};
+        CHECK(o->line_count == 2 && memcmp(o->line_offsets, off, sizeof off) == 0, "obj line offsets");
+        int a = lc_scene_find_attribute(o, "vt");
+        CHECK(a >= 0 && memcmp(o->attributes[a].values, vt, sizeof vt) == 0, "obj vt per line vertex");
+        CHECK(o->positions[12] == 2.0f && o->positions[13] == 1.0f, "obj relative index resolved");
+    }
+    lc_scene_destroy(o);
+
+    lc_scene *m = must_load("valid/mesh.obj");
+    if (m) {
+        static const uint32_t tris[9] = {0, 1, 2, 0, 2, 3, 0, 1, 4};
+        static const float vt[5] = {0.5f, 0.75f, 0, 0, 0.75f};
+        CHECK(memcmp(m->triangles, tris, sizeof tris) == 0, "obj mesh triangles");
+        CHECK(memcmp(m->attributes[0].values, vt, sizeof vt) == 0, "obj mesh vt per vertex");
+    }
+    lc_scene_destroy(m);
+
+    lc_scene *c = must_load("valid/points_rgb.obj");
+    if (c) {
+        static const float rgb[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+        CHECK(memcmp(c->rgb, rgb, sizeof rgb) == 0, "obj vertex colours (missing = white)");
+    }
+    lc_scene_destroy(c);
+}
+
+/* ---- round trips */
+
+static lc_scene *make_scene(lc_prim_type type, int with_rgb)
+{
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("synthetic", type);
+    uint32_t n = 50;
+    if (!s || lc_scene_alloc_vertices(s, n, with_rgb, &err))
+        return s;
+    for (uint32_t i = 0; i < 3 * n; i++)
+        s->positions[i] = (float)sin(i * 0.731) * 1000.0f + 1.0f / 3.0f;
+    if (with_rgb)
+        for (uint32_t i = 0; i < 3 * n; i++)
+            s->rgb[i] = (float)(i % 256) / 255.0f;
+    const char *names[2] = {"importance", "temperature"};
+    for (int a = 0; a < 2; a++) {
+        float *v = malloc(n * sizeof *v);
+        for (uint32_t i = 0; i < n; i++)
+            v[i] = (float)cos(i * (a + 1.3)) * 1e-3f + (float)a;
+        lc_scene_add_attribute(s, names[a], v, &err);
+    }
+    snprintf(s->default_importance, sizeof s->default_importance, "importance");
+    if (type == LC_PRIM_LINES) {
+        static const uint32_t off[5] = {0, 2, 20, 22, 50}; /* includes a two-vertex line */
+        s->line_count = 4;
+        s->line_offsets = malloc(sizeof off);
+        memcpy(s->line_offsets, off, sizeof off);
+    } else if (type == LC_PRIM_TRIANGLES) {
+        s->triangle_count = 40;
+        s->triangles = malloc(3 * 40 * sizeof(uint32_t));
+        for (uint32_t t = 0; t < 40; t++)
+            for (int k = 0; k < 3; k++)
+                s->triangles[3 * t + k] = (t * 7 + (uint32_t)k * 13) % n;
+    }
+    return s;
+}
+
+static void test_roundtrip(const char *dir)
+{
+    for (int type = 0; type < 3; type++) {
+        for (int rgb = 0; rgb < 2; rgb++) {
+            lc_scene *s = make_scene((lc_prim_type)type, rgb);
+            char ply[512], obj[512], what[64];
+            snprintf(ply, sizeof ply, "%s/rt_%d_%d.ply", dir, type, rgb);
+            snprintf(obj, sizeof obj, "%s/rt_%d_%d.obj", dir, type, rgb);
+            lc_error err = {0};
+            int rc = lc_save_ply(s, ply, &err);
+            CHECK(rc == 0, "save_ply: %s", err.msg);
+            lc_scene *back = NULL;
+            rc = lc_load_ply(ply, &back, &err);
+            CHECK(rc == 0, "load_ply round trip: %s", err.msg);
+            snprintf(what, sizeof what, "ply round trip %s rgb=%d", lc_prim_type_name((lc_prim_type)type), rgb);
+            if (back) {
+                same_scene(s, back, 0.5 / 255.0 + 1e-6, what);
+                CHECK(strcmp(back->default_importance, "importance") == 0, "%s: default importance", what);
+            }
+            lc_scene_destroy(back);
+
+            rc = lc_save_obj(s, obj, &err);
+            CHECK(rc == 0, "save_obj: %s", err.msg);
+            back = NULL;
+            rc = lc_load_obj(obj, &back, &err);
+            CHECK(rc == 0, "load_obj round trip: %s", err.msg);
+            snprintf(what, sizeof what, "obj round trip %s rgb=%d", lc_prim_type_name((lc_prim_type)type), rgb);
+            if (back) {
+                /* OBJ keeps positions, colours, connectivity and the importance in vt. */
+                lc_scene *ref = s;
+                CHECK(back->attribute_count == 1 && strcmp(back->attributes[0].name, "vt") == 0, "%s: vt", what);
+                CHECK(back->vertex_count == ref->vertex_count &&
+                          memcmp(back->attributes[0].values, ref->attributes[0].values,
+                                 sizeof(float) * ref->vertex_count) == 0,
+                      "%s: vt equals the importance", what);
+                int keep = ref->attribute_count;
+                ref->attribute_count = 0; /* compare the rest without attributes */
+                same_scene(ref, back, 0, what);
+                ref->attribute_count = keep;
+            }
+            lc_scene_destroy(back);
+
+            /* A finalized scene (with derived attributes) also goes through. */
+            rc = lc_scene_finalize(s, NULL, &err);
+            CHECK(rc == 0, "finalize synthetic %s: %s", what, err.msg);
+            if (rc == 0) {
+                CHECK(lc_save_ply(s, ply, &err) == 0, "save finalized: %s", err.msg);
+                back = NULL;
+                CHECK(lc_scene_load_file(ply, &back, &err) == 0, "reload finalized: %s", err.msg);
+                if (back)
+                    CHECK(back->attribute_count == s->attribute_count, "%s: %d attributes after reload, %d before",
+                          what, back->attribute_count, s->attribute_count);
+                lc_scene_destroy(back);
+            }
+            unlink(ply);
+            unlink(obj);
+            lc_scene_destroy(s);
+        }
+    }
+}
+
+static void test_load_file(const char *dir)
+{
+    size_t size;
+    char *bytes = read_all(DATA "valid/tetra_le.ply", &size);
+    char path[512];
+    snprintf(path, sizeof path, "%s/Upper.Case.PLY", dir);
+    FILE *f = fopen(path, "wb");
+    CHECK(f && bytes, "temp file");
+    if (f && bytes)
+        fwrite(bytes, 1, size, f);
+    if (f)
+        fclose(f);
+    free(bytes);
+    lc_scene *s = NULL;
+    lc_error err = {0};
+    CHECK(lc_scene_load_file(path, &s, &err) == 0, "upper-case extension: %s", err.msg);
+    CHECK(s && strcmp(s->name, "Upper.Case") == 0, "scene named after the stem: '%s'", s ? s->name : "");
+    CHECK(s && s->finalized, "finalized");
+    lc_scene_destroy(s);
+    unlink(path);
+
+    s = NULL;
+    CHECK(lc_scene_load_file(DATA "cases.txt", &s, &err) == LC_ERR_UNSUPPORTED && !s, "unknown extension");
+    CHECK(strstr(err.msg, "cases.txt") != NULL, "unknown extension message: %s", err.msg);
+    CHECK(lc_scene_load_file("/nonexistent/x.obj", &s, &err) == LC_ERR_IO && !s, "missing file");
+    CHECK(strstr(err.msg, "/nonexistent/x.obj: cannot open") != NULL, "missing file message: %s", err.msg);
+    snprintf(path, sizeof path, "%s/x.ply", dir);
+    CHECK(lc_save_ply(&(lc_scene){.vertex_count = 0}, "/nonexistent/dir/x.ply", &err) == LC_ERR_IO,
+          "unwritable path");
+}
+
+/* ---- hostile sizes */
+
+static void test_hostile(void)
+{
+    /* Claims 4e9 vertices in a few bytes: must fail on the size check, never
+     * try to allocate (an allocation failure would say "out of memory"). */
+    static const char le[] = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+                             "property float x\nproperty float y\nproperty float z\nend_header\n\0\0\0\0";
+    lc_scene *s = NULL;
+    lc_error err = {0};
+    int rc = lc_load_ply_memory(le, sizeof le - 1, "big.ply", &s, &err);
+    CHECK(rc == LC_ERR_INVALID && !s && strstr(err.msg, "big.ply: line 3: vertex count 4000000000 exceeds the file size"),
+          "hostile count: %s", err.msg);
+
+    /* A count that fits the file but exceeds the cap (records of 0 bytes are
+     * impossible, so build one of 1-byte records: 2^28 + 1 of them). */
+    size_t n = (size_t)LC_MAX_VERTICES + 1;
+    const char *head = "ply\nformat binary_little_endian 1.0\nelement vertex 268435457\nproperty uchar x\n"
+                       "property uchar y\nproperty uchar z\nend_header\n";
+    size_t hl = strlen(head);
+    char *big = calloc(1, hl + 3 * n);
+    if (big) {
+        memcpy(big, head, hl);
+        rc = lc_load_ply_memory(big, hl + 3 * n, "cap.ply", &s, &err);
+        CHECK(rc == LC_ERR_LIMIT && strstr(err.msg, "exceeds the limit"), "vertex cap: %s", err.msg);
+        free(big);
+    }
+
+    /* Header without a newline at all, and NULs. */
+    static const char nul[] = "ply\nformat ascii 1.0\0\nend_header\n";
+    rc = lc_load_ply_memory(nul, sizeof nul - 1, "nul.ply", &s, &err);
+    CHECK(rc == LC_ERR_INVALID && strstr(err.msg, "NUL byte"), "NUL in header: %s", err.msg);
+    rc = lc_load_ply_memory(NULL, 0, NULL, &s, &err);
+    CHECK(rc == LC_ERR_INVALID && !s, "NULL input");
+    rc = lc_load_obj_memory(NULL, 0, NULL, &s, &err);
+    CHECK(rc == LC_ERR_INVALID && !s, "NULL input obj");
+}
+
+/* ---- robustness: every prefix and many single-byte mutations */
+
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+static uint32_t rng(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (uint32_t)rng_state;
+}
+
+static void test_mutations(void)
+{
+    static const char *files[] = {"valid/tetra_ascii.ply", "valid/tetra_le.ply", "valid/tetra_be.ply",
+                                  "valid/skip_elements_le.ply", "valid/lines.ply", "valid/point_types.ply",
+                                  "valid/lines.obj", "valid/mesh.obj", "valid/points_rgb.obj"};
+    int loaded = 0, failed = 0;
+    for (size_t fi = 0; fi < sizeof files / sizeof *files; fi++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s%s", DATA, files[fi]);
+        size_t size;
+        char *bytes = read_all(path, &size);
+        CHECK(bytes != NULL, "%s", path);
+        if (!bytes)
+            continue;
+        for (size_t len = 0; len <= size; len++) { /* every prefix, in an exact-size buffer for ASan */
+            char *copy = malloc(len ? len : 1);
+            memcpy(copy, bytes, len);
+            lc_scene *s = NULL;
+            lc_error err = {0};
+            int rc = load_any_memory(path, copy, len, &s, &err);
+            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s prefix %zu: rc %d", files[fi], len, rc);
+            rc == 0 ? loaded++ : failed++;
+            lc_scene_destroy(s);
+            free(copy);
+        }
+        char *copy = malloc(size);
+        for (int iter = 0; iter < 3000; iter++) {
+            memcpy(copy, bytes, size);
+            int edits = 1 + (int)(rng() % 4);
+            for (int e = 0; e < edits; e++) {
+                static const char interesting[] = "0123456789 \n-.e/#nfvl\xff\x80";
+                size_t at = rng() % size;
+                copy[at] = rng() % 2 ? (char)rng() : interesting[rng() % (sizeof interesting - 1)];
+            }
+            lc_scene *s = NULL;
+            lc_error err = {0};
+            int rc = load_any_memory(path, copy, size, &s, &err);
+            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s mutation %d: rc %d", files[fi], iter, rc);
+            if (rc == 0) {
+                /* Whatever loads must also survive finalize (indices in range etc.). */
+                lc_error ferr = {0};
+                int frc = lc_scene_finalize(s, NULL, &ferr);
+                (void)frc;
+            }
+            lc_scene_destroy(s);
+        }
+        free(copy);
+        free(bytes);
+    }
+    CHECK(loaded > 0 && failed > 0, "prefixes: %d loaded, %d failed", loaded, failed);
+}
+
+/* ---- the number parser against strtod */
+
+static void test_parse_double(void)
+{
+    static const char *ok[] = {"0",       "-0",       "1",          "-0.5",        "0.1",      "1.",
+                               ".5",      "-.5e+2",   "1e-45",      "3.4028235e38", "1e400",    "-1e400",
+                               "1e-400",  "123456789012345678901234", "0.30000000000000004", "9007199254740993",
+                               "2.2250738585072014e-308", "4.9e-324", "1E5", "+7", "00012.50", "1e22", "1e23",
+                               "8.589973e9", "0.000000000000000000000000000001"};
+    for (size_t i = 0; i < sizeof ok / sizeof *ok; i++) {
+        const char *s = ok[i], *end = s + strlen(s);
+        double v = -12345, ref = strtod(s, NULL);
+        const char *q = lc_io_parse_double(s, end, &v);
+        CHECK(q == end && memcmp(&v, &ref, sizeof v) == 0, "parse '%s': %.17g vs strtod %.17g", s, v, ref);
+    }
+    static const struct {
+        const char *s;
+        int consumed; /* -1: no number */
+    } partial[] = {{"abc", -1}, {"+", -1}, {"-", -1}, {".", -1}, {"e5", -1}, {"1e", 1}, {"1e+", 1},
+                   {"2x", 1},   {"1.5.5", 3}, {"", -1}};
+    for (size_t i = 0; i < sizeof partial / sizeof *partial; i++) {
+        const char *s = partial[i].s;
+        double v;
+        const char *q = lc_io_parse_double(s, s + strlen(s), &v);
+        int got = q ? (int)(q - s) : -1;
+        CHECK(got == partial[i].consumed, "parse '%s' consumed %d, expected %d", s, got, partial[i].consumed);
+    }
+    double v;
+    CHECK(lc_io_parse_double("nan", "nan" + 3, &v) && isnan(v), "nan");
+    CHECK(lc_io_parse_double("-Infinity", "-Infinity" + 9, &v) && isinf(v) && v < 0, "-Infinity");
+    CHECK(lc_io_parse_double("INF", "INF" + 3, &v) && isinf(v) && v > 0, "INF");
+    /* The end bound is respected: "12" of "123". */
+    CHECK(lc_io_parse_double("123", "123" + 2, &v) && v == 12, "bounded by end");
+
+    int mismatches = 0;
+    for (int i = 0; i < 200000; i++) {
+        char buf[64];
+        uint64_t bits = ((uint64_t)rng() << 32) | rng();
+        double d;
+        memcpy(&d, &bits, sizeof d);
+        if (!isfinite(d))
+            continue;
+        static const char *formats[] = {"%.17g", "%.9g", "%g", "%.6f", "%.3e"};
+        const char *fmt = formats[i % 5];
+        if (i % 5 == 3)
+            d = fmod(d, 1e6); /* %f of huge numbers is long; keep it realistic */
+        snprintf(buf, sizeof buf, fmt, d);
+        double ref = strtod(buf, NULL), got;
+        const char *q = lc_io_parse_double(buf, buf + strlen(buf), &got);
+        if (!q || *q || memcmp(&ref, &got, sizeof got) != 0) {
+            if (mismatches++ < 5)
+                CHECK(0, "parse '%s': %.17g vs strtod %.17g", buf, got, ref);
+        }
+    }
+    CHECK(mismatches == 0, "%d mismatches against strtod", mismatches);
+}
+
+int main(void)
+{
+    lc_log_set_level(LC_LOG_ERROR); /* the cases trigger expected warnings */
+    char dir[] = "/tmp/lc_loaders_XXXXXX";
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_parse_double();
+    test_cases();
+    test_exact_values();
+    test_roundtrip(dir);
+    test_load_file(dir);
+    test_hostile();
+    test_mutations();
+    rmdir(dir);
+    return lc_test_finish();
+}

@@ -32,7 +32,8 @@ void lc_fourier_init(lc_fourier *f, int m)
 
 void lc_fourier_add(lc_fourier *f, double d, double value)
 {
-    /* FOO Eq. 8 without its factor 2. k = 0 separately: cos(0) = 1 and sin(0) = 0 exactly, so A_0 is the plain sum and F(1) = A_0 holds. */
+    /* FOO Eq. 8 without its factor 2. k = 0 separately: cos(0) = 1 and sin(0) = 0 exactly, so A_0 is the
+     * plain sum and F(1) = A_0 holds. */
     f->a[0] += value;
     for (int k = 1; k <= f->m; k++) {
         double phase = 2.0 * M_PI * k * d;

@@ -880,9 +880,9 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     lc_render_params p = *params;
     lc_frame_setup fs = {.params = &p, .gs = gs, .width = p.width, .height = p.height};
     if (!p.has_camera) {
-        /* ParaView's default view: looking down -Z with +Y up, fitted to the bounds. */
+        /* The dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds. */
         p.camera.view_angle = p.camera.view_angle > 0 ? p.camera.view_angle : 30;
-        lc_camera_fit(&p.camera, s->bounds, NULL, NULL);
+        lc_camera_fit(&p.camera, s->bounds, s->has_view ? s->view_direction : NULL, s->has_view ? s->view_up : NULL);
     }
     rc = resolve_mapping(&fs, err);
     if (rc)

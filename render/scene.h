@@ -64,6 +64,11 @@ typedef struct lc_scene {
     double bounds[6]; /* xmin, ymin, zmin, xmax, ymax, zmax */
     char default_importance[LC_NAME_LEN]; /* attribute used when a request names none */
     char default_color[LC_NAME_LEN];      /* "importance", "rgb" or an attribute */
+    /* Suggested initial view when a request has no camera (e.g. the tornado is
+     * seen from the side with +Z up); has_view = 0: ParaView's -Z, +Y up. */
+    int has_view;
+    double view_direction[3]; /* from the camera toward the data */
+    double view_up[3];
 
     lc_elements elements;
     int finalized;

@@ -1,0 +1,76 @@
+// HTTP API calls (protocol/openapi.yaml): datasets, health and the PNG render
+// behind the screenshot button. Failures become ApiError with the server's
+// error code and a readable message.
+
+import { describeError } from './protocol.js';
+
+export class ApiError extends Error {
+  constructor(status, code, message) {
+    super(message);
+    this.name = 'ApiError';
+    this.status = status;
+    this.code = code;
+  }
+}
+
+async function failure(res) {
+  let body = null;
+  try {
+    body = await res.json();
+  } catch {
+    /* not JSON */
+  }
+  const code = body?.error?.code ?? (res.status === 401 ? 'unauthorized' : `http_${res.status}`);
+  const msg = body?.error ? describeError(body) : `${res.status} ${res.statusText || 'error'}`;
+  return new ApiError(res.status, code, msg);
+}
+
+export class Api {
+  /** base: URL of the server root; token(): the current token or null. */
+  constructor(base, token) {
+    this.base = base;
+    this.token = token;
+  }
+
+  #headers(extra = {}) {
+    const t = this.token();
+    return t ? { ...extra, Authorization: `Bearer ${t}` } : extra;
+  }
+
+  async #get(path) {
+    let res;
+    try {
+      res = await fetch(new URL(path, this.base), { headers: this.#headers(), cache: 'no-store' });
+    } catch (e) {
+      throw new ApiError(0, 'unreachable', `The server cannot be reached (${e.message}).`);
+    }
+    if (!res.ok) throw await failure(res);
+    return res.json();
+  }
+
+  /** The dataset descriptions: an array of {name, ...} whatever the body's wrapper. */
+  async datasets() {
+    const body = await this.#get('api/v1/datasets');
+    return Array.isArray(body) ? body : Array.isArray(body?.datasets) ? body.datasets : [];
+  }
+
+  health() {
+    return this.#get('api/v1/health');
+  }
+
+  /** POST /api/v1/render; returns {blob, timings} (timings header text, if any). */
+  async render(request) {
+    let res;
+    try {
+      res = await fetch(new URL('api/v1/render', this.base), {
+        method: 'POST',
+        headers: this.#headers({ 'Content-Type': 'application/json' }),
+        body: JSON.stringify(request),
+      });
+    } catch (e) {
+      throw new ApiError(0, 'unreachable', `The server cannot be reached (${e.message}).`);
+    }
+    if (!res.ok) throw await failure(res);
+    return { blob: await res.blob(), timings: res.headers.get('X-Lucent-Timings') ?? res.headers.get('Server-Timing') };
+  }
+}

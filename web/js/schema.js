@@ -1,0 +1,195 @@
+// The render request's fields (protocol/README.md; mirrors the table in
+// protocol/request.c): where each lives in the JSON, its flat alias (the key of
+// GET /api/v1/render query parameters, reused for the page's URL hash), its type
+// and its range. Client-side checks use it to refuse what the server would
+// refuse, with the same field names in the messages.
+
+// Types: int, num, bool, str, enum, vec3, range (two numbers), color (three in [0,1]).
+export const FIELDS = Object.freeze([
+  { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
+  { section: null, name: 'method', alias: 'method', type: 'enum', values: ['fourier', 'exact', 'opaque', 'direct', 'wboit'] },
+
+  { section: 'camera', name: 'position', alias: 'position', type: 'vec3' },
+  { section: 'camera', name: 'focalPoint', alias: 'focalPoint', type: 'vec3' },
+  { section: 'camera', name: 'viewUp', alias: 'viewUp', type: 'vec3' },
+  { section: 'camera', name: 'viewAngle', alias: 'viewAngle', type: 'num', min: 0, max: 180, loOpen: true, hiOpen: true },
+  { section: 'camera', name: 'parallelProjection', alias: 'parallelProjection', type: 'bool' },
+  { section: 'camera', name: 'parallelScale', alias: 'parallelScale', type: 'num', min: 0, loOpen: true },
+
+  { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6 },
+  { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6 },
+  { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000 },
+  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8 },
+  { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000 },
+  { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1 },
+  { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60 },
+  { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true },
+  { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024 },
+  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25 },
+  { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'] },
+  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true },
+
+  { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
+  { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },
+  { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true },
+
+  { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63 },
+  {
+    section: 'color', name: 'colormap', alias: 'colormap', type: 'enum',
+    values: ['viridis', 'coolwarm', 'grayscale', 'inferno', 'plasma', 'turbo'],
+  },
+  { section: 'color', name: 'range', alias: 'colorRange', type: 'range' },
+
+  { section: 'style', name: 'background', alias: 'background', type: 'color' },
+  { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0 },
+  { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64 },
+  { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true },
+  { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'] },
+]);
+
+// Top-level fields of a whole render request (POST /api/v1/render) besides
+// dataset and method; sizes follow the server's limits (16..4096 by default).
+export const REQUEST_TOP_FIELDS = Object.freeze([
+  { section: null, name: 'version', alias: 'version', type: 'int', min: 1, max: 1 },
+  { section: null, name: 'width', alias: 'width', type: 'int', min: 16, max: 4096, sizeLimit: true },
+  { section: null, name: 'height', alias: 'height', type: 'int', min: 16, max: 4096, sizeLimit: true },
+  { section: null, name: 'format', alias: 'format', type: 'enum', values: ['png', 'jpeg', 'jpg'] },
+  { section: null, name: 'quality', alias: 'quality', type: 'int', min: 1, max: 100 },
+  { section: null, name: 'dt', alias: 'dt', type: 'num', min: 0, max: 3600 },
+]);
+
+// Stream settings of the WebSocket session (hello/params top level), not part of a render request.
+export const STREAM_FIELDS = Object.freeze([
+  { section: null, name: 'quality', alias: 'quality', type: 'int', min: 1, max: 100 },
+  { section: null, name: 'interactiveQuality', alias: 'interactiveQuality', type: 'int', min: 1, max: 100 },
+  { section: null, name: 'interactiveScale', alias: 'interactiveScale', type: 'num', min: 0.25, max: 1 },
+]);
+
+/** The sections a params message may carry besides the stream settings. */
+export const UPDATE_SECTIONS = Object.freeze(['params', 'importance', 'color', 'style']);
+
+export const fieldPath = (f) => (f.section ? `${f.section}.${f.name}` : f.name);
+
+const byPath = new Map([...FIELDS, ...STREAM_FIELDS].map((f) => [fieldPath(f), f]));
+const byAlias = new Map([...FIELDS, ...STREAM_FIELDS].map((f) => [f.alias, f]));
+
+/** The field at a dotted path ("params.q", "quality"), or undefined. */
+export const fieldByPath = (path) => byPath.get(path);
+/** The field with a flat alias ("q", "importanceRange"), or undefined. */
+export const fieldByAlias = (alias) => byAlias.get(alias);
+
+const isNum = (v) => typeof v === 'number' && Number.isFinite(v);
+const g15 = (x) => String(Number(x.toPrecision(15)));
+const utf8Length = (s) => new TextEncoder().encode(s).length;
+
+/**
+ * Checks one value against its field as protocol/request.c does. Returns null
+ * when valid, else {code, reason} with the C code's error code ("bad_field",
+ * "out_of_range") and reason text ("expected an integer", "9 is outside [1, 8]").
+ */
+export function checkField(f, v) {
+  const bad = (reason) => ({ code: 'bad_field', reason });
+  const range = (reason) => ({ code: 'out_of_range', reason });
+  switch (f.type) {
+    case 'int':
+    case 'num': {
+      if (!isNum(v) || (f.type === 'int' && !Number.isInteger(v)))
+        return bad(f.type === 'int' ? 'expected an integer' : 'expected a number');
+      const lo = f.min ?? -Infinity, hi = f.max ?? Infinity;
+      const loBad = f.loOpen ? !(v > lo) : !(v >= lo);
+      const hiBad = f.hiOpen ? !(v < hi) : !(v <= hi);
+      if (loBad || hiBad) {
+        if (hi === Infinity) return range(`${g15(v)} is not ${f.loOpen ? '>' : '>='} ${g15(lo)}`);
+        return range(`${g15(v)} is outside ${f.loOpen ? '(' : '['}${g15(lo)}, ${g15(hi)}${f.hiOpen ? ')' : ']'}`);
+      }
+      return null;
+    }
+    case 'bool':
+      return typeof v === 'boolean' ? null : bad('expected true or false');
+    case 'str':
+      if (typeof v !== 'string') return bad('expected a string');
+      return f.maxLength !== undefined && utf8Length(v) > f.maxLength ? range(`longer than ${f.maxLength} bytes`) : null;
+    case 'enum':
+      return typeof v === 'string' && f.values.includes(v) ? null : bad(`expected one of ${f.values.map((x) => `"${x}"`).join(', ')}`);
+    case 'vec3':
+    case 'color':
+      if (!(Array.isArray(v) && v.length === 3 && v.every(isNum))) return bad('expected an array of 3 numbers');
+      if (f.type === 'color' && !v.every((x) => x >= 0 && x <= 1)) return range('components must be in [0, 1]');
+      return null;
+    case 'range':
+      return Array.isArray(v) && v.length === 2 && v.every(isNum) ? null : bad('expected an array of 2 numbers');
+    default:
+      return bad('unknown type');
+  }
+}
+
+/** Like checkField but only the reason text (null when valid), for the panel and the URL. */
+export function checkValue(f, v) {
+  return checkField(f, v)?.reason ?? null;
+}
+
+/** Text of a value for a URL (vectors comma-separated), as GET /api/v1/render reads it. */
+export function valueToText(f, v) {
+  if (Array.isArray(v)) return v.map((x) => String(x)).join(',');
+  return String(v);
+}
+
+/** Parses URL text back into a value for the field; returns undefined if malformed. */
+export function valueFromText(f, text) {
+  const num = (s) => (/^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/.test(s) ? Number(s) : NaN);
+  switch (f.type) {
+    case 'int':
+    case 'num': {
+      const n = num(text);
+      return Number.isFinite(n) ? n : undefined;
+    }
+    case 'bool':
+      if (text === 'true' || text === '1') return true;
+      if (text === 'false' || text === '0') return false;
+      return undefined;
+    case 'str':
+    case 'enum':
+      return text;
+    case 'vec3':
+    case 'range':
+    case 'color': {
+      const parts = text.split(',').map(num);
+      return parts.every(Number.isFinite) ? parts : undefined;
+    }
+    default:
+      return undefined;
+  }
+}
+
+/** Reads a dotted path from a nested object. */
+export function getPath(obj, path) {
+  let o = obj;
+  for (const k of path.split('.')) {
+    if (o == null || typeof o !== 'object') return undefined;
+    o = o[k];
+  }
+  return o;
+}
+
+/** Writes a dotted path into a nested object, creating sections. Returns obj. */
+export function setPath(obj, path, value) {
+  const keys = path.split('.');
+  let o = obj;
+  for (const k of keys.slice(0, -1)) {
+    if (o[k] == null || typeof o[k] !== 'object') o[k] = {};
+    o = o[k];
+  }
+  o[keys[keys.length - 1]] = value;
+  return obj;
+}
+
+/** Deep merge of plain objects (arrays and scalars replace). Returns a new object. */
+export function merge(base, update) {
+  const out = { ...(base ?? {}) };
+  for (const [k, v] of Object.entries(update ?? {})) {
+    if (v && typeof v === 'object' && !Array.isArray(v) && out[k] && typeof out[k] === 'object' && !Array.isArray(out[k]))
+      out[k] = merge(out[k], v);
+    else out[k] = Array.isArray(v) ? [...v] : v && typeof v === 'object' ? merge({}, v) : v;
+  }
+  return out;
+}

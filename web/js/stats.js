@@ -1,0 +1,98 @@
+// Frame statistics: frames per second, input → frame latency, the server's
+// per-pass timings and encode time, bytes per frame, renderer and fading state.
+// FrameStats is pure bookkeeping (tested in Node); renderStats writes the overlay.
+
+export class FrameStats {
+  constructor(now = () => performance.now()) {
+    this.now = now;
+    this.drawTimes = []; // timestamps of drawn frames in the last second
+    this.sent = new Map(); // camera seq -> send time
+    this.lastMeasuredSeq = 0;
+    this.latency = null; // ms, input -> frame on screen
+    this.latencyAvg = null;
+    this.bytes = null;
+    this.bytesAvg = null;
+    this.header = null;
+    this.frames = 0;
+    this.server = {}; // last stats message
+    this.renderer = '';
+  }
+
+  /** A camera message with this seq left now. */
+  cameraSent(seq) {
+    this.sent.set(seq, this.now());
+    if (this.sent.size > 256) this.sent.delete(this.sent.keys().next().value);
+  }
+
+  /** A frame was drawn: header, byte size and the time it reached the screen. */
+  frameDrawn(header, bytes, drawnAt = this.now()) {
+    this.frames++;
+    this.header = header;
+    this.drawTimes.push(drawnAt);
+    while (this.drawTimes.length && this.drawTimes[0] < drawnAt - 1000) this.drawTimes.shift();
+    const ema = (old, v) => (old == null ? v : old * 0.8 + v * 0.2);
+    this.bytes = bytes;
+    this.bytesAvg = ema(this.bytesAvg, bytes);
+    const seq = header.cameraSeq;
+    if (typeof seq === 'number' && seq > this.lastMeasuredSeq && this.sent.has(seq)) {
+      this.latency = drawnAt - this.sent.get(seq);
+      this.latencyAvg = ema(this.latencyAvg, this.latency);
+      this.lastMeasuredSeq = seq;
+      for (const k of this.sent.keys()) if (k <= seq) this.sent.delete(k);
+    }
+  }
+
+  /** Frames drawn in the last second (0 once frames stop for a second). */
+  fps(at = this.now()) {
+    const recent = this.drawTimes.filter((t) => t >= at - 1000);
+    return recent.length;
+  }
+
+  /** Lines of text for the overlay: [label, value] pairs. */
+  lines(at = this.now()) {
+    const out = [];
+    const h = this.header;
+    const ms = (v) => (v == null ? '–' : `${v.toFixed(v < 10 ? 1 : 0)} ms`);
+    out.push(['fps', String(this.fps(at))]);
+    out.push(['latency', this.latency == null ? '–' : `${ms(this.latency)} (avg ${ms(this.latencyAvg)})`]);
+    if (h) {
+      out.push(['frame', `#${h.frame} ${h.width}×${h.height} ${h.format}${h.quality ? ` q${h.quality}` : ''}`]);
+      const t = h.timings && typeof h.timings === 'object' ? Object.entries(h.timings) : [];
+      const total = t.reduce((s, [, v]) => s + v, 0);
+      if (t.length) {
+        out.push(['render', ms(total)]);
+        for (const [pass, v] of t) out.push([`  ${pass}`, ms(v)]);
+      }
+      if (typeof h.encodeMs === 'number') out.push(['encode', ms(h.encodeMs)]);
+      out.push(['state', h.converged ? 'converged' : 'fading']);
+    }
+    if (this.bytes != null) out.push(['bytes/frame', `${formatBytes(this.bytes)} (avg ${formatBytes(this.bytesAvg)})`]);
+    if (this.renderer) out.push(['renderer', this.renderer]);
+    for (const [k, v] of Object.entries(this.server)) {
+      if (k === 'type' || v === null || typeof v === 'object') continue;
+      out.push([k, typeof v === 'number' ? String(Number(v.toPrecision(4))) : String(v)]);
+    }
+    return out;
+  }
+}
+
+export function formatBytes(n) {
+  if (n == null) return '–';
+  if (n < 1024) return `${Math.round(n)} B`;
+  if (n < 1024 * 1024) return `${(n / 1024).toFixed(1)} KiB`;
+  return `${(n / 1024 / 1024).toFixed(2)} MiB`;
+}
+
+/** Writes the overlay (a definition list) into el. */
+export function renderStats(el, stats) {
+  const dl = document.createElement('dl');
+  for (const [k, v] of stats.lines()) {
+    const dt = document.createElement('dt');
+    dt.textContent = k;
+    const dd = document.createElement('dd');
+    dd.textContent = v;
+    if (k === 'state') dd.dataset.state = v;
+    dl.append(dt, dd);
+  }
+  el.replaceChildren(dl);
+}

@@ -1,0 +1,306 @@
+// The settings panel: builds labelled, keyboard-accessible controls from a
+// declarative list, shows each value as a number, and reports changes by the
+// request path they edit ("params.q", "style.background", "quality"). It holds
+// no state of its own beyond the DOM: app.js owns the values.
+
+import { fieldByPath, checkValue } from './schema.js';
+
+const METHOD_LABELS = {
+  fourier: 'Fourier (FOO)',
+  exact: 'Exact (linked lists)',
+  opaque: 'Opaque',
+  direct: 'Direct (α = gᵏ)',
+  wboit: 'Weighted blended OIT',
+};
+
+/**
+ * The groups and controls. kind: range (slider + number box), select, check,
+ * color, range2 (two number boxes for [min, max]). min/max/step are the slider's;
+ * the number box accepts the whole schema range. dynamic: options or bounds that
+ * depend on the dataset (filled by Panel.setDataset).
+ */
+export const GROUPS = [
+  {
+    id: 'optimization', legend: 'Optimization', controls: [
+      { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS) },
+      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1 },
+      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1 },
+      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1 },
+      { path: 'params.bands', label: 'Bands m', kind: 'range', min: 1, max: 8, step: 1 },
+      { path: 'params.smoothing', label: 'Smoothing iterations', kind: 'range', min: 0, max: 100, step: 1 },
+      { path: 'params.smoothingWeight', label: 'Smoothing weight ω', kind: 'range', min: 0, max: 1, step: 0.01 },
+      { path: 'params.fadeHalfLife', label: 'Fade half-life (s)', kind: 'range', min: 0, max: 2, step: 0.01 },
+      { path: 'params.estimator', label: 'Estimator', kind: 'select', options: [['midpoint', 'Midpoint'], ['foo', 'FOO (paper)']] },
+      { path: 'params.resolutionScale', label: 'Optimization resolution', kind: 'range', min: 0.1, max: 1, step: 0.05 },
+      { path: 'params.subset', label: 'Subset (every n-th)', kind: 'range', min: 1, max: 64, step: 1 },
+      { path: 'params.depthMargin', label: 'Depth margin δ', kind: 'range', min: 0, max: 0.25, step: 0.005 },
+      { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1 },
+    ],
+  },
+  {
+    id: 'importance', legend: 'Importance', controls: [
+      { path: 'importance.attribute', label: 'Attribute', kind: 'select', dynamic: 'attributes' },
+      { path: 'importance.range', label: 'Range', kind: 'range2', dynamic: 'importanceRange' },
+      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1 },
+    ],
+  },
+  {
+    id: 'color', legend: 'Colour', controls: [
+      { path: 'color.attribute', label: 'Colour by', kind: 'select', dynamic: 'colorAttributes' },
+      { path: 'color.colormap', label: 'Colormap', kind: 'select', options: fieldByPath('color.colormap').values.map((v) => [v, v]) },
+      { path: 'color.range', label: 'Range', kind: 'range2', dynamic: 'colorRange' },
+    ],
+  },
+  {
+    id: 'style', legend: 'Style', controls: [
+      { path: 'style.lineWidth', label: 'Line width (0 = auto)', kind: 'range', min: 0, max: 0.05, step: 0.0005, dynamic: 'lineWidth' },
+      { path: 'style.minLinePixels', label: 'Minimum line pixels', kind: 'range', min: 0, max: 8, step: 0.5 },
+      { path: 'style.pointSize', label: 'Point size (px)', kind: 'range', min: 0.5, max: 20, step: 0.5 },
+      { path: 'style.background', label: 'Background', kind: 'color' },
+      { path: 'style.shading', label: 'Shading', kind: 'select', options: [['phong', 'Phong'], ['none', 'None (flat)']] },
+      { path: 'camera.viewAngle', label: 'View angle (°)', kind: 'range', min: 5, max: 120, step: 1 },
+      { path: 'camera.parallelProjection', label: 'Parallel projection', kind: 'check' },
+    ],
+  },
+  {
+    id: 'quality', legend: 'Quality', controls: [
+      { path: 'quality', label: 'JPEG quality (still)', kind: 'range', min: 10, max: 100, step: 1 },
+      { path: 'interactiveQuality', label: 'JPEG quality (moving)', kind: 'range', min: 10, max: 100, step: 1 },
+      { path: 'interactiveScale', label: 'Resolution while moving', kind: 'range', min: 0.25, max: 1, step: 0.05 },
+    ],
+  },
+];
+
+const idOf = (path) => `ctl-${path.replace(/\./g, '-')}`;
+const decimals = (step) => (String(step).includes('.') ? String(step).split('.')[1].length : 0);
+
+/** [0,1] RGB ↔ #rrggbb. */
+export function rgbToHex(rgb) {
+  const h = (x) => Math.round(Math.min(1, Math.max(0, x)) * 255).toString(16).padStart(2, '0');
+  return `#${h(rgb[0])}${h(rgb[1])}${h(rgb[2])}`;
+}
+export function hexToRgb(hex) {
+  const m = /^#?([0-9a-f]{2})([0-9a-f]{2})([0-9a-f]{2})$/i.exec(hex);
+  return m ? [1, 2, 3].map((i) => Number((parseInt(m[i], 16) / 255).toFixed(4))) : null;
+}
+
+/** Formats a number for a number box: at most 6 significant digits, no trailing zeros. */
+export function formatNumber(v) {
+  if (typeof v !== 'number' || !Number.isFinite(v)) return '';
+  if (v === 0) return '0';
+  return String(Number(v.toPrecision(6)));
+}
+
+export class Panel {
+  /**
+   * container: element to fill; onChange(path, value, {final}) is called on
+   * every edit (final on 'change', not final on 'input' while dragging).
+   */
+  constructor(container, onChange) {
+    this.onChange = onChange;
+    this.controls = new Map(); // path -> {spec, el (main input), num, num2}
+    for (const g of GROUPS) container.append(this.#group(g));
+  }
+
+  #group(g) {
+    const fs = document.createElement('fieldset');
+    fs.className = 'group';
+    fs.id = `group-${g.id}`;
+    const legend = document.createElement('legend');
+    legend.textContent = g.legend;
+    fs.append(legend);
+    for (const c of g.controls) fs.append(this.#control(c));
+    return fs;
+  }
+
+  #emit(path, value, final) {
+    const f = fieldByPath(path);
+    const why = f ? checkValue(f, value) : null;
+    const ctl = this.controls.get(path);
+    ctl.row.classList.toggle('invalid', !!why);
+    ctl.row.title = why ? `${path}: ${why}` : '';
+    if (!why) this.onChange(path, value, { final });
+  }
+
+  #control(spec) {
+    const row = document.createElement('div');
+    row.className = `row kind-${spec.kind}`;
+    row.dataset.path = spec.path;
+    const id = idOf(spec.path);
+    const label = document.createElement('label');
+    label.htmlFor = id;
+    label.textContent = spec.label;
+    row.append(label);
+    const ctl = { spec, row };
+    const f = fieldByPath(spec.path);
+    const int = f?.type === 'int';
+    const parseNum = (s) => (s.trim() === '' ? NaN : Number(s));
+
+    if (spec.kind === 'range') {
+      const range = document.createElement('input');
+      range.type = 'range';
+      range.id = id;
+      range.name = spec.path;
+      Object.assign(range, { min: spec.min, max: spec.max, step: spec.step });
+      const num = document.createElement('input');
+      num.type = 'number';
+      num.className = 'num';
+      num.setAttribute('aria-label', `${spec.label} value`);
+      num.step = 'any';
+      if (f?.min !== undefined) num.min = f.min;
+      if (f?.max !== undefined) num.max = f.max;
+      range.addEventListener('input', () => {
+        const v = int ? Math.round(Number(range.value)) : Number(range.value);
+        num.value = formatNumber(v);
+        this.#emit(spec.path, v, false);
+      });
+      range.addEventListener('change', () => this.#emit(spec.path, int ? Math.round(Number(range.value)) : Number(range.value), true));
+      num.addEventListener('change', () => {
+        const v = parseNum(num.value);
+        if (Number.isFinite(v)) range.value = String(v);
+        this.#emit(spec.path, v, true);
+      });
+      row.append(range, num);
+      Object.assign(ctl, { el: range, num });
+    } else if (spec.kind === 'select') {
+      const sel = document.createElement('select');
+      sel.id = id;
+      sel.name = spec.path;
+      for (const [v, text] of spec.options ?? []) sel.append(new Option(text, v));
+      sel.addEventListener('change', () => this.#emit(spec.path, sel.value, true));
+      row.append(sel);
+      ctl.el = sel;
+    } else if (spec.kind === 'check') {
+      const cb = document.createElement('input');
+      cb.type = 'checkbox';
+      cb.id = id;
+      cb.name = spec.path;
+      cb.addEventListener('change', () => this.#emit(spec.path, cb.checked, true));
+      row.append(cb);
+      ctl.el = cb;
+    } else if (spec.kind === 'color') {
+      const col = document.createElement('input');
+      col.type = 'color';
+      col.id = id;
+      col.name = spec.path;
+      const out = document.createElement('output');
+      out.htmlFor = id;
+      const fire = (final) => {
+        out.textContent = col.value;
+        this.#emit(spec.path, hexToRgb(col.value), final);
+      };
+      col.addEventListener('input', () => fire(false));
+      col.addEventListener('change', () => fire(true));
+      row.append(col, out);
+      Object.assign(ctl, { el: col, out });
+    } else if (spec.kind === 'range2') {
+      const lo = document.createElement('input');
+      const hi = document.createElement('input');
+      lo.type = hi.type = 'number';
+      lo.step = hi.step = 'any';
+      lo.id = id;
+      lo.className = hi.className = 'num';
+      lo.setAttribute('aria-label', `${spec.label} minimum`);
+      hi.setAttribute('aria-label', `${spec.label} maximum`);
+      lo.name = `${spec.path}.0`;
+      hi.name = `${spec.path}.1`;
+      const fire = () => this.#emit(spec.path, [parseNum(lo.value), parseNum(hi.value)], true);
+      lo.addEventListener('change', fire);
+      hi.addEventListener('change', fire);
+      const span = document.createElement('span');
+      span.className = 'pair';
+      span.append(lo, document.createTextNode('–'), hi);
+      row.append(span);
+      Object.assign(ctl, { el: lo, num2: hi });
+    }
+    this.controls.set(spec.path, ctl);
+    return row;
+  }
+
+  /** Shows a value without firing onChange (values from the server, the URL, resets). */
+  setValue(path, v) {
+    const ctl = this.controls.get(path);
+    if (!ctl || v === undefined || v === null) return;
+    const { spec } = ctl;
+    ctl.row.classList.remove('invalid');
+    if (spec.kind === 'range') {
+      if (document.activeElement !== ctl.num) ctl.num.value = formatNumber(v);
+      // widen the slider when a value lies beyond it (the number box takes any valid value)
+      if (v > Number(ctl.el.max)) ctl.el.max = String(v);
+      if (v < Number(ctl.el.min)) ctl.el.min = String(v);
+      ctl.el.value = String(v);
+    } else if (spec.kind === 'select') {
+      if (![...ctl.el.options].some((o) => o.value === v)) ctl.el.append(new Option(String(v), v));
+      ctl.el.value = v;
+    } else if (spec.kind === 'check') {
+      ctl.el.checked = !!v;
+    } else if (spec.kind === 'color') {
+      ctl.el.value = rgbToHex(v);
+      ctl.out.textContent = ctl.el.value;
+    } else if (spec.kind === 'range2') {
+      if (document.activeElement !== ctl.el) ctl.el.value = formatNumber(v[0]);
+      if (document.activeElement !== ctl.num2) ctl.num2.value = formatNumber(v[1]);
+    }
+  }
+
+  /** Replaces a select's options ([[value, text], ...]). */
+  setOptions(path, options) {
+    const ctl = this.controls.get(path);
+    if (!ctl || ctl.spec.kind !== 'select') return;
+    const cur = ctl.el.value;
+    ctl.el.replaceChildren(...options.map(([v, t]) => new Option(t, v)));
+    if (options.some(([v]) => v === cur)) ctl.el.value = cur;
+  }
+
+  /** Sets a slider's bounds and step (line width follows the data's size). */
+  setBounds(path, min, max, step) {
+    const ctl = this.controls.get(path);
+    if (!ctl || ctl.spec.kind !== 'range') return;
+    Object.assign(ctl.el, { min, max, step });
+  }
+
+  /** Shows a row only when relevant (e.g. direct exponent for the direct method). */
+  setVisible(path, visible) {
+    const ctl = this.controls.get(path);
+    if (ctl) ctl.row.hidden = !visible;
+  }
+
+  /** Marks a control invalid with the server's reason (error message with field). */
+  markInvalid(path, reason) {
+    const ctl = this.controls.get(path);
+    if (!ctl) return false;
+    ctl.row.classList.add('invalid');
+    ctl.row.title = reason;
+    return true;
+  }
+
+  /** The methods the server offers, when it says (ready/health may list them). */
+  setMethods(names) {
+    if (!Array.isArray(names) || !names.length) return;
+    this.setOptions('method', names.map((n) => [n, METHOD_LABELS[n] ?? n]));
+  }
+
+  /** Fills the dataset-dependent choices from a dataset description. */
+  setDataset(info) {
+    const attrs = Array.isArray(info?.attributes) ? info.attributes : [];
+    const names = attrs.map((a) => (typeof a === 'string' ? a : a.name)).filter(Boolean);
+    this.setOptions('importance.attribute', names.map((n) => [n, n]));
+    const colorOpts = [['importance', 'importance'], ...names.map((n) => [n, n])];
+    if (info?.hasRgb) colorOpts.push(['rgb', 'RGB (per vertex)']);
+    this.setOptions('color.attribute', colorOpts);
+    const b = info?.bounds;
+    if (Array.isArray(b) && b.length === 6) {
+      const diag = Math.hypot(b[3] - b[0], b[4] - b[1], b[5] - b[2]) || 1;
+      const step = Number((diag * 1e-4).toPrecision(2));
+      this.setBounds('style.lineWidth', 0, Number((diag * 0.02).toPrecision(3)), step);
+    }
+  }
+}
+
+/** The attribute's [min, max] from a dataset description, or null. */
+export function attributeRange(info, name) {
+  const a = (info?.attributes ?? []).find((x) => (typeof x === 'string' ? x : x.name) === name);
+  return a && Array.isArray(a.range) ? [...a.range] : null;
+}
+
+export { METHOD_LABELS, decimals };

@@ -1,0 +1,216 @@
+/* Dataset registry: loads files and demos at start-up, uploads them once to the
+ * shared GPU context and describes them as JSON for the API. */
+#include "datasets.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "demo.h"
+#include "loaders.h"
+
+#define MOD "datasets"
+#define MAX_DATASETS 256
+
+struct lc_datasets {
+    int count;
+    lc_dataset items[MAX_DATASETS];
+};
+
+static void file_stem(const char *path, char *out, size_t cap)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    snprintf(out, cap, "%s", base);
+    char *dot = strrchr(out, '.');
+    if (dot && dot != out)
+        *dot = '\0';
+}
+
+static int name_taken(const lc_datasets *d, const char *name)
+{
+    for (int i = 0; i < d->count; i++)
+        if (strcmp(d->items[i].name, name) == 0)
+            return 1;
+    return 0;
+}
+
+static int add_source(lc_datasets *d, const char *source, unsigned long long demo_size, lc_error *err)
+{
+    if (d->count >= MAX_DATASETS)
+        return lc_err(err, LC_ERR_LIMIT, "%s: more than %d datasets", source, MAX_DATASETS);
+    lc_dataset *ds = &d->items[d->count];
+    memset(ds, 0, sizeof *ds);
+    snprintf(ds->source, sizeof ds->source, "%s", source);
+    double t0 = lc_now();
+    int rc;
+    char base[128];
+    if (strncmp(source, "demo:", 5) == 0) {
+        lc_demo_desc desc = {.seed = 0, .count = demo_size};
+        LC_INFO(MOD, "generating %s ...", source);
+        rc = lc_demo_create(source + 5, &desc, &ds->scene, err);
+        snprintf(base, sizeof base, "%s", source);
+    } else {
+        struct stat st;
+        if (stat(source, &st) != 0)
+            return lc_err(err, LC_ERR_IO, "%s: cannot open (no such file)", source);
+        LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
+        rc = lc_scene_load_file(source, &ds->scene, err);
+        file_stem(source, base, sizeof base);
+    }
+    if (rc != 0)
+        return rc;
+    snprintf(ds->name, sizeof ds->name, "%s", base);
+    for (int k = 2; name_taken(d, ds->name); k++)
+        snprintf(ds->name, sizeof ds->name, "%.100s-%d", base, k);
+    ds->load_seconds = lc_now() - t0;
+    const lc_scene *s = ds->scene;
+    LC_INFO(MOD, "loaded %s: %s, %u vertices, %llu primitives, %u elements in %.2f s", ds->name,
+            lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
+            s->elements.count, ds->load_seconds);
+    d->count++;
+    return 0;
+}
+
+int lc_datasets_add_demos(lc_datasets *d, unsigned long long demo_size, lc_error *err)
+{
+    for (const char *const *n = lc_demo_names(); *n; n++) {
+        char src[128];
+        snprintf(src, sizeof src, "demo:%s", *n);
+        if (lc_datasets_find(d, src))
+            continue;
+        int rc = add_source(d, src, demo_size, err);
+        if (rc != 0)
+            return rc;
+    }
+    return 0;
+}
+
+int lc_datasets_load(const char *const *sources, int count, unsigned long long demo_size, lc_datasets **out,
+                     lc_error *err)
+{
+    *out = NULL;
+    lc_datasets *d = calloc(1, sizeof *d);
+    if (!d)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    int rc = 0;
+    if (count == 0)
+        rc = lc_datasets_add_demos(d, demo_size, err);
+    for (int i = 0; rc == 0 && i < count; i++)
+        rc = add_source(d, sources[i], demo_size, err);
+    if (rc != 0) {
+        lc_datasets_destroy(d);
+        return rc;
+    }
+    *out = d;
+    return 0;
+}
+
+int lc_datasets_upload(lc_datasets *d, lc_error *err)
+{
+    for (int i = 0; i < d->count; i++) {
+        lc_dataset *ds = &d->items[i];
+        if (ds->gpu)
+            continue;
+        int rc = lc_gpu_scene_create(ds->scene, &ds->gpu, err);
+        if (rc != 0) {
+            lc_err_prefix(err, "%s", ds->name);
+            return rc;
+        }
+        LC_INFO(MOD, "uploaded %s: %.1f MB of GPU buffers", ds->name, lc_gpu_scene_bytes(ds->gpu) / 1e6);
+    }
+    return 0;
+}
+
+void lc_datasets_release_gpu(lc_datasets *d)
+{
+    if (!d)
+        return;
+    for (int i = 0; i < d->count; i++) {
+        if (d->items[i].gpu)
+            lc_gpu_scene_destroy(d->items[i].gpu);
+        d->items[i].gpu = NULL;
+    }
+}
+
+void lc_datasets_destroy(lc_datasets *d)
+{
+    if (!d)
+        return;
+    for (int i = 0; i < d->count; i++)
+        if (d->items[i].scene)
+            lc_scene_destroy(d->items[i].scene);
+    /* A leftover GPU copy here means the caller had no context to destroy it
+     * with; the process is exiting, so the driver reclaims it. */
+    free(d);
+}
+
+int lc_datasets_count(const lc_datasets *d) { return d ? d->count : 0; }
+
+const lc_dataset *lc_datasets_at(const lc_datasets *d, int i)
+{
+    return (d && i >= 0 && i < d->count) ? &d->items[i] : NULL;
+}
+
+const lc_dataset *lc_datasets_find(const lc_datasets *d, const char *name)
+{
+    if (!d || d->count == 0)
+        return NULL;
+    if (!name || !name[0])
+        return &d->items[0];
+    for (int i = 0; i < d->count; i++)
+        if (strcmp(d->items[i].name, name) == 0)
+            return &d->items[i];
+    /* "tornado" finds "demo:tornado" when no file claims that stem. */
+    for (int i = 0; i < d->count; i++)
+        if (strncmp(d->items[i].name, "demo:", 5) == 0 && strcmp(d->items[i].name + 5, name) == 0)
+            return &d->items[i];
+    return NULL;
+}
+
+json_t *lc_dataset_info(const lc_dataset *ds)
+{
+    const lc_scene *s = ds->scene;
+    json_t *o = json_object();
+    json_object_set_new(o, "name", json_string(ds->name));
+    if (strncmp(ds->source, "demo:", 5) == 0) {
+        const char *desc = lc_demo_description(ds->source + 5);
+        if (desc)
+            json_object_set_new(o, "description", json_string(desc));
+    }
+    json_object_set_new(o, "type", json_string(lc_prim_type_name(s->type)));
+    json_object_set_new(o, "vertices", json_integer(s->vertex_count));
+    json_object_set_new(o, "primitives", json_integer((json_int_t)lc_scene_primitive_count(s)));
+    json_object_set_new(o, "lines", json_integer(s->line_count));
+    json_object_set_new(o, "triangles", json_integer(s->triangle_count));
+    json_object_set_new(o, "elements", json_integer(s->elements.count));
+    json_object_set_new(o, "points", json_integer(s->type == LC_PRIM_POINTS ? s->vertex_count : 0));
+    json_t *b = json_array(); /* [[xmin, ymin, zmin], [xmax, ymax, zmax]] as in openapi.yaml */
+    for (int k = 0; k < 2; k++) {
+        json_t *corner = json_array();
+        for (int i = 0; i < 3; i++)
+            json_array_append_new(corner, json_real(isfinite(s->bounds[3 * k + i]) ? s->bounds[3 * k + i] : 0.0));
+        json_array_append_new(b, corner);
+    }
+    json_object_set_new(o, "bounds", b);
+    json_object_set_new(o, "hasRgb", json_boolean(s->rgb != NULL));
+    json_t *attrs = json_array();
+    for (int i = 0; i < s->attribute_count; i++) {
+        const lc_attribute *a = &s->attributes[i];
+        json_t *ja = json_object();
+        json_object_set_new(ja, "name", json_string(a->name));
+        json_t *r = json_array();
+        json_array_append_new(r, json_real(isfinite(a->min) ? a->min : 0.0));
+        json_array_append_new(r, json_real(isfinite(a->max) ? a->max : 0.0));
+        json_object_set_new(ja, "range", r);
+        json_array_append_new(attrs, ja);
+    }
+    json_object_set_new(o, "attributes", attrs);
+    json_object_set_new(o, "defaultImportance", json_string(s->default_importance));
+    json_object_set_new(o, "defaultColor", json_string(s->default_color));
+    if (ds->gpu)
+        json_object_set_new(o, "gpuBytes", json_integer((json_int_t)lc_gpu_scene_bytes(ds->gpu)));
+    return o;
+}

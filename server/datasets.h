@@ -1,0 +1,57 @@
+/* Dataset registry of the daemon: scenes loaded before the port opens, their
+ * GPU copies (shared by every render context) and their JSON descriptions. */
+#ifndef LC_SERVER_DATASETS_H
+#define LC_SERVER_DATASETS_H
+
+#include <jansson.h>
+#include <stdint.h>
+
+#include "lc_base.h"
+#include "renderer.h"
+#include "scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One loaded dataset. Immutable after lc_datasets_upload(); pointers stay valid
+ * until lc_datasets_destroy(), which runs after every thread has stopped. */
+typedef struct lc_dataset {
+    char name[128];            /* file stem or "demo:NAME" (unique) */
+    char source[512];          /* path or demo:NAME it came from */
+    lc_scene *scene;           /* owned */
+    lc_gpu_scene *gpu;         /* owned; NULL until uploaded */
+    double load_seconds;
+} lc_dataset;
+
+typedef struct lc_datasets lc_datasets;
+
+/* Loads every source (file path or demo:NAME) in order, logging a line before
+ * and after each so that large files show progress; demo_size is the demo
+ * generator's count (0 = default). With count == 0 loads all demos. Names
+ * clash -> a numeric suffix. Thread: main, before the server starts. */
+int lc_datasets_load(const char *const *sources, int count, unsigned long long demo_size, lc_datasets **out,
+                     lc_error *err);
+/* Appends all demos (for --demo together with --data). */
+int lc_datasets_add_demos(lc_datasets *d, unsigned long long demo_size, lc_error *err);
+/* Creates the GPU copies; a context of the share group must be current. */
+int lc_datasets_upload(lc_datasets *d, lc_error *err);
+/* Destroys the GPU copies (context current), then everything else. */
+void lc_datasets_release_gpu(lc_datasets *d);
+void lc_datasets_destroy(lc_datasets *d);
+
+int lc_datasets_count(const lc_datasets *d);
+const lc_dataset *lc_datasets_at(const lc_datasets *d, int i);
+/* By exact name, by "demo:NAME" / "NAME" for demos, "" = the first one.
+ * NULL when unknown. Any thread. */
+const lc_dataset *lc_datasets_find(const lc_datasets *d, const char *name);
+
+/* New JSON object describing ds: name, source, type, vertices, primitives,
+ * lines, triangles, elements, bounds, attributes [{name,min,max}], defaults.
+ * Caller json_decref()s. Any thread (builds fresh objects every call). */
+json_t *lc_dataset_info(const lc_dataset *ds);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

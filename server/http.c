@@ -1,0 +1,793 @@
+/* HTTP routes on libmicrohttpd: health, datasets, one-shot and session renders,
+ * metrics, the WebSocket handshake and the embedded web client. */
+#include "http.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <math.h>
+#include <microhttpd.h>
+#include <netinet/in.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+#include "datasets.h"
+#include "embedded.h"
+#include "messages.h"
+#include "metrics.h"
+#include "session.h"
+#include "workers.h"
+#include "ws.h"
+
+#define MOD "http"
+
+extern const lc_embedded_file lc_web_files[];
+
+struct lc_http {
+    lc_server *srv;
+    struct MHD_Daemon *daemon;
+    int port;
+};
+
+/* Per-request state (MHD's con_cls), freed by request_completed. */
+typedef struct req_ctx {
+    lc_server *srv;
+    char *body;
+    size_t len, cap;
+    bool too_large;
+    bool ws_authed;            /* read by the upgrade handler */
+    struct MHD_Connection *conn;
+    lc_render_job *job;        /* a render in flight or finished */
+    atomic_int job_finished;   /* set by job_done before the connection resumes */
+} req_ctx;
+
+/* ---------------------------------------------------------------- responses */
+
+static enum MHD_Result queue(lc_server *srv, struct MHD_Connection *c, unsigned status, struct MHD_Response *r)
+{
+    if (!r)
+        return MHD_NO;
+    enum MHD_Result ret = MHD_queue_response(c, status, r);
+    MHD_destroy_response(r);
+    lc_metrics_http_request(srv->metrics, (int)status);
+    return ret;
+}
+
+/* Takes ownership of text (malloc'd). */
+static enum MHD_Result respond_text(lc_server *srv, struct MHD_Connection *c, unsigned status, char *text,
+                                    const char *type)
+{
+    if (!text)
+        return MHD_NO;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
+    if (!r) {
+        free(text);
+        return MHD_NO;
+    }
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, type);
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+    return queue(srv, c, status, r);
+}
+
+static enum MHD_Result respond_json(lc_server *srv, struct MHD_Connection *c, unsigned status, json_t *obj)
+{
+    char *text = lc_proto_dump(obj);
+    json_decref(obj);
+    return respond_text(srv, c, status, text, "application/json");
+}
+
+static enum MHD_Result respond_error(lc_server *srv, struct MHD_Connection *c, unsigned status, const char *code,
+                                     const char *field, const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+static enum MHD_Result respond_error(lc_server *srv, struct MHD_Connection *c, unsigned status, const char *code,
+                                     const char *field, const char *fmt, ...)
+{
+    char msg[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    lc_metrics_error(srv->metrics, code);
+    char *text = lc_proto_error_json(code, msg, field);
+    if (!text)
+        return MHD_NO;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
+    if (!r) {
+        free(text);
+        return MHD_NO;
+    }
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+    if (status == 429 || status == 503)
+        MHD_add_response_header(r, MHD_HTTP_HEADER_RETRY_AFTER, status == 429 ? "1" : "2");
+    if (status == 401)
+        MHD_add_response_header(r, MHD_HTTP_HEADER_WWW_AUTHENTICATE, "Bearer realm=\"lucent\"");
+    return queue(srv, c, status, r);
+}
+
+static enum MHD_Result respond_proto_error(lc_server *srv, struct MHD_Connection *c, const lc_proto_error *pe)
+{
+    unsigned status = strcmp(pe->code, LC_PROTO_TOO_LARGE) == 0 ? 413 : 400;
+    return respond_error(srv, c, status, pe->code, pe->field, "%s", pe->message);
+}
+
+static enum MHD_Result method_not_allowed(lc_server *srv, struct MHD_Connection *c, const char *method,
+                                          const char *allow)
+{
+    char msg[128];
+    snprintf(msg, sizeof msg, "method %.16s not allowed here (allowed: %s)", method, allow);
+    lc_metrics_error(srv->metrics, "method_not_allowed");
+    char *text = lc_proto_error_json("method_not_allowed", msg, NULL);
+    if (!text)
+        return MHD_NO;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_ALLOW, allow);
+    return queue(srv, c, 405, r);
+}
+
+/* ---------------------------------------------------------------- auth */
+
+/* The token a request carries (Authorization: Bearer, else ?token=), or NULL. */
+static const char *given_token(struct MHD_Connection *c)
+{
+    const char *auth = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION);
+    if (auth && strncasecmp(auth, "Bearer ", 7) == 0) {
+        auth += 7;
+        while (*auth == ' ')
+            auth++;
+        return auth;
+    }
+    return MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "token");
+}
+
+/* ---------------------------------------------------------------- simple routes */
+
+static enum MHD_Result route_health(lc_server *srv, struct MHD_Connection *c)
+{
+    int http = 0, ws = 0;
+    lc_sessions_count(srv->sessions, &http, &ws);
+    json_t *o = json_object();
+    json_object_set_new(o, "status", json_string(atomic_load(&srv->stopping) ? "stopping" : "ok"));
+    json_object_set_new(o, "renderer", json_string(srv->gl_renderer));
+    json_object_set_new(o, "glVersion", json_string(srv->gl_version));
+    json_object_set_new(o, "platform", json_string(srv->gl_platform));
+    json_object_set_new(o, "uptime", json_real(lc_now() - srv->start_time));
+    json_object_set_new(o, "datasets", json_integer(lc_datasets_count(srv->datasets)));
+    json_object_set_new(o, "workers", json_integer(lc_workers_count(srv->workers)));
+    json_object_set_new(o, "sessions", json_pack("{s:i, s:i}", "http", http, "ws", ws));
+    json_object_set_new(o, "protocolVersion", json_integer(LC_PROTO_VERSION));
+    return respond_json(srv, c, 200, o);
+}
+
+static enum MHD_Result route_datasets(lc_server *srv, struct MHD_Connection *c, const char *name)
+{
+    if (name) {
+        const lc_dataset *ds = lc_datasets_find(srv->datasets, name);
+        if (!ds || !name[0])
+            return respond_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", name);
+        return respond_json(srv, c, 200, lc_dataset_info(ds));
+    }
+    json_t *arr = json_array();
+    for (int i = 0; i < lc_datasets_count(srv->datasets); i++)
+        json_array_append_new(arr, lc_dataset_info(lc_datasets_at(srv->datasets, i)));
+    json_t *o = json_object();
+    json_object_set_new(o, "datasets", arr);
+    return respond_json(srv, c, 200, o);
+}
+
+static enum MHD_Result route_metrics(lc_server *srv, struct MHD_Connection *c)
+{
+    lc_metrics_gauges g = {0};
+    lc_sessions_count(srv->sessions, &g.sessions_http, &g.sessions_ws);
+    lc_workers_depths(srv->workers, &g.queue_depth, &g.encode_depth);
+    g.ws_connections = lc_ws_connections(srv->ws);
+    g.datasets = lc_datasets_count(srv->datasets);
+    g.workers = lc_workers_count(srv->workers);
+    return respond_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");
+}
+
+static const char *content_type(const char *path)
+{
+    static const struct {
+        const char *ext, *type;
+    } types[] = {{".html", "text/html; charset=utf-8"},   {".js", "text/javascript; charset=utf-8"},
+                 {".mjs", "text/javascript; charset=utf-8"}, {".css", "text/css; charset=utf-8"},
+                 {".svg", "image/svg+xml"},                {".png", "image/png"},
+                 {".json", "application/json"},            {".ico", "image/x-icon"},
+                 {".txt", "text/plain; charset=utf-8"}};
+    const char *dot = strrchr(path, '.');
+    for (size_t i = 0; dot && i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(dot, types[i].ext) == 0)
+            return types[i].type;
+    return "application/octet-stream";
+}
+
+static enum MHD_Result route_static(lc_server *srv, struct MHD_Connection *c, const char *url)
+{
+    const char *path = (strcmp(url, "/") == 0) ? "index.html" : url + 1;
+    const lc_embedded_file *f = strstr(path, "..") ? NULL : lc_embedded_find(lc_web_files, path);
+    if (!f)
+        return respond_error(srv, c, 404, "not_found", NULL, "no such page: %.300s", url);
+    /* The files change only with the binary: an FNV-1a hash of the content is
+     * a stable validator, and no-cache makes browsers revalidate after an upgrade. */
+    uint64_t h = 1469598103934665603ULL;
+    for (size_t i = 0; i < f->size; i++)
+        h = (h ^ f->data[i]) * 1099511628211ULL;
+    char etag[24];
+    snprintf(etag, sizeof etag, "\"%016llx\"", (unsigned long long)h);
+    const char *inm = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_IF_NONE_MATCH);
+    struct MHD_Response *r;
+    unsigned status = 200;
+    if (inm && strstr(inm, etag)) {
+        r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
+        status = 304;
+    } else {
+        r = MHD_create_response_from_buffer(f->size, (void *)f->data, MHD_RESPMEM_PERSISTENT);
+        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, content_type(path));
+    }
+    MHD_add_response_header(r, MHD_HTTP_HEADER_ETAG, etag);
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-cache");
+    MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+    return queue(srv, c, status, r);
+}
+
+/* ---------------------------------------------------------------- renders */
+
+/* Called once by the pool (encoder or worker thread) when a job is finished:
+ * releases the session for its next frame and resumes the connection, whose
+ * handler then sends the image. The pool does not touch the job afterwards. */
+static void job_done(lc_render_job *job)
+{
+    req_ctx *ctx = job->user;
+    if (job->session) {
+        pthread_mutex_lock(&job->session->lock);
+        job->session->http_busy = false;
+        if (job->rc == 0)
+            job->session->http_frames++;
+        pthread_mutex_unlock(&job->session->lock);
+    }
+    atomic_store(&ctx->job_finished, 1);
+    MHD_resume_connection(ctx->conn);
+}
+
+static void free_job(lc_render_job *job)
+{
+    if (!job)
+        return;
+    free(job->image);
+    if (job->session)
+        lc_session_unref(job->session);
+    free(job);
+}
+
+/* Queues a render and suspends the connection until it is done. Takes the
+ * session reference (may be NULL). */
+static enum MHD_Result start_render(req_ctx *ctx, struct MHD_Connection *c, const lc_request *req,
+                                    const lc_dataset *ds, lc_session *session, double dt)
+{
+    lc_server *srv = ctx->srv;
+    lc_render_job *job = calloc(1, sizeof *job);
+    if (!job) {
+        if (session)
+            lc_session_unref(session);
+        return respond_error(srv, c, 503, "overloaded", NULL, "out of memory");
+    }
+    job->req = *req;
+    job->dataset = ds;
+    job->session = session;
+    job->dt = dt;
+    job->done = job_done;
+    job->user = ctx;
+    ctx->conn = c;
+    ctx->job = job;
+    /* Suspend before queueing, so that job_done's resume always follows it. */
+    MHD_suspend_connection(c);
+    lc_error err = {0};
+    int rc = lc_workers_submit(srv->workers, job, &err);
+    if (rc != 0) {
+        job->rc = rc;
+        job->err = err;
+        if (session) {
+            pthread_mutex_lock(&session->lock);
+            session->http_busy = false;
+            pthread_mutex_unlock(&session->lock);
+        }
+        atomic_store(&ctx->job_finished, 1);
+        MHD_resume_connection(c);
+    }
+    return MHD_YES;
+}
+
+/* The finished job's response: the image with timing headers, or an error. */
+static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
+{
+    lc_server *srv = ctx->srv;
+    lc_render_job *job = ctx->job;
+    if (job->rc != 0) {
+        switch (job->rc) {
+        case LC_ERR_LIMIT:
+            return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_UNSUPPORTED:
+        case LC_ERR_NOMEM:
+            return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_NOT_FOUND:
+            return respond_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
+        case LC_ERR_INVALID:
+            return respond_error(srv, c, 400, "bad_field", NULL, "%s", job->err.msg);
+        default:
+            return respond_error(srv, c, 500, "internal", NULL, "render failed: %s", job->err.msg);
+        }
+    }
+    const lc_frame_info *info = &job->info;
+    struct MHD_Response *r =
+        MHD_create_response_from_buffer(job->image_size, job->image, MHD_RESPMEM_MUST_FREE);
+    if (!r)
+        return MHD_NO;
+    size_t bytes = job->image_size;
+    job->image = NULL; /* MHD frees it now */
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE,
+                            job->req.format == LC_FORMAT_PNG ? "image/png" : "image/jpeg");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+    /* X-Lucent-Timings: pass=ms pairs (openapi.yaml); Server-Timing shows the
+     * same in browser dev tools. */
+    char timings[768], server_timing[1024];
+    size_t tn = 0, sn = 0;
+    timings[0] = server_timing[0] = '\0';
+    for (int p = 0; p < LC_PASS_COUNT; p++) {
+        if (info->pass_ms[p] < 0)
+            continue;
+        tn += (size_t)snprintf(timings + tn, sizeof timings - tn, "%s%s=%.3f", tn ? "," : "", lc_pass_name(p),
+                               info->pass_ms[p]);
+        sn += (size_t)snprintf(server_timing + sn, sizeof server_timing - sn, "%s%s;dur=%.3f", sn ? ", " : "",
+                               lc_pass_name(p), info->pass_ms[p]);
+        if (tn >= sizeof timings || sn >= sizeof server_timing)
+            break;
+    }
+    if (tn < sizeof timings)
+        snprintf(timings + tn, sizeof timings - tn, "%sgpu=%.3f,wall=%.3f,encode=%.3f,queue=%.3f", tn ? "," : "",
+                 info->gpu_ms, info->wall_ms, job->encode_ms, job->queue_ms);
+    if (sn < sizeof server_timing)
+        snprintf(server_timing + sn, sizeof server_timing - sn, "%sencode;dur=%.3f, queue;dur=%.3f", sn ? ", " : "",
+                 job->encode_ms, job->queue_ms);
+    MHD_add_response_header(r, "X-Lucent-Timings", timings);
+    MHD_add_response_header(r, "Server-Timing", server_timing);
+    char buf[64];
+    snprintf(buf, sizeof buf, "%s", info->converged ? "true" : "false");
+    MHD_add_response_header(r, "X-Lucent-Converged", buf);
+    snprintf(buf, sizeof buf, "%.6g", info->max_alpha_change);
+    MHD_add_response_header(r, "X-Lucent-Max-Alpha-Change", buf);
+    snprintf(buf, sizeof buf, "%u", info->element_count);
+    MHD_add_response_header(r, "X-Lucent-Elements", buf);
+    if (job->session) {
+        snprintf(buf, sizeof buf, "%llu", (unsigned long long)job->session->http_frames);
+        MHD_add_response_header(r, "X-Lucent-Frame", buf);
+    }
+    lc_metrics_bytes_sent(srv->metrics, bytes);
+    return queue(srv, c, 200, r);
+}
+
+typedef struct query_state {
+    lc_request *req;
+    const lc_proto_limits *lim;
+    lc_proto_error err;
+    int rc;
+} query_state;
+
+static enum MHD_Result query_arg(void *cls, enum MHD_ValueKind kind, const char *key, const char *value)
+{
+    (void)kind;
+    query_state *q = cls;
+    q->rc = lc_proto_apply_query(q->req, key, value, q->lim, &q->err);
+    return q->rc == 0 ? MHD_YES : MHD_NO;
+}
+
+static enum MHD_Result route_render(req_ctx *ctx, struct MHD_Connection *c, const char *method)
+{
+    lc_server *srv = ctx->srv;
+    lc_request req;
+    lc_proto_error pe;
+    if (strcmp(method, "POST") == 0) {
+        if (lc_proto_parse_request(ctx->body ? ctx->body : "", ctx->len, &srv->cfg.limits, &req, &pe) != 0)
+            return respond_proto_error(srv, c, &pe);
+    } else {
+        lc_request_default(&req);
+        query_state q = {.req = &req, .lim = &srv->cfg.limits};
+        MHD_get_connection_values(c, MHD_GET_ARGUMENT_KIND, query_arg, &q);
+        if (q.rc != 0)
+            return respond_proto_error(srv, c, &q.err);
+        if (lc_proto_validate_request(&req, &srv->cfg.limits, &pe) != 0)
+            return respond_proto_error(srv, c, &pe);
+    }
+    const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
+    if (!ds)
+        return respond_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
+    return start_render(ctx, c, &req, ds, NULL, 0.0);
+}
+
+static enum MHD_Result route_session_create(req_ctx *ctx, struct MHD_Connection *c)
+{
+    lc_server *srv = ctx->srv;
+    lc_request req;
+    lc_proto_error pe;
+    if (ctx->len > 0) {
+        if (lc_proto_parse_request(ctx->body, ctx->len, &srv->cfg.limits, &req, &pe) != 0)
+            return respond_proto_error(srv, c, &pe);
+    } else {
+        lc_request_default(&req);
+    }
+    const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
+    if (!ds)
+        return respond_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
+    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
+    req.has_dt = false;
+    lc_session *s = NULL;
+    lc_error err = {0};
+    if (lc_session_create(srv->sessions, LC_SESSION_HTTP, ds, &req, &s, &err) != 0)
+        return respond_error(srv, c, 503, "overloaded", NULL, "%s", err.msg);
+    json_t *o = json_object();
+    json_object_set_new(o, "session", json_string(s->id));
+    json_object_set_new(o, "dataset", lc_dataset_info(ds));
+    json_object_set_new(o, "defaults", lc_proto_request_to_json(&req));
+    char location[128];
+    snprintf(location, sizeof location, "/api/v1/sessions/%s", s->id);
+    LC_INFO(MOD, "session %s: scripted, %s", s->id, ds->name);
+    lc_session_unref(s);
+    char *text = lc_proto_dump(o);
+    json_decref(o);
+    if (!text)
+        return MHD_NO;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_LOCATION, location);
+    return queue(srv, c, 201, r);
+}
+
+static enum MHD_Result route_session_render(req_ctx *ctx, struct MHD_Connection *c, lc_session *s)
+{
+    lc_server *srv = ctx->srv;
+    lc_proto_error pe;
+    json_t *update = NULL;
+    if (ctx->len > 0) {
+        update = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
+        if (!update) {
+            lc_session_unref(s);
+            return respond_proto_error(srv, c, &pe);
+        }
+        if (!json_is_object(update)) {
+            json_decref(update);
+            lc_session_unref(s);
+            return respond_error(srv, c, 400, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
+        }
+    }
+    pthread_mutex_lock(&s->lock);
+    if (s->http_busy) {
+        pthread_mutex_unlock(&s->lock);
+        json_decref(update);
+        lc_session_unref(s);
+        return respond_error(srv, c, 429, "overloaded", NULL,
+                             "session %s is rendering a frame; send the next one after it", s->id);
+    }
+    lc_request req = s->req;
+    req.has_dt = false;
+    int rc = update ? lc_proto_apply_request(update, &srv->cfg.limits, &req, &pe) : 0;
+    json_decref(update);
+    if (rc == 0 && strcmp(req.dataset, s->dataset->name) != 0 &&
+        lc_datasets_find(srv->datasets, req.dataset) != s->dataset) {
+        rc = lc_proto_set_error(&pe, LC_PROTO_BAD_FIELD, "dataset", "cannot change within a session (it is \"%s\")",
+                                s->dataset->name);
+    }
+    if (rc != 0) {
+        pthread_mutex_unlock(&s->lock);
+        lc_session_unref(s);
+        return respond_proto_error(srv, c, &pe);
+    }
+    /* Without dt the frame shows the targets, as a one-shot render would
+     * (openapi.yaml): a dt far beyond any half-life completes the fade. */
+    double dt = req.has_dt ? req.dt : 1e6;
+    s->req = req;
+    s->req.has_dt = false;
+    s->http_busy = true;
+    s->last_frame_time = lc_now();
+    pthread_mutex_unlock(&s->lock);
+    return start_render(ctx, c, &req, s->dataset, s, dt);
+}
+
+static enum MHD_Result route_session(req_ctx *ctx, struct MHD_Connection *c, const char *method, const char *rest)
+{
+    lc_server *srv = ctx->srv;
+    char id[LC_SESSION_ID_LEN + 1];
+    size_t n = strcspn(rest, "/");
+    const char *tail = rest + n;
+    if (n == 0 || n >= sizeof id)
+        return respond_error(srv, c, 404, "not_found", NULL, "unknown session \"%.*s\"", (int)(n > 64 ? 64 : n), rest);
+    memcpy(id, rest, n);
+    id[n] = '\0';
+    bool render = strcmp(tail, "/render") == 0;
+    if (!render && tail[0])
+        return respond_error(srv, c, 404, "not_found", NULL, "no such route");
+    if (render && strcmp(method, "POST") != 0)
+        return method_not_allowed(srv, c, method, "POST");
+    if (!render && strcmp(method, "DELETE") != 0 && strcmp(method, "GET") != 0)
+        return method_not_allowed(srv, c, method, "GET, DELETE");
+    lc_session *s = lc_session_find(srv->sessions, id, LC_SESSION_HTTP);
+    if (!s)
+        return respond_error(srv, c, 404, "not_found", NULL, "unknown session \"%s\"", id);
+    if (render)
+        return route_session_render(ctx, c, s);
+    if (strcmp(method, "DELETE") == 0) {
+        lc_session_close(srv->sessions, s);
+        LC_INFO(MOD, "session %s: deleted after %llu frames", s->id, (unsigned long long)s->http_frames);
+        lc_session_unref(s);
+        struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
+        return queue(srv, c, 204, r);
+    }
+    pthread_mutex_lock(&s->lock);
+    json_t *o = json_object();
+    json_object_set_new(o, "session", json_string(s->id));
+    json_object_set_new(o, "dataset", json_string(s->dataset->name));
+    json_object_set_new(o, "frames", json_integer((json_int_t)s->http_frames));
+    json_object_set_new(o, "request", lc_proto_request_to_json(&s->req));
+    pthread_mutex_unlock(&s->lock);
+    lc_session_unref(s);
+    return respond_json(srv, c, 200, o);
+}
+
+/* ---------------------------------------------------------------- WebSocket */
+
+static void upgrade_handler(void *cls, struct MHD_Connection *connection, void *con_cls, const char *extra_in,
+                            size_t extra_in_size, MHD_socket sock, struct MHD_UpgradeResponseHandle *urh)
+{
+    (void)connection;
+    lc_server *srv = cls;
+    req_ctx *ctx = con_cls;
+    lc_ws_adopt(srv->ws, sock, urh, extra_in, extra_in_size, ctx && ctx->ws_authed);
+}
+
+static bool header_has_token(const char *value, const char *token)
+{
+    /* Comma-separated, case-insensitive ("keep-alive, Upgrade"). */
+    size_t n = strlen(token);
+    for (const char *p = value; p && *p;) {
+        while (*p == ' ' || *p == ',')
+            p++;
+        if (strncasecmp(p, token, n) == 0 && (p[n] == '\0' || p[n] == ',' || p[n] == ' '))
+            return true;
+        p = strchr(p, ',');
+    }
+    return false;
+}
+
+static enum MHD_Result route_ws(req_ctx *ctx, struct MHD_Connection *c, bool authed)
+{
+    lc_server *srv = ctx->srv;
+    const char *upgrade = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_UPGRADE);
+    const char *connection = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONNECTION);
+    const char *key = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Key");
+    const char *version = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Version");
+    if (!upgrade || !header_has_token(upgrade, "websocket") || !connection || !header_has_token(connection, "upgrade"))
+        return respond_error(srv, c, 400, "bad_field", "Upgrade",
+                             "expected a WebSocket upgrade (Connection: Upgrade, Upgrade: websocket)");
+    if (!key || strlen(key) != 24)
+        return respond_error(srv, c, 400, "bad_field", "Sec-WebSocket-Key", "missing or malformed Sec-WebSocket-Key");
+    if (!version || strcmp(version, "13") != 0) {
+        lc_metrics_error(srv->metrics, "bad_field");
+        char *text = lc_proto_error_json("bad_field", "only WebSocket version 13 is supported", "Sec-WebSocket-Version");
+        struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
+        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+        MHD_add_response_header(r, "Sec-WebSocket-Version", "13");
+        return queue(srv, c, 426, r);
+    }
+    if (atomic_load(&srv->stopping))
+        return respond_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
+    int http = 0, ws = 0;
+    lc_sessions_count(srv->sessions, &http, &ws);
+    if (http + ws >= srv->cfg.max_sessions)
+        return respond_error(srv, c, 503, "overloaded", NULL, "too many sessions (the limit is %d)",
+                             srv->cfg.max_sessions);
+    char accept[LC_WS_ACCEPT_LEN];
+    lc_ws_accept_key(key, accept);
+    struct MHD_Response *r = MHD_create_response_for_upgrade(upgrade_handler, srv);
+    if (!r)
+        return MHD_NO;
+    MHD_add_response_header(r, MHD_HTTP_HEADER_UPGRADE, "websocket");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONNECTION, "Upgrade");
+    MHD_add_response_header(r, "Sec-WebSocket-Accept", accept);
+    ctx->ws_authed = authed;
+    return queue(srv, c, MHD_HTTP_SWITCHING_PROTOCOLS, r);
+}
+
+/* ---------------------------------------------------------------- dispatch */
+
+static enum MHD_Result route(req_ctx *ctx, struct MHD_Connection *c, const char *url, const char *method)
+{
+    lc_server *srv = ctx->srv;
+    bool get = strcmp(method, "GET") == 0 || strcmp(method, "HEAD") == 0;
+    bool post = strcmp(method, "POST") == 0;
+    bool api = strncmp(url, "/api/", 5) == 0 || strcmp(url, "/metrics") == 0;
+    if (!api) {
+        if (!get)
+            return method_not_allowed(srv, c, method, "GET, HEAD");
+        return route_static(srv, c, url);
+    }
+    if (strcmp(url, "/api/v1/health") == 0)
+        return get ? route_health(srv, c) : method_not_allowed(srv, c, method, "GET");
+
+    /* Everything else needs the token when one is configured. The WebSocket
+     * may instead send it in hello (browsers cannot set headers there). */
+    const char *token = given_token(c);
+    bool authed = lc_serve_token_ok(srv, token ? token : "");
+    bool is_ws = strcmp(url, "/api/v1/ws") == 0;
+    if (!authed && !(is_ws && !token))
+        return respond_error(srv, c, 401, "unauthorized", NULL,
+                             token ? "wrong token" : "this server needs a token (Authorization: Bearer or ?token=)");
+
+    if (is_ws)
+        return get ? route_ws(ctx, c, authed) : method_not_allowed(srv, c, method, "GET");
+    if (strcmp(url, "/metrics") == 0)
+        return get ? route_metrics(srv, c) : method_not_allowed(srv, c, method, "GET");
+    if (strcmp(url, "/api/v1/datasets") == 0)
+        return get ? route_datasets(srv, c, NULL) : method_not_allowed(srv, c, method, "GET");
+    if (strncmp(url, "/api/v1/datasets/", 17) == 0)
+        return get ? route_datasets(srv, c, url + 17) : method_not_allowed(srv, c, method, "GET");
+    if (atomic_load(&srv->stopping) && (post || strcmp(method, "DELETE") == 0))
+        return respond_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
+    if (strcmp(url, "/api/v1/render") == 0)
+        return (get || post) ? route_render(ctx, c, method) : method_not_allowed(srv, c, method, "GET, POST");
+    if (strcmp(url, "/api/v1/sessions") == 0)
+        return post ? route_session_create(ctx, c) : method_not_allowed(srv, c, method, "POST");
+    if (strncmp(url, "/api/v1/sessions/", 17) == 0)
+        return route_session(ctx, c, method, url + 17);
+    return respond_error(srv, c, 404, "not_found", NULL, "no such route: %.300s", url);
+}
+
+static enum MHD_Result handler(void *cls, struct MHD_Connection *c, const char *url, const char *method,
+                               const char *version, const char *upload_data, size_t *upload_data_size, void **con_cls)
+{
+    (void)version;
+    lc_server *srv = cls;
+    req_ctx *ctx = *con_cls;
+    if (!ctx) {
+        ctx = calloc(1, sizeof *ctx);
+        if (!ctx)
+            return MHD_NO;
+        ctx->srv = srv;
+        *con_cls = ctx;
+        /* Refuse an announced oversized body before reading it. */
+        const char *cl = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
+        if (cl) {
+            char *end;
+            errno = 0;
+            unsigned long long n = strtoull(cl, &end, 10);
+            if (errno || *end || n > srv->cfg.max_body)
+                return respond_error(srv, c, 413, LC_PROTO_TOO_LARGE, NULL,
+                                     "request body of %s bytes exceeds the limit of %zu bytes", cl,
+                                     srv->cfg.max_body);
+        }
+        return MHD_YES;
+    }
+    if (ctx->job) {
+        /* Resumed after the worker pool finished (or refused) the render. */
+        if (!atomic_load(&ctx->job_finished))
+            return MHD_YES;
+        return finish_render(ctx, c);
+    }
+    if (*upload_data_size > 0) {
+        size_t n = *upload_data_size;
+        *upload_data_size = 0;
+        if (ctx->too_large || ctx->len + n > srv->cfg.max_body) {
+            ctx->too_large = true; /* keep reading (and dropping) so the 413 can be sent */
+            return MHD_YES;
+        }
+        if (ctx->len + n + 1 > ctx->cap) {
+            size_t cap = ctx->cap ? ctx->cap : 1024;
+            while (cap < ctx->len + n + 1)
+                cap *= 2;
+            char *b = realloc(ctx->body, cap);
+            if (!b)
+                return MHD_NO;
+            ctx->body = b;
+            ctx->cap = cap;
+        }
+        memcpy(ctx->body + ctx->len, upload_data, n);
+        ctx->len += n;
+        ctx->body[ctx->len] = '\0';
+        return MHD_YES;
+    }
+    if (ctx->too_large)
+        return respond_error(srv, c, 413, LC_PROTO_TOO_LARGE, NULL, "request body exceeds the limit of %zu bytes",
+                             srv->cfg.max_body);
+    return route(ctx, c, url, method);
+}
+
+static void request_completed(void *cls, struct MHD_Connection *c, void **con_cls, enum MHD_RequestTerminationCode toe)
+{
+    (void)cls;
+    (void)c;
+    req_ctx *ctx = *con_cls;
+    if (!ctx)
+        return;
+    if (toe != MHD_REQUEST_TERMINATED_COMPLETED_OK && ctx->job)
+        LC_DEBUG(MOD, "client left before its image was sent (termination %d)", (int)toe);
+    free_job(ctx->job);
+    free(ctx->body);
+    free(ctx);
+    *con_cls = NULL;
+}
+
+static void mhd_log(void *cls, const char *fmt, va_list ap)
+{
+    (void)cls;
+    char msg[512];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    size_t n = strlen(msg);
+    while (n > 0 && (msg[n - 1] == '\n' || msg[n - 1] == '\r'))
+        msg[--n] = '\0';
+    LC_DEBUG(MOD, "libmicrohttpd: %s", msg);
+}
+
+int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
+{
+    *out = NULL;
+    const lc_serve_config *cfg = &srv->cfg;
+    struct sockaddr_storage ss;
+    memset(&ss, 0, sizeof ss);
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_ALLOW_SUSPEND_RESUME | MHD_ALLOW_UPGRADE |
+                     MHD_USE_ERROR_LOG;
+    if (strchr(cfg->listen_host, ':')) {
+        struct sockaddr_in6 *a = (struct sockaddr_in6 *)&ss;
+        a->sin6_family = AF_INET6;
+        a->sin6_port = htons((uint16_t)cfg->port);
+        if (inet_pton(AF_INET6, cfg->listen_host, &a->sin6_addr) != 1)
+            return lc_err(err, LC_ERR_INVALID, "--listen: \"%s\" is not an IPv6 address", cfg->listen_host);
+        flags |= MHD_USE_IPv6;
+    } else {
+        struct sockaddr_in *a = (struct sockaddr_in *)&ss;
+        a->sin_family = AF_INET;
+        a->sin_port = htons((uint16_t)cfg->port);
+        const char *host = strcmp(cfg->listen_host, "localhost") == 0 ? "127.0.0.1" : cfg->listen_host;
+        if (inet_pton(AF_INET, host, &a->sin_addr) != 1)
+            return lc_err(err, LC_ERR_INVALID, "--listen: \"%s\" is not an IPv4 address", cfg->listen_host);
+    }
+    lc_http *h = calloc(1, sizeof *h);
+    if (!h)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    h->srv = srv;
+    h->daemon = MHD_start_daemon(
+        flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
+        MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2,
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30,
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL,
+        MHD_OPTION_END);
+    if (!h->daemon) {
+        int e = errno;
+        free(h);
+        return lc_err(err, LC_ERR_IO, "cannot listen on %s:%d: %s", cfg->listen_host, cfg->port,
+                      e ? strerror(e) : "libmicrohttpd failed to start");
+    }
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(h->daemon, MHD_DAEMON_INFO_BIND_PORT);
+    h->port = info ? info->port : cfg->port;
+    *port_out = h->port;
+    *out = h;
+    return 0;
+}
+
+void lc_http_quiesce(lc_http *h)
+{
+    if (!h || !h->daemon)
+        return;
+    MHD_socket s = MHD_quiesce_daemon(h->daemon);
+    if (s != MHD_INVALID_SOCKET)
+        close(s);
+}
+
+void lc_http_stop(lc_http *h)
+{
+    if (!h)
+        return;
+    if (h->daemon)
+        MHD_stop_daemon(h->daemon);
+    free(h);
+}

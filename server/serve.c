@@ -1,0 +1,366 @@
+/* `lucent serve`: flags, start-up (datasets load before the port opens),
+ * signal handling and the ordered shutdown. */
+#include "serve.h"
+
+#include <getopt.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "datasets.h"
+#include "gl_context.h"
+#include "http.h"
+#include "metrics.h"
+#include "session.h"
+#include "workers.h"
+#include "ws.h"
+
+#define MOD "serve"
+#define MAX_DATA 256
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n"
+            "\n"
+            "  --listen ADDR:PORT     listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
+            "                         IPv6 as [::1]:8080). Anything but loopback exposes the server.\n"
+            "  --data PATH...         datasets to load before the port opens: .ply/.obj files or demo:NAME\n"
+            "                         (repeatable; several paths may follow one --data). None = all demos.\n"
+            "  --demo                 also serve every built-in demo next to --data\n"
+            "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
+            "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
+            "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
+            "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
+            "  --token T              require this bearer token (default: LUCENT_TOKEN if set)\n"
+            "  --max-size N           max image width/height (default 4096)\n"
+            "  --max-pixels N         max width*height of an HTTP render (default 16777216)\n"
+            "  --max-stream-pixels N  max pixels of a WebSocket frame (default 4194304)\n"
+            "  --max-body BYTES       max HTTP request body (default 65536)\n"
+            "  --max-ws-message BYTES max WebSocket message, close 1009 beyond (default 65536)\n"
+            "  --max-json-depth N     max JSON nesting (default 16)\n"
+            "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
+            "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
+            "  --max-connections N    max HTTP connections (default 256)\n"
+            "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
+            "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
+            "  --log-level L          error|warn|info|debug (default info)\n"
+            "  -h, --help             this text\n");
+}
+
+bool lc_serve_token_ok(const lc_server *srv, const char *given)
+{
+    const char *want = srv->cfg.token;
+    if (!want[0])
+        return true;
+    if (!given)
+        return false;
+    /* Compare every byte of the longer string, so timing does not leak a prefix. */
+    size_t a = strlen(want), b = strlen(given), n = a > b ? a : b;
+    unsigned diff = (unsigned)(a ^ b);
+    for (size_t i = 0; i < n; i++)
+        diff |= (unsigned)(unsigned char)(i < a ? want[i] : 0) ^ (unsigned)(unsigned char)(i < b ? given[i] : 0);
+    return diff == 0;
+}
+
+static int parse_listen(const char *arg, lc_serve_config *cfg)
+{
+    const char *colon;
+    if (arg[0] == '[') { /* [v6]:port */
+        const char *close = strchr(arg, ']');
+        if (!close || close[1] != ':')
+            return -1;
+        snprintf(cfg->listen_host, sizeof cfg->listen_host, "%.*s", (int)(close - arg - 1), arg + 1);
+        colon = close + 1;
+    } else {
+        colon = strrchr(arg, ':');
+        if (!colon) { /* a bare port */
+            snprintf(cfg->listen_host, sizeof cfg->listen_host, "127.0.0.1");
+            colon = arg - 1;
+        } else {
+            snprintf(cfg->listen_host, sizeof cfg->listen_host, "%.*s", (int)(colon - arg), arg);
+        }
+    }
+    char *end;
+    long port = strtol(colon + 1, &end, 10);
+    if (*end || end == colon + 1 || port < 0 || port > 65535 || !cfg->listen_host[0])
+        return -1;
+    cfg->port = (int)port;
+    return 0;
+}
+
+static int parse_long(const char *flag, const char *arg, long long lo, long long hi, long long *out)
+{
+    char *end;
+    long long v = strtoll(arg, &end, 10);
+    if (*end || end == arg || v < lo || v > hi) {
+        fprintf(stderr, "lucent serve: %s: \"%s\" is not an integer in [%lld, %lld]\n", flag, arg, lo, hi);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+enum {
+    OPT_LISTEN = 256, OPT_DATA, OPT_DEMO, OPT_DEMO_SIZE, OPT_DEVICE, OPT_WORKERS, OPT_ENCODERS, OPT_TOKEN,
+    OPT_MAX_SIZE, OPT_MAX_PIXELS, OPT_MAX_STREAM_PIXELS, OPT_MAX_BODY, OPT_MAX_WS, OPT_MAX_DEPTH, OPT_MAX_SESSIONS,
+    OPT_MAX_QUEUE, OPT_MAX_CONN, OPT_IDLE, OPT_STILL, OPT_LOG
+};
+
+/* Fills cfg from argv; returns 0, 1 for --help, -1 on a usage error. */
+static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char **data)
+{
+    static const struct option opts[] = {
+        {"listen", required_argument, NULL, OPT_LISTEN},
+        {"data", required_argument, NULL, OPT_DATA},
+        {"demo", no_argument, NULL, OPT_DEMO},
+        {"demo-size", required_argument, NULL, OPT_DEMO_SIZE},
+        {"device", required_argument, NULL, OPT_DEVICE},
+        {"workers", required_argument, NULL, OPT_WORKERS},
+        {"encoders", required_argument, NULL, OPT_ENCODERS},
+        {"token", required_argument, NULL, OPT_TOKEN},
+        {"max-size", required_argument, NULL, OPT_MAX_SIZE},
+        {"max-pixels", required_argument, NULL, OPT_MAX_PIXELS},
+        {"max-stream-pixels", required_argument, NULL, OPT_MAX_STREAM_PIXELS},
+        {"max-body", required_argument, NULL, OPT_MAX_BODY},
+        {"max-ws-message", required_argument, NULL, OPT_MAX_WS},
+        {"max-json-depth", required_argument, NULL, OPT_MAX_DEPTH},
+        {"max-sessions", required_argument, NULL, OPT_MAX_SESSIONS},
+        {"max-queue", required_argument, NULL, OPT_MAX_QUEUE},
+        {"max-connections", required_argument, NULL, OPT_MAX_CONN},
+        {"idle-timeout", required_argument, NULL, OPT_IDLE},
+        {"still-delay", required_argument, NULL, OPT_STILL},
+        {"log-level", required_argument, NULL, OPT_LOG},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0}};
+    optind = 1;
+    int opt;
+    long long v;
+    while ((opt = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+        switch (opt) {
+        case OPT_LISTEN:
+            if (parse_listen(optarg, cfg) != 0) {
+                fprintf(stderr, "lucent serve: --listen: expected ADDR:PORT, got \"%s\"\n", optarg);
+                return -1;
+            }
+            break;
+        case OPT_DATA:
+            if (cfg->data_count >= MAX_DATA)
+                return -1;
+            data[cfg->data_count++] = optarg;
+            break;
+        case OPT_DEMO: cfg->demo = true; break;
+        case OPT_DEMO_SIZE:
+            if (parse_long("--demo-size", optarg, 1, 100000000, &v)) return -1;
+            cfg->demo_size = (unsigned long long)v;
+            break;
+        case OPT_DEVICE:
+            if (parse_long("--device", optarg, 0, 64, &v)) return -1;
+            cfg->device = (int)v;
+            break;
+        case OPT_WORKERS:
+            if (parse_long("--workers", optarg, 1, 64, &v)) return -1;
+            cfg->workers = (int)v;
+            break;
+        case OPT_ENCODERS:
+            if (parse_long("--encoders", optarg, 1, 64, &v)) return -1;
+            cfg->encoders = (int)v;
+            break;
+        case OPT_TOKEN: snprintf(cfg->token, sizeof cfg->token, "%s", optarg); break;
+        case OPT_MAX_SIZE:
+            if (parse_long("--max-size", optarg, 16, 16384, &v)) return -1;
+            cfg->limits.max_size = (int)v;
+            break;
+        case OPT_MAX_PIXELS:
+            if (parse_long("--max-pixels", optarg, 256, 1LL << 28, &v)) return -1;
+            cfg->limits.max_pixels = v;
+            break;
+        case OPT_MAX_STREAM_PIXELS:
+            if (parse_long("--max-stream-pixels", optarg, 256, 1LL << 28, &v)) return -1;
+            cfg->max_stream_pixels = v;
+            break;
+        case OPT_MAX_BODY:
+            if (parse_long("--max-body", optarg, 64, 1LL << 30, &v)) return -1;
+            cfg->max_body = (size_t)v;
+            break;
+        case OPT_MAX_WS:
+            if (parse_long("--max-ws-message", optarg, 64, 1LL << 30, &v)) return -1;
+            cfg->max_ws_message = (size_t)v;
+            break;
+        case OPT_MAX_DEPTH:
+            if (parse_long("--max-json-depth", optarg, 2, 1000, &v)) return -1;
+            cfg->limits.max_depth = (int)v;
+            break;
+        case OPT_MAX_SESSIONS:
+            if (parse_long("--max-sessions", optarg, 1, 100000, &v)) return -1;
+            cfg->max_sessions = (int)v;
+            break;
+        case OPT_MAX_QUEUE:
+            if (parse_long("--max-queue", optarg, 1, 100000, &v)) return -1;
+            cfg->max_queue = (int)v;
+            break;
+        case OPT_MAX_CONN:
+            if (parse_long("--max-connections", optarg, 4, 100000, &v)) return -1;
+            cfg->max_connections = (int)v;
+            break;
+        case OPT_IDLE:
+            if (parse_long("--idle-timeout", optarg, 1, 86400 * 7, &v)) return -1;
+            cfg->idle_timeout = (double)v;
+            break;
+        case OPT_STILL:
+            if (parse_long("--still-delay", optarg, 0, 60000, &v)) return -1;
+            cfg->still_delay = (double)v / 1000.0;
+            break;
+        case OPT_LOG: {
+            int level = lc_log_parse_level(optarg);
+            if (level < 0) {
+                fprintf(stderr, "lucent serve: --log-level: expected error|warn|info|debug\n");
+                return -1;
+            }
+            lc_log_set_level((lc_log_level)level);
+            break;
+        }
+        case 'h': return 1;
+        default: return -1;
+        }
+    }
+    /* Paths after the flags (`--data a.ply b.ply`) are data too. */
+    for (int i = optind; i < argc; i++) {
+        if (cfg->data_count >= MAX_DATA)
+            return -1;
+        data[cfg->data_count++] = argv[i];
+    }
+    if (cfg->limits.max_pixels > (long long)cfg->limits.max_size * cfg->limits.max_size)
+        cfg->limits.max_pixels = (long long)cfg->limits.max_size * cfg->limits.max_size;
+    return 0;
+}
+
+static void config_defaults(lc_serve_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    snprintf(cfg->listen_host, sizeof cfg->listen_host, "127.0.0.1");
+    cfg->port = 8080;
+    cfg->device = -1;
+    lc_proto_limits_default(&cfg->limits);
+    cfg->max_body = 64 * 1024;
+    cfg->max_ws_message = 64 * 1024;
+    cfg->max_sessions = 64;
+    cfg->max_queue = 32;
+    cfg->max_connections = 256;
+    cfg->idle_timeout = 300;
+    cfg->max_stream_pixels = 4LL << 20;
+    cfg->still_delay = 0.150;
+    const char *token = getenv("LUCENT_TOKEN");
+    if (token)
+        snprintf(cfg->token, sizeof cfg->token, "%s", token);
+}
+
+int lc_serve_main(int argc, char **argv)
+{
+    static lc_server srv; /* one per process; static so signal-free code can reach it in a debugger */
+    static const char *data[MAX_DATA];
+    memset(&srv, 0, sizeof srv);
+    config_defaults(&srv.cfg);
+    int pr = parse_flags(argc, argv, &srv.cfg, data);
+    if (pr != 0) {
+        usage(pr > 0 ? stdout : stderr);
+        return pr > 0 ? 0 : 2;
+    }
+    srv.cfg.data = data;
+    lc_serve_config *cfg = &srv.cfg;
+    srv.start_time = lc_now();
+    /* Block the shutdown signals in every thread (they inherit this mask);
+     * the main thread takes them synchronously with sigwait. */
+    sigset_t sigs;
+    sigemptyset(&sigs);
+    sigaddset(&sigs, SIGINT);
+    sigaddset(&sigs, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &sigs, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    lc_error err = {0};
+    int rc = lc_datasets_load(cfg->data, cfg->data_count, cfg->demo_size, &srv.datasets, &err);
+    if (rc == 0 && cfg->demo && cfg->data_count > 0)
+        rc = lc_datasets_add_demos(srv.datasets, cfg->demo_size, &err);
+    if (rc != 0) {
+        LC_ERROR(MOD, "%s", err.msg);
+        lc_datasets_destroy(srv.datasets);
+        return 1;
+    }
+
+    /* The primary context: datasets are uploaded with it; worker 0 adopts it. */
+    lc_gl *primary = NULL;
+    lc_gl_desc gdesc = {.device = cfg->device};
+    rc = lc_gl_create(&gdesc, &primary, &err);
+    if (rc == 0)
+        rc = lc_gl_make_current(primary, &err);
+    if (rc == 0) {
+        snprintf(srv.gl_renderer, sizeof srv.gl_renderer, "%s", lc_gl_renderer(primary));
+        snprintf(srv.gl_version, sizeof srv.gl_version, "%s", lc_gl_version(primary));
+        snprintf(srv.gl_platform, sizeof srv.gl_platform, "%s", lc_gl_platform(primary));
+        LC_INFO(MOD, "GL: %s, %s (%s)", srv.gl_renderer, srv.gl_version, srv.gl_platform);
+        rc = lc_datasets_upload(srv.datasets, &err);
+        if (rc != 0)
+            lc_datasets_release_gpu(srv.datasets);
+        lc_gl_release_current(primary);
+    }
+    if (rc != 0) {
+        LC_ERROR(MOD, "%s", err.msg);
+        if (primary)
+            lc_gl_destroy(primary);
+        lc_datasets_destroy(srv.datasets);
+        return 1;
+    }
+    int nworkers = cfg->workers > 0 ? cfg->workers : (lc_gl_is_software(primary) ? 1 : 2);
+    int nencoders = cfg->encoders > 0 ? cfg->encoders : 2;
+
+    srv.metrics = lc_metrics_create();
+    srv.sessions = lc_sessions_create(&srv, cfg->max_sessions);
+    if (!srv.metrics || !srv.sessions) {
+        LC_ERROR(MOD, "out of memory");
+        return 1;
+    }
+    rc = lc_workers_create(&srv, primary, nworkers, nencoders, cfg->max_queue, &srv.workers, &err);
+    if (rc == 0)
+        rc = lc_ws_create(&srv, &srv.ws, &err);
+    int port = 0;
+    if (rc == 0)
+        rc = lc_http_start(&srv, &srv.http, &port, &err);
+    if (rc != 0) {
+        LC_ERROR(MOD, "%s", err.msg);
+        lc_ws_destroy(srv.ws);
+        lc_workers_destroy(srv.workers, srv.datasets);
+        if (!srv.workers && primary)
+            lc_gl_destroy(primary);
+        lc_sessions_destroy(srv.sessions);
+        lc_metrics_destroy(srv.metrics);
+        lc_datasets_destroy(srv.datasets);
+        return 1;
+    }
+    const char *host = cfg->listen_host;
+    bool v6 = strchr(host, ':') != NULL;
+    LC_INFO(MOD, "%d dataset(s), %d worker(s), token %s", lc_datasets_count(srv.datasets), nworkers,
+            cfg->token[0] ? "required" : "off");
+    LC_INFO(MOD, "listening on http://%s%s%s:%d/", v6 ? "[" : "", host, v6 ? "]" : "", port);
+
+    int sig = 0;
+    sigwait(&sigs, &sig);
+    LC_INFO(MOD, "%s: shutting down", sig == SIGINT ? "SIGINT" : "SIGTERM");
+    atomic_store(&srv.stopping, 1);
+
+    /* 1. no new connections; 2. frames in hand finish, are encoded and queued
+     * (queued HTTP renders get 503); 3. WebSocket clients get those frames and
+     * a close frame; 4. MHD answers the resumed requests and stops. */
+    lc_http_quiesce(srv.http);
+    lc_workers_stop(srv.workers);
+    lc_ws_shutdown(srv.ws, 2.0);
+    lc_http_stop(srv.http);
+    lc_ws_destroy(srv.ws);
+    lc_sessions_destroy(srv.sessions);
+    lc_workers_destroy(srv.workers, srv.datasets);
+    lc_datasets_destroy(srv.datasets);
+    lc_metrics_destroy(srv.metrics);
+    LC_INFO(MOD, "stopped after %.1f s", lc_now() - srv.start_time);
+    return 0;
+}

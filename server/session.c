@@ -1,0 +1,328 @@
+/* Session registry and the WebSocket stream's flow-control decisions. */
+#include "session.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/random.h>
+
+#include "metrics.h"
+
+#define MOD "session"
+
+struct lc_sessions {
+    lc_server *srv;
+    pthread_mutex_t lock;
+    int max;
+    int count;
+    lc_session **items; /* max entries; open sessions, each holding the registry's reference */
+};
+
+lc_sessions *lc_sessions_create(lc_server *srv, int max_sessions)
+{
+    lc_sessions *reg = calloc(1, sizeof *reg);
+    if (!reg)
+        return NULL;
+    reg->srv = srv;
+    reg->max = max_sessions > 0 ? max_sessions : 1;
+    reg->items = calloc((size_t)reg->max, sizeof *reg->items);
+    if (!reg->items) {
+        free(reg);
+        return NULL;
+    }
+    pthread_mutex_init(&reg->lock, NULL);
+    return reg;
+}
+
+void lc_sessions_destroy(lc_sessions *reg)
+{
+    if (!reg)
+        return;
+    for (;;) {
+        pthread_mutex_lock(&reg->lock);
+        lc_session *s = reg->count ? reg->items[0] : NULL;
+        if (s)
+            lc_session_ref(s);
+        pthread_mutex_unlock(&reg->lock);
+        if (!s)
+            break;
+        lc_session_close(reg, s);
+        lc_session_unref(s);
+    }
+    pthread_mutex_destroy(&reg->lock);
+    free(reg->items);
+    free(reg);
+}
+
+static void random_id(char out[LC_SESSION_ID_LEN])
+{
+    unsigned char b[16];
+    if (getrandom(b, sizeof b, 0) != (ssize_t)sizeof b) {
+        /* getrandom on Linux does not fail for 16 bytes once the pool is up;
+         * fall back to a clock mix rather than refusing the session. */
+        double t = lc_now();
+        for (size_t i = 0; i < sizeof b; i++)
+            b[i] = (unsigned char)((uint64_t)(t * 1e9) >> (i % 8 * 8)) ^ (unsigned char)(i * 37);
+    }
+    for (size_t i = 0; i < sizeof b; i++)
+        snprintf(out + 2 * i, 3, "%02x", b[i]);
+}
+
+int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *ds, const lc_request *initial,
+                      lc_session **out, lc_error *err)
+{
+    *out = NULL;
+    lc_session *s = calloc(1, sizeof *s);
+    if (!s)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    s->frame_state = lc_frame_state_create(ds->scene->elements.count);
+    if (!s->frame_state) {
+        free(s);
+        return lc_err(err, LC_ERR_NOMEM, "out of memory for %u element opacities", ds->scene->elements.count);
+    }
+    random_id(s->id);
+    s->kind = kind;
+    s->dataset = ds;
+    s->srv = reg->srv;
+    atomic_init(&s->refs, 2); /* registry + caller */
+    pthread_mutex_init(&s->lock, NULL);
+    s->created = s->last_used = lc_now();
+    s->req = *initial;
+    s->stream.window = LC_PROTO_DEFAULT_WINDOW;
+    s->stream.quality = LC_PROTO_DEFAULT_QUALITY;
+    s->stream.interactive_quality = LC_PROTO_DEFAULT_INTERACTIVE_QUALITY;
+    s->stream.interactive_scale = LC_PROTO_DEFAULT_INTERACTIVE_SCALE;
+    s->stream.device_pixel_ratio = 1.0;
+    s->stream.next_frame = 1;
+    s->stream.converged = true;
+
+    pthread_mutex_lock(&reg->lock);
+    if (reg->count >= reg->max) {
+        pthread_mutex_unlock(&reg->lock);
+        lc_frame_state_destroy(s->frame_state);
+        pthread_mutex_destroy(&s->lock);
+        free(s);
+        return lc_err(err, LC_ERR_LIMIT, "too many sessions (%d open, the limit is %d)", reg->max, reg->max);
+    }
+    reg->items[reg->count++] = s;
+    pthread_mutex_unlock(&reg->lock);
+    LC_DEBUG(MOD, "session %s opened (%s, %s)", s->id, kind == LC_SESSION_WS ? "ws" : "http", ds->name);
+    *out = s;
+    return 0;
+}
+
+lc_session *lc_session_find(lc_sessions *reg, const char *id, lc_session_kind kind)
+{
+    lc_session *found = NULL;
+    pthread_mutex_lock(&reg->lock);
+    for (int i = 0; i < reg->count; i++) {
+        lc_session *s = reg->items[i];
+        if (s->kind == kind && strcmp(s->id, id) == 0) {
+            lc_session_ref(s);
+            found = s;
+            break;
+        }
+    }
+    pthread_mutex_unlock(&reg->lock);
+    if (found) {
+        pthread_mutex_lock(&found->lock);
+        found->last_used = lc_now();
+        pthread_mutex_unlock(&found->lock);
+    }
+    return found;
+}
+
+void lc_session_close(lc_sessions *reg, lc_session *s)
+{
+    int removed = 0;
+    pthread_mutex_lock(&reg->lock);
+    for (int i = 0; i < reg->count; i++) {
+        if (reg->items[i] == s) {
+            reg->items[i] = reg->items[--reg->count];
+            removed = 1;
+            break;
+        }
+    }
+    pthread_mutex_unlock(&reg->lock);
+    pthread_mutex_lock(&s->lock);
+    s->closed = true;
+    pthread_mutex_unlock(&s->lock);
+    if (removed) {
+        LC_DEBUG(MOD, "session %s closed", s->id);
+        lc_session_unref(s);
+    }
+}
+
+void lc_session_ref(lc_session *s) { atomic_fetch_add(&s->refs, 1); }
+
+void lc_session_unref(lc_session *s)
+{
+    if (!s || atomic_fetch_sub(&s->refs, 1) != 1)
+        return;
+    lc_frame_state_destroy(s->frame_state);
+    pthread_mutex_destroy(&s->lock);
+    free(s);
+}
+
+void lc_sessions_count(lc_sessions *reg, int *http, int *ws)
+{
+    int h = 0, w = 0;
+    pthread_mutex_lock(&reg->lock);
+    for (int i = 0; i < reg->count; i++)
+        if (reg->items[i]->kind == LC_SESSION_WS)
+            w++;
+        else
+            h++;
+    pthread_mutex_unlock(&reg->lock);
+    if (http)
+        *http = h;
+    if (ws)
+        *ws = w;
+}
+
+int lc_sessions_sweep(lc_sessions *reg, double now, double idle)
+{
+    int closed = 0;
+    for (;;) {
+        lc_session *victim = NULL;
+        pthread_mutex_lock(&reg->lock);
+        for (int i = 0; i < reg->count && !victim; i++) {
+            lc_session *s = reg->items[i];
+            if (s->kind != LC_SESSION_HTTP)
+                continue; /* WebSocket connections time out on the I/O thread */
+            pthread_mutex_lock(&s->lock);
+            if (!s->http_busy && now - s->last_used > idle)
+                victim = s;
+            pthread_mutex_unlock(&s->lock);
+        }
+        if (victim)
+            lc_session_ref(victim);
+        pthread_mutex_unlock(&reg->lock);
+        if (!victim)
+            return closed;
+        LC_INFO(MOD, "session %s idle for more than %.0f s, closed", victim->id, idle);
+        lc_session_close(reg, victim);
+        lc_session_unref(victim);
+        closed++;
+    }
+}
+
+void lc_session_frame_size(int css_w, int css_h, double dpr, double scale, long long max_pixels,
+                           const lc_proto_limits *lim, int *w, int *h)
+{
+    double fw = css_w * dpr, fh = css_h * dpr;
+    long long cap = max_pixels;
+    if (lim && lim->max_pixels > 0 && (cap <= 0 || lim->max_pixels < cap))
+        cap = lim->max_pixels;
+    if (cap > 0 && fw * fh > (double)cap) {
+        double k = sqrt((double)cap / (fw * fh));
+        fw *= k;
+        fh *= k;
+    }
+    fw *= scale;
+    fh *= scale;
+    int lo = lim ? lim->min_size : 16, hi = lim ? lim->max_size : 4096;
+    int iw = (int)lround(fw), ih = (int)lround(fh);
+    *w = iw < lo ? lo : iw > hi ? hi : iw;
+    *h = ih < lo ? lo : ih > hi ? hi : ih;
+}
+
+/* Whether the still frame is due: the last frame was interactive and input has
+ * been quiet for still_delay. */
+static bool still_due(const lc_session *s, double now, double delay)
+{
+    return s->stream.last_interactive && now - s->stream.last_input >= delay;
+}
+
+int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at)
+{
+    const lc_serve_config *cfg = &s->srv->cfg;
+    lc_stream *st = &s->stream;
+    *wake_at = 0;
+    pthread_mutex_lock(&s->lock);
+    if (s->closed || st->rendering || st->unacked >= st->window || st->css_width <= 0) {
+        pthread_mutex_unlock(&s->lock);
+        return 0; /* an ack, the frame in hand finishing or a resize wakes us again */
+    }
+    bool fading = !st->converged;
+    bool still = still_due(s, now, cfg->still_delay);
+    if (!st->dirty && !fading && !still) {
+        if (st->last_interactive)
+            *wake_at = st->last_input + cfg->still_delay;
+        pthread_mutex_unlock(&s->lock);
+        return 0;
+    }
+    bool interactive = st->any_input && now - st->last_input < cfg->still_delay;
+    double scale = interactive ? st->interactive_scale : 1.0;
+    out->req = s->req;
+    lc_session_frame_size(st->css_width, st->css_height, st->device_pixel_ratio, scale, cfg->max_stream_pixels,
+                          &cfg->limits, &out->req.render.width, &out->req.render.height);
+    out->req.format = LC_FORMAT_JPEG;
+    out->quality = interactive ? st->interactive_quality : st->quality;
+    out->req.quality = out->quality;
+    out->interactive = interactive;
+    out->frame = st->next_frame++;
+    out->camera_seq = st->camera_seq;
+    out->dt = s->last_frame_time > 0 ? now - s->last_frame_time : 0.0;
+    s->last_frame_time = now;
+    st->outstanding[st->unacked++] = out->frame;
+    st->rendering = true;
+    st->dirty = false;
+    if (st->updates_since_frame > 1)
+        lc_metrics_coalesced(s->srv->metrics, st->updates_since_frame - 1);
+    st->updates_since_frame = 0;
+    s->last_used = now;
+    pthread_mutex_unlock(&s->lock);
+    return 1;
+}
+
+static void drop_outstanding(lc_stream *st, uint64_t upto, bool only_exact)
+{
+    int k = 0;
+    for (int i = 0; i < st->unacked; i++) {
+        uint64_t id = st->outstanding[i];
+        bool drop = only_exact ? id == upto : id <= upto;
+        if (!drop)
+            st->outstanding[k++] = id;
+    }
+    st->unacked = k;
+}
+
+void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, const lc_frame_info *info)
+{
+    pthread_mutex_lock(&s->lock);
+    lc_stream *st = &s->stream;
+    st->rendering = false;
+    if (ok) {
+        st->converged = info ? info->converged != 0 : true;
+        st->last_interactive = f->interactive;
+        st->frames++;
+    } else {
+        /* Nothing goes out for this id, so it cannot be acked; and retrying
+         * the same failing request would loop, so wait for new input. */
+        drop_outstanding(st, f->frame, true);
+        st->converged = true;
+        st->last_interactive = false;
+    }
+    pthread_mutex_unlock(&s->lock);
+}
+
+void lc_session_stream_ack(lc_session *s, uint64_t frame)
+{
+    pthread_mutex_lock(&s->lock);
+    drop_outstanding(&s->stream, frame, false);
+    s->last_used = lc_now();
+    pthread_mutex_unlock(&s->lock);
+}
+
+void lc_session_stream_input(lc_session *s, double now)
+{
+    pthread_mutex_lock(&s->lock);
+    s->stream.dirty = true;
+    s->stream.any_input = true;
+    s->stream.last_input = now;
+    s->stream.updates_since_frame++;
+    s->last_used = now;
+    pthread_mutex_unlock(&s->lock);
+}

@@ -1,0 +1,142 @@
+/* Sessions: one viewer's render request, element opacities (fading state) and,
+ * for WebSocket viewers, the stream's flow control (window of unacknowledged
+ * frames, latest-wins coalescing, interactive vs still frames).
+ *
+ * Ownership: sessions are reference counted. The registry holds one reference
+ * while the session is open; a queued render task, an HTTP job and a WebSocket
+ * connection each hold their own. lc_session_unref() frees at zero.
+ *
+ * Locking: `lock` guards the request and stream fields. frame_state is used
+ * only by the worker that owns the session's current frame (stream.rendering
+ * for WebSocket sessions, http_busy for HTTP sessions), so the lock is not held
+ * while rendering. The sched_* fields belong to the worker pool and are guarded
+ * by its lock. ws_conn is touched only on the WebSocket I/O thread.
+ *
+ * Memory per session is O(elements): the frame state plus a fixed struct. */
+#ifndef LC_SERVER_SESSION_H
+#define LC_SERVER_SESSION_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "datasets.h"
+#include "messages.h"
+#include "renderer.h"
+#include "request.h"
+#include "serve.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum { LC_SESSION_HTTP = 0, LC_SESSION_WS = 1 } lc_session_kind;
+
+#define LC_SESSION_ID_LEN 33 /* 32 hex digits + NUL */
+
+/* WebSocket stream state (all guarded by the session lock). */
+typedef struct lc_stream {
+    int window;                      /* max unacknowledged frames, 1..8 */
+    int quality;                     /* still-frame JPEG quality */
+    int interactive_quality;         /* JPEG quality while input is active */
+    double interactive_scale;        /* resolution factor while input is active */
+    int css_width, css_height;       /* viewport in CSS pixels */
+    double device_pixel_ratio;
+    uint64_t outstanding[LC_PROTO_MAX_WINDOW]; /* frame ids sent or in flight, not acked */
+    int unacked;
+    uint64_t next_frame;             /* id of the next frame (from 1) */
+    uint64_t camera_seq;             /* latest camera seq received */
+    bool dirty;                      /* input arrived since the last snapshot */
+    uint64_t updates_since_frame;    /* for the coalescing metric */
+    bool rendering;                  /* a worker owns the frame state right now */
+    bool converged;                  /* the last frame's opacities stopped fading */
+    bool last_interactive;           /* the last frame used interactive quality/scale */
+    bool any_input;                  /* camera/params/resize seen since hello */
+    double last_input;               /* lc_now() of the latest input */
+    uint64_t frames;                 /* frames rendered */
+} lc_stream;
+
+typedef struct lc_session lc_session;
+struct lc_session {
+    /* Immutable after creation. */
+    char id[LC_SESSION_ID_LEN];
+    lc_session_kind kind;
+    const lc_dataset *dataset;
+    lc_server *srv;
+    atomic_int refs;
+
+    pthread_mutex_t lock;
+    bool closed;                 /* removed from the registry; render nothing more */
+    double created, last_used;   /* lc_now() */
+    lc_request req;              /* the latest requested state (latest wins) */
+    lc_frame_state *frame_state; /* element opacities; see "Locking" above */
+    double last_frame_time;      /* lc_now() of the previous frame, 0 = none */
+    bool http_busy;              /* an HTTP session render is queued or running */
+    uint64_t http_frames;
+    lc_stream stream;
+
+    /* Worker pool scheduling (pool lock). */
+    bool sched_queued, sched_timed;
+    double sched_due;
+    lc_session *sched_next;
+
+    /* WebSocket I/O thread only. */
+    void *ws_conn;
+};
+
+/* One WebSocket frame to render: a snapshot taken by the worker. */
+typedef struct lc_stream_frame {
+    lc_request req;        /* with width/height already set for this frame */
+    uint64_t frame;
+    uint64_t camera_seq;
+    int quality;
+    bool interactive;
+    double dt;
+} lc_stream_frame;
+
+typedef struct lc_sessions lc_sessions;
+
+lc_sessions *lc_sessions_create(lc_server *srv, int max_sessions);
+/* Closes every session still open (their memory goes when the last reference does). */
+void lc_sessions_destroy(lc_sessions *reg);
+
+/* Creates an open session of the given kind on ds with request initial (copied).
+ * *out gets a reference for the caller. LC_ERR_LIMIT when max_sessions are open,
+ * LC_ERR_NOMEM. Any thread. */
+int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *ds, const lc_request *initial,
+                      lc_session **out, lc_error *err);
+/* Finds an open session by id and kind, refreshing its idle clock; returns a
+ * reference (unref it) or NULL. */
+lc_session *lc_session_find(lc_sessions *reg, const char *id, lc_session_kind kind);
+/* Removes s from the registry and marks it closed (idempotent). */
+void lc_session_close(lc_sessions *reg, lc_session *s);
+void lc_session_ref(lc_session *s);
+void lc_session_unref(lc_session *s);
+
+/* Open sessions by kind. */
+void lc_sessions_count(lc_sessions *reg, int *http, int *ws);
+/* Closes HTTP sessions unused for longer than idle seconds; returns how many. */
+int lc_sessions_sweep(lc_sessions *reg, double now, double idle);
+
+/* ---- WebSocket streams (flow control). */
+
+/* Worker side: decides whether s needs a frame now. Returns 1 with *out filled
+ * and the frame state reserved (stream.rendering), 0 when nothing is due; then
+ * *wake_at > 0 asks to be reconsidered at that lc_now() time (the still frame). */
+int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at);
+/* Worker side: the frame reserved by stream_next finished (ok = rendered). */
+void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, const lc_frame_info *info);
+/* I/O side: the client acknowledged every frame up to id `frame`. */
+void lc_session_stream_ack(lc_session *s, uint64_t frame);
+/* I/O side: records input (camera, params, resize): marks the stream dirty and
+ * counts a coalesced update if the previous one was not rendered yet. */
+void lc_session_stream_input(lc_session *s, double now);
+/* Pixel size of a frame for a viewport, devicePixelRatio, scale and caps. */
+void lc_session_frame_size(int css_w, int css_h, double dpr, double scale, long long max_pixels,
+                           const lc_proto_limits *lim, int *w, int *h);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

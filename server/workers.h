@@ -1,0 +1,90 @@
+/* Render worker pool and encoder threads.
+ *
+ * Each render worker owns one EGL context (worker 0 the primary one that the
+ * datasets were uploaded with, the others created with .share = primary) and
+ * its own lc_renderer; every GL call of the daemon happens on these threads.
+ * Work arrives as tasks in one FIFO: HTTP render jobs and WebSocket sessions
+ * that need a frame. A session is in the queue at most once and goes back to
+ * the tail after each frame, so sessions take turns (round robin) and one busy
+ * viewer cannot starve the others. Sessions waiting for their still frame sit
+ * in a timer list; idle workers sleep on a condition variable (no polling).
+ *
+ * Workers hand the RGBA readback to encoder threads (JPEG/PNG), so encoding
+ * overlaps the next frame's GL work. Finished HTTP jobs call job->done (from an
+ * encoder or worker thread); finished stream frames go to lc_ws_send(). */
+#ifndef LC_SERVER_WORKERS_H
+#define LC_SERVER_WORKERS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "gl_context.h"
+#include "lc_base.h"
+#include "renderer.h"
+#include "request.h"
+#include "serve.h"
+#include "session.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One HTTP render (one-shot, or a frame of an HTTP session). The submitter owns
+ * the job; it is lent to the pool from lc_workers_submit() until done() is
+ * called, after which the pool never touches it again. */
+typedef struct lc_render_job lc_render_job;
+struct lc_render_job {
+    /* input */
+    lc_request req;
+    const lc_dataset *dataset;
+    lc_session *session;      /* HTTP session (the job holds a reference) or NULL */
+    double dt;                /* fading step for sessions */
+    void (*done)(lc_render_job *job);
+    void *user;
+    /* output, valid in done() */
+    int rc;                   /* 0, or an LC_ERR_* code with err filled */
+    lc_error err;
+    unsigned char *image;     /* malloc'd encoded image (job owner frees) */
+    size_t image_size;
+    lc_frame_info info;
+    double encode_ms;
+    double queue_ms;          /* waiting for a worker */
+    /* pool internals */
+    lc_render_job *next;
+    double submitted;
+    uint8_t *rgba;
+};
+
+typedef struct lc_workers lc_workers;
+
+/* Starts `workers` render threads and `encoders` encoder threads. primary is a
+ * released (not current) context that worker 0 adopts; the pool owns it from
+ * here on. Blocks until every worker has its context and renderer (errors are
+ * reported here, e.g. shader compile logs). Thread: main. */
+int lc_workers_create(lc_server *srv, lc_gl *primary, int workers, int encoders, int max_queue, lc_workers **out,
+                      lc_error *err);
+/* Stops accepting work, lets the frames in hand finish and be encoded and
+ * delivered, fails queued HTTP jobs with LC_ERR_UNSUPPORTED ("shutting down"),
+ * and joins every thread. Thread: main. */
+void lc_workers_stop(lc_workers *w);
+/* After stop: destroys renderers, releases the datasets' GPU copies with the
+ * primary context current on the calling thread, destroys the contexts. */
+void lc_workers_destroy(lc_workers *w, lc_datasets *datasets);
+
+/* Queues an HTTP job. LC_ERR_LIMIT when max_queue jobs are waiting,
+ * LC_ERR_UNSUPPORTED while stopping; done() is not called then. Any thread. */
+int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err);
+/* Asks the pool to consider WebSocket session s for a frame (after input, an
+ * ack, or a finished frame). Cheap and idempotent. Any thread. */
+void lc_workers_wake(lc_workers *w, lc_session *s);
+
+int lc_workers_count(const lc_workers *w);
+void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue);
+
+/* Fills "timings" style lists: pass names with ms for passes that ran. */
+int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

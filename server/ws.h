@@ -1,0 +1,50 @@
+/* WebSocket sessions: connections upgraded by libmicrohttpd, framed by wslay
+ * (RFC 6455), all served by one I/O thread with epoll.
+ *
+ * Threading: wslay contexts and sockets are touched only by the I/O thread.
+ * Other threads hand it messages through lc_ws_send() (a locked inbox and an
+ * eventfd wake-up). Each connection's outgoing queue is bounded: frames by the
+ * session window, everything else by a byte cap after which a client that does
+ * not read is disconnected. A connection holds a reference to its session. */
+#ifndef LC_SERVER_WS_H
+#define LC_SERVER_WS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "serve.h"
+#include "session.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LC_WS_ACCEPT_LEN 29 /* base64 of a SHA-1 digest + NUL */
+
+/* Starts the I/O thread. Thread: main. */
+int lc_ws_create(lc_server *srv, lc_ws **out, lc_error *err);
+/* Flushes queued messages, sends every client a close frame (1001, "server
+ * shutting down"), waits up to timeout seconds for the closing handshakes,
+ * closes the sockets and stops the thread. Thread: main. */
+void lc_ws_shutdown(lc_ws *ws, double timeout);
+void lc_ws_destroy(lc_ws *ws);
+
+/* Sec-WebSocket-Accept for a client's Sec-WebSocket-Key (SHA-1 + base64). */
+void lc_ws_accept_key(const char *client_key, char out[LC_WS_ACCEPT_LEN]);
+
+/* Takes over an upgraded socket (called from MHD's upgrade handler). extra
+ * holds bytes MHD read past the HTTP header (copied). authed: the handshake
+ * carried a valid token (or none is configured); otherwise hello must. */
+void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra_len, bool authed);
+
+/* Queues a message for s's connection; takes ownership of msg (malloc'd).
+ * Dropped silently when the connection is gone. Any thread. */
+void lc_ws_send(lc_ws *ws, lc_session *s, unsigned char *msg, size_t len, bool binary);
+
+/* Open connections (for metrics). */
+int lc_ws_connections(lc_ws *ws);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

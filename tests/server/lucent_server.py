@@ -1,0 +1,167 @@
+"""Helpers for the server integration tests: start the real daemon on a free
+loopback port, talk HTTP with urllib/http.client, read frame messages and image
+sizes. Standard library plus Debian's python3-websockets only."""
+import http.client
+import json
+import os
+import re
+import signal
+import struct
+import subprocess
+import sys
+import threading
+import time
+
+SKIP = 77  # ctest SKIP_RETURN_CODE
+
+
+def skip(reason):
+    print("SKIP: " + reason)
+    sys.exit(SKIP)
+
+
+try:
+    import websockets  # noqa: F401  (python3-websockets)
+except ImportError:  # pragma: no cover
+    websockets = None
+
+
+class Server:
+    """`lucent serve --listen 127.0.0.1:0 ...`; the port comes from the log line
+    "listening on http://127.0.0.1:PORT/"."""
+
+    def __init__(self, binary, *args, env=None, data=("demo:points",), demo_size=3000, timeout=90):
+        cmd = [binary, "serve", "--listen", "127.0.0.1:0"]
+        for d in data:
+            cmd += ["--data", d]
+        if demo_size:
+            cmd += ["--demo-size", str(demo_size)]
+        cmd += list(args)
+        e = dict(os.environ)
+        e.pop("LUCENT_TOKEN", None)
+        if env:
+            e.update(env)
+        self.log = []
+        self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT, env=e, text=True)
+        self._port = None
+        self._ready = threading.Event()
+        threading.Thread(target=self._drain, daemon=True).start()
+        if not self._ready.wait(timeout) or self._port is None:
+            self.proc.kill()
+            text = "\n".join(self.log)
+            if re.search(r"EGL|OpenGL 4\.5|GL 4\.5", text):
+                skip("no usable EGL/OpenGL 4.5 here:\n" + text)
+            raise RuntimeError("server did not start:\n" + text)
+        self.port = self._port
+        self.host = "127.0.0.1"
+        self.base = "http://127.0.0.1:%d" % self.port
+        self.ws_url = "ws://127.0.0.1:%d/api/v1/ws" % self.port
+
+    def _drain(self):
+        for line in self.proc.stdout:
+            line = line.rstrip("\n")
+            self.log.append(line)
+            if os.environ.get("LUCENT_TEST_VERBOSE"):
+                print("  | " + line, flush=True)
+            m = re.search(r"listening on http://127\.0\.0\.1:(\d+)/", line)
+            if m and self._port is None:
+                self._port = int(m.group(1))
+                self._ready.set()
+        self._ready.set()
+
+    def request(self, method, path, body=None, headers=None, timeout=60):
+        """Returns (status, headers dict with lower-case names, body bytes)."""
+        conn = http.client.HTTPConnection(self.host, self.port, timeout=timeout)
+        if isinstance(body, (dict, list)):
+            body = json.dumps(body)
+        if isinstance(body, str):
+            body = body.encode()
+        conn.request(method, path, body=body, headers=headers or {})
+        r = conn.getresponse()
+        data = r.read()
+        hdrs = {k.lower(): v for k, v in r.getheaders()}
+        conn.close()
+        return r.status, hdrs, data
+
+    def json(self, method, path, body=None, headers=None):
+        status, hdrs, data = self.request(method, path, body, headers)
+        return status, hdrs, json.loads(data) if data else None
+
+    def rss_kb(self):
+        with open("/proc/%d/status" % self.proc.pid) as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1])
+        return 0
+
+    def stop(self, sig=signal.SIGTERM, timeout=30):
+        """Signals the daemon and returns its exit status."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(sig)
+        try:
+            return self.proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+            raise AssertionError("server did not exit within %d s after signal %d" % (timeout, sig))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+
+def jpeg_size(data):
+    """(width, height) from a JPEG's SOF marker; raises if not a JPEG."""
+    assert data[:2] == b"\xff\xd8", "not a JPEG (no SOI marker)"
+    i = 2
+    while i + 4 <= len(data):
+        assert data[i] == 0xFF, "bad JPEG marker at %d" % i
+        marker = data[i + 1]
+        if marker == 0xFF:
+            i += 1
+            continue
+        length = struct.unpack(">H", data[i + 2:i + 4])[0]
+        if marker in (0xC0, 0xC1, 0xC2, 0xC3, 0xC5, 0xC6, 0xC7, 0xC9, 0xCA, 0xCB, 0xCD, 0xCE, 0xCF):
+            h, w = struct.unpack(">HH", data[i + 5:i + 9])
+            assert data[-2:] == b"\xff\xd9", "JPEG without EOI marker"
+            return w, h
+        i += 2 + length
+    raise AssertionError("JPEG without SOF marker")
+
+
+def png_size(data):
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    w, h = struct.unpack(">II", data[16:24])
+    return w, h
+
+
+def unpack_frame(msg):
+    """Binary frame message: uint32 LE header length N, N bytes JSON header, image."""
+    assert isinstance(msg, (bytes, bytearray)), "expected a binary frame, got %r" % (msg,)
+    n = struct.unpack("<I", msg[:4])[0]
+    header = json.loads(msg[4:4 + n].decode())
+    return header, bytes(msg[4 + n:])
+
+
+class Check:
+    """Counts failed expectations so that one run reports all of them."""
+
+    def __init__(self):
+        self.failures = 0
+        self.count = 0
+
+    def __call__(self, cond, what):
+        self.count += 1
+        print(("ok   " if cond else "FAIL ") + what, flush=True)
+        if not cond:
+            self.failures += 1
+        return cond
+
+    def done(self):
+        print("%d checks, %d failed" % (self.count, self.failures))
+        sys.exit(1 if self.failures else 0)

@@ -1,0 +1,117 @@
+"""HTTP API against the real daemon: health, datasets, POST/GET render (decodable
+images of the requested size), scripted sessions with dt fading, static files,
+metrics, errors, and a clean SIGTERM exit."""
+import json
+import sys
+
+from lucent_server import Check, Server, jpeg_size, png_size
+
+binary = sys.argv[1]
+check = Check()
+
+with Server(binary) as srv:
+    st, _, health = srv.json("GET", "/api/v1/health")
+    check(st == 200 and health["status"] == "ok", "health answers ok")
+    check(health.get("renderer") and health.get("glVersion"), "health names renderer and GL version: %s" % health.get("renderer"))
+    check(health.get("datasets") == 1 and health.get("uptime", -1) >= 0, "health counts datasets and uptime")
+
+    st, _, ds = srv.json("GET", "/api/v1/datasets")
+    d = ds["datasets"][0] if st == 200 and ds["datasets"] else {}
+    check(d.get("name") == "demo:points", "datasets lists demo:points")
+    check(d.get("elements", 0) > 0 and d.get("vertices", 0) > 0 and len(d.get("bounds", [])) == 2,
+          "dataset has counts and bounds")
+    check(any("range" in a for a in d.get("attributes", [])), "dataset attributes carry ranges")
+    st, _, one = srv.json("GET", "/api/v1/datasets/demo:points")
+    check(st == 200 and one["name"] == "demo:points", "GET /api/v1/datasets/NAME")
+
+    req = {"dataset": "demo:points", "width": 96, "height": 64, "format": "jpeg", "quality": 80}
+    st, h, img = srv.request("POST", "/api/v1/render", req)
+    check(st == 200 and h.get("content-type") == "image/jpeg", "POST render answers image/jpeg (%d)" % st)
+    check(st == 200 and jpeg_size(img) == (96, 64), "JPEG decodes to the requested 96x64")
+    check("importance=" in h.get("x-lucent-timings", "") and "resolve=" in h.get("x-lucent-timings", ""),
+          "per-pass timings header: %s" % h.get("x-lucent-timings"))
+
+    st, h, img = srv.request("POST", "/api/v1/render", {"dataset": "points", "width": 64, "height": 48, "format": "png"})
+    check(st == 200 and h.get("content-type") == "image/png" and png_size(img) == (64, 48),
+          "PNG of 64x48 (dataset by short name)")
+
+    st, h, img = srv.request("GET", "/api/v1/render?dataset=demo:points&width=80&height=60&format=jpeg&q=80"
+                             "&camera.position=0,0,5&_=123")
+    check(st == 200 and jpeg_size(img) == (80, 60), "GET render with query parameters gives 80x60")
+
+    # Errors with the field named.
+    st, _, e = srv.json("POST", "/api/v1/render", {"width": 5000})
+    check(st == 400 and e["error"]["field"] == "width", "width 5000 -> 400 naming the field")
+    st, _, e = srv.json("POST", "/api/v1/render", {"params": {"bandz": 3}})
+    check(st == 400 and e["error"]["code"] == "unknown_field" and e["error"]["field"] == "params.bandz",
+          "unknown field -> 400 unknown_field params.bandz")
+    st, _, e = srv.json("POST", "/api/v1/render", {"params": {"bands": "five"}})
+    check(st == 400 and e["error"]["field"] == "params.bands", "wrong type -> 400 params.bands")
+    st, _, e = srv.json("POST", "/api/v1/render", "{not json")
+    check(st == 400 and e["error"]["code"] == "bad_json", "malformed JSON -> 400 bad_json")
+    st, _, e = srv.json("POST", "/api/v1/render", {"dataset": "/etc/passwd"})
+    check(st == 404 and e["error"]["code"] == "not_found", "a file path is not a dataset -> 404")
+    st, _, e = srv.json("GET", "/api/v1/render?bandz=3")
+    check(st == 400 and e["error"]["field"] == "bandz", "unknown query parameter -> 400")
+    st, h, e = srv.json("DELETE", "/api/v1/render")
+    check(st == 405 and "POST" in h.get("allow", ""), "DELETE /api/v1/render -> 405 with Allow")
+    st, _, e = srv.json("GET", "/api/v1/nope")
+    check(st == 404 and e["error"]["code"] == "not_found", "unknown route -> 404 JSON")
+
+    # Scripted session: a params change fades with the given dt.
+    st, h, s = srv.json("POST", "/api/v1/sessions", {"dataset": "demo:points", "width": 64, "height": 64,
+                                                      "format": "jpeg", "params": {"fadeHalfLife": 0.5}})
+    check(st == 201 and len(s.get("session", "")) == 32, "POST /api/v1/sessions -> 201 with an id")
+    sid = s["session"]
+    path = "/api/v1/sessions/%s/render" % sid
+
+    def frame(body):
+        st, h, img = srv.request("POST", path, body)
+        assert st == 200, (st, img[:200])
+        return float(h["x-lucent-max-alpha-change"]), h["x-lucent-converged"] == "true", img
+
+    ch0, conv0, img = frame({"dt": 0})
+    check(conv0 and jpeg_size(img) == (64, 64), "first session frame starts at its targets (converged)")
+    ch1, conv1, _ = frame({"dt": 0.01, "params": {"q": 0, "r": 0}})
+    bound = 1 - 2 ** (-0.01 / 0.5)
+    check(0 < ch1 <= bound + 1e-4 and not conv1, "dt=0.01: opacity change %.5f within 1-2^(-dt/t) = %.5f" % (ch1, bound))
+    ch2, conv2, _ = frame({"dt": 0.5})
+    check(ch2 > ch1 and not conv2, "dt=0.5 moves further (%.5f > %.5f)" % (ch2, ch1))
+    ch3, _, _ = frame({"dt": 100})
+    ch4, conv4, _ = frame({"dt": 100})
+    check(conv4 and ch4 < 1e-3, "after a long dt the session has converged (%.2g, then %.2g)" % (ch3, ch4))
+    st, _, info = srv.json("GET", "/api/v1/sessions/" + sid)
+    check(st == 200 and info["frames"] == 5 and info["request"]["params"]["q"] == 0,
+          "GET session shows 5 frames and the merged params")
+    st, _, e = srv.json("POST", path, {"dataset": "demo:other"})
+    check(st == 400 and e["error"]["field"] == "dataset", "dataset cannot change within a session")
+    st, _, e = srv.json("POST", path, {"params": {"bands": 99}})
+    check(st == 400 and e["error"]["code"] == "out_of_range", "session update validated (bands 99 -> 400)")
+    st, _, _ = srv.request("DELETE", "/api/v1/sessions/" + sid)
+    check(st == 204, "DELETE session -> 204")
+    st, _, e = srv.json("POST", path, {"dt": 0.1})
+    check(st == 404, "render on a deleted session -> 404")
+    st, _, e = srv.json("POST", "/api/v1/sessions", {"dataset": "demo:nope"})
+    check(st == 404, "session on an unknown dataset -> 404")
+
+    # Static web client (if the web/ folder had files at build time) and metrics.
+    st, h, page = srv.request("GET", "/")
+    if st == 200:
+        check(h.get("content-type", "").startswith("text/html") and "etag" in h, "GET / serves index.html with an ETag")
+        st2, _, _ = srv.request("GET", "/", headers={"If-None-Match": h["etag"]})
+        check(st2 == 304, "If-None-Match -> 304")
+    else:
+        check(st == 404, "GET / without an embedded web client -> 404")
+    st, h, text = srv.request("GET", "/metrics")
+    text = text.decode()
+    check(st == 200 and h.get("content-type", "").startswith("text/plain"), "GET /metrics is text")
+    for name in ("lucent_frames_rendered_total", "lucent_render_seconds_bucket", "lucent_pass_seconds_bucket",
+                 "lucent_encode_seconds_count", "lucent_bytes_sent_total", "lucent_sessions_active",
+                 "lucent_queue_depth", "lucent_frames_coalesced_total", "lucent_errors_total{code=\"bad_json\"}"):
+        check(name in text, "metrics has " + name)
+
+    code = srv.stop()
+    check(code == 0, "SIGTERM -> exit 0 (got %s)" % code)
+    check(any("shutting down" in line for line in srv.log), "shutdown is logged")
+
+check.done()

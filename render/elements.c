@@ -260,12 +260,6 @@ static void graph_free(mesh_graph *g)
     free(g->len);
 }
 
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
 static int build_graph(const lc_scene *s, mesh_graph *g)
 {
     uint32_t n = s->vertex_count;
@@ -287,20 +281,27 @@ static int build_graph(const lc_scene *s, mesh_graph *g)
             g->nbr[g->off[a + 1]++] = b;
             g->nbr[g->off[a + 1]++] = c;
         }
-    /* off[v+1] now ends v's list; dedupe each list in place and compact */
+    /* off[v+1] now ends v's list; drop duplicates (an interior edge appears in
+     * two triangles) with a last-seen mark instead of sorting, compacting in place */
+    uint32_t *mark = malloc((size_t)(n ? n : 1) * sizeof(uint32_t));
+    if (!mark)
+        return -1;
+    for (uint32_t v = 0; v < n; v++)
+        mark[v] = NONE;
     uint32_t w = 0, start = 0;
     for (uint32_t v = 0; v < n; v++) {
         uint32_t end = g->off[v + 1];
-        uint32_t *list = g->nbr + start;
-        uint32_t m = end - start;
-        if (m > 1)
-            qsort(list, m, sizeof *list, cmp_u32);
         g->off[v] = w;
-        for (uint32_t i = 0; i < m; i++)
-            if (list[i] != v && (i == 0 || list[i] != list[i - 1]))
-                g->nbr[w++] = list[i];
+        for (uint32_t i = start; i < end; i++) {
+            uint32_t u = g->nbr[i];
+            if (u == v || mark[u] == v)
+                continue;
+            mark[u] = v;
+            g->nbr[w++] = u;
+        }
         start = end;
     }
+    free(mark);
     g->off[n] = w;
     g->len = malloc((w ? w : 1) * sizeof(float));
     if (!g->len)
@@ -601,8 +602,10 @@ static int build_patches(lc_scene *s, uint32_t want, lc_error *err)
     uint32_t *centres = NULL, count = 0;
     uint64_t *pairs = NULL;
     int rc = LC_ERR_NOMEM;
+    double tg = lc_now();
     if (!used || !near || build_graph(s, &g))
         goto fail;
+    LC_DEBUG("scene", "%s: mesh graph %.0f ms", s->name, (lc_now() - tg) * 1e3);
     for (size_t i = 0; i < (size_t)s->triangle_count * 3; i++)
         used[s->triangles[i]] = 1;
     uint32_t used_count = 0;
@@ -612,13 +615,17 @@ static int build_patches(lc_scene *s, uint32_t want, lc_error *err)
         want = used_count;
     if (want < 1)
         want = 1;
+    double t0 = lc_now();
     if (farthest_point_sampling(s, &g, used, want, &centres, &count))
         goto fail;
+    double t1 = lc_now();
     if (count > want)
         LC_INFO("scene", "%s: %u disconnected parts raise the patch count from %u to %u", s->name,
                 count - want + 1, want, count);
     if (nearest_centres(s, &g, centres, count, near))
         goto fail;
+    LC_DEBUG("scene", "%s: %u patches: sampling %.0f ms, nearest centres %.0f ms", s->name, count,
+             (t1 - t0) * 1e3, (lc_now() - t1) * 1e3);
     rc = alloc_elements(e, n, count, s->name, err);
     if (rc)
         goto out;

@@ -40,7 +40,9 @@ typedef struct conn {
     bool authed;
     lc_session *session;      /* after hello; holds a reference */
     double last_rx, last_ping;
-    double close_deadline;    /* > 0 once we sent a close frame */
+    double close_deadline;    /* > 0 once closing: the connection goes by then at the latest */
+    uint16_t close_code;      /* close frame to send once the queued messages are out */
+    char close_reason[64];
     int errors;               /* consecutive bad messages */
     uint32_t events;          /* registered epoll events */
 } conn;
@@ -182,11 +184,15 @@ static int queue_msg(conn *c, uint8_t opcode, const void *data, size_t len)
     return 0;
 }
 
+/* Closes with a close frame after the messages already queued (wslay sends
+ * control frames ahead of data, so the close is queued by conn_flush only once
+ * the data queue is empty; a fatal error message thus reaches the client). */
 static void close_with(conn *c, uint16_t code, const char *reason)
 {
     if (c->close_deadline > 0)
         return;
-    wslay_event_queue_close(c->ctx, code, (const uint8_t *)reason, strlen(reason));
+    c->close_code = code;
+    snprintf(c->close_reason, sizeof c->close_reason, "%s", reason);
     c->close_deadline = lc_now() + CLOSE_GRACE;
 }
 
@@ -397,6 +403,14 @@ static int conn_flush(lc_ws *ws, conn *c)
         conn_destroy(ws, c);
         return -1;
     }
+    if (c->close_code && wslay_event_get_queued_msg_count(c->ctx) == 0) {
+        wslay_event_queue_close(c->ctx, c->close_code, (const uint8_t *)c->close_reason, strlen(c->close_reason));
+        c->close_code = 0;
+        if (wslay_event_send(c->ctx) != 0) {
+            conn_destroy(ws, c);
+            return -1;
+        }
+    }
     int r = wslay_event_want_read(c->ctx), w = wslay_event_want_write(c->ctx);
     if (!r && !w) {
         conn_destroy(ws, c);
@@ -455,6 +469,8 @@ static void conn_register(lc_ws *ws, conn *c)
     /* Bytes that arrived with the handshake (a hello sent eagerly). */
     if (c->extra_len > 0)
         conn_io(ws, c, EPOLLIN);
+    else if (ws->shutting_down)
+        conn_flush(ws, c);
 }
 
 void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra_len, bool authed)

@@ -1,0 +1,205 @@
+"""WebSocket sessions against the real daemon: hello -> ready -> frames, the
+unacknowledged-frame window, a coalesced camera burst, interactive then still
+frames, frames stopping once converged, malformed and oversized messages while
+another session keeps working, and close frames on SIGTERM."""
+import asyncio
+import json
+import sys
+import time
+
+from lucent_server import Check, Server, jpeg_size, skip, unpack_frame, websockets
+
+if websockets is None:
+    skip("python3-websockets is not installed")
+
+binary = sys.argv[1]
+check = Check()
+
+
+def camera(seq, z):
+    return json.dumps({"type": "camera", "seq": seq,
+                       "camera": {"position": [0.5, 0.5, z], "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}})
+
+
+async def recv(ws, timeout):
+    try:
+        return await asyncio.wait_for(ws.recv(), timeout)
+    except asyncio.TimeoutError:
+        return None
+
+
+async def hello(ws, **extra):
+    msg = {"type": "hello", "dataset": "demo:points", "width": 48, "height": 40, "devicePixelRatio": 2}
+    msg.update(extra)
+    await ws.send(json.dumps(msg))
+    ready = json.loads(await recv(ws, 30))
+    return ready
+
+
+async def frames_until_quiet(ws, quiet, limit=400, ack=True):
+    """Receives (and acks) frames until none arrives for `quiet` seconds."""
+    got = []
+    while len(got) < limit:
+        m = await recv(ws, quiet)
+        if m is None:
+            break
+        if isinstance(m, str):
+            got.append(("text", json.loads(m)))
+            continue
+        h, img = unpack_frame(m)
+        got.append((h, img))
+        if ack:
+            await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+    return got
+
+
+async def basic(srv):
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        ready = await hello(ws)
+        check(ready.get("type") == "ready" and len(ready.get("session", "")) == 32, "hello -> ready with a session id")
+        check(ready.get("dataset", {}).get("name") == "demo:points" and "defaults" in ready and "stream" in ready,
+              "ready carries dataset info, defaults and stream settings")
+        frames = await frames_until_quiet(ws, 1.5)
+        imgs = [f for f in frames if f[0] != "text"]
+        check(len(imgs) >= 1, "frames follow the hello (%d)" % len(imgs))
+        if imgs:
+            h, img = imgs[0]
+            check(h["frame"] == 1 and h["format"] == "jpeg" and (h["width"], h["height"]) == (96, 80),
+                  "first frame is 96x80 = viewport x devicePixelRatio")
+            check(jpeg_size(img) == (96, 80), "frame image is a JPEG of the header's size")
+            check("importance" in h["timings"] and h["encodeMs"] >= 0 and "cameraSeq" in h,
+                  "frame header has timings, encodeMs, cameraSeq")
+            check(imgs[-1][0]["converged"], "the last frame reports converged")
+        # Once converged, nothing more arrives on its own.
+        m = await recv(ws, 1.0)
+        check(m is None, "no frames after convergence without input")
+
+        # A burst of 100 camera messages is coalesced; the last frame shows seq 100.
+        t0 = time.time()
+        for s in range(1, 101):
+            await ws.send(camera(s, 2.0 + 0.01 * s))
+        frames = await frames_until_quiet(ws, 1.5)
+        imgs = [f[0] for f in frames if f[0] != "text"]
+        elapsed = time.time() - t0
+        check(0 < len(imgs) < 60, "burst of 100 cameras -> %d frames in %.1f s" % (len(imgs), elapsed))
+        if imgs:
+            check(imgs[-1]["cameraSeq"] == 100, "last frame reflects the last camera seq (%d)" % imgs[-1]["cameraSeq"])
+            seqs = [h["cameraSeq"] for h in imgs]
+            check(seqs == sorted(seqs), "cameraSeq never goes backwards")
+            check(imgs[-1]["converged"], "stream stops once converged")
+            inter = [h for h in imgs if h["quality"] == 70]
+            check(len(inter) >= 1 and inter[0]["width"] == 48, "interactive frames at quality 70 and half size")
+            check(imgs[-1]["quality"] == 90 and imgs[-1]["width"] == 96, "a full-quality still frame ends the stream")
+        check(not [f for f in frames if f[0] == "text"], "no error messages during the burst")
+
+        # Resize changes the frame size.
+        await ws.send(json.dumps({"type": "resize", "width": 40, "height": 32, "devicePixelRatio": 1}))
+        frames = await frames_until_quiet(ws, 1.0)
+        imgs = [f for f in frames if f[0] != "text"]
+        check(imgs and (imgs[-1][0]["width"], imgs[-1][0]["height"]) == (40, 32) and jpeg_size(imgs[-1][1]) == (40, 32),
+              "resize -> 40x32 frames")
+
+
+async def window(srv):
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await hello(ws, window=2)
+        # Never ack while input keeps arriving: at most 2 frames may be outstanding.
+        got = []
+        t_end = time.time() + 2.5
+        seq = 0
+        while time.time() < t_end:
+            seq += 1
+            await ws.send(camera(seq, 2.0 + 0.02 * (seq % 20)))
+            m = await recv(ws, 0.05)
+            if m is not None and not isinstance(m, str):
+                got.append(unpack_frame(m)[0])
+        check(len(got) == 2, "window 2 without acks -> exactly 2 frames (%d)" % len(got))
+        await ws.send(json.dumps({"type": "ack", "frame": got[0]["frame"] if got else 1}))
+        m = await recv(ws, 5)
+        check(m is not None and not isinstance(m, str) and unpack_frame(m)[0]["frame"] == 3,
+              "one ack -> exactly the next frame")
+        m2 = await recv(ws, 1.0)
+        check(m2 is None, "and no more until the next ack")
+
+
+async def bad_input(srv):
+    async with websockets.connect(srv.ws_url, max_size=None) as good:
+        await hello(good)
+        await frames_until_quiet(good, 1.0)
+        async with websockets.connect(srv.ws_url, max_size=None) as ws:
+            await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": {}}))
+            e = json.loads(await recv(ws, 5))
+            check(e["type"] == "error" and not e["fatal"], "camera before hello -> recoverable error (%s)" % e["code"])
+            await ws.send("{not json")
+            e = json.loads(await recv(ws, 5))
+            check(e["type"] == "error" and e["code"] == "bad_json" and not e["fatal"], "garbage -> bad_json, session stays")
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:nope", "width": 10, "height": 10}))
+            e = json.loads(await recv(ws, 5))
+            check(e["type"] == "error" and e["code"] == "not_found", "hello with an unknown dataset -> not_found")
+            await ws.send(b"\x00\x01binary")
+            e = json.loads(await recv(ws, 5))
+            check(e["type"] == "error", "binary client message -> error")
+            ready = await hello(ws)
+            check(ready.get("type") == "ready", "a valid hello still works after errors")
+            await frames_until_quiet(ws, 1.0)
+            await ws.send(json.dumps({"type": "params", "params": {"bands": 42}}))
+            e = json.loads(await recv(ws, 5))
+            check(e["code"] == "out_of_range" and e.get("field") == "params.bands", "params out of range names the field")
+            await ws.send(json.dumps({"type": "params", "importance": {"attribute": "no_such_attribute"}}))
+            frames = await frames_until_quiet(ws, 1.5)
+            texts = [f[1] for f in frames if f[0] == "text"]
+            check(texts and texts[0]["type"] == "error", "unknown attribute -> error message (%s)" %
+                  (texts[0].get("code") if texts else None))
+            # Oversized message -> close 1009.
+            await ws.send(json.dumps({"type": "params", "params": {"q": 1}, "pad": "x" * 9000}))
+            try:
+                while True:
+                    await asyncio.wait_for(ws.recv(), 5)
+            except websockets.ConnectionClosed:
+                pass
+            except asyncio.TimeoutError:
+                pass
+            check(ws.close_code == 1009, "oversized message -> close code 1009 (%s)" % ws.close_code)
+        # The other session is unaffected.
+        await good.send(camera(1, 3.0))
+        frames = await frames_until_quiet(good, 1.5)
+        imgs = [f for f in frames if f[0] != "text"]
+        check(imgs and imgs[-1][0]["cameraSeq"] == 1, "another session keeps working meanwhile")
+
+    # A client that disconnects mid-frame does not disturb the server.
+    for _ in range(3):
+        ws = await websockets.connect(srv.ws_url, max_size=None)
+        await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 200, "height": 200}))
+        await ws.close()
+    st, _, h = srv.json("GET", "/api/v1/health")
+    check(st == 200, "server healthy after abrupt disconnects")
+
+
+async def shutdown(srv):
+    ws = await websockets.connect(srv.ws_url, max_size=None)
+    await hello(ws)
+    await frames_until_quiet(ws, 1.0)
+    code = None
+    srv.proc.send_signal(15)
+    try:
+        while True:
+            await asyncio.wait_for(ws.recv(), 10)
+    except websockets.ConnectionClosed:
+        code = ws.close_code
+    except asyncio.TimeoutError:
+        pass
+    check(code == 1001, "SIGTERM closes WebSockets with a close frame 1001 (%s)" % code)
+    rc = srv.stop()
+    check(rc == 0, "daemon exits 0 (%s)" % rc)
+
+
+async def main():
+    with Server(binary, "--max-ws-message", "4096", "--still-delay", "150") as srv:
+        await basic(srv)
+        await window(srv)
+        await bad_input(srv)
+        await shutdown(srv)
+
+
+asyncio.run(main())
+check.done()

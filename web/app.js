@@ -5,7 +5,7 @@
 // ready message, its errors are shown as they are).
 
 import { helloMessage, cameraMessage, paramsMessage, resizeMessage, ackMessage, describeError, DEFAULT_WINDOW } from './js/protocol.js';
-import { DEFAULT_CAMERA, cloneCamera, fitCamera, refitCamera, viewAlongAxis, validateCamera, roundCamera } from './js/camera.js';
+import { DEFAULT_CAMERA, flatBounds, cloneCamera, fitCamera, refitCamera, viewAlongAxis, validateCamera, roundCamera } from './js/camera.js';
 import { parseHash, formatHash, tokenFromLocation } from './js/url-state.js';
 import { getPath, setPath, merge, UPDATE_SECTIONS, STREAM_FIELDS } from './js/schema.js';
 import { Connection } from './js/connection.js';
@@ -73,7 +73,9 @@ function showValues() {
     for (const c of g.controls) {
       if (c.path.startsWith('camera.')) continue;
       let v = getPath(values, c.path);
-      if (v === undefined && c.path === 'importance.range') v = attributeRange(state.info, values.importance?.attribute);
+      if (c.path === 'importance.attribute' && !v) v = state.info?.defaultImportance;
+      if (c.path === 'color.attribute' && !v) v = state.info?.defaultColor ?? 'importance';
+      if (v === undefined && c.path === 'importance.range') v = attributeRange(state.info, values.importance?.attribute || state.info?.defaultImportance);
       if (v === undefined && c.path === 'color.range') v = attributeRange(state.info, values.color?.attribute);
       panel.setValue(c.path, v);
     }
@@ -158,8 +160,20 @@ function flushCamera() {
 }
 
 function bounds() {
-  const b = state.info?.bounds;
-  return Array.isArray(b) && b.length === 6 ? b : null;
+  return flatBounds(state.info?.bounds);
+}
+
+/**
+ * The camera a new view starts from: the dataset's suggested view when its
+ * description carries one (view.direction/up or viewDirection/viewUp), else
+ * ParaView's default (looking down -Z, +Y up), fitted as lc_camera_fit does.
+ */
+function initialCamera(info) {
+  const b = flatBounds(info?.bounds);
+  if (!b) return null;
+  const dir = info.view?.direction ?? info.viewDirection;
+  const up = info.view?.up ?? info.viewUp;
+  return fitCamera(DEFAULT_CAMERA, b, Array.isArray(dir) ? dir : undefined, Array.isArray(up) ? up : undefined);
 }
 
 function command(name) {
@@ -184,9 +198,8 @@ function scheduleHash() {
 }
 function writeHash() {
   hashTimer = 0;
-  const streamDefaults = state.stream ? { quality: state.stream.quality, interactiveQuality: state.stream.interactiveQuality, interactiveScale: state.stream.interactiveScale } : null;
-  const defaults = state.defaults ? merge(state.defaults, streamDefaults ?? {}) : null;
-  const hash = formatHash({ dataset: state.dataset, camera: state.camera, update: state.update }, defaults);
+  // every value the user changed, even one equal to a default: ready.defaults already holds the hello's values
+  const hash = formatHash({ dataset: state.dataset, camera: state.camera, update: state.update });
   if (hash !== location.hash) {
     history.replaceState(history.state, '', `${location.pathname}${location.search}${hash}`);
   }
@@ -235,6 +248,8 @@ watchDpr();
 
 // ---------------------------------------------------------------- connection
 function hello() {
+  // send a camera from the start, so that the page and the server agree on it before the first drag
+  if (!state.camera) state.camera = initialCamera(state.datasets.find((d) => d.name === state.dataset));
   state.viewport = measure();
   const v = state.viewport;
   view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
@@ -279,16 +294,18 @@ const conn = new Connection(wsUrl.href, hello, {
     }
   },
   onReady(msg) {
+    state.lastReady = msg;
     state.session = msg.session;
     state.info = msg.dataset && typeof msg.dataset === 'object' ? msg.dataset : state.datasets.find((d) => d.name === state.dataset) ?? null;
     state.defaults = msg.defaults ?? {};
     state.stream = msg.stream ?? null;
     state.limits = msg.limits ?? null;
     state.dataset = state.info?.name ?? msg.defaults?.dataset ?? state.dataset;
-    if (!state.camera) {
-      const b = bounds();
-      if (msg.defaults?.camera && !validateCamera(cloneCamera(msg.defaults.camera))) state.camera = cloneCamera(msg.defaults.camera);
-      else if (b) state.camera = fitCamera(DEFAULT_CAMERA, b); // what the server does without a camera (lc_camera_fit)
+    if (msg.defaults?.camera && !validateCamera(cloneCamera(msg.defaults.camera))) state.camera = cloneCamera(msg.defaults.camera);
+    else if (!state.camera) {
+      // the server fits the data itself; take the same fit and tell it, so both agree from here on
+      state.camera = initialCamera(state.info);
+      if (state.camera) setCamera(state.camera);
     }
     panel.setMethods(msg.methods ?? state.health?.methods);
     panel.setDataset(state.info);
@@ -506,19 +523,10 @@ $('screenshot').addEventListener('click', async () => {
 });
 
 $('reset-params').addEventListener('click', () => {
+  // a fresh session without the user's changes: its ready message brings the server's defaults
   state.update = {};
-  const d = currentValues();
-  const msg = {};
-  for (const s of UPDATE_SECTIONS) if (d[s]) msg[s] = d[s];
-  if (d.method) msg.method = d.method;
-  for (const f of STREAM_FIELDS) if (d[f.name] !== undefined) msg[f.name] = d[f.name];
-  try {
-    conn.send(paramsMessage(msg));
-  } catch (e) {
-    toast(e.message);
-  }
-  showValues();
   writeHash();
+  conn.start();
 });
 
 // ---------------------------------------------------------------- stats overlay
@@ -578,6 +586,8 @@ window.lucent = {
   },
   values: currentValues,
   renderRequest,
+  /** Drops the connection and opens a new session from the page's state (as after a lost connection). */
+  reconnect: () => conn.start(),
 };
 
 start();

@@ -74,8 +74,18 @@ export function cameraFrame(cam) {
   return { dir, right, up, distance: length(sub(cam.focalPoint, cam.position)) };
 }
 
+/**
+ * Bounds as a flat [xmin,ymin,zmin,xmax,ymax,zmax]; accepts that form or the
+ * [[xmin,ymin,zmin],[xmax,ymax,zmax]] of GET /api/v1/datasets. null if malformed.
+ */
+export function flatBounds(b) {
+  if (Array.isArray(b) && b.length === 2 && Array.isArray(b[0]) && Array.isArray(b[1])) b = [...b[0], ...b[1]];
+  return Array.isArray(b) && b.length === 6 && b.every(Number.isFinite) ? b : null;
+}
+
 /** Bounding sphere of [xmin,ymin,zmin,xmax,ymax,zmax] as in render/camera.c. */
-export function boundsSphere(b) {
+export function boundsSphere(bounds) {
+  const b = flatBounds(bounds) ?? [-0.5, -0.5, -0.5, 0.5, 0.5, 0.5];
   const center = [0.5 * (b[0] + b[3]), 0.5 * (b[1] + b[4]), 0.5 * (b[2] + b[5])];
   const h = [0.5 * (b[3] - b[0]), 0.5 * (b[4] - b[1]), 0.5 * (b[5] - b[2])];
   const r = length(h);

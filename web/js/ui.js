@@ -4,6 +4,7 @@
 // no state of its own beyond the DOM: app.js owns the values.
 
 import { fieldByPath, checkValue } from './schema.js';
+import { flatBounds } from './camera.js';
 
 const METHOD_LABELS = {
   fourier: 'Fourier (FOO)',
@@ -288,8 +289,8 @@ export class Panel {
     const colorOpts = [['importance', 'importance'], ...names.map((n) => [n, n])];
     if (info?.hasRgb) colorOpts.push(['rgb', 'RGB (per vertex)']);
     this.setOptions('color.attribute', colorOpts);
-    const b = info?.bounds;
-    if (Array.isArray(b) && b.length === 6) {
+    const b = flatBounds(info?.bounds);
+    if (b) {
       const diag = Math.hypot(b[3] - b[0], b[4] - b[1], b[5] - b[2]) || 1;
       const step = Number((diag * 1e-4).toPrecision(2));
       this.setBounds('style.lineWidth', 0, Number((diag * 0.02).toPrecision(3)), step);

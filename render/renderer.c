@@ -546,8 +546,10 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     set_f(prog, "u_focal_dist", focal > 0 ? focal : 1);
     set_f(prog, "u_line_half_width", fs->line_half_width);
     set_f(prog, "u_min_half_pixels", 0.5 * (p->style.min_line_pixels > 0 ? p->style.min_line_pixels : 1.0));
+    /* A disc of radius >= sqrt(2)/2 px always covers a pixel centre, so every
+     * point reaches P2 even at the reduced optimization resolution. */
     double radius = 0.5 * p->style.point_size * (double)h / fs->height;
-    set_f(prog, "u_point_radius_px", radius > 0.5 ? radius : 0.5);
+    set_f(prog, "u_point_radius_px", radius > 0.75 ? radius : 0.75);
     set_u(prog, "u_vertex_count", gs->scene->vertex_count);
     set_u(prog, "u_subset", (unsigned)(subset > 0 ? subset : 1));
     set_i(prog, "u_importance_attr", fs->importance_attr);

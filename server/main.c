@@ -1,10 +1,48 @@
-/* lucent: command-line entry (render, info, gen, bench, compare, serve). */
+/* lucent: command-line entry; dispatches to the subcommands. */
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "lc_base.h"
+#include "serve.h"
+
+static const struct {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *help;
+} commands[] = {
+    {"render", lc_cli_render, "render one frame of a request to PNG/JPEG"},
+    {"info", lc_cli_info, "print counts, bounds, attributes and elements of a dataset"},
+    {"gen", lc_cli_gen, "write a demo dataset to a PLY or OBJ file"},
+    {"bench", lc_cli_bench, "per-pass timings, frames per second and GPU memory on the demo datasets"},
+    {"compare", lc_cli_compare, "compare a method against the exact reference (SSIM, RMSE, time, memory)"},
+    {"serve", lc_serve_main, "run the HTTP/WebSocket render daemon"},
+};
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: lucent COMMAND [options]   (lucent COMMAND --help for its options)\n\ncommands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].help);
+    fprintf(f, "\nenvironment: LUCENT_EGL_DEVICE (EGL device index), LUCENT_LOG_LEVEL (error|warn|info|debug)\n");
+}
 
 int main(int argc, char **argv)
 {
-    (void)argc;
-    (void)argv;
-    fprintf(stderr, "usage: lucent render|info|gen|bench|serve ...\n");
+    const char *level = getenv("LUCENT_LOG_LEVEL");
+    if (level && lc_log_parse_level(level) >= 0)
+        lc_log_set_level((lc_log_level)lc_log_parse_level(level));
+    else if (argc > 1 && strcmp(argv[1], "serve") != 0)
+        lc_log_set_level(LC_LOG_WARN); /* tools print results, not progress */
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "help") == 0) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (strcmp(argv[1], commands[i].name) == 0)
+            return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "lucent: unknown command \"%s\"\n", argv[1]);
+    usage(stderr);
     return 2;
 }

@@ -25,14 +25,25 @@ void main()
         float a = uintBitsToFloat(element_alpha_min[e]);
         smooth_dst[e] = a > 1.0 ? element_alpha[e] : a;
     } else if (u_stage == 1) {
+        // Only elements that received fragments this frame pass their value on,
+        // so the targets of seen elements depend on this frame alone and fading
+        // converges geometrically to the one-shot result. An element without
+        // fragments (e.g. a patch too small for the optimization resolution) is
+        // filled with the mean of its seen neighbours instead of its stale value.
         uint begin = adjacency_offsets[e], end = adjacency_offsets[e + 1u];
+        bool seen_self = uintBitsToFloat(element_alpha_min[e]) <= 1.0;
         float v = smooth_src[e];
-        if (end > begin) {
-            float sum = 0.0;
-            for (uint i = begin; i < end; i++)
-                sum += smooth_src[adjacency[i]];
-            v += u_omega * (sum / float(end - begin) - v);
+        float sum = 0.0;
+        uint seen = 0u;
+        for (uint i = begin; i < end; i++) {
+            uint n = adjacency[i];
+            if (uintBitsToFloat(element_alpha_min[n]) <= 1.0) {
+                sum += smooth_src[n];
+                seen++;
+            }
         }
+        if (seen > 0u)
+            v = seen_self ? v + u_omega * (sum / float(seen) - v) : sum / float(seen);
         smooth_dst[e] = v;
     } else {
         float cur = element_alpha[e];

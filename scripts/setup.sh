@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs what Lucent needs on Debian 12 (apt only), for building and running
+# (default) or also for the whole test suite (--test: Chromium, Node, Python
+# WebSocket client, clang for the fuzzers). Skips apt when everything is there.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+runtime=(build-essential cmake pkg-config libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libgbm1
+         libjansson-dev libturbojpeg0-dev libpng-dev libmicrohttpd-dev libwslay-dev nettle-dev curl)
+testing=(python3 python3-websockets chromium nodejs npm clang libclang-rt-14-dev)
+
+want=("${runtime[@]}")
+[ "${1:-}" = "--test" ] && want+=("${testing[@]}")
+
+missing=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+# Node and npm may come from elsewhere than Debian (e.g. a preinstalled Node.js); accept those.
+if [ "${#missing[@]}" -gt 0 ]; then
+  filtered=()
+  for p in "${missing[@]}"; do
+    case "$p" in
+      nodejs) command -v node >/dev/null || filtered+=("$p") ;;
+      npm) command -v npm >/dev/null || filtered+=("$p") ;;
+      *) filtered+=("$p") ;;
+    esac
+  done
+  missing=("${filtered[@]+"${filtered[@]}"}")
+fi
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+if [ "${1:-}" = "--test" ] && [ -f tests/browser/package.json ]; then
+  # playwright-core drives Debian's Chromium; it never downloads a browser.
+  if [ ! -d tests/browser/node_modules/playwright-core ]; then
+    echo "setup: npm ci in tests/browser"
+    (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+fi

@@ -1,0 +1,190 @@
+/* Helpers shared by the CLI subcommands: dataset specs, requests, flags, GL. */
+#include "cli.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "demo.h"
+#include "loaders.h"
+
+#define MAX_REQUEST_BYTES (1 << 20)
+
+static int parse_u64(const char *s, uint64_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (errno || end == s || (*end && *end != '&') || s[0] == '-')
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    if (strncmp(spec, "demo:", 5) != 0)
+        return lc_scene_load_file(spec, out, err);
+    char name[64];
+    const char *q = strchr(spec + 5, '?');
+    size_t n = q ? (size_t)(q - (spec + 5)) : strlen(spec + 5);
+    if (n == 0 || n >= sizeof name)
+        return lc_err(err, LC_ERR_INVALID, "%s: expected demo:NAME", spec);
+    memcpy(name, spec + 5, n);
+    name[n] = '\0';
+    lc_demo_desc desc = {0};
+    for (const char *p = q; p && *p; p = strchr(p + 1, '&')) {
+        const char *kv = p + 1;
+        uint64_t v;
+        if (strncmp(kv, "count=", 6) == 0 && parse_u64(kv + 6, &v) == 0)
+            desc.count = v;
+        else if (strncmp(kv, "seed=", 5) == 0 && parse_u64(kv + 5, &v) == 0)
+            desc.seed = v;
+        else
+            return lc_err(err, LC_ERR_INVALID, "%s: expected ?count=N&seed=S after the demo name", spec);
+    }
+    return lc_demo_create(name, &desc, out, err);
+}
+
+int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return lc_err(err, LC_ERR_IO, "%s: %s", path, strerror(errno));
+    char *buf = malloc(MAX_REQUEST_BYTES + 1);
+    size_t n = buf ? fread(buf, 1, MAX_REQUEST_BYTES + 1, f) : 0;
+    fclose(f);
+    if (!buf)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    if (n > MAX_REQUEST_BYTES) {
+        free(buf);
+        return lc_err(err, LC_ERR_LIMIT, "%s: larger than %d bytes", path, MAX_REQUEST_BYTES);
+    }
+    lc_proto_limits lim;
+    lc_proto_limits_default(&lim);
+    lim.max_size = 16384;
+    lim.max_pixels = 16384LL * 16384LL;
+    lim.max_text = MAX_REQUEST_BYTES;
+    lc_proto_error perr;
+    memset(&perr, 0, sizeof perr);
+    int rc = lc_proto_parse_request(buf, n, &lim, req, &perr);
+    free(buf);
+    if (rc)
+        return lc_err(err, rc, "%s: %s", path, perr.message);
+    return 0;
+}
+
+const char lc_cli_flags_help[] =
+    "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj file\n"
+    "  --width N, --height N, --size WxH\n"
+    "  --method NAME         fourier | exact | opaque | direct | wboit\n"
+    "  --bands M             Fourier bands 1..8\n"
+    "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
+    "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
+    "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
+    "  --line-width W        world units;  --point-size PX;  --unlit\n"
+    "  --format png|jpeg, --quality Q\n";
+
+/* Applies one "key": value pair through the protocol's query aliases so the
+ * flags get exactly the validation of the HTTP API. */
+static int apply_query(lc_request *req, const char *key, const char *value)
+{
+    lc_proto_limits lim;
+    lc_proto_limits_default(&lim);
+    lim.max_size = 16384;
+    lim.max_pixels = 16384LL * 16384LL;
+    lc_proto_error perr;
+    memset(&perr, 0, sizeof perr);
+    if (lc_proto_apply_query(req, key, value, &lim, &perr) != 0 || lc_proto_validate_request(req, &lim, &perr) != 0) {
+        fprintf(stderr, "lucent: --%s %s: %s\n", key, value, perr.message);
+        return -1;
+    }
+    return 1;
+}
+
+int lc_cli_apply_flag(lc_request *req, int argc, char **argv, int *i)
+{
+    static const struct {
+        const char *flag, *key;
+    } map[] = {{"--width", "width"},           {"--height", "height"},   {"--method", "method"},
+               {"--bands", "bands"},           {"--q", "q"},             {"--r", "r"},
+               {"--lambda", "lambda"},         {"--smoothing", "smoothing"}, {"--fade", "fadeHalfLife"},
+               {"--estimator", "estimator"},   {"--importance", "importance"}, {"--color", "color"},
+               {"--colormap", "colormap"},     {"--line-width", "lineWidth"}, {"--point-size", "pointSize"},
+               {"--format", "format"},         {"--quality", "quality"}, {"--resolution-scale", "resolutionScale"},
+               {"--subset", "subset"},         {"--background", "background"}};
+    const char *flag = argv[*i];
+    if (strcmp(flag, "--unlit") == 0) {
+        req->render.style.shading = LC_SHADING_NONE;
+        return 1;
+    }
+    int is_size = strcmp(flag, "--size") == 0, is_dataset = strcmp(flag, "--dataset") == 0;
+    int known = is_size || is_dataset;
+    for (size_t k = 0; !known && k < sizeof map / sizeof map[0]; k++)
+        known = strcmp(flag, map[k].flag) == 0;
+    if (!known)
+        return 0;
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "lucent: %s needs a value\n", flag);
+        return -1;
+    }
+    const char *value = argv[++*i];
+    if (is_dataset) {
+        snprintf(req->dataset, sizeof req->dataset, "%s", value);
+        return 1;
+    }
+    if (is_size) {
+        int w, h;
+        char extra;
+        if (sscanf(value, "%dx%d%c", &w, &h, &extra) != 2) {
+            fprintf(stderr, "lucent: --size %s: expected WxH, e.g. 1024x768\n", value);
+            return -1;
+        }
+        char ws[16], hs[16];
+        snprintf(ws, sizeof ws, "%d", w);
+        snprintf(hs, sizeof hs, "%d", h);
+        return apply_query(req, "width", ws) < 0 ? -1 : apply_query(req, "height", hs);
+    }
+    for (size_t k = 0; k < sizeof map / sizeof map[0]; k++)
+        if (strcmp(flag, map[k].flag) == 0)
+            return apply_query(req, map[k].key, value);
+    return 0;
+}
+
+int lc_cli_gl_open(int device, lc_cli_gl *out, lc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    lc_gl_desc desc = {.device = device};
+    int rc = lc_gl_create(&desc, &out->gl, err);
+    if (rc)
+        return rc;
+    rc = lc_gl_make_current(out->gl, err);
+    if (!rc)
+        rc = lc_renderer_create(NULL, &out->renderer, err);
+    if (rc) {
+        lc_gl_destroy(out->gl);
+        out->gl = NULL;
+    }
+    return rc;
+}
+
+void lc_cli_gl_close(lc_cli_gl *g)
+{
+    if (g->renderer)
+        lc_renderer_destroy(g->renderer);
+    if (g->gl) {
+        lc_gl_release_current(g->gl);
+        lc_gl_destroy(g->gl);
+    }
+    memset(g, 0, sizeof *g);
+}
+
+void lc_cli_print_timings(const lc_frame_info *info)
+{
+    for (int i = 0; i < LC_PASS_COUNT; i++)
+        if (info->pass_ms[i] >= 0)
+            printf("  %-13s %8.2f ms\n", lc_pass_name(i), info->pass_ms[i]);
+    printf("  %-13s %8.2f ms (GPU), %.2f ms wall\n", "total", info->gpu_ms, info->wall_ms);
+}

@@ -1,0 +1,45 @@
+/* Command-line subcommands of `lucent` (render, info, gen, bench, compare) and
+ * the helpers they share: dataset specs, request files, a GL renderer. */
+#ifndef LC_CLI_H
+#define LC_CLI_H
+
+#include "gl_context.h"
+#include "renderer.h"
+#include "request.h"
+#include "scene.h"
+
+/* Opens a dataset spec: "demo:NAME" with optional "?count=N&seed=S" (e.g.
+ * "demo:points?count=2000000"), or a .ply/.obj path. The scene is finalized;
+ * the caller destroys it. */
+int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err);
+
+/* Reads and parses a render request file (CLI limits: up to 16384 px a side). */
+int lc_cli_read_request(const char *path, lc_request *req, lc_error *err);
+
+/* Applies the short flags shared by render/compare/bench (--width, --height,
+ * --size WxH, --method, --bands, --q, --r, --lambda, --estimator, --smoothing,
+ * --colormap, --importance, --color, --line-width, --format, --quality,
+ * --dataset). *i is the index of the flag; consumes its value. Returns 1 if the
+ * flag was recognized, 0 if not, -1 on a bad value (message printed). */
+int lc_cli_apply_flag(lc_request *req, int argc, char **argv, int *i);
+/* Help text for the flags above. */
+extern const char lc_cli_flags_help[];
+
+/* A headless context with a renderer, current on the calling thread. */
+typedef struct lc_cli_gl {
+    lc_gl *gl;
+    lc_renderer *renderer;
+} lc_cli_gl;
+int lc_cli_gl_open(int device, lc_cli_gl *out, lc_error *err);
+void lc_cli_gl_close(lc_cli_gl *g);
+
+/* Prints the per-pass timings of a frame as "  importance   1.23 ms" lines. */
+void lc_cli_print_timings(const lc_frame_info *info);
+
+int lc_cli_render(int argc, char **argv);
+int lc_cli_info(int argc, char **argv);
+int lc_cli_gen(int argc, char **argv);
+int lc_cli_bench(int argc, char **argv);
+int lc_cli_compare(int argc, char **argv);
+
+#endif

@@ -1,0 +1,29 @@
+// Exact reference, list construction: every fragment of the geometry is
+// appended to its pixel's linked list. Pass 0 (optimization resolution)
+// stores importance and element, pass 1 (full resolution) opacity and colour.
+// A full pool is counted, never written past.
+
+void main()
+{
+    if (outside_primitive())
+        discard;
+    uint idx = atomicAdd(counters[COUNTER_NODES + u_list_pass], 1u);
+    if (idx >= u_pool_capacity) {
+        atomicAdd(counters[COUNTER_DROP_POOL + u_list_pass], 1u);
+        return;
+    }
+    uvec4 node;
+    node.y = floatBitsToUint(v_zview);
+#if EXACT_PASS == 0
+    node.z = floatBitsToUint(fragment_importance());
+    node.w = fragment_element();
+#else
+    // Clamped like P4/P5 so that both methods see the same opacities.
+    float alpha = clamp(v_alpha, 0.0, 0.9999);
+    vec3 c = fragment_color();
+    node.z = packUnorm2x16(c.rg);
+    node.w = packUnorm2x16(vec2(c.b, alpha));
+#endif
+    node.x = imageAtomicExchange(u_heads, ivec2(gl_FragCoord.xy), idx);
+    nodes[idx] = node;
+}

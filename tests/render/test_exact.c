@@ -1,0 +1,174 @@
+/* Image tests of the exact (linked-list) method on stacked quads: GPU pixels
+ * against the CPU reference of decoupled opacity optimization (exact sums,
+ * exact compositing in foo_math.c), and the reports of a pool or a per-pixel
+ * list that is too small. */
+#include <math.h>
+
+#include "camera.h"
+#include "foo_math.h"
+#include "render_util.h"
+
+/* CPU evaluation of one pixel covered by every quad: DOO with exact sums,
+ * opacities clamped as both GPU methods clamp them, exact "over". */
+static void expected_pixel(const test_quad *q, int n, const lc_render_params *p, const lc_scene *s, double out[3])
+{
+    lc_view view;
+    lc_camera_view(&p->camera, s->bounds, 1.0, p->height, &view);
+    lc_fragment frags[32];
+    for (int i = 0; i < n; i++) {
+        double zview = p->camera.position[2] - q[i].z;
+        frags[i].depth = lc_foo_normalize_depth(zview, view.depth_min, view.depth_max, p->foo.depth_margin);
+        frags[i].importance = q[i].g;
+        for (int c = 0; c < 3; c++)
+            frags[i].color[c] = q[i].rgb[c];
+    }
+    lc_foo_alpha_exact(frags, (size_t)n, &p->foo);
+    for (int i = 0; i < n; i++)
+        frags[i].alpha = fmin(frags[i].alpha, 0.9999);
+    lc_foo_composite_exact(frags, (size_t)n, p->style.background, out);
+}
+
+static int render(lc_renderer *r, const lc_scene *s, const lc_render_params *p, uint8_t *rgba, lc_frame_info *info)
+{
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
+    if (!gs)
+        return -1;
+    int rc = lc_render_frame(r, gs, p, NULL, 0, rgba, info, &err);
+    CHECK(rc == 0, "render: %s", err.msg);
+    lc_gpu_scene_destroy(gs);
+    return rc;
+}
+
+static void check_stack(test_gl *t, const test_quad *q, int n, double qw, double rw, double lambda)
+{
+    enum { SIZE = 40 };
+    lc_scene *s = test_quad_scene(q, n);
+    CHECK(s != NULL, "scene");
+    if (!s)
+        return;
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    p.method = LC_METHOD_EXACT;
+    p.foo.q = qw, p.foo.r = rw, p.foo.lambda = lambda;
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    lc_frame_info info;
+    if (render(t->renderer, s, &p, rgba, &info) == 0) {
+        double want[3];
+        expected_pixel(q, n, &p, s, want);
+        double worst = 0;
+        for (int i = 0; i < SIZE * SIZE; i++)
+            for (int c = 0; c < 3; c++)
+                worst = fmax(worst, fabs(rgba[4 * i + c] / 255.0 - want[c]));
+        CHECK(worst <= 2.0 / 255.0, "exact, %d quads, q=%g r=%g lambda=%g: worst pixel error %.4f (want %.3f %.3f %.3f, "
+              "got %d %d %d)", n, qw, rw, lambda, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
+        /* Every pixel is covered by all n quads. */
+        CHECK(info.fragments == (uint64_t)n * SIZE * SIZE, "fragments %llu, want %d",
+              (unsigned long long)info.fragments, n * SIZE * SIZE);
+        CHECK(info.max_layers == (uint32_t)n && fabs(info.mean_layers - n) < 1e-9, "layers: max %u mean %g, want %d",
+              info.max_layers, info.mean_layers, n);
+        CHECK(info.dropped_fragments == 0, "dropped %llu", (unsigned long long)info.dropped_fragments);
+        for (int k = 0; k < LC_PASS_SMOOTH + 1; k++)
+            CHECK(info.pass_ms[k] >= 0, "pass %s has no time", lc_pass_name(k));
+        printf("exact, %d quads, q=%-4g r=%-4g lambda=%-3g: expected (%.4f %.4f %.4f), worst error %.4f, "
+               "%.2f ms GPU\n", n, qw, rw, lambda, want[0], want[1], want[2], worst, info.gpu_ms);
+    }
+    free(rgba);
+    lc_scene_destroy(s);
+}
+
+/* A pool far smaller than the frame's fragments: the frame is still produced,
+ * and the shortfall is reported. */
+static void check_pool_overflow(const test_quad *q, int n)
+{
+    enum { SIZE = 32 };
+    lc_error err = {0};
+    lc_renderer *small = NULL;
+    lc_renderer_desc desc = {.exact_pool_bytes = 16 * 1000};
+    CHECK(lc_renderer_create(&desc, &small, &err) == 0, "renderer: %s", err.msg);
+    if (!small)
+        return;
+    lc_scene *s = test_quad_scene(q, n);
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    p.method = LC_METHOD_EXACT;
+    uint8_t rgba[SIZE * SIZE * 4];
+    lc_frame_info info;
+    memset(rgba, 0, sizeof rgba);
+    if (render(small, s, &p, rgba, &info) == 0) {
+        /* Each list pass starts the pool afresh: n SIZE^2 fragments at full resolution, n (SIZE/2)^2 at the
+         * optimization resolution, for 1000 nodes. */
+        uint64_t full = (uint64_t)n * SIZE * SIZE, low = (uint64_t)n * (SIZE / 2) * (SIZE / 2);
+        uint64_t want = (full > 1000 ? full - 1000 : 0) + (low > 1000 ? low - 1000 : 0);
+        CHECK(info.dropped_fragments == want, "pool of 1000 nodes: dropped %llu, want %llu",
+              (unsigned long long)info.dropped_fragments, (unsigned long long)want);
+        CHECK(info.fragments == (uint64_t)n * SIZE * SIZE, "fragments %llu", (unsigned long long)info.fragments);
+        CHECK(rgba[3] == 255, "the frame was produced");
+        printf("pool of 1000 nodes: %llu fragments, %llu dropped (reported)\n", (unsigned long long)info.fragments,
+               (unsigned long long)info.dropped_fragments);
+    }
+    lc_scene_destroy(s);
+    lc_renderer_destroy(small);
+}
+
+/* More layers in one pixel than the sort passes hold (256): the nearest are
+ * kept, the rest reported. */
+static void check_layer_cap(test_gl *t)
+{
+    enum { SIZE = 8, N = 300, CAP = 256 };
+    test_quad *q = calloc(N, sizeof *q);
+    for (int i = 0; i < N; i++) {
+        q[i].z = 0.5 - (double)i / N;
+        q[i].g = 0.5;
+        q[i].rgb[i % 3] = 1;
+        q[i].half = 2;
+    }
+    lc_scene *s = test_quad_scene(q, N);
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    p.method = LC_METHOD_EXACT;
+    uint8_t rgba[SIZE * SIZE * 4];
+    lc_frame_info info;
+    if (render(t->renderer, s, &p, rgba, &info) == 0) {
+        uint64_t want = (uint64_t)(N - CAP) * (SIZE * SIZE + (SIZE / 2) * (SIZE / 2));
+        CHECK(info.max_layers == N, "max layers %u, want %d", info.max_layers, N);
+        CHECK(info.dropped_fragments == want, "layer cap: dropped %llu, want %llu",
+              (unsigned long long)info.dropped_fragments, (unsigned long long)want);
+        printf("%d layers per pixel: max_layers %u, %llu dropped beyond the cap of %d\n", N, info.max_layers,
+               (unsigned long long)info.dropped_fragments, CAP);
+    }
+    lc_scene_destroy(s);
+    free(q);
+}
+
+int main(void)
+{
+    test_gl t;
+    test_gl_open(&t);
+    printf("renderer: %s\n", lc_gl_renderer(t.gl));
+
+    const test_quad three[3] = {{0.3, 0.2, {1, 0, 0}, 2}, {0.0, 0.9, {0, 0.8, 0}, 2}, {-0.3, 0.5, {0, 0, 1}, 2}};
+    check_stack(&t, three, 3, 60, 500, 1);
+    check_stack(&t, three, 3, 20, 5, 1);
+    check_stack(&t, three, 3, 100, 200, 2);
+    const test_quad five[5] = {{0.4, 0.1, {1, 0, 0}, 2},   {0.2, 0.6, {1, 1, 0}, 2}, {0.0, 0.3, {0, 1, 1}, 2},
+                               {-0.2, 0.95, {0, 0, 1}, 2}, {-0.4, 0.0, {1, 0, 1}, 2}};
+    check_stack(&t, five, 5, 60, 500, 1);
+    check_stack(&t, five, 5, 80, 40, 1.5);
+    /* Depths in a shuffled order, and longer than the insertion-sort limit (16): heap sort. */
+    test_quad twenty[20];
+    for (int i = 0; i < 20; i++) {
+        twenty[i] = (test_quad){-0.5 + 0.05 * ((7 * i) % 20), fmod(0.37 * (i + 1), 1.0), {0, 0, 0}, 2};
+        twenty[i].rgb[i % 3] = 1;
+        twenty[i].rgb[(i + 1) % 3] = 0.5;
+    }
+    check_stack(&t, twenty, 20, 20, 50, 1);
+    check_stack(&t, twenty, 20, 2, 3, 0.5);
+
+    check_pool_overflow(three, 3);
+    check_layer_cap(&t);
+
+    test_gl_close(&t);
+    return lc_test_finish();
+}

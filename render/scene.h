@@ -1,6 +1,10 @@
 /* Scene: CPU arrays of one dataset (points, polylines or triangles) with named
  * per-vertex float attributes, optional RGB, bounds, derived attributes and the
- * optimization elements. */
+ * optimization elements.
+ * Threading: one thread builds and finalizes a scene; after lc_scene_finalize
+ * it is read-only and any number of threads may read it until destroy.
+ * Ownership: every array in lc_scene is malloc'd and freed by lc_scene_destroy;
+ * a loader may assign line_offsets/triangles directly before finalize. */
 #ifndef LC_SCENE_H
 #define LC_SCENE_H
 

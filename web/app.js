@@ -57,6 +57,7 @@ const view = new FrameView(canvas, {
     canvas.dataset.frame = String(frame.header.frame);
     canvas.dataset.converged = String(!!frame.header.converged);
     document.body.dataset.frames = String(state.framesDrawn);
+    refreshStats();
   },
   onError: (e) => toast(e.message),
 });
@@ -535,11 +536,20 @@ const showStats = $('show-stats');
 function statsVisible() {
   statsEl.hidden = !showStats.checked;
 }
-showStats.addEventListener('change', statsVisible);
+showStats.addEventListener('change', () => {
+  statsVisible();
+  refreshStats();
+});
 statsVisible();
-setInterval(() => {
-  if (!statsEl.hidden) renderStats(statsEl, stats);
-}, 250);
+let statsFrame = 0;
+function refreshStats() {
+  if (statsFrame || statsEl.hidden) return;
+  statsFrame = requestAnimationFrame(() => {
+    statsFrame = 0;
+    renderStats(statsEl, stats);
+  });
+}
+setInterval(refreshStats, 250); // fps decays when frames stop
 
 $('panel-toggle').addEventListener('click', () => {
   const collapsed = document.body.classList.toggle('panel-collapsed');

@@ -329,9 +329,10 @@ test('access token: prompt on 401, and ?token= in the URL', async () => {
 test('docs screenshot', async () => {
   if (!docsShot) return 'skipped (no --docs-screenshot)';
   const page = await context.newPage();
-  await page.setViewportSize({ width: 1200, height: 720 });
-  await page.goto(`${ctx.d.url}/#dataset=demo:tornado&q=60&colormap=viridis`);
+  await page.setViewportSize({ width: 1000, height: 600 });
+  await page.goto(`${ctx.d.url}/#dataset=demo:tornado&position=0.5,-2.3,0.75&focalPoint=0.5,0.5,0.45&viewUp=0,0,1&viewAngle=30&quality=100`);
   await settled(page, 90000);
+  await page.waitForTimeout(400); // the overlay refreshes 4 times a second
   await page.screenshot({ path: docsShot });
   const size = fs.statSync(docsShot).size;
   await page.close();

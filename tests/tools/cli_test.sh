@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# Drives the lucent CLI as a user would: renders, requests, bad inputs, info,
+# gen round trips and the benchmark table. Usage: cli_test.sh LUCENT SOURCE_DIR
+set -u
+LUCENT=$1
+SRC=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+
+# Prints "WIDTH HEIGHT" of a PNG or JPEG file.
+image_size() {
+  python3 - "$1" <<'PY'
+import struct, sys
+d = open(sys.argv[1], 'rb').read()
+if d[:8] == b'\x89PNG\r\n\x1a\n':
+    print(*struct.unpack('>II', d[16:24]))
+elif d[:2] == b'\xff\xd8':
+    i = 2
+    while i < len(d):
+        marker, length = d[i + 1], struct.unpack('>H', d[i + 2:i + 4])[0]
+        if marker in (0xC0, 0xC1, 0xC2):
+            h, w = struct.unpack('>HH', d[i + 5:i + 9]); print(w, h); break
+        i += 2 + length
+else:
+    print('not-an-image')
+PY
+}
+
+# expect_ok NAME CMD...: exit 0
+expect_ok() {
+  local name=$1; shift
+  if "$@" >"$tmp/out" 2>"$tmp/err"; then ok; else bad "$name: exit $? ($(head -c 400 "$tmp/err"))"; fi
+}
+# expect_fail NAME PATTERN CMD...: non-zero exit (not a crash) and stderr matching PATTERN
+expect_fail() {
+  local name=$1 pattern=$2; shift 2
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  if [ $rc -eq 0 ]; then bad "$name: succeeded"; return; fi
+  if [ $rc -ge 128 ]; then bad "$name: crashed with signal $((rc - 128))"; return; fi
+  if grep -Eq "$pattern" "$tmp/err"; then ok; else bad "$name: stderr does not match /$pattern/: $(head -c 400 "$tmp/err")"; fi
+}
+
+# 1. A demo at 512x512 renders in seconds, PNG and JPEG, of exactly that size.
+start=$(date +%s%N)
+expect_ok "render tornado png" "$LUCENT" render --dataset demo:tornado --size 512x512 --out "$tmp/t.png"
+ms=$((($(date +%s%N) - start) / 1000000))
+echo "render demo:tornado 512x512: ${ms} ms (process start to exit)"
+[ "$(image_size "$tmp/t.png")" = "512 512" ] && ok || bad "tornado png size: $(image_size "$tmp/t.png")"
+grep -q "importance" "$tmp/out" && grep -q "total" "$tmp/out" && ok || bad "render prints per-pass timings"
+expect_ok "render points jpeg" "$LUCENT" render --dataset "demo:points?count=50000" --size 320x200 --out "$tmp/p.jpg" --quality 80
+[ "$(image_size "$tmp/p.jpg")" = "320 200" ] && ok || bad "points jpeg size: $(image_size "$tmp/p.jpg")"
+
+# 2. The full request of the README/issue, and flags overriding it.
+cat >"$tmp/req.json" <<'JSON'
+{ "dataset": "demo:tornado", "width": 256, "height": 192, "method": "fourier", "format": "png", "quality": 90,
+  "camera": { "position": [0.5, -2.5, 0.5], "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 0, 1], "viewAngle": 30,
+              "parallelProjection": false, "parallelScale": 1 },
+  "params": { "q": 60, "r": 500, "lambda": 1, "bands": 5, "smoothing": 15, "smoothingWeight": 0.1,
+              "fadeHalfLife": 0.15, "resolutionScale": 0.5, "subset": 1, "depthMargin": 0.02, "estimator": "midpoint" },
+  "importance": { "attribute": "curvature", "range": [0, 1], "exponent": 1 },
+  "color": { "attribute": "importance", "colormap": "viridis", "range": [0, 1] },
+  "style": { "background": [1, 1, 1], "lineWidth": 0.01, "pointSize": 2, "shading": "phong" } }
+JSON
+expect_ok "render request" "$LUCENT" render --request "$tmp/req.json" --out "$tmp/r.png"
+[ "$(image_size "$tmp/r.png")" = "256 192" ] && ok || bad "request size: $(image_size "$tmp/r.png")"
+expect_ok "flags override request" "$LUCENT" render --request "$tmp/req.json" --size 64x48 --bands 3 --method opaque --out "$tmp/r2.png"
+[ "$(image_size "$tmp/r2.png")" = "64 48" ] && ok || bad "override size: $(image_size "$tmp/r2.png")"
+for m in fourier opaque direct wboit; do
+  expect_ok "method $m" "$LUCENT" render --dataset demo:abc --size 96x96 --method "$m" --out "$tmp/m_$m.png"
+done
+
+# 3. Bad requests and flags: clear message, non-zero exit.
+printf '{"width": 256,' >"$tmp/trunc.json"
+expect_fail "truncated request" "trunc.json" "$LUCENT" render --request "$tmp/trunc.json" --out "$tmp/x.png"
+printf '{"params": {"bandz": 3}}' >"$tmp/unknown.json"
+expect_fail "unknown field" "params.bandz" "$LUCENT" render --request "$tmp/unknown.json" --out "$tmp/x.png"
+printf '{"params": {"bands": 9}}' >"$tmp/range.json"
+expect_fail "bands out of range" "params.bands" "$LUCENT" render --request "$tmp/range.json" --out "$tmp/x.png"
+printf '{"width": "wide"}' >"$tmp/type.json"
+expect_fail "wrong type" "width" "$LUCENT" render --request "$tmp/type.json" --out "$tmp/x.png"
+expect_fail "missing request file" "nope.json" "$LUCENT" render --request "$tmp/nope.json" --out "$tmp/x.png"
+expect_fail "bad size flag" "size" "$LUCENT" render --size 12xq --out "$tmp/x.png"
+expect_fail "bad bands flag" "bands" "$LUCENT" render --bands 0 --out "$tmp/x.png"
+expect_fail "unknown attribute" "nosuch" "$LUCENT" render --dataset demo:abc --importance nosuch --size 64x64 --out "$tmp/x.png"
+expect_fail "unknown demo" "nosuchdemo" "$LUCENT" render --dataset demo:nosuchdemo --out "$tmp/x.png"
+expect_fail "bad output extension" "png" "$LUCENT" render --dataset demo:abc --size 32x32 --out "$tmp/x.bmp"
+
+# 4. Bad dataset files: the error names the file and the reason.
+printf 'ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n' >"$tmp/huge.ply"
+expect_fail "hostile PLY" "huge.ply.*(exceeds|vertex)" "$LUCENT" render --input "$tmp/huge.ply" --out "$tmp/x.png"
+printf 'ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nproperty float y\nproperty float z\nend_header\n\x00\x00' >"$tmp/short.ply"
+expect_fail "truncated PLY" "short.ply" "$LUCENT" info "$tmp/short.ply"
+printf 'v 0 0 0\nv 1 0 0\nl 1 7\n' >"$tmp/badidx.obj"
+expect_fail "OBJ index out of range" "badidx.obj.*line 3" "$LUCENT" info "$tmp/badidx.obj"
+printf 'garbage\n' >"$tmp/garbage.xyz"
+expect_fail "unknown extension" "garbage.xyz" "$LUCENT" info "$tmp/garbage.xyz"
+
+# 5. info, and gen round trips through both formats.
+expect_ok "info demo" "$LUCENT" info demo:tornado
+grep -q "elements" "$tmp/out" && grep -q "curvature" "$tmp/out" && ok || bad "info lists elements and attributes"
+for demo in surface tornado; do
+  for ext in ply obj; do
+    expect_ok "gen $demo.$ext" "$LUCENT" gen "$demo" -o "$tmp/$demo.$ext" --count 20
+    expect_ok "info $demo.$ext" "$LUCENT" info "$tmp/$demo.$ext"
+    expect_ok "render $demo.$ext" "$LUCENT" render --input "$tmp/$demo.$ext" --size 64x64 --out "$tmp/$demo-$ext.png"
+  done
+done
+
+# 6. The benchmark prints its table (tiny here; `lucent bench` defaults to 1024^2).
+expect_ok "bench" "$LUCENT" bench --size 64x64 --frames 1 --warmup 0
+rows=$(grep -c '^demo:' "$tmp/out")
+[ "$rows" -ge 4 ] && ok || bad "bench printed $rows dataset rows"
+grep -q "pipeline MB" "$tmp/out" && ok || bad "bench prints memory"
+
+# 7. Usage errors.
+expect_fail "unknown command" "unknown command" "$LUCENT" frobnicate
+expect_fail "render without --out" "usage" "$LUCENT" render --dataset demo:abc
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -340,7 +340,8 @@ const conn = new Connection(wsUrl.href, hello, {
       let text = describeError(msg);
       if (/dataset/.test(msg.code) || msg.code === 'not_found' || field === 'dataset') {
         const names = state.datasets.map((d) => d.name).join(', ');
-        text = `Dataset “${state.dataset ?? ''}” is not available: ${msg.message}${names ? ` Available: ${names}.` : ''}`;
+        const why = /[.!?]$/.test(msg.message) ? msg.message : `${msg.message}.`;
+        text = `Dataset “${state.dataset ?? ''}” is not available: ${why}${names ? ` Available: ${names}.` : ''}`;
         showDataset();
       }
       showBanner(text, { retry: !conn.terminal, kind: 'error' });

@@ -68,9 +68,10 @@ export class FrameStats {
     }
     if (this.bytes != null) out.push(['bytes/frame', `${formatBytes(this.bytes)} (avg ${formatBytes(this.bytesAvg)})`]);
     if (this.renderer) out.push(['renderer', this.renderer]);
+    const have = new Set(out.map(([k]) => k));
     for (const [k, v] of Object.entries(this.server)) {
       if (k === 'type' || v === null || typeof v === 'object') continue;
-      out.push([k, typeof v === 'number' ? String(Number(v.toPrecision(4))) : String(v)]);
+      out.push([have.has(k) ? `server ${k}` : k, typeof v === 'number' ? String(Number(v.toPrecision(4))) : String(v)]);
     }
     return out;
   }

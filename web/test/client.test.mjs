@@ -1,0 +1,92 @@
+// Client bookkeeping without a browser: reconnect back-off, frame statistics,
+// colour and number formatting of the panel.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { backoffDelay, BACKOFF_MIN_MS, BACKOFF_MAX_MS, TERMINAL_CODES } from '../js/connection.js';
+import { FrameStats, formatBytes } from '../js/stats.js';
+import { rgbToHex, hexToRgb, formatNumber, GROUPS } from '../js/ui.js';
+import { fieldByPath, checkField } from '../js/schema.js';
+
+test('back-off doubles from 0.5 s to a 15 s cap with ±20 % jitter', () => {
+  const mid = (a) => backoffDelay(a, () => 0.5);
+  assert.deepEqual([0, 1, 2, 3, 4, 5, 6].map(mid), [500, 1000, 2000, 4000, 8000, 15000, 15000]);
+  assert.equal(backoffDelay(0, () => 0), BACKOFF_MIN_MS * 0.8);
+  assert.equal(backoffDelay(50, () => 1), BACKOFF_MAX_MS * 1.2);
+  for (const code of ['unauthorized', 'not_found']) assert.ok(TERMINAL_CODES.has(code), code);
+  for (const code of ['overloaded', 'internal', 'too_many_sessions']) assert.ok(!TERMINAL_CODES.has(code), code);
+});
+
+test('frame stats: fps over the last second, latency from camera seq to drawn frame', () => {
+  let now = 0;
+  const s = new FrameStats(() => now);
+  s.cameraSent(1);
+  now = 40;
+  s.cameraSent(2);
+  now = 100;
+  const h = (frame, cameraSeq, extra = {}) => ({ frame, width: 640, height: 480, format: 'jpeg', quality: 70, cameraSeq, converged: false, timings: { importance: 1.5, resolve: 0.5 }, encodeMs: 2, ...extra });
+  s.frameDrawn(h(1, 1), 1000, 100);
+  assert.equal(s.latency, 100);
+  s.frameDrawn(h(2, 1), 1000, 150); // same seq: no new latency sample
+  assert.equal(s.latency, 100);
+  s.frameDrawn(h(3, 2), 3000, 200);
+  assert.equal(s.latency, 160);
+  assert.equal(s.sent.size, 0);
+  assert.equal(s.fps(200), 3);
+  assert.equal(s.fps(1160), 1);
+  assert.equal(s.fps(5000), 0);
+  const lines = Object.fromEntries(s.lines(200));
+  assert.equal(lines.render, '2.0 ms');
+  assert.equal(lines['  importance'], '1.5 ms');
+  assert.equal(lines.encode, '2.0 ms');
+  assert.equal(lines.state, 'fading');
+  assert.match(lines.frame, /#3 640×480 jpeg q70/);
+  assert.match(lines['bytes/frame'], /^2\.9 KiB/);
+  s.server = { fps: 12.345678, framesDropped: 3, nested: { x: 1 } };
+  const l2 = Object.fromEntries(s.lines(200));
+  assert.equal(l2.fps, '3'); // the page's own fps; the server's is labelled as such
+  assert.equal(l2['server fps'], '12.35');
+  assert.equal(l2.framesDropped, '3');
+  assert.equal(l2.nested, undefined);
+  s.frameDrawn(h(4, 2, { converged: true }), 10, 300);
+  assert.equal(Object.fromEntries(s.lines(300)).state, 'converged');
+});
+
+test('byte and number formatting', () => {
+  assert.equal(formatBytes(512), '512 B');
+  assert.equal(formatBytes(2048), '2.0 KiB');
+  assert.equal(formatBytes(3 * 1024 * 1024), '3.00 MiB');
+  assert.equal(formatNumber(0.1 + 0.2), '0.3');
+  assert.equal(formatNumber(1000), '1000');
+  assert.equal(formatNumber(NaN), '');
+});
+
+test('colours round-trip between [0,1] RGB and #rrggbb', () => {
+  assert.equal(rgbToHex([1, 1, 1]), '#ffffff');
+  assert.equal(rgbToHex([0, 0.5, 2]), '#0080ff');
+  assert.deepEqual(hexToRgb('#ff8000'), [1, 0.502, 0]);
+  assert.equal(hexToRgb('nope'), null);
+});
+
+test('every panel control edits a request field whose slider range is valid for the server', () => {
+  const paths = new Set();
+  for (const g of GROUPS) {
+    for (const c of g.controls) {
+      assert.ok(!paths.has(c.path), `${c.path} twice`);
+      paths.add(c.path);
+      const f = fieldByPath(c.path);
+      assert.ok(f, `${c.path} is not a request field`);
+      if (c.kind === 'range') {
+        // both ends of the slider (except an open lower bound at 0) are valid values
+        for (const v of [c.min, c.max]) {
+          const p = checkField(f, f.type === 'int' ? Math.round(v) : v);
+          if (p && !(f.loOpen && v === f.min)) assert.fail(`${c.path}: slider end ${v}: ${p.reason}`);
+        }
+      }
+      if (c.kind === 'select' && c.options) for (const [v] of c.options) assert.equal(checkField(f, v), null, `${c.path}: ${v}`);
+    }
+  }
+  for (const p of ['params.q', 'params.r', 'params.lambda', 'params.bands', 'params.smoothing', 'params.fadeHalfLife', 'params.estimator', 'method',
+    'importance.attribute', 'importance.range', 'importance.exponent', 'color.attribute', 'color.colormap', 'color.range',
+    'style.lineWidth', 'style.pointSize', 'style.background', 'style.shading', 'quality', 'interactiveScale'])
+    assert.ok(paths.has(p), `the panel lacks ${p}`);
+});

@@ -1,0 +1,236 @@
+/* `lucent compare`: renders one request with its own method and with a
+ * reference method (default: the exact linked-list method) on the same scene,
+ * camera and parameters, and prints image metrics, per-pass times, GPU memory
+ * and the depth complexity, one "NAME value" per line for scripts. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cli.h"
+#include "image.h"
+
+#define MIB (1024.0 * 1024.0)
+
+static void compare_usage(void)
+{
+    fprintf(stderr,
+            "usage: lucent compare [--request REQ.json] [--input FILE|demo:NAME] [--against METHOD]\n"
+            "                      [--out-dir DIR] [--repeat N] [--pool-mib N] [--device N] [flags]\n"
+            "Renders the request with its method (default fourier) and with --against (default exact), same\n"
+            "scene, camera and parameters, one-shot (no fading), and prints one \"NAME value\" per line:\n"
+            "SSIM, RMSE (Rec. 709 luminance SSIM, 11x11 Gaussian, sigma 1.5; RMSE over RGB in [0,1]), per-pass\n"
+            "and total GPU times, GPU memory of each method, the exact method's fragment count and layers.\n"
+            "  --against METHOD      reference method (fourier | exact | opaque | direct | wboit)\n"
+            "  --out-dir DIR         write METHOD.png, AGAINST.png and difference.png (|a - b| x 4)\n"
+            "  --repeat N            time N frames per method after one warm-up frame (default 3)\n"
+            "  --pool-mib N          node pool of the exact method (default 256, clamped to the driver's\n"
+            "                        largest storage block)\n"
+            "  --device N            EGL device index\n%s",
+            lc_cli_flags_help);
+}
+
+/* One method's frame: the image of the last repetition, mean times. */
+typedef struct method_run {
+    lc_method method;
+    uint8_t *rgba;
+    lc_frame_info info; /* last frame; pass_ms/gpu_ms/wall_ms replaced by means */
+} method_run;
+
+static int run_method(const lc_renderer_desc *desc, const lc_gpu_scene *gs, lc_render_params p,
+                      lc_method method, int repeat, method_run *out, lc_error *err)
+{
+    /* A renderer per method (on the current context) so that each one's pipeline memory is its own. */
+    lc_renderer *r = NULL;
+    int rc = lc_renderer_create(desc, &r, err);
+    if (rc)
+        return rc;
+    p.method = method;
+    out->method = method;
+    double pass[LC_PASS_COUNT] = {0}, gpu = 0, wall = 0;
+    for (int f = 0; f <= repeat && !rc; f++) {
+        rc = lc_render_frame(r, gs, &p, NULL, 0, out->rgba, &out->info, err);
+        if (rc || f == 0) /* the first frame compiles shaders and allocates */
+            continue;
+        for (int i = 0; i < LC_PASS_COUNT; i++)
+            pass[i] += out->info.pass_ms[i];
+        gpu += out->info.gpu_ms;
+        wall += out->info.wall_ms;
+    }
+    if (!rc) {
+        for (int i = 0; i < LC_PASS_COUNT; i++)
+            if (out->info.pass_ms[i] >= 0)
+                out->info.pass_ms[i] = pass[i] / repeat;
+        out->info.gpu_ms = gpu / repeat;
+        out->info.wall_ms = wall / repeat;
+    }
+    lc_renderer_destroy(r);
+    return rc;
+}
+
+static void print_run(const method_run *m)
+{
+    const char *name = lc_method_name(m->method);
+    for (int i = 0; i < LC_PASS_COUNT; i++)
+        if (m->info.pass_ms[i] >= 0)
+            printf("pass_ms.%s.%s %.3f\n", name, lc_pass_name(i), m->info.pass_ms[i]);
+    printf("gpu_ms.%s %.3f\n", name, m->info.gpu_ms);
+    printf("wall_ms.%s %.3f\n", name, m->info.wall_ms);
+    printf("memory_mib.%s %.2f\n", name, m->info.pipeline_bytes / MIB);
+    if (m->method == LC_METHOD_EXACT) {
+        /* What this frame's lists occupy (nodes of 16 bytes + the head image), as opposed to the pool allocated
+         * up front: the part of the exact method's memory that grows with the fragment count. */
+        double lists = (16.0 * m->info.fragments + 4.0 * m->info.width * m->info.height) / MIB;
+        printf("list_mib.exact %.2f\n", lists);
+        printf("fragments %llu\n", (unsigned long long)m->info.fragments);
+        printf("dropped_fragments %llu\n", (unsigned long long)m->info.dropped_fragments);
+        printf("mean_layers %.2f\n", m->info.mean_layers);
+        printf("max_layers %u\n", m->info.max_layers);
+    }
+}
+
+static int write_image(const char *dir, const char *name, const uint8_t *rgba, int w, int h)
+{
+    char path[4096];
+    lc_error err = {0};
+    snprintf(path, sizeof path, "%s/%s.png", dir, name);
+    if (lc_image_write_file(path, rgba, w, h, 0, &err) != 0) {
+        fprintf(stderr, "lucent compare: %s\n", err.msg);
+        return -1;
+    }
+    printf("image %s\n", path);
+    return 0;
+}
+
+int lc_cli_compare(int argc, char **argv)
+{
+    lc_request req;
+    lc_request_default(&req);
+    const char *request_path = NULL, *input = NULL, *out_dir = NULL;
+    int device = -1, repeat = 3, against = LC_METHOD_EXACT;
+    double pool_mib = 256;
+    lc_error err = {0};
+    /* The request file first, so that flags override it wherever they stand. */
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "--request") == 0 && i + 1 < argc)
+            request_path = argv[i + 1];
+    if (request_path && lc_cli_read_request(request_path, &req, &err) != 0) {
+        fprintf(stderr, "lucent compare: %s\n", err.msg);
+        return 1;
+    }
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--request") == 0 && i + 1 < argc) {
+            i++;
+        } else if (strcmp(a, "--input") == 0 && i + 1 < argc) {
+            input = argv[++i];
+        } else if (strcmp(a, "--out-dir") == 0 && i + 1 < argc) {
+            out_dir = argv[++i];
+        } else if (strcmp(a, "--against") == 0 && i + 1 < argc) {
+            against = lc_method_from_name(argv[++i]);
+            if (against < 0) {
+                fprintf(stderr, "lucent compare: --against %s: unknown method\n", argv[i]);
+                return 2;
+            }
+        } else if (strcmp(a, "--repeat") == 0 && i + 1 < argc) {
+            repeat = atoi(argv[++i]);
+        } else if (strcmp(a, "--pool-mib") == 0 && i + 1 < argc) {
+            pool_mib = atof(argv[++i]);
+        } else if (strcmp(a, "--device") == 0 && i + 1 < argc) {
+            device = atoi(argv[++i]);
+        } else if (strcmp(a, "--help") == 0) {
+            compare_usage();
+            return 0;
+        } else {
+            int rc = lc_cli_apply_flag(&req, argc, argv, &i);
+            if (rc < 0)
+                return 2;
+            if (rc == 0) {
+                fprintf(stderr, "lucent compare: unknown option %s\n", a);
+                compare_usage();
+                return 2;
+            }
+        }
+    }
+    if (repeat < 1 || repeat > 1000 || !(pool_mib >= 1 && pool_mib <= 65536)) {
+        fprintf(stderr, "lucent compare: --repeat must be 1..1000 and --pool-mib 1..65536\n");
+        return 2;
+    }
+    if (out_dir && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "lucent compare: %s: %s\n", out_dir, strerror(errno));
+        return 1;
+    }
+
+    const char *spec = input ? input : req.dataset[0] ? req.dataset : "demo:tornado";
+    lc_scene *scene = NULL;
+    if (lc_cli_open_dataset(spec, &scene, &err) != 0) {
+        fprintf(stderr, "lucent compare: %s\n", err.msg);
+        return 1;
+    }
+    lc_cli_gl g;
+    if (lc_cli_gl_open(device, &g, &err) != 0) {
+        fprintf(stderr, "lucent compare: %s\n", err.msg);
+        lc_scene_destroy(scene);
+        return 1;
+    }
+    int status = 1, w = req.render.width, h = req.render.height;
+    size_t bytes = (size_t)w * h * 4;
+    method_run runs[2] = {{.rgba = malloc(bytes)}, {.rgba = malloc(bytes)}};
+    lc_gpu_scene *gs = NULL;
+    uint8_t *diff = NULL;
+    lc_renderer_desc desc = {.exact_pool_bytes = (uint64_t)(pool_mib * MIB)};
+    if (!runs[0].rgba || !runs[1].rgba) {
+        fprintf(stderr, "lucent compare: out of memory\n");
+        goto done;
+    }
+    if (lc_gpu_scene_create(scene, &gs, &err) != 0) {
+        fprintf(stderr, "lucent compare: %s\n", err.msg);
+        goto done;
+    }
+    const lc_method methods[2] = {req.render.method, (lc_method)against};
+    for (int k = 0; k < 2; k++)
+        if (run_method(&desc, gs, req.render, methods[k], repeat, &runs[k], &err) != 0) {
+            fprintf(stderr, "lucent compare: %s: %s\n", lc_method_name(methods[k]), err.msg);
+            goto done;
+        }
+
+    printf("dataset %s\n", scene->name);
+    printf("primitives %llu\n", (unsigned long long)lc_scene_primitive_count(scene));
+    printf("elements %u\n", scene->elements.count);
+    printf("renderer %s\n", lc_gl_renderer(g.gl));
+    printf("size %dx%d\n", w, h);
+    printf("method %s\n", lc_method_name(methods[0]));
+    printf("against %s\n", lc_method_name(methods[1]));
+    printf("bands %d\n", req.render.foo.bands);
+    printf("estimator %s\n", lc_estimator_name(req.render.foo.estimator));
+    printf("repeat %d\n", repeat);
+    printf("SSIM %.4f\n", lc_image_ssim(runs[0].rgba, runs[1].rgba, w, h));
+    printf("RMSE %.4f\n", lc_image_rmse(runs[0].rgba, runs[1].rgba, w, h));
+    for (int k = 0; k < 2; k++)
+        print_run(&runs[k]);
+    for (int k = 0; k < 2; k++)
+        if (runs[k].info.dropped_fragments)
+            fprintf(stderr,
+                    "lucent compare: WARNING: %s dropped %llu fragments (node pool or 256-layer cap); "
+                    "raise --pool-mib\n",
+                    lc_method_name(methods[k]), (unsigned long long)runs[k].info.dropped_fragments);
+    if (out_dir) {
+        const char *a = lc_method_name(methods[0]), *b = lc_method_name(methods[1]);
+        if (write_image(out_dir, a, runs[0].rgba, w, h) ||
+            (methods[1] != methods[0] && write_image(out_dir, b, runs[1].rgba, w, h)))
+            goto done;
+        diff = lc_image_difference(runs[0].rgba, runs[1].rgba, w, h, 4.0);
+        if (!diff || write_image(out_dir, "difference", diff, w, h))
+            goto done;
+    }
+    status = 0;
+done:
+    free(diff);
+    free(runs[0].rgba);
+    free(runs[1].rgba);
+    lc_gpu_scene_destroy(gs);
+    lc_cli_gl_close(&g);
+    lc_scene_destroy(scene);
+    return status;
+}

@@ -223,6 +223,23 @@ test('drag rotates: new camera, newer frames, different image', async () => {
   await settled(page);
 });
 
+test('resize follows the window at CSS size × devicePixelRatio', async () => {
+  const page = ctx.page;
+  const before = await page.evaluate(() => document.getElementById('canvas').width);
+  await page.setViewportSize({ width: 560, height: 480 });
+  await page.waitForFunction((w) => document.getElementById('canvas').width !== w, before, { timeout: 5000 });
+  await settled(page);
+  const st = await page.evaluate(() => {
+    const c = document.getElementById('canvas');
+    const r = c.getBoundingClientRect();
+    return { w: c.width, h: c.height, cssW: r.width, cssH: r.height, dpr: devicePixelRatio, frame: window.lucent.state.lastFrame };
+  });
+  check(st.w === Math.round(st.cssW * st.dpr) && st.h === Math.round(st.cssH * st.dpr), `canvas ${st.w}x${st.h} for ${st.cssW}x${st.cssH} CSS px`);
+  check(st.frame.width === st.w && st.frame.height === st.h, `frame ${st.frame.width}x${st.frame.height}, canvas ${st.w}x${st.h}`);
+  await page.setViewportSize(VIEWPORT);
+  await settled(page);
+});
+
 test('slider changes the image; the server confirms the value', async () => {
   const page = ctx.page;
   const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);

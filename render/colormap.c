@@ -252,15 +252,31 @@ static const float grayscale_points[][4] = {
     {1.0f, 1.0f, 1.0f, 1.0f},
 };
 
+/* Turbo (Mikhailov 2019) is defined by Google's degree-5 polynomial fit;
+ * points == NULL selects it. */
 typedef struct {
     const char *name;
     const float (*points)[4]; /* t, r, g, b; t ascending from 0 to 1 */
     int count;
 } colormap_def;
 
+static void turbo(float t, float rgb[3])
+{
+    static const double k[3][6] = {
+        {0.13572138, 4.61539260, -42.66032258, 132.13108234, -152.94239396, 59.28637943},
+        {0.09140261, 2.19418839, 4.84296658, -14.18503333, 4.27729857, 2.82956604},
+        {0.10667330, 12.64194608, -60.58204836, 110.36276771, -89.90310912, 27.34824973}};
+    for (int c = 0; c < 3; c++) {
+        double v = 0, x = 1;
+        for (int i = 0; i < 6; i++, x *= t)
+            v += k[c][i] * x;
+        rgb[c] = (float)(v < 0 ? 0 : v > 1 ? 1 : v);
+    }
+}
+
 #define DEF(n) {#n, n##_points, (int)(sizeof n##_points / sizeof n##_points[0])}
 static const colormap_def defs[] = {DEF(viridis), DEF(inferno), DEF(plasma), DEF(coolwarm),
-                                    DEF(grayscale)};
+                                    DEF(grayscale), {"turbo", NULL, 0}};
 #undef DEF
 enum { COLORMAP_COUNT = (int)(sizeof defs / sizeof defs[0]) };
 
@@ -273,6 +289,10 @@ static void build_table(const colormap_def *d, float *out)
     int seg = 0;
     for (int k = 0; k < LC_COLORMAP_SIZE; k++) {
         float t = (float)k / (LC_COLORMAP_SIZE - 1);
+        if (!d->points) {
+            turbo(t, out + 3 * k);
+            continue;
+        }
         while (seg + 2 < d->count && d->points[seg + 1][0] <= t)
             seg++;
         const float *a = d->points[seg], *b = d->points[seg + 1];

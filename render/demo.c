@@ -651,6 +651,14 @@ int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, l
         rc = lc_scene_finalize(s, NULL, err);
     if (!rc && is_lines)
         rc = add_line_curvature(s, err);
+    if (!rc && is_lines) {
+        /* Streamlines read best from the side, with the z axis (the tornado's
+         * core) up, slightly from above. */
+        static const double dir_tornado[3] = {0, 1, -0.3}, dir_abc[3] = {-1, 0.6, -0.45}, up[3] = {0, 0, 1};
+        s->has_view = 1;
+        memcpy(s->view_direction, strcmp(name, "tornado") == 0 ? dir_tornado : dir_abc, sizeof dir_tornado);
+        memcpy(s->view_up, up, sizeof up);
+    }
     if (rc) {
         lc_scene_destroy(s);
         return rc;

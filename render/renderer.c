@@ -894,7 +894,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     for (int i = 0; i < 3; i++)
         diag += (s->bounds[i + 3] - s->bounds[i]) * (s->bounds[i + 3] - s->bounds[i]);
     diag = sqrt(diag);
-    fs.line_half_width = 0.5 * (p.style.line_width > 0 ? p.style.line_width : 0.002 * diag);
+    fs.line_half_width = 0.5 * (p.style.line_width > 0 ? p.style.line_width : 0.004 * diag);
     fs.low_width = (int)ceil(p.width * p.foo.resolution_scale);
     fs.low_height = (int)ceil(p.height * p.foo.resolution_scale);
     if (fs.low_width < 1)

@@ -74,7 +74,11 @@ void main()
     float half_width = max(u_line_half_width, u_min_half_pixels * pixel);
     emit(v, p + side * (half_width * q.y));
     v_normal = side;
-    v_quad = vec2(q.y, q.x < 0.0 ? 0.0 : 1.0);
+    // Tube shading needs a few pixels across; on thinner ribbons the pixel
+    // centres would sample the tube profile unevenly along the line (a dotted
+    // look), so the profile flattens as the ribbon narrows.
+    float width_px = 2.0 * half_width / pixel;
+    v_quad = vec2(q.y * clamp((width_px - 1.0) / 4.0, 0.0, 0.85), q.x < 0.0 ? 0.0 : 1.0);
     v_primary = uvec3(vertex_elements[a].w, vertex_elements[b].w, 0u);
 #endif
 #endif

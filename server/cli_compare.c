@@ -24,14 +24,15 @@ static void compare_usage(void)
             "and total GPU times, GPU memory of each method, the exact method's fragment count and layers.\n"
             "  --against METHOD      reference method (fourier | exact | opaque | direct | wboit)\n"
             "  --out-dir DIR         write METHOD.png, AGAINST.png and difference.png (|a - b| x 4)\n"
-            "  --repeat N            time N frames per method after one warm-up frame (default 3)\n"
+            "  --repeat N            time N frames per method after one warm-up frame (default 3);\n"
+            "                        0 = a single frame per method, its (cold) times reported\n"
             "  --pool-mib N          node pool of the exact method (default 256, clamped to the driver's\n"
             "                        largest storage block)\n"
             "  --device N            EGL device index\n%s",
             lc_cli_flags_help);
 }
 
-/* One method's frame: the image of the last repetition, mean times. */
+/* One method's frame: the image of the last repetition, mean times of the repetitions. */
 typedef struct method_run {
     lc_method method;
     uint8_t *rgba;
@@ -51,7 +52,7 @@ static int run_method(const lc_renderer_desc *desc, const lc_gpu_scene *gs, lc_r
     double pass[LC_PASS_COUNT] = {0}, gpu = 0, wall = 0;
     for (int f = 0; f <= repeat && !rc; f++) {
         rc = lc_render_frame(r, gs, &p, NULL, 0, out->rgba, &out->info, err);
-        if (rc || f == 0) /* the first frame compiles shaders and allocates */
+        if (rc || (f == 0 && repeat > 0)) /* the first frame compiles shaders and allocates */
             continue;
         for (int i = 0; i < LC_PASS_COUNT; i++)
             pass[i] += out->info.pass_ms[i];
@@ -59,11 +60,12 @@ static int run_method(const lc_renderer_desc *desc, const lc_gpu_scene *gs, lc_r
         wall += out->info.wall_ms;
     }
     if (!rc) {
+        int n = repeat > 0 ? repeat : 1;
         for (int i = 0; i < LC_PASS_COUNT; i++)
             if (out->info.pass_ms[i] >= 0)
-                out->info.pass_ms[i] = pass[i] / repeat;
-        out->info.gpu_ms = gpu / repeat;
-        out->info.wall_ms = wall / repeat;
+                out->info.pass_ms[i] = pass[i] / n;
+        out->info.gpu_ms = gpu / n;
+        out->info.wall_ms = wall / n;
     }
     lc_renderer_destroy(r);
     return rc;
@@ -153,8 +155,8 @@ int lc_cli_compare(int argc, char **argv)
             }
         }
     }
-    if (repeat < 1 || repeat > 1000 || !(pool_mib >= 1 && pool_mib <= 65536)) {
-        fprintf(stderr, "lucent compare: --repeat must be 1..1000 and --pool-mib 1..65536\n");
+    if (repeat < 0 || repeat > 1000 || !(pool_mib >= 1 && pool_mib <= 65536)) {
+        fprintf(stderr, "lucent compare: --repeat must be 0..1000 and --pool-mib 1..65536\n");
         return 2;
     }
     if (out_dir && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {

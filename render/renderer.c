@@ -123,10 +123,12 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
-    static const char *const fs_p1[] = {"common.glsl", "fragment_common.glsl", "p1_importance.frag.glsl", NULL};
+    static const char *const fs_p1[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
+                                        "p1_importance.frag.glsl", NULL};
     static const char *const fs_p2[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                         "p2_opacity.frag.glsl", NULL};
-    static const char *const fs_p4[] = {"common.glsl", "fragment_common.glsl", "p4_optical_depth.frag.glsl", NULL};
+    static const char *const fs_p4[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
+                                        "p4_optical_depth.frag.glsl", NULL};
     static const char *const fs_p5[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                         "p5_accumulate.frag.glsl", NULL};
     static const char *const fs_opaque[] = {"common.glsl", "fragment_common.glsl", "opaque.frag.glsl", NULL};

@@ -37,6 +37,19 @@ uint fragment_element()
 
 float fragment_importance() { return clamp(v_g, 0.0, 1.0); }
 
+uniform float u_direct_exponent;
+
+// Opacity of the fragment in the compositing passes: the blended element
+// opacity, or g^k for the "direct" baseline; clamped so -ln(1 - alpha) stays finite.
+float fragment_alpha()
+{
+#ifdef DIRECT_ALPHA
+    return clamp(pow(fragment_importance(), u_direct_exponent), 0.0, 0.9999);
+#else
+    return clamp(v_alpha, 0.0, 0.9999);
+#endif
+}
+
 // Headlight shading: lines as tubes (normal swings across the ribbon), points
 // as spheres, surfaces two-sided.
 vec3 fragment_color()

@@ -2,30 +2,6 @@
 // element opacity (or alpha = g^k for the "direct" baseline), full resolution.
 
 uniform float u_weight; // subset stride
-uniform float u_direct_exponent;
-
-layout(location = 0) out vec4 o_coef0;
-#if NTARGETS > 1
-layout(location = 1) out vec4 o_coef1;
-#endif
-#if NTARGETS > 2
-layout(location = 2) out vec4 o_coef2;
-#endif
-#if NTARGETS > 3
-layout(location = 3) out vec4 o_coef3;
-#endif
-#if NTARGETS > 4
-layout(location = 4) out vec4 o_coef4;
-#endif
-
-float fragment_alpha()
-{
-#ifdef DIRECT_ALPHA
-    return clamp(pow(fragment_importance(), u_direct_exponent), 0.0, 0.9999);
-#else
-    return clamp(v_alpha, 0.0, 0.9999);
-#endif
-}
 
 void main()
 {
@@ -33,17 +9,5 @@ void main()
         discard;
     float c[NTARGETS * 4];
     fourier_project(normalized_depth(v_zview), -log(1.0 - fragment_alpha()) * u_weight, c);
-    o_coef0 = vec4(c[0], c[1], c[2], c[3]);
-#if NTARGETS > 1
-    o_coef1 = vec4(c[4], c[5], c[6], c[7]);
-#endif
-#if NTARGETS > 2
-    o_coef2 = vec4(c[8], c[9], c[10], c[11]);
-#endif
-#if NTARGETS > 3
-    o_coef3 = vec4(c[12], c[13], c[14], c[15]);
-#endif
-#if NTARGETS > 4
-    o_coef4 = vec4(c[16], c[17], c[18], c[19]);
-#endif
+    write_coefficients(c);
 }

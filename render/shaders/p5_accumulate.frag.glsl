@@ -2,18 +2,8 @@
 // FOO weight: alpha/(1-alpha) exp(-tau(d_i)); midpoint: alpha exp(-max(tau - f/2, 0)).
 
 uniform int u_estimator;
-uniform float u_direct_exponent;
 
 layout(location = 0) out vec4 o_accum;
-
-float fragment_alpha()
-{
-#ifdef DIRECT_ALPHA
-    return clamp(pow(fragment_importance(), u_direct_exponent), 0.0, 0.9999);
-#else
-    return clamp(v_alpha, 0.0, 0.9999);
-#endif
-}
 
 void main()
 {

@@ -8,7 +8,7 @@ void main()
 {
     if (outside_primitive())
         discard;
-    float alpha = clamp(v_alpha, 0.0, 0.9999);
+    float alpha = fragment_alpha();
     float d = normalized_depth(v_zview);
     float w = alpha * clamp(3e3 * pow(1.0 - d, 3.0), 1e-2, 3e3);
     o_accum = vec4(fragment_color() * alpha * w, alpha * w);

@@ -115,6 +115,7 @@ static int ensure_pool(lc_renderer *r, exact_state *st, lc_error *err)
         nodes = END_OF_LIST - 1;
     if (nodes < 1)
         nodes = 1;
+    /* Start from a clean error state so that an out-of-memory below is the pool's (once per renderer). */
     while (glGetError() != GL_NO_ERROR) {
     }
     glCreateBuffers(1, &st->nodes);
@@ -153,9 +154,18 @@ static void ensure_heads(lc_renderer *r, exact_state *st, int w, int h)
     r->bytes_targets += (uint64_t)st->heads_w * st->heads_h * 4;
 }
 
-static void set_f(GLuint prog, const char *name, double v) { glProgramUniform1f(prog, glGetUniformLocation(prog, name), (float)v); }
-static void set_i(GLuint prog, const char *name, int v) { glProgramUniform1i(prog, glGetUniformLocation(prog, name), v); }
-static void set_u(GLuint prog, const char *name, unsigned v) { glProgramUniform1ui(prog, glGetUniformLocation(prog, name), v); }
+static void set_f(GLuint prog, const char *name, double v)
+{
+    glProgramUniform1f(prog, glGetUniformLocation(prog, name), (float)v);
+}
+static void set_i(GLuint prog, const char *name, int v)
+{
+    glProgramUniform1i(prog, glGetUniformLocation(prog, name), v);
+}
+static void set_u(GLuint prog, const char *name, unsigned v)
+{
+    glProgramUniform1ui(prog, glGetUniformLocation(prog, name), v);
+}
 
 /* Bindings and uniforms every exact program shares. */
 static void bind_lists(const exact_state *st, GLuint prog, int pass)

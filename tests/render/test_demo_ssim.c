@@ -1,12 +1,16 @@
 /* Fourier against the exact reference on every demo dataset at default
  * parameters: prints SSIM and RMSE per demo and fails below the threshold.
  *
- * Threshold: SSIM >= 0.95 at 256x256. The FOO paper reports 0.959 (m = 1) to
- * 0.984 (m = 5) against linked lists on TREFOIL; at the default m = 5 we
- * measured 0.969-0.995 over the four demos here (docs/EVALUATION.md has the
- * 1024x1024 tables), so 0.95 leaves headroom for driver differences while a
- * broken pass (wrong band count, wrong estimator, lost element opacities)
- * drops far below it. */
+ * Threshold: SSIM >= 0.97 at 256x256. The FOO paper reports 0.959 (m = 1) to
+ * 0.984 (m = 5) against linked lists on TREFOIL. Measured here on llvmpipe
+ * (lucent compare --dataset demo:NAME --size 256x256 --repeat 0 [--method X]):
+ * m = 5 (default, midpoint estimator) 0.988-0.995 over the four demos; m = 5
+ * with the FOO estimator 0.954-0.994; m = 1 0.944-0.988 (tornado 0.944, abc
+ * 0.967); the baselines without optimized opacities, opaque
+ * 0.71-0.86 and direct 0.55-0.80. So 0.97 keeps a margin of 0.018 below the
+ * worst default result for driver differences, while a pipeline that loses
+ * its bands (m = 1 quality) or its optimized opacities fails, and so would a
+ * switch of the default to the estimator that measured worse. */
 #include <math.h>
 
 #include "demo.h"
@@ -14,7 +18,7 @@
 #include "render_util.h"
 
 #define SIZE 256
-#define SSIM_THRESHOLD 0.95
+#define SSIM_THRESHOLD 0.97
 
 static void render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, uint8_t *rgba,
                    lc_frame_info *info)
@@ -28,8 +32,8 @@ int main(void)
 {
     test_gl t;
     test_gl_open(&t);
-    printf("renderer: %s, %dx%d, default parameters (m = 5, midpoint estimator unless the defaults change)\n",
-           lc_gl_renderer(t.gl), SIZE, SIZE);
+    printf("renderer: %s, %dx%d, default parameters, threshold SSIM %.2f\n",
+           lc_gl_renderer(t.gl), SIZE, SIZE, SSIM_THRESHOLD);
     uint8_t *fourier = malloc(SIZE * SIZE * 4), *exact = malloc(SIZE * SIZE * 4);
     for (const char *const *name = lc_demo_names(); *name; name++) {
         lc_error err = {0};

@@ -61,8 +61,9 @@ static void check_stack(test_gl *t, const test_quad *q, int n, double qw, double
         for (int i = 0; i < SIZE * SIZE; i++)
             for (int c = 0; c < 3; c++)
                 worst = fmax(worst, fabs(rgba[4 * i + c] / 255.0 - want[c]));
-        CHECK(worst <= 2.0 / 255.0, "exact, %d quads, q=%g r=%g lambda=%g: worst pixel error %.4f (want %.3f %.3f %.3f, "
-              "got %d %d %d)", n, qw, rw, lambda, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
+        CHECK(worst <= 2.0 / 255.0,
+              "exact, %d quads, q=%g r=%g lambda=%g: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)", n,
+              qw, rw, lambda, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
         /* Every pixel is covered by all n quads. */
         CHECK(info.fragments == (uint64_t)n * SIZE * SIZE, "fragments %llu, want %d",
               (unsigned long long)info.fragments, n * SIZE * SIZE);

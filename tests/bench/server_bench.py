@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""Server benchmark (prints figures; not part of the pass/fail suite).
+
+For N simultaneous interactive WebSocket sessions that drag the camera at 60 Hz
+(and ack every frame), reports frames per second (total and per session) and
+camera-to-frame latency (time from sending camera seq k to receiving the first
+frame whose cameraSeq >= k; median and 99th percentile). Then JPEG encode
+throughput in megapixels/s, from the daemon's /metrics counters during the
+streams and from 1024x1024 HTTP renders (X-Lucent-Timings encode=).
+
+  tests/bench/server_bench.py --binary build/lucent --sessions 1,2,4 --seconds 10
+  tests/bench/server_bench.py --url http://127.0.0.1:8080 --token T ...   (a running daemon)
+"""
+import argparse
+import asyncio
+import json
+import os
+import re
+import statistics
+import sys
+import time
+import urllib.request
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "server"))
+from lucent_server import Server, unpack_frame, websockets  # noqa: E402
+
+
+def metrics(base, token):
+    req = urllib.request.Request(base + "/metrics", headers={"Authorization": "Bearer " + token} if token else {})
+    text = urllib.request.urlopen(req).read().decode()
+    out = {}
+    for name in ("lucent_encoded_pixels_total", "lucent_encode_seconds_sum", "lucent_frames_coalesced_total"):
+        m = re.search(r"^%s (\S+)$" % name, text, re.M)
+        out[name] = float(m.group(1)) if m else 0.0
+    return out
+
+
+async def session(ws_url, token, args, idx, t_end, out):
+    lat, frames, sent = [], 0, {}
+    async with websockets.connect(ws_url, max_size=None) as ws:
+        hello = {"type": "hello", "dataset": args.dataset, "width": args.width, "height": args.height,
+                 "devicePixelRatio": args.dpr, "window": args.window}
+        if token:
+            hello["token"] = token
+        await ws.send(json.dumps(hello))
+        ready = json.loads(await ws.recv())
+        assert ready["type"] == "ready", ready
+        seq, answered = 0, 0
+        next_send = time.time()
+        angle = idx * 0.7
+        while time.time() < t_end:
+            now = time.time()
+            if now >= next_send:
+                seq += 1
+                angle += 0.05
+                import math
+                cam = {"position": [0.5 + 2 * math.cos(angle), 0.5, 0.5 + 2 * math.sin(angle)],
+                       "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}
+                sent[seq] = time.time()
+                await ws.send(json.dumps({"type": "camera", "seq": seq, "camera": cam}))
+                next_send += 1.0 / args.rate
+            try:
+                m = await asyncio.wait_for(ws.recv(), max(0.001, next_send - time.time()))
+            except asyncio.TimeoutError:
+                continue
+            if isinstance(m, str):
+                continue
+            h, _ = unpack_frame(m)
+            frames += 1
+            t = time.time()
+            if h["cameraSeq"] > answered:
+                lat.append(t - sent[h["cameraSeq"]])
+                answered = h["cameraSeq"]
+            await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+    out.append((frames, lat))
+
+
+def pct(values, p):
+    if not values:
+        return float("nan")
+    v = sorted(values)
+    return v[min(len(v) - 1, int(round(p / 100.0 * (len(v) - 1))))]
+
+
+def run(base, ws_url, token, args):
+    print("dataset %s, viewport %dx%d x dpr %g, window %d, camera at %g Hz, %g s per run" %
+          (args.dataset, args.width, args.height, args.dpr, args.window, args.rate, args.seconds))
+    print("%8s %10s %12s %14s %14s %12s %12s" % ("sessions", "frames/s", "per session", "latency p50", "latency p99",
+                                                 "coalesced", "encode MP/s"))
+    for n in [int(x) for x in args.sessions.split(",")]:
+        m0 = metrics(base, token)
+        out = []
+        t0 = time.time()
+
+        async def all_sessions():
+            await asyncio.gather(*[session(ws_url, token, args, i, t0 + args.seconds, out) for i in range(n)])
+        asyncio.run(all_sessions())
+        el = time.time() - t0
+        m1 = metrics(base, token)
+        frames = sum(f for f, _ in out)
+        lat = [x for _, l in out for x in l]
+        px = m1["lucent_encoded_pixels_total"] - m0["lucent_encoded_pixels_total"]
+        es = m1["lucent_encode_seconds_sum"] - m0["lucent_encode_seconds_sum"]
+        print("%8d %10.1f %12.1f %11.1f ms %11.1f ms %12d %12.1f" % (
+            n, frames / el, frames / el / n, 1000 * pct(lat, 50), 1000 * pct(lat, 99),
+            m1["lucent_frames_coalesced_total"] - m0["lucent_frames_coalesced_total"],
+            px / es / 1e6 if es > 0 else float("nan")))
+        time.sleep(1.0)
+    # JPEG encode throughput on big frames (HTTP, encode time from the header).
+    rates = []
+    for q in (70, 90):
+        for _ in range(3):
+            body = json.dumps({"dataset": args.dataset, "width": 1024, "height": 1024, "format": "jpeg",
+                               "quality": q}).encode()
+            hdr = {"Content-Type": "application/json"}
+            if token:
+                hdr["Authorization"] = "Bearer " + token
+            r = urllib.request.urlopen(urllib.request.Request(base + "/api/v1/render", data=body, headers=hdr))
+            r.read()
+            enc = float(re.search(r"encode=([0-9.]+)", r.headers["X-Lucent-Timings"]).group(1))
+            rates.append((q, 1024 * 1024 / (enc / 1000.0) / 1e6))
+    for q in (70, 90):
+        print("JPEG encode 1024x1024 quality %d: %.1f MP/s (median of 3)" %
+              (q, statistics.median(r for qq, r in rates if qq == q)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--binary", help="start this lucent binary (default: --url)")
+    ap.add_argument("--url", default="http://127.0.0.1:8080")
+    ap.add_argument("--token", default=os.environ.get("LUCENT_TOKEN", ""))
+    ap.add_argument("--dataset", default="demo:tornado")
+    ap.add_argument("--sessions", default="1,2,4")
+    ap.add_argument("--seconds", type=float, default=10)
+    ap.add_argument("--width", type=int, default=640)
+    ap.add_argument("--height", type=int, default=480)
+    ap.add_argument("--dpr", type=float, default=1.0)
+    ap.add_argument("--window", type=int, default=2)
+    ap.add_argument("--rate", type=float, default=60, help="camera messages per second per session")
+    ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
+    args = ap.parse_args()
+    if websockets is None:
+        sys.exit("python3-websockets is required")
+    if args.binary:
+        extra = args.server_args.split() if args.server_args else []
+        with Server(args.binary, *extra, data=(args.dataset,), demo_size=0) as srv:
+            print("daemon: " + next((l for l in srv.log if "GL:" in l), "?").split("] ", 1)[-1])
+            run(srv.base, srv.ws_url, args.token, args)
+            srv.stop()
+    else:
+        ws_url = args.url.replace("http://", "ws://").rstrip("/") + "/api/v1/ws"
+        run(args.url.rstrip("/"), ws_url, args.token, args)
+
+
+if __name__ == "__main__":
+    main()

@@ -116,10 +116,13 @@ fail:
     return 0;
 }
 
-GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands,
+static int pulls_primitives(lc_prim_type prim, int subset) { return prim != LC_PRIM_POINTS && subset > 1; }
+
+GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
                                     lc_error *err)
 {
-    GLuint *slot = &r->geometry_programs[kind][prim][bands];
+    int pulled = pulls_primitives(prim, subset);
+    GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -141,10 +144,12 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT;
     char defines[256];
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s", (int)prim, bands,
-             reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "");
-    char label[64];
-    snprintf(label, sizeof label, "%s program (%s, m=%d)", kind_names[kind], lc_prim_type_name(prim), bands);
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s", (int)prim, bands,
+             reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "");
+    char label[80];
+    snprintf(label, sizeof label, "%s program (%s, m=%d%s)", kind_names[kind], lc_prim_type_name(prim), bands,
+             pulled ? ", subset" : "");
     *slot = lc_renderer_build_program(defines, vs, fs_by_kind[kind], NULL, label, err);
     return *slot;
 }
@@ -240,9 +245,23 @@ int lc_gpu_scene_create(const lc_scene *s, lc_gpu_scene **out, lc_error *err)
             }
         gs->indices = make_buffer(idx, k * 2 * sizeof(uint32_t), &gs->bytes);
         gs->primitive_count = k;
-        free(idx);
+        /* Indexed ribbons: vertex 2v / 2v+1 are the two sides at line vertex v. */
+        uint32_t *quads = realloc(idx, (k ? k : 1) * 6 * sizeof(uint32_t));
+        if (!quads) {
+            free(idx);
+            lc_gpu_scene_destroy(gs);
+            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for segments", s->name);
+        }
+        for (uint64_t j = k; j-- > 0;) { /* backwards: pairs live in the first 2k slots */
+            uint32_t a = 2 * quads[2 * j], b = 2 * quads[2 * j + 1];
+            uint32_t q[6] = {a, a + 1, b, a + 1, b + 1, b};
+            memcpy(quads + 6 * j, q, sizeof q);
+        }
+        gs->draw_indices = make_buffer(quads, k * 6 * sizeof(uint32_t), &gs->bytes);
+        free(quads);
     } else if (s->type == LC_PRIM_TRIANGLES) {
         gs->indices = make_buffer(s->triangles, (size_t)s->triangle_count * 3 * sizeof(uint32_t), &gs->bytes);
+        gs->draw_indices = gs->indices; /* the same buffer serves both bindings */
         gs->primitive_count = s->triangle_count;
     } else {
         gs->indices = make_buffer(NULL, 0, &gs->bytes);
@@ -268,7 +287,8 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
     if (!gs)
         return;
     GLuint bufs[] = {gs->positions,      gs->frames,  gs->attributes,  gs->colors, gs->vertex_elements,
-                     gs->vertex_weights, gs->indices, gs->adj_offsets, gs->adj};
+                     gs->vertex_weights, gs->indices, gs->adj_offsets, gs->adj,
+                     gs->draw_indices != gs->indices ? gs->draw_indices : 0};
     glDeleteBuffers(sizeof bufs / sizeof bufs[0], bufs);
     free(gs);
 }
@@ -408,8 +428,9 @@ void lc_renderer_destroy(lc_renderer *r)
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
         for (int p = 0; p < 3; p++)
             for (int b = 0; b <= LC_MAX_BANDS; b++)
-                if (r->geometry_programs[k][p][b])
-                    glDeleteProgram(r->geometry_programs[k][p][b]);
+                for (int v = 0; v < 2; v++)
+                    if (r->geometry_programs[k][p][b][v])
+                        glDeleteProgram(r->geometry_programs[k][p][b][v]);
     for (int k = 0; k < PROG_FIXED_KINDS - PROG_GEOMETRY_KINDS; k++)
         if (r->fixed_programs[k])
             glDeleteProgram(r->fixed_programs[k]);
@@ -523,6 +544,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     const lc_render_params *p = fs->params;
     glUseProgram(prog);
     glBindVertexArray(r->vao);
+    glVertexArrayElementBuffer(r->vao, gs->draw_indices);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITIONS, gs->positions);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAMES, gs->frames);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ATTRIBUTES, gs->attributes);
@@ -568,12 +590,19 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
 
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
 {
-    uint64_t n = fs->gs->primitive_count;
+    const lc_gpu_scene *gs = fs->gs;
+    lc_prim_type prim = gs->scene->type;
+    uint64_t n = gs->primitive_count;
     uint64_t step = subset > 0 ? (uint64_t)subset : 1;
     uint64_t drawn = (n + step - 1) / step;
-    int corners = fs->gs->scene->type == LC_PRIM_TRIANGLES ? 3 : 6;
-    if (drawn)
-        glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(drawn * (uint64_t)corners));
+    if (!drawn)
+        return;
+    if (prim == LC_PRIM_POINTS)
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)drawn);
+    else if (pulls_primitives(prim, subset))
+        glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(drawn * (prim == LC_PRIM_TRIANGLES ? 3u : 6u)));
+    else
+        glDrawElements(GL_TRIANGLES, (GLsizei)(n * (prim == LC_PRIM_TRIANGLES ? 3u : 6u)), GL_UNSIGNED_INT, NULL);
 }
 
 static void bind_coefficients(const lc_targets *t)
@@ -723,8 +752,8 @@ static int optimize_opacities(lc_renderer *r, lc_frame_setup *fs, lc_frame_state
     lc_prim_type prim = fs->gs->scene->type;
     int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
     int lw = fs->low_width, lh = fs->low_height;
-    GLuint p1 = lc_renderer_geometry_program(r, PROG_P1, prim, bands, err);
-    GLuint p2 = p1 ? lc_renderer_geometry_program(r, PROG_P2, prim, bands, err) : 0;
+    GLuint p1 = lc_renderer_geometry_program(r, PROG_P1, prim, bands, p->foo.subset, err);
+    GLuint p2 = p1 ? lc_renderer_geometry_program(r, PROG_P2, prim, bands, 1, err) : 0;
     if (!p2)
         return LC_ERR_GL;
     lc_targets_ensure(&r->coef_low, lw, lh, ntargets, GL_RGBA32F, &r->bytes_targets);
@@ -771,8 +800,8 @@ static int composite_fourier(lc_renderer *r, lc_frame_setup *fs, int direct, lc_
     const lc_render_params *p = fs->params;
     lc_prim_type prim = fs->gs->scene->type;
     int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
-    GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : PROG_P4, prim, bands, err);
-    GLuint p5 = p4 ? lc_renderer_geometry_program(r, direct ? PROG_P5_DIRECT : PROG_P5, prim, bands, err) : 0;
+    GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : PROG_P4, prim, bands, p->foo.subset, err);
+    GLuint p5 = p4 ? lc_renderer_geometry_program(r, direct ? PROG_P5_DIRECT : PROG_P5, prim, bands, 1, err) : 0;
     if (!p5)
         return LC_ERR_GL;
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
@@ -805,7 +834,7 @@ static int composite_fourier(lc_renderer *r, lc_frame_setup *fs, int direct, lc_
 
 static int render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
-    GLuint prog = lc_renderer_geometry_program(r, PROG_OPAQUE, fs->gs->scene->type, 1, err);
+    GLuint prog = lc_renderer_geometry_program(r, PROG_OPAQUE, fs->gs->scene->type, 1, 1, err);
     if (!prog)
         return LC_ERR_GL;
     const double *bg = fs->params->style.background;
@@ -825,7 +854,7 @@ static int render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 
 static int render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
-    GLuint prog = lc_renderer_geometry_program(r, PROG_WBOIT, fs->gs->scene->type, 1, err);
+    GLuint prog = lc_renderer_geometry_program(r, PROG_WBOIT, fs->gs->scene->type, 1, 1, err);
     if (!prog)
         return LC_ERR_GL;
     lc_targets_ensure(&r->accum, fs->width, fs->height, 2, GL_RGBA32F, &r->bytes_targets);

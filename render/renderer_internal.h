@@ -33,6 +33,7 @@ struct lc_gpu_scene {
     const lc_scene *scene;
     GLuint positions, frames, attributes, colors, vertex_elements, vertex_weights, indices;
     GLuint adj_offsets, adj;
+    GLuint draw_indices;      /* element buffer of indexed draws: ribbon quads (lines) or the triangles */
     uint64_t primitive_count; /* points, segments or triangles */
     uint64_t bytes;
 };
@@ -66,7 +67,8 @@ struct lc_renderer {
     GLuint vao;
     GLuint colormap_tex[16];
     int colormap_count;
-    GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1];
+    /* [kind][primitive][bands][pulled]: pulled = unindexed subset variant */
+    GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2];
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -96,8 +98,13 @@ typedef struct lc_frame_setup {
     int low_width, low_height;
 } lc_frame_setup;
 
-/* Returns the program for (kind, primitive, bands), compiling on first use; 0 on error. */
-GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands,
+/* Returns the program for (kind, primitive, bands) that lc_renderer_draw_geometry
+ * draws with the given subset stride, compiling on first use; 0 on error. Lines
+ * and triangles draw indexed (shared vertices shaded once) unless subset > 1,
+ * which pulls every n-th primitive unindexed (#define PULL_PRIMITIVES); points
+ * always draw instanced. Programs built elsewhere from geometry.vert.glsl
+ * without PULL_PRIMITIVES match subset 1. */
+GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
                                     lc_error *err);
 /* Compiles a program from embedded shader files; defines is a "#define ..\n" block. */
 GLuint lc_renderer_build_program(const char *defines, const char *const *vertex_files,

@@ -9,7 +9,6 @@ in float v_zview;
 in vec3 v_wpos;
 in vec3 v_normal;
 in vec2 v_quad;
-in vec3 v_bary;
 flat in uvec3 v_primary;
 
 // Round splats: fragments outside the unit disc are not part of the point.
@@ -22,18 +21,7 @@ bool outside_primitive()
 #endif
 }
 
-uint fragment_element()
-{
-#if PRIM == PRIM_POINTS
-    return v_primary.x;
-#elif PRIM == PRIM_LINES
-    return v_quad.y < 0.5 ? v_primary.x : v_primary.y;
-#else
-    if (v_bary.x >= v_bary.y && v_bary.x >= v_bary.z)
-        return v_primary.x;
-    return v_bary.y >= v_bary.z ? v_primary.y : v_primary.z;
-#endif
-}
+uint fragment_element() { return v_primary.x; }
 
 float fragment_importance() { return clamp(v_g, 0.0, 1.0); }
 

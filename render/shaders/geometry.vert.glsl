@@ -1,6 +1,7 @@
 // Vertex pulling for points (splat quads), lines (screen-facing ribbons mitred
 // by the vertex tangent, so adjacent segments share edges: no gaps, no overlap)
-// and triangles. One draw covers every pass; gl_VertexID selects primitive and corner.
+// and triangles. One draw covers every pass. Each fragment's element is the
+// primary element of its primitive's provoking (last) vertex.
 
 out float v_g;        // importance g
 out float v_cscalar;  // colour scalar in colormap coordinates
@@ -10,7 +11,6 @@ out float v_zview;    // view-space depth (distance along the view direction)
 out vec3 v_wpos;
 out vec3 v_normal;    // triangles: normal; lines: ribbon side vector
 out vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], along in [0,1])
-out vec3 v_bary;      // triangles: barycentric coordinates
 flat out uvec3 v_primary; // primary elements of the primitive's vertices
 
 #ifdef READ_ALPHA
@@ -36,33 +36,12 @@ void emit(uint v, vec3 wpos)
     gl_Position = u_view_proj * vec4(wpos, 1.0);
     v_normal = vec3(0.0);
     v_quad = vec2(0.0);
-    v_bary = vec3(0.0);
 }
 
-void main()
+// One side of a screen-facing ribbon at line vertex v: offset along
+// cross(tangent, view ray) by the half width (never under the pixel minimum).
+void ribbon_vertex(uint v, float side_sign)
 {
-#if PRIM == PRIM_TRIANGLES
-    uint prim = uint(gl_VertexID) / 3u * u_subset;
-    uint corner = uint(gl_VertexID) % 3u;
-    uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
-    uint v = corner == 0u ? i0 : (corner == 1u ? i1 : i2);
-    emit(v, positions[v].xyz);
-    v_normal = frames[v].xyz;
-    v_bary = vec3(corner == 0u, corner == 1u, corner == 2u);
-    v_primary = uvec3(vertex_elements[i0].w, vertex_elements[i1].w, vertex_elements[i2].w);
-#else
-    const vec2 quad[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
-    uint prim = uint(gl_VertexID) / 6u * u_subset;
-    vec2 q = quad[gl_VertexID % 6];
-#if PRIM == PRIM_POINTS
-    uint v = prim;
-    emit(v, positions[v].xyz);
-    gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
-    v_quad = q;
-    v_primary = uvec3(vertex_elements[v].w);
-#else
-    uint a = indices[2u * prim], b = indices[2u * prim + 1u];
-    uint v = q.x < 0.0 ? a : b;
     vec3 p = positions[v].xyz;
     vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - p);
     vec3 side = cross(frames[v].xyz, to_cam);
@@ -72,14 +51,55 @@ void main()
     float depth = u_ortho != 0 ? u_focal_dist : max(dot(p - u_eye, u_view_dir), 1e-6 * u_focal_dist);
     float pixel = u_pixel_world * depth / u_focal_dist;
     float half_width = max(u_line_half_width, u_min_half_pixels * pixel);
-    emit(v, p + side * (half_width * q.y));
+    emit(v, p + side * (half_width * side_sign));
     v_normal = side;
     // Tube shading needs a few pixels across; on thinner ribbons the pixel
     // centres would sample the tube profile unevenly along the line (a dotted
     // look), so the profile flattens as the ribbon narrows.
     float width_px = 2.0 * half_width / pixel;
-    v_quad = vec2(q.y * clamp((width_px - 1.0) / 4.0, 0.0, 0.85), q.x < 0.0 ? 0.0 : 1.0);
-    v_primary = uvec3(vertex_elements[a].w, vertex_elements[b].w, 0u);
+    v_quad = vec2(side_sign * clamp((width_px - 1.0) / 4.0, 0.0, 0.85), 0.0);
+}
+
+void main()
+{
+#if PRIM == PRIM_POINTS
+    // Instanced triangle strip: one instance per (subset-th) point, 4 corners.
+    uint v = uint(gl_InstanceID) * u_subset;
+    vec2 q = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
+    emit(v, positions[v].xyz);
+    gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
+    v_quad = q;
+    v_primary = uvec3(vertex_elements[v].w);
+#elif defined(PULL_PRIMITIVES)
+    // Subset draws (every n-th primitive): unindexed, six corners per segment
+    // or three per triangle, pulled by primitive number.
+#if PRIM == PRIM_TRIANGLES
+    uint prim = uint(gl_VertexID) / 3u * u_subset;
+    uint corner = uint(gl_VertexID) % 3u;
+    uint v = indices[3u * prim + corner];
+    emit(v, positions[v].xyz);
+    v_normal = frames[v].xyz;
+    v_primary = uvec3(vertex_elements[indices[3u * prim + 2u]].w);
+#else
+    const vec2 quad[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
+    uint prim = uint(gl_VertexID) / 6u * u_subset;
+    vec2 q = quad[gl_VertexID % 6];
+    uint a = indices[2u * prim], b = indices[2u * prim + 1u];
+    uint v = q.x < 0.0 ? a : b;
+    ribbon_vertex(v, q.y);
+    v_primary = uvec3(vertex_elements[b].w);
 #endif
+#elif PRIM == PRIM_LINES
+    // Indexed ribbons: two vertices (sides) per line vertex, shared by the two
+    // segments that meet there, so each is shaded once.
+    uint v = uint(gl_VertexID) >> 1;
+    ribbon_vertex(v, (gl_VertexID & 1) != 0 ? 1.0 : -1.0);
+    v_primary = uvec3(vertex_elements[v].w);
+#else
+    // Indexed triangles: the scene's own index buffer, shared vertices shaded once.
+    uint v = uint(gl_VertexID);
+    emit(v, positions[v].xyz);
+    v_normal = frames[v].xyz;
+    v_primary = uvec3(vertex_elements[v].w);
 #endif
 }

@@ -195,6 +195,18 @@ json_t *lc_dataset_info(const lc_dataset *ds)
         json_array_append_new(b, corner);
     }
     json_object_set_new(o, "bounds", b);
+    if (s->has_view) {
+        /* The suggested initial view the renderer fits to when a request has no
+         * camera; clients fit their own camera to it the same way. */
+        json_t *view = json_object(), *dir = json_array(), *up = json_array();
+        for (int i = 0; i < 3; i++) {
+            json_array_append_new(dir, json_real(isfinite(s->view_direction[i]) ? s->view_direction[i] : 0.0));
+            json_array_append_new(up, json_real(isfinite(s->view_up[i]) ? s->view_up[i] : 0.0));
+        }
+        json_object_set_new(view, "direction", dir);
+        json_object_set_new(view, "up", up);
+        json_object_set_new(o, "view", view);
+    }
     json_object_set_new(o, "hasRgb", json_boolean(s->rgb != NULL));
     json_t *attrs = json_array();
     for (int i = 0; i < s->attribute_count; i++) {

@@ -47,7 +47,9 @@ const lc_dataset *lc_datasets_at(const lc_datasets *d, int i);
 const lc_dataset *lc_datasets_find(const lc_datasets *d, const char *name);
 
 /* New JSON object describing ds: name, source, type, vertices, primitives,
- * lines, triangles, elements, bounds, attributes [{name,min,max}], defaults.
+ * lines, triangles, elements, points, bounds, view {direction, up} (when the
+ * scene suggests one), hasRgb, attributes [{name, range}], defaultImportance,
+ * defaultColor, gpuBytes (once uploaded) and a description for demos.
  * Caller json_decref()s. Any thread (builds fresh objects every call). */
 json_t *lc_dataset_info(const lc_dataset *ds);
 

@@ -269,8 +269,10 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     st->outstanding[st->unacked++] = out->frame;
     st->rendering = true;
     st->dirty = false;
-    if (st->updates_since_frame > 1)
+    if (st->updates_since_frame > 1) {
         lc_metrics_coalesced(s->srv->metrics, st->updates_since_frame - 1);
+        st->coalesced += st->updates_since_frame - 1;
+    }
     st->updates_since_frame = 0;
     s->last_used = now;
     pthread_mutex_unlock(&s->lock);

@@ -49,6 +49,7 @@ typedef struct lc_stream {
     uint64_t camera_seq;             /* latest camera seq received */
     bool dirty;                      /* input arrived since the last snapshot */
     uint64_t updates_since_frame;    /* for the coalescing metric */
+    uint64_t coalesced;              /* updates overwritten before a frame showed them (stats) */
     bool rendering;                  /* a worker owns the frame state right now */
     bool converged;                  /* the last frame's opacities stopped fading */
     bool last_interactive;           /* the last frame used interactive quality/scale */

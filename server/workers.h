@@ -84,6 +84,12 @@ void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue);
 /* Fills "timings" style lists: pass names with ms for passes that ran. */
 int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap);
 
+/* The render-request field that a renderer error message starts with
+ * ("importance.attribute: demo:abc has no attribute \"x\"" ->
+ * "importance.attribute"), for the error's `field`; NULL when it names none.
+ * The result is a static string. Any thread. */
+const char *lc_workers_error_field(const char *message);
+
 #ifdef __cplusplus
 }
 #endif

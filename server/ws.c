@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <microhttpd.h>
 #include <nettle/base64.h>
 #include <nettle/sha1.h>
@@ -28,6 +29,20 @@
 #define MAX_QUEUED_BYTES (32u << 20) /* per connection, beyond the frame window: not reading */
 #define MAX_QUEUED_MSGS 256
 #define MAX_CONSECUTIVE_ERRORS 32
+#define STATS_INTERVAL 1.0        /* seconds between stats messages while frames flow */
+#define STATS_SAMPLES 256         /* latest frames remembered for fps and timing figures */
+
+/* What a connection's stats messages report (I/O thread only). The rings hold
+ * the latest frames, indexed by frame count modulo STATS_SAMPLES. */
+typedef struct stream_stats {
+    uint64_t frames;                 /* frame messages queued to the socket */
+    uint64_t bytes;                  /* bytes of every message queued */
+    double sent_at[STATS_SAMPLES];   /* lc_now() when each frame was queued */
+    double render_ms[STATS_SAMPLES]; /* its render worker wall time */
+    double encode_ms[STATS_SAMPLES]; /* its encode time */
+    uint64_t frames_at_report;       /* frames when the last stats message went out */
+    double last_report;              /* lc_now() of that message (of hello before the first) */
+} stream_stats;
 
 typedef struct conn {
     struct conn *prev, *next;
@@ -45,6 +60,7 @@ typedef struct conn {
     char close_reason[64];
     int errors;               /* consecutive bad messages */
     uint32_t events;          /* registered epoll events */
+    stream_stats stats;
 } conn;
 
 typedef struct inbox_item {
@@ -54,6 +70,8 @@ typedef struct inbox_item {
     unsigned char *msg;
     size_t len;
     bool binary;
+    bool frame;               /* a frame message: count it in the stats */
+    double render_ms, encode_ms;
 } inbox_item;
 
 struct lc_ws {
@@ -102,18 +120,36 @@ static void push_inbox(lc_ws *ws, inbox_item *it)
     wake(ws);
 }
 
-void lc_ws_send(lc_ws *ws, lc_session *s, unsigned char *msg, size_t len, bool binary)
+static inbox_item *new_message(lc_ws *ws, lc_session *s, unsigned char *msg, size_t len, bool binary)
 {
     inbox_item *it = ws ? calloc(1, sizeof *it) : NULL;
     if (!it) {
         free(msg);
-        return;
+        return NULL;
     }
     lc_session_ref(s);
     it->session = s;
     it->msg = msg;
     it->len = len;
     it->binary = binary;
+    return it;
+}
+
+void lc_ws_send(lc_ws *ws, lc_session *s, unsigned char *msg, size_t len, bool binary)
+{
+    inbox_item *it = new_message(ws, s, msg, len, binary);
+    if (it)
+        push_inbox(ws, it);
+}
+
+void lc_ws_send_frame(lc_ws *ws, lc_session *s, unsigned char *msg, size_t len, double render_ms, double encode_ms)
+{
+    inbox_item *it = new_message(ws, s, msg, len, true);
+    if (!it)
+        return;
+    it->frame = true;
+    it->render_ms = render_ms;
+    it->encode_ms = encode_ms;
     push_inbox(ws, it);
 }
 
@@ -181,6 +217,7 @@ static int queue_msg(conn *c, uint8_t opcode, const void *data, size_t len)
     if (wslay_event_queue_msg(c->ctx, &m) != 0)
         return -1;
     lc_metrics_bytes_sent(c->ws->srv->metrics, len);
+    c->stats.bytes += len;
     return 0;
 }
 
@@ -213,6 +250,86 @@ static void send_error(conn *c, const char *code, const char *message, const cha
 static void send_proto_error(conn *c, const lc_proto_error *pe)
 {
     send_error(c, pe->code, pe->message, pe->field, false, 0);
+}
+
+/* ---------------------------------------------------------------- stats */
+
+static void record_frame(conn *c, double now, double render_ms, double encode_ms)
+{
+    stream_stats *st = &c->stats;
+    size_t i = (size_t)(st->frames % STATS_SAMPLES);
+    st->sent_at[i] = now;
+    st->render_ms[i] = render_ms;
+    st->encode_ms[i] = encode_ms;
+    st->frames++;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Milliseconds rounded to the microsecond: enough for a status line. */
+static json_t *ms_json(double ms) { return json_real(round(ms * 1000.0) / 1000.0); }
+
+/* Sends a stats message when frames went out since the last one and that one
+ * is at least STATS_INTERVAL old: about once a second while frames flow, and a
+ * last one after they stop (from the tick). Returns 1 when a message was
+ * queued, 0 when none was due, -1 when c must go (its client is not reading). */
+static int maybe_send_stats(conn *c, double now)
+{
+    stream_stats *st = &c->stats;
+    lc_session *s = c->session;
+    uint64_t fresh = st->frames - st->frames_at_report;
+    if (!s || fresh == 0 || c->close_deadline > 0 || now - st->last_report < STATS_INTERVAL)
+        return 0;
+    /* Timing figures over the frames since the last report (the latest
+     * STATS_SAMPLES of them); fps over the last second. */
+    int n = fresh < STATS_SAMPLES ? (int)fresh : STATS_SAMPLES;
+    int held = st->frames < STATS_SAMPLES ? (int)st->frames : STATS_SAMPLES;
+    double render[STATS_SAMPLES], render_sum = 0, encode_sum = 0;
+    int fps = 0;
+    for (int k = 0; k < held; k++) {
+        size_t i = (size_t)((st->frames - 1 - (uint64_t)k) % STATS_SAMPLES);
+        if (now - st->sent_at[i] <= 1.0)
+            fps++;
+        if (k < n) {
+            render[k] = st->render_ms[i];
+            render_sum += st->render_ms[i];
+            encode_sum += st->encode_ms[i];
+        }
+    }
+    qsort(render, (size_t)n, sizeof render[0], cmp_double);
+    double p50 = n % 2 ? render[n / 2] : 0.5 * (render[n / 2 - 1] + render[n / 2]);
+    int render_queue = 0, encode_queue = 0;
+    lc_workers_depths(c->ws->srv->workers, &render_queue, &encode_queue);
+    pthread_mutex_lock(&s->lock);
+    uint64_t dropped = s->stream.coalesced;
+    int unacked = s->stream.unacked, window = s->stream.window;
+    pthread_mutex_unlock(&s->lock);
+
+    json_t *f = json_object();
+    json_object_set_new(f, "framesSent", json_integer((json_int_t)st->frames));
+    json_object_set_new(f, "framesDropped", json_integer((json_int_t)dropped));
+    json_object_set_new(f, "fps", json_integer(fps));
+    json_object_set_new(f, "renderMs", ms_json(render_sum / n));
+    json_object_set_new(f, "renderP50Ms", ms_json(p50));
+    json_object_set_new(f, "encodeMs", ms_json(encode_sum / n));
+    json_object_set_new(f, "queue", json_integer(render_queue));
+    json_object_set_new(f, "unacked", json_integer(unacked));
+    json_object_set_new(f, "window", json_integer(window));
+    json_object_set_new(f, "bytesSent", json_integer((json_int_t)st->bytes));
+    json_object_set_new(f, "interval", json_real(round((now - st->last_report) * 1000.0) / 1000.0));
+    char *text = lc_proto_stats_json(f);
+    json_decref(f);
+    st->frames_at_report = st->frames;
+    st->last_report = now;
+    if (!text)
+        return 0;
+    int rc = queue_msg(c, WSLAY_TEXT_FRAME, text, strlen(text));
+    free(text);
+    return rc == 0 ? 1 : -1;
 }
 
 /* ---------------------------------------------------------------- protocol */
@@ -271,6 +388,7 @@ static void on_hello(conn *c, lc_client_msg *m)
     pthread_mutex_unlock(&s->lock);
     c->session = s;
     s->ws_conn = c;
+    c->stats.last_report = lc_now();
     json_t *info = lc_dataset_info(ds);
     char *ready = lc_proto_ready_json(s->id, info, &req, &c->ws->limits, &ss);
     json_decref(info);
@@ -511,10 +629,18 @@ static void drain_inbox(lc_ws *ws)
         } else {
             conn *c = it->session->ws_conn;
             if (c) {
-                if (queue_msg(c, it->binary ? WSLAY_BINARY_FRAME : WSLAY_TEXT_FRAME, it->msg, it->len) != 0)
+                bool counted = it->frame && c->close_deadline == 0;
+                if (queue_msg(c, it->binary ? WSLAY_BINARY_FRAME : WSLAY_TEXT_FRAME, it->msg, it->len) != 0) {
                     conn_destroy(ws, c);
-                else
-                    conn_flush(ws, c);
+                } else {
+                    double now = lc_now();
+                    if (counted)
+                        record_frame(c, now, it->render_ms, it->encode_ms);
+                    if (maybe_send_stats(c, now) < 0)
+                        conn_destroy(ws, c);
+                    else
+                        conn_flush(ws, c);
+                }
             }
             free(it->msg);
             lc_session_unref(it->session);
@@ -524,7 +650,8 @@ static void drain_inbox(lc_ws *ws)
     }
 }
 
-/* Once a second: idle timeouts, pings, overdue close handshakes, idle HTTP sessions. */
+/* Once a second: idle timeouts, pings, overdue close handshakes, the stats
+ * message that follows the end of a frame burst, idle HTTP sessions. */
 static void tick(lc_ws *ws, double now)
 {
     const lc_serve_config *cfg = &ws->srv->cfg;
@@ -542,6 +669,12 @@ static void tick(lc_ws *ws, double now)
             struct wslay_event_msg m = {.opcode = WSLAY_PING, .msg = NULL, .msg_length = 0};
             wslay_event_queue_msg(c->ctx, &m);
             conn_flush(ws, c);
+        } else {
+            int r = maybe_send_stats(c, now);
+            if (r < 0)
+                conn_destroy(ws, c);
+            else if (r > 0)
+                conn_flush(ws, c);
         }
         c = next;
     }

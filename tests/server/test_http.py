@@ -1,6 +1,6 @@
 """HTTP API against the real daemon: health, datasets, POST/GET render (decodable
 images of the requested size), scripted sessions with dt fading, static files,
-metrics, errors, and a clean SIGTERM exit."""
+metrics, errors, a dataset's suggested view, and a clean SIGTERM exit."""
 import json
 import sys
 
@@ -23,6 +23,11 @@ with Server(binary) as srv:
     check(any("range" in a for a in d.get("attributes", [])), "dataset attributes carry ranges")
     st, _, one = srv.json("GET", "/api/v1/datasets/demo:points")
     check(st == 200 and one["name"] == "demo:points", "GET /api/v1/datasets/NAME")
+    check("view" not in one, "no suggested view for demo:points (the renderer uses ParaView's default)")
+    st, _, e = srv.json("GET", "/api/v1/datasets/demo:nope")
+    check(st == 404 and e["error"]["code"] == "not_found", "GET /api/v1/datasets/UNKNOWN -> 404")
+    check(isinstance(health.get("workers"), int) and health["workers"] >= 1 and health.get("platform") and
+          health.get("sessions") == {"http": 0, "ws": 0}, "health has workers, platform and sessions")
 
     req = {"dataset": "demo:points", "width": 96, "height": 64, "format": "jpeg", "quality": 80}
     st, h, img = srv.request("POST", "/api/v1/render", req)
@@ -30,6 +35,10 @@ with Server(binary) as srv:
     check(st == 200 and jpeg_size(img) == (96, 64), "JPEG decodes to the requested 96x64")
     check("importance=" in h.get("x-lucent-timings", "") and "resolve=" in h.get("x-lucent-timings", ""),
           "per-pass timings header: %s" % h.get("x-lucent-timings"))
+    check("importance;dur=" in h.get("server-timing", "") and "encode;dur=" in h.get("server-timing", ""),
+          "Server-Timing header: %s" % h.get("server-timing"))
+    check(h.get("x-lucent-converged") == "true" and float(h.get("x-lucent-max-alpha-change", "nan")) >= 0,
+          "one-shot render: X-Lucent-Converged true, X-Lucent-Max-Alpha-Change")
 
     st, h, img = srv.request("POST", "/api/v1/render", {"dataset": "points", "width": 64, "height": 48, "format": "png"})
     check(st == 200 and h.get("content-type") == "image/png" and png_size(img) == (64, 48),
@@ -57,12 +66,29 @@ with Server(binary) as srv:
     check(st == 405 and "POST" in h.get("allow", ""), "DELETE /api/v1/render -> 405 with Allow")
     st, _, e = srv.json("GET", "/api/v1/nope")
     check(st == 404 and e["error"]["code"] == "not_found", "unknown route -> 404 JSON")
+    # A value only the renderer can check (an attribute the dataset lacks) is a 400 naming the field.
+    for field in ("importance", "color"):
+        st, _, e = srv.json("POST", "/api/v1/render", {"width": 32, "height": 32, field: {"attribute": "nope"}})
+        check(st == 400 and e["error"]["code"] == "bad_field" and e["error"].get("field") == field + ".attribute"
+              and e["error"]["message"].startswith(field + ".attribute: "),
+              "unknown %s.attribute -> 400 bad_field naming it (%s)" % (field, e))
+    st, _, e = srv.json("GET", "/api/v1/render?width=32&height=32&importance=nope")
+    check(st == 400 and e["error"].get("field") == "importance.attribute", "GET form too (%s)" % e)
+    # WebSocket handshake with a version other than 13 -> 426 naming the supported one.
+    st, h, e = srv.json("GET", "/api/v1/ws", headers={"Connection": "Upgrade", "Upgrade": "websocket",
+                                                      "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ==",
+                                                      "Sec-WebSocket-Version": "8"})
+    check(st == 426 and h.get("sec-websocket-version") == "13" and e["error"]["field"] == "Sec-WebSocket-Version",
+          "WebSocket version 8 -> 426 with Sec-WebSocket-Version: 13 (%s)" % st)
 
     # Scripted session: a params change fades with the given dt.
     st, h, s = srv.json("POST", "/api/v1/sessions", {"dataset": "demo:points", "width": 64, "height": 64,
                                                       "format": "jpeg", "params": {"fadeHalfLife": 0.5}})
     check(st == 201 and len(s.get("session", "")) == 32, "POST /api/v1/sessions -> 201 with an id")
     sid = s["session"]
+    check(h.get("location") == "/api/v1/sessions/" + sid, "Location: /api/v1/sessions/ID (%s)" % h.get("location"))
+    check(s.get("dataset", {}).get("name") == "demo:points" and s.get("defaults", {}).get("width") == 64,
+          "201 body carries dataset info and the session's defaults")
     path = "/api/v1/sessions/%s/render" % sid
 
     def frame(body):
@@ -83,6 +109,7 @@ with Server(binary) as srv:
     st, _, info = srv.json("GET", "/api/v1/sessions/" + sid)
     check(st == 200 and info["frames"] == 5 and info["request"]["params"]["q"] == 0,
           "GET session shows 5 frames and the merged params")
+    check(info.get("session") == sid and info.get("dataset") == "demo:points", "GET session names its id and dataset")
     st, _, e = srv.json("POST", path, {"dataset": "demo:other"})
     check(st == 400 and e["error"]["field"] == "dataset", "dataset cannot change within a session")
     st, _, e = srv.json("POST", path, {"params": {"bands": 99}})
@@ -113,5 +140,20 @@ with Server(binary) as srv:
     code = srv.stop()
     check(code == 0, "SIGTERM -> exit 0 (got %s)" % code)
     check(any("shutting down" in line for line in srv.log), "shutdown is logged")
+
+# The streamline demos suggest a view (side on, +Z up): info carries it as view {direction, up}.
+with Server(binary, data=("demo:abc", "demo:points"), demo_size=40) as srv:
+    st, _, ds = srv.json("GET", "/api/v1/datasets")
+    by_name = {d["name"]: d for d in ds.get("datasets", [])}
+    view = by_name.get("demo:abc", {}).get("view")
+    check(isinstance(view, dict) and len(view.get("direction", [])) == 3 and len(view.get("up", [])) == 3,
+          "demo:abc has view {direction, up}: %s" % view)
+    if view:
+        check(all(abs(a - b) < 1e-12 for a, b in zip(view["direction"], [-1, 0.6, -0.45])) and view["up"] == [0, 0, 1],
+              "view is the scene's (direction from the camera toward the data, +Z up)")
+    check("view" not in by_name.get("demo:points", {}), "demo:points has none")
+    st, _, one = srv.json("GET", "/api/v1/datasets/demo:abc")
+    check(st == 200 and one.get("view") == view, "GET /api/v1/datasets/demo:abc carries the same view")
+    check(srv.stop() == 0, "second server exits 0")
 
 check.done()

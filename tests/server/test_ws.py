@@ -1,7 +1,8 @@
 """WebSocket sessions against the real daemon: hello -> ready -> frames, the
 unacknowledged-frame window, a coalesced camera burst, interactive then still
-frames, frames stopping once converged, malformed and oversized messages while
-another session keeps working, and close frames on SIGTERM."""
+frames, frames stopping once converged, stats messages while frames flow and
+once after, malformed and oversized messages while another session keeps
+working, and close frames on SIGTERM."""
 import asyncio
 import json
 import sys
@@ -21,11 +22,24 @@ def camera(seq, z):
                        "camera": {"position": [0.5, 0.5, z], "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}})
 
 
-async def recv(ws, timeout):
-    try:
-        return await asyncio.wait_for(ws.recv(), timeout)
-    except asyncio.TimeoutError:
-        return None
+def is_stats(m):
+    return isinstance(m, str) and json.loads(m).get("type") == "stats"
+
+
+async def recv(ws, timeout, keep_stats=False):
+    """The next message within timeout, or None. stats messages (which come
+    about once a second while frames flow) are skipped unless keep_stats."""
+    deadline = time.time() + timeout
+    while True:
+        left = deadline - time.time()
+        if left <= 0:
+            return None
+        try:
+            m = await asyncio.wait_for(ws.recv(), left)
+        except asyncio.TimeoutError:
+            return None
+        if keep_stats or not is_stats(m):
+            return m
 
 
 async def hello(ws, **extra):
@@ -129,27 +143,34 @@ async def bad_input(srv):
         async with websockets.connect(srv.ws_url, max_size=None) as ws:
             await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": {}}))
             e = json.loads(await recv(ws, 5))
-            check(e["type"] == "error" and not e["fatal"], "camera before hello -> recoverable error (%s)" % e["code"])
+            check(e["type"] == "error" and e["code"] == "bad_state" and e.get("field") == "type" and not e["fatal"],
+                  "camera before hello -> recoverable bad_state naming type (%s)" % e["code"])
             await ws.send("{not json")
             e = json.loads(await recv(ws, 5))
             check(e["type"] == "error" and e["code"] == "bad_json" and not e["fatal"], "garbage -> bad_json, session stays")
             await ws.send(json.dumps({"type": "hello", "dataset": "demo:nope", "width": 10, "height": 10}))
             e = json.loads(await recv(ws, 5))
-            check(e["type"] == "error" and e["code"] == "not_found", "hello with an unknown dataset -> not_found")
+            check(e["type"] == "error" and e["code"] == "not_found" and e.get("field") == "dataset" and not e["fatal"],
+                  "hello with an unknown dataset -> recoverable not_found naming dataset")
             await ws.send(b"\x00\x01binary")
             e = json.loads(await recv(ws, 5))
             check(e["type"] == "error", "binary client message -> error")
             ready = await hello(ws)
-            check(ready.get("type") == "ready", "a valid hello still works after errors")
+            check(ready.get("type") == "ready", "a valid hello still works after errors (the socket stayed open)")
             await frames_until_quiet(ws, 1.0)
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 10, "height": 10}))
+            e = json.loads(await recv(ws, 5))
+            check(e["type"] == "error" and e["code"] == "bad_state" and e.get("field") == "type" and not e["fatal"],
+                  "a second hello -> recoverable bad_state (%s)" % e["code"])
             await ws.send(json.dumps({"type": "params", "params": {"bands": 42}}))
             e = json.loads(await recv(ws, 5))
             check(e["code"] == "out_of_range" and e.get("field") == "params.bands", "params out of range names the field")
             await ws.send(json.dumps({"type": "params", "importance": {"attribute": "no_such_attribute"}}))
             frames = await frames_until_quiet(ws, 1.5)
             texts = [f[1] for f in frames if f[0] == "text"]
-            check(texts and texts[0]["type"] == "error", "unknown attribute -> error message (%s)" %
-                  (texts[0].get("code") if texts else None))
+            check(texts and texts[0]["type"] == "error" and texts[0]["code"] == "bad_field" and
+                  texts[0].get("field") == "importance.attribute" and not texts[0]["fatal"],
+                  "unknown attribute -> bad_field naming importance.attribute (%s)" % (texts[0] if texts else None))
             # Oversized message -> close 1009.
             await ws.send(json.dumps({"type": "params", "params": {"q": 1}, "pad": "x" * 9000}))
             try:
@@ -175,6 +196,67 @@ async def bad_input(srv):
     check(st == 200, "server healthy after abrupt disconnects")
 
 
+async def stats(srv):
+    """stats messages: about once a second while frames flow, one more after
+    the stream stops, none while idle; their figures agree with what arrived."""
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await hello(ws, window=2)
+        frames = frame_bytes = seq = 0
+        seen = []  # (frames received before it, their bytes, the message)
+
+        async def take(m):
+            nonlocal frames, frame_bytes
+            if isinstance(m, str):
+                o = json.loads(m)
+                check(o["type"] == "stats", "only stats text messages while streaming (%s)" % o)
+                seen.append((frames, frame_bytes, o))
+                return
+            h, _ = unpack_frame(m)
+            frames += 1
+            frame_bytes += len(m)
+            await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+
+        # A burst (coalesced for sure), then 30 cameras a second for 3 s.
+        for _ in range(30):
+            seq += 1
+            await ws.send(camera(seq, 2.0 + 0.02 * (seq % 20)))
+        t_end = time.time() + 3.0
+        next_cam = time.time()
+        while time.time() < t_end:
+            if time.time() >= next_cam:
+                seq += 1
+                await ws.send(camera(seq, 2.0 + 0.02 * (seq % 20)))
+                next_cam += 1 / 30
+            m = await recv(ws, 0.01, keep_stats=True)
+            if m is not None:
+                await take(m)
+        during = len(seen)
+        # Input stops: the still frame and any fading frames, then one last stats.
+        while True:
+            m = await recv(ws, 3.0, keep_stats=True)
+            if m is None:
+                break
+            await take(m)
+        check(1 <= during <= 5, "stats about once a second while frames flow (%d in 3 s, %d frames)" % (during, frames))
+        check(len(seen) > during, "one more stats after the frames stop")
+        if not seen:
+            return
+        for i, (before, nbytes, o) in enumerate(seen):
+            # fps counts the last second: 0 is right for a stats that follows the end of the stream.
+            ok = (o["framesSent"] == before and nbytes <= o["bytesSent"] <= nbytes + 65536 and
+                  (0 < o["fps"] if i < during else 0 <= o["fps"]) and o["fps"] <= o["framesSent"] and 0 < o["renderMs"] < 60000 and 0 < o["renderP50Ms"] < 60000 and
+                  0 <= o["encodeMs"] < 60000 and o["queue"] >= 0 and 0 <= o["unacked"] <= o["window"] == 2 and
+                  0 <= o["framesDropped"] <= seq and o["interval"] >= 1.0)
+            check(ok, "stats agree with the frames received before them (%d): %s" % (before, o))
+        last = seen[-1][2]
+        check(seen[-1][0] == frames and last["framesSent"] == frames, "the last stats counts every frame (%d)" % frames)
+        check(last["framesDropped"] >= seq - frames and last["framesDropped"] > 0,
+              "framesDropped counts coalesced cameras (%d dropped, %d cameras, %d frames)" %
+              (last["framesDropped"], seq, frames))
+        sent = [o["framesSent"] for _, _, o in seen]
+        check(sent == sorted(sent), "framesSent never goes backwards")
+
+
 async def shutdown(srv):
     ws = await websockets.connect(srv.ws_url, max_size=None)
     await hello(ws)
@@ -198,6 +280,7 @@ async def main():
         await basic(srv)
         await window(srv)
         await bad_input(srv)
+        await stats(srv)
         await shutdown(srv)
 
 

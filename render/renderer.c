@@ -339,6 +339,11 @@ const float *lc_frame_state_alphas(const lc_frame_state *st) { return st->alpha;
 
 /* --------------------------------------------------------------- targets */
 
+static uint64_t texel_bytes(GLenum format)
+{
+    return format == GL_RGBA32F ? 16u : format == GL_RGBA16F ? 8u : 4u;
+}
+
 void lc_targets_free(lc_targets *t, uint64_t *bytes)
 {
     if (t->fbo)
@@ -346,7 +351,7 @@ void lc_targets_free(lc_targets *t, uint64_t *bytes)
     if (t->count)
         glDeleteTextures(t->count, t->tex);
     uint64_t px = (uint64_t)t->width * (uint64_t)t->height;
-    *bytes -= px * (uint64_t)t->count * (t->format == GL_RGBA32F ? 16u : 4u);
+    *bytes -= px * (uint64_t)t->count * texel_bytes(t->format);
     memset(t, 0, sizeof *t);
 }
 
@@ -367,7 +372,7 @@ void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, ui
         draw[i] = GL_COLOR_ATTACHMENT0 + i;
     }
     glNamedFramebufferDrawBuffers(t->fbo, count, draw);
-    *bytes += (uint64_t)w * (uint64_t)h * (uint64_t)count * (format == GL_RGBA32F ? 16u : 4u);
+    *bytes += (uint64_t)w * (uint64_t)h * (uint64_t)count * texel_bytes(format);
 }
 
 static void clear_targets(const lc_targets *t, const float *value)
@@ -711,18 +716,21 @@ void lc_renderer_readback(lc_renderer *r, const lc_frame_setup *fs, uint8_t *rgb
     }
 }
 
-static void ensure_output(lc_renderer *r, int w, int h)
+/* The RGBA8 image every method ends in; a depth buffer only for the opaque
+ * baseline (the order-independent methods never depth-test). */
+static void ensure_output(lc_renderer *r, int w, int h, int with_depth)
 {
-    if (r->output.fbo && r->output.width == w && r->output.height == h)
-        return;
     lc_targets_ensure(&r->output, w, h, 1, GL_RGBA8, &r->bytes_targets);
+    if (!with_depth || (r->output_depth && r->depth_width == w && r->depth_height == h))
+        return;
     if (r->output_depth) {
         glDeleteRenderbuffers(1, &r->output_depth);
-        r->bytes_targets -= (uint64_t)r->output.width * r->output.height * 4;
+        r->bytes_targets -= (uint64_t)r->depth_width * r->depth_height * 4;
     }
     glCreateRenderbuffers(1, &r->output_depth);
     glNamedRenderbufferStorage(r->output_depth, GL_DEPTH_COMPONENT24, w, h);
     glNamedFramebufferRenderbuffer(r->output.fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->output_depth);
+    r->depth_width = w, r->depth_height = h;
     r->bytes_targets += (uint64_t)w * h * 4;
 }
 
@@ -805,7 +813,8 @@ static int composite_fourier(lc_renderer *r, lc_frame_setup *fs, int direct, lc_
     if (!p5)
         return LC_ERR_GL;
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
-    lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA32F, &r->bytes_targets);
+    /* Half floats suffice for the weighted sums: the image is their ratio. */
+    lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
     clear_targets(&r->coef_full, NULL);
     clear_targets(&r->accum, NULL);
 
@@ -857,7 +866,7 @@ static int render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     GLuint prog = lc_renderer_geometry_program(r, PROG_WBOIT, fs->gs->scene->type, 1, 1, err);
     if (!prog)
         return LC_ERR_GL;
-    lc_targets_ensure(&r->accum, fs->width, fs->height, 2, GL_RGBA32F, &r->bytes_targets);
+    lc_targets_ensure(&r->accum, fs->width, fs->height, 2, GL_RGBA16F, &r->bytes_targets);
     static const float zero[4] = {0, 0, 0, 0}, one[4] = {1, 1, 1, 1};
     glClearNamedFramebufferfv(r->accum.fbo, GL_COLOR, 0, zero);
     glClearNamedFramebufferfv(r->accum.fbo, GL_COLOR, 1, one);
@@ -934,7 +943,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         fs.low_height = 1;
 
     ensure_element_buffers(r, s->elements.count);
-    ensure_output(r, p.width, p.height);
+    ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
     switch (p.method) {

@@ -74,7 +74,8 @@ struct lc_renderer {
     lc_targets coef_full;  /* P4 */
     lc_targets accum;      /* P5 (and WBOIT accum + revealage) */
     lc_targets output;     /* RGBA8 + depth */
-    GLuint output_depth;
+    GLuint output_depth;   /* opaque baseline only */
+    int depth_width, depth_height;
     GLuint nofb;           /* framebuffer without attachments for P2 */
     int nofb_w, nofb_h;
     /* per-element buffers, grown to the largest scene */
@@ -115,7 +116,7 @@ GLuint lc_renderer_build_program(const char *defines, const char *const *vertex_
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);
 /* Issues the draw of every (subset-th) primitive. */
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
-/* (Re)allocates a target set; format GL_RGBA32F or GL_RGBA8. */
+/* (Re)allocates a target set; format GL_RGBA32F, GL_RGBA16F or GL_RGBA8. */
 void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, uint64_t *bytes);
 void lc_targets_free(lc_targets *t, uint64_t *bytes);
 /* Records a timestamp after pass `pass` (index LC_PASS_COUNT = frame start). */

@@ -65,7 +65,7 @@ typedef struct lc_frame_info {
     double max_alpha_change;       /* max |delta| of element opacities this frame */
     int converged;                 /* max_alpha_change < LC_CONVERGED_EPSILON */
     /* Exact method only (0 otherwise): */
-    uint64_t fragments;            /* fragments stored at full resolution */
+    uint64_t fragments;            /* fragments rasterized at full resolution (stored + dropped) */
     uint64_t dropped_fragments;    /* fragments lost because the node pool was full */
     double mean_layers;            /* mean fragments per covered pixel */
     uint32_t max_layers;

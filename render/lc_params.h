@@ -24,6 +24,13 @@ typedef enum {
 
 typedef enum { LC_ESTIMATOR_FOO = 0, LC_ESTIMATOR_MIDPOINT = 1 } lc_estimator;
 
+/* Depth normalization range: the view-space depth range of the data bounds
+ * this frame (DESIGN §3), or each pixel's own min/max fragment depth (one extra
+ * geometry pass; spreads a pixel's fragments over the whole period). */
+typedef enum { LC_DEPTH_RANGE_GLOBAL = 0, LC_DEPTH_RANGE_PIXEL = 1 } lc_depth_range;
+/* Margin used with the per-pixel range instead of depth_margin (renderer.c). */
+#define LC_PIXEL_DEPTH_MARGIN 0.25
+
 typedef enum { LC_SHADING_PHONG = 0, LC_SHADING_NONE = 1 } lc_shading;
 
 typedef enum { LC_FORMAT_PNG = 0, LC_FORMAT_JPEG = 1 } lc_image_format;
@@ -49,8 +56,9 @@ typedef struct lc_foo_params {
     double fade_half_life;   /* seconds; 0 = no fading */
     double resolution_scale; /* P1/P2 resolution relative to output, (0,1] */
     int subset;              /* P1/P4 use every n-th primitive, weights x n */
-    double depth_margin;     /* delta */
+    double depth_margin;     /* delta (global depth range only) */
     lc_estimator estimator;
+    lc_depth_range depth_range;
     double direct_exponent;  /* k of the "direct" baseline, alpha = g^k */
 } lc_foo_params;
 

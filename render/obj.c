@@ -129,7 +129,7 @@ static int read_corners(obj_load *L, const char *p, const char *le)
                 len++;
             return fail(L, LC_ERR_INVALID, "bad vertex reference '%.*s'", len, p);
         }
-        uint32_t v, t = NO_VT;
+        uint32_t v = 0, t = NO_VT; /* v is set unless resolve() fails */
         int rc = resolve(L, vi, L->cur_v, L->nv, "vertex", &v);
         if (!rc && has_vt)
             rc = resolve(L, ti, L->cur_vt, L->nvt, "texture coordinate", &t);

@@ -16,8 +16,8 @@
 
 const char *lc_pass_name(int pass)
 {
-    static const char *names[LC_PASS_COUNT] = {"importance", "opacity",  "smooth",  "opticalDepth",
-                                               "accumulate", "resolve", "readback"};
+    static const char *names[LC_PASS_COUNT] = {"importance", "opacity",  "smooth",   "opticalDepth",
+                                               "accumulate", "resolve", "readback", "depthRange"};
     return pass >= 0 && pass < LC_PASS_COUNT ? names[pass] : "unknown";
 }
 
@@ -54,7 +54,11 @@ static char *concat_sources(const char *defines, const char *const *files, lc_er
 static GLuint compile_stage(GLenum type, const char *defines, const char *const *files, const char *label,
                             lc_error *err)
 {
-    char *src = concat_sources(defines, files, err);
+    /* normalized_depth() reads the per-pixel range only where gl_FragCoord exists. */
+    char stage_defines[512];
+    snprintf(stage_defines, sizeof stage_defines, "%s%s", defines,
+             type == GL_FRAGMENT_SHADER ? "#define FRAGMENT_STAGE 1\n" : "");
+    char *src = concat_sources(stage_defines, files, err);
     if (!src)
         return 0;
     GLuint sh = glCreateShader(type);
@@ -137,10 +141,12 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_opaque[] = {"common.glsl", "fragment_common.glsl", "opaque.frag.glsl", NULL};
     static const char *const fs_wboit[] = {"common.glsl", "fragment_common.glsl", "wboit_accumulate.frag.glsl",
                                            NULL};
-    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2, fs_p4, fs_p5,
-                                                                  fs_p4, fs_p5, fs_opaque, fs_wboit};
-    static const char *kind_names[PROG_GEOMETRY_KINDS] = {"P1", "P2", "P4", "P5", "P4-direct", "P5-direct",
-                                                          "opaque", "wboit"};
+    static const char *const fs_range[] = {"common.glsl", "fragment_common.glsl", "depth_range.frag.glsl", NULL};
+    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2,     fs_p4,    fs_p5,
+                                                                  fs_p4, fs_p5,     fs_opaque, fs_wboit,
+                                                                  fs_range};
+    static const char *kind_names[PROG_GEOMETRY_KINDS] = {"P1",     "P2",    "P4",    "P5",         "P4-direct",
+                                                          "P5-direct", "opaque", "wboit", "depth range"};
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT;
     char defines[256];
@@ -341,7 +347,7 @@ const float *lc_frame_state_alphas(const lc_frame_state *st) { return st->alpha;
 
 static uint64_t texel_bytes(GLenum format)
 {
-    return format == GL_RGBA32F ? 16u : format == GL_RGBA16F ? 8u : 4u;
+    return format == GL_RGBA32F ? 16u : format == GL_RGBA16F || format == GL_RG32F ? 8u : 4u;
 }
 
 void lc_targets_free(lc_targets *t, uint64_t *bytes)
@@ -444,6 +450,8 @@ void lc_renderer_destroy(lc_renderer *r)
     lc_targets_free(&r->coef_full, &b);
     lc_targets_free(&r->accum, &b);
     lc_targets_free(&r->output, &b);
+    lc_targets_free(&r->range_full, &b);
+    lc_targets_free(&r->range_low, &b);
     if (r->output_depth)
         glDeleteRenderbuffers(1, &r->output_depth);
     glDeleteFramebuffers(1, &r->nofb);
@@ -589,7 +597,14 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     set_v2(prog, "u_color_range", fs->color_range[0], fs->color_range[1]);
     set_i(prog, "u_shading", p->style.shading == LC_SHADING_NONE ? 1 : 0);
     set_v2(prog, "u_depth_range", v->depth_min, v->depth_max);
-    set_f(prog, "u_depth_margin", p->foo.depth_margin);
+    /* Per pixel, the nearest and farthest fragment sit at d = 1/4 and 3/4: half a
+     * period apart both ways, where the truncated series of one step is exact at
+     * the other for every m (its error sum_{k>m} sin(2 pi k x)/(pi k) vanishes at
+     * x = 1/2), so the ends of a pixel's stack cannot disturb each other. */
+    set_f(prog, "u_depth_margin", fs->pixel_depth_range ? LC_PIXEL_DEPTH_MARGIN : p->foo.depth_margin);
+    set_i(prog, "u_pixel_depth_range", fs->pixel_depth_range);
+    if (fs->pixel_depth_range)
+        glBindTextureUnit(6, w == fs->width && h == fs->height ? r->range_full.tex[0] : r->range_low.tex[0]);
     glViewport(0, 0, w, h);
 }
 
@@ -750,6 +765,41 @@ static void resolve_pass(lc_renderer *r, const lc_frame_setup *fs, lc_program_ki
     glBindTextureUnit(1, second_tex);
     set_v3(prog, "u_background", fs->params->style.background);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+/* Draws the (z, -z) GL_MIN pass of P0 into one range target. */
+static void draw_depth_range(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc_targets *t, int w, int h)
+{
+    lc_targets_ensure(t, w, h, 1, GL_RG32F, &r->bytes_targets);
+    const float empty[4] = {1e30f, 1e30f, 0, 0};
+    clear_targets(t, empty);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+    lc_renderer_bind_geometry(r, prog, fs, w, h, 1);
+    lc_renderer_draw_geometry(fs, 1);
+}
+
+/* P0: per-pixel depth ranges, drawn at both resolutions so that each pass sees
+ * exactly the fragments its own rasterization produces (a range reduced from
+ * full resolution misses thin geometry that is wider at the optimization
+ * resolution, and a fragment outside its range would wrap to the periodic
+ * ends). Afterwards every geometry pass normalizes depth by its pixel's range. */
+static int depth_range_pass(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+{
+    GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_RANGE, fs->gs->scene->type, 1, 1, err);
+    if (!prog)
+        return LC_ERR_GL;
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_MIN);
+    fs->pixel_depth_range = 0; /* this pass itself uses nothing per pixel */
+    draw_depth_range(r, fs, prog, &r->range_full, fs->width, fs->height);
+    draw_depth_range(r, fs, prog, &r->range_low, fs->low_width, fs->low_height);
+    glBlendEquation(GL_FUNC_ADD);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    fs->pixel_depth_range = 1;
+    lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
+    return 0;
 }
 
 /* P1 + P2 (+ P3): element opacities for the frame. */
@@ -946,6 +996,11 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
+    /* The per-pixel depth range serves every method that normalizes depth. */
+    int pixel_range = p.foo.depth_range == LC_DEPTH_RANGE_PIXEL &&
+                      (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_WBOIT);
+    if (pixel_range && (rc = depth_range_pass(r, &fs, err)) != 0)
+        return rc;
     switch (p.method) {
     case LC_METHOD_FOURIER:
         rc = optimize_opacities(r, &fs, state, dt, info, err);
@@ -979,8 +1034,9 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         GLuint64 start = 0, prev;
         glGetQueryObjectui64v(r->timer_queries[LC_PASS_COUNT], GL_QUERY_RESULT, &start);
         prev = start;
-        static const int order[] = {LC_PASS_IMPORTANCE, LC_PASS_OPACITY, LC_PASS_SMOOTH, LC_PASS_OPTICAL_DEPTH,
-                                    LC_PASS_ACCUMULATE, LC_PASS_RESOLVE, LC_PASS_READBACK};
+        static const int order[] = {LC_PASS_DEPTH_RANGE, LC_PASS_IMPORTANCE, LC_PASS_OPACITY,
+                                    LC_PASS_SMOOTH,      LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE,
+                                    LC_PASS_RESOLVE,     LC_PASS_READBACK};
         int ran[LC_PASS_COUNT] = {0};
         int fourier = p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_WBOIT || p.method == LC_METHOD_EXACT;
         ran[LC_PASS_IMPORTANCE] = ran[LC_PASS_OPACITY] = ran[LC_PASS_SMOOTH] = fourier;
@@ -989,6 +1045,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         ran[LC_PASS_ACCUMULATE] = 1;
         ran[LC_PASS_RESOLVE] = p.method != LC_METHOD_OPAQUE;
         ran[LC_PASS_READBACK] = 1;
+        ran[LC_PASS_DEPTH_RANGE] = pixel_range;
         for (int i = 0; i < LC_PASS_COUNT; i++) {
             int pass = order[i];
             if (!ran[pass])

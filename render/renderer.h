@@ -46,10 +46,11 @@ typedef enum {
     LC_PASS_ACCUMULATE,     /* P5 (exact: sort + front-to-back blend) */
     LC_PASS_RESOLVE,        /* P6 */
     LC_PASS_READBACK,       /* RGBA readback */
+    LC_PASS_DEPTH_RANGE,    /* P0, params.depthRange "pixel" only: per-pixel depth ranges (runs first) */
     LC_PASS_COUNT
 } lc_pass;
 /* JSON-friendly pass names: "importance", "opacity", "smooth", "opticalDepth",
- * "accumulate", "resolve", "readback". */
+ * "accumulate", "resolve", "readback", "depthRange". */
 const char *lc_pass_name(int pass);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */

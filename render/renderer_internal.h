@@ -55,6 +55,7 @@ typedef enum {
     PROG_P5_DIRECT,
     PROG_OPAQUE,
     PROG_WBOIT,
+    PROG_DEPTH_RANGE,
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -74,6 +75,8 @@ struct lc_renderer {
     lc_targets coef_full;  /* P4 */
     lc_targets accum;      /* P5 (and WBOIT accum + revealage) */
     lc_targets output;     /* RGBA8 + depth */
+    lc_targets range_full; /* P0 per-pixel depth ranges (RG32F), output resolution */
+    lc_targets range_low;  /* the same at the optimization resolution */
     GLuint output_depth;   /* opaque baseline only */
     int depth_width, depth_height;
     GLuint nofb;           /* framebuffer without attachments for P2 */
@@ -97,6 +100,7 @@ typedef struct lc_frame_setup {
     double line_half_width; /* world */
     int width, height;      /* output */
     int low_width, low_height;
+    int pixel_depth_range;  /* P0 ran: geometry passes normalize by range_full / range_low */
 } lc_frame_setup;
 
 /* Returns the program for (kind, primitive, bands) that lc_renderer_draw_geometry

@@ -82,6 +82,7 @@ const char lc_cli_flags_help[] =
     "  --method NAME         fourier | exact | opaque | direct | wboit\n"
     "  --bands M             Fourier bands 1..8\n"
     "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
+    "  --depth-range global|pixel   depth normalization by the data bounds or per pixel\n"
     "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
     "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
     "  --line-width W        world units;  --point-size PX;  --unlit\n"
@@ -114,7 +115,7 @@ int lc_cli_apply_flag(lc_request *req, int argc, char **argv, int *i)
                {"--estimator", "estimator"},   {"--importance", "importance"}, {"--color", "color"},
                {"--colormap", "colormap"},     {"--line-width", "lineWidth"}, {"--point-size", "pointSize"},
                {"--format", "format"},         {"--quality", "quality"}, {"--resolution-scale", "resolutionScale"},
-               {"--subset", "subset"},         {"--background", "background"}};
+               {"--subset", "subset"},         {"--background", "background"}, {"--depth-range", "depthRange"}};
     const char *flag = argv[*i];
     if (strcmp(flag, "--unlit") == 0) {
         req->render.style.shading = LC_SHADING_NONE;
@@ -183,8 +184,11 @@ void lc_cli_gl_close(lc_cli_gl *g)
 
 void lc_cli_print_timings(const lc_frame_info *info)
 {
-    for (int i = 0; i < LC_PASS_COUNT; i++)
+    /* In execution order: the optional depth-range pass runs first. */
+    for (int k = 0; k < LC_PASS_COUNT; k++) {
+        int i = k == 0 ? LC_PASS_DEPTH_RANGE : k - 1;
         if (info->pass_ms[i] >= 0)
             printf("  %-13s %8.2f ms\n", lc_pass_name(i), info->pass_ms[i]);
+    }
     printf("  %-13s %8.2f ms (GPU), %.2f ms wall\n", "total", info->gpu_ms, info->wall_ms);
 }

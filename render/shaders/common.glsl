@@ -38,6 +38,8 @@ layout(binding = 0) uniform sampler2D u_colormap; // 256x1 RGBA8
 uniform int u_shading;           // 0 phong, 1 none
 uniform vec2 u_depth_range;      // view-space [z_min, z_max] of the bounds this frame
 uniform float u_depth_margin;    // delta of DESIGN §3
+uniform int u_pixel_depth_range; // 1: normalize by this pixel's own fragment range (P0)
+layout(binding = 6) uniform sampler2D u_pixel_range; // (z_min, -z_max) per pixel of this pass
 
 float attribute_value(int a, uint v) { return attributes[uint(a) * u_vertex_count + v]; }
 
@@ -66,7 +68,16 @@ vec3 colormap_lookup(float t) { return texture(u_colormap, vec2(clamp(t, 0.0, 1.
 // keeps fragments away from d = 0 and d = 1.
 float normalized_depth(float z_view)
 {
-    float t = (z_view - u_depth_range.x) / max(u_depth_range.y - u_depth_range.x, 1e-20);
+    vec2 range = u_depth_range;
+#ifdef FRAGMENT_STAGE
+    if (u_pixel_depth_range != 0) {
+        vec2 r = texelFetch(u_pixel_range, ivec2(gl_FragCoord.xy), 0).xy;
+        // A pixel the range pass missed (sub-pixel geometry) keeps the global range.
+        if (r.x <= -r.y)
+            range = vec2(r.x, -r.y);
+    }
+#endif
+    float t = (z_view - range.x) / max(range.y - range.x, 1e-20 + 1e-6 * abs(range.y));
     return clamp(u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t, 0.0, 1.0);
 }
 

@@ -11,10 +11,19 @@ static void expected_pixel(const test_quad *q, int n, const lc_render_params *p,
 {
     lc_view view;
     lc_camera_view(&p->camera, s->bounds, 1.0, p->height, &view);
+    double zmin = view.depth_min, zmax = view.depth_max, margin = p->foo.depth_margin;
+    if (p->foo.depth_range == LC_DEPTH_RANGE_PIXEL) {
+        /* The pixel's own range: nearest to farthest quad. */
+        zmin = 1e30, zmax = -1e30, margin = LC_PIXEL_DEPTH_MARGIN;
+        for (int i = 0; i < n; i++) {
+            zmin = fmin(zmin, p->camera.position[2] - q[i].z);
+            zmax = fmax(zmax, p->camera.position[2] - q[i].z);
+        }
+    }
     lc_fragment frags[16];
     for (int i = 0; i < n; i++) {
         double zview = p->camera.position[2] - q[i].z;
-        frags[i].depth = lc_foo_normalize_depth(zview, view.depth_min, view.depth_max, p->foo.depth_margin);
+        frags[i].depth = lc_foo_normalize_depth(zview, zmin, zmax, margin);
         frags[i].importance = q[i].g;
         for (int c = 0; c < 3; c++)
             frags[i].color[c] = q[i].rgb[c];
@@ -34,7 +43,8 @@ static void render(test_gl *t, const lc_scene *s, const lc_render_params *p, uin
     lc_gpu_scene_destroy(gs);
 }
 
-static void check_stack(test_gl *t, const test_quad *q, int n, int bands, lc_estimator est, double qw, double rw)
+static void check_stack(test_gl *t, const test_quad *q, int n, int bands, lc_estimator est, double qw, double rw,
+                        lc_depth_range range)
 {
     lc_scene *s = test_quad_scene(q, n);
     CHECK(s != NULL, "scene");
@@ -45,6 +55,7 @@ static void check_stack(test_gl *t, const test_quad *q, int n, int bands, lc_est
     p.foo.bands = bands;
     p.foo.estimator = est;
     p.foo.q = qw, p.foo.r = rw;
+    p.foo.depth_range = range;
     uint8_t *rgba = malloc(48 * 48 * 4);
     render(t, s, &p, rgba);
     double want[3];
@@ -55,8 +66,9 @@ static void check_stack(test_gl *t, const test_quad *q, int n, int bands, lc_est
             worst = fmax(worst, fabs(rgba[4 * i + c] / 255.0 - want[c]));
     CHECK(worst <= 2.0 / 255.0, "m=%d %s q=%g r=%g: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)",
           bands, lc_estimator_name(est), qw, rw, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
-    printf("stack of %d, m=%d, %-8s q=%-4g r=%-4g: expected (%.4f %.4f %.4f), worst error %.4f\n", n, bands,
-           lc_estimator_name(est), qw, rw, want[0], want[1], want[2], worst);
+    printf("stack of %d, m=%d, %-8s q=%-4g r=%-4g %s range: expected (%.4f %.4f %.4f), worst error %.4f\n", n,
+           bands, lc_estimator_name(est), qw, rw, range == LC_DEPTH_RANGE_PIXEL ? "pixel " : "global", want[0],
+           want[1], want[2], worst);
     free(rgba);
     lc_scene_destroy(s);
 }
@@ -69,13 +81,17 @@ int main(void)
 
     const test_quad three[3] = {{0.3, 0.2, {1, 0, 0}, 2}, {0.0, 0.9, {0, 0.8, 0}, 2}, {-0.3, 0.5, {0, 0, 1}, 2}};
     for (int m = 1; m <= 8; m++)
-        check_stack(&t, three, 3, m, LC_ESTIMATOR_MIDPOINT, 60, 500);
-    check_stack(&t, three, 3, 5, LC_ESTIMATOR_FOO, 60, 500);
-    check_stack(&t, three, 3, 3, LC_ESTIMATOR_FOO, 20, 5);
+        check_stack(&t, three, 3, m, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_GLOBAL);
+    check_stack(&t, three, 3, 5, LC_ESTIMATOR_FOO, 60, 500, LC_DEPTH_RANGE_GLOBAL);
+    check_stack(&t, three, 3, 3, LC_ESTIMATOR_FOO, 20, 5, LC_DEPTH_RANGE_GLOBAL);
     const test_quad five[5] = {{0.4, 0.1, {1, 0, 0}, 2},   {0.2, 0.6, {1, 1, 0}, 2}, {0.0, 0.3, {0, 1, 1}, 2},
                                {-0.2, 0.95, {0, 0, 1}, 2}, {-0.4, 0.0, {1, 0, 1}, 2}};
-    check_stack(&t, five, 5, 5, LC_ESTIMATOR_MIDPOINT, 60, 500);
-    check_stack(&t, five, 5, 8, LC_ESTIMATOR_FOO, 100, 200);
+    check_stack(&t, five, 5, 5, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_GLOBAL);
+    check_stack(&t, five, 5, 8, LC_ESTIMATOR_FOO, 100, 200, LC_DEPTH_RANGE_GLOBAL);
+    /* Per-pixel depth ranges (P0): the pixel's stack spans [1/4, 3/4]. */
+    for (int m = 1; m <= 8; m += 7)
+        check_stack(&t, three, 3, m, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_PIXEL);
+    check_stack(&t, five, 5, 5, LC_ESTIMATOR_FOO, 60, 500, LC_DEPTH_RANGE_PIXEL);
 
     /* An unimportant layer in front of an important one: q > 0 clears it,
      * q = 0 (and r = 0) leaves it opaque. */

@@ -26,16 +26,16 @@ const char *lc_demo_description(const char *name)
     if (!name)
         return NULL;
     if (strcmp(name, "tornado") == 0)
-        return "Crawfis tornado: 500 RK4 streamlines in the unit cube, importance = line curvature";
+        return "Crawfis tornado: RK4 streamlines in the unit cube (500 by default), importance = line curvature";
     if (strcmp(name, "abc") == 0)
-        return "ABC flow (A=sqrt3, B=sqrt2, C=1): 400 RK4 streamlines on [0,2pi]^3, importance = "
-               "line curvature";
+        return "ABC flow (A=sqrt3, B=sqrt2, C=1): RK4 streamlines on [0,2pi]^3 (400 by default), "
+               "importance = line curvature";
     if (strcmp(name, "points") == 0)
-        return "Clustered point cloud: 200k points in anisotropic Gaussian clusters plus noise, "
-               "importance = local density";
+        return "Clustered point cloud: anisotropic Gaussian clusters plus noise (200k points by "
+               "default), importance = local density";
     if (strcmp(name, "surface") == 0)
-        return "Nested surfaces: a trefoil-knot tube inside a bumpy ellipsoid (~77k vertices), "
-               "importance = mean curvature";
+        return "Nested surfaces: a trefoil-knot tube inside a bumpy ellipsoid (~77k vertices by "
+               "default), importance = mean curvature";
     return NULL;
 }
 

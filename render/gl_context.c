@@ -29,9 +29,7 @@ static struct {
     int users;
 } displays[MAX_DEVICES + 1];
 
-static const char *install_hint =
-    "install the EGL and Mesa drivers (apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri) "
-    "or the NVIDIA driver's EGL libraries";
+static const char *install_hint = "install libegl1 libegl-mesa0 libgl1-mesa-dri (Mesa) or NVIDIA's EGL driver";
 
 const char *lc_egl_error_name(int code)
 {
@@ -139,10 +137,12 @@ static int device_is_software(EGLDeviceEXT dev)
 static int open_device(lc_gl *gl, int index, lc_error *err)
 {
     const char *client_exts = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (!client_exts) /* no EGL client extensions at all: typically no vendor library */
+        return lc_err(err, LC_ERR_UNSUPPORTED, "eglQueryString failed (%s)", lc_egl_error_name(eglGetError()));
     if (!has_ext(client_exts, "EGL_EXT_device_enumeration") && !has_ext(client_exts, "EGL_EXT_device_base"))
-        return lc_err(err, LC_ERR_UNSUPPORTED, "EGL has no device enumeration (EGL_EXT_device_enumeration)");
+        return lc_err(err, LC_ERR_UNSUPPORTED, "no EGL_EXT_device_enumeration");
     if (!has_ext(client_exts, "EGL_EXT_platform_device"))
-        return lc_err(err, LC_ERR_UNSUPPORTED, "EGL has no EGL_EXT_platform_device");
+        return lc_err(err, LC_ERR_UNSUPPORTED, "no EGL_EXT_platform_device");
     EGLDeviceEXT devices[MAX_DEVICES];
     EGLint n = 0;
     if (!eglQueryDevicesEXT(MAX_DEVICES, devices, &n) || n <= 0)
@@ -178,12 +178,11 @@ static int open_surfaceless(lc_gl *gl, lc_error *err)
 {
     const char *client_exts = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!has_ext(client_exts, "EGL_MESA_platform_surfaceless"))
-        return lc_err(err, LC_ERR_UNSUPPORTED, "EGL has neither a usable device platform nor "
-                      "EGL_MESA_platform_surfaceless; %s", install_hint);
+        return lc_err(err, LC_ERR_UNSUPPORTED, "no EGL_MESA_platform_surfaceless");
     gl->display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
     if (gl->display == EGL_NO_DISPLAY)
-        return lc_err(err, LC_ERR_GL, "eglGetPlatformDisplayEXT(surfaceless) failed (%s); %s",
-                      lc_egl_error_name(eglGetError()), install_hint);
+        return lc_err(err, LC_ERR_GL, "eglGetPlatformDisplayEXT(surfaceless) failed (%s)",
+                      lc_egl_error_name(eglGetError()));
     int rc = acquire_display(gl->display, err, "the surfaceless platform");
     if (rc)
         return rc;
@@ -245,7 +244,13 @@ int lc_gl_create(const lc_gl_desc *desc, lc_gl **out, lc_error *err)
         }
         if (rc) {
             LC_INFO(MODULE, "device platform unavailable (%s); trying surfaceless", dev_err.msg);
-            rc = open_surfaceless(gl, err);
+            lc_error surf_err = {0};
+            rc = open_surfaceless(gl, &surf_err);
+            if (rc) {
+                free(gl);
+                return lc_err(err, rc, "no usable EGL display (device platform: %s; surfaceless: %s); %s",
+                              dev_err.msg, surf_err.msg, install_hint);
+            }
         } else {
             goto created;
         }

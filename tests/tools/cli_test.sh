@@ -117,7 +117,14 @@ rows=$(grep -c '^demo:' "$tmp/out")
 [ "$rows" -ge 4 ] && ok || bad "bench printed $rows dataset rows"
 grep -q "pipeline MB" "$tmp/out" && ok || bad "bench prints memory"
 
-# 7. Usage errors.
+# 7. No usable EGL: a clear message naming EGL and what to install; a device that does not exist.
+expect_fail "no EGL vendor" "EGL.*install" env __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json \
+  "$LUCENT" render --dataset demo:abc --size 32x32 --out "$tmp/x.png"
+expect_fail "missing device" "device 7 does not exist" "$LUCENT" render --device 7 --dataset demo:abc --size 32x32 --out "$tmp/x.png"
+expect_fail "missing device (env)" "device 7 does not exist" env LUCENT_EGL_DEVICE=7 \
+  "$LUCENT" render --dataset demo:abc --size 32x32 --out "$tmp/x.png"
+
+# 8. Usage errors.
 expect_fail "unknown command" "unknown command" "$LUCENT" frobnicate
 expect_fail "render without --out" "usage" "$LUCENT" render --dataset demo:abc
 

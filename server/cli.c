@@ -105,7 +105,48 @@ static int apply_query(lc_request *req, const char *key, const char *value)
     return 1;
 }
 
-int lc_cli_apply_flag(lc_request *req, int argc, char **argv, int *i)
+int lc_cli_begin(const char *cmd, int argc, char **argv, lc_request *req, lc_cli_common *common)
+{
+    lc_request_default(req);
+    common->input = NULL;
+    common->device = -1;
+    lc_error err = {0};
+    for (int i = 1; i + 1 < argc; i++)
+        if (strcmp(argv[i], "--request") == 0 && lc_cli_read_request(argv[i + 1], req, &err) != 0) {
+            fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
+            return 1;
+        }
+    return 0;
+}
+
+int lc_cli_has_flag(int argc, char **argv, const char *flag)
+{
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], flag) == 0)
+            return 1;
+    return 0;
+}
+
+int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene,
+                lc_cli_gl *g)
+{
+    lc_error err = {0};
+    const char *spec = common->input ? common->input : req->dataset[0] ? req->dataset : "demo:tornado";
+    *scene = NULL;
+    if (lc_cli_open_dataset(spec, scene, &err) != 0) {
+        fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
+        return 1;
+    }
+    if (lc_cli_gl_open(common->device, g, &err) != 0) {
+        fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
+        lc_scene_destroy(*scene);
+        *scene = NULL;
+        return 1;
+    }
+    return 0;
+}
+
+int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **argv, int *i)
 {
     static const struct {
         const char *flag, *key;
@@ -117,6 +158,26 @@ int lc_cli_apply_flag(lc_request *req, int argc, char **argv, int *i)
                {"--format", "format"},         {"--quality", "quality"}, {"--resolution-scale", "resolutionScale"},
                {"--subset", "subset"},         {"--background", "background"}, {"--depth-range", "depthRange"}};
     const char *flag = argv[*i];
+    int takes_value = strcmp(flag, "--request") == 0 || strcmp(flag, "--input") == 0 || strcmp(flag, "--device") == 0;
+    if (takes_value) {
+        if (*i + 1 >= argc) {
+            fprintf(stderr, "lucent: %s needs a value\n", flag);
+            return -1;
+        }
+        const char *value = argv[++*i];
+        if (strcmp(flag, "--input") == 0) {
+            common->input = value;
+        } else if (strcmp(flag, "--device") == 0) {
+            char *end;
+            long d = strtol(value, &end, 10);
+            if (*end || end == value || d < 0 || d > 255) {
+                fprintf(stderr, "lucent: --device %s: expected an EGL device index 0..255\n", value);
+                return -1;
+            }
+            common->device = (int)d;
+        } /* --request was read by lc_cli_begin */
+        return 1;
+    }
     if (strcmp(flag, "--unlit") == 0) {
         req->render.style.shading = LC_SHADING_NONE;
         return 1;

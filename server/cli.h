@@ -16,12 +16,6 @@ int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err);
 /* Reads and parses a render request file (CLI limits: up to 16384 px a side). */
 int lc_cli_read_request(const char *path, lc_request *req, lc_error *err);
 
-/* Applies the short flags shared by render/compare/bench (--width, --height,
- * --size WxH, --method, --bands, --q, --r, --lambda, --estimator, --smoothing,
- * --colormap, --importance, --color, --line-width, --format, --quality,
- * --dataset). *i is the index of the flag; consumes its value. Returns 1 if the
- * flag was recognized, 0 if not, -1 on a bad value (message printed). */
-int lc_cli_apply_flag(lc_request *req, int argc, char **argv, int *i);
 /* Help text for the flags above. */
 extern const char lc_cli_flags_help[];
 
@@ -30,8 +24,37 @@ typedef struct lc_cli_gl {
     lc_gl *gl;
     lc_renderer *renderer;
 } lc_cli_gl;
+
 int lc_cli_gl_open(int device, lc_cli_gl *out, lc_error *err);
 void lc_cli_gl_close(lc_cli_gl *g);
+
+/* Options every rendering subcommand takes besides the request's own fields. */
+typedef struct lc_cli_common {
+    const char *input; /* --input FILE|demo:NAME (overrides the request's dataset) */
+    int device;        /* --device N, -1 = LUCENT_EGL_DEVICE or the first GPU */
+} lc_cli_common;
+
+/* Starts a subcommand's argument handling: defaults, then the --request file
+ * (if any) so that flags override it wherever they stand. Prints
+ * "lucent CMD: reason" and returns non-zero on error. */
+int lc_cli_begin(const char *cmd, int argc, char **argv, lc_request *req, lc_cli_common *common);
+
+/* True if argv holds flag (e.g. "--request"). */
+int lc_cli_has_flag(int argc, char **argv, const char *flag);
+
+/* Applies one shared flag at argv[*i]: --request (already read), --input,
+ * --device, and the request's short flags (--width, --height, --size WxH,
+ * --method, --bands, --q, --r, --lambda, --estimator, --smoothing, --colormap,
+ * --importance, --color, --line-width, --format, --quality, --dataset, ...).
+ * Consumes the value. Returns 1 if recognized, 0 if not, -1 on a bad value
+ * (message printed). */
+int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **argv, int *i);
+
+/* Opens the dataset (common->input, else the request's, else demo:tornado) and
+ * a GL renderer. Prints "lucent CMD: reason" and returns non-zero on error;
+ * on success the caller destroys *scene and closes g. */
+int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene,
+                lc_cli_gl *g);
 
 /* Prints the per-pass timings of a frame as "  importance   1.23 ms" lines. */
 void lc_cli_print_timings(const lc_frame_info *info);

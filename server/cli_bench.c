@@ -19,9 +19,12 @@ static void bench_usage(void)
 int lc_cli_bench(int argc, char **argv)
 {
     lc_request req;
-    lc_request_default(&req);
-    req.render.width = req.render.height = 1024;
-    int frames = 10, warmup = 2, device = -1;
+    lc_cli_common common;
+    if (lc_cli_begin("bench", argc, argv, &req, &common) != 0)
+        return 1;
+    if (!lc_cli_has_flag(argc, argv, "--request")) /* the benchmark's own default size */
+        req.render.width = req.render.height = 1024;
+    int frames = 10, warmup = 2;
     char datasets[512] = "";
     for (const char *const *d = lc_demo_names(); *d; d++)
         snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s",
@@ -31,15 +34,13 @@ int lc_cli_bench(int argc, char **argv)
             frames = atoi(argv[++i]);
         else if (strcmp(argv[i], "--warmup") == 0 && i + 1 < argc)
             warmup = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
-            device = atoi(argv[++i]);
         else if (strcmp(argv[i], "--datasets") == 0 && i + 1 < argc)
             snprintf(datasets, sizeof datasets, "%s", argv[++i]);
         else if (strcmp(argv[i], "--help") == 0) {
             bench_usage();
             return 0;
         } else {
-            int rc = lc_cli_apply_flag(&req, argc, argv, &i);
+            int rc = lc_cli_apply_flag(&req, &common, argc, argv, &i);
             if (rc <= 0) {
                 if (rc == 0)
                     bench_usage();
@@ -53,7 +54,9 @@ int lc_cli_bench(int argc, char **argv)
     }
     lc_error err = {0};
     lc_cli_gl g;
-    if (lc_cli_gl_open(device, &g, &err) != 0) {
+    if (common.input)
+        snprintf(datasets, sizeof datasets, "%s", common.input);
+    if (lc_cli_gl_open(common.device, &g, &err) != 0) {
         fprintf(stderr, "lucent bench: %s\n", err.msg);
         return 1;
     }

@@ -108,26 +108,16 @@ static int write_image(const char *dir, const char *name, const uint8_t *rgba, i
 int lc_cli_compare(int argc, char **argv)
 {
     lc_request req;
-    lc_request_default(&req);
-    const char *request_path = NULL, *input = NULL, *out_dir = NULL;
-    int device = -1, repeat = 3, against = LC_METHOD_EXACT;
+    lc_cli_common common;
+    const char *out_dir = NULL;
+    int repeat = 3, against = LC_METHOD_EXACT;
     double pool_mib = 256;
     lc_error err = {0};
-    /* The request file first, so that flags override it wherever they stand. */
-    for (int i = 1; i < argc; i++)
-        if (strcmp(argv[i], "--request") == 0 && i + 1 < argc)
-            request_path = argv[i + 1];
-    if (request_path && lc_cli_read_request(request_path, &req, &err) != 0) {
-        fprintf(stderr, "lucent compare: %s\n", err.msg);
+    if (lc_cli_begin("compare", argc, argv, &req, &common) != 0)
         return 1;
-    }
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--request") == 0 && i + 1 < argc) {
-            i++;
-        } else if (strcmp(a, "--input") == 0 && i + 1 < argc) {
-            input = argv[++i];
-        } else if (strcmp(a, "--out-dir") == 0 && i + 1 < argc) {
+        if (strcmp(a, "--out-dir") == 0 && i + 1 < argc) {
             out_dir = argv[++i];
         } else if (strcmp(a, "--against") == 0 && i + 1 < argc) {
             against = lc_method_from_name(argv[++i]);
@@ -139,13 +129,11 @@ int lc_cli_compare(int argc, char **argv)
             repeat = atoi(argv[++i]);
         } else if (strcmp(a, "--pool-mib") == 0 && i + 1 < argc) {
             pool_mib = atof(argv[++i]);
-        } else if (strcmp(a, "--device") == 0 && i + 1 < argc) {
-            device = atoi(argv[++i]);
         } else if (strcmp(a, "--help") == 0) {
             compare_usage();
             return 0;
         } else {
-            int rc = lc_cli_apply_flag(&req, argc, argv, &i);
+            int rc = lc_cli_apply_flag(&req, &common, argc, argv, &i);
             if (rc < 0)
                 return 2;
             if (rc == 0) {
@@ -163,19 +151,10 @@ int lc_cli_compare(int argc, char **argv)
         fprintf(stderr, "lucent compare: %s: %s\n", out_dir, strerror(errno));
         return 1;
     }
-
-    const char *spec = input ? input : req.dataset[0] ? req.dataset : "demo:tornado";
     lc_scene *scene = NULL;
-    if (lc_cli_open_dataset(spec, &scene, &err) != 0) {
-        fprintf(stderr, "lucent compare: %s\n", err.msg);
-        return 1;
-    }
     lc_cli_gl g;
-    if (lc_cli_gl_open(device, &g, &err) != 0) {
-        fprintf(stderr, "lucent compare: %s\n", err.msg);
-        lc_scene_destroy(scene);
+    if (lc_cli_open("compare", &req, &common, &scene, &g) != 0)
         return 1;
-    }
     int status = 1, w = req.render.width, h = req.render.height;
     size_t bytes = (size_t)w * h * 4;
     method_run runs[2] = {{.rgba = malloc(bytes)}, {.rgba = malloc(bytes)}};

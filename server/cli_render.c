@@ -28,29 +28,17 @@ static void render_usage(void)
 int lc_cli_render(int argc, char **argv)
 {
     lc_request req;
-    lc_request_default(&req);
-    const char *request_path = NULL, *input = NULL, *out = NULL;
-    int device = -1, frames = 1;
+    lc_cli_common common;
+    const char *out = NULL;
+    int frames = 1;
     double dt = 1.0 / 30.0;
     lc_error err = {0};
-    /* The request file first, so that flags override it wherever they stand. */
-    for (int i = 1; i < argc; i++)
-        if (strcmp(argv[i], "--request") == 0 && i + 1 < argc)
-            request_path = argv[i + 1];
-    if (request_path && lc_cli_read_request(request_path, &req, &err) != 0) {
-        fprintf(stderr, "lucent render: %s\n", err.msg);
+    if (lc_cli_begin("render", argc, argv, &req, &common) != 0)
         return 1;
-    }
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--request") == 0) {
-            i++;
-        } else if (strcmp(a, "--input") == 0 && i + 1 < argc) {
-            input = argv[++i];
-        } else if ((strcmp(a, "--out") == 0 || strcmp(a, "-o") == 0) && i + 1 < argc) {
+        if ((strcmp(a, "--out") == 0 || strcmp(a, "-o") == 0) && i + 1 < argc) {
             out = argv[++i];
-        } else if (strcmp(a, "--device") == 0 && i + 1 < argc) {
-            device = atoi(argv[++i]);
         } else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
             frames = atoi(argv[++i]);
         } else if (strcmp(a, "--dt") == 0 && i + 1 < argc) {
@@ -59,7 +47,7 @@ int lc_cli_render(int argc, char **argv)
             render_usage();
             return 0;
         } else {
-            int rc = lc_cli_apply_flag(&req, argc, argv, &i);
+            int rc = lc_cli_apply_flag(&req, &common, argc, argv, &i);
             if (rc < 0)
                 return 2;
             if (rc == 0) {
@@ -77,18 +65,10 @@ int lc_cli_render(int argc, char **argv)
         fprintf(stderr, "lucent render: --frames must be 1..100000 and --dt >= 0\n");
         return 2;
     }
-    const char *spec = input ? input : req.dataset[0] ? req.dataset : "demo:tornado";
     lc_scene *scene = NULL;
-    if (lc_cli_open_dataset(spec, &scene, &err) != 0) {
-        fprintf(stderr, "lucent render: %s\n", err.msg);
-        return 1;
-    }
     lc_cli_gl g;
-    if (lc_cli_gl_open(device, &g, &err) != 0) {
-        fprintf(stderr, "lucent render: %s\n", err.msg);
-        lc_scene_destroy(scene);
+    if (lc_cli_open("render", &req, &common, &scene, &g) != 0)
         return 1;
-    }
     int status = 1;
     lc_gpu_scene *gs = NULL;
     lc_frame_state *state = NULL;

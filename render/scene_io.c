@@ -1,5 +1,5 @@
-/* Loader plumbing shared by PLY and OBJ (file mapping, number parsing, polyline
- * assembly) and lc_scene_load_file, which picks the format by extension. */
+/* Loader plumbing shared by the dataset readers (file mapping, number parsing,
+ * polyline assembly) and lc_scene_load_file, which picks the format by extension. */
 #include "scene_io.h"
 
 #include <errno.h>
@@ -288,8 +288,13 @@ int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err)
         rc = lc_load_ply(path, &s, err);
     else if (dot && strcasecmp(dot, ".obj") == 0)
         rc = lc_load_obj(path, &s, err);
+    else if (dot && strcasecmp(dot, ".vtk") == 0)
+        rc = lc_load_vtk(path, &s, err);
+    else if (dot && strcasecmp(dot, ".trk") == 0)
+        rc = lc_load_trk(path, &s, err);
     else
-        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected .ply or .obj)", base);
+        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected .ply, .obj, .vtk or .trk)",
+                      base);
     if (rc)
         return rc;
     lc_io_stem(path, s->name, sizeof s->name);

@@ -1,0 +1,409 @@
+/* VTK legacy and TrackVis loaders: the tables tests/data/loaders/{vtk,trk}/
+ * cases.txt, exact values, the VTK writer's round trip and truncated/mutated
+ * inputs (run under ASan to catch memory errors). */
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "lc_test.h"
+#include "loaders.h"
+#include "scene.h"
+#include "scene_io.h"
+
+#define DATA LUCENT_TEST_DATA "/loaders/"
+
+static char *read_all(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(f);
+    if (buf)
+        buf[n] = '\0';
+    *size = (size_t)n;
+    return buf;
+}
+
+static int is_trk(const char *path)
+{
+    size_t n = strlen(path);
+    return n >= 4 && strcmp(path + n - 4, ".trk") == 0;
+}
+
+static int load_path(const char *path, lc_scene **s, lc_error *err)
+{
+    return is_trk(path) ? lc_load_trk(path, s, err) : lc_load_vtk(path, s, err);
+}
+
+static int load_memory(const char *path, const void *data, size_t size, lc_scene **s, lc_error *err)
+{
+    const char *base = lc_io_basename(path);
+    return is_trk(path) ? lc_load_trk_memory(data, size, base, s, err) : lc_load_vtk_memory(data, size, base, s, err);
+}
+
+static lc_scene *must_load(const char *file)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s%s", DATA, file);
+    lc_scene *s = NULL;
+    lc_error err = {0};
+    int rc = load_path(path, &s, &err);
+    CHECK(rc == 0 && s, "%s: %s", file, err.msg);
+    return s;
+}
+
+/* Same data in two scenes (positions, topology, attributes by name, rgb). */
+static void same_scene(const lc_scene *a, const lc_scene *b, double rgb_tol, const char *what)
+{
+    CHECK(a->type == b->type && a->vertex_count == b->vertex_count && a->line_count == b->line_count &&
+              a->triangle_count == b->triangle_count && a->attribute_count == b->attribute_count,
+          "%s: shape differs", what);
+    if (a->vertex_count != b->vertex_count || a->line_count != b->line_count || a->triangle_count != b->triangle_count)
+        return;
+    CHECK(memcmp(a->positions, b->positions, 3 * sizeof(float) * a->vertex_count) == 0, "%s: positions", what);
+    if (a->line_count)
+        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0,
+              "%s: line offsets", what);
+    if (a->triangle_count)
+        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0, "%s: triangles",
+              what);
+    CHECK(!a->rgb == !b->rgb, "%s: rgb presence", what);
+    if (a->rgb && b->rgb)
+        for (size_t i = 0; i < 3 * (size_t)a->vertex_count; i++)
+            if (fabs(a->rgb[i] - b->rgb[i]) > rgb_tol) {
+                CHECK(0, "%s: rgb[%zu] %g vs %g", what, i, a->rgb[i], b->rgb[i]);
+                break;
+            }
+    for (int i = 0; i < a->attribute_count; i++) {
+        int j = lc_scene_find_attribute(b, a->attributes[i].name);
+        CHECK(j >= 0, "%s: attribute %s missing", what, a->attributes[i].name);
+        if (j >= 0)
+            CHECK(memcmp(a->attributes[i].values, b->attributes[j].values, sizeof(float) * a->vertex_count) == 0,
+                  "%s: attribute %s", what, a->attributes[i].name);
+    }
+}
+
+static double sum_floats(const float *v, size_t n)
+{
+    double s = 0;
+    for (size_t i = 0; i < n; i++)
+        s += v[i];
+    return s;
+}
+
+static void check_key(const lc_scene *s, const char *file, const char *key, const char *value)
+{
+    if (strcmp(key, "type") == 0) {
+        CHECK(strcmp(lc_prim_type_name(s->type), value) == 0, "%s: type %s, expected %s", file,
+              lc_prim_type_name(s->type), value);
+    } else if (strcmp(key, "vertices") == 0) {
+        CHECK(s->vertex_count == strtoul(value, NULL, 10), "%s: %u vertices, expected %s", file, s->vertex_count,
+              value);
+    } else if (strcmp(key, "lines") == 0) {
+        CHECK(s->line_count == strtoul(value, NULL, 10), "%s: %u lines, expected %s", file, s->line_count, value);
+        CHECK(s->line_offsets && s->line_offsets[0] == 0 && s->line_offsets[s->line_count] == s->vertex_count,
+              "%s: line offsets do not cover the vertices", file);
+    } else if (strcmp(key, "triangles") == 0) {
+        CHECK(s->triangle_count == strtoul(value, NULL, 10), "%s: %u triangles, expected %s", file,
+              s->triangle_count, value);
+    } else if (strcmp(key, "rgb") == 0) {
+        CHECK((s->rgb != NULL) == (atoi(value) != 0), "%s: rgb %s, expected %s", file, s->rgb ? "yes" : "no",
+              value);
+    } else if (strcmp(key, "attrs") == 0) {
+        char attrs[512] = "";
+        for (int i = 0; i < s->attribute_count; i++)
+            snprintf(attrs + strlen(attrs), sizeof attrs - strlen(attrs), "%s%s", i ? "," : "",
+                     s->attributes[i].name);
+        CHECK(strcmp(attrs, strcmp(value, "-") == 0 ? "" : value) == 0, "%s: attributes '%s', expected '%s'", file,
+              attrs, value);
+    } else if (strcmp(key, "importance") == 0) {
+        CHECK(strcmp(s->default_importance, value) == 0, "%s: default importance '%s', expected '%s'", file,
+              s->default_importance, value);
+    } else if (strcmp(key, "sum") == 0 || strcmp(key, "asum") == 0 || strcmp(key, "rgbsum") == 0) {
+        double want = strtod(value, NULL), got = NAN;
+        if (key[0] == 's')
+            got = sum_floats(s->positions, 3 * (size_t)s->vertex_count);
+        else if (key[0] == 'r')
+            got = s->rgb ? sum_floats(s->rgb, 3 * (size_t)s->vertex_count) : NAN;
+        else {
+            int a = lc_scene_find_attribute(s, s->default_importance);
+            got = a >= 0 ? sum_floats(s->attributes[a].values, s->vertex_count) : NAN;
+        }
+        char what[160];
+        snprintf(what, sizeof what, "%s: %s", file, key);
+        CHECK_NEAR(got, want, 1e-5 * fmax(1.0, fabs(want)), what);
+    } else {
+        CHECK(0, "%s: unknown key '%s'", file, key);
+    }
+}
+
+/* One table: each file loads the same from disk and from memory; errors
+ * carry the expected text, also through lc_scene_load_file. */
+static int run_cases(const char *folder)
+{
+    char table[512];
+    snprintf(table, sizeof table, "%s%s/cases.txt", DATA, folder);
+    FILE *f = fopen(table, "r");
+    CHECK(f != NULL, "cannot open %s: %s", table, strerror(errno));
+    if (!f)
+        return 0;
+    char line[1024];
+    int cases = 0;
+    while (fgets(line, sizeof line, f)) {
+        line[strcspn(line, "\r\n")] = '\0';
+        if (!line[0] || line[0] == '#')
+            continue;
+        char *msg = strstr(line, " msg=");
+        if (msg) {
+            *msg = '\0';
+            msg += 5;
+        }
+        char *save = NULL, *file = strtok_r(line, " ", &save);
+        char path[512];
+        snprintf(path, sizeof path, "%s%s/%s", DATA, folder, file);
+        cases++;
+        lc_scene *s = NULL, *m = NULL;
+        lc_error err = {0}, merr = {0};
+        int rc = load_path(path, &s, &err);
+        size_t size = 0;
+        char *bytes = read_all(path, &size);
+        CHECK(bytes != NULL, "%s: cannot read", file);
+        int mrc = bytes ? load_memory(path, bytes, size, &m, &merr) : -1;
+        CHECK(mrc == rc, "%s: memory loader rc %d vs %d", file, mrc, rc);
+        char *kv;
+        int expect_error = 0;
+        while ((kv = strtok_r(NULL, " ", &save))) {
+            char *eq = strchr(kv, '=');
+            if (!eq)
+                continue;
+            *eq = '\0';
+            if (strcmp(kv, "error") == 0) {
+                expect_error = 1;
+                CHECK(rc != 0 && strcmp(lc_status_name(rc), eq + 1) == 0, "%s: status %s (%s), expected %s", file,
+                      lc_status_name(rc), err.msg, eq + 1);
+            } else if (rc == 0) {
+                check_key(s, file, kv, eq + 1);
+            }
+        }
+        lc_scene *fs = NULL;
+        lc_error ferr = {0};
+        int frc = lc_scene_load_file(path, &fs, &ferr);
+        if (expect_error) {
+            CHECK(s == NULL && m == NULL, "%s: scene returned with an error", file);
+            CHECK(msg && strstr(err.msg, msg) != NULL, "%s: message '%s' lacks '%s'", file, err.msg, msg ? msg : "");
+            CHECK(strcmp(err.msg, merr.msg) == 0, "%s: memory loader says '%s'", file, merr.msg);
+            CHECK(frc == rc && fs == NULL && strcmp(ferr.msg, err.msg) == 0, "%s: lc_scene_load_file says '%s'",
+                  file, ferr.msg);
+        } else {
+            CHECK(rc == 0, "%s: %s", file, err.msg);
+            if (rc == 0 && mrc == 0)
+                same_scene(s, m, 0, file);
+            CHECK(frc == 0 && fs && fs->finalized, "%s: lc_scene_load_file: %s", file, ferr.msg);
+        }
+        lc_scene_destroy(fs);
+        lc_scene_destroy(s);
+        lc_scene_destroy(m);
+        free(bytes);
+    }
+    fclose(f);
+    return cases;
+}
+
+static void test_cases(void)
+{
+    int vtk = run_cases("vtk"), trk = run_cases("trk");
+    CHECK(vtk >= 25 && trk >= 12, "only %d VTK and %d TrackVis cases", vtk, trk);
+}
+
+static void test_exact_values(void)
+{
+    /* ASCII vs binary, classic vs 5.1: the same scene. */
+    lc_scene *a = must_load("vtk/valid/lines_ascii.vtk"), *b = must_load("vtk/valid/lines_be.vtk");
+    lc_scene *c = must_load("vtk/valid/lines_v51.vtk");
+    if (a && b)
+        same_scene(a, b, 0, "lines ascii vs binary");
+    if (a && c) {
+        static const uint32_t off[3] = {0, 3, 5};
+        static const float speed[5] = {1, 2, 3, 3, 4};
+        static const float vmag[5] = {5, 1, 1, 1, 0};
+        CHECK(memcmp(a->line_offsets, off, sizeof off) == 0 && memcmp(c->line_offsets, off, sizeof off) == 0,
+              "vtk line offsets (point 2 duplicated)");
+        CHECK(memcmp(a->positions, c->positions, 15 * sizeof(float)) == 0, "classic vs 5.1 positions");
+        CHECK(memcmp(a->attributes[0].values, speed, sizeof speed) == 0, "speed gathered along the lines");
+        int v = lc_scene_find_attribute(a, "velocity_magnitude");
+        CHECK(v >= 0 && memcmp(a->attributes[v].values, vmag, sizeof vmag) == 0, "vector magnitude");
+    }
+    lc_scene_destroy(a);
+    lc_scene_destroy(b);
+    lc_scene_destroy(c);
+
+    lc_scene *s = must_load("vtk/valid/surface_ascii.vtk");
+    if (s) { /* quad fan, triangle, then a strip with alternating winding */
+        static const uint32_t tris[15] = {0, 1, 2, 0, 2, 3, 0, 2, 3, 3, 2, 4, 4, 2, 5};
+        CHECK(s->triangle_count == 5 && memcmp(s->triangles, tris, sizeof tris) == 0, "fan and strip triangles");
+        CHECK(s->rgb && s->rgb[12] == 0.5f && s->rgb[3] == 0 && s->rgb[4] == 1, "ASCII colour scalars");
+        int u1 = lc_scene_find_attribute(s, "uv_1");
+        CHECK(u1 >= 0 && s->attributes[u1].values[5] == 1.0f, "second component as its own attribute");
+    }
+    lc_scene_destroy(s);
+
+    lc_scene *q = must_load("vtk/valid/surface_v51_be.vtk");
+    if (q) {
+        static const uint32_t tris[9] = {0, 1, 2, 0, 2, 3, 0, 2, 3};
+        CHECK(memcmp(q->triangles, tris, sizeof tris) == 0, "5.1 binary polygons");
+        CHECK(q->rgb && q->rgb[0] == 1 && q->rgb[1] == 0 && q->rgb[10] == 1, "binary uchar colours");
+        CHECK(q->attributes[0].values[0] == -1 && q->attributes[0].values[3] == 300, "short scalars");
+    }
+    lc_scene_destroy(q);
+
+    lc_scene *le = must_load("trk/valid/tracts_le.trk"), *be = must_load("trk/valid/tracts_be.trk");
+    if (le && be)
+        same_scene(le, be, 0, "trk little vs big endian");
+    if (le) {
+        static const uint32_t off[3] = {0, 3, 7};
+        static const float length[7] = {10, 10, 10, 20, 20, 20, 20};
+        static const float col2[7] = {3, 3, 3, 6, 6, 6, 6};
+        CHECK(memcmp(le->line_offsets, off, sizeof off) == 0, "trk line offsets (1-point track dropped)");
+        int l = lc_scene_find_attribute(le, "length"), c2 = lc_scene_find_attribute(le, "col_2");
+        CHECK(l >= 0 && memcmp(le->attributes[l].values, length, sizeof length) == 0, "property broadcast");
+        CHECK(c2 >= 0 && memcmp(le->attributes[c2].values, col2, sizeof col2) == 0, "multi-value scalar name");
+        CHECK(le->positions[3 * 6 + 1] == 4 && le->positions[3 * 6 + 2] == 1, "trk coordinates as stored");
+    }
+    lc_scene_destroy(le);
+    lc_scene_destroy(be);
+}
+
+/* lc_save_vtk then lc_load_vtk gives back the scene (rgb through bytes). */
+static void test_roundtrip(const char *dir)
+{
+    static const lc_prim_type types[3] = {LC_PRIM_POINTS, LC_PRIM_LINES, LC_PRIM_TRIANGLES};
+    for (int t = 0; t < 3; t++) {
+        lc_error err = {0};
+        lc_scene *s = lc_scene_create("synthetic", types[t]);
+        uint32_t n = 48;
+        CHECK(s && lc_scene_alloc_vertices(s, n, t != 1, &err) == 0, "alloc: %s", err.msg);
+        for (uint32_t i = 0; i < 3 * n; i++) {
+            s->positions[i] = (float)sin(i * 0.731) * 1000.0f + 1.0f / 3.0f;
+            if (s->rgb)
+                s->rgb[i] = (float)(i % 256) / 255.0f;
+        }
+        const char *names[2] = {"importance", "temperature"};
+        for (int a = 0; a < 2; a++) {
+            float *v = malloc(n * sizeof *v);
+            for (uint32_t i = 0; i < n; i++)
+                v[i] = (float)cos(i * (a + 1.3)) * 7.0f;
+            lc_scene_add_attribute(s, names[a], v, &err);
+        }
+        if (types[t] == LC_PRIM_LINES) {
+            s->line_count = 3;
+            s->line_offsets = malloc(4 * sizeof(uint32_t));
+            uint32_t off[4] = {0, 10, 30, 48};
+            memcpy(s->line_offsets, off, sizeof off);
+        } else if (types[t] == LC_PRIM_TRIANGLES) {
+            s->triangle_count = n - 2;
+            s->triangles = malloc(3 * sizeof(uint32_t) * (n - 2));
+            for (uint32_t i = 0; i + 2 < n; i++)
+                s->triangles[3 * i] = i, s->triangles[3 * i + 1] = i + 1, s->triangles[3 * i + 2] = i + 2;
+        }
+        char path[512];
+        snprintf(path, sizeof path, "%s/round%d.vtk", dir, t);
+        CHECK(lc_save_vtk(s, path, &err) == 0, "save: %s", err.msg);
+        lc_scene *r = NULL;
+        CHECK(lc_load_vtk(path, &r, &err) == 0, "reload: %s", err.msg);
+        if (r)
+            same_scene(s, r, 0.5 / 255.0 + 1e-6, lc_prim_type_name(types[t]));
+        lc_scene_destroy(r);
+        lc_scene_destroy(s);
+        unlink(path);
+    }
+}
+
+static uint64_t rng_state = 0x2545f4914f6cdd1dull;
+static uint32_t rng(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (uint32_t)rng_state;
+}
+
+/* Every prefix and random byte edits of the valid files: an error with a
+ * message or a scene that finalizes, never a crash or a leak. */
+static void test_mutations(void)
+{
+    static const char *files[] = {"vtk/valid/lines_ascii.vtk", "vtk/valid/lines_be.vtk", "vtk/valid/lines_v51.vtk",
+                                  "vtk/valid/surface_ascii.vtk", "vtk/valid/surface_v51_be.vtk",
+                                  "vtk/valid/points_crlf.vtk", "trk/valid/tracts_le.trk", "trk/valid/tracts_be.trk"};
+    int loaded = 0, failed = 0;
+    for (size_t fi = 0; fi < sizeof files / sizeof *files; fi++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s%s", DATA, files[fi]);
+        size_t size;
+        char *bytes = read_all(path, &size);
+        CHECK(bytes != NULL, "%s", path);
+        if (!bytes)
+            continue;
+        for (size_t len = 0; len <= size; len++) {
+            char *copy = malloc(len ? len : 1);
+            memcpy(copy, bytes, len);
+            lc_scene *s = NULL;
+            lc_error err = {0};
+            int rc = load_memory(path, copy, len, &s, &err);
+            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s prefix %zu: rc %d", files[fi], len, rc);
+            rc == 0 ? loaded++ : failed++;
+            lc_scene_destroy(s);
+            free(copy);
+        }
+        char *copy = malloc(size);
+        for (int iter = 0; iter < 3000; iter++) {
+            memcpy(copy, bytes, size);
+            int edits = 1 + (int)(rng() % 4);
+            for (int e = 0; e < edits; e++) {
+                static const char interesting[] = "0123456789 \n-.e%\xff\x80\x7f";
+                size_t at = rng() % size;
+                copy[at] = rng() % 2 ? (char)rng() : interesting[rng() % (sizeof interesting - 1)];
+            }
+            lc_scene *s = NULL;
+            lc_error err = {0};
+            int rc = load_memory(path, copy, size, &s, &err);
+            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s mutation %d: rc %d", files[fi], iter, rc);
+            if (rc == 0) {
+                lc_elements_desc desc = {.line_budget = 64, .patch_count = 8};
+                lc_error ferr = {0};
+                (void)lc_scene_finalize(s, &desc, &ferr);
+            }
+            lc_scene_destroy(s);
+        }
+        free(copy);
+        free(bytes);
+    }
+    CHECK(loaded > 0 && failed > 0, "prefixes: %d loaded, %d failed", loaded, failed);
+}
+
+int main(void)
+{
+    lc_log_set_level(LC_LOG_ERROR); /* the cases trigger expected warnings */
+    char dir[] = "/tmp/lc_loaders_vtk_XXXXXX";
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_cases();
+    test_exact_values();
+    test_roundtrip(dir);
+    test_mutations();
+    rmdir(dir);
+    return lc_test_finish();
+}

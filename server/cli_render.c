@@ -169,7 +169,7 @@ int lc_cli_gen(int argc, char **argv)
         }
     }
     if (!name || !out) {
-        fprintf(stderr, "usage: lucent gen NAME -o FILE.ply|FILE.obj [--count N] [--seed S]\ndemos:");
+        fprintf(stderr, "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\ndemos:");
         for (const char *const *d = lc_demo_names(); *d; d++)
             fprintf(stderr, "\n  %-8s %s", *d, lc_demo_description(*d));
         fprintf(stderr, "\n");
@@ -188,8 +188,10 @@ int lc_cli_gen(int argc, char **argv)
         rc = lc_save_ply(s, out, &err);
     else if (has_suffix(out, ".obj"))
         rc = lc_save_obj(s, out, &err);
+    else if (has_suffix(out, ".vtk"))
+        rc = lc_save_vtk(s, out, &err);
     else
-        rc = lc_err(&err, LC_ERR_INVALID, "%s: the output must end in .ply or .obj", out);
+        rc = lc_err(&err, LC_ERR_INVALID, "%s: the output must end in .ply, .obj or .vtk", out);
     if (rc)
         fprintf(stderr, "lucent gen: %s\n", err.msg);
     else

@@ -9,22 +9,19 @@
 static const char *const type_names[] = {"hello", "camera", "params", "resize", "ack"};
 #define NTYPES (sizeof type_names / sizeof type_names[0])
 
-const char *lc_proto_msg_type_name(lc_msg_type t)
-{
-    return (unsigned)t < NTYPES ? type_names[t] : "unknown";
-}
+const char *lc_proto_msg_type_name(lc_msg_type t) { return (unsigned)t < NTYPES ? type_names[t] : "unknown"; }
 
 /* Keys of the render request that hello/params/camera pass on in m->update. */
 static const char *const update_keys[] = {"camera", "params", "importance", "color", "style", "method"};
 #define NUPDATE (sizeof update_keys / sizeof update_keys[0])
 
 /* Which keys each message type allows, besides "type". */
-static const char *const hello_keys[] = {"dataset", "width", "height", "devicePixelRatio", "window", "token",
-                                         "quality", "interactiveQuality", "interactiveScale", "camera", "params",
-                                         "importance", "color", "style", "method", NULL};
+static const char *const hello_keys[] = {
+    "dataset",          "width",  "height", "devicePixelRatio", "window", "token", "quality", "interactiveQuality",
+    "interactiveScale", "camera", "params", "importance",       "color",  "style", "method",  NULL};
 static const char *const camera_keys[] = {"seq", "camera", NULL};
-static const char *const params_keys[] = {"quality", "interactiveQuality", "interactiveScale", "params",
-                                          "importance", "color", "style", "method", NULL};
+static const char *const params_keys[] = {
+    "quality", "interactiveQuality", "interactiveScale", "params", "importance", "color", "style", "method", NULL};
 static const char *const resize_keys[] = {"width", "height", "devicePixelRatio", NULL};
 static const char *const ack_keys[] = {"frame", NULL};
 static const char *const *const allowed_keys[] = {hello_keys, camera_keys, params_keys, resize_keys, ack_keys};
@@ -115,28 +112,28 @@ static int get_str(const json_t *obj, const char *key, char *out, size_t size, l
 }
 
 /* Marks has_ when read; passes errors on. */
-#define READ(call, has)            \
-    do {                           \
-        int rc_ = (call);          \
-        if (rc_ < 0) {             \
-            status = rc_;          \
-            goto fail;             \
-        }                          \
-        if (rc_ == 0)              \
-            (has) = true;          \
+#define READ(call, has)                                                                                                \
+    do {                                                                                                               \
+        int rc_ = (call);                                                                                              \
+        if (rc_ < 0) {                                                                                                 \
+            status = rc_;                                                                                              \
+            goto fail;                                                                                                 \
+        }                                                                                                              \
+        if (rc_ == 0)                                                                                                  \
+            (has) = true;                                                                                              \
     } while (0)
 
-#define REQUIRE(call, key)                                                               \
-    do {                                                                                 \
-        int rc_ = (call);                                                                \
-        if (rc_ < 0) {                                                                   \
-            status = rc_;                                                                \
-            goto fail;                                                                   \
-        }                                                                                \
-        if (rc_ == 1) {                                                                  \
-            status = lc_proto_set_error(err, LC_PROTO_MISSING_FIELD, key, "required"); \
-            goto fail;                                                                   \
-        }                                                                                \
+#define REQUIRE(call, key)                                                                                             \
+    do {                                                                                                               \
+        int rc_ = (call);                                                                                              \
+        if (rc_ < 0) {                                                                                                 \
+            status = rc_;                                                                                              \
+            goto fail;                                                                                                 \
+        }                                                                                                              \
+        if (rc_ == 1) {                                                                                                \
+            status = lc_proto_set_error(err, LC_PROTO_MISSING_FIELD, key, "required");                                 \
+            goto fail;                                                                                                 \
+        }                                                                                                              \
     } while (0)
 
 static void msg_defaults(lc_client_msg *m)
@@ -193,8 +190,8 @@ int lc_proto_parse_client_message(const char *text, size_t len, const lc_proto_l
     json_object_foreach(root, key, v)
     {
         if (strcmp(key, "type") != 0 && !in_list(allowed_keys[t], key)) {
-            status = lc_proto_set_error(err, LC_PROTO_UNKNOWN_FIELD, key, "unknown field in a %s message",
-                                        type_names[t]);
+            status =
+                lc_proto_set_error(err, LC_PROTO_UNKNOWN_FIELD, key, "unknown field in a %s message", type_names[t]);
             goto fail;
         }
         if (is_update_key(key)) {
@@ -235,9 +232,7 @@ int lc_proto_parse_client_message(const char *text, size_t len, const lc_proto_l
             goto fail;
         }
         break;
-    case LC_MSG_ACK:
-        REQUIRE(get_uint(root, "frame", &m->frame, err), "frame");
-        break;
+    case LC_MSG_ACK: REQUIRE(get_uint(root, "frame", &m->frame, err), "frame"); break;
     }
 
     /* The render-request parts are checked by the request schema, so their
@@ -294,12 +289,8 @@ json_t *lc_proto_client_message_to_json(const lc_client_msg *m)
         if (m->has_interactive_scale)
             json_object_set_new(o, "interactiveScale", json_real(m->interactive_scale));
         break;
-    case LC_MSG_CAMERA:
-        json_object_set_new(o, "seq", json_integer((json_int_t)m->seq));
-        break;
-    case LC_MSG_ACK:
-        json_object_set_new(o, "frame", json_integer((json_int_t)m->frame));
-        break;
+    case LC_MSG_CAMERA: json_object_set_new(o, "seq", json_integer((json_int_t)m->seq)); break;
+    case LC_MSG_ACK: json_object_set_new(o, "frame", json_integer((json_int_t)m->frame)); break;
     }
     if (m->update)
         json_object_update(o, m->update); /* copies references to the sections */
@@ -404,9 +395,7 @@ char *lc_proto_stats_json(const json_t *fields)
     const char *key;
     json_t *v;
     if (json_is_object(fields))
-        json_object_foreach((json_t *)fields, key, v)
-            if (strcmp(key, "type") != 0)
-                json_object_set(o, key, v);
+        json_object_foreach((json_t *)fields, key, v) if (strcmp(key, "type") != 0) json_object_set(o, key, v);
     return dump_and_free(o);
 }
 

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define LC_PROTO_DEFAULT_WINDOW 2          /* unacknowledged frames per session */
+#define LC_PROTO_DEFAULT_WINDOW 2 /* unacknowledged frames per session */
 #define LC_PROTO_MAX_WINDOW 8
 #define LC_PROTO_DEFAULT_INTERACTIVE_QUALITY 70
 #define LC_PROTO_DEFAULT_INTERACTIVE_SCALE 0.5
@@ -80,9 +80,9 @@ const char *lc_proto_msg_type_name(lc_msg_type t);
 
 /* Flow-control and quality settings of a stream (hello/params can change them). */
 typedef struct lc_stream_settings {
-    int window;              /* unacknowledged frames, 1..8 */
-    int quality;             /* still-frame JPEG quality */
-    int interactive_quality; /* JPEG quality while input is active */
+    int window;               /* unacknowledged frames, 1..8 */
+    int quality;              /* still-frame JPEG quality */
+    int interactive_quality;  /* JPEG quality while input is active */
     double interactive_scale; /* resolution factor while input is active */
 } lc_stream_settings;
 
@@ -126,12 +126,12 @@ typedef struct lc_frame_timing {
 } lc_frame_timing;
 
 typedef struct lc_frame_header {
-    uint64_t frame;          /* frame id, what the client acks */
-    int width, height;       /* pixels of this image */
-    lc_image_format format;  /* jpeg for streams, png possible */
-    int quality;             /* JPEG quality used (0 for png) */
-    uint64_t camera_seq;     /* last camera seq this frame reflects (0 = none yet) */
-    bool converged;          /* the session's opacities stopped fading */
+    uint64_t frame;         /* frame id, what the client acks */
+    int width, height;      /* pixels of this image */
+    lc_image_format format; /* jpeg for streams, png possible */
+    int quality;            /* JPEG quality used (0 for png) */
+    uint64_t camera_seq;    /* last camera seq this frame reflects (0 = none yet) */
+    bool converged;         /* the session's opacities stopped fading */
     int timing_count;
     lc_frame_timing timings[LC_PROTO_MAX_TIMINGS];
     double encode_ms;

@@ -41,8 +41,8 @@ static void copy_str(char *dst, size_t size, const char *src)
 
 int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field, const char *fmt, ...)
 {
-    int status = (strcmp(code, LC_PROTO_TOO_LARGE) == 0 || strcmp(code, LC_PROTO_TOO_DEEP) == 0) ? LC_ERR_LIMIT
-                                                                                                 : LC_ERR_INVALID;
+    int status =
+        (strcmp(code, LC_PROTO_TOO_LARGE) == 0 || strcmp(code, LC_PROTO_TOO_DEEP) == 0) ? LC_ERR_LIMIT : LC_ERR_INVALID;
     if (!err)
         return status;
     char reason[256];
@@ -107,11 +107,11 @@ typedef struct field {
 static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
                                          {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
                                          {"wboit", LC_METHOD_WBOIT},     {NULL, 0}};
-static const enum_name format_names[] = {{"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG},
-                                         {NULL, 0}};
+static const enum_name format_names[] = {
+    {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
 static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoint", LC_ESTIMATOR_MIDPOINT}, {NULL, 0}};
-static const enum_name depth_range_names[] = {{"global", LC_DEPTH_RANGE_GLOBAL}, {"pixel", LC_DEPTH_RANGE_PIXEL},
-                                             {NULL, 0}};
+static const enum_name depth_range_names[] = {
+    {"global", LC_DEPTH_RANGE_GLOBAL}, {"pixel", LC_DEPTH_RANGE_PIXEL}, {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
 static const enum_name colormap_names[] = {{"viridis", 0}, {"coolwarm", 1}, {"grayscale", 2}, {"inferno", 3},
                                            {"plasma", 4},  {"turbo", 5},    {NULL, 0}};
@@ -147,16 +147,14 @@ static const field fields[] = {
     {"params", "lambda", "lambda", T_NUM, 0, 1000, 0, OFF(render.foo.lambda), 0, NOFLAG, NULL},
     {"params", "bands", "bands", T_INT, LC_MIN_BANDS, LC_MAX_BANDS, 0, OFF(render.foo.bands), 0, NOFLAG, NULL},
     {"params", "smoothing", "smoothing", T_INT, 0, 1000, 0, OFF(render.foo.smoothing), 0, NOFLAG, NULL},
-    {"params", "smoothingWeight", "smoothingWeight", T_NUM, 0, 1, 0, OFF(render.foo.smoothing_weight), 0, NOFLAG,
-     NULL},
+    {"params", "smoothingWeight", "smoothingWeight", T_NUM, 0, 1, 0, OFF(render.foo.smoothing_weight), 0, NOFLAG, NULL},
     {"params", "fadeHalfLife", "fadeHalfLife", T_NUM, 0, 60, 0, OFF(render.foo.fade_half_life), 0, NOFLAG, NULL},
-    {"params", "resolutionScale", "resolutionScale", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.resolution_scale), 0,
-     NOFLAG, NULL},
+    {"params", "resolutionScale", "resolutionScale", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.resolution_scale), 0, NOFLAG,
+     NULL},
     {"params", "subset", "subset", T_INT, 1, 1024, 0, OFF(render.foo.subset), 0, NOFLAG, NULL},
     {"params", "depthMargin", "depthMargin", T_NUM, 0, 0.25, 0, OFF(render.foo.depth_margin), 0, NOFLAG, NULL},
     {"params", "estimator", "estimator", T_ENUM, 0, 0, 0, OFF(render.foo.estimator), 0, NOFLAG, estimator_names},
-    {"params", "depthRange", "depthRange", T_ENUM, 0, 0, 0, OFF(render.foo.depth_range), 0, NOFLAG,
-     depth_range_names},
+    {"params", "depthRange", "depthRange", T_ENUM, 0, 0, 0, OFF(render.foo.depth_range), 0, NOFLAG, depth_range_names},
     {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
      NULL},
 
@@ -168,8 +166,7 @@ static const field fields[] = {
      NOFLAG, NULL},
 
     {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
-    {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG,
-     colormap_names},
+    {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG, colormap_names},
     {"color", "range", "colorRange", T_RANGE, 0, 0, 0, OFF(render.color.range), 0, (long)OFF(render.color.has_range),
      NULL},
 
@@ -258,8 +255,8 @@ static int check_range(const field *f, double v, double lo, double hi, const cha
         const char *lb = (f->bounds & LO_OPEN) ? "(" : "[";
         const char *hb = (f->bounds & HI_OPEN) ? ")" : "]";
         if (hi >= BIG)
-            return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, path, "%.15g is not %s %.15g",
-                                      v, (f->bounds & LO_OPEN) ? ">" : ">=", lo);
+            return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, path, "%.15g is not %s %.15g", v,
+                                      (f->bounds & LO_OPEN) ? ">" : ">=", lo);
         return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, path, "%.15g is outside %s%.15g, %.15g%s", v, lb, lo, hi,
                                   hb);
     }
@@ -456,8 +453,7 @@ int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, l
     return 0;
 }
 
-static int apply(const json_t *obj, const lc_proto_limits *lim, lc_request *r, bool cross_checks,
-                 lc_proto_error *err)
+static int apply(const json_t *obj, const lc_proto_limits *lim, lc_request *r, bool cross_checks, lc_proto_error *err)
 {
     lc_proto_limits dl;
     if (!lim) {
@@ -556,8 +552,7 @@ json_t *lc_proto_load(const char *text, size_t len, const lc_proto_limits *lim, 
     return root;
 }
 
-int lc_proto_parse_request(const char *json, size_t len, const lc_proto_limits *lim, lc_request *r,
-                           lc_proto_error *err)
+int lc_proto_parse_request(const char *json, size_t len, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)
 {
     lc_proto_error local;
     if (!err)
@@ -634,8 +629,7 @@ static json_t *query_value(const field *f, const char *value)
         return NULL;
     case T_STR:
     case T_ENUM:
-    case T_NAME:
-        return json_string(value); /* NULL for invalid UTF-8 */
+    case T_NAME: return json_string(value); /* NULL for invalid UTF-8 */
     case T_VEC3:
     case T_COLOR:
     case T_RANGE: {

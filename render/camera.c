@@ -95,7 +95,7 @@ int lc_camera_validate(const lc_camera *cam)
 }
 
 /* Column-major store helper: m[col*4 + row]. */
-#define M(m, r, c) (m)[(c) * 4 + (r)]
+#define M(m, r, c) (m)[(c)*4 + (r)]
 
 static void mat_mul(const float a[16], const float b[16], float o[16])
 {

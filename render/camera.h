@@ -14,12 +14,12 @@ typedef struct lc_view {
     float view[16];
     float proj[16];
     float view_proj[16];
-    double znear, zfar;   /* clip planes (positive distances) */
-    double depth_min;     /* view-space depth range of the bounds this frame, */
-    double depth_max;     /* clamped to the near plane (DESIGN §3) */
-    double pixel_world;   /* world size of one pixel at the focal distance (for minimum widths) */
-    double eye[3];        /* camera position */
-    double dir[3];        /* unit view direction */
+    double znear, zfar; /* clip planes (positive distances) */
+    double depth_min;   /* view-space depth range of the bounds this frame, */
+    double depth_max;   /* clamped to the near plane (DESIGN §3) */
+    double pixel_world; /* world size of one pixel at the focal distance (for minimum widths) */
+    double eye[3];      /* camera position */
+    double dir[3];      /* unit view direction */
 } lc_view;
 
 /* Sets cam to look at bounds (xmin,ymin,zmin,xmax,ymax,zmax) along the given

@@ -41,7 +41,9 @@ const char *lc_demo_description(const char *name)
 
 /* ---- PRNG: splitmix64, a full-period 64-bit generator that is plenty for
  * seeding demo geometry and identical on every platform. */
-typedef struct { uint64_t s; } rng;
+typedef struct {
+    uint64_t s;
+} rng;
 
 static uint64_t rng_next(rng *r)
 {
@@ -117,10 +119,10 @@ static void abc_field(const double p[3], double v[3])
 
 typedef struct {
     field_fn field;
-    double lo, hi;     /* cubic domain [lo, hi]^3 */
-    double step;       /* arc length per RK4 step */
-    int max_steps;     /* per direction */
-    double min_speed;  /* below this the line ends (critical point) */
+    double lo, hi;    /* cubic domain [lo, hi]^3 */
+    double step;      /* arc length per RK4 step */
+    int max_steps;    /* per direction */
+    double min_speed; /* below this the line ends (critical point) */
 } stream_spec;
 
 /* Unit direction of the field times dir, or 0 when the flow stalls; RK4 on
@@ -182,8 +184,7 @@ static int trace(const stream_spec *sp, const double seed[3], double dir, double
 /* Streamlines from random seeds, traced both ways. Every line has at least
  * two vertices; seeds in stagnant regions are redrawn a bounded number of
  * times. Adds "velocity" (speed magnitude) and sets line offsets. */
-static int make_streamlines(lc_scene *s, const stream_spec *sp, uint32_t lines, rng *r,
-                            lc_error *err)
+static int make_streamlines(lc_scene *s, const stream_spec *sp, uint32_t lines, rng *r, lc_error *err)
 {
     fbuf pos = {0}, speed = {0};
     uint32_t *offsets = malloc(((size_t)lines + 1) * sizeof(uint32_t));
@@ -386,11 +387,9 @@ static int gen_points(lc_scene *s, uint64_t count, rng *r, lc_error *err)
                 pick -= weight[c++];
             id = c + 1;
             do {
-                double g[3] = {rng_normal(r) * sigma[c][0], rng_normal(r) * sigma[c][1],
-                               rng_normal(r) * sigma[c][2]};
+                double g[3] = {rng_normal(r) * sigma[c][0], rng_normal(r) * sigma[c][1], rng_normal(r) * sigma[c][2]};
                 for (int k = 0; k < 3; k++)
-                    p[k] = centre[c][k] + g[0] * axes[c][0][k] + g[1] * axes[c][1][k] +
-                           g[2] * axes[c][2][k];
+                    p[k] = centre[c][k] + g[0] * axes[c][0][k] + g[1] * axes[c][1][k] + g[2] * axes[c][2][k];
             } while (!(p[0] >= 0 && p[0] <= 1 && p[1] >= 0 && p[1] <= 1 && p[2] >= 0 && p[2] <= 1));
         }
         for (int k = 0; k < 3; k++)
@@ -453,8 +452,7 @@ static void knot_frame(double t, double c[3], double nrm[3], double bin[3])
 
 /* Quads of a (rows x cols) vertex grid starting at base, wrapping in columns
  * and, if wrap_rows, in rows; two triangles each, wound by `flip`. */
-static uint32_t grid_triangles(uint32_t *tri, uint32_t base, uint32_t rows, uint32_t cols,
-                               int wrap_rows, int flip)
+static uint32_t grid_triangles(uint32_t *tri, uint32_t base, uint32_t rows, uint32_t cols, int wrap_rows, int flip)
 {
     uint32_t k = 0;
     uint32_t row_quads = wrap_rows ? rows : rows - 1;
@@ -622,9 +620,7 @@ int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, l
     uint64_t seed = desc && desc->seed ? desc->seed : 1;
     uint64_t count = desc ? desc->count : 0;
     int is_lines = strcmp(name, "tornado") == 0 || strcmp(name, "abc") == 0;
-    uint64_t cap = is_lines ? MAX_DEMO_LINES
-                   : strcmp(name, "points") == 0 ? MAX_DEMO_POINTS
-                                                 : MAX_DEMO_SURFACE_RES;
+    uint64_t cap = is_lines ? MAX_DEMO_LINES : strcmp(name, "points") == 0 ? MAX_DEMO_POINTS : MAX_DEMO_SURFACE_RES;
     if (count > cap)
         return lc_err(err, LC_ERR_LIMIT, "demo:%s: count %llu exceeds the limit of %llu", name,
                       (unsigned long long)count, (unsigned long long)cap);

@@ -13,8 +13,7 @@
 
 /* Allocates the per-vertex arrays and count + 1 offsets (zeroed). Buffers are
  * never empty so that GPU uploads never see a zero size. */
-static int alloc_elements(lc_elements *e, uint32_t vertices, uint32_t count, const char *name,
-                          lc_error *err)
+static int alloc_elements(lc_elements *e, uint32_t vertices, uint32_t count, const char *name, lc_error *err)
 {
     e->count = count;
     e->vertex_elements = malloc((size_t)(vertices ? vertices : 1) * 4 * sizeof(uint32_t));
@@ -27,8 +26,7 @@ static int alloc_elements(lc_elements *e, uint32_t vertices, uint32_t count, con
 
 /* Writes a vertex's blend: up to three (element, weight) pairs; unused slots
  * repeat e0 with weight 0 so the shader can always read all three. */
-static void set_vertex(lc_elements *e, uint32_t v, int n, const uint32_t *ids, const float *w,
-                       uint32_t primary)
+static void set_vertex(lc_elements *e, uint32_t v, int n, const uint32_t *ids, const float *w, uint32_t primary)
 {
     uint32_t *ve = e->vertex_elements + 4 * (size_t)v;
     float *vw = e->vertex_weights + 4 * (size_t)v;
@@ -48,8 +46,7 @@ static int cmp_u64(const void *a, const void *b)
 
 /* Builds the CSR adjacency from directed pairs (a << 32 | b), both directions
  * present; sorts, removes duplicates and self loops. Frees pairs. */
-static int adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, const char *name,
-                                lc_error *err)
+static int adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, const char *name, lc_error *err)
 {
     qsort(pairs, n, sizeof *pairs, cmp_u64);
     size_t m = 0;
@@ -98,7 +95,10 @@ static int build_points(lc_scene *s, lc_error *err)
 
 /* ---- lines */
 
-typedef struct { double frac; uint32_t line; } line_share;
+typedef struct {
+    double frac;
+    uint32_t line;
+} line_share;
 
 static int cmp_remainder(const void *a, const void *b)
 {
@@ -111,8 +111,7 @@ static int cmp_remainder(const void *a, const void *b)
 /* Splits the budget over lines in proportion to their length (largest
  * line_share), at least one element per non-empty line and at most one per
  * segment: an element without a vertex of its own would never be drawn. */
-static uint32_t *line_element_counts(const lc_scene *s, uint32_t budget, const float *line_len,
-                                     uint64_t *total_out)
+static uint32_t *line_element_counts(const lc_scene *s, uint32_t budget, const float *line_len, uint64_t *total_out)
 {
     uint32_t L = s->line_count;
     uint32_t *cnt = calloc(L ? L : 1, sizeof(uint32_t));
@@ -136,8 +135,7 @@ static uint32_t *line_element_counts(const lc_scene *s, uint32_t budget, const f
         if (nv == 0)
             continue;
         uint32_t cap = nv > 1 ? nv - 1 : 1;
-        double ideal = total_len > 0 ? (double)budget * line_len[l] / total_len
-                                     : (double)budget / nonempty;
+        double ideal = total_len > 0 ? (double)budget * line_len[l] / total_len : (double)budget / nonempty;
         double fl = floor(ideal);
         uint32_t c = fl < 1 ? 1 : fl > cap ? cap : (uint32_t)fl;
         cnt[l] = c;
@@ -391,8 +389,8 @@ static uint32_t ih_pop(iheap *q)
  * vertices it brings closer, so later centres touch ever smaller regions.
  * Unreached components have infinite distance and are picked first, hence
  * sampling continues past `want` until every component has a centre. */
-static int farthest_point_sampling(const lc_scene *s, const mesh_graph *g, const uint8_t *used,
-                                   uint32_t want, uint32_t **centres_out, uint32_t *count_out)
+static int farthest_point_sampling(const lc_scene *s, const mesh_graph *g, const uint8_t *used, uint32_t want,
+                                   uint32_t **centres_out, uint32_t *count_out)
 {
     uint32_t n = s->vertex_count;
     float *dist = malloc((size_t)n * sizeof(float));
@@ -466,7 +464,10 @@ done:
 /* Multi-source Dijkstra that keeps the 3 nearest centres per vertex. A centre
  * can be among a vertex's 3 nearest only if it is among the 3 nearest of the
  * previous vertex on the shortest path, so only settled top-3 labels expand. */
-typedef struct { float d; uint32_t v, c; } label;
+typedef struct {
+    float d;
+    uint32_t v, c;
+} label;
 
 typedef struct {
     label *a;
@@ -559,8 +560,8 @@ static int offer(nearest3 *t, uint32_t c, float d)
     return 0;
 }
 
-static int nearest_centres(const lc_scene *s, const mesh_graph *g, const uint32_t *centres,
-                           uint32_t count, nearest3 *near)
+static int nearest_centres(const lc_scene *s, const mesh_graph *g, const uint32_t *centres, uint32_t count,
+                           nearest3 *near)
 {
     lheap q = {0};
     for (uint32_t i = 0; i < count; i++) {
@@ -620,12 +621,12 @@ static int build_patches(lc_scene *s, uint32_t want, lc_error *err)
         goto fail;
     double t1 = lc_now();
     if (count > want)
-        LC_INFO("scene", "%s: %u disconnected parts raise the patch count from %u to %u", s->name,
-                count - want + 1, want, count);
+        LC_INFO("scene", "%s: %u disconnected parts raise the patch count from %u to %u", s->name, count - want + 1,
+                want, count);
     if (nearest_centres(s, &g, centres, count, near))
         goto fail;
-    LC_DEBUG("scene", "%s: %u patches: sampling %.0f ms, nearest centres %.0f ms", s->name, count,
-             (t1 - t0) * 1e3, (lc_now() - t1) * 1e3);
+    LC_DEBUG("scene", "%s: %u patches: sampling %.0f ms, nearest centres %.0f ms", s->name, count, (t1 - t0) * 1e3,
+             (lc_now() - t1) * 1e3);
     rc = alloc_elements(e, n, count, s->name, err);
     if (rc)
         goto out;
@@ -643,8 +644,7 @@ static int build_patches(lc_scene *s, uint32_t want, lc_error *err)
         int ord[3] = {0, 1, 2};
         for (int a = 0; a < t->n; a++)
             for (int b = a + 1; b < t->n; b++)
-                if (t->d[ord[b]] < t->d[ord[a]] ||
-                    (t->d[ord[b]] == t->d[ord[a]] && t->c[ord[b]] < t->c[ord[a]])) {
+                if (t->d[ord[b]] < t->d[ord[a]] || (t->d[ord[b]] == t->d[ord[a]] && t->c[ord[b]] < t->c[ord[a]])) {
                     int tmp = ord[a];
                     ord[a] = ord[b];
                     ord[b] = tmp;

@@ -188,8 +188,7 @@ static void clear_heads(const exact_state *st)
 }
 
 /* Draws every primitive with list program `prog` into the heads/pool at w x h. */
-static void build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, GLuint prog, int pass, int w,
-                        int h)
+static void build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, GLuint prog, int pass, int w, int h)
 {
     clear_heads(st);
     glDisable(GL_BLEND);
@@ -273,16 +272,16 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     uint32_t c[COUNTER_SLOTS];
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(st->counters, 0, sizeof c, c);
-    uint64_t dropped = (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1] + c[COUNTER_DROP_LAYERS] +
-                       c[COUNTER_DROP_LAYERS + 1];
+    uint64_t dropped =
+        (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1] + c[COUNTER_DROP_LAYERS] + c[COUNTER_DROP_LAYERS + 1];
     info->fragments = c[COUNTER_NODES + 1];
     info->dropped_fragments = dropped;
     info->max_layers = c[COUNTER_MAX_LAYERS + 1];
     info->mean_layers = c[COUNTER_COVERED + 1] ? (double)c[COUNTER_NODES + 1] / c[COUNTER_COVERED + 1] : 0.0;
     if (dropped)
         LC_DEBUG(MODULE, "%llu fragments dropped (pool: %u + %u of %u nodes, layer cap %d: %u + %u)",
-                 (unsigned long long)dropped, c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity,
-                 MAX_LAYERS, c[COUNTER_DROP_LAYERS], c[COUNTER_DROP_LAYERS + 1]);
+                 (unsigned long long)dropped, c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity, MAX_LAYERS,
+                 c[COUNTER_DROP_LAYERS], c[COUNTER_DROP_LAYERS + 1]);
     return 0;
 }
 

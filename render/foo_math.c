@@ -14,15 +14,9 @@
 /* Alpha ceiling of the optical-depth path (P4): keeps -ln(1 - alpha) finite. */
 #define ALPHA_MAX 0.9999
 
-static int clamp_bands(int m)
-{
-    return m < LC_MIN_BANDS ? LC_MIN_BANDS : m > LC_MAX_BANDS ? LC_MAX_BANDS : m;
-}
+static int clamp_bands(int m) { return m < LC_MIN_BANDS ? LC_MIN_BANDS : m > LC_MAX_BANDS ? LC_MAX_BANDS : m; }
 
-static double clamp01(double x)
-{
-    return !(x > 0) ? 0 : x > 1 ? 1 : x; /* NaN -> 0 */
-}
+static double clamp01(double x) { return !(x > 0) ? 0 : x > 1 ? 1 : x; /* NaN -> 0 */ }
 
 void lc_fourier_init(lc_fourier *f, int m)
 {
@@ -253,8 +247,8 @@ void lc_foo_composite_normalized_exact_tau(const lc_fragment *frags, size_t n, c
     resolve(weighted_color, weight_sum, exp(-tau), bg, out);
 }
 
-void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets,
-                        const uint32_t *adj, double omega)
+void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets, const uint32_t *adj,
+                        double omega)
 {
     /* Jacobi-style Laplacian step (DESIGN §3 P3): reads only src, so src and dst must not alias. Neighbour
      * indices outside [0, count) are skipped rather than trusted. */

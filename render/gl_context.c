@@ -112,14 +112,29 @@ static int create_context(lc_gl *gl, EGLContext share, int debug, lc_error *err)
     if (!eglBindAPI(EGL_OPENGL_API))
         return lc_err(err, LC_ERR_GL, "eglBindAPI(EGL_OPENGL_API) failed (%s): the EGL driver has no desktop OpenGL",
                       lc_egl_error_name(eglGetError()));
-    const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                     EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_NONE};
+    const EGLint config_attribs[] = {EGL_SURFACE_TYPE,
+                                     EGL_PBUFFER_BIT,
+                                     EGL_RENDERABLE_TYPE,
+                                     EGL_OPENGL_BIT,
+                                     EGL_RED_SIZE,
+                                     8,
+                                     EGL_GREEN_SIZE,
+                                     8,
+                                     EGL_BLUE_SIZE,
+                                     8,
+                                     EGL_NONE};
     EGLint count = 0;
     if (!eglChooseConfig(gl->display, config_attribs, &gl->config, 1, &count) || count < 1)
         return lc_err(err, LC_ERR_GL, "eglChooseConfig found no OpenGL config (%s)", lc_egl_error_name(eglGetError()));
-    const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                  EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE, EGL_NONE};
+    const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                  4,
+                                  EGL_CONTEXT_MINOR_VERSION,
+                                  5,
+                                  EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                  EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                  EGL_CONTEXT_OPENGL_DEBUG,
+                                  debug ? EGL_TRUE : EGL_FALSE,
+                                  EGL_NONE};
     gl->context = eglCreateContext(gl->display, gl->config, share ? share : EGL_NO_CONTEXT, ctx_attribs);
     if (gl->context == EGL_NO_CONTEXT)
         return lc_err(err, LC_ERR_GL, "eglCreateContext for OpenGL 4.5 core failed (%s): the driver lacks GL 4.5; %s",
@@ -248,8 +263,8 @@ int lc_gl_create(const lc_gl_desc *desc, lc_gl **out, lc_error *err)
             rc = open_surfaceless(gl, &surf_err);
             if (rc) {
                 free(gl);
-                return lc_err(err, rc, "no usable EGL display (device platform: %s; surfaceless: %s); %s",
-                              dev_err.msg, surf_err.msg, install_hint);
+                return lc_err(err, rc, "no usable EGL display (device platform: %s; surfaceless: %s); %s", dev_err.msg,
+                              surf_err.msg, install_hint);
             }
         } else {
             goto created;
@@ -279,8 +294,8 @@ created:
         lc_gl_destroy(gl);
         return LC_ERR_GL;
     }
-    gl->software = strstr(gl->renderer, "llvmpipe") || strstr(gl->renderer, "softpipe") ||
-                   strstr(gl->renderer, "swrast");
+    gl->software =
+        strstr(gl->renderer, "llvmpipe") || strstr(gl->renderer, "softpipe") || strstr(gl->renderer, "swrast");
     if (debug) {
         glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
         glDebugMessageCallback(debug_callback, NULL);
@@ -310,10 +325,7 @@ int lc_gl_make_current(lc_gl *gl, lc_error *err)
     return 0;
 }
 
-void lc_gl_release_current(lc_gl *gl)
-{
-    eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-}
+void lc_gl_release_current(lc_gl *gl) { eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
 
 const char *lc_gl_renderer(const lc_gl *gl) { return gl->renderer; }
 const char *lc_gl_version(const lc_gl *gl) { return gl->version; }

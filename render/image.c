@@ -24,8 +24,8 @@ static int check_dimensions(int width, int height, lc_error *err)
     if (width <= 0 || height <= 0)
         return lc_err(err, LC_ERR_INVALID, "image size %dx%d is empty", width, height);
     if (width > MAX_SIDE || height > MAX_SIDE || (size_t)width * (size_t)height > MAX_PIXELS)
-        return lc_err(err, LC_ERR_LIMIT, "image size %dx%d exceeds the limit (%d per side, %u pixels)", width,
-                      height, MAX_SIDE, MAX_PIXELS);
+        return lc_err(err, LC_ERR_LIMIT, "image size %dx%d exceeds the limit (%d per side, %u pixels)", width, height,
+                      MAX_SIDE, MAX_PIXELS);
     return LC_OK;
 }
 

@@ -79,7 +79,10 @@ void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...)
 
     pthread_mutex_lock(&log_lock);
     fprintf(stderr, "%s.%03ldZ %s [%s] %s\n", when, ts.tv_nsec / 1000000L,
-            tags[level < 0 ? 0 : level > 3 ? 3 : level], module ? module : "-", text);
+            tags[level < 0   ? 0
+                 : level > 3 ? 3
+                             : level],
+            module ? module : "-", text);
     fflush(stderr);
     pthread_mutex_unlock(&log_lock);
 }

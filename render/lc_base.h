@@ -47,13 +47,12 @@ extern int lc_log_threshold; /* messages with level <= threshold are printed; de
 void lc_log_set_level(lc_log_level level);
 /* Parses "error|warn|info|debug"; returns -1 when unknown. */
 int lc_log_parse_level(const char *name);
-void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
+void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
-#define LC_LOG(level, module, ...)                                      \
-    do {                                                                \
-        if ((int)(level) <= lc_log_threshold)                           \
-            lc_log_write((level), (module), __VA_ARGS__);               \
+#define LC_LOG(level, module, ...)                                                                                     \
+    do {                                                                                                               \
+        if ((int)(level) <= lc_log_threshold)                                                                          \
+            lc_log_write((level), (module), __VA_ARGS__);                                                              \
     } while (0)
 #define LC_ERROR(module, ...) LC_LOG(LC_LOG_ERROR, module, __VA_ARGS__)
 #define LC_WARN(module, ...) LC_LOG(LC_LOG_WARN, module, __VA_ARGS__)

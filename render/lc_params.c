@@ -48,10 +48,7 @@ void lc_render_params_default(lc_render_params *p)
 
 static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit"};
 
-const char *lc_method_name(lc_method m)
-{
-    return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown";
-}
+const char *lc_method_name(lc_method m) { return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown"; }
 
 int lc_method_from_name(const char *name)
 {

@@ -59,7 +59,7 @@ typedef struct lc_foo_params {
     double depth_margin;     /* delta (global depth range only) */
     lc_estimator estimator;
     lc_depth_range depth_range;
-    double direct_exponent;  /* k of the "direct" baseline, alpha = g^k */
+    double direct_exponent; /* k of the "direct" baseline, alpha = g^k */
 } lc_foo_params;
 
 /* Importance g from an attribute: g = clamp((v - min)/(max - min))^exponent.
@@ -67,7 +67,7 @@ typedef struct lc_foo_params {
 typedef struct lc_importance_map {
     char attribute[LC_NAME_LEN]; /* "" = dataset default */
     double range[2];
-    bool has_range;              /* false = the attribute's own min/max */
+    bool has_range; /* false = the attribute's own min/max */
     double exponent;
 } lc_importance_map;
 
@@ -80,9 +80,9 @@ typedef struct lc_color_map {
 
 typedef struct lc_style {
     double background[3];
-    double line_width;  /* world units */
+    double line_width;      /* world units */
     double min_line_pixels; /* ribbons never thinner than this many pixels */
-    double point_size;  /* pixels at output resolution */
+    double point_size;      /* pixels at output resolution */
     lc_shading shading;
 } lc_style;
 

@@ -15,8 +15,8 @@
 typedef struct obj_load {
     const char *file;
     lc_error *err;
-    size_t line;        /* 1-based line being parsed */
-    uint32_t nv, nvt;   /* totals from the pre-pass */
+    size_t line;            /* 1-based line being parsed */
+    uint32_t nv, nvt;       /* totals from the pre-pass */
     uint32_t cur_v, cur_vt; /* defined so far: relative indices count back from here */
     int with_rgb;
     lc_scene *s;
@@ -93,8 +93,7 @@ static int resolve(obj_load *L, long long idx, uint32_t defined, uint32_t total,
 {
     long long r = idx > 0 ? idx - 1 : (long long)defined + idx;
     if (idx == 0 || r < 0 || r >= (long long)total)
-        return fail(L, LC_ERR_INVALID, "%s index %lld out of range (%u defined)", what, idx,
-                    idx > 0 ? total : defined);
+        return fail(L, LC_ERR_INVALID, "%s index %lld out of range (%u defined)", what, idx, idx > 0 ? total : defined);
     *out = (uint32_t)r;
     return 0;
 }
@@ -137,8 +136,7 @@ static int read_corners(obj_load *L, const char *p, const char *le)
             return rc;
         /* A line longer than the vertex cap cannot become a scene. */
         if ((rc = lc_io_u32vec_push(&L->poly, v, LC_MAX_VERTICES, L->file, "vertices in one face or line", L->err)) ||
-            (rc = lc_io_u32vec_push(&L->poly_vt, t, LC_MAX_VERTICES, L->file, "vertices in one face or line",
-                                    L->err)))
+            (rc = lc_io_u32vec_push(&L->poly_vt, t, LC_MAX_VERTICES, L->file, "vertices in one face or line", L->err)))
             return rc;
         p = q;
     }
@@ -178,8 +176,8 @@ static int add_line(obj_load *L)
     if (!rc && L->nvt)
         rc = lc_io_u32vec_reserve(&L->line_vt, n, LC_MAX_VERTICES, L->file, "line vertices", L->err);
     if (!rc)
-        rc = lc_io_u32vec_push(&L->line_off, (uint32_t)(L->line_idx.n + n), (size_t)LC_MAX_PRIMITIVES + 1,
-                               L->file, "lines", L->err);
+        rc = lc_io_u32vec_push(&L->line_off, (uint32_t)(L->line_idx.n + n), (size_t)LC_MAX_PRIMITIVES + 1, L->file,
+                               "lines", L->err);
     if (rc)
         return rc;
     memcpy(L->line_idx.v + L->line_idx.n, L->poly.v, n * sizeof(uint32_t));
@@ -209,8 +207,7 @@ static int parse_line(obj_load *L, const char *p, const char *le)
             return fail(L, LC_ERR_INVALID, "vertex with %d coordinates (3 needed)", n);
         for (int k = 0; k < 3; k++)
             if (!isfinite(num[k]) || fabs(num[k]) > 3.4e38)
-                return fail(L, LC_ERR_INVALID, "vertex %u has a non-finite or out-of-range coordinate",
-                            L->cur_v + 1);
+                return fail(L, LC_ERR_INVALID, "vertex %u has a non-finite or out-of-range coordinate", L->cur_v + 1);
         if (L->cur_v >= L->nv) /* cannot happen: the pre-pass counted the same lines */
             return fail(L, LC_ERR_INTERNAL, "vertex count changed between passes");
         float *pos = L->s->positions + 3 * (size_t)L->cur_v;
@@ -224,8 +221,7 @@ static int parse_line(obj_load *L, const char *p, const char *le)
                 c[k] = v > 0 ? (v < 1 ? v : 1) : 0;
             }
         } else if (n >= 6 && !L->rgb_warned++) {
-            LC_WARN(LC_IO_LOG, "%s: line %zu: vertex colours ignored (the first vertex has none)", L->file,
-                    L->line);
+            LC_WARN(LC_IO_LOG, "%s: line %zu: vertex colours ignored (the first vertex has none)", L->file, L->line);
         }
         L->cur_v++;
     } else if (kwlen == 2 && kw[0] == 'v' && kw[1] == 't') {
@@ -297,12 +293,11 @@ static int assemble(obj_load *L)
     float *values = NULL;
     if (line_count > 0) {
         if (L->tris.n)
-            LC_WARN(LC_IO_LOG, "%s: %zu faces' triangles ignored because the file has lines", L->file,
-                    L->tris.n / 3);
+            LC_WARN(LC_IO_LOG, "%s: %zu faces' triangles ignored because the file has lines", L->file, L->tris.n / 3);
         uint32_t *offsets = L->line_off.v;
         memset(&L->line_off, 0, sizeof L->line_off); /* owned by the scene from here */
-        if ((rc = lc_io_make_lines(&L->s, L->line_idx.v, L->line_idx.n, offsets, (uint32_t)line_count, L->file,
-                                   L->err)))
+        if ((rc =
+                 lc_io_make_lines(&L->s, L->line_idx.v, L->line_idx.n, offsets, (uint32_t)line_count, L->file, L->err)))
             return rc;
         if (L->nvt) {
             if (!(values = malloc(L->line_idx.n * sizeof *values)))
@@ -399,7 +394,7 @@ int lc_load_obj(const char *path, lc_scene **out, lc_error *err)
     rc = lc_load_obj_memory(f.data, f.size, lc_io_basename(path), out, err);
     lc_io_file_close(&f);
     if (!rc)
-        lc_io_stem(path, (*out)->name, sizeof (*out)->name);
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
     return rc;
 }
 

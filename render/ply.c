@@ -25,10 +25,10 @@ static ptype type_from_name(const char *s)
     static const struct {
         const char *name;
         ptype type;
-    } names[] = {{"char", PT_I8},    {"int8", PT_I8},     {"uchar", PT_U8},   {"uint8", PT_U8},
-                 {"short", PT_I16},  {"int16", PT_I16},   {"ushort", PT_U16}, {"uint16", PT_U16},
-                 {"int", PT_I32},    {"int32", PT_I32},   {"uint", PT_U32},   {"uint32", PT_U32},
-                 {"float", PT_F32},  {"float32", PT_F32}, {"double", PT_F64}, {"float64", PT_F64}};
+    } names[] = {{"char", PT_I8},   {"int8", PT_I8},     {"uchar", PT_U8},   {"uint8", PT_U8},
+                 {"short", PT_I16}, {"int16", PT_I16},   {"ushort", PT_U16}, {"uint16", PT_U16},
+                 {"int", PT_I32},   {"int32", PT_I32},   {"uint", PT_U32},   {"uint32", PT_U32},
+                 {"float", PT_F32}, {"float32", PT_F32}, {"double", PT_F64}, {"float64", PT_F64}};
     for (size_t i = 0; i < sizeof names / sizeof *names; i++)
         if (strcmp(s, names[i].name) == 0)
             return names[i].type;
@@ -45,7 +45,7 @@ typedef struct prop {
     ptype type;       /* scalar type, or the list's item type */
     ptype count_type; /* PT_NONE for scalars */
     prole role;
-    int slot;         /* attribute slot for R_ATTR */
+    int slot; /* attribute slot for R_ATTR */
 } prop;
 
 typedef enum { EK_OTHER = 0, EK_VERTEX, EK_FACE, EK_LINE, EK_EDGE } ekind;
@@ -65,8 +65,8 @@ typedef struct ply_reader {
     const unsigned char *data;
     size_t size, pos;
     int format;
-    size_t line;       /* ASCII: 1-based line of pos */
-    size_t value_pos;  /* start of the last value read: where a bad value is reported */
+    size_t line;      /* ASCII: 1-based line of pos */
+    size_t value_pos; /* start of the last value read: where a bad value is reported */
     const char *file;
     lc_error *err;
     int nelements;
@@ -131,8 +131,8 @@ static int parse_header(ply_reader *r)
     for (;;) {
         if (r->pos >= limit) {
             r->line++;
-            return fail(r, LC_ERR_INVALID, r->size > MAX_HEADER_BYTES ? "header longer than 1 MiB"
-                                                                     : "missing end_header");
+            return fail(r, LC_ERR_INVALID,
+                        r->size > MAX_HEADER_BYTES ? "header longer than 1 MiB" : "missing end_header");
         }
         const unsigned char *nl = memchr(r->data + r->pos, '\n', limit - r->pos);
         size_t len = nl ? (size_t)(nl - (r->data + r->pos)) : limit - r->pos;
@@ -195,14 +195,14 @@ static int parse_header(ply_reader *r)
                 return fail(r, LC_ERR_INVALID, "property before any element");
             element *e = &r->elements[r->nelements - 1];
             if (e->nprops == MAX_PROPERTIES)
-                return fail(r, LC_ERR_LIMIT, "more than %d properties in element '%.40s'", MAX_PROPERTIES,
-                            e->name);
+                return fail(r, LC_ERR_LIMIT, "more than %d properties in element '%.40s'", MAX_PROPERTIES, e->name);
             prop *p = &e->props[e->nprops];
             memset(p, 0, sizeof *p);
             if (n >= 2 && strcmp(w[1], "list") == 0) {
                 if (n != 5)
-                    return fail(r, LC_ERR_INVALID, "bad list property (expected 'property list <count type> "
-                                                   "<item type> <name>')");
+                    return fail(r, LC_ERR_INVALID,
+                                "bad list property (expected 'property list <count type> "
+                                "<item type> <name>')");
                 p->count_type = type_from_name(w[2]);
                 p->type = type_from_name(w[3]);
                 if (p->count_type == PT_NONE || p->type == PT_NONE)
@@ -263,7 +263,10 @@ static double decode(const unsigned char *p, ptype t, int big)
     }
 }
 
-static int is_space(unsigned char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+static int is_space(unsigned char c)
+{
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
 
 /* Error about the value just read: binary offsets point at its first byte. */
 #define fail_value(r, ...) ((r)->pos = (r)->value_pos, fail((r), __VA_ARGS__))
@@ -289,8 +292,7 @@ static int read_value(ply_reader *r, ptype t, double *out, const element *e, uin
     if (r->pos == r->size) {
         if (r->size && r->data[r->size - 1] == '\n')
             r->line--; /* report the last line an editor shows, not the empty one after it */
-        return fail(r, LC_ERR_INVALID, "file ends inside element '%.40s' %llu", e->name,
-                    (unsigned long long)record);
+        return fail(r, LC_ERR_INVALID, "file ends inside element '%.40s' %llu", e->name, (unsigned long long)record);
     }
     const char *start = (const char *)r->data + r->pos, *end = (const char *)r->data + r->size;
     const char *q = lc_io_parse_double(start, end, out);
@@ -314,13 +316,13 @@ static int read_list_count(ply_reader *r, const prop *p, const element *e, uint6
         return rc;
     if (!(v >= 0) || v != floor(v) || v > UINT32_MAX)
         return fail_value(r, LC_ERR_INVALID, "bad list length %g in element '%.40s' %llu", v, e->name,
-                    (unsigned long long)record);
+                          (unsigned long long)record);
     /* ASCII items take at least two bytes each (digit and separator). */
     size_t item = r->format == FMT_ASCII ? 2 : (size_t)type_size[p->type];
     size_t left = r->size - r->pos;
     if ((uint64_t)v > (left + 1) / item)
         return fail_value(r, LC_ERR_INVALID, "list length %.0f in element '%.40s' %llu exceeds the file size", v,
-                    e->name, (unsigned long long)record);
+                          e->name, (unsigned long long)record);
     *count = (uint32_t)v;
     return 0;
 }
@@ -496,7 +498,7 @@ static int read_index(ply_load *L, const prop *p, const element *e, uint64_t rec
         return rc;
     if (!(v >= 0) || v >= L->vertex_count || v != floor(v))
         return fail_value(r, LC_ERR_INVALID, "%.40s %llu: vertex index %.10g out of range (%u vertices)", e->name,
-                    (unsigned long long)record, v, L->vertex_count);
+                          (unsigned long long)record, v, L->vertex_count);
     *out = (uint32_t)v;
     return 0;
 }
@@ -559,8 +561,7 @@ static int read_connectivity(ply_load *L, const element *e)
                     L->lines_skipped++;
                     continue;
                 }
-                if ((rc = lc_io_u32vec_reserve(&L->line_idx, n, LC_MAX_VERTICES, r->file, "line vertices",
-                                               r->err)))
+                if ((rc = lc_io_u32vec_reserve(&L->line_idx, n, LC_MAX_VERTICES, r->file, "line vertices", r->err)))
                     return rc;
                 memcpy(L->line_idx.v + L->line_idx.n, L->poly.v, n * sizeof(uint32_t));
                 L->line_idx.n += n;
@@ -575,8 +576,8 @@ static int read_connectivity(ply_load *L, const element *e)
                 return rc;
             memcpy(L->line_idx.v + L->line_idx.n, pair, sizeof pair);
             L->line_idx.n += 2;
-            if ((rc = lc_io_u32vec_push(&L->line_off, (uint32_t)L->line_idx.n, (size_t)LC_MAX_PRIMITIVES + 1,
-                                        r->file, "lines", r->err)))
+            if ((rc = lc_io_u32vec_push(&L->line_off, (uint32_t)L->line_idx.n, (size_t)LC_MAX_PRIMITIVES + 1, r->file,
+                                        "lines", r->err)))
                 return rc;
         }
     }
@@ -695,8 +696,8 @@ static int load_body(ply_load *L)
             uint64_t guess = e->count < left / 8 ? e->count : left / 8;
             if (guess > LC_MAX_PRIMITIVES)
                 guess = LC_MAX_PRIMITIVES;
-            if ((rc = lc_io_u32vec_reserve(&L->triangles, 3 * (size_t)guess, 3 * (size_t)LC_MAX_PRIMITIVES,
-                                           r->file, "triangle indices", r->err)))
+            if ((rc = lc_io_u32vec_reserve(&L->triangles, 3 * (size_t)guess, 3 * (size_t)LC_MAX_PRIMITIVES, r->file,
+                                           "triangle indices", r->err)))
                 return rc;
         }
     }
@@ -735,12 +736,11 @@ static int assemble(ply_load *L)
     size_t line_count = L->line_off.n - 1;
     if (line_count > 0) {
         if (L->triangles.n)
-            LC_WARN(LC_IO_LOG, "%s: %zu triangles ignored because the file has lines", L->r.file,
-                    L->triangles.n / 3);
+            LC_WARN(LC_IO_LOG, "%s: %zu triangles ignored because the file has lines", L->r.file, L->triangles.n / 3);
         uint32_t *offsets = L->line_off.v;
         memset(&L->line_off, 0, sizeof L->line_off); /* ownership moves to the scene */
-        int rc = lc_io_make_lines(&L->s, L->line_idx.v, L->line_idx.n, offsets, (uint32_t)line_count, L->r.file,
-                                  L->r.err);
+        int rc =
+            lc_io_make_lines(&L->s, L->line_idx.v, L->line_idx.n, offsets, (uint32_t)line_count, L->r.file, L->r.err);
         if (rc)
             return rc;
     } else if (L->triangles.n) {
@@ -796,7 +796,7 @@ int lc_load_ply(const char *path, lc_scene **out, lc_error *err)
     rc = lc_load_ply_memory(f.data, f.size, lc_io_basename(path), out, err);
     lc_io_file_close(&f);
     if (!rc)
-        lc_io_stem(path, (*out)->name, sizeof (*out)->name);
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
     return rc;
 }
 
@@ -832,8 +832,9 @@ int lc_save_ply(const lc_scene *s, const char *path, lc_error *err)
     if (!f)
         return lc_err(err, LC_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
     setvbuf(f, NULL, _IOFBF, 1 << 20);
-    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by Lucent\nelement vertex %u\n"
-               "property float x\nproperty float y\nproperty float z\n",
+    fprintf(f,
+            "ply\nformat binary_little_endian 1.0\ncomment written by Lucent\nelement vertex %u\n"
+            "property float x\nproperty float y\nproperty float z\n",
             s->vertex_count);
     for (int a = 0; a < s->attribute_count; a++) {
         char name[LC_NAME_LEN];

@@ -16,7 +16,7 @@
 
 const char *lc_pass_name(int pass)
 {
-    static const char *names[LC_PASS_COUNT] = {"importance", "opacity",  "smooth",   "opticalDepth",
+    static const char *names[LC_PASS_COUNT] = {"importance", "opacity", "smooth",   "opticalDepth",
                                                "accumulate", "resolve", "readback", "depthRange"};
     return pass >= 0 && pass < LC_PASS_COUNT ? names[pass] : "unknown";
 }
@@ -81,8 +81,8 @@ static GLuint compile_stage(GLenum type, const char *defines, const char *const 
 }
 
 GLuint lc_renderer_build_program(const char *defines, const char *const *vertex_files,
-                                 const char *const *fragment_files, const char *const *compute_files,
-                                 const char *label, lc_error *err)
+                                 const char *const *fragment_files, const char *const *compute_files, const char *label,
+                                 lc_error *err)
 {
     GLuint prog = glCreateProgram();
     GLuint stages[2] = {0, 0};
@@ -139,13 +139,11 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_p5[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                         "p5_accumulate.frag.glsl", NULL};
     static const char *const fs_opaque[] = {"common.glsl", "fragment_common.glsl", "opaque.frag.glsl", NULL};
-    static const char *const fs_wboit[] = {"common.glsl", "fragment_common.glsl", "wboit_accumulate.frag.glsl",
-                                           NULL};
+    static const char *const fs_wboit[] = {"common.glsl", "fragment_common.glsl", "wboit_accumulate.frag.glsl", NULL};
     static const char *const fs_range[] = {"common.glsl", "fragment_common.glsl", "depth_range.frag.glsl", NULL};
-    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2,     fs_p4,    fs_p5,
-                                                                  fs_p4, fs_p5,     fs_opaque, fs_wboit,
-                                                                  fs_range};
-    static const char *kind_names[PROG_GEOMETRY_KINDS] = {"P1",     "P2",    "P4",    "P5",         "P4-direct",
+    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2,     fs_p4,    fs_p5,   fs_p4,
+                                                                 fs_p5, fs_opaque, fs_wboit, fs_range};
+    static const char *kind_names[PROG_GEOMETRY_KINDS] = {"P1",        "P2",     "P4",    "P5",         "P4-direct",
                                                           "P5-direct", "opaque", "wboit", "depth range"};
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT;
@@ -281,8 +279,8 @@ int lc_gpu_scene_create(const lc_scene *s, lc_gpu_scene **out, lc_error *err)
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         lc_gpu_scene_destroy(gs);
-        return lc_err(err, LC_ERR_GL, "%s: uploading the scene failed (GL error 0x%04x; out of GPU memory?)",
-                      s->name, e);
+        return lc_err(err, LC_ERR_GL, "%s: uploading the scene failed (GL error 0x%04x; out of GPU memory?)", s->name,
+                      e);
     }
     *out = gs;
     return 0;
@@ -292,8 +290,15 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
 {
     if (!gs)
         return;
-    GLuint bufs[] = {gs->positions,      gs->frames,  gs->attributes,  gs->colors, gs->vertex_elements,
-                     gs->vertex_weights, gs->indices, gs->adj_offsets, gs->adj,
+    GLuint bufs[] = {gs->positions,
+                     gs->frames,
+                     gs->attributes,
+                     gs->colors,
+                     gs->vertex_elements,
+                     gs->vertex_weights,
+                     gs->indices,
+                     gs->adj_offsets,
+                     gs->adj,
                      gs->draw_indices != gs->indices ? gs->draw_indices : 0};
     glDeleteBuffers(sizeof bufs / sizeof bufs[0], bufs);
     free(gs);
@@ -538,9 +543,18 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
     return 0;
 }
 
-static void set_f(GLuint prog, const char *name, double v) { glProgramUniform1f(prog, glGetUniformLocation(prog, name), (float)v); }
-static void set_i(GLuint prog, const char *name, int v) { glProgramUniform1i(prog, glGetUniformLocation(prog, name), v); }
-static void set_u(GLuint prog, const char *name, unsigned v) { glProgramUniform1ui(prog, glGetUniformLocation(prog, name), v); }
+static void set_f(GLuint prog, const char *name, double v)
+{
+    glProgramUniform1f(prog, glGetUniformLocation(prog, name), (float)v);
+}
+static void set_i(GLuint prog, const char *name, int v)
+{
+    glProgramUniform1i(prog, glGetUniformLocation(prog, name), v);
+}
+static void set_u(GLuint prog, const char *name, unsigned v)
+{
+    glProgramUniform1ui(prog, glGetUniformLocation(prog, name), v);
+}
 static void set_v2(GLuint prog, const char *name, double a, double b)
 {
     glProgramUniform2f(prog, glGetUniformLocation(prog, name), (float)a, (float)b);
@@ -803,8 +817,8 @@ static int depth_range_pass(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 }
 
 /* P1 + P2 (+ P3): element opacities for the frame. */
-static int optimize_opacities(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt,
-                              lc_frame_info *info, lc_error *err)
+static int optimize_opacities(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                              lc_error *err)
 {
     const lc_render_params *p = fs->params;
     lc_prim_type prim = fs->gs->scene->type;
@@ -1007,22 +1021,15 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         if (!rc)
             rc = composite_fourier(r, &fs, 0, err);
         break;
-    case LC_METHOD_DIRECT:
-        rc = composite_fourier(r, &fs, 1, err);
-        break;
-    case LC_METHOD_OPAQUE:
-        rc = render_opaque(r, &fs, err);
-        break;
+    case LC_METHOD_DIRECT: rc = composite_fourier(r, &fs, 1, err); break;
+    case LC_METHOD_OPAQUE: rc = render_opaque(r, &fs, err); break;
     case LC_METHOD_WBOIT:
         rc = optimize_opacities(r, &fs, state, dt, info, err);
         if (!rc)
             rc = render_wboit(r, &fs, err);
         break;
-    case LC_METHOD_EXACT:
-        rc = lc_render_exact(r, &fs, state, dt, rgba, info, err);
-        break;
-    default:
-        rc = lc_err(err, LC_ERR_INVALID, "unknown method");
+    case LC_METHOD_EXACT: rc = lc_render_exact(r, &fs, state, dt, rgba, info, err); break;
+    default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
     }
     if (rc)
         return rc;
@@ -1034,14 +1041,13 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         GLuint64 start = 0, prev;
         glGetQueryObjectui64v(r->timer_queries[LC_PASS_COUNT], GL_QUERY_RESULT, &start);
         prev = start;
-        static const int order[] = {LC_PASS_DEPTH_RANGE, LC_PASS_IMPORTANCE, LC_PASS_OPACITY,
-                                    LC_PASS_SMOOTH,      LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE,
-                                    LC_PASS_RESOLVE,     LC_PASS_READBACK};
+        static const int order[] = {LC_PASS_DEPTH_RANGE,   LC_PASS_IMPORTANCE, LC_PASS_OPACITY, LC_PASS_SMOOTH,
+                                    LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE, LC_PASS_RESOLVE, LC_PASS_READBACK};
         int ran[LC_PASS_COUNT] = {0};
         int fourier = p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_WBOIT || p.method == LC_METHOD_EXACT;
         ran[LC_PASS_IMPORTANCE] = ran[LC_PASS_OPACITY] = ran[LC_PASS_SMOOTH] = fourier;
-        ran[LC_PASS_OPTICAL_DEPTH] = p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT ||
-                                     p.method == LC_METHOD_EXACT;
+        ran[LC_PASS_OPTICAL_DEPTH] =
+            p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_EXACT;
         ran[LC_PASS_ACCUMULATE] = 1;
         ran[LC_PASS_RESOLVE] = p.method != LC_METHOD_OPAQUE;
         ran[LC_PASS_READBACK] = 1;

@@ -63,12 +63,12 @@ typedef struct lc_frame_info {
     uint64_t pipeline_bytes;       /* GPU memory the method's targets/buffers hold */
     lc_camera camera;              /* the camera used (fitted when the request had none) */
     uint32_t element_count;
-    double max_alpha_change;       /* max |delta| of element opacities this frame */
-    int converged;                 /* max_alpha_change < LC_CONVERGED_EPSILON */
+    double max_alpha_change; /* max |delta| of element opacities this frame */
+    int converged;           /* max_alpha_change < LC_CONVERGED_EPSILON */
     /* Exact method only (0 otherwise): */
-    uint64_t fragments;            /* fragments rasterized at full resolution (stored + dropped) */
-    uint64_t dropped_fragments;    /* fragments lost because the node pool was full */
-    double mean_layers;            /* mean fragments per covered pixel */
+    uint64_t fragments;         /* fragments rasterized at full resolution (stored + dropped) */
+    uint64_t dropped_fragments; /* fragments lost because the node pool was full */
+    double mean_layers;         /* mean fragments per covered pixel */
     uint32_t max_layers;
 } lc_frame_info;
 

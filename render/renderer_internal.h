@@ -79,14 +79,14 @@ struct lc_renderer {
     lc_targets range_low;  /* the same at the optimization resolution */
     GLuint output_depth;   /* opaque baseline only */
     int depth_width, depth_height;
-    GLuint nofb;           /* framebuffer without attachments for P2 */
+    GLuint nofb; /* framebuffer without attachments for P2 */
     int nofb_w, nofb_h;
     /* per-element buffers, grown to the largest scene */
     GLuint element_alpha_min, element_alpha, smooth_a, smooth_b, stats;
     uint32_t element_capacity;
     GLuint timer_queries[LC_PASS_COUNT + 1];
     GLuint dummy_buffer;
-    void *exact;           /* exact.c's state */
+    void *exact; /* exact.c's state */
     uint64_t bytes_targets, bytes_elements;
 };
 
@@ -100,7 +100,7 @@ typedef struct lc_frame_setup {
     double line_half_width; /* world */
     int width, height;      /* output */
     int low_width, low_height;
-    int pixel_depth_range;  /* P0 ran: geometry passes normalize by range_full / range_low */
+    int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
 } lc_frame_setup;
 
 /* Returns the program for (kind, primitive, bands) that lc_renderer_draw_geometry
@@ -113,8 +113,8 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                                     lc_error *err);
 /* Compiles a program from embedded shader files; defines is a "#define ..\n" block. */
 GLuint lc_renderer_build_program(const char *defines, const char *const *vertex_files,
-                                 const char *const *fragment_files, const char *const *compute_files,
-                                 const char *label, lc_error *err);
+                                 const char *const *fragment_files, const char *const *compute_files, const char *label,
+                                 lc_error *err);
 /* Binds the scene's buffers and sets the shared uniforms of a geometry program
  * for a pass rendered at (w, h). */
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);

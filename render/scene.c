@@ -59,8 +59,7 @@ int lc_scene_alloc_vertices(lc_scene *s, uint32_t n, int with_rgb, lc_error *err
     if (!s)
         return lc_err(err, LC_ERR_INVALID, "scene: NULL scene");
     if (n > LC_MAX_VERTICES)
-        return lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", s->name, n,
-                      LC_MAX_VERTICES);
+        return lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", s->name, n, LC_MAX_VERTICES);
     /* Everything per-vertex belongs to the old vertex count; attributes of a
      * different length would be read out of bounds, so they go too. */
     free(s->positions);
@@ -110,8 +109,8 @@ int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_erro
     }
     if (strlen(name) >= LC_NAME_LEN) {
         free(values);
-        return lc_err(err, LC_ERR_INVALID, "%s: attribute name '%.32s...' longer than %d bytes",
-                      s->name, name, LC_NAME_LEN - 1);
+        return lc_err(err, LC_ERR_INVALID, "%s: attribute name '%.32s...' longer than %d bytes", s->name, name,
+                      LC_NAME_LEN - 1);
     }
     if (!values)
         return lc_err(err, LC_ERR_INVALID, "%s: attribute '%s' has no values", s->name, name);
@@ -122,8 +121,7 @@ int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_erro
     } else {
         if (s->attribute_count >= LC_MAX_ATTRIBUTES) {
             free(values);
-            return lc_err(err, LC_ERR_LIMIT, "%s: more than %d attributes (at '%s')", s->name,
-                          LC_MAX_ATTRIBUTES, name);
+            return lc_err(err, LC_ERR_LIMIT, "%s: more than %d attributes (at '%s')", s->name, LC_MAX_ATTRIBUTES, name);
         }
         i = s->attribute_count++;
         snprintf(s->attributes[i].name, sizeof s->attributes[i].name, "%s", name);
@@ -174,40 +172,37 @@ static int validate(const lc_scene *s, lc_error *err)
     if (s->vertex_count == 0 || !s->positions)
         return lc_err(err, LC_ERR_INVALID, "%s: scene has no vertices", s->name);
     if (s->vertex_count > LC_MAX_VERTICES)
-        return lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", s->name,
-                      s->vertex_count, LC_MAX_VERTICES);
+        return lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", s->name, s->vertex_count,
+                      LC_MAX_VERTICES);
     const float *p = s->positions;
     for (size_t i = 0; i < (size_t)s->vertex_count * 3; i++)
         if (!isfinite(p[i]))
-            return lc_err(err, LC_ERR_INVALID, "%s: vertex %zu has a non-finite coordinate", s->name,
-                          i / 3);
+            return lc_err(err, LC_ERR_INVALID, "%s: vertex %zu has a non-finite coordinate", s->name, i / 3);
     if (s->type == LC_PRIM_LINES) {
         if (s->line_count == 0 || !s->line_offsets)
             return lc_err(err, LC_ERR_INVALID, "%s: line scene without lines", s->name);
         if (s->line_count > LC_MAX_PRIMITIVES)
-            return lc_err(err, LC_ERR_LIMIT, "%s: %u lines exceed the limit of %u", s->name,
-                          s->line_count, LC_MAX_PRIMITIVES);
+            return lc_err(err, LC_ERR_LIMIT, "%s: %u lines exceed the limit of %u", s->name, s->line_count,
+                          LC_MAX_PRIMITIVES);
         const uint32_t *off = s->line_offsets;
         for (uint32_t i = 0; i < s->line_count; i++)
             if (off[i + 1] < off[i])
-                return lc_err(err, LC_ERR_INVALID,
-                              "%s: line %u: offsets decrease (%u after %u)", s->name, i, off[i + 1],
-                              off[i]);
+                return lc_err(err, LC_ERR_INVALID, "%s: line %u: offsets decrease (%u after %u)", s->name, i,
+                              off[i + 1], off[i]);
         if (off[s->line_count] > s->vertex_count)
-            return lc_err(err, LC_ERR_INVALID, "%s: line offsets end at %u beyond %u vertices",
-                          s->name, off[s->line_count], s->vertex_count);
+            return lc_err(err, LC_ERR_INVALID, "%s: line offsets end at %u beyond %u vertices", s->name,
+                          off[s->line_count], s->vertex_count);
     }
     if (s->type == LC_PRIM_TRIANGLES) {
         if (s->triangle_count == 0 || !s->triangles)
             return lc_err(err, LC_ERR_INVALID, "%s: triangle scene without triangles", s->name);
         if (s->triangle_count > LC_MAX_PRIMITIVES)
-            return lc_err(err, LC_ERR_LIMIT, "%s: %u triangles exceed the limit of %u", s->name,
-                          s->triangle_count, LC_MAX_PRIMITIVES);
+            return lc_err(err, LC_ERR_LIMIT, "%s: %u triangles exceed the limit of %u", s->name, s->triangle_count,
+                          LC_MAX_PRIMITIVES);
         const uint32_t *t = s->triangles;
         for (size_t i = 0; i < (size_t)s->triangle_count * 3; i++)
             if (t[i] >= s->vertex_count)
-                return lc_err(err, LC_ERR_INVALID,
-                              "%s: triangle %zu: vertex index %u out of range (%u vertices)",
+                return lc_err(err, LC_ERR_INVALID, "%s: triangle %zu: vertex index %u out of range (%u vertices)",
                               s->name, i / 3, t[i], s->vertex_count);
     }
     return LC_OK;
@@ -255,8 +250,8 @@ static void attribute_range(lc_attribute *a, uint32_t n)
 static void choose_defaults(lc_scene *s)
 {
     if (s->default_importance[0] && lc_scene_find_attribute(s, s->default_importance) < 0) {
-        LC_WARN("scene", "%s: default importance '%s' is not an attribute; choosing another",
-                s->name, s->default_importance);
+        LC_WARN("scene", "%s: default importance '%s' is not an attribute; choosing another", s->name,
+                s->default_importance);
         s->default_importance[0] = '\0';
     }
     if (!s->default_importance[0]) {
@@ -268,8 +263,7 @@ static void choose_defaults(lc_scene *s)
         if (pick && lc_scene_find_attribute(s, pick) >= 0)
             snprintf(s->default_importance, sizeof s->default_importance, "%s", pick);
         else if (s->attribute_count > 0)
-            snprintf(s->default_importance, sizeof s->default_importance, "%s",
-                     s->attributes[0].name);
+            snprintf(s->default_importance, sizeof s->default_importance, "%s", s->attributes[0].name);
         /* else: no attribute at all, the renderer uses g = 1 */
     }
     if (!s->default_color[0])
@@ -310,8 +304,7 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
     LC_INFO("scene",
             "%s: %s, %u vertices, %llu primitives, %d attributes, %u elements "
             "(derive %.0f ms, elements %.0f ms)",
-            s->name, lc_prim_type_name(s->type), s->vertex_count,
-            (unsigned long long)lc_scene_primitive_count(s), s->attribute_count, s->elements.count,
-            (t1 - t0) * 1e3, (t2 - t1) * 1e3);
+            s->name, lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
+            s->attribute_count, s->elements.count, (t1 - t0) * 1e3, (t2 - t1) * 1e3);
     return LC_OK;
 }

@@ -27,7 +27,7 @@ typedef enum { LC_PRIM_POINTS = 0, LC_PRIM_LINES = 1, LC_PRIM_TRIANGLES = 2 } lc
 
 typedef struct lc_attribute {
     char name[LC_NAME_LEN];
-    float *values; /* vertex_count values, owned by the scene */
+    float *values;  /* vertex_count values, owned by the scene */
     float min, max; /* over finite values; filled by lc_scene_finalize */
 } lc_attribute;
 
@@ -35,8 +35,8 @@ typedef struct lc_attribute {
  * element opacities; its primary element receives the fragments' atomic-min. */
 typedef struct lc_elements {
     uint32_t count;
-    uint32_t *vertex_elements; /* 4 per vertex: e0, e1, e2, primary (unused slots repeat e0, weight 0) */
-    float *vertex_weights;     /* 4 per vertex: w0, w1, w2, 0; w0 + w1 + w2 = 1 */
+    uint32_t *vertex_elements;   /* 4 per vertex: e0, e1, e2, primary (unused slots repeat e0, weight 0) */
+    float *vertex_weights;       /* 4 per vertex: w0, w1, w2, 0; w0 + w1 + w2 = 1 */
     uint32_t *adjacency_offsets; /* count + 1, CSR over adjacency */
     uint32_t *adjacency;         /* neighbour element ids, symmetric */
     uint32_t adjacency_count;    /* adjacency_offsets[count] */
@@ -44,8 +44,8 @@ typedef struct lc_elements {
 
 /* Options for lc_scene_finalize; zero means default. */
 typedef struct lc_elements_desc {
-    uint32_t line_budget;  /* total line segments-elements, default 10000 (at least one per line) */
-    uint32_t patch_count;  /* surface patches, default min(4000, vertices / 8) (at least 1) */
+    uint32_t line_budget; /* total line segments-elements, default 10000 (at least one per line) */
+    uint32_t patch_count; /* surface patches, default min(4000, vertices / 8) (at least 1) */
 } lc_elements_desc;
 
 typedef struct lc_scene {
@@ -60,12 +60,12 @@ typedef struct lc_scene {
     uint32_t line_count;
     uint32_t *line_offsets; /* line_count + 1: vertices of line i are [off[i], off[i+1]) */
     uint32_t triangle_count;
-    uint32_t *triangles;    /* 3 per triangle */
+    uint32_t *triangles; /* 3 per triangle */
 
     int attribute_count;
     lc_attribute attributes[LC_MAX_ATTRIBUTES];
 
-    double bounds[6]; /* xmin, ymin, zmin, xmax, ymax, zmax */
+    double bounds[6];                     /* xmin, ymin, zmin, xmax, ymax, zmax */
     char default_importance[LC_NAME_LEN]; /* attribute used when a request names none */
     char default_color[LC_NAME_LEN];      /* "importance", "rgb" or an attribute */
     /* Suggested initial view when a request has no camera (e.g. the tornado is

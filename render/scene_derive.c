@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct { double x, y, z; } dvec;
+typedef struct {
+    double x, y, z;
+} dvec;
 
 static dvec vload(const float *p, uint32_t i)
 {
@@ -31,8 +33,7 @@ static dvec vnorm(dvec a)
 
 static double bounds_diagonal(const lc_scene *s)
 {
-    double dx = s->bounds[3] - s->bounds[0], dy = s->bounds[4] - s->bounds[1],
-           dz = s->bounds[5] - s->bounds[2];
+    double dx = s->bounds[3] - s->bounds[0], dy = s->bounds[4] - s->bounds[1], dz = s->bounds[5] - s->bounds[2];
     double d = sqrt(dx * dx + dy * dy + dz * dz);
     return d > 0 ? d : 1.0;
 }
@@ -55,8 +56,8 @@ static int add_owned(lc_scene *s, const char *name, float *values, lc_error *err
 /* One line [a, b). Runs of coincident vertices (closer than eps) act as one
  * vertex: they share tangent and curvature, so a repeated point neither
  * produces a zero tangent nor a division by a zero segment length. */
-static void derive_line(const float *p, uint32_t a, uint32_t b, double eps, float *tangents,
-                        float *arc, float *curv, float *len)
+static void derive_line(const float *p, uint32_t a, uint32_t b, double eps, float *tangents, float *arc, float *curv,
+                        float *len)
 {
     arc[a] = 0.0f;
     double acc = 0.0;

@@ -179,8 +179,7 @@ const char *lc_io_parse_double(const char *p, const char *end, double *out)
 
 /* ---- arrays */
 
-int lc_io_u32vec_reserve(lc_io_u32vec *a, size_t extra, size_t limit, const char *file, const char *what,
-                         lc_error *err)
+int lc_io_u32vec_reserve(lc_io_u32vec *a, size_t extra, size_t limit, const char *file, const char *what, lc_error *err)
 {
     if (extra > limit || a->n > limit - extra)
         return lc_err(err, LC_ERR_LIMIT, "%s: too many %s (limit %zu)", file, what, limit);
@@ -206,8 +205,8 @@ void lc_io_u32vec_free(lc_io_u32vec *a)
 
 /* ---- polylines */
 
-int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint32_t *offsets,
-                     uint32_t line_count, const char *file, lc_error *err)
+int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint32_t *offsets, uint32_t line_count,
+                     const char *file, lc_error *err)
 {
     lc_scene *src = *sp;
     int identity = idx_count == src->vertex_count;
@@ -293,8 +292,7 @@ int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err)
     else if (dot && strcasecmp(dot, ".trk") == 0)
         rc = lc_load_trk(path, &s, err);
     else
-        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected .ply, .obj, .vtk or .trk)",
-                      base);
+        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected .ply, .obj, .vtk or .trk)", base);
     if (rc)
         return rc;
     lc_io_stem(path, s->name, sizeof s->name);

@@ -44,8 +44,8 @@ typedef struct lc_io_u32vec {
  * names the array in the message ("triangles"). */
 int lc_io_u32vec_reserve(lc_io_u32vec *a, size_t extra, size_t limit, const char *file, const char *what,
                          lc_error *err);
-static inline int lc_io_u32vec_push(lc_io_u32vec *a, uint32_t x, size_t limit, const char *file,
-                                    const char *what, lc_error *err)
+static inline int lc_io_u32vec_push(lc_io_u32vec *a, uint32_t x, size_t limit, const char *file, const char *what,
+                                    lc_error *err)
 {
     if (a->n == a->cap) {
         int rc = lc_io_u32vec_reserve(a, 1, limit, file, what, err);
@@ -64,8 +64,8 @@ void lc_io_u32vec_free(lc_io_u32vec *a);
  * new scene with gathered positions, rgb and attributes replaces *sp (the old
  * one is destroyed). Takes ownership of offsets (line_count + 1 entries) in
  * every case. */
-int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint32_t *offsets,
-                     uint32_t line_count, const char *file, lc_error *err);
+int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint32_t *offsets, uint32_t line_count,
+                     const char *file, lc_error *err);
 
 /* Sets default_importance (an attribute named importance, vt or scalar, else
  * the first attribute, else "" so that finalize derives one) and default_color

@@ -61,8 +61,7 @@ static float get_f32(const trk_load *T, size_t pos)
  * stand for several values: nibabel and DIPY write "name\0N" (N in ASCII
  * after the terminator), which becomes name_0 .. name_N-1. Values without a
  * usable name are called <fallback>_K. */
-static void name_values(const trk_load *T, size_t table, int count, const char *fallback,
-                        char names[][LC_NAME_LEN])
+static void name_values(const trk_load *T, size_t table, int count, const char *fallback, char names[][LC_NAME_LEN])
 {
     int k = 0;
     for (int slot = 0; slot < NAME_SLOTS && k < count; slot++) {
@@ -99,8 +98,9 @@ static void name_values(const trk_load *T, size_t table, int count, const char *
 static int read_header(trk_load *T, int32_t *n_count)
 {
     if (T->size < HEADER_SIZE)
-        return lc_err(T->err, LC_ERR_INVALID, "%.80s: byte offset 0: file is %zu bytes, shorter than the %d-byte header",
-                      T->file, T->size, HEADER_SIZE);
+        return lc_err(T->err, LC_ERR_INVALID,
+                      "%.80s: byte offset 0: file is %zu bytes, shorter than the %d-byte header", T->file, T->size,
+                      HEADER_SIZE);
     if (memcmp(T->data, "TRACK", 5) != 0)
         return fail(T, LC_ERR_INVALID, 0, "not a TrackVis file (missing 'TRACK' magic)");
     /* hdr_size is 1000 in the file's byte order: that is how the order is told. */
@@ -204,12 +204,12 @@ int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene
     if (!name)
         name = "<memory>";
     trk_load T = {.data = data ? data : (const void *)"", .size = data ? size : 0, .file = name, .err = err};
-    int32_t n_count;
+    int32_t n_count = 0;
     int rc = read_header(&T, &n_count);
     if (rc)
         return rc;
-    uint64_t points;
-    uint32_t tracks, kept;
+    uint64_t points = 0;
+    uint32_t tracks = 0, kept = 0; /* set by scan() on success */
     /* Each track takes at least its 4-byte count: a lying n_count fails here. */
     if ((uint64_t)n_count > (T.size - HEADER_SIZE) / 4)
         return fail(&T, LC_ERR_INVALID, 988, "n_count %d exceeds the file size", (int)n_count);
@@ -278,6 +278,6 @@ int lc_load_trk(const char *path, lc_scene **out, lc_error *err)
     rc = lc_load_trk_memory(f.data, f.size, lc_io_basename(path), out, err);
     lc_io_file_close(&f);
     if (!rc)
-        lc_io_stem(path, (*out)->name, sizeof (*out)->name);
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
     return rc;
 }

@@ -13,9 +13,7 @@
 
 #define MAX_WORD 256
 
-typedef enum {
-    VT_NONE = 0, VT_I8, VT_U8, VT_I16, VT_U16, VT_I32, VT_U32, VT_I64, VT_U64, VT_F32, VT_F64
-} vtype;
+typedef enum { VT_NONE = 0, VT_I8, VT_U8, VT_I16, VT_U16, VT_I32, VT_U32, VT_I64, VT_U64, VT_F32, VT_F64 } vtype;
 
 static const int type_size[] = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
 
@@ -26,12 +24,12 @@ static vtype type_from_name(const char *s)
     static const struct {
         const char *name;
         vtype type;
-    } names[] = {{"char", VT_I8},           {"signed_char", VT_I8},    {"unsigned_char", VT_U8},
-                 {"short", VT_I16},         {"unsigned_short", VT_U16}, {"int", VT_I32},
-                 {"unsigned_int", VT_U32},  {"vtkidtype", VT_I32},     {"long", VT_I64},
-                 {"unsigned_long", VT_U64}, {"vtktypeint64", VT_I64},  {"vtktypeuint64", VT_U64},
+    } names[] = {{"char", VT_I8},           {"signed_char", VT_I8},         {"unsigned_char", VT_U8},
+                 {"short", VT_I16},         {"unsigned_short", VT_U16},     {"int", VT_I32},
+                 {"unsigned_int", VT_U32},  {"vtkidtype", VT_I32},          {"long", VT_I64},
+                 {"unsigned_long", VT_U64}, {"vtktypeint64", VT_I64},       {"vtktypeuint64", VT_U64},
                  {"long_long", VT_I64},     {"unsigned_long_long", VT_U64}, {"float", VT_F32},
-                 {"double", VT_F64},        {"vtktypeint32", VT_I32},  {"vtktypeuint32", VT_U32}};
+                 {"double", VT_F64},        {"vtktypeint32", VT_I32},       {"vtktypeuint32", VT_U32}};
     for (size_t i = 0; i < sizeof names / sizeof *names; i++)
         if (strcasecmp(s, names[i].name) == 0)
             return names[i].type;
@@ -48,15 +46,15 @@ typedef struct vtk_load {
     const unsigned char *data;
     size_t size, pos;
     int binary;
-    size_t line;      /* 1-based line of pos (meaningful in ASCII files) */
-    size_t kw_line;   /* line of the last keyword: where count errors are reported */
-    size_t kw_pos;    /* its byte offset */
+    size_t line;    /* 1-based line of pos (meaningful in ASCII files) */
+    size_t kw_line; /* line of the last keyword: where count errors are reported */
+    size_t kw_pos;  /* its byte offset */
     const char *file;
     lc_error *err;
     int version_major;
 
     lc_scene *s;
-    uint32_t npoints;   /* 0 until POINTS */
+    uint32_t npoints; /* 0 until POINTS */
     section sec;
     uint64_t cell_count; /* cells read so far: what CELL_DATA must match */
     lc_io_u32vec cell;   /* one cell's point ids */
@@ -83,7 +81,10 @@ static int fail_at(vtk_load *L, int code, size_t line, size_t pos, const char *f
 
 /* ---- tokens */
 
-static int is_space(unsigned char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+static int is_space(unsigned char c)
+{
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+}
 
 static void skip_ws(vtk_load *L)
 {
@@ -366,8 +367,8 @@ static int emit_cell(vtk_load *L, cell_kind kind)
             return rc;
         memcpy(L->line_idx.v + L->line_idx.n, v, n * sizeof *v);
         L->line_idx.n += n;
-        return lc_io_u32vec_push(&L->line_off, (uint32_t)L->line_idx.n, (size_t)LC_MAX_PRIMITIVES + 1, L->file,
-                                 "lines", L->err);
+        return lc_io_u32vec_push(&L->line_off, (uint32_t)L->line_idx.n, (size_t)LC_MAX_PRIMITIVES + 1, L->file, "lines",
+                                 L->err);
     }
     if (n < 3)
         return 0;
@@ -395,16 +396,16 @@ static int read_cells_classic(vtk_load *L, cell_kind kind, uint64_t ncells, uint
     const char *what = cell_name[kind];
     int rc;
     if (size < ncells)
-        return fail_kw(L, LC_ERR_INVALID, "%s size %llu is smaller than its %llu cells", what,
-                       (unsigned long long)size, (unsigned long long)ncells);
+        return fail_kw(L, LC_ERR_INVALID, "%s size %llu is smaller than its %llu cells", what, (unsigned long long)size,
+                       (unsigned long long)ncells);
     uint64_t used = 0;
     for (uint64_t c = 0; c < ncells; c++) {
         double k;
         if ((rc = read_value(L, VT_I32, &k, what)))
             return rc;
         if (used >= size || !(k >= 0) || k != floor(k) || k > (double)(size - used - 1))
-            return fail_here(L, LC_ERR_INVALID, "%s cell %llu: point count %.17g exceeds the declared size %llu",
-                             what, (unsigned long long)c, k, (unsigned long long)size);
+            return fail_here(L, LC_ERR_INVALID, "%s cell %llu: point count %.17g exceeds the declared size %llu", what,
+                             (unsigned long long)c, k, (unsigned long long)size);
         used += 1 + (uint64_t)k;
         L->cell.n = 0;
         if ((rc = lc_io_u32vec_reserve(&L->cell, (size_t)k, LC_MAX_VERTICES, L->file, "cell points", L->err)))
@@ -443,8 +444,8 @@ static int read_cells_offsets(vtk_load *L, cell_kind kind, uint64_t noffsets, ui
     if ((rc = check_room(L, noffsets, t, "OFFSETS count", noffsets)))
         return rc;
     if (noffsets > (uint64_t)LC_MAX_PRIMITIVES + 1)
-        return fail_kw(L, LC_ERR_LIMIT, "%s: %llu cells exceed the limit of %u", what,
-                       (unsigned long long)noffsets - 1, (unsigned)LC_MAX_PRIMITIVES);
+        return fail_kw(L, LC_ERR_LIMIT, "%s: %llu cells exceed the limit of %u", what, (unsigned long long)noffsets - 1,
+                       (unsigned)LC_MAX_PRIMITIVES);
     if (noffsets && (rc = lc_io_u32vec_reserve(&offs, (size_t)noffsets, (size_t)LC_MAX_PRIMITIVES + 1, L->file,
                                                "cell offsets", L->err)))
         return rc;
@@ -455,8 +456,10 @@ static int read_cells_offsets(vtk_load *L, cell_kind kind, uint64_t noffsets, ui
         /* Offsets start at 0, never decrease and end at the connectivity size. */
         double prev = i ? offs.v[i - 1] : 0;
         if (!(v >= prev) || v != floor(v) || v > (double)nconn || (i == 0 && v != 0)) {
-            rc = fail_here(L, LC_ERR_INVALID, "%s offset %llu is %.17g (must start at 0, not decrease and stay "
-                           "within %llu)", what, (unsigned long long)i, v, (unsigned long long)nconn);
+            rc = fail_here(L, LC_ERR_INVALID,
+                           "%s offset %llu is %.17g (must start at 0, not decrease and stay "
+                           "within %llu)",
+                           what, (unsigned long long)i, v, (unsigned long long)nconn);
             goto done;
         }
         offs.v[offs.n++] = (uint32_t)v;
@@ -528,8 +531,7 @@ static int read_points(vtk_load *L)
     int rc;
     if (L->npoints)
         return fail_kw(L, LC_ERR_INVALID, "duplicate POINTS");
-    if ((rc = need_count(L, "POINTS count", &n)) || (rc = need_type(L, "POINTS", &t)) ||
-        (rc = end_keyword_line(L)))
+    if ((rc = need_count(L, "POINTS count", &n)) || (rc = need_type(L, "POINTS", &t)) || (rc = end_keyword_line(L)))
         return rc;
     if (n == 0)
         return fail_kw(L, LC_ERR_INVALID, "no points");
@@ -556,10 +558,7 @@ static int read_points(vtk_load *L)
 }
 
 /* Attribute slot check: beyond LC_IO_MAX_FILE_ATTRIBUTES arrays are dropped. */
-static int room_for_attributes(vtk_load *L, int n)
-{
-    return L->s->attribute_count + n <= LC_IO_MAX_FILE_ATTRIBUTES;
-}
+static int room_for_attributes(vtk_load *L, int n) { return L->s->attribute_count + n <= LC_IO_MAX_FILE_ATTRIBUTES; }
 
 /* Reads `tuples` x `ncomp` values. In POINT_DATA, keep says what to make:
  * 1 = one attribute per component (name, or name_0..), 2 = the vector
@@ -656,8 +655,7 @@ static int read_scalars(vtk_load *L, uint64_t tuples)
     if ((rc = end_keyword_line(L)))
         return rc;
     if (at_keyword(L, "LOOKUP_TABLE", 0)) {
-        if ((rc = next_word(L, w, &got)) || (rc = need_word(L, w, "LOOKUP_TABLE name")) ||
-            (rc = end_keyword_line(L)))
+        if ((rc = next_word(L, w, &got)) || (rc = need_word(L, w, "LOOKUP_TABLE name")) || (rc = end_keyword_line(L)))
             return rc;
     }
     return read_array(L, name, t, ncomp, tuples, 1);
@@ -744,8 +742,8 @@ static int skip_lookup_table(vtk_load *L)
         return rc;
     vtype t = L->binary ? VT_U8 : VT_F32;
     if (n > UINT64_MAX / 4 || (rc = check_room(L, 4 * n, t, "LOOKUP_TABLE size", n)))
-        return rc ? rc : fail_kw(L, LC_ERR_INVALID, "LOOKUP_TABLE size %llu exceeds the file size",
-                                 (unsigned long long)n);
+        return rc ? rc
+                  : fail_kw(L, LC_ERR_INVALID, "LOOKUP_TABLE size %llu exceeds the file size", (unsigned long long)n);
     return read_floats(L, t, 4 * n, NULL, 1, "LOOKUP_TABLE");
 }
 
@@ -902,8 +900,7 @@ static int assemble(vtk_load *L)
             LC_WARN(LC_IO_LOG, "%s: %zu triangles ignored because the file has lines", L->file, L->triangles.n / 3);
         uint32_t *offsets = L->line_off.v;
         memset(&L->line_off, 0, sizeof L->line_off); /* ownership moves to the scene */
-        int rc = lc_io_make_lines(&L->s, L->line_idx.v, L->line_idx.n, offsets, (uint32_t)line_count, L->file,
-                                  L->err);
+        int rc = lc_io_make_lines(&L->s, L->line_idx.v, L->line_idx.n, offsets, (uint32_t)line_count, L->file, L->err);
         if (rc)
             return rc;
     } else if (L->triangles.n) {
@@ -958,7 +955,7 @@ int lc_load_vtk(const char *path, lc_scene **out, lc_error *err)
     rc = lc_load_vtk_memory(f.data, f.size, lc_io_basename(path), out, err);
     lc_io_file_close(&f);
     if (!rc)
-        lc_io_stem(path, (*out)->name, sizeof (*out)->name);
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
     return rc;
 }
 

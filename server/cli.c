@@ -76,17 +76,16 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     return 0;
 }
 
-const char lc_cli_flags_help[] =
-    "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj file\n"
-    "  --width N, --height N, --size WxH\n"
-    "  --method NAME         fourier | exact | opaque | direct | wboit\n"
-    "  --bands M             Fourier bands 1..8\n"
-    "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
-    "  --depth-range global|pixel   depth normalization by the data bounds or per pixel\n"
-    "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
-    "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
-    "  --line-width W        world units;  --point-size PX;  --unlit\n"
-    "  --format png|jpeg, --quality Q\n";
+const char lc_cli_flags_help[] = "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj file\n"
+                                 "  --width N, --height N, --size WxH\n"
+                                 "  --method NAME         fourier | exact | opaque | direct | wboit\n"
+                                 "  --bands M             Fourier bands 1..8\n"
+                                 "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
+                                 "  --depth-range global|pixel   depth normalization by the data bounds or per pixel\n"
+                                 "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
+                                 "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
+                                 "  --line-width W        world units;  --point-size PX;  --unlit\n"
+                                 "  --format png|jpeg, --quality Q\n";
 
 /* Applies one "key": value pair through the protocol's query aliases so the
  * flags get exactly the validation of the HTTP API. */
@@ -127,8 +126,7 @@ int lc_cli_has_flag(int argc, char **argv, const char *flag)
     return 0;
 }
 
-int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene,
-                lc_cli_gl *g)
+int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene, lc_cli_gl *g)
 {
     lc_error err = {0};
     const char *spec = common->input ? common->input : req->dataset[0] ? req->dataset : "demo:tornado";
@@ -150,13 +148,27 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
 {
     static const struct {
         const char *flag, *key;
-    } map[] = {{"--width", "width"},           {"--height", "height"},   {"--method", "method"},
-               {"--bands", "bands"},           {"--q", "q"},             {"--r", "r"},
-               {"--lambda", "lambda"},         {"--smoothing", "smoothing"}, {"--fade", "fadeHalfLife"},
-               {"--estimator", "estimator"},   {"--importance", "importance"}, {"--color", "color"},
-               {"--colormap", "colormap"},     {"--line-width", "lineWidth"}, {"--point-size", "pointSize"},
-               {"--format", "format"},         {"--quality", "quality"}, {"--resolution-scale", "resolutionScale"},
-               {"--subset", "subset"},         {"--background", "background"}, {"--depth-range", "depthRange"}};
+    } map[] = {{"--width", "width"},
+               {"--height", "height"},
+               {"--method", "method"},
+               {"--bands", "bands"},
+               {"--q", "q"},
+               {"--r", "r"},
+               {"--lambda", "lambda"},
+               {"--smoothing", "smoothing"},
+               {"--fade", "fadeHalfLife"},
+               {"--estimator", "estimator"},
+               {"--importance", "importance"},
+               {"--color", "color"},
+               {"--colormap", "colormap"},
+               {"--line-width", "lineWidth"},
+               {"--point-size", "pointSize"},
+               {"--format", "format"},
+               {"--quality", "quality"},
+               {"--resolution-scale", "resolutionScale"},
+               {"--subset", "subset"},
+               {"--background", "background"},
+               {"--depth-range", "depthRange"}};
     const char *flag = argv[*i];
     int takes_value = strcmp(flag, "--request") == 0 || strcmp(flag, "--input") == 0 || strcmp(flag, "--device") == 0;
     if (takes_value) {

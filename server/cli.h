@@ -53,8 +53,7 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
 /* Opens the dataset (common->input, else the request's, else demo:tornado) and
  * a GL renderer. Prints "lucent CMD: reason" and returns non-zero on error;
  * on success the caller destroys *scene and closes g. */
-int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene,
-                lc_cli_gl *g);
+int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene, lc_cli_gl *g);
 
 /* Prints the per-pass timings of a frame as "  importance   1.23 ms" lines. */
 void lc_cli_print_timings(const lc_frame_info *info);

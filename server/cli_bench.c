@@ -27,8 +27,8 @@ int lc_cli_bench(int argc, char **argv)
     int frames = 10, warmup = 2;
     char datasets[512] = "";
     for (const char *const *d = lc_demo_names(); *d; d++)
-        snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s",
-                 datasets[0] ? "," : "", *d);
+        snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s", datasets[0] ? "," : "",
+                 *d);
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc)
             frames = atoi(argv[++i]);
@@ -99,8 +99,7 @@ int lc_cli_bench(int argc, char **argv)
                 wall += info.wall_ms;
             }
             if (ok) {
-                printf("%-16s %10llu %9u", s->name, (unsigned long long)lc_scene_primitive_count(s),
-                       s->elements.count);
+                printf("%-16s %10llu %9u", s->name, (unsigned long long)lc_scene_primitive_count(s), s->elements.count);
                 for (int p = 0; p < LC_PASS_COUNT; p++)
                     if (info.pass_ms[p] >= 0)
                         printf(" %12.2f", pass_sum[p] / frames);

@@ -39,8 +39,8 @@ typedef struct method_run {
     lc_frame_info info; /* last frame; pass_ms/gpu_ms/wall_ms replaced by means */
 } method_run;
 
-static int run_method(const lc_renderer_desc *desc, const lc_gpu_scene *gs, lc_render_params p,
-                      lc_method method, int repeat, method_run *out, lc_error *err)
+static int run_method(const lc_renderer_desc *desc, const lc_gpu_scene *gs, lc_render_params p, lc_method method,
+                      int repeat, method_run *out, lc_error *err)
 {
     /* A renderer per method (on the current context) so that each one's pipeline memory is its own. */
     lc_renderer *r = NULL;

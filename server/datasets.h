@@ -17,10 +17,10 @@ extern "C" {
 /* One loaded dataset. Immutable after lc_datasets_upload(); pointers stay valid
  * until lc_datasets_destroy(), which runs after every thread has stopped. */
 typedef struct lc_dataset {
-    char name[128];            /* file stem or "demo:NAME" (unique) */
-    char source[512];          /* path or demo:NAME it came from */
-    lc_scene *scene;           /* owned */
-    lc_gpu_scene *gpu;         /* owned; NULL until uploaded */
+    char name[128];    /* file stem or "demo:NAME" (unique) */
+    char source[512];  /* path or demo:NAME it came from */
+    lc_scene *scene;   /* owned */
+    lc_gpu_scene *gpu; /* owned; NULL until uploaded */
     double load_seconds;
 } lc_dataset;
 

@@ -38,10 +38,10 @@ typedef struct req_ctx {
     char *body;
     size_t len, cap;
     bool too_large;
-    bool ws_authed;            /* read by the upgrade handler */
+    bool ws_authed; /* read by the upgrade handler */
     struct MHD_Connection *conn;
-    lc_render_job *job;        /* a render in flight or finished */
-    atomic_int job_finished;   /* set by job_done before the connection resumes */
+    lc_render_job *job;      /* a render in flight or finished */
+    atomic_int job_finished; /* set by job_done before the connection resumes */
 } req_ctx;
 
 /* ---------------------------------------------------------------- responses */
@@ -193,10 +193,14 @@ static const char *content_type(const char *path)
 {
     static const struct {
         const char *ext, *type;
-    } types[] = {{".html", "text/html; charset=utf-8"},   {".js", "text/javascript; charset=utf-8"},
-                 {".mjs", "text/javascript; charset=utf-8"}, {".css", "text/css; charset=utf-8"},
-                 {".svg", "image/svg+xml"},                {".png", "image/png"},
-                 {".json", "application/json"},            {".ico", "image/x-icon"},
+    } types[] = {{".html", "text/html; charset=utf-8"},
+                 {".js", "text/javascript; charset=utf-8"},
+                 {".mjs", "text/javascript; charset=utf-8"},
+                 {".css", "text/css; charset=utf-8"},
+                 {".svg", "image/svg+xml"},
+                 {".png", "image/png"},
+                 {".json", "application/json"},
+                 {".ico", "image/x-icon"},
                  {".txt", "text/plain; charset=utf-8"}};
     const char *dot = strrchr(path, '.');
     for (size_t i = 0; dot && i < sizeof types / sizeof types[0]; i++)
@@ -265,8 +269,8 @@ static void free_job(lc_render_job *job)
 
 /* Queues a render and suspends the connection until it is done. Takes the
  * session reference (may be NULL). */
-static enum MHD_Result start_render(req_ctx *ctx, struct MHD_Connection *c, const lc_request *req,
-                                    const lc_dataset *ds, lc_session *session, double dt)
+static enum MHD_Result start_render(req_ctx *ctx, struct MHD_Connection *c, const lc_request *req, const lc_dataset *ds,
+                                    lc_session *session, double dt)
 {
     lc_server *srv = ctx->srv;
     lc_render_job *job = calloc(1, sizeof *job);
@@ -308,23 +312,18 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
     lc_render_job *job = ctx->job;
     if (job->rc != 0) {
         switch (job->rc) {
-        case LC_ERR_LIMIT:
-            return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_LIMIT: return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_UNSUPPORTED:
-        case LC_ERR_NOMEM:
-            return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
-        case LC_ERR_NOT_FOUND:
-            return respond_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
+        case LC_ERR_NOMEM: return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_NOT_FOUND: return respond_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
         case LC_ERR_INVALID: /* a value only the renderer can check, e.g. an attribute name */
             return respond_error(srv, c, 400, LC_PROTO_BAD_FIELD, lc_workers_error_field(job->err.msg), "%s",
                                  job->err.msg);
-        default:
-            return respond_error(srv, c, 500, "internal", NULL, "render failed: %s", job->err.msg);
+        default: return respond_error(srv, c, 500, "internal", NULL, "render failed: %s", job->err.msg);
         }
     }
     const lc_frame_info *info = &job->info;
-    struct MHD_Response *r =
-        MHD_create_response_from_buffer(job->image_size, job->image, MHD_RESPMEM_MUST_FREE);
+    struct MHD_Response *r = MHD_create_response_from_buffer(job->image_size, job->image, MHD_RESPMEM_MUST_FREE);
     if (!r)
         return MHD_NO;
     size_t bytes = job->image_size;
@@ -575,7 +574,8 @@ static enum MHD_Result route_ws(req_ctx *ctx, struct MHD_Connection *c, bool aut
         return respond_error(srv, c, 400, "bad_field", "Sec-WebSocket-Key", "missing or malformed Sec-WebSocket-Key");
     if (!version || strcmp(version, "13") != 0) {
         lc_metrics_error(srv->metrics, "bad_field");
-        char *text = lc_proto_error_json("bad_field", "only WebSocket version 13 is supported", "Sec-WebSocket-Version");
+        char *text =
+            lc_proto_error_json("bad_field", "only WebSocket version 13 is supported", "Sec-WebSocket-Version");
         struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
         MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
         MHD_add_response_header(r, "Sec-WebSocket-Version", "13");
@@ -664,8 +664,7 @@ static enum MHD_Result handler(void *cls, struct MHD_Connection *c, const char *
             unsigned long long n = strtoull(cl, &end, 10);
             if (errno || *end || n > srv->cfg.max_body)
                 return respond_error(srv, c, 413, LC_PROTO_TOO_LARGE, NULL,
-                                     "request body of %s bytes exceeds the limit of %zu bytes", cl,
-                                     srv->cfg.max_body);
+                                     "request body of %s bytes exceeds the limit of %zu bytes", cl, srv->cfg.max_body);
         }
         return MHD_YES;
     }
@@ -756,12 +755,11 @@ int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
     if (!h)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     h->srv = srv;
-    h->daemon = MHD_start_daemon(
-        flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
-        MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2,
-        MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30,
-        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL,
-        MHD_OPTION_END);
+    h->daemon = MHD_start_daemon(flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
+                                 MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_THREAD_POOL_SIZE,
+                                 (unsigned)2, MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections,
+                                 MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+                                 (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);
     if (!h->daemon) {
         int e = errno;
         free(h);

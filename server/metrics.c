@@ -201,21 +201,26 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
     }
     put(&t, "# HELP lucent_encode_seconds Image encode time.\n# TYPE lucent_encode_seconds histogram\n");
     put_histogram(&t, "lucent_encode_seconds", "", &m->encode);
-    put(&t, "# HELP lucent_encoded_pixels_total Pixels encoded (JPEG/PNG).\n# TYPE lucent_encoded_pixels_total counter\n");
+    put(&t,
+        "# HELP lucent_encoded_pixels_total Pixels encoded (JPEG/PNG).\n# TYPE lucent_encoded_pixels_total counter\n");
     put(&t, "lucent_encoded_pixels_total %llu\n", (unsigned long long)m->encoded_pixels);
     put(&t, "# HELP lucent_encoded_bytes_total Bytes of encoded images.\n# TYPE lucent_encoded_bytes_total counter\n");
     put(&t, "lucent_encoded_bytes_total %llu\n", (unsigned long long)m->encoded_bytes);
     put(&t, "# HELP lucent_bytes_sent_total Image and frame bytes handed to clients.\n");
-    put(&t, "# TYPE lucent_bytes_sent_total counter\nlucent_bytes_sent_total %llu\n", (unsigned long long)m->bytes_sent);
-    put(&t, "# HELP lucent_frames_coalesced_total Camera/params updates overwritten by a newer one before rendering.\n");
+    put(&t, "# TYPE lucent_bytes_sent_total counter\nlucent_bytes_sent_total %llu\n",
+        (unsigned long long)m->bytes_sent);
+    put(&t,
+        "# HELP lucent_frames_coalesced_total Camera/params updates overwritten by a newer one before rendering.\n");
     put(&t, "# TYPE lucent_frames_coalesced_total counter\nlucent_frames_coalesced_total %llu\n",
         (unsigned long long)m->coalesced);
     put(&t, "# HELP lucent_errors_total Errors answered, by code.\n# TYPE lucent_errors_total counter\n");
     for (int i = 0; i < m->code_count; i++)
         put(&t, "lucent_errors_total{code=\"%s\"} %llu\n", m->codes[i], (unsigned long long)m->code_n[i]);
-    put(&t, "# HELP lucent_http_responses_total HTTP responses, by status.\n# TYPE lucent_http_responses_total counter\n");
+    put(&t,
+        "# HELP lucent_http_responses_total HTTP responses, by status.\n# TYPE lucent_http_responses_total counter\n");
     for (int i = 0; i < m->status_count; i++)
-        put(&t, "lucent_http_responses_total{status=\"%d\"} %llu\n", m->statuses[i], (unsigned long long)m->status_n[i]);
+        put(&t, "lucent_http_responses_total{status=\"%d\"} %llu\n", m->statuses[i],
+            (unsigned long long)m->status_n[i]);
     pthread_mutex_unlock(&m->lock);
     if (g) {
         put(&t, "# HELP lucent_sessions_active Open sessions.\n# TYPE lucent_sessions_active gauge\n");
@@ -223,7 +228,8 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
         put(&t, "lucent_sessions_active{kind=\"ws\"} %d\n", g->sessions_ws);
         put(&t, "# HELP lucent_queue_depth Render tasks waiting for a worker.\n# TYPE lucent_queue_depth gauge\n");
         put(&t, "lucent_queue_depth %d\n", g->queue_depth);
-        put(&t, "# HELP lucent_encode_queue_depth Frames waiting for an encoder.\n# TYPE lucent_encode_queue_depth gauge\n");
+        put(&t, "# HELP lucent_encode_queue_depth Frames waiting for an encoder.\n# TYPE lucent_encode_queue_depth "
+                "gauge\n");
         put(&t, "lucent_encode_queue_depth %d\n", g->encode_depth);
         put(&t, "# HELP lucent_ws_connections Open WebSocket connections.\n# TYPE lucent_ws_connections gauge\n");
         put(&t, "lucent_ws_connections %d\n", g->ws_connections);

@@ -20,8 +20,8 @@ typedef struct lc_metrics lc_metrics;
 /* Gauges sampled at scrape time by the caller of lc_metrics_render. */
 typedef struct lc_metrics_gauges {
     int sessions_http, sessions_ws;
-    int queue_depth;   /* render tasks waiting for a worker */
-    int encode_depth;  /* frames waiting for an encoder */
+    int queue_depth;  /* render tasks waiting for a worker */
+    int encode_depth; /* frames waiting for an encoder */
     int ws_connections;
     int datasets;
     int workers;
@@ -35,7 +35,7 @@ void lc_metrics_frame(lc_metrics *m, const char *kind, const lc_frame_info *info
 void lc_metrics_encode(lc_metrics *m, double ms, long long pixels, size_t bytes);
 void lc_metrics_bytes_sent(lc_metrics *m, size_t bytes);
 void lc_metrics_coalesced(lc_metrics *m, uint64_t frames); /* requests overwritten while pending */
-void lc_metrics_error(lc_metrics *m, const char *code);     /* errors answered, by code */
+void lc_metrics_error(lc_metrics *m, const char *code);    /* errors answered, by code */
 void lc_metrics_http_request(lc_metrics *m, int status);
 
 /* Prometheus text (malloc'd, caller frees). */

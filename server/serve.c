@@ -21,32 +21,31 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n"
-            "\n"
-            "  --listen ADDR:PORT     listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
-            "                         IPv6 as [::1]:8080). Anything but loopback exposes the server.\n"
-            "  --data PATH...         datasets to load before the port opens: .ply/.obj files or demo:NAME\n"
-            "                         (repeatable; several paths may follow one --data). None = all demos.\n"
-            "  --demo                 also serve every built-in demo next to --data\n"
-            "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
-            "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
-            "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
-            "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
-            "  --token T              require this bearer token (default: LUCENT_TOKEN if set)\n"
-            "  --max-size N           max image width/height (default 4096)\n"
-            "  --max-pixels N         max width*height of an HTTP render (default 16777216)\n"
-            "  --max-stream-pixels N  max pixels of a WebSocket frame (default 4194304)\n"
-            "  --max-body BYTES       max HTTP request body (default 65536)\n"
-            "  --max-ws-message BYTES max WebSocket message, close 1009 beyond (default 65536)\n"
-            "  --max-json-depth N     max JSON nesting (default 16)\n"
-            "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
-            "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
-            "  --max-connections N    max HTTP connections (default 256)\n"
-            "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
-            "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
-            "  --log-level L          error|warn|info|debug (default info)\n"
-            "  -h, --help             this text\n");
+    fprintf(f, "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n"
+               "\n"
+               "  --listen ADDR:PORT     listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
+               "                         IPv6 as [::1]:8080). Anything but loopback exposes the server.\n"
+               "  --data PATH...         datasets to load before the port opens: .ply/.obj files or demo:NAME\n"
+               "                         (repeatable; several paths may follow one --data). None = all demos.\n"
+               "  --demo                 also serve every built-in demo next to --data\n"
+               "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
+               "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
+               "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
+               "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
+               "  --token T              require this bearer token (default: LUCENT_TOKEN if set)\n"
+               "  --max-size N           max image width/height (default 4096)\n"
+               "  --max-pixels N         max width*height of an HTTP render (default 16777216)\n"
+               "  --max-stream-pixels N  max pixels of a WebSocket frame (default 4194304)\n"
+               "  --max-body BYTES       max HTTP request body (default 65536)\n"
+               "  --max-ws-message BYTES max WebSocket message, close 1009 beyond (default 65536)\n"
+               "  --max-json-depth N     max JSON nesting (default 16)\n"
+               "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
+               "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
+               "  --max-connections N    max HTTP connections (default 256)\n"
+               "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
+               "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
+               "  --log-level L          error|warn|info|debug (default info)\n"
+               "  -h, --help             this text\n");
 }
 
 bool lc_serve_token_ok(const lc_server *srv, const char *given)
@@ -103,37 +102,53 @@ static int parse_long(const char *flag, const char *arg, long long lo, long long
 }
 
 enum {
-    OPT_LISTEN = 256, OPT_DATA, OPT_DEMO, OPT_DEMO_SIZE, OPT_DEVICE, OPT_WORKERS, OPT_ENCODERS, OPT_TOKEN,
-    OPT_MAX_SIZE, OPT_MAX_PIXELS, OPT_MAX_STREAM_PIXELS, OPT_MAX_BODY, OPT_MAX_WS, OPT_MAX_DEPTH, OPT_MAX_SESSIONS,
-    OPT_MAX_QUEUE, OPT_MAX_CONN, OPT_IDLE, OPT_STILL, OPT_LOG
+    OPT_LISTEN = 256,
+    OPT_DATA,
+    OPT_DEMO,
+    OPT_DEMO_SIZE,
+    OPT_DEVICE,
+    OPT_WORKERS,
+    OPT_ENCODERS,
+    OPT_TOKEN,
+    OPT_MAX_SIZE,
+    OPT_MAX_PIXELS,
+    OPT_MAX_STREAM_PIXELS,
+    OPT_MAX_BODY,
+    OPT_MAX_WS,
+    OPT_MAX_DEPTH,
+    OPT_MAX_SESSIONS,
+    OPT_MAX_QUEUE,
+    OPT_MAX_CONN,
+    OPT_IDLE,
+    OPT_STILL,
+    OPT_LOG
 };
 
 /* Fills cfg from argv; returns 0, 1 for --help, -1 on a usage error. */
 static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char **data)
 {
-    static const struct option opts[] = {
-        {"listen", required_argument, NULL, OPT_LISTEN},
-        {"data", required_argument, NULL, OPT_DATA},
-        {"demo", no_argument, NULL, OPT_DEMO},
-        {"demo-size", required_argument, NULL, OPT_DEMO_SIZE},
-        {"device", required_argument, NULL, OPT_DEVICE},
-        {"workers", required_argument, NULL, OPT_WORKERS},
-        {"encoders", required_argument, NULL, OPT_ENCODERS},
-        {"token", required_argument, NULL, OPT_TOKEN},
-        {"max-size", required_argument, NULL, OPT_MAX_SIZE},
-        {"max-pixels", required_argument, NULL, OPT_MAX_PIXELS},
-        {"max-stream-pixels", required_argument, NULL, OPT_MAX_STREAM_PIXELS},
-        {"max-body", required_argument, NULL, OPT_MAX_BODY},
-        {"max-ws-message", required_argument, NULL, OPT_MAX_WS},
-        {"max-json-depth", required_argument, NULL, OPT_MAX_DEPTH},
-        {"max-sessions", required_argument, NULL, OPT_MAX_SESSIONS},
-        {"max-queue", required_argument, NULL, OPT_MAX_QUEUE},
-        {"max-connections", required_argument, NULL, OPT_MAX_CONN},
-        {"idle-timeout", required_argument, NULL, OPT_IDLE},
-        {"still-delay", required_argument, NULL, OPT_STILL},
-        {"log-level", required_argument, NULL, OPT_LOG},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {{"listen", required_argument, NULL, OPT_LISTEN},
+                                         {"data", required_argument, NULL, OPT_DATA},
+                                         {"demo", no_argument, NULL, OPT_DEMO},
+                                         {"demo-size", required_argument, NULL, OPT_DEMO_SIZE},
+                                         {"device", required_argument, NULL, OPT_DEVICE},
+                                         {"workers", required_argument, NULL, OPT_WORKERS},
+                                         {"encoders", required_argument, NULL, OPT_ENCODERS},
+                                         {"token", required_argument, NULL, OPT_TOKEN},
+                                         {"max-size", required_argument, NULL, OPT_MAX_SIZE},
+                                         {"max-pixels", required_argument, NULL, OPT_MAX_PIXELS},
+                                         {"max-stream-pixels", required_argument, NULL, OPT_MAX_STREAM_PIXELS},
+                                         {"max-body", required_argument, NULL, OPT_MAX_BODY},
+                                         {"max-ws-message", required_argument, NULL, OPT_MAX_WS},
+                                         {"max-json-depth", required_argument, NULL, OPT_MAX_DEPTH},
+                                         {"max-sessions", required_argument, NULL, OPT_MAX_SESSIONS},
+                                         {"max-queue", required_argument, NULL, OPT_MAX_QUEUE},
+                                         {"max-connections", required_argument, NULL, OPT_MAX_CONN},
+                                         {"idle-timeout", required_argument, NULL, OPT_IDLE},
+                                         {"still-delay", required_argument, NULL, OPT_STILL},
+                                         {"log-level", required_argument, NULL, OPT_LOG},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
     optind = 1;
     int opt;
     long long v;
@@ -152,64 +167,79 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
             break;
         case OPT_DEMO: cfg->demo = true; break;
         case OPT_DEMO_SIZE:
-            if (parse_long("--demo-size", optarg, 1, 100000000, &v)) return -1;
+            if (parse_long("--demo-size", optarg, 1, 100000000, &v))
+                return -1;
             cfg->demo_size = (unsigned long long)v;
             break;
         case OPT_DEVICE:
-            if (parse_long("--device", optarg, 0, 64, &v)) return -1;
+            if (parse_long("--device", optarg, 0, 64, &v))
+                return -1;
             cfg->device = (int)v;
             break;
         case OPT_WORKERS:
-            if (parse_long("--workers", optarg, 1, 64, &v)) return -1;
+            if (parse_long("--workers", optarg, 1, 64, &v))
+                return -1;
             cfg->workers = (int)v;
             break;
         case OPT_ENCODERS:
-            if (parse_long("--encoders", optarg, 1, 64, &v)) return -1;
+            if (parse_long("--encoders", optarg, 1, 64, &v))
+                return -1;
             cfg->encoders = (int)v;
             break;
         case OPT_TOKEN: snprintf(cfg->token, sizeof cfg->token, "%s", optarg); break;
         case OPT_MAX_SIZE:
-            if (parse_long("--max-size", optarg, 16, 16384, &v)) return -1;
+            if (parse_long("--max-size", optarg, 16, 16384, &v))
+                return -1;
             cfg->limits.max_size = (int)v;
             break;
         case OPT_MAX_PIXELS:
-            if (parse_long("--max-pixels", optarg, 256, 1LL << 28, &v)) return -1;
+            if (parse_long("--max-pixels", optarg, 256, 1LL << 28, &v))
+                return -1;
             cfg->limits.max_pixels = v;
             break;
         case OPT_MAX_STREAM_PIXELS:
-            if (parse_long("--max-stream-pixels", optarg, 256, 1LL << 28, &v)) return -1;
+            if (parse_long("--max-stream-pixels", optarg, 256, 1LL << 28, &v))
+                return -1;
             cfg->max_stream_pixels = v;
             break;
         case OPT_MAX_BODY:
-            if (parse_long("--max-body", optarg, 64, 1LL << 30, &v)) return -1;
+            if (parse_long("--max-body", optarg, 64, 1LL << 30, &v))
+                return -1;
             cfg->max_body = (size_t)v;
             break;
         case OPT_MAX_WS:
-            if (parse_long("--max-ws-message", optarg, 64, 1LL << 30, &v)) return -1;
+            if (parse_long("--max-ws-message", optarg, 64, 1LL << 30, &v))
+                return -1;
             cfg->max_ws_message = (size_t)v;
             break;
         case OPT_MAX_DEPTH:
-            if (parse_long("--max-json-depth", optarg, 2, 1000, &v)) return -1;
+            if (parse_long("--max-json-depth", optarg, 2, 1000, &v))
+                return -1;
             cfg->limits.max_depth = (int)v;
             break;
         case OPT_MAX_SESSIONS:
-            if (parse_long("--max-sessions", optarg, 1, 100000, &v)) return -1;
+            if (parse_long("--max-sessions", optarg, 1, 100000, &v))
+                return -1;
             cfg->max_sessions = (int)v;
             break;
         case OPT_MAX_QUEUE:
-            if (parse_long("--max-queue", optarg, 1, 100000, &v)) return -1;
+            if (parse_long("--max-queue", optarg, 1, 100000, &v))
+                return -1;
             cfg->max_queue = (int)v;
             break;
         case OPT_MAX_CONN:
-            if (parse_long("--max-connections", optarg, 4, 100000, &v)) return -1;
+            if (parse_long("--max-connections", optarg, 4, 100000, &v))
+                return -1;
             cfg->max_connections = (int)v;
             break;
         case OPT_IDLE:
-            if (parse_long("--idle-timeout", optarg, 1, 86400 * 7, &v)) return -1;
+            if (parse_long("--idle-timeout", optarg, 1, 86400 * 7, &v))
+                return -1;
             cfg->idle_timeout = (double)v;
             break;
         case OPT_STILL:
-            if (parse_long("--still-delay", optarg, 0, 60000, &v)) return -1;
+            if (parse_long("--still-delay", optarg, 0, 60000, &v))
+                return -1;
             cfg->still_delay = (double)v / 1000.0;
             break;
         case OPT_LOG: {

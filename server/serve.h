@@ -35,25 +35,25 @@ typedef struct lc_ws lc_ws;
 
 /* Every cap and knob of the daemon; filled from flags by serve.c. */
 typedef struct lc_serve_config {
-    char listen_host[128];      /* "127.0.0.1", "0.0.0.0", "::1" */
-    int port;                   /* 0 = pick a free port (logged) */
-    const char **data;          /* paths or demo:NAME; borrowed from argv */
+    char listen_host[128]; /* "127.0.0.1", "0.0.0.0", "::1" */
+    int port;              /* 0 = pick a free port (logged) */
+    const char **data;     /* paths or demo:NAME; borrowed from argv */
     int data_count;
-    bool demo;                  /* also serve every demo (default when data_count == 0) */
-    unsigned long long demo_size; /* lc_demo_desc.count for demos; 0 = default */
-    int device;                 /* EGL device index, -1 = auto / LUCENT_EGL_DEVICE */
-    int workers;                /* render threads; 0 = 1 on llvmpipe, 2 on a GPU */
-    int encoders;               /* encoder threads; 0 = 2 */
+    bool demo;                      /* also serve every demo (default when data_count == 0) */
+    unsigned long long demo_size;   /* lc_demo_desc.count for demos; 0 = default */
+    int device;                     /* EGL device index, -1 = auto / LUCENT_EGL_DEVICE */
+    int workers;                    /* render threads; 0 = 1 on llvmpipe, 2 on a GPU */
+    int encoders;                   /* encoder threads; 0 = 2 */
     char token[LC_PROTO_TOKEN_LEN]; /* "" = no authentication */
-    lc_proto_limits limits;     /* image size, pixel count, JSON depth */
-    size_t max_body;            /* HTTP request body bytes (413 beyond) */
-    size_t max_ws_message;      /* WebSocket message bytes (close 1009 beyond) */
-    int max_sessions;           /* HTTP + WebSocket sessions together */
-    int max_queue;              /* queued HTTP render jobs (503 beyond) */
-    int max_connections;        /* HTTP connections held by MHD */
-    double idle_timeout;        /* seconds without use before a session is dropped */
-    long long max_stream_pixels;/* cap of viewport x devicePixelRatio for WS frames */
-    double still_delay;         /* seconds of quiet input before the still frame */
+    lc_proto_limits limits;         /* image size, pixel count, JSON depth */
+    size_t max_body;                /* HTTP request body bytes (413 beyond) */
+    size_t max_ws_message;          /* WebSocket message bytes (close 1009 beyond) */
+    int max_sessions;               /* HTTP + WebSocket sessions together */
+    int max_queue;                  /* queued HTTP render jobs (503 beyond) */
+    int max_connections;            /* HTTP connections held by MHD */
+    double idle_timeout;            /* seconds without use before a session is dropped */
+    long long max_stream_pixels;    /* cap of viewport x devicePixelRatio for WS frames */
+    double still_delay;             /* seconds of quiet input before the still frame */
 } lc_serve_config;
 
 /* The daemon: one per process, created by serve.c. Modules keep a pointer to
@@ -67,11 +67,11 @@ typedef struct lc_server {
     lc_metrics *metrics;
     lc_http *http;
     lc_ws *ws;
-    double start_time;          /* lc_now() at start-up */
+    double start_time; /* lc_now() at start-up */
     char gl_renderer[256];
     char gl_version[256];
     char gl_platform[128];
-    atomic_int stopping;        /* set once shutdown begins: refuse new work */
+    atomic_int stopping; /* set once shutdown begins: refuse new work */
 } lc_server;
 
 /* `lucent serve [flags]`; argv[0] is "serve". Returns the process exit code:

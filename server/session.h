@@ -37,25 +37,25 @@ typedef enum { LC_SESSION_HTTP = 0, LC_SESSION_WS = 1 } lc_session_kind;
 
 /* WebSocket stream state (all guarded by the session lock). */
 typedef struct lc_stream {
-    int window;                      /* max unacknowledged frames, 1..8 */
-    int quality;                     /* still-frame JPEG quality */
-    int interactive_quality;         /* JPEG quality while input is active */
-    double interactive_scale;        /* resolution factor while input is active */
-    int css_width, css_height;       /* viewport in CSS pixels */
+    int window;                /* max unacknowledged frames, 1..8 */
+    int quality;               /* still-frame JPEG quality */
+    int interactive_quality;   /* JPEG quality while input is active */
+    double interactive_scale;  /* resolution factor while input is active */
+    int css_width, css_height; /* viewport in CSS pixels */
     double device_pixel_ratio;
     uint64_t outstanding[LC_PROTO_MAX_WINDOW]; /* frame ids sent or in flight, not acked */
     int unacked;
-    uint64_t next_frame;             /* id of the next frame (from 1) */
-    uint64_t camera_seq;             /* latest camera seq received */
-    bool dirty;                      /* input arrived since the last snapshot */
-    uint64_t updates_since_frame;    /* for the coalescing metric */
-    uint64_t coalesced;              /* updates overwritten before a frame showed them (stats) */
-    bool rendering;                  /* a worker owns the frame state right now */
-    bool converged;                  /* the last frame's opacities stopped fading */
-    bool last_interactive;           /* the last frame used interactive quality/scale */
-    bool any_input;                  /* camera/params/resize seen since hello */
-    double last_input;               /* lc_now() of the latest input */
-    uint64_t frames;                 /* frames rendered */
+    uint64_t next_frame;          /* id of the next frame (from 1) */
+    uint64_t camera_seq;          /* latest camera seq received */
+    bool dirty;                   /* input arrived since the last snapshot */
+    uint64_t updates_since_frame; /* for the coalescing metric */
+    uint64_t coalesced;           /* updates overwritten before a frame showed them (stats) */
+    bool rendering;               /* a worker owns the frame state right now */
+    bool converged;               /* the last frame's opacities stopped fading */
+    bool last_interactive;        /* the last frame used interactive quality/scale */
+    bool any_input;               /* camera/params/resize seen since hello */
+    double last_input;            /* lc_now() of the latest input */
+    uint64_t frames;              /* frames rendered */
 } lc_stream;
 
 typedef struct lc_session lc_session;
@@ -88,7 +88,7 @@ struct lc_session {
 
 /* One WebSocket frame to render: a snapshot taken by the worker. */
 typedef struct lc_stream_frame {
-    lc_request req;        /* with width/height already set for this frame */
+    lc_request req; /* with width/height already set for this frame */
     uint64_t frame;
     uint64_t camera_seq;
     int quality;

@@ -247,8 +247,8 @@ const char *lc_workers_error_field(const char *message)
 {
     /* The request fields whose values only the renderer can check against
      * the dataset (attribute names, rgb) or that it checks again. */
-    static const char *const fields[] = {"importance.attribute", "color.attribute", "color.colormap",
-                                         "params.bands", "params.resolutionScale", "method", "camera"};
+    static const char *const fields[] = {"importance.attribute",   "color.attribute", "color.colormap", "params.bands",
+                                         "params.resolutionScale", "method",          "camera"};
     if (!message)
         return NULL;
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
@@ -304,8 +304,7 @@ static void render_job(worker *wk, lc_render_job *job)
     push_encode(w, e);
 }
 
-static void send_stream_error(lc_server *srv, lc_session *s, const char *code, const char *message,
-                              const char *field)
+static void send_stream_error(lc_server *srv, lc_session *s, const char *code, const char *message, const char *field)
 {
     char *msg = lc_proto_error_message_json(code, message, field, false);
     lc_metrics_error(srv->metrics, code);

@@ -37,18 +37,18 @@ struct lc_render_job {
     /* input */
     lc_request req;
     const lc_dataset *dataset;
-    lc_session *session;      /* HTTP session (the job holds a reference) or NULL */
-    double dt;                /* fading step for sessions */
+    lc_session *session; /* HTTP session (the job holds a reference) or NULL */
+    double dt;           /* fading step for sessions */
     void (*done)(lc_render_job *job);
     void *user;
     /* output, valid in done() */
-    int rc;                   /* 0, or an LC_ERR_* code with err filled */
+    int rc; /* 0, or an LC_ERR_* code with err filled */
     lc_error err;
-    unsigned char *image;     /* malloc'd encoded image (job owner frees) */
+    unsigned char *image; /* malloc'd encoded image (job owner frees) */
     size_t image_size;
     lc_frame_info info;
     double encode_ms;
-    double queue_ms;          /* waiting for a worker */
+    double queue_ms; /* waiting for a worker */
     /* pool internals */
     lc_render_job *next;
     double submitted;

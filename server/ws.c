@@ -24,13 +24,13 @@
 
 #define MOD "ws"
 #define WS_GUID "258EAFA5-E914-47DA-95CA-C5AB0DC85B11"
-#define PING_INTERVAL 15.0        /* seconds of silence before we ping */
-#define CLOSE_GRACE 2.0           /* seconds a client gets to answer our close frame */
+#define PING_INTERVAL 15.0           /* seconds of silence before we ping */
+#define CLOSE_GRACE 2.0              /* seconds a client gets to answer our close frame */
 #define MAX_QUEUED_BYTES (32u << 20) /* per connection, beyond the frame window: not reading */
 #define MAX_QUEUED_MSGS 256
 #define MAX_CONSECUTIVE_ERRORS 32
-#define STATS_INTERVAL 1.0        /* seconds between stats messages while frames flow */
-#define STATS_SAMPLES 256         /* latest frames remembered for fps and timing figures */
+#define STATS_INTERVAL 1.0 /* seconds between stats messages while frames flow */
+#define STATS_SAMPLES 256  /* latest frames remembered for fps and timing figures */
 
 /* What a connection's stats messages report (I/O thread only). The rings hold
  * the latest frames, indexed by frame count modulo STATS_SAMPLES. */
@@ -50,39 +50,39 @@ typedef struct conn {
     int fd;
     struct MHD_UpgradeResponseHandle *urh;
     wslay_event_context_ptr ctx;
-    char *extra;              /* bytes MHD read past the handshake */
+    char *extra; /* bytes MHD read past the handshake */
     size_t extra_len, extra_off;
     bool authed;
-    lc_session *session;      /* after hello; holds a reference */
+    lc_session *session; /* after hello; holds a reference */
     double last_rx, last_ping;
-    double close_deadline;    /* > 0 once closing: the connection goes by then at the latest */
-    uint16_t close_code;      /* close frame to send once the queued messages are out */
+    double close_deadline; /* > 0 once closing: the connection goes by then at the latest */
+    uint16_t close_code;   /* close frame to send once the queued messages are out */
     char close_reason[64];
-    int errors;               /* consecutive bad messages */
-    uint32_t events;          /* registered epoll events */
+    int errors;      /* consecutive bad messages */
+    uint32_t events; /* registered epoll events */
     stream_stats stats;
 } conn;
 
 typedef struct inbox_item {
     struct inbox_item *next;
-    conn *adopt;              /* a new connection to register */
-    lc_session *session;      /* or a message for this session's connection */
+    conn *adopt;         /* a new connection to register */
+    lc_session *session; /* or a message for this session's connection */
     unsigned char *msg;
     size_t len;
     bool binary;
-    bool frame;               /* a frame message: count it in the stats */
+    bool frame; /* a frame message: count it in the stats */
     double render_ms, encode_ms;
 } inbox_item;
 
 struct lc_ws {
     lc_server *srv;
-    lc_proto_limits limits;   /* server limits with max_text = max WS message */
+    lc_proto_limits limits; /* server limits with max_text = max WS message */
     int epfd, evfd;
     pthread_t thread;
     bool started;
-    conn *conns;              /* I/O thread only */
-    int nconns;               /* I/O thread writes; read racily for metrics */
-    pthread_mutex_t lock;     /* guards inbox and shutting_down */
+    conn *conns;          /* I/O thread only */
+    int nconns;           /* I/O thread writes; read racily for metrics */
+    pthread_mutex_t lock; /* guards inbox and shutting_down */
     inbox_item *inbox_head, *inbox_tail;
     bool shutting_down;
     double shutdown_deadline;
@@ -447,9 +447,7 @@ static void on_text(conn *c, const uint8_t *data, size_t len)
     lc_session *s = c->session;
     double now = lc_now();
     switch (m.type) {
-    case LC_MSG_HELLO:
-        on_hello(c, &m);
-        break;
+    case LC_MSG_HELLO: on_hello(c, &m); break;
     case LC_MSG_CAMERA:
     case LC_MSG_PARAMS:
         if (apply_update(c, &m) == 0) {

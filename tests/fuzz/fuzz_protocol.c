@@ -83,9 +83,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         lc_client_msg_free(&m);
         break;
     }
-    case 2:
-        fuzz_query(text, n);
-        break;
+    case 2: fuzz_query(text, n); break;
     case 3: {
         lc_frame_header h;
         const unsigned char *img;

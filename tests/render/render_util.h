@@ -42,10 +42,10 @@ static inline void test_gl_close(test_gl *t)
 }
 
 typedef struct test_quad {
-    double z;        /* world z of the quad (camera looks down -Z) */
-    double g;        /* importance */
+    double z; /* world z of the quad (camera looks down -Z) */
+    double g; /* importance */
     double rgb[3];
-    double half;     /* half extent in x and y */
+    double half; /* half extent in x and y */
 } test_quad;
 
 /* Triangles: one quad (4 vertices, 2 triangles) per entry, attribute

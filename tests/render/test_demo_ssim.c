@@ -20,8 +20,7 @@
 #define SIZE 256
 #define SSIM_THRESHOLD 0.96
 
-static void render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, uint8_t *rgba,
-                   lc_frame_info *info)
+static void render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, uint8_t *rgba, lc_frame_info *info)
 {
     lc_error err = {0};
     int rc = lc_render_frame(t->renderer, gs, p, NULL, 0, rgba, info, &err);
@@ -32,8 +31,8 @@ int main(void)
 {
     test_gl t;
     test_gl_open(&t);
-    printf("renderer: %s, %dx%d, default parameters, threshold SSIM %.2f\n",
-           lc_gl_renderer(t.gl), SIZE, SIZE, SSIM_THRESHOLD);
+    printf("renderer: %s, %dx%d, default parameters, threshold SSIM %.2f\n", lc_gl_renderer(t.gl), SIZE, SIZE,
+           SSIM_THRESHOLD);
     uint8_t *fourier = malloc(SIZE * SIZE * 4), *exact = malloc(SIZE * SIZE * 4);
     for (const char *const *name = lc_demo_names(); *name; name++) {
         lc_error err = {0};
@@ -59,9 +58,8 @@ int main(void)
             double rmse = lc_image_rmse(fourier, exact, SIZE, SIZE);
             printf("demo:%-8s SSIM %.4f  RMSE %.4f  (m=%d %s; exact: %llu fragments, mean %.1f / max %u layers, "
                    "%llu dropped)\n",
-                   *name, ssim, rmse, p.foo.bands, lc_estimator_name(p.foo.estimator),
-                   (unsigned long long)ei.fragments, ei.mean_layers, ei.max_layers,
-                   (unsigned long long)ei.dropped_fragments);
+                   *name, ssim, rmse, p.foo.bands, lc_estimator_name(p.foo.estimator), (unsigned long long)ei.fragments,
+                   ei.mean_layers, ei.max_layers, (unsigned long long)ei.dropped_fragments);
             /* A few fragments beyond the 256-layer cap of the optimization-resolution lists (points: 0.3%) are
              * tolerable: the kept ones are the nearest, with exact sums; the dropped ones sit behind 256 others. */
             CHECK(ei.dropped_fragments <= ei.fragments / 100, "demo:%s: the exact reference dropped %llu fragments",

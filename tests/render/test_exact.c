@@ -62,8 +62,8 @@ static void check_stack(test_gl *t, const test_quad *q, int n, double qw, double
             for (int c = 0; c < 3; c++)
                 worst = fmax(worst, fabs(rgba[4 * i + c] / 255.0 - want[c]));
         CHECK(worst <= 2.0 / 255.0,
-              "exact, %d quads, q=%g r=%g lambda=%g: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)", n,
-              qw, rw, lambda, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
+              "exact, %d quads, q=%g r=%g lambda=%g: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)", n, qw,
+              rw, lambda, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
         /* Every pixel is covered by all n quads. */
         CHECK(info.fragments == (uint64_t)n * SIZE * SIZE, "fragments %llu, want %d",
               (unsigned long long)info.fragments, n * SIZE * SIZE);
@@ -73,7 +73,8 @@ static void check_stack(test_gl *t, const test_quad *q, int n, double qw, double
         for (int k = 0; k < LC_PASS_SMOOTH + 1; k++)
             CHECK(info.pass_ms[k] >= 0, "pass %s has no time", lc_pass_name(k));
         printf("exact, %d quads, q=%-4g r=%-4g lambda=%-3g: expected (%.4f %.4f %.4f), worst error %.4f, "
-               "%.2f ms GPU\n", n, qw, rw, lambda, want[0], want[1], want[2], worst, info.gpu_ms);
+               "%.2f ms GPU\n",
+               n, qw, rw, lambda, want[0], want[1], want[2], worst, info.gpu_ms);
     }
     free(rgba);
     lc_scene_destroy(s);
@@ -153,8 +154,11 @@ int main(void)
     check_stack(&t, three, 3, 60, 500, 1);
     check_stack(&t, three, 3, 20, 5, 1);
     check_stack(&t, three, 3, 100, 200, 2);
-    const test_quad five[5] = {{0.4, 0.1, {1, 0, 0}, 2},   {0.2, 0.6, {1, 1, 0}, 2}, {0.0, 0.3, {0, 1, 1}, 2},
-                               {-0.2, 0.95, {0, 0, 1}, 2}, {-0.4, 0.0, {1, 0, 1}, 2}};
+    const test_quad five[5] = {{0.4, 0.1, {1, 0, 0}, 2},
+                               {0.2, 0.6, {1, 1, 0}, 2},
+                               {0.0, 0.3, {0, 1, 1}, 2},
+                               {-0.2, 0.95, {0, 0, 1}, 2},
+                               {-0.4, 0.0, {1, 0, 1}, 2}};
     check_stack(&t, five, 5, 60, 500, 1);
     check_stack(&t, five, 5, 80, 40, 1.5);
     /* Depths in a shuffled order, and longer than the insertion-sort limit (16): heap sort. */

@@ -64,11 +64,11 @@ static void check_stack(test_gl *t, const test_quad *q, int n, int bands, lc_est
     for (int i = 0; i < 48 * 48; i++)
         for (int c = 0; c < 3; c++)
             worst = fmax(worst, fabs(rgba[4 * i + c] / 255.0 - want[c]));
-    CHECK(worst <= 2.0 / 255.0, "m=%d %s q=%g r=%g: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)",
-          bands, lc_estimator_name(est), qw, rw, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
-    printf("stack of %d, m=%d, %-8s q=%-4g r=%-4g %s range: expected (%.4f %.4f %.4f), worst error %.4f\n", n,
-           bands, lc_estimator_name(est), qw, rw, range == LC_DEPTH_RANGE_PIXEL ? "pixel " : "global", want[0],
-           want[1], want[2], worst);
+    CHECK(worst <= 2.0 / 255.0, "m=%d %s q=%g r=%g: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)", bands,
+          lc_estimator_name(est), qw, rw, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
+    printf("stack of %d, m=%d, %-8s q=%-4g r=%-4g %s range: expected (%.4f %.4f %.4f), worst error %.4f\n", n, bands,
+           lc_estimator_name(est), qw, rw, range == LC_DEPTH_RANGE_PIXEL ? "pixel " : "global", want[0], want[1],
+           want[2], worst);
     free(rgba);
     lc_scene_destroy(s);
 }
@@ -84,8 +84,11 @@ int main(void)
         check_stack(&t, three, 3, m, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_GLOBAL);
     check_stack(&t, three, 3, 5, LC_ESTIMATOR_FOO, 60, 500, LC_DEPTH_RANGE_GLOBAL);
     check_stack(&t, three, 3, 3, LC_ESTIMATOR_FOO, 20, 5, LC_DEPTH_RANGE_GLOBAL);
-    const test_quad five[5] = {{0.4, 0.1, {1, 0, 0}, 2},   {0.2, 0.6, {1, 1, 0}, 2}, {0.0, 0.3, {0, 1, 1}, 2},
-                               {-0.2, 0.95, {0, 0, 1}, 2}, {-0.4, 0.0, {1, 0, 1}, 2}};
+    const test_quad five[5] = {{0.4, 0.1, {1, 0, 0}, 2},
+                               {0.2, 0.6, {1, 1, 0}, 2},
+                               {0.0, 0.3, {0, 1, 1}, 2},
+                               {-0.2, 0.95, {0, 0, 1}, 2},
+                               {-0.4, 0.0, {1, 0, 1}, 2}};
     check_stack(&t, five, 5, 5, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_GLOBAL);
     check_stack(&t, five, 5, 8, LC_ESTIMATOR_FOO, 100, 200, LC_DEPTH_RANGE_GLOBAL);
     /* Per-pixel depth ranges (P0): the pixel's stack spans [1/4, 3/4]. */

@@ -37,11 +37,11 @@ static void check_scene(const lc_scene *s, const double lo[3], const double hi[3
             finite &= isfinite(s->attributes[a].values[v]);
     CHECK(finite, "%s: finite positions and attributes", s->name);
     for (int k = 0; k < 3; k++)
-        CHECK(s->bounds[k] >= lo[k] && s->bounds[3 + k] <= hi[k], "%s: axis %d in [%g, %g]: [%g, %g]",
-              s->name, k, lo[k], hi[k], s->bounds[k], s->bounds[3 + k]);
+        CHECK(s->bounds[k] >= lo[k] && s->bounds[3 + k] <= hi[k], "%s: axis %d in [%g, %g]: [%g, %g]", s->name, k,
+              lo[k], hi[k], s->bounds[k], s->bounds[3 + k]);
     CHECK(s->finalized, "%s: finalized", s->name);
-    CHECK(lc_scene_find_attribute(s, s->default_importance) >= 0, "%s: default importance '%s' exists",
-          s->name, s->default_importance);
+    CHECK(lc_scene_find_attribute(s, s->default_importance) >= 0, "%s: default importance '%s' exists", s->name,
+          s->default_importance);
     CHECK(s->default_color[0] != '\0', "%s: default colour set", s->name);
     CHECK(s->elements.count > 0, "%s: elements built", s->name);
 }
@@ -77,12 +77,10 @@ static void test_lines(const char *name, double size, uint64_t default_lines)
     CHECK(strcmp(a->name, want) == 0, "scene name %s", a->name);
     CHECK(a->line_count == 60, "%s: %u lines", name, a->line_count);
     CHECK(a->vertex_count == b->vertex_count &&
-              hash_floats(a->positions, 3 * a->vertex_count) ==
-                  hash_floats(b->positions, 3 * b->vertex_count),
+              hash_floats(a->positions, 3 * a->vertex_count) == hash_floats(b->positions, 3 * b->vertex_count),
           "%s: same seed, same lines", name);
     CHECK(a->vertex_count != c->vertex_count ||
-              hash_floats(a->positions, 3 * a->vertex_count) !=
-                  hash_floats(c->positions, 3 * c->vertex_count),
+              hash_floats(a->positions, 3 * a->vertex_count) != hash_floats(c->positions, 3 * c->vertex_count),
           "%s: different seed, different lines", name);
     double lo[3] = {0, 0, 0}, hi[3] = {size, size, size};
     check_scene(a, lo, hi);
@@ -111,8 +109,8 @@ static void test_lines(const char *name, double size, uint64_t default_lines)
     lc_scene *d = make(name, 0, 0);
     if (d) {
         CHECK(d->line_count == default_lines, "%s: default %u lines", name, d->line_count);
-        CHECK(d->elements.count >= 9000 && d->elements.count <= 10000 + d->line_count,
-              "%s: default element budget, %u", name, d->elements.count);
+        CHECK(d->elements.count >= 9000 && d->elements.count <= 10000 + d->line_count, "%s: default element budget, %u",
+              name, d->elements.count);
         check_scene(d, lo, hi);
         lc_scene_destroy(d);
     }
@@ -188,8 +186,7 @@ static void test_surface(void)
             }
         }
         CHECK(outward, "ellipsoid normals point outward");
-        CHECK(hk / nk > 2 * he / ne, "knot tube is more curved than the shell: %g vs %g", hk / nk,
-              he / ne);
+        CHECK(hk / nk > 2 * he / ne, "knot tube is more curved than the shell: %g vs %g", hk / nk, he / ne);
     }
     CHECK(strcmp(a->default_importance, "mean_curvature") == 0, "mean curvature is the default");
     lc_scene_destroy(a);

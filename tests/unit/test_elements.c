@@ -153,8 +153,8 @@ static void test_lines(void)
 }
 
 /* Grid mesh of (nx x ny) vertices at spacing h with origin (ox, oy, z). */
-static void grid(lc_scene *s, uint32_t base, uint32_t *tri, uint32_t nx, uint32_t ny, double h,
-                 double ox, double oy, double z)
+static void grid(lc_scene *s, uint32_t base, uint32_t *tri, uint32_t nx, uint32_t ny, double h, double ox, double oy,
+                 double z)
 {
     for (uint32_t j = 0; j < ny; j++)
         for (uint32_t i = 0; i < nx; i++) {

@@ -54,8 +54,7 @@ static void test_fourier_reconstruction(void)
 {
     enum { LISTS = 300 };
     double mean_error[LC_MAX_BANDS + 1] = {0};
-    printf("Fourier running-sum reconstruction, %d random lists of 2-40 fragments, sampled between fragments\n",
-           LISTS);
+    printf("Fourier running-sum reconstruction, %d random lists of 2-40 fragments, sampled between fragments\n", LISTS);
     printf("   m   mean |F(d) - exact|\n");
     for (int m = LC_MIN_BANDS; m <= LC_MAX_BANDS; m++) {
         rng_state = 42; /* same lists for every m */
@@ -95,8 +94,8 @@ static void test_fourier_reconstruction(void)
           mean_error[1]);
     /* Monotone-ish: truncation error of step functions falls roughly like 1/m; allow small wiggles. */
     for (int m = LC_MIN_BANDS + 1; m <= LC_MAX_BANDS; m++)
-        CHECK(mean_error[m] < 1.05 * mean_error[m - 1], "error(m=%d) %.5f vs error(m=%d) %.5f", m, mean_error[m],
-              m - 1, mean_error[m - 1]);
+        CHECK(mean_error[m] < 1.05 * mean_error[m - 1], "error(m=%d) %.5f vs error(m=%d) %.5f", m, mean_error[m], m - 1,
+              mean_error[m - 1]);
 
     /* One fragment: the coefficients are the plain cosine/sine of its phase. */
     lc_fourier f;
@@ -135,9 +134,8 @@ static void test_optimal_alpha(void)
 
     /* Three fragments, list order shuffled; middle one (g 0.6) has 0.09 in front and 0.81 behind.
      * q = 2, r = 4, lambda = 1: 0.16 * (4 * 0.09 + 2 * 0.81) = 0.3168. */
-    lc_fragment three[3] = {{.depth = 0.5, .importance = 0.6},
-                            {.depth = 0.8, .importance = 0.9},
-                            {.depth = 0.2, .importance = 0.3}};
+    lc_fragment three[3] = {
+        {.depth = 0.5, .importance = 0.6}, {.depth = 0.8, .importance = 0.9}, {.depth = 0.2, .importance = 0.3}};
     p.q = 2, p.r = 4, p.lambda = 1;
     lc_foo_alpha_exact(three, 3, &p);
     CHECK_NEAR(three[0].alpha, 1.0 / 1.3168, 1e-12, "middle fragment");
@@ -230,8 +228,8 @@ static void test_compositing_identities(void)
     const double blue[3] = {0, 0, 1};
     double out[3];
     lc_foo_composite_exact(two, 2, blue, out);
-    CHECK(fabs(out[0] - 0.5) < 1e-12 && fabs(out[1] - 0.25) < 1e-12 && fabs(out[2] - 0.25) < 1e-12,
-          "over: %g %g %g", out[0], out[1], out[2]);
+    CHECK(fabs(out[0] - 0.5) < 1e-12 && fabs(out[1] - 0.25) < 1e-12 && fabs(out[2] - 0.25) < 1e-12, "over: %g %g %g",
+          out[0], out[1], out[2]);
 
     /* No fragments: the background, with transmittance 1. */
     double T = 0;
@@ -339,8 +337,8 @@ static void estimator_errors(double q, double r, double lambda, int random_alpha
 
                 double out[3];
                 lc_foo_composite_fourier(blend, n, m, (lc_estimator)est, bg, out, NULL);
-                c_m[est] += (fabs(out[0] - exact_color[0]) + fabs(out[1] - exact_color[1]) +
-                             fabs(out[2] - exact_color[2])) / 3;
+                c_m[est] +=
+                    (fabs(out[0] - exact_color[0]) + fabs(out[1] - exact_color[1]) + fabs(out[2] - exact_color[2])) / 3;
             }
         }
         for (int est = 0; est < 2; est++) {
@@ -361,10 +359,8 @@ static void test_estimators(void)
         double q, r, lambda;
         int random_alpha;
     } cases[] = {
-        {"tornado q=60 r=500 lambda=1", 60, 500, 1, 0},
-        {"rings q=80 r=40 lambda=1.5", 80, 40, 1.5, 0},
-        {"mild q=2 r=5 lambda=1", 2, 5, 1, 0},
-        {"benzene q=20 r=50 lambda=10", 20, 50, 10, 0},
+        {"tornado q=60 r=500 lambda=1", 60, 500, 1, 0}, {"rings q=80 r=40 lambda=1.5", 80, 40, 1.5, 0},
+        {"mild q=2 r=5 lambda=1", 2, 5, 1, 0},          {"benzene q=20 r=50 lambda=10", 20, 50, 10, 0},
         {"mild, uniform random alphas", 2, 5, 1, 1},
     };
     printf("Estimators vs exact (1000 random stacks of 2-40 fragments per m, m = 3..8)\n");
@@ -372,8 +368,7 @@ static void test_estimators(void)
         double alpha_err[2], color_err[2];
         if (c == 0)
             printf(" %s:\n", cases[c].name);
-        estimator_errors(cases[c].q, cases[c].r, cases[c].lambda, cases[c].random_alpha, c == 0, alpha_err,
-                         color_err);
+        estimator_errors(cases[c].q, cases[c].r, cases[c].lambda, cases[c].random_alpha, c == 0, alpha_err, color_err);
         printf(" avg %-30s opacity foo %.5f midpoint %.5f (%.2fx)  colour foo %.5f midpoint %.5f (%.2fx)\n",
                cases[c].name, alpha_err[0], alpha_err[1], alpha_err[0] / alpha_err[1], color_err[0], color_err[1],
                color_err[0] / color_err[1]);

@@ -150,8 +150,7 @@ static void test_jpeg(void)
     for (int qi = 0; qi < 2; qi++) {
         uint8_t *jpg;
         size_t size;
-        CHECK(lc_image_encode_jpeg(src, w, h, qualities[qi], &jpg, &size, &err) == LC_OK, "encode jpeg: %s",
-              err.msg);
+        CHECK(lc_image_encode_jpeg(src, w, h, qualities[qi], &jpg, &size, &err) == LC_OK, "encode jpeg: %s", err.msg);
         *(qi ? &size75 : &size95) = size;
         lc_image img;
         CHECK(lc_image_decode(jpg, size, &img, &err) == LC_OK, "decode jpeg: %s", err.msg);

@@ -73,13 +73,12 @@ static int same_scene(const lc_scene *a, const lc_scene *b, double rgb_tol, cons
     }
     CHECK(a->line_count == b->line_count, "%s: lines %u vs %u", what, a->line_count, b->line_count);
     if (a->line_count == b->line_count && a->line_count)
-        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0,
-              "%s: line offsets", what);
-    CHECK(a->triangle_count == b->triangle_count, "%s: triangles %u vs %u", what, a->triangle_count,
-          b->triangle_count);
+        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0, "%s: line offsets",
+              what);
+    CHECK(a->triangle_count == b->triangle_count, "%s: triangles %u vs %u", what, a->triangle_count, b->triangle_count);
     if (a->triangle_count == b->triangle_count && a->triangle_count)
-        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0,
-              "%s: triangle indices", what);
+        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0, "%s: triangle indices",
+              what);
     for (int i = 0; i < a->attribute_count; i++) {
         int j = lc_scene_find_attribute(b, a->attributes[i].name);
         CHECK(j >= 0, "%s: attribute %s missing", what, a->attributes[i].name);
@@ -112,17 +111,15 @@ static void check_key(const lc_scene *s, const char *file, const char *key, cons
         CHECK(s->line_offsets && s->line_offsets[0] == 0 && s->line_offsets[s->line_count] == s->vertex_count,
               "%s: line offsets do not cover the vertices", file);
     } else if (strcmp(key, "triangles") == 0) {
-        CHECK(s->triangle_count == strtoul(value, NULL, 10), "%s: %u triangles, expected %s", file,
-              s->triangle_count, value);
-    } else if (strcmp(key, "rgb") == 0) {
-        CHECK((s->rgb != NULL) == (atoi(value) != 0), "%s: rgb %s, expected %s", file, s->rgb ? "yes" : "no",
+        CHECK(s->triangle_count == strtoul(value, NULL, 10), "%s: %u triangles, expected %s", file, s->triangle_count,
               value);
+    } else if (strcmp(key, "rgb") == 0) {
+        CHECK((s->rgb != NULL) == (atoi(value) != 0), "%s: rgb %s, expected %s", file, s->rgb ? "yes" : "no", value);
         CHECK(strcmp(s->default_color, s->rgb ? "rgb" : "importance") == 0, "%s: default colour '%s'", file,
               s->default_color);
     } else if (strcmp(key, "attrs") == 0) {
         for (int i = 0; i < s->attribute_count; i++)
-            snprintf(attrs + strlen(attrs), sizeof attrs - strlen(attrs), "%s%s", i ? "," : "",
-                     s->attributes[i].name);
+            snprintf(attrs + strlen(attrs), sizeof attrs - strlen(attrs), "%s%s", i ? "," : "", s->attributes[i].name);
         CHECK(strcmp(attrs, strcmp(value, "-") == 0 ? "" : value) == 0, "%s: attributes '%s', expected '%s'", file,
               attrs, value);
     } else if (strcmp(key, "importance") == 0) {
@@ -198,8 +195,7 @@ static void test_cases(void)
         }
         if (expect_error) {
             CHECK(s == NULL, "%s: scene returned with an error", file);
-            CHECK(msg && strstr(err.msg, msg) != NULL, "%s: message '%s' lacks '%s'", file, err.msg,
-                  msg ? msg : "");
+            CHECK(msg && strstr(err.msg, msg) != NULL, "%s: message '%s' lacks '%s'", file, err.msg, msg ? msg : "");
             CHECK(strcmp(err.msg, merr.msg) == 0, "%s: memory loader says '%s'", file, merr.msg);
             lc_scene *fs = NULL;
             lc_error ferr = {0};
@@ -437,8 +433,7 @@ static void test_load_file(const char *dir)
     CHECK(lc_scene_load_file("/nonexistent/x.obj", &s, &err) == LC_ERR_IO && !s, "missing file");
     CHECK(strstr(err.msg, "/nonexistent/x.obj: cannot open") != NULL, "missing file message: %s", err.msg);
     snprintf(path, sizeof path, "%s/x.ply", dir);
-    CHECK(lc_save_ply(&(lc_scene){.vertex_count = 0}, "/nonexistent/dir/x.ply", &err) == LC_ERR_IO,
-          "unwritable path");
+    CHECK(lc_save_ply(&(lc_scene){.vertex_count = 0}, "/nonexistent/dir/x.ply", &err) == LC_ERR_IO, "unwritable path");
 }
 
 /* ---- hostile sizes */
@@ -452,7 +447,8 @@ static void test_hostile(void)
     lc_scene *s = NULL;
     lc_error err = {0};
     int rc = lc_load_ply_memory(le, sizeof le - 1, "big.ply", &s, &err);
-    CHECK(rc == LC_ERR_INVALID && !s && strstr(err.msg, "big.ply: line 3: vertex count 4000000000 exceeds the file size"),
+    CHECK(rc == LC_ERR_INVALID && !s &&
+              strstr(err.msg, "big.ply: line 3: vertex count 4000000000 exceeds the file size"),
           "hostile count: %s", err.msg);
 
     /* A count that fits the file but exceeds the cap (records of 0 bytes are
@@ -492,9 +488,10 @@ static uint32_t rng(void)
 
 static void test_mutations(void)
 {
-    static const char *files[] = {"valid/tetra_ascii.ply", "valid/tetra_le.ply", "valid/tetra_be.ply",
-                                  "valid/skip_elements_le.ply", "valid/lines.ply", "valid/point_types.ply",
-                                  "valid/lines.obj", "valid/mesh.obj", "valid/points_rgb.obj"};
+    static const char *files[] = {
+        "valid/tetra_ascii.ply", "valid/tetra_le.ply",    "valid/tetra_be.ply", "valid/skip_elements_le.ply",
+        "valid/lines.ply",       "valid/point_types.ply", "valid/lines.obj",    "valid/mesh.obj",
+        "valid/points_rgb.obj"};
     int loaded = 0, failed = 0;
     for (size_t fi = 0; fi < sizeof files / sizeof *files; fi++) {
         char path[512];
@@ -546,11 +543,31 @@ static void test_mutations(void)
 
 static void test_parse_double(void)
 {
-    static const char *ok[] = {"0",       "-0",       "1",          "-0.5",        "0.1",      "1.",
-                               ".5",      "-.5e+2",   "1e-45",      "3.4028235e38", "1e400",    "-1e400",
-                               "1e-400",  "123456789012345678901234", "0.30000000000000004", "9007199254740993",
-                               "2.2250738585072014e-308", "4.9e-324", "1E5", "+7", "00012.50", "1e22", "1e23",
-                               "8.589973e9", "0.000000000000000000000000000001"};
+    static const char *ok[] = {"0",
+                               "-0",
+                               "1",
+                               "-0.5",
+                               "0.1",
+                               "1.",
+                               ".5",
+                               "-.5e+2",
+                               "1e-45",
+                               "3.4028235e38",
+                               "1e400",
+                               "-1e400",
+                               "1e-400",
+                               "123456789012345678901234",
+                               "0.30000000000000004",
+                               "9007199254740993",
+                               "2.2250738585072014e-308",
+                               "4.9e-324",
+                               "1E5",
+                               "+7",
+                               "00012.50",
+                               "1e22",
+                               "1e23",
+                               "8.589973e9",
+                               "0.000000000000000000000000000001"};
     for (size_t i = 0; i < sizeof ok / sizeof *ok; i++) {
         const char *s = ok[i], *end = s + strlen(s);
         double v = -12345, ref = strtod(s, NULL);
@@ -560,8 +577,8 @@ static void test_parse_double(void)
     static const struct {
         const char *s;
         int consumed; /* -1: no number */
-    } partial[] = {{"abc", -1}, {"+", -1}, {"-", -1}, {".", -1}, {"e5", -1}, {"1e", 1}, {"1e+", 1},
-                   {"2x", 1},   {"1.5.5", 3}, {"", -1}};
+    } partial[] = {{"abc", -1}, {"+", -1},  {"-", -1}, {".", -1},    {"e5", -1},
+                   {"1e", 1},   {"1e+", 1}, {"2x", 1}, {"1.5.5", 3}, {"", -1}};
     for (size_t i = 0; i < sizeof partial / sizeof *partial; i++) {
         const char *s = partial[i].s;
         double v;

@@ -74,11 +74,10 @@ static void same_scene(const lc_scene *a, const lc_scene *b, double rgb_tol, con
         return;
     CHECK(memcmp(a->positions, b->positions, 3 * sizeof(float) * a->vertex_count) == 0, "%s: positions", what);
     if (a->line_count)
-        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0,
-              "%s: line offsets", what);
-    if (a->triangle_count)
-        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0, "%s: triangles",
+        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0, "%s: line offsets",
               what);
+    if (a->triangle_count)
+        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0, "%s: triangles", what);
     CHECK(!a->rgb == !b->rgb, "%s: rgb presence", what);
     if (a->rgb && b->rgb)
         for (size_t i = 0; i < 3 * (size_t)a->vertex_count; i++)
@@ -116,16 +115,14 @@ static void check_key(const lc_scene *s, const char *file, const char *key, cons
         CHECK(s->line_offsets && s->line_offsets[0] == 0 && s->line_offsets[s->line_count] == s->vertex_count,
               "%s: line offsets do not cover the vertices", file);
     } else if (strcmp(key, "triangles") == 0) {
-        CHECK(s->triangle_count == strtoul(value, NULL, 10), "%s: %u triangles, expected %s", file,
-              s->triangle_count, value);
-    } else if (strcmp(key, "rgb") == 0) {
-        CHECK((s->rgb != NULL) == (atoi(value) != 0), "%s: rgb %s, expected %s", file, s->rgb ? "yes" : "no",
+        CHECK(s->triangle_count == strtoul(value, NULL, 10), "%s: %u triangles, expected %s", file, s->triangle_count,
               value);
+    } else if (strcmp(key, "rgb") == 0) {
+        CHECK((s->rgb != NULL) == (atoi(value) != 0), "%s: rgb %s, expected %s", file, s->rgb ? "yes" : "no", value);
     } else if (strcmp(key, "attrs") == 0) {
         char attrs[512] = "";
         for (int i = 0; i < s->attribute_count; i++)
-            snprintf(attrs + strlen(attrs), sizeof attrs - strlen(attrs), "%s%s", i ? "," : "",
-                     s->attributes[i].name);
+            snprintf(attrs + strlen(attrs), sizeof attrs - strlen(attrs), "%s%s", i ? "," : "", s->attributes[i].name);
         CHECK(strcmp(attrs, strcmp(value, "-") == 0 ? "" : value) == 0, "%s: attributes '%s', expected '%s'", file,
               attrs, value);
     } else if (strcmp(key, "importance") == 0) {
@@ -204,8 +201,8 @@ static int run_cases(const char *folder)
             CHECK(s == NULL && m == NULL, "%s: scene returned with an error", file);
             CHECK(msg && strstr(err.msg, msg) != NULL, "%s: message '%s' lacks '%s'", file, err.msg, msg ? msg : "");
             CHECK(strcmp(err.msg, merr.msg) == 0, "%s: memory loader says '%s'", file, merr.msg);
-            CHECK(frc == rc && fs == NULL && strcmp(ferr.msg, err.msg) == 0, "%s: lc_scene_load_file says '%s'",
-                  file, ferr.msg);
+            CHECK(frc == rc && fs == NULL && strcmp(ferr.msg, err.msg) == 0, "%s: lc_scene_load_file says '%s'", file,
+                  ferr.msg);
         } else {
             CHECK(rc == 0, "%s: %s", file, err.msg);
             if (rc == 0 && mrc == 0)
@@ -343,9 +340,10 @@ static uint32_t rng(void)
  * message or a scene that finalizes, never a crash or a leak. */
 static void test_mutations(void)
 {
-    static const char *files[] = {"vtk/valid/lines_ascii.vtk", "vtk/valid/lines_be.vtk", "vtk/valid/lines_v51.vtk",
-                                  "vtk/valid/surface_ascii.vtk", "vtk/valid/surface_v51_be.vtk",
-                                  "vtk/valid/points_crlf.vtk", "trk/valid/tracts_le.trk", "trk/valid/tracts_be.trk"};
+    static const char *files[] = {"vtk/valid/lines_ascii.vtk",    "vtk/valid/lines_be.vtk",
+                                  "vtk/valid/lines_v51.vtk",      "vtk/valid/surface_ascii.vtk",
+                                  "vtk/valid/surface_v51_be.vtk", "vtk/valid/points_crlf.vtk",
+                                  "trk/valid/tracts_le.trk",      "trk/valid/tracts_be.trk"};
     int loaded = 0, failed = 0;
     for (size_t fi = 0; fi < sizeof files / sizeof *files; fi++) {
         char path[512];

@@ -85,9 +85,7 @@ static bool subset(const json_t *expect, const json_t *actual)
             return false;
         const char *key;
         json_t *v;
-        json_object_foreach((json_t *)expect, key, v)
-            if (!subset(v, json_object_get(actual, key)))
-                return false;
+        json_object_foreach((json_t *)expect, key, v) if (!subset(v, json_object_get(actual, key))) return false;
         return true;
     }
     if (json_is_array(expect)) {
@@ -450,7 +448,8 @@ static void test_partial_update(void)
     json_t *u = json_loads("{\"params\":{\"bands\":3},\"style\":{\"lineWidth\":0.5}}", 0, NULL);
     CHECK(lc_proto_apply_request(u, NULL, &r, &err) == 0, "update: %s", err.message);
     json_decref(u);
-    CHECK(r.render.foo.bands == 3 && r.render.style.line_width == 0.5 && r.render.foo.q == 60, "only given fields change");
+    CHECK(r.render.foo.bands == 3 && r.render.style.line_width == 0.5 && r.render.foo.q == 60,
+          "only given fields change");
 
     /* All or nothing: a bad field after a good one changes nothing. */
     u = json_loads("{\"params\":{\"bands\":4,\"q\":-1}}", 0, NULL);

@@ -82,8 +82,7 @@ static void test_basics(void)
         snprintf(name, sizeof name, "a%d", i);
         CHECK(lc_scene_add_attribute(s, name, floats(4, (float)i), &err) == i, "fill %d", i);
     }
-    CHECK(lc_scene_add_attribute(s, "one-too-many", floats(4, 0), &err) == LC_ERR_LIMIT,
-          "attribute cap: %s", err.msg);
+    CHECK(lc_scene_add_attribute(s, "one-too-many", floats(4, 0), &err) == LC_ERR_LIMIT, "attribute cap: %s", err.msg);
     s->attributes[0].values[2] = NAN; /* min/max must ignore it */
     s->attributes[0].values[3] = 9.0f;
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize points: %s", err.msg);
@@ -132,12 +131,10 @@ static void test_validation(void)
     CHECK(strstr(err.msg, "line 1") != NULL, "names the line: %s", err.msg);
     s->line_offsets[1] = 2;
     s->line_offsets[2] = 5;
-    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "offsets beyond vertices: %s",
-          err.msg);
+    CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "offsets beyond vertices: %s", err.msg);
     s->line_offsets[2] = 3; /* ends inside the vertex range: allowed, vertex 3 is unused */
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "offsets within range: %s", err.msg);
-    CHECK(lc_scene_primitive_count(s) == 1, "segments %llu",
-          (unsigned long long)lc_scene_primitive_count(s));
+    CHECK(lc_scene_primitive_count(s) == 1, "segments %llu", (unsigned long long)lc_scene_primitive_count(s));
     free(s->line_offsets);
     s->line_offsets = NULL;
     CHECK(lc_scene_finalize(s, NULL, &err) == LC_ERR_INVALID, "lines without offsets");
@@ -170,8 +167,7 @@ static void test_straight_line(void)
     lc_scene *s = make_lines(1, lens, pos);
     lc_error err = {0};
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
-    const float *arc = attr(s, "arc_length"), *k = attr(s, "curvature"),
-                *len = attr(s, "line_length");
+    const float *arc = attr(s, "arc_length"), *k = attr(s, "curvature"), *len = attr(s, "line_length");
     CHECK(arc && k && len, "derived attributes present");
     const float want[] = {0, 0.5f, 0.5f, 2, 3};
     for (int i = 0; i < 5; i++) {
@@ -242,7 +238,7 @@ static lc_scene *make_sphere(double R, int stacks, int slices)
         }
     s->triangles = malloc(3 * nt * sizeof(uint32_t));
     uint32_t *t = s->triangles, k = 0;
-#define V(i, j) (uint32_t)(2 + ((i) - 1) * slices + ((j) % slices))
+#define V(i, j) (uint32_t)(2 + ((i)-1) * slices + ((j) % slices))
     for (int j = 0; j < slices; j++) {
         t[k++] = 0, t[k++] = V(1, j), t[k++] = V(1, j + 1);
         t[k++] = 1, t[k++] = V(stacks - 1, j + 1), t[k++] = V(stacks - 1, j);

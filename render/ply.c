@@ -788,16 +788,7 @@ int lc_load_ply_memory(const void *data, size_t size, const char *name, lc_scene
 
 int lc_load_ply(const char *path, lc_scene **out, lc_error *err)
 {
-    *out = NULL;
-    lc_io_file f;
-    int rc = lc_io_file_open(path, &f, err);
-    if (rc)
-        return rc;
-    rc = lc_load_ply_memory(f.data, f.size, lc_io_basename(path), out, err);
-    lc_io_file_close(&f);
-    if (!rc)
-        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
-    return rc;
+    return lc_io_load_path(path, lc_load_ply_memory, out, err);
 }
 
 /* ---- writer */

@@ -65,6 +65,20 @@ const char *lc_io_basename(const char *path)
     return slash ? slash + 1 : path;
 }
 
+int lc_io_load_path(const char *path, lc_io_memory_loader load, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    lc_io_file f;
+    int rc = lc_io_file_open(path, &f, err);
+    if (rc)
+        return rc;
+    rc = load(f.data, f.size, lc_io_basename(path), out, err);
+    lc_io_file_close(&f);
+    if (!rc)
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
+    return rc;
+}
+
 void lc_io_stem(const char *path, char *out, size_t n)
 {
     const char *base = lc_io_basename(path);

@@ -28,6 +28,11 @@ const char *lc_io_basename(const char *path);
 /* File name without folders and without its last extension, truncated to n. */
 void lc_io_stem(const char *path, char *out, size_t n);
 
+/* Maps path and runs a memory loader on it (messages name the file's base
+ * name); the scene is named after the file stem. */
+typedef int (*lc_io_memory_loader)(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
+int lc_io_load_path(const char *path, lc_io_memory_loader load, lc_scene **out, lc_error *err);
+
 /* Parses a decimal floating-point number (also "nan", "inf", "infinity") at
  * p, never reading at or past end. Returns the end of the number, or NULL when
  * p does not start one. The result is exact for the usual short decimals

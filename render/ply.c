@@ -808,15 +808,6 @@ static void put_f32le(unsigned char *p, float f)
     put_u32le(p, u);
 }
 
-/* Property names may not contain whitespace in a PLY header. */
-static void header_name(const char *name, char *out, size_t n)
-{
-    snprintf(out, n, "%s", name[0] ? name : "attribute");
-    for (char *c = out; *c; c++)
-        if (*c == ' ' || *c == '\t' || *c == '\n' || *c == '\r')
-            *c = '_';
-}
-
 int lc_save_ply(const lc_scene *s, const char *path, lc_error *err)
 {
     FILE *f = fopen(path, "wb");
@@ -829,7 +820,7 @@ int lc_save_ply(const lc_scene *s, const char *path, lc_error *err)
             s->vertex_count);
     for (int a = 0; a < s->attribute_count; a++) {
         char name[LC_NAME_LEN];
-        header_name(s->attributes[a].name, name, sizeof name);
+        lc_io_header_name(s->attributes[a].name, name, sizeof name);
         fprintf(f, "property float %s\n", name);
     }
     if (s->rgb)

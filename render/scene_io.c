@@ -65,6 +65,14 @@ const char *lc_io_basename(const char *path)
     return slash ? slash + 1 : path;
 }
 
+void lc_io_header_name(const char *name, char *out, size_t n)
+{
+    snprintf(out, n, "%s", name[0] ? name : "attribute");
+    for (char *c = out; *c; c++)
+        if (*c == ' ' || *c == '\t' || *c == '\n' || *c == '\r')
+            *c = '_';
+}
+
 int lc_io_load_path(const char *path, lc_io_memory_loader load, lc_scene **out, lc_error *err)
 {
     *out = NULL;

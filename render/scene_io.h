@@ -28,6 +28,10 @@ const char *lc_io_basename(const char *path);
 /* File name without folders and without its last extension, truncated to n. */
 void lc_io_stem(const char *path, char *out, size_t n);
 
+/* Copies an attribute name for a writer's header line, where names cannot hold
+ * whitespace (PLY properties, VTK arrays): blanks become '_', "" becomes "attribute". */
+void lc_io_header_name(const char *name, char *out, size_t n);
+
 /* Maps path and runs a memory loader on it (messages name the file's base
  * name); the scene is named after the file stem. */
 typedef int (*lc_io_memory_loader)(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);

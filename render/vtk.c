@@ -966,15 +966,6 @@ static void put_f32(FILE *f, float x)
     put_be32(f, u);
 }
 
-/* Names may not contain whitespace in a VTK keyword line. */
-static void array_name(const char *name, char *out, size_t n)
-{
-    snprintf(out, n, "%s", name[0] ? name : "attribute");
-    for (char *c = out; *c; c++)
-        if (*c == ' ' || *c == '\t' || *c == '\n' || *c == '\r')
-            *c = '_';
-}
-
 int lc_save_vtk(const lc_scene *s, const char *path, lc_error *err)
 {
     FILE *f = fopen(path, "wb");
@@ -1014,7 +1005,7 @@ int lc_save_vtk(const lc_scene *s, const char *path, lc_error *err)
         fprintf(f, "POINT_DATA %u\n", s->vertex_count);
     for (int a = 0; a < s->attribute_count; a++) {
         char name[LC_NAME_LEN];
-        array_name(s->attributes[a].name, name, sizeof name);
+        lc_io_header_name(s->attributes[a].name, name, sizeof name);
         fprintf(f, "SCALARS %s float 1\nLOOKUP_TABLE default\n", name);
         for (uint32_t i = 0; i < s->vertex_count; i++)
             put_f32(f, s->attributes[a].values[i]);

@@ -11,31 +11,12 @@
 #include <unistd.h>
 
 #include "lc_test.h"
+#include "loader_test_util.h"
 #include "loaders.h"
 #include "scene.h"
 #include "scene_io.h"
 
 #define DATA LUCENT_TEST_DATA "/loaders/"
-
-static char *read_all(const char *path, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    if (buf)
-        buf[n] = '\0';
-    *size = (size_t)n;
-    return buf;
-}
 
 static int ends_with(const char *s, const char *suffix)
 {
@@ -56,47 +37,6 @@ static int load_any_memory(const char *path, const void *data, size_t size, lc_s
 }
 
 /* Two scenes hold the same data (tolerance for rgb, which PLY stores as bytes). */
-static int same_scene(const lc_scene *a, const lc_scene *b, double rgb_tol, const char *what)
-{
-    int before = lc_test_failed;
-    CHECK(a->type == b->type, "%s: type %d vs %d", what, a->type, b->type);
-    CHECK(a->vertex_count == b->vertex_count, "%s: vertices %u vs %u", what, a->vertex_count, b->vertex_count);
-    if (lc_test_failed != before)
-        return 0;
-    CHECK(memcmp(a->positions, b->positions, 3 * sizeof(float) * a->vertex_count) == 0, "%s: positions", what);
-    CHECK(!a->rgb == !b->rgb, "%s: rgb presence", what);
-    if (a->rgb && b->rgb) {
-        double worst = 0;
-        for (size_t i = 0; i < 3 * (size_t)a->vertex_count; i++)
-            worst = fmax(worst, fabs(a->rgb[i] - b->rgb[i]));
-        CHECK(worst <= rgb_tol, "%s: rgb differs by %g", what, worst);
-    }
-    CHECK(a->line_count == b->line_count, "%s: lines %u vs %u", what, a->line_count, b->line_count);
-    if (a->line_count == b->line_count && a->line_count)
-        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0, "%s: line offsets",
-              what);
-    CHECK(a->triangle_count == b->triangle_count, "%s: triangles %u vs %u", what, a->triangle_count, b->triangle_count);
-    if (a->triangle_count == b->triangle_count && a->triangle_count)
-        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0, "%s: triangle indices",
-              what);
-    for (int i = 0; i < a->attribute_count; i++) {
-        int j = lc_scene_find_attribute(b, a->attributes[i].name);
-        CHECK(j >= 0, "%s: attribute %s missing", what, a->attributes[i].name);
-        if (j >= 0)
-            CHECK(memcmp(a->attributes[i].values, b->attributes[j].values, sizeof(float) * a->vertex_count) == 0,
-                  "%s: attribute %s values", what, a->attributes[i].name);
-    }
-    return lc_test_failed == before;
-}
-
-static double sum_floats(const float *v, size_t n)
-{
-    double s = 0;
-    for (size_t i = 0; i < n; i++)
-        s += v[i];
-    return s;
-}
-
 static void check_key(const lc_scene *s, const char *file, const char *key, const char *value)
 {
     char attrs[512] = "";
@@ -477,6 +417,18 @@ static void test_hostile(void)
 
 /* ---- robustness: every prefix and many single-byte mutations */
 
+static void test_mutations(void)
+{
+    static const char *const files[] = {
+        "valid/tetra_ascii.ply", "valid/tetra_le.ply",    "valid/tetra_be.ply", "valid/skip_elements_le.ply",
+        "valid/lines.ply",       "valid/point_types.ply", "valid/lines.obj",    "valid/mesh.obj",
+        "valid/points_rgb.obj"};
+    check_prefixes_and_mutations(DATA, files, sizeof files / sizeof *files, "0123456789 \n-.e/#nfvl\xff\x80",
+                                 0x9e3779b97f4a7c15ull, load_any_memory);
+}
+
+/* ---- the number parser against strtod */
+
 static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
 static uint32_t rng(void)
 {
@@ -485,61 +437,6 @@ static uint32_t rng(void)
     rng_state ^= rng_state << 17;
     return (uint32_t)rng_state;
 }
-
-static void test_mutations(void)
-{
-    static const char *files[] = {
-        "valid/tetra_ascii.ply", "valid/tetra_le.ply",    "valid/tetra_be.ply", "valid/skip_elements_le.ply",
-        "valid/lines.ply",       "valid/point_types.ply", "valid/lines.obj",    "valid/mesh.obj",
-        "valid/points_rgb.obj"};
-    int loaded = 0, failed = 0;
-    for (size_t fi = 0; fi < sizeof files / sizeof *files; fi++) {
-        char path[512];
-        snprintf(path, sizeof path, "%s%s", DATA, files[fi]);
-        size_t size;
-        char *bytes = read_all(path, &size);
-        CHECK(bytes != NULL, "%s", path);
-        if (!bytes)
-            continue;
-        for (size_t len = 0; len <= size; len++) { /* every prefix, in an exact-size buffer for ASan */
-            char *copy = malloc(len ? len : 1);
-            memcpy(copy, bytes, len);
-            lc_scene *s = NULL;
-            lc_error err = {0};
-            int rc = load_any_memory(path, copy, len, &s, &err);
-            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s prefix %zu: rc %d", files[fi], len, rc);
-            rc == 0 ? loaded++ : failed++;
-            lc_scene_destroy(s);
-            free(copy);
-        }
-        char *copy = malloc(size);
-        for (int iter = 0; iter < 3000; iter++) {
-            memcpy(copy, bytes, size);
-            int edits = 1 + (int)(rng() % 4);
-            for (int e = 0; e < edits; e++) {
-                static const char interesting[] = "0123456789 \n-.e/#nfvl\xff\x80";
-                size_t at = rng() % size;
-                copy[at] = rng() % 2 ? (char)rng() : interesting[rng() % (sizeof interesting - 1)];
-            }
-            lc_scene *s = NULL;
-            lc_error err = {0};
-            int rc = load_any_memory(path, copy, size, &s, &err);
-            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s mutation %d: rc %d", files[fi], iter, rc);
-            if (rc == 0) {
-                /* Whatever loads must also survive finalize (indices in range etc.). */
-                lc_error ferr = {0};
-                int frc = lc_scene_finalize(s, NULL, &ferr);
-                (void)frc;
-            }
-            lc_scene_destroy(s);
-        }
-        free(copy);
-        free(bytes);
-    }
-    CHECK(loaded > 0 && failed > 0, "prefixes: %d loaded, %d failed", loaded, failed);
-}
-
-/* ---- the number parser against strtod */
 
 static void test_parse_double(void)
 {

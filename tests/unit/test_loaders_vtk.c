@@ -10,31 +10,12 @@
 #include <unistd.h>
 
 #include "lc_test.h"
+#include "loader_test_util.h"
 #include "loaders.h"
 #include "scene.h"
 #include "scene_io.h"
 
 #define DATA LUCENT_TEST_DATA "/loaders/"
-
-static char *read_all(const char *path, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    if (buf)
-        buf[n] = '\0';
-    *size = (size_t)n;
-    return buf;
-}
 
 static int is_trk(const char *path)
 {
@@ -65,43 +46,6 @@ static lc_scene *must_load(const char *file)
 }
 
 /* Same data in two scenes (positions, topology, attributes by name, rgb). */
-static void same_scene(const lc_scene *a, const lc_scene *b, double rgb_tol, const char *what)
-{
-    CHECK(a->type == b->type && a->vertex_count == b->vertex_count && a->line_count == b->line_count &&
-              a->triangle_count == b->triangle_count && a->attribute_count == b->attribute_count,
-          "%s: shape differs", what);
-    if (a->vertex_count != b->vertex_count || a->line_count != b->line_count || a->triangle_count != b->triangle_count)
-        return;
-    CHECK(memcmp(a->positions, b->positions, 3 * sizeof(float) * a->vertex_count) == 0, "%s: positions", what);
-    if (a->line_count)
-        CHECK(memcmp(a->line_offsets, b->line_offsets, sizeof(uint32_t) * (a->line_count + 1)) == 0, "%s: line offsets",
-              what);
-    if (a->triangle_count)
-        CHECK(memcmp(a->triangles, b->triangles, 3 * sizeof(uint32_t) * a->triangle_count) == 0, "%s: triangles", what);
-    CHECK(!a->rgb == !b->rgb, "%s: rgb presence", what);
-    if (a->rgb && b->rgb)
-        for (size_t i = 0; i < 3 * (size_t)a->vertex_count; i++)
-            if (fabs(a->rgb[i] - b->rgb[i]) > rgb_tol) {
-                CHECK(0, "%s: rgb[%zu] %g vs %g", what, i, a->rgb[i], b->rgb[i]);
-                break;
-            }
-    for (int i = 0; i < a->attribute_count; i++) {
-        int j = lc_scene_find_attribute(b, a->attributes[i].name);
-        CHECK(j >= 0, "%s: attribute %s missing", what, a->attributes[i].name);
-        if (j >= 0)
-            CHECK(memcmp(a->attributes[i].values, b->attributes[j].values, sizeof(float) * a->vertex_count) == 0,
-                  "%s: attribute %s", what, a->attributes[i].name);
-    }
-}
-
-static double sum_floats(const float *v, size_t n)
-{
-    double s = 0;
-    for (size_t i = 0; i < n; i++)
-        s += v[i];
-    return s;
-}
-
 static void check_key(const lc_scene *s, const char *file, const char *key, const char *value)
 {
     if (strcmp(key, "type") == 0) {
@@ -327,67 +271,16 @@ static void test_roundtrip(const char *dir)
     }
 }
 
-static uint64_t rng_state = 0x2545f4914f6cdd1dull;
-static uint32_t rng(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (uint32_t)rng_state;
-}
-
 /* Every prefix and random byte edits of the valid files: an error with a
  * message or a scene that finalizes, never a crash or a leak. */
 static void test_mutations(void)
 {
-    static const char *files[] = {"vtk/valid/lines_ascii.vtk",    "vtk/valid/lines_be.vtk",
-                                  "vtk/valid/lines_v51.vtk",      "vtk/valid/surface_ascii.vtk",
-                                  "vtk/valid/surface_v51_be.vtk", "vtk/valid/points_crlf.vtk",
-                                  "trk/valid/tracts_le.trk",      "trk/valid/tracts_be.trk"};
-    int loaded = 0, failed = 0;
-    for (size_t fi = 0; fi < sizeof files / sizeof *files; fi++) {
-        char path[512];
-        snprintf(path, sizeof path, "%s%s", DATA, files[fi]);
-        size_t size;
-        char *bytes = read_all(path, &size);
-        CHECK(bytes != NULL, "%s", path);
-        if (!bytes)
-            continue;
-        for (size_t len = 0; len <= size; len++) {
-            char *copy = malloc(len ? len : 1);
-            memcpy(copy, bytes, len);
-            lc_scene *s = NULL;
-            lc_error err = {0};
-            int rc = load_memory(path, copy, len, &s, &err);
-            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s prefix %zu: rc %d", files[fi], len, rc);
-            rc == 0 ? loaded++ : failed++;
-            lc_scene_destroy(s);
-            free(copy);
-        }
-        char *copy = malloc(size);
-        for (int iter = 0; iter < 3000; iter++) {
-            memcpy(copy, bytes, size);
-            int edits = 1 + (int)(rng() % 4);
-            for (int e = 0; e < edits; e++) {
-                static const char interesting[] = "0123456789 \n-.e%\xff\x80\x7f";
-                size_t at = rng() % size;
-                copy[at] = rng() % 2 ? (char)rng() : interesting[rng() % (sizeof interesting - 1)];
-            }
-            lc_scene *s = NULL;
-            lc_error err = {0};
-            int rc = load_memory(path, copy, size, &s, &err);
-            CHECK(rc == 0 ? s != NULL : s == NULL && err.msg[0], "%s mutation %d: rc %d", files[fi], iter, rc);
-            if (rc == 0) {
-                lc_elements_desc desc = {.line_budget = 64, .patch_count = 8};
-                lc_error ferr = {0};
-                (void)lc_scene_finalize(s, &desc, &ferr);
-            }
-            lc_scene_destroy(s);
-        }
-        free(copy);
-        free(bytes);
-    }
-    CHECK(loaded > 0 && failed > 0, "prefixes: %d loaded, %d failed", loaded, failed);
+    static const char *const files[] = {"vtk/valid/lines_ascii.vtk",    "vtk/valid/lines_be.vtk",
+                                        "vtk/valid/lines_v51.vtk",      "vtk/valid/surface_ascii.vtk",
+                                        "vtk/valid/surface_v51_be.vtk", "vtk/valid/points_crlf.vtk",
+                                        "trk/valid/tracts_le.trk",      "trk/valid/tracts_be.trk"};
+    check_prefixes_and_mutations(DATA, files, sizeof files / sizeof *files, "0123456789 \n-.e%\xff\x80\x7f",
+                                 0x2545f4914f6cdd1dull, load_memory);
 }
 
 int main(void)

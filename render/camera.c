@@ -63,14 +63,6 @@ void lc_camera_fit(lc_camera *cam, const double bounds[6], const double *directi
     cam->parallel_scale = radius;
 }
 
-void lc_camera_refit(lc_camera *cam, const double bounds[6])
-{
-    double dir[3];
-    for (int i = 0; i < 3; i++)
-        dir[i] = cam->focal_point[i] - cam->position[i];
-    lc_camera_fit(cam, bounds, dir, cam->view_up);
-}
-
 int lc_camera_validate(const lc_camera *cam)
 {
     double dir[3], side[3];

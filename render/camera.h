@@ -28,8 +28,6 @@ typedef struct lc_view {
  * ResetCamera does. Keeps view_angle (default 30 if <= 0) and sets
  * parallel_scale to the sphere radius. */
 void lc_camera_fit(lc_camera *cam, const double bounds[6], const double *direction, const double *up);
-/* Refits keeping cam's current direction and up (the "R" key). */
-void lc_camera_refit(lc_camera *cam, const double bounds[6]);
 /* Returns 0 if the camera is usable (finite, position != focal point, up not
  * parallel to the view direction, angle in (0,180), scale > 0), else -1. */
 int lc_camera_validate(const lc_camera *cam);

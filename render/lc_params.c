@@ -60,13 +60,3 @@ int lc_method_from_name(const char *name)
 
 const char *lc_estimator_name(lc_estimator e) { return e == LC_ESTIMATOR_FOO ? "foo" : "midpoint"; }
 
-int lc_estimator_from_name(const char *name)
-{
-    if (!name)
-        return -1;
-    if (strcmp(name, "foo") == 0)
-        return LC_ESTIMATOR_FOO;
-    if (strcmp(name, "midpoint") == 0)
-        return LC_ESTIMATOR_MIDPOINT;
-    return -1;
-}

@@ -106,7 +106,6 @@ void lc_render_params_default(lc_render_params *p);
 const char *lc_method_name(lc_method m);
 int lc_method_from_name(const char *name); /* -1 if unknown */
 const char *lc_estimator_name(lc_estimator e);
-int lc_estimator_from_name(const char *name);
 
 #ifdef __cplusplus
 }

@@ -9,9 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const lc_proto_colormaps[] = {"viridis", "coolwarm", "grayscale", "inferno", "plasma", "turbo"};
-const int lc_proto_colormap_count = (int)(sizeof lc_proto_colormaps / sizeof lc_proto_colormaps[0]);
-
 void lc_proto_limits_default(lc_proto_limits *l)
 {
     l->min_size = 16;
@@ -113,8 +110,9 @@ static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoin
 static const enum_name depth_range_names[] = {
     {"global", LC_DEPTH_RANGE_GLOBAL}, {"pixel", LC_DEPTH_RANGE_PIXEL}, {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
-static const enum_name colormap_names[] = {{"viridis", 0}, {"coolwarm", 1}, {"grayscale", 2}, {"inferno", 3},
-                                           {"plasma", 4},  {"turbo", 5},    {NULL, 0}};
+#define COLORMAP_ENUM_NAME(n) {#n, 0},
+static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
+#undef COLORMAP_ENUM_NAME
 
 #define OFF(member) offsetof(lc_request, member)
 #define NOFLAG (-1L)

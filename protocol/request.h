@@ -118,10 +118,6 @@ int lc_proto_check_update(const json_t *obj, const lc_proto_limits *lim, lc_prot
 int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
-/* Allowed colormap names (the renderer must provide each of them). */
-extern const char *const lc_proto_colormaps[];
-extern const int lc_proto_colormap_count;
-
 #ifdef __cplusplus
 }
 #endif

@@ -10,10 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_util.h"
 #include "lc_test.h"
 #include "loaders.h"
 #include "scene.h"
-#include "scene_io.h"
 
 static char *read_all(const char *path, size_t *size)
 {

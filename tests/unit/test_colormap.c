@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "colormap.h"
+#include "lc_params.h"
 #include "lc_test.h"
 
 static void check_rgb(int map, float t, double r, double g, double b, double tol, const char *what)
@@ -23,6 +24,11 @@ int main(void)
         CHECK(k >= 0, "%s exists", required[i]);
         CHECK(k >= 0 && strcmp(lc_colormap_name(k), required[i]) == 0, "name round trip");
     }
+    /* One order everywhere: table i is the i-th name of lc_params.h. */
+    CHECK(lc_colormap_count() == LC_COLORMAP_COUNT, "%d tables, %d names", lc_colormap_count(), LC_COLORMAP_COUNT);
+    for (int i = 0; i < LC_COLORMAP_COUNT; i++)
+        CHECK(lc_colormap_name(i) && strcmp(lc_colormap_name(i), lc_colormap_names[i]) == 0, "colormap %d is %s", i,
+              lc_colormap_names[i]);
     CHECK(lc_colormap_find("Viridis") == -1 && lc_colormap_find("jet") == -1, "unknown names");
     CHECK(lc_colormap_find(NULL) == -1, "NULL name");
     CHECK(lc_colormap_name(-1) == NULL && lc_colormap_name(n) == NULL, "name out of range");

@@ -9,11 +9,11 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "io_util.h"
 #include "lc_test.h"
 #include "loader_test_util.h"
 #include "loaders.h"
 #include "scene.h"
-#include "scene_io.h"
 
 #define DATA LUCENT_TEST_DATA "/loaders/"
 

@@ -1,0 +1,63 @@
+/* Defaults and names of the plain-data render parameters. */
+#include "lc_params.h"
+
+#include <string.h>
+
+void lc_foo_params_default(lc_foo_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->q = 60;
+    p->r = 500;
+    p->lambda = 1;
+    p->bands = 5;
+    p->smoothing = 15;
+    p->smoothing_weight = 0.1;
+    p->fade_half_life = 0.15;
+    p->resolution_scale = 0.5;
+    p->subset = 1;
+    p->depth_margin = 0.02;
+    p->estimator = LC_ESTIMATOR_MIDPOINT;
+    p->direct_exponent = 2;
+}
+
+void lc_style_default(lc_style *s)
+{
+    memset(s, 0, sizeof *s);
+    s->background[0] = s->background[1] = s->background[2] = 1.0;
+    s->line_width = 0; /* 0 = derived from the data bounds by the renderer */
+    s->min_line_pixels = 1.0;
+    s->point_size = 2;
+    s->shading = LC_SHADING_PHONG;
+}
+
+void lc_render_params_default(lc_render_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->width = 1024;
+    p->height = 768;
+    p->method = LC_METHOD_FOURIER;
+    lc_foo_params_default(&p->foo);
+    lc_style_default(&p->style);
+    p->importance.exponent = 1;
+    p->camera.view_angle = 30;
+    p->camera.view_up[1] = 1;
+    p->camera.parallel_scale = 1;
+    strcpy(p->color.attribute, "importance");
+    strcpy(p->color.colormap, "viridis");
+}
+
+static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit"};
+
+const char *lc_method_name(lc_method m) { return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown"; }
+
+int lc_method_from_name(const char *name)
+{
+    for (int i = 0; i < LC_METHOD_COUNT; i++)
+        if (name && strcmp(name, method_names[i]) == 0)
+            return i;
+    return -1;
+}
+
+const char *lc_estimator_name(lc_estimator e) { return e == LC_ESTIMATOR_FOO ? "foo" : "midpoint"; }
+
+const char *const lc_colormap_names[] = {LC_COLORMAP_LIST(LC_COLORMAP_NAME_ENTRY) NULL};

@@ -1,0 +1,125 @@
+/* Plain-data parameter types of a render: camera, FOO parameters, mapping and
+ * style. No GL here: protocol/ includes this header to parse requests into it. */
+#ifndef LC_PARAMS_H
+#define LC_PARAMS_H
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LC_NAME_LEN 64
+#define LC_MAX_BANDS 8
+#define LC_MIN_BANDS 1
+
+/* What a dataset is made of. */
+typedef enum { LC_PRIM_POINTS = 0, LC_PRIM_LINES = 1, LC_PRIM_TRIANGLES = 2 } lc_prim_type;
+
+typedef enum {
+    LC_METHOD_FOURIER = 0, /* FOO, passes P1..P6 */
+    LC_METHOD_EXACT,       /* per-pixel linked lists (DOO reference) */
+    LC_METHOD_OPAQUE,      /* depth-tested opaque geometry */
+    LC_METHOD_DIRECT,      /* alpha = g^k, order-independent weighted blend */
+    LC_METHOD_WBOIT,       /* McGuire & Bavoil 2013 with the FOO opacities */
+    LC_METHOD_COUNT
+} lc_method;
+
+typedef enum { LC_ESTIMATOR_FOO = 0, LC_ESTIMATOR_MIDPOINT = 1 } lc_estimator;
+
+/* Depth normalization range: the view-space depth range of the data bounds
+ * this frame (DESIGN §3), or each pixel's own min/max fragment depth (one extra
+ * geometry pass; spreads a pixel's fragments over the whole period). */
+typedef enum { LC_DEPTH_RANGE_GLOBAL = 0, LC_DEPTH_RANGE_PIXEL = 1 } lc_depth_range;
+/* Margin used with the per-pixel range instead of depth_margin (renderer.c). */
+#define LC_PIXEL_DEPTH_MARGIN 0.25
+
+/* The colormaps a request may name, in the one order every layer uses
+ * (image/colormap.c has a table for each; the web client's schema and
+ * protocol/openapi.yaml list them in this order, which a test checks). */
+#define LC_COLORMAP_LIST(X) X(viridis) X(coolwarm) X(grayscale) X(inferno) X(plasma) X(turbo)
+#define LC_COLORMAP_NAME_ENTRY(n) #n,
+enum { LC_COLORMAP_COUNT = sizeof((const char *[]){LC_COLORMAP_LIST(LC_COLORMAP_NAME_ENTRY)}) / sizeof(const char *) };
+/* LC_COLORMAP_COUNT names and a NULL. */
+extern const char *const lc_colormap_names[];
+
+typedef enum { LC_SHADING_PHONG = 0, LC_SHADING_NONE = 1 } lc_shading;
+
+typedef enum { LC_FORMAT_PNG = 0, LC_FORMAT_JPEG = 1 } lc_image_format;
+
+/* ParaView/VTK camera names. viewAngle in degrees (vertical field of view). */
+typedef struct lc_camera {
+    double position[3];
+    double focal_point[3];
+    double view_up[3];
+    double view_angle;
+    bool parallel_projection;
+    double parallel_scale; /* half the view height in world units (VTK) */
+} lc_camera;
+
+/* Fourier opacity optimization parameters (DESIGN §3). */
+typedef struct lc_foo_params {
+    double q;                /* weight of importance behind a fragment */
+    double r;                /* weight of importance in front of a fragment */
+    double lambda;           /* importance emphasis exponent */
+    int bands;               /* m, 1..8 */
+    int smoothing;           /* s, Laplacian iterations */
+    double smoothing_weight; /* omega */
+    double fade_half_life;   /* seconds; 0 = no fading */
+    double resolution_scale; /* P1/P2 resolution relative to output, (0,1] */
+    int subset;              /* P1/P4 use every n-th primitive, weights x n */
+    double depth_margin;     /* delta (global depth range only) */
+    lc_estimator estimator;
+    lc_depth_range depth_range;
+    double direct_exponent; /* k of the "direct" baseline, alpha = g^k */
+} lc_foo_params;
+
+/* Importance g from an attribute: g = clamp((v - min)/(max - min))^exponent.
+ * min > max inverts. */
+typedef struct lc_importance_map {
+    char attribute[LC_NAME_LEN]; /* "" = dataset default */
+    double range[2];
+    bool has_range; /* false = the attribute's own min/max */
+    double exponent;
+} lc_importance_map;
+
+typedef struct lc_color_map {
+    char attribute[LC_NAME_LEN]; /* "importance", "rgb", an attribute, "" = default */
+    char colormap[LC_NAME_LEN];  /* "viridis", "coolwarm", "grayscale", ... */
+    double range[2];
+    bool has_range;
+} lc_color_map;
+
+typedef struct lc_style {
+    double background[3];
+    double line_width;      /* world units */
+    double min_line_pixels; /* ribbons never thinner than this many pixels */
+    double point_size;      /* pixels at output resolution */
+    lc_shading shading;
+} lc_style;
+
+/* Everything a renderer needs for one frame besides the data and the state. */
+typedef struct lc_render_params {
+    int width, height;
+    lc_method method;
+    bool has_camera; /* false: fit the data */
+    lc_camera camera;
+    lc_foo_params foo;
+    lc_importance_map importance;
+    lc_color_map color;
+    lc_style style;
+} lc_render_params;
+
+/* Fills with the paper-default values (m = 5, s = 15, q = 60, r = 500, ...). */
+void lc_foo_params_default(lc_foo_params *p);
+void lc_style_default(lc_style *s);
+void lc_render_params_default(lc_render_params *p);
+
+const char *lc_method_name(lc_method m);
+int lc_method_from_name(const char *name); /* -1 if unknown */
+const char *lc_estimator_name(lc_estimator e);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,295 @@
+/* Exact reference (DOO, Günther et al. 2017): per-pixel fragment linked lists
+ * on the GPU, sorted per pixel, with exact front/behind importance sums and
+ * exact front-to-back compositing (DESIGN §3 "Reference and baselines").
+ *
+ * Frame: list pass 0 at the optimization resolution stores (depth, g,
+ * element); a compute pass sorts each pixel's list and atomic-mins FOO Eq. 10
+ * with exact sums into the element opacities; P3 smooths and fades as for
+ * Fourier; list pass 1 at full resolution stores (depth, alpha, colour); a
+ * compute pass sorts and blends into r->output. (Both per-pixel passes are
+ * compute shaders: on Mesa 22 llvmpipe a full-screen fragment pass sorted
+ * identical lists differently in some 4x4 blocks; the compute pass is also
+ * faster there.) Both list passes share one
+ * node pool of fixed size; fragments that do not fit (pool full, or beyond the
+ * per-pixel layer cap) are counted and reported, never written out of bounds.
+ *
+ * Sorting (Met.3D thesis §2.4.2): insertion sort for short lists, heap sort
+ * above INSERTION_MAX. LUCENT_EXACT_SORT=insertion|heap forces one algorithm
+ * (for measurements only). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "exact.h"
+
+#define MODULE "exact"
+
+#define NODE_BYTES 16u                    /* uvec4 per node, see exact_common.glsl */
+#define DEFAULT_POOL_BYTES (256ull << 20) /* lc_renderer_desc.exact_pool_bytes = 0 */
+#define MAX_LAYERS 256                    /* per-pixel local array of the sort passes */
+#define INSERTION_MAX 16                  /* longer lists are heap-sorted */
+#define END_OF_LIST 0xFFFFFFFFu
+
+/* Counter slots (+ list pass 0/1), must match exact_common.glsl. */
+enum {
+    COUNTER_NODES = 0,
+    COUNTER_DROP_POOL = 2,
+    COUNTER_DROP_LAYERS = 4,
+    COUNTER_MAX_LAYERS = 6,
+    COUNTER_COVERED = 8,
+    COUNTER_SLOTS = 16
+};
+
+typedef struct exact_state {
+    GLuint build[2][3]; /* [list pass][primitive type] */
+    GLuint opacity, blend;
+    GLuint nodes, counters, heads, fbo;
+    uint32_t capacity; /* nodes in the pool */
+    uint64_t pool_bytes;
+    int heads_w, heads_h;
+    int sort_mode; /* 0 auto, 1 insertion, 2 heap */
+} exact_state;
+
+static exact_state *get_state(lc_renderer *r)
+{
+    if (r->exact)
+        return r->exact;
+    exact_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return NULL;
+    const char *sort = getenv("LUCENT_EXACT_SORT");
+    st->sort_mode = sort && strcmp(sort, "insertion") == 0 ? 1 : sort && strcmp(sort, "heap") == 0 ? 2 : 0;
+    glCreateFramebuffers(1, &st->fbo);
+    r->exact = st;
+    return st;
+}
+
+static GLuint build_program(exact_state *st, int pass, lc_prim_type prim, lc_error *err)
+{
+    GLuint *slot = &st->build[pass][prim];
+    if (*slot)
+        return *slot;
+    static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
+    static const char *const fs[] = {"common.glsl", "fragment_common.glsl", "exact_common.glsl",
+                                     "exact_build.frag.glsl", NULL};
+    char defines[160], label[64];
+    /* Pass 1 reads the element opacities in the vertex shader (v_alpha). */
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s", (int)prim,
+             pass, pass ? "#define READ_ALPHA 1\n" : "");
+    snprintf(label, sizeof label, "exact list pass %d (%s)", pass, lc_prim_type_name(prim));
+    *slot = lc_renderer_build_program(defines, vs, fs, NULL, label, err);
+    return *slot;
+}
+
+static int ensure_programs(exact_state *st, lc_error *err)
+{
+    char defines[96];
+    if (!st->opacity) {
+        static const char *const cs[] = {"exact_common.glsl", "exact_opacity.comp.glsl", NULL};
+        snprintf(defines, sizeof defines, "#define EXACT_MAX_LAYERS %d\n#define EXACT_SUM_IMPORTANCE 1\n", MAX_LAYERS);
+        st->opacity = lc_renderer_build_program(defines, NULL, NULL, cs, "exact opacity", err);
+    }
+    snprintf(defines, sizeof defines, "#define EXACT_MAX_LAYERS %d\n", MAX_LAYERS);
+    if (!st->blend) {
+        static const char *const cs[] = {"exact_common.glsl", "exact_blend.comp.glsl", NULL};
+        st->blend = lc_renderer_build_program(defines, NULL, NULL, cs, "exact blend", err);
+    }
+    return st->opacity && st->blend ? 0 : LC_ERR_GL;
+}
+
+/* Allocates the node pool once, at the configured size clamped to what one
+ * shader storage block may address. */
+static int ensure_pool(lc_renderer *r, exact_state *st, lc_error *err)
+{
+    if (st->nodes)
+        return 0;
+    uint64_t want = r->desc.exact_pool_bytes ? r->desc.exact_pool_bytes : DEFAULT_POOL_BYTES;
+    GLint64 max_block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    if (max_block > 0 && want > (uint64_t)max_block)
+        want = (uint64_t)max_block;
+    uint64_t nodes = want / NODE_BYTES;
+    if (nodes > END_OF_LIST - 1) /* END_OF_LIST is no index */
+        nodes = END_OF_LIST - 1;
+    if (nodes < 1)
+        nodes = 1;
+    /* Start from a clean error state so that an out-of-memory below is the pool's (once per renderer). */
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    glCreateBuffers(1, &st->nodes);
+    glNamedBufferStorage(st->nodes, (GLsizeiptr)(nodes * NODE_BYTES), NULL, 0);
+    glCreateBuffers(1, &st->counters);
+    glNamedBufferStorage(st->counters, COUNTER_SLOTS * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        glDeleteBuffers(1, &st->nodes);
+        glDeleteBuffers(1, &st->counters);
+        st->nodes = st->counters = 0;
+        return lc_err(err, LC_ERR_GL, "exact: allocating a node pool of %llu MiB failed (GL error 0x%04x)",
+                      (unsigned long long)(nodes * NODE_BYTES >> 20), e);
+    }
+    st->capacity = (uint32_t)nodes;
+    st->pool_bytes = nodes * NODE_BYTES + COUNTER_SLOTS * 4;
+    /* Counted with the renderer's targets so lc_frame_info.pipeline_bytes covers the pool. */
+    r->bytes_targets += st->pool_bytes;
+    return 0;
+}
+
+/* One r32ui head pointer per output pixel; the optimization-resolution pass
+ * uses its lower-left corner. Grows to the largest frame seen. */
+static void ensure_heads(lc_renderer *r, exact_state *st, int w, int h)
+{
+    if (st->heads && st->heads_w >= w && st->heads_h >= h)
+        return;
+    if (st->heads) {
+        glDeleteTextures(1, &st->heads);
+        r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * 4;
+    }
+    st->heads_w = w > st->heads_w ? w : st->heads_w;
+    st->heads_h = h > st->heads_h ? h : st->heads_h;
+    glCreateTextures(GL_TEXTURE_2D, 1, &st->heads);
+    glTextureStorage2D(st->heads, 1, GL_R32UI, st->heads_w, st->heads_h);
+    r->bytes_targets += (uint64_t)st->heads_w * st->heads_h * 4;
+}
+
+/* Bindings and uniforms every exact program shares. */
+static void bind_lists(const exact_state *st, GLuint prog, int pass)
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_EXACT_NODES, st->nodes);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_EXACT_COUNTERS, st->counters);
+    glBindImageTexture(IMG_EXACT_HEADS, st->heads, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    lc_uniform_u(prog, "u_pool_capacity", st->capacity);
+    lc_uniform_i(prog, "u_list_pass", pass);
+    lc_uniform_i(prog, "u_sort_mode", st->sort_mode);
+    lc_uniform_i(prog, "u_insertion_max", INSERTION_MAX);
+}
+
+static void clear_heads(const exact_state *st)
+{
+    const GLuint end = END_OF_LIST;
+    /* The previous pass's image reads must finish before the clear overwrites them. */
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glClearTexImage(st->heads, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
+}
+
+/* Draws every primitive with list program `prog` into the heads/pool at w x h. */
+static void build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, GLuint prog, int pass, int w, int h)
+{
+    clear_heads(st);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    /* No attachments: the fragment shader only writes the lists. */
+    glNamedFramebufferParameteri(st->fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, w);
+    glNamedFramebufferParameteri(st->fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st->fbo);
+    lc_renderer_bind_geometry(r, prog, fs, w, h, 1);
+    bind_lists(st, prog, pass);
+    lc_renderer_draw_geometry(fs, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, uint8_t *rgba,
+                    lc_frame_info *info, lc_error *err)
+{
+    (void)rgba; /* lc_render_frame reads r->output back */
+    const lc_render_params *p = fs->params;
+    lc_prim_type prim = fs->gs->scene->type;
+    exact_state *st = get_state(r);
+    if (!st)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    int rc = ensure_pool(r, st, err);
+    if (rc)
+        return rc;
+    if ((rc = ensure_programs(st, err)) != 0)
+        return rc;
+    GLuint build0 = build_program(st, 0, prim, err);
+    GLuint build1 = build0 ? build_program(st, 1, prim, err) : 0;
+    if (!build1)
+        return LC_ERR_GL;
+    ensure_heads(r, st, fs->width, fs->height);
+    const GLuint zero = 0;
+    glClearNamedBufferData(st->counters, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+
+    /* List pass 0 (optimization resolution): depth, importance, element. */
+    int lw = fs->low_width, lh = fs->low_height;
+    build_lists(r, st, fs, build0, 0, lw, lh);
+    lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
+
+    /* Exact sums and FOO Eq. 10, atomic-min per element (as P2). */
+    const float sentinel = 2.0f; /* > 1: "no fragment this frame" (p3_smooth.comp.glsl) */
+    glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glUseProgram(st->opacity);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
+    bind_lists(st, st->opacity, 0);
+    glProgramUniform2i(st->opacity, glGetUniformLocation(st->opacity, "u_size"), lw, lh);
+    lc_uniform_f(st->opacity, "u_q", p->foo.q);
+    lc_uniform_f(st->opacity, "u_r", p->foo.r);
+    lc_uniform_f(st->opacity, "u_lambda", p->foo.lambda);
+    glDispatchCompute((GLuint)(lw + 7) / 8, (GLuint)(lh + 7) / 8, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    lc_renderer_timestamp(r, LC_PASS_OPACITY);
+
+    /* P3 exactly as the Fourier path, so the two differ only in P1/P2 and compositing. */
+    rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
+    lc_renderer_timestamp(r, LC_PASS_SMOOTH);
+    if (rc)
+        return rc;
+
+    /* List pass 1 (full resolution): depth, opacity, colour. The pool is reused from index 0. */
+    build_lists(r, st, fs, build1, 1, fs->width, fs->height);
+    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
+
+    /* Sort and blend front to back into the output (accumulate and resolve in one pass). */
+    glUseProgram(st->blend);
+    bind_lists(st, st->blend, 1);
+    glBindImageTexture(IMG_EXACT_OUTPUT, r->output.tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glProgramUniform2i(st->blend, glGetUniformLocation(st->blend, "u_size"), fs->width, fs->height);
+    glProgramUniform3f(st->blend, glGetUniformLocation(st->blend, "u_background"), (float)p->style.background[0],
+                       (float)p->style.background[1], (float)p->style.background[2]);
+    glDispatchCompute((GLuint)(fs->width + 7) / 8, (GLuint)(fs->height + 7) / 8, 1);
+    /* lc_render_frame reads the output back through its framebuffer. */
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
+    lc_renderer_timestamp(r, LC_PASS_RESOLVE);
+
+    uint32_t c[COUNTER_SLOTS];
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(st->counters, 0, sizeof c, c);
+    uint64_t dropped =
+        (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1] + c[COUNTER_DROP_LAYERS] + c[COUNTER_DROP_LAYERS + 1];
+    info->fragments = c[COUNTER_NODES + 1];
+    info->dropped_fragments = dropped;
+    info->max_layers = c[COUNTER_MAX_LAYERS + 1];
+    info->mean_layers = c[COUNTER_COVERED + 1] ? (double)c[COUNTER_NODES + 1] / c[COUNTER_COVERED + 1] : 0.0;
+    if (dropped)
+        LC_DEBUG(MODULE, "%llu fragments dropped (pool: %u + %u of %u nodes, layer cap %d: %u + %u)",
+                 (unsigned long long)dropped, c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity, MAX_LAYERS,
+                 c[COUNTER_DROP_LAYERS], c[COUNTER_DROP_LAYERS + 1]);
+    return 0;
+}
+
+void lc_exact_destroy(lc_renderer *r)
+{
+    exact_state *st = r->exact;
+    if (!st)
+        return;
+    for (int pass = 0; pass < 2; pass++)
+        for (int prim = 0; prim < 3; prim++)
+            if (st->build[pass][prim])
+                glDeleteProgram(st->build[pass][prim]);
+    if (st->opacity)
+        glDeleteProgram(st->opacity);
+    if (st->blend)
+        glDeleteProgram(st->blend);
+    if (st->nodes)
+        glDeleteBuffers(1, &st->nodes);
+    if (st->counters)
+        glDeleteBuffers(1, &st->counters);
+    if (st->heads)
+        glDeleteTextures(1, &st->heads);
+    glDeleteFramebuffers(1, &st->fbo);
+    free(st);
+    r->exact = NULL;
+}

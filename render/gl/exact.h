@@ -1,0 +1,14 @@
+/* The exact reference method (per-pixel fragment linked lists, sorted; exact
+ * sums and compositing) on the renderer's context. Internal to render/gl/. */
+#ifndef LC_GL_EXACT_H
+#define LC_GL_EXACT_H
+
+#include "renderer_internal.h"
+
+/* Renders one frame by the exact method into rgba (top-down rows). */
+int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, uint8_t *rgba,
+                    lc_frame_info *info, lc_error *err);
+/* Frees the method's pool, lists and programs (called by lc_renderer_destroy). */
+void lc_exact_destroy(lc_renderer *r);
+
+#endif

@@ -1,0 +1,201 @@
+/* Fourier opacity optimization passes (docs/ALGORITHM.md): P0 per-pixel depth
+ * range, P1 importance projection, P2 optimal opacity, P3 smoothing and
+ * fading, P4 optical depth, P5 accumulation and P6 resolve. */
+#include <string.h>
+
+#include "foo_math.h"
+#include "renderer_internal.h"
+
+int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_frame_state *state, double dt,
+                                lc_frame_info *info, lc_error *err)
+{
+    const lc_scene *s = fs->gs->scene;
+    uint32_t count = s->elements.count;
+    GLuint prog = lc_renderer_fixed_program(r, PROG_P3, err);
+    if (!prog)
+        return LC_ERR_GL;
+    int one_shot = !state || state->fresh;
+    double fade = one_shot ? 1.0 : lc_foo_fade_factor(dt, fs->params->foo.fade_half_life);
+    if (state && !state->fresh)
+        glNamedBufferSubData(r->element_alpha, 0, (GLsizeiptr)count * 4, state->alpha);
+    else {
+        const float one = 1.0f;
+        glClearNamedBufferData(r->element_alpha, GL_R32F, GL_RED, GL_FLOAT, &one);
+    }
+    const uint32_t zero = 0;
+    glClearNamedBufferData(r->stats, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+
+    glUseProgram(prog);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA, r->element_alpha);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_OFFSETS, fs->gs->adj_offsets);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ, fs->gs->adj);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_STATS, r->stats);
+    lc_uniform_u(prog, "u_count", count);
+    lc_uniform_f(prog, "u_omega", fs->params->foo.smoothing_weight);
+    lc_uniform_f(prog, "u_fade", fade);
+    GLuint groups = (count + 255) / 256;
+    GLuint src = r->smooth_a, dst = r->smooth_b;
+    /* Stage 0 writes the targets into dst; then ping-pong. */
+    lc_uniform_i(prog, "u_stage", 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, dst);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, src);
+    if (groups)
+        glDispatchCompute(groups, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    lc_uniform_i(prog, "u_stage", 1);
+    int iterations = fs->params->foo.smoothing > 0 ? fs->params->foo.smoothing : 0;
+    for (int i = 0; i < iterations && s->elements.adjacency_count > 0; i++) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, dst);
+        if (groups)
+            glDispatchCompute(groups, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        GLuint t = src;
+        src = dst, dst = t;
+    }
+    lc_uniform_i(prog, "u_stage", 2);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
+    if (groups)
+        glDispatchCompute(groups, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+
+    if (state) {
+        glGetNamedBufferSubData(r->element_alpha, 0, (GLsizeiptr)count * 4, state->alpha);
+        state->fresh = 0;
+    }
+    uint32_t bits = 0;
+    glGetNamedBufferSubData(r->stats, 0, 4, &bits);
+    float change;
+    memcpy(&change, &bits, 4);
+    if (info) {
+        info->max_alpha_change = one_shot ? 0.0 : change;
+        info->converged = info->max_alpha_change < LC_CONVERGED_EPSILON;
+    }
+    return 0;
+}
+
+/* Draws the (z, -z) GL_MIN pass of P0 into one range target. */
+static void draw_depth_range(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc_targets *t, int w, int h)
+{
+    lc_targets_ensure(t, w, h, 1, GL_RG32F, &r->bytes_targets);
+    const float empty[4] = {1e30f, 1e30f, 0, 0};
+    lc_targets_clear(t, empty);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+    lc_renderer_bind_geometry(r, prog, fs, w, h, 1);
+    lc_renderer_draw_geometry(fs, 1);
+}
+
+/* P0: per-pixel depth ranges, drawn at both resolutions so that each pass sees
+ * exactly the fragments its own rasterization produces (a range reduced from
+ * full resolution misses thin geometry that is wider at the optimization
+ * resolution, and a fragment outside its range would wrap to the periodic
+ * ends). Afterwards every geometry pass normalizes depth by its pixel's range. */
+int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+{
+    GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_RANGE, fs->gs->scene->type, 1, 1, err);
+    if (!prog)
+        return LC_ERR_GL;
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_MIN);
+    fs->pixel_depth_range = 0; /* this pass itself uses nothing per pixel */
+    draw_depth_range(r, fs, prog, &r->range_full, fs->width, fs->height);
+    draw_depth_range(r, fs, prog, &r->range_low, fs->low_width, fs->low_height);
+    glBlendEquation(GL_FUNC_ADD);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    fs->pixel_depth_range = 1;
+    lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
+    return 0;
+}
+
+/* P1 + P2 (+ P3): element opacities for the frame. */
+int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                        lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    lc_prim_type prim = fs->gs->scene->type;
+    int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
+    int lw = fs->low_width, lh = fs->low_height;
+    GLuint p1 = lc_renderer_geometry_program(r, PROG_P1, prim, bands, p->foo.subset, err);
+    GLuint p2 = p1 ? lc_renderer_geometry_program(r, PROG_P2, prim, bands, 1, err) : 0;
+    if (!p2)
+        return LC_ERR_GL;
+    lc_targets_ensure(&r->coef_low, lw, lh, ntargets, GL_RGBA32F, &r->bytes_targets);
+    lc_targets_clear(&r->coef_low, NULL);
+
+    /* P1 importance projection. */
+    lc_additive_blending();
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_low.fbo);
+    lc_renderer_bind_geometry(r, p1, fs, lw, lh, p->foo.subset);
+    lc_uniform_f(p1, "u_weight", p->foo.subset > 0 ? p->foo.subset : 1);
+    lc_renderer_draw_geometry(fs, p->foo.subset);
+    lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
+
+    /* P2 optimal opacity into the element minimum buffer. */
+    const float sentinel = 2.0f; /* > 1: "no fragment this frame" */
+    glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glDisable(GL_BLEND);
+    if (r->nofb_w != lw || r->nofb_h != lh) {
+        glNamedFramebufferParameteri(r->nofb, GL_FRAMEBUFFER_DEFAULT_WIDTH, lw);
+        glNamedFramebufferParameteri(r->nofb, GL_FRAMEBUFFER_DEFAULT_HEIGHT, lh);
+        r->nofb_w = lw, r->nofb_h = lh;
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->nofb);
+    lc_renderer_bind_geometry(r, p2, fs, lw, lh, 1);
+    lc_bind_coefficients(&r->coef_low);
+    lc_uniform_f(p2, "u_q", p->foo.q);
+    lc_uniform_f(p2, "u_r", p->foo.r);
+    lc_uniform_f(p2, "u_lambda", p->foo.lambda);
+    lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    lc_renderer_draw_geometry(fs, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    lc_renderer_timestamp(r, LC_PASS_OPACITY);
+
+    /* P3 smoothing and fading. */
+    int rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
+    lc_renderer_timestamp(r, LC_PASS_SMOOTH);
+    return rc;
+}
+
+/* P4..P6 with the element opacities (or alpha = g^k when direct). */
+int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    lc_prim_type prim = fs->gs->scene->type;
+    int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
+    GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : PROG_P4, prim, bands, p->foo.subset, err);
+    GLuint p5 = p4 ? lc_renderer_geometry_program(r, direct ? PROG_P5_DIRECT : PROG_P5, prim, bands, 1, err) : 0;
+    if (!p5)
+        return LC_ERR_GL;
+    lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
+    /* Half floats suffice for the weighted sums: the image is their ratio. */
+    lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
+    lc_targets_clear(&r->coef_full, NULL);
+    lc_targets_clear(&r->accum, NULL);
+
+    lc_additive_blending();
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
+    lc_renderer_bind_geometry(r, p4, fs, fs->width, fs->height, p->foo.subset);
+    lc_uniform_f(p4, "u_weight", p->foo.subset > 0 ? p->foo.subset : 1);
+    lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
+    lc_renderer_draw_geometry(fs, p->foo.subset);
+    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
+
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
+    lc_renderer_bind_geometry(r, p5, fs, fs->width, fs->height, 1);
+    lc_bind_coefficients(&r->coef_full);
+    lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
+    lc_renderer_draw_geometry(fs, 1);
+    lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
+
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    lc_renderer_resolve(r, fs, PROG_RESOLVE, &r->accum, r->coef_full.tex[0], err);
+    lc_renderer_timestamp(r, LC_PASS_RESOLVE);
+    return 0;
+}

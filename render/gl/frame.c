@@ -1,0 +1,298 @@
+/* The renderer's public entry: create/destroy, the frame's set-up (camera,
+ * attribute mapping, sizes) and the dispatch to a method. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "colormap.h"
+#include "exact.h"
+#include "renderer_internal.h"
+
+const char *lc_pass_name(int pass)
+{
+    static const char *names[LC_PASS_COUNT] = {"importance", "opacity", "smooth",   "opticalDepth",
+                                               "accumulate", "resolve", "readback", "depthRange"};
+    return pass >= 0 && pass < LC_PASS_COUNT ? names[pass] : "unknown";
+}
+
+int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error *err)
+{
+    *out = NULL;
+    lc_renderer *r = calloc(1, sizeof *r);
+    if (!r)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    if (desc)
+        r->desc = *desc;
+    glCreateVertexArrays(1, &r->vao);
+    glGenQueries(LC_PASS_COUNT + 1, r->timer_queries);
+    r->dummy_buffer = lc_gl_buffer(NULL, 0, &(uint64_t){0});
+
+    r->colormap_count = lc_colormap_count() < 16 ? lc_colormap_count() : 16;
+    glCreateTextures(GL_TEXTURE_2D, r->colormap_count, r->colormap_tex);
+    for (int i = 0; i < r->colormap_count; i++) {
+        const float *table = lc_colormap_table(i);
+        uint8_t rgba[256 * 4];
+        for (int k = 0; k < 256; k++) {
+            for (int c = 0; c < 3; c++) {
+                float v = table[3 * k + c];
+                rgba[4 * k + c] = (uint8_t)lrintf(255.0f * (v < 0 ? 0 : v > 1 ? 1 : v));
+            }
+            rgba[4 * k + 3] = 255;
+        }
+        glTextureStorage2D(r->colormap_tex[i], 1, GL_RGBA8, 256, 1);
+        glTextureSubImage2D(r->colormap_tex[i], 0, 0, 0, 256, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+        glTextureParameteri(r->colormap_tex[i], GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(r->colormap_tex[i], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(r->colormap_tex[i], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(r->colormap_tex[i], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glCreateFramebuffers(1, &r->nofb);
+    /* Compile the programs every frame needs now, so shader errors surface at start-up. */
+    if (!lc_renderer_fixed_program(r, PROG_P3, err) || !lc_renderer_fixed_program(r, PROG_RESOLVE, err)) {
+        lc_renderer_destroy(r);
+        return err ? err->code : LC_ERR_GL;
+    }
+    *out = r;
+    return 0;
+}
+
+void lc_renderer_destroy(lc_renderer *r)
+{
+    if (!r)
+        return;
+    lc_exact_destroy(r);
+    for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
+        for (int p = 0; p < 3; p++)
+            for (int b = 0; b <= LC_MAX_BANDS; b++)
+                for (int v = 0; v < 2; v++)
+                    if (r->geometry_programs[k][p][b][v])
+                        glDeleteProgram(r->geometry_programs[k][p][b][v]);
+    for (int k = 0; k < PROG_FIXED_KINDS - PROG_GEOMETRY_KINDS; k++)
+        if (r->fixed_programs[k])
+            glDeleteProgram(r->fixed_programs[k]);
+    uint64_t b = 0;
+    lc_targets_free(&r->coef_low, &b);
+    lc_targets_free(&r->coef_full, &b);
+    lc_targets_free(&r->accum, &b);
+    lc_targets_free(&r->output, &b);
+    lc_targets_free(&r->range_full, &b);
+    lc_targets_free(&r->range_low, &b);
+    if (r->output_depth)
+        glDeleteRenderbuffers(1, &r->output_depth);
+    glDeleteFramebuffers(1, &r->nofb);
+    GLuint bufs[] = {r->element_alpha_min, r->element_alpha, r->smooth_a, r->smooth_b, r->stats, r->dummy_buffer};
+    for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
+        if (bufs[i])
+            glDeleteBuffers(1, &bufs[i]);
+    glDeleteTextures(r->colormap_count, r->colormap_tex);
+    glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
+    glDeleteVertexArrays(1, &r->vao);
+    free(r);
+}
+
+uint64_t lc_renderer_bytes(const lc_renderer *r) { return r->bytes_targets + r->bytes_elements; }
+
+static void ensure_element_buffers(lc_renderer *r, uint32_t count)
+{
+    if (count <= r->element_capacity && r->element_alpha)
+        return;
+    GLuint *bufs[] = {&r->element_alpha_min, &r->element_alpha, &r->smooth_a, &r->smooth_b};
+    for (int i = 0; i < 4; i++) {
+        if (*bufs[i])
+            glDeleteBuffers(1, bufs[i]);
+        glCreateBuffers(1, bufs[i]);
+        glNamedBufferStorage(*bufs[i], (GLsizeiptr)(count ? count : 1) * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (!r->stats) {
+        glCreateBuffers(1, &r->stats);
+        glNamedBufferStorage(r->stats, 16, NULL, GL_DYNAMIC_STORAGE_BIT);
+    }
+    r->element_capacity = count;
+    r->bytes_elements = (uint64_t)(count ? count : 1) * 16 + 16;
+}
+
+/* The RGBA8 image every method ends in; a depth buffer only for the opaque
+ * baseline (the order-independent methods never depth-test). */
+static void ensure_output(lc_renderer *r, int w, int h, int with_depth)
+{
+    lc_targets_ensure(&r->output, w, h, 1, GL_RGBA8, &r->bytes_targets);
+    if (!with_depth || (r->output_depth && r->depth_width == w && r->depth_height == h))
+        return;
+    if (r->output_depth) {
+        glDeleteRenderbuffers(1, &r->output_depth);
+        r->bytes_targets -= (uint64_t)r->depth_width * r->depth_height * 4;
+    }
+    glCreateRenderbuffers(1, &r->output_depth);
+    glNamedRenderbufferStorage(r->output_depth, GL_DEPTH_COMPONENT24, w, h);
+    glNamedFramebufferRenderbuffer(r->output.fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->output_depth);
+    r->depth_width = w, r->depth_height = h;
+    r->bytes_targets += (uint64_t)w * h * 4;
+}
+
+static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    const lc_scene *s = fs->gs->scene;
+    const char *imp = p->importance.attribute[0] ? p->importance.attribute : s->default_importance;
+    fs->importance_attr = -1;
+    fs->importance_range[0] = 0, fs->importance_range[1] = 1;
+    if (imp[0]) {
+        fs->importance_attr = lc_scene_find_attribute(s, imp);
+        if (fs->importance_attr < 0)
+            return lc_err(err, LC_ERR_INVALID, "importance.attribute: %s has no attribute \"%s\"", s->name, imp);
+        const lc_attribute *a = &s->attributes[fs->importance_attr];
+        fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : a->min;
+        fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : a->max;
+    }
+    fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
+
+    const char *col = p->color.attribute[0] ? p->color.attribute : s->default_color;
+    if (!col[0])
+        col = "importance";
+    fs->color_attr = -1;
+    fs->color_range[0] = 0, fs->color_range[1] = 1;
+    if (strcmp(col, "rgb") == 0) {
+        if (!s->rgb)
+            return lc_err(err, LC_ERR_INVALID, "color.attribute: %s has no per-vertex RGB", s->name);
+        fs->color_mode = 2;
+    } else if (strcmp(col, "importance") == 0) {
+        fs->color_mode = 1;
+    } else {
+        fs->color_attr = lc_scene_find_attribute(s, col);
+        if (fs->color_attr < 0)
+            return lc_err(err, LC_ERR_INVALID, "color.attribute: %s has no attribute \"%s\"", s->name, col);
+        fs->color_mode = 0;
+        fs->color_range[0] = s->attributes[fs->color_attr].min;
+        fs->color_range[1] = s->attributes[fs->color_attr].max;
+    }
+    if (p->color.has_range)
+        fs->color_range[0] = p->color.range[0], fs->color_range[1] = p->color.range[1];
+    fs->colormap = lc_colormap_find(p->color.colormap[0] ? p->color.colormap : "viridis");
+    if (fs->colormap < 0)
+        return lc_err(err, LC_ERR_INVALID, "color.colormap: unknown colormap \"%s\"", p->color.colormap);
+    return 0;
+}
+
+static int validate_params(const lc_render_params *p, lc_error *err)
+{
+    if (p->width < 1 || p->height < 1 || p->width > 16384 || p->height > 16384)
+        return lc_err(err, LC_ERR_INVALID, "image size %dx%d is out of range", p->width, p->height);
+    if (p->foo.bands < LC_MIN_BANDS || p->foo.bands > LC_MAX_BANDS)
+        return lc_err(err, LC_ERR_INVALID, "params.bands: %d is outside 1..8", p->foo.bands);
+    if (!(p->foo.resolution_scale > 0 && p->foo.resolution_scale <= 1))
+        return lc_err(err, LC_ERR_INVALID, "params.resolutionScale: %g is outside (0, 1]", p->foo.resolution_scale);
+    if ((unsigned)p->method >= LC_METHOD_COUNT)
+        return lc_err(err, LC_ERR_INVALID, "method: unknown method %d", (int)p->method);
+    if (p->has_camera && lc_camera_validate(&p->camera) != 0)
+        return lc_err(err, LC_ERR_INVALID, "camera: position, focalPoint and viewUp do not define a view");
+    return 0;
+}
+
+int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
+                    double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    double t0 = lc_now();
+    lc_frame_info local;
+    if (!info)
+        info = &local;
+    memset(info, 0, sizeof *info);
+    for (int i = 0; i < LC_PASS_COUNT; i++)
+        info->pass_ms[i] = -1;
+    int rc = validate_params(params, err);
+    if (rc)
+        return rc;
+    const lc_scene *s = gs->scene;
+    if (state && state->count != s->elements.count)
+        return lc_err(err, LC_ERR_INVALID, "frame state has %u elements, scene %s has %u", state->count, s->name,
+                      s->elements.count);
+
+    lc_render_params p = *params;
+    lc_frame_setup fs = {.params = &p, .gs = gs, .width = p.width, .height = p.height};
+    if (!p.has_camera) {
+        /* The dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds. */
+        p.camera.view_angle = p.camera.view_angle > 0 ? p.camera.view_angle : 30;
+        lc_camera_fit(&p.camera, s->bounds, s->has_view ? s->view_direction : NULL, s->has_view ? s->view_up : NULL);
+    }
+    rc = resolve_mapping(&fs, err);
+    if (rc)
+        return rc;
+    lc_camera_view(&p.camera, s->bounds, (double)p.width / p.height, p.height, &fs.view);
+    double diag = 0;
+    for (int i = 0; i < 3; i++)
+        diag += (s->bounds[i + 3] - s->bounds[i]) * (s->bounds[i + 3] - s->bounds[i]);
+    diag = sqrt(diag);
+    fs.line_half_width = 0.5 * (p.style.line_width > 0 ? p.style.line_width : 0.004 * diag);
+    fs.low_width = (int)ceil(p.width * p.foo.resolution_scale);
+    fs.low_height = (int)ceil(p.height * p.foo.resolution_scale);
+    if (fs.low_width < 1)
+        fs.low_width = 1;
+    if (fs.low_height < 1)
+        fs.low_height = 1;
+
+    ensure_element_buffers(r, s->elements.count);
+    ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
+    lc_renderer_timestamp(r, LC_PASS_COUNT);
+    info->converged = 1;
+    /* The per-pixel depth range serves every method that normalizes depth. */
+    int pixel_range = p.foo.depth_range == LC_DEPTH_RANGE_PIXEL &&
+                      (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_WBOIT);
+    if (pixel_range && (rc = lc_fourier_depth_range(r, &fs, err)) != 0)
+        return rc;
+    switch (p.method) {
+    case LC_METHOD_FOURIER:
+        rc = lc_fourier_optimize(r, &fs, state, dt, info, err);
+        if (!rc)
+            rc = lc_fourier_composite(r, &fs, 0, err);
+        break;
+    case LC_METHOD_DIRECT: rc = lc_fourier_composite(r, &fs, 1, err); break;
+    case LC_METHOD_OPAQUE: rc = lc_render_opaque(r, &fs, err); break;
+    case LC_METHOD_WBOIT:
+        rc = lc_fourier_optimize(r, &fs, state, dt, info, err);
+        if (!rc)
+            rc = lc_render_wboit(r, &fs, err);
+        break;
+    case LC_METHOD_EXACT: rc = lc_render_exact(r, &fs, state, dt, rgba, info, err); break;
+    default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
+    }
+    if (rc)
+        return rc;
+    lc_renderer_readback(r, &fs, rgba);
+    lc_renderer_timestamp(r, LC_PASS_READBACK);
+
+    /* Timestamps of passes that ran are strictly after the previous slot. */
+    if (!r->desc.no_timer_queries) {
+        GLuint64 start = 0, prev;
+        glGetQueryObjectui64v(r->timer_queries[LC_PASS_COUNT], GL_QUERY_RESULT, &start);
+        prev = start;
+        static const int order[] = {LC_PASS_DEPTH_RANGE,   LC_PASS_IMPORTANCE, LC_PASS_OPACITY, LC_PASS_SMOOTH,
+                                    LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE, LC_PASS_RESOLVE, LC_PASS_READBACK};
+        int ran[LC_PASS_COUNT] = {0};
+        int fourier = p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_WBOIT || p.method == LC_METHOD_EXACT;
+        ran[LC_PASS_IMPORTANCE] = ran[LC_PASS_OPACITY] = ran[LC_PASS_SMOOTH] = fourier;
+        ran[LC_PASS_OPTICAL_DEPTH] =
+            p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_EXACT;
+        ran[LC_PASS_ACCUMULATE] = 1;
+        ran[LC_PASS_RESOLVE] = p.method != LC_METHOD_OPAQUE;
+        ran[LC_PASS_READBACK] = 1;
+        ran[LC_PASS_DEPTH_RANGE] = pixel_range;
+        for (int i = 0; i < LC_PASS_COUNT; i++) {
+            int pass = order[i];
+            if (!ran[pass])
+                continue;
+            GLuint64 t = 0;
+            glGetQueryObjectui64v(r->timer_queries[pass], GL_QUERY_RESULT, &t);
+            info->pass_ms[pass] = t >= prev ? (double)(t - prev) * 1e-6 : 0.0;
+            info->gpu_ms += info->pass_ms[pass];
+            prev = t;
+        }
+    }
+    info->width = p.width, info->height = p.height;
+    info->camera = p.camera;
+    info->element_count = s->elements.count;
+    info->pipeline_bytes = lc_renderer_bytes(r);
+    info->wall_ms = (lc_now() - t0) * 1e3;
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR)
+        return lc_err(err, LC_ERR_GL, "OpenGL error 0x%04x during the frame (out of GPU memory?)", e);
+    return 0;
+}

@@ -1,0 +1,185 @@
+/* Pipeline plumbing shared by every method: render targets, the geometry
+ * binding and draw of a pass, blending set-ups, resolve and readback. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "renderer_internal.h"
+
+static uint64_t texel_bytes(GLenum format)
+{
+    return format == GL_RGBA32F ? 16u : format == GL_RGBA16F || format == GL_RG32F ? 8u : 4u;
+}
+
+void lc_targets_free(lc_targets *t, uint64_t *bytes)
+{
+    if (t->fbo)
+        glDeleteFramebuffers(1, &t->fbo);
+    if (t->count)
+        glDeleteTextures(t->count, t->tex);
+    uint64_t px = (uint64_t)t->width * (uint64_t)t->height;
+    *bytes -= px * (uint64_t)t->count * texel_bytes(t->format);
+    memset(t, 0, sizeof *t);
+}
+
+void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, uint64_t *bytes)
+{
+    if (t->fbo && t->width == w && t->height == h && t->count == count && t->format == format)
+        return;
+    lc_targets_free(t, bytes);
+    t->width = w, t->height = h, t->count = count, t->format = format;
+    glCreateFramebuffers(1, &t->fbo);
+    glCreateTextures(GL_TEXTURE_2D, count, t->tex);
+    GLenum draw[LC_MAX_COEF_TARGETS];
+    for (int i = 0; i < count; i++) {
+        glTextureStorage2D(t->tex[i], 1, format, w, h);
+        glTextureParameteri(t->tex[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(t->tex[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glNamedFramebufferTexture(t->fbo, GL_COLOR_ATTACHMENT0 + i, t->tex[i], 0);
+        draw[i] = GL_COLOR_ATTACHMENT0 + i;
+    }
+    glNamedFramebufferDrawBuffers(t->fbo, count, draw);
+    *bytes += (uint64_t)w * (uint64_t)h * (uint64_t)count * texel_bytes(format);
+}
+
+void lc_targets_clear(const lc_targets *t, const float *value)
+{
+    static const float zero[4] = {0, 0, 0, 0};
+    for (int i = 0; i < t->count; i++)
+        glClearNamedFramebufferfv(t->fbo, GL_COLOR, i, value ? value : zero);
+}
+
+void lc_renderer_timestamp(lc_renderer *r, int slot)
+{
+    if (!r->desc.no_timer_queries)
+        glQueryCounter(r->timer_queries[slot], GL_TIMESTAMP);
+}
+
+void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset)
+{
+    const lc_gpu_scene *gs = fs->gs;
+    const lc_view *v = &fs->view;
+    const lc_render_params *p = fs->params;
+    glUseProgram(prog);
+    glBindVertexArray(r->vao);
+    glVertexArrayElementBuffer(r->vao, gs->draw_indices);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITIONS, gs->positions);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAMES, gs->frames);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ATTRIBUTES, gs->attributes);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_COLORS, gs->colors);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VERTEX_ELEMENTS, gs->vertex_elements);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VERTEX_WEIGHTS, gs->vertex_weights);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_INDICES, gs->indices);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA, r->element_alpha);
+    glBindTextureUnit(TEX_COLORMAP, r->colormap_tex[fs->colormap < r->colormap_count ? fs->colormap : 0]);
+
+    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view"), 1, GL_FALSE, v->view);
+    glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view_proj"), 1, GL_FALSE, v->view_proj);
+    lc_uniform_v3(prog, "u_eye", v->eye);
+    lc_uniform_v3(prog, "u_view_dir", v->dir);
+    lc_uniform_i(prog, "u_ortho", p->camera.parallel_projection ? 1 : 0);
+    lc_uniform_v2(prog, "u_viewport", w, h);
+    /* Pixel size scales with this pass's resolution relative to the output. */
+    lc_uniform_f(prog, "u_pixel_world", v->pixel_world * (double)fs->height / h);
+    double focal = 0;
+    for (int i = 0; i < 3; i++)
+        focal += (fs->params->camera.focal_point[i] - v->eye[i]) * v->dir[i];
+    lc_uniform_f(prog, "u_focal_dist", focal > 0 ? focal : 1);
+    lc_uniform_f(prog, "u_line_half_width", fs->line_half_width);
+    lc_uniform_f(prog, "u_min_half_pixels", 0.5 * (p->style.min_line_pixels > 0 ? p->style.min_line_pixels : 1.0));
+    /* A disc of radius >= sqrt(2)/2 px always covers a pixel centre, so every
+     * point reaches P2 even at the reduced optimization resolution. */
+    double radius = 0.5 * p->style.point_size * (double)h / fs->height;
+    lc_uniform_f(prog, "u_point_radius_px", radius > 0.75 ? radius : 0.75);
+    lc_uniform_u(prog, "u_vertex_count", gs->scene->vertex_count);
+    lc_uniform_u(prog, "u_subset", (unsigned)(subset > 0 ? subset : 1));
+    lc_uniform_i(prog, "u_importance_attr", fs->importance_attr);
+    lc_uniform_v2(prog, "u_importance_range", fs->importance_range[0], fs->importance_range[1]);
+    lc_uniform_f(prog, "u_importance_exp", fs->importance_exponent);
+    lc_uniform_i(prog, "u_color_mode", fs->color_mode);
+    lc_uniform_i(prog, "u_color_attr", fs->color_attr);
+    lc_uniform_v2(prog, "u_color_range", fs->color_range[0], fs->color_range[1]);
+    lc_uniform_i(prog, "u_shading", p->style.shading == LC_SHADING_NONE ? 1 : 0);
+    lc_uniform_v2(prog, "u_depth_range", v->depth_min, v->depth_max);
+    /* Per pixel, the nearest and farthest fragment sit at d = 1/4 and 3/4: half a
+     * period apart both ways, where the truncated series of one step is exact at
+     * the other for every m (its error sum_{k>m} sin(2 pi k x)/(pi k) vanishes at
+     * x = 1/2), so the ends of a pixel's stack cannot disturb each other. */
+    lc_uniform_f(prog, "u_depth_margin", fs->pixel_depth_range ? LC_PIXEL_DEPTH_MARGIN : p->foo.depth_margin);
+    lc_uniform_i(prog, "u_pixel_depth_range", fs->pixel_depth_range);
+    if (fs->pixel_depth_range)
+        glBindTextureUnit(TEX_PIXEL_RANGE,
+                          w == fs->width && h == fs->height ? r->range_full.tex[0] : r->range_low.tex[0]);
+    glViewport(0, 0, w, h);
+}
+
+void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
+{
+    const lc_gpu_scene *gs = fs->gs;
+    lc_prim_type prim = gs->scene->type;
+    uint64_t n = gs->primitive_count;
+    uint64_t step = subset > 0 ? (uint64_t)subset : 1;
+    uint64_t drawn = (n + step - 1) / step;
+    if (!drawn)
+        return;
+    if (prim == LC_PRIM_POINTS)
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)drawn);
+    else if (lc_pulls_primitives(prim, subset))
+        glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(drawn * (prim == LC_PRIM_TRIANGLES ? 3u : 6u)));
+    else
+        glDrawElements(GL_TRIANGLES, (GLsizei)(n * (prim == LC_PRIM_TRIANGLES ? 3u : 6u)), GL_UNSIGNED_INT, NULL);
+}
+
+void lc_bind_coefficients(const lc_targets *t)
+{
+    for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
+        glBindTextureUnit(TEX_COEF_FIRST + i, t->tex[i < t->count ? i : 0]);
+}
+
+/* Additive float blending for the accumulation passes. */
+void lc_additive_blending(void)
+{
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ONE);
+}
+
+void lc_renderer_readback(lc_renderer *r, const lc_frame_setup *fs, uint8_t *rgba)
+{
+    int w = fs->width, h = fs->height;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->output.fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    /* GL rows run bottom-up; images top-down. */
+    size_t row = (size_t)w * 4;
+    uint8_t *tmp = malloc(row);
+    if (tmp) {
+        for (int y = 0; y < h / 2; y++) {
+            memcpy(tmp, rgba + (size_t)y * row, row);
+            memcpy(rgba + (size_t)y * row, rgba + (size_t)(h - 1 - y) * row, row);
+            memcpy(rgba + (size_t)(h - 1 - y) * row, tmp, row);
+        }
+        free(tmp);
+    }
+}
+
+void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_kind kind, const lc_targets *a,
+                         GLuint second_tex, lc_error *err)
+{
+    GLuint prog = lc_renderer_fixed_program(r, kind, err);
+    if (!prog)
+        return;
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->output.fbo);
+    glViewport(0, 0, fs->width, fs->height);
+    glUseProgram(prog);
+    glBindVertexArray(r->vao);
+    glBindTextureUnit(TEX_RESOLVE_A, a->tex[0]);
+    glBindTextureUnit(TEX_RESOLVE_B, second_tex);
+    lc_uniform_v3(prog, "u_background", fs->params->style.background);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}

@@ -1,0 +1,169 @@
+/* Shader programs: embedded GLSL sources joined with #defines (band count,
+ * primitive, binding points), compiled once per variant and cached. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "embedded.h"
+#include "renderer_internal.h"
+
+#define MODULE "render"
+
+/* The shader sources, embedded by cmake/embed.cmake. */
+extern const lc_embedded_file lc_shader_files[];
+
+#define LC_GL_BINDING_DEFINE(name, value) "#define " #name " " #value "\n"
+/* Every program sees the binding points of renderer_internal.h by name. */
+static const char binding_defines[] = LC_GL_BINDINGS(LC_GL_BINDING_DEFINE);
+#undef LC_GL_BINDING_DEFINE
+
+static char *concat_sources(const char *defines, const char *const *files, lc_error *err)
+{
+    size_t total = sizeof binding_defines + strlen(defines) + 64;
+    for (int i = 0; files[i]; i++) {
+        const lc_embedded_file *f = lc_embedded_find(lc_shader_files, files[i]);
+        if (!f) {
+            lc_err(err, LC_ERR_INTERNAL, "shader file %s is not embedded", files[i]);
+            return NULL;
+        }
+        total += f->size + 32;
+    }
+    char *src = malloc(total);
+    if (!src) {
+        lc_err(err, LC_ERR_NOMEM, "out of memory");
+        return NULL;
+    }
+    size_t off = (size_t)sprintf(src, "#version 450 core\n%s%s", binding_defines, defines);
+    for (int i = 0; files[i]; i++) {
+        const lc_embedded_file *f = lc_embedded_find(lc_shader_files, files[i]);
+        off += (size_t)sprintf(src + off, "#line 1 %d\n", i + 1);
+        memcpy(src + off, f->data, f->size);
+        off += f->size;
+        src[off++] = '\n';
+    }
+    src[off] = '\0';
+    return src;
+}
+
+static GLuint compile_stage(GLenum type, const char *defines, const char *const *files, const char *label,
+                            lc_error *err)
+{
+    /* normalized_depth() reads the per-pixel range only where gl_FragCoord exists. */
+    char stage_defines[512];
+    snprintf(stage_defines, sizeof stage_defines, "%s%s", defines,
+             type == GL_FRAGMENT_SHADER ? "#define FRAGMENT_STAGE 1\n" : "");
+    char *src = concat_sources(stage_defines, files, err);
+    if (!src)
+        return 0;
+    GLuint sh = glCreateShader(type);
+    const char *srcs[1] = {src};
+    glShaderSource(sh, 1, srcs, NULL);
+    glCompileShader(sh);
+    free(src);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[LC_ERROR_MSG_LEN];
+        glGetShaderInfoLog(sh, sizeof log, NULL, log);
+        /* "#line 1 N": file N of the list, so the log names the file index. */
+        lc_err(err, LC_ERR_GL, "compiling %s (%s): %s", label, files[0], log);
+        LC_ERROR(MODULE, "%s", err ? err->msg : log);
+        glDeleteShader(sh);
+        return 0;
+    }
+    return sh;
+}
+
+GLuint lc_renderer_build_program(const char *defines, const char *const *vertex_files,
+                                 const char *const *fragment_files, const char *const *compute_files, const char *label,
+                                 lc_error *err)
+{
+    GLuint prog = glCreateProgram();
+    GLuint stages[2] = {0, 0};
+    int n = 0;
+    if (compute_files) {
+        if (!(stages[n++] = compile_stage(GL_COMPUTE_SHADER, defines, compute_files, label, err)))
+            goto fail;
+    } else {
+        if (!(stages[n++] = compile_stage(GL_VERTEX_SHADER, defines, vertex_files, label, err)))
+            goto fail;
+        if (!(stages[n++] = compile_stage(GL_FRAGMENT_SHADER, defines, fragment_files, label, err)))
+            goto fail;
+    }
+    for (int i = 0; i < n; i++)
+        glAttachShader(prog, stages[i]);
+    glLinkProgram(prog);
+    for (int i = 0; i < n; i++)
+        glDeleteShader(stages[i]);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[LC_ERROR_MSG_LEN];
+        glGetProgramInfoLog(prog, sizeof log, NULL, log);
+        lc_err(err, LC_ERR_GL, "linking %s: %s", label, log);
+        LC_ERROR(MODULE, "linking %s: %s", label, log);
+        glDeleteProgram(prog);
+        return 0;
+    }
+    return prog;
+fail:
+    for (int i = 0; i < n; i++)
+        if (stages[i])
+            glDeleteShader(stages[i]);
+    glDeleteProgram(prog);
+    return 0;
+}
+
+GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
+                                    lc_error *err)
+{
+    int pulled = lc_pulls_primitives(prim, subset);
+    GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled];
+    if (*slot)
+        return *slot;
+    static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
+    static const char *const fs_p1[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
+                                        "p1_importance.frag.glsl", NULL};
+    static const char *const fs_p2[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
+                                        "p2_opacity.frag.glsl", NULL};
+    static const char *const fs_p4[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
+                                        "p4_optical_depth.frag.glsl", NULL};
+    static const char *const fs_p5[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
+                                        "p5_accumulate.frag.glsl", NULL};
+    static const char *const fs_opaque[] = {"common.glsl", "fragment_common.glsl", "opaque.frag.glsl", NULL};
+    static const char *const fs_wboit[] = {"common.glsl", "fragment_common.glsl", "wboit_accumulate.frag.glsl", NULL};
+    static const char *const fs_range[] = {"common.glsl", "fragment_common.glsl", "depth_range.frag.glsl", NULL};
+    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2,     fs_p4,    fs_p5,   fs_p4,
+                                                                 fs_p5, fs_opaque, fs_wboit, fs_range};
+    static const char *kind_names[PROG_GEOMETRY_KINDS] = {"P1",        "P2",     "P4",    "P5",         "P4-direct",
+                                                          "P5-direct", "opaque", "wboit", "depth range"};
+    int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT;
+    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT;
+    char defines[256];
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s", (int)prim, bands,
+             reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "");
+    char label[80];
+    snprintf(label, sizeof label, "%s program (%s, m=%d%s)", kind_names[kind], lc_prim_type_name(prim), bands,
+             pulled ? ", subset" : "");
+    *slot = lc_renderer_build_program(defines, vs, fs_by_kind[kind], NULL, label, err);
+    return *slot;
+}
+
+GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error *err)
+{
+    GLuint *slot = &r->fixed_programs[kind - PROG_GEOMETRY_KINDS];
+    if (*slot)
+        return *slot;
+    static const char *const cs_p3[] = {"p3_smooth.comp.glsl", NULL};
+    static const char *const vs_full[] = {"fullscreen.vert.glsl", NULL};
+    static const char *const fs_resolve[] = {"p6_resolve.frag.glsl", NULL};
+    static const char *const fs_wboit[] = {"wboit_resolve.frag.glsl", NULL};
+    if (kind == PROG_P3)
+        *slot = lc_renderer_build_program("", NULL, NULL, cs_p3, "P3 smoothing", err);
+    else if (kind == PROG_RESOLVE)
+        *slot = lc_renderer_build_program("", vs_full, fs_resolve, NULL, "P6 resolve", err);
+    else
+        *slot = lc_renderer_build_program("", vs_full, fs_wboit, NULL, "WBOIT resolve", err);
+    return *slot;
+}

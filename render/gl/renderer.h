@@ -1,0 +1,100 @@
+/* The frame renderer: Fourier opacity optimization passes P1..P6 (DESIGN §3)
+ * and the reference/baseline methods, on one GL context, into RGBA8. */
+#ifndef LC_RENDERER_H
+#define LC_RENDERER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "camera.h"
+#include "lc_base.h"
+#include "lc_params.h"
+#include "scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- GPU copy of a scene: vertex, attribute and element buffers.
+ * Buffers are shared by every context created with lc_gl_desc.share, so one
+ * lc_gpu_scene serves all render workers. Create and destroy with a context of
+ * the share group current; the lc_scene must outlive it. After creation the
+ * object is read-only and may be used from any worker thread. */
+typedef struct lc_gpu_scene lc_gpu_scene;
+int lc_gpu_scene_create(const lc_scene *scene, lc_gpu_scene **out, lc_error *err);
+void lc_gpu_scene_destroy(lc_gpu_scene *gs);
+uint64_t lc_gpu_scene_bytes(const lc_gpu_scene *gs);
+
+/* ---- One viewer's element opacities between frames (temporal fading).
+ * Plain CPU memory, O(elements); not thread-safe: one frame at a time. */
+typedef struct lc_frame_state lc_frame_state;
+lc_frame_state *lc_frame_state_create(uint32_t element_count);
+void lc_frame_state_destroy(lc_frame_state *st);
+/* Forget the history: the next frame starts at its targets (no fade-in). */
+void lc_frame_state_reset(lc_frame_state *st);
+/* Current element opacities (count = element_count), for tests. */
+const float *lc_frame_state_alphas(const lc_frame_state *st);
+
+/* ---- Per-frame report. */
+typedef enum {
+    LC_PASS_IMPORTANCE = 0, /* P1 (exact: fragment lists at optimization resolution) */
+    LC_PASS_OPACITY,        /* P2 (exact: sort + exact sums + atomic-min) */
+    LC_PASS_SMOOTH,         /* P3 smoothing and fading */
+    LC_PASS_OPTICAL_DEPTH,  /* P4 (exact: fragment lists at full resolution) */
+    LC_PASS_ACCUMULATE,     /* P5 (exact: sort + front-to-back blend) */
+    LC_PASS_RESOLVE,        /* P6 */
+    LC_PASS_READBACK,       /* RGBA readback */
+    LC_PASS_DEPTH_RANGE,    /* P0, params.depthRange "pixel" only: per-pixel depth ranges (runs first) */
+    LC_PASS_COUNT
+} lc_pass;
+/* JSON-friendly pass names: "importance", "opacity", "smooth", "opticalDepth",
+ * "accumulate", "resolve", "readback", "depthRange". */
+const char *lc_pass_name(int pass);
+
+#define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
+
+typedef struct lc_frame_info {
+    int width, height;
+    double pass_ms[LC_PASS_COUNT]; /* GPU time per pass (timer queries); -1 = pass not run */
+    double gpu_ms;                 /* sum of the passes */
+    double wall_ms;                /* CPU wall time of lc_render_frame */
+    uint64_t pipeline_bytes;       /* GPU memory the method's targets/buffers hold */
+    lc_camera camera;              /* the camera used (fitted when the request had none) */
+    uint32_t element_count;
+    double max_alpha_change; /* max |delta| of element opacities this frame */
+    int converged;           /* max_alpha_change < LC_CONVERGED_EPSILON */
+    /* Exact method only (0 otherwise): */
+    uint64_t fragments;         /* fragments rasterized at full resolution (stored + dropped) */
+    uint64_t dropped_fragments; /* fragments lost because the node pool was full */
+    double mean_layers;         /* mean fragments per covered pixel */
+    uint32_t max_layers;
+} lc_frame_info;
+
+/* ---- Renderer: programs and render targets of one GL context. */
+typedef struct lc_renderer lc_renderer;
+typedef struct lc_renderer_desc {
+    uint64_t exact_pool_bytes; /* node pool of the exact method; 0 = 256 MiB */
+    int no_timer_queries;      /* 1 = skip GPU timer queries */
+} lc_renderer_desc;
+
+/* Creates a renderer for the current context (compiles shaders). Errors carry
+ * the shader info log. Thread: the thread that holds the context. */
+int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error *err);
+void lc_renderer_destroy(lc_renderer *r);
+
+/* Renders one frame of gs with params into rgba (width*height*4 bytes, rows
+ * top to bottom). state holds the viewer's opacities: NULL renders one-shot
+ * (targets used directly); otherwise opacities fade toward this frame's
+ * targets over dt seconds (the first frame of a state starts at its targets).
+ * info may be NULL. Render targets grow to the largest size seen and stay
+ * allocated. Errors: LC_ERR_INVALID (bad params, e.g. unknown attribute), LC_ERR_GL. */
+int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
+                    double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+
+/* GPU memory currently held by the renderer's targets and buffers. */
+uint64_t lc_renderer_bytes(const lc_renderer *r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

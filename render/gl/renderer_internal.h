@@ -1,0 +1,216 @@
+/* Internals shared by the renderer's modules: the renderer and GPU scene
+ * objects, render targets, shader binding points, and the pass helpers that
+ * frame.c, fourier.c, baselines.c and exact.c build on. Not public.
+ * Threading: everything here runs on the thread that holds the renderer's GL
+ * context, one frame at a time. */
+#ifndef LC_RENDERER_INTERNAL_H
+#define LC_RENDERER_INTERNAL_H
+
+#include <epoxy/gl.h>
+
+#include "camera.h"
+#include "renderer.h"
+
+#define LC_MAX_COEF_TARGETS 5 /* (2 * 8 + 1 + 3) / 4 */
+
+/* Binding points of shader storage buffers (SSBO), texture units and image
+ * units. Shaders name them (BIND_POSITIONS, TEX_COLORMAP, ...): programs.c
+ * prepends a #define for each entry, so the numbers live only here. */
+#define LC_GL_BINDINGS(X)                                                                                              \
+    X(BIND_POSITIONS, 0)                                                                                               \
+    X(BIND_FRAMES, 1)                                                                                                  \
+    X(BIND_ATTRIBUTES, 2)                                                                                              \
+    X(BIND_COLORS, 3)                                                                                                  \
+    X(BIND_VERTEX_ELEMENTS, 4)                                                                                         \
+    X(BIND_VERTEX_WEIGHTS, 5)                                                                                          \
+    X(BIND_INDICES, 6)                                                                                                 \
+    X(BIND_ELEMENT_ALPHA_MIN, 7)                                                                                       \
+    X(BIND_ELEMENT_ALPHA, 8)                                                                                           \
+    X(BIND_SMOOTH_SRC, 9)                                                                                              \
+    X(BIND_SMOOTH_DST, 10)                                                                                             \
+    X(BIND_ADJ_OFFSETS, 11)                                                                                            \
+    X(BIND_ADJ, 12)                                                                                                    \
+    X(BIND_STATS, 13)                                                                                                  \
+    X(BIND_EXACT_NODES, 14)                                                                                            \
+    X(BIND_EXACT_COUNTERS, 15)                                                                                         \
+    X(TEX_COLORMAP, 0)     /* geometry passes */                                                                       \
+    X(TEX_COEF_FIRST, 1)   /* 1..LC_MAX_COEF_TARGETS: coefficient targets read by P2/P5 */                             \
+    X(TEX_PIXEL_RANGE, 6)  /* P0 output read by later passes */                                                        \
+    X(TEX_RESOLVE_A, 0)    /* full-screen resolves: accumulation */                                                    \
+    X(TEX_RESOLVE_B, 1)    /* ... and optical depth (P6) or revealage (WBOIT) */                                       \
+    X(IMG_EXACT_HEADS, 0)  /* exact method: per-pixel list heads */                                                    \
+    X(IMG_EXACT_OUTPUT, 1) /* exact method: blended image */
+
+#define LC_GL_BINDING_ENUM(name, value) name = value,
+enum { LC_GL_BINDINGS(LC_GL_BINDING_ENUM) };
+#undef LC_GL_BINDING_ENUM
+
+struct lc_gpu_scene {
+    const lc_scene *scene;
+    GLuint positions, frames, attributes, colors, vertex_elements, vertex_weights, indices;
+    GLuint adj_offsets, adj;
+    GLuint draw_indices;      /* element buffer of indexed draws: ribbon quads (lines) or the triangles */
+    uint64_t primitive_count; /* points, segments or triangles */
+    uint64_t bytes;
+};
+
+/* A colour target set at one resolution. */
+typedef struct lc_targets {
+    int width, height, count;
+    GLuint fbo;
+    GLuint tex[LC_MAX_COEF_TARGETS];
+    GLenum format;
+} lc_targets;
+
+typedef enum {
+    PROG_P1 = 0,
+    PROG_P2,
+    PROG_P4,
+    PROG_P5,
+    PROG_P4_DIRECT,
+    PROG_P5_DIRECT,
+    PROG_OPAQUE,
+    PROG_WBOIT,
+    PROG_DEPTH_RANGE,
+    PROG_GEOMETRY_KINDS, /* per primitive type and band count */
+    PROG_P3 = PROG_GEOMETRY_KINDS,
+    PROG_RESOLVE,
+    PROG_WBOIT_RESOLVE,
+    PROG_FIXED_KINDS
+} lc_program_kind;
+
+struct lc_renderer {
+    lc_renderer_desc desc;
+    GLuint vao;
+    GLuint colormap_tex[16];
+    int colormap_count;
+    /* [kind][primitive][bands][pulled]: pulled = unindexed subset variant */
+    GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2];
+    GLuint fixed_programs[PROG_FIXED_KINDS];
+    lc_targets coef_low;   /* P1 at optimization resolution */
+    lc_targets coef_full;  /* P4 */
+    lc_targets accum;      /* P5 (and WBOIT accum + revealage) */
+    lc_targets output;     /* RGBA8 + depth */
+    lc_targets range_full; /* P0 per-pixel depth ranges (RG32F), output resolution */
+    lc_targets range_low;  /* the same at the optimization resolution */
+    GLuint output_depth;   /* opaque baseline only */
+    int depth_width, depth_height;
+    GLuint nofb; /* framebuffer without attachments for P2 */
+    int nofb_w, nofb_h;
+    /* per-element buffers, grown to the largest scene */
+    GLuint element_alpha_min, element_alpha, smooth_a, smooth_b, stats;
+    uint32_t element_capacity;
+    GLuint timer_queries[LC_PASS_COUNT + 1];
+    GLuint dummy_buffer;
+    void *exact; /* exact.c's state */
+    uint64_t bytes_targets, bytes_elements;
+};
+
+struct lc_frame_state {
+    uint32_t count;
+    int fresh;
+    float *alpha;
+};
+
+/* Everything a geometry pass needs from the frame's parameters. */
+typedef struct lc_frame_setup {
+    const lc_render_params *params;
+    const lc_gpu_scene *gs;
+    lc_view view;
+    int importance_attr, color_mode, color_attr, colormap;
+    double importance_range[2], color_range[2], importance_exponent;
+    double line_half_width; /* world */
+    int width, height;      /* output */
+    int low_width, low_height;
+    int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
+} lc_frame_setup;
+
+static inline void lc_uniform_f(GLuint prog, const char *name, double v)
+{
+    glProgramUniform1f(prog, glGetUniformLocation(prog, name), (float)v);
+}
+
+static inline void lc_uniform_i(GLuint prog, const char *name, int v)
+{
+    glProgramUniform1i(prog, glGetUniformLocation(prog, name), v);
+}
+
+static inline void lc_uniform_u(GLuint prog, const char *name, unsigned v)
+{
+    glProgramUniform1ui(prog, glGetUniformLocation(prog, name), v);
+}
+
+static inline void lc_uniform_v2(GLuint prog, const char *name, double a, double b)
+{
+    glProgramUniform2f(prog, glGetUniformLocation(prog, name), (float)a, (float)b);
+}
+
+static inline void lc_uniform_v3(GLuint prog, const char *name, const double *v)
+{
+    glProgramUniform3f(prog, glGetUniformLocation(prog, name), (float)v[0], (float)v[1], (float)v[2]);
+}
+
+static inline int lc_pulls_primitives(lc_prim_type prim, int subset) { return prim != LC_PRIM_POINTS && subset > 1; }
+
+/* ---- programs.c */
+/* Returns the program for (kind, primitive, bands) that lc_renderer_draw_geometry
+ * draws with the given subset stride, compiling on first use; 0 on error. Lines
+ * and triangles draw indexed (shared vertices shaded once) unless subset > 1,
+ * which pulls every n-th primitive unindexed (#define PULL_PRIMITIVES); points
+ * always draw instanced. Programs built elsewhere from geometry.vert.glsl
+ * without PULL_PRIMITIVES match subset 1. */
+GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
+                                    lc_error *err);
+/* The full-screen and compute programs (P3, P6, WBOIT resolve), cached. */
+GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error *err);
+/* Compiles a program from embedded shader files; defines is a "#define ..\n"
+ * block. The binding #defines of LC_GL_BINDINGS come first. */
+GLuint lc_renderer_build_program(const char *defines, const char *const *vertex_files,
+                                 const char *const *fragment_files, const char *const *compute_files, const char *label,
+                                 lc_error *err);
+
+/* ---- gpu_scene.c */
+/* An immutable buffer holding size bytes of data (16 zero bytes when size is
+ * 0, so a binding is always valid); adds its size to *bytes. */
+GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes);
+
+/* ---- pipeline.c */
+/* Binds the scene's buffers and sets the shared uniforms of a geometry program
+ * for a pass rendered at (w, h). */
+void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);
+/* Issues the draw of every (subset-th) primitive. */
+void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
+/* (Re)allocates a target set; format GL_RGBA32F, GL_RGBA16F, GL_RG32F or GL_RGBA8. */
+void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, uint64_t *bytes);
+void lc_targets_free(lc_targets *t, uint64_t *bytes);
+/* Clears every attachment to value (NULL = zero). */
+void lc_targets_clear(const lc_targets *t, const float *value);
+/* Binds a coefficient target set to the TEX_COEF_FIRST.. units. */
+void lc_bind_coefficients(const lc_targets *t);
+/* Additive float blending for the accumulation passes. */
+void lc_additive_blending(void);
+/* Records a timestamp after pass `pass` (index LC_PASS_COUNT = frame start). */
+void lc_renderer_timestamp(lc_renderer *r, int slot);
+/* Full-screen resolve of `kind` into the output from a's first texture and second_tex. */
+void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_kind kind, const lc_targets *a,
+                         GLuint second_tex, lc_error *err);
+/* Readback of the output into rgba (top-down rows). */
+void lc_renderer_readback(lc_renderer *r, const lc_frame_setup *fs, uint8_t *rgba);
+
+/* ---- fourier.c */
+/* P0: per-pixel depth ranges at both resolutions; sets fs->pixel_depth_range. */
+int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* P1 + P2 + P3: this frame's element opacities (faded into state when given). */
+int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                        lc_error *err);
+/* P3 alone on element_alpha_min -> element_alpha (uploads state first). */
+int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_frame_state *state, double dt,
+                                lc_frame_info *info, lc_error *err);
+/* P4..P6 with the element opacities (or alpha = g^k when direct). */
+int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
+
+/* ---- baselines.c */
+int lc_render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+int lc_render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+
+#endif

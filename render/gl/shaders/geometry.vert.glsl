@@ -1,0 +1,105 @@
+// Vertex pulling for points (splat quads), lines (screen-facing ribbons mitred
+// by the vertex tangent, so adjacent segments share edges: no gaps, no overlap)
+// and triangles. One draw covers every pass. Each fragment's element is the
+// primary element of its primitive's provoking (last) vertex.
+
+out float v_g;        // importance g
+out float v_cscalar;  // colour scalar in colormap coordinates
+out vec3 v_rgb;       // per-vertex colour (colour mode 2)
+out float v_alpha;    // blended element opacity (passes that read them)
+out float v_zview;    // view-space depth (distance along the view direction)
+out vec3 v_wpos;
+out vec3 v_normal;    // triangles: normal; lines: ribbon side vector
+out vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], along in [0,1])
+flat out uvec3 v_primary; // primary elements of the primitive's vertices
+
+#ifdef READ_ALPHA
+layout(std430, binding = BIND_ELEMENT_ALPHA) readonly buffer ElementAlpha { float element_alpha[]; };
+float vertex_alpha(uint v)
+{
+    uvec4 e = vertex_elements[v];
+    vec4 w = vertex_weights[v];
+    return w.x * element_alpha[e.x] + w.y * element_alpha[e.y] + w.z * element_alpha[e.z];
+}
+#else
+float vertex_alpha(uint v) { return 1.0; }
+#endif
+
+void emit(uint v, vec3 wpos)
+{
+    v_g = vertex_importance(v);
+    v_cscalar = vertex_color_scalar(v, v_g);
+    v_rgb = u_color_mode == 2 ? vertex_rgb(v) : vec3(0.0);
+    v_alpha = vertex_alpha(v);
+    v_wpos = wpos;
+    v_zview = -(u_view * vec4(wpos, 1.0)).z;
+    gl_Position = u_view_proj * vec4(wpos, 1.0);
+    v_normal = vec3(0.0);
+    v_quad = vec2(0.0);
+}
+
+// One side of a screen-facing ribbon at line vertex v: offset along
+// cross(tangent, view ray) by the half width (never under the pixel minimum).
+void ribbon_vertex(uint v, float side_sign)
+{
+    vec3 p = positions[v].xyz;
+    vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - p);
+    vec3 side = cross(frames[v].xyz, to_cam);
+    if (dot(side, side) < 1e-12) // tangent along the view ray: any perpendicular works
+        side = cross(abs(to_cam.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0), to_cam);
+    side = normalize(side);
+    float depth = u_ortho != 0 ? u_focal_dist : max(dot(p - u_eye, u_view_dir), 1e-6 * u_focal_dist);
+    float pixel = u_pixel_world * depth / u_focal_dist;
+    float half_width = max(u_line_half_width, u_min_half_pixels * pixel);
+    emit(v, p + side * (half_width * side_sign));
+    v_normal = side;
+    // Tube shading needs a few pixels across; on thinner ribbons the pixel
+    // centres would sample the tube profile unevenly along the line (a dotted
+    // look), so the profile flattens as the ribbon narrows.
+    float width_px = 2.0 * half_width / pixel;
+    v_quad = vec2(side_sign * clamp((width_px - 1.0) / 4.0, 0.0, 0.85), 0.0);
+}
+
+void main()
+{
+#if PRIM == PRIM_POINTS
+    // Instanced triangle strip: one instance per (subset-th) point, 4 corners.
+    uint v = uint(gl_InstanceID) * u_subset;
+    vec2 q = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
+    emit(v, positions[v].xyz);
+    gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
+    v_quad = q;
+    v_primary = uvec3(vertex_elements[v].w);
+#elif defined(PULL_PRIMITIVES)
+    // Subset draws (every n-th primitive): unindexed, six corners per segment
+    // or three per triangle, pulled by primitive number.
+#if PRIM == PRIM_TRIANGLES
+    uint prim = uint(gl_VertexID) / 3u * u_subset;
+    uint corner = uint(gl_VertexID) % 3u;
+    uint v = indices[3u * prim + corner];
+    emit(v, positions[v].xyz);
+    v_normal = frames[v].xyz;
+    v_primary = uvec3(vertex_elements[indices[3u * prim + 2u]].w);
+#else
+    const vec2 quad[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
+    uint prim = uint(gl_VertexID) / 6u * u_subset;
+    vec2 q = quad[gl_VertexID % 6];
+    uint a = indices[2u * prim], b = indices[2u * prim + 1u];
+    uint v = q.x < 0.0 ? a : b;
+    ribbon_vertex(v, q.y);
+    v_primary = uvec3(vertex_elements[b].w);
+#endif
+#elif PRIM == PRIM_LINES
+    // Indexed ribbons: two vertices (sides) per line vertex, shared by the two
+    // segments that meet there, so each is shaded once.
+    uint v = uint(gl_VertexID) >> 1;
+    ribbon_vertex(v, (gl_VertexID & 1) != 0 ? 1.0 : -1.0);
+    v_primary = uvec3(vertex_elements[v].w);
+#else
+    // Indexed triangles: the scene's own index buffer, shared vertices shaded once.
+    uint v = uint(gl_VertexID);
+    emit(v, positions[v].xyz);
+    v_normal = frames[v].xyz;
+    v_primary = uvec3(vertex_elements[v].w);
+#endif
+}

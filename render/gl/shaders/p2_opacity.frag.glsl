@@ -1,0 +1,29 @@
+// P2 optimal opacity (FOO Eq. 10; r weighs importance in front, q behind) from
+// the reconstructed importance sum; atomic-min into the fragment's element.
+
+layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint element_alpha_min[]; };
+
+uniform float u_q;
+uniform float u_r;
+uniform float u_lambda;
+uniform int u_estimator; // 0 foo, 1 midpoint
+
+void main()
+{
+    if (outside_primitive())
+        discard;
+    float g = fragment_importance();
+    float c[NTARGETS * 4];
+    read_coefficients(ivec2(gl_FragCoord.xy), c);
+    float G = fourier_eval(c, normalized_depth(v_zview));
+    float g2 = g * g;
+    // The midpoint estimator removes the half of the fragment's own step that
+    // the truncated series attributes to F(d_i) (DESIGN §3).
+    float own = u_estimator == 1 ? 0.5 * g2 : g2;
+    float front = max(G - own, 0.0);
+    float behind = max(c[0] - G - (u_estimator == 1 ? 0.5 * g2 : 0.0), 0.0);
+    float emphasis = u_lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * u_lambda) : 1.0;
+    float alpha = 1.0 / (1.0 + emphasis * (u_r * front + u_q * behind));
+    // Non-negative floats order like their bit patterns.
+    atomicMin(element_alpha_min[fragment_element()], floatBitsToUint(alpha));
+}

@@ -1,0 +1,54 @@
+// P3 smoothing and fading of element opacities (DESIGN §3). One dispatch per
+// stage; the host swaps the src/dst bindings between smoothing iterations.
+layout(local_size_x = 256) in;
+
+layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint element_alpha_min[]; };
+layout(std430, binding = BIND_ELEMENT_ALPHA) buffer ElementAlpha { float element_alpha[]; }; // current opacities, faded in place
+layout(std430, binding = BIND_SMOOTH_SRC) buffer SmoothSrc { float smooth_src[]; };
+layout(std430, binding = BIND_SMOOTH_DST) buffer SmoothDst { float smooth_dst[]; };
+layout(std430, binding = BIND_ADJ_OFFSETS) readonly buffer AdjacencyOffsets { uint adjacency_offsets[]; };
+layout(std430, binding = BIND_ADJ) readonly buffer Adjacency { uint adjacency[]; };
+layout(std430, binding = BIND_STATS) buffer Stats { uint max_change_bits; };
+
+uniform int u_stage; // 0 gather targets, 1 smooth step, 2 fade
+uniform uint u_count;
+uniform float u_omega;
+uniform float u_fade; // 1 - 2^(-dt / half-life); 1 for one-shot renders
+
+void main()
+{
+    uint e = gl_GlobalInvocationID.x;
+    if (e >= u_count)
+        return;
+    if (u_stage == 0) {
+        // Elements with no fragment this frame keep their current value as target.
+        float a = uintBitsToFloat(element_alpha_min[e]);
+        smooth_dst[e] = a > 1.0 ? element_alpha[e] : a;
+    } else if (u_stage == 1) {
+        // Only elements that received fragments this frame pass their value on,
+        // so the targets of seen elements depend on this frame alone and fading
+        // converges geometrically to the one-shot result. An element without
+        // fragments (e.g. a patch too small for the optimization resolution) is
+        // filled with the mean of its seen neighbours instead of its stale value.
+        uint begin = adjacency_offsets[e], end = adjacency_offsets[e + 1u];
+        bool seen_self = uintBitsToFloat(element_alpha_min[e]) <= 1.0;
+        float v = smooth_src[e];
+        float sum = 0.0;
+        uint seen = 0u;
+        for (uint i = begin; i < end; i++) {
+            uint n = adjacency[i];
+            if (uintBitsToFloat(element_alpha_min[n]) <= 1.0) {
+                sum += smooth_src[n];
+                seen++;
+            }
+        }
+        if (seen > 0u)
+            v = seen_self ? v + u_omega * (sum / float(seen) - v) : sum / float(seen);
+        smooth_dst[e] = v;
+    } else {
+        float cur = element_alpha[e];
+        float next = cur + (smooth_src[e] - cur) * u_fade;
+        element_alpha[e] = next;
+        atomicMax(max_change_bits, floatBitsToUint(abs(next - cur)));
+    }
+}

@@ -1,0 +1,295 @@
+/* Loader plumbing shared by the dataset readers (file mapping, number parsing,
+ * polyline assembly) and lc_scene_load_file, which picks the format by extension. */
+#include "io_util.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+int lc_io_file_open(const char *path, lc_io_file *f, lc_error *err)
+{
+    memset(f, 0, sizeof *f);
+    f->data = "";
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return lc_err(err, LC_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        int e = errno;
+        close(fd);
+        return lc_err(err, LC_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
+    }
+    if (!S_ISREG(st.st_mode)) {
+        close(fd);
+        return lc_err(err, LC_ERR_IO, "%s: not a regular file", path);
+    }
+    if (st.st_size == 0) { /* mmap rejects length 0; an empty file is a parse error later */
+        close(fd);
+        return 0;
+    }
+    if ((uint64_t)st.st_size > (uint64_t)SIZE_MAX) {
+        close(fd);
+        return lc_err(err, LC_ERR_LIMIT, "%s: file too large", path);
+    }
+    void *map = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
+    int e = errno;
+    close(fd);
+    if (map == MAP_FAILED)
+        return lc_err(err, LC_ERR_IO, "%s: cannot map: %s", path, strerror(e));
+    madvise(map, (size_t)st.st_size, MADV_SEQUENTIAL); /* parsers read front to back */
+    f->map = map;
+    f->data = map;
+    f->size = (size_t)st.st_size;
+    return 0;
+}
+
+void lc_io_file_close(lc_io_file *f)
+{
+    if (f->map)
+        munmap(f->map, f->size);
+    memset(f, 0, sizeof *f);
+}
+
+const char *lc_io_basename(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+void lc_io_header_name(const char *name, char *out, size_t n)
+{
+    snprintf(out, n, "%s", name[0] ? name : "attribute");
+    for (char *c = out; *c; c++)
+        if (*c == ' ' || *c == '\t' || *c == '\n' || *c == '\r')
+            *c = '_';
+}
+
+int lc_io_load_path(const char *path, lc_io_memory_loader load, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    lc_io_file f;
+    int rc = lc_io_file_open(path, &f, err);
+    if (rc)
+        return rc;
+    rc = load(f.data, f.size, lc_io_basename(path), out, err);
+    lc_io_file_close(&f);
+    if (!rc)
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
+    return rc;
+}
+
+void lc_io_stem(const char *path, char *out, size_t n)
+{
+    const char *base = lc_io_basename(path);
+    const char *dot = strrchr(base, '.');
+    size_t len = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+    if (n == 0)
+        return;
+    if (len >= n)
+        len = n - 1;
+    memcpy(out, base, len);
+    out[len] = '\0';
+}
+
+/* ---- numbers */
+
+static int match_word(const char *p, const char *end, const char *word)
+{
+    size_t n = strlen(word);
+    return (size_t)(end - p) >= n && strncasecmp(p, word, n) == 0;
+}
+
+const char *lc_io_parse_double(const char *p, const char *end, double *out)
+{
+    /* Exact powers of ten for Clinger's fast path: a mantissa below 2^53 times
+     * or divided by one of these is a single correctly rounded operation. */
+    static const double pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                   1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    const char *start = p;
+    int neg = 0;
+    if (p < end && (*p == '+' || *p == '-'))
+        neg = *p++ == '-';
+    uint64_t mant = 0;
+    int digits = 0, exp10 = 0, any = 0, exact = 1;
+    while (p < end && (unsigned)(*p - '0') < 10) {
+        any = 1;
+        if (digits < 19) {
+            mant = mant * 10 + (uint64_t)(*p - '0');
+            digits += mant != 0; /* leading zeros are not significant */
+        } else {
+            exp10++;
+            exact = 0;
+        }
+        p++;
+    }
+    if (p < end && *p == '.') {
+        p++;
+        while (p < end && (unsigned)(*p - '0') < 10) {
+            any = 1;
+            if (digits < 19) {
+                mant = mant * 10 + (uint64_t)(*p - '0');
+                digits += mant != 0;
+                exp10--;
+            } else {
+                exact = 0;
+            }
+            p++;
+        }
+    }
+    if (!any) {
+        /* nan / inf are not numbers a dataset should hold, but recognizing
+         * them lets the caller say "non-finite coordinate" instead of "bad
+         * number". */
+        if (match_word(p, end, "nan")) {
+            *out = NAN;
+            return p + 3;
+        }
+        if (match_word(p, end, "infinity")) {
+            *out = neg ? -INFINITY : INFINITY;
+            return p + 8;
+        }
+        if (match_word(p, end, "inf")) {
+            *out = neg ? -INFINITY : INFINITY;
+            return p + 3;
+        }
+        return NULL;
+    }
+    if (p < end && (*p == 'e' || *p == 'E')) {
+        const char *q = p + 1;
+        int eneg = 0;
+        if (q < end && (*q == '+' || *q == '-'))
+            eneg = *q++ == '-';
+        if (q < end && (unsigned)(*q - '0') < 10) {
+            int e = 0;
+            while (q < end && (unsigned)(*q - '0') < 10) {
+                if (e < 100000) /* far beyond double range; avoids overflow */
+                    e = e * 10 + (*q - '0');
+                q++;
+            }
+            exp10 += eneg ? -e : e;
+            p = q;
+        }
+    }
+    double v;
+    if (mant == 0) {
+        v = 0.0;
+    } else if (exact && mant <= (1ull << 53) && exp10 >= -22 && exp10 <= 22) {
+        v = exp10 >= 0 ? (double)mant * pow10[exp10] : (double)mant / pow10[-exp10];
+    } else {
+        char buf[128];
+        size_t len = (size_t)(p - start);
+        if (len < sizeof buf) {
+            memcpy(buf, start, len);
+            buf[len] = '\0';
+            *out = strtod(buf, NULL);
+            return p;
+        }
+        v = (double)mant * pow(10.0, exp10); /* absurdly long literal: close enough */
+    }
+    *out = neg ? -v : v;
+    return p;
+}
+
+/* ---- arrays */
+
+int lc_io_u32vec_reserve(lc_io_u32vec *a, size_t extra, size_t limit, const char *file, const char *what, lc_error *err)
+{
+    if (extra > limit || a->n > limit - extra)
+        return lc_err(err, LC_ERR_LIMIT, "%s: too many %s (limit %zu)", file, what, limit);
+    size_t need = a->n + extra;
+    if (need <= a->cap)
+        return 0;
+    size_t cap = a->cap ? a->cap : 1024;
+    while (cap < need)
+        cap = cap > limit / 2 ? limit : cap * 2;
+    uint32_t *v = realloc(a->v, cap * sizeof *v);
+    if (!v)
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %zu %s", file, cap, what);
+    a->v = v;
+    a->cap = cap;
+    return 0;
+}
+
+void lc_io_u32vec_free(lc_io_u32vec *a)
+{
+    free(a->v);
+    memset(a, 0, sizeof *a);
+}
+
+/* ---- polylines */
+
+int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint32_t *offsets, uint32_t line_count,
+                     const char *file, lc_error *err)
+{
+    lc_scene *src = *sp;
+    int identity = idx_count == src->vertex_count;
+    for (size_t k = 0; identity && k < idx_count; k++)
+        identity = idx[k] == k;
+    if (identity) {
+        src->type = LC_PRIM_LINES;
+        src->line_offsets = offsets;
+        src->line_count = line_count;
+        return 0;
+    }
+    if (idx_count > LC_MAX_VERTICES) {
+        free(offsets);
+        return lc_err(err, LC_ERR_LIMIT, "%s: lines reference %zu vertices (limit %u)", file, idx_count,
+                      (unsigned)LC_MAX_VERTICES);
+    }
+    lc_scene *dst = lc_scene_create(src->name, LC_PRIM_LINES);
+    if (!dst) {
+        free(offsets);
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", file);
+    }
+    int rc = lc_scene_alloc_vertices(dst, (uint32_t)idx_count, src->rgb != NULL, err);
+    if (rc)
+        goto fail;
+    for (size_t k = 0; k < idx_count; k++)
+        memcpy(dst->positions + 3 * k, src->positions + 3 * (size_t)idx[k], 3 * sizeof(float));
+    if (src->rgb)
+        for (size_t k = 0; k < idx_count; k++)
+            memcpy(dst->rgb + 3 * k, src->rgb + 3 * (size_t)idx[k], 3 * sizeof(float));
+    for (int a = 0; a < src->attribute_count; a++) {
+        float *values = malloc((idx_count ? idx_count : 1) * sizeof *values);
+        if (!values) {
+            rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory", file);
+            goto fail;
+        }
+        const float *from = src->attributes[a].values;
+        for (size_t k = 0; k < idx_count; k++)
+            values[k] = from[idx[k]];
+        rc = lc_scene_add_attribute(dst, src->attributes[a].name, values, err);
+        if (rc < 0)
+            goto fail;
+    }
+    memcpy(dst->default_importance, src->default_importance, sizeof dst->default_importance);
+    memcpy(dst->default_color, src->default_color, sizeof dst->default_color);
+    dst->line_offsets = offsets;
+    dst->line_count = line_count;
+    lc_scene_destroy(src);
+    *sp = dst;
+    return 0;
+fail:
+    free(offsets);
+    lc_scene_destroy(dst);
+    return rc < 0 ? rc : LC_ERR_INTERNAL;
+}
+
+void lc_io_set_defaults(lc_scene *s)
+{
+    static const char *preferred[] = {"importance", "vt", "scalar"};
+    s->default_importance[0] = '\0';
+    for (size_t i = 0; i < sizeof preferred / sizeof *preferred && !s->default_importance[0]; i++)
+        if (lc_scene_find_attribute(s, preferred[i]) >= 0)
+            snprintf(s->default_importance, sizeof s->default_importance, "%s", preferred[i]);
+    if (!s->default_importance[0] && s->attribute_count > 0)
+        snprintf(s->default_importance, sizeof s->default_importance, "%s", s->attributes[0].name);
+    snprintf(s->default_color, sizeof s->default_color, "%s", s->rgb ? "rgb" : "importance");
+}

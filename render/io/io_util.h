@@ -1,0 +1,87 @@
+/* Helpers shared by the dataset readers and writers of this folder: file
+ * mapping, bounded number parsing, capped growable index arrays and polyline
+ * assembly. Internal to render/io/; the public API is loaders.h. */
+#ifndef LC_IO_UTIL_H
+#define LC_IO_UTIL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lc_base.h"
+#include "scene.h"
+
+#define LC_IO_LOG "loader" /* module tag of the loaders' log lines */
+
+/* A whole input file, read-only. Regular files are mmap'd so that a dataset of
+ * several GB is parsed without a copy. */
+typedef struct lc_io_file {
+    const char *data;
+    size_t size;
+    void *map; /* munmap target, or NULL */
+} lc_io_file;
+
+int lc_io_file_open(const char *path, lc_io_file *f, lc_error *err);
+void lc_io_file_close(lc_io_file *f);
+
+/* Pointer to the last path component. */
+const char *lc_io_basename(const char *path);
+/* File name without folders and without its last extension, truncated to n. */
+void lc_io_stem(const char *path, char *out, size_t n);
+
+/* Copies an attribute name for a writer's header line, where names cannot hold
+ * whitespace (PLY properties, VTK arrays): blanks become '_', "" becomes "attribute". */
+void lc_io_header_name(const char *name, char *out, size_t n);
+
+/* Maps path and runs a memory loader on it (messages name the file's base
+ * name); the scene is named after the file stem. */
+typedef int (*lc_io_memory_loader)(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
+int lc_io_load_path(const char *path, lc_io_memory_loader load, lc_scene **out, lc_error *err);
+
+/* Parses a decimal floating-point number (also "nan", "inf", "infinity") at
+ * p, never reading at or past end. Returns the end of the number, or NULL when
+ * p does not start one. The result is exact for the usual short decimals
+ * (Clinger's fast path) and falls back to strtod on a bounded copy. */
+const char *lc_io_parse_double(const char *p, const char *end, double *out);
+
+/* Growable uint32 array whose length never exceeds `limit` elements. */
+typedef struct lc_io_u32vec {
+    uint32_t *v;
+    size_t n, cap;
+} lc_io_u32vec;
+
+/* Makes room for `extra` more elements; LC_ERR_LIMIT beyond limit. `what`
+ * names the array in the message ("triangles"). */
+int lc_io_u32vec_reserve(lc_io_u32vec *a, size_t extra, size_t limit, const char *file, const char *what,
+                         lc_error *err);
+static inline int lc_io_u32vec_push(lc_io_u32vec *a, uint32_t x, size_t limit, const char *file, const char *what,
+                                    lc_error *err)
+{
+    if (a->n == a->cap) {
+        int rc = lc_io_u32vec_reserve(a, 1, limit, file, what, err);
+        if (rc)
+            return rc;
+    }
+    a->v[a->n++] = x;
+    return 0;
+}
+void lc_io_u32vec_free(lc_io_u32vec *a);
+
+/* Turns the points scene *sp into a LINES scene whose line i holds the source
+ * vertices idx[offsets[i] .. offsets[i+1]) (duplicated where lines share
+ * vertices, because a scene's line owns a contiguous vertex range). When idx is
+ * the identity over all vertices the scene is converted in place; otherwise a
+ * new scene with gathered positions, rgb and attributes replaces *sp (the old
+ * one is destroyed). Takes ownership of offsets (line_count + 1 entries) in
+ * every case. */
+int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint32_t *offsets, uint32_t line_count,
+                     const char *file, lc_error *err);
+
+/* Sets default_importance (an attribute named importance, vt or scalar, else
+ * the first attribute, else "" so that finalize derives one) and default_color
+ * ("rgb" when the file has colours, else "importance"). */
+void lc_io_set_defaults(lc_scene *s);
+
+/* Attribute slots a loader may fill: finalize adds up to four derived ones. */
+#define LC_IO_MAX_FILE_ATTRIBUTES (LC_MAX_ATTRIBUTES - 4)
+
+#endif

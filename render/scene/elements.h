@@ -1,0 +1,55 @@
+/* Optimization elements, the unknowns of the opacity optimization
+ * (docs/ALGORITHM.md "Elements"): one per point, equal-arc-length segments for
+ * lines, geodesic patches for surfaces, with each vertex's blend of up to three
+ * element opacities and the element adjacency that smoothing follows.
+ * Works on a plain view of the geometry, so it knows nothing of scenes.
+ * Threading: reentrant; the result is plain memory owned by the caller. */
+#ifndef LC_ELEMENTS_H
+#define LC_ELEMENTS_H
+
+#include <stdint.h>
+
+#include "lc_base.h"
+#include "lc_params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Every vertex blends up to three element opacities; its primary element
+ * receives the fragments' atomic-min. */
+typedef struct lc_elements {
+    uint32_t count;
+    uint32_t *vertex_elements;   /* 4 per vertex: e0, e1, e2, primary (unused slots repeat e0, weight 0) */
+    float *vertex_weights;       /* 4 per vertex: w0, w1, w2, 0; w0 + w1 + w2 = 1 */
+    uint32_t *adjacency_offsets; /* count + 1, CSR over adjacency */
+    uint32_t *adjacency;         /* neighbour element ids, symmetric */
+    uint32_t adjacency_count;    /* adjacency_offsets[count] */
+} lc_elements;
+
+/* Options of the element build; zero means default. */
+typedef struct lc_elements_desc {
+    uint32_t line_budget; /* total line segments-elements, default 10000 (at least one per line) */
+    uint32_t patch_count; /* surface patches, default min(4000, vertices / 8) (at least 1) */
+} lc_elements_desc;
+
+/* The geometry elements are built on (borrowed arrays, validated indices). */
+typedef struct lc_element_geometry {
+    const char *name; /* for messages */
+    lc_prim_type type;
+    uint32_t vertex_count;
+    const float *positions; /* 3 per vertex */
+    uint32_t line_count;
+    const uint32_t *line_offsets; /* line_count + 1 */
+    uint32_t triangle_count;
+    const uint32_t *triangles; /* 3 per triangle */
+} lc_element_geometry;
+
+/* Builds *out (freed first) from g. On error *out is empty. */
+int lc_elements_build(const lc_element_geometry *g, const lc_elements_desc *desc, lc_elements *out, lc_error *err);
+void lc_elements_free(lc_elements *e);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

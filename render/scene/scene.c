@@ -1,0 +1,150 @@
+/* Scene core: ownership of the CPU arrays and the named attributes. */
+#include "scene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+lc_scene *lc_scene_create(const char *name, lc_prim_type type)
+{
+    lc_scene *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    if (name)
+        snprintf(s->name, sizeof s->name, "%s", name);
+    s->type = type;
+    return s;
+}
+
+static void free_attributes(lc_scene *s)
+{
+    for (int i = 0; i < s->attribute_count; i++)
+        free(s->attributes[i].values);
+    memset(s->attributes, 0, sizeof s->attributes);
+    s->attribute_count = 0;
+}
+
+void lc_scene_destroy(lc_scene *s)
+{
+    if (!s)
+        return;
+    free(s->positions);
+    free(s->rgb);
+    free(s->normals);
+    free(s->tangents);
+    free(s->line_offsets);
+    free(s->triangles);
+    free_attributes(s);
+    lc_elements_free(&s->elements);
+    free(s);
+}
+
+int lc_scene_alloc_vertices(lc_scene *s, uint32_t n, int with_rgb, lc_error *err)
+{
+    if (!s)
+        return lc_err(err, LC_ERR_INVALID, "scene: NULL scene");
+    if (n > LC_MAX_VERTICES)
+        return lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", s->name, n, LC_MAX_VERTICES);
+    /* Everything per-vertex belongs to the old vertex count; attributes of a
+     * different length would be read out of bounds, so they go too. */
+    free(s->positions);
+    free(s->rgb);
+    free(s->normals);
+    free(s->tangents);
+    s->positions = s->rgb = s->normals = s->tangents = NULL;
+    free_attributes(s);
+    lc_elements_free(&s->elements);
+    s->finalized = 0;
+    s->vertex_count = 0;
+    size_t count = (size_t)(n ? n : 1) * 3;
+    s->positions = malloc(count * sizeof(float));
+    if (with_rgb)
+        s->rgb = malloc(count * sizeof(float));
+    if (!s->positions || (with_rgb && !s->rgb)) {
+        free(s->positions);
+        free(s->rgb);
+        s->positions = s->rgb = NULL;
+        return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate %u vertices", s->name, n);
+    }
+    s->vertex_count = n;
+    return LC_OK;
+}
+
+int lc_scene_find_attribute(const lc_scene *s, const char *name)
+{
+    if (!s || !name)
+        return -1;
+    for (int i = 0; i < s->attribute_count; i++)
+        if (strcmp(s->attributes[i].name, name) == 0)
+            return i;
+    return -1;
+}
+
+/* Ownership of values passes in every case: on failure they are freed here, so
+ * a caller's error path never has to (and must not) free them. */
+int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_error *err)
+{
+    if (!s) {
+        free(values);
+        return lc_err(err, LC_ERR_INVALID, "scene: NULL scene");
+    }
+    if (!name || !name[0]) {
+        free(values);
+        return lc_err(err, LC_ERR_INVALID, "%s: attribute without a name", s->name);
+    }
+    if (strlen(name) >= LC_NAME_LEN) {
+        free(values);
+        return lc_err(err, LC_ERR_INVALID, "%s: attribute name '%.32s...' longer than %d bytes", s->name, name,
+                      LC_NAME_LEN - 1);
+    }
+    if (!values)
+        return lc_err(err, LC_ERR_INVALID, "%s: attribute '%s' has no values", s->name, name);
+    int i = lc_scene_find_attribute(s, name);
+    if (i >= 0) {
+        if (s->attributes[i].values != values)
+            free(s->attributes[i].values);
+    } else {
+        if (s->attribute_count >= LC_MAX_ATTRIBUTES) {
+            free(values);
+            return lc_err(err, LC_ERR_LIMIT, "%s: more than %d attributes (at '%s')", s->name, LC_MAX_ATTRIBUTES, name);
+        }
+        i = s->attribute_count++;
+        snprintf(s->attributes[i].name, sizeof s->attributes[i].name, "%s", name);
+    }
+    s->attributes[i].values = values;
+    s->attributes[i].min = 0.0f;
+    s->attributes[i].max = 0.0f;
+    return i;
+}
+
+const char *lc_prim_type_name(lc_prim_type t)
+{
+    switch (t) {
+    case LC_PRIM_POINTS: return "points";
+    case LC_PRIM_LINES: return "lines";
+    case LC_PRIM_TRIANGLES: return "triangles";
+    }
+    return "unknown";
+}
+
+uint64_t lc_scene_primitive_count(const lc_scene *s)
+{
+    if (!s)
+        return 0;
+    switch (s->type) {
+    case LC_PRIM_POINTS: return s->vertex_count;
+    case LC_PRIM_LINES: {
+        if (!s->line_offsets)
+            return 0;
+        uint64_t n = 0;
+        for (uint32_t i = 0; i < s->line_count; i++) {
+            uint32_t a = s->line_offsets[i], b = s->line_offsets[i + 1];
+            if (b > a)
+                n += b - a - 1;
+        }
+        return n;
+    }
+    case LC_PRIM_TRIANGLES: return s->triangle_count;
+    }
+    return 0;
+}

@@ -1,0 +1,89 @@
+/* Scene: CPU arrays of one dataset (points, polylines or triangles) with named
+ * per-vertex float attributes, optional RGB, bounds, derived attributes and the
+ * optimization elements.
+ * Threading: one thread builds and finalizes a scene; after lc_scene_finalize
+ * it is read-only and any number of threads may read it until destroy.
+ * Ownership: every array in lc_scene is malloc'd and freed by lc_scene_destroy;
+ * a loader may assign line_offsets/triangles directly before finalize. */
+#ifndef LC_SCENE_H
+#define LC_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "elements.h"
+#include "lc_base.h"
+#include "lc_params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Hard caps on what any loader or generator may produce (curl's "toobig"). */
+#define LC_MAX_VERTICES (1u << 28)   /* 268M vertices */
+#define LC_MAX_PRIMITIVES (1u << 29) /* lines or triangles */
+#define LC_MAX_ATTRIBUTES 32
+
+typedef struct lc_attribute {
+    char name[LC_NAME_LEN];
+    float *values;  /* vertex_count values, owned by the scene */
+    float min, max; /* over finite values; filled by lc_scene_finalize */
+} lc_attribute;
+
+typedef struct lc_scene {
+    char name[LC_NAME_LEN];
+    lc_prim_type type;
+    uint32_t vertex_count;
+    float *positions; /* 3 per vertex */
+    float *rgb;       /* 3 per vertex in [0,1], or NULL */
+    float *normals;   /* triangles: 3 per vertex (area-weighted); NULL otherwise */
+    float *tangents;  /* lines: 3 per vertex (unit, central difference); NULL otherwise */
+
+    uint32_t line_count;
+    uint32_t *line_offsets; /* line_count + 1: vertices of line i are [off[i], off[i+1]) */
+    uint32_t triangle_count;
+    uint32_t *triangles; /* 3 per triangle */
+
+    int attribute_count;
+    lc_attribute attributes[LC_MAX_ATTRIBUTES];
+
+    double bounds[6];                     /* xmin, ymin, zmin, xmax, ymax, zmax */
+    char default_importance[LC_NAME_LEN]; /* attribute used when a request names none */
+    char default_color[LC_NAME_LEN];      /* "importance", "rgb" or an attribute */
+    /* Suggested initial view when a request has no camera (e.g. the tornado is
+     * seen from the side with +Z up); has_view = 0: ParaView's -Z, +Y up. */
+    int has_view;
+    double view_direction[3]; /* from the camera toward the data */
+    double view_up[3];
+
+    lc_elements elements;
+    int finalized;
+} lc_scene;
+
+/* Creates an empty scene named `name` (copied, truncated). Returns NULL on OOM. */
+lc_scene *lc_scene_create(const char *name, lc_prim_type type);
+void lc_scene_destroy(lc_scene *s);
+
+/* Allocates positions (and rgb if with_rgb) for n vertices (uninitialized).
+ * Any earlier per-vertex data (attributes, normals, elements) is freed. */
+int lc_scene_alloc_vertices(lc_scene *s, uint32_t n, int with_rgb, lc_error *err);
+/* Adds an attribute; the scene takes ownership of values (malloc'd, vertex_count
+ * floats) in every case: on failure they are freed, so callers never free them.
+ * Replaces an attribute of the same name. Returns its index or < 0. */
+int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_error *err);
+/* Index of the attribute named name, or -1. */
+int lc_scene_find_attribute(const lc_scene *s, const char *name);
+
+/* Validates indices, computes bounds, normals/tangents, attribute ranges, the
+ * derived attributes (lines: arc_length, curvature, line_length; triangles:
+ * mean_curvature) and the elements. Call once after loading or generating. */
+int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err);
+
+const char *lc_prim_type_name(lc_prim_type t);
+/* Number of primitives: points, line segments or triangles. */
+uint64_t lc_scene_primitive_count(const lc_scene *s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,163 @@
+/* Scene finalize: validation, bounds, attribute ranges, default mappings, the
+ * derived per-vertex data (scene_derive.c) and the elements (elements.c). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "elements.h"
+#include "scene.h"
+#include "scene_derive.h"
+
+/* Structural checks: everything later steps index with must be in range. */
+static int validate(const lc_scene *s, lc_error *err)
+{
+    if (s->type != LC_PRIM_POINTS && s->type != LC_PRIM_LINES && s->type != LC_PRIM_TRIANGLES)
+        return lc_err(err, LC_ERR_INVALID, "%s: unknown primitive type %d", s->name, (int)s->type);
+    if (s->vertex_count == 0 || !s->positions)
+        return lc_err(err, LC_ERR_INVALID, "%s: scene has no vertices", s->name);
+    if (s->vertex_count > LC_MAX_VERTICES)
+        return lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", s->name, s->vertex_count,
+                      LC_MAX_VERTICES);
+    const float *p = s->positions;
+    for (size_t i = 0; i < (size_t)s->vertex_count * 3; i++)
+        if (!isfinite(p[i]))
+            return lc_err(err, LC_ERR_INVALID, "%s: vertex %zu has a non-finite coordinate", s->name, i / 3);
+    if (s->type == LC_PRIM_LINES) {
+        if (s->line_count == 0 || !s->line_offsets)
+            return lc_err(err, LC_ERR_INVALID, "%s: line scene without lines", s->name);
+        if (s->line_count > LC_MAX_PRIMITIVES)
+            return lc_err(err, LC_ERR_LIMIT, "%s: %u lines exceed the limit of %u", s->name, s->line_count,
+                          LC_MAX_PRIMITIVES);
+        const uint32_t *off = s->line_offsets;
+        for (uint32_t i = 0; i < s->line_count; i++)
+            if (off[i + 1] < off[i])
+                return lc_err(err, LC_ERR_INVALID, "%s: line %u: offsets decrease (%u after %u)", s->name, i,
+                              off[i + 1], off[i]);
+        if (off[s->line_count] > s->vertex_count)
+            return lc_err(err, LC_ERR_INVALID, "%s: line offsets end at %u beyond %u vertices", s->name,
+                          off[s->line_count], s->vertex_count);
+    }
+    if (s->type == LC_PRIM_TRIANGLES) {
+        if (s->triangle_count == 0 || !s->triangles)
+            return lc_err(err, LC_ERR_INVALID, "%s: triangle scene without triangles", s->name);
+        if (s->triangle_count > LC_MAX_PRIMITIVES)
+            return lc_err(err, LC_ERR_LIMIT, "%s: %u triangles exceed the limit of %u", s->name, s->triangle_count,
+                          LC_MAX_PRIMITIVES);
+        const uint32_t *t = s->triangles;
+        for (size_t i = 0; i < (size_t)s->triangle_count * 3; i++)
+            if (t[i] >= s->vertex_count)
+                return lc_err(err, LC_ERR_INVALID, "%s: triangle %zu: vertex index %u out of range (%u vertices)",
+                              s->name, i / 3, t[i], s->vertex_count);
+    }
+    return LC_OK;
+}
+
+static void compute_bounds(lc_scene *s)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const float *p = s->positions;
+    for (uint32_t i = 0; i < s->vertex_count; i++)
+        for (int k = 0; k < 3; k++) {
+            double v = p[3 * (size_t)i + k];
+            if (v < lo[k])
+                lo[k] = v;
+            if (v > hi[k])
+                hi[k] = v;
+        }
+    for (int k = 0; k < 3; k++) {
+        s->bounds[k] = lo[k];
+        s->bounds[3 + k] = hi[k];
+    }
+}
+
+static void attribute_range(lc_attribute *a, uint32_t n)
+{
+    float lo = INFINITY, hi = -INFINITY;
+    for (uint32_t i = 0; i < n; i++) {
+        float v = a->values[i];
+        if (!isfinite(v))
+            continue;
+        if (v < lo)
+            lo = v;
+        if (v > hi)
+            hi = v;
+    }
+    if (lo > hi) /* no finite value at all */
+        lo = hi = 0.0f;
+    a->min = lo;
+    a->max = hi;
+}
+
+/* Picks the importance attribute a request without one gets. A name that the
+ * loader set but that does not exist is dropped with a warning rather than
+ * failing the whole dataset. */
+static void choose_defaults(lc_scene *s)
+{
+    if (s->default_importance[0] && lc_scene_find_attribute(s, s->default_importance) < 0) {
+        LC_WARN("scene", "%s: default importance '%s' is not an attribute; choosing another", s->name,
+                s->default_importance);
+        s->default_importance[0] = '\0';
+    }
+    if (!s->default_importance[0]) {
+        const char *pick = NULL;
+        if (s->type == LC_PRIM_LINES)
+            pick = "curvature";
+        else if (s->type == LC_PRIM_TRIANGLES)
+            pick = "mean_curvature";
+        if (pick && lc_scene_find_attribute(s, pick) >= 0)
+            snprintf(s->default_importance, sizeof s->default_importance, "%s", pick);
+        else if (s->attribute_count > 0)
+            snprintf(s->default_importance, sizeof s->default_importance, "%s", s->attributes[0].name);
+        /* else: no attribute at all, the renderer uses g = 1 */
+    }
+    if (!s->default_color[0])
+        snprintf(s->default_color, sizeof s->default_color, "importance");
+}
+
+int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
+{
+    if (!s)
+        return lc_err(err, LC_ERR_INVALID, "scene: NULL scene");
+    double t0 = lc_now();
+    int rc = validate(s, err);
+    if (rc)
+        return rc;
+    /* Finalize may run again (e.g. new element budget): derived data is rebuilt. */
+    free(s->normals);
+    free(s->tangents);
+    s->normals = s->tangents = NULL;
+    lc_elements_free(&s->elements);
+    s->finalized = 0;
+
+    compute_bounds(s);
+    if (s->type == LC_PRIM_LINES)
+        rc = lc_scene_derive_lines(s, err);
+    else if (s->type == LC_PRIM_TRIANGLES)
+        rc = lc_scene_derive_triangles(s, err);
+    if (rc)
+        return rc;
+    for (int i = 0; i < s->attribute_count; i++)
+        attribute_range(&s->attributes[i], s->vertex_count);
+    choose_defaults(s);
+    double t1 = lc_now();
+    lc_element_geometry g = {.name = s->name,
+                             .type = s->type,
+                             .vertex_count = s->vertex_count,
+                             .positions = s->positions,
+                             .line_count = s->line_count,
+                             .line_offsets = s->line_offsets,
+                             .triangle_count = s->triangle_count,
+                             .triangles = s->triangles};
+    rc = lc_elements_build(&g, desc, &s->elements, err);
+    if (rc)
+        return rc;
+    s->finalized = 1;
+    double t2 = lc_now();
+    LC_INFO("scene",
+            "%s: %s, %u vertices, %llu primitives, %d attributes, %u elements "
+            "(derive %.0f ms, elements %.0f ms)",
+            s->name, lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
+            s->attribute_count, s->elements.count, (t1 - t0) * 1e3, (t2 - t1) * 1e3);
+    return LC_OK;
+}

@@ -16,8 +16,24 @@ int lc_err(lc_error *err, int code, const char *fmt, ...)
         va_list ap;
         va_start(ap, fmt);
         err->code = code;
+        err->field[0] = '\0';
         vsnprintf(err->msg, sizeof err->msg, fmt, ap);
         va_end(ap);
+    }
+    return code;
+}
+
+int lc_err_field(lc_error *err, int code, const char *field, const char *fmt, ...)
+{
+    if (err) {
+        char reason[LC_ERROR_MSG_LEN];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(reason, sizeof reason, fmt, ap);
+        va_end(ap);
+        err->code = code;
+        snprintf(err->field, sizeof err->field, "%s", field);
+        snprintf(err->msg, sizeof err->msg, "%.63s: %.190s", field, reason);
     }
     return code;
 }

@@ -24,16 +24,25 @@ enum {
 };
 
 #define LC_ERROR_MSG_LEN 256
+#define LC_ERROR_FIELD_LEN 64
 
-/* Filled by a failing call; msg names the input and the reason. */
+/* Filled by a failing call; msg names the input and the reason. field is the
+ * request field at fault in the wire protocol's dotted form
+ * ("importance.attribute"), or "" when the error is not about one: upper
+ * layers report it as is and never parse msg for it. */
 typedef struct lc_error {
     int code;
+    char field[LC_ERROR_FIELD_LEN];
     char msg[LC_ERROR_MSG_LEN];
 } lc_error;
 
-/* Sets err (may be NULL) and returns code, so callers can write
- * `return lc_err(err, LC_ERR_IO, "%s: cannot open", path);`. */
+/* Sets err (may be NULL; field becomes "") and returns code, so callers can
+ * write `return lc_err(err, LC_ERR_IO, "%s: cannot open", path);`. */
 int lc_err(lc_error *err, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* Like lc_err for an error about a request field: sets field and a message
+ * that starts with it ("color.attribute: demo:abc has no attribute \"x\""). */
+int lc_err_field(lc_error *err, int code, const char *field, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
 /* Prefixes err->msg with "prefix: " (e.g. a file name), keeping the code. */
 void lc_err_prefix(lc_error *err, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* Short stable name of a status code ("invalid", "io", ...). */

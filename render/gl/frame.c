@@ -139,7 +139,7 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
     if (imp[0]) {
         fs->importance_attr = lc_scene_find_attribute(s, imp);
         if (fs->importance_attr < 0)
-            return lc_err(err, LC_ERR_INVALID, "importance.attribute: %s has no attribute \"%s\"", s->name, imp);
+            return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name, imp);
         const lc_attribute *a = &s->attributes[fs->importance_attr];
         fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : a->min;
         fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : a->max;
@@ -153,14 +153,14 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
     fs->color_range[0] = 0, fs->color_range[1] = 1;
     if (strcmp(col, "rgb") == 0) {
         if (!s->rgb)
-            return lc_err(err, LC_ERR_INVALID, "color.attribute: %s has no per-vertex RGB", s->name);
+            return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no per-vertex RGB", s->name);
         fs->color_mode = 2;
     } else if (strcmp(col, "importance") == 0) {
         fs->color_mode = 1;
     } else {
         fs->color_attr = lc_scene_find_attribute(s, col);
         if (fs->color_attr < 0)
-            return lc_err(err, LC_ERR_INVALID, "color.attribute: %s has no attribute \"%s\"", s->name, col);
+            return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no attribute \"%s\"", s->name, col);
         fs->color_mode = 0;
         fs->color_range[0] = s->attributes[fs->color_attr].min;
         fs->color_range[1] = s->attributes[fs->color_attr].max;
@@ -169,22 +169,20 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
         fs->color_range[0] = p->color.range[0], fs->color_range[1] = p->color.range[1];
     fs->colormap = lc_colormap_find(p->color.colormap[0] ? p->color.colormap : "viridis");
     if (fs->colormap < 0)
-        return lc_err(err, LC_ERR_INVALID, "color.colormap: unknown colormap \"%s\"", p->color.colormap);
+        return lc_err_field(err, LC_ERR_INVALID, "color.colormap", "unknown colormap \"%s\"", p->color.colormap);
     return 0;
 }
 
-static int validate_params(const lc_render_params *p, lc_error *err)
+/* The request was validated where it was parsed (protocol/): this guard only
+ * keeps a caller that skipped that from indexing outside the renderer's
+ * arrays, and names no request field. */
+static int check_trusted_params(const lc_render_params *p, lc_error *err)
 {
-    if (p->width < 1 || p->height < 1 || p->width > 16384 || p->height > 16384)
-        return lc_err(err, LC_ERR_INVALID, "image size %dx%d is out of range", p->width, p->height);
-    if (p->foo.bands < LC_MIN_BANDS || p->foo.bands > LC_MAX_BANDS)
-        return lc_err(err, LC_ERR_INVALID, "params.bands: %d is outside 1..8", p->foo.bands);
-    if (!(p->foo.resolution_scale > 0 && p->foo.resolution_scale <= 1))
-        return lc_err(err, LC_ERR_INVALID, "params.resolutionScale: %g is outside (0, 1]", p->foo.resolution_scale);
-    if ((unsigned)p->method >= LC_METHOD_COUNT)
-        return lc_err(err, LC_ERR_INVALID, "method: unknown method %d", (int)p->method);
-    if (p->has_camera && lc_camera_validate(&p->camera) != 0)
-        return lc_err(err, LC_ERR_INVALID, "camera: position, focalPoint and viewUp do not define a view");
+    if (p->width < 1 || p->height < 1 || p->width > 16384 || p->height > 16384 || p->foo.bands < LC_MIN_BANDS ||
+        p->foo.bands > LC_MAX_BANDS || !(p->foo.resolution_scale > 0 && p->foo.resolution_scale <= 1) ||
+        (unsigned)p->method >= LC_METHOD_COUNT)
+        return lc_err(err, LC_ERR_INTERNAL, "render parameters were not validated (size %dx%d, %d bands, method %d)",
+                      p->width, p->height, p->foo.bands, (int)p->method);
     return 0;
 }
 
@@ -198,7 +196,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     memset(info, 0, sizeof *info);
     for (int i = 0; i < LC_PASS_COUNT; i++)
         info->pass_ms[i] = -1;
-    int rc = validate_params(params, err);
+    int rc = check_trusted_params(params, err);
     if (rc)
         return rc;
     const lc_scene *s = gs->scene;

@@ -317,7 +317,7 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
         case LC_ERR_NOMEM: return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_NOT_FOUND: return respond_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
         case LC_ERR_INVALID: /* a value only the renderer can check, e.g. an attribute name */
-            return respond_error(srv, c, 400, LC_PROTO_BAD_FIELD, lc_workers_error_field(job->err.msg), "%s",
+            return respond_error(srv, c, 400, LC_PROTO_BAD_FIELD, job->err.field[0] ? job->err.field : NULL, "%s",
                                  job->err.msg);
         default: return respond_error(srv, c, 500, "internal", NULL, "render failed: %s", job->err.msg);
         }

@@ -7,7 +7,7 @@
 #ifndef LC_SERVER_HTTP_H
 #define LC_SERVER_HTTP_H
 
-#include "serve.h"
+#include "server.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -12,12 +12,24 @@
 #include "gl_context.h"
 #include "http.h"
 #include "metrics.h"
+#include "server.h"
 #include "session.h"
 #include "workers.h"
 #include "ws.h"
 
 #define MOD "serve"
 #define MAX_DATA 256
+
+/* The workers' frame delivery: the WebSocket layer. */
+static void sink_send(void *ctx, lc_session *s, unsigned char *msg, size_t len, bool binary)
+{
+    lc_ws_send(ctx, s, msg, len, binary);
+}
+static void sink_send_frame(void *ctx, lc_session *s, unsigned char *msg, size_t len, double render_ms,
+                            double encode_ms)
+{
+    lc_ws_send_frame(ctx, s, msg, len, render_ms, encode_ms);
+}
 
 static void usage(FILE *f)
 {
@@ -48,20 +60,6 @@ static void usage(FILE *f)
                "  -h, --help             this text\n");
 }
 
-bool lc_serve_token_ok(const lc_server *srv, const char *given)
-{
-    const char *want = srv->cfg.token;
-    if (!want[0])
-        return true;
-    if (!given)
-        return false;
-    /* Compare every byte of the longer string, so timing does not leak a prefix. */
-    size_t a = strlen(want), b = strlen(given), n = a > b ? a : b;
-    unsigned diff = (unsigned)(a ^ b);
-    for (size_t i = 0; i < n; i++)
-        diff |= (unsigned)(unsigned char)(i < a ? want[i] : 0) ^ (unsigned)(unsigned char)(i < b ? given[i] : 0);
-    return diff == 0;
-}
 
 static int parse_listen(const char *arg, lc_serve_config *cfg)
 {
@@ -354,6 +352,8 @@ int lc_serve_main(int argc, char **argv)
     rc = lc_workers_create(&srv, primary, nworkers, nencoders, cfg->max_queue, &srv.workers, &err);
     if (rc == 0)
         rc = lc_ws_create(&srv, &srv.ws, &err);
+    if (rc == 0)
+        srv.sink = (lc_stream_sink){.ctx = srv.ws, .send = sink_send, .send_frame = sink_send_frame};
     int port = 0;
     if (rc == 0)
         rc = lc_http_start(&srv, &srv.http, &port, &err);

@@ -1,86 +1,15 @@
-/* `lucent serve`: the render daemon's configuration, the shared server object
- * that ties the modules together, and the entry point called by main.c.
- *
- * Module map (server/):
- *   serve.c    flags, start-up (datasets before the port opens), signals, shutdown
- *   datasets.c registry of loaded scenes and their GPU copies
- *   workers.c  render threads (one EGL context each) and JPEG encoder threads
- *   session.c  per-viewer state: request, element opacities, stream flow control
- *   http.c     libmicrohttpd routes: API, static web client, metrics
- *   ws.c       WebSocket connections (MHD upgrade + wslay) on one I/O thread
- *   metrics.c  counters and histograms in Prometheus text format
- *
- * Threads: main (start-up, then waits for a signal and shuts down), MHD's
- * threads (parse, validate, queue; never GL), render workers (all GL), encoder
- * threads (JPEG/PNG), one WebSocket I/O thread. */
+/* `lucent serve`: the daemon's entry point (flags, start-up, shutdown). */
 #ifndef LC_SERVE_H
 #define LC_SERVE_H
-
-#include <stdatomic.h>
-#include <stdbool.h>
-#include <stddef.h>
-
-#include "messages.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef struct lc_datasets lc_datasets;
-typedef struct lc_workers lc_workers;
-typedef struct lc_sessions lc_sessions;
-typedef struct lc_metrics lc_metrics;
-typedef struct lc_http lc_http;
-typedef struct lc_ws lc_ws;
-
-/* Every cap and knob of the daemon; filled from flags by serve.c. */
-typedef struct lc_serve_config {
-    char listen_host[128]; /* "127.0.0.1", "0.0.0.0", "::1" */
-    int port;              /* 0 = pick a free port (logged) */
-    const char **data;     /* paths or demo:NAME; borrowed from argv */
-    int data_count;
-    bool demo;                      /* also serve every demo (default when data_count == 0) */
-    unsigned long long demo_size;   /* lc_demo_desc.count for demos; 0 = default */
-    int device;                     /* EGL device index, -1 = auto / LUCENT_EGL_DEVICE */
-    int workers;                    /* render threads; 0 = 1 on llvmpipe, 2 on a GPU */
-    int encoders;                   /* encoder threads; 0 = 2 */
-    char token[LC_PROTO_TOKEN_LEN]; /* "" = no authentication */
-    lc_proto_limits limits;         /* image size, pixel count, JSON depth */
-    size_t max_body;                /* HTTP request body bytes (413 beyond) */
-    size_t max_ws_message;          /* WebSocket message bytes (close 1009 beyond) */
-    int max_sessions;               /* HTTP + WebSocket sessions together */
-    int max_queue;                  /* queued HTTP render jobs (503 beyond) */
-    int max_connections;            /* HTTP connections held by MHD */
-    double idle_timeout;            /* seconds without use before a session is dropped */
-    long long max_stream_pixels;    /* cap of viewport x devicePixelRatio for WS frames */
-    double still_delay;             /* seconds of quiet input before the still frame */
-} lc_serve_config;
-
-/* The daemon: one per process, created by serve.c. Modules keep a pointer to
- * it; fields are set during start-up and read-only afterwards except those
- * marked atomic. */
-typedef struct lc_server {
-    lc_serve_config cfg;
-    lc_datasets *datasets;
-    lc_workers *workers;
-    lc_sessions *sessions;
-    lc_metrics *metrics;
-    lc_http *http;
-    lc_ws *ws;
-    double start_time; /* lc_now() at start-up */
-    char gl_renderer[256];
-    char gl_version[256];
-    char gl_platform[128];
-    atomic_int stopping; /* set once shutdown begins: refuse new work */
-} lc_server;
-
 /* `lucent serve [flags]`; argv[0] is "serve". Returns the process exit code:
  * 0 after a clean SIGINT/SIGTERM shutdown, 1 on start-up failure, 2 on usage
  * errors. Call once, from the main thread. */
 int lc_serve_main(int argc, char **argv);
-
-/* Constant-time token comparison; true when no token is configured. */
-bool lc_serve_token_ok(const lc_server *srv, const char *given);
 
 #ifdef __cplusplus
 }

@@ -25,7 +25,7 @@
 #include "messages.h"
 #include "renderer.h"
 #include "request.h"
-#include "serve.h"
+#include "server.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -10,7 +10,6 @@
 #include "image.h"
 #include "messages.h"
 #include "metrics.h"
-#include "ws.h"
 
 #define MOD "workers"
 
@@ -243,22 +242,6 @@ int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap)
     return n;
 }
 
-const char *lc_workers_error_field(const char *message)
-{
-    /* The request fields whose values only the renderer can check against
-     * the dataset (attribute names, rgb) or that it checks again. */
-    static const char *const fields[] = {"importance.attribute",   "color.attribute", "color.colormap", "params.bands",
-                                         "params.resolutionScale", "method",          "camera"};
-    if (!message)
-        return NULL;
-    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
-        size_t n = strlen(fields[i]);
-        if (strncmp(message, fields[i], n) == 0 && message[n] == ':')
-            return fields[i];
-    }
-    return NULL;
-}
-
 static void finish_job(lc_render_job *job)
 {
     if (job->done)
@@ -309,7 +292,7 @@ static void send_stream_error(lc_server *srv, lc_session *s, const char *code, c
     char *msg = lc_proto_error_message_json(code, message, field, false);
     lc_metrics_error(srv->metrics, code);
     if (msg)
-        lc_ws_send(srv->ws, s, (unsigned char *)msg, strlen(msg), false);
+        srv->sink.send(srv->sink.ctx, s, (unsigned char *)msg, strlen(msg), false);
 }
 
 /* One frame of a WebSocket session, if it needs one. */
@@ -337,7 +320,7 @@ static void render_session(worker *wk, lc_session *s)
         free(rgba);
         LC_WARN(MOD, "session %s: frame %llu failed: %s", s->id, (unsigned long long)f.frame, err.msg);
         if (rc == LC_ERR_INVALID)
-            send_stream_error(w->srv, s, LC_PROTO_BAD_FIELD, err.msg, lc_workers_error_field(err.msg));
+            send_stream_error(w->srv, s, LC_PROTO_BAD_FIELD, err.msg, err.field[0] ? err.field : NULL);
         else
             send_stream_error(w->srv, s, "render_failed", err.msg, NULL);
         return;
@@ -479,7 +462,7 @@ static void encode_one(lc_workers *w, encode_item *e)
     rc = lc_proto_pack_frame(&h, img, size, &msg, &len);
     free(img);
     if (rc == 0)
-        lc_ws_send_frame(srv->ws, s, msg, len, e->info.wall_ms, ms);
+        srv->sink.send_frame(srv->sink.ctx, s, msg, len, e->info.wall_ms, ms);
 }
 
 static void *encoder_main(void *arg)

@@ -11,7 +11,7 @@
  *
  * Workers hand the RGBA readback to encoder threads (JPEG/PNG), so encoding
  * overlaps the next frame's GL work. Finished HTTP jobs call job->done (from an
- * encoder or worker thread); finished stream frames go to lc_ws_send(). */
+ * encoder or worker thread); finished stream frames go to the server's stream sink (server.h). */
 #ifndef LC_SERVER_WORKERS_H
 #define LC_SERVER_WORKERS_H
 
@@ -22,7 +22,7 @@
 #include "lc_base.h"
 #include "renderer.h"
 #include "request.h"
-#include "serve.h"
+#include "server.h"
 #include "session.h"
 
 #ifdef __cplusplus
@@ -84,11 +84,6 @@ void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue);
 /* Fills "timings" style lists: pass names with ms for passes that ran. */
 int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap);
 
-/* The render-request field that a renderer error message starts with
- * ("importance.attribute: demo:abc has no attribute \"x\"" ->
- * "importance.attribute"), for the error's `field`; NULL when it names none.
- * The result is a static string. Any thread. */
-const char *lc_workers_error_field(const char *message);
 
 #ifdef __cplusplus
 }

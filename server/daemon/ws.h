@@ -17,7 +17,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "serve.h"
+#include "server.h"
 #include "session.h"
 
 #ifdef __cplusplus

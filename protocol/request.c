@@ -731,6 +731,50 @@ static json_t *emit_section(const lc_request *r, const char *section)
     return obj;
 }
 
+json_t *lc_proto_schema(const lc_proto_limits *lim)
+{
+    static const char *const type_names[] = {
+        [T_INT] = "int",   [T_NUM] = "num",   [T_BOOL] = "bool",   [T_STR] = "str",    [T_ENUM] = "enum",
+        [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range"};
+    lc_proto_limits dl;
+    if (!lim) {
+        lc_proto_limits_default(&dl);
+        lim = &dl;
+    }
+    json_t *arr = json_array();
+    for (size_t i = 0; arr && i < NFIELDS; i++) {
+        const field *f = &fields[i];
+        json_t *o = json_object();
+        json_object_set_new(o, "section", f->section ? json_string(f->section) : json_null());
+        json_object_set_new(o, "name", json_string(f->name));
+        json_object_set_new(o, "alias", json_string(f->alias ? f->alias : f->name));
+        json_object_set_new(o, "type", json_string(type_names[f->type]));
+        if (f->type == T_INT || f->type == T_NUM) {
+            double lo = f->bounds & SIZE_LIMIT ? lim->min_size : f->lo;
+            double hi = f->bounds & SIZE_LIMIT ? lim->max_size : f->hi;
+            json_object_set_new(o, "min", json_real(lo));
+            if (hi < BIG)
+                json_object_set_new(o, "max", json_real(hi));
+            if (f->bounds & LO_OPEN)
+                json_object_set_new(o, "loOpen", json_true());
+            if (f->bounds & HI_OPEN)
+                json_object_set_new(o, "hiOpen", json_true());
+            if (f->bounds & SIZE_LIMIT)
+                json_object_set_new(o, "sizeLimit", json_true());
+        }
+        if (f->type == T_STR)
+            json_object_set_new(o, "maxLength", json_integer((json_int_t)f->size - 1));
+        if (f->names) {
+            json_t *values = json_array();
+            for (const enum_name *n = f->names; n->name; n++)
+                json_array_append_new(values, json_string(n->name));
+            json_object_set_new(o, "values", values);
+        }
+        json_array_append_new(arr, o);
+    }
+    return arr;
+}
+
 json_t *lc_proto_request_to_json(const lc_request *r)
 {
     json_t *o = json_object();

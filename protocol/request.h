@@ -96,6 +96,13 @@ int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, l
  * back an equal lc_request. camera/ranges/dt appear only when set. */
 json_t *lc_proto_request_to_json(const lc_request *r);
 
+/* The request schema as a JSON array, one object per field: section (null at
+ * the top level), name, alias, type (int, num, bool, str, enum, vec3, color,
+ * range), min/max with loOpen/hiOpen, maxLength, values. It is the field table
+ * that parsing uses, so clients and docs can be checked against it (`lucent
+ * schema`). Width and height ranges come from lim (NULL = defaults). */
+json_t *lc_proto_schema(const lc_proto_limits *lim);
+
 /* Dumps JSON for the wire: compact, reals with 15 significant digits (so 0.1
  * prints as 0.1). Returns malloc'd text (free()) or NULL on allocation failure. */
 char *lc_proto_dump(const json_t *value);

@@ -108,7 +108,7 @@ ${SIZE}x$SIZE took $ELAPSED s.
 All images ${SIZE}x$SIZE, camera fitted to the data, default parameters unless stated (q = 60, r = 500,
 lambda = 1, s = 15, optimization at half resolution). Every run is one \`lucent compare\` of the Fourier
 method against \`exact\` (per-pixel linked lists, sorted, exact sums and exact front-to-back compositing,
-DESIGN §3) on the same scene, camera and parameters, one-shot (no fading). SSIM is windowed (11x11
+docs/ALGORITHM.md) on the same scene, camera and parameters, one-shot (no fading). SSIM is windowed (11x11
 Gaussian, sigma 1.5) on Rec. 709 luminance; RMSE over RGB in [0, 1]. The commands:
 
 \`\`\`sh
@@ -171,9 +171,9 @@ awk -v default_est="$DEFAULT_EST" '
       if (better == "mixed")
           printf "**Verdict: mixed** (one estimator wins SSIM, the other RMSE); the default stays `%s`.\n", default_est
       else if (better == default_est)
-          printf "**Verdict: `%s` measured better and is the default** (render/lc_params.c).\n", better
+          printf "**Verdict: `%s` measured better and is the default** (render/base/lc_params.c).\n", better
       else
-          printf "**Verdict: `%s` measured better, but the default is `%s`: change render/lc_params.c.**\n", better, default_est
+          printf "**Verdict: `%s` measured better, but the default is `%s`: change render/base/lc_params.c.**\n", better, default_est
     }' "$TMP/estimators.txt"
 
 cat <<EOF
@@ -245,7 +245,7 @@ cat <<EOF
 
 ## 4. Sorting in the exact method
 
-Per-pixel sort of the exact method's lists (render/shaders/exact_common.glsl): \`auto\` = insertion sort up
+Per-pixel sort of the exact method's lists (render/gl/shaders/exact_common.glsl): \`auto\` = insertion sort up
 to 16 fragments, heap sort above (Met.3D thesis §2.4.2); forced with \`LUCENT_EXACT_SORT\`. Times are the
 exact method's two sort passes (opacity + accumulate), ms; as in section 2, differences under ~30% are
 within the run-to-run noise of this shared machine.

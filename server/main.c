@@ -17,6 +17,7 @@ static const struct {
     {"gen", lc_cli_gen, "write a demo dataset to a PLY or OBJ file"},
     {"bench", lc_cli_bench, "per-pass timings, frames per second and GPU memory on the demo datasets"},
     {"compare", lc_cli_compare, "compare a method against the exact reference (SSIM, RMSE, time, memory)"},
+    {"schema", lc_cli_schema, "print the render request schema (fields, types, ranges) as JSON"},
     {"serve", lc_serve_main, "run the HTTP/WebSocket render daemon"},
 };
 

@@ -28,10 +28,10 @@ typedef enum {
 typedef enum { LC_ESTIMATOR_FOO = 0, LC_ESTIMATOR_MIDPOINT = 1 } lc_estimator;
 
 /* Depth normalization range: the view-space depth range of the data bounds
- * this frame (DESIGN §3), or each pixel's own min/max fragment depth (one extra
+ * this frame (docs/ALGORITHM.md), or each pixel's own min/max fragment depth (one extra
  * geometry pass; spreads a pixel's fragments over the whole period). */
 typedef enum { LC_DEPTH_RANGE_GLOBAL = 0, LC_DEPTH_RANGE_PIXEL = 1 } lc_depth_range;
-/* Margin used with the per-pixel range instead of depth_margin (renderer.c). */
+/* Margin used with the per-pixel range instead of depth_margin (gl/pipeline.c). */
 #define LC_PIXEL_DEPTH_MARGIN 0.25
 
 /* The colormaps a request may name, in the one order every layer uses
@@ -57,7 +57,7 @@ typedef struct lc_camera {
     double parallel_scale; /* half the view height in world units (VTK) */
 } lc_camera;
 
-/* Fourier opacity optimization parameters (DESIGN §3). */
+/* Fourier opacity optimization parameters (docs/ALGORITHM.md). */
 typedef struct lc_foo_params {
     double q;                /* weight of importance behind a fragment */
     double r;                /* weight of importance in front of a fragment */

@@ -139,7 +139,8 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
     if (imp[0]) {
         fs->importance_attr = lc_scene_find_attribute(s, imp);
         if (fs->importance_attr < 0)
-            return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name, imp);
+            return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name,
+                                imp);
         const lc_attribute *a = &s->attributes[fs->importance_attr];
         fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : a->min;
         fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : a->max;

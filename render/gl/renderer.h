@@ -1,4 +1,4 @@
-/* The frame renderer: Fourier opacity optimization passes P1..P6 (DESIGN §3)
+/* The frame renderer: Fourier opacity optimization passes P1..P6 (docs/ALGORITHM.md)
  * and the reference/baseline methods, on one GL context, into RGBA8. */
 #ifndef LC_RENDERER_H
 #define LC_RENDERER_H

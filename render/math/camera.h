@@ -16,7 +16,7 @@ typedef struct lc_view {
     float view_proj[16];
     double znear, zfar; /* clip planes (positive distances) */
     double depth_min;   /* view-space depth range of the bounds this frame, */
-    double depth_max;   /* clamped to the near plane (DESIGN §3) */
+    double depth_max;   /* clamped to the near plane (docs/ALGORITHM.md) */
     double pixel_world; /* world size of one pixel at the focal distance (for minimum widths) */
     double eye[3];      /* camera position */
     double dir[3];      /* unit view direction */

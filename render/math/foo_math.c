@@ -1,4 +1,4 @@
-/* CPU reference of the FOO formulas (DESIGN §3) on explicit per-pixel fragment lists: the ground truth the
+/* CPU reference of the FOO formulas (docs/ALGORITHM.md) on explicit per-pixel fragment lists: the ground truth the
  * shaders and the exact (linked-list) renderer are tested against. Plain double math, no GL, no allocation
  * beyond a per-call sort index. */
 #include "foo_math.h"
@@ -141,7 +141,7 @@ void lc_foo_alpha_fourier(lc_fragment *frags, size_t n, const lc_foo_params *p)
 
     /* P2: sample G at the fragment's depth. The truncated series passes a step at its midpoint, so G holds about
      * half of the fragment's own g^2; FOO subtracts all of it from the front, the midpoint estimator half from
-     * each side (DESIGN §3). Negative sums are clamped inside lc_foo_optimal_alpha. */
+     * each side (docs/ALGORITHM.md). Negative sums are clamped inside lc_foo_optimal_alpha. */
     for (size_t i = 0; i < n; i++) {
         lc_fragment *fr = &frags[i];
         double own = fr->importance * fr->importance;
@@ -250,7 +250,7 @@ void lc_foo_composite_normalized_exact_tau(const lc_fragment *frags, size_t n, c
 void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets, const uint32_t *adj,
                         double omega)
 {
-    /* Jacobi-style Laplacian step (DESIGN §3 P3): reads only src, so src and dst must not alias. Neighbour
+    /* Jacobi-style Laplacian step (docs/ALGORITHM.md §4 P3): reads only src, so src and dst must not alias. Neighbour
      * indices outside [0, count) are skipped rather than trusted. */
     for (uint32_t e = 0; e < count; e++) {
         double sum = 0;

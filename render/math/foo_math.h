@@ -1,4 +1,4 @@
-/* CPU reference of the Fourier opacity optimization formulas (DESIGN §3) on
+/* CPU reference of the Fourier opacity optimization formulas (docs/ALGORITHM.md) on
  * explicit fragment lists. The shaders implement the same math; tests compare. */
 #ifndef LC_FOO_MATH_H
 #define LC_FOO_MATH_H

@@ -1,4 +1,4 @@
-/* Optimization elements (DESIGN §3): one per point, equal-arc-length segments
+/* Optimization elements (docs/ALGORITHM.md): one per point, equal-arc-length segments
  * for lines, farthest-point-sampled geodesic patches for surfaces, with the
  * per-vertex (element, weight) blend and the element adjacency for smoothing. */
 #include <math.h>

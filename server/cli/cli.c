@@ -76,7 +76,7 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     return 0;
 }
 
-const char lc_cli_flags_help[] = "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj file\n"
+const char lc_cli_flags_help[] = "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj/.vtk/.trk file\n"
                                  "  --width N, --height N, --size WxH\n"
                                  "  --method NAME         fourier | exact | opaque | direct | wboit\n"
                                  "  --bands M             Fourier bands 1..8\n"

@@ -9,7 +9,7 @@
 #include "scene.h"
 
 /* Opens a dataset spec: "demo:NAME" with optional "?count=N&seed=S" (e.g.
- * "demo:points?count=2000000"), or a .ply/.obj path. The scene is finalized;
+ * "demo:points?count=2000000"), or a .ply/.obj/.vtk/.trk path. The scene is finalized;
  * the caller destroys it. */
 int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err);
 
@@ -63,5 +63,6 @@ int lc_cli_info(int argc, char **argv);
 int lc_cli_gen(int argc, char **argv);
 int lc_cli_bench(int argc, char **argv);
 int lc_cli_compare(int argc, char **argv);
+int lc_cli_schema(int argc, char **argv);
 
 #endif

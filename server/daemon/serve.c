@@ -33,33 +33,33 @@ static void sink_send_frame(void *ctx, lc_session *s, unsigned char *msg, size_t
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n"
-               "\n"
-               "  --listen ADDR:PORT     listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
-               "                         IPv6 as [::1]:8080). Anything but loopback exposes the server.\n"
-               "  --data PATH...         datasets to load before the port opens: .ply/.obj files or demo:NAME\n"
-               "                         (repeatable; several paths may follow one --data). None = all demos.\n"
-               "  --demo                 also serve every built-in demo next to --data\n"
-               "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
-               "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
-               "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
-               "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
-               "  --token T              require this bearer token (default: LUCENT_TOKEN if set)\n"
-               "  --max-size N           max image width/height (default 4096)\n"
-               "  --max-pixels N         max width*height of an HTTP render (default 16777216)\n"
-               "  --max-stream-pixels N  max pixels of a WebSocket frame (default 4194304)\n"
-               "  --max-body BYTES       max HTTP request body (default 65536)\n"
-               "  --max-ws-message BYTES max WebSocket message, close 1009 beyond (default 65536)\n"
-               "  --max-json-depth N     max JSON nesting (default 16)\n"
-               "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
-               "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
-               "  --max-connections N    max HTTP connections (default 256)\n"
-               "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
-               "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
-               "  --log-level L          error|warn|info|debug (default info)\n"
-               "  -h, --help             this text\n");
+    fprintf(f,
+            "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n"
+            "\n"
+            "  --listen ADDR:PORT     listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
+            "                         IPv6 as [::1]:8080). Anything but loopback exposes the server.\n"
+            "  --data PATH...         datasets to load before the port opens: .ply/.obj/.vtk/.trk files or demo:NAME\n"
+            "                         (repeatable; several paths may follow one --data). None = all demos.\n"
+            "  --demo                 also serve every built-in demo next to --data\n"
+            "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
+            "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
+            "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
+            "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
+            "  --token T              require this bearer token (default: LUCENT_TOKEN if set)\n"
+            "  --max-size N           max image width/height (default 4096)\n"
+            "  --max-pixels N         max width*height of an HTTP render (default 16777216)\n"
+            "  --max-stream-pixels N  max pixels of a WebSocket frame (default 4194304)\n"
+            "  --max-body BYTES       max HTTP request body (default 65536)\n"
+            "  --max-ws-message BYTES max WebSocket message, close 1009 beyond (default 65536)\n"
+            "  --max-json-depth N     max JSON nesting (default 16)\n"
+            "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
+            "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
+            "  --max-connections N    max HTTP connections (default 256)\n"
+            "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
+            "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
+            "  --log-level L          error|warn|info|debug (default info)\n"
+            "  -h, --help             this text\n");
 }
-
 
 static int parse_listen(const char *arg, lc_serve_config *cfg)
 {

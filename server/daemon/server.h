@@ -82,7 +82,7 @@ typedef struct lc_server {
     lc_http *http;
     lc_ws *ws;
     lc_stream_sink sink; /* frame delivery of the workers (ws.c behind it) */
-    double start_time; /* lc_now() at start-up */
+    double start_time;   /* lc_now() at start-up */
     char gl_renderer[256];
     char gl_version[256];
     char gl_platform[128];

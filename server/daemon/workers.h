@@ -84,7 +84,6 @@ void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue);
 /* Fills "timings" style lists: pass names with ms for passes that ran. */
 int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap);
 
-
 #ifdef __cplusplus
 }
 #endif

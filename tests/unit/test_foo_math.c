@@ -1,5 +1,5 @@
 /* Unit tests of the CPU FOO reference (render/foo_math.c) against exact sums and exact compositing on explicit
- * fragment lists, plus the FOO-vs-midpoint estimator comparison that DESIGN §3 reports. */
+ * fragment lists, plus the FOO-vs-midpoint estimator comparison that docs/ALGORITHM.md reports. */
 #include <stdint.h>
 #include <string.h>
 
@@ -350,8 +350,8 @@ static void estimator_errors(double q, double r, double lambda, int random_alpha
     }
 }
 
-/* DESIGN §3: the midpoint estimator beats FOO's own at equal bands, in opacity and in colour. The margin depends
- * on q, r, lambda and the opacities, so several settings are checked and all are printed. */
+/* docs/ALGORITHM.md: the midpoint estimator beats FOO's own at equal bands, in opacity and in colour. The margin
+ * depends on q, r, lambda and the opacities, so several settings are checked and all are printed. */
 static void test_estimators(void)
 {
     static const struct {

@@ -37,7 +37,7 @@ uniform vec2 u_color_range;
 layout(binding = TEX_COLORMAP) uniform sampler2D u_colormap; // 256x1 RGBA8
 uniform int u_shading;           // 0 phong, 1 none
 uniform vec2 u_depth_range;      // view-space [z_min, z_max] of the bounds this frame
-uniform float u_depth_margin;    // delta of DESIGN §3
+uniform float u_depth_margin;    // delta of docs/ALGORITHM.md
 uniform int u_pixel_depth_range; // 1: normalize by this pixel's own fragment range (P0)
 layout(binding = TEX_PIXEL_RANGE) uniform sampler2D u_pixel_range; // (z_min, -z_max) per pixel of this pass
 
@@ -64,7 +64,7 @@ vec3 vertex_rgb(uint v) { return vec3(colors[3u * v], colors[3u * v + 1u], color
 
 vec3 colormap_lookup(float t) { return texture(u_colormap, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, 0.5)).rgb; }
 
-// Normalized depth d in [0,1] (DESIGN §3): the series is periodic, so the margin
+// Normalized depth d in [0,1] (docs/ALGORITHM.md): the series is periodic, so the margin
 // keeps fragments away from d = 0 and d = 1.
 float normalized_depth(float z_view)
 {

@@ -18,7 +18,7 @@ void main()
     float G = fourier_eval(c, normalized_depth(v_zview));
     float g2 = g * g;
     // The midpoint estimator removes the half of the fragment's own step that
-    // the truncated series attributes to F(d_i) (DESIGN §3).
+    // the truncated series attributes to F(d_i) (docs/ALGORITHM.md).
     float own = u_estimator == 1 ? 0.5 * g2 : g2;
     float front = max(G - own, 0.0);
     float behind = max(c[0] - G - (u_estimator == 1 ? 0.5 * g2 : 0.0), 0.0);

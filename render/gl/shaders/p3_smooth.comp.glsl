@@ -1,4 +1,4 @@
-// P3 smoothing and fading of element opacities (DESIGN §3). One dispatch per
+// P3 smoothing and fading of element opacities (docs/ALGORITHM.md). One dispatch per
 // stage; the host swaps the src/dst bindings between smoothing iterations.
 layout(local_size_x = 256) in;
 

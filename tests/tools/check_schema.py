@@ -1,0 +1,94 @@
+"""The render request schema has one source, protocol/request.c's field table
+(printed by `lucent schema`). This checks the two hand-written copies against
+it: the web client's table (web/js/schema.js, read through node) and the
+OpenAPI description (protocol/openapi.yaml): names, aliases, types, ranges and
+enum values. Usage: check_schema.py LUCENT SOURCE_DIR"""
+import json
+import os
+import subprocess
+import sys
+
+lucent, src = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def fail(msg):
+    failures.append(msg)
+    print("FAIL:", msg, file=sys.stderr)
+
+
+schema = json.loads(subprocess.check_output([lucent, "schema"], text=True))
+key = lambda f: (f["section"], f["name"])
+c_fields = {key(f): f for f in schema}
+
+# ---- web/js/schema.js
+js = ("import('%s').then((m) => console.log(JSON.stringify([...m.FIELDS, ...m.REQUEST_TOP_FIELDS])))"
+      % os.path.join(src, "web", "js", "schema.js"))
+web = json.loads(subprocess.check_output(["node", "--input-type=module", "-e", js], text=True))
+web_fields = {key(f): f for f in web}
+for k in sorted(set(c_fields) | set(web_fields), key=str):
+    c, w = c_fields.get(k), web_fields.get(k)
+    if not c or not w:
+        fail("%s: only in %s" % (".".join(x for x in k if x), "the C table" if c else "web/js/schema.js"))
+        continue
+    for prop in ("alias", "type", "min", "max", "loOpen", "hiOpen", "values", "maxLength", "sizeLimit"):
+        cv, wv = c.get(prop), w.get(prop)
+        if prop in ("loOpen", "hiOpen", "sizeLimit"):
+            cv, wv = bool(cv), bool(wv)
+        if isinstance(cv, float) and isinstance(wv, (int, float)):
+            same = abs(cv - wv) <= 1e-12 * max(1.0, abs(cv))
+        else:
+            same = cv == wv
+        if not same:
+            fail("%s.%s: C table says %r, web/js/schema.js %r" % (".".join(x for x in k if x), prop, cv, wv))
+
+# ---- protocol/openapi.yaml (python3-yaml)
+try:
+    import yaml
+except ImportError:
+    fail("python3-yaml is not installed (scripts/setup.sh --test installs it)")
+    yaml = None
+if yaml:
+    with open(os.path.join(src, "protocol", "openapi.yaml")) as f:
+        spec = yaml.safe_load(f)
+    comps = spec["components"]["schemas"]
+
+    def resolve(node):
+        while isinstance(node, dict) and "$ref" in node:
+            node = comps[node["$ref"].split("/")[-1]]
+        return node
+
+    req = comps["RenderRequest"]["properties"]
+    for k, c in c_fields.items():
+        section, name = k
+        props = req if section is None else resolve(req.get(section, {})).get("properties", {})
+        node = resolve(props.get(name))
+        where = "openapi RenderRequest %s" % ".".join(x for x in k if x)
+        if node is None:
+            fail("%s: missing" % where)
+            continue
+        if c["type"] in ("int", "num"):
+            want_type = "integer" if c["type"] == "int" else "number"
+            if node.get("type") != want_type:
+                fail("%s: type %r, expected %r" % (where, node.get("type"), want_type))
+            if name == "version":
+                if node.get("enum") != [1]:
+                    fail("%s: expected enum [1]" % where)
+                continue
+            for prop, oprop in (("min", "minimum"), ("max", "maximum")):
+                if prop in c and (oprop not in node or abs(float(node[oprop]) - c[prop]) > 1e-9 * max(1, abs(c[prop]))):
+                    fail("%s: %s %r, expected %r" % (where, oprop, node.get(oprop), c[prop]))
+            for prop, oprop in (("loOpen", "exclusiveMinimum"), ("hiOpen", "exclusiveMaximum")):
+                if bool(c.get(prop)) != bool(node.get(oprop)):
+                    fail("%s: %s %r, expected %r" % (where, oprop, node.get(oprop), bool(c.get(prop))))
+        elif c["type"] == "enum":
+            values = [v for v in c["values"] if not (name == "format" and v == "jpg")]
+            got = [v for v in node.get("enum", []) if v != "jpg"]
+            if got != values:
+                fail("%s: enum %r, expected %r (same order)" % (where, got, values))
+        elif c["type"] == "str" and "maxLength" in node and node["maxLength"] != c["maxLength"]:
+            fail("%s: maxLength %r, expected %r" % (where, node["maxLength"], c["maxLength"]))
+
+checked = len(c_fields)
+print("%d passed, %d failed" % (checked - len(failures) if len(failures) < checked else 0, len(failures)))
+sys.exit(1 if failures else 0)

@@ -381,11 +381,6 @@ char *lc_proto_error_message_json(const char *code, const char *message, const c
     return dump_and_free(o);
 }
 
-char *lc_proto_error_message_from(const lc_proto_error *err, bool fatal)
-{
-    return lc_proto_error_message_json(err->code, err->message, err->field, fatal);
-}
-
 char *lc_proto_stats_json(const json_t *fields)
 {
     json_t *o = json_object();

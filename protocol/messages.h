@@ -102,8 +102,6 @@ char *lc_proto_ready_json(const char *session, const json_t *dataset_info, const
 /* {"type":"error","code":..,"message":..,"field":..?,"fatal":bool}. field NULL
  * or "" is omitted. fatal = the server closes the session after sending it. */
 char *lc_proto_error_message_json(const char *code, const char *message, const char *field, bool fatal);
-/* Same from a filled lc_proto_error. */
-char *lc_proto_error_message_from(const lc_proto_error *err, bool fatal);
 
 /* {"type":"stats", ...fields}: fields is borrowed, its keys are copied after
  * "type" (a "type" key in it is ignored). websocket.md lists the usual keys. */

@@ -2,7 +2,8 @@
 (printed by `lucent schema`). This checks the two hand-written copies against
 it: the web client's table (web/js/schema.js, read through node) and the
 OpenAPI description (protocol/openapi.yaml): names, aliases, types, ranges and
-enum values. Usage: check_schema.py LUCENT SOURCE_DIR"""
+enum values; and the settings panel (web/js/ui.js): every control edits a field
+that exists, sliders stay inside its range, selects offer exactly its values. Usage: check_schema.py LUCENT SOURCE_DIR"""
 import json
 import os
 import subprocess
@@ -41,6 +42,26 @@ for k in sorted(set(c_fields) | set(web_fields), key=str):
             same = cv == wv
         if not same:
             fail("%s.%s: C table says %r, web/js/schema.js %r" % (".".join(x for x in k if x), prop, cv, wv))
+
+# ---- web/js/ui.js: the controls only (labels and slider steps are the panel's own)
+js = ("import('%s').then((m) => console.log(JSON.stringify(m.GROUPS.flatMap((g) => g.controls))))"
+      % os.path.join(src, "web", "js", "ui.js"))
+by_path = {".".join(x for x in k if x): f for k, f in c_fields.items()}
+for ctl in json.loads(subprocess.check_output(["node", "--input-type=module", "-e", js], text=True)):
+    if ctl["path"] in ("interactiveQuality", "interactiveScale"):
+        continue  # WebSocket session settings (protocol/messages.c), not render request fields
+    f = by_path.get(ctl["path"])
+    where = "web/js/ui.js control %s" % ctl["path"]
+    if not f:
+        fail("%s: no such field in the C table" % where)
+        continue
+    if ctl["kind"] == "range":
+        if "min" in f and ctl["min"] < f["min"] or "max" in f and ctl["max"] > f["max"]:
+            fail("%s: slider [%r, %r] outside the field's [%r, %r]" % (where, ctl["min"], ctl["max"], f.get("min"), f.get("max")))
+    elif ctl["kind"] == "select" and ctl.get("options"):
+        offered = [o[0] if isinstance(o, list) else o for o in ctl["options"]]
+        if f.get("type") == "enum" and sorted(offered) != sorted(f["values"]):
+            fail("%s: offers %r, the field takes %r" % (where, offered, f["values"]))
 
 # ---- protocol/openapi.yaml (python3-yaml)
 try:

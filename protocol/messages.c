@@ -440,6 +440,15 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
                           h->width, "height", h->height, "format", h->format == LC_FORMAT_PNG ? "png" : "jpeg",
                           "quality", h->quality, "cameraSeq", (json_int_t)h->camera_seq, "converged", (int)h->converged,
                           "timings", timings, "encodeMs", h->encode_ms);
+    if (o && h->has_visibility) {
+        if (!isfinite(h->top_decile_alpha) || !isfinite(h->bottom_half_alpha) || !isfinite(h->covered_fraction)) {
+            json_decref(o);
+            return LC_ERR_INVALID;
+        }
+        json_object_set_new(o, "visibility",
+                            json_pack("{s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
+                                      h->bottom_half_alpha, "coveredFraction", h->covered_fraction));
+    }
     char *text = dump_and_free(o);
     if (!text)
         return LC_ERR_NOMEM;
@@ -527,6 +536,22 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             strcpy(t->pass, key);
             t->ms = json_number_value(v);
         }
+    }
+    const json_t *vis = json_object_get(o, "visibility");
+    if (vis) {
+        static const char *const keys[] = {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction"};
+        double *dst[] = {&h->top_decile_alpha, &h->bottom_half_alpha, &h->covered_fraction};
+        for (int i = 0; i < 3; i++) {
+            const json_t *v = json_is_object(vis) ? json_object_get(vis, keys[i]) : NULL;
+            double x = json_is_number(v) ? json_number_value(v) : -1;
+            if (!(x >= 0 && x <= 1)) {
+                status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility",
+                                            "expected an object of numbers in [0, 1] (%s)", keys[i]);
+                goto done;
+            }
+            *dst[i] = x;
+        }
+        h->has_visibility = true;
     }
     *image = msg + 4 + n;
     *image_len = len - 4 - n;

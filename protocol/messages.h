@@ -133,6 +133,10 @@ typedef struct lc_frame_header {
     int timing_count;
     lc_frame_timing timings[LC_PROTO_MAX_TIMINGS];
     double encode_ms;
+    /* "visibility" (optional): how visible the important and the unimportant
+     * elements are in this frame (docs/ALGORITHM.md "Visibility report"). */
+    bool has_visibility;
+    double top_decile_alpha, bottom_half_alpha, covered_fraction;
 } lc_frame_header;
 
 /* Packs header + image into one malloc'd binary message (*out, free()).

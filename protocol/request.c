@@ -106,6 +106,7 @@ static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact
                                          {"wboit", LC_METHOD_WBOIT},     {NULL, 0}};
 static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
+static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
 static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoint", LC_ESTIMATOR_MIDPOINT}, {NULL, 0}};
 static const enum_name depth_range_names[] = {
     {"global", LC_DEPTH_RANGE_GLOBAL}, {"pixel", LC_DEPTH_RANGE_PIXEL}, {NULL, 0}};
@@ -153,6 +154,7 @@ static const field fields[] = {
     {"params", "depthMargin", "depthMargin", T_NUM, 0, 0.25, 0, OFF(render.foo.depth_margin), 0, NOFLAG, NULL},
     {"params", "estimator", "estimator", T_ENUM, 0, 0, 0, OFF(render.foo.estimator), 0, NOFLAG, estimator_names},
     {"params", "depthRange", "depthRange", T_ENUM, 0, 0, 0, OFF(render.foo.depth_range), 0, NOFLAG, depth_range_names},
+    {"params", "normalize", "normalize", T_ENUM, 0, 0, 0, OFF(render.foo.normalize), 0, NOFLAG, normalize_names},
     {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
      NULL},
 

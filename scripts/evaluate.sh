@@ -331,6 +331,8 @@ cat <<'EOF'
   depth along the view ray, so layers closer together than about 1/(2m) of the depth range are not told
   apart. The exact method has no such error but needs memory in proportion to the fragments and a per-pixel
   sort. `lucent compare --out-dir DIR` writes the difference image of any run above.
+
 EOF
+"$ROOT/scripts/evaluate_normalize.sh" "$LUCENT" "$(dirname "$OUT")"
 } >"$OUT"
 echo "evaluate.sh: wrote $OUT ($RUNS runs, $ELAPSED s)" >&2

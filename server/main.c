@@ -18,6 +18,7 @@ static const struct {
     {"bench", lc_cli_bench, "per-pass timings, frames per second and GPU memory on the demo datasets"},
     {"compare", lc_cli_compare, "compare a method against the exact reference (SSIM, RMSE, time, memory)"},
     {"schema", lc_cli_schema, "print the render request schema (fields, types, ranges) as JSON"},
+    {"ssim", lc_cli_ssim, "SSIM and RMSE of two images of one size"},
     {"serve", lc_serve_main, "run the HTTP/WebSocket render daemon"},
 };
 

@@ -18,6 +18,7 @@ void lc_foo_params_default(lc_foo_params *p)
     p->depth_margin = 0.02;
     p->estimator = LC_ESTIMATOR_MIDPOINT;
     p->direct_exponent = 2;
+    p->normalize = LC_NORMALIZE_AUTO;
 }
 
 void lc_style_default(lc_style *s)

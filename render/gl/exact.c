@@ -1,6 +1,6 @@
 /* Exact reference (DOO, Günther et al. 2017): per-pixel fragment linked lists
  * on the GPU, sorted per pixel, with exact front/behind importance sums and
- * exact front-to-back compositing (docs/ALGORITHM.md §8).
+ * exact front-to-back compositing (docs/ALGORITHM.md §11).
  *
  * Frame: list pass 0 at the optimization resolution stores (depth, g,
  * element); a compute pass sorts each pixel's list and atomic-mins FOO Eq. 10
@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "exact.h"
+#include "foo_math.h"
 
 #define MODULE "exact"
 
@@ -85,7 +86,7 @@ static int ensure_programs(exact_state *st, lc_error *err)
 {
     char defines[96];
     if (!st->opacity) {
-        static const char *const cs[] = {"exact_common.glsl", "exact_opacity.comp.glsl", NULL};
+        static const char *const cs[] = {"exact_common.glsl", "mass_common.glsl", "exact_opacity.comp.glsl", NULL};
         snprintf(defines, sizeof defines, "#define EXACT_MAX_LAYERS %d\n#define EXACT_SUM_IMPORTANCE 1\n", MAX_LAYERS);
         st->opacity = lc_renderer_build_program(defines, NULL, NULL, cs, "exact opacity", err);
     }
@@ -220,19 +221,25 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" (p3_smooth.comp.glsl) */
     glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    lc_mass_clear(r);
     glUseProgram(st->opacity);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_MASS_HISTOGRAM, r->mass_histogram);
     bind_lists(st, st->opacity, 0);
     glProgramUniform2i(st->opacity, glGetUniformLocation(st->opacity, "u_size"), lw, lh);
     lc_uniform_f(st->opacity, "u_q", p->foo.q);
     lc_uniform_f(st->opacity, "u_r", p->foo.r);
-    lc_uniform_f(st->opacity, "u_lambda", p->foo.lambda);
+    lc_uniform_f(st->opacity, "u_lambda", lc_foo_effective_lambda(&p->foo));
+    lc_uniform_f(st->opacity, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     glDispatchCompute((GLuint)(lw + 7) / 8, (GLuint)(lh + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
 
     /* P3 exactly as the Fourier path, so the two differ only in P1/P2 and compositing. */
+    lc_mass_report(r, fs, info);
     rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
+    if (!rc)
+        rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
     lc_renderer_timestamp(r, LC_PASS_SMOOTH);
     if (rc)
         return rc;

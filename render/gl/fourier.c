@@ -132,6 +132,10 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_renderer_bind_geometry(r, p1, fs, lw, lh, p->foo.subset);
     lc_uniform_f(p1, "u_weight", p->foo.subset > 0 ? p->foo.subset : 1);
     lc_renderer_draw_geometry(fs, p->foo.subset);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    int rc = lc_mass_histogram_fourier(r, fs, err);
+    if (rc)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
 
     /* P2 optimal opacity into the element minimum buffer. */
@@ -149,14 +153,18 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_bind_coefficients(&r->coef_low);
     lc_uniform_f(p2, "u_q", p->foo.q);
     lc_uniform_f(p2, "u_r", p->foo.r);
-    lc_uniform_f(p2, "u_lambda", p->foo.lambda);
+    lc_uniform_f(p2, "u_lambda", lc_foo_effective_lambda(&p->foo));
+    lc_uniform_f(p2, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     lc_renderer_draw_geometry(fs, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
 
     /* P3 smoothing and fading. */
-    int rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
+    lc_mass_report(r, fs, info);
+    rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
+    if (!rc)
+        rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
     lc_renderer_timestamp(r, LC_PASS_SMOOTH);
     return rc;
 }

@@ -80,13 +80,15 @@ void lc_renderer_destroy(lc_renderer *r)
     if (r->output_depth)
         glDeleteRenderbuffers(1, &r->output_depth);
     glDeleteFramebuffers(1, &r->nofb);
-    GLuint bufs[] = {r->element_alpha_min, r->element_alpha, r->smooth_a, r->smooth_b, r->stats, r->dummy_buffer};
+    GLuint bufs[] = {r->element_alpha_min, r->element_alpha,  r->smooth_a,          r->smooth_b, r->stats,
+                     r->dummy_buffer,      r->mass_histogram, r->element_importance};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
     glDeleteTextures(r->colormap_count, r->colormap_tex);
     glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
     glDeleteVertexArrays(1, &r->vao);
+    free(r->importance_cache);
     free(r);
 }
 
@@ -142,8 +144,10 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
             return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name,
                                 imp);
         const lc_attribute *a = &s->attributes[fs->importance_attr];
-        fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : a->min;
-        fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : a->max;
+        /* auto: robust percentiles, unless they collapse (e.g. a mostly constant attribute). */
+        int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->p98 > a->p02;
+        fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : robust ? a->p02 : a->min;
+        fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : robust ? a->p98 : a->max;
     }
     fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
 

@@ -14,7 +14,7 @@ extern const lc_embedded_file lc_shader_files[];
 
 #define LC_GL_BINDING_DEFINE(name, value) "#define " #name " " #value "\n"
 /* Every program sees the binding points of renderer_internal.h by name. */
-static const char binding_defines[] = LC_GL_BINDINGS(LC_GL_BINDING_DEFINE);
+static const char binding_defines[] = LC_GL_BINDINGS(LC_GL_BINDING_DEFINE) LC_GL_CONSTANTS(LC_GL_BINDING_DEFINE);
 #undef LC_GL_BINDING_DEFINE
 
 static char *concat_sources(const char *defines, const char *const *files, lc_error *err)
@@ -159,8 +159,14 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
     static const char *const vs_full[] = {"fullscreen.vert.glsl", NULL};
     static const char *const fs_resolve[] = {"p6_resolve.frag.glsl", NULL};
     static const char *const fs_wboit[] = {"wboit_resolve.frag.glsl", NULL};
+    static const char *const cs_mass[] = {"mass_common.glsl", "mass_histogram.comp.glsl", NULL};
+    static const char *const cs_importance[] = {"common.glsl", "element_importance.comp.glsl", NULL};
     if (kind == PROG_P3)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_p3, "P3 smoothing", err);
+    else if (kind == PROG_MASS_HISTOGRAM)
+        *slot = lc_renderer_build_program("", NULL, NULL, cs_mass, "mass histogram", err);
+    else if (kind == PROG_ELEMENT_IMPORTANCE)
+        *slot = lc_renderer_build_program("", NULL, NULL, cs_importance, "element importance", err);
     else if (kind == PROG_RESOLVE)
         *slot = lc_renderer_build_program("", vs_full, fs_resolve, NULL, "P6 resolve", err);
     else

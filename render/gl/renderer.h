@@ -63,6 +63,16 @@ typedef struct lc_frame_info {
     uint32_t element_count;
     double max_alpha_change; /* max |delta| of element opacities this frame */
     int converged;           /* max_alpha_change < LC_CONVERGED_EPSILON */
+    /* Density normalization (params.normalize; methods with element opacities): */
+    double mass_median, mass_p95; /* per-pixel sum of g^2 over covered pixels (optimization resolution) */
+    double covered_fraction;      /* covered pixels / pixels, at the optimization resolution */
+    /* Visibility report over the elements that reach a pixel this frame (an
+     * element's importance = mean of its vertices'); has_visibility = 0 for
+     * methods without element opacities (opaque, direct). */
+    int has_visibility;
+    uint32_t visible_elements;
+    double top_decile_alpha;  /* mean opacity of the 10% most important */
+    double bottom_half_alpha; /* mean opacity of the least important half */
     /* Exact method only (0 otherwise): */
     uint64_t fragments;         /* fragments rasterized at full resolution (stored + dropped) */
     uint64_t dropped_fragments; /* fragments lost because the node pool was full */

@@ -33,6 +33,8 @@
     X(BIND_STATS, 13)                                                                                                  \
     X(BIND_EXACT_NODES, 14)                                                                                            \
     X(BIND_EXACT_COUNTERS, 15)                                                                                         \
+    X(BIND_MASS_HISTOGRAM, 16)                                                                                         \
+    X(BIND_ELEMENT_IMPORTANCE, 17)                                                                                     \
     X(TEX_COLORMAP, 0)     /* geometry passes */                                                                       \
     X(TEX_COEF_FIRST, 1)   /* 1..LC_MAX_COEF_TARGETS: coefficient targets read by P2/P5 */                             \
     X(TEX_PIXEL_RANGE, 6)  /* P0 output read by later passes */                                                        \
@@ -41,7 +43,15 @@
     X(IMG_EXACT_HEADS, 0)  /* exact method: per-pixel list heads */                                                    \
     X(IMG_EXACT_OUTPUT, 1) /* exact method: blended image */
 
+/* Constants that the host and the shaders must agree on, injected the same
+ * way: the mass histogram's layout (mass_common.glsl). */
+#define LC_GL_CONSTANTS(X)                                                                                             \
+    X(MASS_BINS, 1024)                                                                                                 \
+    X(MASS_BINS_PER_OCTAVE, 16)                                                                                        \
+    X(MASS_LOG2_MIN, -24)
+
 #define LC_GL_BINDING_ENUM(name, value) name = value,
+enum { LC_GL_CONSTANTS(LC_GL_BINDING_ENUM) };
 enum { LC_GL_BINDINGS(LC_GL_BINDING_ENUM) };
 #undef LC_GL_BINDING_ENUM
 
@@ -76,6 +86,8 @@ typedef enum {
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
     PROG_WBOIT_RESOLVE,
+    PROG_MASS_HISTOGRAM,
+    PROG_ELEMENT_IMPORTANCE,
     PROG_FIXED_KINDS
 } lc_program_kind;
 
@@ -100,6 +112,16 @@ struct lc_renderer {
     /* per-element buffers, grown to the largest scene */
     GLuint element_alpha_min, element_alpha, smooth_a, smooth_b, stats;
     uint32_t element_capacity;
+    GLuint mass_histogram;     /* MASS_BINS counts (visibility.c) */
+    GLuint element_importance; /* 2 uints per element: fixed-point sum, count */
+    /* CPU copy of the elements' mean importance for the mapping in the key. */
+    float *importance_cache;
+    uint32_t importance_cache_count;
+    struct {
+        const lc_gpu_scene *gs;
+        int attr;
+        double range[2], exponent;
+    } importance_key;
     GLuint timer_queries[LC_PASS_COUNT + 1];
     GLuint dummy_buffer;
     void *exact; /* exact.c's state */
@@ -208,6 +230,19 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
                                 lc_frame_info *info, lc_error *err);
 /* P4..P6 with the element opacities (or alpha = g^k when direct). */
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
+
+/* ---- visibility.c */
+/* Clears the mass histogram; the passes that know each pixel's total sum of
+ * g^2 fill it (lc_mass_histogram_fourier, the exact opacity pass). */
+void lc_mass_clear(lc_renderer *r);
+/* Counts the P1 zeroth coefficients of coef_low into the histogram. */
+int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
+/* Reads the histogram back into the mass fields of info. */
+void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info);
+/* The visibility report of info from the element opacities after P3 (alphas:
+ * the state's copy, or NULL to read them back). */
+int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float *alphas, lc_frame_info *info,
+                          lc_error *err);
 
 /* ---- baselines.c */
 int lc_render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err);

@@ -109,14 +109,31 @@ static size_t *depth_order(const lc_fragment *frags, size_t n)
     return order;
 }
 
+double lc_foo_norm_mass(const lc_foo_params *p)
+{
+    return p->normalize == LC_NORMALIZE_AUTO ? LC_NORM_REFERENCE_MASS : 0.0;
+}
+
+double lc_foo_effective_lambda(const lc_foo_params *p)
+{
+    return p->normalize == LC_NORMALIZE_AUTO ? 2.0 * p->lambda : p->lambda;
+}
+
+double lc_foo_norm_factor(const lc_foo_params *p, double total)
+{
+    double ref = lc_foo_norm_mass(p);
+    return ref > 0 && total > ref ? ref / total : 1.0;
+}
+
 void lc_foo_alpha_exact(lc_fragment *frags, size_t n, const lc_foo_params *p)
 {
     size_t *order = depth_order(frags, n);
     if (!order)
         return;
-    double total = 0;
+    double total = 0, lambda = lc_foo_effective_lambda(p);
     for (size_t i = 0; i < n; i++)
         total += frags[i].importance * frags[i].importance;
+    double k = lc_foo_norm_factor(p, total);
     /* DOO's exact sums: front = sum of g^2 strictly in front, behind = strictly behind; the fragment's own g^2
      * is in neither. behind is total - front - own, computed as a running sum to avoid cancellation. */
     double front = 0;
@@ -124,7 +141,7 @@ void lc_foo_alpha_exact(lc_fragment *frags, size_t n, const lc_foo_params *p)
         lc_fragment *fr = &frags[order[s]];
         double own = fr->importance * fr->importance;
         double behind = total - front - own;
-        fr->alpha = lc_foo_optimal_alpha(fr->importance, front, behind, p->q, p->r, p->lambda);
+        fr->alpha = lc_foo_optimal_alpha(fr->importance, k * front, k * behind, p->q, p->r, lambda);
         front += own;
     }
     free(order);
@@ -138,6 +155,7 @@ void lc_foo_alpha_fourier(lc_fragment *frags, size_t n, const lc_foo_params *p)
     for (size_t i = 0; i < n; i++)
         lc_fourier_add(&importance_coeffs, frags[i].depth, frags[i].importance * frags[i].importance);
     double total = importance_coeffs.a[0];
+    double k = lc_foo_norm_factor(p, total), lambda = lc_foo_effective_lambda(p);
 
     /* P2: sample G at the fragment's depth. The truncated series passes a step at its midpoint, so G holds about
      * half of the fragment's own g^2; FOO subtracts all of it from the front, the midpoint estimator half from
@@ -154,7 +172,7 @@ void lc_foo_alpha_fourier(lc_fragment *frags, size_t n, const lc_foo_params *p)
             front = G - own; /* FOO Eq. 10 with G(d_i) including the fragment */
             behind = total - G;
         }
-        fr->alpha = lc_foo_optimal_alpha(fr->importance, front, behind, p->q, p->r, p->lambda);
+        fr->alpha = lc_foo_optimal_alpha(fr->importance, k * front, k * behind, p->q, p->r, lambda);
     }
 }
 

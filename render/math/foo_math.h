@@ -32,6 +32,18 @@ double lc_foo_normalize_depth(double z, double zmin, double zmax, double delta);
  * front = importance (sum g^2) in front of the fragment, behind = behind it. */
 double lc_foo_optimal_alpha(double g, double front, double behind, double q, double r, double lambda);
 
+/* Density normalization (params.normalize, docs/ALGORITHM.md "Normalization"):
+ * in auto mode a pixel whose total importance mass sum g^2 exceeds
+ * LC_NORM_REFERENCE_MASS has its front and behind sums scaled by
+ * LC_NORM_REFERENCE_MASS / total, and the emphasis exponent is doubled. */
+#define LC_NORM_REFERENCE_MASS 0.35
+/* The reference mass the shaders use (0 = normalization off). */
+double lc_foo_norm_mass(const lc_foo_params *p);
+/* The lambda of Eq. 10 in effect (2 lambda in auto mode). */
+double lc_foo_effective_lambda(const lc_foo_params *p);
+/* The factor on the front/behind sums of a pixel with total mass `total`. */
+double lc_foo_norm_factor(const lc_foo_params *p, double total);
+
 /* One fragment of a pixel. alpha and color are outputs/inputs as documented below. */
 typedef struct lc_fragment {
     double depth;      /* normalized, [0,1] */

@@ -605,6 +605,8 @@ static int add_line_curvature(lc_scene *s, lc_error *err)
     }
     s->attributes[idx].min = lo;
     s->attributes[idx].max = hi;
+    s->attributes[idx].p02 = lc_scene_percentile(values, s->vertex_count, lo, hi, 0.02);
+    s->attributes[idx].p98 = lc_scene_percentile(values, s->vertex_count, lo, hi, 0.98);
     snprintf(s->default_importance, sizeof s->default_importance, "line_curvature");
     return LC_OK;
 }

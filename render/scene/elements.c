@@ -7,8 +7,18 @@
 
 #include "elements.h"
 
+/* Default element counts grow with the data (docs/ALGORITHM.md "Elements"):
+ * lines get at least DEFAULT_LINE_BUDGET, MIN_ELEMENTS_PER_LINE per line and
+ * one element per SEGMENTS_PER_ELEMENT segments; surfaces one patch per 8
+ * vertices, at most the larger of MAX_DEFAULT_PATCHES and one per
+ * VERTICES_PER_PATCH_CAP vertices. MAX_DERIVED_ELEMENTS caps both, which
+ * bounds every session's per-element state (4 bytes an element). */
 #define DEFAULT_LINE_BUDGET 10000u
+#define MIN_ELEMENTS_PER_LINE 4u
+#define SEGMENTS_PER_ELEMENT 32u
 #define MAX_DEFAULT_PATCHES 4000u
+#define VERTICES_PER_PATCH_CAP 64u
+#define MAX_DERIVED_ELEMENTS (1u << 20)
 #define NONE UINT32_MAX
 
 /* Allocates the per-vertex arrays and count + 1 offsets (zeroed). Buffers are
@@ -714,6 +724,23 @@ void lc_elements_free(lc_elements *e)
     memset(e, 0, sizeof *e);
 }
 
+static uint32_t clamp_u64(uint64_t v, uint64_t lo, uint64_t hi) { return (uint32_t)(v < lo ? lo : v > hi ? hi : v); }
+
+uint32_t lc_elements_default_count(const lc_element_geometry *s)
+{
+    if (s->type == LC_PRIM_POINTS)
+        return s->vertex_count;
+    if (s->type == LC_PRIM_LINES) {
+        uint64_t segments = s->vertex_count > s->line_count ? (uint64_t)s->vertex_count - s->line_count : 0;
+        uint64_t by_lines = (uint64_t)s->line_count * MIN_ELEMENTS_PER_LINE,
+                 by_segments = segments / SEGMENTS_PER_ELEMENT;
+        return clamp_u64(by_lines > by_segments ? by_lines : by_segments, DEFAULT_LINE_BUDGET, MAX_DERIVED_ELEMENTS);
+    }
+    uint64_t cap = s->vertex_count / VERTICES_PER_PATCH_CAP;
+    cap = cap > MAX_DEFAULT_PATCHES ? (cap < MAX_DERIVED_ELEMENTS ? cap : MAX_DERIVED_ELEMENTS) : MAX_DEFAULT_PATCHES;
+    return clamp_u64(s->vertex_count / 8, 1, cap);
+}
+
 int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc, lc_elements *e, lc_error *err)
 {
     if (!s || !e)
@@ -723,12 +750,10 @@ int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc
     switch (s->type) {
     case LC_PRIM_POINTS: rc = build_points(s, e, err); break;
     case LC_PRIM_LINES:
-        rc = build_lines(s, e, desc && desc->line_budget ? desc->line_budget : DEFAULT_LINE_BUDGET, err);
+        rc = build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s), err);
         break;
     case LC_PRIM_TRIANGLES: {
-        uint32_t want = desc && desc->patch_count ? desc->patch_count : s->vertex_count / 8;
-        if (!(desc && desc->patch_count) && want > MAX_DEFAULT_PATCHES)
-            want = MAX_DEFAULT_PATCHES;
+        uint32_t want = desc && desc->patch_count ? desc->patch_count : lc_elements_default_count(s);
         rc = build_patches(s, e, want ? want : 1, err);
         break;
     }

@@ -29,8 +29,8 @@ typedef struct lc_elements {
 
 /* Options of the element build; zero means default. */
 typedef struct lc_elements_desc {
-    uint32_t line_budget; /* total line segments-elements, default 10000 (at least one per line) */
-    uint32_t patch_count; /* surface patches, default min(4000, vertices / 8) (at least 1) */
+    uint32_t line_budget; /* total line segment-elements (at least one per line); 0 = derived from the data */
+    uint32_t patch_count; /* surface patches; 0 = derived from the data */
 } lc_elements_desc;
 
 /* The geometry elements are built on (borrowed arrays, validated indices). */
@@ -44,6 +44,11 @@ typedef struct lc_element_geometry {
     uint32_t triangle_count;
     const uint32_t *triangles; /* 3 per triangle */
 } lc_element_geometry;
+
+/* The element count a zero desc gives g: points one per point; lines at least
+ * 10,000, 4 per line and one per 32 segments; surfaces one patch per 8
+ * vertices, at most max(4000, vertices / 64); lines and patches capped at 2^20. */
+uint32_t lc_elements_default_count(const lc_element_geometry *g);
 
 /* Builds *out (freed first) from g. On error *out is empty. */
 int lc_elements_build(const lc_element_geometry *g, const lc_elements_desc *desc, lc_elements *out, lc_error *err);

@@ -28,6 +28,10 @@ typedef struct lc_attribute {
     char name[LC_NAME_LEN];
     float *values;  /* vertex_count values, owned by the scene */
     float min, max; /* over finite values; filled by lc_scene_finalize */
+    /* 2nd and 98th percentiles over finite values (lc_scene_finalize): the
+     * importance range of normalize "auto" when a request gives none, so one
+     * outlier cannot squash every other value to zero. */
+    float p02, p98;
 } lc_attribute;
 
 typedef struct lc_scene {
@@ -71,6 +75,9 @@ int lc_scene_alloc_vertices(lc_scene *s, uint32_t n, int with_rgb, lc_error *err
  * floats) in every case: on failure they are freed, so callers never free them.
  * Replaces an attribute of the same name. Returns its index or < 0. */
 int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_error *err);
+/* Value of rank p * (finite count - 1) among the finite values of v (n of
+ * them, all finite ones within [lo, hi]); lo when there are none. */
+float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double p);
 /* Index of the attribute named name, or -1. */
 int lc_scene_find_attribute(const lc_scene *s, const char *name);
 
@@ -78,6 +85,11 @@ int lc_scene_find_attribute(const lc_scene *s, const char *name);
  * derived attributes (lines: arc_length, curvature, line_length; triangles:
  * mean_curvature) and the elements. Call once after loading or generating. */
 int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err);
+/* Rebuilds only the elements of a finalized scene with `budget` line elements
+ * or surface patches (points keep one element per point); 0 = the default
+ * derived from the data. LC_ERR_INVALID if budget exceeds the scene's
+ * segments or vertices or 2^24. */
+int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err);
 
 const char *lc_prim_type_name(lc_prim_type t);
 /* Number of primitives: points, line segments or triangles. */

@@ -76,16 +76,19 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     return 0;
 }
 
-const char lc_cli_flags_help[] = "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj/.vtk/.trk file\n"
-                                 "  --width N, --height N, --size WxH\n"
-                                 "  --method NAME         fourier | exact | opaque | direct | wboit\n"
-                                 "  --bands M             Fourier bands 1..8\n"
-                                 "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
-                                 "  --depth-range global|pixel   depth normalization by the data bounds or per pixel\n"
-                                 "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
-                                 "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
-                                 "  --line-width W        world units;  --point-size PX;  --unlit\n"
-                                 "  --format png|jpeg, --quality Q\n";
+const char lc_cli_flags_help[] =
+    "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj/.vtk/.trk file\n"
+    "  --elements N          line elements or surface patches (default: derived from the data)\n"
+    "  --width N, --height N, --size WxH\n"
+    "  --method NAME         fourier | exact | opaque | direct | wboit\n"
+    "  --bands M             Fourier bands 1..8\n"
+    "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
+    "  --depth-range global|pixel   depth normalization by the data bounds or per pixel\n"
+    "  --normalize auto|off  density-aware opacity (auto) or the paper formula (off)\n"
+    "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
+    "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
+    "  --line-width W        world units;  --point-size PX;  --unlit\n"
+    "  --format png|jpeg, --quality Q\n";
 
 /* Applies one "key": value pair through the protocol's query aliases so the
  * flags get exactly the validation of the HTTP API. */
@@ -109,6 +112,7 @@ int lc_cli_begin(const char *cmd, int argc, char **argv, lc_request *req, lc_cli
     lc_request_default(req);
     common->input = NULL;
     common->device = -1;
+    common->elements = 0;
     lc_error err = {0};
     for (int i = 1; i + 1 < argc; i++)
         if (strcmp(argv[i], "--request") == 0 && lc_cli_read_request(argv[i + 1], req, &err) != 0) {
@@ -131,8 +135,11 @@ int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *com
     lc_error err = {0};
     const char *spec = common->input ? common->input : req->dataset[0] ? req->dataset : "demo:tornado";
     *scene = NULL;
-    if (lc_cli_open_dataset(spec, scene, &err) != 0) {
+    if (lc_cli_open_dataset(spec, scene, &err) != 0 ||
+        (common->elements && lc_scene_set_element_budget(*scene, (uint32_t)common->elements, &err) != 0)) {
         fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
+        lc_scene_destroy(*scene);
+        *scene = NULL;
         return 1;
     }
     if (lc_cli_gl_open(common->device, g, &err) != 0) {
@@ -158,6 +165,7 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
                {"--smoothing", "smoothing"},
                {"--fade", "fadeHalfLife"},
                {"--estimator", "estimator"},
+               {"--normalize", "normalize"},
                {"--importance", "importance"},
                {"--color", "color"},
                {"--colormap", "colormap"},
@@ -170,7 +178,8 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
                {"--background", "background"},
                {"--depth-range", "depthRange"}};
     const char *flag = argv[*i];
-    int takes_value = strcmp(flag, "--request") == 0 || strcmp(flag, "--input") == 0 || strcmp(flag, "--device") == 0;
+    int takes_value = strcmp(flag, "--request") == 0 || strcmp(flag, "--input") == 0 || strcmp(flag, "--device") == 0 ||
+                      strcmp(flag, "--elements") == 0;
     if (takes_value) {
         if (*i + 1 >= argc) {
             fprintf(stderr, "lucent: %s needs a value\n", flag);
@@ -187,6 +196,14 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
                 return -1;
             }
             common->device = (int)d;
+        } else if (strcmp(flag, "--elements") == 0) {
+            char *end;
+            long n = strtol(value, &end, 10);
+            if (*end || end == value || n < 1 || n > (1L << 24)) {
+                fprintf(stderr, "lucent: --elements %s: expected a count 1..16777216\n", value);
+                return -1;
+            }
+            common->elements = n;
         } /* --request was read by lc_cli_begin */
         return 1;
     }

@@ -32,6 +32,7 @@ void lc_cli_gl_close(lc_cli_gl *g);
 typedef struct lc_cli_common {
     const char *input; /* --input FILE|demo:NAME (overrides the request's dataset) */
     int device;        /* --device N, -1 = LUCENT_EGL_DEVICE or the first GPU */
+    long elements;     /* --elements N: line elements or surface patches, 0 = derived from the data */
 } lc_cli_common;
 
 /* Starts a subcommand's argument handling: defaults, then the --request file
@@ -64,5 +65,7 @@ int lc_cli_gen(int argc, char **argv);
 int lc_cli_bench(int argc, char **argv);
 int lc_cli_compare(int argc, char **argv);
 int lc_cli_schema(int argc, char **argv);
+/* `lucent ssim A B`: SSIM and RMSE of two image files. */
+int lc_cli_ssim(int argc, char **argv);
 
 #endif

@@ -215,3 +215,28 @@ done:
     lc_scene_destroy(scene);
     return status;
 }
+
+int lc_cli_ssim(int argc, char **argv)
+{
+    if (argc != 3) {
+        fprintf(stderr, "usage: lucent ssim A.png|.jpg B.png|.jpg\n"
+                        "Prints the SSIM (Rec. 709 luminance, 11x11 Gaussian) and RMSE of two images of one size.\n");
+        return 2;
+    }
+    lc_image a = {0}, b = {0};
+    lc_error err = {0};
+    int status = 1;
+    if (lc_image_read_file(argv[1], &a, &err) != 0 || lc_image_read_file(argv[2], &b, &err) != 0)
+        fprintf(stderr, "lucent ssim: %s\n", err.msg);
+    else if (a.width != b.width || a.height != b.height)
+        fprintf(stderr, "lucent ssim: %s is %dx%d, %s is %dx%d\n", argv[1], a.width, a.height, argv[2], b.width,
+                b.height);
+    else {
+        printf("ssim %.6f\nrmse %.6f\n", lc_image_ssim(a.rgba, b.rgba, a.width, a.height),
+               lc_image_rmse(a.rgba, b.rgba, a.width, a.height));
+        status = 0;
+    }
+    lc_image_free(&a);
+    lc_image_free(&b);
+    return status;
+}

@@ -1,5 +1,6 @@
 /* `lucent render`, `lucent info` and `lucent gen`: one frame to a file, a
  * dataset summary, and demo data written as PLY/OBJ. */
+#include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,12 +22,42 @@ static void render_usage(void)
             "usage: lucent render [--request REQ.json] [--input FILE|demo:NAME] --out IMG.png|.jpg [flags]\n"
             "Renders one frame of a render request (protocol/README.md); flags override its fields.\n"
             "  --frames N            render N frames with fading, dt = --dt (default 1/30 s), keep the last\n"
+            "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
             "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n%s",
             lc_cli_flags_help);
 }
 
+/* The frame's statistics as JSON (what --stats writes). */
+static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene, const lc_render_params *p)
+{
+    json_t *passes = json_object();
+    for (int i = 0; i < LC_PASS_COUNT; i++)
+        if (info->pass_ms[i] >= 0)
+            json_object_set_new(passes, lc_pass_name(i), json_real(info->pass_ms[i]));
+    json_t *o = json_pack("{s:s, s:s, s:i, s:i, s:I, s:o, s:f, s:f, s:b, s:f}", "dataset", scene->name, "method",
+                          lc_method_name(p->method), "width", info->width, "height", info->height, "elements",
+                          (json_int_t)info->element_count, "passMs", passes, "gpuMs", info->gpu_ms, "wallMs",
+                          info->wall_ms, "converged", info->converged, "maxAlphaChange", info->max_alpha_change);
+    if (info->has_visibility) {
+        json_object_set_new(o, "normalize",
+                            json_pack("{s:s, s:f, s:f}", "mode", p->foo.normalize == LC_NORMALIZE_OFF ? "off" : "auto",
+                                      "massMedian", info->mass_median, "massP95", info->mass_p95));
+        json_object_set_new(o, "visibility",
+                            json_pack("{s:f, s:f, s:f, s:I}", "topDecileAlpha", info->top_decile_alpha,
+                                      "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
+                                      info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements));
+    }
+    if (p->method == LC_METHOD_EXACT)
+        json_object_set_new(o, "exact",
+                            json_pack("{s:I, s:I, s:f, s:I}", "fragments", (json_int_t)info->fragments, "dropped",
+                                      (json_int_t)info->dropped_fragments, "meanLayers", info->mean_layers, "maxLayers",
+                                      (json_int_t)info->max_layers));
+    return o;
+}
+
 int lc_cli_render(int argc, char **argv)
 {
+    const char *stats_path = NULL;
     lc_request req;
     lc_cli_common common;
     const char *out = NULL;
@@ -41,6 +72,8 @@ int lc_cli_render(int argc, char **argv)
             out = argv[++i];
         } else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
             frames = atoi(argv[++i]);
+        } else if (strcmp(a, "--stats") == 0 && i + 1 < argc) {
+            stats_path = argv[++i];
         } else if (strcmp(a, "--dt") == 0 && i + 1 < argc) {
             dt = atof(argv[++i]);
         } else if (strcmp(a, "--help") == 0) {
@@ -102,6 +135,20 @@ int lc_cli_render(int argc, char **argv)
            lc_method_name(req.render.method), req.render.foo.bands, lc_estimator_name(req.render.foo.estimator),
            info.element_count);
     lc_cli_print_timings(&info);
+    if (info.has_visibility)
+        printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
+               "importance mass per pixel: median %.3g, p95 %.3g\n",
+               info.top_decile_alpha, info.bottom_half_alpha, 100.0 * info.covered_fraction, info.mass_median,
+               info.mass_p95);
+    if (stats_path) {
+        json_t *o = frame_stats_json(&info, scene, &req.render);
+        if (!o || json_dump_file(o, stats_path, JSON_INDENT(2) | JSON_REAL_PRECISION(6)) != 0) {
+            fprintf(stderr, "lucent render: %s: cannot write the statistics\n", stats_path);
+            json_decref(o);
+            goto done;
+        }
+        json_decref(o);
+    }
     if (info.dropped_fragments)
         printf("  WARNING: %llu fragments did not fit the exact method's node pool\n",
                (unsigned long long)info.dropped_fragments);
@@ -144,7 +191,8 @@ int lc_cli_info(int argc, char **argv)
     printf("color       %s (default)\n", s->default_color);
     printf("attributes  %d\n", s->attribute_count);
     for (int i = 0; i < s->attribute_count; i++)
-        printf("  %-20s [%g, %g]\n", s->attributes[i].name, s->attributes[i].min, s->attributes[i].max);
+        printf("  %-20s [%g, %g]  2nd-98th percentiles [%g, %g]\n", s->attributes[i].name, s->attributes[i].min,
+               s->attributes[i].max, s->attributes[i].p02, s->attributes[i].p98);
     printf("loaded in   %.1f ms\n", ms);
     lc_scene_destroy(s);
     return 0;

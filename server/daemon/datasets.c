@@ -10,6 +10,7 @@
 
 #include "demo.h"
 #include "loaders.h"
+#include "request.h"
 
 #define MOD "datasets"
 #define MAX_DATASETS 256
@@ -37,6 +38,114 @@ static int name_taken(const lc_datasets *d, const char *name)
     return 0;
 }
 
+/* The demos' suggested parameters: the paper's settings where it shows the
+ * same kind of data (its tornado figure: q = 60, r = 500, lambda = 1). */
+static json_t *demo_preset(const char *demo)
+{
+    if (strcmp(demo, "tornado") == 0)
+        return json_pack("{s:{s:f, s:f, s:f}}", "params", "q", 60.0, "r", 500.0, "lambda", 1.0);
+    return NULL;
+}
+
+#define SIDECAR_MAX_BYTES (64 * 1024)
+
+int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, lc_error *err)
+{
+    *preset = NULL;
+    char side[600];
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - path) : strlen(path);
+    if (stem + sizeof ".lucent.json" > sizeof side)
+        return 0;
+    snprintf(side, sizeof side, "%.*s.lucent.json", (int)stem, path);
+    struct stat st;
+    if (stat(side, &st) != 0)
+        return 0; /* no sidecar */
+    if (!S_ISREG(st.st_mode) || st.st_size > SIDECAR_MAX_BYTES)
+        return lc_err(err, LC_ERR_INVALID, "%s: not a regular file of at most %d bytes", side, SIDECAR_MAX_BYTES);
+    json_error_t je;
+    json_t *root = json_load_file(side, JSON_REJECT_DUPLICATES, &je);
+    if (!root)
+        return lc_err(err, LC_ERR_INVALID, "%s: not JSON (line %d: %s)", side, je.line, je.text);
+    int rc = 0;
+    if (!json_is_object(root)) {
+        rc = lc_err(err, LC_ERR_INVALID, "%s: expected a JSON object", side);
+        goto done;
+    }
+    const char *key;
+    json_t *v;
+    json_object_foreach(root, key, v)
+    {
+        static const char *const allowed[] = {"params", "importance", "color", "style", "camera", "elements", NULL};
+        int ok = 0;
+        for (int i = 0; allowed[i]; i++)
+            ok |= strcmp(key, allowed[i]) == 0;
+        if (!ok) {
+            rc = lc_err_field(err, LC_ERR_INVALID, key,
+                              "%s: unknown field \"%s\" (expected params, importance, "
+                              "color, style, camera or elements)",
+                              side, key);
+            goto done;
+        }
+    }
+    json_t *elements = json_object_get(root, "elements");
+    if (elements) {
+        if (!json_is_integer(elements) || json_integer_value(elements) < 1) {
+            rc = lc_err_field(err, LC_ERR_INVALID, "elements", "%s: elements: expected a positive integer", side);
+            goto done;
+        }
+        if ((rc = lc_scene_set_element_budget(scene, (uint32_t)json_integer_value(elements), err)) != 0) {
+            lc_err_prefix(err, "%s", side);
+            goto done;
+        }
+        json_object_del(root, "elements");
+    }
+    /* The rest must be a valid partial render request: the protocol's parser
+     * checks every field and range, exactly as for a client's request. */
+    char *text = json_dumps(root, JSON_COMPACT);
+    lc_proto_limits lim;
+    lc_proto_limits_default(&lim);
+    lc_request req;
+    lc_proto_error pe;
+    memset(&pe, 0, sizeof pe);
+    int bad = !text || lc_proto_parse_request(text, strlen(text), &lim, &req, &pe) != 0;
+    free(text);
+    if (bad) {
+        rc = lc_err_field(err, LC_ERR_INVALID, pe.field, "%s: %s", side, pe.message[0] ? pe.message : "invalid");
+        goto done;
+    }
+    /* Attributes the sidecar names become the dataset's defaults, so that a
+     * request naming none gets them; explicit request fields still win. */
+    if (json_object_get(json_object_get(root, "importance"), "attribute")) {
+        if (lc_scene_find_attribute(scene, req.render.importance.attribute) < 0) {
+            rc = lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s: %s has no attribute \"%s\"", side,
+                              scene->name, req.render.importance.attribute);
+            goto done;
+        }
+        snprintf(scene->default_importance, sizeof scene->default_importance, "%s", req.render.importance.attribute);
+    }
+    if (json_object_get(json_object_get(root, "color"), "attribute"))
+        snprintf(scene->default_color, sizeof scene->default_color, "%s", req.render.color.attribute);
+    LC_INFO(MOD, "%s: preset from %s", scene->name, side);
+    *preset = root;
+    root = NULL;
+done:
+    json_decref(root);
+    return rc;
+}
+
+int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *err)
+{
+    for (int i = 0; i < d->count; i++) {
+        lc_dataset *ds = &d->items[i];
+        int rc = lc_scene_set_element_budget(ds->scene, budget, err);
+        if (rc)
+            return rc;
+        LC_INFO(MOD, "%s: %u elements (--elements)", ds->name, ds->scene->elements.count);
+    }
+    return 0;
+}
+
 static int add_source(lc_datasets *d, const char *source, unsigned long long demo_size, lc_error *err)
 {
     if (d->count >= MAX_DATASETS)
@@ -52,6 +161,7 @@ static int add_source(lc_datasets *d, const char *source, unsigned long long dem
         LC_INFO(MOD, "generating %s ...", source);
         rc = lc_demo_create(source + 5, &desc, &ds->scene, err);
         snprintf(base, sizeof base, "%s", source);
+        ds->preset = rc ? NULL : demo_preset(source + 5);
     } else {
         struct stat st;
         if (stat(source, &st) != 0)
@@ -59,6 +169,10 @@ static int add_source(lc_datasets *d, const char *source, unsigned long long dem
         LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
         rc = lc_scene_load_file(source, &ds->scene, err);
         file_stem(source, base, sizeof base);
+        if (rc == 0 && (rc = lc_dataset_read_sidecar(source, ds->scene, &ds->preset, err)) != 0) {
+            lc_scene_destroy(ds->scene);
+            ds->scene = NULL;
+        }
     }
     if (rc != 0)
         return rc;
@@ -139,9 +253,11 @@ void lc_datasets_destroy(lc_datasets *d)
 {
     if (!d)
         return;
-    for (int i = 0; i < d->count; i++)
+    for (int i = 0; i < d->count; i++) {
         if (d->items[i].scene)
             lc_scene_destroy(d->items[i].scene);
+        json_decref(d->items[i].preset);
+    }
     /* A leftover GPU copy here means the caller had no context to destroy it
      * with; the process is exiting, so the driver reclaims it. */
     free(d);
@@ -217,6 +333,10 @@ json_t *lc_dataset_info(const lc_dataset *ds)
         json_array_append_new(r, json_real(isfinite(a->min) ? a->min : 0.0));
         json_array_append_new(r, json_real(isfinite(a->max) ? a->max : 0.0));
         json_object_set_new(ja, "range", r);
+        json_t *pct = json_array();
+        json_array_append_new(pct, json_real(isfinite(a->p02) ? a->p02 : 0.0));
+        json_array_append_new(pct, json_real(isfinite(a->p98) ? a->p98 : 0.0));
+        json_object_set_new(ja, "percentiles", pct);
         json_array_append_new(attrs, ja);
     }
     json_object_set_new(o, "attributes", attrs);
@@ -224,5 +344,7 @@ json_t *lc_dataset_info(const lc_dataset *ds)
     json_object_set_new(o, "defaultColor", json_string(s->default_color));
     if (ds->gpu)
         json_object_set_new(o, "gpuBytes", json_integer((json_int_t)lc_gpu_scene_bytes(ds->gpu)));
+    if (ds->preset)
+        json_object_set_new(o, "preset", json_deep_copy(ds->preset));
     return o;
 }

@@ -22,6 +22,11 @@ typedef struct lc_dataset {
     lc_scene *scene;   /* owned */
     lc_gpu_scene *gpu; /* owned; NULL until uploaded */
     double load_seconds;
+    /* Suggested parameters, a partial render request ({params, importance,
+     * color, style, camera}): the paper's settings for demos, the sidecar
+     * NAME.lucent.json beside a file. Shown by /datasets, applied by clients
+     * on dataset switch; NULL = none. Owned. */
+    json_t *preset;
 } lc_dataset;
 
 typedef struct lc_datasets lc_datasets;
@@ -34,6 +39,15 @@ int lc_datasets_load(const char *const *sources, int count, unsigned long long d
                      lc_error *err);
 /* Appends all demos (for --demo together with --data). */
 int lc_datasets_add_demos(lc_datasets *d, unsigned long long demo_size, lc_error *err);
+/* Rebuilds the elements of every line or surface dataset with `budget` line
+ * elements or patches (lucent serve --elements; wins over a sidecar's). */
+int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *err);
+/* Reads the sidecar of a data file (PATH minus its extension + ".lucent.json")
+ * if there is one: validates it (unknown or bad fields name the file and the
+ * field), applies its "elements" and its importance/colour attributes as the
+ * scene's defaults, and returns the rest as the preset in *preset (NULL when
+ * there is no sidecar). */
+int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, lc_error *err);
 /* Creates the GPU copies; a context of the share group must be current. */
 int lc_datasets_upload(lc_datasets *d, lc_error *err);
 /* Destroys the GPU copies (context current), then everything else. */
@@ -49,7 +63,9 @@ const lc_dataset *lc_datasets_find(const lc_datasets *d, const char *name);
 /* New JSON object describing ds: name, source, type, vertices, primitives,
  * lines, triangles, elements, points, bounds, view {direction, up} (when the
  * scene suggests one), hasRgb, attributes [{name, range}], defaultImportance,
- * defaultColor, gpuBytes (once uploaded) and a description for demos.
+ * defaultColor, gpuBytes (once uploaded), preset (when there is one) and a
+ * description for demos. Attributes also carry "percentiles": the 2nd and
+ * 98th, the importance range of normalize "auto" when a request gives none.
  * Caller json_decref()s. Any thread (builds fresh objects every call). */
 json_t *lc_dataset_info(const lc_dataset *ds);
 

@@ -361,6 +361,12 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
     MHD_add_response_header(r, "X-Lucent-Max-Alpha-Change", buf);
     snprintf(buf, sizeof buf, "%u", info->element_count);
     MHD_add_response_header(r, "X-Lucent-Elements", buf);
+    if (info->has_visibility) {
+        char vis[192];
+        snprintf(vis, sizeof vis, "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f",
+                 info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction);
+        MHD_add_response_header(r, "X-Lucent-Visibility", vis);
+    }
     if (job->session) {
         snprintf(buf, sizeof buf, "%llu", (unsigned long long)job->session->http_frames);
         MHD_add_response_header(r, "X-Lucent-Frame", buf);

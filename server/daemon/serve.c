@@ -42,6 +42,7 @@ static void usage(FILE *f)
             "                         (repeatable; several paths may follow one --data). None = all demos.\n"
             "  --demo                 also serve every built-in demo next to --data\n"
             "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
+            "  --elements N           line elements or surface patches per dataset (default: derived from the data)\n"
             "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
             "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
             "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
@@ -119,7 +120,8 @@ enum {
     OPT_MAX_CONN,
     OPT_IDLE,
     OPT_STILL,
-    OPT_LOG
+    OPT_LOG,
+    OPT_ELEMENTS
 };
 
 /* Fills cfg from argv; returns 0, 1 for --help, -1 on a usage error. */
@@ -129,6 +131,7 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                                          {"data", required_argument, NULL, OPT_DATA},
                                          {"demo", no_argument, NULL, OPT_DEMO},
                                          {"demo-size", required_argument, NULL, OPT_DEMO_SIZE},
+                                         {"elements", required_argument, NULL, OPT_ELEMENTS},
                                          {"device", required_argument, NULL, OPT_DEVICE},
                                          {"workers", required_argument, NULL, OPT_WORKERS},
                                          {"encoders", required_argument, NULL, OPT_ENCODERS},
@@ -168,6 +171,11 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
             if (parse_long("--demo-size", optarg, 1, 100000000, &v))
                 return -1;
             cfg->demo_size = (unsigned long long)v;
+            break;
+        case OPT_ELEMENTS:
+            if (parse_long("--elements", optarg, 1, 1 << 24, &v))
+                return -1;
+            cfg->elements = (unsigned)v;
             break;
         case OPT_DEVICE:
             if (parse_long("--device", optarg, 0, 64, &v))
@@ -311,6 +319,8 @@ int lc_serve_main(int argc, char **argv)
     int rc = lc_datasets_load(cfg->data, cfg->data_count, cfg->demo_size, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)
         rc = lc_datasets_add_demos(srv.datasets, cfg->demo_size, &err);
+    if (rc == 0 && cfg->elements)
+        rc = lc_datasets_set_element_budget(srv.datasets, cfg->elements, &err);
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         lc_datasets_destroy(srv.datasets);

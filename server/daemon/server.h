@@ -55,6 +55,7 @@ typedef struct lc_serve_config {
     int data_count;
     bool demo;                      /* also serve every demo (default when data_count == 0) */
     unsigned long long demo_size;   /* lc_demo_desc.count for demos; 0 = default */
+    unsigned elements;              /* --elements: line elements / patches of every dataset; 0 = derived */
     int device;                     /* EGL device index, -1 = auto / LUCENT_EGL_DEVICE */
     int workers;                    /* render threads; 0 = 1 on llvmpipe, 2 on a GPU */
     int encoders;                   /* encoder threads; 0 = 2 */

@@ -457,6 +457,12 @@ static void encode_one(lc_workers *w, encode_item *e)
     h.converged = e->info.converged != 0;
     h.timing_count = lc_workers_timings(&e->info, h.timings, LC_PROTO_MAX_TIMINGS);
     h.encode_ms = ms;
+    if (e->info.has_visibility) {
+        h.has_visibility = true;
+        h.top_decile_alpha = e->info.top_decile_alpha;
+        h.bottom_half_alpha = e->info.bottom_half_alpha;
+        h.covered_fraction = e->info.covered_fraction;
+    }
     unsigned char *msg = NULL;
     size_t len = 0;
     rc = lc_proto_pack_frame(&h, img, size, &msg, &len);

@@ -77,7 +77,8 @@ for p in ("/api/v1/health", "/api/v1/datasets", "/api/v1/datasets/{name}", "/api
 check("get" in paths["/api/v1/sessions/{id}"], "GET /api/v1/sessions/{id} is documented")
 check("426" in paths["/api/v1/ws"]["get"]["responses"], "426 on a wrong WebSocket version is documented")
 image_headers = deref(spec["components"]["responses"]["Image"])["headers"]
-for h in ("X-Lucent-Timings", "Server-Timing", "X-Lucent-Converged", "X-Lucent-Max-Alpha-Change"):
+for h in ("X-Lucent-Timings", "Server-Timing", "X-Lucent-Converged", "X-Lucent-Max-Alpha-Change",
+          "X-Lucent-Visibility"):
     check(h in image_headers, "image header %s is documented" % h)
 
 with Server(binary, data=("demo:abc", "demo:points"), demo_size=40) as srv:

@@ -131,6 +131,7 @@ static void test_optimal_alpha(void)
 
     lc_foo_params p;
     lc_foo_params_default(&p);
+    p.normalize = LC_NORMALIZE_OFF; /* the paper's formula; auto is test_density_normalization */
 
     /* Three fragments, list order shuffled; middle one (g 0.6) has 0.09 in front and 0.81 behind.
      * q = 2, r = 4, lambda = 1: 0.16 * (4 * 0.09 + 2 * 0.81) = 0.3168. */
@@ -379,6 +380,48 @@ static void test_estimators(void)
     }
 }
 
+/* normalize auto: a pixel whose total mass exceeds LC_NORM_REFERENCE_MASS has
+ * its sums scaled by reference / total and the emphasis exponent doubled; a
+ * pixel at or below the reference only gets the doubled exponent. */
+static void test_density_normalization(void)
+{
+    lc_foo_params p;
+    lc_foo_params_default(&p);
+    CHECK(p.normalize == LC_NORMALIZE_AUTO, "auto is the default");
+    p.q = 3, p.r = 7, p.lambda = 1.25;
+    CHECK_NEAR(lc_foo_effective_lambda(&p), 2.5, 0.0, "auto doubles lambda");
+    CHECK_NEAR(lc_foo_norm_factor(&p, 0.5 * LC_NORM_REFERENCE_MASS), 1.0, 0.0, "sparse pixel: no scaling");
+    CHECK_NEAR(lc_foo_norm_factor(&p, 4 * LC_NORM_REFERENCE_MASS), 0.25, 1e-15, "dense pixel: reference / total");
+
+    /* A dense stack written out by hand (exact sums), then the Fourier path's total from A_0. */
+    lc_fragment frags[12];
+    rng_state = 11;
+    random_stack(frags, 12);
+    double total = 0;
+    for (int i = 0; i < 12; i++)
+        total += frags[i].importance * frags[i].importance;
+    CHECK(total > LC_NORM_REFERENCE_MASS, "the stack is dense (total %.3f)", total);
+    double k = LC_NORM_REFERENCE_MASS / total;
+    lc_foo_alpha_exact(frags, 12, &p);
+    for (int i = 0; i < 12; i++) {
+        double g = frags[i].importance, front = 0, behind = 0;
+        for (int j = 0; j < 12; j++)
+            if (j != i && (frags[j].depth < frags[i].depth || (frags[j].depth == frags[i].depth && j < i)))
+                front += frags[j].importance * frags[j].importance;
+        behind = total - front - g * g;
+        double expect = 1.0 / (1.0 + pow(1 - g, 5.0) * k * (7 * front + 3 * fmax(behind, 0)));
+        CHECK_NEAR(frags[i].alpha, expect, 1e-9, "normalized exact alpha");
+    }
+    /* The same stack with normalize off is the paper's formula: never more opaque. */
+    lc_fragment off[12];
+    memcpy(off, frags, sizeof off);
+    p.normalize = LC_NORMALIZE_OFF;
+    lc_foo_alpha_exact(off, 12, &p);
+    for (int i = 0; i < 12; i++)
+        CHECK(off[i].alpha <= frags[i].alpha + 1e-12 || frags[i].importance < 0.5, "off %.4f vs auto %.4f (g %.2f)",
+              off[i].alpha, frags[i].alpha, frags[i].importance);
+}
+
 int main(void)
 {
     test_fourier_reconstruction();
@@ -387,5 +430,6 @@ int main(void)
     test_compositing_identities();
     test_smoothing_and_fading();
     test_estimators();
+    test_density_normalization();
     return lc_test_finish();
 }

@@ -319,6 +319,46 @@ static void test_plane_boundary(void)
     lc_scene_destroy(s);
 }
 
+/* Robust percentiles: exact ranks on a known sequence, one huge outlier that
+ * squashes min/max but not the 98th percentile, NaNs ignored, and the element
+ * budget of a finalized scene rebuilt on request. */
+static void test_percentiles_and_budget(void)
+{
+    enum { N = 10001 };
+    float *v = malloc(N * sizeof(float));
+    for (int i = 0; i < N; i++)
+        v[i] = (float)i; /* 0..10000: rank p * 10000 is the value p * 10000 */
+    CHECK(fabs(lc_scene_percentile(v, N, 0, N - 1, 0.02) - 200) < 1.0, "2nd percentile of 0..10000");
+    CHECK(fabs(lc_scene_percentile(v, N, 0, N - 1, 0.98) - 9800) < 1.0, "98th percentile of 0..10000");
+    v[N - 1] = 1e30f; /* an outlier */
+    v[0] = NAN;
+    float p98 = lc_scene_percentile(v, N, 1, 1e30f, 0.98);
+    CHECK(p98 > 9700 && p98 < 9900, "98th percentile survives an outlier of 1e30: %g", p98);
+    CHECK(lc_scene_percentile(v, 0, 0, 1, 0.5) == 0, "no values: lo");
+    free(v);
+
+    lc_scene *s = lc_scene_create("budget", LC_PRIM_LINES);
+    lc_error err = {0};
+    CHECK(lc_scene_alloc_vertices(s, 1000, 0, &err) == 0, "alloc");
+    for (int i = 0; i < 1000; i++) {
+        s->positions[3 * i] = (float)(i % 100);
+        s->positions[3 * i + 1] = (float)(i / 100);
+        s->positions[3 * i + 2] = 0;
+    }
+    s->line_count = 10;
+    s->line_offsets = malloc(11 * sizeof(uint32_t));
+    for (int l = 0; l <= 10; l++)
+        s->line_offsets[l] = (uint32_t)(100 * l);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    CHECK(s->elements.count == 990, "the default budget (10,000) gives every one of the 990 segments an element: %u",
+          s->elements.count);
+    CHECK(lc_scene_set_element_budget(s, 50, &err) == 0 && s->elements.count == 50, "budget 50: %u", s->elements.count);
+    CHECK(lc_scene_set_element_budget(s, 5000, &err) != 0 && strcmp(err.field, "elements") == 0,
+          "a budget above the segment count names the field: %s", err.msg);
+    CHECK(s->elements.count == 50, "a refused budget keeps the elements");
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
     test_basics();
@@ -327,5 +367,6 @@ int main(void)
     test_circle();
     test_sphere();
     test_plane_boundary();
+    test_percentiles_and_budget();
     return lc_test_finish();
 }

@@ -28,6 +28,7 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25 },
   { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'] },
   { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['global', 'pixel'] },
+  { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'] },
   { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true },
 
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },

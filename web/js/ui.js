@@ -36,6 +36,7 @@ export const GROUPS = [
       { path: 'params.subset', label: 'Subset (every n-th)', kind: 'range', min: 1, max: 64, step: 1 },
       { path: 'params.depthMargin', label: 'Depth margin δ', kind: 'range', min: 0, max: 0.25, step: 0.005 },
       { path: 'params.depthRange', label: 'Depth range', kind: 'select', options: [['global', 'Data bounds'], ['pixel', 'Per pixel']] },
+      { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']] },
       { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1 },
     ],
   },

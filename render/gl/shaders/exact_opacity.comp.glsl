@@ -1,7 +1,8 @@
 // Exact reference, optimal opacity (DOO): per pixel of the optimization
 // resolution, sort the list and evaluate FOO Eq. 10 with the exact sums of
 // g^2 strictly in front of (r) and strictly behind (q) each fragment, then
-// atomic-min into the fragment's element as P2 does.
+// atomic-min into the fragment's element as P2 does, with P2's density
+// normalization. Each pixel's total also goes into the mass histogram.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint element_alpha_min[]; };
@@ -10,6 +11,7 @@ uniform ivec2 u_size;
 uniform float u_q;
 uniform float u_r;
 uniform float u_lambda;
+uniform float u_norm_mass; // as in P2: reference mass of the density normalization, 0 = off
 
 void main()
 {
@@ -20,9 +22,11 @@ void main()
     int n = gather_list(p, list_length);
     if (n == 0)
         return;
+    mass_count(list_importance); // the same normalization as the Fourier path
     sort_list(n);
     // Kept fragments are the nearest ones, so their front sums are exact too.
     float total = list_importance;
+    float k = u_norm_mass > 0.0 && total > u_norm_mass ? u_norm_mass / total : 1.0;
     float front = 0.0;
     for (int i = 0; i < n; i++) {
         uvec4 node = nodes[list[i].y];
@@ -30,7 +34,7 @@ void main()
         float own = g * g;
         float behind = max(total - front - own, 0.0);
         float emphasis = u_lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * u_lambda) : 1.0;
-        float alpha = 1.0 / (1.0 + emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
+        float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
         // Non-negative floats order like their bit patterns.
         atomicMin(element_alpha_min[node.w], floatBitsToUint(alpha));
         front += own;

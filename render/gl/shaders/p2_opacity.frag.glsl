@@ -7,6 +7,7 @@ uniform float u_q;
 uniform float u_r;
 uniform float u_lambda;
 uniform int u_estimator; // 0 foo, 1 midpoint
+uniform float u_norm_mass; // normalize auto: reference mass (docs/ALGORITHM.md "Normalization"); 0 = off
 
 void main()
 {
@@ -23,7 +24,10 @@ void main()
     float front = max(G - own, 0.0);
     float behind = max(c[0] - G - (u_estimator == 1 ? 0.5 * g2 : 0.0), 0.0);
     float emphasis = u_lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * u_lambda) : 1.0;
-    float alpha = 1.0 / (1.0 + emphasis * (u_r * front + u_q * behind));
+    // Density normalization: in a pixel whose total mass exceeds the reference
+    // the sums count as fractions of it, so the layer count stops mattering.
+    float k = u_norm_mass > 0.0 && c[0] > u_norm_mass ? u_norm_mass / c[0] : 1.0;
+    float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind));
     // Non-negative floats order like their bit patterns.
     atomicMin(element_alpha_min[fragment_element()], floatBitsToUint(alpha));
 }

@@ -1,0 +1,181 @@
+/* The frame's density and visibility report (docs/ALGORITHM.md "Visibility
+ * report"): a histogram of each pixel's total importance mass (how dense the
+ * data is where it covers the image), and from the element opacities after P3
+ * how visible the important and the unimportant elements are. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "renderer_internal.h"
+
+static void ensure_histogram(lc_renderer *r)
+{
+    if (r->mass_histogram)
+        return;
+    glCreateBuffers(1, &r->mass_histogram);
+    glNamedBufferStorage(r->mass_histogram, MASS_BINS * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
+    r->bytes_elements += MASS_BINS * 4;
+}
+
+void lc_mass_clear(lc_renderer *r)
+{
+    ensure_histogram(r);
+    const uint32_t zero = 0;
+    glClearNamedBufferData(r->mass_histogram, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
+{
+    GLuint prog = lc_renderer_fixed_program(r, PROG_MASS_HISTOGRAM, err);
+    if (!prog)
+        return LC_ERR_GL;
+    lc_mass_clear(r);
+    glUseProgram(prog);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_MASS_HISTOGRAM, r->mass_histogram);
+    glBindTextureUnit(TEX_COEF_FIRST, r->coef_low.tex[0]);
+    glProgramUniform2i(prog, glGetUniformLocation(prog, "u_size"), fs->low_width, fs->low_height);
+    glDispatchCompute((GLuint)(fs->low_width + 7) / 8, (GLuint)(fs->low_height + 7) / 8, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    return 0;
+}
+
+/* Lower edge of bin k (mass_common.glsl). */
+static double bin_mass(double k) { return exp2(MASS_LOG2_MIN + k / MASS_BINS_PER_OCTAVE); }
+
+/* Mass at rank p of the covered pixels, interpolated in log space within its bin. */
+static double mass_rank(const uint32_t *hist, uint64_t covered, double p)
+{
+    double rank = p * (double)(covered - 1), acc = 0;
+    int k = 0;
+    while (k < MASS_BINS - 1 && acc + hist[k] <= rank)
+        acc += hist[k++];
+    return bin_mass(k + (hist[k] ? (rank - acc + 0.5) / hist[k] : 0.5));
+}
+
+void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info)
+{
+    uint32_t hist[MASS_BINS];
+    glGetNamedBufferSubData(r->mass_histogram, 0, sizeof hist, hist);
+    uint64_t covered = 0;
+    for (int k = 0; k < MASS_BINS; k++)
+        covered += hist[k];
+    info->mass_median = covered ? mass_rank(hist, covered, 0.5) : 0.0;
+    info->mass_p95 = covered ? mass_rank(hist, covered, 0.95) : 0.0;
+    info->covered_fraction = (double)covered / ((double)fs->low_width * fs->low_height);
+}
+
+static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
+{
+    uint32_t count = fs->gs->scene->elements.count;
+    if (r->importance_cache && r->importance_key.gs == fs->gs && r->importance_key.attr == fs->importance_attr &&
+        r->importance_key.range[0] == fs->importance_range[0] &&
+        r->importance_key.range[1] == fs->importance_range[1] &&
+        r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count)
+        return 0;
+    GLuint prog = lc_renderer_fixed_program(r, PROG_ELEMENT_IMPORTANCE, err);
+    if (!prog)
+        return LC_ERR_GL;
+    uint32_t *sums = malloc((size_t)(count ? count : 1) * 8);
+    float *cache = realloc(r->importance_cache, (size_t)(count ? count : 1) * sizeof(float));
+    if (!sums || !cache) {
+        free(sums);
+        if (cache)
+            r->importance_cache = cache;
+        return lc_err(err, LC_ERR_NOMEM, "out of memory (element importance of %u elements)", count);
+    }
+    r->importance_cache = cache;
+    if (r->element_importance)
+        glDeleteBuffers(1, &r->element_importance);
+    glCreateBuffers(1, &r->element_importance);
+    glNamedBufferStorage(r->element_importance, (GLsizeiptr)(count ? count : 1) * 8, NULL, GL_DYNAMIC_STORAGE_BIT);
+    const uint32_t zero = 0;
+    glClearNamedBufferData(r->element_importance, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    /* The geometry bindings give the shader the attributes and the mapping. */
+    lc_renderer_bind_geometry(r, prog, fs, fs->low_width, fs->low_height, 1);
+    glUseProgram(prog);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_IMPORTANCE, r->element_importance);
+    uint32_t vertices = fs->gs->scene->vertex_count;
+    if (vertices)
+        glDispatchCompute((vertices + 255) / 256, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(r->element_importance, 0, (GLsizeiptr)count * 8, sums);
+    for (uint32_t e = 0; e < count; e++)
+        cache[e] = sums[2 * e + 1] ? (float)(sums[2 * e] / 1024.0 / sums[2 * e + 1]) : 0.0f;
+    free(sums);
+    glDeleteBuffers(1, &r->element_importance);
+    r->element_importance = 0;
+    r->importance_cache_count = count;
+    r->importance_key.gs = fs->gs;
+    r->importance_key.attr = fs->importance_attr;
+    r->importance_key.range[0] = fs->importance_range[0];
+    r->importance_key.range[1] = fs->importance_range[1];
+    r->importance_key.exponent = fs->importance_exponent;
+    return 0;
+}
+
+#define VIS_BINS 1024
+
+/* Mean of `want` values taken from the bins in the order of `step` (+1 from
+ * the least important, -1 from the most); a bin taken in part contributes
+ * its mean (its elements differ by less than 1/VIS_BINS in importance). */
+static double take_mean(const double *count, const double *sum, double want, int step)
+{
+    double taken = 0, acc = 0;
+    for (int i = 0; i < VIS_BINS && taken < want; i++) {
+        int k = step > 0 ? i : VIS_BINS - 1 - i;
+        if (count[k] <= 0)
+            continue;
+        double part = want - taken < count[k] ? want - taken : count[k];
+        acc += sum[k] * (part / count[k]);
+        taken += part;
+    }
+    return taken > 0 ? acc / taken : 0.0;
+}
+
+int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float *alphas, lc_frame_info *info,
+                          lc_error *err)
+{
+    uint32_t count = fs->gs->scene->elements.count;
+    if (count == 0)
+        return 0;
+    int rc = ensure_importance(r, fs, err);
+    if (rc)
+        return rc;
+    uint32_t *seen = malloc((size_t)count * 4);
+    float *own = alphas ? NULL : malloc((size_t)count * 4);
+    if (!seen || (!alphas && !own)) {
+        free(seen);
+        free(own);
+        return lc_err(err, LC_ERR_NOMEM, "out of memory (visibility of %u elements)", count);
+    }
+    glGetNamedBufferSubData(r->element_alpha_min, 0, (GLsizeiptr)count * 4, seen);
+    if (!alphas) {
+        glGetNamedBufferSubData(r->element_alpha, 0, (GLsizeiptr)count * 4, own);
+        alphas = own;
+    }
+    static _Thread_local double n[VIS_BINS], sum[VIS_BINS];
+    memset(n, 0, sizeof n);
+    memset(sum, 0, sizeof sum);
+    uint32_t visible = 0;
+    for (uint32_t e = 0; e < count; e++) {
+        float a_min;
+        memcpy(&a_min, &seen[e], 4);
+        if (!(a_min <= 1.0f)) /* no fragment this frame (the P2 sentinel is 2) */
+            continue;
+        float g = r->importance_cache[e];
+        int k = (int)(g * VIS_BINS);
+        k = k < 0 ? 0 : k >= VIS_BINS ? VIS_BINS - 1 : k;
+        n[k] += 1;
+        sum[k] += alphas[e];
+        visible++;
+    }
+    free(seen);
+    free(own);
+    info->has_visibility = 1;
+    info->visible_elements = visible;
+    info->top_decile_alpha = take_mean(n, sum, ceil(0.1 * visible), -1);
+    info->bottom_half_alpha = take_mean(n, sum, ceil(0.5 * visible), +1);
+    return 0;
+}

@@ -455,7 +455,7 @@ function describeDataset(d) {
   if (!d) return '';
   const n = (x) => (typeof x === 'number' ? x.toLocaleString('en-US') : x);
   const parts = [];
-  if (d.type) parts.push(d.type);
+  if (d.type && !d.lines && !d.triangles && !d.vertices) parts.push(d.type);
   if (d.lines) parts.push(`${n(d.lines)} lines`);
   if (d.triangles) parts.push(`${n(d.triangles)} triangles`);
   if (!d.lines && !d.triangles && d.vertices) parts.push(`${n(d.vertices)} points`);

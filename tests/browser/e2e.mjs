@@ -570,11 +570,13 @@ test('bug 3: an out-of-range value is brought into range everywhere and said so'
 
 test('grayscale on a white background: warning, and one click flips the colours', async () => {
   const page = ctx.desk;
+  await settled(page);
+  const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);
   await page.locator('#ctl-color-colormap').selectOption('grayscale');
   await page.waitForFunction(() => document.getElementById('legend').dataset.clash === 'true', null, { timeout: 5000 });
   const warn = await page.locator('#legend .legend-warn').textContent();
   check(/matches the background/.test(warn), `warning: ${warn}`);
-  await settled(page);
+  await settled(page, 60000, f0);
   await docShot(page, 'web-grayscale-warning');
   await page.locator('#legend [data-role="flip"]').click();
   await page.waitForFunction(() => document.getElementById('legend').dataset.clash === 'false', null, { timeout: 5000 });

@@ -542,8 +542,8 @@ function usePreset(link) {
   }
   state.preset = { dataset: state.dataset, preset, applied: r.applied, cameraApplied: r.cameraApplied };
   const what = [...r.applied, ...(r.cameraApplied ? ['camera'] : [])];
-  $('preset-text').textContent = `Preset for ${state.dataset} applied`;
-  $('preset-note').title = `Set by the dataset's preset: ${what.join(', ')}`;
+  $('preset-text').textContent = 'Preset applied';
+  $('preset-note').title = `The preset of ${state.dataset} set ${what.join(', ')}; “undo” goes back to the server's defaults`;
   $('preset-note').hidden = false;
   document.body.dataset.preset = state.dataset;
 }

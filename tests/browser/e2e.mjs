@@ -364,6 +364,22 @@ const overlayCoverage = (page) =>
     return out;
   });
 
+/** Pairs of the lasting overlays (not the transient banner and toast) that overlap each other. */
+const overlayOverlaps = (page) =>
+  page.evaluate(() => {
+    const els = ['#stats', '#legend', '#axes', '.view-buttons', '#preset-note']
+      .map((sel) => [sel, document.querySelector(sel)])
+      .filter(([, el]) => el && !el.hidden && getComputedStyle(el).display !== 'none')
+      .map(([sel, el]) => [sel, el.getBoundingClientRect()]);
+    const out = [];
+    for (let i = 0; i < els.length; i++)
+      for (let j = i + 1; j < els.length; j++) {
+        const [a, ra] = els[i], [b, rb] = els[j];
+        if (ra.left < rb.right && rb.left < ra.right && ra.top < rb.bottom && rb.top < ra.bottom) out.push(`${a} × ${b}`);
+      }
+    return out;
+  });
+
 /** The dataset's bounding-box corners projected with the page's camera: all inside the view? */
 const cornersInside = (page) =>
   page.evaluate(async () => {
@@ -406,6 +422,8 @@ test('desktop: legend, triad, one-line stats, help, tooltips; overlays cover ≤
   const cov = await overlayCoverage(page);
   const worst = Math.max(...Object.values(cov));
   check(worst <= 0.05, `an overlay covers more than 5 % of the desktop view: ${JSON.stringify(cov)}`);
+  const ov = await overlayOverlaps(page);
+  check(!ov.length, `overlays overlap: ${ov.join(', ')}`);
   // the legend's explanation of opacity, on demand
   await page.locator('#legend .legend-more').click();
   const note = await page.locator('#legend .legend-note').textContent();
@@ -623,8 +641,8 @@ test('presets: applied on dataset switch under the link, with a working undo', a
   await page.locator('#dataset').selectOption('demo:points');
   await settled(page);
   await page.locator('[data-testid="preset-note"]').waitFor({ state: 'visible', timeout: 3000 });
-  let st = await page.evaluate(() => ({ note: document.getElementById('preset-note').textContent, q: document.querySelector('.row[data-path="params.q"] .num').value, cmap: document.getElementById('ctl-color-colormap').value, server: window.lucent.state.lastReady.defaults }));
-  check(/Preset for demo:points applied/.test(st.note) && /undo/.test(st.note), `note: ${st.note}`);
+  let st = await page.evaluate(() => ({ note: document.getElementById('preset-note').textContent, title: document.getElementById('preset-note').title, q: document.querySelector('.row[data-path="params.q"] .num').value, cmap: document.getElementById('ctl-color-colormap').value, server: window.lucent.state.lastReady.defaults }));
+  check(/Preset applied/.test(st.note) && /undo/.test(st.note) && /demo:points/.test(st.title), `note: ${st.note} (${st.title})`);
   check(st.q === '80' && st.cmap === 'plasma', `panel shows q ${st.q}, colormap ${st.cmap}`);
   check(st.server.params.q === 80 && st.server.params.r === 40 && st.server.color.colormap === 'plasma' && st.server.style.pointSize === 3, `server: ${JSON.stringify(st.server.params)}`);
   check(/plasma/.test((await legendState(page)).text), 'the legend does not show the preset colormap');
@@ -643,7 +661,7 @@ test('presets: applied on dataset switch under the link, with a working undo', a
   await page.close();
 });
 
-test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refits, touch turns the triad', async () => {
+test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refits, touch turns the triad, home, preset', async () => {
   const page = await newPage(`${ctx.d.url}/#dataset=demo:tornado`, phone);
   await settled(page);
   const fit = await cornersInside(page);
@@ -659,6 +677,8 @@ test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refi
   check(pick.textWidth + 30 <= pick.box, `the dataset picker cuts "${pick.text}" (${pick.textWidth.toFixed(0)} px text in ${pick.box} px)`);
   const cov = await overlayCoverage(page);
   check(Math.max(...Object.values(cov)) <= 0.1, `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov)}`);
+  const ov = await overlayOverlaps(page);
+  check(!ov.length, `overlays overlap on the phone: ${ov.join(', ')}`);
   const lg = await legendState(page);
   check(lg.visible, 'no legend on the phone');
   await docShot(page, 'web-phone');
@@ -687,7 +707,37 @@ test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refi
   await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
   const a1 = await page.locator('#axes').getAttribute('data-axes');
   check(a0 !== a1, 'a one-finger drag did not turn the triad');
+  const touch = await page.evaluate(() => window.lucent.responses);
+  check(touch.length >= 1, 'the touch drag repainted nothing before the next frame');
+  log(`  touch → visible response on the phone: median ${quantile(touch, 0.5).toFixed(1)} ms (${touch.length} moves)`);
+  // Home on the phone: the suggested view, fitted to the portrait view
+  await settled(page);
+  await page.locator('.view-buttons [data-view="home"]').tap();
+  check((await cornersInside(page)).inside, 'Home clips the data on the phone');
+  await settled(page);
   await page.close();
+  // a fresh link to a dataset with a preset, on the phone: applied, noted, and the note stays small
+  const page2 = await newPage(undefined, phone);
+  await page2.route('**/api/v1/datasets', async (route) => {
+    const res = await route.fetch();
+    const body = await res.json();
+    for (const d of Array.isArray(body) ? body : body.datasets) if (d.name === 'demo:points') d.preset = { params: { q: 80 }, color: { colormap: 'plasma' } };
+    await route.fulfill({ response: res, json: body });
+  });
+  await page2.goto(`${ctx.d.url}/#dataset=demo:points`);
+  await settled(page2);
+  await page2.locator('[data-testid="preset-note"]').waitFor({ state: 'visible', timeout: 3000 });
+  const pst = await page2.evaluate(() => window.lucent.state.lastReady.defaults);
+  check(pst.params.q === 80 && pst.color.colormap === 'plasma', `phone preset: q ${pst.params.q}, ${pst.color.colormap}`);
+  const cov3 = await overlayCoverage(page2);
+  check(Math.max(...Object.values(cov3)) <= 0.1, `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov3)}`);
+  const ov3 = await overlayOverlaps(page2);
+  check(!ov3.length, `overlays overlap on the phone: ${ov3.join(', ')}`);
+  await docShot(page2, 'web-phone-preset');
+  await page2.locator('#preset-undo').tap();
+  await page2.waitForFunction(() => window.lucent.state.lastReady.defaults.params.q === 60, null, { timeout: 30000 });
+  await settled(page2);
+  await page2.close();
   return `phone coverage ${Object.entries(cov).map(([k, v]) => `${k} ${(v * 100).toFixed(1)} %`).join(', ')}`;
 });
 

@@ -793,7 +793,8 @@ test('stopped server: visible state, then reconnection restores the view', async
   await page.waitForFunction(() => document.body.dataset.connection === 'open', null, { timeout: 45000 });
   const reconnectMs = Date.now() - back;
   log(`  reconnected ${reconnectMs} ms after the daemon listened again (probe delays ${delays.join(', ')} ms)`);
-  check(reconnectMs < 4000, `reconnection took ${reconnectMs} ms after the server was back`);
+  // probes come every 1.2–1.8 s; the rest is connect + hello + ready on a busy machine
+  check(reconnectMs < 6000, `reconnection took ${reconnectMs} ms after the server was back`);
   await settled(page);
   const st = await page.evaluate(() => ({ cam: window.lucent.camera, server: window.lucent.state.lastReady.defaults }));
   check(camDiff(st.cam, cam) < 1e-9 && camDiff(st.server.camera, cam) < 1e-5 && st.server.params.q === 1000, 'view not restored after reconnecting');

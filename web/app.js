@@ -255,9 +255,6 @@ new Navigation(canvas, {
   onCamera: setCamera,
   onCommand: command,
 });
-document.addEventListener('fullscreenchange', () => {
-  document.body.classList.toggle('fullscreen', !!document.fullscreenElement);
-});
 for (const btn of document.querySelectorAll('[data-view]')) btn.addEventListener('click', () => command(btn.dataset.view));
 
 // ---------------------------------------------------------------- URL hash (replaceState, so no history spam)
@@ -339,7 +336,12 @@ function hello() {
     state.fitted = !!state.camera;
   }
   state.cameras.clear();
-  if (state.camera) state.cameras.set(0, roundCamera(state.camera, 12));
+  if (state.camera) {
+    state.cameras.set(0, roundCamera(state.camera, 12));
+    // the view warps toward this camera from now on (not toward the previous dataset's)
+    axes.update(state.camera);
+    view.setCamera(state.camera);
+  }
   state.viewport = measure();
   const v = state.viewport;
   view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
@@ -398,6 +400,7 @@ const conn = new Connection(wsUrl.href, hello, {
     if (msg.defaults?.camera && !validateCamera(cloneCamera(msg.defaults.camera))) {
       state.camera = cloneCamera(msg.defaults.camera);
       axes.update(state.camera);
+      view.setCamera(state.camera);
     } else if (!state.camera) {
       // the server fits the data itself; take the same fit and tell it, so both agree from here on
       state.camera = initialCamera(state.info);
@@ -694,8 +697,10 @@ $('screenshot').addEventListener('click', async () => {
 });
 
 $('reset-params').addEventListener('click', () => {
-  // a fresh session without the user's changes: its ready message brings the server's defaults
+  // a fresh session without the user's changes (or a preset's): its ready message brings the server's defaults
   state.update = {};
+  state.preset = null;
+  hidePresetNote();
   writeHash();
   conn.start();
 });

@@ -437,6 +437,8 @@ test('desktop: legend, triad, one-line stats, help, tooltips; overlays cover ≤
   await page.locator('#show-help').check();
   const hint = await page.locator('.row[data-path="params.q"] .hint');
   check(await hint.isVisible() && /behind/.test(await hint.textContent()), 'q has no visible info line');
+  await page.locator('#group-optimization').evaluate((el) => el.scrollIntoView());
+  await docShot(page, 'web-explain');
   await page.locator('#show-help').uncheck();
   // ? opens the help overlay (mouse, touch and keyboard), Escape closes it
   await page.locator('#canvas').focus();
@@ -473,10 +475,12 @@ test('drag: the triad and the warped last frame answer before the next frame; in
     ev('pointermove', 80, 20);
     const f1 = window.lucent.state.lastFrame.frame, a1 = document.getElementById('axes').dataset.axes, s1 = small();
     const warped = window.lucent.view.warped;
-    ev('pointerup', 80, 20);
+    window.__endDrag = () => ev('pointerup', 80, 20);
     const diff = s0.reduce((acc, v, i) => acc + Math.abs(v - s1[i]), 0) / s0.length;
     return { sameFrame: f0 === f1, axesTurned: a0 !== a1, warped, diff };
   });
+  await shot(page, '10-warp-mid-drag'); // the warped last frame (a newer frame may already be there)
+  await page.evaluate(() => window.__endDrag());
   check(r.sameFrame, 'a frame arrived during a synchronous drag (test assumption)');
   check(r.axesTurned, 'the triad did not turn with the drag');
   check(r.warped && r.diff > 1, `the last frame was not warped toward the new camera (warped ${r.warped}, mean diff ${r.diff.toFixed(2)})`);

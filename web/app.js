@@ -14,6 +14,10 @@ import { Navigation } from './js/navigation.js';
 import { Panel, GROUPS, attributeRange } from './js/ui.js';
 import { FrameStats, renderStats, formatBytes } from './js/stats.js';
 import { Api, ApiError } from './js/api.js';
+import { Legend } from './js/legend.js';
+import { AxesTriad } from './js/axes.js';
+import { applyPreset, removePreset } from './js/preset.js';
+import { rgbToHex } from './js/ui.js';
 
 const $ = (id) => document.getElementById(id);
 const TOKEN_KEY = 'lucent.token';
@@ -36,8 +40,14 @@ const state = {
   token: tokenFromLocation(location.search, location.hash) ?? sessionStorage.getItem(TOKEN_KEY),
   error: null, // last error shown {code, message}
   viewport: { width: 0, height: 0, dpr: 1 },
+  cameras: new Map(), // camera seq -> the camera sent with it (0: the hello's), to warp frames
+  fitted: false, // the camera is a fit the user has not moved since: refit when the view's shape changes
+  preset: null, // {dataset, preset, applied, cameraApplied} of the preset in effect
+  responses: [], // input -> warped picture on screen, ms (the newest 200)
+  retryDelays: [], // reconnection delays chosen, ms
 };
 if (initial.errors.length) queueMicrotask(() => toast(`Ignored in the link: ${initial.errors.join('; ')}`));
+const linkAtStart = { update: merge({}, initial.update), camera: state.camera }; // the preset goes under these
 
 const base = new URL('.', location.href);
 const wsUrl = new URL('api/v1/ws', base);
@@ -60,6 +70,15 @@ const view = new FrameView(canvas, {
     refreshStats();
   },
   onError: (e) => toast(e.message),
+  frameCamera: (h) => state.cameras.get(h.cameraSeq) ?? null,
+  background: () => rgbToHex(currentValues().style?.background ?? [1, 1, 1]),
+});
+const axes = new AxesTriad($('axes'), 72);
+const legend = new Legend($('legend'), {
+  onFlip: () => {
+    const r = legend.model?.color.range;
+    if (r) applyChange('color.range', [r[1], r[0]]);
+  },
 });
 
 // ---------------------------------------------------------------- values shown = defaults + stream + user changes
@@ -77,7 +96,10 @@ function showValues() {
       if (c.path === 'importance.attribute' && !v) v = state.info?.defaultImportance;
       if (c.path === 'color.attribute' && !v) v = state.info?.defaultColor ?? 'importance';
       if (v === undefined && c.path === 'importance.range') v = attributeRange(state.info, values.importance?.attribute || state.info?.defaultImportance);
-      if (v === undefined && c.path === 'color.range') v = attributeRange(state.info, values.color?.attribute);
+      if (v === undefined && c.path === 'color.range') {
+        const by = values.color?.attribute || state.info?.defaultColor || 'importance';
+        v = by === 'importance' ? [0, 1] : attributeRange(state.info, by);
+      }
       panel.setValue(c.path, v);
     }
   }
@@ -89,13 +111,17 @@ function showValues() {
   const colorBy = values.color?.attribute;
   panel.setVisible('color.colormap', colorBy !== 'rgb');
   panel.setVisible('color.range', colorBy !== 'rgb');
+  legend.update(values, state.info);
 }
 
 // ---------------------------------------------------------------- panel
 let pendingParams = null;
 let paramsFrame = 0;
 
-const panel = new Panel($('generated'), (path, value) => {
+const panel = new Panel($('generated'), (path, value) => applyChange(path, value), (text) => toast(text));
+
+/** One edit of a request field (the panel, the legend's flip): to the page's state, the server and the URL. */
+function applyChange(path, value) {
   if (path.startsWith('camera.')) {
     if (!state.camera) return;
     const cam = cloneCamera(state.camera);
@@ -110,11 +136,13 @@ const panel = new Panel($('generated'), (path, value) => {
   }
   const change = {};
   setPath(change, path, value);
-  // a new attribute brings its own range (the previous one would not fit)
+  // a new attribute brings its own range, sent and written into the link (the previous
+  // attribute's range would not fit, and the server would keep it); importance is [0, 1]
   if (path === 'importance.attribute' || path === 'color.attribute') {
     const section = path.split('.')[0];
-    const r = attributeRange(state.info, value);
-    if (r && r[0] !== r[1]) setPath(change, `${section}.range`, r);
+    let r = value === 'importance' && section === 'color' ? [0, 1] : attributeRange(state.info, value);
+    if (r && r[0] === r[1]) r = [r[0] - 0.5, r[1] + 0.5];
+    if (r) setPath(change, `${section}.range`, r);
     else if (state.update[section]) delete state.update[section].range;
   }
   state.update = merge(state.update, change);
@@ -122,7 +150,7 @@ const panel = new Panel($('generated'), (path, value) => {
   if (!paramsFrame) paramsFrame = requestAnimationFrame(flushParams);
   showValues();
   scheduleHash();
-});
+}
 
 function flushParams() {
   paramsFrame = 0;
@@ -142,9 +170,24 @@ function flushParams() {
 let cameraFrame = 0;
 let cameraDirty = false;
 
-function setCamera(cam) {
+/**
+ * The page's camera changed: the triad and the warped last frame follow at once
+ * (input → visible response without a server round trip), the server gets it on
+ * the next animation frame. opts.at: the input event's time stamp (for the
+ * response measurement); opts.fitted: the camera is a fit (refit on resize).
+ */
+function setCamera(cam, { at, fitted = false } = {}) {
   if (validateCamera(cam)) return; // a degenerate camera from extreme input: keep the previous one
   state.camera = cam;
+  state.fitted = fitted;
+  axes.update(cam);
+  const painted = view.setCamera(cam);
+  if (at !== undefined && painted) {
+    requestAnimationFrame(() => {
+      state.responses.push(performance.now() - at);
+      if (state.responses.length > 200) state.responses.shift();
+    });
+  }
   cameraDirty = true;
   if (!cameraFrame) cameraFrame = requestAnimationFrame(flushCamera);
   scheduleHash();
@@ -156,7 +199,10 @@ function flushCamera() {
   cameraDirty = false;
   if (!conn.isOpen) return;
   const seq = ++state.seq;
-  conn.send(cameraMessage(seq, roundCamera(state.camera, 12)));
+  const cam = roundCamera(state.camera, 12);
+  conn.send(cameraMessage(seq, cam));
+  state.cameras.set(seq, cam);
+  if (state.cameras.size > 64) state.cameras.delete(state.cameras.keys().next().value);
   stats.cameraSent(seq);
 }
 
@@ -174,13 +220,34 @@ function initialCamera(info) {
   if (!b) return null;
   const dir = info.view?.direction ?? info.viewDirection;
   const up = info.view?.up ?? info.viewUp;
-  return fitCamera(DEFAULT_CAMERA, b, Array.isArray(dir) ? dir : undefined, Array.isArray(up) ? up : undefined);
+  return fitCamera(DEFAULT_CAMERA, b, Array.isArray(dir) ? dir : undefined, Array.isArray(up) ? up : undefined, aspect());
+}
+
+/** width / height of the view (fits use the narrower angle of a portrait view). */
+function aspect() {
+  const v = state.viewport.width ? state.viewport : measure();
+  return v.width / v.height;
+}
+
+function toggleFullscreen() {
+  if (document.fullscreenElement) document.exitFullscreen?.().catch(() => {});
+  else $('view').requestFullscreen?.().catch((e) => toast(`Fullscreen is not available: ${e.message}`));
 }
 
 function command(name) {
+  if (name === 'fullscreen') return toggleFullscreen();
   const b = bounds();
   if (!b || !state.camera) return;
-  setCamera(name === 'reset' ? refitCamera(state.camera, b) : viewAlongAxis(state.camera, b, name));
+  let cam;
+  if (name === 'home') {
+    cam = initialCamera(state.info);
+    if (!cam) return;
+    cam.viewAngle = state.camera.viewAngle;
+    cam.parallelProjection = state.camera.parallelProjection;
+    cam = fitCamera(cam, b, cam.focalPoint.map((f, i) => f - cam.position[i]), cam.viewUp, aspect());
+  } else if (name === 'reset') cam = refitCamera(state.camera, b, aspect());
+  else cam = viewAlongAxis(state.camera, b, name, aspect());
+  setCamera(cam, { fitted: true });
 }
 
 new Navigation(canvas, {
@@ -208,12 +275,22 @@ function writeHash() {
 }
 window.addEventListener('hashchange', () => {
   if (location.hash === lastHash) return;
-  // a pasted or edited link: take it over as a fresh start
+  // a pasted or edited link: take it over as a fresh start, as a fresh load would
   const s = parseHash(location.hash);
   if (s.token) setToken(s.token);
+  if (s.errors.length) toast(`Ignored in the link: ${s.errors.join('; ')}`);
   state.update = s.update;
   state.camera = s.camera && !validateCamera(cloneCamera(s.camera)) ? cloneCamera(s.camera) : null;
+  const switched = s.dataset && s.dataset !== state.dataset;
   if (s.dataset) state.dataset = s.dataset;
+  state.info = state.datasets.find((d) => d.name === state.dataset) ?? null;
+  if (switched) view.clear();
+  // the old error (an unknown dataset, a refused value) is about the old link
+  hideBanner();
+  state.error = null;
+  hidePresetNote();
+  usePreset({ update: s.update, camera: state.camera });
+  if (!checkDataset()) showDataset();
   lastHash = location.hash;
   conn.start();
 });
@@ -235,6 +312,10 @@ function onResize() {
     state.viewport = v;
     view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
     conn.send(resizeMessage(v.width, v.height, v.dpr));
+    // a view the user has not moved since it was fitted is fitted again to its new shape
+    // (folding the panel away on a phone makes the view taller and narrower than the fit)
+    const b = bounds();
+    if (b && state.camera && state.fitted) setCamera(refitCamera(state.camera, b, aspect()), { fitted: true });
   });
 }
 new ResizeObserver(onResize).observe($('view'));
@@ -250,7 +331,17 @@ watchDpr();
 // ---------------------------------------------------------------- connection
 function hello() {
   // send a camera from the start, so that the page and the server agree on it before the first drag
-  if (!state.camera) state.camera = initialCamera(state.datasets.find((d) => d.name === state.dataset));
+  if (!state.camera) {
+    state.camera = initialCamera(state.datasets.find((d) => d.name === state.dataset));
+    state.fitted = !!state.camera;
+  }
+  state.cameras.clear();
+  if (state.camera) {
+    state.cameras.set(0, roundCamera(state.camera, 12));
+    // the view warps toward this camera from now on (not toward the previous dataset's)
+    axes.update(state.camera);
+    view.setCamera(state.camera);
+  }
   state.viewport = measure();
   const v = state.viewport;
   view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
@@ -274,14 +365,18 @@ const conn = new Connection(wsUrl.href, hello, {
     if (s === 'connecting') {
       el.textContent = detail.attempt ? 'Reconnecting…' : 'Connecting…';
       view.reset();
+      state.lastFrame = null; // frames of the new session only
       state.seq = 0;
       state.confirmedSeq = 0;
       stats.lastMeasuredSeq = 0;
       stats.sent.clear();
     } else if (s === 'open') {
       el.textContent = 'Connected';
+      state.retryDelays = [];
       if (state.error?.kind === 'connection') hideBanner();
     } else if (s === 'waiting') {
+      state.retryDelays.push(detail.delay);
+      if (state.retryDelays.length > 50) state.retryDelays.shift();
       const until = performance.now() + detail.delay;
       const tick = () => {
         const left = Math.max(0, Math.ceil((until - performance.now()) / 1000));
@@ -302,11 +397,18 @@ const conn = new Connection(wsUrl.href, hello, {
     state.stream = msg.stream ?? null;
     state.limits = msg.limits ?? null;
     state.dataset = state.info?.name ?? msg.defaults?.dataset ?? state.dataset;
-    if (msg.defaults?.camera && !validateCamera(cloneCamera(msg.defaults.camera))) state.camera = cloneCamera(msg.defaults.camera);
-    else if (!state.camera) {
+    if (msg.defaults?.camera && !validateCamera(cloneCamera(msg.defaults.camera))) {
+      state.camera = cloneCamera(msg.defaults.camera);
+      axes.update(state.camera);
+      view.setCamera(state.camera);
+    } else if (!state.camera) {
       // the server fits the data itself; take the same fit and tell it, so both agree from here on
       state.camera = initialCamera(state.info);
-      if (state.camera) setCamera(state.camera);
+      if (state.camera) setCamera(state.camera, { fitted: true });
+    }
+    if (state.error && (state.error.code === 'not_found' || state.error.field === 'dataset')) {
+      hideBanner(); // a session for this dataset exists: an old "not available" no longer holds
+      state.error = null;
     }
     panel.setMethods(msg.methods ?? state.health?.methods);
     panel.setDataset(state.info);
@@ -356,7 +458,7 @@ function describeDataset(d) {
   if (!d) return '';
   const n = (x) => (typeof x === 'number' ? x.toLocaleString('en-US') : x);
   const parts = [];
-  if (d.type) parts.push(d.type);
+  if (d.type && !d.lines && !d.triangles && !d.vertices) parts.push(d.type);
   if (d.lines) parts.push(`${n(d.lines)} lines`);
   if (d.triangles) parts.push(`${n(d.triangles)} triangles`);
   if (!d.lines && !d.triangles && d.vertices) parts.push(`${n(d.vertices)} points`);
@@ -365,13 +467,22 @@ function describeDataset(d) {
   return parts.join(', ');
 }
 
+function shortSize(d) {
+  const k = (x) => (x >= 1e6 ? `${Number((x / 1e6).toPrecision(2))}M` : x >= 1e4 ? `${Math.round(x / 1e3)}k` : String(x));
+  if (d.lines) return `${k(d.lines)} lines`;
+  if (d.triangles) return `${k(d.triangles)} triangles`;
+  if (d.vertices) return `${k(d.vertices)} points`;
+  return d.type ?? '';
+}
+
 function showDataset() {
   const sel = $('dataset');
   const names = state.datasets.map((d) => d.name);
   if (state.dataset && !names.includes(state.dataset)) names.unshift(state.dataset);
+  // the option says name and size only (it must fit a phone's picker); the line below has the details
   const wanted = names.map((n) => {
     const d = state.datasets.find((x) => x.name === n);
-    return [n, d ? `${n} (${describeDataset(d)})` : `${n} (unknown)`];
+    return [n, d ? `${n} · ${shortSize(d)}` : `${n} (unknown)`];
   });
   const same = sel.options.length === wanted.length && wanted.every(([v, t], i) => sel.options[i].value === v && sel.options[i].text === t);
   if (!same) sel.replaceChildren(...wanted.map(([v, t]) => new Option(t, v)));
@@ -397,13 +508,74 @@ $('dataset').addEventListener('change', (e) => {
   state.dataset = e.target.value;
   state.camera = null; // fit the new data
   state.info = state.datasets.find((d) => d.name === state.dataset) ?? null;
-  // attributes belong to the old dataset
+  view.clear();
+  // attributes belong to the old dataset, and so does the old preset
   delete state.update.importance;
   delete state.update.color;
+  if (state.preset) state.update = removePreset(state.update, state.preset.preset, state.preset.applied);
   hideBanner();
+  state.error = null;
+  usePreset({ update: state.update, camera: null });
   writeHash();
   conn.start();
 });
+
+// ---------------------------------------------------------------- per-dataset presets
+/**
+ * Puts the chosen dataset's preset (its description's "preset") under the
+ * given link values (the link wins), into state.update and state.camera, and
+ * says so with an undo. link: {update, camera}.
+ */
+function usePreset(link) {
+  hidePresetNote();
+  state.preset = null;
+  const preset = state.datasets.find((d) => d.name === state.dataset)?.preset;
+  if (!preset || typeof preset !== 'object') return;
+  const r = applyPreset(preset, link.update, link.camera);
+  if (r.errors.length) toast(`Preset of ${state.dataset}: ignored ${r.errors.join('; ')}`);
+  if (!r.applied.length && !r.cameraApplied) return;
+  state.update = r.update;
+  if (r.cameraApplied) {
+    const home = initialCamera(state.datasets.find((d) => d.name === state.dataset));
+    const cam = cloneCamera({ ...(home ?? {}), ...r.camera });
+    if (!validateCamera(cam)) {
+      state.camera = cam;
+      state.fitted = false;
+    }
+  }
+  state.preset = { dataset: state.dataset, preset, applied: r.applied, cameraApplied: r.cameraApplied };
+  const what = [...r.applied, ...(r.cameraApplied ? ['camera'] : [])];
+  $('preset-text').textContent = 'Preset applied';
+  $('preset-note').title = `The preset of ${state.dataset} set ${what.join(', ')}; “undo” goes back to the server's defaults`;
+  $('preset-note').hidden = false;
+  document.body.dataset.preset = state.dataset;
+}
+function hidePresetNote() {
+  $('preset-note').hidden = true;
+}
+$('preset-close').addEventListener('click', hidePresetNote);
+$('preset-undo').addEventListener('click', () => {
+  const p = state.preset;
+  hidePresetNote();
+  if (!p) return;
+  state.update = removePreset(state.update, p.preset, p.applied);
+  if (p.cameraApplied) state.camera = null; // back to the dataset's own view
+  state.preset = null;
+  delete document.body.dataset.preset;
+  toast(`Preset for ${p.dataset} undone: the server's defaults apply.`);
+  writeHash();
+  conn.start(); // a fresh session: its defaults replace what the preset had set
+});
+
+/** An unknown dataset in the link is said at once (the server's answer to hello confirms it). Returns true when shown. */
+function checkDataset() {
+  if (state.dataset && state.datasets.length && !state.datasets.some((d) => d.name === state.dataset)) {
+    showBanner(`Dataset “${state.dataset}” is not available on this server. Available: ${state.datasets.map((d) => d.name).join(', ')}.`, { kind: 'error' });
+    showDataset();
+    return true;
+  }
+  return false;
+}
 
 // ---------------------------------------------------------------- banner, toast, token
 function showBanner(text, { retry = false, kind = 'error' } = {}) {
@@ -525,29 +697,33 @@ $('screenshot').addEventListener('click', async () => {
 });
 
 $('reset-params').addEventListener('click', () => {
-  // a fresh session without the user's changes: its ready message brings the server's defaults
+  // a fresh session without the user's changes (or a preset's): its ready message brings the server's defaults
   state.update = {};
+  state.preset = null;
+  hidePresetNote();
   writeHash();
   conn.start();
 });
 
-// ---------------------------------------------------------------- stats overlay
-const statsEl = $('stats');
+// ---------------------------------------------------------------- stats: one line, the full table on demand
+const statsLine = $('stats');
+const statsEl = $('stats-full');
 const showStats = $('show-stats');
-function statsVisible() {
-  statsEl.hidden = !showStats.checked;
-}
-showStats.addEventListener('change', () => {
-  statsVisible();
+function statsVisible(full) {
+  showStats.checked = full;
+  statsEl.hidden = !full;
+  statsLine.setAttribute('aria-expanded', String(full));
   refreshStats();
-});
-statsVisible();
+}
+showStats.addEventListener('change', () => statsVisible(showStats.checked));
+statsLine.addEventListener('click', () => statsVisible(statsEl.hidden));
 let statsFrame = 0;
 function refreshStats() {
-  if (statsFrame || statsEl.hidden) return;
+  if (statsFrame) return;
   statsFrame = requestAnimationFrame(() => {
     statsFrame = 0;
-    renderStats(statsEl, stats);
+    statsLine.textContent = stats.summary();
+    if (!statsEl.hidden) renderStats(statsEl, stats);
   });
 }
 setInterval(refreshStats, 250); // fps decays when frames stop
@@ -555,6 +731,23 @@ setInterval(refreshStats, 250); // fps decays when frames stop
 $('panel-toggle').addEventListener('click', () => {
   const collapsed = document.body.classList.toggle('panel-collapsed');
   $('panel-toggle').setAttribute('aria-expanded', String(!collapsed));
+  onResize(); // the view changes shape; a fitted camera is fitted to it again
+});
+$('show-help').addEventListener('change', (e) => $('panel').classList.toggle('explain', e.target.checked));
+
+// ---------------------------------------------------------------- help overlay (?)
+const help = $('help');
+function toggleHelp() {
+  if (help.open) help.close();
+  else help.showModal();
+}
+$('help-button').addEventListener('click', toggleHelp);
+document.addEventListener('keydown', (e) => {
+  if (e.key !== '?' || e.ctrlKey || e.metaKey || e.altKey) return;
+  const t = e.target;
+  if (t instanceof HTMLInputElement || t instanceof HTMLTextAreaElement || t instanceof HTMLSelectElement) return;
+  e.preventDefault();
+  toggleHelp();
 });
 
 // ---------------------------------------------------------------- start
@@ -575,11 +768,9 @@ async function start() {
     if (typeof r === 'string') stats.renderer = r;
     if (Array.isArray(h?.methods)) panel.setMethods(h.methods);
   }, () => {});
-  if (state.dataset && state.datasets.length && !state.datasets.some((d) => d.name === state.dataset)) {
-    // say so at once; the server's answer to hello will confirm it
-    showBanner(`Dataset “${state.dataset}” is not available on this server. Available: ${state.datasets.map((d) => d.name).join(', ')}.`, { kind: 'error' });
-  }
+  checkDataset();
   if (!state.dataset && state.datasets.length) state.dataset = state.datasets[0].name;
+  usePreset(linkAtStart);
   showDataset();
   conn.start();
 }
@@ -597,6 +788,13 @@ window.lucent = {
   },
   values: currentValues,
   renderRequest,
+  /** Input → warped picture on screen (ms), the newest samples. */
+  get responses() {
+    return [...state.responses];
+  },
+  get view() {
+    return { warped: view.warped, canvasFrame: view.lastDrawn };
+  },
   /** Drops the connection and opens a new session from the page's state (as after a lost connection). */
   reconnect: () => conn.start(),
 };

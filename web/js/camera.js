@@ -96,8 +96,11 @@ export function boundsSphere(bounds) {
  * ParaView's ResetCamera: look at the bounds along direction (camera → focal
  * point; default -Z) with the given up (default +Y) so that the bounding sphere
  * fills the view. Keeps viewAngle and projection, sets parallelScale to the radius.
+ * aspect (width / height) < 1, a portrait view such as a phone's, fits the sphere
+ * into the narrower horizontal angle instead, as vtkRenderer::ResetCamera does;
+ * the default 1 is lc_camera_fit's fit.
  */
-export function fitCamera(cam, bounds, direction = [0, 0, -1], up = [0, 1, 0]) {
+export function fitCamera(cam, bounds, direction = [0, 0, -1], up = [0, 1, 0], aspect = 1) {
   const out = cloneCamera(cam);
   let dir = normalize(direction);
   if (length(dir) === 0) dir = [0, 0, -1];
@@ -106,17 +109,19 @@ export function fitCamera(cam, bounds, direction = [0, 0, -1], up = [0, 1, 0]) {
   const vup = normalize(cross(side, dir));
   const { center, radius } = boundsSphere(bounds);
   if (!(out.viewAngle > 0 && out.viewAngle < 180)) out.viewAngle = 30;
-  const dist = radius / Math.sin((out.viewAngle * Math.PI) / 360);
+  const a = aspect > 0 && aspect < 1 ? aspect : 1;
+  const half = Math.atan(Math.tan((out.viewAngle * Math.PI) / 360) * a);
+  const dist = radius / Math.sin(half);
   out.focalPoint = center;
   out.position = sub(center, scale(dir, dist));
   out.viewUp = vup;
-  out.parallelScale = radius;
+  out.parallelScale = radius / a;
   return out;
 }
 
 /** Refit keeping the current direction and up (the "R" key). */
-export function refitCamera(cam, bounds) {
-  return fitCamera(cam, bounds, sub(cam.focalPoint, cam.position), cam.viewUp);
+export function refitCamera(cam, bounds, aspect = 1) {
+  return fitCamera(cam, bounds, sub(cam.focalPoint, cam.position), cam.viewUp, aspect);
 }
 
 /** ParaView's "Set view direction to ±X/±Y/±Z" buttons: the view direction and its up vector. */
@@ -130,10 +135,10 @@ export const AXIS_VIEWS = Object.freeze({
 });
 
 /** Looks along an axis ('+x', '-z', ...) at the whole data. */
-export function viewAlongAxis(cam, bounds, axis) {
+export function viewAlongAxis(cam, bounds, axis, aspect = 1) {
   const v = AXIS_VIEWS[axis];
   if (!v) throw new Error(`unknown axis view "${axis}"`);
-  return fitCamera(cam, bounds, v.direction, v.up);
+  return fitCamera(cam, bounds, v.direction, v.up, aspect);
 }
 
 /**

@@ -2,9 +2,10 @@
 // pure camera math in camera.js. Left-drag rotates about the focal point,
 // middle-drag or shift-drag pans, wheel and right-drag zoom (dolly); touch: one
 // finger rotates, two fingers pan and pinch-zoom. Keys: arrows rotate (with
-// Shift: pan), +/− zoom, R resets, X/Y/Z look along +axis (Shift: −axis).
-// Every change goes to onCamera(camera, {interactive}); the page merges them into
-// one message per animation frame.
+// Shift: pan), +/− zoom, R resets, H goes home (the dataset's suggested view),
+// F toggles fullscreen, X/Y/Z look along +axis (Shift: −axis).
+// Every change goes to onCamera(camera, {at}) with the input event's time stamp;
+// the page merges them into one message per animation frame.
 
 import { orbit, pan, dolly, dragDollyFactor, wheelDollyFactor } from './camera.js';
 
@@ -15,7 +16,7 @@ export class Navigation {
   /**
    * el: the focusable canvas. getCamera() returns the current camera (or null
    * before the first ready), onCamera(cam) applies a new one, onCommand(name)
-   * runs 'reset' or an axis view ('+x', '-z', ...), onInteraction(active) tells
+   * runs 'reset', 'home', 'fullscreen' or an axis view ('+x', '-z', ...), onInteraction(active) tells
    * when a gesture starts and ends.
    */
   constructor(el, { getCamera, onCamera, onCommand, onInteraction }) {
@@ -43,10 +44,10 @@ export class Navigation {
     return [Math.max(r.width, 1), Math.max(r.height, 1)];
   }
 
-  #apply(fn) {
+  #apply(fn, e) {
     const cam = this.getCamera();
     if (!cam) return;
-    this.onCamera(fn(cam));
+    this.onCamera(fn(cam), { at: e?.timeStamp });
   }
 
   #down(e) {
@@ -85,7 +86,7 @@ export class Navigation {
       const before = this.pinch ?? now;
       const [w, h] = this.size;
       const factor = before.dist > 0 && now.dist > 0 ? now.dist / before.dist : 1;
-      this.#apply((c) => dolly(pan(c, now.cx - before.cx, now.cy - before.cy, w, h), factor));
+      this.#apply((c) => dolly(pan(c, now.cx - before.cx, now.cy - before.cy, w, h), factor), e);
       this.pinch = now;
       return;
     }
@@ -93,9 +94,9 @@ export class Navigation {
     p.x = e.clientX;
     p.y = e.clientY;
     const [w, h] = this.size;
-    if (this.mode === 'rotate' || this.mode === 'touch') this.#apply((c) => orbit(c, dx, dy, w, h));
-    else if (this.mode === 'pan') this.#apply((c) => pan(c, dx, dy, w, h));
-    else if (this.mode === 'zoom') this.#apply((c) => dolly(c, dragDollyFactor(dy, h)));
+    if (this.mode === 'rotate' || this.mode === 'touch') this.#apply((c) => orbit(c, dx, dy, w, h), e);
+    else if (this.mode === 'pan') this.#apply((c) => pan(c, dx, dy, w, h), e);
+    else if (this.mode === 'zoom') this.#apply((c) => dolly(c, dragDollyFactor(dy, h)), e);
   }
 
   #up(e) {
@@ -113,7 +114,7 @@ export class Navigation {
     e.preventDefault();
     // deltaMode 1 = lines, 2 = pages; bring both to pixels
     const dy = e.deltaY * (e.deltaMode === 1 ? 33 : e.deltaMode === 2 ? this.size[1] : 1);
-    this.#apply((c) => dolly(c, wheelDollyFactor(Math.max(-500, Math.min(500, dy)))));
+    this.#apply((c) => dolly(c, wheelDollyFactor(Math.max(-500, Math.min(500, dy)))), e);
   }
 
   #key(e) {
@@ -124,10 +125,12 @@ export class Navigation {
     const arrows = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, -step], ArrowDown: [0, step] };
     if (arrows[k]) {
       const [dx, dy] = arrows[k];
-      this.#apply((c) => (e.shiftKey ? pan(c, dx, dy, w, h) : orbit(c, dx, dy, w, h)));
-    } else if (k === '+' || k === '=' || k === 'PageUp') this.#apply((c) => dolly(c, KEY_ZOOM));
-    else if (k === '-' || k === '_' || k === 'PageDown') this.#apply((c) => dolly(c, 1 / KEY_ZOOM));
+      this.#apply((c) => (e.shiftKey ? pan(c, dx, dy, w, h) : orbit(c, dx, dy, w, h)), e);
+    } else if (k === '+' || k === '=' || k === 'PageUp') this.#apply((c) => dolly(c, KEY_ZOOM), e);
+    else if (k === '-' || k === '_' || k === 'PageDown') this.#apply((c) => dolly(c, 1 / KEY_ZOOM), e);
     else if (k === 'r' || k === 'R') this.onCommand('reset');
+    else if (k === 'h' || k === 'H') this.onCommand('home');
+    else if (k === 'f' || k === 'F') this.onCommand('fullscreen');
     else if (/^[xyzXYZ]$/.test(k)) this.onCommand(`${e.shiftKey ? '-' : '+'}${k.toLowerCase()}`);
     else return;
     e.preventDefault();

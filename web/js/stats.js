@@ -48,6 +48,12 @@ export class FrameStats {
     return recent.length;
   }
 
+  /** The one-line readout shown by default: "12 fps · 85 ms". */
+  summary(at = this.now()) {
+    const lat = this.latencyAvg ?? this.latency;
+    return `${this.fps(at)} fps · ${lat == null ? '– ms' : `${lat.toFixed(0)} ms`}`;
+  }
+
   /** Lines of text for the overlay: [label, value] pairs. */
   lines(at = this.now()) {
     const out = [];

@@ -3,7 +3,7 @@
 // request path they edit ("params.q", "style.background", "quality"). It holds
 // no state of its own beyond the DOM: app.js owns the values.
 
-import { fieldByPath, checkValue } from './schema.js';
+import { fieldByPath, checkField } from './schema.js';
 import { flatBounds } from './camera.js';
 
 const METHOD_LABELS = {
@@ -23,53 +23,53 @@ const METHOD_LABELS = {
 export const GROUPS = [
   {
     id: 'optimization', legend: 'Optimization', controls: [
-      { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS) },
-      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1 },
-      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1 },
-      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1 },
-      { path: 'params.bands', label: 'Bands m', kind: 'range', min: 1, max: 8, step: 1 },
-      { path: 'params.smoothing', label: 'Smoothing iterations', kind: 'range', min: 0, max: 100, step: 1 },
-      { path: 'params.smoothingWeight', label: 'Smoothing weight ω', kind: 'range', min: 0, max: 1, step: 0.01 },
-      { path: 'params.fadeHalfLife', label: 'Fade half-life (s)', kind: 'range', min: 0, max: 2, step: 0.01 },
-      { path: 'params.estimator', label: 'Estimator', kind: 'select', options: [['midpoint', 'Midpoint'], ['foo', 'FOO (paper)']] },
-      { path: 'params.resolutionScale', label: 'Optimization resolution', kind: 'range', min: 0.1, max: 1, step: 0.05 },
-      { path: 'params.subset', label: 'Subset (every n-th)', kind: 'range', min: 1, max: 64, step: 1 },
-      { path: 'params.depthMargin', label: 'Depth margin δ', kind: 'range', min: 0, max: 0.25, step: 0.005 },
-      { path: 'params.depthRange', label: 'Depth range', kind: 'select', options: [['global', 'Data bounds'], ['pixel', 'Per pixel']] },
-      { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']] },
-      { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1 },
+      { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS), help: 'How transparency is computed. Fourier: the fast optimization (default). Exact: the slow reference. Opaque: no transparency. Direct: opacity from importance alone. WBOIT: another way to blend the optimized opacities.' },
+      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1, help: 'How strongly a part is cleared when more important parts lie behind it. Higher: you see through to what matters.' },
+      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1, help: 'How strongly a part is cleared when more important parts lie in front of it. Higher: less background clutter.' },
+      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1, help: 'How much important parts are protected from fading. Higher: important parts stay solid.' },
+      { path: 'params.bands', label: 'Bands m', kind: 'range', min: 1, max: 8, step: 1, help: 'Accuracy of the depth approximation, 1 to 8. More bands: closer to the exact result, but slower.' },
+      { path: 'params.smoothing', label: 'Smoothing iterations', kind: 'range', min: 0, max: 100, step: 1, help: 'How often opacities are averaged with their neighbours along a line or surface, so that neighbours fade together. 0: no smoothing.' },
+      { path: 'params.smoothingWeight', label: 'Smoothing weight ω', kind: 'range', min: 0, max: 1, step: 0.01, help: 'How far each averaging step pulls a part toward its neighbours (0 to 1).' },
+      { path: 'params.fadeHalfLife', label: 'Fade half-life (s)', kind: 'range', min: 0, max: 2, step: 0.01, help: 'How quickly opacities follow a change of view, in seconds. 0: they jump at once.' },
+      { path: 'params.estimator', label: 'Estimator', kind: 'select', options: [['midpoint', 'Midpoint'], ['foo', 'FOO (paper)']], help: "How the depth sums are evaluated: Midpoint (default, more accurate) or the paper's original." },
+      { path: 'params.resolutionScale', label: 'Optimization resolution', kind: 'range', min: 0.1, max: 1, step: 0.05, help: 'Resolution of the optimization relative to the image. Lower: faster but coarser.' },
+      { path: 'params.subset', label: 'Subset (every n-th)', kind: 'range', min: 1, max: 64, step: 1, help: 'Use every n-th primitive for the optimization (for dense point clouds). 1: all of them.' },
+      { path: 'params.depthMargin', label: 'Depth margin δ', kind: 'range', min: 0, max: 0.25, step: 0.005, help: 'Keeps depths away from the ends of the periodic depth range. Rarely needs changing.' },
+      { path: 'params.depthRange', label: 'Depth range', kind: 'select', options: [['global', 'Data bounds'], ['pixel', 'Per pixel']], help: "Depth normalization over the whole data (default) or each pixel's own depth range (sharper, one more pass)." },
+      { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']], help: 'Auto: dense data does not wash out (opacities adapt to how many layers a pixel has, importance maps from the 2nd to 98th percentile). Off: the paper\'s formula unchanged.' },
+      { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Direct method only: opacity = importance to the power k.' },
     ],
   },
   {
     id: 'importance', legend: 'Importance', controls: [
-      { path: 'importance.attribute', label: 'Attribute', kind: 'select', dynamic: 'attributes' },
-      { path: 'importance.range', label: 'Range', kind: 'range2', dynamic: 'importanceRange' },
-      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1 },
+      { path: 'importance.attribute', label: 'Attribute', kind: 'select', dynamic: 'attributes', help: 'The data value that says what matters. Important parts stay visible; unimportant parts fade where they hide important ones.' },
+      { path: 'importance.range', label: 'Range', kind: 'range2', dynamic: 'importanceRange', help: 'Values at or below the minimum get importance 0, at or above the maximum 1. Minimum above maximum inverts.' },
+      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads.' },
     ],
   },
   {
     id: 'color', legend: 'Colour', controls: [
-      { path: 'color.attribute', label: 'Colour by', kind: 'select', dynamic: 'colorAttributes' },
-      { path: 'color.colormap', label: 'Colormap', kind: 'select', options: fieldByPath('color.colormap').values.map((v) => [v, v]) },
-      { path: 'color.range', label: 'Range', kind: 'range2', dynamic: 'colorRange' },
+      { path: 'color.attribute', label: 'Colour by', kind: 'select', dynamic: 'colorAttributes', help: "The data value shown by colour: the importance, an attribute, or the file's own RGB colours." },
+      { path: 'color.colormap', label: 'Colormap', kind: 'select', options: fieldByPath('color.colormap').values.map((v) => [v, v]), help: 'Colours from the lowest to the highest value; the legend over the view shows them.' },
+      { path: 'color.range', label: 'Range', kind: 'range2', dynamic: 'colorRange', help: 'The values at the two ends of the colormap. Minimum above maximum flips the colours.' },
     ],
   },
   {
     id: 'style', legend: 'Style', controls: [
-      { path: 'style.lineWidth', label: 'Line width (0 = auto)', kind: 'range', min: 0, max: 0.05, step: 0.0005, dynamic: 'lineWidth' },
-      { path: 'style.minLinePixels', label: 'Minimum line pixels', kind: 'range', min: 0, max: 8, step: 0.5 },
-      { path: 'style.pointSize', label: 'Point size (px)', kind: 'range', min: 0.5, max: 20, step: 0.5 },
-      { path: 'style.background', label: 'Background', kind: 'color' },
-      { path: 'style.shading', label: 'Shading', kind: 'select', options: [['phong', 'Phong'], ['none', 'None (flat)']] },
-      { path: 'camera.viewAngle', label: 'View angle (°)', kind: 'range', min: 5, max: 120, step: 1 },
-      { path: 'camera.parallelProjection', label: 'Parallel projection', kind: 'check' },
+      { path: 'style.lineWidth', label: 'Line width (0 = auto)', kind: 'range', min: 0, max: 0.05, step: 0.0005, dynamic: 'lineWidth', help: 'Width of lines in data units. 0: automatic from the size of the data.' },
+      { path: 'style.minLinePixels', label: 'Minimum line pixels', kind: 'range', min: 0, max: 8, step: 0.5, help: 'Lines are never drawn thinner than this many pixels.' },
+      { path: 'style.pointSize', label: 'Point size (px)', kind: 'range', min: 0.5, max: 20, step: 0.5, help: 'Diameter of points in pixels.' },
+      { path: 'style.background', label: 'Background', kind: 'color', help: 'Background colour of the image.' },
+      { path: 'style.shading', label: 'Shading', kind: 'select', options: [['phong', 'Phong'], ['none', 'None (flat)']], help: 'Phong: lit like tubes and surfaces. None: flat colours.' },
+      { path: 'camera.viewAngle', label: 'View angle (°)', kind: 'range', min: 5, max: 120, step: 1, help: 'Vertical field of view in degrees (perspective projection).' },
+      { path: 'camera.parallelProjection', label: 'Parallel projection', kind: 'check', help: 'Orthographic view: sizes do not shrink with distance.' },
     ],
   },
   {
     id: 'quality', legend: 'Quality', controls: [
-      { path: 'quality', label: 'JPEG quality (still)', kind: 'range', min: 10, max: 100, step: 1 },
-      { path: 'interactiveQuality', label: 'JPEG quality (moving)', kind: 'range', min: 10, max: 100, step: 1 },
-      { path: 'interactiveScale', label: 'Resolution while moving', kind: 'range', min: 0.25, max: 1, step: 0.05 },
+      { path: 'quality', label: 'JPEG quality (still)', kind: 'range', min: 10, max: 100, step: 1, help: 'JPEG quality of the sharp frame shown once you stop moving.' },
+      { path: 'interactiveQuality', label: 'JPEG quality (moving)', kind: 'range', min: 10, max: 100, step: 1, help: 'JPEG quality of the frames while you move the view.' },
+      { path: 'interactiveScale', label: 'Resolution while moving', kind: 'range', min: 0.25, max: 1, step: 0.05, help: 'Image resolution while you move the view (fraction per side). Lower: smoother motion.' },
     ],
   },
 ];
@@ -97,10 +97,12 @@ export function formatNumber(v) {
 export class Panel {
   /**
    * container: element to fill; onChange(path, value, {final}) is called on
-   * every edit (final on 'change', not final on 'input' while dragging).
+   * every edit (final on 'change', not final on 'input' while dragging);
+   * onNotice(text) tells the user about a value that was corrected or refused.
    */
-  constructor(container, onChange) {
+  constructor(container, onChange, onNotice = () => {}) {
     this.onChange = onChange;
+    this.onNotice = onNotice;
     this.controls = new Map(); // path -> {spec, el (main input), num, num2}
     for (const g of GROUPS) container.append(this.#group(g));
   }
@@ -118,11 +120,36 @@ export class Panel {
 
   #emit(path, value, final) {
     const f = fieldByPath(path);
-    const why = f ? checkValue(f, value) : null;
     const ctl = this.controls.get(path);
-    ctl.row.classList.toggle('invalid', !!why);
-    ctl.row.title = why ? `${path}: ${why}` : '';
-    if (!why) this.onChange(path, value, { final });
+    let problem = f ? checkField(f, value) : null;
+    // a number outside the field's range is brought inside it and said so, so that the box,
+    // the slider and the server show the same value (typing bands = 20 gives 8 everywhere)
+    if (problem?.code === 'out_of_range' && ctl.spec.kind === 'range' && typeof value === 'number') {
+      const fixed = clampToField(f, ctl.spec, value);
+      if (!checkField(f, fixed)) {
+        this.setValue(path, fixed);
+        ctl.num.value = formatNumber(fixed); // setValue leaves a focused box alone
+        this.#message(ctl, `${ctl.spec.label}: ${problem.reason}; set to ${formatNumber(fixed)}.`);
+        this.onNotice(`${ctl.spec.label}: ${problem.reason}; set to ${formatNumber(fixed)}.`);
+        this.onChange(path, fixed, { final });
+        return;
+      }
+    }
+    if (problem) {
+      const text = `${ctl.spec.label}: ${problem.reason}; not applied.`;
+      ctl.row.classList.add('invalid');
+      this.#message(ctl, text);
+      this.onNotice(text);
+      return;
+    }
+    ctl.row.classList.remove('invalid');
+    this.#message(ctl, '');
+    this.onChange(path, value, { final });
+  }
+
+  #message(ctl, text) {
+    ctl.msg.textContent = text;
+    ctl.msg.hidden = !text;
   }
 
   #control(spec) {
@@ -135,6 +162,20 @@ export class Panel {
     label.textContent = spec.label;
     row.append(label);
     const ctl = { spec, row };
+    if (spec.help) {
+      row.title = spec.help;
+      const hint = document.createElement('small');
+      hint.className = 'hint';
+      hint.id = `${id}-help`;
+      hint.textContent = spec.help;
+      ctl.hint = hint;
+    }
+    const msg = document.createElement('small');
+    msg.className = 'row-msg';
+    msg.setAttribute('role', 'status');
+    msg.dataset.testid = `msg-${spec.path}`;
+    msg.hidden = true;
+    ctl.msg = msg;
     const f = fieldByPath(spec.path);
     const int = f?.type === 'int';
     const parseNum = (s) => (s.trim() === '' ? NaN : Number(s));
@@ -216,6 +257,11 @@ export class Panel {
       row.append(span);
       Object.assign(ctl, { el: lo, num2: hi });
     }
+    if (ctl.hint) {
+      row.append(ctl.hint);
+      for (const el of [ctl.el, ctl.num, ctl.num2]) el?.setAttribute('aria-describedby', ctl.hint.id);
+    }
+    row.append(msg);
     this.controls.set(spec.path, ctl);
     return row;
   }
@@ -226,6 +272,7 @@ export class Panel {
     if (!ctl || v === undefined || v === null) return;
     const { spec } = ctl;
     ctl.row.classList.remove('invalid');
+    if (ctl.msg && !ctl.msg.hidden && !ctl.row.contains(document.activeElement)) this.#message(ctl, '');
     if (spec.kind === 'range') {
       if (document.activeElement !== ctl.num) ctl.num.value = formatNumber(v);
       // widen the slider when a value lies beyond it (the number box takes any valid value)
@@ -273,7 +320,7 @@ export class Panel {
     const ctl = this.controls.get(path);
     if (!ctl) return false;
     ctl.row.classList.add('invalid');
-    ctl.row.title = reason;
+    this.#message(ctl, reason);
     return true;
   }
 
@@ -298,6 +345,17 @@ export class Panel {
       this.setBounds('style.lineWidth', 0, Number((diag * 0.02).toPrecision(3)), step);
     }
   }
+}
+
+/**
+ * value brought inside the field's range; open ends (resolutionScale's 0) use
+ * the slider's end instead, integers are rounded.
+ */
+export function clampToField(f, spec, value) {
+  const lo = f.loOpen ? Math.max(f.min ?? -Infinity, spec.min) : f.min ?? -Infinity;
+  const hi = f.hiOpen ? Math.min(f.max ?? Infinity, spec.max) : f.max ?? Infinity;
+  const v = Math.min(hi, Math.max(lo, value));
+  return f.type === 'int' ? Math.round(v) : v;
 }
 
 /** The attribute's [min, max] from a dataset description, or null. */

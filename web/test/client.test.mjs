@@ -7,9 +7,10 @@ import { FrameStats, formatBytes } from '../js/stats.js';
 import { rgbToHex, hexToRgb, formatNumber, GROUPS } from '../js/ui.js';
 import { fieldByPath, checkField } from '../js/schema.js';
 
-test('back-off doubles from 0.5 s to a 15 s cap with ±20 % jitter', () => {
+test('back-off: 0.5 s, 1 s, then a probe every 1.5 s (1.2–1.8 s with ±20 % jitter)', () => {
   const mid = (a) => backoffDelay(a, () => 0.5);
-  assert.deepEqual([0, 1, 2, 3, 4, 5, 6].map(mid), [500, 1000, 2000, 4000, 8000, 15000, 15000]);
+  assert.deepEqual([0, 1, 2, 3, 4, 5, 6].map(mid), [500, 1000, 1500, 1500, 1500, 1500, 1500]);
+  for (let a = 2; a < 60; a++) assert.ok(backoffDelay(a, () => 0) >= 1000 && backoffDelay(a, () => 1) <= 2000, `attempt ${a}`);
   assert.equal(backoffDelay(0, () => 0), BACKOFF_MIN_MS * 0.8);
   assert.equal(backoffDelay(50, () => 1), BACKOFF_MAX_MS * 1.2);
   for (const code of ['unauthorized', 'not_found']) assert.ok(TERMINAL_CODES.has(code), code);

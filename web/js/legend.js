@@ -1,0 +1,109 @@
+// The colour legend over the view: which attribute colours the image and its
+// range on the colormap's bar, how importance (which drives the optimized
+// opacity) is mapped from its attribute (range and exponent, as a small
+// curve), and a warning when the colour of the highest values matches the
+// background. legendModel is pure (Node-tested); Legend writes the DOM.
+
+import { gradientCss, topColorClash } from './colormaps.js';
+import { attributeRange } from './ui.js';
+
+const fmt = (v) => (typeof v === 'number' && Number.isFinite(v) ? String(Number(v.toPrecision(3))) : '–');
+
+/**
+ * What the legend shows for the page's current request values (defaults +
+ * changes) and the dataset description: {color: {attribute, colormap, range,
+ * rgb}, importance: {attribute, range, exponent}, method, opacity (a sentence),
+ * clash (top colour ≈ background), top, background}.
+ */
+export function legendModel(values, info) {
+  const color = values?.color ?? {};
+  const imp = values?.importance ?? {};
+  const colorAttr = color.attribute || info?.defaultColor || 'importance';
+  const impAttr = imp.attribute || info?.defaultImportance || '';
+  const colorRange = color.range ?? (colorAttr === 'importance' ? [0, 1] : attributeRange(info, colorAttr)) ?? [0, 1];
+  const impRange = imp.range ?? attributeRange(info, impAttr) ?? [0, 1];
+  const exponent = imp.exponent ?? 1;
+  const colormap = color.colormap ?? 'viridis';
+  const background = values?.style?.background ?? [1, 1, 1];
+  const method = values?.method ?? 'fourier';
+  const rgb = colorAttr === 'rgb';
+  const { top, clash } = rgb ? { top: null, clash: false } : topColorClash(colormap, colorRange, background);
+  let opacity;
+  if (method === 'opaque') opacity = 'Opaque: importance does not change opacity.';
+  else if (method === 'direct') opacity = `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)}: important parts are more opaque.`;
+  else
+    opacity = 'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
+      'Values below the range minimum get g = 0; if little is important, little is cleared, so clutter stays opaque.';
+  return {
+    color: { attribute: colorAttr, colormap, range: colorRange, rgb },
+    importance: { attribute: impAttr, range: impRange, exponent },
+    method, opacity, clash, top, background,
+  };
+}
+
+/** SVG path of g = clamp((v − min)/(max − min))^exponent over the range, in a w × h box (y down). */
+export function importanceCurvePath(exponent, w = 36, h = 18, n = 16) {
+  const pts = [];
+  for (let i = 0; i <= n; i++) {
+    const t = i / n;
+    const g = Math.pow(t, exponent > 0 ? exponent : 1);
+    pts.push(`${(t * w).toFixed(1)},${(h - g * h).toFixed(1)}`);
+  }
+  return `M${pts.join(' L')}`;
+}
+
+const NS = 'http://www.w3.org/2000/svg';
+
+export class Legend {
+  /** el: the legend's container; onFlip() is called by the warning's "Flip range" button. */
+  constructor(el, { onFlip } = {}) {
+    this.el = el;
+    el.innerHTML = `
+      <button type="button" class="legend-more" aria-expanded="false" title="What the legend means">i</button>
+      <div class="legend-color"><span class="legend-label">Colour: <b data-role="color-attr"></b></span>
+        <div class="legend-bar" data-role="bar"></div>
+        <div class="legend-ticks"><span data-role="cmin"></span><span data-role="cmap"></span><span data-role="cmax"></span></div>
+      </div>
+      <div class="legend-imp" title="Importance g from its attribute: g = clamp((v − min)/(max − min))^exponent">
+        <svg width="36" height="18" viewBox="-1 -1 38 20" aria-hidden="true"><rect x="0" y="0" width="36" height="18" class="legend-curve-box"/><path data-role="curve"/></svg>
+        <span>importance ← <b data-role="imp-attr"></b> <span data-role="imp-range"></span></span>
+      </div>
+      <p class="legend-note" data-role="note" hidden></p>
+      <p class="legend-warn" data-role="warn" hidden><span data-role="warn-text"></span> <button type="button" data-role="flip">Flip range</button></p>`;
+    this.q = (r) => el.querySelector(`[data-role="${r}"]`);
+    this.more = el.querySelector('.legend-more');
+    this.more.addEventListener('click', () => {
+      const open = this.more.getAttribute('aria-expanded') !== 'true';
+      this.more.setAttribute('aria-expanded', String(open));
+      this.q('note').hidden = !open;
+    });
+    this.q('flip').addEventListener('click', () => onFlip?.());
+    this.model = null;
+  }
+
+  update(values, info) {
+    const m = legendModel(values, info);
+    this.model = m;
+    const c = m.color;
+    this.q('color-attr').textContent = c.rgb ? 'per-vertex RGB' : c.attribute;
+    const bar = this.q('bar');
+    bar.hidden = c.rgb;
+    const inverted = c.range[0] > c.range[1];
+    bar.style.background = gradientCss(c.colormap, inverted);
+    const lo = Math.min(c.range[0], c.range[1]), hi = Math.max(c.range[0], c.range[1]);
+    this.q('cmin').textContent = c.rgb ? '' : fmt(lo);
+    this.q('cmax').textContent = c.rgb ? '' : fmt(hi);
+    this.q('cmap').textContent = c.rgb ? '' : `${c.colormap}${inverted ? ' (flipped)' : ''}`;
+    const i = m.importance;
+    this.q('imp-attr').textContent = i.attribute || 'default';
+    this.q('imp-range').textContent = `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}`;
+    this.q('curve').setAttribute('d', importanceCurvePath(i.exponent));
+    this.q('curve').setAttribute('transform', i.range[0] > i.range[1] ? 'translate(36 0) scale(-1 1)' : '');
+    this.q('note').textContent = m.opacity;
+    this.q('warn').hidden = !m.clash;
+    this.q('warn-text').textContent = m.clash ? `The colour of the highest values (${c.colormap}) matches the background: they are invisible.` : '';
+    this.el.dataset.colorAttribute = c.attribute;
+    this.el.dataset.colorRange = c.range.map(fmt).join(',');
+    this.el.dataset.clash = String(m.clash);
+  }
+}

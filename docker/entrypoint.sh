@@ -44,7 +44,8 @@ data=${LUCENT_DATA:-/data}
 own_data=0
 for a in "$@"; do [[ $a == --data || $a == --data=* ]] && own_data=1; done
 if [ "$own_data" = 0 ] && [ -d "$data" ] && [ -n "$(ls -A "$data" 2>/dev/null)" ]; then
-  if "$lucent" serve --help | grep -q -- '--data.*DIR'; then
+  help=$("$lucent" serve --help 2>&1 || true)
+  if grep -q -- '--data.*DIR' <<<"$help"; then
     args+=(--data "$data")
   else
     shopt -s nullglob nocaseglob

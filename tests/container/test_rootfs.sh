@@ -12,7 +12,8 @@
 # The roots are cached in $LUCENT_ROOTFS_CACHE (default
 # /var/cache/lucent/rootfs-bookworm): base-HASH (debootstrap, keyed by suite
 # and mirror) and runtime-HASH (keyed by the runtime package names and
-# runtime-setup.sh), so that a change of the list builds a new root.
+# runtime-setup.sh), so that a change of the list builds a new root; the three
+# most recently used runtime roots are kept.
 # Exit 77 (skipped) when not root, or when the mirror cannot be reached to
 # build a missing root, unless CI=true, where both fail.
 # Usage: test_rootfs.sh LUCENT_BINARY SOURCE_DIR
@@ -139,12 +140,22 @@ EOF
   touch "$root.tmp/.lucent-complete"
   mv "$root.tmp" "$root"
   say "runtime-setup.sh took $(elapsed "$t") s ($(du -sm "$root" | cut -f1) MiB)"
-  # Roots of older lists are of no further use.
-  for old in "$cache"/runtime-*; do
-    [ "$old" = "$root" ] || remove_tree "$old"
-  done
 fi
 say "root $root"
+# Keep the three most recently used roots (branches with other lists share the
+# cache), remove older ones and leftovers of interrupted builds.
+touch "$root/.lucent-complete"
+for old in $(ls -1t "$cache"/runtime-*/.lucent-complete | tail -n +4 | xargs -r -n1 dirname) \
+           $(ls -1d "$cache"/*.tmp 2>/dev/null); do
+  say "removing the unused root $old"
+  remove_tree "$old"
+done
+
+# glvnd's vendor files: NVIDIA's first (its library is absent here, so glvnd
+# must fall through to Mesa, which the render below proves), then Mesa's.
+for vendor in 10_nvidia.json 50_mesa.json; do
+  [ -f "$root/usr/share/glvnd/egl_vendor.d/$vendor" ] || fail "no /usr/share/glvnd/egl_vendor.d/$vendor in the root"
+done
 
 # ---- 3. the image's files, a /data folder and a Docker-like /dev and /proc
 t=$(date +%s)

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # Installs what Lucent needs on Debian 12 (apt only), for building and running
 # (default) or also for the whole test suite (--test: Chromium, Node, Python
-# WebSocket client, clang for the fuzzers). Skips apt when everything is there.
+# WebSocket client, clang for the fuzzers, debootstrap for the container test).
+# Skips apt when everything is there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-runtime=(build-essential cmake pkg-config libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libgbm1
-         libjansson-dev libturbojpeg0-dev libpng-dev libmicrohttpd-dev libwslay-dev nettle-dev curl)
-testing=(python3 python3-websockets python3-yaml chromium nodejs npm clang libclang-rt-14-dev)
-
-want=("${runtime[@]}")
-[ "${1:-}" = "--test" ] && want+=("${testing[@]}")
+# One list per purpose under scripts/packages/ (also read by docker/Dockerfile
+# and tests/container): build tools and -dev packages, the runtime shared
+# libraries (the container image installs exactly these), and test tools.
+lists=(scripts/packages/build.txt scripts/packages/runtime.txt)
+[ "${1:-}" = "--test" ] && lists+=(scripts/packages/test.txt)
+mapfile -t want < <(scripts/packages/names "${lists[@]}")
 
 missing=()
 for p in "${want[@]}"; do

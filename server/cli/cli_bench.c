@@ -12,7 +12,8 @@ static void bench_usage(void)
     fprintf(stderr,
             "usage: lucent bench [--size WxH] [--frames N] [--warmup N] [--datasets a,b,...] [--device N] [flags]\n"
             "Renders every demo dataset (default 1024x1024, 10 timed frames after 2 warm-up frames) with a\n"
-            "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n%s",
+            "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n"
+            "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n%s",
             lc_cli_flags_help);
 }
 
@@ -24,7 +25,7 @@ int lc_cli_bench(int argc, char **argv)
         return 1;
     if (!lc_cli_has_flag(argc, argv, "--request")) /* the benchmark's own default size */
         req.render.width = req.render.height = 1024;
-    int frames = 10, warmup = 2;
+    int frames = 10, warmup = 2, have_list = 0;
     char datasets[512] = "";
     for (const char *const *d = lc_demo_names(); *d; d++)
         snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s", datasets[0] ? "," : "",
@@ -35,7 +36,7 @@ int lc_cli_bench(int argc, char **argv)
         else if (strcmp(argv[i], "--warmup") == 0 && i + 1 < argc)
             warmup = atoi(argv[++i]);
         else if (strcmp(argv[i], "--datasets") == 0 && i + 1 < argc)
-            snprintf(datasets, sizeof datasets, "%s", argv[++i]);
+            snprintf(datasets, sizeof datasets, "%s", argv[++i]), have_list = 1;
         else if (strcmp(argv[i], "--help") == 0) {
             bench_usage();
             return 0;
@@ -54,8 +55,11 @@ int lc_cli_bench(int argc, char **argv)
     }
     lc_error err = {0};
     lc_cli_gl g;
+    /* One dataset named by --input, --dataset or the request file, unless a list was given. */
     if (common.input)
         snprintf(datasets, sizeof datasets, "%s", common.input);
+    else if (req.dataset[0] && !have_list)
+        snprintf(datasets, sizeof datasets, "%s", req.dataset);
     if (lc_cli_gl_open(common.device, &g, &err) != 0) {
         fprintf(stderr, "lucent bench: %s\n", err.msg);
         return 1;
@@ -77,7 +81,9 @@ int lc_cli_bench(int argc, char **argv)
         lc_scene *s = NULL;
         lc_gpu_scene *gs = NULL;
         lc_frame_state *st = NULL;
-        if (lc_cli_open_dataset(spec, &s, &err) != 0 || lc_gpu_scene_create(s, &gs, &err) != 0 ||
+        if (lc_cli_open_dataset(spec, &s, &err) != 0 ||
+            (common.elements && lc_scene_set_element_budget(s, (uint32_t)common.elements, &err) != 0) ||
+            lc_gpu_scene_create(s, &gs, &err) != 0 ||
             !(st = lc_frame_state_create(s->elements.count))) {
             fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);
             status = 1;

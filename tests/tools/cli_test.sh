@@ -116,6 +116,10 @@ expect_ok "bench" "$LUCENT" bench --size 64x64 --frames 1 --warmup 0
 rows=$(grep -c '^demo:' "$tmp/out")
 [ "$rows" -ge 4 ] && ok || bad "bench printed $rows dataset rows"
 grep -q "pipeline MB" "$tmp/out" && ok || bad "bench prints memory"
+# --dataset benches that dataset alone (it used to be accepted and ignored), with --elements.
+expect_ok "bench --dataset" "$LUCENT" bench --dataset "demo:tornado?count=20" --elements 300 --size 64x64 --frames 1 --warmup 0
+rows=$(grep -c '^demo:' "$tmp/out")
+[ "$rows" -eq 1 ] && grep -q '^demo:tornado .* 300 ' "$tmp/out" && ok || bad "bench --dataset printed $rows rows: $(grep '^demo:' "$tmp/out")"
 
 # 7. No usable EGL: a clear message naming EGL and what to install; a device that does not exist.
 expect_fail "no EGL vendor" "EGL.*install" env __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json \

@@ -6,8 +6,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 runtime=(build-essential cmake pkg-config libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libgbm1
-         libjansson-dev libturbojpeg0-dev libpng-dev libmicrohttpd-dev libwslay-dev nettle-dev curl)
-testing=(python3 python3-websockets python3-yaml chromium nodejs npm clang libclang-rt-14-dev)
+         libjansson-dev libturbojpeg0-dev libpng-dev libmicrohttpd-dev libwslay-dev nettle-dev libzip-dev libnetcdf-dev
+         zlib1g-dev curl)
+testing=(python3 python3-websockets python3-yaml python3-nibabel chromium nodejs npm clang libclang-rt-14-dev)
 
 want=("${runtime[@]}")
 [ "${1:-}" = "--test" ] && want+=("${testing[@]}")

@@ -1,5 +1,5 @@
 /* Dataset files: the reader chosen by extension, and every format's own API
- * (ply.h, obj.h, vtk.h, trk.h) for callers that name a format.
+ * (ply.h, obj.h, vtk.h, trk.h, tck.h) for callers that name a format.
  * Threading: reentrant; a loaded scene belongs to the caller. */
 #ifndef LC_LOADERS_H
 #define LC_LOADERS_H
@@ -8,6 +8,7 @@
 #include "obj.h"
 #include "ply.h"
 #include "scene.h"
+#include "tck.h"
 #include "trk.h"
 #include "vtk.h"
 
@@ -15,7 +16,13 @@
 extern "C" {
 #endif
 
-/* Picks the reader by extension (.ply, .obj, .vtk, .trk); the scene is named
+/* The extensions lc_scene_load_file knows, for messages and help texts. */
+#define LC_DATASET_EXTENSIONS ".ply, .obj, .vtk, .trk or .tck"
+
+/* 1 when lc_scene_load_file has a reader for the path's extension. */
+int lc_scene_is_dataset_file(const char *path);
+
+/* Picks the reader by extension (LC_DATASET_EXTENSIONS); the scene is named
  * after the file stem. Finalizes the scene with default element options. On
  * error *out is NULL and err names the file and the reason. */
 int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err);

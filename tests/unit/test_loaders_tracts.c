@@ -1,0 +1,200 @@
+/* Tractogram and line-set readers (MRtrix .tck, LineVis .binlines) and
+ * TrackVis world space: the tables tests/data/loaders/{tck,binlines}/cases.txt,
+ * round trips through this test's own writers, nibabel's standard files (when
+ * Debian's python3-nibabel is installed) and truncated/mutated inputs. */
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "io_util.h"
+#include "lc_test.h"
+#include "loader_test_util.h"
+#include "loaders.h"
+#include "scene.h"
+
+#define DATA LUCENT_TEST_DATA "/loaders/"
+#define NIBABEL_DATA "/usr/lib/python3/dist-packages/nibabel/tests/data/"
+
+static int has_ext(const char *path, const char *ext)
+{
+    size_t n = strlen(path), e = strlen(ext);
+    return n >= e && strcmp(path + n - e, ext) == 0;
+}
+
+static int load_path(const char *path, lc_scene **s, lc_error *err)
+{
+    if (has_ext(path, ".tck"))
+        return lc_load_tck(path, s, err);
+    return lc_load_trk(path, s, err);
+}
+
+static int load_memory(const char *path, const void *data, size_t size, lc_scene **s, lc_error *err)
+{
+    const char *base = lc_io_basename(path);
+    if (has_ext(path, ".tck"))
+        return lc_load_tck_memory(data, size, base, s, err);
+    return lc_load_trk_memory(data, size, base, s, err);
+}
+
+static lc_scene *must_load(const char *path)
+{
+    lc_scene *s = NULL;
+    lc_error err = {0};
+    int rc = load_path(path, &s, &err);
+    CHECK(rc == 0 && s, "%s: %s", path, err.msg);
+    return s;
+}
+
+/* ---- the test's own writers */
+
+static void put_u32(FILE *f, uint32_t v, int big)
+{
+    unsigned char b[4];
+    for (int i = 0; i < 4; i++)
+        b[big ? 3 - i : i] = (unsigned char)(v >> (8 * i));
+    fwrite(b, 1, 4, f);
+}
+
+static void put_f32(FILE *f, float x, int big)
+{
+    uint32_t u;
+    memcpy(&u, &x, 4);
+    put_u32(f, u, big);
+}
+
+static void put_f64(FILE *f, double x, int big)
+{
+    uint64_t u;
+    memcpy(&u, &x, 8);
+    put_u32(f, (uint32_t)(big ? u >> 32 : u), big);
+    put_u32(f, (uint32_t)(big ? u : u >> 32), big);
+}
+
+/* MRtrix .tck of the scene's lines: elem 4 or 8 bytes, either byte order. */
+static int write_tck(const lc_scene *s, const char *path, int elem, int big)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return -1;
+    const char *type = elem == 4 ? (big ? "Float32BE" : "Float32LE") : (big ? "Float64BE" : "Float64LE");
+    char head[256];
+    int n = snprintf(head, sizeof head, "mrtrix tracks\ncount: %u\ndatatype: %s\nfile: . ", s->line_count, type);
+    int off = n + 4 + 4; /* "NNN\nEND\n" with a three-digit offset */
+    fprintf(f, "%s%03d\nEND\n", head, off);
+    for (uint32_t l = 0; l < s->line_count; l++) {
+        for (uint32_t v = s->line_offsets[l]; v < s->line_offsets[l + 1]; v++)
+            for (int k = 0; k < 3; k++)
+                elem == 4 ? put_f32(f, s->positions[3 * v + k], big) : put_f64(f, s->positions[3 * v + k], big);
+        for (int k = 0; k < 3; k++)
+            elem == 4 ? put_f32(f, NAN, big) : put_f64(f, NAN, big);
+    }
+    for (int k = 0; k < 3; k++)
+        elem == 4 ? put_f32(f, INFINITY, big) : put_f64(f, INFINITY, big);
+    return fclose(f);
+}
+
+/* Three lines of 40, 25 and 7 vertices with two attributes. */
+static lc_scene *synthetic_lines(int attributes)
+{
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("synthetic", LC_PRIM_LINES);
+    uint32_t n = 72;
+    CHECK(s && lc_scene_alloc_vertices(s, n, 0, &err) == 0, "alloc: %s", err.msg);
+    for (uint32_t i = 0; i < 3 * n; i++)
+        s->positions[i] = (float)sin(i * 0.731) * 100.0f + 1.0f / 3.0f;
+    const char *names[2] = {"fa", "curvature_k"};
+    for (int a = 0; a < attributes; a++) {
+        float *v = malloc(n * sizeof *v);
+        for (uint32_t i = 0; i < n; i++)
+            v[i] = (float)cos(i * (a + 1.3)) * 7.0f;
+        lc_scene_add_attribute(s, names[a], v, &err);
+    }
+    s->line_count = 3;
+    s->line_offsets = malloc(4 * sizeof(uint32_t));
+    static const uint32_t off[4] = {0, 40, 65, 72};
+    memcpy(s->line_offsets, off, sizeof off);
+    return s;
+}
+
+static void test_roundtrip(const char *dir)
+{
+    lc_scene *plain = synthetic_lines(0), *attributed = synthetic_lines(2);
+    static const struct {
+        int elem, big;
+    } tck_kinds[4] = {{4, 0}, {4, 1}, {8, 0}, {8, 1}};
+    for (int k = 0; k < 4; k++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/round%d.tck", dir, k);
+        CHECK(write_tck(plain, path, tck_kinds[k].elem, tck_kinds[k].big) == 0, "write %s", path);
+        lc_scene *r = must_load(path);
+        if (r)
+            same_scene(plain, r, 0, path);
+        lc_scene_destroy(r);
+        unlink(path);
+    }
+    lc_scene_destroy(plain);
+    lc_scene_destroy(attributed);
+}
+
+static void test_cases(void)
+{
+    int tck = run_case_table(DATA "tck/", load_path, load_memory);
+    CHECK(tck >= 16, "only %d .tck cases", tck);
+}
+
+/* nibabel's standard.trk (RAS), standard.LPS.trk and standard.tck hold the same
+ * 120 streamlines: loaded, they must lie on the same RAS+ mm points. */
+static void test_nibabel_standard(void)
+{
+    if (access(NIBABEL_DATA "standard.tck", R_OK) != 0) {
+        printf("skip: nibabel test data not installed (apt-get install python3-nibabel)\n");
+        return;
+    }
+    lc_scene *tck = must_load(NIBABEL_DATA "standard.tck");
+    const char *trks[2] = {NIBABEL_DATA "standard.trk", NIBABEL_DATA "standard.LPS.trk"};
+    for (int i = 0; i < 2 && tck; i++) {
+        lc_scene *trk = must_load(trks[i]);
+        if (!trk)
+            continue;
+        CHECK(trk->vertex_count == tck->vertex_count && trk->line_count == tck->line_count, "%s: counts", trks[i]);
+        double worst = 0;
+        for (size_t k = 0; trk->vertex_count == tck->vertex_count && k < 3 * (size_t)tck->vertex_count; k++)
+            worst = fmax(worst, fabs(trk->positions[k] - tck->positions[k]));
+        CHECK(worst < 1e-5, "%s: points differ from standard.tck by %g mm", trks[i], worst);
+        lc_error err = {0};
+        CHECK(lc_scene_finalize(trk, NULL, &err) == 0, "%s", err.msg);
+        static const double want[6] = {-0.5, -1.5, -1, 3.5, 13.5, 13}; /* nibabel's bounds */
+        for (int b = 0; b < 6; b++)
+            CHECK(fabs(trk->bounds[b] - want[b]) < 1e-5, "%s: bound %d is %g, nibabel says %g", trks[i], b,
+                  trk->bounds[b], want[b]);
+        lc_scene_destroy(trk);
+    }
+    lc_scene_destroy(tck);
+}
+
+static void test_mutations(void)
+{
+    static const char *const files[] = {"tck/valid/lines_f32le.tck", "tck/valid/lines_f64be.tck"};
+    check_prefixes_and_mutations(DATA, files, sizeof files / sizeof *files, "0123456789 \n.:END\xff\x80\x7f\x01",
+                                 0x9e3779b97f4a7c15ull, load_memory);
+}
+
+int main(void)
+{
+    lc_log_set_level(LC_LOG_ERROR); /* the cases trigger expected warnings */
+    char dir[] = "/tmp/lc_loaders_tracts_XXXXXX";
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_cases();
+    test_roundtrip(dir);
+    test_nibabel_standard();
+    test_mutations();
+    rmdir(dir);
+    return lc_test_finish();
+}

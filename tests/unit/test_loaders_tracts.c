@@ -29,7 +29,9 @@ static int load_path(const char *path, lc_scene **s, lc_error *err)
 {
     if (has_ext(path, ".tck"))
         return lc_load_tck(path, s, err);
-    return lc_load_trk(path, s, err);
+    if (has_ext(path, ".trk"))
+        return lc_load_trk(path, s, err);
+    return lc_load_binlines(path, s, err);
 }
 
 static int load_memory(const char *path, const void *data, size_t size, lc_scene **s, lc_error *err)
@@ -37,7 +39,9 @@ static int load_memory(const char *path, const void *data, size_t size, lc_scene
     const char *base = lc_io_basename(path);
     if (has_ext(path, ".tck"))
         return lc_load_tck_memory(data, size, base, s, err);
-    return lc_load_trk_memory(data, size, base, s, err);
+    if (has_ext(path, ".trk"))
+        return lc_load_trk_memory(data, size, base, s, err);
+    return lc_load_binlines_memory(data, size, base, s, err);
 }
 
 static lc_scene *must_load(const char *path)
@@ -97,6 +101,31 @@ static int write_tck(const lc_scene *s, const char *path, int elem, int big)
     return fclose(f);
 }
 
+/* LineVis .binlines of the scene: version 1 (no names) or 2 (names). */
+static int write_binlines(const lc_scene *s, const char *path, int version)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return -1;
+    put_u32(f, (uint32_t)version, 0);
+    put_u32(f, s->line_count, 0);
+    put_u32(f, (uint32_t)s->attribute_count, 0);
+    if (version >= 2)
+        for (int a = 0; a < s->attribute_count; a++) {
+            uint32_t len = (uint32_t)strlen(s->attributes[a].name);
+            put_u32(f, len, 0);
+            fwrite(s->attributes[a].name, 1, len, f);
+        }
+    for (uint32_t l = 0; l < s->line_count; l++) {
+        uint32_t first = s->line_offsets[l], n = s->line_offsets[l + 1] - first;
+        put_u32(f, n, 0);
+        fwrite(s->positions + 3 * (size_t)first, sizeof(float), 3 * (size_t)n, f);
+        for (int a = 0; a < s->attribute_count; a++)
+            fwrite(s->attributes[a].values + first, sizeof(float), n, f);
+    }
+    return fclose(f);
+}
+
 /* Three lines of 40, 25 and 7 vertices with two attributes. */
 static lc_scene *synthetic_lines(int attributes)
 {
@@ -136,6 +165,22 @@ static void test_roundtrip(const char *dir)
         lc_scene_destroy(r);
         unlink(path);
     }
+    for (int version = 1; version <= 2; version++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/round%d.binlines", dir, version);
+        CHECK(write_binlines(attributed, path, version) == 0, "write %s", path);
+        lc_scene *r = must_load(path);
+        if (r && version == 2) {
+            same_scene(attributed, r, 0, path);
+        } else if (r) { /* version 1 has no names: attribute_K */
+            CHECK(r->attribute_count == 2 && strcmp(r->attributes[1].name, "attribute_1") == 0, "v1 names");
+            CHECK(r->vertex_count == attributed->vertex_count &&
+                      memcmp(r->attributes[1].values, attributed->attributes[1].values, 72 * sizeof(float)) == 0,
+                  "v1 attribute values");
+        }
+        lc_scene_destroy(r);
+        unlink(path);
+    }
     lc_scene_destroy(plain);
     lc_scene_destroy(attributed);
 }
@@ -143,7 +188,8 @@ static void test_roundtrip(const char *dir)
 static void test_cases(void)
 {
     int tck = run_case_table(DATA "tck/", load_path, load_memory);
-    CHECK(tck >= 16, "only %d .tck cases", tck);
+    int bin = run_case_table(DATA "binlines/", load_path, load_memory);
+    CHECK(tck >= 16 && bin >= 10, "only %d .tck and %d .binlines cases", tck, bin);
 }
 
 /* nibabel's standard.trk (RAS), standard.LPS.trk and standard.tck hold the same
@@ -178,7 +224,8 @@ static void test_nibabel_standard(void)
 
 static void test_mutations(void)
 {
-    static const char *const files[] = {"tck/valid/lines_f32le.tck", "tck/valid/lines_f64be.tck"};
+    static const char *const files[] = {"tck/valid/lines_f32le.tck", "tck/valid/lines_f64be.tck",
+                                        "binlines/valid/v1.binlines", "binlines/valid/v2.binlines"};
     check_prefixes_and_mutations(DATA, files, sizeof files / sizeof *files, "0123456789 \n.:END\xff\x80\x7f\x01",
                                  0x9e3779b97f4a7c15ull, load_memory);
 }

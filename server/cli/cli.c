@@ -76,16 +76,17 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     return 0;
 }
 
-const char lc_cli_flags_help[] = "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj/.vtk/.trk file\n"
-                                 "  --width N, --height N, --size WxH\n"
-                                 "  --method NAME         fourier | exact | opaque | direct | wboit\n"
-                                 "  --bands M             Fourier bands 1..8\n"
-                                 "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
-                                 "  --depth-range global|pixel   depth normalization by the data bounds or per pixel\n"
-                                 "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
-                                 "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
-                                 "  --line-width W        world units;  --point-size PX;  --unlit\n"
-                                 "  --format png|jpeg, --quality Q\n";
+const char lc_cli_flags_help[] =
+    "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a file (" LC_DATASET_EXTENSIONS ")\n"
+    "  --width N, --height N, --size WxH\n"
+    "  --method NAME         fourier | exact | opaque | direct | wboit\n"
+    "  --bands M             Fourier bands 1..8\n"
+    "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
+    "  --depth-range global|pixel   depth normalization by the data bounds or per pixel\n"
+    "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
+    "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
+    "  --line-width W        world units;  --point-size PX;  --unlit\n"
+    "  --format png|jpeg, --quality Q\n";
 
 /* Applies one "key": value pair through the protocol's query aliases so the
  * flags get exactly the validation of the HTTP API. */

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "cli.h"
 #include "demo.h"
@@ -146,6 +147,10 @@ int lc_cli_info(int argc, char **argv)
     for (int i = 0; i < s->attribute_count; i++)
         printf("  %-20s [%g, %g]\n", s->attributes[i].name, s->attributes[i].min, s->attributes[i].max);
     printf("loaded in   %.1f ms\n", ms);
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    printf("memory      %.3f MB in the scene's arrays, peak RSS %.1f MB\n", lc_scene_bytes(s) / 1e6,
+           ru.ru_maxrss / 1e3);
     lc_scene_destroy(s);
     return 0;
 }

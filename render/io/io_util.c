@@ -309,6 +309,6 @@ void lc_io_progress_report(lc_io_progress *p, size_t done, size_t total)
     if (now < p->next)
         return;
     p->next = now + 1.0;
-    fprintf(stderr, "%s: loading, %.0f %% of %.0f MB after %.1f s\n", p->file,
-            total ? 100.0 * (double)done / (double)total : 100.0, (double)total / 1e6, now - p->started);
+    fprintf(stderr, "%s: loading, %.0f %% after %.1f s\n", p->file,
+            total ? 100.0 * (double)done / (double)total : 100.0, now - p->started);
 }

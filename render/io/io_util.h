@@ -111,9 +111,10 @@ static inline double lc_io_get_f64(const void *at, int big)
     return d;
 }
 
-/* Progress of a long load: a reader calls lc_io_progress every few MB with the
- * bytes done; once the load has run longer than a second a line "file:
- * loading, N % of M MB" goes to stderr, then one a second. */
+/* Progress of a long load: a reader calls lc_io_progress_report every so often
+ * with the work done of the total (bytes, vertices); once the load has run
+ * longer than a second a line "file: loading, N % after T s" goes to stderr,
+ * then one a second. */
 typedef struct lc_io_progress {
     const char *file;
     double started, next; /* lc_now() seconds */

@@ -1,6 +1,6 @@
 /* Dataset files: the reader chosen by extension, and every format's own API
  * (ply.h, obj.h, vtk.h, trk.h, tck.h, binlines.h,
- * csv.h) for callers that name a format.
+ * csv.h, trx.h) for callers that name a format.
  * Threading: reentrant; a loaded scene belongs to the caller. */
 #ifndef LC_LOADERS_H
 #define LC_LOADERS_H
@@ -13,6 +13,7 @@
 #include "scene.h"
 #include "tck.h"
 #include "trk.h"
+#include "trx.h"
 #include "vtk.h"
 
 #ifdef __cplusplus
@@ -20,7 +21,7 @@ extern "C" {
 #endif
 
 /* The extensions lc_scene_load_file knows, for messages and help texts. */
-#define LC_DATASET_EXTENSIONS ".ply, .obj, .vtk, .trk, .tck, .binlines, .csv, .tsv or .xyz"
+#define LC_DATASET_EXTENSIONS ".ply, .obj, .vtk, .trk, .tck, .trx, .binlines, .csv, .tsv or .xyz"
 
 /* 1 when lc_scene_load_file has a reader for the path's extension. */
 int lc_scene_is_dataset_file(const char *path);

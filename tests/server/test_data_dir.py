@@ -1,5 +1,5 @@
 """`lucent serve --data DIR`: every recognized file of the folder is served
-(named after its stem), unrelated files are ignored, a broken dataset file is
+(named after its stem; a TRX directory is one dataset), unrelated files are ignored, a broken dataset file is
 logged and skipped, and a folder with nothing to serve stops the start-up."""
 import os
 import shutil
@@ -20,13 +20,14 @@ with tempfile.TemporaryDirectory() as folder:
     shutil.copy(os.path.join(loaders, "csv", "valid", "points.csv"), os.path.join(folder, "cloud.csv"))
     shutil.copy(os.path.join(loaders, "trk", "valid", "tracts_le.trk"), os.path.join(folder, "fibres.trk"))
     shutil.copy(os.path.join(loaders, "invalid", "truncated.ply"), os.path.join(folder, "broken.ply"))
+    shutil.copytree(os.path.join(loaders, "trx", "valid", "dir.trx"), os.path.join(folder, "bundle.trx"))
     with open(os.path.join(folder, "README.txt"), "w") as f:
         f.write("not a dataset\n")
     os.mkdir(os.path.join(folder, "sub"))
     with Server(binary, data=(folder,), demo_size=0) as srv:
         st, _, ds = srv.json("GET", "/api/v1/datasets")
         names = sorted(d["name"] for d in ds["datasets"]) if st == 200 else []
-        check(names == ["cloud", "fibres", "flow", "tracts"], "the folder's datasets are served: %s" % names)
+        check(names == ["bundle", "cloud", "fibres", "flow", "tracts"], "the folder's datasets are served: %s" % names)
         log = "\n".join(srv.log)
         check("skipping broken.ply" in log, "the broken file is logged and skipped")
         check("README" not in log, "files of other types are ignored")

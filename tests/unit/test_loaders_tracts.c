@@ -1,5 +1,5 @@
-/* Tractogram and line-set readers (MRtrix .tck, LineVis .binlines) and
- * TrackVis world space: the tables tests/data/loaders/{tck,binlines}/cases.txt,
+/* Tractogram and line-set readers (MRtrix .tck, TRX, LineVis .binlines) and
+ * TrackVis world space: the tables tests/data/loaders/{tck,trx,binlines}/cases.txt,
  * round trips through this test's own writers, nibabel's standard files (when
  * Debian's python3-nibabel is installed) and truncated/mutated inputs. */
 #include <errno.h>
@@ -8,7 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+#include <zip.h>
 
 #include "io_util.h"
 #include "lc_test.h"
@@ -31,6 +33,8 @@ static int load_path(const char *path, lc_scene **s, lc_error *err)
         return lc_load_tck(path, s, err);
     if (has_ext(path, ".trk"))
         return lc_load_trk(path, s, err);
+    if (has_ext(path, ".trx"))
+        return lc_load_trx(path, s, err);
     return lc_load_binlines(path, s, err);
 }
 
@@ -41,6 +45,12 @@ static int load_memory(const char *path, const void *data, size_t size, lc_scene
         return lc_load_tck_memory(data, size, base, s, err);
     if (has_ext(path, ".trk"))
         return lc_load_trk_memory(data, size, base, s, err);
+    if (has_ext(path, ".trx")) {
+        struct stat st;
+        if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) /* a TRX directory has no in-memory form */
+            return lc_load_trx(path, s, err);
+        return lc_load_trx_memory(data, size, base, s, err);
+    }
     return lc_load_binlines_memory(data, size, base, s, err);
 }
 
@@ -126,6 +136,97 @@ static int write_binlines(const lc_scene *s, const char *path, int version)
     return fclose(f);
 }
 
+/* TRX of the scene's lines with float32 or float16 positions, as a directory
+ * or a zip (libzip, stored): header.json, positions, offsets, dpv/NAME.float32. */
+static uint16_t float_to_half(float f) /* exact for the halves the test uses */
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    uint16_t sign = (uint16_t)(u >> 16 & 0x8000);
+    int e = (int)(u >> 23 & 0xff) - 127 + 15;
+    if ((u & 0x7fffffff) == 0)
+        return sign;
+    return (uint16_t)(sign | e << 10 | (u >> 13 & 0x3ff));
+}
+
+static int write_trx(const lc_scene *s, const char *path, int half, int as_zip)
+{
+    size_t n = s->vertex_count, pos_bytes = 3 * n * (half ? 2 : 4);
+    unsigned char *pos = malloc(pos_bytes);
+    uint32_t *off = malloc(s->line_count * sizeof *off);
+    for (size_t i = 0; i < 3 * n; i++) {
+        if (half) {
+            uint16_t h = float_to_half(s->positions[i]);
+            pos[2 * i] = (unsigned char)h, pos[2 * i + 1] = (unsigned char)(h >> 8);
+        } else {
+            memcpy(pos + 4 * i, &s->positions[i], 4); /* the test runs on little-endian hosts */
+        }
+    }
+    memcpy(off, s->line_offsets, s->line_count * sizeof *off);
+    char header[256];
+    snprintf(header, sizeof header, "{\"NB_VERTICES\": %u, \"NB_STREAMLINES\": %u}", s->vertex_count, s->line_count);
+    const char *names[2 + LC_MAX_ATTRIBUTES + 1];
+    const void *data[2 + LC_MAX_ATTRIBUTES + 1];
+    size_t sizes[2 + LC_MAX_ATTRIBUTES + 1];
+    char attr_names[LC_MAX_ATTRIBUTES][LC_NAME_LEN + 16];
+    int count = 0;
+    names[count] = "header.json", data[count] = header, sizes[count++] = strlen(header);
+    names[count] = half ? "positions.3.float16" : "positions.3.float32", data[count] = pos, sizes[count++] = pos_bytes;
+    names[count] = "offsets.uint32", data[count] = off, sizes[count++] = s->line_count * sizeof *off;
+    for (int a = 0; a < s->attribute_count; a++) {
+        snprintf(attr_names[a], sizeof attr_names[a], "dpv/%s.float32", s->attributes[a].name);
+        names[count] = attr_names[a], data[count] = s->attributes[a].values, sizes[count++] = n * sizeof(float);
+    }
+    int rc = 0;
+    if (as_zip) {
+        int ze;
+        zip_t *z = zip_open(path, ZIP_CREATE | ZIP_TRUNCATE, &ze);
+        for (int i = 0; z && i < count; i++) {
+            zip_source_t *src = zip_source_buffer(z, data[i], sizes[i], 0);
+            zip_int64_t idx = src ? zip_file_add(z, names[i], src, ZIP_FL_OVERWRITE) : -1;
+            if (idx < 0)
+                rc = -1;
+            else
+                zip_set_file_compression(z, (zip_uint64_t)idx, i % 2 ? ZIP_CM_DEFLATE : ZIP_CM_STORE, 0);
+        }
+        if (!z || zip_close(z) != 0)
+            rc = -1;
+    } else {
+        char p[600];
+        mkdir(path, 0755);
+        snprintf(p, sizeof p, "%s/dpv", path);
+        mkdir(p, 0755);
+        for (int i = 0; i < count; i++) {
+            snprintf(p, sizeof p, "%s/%s", path, names[i]);
+            FILE *f = fopen(p, "wb");
+            if (!f || fwrite(data[i], 1, sizes[i], f) != sizes[i])
+                rc = -1;
+            if (f)
+                fclose(f);
+        }
+    }
+    free(pos);
+    free(off);
+    return rc;
+}
+
+static void remove_trx_dir(const char *path, const lc_scene *s)
+{
+    char p[600];
+    static const char *const files[] = {"header.json", "positions.3.float32", "positions.3.float16", "offsets.uint32"};
+    for (size_t i = 0; i < sizeof files / sizeof *files; i++) {
+        snprintf(p, sizeof p, "%s/%s", path, files[i]);
+        unlink(p);
+    }
+    for (int a = 0; a < s->attribute_count; a++) {
+        snprintf(p, sizeof p, "%s/dpv/%s.float32", path, s->attributes[a].name);
+        unlink(p);
+    }
+    snprintf(p, sizeof p, "%s/dpv", path);
+    rmdir(p);
+    rmdir(path);
+}
+
 /* Three lines of 40, 25 and 7 vertices with two attributes. */
 static lc_scene *synthetic_lines(int attributes)
 {
@@ -165,6 +266,26 @@ static void test_roundtrip(const char *dir)
         lc_scene_destroy(r);
         unlink(path);
     }
+    /* TRX: float32 positions exactly; float16 on a copy whose coordinates are
+     * halves (multiples of 1/8 below 256). */
+    lc_scene *halves = synthetic_lines(2);
+    for (uint32_t i = 0; halves && i < 3 * halves->vertex_count; i++)
+        halves->positions[i] = roundf(halves->positions[i] * 8) / 8;
+    for (int k = 0; k < 4; k++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/round%d.trx", dir, k);
+        const lc_scene *src = k < 2 ? attributed : halves;
+        CHECK(write_trx(src, path, k >= 2, k % 2) == 0, "write %s", path);
+        lc_scene *r = must_load(path);
+        if (r)
+            same_scene(src, r, 0, path);
+        lc_scene_destroy(r);
+        if (k % 2)
+            unlink(path);
+        else
+            remove_trx_dir(path, src);
+    }
+    lc_scene_destroy(halves);
     for (int version = 1; version <= 2; version++) {
         char path[512];
         snprintf(path, sizeof path, "%s/round%d.binlines", dir, version);
@@ -189,7 +310,18 @@ static void test_cases(void)
 {
     int tck = run_case_table(DATA "tck/", load_path, load_memory);
     int bin = run_case_table(DATA "binlines/", load_path, load_memory);
-    CHECK(tck >= 16 && bin >= 10, "only %d .tck and %d .binlines cases", tck, bin);
+    int trx = run_case_table(DATA "trx/", load_path, load_memory);
+    CHECK(tck >= 16 && bin >= 10 && trx >= 14, "only %d .tck, %d .binlines and %d .trx cases", tck, bin, trx);
+    /* A TRX directory (float64 positions, int32 offsets) holds what the zip
+     * f32.trx holds; its arrays are read in name order. */
+    lc_scene *zip = must_load(DATA "trx/valid/f32.trx"), *dir = must_load(DATA "trx/valid/dir.trx");
+    if (zip && dir) {
+        same_scene(zip, dir, 0, "trx directory vs zip");
+        CHECK(strcmp(dir->attributes[0].name, "color_0") == 0 && strcmp(dir->name, "dir") == 0,
+              "directory: first attribute %s, name %s", dir->attributes[0].name, dir->name);
+    }
+    lc_scene_destroy(zip);
+    lc_scene_destroy(dir);
 }
 
 /* nibabel's standard.trk (RAS), standard.LPS.trk and standard.tck hold the same
@@ -224,8 +356,9 @@ static void test_nibabel_standard(void)
 
 static void test_mutations(void)
 {
-    static const char *const files[] = {"tck/valid/lines_f32le.tck", "tck/valid/lines_f64be.tck",
-                                        "binlines/valid/v1.binlines", "binlines/valid/v2.binlines"};
+    static const char *const files[] = {"tck/valid/lines_f32le.tck",  "tck/valid/lines_f64be.tck",
+                                        "binlines/valid/v1.binlines", "binlines/valid/v2.binlines",
+                                        "trx/valid/f32.trx",          "trx/valid/f16_deflated.trx"};
     check_prefixes_and_mutations(DATA, files, sizeof files / sizeof *files, "0123456789 \n.:END\xff\x80\x7f\x01",
                                  0x9e3779b97f4a7c15ull, load_memory);
 }

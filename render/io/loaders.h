@@ -1,6 +1,6 @@
 /* Dataset files: the reader chosen by extension, and every format's own API
  * (ply.h, obj.h, vtk.h, trk.h, tck.h, binlines.h,
- * csv.h, trx.h) for callers that name a format.
+ * csv.h, trx.h, nc_trajectories.h) for callers that name a format.
  * Threading: reentrant; a loaded scene belongs to the caller. */
 #ifndef LC_LOADERS_H
 #define LC_LOADERS_H
@@ -8,6 +8,7 @@
 #include "binlines.h"
 #include "csv.h"
 #include "lc_base.h"
+#include "nc_trajectories.h"
 #include "obj.h"
 #include "ply.h"
 #include "scene.h"
@@ -21,7 +22,7 @@ extern "C" {
 #endif
 
 /* The extensions lc_scene_load_file knows, for messages and help texts. */
-#define LC_DATASET_EXTENSIONS ".ply, .obj, .vtk, .trk, .tck, .trx, .binlines, .csv, .tsv or .xyz"
+#define LC_DATASET_EXTENSIONS ".ply, .obj, .vtk, .trk, .tck, .trx, .binlines, .nc, .csv, .tsv or .xyz"
 
 /* 1 when lc_scene_load_file has a reader for the path's extension. */
 int lc_scene_is_dataset_file(const char *path);

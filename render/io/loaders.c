@@ -28,18 +28,27 @@ static path_loader reader_for(const char *path)
 
 int lc_scene_is_dataset_file(const char *path) { return reader_for(path) != NULL; }
 
+int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    path_loader load = reader_for(path);
+    if (!load)
+        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected %s)", lc_io_basename(path),
+                      LC_DATASET_EXTENSIONS);
+    int rc = load(path, out, err);
+    if (rc == 0)
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
+    return rc;
+}
+
 int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     const char *base = lc_io_basename(path);
-    path_loader load = reader_for(path);
-    if (!load)
-        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected %s)", base, LC_DATASET_EXTENSIONS);
     lc_scene *s = NULL;
-    int rc = load(path, &s, err);
+    int rc = lc_scene_read_file(path, &s, err);
     if (rc)
         return rc;
-    lc_io_stem(path, s->name, sizeof s->name);
     rc = lc_scene_finalize(s, NULL, err);
     if (rc) {
         if (err && strncmp(err->msg, base, strlen(base)) != 0)

@@ -27,6 +27,11 @@ extern "C" {
 /* 1 when lc_scene_load_file has a reader for the path's extension. */
 int lc_scene_is_dataset_file(const char *path);
 
+/* The reader of the extension alone: an un-finalized scene named after the
+ * file stem (for callers that finalize with their own options, or time the
+ * reader). Errors as lc_scene_load_file. */
+int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err);
+
 /* Picks the reader by extension (LC_DATASET_EXTENSIONS); the scene is named
  * after the file stem. Finalizes the scene with default element options. On
  * error *out is NULL and err names the file and the reason. */

@@ -60,7 +60,7 @@ static int add_source(lc_datasets *d, const char *source, unsigned long long dem
         struct stat st;
         if (stat(source, &st) != 0)
             return lc_err(err, LC_ERR_IO, "%s: cannot open (no such file)", source);
-        if (S_ISDIR(st.st_mode))
+        if (S_ISDIR(st.st_mode) && !lc_scene_is_dataset_file(source)) /* a TRX directory is one dataset */
             return add_directory(d, source, demo_size, err);
         LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
         rc = lc_scene_load_file(source, &ds->scene, err);
@@ -98,8 +98,8 @@ static int add_directory(lc_datasets *d, const char *dir, unsigned long long dem
         char path[1024];
         struct stat st;
         int len = snprintf(path, sizeof path, "%s/%s", dir, entries[i]->d_name);
-        if (rc == 0 && len > 0 && (size_t)len < sizeof path && stat(path, &st) == 0 && S_ISREG(st.st_mode) &&
-            lc_scene_is_dataset_file(path)) {
+        if (rc == 0 && len > 0 && (size_t)len < sizeof path && stat(path, &st) == 0 &&
+            (S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) && lc_scene_is_dataset_file(path)) {
             lc_error e = {0};
             int r = add_source(d, path, demo_size, &e);
             if (r == 0) {

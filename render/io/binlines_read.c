@@ -96,8 +96,8 @@ static int walk(bl_load *B, lc_scene *s, float **attr, uint64_t *points_out, uin
     size_t first_bad = 0;
     uint64_t attr_bytes = 4 * (uint64_t)B->nattr_file;
     for (uint32_t l = 0; l < B->lines; l++) {
-        if (!s && (l & 0xFFF) == 0)
-            lc_io_progress_report(&B->progress, pos, B->size);
+        if ((l & 0xFFF) == 0) /* the first pass is the first half of the work */
+            lc_io_progress_report(&B->progress, pos + (s ? B->size : 0), 2 * B->size);
         if (B->size - pos < 4)
             return fail(B, LC_ERR_INVALID, pos, "line %u: file ends before its point count", l);
         uint32_t n = u32_at(B, pos);

@@ -220,7 +220,7 @@ int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene
             goto done;
         }
         if ((rows & 0xFFFF) == 0)
-            lc_io_progress_report(&C->progress, (size_t)(C->p - (const char *)data), size);
+            lc_io_progress_report(&C->progress, (size_t)(C->p - (const char *)data), 2 * size); /* two passes */
         if (first) {
             int m = split(C, ls, le, fs, fe, MAX_COLUMNS);
             for (int c = 0; c < C->ncol; c++) {
@@ -305,6 +305,8 @@ int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene
                 first_dropped = C->line;
             continue;
         }
+        if ((v & 0xFFFF) == 0)
+            lc_io_progress_report(&C->progress, size + (size_t)(C->p - (const char *)data), 2 * size);
         memcpy(s->positions + 3 * (size_t)v, p, sizeof p);
         for (int c = 0; c < C->ncol; c++) {
             double x;

@@ -34,6 +34,7 @@ typedef struct nc_load {
     nc_var pos[3];  /* lon, lat, pressure */
     nc_var attr[LC_IO_MAX_FILE_ATTRIBUTES];
     int nattr;
+    lc_io_progress progress;
 } nc_load;
 
 static int fail(nc_load *L, int code, const char *var, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
@@ -193,11 +194,9 @@ static int walk(nc_load *L, uint32_t *len, lc_scene *s, float **attr, double *bu
         block = 1;
     uint64_t w = 0;
     uint32_t line = 0;
-    lc_io_progress progress;
-    lc_io_progress_start(&progress, L->file);
     for (size_t r0 = 0; r0 < L->rows; r0 += block) {
         size_t n = L->rows - r0 < block ? L->rows - r0 : block;
-        lc_io_progress_report(&progress, r0, L->rows);
+        lc_io_progress_report(&L->progress, r0 + (s ? L->rows : 0), 2 * L->rows); /* two passes */
         double *p[3] = {buf, buf + n * L->T, buf + 2 * n * L->T};
         for (int k = 0; k < 3; k++) {
             int rc = read_rows(L, &L->pos[k], r0, n, p[k]);
@@ -251,6 +250,7 @@ static int walk(nc_load *L, uint32_t *len, lc_scene *s, float **attr, double *bu
 
 static int load(nc_load *L, lc_scene **out)
 {
+    lc_io_progress_start(&L->progress, L->file);
     int rc = inspect(L);
     if (rc)
         return rc;

@@ -174,8 +174,8 @@ static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_
     size_t first_bad = 0;
     int ended = 0;
     for (uint64_t i = 0; pos + tsz <= T->size; pos += tsz, i++) {
-        if (!s && (i & 0x3FFFF) == 0)
-            lc_io_progress_report(&T->progress, pos, T->size);
+        if ((i & 0x3FFFF) == 0) /* the first pass is the first half of the work */
+            lc_io_progress_report(&T->progress, pos + (s ? T->size : 0), 2 * T->size);
         double v[3];
         get_triplet(T, pos, v);
         int kind = classify(v);

@@ -392,7 +392,7 @@ static int trx_build(trx_load *T, lc_scene **out)
     lc_io_progress_start(&progress, T->file);
     for (uint64_t l = 0; l < T->ns; l++) {
         if ((l & 0xFFFF) == 0)
-            lc_io_progress_report(&progress, (size_t)start[l], (size_t)T->nv);
+            lc_io_progress_report(&progress, (size_t)start[l], 2 * (size_t)T->nv); /* two passes */
         uint64_t run = 0;
         for (uint64_t v = start[l]; v < start[l + 1]; v++) {
             float p[3];
@@ -449,6 +449,8 @@ static int trx_build(trx_load *T, lc_scene **out)
     /* Pass 2: fill. */
     uint64_t w = 0, line = 0;
     for (uint64_t l = 0; l < T->ns; l++) {
+        if ((l & 0xFFFF) == 0)
+            lc_io_progress_report(&progress, (size_t)(T->nv + start[l]), 2 * (size_t)T->nv);
         uint64_t first = w;
         for (uint64_t v = start[l]; v < start[l + 1] && w < points; v++) {
             if (!finite3(pe->data + v * 3 * (uint64_t)pt->bytes, pt, s->positions + 3 * w))

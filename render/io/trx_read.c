@@ -32,8 +32,10 @@ typedef struct trx_entry {
 typedef struct trx_load {
     const char *file;
     lc_error *err;
-    zip_t *zip;      /* or NULL for a directory */
-    const char *dir; /* directory path */
+    zip_t *zip;                 /* or NULL for a directory */
+    const char *dir;            /* directory path */
+    const unsigned char *zdata; /* the archive's bytes (zip) */
+    size_t zsize;
     trx_entry *e;
     int n;
     uint64_t nv, ns; /* NB_VERTICES, NB_STREAMLINES */
@@ -130,6 +132,8 @@ static int add_entry(trx_load *T, const char *name, uint64_t size, uint64_t pack
 
 static int list_zip(trx_load *T, const void *data, size_t size)
 {
+    T->zdata = data;
+    T->zsize = size;
     zip_error_t ze;
     zip_error_init(&ze);
     zip_source_t *src = zip_source_buffer_create(data, size, 0, &ze);
@@ -192,6 +196,46 @@ static trx_entry *find(trx_load *T, const char *prefix)
 }
 
 /* Makes e->data hold e->size bytes (which the caller has checked). */
+/* A stored (uncompressed) entry's bytes inside the archive itself, found
+ * through the central directory and the local header, so that a stored TRX is
+ * read without a copy (as TRX files usually are). NULL when the entry is
+ * compressed, the archive needs ZIP64 or anything does not add up; the caller
+ * then lets libzip copy (and check) the entry. libzip has opened the archive,
+ * so its structure is known to be sound; every offset is still bounded here. */
+static const unsigned char *stored_bytes(const trx_load *T, const trx_entry *e)
+{
+    const unsigned char *z = T->zdata;
+    size_t n = T->zsize, eocd = SIZE_MAX;
+    for (size_t back = 22; back <= n && back <= 22 + 65535 && eocd == SIZE_MAX; back++)
+        if (lc_io_get_u32(z + n - back, 0) == 0x06054b50)
+            eocd = n - back;
+    if (eocd == SIZE_MAX)
+        return NULL;
+    uint32_t entries = (uint32_t)(z[eocd + 10] | z[eocd + 11] << 8), cd = lc_io_get_u32(z + eocd + 16, 0);
+    size_t name_len = strlen(e->name), pos = cd;
+    for (uint32_t i = 0; i < entries && i < MAX_ENTRIES; i++) {
+        if (pos > n || n - pos < 46 || lc_io_get_u32(z + pos, 0) != 0x02014b50)
+            return NULL;
+        unsigned method = (unsigned)(z[pos + 10] | z[pos + 11] << 8);
+        uint32_t packed = lc_io_get_u32(z + pos + 20, 0), size = lc_io_get_u32(z + pos + 24, 0);
+        size_t nl = (size_t)(z[pos + 28] | z[pos + 29] << 8), el = (size_t)(z[pos + 30] | z[pos + 31] << 8),
+               cl = (size_t)(z[pos + 32] | z[pos + 33] << 8);
+        uint32_t local = lc_io_get_u32(z + pos + 42, 0);
+        if (n - pos - 46 < nl)
+            return NULL;
+        if (nl == name_len && memcmp(z + pos + 46, e->name, nl) == 0) {
+            if (method != 0 || packed != size || size != e->size || size == 0xFFFFFFFFu || local == 0xFFFFFFFFu ||
+                (size_t)local > n || n - local < 30 || lc_io_get_u32(z + local, 0) != 0x04034b50)
+                return NULL;
+            size_t start = (size_t)local + 30 + (size_t)(z[local + 26] | z[local + 27] << 8) +
+                           (size_t)(z[local + 28] | z[local + 29] << 8);
+            return start <= n && n - start >= size ? z + start : NULL;
+        }
+        pos += 46 + nl + el + cl;
+    }
+    return NULL;
+}
+
 static int fetch(trx_load *T, trx_entry *e)
 {
     if (e->data)
@@ -207,6 +251,8 @@ static int fetch(trx_load *T, trx_entry *e)
         e->data = (const unsigned char *)e->file.data;
         return 0;
     }
+    if ((e->data = stored_bytes(T, e)))
+        return 0;
     if (e->size > e->packed * MAX_DEFLATE_RATIO + 65536)
         return fail(T, LC_ERR_INVALID, e->name, "claims %llu bytes from %llu compressed", (unsigned long long)e->size,
                     (unsigned long long)e->packed);

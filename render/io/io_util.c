@@ -293,3 +293,22 @@ void lc_io_set_defaults(lc_scene *s)
         snprintf(s->default_importance, sizeof s->default_importance, "%s", s->attributes[0].name);
     snprintf(s->default_color, sizeof s->default_color, "%s", s->rgb ? "rgb" : "importance");
 }
+
+/* ---- progress */
+
+void lc_io_progress_start(lc_io_progress *p, const char *file)
+{
+    p->file = file;
+    p->started = lc_now();
+    p->next = p->started + 1.0;
+}
+
+void lc_io_progress_report(lc_io_progress *p, size_t done, size_t total)
+{
+    double now = lc_now();
+    if (now < p->next)
+        return;
+    p->next = now + 1.0;
+    fprintf(stderr, "%s: loading, %.0f %% after %.1f s\n", p->file,
+            total ? 100.0 * (double)done / (double)total : 100.0, now - p->started);
+}

@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "lc_base.h"
 #include "scene.h"
@@ -80,6 +81,46 @@ int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint3
  * the first attribute, else "" so that finalize derives one) and default_color
  * ("rgb" when the file has colours, else "importance"). */
 void lc_io_set_defaults(lc_scene *s);
+
+/* Unaligned little/big-endian reads of the binary readers. */
+static inline uint32_t lc_io_get_u32(const void *at, int big)
+{
+    const unsigned char *p = at;
+    if (big)
+        return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+    return (uint32_t)p[3] << 24 | (uint32_t)p[2] << 16 | (uint32_t)p[1] << 8 | p[0];
+}
+static inline uint64_t lc_io_get_u64(const void *at, int big)
+{
+    const unsigned char *p = at;
+    uint64_t lo = lc_io_get_u32(p + (big ? 4 : 0), big), hi = lc_io_get_u32(p + (big ? 0 : 4), big);
+    return hi << 32 | lo;
+}
+static inline float lc_io_get_f32(const void *at, int big)
+{
+    uint32_t u = lc_io_get_u32(at, big);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+static inline double lc_io_get_f64(const void *at, int big)
+{
+    uint64_t u = lc_io_get_u64(at, big);
+    double d;
+    memcpy(&d, &u, 8);
+    return d;
+}
+
+/* Progress of a long load: a reader calls lc_io_progress_report every so often
+ * with the work done of the total (bytes, vertices); once the load has run
+ * longer than a second a line "file: loading, N % after T s" goes to stderr,
+ * then one a second. */
+typedef struct lc_io_progress {
+    const char *file;
+    double started, next; /* lc_now() seconds */
+} lc_io_progress;
+void lc_io_progress_start(lc_io_progress *p, const char *file);
+void lc_io_progress_report(lc_io_progress *p, size_t done, size_t total);
 
 /* Attribute slots a loader may fill: finalize adds up to four derived ones. */
 #define LC_IO_MAX_FILE_ATTRIBUTES (LC_MAX_ATTRIBUTES - 4)

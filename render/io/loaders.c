@@ -6,26 +6,49 @@
 
 #include "io_util.h"
 
+typedef int (*path_loader)(const char *path, lc_scene **out, lc_error *err);
+
+static const struct {
+    const char *ext;
+    path_loader load;
+} readers[] = {
+    {".ply", lc_load_ply}, {".obj", lc_load_obj},           {".vtk", lc_load_vtk},   {".trk", lc_load_trk},
+    {".tck", lc_load_tck}, {".binlines", lc_load_binlines}, {".csv", lc_load_csv},   {".tsv", lc_load_csv},
+    {".xyz", lc_load_csv}, {".trx", lc_load_trx},           {".nc", lc_load_netcdf},
+};
+
+static path_loader reader_for(const char *path)
+{
+    const char *dot = strrchr(lc_io_basename(path), '.');
+    for (size_t i = 0; dot && i < sizeof readers / sizeof *readers; i++)
+        if (strcasecmp(dot, readers[i].ext) == 0)
+            return readers[i].load;
+    return NULL;
+}
+
+int lc_scene_is_dataset_file(const char *path) { return reader_for(path) != NULL; }
+
+int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    path_loader load = reader_for(path);
+    if (!load)
+        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected %s)", lc_io_basename(path),
+                      LC_DATASET_EXTENSIONS);
+    int rc = load(path, out, err);
+    if (rc == 0)
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
+    return rc;
+}
+
 int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     const char *base = lc_io_basename(path);
-    const char *dot = strrchr(base, '.');
-    int rc;
     lc_scene *s = NULL;
-    if (dot && strcasecmp(dot, ".ply") == 0)
-        rc = lc_load_ply(path, &s, err);
-    else if (dot && strcasecmp(dot, ".obj") == 0)
-        rc = lc_load_obj(path, &s, err);
-    else if (dot && strcasecmp(dot, ".vtk") == 0)
-        rc = lc_load_vtk(path, &s, err);
-    else if (dot && strcasecmp(dot, ".trk") == 0)
-        rc = lc_load_trk(path, &s, err);
-    else
-        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: unknown dataset format (expected .ply, .obj, .vtk or .trk)", base);
+    int rc = lc_scene_read_file(path, &s, err);
     if (rc)
         return rc;
-    lc_io_stem(path, s->name, sizeof s->name);
     rc = lc_scene_finalize(s, NULL, err);
     if (rc) {
         if (err && strncmp(err->msg, base, strlen(base)) != 0)

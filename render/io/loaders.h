@@ -1,21 +1,38 @@
 /* Dataset files: the reader chosen by extension, and every format's own API
- * (ply.h, obj.h, vtk.h, trk.h) for callers that name a format.
+ * (ply.h, obj.h, vtk.h, trk.h, tck.h, binlines.h,
+ * csv.h, trx.h, nc_trajectories.h) for callers that name a format.
  * Threading: reentrant; a loaded scene belongs to the caller. */
 #ifndef LC_LOADERS_H
 #define LC_LOADERS_H
 
+#include "binlines.h"
+#include "csv.h"
 #include "lc_base.h"
+#include "nc_trajectories.h"
 #include "obj.h"
 #include "ply.h"
 #include "scene.h"
+#include "tck.h"
 #include "trk.h"
+#include "trx.h"
 #include "vtk.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/* Picks the reader by extension (.ply, .obj, .vtk, .trk); the scene is named
+/* The extensions lc_scene_load_file knows, for messages and help texts. */
+#define LC_DATASET_EXTENSIONS ".ply, .obj, .vtk, .trk, .tck, .trx, .binlines, .nc, .csv, .tsv or .xyz"
+
+/* 1 when lc_scene_load_file has a reader for the path's extension. */
+int lc_scene_is_dataset_file(const char *path);
+
+/* The reader of the extension alone: an un-finalized scene named after the
+ * file stem (for callers that finalize with their own options, or time the
+ * reader). Errors as lc_scene_load_file. */
+int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err);
+
+/* Picks the reader by extension (LC_DATASET_EXTENSIONS); the scene is named
  * after the file stem. Finalizes the scene with default element options. On
  * error *out is NULL and err names the file and the reason. */
 int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err);

@@ -1,6 +1,8 @@
-/* TrackVis .trk (either byte order): every track a polyline. Coordinates stay
- * as stored, in TrackVis voxel-mm space (voxel index times voxel size, not
- * RAS: vox_to_ras is not applied). Per-point scalars become attributes named
+/* TrackVis .trk (either byte order): every track a polyline. Coordinates are
+ * mapped from TrackVis voxel-mm space (voxel corner at 0, times voxel size, in
+ * voxel_order) to RAS+ mm as nibabel and MRtrix do: vox_to_ras applied to the
+ * voxel-centre coordinates (trk_space.h), so a .trk and a .tck of one
+ * tractogram coincide. Per-point scalars become attributes named
  * from scalar_name (else scalar_K); per-track properties become attributes
  * constant along each line. */
 #ifndef LC_IO_TRK_H

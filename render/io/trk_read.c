@@ -1,5 +1,5 @@
 /* TrackVis .trk reader: fiber tracts as polylines with per-point scalars and
- * per-track properties, either byte order. */
+ * per-track properties, either byte order, mapped to RAS+ mm (trk_space.c). */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -8,6 +8,7 @@
 
 #include "io_util.h"
 #include "trk.h"
+#include "trk_space.h"
 
 #define HEADER_SIZE 1000
 #define NAME_SLOTS 10 /* scalar_name / property_name: 10 names of 20 bytes */
@@ -208,6 +209,9 @@ int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene
     int rc = read_header(&T, &n_count);
     if (rc)
         return rc;
+    double to_ras[12];
+    if ((rc = lc_trk_voxmm_to_rasmm(T.data, T.swap, name, to_ras, err)))
+        return rc;
     uint64_t points = 0;
     uint32_t tracks = 0, kept = 0; /* set by scan() on success */
     /* Each track takes at least its 4-byte count: a lying n_count fails here. */
@@ -260,6 +264,7 @@ int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene
     }
     if ((rc = fill(&T, s, tracks, attr, nattr)))
         goto fail;
+    lc_trk_apply_affine(to_ras, s->positions, s->vertex_count);
     lc_io_set_defaults(s);
     *out = s;
     return 0;

@@ -148,3 +148,22 @@ uint64_t lc_scene_primitive_count(const lc_scene *s)
     }
     return 0;
 }
+
+size_t lc_scene_bytes(const lc_scene *s)
+{
+    if (!s)
+        return 0;
+    size_t v = s->vertex_count, f = sizeof(float);
+    size_t n = 3 * v * f * (1 + !!s->rgb + !!s->normals + !!s->tangents);
+    n += (size_t)s->attribute_count * v * f;
+    if (s->line_offsets)
+        n += ((size_t)s->line_count + 1) * sizeof(uint32_t);
+    if (s->triangles)
+        n += 3 * (size_t)s->triangle_count * sizeof(uint32_t);
+    const lc_elements *e = &s->elements;
+    if (e->vertex_elements)
+        n += 4 * v * (sizeof(uint32_t) + sizeof(float));
+    if (e->adjacency_offsets)
+        n += ((size_t)e->count + 1 + e->adjacency_count) * sizeof(uint32_t);
+    return n;
+}

@@ -91,6 +91,10 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err);
  * segments or vertices or 2^24. */
 int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err);
 
+/* Bytes of CPU memory the scene's arrays hold (positions, colours, normals,
+ * tangents, topology, attributes, elements). */
+size_t lc_scene_bytes(const lc_scene *s);
+
 const char *lc_prim_type_name(lc_prim_type t);
 /* Number of primitives: points, line segments or triangles. */
 uint64_t lc_scene_primitive_count(const lc_scene *s);

@@ -77,7 +77,7 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
 }
 
 const char lc_cli_flags_help[] =
-    "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a .ply/.obj/.vtk/.trk file\n"
+    "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a file (" LC_DATASET_EXTENSIONS ")\n"
     "  --elements N          line elements or surface patches (default: derived from the data)\n"
     "  --width N, --height N, --size WxH\n"
     "  --method NAME         fourier | exact | opaque | direct | wboit\n"

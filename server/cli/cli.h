@@ -9,7 +9,7 @@
 #include "scene.h"
 
 /* Opens a dataset spec: "demo:NAME" with optional "?count=N&seed=S" (e.g.
- * "demo:points?count=2000000"), or a .ply/.obj/.vtk/.trk path. The scene is finalized;
+ * "demo:points?count=2000000"), or a file path (LC_DATASET_EXTENSIONS). The scene is finalized;
  * the caller destroys it. */
 int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err);
 

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "cli.h"
 #include "demo.h"
@@ -194,6 +195,10 @@ int lc_cli_info(int argc, char **argv)
         printf("  %-20s [%g, %g]  2nd-98th percentiles [%g, %g]\n", s->attributes[i].name, s->attributes[i].min,
                s->attributes[i].max, s->attributes[i].p02, s->attributes[i].p98);
     printf("loaded in   %.1f ms\n", ms);
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    printf("memory      %.3f MB in the scene's arrays, peak RSS %.1f MB\n", lc_scene_bytes(s) / 1e6,
+           ru.ru_maxrss / 1e3);
     lc_scene_destroy(s);
     return 0;
 }

@@ -2,6 +2,8 @@
  * shared GPU context and describes them as JSON for the API. */
 #include "datasets.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -145,6 +147,7 @@ int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *er
     }
     return 0;
 }
+static int add_directory(lc_datasets *d, const char *dir, unsigned long long demo_size, lc_error *err);
 
 static int add_source(lc_datasets *d, const char *source, unsigned long long demo_size, lc_error *err)
 {
@@ -166,6 +169,8 @@ static int add_source(lc_datasets *d, const char *source, unsigned long long dem
         struct stat st;
         if (stat(source, &st) != 0)
             return lc_err(err, LC_ERR_IO, "%s: cannot open (no such file)", source);
+        if (S_ISDIR(st.st_mode) && !lc_scene_is_dataset_file(source)) /* a TRX directory is one dataset */
+            return add_directory(d, source, demo_size, err);
         LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
         rc = lc_scene_load_file(source, &ds->scene, err);
         file_stem(source, base, sizeof base);
@@ -185,6 +190,52 @@ static int add_source(lc_datasets *d, const char *source, unsigned long long dem
             lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
             s->elements.count, ds->load_seconds);
     d->count++;
+    return 0;
+}
+
+static int not_hidden(const struct dirent *e) { return e->d_name[0] != '.'; }
+
+/* Every file of dir (not recursive, by name) that a reader recognizes by its
+ * extension. A file that fails to load is logged and skipped, so that one bad
+ * file does not keep a folder from being served; a folder without any dataset
+ * that loads is an error. */
+static int add_directory(lc_datasets *d, const char *dir, unsigned long long demo_size, lc_error *err)
+{
+    struct dirent **entries = NULL;
+    int n = scandir(dir, &entries, not_hidden, alphasort);
+    if (n < 0)
+        return lc_err(err, LC_ERR_IO, "%s: cannot list the folder: %s", dir, strerror(errno));
+    int loaded = 0, failed = 0, rc = 0;
+    lc_error last = {0};
+    for (int i = 0; i < n; i++) {
+        char path[1024];
+        struct stat st;
+        int len = snprintf(path, sizeof path, "%s/%s", dir, entries[i]->d_name);
+        if (rc == 0 && len > 0 && (size_t)len < sizeof path && stat(path, &st) == 0 &&
+            (S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) && lc_scene_is_dataset_file(path)) {
+            lc_error e = {0};
+            int r = add_source(d, path, demo_size, &e);
+            if (r == 0) {
+                loaded++;
+            } else if (r == LC_ERR_LIMIT && d->count >= MAX_DATASETS) {
+                rc = lc_err(err, r, "%s", e.msg);
+            } else {
+                LC_ERROR(MOD, "skipping %s", e.msg);
+                last = e;
+                failed++;
+            }
+        }
+        free(entries[i]);
+    }
+    free(entries);
+    if (rc)
+        return rc;
+    if (loaded == 0 && failed > 0)
+        return lc_err(err, last.code ? last.code : LC_ERR_INVALID, "%s: no dataset loaded (%d failed; last: %s)", dir,
+                      failed, last.msg);
+    if (loaded == 0)
+        return lc_err(err, LC_ERR_NOT_FOUND, "%s: no dataset files (%s) in the folder", dir, LC_DATASET_EXTENSIONS);
+    LC_INFO(MOD, "%s: %d dataset(s) loaded, %d skipped", dir, loaded, failed);
     return 0;
 }
 

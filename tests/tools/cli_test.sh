@@ -97,12 +97,18 @@ printf 'ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float 
 expect_fail "truncated PLY" "short.ply" "$LUCENT" info "$tmp/short.ply"
 printf 'v 0 0 0\nv 1 0 0\nl 1 7\n' >"$tmp/badidx.obj"
 expect_fail "OBJ index out of range" "badidx.obj.*line 3" "$LUCENT" info "$tmp/badidx.obj"
-printf 'garbage\n' >"$tmp/garbage.xyz"
-expect_fail "unknown extension" "garbage.xyz" "$LUCENT" info "$tmp/garbage.xyz"
+printf 'garbage\n' >"$tmp/garbage.xyzw"
+expect_fail "unknown extension" "garbage.xyzw.*expected .*\\.tck.*\\.binlines" "$LUCENT" info "$tmp/garbage.xyzw"
+printf 'x,y\n1,2\n' >"$tmp/flat.csv"
+expect_fail "CSV without z" "flat.csv: line 1: no position columns" "$LUCENT" info "$tmp/flat.csv"
 
 # 5. info, and gen round trips through both formats.
 expect_ok "info demo" "$LUCENT" info demo:tornado
 grep -q "elements" "$tmp/out" && grep -q "curvature" "$tmp/out" && ok || bad "info lists elements and attributes"
+grep -Eq "^loaded in +[0-9.]+ ms" "$tmp/out" && grep -Eq "^memory +[0-9.]+ MB in the scene's arrays, peak RSS [0-9.]+ MB" "$tmp/out" &&
+  ok || bad "info reports load time and memory: $(tail -2 "$tmp/out")"
+expect_ok "info tck" "$LUCENT" info "$SRC/tests/data/loaders/tck/valid/lines_f64be.tck"
+grep -q "lines       2" "$tmp/out" && ok || bad "info on a .tck: $(head -5 "$tmp/out")"
 for demo in surface tornado; do
   for ext in ply obj; do
     expect_ok "gen $demo.$ext" "$LUCENT" gen "$demo" -o "$tmp/$demo.$ext" --count 20

@@ -104,7 +104,11 @@ static void test_exact_values(void)
         int l = lc_scene_find_attribute(le, "length"), c2 = lc_scene_find_attribute(le, "col_2");
         CHECK(l >= 0 && memcmp(le->attributes[l].values, length, sizeof length) == 0, "property broadcast");
         CHECK(c2 >= 0 && memcmp(le->attributes[c2].values, col2, sizeof col2) == 0, "multi-value scalar name");
-        CHECK(le->positions[3 * 6 + 1] == 4 && le->positions[3 * 6 + 2] == 1, "trk coordinates as stored");
+        /* stored (0, 4, 1) voxel-mm, LAS, 64 voxels of 2 x 2 x 3 mm: RAS+ mm as nibabel */
+        CHECK(fabs(le->positions[3 * 6] - 127) < 1e-5 && fabs(le->positions[3 * 6 + 1] - 3) < 1e-5 &&
+                  fabs(le->positions[3 * 6 + 2] + 0.5) < 1e-5,
+              "trk point in RAS+ mm: %g %g %g", le->positions[3 * 6], le->positions[3 * 6 + 1],
+              le->positions[3 * 6 + 2]);
     }
     lc_scene_destroy(le);
     lc_scene_destroy(be);

@@ -13,13 +13,14 @@ def name_table(names):
 
 
 def header(e="<", n_scalars=0, scalar_names=(), n_properties=0, property_names=(), n_count=0, hdr_size=1000,
-           magic=b"TRACK\0"):
-    h = magic + struct.pack(e + "3h3f3f", 64, 64, 32, 2.0, 2.0, 3.0, 0, 0, 0)
+           magic=b"TRACK\0", voxel_size=(2.0, 2.0, 3.0), order=b"LAS", vox_to_ras=(2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 3, 0, 0, 0, 0, 1),
+           version=2):
+    h = magic + struct.pack(e + "3h3f3f", 64, 64, 32, *voxel_size, 0, 0, 0)
     h += struct.pack(e + "h", n_scalars) + name_table(list(scalar_names))
     h += struct.pack(e + "h", n_properties) + name_table(list(property_names))
-    h += struct.pack(e + "16f", 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 3, 0, 0, 0, 0, 1)
-    h += b"\0" * 444 + b"LAS\0" + b"\0" * 4 + struct.pack(e + "6f", 1, 0, 0, 0, 1, 0) + b"\0" * 2 + b"\0" * 6
-    h += struct.pack(e + "3i", n_count, 2, hdr_size)
+    h += struct.pack(e + "16f", *vox_to_ras)
+    h += b"\0" * 444 + order.ljust(4, b"\0") + b"\0" * 4 + struct.pack(e + "6f", 1, 0, 0, 0, 1, 0) + b"\0" * 2 + b"\0" * 6
+    h += struct.pack(e + "3i", n_count, version, hdr_size)
     assert len(h) == 1000, len(h)
     return h
 
@@ -65,3 +66,16 @@ write("invalid/truncated.trk", header() + track("<", [(0, 0, 0), (1, 1, 1)]) +
 write("invalid/trailing_bytes.trk", header() + track("<", [(0, 0, 0), (1, 1, 1)]) + b"\1\0")
 write("invalid/nan_point.trk", header(">") + track(">", [(0, 0, 0), (1, math.inf, 1)]))
 write("invalid/no_tracks.trk", header() + track("<", [(1, 2, 3)]))
+
+# World space (nibabel's rules): a rotated, shifted vox_to_ras whose axes run
+# P, S, L (voxel order "PSL"), stored in RAS voxel order; no vox_to_ras (v1);
+# an empty voxel order (LPS); and headers that cannot be mapped.
+PAIR = track("<", [(1, 2, 3), (4, 5, 6.5)])
+write("valid/rotated.trk", header("<", voxel_size=(1.0, 2.0, 0.5), order=b"RAS",
+                                  vox_to_ras=(0, 0, -0.5, 10, -1, 0, 0, 20, 0, 2, 0, -30, 0, 0, 0, 1), n_count=1)
+      + PAIR)
+write("valid/version1.trk", header("<", version=1, n_count=1) + PAIR)
+write("valid/no_voxel_order.trk", header(">", order=b"", n_count=1) + track(">", [(1, 2, 3), (4, 5, 6.5)]))
+write("invalid/zero_voxel_size.trk", header(voxel_size=(2.0, 0.0, 3.0)) + PAIR)
+write("invalid/bad_voxel_order.trk", header(order=b"LAL") + PAIR)
+write("invalid/singular_vox_to_ras.trk", header(vox_to_ras=(1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1)) + PAIR)

@@ -1,0 +1,34 @@
+/* NetCDF trajectories (.nc, read with libnetcdf): variables lon, lat and
+ * pressure over the dimensions (trajectory, time) or, in Met.3D's layout,
+ * (ensemble, trajectory, time); every (ensemble member, trajectory) is a
+ * polyline over time. Positions: x = longitude and y = latitude in degrees as
+ * stored, z = 10 · ln(1013.25 hPa / p), a log-pressure height (about 0 at sea
+ * level, +10 per e-fold of pressure, i.e. per ~7 km of scale height; 250 hPa is
+ * z ≈ 14). Pressure is taken in hPa, or in Pa when its units attribute says
+ * "Pa". Every other variable over the same dimensions becomes an attribute of
+ * its name. A missing position (_FillValue, missing_value, NetCDF's default
+ * fill or NaN) ends its trajectory; a missing attribute value is NaN.
+ * Trajectories shorter than two points are dropped with a warning. */
+#ifndef LC_IO_NC_TRAJECTORIES_H
+#define LC_IO_NC_TRAJECTORIES_H
+
+#include <stddef.h>
+
+#include "lc_base.h"
+#include "scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Returns an un-finalized scene (the caller runs lc_scene_finalize and owns
+ * it). On error *out is NULL and err names the file, the variable and the
+ * reason. Both open the bytes with libnetcdf's nc_open_mem (the file form maps
+ * the file first). */
+int lc_load_netcdf(const char *path, lc_scene **out, lc_error *err);
+int lc_load_netcdf_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

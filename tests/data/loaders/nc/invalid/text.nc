@@ -1,0 +1,1 @@
+lon,lat,pressure

@@ -1,0 +1,9 @@
+/* libFuzzer harness for the LineVis .binlines reader (fuzz_scene_loader.h). */
+#include "fuzz_scene_loader.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    return fuzz_scene_loader(lc_load_binlines_memory, "fuzz.binlines", data, size);
+}

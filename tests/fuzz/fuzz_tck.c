@@ -1,0 +1,9 @@
+/* libFuzzer harness for the MRtrix .tck reader (fuzz_scene_loader.h). */
+#include "fuzz_scene_loader.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    return fuzz_scene_loader(lc_load_tck_memory, "fuzz.tck", data, size);
+}

@@ -12,6 +12,7 @@ cd "$(dirname "$0")/.."
 lists=(scripts/packages/build.txt scripts/packages/runtime.txt)
 [ "${1:-}" = "--test" ] && lists+=(scripts/packages/test.txt)
 mapfile -t want < <(scripts/packages/names "${lists[@]}")
+[ "${#want[@]}" -gt 0 ] || { echo "setup: no packages read from ${lists[*]}" >&2; exit 1; }
 
 missing=()
 for p in "${want[@]}"; do

@@ -81,6 +81,18 @@ mirror_reachable() {
 mkdir -p "$cache"
 exec 9>"$cache/.lock"
 flock -w 1800 9 || fail "another container test holds $cache/.lock"
+# Daemons and mounts left by a run that was killed (a ctest timeout sends
+# SIGKILL, which no trap sees): with the lock held nothing else uses the roots,
+# so end the processes whose root is one of them, and detach the mounts.
+for proc in /proc/[0-9]*; do
+  case "$(readlink "$proc/root" 2>/dev/null)" in
+    "$cache"/*) say "ending pid ${proc#/proc/}, left in a root by an earlier run"; kill -KILL "${proc#/proc/}" 2>/dev/null || true ;;
+  esac
+done
+awk -v p="$cache/" 'index($2, p) == 1 { print $2 }' /proc/self/mounts | sort -r | while read -r stale; do
+  say "detaching $stale, left by an earlier run"
+  umount -l "$stale"
+done
 
 names() { "$src/scripts/packages/names" "$@"; }
 base_key=$({ echo "recipe 1 $suite minbase"; echo "$mirror"; } | sha256sum | cut -c1-12)

@@ -37,26 +37,13 @@ args=(serve --listen "$listen")
 [ -n "${LUCENT_DEMO_SIZE:-}" ] && args+=(--demo-size "$LUCENT_DEMO_SIZE")
 [ -n "${LUCENT_MAX_SESSIONS:-}" ] && args+=(--max-sessions "$LUCENT_MAX_SESSIONS")
 
-# Datasets of the mounted folder, unless the arguments name their own. When
-# `lucent serve --data` accepts a folder (its --help says DIR) the folder is
-# passed as is; until then its dataset files are passed one by one.
+# Datasets of the mounted folder (lucent serve loads every recognized file of
+# it), unless the arguments name their own; an empty folder serves the demos.
 data=${LUCENT_DATA:-/data}
 own_data=0
 for a in "$@"; do [[ $a == --data || $a == --data=* ]] && own_data=1; done
 if [ "$own_data" = 0 ] && [ -d "$data" ] && [ -n "$(ls -A "$data" 2>/dev/null)" ]; then
-  help=$("$lucent" serve --help 2>&1 || true)
-  if grep -q -- '--data.*DIR' <<<"$help"; then
-    args+=(--data "$data")
-  else
-    shopt -s nullglob nocaseglob
-    files=("$data"/*.ply "$data"/*.obj "$data"/*.vtk "$data"/*.trk)
-    shopt -u nullglob nocaseglob
-    if [ "${#files[@]}" -eq 0 ]; then
-      echo "lucent-entrypoint: no .ply/.obj/.vtk/.trk file in $data; serving the demos" >&2
-    else
-      for f in "${files[@]}"; do args+=(--data "$f"); done
-    fi
-  fi
+  args+=(--data "$data")
   [ "${LUCENT_DEMO:-0}" = 1 ] && args+=(--demo)
 fi
 exec "$lucent" "${args[@]}" "$@"

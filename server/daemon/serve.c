@@ -39,7 +39,7 @@ static void usage(FILE *f)
             "\n"
             "  --listen ADDR:PORT     listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
             "                         IPv6 as [::1]:8080). Anything but loopback exposes the server.\n"
-            "  --data PATH...         datasets to load before the port opens: files (" LC_DATASET_EXTENSIONS "),\n"
+            "  --data PATH|DIR...     datasets to load before the port opens: files (" LC_DATASET_EXTENSIONS "),\n"
             "                         folders (every such file in it) or demo:NAME (repeatable; several paths may\n"
             "                         follow one --data). None = all demos.\n"
             "  --demo                 also serve every built-in demo next to --data\n"

@@ -631,12 +631,15 @@ test('presets: applied on dataset switch under the link, with a working undo', a
   const PRESET = { params: { q: 80, r: 40, lambda: 1.5 }, color: { colormap: 'plasma' }, style: { pointSize: 3 } };
   const page = await newPage();
   await page.setViewportSize(DESKTOP);
-  // the server may not send presets yet: inject one into the datasets list
+  // a known preset on the points and none elsewhere (the server's tornado carries the paper's setting)
   await page.route('**/api/v1/datasets', async (route) => {
     const res = await route.fetch();
     const body = await res.json();
     const list = Array.isArray(body) ? body : body.datasets;
-    for (const d of list) if (d.name === 'demo:points') d.preset = PRESET;
+    for (const d of list) {
+      if (d.name === 'demo:points') d.preset = PRESET;
+      else delete d.preset;
+    }
     await route.fulfill({ response: res, json: body });
   });
   await page.goto(`${ctx.d.url}/#dataset=demo:tornado`);

@@ -23,6 +23,7 @@
 #include "ws.h"
 
 #define MOD "http"
+#define MAX_QUERY_ARGS 256 /* query parameters of one request (the schema has fewer than 100 keys) */
 
 extern const lc_embedded_file lc_web_files[];
 
@@ -38,7 +39,9 @@ typedef struct req_ctx {
     char *body;
     size_t len, cap;
     bool too_large;
-    bool ws_authed; /* read by the upgrade handler */
+    bool headers_seen;   /* the first handler call (headers only) is done */
+    int query_args;      /* parameters in the query string (counted before MHD parses them) */
+    bool ws_authed;      /* read by the upgrade handler */
     struct MHD_Connection *conn;
     lc_render_job *job;      /* a render in flight or finished */
     atomic_int job_finished; /* set by job_done before the connection resumes */
@@ -130,8 +133,9 @@ static enum MHD_Result method_not_allowed(lc_server *srv, struct MHD_Connection 
 
 /* ---------------------------------------------------------------- auth */
 
-/* The token a request carries (Authorization: Bearer, else ?token=), or NULL. */
-static const char *given_token(struct MHD_Connection *c)
+/* The token a request carries (Authorization: Bearer, else ?token=, else a
+ * WebSocket token subprotocol decoded into buf), or NULL. */
+static const char *given_token(struct MHD_Connection *c, char *buf, size_t n)
 {
     const char *auth = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION);
     if (auth && strncasecmp(auth, "Bearer ", 7) == 0) {
@@ -140,7 +144,39 @@ static const char *given_token(struct MHD_Connection *c)
             auth++;
         return auth;
     }
-    return MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "token");
+    const char *q = MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "token");
+    if (q)
+        return q;
+    bool lucent;
+    const char *proto = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Protocol");
+    return lc_serve_subprotocol_token(proto, buf, n, &lucent) ? buf : NULL;
+}
+
+/* Whether a request to url needs the token: everything but health and the
+ * web client's files. */
+static bool needs_token(const lc_server *srv, const char *url)
+{
+    if (!srv->cfg.token[0] || strcmp(url, "/api/v1/health") == 0)
+        return false;
+    return strncmp(url, "/api/", 5) == 0 || strcmp(url, "/metrics") == 0;
+}
+
+static enum MHD_Result respond_unauthorized(lc_server *srv, struct MHD_Connection *c, bool had_token)
+{
+    return respond_error(srv, c, 401, "unauthorized", NULL,
+                         had_token ? "wrong token"
+                                   : "this server needs a token (Authorization: Bearer, ?token= or, for the "
+                                     "WebSocket, the subprotocol " LC_SERVE_TOKEN_SUBPROTOCOL "BASE64URL)");
+}
+
+/* Counts Content-Length headers (two are refused: which one would frame the body?). */
+static enum MHD_Result count_content_length(void *cls, enum MHD_ValueKind kind, const char *key, const char *value)
+{
+    (void)kind;
+    (void)value;
+    if (strcasecmp(key, MHD_HTTP_HEADER_CONTENT_LENGTH) == 0)
+        (*(int *)cls)++;
+    return MHD_YES;
 }
 
 /* ---------------------------------------------------------------- simple routes */
@@ -596,6 +632,14 @@ static enum MHD_Result route_ws(req_ctx *ctx, struct MHD_Connection *c, bool aut
     MHD_add_response_header(r, MHD_HTTP_HEADER_UPGRADE, "websocket");
     MHD_add_response_header(r, MHD_HTTP_HEADER_CONNECTION, "Upgrade");
     MHD_add_response_header(r, "Sec-WebSocket-Accept", accept);
+    /* A client that offers subprotocols must get one back (browsers fail the
+     * handshake otherwise); never echo the one that carries the token. */
+    char unused[LC_PROTO_TOKEN_LEN];
+    bool lucent = false;
+    lc_serve_subprotocol_token(MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Protocol"), unused,
+                               sizeof unused, &lucent);
+    if (lucent)
+        MHD_add_response_header(r, "Sec-WebSocket-Protocol", LC_SERVE_SUBPROTOCOL);
     ctx->ws_authed = authed;
     return queue(srv, c, MHD_HTTP_SWITCHING_PROTOCOLS, r);
 }
@@ -616,14 +660,15 @@ static enum MHD_Result route(req_ctx *ctx, struct MHD_Connection *c, const char 
     if (strcmp(url, "/api/v1/health") == 0)
         return get ? route_health(srv, c) : method_not_allowed(srv, c, method, "GET");
 
-    /* Everything else needs the token when one is configured. The WebSocket
-     * may instead send it in hello (browsers cannot set headers there). */
-    const char *token = given_token(c);
+    /* Everything else needs the token when one is configured, the WebSocket
+     * included: an upgrade without it would hold a connection slot (the
+     * handler refused it before reading a body; this is the same check). */
+    char buf[LC_PROTO_TOKEN_LEN];
+    const char *token = given_token(c, buf, sizeof buf);
     bool authed = lc_serve_token_ok(srv, token ? token : "");
     bool is_ws = strcmp(url, "/api/v1/ws") == 0;
-    if (!authed && !(is_ws && !token))
-        return respond_error(srv, c, 401, "unauthorized", NULL,
-                             token ? "wrong token" : "this server needs a token (Authorization: Bearer or ?token=)");
+    if (!authed)
+        return respond_unauthorized(srv, c, token != NULL);
 
     if (is_ws)
         return get ? route_ws(ctx, c, authed) : method_not_allowed(srv, c, method, "GET");
@@ -635,8 +680,9 @@ static enum MHD_Result route(req_ctx *ctx, struct MHD_Connection *c, const char 
         return get ? route_datasets(srv, c, url + 17) : method_not_allowed(srv, c, method, "GET");
     if (atomic_load(&srv->stopping) && (post || strcmp(method, "DELETE") == 0))
         return respond_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
-    if (strcmp(url, "/api/v1/render") == 0)
-        return (get || post) ? route_render(ctx, c, method) : method_not_allowed(srv, c, method, "GET, POST");
+    if (strcmp(url, "/api/v1/render") == 0) /* HEAD would cost a whole render for no image */
+        return ((get && strcmp(method, "HEAD") != 0) || post) ? route_render(ctx, c, method)
+                                                               : method_not_allowed(srv, c, method, "GET, POST");
     if (strcmp(url, "/api/v1/sessions") == 0)
         return post ? route_session_create(ctx, c) : method_not_allowed(srv, c, method, "POST");
     if (strncmp(url, "/api/v1/sessions/", 17) == 0)
@@ -650,13 +696,27 @@ static enum MHD_Result handler(void *cls, struct MHD_Connection *c, const char *
     (void)version;
     lc_server *srv = cls;
     req_ctx *ctx = *con_cls;
-    if (!ctx) {
-        ctx = calloc(1, sizeof *ctx);
-        if (!ctx)
-            return MHD_NO;
-        ctx->srv = srv;
-        *con_cls = ctx;
-        /* Refuse an announced oversized body before reading it. */
+    if (!ctx)
+        return MHD_NO; /* uri_log made it; NULL means out of memory */
+    if (!ctx->headers_seen) {
+        ctx->headers_seen = true;
+        /* Refuse what can be refused from the headers before reading a body
+         * or queueing anything: too many query parameters, an ambiguous
+         * body length, a missing token, an announced oversized body. */
+        if (ctx->query_args > MAX_QUERY_ARGS)
+            return respond_error(srv, c, 414, LC_PROTO_TOO_LARGE, "query",
+                                 "%d query parameters exceed the limit of %d", ctx->query_args, MAX_QUERY_ARGS);
+        int lengths = 0;
+        MHD_get_connection_values(c, MHD_HEADER_KIND, count_content_length, &lengths);
+        if (lengths > 1)
+            return respond_error(srv, c, 400, LC_PROTO_BAD_FIELD, "Content-Length",
+                                 "%d Content-Length headers; send one", lengths);
+        if (needs_token(srv, url)) {
+            char buf[LC_PROTO_TOKEN_LEN];
+            const char *token = given_token(c, buf, sizeof buf);
+            if (!lc_serve_token_ok(srv, token ? token : ""))
+                return respond_unauthorized(srv, c, token != NULL);
+        }
         const char *cl = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
         if (cl) {
             char *end;
@@ -700,6 +760,33 @@ static enum MHD_Result handler(void *cls, struct MHD_Connection *c, const char *
         return respond_error(srv, c, 413, LC_PROTO_TOO_LARGE, NULL, "request body exceeds the limit of %zu bytes",
                              srv->cfg.max_body);
     return route(ctx, c, url, method);
+}
+
+/* Called by MHD with the raw request URI before it parses the query; what it
+ * returns becomes the request's con_cls. MHD keeps every query parameter in
+ * the connection's fixed memory pool, and when the pool runs out (about 1000
+ * short parameters in 64 KiB) libmicrohttpd 0.9.75 neither answers nor closes
+ * until the connection timeout. So parameters beyond MAX_QUERY_ARGS are
+ * counted here and the query is cut off in MHD's own buffer (the URI is
+ * writable there; MHD parses the query only after this call), and the handler
+ * answers 414. */
+static void *uri_log(void *cls, const char *uri, struct MHD_Connection *c)
+{
+    (void)c;
+    req_ctx *ctx = calloc(1, sizeof *ctx);
+    if (!ctx)
+        return NULL;
+    ctx->srv = cls;
+    char *q = strchr(uri, '?');
+    if (q) {
+        int args = 1;
+        for (const char *p = q + 1; *p; p++)
+            args += *p == '&' || *p == ';';
+        ctx->query_args = args;
+        if (args > MAX_QUERY_ARGS)
+            q[1] = '\0';
+    }
+    return ctx;
 }
 
 static void request_completed(void *cls, struct MHD_Connection *c, void **con_cls, enum MHD_RequestTerminationCode toe)
@@ -756,7 +843,8 @@ int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     h->srv = srv;
     h->daemon = MHD_start_daemon(flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
-                                 MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_THREAD_POOL_SIZE,
+                                 MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_URI_LOG_CALLBACK,
+                                 uri_log, srv, MHD_OPTION_THREAD_POOL_SIZE,
                                  (unsigned)2, MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections,
                                  MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
                                  (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);

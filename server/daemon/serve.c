@@ -122,6 +122,19 @@ enum {
     OPT_LOG
 };
 
+/* A token that does not fit is refused: cutting it would accept its prefix
+ * and refuse the token itself. */
+static int set_token(lc_serve_config *cfg, const char *token, const char *from)
+{
+    if (strlen(token) >= sizeof cfg->token) {
+        fprintf(stderr, "lucent serve: %s: the token is %zu bytes; at most %zu are allowed\n", from, strlen(token),
+                sizeof cfg->token - 1);
+        return -1;
+    }
+    snprintf(cfg->token, sizeof cfg->token, "%s", token);
+    return 0;
+}
+
 /* Fills cfg from argv; returns 0, 1 for --help, -1 on a usage error. */
 static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char **data)
 {
@@ -184,7 +197,10 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                 return -1;
             cfg->encoders = (int)v;
             break;
-        case OPT_TOKEN: snprintf(cfg->token, sizeof cfg->token, "%s", optarg); break;
+        case OPT_TOKEN:
+            if (set_token(cfg, optarg, "--token") != 0)
+                return -1;
+            break;
         case OPT_MAX_SIZE:
             if (parse_long("--max-size", optarg, 16, 16384, &v))
                 return -1;
@@ -279,9 +295,6 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->idle_timeout = 300;
     cfg->max_stream_pixels = 4LL << 20;
     cfg->still_delay = 0.150;
-    const char *token = getenv("LUCENT_TOKEN");
-    if (token)
-        snprintf(cfg->token, sizeof cfg->token, "%s", token);
 }
 
 int lc_serve_main(int argc, char **argv)
@@ -290,6 +303,9 @@ int lc_serve_main(int argc, char **argv)
     static const char *data[MAX_DATA];
     memset(&srv, 0, sizeof srv);
     config_defaults(&srv.cfg);
+    const char *env_token = getenv("LUCENT_TOKEN");
+    if (env_token && set_token(&srv.cfg, env_token, "LUCENT_TOKEN") != 0)
+        return 2;
     int pr = parse_flags(argc, argv, &srv.cfg, data);
     if (pr != 0) {
         usage(pr > 0 ? stdout : stderr);

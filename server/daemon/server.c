@@ -1,6 +1,7 @@
 /* Helpers of the shared server object. */
 #include "server.h"
 
+#include <nettle/base64.h>
 #include <string.h>
 
 bool lc_serve_token_ok(const lc_server *srv, const char *given)
@@ -16,4 +17,41 @@ bool lc_serve_token_ok(const lc_server *srv, const char *given)
     for (size_t i = 0; i < n; i++)
         diff |= (unsigned)(unsigned char)(i < a ? want[i] : 0) ^ (unsigned)(unsigned char)(i < b ? given[i] : 0);
     return diff == 0;
+}
+
+bool lc_serve_subprotocol_token(const char *header, char *out, size_t n, bool *offers_lucent)
+{
+    bool found = false;
+    *offers_lucent = false;
+    if (n)
+        out[0] = '\0';
+    const size_t plen = strlen(LC_SERVE_TOKEN_SUBPROTOCOL);
+    for (const char *p = header; p && *p;) {
+        while (*p == ' ' || *p == '\t' || *p == ',')
+            p++;
+        size_t len = strcspn(p, ", \t");
+        if (len == strlen(LC_SERVE_SUBPROTOCOL) && strncmp(p, LC_SERVE_SUBPROTOCOL, len) == 0)
+            *offers_lucent = true;
+        else if (!found && len > plen && strncmp(p, LC_SERVE_TOKEN_SUBPROTOCOL, plen) == 0) {
+            const char *enc = p + plen;
+            size_t enc_len = len - plen;
+            /* BASE64_DECODE_LENGTH bounds the output; refuse what cannot fit. */
+            if (BASE64_DECODE_LENGTH(enc_len) < n) {
+                struct base64_decode_ctx ctx;
+                size_t out_len = n - 1;
+                base64url_decode_init(&ctx);
+                /* Unpadded ('=' is not allowed in a subprotocol name), so no
+                 * base64_decode_final: it wants the padding. */
+                if (base64_decode_update(&ctx, &out_len, (uint8_t *)out, enc_len, enc) &&
+                    memchr(out, '\0', out_len) == NULL) {
+                    out[out_len] = '\0';
+                    found = true;
+                } else {
+                    out[0] = '\0';
+                }
+            }
+        }
+        p += len;
+    }
+    return found;
 }

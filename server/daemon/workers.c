@@ -442,6 +442,7 @@ static void encode_one(lc_workers *w, encode_item *e)
     if (rc != 0) {
         LC_WARN(MOD, "session %s: encode failed: %s", s->id, err.msg);
         send_stream_error(srv, s, "render_failed", err.msg, NULL);
+        lc_session_stream_sent(s, e->frame.frame);
         lc_session_stream_ack(s, e->frame.frame); /* nothing to ack for this id */
         lc_workers_wake(w, s);
         return;
@@ -461,8 +462,10 @@ static void encode_one(lc_workers *w, encode_item *e)
     size_t len = 0;
     rc = lc_proto_pack_frame(&h, img, size, &msg, &len);
     free(img);
-    if (rc == 0)
+    if (rc == 0) {
+        lc_session_stream_sent(s, e->frame.frame);
         srv->sink.send_frame(srv->sink.ctx, s, msg, len, e->info.wall_ms, ms);
+    }
 }
 
 static void *encoder_main(void *arg)

@@ -6,6 +6,7 @@
 #include <jansson.h>
 #include <stdint.h>
 
+#include "cost.h"
 #include "lc_base.h"
 #include "renderer.h"
 #include "scene.h"
@@ -22,6 +23,7 @@ typedef struct lc_dataset {
     lc_scene *scene;   /* owned */
     lc_gpu_scene *gpu; /* owned; NULL until uploaded */
     double load_seconds;
+    lc_cost_stats cost; /* what render cost estimates need (cost.h) */
 } lc_dataset;
 
 typedef struct lc_datasets lc_datasets;

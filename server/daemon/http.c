@@ -15,7 +15,8 @@
 #include <unistd.h>
 
 #include "datasets.h"
-#include "embedded.h"
+#include "cost.h"
+#include "web_files.h"
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
@@ -24,8 +25,6 @@
 
 #define MOD "http"
 #define MAX_QUERY_ARGS 256 /* query parameters of one request (the schema has fewer than 100 keys) */
-
-extern const lc_embedded_file lc_web_files[];
 
 struct lc_http {
     lc_server *srv;
@@ -222,42 +221,17 @@ static enum MHD_Result route_metrics(lc_server *srv, struct MHD_Connection *c)
     g.ws_connections = lc_ws_connections(srv->ws);
     g.datasets = lc_datasets_count(srv->datasets);
     g.workers = lc_workers_count(srv->workers);
+    g.queue_clients = lc_workers_clients(srv->workers);
     return respond_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");
-}
-
-static const char *content_type(const char *path)
-{
-    static const struct {
-        const char *ext, *type;
-    } types[] = {{".html", "text/html; charset=utf-8"},
-                 {".js", "text/javascript; charset=utf-8"},
-                 {".mjs", "text/javascript; charset=utf-8"},
-                 {".css", "text/css; charset=utf-8"},
-                 {".svg", "image/svg+xml"},
-                 {".png", "image/png"},
-                 {".json", "application/json"},
-                 {".ico", "image/x-icon"},
-                 {".txt", "text/plain; charset=utf-8"}};
-    const char *dot = strrchr(path, '.');
-    for (size_t i = 0; dot && i < sizeof types / sizeof types[0]; i++)
-        if (strcmp(dot, types[i].ext) == 0)
-            return types[i].type;
-    return "application/octet-stream";
 }
 
 static enum MHD_Result route_static(lc_server *srv, struct MHD_Connection *c, const char *url)
 {
-    const char *path = (strcmp(url, "/") == 0) ? "index.html" : url + 1;
-    const lc_embedded_file *f = strstr(path, "..") ? NULL : lc_embedded_find(lc_web_files, path);
+    const char *type;
+    char etag[LC_WEB_ETAG_LEN];
+    const lc_embedded_file *f = lc_web_file(url, &type, etag);
     if (!f)
         return respond_error(srv, c, 404, "not_found", NULL, "no such page: %.300s", url);
-    /* The files change only with the binary: an FNV-1a hash of the content is
-     * a stable validator, and no-cache makes browsers revalidate after an upgrade. */
-    uint64_t h = 1469598103934665603ULL;
-    for (size_t i = 0; i < f->size; i++)
-        h = (h ^ f->data[i]) * 1099511628211ULL;
-    char etag[24];
-    snprintf(etag, sizeof etag, "\"%016llx\"", (unsigned long long)h);
     const char *inm = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_IF_NONE_MATCH);
     struct MHD_Response *r;
     unsigned status = 200;
@@ -266,7 +240,7 @@ static enum MHD_Result route_static(lc_server *srv, struct MHD_Connection *c, co
         status = 304;
     } else {
         r = MHD_create_response_from_buffer(f->size, (void *)f->data, MHD_RESPMEM_PERSISTENT);
-        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, content_type(path));
+        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, type);
     }
     MHD_add_response_header(r, MHD_HTTP_HEADER_ETAG, etag);
     MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-cache");
@@ -303,12 +277,47 @@ static void free_job(lc_render_job *job)
     free(job);
 }
 
+/* The fairness key of a one-shot render: the client's address (not its port,
+ * so that many connections of one client still count as one). */
+static uint64_t client_key(struct MHD_Connection *c)
+{
+    const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    const struct sockaddr *sa = ci ? ci->client_addr : NULL;
+    const unsigned char *p = NULL;
+    size_t n = 0;
+    if (sa && sa->sa_family == AF_INET) {
+        p = (const unsigned char *)&((const struct sockaddr_in *)sa)->sin_addr;
+        n = 4;
+    } else if (sa && sa->sa_family == AF_INET6) {
+        p = (const unsigned char *)&((const struct sockaddr_in6 *)sa)->sin6_addr;
+        n = 16;
+    }
+    uint64_t h = 1469598103934665603ULL;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 1099511628211ULL;
+    return h | 1; /* never 0, never a session pointer (those are even) */
+}
+
 /* Queues a render and suspends the connection until it is done. Takes the
- * session reference (may be NULL). */
+ * session reference (may be NULL); refuses (400, the field named) a request
+ * whose estimated cost exceeds --max-cost. */
 static enum MHD_Result start_render(req_ctx *ctx, struct MHD_Connection *c, const lc_request *req, const lc_dataset *ds,
                                     lc_session *session, double dt)
 {
     lc_server *srv = ctx->srv;
+    double cost = 0;
+    const char *field = NULL;
+    char why[320];
+    if (lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why) != 0) {
+        if (session) {
+            pthread_mutex_lock(&session->lock);
+            session->http_busy = false;
+            pthread_mutex_unlock(&session->lock);
+            lc_session_unref(session);
+        }
+        lc_metrics_refused(srv->metrics, "cost");
+        return respond_error(srv, c, 400, "too_expensive", field, "%s", why);
+    }
     lc_render_job *job = calloc(1, sizeof *job);
     if (!job) {
         if (session)
@@ -319,6 +328,8 @@ static enum MHD_Result start_render(req_ctx *ctx, struct MHD_Connection *c, cons
     job->dataset = ds;
     job->session = session;
     job->dt = dt;
+    job->cost = cost;
+    job->client = client_key(c);
     job->done = job_done;
     job->user = ctx;
     ctx->conn = c;
@@ -347,8 +358,12 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
     lc_server *srv = ctx->srv;
     lc_render_job *job = ctx->job;
     if (job->rc != 0) {
+        if (job->refused)
+            lc_metrics_refused(srv->metrics, job->refused);
         switch (job->rc) {
-        case LC_ERR_LIMIT: return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_LIMIT:
+            return respond_error(srv, c, job->refused && strcmp(job->refused, "client_queue") == 0 ? 429 : 503,
+                                 "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_UNSUPPORTED:
         case LC_ERR_NOMEM: return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_NOT_FOUND: return respond_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
@@ -397,6 +412,8 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
     MHD_add_response_header(r, "X-Lucent-Max-Alpha-Change", buf);
     snprintf(buf, sizeof buf, "%u", info->element_count);
     MHD_add_response_header(r, "X-Lucent-Elements", buf);
+    snprintf(buf, sizeof buf, "%.4g", job->cost); /* the estimate --max-cost is compared with */
+    MHD_add_response_header(r, "X-Lucent-Cost", buf);
     if (job->session) {
         snprintf(buf, sizeof buf, "%llu", (unsigned long long)job->session->http_frames);
         MHD_add_response_header(r, "X-Lucent-Frame", buf);

@@ -2,6 +2,7 @@
  * signal handling and the ordered shutdown. */
 #include "serve.h"
 
+#include <math.h>
 #include <getopt.h>
 #include <signal.h>
 #include <stdio.h>
@@ -55,6 +56,12 @@ static void usage(FILE *f)
             "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
             "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
             "  --max-connections N    max HTTP connections (default 256)\n"
+            "  --max-cost UNITS       estimated cost of one frame (fragments over all passes), 400 too_expensive\n"
+            "                         naming the field beyond; 0 = no limit (default 1e9: 20-50 s on llvmpipe)\n"
+            "  --render-deadline SEC  an HTTP render that waited this long for a worker, or would take longer by\n"
+            "                         the measured rate, gets 503; 0 = none (default 60)\n"
+            "  --max-queue-per-client N  queued HTTP renders of one client address or session, 429 beyond\n"
+            "                         (default 8; clients are served round robin)\n"
             "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
             "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
             "  --log-level L          error|warn|info|debug (default info)\n"
@@ -119,7 +126,10 @@ enum {
     OPT_MAX_CONN,
     OPT_IDLE,
     OPT_STILL,
-    OPT_LOG
+    OPT_LOG,
+    OPT_MAX_COST,
+    OPT_DEADLINE,
+    OPT_QUEUE_PER_CLIENT
 };
 
 /* A token that does not fit is refused: cutting it would accept its prefix
@@ -158,6 +168,9 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                                          {"idle-timeout", required_argument, NULL, OPT_IDLE},
                                          {"still-delay", required_argument, NULL, OPT_STILL},
                                          {"log-level", required_argument, NULL, OPT_LOG},
+                                         {"max-cost", required_argument, NULL, OPT_MAX_COST},
+                                         {"render-deadline", required_argument, NULL, OPT_DEADLINE},
+                                         {"max-queue-per-client", required_argument, NULL, OPT_QUEUE_PER_CLIENT},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     optind = 1;
@@ -265,6 +278,26 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
             lc_log_set_level((lc_log_level)level);
             break;
         }
+        case OPT_MAX_COST: {
+            char *end;
+            double d = strtod(optarg, &end);
+            if (*end || !(d >= 0) || !isfinite(d)) {
+                fprintf(stderr, "lucent serve: --max-cost: expected a number >= 0, got \"%s\"\n", optarg);
+                return -1;
+            }
+            cfg->max_cost = d;
+            break;
+        }
+        case OPT_DEADLINE:
+            if (parse_long("--render-deadline", optarg, 0, 86400, &v))
+                return -1;
+            cfg->render_deadline = (double)v;
+            break;
+        case OPT_QUEUE_PER_CLIENT:
+            if (parse_long("--max-queue-per-client", optarg, 1, 100000, &v))
+                return -1;
+            cfg->max_queue_per_client = (int)v;
+            break;
         case 'h': return 1;
         default: return -1;
         }
@@ -295,6 +328,9 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->idle_timeout = 300;
     cfg->max_stream_pixels = 4LL << 20;
     cfg->still_delay = 0.150;
+    cfg->max_cost = LC_COST_DEFAULT_BUDGET;
+    cfg->render_deadline = 60;
+    cfg->max_queue_per_client = 8;
 }
 
 int lc_serve_main(int argc, char **argv)

@@ -11,6 +11,8 @@
  *   http.c     libmicrohttpd routes: API, static web client, metrics
  *   ws.c       WebSocket connections (MHD upgrade + wslay) on one I/O thread
  *   metrics.c  counters and histograms in Prometheus text format
+ *   cost.c     render cost estimate before queueing (--max-cost)
+ *   web_files.c the embedded web client's files (content type, ETag)
  *
  * Threads: main (start-up, then waits for a signal and shuts down), MHD's
  * threads (parse, validate, queue; never GL), render workers (all GL), encoder
@@ -68,6 +70,9 @@ typedef struct lc_serve_config {
     double idle_timeout;            /* seconds without use before a session is dropped */
     long long max_stream_pixels;    /* cap of viewport x devicePixelRatio for WS frames */
     double still_delay;             /* seconds of quiet input before the still frame */
+    double max_cost;                /* estimated cost units of one frame (cost.h); 0 = no limit */
+    double render_deadline;         /* seconds an HTTP render may wait for a worker (503 beyond); 0 = none */
+    int max_queue_per_client;       /* queued HTTP renders of one client (429 beyond) */
 } lc_serve_config;
 
 /* The daemon: one per process, created by serve.c. Modules keep a pointer to

@@ -345,6 +345,19 @@ static int maybe_send_stats(conn *c, double now)
 
 /* ---------------------------------------------------------------- protocol */
 
+/* 0 when a full-resolution frame of req fits --max-cost, else an error that
+ * names the field to lower (the update is then not applied). */
+static int within_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, lc_proto_error *pe)
+{
+    double cost;
+    const char *field = NULL;
+    char why[320];
+    if (lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why) == 0)
+        return 0;
+    lc_metrics_refused(srv->metrics, "cost");
+    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
+}
+
 static void on_hello(conn *c, lc_client_msg *m)
 {
     lc_server *srv = c->ws->srv;
@@ -372,6 +385,12 @@ static void on_hello(conn *c, lc_client_msg *m)
     req.format = LC_FORMAT_JPEG;
     lc_proto_error pe;
     if (m->update && lc_proto_apply_request(m->update, &c->ws->limits, &req, &pe) != 0) {
+        send_proto_error(c, &pe);
+        return;
+    }
+    lc_session_frame_size(m->width, m->height, m->device_pixel_ratio, 1.0, srv->cfg.max_stream_pixels, &srv->cfg.limits,
+                          &req.render.width, &req.render.height);
+    if (within_budget(srv, ds, &req, &pe) != 0) {
         send_proto_error(c, &pe);
         return;
     }
@@ -419,8 +438,11 @@ static int apply_update(conn *c, lc_client_msg *m)
     lc_proto_error pe;
     int rc = 0;
     pthread_mutex_lock(&s->lock);
-    if (m->update)
-        rc = lc_proto_apply_request(m->update, &c->ws->limits, &s->req, &pe);
+    lc_request req = s->req;
+    if (m->update && (rc = lc_proto_apply_request(m->update, &c->ws->limits, &req, &pe)) == 0)
+        rc = within_budget(c->ws->srv, s->dataset, &req, &pe);
+    if (rc == 0)
+        s->req = req;
     if (rc == 0 && m->type == LC_MSG_CAMERA && m->seq > s->stream.camera_seq)
         s->stream.camera_seq = m->seq;
     if (rc == 0 && m->type == LC_MSG_PARAMS) {

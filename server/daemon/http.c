@@ -641,8 +641,8 @@ static enum MHD_Result route_ws(req_ctx *ctx, struct MHD_Connection *c, bool aut
     if (http + ws >= srv->cfg.max_sessions)
         return respond_error(srv, c, 503, "overloaded", NULL, "too many sessions (the limit is %d)",
                              srv->cfg.max_sessions);
-    char accept[LC_WS_ACCEPT_LEN];
-    lc_ws_accept_key(key, accept);
+    char accept[LC_SERVE_WS_ACCEPT_LEN];
+    lc_serve_ws_accept_key(key, accept);
     struct MHD_Response *r = MHD_create_response_for_upgrade(upgrade_handler, srv);
     if (!r)
         return MHD_NO;

@@ -1,8 +1,12 @@
-/* Helpers of the shared server object. */
+/* Helpers of the shared server object: token checks (header, subprotocol) and
+ * the WebSocket handshake's accept key. */
 #include "server.h"
 
 #include <nettle/base64.h>
+#include <nettle/sha1.h>
 #include <string.h>
+
+#define LC_SERVE_WS_GUID "258EAFA5-E914-47DA-95CA-C5AB0DC85B11" /* RFC 6455 */
 
 bool lc_serve_token_ok(const lc_server *srv, const char *given)
 {
@@ -54,4 +58,16 @@ bool lc_serve_subprotocol_token(const char *header, char *out, size_t n, bool *o
         p += len;
     }
     return found;
+}
+
+void lc_serve_ws_accept_key(const char *client_key, char out[LC_SERVE_WS_ACCEPT_LEN])
+{
+    struct sha1_ctx sha;
+    uint8_t digest[SHA1_DIGEST_SIZE];
+    sha1_init(&sha);
+    sha1_update(&sha, strlen(client_key), (const uint8_t *)client_key);
+    sha1_update(&sha, strlen(LC_SERVE_WS_GUID), (const uint8_t *)LC_SERVE_WS_GUID);
+    sha1_digest(&sha, SHA1_DIGEST_SIZE, digest);
+    base64_encode_raw(out, SHA1_DIGEST_SIZE, digest);
+    out[BASE64_ENCODE_RAW_LENGTH(SHA1_DIGEST_SIZE)] = '\0';
 }

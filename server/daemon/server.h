@@ -3,7 +3,7 @@
  * serve.c (start-up) includes the modules themselves.
  *
  * Module map (server/):
- *   server.c   shared helpers (token check)
+ *   server.c   shared helpers (token checks, WebSocket accept key)
  *   serve.c    flags, start-up (datasets before the port opens), signals, shutdown
  *   datasets.c registry of loaded scenes and their GPU copies
  *   workers.c  render threads (one EGL context each) and JPEG encoder threads
@@ -93,6 +93,10 @@ typedef struct lc_server {
     char gl_platform[128];
     atomic_int stopping; /* set once shutdown begins: refuse new work */
 } lc_server;
+
+#define LC_SERVE_WS_ACCEPT_LEN 29 /* base64 of a SHA-1 digest + NUL */
+/* Sec-WebSocket-Accept for a client's Sec-WebSocket-Key (SHA-1 + base64). */
+void lc_serve_ws_accept_key(const char *client_key, char out[LC_SERVE_WS_ACCEPT_LEN]);
 
 /* Constant-time token comparison; true when no token is configured. */
 bool lc_serve_token_ok(const lc_server *srv, const char *given);

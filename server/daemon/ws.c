@@ -6,8 +6,6 @@
 #include <fcntl.h>
 #include <math.h>
 #include <microhttpd.h>
-#include <nettle/base64.h>
-#include <nettle/sha1.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,7 +21,6 @@
 #include "workers.h"
 
 #define MOD "ws"
-#define WS_GUID "258EAFA5-E914-47DA-95CA-C5AB0DC85B11"
 #define PING_INTERVAL 15.0           /* seconds of silence before we ping */
 #define CLOSE_GRACE 2.0              /* seconds a client gets to answer our close frame */
 #define MAX_QUEUED_BYTES (32u << 20) /* per connection, beyond the frame window: not reading */
@@ -91,18 +88,6 @@ struct lc_ws {
     bool shutting_down;
     double shutdown_deadline;
 };
-
-void lc_ws_accept_key(const char *client_key, char out[LC_WS_ACCEPT_LEN])
-{
-    struct sha1_ctx sha;
-    uint8_t digest[SHA1_DIGEST_SIZE];
-    sha1_init(&sha);
-    sha1_update(&sha, strlen(client_key), (const uint8_t *)client_key);
-    sha1_update(&sha, strlen(WS_GUID), (const uint8_t *)WS_GUID);
-    sha1_digest(&sha, SHA1_DIGEST_SIZE, digest);
-    base64_encode_raw(out, SHA1_DIGEST_SIZE, digest);
-    out[BASE64_ENCODE_RAW_LENGTH(SHA1_DIGEST_SIZE)] = '\0';
-}
 
 static void wake(lc_ws *ws)
 {
@@ -487,16 +472,28 @@ static void on_text(conn *c, const uint8_t *data, size_t len)
             lc_workers_wake(srv->workers, s);
         }
         break;
-    case LC_MSG_RESIZE:
+    case LC_MSG_RESIZE: {
+        lc_proto_error pe;
         pthread_mutex_lock(&s->lock);
-        s->stream.css_width = m.width;
-        s->stream.css_height = m.height;
-        if (m.has_device_pixel_ratio)
-            s->stream.device_pixel_ratio = m.device_pixel_ratio;
+        double dpr = m.has_device_pixel_ratio ? m.device_pixel_ratio : s->stream.device_pixel_ratio;
+        lc_request req = s->req; /* a larger frame costs more (wider ribbons): check it as an update */
+        lc_session_frame_size(m.width, m.height, dpr, 1.0, srv->cfg.max_stream_pixels, &srv->cfg.limits,
+                              &req.render.width, &req.render.height);
+        int rc = within_budget(srv, s->dataset, &req, &pe);
+        if (rc == 0) {
+            s->stream.css_width = m.width;
+            s->stream.css_height = m.height;
+            s->stream.device_pixel_ratio = dpr;
+        }
         pthread_mutex_unlock(&s->lock);
+        if (rc != 0) {
+            send_proto_error(c, &pe);
+            break;
+        }
         lc_session_stream_input(s, now);
         lc_workers_wake(srv->workers, s);
         break;
+    }
     case LC_MSG_ACK:
         if (!lc_session_stream_ack(s, m.frame)) {
             char msg[128];

@@ -87,8 +87,24 @@ with Server(binary, demo_size=200000) as srv:
                     break
             check(e["code"] == "too_expensive" and e["field"] == "style.pointSize",
                   "params update over budget -> error naming style.pointSize, not applied")
+        # Splats are capped at the image: 256-pixel splats fit the budget in a
+        # 16x16 view, and the resize to 256x256 is what would cost too much.
+        async with websockets.connect(srv.ws_url) as ws:
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 16, "height": 16,
+                                      "style": {"pointSize": 256}}))
+            r = json.loads(await asyncio.wait_for(ws.recv(), 20))
+            check(r["type"] == "ready", "256-pixel splats in a 16x16 view -> ready")
+            await ws.send(json.dumps({"type": "resize", "width": 256, "height": 256}))
+            e = {}
+            for _ in range(20):
+                m = await asyncio.wait_for(ws.recv(), 60)
+                if isinstance(m, str) and json.loads(m)["type"] == "error":
+                    e = json.loads(m)
+                    break
+            check(e.get("code") == "too_expensive" and e.get("field") == "style.pointSize",
+                  "resize that would exceed the budget -> error naming style.pointSize (%s)" % e)
     asyncio.run(ws_cost())
-    check(metric(srv, 'lucent_renders_refused_total{reason="cost"}') >= 4, "refusals counted by reason=cost")
+    check(metric(srv, 'lucent_renders_refused_total{reason="cost"}') >= 5, "refusals counted by reason=cost")
     check(srv.stop() == 0, "clean exit")
 
 with Server(binary) as srv:

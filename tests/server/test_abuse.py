@@ -132,6 +132,19 @@ def metric(srv, name):
 
 HELLO = {"type": "hello", "dataset": "demo:points", "width": 64, "height": 64}
 
+
+def responsive(srv, during, headers=None):
+    """The issue's bar: health and an (authenticated) render answer within seconds."""
+    t0 = time.time()
+    try:
+        st1, _, _ = srv.request("GET", "/api/v1/health", timeout=10)
+        st2, h, _ = srv.request("GET", "/api/v1/render?width=32&height=32&format=jpeg", headers=headers, timeout=10)
+    except OSError as ex:
+        st1 = st2 = repr(ex)
+    dt = time.time() - t0
+    check(st1 == 200 and st2 == 200 and dt < 5, "during %s: health and a render answered in %.2f s (%s, %s)" %
+          (during, dt, st1, st2))
+
 # ---------------------------------------------------------------- finding 4: long tokens
 for how in ("flag", "env"):
     long_token = "t" * 300
@@ -191,6 +204,7 @@ with Server(binary, "--max-connections", "8", env={"LUCENT_TOKEN": TOKEN}) as sr
 
     # An authenticated connection that never sends hello is closed (it holds an MHD connection).
     s, status, _, rest = ws_connect(srv.port, headers=["Authorization: Bearer " + TOKEN])
+    responsive(srv, "an authenticated connection without hello", AUTH)
     s.settimeout(20)
     t0 = time.time()
     code, _ = FrameReader(s, rest).until_close()
@@ -222,6 +236,7 @@ with Server(binary) as srv:
         time.sleep(0.02)
     rendered = metric(srv, "lucent_frames_rendered_total{kind=\"ws\"}") - frames_before
     check(rendered <= 4, "blind acks of frame 2^53-1 do not open the window: %d frames rendered in 3 s" % rendered)
+    responsive(srv, "a blind-acking client")
     rd = FrameReader(s, rest)
     errs = []
     for _ in range(40):
@@ -252,6 +267,7 @@ with Server(binary) as srv:
     queued = metric(srv, "lucent_bytes_sent_total") - bytes_before
     check(rendered <= 8 and queued < 2e6, "trailing acks without reading: %d frames, %.2f MB queued in 4 s (bounded by "
           "the socket buffers; before: 30 frames, 7.6 MB)" % (rendered, queued / 1e6))
+    responsive(srv, "a client that acks but never reads")
     s.close()
 
     # ------------------------------------------------------------ finding 8: the minor ones
@@ -301,6 +317,15 @@ with Server(binary) as srv:
     code, _ = FrameReader(s, rest).until_close()
     check(code == 1009, "a message over --max-ws-message -> close frame 1009, not a reset (%s)" % code)
     s.close()
+
+    floods = []
+    for _ in range(4):  # held connections each parked mid-request with 1000 parameters
+        f = socket.create_connection(("127.0.0.1", srv.port))
+        f.sendall(("GET /api/v1/render?%s HTTP/1.1\r\nHost: x\r\n\r\n" % q).encode())
+        floods.append(f)
+    responsive(srv, "four 1000-parameter requests")
+    for f in floods:
+        f.close()
 
     s, status, _, rest = ws_connect(srv.port)
     for i in range(40):

@@ -1,4 +1,5 @@
 """Red-team regressions of the daemon (issue 12), each against the real server:
+a FIFO given as a dataset fails at once (info, serve --data);
 WebSocket upgrades are authenticated at the handshake (header, ?token= or the
 token subprotocol) and unauthenticated ones never hold a connection slot;
 over-long tokens are refused at start; blind acks do not open the frame
@@ -16,6 +17,7 @@ import socket
 import struct
 import subprocess
 import sys
+import tempfile
 import time
 
 from lucent_server import Check, Server, skip, websockets
@@ -162,6 +164,20 @@ for how in ("flag", "env"):
         rc, first = None, ["still running after 30 s"]
     check(rc == 2 and "300 bytes" in first[0], "a 300-byte token (%s) is refused at start (exit %s: %s)" %
           (how, rc, first))
+
+# ---------------------------------------------------------------- finding 6: a FIFO as a dataset
+with tempfile.TemporaryDirectory() as tmp:
+    fifo = os.path.join(tmp, "data.ply")
+    os.mkfifo(fifo)
+    for what, args in (("info", [binary, "info", fifo]),
+                       ("serve --data", [binary, "serve", "--listen", "127.0.0.1:0", "--data", fifo])):
+        try:
+            p = subprocess.run(args, capture_output=True, text=True, timeout=20)
+            rc, out = p.returncode, p.stdout + p.stderr
+        except subprocess.TimeoutExpired:
+            rc, out = None, "still blocked after 20 s"
+        check(rc not in (0, None) and "not a regular file" in out,
+              "%s on a FIFO fails at once (exit %s: %s)" % (what, rc, out.strip().splitlines()[-1:]))
 
 with Server(binary, "--max-connections", "8", env={"LUCENT_TOKEN": TOKEN}) as srv:
     # ------------------------------------------------------------ finding 3: auth at the handshake

@@ -12,7 +12,6 @@ import asyncio
 import base64
 import json
 import os
-import re
 import socket
 import struct
 import subprocess

@@ -367,6 +367,48 @@ char *lc_proto_ready_json(const char *session, const json_t *dataset_info, const
     return dump_and_free(o);
 }
 
+/* A JSON string of text, with each byte that is not part of valid UTF-8
+ * replaced by '?': messages quote client input (a URL, a dataset name), and
+ * json_string() refuses invalid UTF-8, which would drop the message. */
+static json_t *text_json(const char *text)
+{
+    json_t *v = json_string(text);
+    if (v)
+        return v;
+    size_t n = strlen(text);
+    char *clean = malloc(n + 1);
+    if (!clean)
+        return json_string("");
+    const unsigned char *p = (const unsigned char *)text;
+    size_t i = 0, o = 0;
+    while (i < n) {
+        unsigned c = p[i];
+        size_t len = c < 0x80 ? 1 : (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
+        bool ok = len > 0 && i + len <= n;
+        for (size_t k = 1; ok && k < len; k++)
+            ok = (p[i + k] & 0xC0) == 0x80;
+        if (ok && len > 1) { /* overlong forms, surrogates and code points beyond U+10FFFF */
+            unsigned cp = c & (0xFF >> (len + 1));
+            for (size_t k = 1; k < len; k++)
+                cp = cp << 6 | (p[i + k] & 0x3F);
+            static const unsigned min_cp[5] = {0, 0, 0x80, 0x800, 0x10000};
+            ok = cp >= min_cp[len] && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
+        }
+        if (ok) {
+            memcpy(clean + o, p + i, len);
+            o += len;
+            i += len;
+        } else {
+            clean[o++] = '?';
+            i++;
+        }
+    }
+    clean[o] = '\0';
+    v = json_string(clean);
+    free(clean);
+    return v ? v : json_string("");
+}
+
 char *lc_proto_error_message_json(const char *code, const char *message, const char *field, bool fatal)
 {
     json_t *o = json_object();
@@ -374,9 +416,9 @@ char *lc_proto_error_message_json(const char *code, const char *message, const c
         return NULL;
     json_object_set_new(o, "type", json_string("error"));
     json_object_set_new(o, "code", json_string(code ? code : "error"));
-    json_object_set_new(o, "message", json_string(message ? message : ""));
+    json_object_set_new(o, "message", text_json(message ? message : ""));
     if (field && field[0])
-        json_object_set_new(o, "field", json_string(field));
+        json_object_set_new(o, "field", text_json(field));
     json_object_set_new(o, "fatal", json_boolean(fatal));
     return dump_and_free(o);
 }
@@ -404,9 +446,9 @@ char *lc_proto_error_json(const char *code, const char *message, const char *fie
         return NULL;
     }
     json_object_set_new(e, "code", json_string(code ? code : "error"));
-    json_object_set_new(e, "message", json_string(message ? message : ""));
+    json_object_set_new(e, "message", text_json(message ? message : ""));
     if (field && field[0])
-        json_object_set_new(e, "field", json_string(field));
+        json_object_set_new(e, "field", text_json(field));
     json_object_set_new(o, "error", e);
     return dump_and_free(o);
 }

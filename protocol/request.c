@@ -416,8 +416,17 @@ static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1]
 
 /* position != focalPoint and, when check_up, viewUp not parallel to the view
  * direction. */
+#define MAX_COORD 1e30 /* camera coordinates: far beyond any scene, and their squares stay finite */
+
 static int check_camera(const lc_camera *c, bool check_up, lc_proto_error *err)
 {
+    static const char *const names[3] = {"camera.position", "camera.focalPoint", "camera.viewUp"};
+    const double *vecs[3] = {c->position, c->focal_point, c->view_up};
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 3; k++)
+            if (!(fabs(vecs[v][k]) <= MAX_COORD))
+                return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, names[v], "coordinate %.6g is outside [-%g, %g]",
+                                          vecs[v][k], MAX_COORD, MAX_COORD);
     double d[3] = {c->focal_point[0] - c->position[0], c->focal_point[1] - c->position[1],
                    c->focal_point[2] - c->position[2]};
     const double *u = c->view_up;

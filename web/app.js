@@ -4,7 +4,7 @@
 // through it and the server is the judge of every value (defaults come from its
 // ready message, its errors are shown as they are).
 
-import { helloMessage, cameraMessage, paramsMessage, resizeMessage, ackMessage, describeError, DEFAULT_WINDOW } from './js/protocol.js';
+import { helloMessage, cameraMessage, paramsMessage, resizeMessage, ackMessage, describeError, DEFAULT_WINDOW, tokenSubprotocols } from './js/protocol.js';
 import { DEFAULT_CAMERA, flatBounds, cloneCamera, fitCamera, refitCamera, viewAlongAxis, validateCamera, roundCamera } from './js/camera.js';
 import { parseHash, formatHash, tokenFromLocation } from './js/url-state.js';
 import { getPath, setPath, merge, UPDATE_SECTIONS, STREAM_FIELDS } from './js/schema.js';
@@ -357,6 +357,8 @@ function hello() {
 
 let countdown = 0;
 const conn = new Connection(wsUrl.href, hello, {
+  // the server refuses an upgrade without the token, so it goes with the handshake
+  protocols: () => tokenSubprotocols(state.token),
   onState(s, detail) {
     const el = $('connection');
     el.dataset.state = s;
@@ -377,6 +379,12 @@ const conn = new Connection(wsUrl.href, hello, {
     } else if (s === 'waiting') {
       state.retryDelays.push(detail.delay);
       if (state.retryDelays.length > 50) state.retryDelays.shift();
+      // a refused handshake (401) only shows as a closed socket: ask the API why
+      api.datasets().catch((e) => {
+        if (e instanceof ApiError && (e.status === 401 || e.code === 'unauthorized')) {
+          askToken(state.token ? 'The token was not accepted.' : 'This server requires an access token.');
+        }
+      });
       const until = performance.now() + detail.delay;
       const tick = () => {
         const left = Math.max(0, Math.ceil((until - performance.now()) / 1000));

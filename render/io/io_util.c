@@ -17,7 +17,9 @@ int lc_io_file_open(const char *path, lc_io_file *f, lc_error *err)
 {
     memset(f, 0, sizeof *f);
     f->data = "";
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer
+     * before the regular-file check below could refuse it. */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
     if (fd < 0)
         return lc_err(err, LC_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat st;

@@ -246,16 +246,17 @@ int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene
         goto fail;
     }
     /* Attributes join the scene before filling so that it owns them on every
-     * path; a name taken by an earlier value gets the generic one. */
+     * path. A name taken by an earlier value gets a free one: adding a taken
+     * name would replace (and free) the attribute that attr[] still points to. */
     for (int k = 0; k < nattr; k++) {
         float *values = malloc((size_t)points * sizeof *values);
         if (!values) {
             rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for attributes", name);
             goto fail;
         }
-        if (lc_scene_find_attribute(s, names[k]) >= 0)
-            snprintf(names[k], LC_NAME_LEN, "%s_%d", k < ns ? "scalar" : "property", k < ns ? k : k - ns);
-        int idx = lc_scene_add_attribute(s, names[k], values, err);
+        char unique[LC_NAME_LEN];
+        lc_scene_unique_attribute_name(s, names[k], unique);
+        int idx = lc_scene_add_attribute(s, unique, values, err);
         if (idx < 0) {
             rc = idx;
             goto fail;

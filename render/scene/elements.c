@@ -1,6 +1,7 @@
 /* Optimization elements (docs/ALGORITHM.md): one per point, equal-arc-length segments
  * for lines, farthest-point-sampled geodesic patches for surfaces, with the
  * per-vertex (element, weight) blend and the element adjacency for smoothing. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -147,7 +148,7 @@ static uint32_t *line_element_counts(const lc_element_geometry *s, uint32_t budg
         uint32_t cap = nv > 1 ? nv - 1 : 1;
         double ideal = total_len > 0 ? (double)budget * line_len[l] / total_len : (double)budget / nonempty;
         double fl = floor(ideal);
-        uint32_t c = fl < 1 ? 1 : fl > cap ? cap : (uint32_t)fl;
+        uint32_t c = !(fl >= 1) ? 1 : fl > cap ? cap : (uint32_t)fl; /* NaN -> 1: never cast it */
         cnt[l] = c;
         total += c;
         if (c < cap && ideal > c)
@@ -179,7 +180,7 @@ static int build_lines(const lc_element_geometry *s, lc_elements *e, uint32_t bu
             double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
             acc += sqrt(dx * dx + dy * dy + dz * dz);
         }
-        line_len[l] = (float)acc;
+        line_len[l] = (float)fmin(acc, FLT_MAX); /* finite, so the shares below are numbers */
     }
     uint64_t total = 0;
     uint32_t *cnt = line_element_counts(s, budget, line_len, &total);

@@ -80,6 +80,23 @@ int lc_scene_find_attribute(const lc_scene *s, const char *name)
     return -1;
 }
 
+void lc_scene_unique_attribute_name(const lc_scene *s, const char *want, char out[LC_NAME_LEN])
+{
+    snprintf(out, LC_NAME_LEN, "%s", want && want[0] ? want : "attribute");
+    char base[LC_NAME_LEN];
+    memcpy(base, out, LC_NAME_LEN);
+    /* At most LC_MAX_ATTRIBUTES names are taken, so one of the first
+     * LC_MAX_ATTRIBUTES + 1 suffixes is free. */
+    for (int k = 2; lc_scene_find_attribute(s, out) >= 0 && k <= LC_MAX_ATTRIBUTES + 2; k++) {
+        char suffix[16];
+        int n = snprintf(suffix, sizeof suffix, "_%d", k);
+        int keep = (int)strlen(base);
+        if (keep > LC_NAME_LEN - 1 - n)
+            keep = LC_NAME_LEN - 1 - n;
+        snprintf(out, LC_NAME_LEN, "%.*s%s", keep, base, suffix);
+    }
+}
+
 /* Ownership of values passes in every case: on failure they are freed here, so
  * a caller's error path never has to (and must not) free them. */
 int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_error *err)

@@ -80,6 +80,11 @@ int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_erro
 float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double p);
 /* Index of the attribute named name, or -1. */
 int lc_scene_find_attribute(const lc_scene *s, const char *name);
+/* A name for a new attribute that no attribute of s has: want itself when
+ * free, else want_2, want_3, ... (shortened to fit LC_NAME_LEN). Readers use it
+ * for names from a file, which may repeat: lc_scene_add_attribute replaces an
+ * attribute of the same name and frees its values. */
+void lc_scene_unique_attribute_name(const lc_scene *s, const char *want, char out[LC_NAME_LEN]);
 
 /* Validates indices, computes bounds, normals/tangents, attribute ranges, the
  * derived attributes (lines: arc_length, curvature, line_length; triangles:

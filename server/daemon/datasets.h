@@ -6,6 +6,7 @@
 #include <jansson.h>
 #include <stdint.h>
 
+#include "cost.h"
 #include "lc_base.h"
 #include "renderer.h"
 #include "scene.h"
@@ -27,6 +28,7 @@ typedef struct lc_dataset {
      * NAME.lucent.json beside a file. Shown by /datasets, applied by clients
      * on dataset switch; NULL = none. Owned. */
     json_t *preset;
+    lc_cost_stats cost; /* what render cost estimates need (cost.h) */
 } lc_dataset;
 
 typedef struct lc_datasets lc_datasets;

@@ -14,17 +14,18 @@
 #include <strings.h>
 #include <unistd.h>
 
+#include "cost.h"
 #include "datasets.h"
-#include "embedded.h"
+#include "frame_headers.h"
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
+#include "web_files.h"
 #include "workers.h"
 #include "ws.h"
 
 #define MOD "http"
-
-extern const lc_embedded_file lc_web_files[];
+#define MAX_QUERY_ARGS 256 /* query parameters of one request (the schema has fewer than 100 keys) */
 
 struct lc_http {
     lc_server *srv;
@@ -38,7 +39,9 @@ typedef struct req_ctx {
     char *body;
     size_t len, cap;
     bool too_large;
-    bool ws_authed; /* read by the upgrade handler */
+    bool headers_seen; /* the first handler call (headers only) is done */
+    int query_args;    /* parameters in the query string (counted before MHD parses them) */
+    bool ws_authed;    /* read by the upgrade handler */
     struct MHD_Connection *conn;
     lc_render_job *job;      /* a render in flight or finished */
     atomic_int job_finished; /* set by job_done before the connection resumes */
@@ -130,8 +133,9 @@ static enum MHD_Result method_not_allowed(lc_server *srv, struct MHD_Connection 
 
 /* ---------------------------------------------------------------- auth */
 
-/* The token a request carries (Authorization: Bearer, else ?token=), or NULL. */
-static const char *given_token(struct MHD_Connection *c)
+/* The token a request carries (Authorization: Bearer, else ?token=, else a
+ * WebSocket token subprotocol decoded into buf), or NULL. */
+static const char *given_token(struct MHD_Connection *c, char *buf, size_t n)
 {
     const char *auth = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION);
     if (auth && strncasecmp(auth, "Bearer ", 7) == 0) {
@@ -140,7 +144,39 @@ static const char *given_token(struct MHD_Connection *c)
             auth++;
         return auth;
     }
-    return MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "token");
+    const char *q = MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "token");
+    if (q)
+        return q;
+    bool lucent;
+    const char *proto = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Protocol");
+    return lc_serve_subprotocol_token(proto, buf, n, &lucent) ? buf : NULL;
+}
+
+/* Whether a request to url needs the token: everything but health and the
+ * web client's files. */
+static bool needs_token(const lc_server *srv, const char *url)
+{
+    if (!srv->cfg.token[0] || strcmp(url, "/api/v1/health") == 0)
+        return false;
+    return strncmp(url, "/api/", 5) == 0 || strcmp(url, "/metrics") == 0;
+}
+
+static enum MHD_Result respond_unauthorized(lc_server *srv, struct MHD_Connection *c, bool had_token)
+{
+    return respond_error(srv, c, 401, "unauthorized", NULL,
+                         had_token ? "wrong token"
+                                   : "this server needs a token (Authorization: Bearer, ?token= or, for the "
+                                     "WebSocket, the subprotocol " LC_SERVE_TOKEN_SUBPROTOCOL "BASE64URL)");
+}
+
+/* Counts Content-Length headers (two are refused: which one would frame the body?). */
+static enum MHD_Result count_content_length(void *cls, enum MHD_ValueKind kind, const char *key, const char *value)
+{
+    (void)kind;
+    (void)value;
+    if (strcasecmp(key, MHD_HTTP_HEADER_CONTENT_LENGTH) == 0)
+        (*(int *)cls)++;
+    return MHD_YES;
 }
 
 /* ---------------------------------------------------------------- simple routes */
@@ -186,42 +222,17 @@ static enum MHD_Result route_metrics(lc_server *srv, struct MHD_Connection *c)
     g.ws_connections = lc_ws_connections(srv->ws);
     g.datasets = lc_datasets_count(srv->datasets);
     g.workers = lc_workers_count(srv->workers);
+    g.queue_clients = lc_workers_clients(srv->workers);
     return respond_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");
-}
-
-static const char *content_type(const char *path)
-{
-    static const struct {
-        const char *ext, *type;
-    } types[] = {{".html", "text/html; charset=utf-8"},
-                 {".js", "text/javascript; charset=utf-8"},
-                 {".mjs", "text/javascript; charset=utf-8"},
-                 {".css", "text/css; charset=utf-8"},
-                 {".svg", "image/svg+xml"},
-                 {".png", "image/png"},
-                 {".json", "application/json"},
-                 {".ico", "image/x-icon"},
-                 {".txt", "text/plain; charset=utf-8"}};
-    const char *dot = strrchr(path, '.');
-    for (size_t i = 0; dot && i < sizeof types / sizeof types[0]; i++)
-        if (strcmp(dot, types[i].ext) == 0)
-            return types[i].type;
-    return "application/octet-stream";
 }
 
 static enum MHD_Result route_static(lc_server *srv, struct MHD_Connection *c, const char *url)
 {
-    const char *path = (strcmp(url, "/") == 0) ? "index.html" : url + 1;
-    const lc_embedded_file *f = strstr(path, "..") ? NULL : lc_embedded_find(lc_web_files, path);
+    const char *type;
+    char etag[LC_WEB_ETAG_LEN];
+    const lc_embedded_file *f = lc_web_file(url, &type, etag);
     if (!f)
         return respond_error(srv, c, 404, "not_found", NULL, "no such page: %.300s", url);
-    /* The files change only with the binary: an FNV-1a hash of the content is
-     * a stable validator, and no-cache makes browsers revalidate after an upgrade. */
-    uint64_t h = 1469598103934665603ULL;
-    for (size_t i = 0; i < f->size; i++)
-        h = (h ^ f->data[i]) * 1099511628211ULL;
-    char etag[24];
-    snprintf(etag, sizeof etag, "\"%016llx\"", (unsigned long long)h);
     const char *inm = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_IF_NONE_MATCH);
     struct MHD_Response *r;
     unsigned status = 200;
@@ -230,7 +241,7 @@ static enum MHD_Result route_static(lc_server *srv, struct MHD_Connection *c, co
         status = 304;
     } else {
         r = MHD_create_response_from_buffer(f->size, (void *)f->data, MHD_RESPMEM_PERSISTENT);
-        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, content_type(path));
+        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, type);
     }
     MHD_add_response_header(r, MHD_HTTP_HEADER_ETAG, etag);
     MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-cache");
@@ -267,12 +278,47 @@ static void free_job(lc_render_job *job)
     free(job);
 }
 
+/* The fairness key of a one-shot render: the client's address (not its port,
+ * so that many connections of one client still count as one). */
+static uint64_t client_key(struct MHD_Connection *c)
+{
+    const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    const struct sockaddr *sa = ci ? ci->client_addr : NULL;
+    const unsigned char *p = NULL;
+    size_t n = 0;
+    if (sa && sa->sa_family == AF_INET) {
+        p = (const unsigned char *)&((const struct sockaddr_in *)sa)->sin_addr;
+        n = 4;
+    } else if (sa && sa->sa_family == AF_INET6) {
+        p = (const unsigned char *)&((const struct sockaddr_in6 *)sa)->sin6_addr;
+        n = 16;
+    }
+    uint64_t h = 1469598103934665603ULL;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 1099511628211ULL;
+    return h | 1; /* never 0, never a session pointer (those are even) */
+}
+
 /* Queues a render and suspends the connection until it is done. Takes the
- * session reference (may be NULL). */
+ * session reference (may be NULL); refuses (400, the field named) a request
+ * whose estimated cost exceeds --max-cost. */
 static enum MHD_Result start_render(req_ctx *ctx, struct MHD_Connection *c, const lc_request *req, const lc_dataset *ds,
                                     lc_session *session, double dt)
 {
     lc_server *srv = ctx->srv;
+    double cost = 0;
+    const char *field = NULL;
+    char why[320];
+    if (lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why) != 0) {
+        if (session) {
+            pthread_mutex_lock(&session->lock);
+            session->http_busy = false;
+            pthread_mutex_unlock(&session->lock);
+            lc_session_unref(session);
+        }
+        lc_metrics_refused(srv->metrics, "cost");
+        return respond_error(srv, c, 400, "too_expensive", field, "%s", why);
+    }
     lc_render_job *job = calloc(1, sizeof *job);
     if (!job) {
         if (session)
@@ -283,6 +329,8 @@ static enum MHD_Result start_render(req_ctx *ctx, struct MHD_Connection *c, cons
     job->dataset = ds;
     job->session = session;
     job->dt = dt;
+    job->cost = cost;
+    job->client = client_key(c);
     job->done = job_done;
     job->user = ctx;
     ctx->conn = c;
@@ -311,8 +359,12 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
     lc_server *srv = ctx->srv;
     lc_render_job *job = ctx->job;
     if (job->rc != 0) {
+        if (job->refused)
+            lc_metrics_refused(srv->metrics, job->refused);
         switch (job->rc) {
-        case LC_ERR_LIMIT: return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_LIMIT:
+            return respond_error(srv, c, job->refused && strcmp(job->refused, "client_queue") == 0 ? 429 : 503,
+                                 "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_UNSUPPORTED:
         case LC_ERR_NOMEM: return respond_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_NOT_FOUND: return respond_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
@@ -322,7 +374,6 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
         default: return respond_error(srv, c, 500, "internal", NULL, "render failed: %s", job->err.msg);
         }
     }
-    const lc_frame_info *info = &job->info;
     struct MHD_Response *r = MHD_create_response_from_buffer(job->image_size, job->image, MHD_RESPMEM_MUST_FREE);
     if (!r)
         return MHD_NO;
@@ -331,46 +382,7 @@ static enum MHD_Result finish_render(req_ctx *ctx, struct MHD_Connection *c)
     MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE,
                             job->req.format == LC_FORMAT_PNG ? "image/png" : "image/jpeg");
     MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
-    /* X-Lucent-Timings: pass=ms pairs (openapi.yaml); Server-Timing shows the
-     * same in browser dev tools. */
-    char timings[768], server_timing[1024];
-    size_t tn = 0, sn = 0;
-    timings[0] = server_timing[0] = '\0';
-    for (int p = 0; p < LC_PASS_COUNT; p++) {
-        if (info->pass_ms[p] < 0)
-            continue;
-        tn += (size_t)snprintf(timings + tn, sizeof timings - tn, "%s%s=%.3f", tn ? "," : "", lc_pass_name(p),
-                               info->pass_ms[p]);
-        sn += (size_t)snprintf(server_timing + sn, sizeof server_timing - sn, "%s%s;dur=%.3f", sn ? ", " : "",
-                               lc_pass_name(p), info->pass_ms[p]);
-        if (tn >= sizeof timings || sn >= sizeof server_timing)
-            break;
-    }
-    if (tn < sizeof timings)
-        snprintf(timings + tn, sizeof timings - tn, "%sgpu=%.3f,wall=%.3f,encode=%.3f,queue=%.3f", tn ? "," : "",
-                 info->gpu_ms, info->wall_ms, job->encode_ms, job->queue_ms);
-    if (sn < sizeof server_timing)
-        snprintf(server_timing + sn, sizeof server_timing - sn, "%sencode;dur=%.3f, queue;dur=%.3f", sn ? ", " : "",
-                 job->encode_ms, job->queue_ms);
-    MHD_add_response_header(r, "X-Lucent-Timings", timings);
-    MHD_add_response_header(r, "Server-Timing", server_timing);
-    char buf[64];
-    snprintf(buf, sizeof buf, "%s", info->converged ? "true" : "false");
-    MHD_add_response_header(r, "X-Lucent-Converged", buf);
-    snprintf(buf, sizeof buf, "%.6g", info->max_alpha_change);
-    MHD_add_response_header(r, "X-Lucent-Max-Alpha-Change", buf);
-    snprintf(buf, sizeof buf, "%u", info->element_count);
-    MHD_add_response_header(r, "X-Lucent-Elements", buf);
-    if (info->has_visibility) {
-        char vis[192];
-        snprintf(vis, sizeof vis, "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f",
-                 info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction);
-        MHD_add_response_header(r, "X-Lucent-Visibility", vis);
-    }
-    if (job->session) {
-        snprintf(buf, sizeof buf, "%llu", (unsigned long long)job->session->http_frames);
-        MHD_add_response_header(r, "X-Lucent-Frame", buf);
-    }
+    lc_frame_headers_add(r, job);
     lc_metrics_bytes_sent(srv->metrics, bytes);
     return queue(srv, c, 200, r);
 }
@@ -594,14 +606,22 @@ static enum MHD_Result route_ws(req_ctx *ctx, struct MHD_Connection *c, bool aut
     if (http + ws >= srv->cfg.max_sessions)
         return respond_error(srv, c, 503, "overloaded", NULL, "too many sessions (the limit is %d)",
                              srv->cfg.max_sessions);
-    char accept[LC_WS_ACCEPT_LEN];
-    lc_ws_accept_key(key, accept);
+    char accept[LC_SERVE_WS_ACCEPT_LEN];
+    lc_serve_ws_accept_key(key, accept);
     struct MHD_Response *r = MHD_create_response_for_upgrade(upgrade_handler, srv);
     if (!r)
         return MHD_NO;
     MHD_add_response_header(r, MHD_HTTP_HEADER_UPGRADE, "websocket");
     MHD_add_response_header(r, MHD_HTTP_HEADER_CONNECTION, "Upgrade");
     MHD_add_response_header(r, "Sec-WebSocket-Accept", accept);
+    /* A client that offers subprotocols must get one back (browsers fail the
+     * handshake otherwise); never echo the one that carries the token. */
+    char unused[LC_PROTO_TOKEN_LEN];
+    bool lucent = false;
+    lc_serve_subprotocol_token(MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Protocol"), unused,
+                               sizeof unused, &lucent);
+    if (lucent)
+        MHD_add_response_header(r, "Sec-WebSocket-Protocol", LC_SERVE_SUBPROTOCOL);
     ctx->ws_authed = authed;
     return queue(srv, c, MHD_HTTP_SWITCHING_PROTOCOLS, r);
 }
@@ -622,14 +642,15 @@ static enum MHD_Result route(req_ctx *ctx, struct MHD_Connection *c, const char 
     if (strcmp(url, "/api/v1/health") == 0)
         return get ? route_health(srv, c) : method_not_allowed(srv, c, method, "GET");
 
-    /* Everything else needs the token when one is configured. The WebSocket
-     * may instead send it in hello (browsers cannot set headers there). */
-    const char *token = given_token(c);
+    /* Everything else needs the token when one is configured, the WebSocket
+     * included: an upgrade without it would hold a connection slot (the
+     * handler refused it before reading a body; this is the same check). */
+    char buf[LC_PROTO_TOKEN_LEN];
+    const char *token = given_token(c, buf, sizeof buf);
     bool authed = lc_serve_token_ok(srv, token ? token : "");
     bool is_ws = strcmp(url, "/api/v1/ws") == 0;
-    if (!authed && !(is_ws && !token))
-        return respond_error(srv, c, 401, "unauthorized", NULL,
-                             token ? "wrong token" : "this server needs a token (Authorization: Bearer or ?token=)");
+    if (!authed)
+        return respond_unauthorized(srv, c, token != NULL);
 
     if (is_ws)
         return get ? route_ws(ctx, c, authed) : method_not_allowed(srv, c, method, "GET");
@@ -641,8 +662,9 @@ static enum MHD_Result route(req_ctx *ctx, struct MHD_Connection *c, const char 
         return get ? route_datasets(srv, c, url + 17) : method_not_allowed(srv, c, method, "GET");
     if (atomic_load(&srv->stopping) && (post || strcmp(method, "DELETE") == 0))
         return respond_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
-    if (strcmp(url, "/api/v1/render") == 0)
-        return (get || post) ? route_render(ctx, c, method) : method_not_allowed(srv, c, method, "GET, POST");
+    if (strcmp(url, "/api/v1/render") == 0) /* HEAD would cost a whole render for no image */
+        return ((get && strcmp(method, "HEAD") != 0) || post) ? route_render(ctx, c, method)
+                                                              : method_not_allowed(srv, c, method, "GET, POST");
     if (strcmp(url, "/api/v1/sessions") == 0)
         return post ? route_session_create(ctx, c) : method_not_allowed(srv, c, method, "POST");
     if (strncmp(url, "/api/v1/sessions/", 17) == 0)
@@ -656,13 +678,27 @@ static enum MHD_Result handler(void *cls, struct MHD_Connection *c, const char *
     (void)version;
     lc_server *srv = cls;
     req_ctx *ctx = *con_cls;
-    if (!ctx) {
-        ctx = calloc(1, sizeof *ctx);
-        if (!ctx)
-            return MHD_NO;
-        ctx->srv = srv;
-        *con_cls = ctx;
-        /* Refuse an announced oversized body before reading it. */
+    if (!ctx)
+        return MHD_NO; /* uri_log made it; NULL means out of memory */
+    if (!ctx->headers_seen) {
+        ctx->headers_seen = true;
+        /* Refuse what can be refused from the headers before reading a body
+         * or queueing anything: too many query parameters, an ambiguous
+         * body length, a missing token, an announced oversized body. */
+        if (ctx->query_args > MAX_QUERY_ARGS)
+            return respond_error(srv, c, 414, LC_PROTO_TOO_LARGE, "query", "%d query parameters exceed the limit of %d",
+                                 ctx->query_args, MAX_QUERY_ARGS);
+        int lengths = 0;
+        MHD_get_connection_values(c, MHD_HEADER_KIND, count_content_length, &lengths);
+        if (lengths > 1)
+            return respond_error(srv, c, 400, LC_PROTO_BAD_FIELD, "Content-Length",
+                                 "%d Content-Length headers; send one", lengths);
+        if (needs_token(srv, url)) {
+            char buf[LC_PROTO_TOKEN_LEN];
+            const char *token = given_token(c, buf, sizeof buf);
+            if (!lc_serve_token_ok(srv, token ? token : ""))
+                return respond_unauthorized(srv, c, token != NULL);
+        }
         const char *cl = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
         if (cl) {
             char *end;
@@ -706,6 +742,33 @@ static enum MHD_Result handler(void *cls, struct MHD_Connection *c, const char *
         return respond_error(srv, c, 413, LC_PROTO_TOO_LARGE, NULL, "request body exceeds the limit of %zu bytes",
                              srv->cfg.max_body);
     return route(ctx, c, url, method);
+}
+
+/* Called by MHD with the raw request URI before it parses the query; what it
+ * returns becomes the request's con_cls. MHD keeps every query parameter in
+ * the connection's fixed memory pool, and when the pool runs out (about 1000
+ * short parameters in 64 KiB) libmicrohttpd 0.9.75 neither answers nor closes
+ * until the connection timeout. So parameters beyond MAX_QUERY_ARGS are
+ * counted here and the query is cut off in MHD's own buffer (the URI is
+ * writable there; MHD parses the query only after this call), and the handler
+ * answers 414. */
+static void *uri_log(void *cls, const char *uri, struct MHD_Connection *c)
+{
+    (void)c;
+    req_ctx *ctx = calloc(1, sizeof *ctx);
+    if (!ctx)
+        return NULL;
+    ctx->srv = cls;
+    char *q = strchr(uri, '?');
+    if (q) {
+        int args = 1;
+        for (const char *p = q + 1; *p; p++)
+            args += *p == '&' || *p == ';';
+        ctx->query_args = args;
+        if (args > MAX_QUERY_ARGS)
+            q[1] = '\0';
+    }
+    return ctx;
 }
 
 static void request_completed(void *cls, struct MHD_Connection *c, void **con_cls, enum MHD_RequestTerminationCode toe)
@@ -762,10 +825,11 @@ int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     h->srv = srv;
     h->daemon = MHD_start_daemon(flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
-                                 MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_THREAD_POOL_SIZE,
-                                 (unsigned)2, MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections,
-                                 MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
-                                 (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);
+                                 MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_URI_LOG_CALLBACK,
+                                 uri_log, srv, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2, MHD_OPTION_CONNECTION_LIMIT,
+                                 (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30,
+                                 MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER,
+                                 mhd_log, NULL, MHD_OPTION_END);
     if (!h->daemon) {
         int e = errno;
         free(h);

@@ -32,6 +32,8 @@ struct lc_metrics {
     int code_count;
     char codes[MAX_CODES][32];
     uint64_t code_n[MAX_CODES];
+    uint64_t refused[4]; /* by refusal_reasons */
+    double cost_total, cost_rate;
     int status_count;
     int statuses[MAX_STATUSES];
     uint64_t status_n[MAX_STATUSES];
@@ -132,6 +134,25 @@ void lc_metrics_http_request(lc_metrics *m, int status)
     pthread_mutex_unlock(&m->lock);
 }
 
+static const char *const refusal_reasons[4] = {"cost", "deadline", "queue", "client_queue"};
+
+void lc_metrics_refused(lc_metrics *m, const char *reason)
+{
+    pthread_mutex_lock(&m->lock);
+    for (int i = 0; i < 4; i++)
+        if (strcmp(reason, refusal_reasons[i]) == 0)
+            m->refused[i]++;
+    pthread_mutex_unlock(&m->lock);
+}
+
+void lc_metrics_cost(lc_metrics *m, double cost, double rate)
+{
+    pthread_mutex_lock(&m->lock);
+    m->cost_total += cost;
+    m->cost_rate = rate;
+    pthread_mutex_unlock(&m->lock);
+}
+
 /* Growable text buffer for the exposition. */
 typedef struct text {
     char *s;
@@ -216,6 +237,17 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
     put(&t, "# HELP lucent_errors_total Errors answered, by code.\n# TYPE lucent_errors_total counter\n");
     for (int i = 0; i < m->code_count; i++)
         put(&t, "lucent_errors_total{code=\"%s\"} %llu\n", m->codes[i], (unsigned long long)m->code_n[i]);
+    put(&t, "# HELP lucent_renders_refused_total Renders refused before running, by reason (cost over --max-cost, "
+            "render deadline, full queue, the client's queue share).\n# TYPE lucent_renders_refused_total counter\n");
+    for (int i = 0; i < 4; i++)
+        put(&t, "lucent_renders_refused_total{reason=\"%s\"} %llu\n", refusal_reasons[i],
+            (unsigned long long)m->refused[i]);
+    put(&t, "# HELP lucent_render_cost_units_total Estimated cost of the HTTP renders that ran.\n"
+            "# TYPE lucent_render_cost_units_total counter\nlucent_render_cost_units_total %.0f\n",
+        m->cost_total);
+    put(&t, "# HELP lucent_render_cost_rate Cost units rendered per second (moving average).\n"
+            "# TYPE lucent_render_cost_rate gauge\nlucent_render_cost_rate %.0f\n",
+        m->cost_rate);
     put(&t,
         "# HELP lucent_http_responses_total HTTP responses, by status.\n# TYPE lucent_http_responses_total counter\n");
     for (int i = 0; i < m->status_count; i++)
@@ -235,6 +267,9 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
         put(&t, "lucent_ws_connections %d\n", g->ws_connections);
         put(&t, "# TYPE lucent_datasets gauge\nlucent_datasets %d\n", g->datasets);
         put(&t, "# TYPE lucent_workers gauge\nlucent_workers %d\n", g->workers);
+        put(&t, "# HELP lucent_queue_clients Clients with queued renders (served round robin).\n"
+                "# TYPE lucent_queue_clients gauge\nlucent_queue_clients %d\n",
+            g->queue_clients);
     }
     return t.s;
 }

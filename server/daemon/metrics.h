@@ -25,6 +25,7 @@ typedef struct lc_metrics_gauges {
     int ws_connections;
     int datasets;
     int workers;
+    int queue_clients; /* clients with queued work (fair queueing) */
 } lc_metrics_gauges;
 
 lc_metrics *lc_metrics_create(void);
@@ -37,6 +38,11 @@ void lc_metrics_bytes_sent(lc_metrics *m, size_t bytes);
 void lc_metrics_coalesced(lc_metrics *m, uint64_t frames); /* requests overwritten while pending */
 void lc_metrics_error(lc_metrics *m, const char *code);    /* errors answered, by code */
 void lc_metrics_http_request(lc_metrics *m, int status);
+/* A render refused before it ran: "cost" (over --max-cost), "deadline",
+ * "queue", "client_queue". */
+void lc_metrics_refused(lc_metrics *m, const char *reason);
+/* A rendered request's estimated cost and the learned cost units per second. */
+void lc_metrics_cost(lc_metrics *m, double cost, double rate);
 
 /* Prometheus text (malloc'd, caller frees). */
 char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g);

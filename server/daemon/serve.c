@@ -3,6 +3,7 @@
 #include "serve.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,6 +59,12 @@ static void usage(FILE *f)
             "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
             "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
             "  --max-connections N    max HTTP connections (default 256)\n"
+            "  --max-cost UNITS       estimated cost of one frame (fragments over all passes), 400 too_expensive\n"
+            "                         naming the field beyond; 0 = no limit (default 1e9: 20-50 s on llvmpipe)\n"
+            "  --render-deadline SEC  an HTTP render that waited this long for a worker, or would take longer by\n"
+            "                         the measured rate, gets 503; 0 = none (default 60)\n"
+            "  --max-queue-per-client N  queued HTTP renders of one client address or session, 429 beyond\n"
+            "                         (default 8; clients are served round robin)\n"
             "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
             "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
             "  --log-level L          error|warn|info|debug (default info)\n"
@@ -123,8 +130,24 @@ enum {
     OPT_IDLE,
     OPT_STILL,
     OPT_LOG,
-    OPT_ELEMENTS
+    OPT_ELEMENTS,
+    OPT_MAX_COST,
+    OPT_DEADLINE,
+    OPT_QUEUE_PER_CLIENT
 };
+
+/* A token that does not fit is refused: cutting it would accept its prefix
+ * and refuse the token itself. */
+static int set_token(lc_serve_config *cfg, const char *token, const char *from)
+{
+    if (strlen(token) >= sizeof cfg->token) {
+        fprintf(stderr, "lucent serve: %s: the token is %zu bytes; at most %zu are allowed\n", from, strlen(token),
+                sizeof cfg->token - 1);
+        return -1;
+    }
+    snprintf(cfg->token, sizeof cfg->token, "%s", token);
+    return 0;
+}
 
 /* Fills cfg from argv; returns 0, 1 for --help, -1 on a usage error. */
 static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char **data)
@@ -150,6 +173,9 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                                          {"idle-timeout", required_argument, NULL, OPT_IDLE},
                                          {"still-delay", required_argument, NULL, OPT_STILL},
                                          {"log-level", required_argument, NULL, OPT_LOG},
+                                         {"max-cost", required_argument, NULL, OPT_MAX_COST},
+                                         {"render-deadline", required_argument, NULL, OPT_DEADLINE},
+                                         {"max-queue-per-client", required_argument, NULL, OPT_QUEUE_PER_CLIENT},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     optind = 1;
@@ -194,7 +220,10 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                 return -1;
             cfg->encoders = (int)v;
             break;
-        case OPT_TOKEN: snprintf(cfg->token, sizeof cfg->token, "%s", optarg); break;
+        case OPT_TOKEN:
+            if (set_token(cfg, optarg, "--token") != 0)
+                return -1;
+            break;
         case OPT_MAX_SIZE:
             if (parse_long("--max-size", optarg, 16, 16384, &v))
                 return -1;
@@ -259,6 +288,26 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
             lc_log_set_level((lc_log_level)level);
             break;
         }
+        case OPT_MAX_COST: {
+            char *end;
+            double d = strtod(optarg, &end);
+            if (*end || !(d >= 0) || !isfinite(d)) {
+                fprintf(stderr, "lucent serve: --max-cost: expected a number >= 0, got \"%s\"\n", optarg);
+                return -1;
+            }
+            cfg->max_cost = d;
+            break;
+        }
+        case OPT_DEADLINE:
+            if (parse_long("--render-deadline", optarg, 0, 86400, &v))
+                return -1;
+            cfg->render_deadline = (double)v;
+            break;
+        case OPT_QUEUE_PER_CLIENT:
+            if (parse_long("--max-queue-per-client", optarg, 1, 100000, &v))
+                return -1;
+            cfg->max_queue_per_client = (int)v;
+            break;
         case 'h': return 1;
         default: return -1;
         }
@@ -289,9 +338,9 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->idle_timeout = 300;
     cfg->max_stream_pixels = 4LL << 20;
     cfg->still_delay = 0.150;
-    const char *token = getenv("LUCENT_TOKEN");
-    if (token)
-        snprintf(cfg->token, sizeof cfg->token, "%s", token);
+    cfg->max_cost = LC_COST_DEFAULT_BUDGET;
+    cfg->render_deadline = 60;
+    cfg->max_queue_per_client = 8;
 }
 
 int lc_serve_main(int argc, char **argv)
@@ -300,6 +349,9 @@ int lc_serve_main(int argc, char **argv)
     static const char *data[MAX_DATA];
     memset(&srv, 0, sizeof srv);
     config_defaults(&srv.cfg);
+    const char *env_token = getenv("LUCENT_TOKEN");
+    if (env_token && set_token(&srv.cfg, env_token, "LUCENT_TOKEN") != 0)
+        return 2;
     int pr = parse_flags(argc, argv, &srv.cfg, data);
     if (pr != 0) {
         usage(pr > 0 ? stdout : stderr);

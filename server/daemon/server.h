@@ -3,7 +3,7 @@
  * serve.c (start-up) includes the modules themselves.
  *
  * Module map (server/):
- *   server.c   shared helpers (token check)
+ *   server.c   shared helpers (token checks, WebSocket accept key)
  *   serve.c    flags, start-up (datasets before the port opens), signals, shutdown
  *   datasets.c registry of loaded scenes and their GPU copies
  *   workers.c  render threads (one EGL context each) and JPEG encoder threads
@@ -11,6 +11,8 @@
  *   http.c     libmicrohttpd routes: API, static web client, metrics
  *   ws.c       WebSocket connections (MHD upgrade + wslay) on one I/O thread
  *   metrics.c  counters and histograms in Prometheus text format
+ *   cost.c     render cost estimate before queueing (--max-cost)
+ *   web_files.c the embedded web client's files (content type, ETag)
  *
  * Threads: main (start-up, then waits for a signal and shuts down), MHD's
  * threads (parse, validate, queue; never GL), render workers (all GL), encoder
@@ -69,6 +71,9 @@ typedef struct lc_serve_config {
     double idle_timeout;            /* seconds without use before a session is dropped */
     long long max_stream_pixels;    /* cap of viewport x devicePixelRatio for WS frames */
     double still_delay;             /* seconds of quiet input before the still frame */
+    double max_cost;                /* estimated cost units of one frame (cost.h); 0 = no limit */
+    double render_deadline;         /* seconds an HTTP render may wait for a worker (503 beyond); 0 = none */
+    int max_queue_per_client;       /* queued HTTP renders of one client (429 beyond) */
 } lc_serve_config;
 
 /* The daemon: one per process, created by serve.c. Modules keep a pointer to
@@ -90,8 +95,23 @@ typedef struct lc_server {
     atomic_int stopping; /* set once shutdown begins: refuse new work */
 } lc_server;
 
+#define LC_SERVE_WS_ACCEPT_LEN 29 /* base64 of a SHA-1 digest + NUL */
+/* Sec-WebSocket-Accept for a client's Sec-WebSocket-Key (SHA-1 + base64). */
+void lc_serve_ws_accept_key(const char *client_key, char out[LC_SERVE_WS_ACCEPT_LEN]);
+
 /* Constant-time token comparison; true when no token is configured. */
 bool lc_serve_token_ok(const lc_server *srv, const char *given);
+
+/* The WebSocket subprotocol that carries a token (browsers cannot set headers
+ * on a WebSocket): "lucent.token." + base64url(token), offered next to
+ * LC_SERVE_SUBPROTOCOL, which the server then selects. */
+#define LC_SERVE_SUBPROTOCOL "lucent"
+#define LC_SERVE_TOKEN_SUBPROTOCOL "lucent.token."
+/* Reads a Sec-WebSocket-Protocol header value (comma-separated): the decoded
+ * token of the first token subprotocol into out (size n; false when there is
+ * none or it does not decode or fit), and whether LC_SERVE_SUBPROTOCOL is
+ * offered. header may be NULL. */
+bool lc_serve_subprotocol_token(const char *header, char *out, size_t n, bool *offers_lucent);
 
 #ifdef __cplusplus
 }

@@ -241,7 +241,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     lc_stream *st = &s->stream;
     *wake_at = 0;
     pthread_mutex_lock(&s->lock);
-    if (s->closed || st->rendering || st->unacked >= st->window || st->css_width <= 0) {
+    if (s->closed || st->rendering || st->unacked >= st->window || st->send_blocked || st->css_width <= 0) {
         pthread_mutex_unlock(&s->lock);
         return 0; /* an ack, the frame in hand finishing or a resize wakes us again */
     }
@@ -310,12 +310,33 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     pthread_mutex_unlock(&s->lock);
 }
 
-void lc_session_stream_ack(lc_session *s, uint64_t frame)
+bool lc_session_stream_ack(lc_session *s, uint64_t frame)
 {
     pthread_mutex_lock(&s->lock);
-    drop_outstanding(&s->stream, frame, false);
-    s->last_used = lc_now();
+    bool ok = frame <= s->stream.last_sent;
+    if (ok) {
+        drop_outstanding(&s->stream, frame, false);
+        s->last_used = lc_now();
+    }
     pthread_mutex_unlock(&s->lock);
+    return ok;
+}
+
+void lc_session_stream_sent(lc_session *s, uint64_t frame)
+{
+    pthread_mutex_lock(&s->lock);
+    if (frame > s->stream.last_sent)
+        s->stream.last_sent = frame;
+    pthread_mutex_unlock(&s->lock);
+}
+
+bool lc_session_stream_blocked(lc_session *s, bool blocked)
+{
+    pthread_mutex_lock(&s->lock);
+    bool drained = s->stream.send_blocked && !blocked;
+    s->stream.send_blocked = blocked;
+    pthread_mutex_unlock(&s->lock);
+    return drained;
 }
 
 void lc_session_stream_input(lc_session *s, double now)

@@ -56,6 +56,8 @@ typedef struct lc_stream {
     bool any_input;               /* camera/params/resize seen since hello */
     double last_input;            /* lc_now() of the latest input */
     uint64_t frames;              /* frames rendered */
+    uint64_t last_sent;           /* newest frame id handed to the connection; acks beyond it are refused */
+    bool send_blocked;            /* the socket does not take more: render nothing until it drains */
 } lc_stream;
 
 typedef struct lc_session lc_session;
@@ -128,8 +130,15 @@ int lc_sessions_sweep(lc_sessions *reg, double now, double idle);
 int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at);
 /* Worker side: the frame reserved by stream_next finished (ok = rendered). */
 void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, const lc_frame_info *info);
-/* I/O side: the client acknowledged every frame up to id `frame`. */
-void lc_session_stream_ack(lc_session *s, uint64_t frame);
+/* I/O side: the client acknowledged every frame up to id `frame`. Returns
+ * false (and changes nothing) for an id that was never sent: a blind ack must
+ * not open the window. */
+bool lc_session_stream_ack(lc_session *s, uint64_t frame);
+/* Encoder side: frame `frame` goes to the connection now (acks may cover it). */
+void lc_session_stream_sent(lc_session *s, uint64_t frame);
+/* I/O side: the connection's socket stopped taking data (blocked) or drained.
+ * Returns true when it drained and a frame may be due (wake the workers). */
+bool lc_session_stream_blocked(lc_session *s, bool blocked);
 /* I/O side: records input (camera, params, resize): marks the stream dirty and
  * counts a coalesced update if the previous one was not rendered yet. */
 void lc_session_stream_input(lc_session *s, double now);

@@ -13,13 +13,22 @@
 
 #define MOD "workers"
 
-/* A task in the render FIFO: an HTTP job or a WebSocket session (which holds
- * a reference while queued). One FIFO for both keeps arrival order fair. */
+/* A task in the render queue: an HTTP job or a WebSocket session (which
+ * holds a reference while queued). */
 typedef struct task {
     struct task *next;
     lc_render_job *job;
     lc_session *session;
 } task;
+
+/* One client's queued tasks (FIFO). Clients with work form a ring that the
+ * workers serve round robin: one task of each client in turn. */
+typedef struct flow {
+    struct flow *next; /* in the ring of clients with work */
+    uint64_t key;
+    task *head, *tail;
+    int jobs; /* HTTP jobs among the tasks */
+} flow;
 
 /* An image to encode. */
 typedef struct encode_item {
@@ -56,8 +65,9 @@ struct lc_workers {
     int ready_count, failed;
     lc_error start_err;
     bool stopping;
-    task *head, *tail;
-    int jobs_queued, tasks_queued;
+    flow *ring_head, *ring_tail; /* clients with queued tasks, next to serve first */
+    int jobs_queued, tasks_queued, flows;
+    double cost_rate; /* learned cost units per second of render time (0 = none measured yet) */
     lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
 
     pthread_mutex_t enc_lock;
@@ -69,28 +79,81 @@ struct lc_workers {
 
 /* ---------------------------------------------------------------- queues */
 
-static void push_task(lc_workers *w, task *t)
+static uint64_t task_key(const task *t)
 {
-    t->next = NULL;
-    if (w->tail)
-        w->tail->next = t;
-    else
-        w->head = t;
-    w->tail = t;
-    w->tasks_queued++;
-    pthread_cond_signal(&w->work);
+    if (t->session)
+        return (uint64_t)(uintptr_t)t->session;
+    return t->job->session ? (uint64_t)(uintptr_t)t->job->session : t->job->client;
 }
 
+static flow *find_flow(lc_workers *w, uint64_t key)
+{
+    for (flow *f = w->ring_head; f; f = f->next)
+        if (f->key == key)
+            return f;
+    return NULL;
+}
+
+static void ring_append(lc_workers *w, flow *f)
+{
+    f->next = NULL;
+    if (w->ring_tail)
+        w->ring_tail->next = f;
+    else
+        w->ring_head = f;
+    w->ring_tail = f;
+}
+
+/* Queues t behind its client's earlier tasks; a client new to the ring goes
+ * to its end. Returns -1 when out of memory (pool lock held). */
+static int push_task(lc_workers *w, task *t)
+{
+    uint64_t key = task_key(t);
+    flow *f = find_flow(w, key);
+    if (!f) {
+        f = calloc(1, sizeof *f);
+        if (!f)
+            return -1;
+        f->key = key;
+        ring_append(w, f);
+        w->flows++;
+    }
+    t->next = NULL;
+    if (f->tail)
+        f->tail->next = t;
+    else
+        f->head = t;
+    f->tail = t;
+    if (t->job)
+        f->jobs++;
+    w->tasks_queued++;
+    pthread_cond_signal(&w->work);
+    return 0;
+}
+
+/* The next client's oldest task; that client moves to the end of the ring. */
 static task *pop_task(lc_workers *w)
 {
-    task *t = w->head;
-    if (t) {
-        w->head = t->next;
-        if (!w->head)
-            w->tail = NULL;
-        w->tasks_queued--;
-        if (t->job)
-            w->jobs_queued--;
+    flow *f = w->ring_head;
+    if (!f)
+        return NULL;
+    task *t = f->head;
+    f->head = t->next;
+    if (!f->head)
+        f->tail = NULL;
+    if (t->job) {
+        f->jobs--;
+        w->jobs_queued--;
+    }
+    w->tasks_queued--;
+    w->ring_head = f->next;
+    if (!w->ring_head)
+        w->ring_tail = NULL;
+    if (f->head) {
+        ring_append(w, f);
+    } else {
+        free(f);
+        w->flows--;
     }
     return t;
 }
@@ -113,10 +176,33 @@ int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err)
         int q = w->jobs_queued;
         pthread_mutex_unlock(&w->lock);
         free(t);
+        job->refused = "queue";
         return lc_err(err, LC_ERR_LIMIT, "render queue full (%d requests waiting)", q);
     }
+    flow *f = find_flow(w, task_key(t));
+    int per_client = w->srv->cfg.max_queue_per_client;
+    if (f && per_client > 0 && f->jobs >= per_client) {
+        int q = f->jobs;
+        pthread_mutex_unlock(&w->lock);
+        free(t);
+        job->refused = "client_queue";
+        return lc_err(err, LC_ERR_LIMIT, "this client has %d renders waiting already (the limit is %d)", q, per_client);
+    }
+    double deadline = w->srv->cfg.render_deadline;
+    if (deadline > 0 && w->cost_rate > 0 && job->cost / w->cost_rate > deadline) {
+        double est = job->cost / w->cost_rate;
+        pthread_mutex_unlock(&w->lock);
+        free(t);
+        job->refused = "deadline";
+        return lc_err(err, LC_ERR_LIMIT, "the render would take about %.0f s here, beyond the %.0f s render deadline",
+                      est, deadline);
+    }
+    if (push_task(w, t) != 0) {
+        pthread_mutex_unlock(&w->lock);
+        free(t);
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    }
     w->jobs_queued++;
-    push_task(w, t);
     pthread_mutex_unlock(&w->lock);
     return 0;
 }
@@ -145,10 +231,13 @@ static void enqueue_session(lc_workers *w, lc_session *s)
     task *t = calloc(1, sizeof *t);
     if (!t)
         return; /* the next input or ack retries */
+    t->session = s;
+    if (push_task(w, t) != 0) {
+        free(t);
+        return;
+    }
     lc_session_ref(s);
     s->sched_queued = true;
-    t->session = s;
-    push_task(w, t);
 }
 
 void lc_workers_wake(lc_workers *w, lc_session *s)
@@ -242,6 +331,19 @@ int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap)
     return n;
 }
 
+/* Cost units per second of render time, a moving average over renders that
+ * took long enough to time well; the submit-time deadline check uses it. */
+static void learn_rate(lc_workers *w, double cost, double wall_ms)
+{
+    if (!(cost > 0) || wall_ms < 20.0)
+        return;
+    double rate = cost / (wall_ms / 1000.0);
+    pthread_mutex_lock(&w->lock);
+    w->cost_rate = w->cost_rate > 0 ? 0.8 * w->cost_rate + 0.2 * rate : rate;
+    pthread_mutex_unlock(&w->lock);
+    lc_metrics_cost(w->srv->metrics, cost, w->cost_rate);
+}
+
 static void finish_job(lc_render_job *job)
 {
     if (job->done)
@@ -252,6 +354,14 @@ static void render_job(worker *wk, lc_render_job *job)
 {
     lc_workers *w = wk->pool;
     job->queue_ms = (lc_now() - job->submitted) * 1000.0;
+    double deadline = w->srv->cfg.render_deadline;
+    if (deadline > 0 && job->queue_ms > deadline * 1000.0) {
+        job->refused = "deadline";
+        job->rc = lc_err(&job->err, LC_ERR_LIMIT, "waited %.1f s for a worker, beyond the %.0f s render deadline",
+                         job->queue_ms / 1000.0, deadline);
+        finish_job(job);
+        return;
+    }
     const lc_render_params *p = &job->req.render;
     size_t bytes = (size_t)p->width * (size_t)p->height * 4;
     job->rgba = malloc(bytes);
@@ -269,6 +379,7 @@ static void render_job(worker *wk, lc_render_job *job)
         return;
     }
     lc_metrics_frame(w->srv->metrics, job->session ? "session" : "http", &job->info);
+    learn_rate(w, job->cost, job->info.wall_ms);
     encode_item *e = calloc(1, sizeof *e);
     if (!e) {
         free(job->rgba);
@@ -442,6 +553,7 @@ static void encode_one(lc_workers *w, encode_item *e)
     if (rc != 0) {
         LC_WARN(MOD, "session %s: encode failed: %s", s->id, err.msg);
         send_stream_error(srv, s, "render_failed", err.msg, NULL);
+        lc_session_stream_sent(s, e->frame.frame);
         lc_session_stream_ack(s, e->frame.frame); /* nothing to ack for this id */
         lc_workers_wake(w, s);
         return;
@@ -467,8 +579,10 @@ static void encode_one(lc_workers *w, encode_item *e)
     size_t len = 0;
     rc = lc_proto_pack_frame(&h, img, size, &msg, &len);
     free(img);
-    if (rc == 0)
+    if (rc == 0) {
+        lc_session_stream_sent(s, e->frame.frame);
         srv->sink.send_frame(srv->sink.ctx, s, msg, len, e->info.wall_ms, ms);
+    }
 }
 
 static void *encoder_main(void *arg)
@@ -632,6 +746,14 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
 }
 
 int lc_workers_count(const lc_workers *w) { return w ? w->nworkers : 0; }
+
+int lc_workers_clients(lc_workers *w)
+{
+    pthread_mutex_lock(&w->lock);
+    int n = w->flows;
+    pthread_mutex_unlock(&w->lock);
+    return n;
+}
 
 void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue)
 {

@@ -3,10 +3,11 @@
  * Each render worker owns one EGL context (worker 0 the primary one that the
  * datasets were uploaded with, the others created with .share = primary) and
  * its own lc_renderer; every GL call of the daemon happens on these threads.
- * Work arrives as tasks in one FIFO: HTTP render jobs and WebSocket sessions
- * that need a frame. A session is in the queue at most once and goes back to
- * the tail after each frame, so sessions take turns (round robin) and one busy
- * viewer cannot starve the others. Sessions waiting for their still frame sit
+ * Work arrives as tasks: HTTP render jobs and WebSocket sessions that need a
+ * frame. Tasks are queued per client (a session, or the address of one-shot
+ * HTTP requests) and the clients take turns (round robin), so one client that
+ * queues many renders delays each other client by at most one of them. A
+ * session is queued at most once and goes back to the end after each frame. Sessions waiting for their still frame sit
  * in a timer list; idle workers sleep on a condition variable (no polling).
  *
  * Workers hand the RGBA readback to encoder threads (JPEG/PNG), so encoding
@@ -39,6 +40,8 @@ struct lc_render_job {
     const lc_dataset *dataset;
     lc_session *session; /* HTTP session (the job holds a reference) or NULL */
     double dt;           /* fading step for sessions */
+    uint64_t client;     /* fairness key: jobs of one client take turns with other clients' */
+    double cost;         /* estimated cost units (cost.h); 0 = unknown */
     void (*done)(lc_render_job *job);
     void *user;
     /* output, valid in done() */
@@ -49,6 +52,7 @@ struct lc_render_job {
     lc_frame_info info;
     double encode_ms;
     double queue_ms; /* waiting for a worker */
+    const char *refused; /* why submit or the deadline refused it: "queue", "client_queue", "deadline" */
     /* pool internals */
     lc_render_job *next;
     double submitted;
@@ -71,14 +75,19 @@ void lc_workers_stop(lc_workers *w);
  * primary context current on the calling thread, destroys the contexts. */
 void lc_workers_destroy(lc_workers *w, lc_datasets *datasets);
 
-/* Queues an HTTP job. LC_ERR_LIMIT when max_queue jobs are waiting,
- * LC_ERR_UNSUPPORTED while stopping; done() is not called then. Any thread. */
+/* Queues an HTTP job. LC_ERR_LIMIT when max_queue jobs are waiting or
+ * job->client has max_queue_per_client of them (job->refused says which),
+ * LC_ERR_UNSUPPORTED while stopping; done() is not called then. A job that
+ * waits longer than the render deadline fails with LC_ERR_LIMIT (refused =
+ * "deadline") instead of rendering. Any thread. */
 int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err);
 /* Asks the pool to consider WebSocket session s for a frame (after input, an
  * ack, or a finished frame). Cheap and idempotent. Any thread. */
 void lc_workers_wake(lc_workers *w, lc_session *s);
 
 int lc_workers_count(const lc_workers *w);
+/* Clients (fairness keys) with queued work now. */
+int lc_workers_clients(lc_workers *w);
 void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue);
 
 /* Fills "timings" style lists: pass names with ms for passes that ran. */

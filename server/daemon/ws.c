@@ -6,8 +6,6 @@
 #include <fcntl.h>
 #include <math.h>
 #include <microhttpd.h>
-#include <nettle/base64.h>
-#include <nettle/sha1.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,12 +21,13 @@
 #include "workers.h"
 
 #define MOD "ws"
-#define WS_GUID "258EAFA5-E914-47DA-95CA-C5AB0DC85B11"
 #define PING_INTERVAL 15.0           /* seconds of silence before we ping */
 #define CLOSE_GRACE 2.0              /* seconds a client gets to answer our close frame */
 #define MAX_QUEUED_BYTES (32u << 20) /* per connection, beyond the frame window: not reading */
 #define MAX_QUEUED_MSGS 256
 #define MAX_CONSECUTIVE_ERRORS 32
+#define WS_SNDBUF (256 << 10)
+#define HELLO_TIMEOUT 10.0 /* seconds an upgraded connection may hold a slot without a session */
 #define STATS_INTERVAL 1.0 /* seconds between stats messages while frames flow */
 #define STATS_SAMPLES 256  /* latest frames remembered for fps and timing figures */
 
@@ -59,6 +58,8 @@ typedef struct conn {
     uint16_t close_code;   /* close frame to send once the queued messages are out */
     char close_reason[64];
     int errors;      /* consecutive bad messages */
+    bool draining;   /* close sent and our side shut down: read and drop until the peer closes */
+    double opened;   /* lc_now() at registration (the hello deadline) */
     uint32_t events; /* registered epoll events */
     stream_stats stats;
 } conn;
@@ -87,18 +88,6 @@ struct lc_ws {
     bool shutting_down;
     double shutdown_deadline;
 };
-
-void lc_ws_accept_key(const char *client_key, char out[LC_WS_ACCEPT_LEN])
-{
-    struct sha1_ctx sha;
-    uint8_t digest[SHA1_DIGEST_SIZE];
-    sha1_init(&sha);
-    sha1_update(&sha, strlen(client_key), (const uint8_t *)client_key);
-    sha1_update(&sha, strlen(WS_GUID), (const uint8_t *)WS_GUID);
-    sha1_digest(&sha, SHA1_DIGEST_SIZE, digest);
-    base64_encode_raw(out, SHA1_DIGEST_SIZE, digest);
-    out[BASE64_ENCODE_RAW_LENGTH(SHA1_DIGEST_SIZE)] = '\0';
-}
 
 static void wake(lc_ws *ws)
 {
@@ -252,6 +241,13 @@ static void send_proto_error(conn *c, const lc_proto_error *pe)
     send_error(c, pe->code, pe->message, pe->field, false, 0);
 }
 
+/* Counts one more bad message in a row; too many close the connection. */
+static void count_error(conn *c)
+{
+    if (++c->errors > MAX_CONSECUTIVE_ERRORS)
+        send_error(c, "too_many_errors", "too many invalid messages in a row", NULL, true, 1008);
+}
+
 /* ---------------------------------------------------------------- stats */
 
 static void record_frame(conn *c, double now, double render_ms, double encode_ms)
@@ -334,6 +330,19 @@ static int maybe_send_stats(conn *c, double now)
 
 /* ---------------------------------------------------------------- protocol */
 
+/* 0 when a full-resolution frame of req fits --max-cost, else an error that
+ * names the field to lower (the update is then not applied). */
+static int within_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, lc_proto_error *pe)
+{
+    double cost;
+    const char *field = NULL;
+    char why[320];
+    if (lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why) == 0)
+        return 0;
+    lc_metrics_refused(srv->metrics, "cost");
+    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
+}
+
 static void on_hello(conn *c, lc_client_msg *m)
 {
     lc_server *srv = c->ws->srv;
@@ -361,6 +370,12 @@ static void on_hello(conn *c, lc_client_msg *m)
     req.format = LC_FORMAT_JPEG;
     lc_proto_error pe;
     if (m->update && lc_proto_apply_request(m->update, &c->ws->limits, &req, &pe) != 0) {
+        send_proto_error(c, &pe);
+        return;
+    }
+    lc_session_frame_size(m->width, m->height, m->device_pixel_ratio, 1.0, srv->cfg.max_stream_pixels, &srv->cfg.limits,
+                          &req.render.width, &req.render.height);
+    if (within_budget(srv, ds, &req, &pe) != 0) {
         send_proto_error(c, &pe);
         return;
     }
@@ -408,8 +423,11 @@ static int apply_update(conn *c, lc_client_msg *m)
     lc_proto_error pe;
     int rc = 0;
     pthread_mutex_lock(&s->lock);
-    if (m->update)
-        rc = lc_proto_apply_request(m->update, &c->ws->limits, &s->req, &pe);
+    lc_request req = s->req;
+    if (m->update && (rc = lc_proto_apply_request(m->update, &c->ws->limits, &req, &pe)) == 0)
+        rc = within_budget(c->ws->srv, s->dataset, &req, &pe);
+    if (rc == 0)
+        s->req = req;
     if (rc == 0 && m->type == LC_MSG_CAMERA && m->seq > s->stream.camera_seq)
         s->stream.camera_seq = m->seq;
     if (rc == 0 && m->type == LC_MSG_PARAMS) {
@@ -433,14 +451,13 @@ static void on_text(conn *c, const uint8_t *data, size_t len)
     lc_proto_error pe;
     if (lc_proto_parse_client_message((const char *)data, len, &c->ws->limits, &m, &pe) != 0) {
         send_proto_error(c, &pe);
-        if (++c->errors > MAX_CONSECUTIVE_ERRORS)
-            send_error(c, "too_many_errors", "too many invalid messages in a row", NULL, true, 1008);
+        count_error(c);
         return;
     }
     if (m.type != LC_MSG_HELLO && !c->session) {
         send_error(c, "bad_state", "the first message must be a hello", "type", false, 0);
         lc_client_msg_free(&m);
-        ++c->errors;
+        count_error(c);
         return;
     }
     c->errors = 0;
@@ -455,18 +472,36 @@ static void on_text(conn *c, const uint8_t *data, size_t len)
             lc_workers_wake(srv->workers, s);
         }
         break;
-    case LC_MSG_RESIZE:
+    case LC_MSG_RESIZE: {
+        lc_proto_error pe;
         pthread_mutex_lock(&s->lock);
-        s->stream.css_width = m.width;
-        s->stream.css_height = m.height;
-        if (m.has_device_pixel_ratio)
-            s->stream.device_pixel_ratio = m.device_pixel_ratio;
+        double dpr = m.has_device_pixel_ratio ? m.device_pixel_ratio : s->stream.device_pixel_ratio;
+        lc_request req = s->req; /* a larger frame costs more (wider ribbons): check it as an update */
+        lc_session_frame_size(m.width, m.height, dpr, 1.0, srv->cfg.max_stream_pixels, &srv->cfg.limits,
+                              &req.render.width, &req.render.height);
+        int rc = within_budget(srv, s->dataset, &req, &pe);
+        if (rc == 0) {
+            s->stream.css_width = m.width;
+            s->stream.css_height = m.height;
+            s->stream.device_pixel_ratio = dpr;
+        }
         pthread_mutex_unlock(&s->lock);
+        if (rc != 0) {
+            send_proto_error(c, &pe);
+            break;
+        }
         lc_session_stream_input(s, now);
         lc_workers_wake(srv->workers, s);
         break;
+    }
     case LC_MSG_ACK:
-        lc_session_stream_ack(s, m.frame);
+        if (!lc_session_stream_ack(s, m.frame)) {
+            char msg[128];
+            snprintf(msg, sizeof msg, "frame %llu has not been sent", (unsigned long long)m.frame);
+            send_error(c, LC_PROTO_OUT_OF_RANGE, msg, "frame", false, 0);
+            count_error(c);
+            break;
+        }
         lc_workers_wake(srv->workers, s);
         break;
     }
@@ -488,6 +523,18 @@ static void on_msg(wslay_event_context_ptr ctx, const struct wslay_event_on_msg_
 
 /* ---------------------------------------------------------------- connections */
 
+/* Ends c's session (its frames stop); the connection may linger closing. */
+static void release_session(lc_ws *ws, conn *c)
+{
+    if (!c->session)
+        return;
+    LC_INFO(MOD, "session %s: closed after %llu frames", c->session->id, (unsigned long long)c->session->stream.frames);
+    c->session->ws_conn = NULL;
+    lc_session_close(ws->srv->sessions, c->session);
+    lc_session_unref(c->session);
+    c->session = NULL;
+}
+
 static void conn_destroy(lc_ws *ws, conn *c)
 {
     epoll_ctl(ws->epfd, EPOLL_CTL_DEL, c->fd, NULL);
@@ -498,13 +545,7 @@ static void conn_destroy(lc_ws *ws, conn *c)
     if (c->next)
         c->next->prev = c->prev;
     ws->nconns--;
-    if (c->session) {
-        LC_INFO(MOD, "session %s: closed after %llu frames", c->session->id,
-                (unsigned long long)c->session->stream.frames);
-        c->session->ws_conn = NULL;
-        lc_session_close(ws->srv->sessions, c->session);
-        lc_session_unref(c->session);
-    }
+    release_session(ws, c);
     wslay_event_context_free(c->ctx);
     MHD_upgrade_action(c->urh, MHD_UPGRADE_ACTION_CLOSE);
     free(c->extra);
@@ -527,10 +568,33 @@ static int conn_flush(lc_ws *ws, conn *c)
             return -1;
         }
     }
+    /* Data left in wslay's queue means the socket would block: the client is
+     * not reading. Render nothing more for it until the queue drains, whatever
+     * its acks say (they could be blind). */
+    if (c->session) {
+        bool blocked = wslay_event_get_queued_msg_length(c->ctx) > 0;
+        if (lc_session_stream_blocked(c->session, blocked))
+            lc_workers_wake(ws->srv->workers, c->session);
+    }
     int r = wslay_event_want_read(c->ctx), w = wslay_event_want_write(c->ctx);
     if (!r && !w) {
-        conn_destroy(ws, c);
-        return -1;
+        /* Both close frames are out (or ours is, after an oversized message).
+         * Closing now with unread input would reset the connection and the
+         * client could lose our close frame: shut down our side, then read
+         * and drop until the peer closes or the grace period ends. */
+        if (c->draining) {
+            r = 1;
+        } else if (shutdown(c->fd, SHUT_WR) == 0) {
+            release_session(ws, c);
+            c->draining = true;
+            double until = lc_now() + CLOSE_GRACE;
+            if (c->close_deadline == 0 || c->close_deadline > until)
+                c->close_deadline = until;
+            r = 1;
+        } else {
+            conn_destroy(ws, c);
+            return -1;
+        }
     }
     uint32_t ev = (r ? EPOLLIN : 0) | (w ? EPOLLOUT : 0) | EPOLLRDHUP;
     if (ev != c->events) {
@@ -541,8 +605,29 @@ static int conn_flush(lc_ws *ws, conn *c)
     return 0;
 }
 
+/* Reads and drops what a closing peer still sends; -1 after destroying c. */
+static int drain_input(lc_ws *ws, conn *c)
+{
+    char buf[4096];
+    for (;;) {
+        ssize_t n = recv(c->fd, buf, sizeof buf, 0);
+        if (n > 0)
+            continue;
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
+            return 0;
+        conn_destroy(ws, c); /* EOF or error: the peer is done */
+        return -1;
+    }
+}
+
 static void conn_io(lc_ws *ws, conn *c, uint32_t events)
 {
+    if (c->draining) {
+        drain_input(ws, c);
+        return;
+    }
     if (events & (EPOLLIN | EPOLLERR | EPOLLHUP | EPOLLRDHUP)) {
         if (wslay_event_recv(c->ctx) != 0) {
             conn_destroy(ws, c);
@@ -565,7 +650,7 @@ static void conn_register(lc_ws *ws, conn *c)
     /* Beyond this wslay queues a close frame with 1009 (message too big). */
     wslay_event_config_set_max_recv_msg_length(c->ctx, ws->srv->cfg.max_ws_message);
     c->ws = ws;
-    c->last_rx = c->last_ping = lc_now();
+    c->last_rx = c->last_ping = c->opened = lc_now();
     c->events = EPOLLIN | EPOLLRDHUP;
     struct epoll_event e = {.events = c->events, .data.ptr = c};
     if (epoll_ctl(ws->epfd, EPOLL_CTL_ADD, c->fd, &e) != 0) {
@@ -605,6 +690,13 @@ void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra
     }
     int fl = fcntl(sock, F_GETFL, 0);
     fcntl(sock, F_SETFL, fl | O_NONBLOCK);
+    /* A fixed kernel send buffer: autotuning would let a client that does not
+     * read park up to tcp_wmem's maximum (4 MiB) per socket before the server
+     * sees back-pressure (conn_flush stops rendering at the first byte wslay
+     * cannot hand over). 256 KiB (the kernel doubles it) still holds several
+     * large frames in flight. */
+    int sndbuf = WS_SNDBUF;
+    setsockopt(sock, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof sndbuf);
     c->fd = sock;
     c->urh = urh;
     c->extra_len = extra_len;
@@ -658,6 +750,11 @@ static void tick(lc_ws *ws, double now)
         conn *next = c->next;
         if (c->close_deadline > 0 && now > c->close_deadline) {
             conn_destroy(ws, c);
+        } else if (c->close_deadline == 0 && !c->session && now - c->opened > HELLO_TIMEOUT) {
+            LC_INFO(MOD, "connection without hello for %.0f s, closing", HELLO_TIMEOUT);
+            lc_metrics_error(ws->srv->metrics, "hello_timeout");
+            close_with(c, 1008, "no hello");
+            conn_flush(ws, c);
         } else if (c->close_deadline == 0 && now - c->last_rx > cfg->idle_timeout) {
             LC_INFO(MOD, "%s: idle for %.0f s, closing", c->session ? c->session->id : "connection", cfg->idle_timeout);
             close_with(c, 1001, "idle timeout");

@@ -24,8 +24,6 @@
 extern "C" {
 #endif
 
-#define LC_WS_ACCEPT_LEN 29 /* base64 of a SHA-1 digest + NUL */
-
 /* Starts the I/O thread. Thread: main. */
 int lc_ws_create(lc_server *srv, lc_ws **out, lc_error *err);
 /* Flushes queued messages, sends every client a close frame (1001, "server
@@ -33,9 +31,6 @@ int lc_ws_create(lc_server *srv, lc_ws **out, lc_error *err);
  * closes the sockets and stops the thread. Thread: main. */
 void lc_ws_shutdown(lc_ws *ws, double timeout);
 void lc_ws_destroy(lc_ws *ws);
-
-/* Sec-WebSocket-Accept for a client's Sec-WebSocket-Key (SHA-1 + base64). */
-void lc_ws_accept_key(const char *client_key, char out[LC_WS_ACCEPT_LEN]);
 
 /* Takes over an upgraded socket (called from MHD's upgrade handler). extra
  * holds bytes MHD read past the HTTP header (copied). authed: the handshake

@@ -85,8 +85,8 @@ class Server:
         conn.close()
         return r.status, hdrs, data
 
-    def json(self, method, path, body=None, headers=None):
-        status, hdrs, data = self.request(method, path, body, headers)
+    def json(self, method, path, body=None, headers=None, timeout=60):
+        status, hdrs, data = self.request(method, path, body, headers, timeout)
         return status, hdrs, json.loads(data) if data else None
 
     def rss_kb(self):

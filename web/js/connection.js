@@ -27,7 +27,8 @@ export class Connection {
    * the next attempt. handlers: onReady(msg), onFrame({header, image}),
    * onError(msg, {fatal}), onStats(msg), onState(state, detail) where state is
    * 'connecting' | 'open' | 'waiting' (retry scheduled; detail.delay ms) |
-   * 'stopped' (no retry; detail.reason).
+   * 'stopped' (no retry; detail.reason). handlers.protocols(): optional, the
+   * WebSocket subprotocols of the next attempt (they carry the token).
    */
   constructor(url, hello, handlers) {
     this.url = url;
@@ -89,7 +90,8 @@ export class Connection {
     this.h.onState?.('connecting', { attempt: this.attempt });
     let ws;
     try {
-      ws = new WebSocket(this.url);
+      const protocols = this.h.protocols?.() ?? [];
+      ws = protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url);
     } catch (e) {
       this.#lost(`cannot open ${this.url}: ${e.message}`);
       return;

@@ -15,6 +15,24 @@ export const TOKEN_MAX_BYTES = 255; // token < 256 bytes
 export const DATASET_MAX_BYTES = 511; // dataset < 512 bytes
 export const MIN_INTERACTIVE_SCALE = 0.25;
 
+export const SUBPROTOCOL = 'lucent';
+export const TOKEN_SUBPROTOCOL_PREFIX = 'lucent.token.';
+
+/**
+ * WebSocket subprotocols that carry an access token at the handshake (a
+ * browser cannot set an Authorization header there, and a server with a token
+ * refuses upgrades without one): 'lucent' (the one the server selects) and
+ * 'lucent.token.' + base64url of the token's UTF-8 bytes without padding.
+ */
+export function tokenSubprotocols(token) {
+  if (!token) return [];
+  const bytes = new TextEncoder().encode(token);
+  let bin = '';
+  for (const b of bytes) bin += String.fromCharCode(b);
+  const b64 = btoa(bin).replace(/\+/g, '-').replace(/\//g, '_').replace(/=+$/, '');
+  return [SUBPROTOCOL, TOKEN_SUBPROTOCOL_PREFIX + b64];
+}
+
 export const CLIENT_TYPES = Object.freeze(['hello', 'camera', 'params', 'resize', 'ack']);
 export const SERVER_TYPES = Object.freeze(['ready', 'error', 'stats']);
 

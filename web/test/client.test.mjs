@@ -91,3 +91,12 @@ test('every panel control edits a request field whose slider range is valid for 
     'style.lineWidth', 'style.pointSize', 'style.background', 'style.shading', 'quality', 'interactiveScale'])
     assert.ok(paths.has(p), `the panel lacks ${p}`);
 });
+
+test('the token travels as a WebSocket subprotocol: base64url without padding, next to "lucent"', async () => {
+  const { tokenSubprotocols } = await import('../js/protocol.js');
+  assert.deepEqual(tokenSubprotocols(null), []);
+  assert.deepEqual(tokenSubprotocols('s3cret-token'), ['lucent', 'lucent.token.czNjcmV0LXRva2Vu']);
+  const [, p] = tokenSubprotocols('ä?>~ x');
+  assert.match(p, /^lucent\.token\.[A-Za-z0-9_-]+$/); // only characters a subprotocol name may hold
+  assert.equal(Buffer.from(p.slice('lucent.token.'.length), 'base64url').toString('utf8'), 'ä?>~ x');
+});

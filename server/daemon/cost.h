@@ -1,0 +1,69 @@
+/* Render cost control: an estimate of what a request costs before it is
+ * queued, in "fragment units" (about one fragment written by one pass), so
+ * that one cheap-looking request (a 256-pixel point splat over 200,000 points)
+ * cannot hold the renderer for minutes.
+ *
+ * The estimate (all in output pixels):
+ *   area per primitive  points: pi * max(pointSize/2, 0.75)^2; lines: ribbon
+ *                       length x max(minLinePixels, lineWidth x px per unit);
+ *                       triangles: area x (px per unit)^2; each capped at W*H
+ *   px per world unit   from the camera's distance to the data centre and its
+ *                       view angle (parallel: parallelScale); without a
+ *                       camera, the fitted view (about H / bounds diagonal)
+ *   passes              by method, bands m (ceil((2m+1)/4) targets in P1/P4),
+ *                       resolutionScale s (P1/P2 at s^2), subset, depthRange
+ *   plus W*H per target for clears and resolve, elements x smoothing for P3
+ *   and (vertices + 100 x primitives) x passes for vertex and primitive set-up.
+ * Measured against it on llvmpipe: 2e7..5e7 units per second (a 4096^2
+ * tornado, 3.9e8 units: 19 s; the 64^2 points with 256-pixel splats of the
+ * issue, 4.1e9 units: 80-90 s).
+ * The default budget (1e9) is therefore 20-50 s on the 2-core llvmpipe
+ * development machine and well under a second on a GPU.
+ *
+ * Threading: pure functions; lc_cost_stats is computed once per dataset. */
+#ifndef LC_SERVER_COST_H
+#define LC_SERVER_COST_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "lc_params.h"
+#include "scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LC_COST_DEFAULT_BUDGET 1e9
+
+/* What the estimate needs of a dataset (computed at load). */
+typedef struct lc_cost_stats {
+    lc_prim_type type;
+    double primitives;  /* points, line segments or triangles */
+    double vertices;
+    double elements;
+    double line_length; /* world units, all segments */
+    double area;        /* world units^2, all triangles */
+    double center[3];
+    double radius;      /* half the bounds diagonal (> 0) */
+} lc_cost_stats;
+
+void lc_cost_stats_compute(const lc_scene *s, lc_cost_stats *out);
+
+/* The estimate for one frame of p on a dataset with stats st. */
+double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p);
+
+/* When cost > budget: the request field that lowering helps most (a style
+ * size, the method or a parameter when the defaults would fit, else "width"),
+ * for the 4xx that names it. */
+const char *lc_cost_field(const lc_cost_stats *st, const lc_render_params *p, double budget);
+
+/* The check of a request against a budget (<= 0: none): 0 with *cost set, or
+ * -1 with *field (lc_cost_field) and a message for the client in msg. */
+int lc_cost_check(const lc_cost_stats *st, const lc_render_params *p, double budget, double *cost, const char **field,
+                  char *msg, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

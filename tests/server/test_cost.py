@@ -1,0 +1,164 @@
+"""Cost control (issue 12, finding 2): a request's cost is estimated before it
+is queued and refused above --max-cost with a 400 that names the field (HTTP
+and WebSocket); clients are served round robin, so one client's burst does
+not delay another's render behind all of it; one client's share of the queue
+is capped (429); a render that waited past --render-deadline gets 503; the
+refusals are counted in /metrics. A second client is simulated by a second
+loopback source address (127.0.0.2)."""
+import asyncio
+import http.client
+import json
+import sys
+import threading
+import time
+
+from lucent_server import Check, Server, skip, websockets
+
+if websockets is None:
+    skip("python3-websockets is not installed")
+
+binary = sys.argv[1]
+check = Check()
+# ~0.1-0.5 s each on llvmpipe with 3000 points
+SLOW = "/api/v1/render?width=192&height=192&format=jpeg&pointSize=24"
+
+
+def get(srv, path, source="127.0.0.1", timeout=120):
+    conn = http.client.HTTPConnection(srv.host, srv.port, timeout=timeout, source_address=(source, 0))
+    conn.request("GET", path)
+    r = conn.getresponse()
+    body = r.read()
+    h = {k.lower(): v for k, v in r.getheaders()}
+    conn.close()
+    return r.status, h, body
+
+
+def metric(srv, name):
+    st, _, body = srv.request("GET", "/metrics")
+    return sum(float(line.split()[-1]) for line in body.decode().splitlines() if line.startswith(name))
+
+
+def burst(srv, n, source, results, tag, path=SLOW):
+    def one(i):
+        st, h, body = get(srv, path + "&_n=%s%d" % (tag, i), source)
+        results.append((time.time(), tag, st, h.get("retry-after"), body[:200] if st != 200 else b""))
+    threads = [threading.Thread(target=one, args=(i,)) for i in range(n)]
+    for t in threads:
+        t.start()
+    return threads
+
+
+with Server(binary, demo_size=200000) as srv:
+    # The issue's request: 64x64 with 256-pixel splats over the default
+    # 200,000 points held the renderer for 80-92 s. Now it is refused at once.
+    t0 = time.time()
+    st, _, e = srv.json("GET", "/api/v1/render?dataset=demo:points&width=64&height=64&pointSize=256")
+    check(st == 400 and e["error"]["code"] == "too_expensive" and e["error"]["field"] == "style.pointSize"
+          and time.time() - t0 < 3, "the issue's 64x64 pointSize=256 -> 400 too_expensive naming style.pointSize "
+          "in %.2f s (%s)" % (time.time() - t0, e["error"]["message"]))
+    st, _, _ = srv.request("GET", "/api/v1/health")
+    check(st == 200, "health answers")
+    st, h, _ = srv.request("GET", "/api/v1/render?width=64&height=64&format=jpeg")
+    check(st == 200 and float(h.get("x-lucent-cost", "0")) > 0, "a normal render passes and reports its estimate (%s)"
+          % h.get("x-lucent-cost"))
+    # A session render is checked the same way.
+    st, _, s = srv.json("POST", "/api/v1/sessions", {"width": 64, "height": 64})
+    st, _, e = srv.json("POST", "/api/v1/sessions/%s/render" % s["session"],
+                        {"style": {"pointSize": 256}})
+    check(st == 400 and e["error"]["field"] == "style.pointSize", "session render over budget -> 400 (%d)" % st)
+    st, _, _ = srv.request("POST", "/api/v1/sessions/%s/render" % s["session"], {"style": {"pointSize": 2}})
+    check(st == 200, "the session renders again once the field is lowered (%d)" % st)
+
+    async def ws_cost():
+        async with websockets.connect(srv.ws_url) as ws:
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 256, "height": 256,
+                                      "style": {"pointSize": 256}}))
+            e = json.loads(await asyncio.wait_for(ws.recv(), 20))
+            check(e["type"] == "error" and e["code"] == "too_expensive" and e["field"] == "style.pointSize"
+                  and not e["fatal"], "WebSocket hello over budget -> recoverable error naming the field")
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 256, "height": 256}))
+            r = json.loads(await asyncio.wait_for(ws.recv(), 20))
+            check(r["type"] == "ready", "a corrected hello -> ready")
+            await ws.send(json.dumps({"type": "params", "style": {"pointSize": 256}}))
+            for _ in range(20):
+                m = await asyncio.wait_for(ws.recv(), 30)
+                if isinstance(m, str) and json.loads(m)["type"] == "error":
+                    e = json.loads(m)
+                    break
+            check(e["code"] == "too_expensive" and e["field"] == "style.pointSize",
+                  "params update over budget -> error naming style.pointSize, not applied")
+        # Splats are capped at the image: 256-pixel splats fit the budget in a
+        # 16x16 view, and the resize to 256x256 is what would cost too much.
+        async with websockets.connect(srv.ws_url) as ws:
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 16, "height": 16,
+                                      "style": {"pointSize": 256}}))
+            r = json.loads(await asyncio.wait_for(ws.recv(), 20))
+            check(r["type"] == "ready", "256-pixel splats in a 16x16 view -> ready")
+            await ws.send(json.dumps({"type": "resize", "width": 256, "height": 256}))
+            e = {}
+            for _ in range(20):
+                m = await asyncio.wait_for(ws.recv(), 60)
+                if isinstance(m, str) and json.loads(m)["type"] == "error":
+                    e = json.loads(m)
+                    break
+            check(e.get("code") == "too_expensive" and e.get("field") == "style.pointSize",
+                  "resize that would exceed the budget -> error naming style.pointSize (%s)" % e)
+    asyncio.run(ws_cost())
+    check(metric(srv, 'lucent_renders_refused_total{reason="cost"}') >= 5, "refusals counted by reason=cost")
+    check(srv.stop() == 0, "clean exit")
+
+with Server(binary) as srv:
+
+    # Fairness: client A queues 8 renders, then client B asks for one. Round
+    # robin serves B after at most A's render in hand and one more; a FIFO
+    # would serve it last.
+    get(srv, SLOW)  # warm-up (shader compile, targets)
+    results = []
+    threads = burst(srv, 8, "127.0.0.1", results, "A")
+    time.sleep(0.2)
+    b_start = time.time()
+    threads += burst(srv, 1, "127.0.0.2", results, "B")
+    for t in threads:
+        t.join()
+    order = [tag for _, tag, st, _, _ in sorted(results) if st == 200]
+    b_end = [r[0] for r in results if r[1] == "B"][0]
+    a_before_b = sum(1 for r in results if r[1] == "A" and b_start < r[0] < b_end)
+    a_after_b = sum(1 for r in results if r[1] == "A" and r[0] > b_end)
+    check(len(order) == 9 and a_before_b <= 2 and a_after_b >= 3,
+          "client B waited for %d of client A's renders (the one in hand and at most one more), %d of A's came "
+          "after it (order %s)" % (a_before_b, a_after_b, "".join(order)))
+    check(metric(srv, "lucent_queue_clients") == 0, "queue empty afterwards")
+    check(srv.stop() == 0, "clean exit")
+
+with Server(binary, "--max-queue-per-client", "3") as srv:
+    get(srv, SLOW)
+    results = []
+    threads = burst(srv, 10, "127.0.0.1", results, "A")
+    time.sleep(0.3)
+    threads += burst(srv, 1, "127.0.0.2", results, "B")
+    for t in threads:
+        t.join()
+    a = [r for r in results if r[1] == "A"]
+    limited = [r for r in a if r[2] == 429 and r[3]]
+    check(len(limited) >= 3 and all(r[2] in (200, 429) for r in a),
+          "client A over its share of 3 -> 429 + Retry-After (%s)" % sorted(r[2] for r in a))
+    b = [r for r in results if r[1] == "B"]
+    check(b and b[0][2] == 200, "client B is served meanwhile (%s)" % [r[2] for r in b])
+    check(metric(srv, 'lucent_renders_refused_total{reason="client_queue"}') == len(limited),
+          "refusals counted by reason=client_queue")
+    check(srv.stop() == 0, "clean exit")
+
+with Server(binary, "--render-deadline", "1", "--max-queue-per-client", "32") as srv:
+    get(srv, SLOW)
+    results = []
+    for t in burst(srv, 12, "127.0.0.1", results, "A"):
+        t.join()
+    late = [r for r in results if r[2] == 503 and b"deadline" in r[4]]
+    check(len(late) >= 1 and all(r[2] in (200, 503) for r in results),
+          "renders that waited past --render-deadline 1 -> 503 (%s)" % sorted(r[2] for r in results))
+    check(metric(srv, 'lucent_renders_refused_total{reason="deadline"}') == len(late), "counted by reason=deadline")
+    st, _, _ = srv.request("GET", "/api/v1/health")
+    check(st == 200, "health fine")
+    check(srv.stop() == 0, "clean exit")
+
+check.done()

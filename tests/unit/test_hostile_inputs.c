@@ -40,6 +40,8 @@ static unsigned char *make_trk(int ns, const char *const *scalar_names, int np, 
     size_t n = 1000 + 4 + (size_t)points * 4 * (3 + (size_t)ns) + 4 * (size_t)np;
     unsigned char *d = calloc(1, n);
     memcpy(d, "TRACK", 5);
+    for (int k = 0; k < 3; k++) /* voxel size 1 mm: the RAS+ transform needs a positive one */
+        put_f32(d + 12 + 4 * k, 1.0f);
     put_i16(d + 36, (int16_t)ns);
     for (int k = 0; k < ns && k < 10; k++)
         memcpy(d + 38 + 20 * k, scalar_names[k], strlen(scalar_names[k]));

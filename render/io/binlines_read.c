@@ -1,7 +1,6 @@
 /* LineVis .binlines reader (versions 1 and 2): lines with per-point float
  * attributes, validated against the file size before anything is allocated. */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,16 +23,8 @@ typedef struct bl_load {
     lc_io_progress progress;
 } bl_load;
 
-static int fail(bl_load *B, int code, size_t pos, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
-static int fail(bl_load *B, int code, size_t pos, const char *fmt, ...)
-{
-    char reason[LC_ERROR_MSG_LEN];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    return lc_err(B->err, code, "%.80s: byte offset %zu: %s", B->file, pos, reason);
-}
+/* An error at byte offset pos of the file. */
+#define fail(B, code, pos, ...) lc_io_fail((B)->err, code, (B)->file, "byte offset", pos, __VA_ARGS__)
 
 static uint32_t u32_at(const bl_load *B, size_t pos) { return lc_io_get_u32(B->data + pos, 0); }
 static float f32_at(const bl_load *B, size_t pos) { return lc_io_get_f32(B->data + pos, 0); }

@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -313,4 +314,14 @@ void lc_io_progress_report(lc_io_progress *p, size_t done, size_t total)
     p->next = now + 1.0;
     fprintf(stderr, "%s: loading, %.0f %% after %.1f s\n", p->file,
             total ? 100.0 * (double)done / (double)total : 100.0, now - p->started);
+}
+
+int lc_io_fail(lc_error *err, int code, const char *file, const char *where, size_t pos, const char *fmt, ...)
+{
+    char reason[LC_ERROR_MSG_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(reason, sizeof reason, fmt, ap);
+    va_end(ap);
+    return lc_err(err, code, "%.80s: %s %zu: %s", file, where, pos, reason);
 }

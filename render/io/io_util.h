@@ -111,6 +111,11 @@ static inline double lc_io_get_f64(const void *at, int big)
     return d;
 }
 
+/* A reader's error: "FILE: WHERE POS: reason" (WHERE is "byte offset" or
+ * "line"), the file name cut to 80 bytes. Returns code. */
+int lc_io_fail(lc_error *err, int code, const char *file, const char *where, size_t pos, const char *fmt, ...)
+    __attribute__((format(printf, 6, 7)));
+
 /* Progress of a long load: a reader calls lc_io_progress_report every so often
  * with the work done of the total (bytes, vertices); once the load has run
  * longer than a second a line "file: loading, N % after T s" goes to stderr,

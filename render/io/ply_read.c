@@ -81,9 +81,8 @@ static int fail(ply_reader *r, int code, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(reason, sizeof reason, fmt, ap);
     va_end(ap);
-    if (r->format == FMT_ASCII)
-        return lc_err(r->err, code, "%.80s: line %zu: %s", r->file, r->line, reason);
-    return lc_err(r->err, code, "%.80s: byte offset %zu: %s", r->file, r->pos, reason);
+    int ascii = r->format == FMT_ASCII;
+    return lc_io_fail(r->err, code, r->file, ascii ? "line" : "byte offset", ascii ? r->line : r->pos, "%s", reason);
 }
 
 /* ---- header */

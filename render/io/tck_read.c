@@ -1,7 +1,6 @@
 /* MRtrix .tck reader: a text header, then xyz triplets with NaN separators and
  * an Inf end marker, float32 or float64 of either byte order. */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,27 +24,10 @@ typedef struct tck_load {
     lc_io_progress progress;
 } tck_load;
 
-static int fail_at(tck_load *T, int code, size_t pos, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
-static int fail_at(tck_load *T, int code, size_t pos, const char *fmt, ...)
-{
-    char reason[LC_ERROR_MSG_LEN];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    return lc_err(T->err, code, "%.80s: byte offset %zu: %s", T->file, pos, reason);
-}
+/* An error at byte offset pos of the file. */
+#define fail_at(T, code, pos, ...) lc_io_fail((T)->err, code, (T)->file, "byte offset", pos, __VA_ARGS__)
 
-static int fail_line(tck_load *T, size_t line, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static int fail_line(tck_load *T, size_t line, const char *fmt, ...)
-{
-    char reason[LC_ERROR_MSG_LEN];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    return lc_err(T->err, LC_ERR_INVALID, "%.80s: line %zu: %s", T->file, line, reason);
-}
+#define fail_line(T, line, ...) lc_io_fail((T)->err, LC_ERR_INVALID, (T)->file, "line", line, __VA_ARGS__)
 
 /* Value of a "key: value" line [p, le) when its key is `key`, else NULL. */
 static const char *value_of(const char *p, const char *le, const char *key)

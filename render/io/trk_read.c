@@ -1,7 +1,6 @@
 /* TrackVis .trk reader: fiber tracts as polylines with per-point scalars and
  * per-track properties, either byte order, mapped to RAS+ mm (trk_space.c). */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,16 +22,8 @@ typedef struct trk_load {
     int n_scalars, n_properties;
 } trk_load;
 
-static int fail(trk_load *T, int code, size_t pos, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
-static int fail(trk_load *T, int code, size_t pos, const char *fmt, ...)
-{
-    char reason[LC_ERROR_MSG_LEN];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    return lc_err(T->err, code, "%.80s: byte offset %zu: %s", T->file, pos, reason);
-}
+/* An error at byte offset pos of the file. */
+#define fail(T, code, pos, ...) lc_io_fail((T)->err, code, (T)->file, "byte offset", pos, __VA_ARGS__)
 
 static uint32_t get_u32(const trk_load *T, size_t pos)
 {

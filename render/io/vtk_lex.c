@@ -41,9 +41,7 @@ int vtk_fail_at(vtk_load *L, int code, size_t line, size_t pos, const char *fmt,
     va_start(ap, fmt);
     vsnprintf(reason, sizeof reason, fmt, ap);
     va_end(ap);
-    if (!L->binary)
-        return lc_err(L->err, code, "%.80s: line %zu: %s", L->file, line, reason);
-    return lc_err(L->err, code, "%.80s: byte offset %zu: %s", L->file, pos, reason);
+    return lc_io_fail(L->err, code, L->file, L->binary ? "byte offset" : "line", L->binary ? pos : line, "%s", reason);
 }
 /* ---- tokens */
 

@@ -4,7 +4,7 @@
 #
 #   scripts/fuzz.sh SECONDS [HARNESS...]     e.g. scripts/fuzz.sh 60, scripts/fuzz.sh 600 trk ply
 #
-# HARNESS: ply obj vtk trk protocol (default: all). Environment:
+# HARNESS: a tests/fuzz/fuzz_NAME.c name, e.g. ply trk tck protocol (default: all). Environment:
 #   LUCENT_FUZZ_BUILD  build folder (default build-fuzz)
 #   LUCENT_FUZZ_JOBS   harnesses run at once (default 1; each is one process)
 # Seeds are tests/fuzz/corpus/NAME (and tests/data/loaders for the readers);
@@ -22,7 +22,8 @@ usage() {
 [[ $# -ge 1 && "$1" =~ ^[0-9]+$ && "$1" -gt 0 ]] || usage
 seconds=$1
 shift
-all=(ply obj vtk trk protocol)
+all=()
+for f in tests/fuzz/fuzz_*.c; do n=${f##*/fuzz_}; all+=("${n%.c}"); done
 harnesses=("${@:-${all[@]}}")
 for h in "${harnesses[@]}"; do
     [[ " ${all[*]} " == *" $h "* ]] || { echo "fuzz.sh: unknown harness '$h' (have: ${all[*]})" >&2; exit 2; }

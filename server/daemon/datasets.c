@@ -126,8 +126,16 @@ int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, 
         }
         snprintf(scene->default_importance, sizeof scene->default_importance, "%s", req.render.importance.attribute);
     }
-    if (json_object_get(json_object_get(root, "color"), "attribute"))
-        snprintf(scene->default_color, sizeof scene->default_color, "%s", req.render.color.attribute);
+    if (json_object_get(json_object_get(root, "color"), "attribute")) {
+        const char *c = req.render.color.attribute;
+        if (strcmp(c, "importance") != 0 &&
+            (strcmp(c, "rgb") == 0 ? !scene->rgb : lc_scene_find_attribute(scene, c) < 0)) {
+            rc = lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s: %s has no %s \"%s\"", side, scene->name,
+                              strcmp(c, "rgb") == 0 ? "per-vertex colour" : "attribute", c);
+            goto done;
+        }
+        snprintf(scene->default_color, sizeof scene->default_color, "%s", c);
+    }
     LC_INFO(MOD, "%s: preset from %s", scene->name, side);
     *preset = root;
     root = NULL;

@@ -77,7 +77,7 @@ with Server(binary, "--elements", "120", data=(ply,), demo_size=0) as srv:
 
 for content, field in (({"params": {"q": 1}, "colour": {}}, "colour"), ({"params": {"bands": 20}}, "bands"),
                        ({"elements": -4}, "elements"), ("{not json", "not JSON"),
-                       ({"importance": {"attribute": "nope"}}, "nope")):
+                       ({"importance": {"attribute": "nope"}}, "nope"), ({"color": {"attribute": "rgb"}}, "rgb")):
     write_sidecar(content)
     rc, out = start_fails()
     check(rc != 0 and "flow.lucent.json" in out and field in out,

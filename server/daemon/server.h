@@ -5,7 +5,7 @@
  * Module map (server/):
  *   server.c   shared helpers (token checks, WebSocket accept key)
  *   serve.c    flags, start-up (datasets before the port opens), signals, shutdown
- *   datasets.c registry of loaded scenes and their GPU copies
+ *   datasets.c registry of loaded scenes, their GPU copies, presets and sidecars
  *   workers.c  render threads (one EGL context each) and JPEG encoder threads
  *   session.c  per-viewer state: request, element opacities, stream flow control
  *   http.c     libmicrohttpd routes: API, static web client, metrics
@@ -13,6 +13,7 @@
  *   metrics.c  counters and histograms in Prometheus text format
  *   cost.c     render cost estimate before queueing (--max-cost)
  *   web_files.c the embedded web client's files (content type, ETag)
+ *   frame_headers.c an HTTP render's statistics as response headers
  *
  * Threads: main (start-up, then waits for a signal and shuts down), MHD's
  * threads (parse, validate, queue; never GL), render workers (all GL), encoder

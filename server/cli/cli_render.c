@@ -10,6 +10,7 @@
 #include "demo.h"
 #include "image.h"
 #include "loaders.h"
+#include "lod.h"
 
 static int has_suffix(const char *s, const char *suffix)
 {
@@ -136,6 +137,10 @@ int lc_cli_render(int argc, char **argv)
            lc_method_name(req.render.method), req.render.foo.bands, lc_estimator_name(req.render.foo.estimator),
            info.element_count);
     lc_cli_print_timings(&info);
+    if (scene->type == LC_PRIM_LINES)
+        printf("  detail: level %d of %d (lod %.3g px), %llu of %llu segments\n", info.lod_level,
+               lc_gpu_scene_levels(gs), req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
+               (unsigned long long)lc_scene_primitive_count(scene));
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
                "importance mass per pixel: median %.3g, p95 %.3g\n",
@@ -163,6 +168,26 @@ done:
     return status;
 }
 
+/* The level-of-detail ladder of a line scene and what its GPU buffers cost
+ * next to the scene's own arrays. */
+static void print_detail_levels(const lc_scene *s)
+{
+    lc_lod lod;
+    lc_error err = {0};
+    if (s->type != LC_PRIM_LINES || lc_lod_plan(s, &lod, &err) != 0)
+        return;
+    uint64_t extra = 0;
+    printf("detail      %d levels:", lod.count);
+    for (int i = 0; i < lod.count; i++) {
+        printf(i ? ", %llu segments within %.3g" : " %llu segments (full)", (unsigned long long)lod.levels[i].segments,
+               lod.levels[i].error);
+        if (i)
+            extra += lod.levels[i].segments * LC_LOD_BYTES_PER_SEGMENT;
+    }
+    printf("\n            %.3f MB of level buffers (the scene's arrays: %.3f MB)\n", extra / 1e6,
+           lc_scene_bytes(s) / 1e6);
+}
+
 int lc_cli_info(int argc, char **argv)
 {
     if (argc != 2 || argv[1][0] == '-') {
@@ -187,6 +212,7 @@ int lc_cli_info(int argc, char **argv)
     printf("bounds      [%g, %g] x [%g, %g] x [%g, %g]\n", s->bounds[0], s->bounds[3], s->bounds[1], s->bounds[4],
            s->bounds[2], s->bounds[5]);
     printf("elements    %u (adjacency %u)\n", s->elements.count, s->elements.adjacency_count);
+    print_detail_levels(s);
     printf("rgb         %s\n", s->rgb ? "yes" : "no");
     printf("importance  %s (default)\n", s->default_importance[0] ? s->default_importance : "(none: g = 1)");
     printf("color       %s (default)\n", s->default_color);

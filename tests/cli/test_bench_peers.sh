@@ -24,7 +24,7 @@ for m in fourier exact opaque; do
     grep -q "^Lucent $m  *$num" "$TMP/out" || fail "no row for Lucent $m"
 done
 grep -q '^fourier / exact time: [0-9]' "$TMP/out" || fail "no fourier / exact ratio"
-if command -v pvpython >/dev/null && command -v xvfb-run >/dev/null; then
+if command -v "${PVPYTHON:-pvpython}" >/dev/null && command -v xvfb-run >/dev/null; then
     grep -q "^ParaView depth peeling (8 peels, opacity 0.3)  *$num" "$TMP/out" || fail "no ParaView row"
     grep -q '^ParaView depth peeling / Lucent fourier time: [0-9]' "$TMP/out" || fail "no ParaView ratio"
 else

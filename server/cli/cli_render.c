@@ -248,21 +248,27 @@ int lc_cli_gen(int argc, char **argv)
         }
     }
     if (!name || !out) {
-        fprintf(stderr, "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\ndemos:");
+        fprintf(stderr, "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
+                        "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
+                        "demos:");
         for (const char *const *d = lc_demo_names(); *d; d++)
             fprintf(stderr, "\n  %-8s %s", *d, lc_demo_description(*d));
         fprintf(stderr, "\n");
         return 2;
     }
-    if (strncmp(name, "demo:", 5) == 0)
-        name += 5;
+    const char *bare = strncmp(name, "demo:", 5) == 0 ? name + 5 : name;
     lc_error err = {0};
     lc_scene *s = NULL;
-    if (lc_demo_create(name, &desc, &s, &err) != 0) {
+    /* A demo name takes --count/--seed; any other dataset (a file in a format
+     * Lucent reads, demo:NAME?count=N) is loaded and written: a converter. */
+    int rc = lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
+             : desc.count || desc.seed
+                 ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)
+                 : lc_cli_open_dataset(name, &s, &err);
+    if (rc != 0) {
         fprintf(stderr, "lucent gen: %s\n", err.msg);
         return 1;
     }
-    int rc;
     if (has_suffix(out, ".ply"))
         rc = lc_save_ply(s, out, &err);
     else if (has_suffix(out, ".obj"))

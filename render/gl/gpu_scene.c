@@ -39,13 +39,29 @@ static int upload_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k, dou
     return 0;
 }
 
-/* Level 0 (every segment) and the coarser levels of render/scene/lod.h. */
-static int upload_line_levels(lc_gpu_scene *gs, lc_error *err)
+/* Level 0 and the coarser levels of render/scene/lod.h: lines upload every
+ * level's pairs and quads; triangles draw level 0 from the scene's own index
+ * buffer and each coarser level from its triangles (one buffer for both
+ * bindings). */
+static int upload_levels(lc_gpu_scene *gs, lc_error *err)
 {
+    const lc_scene *s = gs->scene;
     lc_lod lod;
-    int rc = lc_lod_build(gs->scene, &lod, err);
-    for (int i = 0; !rc && i < lod.count; i++)
-        rc = upload_level(gs, lod.levels[i].pairs, lod.levels[i].segments, lod.levels[i].error, err);
+    int rc = lc_lod_build(s, &lod, err);
+    for (int i = 0; !rc && i < lod.count; i++) {
+        const lc_lod_level *l = &lod.levels[i];
+        if (s->type == LC_PRIM_LINES) {
+            rc = upload_level(gs, l->indices, l->primitives, l->error, err);
+            continue;
+        }
+        const uint32_t *tris = i == 0 ? s->triangles : l->indices;
+        uint64_t before = gs->bytes;
+        GLuint b = lc_gl_buffer(tris, l->primitives * 3 * sizeof(uint32_t), &gs->bytes);
+        gs->levels[gs->level_count++] =
+            (lc_gpu_level){.indices = b, .draw_indices = b, .primitive_count = l->primitives, .error = l->error};
+        if (i > 0)
+            gs->lod_bytes += gs->bytes - before;
+    }
     lc_lod_free(&lod);
     return rc;
 }
@@ -95,17 +111,12 @@ int lc_gpu_scene_create(const lc_scene *s, lc_gpu_scene **out, lc_error *err)
     gs->vertex_elements = lc_gl_buffer(s->elements.vertex_elements, n * 4 * sizeof(uint32_t), &gs->bytes);
     gs->vertex_weights = lc_gl_buffer(s->elements.vertex_weights, n * 4 * sizeof(float), &gs->bytes);
 
-    if (s->type == LC_PRIM_LINES) {
-        int rc = upload_line_levels(gs, err);
+    if (s->type != LC_PRIM_POINTS) {
+        int rc = upload_levels(gs, err);
         if (rc) {
             lc_gpu_scene_destroy(gs);
             return rc;
         }
-    } else if (s->type == LC_PRIM_TRIANGLES) {
-        GLuint tris = lc_gl_buffer(s->triangles, (size_t)s->triangle_count * 3 * sizeof(uint32_t), &gs->bytes);
-        /* The same buffer serves both bindings. */
-        gs->levels[0] = (lc_gpu_level){.indices = tris, .draw_indices = tris, .primitive_count = s->triangle_count};
-        gs->level_count = 1;
     } else {
         GLuint none = lc_gl_buffer(NULL, 0, &gs->bytes);
         gs->levels[0] = (lc_gpu_level){.indices = none, .draw_indices = none, .primitive_count = n};

@@ -11,10 +11,6 @@
  * spiral (quadratic time), the middle split keeps the depth logarithmic; its
  * error is still the farthest distance over the span, so the bound holds. */
 #define BALANCED_SPAN 1024
-/* The threshold ladder: diag * 2^(-LADDER_FINEST/2) .. diag * 2^(-LADDER_COARSEST/2),
- * in steps of sqrt(2). */
-#define LADDER_FINEST 32
-#define LADDER_COARSEST 8
 
 typedef struct span {
     uint32_t a, b, parent;
@@ -119,27 +115,22 @@ int lc_lod_vertex_errors(const lc_scene *s, float *err, lc_error *err_out)
     return 0;
 }
 
-static double scene_diagonal(const lc_scene *s)
+double lc_lod_threshold(const lc_scene *s, int step)
 {
     double d2 = 0;
     for (int i = 0; i < 3; i++)
         d2 += (s->bounds[i + 3] - s->bounds[i]) * (s->bounds[i + 3] - s->bounds[i]);
-    return sqrt(d2);
+    return sqrt(d2) * pow(2.0, -0.5 * (LC_LOD_LADDER_FINEST - step));
 }
 
-/* Plans the levels from the vertex errors (err NULL: one level). */
-static void plan_levels(const lc_scene *s, const float *err, lc_lod *out)
+/* Line levels from the vertex errors; with_indices fills each level's pairs. */
+static int line_levels(const lc_scene *s, const float *err, lc_lod *out, int with_indices, lc_error *e)
 {
-    memset(out, 0, sizeof *out);
-    out->count = 1;
-    out->levels[0].segments = lc_scene_primitive_count(s);
-    if (!err)
-        return;
-    enum { STEPS = LADDER_FINEST - LADDER_COARSEST + 1 };
-    double diag = scene_diagonal(s), thresholds[STEPS];
+    enum { STEPS = LC_LOD_LADDER_STEPS };
+    double thresholds[STEPS];
     uint64_t kept[STEPS] = {0};
     for (int j = 0; j < STEPS; j++)
-        thresholds[j] = diag * pow(2.0, -0.5 * (LADDER_FINEST - j));
+        thresholds[j] = lc_lod_threshold(s, j);
     uint32_t lines = 0;
     for (uint32_t l = 0; l < s->line_count; l++)
         lines += s->line_offsets[l + 1] > s->line_offsets[l];
@@ -148,80 +139,74 @@ static void plan_levels(const lc_scene *s, const float *err, lc_lod *out)
             kept[j]++;
     for (int j = 0; j < STEPS && out->count < LC_LOD_MAX_LEVELS; j++) {
         uint64_t segments = kept[j] - lines;
-        if ((double)segments > LC_LOD_SHRINK * (double)out->levels[out->count - 1].segments)
+        if ((double)segments > LC_LOD_SHRINK * (double)out->levels[out->count - 1].primitives)
             continue;
         out->levels[out->count].error = thresholds[j];
-        out->levels[out->count].segments = segments;
+        out->levels[out->count].primitives = segments;
         out->count++;
     }
-}
-
-int lc_lod_plan(const lc_scene *s, lc_lod *out, lc_error *err)
-{
-    if (s->type != LC_PRIM_LINES) {
-        plan_levels(s, NULL, out);
-        return 0;
-    }
-    float *e = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *e);
-    if (!e)
-        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
-    int rc = lc_lod_vertex_errors(s, e, err);
-    if (!rc)
-        plan_levels(s, e, out);
-    free(e);
-    return rc;
-}
-
-int lc_lod_build(const lc_scene *s, lc_lod *out, lc_error *err)
-{
-    memset(out, 0, sizeof *out);
-    float *e = NULL;
-    if (s->type == LC_PRIM_LINES) {
-        e = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *e);
-        if (!e)
-            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
-        int rc = lc_lod_vertex_errors(s, e, err);
-        if (rc) {
-            free(e);
-            return rc;
-        }
-    }
-    plan_levels(s, e, out);
-    if (s->type != LC_PRIM_LINES)
-        return 0;
-    for (int i = 0; i < out->count; i++) {
+    for (int i = 0; with_indices && i < out->count; i++) {
         lc_lod_level *lv = &out->levels[i];
-        lv->pairs = malloc((lv->segments ? lv->segments : 1) * 2 * sizeof(uint32_t));
-        if (!lv->pairs) {
-            free(e);
-            lc_lod_free(out);
-            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
-        }
+        lv->indices = malloc((lv->primitives ? lv->primitives : 1) * 2 * sizeof(uint32_t));
+        if (!lv->indices)
+            return lc_err(e, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
         double t = i == 0 ? -1.0 : lv->error;
         uint64_t k = 0;
         for (uint32_t l = 0; l < s->line_count; l++) {
             uint32_t prev = NONE;
             for (uint32_t v = s->line_offsets[l]; v < s->line_offsets[l + 1]; v++) {
-                if (!(e[v] > t))
+                if (!(err[v] > t))
                     continue;
                 if (prev != NONE) {
-                    lv->pairs[2 * k] = prev;
-                    lv->pairs[2 * k + 1] = v;
+                    lv->indices[2 * k] = prev;
+                    lv->indices[2 * k + 1] = v;
                     k++;
                 }
                 prev = v;
             }
         }
-        lv->segments = k; /* equals the plan's count */
+        lv->primitives = k; /* equals the count above */
     }
-    free(e);
     return 0;
 }
+
+static int build(const lc_scene *s, lc_lod *out, int with_indices, lc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->count = 1;
+    out->levels[0].primitives = lc_scene_primitive_count(s);
+    if (s->type == LC_PRIM_TRIANGLES)
+        return lc_lod_surface_levels(s, out, with_indices, err);
+    if (s->type != LC_PRIM_LINES)
+        return 0;
+    float *e = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *e);
+    if (!e)
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
+    int rc = lc_lod_vertex_errors(s, e, err);
+    if (!rc)
+        rc = line_levels(s, e, out, with_indices, err);
+    free(e);
+    if (rc)
+        lc_lod_free(out);
+    return rc;
+}
+
+int lc_lod_plan(const lc_scene *s, lc_lod *out, lc_error *err) { return build(s, out, 0, err); }
+
+int lc_lod_build(const lc_scene *s, lc_lod *out, lc_error *err) { return build(s, out, 1, err); }
 
 void lc_lod_free(lc_lod *lod)
 {
     for (int i = 0; i < lod->count; i++) {
-        free(lod->levels[i].pairs);
-        lod->levels[i].pairs = NULL;
+        free(lod->levels[i].indices);
+        lod->levels[i].indices = NULL;
     }
+}
+
+uint64_t lc_lod_extra_bytes(const lc_scene *s, const lc_lod *lod)
+{
+    uint64_t per = s->type == LC_PRIM_LINES ? LC_LOD_BYTES_PER_SEGMENT : LC_LOD_BYTES_PER_TRIANGLE, n = 0;
+    for (int i = 1; i < lod->count; i++)
+        n += lod->levels[i].primitives;
+    return n * per;
 }

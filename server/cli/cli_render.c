@@ -137,10 +137,11 @@ int lc_cli_render(int argc, char **argv)
            lc_method_name(req.render.method), req.render.foo.bands, lc_estimator_name(req.render.foo.estimator),
            info.element_count);
     lc_cli_print_timings(&info);
-    if (scene->type == LC_PRIM_LINES)
-        printf("  detail: level %d of %d (lod %.3g px), %llu of %llu segments\n", info.lod_level,
-               lc_gpu_scene_levels(gs), req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
-               (unsigned long long)lc_scene_primitive_count(scene));
+    if (scene->type != LC_PRIM_POINTS)
+        printf("  detail: level %d of %d (lod %.3g px), %llu of %llu %s\n", info.lod_level, lc_gpu_scene_levels(gs),
+               req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
+               (unsigned long long)lc_scene_primitive_count(scene),
+               scene->type == LC_PRIM_LINES ? "segments" : "triangles");
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
                "importance mass per pixel: median %.3g, p95 %.3g\n",
@@ -168,23 +169,20 @@ done:
     return status;
 }
 
-/* The level-of-detail ladder of a line scene and what its GPU buffers cost
- * next to the scene's own arrays. */
+/* The level-of-detail ladder of a line or surface scene and what its GPU
+ * buffers cost next to the scene's own arrays. */
 static void print_detail_levels(const lc_scene *s)
 {
     lc_lod lod;
     lc_error err = {0};
-    if (s->type != LC_PRIM_LINES || lc_lod_plan(s, &lod, &err) != 0)
+    if (s->type == LC_PRIM_POINTS || lc_lod_plan(s, &lod, &err) != 0)
         return;
-    uint64_t extra = 0;
+    const char *what = s->type == LC_PRIM_LINES ? "segments" : "triangles";
     printf("detail      %d levels:", lod.count);
-    for (int i = 0; i < lod.count; i++) {
-        printf(i ? ", %llu segments within %.3g" : " %llu segments (full)", (unsigned long long)lod.levels[i].segments,
-               lod.levels[i].error);
-        if (i)
-            extra += lod.levels[i].segments * LC_LOD_BYTES_PER_SEGMENT;
-    }
-    printf("\n            %.3f MB of level buffers (the scene's arrays: %.3f MB)\n", extra / 1e6,
+    printf(" %llu %s (full)", (unsigned long long)lod.levels[0].primitives, what);
+    for (int i = 1; i < lod.count; i++)
+        printf(", %llu within %.3g", (unsigned long long)lod.levels[i].primitives, lod.levels[i].error);
+    printf("\n            %.3f MB of level buffers (the scene's arrays: %.3f MB)\n", lc_lod_extra_bytes(s, &lod) / 1e6,
            lc_scene_bytes(s) / 1e6);
 }
 

@@ -71,6 +71,34 @@ static void still_frames(test_gl *t, const char *name, uint8_t *a, uint8_t *b)
     lc_scene_destroy(s);
 }
 
+/* The surface demo keeps every triangle at the still bound and simplifies at
+ * the bounds of interactive frames. */
+static void surface_levels(test_gl *t, uint8_t *a, uint8_t *b)
+{
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = open_demo("surface", 0, &s);
+    if (!gs)
+        return;
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    lc_frame_info still, coarse;
+    render(t, gs, &p, NULL, a, &still);
+    p.detail.lod_pixels = 2;
+    render(t, gs, &p, NULL, b, &coarse);
+    double ssim = lc_image_ssim(a, b, SIZE, SIZE);
+    printf("demo:surface %d levels; still: level %d; 2 px: level %d, %llu of %llu triangles, SSIM %.4f\n",
+           lc_gpu_scene_levels(gs), still.lod_level, coarse.lod_level, (unsigned long long)coarse.primitives_drawn,
+           (unsigned long long)still.primitives_drawn, ssim);
+    CHECK(lc_gpu_scene_levels(gs) >= 3 && coarse.lod_level > still.lod_level &&
+              coarse.primitives_drawn * 2 < still.primitives_drawn,
+          "surface: 2 px drew %llu of %llu triangles", (unsigned long long)coarse.primitives_drawn,
+          (unsigned long long)still.primitives_drawn);
+    CHECK(ssim > 0.9, "surface at 2 px: SSIM %.4f", ssim);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
 static void reuse_opacities(test_gl *t, uint8_t *a, uint8_t *b)
 {
     lc_scene *s = NULL;
@@ -132,6 +160,7 @@ int main(void)
     uint8_t *a = malloc(SIZE * SIZE * 4), *b = malloc(SIZE * SIZE * 4);
     still_frames(&t, "tornado", a, b);
     still_frames(&t, "abc", a, b);
+    surface_levels(&t, a, b);
     reuse_opacities(&t, a, b);
     point_stride(&t, a, b);
     free(a);

@@ -3,7 +3,8 @@
  * segment count halves at least from level to level, and every vertex of the
  * full line lies within the level's error of the simplified polyline (checked
  * by brute force). A long spiral checks that the build stays fast where the
- * farthest-vertex split would go quadratic. */
+ * farthest-vertex split would go quadratic; a height field checks the
+ * surface levels' shape. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -78,24 +79,24 @@ static void check_levels(const lc_scene *s)
     CHECK(lc_lod_build(s, &lod, &err) == 0, "build: %s", err.msg);
     CHECK(lc_lod_plan(s, &plan, &err) == 0, "plan: %s", err.msg);
     CHECK(lod.count == plan.count && lod.count >= 1, "plan %d levels, build %d", plan.count, lod.count);
-    CHECK(lod.levels[0].segments == lc_scene_primitive_count(s), "level 0 has %llu of %llu segments",
-          (unsigned long long)lod.levels[0].segments, (unsigned long long)lc_scene_primitive_count(s));
+    CHECK(lod.levels[0].primitives == lc_scene_primitive_count(s), "level 0 has %llu of %llu segments",
+          (unsigned long long)lod.levels[0].primitives, (unsigned long long)lc_scene_primitive_count(s));
     char *kept = malloc(s->vertex_count);
     const uint32_t *ve = s->elements.vertex_elements;
     for (int i = 0; i < lod.count; i++) {
         const lc_lod_level *lv = &lod.levels[i];
-        CHECK(lv->segments == plan.levels[i].segments, "level %d: plan %llu vs build %llu segments", i,
-              (unsigned long long)plan.levels[i].segments, (unsigned long long)lv->segments);
+        CHECK(lv->primitives == plan.levels[i].primitives, "level %d: plan %llu vs build %llu segments", i,
+              (unsigned long long)plan.levels[i].primitives, (unsigned long long)lv->primitives);
         if (i > 0) {
-            CHECK(lv->segments <= LC_LOD_SHRINK * lod.levels[i - 1].segments, "level %d keeps %llu of %llu", i,
-                  (unsigned long long)lv->segments, (unsigned long long)lod.levels[i - 1].segments);
+            CHECK(lv->primitives <= LC_LOD_SHRINK * lod.levels[i - 1].primitives, "level %d keeps %llu of %llu", i,
+                  (unsigned long long)lv->primitives, (unsigned long long)lod.levels[i - 1].primitives);
             CHECK(lv->error > lod.levels[i - 1].error, "level %d error %g not above %g", i, lv->error,
                   lod.levels[i - 1].error);
         }
         memset(kept, 0, s->vertex_count);
         double worst = 0;
-        for (uint64_t k = 0; k < lv->segments; k++) {
-            uint32_t a = lv->pairs[2 * k], b = lv->pairs[2 * k + 1];
+        for (uint64_t k = 0; k < lv->primitives; k++) {
+            uint32_t a = lv->indices[2 * k], b = lv->indices[2 * k + 1];
             CHECK(a < b && b < s->vertex_count, "level %d segment %llu: %u-%u", i, (unsigned long long)k, a, b);
             kept[a] = kept[b] = 1;
             for (uint32_t v = a + 1; v < b; v++) {
@@ -131,7 +132,7 @@ int main(void)
           (unsigned long long)lc_scene_primitive_count(s));
     printf("levels:");
     for (int i = 0; i < plan.count; i++)
-        printf(" %llu (%.3g)", (unsigned long long)plan.levels[i].segments, plan.levels[i].error);
+        printf(" %llu (%.3g)", (unsigned long long)plan.levels[i].primitives, plan.levels[i].error);
     printf("\n");
     check_levels(s);
 
@@ -157,13 +158,55 @@ int main(void)
     printf("400k-vertex line: finalize + levels + brute-force check in %.2f s CPU\n", secs);
     lc_scene_destroy(s);
 
-    /* Other primitives: one level, the whole scene. */
+    /* A wavy 200x200 height field: meshoptimizer's levels shrink by half or
+     * more, with errors growing, and index only existing vertices. */
+    lc_scene *m = lc_scene_create("field", LC_PRIM_TRIANGLES);
+    const uint32_t g = 200;
+    CHECK(m && lc_scene_alloc_vertices(m, g * g, 0, &err) == 0, "field: %s", err.msg);
+    for (uint32_t y = 0; y < g; y++)
+        for (uint32_t x = 0; x < g; x++) {
+            float *p = m->positions + 3 * (size_t)(y * g + x);
+            p[0] = (float)x / (g - 1), p[1] = (float)y / (g - 1);
+            p[2] = (float)(0.05 * sin(6.0 * p[0]) * cos(4.0 * p[1]));
+        }
+    m->triangle_count = 2 * (g - 1) * (g - 1);
+    m->triangles = malloc(sizeof(uint32_t) * 3 * m->triangle_count);
+    for (uint32_t y = 0, t = 0; y + 1 < g; y++)
+        for (uint32_t x = 0; x + 1 < g; x++) {
+            uint32_t a = y * g + x, q[6] = {a, a + 1, a + g + 1, a, a + g + 1, a + g};
+            memcpy(m->triangles + 3 * (size_t)t, q, sizeof q);
+            t += 2;
+        }
+    CHECK(lc_scene_finalize(m, NULL, &err) == 0, "finalize field: %s", err.msg);
+    lc_lod sl;
+    CHECK(lc_lod_build(m, &sl, &err) == 0, "field levels: %s", err.msg);
+    CHECK(sl.count >= 3 && sl.levels[0].primitives == m->triangle_count && !sl.levels[0].indices,
+          "field: %d levels", sl.count);
+    printf("field levels:");
+    for (int i = 0; i < sl.count; i++) {
+        printf(" %llu (%.3g)", (unsigned long long)sl.levels[i].primitives, sl.levels[i].error);
+        if (i == 0)
+            continue;
+        CHECK(sl.levels[i].primitives <= LC_LOD_SHRINK * sl.levels[i - 1].primitives &&
+                  sl.levels[i].error > sl.levels[i - 1].error,
+              "field level %d: %llu triangles, error %g", i, (unsigned long long)sl.levels[i].primitives,
+              sl.levels[i].error);
+        uint32_t bad = 0;
+        for (uint64_t k = 0; k < 3 * sl.levels[i].primitives; k++)
+            bad += sl.levels[i].indices[k] >= m->vertex_count;
+        CHECK(bad == 0, "field level %d: %u indices out of range", i, bad);
+    }
+    printf("\n");
+    lc_lod_free(&sl);
+    lc_scene_destroy(m);
+
+    /* Points: one level, the whole scene. */
     lc_scene *p = lc_scene_create("points", LC_PRIM_POINTS);
     CHECK(p && lc_scene_alloc_vertices(p, 10, 0, &err) == 0, "points: %s", err.msg);
     for (int i = 0; i < 30; i++)
         p->positions[i] = (float)i;
     CHECK(lc_scene_finalize(p, NULL, &err) == 0, "finalize points: %s", err.msg);
-    CHECK(lc_lod_plan(p, &plan, &err) == 0 && plan.count == 1 && plan.levels[0].segments == 10,
+    CHECK(lc_lod_plan(p, &plan, &err) == 0 && plan.count == 1 && plan.levels[0].primitives == 10,
           "points plan: %d levels", plan.count);
     lc_scene_destroy(p);
     return lc_test_finish();

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "demo.h"
 #include "image.h"
+#include "lc_mpi.h"
 #include "loaders.h"
 
 static int has_suffix(const char *s, const char *suffix)
@@ -24,7 +25,9 @@ static void render_usage(void)
             "Renders one frame of a render request (protocol/README.md); flags override its fields.\n"
             "  --frames N            render N frames with fading, dt = --dt (default 1/30 s), keep the last\n"
             "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
-            "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n%s",
+            "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
+            "  --mpi                 under mpirun/srun: each rank renders its shard, rank 0 writes the image\n"
+            "                        (docs/MPI.md; methods fourier and direct)\n%s",
             lc_cli_flags_help);
 }
 
@@ -62,7 +65,7 @@ int lc_cli_render(int argc, char **argv)
     lc_request req;
     lc_cli_common common;
     const char *out = NULL;
-    int frames = 1;
+    int frames = 1, use_mpi = 0;
     double dt = 1.0 / 30.0;
     lc_error err = {0};
     if (lc_cli_begin("render", argc, argv, &req, &common) != 0)
@@ -75,6 +78,8 @@ int lc_cli_render(int argc, char **argv)
             frames = atoi(argv[++i]);
         } else if (strcmp(a, "--stats") == 0 && i + 1 < argc) {
             stats_path = argv[++i];
+        } else if (strcmp(a, "--mpi") == 0) {
+            use_mpi = 1;
         } else if (strcmp(a, "--dt") == 0 && i + 1 < argc) {
             dt = atof(argv[++i]);
         } else if (strcmp(a, "--help") == 0) {
@@ -100,8 +105,32 @@ int lc_cli_render(int argc, char **argv)
         return 2;
     }
     lc_scene *scene = NULL;
-    lc_cli_gl g;
-    if (lc_cli_open("render", &req, &common, &scene, &g) != 0)
+    lc_cli_gl g = {0};
+    lc_mpi *mpi = NULL;
+    if (use_mpi && lc_mpi_init(&mpi, &err) != 0) {
+        fprintf(stderr, "lucent render: --mpi: %s\n", err.msg);
+        return 1;
+    }
+    int rank = mpi ? lc_mpi_rank(mpi) : 0;
+    int open_rc = lc_cli_open("render", &req, &common, &scene, &g);
+    if (mpi) {
+        /* Every rank loads the whole dataset (global bounds, ranges,
+         * percentiles and elements come out the same), then keeps its shard. */
+        lc_err(&err, open_rc, "cannot open the dataset or a GL context (its message is above)");
+        if (lc_mpi_agree(mpi, open_rc, &err) == 0)
+            open_rc = lc_mpi_shard(mpi, &scene, stdout, &err);
+        else
+            open_rc = 1;
+        if (open_rc) {
+            if (rank == 0)
+                fprintf(stderr, "lucent render: --mpi: %s; every rank exits\n", err.msg);
+            lc_cli_gl_close(&g);
+            lc_scene_destroy(scene);
+            lc_mpi_finalize(mpi);
+            return 1;
+        }
+        lc_renderer_set_reducer(g.renderer, lc_mpi_reducer(mpi));
+    } else if (open_rc != 0)
         return 1;
     int status = 1;
     lc_gpu_scene *gs = NULL;
@@ -123,6 +152,10 @@ int lc_cli_render(int argc, char **argv)
             goto done;
         }
     }
+    if (rank != 0) { /* the image is on rank 0 */
+        status = 0;
+        goto done;
+    }
     int quality = req.quality;
     if (!has_suffix(out, ".png") && !has_suffix(out, ".jpg") && !has_suffix(out, ".jpeg")) {
         fprintf(stderr, "lucent render: %s: the output must end in .png, .jpg or .jpeg\n", out);
@@ -136,6 +169,9 @@ int lc_cli_render(int argc, char **argv)
            lc_method_name(req.render.method), req.render.foo.bands, lc_estimator_name(req.render.foo.estimator),
            info.element_count);
     lc_cli_print_timings(&info);
+    if (mpi)
+        printf("  mpi: %d ranks, %d reductions, %.1f MB per rank, %.2f ms in reductions (wall)\n",
+               lc_mpi_size(mpi), info.reductions, info.reduce_bytes / 1e6, info.reduce_ms);
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
                "importance mass per pixel: median %.3g, p95 %.3g\n",
@@ -160,6 +196,7 @@ done:
     lc_gpu_scene_destroy(gs);
     lc_cli_gl_close(&g);
     lc_scene_destroy(scene);
+    lc_mpi_finalize(mpi);
     return status;
 }
 

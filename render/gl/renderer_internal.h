@@ -125,8 +125,9 @@ struct lc_renderer {
     GLuint timer_queries[LC_PASS_COUNT + 1];
     GLuint dummy_buffer;
     void *exact; /* exact.c's state */
-    float *reduce_buf; /* reduce.c: host copy of a target or buffer being reduced */
-    size_t reduce_cap;  /* floats */
+    /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */
+    float *reduce_buf;
+    size_t reduce_cap;
     uint64_t bytes_targets, bytes_elements;
 };
 

@@ -170,8 +170,8 @@ int lc_cli_render(int argc, char **argv)
            info.element_count);
     lc_cli_print_timings(&info);
     if (mpi)
-        printf("  mpi: %d ranks, %d reductions, %.1f MB per rank, %.2f ms in reductions (wall)\n",
-               lc_mpi_size(mpi), info.reductions, info.reduce_bytes / 1e6, info.reduce_ms);
+        printf("  mpi: %d ranks, %d reductions, %.1f MB per rank, %.2f ms in reductions (wall)\n", lc_mpi_size(mpi),
+               info.reductions, info.reduce_bytes / 1e6, info.reduce_ms);
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
                "importance mass per pixel: median %.3g, p95 %.3g\n",

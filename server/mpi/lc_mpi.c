@@ -169,8 +169,8 @@ int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *e
     int rc = 0;
     for (int r = 1; r < m->size && !rc; r++)
         if (memcmp(all, all + (size_t)r * TEXT_LEN, TEXT_LEN) != 0)
-            rc = lc_err(err, LC_ERR_INVALID, "ranks see different %s: rank 0 has [%.100s], rank %d has [%.100s]",
-                        what, all, r, all + (size_t)r * TEXT_LEN);
+            rc = lc_err(err, LC_ERR_INVALID, "ranks see different %s: rank 0 has [%.100s], rank %d has [%.100s]", what,
+                        all, r, all + (size_t)r * TEXT_LEN);
     free(all);
     return rc;
 }
@@ -195,7 +195,8 @@ int lc_mpi_shard(lc_mpi *m, lc_scene **scene, FILE *report, lc_error *err)
     wait_request(m, &req, "the memory report", m->timeout, err);
     for (int r = 0; m->rank == 0 && r < m->size; r++) {
         char line[256];
-        snprintf(line, sizeof line, "%s: rank %d of %d: %llu vertices, %llu primitives, %.2f MB of scene arrays (%.0f%% "
+        snprintf(line, sizeof line,
+                 "%s: rank %d of %d: %llu vertices, %llu primitives, %.2f MB of scene arrays (%.0f%% "
                  "of the whole %.2f MB)",
                  shard->name, r, m->size, (unsigned long long)all[3 * r + 1], (unsigned long long)all[3 * r + 2],
                  all[3 * r] / 1e6, whole ? 100.0 * all[3 * r] / whole : 0.0, whole / 1e6);
@@ -285,8 +286,8 @@ int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, 
             rgba = malloc(need);
             rgba_bytes = rgba ? need : 0;
             if (!rgba) {
-                rc = lc_err(err, LC_ERR_NOMEM, "rank %d: out of memory for a %dx%d frame", m->rank,
-                            msg.params.width, msg.params.height);
+                rc = lc_err(err, LC_ERR_NOMEM, "rank %d: out of memory for a %dx%d frame", m->rank, msg.params.width,
+                            msg.params.height);
                 break;
             }
         }
@@ -308,8 +309,9 @@ static void *exit_guard(void *arg)
     lc_mpi *m = ((void **)arg)[0];
     double seconds = *(double *)((void **)arg)[1];
     sleep_us((long)(seconds * 1e6));
-    lc_mpi_abort(m, 4, "the shutdown did not finish in time (a rank has died and left a collective waiting); "
-                       "ending the job");
+    lc_mpi_abort(m, 4,
+                 "the shutdown did not finish in time (a rank has died and left a collective waiting); "
+                 "ending the job");
     return NULL;
 }
 

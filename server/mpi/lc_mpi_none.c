@@ -5,8 +5,9 @@
 
 static int unavailable(lc_error *err)
 {
-    return lc_err(err, LC_ERR_INVALID, "this lucent was built without MPI (configure with -DLUCENT_MPI=ON and "
-                                       "install libopenmpi-dev)");
+    return lc_err(err, LC_ERR_INVALID,
+                  "this lucent was built without MPI (configure with -DLUCENT_MPI=ON and "
+                  "install libopenmpi-dev)");
 }
 
 int lc_mpi_available(void) { return 0; }

@@ -51,6 +51,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene
                                       "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
                                       info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements));
     }
+    if (info->reductions)
+        json_object_set_new(o, "mpi",
+                            json_pack("{s:i, s:f, s:I}", "reductions", info->reductions, "reduceMs", info->reduce_ms,
+                                      "reduceBytes", (json_int_t)info->reduce_bytes));
     if (p->method == LC_METHOD_EXACT)
         json_object_set_new(o, "exact",
                             json_pack("{s:I, s:I, s:f, s:I}", "fragments", (json_int_t)info->fragments, "dropped",
@@ -146,7 +150,10 @@ int lc_cli_render(int argc, char **argv)
         fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
+    double wait_ms = 0, transfer_ms = 0;
     for (int f = 0; f < frames; f++) {
+        if (mpi) /* the figures of the last frame */
+            lc_mpi_profile(mpi, &wait_ms, &transfer_ms);
         if (lc_render_frame(g.renderer, gs, &req.render, state, dt, rgba, &info, &err) != 0) {
             fprintf(stderr, "lucent render: %s\n", err.msg);
             goto done;
@@ -172,6 +179,12 @@ int lc_cli_render(int argc, char **argv)
     if (mpi)
         printf("  mpi: %d ranks, %d reductions, %.1f MB per rank, %.2f ms in reductions (wall)\n", lc_mpi_size(mpi),
                info.reductions, info.reduce_bytes / 1e6, info.reduce_ms);
+    if (mpi) {
+        lc_mpi_profile(mpi, &wait_ms, &transfer_ms);
+        printf("  mpi: rank 0 waited %.2f ms for the other ranks, %.2f ms transferring (LUCENT_MPI_PROFILE=1 "
+               "separates them)\n",
+               wait_ms, transfer_ms);
+    }
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
                "importance mass per pixel: median %.3g, p95 %.3g\n",

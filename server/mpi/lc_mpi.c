@@ -20,6 +20,16 @@ struct lc_mpi {
     int rank, size;
     double timeout; /* seconds a collective of a frame may wait */
     lc_reducer reducer;
+    /* The watchdog of the blocking reductions: when the current one began
+     * (lc_now() in microseconds, 0 = none), checked twice a second. */
+    _Atomic long long busy_since_us;
+    pthread_t watchdog;
+    int watchdog_running;
+    _Atomic int quitting;
+    /* LUCENT_MPI_PROFILE=1: a barrier before each reduction separates the
+     * wait for the slowest rank from the transfer (lc_mpi_profile). */
+    int profile;
+    double wait_ms, transfer_ms;
 };
 
 /* What rank 0 broadcasts before each frame of `serve --mpi`. The ranks run
@@ -66,27 +76,53 @@ static int wait_request(lc_mpi *m, MPI_Request *req, const char *what, double ti
     }
 }
 
+/* Blocking collectives: the library's tuned algorithms progress on their own
+ * (a non-blocking one progresses only while polled, which with sleeps cost
+ * about 50 ms per megabyte); the watchdog thread bounds the wait instead. */
 static int reduce(void *ctx, float *values, size_t n, lc_reduce_op op, int root_only, lc_error *err)
 {
     lc_mpi *m = ctx;
     MPI_Op mop = op == LC_REDUCE_MIN ? MPI_MIN : MPI_SUM;
     const size_t chunk = (size_t)1 << 28; /* MPI counts are int */
-    for (size_t off = 0; off < n; off += chunk) {
+    int rc = MPI_SUCCESS;
+    m->busy_since_us = (long long)(lc_now() * 1e6);
+    double t0 = lc_now();
+    if (m->profile)
+        MPI_Barrier(MPI_COMM_WORLD);
+    double t1 = lc_now();
+    for (size_t off = 0; off < n && rc == MPI_SUCCESS; off += chunk) {
         int count = (int)(n - off < chunk ? n - off : chunk);
-        MPI_Request req;
-        int rc;
         if (!root_only)
-            rc = MPI_Iallreduce(MPI_IN_PLACE, values + off, count, MPI_FLOAT, mop, MPI_COMM_WORLD, &req);
+            rc = MPI_Allreduce(MPI_IN_PLACE, values + off, count, MPI_FLOAT, mop, MPI_COMM_WORLD);
         else if (m->rank == 0)
-            rc = MPI_Ireduce(MPI_IN_PLACE, values + off, count, MPI_FLOAT, mop, 0, MPI_COMM_WORLD, &req);
+            rc = MPI_Reduce(MPI_IN_PLACE, values + off, count, MPI_FLOAT, mop, 0, MPI_COMM_WORLD);
         else
-            rc = MPI_Ireduce(values + off, NULL, count, MPI_FLOAT, mop, 0, MPI_COMM_WORLD, &req);
-        if (rc != MPI_SUCCESS)
-            return lc_err(err, LC_ERR_INTERNAL, "MPI: rank %d: reduction failed (MPI error %d)", m->rank, rc);
-        if ((rc = wait_request(m, &req, root_only ? "a reduction to rank 0" : "a reduction", m->timeout, err)) != 0)
-            return rc;
+            rc = MPI_Reduce(values + off, NULL, count, MPI_FLOAT, mop, 0, MPI_COMM_WORLD);
     }
+    m->busy_since_us = 0;
+    m->wait_ms += (t1 - t0) * 1e3;
+    m->transfer_ms += (lc_now() - t1) * 1e3;
+    if (rc != MPI_SUCCESS)
+        return lc_err(err, LC_ERR_INTERNAL, "MPI: rank %d: reduction failed (MPI error %d)", m->rank, rc);
     return 0;
+}
+
+static void *watchdog_main(void *arg)
+{
+    lc_mpi *m = arg;
+    while (!m->quitting) {
+        sleep_us(500000);
+        long long since = m->busy_since_us;
+        if (since && lc_now() - since * 1e-6 > m->timeout) {
+            char msg[256];
+            snprintf(msg, sizeof msg,
+                     "rank %d: a reduction has waited %.0f s for the other ranks: a rank has died or hangs "
+                     "(LUCENT_MPI_TIMEOUT); ending the job",
+                     m->rank, m->timeout);
+            lc_mpi_abort(m, 3, msg);
+        }
+    }
+    return NULL;
 }
 
 int lc_mpi_init(lc_mpi **out, lc_error *err)
@@ -107,7 +143,10 @@ int lc_mpi_init(lc_mpi **out, lc_error *err)
     MPI_Comm_size(MPI_COMM_WORLD, &m->size);
     const char *t = getenv("LUCENT_MPI_TIMEOUT");
     m->timeout = t && atof(t) > 0 ? atof(t) : 60.0;
+    const char *prof = getenv("LUCENT_MPI_PROFILE");
+    m->profile = prof && atoi(prof) > 0;
     m->reducer = (lc_reducer){.ctx = m, .rank = m->rank, .size = m->size, .reduce = reduce};
+    m->watchdog_running = pthread_create(&m->watchdog, NULL, watchdog_main, m) == 0;
     *out = m;
     return 0;
 }
@@ -116,6 +155,9 @@ void lc_mpi_finalize(lc_mpi *m)
 {
     if (!m)
         return;
+    m->quitting = 1;
+    if (m->watchdog_running)
+        pthread_join(m->watchdog, NULL);
     MPI_Finalize();
     free(m);
 }
@@ -127,6 +169,12 @@ void lc_mpi_abort(lc_mpi *m, int code, const char *msg)
     fflush(stderr);
     MPI_Abort(MPI_COMM_WORLD, code);
     _exit(code);
+}
+
+void lc_mpi_profile(lc_mpi *m, double *wait_ms, double *transfer_ms)
+{
+    *wait_ms = m->wait_ms, *transfer_ms = m->transfer_ms;
+    m->wait_ms = m->transfer_ms = 0;
 }
 
 int lc_mpi_rank(const lc_mpi *m) { return m->rank; }

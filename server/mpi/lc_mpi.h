@@ -31,6 +31,10 @@ int lc_mpi_init(lc_mpi **out, lc_error *err);
 void lc_mpi_finalize(lc_mpi *m);
 /* Logs msg on this rank and ends every rank of the job (MPI_Abort). */
 void lc_mpi_abort(lc_mpi *m, int code, const char *msg);
+/* Milliseconds this rank spent in reductions since the last call: waiting for
+ * the slowest rank (measured only with LUCENT_MPI_PROFILE=1, else 0 and
+ * counted as transfer) and transferring/combining; resets both. */
+void lc_mpi_profile(lc_mpi *m, double *wait_ms, double *transfer_ms);
 int lc_mpi_rank(const lc_mpi *m);
 int lc_mpi_size(const lc_mpi *m);
 /* The reduction hook for lc_renderer_set_reducer; valid until finalize. */

@@ -22,6 +22,11 @@ void lc_mpi_abort(lc_mpi *m, int code, const char *msg)
     (void)m, (void)msg;
     exit(code);
 }
+void lc_mpi_profile(lc_mpi *m, double *wait_ms, double *transfer_ms)
+{
+    (void)m;
+    *wait_ms = *transfer_ms = 0;
+}
 int lc_mpi_rank(const lc_mpi *m) { return (void)m, 0; }
 int lc_mpi_size(const lc_mpi *m) { return (void)m, 1; }
 const lc_reducer *lc_mpi_reducer(lc_mpi *m) { return (void)m, NULL; }

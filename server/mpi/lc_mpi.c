@@ -30,6 +30,13 @@ struct lc_mpi {
      * wait for the slowest rank from the transfer (lc_mpi_profile). */
     int profile;
     double wait_ms, transfer_ms;
+    /* LUCENT_MPI_WIRE=half: SUM reductions travel as IEEE half floats (an
+     * experiment measured in docs/MPI.md; MIN stays float: its "empty" value
+     * 1e30 has no half). */
+    int wire_half;
+    MPI_Op half_sum;
+    _Float16 *half_buf;
+    size_t half_cap;
 };
 
 /* What rank 0 broadcasts before each frame of `serve --mpi`. The ranks run
@@ -76,6 +83,38 @@ static int wait_request(lc_mpi *m, MPI_Request *req, const char *what, double ti
     }
 }
 
+static void half_sum(void *in, void *inout, int *len, MPI_Datatype *type)
+{
+    (void)type;
+    const _Float16 *a = in;
+    _Float16 *b = inout;
+    for (int i = 0; i < *len; i++)
+        b[i] = (_Float16)((float)a[i] + (float)b[i]);
+}
+
+/* A SUM over the wire in half floats, converted on both ends. */
+static int reduce_half(lc_mpi *m, float *values, int count, int root_only)
+{
+    if ((size_t)count > m->half_cap) {
+        _Float16 *b = realloc(m->half_buf, (size_t)count * sizeof *b);
+        if (!b)
+            return MPI_ERR_NO_MEM;
+        m->half_buf = b, m->half_cap = (size_t)count;
+    }
+    for (int i = 0; i < count; i++)
+        m->half_buf[i] = (_Float16)values[i];
+    int rc;
+    if (!root_only)
+        rc = MPI_Allreduce(MPI_IN_PLACE, m->half_buf, count, MPI_SHORT, m->half_sum, MPI_COMM_WORLD);
+    else if (m->rank == 0)
+        rc = MPI_Reduce(MPI_IN_PLACE, m->half_buf, count, MPI_SHORT, m->half_sum, 0, MPI_COMM_WORLD);
+    else
+        rc = MPI_Reduce(m->half_buf, NULL, count, MPI_SHORT, m->half_sum, 0, MPI_COMM_WORLD);
+    for (int i = 0; i < count && rc == MPI_SUCCESS && (!root_only || m->rank == 0); i++)
+        values[i] = (float)m->half_buf[i];
+    return rc;
+}
+
 /* Blocking collectives: the library's tuned algorithms progress on their own
  * (a non-blocking one progresses only while polled, which with sleeps cost
  * about 50 ms per megabyte); the watchdog thread bounds the wait instead. */
@@ -92,7 +131,9 @@ static int reduce(void *ctx, float *values, size_t n, lc_reduce_op op, int root_
     double t1 = lc_now();
     for (size_t off = 0; off < n && rc == MPI_SUCCESS; off += chunk) {
         int count = (int)(n - off < chunk ? n - off : chunk);
-        if (!root_only)
+        if (m->wire_half && op == LC_REDUCE_SUM)
+            rc = reduce_half(m, values + off, count, root_only);
+        else if (!root_only)
             rc = MPI_Allreduce(MPI_IN_PLACE, values + off, count, MPI_FLOAT, mop, MPI_COMM_WORLD);
         else if (m->rank == 0)
             rc = MPI_Reduce(MPI_IN_PLACE, values + off, count, MPI_FLOAT, mop, 0, MPI_COMM_WORLD);
@@ -145,6 +186,10 @@ int lc_mpi_init(lc_mpi **out, lc_error *err)
     m->timeout = t && atof(t) > 0 ? atof(t) : 60.0;
     const char *prof = getenv("LUCENT_MPI_PROFILE");
     m->profile = prof && atoi(prof) > 0;
+    const char *wire = getenv("LUCENT_MPI_WIRE");
+    m->wire_half = wire && strcmp(wire, "half") == 0;
+    if (m->wire_half)
+        MPI_Op_create(half_sum, 1, &m->half_sum);
     m->reducer = (lc_reducer){.ctx = m, .rank = m->rank, .size = m->size, .reduce = reduce};
     m->watchdog_running = pthread_create(&m->watchdog, NULL, watchdog_main, m) == 0;
     *out = m;
@@ -158,6 +203,9 @@ void lc_mpi_finalize(lc_mpi *m)
     m->quitting = 1;
     if (m->watchdog_running)
         pthread_join(m->watchdog, NULL);
+    if (m->wire_half)
+        MPI_Op_free(&m->half_sum);
+    free(m->half_buf);
     MPI_Finalize();
     free(m);
 }

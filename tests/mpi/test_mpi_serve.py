@@ -2,7 +2,8 @@
 renders of lines, points and a surface, a scripted session whose opacities
 fade while the camera moves (the fading history travels with each frame), a
 WebSocket session, /datasets; then killing one rank during a session ends the
-service within seconds with a message naming the rank.
+service within seconds with a message naming the rank; ranks that see
+different dataset lists refuse to start.
 Usage: test_mpi_serve.py LUCENT RANKS"""
 import asyncio
 import json
@@ -92,6 +93,18 @@ async def ws_last_frame(srv):
                 await ws.send(json.dumps({"type": "ack", "frame": header["frame"]}))
         return last, frames
 
+
+# Start-up: the last rank sees another dataset list (MPMD) -> every rank
+# refuses to start, naming the difference.
+cmd = launcher[:-1] + [str(ranks - 1), lucent, "serve", "--mpi", "--listen", "127.0.0.1:0", "--demo-size", "50",
+                       "--data", "demo:points", ":", "-np", "1", lucent, "serve", "--mpi", "--listen",
+                       "127.0.0.1:0", "--demo-size", "50", "--data", "demo:abc"]
+t0 = time.time()
+r = subprocess.run(cmd, capture_output=True, text=True, env=mpirun_env(), timeout=120)
+out = r.stdout + r.stderr
+check(r.returncode != 0 and "ranks see different dataset lists" in out and "rank %d has [demo:abc" % (ranks - 1) in out
+      and "listening on" not in out,
+      "different dataset lists: every rank refuses to start in %.1f s (exit %d)" % (time.time() - t0, r.returncode))
 
 single = Server(lucent, data=DATA, demo_size=DEMO_SIZE)
 multi = MpiServer(lucent, ranks, DATA, DEMO_SIZE)

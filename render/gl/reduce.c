@@ -93,3 +93,18 @@ int lc_reduce_element_minima(lc_renderer *r, uint32_t count, lc_frame_info *info
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     return 0;
 }
+
+int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err)
+{
+    if (!active(r) || n == 0)
+        return 0;
+    float *buf = host_buffer(r, n, err);
+    if (!buf)
+        return LC_ERR_NOMEM;
+    for (size_t i = 0; i < n; i++)
+        buf[i] = (float)values[i];
+    int rc = reduce(r, buf, n, LC_REDUCE_SUM, 0, NULL, err);
+    for (size_t i = 0; i < n && !rc; i++)
+        values[i] = (uint32_t)(buf[i] + 0.5f);
+    return rc;
+}

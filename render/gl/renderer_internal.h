@@ -241,6 +241,8 @@ int lc_reduce_targets(lc_renderer *r, const lc_targets *t, lc_reduce_op op, int 
                       lc_error *err);
 /* MIN of the P2 element minima (count floats of element_alpha_min) into every process. */
 int lc_reduce_element_minima(lc_renderer *r, uint32_t count, lc_frame_info *info, lc_error *err);
+/* SUM of n counters into every process (through floats: exact below 2^24). */
+int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err);
 /* LC_ERR_INVALID when the method cannot be combined over processes. */
 int lc_reduce_check_method(const lc_renderer *r, lc_method method, lc_error *err);
 

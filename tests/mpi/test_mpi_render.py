@@ -1,9 +1,11 @@
 """`mpirun -np N lucent render --mpi` against one process: lines, points and
 surfaces, fading off (one frame) and on (several frames with --fade), the
-per-pixel depth range and the direct method, RMS difference <= 1/255; a rank
+per-pixel depth range and the direct method, RMS difference <= 1/255 and the
+same visibility report (within 0.01); a rank
 that cannot load its shard and a method that cannot be split fail clearly.
 Usage: test_mpi_render.py LUCENT RANKS"""
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -48,6 +50,9 @@ for name, flags in CASES:
         continue
     if "rank %d of %d" % (ranks - 1, ranks) not in b.stdout:
         failures.append("%s: no per-rank memory report in %r" % (name, b.stdout[:300]))
+    vis = [re.search(r"top decile alpha ([0-9.]+), bottom half alpha ([0-9.]+)", o.stdout) for o in (a, b)]
+    if all(vis) and max(abs(float(vis[0].group(k)) - float(vis[1].group(k))) for k in (1, 2)) > 0.01:
+        failures.append("%s: visibility report differs: %s vs %s" % (name, vis[0].group(0), vis[1].group(0)))
     e = rmse(lucent, one, many)
     print("%-20s %d ranks: rmse %.6f (limit %.6f)  1 process %.1f s, %d ranks %.1f s" %
           (name, ranks, e, MAX_RMSE, t1 - t0, ranks, t2 - t1))

@@ -112,11 +112,16 @@ try:
     # One-shot HTTP renders of every kind of geometry.
     for ds in DATA:
         req = {"dataset": ds, "width": 160, "height": 120, "format": "png"}
-        s1, _, a = single.request("POST", "/api/v1/render", req)
+        s1, h1, a = single.request("POST", "/api/v1/render", req)
         s2, h2, b = multi.request("POST", "/api/v1/render", req)
         check(s1 == 200 and s2 == 200, "%s: HTTP render 200 from both (%d, %d)" % (ds, s1, s2))
         if s1 == 200 and s2 == 200:
             compare("http-" + ds.replace(":", "_"), a, b)
+            v1 = [float(x) for x in re.findall(r"=([0-9.]+)", h1.get("x-lucent-visibility", ""))]
+            v2 = [float(x) for x in re.findall(r"=([0-9.]+)", h2.get("x-lucent-visibility", ""))]
+            check(len(v1) == 3 and len(v2) == 3 and max(abs(x - y) for x, y in zip(v1, v2)) <= 0.01,
+                  "%s: X-Lucent-Visibility %s vs %s" % (ds, h1.get("x-lucent-visibility"),
+                                                         h2.get("x-lucent-visibility")))
     # A scripted session: the camera orbits and the opacities fade (dt).
     sessions = []
     for srv in (single, multi):

@@ -14,6 +14,9 @@ def mpirun_env():
     env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
     env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
     env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")
+    # Shared memory without cross-process copies (CMA): containers often deny
+    # process_vm_readv, and the tests' images are small.
+    env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")
     return env
 
 

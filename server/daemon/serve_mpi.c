@@ -3,6 +3,7 @@
 #include "serve_mpi.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -47,15 +48,18 @@ int lc_serve_mpi_follow(lc_server *srv, lc_gl *primary, lc_error *err)
     lc_renderer *r = NULL;
     int rc = lc_renderer_create(&(lc_renderer_desc){.reducer = lc_mpi_reducer(srv->mpi)}, &r, err);
     int n = lc_datasets_count(srv->datasets);
-    const lc_gpu_scene *scenes[256];
-    for (int i = 0; i < n && i < 256; i++)
+    const lc_gpu_scene **scenes = calloc((size_t)n + 1, sizeof *scenes);
+    if (!scenes && rc == 0)
+        rc = lc_err(err, LC_ERR_NOMEM, "out of memory");
+    for (int i = 0; scenes && i < n; i++)
         scenes[i] = lc_datasets_at(srv->datasets, i)->gpu;
     /* Rank 0 creates its worker's renderer meanwhile; a failure here shows
      * as a frame that never completes (the collective timeout ends the job). */
     if (rc == 0) {
         LC_INFO(MOD, "rank %d (pid %d): following rank 0's frames", lc_mpi_rank(srv->mpi), (int)getpid());
-        rc = lc_mpi_follow(srv->mpi, r, scenes, n < 256 ? n : 256, err);
+        rc = lc_mpi_follow(srv->mpi, r, scenes, n, err);
     }
+    free(scenes);
     lc_renderer_destroy(r);
     return rc;
 }

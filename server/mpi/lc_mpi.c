@@ -73,8 +73,8 @@ static int wait_request(lc_mpi *m, MPI_Request *req, const char *what, double ti
         if (timeout > 0 && lc_now() - t0 > timeout) {
             char msg[256];
             snprintf(msg, sizeof msg,
-                     "rank %d: %s has waited %.0f s for the other ranks: a rank has died or hangs; ending the job",
-                     m->rank, what, timeout);
+                     "%s has waited %.0f s for the other ranks: a rank has died or hangs; ending the job", what,
+                     timeout);
             lc_mpi_abort(m, 3, msg);
         }
         sleep_us(pause);
@@ -157,9 +157,9 @@ static void *watchdog_main(void *arg)
         if (since && lc_now() - since * 1e-6 > m->timeout) {
             char msg[256];
             snprintf(msg, sizeof msg,
-                     "rank %d: a reduction has waited %.0f s for the other ranks: a rank has died or hangs "
+                     "a reduction has waited %.0f s for the other ranks: a rank has died or hangs "
                      "(LUCENT_MPI_TIMEOUT); ending the job",
-                     m->rank, m->timeout);
+                     m->timeout);
             lc_mpi_abort(m, 3, msg);
         }
     }
@@ -212,8 +212,7 @@ void lc_mpi_finalize(lc_mpi *m)
 
 void lc_mpi_abort(lc_mpi *m, int code, const char *msg)
 {
-    LC_ERROR(MOD, "%s", msg);
-    fprintf(stderr, "lucent: MPI rank %d: %s\n", m ? m->rank : -1, msg);
+    LC_ERROR(MOD, "rank %d: %s", m ? m->rank : -1, msg);
     fflush(stderr);
     MPI_Abort(MPI_COMM_WORLD, code);
     _exit(code);

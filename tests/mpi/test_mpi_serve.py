@@ -3,7 +3,8 @@ renders of lines, points and a surface, a scripted session whose opacities
 fade while the camera moves (the fading history travels with each frame), a
 WebSocket session, /datasets; then killing one rank during a session ends the
 service within seconds with a message naming the rank; ranks that see
-different dataset lists refuse to start.
+different dataset lists refuse to start; a hung rank ends the job after
+LUCENT_MPI_TIMEOUT seconds.
 Usage: test_mpi_serve.py LUCENT RANKS"""
 import asyncio
 import json
@@ -36,14 +37,14 @@ check = Check()
 class MpiServer(Server):
     """Server's helpers around `mpirun -np N lucent serve --mpi`."""
 
-    def __init__(self, binary, n, data, demo_size, timeout=120):
+    def __init__(self, binary, n, data, demo_size, timeout=120, env=None):
         self.binary = binary
         cmd = mpirun(n) + [binary, "serve", "--mpi", "--listen", "127.0.0.1:0", "--demo-size", str(demo_size)]
         for d in data:
             cmd += ["--data", d]
         self.log = []
         self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                     stderr=subprocess.STDOUT, env=mpirun_env(), text=True)
+                                     stderr=subprocess.STDOUT, env=dict(mpirun_env(), **(env or {})), text=True)
         self._port = None
         self._ready = threading.Event()
         threading.Thread(target=self._drain, daemon=True).start()
@@ -181,6 +182,34 @@ try:
         check(re.search(r"rank %d .*exited on signal 9" % (ranks - 1), text) is not None,
               "mpirun's message names the dead rank")
         check("ending the service" in text, "rank 0 logs that the service ends")
+
+    # A rank that hangs (stopped, not dead: the runtime sees nothing) holds
+    # rank 0's next reduction; the watchdog ends the job after
+    # LUCENT_MPI_TIMEOUT seconds with a message.
+    hung = MpiServer(lucent, ranks, ["demo:points"], DEMO_SIZE, env={"LUCENT_MPI_TIMEOUT": "3"})
+    try:
+        victim = hung.rank_pid(ranks - 1)
+        os.kill(victim, signal.SIGSTOP)
+        t0 = time.time()
+        try:
+            hung.request("POST", "/api/v1/render", {"dataset": "demo:points", "width": 64, "height": 48,
+                                                    "format": "png"}, timeout=30)
+        except Exception:
+            pass  # the connection closes when the job ends
+        try:
+            rc = hung.proc.wait(30)
+        except subprocess.TimeoutExpired:
+            rc = None
+        took = time.time() - t0
+        time.sleep(0.3)
+        text = "\n".join(hung.log)
+        check(rc is not None and took < 20 and "has waited 3 s for the other ranks" in text,
+              "a hung rank: the watchdog ends the job in %.1f s (exit %s): %s" %
+              (took, rc, next((line for line in hung.log if "has waited" in line), "no message")))
+    finally:
+        if hung.proc.poll() is None:
+            hung.proc.kill()
+            hung.proc.wait()
 finally:
     single.stop()
     if multi.proc.poll() is None:

@@ -491,6 +491,18 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
                             json_pack("{s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
                                       h->bottom_half_alpha, "coveredFraction", h->covered_fraction));
     }
+    if (o && h->has_detail) {
+        if (!isfinite(h->lod_pixels) || !isfinite(h->render_ms) || h->level < 0 || h->point_stride < 1 ||
+            h->primitives > LC_PROTO_MAX_SEQ) {
+            json_decref(o);
+            return LC_ERR_INVALID;
+        }
+        json_object_set_new(o, "detail",
+                            json_pack("{s:b, s:b, s:i, s:f, s:i, s:I, s:f}", "interactive", (int)h->interactive,
+                                      "reusedOpacities", (int)h->reused, "level", h->level, "lodPixels", h->lod_pixels,
+                                      "pointStride", h->point_stride, "primitives", (json_int_t)h->primitives,
+                                      "renderMs", h->render_ms));
+    }
     char *text = dump_and_free(o);
     if (!text)
         return LC_ERR_NOMEM;
@@ -594,6 +606,31 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             *dst[i] = x;
         }
         h->has_visibility = true;
+    }
+    const json_t *det = json_object_get(o, "detail");
+    if (det) {
+        const json_t *lv = json_object_get(det, "level"), *px = json_object_get(det, "lodPixels"),
+                     *st = json_object_get(det, "pointStride"), *pr = json_object_get(det, "primitives"),
+                     *ms = json_object_get(det, "renderMs"), *in = json_object_get(det, "interactive"),
+                     *re = json_object_get(det, "reusedOpacities");
+        if (!json_is_object(det) || !json_is_integer(lv) || json_integer_value(lv) < 0 ||
+            json_integer_value(lv) > 255 || !json_is_number(px) || json_number_value(px) < 0 ||
+            !json_is_integer(st) || json_integer_value(st) < 1 || json_integer_value(st) > 1 << 20 ||
+            !json_is_integer(pr) || json_integer_value(pr) < 0 || !json_is_number(ms) || json_number_value(ms) < 0 ||
+            !json_is_boolean(in) || !json_is_boolean(re)) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "detail",
+                                        "expected interactive, reusedOpacities (booleans), level, pointStride, "
+                                        "primitives (integers) and lodPixels, renderMs (numbers >= 0)");
+            goto done;
+        }
+        h->level = (int)json_integer_value(lv);
+        h->lod_pixels = json_number_value(px);
+        h->point_stride = (int)json_integer_value(st);
+        h->primitives = (uint64_t)json_integer_value(pr);
+        h->render_ms = json_number_value(ms);
+        h->interactive = json_is_true(in);
+        h->reused = json_is_true(re);
+        h->has_detail = true;
     }
     *image = msg + 4 + n;
     *image_len = len - 4 - n;

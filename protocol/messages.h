@@ -137,6 +137,16 @@ typedef struct lc_frame_header {
      * elements are in this frame (docs/ALGORITHM.md "Visibility report"). */
     bool has_visibility;
     double top_decile_alpha, bottom_half_alpha, covered_fraction;
+    /* "detail" (optional): what the frame drew (docs/ALGORITHM.md "Level of
+     * detail and interactive frames"). */
+    bool has_detail;
+    bool interactive;      /* rendered while input was active */
+    bool reused;           /* P1-P3 skipped: the opacities of an earlier frame */
+    int level;             /* level of detail, 0 = every segment */
+    double lod_pixels;     /* the pixel bound it was chosen for */
+    int point_stride;      /* points: every n-th drawn */
+    uint64_t primitives;   /* primitives drawn per geometry pass */
+    double render_ms;      /* wall time of the render */
 } lc_frame_header;
 
 /* Packs header + image into one malloc'd binary message (*out, free()).

@@ -155,6 +155,7 @@ static const field fields[] = {
     {"params", "estimator", "estimator", T_ENUM, 0, 0, 0, OFF(render.foo.estimator), 0, NOFLAG, estimator_names},
     {"params", "depthRange", "depthRange", T_ENUM, 0, 0, 0, OFF(render.foo.depth_range), 0, NOFLAG, depth_range_names},
     {"params", "normalize", "normalize", T_ENUM, 0, 0, 0, OFF(render.foo.normalize), 0, NOFLAG, normalize_names},
+    {"params", "lod", "lod", T_NUM, 0, 16, 0, OFF(render.detail.lod_pixels), 0, NOFLAG, NULL},
     {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
      NULL},
 

@@ -39,6 +39,8 @@ void lc_render_params_default(lc_render_params *p)
     p->method = LC_METHOD_FOURIER;
     lc_foo_params_default(&p->foo);
     lc_style_default(&p->style);
+    p->detail.lod_pixels = LC_DEFAULT_LOD_PIXELS;
+    p->detail.point_stride = 1;
     p->importance.exponent = 1;
     p->camera.view_angle = 30;
     p->camera.view_up[1] = 1;

@@ -105,6 +105,16 @@ typedef struct lc_style {
     lc_shading shading;
 } lc_style;
 
+/* Level of detail and the shortcuts of interactive frames (docs/ALGORITHM.md
+ * "Level of detail"). Only lod_pixels is a request field; a session sets the
+ * others on the frames it renders while the camera moves. */
+#define LC_DEFAULT_LOD_PIXELS 0.2
+typedef struct lc_detail {
+    double lod_pixels;    /* lines: largest screen error of the simplified polylines, output pixels; 0 = full */
+    int point_stride;     /* points: every n-th point in every pass, weighted n in P1/P4; <= 1 = all */
+    bool reuse_opacities; /* skip P1-P3: draw with the frame state's opacities when it has them */
+} lc_detail;
+
 /* Everything a renderer needs for one frame besides the data and the state. */
 typedef struct lc_render_params {
     int width, height;
@@ -115,6 +125,7 @@ typedef struct lc_render_params {
     lc_importance_map importance;
     lc_color_map color;
     lc_style style;
+    lc_detail detail;
 } lc_render_params;
 
 /* Fills with the paper-default values (m = 5, s = 15, q = 60, r = 500, ...). */

@@ -1,6 +1,6 @@
 /* Exact reference (DOO, Günther et al. 2017): per-pixel fragment linked lists
  * on the GPU, sorted per pixel, with exact front/behind importance sums and
- * exact front-to-back compositing (docs/ALGORITHM.md §11).
+ * exact front-to-back compositing (docs/ALGORITHM.md §12).
  *
  * Frame: list pass 0 at the optimization resolution stores (depth, g,
  * element); a compute pass sorts each pixel's list and atomic-mins FOO Eq. 10

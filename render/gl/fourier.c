@@ -133,7 +133,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_low.fbo);
     lc_renderer_bind_geometry(r, p1, fs, lw, lh, p->foo.subset);
-    lc_uniform_f(p1, "u_weight", p->foo.subset > 0 ? p->foo.subset : 1);
+    lc_uniform_f(p1, "u_weight", lc_renderer_subset(fs, p->foo.subset));
     lc_renderer_draw_geometry(fs, p->foo.subset);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     int rc = lc_reduce_targets(r, &r->coef_low, LC_REDUCE_SUM, 0, fs->info, err);
@@ -193,7 +193,7 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
     lc_renderer_bind_geometry(r, p4, fs, fs->width, fs->height, p->foo.subset);
-    lc_uniform_f(p4, "u_weight", p->foo.subset > 0 ? p->foo.subset : 1);
+    lc_uniform_f(p4, "u_weight", lc_renderer_subset(fs, p->foo.subset));
     lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
     lc_renderer_draw_geometry(fs, p->foo.subset);
     int rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err);

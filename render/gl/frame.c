@@ -192,6 +192,45 @@ static int check_trusted_params(const lc_render_params *p, lc_error *err)
     return 0;
 }
 
+/* The coarsest level whose simplification error stays under lod_pixels
+ * output pixels, measured at the nearest depth of the data's bounds, so that
+ * it bounds the error of every vertex on screen. */
+static int pick_level(const lc_frame_setup *fs)
+{
+    const lc_render_params *p = fs->params;
+    const lc_gpu_scene *gs = fs->gs;
+    if (gs->level_count <= 1 || !(p->detail.lod_pixels > 0))
+        return 0;
+    double pixel = fs->view.pixel_world;
+    if (!p->camera.parallel_projection) {
+        double focal = 0;
+        for (int i = 0; i < 3; i++)
+            focal += (p->camera.focal_point[i] - fs->view.eye[i]) * fs->view.dir[i];
+        if (!(focal > 0))
+            return 0;
+        pixel *= fs->view.depth_min / focal;
+    }
+    double bound = p->detail.lod_pixels * pixel;
+    int best = 0;
+    for (int i = 1; i < gs->level_count; i++)
+        if (gs->levels[i].error <= bound)
+            best = i;
+    return best;
+}
+
+/* Interactive frames may skip P1-P3 and draw with the opacities the state
+ * holds from earlier frames: they change slowly under a moving camera and fade
+ * anyway, and the still frame that follows optimizes them again. */
+static int reuse_opacities(lc_renderer *r, const lc_frame_state *state, lc_frame_info *info)
+{
+    glNamedBufferSubData(r->element_alpha, 0, (GLsizeiptr)state->count * 4, state->alpha);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    info->reused_opacities = 1;
+    info->max_alpha_change = 0;
+    info->converged = 1;
+    return 0;
+}
+
 int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
                     double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
@@ -235,6 +274,15 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     if (fs.low_height < 1)
         fs.low_height = 1;
 
+    /* One level for every pass: the optimization passes would afford a
+     * coarser one at their larger pixels, but the opacities (a minimum over
+     * each element's fragments) follow coverage changes closely. */
+    fs.level = pick_level(&fs);
+    fs.point_stride =
+        s->type == LC_PRIM_POINTS && p.method != LC_METHOD_EXACT && p.detail.point_stride > 1 ? p.detail.point_stride : 1;
+    int reuse = p.detail.reuse_opacities && state && !state->fresh &&
+                (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_WBOIT);
+
     ensure_element_buffers(r, s->elements.count);
     ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     lc_renderer_timestamp(r, LC_PASS_COUNT);
@@ -246,14 +294,14 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         return rc;
     switch (p.method) {
     case LC_METHOD_FOURIER:
-        rc = lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
         if (!rc)
             rc = lc_fourier_composite(r, &fs, 0, err);
         break;
     case LC_METHOD_DIRECT: rc = lc_fourier_composite(r, &fs, 1, err); break;
     case LC_METHOD_OPAQUE: rc = lc_render_opaque(r, &fs, err); break;
     case LC_METHOD_WBOIT:
-        rc = lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
         if (!rc)
             rc = lc_render_wboit(r, &fs, err);
         break;
@@ -274,7 +322,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
                                     LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE, LC_PASS_RESOLVE, LC_PASS_READBACK};
         int ran[LC_PASS_COUNT] = {0};
         int fourier = p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_WBOIT || p.method == LC_METHOD_EXACT;
-        ran[LC_PASS_IMPORTANCE] = ran[LC_PASS_OPACITY] = ran[LC_PASS_SMOOTH] = fourier;
+        ran[LC_PASS_IMPORTANCE] = ran[LC_PASS_OPACITY] = ran[LC_PASS_SMOOTH] = fourier && !reuse;
         ran[LC_PASS_OPTICAL_DEPTH] =
             p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_EXACT;
         ran[LC_PASS_ACCUMULATE] = 1;
@@ -295,6 +343,9 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     info->width = p.width, info->height = p.height;
     info->camera = p.camera;
     info->element_count = s->elements.count;
+    info->lod_level = fs.level;
+    info->primitives_drawn = (gs->levels[fs.level].primitive_count + fs.point_stride - 1) / fs.point_stride;
+    info->point_stride = fs.point_stride;
     info->pipeline_bytes = lc_renderer_bytes(r);
     info->wall_ms = (lc_now() - t0) * 1e3;
     GLenum e = glGetError();

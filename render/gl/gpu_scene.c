@@ -15,6 +15,41 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes)
     return b;
 }
 
+/* The segment pairs of one level and its ribbon quads: vertex 2v / 2v+1 are
+ * the two sides at line vertex v (geometry.vert.glsl). */
+static int upload_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k, double error, lc_error *err)
+{
+    uint32_t *quads = malloc((k ? k : 1) * 6 * sizeof(uint32_t));
+    if (!quads)
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for segments", gs->scene->name);
+    for (uint64_t j = 0; j < k; j++) {
+        uint32_t a = 2 * pairs[2 * j], b = 2 * pairs[2 * j + 1];
+        uint32_t q[6] = {a, a + 1, b, a + 1, b + 1, b};
+        memcpy(quads + 6 * j, q, sizeof q);
+    }
+    lc_gpu_level *lv = &gs->levels[gs->level_count++];
+    uint64_t before = gs->bytes;
+    lv->indices = lc_gl_buffer(pairs, k * 2 * sizeof(uint32_t), &gs->bytes);
+    lv->draw_indices = lc_gl_buffer(quads, k * 6 * sizeof(uint32_t), &gs->bytes);
+    lv->primitive_count = k;
+    lv->error = error;
+    if (gs->level_count > 1)
+        gs->lod_bytes += gs->bytes - before;
+    free(quads);
+    return 0;
+}
+
+/* Level 0 (every segment) and the coarser levels of render/scene/lod.h. */
+static int upload_line_levels(lc_gpu_scene *gs, lc_error *err)
+{
+    lc_lod lod;
+    int rc = lc_lod_build(gs->scene, &lod, err);
+    for (int i = 0; !rc && i < lod.count; i++)
+        rc = upload_level(gs, lod.levels[i].pairs, lod.levels[i].segments, lod.levels[i].error, err);
+    lc_lod_free(&lod);
+    return rc;
+}
+
 int lc_gpu_scene_create(const lc_scene *s, lc_gpu_scene **out, lc_error *err)
 {
     *out = NULL;
@@ -61,42 +96,20 @@ int lc_gpu_scene_create(const lc_scene *s, lc_gpu_scene **out, lc_error *err)
     gs->vertex_weights = lc_gl_buffer(s->elements.vertex_weights, n * 4 * sizeof(float), &gs->bytes);
 
     if (s->type == LC_PRIM_LINES) {
-        uint64_t segs = lc_scene_primitive_count(s);
-        uint32_t *idx = malloc((segs ? segs : 1) * 2 * sizeof(uint32_t));
-        if (!idx) {
+        int rc = upload_line_levels(gs, err);
+        if (rc) {
             lc_gpu_scene_destroy(gs);
-            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for segments", s->name);
+            return rc;
         }
-        uint64_t k = 0;
-        for (uint32_t l = 0; l < s->line_count; l++)
-            for (uint32_t v = s->line_offsets[l]; v + 1 < s->line_offsets[l + 1]; v++) {
-                idx[2 * k] = v;
-                idx[2 * k + 1] = v + 1;
-                k++;
-            }
-        gs->indices = lc_gl_buffer(idx, k * 2 * sizeof(uint32_t), &gs->bytes);
-        gs->primitive_count = k;
-        /* Indexed ribbons: vertex 2v / 2v+1 are the two sides at line vertex v. */
-        uint32_t *quads = realloc(idx, (k ? k : 1) * 6 * sizeof(uint32_t));
-        if (!quads) {
-            free(idx);
-            lc_gpu_scene_destroy(gs);
-            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for segments", s->name);
-        }
-        for (uint64_t j = k; j-- > 0;) { /* backwards: pairs live in the first 2k slots */
-            uint32_t a = 2 * quads[2 * j], b = 2 * quads[2 * j + 1];
-            uint32_t q[6] = {a, a + 1, b, a + 1, b + 1, b};
-            memcpy(quads + 6 * j, q, sizeof q);
-        }
-        gs->draw_indices = lc_gl_buffer(quads, k * 6 * sizeof(uint32_t), &gs->bytes);
-        free(quads);
     } else if (s->type == LC_PRIM_TRIANGLES) {
-        gs->indices = lc_gl_buffer(s->triangles, (size_t)s->triangle_count * 3 * sizeof(uint32_t), &gs->bytes);
-        gs->draw_indices = gs->indices; /* the same buffer serves both bindings */
-        gs->primitive_count = s->triangle_count;
+        GLuint tris = lc_gl_buffer(s->triangles, (size_t)s->triangle_count * 3 * sizeof(uint32_t), &gs->bytes);
+        /* The same buffer serves both bindings. */
+        gs->levels[0] = (lc_gpu_level){.indices = tris, .draw_indices = tris, .primitive_count = s->triangle_count};
+        gs->level_count = 1;
     } else {
-        gs->indices = lc_gl_buffer(NULL, 0, &gs->bytes);
-        gs->primitive_count = n;
+        GLuint none = lc_gl_buffer(NULL, 0, &gs->bytes);
+        gs->levels[0] = (lc_gpu_level){.indices = none, .draw_indices = none, .primitive_count = n};
+        gs->level_count = 1;
     }
     uint32_t ne = s->elements.count;
     gs->adj_offsets = lc_gl_buffer(s->elements.adjacency_offsets, ((size_t)ne + 1) * sizeof(uint32_t), &gs->bytes);
@@ -117,18 +130,19 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
 {
     if (!gs)
         return;
-    GLuint bufs[] = {gs->positions,
-                     gs->frames,
-                     gs->attributes,
-                     gs->colors,
-                     gs->vertex_elements,
-                     gs->vertex_weights,
-                     gs->indices,
-                     gs->adj_offsets,
-                     gs->adj,
-                     gs->draw_indices != gs->indices ? gs->draw_indices : 0};
+    GLuint bufs[] = {gs->positions,       gs->frames,         gs->attributes, gs->colors,
+                     gs->vertex_elements, gs->vertex_weights, gs->adj_offsets, gs->adj};
     glDeleteBuffers(sizeof bufs / sizeof bufs[0], bufs);
+    for (int i = 0; i < gs->level_count; i++) {
+        lc_gpu_level *lv = &gs->levels[i];
+        GLuint level_bufs[] = {lv->indices, lv->draw_indices != lv->indices ? lv->draw_indices : 0};
+        glDeleteBuffers(2, level_bufs);
+    }
     free(gs);
 }
 
 uint64_t lc_gpu_scene_bytes(const lc_gpu_scene *gs) { return gs->bytes; }
+
+int lc_gpu_scene_levels(const lc_gpu_scene *gs) { return gs->level_count; }
+
+uint64_t lc_gpu_scene_lod_bytes(const lc_gpu_scene *gs) { return gs->lod_bytes; }

@@ -54,21 +54,28 @@ void lc_renderer_timestamp(lc_renderer *r, int slot)
         glQueryCounter(r->timer_queries[slot], GL_TIMESTAMP);
 }
 
+unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset)
+{
+    unsigned n = subset > 0 ? (unsigned)subset : 1u;
+    return fs->gs->scene->type == LC_PRIM_POINTS && fs->point_stride > 1 ? n * (unsigned)fs->point_stride : n;
+}
+
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset)
 {
     const lc_gpu_scene *gs = fs->gs;
     const lc_view *v = &fs->view;
     const lc_render_params *p = fs->params;
+    const lc_gpu_level *level = &gs->levels[fs->level];
     glUseProgram(prog);
     glBindVertexArray(r->vao);
-    glVertexArrayElementBuffer(r->vao, gs->draw_indices);
+    glVertexArrayElementBuffer(r->vao, level->draw_indices);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITIONS, gs->positions);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAMES, gs->frames);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ATTRIBUTES, gs->attributes);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_COLORS, gs->colors);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VERTEX_ELEMENTS, gs->vertex_elements);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VERTEX_WEIGHTS, gs->vertex_weights);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_INDICES, gs->indices);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_INDICES, level->indices);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA, r->element_alpha);
     glBindTextureUnit(TEX_COLORMAP, r->colormap_tex[fs->colormap < r->colormap_count ? fs->colormap : 0]);
@@ -92,7 +99,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     double radius = 0.5 * p->style.point_size * (double)h / fs->height;
     lc_uniform_f(prog, "u_point_radius_px", radius > 0.75 ? radius : 0.75);
     lc_uniform_u(prog, "u_vertex_count", gs->scene->vertex_count);
-    lc_uniform_u(prog, "u_subset", (unsigned)(subset > 0 ? subset : 1));
+    lc_uniform_u(prog, "u_subset", lc_renderer_subset(fs, subset));
     lc_uniform_i(prog, "u_importance_attr", fs->importance_attr);
     lc_uniform_v2(prog, "u_importance_range", fs->importance_range[0], fs->importance_range[1]);
     lc_uniform_f(prog, "u_importance_exp", fs->importance_exponent);
@@ -115,10 +122,9 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
 
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
 {
-    const lc_gpu_scene *gs = fs->gs;
-    lc_prim_type prim = gs->scene->type;
-    uint64_t n = gs->primitive_count;
-    uint64_t step = subset > 0 ? (uint64_t)subset : 1;
+    lc_prim_type prim = fs->gs->scene->type;
+    uint64_t n = fs->gs->levels[fs->level].primitive_count;
+    uint64_t step = lc_renderer_subset(fs, subset);
     uint64_t drawn = (n + step - 1) / step;
     if (!drawn)
         return;

@@ -24,6 +24,10 @@ typedef struct lc_gpu_scene lc_gpu_scene;
 int lc_gpu_scene_create(const lc_scene *scene, lc_gpu_scene **out, lc_error *err);
 void lc_gpu_scene_destroy(lc_gpu_scene *gs);
 uint64_t lc_gpu_scene_bytes(const lc_gpu_scene *gs);
+/* Levels of detail (1 = full detail only) and the bytes of those beyond the
+ * first (included in lc_gpu_scene_bytes). */
+int lc_gpu_scene_levels(const lc_gpu_scene *gs);
+uint64_t lc_gpu_scene_lod_bytes(const lc_gpu_scene *gs);
 
 /* ---- One viewer's element opacities between frames (temporal fading).
  * Plain CPU memory, O(elements); not thread-safe: one frame at a time. */
@@ -66,6 +70,13 @@ typedef struct lc_frame_info {
     uint64_t pipeline_bytes;       /* GPU memory the method's targets/buffers hold */
     lc_camera camera;              /* the camera used (fitted when the request had none) */
     uint32_t element_count;
+    /* Detail drawn (params.detail): the level of detail (0 = every segment)
+     * and the primitives of a pass, the point stride, and whether P1-P3 were
+     * skipped for the state's opacities. */
+    int lod_level;
+    uint64_t primitives_drawn;
+    int point_stride;
+    int reused_opacities;
     double max_alpha_change; /* max |delta| of element opacities this frame */
     int converged;           /* max_alpha_change < LC_CONVERGED_EPSILON */
     /* Density normalization (params.normalize; methods with element opacities): */

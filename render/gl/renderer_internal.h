@@ -9,6 +9,7 @@
 #include <epoxy/gl.h>
 
 #include "camera.h"
+#include "lod.h"
 #include "renderer.h"
 
 #define LC_MAX_COEF_TARGETS 5 /* (2 * 8 + 1 + 3) / 4 */
@@ -55,13 +56,23 @@ enum { LC_GL_CONSTANTS(LC_GL_BINDING_ENUM) };
 enum { LC_GL_BINDINGS(LC_GL_BINDING_ENUM) };
 #undef LC_GL_BINDING_ENUM
 
-struct lc_gpu_scene {
-    const lc_scene *scene;
-    GLuint positions, frames, attributes, colors, vertex_elements, vertex_weights, indices;
-    GLuint adj_offsets, adj;
+/* One level of detail: the primitives a pass draws. Level 0 is the whole
+ * scene; lines have coarser levels (render/scene/lod.h). */
+typedef struct lc_gpu_level {
+    GLuint indices;           /* segment pairs / triangles, pulled by subset draws */
     GLuint draw_indices;      /* element buffer of indexed draws: ribbon quads (lines) or the triangles */
     uint64_t primitive_count; /* points, segments or triangles */
+    double error;             /* world units (0 for level 0) */
+} lc_gpu_level;
+
+struct lc_gpu_scene {
+    const lc_scene *scene;
+    GLuint positions, frames, attributes, colors, vertex_elements, vertex_weights;
+    GLuint adj_offsets, adj;
+    int level_count;
+    lc_gpu_level levels[LC_LOD_MAX_LEVELS];
     uint64_t bytes;
+    uint64_t lod_bytes; /* the levels beyond 0 (included in bytes) */
 };
 
 /* A colour target set at one resolution. */
@@ -148,7 +159,10 @@ typedef struct lc_frame_setup {
     int width, height;      /* output */
     int low_width, low_height;
     int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
-    lc_frame_info *info;   /* the frame's report (reduce.c adds its cost) */
+    int level;        /* level of detail of every geometry pass (gs->levels) */
+    int point_stride; /* points: every n-th in every pass */
+    /* The frame's report (reduce.c adds its cost). */
+    lc_frame_info *info;
 } lc_frame_setup;
 
 static inline void lc_uniform_f(GLuint prog, const char *name, double v)
@@ -204,8 +218,12 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes);
 /* Binds the scene's buffers and sets the shared uniforms of a geometry program
  * for a pass rendered at (w, h). */
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);
-/* Issues the draw of every (subset-th) primitive. */
+/* Issues the draw of every (subset-th) primitive of the frame's level. */
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
+/* The primitive stride of a pass drawn with `subset` (points drawn
+ * interactively also skip all but every point_stride-th); also the weight
+ * of P1/P4's sums. */
+unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset);
 /* (Re)allocates a target set; format GL_RGBA32F, GL_RGBA16F, GL_RG32F or GL_RGBA8. */
 void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, uint64_t *bytes);
 void lc_targets_free(lc_targets *t, uint64_t *bytes);

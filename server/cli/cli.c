@@ -87,6 +87,7 @@ const char lc_cli_flags_help[] =
     "  --normalize auto|off  density-aware opacity (auto) or the paper formula (off)\n"
     "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
     "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
+    "  --lod PX              lines: largest simplification error in pixels (default 0.2; 0 = every segment)\n"
     "  --line-width W        world units;  --point-size PX;  --unlit\n"
     "  --format png|jpeg, --quality Q\n";
 
@@ -175,6 +176,7 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
                {"--quality", "quality"},
                {"--resolution-scale", "resolutionScale"},
                {"--subset", "subset"},
+               {"--lod", "lod"},
                {"--background", "background"},
                {"--depth-range", "depthRange"}};
     const char *flag = argv[*i];

@@ -13,7 +13,10 @@ static void bench_usage(void)
             "usage: lucent bench [--size WxH] [--frames N] [--warmup N] [--datasets a,b,...] [--device N] [flags]\n"
             "Renders every demo dataset (default 1024x1024, 10 timed frames after 2 warm-up frames) with a\n"
             "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n"
-            "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n%s",
+            "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n"
+            "--interactive times the frames a session renders while the camera moves: the element\n"
+            "opacities of the first warm-up frame are reused (P1-P3 skipped); with --lod PX (lines) and\n"
+            "--point-stride N (points: every n-th point) for the coarser detail of those frames.\n%s",
             lc_cli_flags_help);
 }
 
@@ -25,7 +28,7 @@ int lc_cli_bench(int argc, char **argv)
         return 1;
     if (!lc_cli_has_flag(argc, argv, "--request")) /* the benchmark's own default size */
         req.render.width = req.render.height = 1024;
-    int frames = 10, warmup = 2, have_list = 0;
+    int frames = 10, warmup = 2, have_list = 0, interactive = 0, point_stride = 1;
     char datasets[512] = "";
     for (const char *const *d = lc_demo_names(); *d; d++)
         snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s", datasets[0] ? "," : "",
@@ -35,6 +38,10 @@ int lc_cli_bench(int argc, char **argv)
             frames = atoi(argv[++i]);
         else if (strcmp(argv[i], "--warmup") == 0 && i + 1 < argc)
             warmup = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--interactive") == 0)
+            interactive = 1;
+        else if (strcmp(argv[i], "--point-stride") == 0 && i + 1 < argc)
+            point_stride = atoi(argv[++i]);
         else if (strcmp(argv[i], "--datasets") == 0 && i + 1 < argc)
             snprintf(datasets, sizeof datasets, "%s", argv[++i]), have_list = 1;
         else if (strcmp(argv[i], "--help") == 0) {
@@ -49,7 +56,7 @@ int lc_cli_bench(int argc, char **argv)
             }
         }
     }
-    if (frames < 1 || warmup < 0) {
+    if (frames < 1 || warmup < 0 || point_stride < 1 || point_stride > 1024) {
         bench_usage();
         return 2;
     }
@@ -65,14 +72,16 @@ int lc_cli_bench(int argc, char **argv)
         return 1;
     }
     printf("renderer: %s | %s | %s\n", lc_gl_renderer(g.gl), lc_gl_version(g.gl), lc_gl_platform(g.gl));
-    printf("%dx%d, method %s, m=%d, %s estimator, s=%d, P1/P2 scale %.2f, %d frames (+%d warm-up)\n\n",
+    if (interactive && warmup < 1)
+        warmup = 1; /* the frame whose opacities the timed ones reuse */
+    printf("%dx%d, method %s, m=%d, %s estimator, s=%d, P1/P2 scale %.2f, lod %.2g px, %d frames (+%d warm-up)%s\n\n",
            req.render.width, req.render.height, lc_method_name(req.render.method), req.render.foo.bands,
            lc_estimator_name(req.render.foo.estimator), req.render.foo.smoothing, req.render.foo.resolution_scale,
-           frames, warmup);
+           req.render.detail.lod_pixels, frames, warmup, interactive ? ", interactive (opacities reused)" : "");
     printf("%-16s %10s %9s", "dataset", "primitives", "elements");
     for (int p = 0; p < LC_PASS_COUNT; p++)
         printf(" %12s", lc_pass_name(p));
-    printf(" %9s %8s %7s %11s %11s\n", "gpu ms", "wall ms", "fps", "pipeline MB", "scene MB");
+    printf(" %9s %8s %7s %11s %11s %10s\n", "gpu ms", "wall ms", "fps", "pipeline MB", "scene MB", "drawn");
 
     int status = 0;
     uint8_t *rgba = malloc((size_t)req.render.width * req.render.height * 4);
@@ -92,7 +101,12 @@ int lc_cli_bench(int argc, char **argv)
             lc_frame_info info;
             int ok = 1;
             for (int f = 0; f < warmup + frames && ok; f++) {
-                if (lc_render_frame(g.renderer, gs, &req.render, st, 1.0 / 30.0, rgba, &info, &err) != 0) {
+                lc_render_params p = req.render;
+                if (interactive && f > 0) {
+                    p.detail.reuse_opacities = true;
+                    p.detail.point_stride = point_stride;
+                }
+                if (lc_render_frame(g.renderer, gs, &p, st, 1.0 / 30.0, rgba, &info, &err) != 0) {
                     fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);
                     ok = 0, status = 1;
                     break;
@@ -111,8 +125,9 @@ int lc_cli_bench(int argc, char **argv)
                         printf(" %12.2f", pass_sum[p] / frames);
                     else
                         printf(" %12s", "-");
-                printf(" %9.2f %8.2f %7.1f %11.1f %11.1f\n", gpu / frames, wall / frames, 1000.0 * frames / wall,
-                       info.pipeline_bytes / 1048576.0, lc_gpu_scene_bytes(gs) / 1048576.0);
+                printf(" %9.2f %8.2f %7.1f %11.1f %11.1f %10llu\n", gpu / frames, wall / frames,
+                       1000.0 * frames / wall, info.pipeline_bytes / 1048576.0, lc_gpu_scene_bytes(gs) / 1048576.0,
+                       (unsigned long long)info.primitives_drawn);
             }
         }
         lc_frame_state_destroy(st);
@@ -120,7 +135,8 @@ int lc_cli_bench(int argc, char **argv)
         lc_scene_destroy(s);
     }
     printf("\npipeline MB: render targets and per-element buffers the method holds (FOO: O(W*H*m));\n"
-           "scene MB: the dataset's GPU buffers, shared by all workers. fps = 1000 / mean wall ms incl. readback.\n");
+           "scene MB: the dataset's GPU buffers (levels of detail included), shared by all workers.\n"
+           "fps = 1000 / mean wall ms incl. readback. drawn: primitives of the full-resolution passes' level.\n");
     free(list);
     free(rgba);
     lc_cli_gl_close(&g);

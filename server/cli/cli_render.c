@@ -11,6 +11,7 @@
 #include "image.h"
 #include "lc_mpi.h"
 #include "loaders.h"
+#include "lod.h"
 
 static int has_suffix(const char *s, const char *suffix)
 {
@@ -176,6 +177,10 @@ int lc_cli_render(int argc, char **argv)
            lc_method_name(req.render.method), req.render.foo.bands, lc_estimator_name(req.render.foo.estimator),
            info.element_count);
     lc_cli_print_timings(&info);
+    if (scene->type == LC_PRIM_LINES)
+        printf("  detail: level %d of %d (lod %.3g px), %llu of %llu segments\n", info.lod_level,
+               lc_gpu_scene_levels(gs), req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
+               (unsigned long long)lc_scene_primitive_count(scene));
     if (mpi)
         printf("  mpi: %d ranks, %d reductions, %.1f MB per rank, %.2f ms in reductions (wall)\n", lc_mpi_size(mpi),
                info.reductions, info.reduce_bytes / 1e6, info.reduce_ms);
@@ -213,6 +218,26 @@ done:
     return status;
 }
 
+/* The level-of-detail ladder of a line scene and what its GPU buffers cost
+ * next to the scene's own arrays. */
+static void print_detail_levels(const lc_scene *s)
+{
+    lc_lod lod;
+    lc_error err = {0};
+    if (s->type != LC_PRIM_LINES || lc_lod_plan(s, &lod, &err) != 0)
+        return;
+    uint64_t extra = 0;
+    printf("detail      %d levels:", lod.count);
+    for (int i = 0; i < lod.count; i++) {
+        printf(i ? ", %llu segments within %.3g" : " %llu segments (full)", (unsigned long long)lod.levels[i].segments,
+               lod.levels[i].error);
+        if (i)
+            extra += lod.levels[i].segments * LC_LOD_BYTES_PER_SEGMENT;
+    }
+    printf("\n            %.3f MB of level buffers (the scene's arrays: %.3f MB)\n", extra / 1e6,
+           lc_scene_bytes(s) / 1e6);
+}
+
 int lc_cli_info(int argc, char **argv)
 {
     if (argc != 2 || argv[1][0] == '-') {
@@ -237,6 +262,7 @@ int lc_cli_info(int argc, char **argv)
     printf("bounds      [%g, %g] x [%g, %g] x [%g, %g]\n", s->bounds[0], s->bounds[3], s->bounds[1], s->bounds[4],
            s->bounds[2], s->bounds[5]);
     printf("elements    %u (adjacency %u)\n", s->elements.count, s->elements.adjacency_count);
+    print_detail_levels(s);
     printf("rgb         %s\n", s->rgb ? "yes" : "no");
     printf("importance  %s (default)\n", s->default_importance[0] ? s->default_importance : "(none: g = 1)");
     printf("color       %s (default)\n", s->default_color);
@@ -272,21 +298,27 @@ int lc_cli_gen(int argc, char **argv)
         }
     }
     if (!name || !out) {
-        fprintf(stderr, "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\ndemos:");
+        fprintf(stderr, "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
+                        "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
+                        "demos:");
         for (const char *const *d = lc_demo_names(); *d; d++)
             fprintf(stderr, "\n  %-8s %s", *d, lc_demo_description(*d));
         fprintf(stderr, "\n");
         return 2;
     }
-    if (strncmp(name, "demo:", 5) == 0)
-        name += 5;
+    const char *bare = strncmp(name, "demo:", 5) == 0 ? name + 5 : name;
     lc_error err = {0};
     lc_scene *s = NULL;
-    if (lc_demo_create(name, &desc, &s, &err) != 0) {
+    /* A demo name takes --count/--seed; any other dataset (a file in a format
+     * Lucent reads, demo:NAME?count=N) is loaded and written: a converter. */
+    int rc = lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
+             : desc.count || desc.seed
+                 ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)
+                 : lc_cli_open_dataset(name, &s, &err);
+    if (rc != 0) {
         fprintf(stderr, "lucent gen: %s\n", err.msg);
         return 1;
     }
-    int rc;
     if (has_suffix(out, ".ply"))
         rc = lc_save_ply(s, out, &err);
     else if (has_suffix(out, ".obj"))

@@ -69,6 +69,8 @@ static void usage(FILE *f)
             "                         (default 8; clients are served round robin)\n"
             "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
             "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
+            "  --frame-budget MS      render time interactive frames aim under: line detail, point stride and\n"
+            "                         resolution adapt to it (default 70)\n"
             "  --log-level L          error|warn|info|debug (default info)\n"
             "  --mpi                  under mpirun/srun: every rank loads the data and keeps its shard; rank 0\n"
             "                         serves and leads, the others render their shards of each frame (docs/MPI.md)\n"
@@ -133,6 +135,7 @@ enum {
     OPT_MAX_CONN,
     OPT_IDLE,
     OPT_STILL,
+    OPT_FRAME_BUDGET,
     OPT_LOG,
     OPT_ELEMENTS,
     OPT_MAX_COST,
@@ -177,6 +180,7 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                                          {"max-connections", required_argument, NULL, OPT_MAX_CONN},
                                          {"idle-timeout", required_argument, NULL, OPT_IDLE},
                                          {"still-delay", required_argument, NULL, OPT_STILL},
+                                         {"frame-budget", required_argument, NULL, OPT_FRAME_BUDGET},
                                          {"log-level", required_argument, NULL, OPT_LOG},
                                          {"max-cost", required_argument, NULL, OPT_MAX_COST},
                                          {"render-deadline", required_argument, NULL, OPT_DEADLINE},
@@ -285,6 +289,11 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                 return -1;
             cfg->still_delay = (double)v / 1000.0;
             break;
+        case OPT_FRAME_BUDGET:
+            if (parse_long("--frame-budget", optarg, 5, 10000, &v))
+                return -1;
+            cfg->frame_budget_ms = (double)v;
+            break;
         case OPT_LOG: {
             int level = lc_log_parse_level(optarg);
             if (level < 0) {
@@ -345,6 +354,7 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->idle_timeout = 300;
     cfg->max_stream_pixels = 4LL << 20;
     cfg->still_delay = 0.150;
+    cfg->frame_budget_ms = 70.0;
     cfg->max_cost = LC_COST_DEFAULT_BUDGET;
     cfg->render_deadline = 60;
     cfg->max_queue_per_client = 8;

@@ -9,6 +9,20 @@
 
 #include "metrics.h"
 
+/* The interactive detail ladder, finest first: line error bound (pixels),
+ * point stride and a factor on the stream's interactiveScale. One step down
+ * roughly halves the geometry a frame draws. */
+static const struct {
+    double lod_pixels;
+    int point_stride;
+    double scale;
+} detail_steps[] = {{0.5, 1, 1.0}, {1, 2, 1.0}, {2, 4, 0.85}, {4, 8, 0.7}, {8, 16, 0.5}};
+#define DETAIL_STEPS ((int)(sizeof detail_steps / sizeof detail_steps[0]))
+#define DETAIL_START 1
+/* While the camera keeps moving, P1-P3 run again this often (seconds) so the
+ * reused opacities follow the view. */
+#define REOPTIMIZE_SECONDS 1.0
+
 #define MOD "session"
 
 struct lc_sessions {
@@ -93,6 +107,7 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     s->stream.quality = LC_PROTO_DEFAULT_QUALITY;
     s->stream.interactive_quality = LC_PROTO_DEFAULT_INTERACTIVE_QUALITY;
     s->stream.interactive_scale = LC_PROTO_DEFAULT_INTERACTIVE_SCALE;
+    s->stream.detail_step = DETAIL_START;
     s->stream.device_pixel_ratio = 1.0;
     s->stream.next_frame = 1;
     s->stream.converged = true;
@@ -256,6 +271,17 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     bool interactive = st->any_input && now - st->last_input < cfg->still_delay;
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
+    out->detail_step = st->detail_step;
+    if (interactive) {
+        lc_detail *d = &out->req.render.detail;
+        if (!st->last_interactive)
+            st->last_optimized = now; /* the still frame's opacities start the interaction */
+        d->lod_pixels = d->lod_pixels > detail_steps[st->detail_step].lod_pixels ? d->lod_pixels
+                                                                                 : detail_steps[st->detail_step].lod_pixels;
+        d->point_stride = detail_steps[st->detail_step].point_stride;
+        d->reuse_opacities = now - st->last_optimized < REOPTIMIZE_SECONDS;
+        scale *= detail_steps[st->detail_step].scale;
+    }
     lc_session_frame_size(st->css_width, st->css_height, st->device_pixel_ratio, scale, cfg->max_stream_pixels,
                           &cfg->limits, &out->req.render.width, &out->req.render.height);
     out->req.format = LC_FORMAT_JPEG;
@@ -300,6 +326,19 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
         st->converged = info ? info->converged != 0 : true;
         st->last_interactive = f->interactive;
         st->frames++;
+        if (info && !info->reused_opacities)
+            st->last_optimized = lc_now();
+        /* Coarser when a frame overran the budget, finer when it took well
+         * under half (a step roughly halves or doubles the work; the gap keeps
+         * the controller from oscillating). Only frames that reused opacities
+         * count: the periodic re-optimized ones cost more by design. */
+        double budget = s->srv->cfg.frame_budget_ms;
+        if (info && f->interactive && info->reused_opacities && budget > 0 && f->detail_step == st->detail_step) {
+            if (info->wall_ms > budget && st->detail_step + 1 < DETAIL_STEPS)
+                st->detail_step++;
+            else if (info->wall_ms < 0.45 * budget && st->detail_step > 0)
+                st->detail_step--;
+        }
     } else {
         /* Nothing goes out for this id, so it cannot be acked; and retrying
          * the same failing request would loop, so wait for new input. */

@@ -58,6 +58,11 @@ typedef struct lc_stream {
     uint64_t frames;              /* frames rendered */
     uint64_t last_sent;           /* newest frame id handed to the connection; acks beyond it are refused */
     bool send_blocked;            /* the socket does not take more: render nothing until it drains */
+    /* Interactive detail (docs/ALGORITHM.md "Level of detail and interactive
+     * frames"): a step of the session's ladder, moved by the render times of
+     * the frames that reused opacities, and when P1-P3 last ran. */
+    int detail_step;
+    double last_optimized;
 } lc_stream;
 
 typedef struct lc_session lc_session;
@@ -95,6 +100,7 @@ typedef struct lc_stream_frame {
     uint64_t camera_seq;
     int quality;
     bool interactive;
+    int detail_step; /* interactive frames: the ladder step used */
     double dt;
 } lc_stream_frame;
 

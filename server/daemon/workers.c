@@ -573,6 +573,14 @@ static void encode_one(lc_workers *w, encode_item *e)
     h.converged = e->info.converged != 0;
     h.timing_count = lc_workers_timings(&e->info, h.timings, LC_PROTO_MAX_TIMINGS);
     h.encode_ms = ms;
+    h.has_detail = true;
+    h.interactive = e->frame.interactive;
+    h.reused = e->info.reused_opacities != 0;
+    h.level = e->info.lod_level;
+    h.lod_pixels = e->frame.req.render.detail.lod_pixels;
+    h.point_stride = e->info.point_stride > 0 ? e->info.point_stride : 1;
+    h.primitives = e->info.primitives_drawn;
+    h.render_ms = e->info.wall_ms;
     if (e->info.has_visibility) {
         h.has_visibility = true;
         h.top_decile_alpha = e->info.top_decile_alpha;

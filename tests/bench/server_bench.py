@@ -2,13 +2,18 @@
 """Server benchmark (prints figures; not part of the pass/fail suite).
 
 For N simultaneous interactive WebSocket sessions that drag the camera at 60 Hz
-(and ack every frame), reports frames per second (total and per session) and
-camera-to-frame latency (time from sending camera seq k to receiving the first
-frame whose cameraSeq >= k; median and 99th percentile). Then JPEG encode
-throughput in megapixels/s, from the daemon's /metrics counters during the
-streams and from 1024x1024 HTTP renders (X-Lucent-Timings encode=).
+(orbiting the data, and ack every frame), reports frames per second (total and
+per session), camera-to-frame latency (time from sending camera seq k to
+receiving the first frame whose cameraSeq >= k; median and 99th percentile),
+the render time and primitives of the interactive frames and the detail they
+used (frame header "detail"), and whether the frame after the orbit stops is a
+full-size still of the last camera. Then JPEG encode throughput in
+megapixels/s, from the daemon's /metrics counters during the streams and from
+1024x1024 HTTP renders (X-Lucent-Timings encode=).
 
   tests/bench/server_bench.py --binary build/lucent --sessions 1,2,4 --seconds 10
+  tests/bench/server_bench.py --binary build/lucent --dataset demo:tornado --sessions 1 \
+      --width 972 --height 761 --no-encode          (the browser-sized orbit of docs/EVALUATION.md)
   tests/bench/server_bench.py --url http://127.0.0.1:8080 --token T ...   (a running daemon)
 """
 import argparse
@@ -20,6 +25,7 @@ import statistics
 import sys
 import time
 import urllib.request
+import math
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "server"))
 from lucent_server import Server, unpack_frame, websockets  # noqa: E402
@@ -35,8 +41,21 @@ def metrics(base, token):
     return out
 
 
+def orbit_camera(bounds, angle):
+    """A camera on a circle around the data's centre, 2.2 bounding radii out (ParaView-like fit)."""
+    lo, hi = bounds
+    c = [(a + b) / 2 for a, b in zip(lo, hi)]
+    r = 0.5 * math.sqrt(sum((b - a) ** 2 for a, b in zip(lo, hi))) or 1.0
+    d = 2.2 * r
+    return {"position": [c[0] + d * math.cos(angle), c[1] + 0.3 * d, c[2] + d * math.sin(angle)],
+            "focalPoint": c, "viewUp": [0, 1, 0], "viewAngle": 30}
+
+
 async def session(ws_url, token, args, idx, t_end, out):
-    lat, frames, sent = [], 0, {}
+    """Orbits the camera at args.rate Hz until t_end, acking every frame; then
+    waits for the still frame and checks it shows the last camera at full size."""
+    lat, frames, sent, render_ms, prims, steps = [], 0, {}, [], [], {}
+    still = None
     async with websockets.connect(ws_url, max_size=None) as ws:
         hello = {"type": "hello", "dataset": args.dataset, "width": args.width, "height": args.height,
                  "devicePixelRatio": args.dpr, "window": args.window}
@@ -45,6 +64,7 @@ async def session(ws_url, token, args, idx, t_end, out):
         await ws.send(json.dumps(hello))
         ready = json.loads(await ws.recv())
         assert ready["type"] == "ready", ready
+        bounds = ready["dataset"]["bounds"]
         seq, answered = 0, 0
         next_send = time.time()
         angle = idx * 0.7
@@ -52,12 +72,9 @@ async def session(ws_url, token, args, idx, t_end, out):
             now = time.time()
             if now >= next_send:
                 seq += 1
-                angle += 0.05
-                import math
-                cam = {"position": [0.5 + 2 * math.cos(angle), 0.5, 0.5 + 2 * math.sin(angle)],
-                       "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}
+                angle += 2 * math.pi / (args.rate * args.orbit_seconds)
                 sent[seq] = time.time()
-                await ws.send(json.dumps({"type": "camera", "seq": seq, "camera": cam}))
+                await ws.send(json.dumps({"type": "camera", "seq": seq, "camera": orbit_camera(bounds, angle)}))
                 next_send += 1.0 / args.rate
             try:
                 m = await asyncio.wait_for(ws.recv(), max(0.001, next_send - time.time()))
@@ -71,8 +88,31 @@ async def session(ws_url, token, args, idx, t_end, out):
             if h["cameraSeq"] > answered:
                 lat.append(t - sent[h["cameraSeq"]])
                 answered = h["cameraSeq"]
+            det = h.get("detail")
+            if det and det["interactive"]:
+                render_ms.append(det["renderMs"])
+                prims.append(det["primitives"])
+                key = "%g px/%d" % (det["lodPixels"], det["pointStride"])
+                steps[key] = steps.get(key, 0) + 1
             await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
-    out.append((frames, lat))
+        # Input stops: the last frame must be a full-quality still of the last camera.
+        deadline = time.time() + 30
+        while time.time() < deadline:
+            try:
+                m = await asyncio.wait_for(ws.recv(), deadline - time.time())
+            except asyncio.TimeoutError:
+                break
+            if isinstance(m, str):
+                continue
+            h, _ = unpack_frame(m)
+            await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+            det = h.get("detail") or {}
+            if not det.get("interactive", False):
+                still = h
+                if h["converged"]:
+                    break
+    out.append({"frames": frames, "lat": lat, "render_ms": render_ms, "prims": prims, "steps": steps,
+                "still": still, "last_seq": seq})
 
 
 def pct(values, p):
@@ -83,10 +123,11 @@ def pct(values, p):
 
 
 def run(base, ws_url, token, args):
-    print("dataset %s, viewport %dx%d x dpr %g, window %d, camera at %g Hz, %g s per run" %
-          (args.dataset, args.width, args.height, args.dpr, args.window, args.rate, args.seconds))
-    print("%8s %10s %12s %14s %14s %12s %12s" % ("sessions", "frames/s", "per session", "latency p50", "latency p99",
-                                                 "coalesced", "encode MP/s"))
+    print("dataset %s, viewport %dx%d x dpr %g, window %d, camera at %g Hz (one orbit per %g s), %g s per run" %
+          (args.dataset, args.width, args.height, args.dpr, args.window, args.rate, args.orbit_seconds, args.seconds))
+    print("%8s %10s %12s %14s %14s %12s %12s %10s %12s  %s" % (
+        "sessions", "frames/s", "per session", "latency p50", "latency p99", "coalesced", "encode MP/s",
+        "render p50", "primitives", "still frame"))
     for n in [int(x) for x in args.sessions.split(",")]:
         m0 = metrics(base, token)
         out = []
@@ -95,17 +136,34 @@ def run(base, ws_url, token, args):
         async def all_sessions():
             await asyncio.gather(*[session(ws_url, token, args, i, t0 + args.seconds, out) for i in range(n)])
         asyncio.run(all_sessions())
-        el = time.time() - t0
+        el = args.seconds
         m1 = metrics(base, token)
-        frames = sum(f for f, _ in out)
-        lat = [x for _, l in out for x in l]
+        frames = sum(o["frames"] for o in out)
+        lat = [x for o in out for x in o["lat"]]
+        rms = [x for o in out for x in o["render_ms"]]
+        prims = [x for o in out for x in o["prims"]]
         px = m1["lucent_encoded_pixels_total"] - m0["lucent_encoded_pixels_total"]
         es = m1["lucent_encode_seconds_sum"] - m0["lucent_encode_seconds_sum"]
-        print("%8d %10.1f %12.1f %11.1f ms %11.1f ms %12d %12.1f" % (
+        stills = []
+        for o in out:
+            h = o["still"]
+            ok = h is not None and h["cameraSeq"] == o["last_seq"] and h["width"] == round(args.width * args.dpr)
+            stills.append("ok" if ok else "MISSING" if h is None else "seq %d/%d %dx%d" % (
+                h["cameraSeq"], o["last_seq"], h["width"], h["height"]))
+        steps = {}
+        for o in out:
+            for k, v in o["steps"].items():
+                steps[k] = steps.get(k, 0) + v
+        print("%8d %10.1f %12.1f %11.1f ms %11.1f ms %12d %12.1f %7.1f ms %12d  %s" % (
             n, frames / el, frames / el / n, 1000 * pct(lat, 50), 1000 * pct(lat, 99),
             m1["lucent_frames_coalesced_total"] - m0["lucent_frames_coalesced_total"],
-            px / es / 1e6 if es > 0 else float("nan")))
+            px / es / 1e6 if es > 0 else float("nan"), pct(rms, 50), int(pct(prims, 50)) if prims else 0,
+            ",".join(sorted(set(stills)))))
+        print("%8s interactive detail used (line px / point stride: frames): %s" % (
+            "", ", ".join("%s: %d" % kv for kv in sorted(steps.items()))))
         time.sleep(1.0)
+    if args.no_encode:
+        return
     # JPEG encode throughput on big frames (HTTP, encode time from the header).
     rates = []
     for q in (70, 90):
@@ -137,6 +195,8 @@ def main():
     ap.add_argument("--dpr", type=float, default=1.0)
     ap.add_argument("--window", type=int, default=2)
     ap.add_argument("--rate", type=float, default=60, help="camera messages per second per session")
+    ap.add_argument("--orbit-seconds", type=float, default=8, help="seconds per full orbit of the camera")
+    ap.add_argument("--no-encode", action="store_true", help="skip the JPEG encode throughput runs")
     ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
     args = ap.parse_args()
     if websockets is None:

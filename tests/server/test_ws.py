@@ -2,7 +2,9 @@
 unacknowledged-frame window, a coalesced camera burst, interactive then still
 frames, frames stopping once converged, stats messages while frames flow and
 once after, malformed and oversized messages while another session keeps
-working, and close frames on SIGTERM."""
+working, close frames on SIGTERM, and the detail of interactive frames (reused
+opacities, coarser lines and resolution under a frame budget no frame meets,
+then a full still frame of the last camera)."""
 import asyncio
 import json
 import sys
@@ -275,13 +277,61 @@ async def shutdown(srv):
     check(rc == 0, "daemon exits 0 (%s)" % rc)
 
 
+async def detail(srv):
+    """Drags for about a second with a 5 ms frame budget (no frame meets it):
+    interactive frames reuse opacities and coarsen step by step; the still
+    frame after release optimizes again at full size and shows the last camera."""
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await hello(ws, dataset="demo:tornado")
+        frames = await frames_until_quiet(ws, 1.5)
+        first = [f[0] for f in frames if f[0] != "text"]
+        check(first and "detail" in first[0], "frame headers carry detail")
+        if first and "detail" in first[0]:
+            d = first[0]["detail"]
+            check(not d["interactive"] and not d["reusedOpacities"] and d["lodPixels"] == 0.2 and d["level"] >= 0
+                  and d["primitives"] > 0 and d["renderMs"] > 0, "the first frame is a still frame: %s" % d)
+        got = []
+
+        async def reader():
+            while True:  # until 2 s pass without a frame (the still frame came and converged)
+                m = await recv(ws, 2.0)
+                if m is None:
+                    return
+                if isinstance(m, str):
+                    continue
+                h, _ = unpack_frame(m)
+                got.append(h)
+                await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+        task = asyncio.create_task(reader())
+        last = 0
+        for s in range(1, 41):
+            await ws.send(camera(s, 2.0 + 0.02 * s))
+            last = s
+            await asyncio.sleep(0.03)
+        await task
+        inter = [h for h in got if h.get("detail", {}).get("interactive")]
+        check(len(inter) >= 2, "interactive frames while dragging (%d)" % len(inter))
+        check(any(h["detail"]["reusedOpacities"] for h in inter), "interactive frames reuse the opacities")
+        check(max(h["detail"]["lodPixels"] for h in inter) > 0.5 if inter else False,
+              "over budget, line detail coarsens (%s)" % [h["detail"]["lodPixels"] for h in inter])
+        check(min(h["width"] for h in inter) < 48 if inter else False,
+              "over budget, resolution drops below interactiveScale x 96 (%s)" % [h["width"] for h in inter])
+        if got:
+            h = got[-1]
+            check(not h["detail"]["interactive"] and not h["detail"]["reusedOpacities"] and h["width"] == 96
+                  and h["cameraSeq"] == last and h["converged"] and h["detail"]["lodPixels"] == 0.2,
+                  "the last frame is a full still of the last camera: %s" % h)
+
+
 async def main():
-    with Server(binary, "--max-ws-message", "4096", "--still-delay", "150") as srv:
+    with Server(binary, "--max-ws-message", "4096", "--still-delay", "150", "--frame-budget", "10000") as srv:
         await basic(srv)
         await window(srv)
         await bad_input(srv)
         await stats(srv)
         await shutdown(srv)
+    with Server(binary, "--still-delay", "150", "--frame-budget", "5", data=("demo:tornado",), demo_size=60) as srv:
+        await detail(srv)
 
 
 asyncio.run(main())

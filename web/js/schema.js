@@ -29,6 +29,7 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'] },
   { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['global', 'pixel'] },
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'] },
+  { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16 },
   { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true },
 
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },

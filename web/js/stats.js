@@ -70,6 +70,13 @@ export class FrameStats {
         for (const [pass, v] of t) out.push([`  ${pass}`, ms(v)]);
       }
       if (typeof h.encodeMs === 'number') out.push(['encode', ms(h.encodeMs)]);
+      const d = h.detail;
+      if (d && typeof d === 'object') {
+        const parts = [d.interactive ? 'interactive' : 'still', `level ${d.level} (${d.lodPixels} px)`];
+        if (d.pointStride > 1) parts.push(`every ${d.pointStride}th point`);
+        if (d.reusedOpacities) parts.push('opacities reused');
+        out.push(['detail', `${parts.join(', ')}; ${d.primitives} primitives`]);
+      }
       out.push(['state', h.converged ? 'converged' : 'fading']);
     }
     if (this.bytes != null) out.push(['bytes/frame', `${formatBytes(this.bytes)} (avg ${formatBytes(this.bytesAvg)})`]);

@@ -37,6 +37,7 @@ export const GROUPS = [
       { path: 'params.depthMargin', label: 'Depth margin δ', kind: 'range', min: 0, max: 0.25, step: 0.005, help: 'Keeps depths away from the ends of the periodic depth range. Rarely needs changing.' },
       { path: 'params.depthRange', label: 'Depth range', kind: 'select', options: [['global', 'Data bounds'], ['pixel', 'Per pixel']], help: "Depth normalization over the whole data (default) or each pixel's own depth range (sharper, one more pass)." },
       { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']], help: 'Auto: dense data does not wash out (opacities adapt to how many layers a pixel has, importance maps from the 2nd to 98th percentile). Off: the paper\'s formula unchanged.' },
+      { path: 'params.lod', label: 'Line detail (px)', kind: 'range', min: 0, max: 4, step: 0.05, help: 'Lines: how far, in pixels, simplified lines may stray from the full ones in still frames. 0: draw every segment.' },
       { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Direct method only: opacity = importance to the power k.' },
     ],
   },

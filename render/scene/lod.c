@@ -1,0 +1,227 @@
+/* Polyline simplification hierarchy (lod.h). */
+#include "lod.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NONE UINT32_MAX
+/* Spans longer than this split at their middle rather than at the farthest
+ * vertex: the farthest-vertex split can peel one vertex at a time off a long
+ * spiral (quadratic time), the middle split keeps the depth logarithmic; its
+ * error is still the farthest distance over the span, so the bound holds. */
+#define BALANCED_SPAN 1024
+/* The threshold ladder: diag * 2^(-LADDER_FINEST/2) .. diag * 2^(-LADDER_COARSEST/2),
+ * in steps of sqrt(2). */
+#define LADDER_FINEST 32
+#define LADDER_COARSEST 8
+
+typedef struct span {
+    uint32_t a, b, parent;
+} span;
+
+/* Squared distance from p to the segment a-b. */
+static double seg_dist2(const float *p, const float *a, const float *b)
+{
+    double ab[3], ap[3], t = 0, len2 = 0;
+    for (int i = 0; i < 3; i++) {
+        ab[i] = (double)b[i] - a[i];
+        ap[i] = (double)p[i] - a[i];
+        t += ab[i] * ap[i];
+        len2 += ab[i] * ab[i];
+    }
+    t = len2 > 0 ? t / len2 : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    double d2 = 0;
+    for (int i = 0; i < 3; i++) {
+        double d = ap[i] - t * ab[i];
+        d2 += d * d;
+    }
+    return d2;
+}
+
+typedef struct builder {
+    const float *pos;
+    float *err;
+    uint32_t *parent, *order; /* split parent of each vertex; vertices in split order */
+    size_t k;
+    span *stack;
+    size_t top, cap;
+} builder;
+
+/* Splits the run a..b (end points kept) down to single segments, recording
+ * each split vertex's span error. Returns -1 on OOM. */
+static int split_run(builder *bd, uint32_t a, uint32_t b)
+{
+    if (b - a < 2)
+        return 0;
+    bd->stack[bd->top++] = (span){a, b, NONE};
+    while (bd->top > 0) {
+        span sp = bd->stack[--bd->top];
+        double best = -1;
+        uint32_t far = sp.a + 1;
+        for (uint32_t v = sp.a + 1; v < sp.b; v++) {
+            double d2 = seg_dist2(bd->pos + 3 * (size_t)v, bd->pos + 3 * (size_t)sp.a, bd->pos + 3 * (size_t)sp.b);
+            if (d2 > best)
+                best = d2, far = v;
+        }
+        uint32_t v = sp.b - sp.a > BALANCED_SPAN ? sp.a + (sp.b - sp.a) / 2 : far;
+        bd->err[v] = (float)sqrt(best);
+        bd->parent[v] = sp.parent;
+        bd->order[bd->k++] = v;
+        if (bd->top + 2 > bd->cap) {
+            span *grown = realloc(bd->stack, 2 * bd->cap * sizeof *grown);
+            if (!grown)
+                return -1;
+            bd->stack = grown, bd->cap *= 2;
+        }
+        if (v - sp.a >= 2)
+            bd->stack[bd->top++] = (span){sp.a, v, v};
+        if (sp.b - v >= 2)
+            bd->stack[bd->top++] = (span){v, sp.b, v};
+    }
+    return 0;
+}
+
+int lc_lod_vertex_errors(const lc_scene *s, float *err, lc_error *err_out)
+{
+    uint32_t n = s->vertex_count;
+    builder bd = {.pos = s->positions, .err = err, .cap = 256};
+    bd.parent = malloc((n ? n : 1) * sizeof *bd.parent);
+    bd.order = malloc((n ? n : 1) * sizeof *bd.order);
+    bd.stack = malloc(bd.cap * sizeof *bd.stack);
+    int rc = bd.parent && bd.order && bd.stack ? 0 : -1;
+    for (uint32_t v = 0; v < n; v++)
+        err[v] = INFINITY; /* run end points; split_run gives every other vertex its error */
+    const uint32_t *ve = s->elements.vertex_elements;
+    for (uint32_t l = 0; l < s->line_count && rc == 0; l++) {
+        uint32_t first = s->line_offsets[l], end = s->line_offsets[l + 1];
+        for (uint32_t a = first, b; a + 1 < end && rc == 0; a = b) {
+            /* Runs end where the primary element changes: that vertex stays, so
+             * every element keeps a segment (a segment belongs to the element
+             * of its last vertex) and the opacity field keeps its resolution. */
+            for (b = a + 1; b + 1 < end && (!ve || ve[4 * (size_t)b + 3] == ve[4 * (size_t)b + 7]); b++)
+                ;
+            rc = split_run(&bd, a, b);
+        }
+    }
+    /* Monotone: children come after their parent in `order`, so a reverse walk
+     * lifts every parent to its largest descendant. Then a vertex is only
+     * dropped with all of its descendants, which its span's chord covers. */
+    for (size_t i = bd.k; rc == 0 && i-- > 0;) {
+        uint32_t v = bd.order[i], p = bd.parent[v];
+        if (p != NONE && err[p] < err[v])
+            err[p] = err[v];
+    }
+    free(bd.parent), free(bd.order), free(bd.stack);
+    if (rc)
+        return lc_err(err_out, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
+    return 0;
+}
+
+static double scene_diagonal(const lc_scene *s)
+{
+    double d2 = 0;
+    for (int i = 0; i < 3; i++)
+        d2 += (s->bounds[i + 3] - s->bounds[i]) * (s->bounds[i + 3] - s->bounds[i]);
+    return sqrt(d2);
+}
+
+/* Plans the levels from the vertex errors (err NULL: one level). */
+static void plan_levels(const lc_scene *s, const float *err, lc_lod *out)
+{
+    memset(out, 0, sizeof *out);
+    out->count = 1;
+    out->levels[0].segments = lc_scene_primitive_count(s);
+    if (!err)
+        return;
+    enum { STEPS = LADDER_FINEST - LADDER_COARSEST + 1 };
+    double diag = scene_diagonal(s), thresholds[STEPS];
+    uint64_t kept[STEPS] = {0};
+    for (int j = 0; j < STEPS; j++)
+        thresholds[j] = diag * pow(2.0, -0.5 * (LADDER_FINEST - j));
+    uint32_t lines = 0;
+    for (uint32_t l = 0; l < s->line_count; l++)
+        lines += s->line_offsets[l + 1] > s->line_offsets[l];
+    for (uint32_t v = 0; v < s->vertex_count; v++)
+        for (int j = 0; j < STEPS && err[v] > thresholds[j]; j++)
+            kept[j]++;
+    for (int j = 0; j < STEPS && out->count < LC_LOD_MAX_LEVELS; j++) {
+        uint64_t segments = kept[j] - lines;
+        if ((double)segments > LC_LOD_SHRINK * (double)out->levels[out->count - 1].segments)
+            continue;
+        out->levels[out->count].error = thresholds[j];
+        out->levels[out->count].segments = segments;
+        out->count++;
+    }
+}
+
+int lc_lod_plan(const lc_scene *s, lc_lod *out, lc_error *err)
+{
+    if (s->type != LC_PRIM_LINES) {
+        plan_levels(s, NULL, out);
+        return 0;
+    }
+    float *e = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *e);
+    if (!e)
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
+    int rc = lc_lod_vertex_errors(s, e, err);
+    if (!rc)
+        plan_levels(s, e, out);
+    free(e);
+    return rc;
+}
+
+int lc_lod_build(const lc_scene *s, lc_lod *out, lc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    float *e = NULL;
+    if (s->type == LC_PRIM_LINES) {
+        e = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *e);
+        if (!e)
+            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
+        int rc = lc_lod_vertex_errors(s, e, err);
+        if (rc) {
+            free(e);
+            return rc;
+        }
+    }
+    plan_levels(s, e, out);
+    if (s->type != LC_PRIM_LINES)
+        return 0;
+    for (int i = 0; i < out->count; i++) {
+        lc_lod_level *lv = &out->levels[i];
+        lv->pairs = malloc((lv->segments ? lv->segments : 1) * 2 * sizeof(uint32_t));
+        if (!lv->pairs) {
+            free(e);
+            lc_lod_free(out);
+            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
+        }
+        double t = i == 0 ? -1.0 : lv->error;
+        uint64_t k = 0;
+        for (uint32_t l = 0; l < s->line_count; l++) {
+            uint32_t prev = NONE;
+            for (uint32_t v = s->line_offsets[l]; v < s->line_offsets[l + 1]; v++) {
+                if (!(e[v] > t))
+                    continue;
+                if (prev != NONE) {
+                    lv->pairs[2 * k] = prev;
+                    lv->pairs[2 * k + 1] = v;
+                    k++;
+                }
+                prev = v;
+            }
+        }
+        lv->segments = k; /* equals the plan's count */
+    }
+    free(e);
+    return 0;
+}
+
+void lc_lod_free(lc_lod *lod)
+{
+    for (int i = 0; i < lod->count; i++) {
+        free(lod->levels[i].pairs);
+        lod->levels[i].pairs = NULL;
+    }
+}

@@ -1,0 +1,170 @@
+/* Level of detail for lines (render/scene/lod.h): on explicit polylines, every
+ * level keeps each line's end points and every element's last vertex, its
+ * segment count halves at least from level to level, and every vertex of the
+ * full line lies within the level's error of the simplified polyline (checked
+ * by brute force). A long spiral checks that the build stays fast where the
+ * farthest-vertex split would go quadratic. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "lc_test.h"
+#include "lod.h"
+#include "scene.h"
+
+static double dist_to_segment(const float *p, const float *a, const float *b)
+{
+    double ab[3], ap[3], t = 0, l2 = 0, d2 = 0;
+    for (int i = 0; i < 3; i++) {
+        ab[i] = (double)b[i] - a[i];
+        ap[i] = (double)p[i] - a[i];
+        t += ab[i] * ap[i];
+        l2 += ab[i] * ab[i];
+    }
+    t = l2 > 0 ? fmin(1, fmax(0, t / l2)) : 0;
+    for (int i = 0; i < 3; i++)
+        d2 += (ap[i] - t * ab[i]) * (ap[i] - t * ab[i]);
+    return sqrt(d2);
+}
+
+/* lines: count polylines of n[i] vertices: helices of different pitch, a
+ * straight line (collinear vertices), a zig-zag, and a 2-vertex line. */
+static lc_scene *make_lines(const uint32_t *n, int count, uint32_t elements)
+{
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("lod", LC_PRIM_LINES);
+    uint32_t total = 0;
+    for (int i = 0; i < count; i++)
+        total += n[i];
+    CHECK(s && lc_scene_alloc_vertices(s, total, 0, &err) == 0, "alloc: %s", err.msg);
+    s->line_count = (uint32_t)count;
+    s->line_offsets = malloc(sizeof(uint32_t) * ((size_t)count + 1));
+    uint32_t v = 0;
+    for (int l = 0; l < count; l++) {
+        s->line_offsets[l] = v;
+        for (uint32_t k = 0; k < n[l]; k++, v++) {
+            double t = (double)k / (n[l] > 1 ? n[l] - 1 : 1);
+            float *p = s->positions + 3 * (size_t)v;
+            switch (l % 4) {
+            case 0: /* helix */
+                p[0] = (float)(0.5 + 0.3 * cos(12 * t * (1 + l))), p[1] = (float)(0.5 + 0.3 * sin(12 * t * (1 + l)));
+                p[2] = (float)t;
+                break;
+            case 1: /* straight: every interior vertex has zero error */
+                p[0] = (float)t, p[1] = 0.25f, p[2] = 0.75f;
+                break;
+            case 2: /* zig-zag at the sampling frequency */
+                p[0] = (float)t, p[1] = (float)(0.5 + 0.01 * ((k & 1) ? 1 : -1)), p[2] = 0.5f;
+                break;
+            default: /* noisy wander */
+                p[0] = (float)t, p[1] = (float)(0.5 + 0.2 * sin(40 * t) + 0.001 * ((k * 2654435761u) % 97)),
+                p[2] = (float)(0.3 * cos(7 * t));
+            }
+        }
+    }
+    s->line_offsets[count] = v;
+    lc_elements_desc desc = {.line_budget = elements};
+    CHECK(lc_scene_finalize(s, &desc, &err) == 0, "finalize: %s", err.msg);
+    return s;
+}
+
+/* Every level: end points and element boundaries kept, segments in line order,
+ * every original vertex within the level's error of its replacing segment. */
+static void check_levels(const lc_scene *s)
+{
+    lc_lod lod, plan;
+    lc_error err = {0};
+    CHECK(lc_lod_build(s, &lod, &err) == 0, "build: %s", err.msg);
+    CHECK(lc_lod_plan(s, &plan, &err) == 0, "plan: %s", err.msg);
+    CHECK(lod.count == plan.count && lod.count >= 1, "plan %d levels, build %d", plan.count, lod.count);
+    CHECK(lod.levels[0].segments == lc_scene_primitive_count(s), "level 0 has %llu of %llu segments",
+          (unsigned long long)lod.levels[0].segments, (unsigned long long)lc_scene_primitive_count(s));
+    char *kept = malloc(s->vertex_count);
+    const uint32_t *ve = s->elements.vertex_elements;
+    for (int i = 0; i < lod.count; i++) {
+        const lc_lod_level *lv = &lod.levels[i];
+        CHECK(lv->segments == plan.levels[i].segments, "level %d: plan %llu vs build %llu segments", i,
+              (unsigned long long)plan.levels[i].segments, (unsigned long long)lv->segments);
+        if (i > 0) {
+            CHECK(lv->segments <= LC_LOD_SHRINK * lod.levels[i - 1].segments, "level %d keeps %llu of %llu", i,
+                  (unsigned long long)lv->segments, (unsigned long long)lod.levels[i - 1].segments);
+            CHECK(lv->error > lod.levels[i - 1].error, "level %d error %g not above %g", i, lv->error,
+                  lod.levels[i - 1].error);
+        }
+        memset(kept, 0, s->vertex_count);
+        double worst = 0;
+        for (uint64_t k = 0; k < lv->segments; k++) {
+            uint32_t a = lv->pairs[2 * k], b = lv->pairs[2 * k + 1];
+            CHECK(a < b && b < s->vertex_count, "level %d segment %llu: %u-%u", i, (unsigned long long)k, a, b);
+            kept[a] = kept[b] = 1;
+            for (uint32_t v = a + 1; v < b; v++) {
+                double d = dist_to_segment(s->positions + 3 * (size_t)v, s->positions + 3 * (size_t)a,
+                                           s->positions + 3 * (size_t)b);
+                worst = fmax(worst, d);
+            }
+        }
+        CHECK(worst <= lv->error * (1 + 1e-5) + 1e-7, "level %d: a vertex lies %g from its segment, bound %g", i,
+              worst, lv->error);
+        for (uint32_t l = 0; l < s->line_count; l++) {
+            uint32_t first = s->line_offsets[l], end = s->line_offsets[l + 1];
+            if (end - first < 2)
+                continue;
+            CHECK(kept[first] && kept[end - 1], "level %d: line %u lost an end point", i, l);
+            for (uint32_t v = first; v + 1 < end; v++)
+                if (ve[4 * (size_t)v + 3] != ve[4 * (size_t)v + 7])
+                    CHECK(kept[v], "level %d: vertex %u ends element %u but was dropped", i, v, ve[4 * (size_t)v + 3]);
+        }
+    }
+    free(kept);
+    lc_lod_free(&lod);
+}
+
+int main(void)
+{
+    const uint32_t n[] = {800, 500, 300, 2, 1200, 3, 1000, 650};
+    lc_scene *s = make_lines(n, (int)(sizeof n / sizeof n[0]), 40);
+    lc_lod plan;
+    lc_error err = {0};
+    CHECK(lc_lod_plan(s, &plan, &err) == 0, "plan: %s", err.msg);
+    CHECK(plan.count >= 3, "only %d levels for %llu oversampled segments", plan.count,
+          (unsigned long long)lc_scene_primitive_count(s));
+    printf("levels:");
+    for (int i = 0; i < plan.count; i++)
+        printf(" %llu (%.3g)", (unsigned long long)plan.levels[i].segments, plan.levels[i].error);
+    printf("\n");
+    check_levels(s);
+
+    /* The straight line keeps only its element boundaries at any level > 0. */
+    float *e = malloc(sizeof(float) * s->vertex_count);
+    CHECK(lc_lod_vertex_errors(s, e, &err) == 0, "errors: %s", err.msg);
+    for (uint32_t v = s->line_offsets[1] + 1; v + 1 < s->line_offsets[2]; v++)
+        CHECK(isinf(e[v]) || e[v] < 1e-6f, "straight line vertex %u has error %g", v, e[v]);
+    free(e);
+    lc_scene_destroy(s);
+
+    /* Many elements per line: every element keeps a segment. */
+    s = make_lines(n, (int)(sizeof n / sizeof n[0]), 900);
+    check_levels(s);
+    lc_scene_destroy(s);
+
+    /* A 400k-vertex spiral (one element): fast, and the bound still holds. */
+    const uint32_t big[] = {400000};
+    double t0 = (double)clock() / CLOCKS_PER_SEC;
+    s = make_lines(big, 1, 1);
+    check_levels(s);
+    double secs = (double)clock() / CLOCKS_PER_SEC - t0;
+    printf("400k-vertex line: finalize + levels + brute-force check in %.2f s CPU\n", secs);
+    lc_scene_destroy(s);
+
+    /* Other primitives: one level, the whole scene. */
+    lc_scene *p = lc_scene_create("points", LC_PRIM_POINTS);
+    CHECK(p && lc_scene_alloc_vertices(p, 10, 0, &err) == 0, "points: %s", err.msg);
+    for (int i = 0; i < 30; i++)
+        p->positions[i] = (float)i;
+    CHECK(lc_scene_finalize(p, NULL, &err) == 0, "finalize points: %s", err.msg);
+    CHECK(lc_lod_plan(p, &plan, &err) == 0 && plan.count == 1 && plan.levels[0].segments == 10,
+          "points plan: %d levels", plan.count);
+    lc_scene_destroy(p);
+    return lc_test_finish();
+}

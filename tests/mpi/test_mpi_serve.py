@@ -152,17 +152,26 @@ try:
     check(strip(d1) == strip(d2), "/api/v1/datasets equal but for gpuBytes")
     check(any("rank %d of %d" % (ranks - 1, ranks) in line for line in multi.log), "per-rank memory in the log")
 
-    # Kill the last rank while frames are being rendered: the job ends within
-    # seconds and mpirun's message names the rank.
+    # Kill the last rank during a session: the job ends within seconds and
+    # mpirun's message names the rank.
     victim = multi.rank_pid(ranks - 1)
     if check(victim is not None, "rank %d logged its pid" % (ranks - 1)):
         stop = threading.Event()
+        st, _, info = multi.json("POST", "/api/v1/sessions", {"dataset": "demo:tornado", "width": 200,
+                                                               "height": 150, "format": "png"})
+        check(st in (200, 201), "a session for the kill test")
+        sid = info.get("session") if info else None
 
-        def load():
+        def load():  # a scripted session orbiting the data, frame after frame
+            i = 0
             while not stop.is_set():
+                a = 0.3 * i
+                cam = {"position": [0.5 + 2.2 * math.cos(a), 0.5 + 2.2 * math.sin(a), 0.9],
+                       "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 0, 1]}
+                i += 1
                 try:
-                    multi.request("POST", "/api/v1/render", {"dataset": "demo:tornado", "width": 200,
-                                                             "height": 150, "format": "png"}, timeout=30)
+                    multi.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam},
+                                  timeout=30)
                 except Exception:
                     time.sleep(0.1)
         t = threading.Thread(target=load, daemon=True)

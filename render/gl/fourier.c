@@ -106,6 +106,9 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     draw_depth_range(r, fs, prog, &r->range_low, fs->low_width, fs->low_height);
     glBlendEquation(GL_FUNC_ADD);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    int rc = lc_reduce_targets(r, &r->range_full, LC_REDUCE_MIN, 0, fs->info, err);
+    if (rc || (rc = lc_reduce_targets(r, &r->range_low, LC_REDUCE_MIN, 0, fs->info, err)) != 0)
+        return rc;
     fs->pixel_depth_range = 1;
     lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
     return 0;
@@ -133,8 +136,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_uniform_f(p1, "u_weight", lc_renderer_subset(fs, p->foo.subset));
     lc_renderer_draw_geometry(fs, p->foo.subset);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    int rc = lc_mass_histogram_fourier(r, fs, err);
-    if (rc)
+    int rc = lc_reduce_targets(r, &r->coef_low, LC_REDUCE_SUM, 0, fs->info, err);
+    if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
 
@@ -158,6 +161,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     lc_renderer_draw_geometry(fs, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    if ((rc = lc_reduce_element_minima(r, fs->gs->scene->elements.count, fs->info, err)) != 0)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
 
     /* P3 smoothing and fading. */
@@ -191,6 +196,9 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_uniform_f(p4, "u_weight", lc_renderer_subset(fs, p->foo.subset));
     lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
     lc_renderer_draw_geometry(fs, p->foo.subset);
+    int rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err);
+    if (rc)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
@@ -200,6 +208,8 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
     lc_renderer_draw_geometry(fs, 1);
+    if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, 1, fs->info, err)) != 0)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);

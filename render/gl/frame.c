@@ -89,6 +89,7 @@ void lc_renderer_destroy(lc_renderer *r)
     glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
     glDeleteVertexArrays(1, &r->vao);
     free(r->importance_cache);
+    free(r->reduce_buf);
     free(r);
 }
 
@@ -249,7 +250,9 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
                       s->elements.count);
 
     lc_render_params p = *params;
-    lc_frame_setup fs = {.params = &p, .gs = gs, .width = p.width, .height = p.height};
+    lc_frame_setup fs = {.params = &p, .gs = gs, .width = p.width, .height = p.height, .info = info};
+    if ((rc = lc_reduce_check_method(r, p.method, err)) != 0)
+        return rc;
     if (!p.has_camera) {
         /* The dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds. */
         p.camera.view_angle = p.camera.view_angle > 0 ? p.camera.view_angle : 30;

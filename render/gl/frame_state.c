@@ -35,3 +35,12 @@ void lc_frame_state_reset(lc_frame_state *st)
 }
 
 const float *lc_frame_state_alphas(const lc_frame_state *st) { return st->alpha; }
+
+int lc_frame_state_is_fresh(const lc_frame_state *st) { return st->fresh; }
+
+void lc_frame_state_load(lc_frame_state *st, const float *alpha)
+{
+    for (uint32_t i = 0; i < st->count; i++)
+        st->alpha[i] = alpha[i];
+    st->fresh = 0;
+}

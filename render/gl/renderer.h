@@ -38,6 +38,11 @@ void lc_frame_state_destroy(lc_frame_state *st);
 void lc_frame_state_reset(lc_frame_state *st);
 /* Current element opacities (count = element_count), for tests. */
 const float *lc_frame_state_alphas(const lc_frame_state *st);
+/* 1 until the state's first frame (or after a reset). */
+int lc_frame_state_is_fresh(const lc_frame_state *st);
+/* Takes element_count opacities as the history (a copy of another process's
+ * state, docs/MPI.md); the state is no longer fresh. */
+void lc_frame_state_load(lc_frame_state *st, const float *alpha);
 
 /* ---- Per-frame report. */
 typedef enum {
@@ -89,13 +94,43 @@ typedef struct lc_frame_info {
     uint64_t dropped_fragments; /* fragments lost because the node pool was full */
     double mean_layers;         /* mean fragments per covered pixel */
     uint32_t max_layers;
+    /* With a reducer (lc_renderer_desc.reducer): time spent combining the
+     * passes' targets across processes, and the bytes each process sent. */
+    double reduce_ms;
+    uint64_t reduce_bytes;
+    int reductions;
 } lc_frame_info;
+
+/* ---- Reduction hook: renders one image from a dataset split over several
+ * processes (docs/MPI.md). Every Fourier sum is order-independent, so shards
+ * rendered separately combine by adding their targets: after P0 the per-pixel
+ * depth ranges (MIN), after P1 the importance coefficients (SUM into every
+ * process), after P2 the element minima (MIN), after P4 the optical-depth
+ * coefficients (SUM) and after P5 the colour/weight sums (SUM into rank 0,
+ * whose image is the result). The renderer knows nothing of how the values
+ * travel (MPI in server/mpi); every process must render the same frames with
+ * the same parameters, so each call is collective.
+ * Threading: called on the render thread during lc_render_frame. */
+typedef enum { LC_REDUCE_SUM = 0, LC_REDUCE_MIN } lc_reduce_op;
+typedef struct lc_reducer {
+    void *ctx;
+    int rank, size; /* this process and the process count; rank 0 gets the image */
+    /* Combines the n floats of values element-wise over every process, in
+     * place: into every process (root_only 0) or into rank 0 only (root_only
+     * 1: the other processes' values are unspecified afterwards). Returns 0,
+     * or a negative status with err filled. */
+    int (*reduce)(void *ctx, float *values, size_t n, lc_reduce_op op, int root_only, lc_error *err);
+} lc_reducer;
 
 /* ---- Renderer: programs and render targets of one GL context. */
 typedef struct lc_renderer lc_renderer;
 typedef struct lc_renderer_desc {
     uint64_t exact_pool_bytes; /* node pool of the exact method; 0 = 256 MiB */
     int no_timer_queries;      /* 1 = skip GPU timer queries */
+    /* NULL = one process. Otherwise the scene holds this process's shard
+     * (lc_scene_shard) and only the fourier and direct methods are allowed.
+     * Borrowed: must outlive the renderer. */
+    const lc_reducer *reducer;
 } lc_renderer_desc;
 
 /* Creates a renderer for the current context (compiles shaders). Errors carry
@@ -111,6 +146,9 @@ void lc_renderer_destroy(lc_renderer *r);
  * allocated. Errors: LC_ERR_INVALID (bad params, e.g. unknown attribute), LC_ERR_GL. */
 int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
                     double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+
+/* Sets the reduction hook after creation (same contract as the desc field). */
+void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
 
 /* GPU memory currently held by the renderer's targets and buffers. */
 uint64_t lc_renderer_bytes(const lc_renderer *r);

@@ -136,6 +136,9 @@ struct lc_renderer {
     GLuint timer_queries[LC_PASS_COUNT + 1];
     GLuint dummy_buffer;
     void *exact; /* exact.c's state */
+    /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */
+    float *reduce_buf;
+    size_t reduce_cap;
     uint64_t bytes_targets, bytes_elements;
 };
 
@@ -158,6 +161,8 @@ typedef struct lc_frame_setup {
     int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
     int level;        /* level of detail of every geometry pass (gs->levels) */
     int point_stride; /* points: every n-th in every pass */
+    /* The frame's report (reduce.c adds its cost). */
+    lc_frame_info *info;
 } lc_frame_setup;
 
 static inline void lc_uniform_f(GLuint prog, const char *name, double v)
@@ -247,6 +252,17 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
                                 lc_frame_info *info, lc_error *err);
 /* P4..P6 with the element opacities (or alpha = g^k when direct). */
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
+
+/* ---- reduce.c (a no-op returning 0 without a reducer or with one process) */
+/* Combines every texture of t over the processes (op; root_only as in lc_reducer). */
+int lc_reduce_targets(lc_renderer *r, const lc_targets *t, lc_reduce_op op, int root_only, lc_frame_info *info,
+                      lc_error *err);
+/* MIN of the P2 element minima (count floats of element_alpha_min) into every process. */
+int lc_reduce_element_minima(lc_renderer *r, uint32_t count, lc_frame_info *info, lc_error *err);
+/* SUM of n counters into every process (through floats: exact below 2^24). */
+int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err);
+/* LC_ERR_INVALID when the method cannot be combined over processes. */
+int lc_reduce_check_method(const lc_renderer *r, lc_method method, lc_error *err);
 
 /* ---- visibility.c */
 /* Clears the mass histogram; the passes that know each pixel's total sum of

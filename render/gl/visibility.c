@@ -101,6 +101,11 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
         glDispatchCompute((vertices + 255) / 256, 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(r->element_importance, 0, (GLsizeiptr)count * 8, sums);
+    int rc = lc_reduce_counts(r, sums, 2 * (size_t)count, err); /* an element's vertices may lie on several ranks */
+    if (rc) {
+        free(sums);
+        return rc;
+    }
     for (uint32_t e = 0; e < count; e++)
         cache[e] = sums[2 * e + 1] ? (float)(sums[2 * e] / 1024.0 / sums[2 * e + 1]) : 0.0f;
     free(sums);

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "demo.h"
 #include "image.h"
+#include "lc_mpi.h"
 #include "loaders.h"
 #include "lod.h"
 
@@ -25,7 +26,9 @@ static void render_usage(void)
             "Renders one frame of a render request (protocol/README.md); flags override its fields.\n"
             "  --frames N            render N frames with fading, dt = --dt (default 1/30 s), keep the last\n"
             "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
-            "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n%s",
+            "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
+            "  --mpi                 under mpirun/srun: each rank renders its shard, rank 0 writes the image\n"
+            "                        (docs/MPI.md; methods fourier and direct)\n%s",
             lc_cli_flags_help);
 }
 
@@ -49,6 +52,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene
                                       "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
                                       info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements));
     }
+    if (info->reductions)
+        json_object_set_new(o, "mpi",
+                            json_pack("{s:i, s:f, s:I}", "reductions", info->reductions, "reduceMs", info->reduce_ms,
+                                      "reduceBytes", (json_int_t)info->reduce_bytes));
     if (p->method == LC_METHOD_EXACT)
         json_object_set_new(o, "exact",
                             json_pack("{s:I, s:I, s:f, s:I}", "fragments", (json_int_t)info->fragments, "dropped",
@@ -63,7 +70,7 @@ int lc_cli_render(int argc, char **argv)
     lc_request req;
     lc_cli_common common;
     const char *out = NULL;
-    int frames = 1;
+    int frames = 1, use_mpi = 0;
     double dt = 1.0 / 30.0;
     lc_error err = {0};
     if (lc_cli_begin("render", argc, argv, &req, &common) != 0)
@@ -76,6 +83,8 @@ int lc_cli_render(int argc, char **argv)
             frames = atoi(argv[++i]);
         } else if (strcmp(a, "--stats") == 0 && i + 1 < argc) {
             stats_path = argv[++i];
+        } else if (strcmp(a, "--mpi") == 0) {
+            use_mpi = 1;
         } else if (strcmp(a, "--dt") == 0 && i + 1 < argc) {
             dt = atof(argv[++i]);
         } else if (strcmp(a, "--help") == 0) {
@@ -101,8 +110,32 @@ int lc_cli_render(int argc, char **argv)
         return 2;
     }
     lc_scene *scene = NULL;
-    lc_cli_gl g;
-    if (lc_cli_open("render", &req, &common, &scene, &g) != 0)
+    lc_cli_gl g = {0};
+    lc_mpi *mpi = NULL;
+    if (use_mpi && lc_mpi_init(&mpi, &err) != 0) {
+        fprintf(stderr, "lucent render: --mpi: %s\n", err.msg);
+        return 1;
+    }
+    int rank = mpi ? lc_mpi_rank(mpi) : 0;
+    int open_rc = lc_cli_open("render", &req, &common, &scene, &g);
+    if (mpi) {
+        /* Every rank loads the whole dataset (global bounds, ranges,
+         * percentiles and elements come out the same), then keeps its shard. */
+        lc_err(&err, open_rc, "cannot open the dataset or a GL context (its message is above)");
+        if (lc_mpi_agree(mpi, open_rc, &err) == 0)
+            open_rc = lc_mpi_shard(mpi, &scene, stdout, &err);
+        else
+            open_rc = 1;
+        if (open_rc) {
+            if (rank == 0)
+                fprintf(stderr, "lucent render: --mpi: %s; every rank exits\n", err.msg);
+            lc_cli_gl_close(&g);
+            lc_scene_destroy(scene);
+            lc_mpi_finalize(mpi);
+            return 1;
+        }
+        lc_renderer_set_reducer(g.renderer, lc_mpi_reducer(mpi));
+    } else if (open_rc != 0)
         return 1;
     int status = 1;
     lc_gpu_scene *gs = NULL;
@@ -118,11 +151,18 @@ int lc_cli_render(int argc, char **argv)
         fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
+    double wait_ms = 0, transfer_ms = 0;
     for (int f = 0; f < frames; f++) {
+        if (mpi) /* the figures of the last frame */
+            lc_mpi_profile(mpi, &wait_ms, &transfer_ms);
         if (lc_render_frame(g.renderer, gs, &req.render, state, dt, rgba, &info, &err) != 0) {
             fprintf(stderr, "lucent render: %s\n", err.msg);
             goto done;
         }
+    }
+    if (rank != 0) { /* the image is on rank 0 */
+        status = 0;
+        goto done;
     }
     int quality = req.quality;
     if (!has_suffix(out, ".png") && !has_suffix(out, ".jpg") && !has_suffix(out, ".jpeg")) {
@@ -142,6 +182,15 @@ int lc_cli_render(int argc, char **argv)
                req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
                (unsigned long long)lc_scene_primitive_count(scene),
                scene->type == LC_PRIM_LINES ? "segments" : "triangles");
+    if (mpi)
+        printf("  mpi: %d ranks, %d reductions, %.1f MB per rank, %.2f ms in reductions (wall)\n", lc_mpi_size(mpi),
+               info.reductions, info.reduce_bytes / 1e6, info.reduce_ms);
+    if (mpi) {
+        lc_mpi_profile(mpi, &wait_ms, &transfer_ms);
+        printf("  mpi: rank 0 waited %.2f ms for the other ranks, %.2f ms transferring (LUCENT_MPI_PROFILE=1 "
+               "separates them)\n",
+               wait_ms, transfer_ms);
+    }
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
                "importance mass per pixel: median %.3g, p95 %.3g\n",
@@ -166,6 +215,7 @@ done:
     lc_gpu_scene_destroy(gs);
     lc_cli_gl_close(&g);
     lc_scene_destroy(scene);
+    lc_mpi_finalize(mpi);
     return status;
 }
 

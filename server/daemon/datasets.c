@@ -317,6 +317,7 @@ void lc_datasets_destroy(lc_datasets *d)
         if (d->items[i].scene)
             lc_scene_destroy(d->items[i].scene);
         json_decref(d->items[i].preset);
+        json_decref(d->items[i].whole_info);
     }
     /* A leftover GPU copy here means the caller had no context to destroy it
      * with; the process is exiting, so the driver reclaims it. */
@@ -346,8 +347,30 @@ const lc_dataset *lc_datasets_find(const lc_datasets *d, const char *name)
     return NULL;
 }
 
+int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, lc_error *err), void *ctx,
+                      lc_error *err)
+{
+    for (int i = 0; i < d->count; i++) {
+        lc_dataset *ds = &d->items[i];
+        json_t *whole = lc_dataset_info(ds);
+        int rc = shard(ctx, &ds->scene, err);
+        if (rc) {
+            json_decref(whole);
+            return rc;
+        }
+        ds->whole_info = whole;
+    }
+    return 0;
+}
+
 json_t *lc_dataset_info(const lc_dataset *ds)
 {
+    if (ds->whole_info) { /* serve --mpi: this rank holds a shard; describe the whole */
+        json_t *o = json_deep_copy(ds->whole_info);
+        if (o && ds->gpu)
+            json_object_set_new(o, "gpuBytes", json_integer((json_int_t)lc_gpu_scene_bytes(ds->gpu)));
+        return o;
+    }
     const lc_scene *s = ds->scene;
     json_t *o = json_object();
     json_object_set_new(o, "name", json_string(ds->name));

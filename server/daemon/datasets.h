@@ -29,6 +29,9 @@ typedef struct lc_dataset {
      * on dataset switch; NULL = none. Owned. */
     json_t *preset;
     lc_cost_stats cost; /* what render cost estimates need (cost.h) */
+    /* serve --mpi: the description of the whole dataset, taken before the
+     * scene became this rank's shard (lc_datasets_shard); NULL otherwise. */
+    json_t *whole_info;
 } lc_dataset;
 
 typedef struct lc_datasets lc_datasets;
@@ -50,6 +53,10 @@ int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *er
  * scene's defaults, and returns the rest as the preset in *preset (NULL when
  * there is no sidecar). */
 int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, lc_error *err);
+/* Replaces every scene with shard(ctx, &scene, err), keeping the whole
+ * dataset's description for lc_dataset_info (serve --mpi; before upload). */
+int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, lc_error *err), void *ctx,
+                      lc_error *err);
 /* Creates the GPU copies; a context of the share group must be current. */
 int lc_datasets_upload(lc_datasets *d, lc_error *err);
 /* Destroys the GPU copies (context current), then everything else. */

@@ -12,8 +12,10 @@
 #include "datasets.h"
 #include "gl_context.h"
 #include "http.h"
+#include "lc_mpi.h"
 #include "loaders.h"
 #include "metrics.h"
+#include "serve_mpi.h"
 #include "server.h"
 #include "session.h"
 #include "workers.h"
@@ -70,6 +72,8 @@ static void usage(FILE *f)
             "  --frame-budget MS      render time interactive frames aim under: line detail, point stride and\n"
             "                         resolution adapt to it (default 70)\n"
             "  --log-level L          error|warn|info|debug (default info)\n"
+            "  --mpi                  under mpirun/srun: every rank loads the data and keeps its shard; rank 0\n"
+            "                         serves and leads, the others render their shards of each frame (docs/MPI.md)\n"
             "  -h, --help             this text\n");
 }
 
@@ -136,7 +140,8 @@ enum {
     OPT_ELEMENTS,
     OPT_MAX_COST,
     OPT_DEADLINE,
-    OPT_QUEUE_PER_CLIENT
+    OPT_QUEUE_PER_CLIENT,
+    OPT_MPI
 };
 
 /* A token that does not fit is refused: cutting it would accept its prefix
@@ -180,6 +185,7 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                                          {"max-cost", required_argument, NULL, OPT_MAX_COST},
                                          {"render-deadline", required_argument, NULL, OPT_DEADLINE},
                                          {"max-queue-per-client", required_argument, NULL, OPT_QUEUE_PER_CLIENT},
+                                         {"mpi", no_argument, NULL, OPT_MPI},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     optind = 1;
@@ -317,6 +323,7 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                 return -1;
             cfg->max_queue_per_client = (int)v;
             break;
+        case OPT_MPI: cfg->mpi = true; break;
         case 'h': return 1;
         default: return -1;
         }
@@ -353,7 +360,9 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->max_queue_per_client = 8;
 }
 
-int lc_serve_main(int argc, char **argv)
+static lc_mpi *serve_mpi; /* --mpi: ended after everything else */
+
+static int serve_main(int argc, char **argv)
 {
     static lc_server srv; /* one per process; static so signal-free code can reach it in a debugger */
     static const char *data[MAX_DATA];
@@ -369,6 +378,14 @@ int lc_serve_main(int argc, char **argv)
     }
     srv.cfg.data = data;
     lc_serve_config *cfg = &srv.cfg;
+    lc_error err = {0};
+    if (cfg->mpi) {
+        if (lc_mpi_init(&serve_mpi, &err) != 0) {
+            LC_ERROR(MOD, "--mpi: %s", err.msg);
+            return 1;
+        }
+        srv.mpi = serve_mpi;
+    }
     srv.start_time = lc_now();
     /* Block the shutdown signals in every thread (they inherit this mask);
      * the main thread takes them synchronously with sigwait. */
@@ -379,12 +396,13 @@ int lc_serve_main(int argc, char **argv)
     pthread_sigmask(SIG_BLOCK, &sigs, NULL);
     signal(SIGPIPE, SIG_IGN);
 
-    lc_error err = {0};
     int rc = lc_datasets_load(cfg->data, cfg->data_count, cfg->demo_size, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)
         rc = lc_datasets_add_demos(srv.datasets, cfg->demo_size, &err);
     if (rc == 0 && cfg->elements)
         rc = lc_datasets_set_element_budget(srv.datasets, cfg->elements, &err);
+    if (srv.mpi)
+        rc = lc_serve_mpi_start(&srv, rc, &err);
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         lc_datasets_destroy(srv.datasets);
@@ -407,6 +425,18 @@ int lc_serve_main(int argc, char **argv)
             lc_datasets_release_gpu(srv.datasets);
         lc_gl_release_current(primary);
     }
+    if (srv.mpi && (rc = lc_mpi_agree(srv.mpi, rc, &err)) == 0 && lc_mpi_rank(srv.mpi) > 0) {
+        rc = lc_gl_make_current(primary, &err);
+        if (rc == 0)
+            rc = lc_serve_mpi_follow(&srv, primary, &err);
+        if (rc != 0)
+            LC_ERROR(MOD, "%s", err.msg);
+        lc_datasets_release_gpu(srv.datasets);
+        lc_gl_release_current(primary);
+        lc_gl_destroy(primary);
+        lc_datasets_destroy(srv.datasets);
+        return rc ? 1 : 0;
+    }
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         if (primary)
@@ -415,6 +445,8 @@ int lc_serve_main(int argc, char **argv)
         return 1;
     }
     int nworkers = cfg->workers > 0 ? cfg->workers : (lc_gl_is_software(primary) ? 1 : 2);
+    if (srv.mpi)
+        nworkers = 1; /* frames are collective: one at a time, in one order on every rank */
     int nencoders = cfg->encoders > 0 ? cfg->encoders : 2;
 
     srv.metrics = lc_metrics_create();
@@ -451,6 +483,14 @@ int lc_serve_main(int argc, char **argv)
     int sig = 0;
     sigwait(&sigs, &sig);
     LC_INFO(MOD, "%s: shutting down", sig == SIGINT ? "SIGINT" : "SIGTERM");
+    if (srv.mpi) {
+        /* Under mpirun a signal also comes when another rank died: mpirun then
+         * ends the job and names the rank. A frame waiting for that rank
+         * would hold the shutdown, so it has 10 s. */
+        LC_WARN(MOD, "--mpi: %s received: ending the service on every rank (if a rank died, mpirun names it)",
+                sig == SIGINT ? "SIGINT" : "SIGTERM");
+        lc_mpi_exit_guard(srv.mpi, 10.0);
+    }
     atomic_store(&srv.stopping, 1);
 
     /* 1. no new connections; 2. frames in hand finish, are encoded and queued
@@ -458,6 +498,8 @@ int lc_serve_main(int argc, char **argv)
      * a close frame; 4. MHD answers the resumed requests and stops. */
     lc_http_quiesce(srv.http);
     lc_workers_stop(srv.workers);
+    if (srv.mpi)
+        lc_serve_mpi_stop(&srv);
     lc_ws_shutdown(srv.ws, 2.0);
     lc_http_stop(srv.http);
     lc_ws_destroy(srv.ws);
@@ -467,4 +509,12 @@ int lc_serve_main(int argc, char **argv)
     lc_metrics_destroy(srv.metrics);
     LC_INFO(MOD, "stopped after %.1f s", lc_now() - srv.start_time);
     return 0;
+}
+
+int lc_serve_main(int argc, char **argv)
+{
+    int rc = serve_main(argc, argv);
+    lc_mpi_finalize(serve_mpi);
+    serve_mpi = NULL;
+    return rc;
 }

@@ -76,6 +76,7 @@ typedef struct lc_serve_config {
     double max_cost;                /* estimated cost units of one frame (cost.h); 0 = no limit */
     double render_deadline;         /* seconds an HTTP render may wait for a worker (503 beyond); 0 = none */
     int max_queue_per_client;       /* queued HTTP renders of one client (429 beyond) */
+    bool mpi;                       /* --mpi: one image from every rank's shard (docs/MPI.md) */
 } lc_serve_config;
 
 /* The daemon: one per process, created by serve.c. Modules keep a pointer to
@@ -95,6 +96,7 @@ typedef struct lc_server {
     char gl_version[256];
     char gl_platform[128];
     atomic_int stopping; /* set once shutdown begins: refuse new work */
+    struct lc_mpi *mpi;  /* --mpi (serve_mpi.c); NULL in one process */
 } lc_server;
 
 #define LC_SERVE_WS_ACCEPT_LEN 29 /* base64 of a SHA-1 digest + NUL */

@@ -8,8 +8,10 @@
 #include <time.h>
 
 #include "image.h"
+#include "lc_mpi.h"
 #include "messages.h"
 #include "metrics.h"
+#include "serve_mpi.h"
 
 #define MOD "workers"
 
@@ -371,7 +373,8 @@ static void render_job(worker *wk, lc_render_job *job)
         return;
     }
     lc_frame_state *state = job->session ? job->session->frame_state : NULL;
-    job->rc = lc_render_frame(wk->renderer, job->dataset->gpu, p, state, job->dt, job->rgba, &job->info, &job->err);
+    job->rc =
+        lc_server_render_frame(w->srv, wk->renderer, job->dataset, p, state, job->dt, job->rgba, &job->info, &job->err);
     if (job->rc != 0) {
         free(job->rgba);
         job->rgba = NULL;
@@ -424,7 +427,7 @@ static void render_session(worker *wk, lc_session *s)
     uint8_t *rgba = malloc((size_t)p->width * (size_t)p->height * 4);
     lc_frame_info info;
     lc_error err = {0};
-    int rc = rgba ? lc_render_frame(wk->renderer, s->dataset->gpu, p, s->frame_state, f.dt, rgba, &info, &err)
+    int rc = rgba ? lc_server_render_frame(w->srv, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
                   : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     lc_session_stream_done(s, &f, rc == 0, rc == 0 ? &info : NULL);
     if (rc != 0) {
@@ -470,7 +473,8 @@ static void *worker_main(void *arg)
     if (rc == 0)
         rc = lc_gl_make_current(wk->gl, &err);
     if (rc == 0)
-        rc = lc_renderer_create(&(lc_renderer_desc){0}, &wk->renderer, &err);
+        rc = lc_renderer_create(&(lc_renderer_desc){.reducer = w->srv->mpi ? lc_mpi_reducer(w->srv->mpi) : NULL},
+                                &wk->renderer, &err);
     pthread_mutex_lock(&w->lock);
     if (rc != 0 && !w->failed) {
         w->failed = 1;

@@ -22,9 +22,10 @@ LAYERS = {
     "render/image": ["render/base"],
     "render/gl": ["render/scene", "render/math", "render/image", "render/base"],
     "protocol": ["render/base"],
-    "server/daemon": ["render/gl", "render/io", "render/scene", "render/math", "render/image", "render/base", "protocol"],
-    "server/cli": ["render/gl", "render/io", "render/scene", "render/math", "render/image", "render/base", "protocol"],
-    "server": ["server/cli", "server/daemon", "render/gl", "render/io", "render/scene", "render/math", "render/image",
+    "server/mpi": ["render/gl", "render/scene", "render/math", "render/image", "render/base"],
+    "server/daemon": ["server/mpi", "render/gl", "render/io", "render/scene", "render/math", "render/image", "render/base", "protocol"],
+    "server/cli": ["server/mpi", "render/gl", "render/io", "render/scene", "render/math", "render/image", "render/base", "protocol"],
+    "server": ["server/cli", "server/daemon", "server/mpi", "render/gl", "render/io", "render/scene", "render/math", "render/image",
                "render/base", "protocol"],
 }
 MAX_LINES = 900

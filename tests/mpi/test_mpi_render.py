@@ -1,0 +1,87 @@
+"""`mpirun -np N lucent render --mpi` against one process: lines, points and
+surfaces, fading off (one frame) and on (several frames with --fade), the
+per-pixel depth range and the direct method, RMS difference <= 1/255 and the
+same visibility report (within 0.01); a rank
+that cannot load its shard and a method that cannot be split fail clearly.
+Usage: test_mpi_render.py LUCENT RANKS"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(__file__))
+from mpi_util import MAX_RMSE, mpirun, mpirun_env, rmse  # noqa: E402
+
+lucent, ranks = sys.argv[1], int(sys.argv[2])
+launcher = mpirun(ranks)
+if not launcher:
+    print("SKIP: mpirun not found (apt-get install openmpi-bin)")
+    sys.exit(77)
+env = mpirun_env()
+tmp = tempfile.mkdtemp(prefix="lucent-mpi-")
+failures = []
+
+# (name, flags): every case renders 160x120 in one process and over `ranks`.
+CASES = [
+    ("tornado", ["--dataset", "demo:tornado?count=120"]),
+    ("tornado-fading", ["--dataset", "demo:tornado?count=120", "--frames", "4", "--fade", "0.15"]),
+    ("tornado-pixel-range", ["--dataset", "demo:tornado?count=120", "--depth-range", "pixel"]),
+    ("abc", ["--dataset", "demo:abc?count=300"]),
+    ("abc-direct", ["--dataset", "demo:abc?count=300", "--method", "direct"]),
+    ("points", ["--dataset", "demo:points?count=20000"]),
+    ("points-fading", ["--dataset", "demo:points?count=20000", "--frames", "3", "--fade", "0.15"]),
+    ("surface", ["--dataset", "demo:surface"]),
+    ("surface-fading", ["--dataset", "demo:surface", "--frames", "3", "--fade", "0.15"]),
+]
+for name, flags in CASES:
+    one, many = os.path.join(tmp, name + "-1.png"), os.path.join(tmp, name + "-n.png")
+    common = ["render", "--size", "160x120"] + flags
+    t0 = time.time()
+    a = subprocess.run([lucent] + common + ["--out", one], capture_output=True, text=True)
+    t1 = time.time()
+    b = subprocess.run(launcher + [lucent] + common + ["--mpi", "--out", many], capture_output=True, text=True,
+                       env=env, timeout=300)
+    t2 = time.time()
+    if a.returncode != 0 or b.returncode != 0:
+        failures.append("%s: exit %d / %d: %s %s" % (name, a.returncode, b.returncode, a.stderr[-300:],
+                                                      b.stderr[-600:]))
+        continue
+    if "rank %d of %d" % (ranks - 1, ranks) not in b.stdout:
+        failures.append("%s: no per-rank memory report in %r" % (name, b.stdout[:300]))
+    vis = [re.search(r"top decile alpha ([0-9.]+), bottom half alpha ([0-9.]+)", o.stdout) for o in (a, b)]
+    if all(vis) and max(abs(float(vis[0].group(k)) - float(vis[1].group(k))) for k in (1, 2)) > 0.01:
+        failures.append("%s: visibility report differs: %s vs %s" % (name, vis[0].group(0), vis[1].group(0)))
+    e = rmse(lucent, one, many)
+    print("%-20s %d ranks: rmse %.6f (limit %.6f)  1 process %.1f s, %d ranks %.1f s" %
+          (name, ranks, e, MAX_RMSE, t1 - t0, ranks, t2 - t1))
+    if e > MAX_RMSE:
+        failures.append("%s: rmse %.6f > 1/255" % (name, e))
+
+# A method whose compositing is not a sum is refused by name on every rank.
+r = subprocess.run(launcher + [lucent, "render", "--mpi", "--dataset", "demo:points?count=2000", "--size", "64x64",
+                               "--method", "exact", "--out", os.path.join(tmp, "x.png")],
+                   capture_output=True, text=True, env=env, timeout=120)
+if r.returncode == 0 or "cannot be split over processes" not in r.stderr:
+    failures.append("exact method: exit %d, stderr %r" % (r.returncode, r.stderr[-400:]))
+else:
+    print("exact method refused: ok")
+
+# A rank that cannot load its shard (MPMD: the last rank gets a missing file):
+# a message naming the rank and the file, and every rank exits.
+missing = os.path.join(tmp, "missing.ply")
+cmd = launcher[:-1] + [str(ranks - 1), lucent, "render", "--mpi", "--dataset", "demo:points?count=2000",
+                       "--size", "64x64", "--out", os.path.join(tmp, "y.png"), ":", "-np", "1", lucent, "render",
+                       "--mpi", "--dataset", missing, "--size", "64x64", "--out", os.path.join(tmp, "y.png")]
+t0 = time.time()
+r = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120)
+msg = r.stderr
+if r.returncode == 0 or ("rank %d" % (ranks - 1)) not in msg or "missing.ply" not in msg:
+    failures.append("missing shard: exit %d, stderr %r" % (r.returncode, msg[-600:]))
+else:
+    print("missing shard on rank %d: every rank exited after %.1f s: ok" % (ranks - 1, time.time() - t0))
+
+for f in failures:
+    print("FAIL:", f, file=sys.stderr)
+sys.exit(1 if failures else 0)

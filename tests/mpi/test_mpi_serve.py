@@ -1,0 +1,230 @@
+"""`mpirun -np N lucent serve --mpi` against the single-process daemon: HTTP
+renders of lines, points and a surface, a scripted session whose opacities
+fade while the camera moves (the fading history travels with each frame), a
+WebSocket session, /datasets; then killing one rank during a session ends the
+service within seconds with a message naming the rank; ranks that see
+different dataset lists refuse to start; a hung rank ends the job after
+LUCENT_MPI_TIMEOUT seconds.
+Usage: test_mpi_serve.py LUCENT RANKS"""
+import asyncio
+import json
+import math
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, here)
+sys.path.insert(0, os.path.join(os.path.dirname(here), "server"))
+from lucent_server import Check, Server, skip, unpack_frame, websockets  # noqa: E402
+from mpi_util import MAX_RMSE, mpirun, mpirun_env, rmse  # noqa: E402
+
+lucent, ranks = sys.argv[1], int(sys.argv[2])
+launcher = mpirun(ranks)
+if not launcher:
+    skip("mpirun not found (apt-get install openmpi-bin)")
+DATA = ["demo:tornado", "demo:surface", "demo:points"]
+DEMO_SIZE = 120
+tmp = tempfile.mkdtemp(prefix="lucent-mpi-serve-")
+check = Check()
+
+
+class MpiServer(Server):
+    """Server's helpers around `mpirun -np N lucent serve --mpi`."""
+
+    def __init__(self, binary, n, data, demo_size, timeout=120, env=None):
+        self.binary = binary
+        cmd = mpirun(n) + [binary, "serve", "--mpi", "--listen", "127.0.0.1:0", "--demo-size", str(demo_size)]
+        for d in data:
+            cmd += ["--data", d]
+        self.log = []
+        self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT, env=dict(mpirun_env(), **(env or {})), text=True)
+        self._port = None
+        self._ready = threading.Event()
+        threading.Thread(target=self._drain, daemon=True).start()
+        if not self._ready.wait(timeout) or self._port is None:
+            self.proc.kill()
+            raise RuntimeError("mpirun serve did not start:\n" + "\n".join(self.log))
+        self.port, self.host = self._port, "127.0.0.1"
+        self.base = "http://127.0.0.1:%d" % self.port
+        self.ws_url = "ws://127.0.0.1:%d/api/v1/ws" % self.port
+
+    def rank_pid(self, rank):
+        for _ in range(100):
+            for line in self.log:
+                m = re.search(r"rank %d \(pid (\d+)\): following" % rank, line)
+                if m:
+                    return int(m.group(1))
+            time.sleep(0.1)
+        return None
+
+
+def save(name, data):
+    path = os.path.join(tmp, name)
+    with open(path, "wb") as f:
+        f.write(data)
+    return path
+
+
+def compare(what, one, many, limit=MAX_RMSE):
+    e = rmse(lucent, save(what + "-1.img", one), save(what + "-n.img", many))
+    check(e <= limit, "%s: rmse %.6f <= %.6f" % (what, e, limit))
+
+
+async def ws_last_frame(srv):
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "dataset": "demo:surface", "width": 96, "height": 72,
+                                  "devicePixelRatio": 1}))
+        last, frames, deadline = None, 0, time.time() + 120
+        while time.time() < deadline:
+            try:
+                m = await asyncio.wait_for(ws.recv(), 5.0 if frames else 60.0)
+            except asyncio.TimeoutError:
+                break
+            if isinstance(m, (bytes, bytearray)):
+                header, img = unpack_frame(m)
+                frames += 1
+                last = img
+                await ws.send(json.dumps({"type": "ack", "frame": header["frame"]}))
+        return last, frames
+
+
+# Start-up: the last rank sees another dataset list (MPMD) -> every rank
+# refuses to start, naming the difference.
+cmd = launcher[:-1] + [str(ranks - 1), lucent, "serve", "--mpi", "--listen", "127.0.0.1:0", "--demo-size", "50",
+                       "--data", "demo:points", ":", "-np", "1", lucent, "serve", "--mpi", "--listen",
+                       "127.0.0.1:0", "--demo-size", "50", "--data", "demo:abc"]
+t0 = time.time()
+r = subprocess.run(cmd, capture_output=True, text=True, env=mpirun_env(), timeout=120)
+out = r.stdout + r.stderr
+check(r.returncode != 0 and "ranks see different dataset lists" in out and "rank %d has [demo:abc" % (ranks - 1) in out
+      and "listening on" not in out,
+      "different dataset lists: every rank refuses to start in %.1f s (exit %d)" % (time.time() - t0, r.returncode))
+
+single = Server(lucent, data=DATA, demo_size=DEMO_SIZE)
+multi = MpiServer(lucent, ranks, DATA, DEMO_SIZE)
+try:
+    # One-shot HTTP renders of every kind of geometry.
+    for ds in DATA:
+        req = {"dataset": ds, "width": 160, "height": 120, "format": "png"}
+        s1, h1, a = single.request("POST", "/api/v1/render", req)
+        s2, h2, b = multi.request("POST", "/api/v1/render", req)
+        check(s1 == 200 and s2 == 200, "%s: HTTP render 200 from both (%d, %d)" % (ds, s1, s2))
+        if s1 == 200 and s2 == 200:
+            compare("http-" + ds.replace(":", "_"), a, b)
+            v1 = [float(x) for x in re.findall(r"=([0-9.]+)", h1.get("x-lucent-visibility", ""))]
+            v2 = [float(x) for x in re.findall(r"=([0-9.]+)", h2.get("x-lucent-visibility", ""))]
+            check(len(v1) == 3 and len(v2) == 3 and max(abs(x - y) for x, y in zip(v1, v2)) <= 0.01,
+                  "%s: X-Lucent-Visibility %s vs %s" % (ds, h1.get("x-lucent-visibility"),
+                                                         h2.get("x-lucent-visibility")))
+    # A scripted session: the camera orbits and the opacities fade (dt).
+    sessions = []
+    for srv in (single, multi):
+        st, _, info = srv.json("POST", "/api/v1/sessions", {"dataset": "demo:tornado", "width": 160, "height": 120,
+                                                             "format": "png", "params": {"fadeHalfLife": 0.3}})
+        sessions.append(info["session"] if st in (200, 201) else None)
+    check(all(sessions), "sessions created on both")
+    for i in range(4):
+        a = 0.4 * i
+        cam = {"position": [0.5 + 2.2 * math.cos(a), 0.5 + 2.2 * math.sin(a), 0.9], "focalPoint": [0.5, 0.5, 0.5],
+               "viewUp": [0, 0, 1]}
+        imgs = []
+        for srv, sid in zip((single, multi), sessions):
+            st, hdr, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam})
+            imgs.append(img if st == 200 else None)
+        if check(all(imgs), "session frame %d rendered by both" % i):
+            compare("session-frame-%d" % i, imgs[0], imgs[1])
+    # A WebSocket session: the last frame (still, converged) of each.
+    if websockets:
+        (a, na), (b, nb) = asyncio.run(ws_last_frame(single)), asyncio.run(ws_last_frame(multi))
+        if check(a is not None and b is not None, "WebSocket frames from both (%d, %d)" % (na, nb)):
+            compare("websocket-last-frame", a, b, 2.0 / 255.0)  # JPEG on top of the rendering
+    # /datasets describes the whole datasets, not rank 0's shards.
+    _, _, d1 = single.json("GET", "/api/v1/datasets")
+    _, _, d2 = multi.json("GET", "/api/v1/datasets")
+    strip = lambda d: [{k: v for k, v in x.items() if k != "gpuBytes"} for x in d["datasets"]]  # noqa: E731
+    check(strip(d1) == strip(d2), "/api/v1/datasets equal but for gpuBytes")
+    check(any("rank %d of %d" % (ranks - 1, ranks) in line for line in multi.log), "per-rank memory in the log")
+
+    # Kill the last rank during a session: the job ends within seconds and
+    # mpirun's message names the rank.
+    victim = multi.rank_pid(ranks - 1)
+    if check(victim is not None, "rank %d logged its pid" % (ranks - 1)):
+        stop = threading.Event()
+        st, _, info = multi.json("POST", "/api/v1/sessions", {"dataset": "demo:tornado", "width": 200,
+                                                               "height": 150, "format": "png"})
+        check(st in (200, 201), "a session for the kill test")
+        sid = info.get("session") if info else None
+
+        def load():  # a scripted session orbiting the data, frame after frame
+            i = 0
+            while not stop.is_set():
+                a = 0.3 * i
+                cam = {"position": [0.5 + 2.2 * math.cos(a), 0.5 + 2.2 * math.sin(a), 0.9],
+                       "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 0, 1]}
+                i += 1
+                try:
+                    multi.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam},
+                                  timeout=30)
+                except Exception:
+                    time.sleep(0.1)
+        t = threading.Thread(target=load, daemon=True)
+        t.start()
+        time.sleep(2.0)
+        os.kill(victim, signal.SIGKILL)
+        t0 = time.time()
+        try:
+            rc = multi.proc.wait(30)
+        except subprocess.TimeoutExpired:
+            rc = None
+        took = time.time() - t0
+        stop.set()
+        time.sleep(0.3)
+        text = "\n".join(multi.log)
+        check(rc is not None and took < 15, "killing rank %d ends the job in %.1f s (exit %s)" % (ranks - 1, took, rc))
+        check(re.search(r"rank %d .*exited on signal 9" % (ranks - 1), text) is not None,
+              "mpirun's message names the dead rank")
+        check("ending the service" in text, "rank 0 logs that the service ends")
+
+    # A rank that hangs (stopped, not dead: the runtime sees nothing) holds
+    # rank 0's next reduction; the watchdog ends the job after
+    # LUCENT_MPI_TIMEOUT seconds with a message.
+    hung = MpiServer(lucent, ranks, ["demo:points"], DEMO_SIZE, env={"LUCENT_MPI_TIMEOUT": "3"})
+    try:
+        victim = hung.rank_pid(ranks - 1)
+        os.kill(victim, signal.SIGSTOP)
+        t0 = time.time()
+        try:
+            hung.request("POST", "/api/v1/render", {"dataset": "demo:points", "width": 64, "height": 48,
+                                                    "format": "png"}, timeout=30)
+        except Exception:
+            pass  # the connection closes when the job ends
+        try:
+            rc = hung.proc.wait(30)
+        except subprocess.TimeoutExpired:
+            rc = None
+        took = time.time() - t0
+        time.sleep(0.3)
+        text = "\n".join(hung.log)
+        check(rc is not None and took < 20 and "has waited 3 s for the other ranks" in text,
+              "a hung rank: the watchdog ends the job in %.1f s (exit %s): %s" %
+              (took, rc, next((line for line in hung.log if "has waited" in line), "no message")))
+    finally:
+        if hung.proc.poll() is None:
+            hung.proc.kill()
+            hung.proc.wait()
+finally:
+    single.stop()
+    if multi.proc.poll() is None:
+        multi.proc.send_signal(signal.SIGTERM)
+        try:
+            multi.proc.wait(20)
+        except subprocess.TimeoutExpired:
+            multi.proc.kill()
+check.done()

@@ -229,7 +229,7 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     glProgramUniform2i(st->opacity, glGetUniformLocation(st->opacity, "u_size"), lw, lh);
     lc_uniform_f(st->opacity, "u_q", p->foo.q);
     lc_uniform_f(st->opacity, "u_r", p->foo.r);
-    lc_uniform_f(st->opacity, "u_lambda", lc_foo_effective_lambda(&p->foo));
+    lc_uniform_f(st->opacity, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
     lc_uniform_f(st->opacity, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     glDispatchCompute((GLuint)(lw + 7) / 8, (GLuint)(lh + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

@@ -156,7 +156,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_bind_coefficients(&r->coef_low);
     lc_uniform_f(p2, "u_q", p->foo.q);
     lc_uniform_f(p2, "u_r", p->foo.r);
-    lc_uniform_f(p2, "u_lambda", lc_foo_effective_lambda(&p->foo));
+    lc_uniform_f(p2, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
     lc_uniform_f(p2, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     lc_renderer_draw_geometry(fs, 1);

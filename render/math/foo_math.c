@@ -114,9 +114,9 @@ double lc_foo_norm_mass(const lc_foo_params *p)
     return p->normalize == LC_NORMALIZE_AUTO ? LC_NORM_REFERENCE_MASS : 0.0;
 }
 
-double lc_foo_effective_lambda(const lc_foo_params *p)
+double lc_foo_effective_lambda(const lc_foo_params *p, double k)
 {
-    return p->normalize == LC_NORMALIZE_AUTO ? 2.0 * p->lambda : p->lambda;
+    return p->normalize == LC_NORMALIZE_AUTO ? (2.0 - k) * p->lambda : p->lambda;
 }
 
 double lc_foo_norm_factor(const lc_foo_params *p, double total)
@@ -130,10 +130,10 @@ void lc_foo_alpha_exact(lc_fragment *frags, size_t n, const lc_foo_params *p)
     size_t *order = depth_order(frags, n);
     if (!order)
         return;
-    double total = 0, lambda = lc_foo_effective_lambda(p);
+    double total = 0;
     for (size_t i = 0; i < n; i++)
         total += frags[i].importance * frags[i].importance;
-    double k = lc_foo_norm_factor(p, total);
+    double k = lc_foo_norm_factor(p, total), lambda = lc_foo_effective_lambda(p, k);
     /* DOO's exact sums: front = sum of g^2 strictly in front, behind = strictly behind; the fragment's own g^2
      * is in neither. behind is total - front - own, computed as a running sum to avoid cancellation. */
     double front = 0;
@@ -155,7 +155,7 @@ void lc_foo_alpha_fourier(lc_fragment *frags, size_t n, const lc_foo_params *p)
     for (size_t i = 0; i < n; i++)
         lc_fourier_add(&importance_coeffs, frags[i].depth, frags[i].importance * frags[i].importance);
     double total = importance_coeffs.a[0];
-    double k = lc_foo_norm_factor(p, total), lambda = lc_foo_effective_lambda(p);
+    double k = lc_foo_norm_factor(p, total), lambda = lc_foo_effective_lambda(p, k);
 
     /* P2: sample G at the fragment's depth. The truncated series passes a step at its midpoint, so G holds about
      * half of the fragment's own g^2; FOO subtracts all of it from the front, the midpoint estimator half from

@@ -35,12 +35,15 @@ double lc_foo_optimal_alpha(double g, double front, double behind, double q, dou
 /* Density normalization (params.normalize, docs/ALGORITHM.md "Normalization"):
  * in auto mode a pixel whose total importance mass sum g^2 exceeds
  * LC_NORM_REFERENCE_MASS has its front and behind sums scaled by
- * LC_NORM_REFERENCE_MASS / total, and the emphasis exponent is doubled. */
+ * LC_NORM_REFERENCE_MASS / total = k, and the emphasis exponent grows with
+ * the density to lambda (2 - k): the paper's where the sums are not scaled,
+ * twice it in the densest pixels. */
 #define LC_NORM_REFERENCE_MASS 0.35
 /* The reference mass the shaders use (0 = normalization off). */
 double lc_foo_norm_mass(const lc_foo_params *p);
-/* The lambda of Eq. 10 in effect (2 lambda in auto mode). */
-double lc_foo_effective_lambda(const lc_foo_params *p);
+/* The lambda of Eq. 10 in effect in a pixel whose sums are scaled by k
+ * (lc_foo_norm_factor): lambda (2 - k) in auto mode, lambda when off. */
+double lc_foo_effective_lambda(const lc_foo_params *p, double k);
 /* The factor on the front/behind sums of a pixel with total mass `total`. */
 double lc_foo_norm_factor(const lc_foo_params *p, double total);
 

@@ -27,13 +27,14 @@ void main()
     // Kept fragments are the nearest ones, so their front sums are exact too.
     float total = list_importance;
     float k = u_norm_mass > 0.0 && total > u_norm_mass ? u_norm_mass / total : 1.0;
+    float lambda = u_norm_mass > 0.0 ? (2.0 - k) * u_lambda : u_lambda; // as in P2 (foo_math.h)
     float front = 0.0;
     for (int i = 0; i < n; i++) {
         uvec4 node = nodes[list[i].y];
         float g = uintBitsToFloat(node.z);
         float own = g * g;
         float behind = max(total - front - own, 0.0);
-        float emphasis = u_lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * u_lambda) : 1.0;
+        float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
         float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
         // Non-negative floats order like their bit patterns.
         atomicMin(element_alpha_min[node.w], floatBitsToUint(alpha));

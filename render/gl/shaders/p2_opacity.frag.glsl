@@ -23,10 +23,12 @@ void main()
     float own = u_estimator == 1 ? 0.5 * g2 : g2;
     float front = max(G - own, 0.0);
     float behind = max(c[0] - G - (u_estimator == 1 ? 0.5 * g2 : 0.0), 0.0);
-    float emphasis = u_lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * u_lambda) : 1.0;
     // Density normalization: in a pixel whose total mass exceeds the reference
-    // the sums count as fractions of it, so the layer count stops mattering.
+    // the sums count as fractions of it, so the layer count stops mattering,
+    // and the emphasis exponent grows with the density (foo_math.h).
     float k = u_norm_mass > 0.0 && c[0] > u_norm_mass ? u_norm_mass / c[0] : 1.0;
+    float lambda = u_norm_mass > 0.0 ? (2.0 - k) * u_lambda : u_lambda;
+    float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
     float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind));
     // Non-negative floats order like their bit patterns.
     atomicMin(element_alpha_min[fragment_element()], floatBitsToUint(alpha));

@@ -98,7 +98,7 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_IMPORTANCE, r->element_importance);
     uint32_t vertices = fs->gs->scene->vertex_count;
     if (vertices)
-        glDispatchCompute((vertices + 255) / 256, 1, 1);
+        lc_dispatch_linear((vertices + 255) / 256);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(r->element_importance, 0, (GLsizeiptr)count * 8, sums);
     for (uint32_t e = 0; e < count; e++)

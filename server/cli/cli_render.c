@@ -109,11 +109,13 @@ int lc_cli_render(int argc, char **argv)
     size_t bytes = (size_t)req.render.width * req.render.height * 4;
     uint8_t *rgba = malloc(bytes);
     lc_frame_info info;
-    if (!rgba || lc_gpu_scene_create(scene, &gs, &err) != 0) {
-        fprintf(stderr, "lucent render: %s\n", rgba ? err.msg : "out of memory");
+    if (!rgba) {
+        fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
-    if (frames > 1 && !(state = lc_frame_state_create(scene->elements.count))) {
+    if (lc_cli_upload("render", &common, scene, &gs) != 0)
+        goto done;
+    if (frames > 1 && !(state = lc_cli_frame_state(&common, scene->elements.count))) {
         fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
@@ -187,7 +189,7 @@ int lc_cli_info(int argc, char **argv)
     printf("bounds      [%g, %g] x [%g, %g] x [%g, %g]\n", s->bounds[0], s->bounds[3], s->bounds[1], s->bounds[4],
            s->bounds[2], s->bounds[5]);
     printf("elements    %u (adjacency %u)\n", s->elements.count, s->elements.adjacency_count);
-    printf("rgb         %s\n", s->rgb ? "yes" : "no");
+    printf("rgb         %s\n", lc_scene_has_rgb(s) ? "yes" : "no");
     printf("importance  %s (default)\n", s->default_importance[0] ? s->default_importance : "(none: g = 1)");
     printf("color       %s (default)\n", s->default_color);
     printf("attributes  %d\n", s->attribute_count);

@@ -383,7 +383,7 @@ json_t *lc_dataset_info(const lc_dataset *ds)
         json_object_set_new(view, "up", up);
         json_object_set_new(o, "view", view);
     }
-    json_object_set_new(o, "hasRgb", json_boolean(s->rgb != NULL));
+    json_object_set_new(o, "hasRgb", json_boolean(lc_scene_has_rgb(s)));
     json_t *attrs = json_array();
     for (int i = 0; i < s->attribute_count; i++) {
         const lc_attribute *a = &s->attributes[i];

@@ -340,4 +340,7 @@ void lc_cli_print_memory(const lc_scene *scene, const lc_gpu_scene *gs, const lc
     printf("  per-element state   %7.2f  (one render worker)\n", m.per_element / n);
     printf("  per-session state   %7.2f  (one viewer)\n", m.per_session / n);
     printf("  total               %7.2f  (%.1f MB)\n", m.total / n, m.total / 1e6);
+    if (!gs && m.cpu.total)
+        printf("  once uploaded       %7.2f  (the scene arrays are freed after the upload)\n",
+               (m.total - m.cpu.total) / n);
 }

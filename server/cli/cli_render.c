@@ -10,6 +10,7 @@
 #include "demo.h"
 #include "image.h"
 #include "loaders.h"
+#include "memory.h"
 
 static int has_suffix(const char *s, const char *suffix)
 {
@@ -201,6 +202,13 @@ int lc_cli_info(int argc, char **argv)
     getrusage(RUSAGE_SELF, &ru);
     printf("memory      %.3f MB in the scene's arrays, peak RSS %.1f MB\n", lc_scene_bytes(s) / 1e6,
            ru.ru_maxrss / 1e3);
+    /* Once served: the GPU buffers (estimated, no GL needed) and the state. */
+    lc_cli_common compact = {0};
+    lc_cli_print_memory(s, NULL, &compact);
+    lc_memory_report ex;
+    lc_memory_report_of(s, NULL, &(lc_gpu_scene_desc){.exact_positions = 1}, 1, 1, &ex);
+    printf("  with --exact-positions: GPU buffers %.2f bytes per vertex\n",
+           s->vertex_count ? (double)ex.gpu.total / s->vertex_count : 0.0);
     lc_scene_destroy(s);
     return 0;
 }

@@ -16,7 +16,10 @@ int lc_pack_attribute_is_unorm16(const lc_attribute *a)
 }
 
 size_t lc_pack_positions_bytes(uint32_t n) { return ((3 * (size_t)n + 1) / 2) * 4; }
-size_t lc_pack_chunks_bytes(uint32_t n) { return (((size_t)n + LC_POSITION_CHUNK - 1) >> LC_POSITION_CHUNK_SHIFT) * 32; }
+size_t lc_pack_chunks_bytes(uint32_t n)
+{
+    return (((size_t)n + LC_POSITION_CHUNK - 1) >> LC_POSITION_CHUNK_SHIFT) * 32;
+}
 size_t lc_pack_unorm16_bytes(uint32_t n) { return (((size_t)n + 1) / 2) * 4; }
 
 size_t lc_pack_blend_bytes(lc_blend_layout layout, uint32_t n)

@@ -31,9 +31,9 @@ typedef enum {
 int lc_pack_attribute_is_unorm16(const lc_attribute *a);
 
 /* Bytes of each packed buffer for n vertices. */
-size_t lc_pack_positions_bytes(uint32_t n);        /* 3 x u16 per vertex, in 32-bit words */
-size_t lc_pack_chunks_bytes(uint32_t n);           /* 2 vec4 per chunk */
-size_t lc_pack_unorm16_bytes(uint32_t n);          /* one u16 per vertex, in 32-bit words */
+size_t lc_pack_positions_bytes(uint32_t n);                     /* 3 x u16 per vertex, in 32-bit words */
+size_t lc_pack_chunks_bytes(uint32_t n);                        /* 2 vec4 per chunk */
+size_t lc_pack_unorm16_bytes(uint32_t n);                       /* one u16 per vertex, in 32-bit words */
 size_t lc_pack_blend_bytes(lc_blend_layout layout, uint32_t n); /* vertex_elements (+ weights for FULL) */
 
 /* The layout the scene's elements allow: IMPLICIT for points whose element is

@@ -30,10 +30,10 @@ void lc_cli_gl_close(lc_cli_gl *g);
 
 /* Options every rendering subcommand takes besides the request's own fields. */
 typedef struct lc_cli_common {
-    const char *input; /* --input FILE|demo:NAME (overrides the request's dataset) */
-    int device;        /* --device N, -1 = LUCENT_EGL_DEVICE or the first GPU */
-    long elements;     /* --elements N: line elements or surface patches, 0 = derived from the data */
-    int exact_positions;         /* --exact-positions: float GPU buffers and session opacities */
+    const char *input;             /* --input FILE|demo:NAME (overrides the request's dataset) */
+    int device;                    /* --device N, -1 = LUCENT_EGL_DEVICE or the first GPU */
+    long elements;                 /* --elements N: line elements or surface patches, 0 = derived from the data */
+    int exact_positions;           /* --exact-positions: float GPU buffers and session opacities */
     unsigned long long max_memory; /* --max-memory BYTES: refuse larger datasets; 0 = no limit */
 } lc_cli_common;
 

@@ -177,9 +177,8 @@ static int check_budget(lc_datasets *d, const lc_dataset *ds, lc_error *err)
                       "%s: refused: needs an estimated %.1f MB resident (%u vertices at %.1f bytes, %u elements, "
                       "%d worker%s), %.1f MB with the datasets before it, over --max-memory %.1f MB",
                       ds->source, need / 1e6, ds->scene->vertex_count,
-                      ds->scene->vertex_count ? (double)need / ds->scene->vertex_count : 0.0,
-                      ds->scene->elements.count, workers, workers == 1 ? "" : "s", (d->estimated + need) / 1e6,
-                      limit / 1e6);
+                      ds->scene->vertex_count ? (double)need / ds->scene->vertex_count : 0.0, ds->scene->elements.count,
+                      workers, workers == 1 ? "" : "s", (d->estimated + need) / 1e6, limit / 1e6);
     d->estimated += need;
     return 0;
 }
@@ -337,8 +336,8 @@ int lc_datasets_upload(lc_datasets *d, lc_error *err)
         lc_scene_release_vertex_arrays(ds->scene);
         lc_memory_trim();
         lc_memory_report_of(ds->scene, ds->gpu, &desc, d->opts.workers > 0 ? d->opts.workers : 1, 1, &ds->memory);
-        LC_INFO(MOD, "uploaded %s: %.1f MB of GPU buffers (%s layout, %.1f bytes per vertex with its state)",
-                ds->name, lc_gpu_scene_bytes(ds->gpu) / 1e6, desc.exact_positions ? "exact" : "compact",
+        LC_INFO(MOD, "uploaded %s: %.1f MB of GPU buffers (%s layout, %.1f bytes per vertex with its state)", ds->name,
+                lc_gpu_scene_bytes(ds->gpu) / 1e6, desc.exact_positions ? "exact" : "compact",
                 ds->scene->vertex_count ? (double)ds->memory.total / ds->scene->vertex_count : 0.0);
     }
     return 0;

@@ -29,7 +29,7 @@ typedef struct lc_dataset {
      * NAME.lucent.json beside a file. Shown by /datasets, applied by clients
      * on dataset switch; NULL = none. Owned. */
     json_t *preset;
-    lc_cost_stats cost; /* what render cost estimates need (cost.h) */
+    lc_cost_stats cost;      /* what render cost estimates need (cost.h) */
     int exact_positions;     /* float GPU buffers and session opacities (--exact-positions) */
     lc_memory_report memory; /* bytes by kind once uploaded (one worker's and one session's state) */
 } lc_dataset;

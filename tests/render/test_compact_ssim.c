@@ -32,13 +32,14 @@ int main(void)
         if (gx && gc) {
             lc_gpu_scene_memory(gx, &mx);
             lc_gpu_scene_memory(gc, &mc);
-            CHECK(mc.total < mx.total, "demo:%s: compact %llu bytes, exact %llu", *name,
-                  (unsigned long long)mc.total, (unsigned long long)mx.total);
+            CHECK(mc.total < mx.total, "demo:%s: compact %llu bytes, exact %llu", *name, (unsigned long long)mc.total,
+                  (unsigned long long)mx.total);
             static const struct {
                 const char *what;
                 lc_method method;
                 int frames;
-            } cases[] = {{"fourier", LC_METHOD_FOURIER, 1}, {"fourier, 4 fading frames", LC_METHOD_FOURIER, 4},
+            } cases[] = {{"fourier", LC_METHOD_FOURIER, 1},
+                         {"fourier, 4 fading frames", LC_METHOD_FOURIER, 4},
                          {"exact", LC_METHOD_EXACT, 1}};
             for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
                 lc_render_params p;
@@ -51,8 +52,8 @@ int main(void)
                                                                   : lc_frame_state_create(s->elements.count))
                                                              : NULL;
                     for (int f = 0; f < cases[c].frames; f++) {
-                        int rc = lc_render_frame(t.renderer, k ? gc : gx, &p, st, 0.05, k ? compact : exact, NULL,
-                                                 &err);
+                        int rc =
+                            lc_render_frame(t.renderer, k ? gc : gx, &p, st, 0.05, k ? compact : exact, NULL, &err);
                         CHECK(rc == 0, "demo:%s %s: %s", *name, cases[c].what, err.msg);
                     }
                     lc_frame_state_destroy(st);

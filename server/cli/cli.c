@@ -91,7 +91,7 @@ const char lc_cli_flags_help[] =
     "  --line-width W        world units;  --point-size PX;  --unlit\n"
     "  --format png|jpeg, --quality Q\n"
     "  --exact-positions     float vertex buffers and session opacities (images bit for bit as before the\n"
-    "                        compact 16-bit layout; about 4x the memory per vertex)\n"
+    "                        compact 16-bit layout; about twice the bytes per vertex)\n"
     "  --max-memory BYTES    refuse a dataset whose estimated resident size exceeds BYTES (k, M, G suffixes)\n";
 
 /* Applies one "key": value pair through the protocol's query aliases so the

@@ -1,5 +1,6 @@
 /* Pipeline plumbing shared by every method: render targets, the geometry
  * binding and draw of a pass, blending set-ups, resolve and readback. */
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -125,18 +126,19 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
 
 /* Triangles per draw call of a large draw on a software rasterizer: llvmpipe
  * bins a draw far ahead of its rasterizer threads, and the bins held about
- * 160 bytes per triangle (650 MB for two million points, 2.2 GB for 20 M).
- * Batches of 32k triangles with at most two in flight keep that near 10 MB
- * whatever the dataset's size; primitives keep their order, so images do not
+ * 160 bytes per triangle (650 MB for two million points, 1.5 GB for four
+ * million) for the rest of the process. Batches of 8k triangles with at most
+ * two in flight keep that to a few MB whatever the dataset's size (32k still
+ * left 30 B per line vertex); primitives keep their order, so images do not
  * change. GPUs draw in one call (0 = no batches). */
 #define SOFTWARE_BATCH_TRIANGLES (1u << 13)
-static uint64_t draw_batch_triangles;
+static _Atomic uint64_t draw_batch_triangles; /* every worker's renderer sets the same value */
 
 void lc_pipeline_configure(const char *gl_renderer)
 {
     int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
                                    strstr(gl_renderer, "swrast"));
-    draw_batch_triangles = software ? SOFTWARE_BATCH_TRIANGLES : 0;
+    atomic_store(&draw_batch_triangles, software ? SOFTWARE_BATCH_TRIANGLES : 0);
 }
 
 /* Issues primitives [first, first + count) of the current program. */
@@ -169,7 +171,8 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     int pulled = lc_pulls_primitives(prim, subset);
     if (!pulled && prim != LC_PRIM_POINTS)
         drawn = n; /* indexed draws cover every primitive */
-    uint64_t batch = draw_batch_triangles ? draw_batch_triangles / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
+    uint64_t per_batch = atomic_load(&draw_batch_triangles);
+    uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
     GLsync in_flight[2] = {0, 0};
     for (uint64_t first = 0, k = 0; first < drawn; first += batch, k++) {
         draw_range(prim, pulled, first, drawn - first < batch ? drawn - first : batch);

@@ -23,8 +23,9 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 
 wall() { # bench output -> mean wall ms of its one row
-    # a result row: name, primitives, elements, the passes, gpu ms, wall ms, fps, pipeline MB, scene MB, drawn
-    awk 'NF >= 16 && $2 ~ /^[0-9]+$/ { print $(NF - 4) }' "$1"
+    # a result row: name, primitives, elements, the passes, gpu ms, wall ms, fps, pipeline MB, scene MB, drawn,
+    # load s, rss MB, rss B/vtx
+    awk 'NF >= 19 && $2 ~ /^[0-9]+$/ { print $(NF - 7) }' "$1"
 }
 
 section() {

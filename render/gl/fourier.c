@@ -17,7 +17,7 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
     int one_shot = !state || state->fresh;
     double fade = one_shot ? 1.0 : lc_foo_fade_factor(dt, fs->params->foo.fade_half_life);
     if (state && !state->fresh)
-        glNamedBufferSubData(r->element_alpha, 0, (GLsizeiptr)count * 4, state->alpha);
+        lc_frame_state_upload(state, r->element_alpha);
     else {
         const float one = 1.0f;
         glClearNamedBufferData(r->element_alpha, GL_R32F, GL_RED, GL_FLOAT, &one);
@@ -42,7 +42,7 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, dst);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, src);
     if (groups)
-        glDispatchCompute(groups, 1, 1);
+        lc_dispatch_linear(groups);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     lc_uniform_i(prog, "u_stage", 1);
     int iterations = fs->params->foo.smoothing > 0 ? fs->params->foo.smoothing : 0;
@@ -50,7 +50,7 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, dst);
         if (groups)
-            glDispatchCompute(groups, 1, 1);
+            lc_dispatch_linear(groups);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         GLuint t = src;
         src = dst, dst = t;
@@ -58,11 +58,11 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
     lc_uniform_i(prog, "u_stage", 2);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
     if (groups)
-        glDispatchCompute(groups, 1, 1);
+        lc_dispatch_linear(groups);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
     if (state) {
-        glGetNamedBufferSubData(r->element_alpha, 0, (GLsizeiptr)count * 4, state->alpha);
+        lc_frame_state_download(state, r->element_alpha);
         state->fresh = 0;
     }
     uint32_t bits = 0;

@@ -23,6 +23,7 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     if (desc)
         r->desc = *desc;
+    lc_pipeline_configure((const char *)glGetString(GL_RENDERER));
     glCreateVertexArrays(1, &r->vao);
     glGenQueries(LC_PASS_COUNT + 1, r->timer_queries);
     r->dummy_buffer = lc_gl_buffer(NULL, 0, &(uint64_t){0});
@@ -95,6 +96,11 @@ void lc_renderer_destroy(lc_renderer *r)
 
 uint64_t lc_renderer_bytes(const lc_renderer *r) { return r->bytes_targets + r->bytes_elements; }
 
+uint64_t lc_renderer_element_bytes(const lc_renderer *r)
+{
+    return r->bytes_elements + (uint64_t)r->importance_cache_count * sizeof(float);
+}
+
 static void ensure_element_buffers(lc_renderer *r, uint32_t count)
 {
     if (count <= r->element_capacity && r->element_alpha)
@@ -158,7 +164,7 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
     fs->color_attr = -1;
     fs->color_range[0] = 0, fs->color_range[1] = 1;
     if (strcmp(col, "rgb") == 0) {
-        if (!s->rgb)
+        if (!lc_scene_has_rgb(s))
             return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no per-vertex RGB", s->name);
         fs->color_mode = 2;
     } else if (strcmp(col, "importance") == 0) {
@@ -223,7 +229,7 @@ static int pick_level(const lc_frame_setup *fs)
  * anyway, and the still frame that follows optimizes them again. */
 static int reuse_opacities(lc_renderer *r, const lc_frame_state *state, lc_frame_info *info)
 {
-    glNamedBufferSubData(r->element_alpha, 0, (GLsizeiptr)state->count * 4, state->alpha);
+    lc_frame_state_upload(state, r->element_alpha);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     info->reused_opacities = 1;
     info->max_alpha_change = 0;

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "renderer_internal.h"
+#include "vertex_pack.h"
 
 GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes)
 {
@@ -15,9 +16,148 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes)
     return b;
 }
 
-/* The segment pairs of one level and its ribbon quads: vertex 2v / 2v+1 are
- * the two sides at line vertex v (geometry.vert.glsl). */
-static int upload_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k, double error, lc_error *err)
+/* Estimate and upload share this: the byte count of every buffer of the
+ * layout that desc gives s (attribute formats from the scene's ranges). */
+static void layout_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_blend_layout blend, int built,
+                         lc_gpu_memory *m)
+{
+    memset(m, 0, sizeof *m);
+    uint32_t n = s->vertex_count;
+    int exact = desc && desc->exact_positions;
+    int framed = s->type != LC_PRIM_POINTS;
+    if (exact) {
+        m->positions = (uint64_t)n * 16;
+        m->frames = framed ? (uint64_t)n * 16 : 0;
+        m->attributes = (uint64_t)n * 4 * (uint64_t)s->attribute_count;
+        m->colors = lc_scene_has_rgb(s) ? (uint64_t)n * 12 : 0;
+    } else {
+        m->positions = lc_pack_positions_bytes(n) + lc_pack_chunks_bytes(n);
+        m->frames = framed ? (uint64_t)n * 4 : 0;
+        for (int a = 0; a < s->attribute_count; a++)
+            m->attributes += lc_pack_attribute_is_unorm16(&s->attributes[a]) ? lc_pack_unorm16_bytes(n) : (uint64_t)n * 4;
+        m->colors = lc_scene_has_rgb(s) ? (uint64_t)n * 4 : 0;
+    }
+    m->vertex_elements = lc_pack_blend_bytes(blend, n);
+    uint64_t prims = lc_scene_primitive_count(s);
+    /* Lines: six ribbon corners per segment (the pulled subset path reads the
+     * same buffer); triangles: the scene's own index buffer. The coarser
+     * levels of detail hold at most as much again (lod.h), which an estimate
+     * counts in full. */
+    m->indices = s->type == LC_PRIM_LINES ? prims * 24 : s->type == LC_PRIM_TRIANGLES ? prims * 12 : 0;
+    if (!built)
+        m->indices *= 2;
+    m->adjacency = s->elements.adjacency_count
+                       ? ((uint64_t)s->elements.count + 1 + s->elements.adjacency_count) * 4
+                       : 0;
+    m->total = m->positions + m->frames + m->attributes + m->colors + m->vertex_elements + m->indices + m->adjacency;
+}
+
+void lc_gpu_scene_estimate(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_gpu_memory *out)
+{
+    int exact = desc && desc->exact_positions;
+    layout_bytes(s, desc, exact ? (s->type == LC_PRIM_POINTS ? LC_BLEND_IMPLICIT : LC_BLEND_FULL)
+                                : lc_pack_blend_layout_of_type(s->type),
+                 0, out);
+}
+
+/* Uploads the vertex data of s in the exact (float) or compact layout. */
+static int upload_vertices(lc_gpu_scene *gs, const lc_scene *s, lc_error *err)
+{
+    size_t n = s->vertex_count;
+    const float *frame = s->type == LC_PRIM_LINES ? s->tangents : s->type == LC_PRIM_TRIANGLES ? s->normals : NULL;
+    /* One scratch buffer, as large as the largest packed array. */
+    size_t big = (n ? n : 1) * 16;
+    uint32_t *tmp = malloc(big);
+    if (!tmp)
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %zu vertices", s->name, n);
+    if (gs->exact) {
+        float *f = (float *)tmp;
+        for (size_t i = 0; i < n; i++) {
+            memcpy(f + 4 * i, s->positions + 3 * i, 3 * sizeof(float));
+            f[4 * i + 3] = 1.0f;
+        }
+        gs->positions = lc_gl_buffer(f, n * 16, &gs->bytes);
+        gs->position_chunks = lc_gl_buffer(NULL, 0, &gs->bytes);
+        if (frame) {
+            for (size_t i = 0; i < n; i++) {
+                memcpy(f + 4 * i, frame + 3 * i, 3 * sizeof(float));
+                f[4 * i + 3] = 0.0f;
+            }
+            gs->frames = lc_gl_buffer(f, n * 16, &gs->bytes);
+        } else {
+            gs->frames = lc_gl_buffer(NULL, 0, &gs->bytes);
+        }
+    } else {
+        size_t chunk_bytes = lc_pack_chunks_bytes(s->vertex_count);
+        float *chunks = malloc(chunk_bytes ? chunk_bytes : 16);
+        if (!chunks) {
+            free(tmp);
+            return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %zu vertices", s->name, n);
+        }
+        lc_pack_positions(s->positions, s->vertex_count, tmp, chunks);
+        gs->positions = lc_gl_buffer(tmp, lc_pack_positions_bytes(s->vertex_count), &gs->bytes);
+        gs->position_chunks = lc_gl_buffer(chunks, chunk_bytes, &gs->bytes);
+        free(chunks);
+        if (frame) {
+            lc_pack_directions(frame, s->vertex_count, tmp);
+            gs->frames = lc_gl_buffer(tmp, n * 4, &gs->bytes);
+        } else {
+            gs->frames = lc_gl_buffer(NULL, 0, &gs->bytes);
+        }
+    }
+
+    /* Attributes back to back, each at its own word offset. */
+    size_t words = 0;
+    for (int a = 0; a < s->attribute_count; a++) {
+        const lc_attribute *at = &s->attributes[a];
+        int u16 = !gs->exact && lc_pack_attribute_is_unorm16(at);
+        gs->attr_offset[a] = (uint32_t)words;
+        gs->attr_format[a] = u16;
+        gs->attr_decode[a][0] = u16 ? at->min : 0.0f;
+        gs->attr_decode[a][1] = u16 ? (float)(((double)at->max - at->min) / 65535.0) : 1.0f;
+        words += u16 ? lc_pack_unorm16_bytes(s->vertex_count) / 4 : n;
+    }
+    glCreateBuffers(1, &gs->attributes);
+    glNamedBufferStorage(gs->attributes, words ? (GLsizeiptr)words * 4 : 16, NULL, GL_DYNAMIC_STORAGE_BIT);
+    for (int a = 0; a < s->attribute_count; a++) {
+        const lc_attribute *at = &s->attributes[a];
+        if (gs->attr_format[a]) {
+            lc_pack_attribute(at, s->vertex_count, tmp);
+            glNamedBufferSubData(gs->attributes, (GLintptr)gs->attr_offset[a] * 4,
+                                 (GLsizeiptr)lc_pack_unorm16_bytes(s->vertex_count), tmp);
+        } else {
+            glNamedBufferSubData(gs->attributes, (GLintptr)gs->attr_offset[a] * 4, (GLsizeiptr)(n * 4), at->values);
+        }
+    }
+    gs->bytes += words ? words * 4 : 16;
+    gs->attribute_bytes = words * 4;
+
+    if (gs->exact || !s->rgb) {
+        gs->colors = lc_gl_buffer(s->rgb, s->rgb ? n * 3 * sizeof(float) : 0, &gs->bytes);
+    } else {
+        lc_pack_colors(s->rgb, s->vertex_count, tmp);
+        gs->colors = lc_gl_buffer(tmp, n * 4, &gs->bytes);
+    }
+
+    /* Vertex -> element blends: implicit for points (element = point, the
+     * same opacity the exact layout's single weight of 1 gives). */
+    if (gs->blend == LC_BLEND_FULL) {
+        gs->vertex_elements = lc_gl_buffer(s->elements.vertex_elements, n * 4 * sizeof(uint32_t), &gs->bytes);
+        gs->vertex_weights = lc_gl_buffer(s->elements.vertex_weights, n * 4 * sizeof(float), &gs->bytes);
+    } else {
+        if (gs->blend != LC_BLEND_IMPLICIT)
+            lc_pack_blend(&s->elements, gs->blend, s->vertex_count, tmp);
+        gs->vertex_elements = lc_gl_buffer(tmp, lc_pack_blend_bytes(gs->blend, s->vertex_count), &gs->bytes);
+        gs->vertex_weights = lc_gl_buffer(NULL, 0, &gs->bytes);
+    }
+    free(tmp);
+    return 0;
+}
+
+/* One level's ribbon quads from its segment pairs: vertex 2v / 2v+1 are the
+ * two sides at line vertex v (geometry.vert.glsl); the pulled subset path
+ * reads segment j's vertices from corners 6j and 6j+2 of the same buffer. */
+static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k, double error, lc_error *err)
 {
     uint32_t *quads = malloc((k ? k : 1) * 6 * sizeof(uint32_t));
     if (!quads)
@@ -28,20 +168,16 @@ static int upload_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k, dou
         memcpy(quads + 6 * j, q, sizeof q);
     }
     lc_gpu_level *lv = &gs->levels[gs->level_count++];
-    uint64_t before = gs->bytes;
-    lv->indices = lc_gl_buffer(pairs, k * 2 * sizeof(uint32_t), &gs->bytes);
-    lv->draw_indices = lc_gl_buffer(quads, k * 6 * sizeof(uint32_t), &gs->bytes);
+    lv->draw_indices = lv->indices = lc_gl_buffer(quads, k * 6 * sizeof(uint32_t), &gs->bytes);
     lv->primitive_count = k;
     lv->error = error;
-    if (gs->level_count > 1)
-        gs->lod_bytes += gs->bytes - before;
     free(quads);
     return 0;
 }
 
-/* Level 0 and the coarser levels of render/scene/lod.h: lines upload every
- * level's pairs and quads; triangles draw level 0 from the scene's own index
- * buffer and each coarser level from its triangles (one buffer for both
+/* Level 0 and the coarser levels of render/scene/lod.h: lines upload each
+ * level's ribbon quads; triangles draw level 0 from the scene's own index
+ * buffer and each coarser level from its triangles (one buffer serves both
  * bindings). */
 static int upload_levels(lc_gpu_scene *gs, lc_error *err)
 {
@@ -50,15 +186,15 @@ static int upload_levels(lc_gpu_scene *gs, lc_error *err)
     int rc = lc_lod_build(s, &lod, err);
     for (int i = 0; !rc && i < lod.count; i++) {
         const lc_lod_level *l = &lod.levels[i];
-        if (s->type == LC_PRIM_LINES) {
-            rc = upload_level(gs, l->indices, l->primitives, l->error, err);
-            continue;
-        }
-        const uint32_t *tris = i == 0 ? s->triangles : l->indices;
         uint64_t before = gs->bytes;
-        GLuint b = lc_gl_buffer(tris, l->primitives * 3 * sizeof(uint32_t), &gs->bytes);
-        gs->levels[gs->level_count++] =
-            (lc_gpu_level){.indices = b, .draw_indices = b, .primitive_count = l->primitives, .error = l->error};
+        if (s->type == LC_PRIM_LINES) {
+            rc = upload_line_level(gs, l->indices, l->primitives, l->error, err);
+        } else {
+            const uint32_t *tris = i == 0 ? s->triangles : l->indices;
+            GLuint b = lc_gl_buffer(tris, l->primitives * 3 * sizeof(uint32_t), &gs->bytes);
+            gs->levels[gs->level_count++] =
+                (lc_gpu_level){.indices = b, .draw_indices = b, .primitive_count = l->primitives, .error = l->error};
+        }
         if (i > 0)
             gs->lod_bytes += gs->bytes - before;
     }
@@ -68,63 +204,48 @@ static int upload_levels(lc_gpu_scene *gs, lc_error *err)
 
 int lc_gpu_scene_create(const lc_scene *s, lc_gpu_scene **out, lc_error *err)
 {
+    return lc_gpu_scene_create_ex(s, NULL, out, err);
+}
+
+int lc_gpu_scene_create_ex(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_gpu_scene **out, lc_error *err)
+{
     *out = NULL;
     if (!s->finalized)
         return lc_err(err, LC_ERR_INVALID, "%s: scene is not finalized", s->name);
+    if (!s->positions && s->vertex_count)
+        return lc_err(err, LC_ERR_INVALID, "%s: the scene's vertex arrays were released after an upload", s->name);
     lc_gpu_scene *gs = calloc(1, sizeof *gs);
     if (!gs)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     gs->scene = s;
-    size_t n = s->vertex_count;
-    float *tmp = malloc((n ? n : 1) * 4 * sizeof(float));
-    if (!tmp) {
+    gs->exact = desc && desc->exact_positions;
+    gs->blend = lc_pack_blend_layout(s);
+    if (gs->exact && gs->blend != LC_BLEND_IMPLICIT)
+        gs->blend = LC_BLEND_FULL;
+    int rc = upload_vertices(gs, s, err);
+    if (rc) {
         free(gs);
-        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %zu vertices", s->name, n);
+        return rc;
     }
-    for (size_t i = 0; i < n; i++) {
-        memcpy(tmp + 4 * i, s->positions + 3 * i, 3 * sizeof(float));
-        tmp[4 * i + 3] = 1.0f;
-    }
-    gs->positions = lc_gl_buffer(tmp, n * 4 * sizeof(float), &gs->bytes);
-    const float *frame = s->type == LC_PRIM_LINES ? s->tangents : s->type == LC_PRIM_TRIANGLES ? s->normals : NULL;
-    if (frame) {
-        for (size_t i = 0; i < n; i++) {
-            memcpy(tmp + 4 * i, frame + 3 * i, 3 * sizeof(float));
-            tmp[4 * i + 3] = 0.0f;
-        }
-        gs->frames = lc_gl_buffer(tmp, n * 4 * sizeof(float), &gs->bytes);
-    } else {
-        gs->frames = lc_gl_buffer(NULL, 0, &gs->bytes);
-    }
-    free(tmp);
-
-    /* Attributes back to back: attribute a of vertex v at a * n + v. */
-    size_t na = (size_t)s->attribute_count;
-    glCreateBuffers(1, &gs->attributes);
-    size_t attr_bytes = na * n * sizeof(float);
-    glNamedBufferStorage(gs->attributes, attr_bytes ? (GLsizeiptr)attr_bytes : 16, NULL, GL_DYNAMIC_STORAGE_BIT);
-    for (size_t a = 0; a < na; a++)
-        glNamedBufferSubData(gs->attributes, (GLintptr)(a * n * sizeof(float)), (GLsizeiptr)(n * sizeof(float)),
-                             s->attributes[a].values);
-    gs->bytes += attr_bytes ? attr_bytes : 16;
-    gs->colors = lc_gl_buffer(s->rgb, s->rgb ? n * 3 * sizeof(float) : 0, &gs->bytes);
-    gs->vertex_elements = lc_gl_buffer(s->elements.vertex_elements, n * 4 * sizeof(uint32_t), &gs->bytes);
-    gs->vertex_weights = lc_gl_buffer(s->elements.vertex_weights, n * 4 * sizeof(float), &gs->bytes);
-
     if (s->type != LC_PRIM_POINTS) {
-        int rc = upload_levels(gs, err);
+        rc = upload_levels(gs, err);
         if (rc) {
             lc_gpu_scene_destroy(gs);
             return rc;
         }
     } else {
         GLuint none = lc_gl_buffer(NULL, 0, &gs->bytes);
-        gs->levels[0] = (lc_gpu_level){.indices = none, .draw_indices = none, .primitive_count = n};
+        gs->levels[0] = (lc_gpu_level){.indices = none, .draw_indices = none, .primitive_count = s->vertex_count};
         gs->level_count = 1;
     }
-    uint32_t ne = s->elements.count;
-    gs->adj_offsets = lc_gl_buffer(s->elements.adjacency_offsets, ((size_t)ne + 1) * sizeof(uint32_t), &gs->bytes);
+    /* Without adjacency (points) P3 never reads the offsets. */
+    uint32_t ne = s->elements.count, na = s->elements.adjacency_count;
+    gs->adj_offsets = lc_gl_buffer(s->elements.adjacency_offsets, na ? ((size_t)ne + 1) * sizeof(uint32_t) : 0,
+                                   &gs->bytes);
     gs->adj = lc_gl_buffer(s->elements.adjacency, (size_t)s->elements.adjacency_count * sizeof(uint32_t), &gs->bytes);
+    layout_bytes(s, &(lc_gpu_scene_desc){.exact_positions = gs->exact}, gs->blend, 1, &gs->memory);
+    gs->memory.indices += gs->lod_bytes;
+    gs->memory.total = gs->bytes; /* the kinds' sum plus the 16-byte stand-ins of empty buffers */
     /* Other contexts of the share group may use the buffers right away. */
     glFinish();
     GLenum e = glGetError();
@@ -141,8 +262,8 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
 {
     if (!gs)
         return;
-    GLuint bufs[] = {gs->positions,       gs->frames,         gs->attributes, gs->colors,
-                     gs->vertex_elements, gs->vertex_weights, gs->adj_offsets, gs->adj};
+    GLuint bufs[] = {gs->positions,       gs->position_chunks, gs->frames,      gs->attributes, gs->colors,
+                     gs->vertex_elements, gs->vertex_weights,  gs->adj_offsets, gs->adj};
     glDeleteBuffers(sizeof bufs / sizeof bufs[0], bufs);
     for (int i = 0; i < gs->level_count; i++) {
         lc_gpu_level *lv = &gs->levels[i];
@@ -153,6 +274,8 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
 }
 
 uint64_t lc_gpu_scene_bytes(const lc_gpu_scene *gs) { return gs->bytes; }
+
+void lc_gpu_scene_memory(const lc_gpu_scene *gs, lc_gpu_memory *out) { *out = gs->memory; }
 
 int lc_gpu_scene_levels(const lc_gpu_scene *gs) { return gs->level_count; }
 

@@ -1,5 +1,7 @@
 /* Pipeline plumbing shared by every method: render targets, the geometry
  * binding and draw of a pass, blending set-ups, resolve and readback. */
+#include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -78,6 +80,15 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_INDICES, level->indices);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA, r->element_alpha);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITION_CHUNKS, gs->position_chunks);
+    lc_uniform_i(prog, "u_compact", gs->exact ? 0 : 1);
+    lc_uniform_i(prog, "u_blend", (int)gs->blend);
+    int na = gs->scene->attribute_count;
+    if (na > 0) {
+        glProgramUniform1uiv(prog, glGetUniformLocation(prog, "u_attr_offset"), na, gs->attr_offset);
+        glProgramUniform1iv(prog, glGetUniformLocation(prog, "u_attr_format"), na, gs->attr_format);
+        glProgramUniform2fv(prog, glGetUniformLocation(prog, "u_attr_decode"), na, &gs->attr_decode[0][0]);
+    }
     glBindTextureUnit(TEX_COLORMAP, r->colormap_tex[fs->colormap < r->colormap_count ? fs->colormap : 0]);
 
     glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view"), 1, GL_FALSE, v->view);
@@ -120,6 +131,41 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     glViewport(0, 0, w, h);
 }
 
+/* Triangles per draw call of a large draw on a software rasterizer: llvmpipe
+ * bins a draw far ahead of its rasterizer threads, and the bins held about
+ * 160 bytes per triangle (650 MB for two million points, 1.5 GB for four
+ * million) for the rest of the process. Batches of 8k triangles with at most
+ * two in flight keep that to a few MB whatever the dataset's size (32k still
+ * left 30 B per line vertex); primitives keep their order, so images do not
+ * change. GPUs draw in one call (0 = no batches). */
+#define SOFTWARE_BATCH_TRIANGLES (1u << 13)
+static _Atomic uint64_t draw_batch_triangles; /* every worker's renderer sets the same value */
+
+void lc_pipeline_configure(const char *gl_renderer)
+{
+    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
+                                   strstr(gl_renderer, "swrast"));
+    atomic_store(&draw_batch_triangles, software ? SOFTWARE_BATCH_TRIANGLES : 0);
+}
+
+/* Issues primitives [first, first + count) of the current program. */
+static void draw_range(lc_prim_type prim, int pulled, uint64_t first, uint64_t count)
+{
+    if (prim == LC_PRIM_POINTS) {
+        GLint prog = 0;
+        glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
+        lc_uniform_u((GLuint)prog, "u_first_primitive", (unsigned)first);
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)count);
+        return;
+    }
+    uint64_t corners = prim == LC_PRIM_TRIANGLES ? 3u : 6u;
+    if (pulled)
+        glDrawArrays(GL_TRIANGLES, (GLint)(first * corners), (GLsizei)(count * corners));
+    else
+        glDrawElements(GL_TRIANGLES, (GLsizei)(count * corners), GL_UNSIGNED_INT,
+                       (const void *)(uintptr_t)(first * corners * sizeof(uint32_t)));
+}
+
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
 {
     lc_prim_type prim = fs->gs->scene->type;
@@ -128,18 +174,41 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     uint64_t drawn = (n + step - 1) / step;
     if (!drawn)
         return;
-    if (prim == LC_PRIM_POINTS)
-        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)drawn);
-    else if (lc_pulls_primitives(prim, subset))
-        glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(drawn * (prim == LC_PRIM_TRIANGLES ? 3u : 6u)));
-    else
-        glDrawElements(GL_TRIANGLES, (GLsizei)(n * (prim == LC_PRIM_TRIANGLES ? 3u : 6u)), GL_UNSIGNED_INT, NULL);
+    int pulled = lc_pulls_primitives(prim, subset);
+    if (!pulled && prim != LC_PRIM_POINTS)
+        drawn = n; /* indexed draws cover every primitive */
+    uint64_t per_batch = atomic_load(&draw_batch_triangles);
+    uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
+    GLsync in_flight[2] = {0, 0};
+    for (uint64_t first = 0, k = 0; first < drawn; first += batch, k++) {
+        draw_range(prim, pulled, first, drawn - first < batch ? drawn - first : batch);
+        if (drawn <= batch)
+            break;
+        /* Wait for the batch before the previous one: two stay queued. */
+        GLsync *slot = &in_flight[k & 1];
+        if (*slot) {
+            glClientWaitSync(*slot, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+            glDeleteSync(*slot);
+        }
+        *slot = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    }
+    for (int i = 0; i < 2; i++)
+        if (in_flight[i])
+            glDeleteSync(in_flight[i]);
 }
 
 void lc_bind_coefficients(const lc_targets *t)
 {
     for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
         glBindTextureUnit(TEX_COEF_FIRST + i, t->tex[i < t->count ? i : 0]);
+}
+
+void lc_dispatch_linear(GLuint groups)
+{
+    if (!groups)
+        return;
+    GLuint x = groups < 65535u ? groups : 65535u;
+    glDispatchCompute(x, (groups + x - 1) / x, 1);
 }
 
 /* Additive float blending for the accumulation passes. */

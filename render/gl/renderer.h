@@ -21,9 +21,39 @@ extern "C" {
  * the share group current; the lc_scene must outlive it. After creation the
  * object is read-only and may be used from any worker thread. */
 typedef struct lc_gpu_scene lc_gpu_scene;
+/* Options of the GPU copy; zero = the compact layout (docs/MEMORY.md):
+ * positions 16-bit unorm in chunks with their own bounds, directions in 32
+ * bits, attributes 16-bit unorm over their range, colours RGBA8, element
+ * blends without unused slots (none for points). */
+typedef struct lc_gpu_scene_desc {
+    int exact_positions; /* 1: float buffers as before the compact layout: images bit for bit */
+} lc_gpu_scene_desc;
+/* Bytes of a GPU copy by kind. */
+typedef struct lc_gpu_memory {
+    uint64_t positions;       /* positions (+ the chunk bounds of the compact layout) */
+    uint64_t frames;          /* line tangents or surface normals */
+    uint64_t attributes;      /* named attributes */
+    uint64_t colors;          /* per-vertex RGB */
+    uint64_t vertex_elements; /* vertex -> element blends */
+    uint64_t indices;         /* index buffers */
+    uint64_t adjacency;       /* element adjacency (smoothing) */
+    uint64_t total;
+} lc_gpu_memory;
+/* lc_gpu_scene_create_ex with desc NULL (compact). */
 int lc_gpu_scene_create(const lc_scene *scene, lc_gpu_scene **out, lc_error *err);
+/* Uploads a finalized scene whose vertex arrays are still held (see
+ * lc_scene_release_vertex_arrays); desc NULL = zero. */
+int lc_gpu_scene_create_ex(const lc_scene *scene, const lc_gpu_scene_desc *desc, lc_gpu_scene **out, lc_error *err);
 void lc_gpu_scene_destroy(lc_gpu_scene *gs);
 uint64_t lc_gpu_scene_bytes(const lc_gpu_scene *gs);
+void lc_gpu_scene_memory(const lc_gpu_scene *gs, lc_gpu_memory *out);
+/* What lc_gpu_scene_create_ex(scene, desc) would allocate, without GL: for
+ * `lucent info` and memory limits. Works on released scenes too. */
+void lc_gpu_scene_estimate(const lc_scene *scene, const lc_gpu_scene_desc *desc, lc_gpu_memory *out);
+/* Bytes per element that each renderer (render worker) holds for the largest
+ * scene it has drawn: opacity buffers, smoothing ping-pong and the importance
+ * cache of the visibility report. */
+#define LC_RENDERER_BYTES_PER_ELEMENT 20u
 /* Levels of detail (1 = full detail only) and the bytes of those beyond the
  * first (included in lc_gpu_scene_bytes). */
 int lc_gpu_scene_levels(const lc_gpu_scene *gs);
@@ -33,16 +63,24 @@ uint64_t lc_gpu_scene_lod_bytes(const lc_gpu_scene *gs);
  * Plain CPU memory, O(elements); not thread-safe: one frame at a time. */
 typedef struct lc_frame_state lc_frame_state;
 lc_frame_state *lc_frame_state_create(uint32_t element_count);
+/* The same with 16-bit unorm opacities (2 bytes per element instead of 4; a
+ * rounding of at most 1/131070 per frame, far below what 8-bit images show). */
+lc_frame_state *lc_frame_state_create_compact(uint32_t element_count);
+/* Bytes the state holds. */
+uint64_t lc_frame_state_bytes(const lc_frame_state *st);
 void lc_frame_state_destroy(lc_frame_state *st);
 /* Forget the history: the next frame starts at its targets (no fade-in). */
 void lc_frame_state_reset(lc_frame_state *st);
-/* Current element opacities (count = element_count), for tests. */
+/* Current element opacities (count = element_count), for tests; NULL for a
+ * compact state. */
 const float *lc_frame_state_alphas(const lc_frame_state *st);
 /* 1 until the state's first frame (or after a reset). */
 int lc_frame_state_is_fresh(const lc_frame_state *st);
 /* Takes element_count opacities as the history (a copy of another process's
  * state, docs/MPI.md); the state is no longer fresh. */
 void lc_frame_state_load(lc_frame_state *st, const float *alpha);
+/* Writes the element_count opacities as floats (either layout). */
+void lc_frame_state_copy(const lc_frame_state *st, float *out);
 
 /* ---- Per-frame report. */
 typedef enum {
@@ -152,6 +190,8 @@ void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
 
 /* GPU memory currently held by the renderer's targets and buffers. */
 uint64_t lc_renderer_bytes(const lc_renderer *r);
+/* Of that and its CPU caches: what grows with the element count. */
+uint64_t lc_renderer_element_bytes(const lc_renderer *r);
 
 #ifdef __cplusplus
 }

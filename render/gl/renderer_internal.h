@@ -11,6 +11,7 @@
 #include "camera.h"
 #include "lod.h"
 #include "renderer.h"
+#include "vertex_pack.h"
 
 #define LC_MAX_COEF_TARGETS 5 /* (2 * 8 + 1 + 3) / 4 */
 
@@ -36,6 +37,7 @@
     X(BIND_EXACT_COUNTERS, 15)                                                                                         \
     X(BIND_MASS_HISTOGRAM, 16)                                                                                         \
     X(BIND_ELEMENT_IMPORTANCE, 17)                                                                                     \
+    X(BIND_POSITION_CHUNKS, 18)                                                                                        \
     X(TEX_COLORMAP, 0)     /* geometry passes */                                                                       \
     X(TEX_COEF_FIRST, 1)   /* 1..LC_MAX_COEF_TARGETS: coefficient targets read by P2/P5 */                             \
     X(TEX_PIXEL_RANGE, 6)  /* P0 output read by later passes */                                                        \
@@ -45,16 +47,18 @@
     X(IMG_EXACT_OUTPUT, 1) /* exact method: blended image */
 
 /* Constants that the host and the shaders must agree on, injected the same
- * way: the mass histogram's layout (mass_common.glsl). */
+ * way: the mass histogram's layout (mass_common.glsl), the attribute table size. */
 #define LC_GL_CONSTANTS(X)                                                                                             \
     X(MASS_BINS, 1024)                                                                                                 \
     X(MASS_BINS_PER_OCTAVE, 16)                                                                                        \
-    X(MASS_LOG2_MIN, -24)
+    X(MASS_LOG2_MIN, -24)                                                                                              \
+    X(MAX_ATTRIBUTES, 32) /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */
 
 #define LC_GL_BINDING_ENUM(name, value) name = value,
 enum { LC_GL_CONSTANTS(LC_GL_BINDING_ENUM) };
 enum { LC_GL_BINDINGS(LC_GL_BINDING_ENUM) };
 #undef LC_GL_BINDING_ENUM
+_Static_assert(MAX_ATTRIBUTES == LC_MAX_ATTRIBUTES, "shader attribute tables");
 
 /* One level of detail: the primitives a pass draws. Level 0 is the whole
  * scene; lines have coarser levels (render/scene/lod.h). */
@@ -73,6 +77,16 @@ struct lc_gpu_scene {
     lc_gpu_level levels[LC_LOD_MAX_LEVELS];
     uint64_t bytes;
     uint64_t lod_bytes; /* the levels beyond 0 (included in bytes) */
+    /* Layout (vertex_pack.h): exact = float buffers; otherwise compact, with
+     * position_chunks holding each chunk's bounds. */
+    int exact;
+    GLuint position_chunks;
+    lc_blend_layout blend;
+    uint32_t attr_offset[LC_MAX_ATTRIBUTES]; /* in 32-bit words */
+    int attr_format[LC_MAX_ATTRIBUTES];      /* 0 float, 1 unorm16 */
+    float attr_decode[LC_MAX_ATTRIBUTES][2]; /* unorm16: value = [0] + [1] * code */
+    uint64_t attribute_bytes;
+    lc_gpu_memory memory;
 };
 
 /* A colour target set at one resolution. */
@@ -145,8 +159,13 @@ struct lc_renderer {
 struct lc_frame_state {
     uint32_t count;
     int fresh;
-    float *alpha;
+    float *alpha;      /* full precision, or NULL when compact */
+    uint16_t *alpha16; /* compact: unorm16 */
 };
+
+/* ---- frame_state.c: the state's opacities to and from a float GPU buffer. */
+void lc_frame_state_upload(const lc_frame_state *st, GLuint buffer);
+void lc_frame_state_download(lc_frame_state *st, GLuint buffer);
 
 /* Everything a geometry pass needs from the frame's parameters. */
 typedef struct lc_frame_setup {
@@ -218,6 +237,9 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes);
 /* Binds the scene's buffers and sets the shared uniforms of a geometry program
  * for a pass rendered at (w, h). */
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);
+/* Chooses how large draws are issued for the driver named gl_renderer
+ * (GL_RENDERER): in batches on software rasterizers. Process-wide. */
+void lc_pipeline_configure(const char *gl_renderer);
 /* Issues the draw of every (subset-th) primitive of the frame's level. */
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
 /* The primitive stride of a pass drawn with `subset` (points drawn
@@ -231,6 +253,10 @@ void lc_targets_free(lc_targets *t, uint64_t *bytes);
 void lc_targets_clear(const lc_targets *t, const float *value);
 /* Binds a coefficient target set to the TEX_COEF_FIRST.. units. */
 void lc_bind_coefficients(const lc_targets *t);
+/* Dispatches `groups` work groups of a 1D compute shader (256 wide, indexed by
+ * the shader's linear_invocation()), as a 2D grid
+ * where they exceed the 65,535 groups a dimension guarantees (17 M items). */
+void lc_dispatch_linear(GLuint groups);
 /* Additive float blending for the accumulation passes. */
 void lc_additive_blending(void);
 /* Records a timestamp after pass `pass` (index LC_PASS_COUNT = frame start). */

@@ -13,9 +13,9 @@
 #endif
 
 /* Caps on desc->count, so a request cannot ask for tens of gigabytes. */
-#define MAX_DEMO_LINES 50000u
-#define MAX_DEMO_POINTS 50000000u
-#define MAX_DEMO_SURFACE_RES 2048u
+#define MAX_DEMO_LINES 100000u /* ~52 M tornado vertices */
+#define MAX_DEMO_POINTS 100000000u
+#define MAX_DEMO_SURFACE_RES 8192u
 
 static const char *const demo_names[] = {"tornado", "abc", "points", "surface", NULL};
 

@@ -166,21 +166,61 @@ uint64_t lc_scene_primitive_count(const lc_scene *s)
     return 0;
 }
 
-size_t lc_scene_bytes(const lc_scene *s)
+void lc_scene_memory_of(const lc_scene *s, lc_scene_memory *out)
 {
+    memset(out, 0, sizeof *out);
     if (!s)
-        return 0;
+        return;
     size_t v = s->vertex_count, f = sizeof(float);
-    size_t n = 3 * v * f * (1 + !!s->rgb + !!s->normals + !!s->tangents);
-    n += (size_t)s->attribute_count * v * f;
+    out->positions = s->positions ? 3 * v * f : 0;
+    out->colors = s->rgb ? 3 * v * f : 0;
+    out->frames = 3 * v * f * (!!s->normals + !!s->tangents);
+    out->attributes = 0;
+    for (int i = 0; i < s->attribute_count; i++)
+        out->attributes += s->attributes[i].values ? v * f : 0;
     if (s->line_offsets)
-        n += ((size_t)s->line_count + 1) * sizeof(uint32_t);
+        out->topology += ((size_t)s->line_count + 1) * sizeof(uint32_t);
     if (s->triangles)
-        n += 3 * (size_t)s->triangle_count * sizeof(uint32_t);
+        out->topology += 3 * (size_t)s->triangle_count * sizeof(uint32_t);
     const lc_elements *e = &s->elements;
     if (e->vertex_elements)
-        n += 4 * v * (sizeof(uint32_t) + sizeof(float));
+        out->elements += 4 * v * (sizeof(uint32_t) + sizeof(float));
     if (e->adjacency_offsets)
-        n += ((size_t)e->count + 1 + e->adjacency_count) * sizeof(uint32_t);
-    return n;
+        out->elements += ((size_t)e->count + 1 + e->adjacency_count) * sizeof(uint32_t);
+    out->total = out->positions + out->colors + out->frames + out->topology + out->attributes + out->elements;
 }
+
+size_t lc_scene_bytes(const lc_scene *s)
+{
+    lc_scene_memory m;
+    lc_scene_memory_of(s, &m);
+    return m.total;
+}
+
+void lc_scene_release_vertex_arrays(lc_scene *s)
+{
+    if (!s || s->released)
+        return;
+    s->released_rgb = s->rgb != NULL;
+    free(s->positions);
+    free(s->rgb);
+    free(s->normals);
+    free(s->tangents);
+    free(s->triangles);
+    s->positions = s->rgb = s->normals = s->tangents = NULL;
+    s->triangles = NULL;
+    for (int i = 0; i < s->attribute_count; i++) {
+        free(s->attributes[i].values);
+        s->attributes[i].values = NULL;
+    }
+    lc_elements *e = &s->elements;
+    free(e->vertex_elements);
+    free(e->vertex_weights);
+    free(e->adjacency_offsets);
+    free(e->adjacency);
+    e->vertex_elements = NULL, e->vertex_weights = NULL;
+    e->adjacency_offsets = e->adjacency = NULL;
+    s->released = 1;
+}
+
+int lc_scene_has_rgb(const lc_scene *s) { return s->rgb != NULL || s->released_rgb; }

@@ -62,7 +62,22 @@ typedef struct lc_scene {
 
     lc_elements elements;
     int finalized;
+    /* lc_scene_release_vertex_arrays ran: counts, bounds, attribute names and
+     * ranges, line offsets and element counts remain; the arrays are NULL. */
+    int released;
+    int released_rgb; /* it had per-vertex RGB */
 } lc_scene;
+
+/* CPU bytes of a scene's arrays by kind. */
+typedef struct lc_scene_memory {
+    size_t positions;
+    size_t colors;     /* rgb */
+    size_t frames;     /* tangents or normals */
+    size_t topology;   /* line offsets, triangles */
+    size_t attributes; /* named attributes */
+    size_t elements;   /* vertex blends and adjacency */
+    size_t total;
+} lc_scene_memory;
 
 /* Creates an empty scene named `name` (copied, truncated). Returns NULL on OOM. */
 lc_scene *lc_scene_create(const char *name, lc_prim_type type);
@@ -99,6 +114,18 @@ int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err);
 /* Bytes of CPU memory the scene's arrays hold (positions, colours, normals,
  * tangents, topology, attributes, elements). */
 size_t lc_scene_bytes(const lc_scene *s);
+void lc_scene_memory_of(const lc_scene *s, lc_scene_memory *out);
+
+/* Frees the per-vertex arrays once a GPU copy holds them (positions, rgb,
+ * normals, tangents, triangles, attribute values, element blends and
+ * adjacency), keeping what describing and rendering the scene reads: counts,
+ * bounds, attribute names, ranges and percentiles, defaults, line offsets,
+ * element and adjacency counts. Afterwards lc_scene_set_element_budget and a
+ * new GPU upload fail with LC_ERR_INVALID: a dataset that must be uploaded
+ * again is loaded again. */
+void lc_scene_release_vertex_arrays(lc_scene *s);
+/* The scene has per-vertex RGB (also after the release). */
+int lc_scene_has_rgb(const lc_scene *s);
 
 const char *lc_prim_type_name(lc_prim_type t);
 /* Number of primitives: points, line segments or triangles. */

@@ -176,6 +176,9 @@ int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
 {
     if (!s || !s->finalized)
         return lc_err(err, LC_ERR_INVALID, "scene: not finalized");
+    if (s->released)
+        return lc_err_field(err, LC_ERR_INVALID, "elements",
+                            "%s: the vertex arrays were released after the upload; load the dataset again", s->name);
     if (s->type == LC_PRIM_POINTS)
         return 0;
     uint64_t most = s->type == LC_PRIM_LINES ? lc_scene_primitive_count(s) : s->vertex_count;

@@ -86,11 +86,24 @@ static int copy_elements(const lc_scene *full, lc_scene *s, lc_error *err)
     return 0;
 }
 
+/* Points split at multiples of this: the compact GPU layout quantizes
+ * positions in chunks of LC_POSITION_CHUNK (1024) vertices with their own
+ * bounds (render/gl/vertex_pack.h), so aligned shards quantize every point
+ * exactly as one process does. */
+#define POINT_ALIGN 1024u
+
+static uint32_t aligned_split(uint64_t n, int rank, int size)
+{
+    if (rank >= size)
+        return (uint32_t)n;
+    uint64_t chunks = (n + POINT_ALIGN - 1) / POINT_ALIGN, at = chunks * (uint64_t)rank / (uint64_t)size * POINT_ALIGN;
+    return (uint32_t)(at < n ? at : n);
+}
+
 static int shard_points(const lc_scene *full, int rank, int size, uint32_t **map, uint32_t *count)
 {
     uint64_t n = full->vertex_count;
-    uint32_t first = (uint32_t)(n * (uint64_t)rank / (uint64_t)size);
-    uint32_t last = (uint32_t)(n * (uint64_t)(rank + 1) / (uint64_t)size);
+    uint32_t first = aligned_split(n, rank, size), last = aligned_split(n, rank + 1, size);
     *count = last - first;
     *map = malloc(((size_t)*count + 1) * sizeof(uint32_t));
     if (!*map)

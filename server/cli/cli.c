@@ -8,6 +8,7 @@
 
 #include "demo.h"
 #include "loaders.h"
+#include "memory.h"
 
 #define MAX_REQUEST_BYTES (1 << 20)
 
@@ -89,7 +90,10 @@ const char lc_cli_flags_help[] =
     "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
     "  --lod PX              lines: largest simplification error in pixels (default 0.2; 0 = every segment)\n"
     "  --line-width W        world units;  --point-size PX;  --unlit\n"
-    "  --format png|jpeg, --quality Q\n";
+    "  --format png|jpeg, --quality Q\n"
+    "  --exact-positions     float vertex buffers and session opacities (images bit for bit as before the\n"
+    "                        compact 16-bit layout; about twice the bytes per vertex)\n"
+    "  --max-memory BYTES    refuse a dataset whose estimated resident size exceeds BYTES (k, M, G suffixes)\n";
 
 /* Applies one "key": value pair through the protocol's query aliases so the
  * flags get exactly the validation of the HTTP API. */
@@ -114,6 +118,8 @@ int lc_cli_begin(const char *cmd, int argc, char **argv, lc_request *req, lc_cli
     common->input = NULL;
     common->device = -1;
     common->elements = 0;
+    common->exact_positions = 0;
+    common->max_memory = 0;
     lc_error err = {0};
     for (int i = 1; i + 1 < argc; i++)
         if (strcmp(argv[i], "--request") == 0 && lc_cli_read_request(argv[i + 1], req, &err) != 0) {
@@ -180,8 +186,12 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
                {"--background", "background"},
                {"--depth-range", "depthRange"}};
     const char *flag = argv[*i];
+    if (strcmp(flag, "--exact-positions") == 0) {
+        common->exact_positions = 1;
+        return 1;
+    }
     int takes_value = strcmp(flag, "--request") == 0 || strcmp(flag, "--input") == 0 || strcmp(flag, "--device") == 0 ||
-                      strcmp(flag, "--elements") == 0;
+                      strcmp(flag, "--elements") == 0 || strcmp(flag, "--max-memory") == 0;
     if (takes_value) {
         if (*i + 1 >= argc) {
             fprintf(stderr, "lucent: %s needs a value\n", flag);
@@ -198,6 +208,11 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
                 return -1;
             }
             common->device = (int)d;
+        } else if (strcmp(flag, "--max-memory") == 0) {
+            if (lc_memory_parse_bytes(value, &common->max_memory) != 0) {
+                fprintf(stderr, "lucent: --max-memory %s: expected bytes, e.g. 20G, 512M or 1000000\n", value);
+                return -1;
+            }
         } else if (strcmp(flag, "--elements") == 0) {
             char *end;
             long n = strtol(value, &end, 10);
@@ -283,4 +298,51 @@ void lc_cli_print_timings(const lc_frame_info *info)
             printf("  %-13s %8.2f ms\n", lc_pass_name(i), info->pass_ms[i]);
     }
     printf("  %-13s %8.2f ms (GPU), %.2f ms wall\n", "total", info->gpu_ms, info->wall_ms);
+}
+
+int lc_cli_upload(const char *cmd, const lc_cli_common *common, lc_scene *scene, lc_gpu_scene **gs)
+{
+    lc_error err = {0};
+    lc_gpu_scene_desc desc = {.exact_positions = common->exact_positions};
+    *gs = NULL;
+    if (lc_memory_check(scene, &desc, 1, 1, common->max_memory, &err) != 0 ||
+        lc_gpu_scene_create_ex(scene, &desc, gs, &err) != 0) {
+        fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
+        return 1;
+    }
+    lc_scene_release_vertex_arrays(scene);
+    lc_memory_trim();
+    return 0;
+}
+
+lc_frame_state *lc_cli_frame_state(const lc_cli_common *common, uint32_t element_count)
+{
+    return common->exact_positions ? lc_frame_state_create(element_count)
+                                   : lc_frame_state_create_compact(element_count);
+}
+
+uint64_t lc_cli_resident_bytes(void) { return lc_memory_resident_bytes(); }
+
+void lc_cli_print_memory(const lc_scene *scene, const lc_gpu_scene *gs, const lc_cli_common *common)
+{
+    lc_gpu_scene_desc desc = {.exact_positions = common->exact_positions};
+    lc_memory_report m;
+    lc_memory_report_of(scene, gs, &desc, 1, 1, &m);
+    double n = scene->vertex_count ? (double)scene->vertex_count : 1.0;
+    printf("memory per vertex (%s layout%s), bytes:\n", common->exact_positions ? "exact" : "compact",
+           gs ? "" : ", GPU estimated");
+    printf("  scene arrays (CPU)  %7.2f  (positions %.2f, colours %.2f, tangents/normals %.2f, topology %.2f, "
+           "attributes %.2f, elements %.2f)\n",
+           m.cpu.total / n, m.cpu.positions / n, m.cpu.colors / n, m.cpu.frames / n, m.cpu.topology / n,
+           m.cpu.attributes / n, m.cpu.elements / n);
+    printf("  GPU buffers         %7.2f  (positions %.2f, tangents/normals %.2f, attributes %.2f, colours %.2f, "
+           "vertex->element %.2f, indices %.2f, adjacency %.2f)\n",
+           m.gpu.total / n, m.gpu.positions / n, m.gpu.frames / n, m.gpu.attributes / n, m.gpu.colors / n,
+           m.gpu.vertex_elements / n, m.gpu.indices / n, m.gpu.adjacency / n);
+    printf("  per-element state   %7.2f  (one render worker)\n", m.per_element / n);
+    printf("  per-session state   %7.2f  (one viewer)\n", m.per_session / n);
+    printf("  total               %7.2f  (%.1f MB)\n", m.total / n, m.total / 1e6);
+    if (!gs && m.cpu.total)
+        printf("  once uploaded       %7.2f  (the scene arrays are freed after the upload)\n",
+               (m.total - m.cpu.total) / n);
 }

@@ -30,9 +30,11 @@ void lc_cli_gl_close(lc_cli_gl *g);
 
 /* Options every rendering subcommand takes besides the request's own fields. */
 typedef struct lc_cli_common {
-    const char *input; /* --input FILE|demo:NAME (overrides the request's dataset) */
-    int device;        /* --device N, -1 = LUCENT_EGL_DEVICE or the first GPU */
-    long elements;     /* --elements N: line elements or surface patches, 0 = derived from the data */
+    const char *input;             /* --input FILE|demo:NAME (overrides the request's dataset) */
+    int device;                    /* --device N, -1 = LUCENT_EGL_DEVICE or the first GPU */
+    long elements;                 /* --elements N: line elements or surface patches, 0 = derived from the data */
+    int exact_positions;           /* --exact-positions: float GPU buffers and session opacities */
+    unsigned long long max_memory; /* --max-memory BYTES: refuse larger datasets; 0 = no limit */
 } lc_cli_common;
 
 /* Starts a subcommand's argument handling: defaults, then the --request file
@@ -55,6 +57,20 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
  * a GL renderer. Prints "lucent CMD: reason" and returns non-zero on error;
  * on success the caller destroys *scene and closes g. */
 int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene, lc_cli_gl *g);
+
+/* Uploads scene in the layout common asks for (compact, or exact with
+ * --exact-positions) after checking --max-memory, then releases the scene's
+ * CPU vertex arrays the GPU copy now holds. Prints "lucent CMD: reason" and
+ * returns non-zero on error. */
+int lc_cli_upload(const char *cmd, const lc_cli_common *common, lc_scene *scene, lc_gpu_scene **gs);
+/* A viewer's frame state: 16-bit opacities, or floats with --exact-positions. */
+lc_frame_state *lc_cli_frame_state(const lc_cli_common *common, uint32_t element_count);
+/* Current resident memory of the process in bytes (/proc/self/statm), 0 if unknown. */
+uint64_t lc_cli_resident_bytes(void);
+/* Prints the bytes per vertex of scene by kind: CPU arrays, GPU buffers (gs,
+ * or the estimate of the layout common asks for when gs is NULL), per-element
+ * state of one renderer and one session. */
+void lc_cli_print_memory(const lc_scene *scene, const lc_gpu_scene *gs, const lc_cli_common *common);
 
 /* Prints the per-pass timings of a frame as "  importance   1.23 ms" lines. */
 void lc_cli_print_timings(const lc_frame_info *info);

@@ -10,13 +10,15 @@
 static void bench_usage(void)
 {
     fprintf(stderr,
-            "usage: lucent bench [--size WxH] [--frames N] [--warmup N] [--datasets a,b,...] [--device N] [flags]\n"
+            "usage: lucent bench [--size WxH] [--frames N] [--warmup N] [--datasets a,b,...] [--memory] [--device N]\n"
+            "                    [--interactive [--point-stride N]] [flags]\n"
             "Renders every demo dataset (default 1024x1024, 10 timed frames after 2 warm-up frames) with a\n"
             "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n"
             "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n"
             "--interactive times the frames a session renders while the camera moves: the element\n"
             "opacities of the first warm-up frame are reused (P1-P3 skipped); with --lod PX (lines) and\n"
-            "--point-stride N (points: every n-th point) for the coarser detail of those frames.\n%s",
+            "--point-stride N (points: every n-th point) for the coarser detail of those frames.\n"
+            "--memory prints each dataset's bytes per vertex by kind (CPU arrays, GPU buffers, state).\n%s",
             lc_cli_flags_help);
 }
 
@@ -28,7 +30,7 @@ int lc_cli_bench(int argc, char **argv)
         return 1;
     if (!lc_cli_has_flag(argc, argv, "--request")) /* the benchmark's own default size */
         req.render.width = req.render.height = 1024;
-    int frames = 10, warmup = 2, have_list = 0, interactive = 0, point_stride = 1;
+    int frames = 10, warmup = 2, have_list = 0, show_memory = 0, interactive = 0, point_stride = 1;
     char datasets[512] = "";
     for (const char *const *d = lc_demo_names(); *d; d++)
         snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s", datasets[0] ? "," : "",
@@ -42,6 +44,8 @@ int lc_cli_bench(int argc, char **argv)
             interactive = 1;
         else if (strcmp(argv[i], "--point-stride") == 0 && i + 1 < argc)
             point_stride = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--memory") == 0)
+            show_memory = 1;
         else if (strcmp(argv[i], "--datasets") == 0 && i + 1 < argc)
             snprintf(datasets, sizeof datasets, "%s", argv[++i]), have_list = 1;
         else if (strcmp(argv[i], "--help") == 0) {
@@ -81,7 +85,8 @@ int lc_cli_bench(int argc, char **argv)
     printf("%-16s %10s %9s", "dataset", "primitives", "elements");
     for (int p = 0; p < LC_PASS_COUNT; p++)
         printf(" %12s", lc_pass_name(p));
-    printf(" %9s %8s %7s %11s %11s %10s\n", "gpu ms", "wall ms", "fps", "pipeline MB", "scene MB", "drawn");
+    printf(" %9s %8s %7s %11s %11s %10s %8s %9s %10s\n", "gpu ms", "wall ms", "fps", "pipeline MB", "scene MB",
+           "drawn", "load s", "rss MB", "rss B/vtx");
 
     int status = 0;
     uint8_t *rgba = malloc((size_t)req.render.width * req.render.height * 4);
@@ -90,13 +95,20 @@ int lc_cli_bench(int argc, char **argv)
         lc_scene *s = NULL;
         lc_gpu_scene *gs = NULL;
         lc_frame_state *st = NULL;
+        /* Resident memory before the dataset: the growth while it renders is its own. */
+        uint64_t rss_before = lc_cli_resident_bytes();
+        double t_load = lc_now();
         if (lc_cli_open_dataset(spec, &s, &err) != 0 ||
-            (common.elements && lc_scene_set_element_budget(s, (uint32_t)common.elements, &err) != 0) ||
-            lc_gpu_scene_create(s, &gs, &err) != 0 ||
-            !(st = lc_frame_state_create(s->elements.count))) {
+            (common.elements && lc_scene_set_element_budget(s, (uint32_t)common.elements, &err) != 0)) {
             fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);
             status = 1;
+        } else if (lc_cli_upload("bench", &common, s, &gs) != 0 ||
+                   !(st = lc_cli_frame_state(&common, s->elements.count))) {
+            if (gs)
+                fprintf(stderr, "lucent bench: %s: out of memory\n", spec);
+            status = 1;
         } else {
+            t_load = lc_now() - t_load;
             double pass_sum[LC_PASS_COUNT] = {0}, gpu = 0, wall = 0;
             lc_frame_info info;
             int ok = 1;
@@ -125,9 +137,14 @@ int lc_cli_bench(int argc, char **argv)
                         printf(" %12.2f", pass_sum[p] / frames);
                     else
                         printf(" %12s", "-");
-                printf(" %9.2f %8.2f %7.1f %11.1f %11.1f %10llu\n", gpu / frames, wall / frames,
+                uint64_t rss = lc_cli_resident_bytes();
+                double grown = rss > rss_before ? (double)(rss - rss_before) : 0.0;
+                printf(" %9.2f %8.2f %7.1f %11.1f %11.1f %10llu %8.2f %9.1f %10.1f\n", gpu / frames, wall / frames,
                        1000.0 * frames / wall, info.pipeline_bytes / 1048576.0, lc_gpu_scene_bytes(gs) / 1048576.0,
-                       (unsigned long long)info.primitives_drawn);
+                       (unsigned long long)info.primitives_drawn, t_load, rss / 1048576.0,
+                       s->vertex_count ? grown / s->vertex_count : 0.0);
+                if (show_memory)
+                    lc_cli_print_memory(s, gs, &common);
             }
         }
         lc_frame_state_destroy(st);
@@ -136,7 +153,10 @@ int lc_cli_bench(int argc, char **argv)
     }
     printf("\npipeline MB: render targets and per-element buffers the method holds (FOO: O(W*H*m));\n"
            "scene MB: the dataset's GPU buffers (levels of detail included), shared by all workers.\n"
-           "fps = 1000 / mean wall ms incl. readback. drawn: primitives of the full-resolution passes' level.\n");
+           "fps = 1000 / mean wall ms incl. readback. drawn: primitives a geometry pass drew (its level of detail).\n"
+           "load s: generate or read, finalize and upload; rss MB: the process's resident memory after the frames;\n"
+           "rss B/vtx: its growth since before the dataset was loaded, per vertex (on llvmpipe GPU buffers are\n"
+           "resident memory too; the first dataset also pays for the render targets and programs).\n");
     free(list);
     free(rgba);
     lc_cli_gl_close(&g);

@@ -165,10 +165,8 @@ int lc_cli_compare(int argc, char **argv)
         fprintf(stderr, "lucent compare: out of memory\n");
         goto done;
     }
-    if (lc_gpu_scene_create(scene, &gs, &err) != 0) {
-        fprintf(stderr, "lucent compare: %s\n", err.msg);
+    if (lc_cli_upload("compare", &common, scene, &gs) != 0)
         goto done;
-    }
     const lc_method methods[2] = {req.render.method, (lc_method)against};
     for (int k = 0; k < 2; k++)
         if (run_method(&desc, gs, req.render, methods[k], repeat, &runs[k], &err) != 0) {

@@ -12,6 +12,7 @@
 #include "lc_mpi.h"
 #include "loaders.h"
 #include "lod.h"
+#include "memory.h"
 
 static int has_suffix(const char *s, const char *suffix)
 {
@@ -143,11 +144,13 @@ int lc_cli_render(int argc, char **argv)
     size_t bytes = (size_t)req.render.width * req.render.height * 4;
     uint8_t *rgba = malloc(bytes);
     lc_frame_info info;
-    if (!rgba || lc_gpu_scene_create(scene, &gs, &err) != 0) {
-        fprintf(stderr, "lucent render: %s\n", rgba ? err.msg : "out of memory");
+    if (!rgba) {
+        fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
-    if (frames > 1 && !(state = lc_frame_state_create(scene->elements.count))) {
+    if (lc_cli_upload("render", &common, scene, &gs) != 0)
+        goto done;
+    if (frames > 1 && !(state = lc_cli_frame_state(&common, scene->elements.count))) {
         fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
@@ -261,7 +264,7 @@ int lc_cli_info(int argc, char **argv)
            s->bounds[2], s->bounds[5]);
     printf("elements    %u (adjacency %u)\n", s->elements.count, s->elements.adjacency_count);
     print_detail_levels(s);
-    printf("rgb         %s\n", s->rgb ? "yes" : "no");
+    printf("rgb         %s\n", lc_scene_has_rgb(s) ? "yes" : "no");
     printf("importance  %s (default)\n", s->default_importance[0] ? s->default_importance : "(none: g = 1)");
     printf("color       %s (default)\n", s->default_color);
     printf("attributes  %d\n", s->attribute_count);
@@ -273,6 +276,13 @@ int lc_cli_info(int argc, char **argv)
     getrusage(RUSAGE_SELF, &ru);
     printf("memory      %.3f MB in the scene's arrays, peak RSS %.1f MB\n", lc_scene_bytes(s) / 1e6,
            ru.ru_maxrss / 1e3);
+    /* Once served: the GPU buffers (estimated, no GL needed) and the state. */
+    lc_cli_common compact = {0};
+    lc_cli_print_memory(s, NULL, &compact);
+    lc_memory_report ex;
+    lc_memory_report_of(s, NULL, &(lc_gpu_scene_desc){.exact_positions = 1}, 1, 1, &ex);
+    printf("  with --exact-positions: GPU buffers %.2f bytes per vertex\n",
+           s->vertex_count ? (double)ex.gpu.total / s->vertex_count : 0.0);
     lc_scene_destroy(s);
     return 0;
 }

@@ -20,6 +20,8 @@
 struct lc_datasets {
     int count;
     lc_dataset items[MAX_DATASETS];
+    lc_datasets_options opts;
+    uint64_t estimated; /* lc_memory_estimate of every dataset so far */
 };
 
 static void file_stem(const char *path, char *out, size_t cap)
@@ -155,10 +157,35 @@ int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *er
     }
     return 0;
 }
-static int add_directory(lc_datasets *d, const char *dir, unsigned long long demo_size, lc_error *err);
+static int add_directory(lc_datasets *d, const char *dir, lc_error *err);
 
-static int add_source(lc_datasets *d, const char *source, unsigned long long demo_size, lc_error *err)
+static lc_gpu_scene_desc layout_of(const lc_datasets *d)
 {
+    return (lc_gpu_scene_desc){.exact_positions = d->opts.exact_positions};
+}
+
+/* --max-memory: refuses ds (loaded, not yet counted) when the estimate of
+ * every dataset so far and this one exceeds the limit. */
+static int check_budget(lc_datasets *d, const lc_dataset *ds, lc_error *err)
+{
+    lc_gpu_scene_desc desc = layout_of(d);
+    int workers = d->opts.workers > 0 ? d->opts.workers : 1;
+    uint64_t need = lc_memory_estimate(ds->scene, &desc, workers, 1);
+    uint64_t limit = d->opts.max_memory;
+    if (limit && d->estimated + need > limit)
+        return lc_err(err, LC_ERR_LIMIT,
+                      "%s: refused: needs an estimated %.1f MB resident (%u vertices at %.1f bytes, %u elements, "
+                      "%d worker%s), %.1f MB with the datasets before it, over --max-memory %.1f MB",
+                      ds->source, need / 1e6, ds->scene->vertex_count,
+                      ds->scene->vertex_count ? (double)need / ds->scene->vertex_count : 0.0, ds->scene->elements.count,
+                      workers, workers == 1 ? "" : "s", (d->estimated + need) / 1e6, limit / 1e6);
+    d->estimated += need;
+    return 0;
+}
+
+static int add_source(lc_datasets *d, const char *source, lc_error *err)
+{
+    unsigned long long demo_size = d->opts.demo_size;
     if (d->count >= MAX_DATASETS)
         return lc_err(err, LC_ERR_LIMIT, "%s: more than %d datasets", source, MAX_DATASETS);
     lc_dataset *ds = &d->items[d->count];
@@ -178,7 +205,7 @@ static int add_source(lc_datasets *d, const char *source, unsigned long long dem
         if (stat(source, &st) != 0)
             return lc_err(err, LC_ERR_IO, "%s: cannot open (no such file)", source);
         if (S_ISDIR(st.st_mode) && !lc_scene_is_dataset_file(source)) /* a TRX directory is one dataset */
-            return add_directory(d, source, demo_size, err);
+            return add_directory(d, source, err);
         LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
         rc = lc_scene_load_file(source, &ds->scene, err);
         file_stem(source, base, sizeof base);
@@ -193,6 +220,14 @@ static int add_source(lc_datasets *d, const char *source, unsigned long long dem
     for (int k = 2; name_taken(d, ds->name); k++)
         snprintf(ds->name, sizeof ds->name, "%.100s-%d", base, k);
     ds->load_seconds = lc_now() - t0;
+    ds->exact_positions = d->opts.exact_positions;
+    if ((rc = check_budget(d, ds, err)) != 0) {
+        lc_scene_destroy(ds->scene);
+        ds->scene = NULL;
+        json_decref(ds->preset);
+        ds->preset = NULL;
+        return rc;
+    }
     const lc_scene *s = ds->scene;
     lc_cost_stats_compute(s, &ds->cost);
     LC_INFO(MOD, "loaded %s: %s, %u vertices, %llu primitives, %u elements in %.2f s", ds->name,
@@ -208,7 +243,7 @@ static int not_hidden(const struct dirent *e) { return e->d_name[0] != '.'; }
  * extension. A file that fails to load is logged and skipped, so that one bad
  * file does not keep a folder from being served; a folder without any dataset
  * that loads is an error. */
-static int add_directory(lc_datasets *d, const char *dir, unsigned long long demo_size, lc_error *err)
+static int add_directory(lc_datasets *d, const char *dir, lc_error *err)
 {
     struct dirent **entries = NULL;
     int n = scandir(dir, &entries, not_hidden, alphasort);
@@ -223,7 +258,7 @@ static int add_directory(lc_datasets *d, const char *dir, unsigned long long dem
         if (rc == 0 && len > 0 && (size_t)len < sizeof path && stat(path, &st) == 0 &&
             (S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) && lc_scene_is_dataset_file(path)) {
             lc_error e = {0};
-            int r = add_source(d, path, demo_size, &e);
+            int r = add_source(d, path, &e);
             if (r == 0) {
                 loaded++;
             } else if (r == LC_ERR_LIMIT && d->count >= MAX_DATASETS) {
@@ -248,32 +283,34 @@ static int add_directory(lc_datasets *d, const char *dir, unsigned long long dem
     return 0;
 }
 
-int lc_datasets_add_demos(lc_datasets *d, unsigned long long demo_size, lc_error *err)
+int lc_datasets_add_demos(lc_datasets *d, lc_error *err)
 {
     for (const char *const *n = lc_demo_names(); *n; n++) {
         char src[128];
         snprintf(src, sizeof src, "demo:%s", *n);
         if (lc_datasets_find(d, src))
             continue;
-        int rc = add_source(d, src, demo_size, err);
+        int rc = add_source(d, src, err);
         if (rc != 0)
             return rc;
     }
     return 0;
 }
 
-int lc_datasets_load(const char *const *sources, int count, unsigned long long demo_size, lc_datasets **out,
+int lc_datasets_load(const char *const *sources, int count, const lc_datasets_options *opts, lc_datasets **out,
                      lc_error *err)
 {
     *out = NULL;
     lc_datasets *d = calloc(1, sizeof *d);
     if (!d)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    if (opts)
+        d->opts = *opts;
     int rc = 0;
     if (count == 0)
-        rc = lc_datasets_add_demos(d, demo_size, err);
+        rc = lc_datasets_add_demos(d, err);
     for (int i = 0; rc == 0 && i < count; i++)
-        rc = add_source(d, sources[i], demo_size, err);
+        rc = add_source(d, sources[i], err);
     if (rc != 0) {
         lc_datasets_destroy(d);
         return rc;
@@ -288,12 +325,20 @@ int lc_datasets_upload(lc_datasets *d, lc_error *err)
         lc_dataset *ds = &d->items[i];
         if (ds->gpu)
             continue;
-        int rc = lc_gpu_scene_create(ds->scene, &ds->gpu, err);
+        lc_gpu_scene_desc desc = layout_of(d);
+        int rc = lc_gpu_scene_create_ex(ds->scene, &desc, &ds->gpu, err);
         if (rc != 0) {
             lc_err_prefix(err, "%s", ds->name);
             return rc;
         }
-        LC_INFO(MOD, "uploaded %s: %.1f MB of GPU buffers", ds->name, lc_gpu_scene_bytes(ds->gpu) / 1e6);
+        /* Nothing reads the per-vertex arrays after the upload (cost stats
+         * and descriptions were taken at load). */
+        lc_scene_release_vertex_arrays(ds->scene);
+        lc_memory_trim();
+        lc_memory_report_of(ds->scene, ds->gpu, &desc, d->opts.workers > 0 ? d->opts.workers : 1, 1, &ds->memory);
+        LC_INFO(MOD, "uploaded %s: %.1f MB of GPU buffers (%s layout, %.1f bytes per vertex with its state)", ds->name,
+                lc_gpu_scene_bytes(ds->gpu) / 1e6, desc.exact_positions ? "exact" : "compact",
+                ds->scene->vertex_count ? (double)ds->memory.total / ds->scene->vertex_count : 0.0);
     }
     return 0;
 }
@@ -363,6 +408,38 @@ int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, 
     return 0;
 }
 
+#define J(v) json_integer((json_int_t)(v))
+
+/* Bytes by kind of one uploaded dataset, and per vertex. */
+static json_t *memory_json(const lc_dataset *ds)
+{
+    const lc_memory_report *m = &ds->memory;
+    double n = ds->scene->vertex_count ? (double)ds->scene->vertex_count : 1.0;
+    json_t *cpu = json_pack("{s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "positions", J(m->cpu.positions), "colors",
+                            J(m->cpu.colors), "frames", J(m->cpu.frames), "topology", J(m->cpu.topology), "attributes",
+                            J(m->cpu.attributes), "elements", J(m->cpu.elements), "total", J(m->cpu.total));
+    json_t *gpu = json_pack("{s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "positions", J(m->gpu.positions), "frames",
+                            J(m->gpu.frames), "attributes", J(m->gpu.attributes), "colors", J(m->gpu.colors),
+                            "vertexElements", J(m->gpu.vertex_elements), "indices", J(m->gpu.indices), "adjacency",
+                            J(m->gpu.adjacency), "total", J(m->gpu.total));
+    return json_pack("{s:s, s:o, s:o, s:o, s:o, s:o, s:f}", "layout", ds->exact_positions ? "exact" : "compact",
+                     "sceneArrays", cpu, "gpuBuffers", gpu, "perElementState", J(m->per_element), "perSessionState",
+                     J(m->per_session), "total", J(m->total), "bytesPerVertex", m->total / n);
+}
+
+void lc_datasets_budget(const lc_datasets *d, uint64_t *estimated, uint64_t *limit)
+{
+    *estimated = d->estimated;
+    *limit = d->opts.max_memory;
+}
+
+json_t *lc_datasets_memory_json(const lc_datasets *d)
+{
+    return json_pack("{s:o, s:o, s:o, s:s}", "budget", d->opts.max_memory ? J(d->opts.max_memory) : json_null(),
+                     "estimated", J(d->estimated), "resident", J(lc_memory_resident_bytes()), "layout",
+                     d->opts.exact_positions ? "exact" : "compact");
+}
+
 json_t *lc_dataset_info(const lc_dataset *ds)
 {
     if (ds->whole_info) { /* serve --mpi: this rank holds a shard; describe the whole */
@@ -406,7 +483,7 @@ json_t *lc_dataset_info(const lc_dataset *ds)
         json_object_set_new(view, "up", up);
         json_object_set_new(o, "view", view);
     }
-    json_object_set_new(o, "hasRgb", json_boolean(s->rgb != NULL));
+    json_object_set_new(o, "hasRgb", json_boolean(lc_scene_has_rgb(s)));
     json_t *attrs = json_array();
     for (int i = 0; i < s->attribute_count; i++) {
         const lc_attribute *a = &s->attributes[i];
@@ -427,6 +504,8 @@ json_t *lc_dataset_info(const lc_dataset *ds)
     json_object_set_new(o, "defaultColor", json_string(s->default_color));
     if (ds->gpu)
         json_object_set_new(o, "gpuBytes", json_integer((json_int_t)lc_gpu_scene_bytes(ds->gpu)));
+    if (ds->gpu)
+        json_object_set_new(o, "memory", memory_json(ds));
     if (ds->preset)
         json_object_set_new(o, "preset", json_deep_copy(ds->preset));
     return o;

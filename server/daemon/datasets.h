@@ -8,6 +8,7 @@
 
 #include "cost.h"
 #include "lc_base.h"
+#include "memory.h"
 #include "renderer.h"
 #include "scene.h"
 
@@ -32,18 +33,36 @@ typedef struct lc_dataset {
     /* serve --mpi: the description of the whole dataset, taken before the
      * scene became this rank's shard (lc_datasets_shard); NULL otherwise. */
     json_t *whole_info;
+    int exact_positions;     /* float GPU buffers and session opacities (--exact-positions) */
+    lc_memory_report memory; /* bytes by kind once uploaded (one worker's and one session's state) */
 } lc_dataset;
+
+/* How datasets are loaded and held (lucent serve flags); zero = defaults. */
+typedef struct lc_datasets_options {
+    unsigned long long demo_size; /* lc_demo_desc.count for demos; 0 = the generator's */
+    int exact_positions;          /* --exact-positions */
+    uint64_t max_memory;          /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
+    int workers;                  /* render workers, each holding per-element state; 0 = 1 */
+} lc_datasets_options;
 
 typedef struct lc_datasets lc_datasets;
 
 /* Loads every source (file path or demo:NAME) in order, logging a line before
- * and after each so that large files show progress; demo_size is the demo
- * generator's count (0 = default). With count == 0 loads all demos. Names
- * clash -> a numeric suffix. Thread: main, before the server starts. */
-int lc_datasets_load(const char *const *sources, int count, unsigned long long demo_size, lc_datasets **out,
+ * and after each so that large files show progress. With count == 0 loads
+ * all demos. Names clash -> a numeric suffix. With opts->max_memory, a
+ * dataset whose estimated resident size (lc_memory_estimate: GPU buffers,
+ * per-element state of every worker, one session, plus the datasets before
+ * it) exceeds the limit is refused as soon as it is loaded, before the next
+ * one loads and before any upload: LC_ERR_LIMIT naming the estimate and the
+ * limit. Thread: main, before the server starts. */
+int lc_datasets_load(const char *const *sources, int count, const lc_datasets_options *opts, lc_datasets **out,
                      lc_error *err);
+/* The estimated resident bytes of every dataset and the limit (0 = none). */
+void lc_datasets_budget(const lc_datasets *d, uint64_t *estimated, uint64_t *limit);
+/* {"budget": bytes|null, "estimated": bytes, "resident": bytes, "layout": "compact"|"exact"}. */
+json_t *lc_datasets_memory_json(const lc_datasets *d);
 /* Appends all demos (for --demo together with --data). */
-int lc_datasets_add_demos(lc_datasets *d, unsigned long long demo_size, lc_error *err);
+int lc_datasets_add_demos(lc_datasets *d, lc_error *err);
 /* Rebuilds the elements of every line or surface dataset with `budget` line
  * elements or patches (lucent serve --elements; wins over a sidecar's). */
 int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *err);
@@ -57,7 +76,9 @@ int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, 
  * dataset's description for lc_dataset_info (serve --mpi; before upload). */
 int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, lc_error *err), void *ctx,
                       lc_error *err);
-/* Creates the GPU copies; a context of the share group must be current. */
+/* Creates the GPU copies (the layout of the options), then releases the
+ * scenes' CPU vertex arrays that the GPU now holds; a context of the share
+ * group must be current. */
 int lc_datasets_upload(lc_datasets *d, lc_error *err);
 /* Destroys the GPU copies (context current), then everything else. */
 void lc_datasets_release_gpu(lc_datasets *d);
@@ -72,7 +93,7 @@ const lc_dataset *lc_datasets_find(const lc_datasets *d, const char *name);
 /* New JSON object describing ds: name, source, type, vertices, primitives,
  * lines, triangles, elements, points, bounds, view {direction, up} (when the
  * scene suggests one), hasRgb, attributes [{name, range}], defaultImportance,
- * defaultColor, gpuBytes (once uploaded), preset (when there is one) and a
+ * defaultColor, gpuBytes and memory (bytes by kind, once uploaded), preset (when there is one) and a
  * description for demos. Attributes also carry "percentiles": the 2nd and
  * 98th, the importance range of normalize "auto" when a request gives none.
  * Caller json_decref()s. Any thread (builds fresh objects every call). */

@@ -211,6 +211,7 @@ static enum MHD_Result route_datasets(lc_server *srv, struct MHD_Connection *c, 
         json_array_append_new(arr, lc_dataset_info(lc_datasets_at(srv->datasets, i)));
     json_t *o = json_object();
     json_object_set_new(o, "datasets", arr);
+    json_object_set_new(o, "memory", lc_datasets_memory_json(srv->datasets));
     return respond_json(srv, c, 200, o);
 }
 
@@ -223,6 +224,8 @@ static enum MHD_Result route_metrics(lc_server *srv, struct MHD_Connection *c)
     g.datasets = lc_datasets_count(srv->datasets);
     g.workers = lc_workers_count(srv->workers);
     g.queue_clients = lc_workers_clients(srv->workers);
+    lc_datasets_budget(srv->datasets, &g.memory_estimated, &g.memory_budget);
+    g.resident = lc_memory_resident_bytes();
     return respond_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");
 }
 

@@ -270,6 +270,15 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
         put(&t, "# HELP lucent_queue_clients Clients with queued renders (served round robin).\n"
                 "# TYPE lucent_queue_clients gauge\nlucent_queue_clients %d\n",
             g->queue_clients);
+        put(&t, "# HELP lucent_memory_budget_bytes --max-memory (0 = no limit).\n"
+                "# TYPE lucent_memory_budget_bytes gauge\nlucent_memory_budget_bytes %llu\n",
+            (unsigned long long)g->memory_budget);
+        put(&t, "# HELP lucent_memory_estimated_bytes Estimated resident bytes of the datasets with their state.\n"
+                "# TYPE lucent_memory_estimated_bytes gauge\nlucent_memory_estimated_bytes %llu\n",
+            (unsigned long long)g->memory_estimated);
+        put(&t, "# HELP lucent_resident_bytes Resident memory of the process.\n"
+                "# TYPE lucent_resident_bytes gauge\nlucent_resident_bytes %llu\n",
+            (unsigned long long)g->resident);
     }
     return t.s;
 }

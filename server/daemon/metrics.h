@@ -25,7 +25,9 @@ typedef struct lc_metrics_gauges {
     int ws_connections;
     int datasets;
     int workers;
-    int queue_clients; /* clients with queued work (fair queueing) */
+    int queue_clients;                        /* clients with queued work (fair queueing) */
+    uint64_t memory_estimated, memory_budget; /* datasets' estimated resident bytes; --max-memory (0 = none) */
+    uint64_t resident;                        /* the process's resident bytes */
 } lc_metrics_gauges;
 
 lc_metrics *lc_metrics_create(void);

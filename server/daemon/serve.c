@@ -48,6 +48,10 @@ static void usage(FILE *f)
             "  --demo                 also serve every built-in demo next to --data\n"
             "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
             "  --elements N           line elements or surface patches per dataset (default: derived from the data)\n"
+            "  --exact-positions      float GPU buffers and session opacities (images bit for bit as before the\n"
+            "                         compact 16-bit layout; about twice the bytes per vertex)\n"
+            "  --max-memory BYTES     refuse a dataset whose estimated resident size, with the ones before it,\n"
+            "                         exceeds BYTES (k, M, G, T suffixes; default: no limit)\n"
             "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
             "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
             "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
@@ -141,7 +145,9 @@ enum {
     OPT_MAX_COST,
     OPT_DEADLINE,
     OPT_QUEUE_PER_CLIENT,
-    OPT_MPI
+    OPT_MPI,
+    OPT_EXACT_POSITIONS,
+    OPT_MAX_MEMORY
 };
 
 /* A token that does not fit is refused: cutting it would accept its prefix
@@ -186,6 +192,8 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                                          {"render-deadline", required_argument, NULL, OPT_DEADLINE},
                                          {"max-queue-per-client", required_argument, NULL, OPT_QUEUE_PER_CLIENT},
                                          {"mpi", no_argument, NULL, OPT_MPI},
+                                         {"exact-positions", no_argument, NULL, OPT_EXACT_POSITIONS},
+                                         {"max-memory", required_argument, NULL, OPT_MAX_MEMORY},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     optind = 1;
@@ -324,6 +332,13 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
             cfg->max_queue_per_client = (int)v;
             break;
         case OPT_MPI: cfg->mpi = true; break;
+        case OPT_EXACT_POSITIONS: cfg->exact_positions = true; break;
+        case OPT_MAX_MEMORY:
+            if (lc_memory_parse_bytes(optarg, &cfg->max_memory) != 0) {
+                fprintf(stderr, "lucent serve: --max-memory: expected bytes, e.g. 20G or 512M, got \"%s\"\n", optarg);
+                return -1;
+            }
+            break;
         case 'h': return 1;
         default: return -1;
         }
@@ -396,9 +411,13 @@ static int serve_main(int argc, char **argv)
     pthread_sigmask(SIG_BLOCK, &sigs, NULL);
     signal(SIGPIPE, SIG_IGN);
 
-    int rc = lc_datasets_load(cfg->data, cfg->data_count, cfg->demo_size, &srv.datasets, &err);
+    lc_datasets_options dopts = {.demo_size = cfg->demo_size,
+                                 .exact_positions = cfg->exact_positions,
+                                 .max_memory = cfg->max_memory,
+                                 .workers = cfg->workers > 0 ? cfg->workers : 1};
+    int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)
-        rc = lc_datasets_add_demos(srv.datasets, cfg->demo_size, &err);
+        rc = lc_datasets_add_demos(srv.datasets, &err);
     if (rc == 0 && cfg->elements)
         rc = lc_datasets_set_element_budget(srv.datasets, cfg->elements, &err);
     if (srv.mpi)

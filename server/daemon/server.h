@@ -77,6 +77,8 @@ typedef struct lc_serve_config {
     double render_deadline;         /* seconds an HTTP render may wait for a worker (503 beyond); 0 = none */
     int max_queue_per_client;       /* queued HTTP renders of one client (429 beyond) */
     bool mpi;                       /* --mpi: one image from every rank's shard (docs/MPI.md) */
+    bool exact_positions;           /* --exact-positions: float GPU buffers and session opacities */
+    unsigned long long max_memory;  /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
 } lc_serve_config;
 
 /* The daemon: one per process, created by serve.c. Modules keep a pointer to

@@ -90,7 +90,8 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     lc_session *s = calloc(1, sizeof *s);
     if (!s)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
-    s->frame_state = lc_frame_state_create(ds->scene->elements.count);
+    s->frame_state = ds->exact_positions ? lc_frame_state_create(ds->scene->elements.count)
+                                         : lc_frame_state_create_compact(ds->scene->elements.count);
     if (!s->frame_state) {
         free(s);
         return lc_err(err, LC_ERR_NOMEM, "out of memory for %u element opacities", ds->scene->elements.count);

@@ -326,8 +326,18 @@ int lc_mpi_frame_announce(lc_mpi *m, int dataset, uint32_t element_count, const 
     msg.has_state = state != NULL;
     msg.fresh = state ? lc_frame_state_is_fresh(state) : 1;
     msg.element_count = element_count;
-    /* The history P3 fades from; every rank computes the same next one. */
-    return bcast_frame(m, &msg, state ? (float *)lc_frame_state_alphas(state) : NULL, m->timeout, err);
+    /* The history P3 fades from; every rank computes the same next one. A
+     * compact (16-bit) state travels as floats like the others. */
+    float *alpha = NULL;
+    if (state && !msg.fresh && element_count) {
+        alpha = malloc((size_t)element_count * sizeof *alpha);
+        if (!alpha)
+            return lc_err(err, LC_ERR_NOMEM, "out of memory for the fading history");
+        lc_frame_state_copy(state, alpha);
+    }
+    int rc = bcast_frame(m, &msg, alpha, m->timeout, err);
+    free(alpha);
+    return rc;
 }
 
 int lc_mpi_stop_followers(lc_mpi *m, lc_error *err)

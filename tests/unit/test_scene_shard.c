@@ -35,7 +35,8 @@ static void check_demo(const char *name)
 {
     lc_error err = {0};
     lc_scene *full = NULL;
-    lc_demo_desc desc = {.count = strcmp(name, "surface") == 0 ? 40 : 60};
+    /* Points split at multiples of 1024 (the compact layout's position chunk): 5000 give every rank some. */
+    lc_demo_desc desc = {.count = strcmp(name, "surface") == 0 ? 40 : strcmp(name, "points") == 0 ? 5000 : 60};
     CHECK(lc_demo_create(name, &desc, &full, &err) == 0, "%s: demo (%s)", name, err.msg);
     if (!full)
         return;
@@ -62,6 +63,9 @@ static void check_demo(const char *name)
                           s->attributes[a].max == full->attributes[a].max,
                       "%s: attribute %s keeps the whole range and percentiles", name, s->attributes[a].name);
             CHECK(size == 1 || lc_scene_bytes(s) < lc_scene_bytes(full), "%s: a shard of %d is smaller", name, size);
+            if (full->type == LC_PRIM_POINTS && rank + 1 < size)
+                CHECK(s->vertex_count % 1024 == 0, "points: shard %d/%d holds %u points, not whole chunks", rank, size,
+                      s->vertex_count);
             lc_scene_destroy(s);
         }
         CHECK(prims == lc_scene_primitive_count(full), "%s: %d shards hold %llu of %llu primitives", name, size,

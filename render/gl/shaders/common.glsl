@@ -7,13 +7,54 @@
 #define PRIM_TRIANGLES 2
 #define PI 3.14159265358979
 
-layout(std430, binding = BIND_POSITIONS) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = BIND_FRAMES) readonly buffer Frames { vec4 frames[]; };       // line tangent or surface normal
-layout(std430, binding = BIND_ATTRIBUTES) readonly buffer Attributes { float attributes[]; }; // attribute a of vertex v at a*n+v
-layout(std430, binding = BIND_COLORS) readonly buffer Colors { float colors[]; };       // rgb, 3 per vertex
-layout(std430, binding = BIND_VERTEX_ELEMENTS) readonly buffer VertexElements { uvec4 vertex_elements[]; }; // e0,e1,e2,primary
-layout(std430, binding = BIND_VERTEX_WEIGHTS) readonly buffer VertexWeights { vec4 vertex_weights[]; };
-layout(std430, binding = BIND_INDICES) readonly buffer Indices { uint indices[]; }; // 2 per segment / 3 per triangle
+// Scene buffers as 32-bit words, in one of two layouts (docs/MEMORY.md):
+// exact (u_compact = 0) holds the floats as uploaded before the compact layout,
+// compact packs them (render/gl/vertex_pack.c encodes, the functions below decode).
+layout(std430, binding = BIND_POSITIONS) readonly buffer Positions { uint position_words[]; }; // exact: xyz1 floats; compact: 3 x unorm16 per vertex
+layout(std430, binding = BIND_POSITION_CHUNKS) readonly buffer PositionChunks { vec4 position_chunks[]; }; // compact: min, scale per chunk
+layout(std430, binding = BIND_FRAMES) readonly buffer Frames { uint frame_words[]; }; // line tangent or surface normal: exact xyz0 floats; compact octahedral snorm16 x 2
+layout(std430, binding = BIND_ATTRIBUTES) readonly buffer Attributes { uint attribute_words[]; }; // attribute a from word u_attr_offset[a]
+layout(std430, binding = BIND_COLORS) readonly buffer Colors { uint color_words[]; }; // exact: rgb floats; compact: RGBA8
+layout(std430, binding = BIND_VERTEX_ELEMENTS) readonly buffer VertexElements { uint vertex_elements[]; }; // per u_blend
+layout(std430, binding = BIND_VERTEX_WEIGHTS) readonly buffer VertexWeights { float vertex_weights[]; }; // u_blend 0: 4 per vertex
+layout(std430, binding = BIND_INDICES) readonly buffer Indices { uint indices[]; }; // 6 ribbon corners per segment / 3 per triangle
+
+uniform int u_compact;           // 0 exact float buffers, 1 compact
+uniform int u_blend;             // 0 full (e0,e1,e2,primary + 4 weights), 1 implicit (points), 2 pair (lines), 3 triple (surfaces)
+uniform uint u_attr_offset[MAX_ATTRIBUTES];
+uniform int u_attr_format[MAX_ATTRIBUTES];  // 0 float, 1 unorm16
+uniform vec2 u_attr_decode[MAX_ATTRIBUTES]; // unorm16: value = x + y * code
+
+#define POSITION_CHUNK_SHIFT 10u
+uint packed_u16(uint h, uint w) { return (w >> ((h & 1u) * 16u)) & 0xffffu; }
+
+vec3 vertex_position(uint v)
+{
+    if (u_compact == 0)
+        return vec3(uintBitsToFloat(position_words[4u * v]), uintBitsToFloat(position_words[4u * v + 1u]),
+                    uintBitsToFloat(position_words[4u * v + 2u]));
+    uint h = 3u * v;
+    vec3 q = vec3(packed_u16(h, position_words[h >> 1]), packed_u16(h + 1u, position_words[(h + 1u) >> 1]),
+                  packed_u16(h + 2u, position_words[(h + 2u) >> 1]));
+    uint c = v >> POSITION_CHUNK_SHIFT;
+    return position_chunks[2u * c].xyz + position_chunks[2u * c + 1u].xyz * q;
+}
+
+// Unit tangent or normal (zero for degenerate surface vertices).
+vec3 vertex_frame(uint v)
+{
+    if (u_compact == 0)
+        return vec3(uintBitsToFloat(frame_words[4u * v]), uintBitsToFloat(frame_words[4u * v + 1u]),
+                    uintBitsToFloat(frame_words[4u * v + 2u]));
+    uint w = frame_words[v];
+    if (w == 0x80008000u)
+        return vec3(0.0);
+    vec2 f = unpackSnorm2x16(w);
+    vec3 n = vec3(f, 1.0 - abs(f.x) - abs(f.y));
+    float t = max(-n.z, 0.0);
+    n.xy += vec2(n.x >= 0.0 ? -t : t, n.y >= 0.0 ? -t : t);
+    return normalize(n);
+}
 
 uniform mat4 u_view;
 uniform mat4 u_view_proj;
@@ -28,6 +69,7 @@ uniform float u_min_half_pixels; // ribbons never thinner than 2x this many pixe
 uniform float u_point_radius_px; // splat radius in pixels at this pass's resolution
 uniform uint u_vertex_count;
 uniform uint u_subset;           // every n-th primitive (P1/P4 subset option)
+uniform uint u_first_primitive;  // points: first instance of this draw (large draws are batched)
 uniform int u_importance_attr;   // -1: g = 1
 uniform vec2 u_importance_range;
 uniform float u_importance_exp;
@@ -41,7 +83,13 @@ uniform float u_depth_margin;    // delta of docs/ALGORITHM.md
 uniform int u_pixel_depth_range; // 1: normalize by this pixel's own fragment range (P0)
 layout(binding = TEX_PIXEL_RANGE) uniform sampler2D u_pixel_range; // (z_min, -z_max) per pixel of this pass
 
-float attribute_value(int a, uint v) { return attributes[uint(a) * u_vertex_count + v]; }
+float attribute_value(int a, uint v)
+{
+    uint off = u_attr_offset[a];
+    if (u_attr_format[a] == 0)
+        return uintBitsToFloat(attribute_words[off + v]);
+    return u_attr_decode[a].x + u_attr_decode[a].y * float(packed_u16(v, attribute_words[off + (v >> 1)]));
+}
 
 float vertex_importance(uint v)
 {
@@ -60,7 +108,23 @@ float vertex_color_scalar(uint v, float g)
     return span != 0.0 ? (value - u_color_range.x) / span : 0.5;
 }
 
-vec3 vertex_rgb(uint v) { return vec3(colors[3u * v], colors[3u * v + 1u], colors[3u * v + 2u]); }
+vec3 vertex_rgb(uint v)
+{
+    if (u_compact != 0)
+        return unpackUnorm4x8(color_words[v]).rgb;
+    return vec3(uintBitsToFloat(color_words[3u * v]), uintBitsToFloat(color_words[3u * v + 1u]),
+                uintBitsToFloat(color_words[3u * v + 2u]));
+}
+
+// The element that receives the fragments of primitives this vertex provokes.
+uint vertex_primary(uint v)
+{
+    if (u_blend == 1)
+        return v;
+    if (u_blend == 2)
+        return vertex_elements[2u * v] + (vertex_elements[2u * v + 1u] >> 16);
+    return vertex_elements[4u * v + (u_blend == 0 ? 3u : 0u)];
+}
 
 vec3 colormap_lookup(float t) { return texture(u_colormap, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, 0.5)).rgb; }
 

@@ -17,8 +17,21 @@ flat out uvec3 v_primary; // primary elements of the primitive's vertices
 layout(std430, binding = BIND_ELEMENT_ALPHA) readonly buffer ElementAlpha { float element_alpha[]; };
 float vertex_alpha(uint v)
 {
-    uvec4 e = vertex_elements[v];
-    vec4 w = vertex_weights[v];
+    if (u_blend == 1)
+        return element_alpha[v];
+    if (u_blend == 2) { // e0 and e0 + 1; a weight of 1 never reads past the last element
+        uint e = vertex_elements[2u * v];
+        float w = float(vertex_elements[2u * v + 1u] & 0xffffu) / 65535.0;
+        return w < 1.0 ? w * element_alpha[e] + (1.0 - w) * element_alpha[e + 1u] : element_alpha[e];
+    }
+    uvec4 e = uvec4(vertex_elements[4u * v], vertex_elements[4u * v + 1u], vertex_elements[4u * v + 2u],
+                    vertex_elements[4u * v + 3u]);
+    if (u_blend == 3) {
+        vec2 w = unpackUnorm2x16(e.w);
+        return w.x * element_alpha[e.x] + w.y * element_alpha[e.y] + max(1.0 - w.x - w.y, 0.0) * element_alpha[e.z];
+    }
+    vec4 w = vec4(vertex_weights[4u * v], vertex_weights[4u * v + 1u], vertex_weights[4u * v + 2u],
+                  vertex_weights[4u * v + 3u]);
     return w.x * element_alpha[e.x] + w.y * element_alpha[e.y] + w.z * element_alpha[e.z];
 }
 #else
@@ -42,9 +55,9 @@ void emit(uint v, vec3 wpos)
 // cross(tangent, view ray) by the half width (never under the pixel minimum).
 void ribbon_vertex(uint v, float side_sign)
 {
-    vec3 p = positions[v].xyz;
+    vec3 p = vertex_position(v);
     vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - p);
-    vec3 side = cross(frames[v].xyz, to_cam);
+    vec3 side = cross(vertex_frame(v), to_cam);
     if (dot(side, side) < 1e-12) // tangent along the view ray: any perpendicular works
         side = cross(abs(to_cam.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0), to_cam);
     side = normalize(side);
@@ -64,12 +77,12 @@ void main()
 {
 #if PRIM == PRIM_POINTS
     // Instanced triangle strip: one instance per (subset-th) point, 4 corners.
-    uint v = uint(gl_InstanceID) * u_subset;
+    uint v = (u_first_primitive + uint(gl_InstanceID)) * u_subset;
     vec2 q = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
-    emit(v, positions[v].xyz);
+    emit(v, vertex_position(v));
     gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
     v_quad = q;
-    v_primary = uvec3(vertex_elements[v].w);
+    v_primary = uvec3(vertex_primary(v));
 #elif defined(PULL_PRIMITIVES)
     // Subset draws (every n-th primitive): unindexed, six corners per segment
     // or three per triangle, pulled by primitive number.
@@ -77,29 +90,29 @@ void main()
     uint prim = uint(gl_VertexID) / 3u * u_subset;
     uint corner = uint(gl_VertexID) % 3u;
     uint v = indices[3u * prim + corner];
-    emit(v, positions[v].xyz);
-    v_normal = frames[v].xyz;
-    v_primary = uvec3(vertex_elements[indices[3u * prim + 2u]].w);
+    emit(v, vertex_position(v));
+    v_normal = vertex_frame(v);
+    v_primary = uvec3(vertex_primary(indices[3u * prim + 2u]));
 #else
     const vec2 quad[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
     uint prim = uint(gl_VertexID) / 6u * u_subset;
     vec2 q = quad[gl_VertexID % 6];
-    uint a = indices[2u * prim], b = indices[2u * prim + 1u];
+    uint a = indices[6u * prim] >> 1, b = indices[6u * prim + 2u] >> 1; // ribbon corners 2a and 2b
     uint v = q.x < 0.0 ? a : b;
     ribbon_vertex(v, q.y);
-    v_primary = uvec3(vertex_elements[b].w);
+    v_primary = uvec3(vertex_primary(b));
 #endif
 #elif PRIM == PRIM_LINES
     // Indexed ribbons: two vertices (sides) per line vertex, shared by the two
     // segments that meet there, so each is shaded once.
     uint v = uint(gl_VertexID) >> 1;
     ribbon_vertex(v, (gl_VertexID & 1) != 0 ? 1.0 : -1.0);
-    v_primary = uvec3(vertex_elements[v].w);
+    v_primary = uvec3(vertex_primary(v));
 #else
     // Indexed triangles: the scene's own index buffer, shared vertices shaded once.
     uint v = uint(gl_VertexID);
-    emit(v, positions[v].xyz);
-    v_normal = frames[v].xyz;
-    v_primary = uvec3(vertex_elements[v].w);
+    emit(v, vertex_position(v));
+    v_normal = vertex_frame(v);
+    v_primary = uvec3(vertex_primary(v));
 #endif
 }

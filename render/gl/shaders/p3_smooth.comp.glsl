@@ -1,6 +1,8 @@
 // P3 smoothing and fading of element opacities (docs/ALGORITHM.md). One dispatch per
 // stage; the host swaps the src/dst bindings between smoothing iterations.
 layout(local_size_x = 256) in;
+// Item index of a 1D dispatch that lc_dispatch_linear may split into rows.
+uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 256u + gl_GlobalInvocationID.x; }
 
 layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint element_alpha_min[]; };
 layout(std430, binding = BIND_ELEMENT_ALPHA) buffer ElementAlpha { float element_alpha[]; }; // current opacities, faded in place
@@ -17,7 +19,7 @@ uniform float u_fade; // 1 - 2^(-dt / half-life); 1 for one-shot renders
 
 void main()
 {
-    uint e = gl_GlobalInvocationID.x;
+    uint e = linear_invocation();
     if (e >= u_count)
         return;
     if (u_stage == 0) {

@@ -1,0 +1,44 @@
+"""`lucent serve` memory reporting and --max-memory (docs/MEMORY.md): /api/v1/datasets carries the budget and
+each dataset's bytes by kind, /metrics the budget gauges, a dataset over the limit stops the start-up with a
+message naming the estimate and the limit, and --exact-positions serves the float layout."""
+import subprocess
+import sys
+
+from lucent_server import Check, Server
+
+binary = sys.argv[1]
+check = Check()
+
+with Server(binary, "--max-memory", "1G", demo_size=3000) as srv:
+    st, _, ds = srv.json("GET", "/api/v1/datasets")
+    mem = ds.get("memory", {}) if st == 200 else {}
+    check(mem.get("budget") == 1 << 30 and mem.get("layout") == "compact", "budget and layout: %s" % mem)
+    check(0 < mem.get("estimated", 0) < 1 << 30 and mem.get("resident", 0) > 0, "estimate and resident: %s" % mem)
+    one = ds["datasets"][0].get("memory", {}) if st == 200 and ds["datasets"] else {}
+    gpu = one.get("gpuBuffers", {})
+    check(one.get("sceneArrays", {}).get("total") == 0, "the scene arrays are freed after the upload: %s" % one)
+    # 3000 points: 6 B positions + 2 x 2 B attributes, no element blends.
+    check(gpu.get("positions", 0) < 3000 * 7 and gpu.get("vertexElements") == 0, "compact buffers: %s" % gpu)
+    check(0 < one.get("bytesPerVertex", 0) < 64, "bytes per vertex: %s" % one.get("bytesPerVertex"))
+    st, _, body = srv.request("GET", "/metrics")
+    text = body.decode() if st == 200 else ""
+    check("lucent_memory_budget_bytes %d" % (1 << 30) in text and "lucent_memory_estimated_bytes" in text and
+          "lucent_resident_bytes" in text, "metrics carry the budget")
+    st, _, img = srv.request("POST", "/api/v1/render", body=b'{"dataset":"demo:points","width":64,"height":48}')
+    check(st == 200 and len(img) > 0, "a render from the compact layout: %d" % st)
+
+with Server(binary, "--exact-positions", demo_size=3000) as srv:
+    st, _, ds = srv.json("GET", "/api/v1/datasets")
+    one = ds["datasets"][0].get("memory", {}) if st == 200 and ds["datasets"] else {}
+    check(ds.get("memory", {}).get("budget") is None and one.get("layout") == "exact", "exact layout: %s" % one)
+    check(one.get("gpuBuffers", {}).get("positions") == 3000 * 16, "float positions: %s" % one.get("gpuBuffers"))
+
+r = subprocess.run([binary, "serve", "--listen", "127.0.0.1:0", "--data", "demo:points", "--demo-size", "30000",
+                    "--max-memory", "100k"], capture_output=True, text=True, timeout=60)
+out = r.stderr + r.stdout
+check(r.returncode != 0 and "refused" in out and "--max-memory 0.1 MB" in out and "MB resident" in out,
+      "a dataset over --max-memory stops the start-up, naming the estimate and the limit: %s" % out[-400:])
+r = subprocess.run([binary, "serve", "--max-memory", "lots"], capture_output=True, text=True, timeout=30)
+check(r.returncode != 0 and "--max-memory" in r.stderr, "a malformed --max-memory is a usage error")
+
+check.done()

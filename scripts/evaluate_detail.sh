@@ -46,7 +46,8 @@ MD
         "$lucent" render --dataset "$spec" --size 1024x1024 --lod 0 --out "$TMP/full.png" >"$TMP/full.txt"
         "$lucent" render --dataset "$spec" --size 1024x1024 --out "$TMP/lod.png" >"$TMP/lod.txt"
         ssim=$("$lucent" ssim "$TMP/full.png" "$TMP/lod.png" | awk '$1 == "ssim" { printf "%.4f", $2 }')
-        read -r drawn total < <(awk '/detail: level/ { print $(NF - 4), $(NF - 1) }' "$TMP/lod.txt")
+        # "  detail: level L of N (lod 0.2 px), DRAWN of TOTAL segments"
+        read -r drawn total < <(awk '/detail: level/ { print $(NF - 3), $(NF - 1) }' "$TMP/lod.txt")
         f=() l=()
         for round in 1 2 3; do
             "$lucent" bench --dataset "$spec" --size 1024x1024 --frames 3 --warmup 1 --lod 0 >"$TMP/b0.txt"

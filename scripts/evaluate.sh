@@ -29,8 +29,10 @@ fi
 
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-# Section 8 (Peers) is written by scripts/bench_peers.sh --doc (ParaView, a long
-# run of its own): keep it from the document being replaced.
+# Sections 8 (Peers, scripts/bench_peers.sh --doc: ParaView, a long run of its
+# own) and 9 (Level of detail, scripts/evaluate_detail.sh --doc: timings that
+# need a quiet machine) are written by their scripts: keep them, and everything
+# after section 8, from the document being replaced.
 [ -f "$OUT" ] && awk '/^## 8\. Peers/ { keep = 1 } keep' "$OUT" >"$TMP/peers.md"
 RUNS=0
 START=$(date +%s)

@@ -209,9 +209,7 @@ static int pick_level(const lc_frame_setup *fs)
         return 0;
     double pixel = fs->view.pixel_world;
     if (!p->camera.parallel_projection) {
-        double focal = 0;
-        for (int i = 0; i < 3; i++)
-            focal += (p->camera.focal_point[i] - fs->view.eye[i]) * fs->view.dir[i];
+        double focal = lc_frame_focal_distance(fs);
         if (!(focal > 0))
             return 0;
         pixel *= fs->view.depth_min / focal;

@@ -56,6 +56,14 @@ void lc_renderer_timestamp(lc_renderer *r, int slot)
         glQueryCounter(r->timer_queries[slot], GL_TIMESTAMP);
 }
 
+double lc_frame_focal_distance(const lc_frame_setup *fs)
+{
+    double focal = 0;
+    for (int i = 0; i < 3; i++)
+        focal += (fs->params->camera.focal_point[i] - fs->view.eye[i]) * fs->view.dir[i];
+    return focal;
+}
+
 unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset)
 {
     unsigned n = subset > 0 ? (unsigned)subset : 1u;
@@ -99,9 +107,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_v2(prog, "u_viewport", w, h);
     /* Pixel size scales with this pass's resolution relative to the output. */
     lc_uniform_f(prog, "u_pixel_world", v->pixel_world * (double)fs->height / h);
-    double focal = 0;
-    for (int i = 0; i < 3; i++)
-        focal += (fs->params->camera.focal_point[i] - v->eye[i]) * v->dir[i];
+    double focal = lc_frame_focal_distance(fs);
     lc_uniform_f(prog, "u_focal_dist", focal > 0 ? focal : 1);
     lc_uniform_f(prog, "u_line_half_width", fs->line_half_width);
     lc_uniform_f(prog, "u_min_half_pixels", 0.5 * (p->style.min_line_pixels > 0 ? p->style.min_line_pixels : 1.0));

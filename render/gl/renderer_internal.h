@@ -242,6 +242,9 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
 void lc_pipeline_configure(const char *gl_renderer);
 /* Issues the draw of every (subset-th) primitive of the frame's level. */
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
+/* Distance from the eye to the focal point along the view direction (world
+ * size of a pixel at depth d: pixel_world * d / this). */
+double lc_frame_focal_distance(const lc_frame_setup *fs);
 /* The primitive stride of a pass drawn with `subset` (points drawn
  * interactively also skip all but every point_stride-th); also the weight
  * of P1/P4's sums. */

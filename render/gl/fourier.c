@@ -144,7 +144,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     /* P2 optimal opacity into the element minimum buffer. */
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" */
     glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
-    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT);
     glDisable(GL_BLEND);
     if (r->nofb_w != lw || r->nofb_h != lh) {
         glNamedFramebufferParameteri(r->nofb, GL_FRAMEBUFFER_DEFAULT_WIDTH, lw);
@@ -201,7 +202,7 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
         return rc;
     lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
 
-    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
     lc_renderer_bind_geometry(r, p5, fs, fs->width, fs->height, 1);
     lc_bind_coefficients(&r->coef_full);

@@ -203,10 +203,13 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
             glDeleteSync(in_flight[i]);
 }
 
+/* Image loads, not texel fetches: llvmpipe's sampler path costs about twice as
+ * much per fragment, and these targets are read at exactly the fragment's pixel. */
 void lc_bind_coefficients(const lc_targets *t)
 {
     for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
-        glBindTextureUnit(TEX_COEF_FIRST + i, t->tex[i < t->count ? i : 0]);
+        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_READ_ONLY,
+                           GL_RGBA32F);
 }
 
 void lc_dispatch_linear(GLuint groups)

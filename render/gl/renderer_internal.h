@@ -39,12 +39,13 @@
     X(BIND_ELEMENT_IMPORTANCE, 17)                                                                                     \
     X(BIND_POSITION_CHUNKS, 18)                                                                                        \
     X(TEX_COLORMAP, 0)     /* geometry passes */                                                                       \
-    X(TEX_COEF_FIRST, 1)   /* 1..LC_MAX_COEF_TARGETS: coefficient targets read by P2/P5 */                             \
+    X(TEX_COEF_FIRST, 1)   /* first coefficient target sampled by the mass histogram */                                \
     X(TEX_PIXEL_RANGE, 6)  /* P0 output read by later passes */                                                        \
     X(TEX_RESOLVE_A, 0)    /* full-screen resolves: accumulation */                                                    \
     X(TEX_RESOLVE_B, 1)    /* ... and optical depth (P6) or revealage (WBOIT) */                                       \
     X(IMG_EXACT_HEADS, 0)  /* exact method: per-pixel list heads */                                                    \
-    X(IMG_EXACT_OUTPUT, 1) /* exact method: blended image */
+    X(IMG_EXACT_OUTPUT, 1) /* exact method: blended image */                                                           \
+    X(IMG_COEF_FIRST, 2)   /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
 
 /* Constants that the host and the shaders must agree on, injected the same
  * way: the mass histogram's layout (mass_common.glsl), the attribute table size. */
@@ -254,7 +255,7 @@ void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, ui
 void lc_targets_free(lc_targets *t, uint64_t *bytes);
 /* Clears every attachment to value (NULL = zero). */
 void lc_targets_clear(const lc_targets *t, const float *value);
-/* Binds a coefficient target set to the TEX_COEF_FIRST.. units. */
+/* Binds a coefficient target set to the IMG_COEF_FIRST.. image units (read only). */
 void lc_bind_coefficients(const lc_targets *t);
 /* Dispatches `groups` work groups of a 1D compute shader (256 wide, indexed by
  * the shader's linear_invocation()), as a 2D grid

@@ -25,6 +25,9 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
         r->desc = *desc;
     lc_pipeline_configure((const char *)glGetString(GL_RENDERER));
     glCreateVertexArrays(1, &r->vao);
+    /* Line ribbons are strips separated by LC_STRIP_RESTART (gpu_scene.c);
+     * triangle index buffers never hold that index. */
+    glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
     glGenQueries(LC_PASS_COUNT + 1, r->timer_queries);
     r->dummy_buffer = lc_gl_buffer(NULL, 0, &(uint64_t){0});
 

@@ -16,6 +16,13 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes)
     return b;
 }
 
+/* Strip indices of `segments` segments in at most `runs` runs (each run: two
+ * per vertex; between runs: two restarts). */
+static uint64_t strip_indices(uint64_t segments, uint64_t runs)
+{
+    return runs ? 2 * (segments + runs) + 2 * (runs - 1) : 0;
+}
+
 /* Estimate and upload share this: the byte count of every buffer of the
  * layout that desc gives s (attribute formats from the scene's ranges). */
 static void layout_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_blend_layout blend, int built,
@@ -39,11 +46,13 @@ static void layout_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_bl
     }
     m->vertex_elements = lc_pack_blend_bytes(blend, n);
     uint64_t prims = lc_scene_primitive_count(s);
-    /* Lines: six ribbon corners per segment (the pulled subset path reads the
-     * same buffer); triangles: the scene's own index buffer. The coarser
+    /* Lines: ribbon strips (renderer_internal.h; the pulled subset path reads
+     * the same buffer); triangles: the scene's own index buffer. The coarser
      * levels of detail hold at most as much again (lod.h), which an estimate
      * counts in full. */
-    m->indices = s->type == LC_PRIM_LINES ? prims * 24 : s->type == LC_PRIM_TRIANGLES ? prims * 12 : 0;
+    m->indices = s->type == LC_PRIM_LINES       ? strip_indices(prims, s->line_count) * 4
+                 : s->type == LC_PRIM_TRIANGLES ? prims * 12
+                                                : 0;
     if (!built)
         m->indices *= 2;
     m->adjacency = s->elements.adjacency_count
@@ -154,29 +163,52 @@ static int upload_vertices(lc_gpu_scene *gs, const lc_scene *s, lc_error *err)
     return 0;
 }
 
-/* One level's ribbon quads from its segment pairs: vertex 2v / 2v+1 are the
- * two sides at line vertex v (geometry.vert.glsl); the pulled subset path
- * reads segment j's vertices from corners 6j and 6j+2 of the same buffer. */
+/* One level's ribbon strips from its segment pairs (in line order, so a run
+ * continues while a segment starts where the previous one ended); vertex 2v /
+ * 2v+1 are the two sides at line vertex v (geometry.vert.glsl). Two indices a
+ * segment instead of six corners of a quad: the same triangles (diagonal from
+ * side +1 of a to side -1 of b, provoking vertex at b), a third of the bytes. */
+#define LC_STRIP_BREAK_SPACING 4096u
 static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k, double error, lc_error *err)
 {
-    uint32_t *quads = malloc((k ? k : 1) * 6 * sizeof(uint32_t));
-    if (!quads)
+    uint64_t cap = strip_indices(k, k);
+    uint32_t *strip = malloc((cap ? cap : 1) * sizeof(uint32_t));
+    uint64_t *breaks = malloc(((cap / LC_STRIP_BREAK_SPACING) + 2) * sizeof(uint64_t));
+    if (!strip || !breaks) {
+        free(strip);
+        free(breaks);
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for segments", gs->scene->name);
+    }
+    uint64_t n = 0;
+    uint32_t nb = 0;
     for (uint64_t j = 0; j < k; j++) {
-        uint32_t a = 2 * pairs[2 * j], b = 2 * pairs[2 * j + 1];
-        uint32_t q[6] = {a, a + 1, b, a + 1, b + 1, b};
-        memcpy(quads + 6 * j, q, sizeof q);
+        uint32_t a = pairs[2 * j], b = pairs[2 * j + 1];
+        if (j == 0 || pairs[2 * j - 1] != a) {
+            if (j > 0) {
+                strip[n++] = LC_STRIP_RESTART;
+                strip[n++] = LC_STRIP_RESTART;
+            }
+            if (nb == 0 || n - breaks[nb - 1] >= LC_STRIP_BREAK_SPACING)
+                breaks[nb++] = n;
+            strip[n++] = 2 * a;
+            strip[n++] = 2 * a + 1;
+        }
+        strip[n++] = 2 * b;
+        strip[n++] = 2 * b + 1;
     }
     lc_gpu_level *lv = &gs->levels[gs->level_count++];
-    lv->draw_indices = lv->indices = lc_gl_buffer(quads, k * 6 * sizeof(uint32_t), &gs->bytes);
+    lv->draw_indices = lv->indices = lc_gl_buffer(strip, n * sizeof(uint32_t), &gs->bytes);
     lv->primitive_count = k;
     lv->error = error;
-    free(quads);
+    lv->index_count = n;
+    lv->breaks = breaks;
+    lv->break_count = nb;
+    free(strip);
     return 0;
 }
 
 /* Level 0 and the coarser levels of render/scene/lod.h: lines upload each
- * level's ribbon quads; triangles draw level 0 from the scene's own index
+ * level's ribbon strips; triangles draw level 0 from the scene's own index
  * buffer and each coarser level from its triangles (one buffer serves both
  * bindings). */
 static int upload_levels(lc_gpu_scene *gs, lc_error *err)
@@ -269,6 +301,7 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
         lc_gpu_level *lv = &gs->levels[i];
         GLuint level_bufs[] = {lv->indices, lv->draw_indices != lv->indices ? lv->draw_indices : 0};
         glDeleteBuffers(2, level_bufs);
+        free(lv->breaks);
     }
     free(gs);
 }

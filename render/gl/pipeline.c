@@ -140,11 +140,15 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
 /* Triangles per draw call of a large draw on a software rasterizer: llvmpipe
  * bins a draw far ahead of its rasterizer threads, and the bins held about
  * 160 bytes per triangle (650 MB for two million points, 1.5 GB for four
- * million) for the rest of the process. Batches of 8k triangles with at most
- * two in flight keep that to a few MB whatever the dataset's size (32k still
- * left 30 B per line vertex); primitives keep their order, so images do not
- * change. GPUs draw in one call (0 = no batches). */
-#define SOFTWARE_BATCH_TRIANGLES (1u << 13)
+ * million) for the rest of the process. Batches with at most two in flight
+ * bound that whatever the dataset's size; primitives keep their order, so
+ * images do not change. Each batch is a scene that llvmpipe's rasterizer
+ * threads finish together, so small batches idle them: on the 896k-segment
+ * tornado at 1024x1024 a frame took 1010 ms with 8k triangles, 830 ms with
+ * 32k, 800 ms with 64k and 700 ms unbatched, and the 5,000-line tornado's
+ * resident bytes per vertex were 46, 57, 72 and 100 (docs/MEMORY.md). 32k
+ * keeps that under 64. GPUs draw in one call (0 = no batches). */
+#define SOFTWARE_BATCH_TRIANGLES (1u << 15)
 static _Atomic uint64_t draw_batch_triangles; /* every worker's renderer sets the same value */
 
 void lc_pipeline_configure(const char *gl_renderer)
@@ -154,7 +158,9 @@ void lc_pipeline_configure(const char *gl_renderer)
     atomic_store(&draw_batch_triangles, software ? SOFTWARE_BATCH_TRIANGLES : 0);
 }
 
-/* Issues primitives [first, first + count) of the current program. */
+/* Issues primitives [first, first + count) of the current program: points
+ * (instances), pulled primitives (six or three corners each) or triangles of
+ * the index buffer. */
 static void draw_range(lc_prim_type prim, int pulled, uint64_t first, uint64_t count)
 {
     if (prim == LC_PRIM_POINTS) {
@@ -172,39 +178,66 @@ static void draw_range(lc_prim_type prim, int pulled, uint64_t first, uint64_t c
                        (const void *)(uintptr_t)(first * corners * sizeof(uint32_t)));
 }
 
+/* Ends batch k of a split draw: waits for the batch before the previous one
+ * and fences this one, so at most two are in flight (SOFTWARE_BATCH_TRIANGLES). */
+static void end_batch(GLsync in_flight[2], uint64_t k)
+{
+    GLsync *slot = &in_flight[k & 1];
+    if (*slot) {
+        glClientWaitSync(*slot, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+        glDeleteSync(*slot);
+    }
+    *slot = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+}
+
+/* Line strips split only where a run starts (the level's breaks): a batch
+ * takes whole runs until it holds about `batch` triangles. */
+static void draw_strips(const lc_gpu_level *lv, uint64_t batch, GLsync in_flight[2])
+{
+    uint64_t start = 0, k = 0;
+    for (uint32_t i = 1; i <= lv->break_count; i++) {
+        uint64_t end = i < lv->break_count ? lv->breaks[i] : lv->index_count;
+        if (end - start < batch && i < lv->break_count)
+            continue;
+        glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(end - start), GL_UNSIGNED_INT,
+                       (const void *)(uintptr_t)(start * sizeof(uint32_t)));
+        start = end;
+        if (batch < lv->index_count)
+            end_batch(in_flight, k++);
+    }
+}
+
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
 {
     lc_prim_type prim = fs->gs->scene->type;
-    uint64_t n = fs->gs->levels[fs->level].primitive_count;
+    const lc_gpu_level *lv = &fs->gs->levels[fs->level];
+    uint64_t n = lv->primitive_count;
+    int pulled = lc_pulls_primitives(prim, subset);
+    if (prim == LC_PRIM_LINES && pulled)
+        n = lv->index_count >= 4 ? lv->index_count / 2 - 1 : 0; /* ribbon slots of the strip */
     uint64_t step = lc_renderer_subset(fs, subset);
     uint64_t drawn = (n + step - 1) / step;
     if (!drawn)
         return;
-    int pulled = lc_pulls_primitives(prim, subset);
     if (!pulled && prim != LC_PRIM_POINTS)
         drawn = n; /* indexed draws cover every primitive */
     uint64_t per_batch = atomic_load(&draw_batch_triangles);
-    uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
     GLsync in_flight[2] = {0, 0};
-    for (uint64_t first = 0, k = 0; first < drawn; first += batch, k++) {
-        draw_range(prim, pulled, first, drawn - first < batch ? drawn - first : batch);
-        if (drawn <= batch)
-            break;
-        /* Wait for the batch before the previous one: two stay queued. */
-        GLsync *slot = &in_flight[k & 1];
-        if (*slot) {
-            glClientWaitSync(*slot, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
-            glDeleteSync(*slot);
+    if (prim == LC_PRIM_LINES && !pulled) {
+        draw_strips(lv, per_batch ? per_batch : lv->index_count, in_flight);
+    } else {
+        uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
+        for (uint64_t first = 0, k = 0; first < drawn; first += batch, k++) {
+            draw_range(prim, pulled, first, drawn - first < batch ? drawn - first : batch);
+            if (drawn > batch)
+                end_batch(in_flight, k);
         }
-        *slot = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     }
     for (int i = 0; i < 2; i++)
         if (in_flight[i])
             glDeleteSync(in_flight[i]);
 }
 
-/* Image loads, not texel fetches: llvmpipe's sampler path costs about twice as
- * much per fragment, and these targets are read at exactly the fragment's pixel. */
 void lc_bind_coefficients(const lc_targets *t)
 {
     for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)

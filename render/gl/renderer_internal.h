@@ -63,11 +63,22 @@ _Static_assert(MAX_ATTRIBUTES == LC_MAX_ATTRIBUTES, "shader attribute tables");
 
 /* One level of detail: the primitives a pass draws. Level 0 is the whole
  * scene; lines have coarser levels (render/scene/lod.h). */
+/* Lines draw their ribbons as indexed triangle strips, one per run of
+ * consecutive segments: sides 2v, 2v+1 of each line vertex v, runs separated by
+ * two restart indices so that every run starts at an even offset (the subset
+ * path reads ribbon slot q from indices 2q and 2q + 2). */
+#define LC_STRIP_RESTART 0xFFFFFFFFu
+
 typedef struct lc_gpu_level {
-    GLuint indices;           /* segment pairs / triangles, pulled by subset draws */
-    GLuint draw_indices;      /* element buffer of indexed draws: ribbon quads (lines) or the triangles */
+    GLuint indices;           /* the same buffer as an SSBO, pulled by subset draws */
+    GLuint draw_indices;      /* element buffer: ribbon strips (lines) or the triangles */
     uint64_t primitive_count; /* points, segments or triangles */
     double error;             /* world units (0 for level 0) */
+    /* Lines: the strip's length in indices, and offsets of run starts at least
+     * LC_STRIP_BREAK_SPACING indices apart where a batched draw may split it. */
+    uint64_t index_count;
+    uint64_t *breaks;
+    uint32_t break_count;
 } lc_gpu_level;
 
 struct lc_gpu_scene {

@@ -32,10 +32,12 @@ extern "C" {
 /* A level keeps at most this fraction of the previous one's segments, so all
  * coarse levels together cost at most what level 0's index buffers cost. */
 #define LC_LOD_SHRINK 0.5
-/* GPU bytes of a coarse level per primitive: a segment's ribbon quad (6 x 4
- * indices), or a triangle's 3 indices. Level 0 is the scene's own index
- * buffers. */
-#define LC_LOD_BYTES_PER_SEGMENT 24
+/* GPU bytes of a coarse level: per segment, the two strip indices of its end
+ * vertex's ribbon sides; per line, its first vertex's two and the two restarts
+ * before it (a line is one run at every level); per triangle, 3 indices. Level
+ * 0 is the scene's own index buffers. */
+#define LC_LOD_BYTES_PER_SEGMENT 8
+#define LC_LOD_BYTES_PER_LINE 16
 #define LC_LOD_BYTES_PER_TRIANGLE 12
 
 typedef struct lc_lod_level {

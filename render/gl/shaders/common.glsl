@@ -5,6 +5,7 @@
 #define PRIM_POINTS 0
 #define PRIM_LINES 1
 #define PRIM_TRIANGLES 2
+#define STRIP_RESTART 0xFFFFFFFFu // LC_STRIP_RESTART (renderer_internal.h): between line ribbon strips
 #define PI 3.14159265358979
 
 // Scene buffers as 32-bit words, in one of two layouts (docs/MEMORY.md):
@@ -17,7 +18,7 @@ layout(std430, binding = BIND_ATTRIBUTES) readonly buffer Attributes { uint attr
 layout(std430, binding = BIND_COLORS) readonly buffer Colors { uint color_words[]; }; // exact: rgb floats; compact: RGBA8
 layout(std430, binding = BIND_VERTEX_ELEMENTS) readonly buffer VertexElements { uint vertex_elements[]; }; // per u_blend
 layout(std430, binding = BIND_VERTEX_WEIGHTS) readonly buffer VertexWeights { float vertex_weights[]; }; // u_blend 0: 4 per vertex
-layout(std430, binding = BIND_INDICES) readonly buffer Indices { uint indices[]; }; // 6 ribbon corners per segment / 3 per triangle
+layout(std430, binding = BIND_INDICES) readonly buffer Indices { uint indices[]; }; // line ribbon strips / 3 per triangle
 
 uniform int u_compact;           // 0 exact float buffers, 1 compact
 uniform int u_blend;             // 0 full (e0,e1,e2,primary + 4 weights), 1 implicit (points), 2 pair (lines), 3 triple (surfaces)

@@ -94,17 +94,25 @@ void main()
     v_normal = vertex_frame(v);
     v_primary = uvec3(vertex_primary(indices[3u * prim + 2u]));
 #else
+    // Ribbon slot q of the strip spans indices 2q .. 2q+3 (runs start at even
+    // offsets, gpu_scene.c); a slot across a run break is no segment and is
+    // placed outside the clip volume.
     const vec2 quad[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
-    uint prim = uint(gl_VertexID) / 6u * u_subset;
+    uint slot = uint(gl_VertexID) / 6u * u_subset;
     vec2 q = quad[gl_VertexID % 6];
-    uint a = indices[6u * prim] >> 1, b = indices[6u * prim + 2u] >> 1; // ribbon corners 2a and 2b
+    uint ia = indices[2u * slot], ib = indices[2u * slot + 2u];
+    if (ia == STRIP_RESTART || ib == STRIP_RESTART) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
+    uint a = ia >> 1, b = ib >> 1;
     uint v = q.x < 0.0 ? a : b;
     ribbon_vertex(v, q.y);
     v_primary = uvec3(vertex_primary(b));
 #endif
 #elif PRIM == PRIM_LINES
-    // Indexed ribbons: two vertices (sides) per line vertex, shared by the two
-    // segments that meet there, so each is shaded once.
+    // Indexed ribbon strips: two vertices (sides) per line vertex, shared by the
+    // two segments that meet there, so each is shaded once.
     uint v = uint(gl_VertexID) >> 1;
     ribbon_vertex(v, (gl_VertexID & 1) != 0 ? 1.0 : -1.0);
     v_primary = uvec3(vertex_primary(v));

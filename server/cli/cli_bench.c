@@ -30,7 +30,7 @@ int lc_cli_bench(int argc, char **argv)
         return 1;
     if (!lc_cli_has_flag(argc, argv, "--request")) /* the benchmark's own default size */
         req.render.width = req.render.height = 1024;
-    int frames = 10, warmup = 2, have_list = 0, show_memory = 0, interactive = 0, point_stride = 1;
+    int frames = 10, warmup = 2, have_list = 0, have_one = 0, show_memory = 0, interactive = 0, point_stride = 1;
     char datasets[512] = "";
     for (const char *const *d = lc_demo_names(); *d; d++)
         snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s", datasets[0] ? "," : "",
@@ -52,6 +52,7 @@ int lc_cli_bench(int argc, char **argv)
             bench_usage();
             return 0;
         } else {
+            have_one |= strcmp(argv[i], "--dataset") == 0 || strcmp(argv[i], "--input") == 0;
             int rc = lc_cli_apply_flag(&req, &common, argc, argv, &i);
             if (rc <= 0) {
                 if (rc == 0)
@@ -62,6 +63,15 @@ int lc_cli_bench(int argc, char **argv)
     }
     if (frames < 1 || warmup < 0 || point_stride < 1 || point_stride > 1024) {
         bench_usage();
+        return 2;
+    }
+    /* Every flag is used or refused, never silently ignored. */
+    if (have_one && have_list) {
+        fprintf(stderr, "lucent bench: give --dataset or --datasets, not both\n");
+        return 2;
+    }
+    if (point_stride > 1 && !interactive) {
+        fprintf(stderr, "lucent bench: --point-stride applies to --interactive frames only\n");
         return 2;
     }
     lc_error err = {0};

@@ -14,7 +14,7 @@ GPU buffers live in system memory, so they count (docs/MEMORY.md).
   tests/bench/memory_bench.py --spec 'demo:tornado?count=5000'
 
 Lines are the tornado demo (about 524 vertices a line), surfaces the surface
-demo (a grid of sqrt(N) x sqrt(N) vertices).
+demo (3 res^2 vertices at resolution count=res).
 """
 import argparse
 import math
@@ -33,7 +33,8 @@ def spec_for(kind, millions):
         return "demo:points?count=%d" % n
     if kind == "lines":
         return "demo:tornado?count=%d" % max(1, round(n / VERTICES_PER_TORNADO_LINE))
-    return "demo:surface?count=%d" % max(2, round(math.sqrt(n)))
+    # count is the demo's resolution res: 3 res^2 vertices (knot 4res x res/4, ellipsoid res x 2res)
+    return "demo:surface?count=%d" % max(16, round(math.sqrt(n / 3)))
 
 
 def kind_of(spec):

@@ -126,6 +126,9 @@ grep -q "pipeline MB" "$tmp/out" && ok || bad "bench prints memory"
 expect_ok "bench --dataset" "$LUCENT" bench --dataset "demo:tornado?count=20" --elements 300 --size 64x64 --frames 1 --warmup 0
 rows=$(grep -c '^demo:' "$tmp/out")
 [ "$rows" -eq 1 ] && grep -q '^demo:tornado .* 300 ' "$tmp/out" && ok || bad "bench --dataset printed $rows rows: $(grep '^demo:' "$tmp/out")"
+# A flag that would go unused is refused, not ignored.
+expect_fail "bench --dataset and --datasets" "not both" "$LUCENT" bench --dataset demo:abc --datasets abc --size 16x16
+expect_fail "bench --point-stride alone" "interactive frames only" "$LUCENT" bench --point-stride 2 --size 16x16
 
 # 7. No usable EGL: a clear message naming EGL and what to install; a device that does not exist.
 expect_fail "no EGL vendor" "EGL.*install" env __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json \

@@ -211,9 +211,10 @@ The two do different work: ParaView blends every line at one fixed opacity, peel
 and exact methods also compute each element's optimized opacity (importance, opacity, smoothing passes at half
 resolution) before they composite, and opaque is Lucent's plain depth-tested ribbons, the floor of its
 geometry cost. Both run on a CPU rasterizer here; on a GPU the ratio may differ (the FOO paper's timings are
-GPU timings). Lucent draws its default level of detail (`params.lod` 0.2 px: on the tornado file 205k of its
+GPU timings). Lucent draws its default level of detail (\`params.lod\` 0.2 px: on the tornado file 205k of its
 896k segments, SSIM 0.993 against every segment; section 9), so its frame is bound by the full-resolution
-fragment work of P4 and P5 rather than by the geometry.
+fragment work of P4 and P5 rather than by the geometry. Section 10 says what was measured to close the gap to
+the goal of 5.
 
 | | |
 |---|---|

@@ -145,10 +145,16 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
  * images do not change. Each batch is a scene that llvmpipe's rasterizer
  * threads finish together, so small batches idle them: on the 896k-segment
  * tornado at 1024x1024 a frame took 1010 ms with 8k triangles, 830 ms with
- * 32k, 800 ms with 64k and 700 ms unbatched, and the 5,000-line tornado's
+ * 32k, 800 ms with 64k and about 700 ms unbatched, and the 5,000-line tornado's
  * resident bytes per vertex were 46, 57, 72 and 100 (docs/MEMORY.md). 32k
- * keeps that under 64. GPUs draw in one call (0 = no batches). */
+ * keeps that under 64. A draw of few batches pipelines poorly (binning of
+ * the first and rasterizing of the last overlap nothing), so a draw is split
+ * into at least 8 batches down to 8k triangles: tornado interactive frames at
+ * 486x381 (100k triangles) took 44-46 ms so and 44-90 ms with 32k batches.
+ * GPUs draw in one call (0 = no batches). */
 #define SOFTWARE_BATCH_TRIANGLES (1u << 15)
+#define SOFTWARE_BATCH_MIN (1u << 13)
+#define SOFTWARE_BATCH_SPLIT 8
 static _Atomic uint64_t draw_batch_triangles; /* every worker's renderer sets the same value */
 
 void lc_pipeline_configure(const char *gl_renderer)
@@ -222,6 +228,12 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     if (!pulled && prim != LC_PRIM_POINTS)
         drawn = n; /* indexed draws cover every primitive */
     uint64_t per_batch = atomic_load(&draw_batch_triangles);
+    if (per_batch) {
+        uint64_t triangles =
+            prim == LC_PRIM_LINES && !pulled ? lv->index_count : drawn * (prim == LC_PRIM_TRIANGLES ? 1 : 2);
+        uint64_t share = triangles / SOFTWARE_BATCH_SPLIT;
+        per_batch = share < SOFTWARE_BATCH_MIN ? SOFTWARE_BATCH_MIN : share < per_batch ? share : per_batch;
+    }
     GLsync in_flight[2] = {0, 0};
     if (prim == LC_PRIM_LINES && !pulled) {
         draw_strips(lv, per_batch ? per_batch : lv->index_count, in_flight);

@@ -168,12 +168,12 @@ static int upload_vertices(lc_gpu_scene *gs, const lc_scene *s, lc_error *err)
  * 2v+1 are the two sides at line vertex v (geometry.vert.glsl). Two indices a
  * segment instead of six corners of a quad: the same triangles (diagonal from
  * side +1 of a to side -1 of b, provoking vertex at b), a third of the bytes. */
-#define LC_STRIP_BREAK_SPACING 4096u
+#define STRIP_BREAK_SPACING 4096u
 static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k, double error, lc_error *err)
 {
     uint64_t cap = strip_indices(k, k);
     uint32_t *strip = malloc((cap ? cap : 1) * sizeof(uint32_t));
-    uint64_t *breaks = malloc(((cap / LC_STRIP_BREAK_SPACING) + 2) * sizeof(uint64_t));
+    uint64_t *breaks = malloc(((cap / STRIP_BREAK_SPACING) + 2) * sizeof(uint64_t));
     if (!strip || !breaks) {
         free(strip);
         free(breaks);
@@ -188,7 +188,7 @@ static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k
                 strip[n++] = LC_STRIP_RESTART;
                 strip[n++] = LC_STRIP_RESTART;
             }
-            if (nb == 0 || n - breaks[nb - 1] >= LC_STRIP_BREAK_SPACING)
+            if (nb == 0 || n - breaks[nb - 1] >= STRIP_BREAK_SPACING)
                 breaks[nb++] = n;
             strip[n++] = 2 * a;
             strip[n++] = 2 * a + 1;

@@ -150,7 +150,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
  * keeps that under 64. A draw of few batches pipelines poorly (binning of
  * the first and rasterizing of the last overlap nothing), so a draw is split
  * into at least 8 batches down to 8k triangles: tornado interactive frames at
- * 486x381 (100k triangles) took 44-46 ms so and 44-90 ms with 32k batches.
+ * 486x381 (100k triangles) took 44-46 ms split so, 44-90 ms in 32k batches.
  * GPUs draw in one call (0 = no batches). */
 #define SOFTWARE_BATCH_TRIANGLES (1u << 15)
 #define SOFTWARE_BATCH_MIN (1u << 13)

@@ -75,7 +75,7 @@ typedef struct lc_gpu_level {
     uint64_t primitive_count; /* points, segments or triangles */
     double error;             /* world units (0 for level 0) */
     /* Lines: the strip's length in indices, and offsets of run starts at least
-     * LC_STRIP_BREAK_SPACING indices apart where a batched draw may split it. */
+     * STRIP_BREAK_SPACING indices apart where a batched draw may split it. */
     uint64_t index_count;
     uint64_t *breaks;
     uint32_t break_count;

@@ -1,5 +1,5 @@
 /* Optimization elements (docs/ALGORITHM.md): one per point, equal-arc-length segments
- * for lines, farthest-point-sampled geodesic patches for surfaces, with the
+ * for lines, geodesic patches around sampled centres for surfaces, with the
  * per-vertex (element, weight) blend and the element adjacency for smoothing. */
 #include <float.h>
 #include <math.h>
@@ -471,6 +471,131 @@ done:
     return rc;
 }
 
+static uint32_t uf_find(uint32_t *parent, uint32_t v)
+{
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+typedef struct {
+    uint64_t key; /* cell: x | y << 21 | z << 42 */
+    uint32_t part, v;
+} cell_item;
+
+static int cmp_cell_item(const void *pa, const void *pb)
+{
+    const cell_item *a = pa, *b = pb;
+    if (a->part != b->part)
+        return a->part < b->part ? -1 : 1;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return a->v < b->v ? -1 : a->v > b->v;
+}
+
+/* Grid sampling (lc_patch_sampling): one centre per occupied cell of a cubic
+ * grid and connected part of the mesh (so every part has one), the vertex
+ * nearest the cell's middle. A surface of area A meets about A / h^2 cells of
+ * size h, so h starts at sqrt(A / want) and grows while a pass yields more
+ * than 5/4 of want (oblique surfaces meet more cells). */
+static int grid_sampling(const lc_element_geometry *s, const uint8_t *used, uint32_t want, uint32_t **centres_out,
+                         uint32_t *count_out)
+{
+    uint32_t n = s->vertex_count, m = 0;
+    const float *P = s->positions;
+    uint32_t *parent = malloc((size_t)(n ? n : 1) * sizeof(uint32_t));
+    cell_item *items = NULL;
+    uint32_t *centres = NULL;
+    if (!parent)
+        goto oom;
+    for (uint32_t v = 0; v < n; v++)
+        parent[v] = v;
+    double area = 0, lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t t = 0; t < s->triangle_count; t++) {
+        const uint32_t *T = s->triangles + 3 * t;
+        for (int k = 1; k < 3; k++) {
+            uint32_t a = uf_find(parent, T[0]), b = uf_find(parent, T[k]);
+            if (a != b)
+                parent[a < b ? b : a] = a < b ? a : b;
+        }
+        const float *p0 = P + 3 * (size_t)T[0], *p1 = P + 3 * (size_t)T[1], *p2 = P + 3 * (size_t)T[2];
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++)
+            e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
+        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+        area += 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+    }
+    for (uint32_t v = 0; v < n; v++)
+        if (used[v]) {
+            m++;
+            for (int k = 0; k < 3; k++) {
+                lo[k] = P[3 * (size_t)v + k] < lo[k] ? P[3 * (size_t)v + k] : lo[k];
+                hi[k] = P[3 * (size_t)v + k] > hi[k] ? P[3 * (size_t)v + k] : hi[k];
+            }
+        }
+    items = malloc((size_t)(m ? m : 1) * sizeof *items);
+    if (!items)
+        goto oom;
+    double extent = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    double h = sqrt(area / want);
+    if (!(h > 0) || !isfinite(h))
+        h = extent > 0 ? extent / cbrt((double)want) : 1.0;
+    h = fmax(h, extent / 2097151.0); /* 21 bits a coordinate */
+    uint32_t count = 0;
+    for (int pass = 0; pass < 4; pass++) {
+        uint32_t i = 0;
+        for (uint32_t v = 0; v < n; v++) {
+            if (!used[v])
+                continue;
+            uint64_t key = 0;
+            for (int k = 0; k < 3; k++) {
+                double c = floor((P[3 * (size_t)v + k] - lo[k]) / h);
+                key |= (uint64_t)(c < 0 ? 0 : c > 2097151 ? 2097151 : c) << (21 * k);
+            }
+            items[i++] = (cell_item){key, uf_find(parent, v), v};
+        }
+        qsort(items, m, sizeof *items, cmp_cell_item);
+        count = 0;
+        for (uint32_t j = 0; j < m; j++)
+            count += j == 0 || items[j].key != items[j - 1].key || items[j].part != items[j - 1].part;
+        if ((uint64_t)count * 4 <= (uint64_t)want * 5 || pass == 3)
+            break;
+        h *= sqrt((double)count / want);
+    }
+    centres = malloc((size_t)(count ? count : 1) * sizeof(uint32_t));
+    if (!centres)
+        goto oom;
+    uint32_t c = 0;
+    double best = INFINITY;
+    for (uint32_t j = 0; j < m; j++) {
+        if (j > 0 && (items[j].key != items[j - 1].key || items[j].part != items[j - 1].part))
+            c++, best = INFINITY;
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double mid = lo[k] + h * ((double)((items[j].key >> (21 * k)) & 2097151u) + 0.5);
+            double dk = P[3 * (size_t)items[j].v + k] - mid;
+            d2 += dk * dk;
+        }
+        if (d2 < best) {
+            best = d2;
+            centres[c] = items[j].v;
+        }
+    }
+    free(parent);
+    free(items);
+    *centres_out = centres;
+    *count_out = count;
+    return 0;
+oom:
+    free(parent);
+    free(items);
+    free(centres);
+    return -1;
+}
+
 /* Multi-source Dijkstra that keeps the 3 nearest centres per vertex. A centre
  * can be among a vertex's 3 nearest only if it is among the 3 nearest of the
  * previous vertex on the shortest path, so only settled top-3 labels expand. */
@@ -603,7 +728,8 @@ oom:
     return -1;
 }
 
-static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t want, lc_error *err)
+static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t want, lc_patch_sampling sampling,
+                         lc_error *err)
 {
     uint32_t n = s->vertex_count;
     mesh_graph g = {0};
@@ -626,16 +752,19 @@ static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t 
     if (want < 1)
         want = 1;
     double t0 = lc_now();
-    if (farthest_point_sampling(s, &g, used, want, &centres, &count))
+    if (sampling == LC_PATCH_SAMPLING_AUTO)
+        sampling = n > LC_GRID_SAMPLING_VERTICES ? LC_PATCH_SAMPLING_GRID : LC_PATCH_SAMPLING_FARTHEST;
+    if (sampling == LC_PATCH_SAMPLING_GRID ? grid_sampling(s, used, want, &centres, &count)
+                                           : farthest_point_sampling(s, &g, used, want, &centres, &count))
         goto fail;
     double t1 = lc_now();
-    if (count > want)
+    if (count > want && sampling == LC_PATCH_SAMPLING_FARTHEST)
         LC_INFO("scene", "%s: %u disconnected parts raise the patch count from %u to %u", s->name, count - want + 1,
                 want, count);
     if (nearest_centres(s, &g, centres, count, near))
         goto fail;
-    LC_DEBUG("scene", "%s: %u patches: sampling %.0f ms, nearest centres %.0f ms", s->name, count, (t1 - t0) * 1e3,
-             (lc_now() - t1) * 1e3);
+    LC_DEBUG("scene", "%s: %u patches: %s sampling %.0f ms, nearest centres %.0f ms", s->name, count,
+             sampling == LC_PATCH_SAMPLING_GRID ? "grid" : "farthest-point", (t1 - t0) * 1e3, (lc_now() - t1) * 1e3);
     rc = alloc_elements(e, n, count, s->name, err);
     if (rc)
         goto out;
@@ -755,7 +884,7 @@ int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc
         break;
     case LC_PRIM_TRIANGLES: {
         uint32_t want = desc && desc->patch_count ? desc->patch_count : lc_elements_default_count(s);
-        rc = build_patches(s, e, want ? want : 1, err);
+        rc = build_patches(s, e, want ? want : 1, desc ? desc->patch_sampling : LC_PATCH_SAMPLING_AUTO, err);
         break;
     }
     default: rc = lc_err(err, LC_ERR_INVALID, "%s: unknown primitive type", s->name);

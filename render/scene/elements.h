@@ -28,9 +28,17 @@ typedef struct lc_elements {
 } lc_elements;
 
 /* Options of the element build; zero means default. */
+/* How surface patch centres are picked: farthest-point sampling over geodesic
+ * distances (the most even), or the vertex nearest the middle of each occupied
+ * cell of a grid (O(n log n); farthest-point sampling took minutes at tens of
+ * millions of vertices). AUTO: farthest-point up to LC_GRID_SAMPLING_VERTICES. */
+typedef enum { LC_PATCH_SAMPLING_AUTO = 0, LC_PATCH_SAMPLING_FARTHEST, LC_PATCH_SAMPLING_GRID } lc_patch_sampling;
+#define LC_GRID_SAMPLING_VERTICES (1u << 22)
+
 typedef struct lc_elements_desc {
     uint32_t line_budget; /* total line segment-elements (at least one per line); 0 = derived from the data */
     uint32_t patch_count; /* surface patches; 0 = derived from the data */
+    lc_patch_sampling patch_sampling;
 } lc_elements_desc;
 
 /* The geometry elements are built on (borrowed arrays, validated indices). */

@@ -342,11 +342,52 @@ static void test_patch_defaults(void)
     lc_scene_destroy(s);
 }
 
+/* Grid sampling (the default above LC_GRID_SAMPLING_VERTICES), forced on a
+ * small mesh: about the requested count on a flat grid, valid blends, and a
+ * disconnected part with patches of its own. */
+static void test_grid_sampling(void)
+{
+    const uint32_t nx = 120, ny = 80, n1 = nx * ny, n2 = 100;
+    lc_scene *s = lc_scene_create("grid sampling", LC_PRIM_TRIANGLES);
+    lc_scene_alloc_vertices(s, n1 + n2, 0, NULL);
+    s->triangle_count = 2 * (nx - 1) * (ny - 1) + 2 * 9 * 9;
+    s->triangles = malloc(3 * s->triangle_count * sizeof(uint32_t));
+    grid(s, 0, s->triangles, nx, ny, 0.01, 0, 0, 0);
+    grid(s, n1, s->triangles + 3 * 2 * (nx - 1) * (ny - 1), 10, 10, 0.01, 5, 5, 1);
+    lc_elements_desc desc = {.patch_count = 200, .patch_sampling = LC_PATCH_SAMPLING_GRID};
+    lc_error err = {0};
+    CHECK(lc_scene_finalize(s, &desc, &err) == 0, "finalize: %s", err.msg);
+    const lc_elements *e = &s->elements;
+    check_invariants(s, "grid sampling");
+    /* the flat grid's area asks for about 200 cells; the small part adds its own */
+    CHECK(e->count >= 150 && e->count <= 260, "grid sampling made %u patches for 200", e->count);
+    uint32_t small = e->vertex_elements[4 * n1 + 3];
+    int shared = 0;
+    for (uint32_t v = 0; v < n1; v++)
+        shared |= e->vertex_elements[4 * v + 3] == small;
+    CHECK(!shared, "the disconnected part has a patch of its own");
+    /* every patch is some vertex's primary, and patches are about equal: none
+     * holds more than four times the mean */
+    uint32_t *size = calloc(e->count, sizeof *size);
+    for (uint32_t v = 0; v < n1 + n2; v++)
+        size[e->vertex_elements[4 * v + 3]]++;
+    uint32_t empty = 0, largest = 0;
+    for (uint32_t i = 0; i < e->count; i++) {
+        empty += size[i] == 0;
+        largest = size[i] > largest ? size[i] : largest;
+    }
+    CHECK(empty == 0, "%u patches are nobody's primary", empty);
+    CHECK(largest <= 4 * (n1 + n2) / e->count, "largest patch %u vertices, mean %u", largest, (n1 + n2) / e->count);
+    free(size);
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
     test_points();
     test_lines();
     test_patches();
     test_patch_defaults();
+    test_grid_sampling();
     return lc_test_finish();
 }

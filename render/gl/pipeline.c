@@ -253,8 +253,7 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
 void lc_bind_coefficients(const lc_targets *t)
 {
     for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
-        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_READ_ONLY,
-                           GL_RGBA32F);
+        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
 }
 
 void lc_dispatch_linear(GLuint groups)

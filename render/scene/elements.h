@@ -27,7 +27,6 @@ typedef struct lc_elements {
     uint32_t adjacency_count;    /* adjacency_offsets[count] */
 } lc_elements;
 
-/* Options of the element build; zero means default. */
 /* How surface patch centres are picked: farthest-point sampling over geodesic
  * distances (the most even), or the vertex nearest the middle of each occupied
  * cell of a grid (O(n log n); farthest-point sampling took minutes at tens of
@@ -35,6 +34,7 @@ typedef struct lc_elements {
 typedef enum { LC_PATCH_SAMPLING_AUTO = 0, LC_PATCH_SAMPLING_FARTHEST, LC_PATCH_SAMPLING_GRID } lc_patch_sampling;
 #define LC_GRID_SAMPLING_VERTICES (1u << 22)
 
+/* Options of the element build; zero means default. */
 typedef struct lc_elements_desc {
     uint32_t line_budget; /* total line segment-elements (at least one per line); 0 = derived from the data */
     uint32_t patch_count; /* surface patches; 0 = derived from the data */

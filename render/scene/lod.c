@@ -207,6 +207,7 @@ uint64_t lc_lod_extra_bytes(const lc_scene *s, const lc_lod *lod)
 {
     uint64_t per = s->type == LC_PRIM_LINES ? LC_LOD_BYTES_PER_SEGMENT : LC_LOD_BYTES_PER_TRIANGLE, n = 0;
     for (int i = 1; i < lod->count; i++)
-        n += lod->levels[i].primitives * per + (s->type == LC_PRIM_LINES ? (uint64_t)s->line_count * LC_LOD_BYTES_PER_LINE : 0);
+        n += lod->levels[i].primitives * per +
+             (s->type == LC_PRIM_LINES ? (uint64_t)s->line_count * LC_LOD_BYTES_PER_LINE : 0);
     return n;
 }

@@ -146,8 +146,9 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
  * threads finish together, so small batches idle them: on the 896k-segment
  * tornado at 1024x1024 a frame took 1010 ms with 8k triangles, 830 ms with
  * 32k, 800 ms with 64k and about 700 ms unbatched, and the 5,000-line tornado's
- * resident bytes per vertex were 46, 57, 72 and 100 (docs/MEMORY.md). 32k
- * keeps that under 64. A draw of few batches pipelines poorly (binning of
+ * resident bytes per vertex were 46, 57 and 72 for the first three
+ * (unbatched was measured only before line strips: 100, against 75 with 8k
+ * then; docs/MEMORY.md). 32k keeps that under 64. A draw of few batches pipelines poorly (binning of
  * the first and rasterizing of the last overlap nothing), so a draw is split
  * into at least 8 batches down to 8k triangles: tornado interactive frames at
  * 486x381 (100k triangles) took 44-46 ms split so, 44-90 ms in 32k batches.

@@ -197,7 +197,7 @@ static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k
         strip[n++] = 2 * b + 1;
     }
     lc_gpu_level *lv = &gs->levels[gs->level_count++];
-    lv->draw_indices = lv->indices = lc_gl_buffer(strip, n * sizeof(uint32_t), &gs->bytes);
+    lv->indices = lc_gl_buffer(strip, n * sizeof(uint32_t), &gs->bytes);
     lv->primitive_count = k;
     lv->error = error;
     lv->index_count = n;
@@ -225,7 +225,7 @@ static int upload_levels(lc_gpu_scene *gs, lc_error *err)
             const uint32_t *tris = i == 0 ? s->triangles : l->indices;
             GLuint b = lc_gl_buffer(tris, l->primitives * 3 * sizeof(uint32_t), &gs->bytes);
             gs->levels[gs->level_count++] =
-                (lc_gpu_level){.indices = b, .draw_indices = b, .primitive_count = l->primitives, .error = l->error};
+                (lc_gpu_level){.indices = b, .primitive_count = l->primitives, .error = l->error};
         }
         if (i > 0)
             gs->lod_bytes += gs->bytes - before;
@@ -267,7 +267,7 @@ int lc_gpu_scene_create_ex(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_
         }
     } else {
         GLuint none = lc_gl_buffer(NULL, 0, &gs->bytes);
-        gs->levels[0] = (lc_gpu_level){.indices = none, .draw_indices = none, .primitive_count = s->vertex_count};
+        gs->levels[0] = (lc_gpu_level){.indices = none, .primitive_count = s->vertex_count};
         gs->level_count = 1;
     }
     /* Without adjacency (points) P3 never reads the offsets. */
@@ -299,8 +299,7 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
     glDeleteBuffers(sizeof bufs / sizeof bufs[0], bufs);
     for (int i = 0; i < gs->level_count; i++) {
         lc_gpu_level *lv = &gs->levels[i];
-        GLuint level_bufs[] = {lv->indices, lv->draw_indices != lv->indices ? lv->draw_indices : 0};
-        glDeleteBuffers(2, level_bufs);
+        glDeleteBuffers(1, &lv->indices);
         free(lv->breaks);
     }
     free(gs);

@@ -78,7 +78,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     const lc_gpu_level *level = &gs->levels[fs->level];
     glUseProgram(prog);
     glBindVertexArray(r->vao);
-    glVertexArrayElementBuffer(r->vao, level->draw_indices);
+    glVertexArrayElementBuffer(r->vao, level->indices);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITIONS, gs->positions);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAMES, gs->frames);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ATTRIBUTES, gs->attributes);

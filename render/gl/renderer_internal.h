@@ -70,8 +70,8 @@ _Static_assert(MAX_ATTRIBUTES == LC_MAX_ATTRIBUTES, "shader attribute tables");
 #define LC_STRIP_RESTART 0xFFFFFFFFu
 
 typedef struct lc_gpu_level {
-    GLuint indices;           /* the same buffer as an SSBO, pulled by subset draws */
-    GLuint draw_indices;      /* element buffer: ribbon strips (lines) or the triangles */
+    GLuint indices;           /* ribbon strips (lines) or the triangles: the element buffer of indexed
+                                 draws, and the SSBO that subset draws pull from */
     uint64_t primitive_count; /* points, segments or triangles */
     double error;             /* world units (0 for level 0) */
     /* Lines: the strip's length in indices, and offsets of run starts at least

@@ -31,10 +31,11 @@ typedef enum { LC_ESTIMATOR_FOO = 0, LC_ESTIMATOR_MIDPOINT = 1 } lc_estimator;
  * this frame (docs/ALGORITHM.md), or each pixel's own min/max fragment depth (one extra
  * geometry pass; spreads a pixel's fragments over the whole period). */
 typedef enum { LC_DEPTH_RANGE_GLOBAL = 0, LC_DEPTH_RANGE_PIXEL = 1 } lc_depth_range;
-/* Density-aware opacity (docs/ALGORITHM.md "Normalization"): auto scales q and
- * r down where a high percentile of the per-pixel importance mass exceeds a
- * reference, and maps importance from the attribute's 2nd-98th percentiles
- * when the request gives no range; off is the paper's formula with min/max. */
+/* Density-aware opacity (docs/ALGORITHM.md "Density normalization"): auto
+ * scales a pixel's front and behind sums down where its importance mass
+ * exceeds a reference, raises the emphasis there, and maps importance from the
+ * attribute's auto range (min/max without outliers) when the request gives no
+ * range; off is the paper's formula with min/max. */
 typedef enum { LC_NORMALIZE_AUTO = 0, LC_NORMALIZE_OFF = 1 } lc_normalize;
 
 /* Margin used with the per-pixel range instead of depth_margin (gl/pipeline.c). */

@@ -154,10 +154,10 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
             return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name,
                                 imp);
         const lc_attribute *a = &s->attributes[fs->importance_attr];
-        /* auto: robust percentiles, unless they collapse (e.g. a mostly constant attribute). */
-        int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->p98 > a->p02;
-        fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : robust ? a->p02 : a->min;
-        fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : robust ? a->p98 : a->max;
+        /* auto: min/max without the outliers, unless that collapses (e.g. a mostly constant attribute). */
+        int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
+        fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : robust ? a->auto_lo : a->min;
+        fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : robust ? a->auto_hi : a->max;
     }
     fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
 

@@ -26,8 +26,8 @@ typedef enum {
 } lc_blend_layout;
 
 /* An attribute's encoding: 16-bit unorm over [min, max], or float where a few
- * outliers stretch that range so far that 16 bits would not resolve the
- * 2nd-98th percentile range the importance mapping uses. */
+ * outliers stretch that range so far that 16 bits would not resolve its
+ * 2nd-98th percentile range (and so the auto range the importance mapping uses). */
 int lc_pack_attribute_is_unorm16(const lc_attribute *a);
 
 /* Bytes of each packed buffer for n vertices. */

@@ -32,17 +32,19 @@ double lc_foo_normalize_depth(double z, double zmin, double zmax, double delta);
  * front = importance (sum g^2) in front of the fragment, behind = behind it. */
 double lc_foo_optimal_alpha(double g, double front, double behind, double q, double r, double lambda);
 
-/* Density normalization (params.normalize, docs/ALGORITHM.md "Normalization"):
- * in auto mode a pixel whose total importance mass sum g^2 exceeds
- * LC_NORM_REFERENCE_MASS has its front and behind sums scaled by
- * LC_NORM_REFERENCE_MASS / total = k, and the emphasis exponent grows with
- * the density to lambda (2 - k): the paper's where the sums are not scaled,
- * twice it in the densest pixels. */
-#define LC_NORM_REFERENCE_MASS 0.35
+/* Density normalization (params.normalize, docs/ALGORITHM.md "Density
+ * normalization"): in auto mode a pixel whose total importance mass sum g^2
+ * exceeds LC_NORM_REFERENCE_MASS has its front and behind sums scaled by
+ * LC_NORM_REFERENCE_MASS / total = k, and the emphasis exponent grows with the
+ * density to lambda (1 + LC_NORM_EMPHASIS (1 - k)^2): the paper's where the
+ * sums are not scaled, barely more in moderately dense pixels, 4 lambda in the
+ * densest. The shaders repeat the formula (p2_opacity, exact_opacity). */
+#define LC_NORM_REFERENCE_MASS 0.55
+#define LC_NORM_EMPHASIS 3.0
 /* The reference mass the shaders use (0 = normalization off). */
 double lc_foo_norm_mass(const lc_foo_params *p);
 /* The lambda of Eq. 10 in effect in a pixel whose sums are scaled by k
- * (lc_foo_norm_factor): lambda (2 - k) in auto mode, lambda when off. */
+ * (lc_foo_norm_factor): lambda (1 + 3 (1 - k)^2) in auto mode, lambda when off. */
 double lc_foo_effective_lambda(const lc_foo_params *p, double k);
 /* The factor on the front/behind sums of a pixel with total mass `total`. */
 double lc_foo_norm_factor(const lc_foo_params *p, double total);

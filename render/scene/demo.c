@@ -598,15 +598,7 @@ static int add_line_curvature(lc_scene *s, lc_error *err)
     if (idx < 0)
         return idx;
     /* finalize has run, so the range is ours to fill */
-    float lo = 1.0f, hi = 0.0f;
-    for (uint32_t v = 0; v < s->vertex_count; v++) {
-        lo = values[v] < lo ? values[v] : lo;
-        hi = values[v] > hi ? values[v] : hi;
-    }
-    s->attributes[idx].min = lo;
-    s->attributes[idx].max = hi;
-    s->attributes[idx].p02 = lc_scene_percentile(values, s->vertex_count, lo, hi, 0.02);
-    s->attributes[idx].p98 = lc_scene_percentile(values, s->vertex_count, lo, hi, 0.98);
+    lc_attribute_update_range(&s->attributes[idx], s->vertex_count);
     snprintf(s->default_importance, sizeof s->default_importance, "line_curvature");
     return LC_OK;
 }

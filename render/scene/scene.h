@@ -28,10 +28,12 @@ typedef struct lc_attribute {
     char name[LC_NAME_LEN];
     float *values;  /* vertex_count values, owned by the scene */
     float min, max; /* over finite values; filled by lc_scene_finalize */
-    /* 2nd and 98th percentiles over finite values (lc_scene_finalize): the
-     * importance range of normalize "auto" when a request gives none, so one
-     * outlier cannot squash every other value to zero. */
+    /* 2nd and 98th percentiles over finite values (lc_scene_finalize). */
     float p02, p98;
+    /* The importance range of normalize "auto" when a request gives none
+     * (lc_attribute_update_range): [min, max] with only the outliers cut off,
+     * so one extreme value cannot squash every other one to zero. */
+    float auto_lo, auto_hi;
 } lc_attribute;
 
 typedef struct lc_scene {
@@ -93,6 +95,13 @@ int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_erro
 /* Value of rank p * (finite count - 1) among the finite values of v (n of
  * them, all finite ones within [lo, hi]); lo when there are none. */
 float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double p);
+/* Fills a's min, max, percentiles and auto range from its n values (NaN and
+ * infinities ignored). The auto range cuts off only values that are both rare
+ * (beyond the 2nd/98th percentile) and far out (beyond Tukey's far-out fence,
+ * a quartile -/+ 3 interquartile ranges): each end is the farther of its
+ * percentile and the last value inside the fence. Data without such outliers
+ * keeps [min, max]; one extreme value is cut off. */
+void lc_attribute_update_range(lc_attribute *a, uint32_t n);
 /* Index of the attribute named name, or -1. */
 int lc_scene_find_attribute(const lc_scene *s, const char *name);
 /* A name for a new attribute that no attribute of s has: want itself when

@@ -73,15 +73,31 @@ static void compute_bounds(lc_scene *s)
 
 #define PCT_BINS 4096
 
+/* The values of v in [a, b] (n of them) spread evenly over their own extent:
+ * the one value itself when they are all equal (integer codes, a clamped
+ * attribute), so a percentile never lands between equal values. */
+static float spread_in_bin(const float *v, uint32_t n, double a, double b, uint32_t count, double rank_in_bin)
+{
+    float vmin = INFINITY, vmax = -INFINITY;
+    for (uint32_t i = 0; i < n; i++)
+        if (v[i] >= a && v[i] <= b) {
+            vmin = v[i] < vmin ? v[i] : vmin;
+            vmax = v[i] > vmax ? v[i] : vmax;
+        }
+    if (!(vmax > vmin))
+        return vmin <= vmax ? vmin : (float)a;
+    return (float)(vmin + (vmax - vmin) * ((rank_in_bin + 0.5) / count));
+}
+
 /* Value of rank p * (finite count - 1) among the finite values in [lo, hi]:
  * a histogram over [lo, hi], then one over the bin that holds the rank, and so
- * on until a bin is narrow against its values (an outlier that stretches the
- * range to 1e30 costs a few more passes, not precision), with 16 KiB of bins
- * and no copy of the values. */
+ * on until a bin is narrow against its values or the whole range (an outlier
+ * that stretches the range to 1e30 costs a few more passes, not precision),
+ * with 16 KiB of bins and no copy of the values. */
 float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double p)
 {
     static _Thread_local uint32_t hist[PCT_BINS];
-    double a = lo, b = hi;
+    double a = lo, b = hi, narrow = 1e-7 * ((double)hi - lo);
     uint64_t below = 0, finite = 0;
     for (uint32_t i = 0; i < n; i++)
         finite += isfinite(v[i]) != 0;
@@ -108,13 +124,13 @@ float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double
         b = a + w;
         if (hist[k] == 0)
             return (float)a;
-        if (w <= 1e-6 * fmax(fabs(a), fabs(b)) || hist[k] == 1) /* spread the bin's values evenly over it */
-            return (float)(a + w * ((rank - (double)acc + 0.5) / hist[k]));
+        if (w <= 1e-6 * fmax(fabs(a), fabs(b)) || w <= narrow || hist[k] == 1 || level == 11)
+            return spread_in_bin(v, n, a, b, hist[k], rank - (double)acc);
     }
     return (float)a;
 }
 
-static void attribute_range(lc_attribute *a, uint32_t n)
+void lc_attribute_update_range(lc_attribute *a, uint32_t n)
 {
     float lo = INFINITY, hi = -INFINITY;
     for (uint32_t i = 0; i < n; i++) {
@@ -132,6 +148,21 @@ static void attribute_range(lc_attribute *a, uint32_t n)
     a->max = hi;
     a->p02 = lc_scene_percentile(a->values, n, lo, hi, 0.02);
     a->p98 = lc_scene_percentile(a->values, n, lo, hi, 0.98);
+    /* The auto range: each end at the farther of its percentile and the last
+     * value inside Tukey's far-out fence (a box plot's whisker). */
+    double q1 = lc_scene_percentile(a->values, n, lo, hi, 0.25);
+    double q3 = lc_scene_percentile(a->values, n, lo, hi, 0.75);
+    double fence_lo = q1 - 3.0 * (q3 - q1), fence_hi = q3 + 3.0 * (q3 - q1);
+    float whisker_lo = a->p02, whisker_hi = a->p98;
+    for (uint32_t i = 0; i < n; i++) {
+        float v = a->values[i];
+        if (v >= fence_lo && v < whisker_lo) /* false for NaN */
+            whisker_lo = v;
+        if (v <= fence_hi && v > whisker_hi)
+            whisker_hi = v;
+    }
+    a->auto_lo = whisker_lo;
+    a->auto_hi = whisker_hi;
 }
 
 /* Picks the importance attribute a request without one gets. A name that the
@@ -221,7 +252,7 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
     if (rc)
         return rc;
     for (int i = 0; i < s->attribute_count; i++)
-        attribute_range(&s->attributes[i], s->vertex_count);
+        lc_attribute_update_range(&s->attributes[i], s->vertex_count);
     choose_defaults(s);
     double t1 = lc_now();
     lc_element_geometry g = element_geometry(s);

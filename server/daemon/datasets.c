@@ -497,6 +497,10 @@ json_t *lc_dataset_info(const lc_dataset *ds)
         json_array_append_new(pct, json_real(isfinite(a->p02) ? a->p02 : 0.0));
         json_array_append_new(pct, json_real(isfinite(a->p98) ? a->p98 : 0.0));
         json_object_set_new(ja, "percentiles", pct);
+        json_t *ar = json_array();
+        json_array_append_new(ar, json_real(isfinite(a->auto_lo) ? a->auto_lo : 0.0));
+        json_array_append_new(ar, json_real(isfinite(a->auto_hi) ? a->auto_hi : 0.0));
+        json_object_set_new(ja, "autoRange", ar);
         json_array_append_new(attrs, ja);
     }
     json_object_set_new(o, "attributes", attrs);

@@ -94,8 +94,9 @@ const lc_dataset *lc_datasets_find(const lc_datasets *d, const char *name);
  * lines, triangles, elements, points, bounds, view {direction, up} (when the
  * scene suggests one), hasRgb, attributes [{name, range}], defaultImportance,
  * defaultColor, gpuBytes and memory (bytes by kind, once uploaded), preset (when there is one) and a
- * description for demos. Attributes also carry "percentiles": the 2nd and
- * 98th, the importance range of normalize "auto" when a request gives none.
+ * description for demos. Attributes also carry "percentiles" (the 2nd and
+ * 98th) and "autoRange", the importance range of normalize "auto" when a
+ * request gives none (lc_attribute_update_range).
  * Caller json_decref()s. Any thread (builds fresh objects every call). */
 json_t *lc_dataset_info(const lc_dataset *ds);
 

@@ -48,6 +48,9 @@ with Server(binary, data=(ply, "demo:tornado"), demo_size=20) as srv:
     attrs = flow.get("attributes", [])
     check(attrs and all(a["range"][0] <= a["percentiles"][0] <= a["percentiles"][1] <= a["range"][1] for a in attrs),
           "every attribute has percentiles inside its range")
+    check(all(a["range"][0] <= a["autoRange"][0] <= a["percentiles"][0] and
+              a["percentiles"][1] <= a["autoRange"][1] <= a["range"][1] for a in attrs),
+          "every attribute's auto range lies between its percentiles and its range")
 
     st, headers, _ = srv.request("GET", "/api/v1/render?dataset=flow&width=96&height=64")
     vis = dict(kv.split("=") for kv in headers.get("x-lucent-visibility", "").split(",") if "=" in kv)

@@ -382,7 +382,7 @@ static void test_estimators(void)
 
 /* normalize auto: a pixel whose total mass exceeds LC_NORM_REFERENCE_MASS has
  * its sums scaled by k = reference / total and the emphasis exponent raised to
- * lambda (2 - k); a pixel at or below the reference keeps the paper's formula
+ * lambda (1 + 3 (1 - k)^2); a pixel at or below the reference keeps the paper's formula
  * (only the importance mapping differs). */
 static void test_density_normalization(void)
 {
@@ -391,8 +391,8 @@ static void test_density_normalization(void)
     CHECK(p.normalize == LC_NORMALIZE_AUTO, "auto is the default");
     p.q = 3, p.r = 7, p.lambda = 1.25;
     CHECK_NEAR(lc_foo_effective_lambda(&p, 1.0), 1.25, 0.0, "auto keeps lambda where the sums are not scaled");
-    CHECK_NEAR(lc_foo_effective_lambda(&p, 0.25), 1.75 * 1.25, 1e-15, "auto raises lambda with the density");
-    CHECK_NEAR(lc_foo_effective_lambda(&p, 0.0), 2.5, 0.0, "auto doubles lambda in the densest pixels");
+    CHECK_NEAR(lc_foo_effective_lambda(&p, 0.5), 1.75 * 1.25, 1e-15, "auto raises lambda with the density");
+    CHECK_NEAR(lc_foo_effective_lambda(&p, 0.0), 4 * 1.25, 0.0, "auto quadruples lambda in the densest pixels");
     CHECK_NEAR(lc_foo_norm_factor(&p, 0.5 * LC_NORM_REFERENCE_MASS), 1.0, 0.0, "sparse pixel: no scaling");
     CHECK_NEAR(lc_foo_norm_factor(&p, 4 * LC_NORM_REFERENCE_MASS), 0.25, 1e-15, "dense pixel: reference / total");
 
@@ -412,7 +412,7 @@ static void test_density_normalization(void)
             if (j != i && (frags[j].depth < frags[i].depth || (frags[j].depth == frags[i].depth && j < i)))
                 front += frags[j].importance * frags[j].importance;
         behind = total - front - g * g;
-        double expect = 1.0 / (1.0 + pow(1 - g, 2 * (2 - k) * 1.25) * k * (7 * front + 3 * fmax(behind, 0)));
+        double expect = 1.0 / (1.0 + pow(1 - g, 2 * (1 + 3 * (1 - k) * (1 - k)) * 1.25) * k * (7 * front + 3 * fmax(behind, 0)));
         CHECK_NEAR(frags[i].alpha, expect, 1e-9, "normalized exact alpha");
     }
     /* The same stack with normalize off is the paper's formula: never more opaque. */

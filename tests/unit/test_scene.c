@@ -335,6 +335,40 @@ static void test_percentiles_and_budget(void)
     float p98 = lc_scene_percentile(v, N, 1, 1e30f, 0.98);
     CHECK(p98 > 9700 && p98 < 9900, "98th percentile survives an outlier of 1e30: %g", p98);
     CHECK(lc_scene_percentile(v, 0, 0, 1, 0.5) == 0, "no values: lo");
+    /* Integer codes around zero: the percentile is one of the values, not a
+     * denormal next to 0 (the bins narrow towards 0 without ever being narrow
+     * against it). */
+    for (int i = 0; i < N; i++)
+        v[i] = i < 100 ? -1.0f : (float)(i % 20);
+    CHECK(lc_scene_percentile(v, N, -1, 19, 0.02) == 0.0f, "2nd percentile of integer codes: %g",
+          lc_scene_percentile(v, N, -1, 19, 0.02));
+    CHECK(lc_scene_percentile(v, N, -1, 19, 0.5) == 9.0f || lc_scene_percentile(v, N, -1, 19, 0.5) == 10.0f,
+          "median of integer codes: %g", lc_scene_percentile(v, N, -1, 19, 0.5));
+
+    /* The auto importance range. Values 0..0.99 have quartiles near 0.25 and
+     * 0.75, so the far-out fences lie near -1.25 and 2.25. A tail of 3% up to
+     * 2.2 is beyond the 98th percentile but inside the fence: kept whole. A
+     * longer one is cut at the 98th percentile; outliers on both ends are cut
+     * off at the last values inside the fences. */
+    lc_attribute a = {.values = v};
+    for (int i = 0; i < N; i++)
+        v[i] = i < N - 300 ? (float)(i % 100) / 100.0f : 1.0f + (float)(i - (N - 300)) * 0.004f;
+    lc_attribute_update_range(&a, N);
+    CHECK(a.p98 < a.max && a.max > 2.19f, "the tail lies beyond the 98th percentile (%g)", a.p98);
+    CHECK(a.auto_lo == a.min && a.auto_hi == a.max, "a tail inside the fence: [%g, %g] is min/max [%g, %g]",
+          a.auto_lo, a.auto_hi, a.min, a.max);
+    for (int i = N - 300; i < N; i++)
+        v[i] = 1.0f + (float)(i - (N - 300)) * 0.03f; /* up to 9.97 */
+    lc_attribute_update_range(&a, N);
+    CHECK(a.auto_hi == a.p98 && a.auto_hi < 9.0f, "a tail beyond the fence is cut at the 98th percentile: %g",
+          a.auto_hi);
+    for (int i = 0; i < N; i++)
+        v[i] = (float)(i % 100) / 100.0f;
+    v[17] = 1e6f, v[18] = -5e3f, v[19] = NAN;
+    lc_attribute_update_range(&a, N);
+    CHECK(a.min == -5e3f && a.max == 1e6f, "min/max keep the outliers");
+    CHECK(a.auto_lo == 0.0f && a.auto_hi == 0.99f,
+          "outliers cut off on both ends: [%g, %g]", a.auto_lo, a.auto_hi);
     free(v);
 
     lc_scene *s = lc_scene_create("budget", LC_PRIM_LINES);

@@ -22,10 +22,10 @@ export function legendModel(values, info) {
   const impAttr = imp.attribute || info?.defaultImportance || '';
   const colorRange = color.range ?? (colorAttr === 'importance' ? [0, 1] : attributeRange(info, colorAttr)) ?? [0, 1];
   // Without an explicit range the server maps importance from the attribute's
-  // 2nd-98th percentiles (params.normalize "auto", the default), else min/max.
-  const pct = (info?.attributes ?? []).find((x) => x?.name === impAttr)?.percentiles;
-  const robust = values?.params?.normalize !== 'off' && Array.isArray(pct) && pct[1] > pct[0];
-  const impRange = imp.range ?? (robust ? [...pct] : attributeRange(info, impAttr)) ?? [0, 1];
+  // auto range, min/max without the outliers (params.normalize "auto", the default), else min/max.
+  const auto = (info?.attributes ?? []).find((x) => x?.name === impAttr)?.autoRange;
+  const robust = values?.params?.normalize !== 'off' && Array.isArray(auto) && auto[1] > auto[0];
+  const impRange = imp.range ?? (robust ? [...auto] : attributeRange(info, impAttr)) ?? [0, 1];
   const exponent = imp.exponent ?? 1;
   const colormap = color.colormap ?? 'viridis';
   const background = values?.style?.background ?? [1, 1, 1];

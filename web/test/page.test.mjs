@@ -68,8 +68,8 @@ test('legend model: names, ranges, importance mapping and the opacity sentence',
   assert.deepEqual(m.importance.range, [0.5, 1]);
   assert.match(m.opacity, /g\^3/);
   assert.equal(legendModel({ color: { attribute: 'rgb' } }, info).clash, false);
-  // normalize auto (default) maps importance from the 2nd-98th percentiles the server reports; off from min/max.
-  const robust = { ...info, attributes: [{ name: 'line_curvature', range: [0.08, 1], percentiles: [0.15, 0.97] }] };
+  // normalize auto (default) maps importance from the auto range the server reports; off from min/max.
+  const robust = { ...info, attributes: [{ name: 'line_curvature', range: [0.08, 1], percentiles: [0.1, 0.9], autoRange: [0.15, 0.97] }] };
   assert.deepEqual(legendModel({}, robust).importance.range, [0.15, 0.97]);
   assert.deepEqual(legendModel({ params: { normalize: 'off' } }, robust).importance.range, [0.08, 1]);
   assert.match(importanceCurvePath(2), /^M0\.0,18\.0 L/);

@@ -27,7 +27,7 @@ void main()
     // Kept fragments are the nearest ones, so their front sums are exact too.
     float total = list_importance;
     float k = u_norm_mass > 0.0 && total > u_norm_mass ? u_norm_mass / total : 1.0;
-    float lambda = u_norm_mass > 0.0 ? (2.0 - k) * u_lambda : u_lambda; // as in P2 (foo_math.h)
+    float lambda = u_norm_mass > 0.0 ? (1.0 + 3.0 * (1.0 - k) * (1.0 - k)) * u_lambda : u_lambda; // as in P2 (foo_math.h)
     float front = 0.0;
     for (int i = 0; i < n; i++) {
         uvec4 node = nodes[list[i].y];

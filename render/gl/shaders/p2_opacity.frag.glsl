@@ -7,7 +7,7 @@ uniform float u_q;
 uniform float u_r;
 uniform float u_lambda;
 uniform int u_estimator; // 0 foo, 1 midpoint
-uniform float u_norm_mass; // normalize auto: reference mass (docs/ALGORITHM.md "Normalization"); 0 = off
+uniform float u_norm_mass; // normalize auto: reference mass (docs/ALGORITHM.md "Density normalization"); 0 = off
 
 void main()
 {
@@ -27,7 +27,7 @@ void main()
     // the sums count as fractions of it, so the layer count stops mattering,
     // and the emphasis exponent grows with the density (foo_math.h).
     float k = u_norm_mass > 0.0 && c[0] > u_norm_mass ? u_norm_mass / c[0] : 1.0;
-    float lambda = u_norm_mass > 0.0 ? (2.0 - k) * u_lambda : u_lambda;
+    float lambda = u_norm_mass > 0.0 ? (1.0 + 3.0 * (1.0 - k) * (1.0 - k)) * u_lambda : u_lambda;
     float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
     float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind));
     // Non-negative floats order like their bit patterns.

@@ -377,6 +377,15 @@ static void config_defaults(lc_serve_config *cfg)
 
 static lc_mpi *serve_mpi; /* --mpi: ended after everything else */
 
+/* serve --mpi on rank 0: the frame in hand waits for a rank that died, so the
+ * requests waiting for it get an answer that says so, not a closed connection. */
+#define MPI_ENDING "the MPI job is ending: a rank has died, hangs or was stopped (the log names it)"
+static void answer_before_abort(void *ctx, const char *msg)
+{
+    (void)msg;
+    lc_workers_abandon(((lc_server *)ctx)->workers, MPI_ENDING);
+}
+
 static int serve_main(int argc, char **argv)
 {
     static lc_server srv; /* one per process; static so signal-free code can reach it in a debugger */
@@ -482,6 +491,8 @@ static int serve_main(int argc, char **argv)
     int port = 0;
     if (rc == 0)
         rc = lc_http_start(&srv, &srv.http, &port, &err);
+    if (rc == 0 && srv.mpi)
+        lc_mpi_on_abort(srv.mpi, answer_before_abort, &srv);
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         lc_ws_destroy(srv.ws);
@@ -509,6 +520,9 @@ static int serve_main(int argc, char **argv)
         LC_WARN(MOD, "--mpi: %s received: ending the service on every rank (if a rank died, mpirun names it)",
                 sig == SIGINT ? "SIGINT" : "SIGTERM");
         lc_mpi_exit_guard(srv.mpi, 10.0);
+        /* mpirun follows its signal with SIGKILL about a second later: answer
+         * the frames in hand and the queue now rather than let them finish. */
+        lc_workers_abandon(srv.workers, MPI_ENDING);
     }
     atomic_store(&srv.stopping, 1);
 
@@ -517,8 +531,10 @@ static int serve_main(int argc, char **argv)
      * a close frame; 4. MHD answers the resumed requests and stops. */
     lc_http_quiesce(srv.http);
     lc_workers_stop(srv.workers);
-    if (srv.mpi)
+    if (srv.mpi) {
         lc_serve_mpi_stop(&srv);
+        lc_mpi_on_abort(srv.mpi, NULL, NULL); /* the pool and the WebSocket layer go next */
+    }
     lc_ws_shutdown(srv.ws, 2.0);
     lc_http_stop(srv.http);
     lc_ws_destroy(srv.ws);

@@ -52,6 +52,9 @@ typedef struct worker {
     bool started;
     lc_gl *gl;
     lc_renderer *renderer;
+    /* The frame being rendered (under the pool's lock), for lc_workers_abandon. */
+    lc_render_job *job;
+    lc_session *session;
 } worker;
 
 struct lc_workers {
@@ -352,9 +355,30 @@ static void finish_job(lc_render_job *job)
         job->done(job); /* the job belongs to its submitter again from here */
 }
 
+/* The frame a worker renders is "in hand" while the renderer runs: under MPI
+ * that is where a dead rank leaves it waiting, and lc_workers_abandon answers
+ * it from another thread. */
+static void in_hand(worker *wk, lc_render_job *job, lc_session *s)
+{
+    pthread_mutex_lock(&wk->pool->lock);
+    wk->job = job, wk->session = s;
+    pthread_mutex_unlock(&wk->pool->lock);
+}
+
+/* false when the job was abandoned meanwhile: it is answered, hands off. */
+static bool out_of_hand(worker *wk, lc_render_job *job)
+{
+    pthread_mutex_lock(&wk->pool->lock);
+    bool mine = !job || !job->abandoned;
+    wk->job = NULL, wk->session = NULL;
+    pthread_mutex_unlock(&wk->pool->lock);
+    return mine;
+}
+
 static void render_job(worker *wk, lc_render_job *job)
 {
     lc_workers *w = wk->pool;
+    lc_error err = {0};
     job->queue_ms = (lc_now() - job->submitted) * 1000.0;
     double deadline = w->srv->cfg.render_deadline;
     if (deadline > 0 && job->queue_ms > deadline * 1000.0) {
@@ -373,8 +397,15 @@ static void render_job(worker *wk, lc_render_job *job)
         return;
     }
     lc_frame_state *state = job->session ? job->session->frame_state : NULL;
-    job->rc =
-        lc_server_render_frame(w->srv, wk->renderer, job->dataset, p, state, job->dt, job->rgba, &job->info, &job->err);
+    in_hand(wk, job, NULL);
+    int rc = lc_server_render_frame(w->srv, wk->renderer, job->dataset, p, state, job->dt, job->rgba, &job->info, &err);
+    if (!out_of_hand(wk, job)) { /* lc_workers_abandon answered it */
+        free(job->rgba);
+        job->rgba = NULL;
+        return;
+    }
+    job->rc = rc;
+    job->err = err;
     if (job->rc != 0) {
         free(job->rgba);
         job->rgba = NULL;
@@ -427,8 +458,10 @@ static void render_session(worker *wk, lc_session *s)
     uint8_t *rgba = malloc((size_t)p->width * (size_t)p->height * 4);
     lc_frame_info info;
     lc_error err = {0};
+    in_hand(wk, NULL, s);
     int rc = rgba ? lc_server_render_frame(w->srv, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
                   : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
+    out_of_hand(wk, NULL);
     lc_session_stream_done(s, &f, rc == 0, rc == 0 ? &info : NULL);
     if (rc != 0) {
         free(rgba);
@@ -689,6 +722,55 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     LC_INFO(MOD, "%d render worker(s), %d encoder thread(s)", w->nworkers, w->encoders_started);
     *out = w;
     return 0;
+}
+
+void lc_workers_abandon(lc_workers *w, const char *why)
+{
+    if (!w)
+        return;
+    lc_render_job *jobs[64];
+    lc_session *sessions[64];
+    int nj = 0, ns = 0;
+    task *queued = NULL;
+    pthread_mutex_lock(&w->lock);
+    w->stopping = true;
+    pthread_cond_broadcast(&w->work);
+    for (int i = 0; i < w->nworkers; i++) {
+        worker *wk = &w->workers[i];
+        if (wk->job && !wk->job->abandoned && nj < 64) {
+            wk->job->abandoned = true;
+            jobs[nj++] = wk->job;
+        }
+        if (wk->session && ns < 64) {
+            lc_session_ref(wk->session);
+            sessions[ns++] = wk->session;
+        }
+    }
+    task *t;
+    while ((t = pop_task(w))) {
+        t->next = queued;
+        queued = t;
+    }
+    pthread_mutex_unlock(&w->lock);
+    for (int i = 0; i < nj; i++) {
+        jobs[i]->rc = lc_err(&jobs[i]->err, LC_ERR_UNSUPPORTED, "%s", why);
+        finish_job(jobs[i]);
+    }
+    for (int i = 0; i < ns; i++) {
+        send_stream_error(w->srv, sessions[i], "render_failed", why, NULL);
+        lc_session_unref(sessions[i]);
+    }
+    while ((t = queued)) {
+        queued = t->next;
+        if (t->job) {
+            t->job->rc = lc_err(&t->job->err, LC_ERR_UNSUPPORTED, "%s", why);
+            finish_job(t->job);
+        } else {
+            t->session->sched_queued = false;
+            lc_session_unref(t->session);
+        }
+        free(t);
+    }
 }
 
 void lc_workers_stop(lc_workers *w)

@@ -54,6 +54,7 @@ struct lc_render_job {
     double queue_ms; /* waiting for a worker */
     const char *refused; /* why submit or the deadline refused it: "queue", "client_queue", "deadline" */
     /* pool internals */
+    bool abandoned; /* answered by lc_workers_abandon while a worker held it */
     lc_render_job *next;
     double submitted;
     uint8_t *rgba;
@@ -71,6 +72,13 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int workers, int encoders,
  * delivered, fails queued HTTP jobs with LC_ERR_UNSUPPORTED ("shutting down"),
  * and joins every thread. Thread: main. */
 void lc_workers_stop(lc_workers *w);
+/* For a service that cannot go on (serve --mpi when a rank died): answers
+ * every queued HTTP job and the ones being rendered now with LC_ERR_UNSUPPORTED
+ * and `why`, sends `why` as an error to the WebSocket sessions being rendered,
+ * and accepts no more work. A worker stuck in its frame never touches an
+ * answered job again. Call lc_workers_stop afterwards as usual, unless the
+ * process is about to exit. Any thread. */
+void lc_workers_abandon(lc_workers *w, const char *why);
 /* After stop: destroys renderers, releases the datasets' GPU copies with the
  * primary context current on the calling thread, destroys the contexts. */
 void lc_workers_destroy(lc_workers *w, lc_datasets *datasets);

@@ -5,6 +5,7 @@
 
 #include <mpi.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +38,10 @@ struct lc_mpi {
     MPI_Op half_sum;
     _Float16 *half_buf;
     size_t half_cap;
+    /* lc_mpi_on_abort */
+    void (*_Atomic abort_hook)(void *ctx, const char *msg);
+    void *_Atomic abort_ctx;
+    _Atomic int aborting;
 };
 
 /* What rank 0 broadcasts before each frame of `serve --mpi`. The ranks run
@@ -210,10 +215,22 @@ void lc_mpi_finalize(lc_mpi *m)
     free(m);
 }
 
+void lc_mpi_on_abort(lc_mpi *m, void (*hook)(void *ctx, const char *msg), void *ctx)
+{
+    m->abort_hook = NULL;
+    m->abort_ctx = ctx;
+    m->abort_hook = hook;
+}
+
 void lc_mpi_abort(lc_mpi *m, int code, const char *msg)
 {
     LC_ERROR(MOD, "rank %d: %s", m ? m->rank : -1, msg);
     fflush(stderr);
+    void (*hook)(void *, const char *) = m ? m->abort_hook : NULL;
+    if (hook && atomic_exchange(&m->aborting, 1) == 0) {
+        hook(m->abort_ctx, msg);
+        sleep_us(500000); /* the HTTP and WebSocket threads send the answers */
+    }
     MPI_Abort(MPI_COMM_WORLD, code);
     _exit(code);
 }

@@ -29,8 +29,14 @@ int lc_mpi_available(void);
 int lc_mpi_init(lc_mpi **out, lc_error *err);
 /* Ends MPI (MPI_Finalize) and frees m. Collective. */
 void lc_mpi_finalize(lc_mpi *m);
-/* Logs msg on this rank and ends every rank of the job (MPI_Abort). */
+/* Logs msg on this rank and ends every rank of the job (MPI_Abort), after
+ * the hook of lc_mpi_on_abort (if any) has run and had half a second. */
 void lc_mpi_abort(lc_mpi *m, int code, const char *msg);
+/* Runs hook(ctx, msg) once on this rank before lc_mpi_abort ends the job: the
+ * daemon answers the requests in hand with msg instead of a closed connection.
+ * NULL clears it. The hook runs on whichever thread aborts (a watchdog, the
+ * exit guard, a reduction) and must not wait for the renderer. */
+void lc_mpi_on_abort(lc_mpi *m, void (*hook)(void *ctx, const char *msg), void *ctx);
 /* Milliseconds this rank spent in reductions since the last call: waiting for
  * the slowest rank (measured only with LUCENT_MPI_PROFILE=1, else 0 and
  * counted as transfer) and transferring/combining; resets both. */

@@ -22,6 +22,7 @@ void lc_mpi_abort(lc_mpi *m, int code, const char *msg)
     (void)m, (void)msg;
     exit(code);
 }
+void lc_mpi_on_abort(lc_mpi *m, void (*hook)(void *ctx, const char *msg), void *ctx) { (void)m, (void)hook, (void)ctx; }
 void lc_mpi_profile(lc_mpi *m, double *wait_ms, double *transfer_ms)
 {
     (void)m;

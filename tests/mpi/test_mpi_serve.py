@@ -2,9 +2,10 @@
 renders of lines, points and a surface, a scripted session whose opacities
 fade while the camera moves (the fading history travels with each frame), a
 WebSocket session, /datasets; then killing one rank during a session ends the
-service within seconds with a message naming the rank; ranks that see
-different dataset lists refuse to start; a hung rank ends the job after
-LUCENT_MPI_TIMEOUT seconds.
+service within seconds with a message naming the rank, and the render in
+flight is answered 503 with a message; ranks that see different dataset lists
+refuse to start; a hung rank ends the job after LUCENT_MPI_TIMEOUT seconds,
+with the request that waited for it answered 503.
 Usage: test_mpi_serve.py LUCENT RANKS"""
 import asyncio
 import json
@@ -169,6 +170,8 @@ try:
         check(st in (200, 201), "a session for the kill test")
         sid = info.get("session") if info else None
 
+        answers = []  # (status, body) of each render after the kill
+
         def load():  # a scripted session orbiting the data, frame after frame
             i = 0
             while not stop.is_set():
@@ -177,13 +180,19 @@ try:
                        "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 0, 1]}
                 i += 1
                 try:
-                    multi.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam},
-                                  timeout=30)
-                except Exception:
+                    st, _, body = multi.request("POST", "/api/v1/sessions/%s/render" % sid,
+                                                {"dt": 1 / 30, "camera": cam}, timeout=30)
+                    if killed.is_set():
+                        answers.append((st, body))
+                except Exception as e:
+                    if killed.is_set():
+                        answers.append((None, repr(e).encode()))
                     time.sleep(0.1)
+        killed = threading.Event()
         t = threading.Thread(target=load, daemon=True)
         t.start()
         time.sleep(2.0)
+        killed.set()
         os.kill(victim, signal.SIGKILL)
         t0 = time.time()
         try:
@@ -198,6 +207,11 @@ try:
         check(re.search(r"rank %d .*exited on signal 9" % (ranks - 1), text) is not None,
               "mpirun's message names the dead rank")
         check("ending the service" in text, "rank 0 logs that the service ends")
+        # The render that waited for the dead rank is answered, not dropped (a
+        # frame whose reductions were done before the kill still succeeds).
+        first = next((a for a in answers if a[0] != 200), (None, b"no failed render after the kill"))
+        check(first[0] == 503 and b"MPI job is ending" in first[1],
+              "the render that waited for the dead rank is answered %s: %s" % (first[0], first[1][:160]))
 
     # A rank that hangs (stopped, not dead: the runtime sees nothing) holds
     # rank 0's next reduction; the watchdog ends the job after
@@ -208,10 +222,10 @@ try:
         os.kill(victim, signal.SIGSTOP)
         t0 = time.time()
         try:
-            hung.request("POST", "/api/v1/render", {"dataset": "demo:points", "width": 64, "height": 48,
-                                                    "format": "png"}, timeout=30)
-        except Exception:
-            pass  # the connection closes when the job ends
+            answer = hung.request("POST", "/api/v1/render", {"dataset": "demo:points", "width": 64, "height": 48,
+                                                             "format": "png"}, timeout=30)
+        except Exception as e:
+            answer = (None, {}, repr(e).encode())
         try:
             rc = hung.proc.wait(30)
         except subprocess.TimeoutExpired:
@@ -222,6 +236,8 @@ try:
         check(rc is not None and took < 20 and "has waited 3 s for the other ranks" in text,
               "a hung rank: the watchdog ends the job in %.1f s (exit %s): %s" %
               (took, rc, next((line for line in hung.log if "has waited" in line), "no message")))
+        check(answer[0] == 503 and b"MPI job is ending" in answer[2],
+              "the request that waited for the hung rank is answered %s: %s" % (answer[0], answer[2][:160]))
     finally:
         if hung.proc.poll() is None:
             hung.proc.kill()

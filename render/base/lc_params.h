@@ -113,6 +113,7 @@ typedef struct lc_style {
 typedef struct lc_detail {
     double lod_pixels;    /* lines: largest screen error of the simplified polylines, output pixels; 0 = full */
     int point_stride;     /* points: every n-th point in every pass, weighted n in P1/P4; <= 1 = all */
+    bool uniform_points;  /* with a stride: thin the important points too (default: keep them, point_subset.c) */
     bool reuse_opacities; /* skip P1-P3: draw with the frame state's opacities when it has them */
 } lc_detail;
 

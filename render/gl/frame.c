@@ -84,8 +84,9 @@ void lc_renderer_destroy(lc_renderer *r)
     if (r->output_depth)
         glDeleteRenderbuffers(1, &r->output_depth);
     glDeleteFramebuffers(1, &r->nofb);
-    GLuint bufs[] = {r->element_alpha_min, r->element_alpha,  r->smooth_a,          r->smooth_b, r->stats,
-                     r->dummy_buffer,      r->mass_histogram, r->element_importance};
+    GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
+                     r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
+                     r->point_histogram,   r->point_list};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
@@ -292,6 +293,8 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
 
     ensure_element_buffers(r, s->elements.count);
     ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
+    if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
     /* The per-pixel depth range serves every method that normalizes depth. */
@@ -352,6 +355,9 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     info->element_count = s->elements.count;
     info->lod_level = fs.level;
     info->primitives_drawn = (gs->levels[fs.level].primitive_count + fs.point_stride - 1) / fs.point_stride;
+    /* The kept points replace the ones among them that the stride drew (about 1 in point_stride). */
+    info->primitives_drawn += fs.kept_points - fs.kept_points / (uint64_t)fs.point_stride;
+    info->kept_points = fs.kept_points;
     info->point_stride = fs.point_stride;
     info->pipeline_bytes = lc_renderer_bytes(r);
     info->wall_ms = (lc_now() - t0) * 1e3;

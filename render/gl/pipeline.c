@@ -117,6 +117,10 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_f(prog, "u_point_radius_px", radius > 0.75 ? radius : 0.75);
     lc_uniform_u(prog, "u_vertex_count", gs->scene->vertex_count);
     lc_uniform_u(prog, "u_subset", lc_renderer_subset(fs, subset));
+    lc_uniform_i(prog, "u_keep_bin", fs->kept_points ? fs->keep_bin : POINT_BINS + 1);
+    lc_uniform_i(prog, "u_point_list", 0);
+    if (fs->kept_points)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POINT_LIST, r->point_list);
     lc_uniform_i(prog, "u_importance_attr", fs->importance_attr);
     lc_uniform_v2(prog, "u_importance_range", fs->importance_range[0], fs->importance_range[1]);
     lc_uniform_f(prog, "u_importance_exp", fs->importance_exponent);
@@ -214,6 +218,31 @@ static void draw_strips(const lc_gpu_level *lv, uint64_t batch, GLsync in_flight
     }
 }
 
+/* The important points that a strided point draw leaves out
+ * (point_subset.c): every one, counted once (P1/P4's weight is the stride's,
+ * so it is set to 1 around this draw). */
+static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_flight[2])
+{
+    GLint prog = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
+    GLint weight_loc = glGetUniformLocation((GLuint)prog, "u_weight");
+    float weight = 1.0f;
+    if (weight_loc >= 0) {
+        glGetUniformfv((GLuint)prog, weight_loc, &weight);
+        glProgramUniform1f((GLuint)prog, weight_loc, 1.0f);
+    }
+    lc_uniform_i((GLuint)prog, "u_point_list", 1);
+    uint64_t n = fs->kept_points;
+    for (uint64_t first = 0, k = 0; first < n; first += batch, k++) {
+        draw_range(LC_PRIM_POINTS, 0, first, n - first < batch ? n - first : batch);
+        if (n > batch)
+            end_batch(in_flight, k);
+    }
+    lc_uniform_i((GLuint)prog, "u_point_list", 0);
+    if (weight_loc >= 0)
+        glProgramUniform1f((GLuint)prog, weight_loc, weight);
+}
+
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
 {
     lc_prim_type prim = fs->gs->scene->type;
@@ -245,6 +274,8 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
             if (drawn > batch)
                 end_batch(in_flight, k);
         }
+        if (prim == LC_PRIM_POINTS && fs->kept_points)
+            draw_point_list(fs, batch, in_flight);
     }
     for (int i = 0; i < 2; i++)
         if (in_flight[i])

@@ -114,6 +114,7 @@ typedef struct lc_frame_info {
     int lod_level;
     uint64_t primitives_drawn;
     int point_stride;
+    uint32_t kept_points; /* with a stride: the important points drawn in full (point_subset.c) */
     int reused_opacities;
     double max_alpha_change; /* max |delta| of element opacities this frame */
     int converged;           /* max_alpha_change < LC_CONVERGED_EPSILON */

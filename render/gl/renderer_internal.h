@@ -38,6 +38,8 @@
     X(BIND_MASS_HISTOGRAM, 16)                                                                                         \
     X(BIND_ELEMENT_IMPORTANCE, 17)                                                                                     \
     X(BIND_POSITION_CHUNKS, 18)                                                                                        \
+    X(BIND_POINT_HISTOGRAM, 19)                                                                                        \
+    X(BIND_POINT_LIST, 20)                                                                                             \
     X(TEX_COLORMAP, 0)     /* geometry passes */                                                                       \
     X(TEX_COEF_FIRST, 1)   /* first coefficient target sampled by the mass histogram */                                \
     X(TEX_PIXEL_RANGE, 6)  /* P0 output read by later passes */                                                        \
@@ -53,6 +55,7 @@
     X(MASS_BINS, 1024)                                                                                                 \
     X(MASS_BINS_PER_OCTAVE, 16)                                                                                        \
     X(MASS_LOG2_MIN, -24)                                                                                              \
+    X(POINT_BINS, 1024) /* importance bins of the point subsets (point_subset.c) */                                    \
     X(MAX_ATTRIBUTES, 32) /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */
 
 #define LC_GL_BINDING_ENUM(name, value) name = value,
@@ -125,6 +128,7 @@ typedef enum {
     PROG_WBOIT_RESOLVE,
     PROG_MASS_HISTOGRAM,
     PROG_ELEMENT_IMPORTANCE,
+    PROG_POINT_SELECT,
     PROG_FIXED_KINDS
 } lc_program_kind;
 
@@ -159,6 +163,21 @@ struct lc_renderer {
         int attr;
         double range[2], exponent;
     } importance_key;
+    /* point_subset.c: the importance histogram of the points under the
+     * mapping in its key, and the list of the points at or above keep_bin. */
+    GLuint point_histogram, point_list;
+    uint32_t point_list_capacity;
+    struct {
+        const lc_gpu_scene *gs;
+        int attr;
+        double range[2], exponent;
+        int valid;
+        uint32_t bins[POINT_BINS];
+    } point_hist;
+    struct {
+        int keep_bin;
+        uint32_t count;
+    } point_kept;
     GLuint timer_queries[LC_PASS_COUNT + 1];
     GLuint dummy_buffer;
     void *exact; /* exact.c's state */
@@ -192,9 +211,21 @@ typedef struct lc_frame_setup {
     int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
     int level;        /* level of detail of every geometry pass (gs->levels) */
     int point_stride; /* points: every n-th in every pass */
+    /* Importance-aware point subsets (point_subset.c): with a stride, the
+     * points in importance bin keep_bin or above are drawn in full from the
+     * renderer's point list (point_kept of them), the rest every n-th;
+     * keep_bin > POINT_BINS when the stride is uniform. */
+    int keep_bin;
+    uint32_t kept_points;
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
 } lc_frame_setup;
+
+/* ---- point_subset.c */
+/* Fills fs->keep_bin and fs->kept_points for a frame that thins points with
+ * fs->point_stride: the points whose importance lies in the top 1/(4 n) of
+ * the points (n the stride) are kept in full, where importance ranks them. */
+int lc_point_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 static inline void lc_uniform_f(GLuint prog, const char *name, double v)
 {

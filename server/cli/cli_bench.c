@@ -11,13 +11,14 @@ static void bench_usage(void)
 {
     fprintf(stderr,
             "usage: lucent bench [--size WxH] [--frames N] [--warmup N] [--datasets a,b,...] [--memory] [--device N]\n"
-            "                    [--interactive [--point-stride N]] [flags]\n"
+            "                    [--interactive [--point-stride N [--uniform-points]]] [flags]\n"
             "Renders every demo dataset (default 1024x1024, 10 timed frames after 2 warm-up frames) with a\n"
             "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n"
             "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n"
             "--interactive times the frames a session renders while the camera moves: the element\n"
             "opacities of the first warm-up frame are reused (P1-P3 skipped); with --lod PX (lines) and\n"
-            "--point-stride N (points: every n-th point) for the coarser detail of those frames.\n"
+            "--point-stride N (points: the most important 1/(4N) in full, every n-th of the rest;\n"
+            "--uniform-points: every n-th of all) for the coarser detail of those frames.\n"
             "--memory prints each dataset's bytes per vertex by kind (CPU arrays, GPU buffers, state).\n%s",
             lc_cli_flags_help);
 }
@@ -30,7 +31,8 @@ int lc_cli_bench(int argc, char **argv)
         return 1;
     if (!lc_cli_has_flag(argc, argv, "--request")) /* the benchmark's own default size */
         req.render.width = req.render.height = 1024;
-    int frames = 10, warmup = 2, have_list = 0, have_one = 0, show_memory = 0, interactive = 0, point_stride = 1;
+    int frames = 10, warmup = 2, have_list = 0, have_one = 0, show_memory = 0, interactive = 0, point_stride = 1,
+        uniform_points = 0;
     char datasets[512] = "";
     for (const char *const *d = lc_demo_names(); *d; d++)
         snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s", datasets[0] ? "," : "",
@@ -44,6 +46,8 @@ int lc_cli_bench(int argc, char **argv)
             interactive = 1;
         else if (strcmp(argv[i], "--point-stride") == 0 && i + 1 < argc)
             point_stride = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--uniform-points") == 0)
+            uniform_points = 1;
         else if (strcmp(argv[i], "--memory") == 0)
             show_memory = 1;
         else if (strcmp(argv[i], "--datasets") == 0 && i + 1 < argc)
@@ -72,6 +76,10 @@ int lc_cli_bench(int argc, char **argv)
     }
     if (point_stride > 1 && !interactive) {
         fprintf(stderr, "lucent bench: --point-stride applies to --interactive frames only\n");
+        return 2;
+    }
+    if (uniform_points && point_stride <= 1) {
+        fprintf(stderr, "lucent bench: --uniform-points applies to --point-stride N > 1 only\n");
         return 2;
     }
     lc_error err = {0};
@@ -127,6 +135,7 @@ int lc_cli_bench(int argc, char **argv)
                 if (interactive && f > 0) {
                     p.detail.reuse_opacities = true;
                     p.detail.point_stride = point_stride;
+                    p.detail.uniform_points = uniform_points;
                 }
                 if (lc_render_frame(g.renderer, gs, &p, st, 1.0 / 30.0, rgba, &info, &err) != 0) {
                     fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);

@@ -29,7 +29,10 @@ static void render_usage(void)
             "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
             "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
             "  --mpi                 under mpirun/srun: each rank renders its shard, rank 0 writes the image\n"
-            "                        (docs/MPI.md; methods fourier and direct)\n%s",
+            "                        (docs/MPI.md; methods fourier and direct)\n"
+            "  --point-stride N      points: draw as a session does while the camera moves: the most\n"
+            "                        important 1/(4N) of the points in full, every N-th of the rest\n"
+            "  --uniform-points      with --point-stride: every N-th of all points instead\n%s",
             lc_cli_flags_help);
 }
 
@@ -71,7 +74,7 @@ int lc_cli_render(int argc, char **argv)
     lc_request req;
     lc_cli_common common;
     const char *out = NULL;
-    int frames = 1, use_mpi = 0;
+    int frames = 1, use_mpi = 0, point_stride = 1, uniform_points = 0;
     double dt = 1.0 / 30.0;
     lc_error err = {0};
     if (lc_cli_begin("render", argc, argv, &req, &common) != 0)
@@ -88,6 +91,10 @@ int lc_cli_render(int argc, char **argv)
             use_mpi = 1;
         } else if (strcmp(a, "--dt") == 0 && i + 1 < argc) {
             dt = atof(argv[++i]);
+        } else if (strcmp(a, "--point-stride") == 0 && i + 1 < argc) {
+            point_stride = atoi(argv[++i]);
+        } else if (strcmp(a, "--uniform-points") == 0) {
+            uniform_points = 1;
         } else if (strcmp(a, "--help") == 0) {
             render_usage();
             return 0;
@@ -110,6 +117,12 @@ int lc_cli_render(int argc, char **argv)
         fprintf(stderr, "lucent render: --frames must be 1..100000 and --dt >= 0\n");
         return 2;
     }
+    if (point_stride < 1 || point_stride > 1024 || (uniform_points && point_stride == 1)) {
+        fprintf(stderr, "lucent render: --point-stride must be 1..1024; --uniform-points needs --point-stride > 1\n");
+        return 2;
+    }
+    req.render.detail.point_stride = point_stride;
+    req.render.detail.uniform_points = uniform_points;
     lc_scene *scene = NULL;
     lc_cli_gl g = {0};
     lc_mpi *mpi = NULL;
@@ -185,6 +198,10 @@ int lc_cli_render(int argc, char **argv)
                req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
                (unsigned long long)lc_scene_primitive_count(scene),
                scene->type == LC_PRIM_LINES ? "segments" : "triangles");
+    else if (info.point_stride > 1)
+        printf("  detail: %llu of %llu points (stride %d, %u important ones in full)\n",
+               (unsigned long long)info.primitives_drawn, (unsigned long long)lc_scene_primitive_count(scene),
+               info.point_stride, info.kept_points);
     if (mpi)
         printf("  mpi: %d ranks, %d reductions, %.1f MB per rank, %.2f ms in reductions (wall)\n", lc_mpi_size(mpi),
                info.reductions, info.reduce_bytes / 1e6, info.reduce_ms);

@@ -4,7 +4,10 @@
  *   closer camera picks a finer level;
  * - a frame that reuses the state's opacities skips P1-P3 and, with fading
  *   off, is pixel-identical to the frame that computed them;
- * - points drawn with a stride draw every n-th point. */
+ * - points drawn with a stride draw every n-th point, or (the default) the
+ *   most important in full and every n-th of the rest, closer to all. */
+#include <math.h>
+
 #include "demo.h"
 #include "image.h"
 #include "render_util.h"
@@ -139,16 +142,95 @@ static void point_stride(test_gl *t, uint8_t *a, uint8_t *b)
     lc_render_params p;
     lc_render_params_default(&p);
     p.width = p.height = 256;
-    lc_frame_info all, some;
+    lc_frame_info all, some, uniform;
     render(t, gs, &p, NULL, a, &all);
     p.detail.point_stride = 4;
-    render(t, gs, &p, NULL, b, &some);
-    CHECK(all.primitives_drawn == 40000 && some.primitives_drawn == 10000 && some.point_stride == 4,
+    p.detail.uniform_points = true;
+    render(t, gs, &p, NULL, b, &uniform);
+    CHECK(all.primitives_drawn == 40000 && uniform.primitives_drawn == 10000 && uniform.point_stride == 4 &&
+              uniform.kept_points == 0,
           "drew %llu and %llu points", (unsigned long long)all.primitives_drawn,
-          (unsigned long long)some.primitives_drawn);
+          (unsigned long long)uniform.primitives_drawn);
+    double ssim_uniform = lc_image_ssim(a, b, 256, 256);
+    /* Importance-aware (the default): the top 1/16 by importance in full, the
+     * rest every 4th; the kept ones replace the quarter of them the stride drew. */
+    p.detail.uniform_points = false;
+    render(t, gs, &p, NULL, b, &some);
+    CHECK(some.kept_points >= 2500 && some.kept_points <= 10000 &&
+              some.primitives_drawn == 10000 + some.kept_points - some.kept_points / 4,
+          "kept %u important points, drew %llu", some.kept_points, (unsigned long long)some.primitives_drawn);
     double ssim = lc_image_ssim(a, b, 256, 256);
-    printf("demo:points every 4th point: SSIM %.4f vs all\n", ssim);
-    CHECK(ssim > 0.5 && ssim < 0.9999, "stride 4 SSIM %.4f (expected a thinner but similar picture)", ssim);
+    printf("demo:points every 4th point: SSIM %.4f vs all, %.4f thinned uniformly (%u kept in full)\n", ssim,
+           ssim_uniform, some.kept_points);
+    CHECK(ssim_uniform > 0.5 && ssim_uniform < 0.9999, "stride 4 SSIM %.4f (expected a thinner but similar picture)",
+          ssim_uniform);
+    CHECK(ssim >= ssim_uniform - 1e-3 && ssim < 0.9999, "keeping the important points: SSIM %.4f vs %.4f uniform",
+          ssim, ssim_uniform);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
+/* Where it matters: a small cluster of important points (g = 0.8) in front
+ * of a faint cloud. Thinned uniformly, the cluster's points each count n times in P1, so
+ * they hide each other as if the cluster were n times denser and fade; kept in
+ * full, the cluster looks as with every point. */
+static void important_cluster(test_gl *t, uint8_t *a, uint8_t *b)
+{
+    enum { CLOUD = 36000, CLUSTER = 4000, N = CLOUD + CLUSTER, STRIDE = 8 };
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("cluster", LC_PRIM_POINTS);
+    float *imp = malloc(N * sizeof(float));
+    CHECK(s && imp && lc_scene_alloc_vertices(s, N, 0, &err) == 0, "scene: %s", err.msg);
+    uint32_t seed = 7;
+    for (int i = 0; i < N; i++) {
+        float u[3];
+        for (int k = 0; k < 3; k++) {
+            seed = seed * 1664525u + 1013904223u;
+            u[k] = (float)(seed >> 8) / 16777216.0f;
+        }
+        for (int k = 0; k < 3; k++) /* the cloud: a slab at the back; the cluster: a small cube in front of it */
+            s->positions[3 * i + k] = i < CLOUD ? (k == 2 ? 0.3f * u[k] : u[k]) : 0.45f + 0.1f * u[k];
+        imp[i] = i < CLOUD ? 0.05f : 0.8f;
+    }
+    CHECK(lc_scene_add_attribute(s, "importance", imp, &err) >= 0, "attribute: %s", err.msg);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    lc_gpu_scene *gs = NULL;
+    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
+    if (!gs) {
+        lc_scene_destroy(s);
+        return;
+    }
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = 256;
+    p.importance.has_range = true, p.importance.range[0] = 0, p.importance.range[1] = 1;
+    p.style.point_size = 3;
+    uint8_t *all = malloc(256 * 256 * 4);
+    lc_frame_info info;
+    render(t, gs, &p, NULL, all, &info);
+    p.detail.point_stride = STRIDE;
+    p.detail.uniform_points = true;
+    render(t, gs, &p, NULL, a, &info);
+    p.detail.uniform_points = false;
+    render(t, gs, &p, NULL, b, &info);
+    CHECK(info.kept_points == CLUSTER, "kept %u points, the cluster has %d", info.kept_points, CLUSTER);
+    /* The cluster's colour (viridis at 0.8, green) against the cloud's (dark
+     * purple): the pixels that show the cluster. */
+    int n_all = 0, n_uniform = 0, n_kept = 0;
+    for (size_t i = 0; i < 256 * 256; i++) {
+        const uint8_t *px[3] = {all + 4 * i, a + 4 * i, b + 4 * i};
+        int *n[3] = {&n_all, &n_uniform, &n_kept};
+        for (int k = 0; k < 3; k++)
+            *n[k] += px[k][1] > px[k][0] + 20 && px[k][1] > px[k][2] + 20 && px[k][1] > 80;
+    }
+    double s_uniform = lc_image_ssim(all, a, 256, 256), s_kept = lc_image_ssim(all, b, 256, 256);
+    printf("important cluster, every %dth point: %d pixels show it (all points), %d kept in full, %d thinned "
+           "uniformly; SSIM %.4f vs %.4f\n", STRIDE, n_all, n_kept, n_uniform, s_kept, s_uniform);
+    CHECK(n_all > 20 && abs(n_kept - n_all) * 5 <= n_all, "kept in full, the cluster shows in %d pixels, all in %d",
+          n_kept, n_all);
+    CHECK(n_uniform * 2 < n_all, "thinned uniformly, the cluster shows in %d pixels, all in %d", n_uniform, n_all);
+    CHECK(s_kept > s_uniform, "SSIM %.4f kept vs %.4f uniform", s_kept, s_uniform);
+    free(all);
     lc_gpu_scene_destroy(gs);
     lc_scene_destroy(s);
 }
@@ -163,6 +245,7 @@ int main(void)
     surface_levels(&t, a, b);
     reuse_opacities(&t, a, b);
     point_stride(&t, a, b);
+    important_cluster(&t, a, b);
     free(a);
     free(b);
     test_gl_close(&t);

@@ -129,6 +129,12 @@ rows=$(grep -c '^demo:' "$tmp/out")
 # A flag that would go unused is refused, not ignored.
 expect_fail "bench --dataset and --datasets" "not both" "$LUCENT" bench --dataset demo:abc --datasets abc --size 16x16
 expect_fail "bench --point-stride alone" "interactive frames only" "$LUCENT" bench --point-stride 2 --size 16x16
+expect_fail "bench --uniform-points alone" "point-stride N > 1" "$LUCENT" bench --interactive --uniform-points \
+  --size 16x16
+expect_fail "render --uniform-points alone" "needs --point-stride" "$LUCENT" render --dataset demo:points \
+  --uniform-points --size 16x16 --out "$tmp/x.png"
+expect_fail "render --point-stride 0" "must be 1..1024" "$LUCENT" render --dataset demo:points --point-stride 0 \
+  --size 16x16 --out "$tmp/x.png"
 
 # 7. No usable EGL: a clear message naming EGL and what to install; a device that does not exist.
 expect_fail "no EGL vendor" "EGL.*install" env __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json \

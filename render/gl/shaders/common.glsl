@@ -71,6 +71,9 @@ uniform float u_point_radius_px; // splat radius in pixels at this pass's resolu
 uniform uint u_vertex_count;
 uniform uint u_subset;           // every n-th primitive (P1/P4 subset option)
 uniform uint u_first_primitive;  // points: first instance of this draw (large draws are batched)
+uniform int u_keep_bin;          // points drawn with a stride: those in this importance bin or above are
+                                 // drawn from the point list instead (POINT_BINS bins; > POINT_BINS: none)
+uniform int u_point_list;        // 1: this draw's instances are the point list's entries
 uniform int u_importance_attr;   // -1: g = 1
 uniform vec2 u_importance_range;
 uniform float u_importance_exp;
@@ -100,6 +103,9 @@ float vertex_importance(uint v)
     float t = span != 0.0 ? (attribute_value(u_importance_attr, v) - u_importance_range.x) / span : 1.0;
     return pow(clamp(t, 0.0, 1.0), u_importance_exp);
 }
+
+// Importance bin of g for the point subsets (point_subset.c).
+int point_bin(float g) { return min(int(g * float(POINT_BINS)), POINT_BINS - 1); }
 
 // Scalar that the fragment shader maps through the colormap (or unused for rgb).
 float vertex_color_scalar(uint v, float g)

@@ -73,11 +73,22 @@ void ribbon_vertex(uint v, float side_sign)
     v_quad = vec2(side_sign * clamp((width_px - 1.0) / 4.0, 0.0, 0.85), 0.0);
 }
 
+#if PRIM == PRIM_POINTS
+layout(std430, binding = BIND_POINT_LIST) readonly buffer PointList { uint point_count; uint point_list[]; };
+#endif
+
 void main()
 {
 #if PRIM == PRIM_POINTS
-    // Instanced triangle strip: one instance per (subset-th) point, 4 corners.
-    uint v = (u_first_primitive + uint(gl_InstanceID)) * u_subset;
+    // Instanced triangle strip: one instance per (subset-th) point, 4 corners;
+    // or per entry of the list of important points, which the strided draw
+    // then leaves out (they would count twice).
+    uint v = u_point_list != 0 ? point_list[u_first_primitive + uint(gl_InstanceID)]
+                               : (u_first_primitive + uint(gl_InstanceID)) * u_subset;
+    if (u_point_list == 0 && u_keep_bin <= POINT_BINS - 1 && point_bin(vertex_importance(v)) >= u_keep_bin) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
     vec2 q = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
     emit(v, vertex_position(v));
     gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;

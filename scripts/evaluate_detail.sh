@@ -146,6 +146,7 @@ MD
             --seconds 10 --no-encode | grep -v '^daemon:'
         echo '```'
     done
+    echo
 }
 
 if [[ -z "$doc" ]]; then

@@ -98,7 +98,11 @@ void lc_renderer_destroy(lc_renderer *r)
     free(r);
 }
 
-uint64_t lc_renderer_bytes(const lc_renderer *r) { return r->bytes_targets + r->bytes_elements; }
+uint64_t lc_renderer_bytes(const lc_renderer *r)
+{
+    uint64_t points = r->point_histogram ? POINT_BINS * 4 + ((uint64_t)r->point_list_capacity + 1) * 4 : 0;
+    return r->bytes_targets + r->bytes_elements + points;
+}
 
 uint64_t lc_renderer_element_bytes(const lc_renderer *r)
 {

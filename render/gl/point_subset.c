@@ -19,7 +19,7 @@ static int same_mapping(const lc_renderer *r, const lc_frame_setup *fs)
            r->point_hist.exponent == fs->importance_exponent;
 }
 
-static int histogram(lc_renderer *r, lc_frame_setup *fs, GLuint prog)
+static void histogram(lc_renderer *r, lc_frame_setup *fs, GLuint prog)
 {
     if (!r->point_histogram) {
         glCreateBuffers(1, &r->point_histogram);
@@ -41,7 +41,6 @@ static int histogram(lc_renderer *r, lc_frame_setup *fs, GLuint prog)
     r->point_hist.exponent = fs->importance_exponent;
     r->point_hist.valid = 1;
     r->point_kept.keep_bin = -1; /* the list belongs to the old mapping */
-    return 0;
 }
 
 /* The lowest bin whose points and those above number at least `want`,
@@ -100,8 +99,8 @@ int lc_point_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     GLuint prog = lc_renderer_fixed_program(r, PROG_POINT_SELECT, err);
     if (!prog)
         return LC_ERR_GL;
-    if (!same_mapping(r, fs) && histogram(r, fs, prog) != 0)
-        return LC_ERR_GL;
+    if (!same_mapping(r, fs))
+        histogram(r, fs, prog);
     /* Kept in full: about n / (4 stride) points, at most n / stride (ties in
      * a bin, e.g. the values clamped to g = 1, can make a bin large). */
     uint32_t count = 0;

@@ -52,9 +52,11 @@ typedef struct worker {
     bool started;
     lc_gl *gl;
     lc_renderer *renderer;
-    /* The frame being rendered (under the pool's lock), for lc_workers_abandon. */
+    /* The frame being rendered (under the pool's lock), for lc_workers_abandon;
+     * lost: that function answered the job meanwhile. */
     lc_render_job *job;
     lc_session *session;
+    bool lost;
 } worker;
 
 struct lc_workers {
@@ -365,12 +367,13 @@ static void in_hand(worker *wk, lc_render_job *job, lc_session *s)
     pthread_mutex_unlock(&wk->pool->lock);
 }
 
-/* false when the job was abandoned meanwhile: it is answered, hands off. */
-static bool out_of_hand(worker *wk, lc_render_job *job)
+/* false when the job was abandoned meanwhile: it is answered (and perhaps
+ * freed by its submitter), hands off. */
+static bool out_of_hand(worker *wk)
 {
     pthread_mutex_lock(&wk->pool->lock);
-    bool mine = !job || !job->abandoned;
-    wk->job = NULL, wk->session = NULL;
+    bool mine = !wk->lost;
+    wk->job = NULL, wk->session = NULL, wk->lost = false;
     pthread_mutex_unlock(&wk->pool->lock);
     return mine;
 }
@@ -388,22 +391,33 @@ static void render_job(worker *wk, lc_render_job *job)
         finish_job(job);
         return;
     }
-    const lc_render_params *p = &job->req.render;
-    size_t bytes = (size_t)p->width * (size_t)p->height * 4;
-    job->rgba = malloc(bytes);
-    if (!job->rgba) {
+    /* While in hand the frame reads and writes only its own copies (and holds
+     * the session): lc_workers_abandon may hand the job back meanwhile. */
+    const lc_render_params params = job->req.render, *p = &params;
+    const lc_dataset *dataset = job->dataset;
+    double dt = job->dt;
+    lc_session *session = job->session;
+    uint8_t *rgba = malloc((size_t)p->width * (size_t)p->height * 4);
+    if (!rgba) {
         job->rc = lc_err(&job->err, LC_ERR_NOMEM, "out of memory for a %dx%d image", p->width, p->height);
         finish_job(job);
         return;
     }
-    lc_frame_state *state = job->session ? job->session->frame_state : NULL;
+    if (session)
+        lc_session_ref(session);
+    lc_frame_info info;
     in_hand(wk, job, NULL);
-    int rc = lc_server_render_frame(w->srv, wk->renderer, job->dataset, p, state, job->dt, job->rgba, &job->info, &err);
-    if (!out_of_hand(wk, job)) { /* lc_workers_abandon answered it */
-        free(job->rgba);
-        job->rgba = NULL;
+    int rc = lc_server_render_frame(w->srv, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
+                                    &info, &err);
+    int mine = out_of_hand(wk);
+    if (session)
+        lc_session_unref(session);
+    if (!mine) { /* lc_workers_abandon answered it; the job is not ours to touch */
+        free(rgba);
         return;
     }
+    job->rgba = rgba;
+    job->info = info;
     job->rc = rc;
     job->err = err;
     if (job->rc != 0) {
@@ -461,7 +475,7 @@ static void render_session(worker *wk, lc_session *s)
     in_hand(wk, NULL, s);
     int rc = rgba ? lc_server_render_frame(w->srv, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
                   : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
-    out_of_hand(wk, NULL);
+    out_of_hand(wk);
     lc_session_stream_done(s, &f, rc == 0, rc == 0 ? &info : NULL);
     if (rc != 0) {
         free(rgba);
@@ -737,9 +751,9 @@ void lc_workers_abandon(lc_workers *w, const char *why)
     pthread_cond_broadcast(&w->work);
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];
-        if (wk->job && !wk->job->abandoned && nj < 64) {
-            wk->job->abandoned = true;
+        if (wk->job && nj < 64) {
             jobs[nj++] = wk->job;
+            wk->job = NULL, wk->lost = true;
         }
         if (wk->session && ns < 64) {
             lc_session_ref(wk->session);

@@ -54,7 +54,6 @@ struct lc_render_job {
     double queue_ms; /* waiting for a worker */
     const char *refused; /* why submit or the deadline refused it: "queue", "client_queue", "deadline" */
     /* pool internals */
-    bool abandoned; /* answered by lc_workers_abandon while a worker held it */
     lc_render_job *next;
     double submitted;
     uint8_t *rgba;

@@ -73,61 +73,94 @@ static void compute_bounds(lc_scene *s)
 
 #define PCT_BINS 4096
 
-/* The values of v in [a, b] (n of them) spread evenly over their own extent:
- * the one value itself when they are all equal (integer codes, a clamped
- * attribute), so a percentile never lands between equal values. */
-static float spread_in_bin(const float *v, uint32_t n, double a, double b, uint32_t count, double rank_in_bin)
-{
-    float vmin = INFINITY, vmax = -INFINITY;
-    for (uint32_t i = 0; i < n; i++)
-        if (v[i] >= a && v[i] <= b) {
-            vmin = v[i] < vmin ? v[i] : vmin;
-            vmax = v[i] > vmax ? v[i] : vmax;
-        }
-    if (!(vmax > vmin))
-        return vmin <= vmax ? vmin : (float)a;
-    return (float)(vmin + (vmax - vmin) * ((rank_in_bin + 0.5) / count));
-}
+#define PCT_MAX 4 /* quantiles refined together by lc_scene_percentiles */
 
-/* Value of rank p * (finite count - 1) among the finite values in [lo, hi]:
- * a histogram over [lo, hi], then one over the bin that holds the rank, and so
- * on until a bin is narrow against its values or the whole range (an outlier
- * that stretches the range to 1e30 costs a few more passes, not precision),
- * with 16 KiB of bins and no copy of the values. */
-float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double p)
+/* Values of ranks p[q] * (finite count - 1) among the finite values in [lo,
+ * hi]: a histogram over [lo, hi], then one over the bin that holds each rank,
+ * and so on until a bin is narrow against its values or the whole range (an
+ * outlier that stretches the range to 1e30 costs a few more passes, not
+ * precision), with no copy of the values. The first level's histogram serves
+ * every rank. Each bin also keeps the least and greatest value in it, and a
+ * rank's final bin is spread evenly over those: the one value itself when they
+ * are all equal (integer codes, a clamped attribute), so a percentile never
+ * lands between equal values. */
+static void percentiles(const float *v, uint32_t n, float lo, float hi, const double *p, int np, float *out)
 {
-    static _Thread_local uint32_t hist[PCT_BINS];
-    double a = lo, b = hi, narrow = 1e-7 * ((double)hi - lo);
-    uint64_t below = 0, finite = 0;
+    static _Thread_local uint32_t hist[PCT_MAX][PCT_BINS];
+    static _Thread_local float bmin[PCT_MAX][PCT_BINS], bmax[PCT_MAX][PCT_BINS];
+    double a[PCT_MAX], b[PCT_MAX], rank[PCT_MAX], narrow = 1e-7 * ((double)hi - lo);
+    uint64_t below[PCT_MAX];
+    int active[PCT_MAX];
+    uint64_t finite = 0;
     for (uint32_t i = 0; i < n; i++)
         finite += isfinite(v[i]) != 0;
-    if (finite == 0 || !(b > a))
-        return lo;
-    double rank = p * (double)(finite - 1);
-    for (int level = 0; level < 12; level++) {
-        memset(hist, 0, sizeof hist);
-        double scale = PCT_BINS / (b - a);
-        for (uint32_t i = 0; i < n; i++) {
-            double x = v[i];
-            if (!(x >= a && x <= b)) /* outside, or NaN */
-                continue;
-            long k = (long)((x - a) * scale);
-            hist[k < PCT_BINS ? k : PCT_BINS - 1]++;
-        }
-        uint64_t acc = below;
-        int k = 0;
-        while (k < PCT_BINS - 1 && (double)(acc + hist[k]) <= rank)
-            acc += hist[k++];
-        below = acc;
-        double w = (b - a) / PCT_BINS;
-        a = a + k * w;
-        b = a + w;
-        if (hist[k] == 0)
-            return (float)a;
-        if (w <= 1e-6 * fmax(fabs(a), fabs(b)) || w <= narrow || hist[k] == 1 || level == 11)
-            return spread_in_bin(v, n, a, b, hist[k], rank - (double)acc);
+    for (int q = 0; q < np; q++) {
+        out[q] = lo;
+        a[q] = lo, b[q] = hi, below[q] = 0;
+        rank[q] = p[q] * (double)(finite ? finite - 1 : 0);
+        active[q] = finite > 0 && hi > lo;
     }
-    return (float)a;
+    for (int level = 0; level < 12; level++) {
+        int shared = level == 0 ? 1 : np; /* the first window is [lo, hi] for every rank */
+        for (int q = 0; q < shared; q++) {
+            if (!active[q])
+                continue;
+            uint32_t *h = hist[q];
+            float *mn = bmin[q], *mx = bmax[q];
+            memset(h, 0, sizeof hist[q]);
+            for (int k = 0; k < PCT_BINS; k++)
+                mn[k] = INFINITY, mx[k] = -INFINITY;
+            double wa = a[q], wb = b[q], scale = PCT_BINS / (wb - wa);
+            for (uint32_t i = 0; i < n; i++) {
+                float x = v[i];
+                if (!(x >= wa && x <= wb)) /* outside, or NaN */
+                    continue;
+                long k = (long)((x - wa) * scale);
+                k = k < PCT_BINS ? k : PCT_BINS - 1;
+                h[k]++;
+                mn[k] = x < mn[k] ? x : mn[k];
+                mx[k] = x > mx[k] ? x : mx[k];
+            }
+        }
+        for (int q = shared; q < np; q++) {
+            memcpy(hist[q], hist[0], sizeof hist[q]);
+            memcpy(bmin[q], bmin[0], sizeof bmin[q]);
+            memcpy(bmax[q], bmax[0], sizeof bmax[q]);
+        }
+        int any = 0;
+        for (int q = 0; q < np; q++) {
+            if (!active[q])
+                continue;
+            uint64_t acc = below[q];
+            int k = 0;
+            while (k < PCT_BINS - 1 && (double)(acc + hist[q][k]) <= rank[q])
+                acc += hist[q][k++];
+            below[q] = acc;
+            double w = (b[q] - a[q]) / PCT_BINS;
+            a[q] += k * w;
+            b[q] = a[q] + w;
+            uint32_t count = hist[q][k];
+            float vmin = bmin[q][k], vmax = bmax[q][k];
+            out[q] = (float)a[q];
+            if (count == 0) {
+                active[q] = 0;
+            } else if (vmin == vmax || w <= 1e-6 * fmax(fabs(a[q]), fabs(b[q])) || w <= narrow || level == 11) {
+                double in_bin = rank[q] - (double)acc;
+                out[q] = vmax > vmin ? (float)(vmin + (vmax - vmin) * ((in_bin + 0.5) / count)) : vmin;
+                active[q] = 0;
+            }
+            any |= active[q];
+        }
+        if (!any)
+            break;
+    }
+}
+
+float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double p)
+{
+    float out;
+    percentiles(v, n, lo, hi, &p, 1, &out);
+    return out;
 }
 
 void lc_attribute_update_range(lc_attribute *a, uint32_t n)
@@ -146,12 +179,13 @@ void lc_attribute_update_range(lc_attribute *a, uint32_t n)
         lo = hi = 0.0f;
     a->min = lo;
     a->max = hi;
-    a->p02 = lc_scene_percentile(a->values, n, lo, hi, 0.02);
-    a->p98 = lc_scene_percentile(a->values, n, lo, hi, 0.98);
+    static const double ranks[4] = {0.02, 0.25, 0.75, 0.98};
+    float pct[4];
+    percentiles(a->values, n, lo, hi, ranks, 4, pct);
+    a->p02 = pct[0], a->p98 = pct[3];
     /* The auto range: each end at the farther of its percentile and the last
      * value inside Tukey's far-out fence (a box plot's whisker). */
-    double q1 = lc_scene_percentile(a->values, n, lo, hi, 0.25);
-    double q3 = lc_scene_percentile(a->values, n, lo, hi, 0.75);
+    double q1 = pct[1], q3 = pct[2];
     double fence_lo = q1 - 3.0 * (q3 - q1), fence_hi = q3 + 3.0 * (q3 - q1);
     float whisker_lo = a->p02, whisker_hi = a->p98;
     for (uint32_t i = 0; i < n; i++) {

@@ -37,8 +37,8 @@ double lc_foo_optimal_alpha(double g, double front, double behind, double q, dou
  * exceeds LC_NORM_REFERENCE_MASS has its front and behind sums scaled by
  * LC_NORM_REFERENCE_MASS / total = k, and the emphasis exponent grows with the
  * density to lambda (1 + LC_NORM_EMPHASIS (1 - k)^2): the paper's where the
- * sums are not scaled, barely more in moderately dense pixels, 4 lambda in the
- * densest. The shaders repeat the formula (p2_opacity, exact_opacity). */
+ * sums are not scaled, little more where they are scaled a little, 4 lambda in
+ * the densest. The shaders repeat the formula (p2_opacity, exact_opacity). */
 #define LC_NORM_REFERENCE_MASS 0.55
 #define LC_NORM_EMPHASIS 3.0
 /* The reference mass the shaders use (0 = normalization off). */

@@ -72,6 +72,7 @@ struct lc_workers {
     int ready_count, failed;
     lc_error start_err;
     bool stopping;
+    bool abandoned; /* lc_workers_abandon ran (the watchdog and mpirun's signal may both call it) */
     flow *ring_head, *ring_tail; /* clients with queued tasks, next to serve first */
     int jobs_queued, tasks_queued, flows;
     double cost_rate; /* learned cost units per second of render time (0 = none measured yet) */
@@ -747,7 +748,11 @@ void lc_workers_abandon(lc_workers *w, const char *why)
     int nj = 0, ns = 0;
     task *queued = NULL;
     pthread_mutex_lock(&w->lock);
-    w->stopping = true;
+    if (w->abandoned) {
+        pthread_mutex_unlock(&w->lock);
+        return;
+    }
+    w->abandoned = w->stopping = true;
     pthread_cond_broadcast(&w->work);
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];
@@ -770,21 +775,26 @@ void lc_workers_abandon(lc_workers *w, const char *why)
         jobs[i]->rc = lc_err(&jobs[i]->err, LC_ERR_UNSUPPORTED, "%s", why);
         finish_job(jobs[i]);
     }
-    for (int i = 0; i < ns; i++) {
+    for (int i = 0; i < ns; i++)
         send_stream_error(w->srv, sessions[i], "render_failed", why, NULL);
-        lc_session_unref(sessions[i]);
-    }
     while ((t = queued)) {
         queued = t->next;
         if (t->job) {
             t->job->rc = lc_err(&t->job->err, LC_ERR_UNSUPPORTED, "%s", why);
             finish_job(t->job);
         } else {
+            int told = 0; /* a session can be queued again while its frame is in hand */
+            for (int i = 0; i < ns; i++)
+                told |= sessions[i] == t->session;
             t->session->sched_queued = false;
+            if (!told)
+                send_stream_error(w->srv, t->session, "render_failed", why, NULL);
             lc_session_unref(t->session);
         }
         free(t);
     }
+    for (int i = 0; i < ns; i++)
+        lc_session_unref(sessions[i]);
 }
 
 void lc_workers_stop(lc_workers *w)

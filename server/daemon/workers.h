@@ -73,8 +73,8 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int workers, int encoders,
 void lc_workers_stop(lc_workers *w);
 /* For a service that cannot go on (serve --mpi when a rank died): answers
  * every queued HTTP job and the ones being rendered now with LC_ERR_UNSUPPORTED
- * and `why`, sends `why` as an error to the WebSocket sessions being rendered,
- * and accepts no more work. A worker stuck in its frame never touches an
+ * and `why`, sends `why` as an error to the WebSocket sessions being rendered
+ * or queued for a frame, and accepts no more work. A worker stuck in its frame never touches an
  * answered job again. Call lc_workers_stop afterwards as usual, unless the
  * process is about to exit. Any thread. */
 void lc_workers_abandon(lc_workers *w, const char *why);

@@ -5,7 +5,8 @@ WebSocket session, /datasets; then killing one rank during a session ends the
 service within seconds with a message naming the rank, and the render in
 flight is answered 503 with a message; ranks that see different dataset lists
 refuse to start; a hung rank ends the job after LUCENT_MPI_TIMEOUT seconds,
-with the request that waited for it answered 503.
+with the request that waited for it answered 503 and a WebSocket session told
+why.
 Usage: test_mpi_serve.py LUCENT RANKS"""
 import asyncio
 import json
@@ -217,8 +218,38 @@ try:
     # rank 0's next reduction; the watchdog ends the job after
     # LUCENT_MPI_TIMEOUT seconds with a message.
     hung = MpiServer(lucent, ranks, ["demo:points"], DEMO_SIZE, env={"LUCENT_MPI_TIMEOUT": "3"})
+    ws_frames, ws_errors, ws_streaming = [0], [], threading.Event()
+
+    def ws_client():  # a WebSocket session that keeps asking for frames while the rank hangs
+        async def run():
+            async with websockets.connect(hung.ws_url, max_size=None) as ws:
+                await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 96, "height": 72,
+                                          "devicePixelRatio": 1}))
+                seq, end = 0, time.time() + 40
+                while time.time() < end:
+                    try:
+                        m = await asyncio.wait_for(ws.recv(), 2.0)
+                    except asyncio.TimeoutError:
+                        m = None
+                    if isinstance(m, (bytes, bytearray)):
+                        header, _ = unpack_frame(m)
+                        ws_frames[0] += 1
+                        ws_streaming.set()
+                        await ws.send(json.dumps({"type": "ack", "frame": header["frame"]}))
+                    elif m is not None and json.loads(m).get("type") == "error":
+                        ws_errors.append(json.loads(m))
+                    seq += 1
+                    await ws.send(json.dumps({"type": "camera", "seq": seq, "camera": {
+                        "position": [0.5, 0.5, 2.0 + 0.01 * seq], "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}}))
+        try:
+            asyncio.run(run())
+        except Exception as e:  # the connection ends with the job
+            ws_errors.append({"exception": repr(e)})
     try:
         victim = hung.rank_pid(ranks - 1)
+        if websockets:
+            threading.Thread(target=ws_client, daemon=True).start()
+            check(ws_streaming.wait(60), "a WebSocket session streams before the rank hangs")
         os.kill(victim, signal.SIGSTOP)
         t0 = time.time()
         try:
@@ -238,6 +269,9 @@ try:
               (took, rc, next((line for line in hung.log if "has waited" in line), "no message")))
         check(answer[0] == 503 and b"MPI job is ending" in answer[2],
               "the request that waited for the hung rank is answered %s: %s" % (answer[0], answer[2][:160]))
+        if websockets:
+            check(any("MPI job is ending" in e.get("message", "") for e in ws_errors),
+                  "the WebSocket session (%d frames) is told why: %s" % (ws_frames[0], ws_errors[:2]))
     finally:
         if hung.proc.poll() is None:
             hung.proc.kill()

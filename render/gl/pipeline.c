@@ -219,18 +219,12 @@ static void draw_strips(const lc_gpu_level *lv, uint64_t batch, GLsync in_flight
 }
 
 /* The important points that a strided point draw leaves out
- * (point_subset.c): every one, counted once (P1/P4's weight is the stride's,
- * so it is set to 1 around this draw). */
+ * (point_subset.c): every one, counted once in P1/P4 (draw_weight in
+ * fragment_common.glsl). */
 static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_flight[2])
 {
     GLint prog = 0;
     glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
-    GLint weight_loc = glGetUniformLocation((GLuint)prog, "u_weight");
-    float weight = 1.0f;
-    if (weight_loc >= 0) {
-        glGetUniformfv((GLuint)prog, weight_loc, &weight);
-        glProgramUniform1f((GLuint)prog, weight_loc, 1.0f);
-    }
     lc_uniform_i((GLuint)prog, "u_point_list", 1);
     uint64_t n = fs->kept_points;
     for (uint64_t first = 0, k = 0; first < n; first += batch, k++) {
@@ -239,8 +233,6 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
             end_batch(in_flight, k);
     }
     lc_uniform_i((GLuint)prog, "u_point_list", 0);
-    if (weight_loc >= 0)
-        glProgramUniform1f((GLuint)prog, weight_loc, weight);
 }
 
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)

@@ -739,6 +739,22 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     return 0;
 }
 
+/* A queued task that will not run: its HTTP job fails with `why`; a session
+ * leaves the queue, told `why` as an error when `tell`. Frees t. */
+static void fail_task(lc_workers *w, task *t, const char *why, bool tell)
+{
+    if (t->job) {
+        t->job->rc = lc_err(&t->job->err, LC_ERR_UNSUPPORTED, "%s", why);
+        finish_job(t->job);
+    } else {
+        t->session->sched_queued = false;
+        if (tell)
+            send_stream_error(w->srv, t->session, "render_failed", why, NULL);
+        lc_session_unref(t->session);
+    }
+    free(t);
+}
+
 void lc_workers_abandon(lc_workers *w, const char *why)
 {
     if (!w)
@@ -779,19 +795,10 @@ void lc_workers_abandon(lc_workers *w, const char *why)
         send_stream_error(w->srv, sessions[i], "render_failed", why, NULL);
     while ((t = queued)) {
         queued = t->next;
-        if (t->job) {
-            t->job->rc = lc_err(&t->job->err, LC_ERR_UNSUPPORTED, "%s", why);
-            finish_job(t->job);
-        } else {
-            int told = 0; /* a session can be queued again while its frame is in hand */
-            for (int i = 0; i < ns; i++)
-                told |= sessions[i] == t->session;
-            t->session->sched_queued = false;
-            if (!told)
-                send_stream_error(w->srv, t->session, "render_failed", why, NULL);
-            lc_session_unref(t->session);
-        }
-        free(t);
+        bool told = false; /* a session can be queued again while its frame is in hand */
+        for (int i = 0; i < ns; i++)
+            told |= sessions[i] == t->session;
+        fail_task(w, t, why, !told);
     }
     for (int i = 0; i < ns; i++)
         lc_session_unref(sessions[i]);
@@ -816,14 +823,7 @@ void lc_workers_stop(lc_workers *w)
     task *t;
     while ((t = pop_task(w))) {
         pthread_mutex_unlock(&w->lock);
-        if (t->job) {
-            t->job->rc = lc_err(&t->job->err, LC_ERR_UNSUPPORTED, "the server is shutting down");
-            finish_job(t->job);
-        } else {
-            t->session->sched_queued = false;
-            lc_session_unref(t->session);
-        }
-        free(t);
+        fail_task(w, t, "the server is shutting down", false);
         pthread_mutex_lock(&w->lock);
     }
     while (w->timed)

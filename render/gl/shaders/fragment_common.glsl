@@ -25,6 +25,11 @@ uint fragment_element() { return v_primary.x; }
 
 float fragment_importance() { return clamp(v_g, 0.0, 1.0); }
 
+// The weight of a fragment in P1/P4's sums: the subset stride's (every n-th
+// primitive counts n times), but once for the important points that a draw of
+// the point list (point_subset.c) adds in full.
+float draw_weight(float stride_weight) { return u_point_list != 0 ? 1.0 : stride_weight; }
+
 uniform float u_direct_exponent;
 
 // Opacity of the fragment in the compositing passes: the blended element

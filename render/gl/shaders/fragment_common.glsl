@@ -63,6 +63,8 @@ vec3 fragment_color()
     float len = length(n);
     ndotl = len > 0.0 ? abs(dot(n / len, to_cam)) : 1.0;
 #endif
-    float spec = pow(ndotl, 40.0);
+    // ndotl^40 by squaring (x^8 * x^32): pow's exp2/log2 cost more per fragment.
+    float x2 = ndotl * ndotl, x4 = x2 * x2, x8 = x4 * x4, x16 = x8 * x8;
+    float spec = x8 * x16 * x16;
     return clamp(base * (0.3 + 0.7 * ndotl) + vec3(0.25 * spec), 0.0, 1.0);
 }

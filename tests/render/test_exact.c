@@ -114,15 +114,18 @@ static void check_pool_overflow(const test_quad *q, int n)
     lc_renderer_destroy(small);
 }
 
-/* More layers in one pixel than the sort passes hold (256): the nearest are
- * kept, the rest reported. */
+/* More layers in one pixel than the sort passes hold (256). Compositing keeps
+ * the nearest and reports the rest; the opacity pass still gives every
+ * fragment, the farthest too, its exact optimal opacity (the elements'
+ * opacities against the CPU's Eq. 10 over the whole stack). */
 static void check_layer_cap(test_gl *t)
 {
     enum { SIZE = 8, N = 300, CAP = 256 };
     test_quad *q = calloc(N, sizeof *q);
+    lc_fragment *frags = calloc(N, sizeof *frags);
     for (int i = 0; i < N; i++) {
         q[i].z = 0.5 - (double)i / N;
-        q[i].g = 0.5;
+        q[i].g = (double)((i * 37) % N) / N; /* the far ones include important quads */
         q[i].rgb[i % 3] = 1;
         q[i].half = 2;
     }
@@ -132,15 +135,46 @@ static void check_layer_cap(test_gl *t)
     p.method = LC_METHOD_EXACT;
     uint8_t rgba[SIZE * SIZE * 4];
     lc_frame_info info;
-    if (render(t->renderer, s, &p, rgba, &info) == 0) {
-        uint64_t want = (uint64_t)(N - CAP) * (SIZE * SIZE + (SIZE / 2) * (SIZE / 2));
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    lc_frame_state *st = lc_frame_state_create(s->elements.count);
+    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0 && st, "gpu scene: %s", err.msg);
+    if (gs && st && lc_render_frame(t->renderer, gs, &p, st, 0, rgba, &info, &err) == 0) {
+        uint64_t want = (uint64_t)(N - CAP) * (SIZE * SIZE); /* compositing only, at full resolution */
         CHECK(info.max_layers == N, "max layers %u, want %d", info.max_layers, N);
         CHECK(info.dropped_fragments == want, "layer cap: dropped %llu, want %llu",
               (unsigned long long)info.dropped_fragments, (unsigned long long)want);
-        printf("%d layers per pixel: max_layers %u, %llu dropped beyond the cap of %d\n", N, info.max_layers,
-               (unsigned long long)info.dropped_fragments, CAP);
+        lc_view view;
+        lc_camera_view(&p.camera, s->bounds, 1.0, p.height, &view);
+        for (int i = 0; i < N; i++) {
+            double zview = p.camera.position[2] - q[i].z;
+            frags[i].depth = lc_foo_normalize_depth(zview, view.depth_min, view.depth_max, p.foo.depth_margin);
+            frags[i].importance = q[i].g;
+        }
+        lc_foo_alpha_exact(frags, N, &p.foo);
+        const float *alpha = lc_frame_state_alphas(st);
+        double worst_near = 0, worst_far = 0;
+        for (int i = 0; i < N; i++) {
+            double e = fabs(alpha[s->elements.vertex_elements[4 * (4 * i) + 3]] - frags[i].alpha);
+            if (i < CAP)
+                worst_near = fmax(worst_near, e);
+            else
+                worst_far = fmax(worst_far, e);
+        }
+        CHECK(worst_near < 2e-3 && worst_far < 2e-3,
+              "opacities past the cap: worst error %.4f of the nearest %d, %.4f of the %d farthest", worst_near, CAP,
+              worst_far, N - CAP);
+        printf("%d layers per pixel: max_layers %u, %llu dropped from compositing beyond the cap of %d; opacities "
+               "exact to %.1e (nearest %d) and %.1e (farthest %d)\n",
+               N, info.max_layers, (unsigned long long)info.dropped_fragments, CAP, worst_near, CAP, worst_far,
+               N - CAP);
+    } else {
+        CHECK(0, "render: %s", err.msg);
     }
+    lc_frame_state_destroy(st);
+    lc_gpu_scene_destroy(gs);
     lc_scene_destroy(s);
+    free(frags);
     free(q);
 }
 

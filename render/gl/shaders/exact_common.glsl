@@ -41,7 +41,7 @@ float list_importance;
 
 // Loads the list of pixel p. Beyond EXACT_MAX_LAYERS the nearest fragments are
 // kept (the far ones matter least front to back) and the rest counted as
-// dropped. Returns the number kept; list_length is the full length.
+// dropped (compositing) or handled one by one (the opacity pass). Returns the number kept; list_length is the full length.
 int gather_list(ivec2 p, out uint list_length)
 {
     uint i = imageLoad(u_heads, p).r;
@@ -72,8 +72,10 @@ int gather_list(ivec2 p, out uint list_length)
         list_length++;
         i = node.x;
     }
+#ifndef EXACT_SUM_IMPORTANCE // the opacity pass handles the fragments past the cap (far_fragments)
     if (list_length > uint(EXACT_MAX_LAYERS))
         atomicAdd(counters[COUNTER_DROP_LAYERS + u_list_pass], list_length - uint(EXACT_MAX_LAYERS));
+#endif
     if (list_length > 0u) {
         atomicMax(counters[COUNTER_MAX_LAYERS + u_list_pass], list_length);
         atomicAdd(counters[COUNTER_COVERED + u_list_pass], 1u);

@@ -13,6 +13,50 @@ uniform float u_r;
 uniform float u_lambda;
 uniform float u_norm_mass; // as in P2: reference mass of the density normalization, 0 = off
 
+float optimal_alpha(float g, float front, float behind, float k, float lambda)
+{
+    float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
+    return 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
+}
+
+// The fragments past the layer cap (the farthest of a pixel with more than
+// EXACT_MAX_LAYERS) get their opacity too, from sums over the whole list:
+// O(length) each, but only in the few pixels that overflow. Ties in depth
+// count in front when their node comes earlier in the list, as a stable
+// order would put them.
+void far_fragments(ivec2 p, int n, float total, float k, float lambda)
+{
+    float kept_far = list_depth(n - 1); // sorted: the farthest kept fragment
+    uint head = imageLoad(u_heads, p).r;
+    uint i = head;
+    for (uint visited = 0u; i != EXACT_END && i < u_pool_capacity && visited < u_pool_capacity; visited++) {
+        uvec4 node = nodes[i];
+        uint next = node.x;
+        float z = uintBitsToFloat(node.y);
+        bool kept = z < kept_far;
+        if (z == kept_far) // a tie at the cap: kept or not, the list says
+            for (int j = 0; j < n && !kept; j++)
+                kept = list[j].y == i;
+        if (!kept) {
+            float g = uintBitsToFloat(node.z);
+            float front = 0.0;
+            uint o = head;
+            for (uint seen = 0u; o != EXACT_END && o < u_pool_capacity && seen < u_pool_capacity; seen++) {
+                uvec4 other = nodes[o];
+                float zo = uintBitsToFloat(other.y);
+                if (o != i && (zo < z || (zo == z && seen < visited))) {
+                    float go = uintBitsToFloat(other.z);
+                    front += go * go;
+                }
+                o = other.x;
+            }
+            float behind = max(total - front - g * g, 0.0);
+            atomicMin(element_alpha_min[node.w], floatBitsToUint(optimal_alpha(g, front, behind, k, lambda)));
+        }
+        i = next;
+    }
+}
+
 void main()
 {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -24,7 +68,8 @@ void main()
         return;
     mass_count(list_importance); // the same normalization as the Fourier path
     sort_list(n);
-    // Kept fragments are the nearest ones, so their front sums are exact too.
+    // Kept fragments are the nearest ones, so their front sums are exact;
+    // far_fragments handles the rest.
     float total = list_importance;
     float k = u_norm_mass > 0.0 && total > u_norm_mass ? u_norm_mass / total : 1.0;
     float lambda = u_norm_mass > 0.0 ? (1.0 + 3.0 * (1.0 - k) * (1.0 - k)) * u_lambda : u_lambda; // as in P2 (foo_math.h)
@@ -34,10 +79,11 @@ void main()
         float g = uintBitsToFloat(node.z);
         float own = g * g;
         float behind = max(total - front - own, 0.0);
-        float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
-        float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
+        float alpha = optimal_alpha(g, front, behind, k, lambda);
         // Non-negative floats order like their bit patterns.
         atomicMin(element_alpha_min[node.w], floatBitsToUint(alpha));
         front += own;
     }
+    if (list_length > uint(n))
+        far_fragments(p, n, total, k, lambda);
 }

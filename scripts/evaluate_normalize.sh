@@ -144,9 +144,14 @@ flow: the report favours auto, the eye may not.
 **Fourier against exact.** Auto agrees with the exact method slightly less than the paper's formula on the
 tornado, abc and points (table above; the surface is level). The per-pixel scaling is the cause: with k = 1
 everywhere and only the auto range the agreement equals the paper's (0.9803 / 0.9906 / 0.9961), and without
-the stronger emphasis it is as low as with it (0.9778 / 0.9901 / 0.9946). The scaling makes the fragments of
+the stronger emphasis it is as low as with it (0.9778 / 0.9901 / 0.9946; these runs, 2026-11-23, predate the
+exact reference's handling of fragments past its 256-layer sort, which moved points off from 0.9961 to 0.9963). The
+scaling makes the fragments of
 dense pixels more opaque, and there the truncated series of the optical depth errs most. The difference is
-0.001-0.004 in SSIM.
+0.001-0.004 in SSIM. Smoothing P2's series with Lanczos σ-factors (tried 2026-11-25, not kept) lifts auto on the
+tornado (0.9804), abc (0.9948) and surface (0.9989) above the paper's formula today, but lowers the points (0.9901)
+and the 3,000 tornado lines (0.9754 to 0.9739); Fejér and raised-cosine weights do the same, and σ in P5 lowers all.
+More bands narrow the points' gap without closing it (m = 8: 0.9946 auto, 0.9973 off).
 
 **Real files.** On the real point sets auto meets the goal where the paper's formula does not (the building)
 or keeps it (the ball). It cannot on two of them, whatever the mode: radar.xyz has no attribute (g = 1

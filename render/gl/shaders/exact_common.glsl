@@ -40,8 +40,9 @@ float list_importance;
 #endif
 
 // Loads the list of pixel p. Beyond EXACT_MAX_LAYERS the nearest fragments are
-// kept (the far ones matter least front to back) and the rest counted as
-// dropped (compositing) or handled one by one (the opacity pass). Returns the number kept; list_length is the full length.
+// kept (the far ones matter least front to back); compositing counts the rest
+// as dropped, the opacity pass handles them one by one (far_fragments).
+// Returns the number kept; list_length is the full length.
 int gather_list(ivec2 p, out uint list_length)
 {
     uint i = imageLoad(u_heads, p).r;

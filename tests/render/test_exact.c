@@ -8,13 +8,12 @@
 #include "foo_math.h"
 #include "render_util.h"
 
-/* CPU evaluation of one pixel covered by every quad: DOO with exact sums,
- * opacities clamped as both GPU methods clamp them, exact "over". */
-static void expected_pixel(const test_quad *q, int n, const lc_render_params *p, const lc_scene *s, double out[3])
+/* The fragments of one pixel covered by every quad, at the depths the GPU
+ * normalizes them to. */
+static void quad_fragments(const test_quad *q, int n, const lc_render_params *p, const lc_scene *s, lc_fragment *frags)
 {
     lc_view view;
     lc_camera_view(&p->camera, s->bounds, 1.0, p->height, &view);
-    lc_fragment frags[32];
     for (int i = 0; i < n; i++) {
         double zview = p->camera.position[2] - q[i].z;
         frags[i].depth = lc_foo_normalize_depth(zview, view.depth_min, view.depth_max, p->foo.depth_margin);
@@ -22,6 +21,14 @@ static void expected_pixel(const test_quad *q, int n, const lc_render_params *p,
         for (int c = 0; c < 3; c++)
             frags[i].color[c] = q[i].rgb[c];
     }
+}
+
+/* CPU evaluation of one pixel covered by every quad: DOO with exact sums,
+ * opacities clamped as both GPU methods clamp them, exact "over". */
+static void expected_pixel(const test_quad *q, int n, const lc_render_params *p, const lc_scene *s, double out[3])
+{
+    lc_fragment frags[32];
+    quad_fragments(q, n, p, s, frags);
     lc_foo_alpha_exact(frags, (size_t)n, &p->foo);
     for (int i = 0; i < n; i++)
         frags[i].alpha = fmin(frags[i].alpha, 0.9999);
@@ -144,13 +151,7 @@ static void check_layer_cap(test_gl *t)
         CHECK(info.max_layers == N, "max layers %u, want %d", info.max_layers, N);
         CHECK(info.dropped_fragments == want, "layer cap: dropped %llu, want %llu",
               (unsigned long long)info.dropped_fragments, (unsigned long long)want);
-        lc_view view;
-        lc_camera_view(&p.camera, s->bounds, 1.0, p.height, &view);
-        for (int i = 0; i < N; i++) {
-            double zview = p.camera.position[2] - q[i].z;
-            frags[i].depth = lc_foo_normalize_depth(zview, view.depth_min, view.depth_max, p.foo.depth_margin);
-            frags[i].importance = q[i].g;
-        }
+        quad_fragments(q, N, &p, s, frags);
         lc_foo_alpha_exact(frags, N, &p.foo);
         const float *alpha = lc_frame_state_alphas(st);
         double worst_near = 0, worst_far = 0;

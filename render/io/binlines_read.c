@@ -21,6 +21,7 @@ typedef struct bl_load {
     int nattr;   /* attributes kept */
     size_t body; /* offset of the first line */
     lc_io_progress progress;
+    lc_io_part *part; /* the lines this process keeps (the second pass) */
 } bl_load;
 
 /* An error at byte offset pos of the file. */
@@ -79,13 +80,14 @@ static int read_header(bl_load *B, char names[][LC_NAME_LEN])
 
 /* One pass over the lines. Without a scene it validates every count against
  * the bytes left and counts the points and lines kept; with one it fills
- * positions, attributes and line offsets. */
+ * positions, attributes and line offsets of the kept lines in B->part. */
 static int walk(bl_load *B, lc_scene *s, float **attr, uint64_t *points_out, uint64_t *lines_out)
 {
     size_t pos = B->body;
     uint64_t points = 0, kept = 0, dropped = 0, short_lines = 0;
     size_t first_bad = 0;
     uint64_t attr_bytes = 4 * (uint64_t)B->nattr_file;
+    lc_io_part *P = B->part;
     for (uint32_t l = 0; l < B->lines; l++) {
         if ((l & 0xFFF) == 0) /* the first pass is the first half of the work */
             lc_io_progress_report(&B->progress, pos + (s ? B->size : 0), 2 * B->size);
@@ -96,7 +98,8 @@ static int walk(bl_load *B, lc_scene *s, float **attr, uint64_t *points_out, uin
         if (need > B->size - pos - 4)
             return fail(B, LC_ERR_INVALID, pos, "line %u: %u points exceed the file size", l, n);
         size_t xyz = pos + 4, values = xyz + 12 * (size_t)n;
-        uint64_t run = 0;
+        uint64_t run = 0, at_run = points - P->base; /* where this line's points go in s */
+        int keep = s && lc_io_part_keeps(P, kept);
         for (uint32_t i = 0; i < n; i++) {
             size_t at = xyz + 12 * (size_t)i;
             float p[3] = {f32_at(B, at), f32_at(B, at + 4), f32_at(B, at + 8)};
@@ -105,10 +108,10 @@ static int walk(bl_load *B, lc_scene *s, float **attr, uint64_t *points_out, uin
                     first_bad = at;
                 continue;
             }
-            if (s && points + run < s->vertex_count) {
-                memcpy(s->positions + 3 * (points + run), p, sizeof p);
+            if (keep && at_run + run < s->vertex_count) {
+                memcpy(s->positions + 3 * (at_run + run), p, sizeof p);
                 for (int a = 0; a < B->nattr; a++)
-                    attr[a][points + run] = f32_at(B, values + 4 * ((size_t)a * n + i));
+                    attr[a][at_run + run] = f32_at(B, values + 4 * ((size_t)a * n + i));
             }
             run++;
         }
@@ -117,14 +120,16 @@ static int walk(bl_load *B, lc_scene *s, float **attr, uint64_t *points_out, uin
             kept++;
             if (points > LC_MAX_VERTICES)
                 return fail(B, LC_ERR_LIMIT, pos, "more than %u points", (unsigned)LC_MAX_VERTICES);
-            if (s)
-                s->line_offsets[kept] = (uint32_t)points;
+            if (keep)
+                s->line_offsets[kept - P->first] = (uint32_t)(points - P->base);
+            else if (!s && lc_io_part_count(P, (uint32_t)run, B->file, B->err))
+                return LC_ERR_NOMEM;
         } else {
             short_lines++;
         }
         pos += 4 + (size_t)need;
     }
-    if (!s) {
+    if (!s && lc_io_part_speaks(P)) {
         if (pos < B->size)
             LC_WARN(LC_IO_LOG, "%s: %zu bytes after the %u lines ignored", B->file, B->size - pos, B->lines);
         if (dropped)
@@ -139,12 +144,14 @@ static int walk(bl_load *B, lc_scene *s, float **attr, uint64_t *points_out, uin
     return 0;
 }
 
-int lc_load_binlines_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+static int load_binlines(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                         lc_error *err)
 {
     *out = NULL;
     if (!name)
         name = "<memory>";
-    bl_load B = {.data = data ? data : (const void *)"", .size = data ? size : 0, .file = name, .err = err};
+    bl_load B = {
+        .data = data ? data : (const void *)"", .size = data ? size : 0, .file = name, .err = err, .part = part};
     lc_io_progress_start(&B.progress, name);
     char names[LC_IO_MAX_FILE_ATTRIBUTES][LC_NAME_LEN];
     int rc = read_header(&B, names);
@@ -155,10 +162,13 @@ int lc_load_binlines_memory(const void *data, size_t size, const char *name, lc_
         return rc;
     if (lines == 0)
         return fail(&B, LC_ERR_INVALID, B.body, "no line with two or more points");
+    if ((rc = lc_io_part_choose(part, (uint32_t)lines, points, name, err)))
+        return rc;
     lc_scene *s = lc_scene_create(name, LC_PRIM_LINES);
     float *attr[LC_IO_MAX_FILE_ATTRIBUTES] = {0};
     if (!s)
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", name);
+    points = part->points, lines = part->last - part->first;
     if ((rc = lc_scene_alloc_vertices(s, (uint32_t)points, 0, err)))
         goto fail;
     s->line_offsets = calloc((size_t)lines + 1, sizeof *s->line_offsets);
@@ -192,7 +202,18 @@ fail:
     return rc;
 }
 
+int lc_load_binlines_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    lc_io_part whole = {0};
+    return load_binlines(data, size, name, &whole, out, err);
+}
+
 int lc_load_binlines(const char *path, lc_scene **out, lc_error *err)
 {
     return lc_io_load_path(path, lc_load_binlines_memory, out, err);
+}
+
+int lc_load_binlines_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return lc_io_load_path_part(path, load_binlines, rank, size, out, err);
 }

@@ -1,6 +1,7 @@
 /* Loader plumbing shared by the dataset readers (file mapping, number parsing,
  * polyline assembly) and lc_scene_load_file, which picks the format by extension. */
 #include "io_util.h"
+#include "scene_shard.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -86,6 +87,51 @@ int lc_io_load_path(const char *path, lc_io_memory_loader load, lc_scene **out, 
     if (!rc)
         lc_io_stem(path, (*out)->name, sizeof(*out)->name);
     return rc;
+}
+
+int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int size, lc_scene **out,
+                         lc_error *err)
+{
+    *out = NULL;
+    lc_io_file f;
+    int rc = lc_io_file_open(path, &f, err);
+    if (rc)
+        return rc;
+    lc_io_part part = {.rank = rank, .size = size};
+    rc = load(f.data, f.size, lc_io_basename(path), &part, out, err);
+    lc_io_part_free(&part);
+    lc_io_file_close(&f);
+    if (!rc)
+        lc_io_stem(path, (*out)->name, sizeof(*out)->name);
+    return rc;
+}
+
+int lc_io_part_count(lc_io_part *p, uint32_t points, const char *file, lc_error *err)
+{
+    if (!lc_io_part_active(p))
+        return 0;
+    return lc_io_u32vec_push(&p->counts, points, LC_MAX_PRIMITIVES, file, "lines", err);
+}
+
+int lc_io_part_choose(lc_io_part *p, uint32_t lines, uint64_t total_points, const char *file, lc_error *err)
+{
+    p->first = 0, p->last = lines, p->base = 0, p->points = total_points;
+    if (!lc_io_part_active(p))
+        return 0;
+    if (p->counts.n != lines)
+        return lc_err(err, LC_ERR_INTERNAL, "%s: %zu line counts for %u lines", file, p->counts.n, lines);
+    if (lc_scene_split_lines(p->counts.v, lines, p->rank, p->size, &p->first, &p->last))
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the split of %u lines", file, lines);
+    p->points = 0;
+    for (uint32_t l = 0; l < p->last; l++)
+        *(l < p->first ? &p->base : &p->points) += p->counts.v[l];
+    return 0;
+}
+
+void lc_io_part_free(lc_io_part *p)
+{
+    if (p)
+        lc_io_u32vec_free(&p->counts);
 }
 
 void lc_io_stem(const char *path, char *out, size_t n)

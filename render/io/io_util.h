@@ -67,6 +67,35 @@ static inline int lc_io_u32vec_push(lc_io_u32vec *a, uint32_t x, size_t limit, c
 }
 void lc_io_u32vec_free(lc_io_u32vec *a);
 
+/* A process's share of a line file (lc_scene_read_file_part): a reader's
+ * first pass records each kept line's point count with lc_io_part_count,
+ * lc_io_part_choose picks the whole lines [first, last) that lc_scene_shard
+ * would give the process, and the second pass keeps only those (points
+ * before the share counted, not stored). size 0: the whole file. Only the
+ * process of rank 0 warns about what the file holds (every process reads it). */
+typedef struct lc_io_part {
+    int rank, size;
+    lc_io_u32vec counts;   /* first pass: points of each kept line */
+    uint32_t first, last;  /* kept lines of the share */
+    uint64_t base, points; /* kept points before the share, in it */
+} lc_io_part;
+
+static inline int lc_io_part_active(const lc_io_part *p) { return p && p->size > 0; }
+int lc_io_part_count(lc_io_part *p, uint32_t points, const char *file, lc_error *err);
+/* After the first pass over lines kept lines with total_points points. */
+int lc_io_part_choose(lc_io_part *p, uint32_t lines, uint64_t total_points, const char *file, lc_error *err);
+/* Whether kept line `line` belongs to the share. */
+static inline int lc_io_part_keeps(const lc_io_part *p, uint64_t line) { return line >= p->first && line < p->last; }
+/* Whether this process reports what the file holds (warnings): rank 0 or the whole. */
+static inline int lc_io_part_speaks(const lc_io_part *p) { return !lc_io_part_active(p) || p->rank == 0; }
+void lc_io_part_free(lc_io_part *p);
+
+/* Maps path and runs a part reader on it, as lc_io_load_path does. */
+typedef int (*lc_io_part_loader)(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                                 lc_error *err);
+int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int size, lc_scene **out,
+                         lc_error *err);
+
 /* Turns the points scene *sp into a LINES scene whose line i holds the source
  * vertices idx[offsets[i] .. offsets[i+1]) (duplicated where lines share
  * vertices, because a scene's line owns a contiguous vertex range). When idx is

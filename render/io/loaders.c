@@ -28,6 +28,38 @@ static path_loader reader_for(const char *path)
 
 int lc_scene_is_dataset_file(const char *path) { return reader_for(path) != NULL; }
 
+typedef int (*part_loader)(const char *path, int rank, int size, lc_scene **out, lc_error *err);
+
+/* Formats whose records can be skipped without keeping them: a first pass
+ * counts every line's points, the second keeps the process's share. */
+static const struct {
+    const char *ext;
+    part_loader load;
+} part_readers[] = {{".trk", lc_load_trk_part}, {".tck", lc_load_tck_part}, {".binlines", lc_load_binlines_part}};
+
+static part_loader part_reader_for(const char *path)
+{
+    const char *dot = strrchr(lc_io_basename(path), '.');
+    for (size_t i = 0; dot && i < sizeof part_readers / sizeof *part_readers; i++)
+        if (strcasecmp(dot, part_readers[i].ext) == 0)
+            return part_readers[i].load;
+    return NULL;
+}
+
+int lc_scene_can_read_part(const char *path) { return part_reader_for(path) != NULL; }
+
+int lc_scene_read_file_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    part_loader load = part_reader_for(path);
+    if (!load)
+        return lc_err(err, LC_ERR_UNSUPPORTED, "%s: this format is read whole (parts: %s)", lc_io_basename(path),
+                      LC_PART_EXTENSIONS);
+    if (size < 1 || rank < 0 || rank >= size)
+        return lc_err(err, LC_ERR_INVALID, "%s: part %d of %d", lc_io_basename(path), rank, size);
+    return load(path, rank, size, out, err);
+}
+
 int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err)
 {
     *out = NULL;

@@ -32,6 +32,17 @@ int lc_scene_is_dataset_file(const char *path);
  * reader). Errors as lc_scene_load_file. */
 int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err);
 
+/* The extensions lc_scene_read_file_part reads in parts. */
+#define LC_PART_EXTENSIONS ".trk, .tck and .binlines"
+
+/* 1 when path's format can be read in parts. */
+int lc_scene_can_read_part(const char *path);
+/* Reads only process rank's share (of size processes) of a line file: the
+ * whole lines that lc_scene_shard gives rank from the whole scene, un-finalized
+ * (finish with the collective lc_scene_finalize_part, scene_part.h), so no
+ * process holds more than its share. LC_ERR_UNSUPPORTED for other formats. */
+int lc_scene_read_file_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
+
 /* Picks the reader by extension (LC_DATASET_EXTENSIONS); the scene is named
  * after the file stem. Finalizes the scene with default element options. On
  * error *out is NULL and err names the file and the reason. */

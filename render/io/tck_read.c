@@ -22,6 +22,7 @@ typedef struct tck_load {
     int big;         /* big endian */
     long long count; /* the header's "count", or -1 */
     lc_io_progress progress;
+    lc_io_part *part; /* the streamlines this process keeps (the second pass) */
 } tck_load;
 
 /* An error at byte offset pos of the file. */
@@ -149,12 +150,29 @@ static void get_triplet(const tck_load *T, size_t pos, double v[3])
 /* Walks the triplets once. Without a scene it counts the points and lines that
  * will be kept; with one it fills positions and line offsets (the counts of
  * the first walk). */
+/* A streamline of run points is kept: the first pass records it for the
+ * split, the second stores its end if it belongs to the share. */
+static int end_line(tck_load *T, lc_scene *s, uint64_t run, uint64_t *points, uint64_t *lines)
+{
+    lc_io_part *P = T->part;
+    int keep = lc_io_part_keeps(P, *lines);
+    *points += run;
+    ++*lines;
+    if (s && keep)
+        s->line_offsets[*lines - P->first] = (uint32_t)(*points - P->base);
+    if (!s && run <= UINT32_MAX)
+        return lc_io_part_count(P, (uint32_t)run, T->file, T->err);
+    return 0;
+}
+
 static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_out)
 {
     size_t tsz = 3 * (size_t)T->elem, pos = T->offset;
     uint64_t points = 0, lines = 0, run = 0, dropped_points = 0, short_lines = 0, raw_lines = 0;
+    int rc;
     size_t first_bad = 0;
     int ended = 0;
+    lc_io_part *P = T->part;
     for (uint64_t i = 0; pos + tsz <= T->size; pos += tsz, i++) {
         if ((i & 0x3FFFF) == 0) /* the first pass is the first half of the work */
             lc_io_progress_report(&T->progress, pos + (s ? T->size : 0), 2 * T->size);
@@ -162,8 +180,9 @@ static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_
         get_triplet(T, pos, v);
         int kind = classify(v);
         if (kind == POINT) {
-            if (s && points + run < s->vertex_count) { /* a short last line is not stored */
-                float *d = s->positions + 3 * (points + run);
+            uint64_t at = points - P->base + run; /* a short last line is not stored */
+            if (s && lc_io_part_keeps(P, lines) && at < s->vertex_count) {
+                float *d = s->positions + 3 * at;
                 d[0] = (float)v[0], d[1] = (float)v[1], d[2] = (float)v[2];
             }
             run++;
@@ -179,10 +198,8 @@ static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_
         if (kind == SEPARATOR || run > 0)
             raw_lines++;
         if (run >= 2) { /* a line needs two points */
-            points += run;
-            lines++;
-            if (s)
-                s->line_offsets[lines] = (uint32_t)points;
+            if ((rc = end_line(T, s, run, &points, &lines)))
+                return rc;
             if (lines > LC_MAX_PRIMITIVES)
                 return fail_at(T, LC_ERR_LIMIT, pos, "more than %u streamlines", (unsigned)LC_MAX_PRIMITIVES);
         } else if (kind == SEPARATOR || run > 0) {
@@ -201,19 +218,17 @@ static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_
         if (run > 0) { /* the last streamline lost its terminator: keep what is there */
             raw_lines++;
             if (run >= 2) {
-                points += run;
-                lines++;
-                if (s)
-                    s->line_offsets[lines] = (uint32_t)points;
+                if ((rc = end_line(T, s, run, &points, &lines)))
+                    return rc;
             } else {
                 short_lines++;
             }
         }
-        if (!s)
+        if (!s && lc_io_part_speaks(P))
             LC_WARN(LC_IO_LOG, "%s: byte offset %zu: no end-of-data marker (Inf triplet); the file may be truncated",
                     T->file, pos);
     }
-    if (!s) {
+    if (!s && lc_io_part_speaks(P)) {
         if (dropped_points)
             LC_WARN(LC_IO_LOG, "%s: byte offset %zu: %llu points with NaN/Inf coordinates dropped", T->file, first_bad,
                     (unsigned long long)dropped_points);
@@ -229,12 +244,14 @@ static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_
     return 0;
 }
 
-int lc_load_tck_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+static int load_tck(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                    lc_error *err)
 {
     *out = NULL;
     if (!name)
         name = "<memory>";
-    tck_load T = {.data = data ? data : (const void *)"", .size = data ? size : 0, .file = name, .err = err};
+    tck_load T = {
+        .data = data ? data : (const void *)"", .size = data ? size : 0, .file = name, .err = err, .part = part};
     lc_io_progress_start(&T.progress, name);
     int rc = read_header(&T);
     if (rc)
@@ -244,9 +261,12 @@ int lc_load_tck_memory(const void *data, size_t size, const char *name, lc_scene
         return rc;
     if (lines == 0)
         return fail_at(&T, LC_ERR_INVALID, T.offset, "no streamline with two or more points");
+    if ((rc = lc_io_part_choose(part, (uint32_t)lines, points, name, err)))
+        return rc;
     lc_scene *s = lc_scene_create(name, LC_PRIM_LINES);
     if (!s)
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", name);
+    points = part->points, lines = part->last - part->first;
     if ((rc = lc_scene_alloc_vertices(s, (uint32_t)points, 0, err)))
         goto fail;
     s->line_offsets = calloc((size_t)lines + 1, sizeof *s->line_offsets);
@@ -265,7 +285,18 @@ fail:
     return rc;
 }
 
+int lc_load_tck_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    lc_io_part whole = {0};
+    return load_tck(data, size, name, &whole, out, err);
+}
+
 int lc_load_tck(const char *path, lc_scene **out, lc_error *err)
 {
     return lc_io_load_path(path, lc_load_tck_memory, out, err);
+}
+
+int lc_load_tck_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return lc_io_load_path_part(path, load_tck, rank, size, out, err);
 }

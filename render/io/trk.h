@@ -22,6 +22,8 @@ extern "C" {
  * byte offset and the reason. `name` is used in messages and as the scene name. */
 int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
 int lc_load_trk(const char *path, lc_scene **out, lc_error *err);
+/* Only the whole tracks of process rank's share of size (lc_scene_read_file_part). */
+int lc_load_trk_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
 
 #ifdef __cplusplus
 }

@@ -20,6 +20,7 @@ typedef struct trk_load {
     const char *file;
     lc_error *err;
     int n_scalars, n_properties;
+    lc_io_part *part; /* the tracks this process keeps (the second pass) */
 } trk_load;
 
 /* An error at byte offset pos of the file. */
@@ -138,15 +139,17 @@ static int scan(trk_load *T, uint32_t tracks, uint64_t *points_out, uint32_t *tr
         if (m >= 2) { /* a line needs two points; shorter tracks are dropped */
             points += (uint64_t)m;
             kept++;
+            if (lc_io_part_count(T->part, (uint32_t)m, T->file, T->err))
+                return LC_ERR_NOMEM;
             if (points > LC_MAX_VERTICES)
                 return fail(T, LC_ERR_LIMIT, pos, "more than %u points", (unsigned)LC_MAX_VERTICES);
         }
         if (t == UINT32_MAX || kept > LC_MAX_PRIMITIVES)
             return fail(T, LC_ERR_LIMIT, pos, "more than %u tracks", (unsigned)LC_MAX_PRIMITIVES);
     }
-    if (pos < T->size)
+    if (pos < T->size && lc_io_part_speaks(T->part))
         LC_WARN(LC_IO_LOG, "%s: %zu bytes after the %u tracks of n_count ignored", T->file, T->size - pos, tracks);
-    if (t > kept)
+    if (t > kept && lc_io_part_speaks(T->part))
         LC_WARN(LC_IO_LOG, "%s: %u tracks with fewer than 2 points skipped", T->file, t - kept);
     *points_out = points;
     *tracks_out = t;
@@ -154,16 +157,22 @@ static int scan(trk_load *T, uint32_t tracks, uint64_t *points_out, uint32_t *tr
     return 0;
 }
 
-/* Second pass: copies positions, scalars and properties. */
+/* Second pass: copies positions, scalars and properties of the kept tracks
+ * in T->part. */
 static int fill(trk_load *T, lc_scene *s, uint32_t tracks, float **attr, int nattr)
 {
     int ns = T->n_scalars, np = T->n_properties;
     size_t pos = HEADER_SIZE;
-    uint32_t v = 0, line = 0;
+    uint32_t v = 0, line = 0, kept = 0;
     for (uint32_t t = 0; t < tracks; t++) {
         int32_t m = get_i32(T, pos);
         pos += 4;
-        int keep = m >= 2;
+        int keep = m >= 2 && lc_io_part_keeps(T->part, kept);
+        kept += m >= 2;
+        if (!keep) { /* skipped: validated by the first pass */
+            pos += (size_t)m * (12 + 4 * (size_t)ns) + 4 * (size_t)np;
+            continue;
+        }
         uint32_t first = v;
         for (int32_t i = 0; i < m; i++) {
             if (keep) {
@@ -190,12 +199,14 @@ static int fill(trk_load *T, lc_scene *s, uint32_t tracks, float **attr, int nat
     return 0;
 }
 
-int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+static int load_trk(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                    lc_error *err)
 {
     *out = NULL;
     if (!name)
         name = "<memory>";
-    trk_load T = {.data = data ? data : (const void *)"", .size = data ? size : 0, .file = name, .err = err};
+    trk_load T = {
+        .data = data ? data : (const void *)"", .size = data ? size : 0, .file = name, .err = err, .part = part};
     int32_t n_count = 0;
     int rc = read_header(&T, &n_count);
     if (rc)
@@ -212,6 +223,9 @@ int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene
         return rc;
     if (kept == 0)
         return fail(&T, LC_ERR_INVALID, HEADER_SIZE, "no track with two or more points");
+    if ((rc = lc_io_part_choose(part, kept, points, name, err)))
+        return rc;
+    points = part->points, kept = part->last - part->first;
 
     int nattr = T.n_scalars + T.n_properties;
     if (nattr > LC_IO_MAX_FILE_ATTRIBUTES) {
@@ -265,7 +279,18 @@ fail:
     return rc;
 }
 
+int lc_load_trk_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    lc_io_part whole = {0};
+    return load_trk(data, size, name, &whole, out, err);
+}
+
 int lc_load_trk(const char *path, lc_scene **out, lc_error *err)
 {
     return lc_io_load_path(path, lc_load_trk_memory, out, err);
+}
+
+int lc_load_trk_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return lc_io_load_path_part(path, load_trk, rank, size, out, err);
 }

@@ -22,9 +22,7 @@
 #define MAX_DERIVED_ELEMENTS (1u << 20)
 #define NONE UINT32_MAX
 
-/* Allocates the per-vertex arrays and count + 1 offsets (zeroed). Buffers are
- * never empty so that GPU uploads never see a zero size. */
-static int alloc_elements(lc_elements *e, uint32_t vertices, uint32_t count, const char *name, lc_error *err)
+int lc_elements_alloc(lc_elements *e, uint32_t vertices, uint32_t count, const char *name, lc_error *err)
 {
     e->count = count;
     e->vertex_elements = malloc((size_t)(vertices ? vertices : 1) * 4 * sizeof(uint32_t));
@@ -35,9 +33,7 @@ static int alloc_elements(lc_elements *e, uint32_t vertices, uint32_t count, con
     return LC_OK;
 }
 
-/* Writes a vertex's blend: up to three (element, weight) pairs; unused slots
- * repeat e0 with weight 0 so the shader can always read all three. */
-static void set_vertex(lc_elements *e, uint32_t v, int n, const uint32_t *ids, const float *w, uint32_t primary)
+void lc_elements_set_vertex(lc_elements *e, uint32_t v, int n, const uint32_t *ids, const float *w, uint32_t primary)
 {
     uint32_t *ve = e->vertex_elements + 4 * (size_t)v;
     float *vw = e->vertex_weights + 4 * (size_t)v;
@@ -55,9 +51,7 @@ static int cmp_u64(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Builds the CSR adjacency from directed pairs (a << 32 | b), both directions
- * present; sorts, removes duplicates and self loops. Frees pairs. */
-static int adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, const char *name, lc_error *err)
+int lc_elements_adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, const char *name, lc_error *err)
 {
     qsort(pairs, n, sizeof *pairs, cmp_u64);
     size_t m = 0;
@@ -89,167 +83,18 @@ static int adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, const
  * over millions of points would cost more than it buys. */
 static int build_points(const lc_element_geometry *s, lc_elements *e, lc_error *err)
 {
-    int rc = alloc_elements(e, s->vertex_count, s->vertex_count, s->name, err);
+    int rc = lc_elements_alloc(e, s->vertex_count, s->vertex_count, s->name, err);
     if (rc)
         return rc;
     for (uint32_t v = 0; v < s->vertex_count; v++) {
         float w = 1.0f;
-        set_vertex(e, v, 1, &v, &w, v);
+        lc_elements_set_vertex(e, v, 1, &v, &w, v);
     }
     e->adjacency = malloc(sizeof(uint32_t));
     if (!e->adjacency)
         return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate element adjacency", s->name);
     e->adjacency_count = 0;
     return LC_OK;
-}
-
-/* ---- lines */
-
-typedef struct {
-    double frac;
-    uint32_t line;
-} line_share;
-
-static int cmp_remainder(const void *a, const void *b)
-{
-    const line_share *x = a, *y = b;
-    if (x->frac != y->frac)
-        return x->frac > y->frac ? -1 : 1;
-    return x->line < y->line ? -1 : x->line > y->line;
-}
-
-/* Splits the budget over lines in proportion to their length (largest
- * line_share), at least one element per non-empty line and at most one per
- * segment: an element without a vertex of its own would never be drawn. */
-static uint32_t *line_element_counts(const lc_element_geometry *s, uint32_t budget, const float *line_len,
-                                     uint64_t *total_out)
-{
-    uint32_t L = s->line_count;
-    uint32_t *cnt = calloc(L ? L : 1, sizeof(uint32_t));
-    line_share *rem = malloc((L ? L : 1) * sizeof(line_share));
-    if (!cnt || !rem) {
-        free(cnt);
-        free(rem);
-        return NULL;
-    }
-    double total_len = 0;
-    uint32_t nonempty = 0;
-    for (uint32_t l = 0; l < L; l++)
-        if (s->line_offsets[l + 1] > s->line_offsets[l]) {
-            total_len += line_len[l];
-            nonempty++;
-        }
-    uint64_t total = 0;
-    size_t nrem = 0;
-    for (uint32_t l = 0; l < L; l++) {
-        uint32_t nv = s->line_offsets[l + 1] - s->line_offsets[l];
-        if (nv == 0)
-            continue;
-        uint32_t cap = nv > 1 ? nv - 1 : 1;
-        double ideal = total_len > 0 ? (double)budget * line_len[l] / total_len : (double)budget / nonempty;
-        double fl = floor(ideal);
-        uint32_t c = !(fl >= 1) ? 1 : fl > cap ? cap : (uint32_t)fl; /* NaN -> 1: never cast it */
-        cnt[l] = c;
-        total += c;
-        if (c < cap && ideal > c)
-            rem[nrem++] = (line_share){ideal - c, l};
-    }
-    if (total < budget && nrem > 0) {
-        qsort(rem, nrem, sizeof *rem, cmp_remainder);
-        for (size_t i = 0; i < nrem && total < budget; i++) {
-            cnt[rem[i].line]++;
-            total++;
-        }
-    }
-    free(rem);
-    *total_out = total;
-    return cnt;
-}
-
-static int build_lines(const lc_element_geometry *s, lc_elements *e, uint32_t budget, lc_error *err)
-{
-    uint32_t L = s->line_count;
-    const float *P = s->positions;
-    float *line_len = malloc((L ? L : 1) * sizeof(float));
-    if (!line_len)
-        return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate line lengths", s->name);
-    for (uint32_t l = 0; l < L; l++) {
-        double acc = 0;
-        for (uint32_t i = s->line_offsets[l] + 1; i < s->line_offsets[l + 1]; i++) {
-            const float *a = P + 3 * (size_t)(i - 1), *b = P + 3 * (size_t)i;
-            double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
-            acc += sqrt(dx * dx + dy * dy + dz * dz);
-        }
-        line_len[l] = (float)fmin(acc, FLT_MAX); /* finite, so the shares below are numbers */
-    }
-    uint64_t total = 0;
-    uint32_t *cnt = line_element_counts(s, budget, line_len, &total);
-    if (!cnt) {
-        free(line_len);
-        return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate line elements", s->name);
-    }
-    if (total > UINT32_MAX - 1) { /* cannot happen below LC_MAX_VERTICES, kept for safety */
-        free(cnt);
-        free(line_len);
-        return lc_err(err, LC_ERR_LIMIT, "%s: too many line elements", s->name);
-    }
-    /* a scene whose lines are all empty still gets one element for stray vertices */
-    uint32_t count = total ? (uint32_t)total : 1;
-    int rc = alloc_elements(e, s->vertex_count, count, s->name, err);
-    uint64_t *pairs = rc ? NULL : malloc((total ? 2 * total : 1) * sizeof(uint64_t));
-    if (rc || !pairs) {
-        free(cnt);
-        free(line_len);
-        return rc ? rc : lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate line adjacency", s->name);
-    }
-    /* vertices outside every line (allowed by the offsets) are never drawn */
-    for (uint32_t v = 0; v < s->vertex_count; v++) {
-        uint32_t zero = 0;
-        float one = 1.0f;
-        set_vertex(e, v, 1, &zero, &one, 0);
-    }
-    size_t npairs = 0;
-    uint32_t base = 0;
-    for (uint32_t l = 0; l < L; l++) {
-        uint32_t a = s->line_offsets[l], b = s->line_offsets[l + 1], n = cnt[l];
-        if (b == a)
-            continue;
-        double h = line_len[l] / n; /* segment length */
-        double arc = 0;
-        for (uint32_t i = a; i < b; i++) {
-            if (i > a) {
-                const float *p = P + 3 * (size_t)(i - 1), *q = P + 3 * (size_t)i;
-                double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-                arc += sqrt(dx * dx + dy * dy + dz * dz);
-            }
-            double t = h > 0 ? arc / h : 0; /* arc in segment units; centres at j + 0.5 */
-            uint32_t seg = t >= n ? n - 1 : (uint32_t)t;
-            uint32_t ids[2];
-            float w[2];
-            double c = t - 0.5;
-            if (c <= 0 || c >= n - 1) { /* before the first or after the last centre */
-                ids[0] = base + seg;
-                w[0] = 1.0f;
-                set_vertex(e, i, 1, ids, w, base + seg);
-            } else {
-                uint32_t j = (uint32_t)c;
-                double f = c - j;
-                ids[0] = base + j;
-                ids[1] = base + j + 1;
-                w[0] = (float)(1.0 - f);
-                w[1] = (float)f;
-                set_vertex(e, i, 2, ids, w, base + seg);
-            }
-        }
-        for (uint32_t j = 0; j + 1 < n; j++) {
-            pairs[npairs++] = (uint64_t)(base + j) << 32 | (base + j + 1);
-            pairs[npairs++] = (uint64_t)(base + j + 1) << 32 | (base + j);
-        }
-        base += n;
-    }
-    free(cnt);
-    free(line_len);
-    return adjacency_from_pairs(e, pairs, npairs, s->name, err);
 }
 
 /* ---- surfaces */
@@ -765,7 +610,7 @@ static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t 
         goto fail;
     LC_DEBUG("scene", "%s: %u patches: %s sampling %.0f ms, nearest centres %.0f ms", s->name, count,
              sampling == LC_PATCH_SAMPLING_GRID ? "grid" : "farthest-point", (t1 - t0) * 1e3, (lc_now() - t1) * 1e3);
-    rc = alloc_elements(e, n, count, s->name, err);
+    rc = lc_elements_alloc(e, n, count, s->name, err);
     if (rc)
         goto out;
     for (uint32_t v = 0; v < n; v++) {
@@ -775,7 +620,7 @@ static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t 
         if (t->n == 0) { /* not referenced by any triangle: never drawn */
             ids[0] = 0;
             w[0] = 1.0f;
-            set_vertex(e, v, 1, ids, w, 0);
+            lc_elements_set_vertex(e, v, 1, ids, w, 0);
             continue;
         }
         /* sort the (at most 3) labels by distance, then id */
@@ -804,7 +649,7 @@ static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t 
             for (int k = 0; k < m; k++)
                 w[k] = (float)(inv[k] / sum);
         }
-        set_vertex(e, v, m, ids, w, ids[0]);
+        lc_elements_set_vertex(e, v, m, ids, w, ids[0]);
     }
     /* patches are adjacent when a mesh edge joins vertices of both */
     size_t npairs = 0, cap = 1024;
@@ -829,7 +674,7 @@ static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t 
             pairs[npairs++] = (uint64_t)pw << 32 | pv;
         }
     }
-    rc = adjacency_from_pairs(e, pairs, npairs, s->name, err);
+    rc = lc_elements_adjacency_from_pairs(e, pairs, npairs, s->name, err);
     pairs = NULL;
     goto out;
 fail:
@@ -880,7 +725,7 @@ int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc
     switch (s->type) {
     case LC_PRIM_POINTS: rc = build_points(s, e, err); break;
     case LC_PRIM_LINES:
-        rc = build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s), err);
+        rc = lc_elements_build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s), err);
         break;
     case LC_PRIM_TRIANGLES: {
         uint32_t want = desc && desc->patch_count ? desc->patch_count : lc_elements_default_count(s);

@@ -7,6 +7,7 @@
 #ifndef LC_ELEMENTS_H
 #define LC_ELEMENTS_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "lc_base.h"
@@ -61,6 +62,48 @@ uint32_t lc_elements_default_count(const lc_element_geometry *g);
 /* Builds *out (freed first) from g. On error *out is empty. */
 int lc_elements_build(const lc_element_geometry *g, const lc_elements_desc *desc, lc_elements *out, lc_error *err);
 void lc_elements_free(lc_elements *e);
+
+/* ---- Building blocks of the builders in this folder (elements.c,
+ * elements_lines.c); not for other callers. */
+
+/* Allocates the per-vertex arrays and count + 1 offsets (zeroed). Buffers are
+ * never empty so that GPU uploads never see a zero size. */
+int lc_elements_alloc(lc_elements *e, uint32_t vertices, uint32_t count, const char *name, lc_error *err);
+/* Writes a vertex's blend: up to three (element, weight) pairs; unused slots
+ * repeat e0 with weight 0 so the shader can always read all three. */
+void lc_elements_set_vertex(lc_elements *e, uint32_t v, int n, const uint32_t *ids, const float *w, uint32_t primary);
+/* Builds the CSR adjacency from directed pairs (a << 32 | b), both directions
+ * present; sorts, removes duplicates and self loops. Frees pairs. */
+int lc_elements_adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, const char *name, lc_error *err);
+/* The line elements of s with `budget` elements over all lines (elements_lines.c). */
+int lc_elements_build_lines(const lc_element_geometry *s, lc_elements *e, uint32_t budget, lc_error *err);
+
+/* ---- Parts: one process's share of a scene split over several
+ * (render/scene/scene_part.h), numbered as the whole scene is. */
+
+/* Arc length of each line of g (line_count floats), as the build uses it. */
+int lc_elements_line_lengths(const lc_element_geometry *g, float *out);
+
+/* Every line of the whole scene: its vertex count and arc length, and where
+ * the part's lines start among them. */
+typedef struct lc_line_census {
+    uint32_t line_count;
+    const uint32_t *vertex_counts;
+    const float *lengths;
+    uint64_t vertex_count; /* the whole scene's */
+    uint32_t first_line;   /* the part's first line */
+} lc_line_census;
+
+/* The elements of part, whole lines [first_line, first_line +
+ * part->line_count) of the whole: the budget split over all lines exactly as
+ * lc_elements_build splits it for the whole scene, the part's vertex blends
+ * in the whole's numbering, and the whole's adjacency. */
+int lc_elements_build_lines_part(const lc_element_geometry *part, const lc_elements_desc *desc,
+                                 const lc_line_census *whole, lc_elements *out, lc_error *err);
+/* Points [first_point, first_point + part->vertex_count) of total_points:
+ * element first_point + v for vertex v, no adjacency. */
+int lc_elements_build_points_part(const lc_element_geometry *part, uint64_t first_point, uint64_t total_points,
+                                  lc_elements *out, lc_error *err);
 
 #ifdef __cplusplus
 }

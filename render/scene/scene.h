@@ -63,6 +63,13 @@ typedef struct lc_scene {
     double view_up[3];
 
     lc_elements elements;
+    /* A part read by one of several processes (scene_part.h): the whole
+     * scene's totals, and the collectives that rebuild its elements
+     * (lc_scene_set_element_budget; borrowed, valid while the processes run). */
+    int part_of; /* processes; 0: not a part */
+    const struct lc_scene_collective *collective;
+    uint64_t whole_vertices, whole_primitives, whole_lines;
+    double whole_line_length;
     int finalized;
     /* lc_scene_release_vertex_arrays ran: counts, bounds, attribute names and
      * ranges, line offsets and element counts remain; the arrays are NULL. */
@@ -117,7 +124,8 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err);
 /* Rebuilds only the elements of a finalized scene with `budget` line elements
  * or surface patches (points keep one element per point); 0 = the default
  * derived from the data. LC_ERR_INVALID if budget exceeds the scene's
- * segments or vertices or 2^24. */
+ * segments or vertices or 2^24. On a part (part_of > 0) it is collective:
+ * every process calls it with the same budget. */
 int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err);
 
 /* Bytes of CPU memory the scene's arrays hold (positions, colours, normals,

@@ -8,6 +8,7 @@
 #include "elements.h"
 #include "scene.h"
 #include "scene_derive.h"
+#include "scene_part.h"
 
 /* Structural checks: everything later steps index with must be in range. */
 static int validate(const lc_scene *s, lc_error *err)
@@ -75,6 +76,25 @@ static void compute_bounds(lc_scene *s)
 
 #define PCT_MAX 4 /* quantiles refined together by lc_scene_percentiles */
 
+/* One level's histogram (counts, and each bin's least and greatest value)
+ * summed over the processes of c, in place. */
+static int combine_histogram(const lc_scene_collective *c, uint32_t *h, float *mn, float *mx, lc_error *err)
+{
+    static _Thread_local uint64_t counts[PCT_BINS];
+    static _Thread_local double ends[2 * PCT_BINS];
+    for (int k = 0; k < PCT_BINS; k++) {
+        counts[k] = h[k];
+        ends[k] = mn[k], ends[PCT_BINS + k] = -(double)mx[k]; /* one MIN for both */
+    }
+    if (c->sum_u64(c->ctx, counts, PCT_BINS, err) || c->min_f64(c->ctx, ends, 2 * PCT_BINS, err))
+        return LC_ERR_INTERNAL;
+    for (int k = 0; k < PCT_BINS; k++) {
+        h[k] = (uint32_t)counts[k];
+        mn[k] = (float)ends[k], mx[k] = (float)-ends[PCT_BINS + k];
+    }
+    return 0;
+}
+
 /* Values of ranks p[q] * (finite count - 1) among the finite values in [lo,
  * hi]: a histogram over [lo, hi], then one over the bin that holds each rank,
  * and so on until a bin is narrow against its values or the whole range (an
@@ -83,8 +103,12 @@ static void compute_bounds(lc_scene *s)
  * every rank. Each bin also keeps the least and greatest value in it, and a
  * rank's final bin is spread evenly over those: the one value itself when they
  * are all equal (integer codes, a clamped attribute), so a percentile never
- * lands between equal values. */
-static void percentiles(const float *v, uint32_t n, float lo, float hi, const double *p, int np, float *out)
+ * lands between equal values. With c, the values are this process's share of
+ * them: the counts and every level's histograms are summed over the processes
+ * (bin extremes by min/max), so each process takes the same steps and finds
+ * the values one process would find over all of them. */
+static int percentiles(const float *v, uint32_t n, float lo, float hi, const double *p, int np, float *out,
+                       const lc_scene_collective *c, lc_error *err)
 {
     static _Thread_local uint32_t hist[PCT_MAX][PCT_BINS];
     static _Thread_local float bmin[PCT_MAX][PCT_BINS], bmax[PCT_MAX][PCT_BINS];
@@ -94,6 +118,8 @@ static void percentiles(const float *v, uint32_t n, float lo, float hi, const do
     uint64_t finite = 0;
     for (uint32_t i = 0; i < n; i++)
         finite += isfinite(v[i]) != 0;
+    if (c && c->sum_u64(c->ctx, &finite, 1, err))
+        return LC_ERR_INTERNAL;
     for (int q = 0; q < np; q++) {
         out[q] = lo;
         a[q] = lo, b[q] = hi, below[q] = 0;
@@ -121,6 +147,8 @@ static void percentiles(const float *v, uint32_t n, float lo, float hi, const do
                 mn[k] = x < mn[k] ? x : mn[k];
                 mx[k] = x > mx[k] ? x : mx[k];
             }
+            if (c && combine_histogram(c, h, mn, mx, err))
+                return LC_ERR_INTERNAL;
         }
         for (int q = shared; q < np; q++) {
             memcpy(hist[q], hist[0], sizeof hist[q]);
@@ -154,16 +182,19 @@ static void percentiles(const float *v, uint32_t n, float lo, float hi, const do
         if (!any)
             break;
     }
+    return 0;
 }
 
 float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double p)
 {
     float out;
-    percentiles(v, n, lo, hi, &p, 1, &out);
+    percentiles(v, n, lo, hi, &p, 1, &out, NULL, NULL);
     return out;
 }
 
-void lc_attribute_update_range(lc_attribute *a, uint32_t n)
+/* a's statistics; with c over every process's share of its values (the
+ * result is the whole scene's on every process). */
+static int update_range(lc_attribute *a, uint32_t n, const lc_scene_collective *c, lc_error *err)
 {
     float lo = INFINITY, hi = -INFINITY;
     for (uint32_t i = 0; i < n; i++) {
@@ -175,13 +206,20 @@ void lc_attribute_update_range(lc_attribute *a, uint32_t n)
         if (v > hi)
             hi = v;
     }
+    if (c) {
+        double m[2] = {lo, -(double)hi}; /* one MIN for both ends */
+        if (c->min_f64(c->ctx, m, 2, err))
+            return LC_ERR_INTERNAL;
+        lo = (float)m[0], hi = (float)-m[1];
+    }
     if (lo > hi) /* no finite value at all */
         lo = hi = 0.0f;
     a->min = lo;
     a->max = hi;
     static const double ranks[4] = {0.02, 0.25, 0.75, 0.98};
     float pct[4];
-    percentiles(a->values, n, lo, hi, ranks, 4, pct);
+    if (percentiles(a->values, n, lo, hi, ranks, 4, pct, c, err))
+        return LC_ERR_INTERNAL;
     a->p02 = pct[0], a->p98 = pct[3];
     /* The auto range: each end at the farther of its percentile and the last
      * value inside Tukey's far-out fence (a box plot's whisker). */
@@ -195,9 +233,18 @@ void lc_attribute_update_range(lc_attribute *a, uint32_t n)
         if (v <= fence_hi && v > whisker_hi)
             whisker_hi = v;
     }
+    if (c) {
+        double m[2] = {whisker_lo, -(double)whisker_hi};
+        if (c->min_f64(c->ctx, m, 2, err))
+            return LC_ERR_INTERNAL;
+        whisker_lo = (float)m[0], whisker_hi = (float)-m[1];
+    }
     a->auto_lo = whisker_lo;
     a->auto_hi = whisker_hi;
+    return 0;
 }
+
+void lc_attribute_update_range(lc_attribute *a, uint32_t n) { update_range(a, n, NULL, NULL); }
 
 /* Picks the importance attribute a request without one gets. A name that the
  * loader set but that does not exist is dropped with a warning rather than
@@ -237,6 +284,9 @@ static lc_element_geometry element_geometry(const lc_scene *s)
                                  .triangles = s->triangles};
 }
 
+static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c,
+                         double *line_length, lc_error *err);
+
 int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
 {
     if (!s || !s->finalized)
@@ -246,6 +296,11 @@ int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
                             "%s: the vertex arrays were released after the upload; load the dataset again", s->name);
     if (s->type == LC_PRIM_POINTS)
         return 0;
+    if (s->part_of) {
+        const lc_scene_collective *c = s->collective;
+        lc_elements_desc desc = {.line_budget = budget};
+        return c->agree(c->ctx, part_elements(s, &desc, c, NULL, err), err);
+    }
     uint64_t most = s->type == LC_PRIM_LINES ? lc_scene_primitive_count(s) : s->vertex_count;
     if (budget > most || budget > (1u << 24))
         return lc_err_field(err, LC_ERR_INVALID, "elements",
@@ -300,5 +355,167 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
             "(derive %.0f ms, elements %.0f ms)",
             s->name, lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
             s->attribute_count, s->elements.count, (t1 - t0) * 1e3, (t2 - t1) * 1e3);
+    return LC_OK;
+}
+
+/* The elements of a part in the whole scene's numbering: every process
+ * contributes its lines' vertex counts and lengths (8 bytes a line) or its
+ * point count, and each builds the same budget split from the same table. */
+static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c,
+                         double *line_length, lc_error *err)
+{
+    lc_element_geometry g = element_geometry(s);
+    uint64_t *bytes_of = calloc((size_t)c->size, sizeof *bytes_of);
+    if (!bytes_of)
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", s->name);
+    int rc = 0;
+    void *all = NULL;
+    if (s->type == LC_PRIM_POINTS) {
+        uint64_t mine = s->vertex_count, first = 0, total = 0;
+        rc = c->gather(c->ctx, &mine, sizeof mine, &all, bytes_of, err);
+        for (int r = 0; !rc && r < c->size; r++) {
+            uint64_t n = ((const uint64_t *)all)[r];
+            first += r < c->rank ? n : 0;
+            total += n;
+        }
+        if (!rc)
+            rc = lc_elements_build_points_part(&g, first, total, &s->elements, err);
+        free(all);
+        free(bytes_of);
+        return rc;
+    }
+    /* Lines: (vertex count, length) pairs, concatenated in process order. */
+    uint32_t n = s->line_count;
+    uint32_t *mine = malloc(((size_t)n + 1) * 2 * sizeof *mine);
+    float *len = malloc(((size_t)n + 1) * sizeof *len);
+    if (!mine || !len)
+        rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %u line lengths", s->name, n);
+    else
+        lc_elements_line_lengths(&g, len);
+    for (uint32_t l = 0; !rc && l < n; l++) {
+        mine[2 * l] = s->line_offsets[l + 1] - s->line_offsets[l];
+        memcpy(&mine[2 * l + 1], &len[l], sizeof(float));
+    }
+    int grc = c->gather(c->ctx, mine, rc ? 0 : (size_t)n * 2 * sizeof *mine, &all, bytes_of, err);
+    rc = rc ? rc : grc;
+    uint64_t total_bytes = 0, first_bytes = 0;
+    for (int r = 0; r < c->size; r++) {
+        first_bytes += r < c->rank ? bytes_of[r] : 0;
+        total_bytes += bytes_of[r];
+    }
+    uint64_t lines = total_bytes / (2 * sizeof(uint32_t));
+    uint32_t *counts = NULL;
+    float *lengths = NULL;
+    if (!rc && lines > LC_MAX_PRIMITIVES)
+        rc = lc_err(err, LC_ERR_LIMIT, "%s: %llu lines over all processes exceed the limit of %u", s->name,
+                    (unsigned long long)lines, (unsigned)LC_MAX_PRIMITIVES);
+    if (!rc && (!(counts = malloc((lines + 1) * sizeof *counts)) || !(lengths = malloc((lines + 1) * sizeof *lengths))))
+        rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the table of %llu lines", s->name,
+                    (unsigned long long)lines);
+    uint64_t vertices = 0;
+    double length = 0;
+    for (uint64_t l = 0; !rc && l < lines; l++) {
+        const uint32_t *pair = (const uint32_t *)all + 2 * l;
+        counts[l] = pair[0];
+        memcpy(&lengths[l], &pair[1], sizeof(float));
+        vertices += pair[0];
+        length += lengths[l];
+    }
+    if (line_length)
+        *line_length = length;
+    uint64_t budget = desc ? desc->line_budget : 0, segments = vertices - lines;
+    if (!rc && (budget > segments || budget > (1u << 24))) /* as lc_scene_set_element_budget */
+        rc = lc_err_field(err, LC_ERR_INVALID, "elements",
+                          "%s: %llu elements requested, at most %llu (its segments, and never above 2^24)", s->name,
+                          (unsigned long long)budget,
+                          (unsigned long long)(segments < (1u << 24) ? segments : (1u << 24)));
+    if (!rc) {
+        lc_line_census whole = {.line_count = (uint32_t)lines,
+                                .vertex_counts = counts,
+                                .lengths = lengths,
+                                .vertex_count = vertices,
+                                .first_line = (uint32_t)(first_bytes / (2 * sizeof(uint32_t)))};
+        rc = lc_elements_build_lines_part(&g, desc, &whole, &s->elements, err);
+    }
+    free(counts);
+    free(lengths);
+    free(all);
+    free(mine);
+    free(len);
+    free(bytes_of);
+    return rc;
+}
+
+int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c, lc_error *err)
+{
+    if (!c)
+        return lc_err(err, LC_ERR_INVALID, "scene: a part without collectives");
+    double t0 = lc_now();
+    int rc = 0;
+    if (!s)
+        rc = lc_err(err, LC_ERR_INVALID, "scene: NULL scene");
+    else if (s->type == LC_PRIM_TRIANGLES)
+        rc = lc_err(err, LC_ERR_UNSUPPORTED, "%s: surfaces are split after loading the whole mesh, not read in parts",
+                    s->name);
+    else if (s->vertex_count > 0 || s->line_count > 0) /* a part may be empty */
+        rc = validate(s, err);
+    if ((rc = c->agree(c->ctx, rc, err)) != 0)
+        return rc;
+    free(s->normals);
+    free(s->tangents);
+    s->normals = s->tangents = NULL;
+    lc_elements_free(&s->elements);
+    s->finalized = 0;
+
+    /* What must agree over the parts: the totals, the attributes, the bounds. */
+    uint64_t total = s->vertex_count;
+    double attrs[2] = {s->attribute_count, -(double)s->attribute_count};
+    if (c->sum_u64(c->ctx, &total, 1, err) || c->min_f64(c->ctx, attrs, 2, err))
+        return LC_ERR_INTERNAL;
+    if (total == 0)
+        return lc_err(err, LC_ERR_INVALID, "%s: no process read a vertex", s->name);
+    if (total > LC_MAX_VERTICES)
+        return lc_err(err, LC_ERR_LIMIT, "%s: %llu vertices over all processes exceed the limit of %u", s->name,
+                      (unsigned long long)total, LC_MAX_VERTICES);
+    if (attrs[0] != -attrs[1])
+        return lc_err(err, LC_ERR_INVALID, "%s: the processes read different attributes (%g to %g of them)", s->name,
+                      attrs[0], -attrs[1]);
+    compute_bounds(s); /* an empty part: +inf .. -inf, which the minimum ignores */
+    double b[6];
+    for (int k = 0; k < 3; k++)
+        b[k] = s->bounds[k], b[3 + k] = -s->bounds[3 + k];
+    if (c->min_f64(c->ctx, b, 6, err))
+        return LC_ERR_INTERNAL;
+    for (int k = 0; k < 3; k++)
+        s->bounds[k] = b[k], s->bounds[3 + k] = -b[3 + k];
+
+    if (s->type == LC_PRIM_LINES)
+        rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
+    if ((rc = c->agree(c->ctx, rc, err)) != 0)
+        return rc;
+    for (int i = 0; i < s->attribute_count; i++)
+        if (update_range(&s->attributes[i], s->vertex_count, c, err))
+            return LC_ERR_INTERNAL;
+    choose_defaults(s);
+    double t1 = lc_now();
+    double length = 0;
+    rc = part_elements(s, desc, c, &length, err);
+    if ((rc = c->agree(c->ctx, rc, err)) != 0)
+        return rc;
+    uint64_t counts[2] = {lc_scene_primitive_count(s), s->line_count};
+    if (c->sum_u64(c->ctx, counts, 2, err))
+        return LC_ERR_INTERNAL;
+    s->part_of = c->size;
+    s->collective = c;
+    s->whole_vertices = total, s->whole_primitives = counts[0], s->whole_lines = counts[1];
+    s->whole_line_length = length;
+    s->finalized = 1;
+    double t2 = lc_now();
+    LC_INFO("scene",
+            "%s: part %d of %d: %s, %u of %llu vertices, %llu primitives, %d attributes, %u elements "
+            "(derive %.0f ms, elements %.0f ms)",
+            s->name, c->rank, c->size, lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)total,
+            (unsigned long long)lc_scene_primitive_count(s), s->attribute_count, s->elements.count, (t1 - t0) * 1e3,
+            (t2 - t1) * 1e3);
     return LC_OK;
 }

@@ -113,16 +113,34 @@ static int shard_points(const lc_scene *full, int rank, int size, uint32_t **map
     return 0;
 }
 
-static int shard_lines(const lc_scene *full, int rank, int size, lc_scene *s, uint32_t **map, uint32_t *count)
+int lc_scene_split_lines(const uint32_t *counts, uint32_t n, int rank, int size, uint32_t *first, uint32_t *last)
 {
-    uint32_t nl = full->line_count;
-    uint64_t *cumulative = malloc(((size_t)nl + 1) * sizeof *cumulative);
+    uint64_t *cumulative = malloc(((size_t)n + 1) * sizeof *cumulative);
     if (!cumulative)
         return LC_ERR_NOMEM;
-    for (uint32_t l = 0; l <= nl; l++)
-        cumulative[l] = full->line_offsets[l] - full->line_offsets[0];
-    uint32_t first = split_point(cumulative, nl, rank, size), last = split_point(cumulative, nl, rank + 1, size);
+    cumulative[0] = 0;
+    for (uint32_t l = 0; l < n; l++)
+        cumulative[l + 1] = cumulative[l] + counts[l];
+    *first = split_point(cumulative, n, rank, size);
+    *last = split_point(cumulative, n, rank + 1, size);
     free(cumulative);
+    return 0;
+}
+
+uint32_t lc_scene_split_points(uint64_t n, int rank, int size) { return aligned_split(n, rank, size); }
+
+static int shard_lines(const lc_scene *full, int rank, int size, lc_scene *s, uint32_t **map, uint32_t *count)
+{
+    uint32_t nl = full->line_count, first, last;
+    uint32_t *counts = malloc(((size_t)nl + 1) * sizeof *counts);
+    if (!counts)
+        return LC_ERR_NOMEM;
+    for (uint32_t l = 0; l < nl; l++)
+        counts[l] = full->line_offsets[l + 1] - full->line_offsets[l];
+    int rc = lc_scene_split_lines(counts, nl, rank, size, &first, &last);
+    free(counts);
+    if (rc)
+        return rc;
     uint32_t v0 = full->line_offsets[first], v1 = full->line_offsets[last];
     s->line_count = last - first;
     s->line_offsets = malloc(((size_t)s->line_count + 1) * sizeof(uint32_t));

@@ -22,6 +22,16 @@ extern "C" {
  * The caller destroys *out; full is untouched. */
 int lc_scene_shard(const lc_scene *full, int rank, int size, lc_scene **out, lc_error *err);
 
+/* The split lc_scene_shard makes, for readers that keep only their share
+ * while reading (lc_scene_read_file_part): of n lines with counts[i]
+ * vertices, rank's whole lines [*first, *last), balanced by vertex count.
+ * LC_ERR_NOMEM when the running sums cannot be allocated. */
+int lc_scene_split_lines(const uint32_t *counts, uint32_t n, int rank, int size, uint32_t *first, uint32_t *last);
+/* Of n points, the first of rank's contiguous share (rank = size gives n):
+ * shares start at multiples of 1024, the chunks in which the compact GPU
+ * layout quantizes positions. */
+uint32_t lc_scene_split_points(uint64_t n, int rank, int size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -137,10 +137,15 @@ int lc_cli_has_flag(int argc, char **argv, const char *flag)
     return 0;
 }
 
+const char *lc_cli_dataset_spec(const lc_request *req, const lc_cli_common *common)
+{
+    return common->input ? common->input : req->dataset[0] ? req->dataset : "demo:tornado";
+}
+
 int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene, lc_cli_gl *g)
 {
     lc_error err = {0};
-    const char *spec = common->input ? common->input : req->dataset[0] ? req->dataset : "demo:tornado";
+    const char *spec = lc_cli_dataset_spec(req, common);
     *scene = NULL;
     if (lc_cli_open_dataset(spec, scene, &err) != 0 ||
         (common->elements && lc_scene_set_element_budget(*scene, (uint32_t)common->elements, &err) != 0)) {

@@ -56,6 +56,8 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
 /* Opens the dataset (common->input, else the request's, else demo:tornado) and
  * a GL renderer. Prints "lucent CMD: reason" and returns non-zero on error;
  * on success the caller destroys *scene and closes g. */
+/* The dataset a command works on: --dataset/--input, the request's, or demo:tornado. */
+const char *lc_cli_dataset_spec(const lc_request *req, const lc_cli_common *common);
 int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_scene **scene, lc_cli_gl *g);
 
 /* Uploads scene in the layout common asks for (compact, or exact with

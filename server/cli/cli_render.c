@@ -29,7 +29,8 @@ static void render_usage(void)
             "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
             "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
             "  --mpi                 under mpirun/srun: each rank renders its shard, rank 0 writes the image\n"
-            "                        (docs/MPI.md; methods fourier and direct)\n"
+            "                        (docs/MPI.md; methods fourier and direct); .trk/.tck/.binlines files:\n"
+            "                        each rank reads only its share (LUCENT_MPI_READ=whole: all, then shard)\n"
             "  --point-stride N      points: draw as a session does while the camera moves: the most\n"
             "                        important 1/(4N) of the points in full, every N-th of the rest\n"
             "  --uniform-points      with --point-stride: every N-th of all points instead\n%s",
@@ -131,15 +132,30 @@ int lc_cli_render(int argc, char **argv)
         return 1;
     }
     int rank = mpi ? lc_mpi_rank(mpi) : 0;
-    int open_rc = lc_cli_open("render", &req, &common, &scene, &g);
+    int open_rc;
     if (mpi) {
-        /* Every rank loads the whole dataset (global bounds, ranges,
-         * percentiles and elements come out the same), then keeps its shard. */
-        lc_err(&err, open_rc, "cannot open the dataset or a GL context (its message is above)");
-        if (lc_mpi_agree(mpi, open_rc, &err) == 0)
-            open_rc = lc_mpi_shard(mpi, &scene, stdout, &err);
-        else
-            open_rc = 1;
+        /* Line files in a format that can be skipped through: each rank reads
+         * only its share and the ranks finalize the parts together. Other
+         * datasets: every rank loads the whole (global bounds, ranges,
+         * percentiles and elements come out the same), then keeps its shard.
+         * LUCENT_MPI_READ=whole forces the second way (for comparisons). */
+        const char *spec = lc_cli_dataset_spec(&req, &common), *how = getenv("LUCENT_MPI_READ");
+        int parts = lc_scene_can_read_part(spec) && !(how && strcmp(how, "whole") == 0);
+        open_rc = lc_mpi_check_same(mpi, "ways of reading the dataset", parts ? "in parts" : "whole", &err);
+        if (open_rc == 0 && parts) { /* the GL context first, as lc_cli_open: the memory reports compare */
+            open_rc = lc_mpi_agree(mpi, lc_cli_gl_open(common.device, &g, &err), &err);
+            if (open_rc == 0)
+                open_rc = lc_mpi_finalize_part(
+                    mpi, lc_scene_read_file_part(spec, rank, lc_mpi_size(mpi), &scene, &err), &scene,
+                    (uint32_t)common.elements, stdout, &err);
+        } else if (open_rc == 0) {
+            open_rc = lc_cli_open("render", &req, &common, &scene, &g);
+            lc_err(&err, open_rc, "cannot open the dataset or a GL context (its message is above)");
+            if (lc_mpi_agree(mpi, open_rc, &err) == 0)
+                open_rc = lc_mpi_shard(mpi, &scene, stdout, &err);
+            else
+                open_rc = 1;
+        }
         if (open_rc) {
             if (rank == 0)
                 fprintf(stderr, "lucent render: --mpi: %s; every rank exits\n", err.msg);
@@ -149,7 +165,7 @@ int lc_cli_render(int argc, char **argv)
             return 1;
         }
         lc_renderer_set_reducer(g.renderer, lc_mpi_reducer(mpi));
-    } else if (open_rc != 0)
+    } else if ((open_rc = lc_cli_open("render", &req, &common, &scene, &g)) != 0)
         return 1;
     int status = 1;
     lc_gpu_scene *gs = NULL;

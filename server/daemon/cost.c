@@ -41,6 +41,11 @@ void lc_cost_stats_compute(const lc_scene *s, lc_cost_stats *out)
             out->area += 0.5 * sqrt(x * x + y * y + z * z);
         }
     }
+    if (s->part_of) { /* serve --mpi, a part read by this rank: what the whole costs */
+        out->primitives = (double)s->whole_primitives;
+        out->vertices = (double)s->whole_vertices;
+        out->line_length = s->whole_line_length;
+    }
     if (!isfinite(out->line_length))
         out->line_length = 1e300;
     if (!isfinite(out->area))

@@ -207,7 +207,10 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
         if (S_ISDIR(st.st_mode) && !lc_scene_is_dataset_file(source)) /* a TRX directory is one dataset */
             return add_directory(d, source, err);
         LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
-        rc = lc_scene_load_file(source, &ds->scene, err);
+        if (d->opts.read_part && lc_scene_can_read_part(source)) /* serve --mpi: this rank's share */
+            rc = d->opts.read_part(d->opts.read_part_ctx, source, &ds->scene, err);
+        else
+            rc = lc_scene_load_file(source, &ds->scene, err);
         file_stem(source, base, sizeof base);
         if (rc == 0 && (rc = lc_dataset_read_sidecar(source, ds->scene, &ds->preset, err)) != 0) {
             lc_scene_destroy(ds->scene);
@@ -398,7 +401,7 @@ int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, 
     for (int i = 0; i < d->count; i++) {
         lc_dataset *ds = &d->items[i];
         json_t *whole = lc_dataset_info(ds);
-        int rc = shard(ctx, &ds->scene, err);
+        int rc = ds->scene->part_of ? 0 : shard(ctx, &ds->scene, err); /* a part is a share already */
         if (rc) {
             json_decref(whole);
             return rc;
@@ -457,12 +460,15 @@ json_t *lc_dataset_info(const lc_dataset *ds)
             json_object_set_new(o, "description", json_string(desc));
     }
     json_object_set_new(o, "type", json_string(lc_prim_type_name(s->type)));
-    json_object_set_new(o, "vertices", json_integer(s->vertex_count));
-    json_object_set_new(o, "primitives", json_integer((json_int_t)lc_scene_primitive_count(s)));
-    json_object_set_new(o, "lines", json_integer(s->line_count));
+    /* A part read by this rank (serve --mpi) describes the whole it belongs to. */
+    json_int_t vertices = s->part_of ? (json_int_t)s->whole_vertices : s->vertex_count;
+    json_object_set_new(o, "vertices", json_integer(vertices));
+    json_object_set_new(o, "primitives",
+                        json_integer((json_int_t)(s->part_of ? s->whole_primitives : lc_scene_primitive_count(s))));
+    json_object_set_new(o, "lines", json_integer(s->part_of ? (json_int_t)s->whole_lines : s->line_count));
     json_object_set_new(o, "triangles", json_integer(s->triangle_count));
     json_object_set_new(o, "elements", json_integer(s->elements.count));
-    json_object_set_new(o, "points", json_integer(s->type == LC_PRIM_POINTS ? s->vertex_count : 0));
+    json_object_set_new(o, "points", json_integer(s->type == LC_PRIM_POINTS ? vertices : 0));
     json_t *b = json_array(); /* [[xmin, ymin, zmin], [xmax, ymax, zmax]] as in openapi.yaml */
     for (int k = 0; k < 2; k++) {
         json_t *corner = json_array();

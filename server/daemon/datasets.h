@@ -43,6 +43,11 @@ typedef struct lc_datasets_options {
     int exact_positions;          /* --exact-positions */
     uint64_t max_memory;          /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
     int workers;                  /* render workers, each holding per-element state; 0 = 1 */
+    /* serve --mpi: reads this rank's share of a file whose format allows it
+     * (lc_scene_can_read_part), collectively with the other ranks, which load
+     * the same sources in the same order; NULL: every file is read whole. */
+    int (*read_part)(void *ctx, const char *path, lc_scene **out, lc_error *err);
+    void *read_part_ctx;
 } lc_datasets_options;
 
 typedef struct lc_datasets lc_datasets;
@@ -73,7 +78,8 @@ int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *er
  * there is no sidecar). */
 int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, lc_error *err);
 /* Replaces every scene with shard(ctx, &scene, err), keeping the whole
- * dataset's description for lc_dataset_info (serve --mpi; before upload). */
+ * dataset's description for lc_dataset_info (serve --mpi; before upload).
+ * A part read by this rank (read_part) is kept as it is. */
 int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, lc_error *err), void *ctx,
                       lc_error *err);
 /* Creates the GPU copies (the layout of the options), then releases the

@@ -76,8 +76,9 @@ static void usage(FILE *f)
             "  --frame-budget MS      render time interactive frames aim under: line detail, point stride and\n"
             "                         resolution adapt to it (default 70)\n"
             "  --log-level L          error|warn|info|debug (default info)\n"
-            "  --mpi                  under mpirun/srun: every rank loads the data and keeps its shard; rank 0\n"
-            "                         serves and leads, the others render their shards of each frame (docs/MPI.md)\n"
+            "  --mpi                  under mpirun/srun: each rank reads its share of .trk/.tck/.binlines files\n"
+            "                         (other data: loads all, keeps its shard); rank 0 serves and leads, the\n"
+            "                         others render their shards of each frame (docs/MPI.md)\n"
             "  -h, --help             this text\n");
 }
 
@@ -424,6 +425,11 @@ static int serve_main(int argc, char **argv)
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
                                  .workers = cfg->workers > 0 ? cfg->workers : 1};
+    const char *mpi_read = getenv("LUCENT_MPI_READ");
+    if (srv.mpi && !(mpi_read && strcmp(mpi_read, "whole") == 0)) { /* line files: each rank reads its share */
+        dopts.read_part = lc_serve_mpi_read_part;
+        dopts.read_part_ctx = srv.mpi;
+    }
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)
         rc = lc_datasets_add_demos(srv.datasets, &err);

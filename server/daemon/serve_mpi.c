@@ -8,10 +8,17 @@
 #include <unistd.h>
 
 #include "lc_mpi.h"
+#include "loaders.h"
 
 #define MOD "mpi"
 
 static int shard_scene(void *ctx, lc_scene **scene, lc_error *err) { return lc_mpi_shard(ctx, scene, NULL, err); }
+
+int lc_serve_mpi_read_part(void *ctx, const char *path, lc_scene **out, lc_error *err)
+{
+    int rc = lc_scene_read_file_part(path, lc_mpi_rank(ctx), lc_mpi_size(ctx), out, err);
+    return lc_mpi_finalize_part(ctx, rc, out, 0, NULL, err); /* --elements and sidecars rebuild collectively */
+}
 
 int lc_serve_mpi_start(lc_server *srv, int load_rc, lc_error *err)
 {
@@ -26,9 +33,10 @@ int lc_serve_mpi_start(lc_server *srv, int load_rc, lc_error *err)
     size_t used = 0;
     for (int i = 0; i < lc_datasets_count(srv->datasets); i++) {
         const lc_dataset *ds = lc_datasets_at(srv->datasets, i);
-        int n =
-            snprintf(list + used, sizeof list - used, "%s%s (%s, %u vertices, %u elements)", i ? ", " : "", ds->name,
-                     lc_prim_type_name(ds->scene->type), ds->scene->vertex_count, ds->scene->elements.count);
+        const lc_scene *s = ds->scene;
+        int n = snprintf(list + used, sizeof list - used, "%s%s (%s, %llu vertices, %u elements)", i ? ", " : "",
+                         ds->name, lc_prim_type_name(s->type),
+                         (unsigned long long)(s->part_of ? s->whole_vertices : s->vertex_count), s->elements.count);
         if (n < 0 || (size_t)n >= sizeof list - used)
             break;
         used += (size_t)n;

@@ -9,9 +9,11 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "scene_part.h"
 #include "scene_shard.h"
 
 #define MOD "mpi"
@@ -38,6 +40,8 @@ struct lc_mpi {
     MPI_Op half_sum;
     _Float16 *half_buf;
     size_t half_cap;
+    /* lc_mpi_finalize_part: the scene layer's collectives, which the parts keep */
+    lc_scene_collective collective;
     /* lc_mpi_on_abort */
     void (*_Atomic abort_hook)(void *ctx, const char *msg);
     void *_Atomic abort_ctx;
@@ -287,6 +291,48 @@ int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *e
     return rc;
 }
 
+#define SHARE_FIELDS 5
+
+/* Rank 0 reports each rank's share: vertices, primitives, scene bytes
+ * against the whole (whole = 0: the shares' sum, with the element numbering
+ * and adjacency, which every rank holds, counted once) and the peak resident
+ * size so far, to report (one line per rank) or the log. */
+static void report_shares(lc_mpi *m, const lc_scene *shard, size_t whole, const char *how, FILE *report,
+                          lc_error *err)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    const lc_elements *e = &shard->elements;
+    uint64_t adjacency = e->adjacency_offsets ? ((uint64_t)e->count + 1 + e->adjacency_count) * sizeof(uint32_t) : 0;
+    uint64_t mine[SHARE_FIELDS] = {lc_scene_bytes(shard), shard->vertex_count, lc_scene_primitive_count(shard),
+                                   (uint64_t)ru.ru_maxrss /* KiB on Linux */, adjacency};
+    uint64_t *all = calloc((size_t)m->size * SHARE_FIELDS, sizeof *all);
+    if (!all)
+        lc_mpi_abort(m, 1, "out of memory");
+    MPI_Request req;
+    MPI_Igather(mine, SHARE_FIELDS, MPI_UINT64_T, all, SHARE_FIELDS, MPI_UINT64_T, 0, MPI_COMM_WORLD, &req);
+    wait_request(m, &req, "the memory report", m->timeout, err);
+    if (m->rank == 0 && !whole) {
+        whole = all[4];
+        for (int r = 0; r < m->size; r++)
+            whole += all[SHARE_FIELDS * r] - all[SHARE_FIELDS * r + 4];
+    }
+    for (int r = 0; m->rank == 0 && r < m->size; r++) {
+        const uint64_t *a = all + SHARE_FIELDS * r;
+        char line[320];
+        snprintf(line, sizeof line,
+                 "%s: rank %d of %d: %llu vertices, %llu primitives, %.2f MB of scene arrays (%.0f%% "
+                 "of the whole %.2f MB; %s), peak resident %.1f MB",
+                 shard->name, r, m->size, (unsigned long long)a[1], (unsigned long long)a[2], a[0] / 1e6,
+                 whole ? 100.0 * a[0] / whole : 0.0, whole / 1e6, how, a[3] * 1024 / 1e6);
+        if (report)
+            fprintf(report, "  %s\n", line);
+        else
+            LC_INFO(MOD, "%s", line);
+    }
+    free(all);
+}
+
 int lc_mpi_shard(lc_mpi *m, lc_scene **scene, FILE *report, lc_error *err)
 {
     lc_scene *shard = NULL;
@@ -298,26 +344,82 @@ int lc_mpi_shard(lc_mpi *m, lc_scene **scene, FILE *report, lc_error *err)
     }
     lc_scene_destroy(*scene);
     *scene = shard;
-    uint64_t mine[3] = {lc_scene_bytes(shard), shard->vertex_count, lc_scene_primitive_count(shard)};
-    uint64_t *all = calloc((size_t)m->size * 3, sizeof *all);
-    if (!all)
-        lc_mpi_abort(m, 1, "out of memory");
+    report_shares(m, shard, whole, "read whole, share kept", report, err);
+    return 0;
+}
+
+/* ---- lc_scene_collective over MPI_COMM_WORLD (parts read by each rank) */
+
+static int coll_agree(void *ctx, int rc, lc_error *err) { return lc_mpi_agree(ctx, rc, err); }
+
+static int coll_allreduce(lc_mpi *m, void *v, size_t n, MPI_Datatype type, MPI_Op op, lc_error *err)
+{
+    if (n > INT32_MAX)
+        return lc_err(err, LC_ERR_LIMIT, "MPI: %zu values in one reduction", n);
     MPI_Request req;
-    MPI_Igather(mine, 3, MPI_UINT64_T, all, 3, MPI_UINT64_T, 0, MPI_COMM_WORLD, &req);
-    wait_request(m, &req, "the memory report", m->timeout, err);
-    for (int r = 0; m->rank == 0 && r < m->size; r++) {
-        char line[256];
-        snprintf(line, sizeof line,
-                 "%s: rank %d of %d: %llu vertices, %llu primitives, %.2f MB of scene arrays (%.0f%% "
-                 "of the whole %.2f MB)",
-                 shard->name, r, m->size, (unsigned long long)all[3 * r + 1], (unsigned long long)all[3 * r + 2],
-                 all[3 * r] / 1e6, whole ? 100.0 * all[3 * r] / whole : 0.0, whole / 1e6);
-        if (report)
-            fprintf(report, "  %s\n", line);
-        else
-            LC_INFO(MOD, "%s", line);
+    MPI_Iallreduce(MPI_IN_PLACE, v, (int)n, type, op, MPI_COMM_WORLD, &req);
+    return wait_request(m, &req, "a reduction while loading", m->timeout, err);
+}
+
+static int coll_sum_u64(void *ctx, uint64_t *v, size_t n, lc_error *err)
+{
+    return coll_allreduce(ctx, v, n, MPI_UINT64_T, MPI_SUM, err);
+}
+
+static int coll_min_f64(void *ctx, double *v, size_t n, lc_error *err)
+{
+    return coll_allreduce(ctx, v, n, MPI_DOUBLE, MPI_MIN, err);
+}
+
+static int coll_gather(void *ctx, const void *mine, size_t bytes, void **all, uint64_t *bytes_of, lc_error *err)
+{
+    lc_mpi *m = ctx;
+    *all = NULL;
+    uint64_t n = bytes;
+    MPI_Request req;
+    MPI_Iallgather(&n, 1, MPI_UINT64_T, bytes_of, 1, MPI_UINT64_T, MPI_COMM_WORLD, &req);
+    int rc = wait_request(m, &req, "the sizes of the parts", m->timeout, err);
+    uint64_t total = 0;
+    int *counts = calloc((size_t)m->size, sizeof *counts), *displs = calloc((size_t)m->size, sizeof *displs);
+    for (int r = 0; r < m->size && !rc; r++) {
+        if (!counts || !displs || bytes_of[r] > INT32_MAX || total + bytes_of[r] > INT32_MAX)
+            lc_mpi_abort(m, 1, "the table of the parts' lines exceeds 2 GB or memory"); /* every rank alike */
+        counts[r] = (int)bytes_of[r], displs[r] = (int)total;
+        total += bytes_of[r];
     }
-    free(all);
+    if (!rc && !(*all = malloc(total ? total : 1)))
+        lc_mpi_abort(m, 1, "out of memory for the table of the parts' lines");
+    if (!rc) {
+        MPI_Iallgatherv(mine, (int)bytes, MPI_BYTE, *all, counts, displs, MPI_BYTE, MPI_COMM_WORLD, &req);
+        rc = wait_request(m, &req, "the table of the parts' lines", m->timeout, err);
+    }
+    free(counts);
+    free(displs);
+    return rc;
+}
+
+int lc_mpi_finalize_part(lc_mpi *m, int read_rc, lc_scene **scene, uint32_t elements, FILE *report, lc_error *err)
+{
+    lc_scene *s = read_rc ? NULL : *scene;
+    *scene = NULL;
+    int rc;
+    if ((rc = lc_mpi_agree(m, read_rc, err)) == 0) {
+        m->collective = (lc_scene_collective){.ctx = m,
+                                              .rank = m->rank,
+                                              .size = m->size,
+                                              .agree = coll_agree,
+                                              .sum_u64 = coll_sum_u64,
+                                              .min_f64 = coll_min_f64,
+                                              .gather = coll_gather};
+        lc_elements_desc desc = {.line_budget = elements, .patch_count = elements};
+        rc = lc_scene_finalize_part(s, &desc, &m->collective, err);
+    }
+    if (rc) {
+        lc_scene_destroy(s);
+        return rc;
+    }
+    report_shares(m, s, 0, "its share read from the file", report, err);
+    *scene = s;
     return 0;
 }
 

@@ -58,6 +58,14 @@ int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *e
  * report (one line per rank) or, when NULL, in the log. A failure on any rank
  * fails every rank (lc_mpi_agree). */
 int lc_mpi_shard(lc_mpi *m, lc_scene **scene, FILE *report, lc_error *err);
+/* Collective: finishes this rank's part of a line file, read with
+ * lc_scene_read_file_part(path, rank, size) (read_rc its status; on failure
+ * *scene is destroyed if set), together with the other ranks
+ * (lc_scene_finalize_part) with `elements` line elements (0 = derived from
+ * the whole). The result is what lc_mpi_shard gives from the whole file,
+ * without any rank holding the whole; the part keeps this lc_mpi's
+ * collectives for later element rebuilds. Reports as lc_mpi_shard does. */
+int lc_mpi_finalize_part(lc_mpi *m, int read_rc, lc_scene **scene, uint32_t elements, FILE *report, lc_error *err);
 
 /* ---- Serve: rank 0 leads, the others follow. */
 /* Rank 0: announces the next frame to the other ranks (dataset index in the

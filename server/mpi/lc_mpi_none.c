@@ -40,6 +40,12 @@ int lc_mpi_shard(lc_mpi *m, lc_scene **scene, FILE *report, lc_error *err)
 {
     return (void)m, (void)scene, (void)report, unavailable(err);
 }
+int lc_mpi_finalize_part(lc_mpi *m, int read_rc, lc_scene **scene, uint32_t elements, FILE *report, lc_error *err)
+{
+    lc_scene_destroy(*scene);
+    *scene = NULL;
+    return (void)m, (void)read_rc, (void)elements, (void)report, unavailable(err);
+}
 int lc_mpi_frame_announce(lc_mpi *m, int dataset, uint32_t element_count, const lc_render_params *p,
                           const lc_frame_state *state, double dt, lc_error *err)
 {

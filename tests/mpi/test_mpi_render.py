@@ -1,6 +1,7 @@
 """`mpirun -np N lucent render --mpi` against one process: lines, points and
 surfaces, fading off (one frame) and on (several frames with --fade), the
-per-pixel depth range and the direct method, RMS difference <= 1/255 and the
+per-pixel depth range and the direct method, line files that each rank reads
+only its share of, RMS difference <= 1/255 and the
 same visibility report (within 0.01); a rank
 that cannot load its shard and a method that cannot be split fail clearly.
 Usage: test_mpi_render.py LUCENT RANKS"""
@@ -59,6 +60,48 @@ for name, flags in CASES:
           (name, ranks, e, MAX_RMSE, t1 - t0, ranks, t2 - t1))
     if e > MAX_RMSE:
         failures.append("%s: rmse %.6f > 1/255" % (name, e))
+
+# Line files in .binlines, .tck and .trk: each rank reads only its share
+# (docs/MPI.md "Loading"). Against one process, and bit for bit against the
+# ranks reading the whole file and keeping their shards (LUCENT_MPI_READ=whole),
+# since both ways must give every rank the same lines, statistics and elements.
+from line_files import write_all  # noqa: E402
+files = write_all(tmp, 300)
+PART_CASES = [(ext, ["--dataset", path]) for ext, path in sorted(files.items())]
+PART_CASES += [("trk-fading-elements", ["--dataset", files["trk"], "--frames", "3", "--fade", "0.15",
+                                        "--elements", "700"]),
+               ("binlines-importance", ["--dataset", files["binlines"], "--importance", "speed"])]
+for name, flags in PART_CASES:
+    one, parts, whole = (os.path.join(tmp, "file-%s-%s.png" % (name, k)) for k in ("1", "parts", "whole"))
+    common = ["render", "--size", "160x120"] + flags
+    a = subprocess.run([lucent] + common + ["--out", one], capture_output=True, text=True)
+    b = subprocess.run(launcher + [lucent] + common + ["--mpi", "--out", parts], capture_output=True, text=True,
+                       env=env, timeout=300)
+    c = subprocess.run(launcher + [lucent] + common + ["--mpi", "--out", whole], capture_output=True, text=True,
+                       env=dict(env, LUCENT_MPI_READ="whole"), timeout=300)
+    if a.returncode or b.returncode or c.returncode:
+        failures.append("%s: exit %d / %d / %d: %s %s %s" % (name, a.returncode, b.returncode, c.returncode,
+                                                            a.stderr[-300:], b.stderr[-600:], c.stderr[-300:]))
+        continue
+    read = [line for line in b.stdout.splitlines() if "rank %d of %d" % (ranks - 1, ranks) in line]
+    if not read or "its share read from the file" not in read[0]:
+        failures.append("%s: no report of a share read from the file in %r" % (name, b.stdout[:400]))
+    e1, e2 = rmse(lucent, one, parts), rmse(lucent, whole, parts)
+    print("%-20s %d ranks reading parts: rmse %.6f against one process, %.6f against reading whole" %
+          (name, ranks, e1, e2))
+    if e1 > MAX_RMSE or e2 != 0:
+        failures.append("%s: rmse %.6f against one process (limit 1/255), %.6f against reading whole (must be 0)" %
+                        (name, e1, e2))
+
+# Bad input read in parts: a budget beyond the segments names the field on
+# every rank, as one process does.
+r = subprocess.run(launcher + [lucent, "render", "--mpi", "--dataset", files["tck"], "--size", "64x64",
+                               "--elements", "16000000", "--out", os.path.join(tmp, "z.png")],
+                   capture_output=True, text=True, env=env, timeout=120)
+if r.returncode == 0 or "elements" not in r.stderr or "every rank exits" not in r.stderr:
+    failures.append("elements beyond the segments: exit %d, stderr %r" % (r.returncode, r.stderr[-400:]))
+else:
+    print("elements beyond the segments refused on every rank: ok")
 
 # A method whose compositing is not a sum is refused by name on every rank.
 r = subprocess.run(launcher + [lucent, "render", "--mpi", "--dataset", "demo:points?count=2000", "--size", "64x64",

@@ -30,9 +30,12 @@ lucent, ranks = sys.argv[1], int(sys.argv[2])
 launcher = mpirun(ranks)
 if not launcher:
     skip("mpirun not found (apt-get install openmpi-bin)")
-DATA = ["demo:tornado", "demo:surface", "demo:points"]
 DEMO_SIZE = 120
 tmp = tempfile.mkdtemp(prefix="lucent-mpi-serve-")
+# A line file each rank reads only its share of (docs/MPI.md "Loading").
+from line_files import write_all  # noqa: E402
+TRK = write_all(tmp, 120)["trk"]
+DATA = ["demo:tornado", "demo:surface", "demo:points", TRK]
 check = Check()
 
 
@@ -117,7 +120,8 @@ single = Server(lucent, "--exact-positions", data=DATA, demo_size=DEMO_SIZE)
 multi = MpiServer(lucent, ranks, DATA, DEMO_SIZE, args=("--exact-positions",))
 try:
     # One-shot HTTP renders of every kind of geometry.
-    for ds in DATA:
+    for src in DATA:
+        ds = "helices" if src == TRK else src
         req = {"dataset": ds, "width": 160, "height": 120, "format": "png"}
         if ds == "demo:surface":  # surface levels of detail are simplified per shard (docs/MPI.md)
             req["params"] = {"lod": 0}
@@ -160,6 +164,9 @@ try:
     strip = lambda d: [{k: v for k, v in x.items() if k not in ("gpuBytes", "memory")} for x in d["datasets"]]  # noqa: E731
     check(strip(d1) == strip(d2), "/api/v1/datasets equal but for gpuBytes and memory")
     check(any("rank %d of %d" % (ranks - 1, ranks) in line for line in multi.log), "per-rank memory in the log")
+    check(any("helices: rank %d of %d" % (ranks - 1, ranks) in line and "its share read from the file" in line
+              for line in multi.log), "the line file read in parts (log: %s)" %
+          [line for line in multi.log if "helices: rank" in line][:1])
 
     # Kill the last rank during a session: the job ends within seconds and
     # mpirun's message names the rank.

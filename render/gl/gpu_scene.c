@@ -38,7 +38,7 @@ static void layout_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_bl
         m->attributes = (uint64_t)n * 4 * (uint64_t)s->attribute_count;
         m->colors = lc_scene_has_rgb(s) ? (uint64_t)n * 12 : 0;
     } else {
-        m->positions = lc_pack_positions_bytes(n) + lc_pack_chunks_bytes(n);
+        m->positions = lc_pack_positions_bytes(n) + lc_pack_chunks_bytes(n, lc_pack_chunk_phase(s));
         m->frames = framed ? (uint64_t)n * 4 : 0;
         for (int a = 0; a < s->attribute_count; a++)
             m->attributes += lc_pack_attribute_is_unorm16(&s->attributes[a]) ? lc_pack_unorm16_bytes(n) : (uint64_t)n * 4;
@@ -97,13 +97,13 @@ static int upload_vertices(lc_gpu_scene *gs, const lc_scene *s, lc_error *err)
             gs->frames = lc_gl_buffer(NULL, 0, &gs->bytes);
         }
     } else {
-        size_t chunk_bytes = lc_pack_chunks_bytes(s->vertex_count);
+        size_t chunk_bytes = lc_pack_chunks_bytes(s->vertex_count, lc_pack_chunk_phase(s));
         float *chunks = malloc(chunk_bytes ? chunk_bytes : 16);
         if (!chunks) {
             free(tmp);
             return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %zu vertices", s->name, n);
         }
-        lc_pack_positions(s->positions, s->vertex_count, tmp, chunks);
+        lc_pack_positions(s->positions, s->vertex_count, lc_pack_chunk_phase(s), tmp, chunks);
         gs->positions = lc_gl_buffer(tmp, lc_pack_positions_bytes(s->vertex_count), &gs->bytes);
         gs->position_chunks = lc_gl_buffer(chunks, chunk_bytes, &gs->bytes);
         free(chunks);

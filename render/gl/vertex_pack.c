@@ -16,10 +16,12 @@ int lc_pack_attribute_is_unorm16(const lc_attribute *a)
 }
 
 size_t lc_pack_positions_bytes(uint32_t n) { return ((3 * (size_t)n + 1) / 2) * 4; }
-size_t lc_pack_chunks_bytes(uint32_t n)
+size_t lc_pack_chunks_bytes(uint32_t n, uint32_t phase)
 {
-    return (((size_t)n + LC_POSITION_CHUNK - 1) >> LC_POSITION_CHUNK_SHIFT) * 32;
+    return (((size_t)n + phase + LC_POSITION_CHUNK - 1) >> LC_POSITION_CHUNK_SHIFT) * 32;
 }
+
+uint32_t lc_pack_chunk_phase(const lc_scene *s) { return (uint32_t)(s->vertex_base % LC_POSITION_CHUNK); }
 size_t lc_pack_unorm16_bytes(uint32_t n) { return (((size_t)n + 1) / 2) * 4; }
 
 size_t lc_pack_blend_bytes(lc_blend_layout layout, uint32_t n)
@@ -72,11 +74,13 @@ static void put_u16(uint32_t *words, size_t h, uint32_t value)
     words[h >> 1] = (words[h >> 1] & ~(0xffffu << shift)) | (value << shift);
 }
 
-void lc_pack_positions(const float *p, uint32_t n, uint32_t *words, float *chunks)
+void lc_pack_positions(const float *p, uint32_t n, uint32_t phase, uint32_t *words, float *chunks)
 {
     memset(words, 0, lc_pack_positions_bytes(n));
-    for (uint32_t first = 0; first < n; first += LC_POSITION_CHUNK) {
-        uint32_t end = n - first > LC_POSITION_CHUNK ? first + LC_POSITION_CHUNK : n;
+    phase %= LC_POSITION_CHUNK;
+    for (uint32_t first = 0, k = 0; first < n; k++) {
+        uint32_t room = LC_POSITION_CHUNK - (k == 0 ? phase : 0);
+        uint32_t end = n - first > room ? first + room : n;
         float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (uint32_t v = first; v < end; v++)
             for (int c = 0; c < 3; c++) {
@@ -84,7 +88,7 @@ void lc_pack_positions(const float *p, uint32_t n, uint32_t *words, float *chunk
                 lo[c] = x < lo[c] ? x : lo[c];
                 hi[c] = x > hi[c] ? x : hi[c];
             }
-        float *ch = chunks + 8 * (size_t)(first >> LC_POSITION_CHUNK_SHIFT);
+        float *ch = chunks + 8 * (size_t)k;
         double scale[3];
         for (int c = 0; c < 3; c++) {
             if (!(lo[c] <= hi[c])) /* no finite value (finalize rejects those; stay defined) */
@@ -100,7 +104,10 @@ void lc_pack_positions(const float *p, uint32_t n, uint32_t *words, float *chunk
                 /* Decoded as lo + scale * q in float (common.glsl): round to the nearest code. */
                 put_u16(words, 3 * (size_t)v + c, scale[c] > 0 ? unorm16((x - lo[c]) / (scale[c] * 65535.0)) : 0);
             }
+        first = end;
     }
+    if (n > 0)
+        memcpy(&chunks[3], &phase, sizeof phase); /* 0 for a whole scene: the float 0 */
 }
 
 static uint32_t snorm16(double x)

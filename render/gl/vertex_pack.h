@@ -32,7 +32,7 @@ int lc_pack_attribute_is_unorm16(const lc_attribute *a);
 
 /* Bytes of each packed buffer for n vertices. */
 size_t lc_pack_positions_bytes(uint32_t n);                     /* 3 x u16 per vertex, in 32-bit words */
-size_t lc_pack_chunks_bytes(uint32_t n);                        /* 2 vec4 per chunk */
+size_t lc_pack_chunks_bytes(uint32_t n, uint32_t phase);        /* 2 vec4 per chunk */
 size_t lc_pack_unorm16_bytes(uint32_t n);                       /* one u16 per vertex, in 32-bit words */
 size_t lc_pack_blend_bytes(lc_blend_layout layout, uint32_t n); /* vertex_elements (+ weights for FULL) */
 
@@ -45,9 +45,16 @@ lc_blend_layout lc_pack_blend_layout(const lc_scene *s);
  * (for estimates once the arrays are released). */
 lc_blend_layout lc_pack_blend_layout_of_type(lc_prim_type type);
 
-/* words: lc_pack_positions_bytes(n); chunks: lc_pack_chunks_bytes(n) floats as
- * (min xyz, 0), (scale xyz, 0) per chunk. */
-void lc_pack_positions(const float *p, uint32_t n, uint32_t *words, float *chunks);
+/* words: lc_pack_positions_bytes(n); chunks: lc_pack_chunks_bytes(n, phase)
+ * floats as (min xyz, 0), (scale xyz, 0) per chunk. Chunks begin where v +
+ * phase (phase < LC_POSITION_CHUNK) is a multiple of LC_POSITION_CHUNK: a
+ * shard of a scene split over processes whose first vertex is vertex F of the
+ * whole passes phase = F mod LC_POSITION_CHUNK and quantizes every chunk that
+ * lies wholly within it exactly as the whole scene does. The phase travels as
+ * the bits of the first chunk's fourth float (common.glsl). */
+void lc_pack_positions(const float *p, uint32_t n, uint32_t phase, uint32_t *words, float *chunks);
+/* The phase of a scene's chunks (its vertex_base). */
+uint32_t lc_pack_chunk_phase(const lc_scene *s);
 /* Unit (or zero) directions, 3 floats each, to one word each. */
 void lc_pack_directions(const float *d, uint32_t n, uint32_t *words);
 /* Attribute values to u16 over [a->min, a->max] (non-finite values -> min). */

@@ -67,6 +67,10 @@ typedef struct lc_scene {
      * scene's totals, and the collectives that rebuild its elements
      * (lc_scene_set_element_budget; borrowed, valid while the processes run). */
     int part_of; /* processes; 0: not a part */
+    /* A shard or part: the whole scene's index of its first vertex (the
+     * compact GPU layout aligns its position chunks to the whole's); 0
+     * otherwise, and for surface shards, whose vertices are not contiguous. */
+    uint64_t vertex_base;
     const struct lc_scene_collective *collective;
     uint64_t whole_vertices, whole_primitives, whole_lines;
     double whole_line_length;

@@ -380,6 +380,7 @@ static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_sce
         }
         if (!rc)
             rc = lc_elements_build_points_part(&g, first, total, &s->elements, err);
+        s->vertex_base = first;
         free(all);
         free(bytes_of);
         return rc;
@@ -430,6 +431,10 @@ static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_sce
                           (unsigned long long)budget,
                           (unsigned long long)(segments < (1u << 24) ? segments : (1u << 24)));
     if (!rc) {
+        uint32_t first_line = (uint32_t)(first_bytes / (2 * sizeof(uint32_t)));
+        s->vertex_base = 0;
+        for (uint32_t l = 0; l < first_line; l++)
+            s->vertex_base += counts[l];
         lc_line_census whole = {.line_count = (uint32_t)lines,
                                 .vertex_counts = counts,
                                 .lengths = lengths,

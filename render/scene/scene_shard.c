@@ -100,10 +100,11 @@ static uint32_t aligned_split(uint64_t n, int rank, int size)
     return (uint32_t)(at < n ? at : n);
 }
 
-static int shard_points(const lc_scene *full, int rank, int size, uint32_t **map, uint32_t *count)
+static int shard_points(const lc_scene *full, int rank, int size, lc_scene *s, uint32_t **map, uint32_t *count)
 {
     uint64_t n = full->vertex_count;
     uint32_t first = aligned_split(n, rank, size), last = aligned_split(n, rank + 1, size);
+    s->vertex_base = first;
     *count = last - first;
     *map = malloc(((size_t)*count + 1) * sizeof(uint32_t));
     if (!*map)
@@ -142,6 +143,7 @@ static int shard_lines(const lc_scene *full, int rank, int size, lc_scene *s, ui
     if (rc)
         return rc;
     uint32_t v0 = full->line_offsets[first], v1 = full->line_offsets[last];
+    s->vertex_base = v0;
     s->line_count = last - first;
     s->line_offsets = malloc(((size_t)s->line_count + 1) * sizeof(uint32_t));
     *count = v1 - v0;
@@ -204,7 +206,7 @@ int lc_scene_shard(const lc_scene *full, int rank, int size, lc_scene **out, lc_
     uint32_t *map = NULL, count = 0;
     int rc = full->type == LC_PRIM_LINES       ? shard_lines(full, rank, size, s, &map, &count)
              : full->type == LC_PRIM_TRIANGLES ? shard_triangles(full, rank, size, s, &map, &count)
-                                               : shard_points(full, rank, size, &map, &count);
+                                               : shard_points(full, rank, size, s, &map, &count);
     if (rc)
         rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the shard of rank %d", full->name, rank);
     if (!rc)

@@ -3,7 +3,9 @@
 image sizes, the frame time (wall, last of --frames frames, so start-up and
 loading are not in it), the time spent in the reductions (wall, including the
 wait for the slowest rank) per frame and per reduction, the bytes each rank
-sends per frame, and each rank's scene memory. Prints a Markdown table.
+sends per frame, and each rank's scene memory and peak resident size (with a
+.trk/.tck/.binlines --dataset each rank reads only its share; LUCENT_MPI_READ=whole
+in the environment compares reading everything). Prints a Markdown table.
 
   tests/bench/mpi_bench.py --binary build/lucent [--ranks 1,2,3,4] [--sizes 512,1024]
                            [--dataset demo:tornado] [--frames 3]
@@ -36,8 +38,8 @@ def main():
     print("dataset %s, %d frames per run (the last is reported), %d CPU cores, load average %.1f\n" %
           (args.dataset, args.frames, os.cpu_count(), os.getloadavg()[0]))
     print("| ranks | size | frame ms | reductions ms / frame | of which waiting ms | transfer ms per reduction |"
-          " MB reduced per frame (each rank) | scene MB per rank (whole) |")
-    print("|---|---|---|---|---|---|---|---|")
+          " MB reduced per frame (each rank) | scene MB per rank (whole) | peak resident MB per rank |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for size in [int(s) for s in args.sizes.split(",")]:
         for n in [int(r) for r in args.ranks.split(",")]:
             stats = os.path.join(tmp, "s.json")
@@ -57,12 +59,14 @@ def main():
             mpi = s.get("mpi", {"reductions": 0, "reduceMs": 0.0, "reduceBytes": 0})
             mem = [float(m) for m in re.findall(r"rank \d+ of \d+: .*?, ([0-9.]+) MB of scene arrays", r.stdout)]
             whole = re.search(r"of the whole ([0-9.]+) MB", r.stdout)
+            peak = re.findall(r"rank \d+ of \d+: .*peak resident ([0-9.]+) MB", r.stdout)
             prof = re.search(r"waited ([0-9.]+) ms for the other ranks, ([0-9.]+) ms transferring", r.stdout)
             wait, transfer = (float(prof.group(1)), float(prof.group(2))) if prof else (0.0, 0.0)
             per = transfer / mpi["reductions"] if mpi["reductions"] else 0.0
-            print("| %d | %d² | %.0f | %.1f | %.1f | %.1f | %.1f | %s (%s) |" %
+            print("| %d | %d² | %.0f | %.1f | %.1f | %.1f | %.1f | %s (%s) | %s |" %
                   (n, size, s["wallMs"], mpi["reduceMs"], wait, per, mpi["reduceBytes"] / 1e6,
-                   " / ".join("%.1f" % m for m in mem), whole.group(1) if whole else "?"), flush=True)
+                   " / ".join("%.1f" % m for m in mem), whole.group(1) if whole else "?", " / ".join(peak)),
+                  flush=True)
 
 
 if __name__ == "__main__":

@@ -41,19 +41,15 @@ def write_binlines(path, lines):
         name = b"speed"
         f.write(struct.pack("<I", len(name)) + name)
         for pts, speed, _ in lines:
-            f.write(struct.pack("<I", len(pts)))
-            for p in pts:
-                f.write(struct.pack("<3f", *p))
-            f.write(struct.pack("<%df" % len(speed), *speed))
+            f.write(struct.pack("<I%df" % (4 * len(pts)), len(pts), *[c for p in pts for c in p], *speed))
 
 
 def write_tck(path, lines):
-    body = b""
+    body = []
     for pts, _, _ in lines:
-        for p in pts:
-            body += struct.pack("<3f", *p)
-        body += struct.pack("<3f", NAN, NAN, NAN)
-    body += struct.pack("<3f", math.inf, math.inf, math.inf)
+        body.append(struct.pack("<%df" % (3 * len(pts) + 3), *[c for p in pts for c in p], NAN, NAN, NAN))
+    body.append(struct.pack("<3f", math.inf, math.inf, math.inf))
+    body = b"".join(body)
     head = "mrtrix tracks\ncount: %d\ndatatype: Float32LE\n" % len(lines)
     off = 0
     while True:
@@ -82,16 +78,16 @@ def write_trk(path, lines):
     struct.pack_into("<i", h, 988, count)
     struct.pack_into("<i", h, 992, 2)  # version
     struct.pack_into("<i", h, 996, 1000)  # hdr_size
-    body = b""
+    body = [bytes(h)]
     for pts, speed, prop in lines:
-        body += struct.pack("<i", len(pts))
+        values = []
         for p, s in zip(pts, speed):
             p = tuple(0.0 if math.isnan(c) else c for c in p)
             # voxmm: shift into the positive octant (the reader maps voxmm to RAS+ mm)
-            body += struct.pack("<4f", 50 + 40 * p[0], 50 + 40 * p[1], 50 + 40 * p[2], s)
-        body += struct.pack("<f", prop)
+            values += [50 + 40 * p[0], 50 + 40 * p[1], 50 + 40 * p[2], s]
+        body.append(struct.pack("<i%df" % (len(values) + 1), len(pts), *values, prop))
     with open(path, "wb") as f:
-        f.write(bytes(h) + body)
+        f.write(b"".join(body))
 
 
 def write_all(folder, count=300):

@@ -46,7 +46,7 @@ static void test_positions(void)
         p[i] = (float)(sin(i * 0.37) * 100.0 + (i % 3) * 5.0);
     static uint32_t words[(3 * N + 1) / 2];
     static float chunks[8 * ((N + LC_POSITION_CHUNK - 1) / LC_POSITION_CHUNK)];
-    lc_pack_positions(p, N, words, chunks);
+    lc_pack_positions(p, N, 0, words, chunks);
     double worst = 0;
     for (int v = 0; v < N; v++)
         for (int c = 0; c < 3; c++) {

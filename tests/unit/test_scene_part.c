@@ -154,6 +154,8 @@ static void compare(const char *what, const lc_scene *part, const lc_scene *shar
                memcmp(e->adjacency, f->adjacency, (size_t)f->adjacency_count * sizeof(uint32_t)) == 0),
           "%s: adjacency", what);
     CHECK(part->part_of > 0 && part->whole_vertices > 0, "%s: marked as a part of %d", what, part->part_of);
+    CHECK(part->vertex_base == shard->vertex_base, "%s: first vertex %llu of the whole (shard %llu)", what,
+          (unsigned long long)part->vertex_base, (unsigned long long)shard->vertex_base);
 }
 
 /* ---- the processes */

@@ -37,7 +37,9 @@ vec3 vertex_position(uint v)
     uint h = 3u * v;
     vec3 q = vec3(packed_u16(h, position_words[h >> 1]), packed_u16(h + 1u, position_words[(h + 1u) >> 1]),
                   packed_u16(h + 2u, position_words[(h + 2u) >> 1]));
-    uint c = v >> POSITION_CHUNK_SHIFT;
+    // A shard's chunks keep the whole scene's boundaries: the phase of its
+    // first vertex rides in the first chunk's w (vertex_pack.h).
+    uint c = (v + floatBitsToUint(position_chunks[0].w)) >> POSITION_CHUNK_SHIFT;
     return position_chunks[2u * c].xyz + position_chunks[2u * c + 1u].xyz * q;
 }
 

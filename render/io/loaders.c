@@ -30,19 +30,25 @@ int lc_scene_is_dataset_file(const char *path) { return reader_for(path) != NULL
 
 typedef int (*part_loader)(const char *path, int rank, int size, lc_scene **out, lc_error *err);
 
-/* Formats whose records can be skipped without keeping them: a first pass
- * counts every line's points, the second keeps the process's share. */
+/* Formats whose records can be skipped without keeping them: for lines a
+ * first pass counts every line's points, the second keeps the process's
+ * share; a point cloud's share is a contiguous range of its vertices. A PLY
+ * file qualifies only when its header declares no faces or lines. */
 static const struct {
     const char *ext;
     part_loader load;
-} part_readers[] = {{".trk", lc_load_trk_part}, {".tck", lc_load_tck_part}, {".binlines", lc_load_binlines_part}};
+    int (*applies)(const char *path); /* NULL: every file of the extension */
+} part_readers[] = {{".trk", lc_load_trk_part, NULL},
+                    {".tck", lc_load_tck_part, NULL},
+                    {".binlines", lc_load_binlines_part, NULL},
+                    {".ply", lc_load_ply_part, lc_ply_file_is_point_cloud}};
 
 static part_loader part_reader_for(const char *path)
 {
     const char *dot = strrchr(lc_io_basename(path), '.');
     for (size_t i = 0; dot && i < sizeof part_readers / sizeof *part_readers; i++)
         if (strcasecmp(dot, part_readers[i].ext) == 0)
-            return part_readers[i].load;
+            return !part_readers[i].applies || part_readers[i].applies(path) ? part_readers[i].load : NULL;
     return NULL;
 }
 

@@ -33,12 +33,13 @@ int lc_scene_is_dataset_file(const char *path);
 int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err);
 
 /* The extensions lc_scene_read_file_part reads in parts. */
-#define LC_PART_EXTENSIONS ".trk, .tck and .binlines"
+#define LC_PART_EXTENSIONS ".trk, .tck, .binlines and point-cloud .ply"
 
-/* 1 when path's format can be read in parts. */
+/* 1 when path can be read in parts (a .ply file only when it holds points alone). */
 int lc_scene_can_read_part(const char *path);
-/* Reads only process rank's share (of size processes) of a line file: the
- * whole lines that lc_scene_shard gives rank from the whole scene, un-finalized
+/* Reads only process rank's share (of size processes) of a line file or a
+ * point cloud: the whole lines or contiguous points that lc_scene_shard gives
+ * rank from the whole scene, un-finalized
  * (finish with the collective lc_scene_finalize_part, scene_part.h), so no
  * process holds more than its share. LC_ERR_UNSUPPORTED for other formats. */
 int lc_scene_read_file_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);

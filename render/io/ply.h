@@ -17,6 +17,13 @@ extern "C" {
  * byte offset and the reason. `name` is used in messages and as the scene name. */
 int lc_load_ply_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
 int lc_load_ply(const char *path, lc_scene **out, lc_error *err);
+/* Only process rank's share (of size) of a point cloud: the contiguous
+ * vertices lc_scene_shard gives rank (lc_scene_read_file_part); every vertex
+ * is still read and checked. LC_ERR_UNSUPPORTED for a file with faces or lines. */
+int lc_load_ply_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
+/* 1 when path is a PLY file whose header declares vertices and no faces,
+ * lines or edges (a file that cannot be opened or parsed: 0). */
+int lc_ply_file_is_point_cloud(const char *path);
 int lc_save_ply(const lc_scene *s, const char *path, lc_error *err);
 
 #ifdef __cplusplus

@@ -8,6 +8,7 @@
 
 #include "io_util.h"
 #include "ply.h"
+#include "scene_shard.h"
 
 /* Header caps: real files have a handful of elements and properties; these
  * bound the header tables, not the data. */
@@ -364,7 +365,9 @@ static uint64_t min_record_size(const ply_reader *r, const element *e)
 typedef struct ply_load {
     ply_reader r;
     lc_scene *s;
-    uint32_t vertex_count;
+    uint32_t vertex_count;   /* in the file */
+    uint32_t first, kept;    /* the vertices this process keeps (all, or its share of a point cloud) */
+    const lc_io_part *part;  /* NULL or size 0: the whole file */
     float *attr[LC_MAX_ATTRIBUTES];
     float rgb_scale[3];
     lc_io_u32vec triangles;
@@ -408,7 +411,7 @@ static int setup_vertex(ply_load *L, element *e)
                       e->header_line);
     }
     int with_rgb = have[R_RED] && have[R_GREEN] && have[R_BLUE];
-    int rc = lc_scene_alloc_vertices(L->s, L->vertex_count, with_rgb, r->err);
+    int rc = lc_scene_alloc_vertices(L->s, L->kept, with_rgb, r->err);
     if (rc)
         return rc;
     int warned = 0;
@@ -434,7 +437,7 @@ static int setup_vertex(ply_load *L, element *e)
                         LC_IO_MAX_FILE_ATTRIBUTES, p->name);
             continue;
         }
-        float *values = calloc(L->vertex_count ? L->vertex_count : 1, sizeof *values);
+        float *values = calloc(L->kept ? L->kept : 1, sizeof *values);
         if (!values)
             return lc_err(r->err, LC_ERR_NOMEM, "%s: out of memory for attribute '%s'", r->file, p->name);
         int slot = lc_scene_add_attribute(L->s, p->name, values, r->err);
@@ -452,6 +455,10 @@ static int read_vertices(ply_load *L, const element *e)
     ply_reader *r = &L->r;
     lc_scene *s = L->s;
     for (uint32_t i = 0; i < L->vertex_count; i++) {
+        /* Every vertex is read and checked (each process fails as the whole
+         * does); a share keeps only its own. */
+        int keep = i - L->first < L->kept;
+        uint32_t at = i - L->first;
         for (int k = 0; k < e->nprops; k++) {
             const prop *p = &e->props[k];
             double v;
@@ -464,23 +471,27 @@ static int read_vertices(ply_load *L, const element *e)
             }
             if ((rc = read_value(r, p->type, &v, e, i)))
                 return rc;
-            switch (p->role) {
+            switch (keep ? p->role : R_SKIP) {
             case R_X:
             case R_Y:
             case R_Z:
                 if (!isfinite(v) || fabs(v) > 3.4e38)
                     return fail_value(r, LC_ERR_INVALID, "vertex %u has a non-finite or out-of-range coordinate", i);
-                s->positions[3 * (size_t)i + (p->role - R_X)] = (float)v;
+                s->positions[3 * (size_t)at + (p->role - R_X)] = (float)v;
                 break;
             case R_RED:
             case R_GREEN:
             case R_BLUE: {
                 float c = (float)v * L->rgb_scale[p->role - R_RED];
-                s->rgb[3 * (size_t)i + (p->role - R_RED)] = c > 0 ? (c < 1 ? c : 1) : 0; /* NaN -> 0 */
+                s->rgb[3 * (size_t)at + (p->role - R_RED)] = c > 0 ? (c < 1 ? c : 1) : 0; /* NaN -> 0 */
                 break;
             }
-            case R_ATTR: L->attr[p->slot][i] = (float)v; break;
-            default: break;
+            case R_ATTR: L->attr[p->slot][at] = (float)v; break;
+            default:
+                /* Another process's vertex: its coordinates are checked all the same. */
+                if (!keep && p->role >= R_X && p->role <= R_Z && (!isfinite(v) || fabs(v) > 3.4e38))
+                    return fail_value(r, LC_ERR_INVALID, "vertex %u has a non-finite or out-of-range coordinate", i);
+                break;
             }
         }
     }
@@ -678,6 +689,16 @@ static int load_body(ply_load *L)
         return lc_err(r->err, LC_ERR_LIMIT, "%.80s: line %zu: vertex count %llu exceeds the limit of %u", r->file,
                       vertex->header_line, (unsigned long long)vertex->count, (unsigned)LC_MAX_VERTICES);
     L->vertex_count = (uint32_t)vertex->count;
+    L->first = 0, L->kept = L->vertex_count;
+    if (lc_io_part_active(L->part)) { /* a point cloud's share, split as lc_scene_shard splits points */
+        for (int i = 0; i < r->nelements; i++)
+            if (r->elements[i].kind != EK_VERTEX && r->elements[i].kind != EK_OTHER && r->elements[i].count)
+                return lc_err(r->err, LC_ERR_UNSUPPORTED,
+                              "%.80s: has %s: only point clouds are read in parts (surfaces and polylines are split "
+                              "after loading)", r->file, r->elements[i].name);
+        L->first = lc_scene_split_points(L->vertex_count, L->part->rank, L->part->size);
+        L->kept = lc_scene_split_points(L->vertex_count, L->part->rank + 1, L->part->size) - L->first;
+    }
 
     int rc = setup_vertex(L, vertex);
     if (rc)
@@ -753,7 +774,8 @@ static int assemble(ply_load *L)
     return 0;
 }
 
-int lc_load_ply_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+static int load_ply(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                    lc_error *err)
 {
     *out = NULL;
     if (!name)
@@ -764,6 +786,7 @@ int lc_load_ply_memory(const void *data, size_t size, const char *name, lc_scene
     L.r.size = data ? size : 0;
     L.r.file = name;
     L.r.err = err;
+    L.part = part;
     L.r.elements = calloc(MAX_ELEMENTS, sizeof *L.r.elements);
     L.s = lc_scene_create(name, LC_PRIM_POINTS);
     int rc;
@@ -784,7 +807,39 @@ int lc_load_ply_memory(const void *data, size_t size, const char *name, lc_scene
     return 0;
 }
 
+int lc_load_ply_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    return load_ply(data, size, name, NULL, out, err);
+}
+
 int lc_load_ply(const char *path, lc_scene **out, lc_error *err)
 {
     return lc_io_load_path(path, lc_load_ply_memory, out, err);
+}
+
+int lc_load_ply_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return lc_io_load_path_part(path, load_ply, rank, size, out, err);
+}
+
+int lc_ply_file_is_point_cloud(const char *path)
+{
+    lc_io_file f;
+    lc_error err = {0};
+    if (lc_io_file_open(path, &f, &err) != 0)
+        return 0;
+    ply_reader r;
+    memset(&r, 0, sizeof r);
+    r.data = (const unsigned char *)f.data;
+    r.size = f.size;
+    r.file = path;
+    r.err = &err;
+    r.elements = calloc(MAX_ELEMENTS, sizeof *r.elements);
+    int points = r.elements && parse_header(&r) == 0;
+    for (int i = 0; points && i < r.nelements; i++)
+        if (r.elements[i].kind != EK_VERTEX && r.elements[i].kind != EK_OTHER && r.elements[i].count)
+            points = 0;
+    free(r.elements);
+    lc_io_file_close(&f);
+    return points;
 }

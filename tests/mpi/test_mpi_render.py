@@ -1,7 +1,7 @@
 """`mpirun -np N lucent render --mpi` against one process: lines, points and
 surfaces, fading off (one frame) and on (several frames with --fade), the
-per-pixel depth range and the direct method, line files that each rank reads
-only its share of, RMS difference <= 1/255 and the
+per-pixel depth range and the direct method, line files and a point cloud
+that each rank reads only its share of, RMS difference <= 1/255 and the
 same visibility report (within 0.01); a rank
 that cannot load its shard and a method that cannot be split fail clearly.
 Usage: test_mpi_render.py LUCENT RANKS"""
@@ -61,12 +61,15 @@ for name, flags in CASES:
     if e > MAX_RMSE:
         failures.append("%s: rmse %.6f > 1/255" % (name, e))
 
-# Line files in .binlines, .tck and .trk: each rank reads only its share
+# Line files in .binlines, .tck and .trk and a PLY point cloud: each rank reads only its share
 # (docs/MPI.md "Loading"). Against one process, and bit for bit against the
 # ranks reading the whole file and keeping their shards (LUCENT_MPI_READ=whole),
 # since both ways must give every rank the same lines, statistics and elements.
 from line_files import write_all  # noqa: E402
 files = write_all(tmp, 300)
+# A point cloud as PLY (points alone): read in parts too.
+files["ply"] = os.path.join(tmp, "points.ply")
+subprocess.run([lucent, "gen", "points", "-o", files["ply"], "--count", "20000"], check=True, capture_output=True)
 PART_CASES = [(ext, ["--dataset", path]) for ext, path in sorted(files.items())]
 PART_CASES += [("trk-fading-elements", ["--dataset", files["trk"], "--frames", "3", "--fade", "0.15",
                                         "--elements", "700"]),

@@ -1,6 +1,7 @@
 /* lc_scene_read_file_part + lc_scene_finalize_part: 1..4 "processes" (threads
  * with a barrier-based lc_scene_collective) each read only their share of a
- * .binlines, .tck and .trk file, or finalize their share of a point cloud,
+ * .binlines, .tck and point-cloud .ply file, or finalize their share of a
+ * point cloud cut by hand,
  * and every part must equal, array for array and bit for bit, the shard that
  * lc_scene_shard cuts from the whole scene finalized in one piece: positions,
  * line offsets, tangents, attribute values and statistics (min, max, 2nd/98th
@@ -351,15 +352,42 @@ int main(void)
     check_file(tck, 0, 0);
     check_points();
 
+    /* A point cloud as PLY (every attribute a float property, colours as
+     * uchar): read in parts; a mesh is not (its patches need the whole). */
+    char ply[128], mesh[128];
+    lc_error err = {0};
+    snprintf(ply, sizeof ply, "%s/points.ply", dir);
+    snprintf(mesh, sizeof mesh, "%s/surface.ply", dir);
+    lc_scene *demo = NULL;
+    lc_demo_desc pd = {.count = 7000};
+    if (lc_demo_create("points", &pd, &demo, &err) == 0 && lc_save_ply(demo, ply, &err) == 0) {
+        check_file(ply, 0, 0);
+        CHECK(lc_scene_can_read_part(ply), "a point-cloud PLY is read in parts");
+    } else {
+        CHECK(0, "points PLY (%s)", err.msg);
+    }
+    lc_scene_destroy(demo);
+    demo = NULL;
+    lc_demo_desc sd = {.count = 20};
+    if (lc_demo_create("surface", &sd, &demo, &err) == 0 && lc_save_ply(demo, mesh, &err) == 0) {
+        CHECK(!lc_scene_can_read_part(mesh), "a PLY mesh is read whole");
+        lc_scene *m = NULL;
+        CHECK(lc_load_ply_part(mesh, 0, 2, &m, &err) == LC_ERR_UNSUPPORTED && !m, "PLY mesh in parts: %s", err.msg);
+    } else {
+        CHECK(0, "surface PLY (%s)", err.msg);
+    }
+    lc_scene_destroy(demo);
+
     /* Formats without a part reader say so; a part outside the processes is refused. */
     lc_scene *s = NULL;
-    lc_error err = {0};
-    CHECK(lc_scene_read_file_part("x.ply", 0, 2, &s, &err) == LC_ERR_UNSUPPORTED && !s, "ply: %s", err.msg);
+    CHECK(lc_scene_read_file_part("x.vtk", 0, 2, &s, &err) == LC_ERR_UNSUPPORTED && !s, "vtk: %s", err.msg);
     CHECK(lc_scene_read_file_part(bl, 2, 2, &s, &err) == LC_ERR_INVALID && !s, "part 2 of 2: %s", err.msg);
     CHECK(lc_scene_can_read_part(tck) && lc_scene_can_read_part("a.TRK") && !lc_scene_can_read_part("a.vtk"),
           "part readers by extension");
     unlink(bl);
     unlink(tck);
+    unlink(ply);
+    unlink(mesh);
     rmdir(dir);
     return lc_test_finish();
 }

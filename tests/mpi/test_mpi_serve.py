@@ -35,6 +35,9 @@ tmp = tempfile.mkdtemp(prefix="lucent-mpi-serve-")
 # A line file each rank reads only its share of (docs/MPI.md "Loading").
 from line_files import write_all  # noqa: E402
 TRK = write_all(tmp, 120)["trk"]
+# Its sidecar sets an element budget: the ranks rebuild their parts' elements together.
+with open(os.path.join(tmp, "helices.lucent.json"), "w") as f:
+    json.dump({"elements": 500, "params": {"q": 80}}, f)
 DATA = ["demo:tornado", "demo:surface", "demo:points", TRK]
 check = Check()
 
@@ -163,6 +166,11 @@ try:
     # gpuBytes and memory are this rank's (its shard's) buffers.
     strip = lambda d: [{k: v for k, v in x.items() if k not in ("gpuBytes", "memory")} for x in d["datasets"]]  # noqa: E731
     check(strip(d1) == strip(d2), "/api/v1/datasets equal but for gpuBytes and memory")
+    hel = [x for x in d2["datasets"] if x["name"] == "helices"]
+    check(hel and hel[0]["elements"] == 500 and hel[0]["vertices"] == [x for x in d1["datasets"]
+                                                                        if x["name"] == "helices"][0]["vertices"],
+          "the sidecar's element budget on the parts read by the ranks, the whole's vertex count: %s" %
+          ({k: hel[0].get(k) for k in ("elements", "vertices")} if hel else None))
     check(any("rank %d of %d" % (ranks - 1, ranks) in line for line in multi.log), "per-rank memory in the log")
     check(any("helices: rank %d of %d" % (ranks - 1, ranks) in line and "its share read from the file" in line
               for line in multi.log), "the line file read in parts (log: %s)" %

@@ -318,6 +318,16 @@ int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
     return 0;
 }
 
+/* Frees what finalize derives, so that it can run again. */
+static void drop_derived(lc_scene *s)
+{
+    free(s->normals);
+    free(s->tangents);
+    s->normals = s->tangents = NULL;
+    lc_elements_free(&s->elements);
+    s->finalized = 0;
+}
+
 int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
 {
     if (!s)
@@ -326,12 +336,7 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
     int rc = validate(s, err);
     if (rc)
         return rc;
-    /* Finalize may run again (e.g. new element budget): derived data is rebuilt. */
-    free(s->normals);
-    free(s->tangents);
-    s->normals = s->tangents = NULL;
-    lc_elements_free(&s->elements);
-    s->finalized = 0;
+    drop_derived(s); /* finalize may run again (e.g. new element budget) */
 
     compute_bounds(s);
     if (s->type == LC_PRIM_LINES)
@@ -466,11 +471,7 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
         rc = validate(s, err);
     if ((rc = c->agree(c->ctx, rc, err)) != 0)
         return rc;
-    free(s->normals);
-    free(s->tangents);
-    s->normals = s->tangents = NULL;
-    lc_elements_free(&s->elements);
-    s->finalized = 0;
+    drop_derived(s);
 
     /* What must agree over the parts: the totals, the attributes, the bounds. */
     uint64_t total = s->vertex_count;

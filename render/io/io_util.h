@@ -67,12 +67,13 @@ static inline int lc_io_u32vec_push(lc_io_u32vec *a, uint32_t x, size_t limit, c
 }
 void lc_io_u32vec_free(lc_io_u32vec *a);
 
-/* A process's share of a line file (lc_scene_read_file_part): a reader's
- * first pass records each kept line's point count with lc_io_part_count,
- * lc_io_part_choose picks the whole lines [first, last) that lc_scene_shard
- * would give the process, and the second pass keeps only those (points
- * before the share counted, not stored). size 0: the whole file. Only the
- * process of rank 0 warns about what the file holds (every process reads it). */
+/* A process's share of a file (lc_scene_read_file_part). For lines, a
+ * reader's first pass records each kept line's point count with
+ * lc_io_part_count, lc_io_part_choose picks the whole lines [first, last)
+ * that lc_scene_shard would give the process, and the second pass keeps only
+ * those (points before the share counted, not stored); a point-cloud reader
+ * uses rank and size alone. size 0: the whole file. Only the process of rank
+ * 0 warns about what the file holds (every process reads it). */
 typedef struct lc_io_part {
     int rank, size;
     lc_io_u32vec counts;   /* first pass: points of each kept line */
@@ -82,7 +83,8 @@ typedef struct lc_io_part {
 
 static inline int lc_io_part_active(const lc_io_part *p) { return p && p->size > 0; }
 int lc_io_part_count(lc_io_part *p, uint32_t points, const char *file, lc_error *err);
-/* After the first pass over lines kept lines with total_points points. */
+/* After the first pass found `lines` kept lines of total_points points in
+ * all: picks the share (all of them for the whole file). */
 int lc_io_part_choose(lc_io_part *p, uint32_t lines, uint64_t total_points, const char *file, lc_error *err);
 /* Whether kept line `line` belongs to the share. */
 static inline int lc_io_part_keeps(const lc_io_part *p, uint64_t line) { return line >= p->first && line < p->last; }

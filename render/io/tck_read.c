@@ -160,9 +160,7 @@ static int end_line(tck_load *T, lc_scene *s, uint64_t run, uint64_t *points, ui
     ++*lines;
     if (s && keep)
         s->line_offsets[*lines - P->first] = (uint32_t)(*points - P->base);
-    if (!s && run <= UINT32_MAX)
-        return lc_io_part_count(P, (uint32_t)run, T->file, T->err);
-    return 0;
+    return s ? 0 : lc_io_part_count(P, (uint32_t)run, T->file, T->err); /* run <= LC_MAX_VERTICES */
 }
 
 static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_out)

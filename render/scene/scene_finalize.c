@@ -363,6 +363,80 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
     return LC_OK;
 }
 
+/* part_elements for lines: (vertex count, length) pairs of every line,
+ * concatenated in process order, give each process the whole's line table. */
+static int part_line_elements(lc_scene *s, const lc_element_geometry *g, const lc_elements_desc *desc,
+                              const lc_scene_collective *c, double *line_length, lc_elements *out, void **all,
+                              uint64_t **bytes_of, lc_error *err)
+{
+    int rc = 0;
+    uint32_t n = s->line_count;
+    uint32_t *mine = malloc(((size_t)n + 1) * 2 * sizeof *mine);
+    float *len = malloc(((size_t)n + 1) * sizeof *len);
+    if (!mine || !len)
+        rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %u line lengths", s->name, n);
+    else
+        lc_elements_line_lengths(g, len);
+    for (uint32_t l = 0; !rc && l < n; l++) {
+        mine[2 * l] = s->line_offsets[l + 1] - s->line_offsets[l];
+        memcpy(&mine[2 * l + 1], &len[l], sizeof(float));
+    }
+    /* A process that failed still takes part, with nothing to add. */
+    int grc = c->gather(c->ctx, mine, rc ? 0 : (size_t)n * 2 * sizeof *mine, all, bytes_of, err);
+    free(mine);
+    free(len);
+    if (rc || grc)
+        return rc ? rc : grc;
+    uint64_t total_bytes = 0, first_bytes = 0;
+    for (int r = 0; r < c->size; r++) {
+        first_bytes += r < c->rank ? (*bytes_of)[r] : 0;
+        total_bytes += (*bytes_of)[r];
+    }
+    uint64_t lines = total_bytes / (2 * sizeof(uint32_t));
+    if (lines > LC_MAX_PRIMITIVES)
+        return lc_err(err, LC_ERR_LIMIT, "%s: %llu lines over all processes exceed the limit of %u", s->name,
+                      (unsigned long long)lines, (unsigned)LC_MAX_PRIMITIVES);
+    uint32_t *counts = malloc((lines + 1) * sizeof *counts);
+    float *lengths = malloc((lines + 1) * sizeof *lengths);
+    if (!counts || !lengths)
+        rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the table of %llu lines", s->name,
+                    (unsigned long long)lines);
+    uint64_t vertices = 0;
+    double length = 0;
+    for (uint64_t l = 0; !rc && l < lines; l++) {
+        const uint32_t *pair = (const uint32_t *)*all + 2 * l;
+        counts[l] = pair[0];
+        memcpy(&lengths[l], &pair[1], sizeof(float));
+        vertices += pair[0];
+        length += lengths[l];
+    }
+    uint64_t budget = desc ? desc->line_budget : 0, segments = vertices - lines;
+    if (!rc && (budget > segments || budget > (1u << 24))) /* as lc_scene_set_element_budget */
+        rc = lc_err_field(err, LC_ERR_INVALID, "elements",
+                          "%s: %llu elements requested, at most %llu (its segments, and never above 2^24)", s->name,
+                          (unsigned long long)budget,
+                          (unsigned long long)(segments < (1u << 24) ? segments : (1u << 24)));
+    uint32_t first_line = (uint32_t)(first_bytes / (2 * sizeof(uint32_t)));
+    if (!rc) {
+        lc_line_census whole = {.line_count = (uint32_t)lines,
+                                .vertex_counts = counts,
+                                .lengths = lengths,
+                                .vertex_count = vertices,
+                                .first_line = first_line};
+        rc = lc_elements_build_lines_part(g, desc, &whole, out, err);
+    }
+    if (!rc) {
+        s->vertex_base = 0;
+        for (uint32_t l = 0; l < first_line; l++)
+            s->vertex_base += counts[l];
+        if (line_length)
+            *line_length = length;
+    }
+    free(counts);
+    free(lengths);
+    return rc;
+}
+
 /* The elements of a part in the whole scene's numbering: every process
  * contributes its lines' vertex counts and lengths (8 bytes a line) or its
  * point count, and each builds the same budget split from the same table. */
@@ -370,88 +444,28 @@ static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_sce
                          double *line_length, lc_error *err)
 {
     lc_element_geometry g = element_geometry(s);
-    uint64_t *bytes_of = calloc((size_t)c->size, sizeof *bytes_of);
-    if (!bytes_of)
-        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", s->name);
-    int rc = 0;
+    lc_elements fresh = {0}; /* replaces the part's elements only when every step succeeded */
+    uint64_t *bytes_of = NULL;
     void *all = NULL;
+    int rc = 0;
     if (s->type == LC_PRIM_POINTS) {
         uint64_t mine = s->vertex_count, first = 0, total = 0;
-        rc = c->gather(c->ctx, &mine, sizeof mine, &all, bytes_of, err);
+        rc = c->gather(c->ctx, &mine, sizeof mine, &all, &bytes_of, err);
         for (int r = 0; !rc && r < c->size; r++) {
             uint64_t n = ((const uint64_t *)all)[r];
             first += r < c->rank ? n : 0;
             total += n;
         }
-        if (!rc)
-            rc = lc_elements_build_points_part(&g, first, total, &s->elements, err);
-        s->vertex_base = first;
-        free(all);
-        free(bytes_of);
-        return rc;
+        if (!rc && (rc = lc_elements_build_points_part(&g, first, total, &fresh, err)) == 0)
+            s->vertex_base = first;
+    } else {
+        rc = part_line_elements(s, &g, desc, c, line_length, &fresh, &all, &bytes_of, err);
     }
-    /* Lines: (vertex count, length) pairs, concatenated in process order. */
-    uint32_t n = s->line_count;
-    uint32_t *mine = malloc(((size_t)n + 1) * 2 * sizeof *mine);
-    float *len = malloc(((size_t)n + 1) * sizeof *len);
-    if (!mine || !len)
-        rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %u line lengths", s->name, n);
-    else
-        lc_elements_line_lengths(&g, len);
-    for (uint32_t l = 0; !rc && l < n; l++) {
-        mine[2 * l] = s->line_offsets[l + 1] - s->line_offsets[l];
-        memcpy(&mine[2 * l + 1], &len[l], sizeof(float));
+    if (rc == 0) {
+        lc_elements_free(&s->elements);
+        s->elements = fresh;
     }
-    int grc = c->gather(c->ctx, mine, rc ? 0 : (size_t)n * 2 * sizeof *mine, &all, bytes_of, err);
-    rc = rc ? rc : grc;
-    uint64_t total_bytes = 0, first_bytes = 0;
-    for (int r = 0; r < c->size; r++) {
-        first_bytes += r < c->rank ? bytes_of[r] : 0;
-        total_bytes += bytes_of[r];
-    }
-    uint64_t lines = total_bytes / (2 * sizeof(uint32_t));
-    uint32_t *counts = NULL;
-    float *lengths = NULL;
-    if (!rc && lines > LC_MAX_PRIMITIVES)
-        rc = lc_err(err, LC_ERR_LIMIT, "%s: %llu lines over all processes exceed the limit of %u", s->name,
-                    (unsigned long long)lines, (unsigned)LC_MAX_PRIMITIVES);
-    if (!rc && (!(counts = malloc((lines + 1) * sizeof *counts)) || !(lengths = malloc((lines + 1) * sizeof *lengths))))
-        rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the table of %llu lines", s->name,
-                    (unsigned long long)lines);
-    uint64_t vertices = 0;
-    double length = 0;
-    for (uint64_t l = 0; !rc && l < lines; l++) {
-        const uint32_t *pair = (const uint32_t *)all + 2 * l;
-        counts[l] = pair[0];
-        memcpy(&lengths[l], &pair[1], sizeof(float));
-        vertices += pair[0];
-        length += lengths[l];
-    }
-    if (line_length)
-        *line_length = length;
-    uint64_t budget = desc ? desc->line_budget : 0, segments = vertices - lines;
-    if (!rc && (budget > segments || budget > (1u << 24))) /* as lc_scene_set_element_budget */
-        rc = lc_err_field(err, LC_ERR_INVALID, "elements",
-                          "%s: %llu elements requested, at most %llu (its segments, and never above 2^24)", s->name,
-                          (unsigned long long)budget,
-                          (unsigned long long)(segments < (1u << 24) ? segments : (1u << 24)));
-    if (!rc) {
-        uint32_t first_line = (uint32_t)(first_bytes / (2 * sizeof(uint32_t)));
-        s->vertex_base = 0;
-        for (uint32_t l = 0; l < first_line; l++)
-            s->vertex_base += counts[l];
-        lc_line_census whole = {.line_count = (uint32_t)lines,
-                                .vertex_counts = counts,
-                                .lengths = lengths,
-                                .vertex_count = vertices,
-                                .first_line = (uint32_t)(first_bytes / (2 * sizeof(uint32_t)))};
-        rc = lc_elements_build_lines_part(&g, desc, &whole, &s->elements, err);
-    }
-    free(counts);
-    free(lengths);
     free(all);
-    free(mine);
-    free(len);
     free(bytes_of);
     return rc;
 }

@@ -35,9 +35,9 @@ typedef struct lc_scene_collective {
     int (*sum_u64)(void *ctx, uint64_t *v, size_t n, lc_error *err);
     int (*min_f64)(void *ctx, double *v, size_t n, lc_error *err);
     /* Every process's `bytes` bytes at mine, concatenated in process order into
-     * *all (malloc'd; the caller frees it); bytes_of[r] (size entries, the
-     * caller's array) receives process r's count. */
-    int (*gather)(void *ctx, const void *mine, size_t bytes, void **all, uint64_t *bytes_of, lc_error *err);
+     * *all, and process r's count in (*bytes_of)[r] (both malloc'd; the caller
+     * frees them; an implementation that cannot allocate them ends the job). */
+    int (*gather)(void *ctx, const void *mine, size_t bytes, void **all, uint64_t **bytes_of, lc_error *err);
 } lc_scene_collective;
 
 /* Finalizes the part s (un-finalized, as a reader left it: this process's

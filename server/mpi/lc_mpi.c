@@ -371,11 +371,13 @@ static int coll_min_f64(void *ctx, double *v, size_t n, lc_error *err)
     return coll_allreduce(ctx, v, n, MPI_DOUBLE, MPI_MIN, err);
 }
 
-static int coll_gather(void *ctx, const void *mine, size_t bytes, void **all, uint64_t *bytes_of, lc_error *err)
+static int coll_gather(void *ctx, const void *mine, size_t bytes, void **all, uint64_t **bytes_of_out, lc_error *err)
 {
     lc_mpi *m = ctx;
     *all = NULL;
-    uint64_t n = bytes;
+    uint64_t n = bytes, *bytes_of = *bytes_of_out = calloc((size_t)m->size, sizeof *bytes_of);
+    if (!bytes_of)
+        lc_mpi_abort(m, 1, "out of memory for the sizes of the parts");
     MPI_Request req;
     MPI_Iallgather(&n, 1, MPI_UINT64_T, bytes_of, 1, MPI_UINT64_T, MPI_COMM_WORLD, &req);
     int rc = wait_request(m, &req, "the sizes of the parts", m->timeout, err);

@@ -86,11 +86,12 @@ static int t_reduce(member *m, void *v, size_t n, int is_min)
 static int t_sum(void *ctx, uint64_t *v, size_t n, lc_error *err) { return (void)err, t_reduce(ctx, v, n, 0); }
 static int t_min(void *ctx, double *v, size_t n, lc_error *err) { return (void)err, t_reduce(ctx, v, n, 1); }
 
-static int t_gather(void *ctx, const void *mine, size_t bytes, void **all, uint64_t *bytes_of, lc_error *err)
+static int t_gather(void *ctx, const void *mine, size_t bytes, void **all, uint64_t **bytes_out, lc_error *err)
 {
     (void)err;
     member *m = ctx;
     group *g = m->g;
+    uint64_t *bytes_of = *bytes_out = malloc((size_t)g->size * sizeof *bytes_of);
     g->in[m->rank] = mine;
     g->bytes[m->rank] = bytes;
     pthread_barrier_wait(&g->barrier);

@@ -135,8 +135,9 @@ int lc_cli_render(int argc, char **argv)
     int rank = mpi ? lc_mpi_rank(mpi) : 0;
     int open_rc;
     if (mpi) {
-        /* Line files in a format that can be skipped through: each rank reads
-         * only its share and the ranks finalize the parts together. Other
+        /* Line files and point clouds in a format that can be skipped
+         * through: each rank reads only its share and the ranks finalize the
+         * parts together (docs/MPI.md "Loading"). Other
          * datasets: every rank loads the whole (global bounds, ranges,
          * percentiles and elements come out the same), then keeps its shard.
          * LUCENT_MPI_READ=whole forces the second way (for comparisons). */

@@ -426,7 +426,7 @@ static int serve_main(int argc, char **argv)
                                  .max_memory = cfg->max_memory,
                                  .workers = cfg->workers > 0 ? cfg->workers : 1};
     const char *mpi_read = getenv("LUCENT_MPI_READ");
-    if (srv.mpi && !(mpi_read && strcmp(mpi_read, "whole") == 0)) { /* line files: each rank reads its share */
+    if (srv.mpi && !(mpi_read && strcmp(mpi_read, "whole") == 0)) { /* line files, point clouds: each rank reads its share */
         dopts.read_part = lc_serve_mpi_read_part;
         dopts.read_part_ctx = srv.mpi;
     }

@@ -13,9 +13,9 @@
  * becomes this rank's shard. Collective; a failure anywhere fails every rank
  * with a message naming the rank. Thread: main. */
 int lc_serve_mpi_start(lc_server *srv, int load_rc, lc_error *err);
-/* lc_datasets_options.read_part (ctx: the lc_mpi): lc_scene_read_file_part
- * and lc_mpi_finalize_part:
- * this rank's share of a line file, read and finalized with the other ranks. */
+/* lc_datasets_options.read_part (ctx: the lc_mpi): this rank's share of a
+ * line file or point cloud, read (lc_scene_read_file_part) and finalized with
+ * the other ranks (lc_mpi_finalize_part). */
 int lc_serve_mpi_read_part(void *ctx, const char *path, lc_scene **out, lc_error *err);
 /* Ranks > 0 after the upload: render the announced frames on primary until
  * rank 0 stops. Thread: main, primary current. */

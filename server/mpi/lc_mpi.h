@@ -58,7 +58,7 @@ int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *e
  * report (one line per rank) or, when NULL, in the log. A failure on any rank
  * fails every rank (lc_mpi_agree). */
 int lc_mpi_shard(lc_mpi *m, lc_scene **scene, FILE *report, lc_error *err);
-/* Collective: finishes this rank's part of a line file, read with
+/* Collective: finishes this rank's part of a line file or point cloud, read with
  * lc_scene_read_file_part(path, rank, size) (read_rc its status; on failure
  * *scene is destroyed if set), together with the other ranks
  * (lc_scene_finalize_part) with `elements` line elements (0 = derived from

@@ -41,6 +41,7 @@ static const struct {
 } part_readers[] = {{".trk", lc_load_trk_part, NULL},
                     {".tck", lc_load_tck_part, NULL},
                     {".binlines", lc_load_binlines_part, NULL},
+                    {".trx", lc_load_trx_part, NULL},
                     {".ply", lc_load_ply_part, lc_ply_file_is_point_cloud}};
 
 static part_loader part_reader_for(const char *path)

@@ -25,6 +25,10 @@ extern "C" {
 int lc_load_trx_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
 /* A .trx zip file or a .trx directory. */
 int lc_load_trx(const char *path, lc_scene **out, lc_error *err);
+/* Only the whole streamlines of process rank's share of size
+ * (lc_scene_read_file_part). A deflated archive's arrays are still inflated
+ * whole; stored archives and directories are read in place. */
+int lc_load_trx_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
 
 #ifdef __cplusplus
 }

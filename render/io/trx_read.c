@@ -39,6 +39,7 @@ typedef struct trx_load {
     trx_entry *e;
     int n;
     uint64_t nv, ns; /* NB_VERTICES, NB_STREAMLINES */
+    lc_io_part *part; /* the streamlines this process keeps (the second pass) */
 } trx_load;
 
 typedef struct dtype {
@@ -444,20 +445,31 @@ static int trx_build(trx_load *T, lc_scene **out)
             float p[3];
             finite3(pe->data + v * 3 * (uint64_t)pt->bytes, pt, p) ? run++ : dropped++;
         }
-        if (run >= 2)
+        if (run >= 2) {
             points += run, lines++;
-        else
+            if ((rc = lc_io_part_count(T->part, (uint32_t)run, T->file, T->err)) != 0)
+                goto done;
+        } else {
             short_lines++;
+        }
     }
-    if (dropped)
+    if (points > LC_MAX_VERTICES || lines > LC_MAX_PRIMITIVES) {
+        rc = fail(T, LC_ERR_LIMIT, pe->name, "%llu points in %llu streamlines exceed the limits", (unsigned long long)points,
+                  (unsigned long long)lines);
+        goto done;
+    }
+    if (dropped && lc_io_part_speaks(T->part))
         LC_WARN(LC_IO_LOG, "%s: %llu points with NaN/Inf coordinates dropped", T->file, (unsigned long long)dropped);
-    if (short_lines)
+    if (short_lines && lc_io_part_speaks(T->part))
         LC_WARN(LC_IO_LOG, "%s: %llu streamlines with fewer than 2 points skipped", T->file,
                 (unsigned long long)short_lines);
     if (lines == 0) {
         rc = fail(T, LC_ERR_INVALID, pe->name, "no streamline with two or more points");
         goto done;
     }
+    if ((rc = lc_io_part_choose(T->part, (uint32_t)lines, points, T->file, T->err)) != 0)
+        goto done;
+    points = T->part->points, lines = T->part->last - T->part->first;
     trx_attr attrs[LC_IO_MAX_FILE_ATTRIBUTES];
     float *values[LC_IO_MAX_FILE_ATTRIBUTES];
     int nattr = 0;
@@ -492,11 +504,19 @@ static int trx_build(trx_load *T, lc_scene **out)
         values[a] = s->attributes[idx].values;
     }
 
-    /* Pass 2: fill. */
-    uint64_t w = 0, line = 0;
-    for (uint64_t l = 0; l < T->ns; l++) {
+    /* Pass 2: fill, with the kept streamlines of this process's share. */
+    uint64_t w = 0, line = 0, kept = 0;
+    for (uint64_t l = 0; l < T->ns && kept < T->part->last; l++) {
         if ((l & 0xFFFF) == 0)
             lc_io_progress_report(&progress, (size_t)(T->nv + start[l]), 2 * (size_t)T->nv);
+        if (!lc_io_part_keeps(T->part, kept)) { /* before the share: only whether it is kept */
+            uint64_t run = 0;
+            float p[3];
+            for (uint64_t v = start[l]; v < start[l + 1]; v++)
+                run += finite3(pe->data + v * 3 * (uint64_t)pt->bytes, pt, p);
+            kept += run >= 2;
+            continue;
+        }
         uint64_t first = w;
         for (uint64_t v = start[l]; v < start[l + 1] && w < points; v++) {
             if (!finite3(pe->data + v * 3 * (uint64_t)pt->bytes, pt, s->positions + 3 * w))
@@ -509,7 +529,7 @@ static int trx_build(trx_load *T, lc_scene **out)
             w++;
         }
         if (w - first >= 2)
-            s->line_offsets[++line] = (uint32_t)w;
+            s->line_offsets[++line] = (uint32_t)w, kept++;
         else
             w = first; /* a short streamline is not kept */
     }
@@ -524,10 +544,11 @@ done:
     return rc;
 }
 
-int lc_load_trx_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+static int load_trx_zip(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                        lc_error *err)
 {
     *out = NULL;
-    trx_load T = {.file = name ? name : "<memory>", .err = err};
+    trx_load T = {.file = name ? name : "<memory>", .err = err, .part = part};
     T.e = calloc(MAX_ENTRIES, sizeof *T.e);
     if (!T.e)
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", T.file);
@@ -542,12 +563,20 @@ int lc_load_trx_memory(const void *data, size_t size, const char *name, lc_scene
     return rc;
 }
 
-int lc_load_trx(const char *path, lc_scene **out, lc_error *err)
+int lc_load_trx_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    lc_io_part whole = {0};
+    return load_trx_zip(data, size, name, &whole, out, err);
+}
+
+/* A .trx file or directory, whole (rank 0 of size 0) or a process's share. */
+static int load_trx(const char *path, int rank, int size, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        trx_load T = {.file = lc_io_basename(path), .err = err, .dir = path};
+        lc_io_part part = {.rank = rank, .size = size};
+        trx_load T = {.file = lc_io_basename(path), .err = err, .dir = path, .part = &part};
         T.e = calloc(MAX_ENTRIES, sizeof *T.e);
         if (!T.e)
             return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", T.file);
@@ -561,9 +590,17 @@ int lc_load_trx(const char *path, lc_scene **out, lc_error *err)
         for (int i = 0; i < T.n; i++)
             lc_io_file_close(&T.e[i].file);
         free(T.e);
+        lc_io_part_free(&part);
         if (!rc)
             lc_io_stem(path, (*out)->name, sizeof(*out)->name);
         return rc;
     }
-    return lc_io_load_path(path, lc_load_trx_memory, out, err);
+    return lc_io_load_path_part(path, load_trx_zip, rank, size, out, err);
+}
+
+int lc_load_trx(const char *path, lc_scene **out, lc_error *err) { return load_trx(path, 0, 0, out, err); }
+
+int lc_load_trx_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return load_trx(path, rank, size, out, err);
 }

@@ -1,14 +1,17 @@
 """Writes one set of helical streamlines as .binlines (with a speed attribute
-that has a few far outliers), .tck (positions only) and .trk (a per-point
-scalar and a per-track property), the formats `lucent render --mpi` reads in
-parts. Lines of varying length, a one-point line (dropped by every reader) and
+that has a few far outliers), .tck (positions only), .trk (a per-point
+scalar and a per-track property) and .trx (a stored zip: float32 positions,
+uint32 offsets, speed per vertex, group per streamline), the line formats
+`lucent render --mpi` reads in parts. Lines of varying length, a one-point line (dropped by every reader) and
 a line with a NaN point (binlines and tck drop the point) exercise the
 readers' filtering, which must give the same lines in parts as whole.
 Usage: line_files.py FOLDER [LINES]  (also imported by the MPI tests)."""
 import math
 import os
+import json
 import struct
 import sys
+import zipfile
 
 NAN = float("nan")
 
@@ -90,10 +93,29 @@ def write_trk(path, lines):
         f.write(b"".join(body))
 
 
+def write_trx(path, lines):
+    pos, off, speed, group = [], [], [], []
+    nv = 0
+    for pts, sp, prop in lines:
+        off.append(nv)
+        pos += [c for p in pts for c in p]  # NaN stays: the reader drops the point
+        speed += sp
+        group.append(prop)
+        nv += len(pts)
+    header = {"NB_VERTICES": nv, "NB_STREAMLINES": len(lines), "DIMENSIONS": [1, 1, 1],
+              "VOXEL_TO_RASMM": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_STORED) as z:
+        z.writestr("header.json", json.dumps(header))
+        z.writestr("positions.3.float32", struct.pack("<%df" % len(pos), *pos))
+        z.writestr("offsets.uint32", struct.pack("<%dI" % len(off), *off))
+        z.writestr("dpv/speed.float32", struct.pack("<%df" % len(speed), *speed))
+        z.writestr("dps/group.float32", struct.pack("<%df" % len(group), *group))
+
+
 def write_all(folder, count=300):
     lines = make_lines(count)
     paths = {}
-    for ext, writer in (("binlines", write_binlines), ("tck", write_tck), ("trk", write_trk)):
+    for ext, writer in (("binlines", write_binlines), ("tck", write_tck), ("trk", write_trk), ("trx", write_trx)):
         paths[ext] = os.path.join(folder, "helices." + ext)
         writer(paths[ext], lines)
     return paths

@@ -61,7 +61,7 @@ for name, flags in CASES:
     if e > MAX_RMSE:
         failures.append("%s: rmse %.6f > 1/255" % (name, e))
 
-# Line files in .binlines, .tck and .trk and a PLY point cloud: each rank reads only its share
+# Line files in .binlines, .tck, .trk and .trx and a PLY point cloud: each rank reads only its share
 # (docs/MPI.md "Loading"). Against one process, and bit for bit against the
 # ranks reading the whole file and keeping their shards (LUCENT_MPI_READ=whole),
 # since both ways must give every rank the same lines, statistics and elements.

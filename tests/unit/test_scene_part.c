@@ -1,6 +1,6 @@
 /* lc_scene_read_file_part + lc_scene_finalize_part: 1..4 "processes" (threads
  * with a barrier-based lc_scene_collective) each read only their share of a
- * .binlines, .tck and point-cloud .ply file, or finalize their share of a
+ * .binlines, .tck, .trx (directory) and point-cloud .ply file, or finalize their share of a
  * point cloud cut by hand,
  * and every part must equal, array for array and bit for bit, the shard that
  * lc_scene_shard cuts from the whole scene finalized in one piece: positions,
@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "demo.h"
@@ -279,6 +280,48 @@ static void write_tck(const char *path, int lines)
     fclose(f);
 }
 
+/* The same kind of helices as a TRX directory: float32 positions, uint64
+ * offsets, a per-vertex and a per-streamline value, a NaN point, a
+ * one-point streamline. */
+static void write_trx(const char *dir, int lines)
+{
+    char path[256];
+    mkdir(dir, 0755);
+    snprintf(path, sizeof path, "%s/dpv", dir);
+    mkdir(path, 0755);
+    snprintf(path, sizeof path, "%s/dps", dir);
+    mkdir(path, 0755);
+    FILE *pos, *off, *dpv, *dps;
+    snprintf(path, sizeof path, "%s/positions.3.float32", dir);
+    pos = fopen(path, "wb");
+    snprintf(path, sizeof path, "%s/offsets.uint64", dir);
+    off = fopen(path, "wb");
+    snprintf(path, sizeof path, "%s/dpv/speed.float32", dir);
+    dpv = fopen(path, "wb");
+    snprintf(path, sizeof path, "%s/dps/group.float32", dir);
+    dps = fopen(path, "wb");
+    uint64_t nv = 0;
+    for (int k = 0; k < lines; k++) {
+        fwrite(&nv, 8, 1, off);
+        int n = k == 3 ? 1 : 2 + (k * 31) % 40;
+        for (int i = 0; i < n; i++) {
+            double t = n > 1 ? (double)i / (n - 1) : 0, a = 0.7 * k + 4 * t;
+            put_f32(pos, k == 9 && i == 2 ? NAN : (float)cos(a)), put_f32(pos, (float)sin(a));
+            put_f32(pos, (float)(0.02 * k + t));
+            put_f32(dpv, k % 50 == 0 ? 1e5f : (float)(t + 0.01 * k));
+        }
+        put_f32(dps, (float)(k % 5));
+        nv += (uint64_t)n;
+    }
+    fclose(pos), fclose(off), fclose(dpv), fclose(dps);
+    snprintf(path, sizeof path, "%s/header.json", dir);
+    FILE *h = fopen(path, "w");
+    fprintf(h, "{\"NB_VERTICES\": %llu, \"NB_STREAMLINES\": %d, \"DIMENSIONS\": [1, 1, 1], "
+               "\"VOXEL_TO_RASMM\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}\n",
+            (unsigned long long)nv, lines);
+    fclose(h);
+}
+
 static lc_scene *load_whole(const char *path, uint32_t budget, uint32_t rebuild)
 {
     lc_scene *s = NULL;
@@ -351,6 +394,10 @@ int main(void)
     check_file(bl, 900, 0);  /* a budget at load */
     check_file(bl, 0, 1500); /* a collective rebuild, as --elements and sidecars do */
     check_file(tck, 0, 0);
+    char trx[128];
+    snprintf(trx, sizeof trx, "%s/helices.trx", dir);
+    write_trx(trx, 200);
+    check_file(trx, 0, 0);
     check_points();
 
     /* A point cloud as PLY (every attribute a float property, colours as
@@ -389,6 +436,9 @@ int main(void)
     unlink(tck);
     unlink(ply);
     unlink(mesh);
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", trx);
+    CHECK(system(cmd) == 0, "removing %s", trx);
     rmdir(dir);
     return lc_test_finish();
 }

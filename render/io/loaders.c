@@ -42,6 +42,7 @@ static const struct {
                     {".tck", lc_load_tck_part, NULL},
                     {".binlines", lc_load_binlines_part, NULL},
                     {".trx", lc_load_trx_part, NULL},
+                    {".nc", lc_load_netcdf_part, NULL},
                     {".ply", lc_load_ply_part, lc_ply_file_is_point_cloud}};
 
 static part_loader part_reader_for(const char *path)

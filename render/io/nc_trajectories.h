@@ -27,6 +27,10 @@ extern "C" {
  * the file first). */
 int lc_load_netcdf(const char *path, lc_scene **out, lc_error *err);
 int lc_load_netcdf_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
+/* Only the trajectories of process rank's share of size (lc_scene_read_file_part):
+ * the first pass reads every trajectory's valid length, the second only the
+ * share's rows. */
+int lc_load_netcdf_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
 
 #ifdef __cplusplus
 }

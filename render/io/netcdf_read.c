@@ -35,6 +35,8 @@ typedef struct nc_load {
     nc_var attr[LC_IO_MAX_FILE_ATTRIBUTES];
     int nattr;
     lc_io_progress progress;
+    lc_io_part *part;      /* the trajectories this process keeps */
+    size_t row_lo, row_hi; /* the rows the walk reads: all in the first pass, the share's in the second */
 } nc_load;
 
 static int fail(nc_load *L, int code, const char *var, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
@@ -194,8 +196,8 @@ static int walk(nc_load *L, uint32_t *len, lc_scene *s, float **attr, double *bu
         block = 1;
     uint64_t w = 0;
     uint32_t line = 0;
-    for (size_t r0 = 0; r0 < L->rows; r0 += block) {
-        size_t n = L->rows - r0 < block ? L->rows - r0 : block;
+    for (size_t r0 = L->row_lo; r0 < L->row_hi; r0 += block) {
+        size_t n = L->row_hi - r0 < block ? L->row_hi - r0 : block;
         lc_io_progress_report(&L->progress, r0 + (s ? L->rows : 0), 2 * L->rows); /* two passes */
         double *p[3] = {buf, buf + n * L->T, buf + 2 * n * L->T};
         for (int k = 0; k < 3; k++) {
@@ -265,25 +267,52 @@ static int load(nc_load *L, lc_scene **out)
         rc = fail(L, LC_ERR_NOMEM, NULL, "out of memory for %zu trajectories", L->rows);
         goto done;
     }
+    L->row_lo = 0, L->row_hi = L->rows;
     if ((rc = walk(L, len, NULL, NULL, buf)))
         goto done;
     uint64_t points = 0, lines = 0, short_lines = 0, cut = 0;
     for (size_t r = 0; r < L->rows; r++) {
-        if (len[r] >= 2)
+        if (len[r] >= 2) {
             points += len[r], lines++;
-        else
+            if ((rc = lc_io_part_count(L->part, len[r], L->file, L->err)) != 0)
+                goto done;
+        } else {
             short_lines++;
+        }
         cut += len[r] < L->T;
     }
-    if (cut)
+    if (points > LC_MAX_VERTICES || lines > LC_MAX_PRIMITIVES) {
+        rc = fail(L, LC_ERR_LIMIT, "lon", "%llu points in %llu trajectories exceed the limits",
+                  (unsigned long long)points, (unsigned long long)lines);
+        goto done;
+    }
+    if (cut && lc_io_part_speaks(L->part))
         LC_WARN(LC_IO_LOG, "%s: %llu trajectories end early at a missing position", L->file, (unsigned long long)cut);
-    if (short_lines)
+    if (short_lines && lc_io_part_speaks(L->part))
         LC_WARN(LC_IO_LOG, "%s: %llu trajectories with fewer than 2 points skipped", L->file,
                 (unsigned long long)short_lines);
     if (lines == 0) {
         rc = fail(L, LC_ERR_INVALID, "lon", "no trajectory with two or more valid points");
         goto done;
     }
+    /* The share's kept trajectories are contiguous: the rows from its first
+     * to past its last, with only short rows between them. */
+    if ((rc = lc_io_part_choose(L->part, (uint32_t)lines, points, L->file, L->err)) != 0)
+        goto done;
+    points = L->part->points, lines = L->part->last - L->part->first;
+    L->row_lo = L->row_hi = L->rows;
+    for (size_t r = 0, k = 0; r < L->rows; r++) {
+        if (len[r] < 2)
+            continue;
+        if (k == L->part->first && L->row_lo == L->rows)
+            L->row_lo = r;
+        if (++k == L->part->last) {
+            L->row_hi = r + 1;
+            break;
+        }
+    }
+    if (lines == 0)
+        L->row_lo = L->row_hi = 0;
     s = lc_scene_create(L->file, LC_PRIM_LINES);
     if (!s) {
         rc = fail(L, LC_ERR_NOMEM, NULL, "out of memory");
@@ -326,10 +355,11 @@ done:
     return rc;
 }
 
-int lc_load_netcdf_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+static int load_netcdf(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                       lc_error *err)
 {
     *out = NULL;
-    nc_load L = {.file = name ? name : "<memory>", .err = err};
+    nc_load L = {.file = name ? name : "<memory>", .err = err, .part = part};
     if (!data || size == 0)
         return lc_err(err, LC_ERR_INVALID, "%.80s: empty file", L.file);
     int rc = lc_netcdf_check_classic(data, size, L.file, err);
@@ -344,8 +374,19 @@ int lc_load_netcdf_memory(const void *data, size_t size, const char *name, lc_sc
     return rc;
 }
 
+int lc_load_netcdf_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    lc_io_part whole = {0};
+    return load_netcdf(data, size, name, &whole, out, err);
+}
+
 /* The file is mapped and opened from memory, so that both forms behave alike. */
 int lc_load_netcdf(const char *path, lc_scene **out, lc_error *err)
 {
     return lc_io_load_path(path, lc_load_netcdf_memory, out, err);
+}
+
+int lc_load_netcdf_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return lc_io_load_path_part(path, load_netcdf, rank, size, out, err);
 }

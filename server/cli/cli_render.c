@@ -29,7 +29,7 @@ static void render_usage(void)
             "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
             "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
             "  --mpi                 under mpirun/srun: each rank renders its shard, rank 0 writes the image\n"
-            "                        (docs/MPI.md; methods fourier and direct); of .trk/.tck/.trx/.binlines\n"
+            "                        (docs/MPI.md; methods fourier and direct); of .trk/.tck/.trx/.binlines/.nc\n"
             "                        and point-cloud .ply files each rank reads only its share\n"
             "                        (LUCENT_MPI_READ=whole: every rank reads all, then keeps its shard)\n"
             "  --point-stride N      points: draw as a session does while the camera moves: the most\n"

@@ -61,7 +61,7 @@ for name, flags in CASES:
     if e > MAX_RMSE:
         failures.append("%s: rmse %.6f > 1/255" % (name, e))
 
-# Line files in .binlines, .tck, .trk and .trx and a PLY point cloud: each rank reads only its share
+# Line files in .binlines, .tck, .trk, .trx and .nc and a PLY point cloud: each rank reads only its share
 # (docs/MPI.md "Loading"). Against one process, and bit for bit against the
 # ranks reading the whole file and keeping their shards (LUCENT_MPI_READ=whole),
 # since both ways must give every rank the same lines, statistics and elements.
@@ -70,6 +70,9 @@ files = write_all(tmp, 300)
 # A point cloud as PLY (points alone): read in parts too.
 files["ply"] = os.path.join(tmp, "points.ply")
 subprocess.run([lucent, "gen", "points", "-o", files["ply"], "--count", "20000"], check=True, capture_output=True)
+# NetCDF trajectories: the loaders' committed case (three trajectories, one cut short, one dropped).
+files["nc"] = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "loaders", "nc", "valid",
+                           "trajectories.nc")
 PART_CASES = [(ext, ["--dataset", path]) for ext, path in sorted(files.items())]
 PART_CASES += [("trk-fading-elements", ["--dataset", files["trk"], "--frames", "3", "--fade", "0.15",
                                         "--elements", "700"]),

@@ -1,6 +1,7 @@
 /* lc_scene_read_file_part + lc_scene_finalize_part: 1..4 "processes" (threads
  * with a barrier-based lc_scene_collective) each read only their share of a
- * .binlines, .tck, .trx (directory) and point-cloud .ply file, or finalize their share of a
+ * .binlines, .tck, .trx (directory), NetCDF (with and without an ensemble
+ * dimension) and point-cloud .ply file, or finalize their share of a
  * point cloud cut by hand,
  * and every part must equal, array for array and bit for bit, the shard that
  * lc_scene_shard cuts from the whole scene finalized in one piece: positions,
@@ -9,6 +10,7 @@
  * bounds, element blends and adjacency; and so after a collective element
  * rebuild (lc_scene_set_element_budget on parts). */
 #include <math.h>
+#include <netcdf.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -173,11 +175,17 @@ typedef struct job {
     lc_error err;
 } job;
 
+/* libnetcdf is not thread-safe: the "processes" here are threads, so they
+ * read one at a time (the reads are not collective; real ranks are processes). */
+static pthread_mutex_t read_lock = PTHREAD_MUTEX_INITIALIZER;
+
 static void *run(void *arg)
 {
     job *j = arg;
     lc_scene *s = j->points;
+    pthread_mutex_lock(&read_lock);
     int rc = j->path ? lc_scene_read_file_part(j->path, j->m.rank, j->m.g->size, &s, &j->err) : 0;
+    pthread_mutex_unlock(&read_lock);
     rc = t_agree(&j->m, rc, &j->err);
     lc_elements_desc desc = {.line_budget = j->budget};
     if (rc == 0)
@@ -322,6 +330,42 @@ static void write_trx(const char *dir, int lines)
     fclose(h);
 }
 
+/* Trajectories as NetCDF: lon, lat, pressure (and a PV attribute) over
+ * (ensemble, trajectory, time) when members > 1, else (trajectory, time);
+ * some end early at a missing pressure, some are too short to keep. */
+static int write_nc(const char *path, int members, size_t rows, size_t T)
+{
+    int nc, rc = nc_create(path, NC_CLOBBER, &nc);
+    if (rc != NC_NOERR)
+        return rc;
+    int dims[3], nd = members > 1 ? 3 : 2, var[4];
+    if (members > 1)
+        nc_def_dim(nc, "ensemble", (size_t)members, &dims[0]);
+    nc_def_dim(nc, "trajectory", rows / (size_t)members, &dims[nd - 2]);
+    nc_def_dim(nc, "time", T, &dims[nd - 1]);
+    static const char *const names[4] = {"lon", "lat", "pressure", "PV"};
+    for (int k = 0; k < 4; k++)
+        nc_def_var(nc, names[k], NC_DOUBLE, nd, dims, &var[k]);
+    double fill = -999.0;
+    nc_put_att_double(nc, var[2], "_FillValue", NC_DOUBLE, 1, &fill);
+    nc_enddef(nc);
+    double *buf = malloc(rows * T * sizeof *buf);
+    for (int k = 0; k < 4; k++) {
+        for (size_t r = 0; r < rows; r++)
+            for (size_t t = 0; t < T; t++) {
+                size_t end = r % 7 == 3 ? 1 : r % 5 == 2 ? T / 2 : T; /* short, cut, whole */
+                double a = 0.3 * r + 0.2 * t;
+                buf[r * T + t] = k == 0   ? 10 + 5 * cos(a)
+                                 : k == 1 ? 40 + 5 * sin(a)
+                                 : k == 2 ? (t < end ? 900 - 20.0 * t - r : fill)
+                                          : (r % 11 == 0 ? 1e4 : 0.1 * t + 0.01 * r);
+            }
+        nc_put_var_double(nc, var[k], buf);
+    }
+    free(buf);
+    return nc_close(nc);
+}
+
 static lc_scene *load_whole(const char *path, uint32_t budget, uint32_t rebuild)
 {
     lc_scene *s = NULL;
@@ -398,6 +442,12 @@ int main(void)
     snprintf(trx, sizeof trx, "%s/helices.trx", dir);
     write_trx(trx, 200);
     check_file(trx, 0, 0);
+    char nc2[128], nc3[128];
+    snprintf(nc2, sizeof nc2, "%s/trajectories.nc", dir);
+    snprintf(nc3, sizeof nc3, "%s/members.nc", dir);
+    CHECK(write_nc(nc2, 1, 90, 24) == NC_NOERR && write_nc(nc3, 3, 90, 24) == NC_NOERR, "NetCDF files written");
+    check_file(nc2, 0, 0);
+    check_file(nc3, 0, 0);
     check_points();
 
     /* A point cloud as PLY (every attribute a float property, colours as
@@ -436,6 +486,8 @@ int main(void)
     unlink(tck);
     unlink(ply);
     unlink(mesh);
+    unlink(nc2);
+    unlink(nc3);
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", trx);
     CHECK(system(cmd) == 0, "removing %s", trx);

@@ -143,7 +143,10 @@ int lc_cli_render(int argc, char **argv)
          * LUCENT_MPI_READ=whole forces the second way (for comparisons). */
         const char *spec = lc_cli_dataset_spec(&req, &common), *how = getenv("LUCENT_MPI_READ");
         int parts = lc_scene_can_read_part(spec) && !(how && strcmp(how, "whole") == 0);
-        open_rc = lc_mpi_check_same(mpi, "ways of reading the dataset", parts ? "in parts" : "whole", &err);
+        /* Parts of different files would combine into nonsense: the same file on every rank. */
+        char way[1100];
+        snprintf(way, sizeof way, "%s%s", parts ? "in parts: " : "whole", parts ? spec : "");
+        open_rc = lc_mpi_check_same(mpi, "datasets or ways of reading them", way, &err);
         if (open_rc == 0 && parts) { /* the GL context first, as lc_cli_open: the memory reports compare */
             open_rc = lc_mpi_agree(mpi, lc_cli_gl_open(common.device, &g, &err), &err);
             if (open_rc == 0)

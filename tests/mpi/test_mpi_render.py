@@ -109,6 +109,16 @@ if r.returncode == 0 or "elements" not in r.stderr or "every rank exits" not in 
 else:
     print("elements beyond the segments refused on every rank: ok")
 
+# Ranks given different files to read in parts refuse before reading (MPMD).
+cmd = launcher[:-1] + [str(ranks - 1), lucent, "render", "--mpi", "--dataset", files["trk"], "--size", "64x64",
+                       "--out", os.path.join(tmp, "w.png"), ":", "-np", "1", lucent, "render", "--mpi", "--dataset",
+                       files["tck"], "--size", "64x64", "--out", os.path.join(tmp, "w.png")]
+r = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120)
+if r.returncode == 0 or "ranks see different datasets" not in r.stderr or "helices.tck" not in r.stderr:
+    failures.append("different files in parts: exit %d, stderr %r" % (r.returncode, r.stderr[-400:]))
+else:
+    print("different files to read in parts refused on every rank: ok")
+
 # A method whose compositing is not a sum is refused by name on every rank.
 r = subprocess.run(launcher + [lucent, "render", "--mpi", "--dataset", "demo:points?count=2000", "--size", "64x64",
                                "--method", "exact", "--out", os.path.join(tmp, "x.png")],

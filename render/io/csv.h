@@ -26,6 +26,10 @@ extern "C" {
  * the reason. `name` is used in messages and as the scene name. */
 int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
 int lc_load_csv(const char *path, lc_scene **out, lc_error *err);
+/* Only process rank's share (of size) of the rows with finite coordinates:
+ * the contiguous range lc_scene_shard gives rank (lc_scene_read_file_part).
+ * Every row is still parsed and checked. */
+int lc_load_csv_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,8 @@
 /* Point-table reader (CSV, TSV, XYZ): a header naming the columns, then one
  * point per row; two passes over the mapped file (count rows, then parse into
- * arrays of exactly that size). */
+ * arrays of exactly that size). A process's share (lc_scene_read_file_part)
+ * takes a pass more: the rows with finite coordinates are counted first, so
+ * that the share is the contiguous range of them lc_scene_shard would give. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -10,6 +12,7 @@
 
 #include "csv.h"
 #include "io_util.h"
+#include "scene_shard.h"
 
 #define MAX_COLUMNS 1024
 
@@ -146,7 +149,28 @@ static int pick_positions(csv_load *C)
     return fail(C, LC_ERR_INVALID, "no position columns (x, y, z or lon, lat) among the %d columns", C->ncol);
 }
 
-int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+/* The position of the current row (fields fs/fe, m of them): 0, or an error
+ * for a wrong field count or a position that is not a number. */
+static int row_position(csv_load *C, int m, float p[3])
+{
+    if (m != C->ncol)
+        return fail(C, LC_ERR_INVALID, "%d fields, the header has %d", m < 0 ? MAX_COLUMNS + 1 : m, C->ncol);
+    p[0] = p[1] = p[2] = 0;
+    for (int k = 0; k < 3; k++) {
+        double x;
+        int c = C->pos_col[k];
+        if (c < 0)
+            continue;
+        if (!field_number(C->fs[c], C->fe[c], &x))
+            return fail(C, LC_ERR_INVALID, "column '%s': '%.*s' is not a number", C->names[c],
+                        (int)(C->fe[c] - C->fs[c] < 40 ? C->fe[c] - C->fs[c] : 40), C->fs[c]);
+        p[k] = (float)x;
+    }
+    return 0;
+}
+
+static int load_csv(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                    lc_error *err)
 {
     *out = NULL;
     if (!name)
@@ -234,12 +258,31 @@ int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene
         rc = fail(C, LC_ERR_INVALID, "no rows after the header");
         goto done;
     }
+    /* The rows this process keeps: with finite coordinates, their index among
+     * those in [keep_first, keep_first + keep). The whole file keeps every one
+     * and needs no count (the arrays keep room for the dropped rows). */
+    uint64_t keep_first = 0, keep = rows;
+    if (lc_io_part_active(part)) {
+        uint64_t finite = 0;
+        C->p = body;
+        C->line = body_line;
+        while (next_line(C, &ls, &le)) {
+            float p[3];
+            if (skip_line(ls, le))
+                continue;
+            if ((rc = row_position(C, split(C, ls, le, fs, fe, MAX_COLUMNS), p)))
+                goto done;
+            finite += isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
+        }
+        keep_first = lc_scene_split_points(finite, part->rank, part->size);
+        keep = lc_scene_split_points(finite, part->rank + 1, part->size) - keep_first;
+    }
     s = lc_scene_create(name, LC_PRIM_POINTS);
     if (!s) {
         rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory", name);
         goto done;
     }
-    if ((rc = lc_scene_alloc_vertices(s, (uint32_t)rows, 0, err)))
+    if ((rc = lc_scene_alloc_vertices(s, (uint32_t)keep, 0, err)))
         goto done;
     float *attr[LC_IO_MAX_FILE_ATTRIBUTES];
     int nattr = 0;
@@ -256,7 +299,7 @@ int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene
                     LC_IO_MAX_FILE_ATTRIBUTES, C->names[c]);
             break;
         }
-        float *values = malloc(rows * sizeof *values);
+        float *values = malloc((keep ? keep : 1) * sizeof *values);
         if (!values) {
             rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for attributes", name);
             goto done;
@@ -278,36 +321,24 @@ int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene
     C->p = body;
     C->line = body_line;
     uint32_t v = 0;
+    uint64_t kept = 0; /* rows with finite coordinates so far */
     size_t dropped = 0, first_dropped = 0;
     while (next_line(C, &ls, &le)) {
         if (skip_line(ls, le))
             continue;
-        int m = split(C, ls, le, fs, fe, MAX_COLUMNS);
-        if (m != C->ncol) {
-            rc = fail(C, LC_ERR_INVALID, "%d fields, the header has %d", m < 0 ? MAX_COLUMNS + 1 : m, C->ncol);
+        float p[3];
+        if ((rc = row_position(C, split(C, ls, le, fs, fe, MAX_COLUMNS), p)))
             goto done;
-        }
-        float p[3] = {0, 0, 0};
-        for (int k = 0; k < 3; k++) {
-            double x;
-            int c = C->pos_col[k];
-            if (c < 0)
-                continue;
-            if (!field_number(fs[c], fe[c], &x)) {
-                rc = fail(C, LC_ERR_INVALID, "column '%s': '%.*s' is not a number", C->names[c],
-                          (int)(fe[c] - fs[c] < 40 ? fe[c] - fs[c] : 40), fs[c]);
-                goto done;
-            }
-            p[k] = (float)x;
-        }
         if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
             if (!dropped++)
                 first_dropped = C->line;
             continue;
         }
+        int mine = kept++ - keep_first < keep; /* every row is checked; a share stores its own */
         if ((v & 0xFFFF) == 0)
             lc_io_progress_report(&C->progress, size + (size_t)(C->p - (const char *)data), 2 * size);
-        memcpy(s->positions + 3 * (size_t)v, p, sizeof p);
+        if (mine)
+            memcpy(s->positions + 3 * (size_t)v, p, sizeof p);
         for (int c = 0; c < C->ncol; c++) {
             double x;
             if (C->attr_of[c] < 0)
@@ -317,14 +348,15 @@ int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene
                           (int)(fe[c] - fs[c] < 40 ? fe[c] - fs[c] : 40), fs[c]);
                 goto done;
             }
-            attr[C->attr_of[c]][v] = (float)x;
+            if (mine)
+                attr[C->attr_of[c]][v] = (float)x;
         }
-        v++;
+        v += mine;
     }
-    if (dropped)
+    if (dropped && lc_io_part_speaks(part))
         LC_WARN(LC_IO_LOG, "%s: line %zu: %zu rows with a missing or non-finite coordinate dropped", name,
                 first_dropped, dropped);
-    if (v == 0) {
+    if (kept == 0) {
         C->line = first_dropped;
         rc = fail(C, LC_ERR_INVALID, "no row with finite coordinates");
         goto done;
@@ -341,7 +373,17 @@ done:
     return rc;
 }
 
+int lc_load_csv_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    return load_csv(data, size, name, NULL, out, err);
+}
+
 int lc_load_csv(const char *path, lc_scene **out, lc_error *err)
 {
     return lc_io_load_path(path, lc_load_csv_memory, out, err);
+}
+
+int lc_load_csv_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return lc_io_load_path_part(path, load_csv, rank, size, out, err);
 }

@@ -43,6 +43,9 @@ static const struct {
                     {".binlines", lc_load_binlines_part, NULL},
                     {".trx", lc_load_trx_part, NULL},
                     {".nc", lc_load_netcdf_part, NULL},
+                    {".csv", lc_load_csv_part, NULL},
+                    {".tsv", lc_load_csv_part, NULL},
+                    {".xyz", lc_load_csv_part, NULL},
                     {".ply", lc_load_ply_part, lc_ply_file_is_point_cloud}};
 
 static part_loader part_reader_for(const char *path)

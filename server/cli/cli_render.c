@@ -29,8 +29,8 @@ static void render_usage(void)
             "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
             "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
             "  --mpi                 under mpirun/srun: each rank renders its shard, rank 0 writes the image\n"
-            "                        (docs/MPI.md; methods fourier and direct); of .trk/.tck/.trx/.binlines/.nc\n"
-            "                        and point-cloud .ply files each rank reads only its share\n"
+            "                        (docs/MPI.md; methods fourier and direct); of line files, point\n"
+            "                        clouds and point tables each rank reads only its share\n"
             "                        (LUCENT_MPI_READ=whole: every rank reads all, then keeps its shard)\n"
             "  --point-stride N      points: draw as a session does while the camera moves: the most\n"
             "                        important 1/(4N) of the points in full, every N-th of the rest\n"
@@ -135,8 +135,8 @@ int lc_cli_render(int argc, char **argv)
     int rank = mpi ? lc_mpi_rank(mpi) : 0;
     int open_rc;
     if (mpi) {
-        /* Line files and point clouds in a format that can be skipped
-         * through: each rank reads only its share and the ranks finalize the
+        /* Line files, point clouds and point tables (a format that can be
+         * skipped through): each rank reads only its share and the ranks finalize the
          * parts together (docs/MPI.md "Loading"). Other
          * datasets: every rank loads the whole (global bounds, ranges,
          * percentiles and elements come out the same), then keeps its shard.

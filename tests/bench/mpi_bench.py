@@ -3,9 +3,9 @@
 image sizes, the frame time (wall, last of --frames frames, so start-up and
 loading are not in it), the time spent in the reductions (wall, including the
 wait for the slowest rank) per frame and per reduction, the bytes each rank
-sends per frame, and each rank's scene memory and peak resident size (with a
-.trk/.tck/.trx/.binlines/.nc or point-cloud .ply --dataset each rank reads only its share; LUCENT_MPI_READ=whole
-in the environment compares reading everything). Prints a Markdown table.
+sends per frame, and each rank's scene memory and peak resident size (of a
+line file, point cloud or point table --dataset each rank reads only its share;
+LUCENT_MPI_READ=whole in the environment compares reading everything). Prints a Markdown table.
 
   tests/bench/mpi_bench.py --binary build/lucent [--ranks 1,2,3,4] [--sizes 512,1024]
                            [--dataset demo:tornado] [--frames 3]

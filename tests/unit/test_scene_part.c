@@ -1,7 +1,7 @@
 /* lc_scene_read_file_part + lc_scene_finalize_part: 1..4 "processes" (threads
  * with a barrier-based lc_scene_collective) each read only their share of a
  * .binlines, .tck, .trx (directory), NetCDF (with and without an ensemble
- * dimension) and point-cloud .ply file, or finalize their share of a
+ * dimension), .csv and point-cloud .ply file, or finalize their share of a
  * point cloud cut by hand,
  * and every part must equal, array for array and bit for bit, the shard that
  * lc_scene_shard cuts from the whole scene finalized in one piece: positions,
@@ -366,6 +366,21 @@ static int write_nc(const char *path, int members, size_t rows, size_t T)
     return nc_close(nc);
 }
 
+/* A point table: a header, 5000 rows, a few with a missing coordinate (dropped). */
+static void write_csv(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    fprintf(f, "# a comment\nx,y,z,temperature\n");
+    for (int i = 0; i < 5000; i++) {
+        double a = i * 0.37, r = 1 + (i % 13) * 0.1;
+        if (i % 401 == 7)
+            fprintf(f, "%g,,%g,%g\n", r * cos(a), 0.001 * i, 20.0);
+        else
+            fprintf(f, "%g,%g,%g,%g\n", r * cos(a), r * sin(a), 0.001 * i, i % 997 == 0 ? 1e6 : 15 + (i % 29));
+    }
+    fclose(f);
+}
+
 static lc_scene *load_whole(const char *path, uint32_t budget, uint32_t rebuild)
 {
     lc_scene *s = NULL;
@@ -448,6 +463,10 @@ int main(void)
     CHECK(write_nc(nc2, 1, 90, 24) == NC_NOERR && write_nc(nc3, 3, 90, 24) == NC_NOERR, "NetCDF files written");
     check_file(nc2, 0, 0);
     check_file(nc3, 0, 0);
+    char csv[128];
+    snprintf(csv, sizeof csv, "%s/points.csv", dir);
+    write_csv(csv);
+    check_file(csv, 0, 0);
     check_points();
 
     /* A point cloud as PLY (every attribute a float property, colours as
@@ -488,6 +507,7 @@ int main(void)
     unlink(mesh);
     unlink(nc2);
     unlink(nc3);
+    unlink(csv);
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", trx);
     CHECK(system(cmd) == 0, "removing %s", trx);

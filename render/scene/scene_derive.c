@@ -1,5 +1,5 @@
 /* Derived per-vertex data: line tangents, arc length, curvature and line length;
- * surface normals and cotangent-Laplacian mean curvature. All O(n). */
+ * surface normals and cotangent-Laplacian mean curvature; point density. All O(n). */
 #include "scene_derive.h"
 
 #include <math.h>
@@ -231,4 +231,77 @@ int lc_scene_derive_triangles(lc_scene *s, lc_error *err)
     }
     free(acc);
     return add_owned(s, "mean_curvature", mean, err);
+}
+
+#define DENSITY_MAX_RES 128
+
+int lc_scene_derive_points(lc_scene *s, uint64_t total, const lc_scene_collective *c, lc_error *err)
+{
+    const double *b = s->bounds;
+    double extent[3], widest = 0;
+    for (int k = 0; k < 3; k++) {
+        extent[k] = b[3 + k] > b[k] ? b[3 + k] - b[k] : 0;
+        widest = extent[k] > widest ? extent[k] : widest;
+    }
+    /* Cubic cells holding about 8 points on average over the axes the cloud
+     * spans (a flat cloud: its plane), at least 4 and at most 128 across. */
+    double volume = 1;
+    int dims = 0, res[3];
+    for (int k = 0; k < 3; k++)
+        if (extent[k] > 1e-6 * widest)
+            volume *= extent[k], dims++;
+    double cell = dims ? pow(volume / ((double)total / 8.0 > 1 ? (double)total / 8.0 : 1), 1.0 / dims) : 1;
+    if (widest > 0)
+        cell = fmin(fmax(cell, widest / DENSITY_MAX_RES), widest / 4);
+    for (int k = 0; k < 3; k++) {
+        double r = ceil(extent[k] / cell);
+        res[k] = r < 1 ? 1 : r > DENSITY_MAX_RES ? DENSITY_MAX_RES : (int)r;
+    }
+    size_t cells = (size_t)res[0] * res[1] * res[2];
+    uint32_t n = s->vertex_count;
+    uint64_t *count = calloc(cells, sizeof *count);
+    uint32_t *where = malloc(((size_t)n + 1) * sizeof *where);
+    float *density = malloc(((size_t)n + 1) * sizeof *density);
+    int rc = count && where && density ? 0 : lc_err(err, LC_ERR_NOMEM, "%s: out of memory for point density", s->name);
+    if (c) /* the grid sum below needs every process's grid */
+        rc = c->agree(c->ctx, rc, err);
+    for (uint32_t i = 0; !rc && i < n; i++) {
+        size_t at = 0;
+        for (int k = 2; k >= 0; k--) {
+            int x = (int)((s->positions[3 * (size_t)i + k] - b[k]) / cell);
+            at = at * (size_t)res[k] + (size_t)(x < 0 ? 0 : x >= res[k] ? res[k] - 1 : x);
+        }
+        where[i] = (uint32_t)at;
+        count[at]++;
+    }
+    if (!rc && c && c->sum_u64(c->ctx, count, cells, err)) /* a part's grid joins the others' */
+        rc = LC_ERR_INTERNAL;
+    uint64_t *box = rc ? NULL : calloc(cells, sizeof *box);
+    if (!rc && !box)
+        rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for point density", s->name);
+    uint64_t peak = 1;
+    for (int z = 0; !rc && z < res[2]; z++)
+        for (int y = 0; y < res[1]; y++)
+            for (int x = 0; x < res[0]; x++) {
+                uint64_t sum = 0;
+                for (int dz = -1; dz <= 1; dz++)
+                    for (int dy = -1; dy <= 1; dy++)
+                        for (int dx = -1; dx <= 1; dx++) {
+                            int X = x + dx, Y = y + dy, Z = z + dz;
+                            if (X >= 0 && Y >= 0 && Z >= 0 && X < res[0] && Y < res[1] && Z < res[2])
+                                sum += count[((size_t)Z * res[1] + Y) * res[0] + X];
+                        }
+                box[((size_t)z * res[1] + y) * res[0] + x] = sum;
+                peak = sum > peak ? sum : peak;
+            }
+    for (uint32_t i = 0; !rc && i < n; i++)
+        density[i] = (float)((double)box[where[i]] / (double)peak);
+    free(count);
+    free(box);
+    free(where);
+    if (rc) {
+        free(density);
+        return rc;
+    }
+    return add_owned(s, "density", density, err);
 }

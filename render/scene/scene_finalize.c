@@ -343,6 +343,8 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
         rc = lc_scene_derive_lines(s, err);
     else if (s->type == LC_PRIM_TRIANGLES)
         rc = lc_scene_derive_triangles(s, err);
+    else if (s->attribute_count == 0)
+        rc = lc_scene_derive_points(s, s->vertex_count, NULL, err);
     if (rc)
         return rc;
     for (int i = 0; i < s->attribute_count; i++)
@@ -511,6 +513,8 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
 
     if (s->type == LC_PRIM_LINES)
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
+    else if (s->attribute_count == 0)   /* the same on every part (checked above) */
+        rc = lc_scene_derive_points(s, total, c, err); /* collective */
     if ((rc = c->agree(c->ctx, rc, err)) != 0)
         return rc;
     for (int i = 0; i < s->attribute_count; i++)

@@ -98,13 +98,42 @@ static void test_basics(void)
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize again");
     lc_scene_destroy(s);
 
-    /* points without attributes: no default importance (renderer uses g = 1) */
+    /* points without attributes: a derived density is their importance */
     s = lc_scene_create("bare", LC_PRIM_POINTS);
     lc_scene_alloc_vertices(s, 1, 0, NULL);
     s->positions[0] = s->positions[1] = s->positions[2] = 0;
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "single point");
-    CHECK(s->default_importance[0] == '\0', "no attribute, no default");
+    CHECK(strcmp(s->default_importance, "density") == 0 && s->attribute_count == 1 &&
+              s->attributes[0].values[0] == 1.0f,
+          "no attribute: density (%s, %d attributes)", s->default_importance, s->attribute_count);
     lc_scene_destroy(s);
+
+    /* a dense cluster in a sparse cloud: the cluster's points are denser,
+     * the densest neighbourhood is 1, and a flat cloud (z = 0) works too */
+    for (int flat = 0; flat < 2; flat++) {
+        s = lc_scene_create("cluster", LC_PRIM_POINTS);
+        lc_scene_alloc_vertices(s, 2000, 0, NULL);
+        for (uint32_t i = 0; i < 2000; i++) {
+            double t = i * 0.618034, u = i * 0.414214, w = i * 0.732051;
+            double spread = i < 1000 ? 0.05 : 1.0; /* the first half in a small box */
+            s->positions[3 * i] = (float)(spread * (t - floor(t)));
+            s->positions[3 * i + 1] = (float)(spread * (u - floor(u)));
+            s->positions[3 * i + 2] = flat ? 0.0f : (float)(spread * (w - floor(w)));
+        }
+        CHECK(lc_scene_finalize(s, NULL, &err) == 0, "cluster (%s)", err.msg);
+        int d = lc_scene_find_attribute(s, "density");
+        if (d >= 0) {
+            double in = 0, out = 0;
+            for (uint32_t i = 0; i < 2000; i++)
+                *(i < 1000 ? &in : &out) += s->attributes[d].values[i] / 1000.0;
+            CHECK(in > 5 * out && s->attributes[d].max == 1.0f && s->attributes[d].min > 0,
+                  "%s: density %.3f in the cluster, %.3f outside, range %g..%g", flat ? "flat" : "3D", in, out,
+                  s->attributes[d].min, s->attributes[d].max);
+        } else {
+            CHECK(0, "cluster: no density");
+        }
+        lc_scene_destroy(s);
+    }
 }
 
 static void test_validation(void)

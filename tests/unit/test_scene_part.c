@@ -366,17 +366,22 @@ static int write_nc(const char *path, int members, size_t rows, size_t T)
     return nc_close(nc);
 }
 
-/* A point table: a header, 5000 rows, a few with a missing coordinate (dropped). */
-static void write_csv(const char *path)
+/* A point table: a header, 5000 rows, a few with a missing coordinate
+ * (dropped); with_attribute 0: positions alone (the parts derive a density
+ * together). */
+static void write_csv(const char *path, int with_attribute)
 {
     FILE *f = fopen(path, "w");
-    fprintf(f, "# a comment\nx,y,z,temperature\n");
+    fprintf(f, "# a comment\nx,y,z%s\n", with_attribute ? ",temperature" : "");
     for (int i = 0; i < 5000; i++) {
         double a = i * 0.37, r = 1 + (i % 13) * 0.1;
         if (i % 401 == 7)
-            fprintf(f, "%g,,%g,%g\n", r * cos(a), 0.001 * i, 20.0);
+            fprintf(f, "%g,,%g", r * cos(a), 0.001 * i);
         else
-            fprintf(f, "%g,%g,%g,%g\n", r * cos(a), r * sin(a), 0.001 * i, i % 997 == 0 ? 1e6 : 15 + (i % 29));
+            fprintf(f, "%g,%g,%g", r * cos(a), r * sin(a), 0.001 * i);
+        if (with_attribute)
+            fprintf(f, ",%g", i % 997 == 0 ? 1e6 : 15 + (i % 29));
+        fputc('\n', f);
     }
     fclose(f);
 }
@@ -463,10 +468,13 @@ int main(void)
     CHECK(write_nc(nc2, 1, 90, 24) == NC_NOERR && write_nc(nc3, 3, 90, 24) == NC_NOERR, "NetCDF files written");
     check_file(nc2, 0, 0);
     check_file(nc3, 0, 0);
-    char csv[128];
+    char csv[128], xyz[128];
     snprintf(csv, sizeof csv, "%s/points.csv", dir);
-    write_csv(csv);
+    snprintf(xyz, sizeof xyz, "%s/bare.csv", dir);
+    write_csv(csv, 1);
+    write_csv(xyz, 0);
     check_file(csv, 0, 0);
+    check_file(xyz, 0, 0);
     check_points();
 
     /* A point cloud as PLY (every attribute a float property, colours as
@@ -508,6 +516,7 @@ int main(void)
     unlink(nc2);
     unlink(nc3);
     unlink(csv);
+    unlink(xyz);
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", trx);
     CHECK(system(cmd) == 0, "removing %s", trx);

@@ -46,7 +46,8 @@ static const struct {
                     {".csv", lc_load_csv_part, NULL},
                     {".tsv", lc_load_csv_part, NULL},
                     {".xyz", lc_load_csv_part, NULL},
-                    {".ply", lc_load_ply_part, lc_ply_file_is_point_cloud}};
+                    {".ply", lc_load_ply_part, lc_ply_file_is_point_cloud},
+                    {".vtk", lc_load_vtk_part, lc_vtk_file_has_lines}};
 
 static part_loader part_reader_for(const char *path)
 {

@@ -33,7 +33,7 @@ int lc_scene_is_dataset_file(const char *path);
 int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err);
 
 /* The extensions lc_scene_read_file_part reads in parts. */
-#define LC_PART_EXTENSIONS ".trk, .tck, .trx, .binlines, .nc, point-cloud .ply, .csv, .tsv and .xyz"
+#define LC_PART_EXTENSIONS ".trk, .tck, .trx, .binlines, .nc, polyline .vtk, point-cloud .ply, .csv, .tsv and .xyz"
 
 /* 1 when path can be read in parts (a .ply file only when it holds points alone). */
 int lc_scene_can_read_part(const char *path);

@@ -24,6 +24,13 @@ extern "C" {
  * byte offset and the reason. `name` is used in messages and as the scene name. */
 int lc_load_vtk_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err);
 int lc_load_vtk(const char *path, lc_scene **out, lc_error *err);
+/* Only the whole polylines of process rank's share of size
+ * (lc_scene_read_file_part): the file is parsed whole (points, point data and
+ * connectivity, the raw arrays), then only the share's lines are kept, before
+ * any derived data. LC_ERR_UNSUPPORTED for a file without LINES. */
+int lc_load_vtk_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
+/* 1 when the file at path has a LINES section (a line starting "LINES "). */
+int lc_vtk_file_has_lines(const char *path);
 int lc_save_vtk(const lc_scene *s, const char *path, lc_error *err);
 
 #ifdef __cplusplus

@@ -37,6 +37,7 @@ typedef struct vtk_load {
     lc_io_u32vec cell;   /* one cell's point ids */
     lc_io_u32vec line_idx, line_off, triangles;
     uint64_t skipped_attrs;
+    lc_io_part *part; /* NULL or inactive: the whole file; else keep this process's lines */
 } vtk_load;
 
 /* Error at the current keyword: line for ASCII, byte offset for binary. */

@@ -562,10 +562,35 @@ static int parse(vtk_load *L)
 }
 
 /* Lines win over surfaces (as in PLY and OBJ), surfaces over points. */
+/* A process's share of the lines (lc_scene_read_file_part): the whole lines
+ * lc_scene_shard would give it, gathered from the points parsed whole. */
+static int assemble_part(vtk_load *L, size_t line_count)
+{
+    lc_io_part *P = L->part;
+    const uint32_t *off = L->line_off.v;
+    int rc = 0;
+    for (size_t l = 0; l < line_count && !rc; l++)
+        rc = lc_io_part_count(P, off[l + 1] - off[l], L->file, L->err);
+    if (rc || (rc = lc_io_part_choose(P, (uint32_t)line_count, off[line_count], L->file, L->err)))
+        return rc;
+    uint32_t n = P->last - P->first, *share = malloc(((size_t)n + 1) * sizeof *share);
+    if (!share)
+        return lc_err(L->err, LC_ERR_NOMEM, "%s: out of memory for %u lines", L->file, n);
+    for (uint32_t l = 0; l <= n; l++)
+        share[l] = off[P->first + l] - off[P->first];
+    return lc_io_make_lines(&L->s, L->line_idx.v + off[P->first], share[n], share, n, L->file, L->err);
+}
+
 static int assemble(vtk_load *L)
 {
     size_t line_count = L->line_off.n - 1;
-    if (line_count > 0) {
+    if (lc_io_part_active(L->part) && line_count == 0)
+        return lc_err(L->err, LC_ERR_UNSUPPORTED, "%s: no LINES: only polylines are read in parts", L->file);
+    if (line_count > 0 && lc_io_part_active(L->part)) {
+        int rc = assemble_part(L, line_count);
+        if (rc)
+            return rc;
+    } else if (line_count > 0) {
         if (L->triangles.n)
             LC_WARN(LC_IO_LOG, "%s: %zu triangles ignored because the file has lines", L->file, L->triangles.n / 3);
         uint32_t *offsets = L->line_off.v;
@@ -585,13 +610,15 @@ static int assemble(vtk_load *L)
     return 0;
 }
 
-int lc_load_vtk_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+static int load_vtk(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
+                    lc_error *err)
 {
     *out = NULL;
     if (!name)
         name = "<memory>";
     vtk_load L;
     memset(&L, 0, sizeof L);
+    L.part = part;
     L.data = data ? data : (const void *)"";
     L.size = data ? size : 0;
     L.file = name;
@@ -615,7 +642,28 @@ int lc_load_vtk_memory(const void *data, size_t size, const char *name, lc_scene
     return 0;
 }
 
+int lc_load_vtk_memory(const void *data, size_t size, const char *name, lc_scene **out, lc_error *err)
+{
+    return load_vtk(data, size, name, NULL, out, err);
+}
+
 int lc_load_vtk(const char *path, lc_scene **out, lc_error *err)
 {
     return lc_io_load_path(path, lc_load_vtk_memory, out, err);
+}
+
+int lc_load_vtk_part(const char *path, int rank, int size, lc_scene **out, lc_error *err)
+{
+    return lc_io_load_path_part(path, load_vtk, rank, size, out, err);
+}
+
+int lc_vtk_file_has_lines(const char *path)
+{
+    lc_io_file f;
+    lc_error err = {0};
+    if (lc_io_file_open(path, &f, &err) != 0)
+        return 0;
+    int lines = f.size > 0 && memmem(f.data, f.size, "\nLINES ", 7) != NULL;
+    lc_io_file_close(&f);
+    return lines;
 }

@@ -123,26 +123,54 @@ double lc_lod_threshold(const lc_scene *s, int step)
     return sqrt(d2) * pow(2.0, -0.5 * (LC_LOD_LADDER_FINEST - step));
 }
 
-/* Line levels from the vertex errors; with_indices fills each level's pairs. */
-static int line_levels(const lc_scene *s, const float *err, lc_lod *out, int with_indices, lc_error *e)
+static uint32_t nonempty_lines(const lc_scene *s)
 {
-    enum { STEPS = LC_LOD_LADDER_STEPS };
-    double thresholds[STEPS];
-    uint64_t kept[STEPS] = {0};
-    for (int j = 0; j < STEPS; j++)
-        thresholds[j] = lc_lod_threshold(s, j);
     uint32_t lines = 0;
     for (uint32_t l = 0; l < s->line_count; l++)
         lines += s->line_offsets[l + 1] > s->line_offsets[l];
+    return lines;
+}
+
+void lc_lod_kept_per_step(const lc_scene *s, const float *err, uint64_t kept[LC_LOD_LADDER_STEPS])
+{
+    double thresholds[LC_LOD_LADDER_STEPS];
+    for (int j = 0; j < LC_LOD_LADDER_STEPS; j++) {
+        thresholds[j] = lc_lod_threshold(s, j);
+        kept[j] = 0;
+    }
     for (uint32_t v = 0; v < s->vertex_count; v++)
-        for (int j = 0; j < STEPS && err[v] > thresholds[j]; j++)
+        for (int j = 0; j < LC_LOD_LADDER_STEPS && err[v] > thresholds[j]; j++)
             kept[j]++;
-    for (int j = 0; j < STEPS && out->count < LC_LOD_MAX_LEVELS; j++) {
-        uint64_t segments = kept[j] - lines;
-        if ((double)segments > LC_LOD_SHRINK * (double)out->levels[out->count - 1].primitives)
+}
+
+uint32_t lc_lod_line_steps(const uint64_t kept[LC_LOD_LADDER_STEPS], uint64_t lines, uint64_t segments)
+{
+    uint32_t steps = LC_LOD_STEPS_GIVEN;
+    int levels = 1;
+    for (int j = 0; j < LC_LOD_LADDER_STEPS && levels < LC_LOD_MAX_LEVELS; j++) {
+        uint64_t kept_segments = kept[j] - lines;
+        if ((double)kept_segments > LC_LOD_SHRINK * (double)segments)
             continue;
-        out->levels[out->count].error = thresholds[j];
-        out->levels[out->count].primitives = segments;
+        steps |= 1u << j;
+        segments = kept_segments;
+        levels++;
+    }
+    return steps;
+}
+
+/* Line levels from the vertex errors (at the ladder steps s->lod_steps names,
+ * or its own); with_indices fills each level's pairs. */
+static int line_levels(const lc_scene *s, const float *err, lc_lod *out, int with_indices, lc_error *e)
+{
+    uint64_t kept[LC_LOD_LADDER_STEPS];
+    lc_lod_kept_per_step(s, err, kept);
+    uint32_t lines = nonempty_lines(s);
+    uint32_t steps = s->lod_steps ? s->lod_steps : lc_lod_line_steps(kept, lines, out->levels[0].primitives);
+    for (int j = 0; j < LC_LOD_LADDER_STEPS && out->count < LC_LOD_MAX_LEVELS; j++) {
+        if (!(steps & (1u << j)))
+            continue;
+        out->levels[out->count].error = lc_lod_threshold(s, j);
+        out->levels[out->count].primitives = kept[j] - lines;
         out->count++;
     }
     for (int i = 0; with_indices && i < out->count; i++) {

@@ -71,6 +71,10 @@ typedef struct lc_scene {
      * compact GPU layout aligns its position chunks to the whole's); 0
      * otherwise, and for surface shards, whose vertices are not contiguous. */
     uint64_t vertex_base;
+    /* A line shard or part: the threshold ladder steps (bit j, lod.h) the whole
+     * scene's levels of detail use, so that every rank picks the same
+     * simplification; with LC_LOD_STEPS_GIVEN set. 0: the scene decides. */
+    uint32_t lod_steps;
     const struct lc_scene_collective *collective;
     uint64_t whole_vertices, whole_primitives, whole_lines;
     double whole_line_length;

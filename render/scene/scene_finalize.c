@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "elements.h"
+#include "lod.h"
 #include "scene.h"
 #include "scene_derive.h"
 #include "scene_part.h"
@@ -286,6 +287,7 @@ static lc_element_geometry element_geometry(const lc_scene *s)
 
 static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c,
                          double *line_length, lc_error *err);
+static int part_lod_steps(lc_scene *s, const lc_scene_collective *c, lc_error *err);
 
 int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
 {
@@ -299,7 +301,8 @@ int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
     if (s->part_of) {
         const lc_scene_collective *c = s->collective;
         lc_elements_desc desc = {.line_budget = budget};
-        return c->agree(c->ctx, part_elements(s, &desc, c, NULL, err), err);
+        int rc = c->agree(c->ctx, part_elements(s, &desc, c, NULL, err), err);
+        return rc ? rc : part_lod_steps(s, c, err); /* the levels follow the elements' runs */
     }
     uint64_t most = s->type == LC_PRIM_LINES ? lc_scene_primitive_count(s) : s->vertex_count;
     if (budget > most || budget > (1u << 24))
@@ -439,6 +442,32 @@ static int part_line_elements(lc_scene *s, const lc_element_geometry *g, const l
     return rc;
 }
 
+/* The ladder steps of the whole's line levels of detail (lod.h): each step's
+ * kept vertices, the lines and the segments summed over the processes, so
+ * that every rank simplifies alike. Needs the part's elements (runs end where
+ * the primary element changes). Collective. */
+static int part_lod_steps(lc_scene *s, const lc_scene_collective *c, lc_error *err)
+{
+    float *e = malloc(((size_t)s->vertex_count + 1) * sizeof *e);
+    int rc = e ? lc_lod_vertex_errors(s, e, err) : lc_err(err, LC_ERR_NOMEM, "%s: out of memory", s->name);
+    if ((rc = c->agree(c->ctx, rc, err)) != 0) {
+        free(e);
+        return rc;
+    }
+    uint64_t sums[LC_LOD_LADDER_STEPS + 2];
+    lc_lod_kept_per_step(s, e, sums);
+    free(e);
+    uint64_t lines = 0;
+    for (uint32_t l = 0; l < s->line_count; l++)
+        lines += s->line_offsets[l + 1] > s->line_offsets[l];
+    sums[LC_LOD_LADDER_STEPS] = lines;
+    sums[LC_LOD_LADDER_STEPS + 1] = lc_scene_primitive_count(s);
+    if (c->sum_u64(c->ctx, sums, LC_LOD_LADDER_STEPS + 2, err))
+        return LC_ERR_INTERNAL;
+    s->lod_steps = lc_lod_line_steps(sums, sums[LC_LOD_LADDER_STEPS], sums[LC_LOD_LADDER_STEPS + 1]);
+    return 0;
+}
+
 /* The elements of a part in the whole scene's numbering: every process
  * contributes its lines' vertex counts and lengths (8 bytes a line) or its
  * point count, and each builds the same budget split from the same table. */
@@ -525,6 +554,8 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
     double length = 0;
     rc = part_elements(s, desc, c, &length, err);
     if ((rc = c->agree(c->ctx, rc, err)) != 0)
+        return rc;
+    if (s->type == LC_PRIM_LINES && (rc = part_lod_steps(s, c, err)) != 0)
         return rc;
     uint64_t counts[2] = {lc_scene_primitive_count(s), s->line_count};
     if (c->sum_u64(c->ctx, counts, 2, err))

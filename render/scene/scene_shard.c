@@ -2,6 +2,8 @@
  * the whole scene's bounds, attribute statistics and element numbering. */
 #include "scene_shard.h"
 
+#include "lod.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -193,6 +195,26 @@ static int shard_triangles(const lc_scene *full, int rank, int size, lc_scene *s
     return 0;
 }
 
+/* The ladder steps of the whole scene's line levels of detail (lod.h), for
+ * every shard to simplify alike. 0 when they cannot be computed: the shard
+ * then decides for itself (a finer level on some ranks, still within bound). */
+static uint32_t whole_lod_steps(const lc_scene *full)
+{
+    if (full->lod_steps)
+        return full->lod_steps;
+    float *e = malloc(((size_t)full->vertex_count + 1) * sizeof *e);
+    uint32_t steps = 0;
+    if (e && lc_lod_vertex_errors(full, e, NULL) == 0) {
+        uint64_t kept[LC_LOD_LADDER_STEPS], lines = 0;
+        lc_lod_kept_per_step(full, e, kept);
+        for (uint32_t l = 0; l < full->line_count; l++)
+            lines += full->line_offsets[l + 1] > full->line_offsets[l];
+        steps = lc_lod_line_steps(kept, lines, lc_scene_primitive_count(full));
+    }
+    free(e);
+    return steps;
+}
+
 int lc_scene_shard(const lc_scene *full, int rank, int size, lc_scene **out, lc_error *err)
 {
     *out = NULL;
@@ -221,6 +243,8 @@ int lc_scene_shard(const lc_scene *full, int rank, int size, lc_scene **out, lc_
     memcpy(s->bounds, full->bounds, sizeof s->bounds);
     memcpy(s->default_importance, full->default_importance, sizeof s->default_importance);
     memcpy(s->default_color, full->default_color, sizeof s->default_color);
+    if (full->type == LC_PRIM_LINES)
+        s->lod_steps = whole_lod_steps(full);
     s->has_view = full->has_view;
     memcpy(s->view_direction, full->view_direction, sizeof s->view_direction);
     memcpy(s->view_up, full->view_up, sizeof s->view_up);

@@ -77,7 +77,7 @@ static void usage(FILE *f)
             "                         resolution adapt to it (default 70)\n"
             "  --log-level L          error|warn|info|debug (default info)\n"
             "  --mpi                  under mpirun/srun: each rank reads its share of line files, point clouds and\n"
-            "                         point tables (meshes, .obj, .vtk: loads all, keeps its shard); rank 0 serves\n"
+            "                         point tables (meshes, .obj: loads all, keeps its shard); rank 0 serves\n"
             "                         and leads, the others render their shards of each frame (docs/MPI.md)\n"
             "  -h, --help             this text\n");
 }

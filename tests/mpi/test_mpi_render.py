@@ -61,7 +61,7 @@ for name, flags in CASES:
     if e > MAX_RMSE:
         failures.append("%s: rmse %.6f > 1/255" % (name, e))
 
-# Line files in .binlines, .tck, .trk, .trx and .nc and a PLY point cloud: each rank reads only its share
+# Line files in .binlines, .tck, .trk, .trx, .nc and .vtk and a PLY point cloud: each rank reads only its share
 # (docs/MPI.md "Loading"). Against one process, and bit for bit against the
 # ranks reading the whole file and keeping their shards (LUCENT_MPI_READ=whole),
 # since both ways must give every rank the same lines, statistics and elements.
@@ -70,6 +70,9 @@ files = write_all(tmp, 300)
 # A point cloud as PLY (points alone): read in parts too.
 files["ply"] = os.path.join(tmp, "points.ply")
 subprocess.run([lucent, "gen", "points", "-o", files["ply"], "--count", "20000"], check=True, capture_output=True)
+# Polylines as VTK (parsed whole, only the share's lines kept).
+files["vtk"] = os.path.join(tmp, "tornado.vtk")
+subprocess.run([lucent, "gen", "tornado", "-o", files["vtk"], "--count", "120"], check=True, capture_output=True)
 # NetCDF trajectories: the loaders' committed case (three trajectories, one cut short, one dropped).
 files["nc"] = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "loaders", "nc", "valid",
                            "trajectories.nc")

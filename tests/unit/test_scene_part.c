@@ -1,7 +1,8 @@
 /* lc_scene_read_file_part + lc_scene_finalize_part: 1..4 "processes" (threads
  * with a barrier-based lc_scene_collective) each read only their share of a
  * .binlines, .tck, .trx (directory), NetCDF (with and without an ensemble
- * dimension), .csv and point-cloud .ply file, or finalize their share of a
+ * dimension), polyline .vtk, .csv and point-cloud .ply file, or finalize
+ * their share of a
  * point cloud cut by hand,
  * and every part must equal, array for array and bit for bit, the shard that
  * lc_scene_shard cuts from the whole scene finalized in one piece: positions,
@@ -159,6 +160,8 @@ static void compare(const char *what, const lc_scene *part, const lc_scene *shar
                memcmp(e->adjacency, f->adjacency, (size_t)f->adjacency_count * sizeof(uint32_t)) == 0),
           "%s: adjacency", what);
     CHECK(part->part_of > 0 && part->whole_vertices > 0, "%s: marked as a part of %d", what, part->part_of);
+    CHECK(part->lod_steps == shard->lod_steps, "%s: level-of-detail steps %#x (shard %#x)", what, part->lod_steps,
+          shard->lod_steps);
     CHECK(part->vertex_base == shard->vertex_base, "%s: first vertex %llu of the whole (shard %llu)", what,
           (unsigned long long)part->vertex_base, (unsigned long long)shard->vertex_base);
 }
@@ -493,9 +496,25 @@ int main(void)
     }
     lc_scene_destroy(demo);
     demo = NULL;
+    /* Polylines as VTK (parsed whole, only the share's lines kept). */
+    char vtk[128];
+    snprintf(vtk, sizeof vtk, "%s/tornado.vtk", dir);
+    lc_demo_desc td = {.count = 90};
+    if (lc_demo_create("tornado", &td, &demo, &err) == 0 && lc_save_vtk(demo, vtk, &err) == 0) {
+        check_file(vtk, 0, 0);
+        CHECK(lc_scene_can_read_part(vtk), "a VTK file with lines is read in parts");
+    } else {
+        CHECK(0, "tornado VTK (%s)", err.msg);
+    }
+    lc_scene_destroy(demo);
+    demo = NULL;
     lc_demo_desc sd = {.count = 20};
     if (lc_demo_create("surface", &sd, &demo, &err) == 0 && lc_save_ply(demo, mesh, &err) == 0) {
         CHECK(!lc_scene_can_read_part(mesh), "a PLY mesh is read whole");
+        char vmesh[128];
+        snprintf(vmesh, sizeof vmesh, "%s/surface.vtk", dir);
+        CHECK(lc_save_vtk(demo, vmesh, &err) == 0 && !lc_scene_can_read_part(vmesh), "a VTK mesh is read whole");
+        unlink(vmesh);
         lc_scene *m = NULL;
         CHECK(lc_load_ply_part(mesh, 0, 2, &m, &err) == LC_ERR_UNSUPPORTED && !m, "PLY mesh in parts: %s", err.msg);
     } else {
@@ -513,6 +532,7 @@ int main(void)
     unlink(tck);
     unlink(ply);
     unlink(mesh);
+    unlink(vtk);
     unlink(nc2);
     unlink(nc3);
     unlink(csv);

@@ -5,6 +5,7 @@
 
 #include "demo.h"
 #include "lc_test.h"
+#include "lod.h"
 #include "scene_shard.h"
 
 /* Sum over the shard's primitives of a position checksum of their vertices,
@@ -29,6 +30,42 @@ static uint64_t element_checksum(const lc_scene *s)
         sum +=
             s->elements.vertex_elements[4 * v + 3] * 2654435761u + (uint32_t)(1e6 * s->elements.vertex_weights[4 * v]);
     return sum;
+}
+
+/* Line shards simplify at the whole scene's thresholds: every level of
+ * detail of every shard has the error of the whole's level of that number,
+ * so a frame picks the same simplification on every rank. */
+static void check_levels(const char *spec, uint64_t count)
+{
+    lc_error err = {0};
+    lc_scene *full = NULL;
+    lc_demo_desc desc = {.count = count};
+    CHECK(lc_demo_create(spec, &desc, &full, &err) == 0, "%s: demo (%s)", spec, err.msg);
+    lc_lod whole;
+    if (!full || lc_lod_plan(full, &whole, &err) != 0) {
+        lc_scene_destroy(full);
+        return;
+    }
+    for (int size = 2; size <= 4; size++)
+        for (int rank = 0; rank < size; rank++) {
+            lc_scene *s = NULL;
+            lc_lod part;
+            if (lc_scene_shard(full, rank, size, &s, &err) != 0 || lc_lod_plan(s, &part, &err) != 0) {
+                CHECK(0, "%s: shard %d/%d levels (%s)", spec, rank, size, err.msg);
+                lc_scene_destroy(s);
+                continue;
+            }
+            int same = part.count == whole.count;
+            for (int i = 0; same && i < whole.count; i++)
+                same = part.levels[i].error == whole.levels[i].error;
+            CHECK(same, "%s: shard %d/%d has %d levels (first coarse error %g), the whole %d (%g)", spec, rank, size,
+                  part.count, part.count > 1 ? part.levels[1].error : 0.0, whole.count,
+                  whole.count > 1 ? whole.levels[1].error : 0.0);
+            lc_lod_free(&part);
+            lc_scene_destroy(s);
+        }
+    lc_lod_free(&whole);
+    lc_scene_destroy(full);
 }
 
 static void check_demo(const char *name)
@@ -84,5 +121,7 @@ int main(void)
     check_demo("tornado");
     check_demo("points");
     check_demo("surface");
+    check_levels("tornado", 300);
+    check_levels("abc", 200);
     return lc_test_finish();
 }

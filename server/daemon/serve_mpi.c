@@ -23,6 +23,8 @@ int lc_serve_mpi_read_part(void *ctx, const char *path, lc_scene **out, lc_error
 int lc_serve_mpi_start(lc_server *srv, int load_rc, lc_error *err)
 {
     lc_mpi *m = srv->mpi;
+    if (load_rc && lc_mpi_agreed_failure(m))
+        return load_rc; /* a file read in parts failed on some rank, and every rank knows it already */
     if (load_rc)
         LC_ERROR(MOD, "rank %d: %s", lc_mpi_rank(m), err->msg);
     int rc = lc_mpi_agree(m, load_rc, err);

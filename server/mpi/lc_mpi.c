@@ -40,6 +40,7 @@ struct lc_mpi {
     MPI_Op half_sum;
     _Float16 *half_buf;
     size_t half_cap;
+    int agreed_failure; /* an lc_mpi_agree returned a failure (lc_mpi_agreed_failure) */
     /* lc_mpi_finalize_part: the scene layer's collectives, which the parts keep */
     lc_scene_collective collective;
     /* lc_mpi_on_abort */
@@ -269,8 +270,11 @@ int lc_mpi_agree(lc_mpi *m, int rc, lc_error *err)
             lc_err(err, out, "rank %d: %s", r, all[r].msg);
         }
     free(all);
+    m->agreed_failure |= out != 0;
     return out;
 }
+
+int lc_mpi_agreed_failure(const lc_mpi *m) { return m->agreed_failure; }
 
 int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *err)
 {

@@ -50,6 +50,10 @@ const lc_reducer *lc_mpi_reducer(lc_mpi *m);
  * when all succeeded; otherwise the status of the lowest failing rank, with
  * err = "rank R: its message" on every rank. */
 int lc_mpi_agree(lc_mpi *m, int rc, lc_error *err);
+/* 1 once an lc_mpi_agree has returned a failure: every rank learnt it at the
+ * same collective, so each may end without another agreement (a rank that
+ * failed on its own still needs one to tell the others). */
+int lc_mpi_agreed_failure(const lc_mpi *m);
 /* Collective: LC_ERR_INVALID unless every rank passes the same text (e.g. its
  * dataset list); err then names a differing rank and both texts (cut). */
 int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *err);

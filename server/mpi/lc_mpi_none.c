@@ -32,6 +32,7 @@ int lc_mpi_rank(const lc_mpi *m) { return (void)m, 0; }
 int lc_mpi_size(const lc_mpi *m) { return (void)m, 1; }
 const lc_reducer *lc_mpi_reducer(lc_mpi *m) { return (void)m, NULL; }
 int lc_mpi_agree(lc_mpi *m, int rc, lc_error *err) { return (void)m, (void)err, rc; }
+int lc_mpi_agreed_failure(const lc_mpi *m) { return (void)m, 0; }
 int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *err)
 {
     return (void)m, (void)what, (void)text, (void)err, 0;

@@ -116,6 +116,19 @@ check(r.returncode != 0 and "ranks see different dataset lists" in out and "rank
       and "listening on" not in out,
       "different dataset lists: every rank refuses to start in %.1f s (exit %d)" % (time.time() - t0, r.returncode))
 
+# Start-up: the last rank cannot open a file before a line file the others
+# read in parts -> every rank learns it at that file's agreement and ends
+# promptly (not after the start-up timeout), naming the file.
+cmd = launcher[:-1] + [str(ranks - 1), lucent, "serve", "--mpi", "--listen", "127.0.0.1:0", "--data", TRK, ":",
+                       "-np", "1", lucent, "serve", "--mpi", "--listen", "127.0.0.1:0", "--data",
+                       os.path.join(tmp, "missing.ply"), "--data", TRK]
+t0 = time.time()
+r = subprocess.run(cmd, capture_output=True, text=True, env=mpirun_env(), timeout=120)
+out = r.stdout + r.stderr
+check(r.returncode != 0 and "missing.ply" in out and "listening on" not in out and time.time() - t0 < 30,
+      "a rank that cannot load before a file read in parts: every rank ends in %.1f s (exit %d)" %
+      (time.time() - t0, r.returncode))
+
 # Float vertex buffers on both sides: the compact layout quantizes surface and
 # line shards in other chunks than one process does (docs/MPI.md "Limits"),
 # which on the surface alone comes near the 1/255 bound.

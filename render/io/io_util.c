@@ -106,6 +106,17 @@ int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int
     return rc;
 }
 
+int lc_io_file_test(const char *path, int (*test)(const char *data, size_t size, const char *name))
+{
+    lc_io_file f;
+    lc_error err = {0};
+    if (lc_io_file_open(path, &f, &err) != 0)
+        return 0;
+    int rc = test(f.data, f.size, lc_io_basename(path));
+    lc_io_file_close(&f);
+    return rc;
+}
+
 int lc_io_part_count(lc_io_part *p, uint32_t points, const char *file, lc_error *err)
 {
     if (!lc_io_part_active(p))

@@ -92,6 +92,10 @@ static inline int lc_io_part_keeps(const lc_io_part *p, uint64_t line) { return 
 static inline int lc_io_part_speaks(const lc_io_part *p) { return !lc_io_part_active(p) || p->rank == 0; }
 void lc_io_part_free(lc_io_part *p);
 
+/* Maps path and returns test(data, size, name), or 0 when the file cannot be
+ * opened: a cheap look at a file's contents (which reader applies). */
+int lc_io_file_test(const char *path, int (*test)(const char *data, size_t size, const char *name));
+
 /* Maps path and runs a part reader on it, as lc_io_load_path does. */
 typedef int (*lc_io_part_loader)(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
                                  lc_error *err);

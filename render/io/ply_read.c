@@ -657,6 +657,16 @@ static int setup_connectivity(ply_load *L, element *e)
     return 0;
 }
 
+/* The first element with faces, lines or edges that the header declares, or
+ * NULL for a point cloud. */
+static const element *connectivity(const ply_reader *r)
+{
+    for (int i = 0; i < r->nelements; i++)
+        if (r->elements[i].kind != EK_VERTEX && r->elements[i].kind != EK_OTHER && r->elements[i].count)
+            return &r->elements[i];
+    return NULL;
+}
+
 static int load_body(ply_load *L)
 {
     ply_reader *r = &L->r;
@@ -691,11 +701,11 @@ static int load_body(ply_load *L)
     L->vertex_count = (uint32_t)vertex->count;
     L->first = 0, L->kept = L->vertex_count;
     if (lc_io_part_active(L->part)) { /* a point cloud's share, split as lc_scene_shard splits points */
-        for (int i = 0; i < r->nelements; i++)
-            if (r->elements[i].kind != EK_VERTEX && r->elements[i].kind != EK_OTHER && r->elements[i].count)
-                return lc_err(r->err, LC_ERR_UNSUPPORTED,
-                              "%.80s: has %s: only point clouds are read in parts (surfaces and polylines are split "
-                              "after loading)", r->file, r->elements[i].name);
+        const element *c = connectivity(r);
+        if (c)
+            return lc_err(r->err, LC_ERR_UNSUPPORTED,
+                          "%.80s: has %s: only point clouds are read in parts (surfaces and polylines are split "
+                          "after loading)", r->file, c->name);
         L->first = lc_scene_split_points(L->vertex_count, L->part->rank, L->part->size);
         L->kept = lc_scene_split_points(L->vertex_count, L->part->rank + 1, L->part->size) - L->first;
     }
@@ -822,24 +832,19 @@ int lc_load_ply_part(const char *path, int rank, int size, lc_scene **out, lc_er
     return lc_io_load_path_part(path, load_ply, rank, size, out, err);
 }
 
-int lc_ply_file_is_point_cloud(const char *path)
+static int is_point_cloud(const char *data, size_t size, const char *name)
 {
-    lc_io_file f;
     lc_error err = {0};
-    if (lc_io_file_open(path, &f, &err) != 0)
-        return 0;
     ply_reader r;
     memset(&r, 0, sizeof r);
-    r.data = (const unsigned char *)f.data;
-    r.size = f.size;
-    r.file = path;
+    r.data = (const unsigned char *)data;
+    r.size = size;
+    r.file = name;
     r.err = &err;
     r.elements = calloc(MAX_ELEMENTS, sizeof *r.elements);
-    int points = r.elements && parse_header(&r) == 0;
-    for (int i = 0; points && i < r.nelements; i++)
-        if (r.elements[i].kind != EK_VERTEX && r.elements[i].kind != EK_OTHER && r.elements[i].count)
-            points = 0;
+    int points = r.elements && parse_header(&r) == 0 && !connectivity(&r);
     free(r.elements);
-    lc_io_file_close(&f);
     return points;
 }
+
+int lc_ply_file_is_point_cloud(const char *path) { return lc_io_file_test(path, is_point_cloud); }

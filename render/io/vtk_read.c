@@ -657,13 +657,10 @@ int lc_load_vtk_part(const char *path, int rank, int size, lc_scene **out, lc_er
     return lc_io_load_path_part(path, load_vtk, rank, size, out, err);
 }
 
-int lc_vtk_file_has_lines(const char *path)
+static int has_lines(const char *data, size_t size, const char *name)
 {
-    lc_io_file f;
-    lc_error err = {0};
-    if (lc_io_file_open(path, &f, &err) != 0)
-        return 0;
-    int lines = f.size > 0 && memmem(f.data, f.size, "\nLINES ", 7) != NULL;
-    lc_io_file_close(&f);
-    return lines;
+    (void)name;
+    return size > 0 && memmem(data, size, "\nLINES ", 7) != NULL;
 }
+
+int lc_vtk_file_has_lines(const char *path) { return lc_io_file_test(path, has_lines); }

@@ -123,32 +123,39 @@ double lc_lod_threshold(const lc_scene *s, int step)
     return sqrt(d2) * pow(2.0, -0.5 * (LC_LOD_LADDER_FINEST - step));
 }
 
-static uint32_t nonempty_lines(const lc_scene *s)
-{
-    uint32_t lines = 0;
-    for (uint32_t l = 0; l < s->line_count; l++)
-        lines += s->line_offsets[l + 1] > s->line_offsets[l];
-    return lines;
-}
-
-void lc_lod_kept_per_step(const lc_scene *s, const float *err, uint64_t kept[LC_LOD_LADDER_STEPS])
+/* counts (LC_LOD_COUNTS) of s from its vertex errors. */
+static void line_counts(const lc_scene *s, const float *err, uint64_t counts[LC_LOD_COUNTS])
 {
     double thresholds[LC_LOD_LADDER_STEPS];
-    for (int j = 0; j < LC_LOD_LADDER_STEPS; j++) {
+    for (int j = 0; j < LC_LOD_COUNTS; j++)
+        counts[j] = 0;
+    for (int j = 0; j < LC_LOD_LADDER_STEPS; j++)
         thresholds[j] = lc_lod_threshold(s, j);
-        kept[j] = 0;
-    }
     for (uint32_t v = 0; v < s->vertex_count; v++)
         for (int j = 0; j < LC_LOD_LADDER_STEPS && err[v] > thresholds[j]; j++)
-            kept[j]++;
+            counts[j]++;
+    for (uint32_t l = 0; l < s->line_count; l++)
+        counts[LC_LOD_LADDER_STEPS] += s->line_offsets[l + 1] > s->line_offsets[l];
+    counts[LC_LOD_LADDER_STEPS + 1] = lc_scene_primitive_count(s);
 }
 
-uint32_t lc_lod_line_steps(const uint64_t kept[LC_LOD_LADDER_STEPS], uint64_t lines, uint64_t segments)
+int lc_lod_line_counts(const lc_scene *s, uint64_t counts[LC_LOD_COUNTS], lc_error *err)
 {
+    float *e = malloc(((size_t)s->vertex_count + 1) * sizeof *e);
+    int rc = e ? lc_lod_vertex_errors(s, e, err) : lc_err(err, LC_ERR_NOMEM, "%s: out of memory", s->name);
+    if (rc == 0)
+        line_counts(s, e, counts);
+    free(e);
+    return rc;
+}
+
+uint32_t lc_lod_line_steps(const uint64_t counts[LC_LOD_COUNTS])
+{
+    uint64_t lines = counts[LC_LOD_LADDER_STEPS], segments = counts[LC_LOD_LADDER_STEPS + 1];
     uint32_t steps = LC_LOD_STEPS_GIVEN;
     int levels = 1;
     for (int j = 0; j < LC_LOD_LADDER_STEPS && levels < LC_LOD_MAX_LEVELS; j++) {
-        uint64_t kept_segments = kept[j] - lines;
+        uint64_t kept_segments = counts[j] - lines;
         if ((double)kept_segments > LC_LOD_SHRINK * (double)segments)
             continue;
         steps |= 1u << j;
@@ -162,15 +169,15 @@ uint32_t lc_lod_line_steps(const uint64_t kept[LC_LOD_LADDER_STEPS], uint64_t li
  * or its own); with_indices fills each level's pairs. */
 static int line_levels(const lc_scene *s, const float *err, lc_lod *out, int with_indices, lc_error *e)
 {
-    uint64_t kept[LC_LOD_LADDER_STEPS];
-    lc_lod_kept_per_step(s, err, kept);
-    uint32_t lines = nonempty_lines(s);
-    uint32_t steps = s->lod_steps ? s->lod_steps : lc_lod_line_steps(kept, lines, out->levels[0].primitives);
+    uint64_t counts[LC_LOD_COUNTS];
+    line_counts(s, err, counts);
+    uint64_t lines = counts[LC_LOD_LADDER_STEPS];
+    uint32_t steps = s->lod_steps ? s->lod_steps : lc_lod_line_steps(counts);
     for (int j = 0; j < LC_LOD_LADDER_STEPS && out->count < LC_LOD_MAX_LEVELS; j++) {
         if (!(steps & (1u << j)))
             continue;
         out->levels[out->count].error = lc_lod_threshold(s, j);
-        out->levels[out->count].primitives = kept[j] - lines;
+        out->levels[out->count].primitives = counts[j] - lines;
         out->count++;
     }
     for (int i = 0; with_indices && i < out->count; i++) {

@@ -69,17 +69,18 @@ uint64_t lc_lod_extra_bytes(const lc_scene *s, const lc_lod *lod);
 #define LC_LOD_LADDER_FINEST 32
 #define LC_LOD_LADDER_STEPS 25
 double lc_lod_threshold(const lc_scene *s, int step);
-/* How many vertices of a line scene each ladder step keeps (kept[j]: the
- * vertices whose drop error exceeds step j's threshold). err: as
- * lc_lod_vertex_errors gives it. */
-void lc_lod_kept_per_step(const lc_scene *s, const float *err, uint64_t kept[LC_LOD_LADDER_STEPS]);
-/* The ladder steps that become levels (bit j), given each step's kept
- * vertices, the lines and level 0's segments: a step becomes a level when it
+/* What decides a line scene's levels, in a form that sums over the parts of a
+ * scene split across processes: [j] for each ladder step j the vertices whose
+ * drop error exceeds its threshold, then the non-empty lines, then the
+ * segments. LC_ERR_NOMEM. */
+#define LC_LOD_COUNTS (LC_LOD_LADDER_STEPS + 2)
+int lc_lod_line_counts(const lc_scene *s, uint64_t counts[LC_LOD_COUNTS], lc_error *err);
+/* The ladder steps that become levels (bit j): a step becomes a level when it
  * keeps at most LC_LOD_SHRINK of the previous level's segments. With
  * LC_LOD_STEPS_GIVEN set, so that it is never 0. A shard takes the whole
  * scene's (scene.h lod_steps). */
 #define LC_LOD_STEPS_GIVEN (1u << 31)
-uint32_t lc_lod_line_steps(const uint64_t kept[LC_LOD_LADDER_STEPS], uint64_t lines, uint64_t segments);
+uint32_t lc_lod_line_steps(const uint64_t counts[LC_LOD_COUNTS]);
 /* lod_surface.c: adds the coarse levels of a triangle scene to out (level 0
  * set); with_indices keeps their triangles. */
 int lc_lod_surface_levels(const lc_scene *s, lc_lod *out, int with_indices, lc_error *err);

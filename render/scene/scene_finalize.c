@@ -448,24 +448,13 @@ static int part_line_elements(lc_scene *s, const lc_element_geometry *g, const l
  * the primary element changes). Collective. */
 static int part_lod_steps(lc_scene *s, const lc_scene_collective *c, lc_error *err)
 {
-    float *e = malloc(((size_t)s->vertex_count + 1) * sizeof *e);
-    int rc = e ? lc_lod_vertex_errors(s, e, err) : lc_err(err, LC_ERR_NOMEM, "%s: out of memory", s->name);
-    if ((rc = c->agree(c->ctx, rc, err)) != 0) {
-        free(e);
-        return rc;
-    }
-    uint64_t sums[LC_LOD_LADDER_STEPS + 2];
-    lc_lod_kept_per_step(s, e, sums);
-    free(e);
-    uint64_t lines = 0;
-    for (uint32_t l = 0; l < s->line_count; l++)
-        lines += s->line_offsets[l + 1] > s->line_offsets[l];
-    sums[LC_LOD_LADDER_STEPS] = lines;
-    sums[LC_LOD_LADDER_STEPS + 1] = lc_scene_primitive_count(s);
-    if (c->sum_u64(c->ctx, sums, LC_LOD_LADDER_STEPS + 2, err))
-        return LC_ERR_INTERNAL;
-    s->lod_steps = lc_lod_line_steps(sums, sums[LC_LOD_LADDER_STEPS], sums[LC_LOD_LADDER_STEPS + 1]);
-    return 0;
+    uint64_t counts[LC_LOD_COUNTS];
+    int rc = c->agree(c->ctx, lc_lod_line_counts(s, counts, err), err);
+    if (rc == 0 && c->sum_u64(c->ctx, counts, LC_LOD_COUNTS, err))
+        rc = LC_ERR_INTERNAL;
+    if (rc == 0)
+        s->lod_steps = lc_lod_line_steps(counts);
+    return rc;
 }
 
 /* The elements of a part in the whole scene's numbering: every process

@@ -200,19 +200,10 @@ static int shard_triangles(const lc_scene *full, int rank, int size, lc_scene *s
  * then decides for itself (a finer level on some ranks, still within bound). */
 static uint32_t whole_lod_steps(const lc_scene *full)
 {
+    uint64_t counts[LC_LOD_COUNTS];
     if (full->lod_steps)
         return full->lod_steps;
-    float *e = malloc(((size_t)full->vertex_count + 1) * sizeof *e);
-    uint32_t steps = 0;
-    if (e && lc_lod_vertex_errors(full, e, NULL) == 0) {
-        uint64_t kept[LC_LOD_LADDER_STEPS], lines = 0;
-        lc_lod_kept_per_step(full, e, kept);
-        for (uint32_t l = 0; l < full->line_count; l++)
-            lines += full->line_offsets[l + 1] > full->line_offsets[l];
-        steps = lc_lod_line_steps(kept, lines, lc_scene_primitive_count(full));
-    }
-    free(e);
-    return steps;
+    return lc_lod_line_counts(full, counts, NULL) == 0 ? lc_lod_line_steps(counts) : 0;
 }
 
 int lc_scene_shard(const lc_scene *full, int rank, int size, lc_scene **out, lc_error *err)

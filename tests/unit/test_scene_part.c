@@ -389,6 +389,21 @@ static void write_csv(const char *path, int with_attribute)
     fclose(f);
 }
 
+/* Writes demo `name` (count) to path with save; 0 on success, else a failed check. */
+static int write_demo(const char *name, uint64_t count, const char *path,
+                      int (*save)(const lc_scene *, const char *, lc_error *))
+{
+    lc_error err = {0};
+    lc_scene *demo = NULL;
+    lc_demo_desc desc = {.count = count};
+    int rc = lc_demo_create(name, &desc, &demo, &err);
+    if (rc == 0)
+        rc = save(demo, path, &err);
+    CHECK(rc == 0, "demo %s as %s (%s)", name, path, err.msg);
+    lc_scene_destroy(demo);
+    return rc;
+}
+
 static lc_scene *load_whole(const char *path, uint32_t budget, uint32_t rebuild)
 {
     lc_scene *s = NULL;
@@ -481,46 +496,28 @@ int main(void)
     check_points();
 
     /* A point cloud as PLY (every attribute a float property, colours as
-     * uchar): read in parts; a mesh is not (its patches need the whole). */
-    char ply[128], mesh[128];
+     * uchar) and polylines as VTK (parsed whole, only the share's lines kept)
+     * are read in parts; meshes are not (their patches need the whole). */
+    char ply[128], vtk[128], mesh[128], vmesh[128];
     lc_error err = {0};
     snprintf(ply, sizeof ply, "%s/points.ply", dir);
+    snprintf(vtk, sizeof vtk, "%s/tornado.vtk", dir);
     snprintf(mesh, sizeof mesh, "%s/surface.ply", dir);
-    lc_scene *demo = NULL;
-    lc_demo_desc pd = {.count = 7000};
-    if (lc_demo_create("points", &pd, &demo, &err) == 0 && lc_save_ply(demo, ply, &err) == 0) {
+    snprintf(vmesh, sizeof vmesh, "%s/surface.vtk", dir);
+    if (write_demo("points", 7000, ply, lc_save_ply) == 0) {
         check_file(ply, 0, 0);
         CHECK(lc_scene_can_read_part(ply), "a point-cloud PLY is read in parts");
-    } else {
-        CHECK(0, "points PLY (%s)", err.msg);
     }
-    lc_scene_destroy(demo);
-    demo = NULL;
-    /* Polylines as VTK (parsed whole, only the share's lines kept). */
-    char vtk[128];
-    snprintf(vtk, sizeof vtk, "%s/tornado.vtk", dir);
-    lc_demo_desc td = {.count = 90};
-    if (lc_demo_create("tornado", &td, &demo, &err) == 0 && lc_save_vtk(demo, vtk, &err) == 0) {
+    if (write_demo("tornado", 90, vtk, lc_save_vtk) == 0) {
         check_file(vtk, 0, 0);
         CHECK(lc_scene_can_read_part(vtk), "a VTK file with lines is read in parts");
-    } else {
-        CHECK(0, "tornado VTK (%s)", err.msg);
     }
-    lc_scene_destroy(demo);
-    demo = NULL;
-    lc_demo_desc sd = {.count = 20};
-    if (lc_demo_create("surface", &sd, &demo, &err) == 0 && lc_save_ply(demo, mesh, &err) == 0) {
-        CHECK(!lc_scene_can_read_part(mesh), "a PLY mesh is read whole");
-        char vmesh[128];
-        snprintf(vmesh, sizeof vmesh, "%s/surface.vtk", dir);
-        CHECK(lc_save_vtk(demo, vmesh, &err) == 0 && !lc_scene_can_read_part(vmesh), "a VTK mesh is read whole");
-        unlink(vmesh);
+    if (write_demo("surface", 20, mesh, lc_save_ply) == 0 && write_demo("surface", 20, vmesh, lc_save_vtk) == 0) {
+        CHECK(!lc_scene_can_read_part(mesh) && !lc_scene_can_read_part(vmesh), "PLY and VTK meshes are read whole");
         lc_scene *m = NULL;
         CHECK(lc_load_ply_part(mesh, 0, 2, &m, &err) == LC_ERR_UNSUPPORTED && !m, "PLY mesh in parts: %s", err.msg);
-    } else {
-        CHECK(0, "surface PLY (%s)", err.msg);
     }
-    lc_scene_destroy(demo);
+    unlink(vmesh);
 
     /* Formats without a part reader say so; a part outside the processes is refused. */
     lc_scene *s = NULL;

@@ -135,8 +135,16 @@ static int scan(trk_load *T, uint32_t tracks, uint64_t *points_out, uint32_t *tr
         uint64_t need = (uint64_t)m * point_bytes + prop_bytes;
         if (need > T->size - pos - 4)
             return fail(T, LC_ERR_INVALID, pos, "track %u: %d points exceed the file size", t, (int)m);
+        if (m >= 2) /* a line needs two points; shorter tracks are dropped */
+            for (int32_t i = 0; i < m; i++) {
+                /* Checked here, not when copying, so that every process reading a
+                 * share refuses the file as the whole reader does. */
+                size_t at = pos + 4 + (size_t)i * (size_t)point_bytes;
+                if (!isfinite(get_f32(T, at)) || !isfinite(get_f32(T, at + 4)) || !isfinite(get_f32(T, at + 8)))
+                    return fail(T, LC_ERR_INVALID, at, "track %u point %d has a non-finite coordinate", t, (int)i);
+            }
         pos += 4 + (size_t)need;
-        if (m >= 2) { /* a line needs two points; shorter tracks are dropped */
+        if (m >= 2) {
             points += (uint64_t)m;
             kept++;
             if (lc_io_part_count(T->part, (uint32_t)m, T->file, T->err))
@@ -174,27 +182,20 @@ static int fill(trk_load *T, lc_scene *s, uint32_t tracks, float **attr, int nat
             continue;
         }
         uint32_t first = v;
-        for (int32_t i = 0; i < m; i++) {
-            if (keep) {
-                float *p = s->positions + 3 * (size_t)v;
-                for (int k = 0; k < 3; k++)
-                    p[k] = get_f32(T, pos + 4 * (size_t)k);
-                if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
-                    return fail(T, LC_ERR_INVALID, pos, "track %u point %d has a non-finite coordinate", t, (int)i);
-                for (int k = 0; k < ns && k < nattr; k++)
-                    attr[k][v] = get_f32(T, pos + 12 + 4 * (size_t)k);
-                v++;
-            }
-            pos += 12 + 4 * (size_t)ns;
+        for (int32_t i = 0; i < m; i++, v++, pos += 12 + 4 * (size_t)ns) {
+            float *p = s->positions + 3 * (size_t)v;
+            for (int k = 0; k < 3; k++) /* finite: checked by the first pass */
+                p[k] = get_f32(T, pos + 4 * (size_t)k);
+            for (int k = 0; k < ns && k < nattr; k++)
+                attr[k][v] = get_f32(T, pos + 12 + 4 * (size_t)k);
         }
         for (int k = 0; k < np; k++, pos += 4) /* a track's properties hold for each of its points */
-            if (keep && ns + k < nattr) {
+            if (ns + k < nattr) {
                 float value = get_f32(T, pos);
                 for (uint32_t j = first; j < v; j++)
                     attr[ns + k][j] = value;
             }
-        if (keep)
-            s->line_offsets[++line] = v;
+        s->line_offsets[++line] = v;
     }
     return 0;
 }

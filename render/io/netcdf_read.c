@@ -187,6 +187,27 @@ static int read_rows(nc_load *L, const nc_var *v, size_t r0, size_t n, double *b
     return 0;
 }
 
+/* Reads the last value of variable v. The walk reads the per-point variables
+ * only in the rows a process keeps; this tells every process, whichever
+ * share it reads, whether the whole variable lies in the file (its values
+ * before the last lie below it), so that all refuse a truncated file alike. */
+static int check_extent(nc_load *L, const nc_var *v)
+{
+    size_t last[3] = {0, 0, 0};
+    int dims[3];
+    nc_inq_vardimid(L->ncid, v->id, dims);
+    for (int d = 0; d < L->ndims; d++) {
+        size_t len = 0;
+        nc_inq_dimlen(L->ncid, dims[d], &len);
+        last[d] = len ? len - 1 : 0;
+    }
+    double x;
+    int rc = nc_get_var1_double(L->ncid, v->id, last, &x);
+    if (rc != NC_NOERR)
+        return fail(L, LC_ERR_INVALID, v->name, "cannot read: %s", nc_strerror(rc));
+    return 0;
+}
+
 /* Walks the trajectories block by block. Without a scene it stores each
  * row's valid length (up to the first missing position); with one it fills. */
 static int walk(nc_load *L, uint32_t *len, lc_scene *s, float **attr, double *buf)
@@ -258,6 +279,9 @@ static int load(nc_load *L, lc_scene **out)
         return rc;
     if (L->rows == 0 || L->T < 2)
         return fail(L, LC_ERR_INVALID, "lon", "%zu trajectories of %zu time steps: nothing to draw", L->rows, L->T);
+    for (int a = 0; a < L->nattr; a++) /* positions: the first walk reads every row */
+        if ((rc = check_extent(L, &L->attr[a])) != 0)
+            return rc;
     size_t block = BLOCK_VALUES / L->T ? BLOCK_VALUES / L->T : 1;
     uint32_t *len = malloc(L->rows * sizeof *len);
     double *buf = malloc(4 * (block < L->rows ? block : L->rows) * L->T * sizeof *buf);

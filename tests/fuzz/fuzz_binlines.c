@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_binlines_memory, "fuzz.binlines", data, size);
+    return fuzz_scene_loader(lc_load_binlines_memory, lc_load_binlines_part, "fuzz.binlines", data, size);
 }

@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_csv_memory, "fuzz.csv", data, size);
+    return fuzz_scene_loader(lc_load_csv_memory, lc_load_csv_part, "fuzz.csv", data, size);
 }

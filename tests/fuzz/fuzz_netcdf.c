@@ -6,5 +6,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_netcdf_memory, "fuzz.nc", data, size);
+    return fuzz_scene_loader(lc_load_netcdf_memory, lc_load_netcdf_part, "fuzz.nc", data, size);
 }

@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_obj_memory, "fuzz.obj", data, size);
+    return fuzz_scene_loader(lc_load_obj_memory, NULL, "fuzz.obj", data, size);
 }

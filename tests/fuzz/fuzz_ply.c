@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_ply_memory, "fuzz.ply", data, size);
+    return fuzz_scene_loader(lc_load_ply_memory, lc_load_ply_part, "fuzz.ply", data, size);
 }

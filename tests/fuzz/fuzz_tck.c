@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_tck_memory, "fuzz.tck", data, size);
+    return fuzz_scene_loader(lc_load_tck_memory, lc_load_tck_part, "fuzz.tck", data, size);
 }

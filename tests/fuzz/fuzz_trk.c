@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_trk_memory, "fuzz.trk", data, size);
+    return fuzz_scene_loader(lc_load_trk_memory, lc_load_trk_part, "fuzz.trk", data, size);
 }

@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_trx_memory, "fuzz.trx", data, size);
+    return fuzz_scene_loader(lc_load_trx_memory, lc_load_trx_part, "fuzz.trx", data, size);
 }

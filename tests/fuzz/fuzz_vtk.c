@@ -5,5 +5,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_scene_loader(lc_load_vtk_memory, "fuzz.vtk", data, size);
+    return fuzz_scene_loader(lc_load_vtk_memory, lc_load_vtk_part, "fuzz.vtk", data, size);
 }

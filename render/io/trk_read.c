@@ -118,8 +118,22 @@ static int read_header(trk_load *T, int32_t *n_count)
     return 0;
 }
 
+/* A kept track's coordinates must be finite. Checked in the first pass, which
+ * walks every track, not when copying, so that a process reading a share
+ * refuses the file as the whole reader does. */
+static int check_points(trk_load *T, uint32_t t, size_t first, int32_t m, uint64_t point_bytes)
+{
+    for (int32_t i = 0; i < m; i++) {
+        size_t at = first + (size_t)i * (size_t)point_bytes;
+        if (!isfinite(get_f32(T, at)) || !isfinite(get_f32(T, at + 4)) || !isfinite(get_f32(T, at + 8)))
+            return fail(T, LC_ERR_INVALID, at, "track %u point %d has a non-finite coordinate", t, (int)i);
+    }
+    return 0;
+}
+
 /* First pass: walks the tracks without copying, validating every count
- * against the bytes left, and sums what the scene will hold. */
+ * against the bytes left and the coordinates of the tracks kept, and sums
+ * what the scene will hold. */
 static int scan(trk_load *T, uint32_t tracks, uint64_t *points_out, uint32_t *tracks_out, uint32_t *kept_out)
 {
     uint64_t point_bytes = 4 * (3 + (uint64_t)T->n_scalars), prop_bytes = 4 * (uint64_t)T->n_properties;
@@ -135,16 +149,12 @@ static int scan(trk_load *T, uint32_t tracks, uint64_t *points_out, uint32_t *tr
         uint64_t need = (uint64_t)m * point_bytes + prop_bytes;
         if (need > T->size - pos - 4)
             return fail(T, LC_ERR_INVALID, pos, "track %u: %d points exceed the file size", t, (int)m);
-        if (m >= 2) /* a line needs two points; shorter tracks are dropped */
-            for (int32_t i = 0; i < m; i++) {
-                /* Checked here, not when copying, so that every process reading a
-                 * share refuses the file as the whole reader does. */
-                size_t at = pos + 4 + (size_t)i * (size_t)point_bytes;
-                if (!isfinite(get_f32(T, at)) || !isfinite(get_f32(T, at + 4)) || !isfinite(get_f32(T, at + 8)))
-                    return fail(T, LC_ERR_INVALID, at, "track %u point %d has a non-finite coordinate", t, (int)i);
-            }
+        size_t first = pos + 4;
         pos += 4 + (size_t)need;
-        if (m >= 2) {
+        if (m >= 2) { /* a line needs two points; shorter tracks are dropped */
+            int rc = check_points(T, t, first, m, point_bytes);
+            if (rc)
+                return rc;
             points += (uint64_t)m;
             kept++;
             if (lc_io_part_count(T->part, (uint32_t)m, T->file, T->err))

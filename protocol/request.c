@@ -108,8 +108,11 @@ static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
 static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
 static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoint", LC_ESTIMATOR_MIDPOINT}, {NULL, 0}};
-static const enum_name depth_range_names[] = {
-    {"global", LC_DEPTH_RANGE_GLOBAL}, {"pixel", LC_DEPTH_RANGE_PIXEL}, {NULL, 0}};
+static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
+                                              {"global", LC_DEPTH_RANGE_GLOBAL},
+                                              {"pixel", LC_DEPTH_RANGE_PIXEL},
+                                              {"moments", LC_DEPTH_RANGE_MOMENTS},
+                                              {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};

@@ -17,6 +17,7 @@ void lc_foo_params_default(lc_foo_params *p)
     p->subset = 1;
     p->depth_margin = 0.02;
     p->estimator = LC_ESTIMATOR_MIDPOINT;
+    p->depth_range = LC_DEPTH_RANGE_AUTO;
     p->direct_exponent = 2;
     p->normalize = LC_NORMALIZE_AUTO;
 }

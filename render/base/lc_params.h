@@ -27,10 +27,19 @@ typedef enum {
 
 typedef enum { LC_ESTIMATOR_FOO = 0, LC_ESTIMATOR_MIDPOINT = 1 } lc_estimator;
 
-/* Depth normalization range: the view-space depth range of the data bounds
- * this frame (docs/ALGORITHM.md), or each pixel's own min/max fragment depth (one extra
- * geometry pass; spreads a pixel's fragments over the whole period). */
-typedef enum { LC_DEPTH_RANGE_GLOBAL = 0, LC_DEPTH_RANGE_PIXEL = 1 } lc_depth_range;
+/* Depth normalization (docs/ALGORITHM.md "Depth normalization"): the view-space
+ * depth range of the data bounds this frame; each pixel's own min/max fragment
+ * depth (one extra geometry pass at each resolution); or the data bounds'
+ * range warped per pixel around the mean and spread of its importance mass
+ * (one extra geometry pass at the optimization resolution; Fourier method
+ * only). Auto (the default) is moments with density normalization and the
+ * bounds with the paper's formula (normalize "off"), so "off" stays the paper's. */
+typedef enum {
+    LC_DEPTH_RANGE_GLOBAL = 0,
+    LC_DEPTH_RANGE_PIXEL = 1,
+    LC_DEPTH_RANGE_MOMENTS = 2,
+    LC_DEPTH_RANGE_AUTO = 3
+} lc_depth_range;
 /* Density-aware opacity (docs/ALGORITHM.md "Density normalization"): auto
  * scales a pixel's front and behind sums down where its importance mass
  * exceeds a reference, raises the emphasis there, and maps importance from the
@@ -77,8 +86,8 @@ typedef struct lc_foo_params {
     int subset;              /* P1/P4 use every n-th primitive, weights x n */
     double depth_margin;     /* delta (global depth range only) */
     lc_estimator estimator;
-    lc_depth_range depth_range;
-    double direct_exponent; /* k of the "direct" baseline, alpha = g^k */
+    lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
+    double direct_exponent;     /* k of the "direct" baseline, alpha = g^k */
     lc_normalize normalize;
 } lc_foo_params;
 

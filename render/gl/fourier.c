@@ -114,6 +114,34 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     return 0;
 }
 
+/* P0 "moments": sum g^2 (1, u, u^2) per pixel at the optimization resolution
+ * (docs/ALGORITHM.md "Depth normalization"), drawn with P1's subset and
+ * weights, summed over MPI ranks like P1. Afterwards P1, P2, P4 and P5 warp
+ * depth by it (series_depth in common.glsl). */
+int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_MOMENTS, fs->gs->scene->type, 1, p->foo.subset, err);
+    if (!prog)
+        return LC_ERR_GL;
+    int lw = fs->low_width, lh = fs->low_height;
+    lc_targets_ensure(&r->moments, lw, lh, 1, GL_RGBA32F, &r->bytes_targets);
+    lc_targets_clear(&r->moments, NULL);
+    lc_additive_blending();
+    fs->depth_moments = 0; /* this pass itself normalizes by the bounds */
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->moments.fbo);
+    lc_renderer_bind_geometry(r, prog, fs, lw, lh, p->foo.subset);
+    lc_uniform_f(prog, "u_weight", lc_renderer_subset(fs, p->foo.subset));
+    lc_renderer_draw_geometry(fs, p->foo.subset);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    int rc = lc_reduce_targets(r, &r->moments, LC_REDUCE_SUM, 0, fs->info, err);
+    if (rc)
+        return rc;
+    fs->depth_moments = 1;
+    lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
+    return 0;
+}
+
 /* P1 + P2 (+ P3): element opacities for the frame. */
 int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
                         lc_error *err)

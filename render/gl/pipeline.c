@@ -135,6 +135,13 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
      * x = 1/2), so the ends of a pixel's stack cannot disturb each other. */
     lc_uniform_f(prog, "u_depth_margin", fs->pixel_depth_range ? LC_PIXEL_DEPTH_MARGIN : p->foo.depth_margin);
     lc_uniform_i(prog, "u_pixel_depth_range", fs->pixel_depth_range);
+    /* The moments live at the optimization resolution; a full-resolution pass
+     * reads the texel its pixel falls in, as its projection and evaluation both do. */
+    lc_uniform_i(prog, "u_depth_moments", fs->depth_moments);
+    if (fs->depth_moments) {
+        glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
+        lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / w, (double)fs->low_height / h);
+    }
     if (fs->pixel_depth_range)
         glBindTextureUnit(TEX_PIXEL_RANGE,
                           w == fs->width && h == fs->height ? r->range_full.tex[0] : r->range_low.tex[0]);

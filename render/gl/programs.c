@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "embedded.h"
+#include "foo_math.h"
 #include "renderer_internal.h"
 
 #define MODULE "render"
@@ -13,8 +14,13 @@
 extern const lc_embedded_file lc_shader_files[];
 
 #define LC_GL_BINDING_DEFINE(name, value) "#define " #name " " #value "\n"
-/* Every program sees the binding points of renderer_internal.h by name. */
-static const char binding_defines[] = LC_GL_BINDINGS(LC_GL_BINDING_DEFINE) LC_GL_CONSTANTS(LC_GL_BINDING_DEFINE);
+/* One more level, so that a value given as a macro expands before it is stringized. */
+#define LC_GL_FLOAT_DEFINE(name, value) LC_GL_BINDING_DEFINE(name, value)
+/* Every program sees the binding points of renderer_internal.h by name, and
+ * the float constants it shares with the CPU reference (foo_math.h). */
+static const char binding_defines[] = LC_GL_BINDINGS(LC_GL_BINDING_DEFINE) LC_GL_CONSTANTS(LC_GL_BINDING_DEFINE)
+    LC_GL_FLOAT_DEFINE(MOMENT_MIN_SPREAD, LC_MOMENT_MIN_SPREAD);
+#undef LC_GL_FLOAT_DEFINE
 #undef LC_GL_BINDING_DEFINE
 
 static char *concat_sources(const char *defines, const char *const *files, lc_error *err)
@@ -133,10 +139,11 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_opaque[] = {"common.glsl", "fragment_common.glsl", "opaque.frag.glsl", NULL};
     static const char *const fs_wboit[] = {"common.glsl", "fragment_common.glsl", "wboit_accumulate.frag.glsl", NULL};
     static const char *const fs_range[] = {"common.glsl", "fragment_common.glsl", "depth_range.frag.glsl", NULL};
-    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2,     fs_p4,    fs_p5,   fs_p4,
-                                                                 fs_p5, fs_opaque, fs_wboit, fs_range};
-    static const char *kind_names[PROG_GEOMETRY_KINDS] = {"P1",        "P2",     "P4",    "P5",         "P4-direct",
-                                                          "P5-direct", "opaque", "wboit", "depth range"};
+    static const char *const fs_moments[] = {"common.glsl", "fragment_common.glsl", "depth_moments.frag.glsl", NULL};
+    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2,     fs_p4,    fs_p5,    fs_p4,
+                                                                 fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments};
+    static const char *kind_names[PROG_GEOMETRY_KINDS] = {
+        "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments"};
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT;
     char defines[256];

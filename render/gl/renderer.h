@@ -91,7 +91,7 @@ typedef enum {
     LC_PASS_ACCUMULATE,     /* P5 (exact: sort + front-to-back blend) */
     LC_PASS_RESOLVE,        /* P6 */
     LC_PASS_READBACK,       /* RGBA readback */
-    LC_PASS_DEPTH_RANGE,    /* P0, params.depthRange "pixel" only: per-pixel depth ranges (runs first) */
+    LC_PASS_DEPTH_RANGE, /* P0, depthRange "pixel" or "moments" only: per-pixel depth ranges or moments (runs first) */
     LC_PASS_COUNT
 } lc_pass;
 /* JSON-friendly pass names: "importance", "opacity", "smooth", "opticalDepth",

@@ -40,14 +40,15 @@
     X(BIND_POSITION_CHUNKS, 18)                                                                                        \
     X(BIND_POINT_HISTOGRAM, 19)                                                                                        \
     X(BIND_POINT_LIST, 20)                                                                                             \
-    X(TEX_COLORMAP, 0)     /* geometry passes */                                                                       \
-    X(TEX_COEF_FIRST, 1)   /* first coefficient target sampled by the mass histogram */                                \
-    X(TEX_PIXEL_RANGE, 6)  /* P0 output read by later passes */                                                        \
-    X(TEX_RESOLVE_A, 0)    /* full-screen resolves: accumulation */                                                    \
-    X(TEX_RESOLVE_B, 1)    /* ... and optical depth (P6) or revealage (WBOIT) */                                       \
-    X(IMG_EXACT_HEADS, 0)  /* exact method: per-pixel list heads */                                                    \
-    X(IMG_EXACT_OUTPUT, 1) /* exact method: blended image */                                                           \
-    X(IMG_COEF_FIRST, 2)   /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
+    X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
+    X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
+    X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
+    X(TEX_DEPTH_MOMENTS, 7) /* P0 "moments" output read by P1, P2, P4 and P5 */                                        \
+    X(TEX_RESOLVE_A, 0)     /* full-screen resolves: accumulation */                                                   \
+    X(TEX_RESOLVE_B, 1)     /* ... and optical depth (P6) or revealage (WBOIT) */                                      \
+    X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
+    X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
+    X(IMG_COEF_FIRST, 2)    /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
 
 /* Constants that the host and the shaders must agree on, injected the same
  * way: the mass histogram's layout (mass_common.glsl), the attribute table size. */
@@ -55,7 +56,7 @@
     X(MASS_BINS, 1024)                                                                                                 \
     X(MASS_BINS_PER_OCTAVE, 16)                                                                                        \
     X(MASS_LOG2_MIN, -24)                                                                                              \
-    X(POINT_BINS, 1024) /* importance bins of the point subsets (point_subset.c) */                                    \
+    X(POINT_BINS, 1024)   /* importance bins of the point subsets (point_subset.c) */                                  \
     X(MAX_ATTRIBUTES, 32) /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */
 
 #define LC_GL_BINDING_ENUM(name, value) name = value,
@@ -122,6 +123,7 @@ typedef enum {
     PROG_OPAQUE,
     PROG_WBOIT,
     PROG_DEPTH_RANGE,
+    PROG_DEPTH_MOMENTS,
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -146,6 +148,7 @@ struct lc_renderer {
     lc_targets output;     /* RGBA8 + depth */
     lc_targets range_full; /* P0 per-pixel depth ranges (RG32F), output resolution */
     lc_targets range_low;  /* the same at the optimization resolution */
+    lc_targets moments;    /* P0 "moments": per-pixel importance mass moments (RGBA32F), optimization resolution */
     GLuint output_depth;   /* opaque baseline only */
     int depth_width, depth_height;
     GLuint nofb; /* framebuffer without attachments for P2 */
@@ -209,8 +212,9 @@ typedef struct lc_frame_setup {
     int width, height;      /* output */
     int low_width, low_height;
     int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
-    int level;        /* level of detail of every geometry pass (gs->levels) */
-    int point_stride; /* points: every n-th in every pass */
+    int depth_moments;     /* P0 "moments" ran: P1, P2, P4 and P5 warp depth by r->moments */
+    int level;             /* level of detail of every geometry pass (gs->levels) */
+    int point_stride;      /* points: every n-th in every pass */
     /* Importance-aware point subsets (point_subset.c): with a stride, the
      * points in importance bin keep_bin or above are drawn in full from the
      * renderer's point list (point_kept of them), the rest every n-th;
@@ -316,6 +320,9 @@ void lc_renderer_readback(lc_renderer *r, const lc_frame_setup *fs, uint8_t *rgb
 /* ---- fourier.c */
 /* P0: per-pixel depth ranges at both resolutions; sets fs->pixel_depth_range. */
 int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* P0 "moments": per-pixel importance mass moments at the optimization
+ * resolution; sets fs->depth_moments. */
+int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 /* P1 + P2 + P3: this frame's element opacities (faded into state when given). */
 int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
                         lc_error *err);

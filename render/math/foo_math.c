@@ -109,6 +109,24 @@ static size_t *depth_order(const lc_fragment *frags, size_t n)
     return order;
 }
 
+lc_depth_range lc_foo_depth_range(const lc_foo_params *p)
+{
+    if (p->depth_range != LC_DEPTH_RANGE_AUTO)
+        return p->depth_range;
+    return p->normalize == LC_NORMALIZE_AUTO ? LC_DEPTH_RANGE_MOMENTS : LC_DEPTH_RANGE_GLOBAL;
+}
+
+double lc_foo_moment_depth(double d, const double m[3], double delta)
+{
+    if (!(m[0] > 0))
+        return d;
+    double mu = m[1] / m[0];
+    double sigma = sqrt(fmax(m[2] / m[0] - mu * mu, 0.0));
+    double s = fmax(sigma, LC_MOMENT_MIN_SPREAD);
+    double t = 1.0 / (1.0 + exp(-((d - 0.5) - mu) / s));
+    return delta + (1.0 - 2.0 * delta) * t;
+}
+
 double lc_foo_norm_mass(const lc_foo_params *p)
 {
     return p->normalize == LC_NORMALIZE_AUTO ? LC_NORM_REFERENCE_MASS : 0.0;

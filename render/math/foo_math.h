@@ -28,6 +28,22 @@ double lc_fourier_eval(const lc_fourier *f, double d);
 /* Normalized depth d = delta + (1 - 2 delta)(z - zmin)/(zmax - zmin), clamped to [0,1]. */
 double lc_foo_normalize_depth(double z, double zmin, double zmax, double delta);
 
+/* The depth normalization in effect: params.depthRange with "auto" resolved
+ * (moments with density normalization, global with the paper's formula). */
+lc_depth_range lc_foo_depth_range(const lc_foo_params *p);
+
+/* Moment-warped depth (depthRange "moments", docs/ALGORITHM.md "Depth
+ * normalization"). A pixel's importance mass sums m[0] = sum g^2, m[1] = sum
+ * g^2 u, m[2] = sum g^2 u^2 with u = d - 1/2 and d the bounds-normalized depth
+ * (margin delta) give the mass's mean mu and spread sigma; the fragment at d
+ * goes to delta + (1 - 2 delta) L((u - mu) / s), L the logistic function and
+ * s = max(sigma, LC_MOMENT_MIN_SPREAD). Monotone, so the depth order holds,
+ * and it spreads the layers where the mass sits over most of the period that
+ * the truncated series resolves. A pixel without mass (m[0] = 0) keeps d.
+ * depth_moments.frag.glsl and series_depth (common.glsl) do the same. */
+#define LC_MOMENT_MIN_SPREAD 1e-3
+double lc_foo_moment_depth(double d, const double m[3], double delta);
+
 /* Optimal opacity, FOO Eq. 10: 1 / (1 + (1-g)^(2 lambda) (r max(front,0) + q max(behind,0))).
  * front = importance (sum g^2) in front of the fragment, behind = behind it. */
 double lc_foo_optimal_alpha(double g, double front, double behind, double q, double r, double lambda);
@@ -39,7 +55,7 @@ double lc_foo_optimal_alpha(double g, double front, double behind, double q, dou
  * density to lambda (1 + LC_NORM_EMPHASIS (1 - k)^2): the paper's where the
  * sums are not scaled, little more where they are scaled a little, 4 lambda in
  * the densest. The shaders repeat the formula (p2_opacity, exact_opacity). */
-#define LC_NORM_REFERENCE_MASS 0.55
+#define LC_NORM_REFERENCE_MASS 0.6
 #define LC_NORM_EMPHASIS 3.0
 /* The reference mass the shaders use (0 = normalization off). */
 double lc_foo_norm_mass(const lc_foo_params *p);

@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "foo_math.h"
+
 #define PI 3.14159265358979323846
 /* Set-up of one primitive in one pass, in fragment units: on llvmpipe 200,000
  * small splats cost about as much as 2e7 fragments per pass. */
@@ -100,8 +102,10 @@ double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p)
     switch (p->method) {
     case LC_METHOD_FOURIER: /* P1 (targets, /subset) and P2 at s^2; P4 (targets, /subset) and P5 at full */
         geometry = (s2 + 1.0) * (targets / subset + 1.0);
-        if (f->depth_range == LC_DEPTH_RANGE_PIXEL)
+        if (lc_foo_depth_range(f) == LC_DEPTH_RANGE_PIXEL)
             geometry += s2 + 1.0;
+        else if (lc_foo_depth_range(f) == LC_DEPTH_RANGE_MOMENTS)
+            geometry += s2 / subset; /* P0 "moments": one target at s^2 */
         screens = targets + 2.0;
         break;
     case LC_METHOD_EXACT: /* fragment lists at both resolutions; insertion, sort and blend per fragment */
@@ -148,7 +152,7 @@ const char *lc_cost_field(const lc_cost_stats *st, const lc_render_params *p, do
         if (lc_cost_estimate(st, &q) <= budget)
             return "method";
     }
-    if (p->foo.depth_range == LC_DEPTH_RANGE_PIXEL) {
+    if (lc_foo_depth_range(&p->foo) != LC_DEPTH_RANGE_GLOBAL) {
         q.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
         if (lc_cost_estimate(st, &q) <= budget)
             return "params.depthRange";

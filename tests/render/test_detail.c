@@ -113,6 +113,9 @@ static void reuse_opacities(test_gl *t, uint8_t *a, uint8_t *b)
     lc_render_params_default(&p);
     p.width = p.height = 256;
     p.foo.fade_half_life = 0; /* the state holds exactly the last targets */
+    /* The bounds' depth range, which a reusing frame composites by whatever
+     * depthRange says (checked below): then reuse changes nothing. */
+    p.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
     lc_frame_info opt, reused;
     render(t, gs, &p, st, a, &opt);
     p.detail.reuse_opacities = true;
@@ -124,6 +127,20 @@ static void reuse_opacities(test_gl *t, uint8_t *a, uint8_t *b)
           "P1-P3 ran on a reusing frame");
     CHECK(memcmp(a, b, 256 * 256 * 4) == 0, "reusing the opacities changed the image (SSIM %.5f)",
           lc_image_ssim(a, b, 256, 256));
+    /* With the default moments the optimizing frame warps depth by its P0;
+     * a reusing one skips P0 and draws what the bounds' range draws. */
+    p.foo.depth_range = LC_DEPTH_RANGE_AUTO;
+    p.detail.reuse_opacities = false;
+    render(t, gs, &p, st, a, &opt);
+    CHECK(opt.pass_ms[LC_PASS_DEPTH_RANGE] >= 0, "the default optimizing frame ran no P0 moments pass");
+    p.detail.reuse_opacities = true;
+    render(t, gs, &p, st, a, &reused);
+    CHECK(reused.reused_opacities && reused.pass_ms[LC_PASS_DEPTH_RANGE] < 0, "a reusing frame ran P0");
+    p.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
+    render(t, gs, &p, st, b, &reused);
+    CHECK(memcmp(a, b, 256 * 256 * 4) == 0, "a reusing frame with moments differs from the bounds' (SSIM %.5f)",
+          lc_image_ssim(a, b, 256, 256));
+    p.foo.depth_range = LC_DEPTH_RANGE_AUTO;
     /* A fresh state has nothing to reuse: the frame optimizes. */
     lc_frame_state_reset(st);
     render(t, gs, &p, st, b, &reused);

@@ -21,13 +21,20 @@ static void expected_pixel(const test_quad *q, int n, const lc_render_params *p,
         }
     }
     lc_fragment frags[16];
+    double moments[3] = {0, 0, 0};
     for (int i = 0; i < n; i++) {
         double zview = p->camera.position[2] - q[i].z;
         frags[i].depth = lc_foo_normalize_depth(zview, zmin, zmax, margin);
         frags[i].importance = q[i].g;
         for (int c = 0; c < 3; c++)
             frags[i].color[c] = q[i].rgb[c];
+        double w = q[i].g * q[i].g, u = frags[i].depth - 0.5;
+        moments[0] += w, moments[1] += w * u, moments[2] += w * u * u;
     }
+    /* Moments (P0 at the optimization resolution, which every quad covers too). */
+    if (lc_foo_depth_range(&p->foo) == LC_DEPTH_RANGE_MOMENTS)
+        for (int i = 0; i < n; i++)
+            frags[i].depth = lc_foo_moment_depth(frags[i].depth, moments, margin);
     lc_foo_alpha_fourier(frags, (size_t)n, &p->foo);
     lc_foo_composite_fourier(frags, (size_t)n, p->foo.bands, p->foo.estimator, p->style.background, out, NULL);
 }
@@ -67,8 +74,11 @@ static void check_stack(test_gl *t, const test_quad *q, int n, int bands, lc_est
     CHECK(worst <= 2.0 / 255.0, "m=%d %s q=%g r=%g: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)", bands,
           lc_estimator_name(est), qw, rw, worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
     printf("stack of %d, m=%d, %-8s q=%-4g r=%-4g %s range: expected (%.4f %.4f %.4f), worst error %.4f\n", n, bands,
-           lc_estimator_name(est), qw, rw, range == LC_DEPTH_RANGE_PIXEL ? "pixel " : "global", want[0], want[1],
-           want[2], worst);
+           lc_estimator_name(est), qw, rw,
+           range == LC_DEPTH_RANGE_PIXEL     ? "pixel  "
+           : range == LC_DEPTH_RANGE_MOMENTS ? "moments"
+                                             : "global ",
+           want[0], want[1], want[2], worst);
     free(rgba);
     lc_scene_destroy(s);
 }
@@ -95,6 +105,11 @@ int main(void)
     for (int m = 1; m <= 8; m += 7)
         check_stack(&t, three, 3, m, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_PIXEL);
     check_stack(&t, five, 5, 5, LC_ESTIMATOR_FOO, 60, 500, LC_DEPTH_RANGE_PIXEL);
+    /* Depth warped around the pixel's importance mass (P0 "moments"). */
+    for (int m = 1; m <= 8; m += 3)
+        check_stack(&t, three, 3, m, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_MOMENTS);
+    check_stack(&t, five, 5, 5, LC_ESTIMATOR_MIDPOINT, 60, 500, LC_DEPTH_RANGE_MOMENTS);
+    check_stack(&t, five, 5, 8, LC_ESTIMATOR_FOO, 100, 200, LC_DEPTH_RANGE_MOMENTS);
 
     /* An unimportant layer in front of an important one: q > 0 clears it,
      * q = 0 (and r = 0) leaves it opaque. */

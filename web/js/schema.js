@@ -27,7 +27,7 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024 },
   { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25 },
   { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'] },
-  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['global', 'pixel'] },
+  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'] },
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'] },
   { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16 },
   { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true },

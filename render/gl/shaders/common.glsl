@@ -154,6 +154,29 @@ float normalized_depth(float z_view)
     return clamp(u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t, 0.0, 1.0);
 }
 
+#ifdef FRAGMENT_STAGE
+uniform int u_depth_moments;   // 1: P0 "moments" ran, warp the series' depth
+uniform vec2 u_moments_scale;  // moments texels per pixel of this pass
+layout(binding = TEX_DEPTH_MOMENTS) uniform sampler2D u_moments; // sum g^2 (1, u, u^2), u = d - 1/2
+
+// The depth the Fourier series of P1, P2, P4 and P5 use: normalized_depth,
+// warped per pixel around its importance mass when P0 "moments" ran
+// (lc_foo_moment_depth in foo_math.h is the CPU reference).
+float series_depth(float z_view)
+{
+    float d = normalized_depth(z_view);
+    if (u_depth_moments == 0)
+        return d;
+    vec4 m = texelFetch(u_moments, ivec2(gl_FragCoord.xy * u_moments_scale), 0);
+    if (!(m.x > 0.0))
+        return d;
+    float mu = m.y / m.x;
+    float s = max(sqrt(max(m.z / m.x - mu * mu, 0.0)), MOMENT_MIN_SPREAD);
+    float t = 1.0 / (1.0 + exp(-((d - 0.5) - mu) / s));
+    return u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t;
+}
+#endif
+
 #ifdef BANDS
 // Coefficients c[0] = A0, c[2k-1] = A_k, c[2k] = B_k, packed four per RGBA32F target.
 #define NCOEF (2 * BANDS + 1)

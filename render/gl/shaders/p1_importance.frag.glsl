@@ -9,6 +9,6 @@ void main()
         discard;
     float g = fragment_importance();
     float c[NTARGETS * 4];
-    fourier_project(normalized_depth(v_zview), g * g * draw_weight(u_weight), c);
+    fourier_project(series_depth(v_zview), g * g * draw_weight(u_weight), c);
     write_coefficients(c);
 }

@@ -16,7 +16,7 @@ void main()
     float g = fragment_importance();
     float c[NTARGETS * 4];
     read_coefficients(ivec2(gl_FragCoord.xy), c);
-    float G = fourier_eval(c, normalized_depth(v_zview));
+    float G = fourier_eval(c, series_depth(v_zview));
     float g2 = g * g;
     // The midpoint estimator removes the half of the fragment's own step that
     // the truncated series attributes to F(d_i) (docs/ALGORITHM.md).

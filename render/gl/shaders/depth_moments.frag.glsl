@@ -1,0 +1,18 @@
+// P0 "moments" (depthRange "moments"): the pixel's importance mass and its first
+// two moments in depth, sum g^2 (1, u, u^2) with u = d - 1/2 (centred, so that
+// the variance keeps its digits), additively at the optimization resolution.
+// series_depth (common.glsl) warps every later Fourier pass's depth by them.
+
+uniform float u_weight; // subset stride n, as P1
+
+layout(location = 0) out vec4 o_moments;
+
+void main()
+{
+    if (outside_primitive())
+        discard;
+    float g = fragment_importance();
+    float w = g * g * draw_weight(u_weight);
+    float u = normalized_depth(v_zview) - 0.5;
+    o_moments = vec4(w, w * u, w * u * u, 0.0);
+}

@@ -114,6 +114,21 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     return 0;
 }
 
+/* Draws prog additively into t (cleared) at t's size with the optimization
+ * subset and its weights, then sums t over MPI ranks: P0 "moments" and P1. */
+static int draw_summed(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc_targets *t, lc_error *err)
+{
+    int subset = fs->params->foo.subset;
+    lc_targets_clear(t, NULL);
+    lc_additive_blending();
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+    lc_renderer_bind_geometry(r, prog, fs, t->width, t->height, subset);
+    lc_uniform_f(prog, "u_weight", lc_renderer_subset(fs, subset));
+    lc_renderer_draw_geometry(fs, subset);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    return lc_reduce_targets(r, t, LC_REDUCE_SUM, 0, fs->info, err);
+}
+
 /* P0 "moments": sum g^2 (1, u, u^2) per pixel at the optimization resolution
  * (docs/ALGORITHM.md "Depth normalization"), drawn with P1's subset and
  * weights, summed over MPI ranks like P1. Afterwards P1, P2, P4 and P5 warp
@@ -124,17 +139,9 @@ int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_MOMENTS, fs->gs->scene->type, 1, p->foo.subset, err);
     if (!prog)
         return LC_ERR_GL;
-    int lw = fs->low_width, lh = fs->low_height;
-    lc_targets_ensure(&r->moments, lw, lh, 1, GL_RGBA32F, &r->bytes_targets);
-    lc_targets_clear(&r->moments, NULL);
-    lc_additive_blending();
+    lc_targets_ensure(&r->moments, fs->low_width, fs->low_height, 1, GL_RGBA32F, &r->bytes_targets);
     fs->depth_moments = 0; /* this pass itself normalizes by the bounds */
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->moments.fbo);
-    lc_renderer_bind_geometry(r, prog, fs, lw, lh, p->foo.subset);
-    lc_uniform_f(prog, "u_weight", lc_renderer_subset(fs, p->foo.subset));
-    lc_renderer_draw_geometry(fs, p->foo.subset);
-    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    int rc = lc_reduce_targets(r, &r->moments, LC_REDUCE_SUM, 0, fs->info, err);
+    int rc = draw_summed(r, fs, prog, &r->moments, err);
     if (rc)
         return rc;
     fs->depth_moments = 1;
@@ -155,16 +162,9 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     if (!p2)
         return LC_ERR_GL;
     lc_targets_ensure(&r->coef_low, lw, lh, ntargets, GL_RGBA32F, &r->bytes_targets);
-    lc_targets_clear(&r->coef_low, NULL);
 
     /* P1 importance projection. */
-    lc_additive_blending();
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_low.fbo);
-    lc_renderer_bind_geometry(r, p1, fs, lw, lh, p->foo.subset);
-    lc_uniform_f(p1, "u_weight", lc_renderer_subset(fs, p->foo.subset));
-    lc_renderer_draw_geometry(fs, p->foo.subset);
-    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    int rc = lc_reduce_targets(r, &r->coef_low, LC_REDUCE_SUM, 0, fs->info, err);
+    int rc = draw_summed(r, fs, p1, &r->coef_low, err);
     if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);

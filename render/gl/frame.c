@@ -306,7 +306,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     /* The per-pixel depth range serves every method that normalizes depth; the
      * moments serve the Fourier method's optimization and compositing. A frame
      * that reuses the opacities (P1-P3 skipped, the camera moving) composites by
-     * the bounds: the pass would cost it 15-20% (tornado at 972x761, llvmpipe). */
+     * the bounds: the pass would cost it 18-29% (tornado at 972x761, llvmpipe). */
     lc_depth_range depth_range = lc_foo_depth_range(&p.foo);
     int pixel_range = depth_range == LC_DEPTH_RANGE_PIXEL &&
                       (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_WBOIT);

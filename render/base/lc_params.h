@@ -84,7 +84,7 @@ typedef struct lc_foo_params {
     double fade_half_life;   /* seconds; 0 = no fading */
     double resolution_scale; /* P1/P2 resolution relative to output, (0,1] */
     int subset;              /* P1/P4 use every n-th primitive, weights x n */
-    double depth_margin;     /* delta (global depth range only) */
+    double depth_margin;     /* delta (the bounds' depth range and the moments) */
     lc_estimator estimator;
     lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
     double direct_exponent;     /* k of the "direct" baseline, alpha = g^k */

@@ -99,12 +99,13 @@ double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p)
     double targets = ceil((2.0 * f->bands + 1.0) / 4.0);
     double subset = f->subset > 1 ? f->subset : 1;
     double geometry, screens;
+    lc_depth_range range = lc_foo_depth_range(f);
     switch (p->method) {
     case LC_METHOD_FOURIER: /* P1 (targets, /subset) and P2 at s^2; P4 (targets, /subset) and P5 at full */
         geometry = (s2 + 1.0) * (targets / subset + 1.0);
-        if (lc_foo_depth_range(f) == LC_DEPTH_RANGE_PIXEL)
+        if (range == LC_DEPTH_RANGE_PIXEL)
             geometry += s2 + 1.0;
-        else if (lc_foo_depth_range(f) == LC_DEPTH_RANGE_MOMENTS)
+        else if (range == LC_DEPTH_RANGE_MOMENTS)
             geometry += s2 / subset; /* P0 "moments": one target at s^2 */
         screens = targets + 2.0;
         break;

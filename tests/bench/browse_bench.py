@@ -1,0 +1,267 @@
+#!/usr/bin/env python3
+"""Browsing benchmark (prints figures; not part of the pass/fail suite).
+
+One WebSocket client browses a dataset the way the web page does: hello at a
+browser-sized viewport (default 972x761), camera updates at 30 per second
+along an orbit, an ack for every frame, then release. It reports:
+  first frame     seconds from hello to the first frame (and to the first still)
+  frames/s        frames received while orbiting
+  input-to-frame  p50/p95 from sending camera seq k to the first frame with cameraSeq >= k
+  still           seconds from the last camera update to the first full-size still of that camera,
+                  and to the converged still
+  moving vs still SSIM between the last moving frame (stretched to the still's size, as the page
+                  stretches it) and the still of the same camera
+  pause           with --pause S: the orbit stops for S seconds mid-drag and resumes; the delay from
+                  the first update after the pause to its frame (a still started in the pause must
+                  not hold it up)
+With --contend N, N other clients render --contend-size stills over HTTP in a loop
+during the orbit (the fairness case: another user's 4K render must not stall the drag).
+
+  tests/bench/browse_bench.py --binary build/lucent --dataset build/real-data/traj.dump
+  tests/bench/browse_bench.py --binary build/lucent --dataset demo:points?count=1000000 --pause 0.4
+  tests/bench/browse_bench.py --binary build/lucent --dataset demo:tornado --contend 1
+  tests/bench/browse_bench.py --url http://127.0.0.1:8080 --token T --dataset NAME   (a running daemon)
+
+SSIM needs python3-numpy and python3-pil (Rec. 709 luminance, 11x11 Gaussian, sigma 1.5, as
+`lucent ssim`); without them that column says n/a.
+"""
+import argparse
+import asyncio
+import io
+import json
+import math
+import os
+import sys
+import threading
+import time
+import urllib.request
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "server"))
+from lucent_server import Server, unpack_frame, websockets  # noqa: E402
+
+try:
+    import numpy as np
+    from PIL import Image
+except ImportError:  # pragma: no cover
+    np = None
+
+
+def orbit_camera(bounds, angle):
+    """A camera on a circle about the data's centre in the plane normal to +Y, 2.2 bounding radii out."""
+    lo, hi = bounds
+    c = [(a + b) / 2 for a, b in zip(lo, hi)]
+    r = 0.5 * math.sqrt(sum((b - a) ** 2 for a, b in zip(lo, hi))) or 1.0
+    d = 2.2 * r
+    return {"position": [c[0] + d * math.cos(angle), c[1] + 0.3 * d, c[2] + d * math.sin(angle)],
+            "focalPoint": c, "viewUp": [0, 1, 0], "viewAngle": 30}
+
+
+def luminance(jpeg, size=None):
+    img = Image.open(io.BytesIO(jpeg)).convert("RGB")
+    if size and img.size != size:
+        img = img.resize(size, Image.BILINEAR)
+    a = np.asarray(img, dtype=np.float64) / 255.0
+    return a[..., 0] * 0.2126 + a[..., 1] * 0.7152 + a[..., 2] * 0.0722
+
+
+def ssim(a, b):
+    """Mean SSIM of two luminance images (Wang et al. 2004; 11x11 Gaussian, sigma 1.5, valid windows)."""
+    x = np.arange(11) - 5
+    g = np.exp(-x * x / (2 * 1.5 * 1.5))
+    g /= g.sum()
+
+    def blur(m):
+        m = np.apply_along_axis(lambda r: np.convolve(r, g, mode="valid"), 1, m)
+        return np.apply_along_axis(lambda c: np.convolve(c, g, mode="valid"), 0, m)
+    c1, c2 = 0.01 ** 2, 0.03 ** 2
+    ma, mb = blur(a), blur(b)
+    va, vb, cov = blur(a * a) - ma * ma, blur(b * b) - mb * mb, blur(a * b) - ma * mb
+    s = ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2))
+    return float(s.mean())
+
+
+def pct(values, p):
+    if not values:
+        return float("nan")
+    v = sorted(values)
+    return v[min(len(v) - 1, int(round(p / 100.0 * (len(v) - 1))))]
+
+
+def contender(base, token, args, stop, out):
+    """Renders args.contend_size stills over HTTP until stop is set; records their wall times."""
+    w, h = (int(x) for x in args.contend_size.split("x"))
+    hdr = {"Content-Type": "application/json"}
+    if token:
+        hdr["Authorization"] = "Bearer " + token
+    body = json.dumps({"dataset": args.dataset, "width": w, "height": h, "format": "jpeg"}).encode()
+    while not stop.is_set():
+        t = time.time()
+        try:
+            urllib.request.urlopen(urllib.request.Request(base + "/api/v1/render", data=body, headers=hdr),
+                                   timeout=600).read()
+            out.append(("ok", time.time() - t))
+        except Exception as e:  # a refusal (cost, queue) is a figure too
+            out.append((str(e)[:60], time.time() - t))
+            stop.wait(0.5)
+
+
+async def browse(ws_url, token, args):
+    r = {"lat": [], "moving": 0, "pause_delay": None}
+    async with websockets.connect(ws_url, max_size=None) as ws:
+        hello = {"type": "hello", "dataset": args.dataset, "width": args.width, "height": args.height,
+                 "devicePixelRatio": 1, "window": args.window}
+        if token:
+            hello["token"] = token
+        t_hello = time.time()
+        await ws.send(json.dumps(hello))
+        while True:
+            m = json.loads(await ws.recv())
+            if m.get("type") == "ready":
+                break
+            if m.get("type") == "error":
+                raise RuntimeError(m)
+        bounds = m["dataset"]["bounds"]
+
+        async def recv(timeout):
+            try:
+                m = await asyncio.wait_for(ws.recv(), timeout)
+            except asyncio.TimeoutError:
+                return None, None
+            if isinstance(m, str):
+                return json.loads(m), None
+            h, img = unpack_frame(m)
+            await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+            return h, img
+
+        # First frame, then the first still of the initial view (no input yet).
+        deadline = t_hello + args.timeout
+        while time.time() < deadline:
+            h, img = await recv(deadline - time.time())
+            if img is not None:
+                r["first"] = time.time() - t_hello
+                if not (h.get("detail") or {}).get("interactive", False) and h["width"] == args.width:
+                    r["first_still"] = r["first"]
+                break
+        while "first_still" not in r and time.time() < deadline:
+            h, img = await recv(deadline - time.time())
+            if img is not None and not (h.get("detail") or {}).get("interactive", False):
+                r["first_still"] = time.time() - t_hello
+        # Orbit: updates at args.rate per second for args.seconds (with an optional pause half-way).
+        sent, seq, answered, angle = {}, 0, 0, 0.0
+        t0 = time.time()
+        next_send = t0
+        paused = not args.pause
+        resume_seq = None
+        last_moving = None
+        while time.time() < t0 + args.seconds + (args.pause or 0):
+            now = time.time()
+            if not paused and now >= t0 + args.seconds / 2:
+                paused = True
+                next_send = now + args.pause
+            if now >= next_send:
+                seq += 1
+                if resume_seq is None and args.pause and now > t0 + args.seconds / 2:
+                    resume_seq = seq
+                angle += 2 * math.pi / (args.rate * args.orbit_seconds)
+                sent[seq] = time.time()
+                await ws.send(json.dumps({"type": "camera", "seq": seq, "camera": orbit_camera(bounds, angle)}))
+                next_send += 1.0 / args.rate
+            h, img = await recv(max(0.001, next_send - time.time()))
+            if img is None:
+                continue
+            r["moving"] += 1
+            if h["cameraSeq"] > answered:
+                r["lat"].append(time.time() - sent[h["cameraSeq"]])
+                answered = h["cameraSeq"]
+                if resume_seq is not None and r["pause_delay"] is None and h["cameraSeq"] >= resume_seq:
+                    r["pause_delay"] = time.time() - sent[resume_seq]
+            if h["cameraSeq"] == seq and (h.get("detail") or {}).get("interactive", False):
+                last_moving = (h, img)
+        r["orbit_s"] = args.seconds
+        t_last = sent[seq]
+        # Release: the still of the last camera, then convergence.
+        deadline = time.time() + args.timeout
+        still = None
+        while time.time() < deadline:
+            h, img = await recv(deadline - time.time())
+            if img is None:
+                continue
+            if h["cameraSeq"] == seq and not (h.get("detail") or {}).get("interactive", False):
+                if still is None:
+                    r["still"] = time.time() - t_last
+                still = (h, img)
+                if h.get("converged"):
+                    r["converged"] = time.time() - t_last
+                    break
+            elif h["cameraSeq"] == seq:
+                last_moving = (h, img)
+        if np is not None and still is not None and last_moving is not None:
+            size = (still[0]["width"], still[0]["height"])
+            r["ssim"] = ssim(luminance(last_moving[1], size), luminance(still[1]))
+            r["moving_size"] = "%dx%d" % (last_moving[0]["width"], last_moving[0]["height"])
+    return r
+
+
+def run(base, ws_url, token, args):
+    stop, cout, threads = threading.Event(), [], []
+    for _ in range(args.contend):
+        t = threading.Thread(target=contender, args=(base, token, args, stop, cout), daemon=True)
+        t.start()
+        threads.append(t)
+    if args.contend:
+        time.sleep(1.0)  # let the first large still get under way
+    try:
+        r = asyncio.run(browse(ws_url, token, args))
+    finally:
+        stop.set()
+    f = lambda k, fmt="%.2f s": (fmt % r[k]) if k in r and r[k] is not None else "-"  # noqa: E731
+    print("dataset %s, %dx%d, camera updates at %g/s for %g s, window %d%s" % (
+        args.dataset, args.width, args.height, args.rate, args.seconds, args.window,
+        ", %d client(s) rendering %s stills" % (args.contend, args.contend_size) if args.contend else ""))
+    print("first frame after hello     %s (first still %s)" % (f("first"), f("first_still")))
+    print("frames/s while orbiting     %.1f" % (r["moving"] / r["orbit_s"]))
+    print("input-to-frame p50 / p95    %.0f / %.0f ms" % (1000 * pct(r["lat"], 50), 1000 * pct(r["lat"], 95)))
+    print("still after last input      %s (converged %s)" % (f("still"), f("converged")))
+    print("moving vs still SSIM        %s%s" % (f("ssim", "%.3f"),
+          " (moving frame %s)" % r["moving_size"] if "moving_size" in r else
+          "" if np is not None else " (n/a: needs python3-numpy, python3-pil)"))
+    if args.pause:
+        print("first frame after a %.1f s pause  %s" % (args.pause, f("pause_delay")))
+    if args.contend:
+        ok = [t for s, t in cout if s == "ok"]
+        print("contending stills           %d done (median %.1f s), %d refused" % (
+            len(ok), pct(ok, 50) if ok else float("nan"), len(cout) - len(ok)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--binary", help="start this lucent binary (default: --url)")
+    ap.add_argument("--url", default="http://127.0.0.1:8080")
+    ap.add_argument("--token", default=os.environ.get("LUCENT_TOKEN", ""))
+    ap.add_argument("--dataset", default="demo:tornado")
+    ap.add_argument("--seconds", type=float, default=8, help="seconds of orbiting input")
+    ap.add_argument("--width", type=int, default=972)
+    ap.add_argument("--height", type=int, default=761)
+    ap.add_argument("--window", type=int, default=2)
+    ap.add_argument("--rate", type=float, default=30, help="camera updates per second")
+    ap.add_argument("--orbit-seconds", type=float, default=12, help="seconds per full orbit")
+    ap.add_argument("--pause", type=float, default=0, help="pause mid-drag for this many seconds")
+    ap.add_argument("--contend", type=int, default=0, help="clients rendering large stills meanwhile")
+    ap.add_argument("--contend-size", default="3840x2160")
+    ap.add_argument("--timeout", type=float, default=120, help="seconds to wait for a first frame or a still")
+    ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
+    args = ap.parse_args()
+    if websockets is None:
+        sys.exit("python3-websockets is required")
+    if args.binary:
+        extra = args.server_args.split() if args.server_args else []
+        with Server(args.binary, *extra, data=(args.dataset,), demo_size=0, timeout=600) as srv:
+            run(srv.base, srv.ws_url, args.token, args)
+            srv.stop()
+    else:
+        ws_url = args.url.replace("http://", "ws://").rstrip("/") + "/api/v1/ws"
+        run(args.url.rstrip("/"), ws_url, args.token, args)
+
+
+if __name__ == "__main__":
+    main()

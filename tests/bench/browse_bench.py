@@ -186,6 +186,8 @@ async def browse(ws_url, token, args):
             h, img = await recv(deadline - time.time())
             if img is None:
                 continue
+            if resume_seq is not None and r["pause_delay"] is None and h["cameraSeq"] >= resume_seq:
+                r["pause_delay"] = time.time() - sent[resume_seq]
             if h["cameraSeq"] == seq and not (h.get("detail") or {}).get("interactive", False):
                 if still is None:
                     r["still"] = time.time() - t_last

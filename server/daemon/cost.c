@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "foo_math.h"
+#include "renderer.h"
 
 #define PI 3.14159265358979323846
 /* Set-up of one primitive in one pass, in fragment units: on llvmpipe 200,000
@@ -98,33 +99,49 @@ double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p)
     double s2 = f->resolution_scale * f->resolution_scale;
     double targets = ceil((2.0 * f->bands + 1.0) / 4.0);
     double subset = f->subset > 1 ? f->subset : 1;
-    double geometry, screens;
-    lc_depth_range range = lc_foo_depth_range(f);
+    /* Which passes run, and where, is the renderer's plan (a full frame: no
+     * opacities to reuse); what each costs is this model's: g = geometry
+     * passes per fragment at the pass's resolution, sc = screen passes. */
+    lc_pass_plan plan;
+    lc_pass_plan_make(p, 0, &plan);
+    double g[LC_PASS_COUNT] = {0}, sc[LC_PASS_COUNT] = {0};
     switch (p->method) {
-    case LC_METHOD_FOURIER: /* P1 (targets, /subset) and P2 at s^2; P4 (targets, /subset) and P5 at full */
-        geometry = (s2 + 1.0) * (targets / subset + 1.0);
-        if (range == LC_DEPTH_RANGE_PIXEL)
-            geometry += s2 + 1.0;
-        else if (range == LC_DEPTH_RANGE_MOMENTS)
-            geometry += s2 / subset; /* P0 "moments": one target at s^2 */
-        screens = targets + 2.0;
+    case LC_METHOD_FOURIER: /* P1 and P4 draw the coefficient targets (every subset-th element), P2 and P5 one */
+        g[LC_PASS_IMPORTANCE] = g[LC_PASS_OPTICAL_DEPTH] = targets / subset;
+        g[LC_PASS_OPACITY] = g[LC_PASS_ACCUMULATE] = 1.0;
+        sc[LC_PASS_OPTICAL_DEPTH] = targets;
+        sc[LC_PASS_ACCUMULATE] = sc[LC_PASS_RESOLVE] = 1.0;
         break;
     case LC_METHOD_EXACT: /* fragment lists at both resolutions; insertion, sort and blend per fragment */
-        geometry = 4.0 * (s2 + 1.0);
-        screens = 4.0;
+        g[LC_PASS_IMPORTANCE] = g[LC_PASS_OPACITY] = g[LC_PASS_OPTICAL_DEPTH] = g[LC_PASS_ACCUMULATE] = 2.0;
+        sc[LC_PASS_IMPORTANCE] = sc[LC_PASS_OPACITY] = sc[LC_PASS_OPTICAL_DEPTH] = sc[LC_PASS_ACCUMULATE] = 1.0;
         break;
     case LC_METHOD_OPAQUE:
-        geometry = 1.0;
-        screens = 1.0;
+        g[LC_PASS_ACCUMULATE] = sc[LC_PASS_ACCUMULATE] = 1.0;
         break;
     case LC_METHOD_DIRECT:
-        geometry = targets + 1.0;
-        screens = targets + 2.0;
+        g[LC_PASS_OPTICAL_DEPTH] = targets;
+        g[LC_PASS_ACCUMULATE] = 1.0;
+        sc[LC_PASS_OPTICAL_DEPTH] = targets;
+        sc[LC_PASS_ACCUMULATE] = sc[LC_PASS_RESOLVE] = 1.0;
         break;
-    default: /* wboit: P1, P2 at s^2, one blended pass */
-        geometry = s2 * (targets + 1.0) + 2.0;
-        screens = targets + 3.0;
+    default: /* wboit: P1, P2 at s^2, one blended pass into two targets */
+        g[LC_PASS_IMPORTANCE] = targets;
+        g[LC_PASS_OPACITY] = 1.0;
+        g[LC_PASS_ACCUMULATE] = 2.0;
+        sc[LC_PASS_ACCUMULATE] = targets + 2.0;
+        sc[LC_PASS_RESOLVE] = 1.0;
         break;
+    }
+    /* P0: the per-pixel range draws everything once at each resolution, the
+     * moments one target of every subset-th element at s^2. */
+    g[LC_PASS_DEPTH_RANGE] = plan.moments ? 1.0 / subset : 1.0;
+    double geometry = 0, screens = 0;
+    for (int k = 0; k < LC_PASS_COUNT; k++) {
+        double at = plan.run[k] == LC_RUN_LOW ? s2 : plan.run[k] == LC_RUN_FULL ? 1.0
+                                                   : plan.run[k] == LC_RUN_BOTH ? s2 + 1.0 : 0.0;
+        geometry += g[k] * at;
+        screens += plan.run[k] == LC_RUN_NONE ? 0.0 : sc[k];
     }
     double passes = ceil(geometry);
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +

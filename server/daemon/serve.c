@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cost.h"
 #include "datasets.h"
 #include "gl_context.h"
 #include "http.h"

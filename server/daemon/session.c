@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/random.h>
 
+#include "cost.h"
 #include "metrics.h"
 
 /* The interactive detail ladder, finest first: line error bound (pixels),
@@ -244,12 +245,16 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
     *h = ih < lo ? lo : ih > hi ? hi : ih;
 }
 
-int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, lc_proto_error *pe)
+int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost_out,
+                            lc_proto_error *pe)
 {
     double cost;
     const char *field = NULL;
     char why[320];
-    if (lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why) == 0)
+    int rc = lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why);
+    if (cost_out)
+        *cost_out = cost;
+    if (rc == 0)
         return 0;
     lc_metrics_refused(srv->metrics, "cost");
     return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
@@ -265,7 +270,7 @@ int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto
         rc = lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset", "cannot change within a session (it is \"%s\")",
                                 s->dataset->name);
     if (rc == 0)
-        rc = lc_session_check_budget(s->srv, s->dataset, &req, pe);
+        rc = lc_session_check_budget(s->srv, s->dataset, &req, NULL, pe);
     if (rc != 0)
         return rc;
     s->req = req;

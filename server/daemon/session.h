@@ -157,9 +157,11 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
 
 /* ---- Updates (HTTP session renders and stream camera/params alike). */
 
-/* 0 when a frame of req on ds fits --max-cost; else too_expensive naming the
- * field to lower, counted in the metrics. */
-int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, lc_proto_error *pe);
+/* 0 when a frame of req on ds fits --max-cost (cost.h); else too_expensive
+ * naming the field to lower, counted in the metrics. *cost (if given): the
+ * estimate. */
+int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost,
+                            lc_proto_error *pe);
 /* Applies a JSON update (NULL = none) to s's request, latest wins: a copy of
  * the request takes the update, a change of dataset is refused, and the frame
  * it asks for (at the request's size) must fit --max-cost; only then is it

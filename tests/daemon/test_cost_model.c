@@ -10,9 +10,9 @@
 
 #define PI 3.14159265358979323846
 
-static lc_cost_stats points(double n)
+static lc_scene_measures points(double n)
 {
-    lc_cost_stats st;
+    lc_scene_measures st;
     memset(&st, 0, sizeof st);
     st.type = LC_PRIM_POINTS;
     st.primitives = st.vertices = st.elements = n;
@@ -65,7 +65,7 @@ static void test_plan(void)
 static void test_estimates(void)
 {
     /* Opaque splats by hand: each covers pi r^2 pixels, one pass. */
-    lc_cost_stats st = points(1000);
+    lc_scene_measures st = points(1000);
     lc_render_params p = params(LC_METHOD_OPAQUE, LC_DEPTH_RANGE_GLOBAL);
     double r = fmax(0.5 * p.style.point_size, 0.75), image = 200.0 * 100.0;
     double frags = 1000 * fmin(PI * r * r, image);

@@ -123,17 +123,15 @@ static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, 
 {
     lc_server *srv = ctx->srv;
     double cost = 0;
-    const char *field = NULL;
-    char why[320];
-    if (lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why) != 0) {
+    lc_proto_error pe;
+    if (lc_session_check_budget(srv, ds, req, &cost, &pe) != 0) {
         if (session) {
             pthread_mutex_lock(&session->lock);
             session->http_busy = false;
             pthread_mutex_unlock(&session->lock);
             lc_session_unref(session);
         }
-        lc_metrics_refused(srv->metrics, "cost");
-        return lc_http_error(srv, c, 400, "too_expensive", field, "%s", why);
+        return lc_http_proto_error(srv, c, &pe);
     }
     lc_render_job *job = calloc(1, sizeof *job);
     if (!job) {

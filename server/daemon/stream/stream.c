@@ -64,7 +64,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
      * session's request size from here on. */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &req.render.width,
                          &req.render.height);
-    if (lc_session_check_budget(srv, ds, &req, &pe) != 0) {
+    if (lc_session_check_budget(srv, ds, &req, NULL, &pe) != 0) {
         answer_proto_error(srv, out, &pe);
         return;
     }
@@ -133,7 +133,7 @@ static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double no
     double dpr = m->has_device_pixel_ratio ? m->device_pixel_ratio : s->stream.device_pixel_ratio;
     lc_request req = s->req; /* a larger frame costs more (wider ribbons) */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req.render.width, &req.render.height);
-    int rc = lc_session_check_budget(srv, s->dataset, &req, &pe);
+    int rc = lc_session_check_budget(srv, s->dataset, &req, NULL, &pe);
     if (rc == 0) {
         s->stream.css_width = m->width;
         s->stream.css_height = m->height;

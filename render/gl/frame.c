@@ -294,8 +294,8 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     fs.level = pick_level(&fs);
     fs.point_stride =
         s->type == LC_PRIM_POINTS && p.method != LC_METHOD_EXACT && p.detail.point_stride > 1 ? p.detail.point_stride : 1;
-    int reuse = p.detail.reuse_opacities && state && !state->fresh &&
-                (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_WBOIT);
+    lc_pass_plan plan;
+    lc_pass_plan_make(&p, state && !state->fresh, &plan);
 
     ensure_element_buffers(r, s->elements.count);
     ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
@@ -303,28 +303,21 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         return rc;
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
-    /* The per-pixel depth range serves every method that normalizes depth; the
-     * moments serve the Fourier method's optimization and compositing. A frame
-     * that reuses the opacities (P1-P3 skipped, the camera moving) composites by
-     * the bounds: the pass would cost it 18-29% (tornado at 972x761, llvmpipe). */
-    lc_depth_range depth_range = lc_foo_depth_range(&p.foo);
-    int pixel_range = depth_range == LC_DEPTH_RANGE_PIXEL &&
-                      (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_WBOIT);
-    int moments = depth_range == LC_DEPTH_RANGE_MOMENTS && p.method == LC_METHOD_FOURIER && !reuse;
-    if (pixel_range && (rc = lc_fourier_depth_range(r, &fs, err)) != 0)
+    /* P0 as the plan says (pass_plan.c says why the moments skip a reusing frame). */
+    if (plan.pixel_range && (rc = lc_fourier_depth_range(r, &fs, err)) != 0)
         return rc;
-    if (moments && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
+    if (plan.moments && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
         return rc;
     switch (p.method) {
     case LC_METHOD_FOURIER:
-        rc = reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = plan.reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
         if (!rc)
             rc = lc_fourier_composite(r, &fs, 0, err);
         break;
     case LC_METHOD_DIRECT: rc = lc_fourier_composite(r, &fs, 1, err); break;
     case LC_METHOD_OPAQUE: rc = lc_render_opaque(r, &fs, err); break;
     case LC_METHOD_WBOIT:
-        rc = reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = plan.reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
         if (!rc)
             rc = lc_render_wboit(r, &fs, err);
         break;
@@ -343,18 +336,9 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         prev = start;
         static const int order[] = {LC_PASS_DEPTH_RANGE,   LC_PASS_IMPORTANCE, LC_PASS_OPACITY, LC_PASS_SMOOTH,
                                     LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE, LC_PASS_RESOLVE, LC_PASS_READBACK};
-        int ran[LC_PASS_COUNT] = {0};
-        int fourier = p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_WBOIT || p.method == LC_METHOD_EXACT;
-        ran[LC_PASS_IMPORTANCE] = ran[LC_PASS_OPACITY] = ran[LC_PASS_SMOOTH] = fourier && !reuse;
-        ran[LC_PASS_OPTICAL_DEPTH] =
-            p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT || p.method == LC_METHOD_EXACT;
-        ran[LC_PASS_ACCUMULATE] = 1;
-        ran[LC_PASS_RESOLVE] = p.method != LC_METHOD_OPAQUE;
-        ran[LC_PASS_READBACK] = 1;
-        ran[LC_PASS_DEPTH_RANGE] = pixel_range || moments;
         for (int i = 0; i < LC_PASS_COUNT; i++) {
             int pass = order[i];
-            if (!ran[pass])
+            if (plan.run[pass] == LC_RUN_NONE)
                 continue;
             GLuint64 t = 0;
             glGetQueryObjectui64v(r->timer_queries[pass], GL_QUERY_RESULT, &t);

@@ -98,6 +98,30 @@ typedef enum {
  * "accumulate", "resolve", "readback", "depthRange". */
 const char *lc_pass_name(int pass);
 
+/* ---- The pass plan: which passes a frame runs and at which resolution,
+ * worked out once from the request. The frame's dispatch and its timer table
+ * (frame.c) and the daemon's cost model (server/daemon/cost.c) all read it, so
+ * that what runs, what is timed and what is charged cannot disagree. */
+typedef enum {
+    LC_RUN_NONE = 0, /* the pass does not run */
+    LC_RUN_ONCE,     /* it runs once, at no image resolution (P3, on the elements) */
+    LC_RUN_LOW,      /* at the optimization resolution (params.resolutionScale) */
+    LC_RUN_FULL,     /* at the output resolution */
+    LC_RUN_BOTH      /* at both (P0's per-pixel range) */
+} lc_pass_run;
+typedef struct lc_pass_plan {
+    lc_method method;
+    int reuse;       /* P1-P3 skipped: the frame state's opacities are reused */
+    int pixel_range; /* P0 as the per-pixel depth range (depthRange "pixel") */
+    int moments;     /* P0 as the depth moments (depthRange "moments") */
+    lc_pass_run run[LC_PASS_COUNT];
+} lc_pass_plan;
+/* The plan of a frame of p. reuse: the caller holds a frame state with
+ * opacities to reuse (a frame without one, or the cost model's estimate of a
+ * full frame, passes 0); it counts only where p asks for it and the method
+ * has element opacities to reuse (fourier, wboit). */
+void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out);
+
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
 
 typedef struct lc_frame_info {

@@ -1,6 +1,6 @@
-/* Optimization elements (docs/ALGORITHM.md): one per point, equal-arc-length segments
- * for lines, geodesic patches around sampled centres for surfaces, with the
- * per-vertex (element, weight) blend and the element adjacency for smoothing. */
+/* Optimization elements (docs/ALGORITHM.md): the element table (per-vertex
+ * (element, weight) blend, the element adjacency for smoothing), the default
+ * counts, and the surfaces' geodesic patches around sampled centres. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -75,25 +75,6 @@ int lc_elements_adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, 
         e->adjacency_offsets[i + 1] += e->adjacency_offsets[i];
     e->adjacency_count = (uint32_t)m;
     free(pairs);
-    return LC_OK;
-}
-
-/* ---- points: one element per point, no adjacency. FOO §4 treats points as
- * independent elements; there is no surface to smooth over, and a kNN graph
- * over millions of points would cost more than it buys. */
-static int build_points(const lc_element_geometry *s, lc_elements *e, lc_error *err)
-{
-    int rc = lc_elements_alloc(e, s->vertex_count, s->vertex_count, s->name, err);
-    if (rc)
-        return rc;
-    for (uint32_t v = 0; v < s->vertex_count; v++) {
-        float w = 1.0f;
-        lc_elements_set_vertex(e, v, 1, &v, &w, v);
-    }
-    e->adjacency = malloc(sizeof(uint32_t));
-    if (!e->adjacency)
-        return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate element adjacency", s->name);
-    e->adjacency_count = 0;
     return LC_OK;
 }
 
@@ -573,8 +554,8 @@ oom:
     return -1;
 }
 
-static int build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t want, lc_patch_sampling sampling,
-                         lc_error *err)
+int lc_elements_build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t want, lc_patch_sampling sampling,
+                              lc_error *err)
 {
     uint32_t n = s->vertex_count;
     mesh_graph g = {0};
@@ -714,27 +695,4 @@ uint32_t lc_elements_default_count(const lc_element_geometry *s)
     uint64_t cap = s->vertex_count / VERTICES_PER_PATCH_CAP;
     cap = cap > MAX_DEFAULT_PATCHES ? (cap < MAX_DERIVED_ELEMENTS ? cap : MAX_DERIVED_ELEMENTS) : MAX_DEFAULT_PATCHES;
     return clamp_u64(s->vertex_count / 8, 1, cap);
-}
-
-int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc, lc_elements *e, lc_error *err)
-{
-    if (!s || !e)
-        return lc_err(err, LC_ERR_INVALID, "elements: NULL geometry");
-    lc_elements_free(e);
-    int rc;
-    switch (s->type) {
-    case LC_PRIM_POINTS: rc = build_points(s, e, err); break;
-    case LC_PRIM_LINES:
-        rc = lc_elements_build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s), err);
-        break;
-    case LC_PRIM_TRIANGLES: {
-        uint32_t want = desc && desc->patch_count ? desc->patch_count : lc_elements_default_count(s);
-        rc = build_patches(s, e, want ? want : 1, desc ? desc->patch_sampling : LC_PATCH_SAMPLING_AUTO, err);
-        break;
-    }
-    default: rc = lc_err(err, LC_ERR_INVALID, "%s: unknown primitive type", s->name);
-    }
-    if (rc)
-        lc_elements_free(e);
-    return rc;
 }

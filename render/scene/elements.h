@@ -64,7 +64,7 @@ int lc_elements_build(const lc_element_geometry *g, const lc_elements_desc *desc
 void lc_elements_free(lc_elements *e);
 
 /* ---- Building blocks of the builders in this folder (elements.c,
- * elements_lines.c); not for other callers. */
+ * elements_lines.c, elements_build.c); not for other callers. */
 
 /* Allocates the per-vertex arrays and count + 1 offsets (zeroed). Buffers are
  * never empty so that GPU uploads never see a zero size. */
@@ -77,6 +77,10 @@ void lc_elements_set_vertex(lc_elements *e, uint32_t v, int n, const uint32_t *i
 int lc_elements_adjacency_from_pairs(lc_elements *e, uint64_t *pairs, size_t n, const char *name, lc_error *err);
 /* The line elements of s with `budget` elements over all lines (elements_lines.c). */
 int lc_elements_build_lines(const lc_element_geometry *s, lc_elements *e, uint32_t budget, lc_error *err);
+/* The surface patches of s: `want` geodesic patches around centres picked by
+ * `sampling` (elements.c). */
+int lc_elements_build_patches(const lc_element_geometry *s, lc_elements *e, uint32_t want, lc_patch_sampling sampling,
+                              lc_error *err);
 
 /* ---- Parts: one process's share of a scene split over several
  * (render/scene/scene_part.h), numbered as the whole scene is. */

@@ -205,15 +205,8 @@ static int line_levels(const lc_scene *s, const float *err, lc_lod *out, int wit
     return 0;
 }
 
-static int build(const lc_scene *s, lc_lod *out, int with_indices, lc_error *err)
+int lc_lod_line_levels(const lc_scene *s, lc_lod *out, int with_indices, lc_error *err)
 {
-    memset(out, 0, sizeof *out);
-    out->count = 1;
-    out->levels[0].primitives = lc_scene_primitive_count(s);
-    if (s->type == LC_PRIM_TRIANGLES)
-        return lc_lod_surface_levels(s, out, with_indices, err);
-    if (s->type != LC_PRIM_LINES)
-        return 0;
     float *e = malloc((s->vertex_count ? s->vertex_count : 1) * sizeof *e);
     if (!e)
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
@@ -221,14 +214,8 @@ static int build(const lc_scene *s, lc_lod *out, int with_indices, lc_error *err
     if (!rc)
         rc = line_levels(s, e, out, with_indices, err);
     free(e);
-    if (rc)
-        lc_lod_free(out);
     return rc;
 }
-
-int lc_lod_plan(const lc_scene *s, lc_lod *out, lc_error *err) { return build(s, out, 0, err); }
-
-int lc_lod_build(const lc_scene *s, lc_lod *out, lc_error *err) { return build(s, out, 1, err); }
 
 void lc_lod_free(lc_lod *lod)
 {

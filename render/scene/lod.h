@@ -81,6 +81,10 @@ int lc_lod_line_counts(const lc_scene *s, uint64_t counts[LC_LOD_COUNTS], lc_err
  * scene's (scene.h lod_steps). */
 #define LC_LOD_STEPS_GIVEN (1u << 31)
 uint32_t lc_lod_line_steps(const uint64_t counts[LC_LOD_COUNTS]);
+/* lod.c: adds the coarse levels of a line scene to out (level 0 set), at the
+ * ladder steps s->lod_steps names or its own; with_indices fills each level's
+ * pairs. */
+int lc_lod_line_levels(const lc_scene *s, lc_lod *out, int with_indices, lc_error *err);
 /* lod_surface.c: adds the coarse levels of a triangle scene to out (level 0
  * set); with_indices keeps their triangles. */
 int lc_lod_surface_levels(const lc_scene *s, lc_lod *out, int with_indices, lc_error *err);

@@ -6,56 +6,15 @@
 #include <string.h>
 
 #include "foo_math.h"
+#include "renderer.h"
 
 #define PI 3.14159265358979323846
 /* Set-up of one primitive in one pass, in fragment units: on llvmpipe 200,000
  * small splats cost about as much as 2e7 fragments per pass. */
 #define PRIMITIVE_UNITS 100.0
 
-void lc_cost_stats_compute(const lc_scene *s, lc_cost_stats *out)
-{
-    memset(out, 0, sizeof *out);
-    out->type = s->type;
-    out->primitives = (double)lc_scene_primitive_count(s);
-    out->vertices = s->vertex_count;
-    out->elements = s->elements.count;
-    const double *b = s->bounds;
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        out->center[k] = 0.5 * (b[k] + b[k + 3]);
-        d2 += (b[k + 3] - b[k]) * (b[k + 3] - b[k]);
-    }
-    out->radius = isfinite(d2) && d2 > 0 ? 0.5 * sqrt(d2) : 1.0;
-    const float *P = s->positions;
-    if (s->type == LC_PRIM_LINES && s->line_offsets) {
-        for (uint32_t l = 0; l < s->line_count; l++)
-            for (uint32_t i = s->line_offsets[l] + 1; i < s->line_offsets[l + 1]; i++) {
-                const float *a = P + 3 * (size_t)(i - 1), *c = P + 3 * (size_t)i;
-                double dx = c[0] - a[0], dy = c[1] - a[1], dz = c[2] - a[2];
-                out->line_length += sqrt(dx * dx + dy * dy + dz * dz);
-            }
-    } else if (s->type == LC_PRIM_TRIANGLES && s->triangles) {
-        for (uint32_t t = 0; t < s->triangle_count; t++) {
-            const float *a = P + 3 * (size_t)s->triangles[3 * t], *c = P + 3 * (size_t)s->triangles[3 * t + 1],
-                        *e = P + 3 * (size_t)s->triangles[3 * t + 2];
-            double u[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, v[3] = {e[0] - a[0], e[1] - a[1], e[2] - a[2]};
-            double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
-            out->area += 0.5 * sqrt(x * x + y * y + z * z);
-        }
-    }
-    if (s->part_of) { /* serve --mpi, a part read by this rank: what the whole costs */
-        out->primitives = (double)s->whole_primitives;
-        out->vertices = (double)s->whole_vertices;
-        out->line_length = s->whole_line_length;
-    }
-    if (!isfinite(out->line_length))
-        out->line_length = 1e300;
-    if (!isfinite(out->area))
-        out->area = 1e300;
-}
-
 /* Output pixels per world unit at the data centre. */
-static double pixels_per_unit(const lc_cost_stats *st, const lc_render_params *p)
+static double pixels_per_unit(const lc_scene_measures *st, const lc_render_params *p)
 {
     double h = p->height;
     if (!p->has_camera)
@@ -73,7 +32,7 @@ static double pixels_per_unit(const lc_cost_stats *st, const lc_render_params *p
     return h / (2.0 * dist * half);
 }
 
-double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p)
+double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
 {
     double w = p->width, h = p->height, image = w * h;
     double ppu = pixels_per_unit(st, p);
@@ -98,40 +57,56 @@ double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p)
     double s2 = f->resolution_scale * f->resolution_scale;
     double targets = ceil((2.0 * f->bands + 1.0) / 4.0);
     double subset = f->subset > 1 ? f->subset : 1;
-    double geometry, screens;
-    lc_depth_range range = lc_foo_depth_range(f);
+    /* Which passes run, and where, is the renderer's plan (a full frame: no
+     * opacities to reuse); what each costs is this model's: g = geometry
+     * passes per fragment at the pass's resolution, sc = screen passes. */
+    lc_pass_plan plan;
+    lc_pass_plan_make(p, 0, &plan);
+    double g[LC_PASS_COUNT] = {0}, sc[LC_PASS_COUNT] = {0};
     switch (p->method) {
-    case LC_METHOD_FOURIER: /* P1 (targets, /subset) and P2 at s^2; P4 (targets, /subset) and P5 at full */
-        geometry = (s2 + 1.0) * (targets / subset + 1.0);
-        if (range == LC_DEPTH_RANGE_PIXEL)
-            geometry += s2 + 1.0;
-        else if (range == LC_DEPTH_RANGE_MOMENTS)
-            geometry += s2 / subset; /* P0 "moments": one target at s^2 */
-        screens = targets + 2.0;
+    case LC_METHOD_FOURIER: /* P1 and P4 draw the coefficient targets (every subset-th element), P2 and P5 one */
+        g[LC_PASS_IMPORTANCE] = g[LC_PASS_OPTICAL_DEPTH] = targets / subset;
+        g[LC_PASS_OPACITY] = g[LC_PASS_ACCUMULATE] = 1.0;
+        sc[LC_PASS_OPTICAL_DEPTH] = targets;
+        sc[LC_PASS_ACCUMULATE] = sc[LC_PASS_RESOLVE] = 1.0;
         break;
     case LC_METHOD_EXACT: /* fragment lists at both resolutions; insertion, sort and blend per fragment */
-        geometry = 4.0 * (s2 + 1.0);
-        screens = 4.0;
+        g[LC_PASS_IMPORTANCE] = g[LC_PASS_OPACITY] = g[LC_PASS_OPTICAL_DEPTH] = g[LC_PASS_ACCUMULATE] = 2.0;
+        sc[LC_PASS_IMPORTANCE] = sc[LC_PASS_OPACITY] = sc[LC_PASS_OPTICAL_DEPTH] = sc[LC_PASS_ACCUMULATE] = 1.0;
         break;
     case LC_METHOD_OPAQUE:
-        geometry = 1.0;
-        screens = 1.0;
+        g[LC_PASS_ACCUMULATE] = sc[LC_PASS_ACCUMULATE] = 1.0;
         break;
     case LC_METHOD_DIRECT:
-        geometry = targets + 1.0;
-        screens = targets + 2.0;
+        g[LC_PASS_OPTICAL_DEPTH] = targets;
+        g[LC_PASS_ACCUMULATE] = 1.0;
+        sc[LC_PASS_OPTICAL_DEPTH] = targets;
+        sc[LC_PASS_ACCUMULATE] = sc[LC_PASS_RESOLVE] = 1.0;
         break;
-    default: /* wboit: P1, P2 at s^2, one blended pass */
-        geometry = s2 * (targets + 1.0) + 2.0;
-        screens = targets + 3.0;
+    default: /* wboit: P1, P2 at s^2, one blended pass into two targets */
+        g[LC_PASS_IMPORTANCE] = targets;
+        g[LC_PASS_OPACITY] = 1.0;
+        g[LC_PASS_ACCUMULATE] = 2.0;
+        sc[LC_PASS_ACCUMULATE] = targets + 2.0;
+        sc[LC_PASS_RESOLVE] = 1.0;
         break;
+    }
+    /* P0: the per-pixel range draws everything once at each resolution, the
+     * moments one target of every subset-th element at s^2. */
+    g[LC_PASS_DEPTH_RANGE] = plan.moments ? 1.0 / subset : 1.0;
+    double geometry = 0, screens = 0;
+    for (int k = 0; k < LC_PASS_COUNT; k++) {
+        double at = plan.run[k] == LC_RUN_LOW ? s2 : plan.run[k] == LC_RUN_FULL ? 1.0
+                                                   : plan.run[k] == LC_RUN_BOTH ? s2 + 1.0 : 0.0;
+        geometry += g[k] * at;
+        screens += plan.run[k] == LC_RUN_NONE ? 0.0 : sc[k];
     }
     double passes = ceil(geometry);
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +
            st->elements * (f->smoothing + 1.0);
 }
 
-const char *lc_cost_field(const lc_cost_stats *st, const lc_render_params *p, double budget)
+const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p, double budget)
 {
     lc_render_params q = *p;
     lc_style defaults;
@@ -173,7 +148,7 @@ const char *lc_cost_field(const lc_cost_stats *st, const lc_render_params *p, do
     return "width";
 }
 
-int lc_cost_check(const lc_cost_stats *st, const lc_render_params *p, double budget, double *cost, const char **field,
+int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double budget, double *cost, const char **field,
                   char *msg, size_t n)
 {
     *cost = lc_cost_estimate(st, p);

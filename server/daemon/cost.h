@@ -20,7 +20,8 @@
  * The default budget (1e9) is therefore 20-50 s on the 2-core llvmpipe
  * development machine and well under a second on a GPU.
  *
- * Threading: pure functions; lc_cost_stats is computed once per dataset. */
+ * Threading: pure functions; a dataset's lc_scene_measures (render/scene
+ * scene_measure.h) are taken once, at load. */
 #ifndef LC_SERVER_COST_H
 #define LC_SERVER_COST_H
 
@@ -28,7 +29,7 @@
 #include <stdint.h>
 
 #include "lc_params.h"
-#include "scene.h"
+#include "scene_measure.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -36,31 +37,18 @@ extern "C" {
 
 #define LC_COST_DEFAULT_BUDGET 1e9
 
-/* What the estimate needs of a dataset (computed at load). */
-typedef struct lc_cost_stats {
-    lc_prim_type type;
-    double primitives;  /* points, line segments or triangles */
-    double vertices;
-    double elements;
-    double line_length; /* world units, all segments */
-    double area;        /* world units^2, all triangles */
-    double center[3];
-    double radius;      /* half the bounds diagonal (> 0) */
-} lc_cost_stats;
-
-void lc_cost_stats_compute(const lc_scene *s, lc_cost_stats *out);
 
 /* The estimate for one frame of p on a dataset with stats st. */
-double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p);
+double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p);
 
 /* When cost > budget: the request field that lowering helps most (a style
  * size, the method or a parameter when the defaults would fit, else "width"),
  * for the 4xx that names it. */
-const char *lc_cost_field(const lc_cost_stats *st, const lc_render_params *p, double budget);
+const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p, double budget);
 
 /* The check of a request against a budget (<= 0: none): 0 with *cost set, or
  * -1 with *field (lc_cost_field) and a message for the client in msg. */
-int lc_cost_check(const lc_cost_stats *st, const lc_render_params *p, double budget, double *cost, const char **field,
+int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double budget, double *cost, const char **field,
                   char *msg, size_t n);
 
 #ifdef __cplusplus

@@ -232,7 +232,7 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
         return rc;
     }
     const lc_scene *s = ds->scene;
-    lc_cost_stats_compute(s, &ds->cost);
+    lc_scene_measure(s, &ds->cost);
     LC_INFO(MOD, "loaded %s: %s, %u vertices, %llu primitives, %u elements in %.2f s", ds->name,
             lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
             s->elements.count, ds->load_seconds);

@@ -6,11 +6,11 @@
 #include <jansson.h>
 #include <stdint.h>
 
-#include "cost.h"
 #include "lc_base.h"
 #include "memory.h"
 #include "renderer.h"
 #include "scene.h"
+#include "scene_measure.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -29,7 +29,7 @@ typedef struct lc_dataset {
      * NAME.lucent.json beside a file. Shown by /datasets, applied by clients
      * on dataset switch; NULL = none. Owned. */
     json_t *preset;
-    lc_cost_stats cost; /* what render cost estimates need (cost.h) */
+    lc_scene_measures cost; /* what render cost estimates need (cost.h) */
     /* serve --mpi: the description of the whole dataset, taken before the
      * scene became this rank's shard (lc_datasets_shard); NULL otherwise. */
     json_t *whole_info;

@@ -9,13 +9,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cost.h"
 #include "datasets.h"
 #include "gl_context.h"
 #include "http.h"
-#include "lc_mpi.h"
 #include "loaders.h"
 #include "metrics.h"
-#include "serve_mpi.h"
+#include "ranks.h"
 #include "server.h"
 #include "session.h"
 #include "workers.h"
@@ -376,17 +376,6 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->max_queue_per_client = 8;
 }
 
-static lc_mpi *serve_mpi; /* --mpi: ended after everything else */
-
-/* serve --mpi on rank 0: the frame in hand waits for a rank that died, so the
- * requests waiting for it get an answer that says so, not a closed connection. */
-#define MPI_ENDING "the MPI job is ending: a rank has died, hangs or was stopped (the log names it)"
-static void answer_before_abort(void *ctx, const char *msg)
-{
-    (void)msg;
-    lc_workers_abandon(((lc_server *)ctx)->workers, MPI_ENDING);
-}
-
 static int serve_main(int argc, char **argv)
 {
     static lc_server srv; /* one per process; static so signal-free code can reach it in a debugger */
@@ -404,12 +393,9 @@ static int serve_main(int argc, char **argv)
     srv.cfg.data = data;
     lc_serve_config *cfg = &srv.cfg;
     lc_error err = {0};
-    if (cfg->mpi) {
-        if (lc_mpi_init(&serve_mpi, &err) != 0) {
-            LC_ERROR(MOD, "--mpi: %s", err.msg);
-            return 1;
-        }
-        srv.mpi = serve_mpi;
+    if (cfg->mpi && lc_ranks_init(&srv, &err) != 0) {
+        LC_ERROR(MOD, "--mpi: %s", err.msg);
+        return 1;
     }
     srv.start_time = lc_now();
     /* Block the shutdown signals in every thread (they inherit this mask);
@@ -425,18 +411,14 @@ static int serve_main(int argc, char **argv)
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
                                  .workers = cfg->workers > 0 ? cfg->workers : 1};
-    const char *mpi_read = getenv("LUCENT_MPI_READ");
-    if (srv.mpi && !(mpi_read && strcmp(mpi_read, "whole") == 0)) { /* line files, point clouds: each rank reads its share */
-        dopts.read_part = lc_serve_mpi_read_part;
-        dopts.read_part_ctx = srv.mpi;
-    }
+    lc_ranks_datasets_options(&srv, &dopts);
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)
         rc = lc_datasets_add_demos(srv.datasets, &err);
     if (rc == 0 && cfg->elements)
         rc = lc_datasets_set_element_budget(srv.datasets, cfg->elements, &err);
     if (srv.mpi)
-        rc = lc_serve_mpi_start(&srv, rc, &err);
+        rc = lc_ranks_start(&srv, rc, &err);
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         lc_datasets_destroy(srv.datasets);
@@ -459,10 +441,10 @@ static int serve_main(int argc, char **argv)
             lc_datasets_release_gpu(srv.datasets);
         lc_gl_release_current(primary);
     }
-    if (srv.mpi && (rc = lc_mpi_agree(srv.mpi, rc, &err)) == 0 && lc_mpi_rank(srv.mpi) > 0) {
+    if (srv.mpi && (rc = lc_ranks_agree(&srv, rc, &err)) == 0 && lc_ranks_follower(&srv)) {
         rc = lc_gl_make_current(primary, &err);
         if (rc == 0)
-            rc = lc_serve_mpi_follow(&srv, primary, &err);
+            rc = lc_ranks_follow(&srv, primary, &err);
         if (rc != 0)
             LC_ERROR(MOD, "%s", err.msg);
         lc_datasets_release_gpu(srv.datasets);
@@ -498,7 +480,7 @@ static int serve_main(int argc, char **argv)
     if (rc == 0)
         rc = lc_http_start(&srv, &srv.http, &port, &err);
     if (rc == 0 && srv.mpi)
-        lc_mpi_on_abort(srv.mpi, answer_before_abort, &srv);
+        lc_ranks_serving(&srv);
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         lc_ws_destroy(srv.ws);
@@ -519,17 +501,8 @@ static int serve_main(int argc, char **argv)
     int sig = 0;
     sigwait(&sigs, &sig);
     LC_INFO(MOD, "%s: shutting down", sig == SIGINT ? "SIGINT" : "SIGTERM");
-    if (srv.mpi) {
-        /* Under mpirun a signal also comes when another rank died: mpirun then
-         * ends the job and names the rank. A frame waiting for that rank
-         * would hold the shutdown, so it has 10 s. */
-        LC_WARN(MOD, "--mpi: %s received: ending the service on every rank (if a rank died, mpirun names it)",
-                sig == SIGINT ? "SIGINT" : "SIGTERM");
-        lc_mpi_exit_guard(srv.mpi, 10.0);
-        /* mpirun follows its signal with SIGKILL about a second later: answer
-         * the frames in hand and the queue now rather than let them finish. */
-        lc_workers_abandon(srv.workers, MPI_ENDING);
-    }
+    if (srv.mpi)
+        lc_ranks_signal(&srv, sig == SIGINT ? "SIGINT" : "SIGTERM");
     atomic_store(&srv.stopping, 1);
 
     /* 1. no new connections; 2. frames in hand finish, are encoded and queued
@@ -537,10 +510,8 @@ static int serve_main(int argc, char **argv)
      * a close frame; 4. MHD answers the resumed requests and stops. */
     lc_http_quiesce(srv.http);
     lc_workers_stop(srv.workers);
-    if (srv.mpi) {
-        lc_serve_mpi_stop(&srv);
-        lc_mpi_on_abort(srv.mpi, NULL, NULL); /* the pool and the WebSocket layer go next */
-    }
+    if (srv.mpi)
+        lc_ranks_stop(&srv);
     lc_ws_shutdown(srv.ws, 2.0);
     lc_http_stop(srv.http);
     lc_ws_destroy(srv.ws);
@@ -555,7 +526,6 @@ static int serve_main(int argc, char **argv)
 int lc_serve_main(int argc, char **argv)
 {
     int rc = serve_main(argc, argv);
-    lc_mpi_finalize(serve_mpi);
-    serve_mpi = NULL;
+    lc_ranks_finalize();
     return rc;
 }

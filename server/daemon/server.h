@@ -50,6 +50,21 @@ typedef struct lc_stream_sink {
     void (*send_frame)(void *ctx, lc_session *s, unsigned char *msg, size_t len, double render_ms, double encode_ms);
 } lc_stream_sink;
 
+struct lc_dataset;
+struct lc_frame_state;
+struct lc_reducer;
+/* What a render worker does around each frame besides rendering: under serve
+ * --mpi the announcement to the other ranks and their reduction (ranks.c sets
+ * it at start-up, before the workers start); all zero in one process, so that
+ * the workers call the renderer without knowing of MPI. */
+typedef struct lc_frame_hook {
+    void *ctx;
+    /* Before each frame, with its arguments; non-zero fails the frame. Thread: a render worker. */
+    int (*before)(void *ctx, const struct lc_dataset *ds, const lc_render_params *p,
+                  const struct lc_frame_state *state, double dt, lc_error *err);
+    const struct lc_reducer *reducer; /* every worker's lc_renderer_desc.reducer */
+} lc_frame_hook;
+
 /* Every cap and knob of the daemon; filled from flags by serve.c. */
 typedef struct lc_serve_config {
     char listen_host[128]; /* "127.0.0.1", "0.0.0.0", "::1" */
@@ -98,26 +113,9 @@ typedef struct lc_server {
     char gl_version[256];
     char gl_platform[128];
     atomic_int stopping; /* set once shutdown begins: refuse new work */
-    struct lc_mpi *mpi;  /* --mpi (serve_mpi.c); NULL in one process */
+    struct lc_mpi *mpi;  /* --mpi (ranks.c; opaque here); NULL in one process */
+    lc_frame_hook frame_hook; /* set by ranks.c under --mpi, else zero */
 } lc_server;
-
-#define LC_SERVE_WS_ACCEPT_LEN 29 /* base64 of a SHA-1 digest + NUL */
-/* Sec-WebSocket-Accept for a client's Sec-WebSocket-Key (SHA-1 + base64). */
-void lc_serve_ws_accept_key(const char *client_key, char out[LC_SERVE_WS_ACCEPT_LEN]);
-
-/* Constant-time token comparison; true when no token is configured. */
-bool lc_serve_token_ok(const lc_server *srv, const char *given);
-
-/* The WebSocket subprotocol that carries a token (browsers cannot set headers
- * on a WebSocket): "lucent.token." + base64url(token), offered next to
- * LC_SERVE_SUBPROTOCOL, which the server then selects. */
-#define LC_SERVE_SUBPROTOCOL "lucent"
-#define LC_SERVE_TOKEN_SUBPROTOCOL "lucent.token."
-/* Reads a Sec-WebSocket-Protocol header value (comma-separated): the decoded
- * token of the first token subprotocol into out (size n; false when there is
- * none or it does not decode or fit), and whether LC_SERVE_SUBPROTOCOL is
- * offered. header may be NULL. */
-bool lc_serve_subprotocol_token(const char *header, char *out, size_t n, bool *offers_lucent);
 
 #ifdef __cplusplus
 }

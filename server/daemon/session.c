@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/random.h>
 
+#include "cost.h"
 #include "metrics.h"
 
 /* The interactive detail ladder, finest first: line error bound (pixels),
@@ -224,12 +225,12 @@ int lc_sessions_sweep(lc_sessions *reg, double now, double idle)
     }
 }
 
-void lc_session_frame_size(int css_w, int css_h, double dpr, double scale, long long max_pixels,
-                           const lc_proto_limits *lim, int *w, int *h)
+void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, double dpr, double scale, int *w, int *h)
 {
+    const lc_proto_limits *lim = &cfg->limits;
     double fw = css_w * dpr, fh = css_h * dpr;
-    long long cap = max_pixels;
-    if (lim && lim->max_pixels > 0 && (cap <= 0 || lim->max_pixels < cap))
+    long long cap = cfg->max_stream_pixels;
+    if (lim->max_pixels > 0 && (cap <= 0 || lim->max_pixels < cap))
         cap = lim->max_pixels;
     if (cap > 0 && fw * fh > (double)cap) {
         double k = sqrt((double)cap / (fw * fh));
@@ -238,10 +239,44 @@ void lc_session_frame_size(int css_w, int css_h, double dpr, double scale, long 
     }
     fw *= scale;
     fh *= scale;
-    int lo = lim ? lim->min_size : 16, hi = lim ? lim->max_size : 4096;
+    int lo = lim->min_size, hi = lim->max_size;
     int iw = (int)lround(fw), ih = (int)lround(fh);
     *w = iw < lo ? lo : iw > hi ? hi : iw;
     *h = ih < lo ? lo : ih > hi ? hi : ih;
+}
+
+int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost_out,
+                            lc_proto_error *pe)
+{
+    double cost;
+    const char *field = NULL;
+    char why[320];
+    int rc = lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why);
+    if (cost_out)
+        *cost_out = cost;
+    if (rc == 0)
+        return 0;
+    lc_metrics_refused(srv->metrics, "cost");
+    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
+}
+
+int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto_limits *lim, lc_request *out,
+                             lc_proto_error *pe)
+{
+    lc_request req = s->req;
+    int rc = update ? lc_proto_apply_request(update, lim, &req, pe) : 0;
+    if (rc == 0 && strcmp(req.dataset, s->dataset->name) != 0 &&
+        lc_datasets_find(s->srv->datasets, req.dataset) != s->dataset)
+        rc = lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset", "cannot change within a session (it is \"%s\")",
+                                s->dataset->name);
+    if (rc == 0)
+        rc = lc_session_check_budget(s->srv, s->dataset, &req, NULL, pe);
+    if (rc != 0)
+        return rc;
+    s->req = req;
+    if (out)
+        *out = req;
+    return 0;
 }
 
 /* Whether the still frame is due: the last frame was interactive and input has
@@ -283,8 +318,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         d->reuse_opacities = now - st->last_optimized < REOPTIMIZE_SECONDS;
         scale *= detail_steps[st->detail_step].scale;
     }
-    lc_session_frame_size(st->css_width, st->css_height, st->device_pixel_ratio, scale, cfg->max_stream_pixels,
-                          &cfg->limits, &out->req.render.width, &out->req.render.height);
+    lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
+                         &out->req.render.height);
     out->req.format = LC_FORMAT_JPEG;
     out->quality = interactive ? st->interactive_quality : st->quality;
     out->req.quality = out->quality;

@@ -148,9 +148,27 @@ bool lc_session_stream_blocked(lc_session *s, bool blocked);
 /* I/O side: records input (camera, params, resize): marks the stream dirty and
  * counts a coalesced update if the previous one was not rendered yet. */
 void lc_session_stream_input(lc_session *s, double now);
-/* Pixel size of a frame for a viewport, devicePixelRatio, scale and caps. */
-void lc_session_frame_size(int css_w, int css_h, double dpr, double scale, long long max_pixels,
-                           const lc_proto_limits *lim, int *w, int *h);
+/* The pixel size of a stream frame for a viewport of css_w x css_h CSS pixels
+ * at devicePixelRatio dpr: capped by cfg's --max-stream-pixels and image
+ * limits, times scale (interactive frames). Every stream frame's size comes
+ * from here: hello and resize check the full-size frame's cost with it, and
+ * lc_session_stream_next sizes each frame. */
+void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, double dpr, double scale, int *w, int *h);
+
+/* ---- Updates (HTTP session renders and stream camera/params alike). */
+
+/* 0 when a frame of req on ds fits --max-cost (cost.h); else too_expensive
+ * naming the field to lower, counted in the metrics. *cost (if given): the
+ * estimate. */
+int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost,
+                            lc_proto_error *pe);
+/* Applies a JSON update (NULL = none) to s's request, latest wins: a copy of
+ * the request takes the update, a change of dataset is refused, and the frame
+ * it asks for (at the request's size) must fit --max-cost; only then is it
+ * committed, and *out (if given) is the new request. On failure s is
+ * unchanged and pe names the field. Caller holds s->lock. */
+int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto_limits *lim, lc_request *out,
+                             lc_proto_error *pe);
 
 #ifdef __cplusplus
 }

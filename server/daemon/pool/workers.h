@@ -1,4 +1,4 @@
-/* Render worker pool and encoder threads.
+/* Render worker pool.
  *
  * Each render worker owns one EGL context (worker 0 the primary one that the
  * datasets were uploaded with, the others created with .share = primary) and
@@ -10,9 +10,10 @@
  * session is queued at most once and goes back to the end after each frame. Sessions waiting for their still frame sit
  * in a timer list; idle workers sleep on a condition variable (no polling).
  *
- * Workers hand the RGBA readback to encoder threads (JPEG/PNG), so encoding
- * overlaps the next frame's GL work. Finished HTTP jobs call job->done (from an
- * encoder or worker thread); finished stream frames go to the server's stream sink (server.h). */
+ * Workers call the renderer directly (with the server's frame hook, which
+ * serve --mpi sets, server.h) and hand the RGBA readback to the encoder
+ * threads (encoders.h). Finished HTTP jobs call job->done (from an encoder or
+ * worker thread); finished stream frames go to the server's stream sink. */
 #ifndef LC_SERVER_WORKERS_H
 #define LC_SERVER_WORKERS_H
 
@@ -24,40 +25,12 @@
 #include "renderer.h"
 #include "request.h"
 #include "server.h"
+#include "encoders.h"
 #include "session.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* One HTTP render (one-shot, or a frame of an HTTP session). The submitter owns
- * the job; it is lent to the pool from lc_workers_submit() until done() is
- * called, after which the pool never touches it again. */
-typedef struct lc_render_job lc_render_job;
-struct lc_render_job {
-    /* input */
-    lc_request req;
-    const lc_dataset *dataset;
-    lc_session *session; /* HTTP session (the job holds a reference) or NULL */
-    double dt;           /* fading step for sessions */
-    uint64_t client;     /* fairness key: jobs of one client take turns with other clients' */
-    double cost;         /* estimated cost units (cost.h); 0 = unknown */
-    void (*done)(lc_render_job *job);
-    void *user;
-    /* output, valid in done() */
-    int rc; /* 0, or an LC_ERR_* code with err filled */
-    lc_error err;
-    unsigned char *image; /* malloc'd encoded image (job owner frees) */
-    size_t image_size;
-    lc_frame_info info;
-    double encode_ms;
-    double queue_ms; /* waiting for a worker */
-    const char *refused; /* why submit or the deadline refused it: "queue", "client_queue", "deadline" */
-    /* pool internals */
-    lc_render_job *next;
-    double submitted;
-    uint8_t *rgba;
-};
 
 typedef struct lc_workers lc_workers;
 
@@ -96,9 +69,6 @@ int lc_workers_count(const lc_workers *w);
 /* Clients (fairness keys) with queued work now. */
 int lc_workers_clients(lc_workers *w);
 void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue);
-
-/* Fills "timings" style lists: pass names with ms for passes that ran. */
-int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap);
 
 #ifdef __cplusplus
 }

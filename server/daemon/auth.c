@@ -1,6 +1,5 @@
-/* Helpers of the shared server object: token checks (header, subprotocol) and
- * the WebSocket handshake's accept key. */
-#include "server.h"
+/* Token checks (header, subprotocol, hello) and the WebSocket handshake's accept key. */
+#include "auth.h"
 
 #include <nettle/base64.h>
 #include <nettle/sha1.h>

@@ -1,5 +1,6 @@
-/* WebSocket I/O thread: upgraded sockets, wslay framing, the session protocol
- * (hello/camera/params/resize/ack) and delivery of frames from the encoders. */
+/* WebSocket transport: upgraded sockets and wslay framing on one epoll I/O
+ * thread, the delivery of frames and stats messages; each text message goes
+ * to the stream protocol (stream.c). */
 #include "ws.h"
 
 #include <errno.h>
@@ -18,6 +19,7 @@
 
 #include "messages.h"
 #include "metrics.h"
+#include "stream.h"
 #include "workers.h"
 
 #define MOD "ws"
@@ -28,20 +30,7 @@
 #define MAX_CONSECUTIVE_ERRORS 32
 #define WS_SNDBUF (256 << 10)
 #define HELLO_TIMEOUT 10.0 /* seconds an upgraded connection may hold a slot without a session */
-#define STATS_INTERVAL 1.0 /* seconds between stats messages while frames flow */
-#define STATS_SAMPLES 256  /* latest frames remembered for fps and timing figures */
 
-/* What a connection's stats messages report (I/O thread only). The rings hold
- * the latest frames, indexed by frame count modulo STATS_SAMPLES. */
-typedef struct stream_stats {
-    uint64_t frames;                 /* frame messages queued to the socket */
-    uint64_t bytes;                  /* bytes of every message queued */
-    double sent_at[STATS_SAMPLES];   /* lc_now() when each frame was queued */
-    double render_ms[STATS_SAMPLES]; /* its render worker wall time */
-    double encode_ms[STATS_SAMPLES]; /* its encode time */
-    uint64_t frames_at_report;       /* frames when the last stats message went out */
-    double last_report;              /* lc_now() of that message (of hello before the first) */
-} stream_stats;
 
 typedef struct conn {
     struct conn *prev, *next;
@@ -51,8 +40,7 @@ typedef struct conn {
     wslay_event_context_ptr ctx;
     char *extra; /* bytes MHD read past the handshake */
     size_t extra_len, extra_off;
-    bool authed;
-    lc_session *session; /* after hello; holds a reference */
+    lc_stream_conn proto; /* the stream protocol's state: the session after hello (a reference), authed */
     double last_rx, last_ping;
     double close_deadline; /* > 0 once closing: the connection goes by then at the latest */
     uint16_t close_code;   /* close frame to send once the queued messages are out */
@@ -61,7 +49,7 @@ typedef struct conn {
     bool draining;   /* close sent and our side shut down: read and drop until the peer closes */
     double opened;   /* lc_now() at registration (the hello deadline) */
     uint32_t events; /* registered epoll events */
-    stream_stats stats;
+    lc_stream_stats stats;
 } conn;
 
 typedef struct inbox_item {
@@ -199,7 +187,7 @@ static int queue_msg(conn *c, uint8_t opcode, const void *data, size_t len)
     if (wslay_event_get_queued_msg_length(c->ctx) + len > MAX_QUEUED_BYTES ||
         wslay_event_get_queued_msg_count(c->ctx) >= MAX_QUEUED_MSGS) {
         LC_WARN(MOD, "%s: client is not reading (%zu bytes queued), disconnecting",
-                c->session ? c->session->id : "connection", wslay_event_get_queued_msg_length(c->ctx));
+                c->proto.session ? c->proto.session->id : "connection", wslay_event_get_queued_msg_length(c->ctx));
         return -1;
     }
     struct wslay_event_msg m = {.opcode = opcode, .msg = data, .msg_length = len};
@@ -236,11 +224,6 @@ static void send_error(conn *c, const char *code, const char *message, const cha
         close_with(c, close_code, code);
 }
 
-static void send_proto_error(conn *c, const lc_proto_error *pe)
-{
-    send_error(c, pe->code, pe->message, pe->field, false, 0);
-}
-
 /* Counts one more bad message in a row; too many close the connection. */
 static void count_error(conn *c)
 {
@@ -250,77 +233,17 @@ static void count_error(conn *c)
 
 /* ---------------------------------------------------------------- stats */
 
-static void record_frame(conn *c, double now, double render_ms, double encode_ms)
-{
-    stream_stats *st = &c->stats;
-    size_t i = (size_t)(st->frames % STATS_SAMPLES);
-    st->sent_at[i] = now;
-    st->render_ms[i] = render_ms;
-    st->encode_ms[i] = encode_ms;
-    st->frames++;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Milliseconds rounded to the microsecond: enough for a status line. */
-static json_t *ms_json(double ms) { return json_real(round(ms * 1000.0) / 1000.0); }
-
-/* Sends a stats message when frames went out since the last one and that one
- * is at least STATS_INTERVAL old: about once a second while frames flow, and a
- * last one after they stop (from the tick). Returns 1 when a message was
- * queued, 0 when none was due, -1 when c must go (its client is not reading). */
+/* Queues the stats message when one is due (lc_stream_stats_due): checked when
+ * a frame is queued and on the thread's one-second tick. Returns 1
+ * when a message was queued, 0 when none was due, -1 when c must go (its
+ * client is not reading). */
 static int maybe_send_stats(conn *c, double now)
 {
-    stream_stats *st = &c->stats;
-    lc_session *s = c->session;
-    uint64_t fresh = st->frames - st->frames_at_report;
-    if (!s || fresh == 0 || c->close_deadline > 0 || now - st->last_report < STATS_INTERVAL)
+    if (!c->proto.session || c->close_deadline > 0 || !lc_stream_stats_due(&c->stats, now))
         return 0;
-    /* Timing figures over the frames since the last report (the latest
-     * STATS_SAMPLES of them); fps over the last second. */
-    int n = fresh < STATS_SAMPLES ? (int)fresh : STATS_SAMPLES;
-    int held = st->frames < STATS_SAMPLES ? (int)st->frames : STATS_SAMPLES;
-    double render[STATS_SAMPLES], render_sum = 0, encode_sum = 0;
-    int fps = 0;
-    for (int k = 0; k < held; k++) {
-        size_t i = (size_t)((st->frames - 1 - (uint64_t)k) % STATS_SAMPLES);
-        if (now - st->sent_at[i] <= 1.0)
-            fps++;
-        if (k < n) {
-            render[k] = st->render_ms[i];
-            render_sum += st->render_ms[i];
-            encode_sum += st->encode_ms[i];
-        }
-    }
-    qsort(render, (size_t)n, sizeof render[0], cmp_double);
-    double p50 = n % 2 ? render[n / 2] : 0.5 * (render[n / 2 - 1] + render[n / 2]);
     int render_queue = 0, encode_queue = 0;
     lc_workers_depths(c->ws->srv->workers, &render_queue, &encode_queue);
-    pthread_mutex_lock(&s->lock);
-    uint64_t dropped = s->stream.coalesced;
-    int unacked = s->stream.unacked, window = s->stream.window;
-    pthread_mutex_unlock(&s->lock);
-
-    json_t *f = json_object();
-    json_object_set_new(f, "framesSent", json_integer((json_int_t)st->frames));
-    json_object_set_new(f, "framesDropped", json_integer((json_int_t)dropped));
-    json_object_set_new(f, "fps", json_integer(fps));
-    json_object_set_new(f, "renderMs", ms_json(render_sum / n));
-    json_object_set_new(f, "renderP50Ms", ms_json(p50));
-    json_object_set_new(f, "encodeMs", ms_json(encode_sum / n));
-    json_object_set_new(f, "queue", json_integer(render_queue));
-    json_object_set_new(f, "unacked", json_integer(unacked));
-    json_object_set_new(f, "window", json_integer(window));
-    json_object_set_new(f, "bytesSent", json_integer((json_int_t)st->bytes));
-    json_object_set_new(f, "interval", json_real(round((now - st->last_report) * 1000.0) / 1000.0));
-    char *text = lc_proto_stats_json(f);
-    json_decref(f);
-    st->frames_at_report = st->frames;
-    st->last_report = now;
+    char *text = lc_stream_stats_message(&c->stats, c->proto.session, render_queue, now);
     if (!text)
         return 0;
     int rc = queue_msg(c, WSLAY_TEXT_FRAME, text, strlen(text));
@@ -328,184 +251,30 @@ static int maybe_send_stats(conn *c, double now)
     return rc == 0 ? 1 : -1;
 }
 
-/* ---------------------------------------------------------------- protocol */
+/* ---------------------------------------------------------------- messages */
 
-/* 0 when a full-resolution frame of req fits --max-cost, else an error that
- * names the field to lower (the update is then not applied). */
-static int within_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, lc_proto_error *pe)
-{
-    double cost;
-    const char *field = NULL;
-    char why[320];
-    if (lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why) == 0)
-        return 0;
-    lc_metrics_refused(srv->metrics, "cost");
-    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
-}
-
-static void on_hello(conn *c, lc_client_msg *m)
-{
-    lc_server *srv = c->ws->srv;
-    if (c->session) {
-        send_error(c, "bad_state", "hello was already received on this connection", "type", false, 0);
-        return;
-    }
-    if (!c->authed) {
-        if (!m->has_token || !lc_serve_token_ok(srv, m->token)) {
-            send_error(c, "unauthorized", "missing or wrong token", "token", true, 1008);
-            return;
-        }
-        c->authed = true;
-    }
-    const lc_dataset *ds = lc_datasets_find(srv->datasets, m->dataset);
-    if (!ds) {
-        char msg[700];
-        snprintf(msg, sizeof msg, "unknown dataset \"%s\"", m->dataset);
-        send_error(c, "not_found", msg, "dataset", false, 0);
-        return;
-    }
-    lc_request req;
-    lc_request_default(&req);
-    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
-    req.format = LC_FORMAT_JPEG;
-    lc_proto_error pe;
-    if (m->update && lc_proto_apply_request(m->update, &c->ws->limits, &req, &pe) != 0) {
-        send_proto_error(c, &pe);
-        return;
-    }
-    lc_session_frame_size(m->width, m->height, m->device_pixel_ratio, 1.0, srv->cfg.max_stream_pixels, &srv->cfg.limits,
-                          &req.render.width, &req.render.height);
-    if (within_budget(srv, ds, &req, &pe) != 0) {
-        send_proto_error(c, &pe);
-        return;
-    }
-    lc_stream_settings ss;
-    lc_proto_stream_default(&ss);
-    lc_proto_stream_apply(&ss, m);
-    lc_error err = {0};
-    lc_session *s = NULL;
-    if (lc_session_create(srv->sessions, LC_SESSION_WS, ds, &req, &s, &err) != 0) {
-        send_error(c, err.code == LC_ERR_LIMIT ? "too_many_sessions" : "internal", err.msg, NULL, true, 1013);
-        return;
-    }
-    pthread_mutex_lock(&s->lock);
-    s->stream.window = ss.window;
-    s->stream.quality = ss.quality;
-    s->stream.interactive_quality = ss.interactive_quality;
-    s->stream.interactive_scale = ss.interactive_scale;
-    s->stream.css_width = m->width;
-    s->stream.css_height = m->height;
-    s->stream.device_pixel_ratio = m->device_pixel_ratio;
-    lc_session_frame_size(m->width, m->height, m->device_pixel_ratio, 1.0, srv->cfg.max_stream_pixels, &srv->cfg.limits,
-                          &s->req.render.width, &s->req.render.height);
-    s->stream.dirty = true; /* the first frame */
-    req = s->req;
-    pthread_mutex_unlock(&s->lock);
-    c->session = s;
-    s->ws_conn = c;
-    c->stats.last_report = lc_now();
-    json_t *info = lc_dataset_info(ds);
-    char *ready = lc_proto_ready_json(s->id, info, &req, &c->ws->limits, &ss);
-    json_decref(info);
-    if (ready) {
-        queue_msg(c, WSLAY_TEXT_FRAME, ready, strlen(ready));
-        free(ready);
-    }
-    LC_INFO(MOD, "session %s: %s, %dx%d css px x %.2f, window %d", s->id, ds->name, m->width, m->height,
-            m->device_pixel_ratio, ss.window);
-    lc_workers_wake(srv->workers, s);
-}
-
-/* Applies a camera or params update to the session's request (latest wins). */
-static int apply_update(conn *c, lc_client_msg *m)
-{
-    lc_session *s = c->session;
-    lc_proto_error pe;
-    int rc = 0;
-    pthread_mutex_lock(&s->lock);
-    lc_request req = s->req;
-    if (m->update && (rc = lc_proto_apply_request(m->update, &c->ws->limits, &req, &pe)) == 0)
-        rc = within_budget(c->ws->srv, s->dataset, &req, &pe);
-    if (rc == 0)
-        s->req = req;
-    if (rc == 0 && m->type == LC_MSG_CAMERA && m->seq > s->stream.camera_seq)
-        s->stream.camera_seq = m->seq;
-    if (rc == 0 && m->type == LC_MSG_PARAMS) {
-        if (m->has_quality)
-            s->stream.quality = m->quality;
-        if (m->has_interactive_quality)
-            s->stream.interactive_quality = m->interactive_quality;
-        if (m->has_interactive_scale)
-            s->stream.interactive_scale = m->interactive_scale;
-    }
-    pthread_mutex_unlock(&s->lock);
-    if (rc != 0)
-        send_proto_error(c, &pe);
-    return rc;
-}
-
+/* A text message goes to the stream protocol (stream.c); this acts on its outcome. */
 static void on_text(conn *c, const uint8_t *data, size_t len)
 {
     lc_server *srv = c->ws->srv;
-    lc_client_msg m;
-    lc_proto_error pe;
-    if (lc_proto_parse_client_message((const char *)data, len, &c->ws->limits, &m, &pe) != 0) {
-        send_proto_error(c, &pe);
+    lc_stream_outcome o;
+    lc_stream_on_text(srv, &c->ws->limits, &c->proto, (const char *)data, len, &o);
+    if (o.opened) {
+        c->proto.session->ws_conn = c;
+        c->stats.last_report = lc_now();
+    }
+    if (o.reply) {
+        queue_msg(c, WSLAY_TEXT_FRAME, o.reply, strlen(o.reply));
+        free(o.reply);
+    }
+    if (o.close_code)
+        close_with(c, o.close_code, o.close_reason);
+    if (o.valid)
+        c->errors = 0;
+    if (o.bad)
         count_error(c);
-        return;
-    }
-    if (m.type != LC_MSG_HELLO && !c->session) {
-        send_error(c, "bad_state", "the first message must be a hello", "type", false, 0);
-        lc_client_msg_free(&m);
-        count_error(c);
-        return;
-    }
-    c->errors = 0;
-    lc_session *s = c->session;
-    double now = lc_now();
-    switch (m.type) {
-    case LC_MSG_HELLO: on_hello(c, &m); break;
-    case LC_MSG_CAMERA:
-    case LC_MSG_PARAMS:
-        if (apply_update(c, &m) == 0) {
-            lc_session_stream_input(s, now);
-            lc_workers_wake(srv->workers, s);
-        }
-        break;
-    case LC_MSG_RESIZE: {
-        lc_proto_error pe;
-        pthread_mutex_lock(&s->lock);
-        double dpr = m.has_device_pixel_ratio ? m.device_pixel_ratio : s->stream.device_pixel_ratio;
-        lc_request req = s->req; /* a larger frame costs more (wider ribbons): check it as an update */
-        lc_session_frame_size(m.width, m.height, dpr, 1.0, srv->cfg.max_stream_pixels, &srv->cfg.limits,
-                              &req.render.width, &req.render.height);
-        int rc = within_budget(srv, s->dataset, &req, &pe);
-        if (rc == 0) {
-            s->stream.css_width = m.width;
-            s->stream.css_height = m.height;
-            s->stream.device_pixel_ratio = dpr;
-        }
-        pthread_mutex_unlock(&s->lock);
-        if (rc != 0) {
-            send_proto_error(c, &pe);
-            break;
-        }
-        lc_session_stream_input(s, now);
-        lc_workers_wake(srv->workers, s);
-        break;
-    }
-    case LC_MSG_ACK:
-        if (!lc_session_stream_ack(s, m.frame)) {
-            char msg[128];
-            snprintf(msg, sizeof msg, "frame %llu has not been sent", (unsigned long long)m.frame);
-            send_error(c, LC_PROTO_OUT_OF_RANGE, msg, "frame", false, 0);
-            count_error(c);
-            break;
-        }
-        lc_workers_wake(srv->workers, s);
-        break;
-    }
-    lc_client_msg_free(&m);
+    if (o.wake)
+        lc_workers_wake(srv->workers, c->proto.session);
 }
 
 static void on_msg(wslay_event_context_ptr ctx, const struct wslay_event_on_msg_recv_arg *arg, void *user)
@@ -526,13 +295,13 @@ static void on_msg(wslay_event_context_ptr ctx, const struct wslay_event_on_msg_
 /* Ends c's session (its frames stop); the connection may linger closing. */
 static void release_session(lc_ws *ws, conn *c)
 {
-    if (!c->session)
+    if (!c->proto.session)
         return;
-    LC_INFO(MOD, "session %s: closed after %llu frames", c->session->id, (unsigned long long)c->session->stream.frames);
-    c->session->ws_conn = NULL;
-    lc_session_close(ws->srv->sessions, c->session);
-    lc_session_unref(c->session);
-    c->session = NULL;
+    LC_INFO(MOD, "session %s: closed after %llu frames", c->proto.session->id, (unsigned long long)c->proto.session->stream.frames);
+    c->proto.session->ws_conn = NULL;
+    lc_session_close(ws->srv->sessions, c->proto.session);
+    lc_session_unref(c->proto.session);
+    c->proto.session = NULL;
 }
 
 static void conn_destroy(lc_ws *ws, conn *c)
@@ -571,10 +340,10 @@ static int conn_flush(lc_ws *ws, conn *c)
     /* Data left in wslay's queue means the socket would block: the client is
      * not reading. Render nothing more for it until the queue drains, whatever
      * its acks say (they could be blind). */
-    if (c->session) {
+    if (c->proto.session) {
         bool blocked = wslay_event_get_queued_msg_length(c->ctx) > 0;
-        if (lc_session_stream_blocked(c->session, blocked))
-            lc_workers_wake(ws->srv->workers, c->session);
+        if (lc_session_stream_blocked(c->proto.session, blocked))
+            lc_workers_wake(ws->srv->workers, c->proto.session);
     }
     int r = wslay_event_want_read(c->ctx), w = wslay_event_want_write(c->ctx);
     if (!r && !w) {
@@ -700,7 +469,7 @@ void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra
     c->fd = sock;
     c->urh = urh;
     c->extra_len = extra_len;
-    c->authed = authed;
+    c->proto.authed = authed;
     it->adopt = c;
     push_inbox(ws, it);
 }
@@ -725,7 +494,7 @@ static void drain_inbox(lc_ws *ws)
                 } else {
                     double now = lc_now();
                     if (counted)
-                        record_frame(c, now, it->render_ms, it->encode_ms);
+                        lc_stream_stats_frame(&c->stats, now, it->render_ms, it->encode_ms);
                     if (maybe_send_stats(c, now) < 0)
                         conn_destroy(ws, c);
                     else
@@ -750,13 +519,13 @@ static void tick(lc_ws *ws, double now)
         conn *next = c->next;
         if (c->close_deadline > 0 && now > c->close_deadline) {
             conn_destroy(ws, c);
-        } else if (c->close_deadline == 0 && !c->session && now - c->opened > HELLO_TIMEOUT) {
+        } else if (c->close_deadline == 0 && !c->proto.session && now - c->opened > HELLO_TIMEOUT) {
             LC_INFO(MOD, "connection without hello for %.0f s, closing", HELLO_TIMEOUT);
             lc_metrics_error(ws->srv->metrics, "hello_timeout");
             close_with(c, 1008, "no hello");
             conn_flush(ws, c);
         } else if (c->close_deadline == 0 && now - c->last_rx > cfg->idle_timeout) {
-            LC_INFO(MOD, "%s: idle for %.0f s, closing", c->session ? c->session->id : "connection", cfg->idle_timeout);
+            LC_INFO(MOD, "%s: idle for %.0f s, closing", c->proto.session ? c->proto.session->id : "connection", cfg->idle_timeout);
             close_with(c, 1001, "idle timeout");
             conn_flush(ws, c);
         } else if (c->close_deadline == 0 && now - c->last_rx > PING_INTERVAL && now - c->last_ping > PING_INTERVAL) {

@@ -1,4 +1,4 @@
-/* Render worker pool (one GL context per thread) and encoder threads. */
+/* Render worker pool: one GL context per thread, the queue's order and the still-frame timers. */
 #include "workers.h"
 
 #include <errno.h>
@@ -7,43 +7,12 @@
 #include <string.h>
 #include <time.h>
 
-#include "image.h"
-#include "lc_mpi.h"
+#include "encoders.h"
+#include "fair_queue.h"
 #include "messages.h"
 #include "metrics.h"
-#include "serve_mpi.h"
 
 #define MOD "workers"
-
-/* A task in the render queue: an HTTP job or a WebSocket session (which
- * holds a reference while queued). */
-typedef struct task {
-    struct task *next;
-    lc_render_job *job;
-    lc_session *session;
-} task;
-
-/* One client's queued tasks (FIFO). Clients with work form a ring that the
- * workers serve round robin: one task of each client in turn. */
-typedef struct flow {
-    struct flow *next; /* in the ring of clients with work */
-    uint64_t key;
-    task *head, *tail;
-    int jobs; /* HTTP jobs among the tasks */
-} flow;
-
-/* An image to encode. */
-typedef struct encode_item {
-    struct encode_item *next;
-    uint8_t *rgba;
-    int width, height;
-    lc_image_format format;
-    int quality;
-    lc_render_job *job;    /* HTTP: finish this job */
-    lc_session *session;   /* stream: send a frame message (holds a reference) */
-    lc_stream_frame frame; /* stream only */
-    lc_frame_info info;    /* stream only */
-} encode_item;
 
 typedef struct worker {
     lc_workers *pool;
@@ -61,10 +30,9 @@ typedef struct worker {
 
 struct lc_workers {
     lc_server *srv;
-    int nworkers, nencoders, max_queue;
+    int nworkers, max_queue;
     worker *workers;
-    pthread_t *encoders;
-    int encoders_started;
+    lc_encoders *encoders; /* where the readbacks go (encoders.c) */
 
     pthread_mutex_t lock; /* guards the render FIFO, the timer list and sessions' sched_* fields */
     pthread_cond_t work;  /* FIFO non-empty, timer list changed, stopping */
@@ -73,102 +41,33 @@ struct lc_workers {
     lc_error start_err;
     bool stopping;
     bool abandoned; /* lc_workers_abandon ran (the watchdog and mpirun's signal may both call it) */
-    flow *ring_head, *ring_tail; /* clients with queued tasks, next to serve first */
-    int jobs_queued, tasks_queued, flows;
+    lc_fair_queue queue; /* the render tasks, by client (fair_queue.h) */
     double cost_rate; /* learned cost units per second of render time (0 = none measured yet) */
     lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
-
-    pthread_mutex_t enc_lock;
-    pthread_cond_t enc_work;
-    encode_item *enc_head, *enc_tail;
-    int enc_depth;
-    bool enc_stopping;
 };
 
 /* ---------------------------------------------------------------- queues */
 
-static uint64_t task_key(const task *t)
+static uint64_t task_key(const lc_task *t)
 {
     if (t->session)
         return (uint64_t)(uintptr_t)t->session;
     return t->job->session ? (uint64_t)(uintptr_t)t->job->session : t->job->client;
 }
 
-static flow *find_flow(lc_workers *w, uint64_t key)
+/* Queues t for its client and wakes a worker; pool lock held. -1 when out of memory. */
+static int push_task(lc_workers *w, lc_task *t)
 {
-    for (flow *f = w->ring_head; f; f = f->next)
-        if (f->key == key)
-            return f;
-    return NULL;
-}
-
-static void ring_append(lc_workers *w, flow *f)
-{
-    f->next = NULL;
-    if (w->ring_tail)
-        w->ring_tail->next = f;
-    else
-        w->ring_head = f;
-    w->ring_tail = f;
-}
-
-/* Queues t behind its client's earlier tasks; a client new to the ring goes
- * to its end. Returns -1 when out of memory (pool lock held). */
-static int push_task(lc_workers *w, task *t)
-{
-    uint64_t key = task_key(t);
-    flow *f = find_flow(w, key);
-    if (!f) {
-        f = calloc(1, sizeof *f);
-        if (!f)
-            return -1;
-        f->key = key;
-        ring_append(w, f);
-        w->flows++;
-    }
-    t->next = NULL;
-    if (f->tail)
-        f->tail->next = t;
-    else
-        f->head = t;
-    f->tail = t;
-    if (t->job)
-        f->jobs++;
-    w->tasks_queued++;
+    t->key = task_key(t);
+    if (lc_fair_push(&w->queue, t) != 0)
+        return -1;
     pthread_cond_signal(&w->work);
     return 0;
 }
 
-/* The next client's oldest task; that client moves to the end of the ring. */
-static task *pop_task(lc_workers *w)
-{
-    flow *f = w->ring_head;
-    if (!f)
-        return NULL;
-    task *t = f->head;
-    f->head = t->next;
-    if (!f->head)
-        f->tail = NULL;
-    if (t->job) {
-        f->jobs--;
-        w->jobs_queued--;
-    }
-    w->tasks_queued--;
-    w->ring_head = f->next;
-    if (!w->ring_head)
-        w->ring_tail = NULL;
-    if (f->head) {
-        ring_append(w, f);
-    } else {
-        free(f);
-        w->flows--;
-    }
-    return t;
-}
-
 int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err)
 {
-    task *t = calloc(1, sizeof *t);
+    lc_task *t = calloc(1, sizeof *t);
     if (!t)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     t->job = job;
@@ -180,17 +79,15 @@ int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err)
         free(t);
         return lc_err(err, LC_ERR_UNSUPPORTED, "the server is shutting down");
     }
-    if (w->jobs_queued >= w->max_queue) {
-        int q = w->jobs_queued;
+    if (w->queue.jobs >= w->max_queue) {
+        int q = w->queue.jobs;
         pthread_mutex_unlock(&w->lock);
         free(t);
         job->refused = "queue";
         return lc_err(err, LC_ERR_LIMIT, "render queue full (%d requests waiting)", q);
     }
-    flow *f = find_flow(w, task_key(t));
-    int per_client = w->srv->cfg.max_queue_per_client;
-    if (f && per_client > 0 && f->jobs >= per_client) {
-        int q = f->jobs;
+    int per_client = w->srv->cfg.max_queue_per_client, q = lc_fair_jobs_of(&w->queue, task_key(t));
+    if (per_client > 0 && q >= per_client) {
         pthread_mutex_unlock(&w->lock);
         free(t);
         job->refused = "client_queue";
@@ -210,7 +107,6 @@ int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err)
         free(t);
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     }
-    w->jobs_queued++;
     pthread_mutex_unlock(&w->lock);
     return 0;
 }
@@ -236,7 +132,7 @@ static void enqueue_session(lc_workers *w, lc_session *s)
 {
     if (s->sched_queued || w->stopping)
         return;
-    task *t = calloc(1, sizeof *t);
+    lc_task *t = calloc(1, sizeof *t);
     if (!t)
         return; /* the next input or ack retries */
     t->session = s;
@@ -310,34 +206,7 @@ static void wait_until(pthread_cond_t *c, pthread_mutex_t *m, double when_monoto
     pthread_cond_timedwait(c, m, &ts);
 }
 
-static void push_encode(lc_workers *w, encode_item *e)
-{
-    pthread_mutex_lock(&w->enc_lock);
-    e->next = NULL;
-    if (w->enc_tail)
-        w->enc_tail->next = e;
-    else
-        w->enc_head = e;
-    w->enc_tail = e;
-    w->enc_depth++;
-    pthread_cond_signal(&w->enc_work);
-    pthread_mutex_unlock(&w->enc_lock);
-}
-
 /* ---------------------------------------------------------------- rendering */
-
-int lc_workers_timings(const lc_frame_info *info, lc_frame_timing *out, int cap)
-{
-    int n = 0;
-    for (int p = 0; p < LC_PASS_COUNT && n < cap; p++) {
-        if (info->pass_ms[p] < 0)
-            continue;
-        snprintf(out[n].pass, sizeof out[n].pass, "%s", lc_pass_name(p));
-        out[n].ms = info->pass_ms[p];
-        n++;
-    }
-    return n;
-}
 
 /* Cost units per second of render time, a moving average over renders that
  * took long enough to time well; the submit-time deadline check uses it. */
@@ -350,6 +219,16 @@ static void learn_rate(lc_workers *w, double cost, double wall_ms)
     w->cost_rate = w->cost_rate > 0 ? 0.8 * w->cost_rate + 0.2 * rate : rate;
     pthread_mutex_unlock(&w->lock);
     lc_metrics_cost(w->srv->metrics, cost, w->cost_rate);
+}
+
+/* Every frame of a render worker: the frame hook (serve --mpi announces the
+ * frame to the other ranks), then the renderer. */
+static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, const lc_render_params *p,
+                        lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    const lc_frame_hook *h = &w->srv->frame_hook;
+    int rc = h->before ? h->before(h->ctx, ds, p, state, dt, err) : 0;
+    return rc ? rc : lc_render_frame(r, ds->gpu, p, state, dt, rgba, info, err);
 }
 
 static void finish_job(lc_render_job *job)
@@ -408,7 +287,7 @@ static void render_job(worker *wk, lc_render_job *job)
         lc_session_ref(session);
     lc_frame_info info;
     in_hand(wk, job, NULL);
-    int rc = lc_server_render_frame(w->srv, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
+    int rc = render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
                                     &info, &err);
     int mine = out_of_hand(wk);
     if (session)
@@ -429,30 +308,8 @@ static void render_job(worker *wk, lc_render_job *job)
     }
     lc_metrics_frame(w->srv->metrics, job->session ? "session" : "http", &job->info);
     learn_rate(w, job->cost, job->info.wall_ms);
-    encode_item *e = calloc(1, sizeof *e);
-    if (!e) {
-        free(job->rgba);
-        job->rgba = NULL;
-        job->rc = lc_err(&job->err, LC_ERR_NOMEM, "out of memory");
-        finish_job(job);
-        return;
-    }
-    e->rgba = job->rgba;
     job->rgba = NULL;
-    e->width = p->width;
-    e->height = p->height;
-    e->format = job->req.format;
-    e->quality = job->req.quality;
-    e->job = job;
-    push_encode(w, e);
-}
-
-static void send_stream_error(lc_server *srv, lc_session *s, const char *code, const char *message, const char *field)
-{
-    char *msg = lc_proto_error_message_json(code, message, field, false);
-    lc_metrics_error(srv->metrics, code);
-    if (msg)
-        srv->sink.send(srv->sink.ctx, s, (unsigned char *)msg, strlen(msg), false);
+    lc_encoders_job(w->encoders, rgba, job);
 }
 
 /* One frame of a WebSocket session, if it needs one. */
@@ -474,7 +331,7 @@ static void render_session(worker *wk, lc_session *s)
     lc_frame_info info;
     lc_error err = {0};
     in_hand(wk, NULL, s);
-    int rc = rgba ? lc_server_render_frame(w->srv, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
+    int rc = rgba ? render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
                   : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     out_of_hand(wk);
     lc_session_stream_done(s, &f, rc == 0, rc == 0 ? &info : NULL);
@@ -482,27 +339,13 @@ static void render_session(worker *wk, lc_session *s)
         free(rgba);
         LC_WARN(MOD, "session %s: frame %llu failed: %s", s->id, (unsigned long long)f.frame, err.msg);
         if (rc == LC_ERR_INVALID)
-            send_stream_error(w->srv, s, LC_PROTO_BAD_FIELD, err.msg, err.field[0] ? err.field : NULL);
+            lc_stream_error(w->srv, s, LC_PROTO_BAD_FIELD, err.msg, err.field[0] ? err.field : NULL);
         else
-            send_stream_error(w->srv, s, "render_failed", err.msg, NULL);
+            lc_stream_error(w->srv, s, "render_failed", err.msg, NULL);
         return;
     }
     lc_metrics_frame(w->srv->metrics, "ws", &info);
-    encode_item *e = calloc(1, sizeof *e);
-    if (!e) {
-        free(rgba);
-        return;
-    }
-    e->rgba = rgba;
-    e->width = p->width;
-    e->height = p->height;
-    e->format = LC_FORMAT_JPEG;
-    e->quality = f.quality;
-    e->frame = f;
-    e->info = info;
-    lc_session_ref(s);
-    e->session = s;
-    push_encode(w, e);
+    lc_encoders_frame(w->encoders, rgba, s, &f, &info);
     /* Back to the tail of the FIFO: fading or newer input continues after the
      * other sessions had their turn. */
     lc_workers_wake(w, s);
@@ -521,7 +364,7 @@ static void *worker_main(void *arg)
     if (rc == 0)
         rc = lc_gl_make_current(wk->gl, &err);
     if (rc == 0)
-        rc = lc_renderer_create(&(lc_renderer_desc){.reducer = w->srv->mpi ? lc_mpi_reducer(w->srv->mpi) : NULL},
+        rc = lc_renderer_create(&(lc_renderer_desc){.reducer = w->srv->frame_hook.reducer},
                                 &wk->renderer, &err);
     pthread_mutex_lock(&w->lock);
     if (rc != 0 && !w->failed) {
@@ -538,10 +381,10 @@ static void *worker_main(void *arg)
         goto out;
     }
     for (;;) {
-        task *t = NULL;
+        lc_task *t = NULL;
         while (!w->stopping) {
             double next = run_timers(w, lc_now());
-            t = pop_task(w);
+            t = lc_fair_pop(&w->queue);
             if (t)
                 break;
             if (next > 0)
@@ -573,104 +416,9 @@ out:
     return NULL;
 }
 
-/* ---------------------------------------------------------------- encoding */
-
-static void encode_one(lc_workers *w, encode_item *e)
-{
-    lc_server *srv = w->srv;
-    unsigned char *img = NULL;
-    size_t size = 0;
-    lc_error err = {0};
-    double t0 = lc_now();
-    int rc = e->format == LC_FORMAT_PNG
-                 ? lc_image_encode_png(e->rgba, e->width, e->height, &img, &size, &err)
-                 : lc_image_encode_jpeg(e->rgba, e->width, e->height, e->quality, &img, &size, &err);
-    double ms = (lc_now() - t0) * 1000.0;
-    free(e->rgba);
-    e->rgba = NULL;
-    if (rc == 0)
-        lc_metrics_encode(srv->metrics, ms, (long long)e->width * e->height, size);
-    if (e->job) {
-        lc_render_job *job = e->job;
-        job->rc = rc;
-        if (rc != 0)
-            job->err = err;
-        job->image = img;
-        job->image_size = size;
-        job->encode_ms = ms;
-        finish_job(job);
-        return;
-    }
-    lc_session *s = e->session;
-    if (rc != 0) {
-        LC_WARN(MOD, "session %s: encode failed: %s", s->id, err.msg);
-        send_stream_error(srv, s, "render_failed", err.msg, NULL);
-        lc_session_stream_sent(s, e->frame.frame);
-        lc_session_stream_ack(s, e->frame.frame); /* nothing to ack for this id */
-        lc_workers_wake(w, s);
-        return;
-    }
-    lc_frame_header h;
-    memset(&h, 0, sizeof h);
-    h.frame = e->frame.frame;
-    h.width = e->width;
-    h.height = e->height;
-    h.format = LC_FORMAT_JPEG;
-    h.quality = e->quality;
-    h.camera_seq = e->frame.camera_seq;
-    h.converged = e->info.converged != 0;
-    h.timing_count = lc_workers_timings(&e->info, h.timings, LC_PROTO_MAX_TIMINGS);
-    h.encode_ms = ms;
-    h.has_detail = true;
-    h.interactive = e->frame.interactive;
-    h.reused = e->info.reused_opacities != 0;
-    h.level = e->info.lod_level;
-    h.lod_pixels = e->frame.req.render.detail.lod_pixels;
-    h.point_stride = e->info.point_stride > 0 ? e->info.point_stride : 1;
-    h.primitives = e->info.primitives_drawn;
-    h.render_ms = e->info.wall_ms;
-    if (e->info.has_visibility) {
-        h.has_visibility = true;
-        h.top_decile_alpha = e->info.top_decile_alpha;
-        h.bottom_half_alpha = e->info.bottom_half_alpha;
-        h.covered_fraction = e->info.covered_fraction;
-    }
-    unsigned char *msg = NULL;
-    size_t len = 0;
-    rc = lc_proto_pack_frame(&h, img, size, &msg, &len);
-    free(img);
-    if (rc == 0) {
-        lc_session_stream_sent(s, e->frame.frame);
-        srv->sink.send_frame(srv->sink.ctx, s, msg, len, e->info.wall_ms, ms);
-    }
-}
-
-static void *encoder_main(void *arg)
-{
-    lc_workers *w = arg;
-    pthread_mutex_lock(&w->enc_lock);
-    for (;;) {
-        while (!w->enc_head && !w->enc_stopping)
-            pthread_cond_wait(&w->enc_work, &w->enc_lock);
-        encode_item *e = w->enc_head;
-        if (!e)
-            break; /* stopping and drained */
-        w->enc_head = e->next;
-        if (!w->enc_head)
-            w->enc_tail = NULL;
-        w->enc_depth--;
-        pthread_mutex_unlock(&w->enc_lock);
-        encode_one(w, e);
-        if (e->session)
-            lc_session_unref(e->session);
-        free(e);
-        pthread_mutex_lock(&w->enc_lock);
-    }
-    pthread_mutex_unlock(&w->enc_lock);
-    return NULL;
-}
-
 /* ---------------------------------------------------------------- life cycle */
+
+static void wake_cb(void *ctx, lc_session *s) { lc_workers_wake(ctx, s); }
 
 int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoders, int max_queue, lc_workers **out,
                       lc_error *err)
@@ -681,13 +429,9 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     w->srv = srv;
     w->nworkers = nworkers > 0 ? nworkers : 1;
-    w->nencoders = nencoders > 0 ? nencoders : 1;
     w->max_queue = max_queue > 0 ? max_queue : 1;
     w->workers = calloc((size_t)w->nworkers, sizeof *w->workers);
-    w->encoders = calloc((size_t)w->nencoders, sizeof *w->encoders);
-    if (!w->workers || !w->encoders) {
-        free(w->workers);
-        free(w->encoders);
+    if (!w->workers) {
         free(w);
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     }
@@ -698,8 +442,6 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     pthread_cond_init(&w->work, &ca);
     pthread_condattr_destroy(&ca);
     pthread_cond_init(&w->ready, NULL);
-    pthread_mutex_init(&w->enc_lock, NULL);
-    pthread_cond_init(&w->enc_work, NULL);
     w->workers[0].gl = primary;
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];
@@ -721,12 +463,9 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
         pthread_cond_wait(&w->ready, &w->lock);
     int failed = w->failed;
     pthread_mutex_unlock(&w->lock);
-    for (int i = 0; !failed && i < w->nencoders; i++)
-        if (pthread_create(&w->encoders[i], NULL, encoder_main, w) == 0)
-            w->encoders_started++;
-    if (failed || w->encoders_started == 0) {
-        if (!failed)
-            lc_err(&w->start_err, LC_ERR_INTERNAL, "cannot start encoder threads");
+    if (!failed && lc_encoders_create(w->srv, nencoders, wake_cb, w, &w->encoders, &w->start_err) != 0)
+        failed = 1;
+    if (failed) {
         if (err)
             *err = w->start_err;
         int code = w->start_err.code ? w->start_err.code : LC_ERR_INTERNAL;
@@ -734,14 +473,14 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
         lc_workers_stop(w);
         return code;
     }
-    LC_INFO(MOD, "%d render worker(s), %d encoder thread(s)", w->nworkers, w->encoders_started);
+    LC_INFO(MOD, "%d render worker(s), %d encoder thread(s)", w->nworkers, nencoders > 0 ? nencoders : 1);
     *out = w;
     return 0;
 }
 
 /* A queued task that will not run: its HTTP job fails with `why`; a session
  * leaves the queue, told `why` as an error when `tell`. Frees t. */
-static void fail_task(lc_workers *w, task *t, const char *why, bool tell)
+static void fail_task(lc_workers *w, lc_task *t, const char *why, bool tell)
 {
     if (t->job) {
         t->job->rc = lc_err(&t->job->err, LC_ERR_UNSUPPORTED, "%s", why);
@@ -749,7 +488,7 @@ static void fail_task(lc_workers *w, task *t, const char *why, bool tell)
     } else {
         t->session->sched_queued = false;
         if (tell)
-            send_stream_error(w->srv, t->session, "render_failed", why, NULL);
+            lc_stream_error(w->srv, t->session, "render_failed", why, NULL);
         lc_session_unref(t->session);
     }
     free(t);
@@ -762,7 +501,7 @@ void lc_workers_abandon(lc_workers *w, const char *why)
     lc_render_job *jobs[64];
     lc_session *sessions[64];
     int nj = 0, ns = 0;
-    task *queued = NULL;
+    lc_task *queued = NULL;
     pthread_mutex_lock(&w->lock);
     if (w->abandoned) {
         pthread_mutex_unlock(&w->lock);
@@ -781,8 +520,8 @@ void lc_workers_abandon(lc_workers *w, const char *why)
             sessions[ns++] = wk->session;
         }
     }
-    task *t;
-    while ((t = pop_task(w))) {
+    lc_task *t;
+    while ((t = lc_fair_pop(&w->queue))) {
         t->next = queued;
         queued = t;
     }
@@ -792,7 +531,7 @@ void lc_workers_abandon(lc_workers *w, const char *why)
         finish_job(jobs[i]);
     }
     for (int i = 0; i < ns; i++)
-        send_stream_error(w->srv, sessions[i], "render_failed", why, NULL);
+        lc_stream_error(w->srv, sessions[i], "render_failed", why, NULL);
     while ((t = queued)) {
         queued = t->next;
         bool told = false; /* a session can be queued again while its frame is in hand */
@@ -820,8 +559,8 @@ void lc_workers_stop(lc_workers *w)
     }
     /* Workers are gone: fail what is still queued, drop parked sessions. */
     pthread_mutex_lock(&w->lock);
-    task *t;
-    while ((t = pop_task(w))) {
+    lc_task *t;
+    while ((t = lc_fair_pop(&w->queue))) {
         pthread_mutex_unlock(&w->lock);
         fail_task(w, t, "the server is shutting down", false);
         pthread_mutex_lock(&w->lock);
@@ -830,13 +569,7 @@ void lc_workers_stop(lc_workers *w)
         untime(w, w->timed);
     pthread_mutex_unlock(&w->lock);
     /* Encoders finish what the workers handed them, then exit. */
-    pthread_mutex_lock(&w->enc_lock);
-    w->enc_stopping = true;
-    pthread_cond_broadcast(&w->enc_work);
-    pthread_mutex_unlock(&w->enc_lock);
-    for (int i = 0; i < w->encoders_started; i++)
-        pthread_join(w->encoders[i], NULL);
-    w->encoders_started = 0;
+    lc_encoders_stop(w->encoders);
 }
 
 void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
@@ -856,10 +589,8 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
     pthread_mutex_destroy(&w->lock);
     pthread_cond_destroy(&w->work);
     pthread_cond_destroy(&w->ready);
-    pthread_mutex_destroy(&w->enc_lock);
-    pthread_cond_destroy(&w->enc_work);
     free(w->workers);
-    free(w->encoders);
+    lc_encoders_destroy(w->encoders);
     free(w);
 }
 
@@ -868,7 +599,7 @@ int lc_workers_count(const lc_workers *w) { return w ? w->nworkers : 0; }
 int lc_workers_clients(lc_workers *w)
 {
     pthread_mutex_lock(&w->lock);
-    int n = w->flows;
+    int n = w->queue.clients;
     pthread_mutex_unlock(&w->lock);
     return n;
 }
@@ -876,9 +607,7 @@ int lc_workers_clients(lc_workers *w)
 void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue)
 {
     pthread_mutex_lock(&w->lock);
-    *render_queue = w->tasks_queued;
+    *render_queue = w->queue.tasks;
     pthread_mutex_unlock(&w->lock);
-    pthread_mutex_lock(&w->enc_lock);
-    *encode_queue = w->enc_depth;
-    pthread_mutex_unlock(&w->enc_lock);
+    *encode_queue = w->encoders ? lc_encoders_depth(w->encoders) : 0;
 }

@@ -1,0 +1,361 @@
+/* HTTP renders: one-shot and session renders on the worker pool, the image
+ * with its statistics as headers (http_render.h). */
+#include "http_render.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "datasets.h"
+#include "messages.h"
+#include "metrics.h"
+#include "session.h"
+#include "workers.h"
+
+#define MOD "http"
+
+/* The statistics of a render as response headers (protocol/openapi.yaml
+ * "Image"): X-Lucent-Timings, Server-Timing, X-Lucent-Converged,
+ * X-Lucent-Max-Alpha-Change, X-Lucent-Elements, X-Lucent-Visibility (methods
+ * with element opacities), X-Lucent-Cost and X-Lucent-Frame (session renders). */
+static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
+{
+    const lc_frame_info *info = &job->info;
+    /* X-Lucent-Timings: pass=ms pairs (openapi.yaml); Server-Timing shows the
+     * same in browser dev tools. */
+    char timings[768], server_timing[1024];
+    size_t tn = 0, sn = 0;
+    timings[0] = server_timing[0] = '\0';
+    for (int p = 0; p < LC_PASS_COUNT; p++) {
+        if (info->pass_ms[p] < 0)
+            continue;
+        tn += (size_t)snprintf(timings + tn, sizeof timings - tn, "%s%s=%.3f", tn ? "," : "", lc_pass_name(p),
+                               info->pass_ms[p]);
+        sn += (size_t)snprintf(server_timing + sn, sizeof server_timing - sn, "%s%s;dur=%.3f", sn ? ", " : "",
+                               lc_pass_name(p), info->pass_ms[p]);
+        if (tn >= sizeof timings || sn >= sizeof server_timing)
+            break;
+    }
+    if (tn < sizeof timings)
+        snprintf(timings + tn, sizeof timings - tn, "%sgpu=%.3f,wall=%.3f,encode=%.3f,queue=%.3f", tn ? "," : "",
+                 info->gpu_ms, info->wall_ms, job->encode_ms, job->queue_ms);
+    if (sn < sizeof server_timing)
+        snprintf(server_timing + sn, sizeof server_timing - sn, "%sencode;dur=%.3f, queue;dur=%.3f", sn ? ", " : "",
+                 job->encode_ms, job->queue_ms);
+    MHD_add_response_header(r, "X-Lucent-Timings", timings);
+    MHD_add_response_header(r, "Server-Timing", server_timing);
+    char buf[64];
+    snprintf(buf, sizeof buf, "%s", info->converged ? "true" : "false");
+    MHD_add_response_header(r, "X-Lucent-Converged", buf);
+    snprintf(buf, sizeof buf, "%.6g", info->max_alpha_change);
+    MHD_add_response_header(r, "X-Lucent-Max-Alpha-Change", buf);
+    snprintf(buf, sizeof buf, "%u", info->element_count);
+    MHD_add_response_header(r, "X-Lucent-Elements", buf);
+    if (info->has_visibility) {
+        char vis[192];
+        snprintf(vis, sizeof vis, "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f",
+                 info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction);
+        MHD_add_response_header(r, "X-Lucent-Visibility", vis);
+    }
+    snprintf(buf, sizeof buf, "%.4g", job->cost); /* the estimate --max-cost is compared with */
+    MHD_add_response_header(r, "X-Lucent-Cost", buf);
+    if (job->session) {
+        snprintf(buf, sizeof buf, "%llu", (unsigned long long)job->session->http_frames);
+        MHD_add_response_header(r, "X-Lucent-Frame", buf);
+    }
+}
+
+/* Called once by the pool (encoder or worker thread) when a job is finished:
+ * releases the session for its next frame and resumes the connection, whose
+ * handler then sends the image. The pool does not touch the job afterwards. */
+static void job_done(lc_render_job *job)
+{
+    lc_http_req *ctx = job->user;
+    if (job->session) {
+        pthread_mutex_lock(&job->session->lock);
+        job->session->http_busy = false;
+        if (job->rc == 0)
+            job->session->http_frames++;
+        pthread_mutex_unlock(&job->session->lock);
+    }
+    atomic_store(&ctx->job_finished, 1);
+    MHD_resume_connection(ctx->conn);
+}
+
+void lc_http_free_job(lc_render_job *job)
+{
+    if (!job)
+        return;
+    free(job->image);
+    if (job->session)
+        lc_session_unref(job->session);
+    free(job);
+}
+
+/* The fairness key of a one-shot render: the client's address (not its port,
+ * so that many connections of one client still count as one). */
+static uint64_t client_key(struct MHD_Connection *c)
+{
+    const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    const struct sockaddr *sa = ci ? ci->client_addr : NULL;
+    const unsigned char *p = NULL;
+    size_t n = 0;
+    if (sa && sa->sa_family == AF_INET) {
+        p = (const unsigned char *)&((const struct sockaddr_in *)sa)->sin_addr;
+        n = 4;
+    } else if (sa && sa->sa_family == AF_INET6) {
+        p = (const unsigned char *)&((const struct sockaddr_in6 *)sa)->sin6_addr;
+        n = 16;
+    }
+    uint64_t h = 1469598103934665603ULL;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 1099511628211ULL;
+    return h | 1; /* never 0, never a session pointer (those are even) */
+}
+
+/* Queues a render and suspends the connection until it is done. Takes the
+ * session reference (may be NULL); refuses (400, the field named) a request
+ * whose estimated cost exceeds --max-cost. */
+static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req, const lc_dataset *ds,
+                                    lc_session *session, double dt)
+{
+    lc_server *srv = ctx->srv;
+    double cost = 0;
+    lc_proto_error pe;
+    if (lc_session_check_budget(srv, ds, req, &cost, &pe) != 0) {
+        if (session) {
+            pthread_mutex_lock(&session->lock);
+            session->http_busy = false;
+            pthread_mutex_unlock(&session->lock);
+            lc_session_unref(session);
+        }
+        return lc_http_proto_error(srv, c, &pe);
+    }
+    lc_render_job *job = calloc(1, sizeof *job);
+    if (!job) {
+        if (session)
+            lc_session_unref(session);
+        return lc_http_error(srv, c, 503, "overloaded", NULL, "out of memory");
+    }
+    job->req = *req;
+    job->dataset = ds;
+    job->session = session;
+    job->dt = dt;
+    job->cost = cost;
+    job->client = client_key(c);
+    job->done = job_done;
+    job->user = ctx;
+    ctx->conn = c;
+    ctx->job = job;
+    /* Suspend before queueing, so that job_done's resume always follows it. */
+    MHD_suspend_connection(c);
+    lc_error err = {0};
+    int rc = lc_workers_submit(srv->workers, job, &err);
+    if (rc != 0) {
+        job->rc = rc;
+        job->err = err;
+        if (session) {
+            pthread_mutex_lock(&session->lock);
+            session->http_busy = false;
+            pthread_mutex_unlock(&session->lock);
+        }
+        atomic_store(&ctx->job_finished, 1);
+        MHD_resume_connection(c);
+    }
+    return MHD_YES;
+}
+
+/* The finished job's response: the image with timing headers, or an error. */
+enum MHD_Result lc_http_finish_render(lc_http_req *ctx, struct MHD_Connection *c)
+{
+    lc_server *srv = ctx->srv;
+    lc_render_job *job = ctx->job;
+    if (job->rc != 0) {
+        if (job->refused)
+            lc_metrics_refused(srv->metrics, job->refused);
+        switch (job->rc) {
+        case LC_ERR_LIMIT:
+            return lc_http_error(srv, c, job->refused && strcmp(job->refused, "client_queue") == 0 ? 429 : 503,
+                                 "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_UNSUPPORTED:
+        case LC_ERR_NOMEM: return lc_http_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
+        case LC_ERR_NOT_FOUND: return lc_http_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
+        case LC_ERR_INVALID: /* a value only the renderer can check, e.g. an attribute name */
+            return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, job->err.field[0] ? job->err.field : NULL, "%s",
+                                 job->err.msg);
+        default: return lc_http_error(srv, c, 500, "internal", NULL, "render failed: %s", job->err.msg);
+        }
+    }
+    struct MHD_Response *r = MHD_create_response_from_buffer(job->image_size, job->image, MHD_RESPMEM_MUST_FREE);
+    if (!r)
+        return MHD_NO;
+    size_t bytes = job->image_size;
+    job->image = NULL; /* MHD frees it now */
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE,
+                            job->req.format == LC_FORMAT_PNG ? "image/png" : "image/jpeg");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+    add_frame_headers(r, job);
+    lc_metrics_bytes_sent(srv->metrics, bytes);
+    return lc_http_queue(srv, c, 200, r);
+}
+
+typedef struct query_state {
+    lc_request *req;
+    const lc_proto_limits *lim;
+    lc_proto_error err;
+    int rc;
+} query_state;
+
+static enum MHD_Result query_arg(void *cls, enum MHD_ValueKind kind, const char *key, const char *value)
+{
+    (void)kind;
+    query_state *q = cls;
+    q->rc = lc_proto_apply_query(q->req, key, value, q->lim, &q->err);
+    return q->rc == 0 ? MHD_YES : MHD_NO;
+}
+
+enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c, const char *method)
+{
+    lc_server *srv = ctx->srv;
+    lc_request req;
+    lc_proto_error pe;
+    if (strcmp(method, "POST") == 0) {
+        if (lc_proto_parse_request(ctx->body ? ctx->body : "", ctx->len, &srv->cfg.limits, &req, &pe) != 0)
+            return lc_http_proto_error(srv, c, &pe);
+    } else {
+        lc_request_default(&req);
+        query_state q = {.req = &req, .lim = &srv->cfg.limits};
+        MHD_get_connection_values(c, MHD_GET_ARGUMENT_KIND, query_arg, &q);
+        if (q.rc != 0)
+            return lc_http_proto_error(srv, c, &q.err);
+        if (lc_proto_validate_request(&req, &srv->cfg.limits, &pe) != 0)
+            return lc_http_proto_error(srv, c, &pe);
+    }
+    const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
+    if (!ds)
+        return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
+    return start_render(ctx, c, &req, ds, NULL, 0.0);
+}
+
+enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c)
+{
+    lc_server *srv = ctx->srv;
+    lc_request req;
+    lc_proto_error pe;
+    if (ctx->len > 0) {
+        if (lc_proto_parse_request(ctx->body, ctx->len, &srv->cfg.limits, &req, &pe) != 0)
+            return lc_http_proto_error(srv, c, &pe);
+    } else {
+        lc_request_default(&req);
+    }
+    const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
+    if (!ds)
+        return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
+    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
+    req.has_dt = false;
+    lc_session *s = NULL;
+    lc_error err = {0};
+    if (lc_session_create(srv->sessions, LC_SESSION_HTTP, ds, &req, &s, &err) != 0)
+        return lc_http_error(srv, c, 503, "overloaded", NULL, "%s", err.msg);
+    json_t *o = json_object();
+    json_object_set_new(o, "session", json_string(s->id));
+    json_object_set_new(o, "dataset", lc_dataset_info(ds));
+    json_object_set_new(o, "defaults", lc_proto_request_to_json(&req));
+    char location[128];
+    snprintf(location, sizeof location, "/api/v1/sessions/%s", s->id);
+    LC_INFO(MOD, "session %s: scripted, %s", s->id, ds->name);
+    lc_session_unref(s);
+    char *text = lc_proto_dump(o);
+    json_decref(o);
+    if (!text)
+        return MHD_NO;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_LOCATION, location);
+    return lc_http_queue(srv, c, 201, r);
+}
+
+static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connection *c, lc_session *s)
+{
+    lc_server *srv = ctx->srv;
+    lc_proto_error pe;
+    json_t *update = NULL;
+    if (ctx->len > 0) {
+        update = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
+        if (!update) {
+            lc_session_unref(s);
+            return lc_http_proto_error(srv, c, &pe);
+        }
+        if (!json_is_object(update)) {
+            json_decref(update);
+            lc_session_unref(s);
+            return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
+        }
+    }
+    pthread_mutex_lock(&s->lock);
+    if (s->http_busy) {
+        pthread_mutex_unlock(&s->lock);
+        json_decref(update);
+        lc_session_unref(s);
+        return lc_http_error(srv, c, 429, "overloaded", NULL,
+                             "session %s is rendering a frame; send the next one after it", s->id);
+    }
+    lc_request req; /* s->req never keeps a dt: without one in the update, req has none */
+    int rc = lc_session_update_locked(s, update, &srv->cfg.limits, &req, &pe);
+    json_decref(update);
+    if (rc != 0) {
+        pthread_mutex_unlock(&s->lock);
+        lc_session_unref(s);
+        return lc_http_proto_error(srv, c, &pe);
+    }
+    /* Without dt the frame shows the targets, as a one-shot render would
+     * (openapi.yaml): a dt far beyond any half-life completes the fade. */
+    double dt = req.has_dt ? req.dt : 1e6;
+    s->req.has_dt = false;
+    s->http_busy = true;
+    s->last_frame_time = lc_now();
+    pthread_mutex_unlock(&s->lock);
+    return start_render(ctx, c, &req, s->dataset, s, dt);
+}
+
+enum MHD_Result lc_http_route_session(lc_http_req *ctx, struct MHD_Connection *c, const char *method, const char *rest)
+{
+    lc_server *srv = ctx->srv;
+    char id[LC_SESSION_ID_LEN + 1];
+    size_t n = strcspn(rest, "/");
+    const char *tail = rest + n;
+    if (n == 0 || n >= sizeof id)
+        return lc_http_error(srv, c, 404, "not_found", NULL, "unknown session \"%.*s\"", (int)(n > 64 ? 64 : n), rest);
+    memcpy(id, rest, n);
+    id[n] = '\0';
+    bool render = strcmp(tail, "/render") == 0;
+    if (!render && tail[0])
+        return lc_http_error(srv, c, 404, "not_found", NULL, "no such route");
+    if (render && strcmp(method, "POST") != 0)
+        return lc_http_not_allowed(srv, c, method, "POST");
+    if (!render && strcmp(method, "DELETE") != 0 && strcmp(method, "GET") != 0)
+        return lc_http_not_allowed(srv, c, method, "GET, DELETE");
+    lc_session *s = lc_session_find(srv->sessions, id, LC_SESSION_HTTP);
+    if (!s)
+        return lc_http_error(srv, c, 404, "not_found", NULL, "unknown session \"%s\"", id);
+    if (render)
+        return route_session_render(ctx, c, s);
+    if (strcmp(method, "DELETE") == 0) {
+        lc_session_close(srv->sessions, s);
+        LC_INFO(MOD, "session %s: deleted after %llu frames", s->id, (unsigned long long)s->http_frames);
+        lc_session_unref(s);
+        struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
+        return lc_http_queue(srv, c, 204, r);
+    }
+    pthread_mutex_lock(&s->lock);
+    json_t *o = json_object();
+    json_object_set_new(o, "session", json_string(s->id));
+    json_object_set_new(o, "dataset", json_string(s->dataset->name));
+    json_object_set_new(o, "frames", json_integer((json_int_t)s->http_frames));
+    json_object_set_new(o, "request", lc_proto_request_to_json(&s->req));
+    pthread_mutex_unlock(&s->lock);
+    lc_session_unref(s);
+    return lc_http_json(srv, c, 200, o);
+}

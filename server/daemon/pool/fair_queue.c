@@ -1,0 +1,87 @@
+/* The render queue's order: per-client FIFOs served round robin (fair_queue.h). */
+#include "fair_queue.h"
+
+#include <stdlib.h>
+
+struct lc_flow {
+    lc_flow *next; /* in the ring of clients with work */
+    uint64_t key;
+    lc_task *head, *tail;
+    int jobs; /* HTTP jobs among the tasks */
+};
+
+static lc_flow *find_flow(const lc_fair_queue *q, uint64_t key)
+{
+    for (lc_flow *f = q->ring_head; f; f = f->next)
+        if (f->key == key)
+            return f;
+    return NULL;
+}
+
+static void ring_append(lc_fair_queue *q, lc_flow *f)
+{
+    f->next = NULL;
+    if (q->ring_tail)
+        q->ring_tail->next = f;
+    else
+        q->ring_head = f;
+    q->ring_tail = f;
+}
+
+int lc_fair_push(lc_fair_queue *q, lc_task *t)
+{
+    lc_flow *f = find_flow(q, t->key);
+    if (!f) {
+        f = calloc(1, sizeof *f);
+        if (!f)
+            return -1;
+        f->key = t->key;
+        ring_append(q, f);
+        q->clients++;
+    }
+    t->next = NULL;
+    if (f->tail)
+        f->tail->next = t;
+    else
+        f->head = t;
+    f->tail = t;
+    if (t->job) {
+        f->jobs++;
+        q->jobs++;
+    }
+    q->tasks++;
+    return 0;
+}
+
+lc_task *lc_fair_pop(lc_fair_queue *q)
+{
+    lc_flow *f = q->ring_head;
+    if (!f)
+        return NULL;
+    lc_task *t = f->head;
+    f->head = t->next;
+    if (!f->head)
+        f->tail = NULL;
+    if (t->job) {
+        f->jobs--;
+        q->jobs--;
+    }
+    q->tasks--;
+    q->ring_head = f->next;
+    if (!q->ring_head)
+        q->ring_tail = NULL;
+    if (f->head) {
+        ring_append(q, f);
+    } else {
+        free(f);
+        q->clients--;
+    }
+    t->next = NULL;
+    return t;
+}
+
+int lc_fair_jobs_of(const lc_fair_queue *q, uint64_t key)
+{
+    const lc_flow *f = find_flow(q, key);
+    return f ? f->jobs : 0;
+}

@@ -1,0 +1,258 @@
+/* The stream protocol: hello, camera, params, resize and ack as session changes (stream.h). */
+#include "stream.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "auth.h"
+#include "messages.h"
+#include "metrics.h"
+
+#define MOD "ws"
+
+/* An error answer; a fatal one closes the connection with close_code after it. */
+static void answer_error(lc_server *srv, lc_stream_outcome *out, const char *code, const char *message,
+                         const char *field, bool fatal, uint16_t close_code)
+{
+    lc_metrics_error(srv->metrics, code);
+    free(out->reply);
+    out->reply = lc_proto_error_message_json(code, message, field, fatal);
+    if (fatal) {
+        out->close_code = close_code;
+        snprintf(out->close_reason, sizeof out->close_reason, "%s", code);
+    }
+}
+
+static void answer_proto_error(lc_server *srv, lc_stream_outcome *out, const lc_proto_error *pe)
+{
+    answer_error(srv, out, pe->code, pe->message, pe->field, false, 0);
+}
+
+static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn *conn, lc_client_msg *m,
+                     lc_stream_outcome *out)
+{
+    if (conn->session) {
+        answer_error(srv, out, "bad_state", "hello was already received on this connection", "type", false, 0);
+        return;
+    }
+    if (!conn->authed) {
+        if (!m->has_token || !lc_serve_token_ok(srv, m->token)) {
+            answer_error(srv, out, "unauthorized", "missing or wrong token", "token", true, 1008);
+            return;
+        }
+        conn->authed = true;
+    }
+    const lc_dataset *ds = lc_datasets_find(srv->datasets, m->dataset);
+    if (!ds) {
+        char msg[700];
+        snprintf(msg, sizeof msg, "unknown dataset \"%s\"", m->dataset);
+        answer_error(srv, out, "not_found", msg, "dataset", false, 0);
+        return;
+    }
+    lc_request req;
+    lc_request_default(&req);
+    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
+    req.format = LC_FORMAT_JPEG;
+    lc_proto_error pe;
+    if (m->update && lc_proto_apply_request(m->update, lim, &req, &pe) != 0) {
+        answer_proto_error(srv, out, &pe);
+        return;
+    }
+    /* The full-size frame of the viewport: its cost decides, and it is the
+     * session's request size from here on. */
+    lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &req.render.width,
+                         &req.render.height);
+    if (lc_session_check_budget(srv, ds, &req, NULL, &pe) != 0) {
+        answer_proto_error(srv, out, &pe);
+        return;
+    }
+    lc_stream_settings ss;
+    lc_proto_stream_default(&ss);
+    lc_proto_stream_apply(&ss, m);
+    lc_error err = {0};
+    lc_session *s = NULL;
+    if (lc_session_create(srv->sessions, LC_SESSION_WS, ds, &req, &s, &err) != 0) {
+        answer_error(srv, out, err.code == LC_ERR_LIMIT ? "too_many_sessions" : "internal", err.msg, NULL, true, 1013);
+        return;
+    }
+    pthread_mutex_lock(&s->lock);
+    s->stream.window = ss.window;
+    s->stream.quality = ss.quality;
+    s->stream.interactive_quality = ss.interactive_quality;
+    s->stream.interactive_scale = ss.interactive_scale;
+    s->stream.css_width = m->width;
+    s->stream.css_height = m->height;
+    s->stream.device_pixel_ratio = m->device_pixel_ratio;
+    s->stream.dirty = true; /* the first frame */
+    req = s->req;
+    pthread_mutex_unlock(&s->lock);
+    conn->session = s;
+    out->opened = true;
+    json_t *info = lc_dataset_info(ds);
+    out->reply = lc_proto_ready_json(s->id, info, &req, lim, &ss);
+    json_decref(info);
+    LC_INFO(MOD, "session %s: %s, %dx%d css px x %.2f, window %d", s->id, ds->name, m->width, m->height,
+            m->device_pixel_ratio, ss.window);
+    out->wake = true;
+}
+
+/* A camera or params message: the session's update (latest wins), then what
+ * only the stream keeps (the camera's sequence number, the qualities). */
+static void on_update(lc_server *srv, const lc_proto_limits *lim, lc_session *s, lc_client_msg *m, double now,
+                      lc_stream_outcome *out)
+{
+    lc_proto_error pe;
+    pthread_mutex_lock(&s->lock);
+    int rc = lc_session_update_locked(s, m->update, lim, NULL, &pe);
+    if (rc == 0 && m->type == LC_MSG_CAMERA && m->seq > s->stream.camera_seq)
+        s->stream.camera_seq = m->seq;
+    if (rc == 0 && m->type == LC_MSG_PARAMS) {
+        if (m->has_quality)
+            s->stream.quality = m->quality;
+        if (m->has_interactive_quality)
+            s->stream.interactive_quality = m->interactive_quality;
+        if (m->has_interactive_scale)
+            s->stream.interactive_scale = m->interactive_scale;
+    }
+    pthread_mutex_unlock(&s->lock);
+    if (rc != 0) {
+        answer_proto_error(srv, out, &pe);
+        return;
+    }
+    lc_session_stream_input(s, now);
+    out->wake = true;
+}
+
+/* A resize: the new viewport's full-size frame must fit the budget, as an update would. */
+static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double now, lc_stream_outcome *out)
+{
+    lc_proto_error pe;
+    pthread_mutex_lock(&s->lock);
+    double dpr = m->has_device_pixel_ratio ? m->device_pixel_ratio : s->stream.device_pixel_ratio;
+    lc_request req = s->req; /* a larger frame costs more (wider ribbons) */
+    lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req.render.width, &req.render.height);
+    int rc = lc_session_check_budget(srv, s->dataset, &req, NULL, &pe);
+    if (rc == 0) {
+        s->stream.css_width = m->width;
+        s->stream.css_height = m->height;
+        s->stream.device_pixel_ratio = dpr;
+    }
+    pthread_mutex_unlock(&s->lock);
+    if (rc != 0) {
+        answer_proto_error(srv, out, &pe);
+        return;
+    }
+    lc_session_stream_input(s, now);
+    out->wake = true;
+}
+
+void lc_stream_on_text(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn *conn, const char *data, size_t len,
+                       lc_stream_outcome *out)
+{
+    memset(out, 0, sizeof *out);
+    lc_client_msg m;
+    lc_proto_error pe;
+    if (lc_proto_parse_client_message(data, len, lim, &m, &pe) != 0) {
+        answer_proto_error(srv, out, &pe);
+        out->bad = true;
+        return;
+    }
+    if (m.type != LC_MSG_HELLO && !conn->session) {
+        answer_error(srv, out, "bad_state", "the first message must be a hello", "type", false, 0);
+        lc_client_msg_free(&m);
+        out->bad = true;
+        return;
+    }
+    out->valid = true;
+    lc_session *s = conn->session;
+    double now = lc_now();
+    switch (m.type) {
+    case LC_MSG_HELLO: on_hello(srv, lim, conn, &m, out); break;
+    case LC_MSG_CAMERA:
+    case LC_MSG_PARAMS: on_update(srv, lim, s, &m, now, out); break;
+    case LC_MSG_RESIZE: on_resize(srv, s, &m, now, out); break;
+    case LC_MSG_ACK:
+        if (!lc_session_stream_ack(s, m.frame)) {
+            char msg[128];
+            snprintf(msg, sizeof msg, "frame %llu has not been sent", (unsigned long long)m.frame);
+            answer_error(srv, out, LC_PROTO_OUT_OF_RANGE, msg, "frame", false, 0);
+            out->bad = true;
+            break;
+        }
+        out->wake = true;
+        break;
+    }
+    lc_client_msg_free(&m);
+}
+
+/* ---------------------------------------------------------------- stats */
+
+void lc_stream_stats_frame(lc_stream_stats *st, double now, double render_ms, double encode_ms)
+{
+    size_t i = (size_t)(st->frames % LC_STREAM_STATS_SAMPLES);
+    st->sent_at[i] = now;
+    st->render_ms[i] = render_ms;
+    st->encode_ms[i] = encode_ms;
+    st->frames++;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Milliseconds rounded to the microsecond: enough for a status line. */
+static json_t *ms_json(double ms) { return json_real(round(ms * 1000.0) / 1000.0); }
+
+bool lc_stream_stats_due(const lc_stream_stats *st, double now)
+{
+    return st->frames > st->frames_at_report && now - st->last_report >= LC_STREAM_STATS_INTERVAL;
+}
+
+char *lc_stream_stats_message(lc_stream_stats *st, lc_session *s, int render_queue, double now)
+{
+    uint64_t fresh = st->frames - st->frames_at_report;
+    /* Timing figures over the frames since the last report (the latest
+     * LC_STREAM_STATS_SAMPLES of them); fps over the last second. */
+    int n = fresh < LC_STREAM_STATS_SAMPLES ? (int)fresh : LC_STREAM_STATS_SAMPLES;
+    int held = st->frames < LC_STREAM_STATS_SAMPLES ? (int)st->frames : LC_STREAM_STATS_SAMPLES;
+    double render[LC_STREAM_STATS_SAMPLES], render_sum = 0, encode_sum = 0;
+    int fps = 0;
+    for (int k = 0; k < held; k++) {
+        size_t i = (size_t)((st->frames - 1 - (uint64_t)k) % LC_STREAM_STATS_SAMPLES);
+        if (now - st->sent_at[i] <= 1.0)
+            fps++;
+        if (k < n) {
+            render[k] = st->render_ms[i];
+            render_sum += st->render_ms[i];
+            encode_sum += st->encode_ms[i];
+        }
+    }
+    qsort(render, (size_t)n, sizeof render[0], cmp_double);
+    double p50 = n % 2 ? render[n / 2] : 0.5 * (render[n / 2 - 1] + render[n / 2]);
+    pthread_mutex_lock(&s->lock);
+    uint64_t dropped = s->stream.coalesced;
+    int unacked = s->stream.unacked, window = s->stream.window;
+    pthread_mutex_unlock(&s->lock);
+
+    json_t *f = json_object();
+    json_object_set_new(f, "framesSent", json_integer((json_int_t)st->frames));
+    json_object_set_new(f, "framesDropped", json_integer((json_int_t)dropped));
+    json_object_set_new(f, "fps", json_integer(fps));
+    json_object_set_new(f, "renderMs", ms_json(render_sum / n));
+    json_object_set_new(f, "renderP50Ms", ms_json(p50));
+    json_object_set_new(f, "encodeMs", ms_json(encode_sum / n));
+    json_object_set_new(f, "queue", json_integer(render_queue));
+    json_object_set_new(f, "unacked", json_integer(unacked));
+    json_object_set_new(f, "window", json_integer(window));
+    json_object_set_new(f, "bytesSent", json_integer((json_int_t)st->bytes));
+    json_object_set_new(f, "interval", json_real(round((now - st->last_report) * 1000.0) / 1000.0));
+    char *text = lc_proto_stats_json(f);
+    json_decref(f);
+    st->frames_at_report = st->frames;
+    st->last_report = now;
+    return text;
+}

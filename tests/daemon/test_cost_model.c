@@ -1,0 +1,120 @@
+/* The cost model in process (cost.c) against the pass plan (render/gl
+ * pass_plan.c): an opaque frame of splats computed by hand, the passes the
+ * plan adds for each depth range and method, and the field a refusal names. */
+#include <math.h>
+#include <string.h>
+
+#include "cost.h"
+#include "lc_test.h"
+#include "renderer.h"
+
+#define PI 3.14159265358979323846
+
+static lc_scene_measures points(double n)
+{
+    lc_scene_measures st;
+    memset(&st, 0, sizeof st);
+    st.type = LC_PRIM_POINTS;
+    st.primitives = st.vertices = st.elements = n;
+    st.radius = 1.0;
+    return st;
+}
+
+static lc_render_params params(lc_method m, lc_depth_range range)
+{
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = 200;
+    p.height = 100;
+    p.method = m;
+    p.foo.depth_range = range;
+    return p;
+}
+
+static void test_plan(void)
+{
+    lc_pass_plan plan;
+    lc_render_params p = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_MOMENTS);
+    lc_pass_plan_make(&p, 0, &plan);
+    CHECK(plan.moments && !plan.pixel_range && plan.run[LC_PASS_DEPTH_RANGE] == LC_RUN_LOW,
+          "fourier, moments: P0 at the optimization resolution");
+    CHECK(plan.run[LC_PASS_IMPORTANCE] == LC_RUN_LOW && plan.run[LC_PASS_OPACITY] == LC_RUN_LOW &&
+              plan.run[LC_PASS_SMOOTH] == LC_RUN_ONCE && plan.run[LC_PASS_OPTICAL_DEPTH] == LC_RUN_FULL &&
+              plan.run[LC_PASS_ACCUMULATE] == LC_RUN_FULL && plan.run[LC_PASS_RESOLVE] == LC_RUN_FULL,
+          "fourier: P1, P2 low, P3 once, P4-P6 full");
+    p.detail.reuse_opacities = 1;
+    lc_pass_plan_make(&p, 1, &plan);
+    CHECK(plan.reuse && !plan.moments && plan.run[LC_PASS_IMPORTANCE] == LC_RUN_NONE &&
+              plan.run[LC_PASS_SMOOTH] == LC_RUN_NONE && plan.run[LC_PASS_DEPTH_RANGE] == LC_RUN_NONE,
+          "reusing opacities: no P1-P3 and no moments");
+    lc_pass_plan_make(&p, 0, &plan);
+    CHECK(!plan.reuse && plan.moments, "no state to reuse: a full frame");
+    p = params(LC_METHOD_OPAQUE, LC_DEPTH_RANGE_PIXEL);
+    lc_pass_plan_make(&p, 0, &plan);
+    int runs = 0;
+    for (int k = 0; k < LC_PASS_COUNT; k++)
+        runs += plan.run[k] != LC_RUN_NONE;
+    CHECK(runs == 2 && plan.run[LC_PASS_ACCUMULATE] == LC_RUN_FULL && plan.run[LC_PASS_READBACK] == LC_RUN_FULL,
+          "opaque: one pass and the readback (%d)", runs);
+    p = params(LC_METHOD_DIRECT, LC_DEPTH_RANGE_PIXEL);
+    lc_pass_plan_make(&p, 0, &plan);
+    CHECK(plan.pixel_range && plan.run[LC_PASS_DEPTH_RANGE] == LC_RUN_BOTH && plan.run[LC_PASS_IMPORTANCE] == LC_RUN_NONE,
+          "direct, pixel range: P0 at both resolutions, no P1-P3");
+}
+
+static void test_estimates(void)
+{
+    /* Opaque splats by hand: each covers pi r^2 pixels, one pass. */
+    lc_scene_measures st = points(1000);
+    lc_render_params p = params(LC_METHOD_OPAQUE, LC_DEPTH_RANGE_GLOBAL);
+    double r = fmax(0.5 * p.style.point_size, 0.75), image = 200.0 * 100.0;
+    double frags = 1000 * fmin(PI * r * r, image);
+    double want = frags + image + (1000 + 100.0 * 1000) + 1000 * (p.foo.smoothing + 1.0);
+    CHECK_NEAR(lc_cost_estimate(&st, &p), want, 1e-9 * want, "opaque splats");
+
+    /* Fourier by hand: P1 (targets / subset) and P2 at s^2, P4 and P5 at full,
+     * plus P0 by the depth range. */
+    p = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_GLOBAL);
+    double s2 = p.foo.resolution_scale * p.foo.resolution_scale, t = ceil((2.0 * p.foo.bands + 1.0) / 4.0);
+    double sub = p.foo.subset > 1 ? p.foo.subset : 1;
+    double geometry = (s2 + 1.0) * (t / sub + 1.0), screens = t + 2.0;
+    double base = frags * geometry + image * screens + (1000 + 100.0 * 1000) * ceil(geometry) +
+                  1000 * (p.foo.smoothing + 1.0);
+    CHECK_NEAR(lc_cost_estimate(&st, &p), base, 1e-9 * base, "fourier, global range");
+    p.foo.depth_range = LC_DEPTH_RANGE_MOMENTS;
+    double g2 = geometry + s2 / sub;
+    double m = frags * g2 + image * screens + (1000 + 100.0 * 1000) * ceil(g2) + 1000 * (p.foo.smoothing + 1.0);
+    CHECK_NEAR(lc_cost_estimate(&st, &p), m, 1e-9 * m, "fourier, moments: one more target at s^2");
+    p.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
+    double g3 = geometry + s2 + 1.0;
+    double px = frags * g3 + image * screens + (1000 + 100.0 * 1000) * ceil(g3) + 1000 * (p.foo.smoothing + 1.0);
+    CHECK_NEAR(lc_cost_estimate(&st, &p), px, 1e-9 * px, "fourier, pixel range: a pass at both resolutions");
+
+    /* Direct: what the plan runs is charged, P0's pixel range included. */
+    lc_render_params d = params(LC_METHOD_DIRECT, LC_DEPTH_RANGE_GLOBAL), dp = d;
+    dp.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
+    CHECK(lc_cost_estimate(&st, &dp) > lc_cost_estimate(&st, &d), "direct with the pixel range costs more");
+
+    /* Larger images cost more; a refusal names the field to lower. */
+    lc_render_params big = p;
+    big.width *= 2;
+    CHECK(lc_cost_estimate(&st, &big) > lc_cost_estimate(&st, &p), "a wider image costs more");
+    lc_render_params huge = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO);
+    huge.style.point_size = 64;
+    double cost = 0;
+    const char *field = NULL;
+    char why[320];
+    lc_render_params normal = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO);
+    double budget = lc_cost_estimate(&st, &normal) * 1.1;
+    CHECK(lc_cost_check(&st, &huge, budget, &cost, &field, why, sizeof why) != 0 && field &&
+              strcmp(field, "style.pointSize") == 0,
+          "huge splats are refused naming style.pointSize (%s: %s)", field ? field : "-", why);
+    CHECK(lc_cost_check(&st, &huge, 0, &cost, &field, why, sizeof why) == 0, "budget 0 = no limit");
+}
+
+int main(void)
+{
+    test_plan();
+    test_estimates();
+    return lc_test_finish();
+}

@@ -1,0 +1,64 @@
+/* Worker fairness in process (fair_queue.c): clients take turns, one task
+ * each, whatever order they queued in; a client's jobs are counted for the
+ * per-client cap; an emptied client leaves the ring. */
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "fair_queue.h"
+#include "lc_test.h"
+
+static lc_task tasks[64];
+static int used;
+
+static lc_task *task(uint64_t key, bool job)
+{
+    lc_task *t = &tasks[used++];
+    t->key = key;
+    t->job = job ? (struct lc_render_job *)(uintptr_t)(0x1000 + 16 * used) : NULL; /* only compared with NULL */
+    t->session = NULL;
+    return t;
+}
+
+int main(void)
+{
+    lc_fair_queue q = {0};
+    /* Client 1 bursts five renders, then clients 2 and 3 queue one each. */
+    for (int i = 0; i < 5; i++)
+        CHECK(lc_fair_push(&q, task(1, true)) == 0, "push");
+    lc_fair_push(&q, task(2, true));
+    lc_fair_push(&q, task(3, false)); /* a session: not a job */
+    CHECK(q.tasks == 7 && q.jobs == 6 && q.clients == 3, "7 tasks, 6 jobs, 3 clients (%d %d %d)", q.tasks, q.jobs,
+          q.clients);
+    CHECK(lc_fair_jobs_of(&q, 1) == 5 && lc_fair_jobs_of(&q, 2) == 1 && lc_fair_jobs_of(&q, 3) == 0,
+          "jobs per client");
+    uint64_t order[7], want[7] = {1, 2, 3, 1, 1, 1, 1};
+    int n = 0;
+    lc_task *t;
+    while ((t = lc_fair_pop(&q)) && n < 7)
+        order[n++] = t->key;
+    CHECK(n == 7, "every task comes out (%d)", n);
+    for (int i = 0; i < n; i++)
+        CHECK(order[i] == want[i], "turn %d: client %llu (want %llu)", i, (unsigned long long)order[i],
+              (unsigned long long)want[i]);
+    CHECK(q.tasks == 0 && q.jobs == 0 && q.clients == 0 && !lc_fair_pop(&q), "empty afterwards");
+
+    /* A client that joins while others wait takes its turn after each of them
+     * once, not after all of their work. */
+    used = 0;
+    for (int i = 0; i < 3; i++)
+        lc_fair_push(&q, task(10, true));
+    for (int i = 0; i < 3; i++)
+        lc_fair_push(&q, task(20, true));
+    uint64_t first = lc_fair_pop(&q)->key; /* 10 served, goes to the end */
+    lc_fair_push(&q, task(30, true));
+    uint64_t seq[4];
+    for (int i = 0; i < 4; i++)
+        seq[i] = lc_fair_pop(&q)->key;
+    CHECK(first == 10 && seq[0] == 20 && seq[1] == 10 && seq[2] == 30 && seq[3] == 20,
+          "10, then 20, 10, 30, 20 (got %llu, %llu %llu %llu %llu)", (unsigned long long)first,
+          (unsigned long long)seq[0], (unsigned long long)seq[1], (unsigned long long)seq[2], (unsigned long long)seq[3]);
+    while (lc_fair_pop(&q))
+        ;
+    return lc_test_finish();
+}

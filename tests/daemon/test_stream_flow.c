@@ -1,0 +1,205 @@
+/* The stream's flow control in process (session.c, stream.c): hello through
+ * the stream protocol, the window of unacknowledged frames, latest-wins
+ * coalescing of updates, convergence and the still frame, blind acks, and
+ * one update path with its budget check for HTTP sessions and streams. */
+#include <stdlib.h>
+
+#include "daemon_test_util.h"
+#include "lc_test.h"
+#include "stream.h"
+
+static lc_server srv;
+
+/* One text message through the protocol; returns the outcome (reply freed). */
+static lc_stream_outcome send_text(lc_stream_conn *conn, const char *text, char *reply, size_t n)
+{
+    lc_stream_outcome o;
+    lc_stream_on_text(&srv, &srv.cfg.limits, conn, text, strlen(text), &o);
+    if (reply)
+        snprintf(reply, n, "%s", o.reply ? o.reply : "");
+    free(o.reply);
+    return o;
+}
+
+/* What a render worker would do with a frame: finished, converged or not, and sent. */
+static void finish(lc_session *s, const lc_stream_frame *f, bool converged)
+{
+    lc_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.converged = converged;
+    info.wall_ms = 10;
+    lc_session_stream_done(s, f, true, &info);
+    lc_session_stream_sent(s, f->frame);
+}
+
+static void test_window(lc_session *s)
+{
+    lc_stream_frame f1, f2, f3;
+    double wake = 0, now = lc_now();
+    CHECK(lc_session_stream_next(s, now, &f1, &wake) == 1 && f1.frame == 1, "the hello's first frame is due");
+    CHECK(lc_session_stream_next(s, now, &f2, &wake) == 0, "one frame at a time while one is rendering");
+    finish(s, &f1, false);
+    CHECK(lc_session_stream_next(s, now, &f2, &wake) == 1 && f2.frame == 2, "a fading frame continues (window 2)");
+    finish(s, &f2, false);
+    CHECK(lc_session_stream_next(s, now, &f3, &wake) == 0, "two frames unacked with window 2: nothing more");
+    CHECK(s->stream.unacked == 2, "two frames outstanding (%d)", s->stream.unacked);
+    CHECK(!lc_session_stream_ack(s, 99), "a blind ack (frame 99 never sent) is refused");
+    CHECK(s->stream.unacked == 2, "and opens nothing");
+    CHECK(lc_session_stream_ack(s, 1), "ack of frame 1");
+    CHECK(lc_session_stream_next(s, now, &f3, &wake) == 1 && f3.frame == 3, "the ack opens the window for frame 3");
+    finish(s, &f3, true);
+    CHECK(lc_session_stream_ack(s, 3), "ack of frames 2 and 3");
+    CHECK(s->stream.unacked == 0, "nothing outstanding (%d)", s->stream.unacked);
+}
+
+static void test_latest_wins(lc_stream_conn *conn)
+{
+    lc_session *s = conn->session;
+    /* Fill the window, then move the camera three times. */
+    lc_stream_frame a, b, c;
+    double wake = 0;
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &a, &wake) == 1, "input: a frame");
+    finish(s, &a, true);
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &b, &wake) == 1, "more input: a second frame");
+    finish(s, &b, true);
+    uint64_t coalesced = s->stream.coalesced;
+    for (int k = 1; k <= 3; k++) {
+        char msg[256], reply[512];
+        snprintf(msg, sizeof msg,
+                 "{\"type\":\"camera\",\"seq\":%d,\"camera\":{\"position\":[0,0,%d],\"focalPoint\":[0,0,0],"
+                 "\"viewUp\":[0,1,0],\"viewAngle\":30}}",
+                 10 + k, 4 + k);
+        lc_stream_outcome o = send_text(conn, msg, reply, sizeof reply);
+        CHECK(o.valid && !o.bad && o.wake && !reply[0], "camera %d applied (%s)", k, reply);
+        CHECK(lc_session_stream_next(s, lc_now(), &c, &wake) == 0, "window full: camera %d waits", k);
+    }
+    CHECK(lc_session_stream_ack(s, b.frame), "ack opens the window");
+    CHECK(lc_session_stream_next(s, lc_now(), &c, &wake) == 1, "one frame for the three updates");
+    CHECK(c.req.render.has_camera && c.req.render.camera.position[2] == 7.0,
+          "the frame shows the latest camera (z = %g, want 7)", c.req.render.camera.position[2]);
+    CHECK(c.camera_seq == 13, "and carries its seq (%llu)", (unsigned long long)c.camera_seq);
+    CHECK(s->stream.coalesced == coalesced + 2, "two updates coalesced (%llu)",
+          (unsigned long long)(s->stream.coalesced - coalesced));
+    finish(s, &c, true);
+    lc_session_stream_ack(s, c.frame);
+}
+
+static void test_convergence(lc_session *s)
+{
+    lc_stream_frame f;
+    double wake = 0;
+    /* Quiet input long ago: no interactive frame, and a converged frame ends the stream. */
+    pthread_mutex_lock(&s->lock);
+    s->stream.last_input -= 10.0;
+    s->stream.dirty = true;
+    pthread_mutex_unlock(&s->lock);
+    CHECK(lc_session_stream_next(s, lc_now(), &f, &wake) == 1 && !f.interactive, "a still frame after quiet input");
+    finish(s, &f, false);
+    lc_session_stream_ack(s, f.frame);
+    CHECK(lc_session_stream_next(s, lc_now(), &f, &wake) == 1, "not converged: the fade goes on");
+    finish(s, &f, true);
+    lc_session_stream_ack(s, f.frame);
+    wake = -1;
+    CHECK(lc_session_stream_next(s, lc_now(), &f, &wake) == 0 && wake == 0, "converged and no input: idle, no timer");
+
+    /* Input: interactive frames, then the still frame when input has been quiet for still_delay. */
+    double t0 = lc_now();
+    lc_session_stream_input(s, t0);
+    CHECK(lc_session_stream_next(s, t0, &f, &wake) == 1 && f.interactive, "input: an interactive frame");
+    finish(s, &f, true);
+    lc_session_stream_ack(s, f.frame);
+    double delay = srv.cfg.still_delay;
+    CHECK(lc_session_stream_next(s, t0 + 0.5 * delay, &f, &wake) == 0 && fabs(wake - (t0 + delay)) < 1e-9,
+          "converged interactive frame: wait for the still frame at input + still_delay (wake %g)", wake - t0);
+    CHECK(lc_session_stream_next(s, t0 + delay, &f, &wake) == 1 && !f.interactive, "then the still frame");
+    finish(s, &f, true);
+    lc_session_stream_ack(s, f.frame);
+    CHECK(lc_session_stream_next(s, t0 + 2 * delay, &f, &wake) == 0 && wake == 0, "after it: idle");
+}
+
+static void test_budget(lc_stream_conn *conn)
+{
+    lc_session *s = conn->session;
+    char reply[1024];
+    lc_request before = s->req;
+    double cost = lc_cost_estimate(&s->dataset->cost, &s->req.render);
+    srv.cfg.max_cost = cost * 1.01;
+    lc_stream_outcome o = send_text(conn, "{\"type\":\"params\",\"params\":{\"bands\":8,\"resolutionScale\":1}}", reply,
+                                    sizeof reply);
+    CHECK(!o.wake && strstr(reply, "too_expensive"), "an update beyond --max-cost is refused (%s)", reply);
+    CHECK(s->req.render.foo.bands == before.render.foo.bands &&
+              s->req.render.foo.resolution_scale == before.render.foo.resolution_scale,
+          "and the session keeps its request");
+    o = send_text(conn, "{\"type\":\"resize\",\"width\":4000,\"height\":3000}", reply, sizeof reply);
+    CHECK(!o.wake && strstr(reply, "too_expensive") && s->stream.css_width == 100, "a resize beyond it too (%s)", reply);
+    srv.cfg.max_cost = LC_COST_DEFAULT_BUDGET;
+
+    /* The same update path for an HTTP session: refused updates change nothing. */
+    lc_session *h = NULL;
+    lc_error err = {0};
+    lc_request req;
+    lc_request_default(&req);
+    snprintf(req.dataset, sizeof req.dataset, "demo:points");
+    CHECK(lc_session_create(srv.sessions, LC_SESSION_HTTP, s->dataset, &req, &h, &err) == 0, "an HTTP session");
+    if (!h)
+        return;
+    lc_proto_error pe;
+    json_error_t je;
+    json_t *bad = json_loads("{\"dataset\":\"demo:other\"}", 0, &je);
+    json_t *wide = json_loads("{\"width\":4096,\"height\":4096}", 0, &je);
+    json_t *ok = json_loads("{\"params\":{\"bands\":5}}", 0, &je);
+    srv.cfg.max_cost = lc_cost_estimate(&s->dataset->cost, &h->req.render) * 2;
+    pthread_mutex_lock(&h->lock);
+    int rc_bad = lc_session_update_locked(h, bad, &srv.cfg.limits, NULL, &pe);
+    bool named = rc_bad != 0 && strcmp(pe.field, "dataset") == 0;
+    int rc_wide = lc_session_update_locked(h, wide, &srv.cfg.limits, NULL, &pe);
+    bool costly = rc_wide != 0 && strcmp(pe.code, "too_expensive") == 0;
+    int w = h->req.render.width;
+    lc_request out;
+    int rc_ok = lc_session_update_locked(h, ok, &srv.cfg.limits, &out, &pe);
+    pthread_mutex_unlock(&h->lock);
+    CHECK(named, "a change of dataset is refused naming it");
+    CHECK(costly && w == req.render.width, "an HTTP update beyond --max-cost is refused, nothing committed (%d)", w);
+    CHECK(rc_ok == 0 && h->req.render.foo.bands == 5 && out.render.foo.bands == 5, "a fitting update is committed");
+    srv.cfg.max_cost = LC_COST_DEFAULT_BUDGET;
+    json_decref(bad), json_decref(wide), json_decref(ok);
+    lc_session_close(srv.sessions, h);
+    lc_session_unref(h);
+}
+
+int main(void)
+{
+    if (test_daemon(&srv, 3000) != 0)
+        return 1;
+    lc_stream_conn conn = {.authed = true};
+    char reply[4096];
+    lc_stream_outcome o = send_text(&conn, "{\"type\":\"camera\",\"seq\":1,\"camera\":{\"position\":[0,0,5]}}", reply,
+                                    sizeof reply);
+    CHECK(o.bad && strstr(reply, "bad_state"), "a message before hello is refused (%s)", reply);
+    o = send_text(&conn, "{not json", reply, sizeof reply);
+    CHECK(o.bad && !o.valid && reply[0], "garbage counts as a bad message");
+    o = send_text(&conn,
+                  "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":100,\"height\":80,\"devicePixelRatio\":1,"
+                  "\"window\":2}",
+                  reply, sizeof reply);
+    CHECK(o.opened && o.valid && o.wake && conn.session && strstr(reply, "\"ready\""), "hello opens a session (%s)",
+          reply);
+    if (!conn.session)
+        return lc_test_finish();
+    lc_session *s = conn.session;
+    CHECK(s->stream.window == 2 && s->req.render.width == 100 && s->req.render.height == 80,
+          "window 2, a 100x80 frame (%d, %dx%d)", s->stream.window, s->req.render.width, s->req.render.height);
+    o = send_text(&conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":10,\"height\":10}", reply,
+                  sizeof reply);
+    CHECK(!o.opened && strstr(reply, "bad_state"), "a second hello is refused");
+    test_window(s);
+    test_latest_wins(&conn);
+    test_convergence(s);
+    test_budget(&conn);
+    lc_session_close(srv.sessions, s);
+    lc_session_unref(s);
+    test_daemon_free(&srv);
+    return lc_test_finish();
+}

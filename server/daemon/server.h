@@ -8,8 +8,9 @@
  * Rooms (server/daemon/):
  *   serve.c      `lucent serve`: flags, start-up (datasets before the port opens), signals, shutdown
  *   ranks.c      serve --mpi: the one room that speaks MPI; sets the frame hook
- *   http/        libmicrohttpd: dispatch and simple routes (http.c), renders (http_render.c),
- *                responses (http_respond.c), the embedded web client (web_files.c)
+ *   http/        libmicrohttpd: dispatch, token gates, the web client (http.c, web_files.c),
+ *                renders (http_render.c), health/datasets/metrics (http_status.c), the
+ *                WebSocket handshake (http_upgrade.c), responses (http_respond.c)
  *   stream/      WebSocket: epoll/wslay transport (ws.c), the stream protocol (stream.c)
  *   pool/        render workers (workers.c), encoder threads (encoders.c), the fair queue (fair_queue.c)
  *   session.c    per-viewer state: request and its updates, element opacities, stream flow control

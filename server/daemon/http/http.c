@@ -1,5 +1,6 @@
-/* HTTP routes on libmicrohttpd: health, datasets, one-shot and session renders,
- * metrics, the WebSocket handshake and the embedded web client. */
+/* HTTP front end on libmicrohttpd: the daemon, the checks made from the headers
+ * alone (query size, body length, token), the dispatch to the routes beside it
+ * (http_render.c, http_status.c, http_upgrade.c) and the embedded web client. */
 #include "http.h"
 
 #include <arpa/inet.h>

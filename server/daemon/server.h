@@ -64,8 +64,8 @@ struct lc_reducer;
 typedef struct lc_frame_hook {
     void *ctx;
     /* Before each frame, with its arguments; non-zero fails the frame. Thread: a render worker. */
-    int (*before)(void *ctx, const struct lc_dataset *ds, const lc_render_params *p,
-                  const struct lc_frame_state *state, double dt, lc_error *err);
+    int (*before)(void *ctx, const struct lc_dataset *ds, const lc_render_params *p, const struct lc_frame_state *state,
+                  double dt, lc_error *err);
     const struct lc_reducer *reducer; /* every worker's lc_renderer_desc.reducer */
 } lc_frame_hook;
 
@@ -116,8 +116,8 @@ typedef struct lc_server {
     char gl_renderer[256];
     char gl_version[256];
     char gl_platform[128];
-    atomic_int stopping; /* set once shutdown begins: refuse new work */
-    struct lc_mpi *mpi;  /* --mpi (ranks.c; opaque here); NULL in one process */
+    atomic_int stopping;      /* set once shutdown begins: refuse new work */
+    struct lc_mpi *mpi;       /* --mpi (ranks.c; opaque here); NULL in one process */
     lc_frame_hook frame_hook; /* set by ranks.c under --mpi, else zero */
 } lc_server;
 

@@ -33,11 +33,13 @@ int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc
     switch (s->type) {
     case LC_PRIM_POINTS: rc = build_points(s, e, err); break;
     case LC_PRIM_LINES:
-        rc = lc_elements_build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s), err);
+        rc = lc_elements_build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s),
+                                     err);
         break;
     case LC_PRIM_TRIANGLES: {
         uint32_t want = desc && desc->patch_count ? desc->patch_count : lc_elements_default_count(s);
-        rc = lc_elements_build_patches(s, e, want ? want : 1, desc ? desc->patch_sampling : LC_PATCH_SAMPLING_AUTO, err);
+        rc =
+            lc_elements_build_patches(s, e, want ? want : 1, desc ? desc->patch_sampling : LC_PATCH_SAMPLING_AUTO, err);
         break;
     }
     default: rc = lc_err(err, LC_ERR_INVALID, "%s: unknown primitive type", s->name);

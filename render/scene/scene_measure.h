@@ -13,13 +13,13 @@ extern "C" {
 
 typedef struct lc_scene_measures {
     lc_prim_type type;
-    double primitives;  /* points, line segments or triangles */
+    double primitives; /* points, line segments or triangles */
     double vertices;
     double elements;
     double line_length; /* world units, all segments */
     double area;        /* world units^2, all triangles */
     double center[3];
-    double radius;      /* half the bounds diagonal (> 0) */
+    double radius; /* half the bounds diagonal (> 0) */
 } lc_scene_measures;
 
 /* Measures s; a part read by one process (s->part_of) measures as the whole. */

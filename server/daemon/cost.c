@@ -74,9 +74,7 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         g[LC_PASS_IMPORTANCE] = g[LC_PASS_OPACITY] = g[LC_PASS_OPTICAL_DEPTH] = g[LC_PASS_ACCUMULATE] = 2.0;
         sc[LC_PASS_IMPORTANCE] = sc[LC_PASS_OPACITY] = sc[LC_PASS_OPTICAL_DEPTH] = sc[LC_PASS_ACCUMULATE] = 1.0;
         break;
-    case LC_METHOD_OPAQUE:
-        g[LC_PASS_ACCUMULATE] = sc[LC_PASS_ACCUMULATE] = 1.0;
-        break;
+    case LC_METHOD_OPAQUE: g[LC_PASS_ACCUMULATE] = sc[LC_PASS_ACCUMULATE] = 1.0; break;
     case LC_METHOD_DIRECT:
         g[LC_PASS_OPTICAL_DEPTH] = targets;
         g[LC_PASS_ACCUMULATE] = 1.0;
@@ -96,8 +94,10 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     g[LC_PASS_DEPTH_RANGE] = plan.moments ? 1.0 / subset : 1.0;
     double geometry = 0, screens = 0;
     for (int k = 0; k < LC_PASS_COUNT; k++) {
-        double at = plan.run[k] == LC_RUN_LOW ? s2 : plan.run[k] == LC_RUN_FULL ? 1.0
-                                                   : plan.run[k] == LC_RUN_BOTH ? s2 + 1.0 : 0.0;
+        double at = plan.run[k] == LC_RUN_LOW    ? s2
+                    : plan.run[k] == LC_RUN_FULL ? 1.0
+                    : plan.run[k] == LC_RUN_BOTH ? s2 + 1.0
+                                                 : 0.0;
         geometry += g[k] * at;
         screens += plan.run[k] == LC_RUN_NONE ? 0.0 : sc[k];
     }
@@ -148,8 +148,8 @@ const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p
     return "width";
 }
 
-int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double budget, double *cost, const char **field,
-                  char *msg, size_t n)
+int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double budget, double *cost,
+                  const char **field, char *msg, size_t n)
 {
     *cost = lc_cost_estimate(st, p);
     if (budget <= 0 || *cost <= budget)

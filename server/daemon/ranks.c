@@ -21,8 +21,8 @@ static lc_mpi *process_mpi; /* ended after everything else (lc_ranks_finalize) *
 
 /* The frame hook: announces the frame (dataset index in the registry,
  * parameters, the viewer's fading history) to the other ranks. */
-static int announce(void *ctx, const lc_dataset *ds, const lc_render_params *p, const lc_frame_state *state,
-                    double dt, lc_error *err)
+static int announce(void *ctx, const lc_dataset *ds, const lc_render_params *p, const lc_frame_state *state, double dt,
+                    lc_error *err)
 {
     lc_server *srv = ctx;
     int index = 0;
@@ -56,7 +56,8 @@ static int read_part(void *ctx, const char *path, lc_scene **out, lc_error *err)
 void lc_ranks_datasets_options(lc_server *srv, lc_datasets_options *opts)
 {
     const char *mpi_read = getenv("LUCENT_MPI_READ");
-    if (srv->mpi && !(mpi_read && strcmp(mpi_read, "whole") == 0)) { /* line files, point clouds: each rank reads its share */
+    if (srv->mpi &&
+        !(mpi_read && strcmp(mpi_read, "whole") == 0)) { /* line files, point clouds: each rank reads its share */
         opts->read_part = read_part;
         opts->read_part_ctx = srv->mpi;
     }
@@ -134,8 +135,7 @@ void lc_ranks_signal(lc_server *srv, const char *signame)
     /* Under mpirun a signal also comes when another rank died: mpirun then
      * ends the job and names the rank. A frame waiting for that rank
      * would hold the shutdown, so it has 10 s. */
-    LC_WARN("serve", "--mpi: %s received: ending the service on every rank (if a rank died, mpirun names it)",
-            signame);
+    LC_WARN("serve", "--mpi: %s received: ending the service on every rank (if a rank died, mpirun names it)", signame);
     lc_mpi_exit_guard(srv->mpi, 10.0);
     /* mpirun follows its signal with SIGKILL about a second later: answer
      * the frames in hand and the queue now rather than let them finish. */
@@ -149,4 +149,3 @@ void lc_ranks_stop(lc_server *srv)
         LC_ERROR(MOD, "%s", err.msg);
     lc_mpi_on_abort(srv->mpi, NULL, NULL); /* the pool and the WebSocket layer go next */
 }
-

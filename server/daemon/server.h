@@ -1,19 +1,23 @@
-/* The render daemon's shared types: its configuration and the server object
- * that ties the modules together. Every daemon module includes this; only
- * serve.c (start-up) includes the modules themselves.
+/* The render daemon's shared types: its configuration, the server object
+ * that ties the rooms together, and the two hooks through which a lower room
+ * reaches a higher one without including it (the stream sink, the frame hook).
+ * Every daemon room includes this; each room includes the headers of the rooms
+ * below it that it calls (docs/ARCHITECTURE.md "The daemon" draws who calls
+ * whom; tests/tools/check_layout.py keeps it free of circles).
  *
- * Module map (server/):
- *   server.c   shared helpers (token checks, WebSocket accept key)
- *   serve.c    flags, start-up (datasets before the port opens), signals, shutdown
- *   datasets.c registry of loaded scenes, their GPU copies, presets and sidecars
- *   workers.c  render threads (one EGL context each) and JPEG encoder threads
- *   session.c  per-viewer state: request, element opacities, stream flow control
- *   http.c     libmicrohttpd routes: API, static web client, metrics
- *   ws.c       WebSocket connections (MHD upgrade + wslay) on one I/O thread
- *   metrics.c  counters and histograms in Prometheus text format
- *   cost.c     render cost estimate before queueing (--max-cost)
- *   web_files.c the embedded web client's files (content type, ETag)
- *   frame_headers.c an HTTP render's statistics as response headers
+ * Rooms (server/daemon/):
+ *   serve.c      `lucent serve`: flags, start-up (datasets before the port opens), signals, shutdown
+ *   ranks.c      serve --mpi: the one room that speaks MPI; sets the frame hook
+ *   http/        libmicrohttpd: dispatch, token gates, the web client (http.c, web_files.c),
+ *                renders (http_render.c), health/datasets/metrics (http_status.c), the
+ *                WebSocket handshake (http_upgrade.c), responses (http_respond.c)
+ *   stream/      WebSocket: epoll/wslay transport (ws.c), the stream protocol (stream.c)
+ *   pool/        render workers (workers.c), encoder threads (encoders.c), the fair queue (fair_queue.c)
+ *   session.c    per-viewer state: request and its updates, element opacities, stream flow control
+ *   datasets.c   registry of loaded scenes, their GPU copies, presets and sidecars
+ *   auth.c       token checks, the WebSocket accept key
+ *   cost.c       render cost estimate before queueing (--max-cost)
+ *   metrics.c    counters and histograms in Prometheus text format
  *
  * Threads: main (start-up, then waits for a signal and shuts down), MHD's
  * threads (parse, validate, queue; never GL), render workers (all GL), encoder
@@ -39,8 +43,8 @@ typedef struct lc_http lc_http;
 typedef struct lc_ws lc_ws;
 typedef struct lc_session lc_session;
 
-/* Where finished stream messages go: the WebSocket layer, set by serve.c, so
- * that the render workers deliver frames without knowing the transport. Both
+/* Where finished stream messages go: the WebSocket transport, set by serve.c,
+ * so that the pool delivers frames without knowing the transport. Both
  * calls take ownership of msg (malloc'd) and may be made from any thread. */
 typedef struct lc_stream_sink {
     void *ctx;
@@ -60,8 +64,8 @@ struct lc_reducer;
 typedef struct lc_frame_hook {
     void *ctx;
     /* Before each frame, with its arguments; non-zero fails the frame. Thread: a render worker. */
-    int (*before)(void *ctx, const struct lc_dataset *ds, const lc_render_params *p,
-                  const struct lc_frame_state *state, double dt, lc_error *err);
+    int (*before)(void *ctx, const struct lc_dataset *ds, const lc_render_params *p, const struct lc_frame_state *state,
+                  double dt, lc_error *err);
     const struct lc_reducer *reducer; /* every worker's lc_renderer_desc.reducer */
 } lc_frame_hook;
 
@@ -107,13 +111,13 @@ typedef struct lc_server {
     lc_metrics *metrics;
     lc_http *http;
     lc_ws *ws;
-    lc_stream_sink sink; /* frame delivery of the workers (ws.c behind it) */
+    lc_stream_sink sink; /* frame delivery of the pool (stream/ws.c behind it) */
     double start_time;   /* lc_now() at start-up */
     char gl_renderer[256];
     char gl_version[256];
     char gl_platform[128];
-    atomic_int stopping; /* set once shutdown begins: refuse new work */
-    struct lc_mpi *mpi;  /* --mpi (ranks.c; opaque here); NULL in one process */
+    atomic_int stopping;      /* set once shutdown begins: refuse new work */
+    struct lc_mpi *mpi;       /* --mpi (ranks.c; opaque here); NULL in one process */
     lc_frame_hook frame_hook; /* set by ranks.c under --mpi, else zero */
 } lc_server;
 

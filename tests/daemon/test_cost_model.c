@@ -58,7 +58,8 @@ static void test_plan(void)
           "opaque: one pass and the readback (%d)", runs);
     p = params(LC_METHOD_DIRECT, LC_DEPTH_RANGE_PIXEL);
     lc_pass_plan_make(&p, 0, &plan);
-    CHECK(plan.pixel_range && plan.run[LC_PASS_DEPTH_RANGE] == LC_RUN_BOTH && plan.run[LC_PASS_IMPORTANCE] == LC_RUN_NONE,
+    CHECK(plan.pixel_range && plan.run[LC_PASS_DEPTH_RANGE] == LC_RUN_BOTH &&
+              plan.run[LC_PASS_IMPORTANCE] == LC_RUN_NONE,
           "direct, pixel range: P0 at both resolutions, no P1-P3");
 }
 
@@ -78,8 +79,8 @@ static void test_estimates(void)
     double s2 = p.foo.resolution_scale * p.foo.resolution_scale, t = ceil((2.0 * p.foo.bands + 1.0) / 4.0);
     double sub = p.foo.subset > 1 ? p.foo.subset : 1;
     double geometry = (s2 + 1.0) * (t / sub + 1.0), screens = t + 2.0;
-    double base = frags * geometry + image * screens + (1000 + 100.0 * 1000) * ceil(geometry) +
-                  1000 * (p.foo.smoothing + 1.0);
+    double base =
+        frags * geometry + image * screens + (1000 + 100.0 * 1000) * ceil(geometry) + 1000 * (p.foo.smoothing + 1.0);
     CHECK_NEAR(lc_cost_estimate(&st, &p), base, 1e-9 * base, "fourier, global range");
     p.foo.depth_range = LC_DEPTH_RANGE_MOMENTS;
     double g2 = geometry + s2 / sub;

@@ -30,8 +30,7 @@ int main(void)
     lc_fair_push(&q, task(3, false)); /* a session: not a job */
     CHECK(q.tasks == 7 && q.jobs == 6 && q.clients == 3, "7 tasks, 6 jobs, 3 clients (%d %d %d)", q.tasks, q.jobs,
           q.clients);
-    CHECK(lc_fair_jobs_of(&q, 1) == 5 && lc_fair_jobs_of(&q, 2) == 1 && lc_fair_jobs_of(&q, 3) == 0,
-          "jobs per client");
+    CHECK(lc_fair_jobs_of(&q, 1) == 5 && lc_fair_jobs_of(&q, 2) == 1 && lc_fair_jobs_of(&q, 3) == 0, "jobs per client");
     uint64_t order[7], want[7] = {1, 2, 3, 1, 1, 1, 1};
     int n = 0;
     lc_task *t;
@@ -57,7 +56,8 @@ int main(void)
         seq[i] = lc_fair_pop(&q)->key;
     CHECK(first == 10 && seq[0] == 20 && seq[1] == 10 && seq[2] == 30 && seq[3] == 20,
           "10, then 20, 10, 30, 20 (got %llu, %llu %llu %llu %llu)", (unsigned long long)first,
-          (unsigned long long)seq[0], (unsigned long long)seq[1], (unsigned long long)seq[2], (unsigned long long)seq[3]);
+          (unsigned long long)seq[0], (unsigned long long)seq[1], (unsigned long long)seq[2],
+          (unsigned long long)seq[3]);
     while (lc_fair_pop(&q))
         ;
     return lc_test_finish();

@@ -126,14 +126,15 @@ static void test_budget(lc_stream_conn *conn)
     lc_request before = s->req;
     double cost = lc_cost_estimate(&s->dataset->cost, &s->req.render);
     srv.cfg.max_cost = cost * 1.01;
-    lc_stream_outcome o = send_text(conn, "{\"type\":\"params\",\"params\":{\"bands\":8,\"resolutionScale\":1}}", reply,
-                                    sizeof reply);
+    lc_stream_outcome o =
+        send_text(conn, "{\"type\":\"params\",\"params\":{\"bands\":8,\"resolutionScale\":1}}", reply, sizeof reply);
     CHECK(!o.wake && strstr(reply, "too_expensive"), "an update beyond --max-cost is refused (%s)", reply);
     CHECK(s->req.render.foo.bands == before.render.foo.bands &&
               s->req.render.foo.resolution_scale == before.render.foo.resolution_scale,
           "and the session keeps its request");
     o = send_text(conn, "{\"type\":\"resize\",\"width\":4000,\"height\":3000}", reply, sizeof reply);
-    CHECK(!o.wake && strstr(reply, "too_expensive") && s->stream.css_width == 100, "a resize beyond it too (%s)", reply);
+    CHECK(!o.wake && strstr(reply, "too_expensive") && s->stream.css_width == 100, "a resize beyond it too (%s)",
+          reply);
     srv.cfg.max_cost = LC_COST_DEFAULT_BUDGET;
 
     /* The same update path for an HTTP session: refused updates change nothing. */
@@ -175,8 +176,8 @@ int main(void)
         return 1;
     lc_stream_conn conn = {.authed = true};
     char reply[4096];
-    lc_stream_outcome o = send_text(&conn, "{\"type\":\"camera\",\"seq\":1,\"camera\":{\"position\":[0,0,5]}}", reply,
-                                    sizeof reply);
+    lc_stream_outcome o =
+        send_text(&conn, "{\"type\":\"camera\",\"seq\":1,\"camera\":{\"position\":[0,0,5]}}", reply, sizeof reply);
     CHECK(o.bad && strstr(reply, "bad_state"), "a message before hello is refused (%s)", reply);
     o = send_text(&conn, "{not json", reply, sizeof reply);
     CHECK(o.bad && !o.valid && reply[0], "garbage counts as a bad message");

@@ -1,5 +1,6 @@
-/* HTTP routes on libmicrohttpd: health, datasets, one-shot and session renders,
- * metrics, the WebSocket handshake and the embedded web client. */
+/* HTTP front end on libmicrohttpd: the daemon, the checks made from the headers
+ * alone (query size, body length, token), the dispatch to the routes beside it
+ * (http_render.c, http_status.c, http_upgrade.c) and the embedded web client. */
 #include "http.h"
 
 #include <arpa/inet.h>
@@ -15,15 +16,12 @@
 #include <unistd.h>
 
 #include "auth.h"
-#include "datasets.h"
 #include "http_render.h"
 #include "http_respond.h"
+#include "http_status.h"
+#include "http_upgrade.h"
 #include "messages.h"
-#include "metrics.h"
-#include "session.h"
 #include "web_files.h"
-#include "workers.h"
-#include "ws.h"
 
 #define MOD "http"
 #define MAX_QUERY_ARGS 256 /* query parameters of one request (the schema has fewer than 100 keys) */
@@ -82,55 +80,7 @@ static enum MHD_Result count_content_length(void *cls, enum MHD_ValueKind kind, 
     return MHD_YES;
 }
 
-/* ---------------------------------------------------------------- simple routes */
-
-static enum MHD_Result route_health(lc_server *srv, struct MHD_Connection *c)
-{
-    int http = 0, ws = 0;
-    lc_sessions_count(srv->sessions, &http, &ws);
-    json_t *o = json_object();
-    json_object_set_new(o, "status", json_string(atomic_load(&srv->stopping) ? "stopping" : "ok"));
-    json_object_set_new(o, "renderer", json_string(srv->gl_renderer));
-    json_object_set_new(o, "glVersion", json_string(srv->gl_version));
-    json_object_set_new(o, "platform", json_string(srv->gl_platform));
-    json_object_set_new(o, "uptime", json_real(lc_now() - srv->start_time));
-    json_object_set_new(o, "datasets", json_integer(lc_datasets_count(srv->datasets)));
-    json_object_set_new(o, "workers", json_integer(lc_workers_count(srv->workers)));
-    json_object_set_new(o, "sessions", json_pack("{s:i, s:i}", "http", http, "ws", ws));
-    json_object_set_new(o, "protocolVersion", json_integer(LC_PROTO_VERSION));
-    return lc_http_json(srv, c, 200, o);
-}
-
-static enum MHD_Result route_datasets(lc_server *srv, struct MHD_Connection *c, const char *name)
-{
-    if (name) {
-        const lc_dataset *ds = lc_datasets_find(srv->datasets, name);
-        if (!ds || !name[0])
-            return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", name);
-        return lc_http_json(srv, c, 200, lc_dataset_info(ds));
-    }
-    json_t *arr = json_array();
-    for (int i = 0; i < lc_datasets_count(srv->datasets); i++)
-        json_array_append_new(arr, lc_dataset_info(lc_datasets_at(srv->datasets, i)));
-    json_t *o = json_object();
-    json_object_set_new(o, "datasets", arr);
-    json_object_set_new(o, "memory", lc_datasets_memory_json(srv->datasets));
-    return lc_http_json(srv, c, 200, o);
-}
-
-static enum MHD_Result route_metrics(lc_server *srv, struct MHD_Connection *c)
-{
-    lc_metrics_gauges g = {0};
-    lc_sessions_count(srv->sessions, &g.sessions_http, &g.sessions_ws);
-    lc_workers_depths(srv->workers, &g.queue_depth, &g.encode_depth);
-    g.ws_connections = lc_ws_connections(srv->ws);
-    g.datasets = lc_datasets_count(srv->datasets);
-    g.workers = lc_workers_count(srv->workers);
-    g.queue_clients = lc_workers_clients(srv->workers);
-    lc_datasets_budget(srv->datasets, &g.memory_estimated, &g.memory_budget);
-    g.resident = lc_memory_resident_bytes();
-    return lc_http_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");
-}
+/* ---------------------------------------------------------------- the web client */
 
 static enum MHD_Result route_static(lc_server *srv, struct MHD_Connection *c, const char *url)
 {
@@ -155,79 +105,6 @@ static enum MHD_Result route_static(lc_server *srv, struct MHD_Connection *c, co
     return lc_http_queue(srv, c, status, r);
 }
 
-/* ---------------------------------------------------------------- WebSocket */
-
-static void upgrade_handler(void *cls, struct MHD_Connection *connection, void *con_cls, const char *extra_in,
-                            size_t extra_in_size, MHD_socket sock, struct MHD_UpgradeResponseHandle *urh)
-{
-    (void)connection;
-    lc_server *srv = cls;
-    lc_http_req *ctx = con_cls;
-    lc_ws_adopt(srv->ws, sock, urh, extra_in, extra_in_size, ctx && ctx->ws_authed);
-}
-
-static bool header_has_token(const char *value, const char *token)
-{
-    /* Comma-separated, case-insensitive ("keep-alive, Upgrade"). */
-    size_t n = strlen(token);
-    for (const char *p = value; p && *p;) {
-        while (*p == ' ' || *p == ',')
-            p++;
-        if (strncasecmp(p, token, n) == 0 && (p[n] == '\0' || p[n] == ',' || p[n] == ' '))
-            return true;
-        p = strchr(p, ',');
-    }
-    return false;
-}
-
-static enum MHD_Result route_ws(lc_http_req *ctx, struct MHD_Connection *c, bool authed)
-{
-    lc_server *srv = ctx->srv;
-    const char *upgrade = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_UPGRADE);
-    const char *connection = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONNECTION);
-    const char *key = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Key");
-    const char *version = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Version");
-    if (!upgrade || !header_has_token(upgrade, "websocket") || !connection || !header_has_token(connection, "upgrade"))
-        return lc_http_error(srv, c, 400, "bad_field", "Upgrade",
-                             "expected a WebSocket upgrade (Connection: Upgrade, Upgrade: websocket)");
-    if (!key || strlen(key) != 24)
-        return lc_http_error(srv, c, 400, "bad_field", "Sec-WebSocket-Key", "missing or malformed Sec-WebSocket-Key");
-    if (!version || strcmp(version, "13") != 0) {
-        lc_metrics_error(srv->metrics, "bad_field");
-        char *text =
-            lc_proto_error_json("bad_field", "only WebSocket version 13 is supported", "Sec-WebSocket-Version");
-        struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
-        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
-        MHD_add_response_header(r, "Sec-WebSocket-Version", "13");
-        return lc_http_queue(srv, c, 426, r);
-    }
-    if (atomic_load(&srv->stopping))
-        return lc_http_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
-    int http = 0, ws = 0;
-    lc_sessions_count(srv->sessions, &http, &ws);
-    if (http + ws >= srv->cfg.max_sessions)
-        return lc_http_error(srv, c, 503, "overloaded", NULL, "too many sessions (the limit is %d)",
-                             srv->cfg.max_sessions);
-    char accept[LC_SERVE_WS_ACCEPT_LEN];
-    lc_serve_ws_accept_key(key, accept);
-    struct MHD_Response *r = MHD_create_response_for_upgrade(upgrade_handler, srv);
-    if (!r)
-        return MHD_NO;
-    MHD_add_response_header(r, MHD_HTTP_HEADER_UPGRADE, "websocket");
-    MHD_add_response_header(r, MHD_HTTP_HEADER_CONNECTION, "Upgrade");
-    MHD_add_response_header(r, "Sec-WebSocket-Accept", accept);
-    /* A client that offers subprotocols must get one back (browsers fail the
-     * handshake otherwise); never echo the one that carries the token. */
-    char unused[LC_PROTO_TOKEN_LEN];
-    bool lucent = false;
-    lc_serve_subprotocol_token(MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Sec-WebSocket-Protocol"), unused,
-                               sizeof unused, &lucent);
-    if (lucent)
-        MHD_add_response_header(r, "Sec-WebSocket-Protocol", LC_SERVE_SUBPROTOCOL);
-    ctx->ws_authed = authed;
-    return lc_http_queue(srv, c, MHD_HTTP_SWITCHING_PROTOCOLS, r);
-}
-
 /* ---------------------------------------------------------------- dispatch */
 
 static enum MHD_Result route(lc_http_req *ctx, struct MHD_Connection *c, const char *url, const char *method)
@@ -242,7 +119,7 @@ static enum MHD_Result route(lc_http_req *ctx, struct MHD_Connection *c, const c
         return route_static(srv, c, url);
     }
     if (strcmp(url, "/api/v1/health") == 0)
-        return get ? route_health(srv, c) : lc_http_not_allowed(srv, c, method, "GET");
+        return get ? lc_http_health(srv, c) : lc_http_not_allowed(srv, c, method, "GET");
 
     /* Everything else needs the token when one is configured, the WebSocket
      * included: an upgrade without it would hold a connection slot (the
@@ -255,13 +132,13 @@ static enum MHD_Result route(lc_http_req *ctx, struct MHD_Connection *c, const c
         return respond_unauthorized(srv, c, token != NULL);
 
     if (is_ws)
-        return get ? route_ws(ctx, c, authed) : lc_http_not_allowed(srv, c, method, "GET");
+        return get ? lc_http_upgrade(ctx, c, authed) : lc_http_not_allowed(srv, c, method, "GET");
     if (strcmp(url, "/metrics") == 0)
-        return get ? route_metrics(srv, c) : lc_http_not_allowed(srv, c, method, "GET");
+        return get ? lc_http_metrics(srv, c) : lc_http_not_allowed(srv, c, method, "GET");
     if (strcmp(url, "/api/v1/datasets") == 0)
-        return get ? route_datasets(srv, c, NULL) : lc_http_not_allowed(srv, c, method, "GET");
+        return get ? lc_http_datasets(srv, c, NULL) : lc_http_not_allowed(srv, c, method, "GET");
     if (strncmp(url, "/api/v1/datasets/", 17) == 0)
-        return get ? route_datasets(srv, c, url + 17) : lc_http_not_allowed(srv, c, method, "GET");
+        return get ? lc_http_datasets(srv, c, url + 17) : lc_http_not_allowed(srv, c, method, "GET");
     if (atomic_load(&srv->stopping) && (post || strcmp(method, "DELETE") == 0))
         return lc_http_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
     if (strcmp(url, "/api/v1/render") == 0) /* HEAD would cost a whole render for no image */

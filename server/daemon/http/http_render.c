@@ -118,8 +118,8 @@ static uint64_t client_key(struct MHD_Connection *c)
 /* Queues a render and suspends the connection until it is done. Takes the
  * session reference (may be NULL); refuses (400, the field named) a request
  * whose estimated cost exceeds --max-cost. */
-static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req, const lc_dataset *ds,
-                                    lc_session *session, double dt)
+static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req,
+                                    const lc_dataset *ds, lc_session *session, double dt)
 {
     lc_server *srv = ctx->srv;
     double cost = 0;

@@ -11,8 +11,7 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
 /* POST /api/v1/sessions. */
 enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c);
 /* /api/v1/sessions/ID (GET, DELETE) and /api/v1/sessions/ID/render (POST); rest = "ID...". */
-enum MHD_Result lc_http_route_session(lc_http_req *ctx, struct MHD_Connection *c, const char *method,
-                                      const char *rest);
+enum MHD_Result lc_http_route_session(lc_http_req *ctx, struct MHD_Connection *c, const char *method, const char *rest);
 /* The response of ctx's finished render (the handler's call after the resume). */
 enum MHD_Result lc_http_finish_render(lc_http_req *ctx, struct MHD_Connection *c);
 /* Frees a render job and its image (NULL: nothing). */

@@ -20,8 +20,7 @@ enum MHD_Result lc_http_queue(lc_server *srv, struct MHD_Connection *c, unsigned
 }
 
 /* Takes ownership of text (malloc'd). */
-enum MHD_Result lc_http_text(lc_server *srv, struct MHD_Connection *c, unsigned status, char *text,
-                                    const char *type)
+enum MHD_Result lc_http_text(lc_server *srv, struct MHD_Connection *c, unsigned status, char *text, const char *type)
 {
     if (!text)
         return MHD_NO;
@@ -43,7 +42,7 @@ enum MHD_Result lc_http_json(lc_server *srv, struct MHD_Connection *c, unsigned 
 }
 
 enum MHD_Result lc_http_error(lc_server *srv, struct MHD_Connection *c, unsigned status, const char *code,
-                                     const char *field, const char *fmt, ...)
+                              const char *field, const char *fmt, ...)
 {
     char msg[768];
     va_list ap;
@@ -74,8 +73,7 @@ enum MHD_Result lc_http_proto_error(lc_server *srv, struct MHD_Connection *c, co
     return lc_http_error(srv, c, status, pe->code, pe->field, "%s", pe->message);
 }
 
-enum MHD_Result lc_http_not_allowed(lc_server *srv, struct MHD_Connection *c, const char *method,
-                                          const char *allow)
+enum MHD_Result lc_http_not_allowed(lc_server *srv, struct MHD_Connection *c, const char *method, const char *allow)
 {
     char msg[128];
     snprintf(msg, sizeof msg, "method %.16s not allowed here (allowed: %s)", method, allow);
@@ -88,4 +86,3 @@ enum MHD_Result lc_http_not_allowed(lc_server *srv, struct MHD_Connection *c, co
     MHD_add_response_header(r, MHD_HTTP_HEADER_ALLOW, allow);
     return lc_http_queue(srv, c, 405, r);
 }
-

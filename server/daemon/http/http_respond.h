@@ -23,7 +23,7 @@ typedef struct lc_http_req {
     bool ws_authed;    /* read by the upgrade handler */
     struct MHD_Connection *conn;
     struct lc_render_job *job; /* a render in flight or finished */
-    atomic_int job_finished; /* set by job_done before the connection resumes */
+    atomic_int job_finished;   /* set by job_done before the connection resumes */
 } lc_http_req;
 
 /* Queues response r with status and releases it; counts the status. */

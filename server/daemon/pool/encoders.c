@@ -25,7 +25,6 @@ typedef struct encode_item {
     lc_frame_info info;    /* stream only */
 } encode_item;
 
-
 struct lc_encoders {
     lc_server *srv;
     void (*wake)(void *ctx, lc_session *s);
@@ -161,9 +160,8 @@ static void *encoder_main(void *arg)
     return NULL;
 }
 
-
-int lc_encoders_create(lc_server *srv, int n, void (*wake)(void *ctx, lc_session *s), void *wake_ctx,
-                       lc_encoders **out, lc_error *err)
+int lc_encoders_create(lc_server *srv, int n, void (*wake)(void *ctx, lc_session *s), void *wake_ctx, lc_encoders **out,
+                       lc_error *err)
 {
     *out = NULL;
     lc_encoders *w = calloc(1, sizeof *w);
@@ -230,7 +228,8 @@ void lc_encoders_job(lc_encoders *w, uint8_t *rgba, lc_render_job *job)
     push(w, e);
 }
 
-void lc_encoders_frame(lc_encoders *w, uint8_t *rgba, lc_session *s, const lc_stream_frame *f, const lc_frame_info *info)
+void lc_encoders_frame(lc_encoders *w, uint8_t *rgba, lc_session *s, const lc_stream_frame *f,
+                       const lc_frame_info *info)
 {
     encode_item *e = calloc(1, sizeof *e);
     if (!e) {
@@ -264,4 +263,3 @@ void lc_stream_error(lc_server *srv, lc_session *s, const char *code, const char
     if (msg)
         srv->sink.send(srv->sink.ctx, s, (unsigned char *)msg, strlen(msg), false);
 }
-

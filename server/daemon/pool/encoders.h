@@ -31,7 +31,7 @@ struct lc_render_job {
     size_t image_size;
     lc_frame_info info;
     double encode_ms;
-    double queue_ms; /* waiting for a worker */
+    double queue_ms;     /* waiting for a worker */
     const char *refused; /* why submit or the deadline refused it: "queue", "client_queue", "deadline" */
     /* pool internals */
     lc_render_job *next;
@@ -43,15 +43,16 @@ typedef struct lc_encoders lc_encoders;
 
 /* Starts n encoder threads (at least one). wake(ctx, s) asks the render pool
  * to consider s again after its frame failed to encode. Thread: main. */
-int lc_encoders_create(lc_server *srv, int n, void (*wake)(void *ctx, lc_session *s), void *wake_ctx,
-                       lc_encoders **out, lc_error *err);
+int lc_encoders_create(lc_server *srv, int n, void (*wake)(void *ctx, lc_session *s), void *wake_ctx, lc_encoders **out,
+                       lc_error *err);
 /* Encodes what was handed over, then joins the threads. Thread: main. */
 void lc_encoders_stop(lc_encoders *e);
 void lc_encoders_destroy(lc_encoders *e);
 /* An HTTP job's image (takes rgba): job->image, or job->rc, then job->done. */
 void lc_encoders_job(lc_encoders *e, uint8_t *rgba, lc_render_job *job);
 /* A stream frame of s (takes rgba; the item holds a reference to s). */
-void lc_encoders_frame(lc_encoders *e, uint8_t *rgba, lc_session *s, const lc_stream_frame *f, const lc_frame_info *info);
+void lc_encoders_frame(lc_encoders *e, uint8_t *rgba, lc_session *s, const lc_stream_frame *f,
+                       const lc_frame_info *info);
 /* Images waiting for an encoder. */
 int lc_encoders_depth(lc_encoders *e);
 

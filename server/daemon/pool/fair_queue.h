@@ -14,8 +14,8 @@ struct lc_session;
 /* A queued task: an HTTP job or a WebSocket session that needs a frame. */
 typedef struct lc_task {
     struct lc_task *next;
-    uint64_t key;                /* the client: a session's address, or a one-shot request's client key */
-    struct lc_render_job *job;   /* counted among the client's queued jobs */
+    uint64_t key;              /* the client: a session's address, or a one-shot request's client key */
+    struct lc_render_job *job; /* counted among the client's queued jobs */
     struct lc_session *session;
 } lc_task;
 

@@ -1,4 +1,5 @@
-/* Render worker pool: one GL context per thread, the queue's order and the still-frame timers. */
+/* Render worker pool: one GL context per thread calling the renderer, the
+ * queue (fair_queue.c) and the still-frame timers. */
 #include "workers.h"
 
 #include <errno.h>

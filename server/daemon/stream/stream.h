@@ -21,30 +21,30 @@ typedef struct lc_stream_conn {
 
 /* What the transport does after a message. */
 typedef struct lc_stream_outcome {
-    char *reply;          /* JSON text to send (ready, or an error; malloc'd), NULL = none */
-    bool opened;          /* this hello opened conn->session */
-    bool valid;           /* a well-formed message in order: the bad-messages-in-a-row count starts over */
-    bool bad;             /* the message counts as one more bad one in a row */
-    uint16_t close_code;  /* non-zero: close the connection after the reply */
+    char *reply;         /* JSON text to send (ready, or an error; malloc'd), NULL = none */
+    bool opened;         /* this hello opened conn->session */
+    bool valid;          /* a well-formed message in order: the bad-messages-in-a-row count starts over */
+    bool bad;            /* the message counts as one more bad one in a row */
+    uint16_t close_code; /* non-zero: close the connection after the reply */
     char close_reason[64];
-    bool wake;            /* conn->session may need a frame now */
+    bool wake; /* conn->session may need a frame now */
 } lc_stream_outcome;
 
 /* ---- The stats messages (websocket.md "stats"): about once a second while
  * frames flow, and once more after they stop. */
 #define LC_STREAM_STATS_INTERVAL 1.0 /* seconds between stats messages while frames flow */
-#define LC_STREAM_STATS_SAMPLES 256    /* latest frames remembered for fps and timing figures */
+#define LC_STREAM_STATS_SAMPLES 256  /* latest frames remembered for fps and timing figures */
 
 /* What a connection's stats messages report (I/O thread only). The rings hold
  * the latest frames, indexed by frame count modulo LC_STREAM_STATS_SAMPLES. */
 typedef struct lc_stream_stats {
-    uint64_t frames;                 /* frame messages queued to the socket */
-    uint64_t bytes;                  /* bytes of every message queued */
+    uint64_t frames;                           /* frame messages queued to the socket */
+    uint64_t bytes;                            /* bytes of every message queued */
     double sent_at[LC_STREAM_STATS_SAMPLES];   /* lc_now() when each frame was queued */
     double render_ms[LC_STREAM_STATS_SAMPLES]; /* its render worker wall time */
     double encode_ms[LC_STREAM_STATS_SAMPLES]; /* its encode time */
-    uint64_t frames_at_report;       /* frames when the last stats message went out */
-    double last_report;              /* lc_now() of that message (of hello before the first) */
+    uint64_t frames_at_report;                 /* frames when the last stats message went out */
+    double last_report;                        /* lc_now() of that message (of hello before the first) */
 } lc_stream_stats;
 
 /* A frame message was queued at now, rendered in render_ms and encoded in encode_ms. */

@@ -31,7 +31,6 @@
 #define WS_SNDBUF (256 << 10)
 #define HELLO_TIMEOUT 10.0 /* seconds an upgraded connection may hold a slot without a session */
 
-
 typedef struct conn {
     struct conn *prev, *next;
     lc_ws *ws;
@@ -297,7 +296,8 @@ static void release_session(lc_ws *ws, conn *c)
 {
     if (!c->proto.session)
         return;
-    LC_INFO(MOD, "session %s: closed after %llu frames", c->proto.session->id, (unsigned long long)c->proto.session->stream.frames);
+    LC_INFO(MOD, "session %s: closed after %llu frames", c->proto.session->id,
+            (unsigned long long)c->proto.session->stream.frames);
     c->proto.session->ws_conn = NULL;
     lc_session_close(ws->srv->sessions, c->proto.session);
     lc_session_unref(c->proto.session);
@@ -525,7 +525,8 @@ static void tick(lc_ws *ws, double now)
             close_with(c, 1008, "no hello");
             conn_flush(ws, c);
         } else if (c->close_deadline == 0 && now - c->last_rx > cfg->idle_timeout) {
-            LC_INFO(MOD, "%s: idle for %.0f s, closing", c->proto.session ? c->proto.session->id : "connection", cfg->idle_timeout);
+            LC_INFO(MOD, "%s: idle for %.0f s, closing", c->proto.session ? c->proto.session->id : "connection",
+                    cfg->idle_timeout);
             close_with(c, 1001, "idle timeout");
             conn_flush(ws, c);
         } else if (c->close_deadline == 0 && now - c->last_rx > PING_INTERVAL && now - c->last_ping > PING_INTERVAL) {

@@ -1,0 +1,60 @@
+/* The daemon's status routes: health, datasets and Prometheus metrics (http_status.h). */
+#include "http_status.h"
+
+#include <stdatomic.h>
+
+#include "datasets.h"
+#include "memory.h"
+#include "messages.h"
+#include "metrics.h"
+#include "session.h"
+#include "workers.h"
+#include "ws.h"
+
+enum MHD_Result lc_http_health(lc_server *srv, struct MHD_Connection *c)
+{
+    int http = 0, ws = 0;
+    lc_sessions_count(srv->sessions, &http, &ws);
+    json_t *o = json_object();
+    json_object_set_new(o, "status", json_string(atomic_load(&srv->stopping) ? "stopping" : "ok"));
+    json_object_set_new(o, "renderer", json_string(srv->gl_renderer));
+    json_object_set_new(o, "glVersion", json_string(srv->gl_version));
+    json_object_set_new(o, "platform", json_string(srv->gl_platform));
+    json_object_set_new(o, "uptime", json_real(lc_now() - srv->start_time));
+    json_object_set_new(o, "datasets", json_integer(lc_datasets_count(srv->datasets)));
+    json_object_set_new(o, "workers", json_integer(lc_workers_count(srv->workers)));
+    json_object_set_new(o, "sessions", json_pack("{s:i, s:i}", "http", http, "ws", ws));
+    json_object_set_new(o, "protocolVersion", json_integer(LC_PROTO_VERSION));
+    return lc_http_json(srv, c, 200, o);
+}
+
+enum MHD_Result lc_http_datasets(lc_server *srv, struct MHD_Connection *c, const char *name)
+{
+    if (name) {
+        const lc_dataset *ds = lc_datasets_find(srv->datasets, name);
+        if (!ds || !name[0])
+            return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", name);
+        return lc_http_json(srv, c, 200, lc_dataset_info(ds));
+    }
+    json_t *arr = json_array();
+    for (int i = 0; i < lc_datasets_count(srv->datasets); i++)
+        json_array_append_new(arr, lc_dataset_info(lc_datasets_at(srv->datasets, i)));
+    json_t *o = json_object();
+    json_object_set_new(o, "datasets", arr);
+    json_object_set_new(o, "memory", lc_datasets_memory_json(srv->datasets));
+    return lc_http_json(srv, c, 200, o);
+}
+
+enum MHD_Result lc_http_metrics(lc_server *srv, struct MHD_Connection *c)
+{
+    lc_metrics_gauges g = {0};
+    lc_sessions_count(srv->sessions, &g.sessions_http, &g.sessions_ws);
+    lc_workers_depths(srv->workers, &g.queue_depth, &g.encode_depth);
+    g.ws_connections = lc_ws_connections(srv->ws);
+    g.datasets = lc_datasets_count(srv->datasets);
+    g.workers = lc_workers_count(srv->workers);
+    g.queue_clients = lc_workers_clients(srv->workers);
+    lc_datasets_budget(srv->datasets, &g.memory_estimated, &g.memory_budget);
+    g.resident = lc_memory_resident_bytes();
+    return lc_http_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");
+}

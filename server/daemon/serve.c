@@ -199,7 +199,7 @@ static void usage(FILE *f)
     lc_opt_set set = {serve_options, NULL};
     fprintf(f, "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n\n");
     lc_opt_usage(f, &set, 1);
-    fprintf(f, "  -h, --help            this text\n");
+    fprintf(f, "  -h, --help             this text\n");
 }
 
 /* Fills cfg from argv; returns 0, 1 for --help, -1 on a usage error. */

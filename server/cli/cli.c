@@ -77,57 +77,159 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     return 0;
 }
 
-const char lc_cli_flags_help[] =
-    "  --dataset SPEC        demo:NAME[?count=N&seed=S] or a file (" LC_DATASET_EXTENSIONS ")\n"
-    "  --elements N          line elements or surface patches (default: derived from the data)\n"
-    "  --width N, --height N, --size WxH\n"
-    "  --method NAME         fourier | exact | opaque | direct | wboit\n"
-    "  --bands M             Fourier bands 1..8\n"
-    "  --q X, --r X, --lambda X, --smoothing S, --fade T, --estimator foo|midpoint\n"
-    "  --depth-range auto|global|pixel|moments   depth normalization: the data bounds, each pixel's\n"
-    "                        range, or the bounds warped around each pixel's importance (auto:\n"
-    "                        moments, or global with --normalize off)\n"
-    "  --normalize auto|off  density-aware opacity (auto) or the paper formula (off)\n"
-    "  --importance ATTR     importance attribute;  --color ATTR|importance|rgb\n"
-    "  --colormap NAME       viridis, coolwarm, grayscale, inferno, plasma, ...\n"
-    "  --lod PX              lines: largest simplification error in pixels (default 0.2; 0 = every segment)\n"
-    "  --line-width W        world units;  --point-size PX;  --unlit\n"
-    "  --format png|jpeg, --quality Q\n"
-    "  --exact-positions     float vertex buffers and session opacities (images bit for bit as before the\n"
-    "                        compact 16-bit layout; about twice the bytes per vertex)\n"
-    "  --max-memory BYTES    refuse a dataset whose estimated resident size exceeds BYTES (k, M, G suffixes)\n";
-
-/* Applies one "key": value pair through the protocol's query aliases so the
+/* Applies one request field through the protocol's query aliases so the
  * flags get exactly the validation of the HTTP API. */
-static int apply_query(lc_request *req, const char *key, const char *value)
+static int set_request_field(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
 {
+    lc_cli_common *common = target;
+    lc_request *req = common->req;
+    common->width_set |= strcmp(o->key, "width") == 0;
+    common->height_set |= strcmp(o->key, "height") == 0;
     lc_proto_limits lim;
     lc_proto_limits_default(&lim);
     lim.max_size = 16384;
     lim.max_pixels = 16384LL * 16384LL;
     lc_proto_error perr;
     memset(&perr, 0, sizeof perr);
-    if (lc_proto_apply_query(req, key, value, &lim, &perr) != 0 || lc_proto_validate_request(req, &lim, &perr) != 0) {
-        fprintf(stderr, "lucent: --%s %s: %s\n", key, value, perr.message);
+    if (lc_proto_apply_query(req, o->key, arg, &lim, &perr) != 0 || lc_proto_validate_request(req, &lim, &perr) != 0) {
+        snprintf(why, why_len, "\"%s\": %s", arg, perr.message);
         return -1;
     }
-    return 1;
+    return 0;
 }
 
-int lc_cli_begin(const char *cmd, int argc, char **argv, lc_request *req, lc_cli_common *common)
+static int set_size(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    long long w, h;
+    const char *x = strchr(arg, 'x');
+    char ws[24], hs[24];
+    if (!x || (size_t)(x - arg) >= sizeof ws) {
+        snprintf(why, why_len, "\"%s\": expected WxH, e.g. 1024x768", arg);
+        return -1;
+    }
+    snprintf(ws, sizeof ws, "%.*s", (int)(x - arg), arg);
+    if (lc_opt_parse_int(ws, 1, 16384, &w) != 0 || lc_opt_parse_int(x + 1, 1, 16384, &h) != 0) {
+        snprintf(why, why_len, "\"%s\": expected WxH, each side an integer in [1, 16384], e.g. 1024x768", arg);
+        return -1;
+    }
+    lc_option width = *o, height = *o;
+    width.key = "width";
+    height.key = "height";
+    snprintf(ws, sizeof ws, "%lld", w);
+    snprintf(hs, sizeof hs, "%lld", h);
+    return set_request_field(target, &width, ws, why, why_len) ? -1
+                                                               : set_request_field(target, &height, hs, why, why_len);
+}
+
+static int set_dataset(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    (void)o;
+    lc_request *req = ((lc_cli_common *)target)->req;
+    if (!arg[0] || strlen(arg) >= sizeof req->dataset) {
+        snprintf(why, why_len, "expected a dataset of 1 to %zu bytes", sizeof req->dataset - 1);
+        return -1;
+    }
+    snprintf(req->dataset, sizeof req->dataset, "%s", arg);
+    ((lc_cli_common *)target)->dataset_set = 1;
+    return 0;
+}
+
+static int set_max_memory(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    (void)o;
+    if (lc_memory_parse_bytes(arg, &((lc_cli_common *)target)->max_memory) != 0) {
+        snprintf(why, why_len, "\"%s\": expected bytes, e.g. 20G, 512M or 1000000", arg);
+        return -1;
+    }
+    return 0;
+}
+
+#define REQ(flag, meta, field, text)                                                                                   \
+    {                                                                                                                  \
+        flag, meta, LC_OPT_CALL, .call = set_request_field, .key = field, .help = text                                 \
+    }
+#define COMMON(member) LC_OPT_AT(lc_cli_common, member)
+/* The flags every rendering subcommand takes: the request's fields (checked by
+ * protocol/, as over HTTP) and how the dataset is opened. */
+static const lc_option common_options[] = {
+    {"--request", "REQ.json", LC_OPT_TEXT, COMMON(request),
+     .help = "a render request (protocol/README.md); flags override its fields"},
+    {"--dataset", "SPEC", LC_OPT_CALL, .call = set_dataset,
+     .help = "demo:NAME[?count=N&seed=S] or a file (" LC_DATASET_EXTENSIONS ")"},
+    {"--input", "SPEC", LC_OPT_TEXT, COMMON(input), .help = "the same, over the request's dataset"},
+    {"--elements", "N", LC_OPT_INT, COMMON(elements), 1, 1 << 24,
+     .help = "line elements or surface patches (default: derived from the data)"},
+    {"--device", "N", LC_OPT_INT, COMMON(device), 0, 255,
+     .help = "EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)"},
+    REQ("--width", "N", "width", ""),
+    REQ("--height", "N", "height", ""),
+    {"--size", "WxH", LC_OPT_CALL, .call = set_size, .numeric = 1, .help = "image size in pixels"},
+    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit"),
+    REQ("--bands", "M", "bands", "Fourier bands 1..8"),
+    REQ("--q", "X", "q", ""),
+    REQ("--r", "X", "r", ""),
+    REQ("--lambda", "X", "lambda", "opacity optimization: clutter, context and emphasis"),
+    REQ("--smoothing", "S", "smoothing", "Laplacian smoothing iterations of the element opacities"),
+    REQ("--fade", "T", "fadeHalfLife", "fading half-life of the opacities (s)"),
+    REQ("--estimator", "NAME", "estimator", "foo | midpoint"),
+    REQ("--depth-range", "MODE", "depthRange",
+        "auto|global|pixel|moments: depth normalization by the data bounds,\n"
+        "each pixel's range, or the bounds warped around each pixel's\n"
+        "importance (auto: moments, or global with --normalize off)"),
+    REQ("--normalize", "auto|off", "normalize", "density-aware opacity (auto) or the paper formula (off)"),
+    REQ("--importance", "ATTR", "importance", "importance attribute"),
+    REQ("--color", "ATTR", "color", "colour by an attribute, importance or rgb"),
+    REQ("--colormap", "NAME", "colormap", "viridis, coolwarm, grayscale, inferno, plasma, ..."),
+    REQ("--lod", "PX", "lod",
+        "lines: largest simplification error in pixels\n"
+        "(default 0.2; 0 = every segment)"),
+    REQ("--line-width", "W", "lineWidth", "line width in world units"),
+    REQ("--point-size", "PX", "pointSize", "point size in pixels"),
+    {"--unlit", NULL, LC_OPT_BOOL, COMMON(unlit), .help = "no shading"},
+    REQ("--format", "png|jpeg", "format", ""),
+    REQ("--quality", "Q", "quality", "image format and JPEG quality"),
+    REQ("--resolution-scale", "S", "resolutionScale", "resolution of the opacity passes P1/P2"),
+    REQ("--subset", "N", "subset", "P1/P4 use every N-th primitive, weights x N"),
+    REQ("--background", "R,G,B", "background", "background colour, each in [0, 1]"),
+    {"--exact-positions", NULL, LC_OPT_BOOL, COMMON(exact_positions),
+     .help = "float vertex buffers and session opacities (images bit for bit\n"
+             "as before the compact 16-bit layout; twice the bytes per vertex)"},
+    {"--max-memory", "BYTES", LC_OPT_CALL, .call = set_max_memory, .numeric = 1,
+     .help = "refuse a dataset whose estimated resident size exceeds BYTES\n"
+             "(k, M, G suffixes)"},
+    {NULL}};
+
+int lc_cli_parse(const char *cmd, const lc_option *own, void *own_target, int argc, char **argv, lc_request *req,
+                 lc_cli_common *common, void (*usage)(FILE *f, const lc_opt_set *sets, int nsets))
 {
     lc_request_default(req);
-    common->input = NULL;
+    memset(common, 0, sizeof *common);
+    common->req = req;
     common->device = -1;
-    common->elements = 0;
-    common->exact_positions = 0;
-    common->max_memory = 0;
+    /* The request file first, so that flags override it wherever they stand. */
     lc_error err = {0};
-    for (int i = 1; i + 1 < argc; i++)
-        if (strcmp(argv[i], "--request") == 0 && lc_cli_read_request(argv[i + 1], req, &err) != 0) {
+    for (int i = 1; i < argc; i++) {
+        const char *path = NULL;
+        if (strncmp(argv[i], "--request=", 10) == 0)
+            path = argv[i] + 10;
+        else if (strcmp(argv[i], "--request") == 0 && i + 1 < argc)
+            path = argv[i + 1];
+        if (path && lc_cli_read_request(path, req, &err) != 0) {
             fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
-            return 1;
+            return 2;
         }
+    }
+    lc_opt_set sets[2] = {{own, own_target}, {common_options, common}};
+    int rc = lc_opt_parse(cmd, sets, 2, argc, argv, NULL, 0, NULL);
+    if (rc < 0)
+        return 2;
+    if (rc > 0) {
+        if (!lc_cli_has_flag(argc, argv, "--list-flags"))
+            usage(stdout, sets, 2);
+        return 1;
+    }
+    if (common->unlit)
+        req->render.style.shading = LC_SHADING_NONE;
     return 0;
 }
 
@@ -162,109 +264,6 @@ int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *com
         *scene = NULL;
         return 1;
     }
-    return 0;
-}
-
-int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **argv, int *i)
-{
-    static const struct {
-        const char *flag, *key;
-    } map[] = {{"--width", "width"},
-               {"--height", "height"},
-               {"--method", "method"},
-               {"--bands", "bands"},
-               {"--q", "q"},
-               {"--r", "r"},
-               {"--lambda", "lambda"},
-               {"--smoothing", "smoothing"},
-               {"--fade", "fadeHalfLife"},
-               {"--estimator", "estimator"},
-               {"--normalize", "normalize"},
-               {"--importance", "importance"},
-               {"--color", "color"},
-               {"--colormap", "colormap"},
-               {"--line-width", "lineWidth"},
-               {"--point-size", "pointSize"},
-               {"--format", "format"},
-               {"--quality", "quality"},
-               {"--resolution-scale", "resolutionScale"},
-               {"--subset", "subset"},
-               {"--lod", "lod"},
-               {"--background", "background"},
-               {"--depth-range", "depthRange"}};
-    const char *flag = argv[*i];
-    if (strcmp(flag, "--exact-positions") == 0) {
-        common->exact_positions = 1;
-        return 1;
-    }
-    int takes_value = strcmp(flag, "--request") == 0 || strcmp(flag, "--input") == 0 || strcmp(flag, "--device") == 0 ||
-                      strcmp(flag, "--elements") == 0 || strcmp(flag, "--max-memory") == 0;
-    if (takes_value) {
-        if (*i + 1 >= argc) {
-            fprintf(stderr, "lucent: %s needs a value\n", flag);
-            return -1;
-        }
-        const char *value = argv[++*i];
-        if (strcmp(flag, "--input") == 0) {
-            common->input = value;
-        } else if (strcmp(flag, "--device") == 0) {
-            char *end;
-            long d = strtol(value, &end, 10);
-            if (*end || end == value || d < 0 || d > 255) {
-                fprintf(stderr, "lucent: --device %s: expected an EGL device index 0..255\n", value);
-                return -1;
-            }
-            common->device = (int)d;
-        } else if (strcmp(flag, "--max-memory") == 0) {
-            if (lc_memory_parse_bytes(value, &common->max_memory) != 0) {
-                fprintf(stderr, "lucent: --max-memory %s: expected bytes, e.g. 20G, 512M or 1000000\n", value);
-                return -1;
-            }
-        } else if (strcmp(flag, "--elements") == 0) {
-            char *end;
-            long n = strtol(value, &end, 10);
-            if (*end || end == value || n < 1 || n > (1L << 24)) {
-                fprintf(stderr, "lucent: --elements %s: expected a count 1..16777216\n", value);
-                return -1;
-            }
-            common->elements = n;
-        } /* --request was read by lc_cli_begin */
-        return 1;
-    }
-    if (strcmp(flag, "--unlit") == 0) {
-        req->render.style.shading = LC_SHADING_NONE;
-        return 1;
-    }
-    int is_size = strcmp(flag, "--size") == 0, is_dataset = strcmp(flag, "--dataset") == 0;
-    int known = is_size || is_dataset;
-    for (size_t k = 0; !known && k < sizeof map / sizeof map[0]; k++)
-        known = strcmp(flag, map[k].flag) == 0;
-    if (!known)
-        return 0;
-    if (*i + 1 >= argc) {
-        fprintf(stderr, "lucent: %s needs a value\n", flag);
-        return -1;
-    }
-    const char *value = argv[++*i];
-    if (is_dataset) {
-        snprintf(req->dataset, sizeof req->dataset, "%s", value);
-        return 1;
-    }
-    if (is_size) {
-        int w, h;
-        char extra;
-        if (sscanf(value, "%dx%d%c", &w, &h, &extra) != 2) {
-            fprintf(stderr, "lucent: --size %s: expected WxH, e.g. 1024x768\n", value);
-            return -1;
-        }
-        char ws[16], hs[16];
-        snprintf(ws, sizeof ws, "%d", w);
-        snprintf(hs, sizeof hs, "%d", h);
-        return apply_query(req, "width", ws) < 0 ? -1 : apply_query(req, "height", hs);
-    }
-    for (size_t k = 0; k < sizeof map / sizeof map[0]; k++)
-        if (strcmp(flag, map[k].flag) == 0)
-            return apply_query(req, map[k].key, value);
     return 0;
 }
 

@@ -4,6 +4,7 @@
 #define LC_CLI_H
 
 #include "gl_context.h"
+#include "lc_options.h"
 #include "renderer.h"
 #include "request.h"
 #include "scene.h"
@@ -16,9 +17,6 @@ int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err);
 /* Reads and parses a render request file (CLI limits: up to 16384 px a side). */
 int lc_cli_read_request(const char *path, lc_request *req, lc_error *err);
 
-/* Help text for the flags above. */
-extern const char lc_cli_flags_help[];
-
 /* A headless context with a renderer, current on the calling thread. */
 typedef struct lc_cli_gl {
     lc_gl *gl;
@@ -30,28 +28,28 @@ void lc_cli_gl_close(lc_cli_gl *g);
 
 /* Options every rendering subcommand takes besides the request's own fields. */
 typedef struct lc_cli_common {
+    lc_request *req;               /* the request the field flags (--q, --width, ...) set */
+    const char *request;           /* --request FILE (read before the other flags) */
     const char *input;             /* --input FILE|demo:NAME (overrides the request's dataset) */
     int device;                    /* --device N, -1 = LUCENT_EGL_DEVICE or the first GPU */
-    long elements;                 /* --elements N: line elements or surface patches, 0 = derived from the data */
+    long long elements;            /* --elements N: line elements or surface patches, 0 = derived from the data */
     int exact_positions;           /* --exact-positions: float GPU buffers and session opacities */
+    int unlit;                     /* --unlit: no shading */
+    int width_set, height_set;     /* a flag gave the width, the height (--width, --height, --size) */
+    int dataset_set;               /* --dataset was given */
     unsigned long long max_memory; /* --max-memory BYTES: refuse larger datasets; 0 = no limit */
 } lc_cli_common;
 
-/* Starts a subcommand's argument handling: defaults, then the --request file
- * (if any) so that flags override it wherever they stand. Prints
- * "lucent CMD: reason" and returns non-zero on error. */
-int lc_cli_begin(const char *cmd, int argc, char **argv, lc_request *req, lc_cli_common *common);
+/* A rendering subcommand's arguments: defaults, the --request file (if any),
+ * then its own table (own, into own_target) and the shared flags (the
+ * request's fields, dataset, device, memory) in order, strictly. Returns 0 to
+ * go on, 1 when --help printed usage() (exit 0), 2 on a bad flag (message
+ * printed: exit 2). */
+int lc_cli_parse(const char *cmd, const lc_option *own, void *own_target, int argc, char **argv, lc_request *req,
+                 lc_cli_common *common, void (*usage)(FILE *f, const lc_opt_set *sets, int nsets));
 
 /* True if argv holds flag (e.g. "--request"). */
 int lc_cli_has_flag(int argc, char **argv, const char *flag);
-
-/* Applies one shared flag at argv[*i]: --request (already read), --input,
- * --device, and the request's short flags (--width, --height, --size WxH,
- * --method, --bands, --q, --r, --lambda, --estimator, --smoothing, --colormap,
- * --importance, --color, --line-width, --format, --quality, --dataset, ...).
- * Consumes the value. Returns 1 if recognized, 0 if not, -1 on a bad value
- * (message printed). */
-int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **argv, int *i);
 
 /* Opens the dataset (common->input, else the request's, else demo:tornado) and
  * a GL renderer. Prints "lucent CMD: reason" and returns non-zero on error;

@@ -7,68 +7,69 @@
 #include "cli.h"
 #include "demo.h"
 
-static void bench_usage(void)
+/* The flags of `lucent bench` besides the shared ones (cli.c). */
+typedef struct bench_args {
+    int frames, warmup, memory, interactive, point_stride, uniform_points;
+    const char *datasets;
+} bench_args;
+
+#define BENCH(member) LC_OPT_AT(bench_args, member)
+static const lc_option bench_options[] = {
+    {"--frames", "N", LC_OPT_INT, BENCH(frames), 1, 100000, .help = "timed frames per dataset (default 10)"},
+    {"--warmup", "N", LC_OPT_INT, BENCH(warmup), 0, 100000, .help = "untimed frames before them (default 2)"},
+    {"--datasets", "A,B,...", LC_OPT_TEXT, BENCH(datasets), .help = "the datasets (default: every demo)"},
+    {"--memory", NULL, LC_OPT_BOOL, BENCH(memory),
+     .help = "print each dataset's bytes per vertex by kind (CPU arrays, GPU\n"
+             "buffers, state)"},
+    {"--interactive", NULL, LC_OPT_BOOL, BENCH(interactive),
+     .help = "time the frames a session renders while the camera moves: the\n"
+             "opacities of the first warm-up frame are reused (P1-P3 skipped)"},
+    {"--point-stride", "N", LC_OPT_INT, BENCH(point_stride), 1, 1024,
+     .help = "with --interactive, points: the most important 1/(4N) in full,\n"
+             "every N-th of the rest"},
+    {"--uniform-points", NULL, LC_OPT_BOOL, BENCH(uniform_points),
+     .help = "with --point-stride: every N-th of all points"},
+    {NULL}};
+
+static void bench_usage(FILE *f, const lc_opt_set *sets, int nsets)
 {
-    fprintf(stderr,
+    fprintf(f,
             "usage: lucent bench [--size WxH] [--frames N] [--warmup N] [--datasets a,b,...] [--memory] [--device N]\n"
             "                    [--interactive [--point-stride N [--uniform-points]]] [flags]\n"
             "Renders every demo dataset (default 1024x1024, 10 timed frames after 2 warm-up frames) with a\n"
             "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n"
             "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n"
-            "--interactive times the frames a session renders while the camera moves: the element\n"
-            "opacities of the first warm-up frame are reused (P1-P3 skipped); with --lod PX (lines) and\n"
-            "--point-stride N (points: the most important 1/(4N) in full, every n-th of the rest;\n"
-            "--uniform-points: every n-th of all) for the coarser detail of those frames.\n"
-            "--memory prints each dataset's bytes per vertex by kind (CPU arrays, GPU buffers, state).\n%s",
-            lc_cli_flags_help);
+            "With --interactive, --lod PX (lines) and --point-stride N (points) set the coarser detail\n"
+            "of those frames.\n");
+    lc_opt_usage(f, sets, nsets);
 }
 
 int lc_cli_bench(int argc, char **argv)
 {
     lc_request req;
     lc_cli_common common;
-    if (lc_cli_begin("bench", argc, argv, &req, &common) != 0)
-        return 1;
-    if (!lc_cli_has_flag(argc, argv, "--request")) /* the benchmark's own default size */
-        req.render.width = req.render.height = 1024;
-    int frames = 10, warmup = 2, have_list = 0, have_one = 0, show_memory = 0, interactive = 0, point_stride = 1,
-        uniform_points = 0;
-    char datasets[512] = "";
-    for (const char *const *d = lc_demo_names(); *d; d++)
-        snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s", datasets[0] ? "," : "",
-                 *d);
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc)
-            frames = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--warmup") == 0 && i + 1 < argc)
-            warmup = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--interactive") == 0)
-            interactive = 1;
-        else if (strcmp(argv[i], "--point-stride") == 0 && i + 1 < argc)
-            point_stride = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--uniform-points") == 0)
-            uniform_points = 1;
-        else if (strcmp(argv[i], "--memory") == 0)
-            show_memory = 1;
-        else if (strcmp(argv[i], "--datasets") == 0 && i + 1 < argc)
-            snprintf(datasets, sizeof datasets, "%s", argv[++i]), have_list = 1;
-        else if (strcmp(argv[i], "--help") == 0) {
-            bench_usage();
-            return 0;
-        } else {
-            have_one |= strcmp(argv[i], "--dataset") == 0 || strcmp(argv[i], "--input") == 0;
-            int rc = lc_cli_apply_flag(&req, &common, argc, argv, &i);
-            if (rc <= 0) {
-                if (rc == 0)
-                    bench_usage();
-                return 2;
-            }
-        }
+    bench_args args = {.frames = 10, .warmup = 2, .point_stride = 1};
+    int pr = lc_cli_parse("bench", bench_options, &args, argc, argv, &req, &common, bench_usage);
+    if (pr != 0)
+        return pr == 1 ? 0 : 2;
+    if (!common.request) { /* the benchmark's own default size, unless a flag gave one */
+        req.render.width = common.width_set ? req.render.width : 1024;
+        req.render.height = common.height_set ? req.render.height : 1024;
     }
-    if (frames < 1 || warmup < 0 || point_stride < 1 || point_stride > 1024) {
-        bench_usage();
+    int frames = args.frames, warmup = args.warmup, show_memory = args.memory, interactive = args.interactive,
+        point_stride = args.point_stride, uniform_points = args.uniform_points;
+    int have_list = args.datasets != NULL, have_one = common.input || common.dataset_set;
+    char datasets[512] = "";
+    if (have_list && strlen(args.datasets) >= sizeof datasets) {
+        fprintf(stderr, "lucent bench: --datasets: at most %zu bytes\n", sizeof datasets - 1);
         return 2;
     }
+    if (have_list)
+        snprintf(datasets, sizeof datasets, "%s", args.datasets);
+    else
+        for (const char *const *d = lc_demo_names(); *d; d++)
+            snprintf(datasets + strlen(datasets), sizeof datasets - strlen(datasets), "%sdemo:%s",
+                     datasets[0] ? "," : "", *d);
     /* Every flag is used or refused, never silently ignored. */
     if (have_one && have_list) {
         fprintf(stderr, "lucent bench: give --dataset or --datasets, not both\n");

@@ -13,23 +13,46 @@
 
 #define MIB (1024.0 * 1024.0)
 
-static void compare_usage(void)
+/* The flags of `lucent compare` besides the shared ones (cli.c). */
+typedef struct compare_args {
+    const char *out_dir;
+    int against, repeat;
+    double pool_mib;
+} compare_args;
+
+static int set_method(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
 {
-    fprintf(stderr,
-            "usage: lucent compare [--request REQ.json] [--input FILE|demo:NAME] [--against METHOD]\n"
-            "                      [--out-dir DIR] [--repeat N] [--pool-mib N] [--device N] [flags]\n"
-            "Renders the request with its method (default fourier) and with --against (default exact), same\n"
-            "scene, camera and parameters, one-shot (no fading), and prints one \"NAME value\" per line:\n"
-            "SSIM, RMSE (Rec. 709 luminance SSIM, 11x11 Gaussian, sigma 1.5; RMSE over RGB in [0,1]), per-pass\n"
-            "and total GPU times, GPU memory of each method, the exact method's fragment count and layers.\n"
-            "  --against METHOD      reference method (fourier | exact | opaque | direct | wboit)\n"
-            "  --out-dir DIR         write METHOD.png, AGAINST.png and difference.png (|a - b| x 4)\n"
-            "  --repeat N            time N frames per method after one warm-up frame (default 3);\n"
-            "                        0 = a single frame per method, its (cold) times reported\n"
-            "  --pool-mib N          node pool of the exact method (default 256, clamped to the driver's\n"
-            "                        largest storage block)\n"
-            "  --device N            EGL device index\n%s",
-            lc_cli_flags_help);
+    int m = lc_method_from_name(arg);
+    if (m < 0) {
+        snprintf(why, why_len, "\"%s\": unknown method (fourier | exact | opaque | direct | wboit)", arg);
+        return -1;
+    }
+    memcpy((char *)target + o->offset, &m, sizeof m);
+    return 0;
+}
+
+#define COMPARE(member) LC_OPT_AT(compare_args, member)
+static const lc_option compare_options[] = {{"--against", "METHOD", LC_OPT_CALL, COMPARE(against), .call = set_method,
+                                             .help = "reference method (fourier | exact | opaque | direct | wboit)"},
+                                            {"--out-dir", "DIR", LC_OPT_TEXT, COMPARE(out_dir),
+                                             .help = "write METHOD.png, AGAINST.png and difference.png (|a - b| x 4)"},
+                                            {"--repeat", "N", LC_OPT_INT, COMPARE(repeat), 0, 1000,
+                                             .help = "time N frames per method after one warm-up frame (default 3);\n"
+                                                     "0 = a single frame per method, its (cold) times reported"},
+                                            {"--pool-mib", "N", LC_OPT_REAL, COMPARE(pool_mib), 1, 65536,
+                                             .help = "node pool of the exact method (default 256, clamped to the\n"
+                                                     "driver's largest storage block)"},
+                                            {NULL}};
+
+static void compare_usage(FILE *f, const lc_opt_set *sets, int nsets)
+{
+    fprintf(f, "usage: lucent compare [--request REQ.json] [--input FILE|demo:NAME] [--against METHOD]\n"
+               "                      [--out-dir DIR] [--repeat N] [--pool-mib N] [--device N] [flags]\n"
+               "Renders the request with its method (default fourier) and with --against (default exact), same\n"
+               "scene, camera and parameters, one-shot (no fading), and prints one \"NAME value\" per line:\n"
+               "SSIM, RMSE (Rec. 709 luminance SSIM, 11x11 Gaussian, sigma 1.5; RMSE over RGB in [0,1]), per-pass\n"
+               "and total GPU times, GPU memory of each method, the exact method's fragment count and layers.\n");
+    lc_opt_usage(f, sets, nsets);
 }
 
 /* One method's frame: the image of the last repetition, mean times of the repetitions. */
@@ -109,44 +132,14 @@ int lc_cli_compare(int argc, char **argv)
 {
     lc_request req;
     lc_cli_common common;
-    const char *out_dir = NULL;
-    int repeat = 3, against = LC_METHOD_EXACT;
-    double pool_mib = 256;
+    compare_args args = {.against = LC_METHOD_EXACT, .repeat = 3, .pool_mib = 256};
     lc_error err = {0};
-    if (lc_cli_begin("compare", argc, argv, &req, &common) != 0)
-        return 1;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--out-dir") == 0 && i + 1 < argc) {
-            out_dir = argv[++i];
-        } else if (strcmp(a, "--against") == 0 && i + 1 < argc) {
-            against = lc_method_from_name(argv[++i]);
-            if (against < 0) {
-                fprintf(stderr, "lucent compare: --against %s: unknown method\n", argv[i]);
-                return 2;
-            }
-        } else if (strcmp(a, "--repeat") == 0 && i + 1 < argc) {
-            repeat = atoi(argv[++i]);
-        } else if (strcmp(a, "--pool-mib") == 0 && i + 1 < argc) {
-            pool_mib = atof(argv[++i]);
-        } else if (strcmp(a, "--help") == 0) {
-            compare_usage();
-            return 0;
-        } else {
-            int rc = lc_cli_apply_flag(&req, &common, argc, argv, &i);
-            if (rc < 0)
-                return 2;
-            if (rc == 0) {
-                fprintf(stderr, "lucent compare: unknown option %s\n", a);
-                compare_usage();
-                return 2;
-            }
-        }
-    }
-    if (repeat < 0 || repeat > 1000 || !(pool_mib >= 1 && pool_mib <= 65536)) {
-        fprintf(stderr, "lucent compare: --repeat must be 0..1000 and --pool-mib 1..65536\n");
-        return 2;
-    }
+    int pr = lc_cli_parse("compare", compare_options, &args, argc, argv, &req, &common, compare_usage);
+    if (pr != 0)
+        return pr == 1 ? 0 : 2;
+    const char *out_dir = args.out_dir;
+    int repeat = args.repeat, against = args.against;
+    double pool_mib = args.pool_mib;
     if (out_dir && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "lucent compare: %s: %s\n", out_dir, strerror(errno));
         return 1;

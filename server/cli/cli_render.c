@@ -20,22 +20,40 @@ static int has_suffix(const char *s, const char *suffix)
     return n >= k && strcasecmp(s + n - k, suffix) == 0;
 }
 
-static void render_usage(void)
+/* The flags of `lucent render` besides the shared ones (cli.c). */
+typedef struct render_args {
+    const char *out, *stats;
+    int frames, mpi, point_stride, uniform_points;
+    double dt;
+} render_args;
+
+#define RENDER(member) LC_OPT_AT(render_args, member)
+static const lc_option render_options[] = {
+    {"--out", "IMG", LC_OPT_TEXT, RENDER(out), .help = "the image: .png, .jpg or .jpeg (required)"},
+    {"-o", "IMG", LC_OPT_TEXT, RENDER(out), .help = NULL},
+    {"--frames", "N", LC_OPT_INT, RENDER(frames), 1, 100000,
+     .help = "render N frames with fading, dt = --dt, keep the last"},
+    {"--dt", "S", LC_OPT_REAL, RENDER(dt), 0, 86400, .help = "time step between those frames (default 1/30 s)"},
+    {"--stats", "FILE.json", LC_OPT_TEXT, RENDER(stats),
+     .help = "write the (last) frame's statistics: pass times, normalization,\n"
+             "visibility"},
+    {"--mpi", NULL, LC_OPT_BOOL, RENDER(mpi),
+     .help = "under mpirun/srun: each rank renders its shard, rank 0 writes the\n"
+             "image (docs/MPI.md; methods fourier and direct); of line files,\n"
+             "point clouds and point tables each rank reads only its share\n"
+             "(LUCENT_MPI_READ=whole: every rank reads all, keeps its shard)"},
+    {"--point-stride", "N", LC_OPT_INT, RENDER(point_stride), 1, 1024,
+     .help = "points: draw as a session does while the camera moves: the most\n"
+             "important 1/(4N) of the points in full, every N-th of the rest"},
+    {"--uniform-points", NULL, LC_OPT_BOOL, RENDER(uniform_points),
+     .help = "with --point-stride: every N-th of all points instead"},
+    {NULL}};
+
+static void render_usage(FILE *f, const lc_opt_set *sets, int nsets)
 {
-    fprintf(stderr,
-            "usage: lucent render [--request REQ.json] [--input FILE|demo:NAME] --out IMG.png|.jpg [flags]\n"
-            "Renders one frame of a render request (protocol/README.md); flags override its fields.\n"
-            "  --frames N            render N frames with fading, dt = --dt (default 1/30 s), keep the last\n"
-            "  --stats FILE.json     write the (last) frame's statistics: pass times, normalization, visibility\n"
-            "  --device N            EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
-            "  --mpi                 under mpirun/srun: each rank renders its shard, rank 0 writes the image\n"
-            "                        (docs/MPI.md; methods fourier and direct); of line files, point\n"
-            "                        clouds and point tables each rank reads only its share\n"
-            "                        (LUCENT_MPI_READ=whole: every rank reads all, then keeps its shard)\n"
-            "  --point-stride N      points: draw as a session does while the camera moves: the most\n"
-            "                        important 1/(4N) of the points in full, every N-th of the rest\n"
-            "  --uniform-points      with --point-stride: every N-th of all points instead\n%s",
-            lc_cli_flags_help);
+    fprintf(f, "usage: lucent render [--request REQ.json] [--input FILE|demo:NAME] --out IMG.png|.jpg [flags]\n"
+               "Renders one frame of a render request (protocol/README.md); flags override its fields.\n");
+    lc_opt_usage(f, sets, nsets);
 }
 
 /* The frame's statistics as JSON (what --stats writes). */
@@ -72,57 +90,25 @@ static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene
 
 int lc_cli_render(int argc, char **argv)
 {
-    const char *stats_path = NULL;
     lc_request req;
     lc_cli_common common;
-    const char *out = NULL;
-    int frames = 1, use_mpi = 0, point_stride = 1, uniform_points = 0;
-    double dt = 1.0 / 30.0;
+    render_args args = {.frames = 1, .point_stride = 1, .dt = 1.0 / 30.0};
     lc_error err = {0};
-    if (lc_cli_begin("render", argc, argv, &req, &common) != 0)
-        return 1;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if ((strcmp(a, "--out") == 0 || strcmp(a, "-o") == 0) && i + 1 < argc) {
-            out = argv[++i];
-        } else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
-            frames = atoi(argv[++i]);
-        } else if (strcmp(a, "--stats") == 0 && i + 1 < argc) {
-            stats_path = argv[++i];
-        } else if (strcmp(a, "--mpi") == 0) {
-            use_mpi = 1;
-        } else if (strcmp(a, "--dt") == 0 && i + 1 < argc) {
-            dt = atof(argv[++i]);
-        } else if (strcmp(a, "--point-stride") == 0 && i + 1 < argc) {
-            point_stride = atoi(argv[++i]);
-        } else if (strcmp(a, "--uniform-points") == 0) {
-            uniform_points = 1;
-        } else if (strcmp(a, "--help") == 0) {
-            render_usage();
-            return 0;
-        } else {
-            int rc = lc_cli_apply_flag(&req, &common, argc, argv, &i);
-            if (rc < 0)
-                return 2;
-            if (rc == 0) {
-                fprintf(stderr, "lucent render: unknown option %s\n", a);
-                render_usage();
-                return 2;
-            }
-        }
-    }
-    if (!out) {
-        render_usage();
+    int pr = lc_cli_parse("render", render_options, &args, argc, argv, &req, &common, render_usage);
+    if (pr != 0)
+        return pr == 1 ? 0 : 2;
+    if (!args.out) {
+        fprintf(stderr, "lucent render: --out IMG.png|.jpg is required (lucent render --help lists the options)\n");
         return 2;
     }
-    if (frames < 1 || frames > 100000 || !(dt >= 0)) {
-        fprintf(stderr, "lucent render: --frames must be 1..100000 and --dt >= 0\n");
+    if (args.uniform_points && args.point_stride == 1) {
+        fprintf(stderr, "lucent render: --uniform-points needs --point-stride > 1\n");
         return 2;
     }
-    if (point_stride < 1 || point_stride > 1024 || (uniform_points && point_stride == 1)) {
-        fprintf(stderr, "lucent render: --point-stride must be 1..1024; --uniform-points needs --point-stride > 1\n");
-        return 2;
-    }
+    const char *out = args.out, *stats_path = args.stats;
+    int frames = args.frames, use_mpi = args.mpi, point_stride = args.point_stride,
+        uniform_points = args.uniform_points;
+    double dt = args.dt;
     req.render.detail.point_stride = point_stride;
     req.render.detail.uniform_points = uniform_points;
     lc_scene *scene = NULL;
@@ -279,14 +265,20 @@ static void print_detail_levels(const lc_scene *s)
 
 int lc_cli_info(int argc, char **argv)
 {
-    if (argc != 2 || argv[1][0] == '-') {
-        fprintf(stderr, "usage: lucent info FILE|demo:NAME[?count=N&seed=S]\n");
-        return 2;
+    static const lc_option none[] = {{NULL}};
+    lc_opt_set set = {none, NULL};
+    const char *spec = NULL;
+    int npos = 0;
+    int pr = lc_opt_parse("info", &set, 1, argc, argv, &spec, 1, &npos);
+    if (pr != 0 || !spec) {
+        if (pr <= 0 || !lc_cli_has_flag(argc, argv, "--list-flags"))
+            fprintf(pr > 0 ? stdout : stderr, "usage: lucent info FILE|demo:NAME[?count=N&seed=S]\n");
+        return pr > 0 ? 0 : 2;
     }
     lc_error err = {0};
     lc_scene *s = NULL;
     double t0 = lc_now();
-    if (lc_cli_open_dataset(argv[1], &s, &err) != 0) {
+    if (lc_cli_open_dataset(spec, &s, &err) != 0) {
         fprintf(stderr, "lucent info: %s\n", err.msg);
         return 1;
     }
@@ -326,33 +318,47 @@ int lc_cli_info(int argc, char **argv)
     return 0;
 }
 
+/* The flags of `lucent gen`. */
+typedef struct gen_args {
+    const char *out;
+    long long count, seed;
+} gen_args;
+
+#define GEN(member) LC_OPT_AT(gen_args, member)
+static const lc_option gen_options[] = {
+    {"--out", "FILE", LC_OPT_TEXT, GEN(out), .help = "the file: .ply, .obj or .vtk (required)"},
+    {"-o", "FILE", LC_OPT_TEXT, GEN(out), .help = NULL},
+    {"--count", "N", LC_OPT_INT, GEN(count), 1, 1e10,
+     .help = "lines, points or grid size of a demo (default: the demo's)"},
+    {"--seed", "S", LC_OPT_INT, GEN(seed), 0, 9007199254740992.0,
+     .help = "random seed of a demo (default: the demo's)"},
+    {NULL}};
+
 int lc_cli_gen(int argc, char **argv)
 {
-    const char *name = NULL, *out = NULL;
-    lc_demo_desc desc = {0};
-    for (int i = 1; i < argc; i++) {
-        if ((strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--out") == 0) && i + 1 < argc)
-            out = argv[++i];
-        else if (strcmp(argv[i], "--count") == 0 && i + 1 < argc)
-            desc.count = strtoull(argv[++i], NULL, 10);
-        else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc)
-            desc.seed = strtoull(argv[++i], NULL, 10);
-        else if (argv[i][0] != '-' && !name)
-            name = argv[i];
-        else {
-            name = NULL;
-            break;
-        }
-    }
-    if (!name || !out) {
-        fprintf(stderr, "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
-                        "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
-                        "demos:");
-        for (const char *const *d = lc_demo_names(); *d; d++)
-            fprintf(stderr, "\n  %-8s %s", *d, lc_demo_description(*d));
-        fprintf(stderr, "\n");
+    gen_args args = {0};
+    const char *name = NULL;
+    int npos = 0;
+    lc_opt_set set = {gen_options, &args};
+    int pr = lc_opt_parse("gen", &set, 1, argc, argv, &name, 1, &npos);
+    if (pr < 0)
         return 2;
+    if (pr > 0 || !name || !args.out) {
+        FILE *f = pr > 0 ? stdout : stderr;
+        if (pr > 0 && lc_cli_has_flag(argc, argv, "--list-flags"))
+            return 0;
+        fprintf(f,
+                "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
+                "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n");
+        lc_opt_usage(f, &set, 1);
+        fprintf(f, "demos:");
+        for (const char *const *d = lc_demo_names(); *d; d++)
+            fprintf(f, "\n  %-8s %s", *d, lc_demo_description(*d));
+        fprintf(f, "\n");
+        return pr > 0 ? 0 : 2;
     }
+    const char *out = args.out;
+    lc_demo_desc desc = {.count = (uint64_t)args.count, .seed = (uint64_t)args.seed};
     const char *bare = strncmp(name, "demo:", 5) == 0 ? name + 5 : name;
     lc_error err = {0};
     lc_scene *s = NULL;

@@ -2,8 +2,6 @@
  * signal handling and the ordered shutdown. */
 #include "serve.h"
 
-#include <getopt.h>
-#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +11,7 @@
 #include "datasets.h"
 #include "gl_context.h"
 #include "http.h"
+#include "lc_options.h"
 #include "loaders.h"
 #include "metrics.h"
 #include "ranks.h"
@@ -33,53 +32,6 @@ static void sink_send_frame(void *ctx, lc_session *s, unsigned char *msg, size_t
                             double encode_ms)
 {
     lc_ws_send_frame(ctx, s, msg, len, render_ms, encode_ms);
-}
-
-static void usage(FILE *f)
-{
-    fprintf(f,
-            "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n"
-            "\n"
-            "  --listen ADDR:PORT     listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
-            "                         IPv6 as [::1]:8080). Anything but loopback exposes the server.\n"
-            "  --data PATH|DIR...     datasets to load before the port opens: files (" LC_DATASET_EXTENSIONS "),\n"
-            "                         folders (every such file in it) or demo:NAME (repeatable; several paths may\n"
-            "                         follow one --data). None = all demos.\n"
-            "  --demo                 also serve every built-in demo next to --data\n"
-            "  --demo-size N          size of generated demos (lines/points/grid; default: the generator's)\n"
-            "  --elements N           line elements or surface patches per dataset (default: derived from the data)\n"
-            "  --exact-positions      float GPU buffers and session opacities (images bit for bit as before the\n"
-            "                         compact 16-bit layout; about twice the bytes per vertex)\n"
-            "  --max-memory BYTES     refuse a dataset whose estimated resident size, with the ones before it,\n"
-            "                         exceeds BYTES (k, M, G, T suffixes; default: no limit)\n"
-            "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
-            "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
-            "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
-            "  --token T              require this bearer token (default: LUCENT_TOKEN if set)\n"
-            "  --max-size N           max image width/height (default 4096)\n"
-            "  --max-pixels N         max width*height of an HTTP render (default 16777216)\n"
-            "  --max-stream-pixels N  max pixels of a WebSocket frame (default 4194304)\n"
-            "  --max-body BYTES       max HTTP request body (default 65536)\n"
-            "  --max-ws-message BYTES max WebSocket message, close 1009 beyond (default 65536)\n"
-            "  --max-json-depth N     max JSON nesting (default 16)\n"
-            "  --max-sessions N       max open sessions, HTTP and WebSocket (default 64)\n"
-            "  --max-queue N          max queued HTTP renders, 503 beyond (default 32)\n"
-            "  --max-connections N    max HTTP connections (default 256)\n"
-            "  --max-cost UNITS       estimated cost of one frame (fragments over all passes), 400 too_expensive\n"
-            "                         naming the field beyond; 0 = no limit (default 1e9: 20-50 s on llvmpipe)\n"
-            "  --render-deadline SEC  an HTTP render that waited this long for a worker, or would take longer by\n"
-            "                         the measured rate, gets 503; 0 = none (default 60)\n"
-            "  --max-queue-per-client N  queued HTTP renders of one client address or session, 429 beyond\n"
-            "                         (default 8; clients are served round robin)\n"
-            "  --idle-timeout SEC     close sessions unused this long (default 300)\n"
-            "  --still-delay MS       quiet input before the full-quality still frame (default 150)\n"
-            "  --frame-budget MS      render time interactive frames aim under: line detail, point stride and\n"
-            "                         resolution adapt to it (default 70)\n"
-            "  --log-level L          error|warn|info|debug (default info)\n"
-            "  --mpi                  under mpirun/srun: each rank reads its share of line files, point clouds and\n"
-            "                         point tables (meshes, .obj: loads all, keeps its shard); rank 0 serves\n"
-            "                         and leads, the others render their shards of each frame (docs/MPI.md)\n"
-            "  -h, --help             this text\n");
 }
 
 static int parse_listen(const char *arg, lc_serve_config *cfg)
@@ -108,49 +60,6 @@ static int parse_listen(const char *arg, lc_serve_config *cfg)
     return 0;
 }
 
-static int parse_long(const char *flag, const char *arg, long long lo, long long hi, long long *out)
-{
-    char *end;
-    long long v = strtoll(arg, &end, 10);
-    if (*end || end == arg || v < lo || v > hi) {
-        fprintf(stderr, "lucent serve: %s: \"%s\" is not an integer in [%lld, %lld]\n", flag, arg, lo, hi);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-enum {
-    OPT_LISTEN = 256,
-    OPT_DATA,
-    OPT_DEMO,
-    OPT_DEMO_SIZE,
-    OPT_DEVICE,
-    OPT_WORKERS,
-    OPT_ENCODERS,
-    OPT_TOKEN,
-    OPT_MAX_SIZE,
-    OPT_MAX_PIXELS,
-    OPT_MAX_STREAM_PIXELS,
-    OPT_MAX_BODY,
-    OPT_MAX_WS,
-    OPT_MAX_DEPTH,
-    OPT_MAX_SESSIONS,
-    OPT_MAX_QUEUE,
-    OPT_MAX_CONN,
-    OPT_IDLE,
-    OPT_STILL,
-    OPT_FRAME_BUDGET,
-    OPT_LOG,
-    OPT_ELEMENTS,
-    OPT_MAX_COST,
-    OPT_DEADLINE,
-    OPT_QUEUE_PER_CLIENT,
-    OPT_MPI,
-    OPT_EXACT_POSITIONS,
-    OPT_MAX_MEMORY
-};
-
 /* A token that does not fit is refused: cutting it would accept its prefix
  * and refuse the token itself. */
 static int set_token(lc_serve_config *cfg, const char *token, const char *from)
@@ -164,192 +73,153 @@ static int set_token(lc_serve_config *cfg, const char *token, const char *from)
     return 0;
 }
 
+/* ---- the flags: one table (render/base/lc_options.h) for parsing and usage */
+
+static int opt_listen(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    (void)o;
+    if (parse_listen(arg, target) == 0)
+        return 0;
+    snprintf(why, why_len, "expected ADDR:PORT with a port in [0, 65535], got \"%s\"", arg);
+    return -1;
+}
+
+static int opt_data(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    (void)o;
+    lc_serve_config *cfg = target;
+    if (cfg->data_count >= MAX_DATA) {
+        snprintf(why, why_len, "at most %d datasets", MAX_DATA);
+        return -1;
+    }
+    cfg->data[cfg->data_count++] = arg;
+    return 0;
+}
+
+static int opt_token(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    lc_serve_config *cfg = target;
+    if (strlen(arg) < sizeof cfg->token)
+        return set_token(cfg, arg, o->name);
+    snprintf(why, why_len, "the token is %zu bytes; at most %zu are allowed", strlen(arg), sizeof cfg->token - 1);
+    return -1;
+}
+
+static int opt_log_level(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    (void)target, (void)o;
+    int level = lc_log_parse_level(arg);
+    if (level < 0) {
+        snprintf(why, why_len, "expected error|warn|info|debug, got \"%s\"", arg);
+        return -1;
+    }
+    lc_log_set_level((lc_log_level)level);
+    return 0;
+}
+
+static int opt_bytes(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    if (lc_memory_parse_bytes(arg, (unsigned long long *)((char *)target + o->offset)) == 0)
+        return 0;
+    snprintf(why, why_len, "expected bytes, e.g. 20G or 512M, got \"%s\"", arg);
+    return -1;
+}
+
+#define CFG(member) LC_OPT_AT(lc_serve_config, member)
+static const lc_option serve_options[] = {
+    {"--listen", "ADDR:PORT", LC_OPT_CALL, .call = opt_listen, .numeric = 1,
+     .help = "listen address (default 127.0.0.1:8080; port 0 picks a free one;\n"
+             "IPv6 as [::1]:8080). Anything but loopback exposes the server."},
+    {"--data", "PATH|DIR...", LC_OPT_CALL, .call = opt_data,
+     .help = "datasets to load before the port opens: files (" LC_DATASET_EXTENSIONS "),\n"
+             "folders (every such file in it) or demo:NAME (repeatable; several paths may\n"
+             "follow one --data). None = all demos."},
+    {"--demo", NULL, LC_OPT_BOOL, CFG(demo), .help = "also serve every built-in demo next to --data"},
+    {"--demo-size", "N", LC_OPT_INT, CFG(demo_size), 1, 100000000,
+     .help = "size of generated demos (lines/points/grid; default: the generator's)"},
+    {"--elements", "N", LC_OPT_INT, CFG(elements), 1, 1 << 24,
+     .help = "line elements or surface patches per dataset (default: derived from the data)"},
+    {"--exact-positions", NULL, LC_OPT_BOOL, CFG(exact_positions),
+     .help = "float GPU buffers and session opacities (images bit for bit as before the\n"
+             "compact 16-bit layout; about twice the bytes per vertex)"},
+    {"--max-memory", "BYTES", LC_OPT_CALL, CFG(max_memory), .call = opt_bytes, .numeric = 1,
+     .help = "refuse a dataset whose estimated resident size, with the ones before it,\n"
+             "exceeds BYTES (k, M, G, T suffixes; default: no limit)"},
+    {"--device", "N", LC_OPT_INT, CFG(device), 0, 64,
+     .help = "EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)"},
+    {"--workers", "N", LC_OPT_INT, CFG(workers), 1, 64,
+     .help = "render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)"},
+    {"--encoders", "N", LC_OPT_INT, CFG(encoders), 1, 64, .help = "JPEG/PNG encoder threads (default 2)"},
+    {"--token", "T", LC_OPT_CALL, .call = opt_token,
+     .help = "require this bearer token (default: LUCENT_TOKEN if set)"},
+    {"--max-size", "N", LC_OPT_INT, CFG(limits.max_size), 16, 16384, .help = "max image width/height (default 4096)"},
+    {"--max-pixels", "N", LC_OPT_INT, CFG(limits.max_pixels), 256, 1LL << 28,
+     .help = "max width*height of an HTTP render (default 16777216)"},
+    {"--max-stream-pixels", "N", LC_OPT_INT, CFG(max_stream_pixels), 256, 1LL << 28,
+     .help = "max pixels of a WebSocket frame (default 4194304)"},
+    {"--max-body", "BYTES", LC_OPT_INT, CFG(max_body), 64, 1LL << 30, .help = "max HTTP request body (default 65536)"},
+    {"--max-ws-message", "BYTES", LC_OPT_INT, CFG(max_ws_message), 64, 1LL << 30,
+     .help = "max WebSocket message, close 1009 beyond (default 65536)"},
+    {"--max-json-depth", "N", LC_OPT_INT, CFG(limits.max_depth), 2, 1000, .help = "max JSON nesting (default 16)"},
+    {"--max-sessions", "N", LC_OPT_INT, CFG(max_sessions), 1, 100000,
+     .help = "max open sessions, HTTP and WebSocket (default 64)"},
+    {"--max-queue", "N", LC_OPT_INT, CFG(max_queue), 1, 100000,
+     .help = "max queued HTTP renders, 503 beyond (default 32)"},
+    {"--max-connections", "N", LC_OPT_INT, CFG(max_connections), 4, 100000,
+     .help = "max HTTP connections (default 256)"},
+    {"--max-cost", "UNITS", LC_OPT_REAL, CFG(max_cost), 0, 1e300,
+     .help = "estimated cost of one frame (fragments over all passes), 400 too_expensive\n"
+             "naming the field beyond; 0 = no limit (default 1e9: 20-50 s on llvmpipe)"},
+    {"--render-deadline", "SEC", LC_OPT_INT, CFG(render_deadline), 0, 86400, 1,
+     .help = "an HTTP render that waited this long for a worker, or would take longer by\n"
+             "the measured rate, gets 503; 0 = none (default 60)"},
+    {"--max-queue-per-client", "N", LC_OPT_INT, CFG(max_queue_per_client), 1, 100000,
+     .help = "queued HTTP renders of one client address or session, 429 beyond\n"
+             "(default 8; clients are served round robin)"},
+    {"--idle-timeout", "SEC", LC_OPT_INT, CFG(idle_timeout), 1, 86400 * 7, 1,
+     .help = "close sessions unused this long (default 300)"},
+    {"--still-delay", "MS", LC_OPT_INT, CFG(still_delay), 0, 60000, 0.001,
+     .help = "quiet input before the full-quality still frame (default 150)"},
+    {"--frame-budget", "MS", LC_OPT_INT, CFG(frame_budget_ms), 5, 10000, 1,
+     .help = "render time interactive frames aim under: line detail, point stride and\n"
+             "resolution adapt to it (default 70)"},
+    {"--log-level", "L", LC_OPT_CALL, .call = opt_log_level, .help = "error|warn|info|debug (default info)"},
+    {"--mpi", NULL, LC_OPT_BOOL, CFG(mpi),
+     .help = "under mpirun/srun: each rank reads its share of line files, point clouds and\n"
+             "point tables (meshes, .obj: loads all, keeps its shard); rank 0 serves\n"
+             "and leads, the others render their shards of each frame (docs/MPI.md)"},
+    {NULL}};
+
+static bool flags_listed; /* --list-flags printed the table: no usage after it */
+
+static void usage(FILE *f)
+{
+    if (flags_listed)
+        return;
+    lc_opt_set set = {serve_options, NULL};
+    fprintf(f, "usage: lucent serve [options] [--data PATH|demo:NAME ...]\n\n");
+    lc_opt_usage(f, &set, 1);
+    fprintf(f, "  -h, --help             this text\n");
+}
+
 /* Fills cfg from argv; returns 0, 1 for --help, -1 on a usage error. */
 static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char **data)
 {
-    static const struct option opts[] = {{"listen", required_argument, NULL, OPT_LISTEN},
-                                         {"data", required_argument, NULL, OPT_DATA},
-                                         {"demo", no_argument, NULL, OPT_DEMO},
-                                         {"demo-size", required_argument, NULL, OPT_DEMO_SIZE},
-                                         {"elements", required_argument, NULL, OPT_ELEMENTS},
-                                         {"device", required_argument, NULL, OPT_DEVICE},
-                                         {"workers", required_argument, NULL, OPT_WORKERS},
-                                         {"encoders", required_argument, NULL, OPT_ENCODERS},
-                                         {"token", required_argument, NULL, OPT_TOKEN},
-                                         {"max-size", required_argument, NULL, OPT_MAX_SIZE},
-                                         {"max-pixels", required_argument, NULL, OPT_MAX_PIXELS},
-                                         {"max-stream-pixels", required_argument, NULL, OPT_MAX_STREAM_PIXELS},
-                                         {"max-body", required_argument, NULL, OPT_MAX_BODY},
-                                         {"max-ws-message", required_argument, NULL, OPT_MAX_WS},
-                                         {"max-json-depth", required_argument, NULL, OPT_MAX_DEPTH},
-                                         {"max-sessions", required_argument, NULL, OPT_MAX_SESSIONS},
-                                         {"max-queue", required_argument, NULL, OPT_MAX_QUEUE},
-                                         {"max-connections", required_argument, NULL, OPT_MAX_CONN},
-                                         {"idle-timeout", required_argument, NULL, OPT_IDLE},
-                                         {"still-delay", required_argument, NULL, OPT_STILL},
-                                         {"frame-budget", required_argument, NULL, OPT_FRAME_BUDGET},
-                                         {"log-level", required_argument, NULL, OPT_LOG},
-                                         {"max-cost", required_argument, NULL, OPT_MAX_COST},
-                                         {"render-deadline", required_argument, NULL, OPT_DEADLINE},
-                                         {"max-queue-per-client", required_argument, NULL, OPT_QUEUE_PER_CLIENT},
-                                         {"mpi", no_argument, NULL, OPT_MPI},
-                                         {"exact-positions", no_argument, NULL, OPT_EXACT_POSITIONS},
-                                         {"max-memory", required_argument, NULL, OPT_MAX_MEMORY},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    optind = 1;
-    int opt;
-    long long v;
-    while ((opt = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
-        switch (opt) {
-        case OPT_LISTEN:
-            if (parse_listen(optarg, cfg) != 0) {
-                fprintf(stderr, "lucent serve: --listen: expected ADDR:PORT, got \"%s\"\n", optarg);
-                return -1;
-            }
-            break;
-        case OPT_DATA:
-            if (cfg->data_count >= MAX_DATA)
-                return -1;
-            data[cfg->data_count++] = optarg;
-            break;
-        case OPT_DEMO: cfg->demo = true; break;
-        case OPT_DEMO_SIZE:
-            if (parse_long("--demo-size", optarg, 1, 100000000, &v))
-                return -1;
-            cfg->demo_size = (unsigned long long)v;
-            break;
-        case OPT_ELEMENTS:
-            if (parse_long("--elements", optarg, 1, 1 << 24, &v))
-                return -1;
-            cfg->elements = (unsigned)v;
-            break;
-        case OPT_DEVICE:
-            if (parse_long("--device", optarg, 0, 64, &v))
-                return -1;
-            cfg->device = (int)v;
-            break;
-        case OPT_WORKERS:
-            if (parse_long("--workers", optarg, 1, 64, &v))
-                return -1;
-            cfg->workers = (int)v;
-            break;
-        case OPT_ENCODERS:
-            if (parse_long("--encoders", optarg, 1, 64, &v))
-                return -1;
-            cfg->encoders = (int)v;
-            break;
-        case OPT_TOKEN:
-            if (set_token(cfg, optarg, "--token") != 0)
-                return -1;
-            break;
-        case OPT_MAX_SIZE:
-            if (parse_long("--max-size", optarg, 16, 16384, &v))
-                return -1;
-            cfg->limits.max_size = (int)v;
-            break;
-        case OPT_MAX_PIXELS:
-            if (parse_long("--max-pixels", optarg, 256, 1LL << 28, &v))
-                return -1;
-            cfg->limits.max_pixels = v;
-            break;
-        case OPT_MAX_STREAM_PIXELS:
-            if (parse_long("--max-stream-pixels", optarg, 256, 1LL << 28, &v))
-                return -1;
-            cfg->max_stream_pixels = v;
-            break;
-        case OPT_MAX_BODY:
-            if (parse_long("--max-body", optarg, 64, 1LL << 30, &v))
-                return -1;
-            cfg->max_body = (size_t)v;
-            break;
-        case OPT_MAX_WS:
-            if (parse_long("--max-ws-message", optarg, 64, 1LL << 30, &v))
-                return -1;
-            cfg->max_ws_message = (size_t)v;
-            break;
-        case OPT_MAX_DEPTH:
-            if (parse_long("--max-json-depth", optarg, 2, 1000, &v))
-                return -1;
-            cfg->limits.max_depth = (int)v;
-            break;
-        case OPT_MAX_SESSIONS:
-            if (parse_long("--max-sessions", optarg, 1, 100000, &v))
-                return -1;
-            cfg->max_sessions = (int)v;
-            break;
-        case OPT_MAX_QUEUE:
-            if (parse_long("--max-queue", optarg, 1, 100000, &v))
-                return -1;
-            cfg->max_queue = (int)v;
-            break;
-        case OPT_MAX_CONN:
-            if (parse_long("--max-connections", optarg, 4, 100000, &v))
-                return -1;
-            cfg->max_connections = (int)v;
-            break;
-        case OPT_IDLE:
-            if (parse_long("--idle-timeout", optarg, 1, 86400 * 7, &v))
-                return -1;
-            cfg->idle_timeout = (double)v;
-            break;
-        case OPT_STILL:
-            if (parse_long("--still-delay", optarg, 0, 60000, &v))
-                return -1;
-            cfg->still_delay = (double)v / 1000.0;
-            break;
-        case OPT_FRAME_BUDGET:
-            if (parse_long("--frame-budget", optarg, 5, 10000, &v))
-                return -1;
-            cfg->frame_budget_ms = (double)v;
-            break;
-        case OPT_LOG: {
-            int level = lc_log_parse_level(optarg);
-            if (level < 0) {
-                fprintf(stderr, "lucent serve: --log-level: expected error|warn|info|debug\n");
-                return -1;
-            }
-            lc_log_set_level((lc_log_level)level);
-            break;
-        }
-        case OPT_MAX_COST: {
-            char *end;
-            double d = strtod(optarg, &end);
-            if (*end || !(d >= 0) || !isfinite(d)) {
-                fprintf(stderr, "lucent serve: --max-cost: expected a number >= 0, got \"%s\"\n", optarg);
-                return -1;
-            }
-            cfg->max_cost = d;
-            break;
-        }
-        case OPT_DEADLINE:
-            if (parse_long("--render-deadline", optarg, 0, 86400, &v))
-                return -1;
-            cfg->render_deadline = (double)v;
-            break;
-        case OPT_QUEUE_PER_CLIENT:
-            if (parse_long("--max-queue-per-client", optarg, 1, 100000, &v))
-                return -1;
-            cfg->max_queue_per_client = (int)v;
-            break;
-        case OPT_MPI: cfg->mpi = true; break;
-        case OPT_EXACT_POSITIONS: cfg->exact_positions = true; break;
-        case OPT_MAX_MEMORY:
-            if (lc_memory_parse_bytes(optarg, &cfg->max_memory) != 0) {
-                fprintf(stderr, "lucent serve: --max-memory: expected bytes, e.g. 20G or 512M, got \"%s\"\n", optarg);
-                return -1;
-            }
-            break;
-        case 'h': return 1;
-        default: return -1;
-        }
-    }
     /* Paths after the flags (`--data a.ply b.ply`) are data too. */
-    for (int i = optind; i < argc; i++) {
+    static const char *rest[MAX_DATA];
+    int nrest = 0;
+    cfg->data = data;
+    lc_opt_set set = {serve_options, cfg};
+    int rc = lc_opt_parse("serve", &set, 1, argc, argv, rest, MAX_DATA, &nrest);
+    for (int i = 1; i < argc && rc > 0; i++)
+        flags_listed |= strcmp(argv[i], "--list-flags") == 0;
+    for (int i = 0; i < nrest && rc == 0; i++) {
         if (cfg->data_count >= MAX_DATA)
             return -1;
-        data[cfg->data_count++] = argv[i];
+        data[cfg->data_count++] = rest[i];
     }
+    if (rc != 0)
+        return rc;
     if (cfg->limits.max_pixels > (long long)cfg->limits.max_size * cfg->limits.max_size)
         cfg->limits.max_pixels = (long long)cfg->limits.max_size * cfg->limits.max_size;
     return 0;

@@ -631,7 +631,7 @@ test('presets: applied on dataset switch under the link, with a working undo', a
   const PRESET = { params: { q: 80, r: 40, lambda: 1.5 }, color: { colormap: 'plasma' }, style: { pointSize: 3 } };
   const page = await newPage();
   await page.setViewportSize(DESKTOP);
-  // a known preset on the points and none elsewhere (the server's tornado carries the paper's setting)
+  // a known preset on the points and none elsewhere (the server's tornado carries Lucent's default q, r, λ)
   await page.route('**/api/v1/datasets', async (route) => {
     const res = await route.fetch();
     const body = await res.json();

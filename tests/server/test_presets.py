@@ -44,7 +44,7 @@ with Server(binary, data=(ply, "demo:tornado"), demo_size=20) as srv:
     check(flow.get("elements") == 200, "the sidecar's elements: %r" % flow.get("elements"))
     check(flow.get("defaultImportance") == "arc_length", "the sidecar's importance attribute is the default")
     check(ds.get("demo:tornado", {}).get("preset", {}).get("params") == {"q": 60, "r": 500, "lambda": 1},
-          "the tornado demo carries the paper's settings")
+          "the tornado demo carries Lucent's default q, r and lambda")
     attrs = flow.get("attributes", [])
     check(attrs and all(a["range"][0] <= a["percentiles"][0] <= a["percentiles"][1] <= a["range"][1] for a in attrs),
           "every attribute has percentiles inside its range")

@@ -1,7 +1,7 @@
 // The settings panel: builds labelled, keyboard-accessible controls from a
 // declarative list, shows each value as a number, and reports changes by the
 // request path they edit ("params.q", "style.background", "quality"). It holds
-// no state of its own beyond the DOM: app.js owns the values.
+// no state of its own beyond the DOM: the page state (app-state.js) owns the values.
 
 import { fieldByPath, checkField } from './schema.js';
 import { flatBounds } from './camera.js';

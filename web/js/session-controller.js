@@ -1,0 +1,152 @@
+// The stream: the hello of each attempt (dataset, camera, viewport and the
+// user's changes, so a reconnect restores them) and what the server's
+// messages do to the page: ready, frames, statistics, errors, the
+// connection's state.
+
+import { helloMessage, describeError, DEFAULT_WINDOW } from './protocol.js';
+import { cloneCamera, validateCamera, roundCamera } from './camera.js';
+import { UPDATE_SECTIONS, STREAM_FIELDS } from './schema.js';
+import { datasetInfo } from './app-state.js';
+
+export const RETRY_DELAYS_KEPT = 50;
+const TOKEN_REFUSED = 'The token was not accepted.';
+const TOKEN_NEEDED = 'This server requires an access token.';
+
+/**
+ * ctx: state; stats (FrameStats); view (push, reset, setSize); camera and params
+ * (the controllers); panel (setMethods, setDataset, markInvalid); api (datasets());
+ * conn() → the Connection (terminal); measure() → {width, height, dpr};
+ * ui: {connection(state, text), showBanner(text, opts), hideBanner(), toast(text),
+ * askToken(reason), showDataset(), showValues(), writeHash(), body(key, value)};
+ * timers: {setInterval, clearInterval, now}.
+ */
+export function createSessionController(ctx) {
+  const { state, ui } = ctx;
+  let countdown = 0;
+
+  function hello() {
+    // send a camera from the start, so that the page and the server agree on it before the first drag
+    if (!state.camera) {
+      state.camera = ctx.camera.initial(datasetInfo(state));
+      state.fitted = !!state.camera;
+    }
+    state.cameras.clear();
+    if (state.camera) {
+      state.cameras.set(0, roundCamera(state.camera, 12));
+      // the view warps toward this camera from now on (not toward the previous dataset's)
+      ctx.camera.adopt(state.camera);
+    }
+    state.viewport = ctx.measure();
+    const v = state.viewport;
+    ctx.view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
+    const msg = { dataset: state.dataset ?? undefined, width: v.width, height: v.height, devicePixelRatio: v.dpr, window: DEFAULT_WINDOW, token: state.token ?? undefined };
+    if (state.camera) msg.camera = roundCamera(state.camera, 12);
+    for (const s of UPDATE_SECTIONS) if (state.update[s] && Object.keys(state.update[s]).length) msg[s] = state.update[s];
+    if (state.update.method) msg.method = state.update.method;
+    for (const f of STREAM_FIELDS) if (state.update[f.name] !== undefined) msg[f.name] = state.update[f.name];
+    ctx.params.drop(); // the hello carries them
+    ctx.camera.drop();
+    return helloMessage(msg);
+  }
+
+  function onState(s, detail) {
+    ctx.timers.clearInterval(countdown);
+    ui.body('connection', s);
+    if (s === 'connecting') {
+      ui.connection(s, detail.attempt ? 'Reconnecting…' : 'Connecting…');
+      ctx.view.reset();
+      state.lastFrame = null; // frames of the new session only
+      state.seq = 0;
+      state.confirmedSeq = 0;
+      ctx.stats.lastMeasuredSeq = 0;
+      ctx.stats.sent.clear();
+    } else if (s === 'open') {
+      ui.connection(s, 'Connected');
+      state.retryDelays = [];
+      if (state.error?.kind === 'connection') ui.hideBanner();
+    } else if (s === 'waiting') {
+      state.retryDelays.push(detail.delay);
+      if (state.retryDelays.length > RETRY_DELAYS_KEPT) state.retryDelays.shift();
+      // a refused handshake (401) only shows as a closed socket: ask the API why
+      ctx.api.datasets().catch((e) => {
+        if (e?.status === 401 || e?.code === 'unauthorized') ui.askToken(state.token ? TOKEN_REFUSED : TOKEN_NEEDED);
+      });
+      const until = ctx.timers.now() + detail.delay;
+      const tick = () => {
+        const left = Math.max(0, Math.ceil((until - ctx.timers.now()) / 1000));
+        ui.connection(s, `Disconnected — retrying in ${left} s`);
+        ui.showBanner(`Connection to the server lost: ${detail.reason}. Reconnecting in ${left} s (attempt ${detail.attempt})…`, { retry: true, kind: 'connection' });
+      };
+      tick();
+      countdown = ctx.timers.setInterval(tick, 1000);
+    } else if (s === 'stopped') {
+      ui.connection(s, 'Disconnected');
+    }
+  }
+
+  function onReady(msg) {
+    state.lastReady = msg;
+    state.session = msg.session;
+    state.info = msg.dataset && typeof msg.dataset === 'object' ? msg.dataset : datasetInfo(state);
+    state.defaults = msg.defaults ?? {};
+    state.stream = msg.stream ?? null;
+    state.limits = msg.limits ?? null;
+    state.dataset = state.info?.name ?? msg.defaults?.dataset ?? state.dataset;
+    if (msg.defaults?.camera && !validateCamera(cloneCamera(msg.defaults.camera))) {
+      ctx.camera.adopt(cloneCamera(msg.defaults.camera));
+    } else if (!state.camera) {
+      // the server fits the data itself; take the same fit and tell it, so both agree from here on
+      const cam = ctx.camera.initial(state.info);
+      if (cam) ctx.camera.setCamera(cam, { fitted: true });
+    }
+    if (state.error && (state.error.code === 'not_found' || state.error.field === 'dataset')) {
+      ui.hideBanner(); // a session for this dataset exists: an old "not available" no longer holds
+      state.error = null;
+    }
+    ctx.panel.setMethods(msg.methods ?? state.health?.methods);
+    ctx.panel.setDataset(state.info);
+    ui.showDataset();
+    ui.showValues();
+    ui.writeHash();
+    ui.body('session', String(msg.session));
+    ui.body('dataset', state.dataset ?? '');
+  }
+
+  function onStats(msg) {
+    ctx.stats.server = Object.fromEntries(Object.entries(msg).filter(([k]) => k !== 'type'));
+    if (typeof msg.renderer === 'string') ctx.stats.renderer = msg.renderer;
+    state.serverStats = msg;
+  }
+
+  function onError(msg, { fatal }) {
+    state.error = { code: msg.code, message: msg.message, field: msg.field ?? '' };
+    ui.body('lastError', msg.code);
+    if (msg.code === 'unauthorized') {
+      ui.askToken(state.token ? TOKEN_REFUSED : TOKEN_NEEDED);
+      return;
+    }
+    const field = msg.field ?? '';
+    if (!fatal && field && ctx.panel.markInvalid(field, describeError(msg))) {
+      ui.toast(`Not applied — ${describeError(msg)}`);
+      return;
+    }
+    const aboutDataset = /dataset/.test(msg.code) || msg.code === 'not_found';
+    if (fatal || aboutDataset) {
+      let text = describeError(msg);
+      if (aboutDataset || field === 'dataset') {
+        const names = state.datasets.map((d) => d.name).join(', ');
+        const why = /[.!?]$/.test(msg.message) ? msg.message : `${msg.message}.`;
+        text = `Dataset “${state.dataset ?? ''}” is not available: ${why}${names ? ` Available: ${names}.` : ''}`;
+        ui.showDataset();
+      }
+      ui.showBanner(text, { retry: !ctx.conn().terminal, kind: 'error' });
+    } else {
+      ui.toast(describeError(msg));
+    }
+  }
+
+  return {
+    hello,
+    handlers: { onState, onReady, onFrame: (frame) => ctx.view.push(frame), onStats, onError },
+  };
+}

@@ -133,7 +133,7 @@ expect_fail "bench --uniform-points alone" "point-stride N > 1" "$LUCENT" bench 
   --size 16x16
 expect_fail "render --uniform-points alone" "needs --point-stride" "$LUCENT" render --dataset demo:points \
   --uniform-points --size 16x16 --out "$tmp/x.png"
-expect_fail "render --point-stride 0" "must be 1..1024" "$LUCENT" render --dataset demo:points --point-stride 0 \
+expect_fail "render --point-stride 0" "render: --point-stride: \"0\" is not an integer in \\[1, 1024\\]" "$LUCENT" render --dataset demo:points --point-stride 0 \
   --size 16x16 --out "$tmp/x.png"
 
 # 7. No usable EGL: a clear message naming EGL and what to install; a device that does not exist.
@@ -145,7 +145,7 @@ expect_fail "missing device (env)" "device 7 does not exist" env LUCENT_EGL_DEVI
 
 # 8. Usage errors.
 expect_fail "unknown command" "unknown command" "$LUCENT" frobnicate
-expect_fail "render without --out" "usage" "$LUCENT" render --dataset demo:abc
+expect_fail "render without --out" "render: --out IMG.png\\|.jpg is required" "$LUCENT" render --dataset demo:abc
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

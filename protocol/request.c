@@ -2,6 +2,8 @@
  * validation and emission, so the four cannot drift apart. */
 #include "request.h"
 
+#include "request_lists.h"
+
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
@@ -74,6 +76,8 @@ typedef enum {
     T_VEC3,  /* double[3], finite */
     T_COLOR, /* double[3] in [0,1] */
     T_RANGE, /* double[2], finite; sets a bool */
+    T_TERMS,   /* lc_importance_map's terms, an array of objects (request_lists.c) */
+    T_FILTERS, /* lc_render_params' filters, an array of objects (request_lists.c) */
 } ftype;
 
 enum {
@@ -168,6 +172,8 @@ static const field fields[] = {
      (long)OFF(render.importance.has_range), NULL},
     {"importance", "exponent", "importanceExponent", T_NUM, 0, 1000, LO_OPEN, OFF(render.importance.exponent), 0,
      NOFLAG, NULL},
+    {"importance", "terms", "importanceTerms", T_TERMS, 0, LC_MAX_IMPORTANCE_TERMS, 0, OFF(render.importance), 0, NOFLAG,
+     NULL},
 
     {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
     {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG, colormap_names},
@@ -179,6 +185,8 @@ static const field fields[] = {
     {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
     {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
     {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
+
+    {NULL, "filter", "filter", T_FILTERS, 0, LC_MAX_FILTERS, 0, OFF(render), 0, NOFLAG, NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
@@ -364,6 +372,15 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
         if (rc)
             return rc;
         memcpy(base, vec, sizeof vec);
+        break;
+    }
+    case T_TERMS:
+    case T_FILTERS: {
+        lc_list_error le;
+        int rc = f->type == T_TERMS ? lc_proto_parse_terms(v, (lc_importance_map *)base, path, &le)
+                                    : lc_proto_parse_filters(v, (lc_render_params *)base, path, &le);
+        if (rc)
+            return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
         break;
     }
     }
@@ -663,6 +680,8 @@ static json_t *query_value(const field *f, const char *value)
         }
         return arr;
     }
+    case T_TERMS:
+    case T_FILTERS: return json_loads(value, JSON_REJECT_DUPLICATES, NULL); /* the array as JSON text */
     }
     return NULL;
 }
@@ -727,6 +746,14 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
     case T_VEC3:
     case T_COLOR: v = vec_json((const double *)base, 3); break;
     case T_RANGE: v = vec_json((const double *)base, 2); break;
+    case T_TERMS:
+        if (((const lc_importance_map *)base)->term_count > 0)
+            v = lc_proto_terms_json((const lc_importance_map *)base);
+        break;
+    case T_FILTERS:
+        if (((const lc_render_params *)base)->filter_count > 0)
+            v = lc_proto_filters_json((const lc_render_params *)base);
+        break;
     }
     if (v)
         json_object_set_new(obj, name, v);
@@ -750,7 +777,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
 {
     static const char *const type_names[] = {
         [T_INT] = "int",   [T_NUM] = "num",   [T_BOOL] = "bool",   [T_STR] = "str",    [T_ENUM] = "enum",
-        [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range"};
+        [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range",
+        [T_TERMS] = "terms", [T_FILTERS] = "filters"};
     lc_proto_limits dl;
     if (!lim) {
         lc_proto_limits_default(&dl);
@@ -779,6 +807,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         }
         if (f->type == T_STR)
             json_object_set_new(o, "maxLength", json_integer((json_int_t)f->size - 1));
+        if (f->type == T_TERMS || f->type == T_FILTERS)
+            json_object_set_new(o, "maxItems", json_integer((json_int_t)f->hi));
         if (f->names) {
             json_t *values = json_array();
             for (const enum_name *n = f->names; n->name; n++)
@@ -809,6 +839,7 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     json_object_set_new(o, "importance", emit_section(r, "importance"));
     json_object_set_new(o, "color", emit_section(r, "color"));
     json_object_set_new(o, "style", emit_section(r, "style"));
+    emit(o, r, NULL, "filter");
     return o;
 }
 

@@ -35,6 +35,7 @@ export const FIELDS = Object.freeze([
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },
   { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true },
+  { section: 'importance', name: 'terms', alias: 'importanceTerms', type: 'terms', maxItems: 4 },
 
   { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63 },
   {
@@ -48,6 +49,8 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64 },
   { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true },
   { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'] },
+
+  { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8 },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
@@ -121,6 +124,12 @@ export function checkField(f, v) {
       return null;
     case 'range':
       return Array.isArray(v) && v.length === 2 && v.every(isNum) ? null : bad('expected an array of 2 numbers');
+    case 'terms':
+    case 'filters':
+      // Arrays of objects (protocol/request_lists.c checks each element).
+      if (!Array.isArray(v) || !v.every((x) => x && typeof x === 'object' && typeof x.attribute === 'string'))
+        return bad(`expected an array of ${f.type}`);
+      return v.length > f.maxItems ? range(`at most ${f.maxItems} ${f.type}`) : null;
     default:
       return bad('unknown type');
   }
@@ -131,8 +140,9 @@ export function checkValue(f, v) {
   return checkField(f, v)?.reason ?? null;
 }
 
-/** Text of a value for a URL (vectors comma-separated), as GET /api/v1/render reads it. */
+/** Text of a value for a URL (vectors comma-separated, terms and filters as JSON), as GET /api/v1/render reads it. */
 export function valueToText(f, v) {
+  if (f.type === 'terms' || f.type === 'filters') return JSON.stringify(v);
   if (Array.isArray(v)) return v.map((x) => String(x)).join(',');
   return String(v);
 }
@@ -159,6 +169,14 @@ export function valueFromText(f, text) {
       const parts = text.split(',').map(num);
       return parts.every(Number.isFinite) ? parts : undefined;
     }
+    case 'terms':
+    case 'filters':
+      try {
+        const v = JSON.parse(text);
+        return Array.isArray(v) ? v : undefined;
+      } catch {
+        return undefined;
+      }
     default:
       return undefined;
   }

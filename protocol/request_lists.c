@@ -202,6 +202,44 @@ int lc_proto_parse_filters(const json_t *v, lc_render_params *p, const char *pat
     return 0;
 }
 
+int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list_error *err)
+{
+    if (!json_is_array(v))
+        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of [x, y] points");
+    size_t n = json_array_size(v);
+    if (n == 1 || n > LC_MAX_CURVE_POINTS)
+        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "2 to %d points (none: the identity)", LC_MAX_CURVE_POINTS);
+    lc_curve tmp = {0};
+    for (size_t i = 0; i < n; i++) {
+        char at[96];
+        snprintf(at, sizeof at, "%s[%zu]", path, i);
+        double xy[2];
+        int rc = get_pair(json_array_get(v, i), xy, at, err);
+        if (rc)
+            return rc;
+        if (!(xy[0] >= 0 && xy[0] <= 1 && xy[1] >= 0 && xy[1] <= 1))
+            return set_error(err, LC_PROTO_OUT_OF_RANGE, at, "x and y must lie in [0, 1]");
+        if (i > 0 && !(xy[0] >= tmp.points[i - 1][0]))
+            return set_error(err, LC_PROTO_BAD_FIELD, at, "x must not decrease");
+        tmp.points[i][0] = xy[0], tmp.points[i][1] = xy[1];
+    }
+    tmp.count = (int)n;
+    *c = tmp;
+    return 0;
+}
+
+json_t *lc_proto_curve_json(const lc_curve *c)
+{
+    json_t *a = json_array();
+    for (int i = 0; a && i < c->count; i++) {
+        json_t *p = json_array();
+        json_array_append_new(p, json_real(c->points[i][0]));
+        json_array_append_new(p, json_real(c->points[i][1]));
+        json_array_append_new(a, p);
+    }
+    return a;
+}
+
 json_t *lc_proto_terms_json(const lc_importance_map *m)
 {
     json_t *a = json_array();

@@ -349,6 +349,7 @@ function hello() {
   if (state.camera) msg.camera = roundCamera(state.camera, 12);
   for (const s of UPDATE_SECTIONS) if (state.update[s] && Object.keys(state.update[s]).length) msg[s] = state.update[s];
   if (state.update.method) msg.method = state.update.method;
+  if (state.update.filter) msg.filter = state.update.filter;
   for (const f of STREAM_FIELDS) if (state.update[f.name] !== undefined) msg[f.name] = state.update[f.name];
   pendingParams = null; // the hello carries them
   cameraDirty = false;
@@ -670,6 +671,7 @@ function renderRequest(width, height) {
   if (values.method) req.method = values.method;
   if (state.camera) req.camera = roundCamera(state.camera, 12);
   for (const s of UPDATE_SECTIONS) if (values[s]) req[s] = values[s];
+  if (values.filter?.length) req.filter = values.filter;
   return req;
 }
 

@@ -108,7 +108,7 @@ typedef struct lc_importance_term {
 #define LC_MAX_CURVE_POINTS 64
 typedef struct lc_curve {
     int count;
-    float points[LC_MAX_CURVE_POINTS][2];
+    double points[LC_MAX_CURVE_POINTS][2];
 } lc_curve;
 
 /* Importance g from an attribute: g = clamp((v - min)/(max - min))^exponent.
@@ -120,6 +120,7 @@ typedef struct lc_importance_map {
     double exponent;
     int term_count; /* 0: the single form above */
     lc_importance_term terms[LC_MAX_IMPORTANCE_TERMS];
+    lc_curve curve; /* transfer function of clamp(t) before the exponent; no points = identity */
 } lc_importance_map;
 
 /* Hard filters (docs/ALGORITHM.md "Filters"): a line (or, for points, a point)
@@ -148,6 +149,7 @@ typedef struct lc_color_map {
     char colormap[LC_NAME_LEN];  /* "viridis", "coolwarm", "grayscale", ... */
     double range[2];
     bool has_range;
+    lc_curve curve; /* transfer function of the colormap coordinate; no points = identity */
 } lc_color_map;
 
 typedef struct lc_style {

@@ -219,6 +219,10 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
             fs->importance_range[0] = p->importance.range[0], fs->importance_range[1] = p->importance.range[1];
     }
     fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
+    fs->terms.curve_count = p->importance.curve.count;
+    for (int i = 0; i < p->importance.curve.count; i++)
+        fs->terms.curve[i][0] = (float)p->importance.curve.points[i][0],
+        fs->terms.curve[i][1] = (float)p->importance.curve.points[i][1];
 
     const char *col = p->color.attribute[0] ? p->color.attribute : s->default_color;
     if (!col[0])

@@ -62,7 +62,8 @@
     X(POINT_BINS, 1024)   /* importance bins of the point subsets (point_subset.c) */                                  \
     X(MAX_ATTRIBUTES, 32) /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */                   \
     X(MAX_IMPORTANCE_TERMS, 4) /* LC_MAX_IMPORTANCE_TERMS (common.glsl vertex_importance) */                  \
-    X(MAX_FILTERS, 8)          /* LC_MAX_FILTERS (filter_mask.comp.glsl) */
+    X(MAX_FILTERS, 8)          /* LC_MAX_FILTERS (filter_mask.comp.glsl) */                                  \
+    X(MAX_CURVE_POINTS, 64)    /* LC_MAX_CURVE_POINTS (common.glsl curve_eval) */
 
 #define LC_GL_BINDING_ENUM(name, value) name = value,
 enum { LC_GL_CONSTANTS(LC_GL_BINDING_ENUM) };
@@ -71,6 +72,7 @@ enum { LC_GL_BINDINGS(LC_GL_BINDING_ENUM) };
 _Static_assert(MAX_ATTRIBUTES == LC_MAX_ATTRIBUTES, "shader attribute tables");
 _Static_assert(MAX_IMPORTANCE_TERMS == LC_MAX_IMPORTANCE_TERMS, "shader importance terms");
 _Static_assert(MAX_FILTERS == LC_MAX_FILTERS, "shader filters");
+_Static_assert(MAX_CURVE_POINTS == LC_MAX_CURVE_POINTS, "shader curves");
 
 /* The weighted importance terms of a frame (frame.c resolves them), compared
  * with memcmp by the caches keyed by the importance mapping: zero-filled. */
@@ -79,10 +81,13 @@ typedef struct lc_importance_terms {
     double weight[LC_MAX_IMPORTANCE_TERMS];
     double norm;          /* 1 / sum |w| */
     uint64_t mask_serial; /* the filter mask the caches saw (filter.c); 0: none */
+    float curve[LC_MAX_CURVE_POINTS][2]; /* importance.curve */
+    int curve_count;
     int count;            /* 0: the single form */
     int attr[LC_MAX_IMPORTANCE_TERMS];
     int invert[LC_MAX_IMPORTANCE_TERMS];
     int penalty; /* sum w < 0 */
+    int unused; /* no tail padding: memcmp sees every byte */
 } lc_importance_terms;
 
 /* One level of detail: the primitives a pass draws. Level 0 is the whole
@@ -330,6 +335,8 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes);
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);
 /* Sets the importance terms' uniforms (part of lc_renderer_bind_geometry). */
 void lc_renderer_bind_terms(GLuint prog, const lc_importance_terms *t);
+/* Sets the transfer functions' uniforms (part of lc_renderer_bind_geometry). */
+void lc_renderer_bind_curves(GLuint prog, const lc_importance_terms *t, const lc_curve *color);
 /* Chooses how large draws are issued for the driver named gl_renderer
  * (GL_RENDERER): in batches on software rasterizers. Process-wide. */
 void lc_pipeline_configure(const char *gl_renderer);

@@ -4,7 +4,9 @@
  *   form on an attribute holding the combination written by hand (exact and
  *   Fourier), and a negative weight penalizes as documented;
  * - the filter "line's change of p > x" renders like a scene built without the
- *   lines that fail it (exact: identical pixels; Fourier: SSIM >= 0.999). */
+ *   lines that fail it (exact: identical pixels; Fourier: SSIM >= 0.999);
+ * - transfer functions: the identity curve renders today's image bit for bit,
+ *   and the curve [[0,0],[1,0.5]] like the attribute a/2 written by hand. */
 #include <math.h>
 
 #include "image.h"
@@ -48,7 +50,8 @@ static void line_attrs(int i, int k, float *a, float *b, float *p)
 }
 
 /* The bundle; keep (NULL = all) chooses the lines. Attributes a, b, p and the
- * hand-written combinations: half = a/2 + b/2, diff = (a - b)/2, inv = 1 - a. */
+ * hand-written combinations: half = a/2 + b/2, diff = (a - b)/2, inv = 1 - a,
+ * a_half = a/2. */
 static lc_scene *bundle(const int *keep)
 {
     lc_error err = {0};
@@ -60,8 +63,8 @@ static lc_scene *bundle(const int *keep)
         return NULL;
     s->line_count = (uint32_t)n;
     s->line_offsets = malloc(sizeof(uint32_t) * ((size_t)n + 1));
-    float *attr[6];
-    for (int j = 0; j < 6; j++)
+    float *attr[7];
+    for (int j = 0; j < 7; j++)
         attr[j] = malloc(sizeof(float) * (size_t)n * PER_LINE);
     uint32_t v = 0;
     int l = 0;
@@ -77,11 +80,12 @@ static lc_scene *bundle(const int *keep)
             attr[3][v] = 0.5f * a + 0.5f * b;
             attr[4][v] = (a - b) * 0.5f;
             attr[5][v] = 1.0f - a;
+            attr[6][v] = 0.5f * a;
         }
     }
     s->line_offsets[n] = v;
-    static const char *const names[6] = {"a", "b", "p", "half", "diff", "inv"};
-    for (int j = 0; j < 6; j++)
+    static const char *const names[7] = {"a", "b", "p", "half", "diff", "inv", "a_half"};
+    for (int j = 0; j < 7; j++)
         lc_scene_add_attribute(s, names[j], attr[j], &err);
     lc_elements_desc desc = {.line_budget = (uint32_t)n}; /* one element per line */
     if (lc_scene_finalize(s, &desc, &err) != 0) {
@@ -225,6 +229,44 @@ static void check_filter(test_gl *t, const lc_scene *all)
     lc_scene_destroy(part);
 }
 
+static void set_curve(lc_curve *c, double y1)
+{
+    c->count = 2;
+    c->points[0][0] = 0, c->points[0][1] = 0;
+    c->points[1][0] = 1, c->points[1][1] = y1;
+}
+
+/* Importance and colour curves: identity = no curve; a halving curve = the
+ * attribute a/2 written by hand. */
+static void check_curves(test_gl *t, const lc_scene *s)
+{
+    static uint8_t want[SIZE * SIZE * 4], got[SIZE * SIZE * 4];
+    for (int m = 0; m < 2; m++) {
+        lc_method method = m == 0 ? LC_METHOD_EXACT : LC_METHOD_FOURIER;
+        for (int which = 0; which < 2; which++) { /* 0 importance, 1 colour */
+            for (int half = 0; half < 2; half++) {
+                lc_render_params p;
+                params(&p, method);
+                snprintf(p.importance.attribute, sizeof p.importance.attribute, "%s",
+                         which == 0 && half ? "a_half" : "a");
+                snprintf(p.color.attribute, sizeof p.color.attribute, "%s", which == 1 && half ? "a_half" : "a");
+                if (render(t, s, &p, want) != 0)
+                    return;
+                snprintf(p.importance.attribute, sizeof p.importance.attribute, "a");
+                snprintf(p.color.attribute, sizeof p.color.attribute, "a");
+                set_curve(which == 0 ? &p.importance.curve : &p.color.curve, half ? 0.5 : 1.0);
+                if (render(t, s, &p, got) != 0)
+                    return;
+                int d = differing(want, got);
+                printf("%s %s curve %s: %d differing bytes\n", lc_method_name(method),
+                       which == 0 ? "importance" : "colour", half ? "y = x/2" : "identity", d);
+                CHECK(d == 0, "%s: %s curve %s differs in %d bytes", lc_method_name(method),
+                      which == 0 ? "importance" : "colour", half ? "y = x/2" : "identity", d);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     test_gl t;
@@ -234,6 +276,7 @@ int main(void)
     if (s) {
         check_terms(&t, s);
         check_filter(&t, s);
+        check_curves(&t, s);
         lc_scene_destroy(s);
     }
     test_gl_close(&t);

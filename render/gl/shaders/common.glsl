@@ -112,6 +112,27 @@ float mapped_attribute(int a, vec2 range, uint v)
     return span != 0.0 ? (attribute_value(a, v) - range.x) / span : 1.0;
 }
 
+// Transfer functions (importance.curve, color.curve): piecewise linear through
+// u_curve_n.x points u_curve[i].xy (importance) and u_curve_n.y points .zw (colour);
+// no points: identity. Exact at the points, so [[0,0],[1,1]] is the identity bit for bit.
+uniform ivec2 u_curve_n;
+uniform vec4 u_curve[MAX_CURVE_POINTS];
+
+float curve_eval(int c, float t)
+{
+    int n = c == 0 ? u_curve_n.x : u_curve_n.y;
+    vec2 a = c == 0 ? u_curve[0].xy : u_curve[0].zw;
+    if (t <= a.x)
+        return a.y;
+    for (int i = 1; i < n; i++) {
+        vec2 b = c == 0 ? u_curve[i].xy : u_curve[i].zw;
+        if (t <= b.x)
+            return b.x > a.x ? a.y + (t - a.x) / (b.x - a.x) * (b.y - a.y) : b.y;
+        a = b;
+    }
+    return a.y;
+}
+
 float vertex_importance(uint v)
 {
     if (u_importance_attr < 0)
@@ -126,7 +147,10 @@ float vertex_importance(uint v)
         s *= u_term_norm;
         t = u_term_penalty != 0 ? 1.0 + s : s;
     }
-    return pow(clamp(t, 0.0, 1.0), u_importance_exp);
+    t = clamp(t, 0.0, 1.0);
+    if (u_curve_n.x > 0)
+        t = curve_eval(0, t);
+    return pow(t, u_importance_exp);
 }
 
 // Per-vertex visibility of the request's filters (filter.c): a hidden vertex draws nothing and counts in no sum.
@@ -142,7 +166,8 @@ float vertex_color_scalar(uint v, float g)
 {
     float value = u_color_mode == 1 ? g : (u_color_attr >= 0 ? attribute_value(u_color_attr, v) : g);
     float span = u_color_range.y - u_color_range.x;
-    return span != 0.0 ? (value - u_color_range.x) / span : 0.5;
+    float t = span != 0.0 ? (value - u_color_range.x) / span : 0.5;
+    return u_curve_n.y > 0 ? curve_eval(1, clamp(t, 0.0, 1.0)) : t;
 }
 
 vec3 vertex_rgb(uint v)

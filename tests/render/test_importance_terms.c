@@ -5,6 +5,7 @@
  *   Fourier), and a negative weight penalizes as documented;
  * - the filter "line's change of p > x" renders like a scene built without the
  *   lines that fail it (exact: identical pixels; Fourier: SSIM >= 0.999);
+ * - points: the filter "value > x" renders like the cloud without those points;
  * - transfer functions: the identity curve renders today's image bit for bit,
  *   and the curve [[0,0],[1,0.5]] like the attribute a/2 written by hand. */
 #include <math.h>
@@ -229,6 +230,73 @@ static void check_filter(test_gl *t, const lc_scene *all)
     lc_scene_destroy(part);
 }
 
+/* A cloud of POINTS points; point i has value v = (i * 37 % 100) / 100; the
+ * first 8 (v < 0.08 or so are not among them) sit at the corners and pin the bounds. */
+enum { POINTS = 400 };
+static double point_value(int i) { return i < 8 ? 0.99 : (double)((i * 37) % 100) / 100.0; }
+
+static lc_scene *cloud(double keep_above)
+{
+    lc_error err = {0};
+    int n = 0;
+    for (int i = 0; i < POINTS; i++)
+        n += point_value(i) > keep_above;
+    lc_scene *s = lc_scene_create("cloud", LC_PRIM_POINTS);
+    if (!s || lc_scene_alloc_vertices(s, (uint32_t)n, 0, &err) != 0)
+        return NULL;
+    float *v = malloc(sizeof(float) * (size_t)n);
+    int k = 0;
+    for (int i = 0; i < POINTS; i++) {
+        if (!(point_value(i) > keep_above))
+            continue;
+        uint32_t st = (uint32_t)i * 2654435761u + 7u;
+        for (int c = 0; c < 3; c++)
+            s->positions[3 * k + c] = i < 8 ? (float)(((i >> c) & 1) ? 1 : -1) : (float)(-0.9 + 1.8 * rnd(&st));
+        v[k++] = (float)point_value(i);
+    }
+    lc_scene_add_attribute(s, "v", v, &err);
+    if (lc_scene_finalize(s, NULL, &err) != 0) {
+        fprintf(stderr, "finalize: %s\n", err.msg);
+        lc_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void check_point_filter(test_gl *t)
+{
+    static uint8_t want[SIZE * SIZE * 4], got[SIZE * SIZE * 4];
+    const double cut = 0.5;
+    lc_scene *all = cloud(-1), *part = cloud(cut);
+    CHECK(all && part && part->vertex_count < all->vertex_count, "point clouds");
+    for (int m = 0; all && part && m < 2; m++) {
+        lc_method method = m == 0 ? LC_METHOD_EXACT : LC_METHOD_FOURIER;
+        lc_render_params p;
+        params(&p, method);
+        snprintf(p.importance.attribute, sizeof p.importance.attribute, "v");
+        snprintf(p.color.attribute, sizeof p.color.attribute, "v");
+        p.style.point_size = 6;
+        if (render(t, part, &p, want) != 0)
+            break;
+        p.filter_count = 1;
+        snprintf(p.filters[0].attribute, sizeof p.filters[0].attribute, "v");
+        p.filters[0].over = LC_FILTER_VERTEX;
+        p.filters[0].lo = cut, p.filters[0].lo_open = true, p.filters[0].hi = HUGE_VAL;
+        if (render(t, all, &p, got) != 0)
+            break;
+        int d = differing(want, got);
+        double ssim = lc_image_ssim(want, got, SIZE, SIZE);
+        printf("%s point filter (%u of %u points kept): %d differing bytes, SSIM %.6f\n", lc_method_name(method),
+               part->vertex_count, all->vertex_count, d, ssim);
+        if (method == LC_METHOD_EXACT)
+            CHECK(d == 0, "exact: the filtered cloud differs from the reduced one in %d bytes", d);
+        else
+            CHECK(ssim >= 0.999, "fourier: SSIM %.5f of the filtered cloud against the reduced one", ssim);
+    }
+    lc_scene_destroy(all);
+    lc_scene_destroy(part);
+}
+
 static void set_curve(lc_curve *c, double y1)
 {
     c->count = 2;
@@ -277,6 +345,7 @@ int main(void)
         check_terms(&t, s);
         check_filter(&t, s);
         check_curves(&t, s);
+        check_point_filter(&t);
         lc_scene_destroy(s);
     }
     test_gl_close(&t);

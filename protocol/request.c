@@ -2,6 +2,8 @@
  * validation and emission, so the four cannot drift apart. */
 #include "request.h"
 
+#include "request_lists.h"
+
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
@@ -74,6 +76,9 @@ typedef enum {
     T_VEC3,  /* double[3], finite */
     T_COLOR, /* double[3] in [0,1] */
     T_RANGE, /* double[2], finite; sets a bool */
+    T_TERMS,   /* lc_importance_map's terms, an array of objects (request_lists.c) */
+    T_FILTERS, /* lc_render_params' filters, an array of objects (request_lists.c) */
+    T_CURVE,   /* lc_curve, an array of [x, y] points (request_lists.c) */
 } ftype;
 
 enum {
@@ -168,17 +173,24 @@ static const field fields[] = {
      (long)OFF(render.importance.has_range), NULL},
     {"importance", "exponent", "importanceExponent", T_NUM, 0, 1000, LO_OPEN, OFF(render.importance.exponent), 0,
      NOFLAG, NULL},
+    {"importance", "terms", "importanceTerms", T_TERMS, 0, LC_MAX_IMPORTANCE_TERMS, 0, OFF(render.importance), 0, NOFLAG,
+     NULL},
+    {"importance", "curve", "importanceCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.importance.curve), 0,
+     NOFLAG, NULL},
 
     {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
     {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG, colormap_names},
     {"color", "range", "colorRange", T_RANGE, 0, 0, 0, OFF(render.color.range), 0, (long)OFF(render.color.has_range),
      NULL},
+    {"color", "curve", "colorCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.color.curve), 0, NOFLAG, NULL},
 
     {"style", "background", "background", T_COLOR, 0, 0, 0, OFF(render.style.background), 0, NOFLAG, NULL},
     {"style", "lineWidth", "lineWidth", T_NUM, 0, BIG, 0, OFF(render.style.line_width), 0, NOFLAG, NULL},
     {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
     {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
     {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
+
+    {NULL, "filter", "filter", T_FILTERS, 0, LC_MAX_FILTERS, 0, OFF(render), 0, NOFLAG, NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
@@ -364,6 +376,17 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
         if (rc)
             return rc;
         memcpy(base, vec, sizeof vec);
+        break;
+    }
+    case T_TERMS:
+    case T_FILTERS:
+    case T_CURVE: {
+        lc_list_error le;
+        int rc = f->type == T_TERMS     ? lc_proto_parse_terms(v, (lc_importance_map *)base, path, &le)
+                 : f->type == T_FILTERS ? lc_proto_parse_filters(v, (lc_render_params *)base, path, &le)
+                                        : lc_proto_parse_curve(v, (lc_curve *)base, path, &le);
+        if (rc)
+            return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
         break;
     }
     }
@@ -663,6 +686,9 @@ static json_t *query_value(const field *f, const char *value)
         }
         return arr;
     }
+    case T_TERMS:
+    case T_FILTERS:
+    case T_CURVE: return json_loads(value, JSON_REJECT_DUPLICATES, NULL); /* the array as JSON text */
     }
     return NULL;
 }
@@ -727,6 +753,18 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
     case T_VEC3:
     case T_COLOR: v = vec_json((const double *)base, 3); break;
     case T_RANGE: v = vec_json((const double *)base, 2); break;
+    case T_TERMS:
+        if (((const lc_importance_map *)base)->term_count > 0)
+            v = lc_proto_terms_json((const lc_importance_map *)base);
+        break;
+    case T_FILTERS:
+        if (((const lc_render_params *)base)->filter_count > 0)
+            v = lc_proto_filters_json((const lc_render_params *)base);
+        break;
+    case T_CURVE:
+        if (((const lc_curve *)base)->count > 0)
+            v = lc_proto_curve_json((const lc_curve *)base);
+        break;
     }
     if (v)
         json_object_set_new(obj, name, v);
@@ -750,7 +788,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
 {
     static const char *const type_names[] = {
         [T_INT] = "int",   [T_NUM] = "num",   [T_BOOL] = "bool",   [T_STR] = "str",    [T_ENUM] = "enum",
-        [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range"};
+        [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range",
+        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve"};
     lc_proto_limits dl;
     if (!lim) {
         lc_proto_limits_default(&dl);
@@ -779,6 +818,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         }
         if (f->type == T_STR)
             json_object_set_new(o, "maxLength", json_integer((json_int_t)f->size - 1));
+        if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE)
+            json_object_set_new(o, "maxItems", json_integer((json_int_t)f->hi));
         if (f->names) {
             json_t *values = json_array();
             for (const enum_name *n = f->names; n->name; n++)
@@ -809,6 +850,7 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     json_object_set_new(o, "importance", emit_section(r, "importance"));
     json_object_set_new(o, "color", emit_section(r, "color"));
     json_object_set_new(o, "style", emit_section(r, "style"));
+    emit(o, r, NULL, "filter");
     return o;
 }
 

@@ -315,6 +315,7 @@ export function createApp(doc = document, win = window) {
     if (v.method) req.method = v.method;
     if (state.camera) req.camera = roundCamera(state.camera, 12);
     for (const s of UPDATE_SECTIONS) if (v[s]) req[s] = v[s];
+    if (v.filter?.length) req.filter = v.filter;
     return req;
   }
   async function screenshot() {

@@ -91,20 +91,65 @@ typedef struct lc_foo_params {
     lc_normalize normalize;
 } lc_foo_params;
 
+/* One weighted criterion of the importance (docs/ALGORITHM.md "Importance
+ * terms", Met.3D's importance section): t = clamp((v - min)/(max - min)),
+ * 1 - t when inverted, weighted in [-1, 1]. */
+#define LC_MAX_IMPORTANCE_TERMS 4
+typedef struct lc_importance_term {
+    char attribute[LC_NAME_LEN];
+    double range[2];
+    bool has_range; /* false: the attribute's range as the single form picks it */
+    double weight;  /* [-1, 1] */
+    bool invert;
+} lc_importance_term;
+
+/* Transfer-function curves: piecewise linear through up to LC_MAX_CURVE_POINTS
+ * (x, y) points with increasing x in [0, 1]; no points = identity. */
+#define LC_MAX_CURVE_POINTS 64
+typedef struct lc_curve {
+    int count;
+    double points[LC_MAX_CURVE_POINTS][2];
+} lc_curve;
+
 /* Importance g from an attribute: g = clamp((v - min)/(max - min))^exponent.
- * min > max inverts. */
+ * min > max inverts. With terms, the terms replace the attribute and range. */
 typedef struct lc_importance_map {
     char attribute[LC_NAME_LEN]; /* "" = dataset default */
     double range[2];
     bool has_range; /* false = the attribute's own min/max */
     double exponent;
+    int term_count; /* 0: the single form above */
+    lc_importance_term terms[LC_MAX_IMPORTANCE_TERMS];
+    lc_curve curve; /* transfer function of clamp(t) before the exponent; no points = identity */
 } lc_importance_map;
+
+/* Hard filters (docs/ALGORITHM.md "Filters"): a line (or, for points, a point)
+ * draws only where every filter holds. A line filter tests a statistic of the
+ * attribute over the line's vertices. */
+#define LC_MAX_FILTERS 8
+typedef enum {
+    LC_FILTER_VERTEX = 0, /* points: the point's own value */
+    LC_FILTER_MIN,
+    LC_FILTER_MAX,
+    LC_FILTER_MEAN,
+    LC_FILTER_FIRST,
+    LC_FILTER_LAST,
+    LC_FILTER_CHANGE, /* last - first */
+    LC_FILTER_OVER_COUNT
+} lc_filter_over;
+typedef struct lc_filter {
+    char attribute[LC_NAME_LEN];
+    lc_filter_over over;
+    double lo, hi;         /* the value must lie in [lo, hi] ... */
+    bool lo_open, hi_open; /* ... or (lo, ...) / (..., hi) */
+} lc_filter;
 
 typedef struct lc_color_map {
     char attribute[LC_NAME_LEN]; /* "importance", "rgb", an attribute, "" = default */
     char colormap[LC_NAME_LEN];  /* "viridis", "coolwarm", "grayscale", ... */
     double range[2];
     bool has_range;
+    lc_curve curve; /* transfer function of the colormap coordinate; no points = identity */
 } lc_color_map;
 
 typedef struct lc_style {
@@ -137,6 +182,8 @@ typedef struct lc_render_params {
     lc_color_map color;
     lc_style style;
     lc_detail detail;
+    int filter_count;
+    lc_filter filters[LC_MAX_FILTERS];
 } lc_render_params;
 
 /* Fills with the paper-default values (m = 5, s = 15, q = 60, r = 500, ...). */

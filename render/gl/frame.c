@@ -1,6 +1,7 @@
 /* The renderer's public entry: create/destroy, the frame's set-up (camera,
  * attribute mapping, sizes) and the dispatch to a method. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -95,6 +96,7 @@ void lc_renderer_destroy(lc_renderer *r)
     glDeleteTextures(r->colormap_count, r->colormap_tex);
     glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
     glDeleteVertexArrays(1, &r->vao);
+    lc_filter_release(r);
     free(r->importance_cache);
     free(r->reduce_buf);
     free(r);
@@ -103,7 +105,10 @@ void lc_renderer_destroy(lc_renderer *r)
 uint64_t lc_renderer_bytes(const lc_renderer *r)
 {
     uint64_t points = r->point_histogram ? POINT_BINS * 4 + ((uint64_t)r->point_list_capacity + 1) * 4 : 0;
-    return r->bytes_targets + r->bytes_elements + points;
+    uint64_t filter = r->filter.mask ? (uint64_t)r->filter.mask_words * 4 : 0;
+    if (r->filter.offsets)
+        filter += ((uint64_t)r->filter.gs->scene->line_count + 1) * 4;
+    return r->bytes_targets + r->bytes_elements + points + filter;
 }
 
 uint64_t lc_renderer_element_bytes(const lc_renderer *r)
@@ -148,6 +153,50 @@ static void ensure_output(lc_renderer *r, int w, int h, int with_depth)
     r->bytes_targets += (uint64_t)w * h * 4;
 }
 
+/* The range an importance attribute maps from when the request gives none:
+ * auto: min/max without the outliers, unless that collapses (e.g. a mostly
+ * constant attribute); off: min/max. */
+static void default_range(const lc_render_params *p, const lc_attribute *a, double out[2])
+{
+    int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
+    out[0] = robust ? a->auto_lo : a->min;
+    out[1] = robust ? a->auto_hi : a->max;
+}
+
+/* The weighted terms (docs/ALGORITHM.md "Importance terms"); the first
+ * term's attribute also stands in importance_attr, so "g = 1" stays off. */
+static int resolve_terms(lc_frame_setup *fs, lc_error *err)
+{
+    const lc_importance_map *m = &fs->params->importance;
+    const lc_scene *s = fs->gs->scene;
+    lc_importance_terms *t = &fs->terms;
+    double sum = 0, sum_abs = 0;
+    for (int i = 0; i < m->term_count && i < LC_MAX_IMPORTANCE_TERMS; i++) {
+        const lc_importance_term *in = &m->terms[i];
+        char field[48];
+        snprintf(field, sizeof field, "importance.terms[%d].attribute", i);
+        t->attr[i] = lc_scene_find_attribute(s, in->attribute);
+        if (t->attr[i] < 0)
+            return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, in->attribute);
+        if (in->has_range)
+            t->range[i][0] = in->range[0], t->range[i][1] = in->range[1];
+        else
+            default_range(fs->params, &s->attributes[t->attr[i]], t->range[i]);
+        t->weight[i] = in->weight;
+        t->invert[i] = in->invert ? 1 : 0;
+        sum += in->weight;
+        sum_abs += fabs(in->weight);
+        t->count = i + 1;
+    }
+    if (!(sum_abs > 0))
+        return lc_err_field(err, LC_ERR_INVALID, "importance.terms", "every weight is 0");
+    t->norm = 1.0 / sum_abs;
+    t->penalty = sum < 0;
+    fs->importance_attr = t->attr[0];
+    fs->importance_range[0] = t->range[0][0], fs->importance_range[1] = t->range[0][1];
+    return 0;
+}
+
 static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
 {
     const lc_render_params *p = fs->params;
@@ -155,18 +204,25 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
     const char *imp = p->importance.attribute[0] ? p->importance.attribute : s->default_importance;
     fs->importance_attr = -1;
     fs->importance_range[0] = 0, fs->importance_range[1] = 1;
-    if (imp[0]) {
+    memset(&fs->terms, 0, sizeof fs->terms);
+    if (p->importance.term_count > 0) {
+        int rc = resolve_terms(fs, err);
+        if (rc)
+            return rc;
+    } else if (imp[0]) {
         fs->importance_attr = lc_scene_find_attribute(s, imp);
         if (fs->importance_attr < 0)
             return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name,
                                 imp);
-        const lc_attribute *a = &s->attributes[fs->importance_attr];
-        /* auto: min/max without the outliers, unless that collapses (e.g. a mostly constant attribute). */
-        int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
-        fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : robust ? a->auto_lo : a->min;
-        fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : robust ? a->auto_hi : a->max;
+        default_range(p, &s->attributes[fs->importance_attr], fs->importance_range);
+        if (p->importance.has_range)
+            fs->importance_range[0] = p->importance.range[0], fs->importance_range[1] = p->importance.range[1];
     }
     fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
+    fs->terms.curve_count = p->importance.curve.count;
+    for (int i = 0; i < p->importance.curve.count; i++)
+        fs->terms.curve[i][0] = (float)p->importance.curve.points[i][0],
+        fs->terms.curve[i][1] = (float)p->importance.curve.points[i][1];
 
     const char *col = p->color.attribute[0] ? p->color.attribute : s->default_color;
     if (!col[0])
@@ -274,6 +330,8 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     }
     rc = resolve_mapping(&fs, err);
     if (rc)
+        return rc;
+    if ((rc = lc_filter_prepare(r, &fs, err)) != 0)
         return rc;
     lc_camera_view(&p.camera, s->bounds, (double)p.width / p.height, p.height, &fs.view);
     double diag = 0;

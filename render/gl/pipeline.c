@@ -70,6 +70,42 @@ unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset)
     return fs->gs->scene->type == LC_PRIM_POINTS && fs->point_stride > 1 ? n * (unsigned)fs->point_stride : n;
 }
 
+void lc_renderer_bind_terms(GLuint prog, const lc_importance_terms *t)
+{
+    lc_uniform_i(prog, "u_importance_terms", t->count);
+    if (t->count <= 0)
+        return;
+    float range[LC_MAX_IMPORTANCE_TERMS][2], weight[LC_MAX_IMPORTANCE_TERMS];
+    for (int i = 0; i < t->count; i++) {
+        range[i][0] = (float)t->range[i][0], range[i][1] = (float)t->range[i][1];
+        weight[i] = (float)t->weight[i];
+    }
+    glProgramUniform1iv(prog, glGetUniformLocation(prog, "u_term_attr"), t->count, t->attr);
+    glProgramUniform2fv(prog, glGetUniformLocation(prog, "u_term_range"), t->count, &range[0][0]);
+    glProgramUniform1fv(prog, glGetUniformLocation(prog, "u_term_weight"), t->count, weight);
+    glProgramUniform1iv(prog, glGetUniformLocation(prog, "u_term_invert"), t->count, t->invert);
+    lc_uniform_f(prog, "u_term_norm", t->norm);
+    lc_uniform_i(prog, "u_term_penalty", t->penalty);
+}
+
+/* Transfer functions: point i of the importance curve in u_curve[i].xy, of
+ * the colour curve in .zw (one vec4 per point keeps the uniform count low). */
+void lc_renderer_bind_curves(GLuint prog, const lc_importance_terms *t, const lc_curve *color)
+{
+    int n = t->curve_count > color->count ? t->curve_count : color->count;
+    glProgramUniform2i(prog, glGetUniformLocation(prog, "u_curve_n"), t->curve_count, color->count);
+    if (n <= 0)
+        return;
+    float points[LC_MAX_CURVE_POINTS][4] = {{0}};
+    for (int i = 0; i < n; i++) {
+        if (i < t->curve_count)
+            points[i][0] = t->curve[i][0], points[i][1] = t->curve[i][1];
+        if (i < color->count)
+            points[i][2] = (float)color->points[i][0], points[i][3] = (float)color->points[i][1];
+    }
+    glProgramUniform4fv(prog, glGetUniformLocation(prog, "u_curve"), n, &points[0][0]);
+}
+
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset)
 {
     const lc_gpu_scene *gs = fs->gs;
@@ -124,6 +160,10 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_i(prog, "u_importance_attr", fs->importance_attr);
     lc_uniform_v2(prog, "u_importance_range", fs->importance_range[0], fs->importance_range[1]);
     lc_uniform_f(prog, "u_importance_exp", fs->importance_exponent);
+    lc_renderer_bind_terms(prog, &fs->terms);
+    lc_renderer_bind_curves(prog, &fs->terms, &p->color.curve);
+    lc_uniform_i(prog, "u_filtered", fs->filtered);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VISIBLE, fs->filtered ? r->filter.mask : r->dummy_buffer);
     lc_uniform_i(prog, "u_color_mode", fs->color_mode);
     lc_uniform_i(prog, "u_color_attr", fs->color_attr);
     lc_uniform_v2(prog, "u_color_range", fs->color_range[0], fs->color_range[1]);

@@ -16,7 +16,8 @@ static int same_mapping(const lc_renderer *r, const lc_frame_setup *fs)
 {
     return r->point_hist.valid && r->point_hist.gs == fs->gs && r->point_hist.attr == fs->importance_attr &&
            r->point_hist.range[0] == fs->importance_range[0] && r->point_hist.range[1] == fs->importance_range[1] &&
-           r->point_hist.exponent == fs->importance_exponent;
+           r->point_hist.exponent == fs->importance_exponent &&
+           memcmp(&r->point_hist.terms, &fs->terms, sizeof fs->terms) == 0;
 }
 
 static void histogram(lc_renderer *r, lc_frame_setup *fs, GLuint prog)
@@ -39,6 +40,7 @@ static void histogram(lc_renderer *r, lc_frame_setup *fs, GLuint prog)
     r->point_hist.range[0] = fs->importance_range[0];
     r->point_hist.range[1] = fs->importance_range[1];
     r->point_hist.exponent = fs->importance_exponent;
+    r->point_hist.terms = fs->terms;
     r->point_hist.valid = 1;
     r->point_kept.keep_bin = -1; /* the list belongs to the old mapping */
 }

@@ -40,6 +40,9 @@
     X(BIND_POSITION_CHUNKS, 18)                                                                                        \
     X(BIND_POINT_HISTOGRAM, 19)                                                                                        \
     X(BIND_POINT_LIST, 20)                                                                                             \
+    X(BIND_VISIBLE, 21)      /* filter.c: one visibility bit per vertex, read by the geometry passes */                \
+    X(BIND_LINE_OFFSETS, 22) /* filter.c: the lines' first vertices */                                                \
+    X(BIND_VISIBLE_OUT, 23)  /* filter.c: the mask being written */                                                   \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -57,13 +60,35 @@
     X(MASS_BINS_PER_OCTAVE, 16)                                                                                        \
     X(MASS_LOG2_MIN, -24)                                                                                              \
     X(POINT_BINS, 1024)   /* importance bins of the point subsets (point_subset.c) */                                  \
-    X(MAX_ATTRIBUTES, 32) /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */
+    X(MAX_ATTRIBUTES, 32) /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */                   \
+    X(MAX_IMPORTANCE_TERMS, 4) /* LC_MAX_IMPORTANCE_TERMS (common.glsl vertex_importance) */                  \
+    X(MAX_FILTERS, 8)          /* LC_MAX_FILTERS (filter_mask.comp.glsl) */                                  \
+    X(MAX_CURVE_POINTS, 64)    /* LC_MAX_CURVE_POINTS (common.glsl curve_eval) */
 
 #define LC_GL_BINDING_ENUM(name, value) name = value,
 enum { LC_GL_CONSTANTS(LC_GL_BINDING_ENUM) };
 enum { LC_GL_BINDINGS(LC_GL_BINDING_ENUM) };
 #undef LC_GL_BINDING_ENUM
 _Static_assert(MAX_ATTRIBUTES == LC_MAX_ATTRIBUTES, "shader attribute tables");
+_Static_assert(MAX_IMPORTANCE_TERMS == LC_MAX_IMPORTANCE_TERMS, "shader importance terms");
+_Static_assert(MAX_FILTERS == LC_MAX_FILTERS, "shader filters");
+_Static_assert(MAX_CURVE_POINTS == LC_MAX_CURVE_POINTS, "shader curves");
+
+/* The weighted importance terms of a frame (frame.c resolves them), compared
+ * with memcmp by the caches keyed by the importance mapping: zero-filled. */
+typedef struct lc_importance_terms {
+    double range[LC_MAX_IMPORTANCE_TERMS][2];
+    double weight[LC_MAX_IMPORTANCE_TERMS];
+    double norm;          /* 1 / sum |w| */
+    uint64_t mask_serial; /* the filter mask the caches saw (filter.c); 0: none */
+    float curve[LC_MAX_CURVE_POINTS][2]; /* importance.curve */
+    int curve_count;
+    int count;            /* 0: the single form */
+    int attr[LC_MAX_IMPORTANCE_TERMS];
+    int invert[LC_MAX_IMPORTANCE_TERMS];
+    int penalty; /* sum w < 0 */
+    int unused; /* no tail padding: memcmp sees every byte */
+} lc_importance_terms;
 
 /* One level of detail: the primitives a pass draws. Level 0 is the whole
  * scene; lines have coarser levels (render/scene/lod.h). */
@@ -131,6 +156,7 @@ typedef enum {
     PROG_MASS_HISTOGRAM,
     PROG_ELEMENT_IMPORTANCE,
     PROG_POINT_SELECT,
+    PROG_FILTER_MASK,
     PROG_FIXED_KINDS
 } lc_program_kind;
 
@@ -165,6 +191,7 @@ struct lc_renderer {
         const lc_gpu_scene *gs;
         int attr;
         double range[2], exponent;
+        lc_importance_terms terms;
     } importance_key;
     /* point_subset.c: the importance histogram of the points under the
      * mapping in its key, and the list of the points at or above keep_bin. */
@@ -174,6 +201,7 @@ struct lc_renderer {
         const lc_gpu_scene *gs;
         int attr;
         double range[2], exponent;
+        lc_importance_terms terms;
         int valid;
         uint32_t bins[POINT_BINS];
     } point_hist;
@@ -181,6 +209,17 @@ struct lc_renderer {
         int keep_bin;
         uint32_t count;
     } point_kept;
+    /* filter.c: the per-vertex visibility mask of the filters in its key and
+     * the line offsets of the scene it was built for. */
+    struct {
+        const lc_gpu_scene *gs;
+        GLuint offsets, mask;
+        uint32_t mask_words;
+        lc_filter filters[LC_MAX_FILTERS];
+        int attr[LC_MAX_FILTERS];
+        int count; /* -1: no mask built */
+        uint64_t serial;
+    } filter;
     GLuint timer_queries[LC_PASS_COUNT + 1];
     GLuint dummy_buffer;
     void *exact; /* exact.c's state */
@@ -208,6 +247,7 @@ typedef struct lc_frame_setup {
     lc_view view;
     int importance_attr, color_mode, color_attr, colormap;
     double importance_range[2], color_range[2], importance_exponent;
+    lc_importance_terms terms;
     double line_half_width; /* world */
     int width, height;      /* output */
     int low_width, low_height;
@@ -221,9 +261,18 @@ typedef struct lc_frame_setup {
      * keep_bin > POINT_BINS when the stride is uniform. */
     int keep_bin;
     uint32_t kept_points;
+    /* filter.c: the visibility mask r->filter.mask applies (0: every vertex draws). */
+    int filtered;
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
 } lc_frame_setup;
+
+/* ---- filter.c */
+/* Resolves the request's filters against the scene and builds (or reuses)
+ * the per-vertex visibility mask they define; sets fs->filtered and the mask
+ * serial the importance caches key on. Errors name filter[i]. */
+int lc_filter_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+void lc_filter_release(lc_renderer *r);
 
 /* ---- point_subset.c */
 /* Fills fs->keep_bin and fs->kept_points for a frame that thins points with
@@ -284,6 +333,10 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes);
 /* Binds the scene's buffers and sets the shared uniforms of a geometry program
  * for a pass rendered at (w, h). */
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);
+/* Sets the importance terms' uniforms (part of lc_renderer_bind_geometry). */
+void lc_renderer_bind_terms(GLuint prog, const lc_importance_terms *t);
+/* Sets the transfer functions' uniforms (part of lc_renderer_bind_geometry). */
+void lc_renderer_bind_curves(GLuint prog, const lc_importance_terms *t, const lc_curve *color);
 /* Chooses how large draws are issued for the driver named gl_renderer
  * (GL_RENDERER): in batches on software rasterizers. Process-wide. */
 void lc_pipeline_configure(const char *gl_renderer);

@@ -71,7 +71,8 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     if (r->importance_cache && r->importance_key.gs == fs->gs && r->importance_key.attr == fs->importance_attr &&
         r->importance_key.range[0] == fs->importance_range[0] &&
         r->importance_key.range[1] == fs->importance_range[1] &&
-        r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count)
+        r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count &&
+        memcmp(&r->importance_key.terms, &fs->terms, sizeof fs->terms) == 0)
         return 0;
     GLuint prog = lc_renderer_fixed_program(r, PROG_ELEMENT_IMPORTANCE, err);
     if (!prog)
@@ -117,6 +118,7 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     r->importance_key.range[0] = fs->importance_range[0];
     r->importance_key.range[1] = fs->importance_range[1];
     r->importance_key.exponent = fs->importance_exponent;
+    r->importance_key.terms = fs->terms;
     return 0;
 }
 

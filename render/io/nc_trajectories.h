@@ -8,7 +8,11 @@
  * "Pa". Every other variable over the same dimensions becomes an attribute of
  * its name. A missing position (_FillValue, missing_value, NetCDF's default
  * fill or NaN) ends its trajectory; a missing attribute value is NaN.
- * Trajectories shorter than two points are dropped with a warning. */
+ * Trajectories shorter than two points are dropped with a warning. When lon
+ * and lat are in degrees (units "degree..." or none) the scene is marked as
+ * trajectories (lc_trajectory_info), with the time step of a 1-D "time"
+ * variable, and finalize derives pressure, its change, speed, turning and
+ * ascent angles (scene_derive.h). */
 #ifndef LC_IO_NC_TRAJECTORIES_H
 #define LC_IO_NC_TRAJECTORIES_H
 

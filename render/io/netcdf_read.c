@@ -34,6 +34,7 @@ typedef struct nc_load {
     nc_var pos[3];  /* lon, lat, pressure */
     nc_var attr[LC_IO_MAX_FILE_ATTRIBUTES];
     int nattr;
+    lc_trajectory_info trajectory; /* lon/lat in degrees, the time step */
     lc_io_progress progress;
     lc_io_part *part;      /* the trajectories this process keeps */
     size_t row_lo, row_hi; /* the rows the walk reads: all in the first pass, the share's in the second */
@@ -73,6 +74,49 @@ static int is_missing(const nc_var *v, double x)
         if (x == v->fill[i] || (v->fill[i] != 0 && fabs(x - v->fill[i]) <= 1e-6 * fabs(v->fill[i])))
             return 1;
     return 0;
+}
+
+/* A variable's units attribute, or "" without one. */
+static void units_of(nc_load *L, int varid, char *out, size_t size)
+{
+    size_t len = 0;
+    out[0] = '\0';
+    if (nc_inq_attlen(L->ncid, varid, "units", &len) == NC_NOERR && len < size &&
+        nc_get_att_text(L->ncid, varid, "units", out) == NC_NOERR)
+        out[len] = '\0';
+}
+
+/* Trajectories get derived attributes (scene_derive.c) when lon and lat are
+ * in degrees (their units say so, or they have none: CF's lon/lat are); the
+ * time step comes from a 1-D "time" variable ("hours since ..." etc.; hours
+ * without units), else stays unknown. */
+static void inspect_trajectory(nc_load *L, int time_dim)
+{
+    char units[64];
+    int degrees = 1;
+    for (int k = 0; k < 2; k++) {
+        units_of(L, L->pos[k].id, units, sizeof units);
+        degrees &= !units[0] || strncmp(units, "degree", 6) == 0;
+    }
+    L->trajectory.geographic = degrees;
+    int id, n, dim;
+    double t[2];
+    size_t start = 0, count = 2;
+    if (nc_inq_varid(L->ncid, "time", &id) != NC_NOERR || nc_inq_varndims(L->ncid, id, &n) != NC_NOERR || n != 1 ||
+        nc_inq_vardimid(L->ncid, id, &dim) != NC_NOERR || dim != time_dim || L->T < 2 ||
+        nc_get_vara_double(L->ncid, id, &start, &count, t) != NC_NOERR || !(t[1] > t[0]) || !isfinite(t[1] - t[0]))
+        return;
+    units_of(L, id, units, sizeof units);
+    static const struct {
+        const char *prefix;
+        double hours;
+    } scale[] = {{"day", 24}, {"hour", 1}, {"h ", 1}, {"minute", 1 / 60.0}, {"min", 1 / 60.0}, {"second", 1 / 3600.0},
+                 {"s ", 1 / 3600.0}};
+    double hours = units[0] ? 0 : 1;
+    for (size_t i = 0; i < sizeof scale / sizeof scale[0] && !hours; i++)
+        if (strncmp(units, scale[i].prefix, strlen(scale[i].prefix)) == 0)
+            hours = scale[i].hours;
+    L->trajectory.step_hours = (t[1] - t[0]) * hours;
 }
 
 /* The dimension ids of lon decide the layout; other variables must match. */
@@ -134,6 +178,7 @@ static int inspect(nc_load *L)
         if (strcmp(units, "Pa") == 0)
             L->pos[2].scale = 0.01;
     }
+    inspect_trajectory(L, dims[L->ndims - 1]);
     int nvars;
     nc_inq_nvars(L->ncid, &nvars);
     for (int id = 0; id < nvars; id++) {
@@ -368,6 +413,7 @@ static int load(nc_load *L, lc_scene **out)
     if ((rc = walk(L, len, s, attr, buf)))
         goto done;
     lc_io_set_defaults(s);
+    s->trajectory = L->trajectory;
 done:
     free(len);
     free(buf);

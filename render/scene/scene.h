@@ -36,6 +36,15 @@ typedef struct lc_attribute {
     float auto_lo, auto_hi;
 } lc_attribute;
 
+/* Lines that are air-parcel trajectories (a reader sets it; at finalize
+ * lc_scene_derive_trajectories adds their derived attributes): x, y are
+ * longitude and latitude in degrees, z the log-pressure height
+ * 10 ln(1013.25 hPa / p); step_hours between time steps, 0 = unknown. */
+typedef struct lc_trajectory_info {
+    int geographic;
+    double step_hours;
+} lc_trajectory_info;
+
 typedef struct lc_scene {
     char name[LC_NAME_LEN];
     lc_prim_type type;
@@ -83,6 +92,7 @@ typedef struct lc_scene {
      * ranges, line offsets and element counts remain; the arrays are NULL. */
     int released;
     int released_rgb; /* it had per-vertex RGB */
+    lc_trajectory_info trajectory;
 } lc_scene;
 
 /* CPU bytes of a scene's arrays by kind. */

@@ -305,3 +305,92 @@ int lc_scene_derive_points(lc_scene *s, uint64_t total, const lc_scene_collectiv
     }
     return add_owned(s, "density", density, err);
 }
+
+/* ---- trajectories (docs/ALGORITHM.md "Derived trajectory attributes") */
+
+#define KM_PER_DEGREE 111.195    /* mean Earth radius 6371 km */
+#define KM_PER_LOG_HEIGHT 0.7    /* z = 10 ln(p0/p): one unit is a tenth of a 7 km scale height */
+#define HPA_AT_ZERO 1013.25
+#define WINDOW_HOURS 48.0
+
+/* The metric step from vertex i to j: east, north, up in km (equirectangular
+ * at the mean latitude: exact enough for the steps of a trajectory). */
+static dvec metric_step(const float *p, uint32_t i, uint32_t j)
+{
+    dvec a = vload(p, i), b = vload(p, j);
+    double coslat = cos(0.5 * (a.y + b.y) * M_PI / 180.0);
+    return (dvec){(b.x - a.x) * KM_PER_DEGREE * coslat, (b.y - a.y) * KM_PER_DEGREE, (b.z - a.z) * KM_PER_LOG_HEIGHT};
+}
+
+static double degrees_between(dvec u, dvec v)
+{
+    return atan2(vlen(vcross(u, v)), vdot(u, v)) * 180.0 / M_PI;
+}
+
+/* One trajectory [a, b): values at every vertex into out[0..5] (pressure,
+ * line change, 48 h change, speed, turning angle, ascent angle). */
+static void derive_trajectory(const float *p, uint32_t a, uint32_t b, double step_hours, float *out[6])
+{
+    for (uint32_t i = a; i < b; i++)
+        out[0][i] = (float)(HPA_AT_ZERO * exp(-(double)p[3 * (size_t)i + 2] / 10.0));
+    double change = (double)out[0][b - 1] - out[0][a];
+    uint32_t window = step_hours > 0 ? (uint32_t)floor(WINDOW_HOURS / step_hours + 1e-9) : 0;
+    for (uint32_t i = a; i < b; i++) {
+        out[1][i] = (float)change;
+        if (out[2]) {
+            uint32_t j = b - 1 - i > window ? i + window : b - 1;
+            out[2][i] = (float)((double)out[0][j] - out[0][i]);
+        }
+        int has_in = i > a, has_out = i + 1 < b;
+        dvec in = has_in ? metric_step(p, i - 1, i) : (dvec){0, 0, 0};
+        dvec on = has_out ? metric_step(p, i, i + 1) : (dvec){0, 0, 0};
+        /* speed: the mean length of the segments that meet here, per time step */
+        double len = has_in && has_out ? 0.5 * (vlen(in) + vlen(on)) : vlen(has_in ? in : on);
+        out[3][i] = (float)(step_hours > 0 ? len / step_hours : len);
+        out[4][i] = has_in && has_out && vlen(in) > 0 && vlen(on) > 0 ? (float)degrees_between(in, on) : 0.0f;
+        /* ascent: the angle of the outgoing segment (the last vertex: the incoming) over the ground */
+        dvec d = has_out ? on : in;
+        out[5][i] = (float)(atan2(d.z, sqrt(d.x * d.x + d.y * d.y)) * 180.0 / M_PI);
+    }
+}
+
+int lc_scene_derive_trajectories(lc_scene *s, lc_error *err)
+{
+    static const char *const names[6] = {"pressure",      "pressure_change", "pressure_change_48h",
+                                         "speed",         "turning_angle",   "ascent_angle"};
+    double step = s->trajectory.step_hours;
+    uint32_t n = s->vertex_count;
+    float *out[6];
+    int ok = 1;
+    for (int k = 0; k < 6; k++) {
+        out[k] = k == 2 && !(step > 0) ? NULL : calloc(n ? n : 1, sizeof(float));
+        ok &= out[k] != NULL || (k == 2 && !(step > 0));
+    }
+    if (!ok) {
+        for (int k = 0; k < 6; k++)
+            free(out[k]);
+        return lc_err(err, LC_ERR_NOMEM, "%s: cannot allocate trajectory attributes", s->name);
+    }
+    for (uint32_t l = 0; l < s->line_count; l++) {
+        uint32_t a = s->line_offsets[l], b = s->line_offsets[l + 1];
+        if (b > a)
+            derive_trajectory(s->positions, a, b, step, out);
+    }
+    int rc = 0;
+    for (int k = 0; k < 6; k++) {
+        const char *name = k == 3 && !(step > 0) ? "segment_length" : names[k];
+        if (!out[k])
+            continue;
+        if (rc) {
+            free(out[k]);
+            continue;
+        }
+        if (s->attribute_count >= LC_MAX_ATTRIBUTES && lc_scene_find_attribute(s, name) < 0) {
+            LC_WARN("scene", "%s: no room for the derived attribute %s", s->name, name);
+            free(out[k]);
+            continue;
+        }
+        rc = add_owned(s, name, out[k], err);
+    }
+    return rc;
+}

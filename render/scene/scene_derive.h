@@ -9,6 +9,13 @@
 /* Lines: fills s->tangents and adds "arc_length", "curvature", "line_length".
  * Expects validated line offsets. */
 int lc_scene_derive_lines(lc_scene *s, lc_error *err);
+/* Trajectories (s->trajectory.geographic): adds, from metric distances
+ * (docs/ALGORITHM.md "Derived trajectory attributes"), "pressure" (hPa),
+ * "pressure_change" (last - first over the line), "pressure_change_48h" (to
+ * the vertex 48 h later, or the line's last; with a known time step),
+ * "speed" (km/h; without a time step "segment_length", km), "turning_angle"
+ * and "ascent_angle" (degrees). Expects validated line offsets. */
+int lc_scene_derive_trajectories(lc_scene *s, lc_error *err);
 /* Triangles: fills s->normals and adds "mean_curvature". Expects validated indices. */
 int lc_scene_derive_triangles(lc_scene *s, lc_error *err);
 /* Points: adds "density", the points in a uniform grid cell (about 8 per cell

@@ -342,9 +342,11 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
     drop_derived(s); /* finalize may run again (e.g. new element budget) */
 
     compute_bounds(s);
-    if (s->type == LC_PRIM_LINES)
+    if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err);
-    else if (s->type == LC_PRIM_TRIANGLES)
+        if (!rc && s->trajectory.geographic)
+            rc = lc_scene_derive_trajectories(s, err);
+    } else if (s->type == LC_PRIM_TRIANGLES)
         rc = lc_scene_derive_triangles(s, err);
     else if (s->attribute_count == 0)
         rc = lc_scene_derive_points(s, s->vertex_count, NULL, err);
@@ -529,9 +531,11 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
     for (int k = 0; k < 3; k++)
         s->bounds[k] = b[k], s->bounds[3 + k] = -b[3 + k];
 
-    if (s->type == LC_PRIM_LINES)
+    if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
-    else if (s->attribute_count == 0)   /* the same on every part (checked above) */
+        if (!rc && s->trajectory.geographic)
+            rc = lc_scene_derive_trajectories(s, err); /* per line */
+    } else if (s->attribute_count == 0)   /* the same on every part (checked above) */
         rc = lc_scene_derive_points(s, total, c, err); /* collective */
     if ((rc = c->agree(c->ctx, rc, err)) != 0)
         return rc;

@@ -6,6 +6,7 @@
 
 import { gradientCss, topColorClash } from './colormaps.js';
 import { attributeRange } from './ui.js';
+import { termsSummary, filtersSummary } from './criteria.js';
 
 const fmt = (v) => (typeof v === 'number' && Number.isFinite(v) ? String(Number(v.toPrecision(3))) : '–');
 
@@ -41,6 +42,7 @@ export function legendModel(values, info) {
   return {
     color: { attribute: colorAttr, colormap, range: colorRange, rgb },
     importance: { attribute: impAttr, range: impRange, exponent },
+    criteria: { terms: termsSummary(imp.terms), filters: filtersSummary(values?.filter) },
     method, opacity, clash, top, background,
   };
 }
@@ -72,6 +74,7 @@ export class Legend {
         <svg width="36" height="18" viewBox="-1 -1 38 20" aria-hidden="true"><rect x="0" y="0" width="36" height="18" class="legend-curve-box"/><path data-role="curve"/></svg>
         <span>importance ← <b data-role="imp-attr"></b> <span data-role="imp-range"></span></span>
       </div>
+      <div class="legend-criteria" data-role="criteria" hidden></div>
       <p class="legend-note" data-role="note" hidden></p>
       <p class="legend-warn" data-role="warn" hidden><span data-role="warn-text"></span> <button type="button" data-role="flip">Flip range</button></p>`;
     this.q = (r) => el.querySelector(`[data-role="${r}"]`);
@@ -103,7 +106,13 @@ export class Legend {
     this.q('imp-range').textContent = `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}`;
     this.q('curve').setAttribute('d', importanceCurvePath(i.exponent));
     this.q('curve').setAttribute('transform', i.range[0] > i.range[1] ? 'translate(36 0) scale(-1 1)' : '');
-    this.q('note').textContent = m.opacity;
+    // terms replace the single attribute; filters say what is hidden
+    const k = m.criteria;
+    if (k.terms) this.q('imp-attr').textContent = k.terms;
+    if (k.terms) this.q('imp-range').textContent = i.exponent !== 1 ? `^${fmt(i.exponent)}` : '';
+    this.q('criteria').hidden = !k.filters;
+    this.q('criteria').textContent = k.filters ? `shown: ${k.filters}` : '';
+        this.q('note').textContent = m.opacity;
     this.q('warn').hidden = !m.clash;
     this.q('warn-text').textContent = m.clash ? `The colour of the highest values (${c.colormap}) matches the background: they are invisible.` : '';
     this.el.dataset.colorAttribute = c.attribute;

@@ -156,7 +156,7 @@ export function loadJson(text, limits = DEFAULT_LIMITS) {
 
 // ---- render-request parts (lc_proto_check_update)
 
-const throwField = (path, problem) => fail(problem.code, path, problem.reason);
+const throwField = (path, problem) => fail(problem.code, `${path}${problem.at ?? ''}`, problem.reason);
 
 function checkMembers(obj, section, lim, top) {
   for (const [key, v] of Object.entries(obj)) {
@@ -219,12 +219,12 @@ export function checkRequest(req, limits = DEFAULT_LIMITS) {
 
 // ---- client messages (lc_proto_parse_client_message)
 
-const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method'];
+const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method', 'filter'];
 const STREAM_KEYS = STREAM_FIELDS.map((f) => f.name);
 const ALLOWED = {
   hello: ['dataset', 'width', 'height', 'devicePixelRatio', 'window', 'token', ...STREAM_KEYS, ...UPDATE_KEYS],
   camera: ['seq', 'camera'],
-  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method'],
+  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method', 'filter'],
   resize: ['width', 'height', 'devicePixelRatio'],
   ack: ['frame'],
 };

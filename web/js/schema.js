@@ -35,6 +35,8 @@ export const FIELDS = Object.freeze([
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },
   { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true },
+  { section: 'importance', name: 'terms', alias: 'importanceTerms', type: 'terms', maxItems: 4 },
+  { section: 'importance', name: 'curve', alias: 'importanceCurve', type: 'curve', maxItems: 64 },
 
   { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63 },
   {
@@ -42,12 +44,15 @@ export const FIELDS = Object.freeze([
     values: ['viridis', 'coolwarm', 'grayscale', 'inferno', 'plasma', 'turbo'],
   },
   { section: 'color', name: 'range', alias: 'colorRange', type: 'range' },
+  { section: 'color', name: 'curve', alias: 'colorCurve', type: 'curve', maxItems: 64 },
 
   { section: 'style', name: 'background', alias: 'background', type: 'color' },
   { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0 },
   { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64 },
   { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true },
   { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'] },
+
+  { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8 },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
@@ -121,9 +126,76 @@ export function checkField(f, v) {
       return null;
     case 'range':
       return Array.isArray(v) && v.length === 2 && v.every(isNum) ? null : bad('expected an array of 2 numbers');
+    case 'curve':
+    case 'terms':
+    case 'filters':
+      return checkList(f, v);
     default:
       return bad('unknown type');
   }
+}
+
+const isObject = (v) => v !== null && typeof v === 'object' && !Array.isArray(v);
+const isPair = (v) => Array.isArray(v) && v.length === 2 && v.every(isNum);
+const OVERS = ['vertex', 'min', 'max', 'mean', 'first', 'last', 'change'];
+
+/** One element of terms or filters, key by key as protocol/request_lists.c checks it. */
+function checkElement(kind, o, at) {
+  const err = (code, where, reason) => ({ code, reason, at: where });
+  if (!isObject(o)) return err('bad_field', at, 'expected an object');
+  let attribute = false, bounds = 0, weight = 1;
+  for (const [k, v] of Object.entries(o)) {
+    const here = `${at}.${k}`;
+    if (k === 'attribute') {
+      if (typeof v !== 'string') return err('bad_field', here, 'expected a string');
+      if (!v.length) return err('bad_field', here, 'must name an attribute');
+      if (utf8Length(v) > 63) return err('out_of_range', here, 'longer than 63 bytes');
+      attribute = true;
+    } else if (k === 'range') {
+      if (!isPair(v)) return err('bad_field', here, 'expected an array of 2 numbers');
+      if (kind === 'filters' && v[0] > v[1]) return err('bad_field', here, `range [${g15(v[0])}, ${g15(v[1])}] is empty`);
+      bounds |= 4;
+    } else if (kind === 'terms' && k === 'weight') {
+      if (!isNum(v)) return err('bad_field', here, 'expected a number');
+      if (v < -1 || v > 1) return err('out_of_range', here, 'must be in [-1, 1]');
+      weight = v;
+    } else if (kind === 'terms' && k === 'invert') {
+      if (typeof v !== 'boolean') return err('bad_field', here, 'expected true or false');
+    } else if (kind === 'filters' && k === 'over') {
+      if (!OVERS.includes(v)) return err('bad_field', here, `expected one of ${OVERS.join(', ')}`);
+    } else if (kind === 'filters' && (k === 'gt' || k === 'lt')) {
+      if (!isNum(v)) return err('bad_field', here, 'expected a number');
+      bounds |= k === 'gt' ? 1 : 2;
+    } else return err('unknown_field', here, 'unknown field');
+  }
+  if (!attribute) return err('missing_field', `${at}.attribute`, `every ${kind === 'terms' ? 'term' : 'filter'} names an attribute`);
+  if (kind === 'filters' && (!bounds || ((bounds & 4) && (bounds & 3)))) return err('bad_field', at, 'give "gt" and/or "lt", or "range"');
+  return { weight };
+}
+
+/** terms, filters and curves (protocol/request_lists.c); a problem's "at" extends the field's path ("[1].weight"). */
+function checkList(f, v) {
+  const what = { terms: 'an array of terms', filters: 'an array of filters', curve: 'an array of [x, y] points' }[f.type];
+  if (!Array.isArray(v)) return { code: 'bad_field', reason: `expected ${what}` };
+  if (f.type === 'curve') {
+    if (v.length === 1 || v.length > f.maxItems) return { code: 'out_of_range', reason: `2 to ${f.maxItems} points (none: the identity)` };
+    for (let i = 0; i < v.length; i++) {
+      const at = `[${i}]`;
+      if (!isPair(v[i])) return { code: 'bad_field', reason: 'expected an array of 2 numbers', at };
+      if (!v[i].every((x) => x >= 0 && x <= 1)) return { code: 'out_of_range', reason: 'x and y must lie in [0, 1]', at };
+      if (i > 0 && !(v[i][0] >= v[i - 1][0])) return { code: 'bad_field', reason: 'x must not decrease', at };
+    }
+    return null;
+  }
+  if (v.length > f.maxItems) return { code: 'out_of_range', reason: `at most ${f.maxItems} ${f.type}` };
+  let sumAbs = 0;
+  for (let i = 0; i < v.length; i++) {
+    const r = checkElement(f.type, v[i], `[${i}]`);
+    if (r.code) return r;
+    sumAbs += Math.abs(r.weight);
+  }
+  if (f.type === 'terms' && v.length && !(sumAbs > 0)) return { code: 'bad_field', reason: 'at least one weight must be non-zero' };
+  return null;
 }
 
 /** Like checkField but only the reason text (null when valid), for the panel and the URL. */
@@ -131,8 +203,9 @@ export function checkValue(f, v) {
   return checkField(f, v)?.reason ?? null;
 }
 
-/** Text of a value for a URL (vectors comma-separated), as GET /api/v1/render reads it. */
+/** Text of a value for a URL (vectors comma-separated, terms and filters as JSON), as GET /api/v1/render reads it. */
 export function valueToText(f, v) {
+  if (f.type === 'terms' || f.type === 'filters' || f.type === 'curve') return JSON.stringify(v);
   if (Array.isArray(v)) return v.map((x) => String(x)).join(',');
   return String(v);
 }
@@ -159,6 +232,15 @@ export function valueFromText(f, text) {
       const parts = text.split(',').map(num);
       return parts.every(Number.isFinite) ? parts : undefined;
     }
+    case 'terms':
+    case 'filters':
+    case 'curve':
+      try {
+        const v = JSON.parse(text);
+        return Array.isArray(v) ? v : undefined;
+      } catch {
+        return undefined;
+      }
     default:
       return undefined;
   }

@@ -43,6 +43,7 @@ export function createSessionController(ctx) {
     if (state.camera) msg.camera = roundCamera(state.camera, 12);
     for (const s of UPDATE_SECTIONS) if (state.update[s] && Object.keys(state.update[s]).length) msg[s] = state.update[s];
     if (state.update.method) msg.method = state.update.method;
+    if (state.update.filter) msg.filter = state.update.filter;
     for (const f of STREAM_FIELDS) if (state.update[f.name] !== undefined) msg[f.name] = state.update[f.name];
     ctx.params.drop(); // the hello carries them
     ctx.camera.drop();

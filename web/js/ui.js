@@ -5,6 +5,9 @@
 
 import { fieldByPath, checkField } from './schema.js';
 import { flatBounds } from './camera.js';
+import { termsEditor, filtersEditor, curveEditor } from './criteria.js';
+
+const EDITORS = { terms: termsEditor, filters: filtersEditor, curve: curveEditor };
 
 const METHOD_LABELS = {
   fourier: 'Fourier (FOO)',
@@ -64,6 +67,14 @@ export const GROUPS = [
       { path: 'style.shading', label: 'Shading', kind: 'select', options: [['phong', 'Phong'], ['none', 'None (flat)']], help: 'Phong: lit like tubes and surfaces. None: flat colours.' },
       { path: 'camera.viewAngle', label: 'View angle (°)', kind: 'range', min: 5, max: 120, step: 1, help: 'Vertical field of view in degrees (perspective projection).' },
       { path: 'camera.parallelProjection', label: 'Parallel projection', kind: 'check', help: 'Orthographic view: sizes do not shrink with distance.' },
+    ],
+  },
+  {
+    id: 'criteria', legend: 'Criteria, filters, transfer functions', controls: [
+      { path: 'importance.terms', label: 'Importance terms', kind: 'terms', help: 'Up to four weighted criteria instead of one attribute: each maps its attribute from its range (empty: auto) to [0, 1], weight −1 to 1; g = Σ w·t / Σ|w|, and when the weights sum below 0, g = 1 + that sum (a penalty). Remove every term for the single attribute above.' },
+      { path: 'filter', label: 'Filters', kind: 'filters', help: 'Lines (points) draw only where every filter holds: a statistic of the attribute over the line (min, max, mean, first, last, change = last − first; points: vertex) compared with a value. Changing a filter costs one frame, not a reload.' },
+      { path: 'importance.curve', label: 'Importance curve', kind: 'curve', help: 'Transfer function of the importance before the exponent: drag the points, click to add one, double-click to remove one.' },
+      { path: 'color.curve', label: 'Colour curve', kind: 'curve', help: 'Transfer function of the colormap coordinate: drag the points, click to add one, double-click to remove one.' },
     ],
   },
   {
@@ -238,6 +249,11 @@ export class Panel {
       col.addEventListener('change', () => fire(true));
       row.append(col, out);
       Object.assign(ctl, { el: col, out });
+    } else if (EDITORS[spec.kind]) {
+      const ed = EDITORS[spec.kind]((v, final) => this.#emit(spec.path, v, final));
+      ed.el.id = id;
+      row.append(ed.el);
+      Object.assign(ctl, { el: ed.el, editor: ed });
     } else if (spec.kind === 'range2') {
       const lo = document.createElement('input');
       const hi = document.createElement('input');
@@ -274,7 +290,9 @@ export class Panel {
     const { spec } = ctl;
     ctl.row.classList.remove('invalid');
     if (ctl.msg && !ctl.msg.hidden && !ctl.row.contains(document.activeElement)) this.#message(ctl, '');
-    if (spec.kind === 'range') {
+    if (ctl.editor) {
+      ctl.editor.set(v);
+    } else if (spec.kind === 'range') {
       if (document.activeElement !== ctl.num) ctl.num.value = formatNumber(v);
       // widen the slider when a value lies beyond it (the number box takes any valid value)
       if (v > Number(ctl.el.max)) ctl.el.max = String(v);
@@ -339,6 +357,7 @@ export class Panel {
     const colorOpts = [['importance', 'importance'], ...names.map((n) => [n, n])];
     if (info?.hasRgb) colorOpts.push(['rgb', 'RGB (per vertex)']);
     this.setOptions('color.attribute', colorOpts);
+    for (const ctl of this.controls.values()) ctl.editor?.setAttributes(names);
     const b = flatBounds(info?.bounds);
     if (b) {
       const diag = Math.hypot(b[3] - b[0], b[4] - b[1], b[5] - b[2]) || 1;

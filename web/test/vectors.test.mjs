@@ -56,6 +56,10 @@ function normalize(req) {
   if (req.camera) out.camera = merge(DEFAULT_CAMERA, req.camera);
   if (out.format === 'jpg') out.format = 'jpeg';
   delete out.version;
+  // list fields are emitted only when they hold something
+  for (const [section, key] of [['importance', 'terms'], ['importance', 'curve'], ['color', 'curve']])
+    if (out[section]?.[key]?.length === 0) delete out[section][key];
+  if (out.filter?.length === 0) delete out.filter;
   return out;
 }
 

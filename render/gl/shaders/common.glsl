@@ -97,14 +97,66 @@ float attribute_value(int a, uint v)
     return u_attr_decode[a].x + u_attr_decode[a].y * float(packed_u16(v, attribute_words[off + (v >> 1)]));
 }
 
+// Weighted importance terms (docs/ALGORITHM.md "Importance terms"); u_importance_terms = 0: the single form.
+uniform int u_importance_terms;
+uniform int u_term_attr[MAX_IMPORTANCE_TERMS];
+uniform vec2 u_term_range[MAX_IMPORTANCE_TERMS];
+uniform float u_term_weight[MAX_IMPORTANCE_TERMS]; // in [-1, 1]
+uniform int u_term_invert[MAX_IMPORTANCE_TERMS];
+uniform float u_term_norm;                         // 1 / sum |w|
+uniform int u_term_penalty;                        // sum w < 0: g = 1 + s
+
+float mapped_attribute(int a, vec2 range, uint v)
+{
+    float span = range.y - range.x;
+    return span != 0.0 ? (attribute_value(a, v) - range.x) / span : 1.0;
+}
+
+// Transfer functions (importance.curve, color.curve): piecewise linear through
+// u_curve_n.x points u_curve[i].xy (importance) and u_curve_n.y points .zw (colour);
+// no points: identity. Exact at the points, so [[0,0],[1,1]] is the identity bit for bit.
+uniform ivec2 u_curve_n;
+uniform vec4 u_curve[MAX_CURVE_POINTS];
+
+float curve_eval(int c, float t)
+{
+    int n = c == 0 ? u_curve_n.x : u_curve_n.y;
+    vec2 a = c == 0 ? u_curve[0].xy : u_curve[0].zw;
+    if (t <= a.x)
+        return a.y;
+    for (int i = 1; i < n; i++) {
+        vec2 b = c == 0 ? u_curve[i].xy : u_curve[i].zw;
+        if (t <= b.x)
+            return b.x > a.x ? a.y + (t - a.x) / (b.x - a.x) * (b.y - a.y) : b.y;
+        a = b;
+    }
+    return a.y;
+}
+
 float vertex_importance(uint v)
 {
     if (u_importance_attr < 0)
         return 1.0;
-    float span = u_importance_range.y - u_importance_range.x;
-    float t = span != 0.0 ? (attribute_value(u_importance_attr, v) - u_importance_range.x) / span : 1.0;
-    return pow(clamp(t, 0.0, 1.0), u_importance_exp);
+    float t = mapped_attribute(u_importance_attr, u_importance_range, v);
+    if (u_importance_terms > 0) {
+        float s = 0.0;
+        for (int i = 0; i < u_importance_terms; i++) {
+            float ti = clamp(mapped_attribute(u_term_attr[i], u_term_range[i], v), 0.0, 1.0);
+            s += u_term_weight[i] * (u_term_invert[i] != 0 ? 1.0 - ti : ti);
+        }
+        s *= u_term_norm;
+        t = u_term_penalty != 0 ? 1.0 + s : s;
+    }
+    t = clamp(t, 0.0, 1.0);
+    if (u_curve_n.x > 0)
+        t = curve_eval(0, t);
+    return pow(t, u_importance_exp);
 }
+
+// Per-vertex visibility of the request's filters (filter.c): a hidden vertex draws nothing and counts in no sum.
+layout(std430, binding = BIND_VISIBLE) readonly buffer Visible { uint visible_bits[]; };
+uniform int u_filtered; // 0: no filter, every vertex is visible
+bool vertex_visible(uint v) { return u_filtered == 0 || (visible_bits[v >> 5] & (1u << (v & 31u))) != 0u; }
 
 // Importance bin of g for the point subsets (point_subset.c).
 int point_bin(float g) { return min(int(g * float(POINT_BINS)), POINT_BINS - 1); }
@@ -114,7 +166,8 @@ float vertex_color_scalar(uint v, float g)
 {
     float value = u_color_mode == 1 ? g : (u_color_attr >= 0 ? attribute_value(u_color_attr, v) : g);
     float span = u_color_range.y - u_color_range.x;
-    return span != 0.0 ? (value - u_color_range.x) / span : 0.5;
+    float t = span != 0.0 ? (value - u_color_range.x) / span : 0.5;
+    return u_curve_n.y > 0 ? curve_eval(1, clamp(t, 0.0, 1.0)) : t;
 }
 
 vec3 vertex_rgb(uint v)

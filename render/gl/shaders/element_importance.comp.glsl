@@ -10,7 +10,7 @@ layout(std430, binding = BIND_ELEMENT_IMPORTANCE) buffer ElementImportance { uve
 void main()
 {
     uint v = linear_invocation();
-    if (v >= u_vertex_count)
+    if (v >= u_vertex_count || !vertex_visible(v))
         return;
     uint e = vertex_primary(v);
     atomicAdd(element_importance[e].x, uint(round(vertex_importance(v) * 1024.0)));

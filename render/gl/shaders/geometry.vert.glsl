@@ -46,7 +46,8 @@ void emit(uint v, vec3 wpos)
     v_alpha = vertex_alpha(v);
     v_wpos = wpos;
     v_zview = -(u_view * vec4(wpos, 1.0)).z;
-    gl_Position = u_view_proj * vec4(wpos, 1.0);
+    // A filtered vertex lies beyond the far plane: its line (or point) draws nothing.
+    gl_Position = vertex_visible(v) ? u_view_proj * vec4(wpos, 1.0) : vec4(0.0, 0.0, 2.0, 1.0);
     v_normal = vec3(0.0);
     v_quad = vec2(0.0);
 }

@@ -14,7 +14,7 @@ uniform uint u_capacity; // entries point_list holds
 void main()
 {
     uint v = linear_invocation();
-    if (v >= u_vertex_count)
+    if (v >= u_vertex_count || !vertex_visible(v))
         return;
     int bin = point_bin(vertex_importance(v));
     if (u_mode == 0) {

@@ -1,0 +1,33 @@
+/* The request's array-valued fields (importance.terms, filter, the curves): parse with
+ * errors that name the element and key ("filter[1].gt: expected a number"),
+ * and emit. The parsers return 0, or -1 with err filled. Used by request.c's
+ * field table; protocol/README.md specifies them. */
+#ifndef LC_PROTOCOL_REQUEST_LISTS_H
+#define LC_PROTOCOL_REQUEST_LISTS_H
+
+#include <jansson.h>
+
+#include "lc_params.h"
+
+/* What went wrong: request.c turns it into an lc_proto_error. */
+typedef struct lc_list_error {
+    const char *code; /* request.h's codes: "bad_field", "out_of_range", ... */
+    char field[96];
+    char reason[160];
+} lc_list_error;
+
+/* Replaces m's terms with the array v (at most LC_MAX_IMPORTANCE_TERMS; an
+ * empty array goes back to the single form). m is untouched on error. */
+int lc_proto_parse_terms(const json_t *v, lc_importance_map *m, const char *path, lc_list_error *err);
+/* Replaces p's filters with the array v (at most LC_MAX_FILTERS). */
+int lc_proto_parse_filters(const json_t *v, lc_render_params *p, const char *path, lc_list_error *err);
+/* A transfer function: [] (identity) or 2..LC_MAX_CURVE_POINTS [x, y] in
+ * [0, 1] with x not decreasing. */
+int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list_error *err);
+json_t *lc_proto_curve_json(const lc_curve *c);
+json_t *lc_proto_terms_json(const lc_importance_map *m);
+json_t *lc_proto_filters_json(const lc_render_params *p);
+/* "vertex", "min", "max", "mean", "first", "last" or "change". */
+const char *lc_filter_over_name(lc_filter_over o);
+
+#endif

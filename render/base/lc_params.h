@@ -89,6 +89,8 @@ typedef struct lc_foo_params {
     lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
     double direct_exponent;     /* k of the "direct" baseline, alpha = g^k */
     lc_normalize normalize;
+    /* Perception aids (docs/ALGORITHM.md "Perception aids"): */
+    double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */
 } lc_foo_params;
 
 /* Importance g from an attribute: g = clamp((v - min)/(max - min))^exponent.
@@ -113,7 +115,14 @@ typedef struct lc_style {
     double min_line_pixels; /* ribbons never thinner than this many pixels */
     double point_size;      /* pixels at output resolution */
     lc_shading shading;
+    /* Perception aids (docs/ALGORITHM.md "Perception aids"); 0 = off: */
+    double silhouette_exponent; /* eta of OOS Eq. 8 on surfaces; <= 1 = off */
+    double halo_width;          /* depth-dependent halos beside line ribbons, output pixels */
+    double halo_depth;          /* their depth offset at the ribbon's edge, fraction of the data's diagonal */
+    double halo_strength;       /* their opacity, [0, 1] */
+    int antialias;              /* still frames: K jittered compositing samples averaged; <= 1 = one */
 } lc_style;
+#define LC_MAX_ANTIALIAS 16
 
 /* Level of detail and the shortcuts of interactive frames (docs/ALGORITHM.md
  * "Level of detail"). Only lod_pixels is a request field; a session sets the

@@ -245,6 +245,74 @@ static int reuse_opacities(lc_renderer *r, const lc_frame_state *state, lc_frame
     return 0;
 }
 
+/* ---- Anti-aliasing of still frames (style.antialias, docs/ALGORITHM.md
+ * "Perception aids"): the frame's opacities (P1-P3) serve K compositing runs
+ * (P4-P6) under sub-pixel camera jitter, whose images are averaged. */
+
+/* Radical inverse of i in base b (the Halton sequence). */
+static double halton(int i, int b)
+{
+    double f = 1, x = 0;
+    for (; i > 0; i /= b) {
+        f /= b;
+        x += f * (i % b);
+    }
+    return x;
+}
+
+/* Shifts the image of v by (dx, dy) pixels of a w x h target: NDC moves by
+ * 2 d / size, i.e. clip x += (2 dx / w) clip w (column-major matrices). */
+static void jitter_view(lc_view *v, double dx, double dy, int w, int h)
+{
+    float tx = (float)(2.0 * dx / w), ty = (float)(2.0 * dy / h);
+    for (int col = 0; col < 4; col++) {
+        v->view_proj[4 * col] += tx * v->view_proj[4 * col + 3];
+        v->view_proj[4 * col + 1] += ty * v->view_proj[4 * col + 3];
+    }
+}
+
+/* The antialias sample count a frame uses: style.antialias for the methods
+ * that composite from element opacities (or g^k); 1 for the others. */
+static int antialias_samples(const lc_render_params *p)
+{
+    int k = p->style.antialias;
+    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
+    return composites && k > 1 ? (k > LC_MAX_ANTIALIAS ? LC_MAX_ANTIALIAS : k) : 1;
+}
+
+/* Samples 1..K-1 after the frame's own (unjittered) sample 0 in the output:
+ * reads each back and writes the average into rgba. Sample i >= 1 is offset
+ * by Halton (2, 3) point i + 1 minus 1/2, within the pixel. */
+static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *rgba, lc_error *err)
+{
+    size_t n = (size_t)fs->width * fs->height * 4;
+    float *sum = malloc(n * sizeof *sum);
+    if (!sum)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory (antialias sums)");
+    lc_renderer_readback(r, fs, rgba);
+    for (size_t i = 0; i < n; i++)
+        sum[i] = rgba[i];
+    const lc_view base = fs->view;
+    int rc = 0;
+    for (int i = 1; i < samples && !rc; i++) {
+        fs->view = base;
+        jitter_view(&fs->view, halton(i + 1, 2) - 0.5, halton(i + 1, 3) - 0.5, fs->width, fs->height);
+        int method = fs->params->method;
+        rc = method == LC_METHOD_WBOIT ? lc_render_wboit(r, fs, err)
+                                       : lc_fourier_composite(r, fs, method == LC_METHOD_DIRECT, err);
+        if (!rc) {
+            lc_renderer_readback(r, fs, rgba);
+            for (size_t j = 0; j < n; j++)
+                sum[j] += rgba[j];
+        }
+    }
+    fs->view = base;
+    for (size_t i = 0; i < n && !rc; i++)
+        rgba[i] = (uint8_t)lrintf(sum[i] / (float)samples);
+    free(sum);
+    return rc;
+}
+
 int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
                     double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
@@ -331,9 +399,13 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     case LC_METHOD_EXACT: rc = lc_render_exact(r, &fs, state, dt, rgba, info, err); break;
     default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
     }
+    int samples = antialias_samples(&p);
+    if (!rc && samples > 1)
+        rc = antialias(r, &fs, samples, rgba, err);
+    else if (!rc)
+        lc_renderer_readback(r, &fs, rgba);
     if (rc)
         return rc;
-    lc_renderer_readback(r, &fs, rgba);
     lc_renderer_timestamp(r, LC_PASS_READBACK);
 
     /* Timestamps of passes that ran are strictly after the previous slot. */

@@ -284,6 +284,10 @@ GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes);
 /* Binds the scene's buffers and sets the shared uniforms of a geometry program
  * for a pass rendered at (w, h). */
 void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int w, int h, int subset);
+/* Sets the halo uniforms (style.halo*) of a compositing pass's program (P4,
+ * P5, the exact method's full-resolution lists): none unless lines with a
+ * halo width. Other passes leave them 0, so halos never reach P0-P2. */
+void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs);
 /* Chooses how large draws are issued for the driver named gl_renderer
  * (GL_RENDERER): in batches on software rasterizers. Process-wide. */
 void lc_pipeline_configure(const char *gl_renderer);

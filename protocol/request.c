@@ -113,6 +113,8 @@ static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
                                               {"pixel", LC_DEPTH_RANGE_PIXEL},
                                               {"moments", LC_DEPTH_RANGE_MOMENTS},
                                               {NULL, 0}};
+static const enum_name smoothing_weights_names[] = {
+    {"uniform", LC_SMOOTHING_UNIFORM}, {"distance", LC_SMOOTHING_DISTANCE}, {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
@@ -163,6 +165,8 @@ static const field fields[] = {
      NULL},
     /* Perception aids (issue 29). */
     {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
+    {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
+     smoothing_weights_names},
 
     {"importance", "attribute", "importance", T_STR, 0, 0, 0, OFF(render.importance.attribute), LC_NAME_LEN, NOFLAG,
      NULL},

@@ -47,6 +47,11 @@ typedef enum {
  * range; off is the paper's formula with min/max. */
 typedef enum { LC_NORMALIZE_AUTO = 0, LC_NORMALIZE_OFF = 1 } lc_normalize;
 
+/* Neighbour weights of the smoothing (P3): the plain mean (the papers' FOO and
+ * DOO), or d^-2 of the element centres' distance normalized over the
+ * neighbours (OOS §4.3; docs/ALGORITHM.md "Perception aids"). */
+typedef enum { LC_SMOOTHING_UNIFORM = 0, LC_SMOOTHING_DISTANCE = 1 } lc_smoothing_weights;
+
 /* Margin used with the per-pixel range instead of depth_margin (gl/pipeline.c). */
 #define LC_PIXEL_DEPTH_MARGIN 0.25
 
@@ -91,6 +96,7 @@ typedef struct lc_foo_params {
     lc_normalize normalize;
     /* Perception aids (docs/ALGORITHM.md "Perception aids"): */
     double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */
+    lc_smoothing_weights smoothing_weights;
 } lc_foo_params;
 
 /* Importance g from an attribute: g = clamp((v - min)/(max - min))^exponent.

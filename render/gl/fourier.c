@@ -33,6 +33,8 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_OFFSETS, fs->gs->adj_offsets);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ, fs->gs->adj);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_STATS, r->stats);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_WEIGHTS, fs->gs->adj_weights);
+    lc_uniform_i(prog, "u_weighted", fs->params->foo.smoothing_weights == LC_SMOOTHING_DISTANCE);
     lc_uniform_u(prog, "u_count", count);
     lc_uniform_f(prog, "u_omega", fs->params->foo.smoothing_weight);
     lc_uniform_f(prog, "u_fade", fade);

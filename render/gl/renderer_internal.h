@@ -40,6 +40,7 @@
     X(BIND_POSITION_CHUNKS, 18)                                                                                        \
     X(BIND_POINT_HISTOGRAM, 19)                                                                                        \
     X(BIND_POINT_LIST, 20)                                                                                             \
+    X(BIND_ADJ_WEIGHTS, 21) /* params.smoothingWeights "distance" */                                                  \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -89,6 +90,7 @@ struct lc_gpu_scene {
     const lc_scene *scene;
     GLuint positions, frames, attributes, colors, vertex_elements, vertex_weights;
     GLuint adj_offsets, adj;
+    GLuint adj_weights; /* per adjacency entry (lc_elements_adjacency_weights) */
     int level_count;
     lc_gpu_level levels[LC_LOD_MAX_LEVELS];
     uint64_t bytes;

@@ -319,6 +319,21 @@ void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint
     }
 }
 
+void lc_foo_smooth_step_weighted(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets,
+                                 const uint32_t *adj, const float *weights, double omega)
+{
+    for (uint32_t e = 0; e < count; e++) {
+        double sum = 0, wsum = 0;
+        for (uint32_t k = adj_offsets[e]; k < adj_offsets[e + 1]; k++) {
+            if (adj[k] >= count)
+                continue;
+            sum += (double)weights[k] * src[adj[k]];
+            wsum += weights[k];
+        }
+        dst[e] = wsum > 0 ? (float)(src[e] + omega * (sum / wsum - src[e])) : src[e];
+    }
+}
+
 double lc_foo_fade_factor(double dt, double half_life)
 {
     /* alpha_cur += (alpha_target - alpha_cur)(1 - 2^(-dt/t_half)): frame-rate independent exponential decay. */

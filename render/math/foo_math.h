@@ -104,6 +104,11 @@ void lc_foo_composite_normalized_exact_tau(const lc_fragment *frags, size_t n, c
  * (mean(neighbours) - src[e]); elements without neighbours keep their value. */
 void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets, const uint32_t *adj,
                         double omega);
+/* The same with a weight per CSR entry (params.smoothingWeights "distance",
+ * lc_elements_adjacency_weights): dst[e] = src[e] + omega (sum w src / sum w
+ * - src[e]) over the neighbours. */
+void lc_foo_smooth_step_weighted(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets,
+                                 const uint32_t *adj, const float *weights, double omega);
 /* Fading factor 1 - 2^(-dt/half_life); 1 when half_life <= 0. */
 double lc_foo_fade_factor(double dt, double half_life);
 

@@ -725,7 +725,8 @@ int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc
     switch (s->type) {
     case LC_PRIM_POINTS: rc = build_points(s, e, err); break;
     case LC_PRIM_LINES:
-        rc = lc_elements_build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s), err);
+        rc = lc_elements_build_lines(s, e, desc && desc->line_budget ? desc->line_budget : lc_elements_default_count(s),
+                                     err);
         break;
     case LC_PRIM_TRIANGLES: {
         uint32_t want = desc && desc->patch_count ? desc->patch_count : lc_elements_default_count(s);
@@ -737,4 +738,47 @@ int lc_elements_build(const lc_element_geometry *s, const lc_elements_desc *desc
     if (rc)
         lc_elements_free(e);
     return rc;
+}
+
+void lc_elements_adjacency_weights(const lc_elements *e, const float *positions, uint32_t vertex_count, float *out)
+{
+    if (!e->adjacency_count)
+        return;
+    double *centre = calloc((size_t)e->count * 4, sizeof *centre);
+    for (uint32_t v = 0; centre && v < vertex_count; v++) {
+        uint32_t id = e->vertex_elements[4 * (size_t)v + 3];
+        if (id >= e->count)
+            continue;
+        double *c = centre + 4 * (size_t)id;
+        for (int k = 0; k < 3; k++)
+            c[k] += positions[3 * (size_t)v + k];
+        c[3] += 1;
+    }
+    for (uint32_t i = 0; i < e->count; i++) {
+        uint32_t begin = e->adjacency_offsets[i], end = e->adjacency_offsets[i + 1];
+        double sum = 0;
+        int uniform = !centre || centre[4 * (size_t)i + 3] == 0;
+        for (uint32_t k = begin; k < end && !uniform; k++) {
+            const double *a = centre + 4 * (size_t)i, *b = centre + 4 * (size_t)e->adjacency[k];
+            if (e->adjacency[k] >= e->count || b[3] == 0) {
+                uniform = 1;
+                break;
+            }
+            double d2 = 0;
+            for (int c = 0; c < 3; c++) {
+                double d = a[c] / a[3] - b[c] / b[3];
+                d2 += d * d;
+            }
+            if (!(d2 > 0) || !isfinite(1.0 / d2)) {
+                uniform = 1;
+                break;
+            }
+            out[k] = (float)(1.0 / d2);
+            sum += 1.0 / d2;
+        }
+        /* In 1/65535 steps: the GPU holds them as 16-bit unorm (gpu_scene.c). */
+        for (uint32_t k = begin; k < end; k++)
+            out[k] = (float)(lrint((uniform ? 1.0 / (end - begin) : out[k] / sum) * 65535.0) / 65535.0);
+    }
+    free(centre);
 }

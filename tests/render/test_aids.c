@@ -2,6 +2,7 @@
  * silhouette opacity transfer, depth-dependent halos; CPU reference and the
  * pixels of the Fourier and exact methods. */
 #include "demo.h"
+#include "elements.h"
 #include "foo_math.h"
 #include "render_util.h"
 
@@ -217,6 +218,125 @@ static void test_halo(test_gl *t)
     free(plain);
 }
 
+/* ---- params.smoothingWeights "distance": P3 against the CPU reference
+ * (lc_foo_smooth_step_weighted over lc_elements_adjacency_weights), from the
+ * targets P2 gives with no smoothing. A grid (several patches, importance
+ * rising along x) behind a small occluder, so the targets vary. */
+static lc_scene *grid_scene(void)
+{
+    lc_error err = {0};
+    enum { N = 16 };
+    lc_scene *s = lc_scene_create("grid", LC_PRIM_TRIANGLES);
+    if (!s || lc_scene_alloc_vertices(s, N * N + 4, 1, &err) != 0)
+        return NULL;
+    float *g = malloc(sizeof(float) * (N * N + 4));
+    s->triangle_count = 2 * (N - 1) * (N - 1) + 2;
+    s->triangles = malloc(sizeof(uint32_t) * 3 * s->triangle_count);
+    uint32_t *t = s->triangles;
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            int v = y * N + x;
+            s->positions[3 * v] = (float)(-0.9 + 1.8 * x / (N - 1));
+            s->positions[3 * v + 1] = (float)(-0.9 + 1.8 * y / (N - 1));
+            s->positions[3 * v + 2] = 0;
+            s->rgb[3 * v] = s->rgb[3 * v + 1] = s->rgb[3 * v + 2] = 0.5f;
+            g[v] = (float)(0.1 + 0.8 * x / (N - 1));
+            if (x + 1 < N && y + 1 < N) {
+                uint32_t a = (uint32_t)v, b = a + 1, c = a + N + 1, d = a + N;
+                *t++ = a, *t++ = b, *t++ = c, *t++ = a, *t++ = c, *t++ = d;
+            }
+        }
+    static const double cx[4] = {-1, 1, 1, -1}, cy[4] = {-1, -1, 1, 1};
+    for (int k = 0; k < 4; k++) {
+        int v = N * N + k;
+        s->positions[3 * v] = (float)(0.3 * cx[k] - 0.2), s->positions[3 * v + 1] = (float)(0.3 * cy[k] + 0.1);
+        s->positions[3 * v + 2] = 0.5f;
+        s->rgb[3 * v] = 1, s->rgb[3 * v + 1] = s->rgb[3 * v + 2] = 0;
+        g[v] = 0.2f;
+    }
+    uint32_t b = N * N;
+    *t++ = b, *t++ = b + 1, *t++ = b + 2, *t++ = b, *t++ = b + 2, *t++ = b + 3;
+    lc_scene_add_attribute(s, "importance", g, &err);
+    snprintf(s->default_importance, sizeof s->default_importance, "importance");
+    snprintf(s->default_color, sizeof s->default_color, "rgb");
+    lc_elements_desc desc = {.patch_count = 10};
+    if (lc_scene_finalize(s, &desc, &err) != 0) {
+        fprintf(stderr, "finalize: %s\n", err.msg);
+        lc_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void test_smoothing_weights(test_gl *t)
+{
+    lc_scene *s = grid_scene();
+    CHECK(s != NULL, "grid scene");
+    if (!s)
+        return;
+    const lc_elements *e = &s->elements;
+    uint32_t n = e->count;
+    float *w = malloc(sizeof(float) * (e->adjacency_count + 1));
+    lc_elements_adjacency_weights(e, s->positions, s->vertex_count, w);
+    /* Each row sums to 1 and is not uniform everywhere. */
+    int rows_ok = 1, nonuniform = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        double sum = 0;
+        uint32_t deg = e->adjacency_offsets[i + 1] - e->adjacency_offsets[i];
+        for (uint32_t k = e->adjacency_offsets[i]; k < e->adjacency_offsets[i + 1]; k++) {
+            sum += w[k];
+            nonuniform |= fabs(w[k] - 1.0 / deg) > 1e-3;
+        }
+        rows_ok &= deg == 0 || fabs(sum - 1) <= 0.5 * deg / 65535.0; /* 16-bit steps */
+    }
+    CHECK(rows_ok && nonuniform, "weights: rows sum to 1 (%d), not all uniform (%d)", rows_ok, nonuniform);
+
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    float *targets = malloc(sizeof(float) * n), *a = malloc(sizeof(float) * n), *b = malloc(sizeof(float) * n);
+    float *uni = malloc(sizeof(float) * n);
+    enum { ITER = 10 };
+    p.foo.smoothing = 0;
+    lc_frame_state *st = lc_frame_state_create(n);
+    CHECK(render(t, s, &p, st, rgba) == 0, "render");
+    memcpy(targets, lc_frame_state_alphas(st), sizeof(float) * n);
+    lc_frame_state_destroy(st);
+    double spread = 0;
+    for (uint32_t i = 0; i < n; i++)
+        spread = fmax(spread, fabs(targets[i] - targets[0]));
+    CHECK(spread > 0.05 && e->adjacency_count > 0, "targets vary (%g) over %u elements", spread, n);
+    for (int mode = 0; mode < 2; mode++) {
+        p.foo.smoothing = ITER;
+        p.foo.smoothing_weights = mode ? LC_SMOOTHING_DISTANCE : LC_SMOOTHING_UNIFORM;
+        st = lc_frame_state_create(n);
+        CHECK(render(t, s, &p, st, rgba) == 0, "render");
+        memcpy(a, targets, sizeof(float) * n);
+        for (int it = 0; it < ITER; it++) {
+            if (mode)
+                lc_foo_smooth_step_weighted(a, b, n, e->adjacency_offsets, e->adjacency, w, p.foo.smoothing_weight);
+            else
+                lc_foo_smooth_step(a, b, n, e->adjacency_offsets, e->adjacency, p.foo.smoothing_weight);
+            memcpy(a, b, sizeof(float) * n);
+        }
+        double worst = 0, from_uniform = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            worst = fmax(worst, fabs(lc_frame_state_alphas(st)[i] - a[i]));
+            if (mode)
+                from_uniform = fmax(from_uniform, fabs(a[i] - uni[i]));
+            else
+                uni[i] = a[i];
+        }
+        CHECK(worst < 1e-5, "%s smoothing: GPU against the CPU reference, max |diff| %g", mode ? "distance" : "uniform",
+              worst);
+        if (mode)
+            CHECK(from_uniform > 1e-4, "distance weights change the result (%g)", from_uniform);
+        lc_frame_state_destroy(st);
+    }
+    free(w), free(targets), free(a), free(b), free(uni), free(rgba);
+    lc_scene_destroy(s);
+}
+
 /* ---- style.antialias: RMSE against a 4x4 supersampled reference (the same
  * optimization resolution, 64^2) falls with K = 1, 2, 4, 8 on the tornado. */
 static double rmse(const uint8_t *a, const uint8_t *b, size_t pixels)
@@ -289,6 +409,7 @@ int main(void)
     test_target_gpu(&t);
     test_silhouette(&t);
     test_halo(&t);
+    test_smoothing_weights(&t);
     test_antialias(&t);
     test_gl_close(&t);
     return lc_test_finish();

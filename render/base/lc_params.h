@@ -97,6 +97,7 @@ typedef struct lc_foo_params {
     /* Perception aids (docs/ALGORITHM.md "Perception aids"): */
     double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */
     lc_smoothing_weights smoothing_weights;
+    double guard_band; /* P0 moments-P2 see this fraction of the view more on each side; 0 = none */
 } lc_foo_params;
 
 /* Importance g from an attribute: g = clamp((v - min)/(max - min))^exponent.

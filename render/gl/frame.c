@@ -245,6 +245,41 @@ static int reuse_opacities(lc_renderer *r, const lc_frame_state *state, lc_frame
     return 0;
 }
 
+/* ---- Guard band (params.guardBand, docs/ALGORITHM.md "Perception aids"):
+ * P0 "moments" and P1-P3 see a frustum widened by g of the view on each side,
+ * at the optimization resolution's pixel size, so that elements just outside
+ * the view have optimized opacities before they enter it (FOO §5.7.3). */
+static int optimize_frame(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                          int moments, lc_error *err)
+{
+    double g = fs->params->foo.guard_band;
+    if (!(g > 0) || fs->pixel_depth_range)
+        return lc_fourier_optimize(r, fs, state, dt, info, err);
+    const lc_frame_setup saved = *fs;
+    int lw = fs->low_width, lh = fs->low_height;
+    int gx = (int)ceil(g * lw), gy = (int)ceil(g * lh);
+    int w = lw + 2 * gx, h = lh + 2 * gy;
+    for (int col = 0; col < 4; col++) {
+        fs->view.view_proj[4 * col] *= (float)((double)lw / w);
+        fs->view.view_proj[4 * col + 1] *= (float)((double)lh / h);
+    }
+    /* The same world size per pixel and point splats of the same pixel size. */
+    lc_render_params wide = *fs->params;
+    wide.style.point_size *= (double)lh / h;
+    fs->view.pixel_world *= (double)h / lh;
+    fs->params = &wide;
+    fs->low_width = w, fs->low_height = h;
+    int rc = moments ? lc_fourier_depth_moments(r, fs, err) : 0;
+    if (!rc)
+        rc = lc_fourier_optimize(r, fs, state, dt, info, err);
+    int depth_moments = fs->depth_moments;
+    *fs = saved;
+    fs->depth_moments = depth_moments;
+    if (depth_moments)
+        fs->moments_guard[0] = gx, fs->moments_guard[1] = gy;
+    return rc;
+}
+
 /* ---- Anti-aliasing of still frames (style.antialias, docs/ALGORITHM.md
  * "Perception aids"): the frame's opacities (P1-P3) serve K compositing runs
  * (P4-P6) under sub-pixel camera jitter, whose images are averaged. */
@@ -381,18 +416,19 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     int moments = depth_range == LC_DEPTH_RANGE_MOMENTS && p.method == LC_METHOD_FOURIER && !reuse;
     if (pixel_range && (rc = lc_fourier_depth_range(r, &fs, err)) != 0)
         return rc;
-    if (moments && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
+    int guarded = p.foo.guard_band > 0 && !pixel_range; /* optimize_frame runs the moments then */
+    if (moments && !guarded && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
         return rc;
     switch (p.method) {
     case LC_METHOD_FOURIER:
-        rc = reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, moments, err);
         if (!rc)
             rc = lc_fourier_composite(r, &fs, 0, err);
         break;
     case LC_METHOD_DIRECT: rc = lc_fourier_composite(r, &fs, 1, err); break;
     case LC_METHOD_OPAQUE: rc = lc_render_opaque(r, &fs, err); break;
     case LC_METHOD_WBOIT:
-        rc = reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, moments, err);
         if (!rc)
             rc = lc_render_wboit(r, &fs, err);
         break;

@@ -143,6 +143,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     if (fs->depth_moments) {
         glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
         lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / w, (double)fs->low_height / h);
+        lc_uniform_v2(prog, "u_moments_offset", fs->moments_guard[0], fs->moments_guard[1]);
     }
     if (fs->pixel_depth_range)
         glBindTextureUnit(TEX_PIXEL_RANGE,

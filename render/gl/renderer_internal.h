@@ -215,6 +215,7 @@ typedef struct lc_frame_setup {
     int low_width, low_height;
     int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
     int depth_moments;     /* P0 "moments" ran: P1, P2, P4 and P5 warp depth by r->moments */
+    int moments_guard[2];  /* params.guardBand: texels of r->moments beyond the view on each side */
     int level;             /* level of detail of every geometry pass (gs->levels) */
     int point_stride;      /* points: every n-th in every pass */
     /* Importance-aware point subsets (point_subset.c): with a stride, the

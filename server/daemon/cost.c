@@ -120,7 +120,8 @@ double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p)
     default: frags = fmin(st->area * ppu * ppu, st->primitives * image); break;
     }
     const lc_foo_params *f = &p->foo;
-    double s2 = f->resolution_scale * f->resolution_scale;
+    double guard = 1.0 + 2.0 * (f->guard_band > 0 ? f->guard_band : 0.0); /* params.guardBand widens P0-P2 */
+    double s2 = f->resolution_scale * f->resolution_scale * guard * guard;
     double targets = ceil((2.0 * f->bands + 1.0) / 4.0);
     double subset = f->subset > 1 ? f->subset : 1;
     double geometry, screens;

@@ -401,6 +401,88 @@ static void test_antialias(test_gl *t)
     lc_scene_destroy(s);
 }
 
+/* ---- params.guardBand: a scripted orbit close to the tornado (elements
+ * enter at the sides); the mean |opacity change| of elements in the frame
+ * they first become visible (any vertex of theirs inside the view), with
+ * fading at 30 frames per second. docs/EVALUATION.md quotes the figures. */
+enum { ORBIT_FRAMES = 16 };
+static double orbit_pop(test_gl *t, const lc_scene *s, double guard, int *events)
+{
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    p.foo.guard_band = guard;
+    p.has_camera = true;
+    lc_camera_fit(&p.camera, s->bounds, NULL, NULL);
+    double c[3], off[3];
+    for (int k = 0; k < 3; k++) {
+        c[k] = p.camera.focal_point[k];
+        off[k] = 0.45 * (p.camera.position[k] - c[k]); /* close in: the view holds part of the data */
+    }
+    uint32_t n = s->elements.count;
+    float *prev = malloc(sizeof(float) * n);
+    uint8_t *vis = calloc(n, 1), *was = calloc(n, 1), *rgba = malloc(SIZE * SIZE * 4);
+    lc_frame_state *st = lc_frame_state_create(n);
+    double sum = 0;
+    *events = 0;
+    for (int f = 0; f < ORBIT_FRAMES; f++) {
+        double a = 1.2 * f / ORBIT_FRAMES; /* radians about the view-up axis (+Y) */
+        p.camera.position[0] = c[0] + cos(a) * off[0] + sin(a) * off[2];
+        p.camera.position[1] = c[1] + off[1];
+        p.camera.position[2] = c[2] - sin(a) * off[0] + cos(a) * off[2];
+        lc_error err = {0};
+        lc_gpu_scene *gs = NULL;
+        if (lc_gpu_scene_create(s, &gs, &err) != 0 ||
+            lc_render_frame(t->renderer, gs, &p, st, 1.0 / 30, rgba, NULL, &err) != 0) {
+            CHECK(0, "orbit frame %d: %s", f, err.msg);
+            lc_gpu_scene_destroy(gs);
+            break;
+        }
+        lc_gpu_scene_destroy(gs);
+        lc_view v;
+        lc_camera_view(&p.camera, s->bounds, 1.0, SIZE, &v);
+        memset(vis, 0, n);
+        for (uint32_t i = 0; i < s->vertex_count; i++) {
+            const float *P = s->positions + 3 * (size_t)i, *M = v.view_proj;
+            double x = M[0] * P[0] + M[4] * P[1] + M[8] * P[2] + M[12];
+            double y = M[1] * P[0] + M[5] * P[1] + M[9] * P[2] + M[13];
+            double w = M[3] * P[0] + M[7] * P[1] + M[11] * P[2] + M[15];
+            uint32_t e = s->elements.vertex_elements[4 * (size_t)i + 3];
+            if (w > 0 && fabs(x) <= w && fabs(y) <= w && e < n)
+                vis[e] = 1;
+        }
+        const float *alpha = lc_frame_state_alphas(st);
+        for (uint32_t e = 0; f > 0 && e < n; e++)
+            if (vis[e] && !was[e]) {
+                sum += fabs(alpha[e] - prev[e]);
+                ++*events;
+            }
+        memcpy(prev, alpha, sizeof(float) * n);
+        memcpy(was, vis, n);
+    }
+    lc_frame_state_destroy(st);
+    free(prev), free(vis), free(was), free(rgba);
+    return *events ? sum / *events : 0;
+}
+
+static void test_guard_band(test_gl *t)
+{
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_demo_desc desc = {.count = 400};
+    CHECK(lc_demo_create("tornado", &desc, &s, &err) == 0, "demo: %s", err.msg);
+    if (!s)
+        return;
+    int n0 = 0, n1 = 0;
+    double without = orbit_pop(t, s, 0, &n0), with = orbit_pop(t, s, 0.25, &n1);
+    printf("guard band: mean |opacity change| of elements in their first visible frame %.4f without (%d "
+           "entries), %.4f with guardBand 0.25 (%d)\n",
+           without, n0, with, n1);
+    CHECK(n0 > 20 && n0 == n1, "elements enter the view (%d, %d)", n0, n1);
+    CHECK(with < 0.5 * without, "the guard band halves the pop-in: %.4f against %.4f", with, without);
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
     test_target_cpu();
@@ -411,6 +493,7 @@ int main(void)
     test_halo(&t);
     test_smoothing_weights(&t);
     test_antialias(&t);
+    test_guard_band(&t);
     test_gl_close(&t);
     return lc_test_finish();
 }

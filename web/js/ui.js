@@ -41,6 +41,7 @@ export const GROUPS = [
       { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Direct method only: opacity = importance to the power k.' },
       { path: 'params.targetOpacity', label: 'Target opacity t', kind: 'range', min: 0.05, max: 1, step: 0.05, help: 'Upper bound of every opacity: even parts that hide nothing let this much of what lies behind through (0.9 in the surface paper). 1: the paper\'s method.' },
       { path: 'params.smoothingWeights', label: 'Smoothing neighbours', kind: 'select', options: [['uniform', 'Equal (FOO)'], ['distance', 'By distance (surface paper)']], help: 'How the smoothing averages a part with its neighbours: all equally, or nearer neighbours more (by the distance of their centres).' },
+      { path: 'params.guardBand', label: 'Guard band', kind: 'range', min: 0, max: 0.5, step: 0.05, help: 'The optimization also looks this far (fraction of the view) beyond each edge, so parts entering the view while you turn it already have their transparency instead of popping in opaque. 0: off.' },
     ],
   },
   {

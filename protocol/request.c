@@ -118,6 +118,8 @@ static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
                                               {"pixel", LC_DEPTH_RANGE_PIXEL},
                                               {"moments", LC_DEPTH_RANGE_MOMENTS},
                                               {NULL, 0}};
+static const enum_name smoothing_weights_names[] = {
+    {"uniform", LC_SMOOTHING_UNIFORM}, {"distance", LC_SMOOTHING_DISTANCE}, {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
@@ -166,6 +168,11 @@ static const field fields[] = {
     {"params", "lod", "lod", T_NUM, 0, 16, 0, OFF(render.detail.lod_pixels), 0, NOFLAG, NULL},
     {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
      NULL},
+    /* Perception aids (issue 29). */
+    {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
+    {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
+     smoothing_weights_names},
+    {"params", "guardBand", "guardBand", T_NUM, 0, 1, 0, OFF(render.foo.guard_band), 0, NOFLAG, NULL},
 
     {"importance", "attribute", "importance", T_STR, 0, 0, 0, OFF(render.importance.attribute), LC_NAME_LEN, NOFLAG,
      NULL},
@@ -189,6 +196,13 @@ static const field fields[] = {
     {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
     {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
     {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
+    /* Perception aids (issue 29). */
+    {"style", "silhouetteExponent", "silhouetteExponent", T_NUM, 1, 100, 0, OFF(render.style.silhouette_exponent), 0,
+     NOFLAG, NULL},
+    {"style", "haloWidth", "haloWidth", T_NUM, 0, 64, 0, OFF(render.style.halo_width), 0, NOFLAG, NULL},
+    {"style", "haloDepth", "haloDepth", T_NUM, 0, 1, 0, OFF(render.style.halo_depth), 0, NOFLAG, NULL},
+    {"style", "haloStrength", "haloStrength", T_NUM, 0, 1, 0, OFF(render.style.halo_strength), 0, NOFLAG, NULL},
+    {"style", "antialias", "antialias", T_INT, 1, LC_MAX_ANTIALIAS, 0, OFF(render.style.antialias), 0, NOFLAG, NULL},
 
     {NULL, "filter", "filter", T_FILTERS, 0, LC_MAX_FILTERS, 0, OFF(render), 0, NOFLAG, NULL},
 };

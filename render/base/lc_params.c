@@ -20,6 +20,7 @@ void lc_foo_params_default(lc_foo_params *p)
     p->depth_range = LC_DEPTH_RANGE_AUTO;
     p->direct_exponent = 2;
     p->normalize = LC_NORMALIZE_AUTO;
+    p->target_opacity = 1;
 }
 
 void lc_style_default(lc_style *s)
@@ -30,6 +31,10 @@ void lc_style_default(lc_style *s)
     s->min_line_pixels = 1.0;
     s->point_size = 2;
     s->shading = LC_SHADING_PHONG;
+    s->silhouette_exponent = 1;
+    s->halo_depth = 0.02;
+    s->halo_strength = 1;
+    s->antialias = 1;
 }
 
 void lc_render_params_default(lc_render_params *p)

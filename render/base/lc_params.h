@@ -47,6 +47,11 @@ typedef enum {
  * range; off is the paper's formula with min/max. */
 typedef enum { LC_NORMALIZE_AUTO = 0, LC_NORMALIZE_OFF = 1 } lc_normalize;
 
+/* Neighbour weights of the smoothing (P3): the plain mean (the papers' FOO and
+ * DOO), or d^-2 of the element centres' distance normalized over the
+ * neighbours (OOS §4.3; docs/ALGORITHM.md "Perception aids"). */
+typedef enum { LC_SMOOTHING_UNIFORM = 0, LC_SMOOTHING_DISTANCE = 1 } lc_smoothing_weights;
+
 /* Margin used with the per-pixel range instead of depth_margin (gl/pipeline.c). */
 #define LC_PIXEL_DEPTH_MARGIN 0.25
 
@@ -89,6 +94,10 @@ typedef struct lc_foo_params {
     lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
     double direct_exponent;     /* k of the "direct" baseline, alpha = g^k */
     lc_normalize normalize;
+    /* Perception aids (docs/ALGORITHM.md "Perception aids"): */
+    double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */
+    lc_smoothing_weights smoothing_weights;
+    double guard_band; /* P0 moments-P2 see this fraction of the view more on each side; 0 = none */
 } lc_foo_params;
 
 /* One weighted criterion of the importance (docs/ALGORITHM.md "Importance
@@ -158,7 +167,14 @@ typedef struct lc_style {
     double min_line_pixels; /* ribbons never thinner than this many pixels */
     double point_size;      /* pixels at output resolution */
     lc_shading shading;
+    /* Perception aids (docs/ALGORITHM.md "Perception aids"); 0 = off: */
+    double silhouette_exponent; /* eta of OOS Eq. 8 on surfaces; <= 1 = off */
+    double halo_width;          /* depth-dependent halos beside line ribbons, output pixels */
+    double halo_depth;          /* their depth offset at the ribbon's edge, fraction of the data's diagonal */
+    double halo_strength;       /* their opacity, [0, 1] */
+    int antialias;              /* still frames: K jittered compositing samples averaged; <= 1 = one */
 } lc_style;
+#define LC_MAX_ANTIALIAS 16
 
 /* Level of detail and the shortcuts of interactive frames (docs/ALGORITHM.md
  * "Level of detail"). Only lod_pixels is a request field; a session sets the

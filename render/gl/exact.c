@@ -185,6 +185,8 @@ static void build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *f
     glNamedFramebufferParameteri(st->fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st->fbo);
     lc_renderer_bind_geometry(r, prog, fs, w, h, 1);
+    if (pass == 1)
+        lc_renderer_bind_halo(prog, fs);
     bind_lists(st, prog, pass);
     lc_renderer_draw_geometry(fs, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -231,6 +233,7 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     lc_uniform_f(st->opacity, "u_r", p->foo.r);
     lc_uniform_f(st->opacity, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
     lc_uniform_f(st->opacity, "u_norm_mass", lc_foo_norm_mass(&p->foo));
+    lc_uniform_f(st->opacity, "u_target_opacity", lc_foo_target_opacity(&p->foo));
     glDispatchCompute((GLuint)(lw + 7) / 8, (GLuint)(lh + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     lc_renderer_timestamp(r, LC_PASS_OPACITY);

@@ -19,7 +19,8 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
     if (state && !state->fresh)
         lc_frame_state_upload(state, r->element_alpha);
     else {
-        const float one = 1.0f;
+        /* Unseen elements start at the target opacity (1 unless params.targetOpacity). */
+        const float one = (float)lc_foo_target_opacity(&fs->params->foo);
         glClearNamedBufferData(r->element_alpha, GL_R32F, GL_RED, GL_FLOAT, &one);
     }
     const uint32_t zero = 0;
@@ -32,6 +33,8 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_OFFSETS, fs->gs->adj_offsets);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ, fs->gs->adj);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_STATS, r->stats);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_WEIGHTS, fs->gs->adj_weights);
+    lc_uniform_i(prog, "u_weighted", fs->params->foo.smoothing_weights == LC_SMOOTHING_DISTANCE);
     lc_uniform_u(prog, "u_count", count);
     lc_uniform_f(prog, "u_omega", fs->params->foo.smoothing_weight);
     lc_uniform_f(prog, "u_fade", fade);
@@ -188,6 +191,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_uniform_f(p2, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
     lc_uniform_f(p2, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    lc_uniform_f(p2, "u_target_opacity", lc_foo_target_opacity(&p->foo));
     lc_renderer_draw_geometry(fs, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     if ((rc = lc_reduce_element_minima(r, fs->gs->scene->elements.count, fs->info, err)) != 0)
@@ -224,6 +228,7 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_renderer_bind_geometry(r, p4, fs, fs->width, fs->height, p->foo.subset);
     lc_uniform_f(p4, "u_weight", lc_renderer_subset(fs, p->foo.subset));
     lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
+    lc_renderer_bind_halo(p4, fs);
     lc_renderer_draw_geometry(fs, p->foo.subset);
     int rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err);
     if (rc)
@@ -236,6 +241,7 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_bind_coefficients(&r->coef_full);
     lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
+    lc_renderer_bind_halo(p5, fs);
     lc_renderer_draw_geometry(fs, 1);
     if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, 1, fs->info, err)) != 0)
         return rc;

@@ -301,6 +301,109 @@ static int reuse_opacities(lc_renderer *r, const lc_frame_state *state, lc_frame
     return 0;
 }
 
+/* ---- Guard band (params.guardBand, docs/ALGORITHM.md "Perception aids"):
+ * P0 "moments" and P1-P3 see a frustum widened by g of the view on each side,
+ * at the optimization resolution's pixel size, so that elements just outside
+ * the view have optimized opacities before they enter it (FOO §5.7.3). */
+static int optimize_frame(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                          int moments, lc_error *err)
+{
+    double g = fs->params->foo.guard_band;
+    if (!(g > 0) || fs->pixel_depth_range)
+        return lc_fourier_optimize(r, fs, state, dt, info, err);
+    const lc_frame_setup saved = *fs;
+    int lw = fs->low_width, lh = fs->low_height;
+    int gx = (int)ceil(g * lw), gy = (int)ceil(g * lh);
+    int w = lw + 2 * gx, h = lh + 2 * gy;
+    for (int col = 0; col < 4; col++) {
+        fs->view.view_proj[4 * col] *= (float)((double)lw / w);
+        fs->view.view_proj[4 * col + 1] *= (float)((double)lh / h);
+    }
+    /* The same world size per pixel and point splats of the same pixel size. */
+    lc_render_params wide = *fs->params;
+    wide.style.point_size *= (double)lh / h;
+    fs->view.pixel_world *= (double)h / lh;
+    fs->params = &wide;
+    fs->low_width = w, fs->low_height = h;
+    int rc = moments ? lc_fourier_depth_moments(r, fs, err) : 0;
+    if (!rc)
+        rc = lc_fourier_optimize(r, fs, state, dt, info, err);
+    int depth_moments = fs->depth_moments;
+    *fs = saved;
+    fs->depth_moments = depth_moments;
+    if (depth_moments)
+        fs->moments_guard[0] = gx, fs->moments_guard[1] = gy;
+    return rc;
+}
+
+/* ---- Anti-aliasing of still frames (style.antialias, docs/ALGORITHM.md
+ * "Perception aids"): the frame's opacities (P1-P3) serve K compositing runs
+ * (P4-P6) under sub-pixel camera jitter, whose images are averaged. */
+
+/* Radical inverse of i in base b (the Halton sequence). */
+static double halton(int i, int b)
+{
+    double f = 1, x = 0;
+    for (; i > 0; i /= b) {
+        f /= b;
+        x += f * (i % b);
+    }
+    return x;
+}
+
+/* Shifts the image of v by (dx, dy) pixels of a w x h target: NDC moves by
+ * 2 d / size, i.e. clip x += (2 dx / w) clip w (column-major matrices). */
+static void jitter_view(lc_view *v, double dx, double dy, int w, int h)
+{
+    float tx = (float)(2.0 * dx / w), ty = (float)(2.0 * dy / h);
+    for (int col = 0; col < 4; col++) {
+        v->view_proj[4 * col] += tx * v->view_proj[4 * col + 3];
+        v->view_proj[4 * col + 1] += ty * v->view_proj[4 * col + 3];
+    }
+}
+
+/* The antialias sample count a frame uses: style.antialias for the methods
+ * that composite from element opacities (or g^k); 1 for the others. */
+static int antialias_samples(const lc_render_params *p)
+{
+    int k = p->style.antialias;
+    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
+    return composites && k > 1 ? (k > LC_MAX_ANTIALIAS ? LC_MAX_ANTIALIAS : k) : 1;
+}
+
+/* Samples 1..K-1 after the frame's own (unjittered) sample 0 in the output:
+ * reads each back and writes the average into rgba. Sample i >= 1 is offset
+ * by Halton (2, 3) point i + 1 minus 1/2, within the pixel. */
+static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *rgba, lc_error *err)
+{
+    size_t n = (size_t)fs->width * fs->height * 4;
+    float *sum = malloc(n * sizeof *sum);
+    if (!sum)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory (antialias sums)");
+    lc_renderer_readback(r, fs, rgba);
+    for (size_t i = 0; i < n; i++)
+        sum[i] = rgba[i];
+    const lc_view base = fs->view;
+    int rc = 0;
+    for (int i = 1; i < samples && !rc; i++) {
+        fs->view = base;
+        jitter_view(&fs->view, halton(i + 1, 2) - 0.5, halton(i + 1, 3) - 0.5, fs->width, fs->height);
+        int method = fs->params->method;
+        rc = method == LC_METHOD_WBOIT ? lc_render_wboit(r, fs, err)
+                                       : lc_fourier_composite(r, fs, method == LC_METHOD_DIRECT, err);
+        if (!rc) {
+            lc_renderer_readback(r, fs, rgba);
+            for (size_t j = 0; j < n; j++)
+                sum[j] += rgba[j];
+        }
+    }
+    fs->view = base;
+    for (size_t i = 0; i < n && !rc; i++)
+        rgba[i] = (uint8_t)lrintf(sum[i] / (float)samples);
+    free(sum);
+    return rc;
+}
+
 int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
                     double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
@@ -364,27 +467,32 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     /* P0 as the plan says (pass_plan.c says why the moments skip a reusing frame). */
     if (plan.pixel_range && (rc = lc_fourier_depth_range(r, &fs, err)) != 0)
         return rc;
-    if (plan.moments && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
+    int guarded = p.foo.guard_band > 0 && !plan.pixel_range; /* optimize_frame runs the moments then */
+    if (plan.moments && !guarded && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
         return rc;
     switch (p.method) {
     case LC_METHOD_FOURIER:
-        rc = plan.reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = plan.reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, plan.moments, err);
         if (!rc)
             rc = lc_fourier_composite(r, &fs, 0, err);
         break;
     case LC_METHOD_DIRECT: rc = lc_fourier_composite(r, &fs, 1, err); break;
     case LC_METHOD_OPAQUE: rc = lc_render_opaque(r, &fs, err); break;
     case LC_METHOD_WBOIT:
-        rc = plan.reuse ? reuse_opacities(r, state, info) : lc_fourier_optimize(r, &fs, state, dt, info, err);
+        rc = plan.reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, plan.moments, err);
         if (!rc)
             rc = lc_render_wboit(r, &fs, err);
         break;
     case LC_METHOD_EXACT: rc = lc_render_exact(r, &fs, state, dt, rgba, info, err); break;
     default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
     }
+    int samples = antialias_samples(&p);
+    if (!rc && samples > 1)
+        rc = antialias(r, &fs, samples, rgba, err);
+    else if (!rc)
+        lc_renderer_readback(r, &fs, rgba);
     if (rc)
         return rc;
-    lc_renderer_readback(r, &fs, rgba);
     lc_renderer_timestamp(r, LC_PASS_READBACK);
 
     /* Timestamps of passes that ran are strictly after the previous slot. */

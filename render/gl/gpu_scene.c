@@ -1,5 +1,6 @@
 /* The GPU copy of a scene: vertex, attribute, element and index buffers,
  * uploaded once and shared by every context of the share group. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,7 +42,8 @@ static void layout_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_bl
         m->positions = lc_pack_positions_bytes(n) + lc_pack_chunks_bytes(n, lc_pack_chunk_phase(s));
         m->frames = framed ? (uint64_t)n * 4 : 0;
         for (int a = 0; a < s->attribute_count; a++)
-            m->attributes += lc_pack_attribute_is_unorm16(&s->attributes[a]) ? lc_pack_unorm16_bytes(n) : (uint64_t)n * 4;
+            m->attributes +=
+                lc_pack_attribute_is_unorm16(&s->attributes[a]) ? lc_pack_unorm16_bytes(n) : (uint64_t)n * 4;
         m->colors = lc_scene_has_rgb(s) ? (uint64_t)n * 4 : 0;
     }
     m->vertex_elements = lc_pack_blend_bytes(blend, n);
@@ -55,17 +57,19 @@ static void layout_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_bl
                                                 : 0;
     if (!built)
         m->indices *= 2;
-    m->adjacency = s->elements.adjacency_count
-                       ? ((uint64_t)s->elements.count + 1 + s->elements.adjacency_count) * 4
-                       : 0;
+    /* Offsets, neighbour ids and their distance weights (16-bit). */
+    m->adjacency = s->elements.adjacency_count ? ((uint64_t)s->elements.count + 1 + s->elements.adjacency_count) * 4 +
+                                                     ((uint64_t)s->elements.adjacency_count + 1) / 2 * 4
+                                               : 0;
     m->total = m->positions + m->frames + m->attributes + m->colors + m->vertex_elements + m->indices + m->adjacency;
 }
 
 void lc_gpu_scene_estimate(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_gpu_memory *out)
 {
     int exact = desc && desc->exact_positions;
-    layout_bytes(s, desc, exact ? (s->type == LC_PRIM_POINTS ? LC_BLEND_IMPLICIT : LC_BLEND_FULL)
-                                : lc_pack_blend_layout_of_type(s->type),
+    layout_bytes(s, desc,
+                 exact ? (s->type == LC_PRIM_POINTS ? LC_BLEND_IMPLICIT : LC_BLEND_FULL)
+                       : lc_pack_blend_layout_of_type(s->type),
                  0, out);
 }
 
@@ -272,9 +276,20 @@ int lc_gpu_scene_create_ex(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_
     }
     /* Without adjacency (points) P3 never reads the offsets. */
     uint32_t ne = s->elements.count, na = s->elements.adjacency_count;
-    gs->adj_offsets = lc_gl_buffer(s->elements.adjacency_offsets, na ? ((size_t)ne + 1) * sizeof(uint32_t) : 0,
-                                   &gs->bytes);
+    gs->adj_offsets =
+        lc_gl_buffer(s->elements.adjacency_offsets, na ? ((size_t)ne + 1) * sizeof(uint32_t) : 0, &gs->bytes);
     gs->adj = lc_gl_buffer(s->elements.adjacency, (size_t)s->elements.adjacency_count * sizeof(uint32_t), &gs->bytes);
+    /* Distance weights of the smoothing, 16-bit unorm (2 per word). */
+    float *weights = na ? malloc((size_t)na * sizeof(float)) : NULL;
+    uint16_t *packed = weights ? calloc(((size_t)na + 1) / 2 * 2, sizeof(uint16_t)) : NULL;
+    if (packed) {
+        lc_elements_adjacency_weights(&s->elements, s->positions, s->vertex_count, weights);
+        for (uint32_t k = 0; k < na; k++)
+            packed[k] = (uint16_t)lrintf(weights[k] * 65535.0f);
+    }
+    gs->adj_weights = lc_gl_buffer(packed, packed ? ((size_t)na + 1) / 2 * 4 : 0, &gs->bytes);
+    free(weights);
+    free(packed);
     layout_bytes(s, &(lc_gpu_scene_desc){.exact_positions = gs->exact}, gs->blend, 1, &gs->memory);
     gs->memory.indices += gs->lod_bytes;
     gs->memory.total = gs->bytes; /* the kinds' sum plus the 16-byte stand-ins of empty buffers */
@@ -295,7 +310,7 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
     if (!gs)
         return;
     GLuint bufs[] = {gs->positions,       gs->position_chunks, gs->frames,      gs->attributes, gs->colors,
-                     gs->vertex_elements, gs->vertex_weights,  gs->adj_offsets, gs->adj};
+                     gs->vertex_elements, gs->vertex_weights,  gs->adj_offsets, gs->adj,        gs->adj_weights};
     glDeleteBuffers(sizeof bufs / sizeof bufs[0], bufs);
     for (int i = 0; i < gs->level_count; i++) {
         lc_gpu_level *lv = &gs->levels[i];

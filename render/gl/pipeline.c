@@ -1,5 +1,6 @@
 /* Pipeline plumbing shared by every method: render targets, the geometry
  * binding and draw of a pass, blending set-ups, resolve and readback. */
+#include <math.h>
 #include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -168,6 +169,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_i(prog, "u_color_attr", fs->color_attr);
     lc_uniform_v2(prog, "u_color_range", fs->color_range[0], fs->color_range[1]);
     lc_uniform_i(prog, "u_shading", p->style.shading == LC_SHADING_NONE ? 1 : 0);
+    lc_uniform_f(prog, "u_silhouette_exponent", p->style.silhouette_exponent); /* read by compositing passes */
     lc_uniform_v2(prog, "u_depth_range", v->depth_min, v->depth_max);
     /* Per pixel, the nearest and farthest fragment sit at d = 1/4 and 3/4: half a
      * period apart both ways, where the truncated series of one step is exact at
@@ -181,6 +183,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     if (fs->depth_moments) {
         glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
         lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / w, (double)fs->low_height / h);
+        lc_uniform_v2(prog, "u_moments_offset", fs->moments_guard[0], fs->moments_guard[1]);
     }
     if (fs->pixel_depth_range)
         glBindTextureUnit(TEX_PIXEL_RANGE,
@@ -381,4 +384,16 @@ void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_ki
     glBindTextureUnit(TEX_RESOLVE_B, second_tex);
     lc_uniform_v3(prog, "u_background", fs->params->style.background);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs)
+{
+    const lc_style *st = &fs->params->style;
+    const double *b = fs->gs->scene->bounds;
+    double diag = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
+    int on = fs->gs->scene->type == LC_PRIM_LINES && st->halo_width > 0;
+    lc_uniform_f(prog, "u_halo_px", on ? st->halo_width : 0.0);
+    lc_uniform_f(prog, "u_halo_depth", st->halo_depth * (isfinite(diag) ? diag : 0.0));
+    lc_uniform_f(prog, "u_halo_strength", st->halo_strength);
+    lc_uniform_v3(prog, "u_halo_color", st->background);
 }

@@ -43,6 +43,7 @@
     X(BIND_VISIBLE, 21)      /* filter.c: one visibility bit per vertex, read by the geometry passes */                \
     X(BIND_LINE_OFFSETS, 22) /* filter.c: the lines' first vertices */                                                \
     X(BIND_VISIBLE_OUT, 23)  /* filter.c: the mask being written */                                                   \
+    X(BIND_ADJ_WEIGHTS, 24) /* params.smoothingWeights "distance" */                                                  \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -114,6 +115,7 @@ struct lc_gpu_scene {
     const lc_scene *scene;
     GLuint positions, frames, attributes, colors, vertex_elements, vertex_weights;
     GLuint adj_offsets, adj;
+    GLuint adj_weights; /* per adjacency entry (lc_elements_adjacency_weights) */
     int level_count;
     lc_gpu_level levels[LC_LOD_MAX_LEVELS];
     uint64_t bytes;
@@ -253,6 +255,7 @@ typedef struct lc_frame_setup {
     int low_width, low_height;
     int pixel_depth_range; /* P0 ran: geometry passes normalize by range_full / range_low */
     int depth_moments;     /* P0 "moments" ran: P1, P2, P4 and P5 warp depth by r->moments */
+    int moments_guard[2];  /* params.guardBand: texels of r->moments beyond the view on each side */
     int level;             /* level of detail of every geometry pass (gs->levels) */
     int point_stride;      /* points: every n-th in every pass */
     /* Importance-aware point subsets (point_subset.c): with a stride, the
@@ -337,6 +340,10 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
 void lc_renderer_bind_terms(GLuint prog, const lc_importance_terms *t);
 /* Sets the transfer functions' uniforms (part of lc_renderer_bind_geometry). */
 void lc_renderer_bind_curves(GLuint prog, const lc_importance_terms *t, const lc_curve *color);
+/* Sets the halo uniforms (style.halo*) of a compositing pass's program (P4,
+ * P5, the exact method's full-resolution lists): none unless lines with a
+ * halo width. Other passes leave them 0, so halos never reach P0-P2. */
+void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs);
 /* Chooses how large draws are issued for the driver named gl_renderer
  * (GL_RENDERER): in batches on software rasterizers. Process-wide. */
 void lc_pipeline_configure(const char *gl_renderer);

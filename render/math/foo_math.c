@@ -144,6 +144,18 @@ double lc_foo_norm_factor(const lc_foo_params *p, double total)
     return ref > 0 && total > ref ? ref / total : 1.0;
 }
 
+double lc_foo_target_opacity(const lc_foo_params *p)
+{
+    return p->target_opacity > 0 && p->target_opacity <= 1 ? p->target_opacity : 1.0;
+}
+
+double lc_foo_silhouette_alpha(double alpha, double eta, double s)
+{
+    if (!(eta > 1))
+        return alpha;
+    return 1.0 - pow(1.0 - clamp01(alpha), 1.0 + (eta - 1.0) * clamp01(s));
+}
+
 void lc_foo_alpha_exact(lc_fragment *frags, size_t n, const lc_foo_params *p)
 {
     size_t *order = depth_order(frags, n);
@@ -153,6 +165,7 @@ void lc_foo_alpha_exact(lc_fragment *frags, size_t n, const lc_foo_params *p)
     for (size_t i = 0; i < n; i++)
         total += frags[i].importance * frags[i].importance;
     double k = lc_foo_norm_factor(p, total), lambda = lc_foo_effective_lambda(p, k);
+    double t = lc_foo_target_opacity(p);
     /* DOO's exact sums: front = sum of g^2 strictly in front, behind = strictly behind; the fragment's own g^2
      * is in neither. behind is total - front - own, computed as a running sum to avoid cancellation. */
     double front = 0;
@@ -160,7 +173,7 @@ void lc_foo_alpha_exact(lc_fragment *frags, size_t n, const lc_foo_params *p)
         lc_fragment *fr = &frags[order[s]];
         double own = fr->importance * fr->importance;
         double behind = total - front - own;
-        fr->alpha = lc_foo_optimal_alpha(fr->importance, k * front, k * behind, p->q, p->r, lambda);
+        fr->alpha = t * lc_foo_optimal_alpha(fr->importance, k * front, k * behind, p->q, p->r, lambda);
         front += own;
     }
     free(order);
@@ -175,6 +188,7 @@ void lc_foo_alpha_fourier(lc_fragment *frags, size_t n, const lc_foo_params *p)
         lc_fourier_add(&importance_coeffs, frags[i].depth, frags[i].importance * frags[i].importance);
     double total = importance_coeffs.a[0];
     double k = lc_foo_norm_factor(p, total), lambda = lc_foo_effective_lambda(p, k);
+    double t = lc_foo_target_opacity(p);
 
     /* P2: sample G at the fragment's depth. The truncated series passes a step at its midpoint, so G holds about
      * half of the fragment's own g^2; FOO subtracts all of it from the front, the midpoint estimator half from
@@ -191,7 +205,7 @@ void lc_foo_alpha_fourier(lc_fragment *frags, size_t n, const lc_foo_params *p)
             front = G - own; /* FOO Eq. 10 with G(d_i) including the fragment */
             behind = total - G;
         }
-        fr->alpha = lc_foo_optimal_alpha(fr->importance, k * front, k * behind, p->q, p->r, lambda);
+        fr->alpha = t * lc_foo_optimal_alpha(fr->importance, k * front, k * behind, p->q, p->r, lambda);
     }
 }
 
@@ -302,6 +316,21 @@ void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint
             dst[e] = src[e];
         else
             dst[e] = (float)(src[e] + omega * (sum / neighbours - src[e]));
+    }
+}
+
+void lc_foo_smooth_step_weighted(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets,
+                                 const uint32_t *adj, const float *weights, double omega)
+{
+    for (uint32_t e = 0; e < count; e++) {
+        double sum = 0, wsum = 0;
+        for (uint32_t k = adj_offsets[e]; k < adj_offsets[e + 1]; k++) {
+            if (adj[k] >= count)
+                continue;
+            sum += (double)weights[k] * src[adj[k]];
+            wsum += weights[k];
+        }
+        dst[e] = wsum > 0 ? (float)(src[e] + omega * (sum / wsum - src[e])) : src[e];
     }
 }
 

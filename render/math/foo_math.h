@@ -65,6 +65,16 @@ double lc_foo_effective_lambda(const lc_foo_params *p, double k);
 /* The factor on the front/behind sums of a pixel with total mass `total`. */
 double lc_foo_norm_factor(const lc_foo_params *p, double total);
 
+/* Target opacity t (params.targetOpacity, OOS Eq. 7): every optimal opacity
+ * is scaled by t, alpha = t / (1 + ...), so nothing is more opaque than t.
+ * Returns t, or 1 when the field is outside (0, 1] (zero-initialized params). */
+double lc_foo_target_opacity(const lc_foo_params *p);
+/* Silhouette opacity transfer (style.silhouetteExponent eta, OOS Eq. 8) with
+ * the smooth silhouette measure s = 1 - |n.v| in [0, 1]: alpha' = 1 - (1 -
+ * alpha)^(1 + (eta - 1) s), so eta applies in full on silhouettes (s = 1) and
+ * not at all facing the viewer (s = 0). eta <= 1 returns alpha unchanged. */
+double lc_foo_silhouette_alpha(double alpha, double eta, double s);
+
 /* One fragment of a pixel. alpha and color are outputs/inputs as documented below. */
 typedef struct lc_fragment {
     double depth;      /* normalized, [0,1] */
@@ -94,6 +104,11 @@ void lc_foo_composite_normalized_exact_tau(const lc_fragment *frags, size_t n, c
  * (mean(neighbours) - src[e]); elements without neighbours keep their value. */
 void lc_foo_smooth_step(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets, const uint32_t *adj,
                         double omega);
+/* The same with a weight per CSR entry (params.smoothingWeights "distance",
+ * lc_elements_adjacency_weights): dst[e] = src[e] + omega (sum w src / sum w
+ * - src[e]) over the neighbours. */
+void lc_foo_smooth_step_weighted(const float *src, float *dst, uint32_t count, const uint32_t *adj_offsets,
+                                 const uint32_t *adj, const float *weights, double omega);
 /* Fading factor 1 - 2^(-dt/half_life); 1 when half_life <= 0. */
 double lc_foo_fade_factor(double dt, double half_life);
 

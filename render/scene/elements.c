@@ -696,3 +696,46 @@ uint32_t lc_elements_default_count(const lc_element_geometry *s)
     cap = cap > MAX_DEFAULT_PATCHES ? (cap < MAX_DERIVED_ELEMENTS ? cap : MAX_DERIVED_ELEMENTS) : MAX_DEFAULT_PATCHES;
     return clamp_u64(s->vertex_count / 8, 1, cap);
 }
+
+void lc_elements_adjacency_weights(const lc_elements *e, const float *positions, uint32_t vertex_count, float *out)
+{
+    if (!e->adjacency_count)
+        return;
+    double *centre = calloc((size_t)e->count * 4, sizeof *centre);
+    for (uint32_t v = 0; centre && v < vertex_count; v++) {
+        uint32_t id = e->vertex_elements[4 * (size_t)v + 3];
+        if (id >= e->count)
+            continue;
+        double *c = centre + 4 * (size_t)id;
+        for (int k = 0; k < 3; k++)
+            c[k] += positions[3 * (size_t)v + k];
+        c[3] += 1;
+    }
+    for (uint32_t i = 0; i < e->count; i++) {
+        uint32_t begin = e->adjacency_offsets[i], end = e->adjacency_offsets[i + 1];
+        double sum = 0;
+        int uniform = !centre || centre[4 * (size_t)i + 3] == 0;
+        for (uint32_t k = begin; k < end && !uniform; k++) {
+            const double *a = centre + 4 * (size_t)i, *b = centre + 4 * (size_t)e->adjacency[k];
+            if (e->adjacency[k] >= e->count || b[3] == 0) {
+                uniform = 1;
+                break;
+            }
+            double d2 = 0;
+            for (int c = 0; c < 3; c++) {
+                double d = a[c] / a[3] - b[c] / b[3];
+                d2 += d * d;
+            }
+            if (!(d2 > 0) || !isfinite(1.0 / d2)) {
+                uniform = 1;
+                break;
+            }
+            out[k] = (float)(1.0 / d2);
+            sum += 1.0 / d2;
+        }
+        /* In 1/65535 steps: the GPU holds them as 16-bit unorm (gpu_scene.c). */
+        for (uint32_t k = begin; k < end; k++)
+            out[k] = (float)(lrint((uniform ? 1.0 / (end - begin) : out[k] / sum) * 65535.0) / 65535.0);
+    }
+    free(centre);
+}

@@ -109,6 +109,16 @@ int lc_elements_build_lines_part(const lc_element_geometry *part, const lc_eleme
 int lc_elements_build_points_part(const lc_element_geometry *part, uint64_t first_point, uint64_t total_points,
                                   lc_elements *out, lc_error *err);
 
+/* Distance weights of the adjacency (params.smoothingWeights "distance",
+ * OOS §4.3): out[k] for CSR entry k from element e to neighbour j is
+ * a_ej = d_ej^-2 / sum_i d_ei^-2, d the distance between the element centres
+ * (the mean position of the vertices whose primary element it is: a patch's
+ * centre, a line segment-element's middle). A row with a neighbour whose
+ * centre is unknown (no vertex here, e.g. on another MPI shard) or at zero
+ * distance is uniform, 1/degree. out holds e->adjacency_count floats,
+ * rounded to multiples of 1/65535 (the GPU stores them as 16-bit unorm). */
+void lc_elements_adjacency_weights(const lc_elements *e, const float *positions, uint32_t vertex_count, float *out);
+
 #ifdef __cplusplus
 }
 #endif

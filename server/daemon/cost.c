@@ -32,6 +32,31 @@ static double pixels_per_unit(const lc_scene_measures *st, const lc_render_param
     return h / (2.0 * dist * half);
 }
 
+/* The work the perception aids add (docs/ALGORITHM.md "Perception aids"):
+ * halos widen every line ribbon of the full-resolution compositing passes by
+ * twice their width, and style.antialias K runs those passes (P4-P6 of the
+ * fourier and direct methods, the blended pass of wboit) K times. */
+static double perception_aids_cost(const lc_scene_measures *st, const lc_render_params *p, double frags, double ppu)
+{
+    const lc_foo_params *f = &p->foo;
+    double targets = ceil((2.0 * f->bands + 1.0) / 4.0), subset = f->subset > 1 ? f->subset : 1;
+    double geometry, screens; /* of one compositing run */
+    switch (p->method) {
+    case LC_METHOD_FOURIER:
+    case LC_METHOD_DIRECT: geometry = targets / subset + 1.0, screens = targets + 2.0; break;
+    case LC_METHOD_WBOIT: geometry = 2.0, screens = 3.0; break;
+    case LC_METHOD_EXACT: geometry = 2.0, screens = 2.0; break;
+    default: geometry = screens = 0; break;
+    }
+    int k = p->method != LC_METHOD_EXACT && p->style.antialias > 1 ? p->style.antialias : 1;
+    double halo = 0;
+    if (st->type == LC_PRIM_LINES && p->style.halo_width > 0 && p->method != LC_METHOD_WBOIT)
+        halo = fmin(st->line_length * ppu * 2.0 * p->style.halo_width, st->primitives * p->width * (double)p->height);
+    double passes = ceil(geometry);
+    return halo * geometry * k + (k - 1) * ((frags * geometry + p->width * (double)p->height * screens) +
+                                            (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes);
+}
+
 double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
 {
     double w = p->width, h = p->height, image = w * h;
@@ -54,7 +79,8 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     default: frags = fmin(st->area * ppu * ppu, st->primitives * image); break;
     }
     const lc_foo_params *f = &p->foo;
-    double s2 = f->resolution_scale * f->resolution_scale;
+    double guard = 1.0 + 2.0 * (f->guard_band > 0 ? f->guard_band : 0.0); /* params.guardBand widens P0-P2 */
+    double s2 = f->resolution_scale * f->resolution_scale * guard * guard;
     double targets = ceil((2.0 * f->bands + 1.0) / 4.0);
     double subset = f->subset > 1 ? f->subset : 1;
     /* Which passes run, and where, is the renderer's plan (a full frame: no
@@ -103,7 +129,7 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     }
     double passes = ceil(geometry);
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +
-           st->elements * (f->smoothing + 1.0);
+           st->elements * (f->smoothing + 1.0) + perception_aids_cost(st, p, frags, ppu);
 }
 
 const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p, double budget)

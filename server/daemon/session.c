@@ -316,6 +316,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
                                                                                  : detail_steps[st->detail_step].lod_pixels;
         d->point_stride = detail_steps[st->detail_step].point_stride;
         d->reuse_opacities = now - st->last_optimized < REOPTIMIZE_SECONDS;
+        out->req.render.style.antialias = 1; /* frames while moving stay single */
         scale *= detail_steps[st->detail_step].scale;
     }
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,

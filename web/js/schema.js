@@ -31,6 +31,9 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'] },
   { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16 },
   { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true },
+  { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true },
+  { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'] },
+  { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1 },
 
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },
@@ -51,6 +54,11 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64 },
   { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true },
   { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'] },
+  { section: 'style', name: 'silhouetteExponent', alias: 'silhouetteExponent', type: 'num', min: 1, max: 100 },
+  { section: 'style', name: 'haloWidth', alias: 'haloWidth', type: 'num', min: 0, max: 64 },
+  { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1 },
+  { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1 },
+  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16 },
 
   { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8 },
 ]);

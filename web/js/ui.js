@@ -42,6 +42,9 @@ export const GROUPS = [
       { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']], help: 'Auto: dense data does not wash out (opacities adapt to how many layers a pixel has, importance maps from min to max without outliers). Off: the paper\'s formula unchanged.' },
       { path: 'params.lod', label: 'Line detail (px)', kind: 'range', min: 0, max: 4, step: 0.05, help: 'Lines: how far, in pixels, simplified lines may stray from the full ones in still frames. 0: draw every segment.' },
       { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Direct method only: opacity = importance to the power k.' },
+      { path: 'params.targetOpacity', label: 'Target opacity t', kind: 'range', min: 0.05, max: 1, step: 0.05, help: 'Upper bound of every opacity: even parts that hide nothing let this much of what lies behind through (0.9 in the surface paper). 1: the paper\'s method.' },
+      { path: 'params.smoothingWeights', label: 'Smoothing neighbours', kind: 'select', options: [['uniform', 'Equal (FOO)'], ['distance', 'By distance (surface paper)']], help: 'How the smoothing averages a part with its neighbours: all equally, or nearer neighbours more (by the distance of their centres).' },
+      { path: 'params.guardBand', label: 'Guard band', kind: 'range', min: 0, max: 0.5, step: 0.05, help: 'The optimization also looks this far (fraction of the view) beyond each edge, so parts entering the view while you turn it already have their transparency instead of popping in opaque. 0: off.' },
     ],
   },
   {
@@ -67,6 +70,11 @@ export const GROUPS = [
       { path: 'style.shading', label: 'Shading', kind: 'select', options: [['phong', 'Phong'], ['none', 'None (flat)']], help: 'Phong: lit like tubes and surfaces. None: flat colours.' },
       { path: 'camera.viewAngle', label: 'View angle (°)', kind: 'range', min: 5, max: 120, step: 1, help: 'Vertical field of view in degrees (perspective projection).' },
       { path: 'camera.parallelProjection', label: 'Parallel projection', kind: 'check', help: 'Orthographic view: sizes do not shrink with distance.' },
+      { path: 'style.silhouetteExponent', label: 'Silhouette emphasis η', kind: 'range', min: 1, max: 20, step: 0.5, help: 'Surfaces: where a surface turns away from you (its outline) it becomes more opaque, as if seen through η layers (10 in the paper). 1: off.' },
+      { path: 'style.haloWidth', label: 'Halo width (px)', kind: 'range', min: 0, max: 16, step: 0.5, help: 'Lines: a band in the background colour beside each line that cuts lines passing far enough behind it, so crossings read in depth. 0: off.' },
+      { path: 'style.haloDepth', label: 'Halo depth offset', kind: 'range', min: 0, max: 0.2, step: 0.005, help: 'How far behind a line (fraction of the data size) another line must pass to be cut by its halo; lines closer than this (a bundle) are not cut.' },
+      { path: 'style.haloStrength', label: 'Halo strength', kind: 'range', min: 0, max: 1, step: 0.05, help: 'Opacity of the halo relative to its line: 1 cuts fully, lower values only dim.' },
+      { path: 'style.antialias', label: 'Anti-aliasing (still)', kind: 'range', min: 1, max: 16, step: 1, help: 'The sharp frame shown once you stop moving averages this many slightly shifted images, so thin lines and points do not flicker or stair-step. Costs that many compositing passes. 1: off.' },
     ],
   },
   {

@@ -13,13 +13,13 @@ void main()
         return;
     }
     uvec4 node;
-    node.y = floatBitsToUint(v_zview);
+    node.y = floatBitsToUint(fragment_zview()); // halos pushed back
 #if EXACT_PASS == 0
     node.z = floatBitsToUint(fragment_importance());
     node.w = fragment_element();
 #else
-    // Clamped like P4/P5 so that both methods see the same opacities.
-    float alpha = clamp(v_alpha, 0.0, 0.9999);
+    // The opacity of P4/P5 (clamped, silhouettes) so that both methods see the same.
+    float alpha = fragment_alpha();
     vec3 c = fragment_color();
     node.z = packUnorm2x16(c.rg);
     node.w = packUnorm2x16(vec2(c.b, alpha));

@@ -12,11 +12,13 @@ uniform float u_q;
 uniform float u_r;
 uniform float u_lambda;
 uniform float u_norm_mass; // as in P2: reference mass of the density normalization, 0 = off
+uniform float u_target_opacity; // as in P2: t of OOS Eq. 7
 
 float optimal_alpha(float g, float front, float behind, float k, float lambda)
 {
     float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
-    return 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
+    float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
+    return alpha * u_target_opacity;
 }
 
 // The fragments past the layer cap (the farthest of a pixel with more than

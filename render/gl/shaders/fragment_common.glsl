@@ -10,6 +10,36 @@ in vec3 v_wpos;
 in vec3 v_normal;
 in vec2 v_quad;
 flat in uvec3 v_primary;
+in vec2 v_halo;
+
+// Depth-dependent halos (style.halo*, Everts et al. 2009; docs/ALGORITHM.md
+// "Perception aids"): in the compositing passes a line's ribbon is widened by
+// a band of u_halo_px pixels whose fragments carry the background colour, the
+// line's opacity times u_halo_strength, and a view depth pushed back by
+// u_halo_depth at the ribbon's edge, growing linearly to twice that at the
+// band's outer edge. The depth order then lets it hide only lines far enough
+// behind. The optimization passes never see halos (u_halo_px = 0 there).
+uniform float u_halo_px;
+uniform float u_halo_depth;    // view-space units
+uniform float u_halo_strength; // [0, 1]
+uniform vec3 u_halo_color;     // the background
+
+// Position across the halo band, 0 at the ribbon's edge to 1 outside; < 0: the line itself.
+float halo_position()
+{
+#if PRIM == PRIM_LINES
+    if (u_halo_px > 0.0 && abs(v_halo.x) > v_halo.y)
+        return min((abs(v_halo.x) - v_halo.y) / u_halo_px, 1.0);
+#endif
+    return -1.0;
+}
+
+// The fragment's view depth: the halo's pushed back.
+float fragment_zview()
+{
+    float u = halo_position();
+    return u < 0.0 ? v_zview : v_zview + u_halo_depth * (1.0 + u);
+}
 
 // Round splats: fragments outside the unit disc are not part of the point.
 bool outside_primitive()
@@ -31,22 +61,49 @@ float fragment_importance() { return clamp(v_g, 0.0, 1.0); }
 float draw_weight(float stride_weight) { return u_point_list != 0 ? 1.0 : stride_weight; }
 
 uniform float u_direct_exponent;
+uniform float u_silhouette_exponent; // eta of OOS Eq. 8 (style.silhouetteExponent); <= 1 off
 
 // Opacity of the fragment in the compositing passes: the blended element
 // opacity, or g^k for the "direct" baseline; clamped so -ln(1 - alpha) stays finite.
 float fragment_alpha()
 {
 #ifdef DIRECT_ALPHA
-    return clamp(pow(fragment_importance(), u_direct_exponent), 0.0, 0.9999);
+    float alpha = clamp(pow(fragment_importance(), u_direct_exponent), 0.0, 0.9999);
 #else
-    return clamp(v_alpha, 0.0, 0.9999);
+    float alpha = clamp(v_alpha, 0.0, 0.9999);
 #endif
+#if PRIM == PRIM_TRIANGLES
+    // Silhouettes (OOS Eq. 8) by the smooth measure s = 1 - |n.v|:
+    // alpha' = 1 - (1 - alpha)^(1 + (eta - 1) s) (lc_foo_silhouette_alpha).
+    if (u_silhouette_exponent > 1.0) {
+        float len = length(v_normal);
+        vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - v_wpos);
+        float s = len > 0.0 ? 1.0 - abs(dot(v_normal / len, to_cam)) : 0.0;
+        alpha = clamp(1.0 - pow(1.0 - alpha, 1.0 + (u_silhouette_exponent - 1.0) * s), 0.0, 0.9999);
+    }
+#endif
+    if (halo_position() >= 0.0)
+        alpha = clamp(u_halo_strength * alpha, 0.0, 0.9999);
+    return alpha;
 }
+
+#ifdef BANDS
+// The depth of the Fourier series (series_depth) at the fragment: a halo
+// pushed past the pixel's far end stays off the series' periodic seam at 1,
+// where it would count as in front of everything.
+float fragment_series_depth()
+{
+    float d = series_depth(fragment_zview());
+    return halo_position() >= 0.0 ? min(d, 1.0 - max(u_depth_margin, 0.01)) : d;
+}
+#endif
 
 // Headlight shading: lines as tubes (normal swings across the ribbon), points
 // as spheres, surfaces two-sided.
 vec3 fragment_color()
 {
+    if (halo_position() >= 0.0)
+        return u_halo_color;
     vec3 base = u_color_mode == 2 ? v_rgb : colormap_lookup(v_cscalar);
     if (u_shading != 0)
         return base;

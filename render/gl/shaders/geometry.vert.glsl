@@ -12,6 +12,8 @@ out vec3 v_wpos;
 out vec3 v_normal;    // triangles: normal; lines: ribbon side vector
 out vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], along in [0,1])
 flat out uvec3 v_primary; // primary elements of the primitive's vertices
+out vec2 v_halo;      // lines: (signed distance from the centre, ribbon half width), output pixels
+uniform float u_halo_px; // lines, compositing passes with style.haloWidth: halo band width in pixels; 0 = none
 
 #ifdef READ_ALPHA
 layout(std430, binding = BIND_ELEMENT_ALPHA) readonly buffer ElementAlpha { float element_alpha[]; };
@@ -50,6 +52,7 @@ void emit(uint v, vec3 wpos)
     gl_Position = vertex_visible(v) ? u_view_proj * vec4(wpos, 1.0) : vec4(0.0, 0.0, 2.0, 1.0);
     v_normal = vec3(0.0);
     v_quad = vec2(0.0);
+    v_halo = vec2(0.0);
 }
 
 // One side of a screen-facing ribbon at line vertex v: offset along
@@ -65,13 +68,21 @@ void ribbon_vertex(uint v, float side_sign)
     float depth = u_ortho != 0 ? u_focal_dist : max(dot(p - u_eye, u_view_dir), 1e-6 * u_focal_dist);
     float pixel = u_pixel_world * depth / u_focal_dist;
     float half_width = max(u_line_half_width, u_min_half_pixels * pixel);
-    emit(v, p + side * (half_width * side_sign));
+    // Depth-dependent halos widen the ribbon by a band beside it (fragment_common.glsl).
+    float outer = half_width;
+    if (u_halo_px > 0.0)
+        outer += u_halo_px * pixel;
+    emit(v, p + side * (outer * side_sign));
     v_normal = side;
     // Tube shading needs a few pixels across; on thinner ribbons the pixel
     // centres would sample the tube profile unevenly along the line (a dotted
     // look), so the profile flattens as the ribbon narrows.
     float width_px = 2.0 * half_width / pixel;
     v_quad = vec2(side_sign * clamp((width_px - 1.0) / 4.0, 0.0, 0.85), 0.0);
+    if (u_halo_px > 0.0) {
+        v_quad.x *= outer / half_width; // the same profile across the core
+        v_halo = vec2(side_sign * outer / pixel, half_width / pixel);
+    }
 }
 
 #if PRIM == PRIM_POINTS

@@ -8,6 +8,7 @@ uniform float u_r;
 uniform float u_lambda;
 uniform int u_estimator; // 0 foo, 1 midpoint
 uniform float u_norm_mass; // normalize auto: reference mass (docs/ALGORITHM.md "Density normalization"); 0 = off
+uniform float u_target_opacity; // t of OOS Eq. 7 (lc_foo_target_opacity); 1 = the paper's
 
 void main()
 {
@@ -30,6 +31,7 @@ void main()
     float lambda = u_norm_mass > 0.0 ? (1.0 + 3.0 * (1.0 - k) * (1.0 - k)) * u_lambda : u_lambda;
     float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
     float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind));
+    alpha *= u_target_opacity;
     // Non-negative floats order like their bit patterns.
     atomicMin(element_alpha_min[fragment_element()], floatBitsToUint(alpha));
 }

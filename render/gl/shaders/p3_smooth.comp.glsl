@@ -11,11 +11,14 @@ layout(std430, binding = BIND_SMOOTH_DST) buffer SmoothDst { float smooth_dst[];
 layout(std430, binding = BIND_ADJ_OFFSETS) readonly buffer AdjacencyOffsets { uint adjacency_offsets[]; };
 layout(std430, binding = BIND_ADJ) readonly buffer Adjacency { uint adjacency[]; };
 layout(std430, binding = BIND_STATS) buffer Stats { uint max_change_bits; };
+layout(std430, binding = BIND_ADJ_WEIGHTS) readonly buffer AdjacencyWeights { uint adjacency_weight_words[]; }; // 16-bit unorm, 2 per word
+float adjacency_weight(uint i) { return float((adjacency_weight_words[i >> 1] >> ((i & 1u) * 16u)) & 0xffffu) / 65535.0; }
 
 uniform int u_stage; // 0 gather targets, 1 smooth step, 2 fade
 uniform uint u_count;
 uniform float u_omega;
 uniform float u_fade; // 1 - 2^(-dt / half-life); 1 for one-shot renders
+uniform int u_weighted; // params.smoothingWeights "distance": neighbours weighted by adjacency_weight()
 
 void main()
 {
@@ -44,7 +47,20 @@ void main()
                 seen++;
             }
         }
-        if (seen > 0u)
+        if (u_weighted != 0) {
+            // The weighted mean over the seen neighbours (OOS §4.3, lc_foo_smooth_step_weighted).
+            float wsum = 0.0;
+            sum = 0.0;
+            for (uint i = begin; i < end; i++) {
+                uint n = adjacency[i];
+                if (uintBitsToFloat(element_alpha_min[n]) <= 1.0) {
+                    sum += adjacency_weight(i) * smooth_src[n];
+                    wsum += adjacency_weight(i);
+                }
+            }
+            if (wsum > 0.0)
+                v = seen_self ? v + u_omega * (sum / wsum - v) : sum / wsum;
+        } else if (seen > 0u)
             v = seen_self ? v + u_omega * (sum / float(seen) - v) : sum / float(seen);
         smooth_dst[e] = v;
     } else {

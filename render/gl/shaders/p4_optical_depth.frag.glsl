@@ -8,6 +8,6 @@ void main()
     if (outside_primitive())
         discard;
     float c[NTARGETS * 4];
-    fourier_project(series_depth(v_zview), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
+    fourier_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
     write_coefficients(c);
 }

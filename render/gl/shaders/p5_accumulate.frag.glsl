@@ -12,7 +12,7 @@ void main()
     float alpha = fragment_alpha();
     float c[NTARGETS * 4];
     read_coefficients(ivec2(gl_FragCoord.xy), c);
-    float tau = max(fourier_eval(c, series_depth(v_zview)), 0.0);
+    float tau = max(fourier_eval(c, fragment_series_depth()), 0.0);
     float w;
     if (u_estimator == 1) {
         float f = -log(1.0 - alpha);

@@ -113,7 +113,8 @@ static void test_convergence(lc_session *s)
     double delay = srv.cfg.still_delay;
     CHECK(lc_session_stream_next(s, t0 + 0.5 * delay, &f, &wake) == 0 && fabs(wake - (t0 + delay)) < 1e-9,
           "converged interactive frame: wait for the still frame at input + still_delay (wake %g)", wake - t0);
-    CHECK(lc_session_stream_next(s, t0 + delay, &f, &wake) == 1 && !f.interactive, "then the still frame");
+    /* (t0 + delay) - t0 may round below delay: ask a microsecond later. */
+    CHECK(lc_session_stream_next(s, t0 + delay + 1e-6, &f, &wake) == 1 && !f.interactive, "then the still frame");
     finish(s, &f, true);
     lc_session_stream_ack(s, f.frame);
     CHECK(lc_session_stream_next(s, t0 + 2 * delay, &f, &wake) == 0 && wake == 0, "after it: idle");

@@ -1,0 +1,819 @@
+/* Line clustering: resampling and 5-D lift, rMCPD, a pruned agglomerative
+ * linkage with a dense top stage, and dendrogram cuts with representatives. */
+#include "cluster.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define DIM 5
+#define DEFAULT_NEIGHBOURS 96u
+#define DEFAULT_TOP_CLUSTERS 2048u
+/* Up to this many lines every pair is linked: the dense stage alone. */
+#define DENSE_LINES 1200u
+/* Least-distance representatives compare each member with at most this many
+ * members of its cluster (evenly spread), so a cut stays O(lines). */
+#define LEAST_DISTANCE_SAMPLE 64u
+
+typedef struct merge {
+    uint32_t a, b; /* node ids: lines 0..m-1, merge i creates node m + i */
+    float height;
+} merge;
+
+struct lc_dendrogram {
+    uint32_t lines;
+    int k;                /* samples per line */
+    float *samples;       /* lines * k * DIM, the lifted resampled lines */
+    float *mean_g;        /* per line: mean importance, or length when none was given */
+    merge *merges;        /* lines - 1, in the order they happened (non-decreasing height) */
+    lc_cluster_stats stats;
+};
+
+/* ---- resampling and lift (DLS Eq. 2) */
+
+/* k samples equally spaced in arc length along line [v0, v1), each
+ * (x, y, z, λg g, λc c) with positions scaled by 1/diag. */
+static float resample_line(const float *pos, const float *g, const float *c, uint32_t v0, uint32_t v1, int k,
+                           float inv_diag, float wg, float wc, float *out)
+{
+    uint32_t n = v1 - v0;
+    double len = 0;
+    for (uint32_t v = v0 + 1; v < v1; v++) {
+        double dx = pos[3 * v] - pos[3 * v - 3], dy = pos[3 * v + 1] - pos[3 * v - 2], dz = pos[3 * v + 2] - pos[3 * v - 1];
+        len += sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    uint32_t seg = v0; /* the segment [seg, seg+1] holding the current target */
+    double seg_start = 0;
+    for (int s = 0; s < k; s++) {
+        double target = len * s / (k - 1);
+        uint32_t a = seg, b = seg;
+        double t = 0;
+        while (n > 1 && seg + 1 < v1) {
+            uint32_t v = seg + 1;
+            double dx = pos[3 * v] - pos[3 * seg], dy = pos[3 * v + 1] - pos[3 * seg + 1],
+                   dz = pos[3 * v + 2] - pos[3 * seg + 2];
+            double l = sqrt(dx * dx + dy * dy + dz * dz);
+            if (seg_start + l >= target || seg + 2 == v1) {
+                a = seg;
+                b = v;
+                t = l > 0 ? (target - seg_start) / l : 0;
+                t = t < 0 ? 0 : t > 1 ? 1 : t;
+                break;
+            }
+            seg_start += l;
+            seg++;
+        }
+        float *o = out + (size_t)s * DIM;
+        for (int j = 0; j < 3; j++)
+            o[j] = (float)((pos[3 * a + j] * (1 - t) + pos[3 * b + j] * t) * inv_diag);
+        o[3] = g ? (float)(wg * (g[a] * (1 - t) + g[b] * t)) : 0.0f;
+        o[4] = c ? (float)(wc * (c[a] * (1 - t) + c[b] * t)) : 0.0f;
+    }
+    return (float)len;
+}
+
+/* ---- rMCPD (DLS Eq. 3-4) */
+
+float lc_cluster_rmcpd(const float *a, const float *b, int k)
+{
+    float row[LC_CLUSTER_MAX_SAMPLES], col[LC_CLUSTER_MAX_SAMPLES];
+    for (int j = 0; j < k; j++)
+        col[j] = FLT_MAX;
+    for (int i = 0; i < k; i++) {
+        const float *p = a + i * DIM;
+        float best = FLT_MAX;
+        for (int j = 0; j < k; j++) {
+            const float *q = b + j * DIM;
+            float d0 = p[0] - q[0], d1 = p[1] - q[1], d2 = p[2] - q[2], d3 = p[3] - q[3], d4 = p[4] - q[4];
+            float d = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4;
+            best = d < best ? d : best;
+            col[j] = d < col[j] ? d : col[j];
+        }
+        row[i] = best;
+    }
+    double ab = 0, ba = 0;
+    for (int i = 0; i < k; i++) {
+        ab += sqrt(row[i]);
+        ba += sqrt(col[i]);
+    }
+    return (float)((ab < ba ? ab : ba) / k);
+}
+
+/* ---- the linkage engine: clusters as nodes of a weighted graph whose missing
+ * edges mean "at least r"; a min-heap of edges with lazy deletion (an edge
+ * between two live nodes never changes: a merge creates a new node). */
+
+typedef struct edge {
+    float d;
+    uint32_t a, b;
+} edge;
+
+typedef struct adj {
+    edge *e; /* e[i].a = neighbour, e[i].d = distance; b unused */
+    uint32_t n, cap;
+} adj;
+
+typedef struct engine {
+    lc_linkage linkage;
+    uint32_t nodes, next; /* capacity 2m - 1; next id to create */
+    float r;              /* missing edges are >= r; INFINITY in the dense stage */
+    adj *adj;
+    uint32_t *size;
+    uint8_t *alive;
+    edge *heap;
+    size_t heap_n, heap_cap;
+    float *mark_a, *mark_b; /* scratch per node: distance to a / b or NAN */
+    uint32_t *touched;
+    merge *merges;
+    uint32_t merge_count;
+} engine;
+
+static int adj_push(adj *l, uint32_t to, float d)
+{
+    if (l->n == l->cap) {
+        uint32_t cap = l->cap ? 2 * l->cap : 8;
+        edge *e = realloc(l->e, cap * sizeof *e);
+        if (!e)
+            return -1;
+        l->e = e;
+        l->cap = cap;
+    }
+    l->e[l->n++] = (edge){d, to, 0};
+    return 0;
+}
+
+static int heap_push(engine *g, edge x)
+{
+    if (g->heap_n == g->heap_cap) {
+        size_t cap = g->heap_cap ? 2 * g->heap_cap : 1024;
+        edge *h = realloc(g->heap, cap * sizeof *h);
+        if (!h)
+            return -1;
+        g->heap = h;
+        g->heap_cap = cap;
+    }
+    size_t i = g->heap_n++;
+    /* Ties break on node ids so the order never depends on the heap's history. */
+    while (i > 0) {
+        size_t p = (i - 1) / 2;
+        edge *q = &g->heap[p];
+        if (q->d < x.d || (q->d == x.d && (q->a < x.a || (q->a == x.a && q->b <= x.b))))
+            break;
+        g->heap[i] = *q;
+        i = p;
+    }
+    g->heap[i] = x;
+    return 0;
+}
+
+static int edge_less(const edge *x, const edge *y)
+{
+    return x->d < y->d || (x->d == y->d && (x->a < y->a || (x->a == y->a && x->b < y->b)));
+}
+
+static edge heap_pop(engine *g)
+{
+    edge top = g->heap[0], x = g->heap[--g->heap_n];
+    size_t i = 0, n = g->heap_n;
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= n)
+            break;
+        if (c + 1 < n && edge_less(&g->heap[c + 1], &g->heap[c]))
+            c++;
+        if (!edge_less(&g->heap[c], &x))
+            break;
+        g->heap[i] = g->heap[c];
+        i = c;
+    }
+    if (n)
+        g->heap[i] = x;
+    return top;
+}
+
+static int engine_init(engine *g, uint32_t m, lc_linkage linkage, merge *merges)
+{
+    memset(g, 0, sizeof *g);
+    g->linkage = linkage;
+    g->nodes = 2 * m - 1;
+    g->next = m;
+    g->r = INFINITY;
+    g->merges = merges;
+    g->adj = calloc(g->nodes, sizeof *g->adj);
+    g->size = calloc(g->nodes, sizeof *g->size);
+    g->alive = calloc(g->nodes, 1);
+    g->mark_a = malloc(g->nodes * sizeof *g->mark_a);
+    g->mark_b = malloc(g->nodes * sizeof *g->mark_b);
+    g->touched = malloc(g->nodes * sizeof *g->touched);
+    if (!g->adj || !g->size || !g->alive || !g->mark_a || !g->mark_b || !g->touched)
+        return -1;
+    for (uint32_t i = 0; i < g->nodes; i++) {
+        g->mark_a[i] = g->mark_b[i] = NAN;
+        g->size[i] = i < m ? 1 : 0;
+        g->alive[i] = i < m;
+    }
+    return 0;
+}
+
+static void engine_free(engine *g)
+{
+    if (g->adj)
+        for (uint32_t i = 0; i < g->nodes; i++)
+            free(g->adj[i].e);
+    free(g->adj);
+    free(g->size);
+    free(g->alive);
+    free(g->heap);
+    free(g->mark_a);
+    free(g->mark_b);
+    free(g->touched);
+}
+
+static int engine_edge(engine *g, uint32_t a, uint32_t b, float d)
+{
+    if (adj_push(&g->adj[a], b, d) || adj_push(&g->adj[b], a, d))
+        return -1;
+    return heap_push(g, (edge){d, a < b ? a : b, a < b ? b : a});
+}
+
+static void adj_remove(adj *l, uint32_t to)
+{
+    for (uint32_t i = 0; i < l->n; i++)
+        if (l->e[i].a == to) {
+            l->e[i] = l->e[--l->n];
+            return;
+        }
+}
+
+/* The Lance-Williams update of one neighbour x of the merged pair; NAN = no
+ * edge (only possible when r is finite). */
+static float linked(const engine *g, float da, float db, uint32_t na, uint32_t nb)
+{
+    int ha = !isnan(da), hb = !isnan(db);
+    switch (g->linkage) {
+    case LC_LINKAGE_SINGLE:
+        return ha && hb ? fminf(da, db) : ha ? da : db;
+    case LC_LINKAGE_AVERAGE: {
+        /* A missing pair counts as r, the least it can be. */
+        float va = ha ? da : g->r, vb = hb ? db : g->r;
+        float v = (float)(((double)na * va + (double)nb * vb) / ((double)na + nb));
+        return v < g->r ? v : NAN;
+    }
+    default: /* complete: any missing pair is >= r, so the clusters are too */
+        return ha && hb ? fmaxf(da, db) : NAN;
+    }
+}
+
+static int engine_merge(engine *g, uint32_t a, uint32_t b, float height)
+{
+    uint32_t c = g->next++, nt = 0;
+    g->merges[g->merge_count++] = (merge){a, b, height};
+    g->alive[a] = g->alive[b] = 0;
+    g->alive[c] = 1;
+    g->size[c] = g->size[a] + g->size[b];
+    for (uint32_t i = 0; i < g->adj[a].n; i++) {
+        uint32_t x = g->adj[a].e[i].a;
+        if (!g->alive[x])
+            continue;
+        if (isnan(g->mark_a[x]) && isnan(g->mark_b[x]))
+            g->touched[nt++] = x;
+        g->mark_a[x] = g->adj[a].e[i].d;
+    }
+    for (uint32_t i = 0; i < g->adj[b].n; i++) {
+        uint32_t x = g->adj[b].e[i].a;
+        if (!g->alive[x])
+            continue;
+        if (isnan(g->mark_a[x]) && isnan(g->mark_b[x]))
+            g->touched[nt++] = x;
+        g->mark_b[x] = g->adj[b].e[i].d;
+    }
+    int rc = 0;
+    for (uint32_t i = 0; i < nt; i++) {
+        uint32_t x = g->touched[i];
+        float d = linked(g, g->mark_a[x], g->mark_b[x], g->size[a], g->size[b]);
+        g->mark_a[x] = g->mark_b[x] = NAN;
+        adj_remove(&g->adj[x], a);
+        adj_remove(&g->adj[x], b);
+        if (!rc && !isnan(d))
+            rc = engine_edge(g, c, x, d);
+    }
+    free(g->adj[a].e);
+    free(g->adj[b].e);
+    g->adj[a] = g->adj[b] = (adj){0};
+    return rc;
+}
+
+/* Merges along the heap until it is empty. */
+static int engine_run(engine *g)
+{
+    while (g->heap_n) {
+        edge e = heap_pop(g);
+        if (g->alive[e.a] && g->alive[e.b] && engine_merge(g, e.a, e.b, e.d))
+            return -1;
+    }
+    return 0;
+}
+
+/* ---- the build */
+
+typedef struct box {
+    float lo[DIM], hi[DIM];
+} box;
+
+static float box_distance(const box *p, const box *q)
+{
+    float s = 0;
+    for (int j = 0; j < DIM; j++) {
+        float gap = fmaxf(p->lo[j] - q->hi[j], q->lo[j] - p->hi[j]);
+        if (gap > 0)
+            s += gap * gap;
+    }
+    return sqrtf(s);
+}
+
+static const box *sort_boxes; /* qsort has no context argument */
+static int sort_axis;
+
+static int cmp_box_lo(const void *x, const void *y)
+{
+    float a = sort_boxes[*(const uint32_t *)x].lo[sort_axis], b = sort_boxes[*(const uint32_t *)y].lo[sort_axis];
+    return a < b ? -1 : a > b ? 1 : 0;
+}
+
+static int cmp_float(const void *x, const void *y)
+{
+    float a = *(const float *)x, b = *(const float *)y;
+    return a < b ? -1 : a > b ? 1 : 0;
+}
+
+/* The pruning radius: the box distance below which a line has about
+ * `neighbours` other lines, estimated from up to 256 evenly spread lines. */
+static float prune_radius(const box *bx, uint32_t m, uint32_t neighbours)
+{
+    uint32_t s = m < 256 ? m : 256;
+    float *d = malloc((size_t)m * sizeof *d);
+    if (!d)
+        return INFINITY;
+    double sum = 0;
+    for (uint32_t i = 0; i < s; i++) {
+        uint32_t p = (uint32_t)((uint64_t)i * m / s);
+        for (uint32_t j = 0; j < m; j++)
+            d[j] = box_distance(&bx[p], &bx[j]);
+        uint32_t rank = neighbours < m ? neighbours : m - 1;
+        /* nth_element would do; a sort of m floats is cheap next to the rMCPDs. */
+        qsort(d, m, sizeof *d, cmp_float);
+        sum += d[rank];
+    }
+    free(d);
+    return (float)(sum / s);
+}
+
+/* The sparse stage: every pair whose boxes come closer than r is measured; an
+ * rMCPD under r becomes an edge (a sweep along the widest spatial axis). */
+static int link_pruned(engine *g, lc_dendrogram *dg, const box *bx, float r)
+{
+    uint32_t m = dg->lines;
+    uint32_t *order = malloc((size_t)m * sizeof *order);
+    if (!order)
+        return -1;
+    int axis = 0;
+    float best = -1;
+    for (int j = 0; j < 3; j++) {
+        float lo = FLT_MAX, hi = -FLT_MAX;
+        for (uint32_t i = 0; i < m; i++) {
+            lo = fminf(lo, bx[i].lo[j]);
+            hi = fmaxf(hi, bx[i].hi[j]);
+        }
+        if (hi - lo > best) {
+            best = hi - lo;
+            axis = j;
+        }
+    }
+    for (uint32_t i = 0; i < m; i++)
+        order[i] = i;
+    sort_boxes = bx;
+    sort_axis = axis;
+    qsort(order, m, sizeof *order, cmp_box_lo);
+    size_t stride = (size_t)dg->k * DIM;
+    int rc = 0;
+    for (uint32_t oi = 0; oi < m && !rc; oi++) {
+        uint32_t i = order[oi];
+        for (uint32_t oj = oi + 1; oj < m && !rc; oj++) {
+            uint32_t j = order[oj];
+            if (bx[j].lo[axis] > bx[i].hi[axis] + r)
+                break;
+            if (box_distance(&bx[i], &bx[j]) >= r)
+                continue;
+            float d = lc_cluster_rmcpd(dg->samples + i * stride, dg->samples + j * stride, dg->k);
+            dg->stats.pairs_tested++;
+            if (d < r)
+                rc = engine_edge(g, i, j, d);
+        }
+    }
+    free(order);
+    return rc;
+}
+
+/* The dense top stage: each remaining cluster is stood in for by its line
+ * closest to the cluster's mean line; the clusters are linked pairwise by
+ * max(r, rMCPD of those lines), so no top merge comes below a pruned one. */
+static int link_top(engine *g, lc_dendrogram *dg, float r)
+{
+    uint32_t m = dg->lines, roots = 0;
+    size_t stride = (size_t)dg->k * DIM;
+    uint32_t *root_of = malloc((size_t)m * sizeof *root_of), *roots_list = malloc((size_t)m * sizeof *roots_list);
+    uint32_t *stand_in = malloc((size_t)m * sizeof *stand_in), *slot = malloc((size_t)g->nodes * sizeof *slot);
+    float *mean = NULL, *best = malloc((size_t)m * sizeof *best);
+    int rc = -1;
+    if (!root_of || !roots_list || !stand_in || !slot || !best)
+        goto out;
+    /* Each line's root: follow the merges forward (parent of a node). */
+    uint32_t *parent = slot; /* reused: parent per node, then slot per root */
+    for (uint32_t i = 0; i < g->nodes; i++)
+        parent[i] = UINT32_MAX;
+    for (uint32_t i = 0; i < g->merge_count; i++)
+        parent[g->merges[i].a] = parent[g->merges[i].b] = m + i;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t x = i;
+        while (parent[x] != UINT32_MAX)
+            x = parent[x];
+        root_of[i] = x;
+    }
+    for (uint32_t i = 0; i < g->nodes; i++)
+        slot[i] = UINT32_MAX;
+    for (uint32_t i = 0; i < m; i++)
+        if (slot[root_of[i]] == UINT32_MAX) {
+            slot[root_of[i]] = roots;
+            roots_list[roots++] = root_of[i];
+        }
+    dg->stats.top_clusters = roots;
+    mean = calloc((size_t)roots * stride, sizeof *mean);
+    if (!mean)
+        goto out;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t s = slot[root_of[i]];
+        for (size_t j = 0; j < stride; j++)
+            mean[s * stride + j] += dg->samples[i * stride + j] / (float)g->size[root_of[i]];
+    }
+    for (uint32_t s = 0; s < roots; s++)
+        best[s] = FLT_MAX;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t s = slot[root_of[i]];
+        float e = 0;
+        for (size_t j = 0; j < stride; j++) {
+            float t = dg->samples[i * stride + j] - mean[s * stride + j];
+            e += t * t;
+        }
+        if (e < best[s]) {
+            best[s] = e;
+            stand_in[s] = i;
+        }
+    }
+    rc = 0;
+    for (uint32_t s = 0; s < roots && !rc; s++)
+        for (uint32_t t = s + 1; t < roots && !rc; t++) {
+            float d = lc_cluster_rmcpd(dg->samples + stand_in[s] * stride, dg->samples + stand_in[t] * stride, dg->k);
+            dg->stats.pairs_tested++;
+            rc = engine_edge(g, roots_list[s], roots_list[t], isfinite(r) ? fmaxf(r, d) : d);
+        }
+    g->r = INFINITY;
+    if (!rc)
+        rc = engine_run(g);
+out:
+    free(root_of);
+    free(roots_list);
+    free(stand_in);
+    free(slot);
+    free(mean);
+    free(best);
+    return rc;
+}
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* One attempt at radius r; returns the clusters the sparse stage left (or 0
+ * on OOM), with dg->merges filled when they fit the top stage's limit. */
+static int build_with_radius(lc_dendrogram *dg, const box *bx, float r, uint32_t top_limit, lc_linkage linkage,
+                             int *too_many)
+{
+    engine g;
+    int rc = -1;
+    *too_many = 0;
+    if (engine_init(&g, dg->lines, linkage, dg->merges) == 0) {
+        g.r = r;
+        rc = link_pruned(&g, dg, bx, r) || engine_run(&g) ? -1 : 0;
+        if (!rc && dg->lines - g.merge_count > top_limit && isfinite(r))
+            *too_many = 1;
+        else if (!rc && g.merge_count < dg->lines - 1)
+            rc = link_top(&g, dg, r);
+    }
+    engine_free(&g);
+    return rc;
+}
+
+int lc_dendrogram_build(const float *positions, const uint32_t *offsets, uint32_t line_count,
+                        const lc_cluster_desc *desc, lc_dendrogram **out, lc_error *err)
+{
+    lc_cluster_desc dd = desc ? *desc : (lc_cluster_desc){0};
+    int k = dd.samples ? dd.samples : LC_CLUSTER_DEFAULT_SAMPLES;
+    *out = NULL;
+    if (!positions || !offsets || line_count == 0)
+        return lc_err(err, LC_ERR_INVALID, "clustering needs at least one line");
+    if (k < 2 || k > LC_CLUSTER_MAX_SAMPLES)
+        return lc_err(err, LC_ERR_INVALID, "clustering: samples %d outside [2, %d]", k, LC_CLUSTER_MAX_SAMPLES);
+    if (!(dd.lift_importance >= 0) || !(dd.lift_color >= 0) || !isfinite(dd.lift_importance) ||
+        !isfinite(dd.lift_color))
+        return lc_err(err, LC_ERR_INVALID, "clustering: lift weights must be finite and >= 0");
+    if (line_count > UINT32_MAX / 2)
+        return lc_err(err, LC_ERR_LIMIT, "clustering: %u lines exceed the limit", line_count);
+    for (uint32_t i = 0; i < line_count; i++)
+        if (offsets[i + 1] <= offsets[i])
+            return lc_err(err, LC_ERR_INVALID, "clustering: line %u has no vertices", i);
+    double t0 = now_seconds();
+    lc_dendrogram *dg = calloc(1, sizeof *dg);
+    if (!dg)
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory");
+    dg->lines = line_count;
+    dg->k = k;
+    size_t stride = (size_t)k * DIM;
+    dg->samples = malloc((size_t)line_count * stride * sizeof *dg->samples);
+    dg->mean_g = malloc((size_t)line_count * sizeof *dg->mean_g);
+    dg->merges = malloc((size_t)(line_count > 1 ? line_count - 1 : 1) * sizeof *dg->merges);
+    box *bx = malloc((size_t)line_count * sizeof *bx);
+    if (!dg->samples || !dg->mean_g || !dg->merges || !bx) {
+        free(bx);
+        lc_dendrogram_destroy(dg);
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory for %u lines", line_count);
+    }
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    for (uint32_t v = offsets[0]; v < offsets[line_count]; v++)
+        for (int j = 0; j < 3; j++) {
+            lo[j] = fmin(lo[j], positions[3 * v + j]);
+            hi[j] = fmax(hi[j], positions[3 * v + j]);
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    float inv_diag = diag > 0 && isfinite(diag) ? (float)(1.0 / diag) : 1.0f;
+    for (uint32_t i = 0; i < line_count; i++) {
+        float *s = dg->samples + i * stride;
+        float len = resample_line(positions, dd.importance, dd.color, offsets[i], offsets[i + 1], k, inv_diag,
+                                  dd.lift_importance, dd.lift_color, s);
+        double gsum = 0;
+        if (dd.importance)
+            for (uint32_t v = offsets[i]; v < offsets[i + 1]; v++)
+                gsum += dd.importance[v];
+        dg->mean_g[i] = dd.importance ? (float)(gsum / (offsets[i + 1] - offsets[i])) : len;
+        for (int j = 0; j < DIM; j++) {
+            bx[i].lo[j] = FLT_MAX;
+            bx[i].hi[j] = -FLT_MAX;
+        }
+        for (int p = 0; p < k; p++)
+            for (int j = 0; j < DIM; j++) {
+                bx[i].lo[j] = fminf(bx[i].lo[j], s[p * DIM + j]);
+                bx[i].hi[j] = fmaxf(bx[i].hi[j], s[p * DIM + j]);
+            }
+    }
+    uint32_t neighbours = dd.neighbours ? dd.neighbours : DEFAULT_NEIGHBOURS;
+    uint32_t top_limit = dd.top_clusters ? dd.top_clusters : DEFAULT_TOP_CLUSTERS;
+    int rc = 0;
+    if (line_count > 1) {
+        /* Small sets link every pair; larger ones prune at a radius that grows
+         * until the sparse stage leaves few enough clusters for the top. */
+        float r = line_count <= DENSE_LINES && !dd.neighbours ? INFINITY : prune_radius(bx, line_count, neighbours);
+        for (;;) {
+            int too_many;
+            dg->stats.pairs_tested = 0;
+            dg->stats.prune_radius = r;
+            rc = build_with_radius(dg, bx, r, top_limit, dd.linkage, &too_many);
+            if (rc || !too_many)
+                break;
+            neighbours = neighbours < line_count / 2 ? 2 * neighbours : line_count;
+            float r2 = neighbours >= line_count ? INFINITY : prune_radius(bx, line_count, neighbours);
+            r = r2 > 1.5f * r ? r2 : 1.5f * r;
+        }
+    }
+    free(bx);
+    if (rc) {
+        lc_dendrogram_destroy(dg);
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory linking %u lines", line_count);
+    }
+    dg->stats.seconds = now_seconds() - t0;
+    *out = dg;
+    return 0;
+}
+
+void lc_dendrogram_destroy(lc_dendrogram *d)
+{
+    if (!d)
+        return;
+    free(d->samples);
+    free(d->mean_g);
+    free(d->merges);
+    free(d);
+}
+
+uint32_t lc_dendrogram_lines(const lc_dendrogram *d) { return d ? d->lines : 0; }
+
+void lc_dendrogram_stats(const lc_dendrogram *d, lc_cluster_stats *out) { *out = d->stats; }
+
+size_t lc_dendrogram_bytes(const lc_dendrogram *d)
+{
+    if (!d)
+        return 0;
+    return sizeof *d + (size_t)d->lines * ((size_t)d->k * DIM * sizeof(float) + sizeof(float) + sizeof(merge));
+}
+
+/* ---- cuts and representatives */
+
+static uint32_t find_root(uint32_t *p, uint32_t x)
+{
+    while (p[x] != x) {
+        p[x] = p[p[x]];
+        x = p[x];
+    }
+    return x;
+}
+
+int lc_dendrogram_cut(const lc_dendrogram *d, uint32_t clusters, lc_representative rep,
+                      const float *line_importance, uint32_t *labels, uint32_t *representative, lc_error *err)
+{
+    if (!d || clusters == 0)
+        return lc_err(err, LC_ERR_INVALID, "clusters must be at least 1");
+    if (rep != LC_REPRESENTATIVE_IMPORTANT && rep != LC_REPRESENTATIVE_MEAN && rep != LC_REPRESENTATIVE_LEAST_DISTANCE)
+        return lc_err(err, LC_ERR_INVALID, "unknown representative %d", (int)rep);
+    uint32_t m = d->lines, k = clusters < m ? clusters : m;
+    size_t stride = (size_t)d->k * DIM;
+    uint32_t *p = malloc((size_t)(2 * m - 1) * sizeof *p), *lab = malloc((size_t)m * sizeof *lab);
+    uint32_t *id = malloc((size_t)(2 * m - 1) * sizeof *id), *count = calloc(k, sizeof *count);
+    uint32_t *rp = malloc((size_t)k * sizeof *rp);
+    float *score = malloc((size_t)k * sizeof *score), *mean = NULL;
+    int rc = -1;
+    if (!p || !lab || !id || !count || !rp || !score)
+        goto out;
+    for (uint32_t i = 0; i < 2 * m - 1; i++) {
+        p[i] = i;
+        id[i] = UINT32_MAX;
+    }
+    /* The first m - k merges, in order, leave exactly k clusters. */
+    for (uint32_t i = 0; i < m - k; i++) {
+        p[d->merges[i].a] = m + i;
+        p[d->merges[i].b] = m + i;
+    }
+    uint32_t next = 0;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t r = find_root(p, i);
+        if (id[r] == UINT32_MAX)
+            id[r] = next++;
+        lab[i] = id[r];
+        count[lab[i]]++;
+    }
+    for (uint32_t c = 0; c < k; c++) {
+        score[c] = -FLT_MAX;
+        rp[c] = UINT32_MAX;
+    }
+    if (rep == LC_REPRESENTATIVE_IMPORTANT) {
+        const float *g = line_importance ? line_importance : d->mean_g;
+        for (uint32_t i = 0; i < m; i++)
+            if (rp[lab[i]] == UINT32_MAX || g[i] > score[lab[i]]) {
+                score[lab[i]] = g[i];
+                rp[lab[i]] = i;
+            }
+    } else if (rep == LC_REPRESENTATIVE_MEAN) {
+        mean = calloc((size_t)k * stride, sizeof *mean);
+        if (!mean)
+            goto out;
+        for (uint32_t i = 0; i < m; i++)
+            for (size_t j = 0; j < stride; j++)
+                mean[lab[i] * stride + j] += d->samples[i * stride + j] / (float)count[lab[i]];
+        for (uint32_t i = 0; i < m; i++) {
+            float e = 0;
+            for (size_t j = 0; j < stride; j++) {
+                float t = d->samples[i * stride + j] - mean[lab[i] * stride + j];
+                e += t * t;
+            }
+            if (rp[lab[i]] == UINT32_MAX || -e > score[lab[i]]) {
+                score[lab[i]] = -e;
+                rp[lab[i]] = i;
+            }
+        }
+    } else {
+        /* Members of each cluster, listed by a counting sort on the labels;
+         * each member's total distance to (a spread sample of) the others. */
+        uint32_t *start = calloc((size_t)k + 1, sizeof *start), *member = malloc((size_t)m * sizeof *member);
+        if (!start || !member) {
+            free(start);
+            free(member);
+            goto out;
+        }
+        for (uint32_t c = 0; c < k; c++)
+            start[c + 1] = start[c] + count[c];
+        for (uint32_t c = 0; c < k; c++)
+            count[c] = 0;
+        for (uint32_t i = 0; i < m; i++)
+            member[start[lab[i]] + count[lab[i]]++] = i;
+        for (uint32_t c = 0; c < k; c++) {
+            uint32_t n = count[c], s = n < LEAST_DISTANCE_SAMPLE ? n : LEAST_DISTANCE_SAMPLE;
+            for (uint32_t a = 0; a < n; a++) {
+                uint32_t i = member[start[c] + a];
+                double total = 0;
+                for (uint32_t b = 0; b < s; b++) {
+                    uint32_t j = member[start[c] + (uint32_t)((uint64_t)b * n / s)];
+                    if (j != i)
+                        total += lc_cluster_rmcpd(d->samples + i * stride, d->samples + j * stride, d->k);
+                }
+                if (rp[c] == UINT32_MAX || -(float)total > score[c]) {
+                    score[c] = -(float)total;
+                    rp[c] = i;
+                }
+            }
+        }
+        free(start);
+        free(member);
+    }
+    if (labels)
+        memcpy(labels, lab, (size_t)m * sizeof *lab);
+    if (representative)
+        memcpy(representative, rp, (size_t)k * sizeof *rp);
+    rc = (int)k;
+out:
+    free(p);
+    free(lab);
+    free(id);
+    free(count);
+    free(rp);
+    free(score);
+    free(mean);
+    if (rc < 0)
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory cutting %u lines", m);
+    return rc;
+}
+
+int lc_dendrogram_mask(const lc_dendrogram *d, uint32_t clusters, lc_representative rep,
+                       const float *line_importance, uint8_t *keep, lc_error *err)
+{
+    if (!d)
+        return lc_err(err, LC_ERR_INVALID, "no dendrogram");
+    uint32_t k = clusters < d->lines ? clusters : d->lines;
+    uint32_t *rp = malloc((size_t)(k ? k : 1) * sizeof *rp);
+    if (!rp)
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory");
+    int n = lc_dendrogram_cut(d, clusters, rep, line_importance, NULL, rp, err);
+    if (n > 0) {
+        memset(keep, 0, d->lines);
+        for (int c = 0; c < n; c++)
+            keep[rp[c]] = 1;
+    }
+    free(rp);
+    return n;
+}
+
+/* ---- adjusted Rand index (Hubert & Arabie 1985) */
+
+double lc_cluster_adjusted_rand(const uint32_t *a, const uint32_t *b, uint32_t n)
+{
+    uint32_t ka = 0, kb = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        ka = a[i] + 1 > ka ? a[i] + 1 : ka;
+        kb = b[i] + 1 > kb ? b[i] + 1 : kb;
+    }
+    double *t = calloc((size_t)ka * kb, sizeof *t), *ra = calloc(ka, sizeof *ra), *rb = calloc(kb, sizeof *rb);
+    double result = NAN;
+    if (t && ra && rb) {
+        for (uint32_t i = 0; i < n; i++) {
+            t[(size_t)a[i] * kb + b[i]] += 1;
+            ra[a[i]] += 1;
+            rb[b[i]] += 1;
+        }
+        double sij = 0, sa = 0, sb = 0;
+        for (size_t i = 0; i < (size_t)ka * kb; i++)
+            sij += t[i] * (t[i] - 1) / 2;
+        for (uint32_t i = 0; i < ka; i++)
+            sa += ra[i] * (ra[i] - 1) / 2;
+        for (uint32_t i = 0; i < kb; i++)
+            sb += rb[i] * (rb[i] - 1) / 2;
+        double pairs = (double)n * (n - 1) / 2, expected = pairs > 0 ? sa * sb / pairs : 0;
+        double top = (sa + sb) / 2;
+        result = top - expected != 0 ? (sij - expected) / (top - expected) : 1.0;
+    }
+    free(t);
+    free(ra);
+    free(rb);
+    return result;
+}
+
+const char *lc_linkage_name(lc_linkage l)
+{
+    return l == LC_LINKAGE_SINGLE ? "single" : l == LC_LINKAGE_AVERAGE ? "average" : "complete";
+}
+
+const char *lc_representative_name(lc_representative r)
+{
+    return r == LC_REPRESENTATIVE_MEAN ? "mean" : r == LC_REPRESENTATIVE_LEAST_DISTANCE ? "leastDistance" : "important";
+}

@@ -31,47 +31,116 @@ struct lc_dendrogram {
     lc_cluster_stats stats;
 };
 
-/* ---- resampling and lift (DLS Eq. 2) */
+/* ---- resampling (DLS §3.2: lines compared at a fixed number of points) */
 
-/* k samples equally spaced in arc length along line [v0, v1), each
- * (x, y, z, λg g, λc c) with positions scaled by 1/diag. */
-static float resample_line(const float *pos, const float *g, const float *c, uint32_t v0, uint32_t v1, int k,
-                           float inv_diag, float wg, float wc, float *out)
+/* k samples equally spaced in arc length along line [v0, v1): sample s lies
+ * at t[s] between vertices at[s] and at[s] + 1 (at[s] + 1 = at[s] for a
+ * one-vertex line). Returns the line's length. */
+static double arc_samples(const float *pos, uint32_t v0, uint32_t v1, int k, uint32_t *at, float *t)
 {
-    uint32_t n = v1 - v0;
     double len = 0;
     for (uint32_t v = v0 + 1; v < v1; v++) {
         double dx = pos[3 * v] - pos[3 * v - 3], dy = pos[3 * v + 1] - pos[3 * v - 2], dz = pos[3 * v + 2] - pos[3 * v - 1];
         len += sqrt(dx * dx + dy * dy + dz * dz);
     }
-    uint32_t seg = v0; /* the segment [seg, seg+1] holding the current target */
+    uint32_t seg = v0;
     double seg_start = 0;
     for (int s = 0; s < k; s++) {
         double target = len * s / (k - 1);
-        uint32_t a = seg, b = seg;
-        double t = 0;
-        while (n > 1 && seg + 1 < v1) {
+        at[s] = v0;
+        t[s] = 0;
+        while (v1 - v0 > 1) {
             uint32_t v = seg + 1;
             double dx = pos[3 * v] - pos[3 * seg], dy = pos[3 * v + 1] - pos[3 * seg + 1],
                    dz = pos[3 * v + 2] - pos[3 * seg + 2];
             double l = sqrt(dx * dx + dy * dy + dz * dz);
             if (seg_start + l >= target || seg + 2 == v1) {
-                a = seg;
-                b = v;
-                t = l > 0 ? (target - seg_start) / l : 0;
-                t = t < 0 ? 0 : t > 1 ? 1 : t;
+                double u = l > 0 ? (target - seg_start) / l : 0;
+                at[s] = seg;
+                t[s] = (float)(u < 0 ? 0 : u > 1 ? 1 : u);
                 break;
             }
             seg_start += l;
             seg++;
         }
-        float *o = out + (size_t)s * DIM;
-        for (int j = 0; j < 3; j++)
-            o[j] = (float)((pos[3 * a + j] * (1 - t) + pos[3 * b + j] * t) * inv_diag);
-        o[3] = g ? (float)(wg * (g[a] * (1 - t) + g[b] * t)) : 0.0f;
-        o[4] = c ? (float)(wc * (c[a] * (1 - t) + c[b] * t)) : 0.0f;
     }
-    return (float)len;
+    return len;
+}
+
+static float lerp_at(const float *v, uint32_t at, float t, uint32_t end)
+{
+    return at + 1 < end ? v[at] * (1 - t) + v[at + 1] * t : v[at];
+}
+
+int lc_line_samples_create(const float *positions, const uint32_t *offsets, uint32_t lines, int k,
+                           const float *const *attributes, int attribute_count, lc_line_samples **out, lc_error *err)
+{
+    *out = NULL;
+    if (k == 0)
+        k = LC_CLUSTER_DEFAULT_SAMPLES;
+    if (!positions || !offsets || lines == 0)
+        return lc_err(err, LC_ERR_INVALID, "clustering needs at least one line");
+    if (k < 2 || k > LC_CLUSTER_MAX_SAMPLES)
+        return lc_err(err, LC_ERR_INVALID, "clustering: samples %d outside [2, %d]", k, LC_CLUSTER_MAX_SAMPLES);
+    if (lines > UINT32_MAX / 2)
+        return lc_err(err, LC_ERR_LIMIT, "clustering: %u lines exceed the limit", lines);
+    for (uint32_t i = 0; i < lines; i++)
+        if (offsets[i + 1] <= offsets[i])
+            return lc_err(err, LC_ERR_INVALID, "clustering: line %u has no vertices", i);
+    lc_line_samples *ls = calloc(1, sizeof *ls);
+    if (!ls)
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory");
+    ls->lines = lines;
+    ls->k = k;
+    ls->attributes = attribute_count;
+    ls->xyz = malloc((size_t)lines * k * 3 * sizeof *ls->xyz);
+    ls->values = malloc(((size_t)attribute_count * lines * k + 1) * sizeof *ls->values);
+    ls->length = malloc((size_t)lines * sizeof *ls->length);
+    if (!ls->xyz || !ls->values || !ls->length) {
+        lc_line_samples_destroy(ls);
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory resampling %u lines", lines);
+    }
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    for (uint32_t v = offsets[0]; v < offsets[lines]; v++)
+        for (int j = 0; j < 3; j++) {
+            lo[j] = fmin(lo[j], positions[3 * v + j]);
+            hi[j] = fmax(hi[j], positions[3 * v + j]);
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double inv_diag = diag > 0 && isfinite(diag) ? 1.0 / diag : 1.0;
+    uint32_t at[LC_CLUSTER_MAX_SAMPLES];
+    float t[LC_CLUSTER_MAX_SAMPLES];
+    for (uint32_t i = 0; i < lines; i++) {
+        uint32_t end = offsets[i + 1];
+        ls->length[i] = (float)arc_samples(positions, offsets[i], end, k, at, t);
+        for (int s = 0; s < k; s++) {
+            float *o = ls->xyz + ((size_t)i * k + s) * 3;
+            uint32_t b = at[s] + 1 < end ? at[s] + 1 : at[s];
+            for (int j = 0; j < 3; j++)
+                o[j] = (float)((positions[3 * at[s] + j] * (1 - t[s]) + positions[3 * b + j] * t[s]) * inv_diag);
+            for (int a = 0; a < attribute_count; a++)
+                ls->values[((size_t)a * lines + i) * k + s] = lerp_at(attributes[a], at[s], t[s], end);
+        }
+    }
+    *out = ls;
+    return 0;
+}
+
+void lc_line_samples_destroy(lc_line_samples *ls)
+{
+    if (!ls)
+        return;
+    free(ls->xyz);
+    free(ls->values);
+    free(ls->length);
+    free(ls);
+}
+
+size_t lc_line_samples_bytes(const lc_line_samples *ls)
+{
+    return ls ? sizeof *ls + (size_t)ls->lines * ((size_t)ls->k * (3 + (size_t)ls->attributes) + 1) * sizeof(float)
+              : 0;
 }
 
 /* ---- rMCPD (DLS Eq. 3-4) */
@@ -99,6 +168,36 @@ float lc_cluster_rmcpd(const float *a, const float *b, int k)
         ba += sqrt(col[i]);
     }
     return (float)((ab < ba ? ab : ba) / k);
+}
+
+/* d'(a,b) of Eq. 4, or INFINITY as soon as it is known to reach r: the
+ * partial sum of closest distances only grows. */
+static float mean_closest_below(const float *a, const float *b, int k, float r)
+{
+    double sum = 0, limit = (double)r * k;
+    for (int i = 0; i < k; i++) {
+        const float *p = a + i * DIM;
+        float best = FLT_MAX;
+        for (int j = 0; j < k; j++) {
+            const float *q = b + j * DIM;
+            float d0 = p[0] - q[0], d1 = p[1] - q[1], d2 = p[2] - q[2], d3 = p[3] - q[3], d4 = p[4] - q[4];
+            float d = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4;
+            best = d < best ? d : best;
+        }
+        sum += sqrt(best);
+        if (sum >= limit)
+            return INFINITY;
+    }
+    return (float)(sum / k);
+}
+
+/* The rMCPD when it is below r, else INFINITY. Most pairs the pruned stage
+ * measures are rejected, and the early exit makes those cheap. */
+static float rmcpd_below(const float *a, const float *b, int k, float r)
+{
+    float ab = mean_closest_below(a, b, k, r);
+    float ba = mean_closest_below(b, a, k, ab < r ? ab : r);
+    return ab < ba ? ab : ba;
 }
 
 /* ---- the linkage engine: clusters as nodes of a weighted graph whose missing
@@ -333,6 +432,26 @@ static float box_distance(const box *p, const box *q)
     return sqrtf(s);
 }
 
+/* A lower bound of the rMCPD: each sample's closest distance to the other
+ * line is at least its distance to that line's box. O(k) per pair. */
+static float rmcpd_lower_bound(const float *a, const box *ba, const float *b, const box *bb, int k)
+{
+    double s[2] = {0, 0};
+    for (int dir = 0; dir < 2; dir++) {
+        const float *p = dir ? b : a;
+        const box *q = dir ? ba : bb;
+        for (int i = 0; i < k; i++) {
+            float t = 0;
+            for (int j = 0; j < DIM; j++) {
+                float v = p[i * DIM + j], gap = v < q->lo[j] ? q->lo[j] - v : v > q->hi[j] ? v - q->hi[j] : 0;
+                t += gap * gap;
+            }
+            s[dir] += sqrtf(t);
+        }
+    }
+    return (float)((s[0] < s[1] ? s[0] : s[1]) / k);
+}
+
 static const box *sort_boxes; /* qsort has no context argument */
 static int sort_axis;
 
@@ -348,11 +467,12 @@ static int cmp_float(const void *x, const void *y)
     return a < b ? -1 : a > b ? 1 : 0;
 }
 
-/* The pruning radius: the box distance below which a line has about
- * `neighbours` other lines, estimated from up to 256 evenly spread lines. */
-static float prune_radius(const box *bx, uint32_t m, uint32_t neighbours)
+/* The pruning radius: the rMCPD lower bound below which a line has about
+ * `neighbours` other lines, estimated from up to 128 evenly spread lines. */
+static float prune_radius(const lc_dendrogram *dg, const box *bx, uint32_t neighbours)
 {
-    uint32_t s = m < 256 ? m : 256;
+    uint32_t m = dg->lines, s = m < 128 ? m : 128;
+    size_t stride = (size_t)dg->k * DIM;
     float *d = malloc((size_t)m * sizeof *d);
     if (!d)
         return INFINITY;
@@ -360,7 +480,7 @@ static float prune_radius(const box *bx, uint32_t m, uint32_t neighbours)
     for (uint32_t i = 0; i < s; i++) {
         uint32_t p = (uint32_t)((uint64_t)i * m / s);
         for (uint32_t j = 0; j < m; j++)
-            d[j] = box_distance(&bx[p], &bx[j]);
+            d[j] = rmcpd_lower_bound(dg->samples + p * stride, &bx[p], dg->samples + j * stride, &bx[j], dg->k);
         uint32_t rank = neighbours < m ? neighbours : m - 1;
         /* nth_element would do; a sort of m floats is cheap next to the rMCPDs. */
         qsort(d, m, sizeof *d, cmp_float);
@@ -404,9 +524,10 @@ static int link_pruned(engine *g, lc_dendrogram *dg, const box *bx, float r)
             uint32_t j = order[oj];
             if (bx[j].lo[axis] > bx[i].hi[axis] + r)
                 break;
-            if (box_distance(&bx[i], &bx[j]) >= r)
+            if (box_distance(&bx[i], &bx[j]) >= r ||
+                rmcpd_lower_bound(dg->samples + i * stride, &bx[i], dg->samples + j * stride, &bx[j], dg->k) >= r)
                 continue;
-            float d = lc_cluster_rmcpd(dg->samples + i * stride, dg->samples + j * stride, dg->k);
+            float d = rmcpd_below(dg->samples + i * stride, dg->samples + j * stride, dg->k, r);
             dg->stats.pairs_tested++;
             if (d < r)
                 rc = engine_edge(g, i, j, d);
@@ -518,25 +639,21 @@ static int build_with_radius(lc_dendrogram *dg, const box *bx, float r, uint32_t
     return rc;
 }
 
-int lc_dendrogram_build(const float *positions, const uint32_t *offsets, uint32_t line_count,
-                        const lc_cluster_desc *desc, lc_dendrogram **out, lc_error *err)
+int lc_dendrogram_build_samples(const lc_line_samples *ls, const lc_cluster_desc *desc, lc_dendrogram **out,
+                                lc_error *err)
 {
     lc_cluster_desc dd = desc ? *desc : (lc_cluster_desc){0};
-    int k = dd.samples ? dd.samples : LC_CLUSTER_DEFAULT_SAMPLES;
     *out = NULL;
-    if (!positions || !offsets || line_count == 0)
+    if (!ls || ls->lines == 0)
         return lc_err(err, LC_ERR_INVALID, "clustering needs at least one line");
-    if (k < 2 || k > LC_CLUSTER_MAX_SAMPLES)
-        return lc_err(err, LC_ERR_INVALID, "clustering: samples %d outside [2, %d]", k, LC_CLUSTER_MAX_SAMPLES);
     if (!(dd.lift_importance >= 0) || !(dd.lift_color >= 0) || !isfinite(dd.lift_importance) ||
         !isfinite(dd.lift_color))
         return lc_err(err, LC_ERR_INVALID, "clustering: lift weights must be finite and >= 0");
-    if (line_count > UINT32_MAX / 2)
-        return lc_err(err, LC_ERR_LIMIT, "clustering: %u lines exceed the limit", line_count);
-    for (uint32_t i = 0; i < line_count; i++)
-        if (offsets[i + 1] <= offsets[i])
-            return lc_err(err, LC_ERR_INVALID, "clustering: line %u has no vertices", i);
+    if ((unsigned)dd.linkage > LC_LINKAGE_AVERAGE)
+        return lc_err(err, LC_ERR_INVALID, "clustering: unknown linkage %d", (int)dd.linkage);
     double t0 = now_seconds();
+    uint32_t line_count = ls->lines;
+    int k = ls->k;
     lc_dendrogram *dg = calloc(1, sizeof *dg);
     if (!dg)
         return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory");
@@ -552,24 +669,21 @@ int lc_dendrogram_build(const float *positions, const uint32_t *offsets, uint32_
         lc_dendrogram_destroy(dg);
         return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory for %u lines", line_count);
     }
-    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
-    for (uint32_t v = offsets[0]; v < offsets[line_count]; v++)
-        for (int j = 0; j < 3; j++) {
-            lo[j] = fmin(lo[j], positions[3 * v + j]);
-            hi[j] = fmax(hi[j], positions[3 * v + j]);
-        }
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    float inv_diag = diag > 0 && isfinite(diag) ? (float)(1.0 / diag) : 1.0f;
+    /* The lift of DLS Eq. 2. */
     for (uint32_t i = 0; i < line_count; i++) {
         float *s = dg->samples + i * stride;
-        float len = resample_line(positions, dd.importance, dd.color, offsets[i], offsets[i + 1], k, inv_diag,
-                                  dd.lift_importance, dd.lift_color, s);
         double gsum = 0;
-        if (dd.importance)
-            for (uint32_t v = offsets[i]; v < offsets[i + 1]; v++)
-                gsum += dd.importance[v];
-        dg->mean_g[i] = dd.importance ? (float)(gsum / (offsets[i + 1] - offsets[i])) : len;
+        for (int p = 0; p < k; p++) {
+            size_t q = (size_t)i * k + p;
+            float g = dd.importance ? dd.importance[q] : 0, c = dd.color ? dd.color[q] : 0;
+            s[p * DIM + 0] = ls->xyz[3 * q];
+            s[p * DIM + 1] = ls->xyz[3 * q + 1];
+            s[p * DIM + 2] = ls->xyz[3 * q + 2];
+            s[p * DIM + 3] = dd.lift_importance * g;
+            s[p * DIM + 4] = dd.lift_color * c;
+            gsum += g;
+        }
+        dg->mean_g[i] = dd.importance ? (float)(gsum / k) : ls->length[i];
         for (int j = 0; j < DIM; j++) {
             bx[i].lo[j] = FLT_MAX;
             bx[i].hi[j] = -FLT_MAX;
@@ -586,17 +700,18 @@ int lc_dendrogram_build(const float *positions, const uint32_t *offsets, uint32_
     if (line_count > 1) {
         /* Small sets link every pair; larger ones prune at a radius that grows
          * until the sparse stage leaves few enough clusters for the top. */
-        float r = line_count <= DENSE_LINES && !dd.neighbours ? INFINITY : prune_radius(bx, line_count, neighbours);
+        float r = line_count <= DENSE_LINES && !dd.neighbours ? INFINITY : prune_radius(dg, bx, neighbours);
         for (;;) {
             int too_many;
+            dg->stats.attempts++;
             dg->stats.pairs_tested = 0;
             dg->stats.prune_radius = r;
             rc = build_with_radius(dg, bx, r, top_limit, dd.linkage, &too_many);
             if (rc || !too_many)
                 break;
-            neighbours = neighbours < line_count / 2 ? 2 * neighbours : line_count;
-            float r2 = neighbours >= line_count ? INFINITY : prune_radius(bx, line_count, neighbours);
-            r = r2 > 1.5f * r ? r2 : 1.5f * r;
+            neighbours = neighbours < line_count / 4 ? 4 * neighbours : line_count;
+            float r2 = neighbours >= line_count ? INFINITY : prune_radius(dg, bx, neighbours);
+            r = r2 > 2.0f * r ? r2 : 2.0f * r;
         }
     }
     free(bx);
@@ -605,8 +720,34 @@ int lc_dendrogram_build(const float *positions, const uint32_t *offsets, uint32_
         return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory linking %u lines", line_count);
     }
     dg->stats.seconds = now_seconds() - t0;
+    LC_INFO("cluster", "%u lines, %s linkage: %.2f s, %u attempt(s), radius %.4g, %llu pairs measured, %u top clusters",
+            line_count, lc_linkage_name(dd.linkage), dg->stats.seconds, dg->stats.attempts, dg->stats.prune_radius,
+            (unsigned long long)dg->stats.pairs_tested, dg->stats.top_clusters);
     *out = dg;
     return 0;
+}
+
+int lc_dendrogram_build(const float *positions, const uint32_t *offsets, uint32_t line_count,
+                        const lc_cluster_desc *desc, lc_dendrogram **out, lc_error *err)
+{
+    lc_cluster_desc dd = desc ? *desc : (lc_cluster_desc){0};
+    const float *channels[2];
+    int n = 0;
+    if (dd.importance)
+        channels[n++] = dd.importance;
+    if (dd.color)
+        channels[n++] = dd.color;
+    lc_line_samples *ls = NULL;
+    *out = NULL;
+    int rc = lc_line_samples_create(positions, offsets, line_count, dd.samples, channels, n, &ls, err);
+    if (rc)
+        return rc;
+    size_t per = (size_t)ls->lines * ls->k;
+    dd.importance = desc && desc->importance ? ls->values : NULL;
+    dd.color = desc && desc->color ? ls->values + (dd.importance ? per : 0) : NULL;
+    rc = lc_dendrogram_build_samples(ls, &dd, out, err);
+    lc_line_samples_destroy(ls);
+    return rc;
 }
 
 void lc_dendrogram_destroy(lc_dendrogram *d)

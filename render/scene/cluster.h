@@ -41,8 +41,11 @@ typedef struct lc_cluster_desc {
      * [0,1] range with that fraction of the data's extent. */
     float lift_importance;
     float lift_color;
-    const float *importance; /* per vertex, in [0,1]; NULL: no importance coordinate */
-    const float *color;      /* per vertex, in [0,1]; NULL: no colour coordinate */
+    /* In [0,1]: per vertex for lc_dendrogram_build, per sample (lines * k,
+     * the layout of lc_line_samples.values) for lc_dendrogram_build_samples;
+     * NULL: no such coordinate. */
+    const float *importance;
+    const float *color;
     /* Candidate pairs per line the spatial pruning aims at (0 = 96), and the
      * most clusters the pruned stage may leave for the dense top stage (0 =
      * 2048). Tests lower them to exercise both stages on small inputs. */
@@ -52,14 +55,38 @@ typedef struct lc_cluster_desc {
 
 typedef struct lc_dendrogram lc_dendrogram;
 
+/* Lines resampled once, k points equally spaced in arc length, so that a
+ * dendrogram can be built after the scene's vertex arrays are released. */
+typedef struct lc_line_samples {
+    uint32_t lines;
+    int k;
+    int attributes;
+    float *xyz;    /* lines * k * 3, scaled so the lines' bounding-box diagonal is 1 */
+    float *values; /* attribute a at sample s of line i: values[(a * lines + i) * k + s] */
+    float *length; /* per line, in data units */
+} lc_line_samples;
+
+/* Resamples the lines (positions 3 per vertex, line i = vertices
+ * [offsets[i], offsets[i+1])) and attribute_count per-vertex attributes.
+ * k = 0: 16. Returns 0, LC_ERR_INVALID (no lines, an empty line, bad k),
+ * LC_ERR_NOMEM. The caller destroys *out. */
+int lc_line_samples_create(const float *positions, const uint32_t *offsets, uint32_t lines, int k,
+                           const float *const *attributes, int attribute_count, lc_line_samples **out, lc_error *err);
+void lc_line_samples_destroy(lc_line_samples *ls);
+size_t lc_line_samples_bytes(const lc_line_samples *ls);
+
 /* Build statistics, for logs and the evaluation. */
 typedef struct lc_cluster_stats {
     double prune_radius;   /* r: pairs at rMCPD >= r were not linked (INFINITY: all pairs) */
     uint64_t pairs_tested; /* rMCPD evaluations */
     uint32_t top_clusters; /* clusters left for the dense top stage */
+    uint32_t attempts;     /* pruned stages run (the radius grows until few enough clusters are left) */
     double seconds;
 } lc_cluster_stats;
 
+/* Clusters resampled lines (desc->samples is ignored: ls has its own k). */
+int lc_dendrogram_build_samples(const lc_line_samples *ls, const lc_cluster_desc *desc, lc_dendrogram **out,
+                                lc_error *err);
 /* Clusters the line_count lines of a polyline set (positions 3 per vertex,
  * line i = vertices [offsets[i], offsets[i+1])). Returns 0 or LC_ERR_INVALID
  * (no lines, bad samples or weights, offsets out of order), LC_ERR_NOMEM. */

@@ -106,7 +106,7 @@ static void test_bundles(void)
     for (int li = 0; li < 3; li++)
         for (int pruned = 0; pruned < 2; pruned++) {
             /* pruned: about 8 candidates per line, so the dense top stage runs too */
-            lc_cluster_desc desc = {.linkage = linkages[li], .neighbours = pruned ? 8 : 0, .top_clusters = 30};
+            lc_cluster_desc desc = {.linkage = linkages[li], .neighbours = pruned ? 8 : 0, .top_clusters = 100};
             lc_dendrogram *d = NULL;
             lc_error err = {0};
             CHECK(lc_dendrogram_build(pos, off, N, &desc, &d, &err) == 0, "build: %s", err.msg);

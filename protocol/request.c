@@ -114,6 +114,9 @@ static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
                                               {"moments", LC_DEPTH_RANGE_MOMENTS},
                                               {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
+static const enum_name representative_names[] = {
+    {"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
+static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
 #undef COLORMAP_ENUM_NAME
@@ -179,10 +182,18 @@ static const field fields[] = {
     {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
     {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
     {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
+
+    {"lines", "clusters", "clusters", T_INT, 0, 1000000, 0, OFF(render.clusters.count), 0, NOFLAG, NULL},
+    {"lines", "representative", "representative", T_ENUM, 0, 0, 0, OFF(render.clusters.representative), 0, NOFLAG,
+     representative_names},
+    {"lines", "linkage", "linkage", T_ENUM, 0, 0, 0, OFF(render.clusters.linkage), 0, NOFLAG, linkage_names},
+    {"lines", "liftImportance", "liftImportance", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_importance), 0, NOFLAG,
+     NULL},
+    {"lines", "liftColor", "liftColor", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_color), 0, NOFLAG, NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
-static const char *const sections[] = {"camera", "params", "importance", "color", "style"};
+static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines"};
 #define NSECTIONS (sizeof sections / sizeof sections[0])
 
 static bool same(const char *a, const char *b) { return (a == NULL && b == NULL) || (a && b && strcmp(a, b) == 0); }
@@ -809,6 +820,7 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     json_object_set_new(o, "importance", emit_section(r, "importance"));
     json_object_set_new(o, "color", emit_section(r, "color"));
     json_object_set_new(o, "style", emit_section(r, "style"));
+    json_object_set_new(o, "lines", emit_section(r, "lines"));
     return o;
 }
 

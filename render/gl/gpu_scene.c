@@ -275,6 +275,11 @@ int lc_gpu_scene_create_ex(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_
     gs->adj_offsets = lc_gl_buffer(s->elements.adjacency_offsets, na ? ((size_t)ne + 1) * sizeof(uint32_t) : 0,
                                    &gs->bytes);
     gs->adj = lc_gl_buffer(s->elements.adjacency, (size_t)s->elements.adjacency_count * sizeof(uint32_t), &gs->bytes);
+    rc = lc_line_clusters_create(s, &gs->clusters, err);
+    if (rc) {
+        lc_gpu_scene_destroy(gs);
+        return rc;
+    }
     layout_bytes(s, &(lc_gpu_scene_desc){.exact_positions = gs->exact}, gs->blend, 1, &gs->memory);
     gs->memory.indices += gs->lod_bytes;
     gs->memory.total = gs->bytes; /* the kinds' sum plus the 16-byte stand-ins of empty buffers */
@@ -302,6 +307,7 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
         glDeleteBuffers(1, &lv->indices);
         free(lv->breaks);
     }
+    lc_line_clusters_destroy(gs->clusters);
     free(gs);
 }
 

@@ -48,6 +48,15 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64 },
   { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true },
   { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'] },
+
+  { section: 'lines', name: 'clusters', alias: 'clusters', type: 'int', min: 0, max: 1000000 },
+  {
+    section: 'lines', name: 'representative', alias: 'representative', type: 'enum',
+    values: ['important', 'mean', 'leastDistance'],
+  },
+  { section: 'lines', name: 'linkage', alias: 'linkage', type: 'enum', values: ['complete', 'single', 'average'] },
+  { section: 'lines', name: 'liftImportance', alias: 'liftImportance', type: 'num', min: 0, max: 1000 },
+  { section: 'lines', name: 'liftColor', alias: 'liftColor', type: 'num', min: 0, max: 1000 },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
@@ -69,7 +78,7 @@ export const STREAM_FIELDS = Object.freeze([
 ]);
 
 /** The sections a params message may carry besides the stream settings. */
-export const UPDATE_SECTIONS = Object.freeze(['params', 'importance', 'color', 'style']);
+export const UPDATE_SECTIONS = Object.freeze(['params', 'importance', 'color', 'style', 'lines']);
 
 export const fieldPath = (f) => (f.section ? `${f.section}.${f.name}` : f.name);
 

@@ -18,6 +18,7 @@ void lc_cost_stats_compute(const lc_scene *s, lc_cost_stats *out)
     out->type = s->type;
     out->primitives = (double)lc_scene_primitive_count(s);
     out->vertices = s->vertex_count;
+    out->lines = s->type == LC_PRIM_LINES ? s->line_count : 0;
     out->elements = s->elements.count;
     const double *b = s->bounds;
     double d2 = 0;
@@ -90,6 +91,9 @@ double lc_cost_estimate(const lc_cost_stats *st, const lc_render_params *p)
         double width = fmax(p->style.min_line_pixels, world * ppu);
         double ribbon = st->line_length * ppu * width + st->primitives * width; /* + the joins */
         frags = fmin(ribbon, st->primitives * image);
+        /* lines.clusters draws one line per cluster (hidden ones still pass the vertex stage). */
+        if (p->clusters.count > 0 && st->lines > p->clusters.count)
+            frags *= p->clusters.count / st->lines;
         break;
     }
     default: frags = fmin(st->area * ppu * ppu, st->primitives * image); break;

@@ -46,6 +46,7 @@ typedef struct lc_cost_stats {
     double area;        /* world units^2, all triangles */
     double center[3];
     double radius;      /* half the bounds diagonal (> 0) */
+    double lines;       /* polylines (lines.clusters draws a share of them) */
 } lc_cost_stats;
 
 void lc_cost_stats_compute(const lc_scene *s, lc_cost_stats *out);

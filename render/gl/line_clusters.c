@@ -226,8 +226,10 @@ int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     if (p->clusters.count <= 0)
         return 0;
     lc_line_clusters *lc = fs->gs->clusters;
+    /* Points and surfaces ignore it, as lines ignore style.pointSize: a
+     * session that switches datasets keeps its settings without errors. */
     if (fs->gs->scene->type != LC_PRIM_LINES || !lc)
-        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "%s has no lines to cluster", fs->gs->scene->name);
+        return 0;
     if (!lc->samples)
         return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
                             "%s has %u lines; clustering is limited to %u lines", fs->gs->scene->name,

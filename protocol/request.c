@@ -114,8 +114,7 @@ static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
                                               {"moments", LC_DEPTH_RANGE_MOMENTS},
                                               {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
-static const enum_name representative_names[] = {
-    {"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
+static const enum_name representative_names[] = {{"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
 static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};

@@ -126,8 +126,12 @@ static int cut_locked(lc_line_clusters *lc, const lc_frame_setup *fs, lc_error *
     const lc_line_samples *ls = lc->samples;
     size_t n = (size_t)ls->lines * ls->k;
     int g_attr = fs->importance_attr;
-    tree_key tk = {.linkage = p->clusters.linkage, .lift_g = p->clusters.lift_importance,
-                   .lift_c = p->clusters.lift_color, .g_attr = -1, .c_mode = -1, .c_attr = -1};
+    tree_key tk = {.linkage = p->clusters.linkage,
+                   .lift_g = p->clusters.lift_importance,
+                   .lift_c = p->clusters.lift_color,
+                   .g_attr = -1,
+                   .c_mode = -1,
+                   .c_attr = -1};
     if (tk.lift_g > 0) {
         tk.g_attr = g_attr;
         memcpy(tk.g_range, fs->importance_range, sizeof tk.g_range);
@@ -143,8 +147,8 @@ static int cut_locked(lc_line_clusters *lc, const lc_frame_setup *fs, lc_error *
             tk.g_exp = fs->importance_exponent;
         }
     }
-    cut_key ck = {.tree = tk, .count = (uint32_t)p->clusters.count, .representative = p->clusters.representative,
-                  .g_attr = -1};
+    cut_key ck = {
+        .tree = tk, .count = (uint32_t)p->clusters.count, .representative = p->clusters.representative, .g_attr = -1};
     if (ck.representative == LC_REPRESENTATIVE_IMPORTANT) {
         ck.g_attr = g_attr;
         memcpy(ck.g_range, fs->importance_range, sizeof ck.g_range);

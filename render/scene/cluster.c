@@ -5,9 +5,9 @@
 
 #include <float.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <pthread.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -27,7 +27,8 @@ static double arc_samples(const float *pos, uint32_t v0, uint32_t v1, int k, uin
 {
     double len = 0;
     for (uint32_t v = v0 + 1; v < v1; v++) {
-        double dx = pos[3 * v] - pos[3 * v - 3], dy = pos[3 * v + 1] - pos[3 * v - 2], dz = pos[3 * v + 2] - pos[3 * v - 1];
+        double dx = pos[3 * v] - pos[3 * v - 3], dy = pos[3 * v + 1] - pos[3 * v - 2],
+               dz = pos[3 * v + 2] - pos[3 * v - 1];
         len += sqrt(dx * dx + dy * dy + dz * dz);
     }
     uint32_t seg = v0;
@@ -93,8 +94,8 @@ int lc_line_samples_create(const float *positions, const uint32_t *offsets, uint
             lo[j] = fmin(lo[j], positions[3 * v + j]);
             hi[j] = fmax(hi[j], positions[3 * v + j]);
         }
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double diag =
+        sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     double inv_diag = diag > 0 && isfinite(diag) ? 1.0 / diag : 1.0;
     uint32_t at[LC_CLUSTER_MAX_SAMPLES];
     float t[LC_CLUSTER_MAX_SAMPLES];
@@ -126,8 +127,7 @@ void lc_line_samples_destroy(lc_line_samples *ls)
 
 size_t lc_line_samples_bytes(const lc_line_samples *ls)
 {
-    return ls ? sizeof *ls + (size_t)ls->lines * ((size_t)ls->k * (3 + (size_t)ls->attributes) + 1) * sizeof(float)
-              : 0;
+    return ls ? sizeof *ls + (size_t)ls->lines * ((size_t)ls->k * (3 + (size_t)ls->attributes) + 1) * sizeof(float) : 0;
 }
 
 /* ---- rMCPD (DLS Eq. 3-4) */
@@ -339,16 +339,14 @@ static float linked(const engine *g, float da, float db, uint32_t na, uint32_t n
 {
     int ha = !isnan(da), hb = !isnan(db);
     switch (g->linkage) {
-    case LC_LINKAGE_SINGLE:
-        return ha && hb ? fminf(da, db) : ha ? da : db;
+    case LC_LINKAGE_SINGLE: return ha && hb ? fminf(da, db) : ha ? da : db;
     case LC_LINKAGE_AVERAGE: {
         /* A missing pair counts as r, the least it can be. */
         float va = ha ? da : g->r, vb = hb ? db : g->r;
         float v = (float)(((double)na * va + (double)nb * vb) / ((double)na + nb));
         return v < g->r ? v : NAN;
     }
-    default: /* complete: any missing pair is >= r, so the clusters are too */
-        return ha && hb ? fmaxf(da, db) : NAN;
+    default: /* complete: any missing pair is >= r, so the clusters are too */ return ha && hb ? fmaxf(da, db) : NAN;
     }
 }
 

@@ -104,13 +104,13 @@ size_t lc_dendrogram_bytes(const lc_dendrogram *d);
  * NULL) ranks lines for LC_REPRESENTATIVE_IMPORTANT; NULL uses each line's
  * mean importance from the build, or its length when the build had none.
  * Returns k, or a negative lc_status. */
-int lc_dendrogram_cut(const lc_dendrogram *d, uint32_t clusters, lc_representative rep,
-                      const float *line_importance, uint32_t *labels, uint32_t *representative, lc_error *err);
+int lc_dendrogram_cut(const lc_dendrogram *d, uint32_t clusters, lc_representative rep, const float *line_importance,
+                      uint32_t *labels, uint32_t *representative, lc_error *err);
 
 /* A per-line mask for the renderer: keep[i] = 1 for the k representatives,
  * 0 for every other line. Returns k or a negative lc_status. */
-int lc_dendrogram_mask(const lc_dendrogram *d, uint32_t clusters, lc_representative rep,
-                       const float *line_importance, uint8_t *keep, lc_error *err);
+int lc_dendrogram_mask(const lc_dendrogram *d, uint32_t clusters, lc_representative rep, const float *line_importance,
+                       uint8_t *keep, lc_error *err);
 
 /* The rMCPD of DLS Eq. 3-4 between two lines of k samples, 5 floats each:
  * min(d'(a,b), d'(b,a)), d'(a,b) = mean over a's samples of the distance to

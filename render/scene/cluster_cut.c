@@ -23,8 +23,8 @@ static uint32_t find_root(uint32_t *p, uint32_t x)
     return x;
 }
 
-int lc_dendrogram_cut(const lc_dendrogram *d, uint32_t clusters, lc_representative rep,
-                      const float *line_importance, uint32_t *labels, uint32_t *representative, lc_error *err)
+int lc_dendrogram_cut(const lc_dendrogram *d, uint32_t clusters, lc_representative rep, const float *line_importance,
+                      uint32_t *labels, uint32_t *representative, lc_error *err)
 {
     if (!d || clusters == 0)
         return lc_err(err, LC_ERR_INVALID, "clusters must be at least 1");
@@ -137,8 +137,8 @@ out:
     return rc;
 }
 
-int lc_dendrogram_mask(const lc_dendrogram *d, uint32_t clusters, lc_representative rep,
-                       const float *line_importance, uint8_t *keep, lc_error *err)
+int lc_dendrogram_mask(const lc_dendrogram *d, uint32_t clusters, lc_representative rep, const float *line_importance,
+                       uint8_t *keep, lc_error *err)
 {
     if (!d)
         return lc_err(err, LC_ERR_INVALID, "no dendrogram");

@@ -14,10 +14,10 @@ typedef struct merge {
 
 struct lc_dendrogram {
     uint32_t lines;
-    int k;                /* samples per line */
-    float *samples;       /* lines * k * DIM, the lifted resampled lines */
-    float *mean_g;        /* per line: mean importance, or length when none was given */
-    merge *merges;        /* lines - 1, in the order they happened (non-decreasing height) */
+    int k;          /* samples per line */
+    float *samples; /* lines * k * DIM, the lifted resampled lines */
+    float *mean_g;  /* per line: mean importance, or length when none was given */
+    merge *merges;  /* lines - 1, in the order they happened (non-decreasing height) */
     lc_cluster_stats stats;
 };
 

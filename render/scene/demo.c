@@ -662,8 +662,7 @@ static int gen_borromean(lc_scene *s, uint64_t count, rng *r, lc_error *err)
             double l2 = sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
             uint32_t v = i * STEPS + (uint32_t)j;
             for (int k = 0; k < 3; k++)
-                s->positions[3 * v + k] =
-                    (float)(p[k] + radius * (cos(phase) * n1[k] / l1 + sin(phase) * n2[k] / l2));
+                s->positions[3 * v + k] = (float)(p[k] + radius * (cos(phase) * n1[k] / l1 + sin(phase) * n2[k] / l2));
             g[v] = (float)exp(-(radius / 0.06) * (radius / 0.06));
             which[v] = (float)ring;
         }
@@ -727,7 +726,9 @@ int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, l
         static const double dir_rings[3] = {-1, -0.8, -0.6};
         s->has_view = 1;
         memcpy(s->view_direction,
-               strcmp(name, "tornado") == 0 ? dir_tornado : strcmp(name, "abc") == 0 ? dir_abc : dir_rings,
+               strcmp(name, "tornado") == 0 ? dir_tornado
+               : strcmp(name, "abc") == 0   ? dir_abc
+                                            : dir_rings,
                sizeof dir_tornado);
         memcpy(s->view_up, up, sizeof up);
     }

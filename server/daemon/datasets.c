@@ -80,8 +80,8 @@ int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, 
     json_t *v;
     json_object_foreach(root, key, v)
     {
-        static const char *const allowed[] = {"params", "importance", "color",
-                                              "style",  "camera",     "elements", "lines", NULL};
+        static const char *const allowed[] = {"params", "importance", "color", "style",
+                                              "camera", "elements",   "lines", NULL};
         int ok = 0;
         for (int i = 0; allowed[i]; i++)
             ok |= strcmp(key, allowed[i]) == 0;

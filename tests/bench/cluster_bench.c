@@ -108,7 +108,8 @@ int main(int argc, char **argv)
                 fprintf(stderr, "cut returned %d clusters, want %u\n", k, want);
                 return 1;
             }
-            printf("  cut into %d, %s: %.2f ms\n", k, lc_representative_name((lc_representative)rep), 1e3 * (now() - a));
+            printf("  cut into %d, %s: %.2f ms\n", k, lc_representative_name((lc_representative)rep),
+                   1e3 * (now() - a));
         }
         free(keep);
         lc_dendrogram_destroy(d);

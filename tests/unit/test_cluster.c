@@ -4,9 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lc_test.h"
 #include "cluster.h"
 #include "demo.h"
+#include "lc_test.h"
 
 /* Brute-force rMCPD straight from DLS Eq. 3-4 (double precision). */
 static double rmcpd_reference(const float *a, const float *b, int k)
@@ -267,8 +267,8 @@ static void test_borromean(void)
     for (int i = 0; i < 2; i++) {
         int mixed, alone;
         borromean_clusters(s, lifts[i], &mixed, &alone);
-        CHECK(mixed == 0 && alone == 3, "λg %.1f: %d clusters mix core and other lines, %d rings stand alone",
-              lifts[i], mixed, alone);
+        CHECK(mixed == 0 && alone == 3, "λg %.1f: %d clusters mix core and other lines, %d rings stand alone", lifts[i],
+              mixed, alone);
     }
     int mixed, alone;
     borromean_clusters(s, 0.0f, &mixed, &alone);

@@ -85,7 +85,8 @@ static void test_fixed(void)
             worst = fmax(worst, fabs(lc_equalize_map(knots, BINS, (float)x) - x));
     CHECK(worst < 1e-6, "fixed ranges map as the identity (largest error %.3g)", worst);
     /* The free stretch below the first range is still equalized: its low values spread. */
-    CHECK(lc_equalize_map(knots, BINS, 0.05f) > 0.12f, "F(0.05) = %.3f (identity: 0.05)", lc_equalize_map(knots, BINS, 0.05f));
+    CHECK(lc_equalize_map(knots, BINS, 0.05f) > 0.12f, "F(0.05) = %.3f (identity: 0.05)",
+          lc_equalize_map(knots, BINS, 0.05f));
     for (int b = 0; b < BINS; b++)
         CHECK(knots[b] <= knots[b + 1], "monotone at knot %d", b);
     /* The colormap table keeps the fixed range's colours. */
@@ -106,7 +107,7 @@ static void test_decay(void)
 {
     float cur[BINS + 1], target[BINS + 1];
     for (int b = 0; b <= BINS; b++) {
-        cur[b] = (float)b / BINS;            /* identity */
+        cur[b] = (float)b / BINS;           /* identity */
         target[b] = sqrtf((float)b / BINS); /* after a jump of the camera */
     }
     double d0 = 0;

@@ -9,10 +9,7 @@
 #include "cluster.h"
 #include "renderer_internal.h"
 
-/* Resampled lines cost 4 (3 + attributes) k bytes a line; beyond this many
- * lines a dataset is not clustered (docs/ALGORITHM.md "Line clustering"). */
-#define MAX_CLUSTER_LINES 200000u
-
+#define MAX_CLUSTER_LINES LC_CLUSTER_MAX_LINES
 /* What a dendrogram depends on: linkage, lift weights, and the importance and
  * colour mappings only where their lift weight is non-zero. */
 typedef struct tree_key {

@@ -125,6 +125,12 @@ void lc_line_samples_destroy(lc_line_samples *ls)
     free(ls);
 }
 
+size_t lc_line_samples_estimate(uint32_t lines, int k, int attributes)
+{
+    k = k ? k : LC_CLUSTER_DEFAULT_SAMPLES;
+    return sizeof(lc_line_samples) + (size_t)lines * ((size_t)k * (3 + (size_t)attributes) + 1) * sizeof(float);
+}
+
 size_t lc_line_samples_bytes(const lc_line_samples *ls)
 {
     return ls ? sizeof *ls + (size_t)ls->lines * ((size_t)ls->k * (3 + (size_t)ls->attributes) + 1) * sizeof(float) : 0;

@@ -20,6 +20,9 @@ extern "C" {
 
 #define LC_CLUSTER_DEFAULT_SAMPLES 16
 #define LC_CLUSTER_MAX_SAMPLES 64
+/* Line scenes of more lines are not resampled for clustering at upload (the
+ * resampled lines would hold 4 k (3 + attributes) bytes a line). */
+#define LC_CLUSTER_MAX_LINES 200000u
 
 typedef enum { LC_LINKAGE_COMPLETE = 0, LC_LINKAGE_SINGLE = 1, LC_LINKAGE_AVERAGE = 2 } lc_linkage;
 
@@ -74,6 +77,8 @@ int lc_line_samples_create(const float *positions, const uint32_t *offsets, uint
                            const float *const *attributes, int attribute_count, lc_line_samples **out, lc_error *err);
 void lc_line_samples_destroy(lc_line_samples *ls);
 size_t lc_line_samples_bytes(const lc_line_samples *ls);
+/* What lc_line_samples_bytes will say for these counts (k = 0: 16). */
+size_t lc_line_samples_estimate(uint32_t lines, int k, int attributes);
 
 /* Build statistics, for logs and the evaluation. */
 typedef struct lc_cluster_stats {

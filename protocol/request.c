@@ -121,6 +121,8 @@ static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
 static const enum_name smoothing_weights_names[] = {
     {"uniform", LC_SMOOTHING_UNIFORM}, {"distance", LC_SMOOTHING_DISTANCE}, {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
+static const enum_name representative_names[] = {{"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
+static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
 #undef COLORMAP_ENUM_NAME
@@ -205,10 +207,18 @@ static const field fields[] = {
     {"style", "antialias", "antialias", T_INT, 1, LC_MAX_ANTIALIAS, 0, OFF(render.style.antialias), 0, NOFLAG, NULL},
 
     {NULL, "filter", "filter", T_FILTERS, 0, LC_MAX_FILTERS, 0, OFF(render), 0, NOFLAG, NULL},
+
+    {"lines", "clusters", "clusters", T_INT, 0, 1000000, 0, OFF(render.clusters.count), 0, NOFLAG, NULL},
+    {"lines", "representative", "representative", T_ENUM, 0, 0, 0, OFF(render.clusters.representative), 0, NOFLAG,
+     representative_names},
+    {"lines", "linkage", "linkage", T_ENUM, 0, 0, 0, OFF(render.clusters.linkage), 0, NOFLAG, linkage_names},
+    {"lines", "liftImportance", "liftImportance", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_importance), 0, NOFLAG,
+     NULL},
+    {"lines", "liftColor", "liftColor", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_color), 0, NOFLAG, NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
-static const char *const sections[] = {"camera", "params", "importance", "color", "style"};
+static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines"};
 #define NSECTIONS (sizeof sections / sizeof sections[0])
 
 static bool same(const char *a, const char *b) { return (a == NULL && b == NULL) || (a && b && strcmp(a, b) == 0); }
@@ -865,6 +875,7 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     json_object_set_new(o, "color", emit_section(r, "color"));
     json_object_set_new(o, "style", emit_section(r, "style"));
     emit(o, r, NULL, "filter");
+    json_object_set_new(o, "lines", emit_section(r, "lines"));
     return o;
 }
 

@@ -187,6 +187,16 @@ typedef struct lc_detail {
     bool reuse_opacities; /* skip P1-P3: draw with the frame state's opacities when it has them */
 } lc_detail;
 
+/* Line clustering (docs/ALGORITHM.md "Line clustering"): count 0 = off;
+ * representative and linkage take the values of lc_representative and
+ * lc_linkage (render/scene/cluster.h). */
+typedef struct lc_line_cluster_params {
+    int count;
+    int representative; /* 0 most important, 1 mean line, 2 least total distance */
+    int linkage;        /* 0 complete, 1 single, 2 average */
+    double lift_importance, lift_color;
+} lc_line_cluster_params;
+
 /* Everything a renderer needs for one frame besides the data and the state. */
 typedef struct lc_render_params {
     int width, height;
@@ -200,6 +210,7 @@ typedef struct lc_render_params {
     lc_detail detail;
     int filter_count;
     lc_filter filters[LC_MAX_FILTERS];
+    lc_line_cluster_params clusters;
 } lc_render_params;
 
 /* Fills with the paper-default values (m = 5, s = 15, q = 60, r = 500, ...). */

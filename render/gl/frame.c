@@ -89,7 +89,7 @@ void lc_renderer_destroy(lc_renderer *r)
     glDeleteFramebuffers(1, &r->nofb);
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
-                     r->point_histogram,   r->point_list};
+                     r->point_histogram,   r->point_list,         r->line_mask};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
@@ -432,6 +432,8 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         lc_camera_fit(&p.camera, s->bounds, s->has_view ? s->view_direction : NULL, s->has_view ? s->view_up : NULL);
     }
     rc = resolve_mapping(&fs, err);
+    if (rc == 0)
+        rc = lc_line_clusters_prepare(r, &fs, err);
     if (rc)
         return rc;
     if ((rc = lc_filter_prepare(r, &fs, err)) != 0)

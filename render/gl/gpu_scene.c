@@ -290,6 +290,11 @@ int lc_gpu_scene_create_ex(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_
     gs->adj_weights = lc_gl_buffer(packed, packed ? ((size_t)na + 1) / 2 * 4 : 0, &gs->bytes);
     free(weights);
     free(packed);
+    rc = lc_line_clusters_create(s, &gs->clusters, err);
+    if (rc) {
+        lc_gpu_scene_destroy(gs);
+        return rc;
+    }
     layout_bytes(s, &(lc_gpu_scene_desc){.exact_positions = gs->exact}, gs->blend, 1, &gs->memory);
     gs->memory.indices += gs->lod_bytes;
     gs->memory.total = gs->bytes; /* the kinds' sum plus the 16-byte stand-ins of empty buffers */
@@ -317,6 +322,7 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
         glDeleteBuffers(1, &lv->indices);
         free(lv->breaks);
     }
+    lc_line_clusters_destroy(gs->clusters);
     free(gs);
 }
 

@@ -8,6 +8,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cluster.h"
+
 static uint64_t session_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, int sessions)
 {
     uint64_t per = desc && desc->exact_positions ? 4 : 2;
@@ -32,8 +34,13 @@ uint64_t lc_memory_estimate(const lc_scene *scene, const lc_gpu_scene_desc *desc
 {
     lc_memory_report m;
     lc_memory_report_of(scene, NULL, desc, workers, sessions, &m);
-    /* After the release the CPU keeps only the line offsets. */
+    /* After the release the CPU keeps only the line offsets, and for line
+     * clustering the resampled lines and a copy of the offsets
+     * (line_clusters.c). */
     uint64_t kept = scene->line_offsets ? ((uint64_t)scene->line_count + 1) * 4 : 0;
+    if (scene->type == LC_PRIM_LINES && scene->line_count > 0 && scene->line_count <= LC_CLUSTER_MAX_LINES)
+        kept += lc_line_samples_estimate(scene->line_count, 0, scene->attribute_count) +
+                ((uint64_t)scene->line_count + 1) * 4;
     return m.gpu.total + m.per_element + m.per_session + kept;
 }
 

@@ -44,6 +44,7 @@
     X(BIND_LINE_OFFSETS, 22) /* filter.c: the lines' first vertices */                                                \
     X(BIND_VISIBLE_OUT, 23)  /* filter.c: the mask being written */                                                   \
     X(BIND_ADJ_WEIGHTS, 24) /* params.smoothingWeights "distance" */                                                  \
+    X(BIND_LINE_MASK, 25)   /* line_clusters.c: one bit per vertex, 1 = drawn */                                       \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -130,6 +131,7 @@ struct lc_gpu_scene {
     float attr_decode[LC_MAX_ATTRIBUTES][2]; /* unorm16: value = [0] + [1] * code */
     uint64_t attribute_bytes;
     lc_gpu_memory memory;
+    struct lc_line_clusters *clusters; /* lines: line_clusters.c; NULL otherwise */
 };
 
 /* A colour target set at one resolution. */
@@ -229,6 +231,10 @@ struct lc_renderer {
     float *reduce_buf;
     size_t reduce_cap;
     uint64_t bytes_targets, bytes_elements;
+    /* line_clusters.c: the uploaded mask, and whose cut it holds. */
+    GLuint line_mask;
+    uint64_t line_mask_bytes, line_mask_stamp;
+    const lc_gpu_scene *line_mask_scene;
 };
 
 struct lc_frame_state {
@@ -268,6 +274,7 @@ typedef struct lc_frame_setup {
     int filtered;
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
+    int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
 } lc_frame_setup;
 
 /* ---- filter.c */
@@ -276,6 +283,17 @@ typedef struct lc_frame_setup {
  * serial the importance caches key on. Errors name filter[i]. */
 int lc_filter_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 void lc_filter_release(lc_renderer *r);
+/* ---- line_clusters.c */
+typedef struct lc_line_clusters lc_line_clusters;
+/* Resamples a line scene's lines for clustering (before its vertex arrays
+ * are released); *out = NULL for other scenes. */
+int lc_line_clusters_create(const lc_scene *s, lc_line_clusters **out, lc_error *err);
+void lc_line_clusters_destroy(lc_line_clusters *lc);
+uint64_t lc_line_clusters_bytes(const lc_line_clusters *lc);
+/* The frame's lines.clusters: builds the dendrogram on first use (cached with
+ * the GPU scene for one linkage, lift and mapping), cuts it, uploads the
+ * mask to r->line_mask and sets fs->line_mask. Thread-safe across renderers. */
+int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 /* ---- point_subset.c */
 /* Fills fs->keep_bin and fs->kept_points for a frame that thins points with

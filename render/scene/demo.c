@@ -33,6 +33,9 @@ const char *lc_demo_description(const char *name)
     if (strcmp(name, "points") == 0)
         return "Clustered point cloud: anisotropic Gaussian clusters plus noise (200k points by "
                "default), importance = local density";
+    if (strcmp(name, "borromean") == 0)
+        return "Borromean rings: arcs along three interlocked ellipses (600 by default), a quarter close to the "
+               "ring cores (importance ~1), the rest around them (importance ~0); not in the default list";
     if (strcmp(name, "surface") == 0)
         return "Nested surfaces: a trefoil-knot tube inside a bumpy ellipsoid (~77k vertices by "
                "default), importance = mean curvature";
@@ -603,17 +606,90 @@ static int add_line_curvature(lc_scene *s, lc_error *err)
     return LC_OK;
 }
 
+/* ---- Borromean rings (the clustering case of DLS Fig. 2) */
+
+/* Ring i at angle t: three mutually perpendicular ellipses (semi-axes 1 and
+ * 2), the classic Borromean arrangement; tangent in tan. */
+static void ring_point(int ring, double t, double p[3], double tan[3])
+{
+    double u = cos(t), v = 2.0 * sin(t), du = -sin(t), dv = 2.0 * cos(t);
+    double q[3] = {u, v, 0}, dq[3] = {du, dv, 0};
+    for (int k = 0; k < 3; k++) {
+        p[(k + ring) % 3] = q[k];
+        tan[(k + ring) % 3] = dq[k];
+    }
+}
+
+/* Arcs of a third of a turn along the rings, displaced within a tube: a
+ * quarter of them by at most 0.02 (importance about 1), the others by 0.12 to
+ * 0.35 (importance below 0.1). Spatially the two kinds intermingle; only the
+ * importance coordinate of the clustering lift tells them apart. */
+static int gen_borromean(lc_scene *s, uint64_t count, rng *r, lc_error *err)
+{
+    enum { STEPS = 48 };
+    uint32_t lines = count ? (uint32_t)count : 600;
+    int rc = lc_scene_alloc_vertices(s, lines * STEPS, 0, err);
+    if (rc)
+        return rc;
+    float *g = malloc((size_t)lines * STEPS * sizeof *g), *which = malloc((size_t)lines * STEPS * sizeof *which);
+    s->line_offsets = malloc(((size_t)lines + 1) * sizeof *s->line_offsets);
+    if (!g || !which || !s->line_offsets) {
+        free(g);
+        free(which);
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", s->name);
+    }
+    s->line_count = lines;
+    for (uint32_t i = 0; i <= lines; i++)
+        s->line_offsets[i] = i * STEPS;
+    for (uint32_t i = 0; i < lines; i++) {
+        int ring = (int)(i % 3), core = (i / 3) % 4 == 0;
+        double t0 = 2.0 * M_PI * rng_uniform(r), span = 2.0 * M_PI / 3.0;
+        double radius = core ? 0.02 * rng_uniform(r) : 0.12 + 0.23 * rng_uniform(r);
+        double phase = 2.0 * M_PI * rng_uniform(r);
+        for (int j = 0; j < STEPS; j++) {
+            double p[3], tan[3], n1[3], n2[3];
+            ring_point(ring, t0 + span * j / (STEPS - 1), p, tan);
+            /* A frame around the tangent: n1 = tangent x axis, n2 = tangent x n1. */
+            double axis[3] = {0, 0, 0};
+            axis[(ring + 2) % 3] = 1;
+            n1[0] = tan[1] * axis[2] - tan[2] * axis[1];
+            n1[1] = tan[2] * axis[0] - tan[0] * axis[2];
+            n1[2] = tan[0] * axis[1] - tan[1] * axis[0];
+            n2[0] = tan[1] * n1[2] - tan[2] * n1[1];
+            n2[1] = tan[2] * n1[0] - tan[0] * n1[2];
+            n2[2] = tan[0] * n1[1] - tan[1] * n1[0];
+            double l1 = sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
+            double l2 = sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
+            uint32_t v = i * STEPS + (uint32_t)j;
+            for (int k = 0; k < 3; k++)
+                s->positions[3 * v + k] = (float)(p[k] + radius * (cos(phase) * n1[k] / l1 + sin(phase) * n2[k] / l2));
+            g[v] = (float)exp(-(radius / 0.06) * (radius / 0.06));
+            which[v] = (float)ring;
+        }
+    }
+    rc = lc_scene_add_attribute(s, "ring_proximity", g, err);
+    if (rc >= 0)
+        rc = lc_scene_add_attribute(s, "ring", which, err);
+    else
+        free(which);
+    if (rc < 0)
+        return rc;
+    snprintf(s->default_importance, sizeof s->default_importance, "ring_proximity");
+    snprintf(s->default_color, sizeof s->default_color, "ring");
+    return LC_OK;
+}
+
 int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, lc_error *err)
 {
     if (!out)
         return lc_err(err, LC_ERR_INVALID, "demo: no output scene");
     *out = NULL;
     if (!name || !lc_demo_description(name))
-        return lc_err(err, LC_ERR_NOT_FOUND, "demo:%s: unknown demo (tornado, abc, points, surface)",
+        return lc_err(err, LC_ERR_NOT_FOUND, "demo:%s: unknown demo (tornado, abc, points, surface, borromean)",
                       name ? name : "(null)");
     uint64_t seed = desc && desc->seed ? desc->seed : 1;
     uint64_t count = desc ? desc->count : 0;
-    int is_lines = strcmp(name, "tornado") == 0 || strcmp(name, "abc") == 0;
+    int is_lines = strcmp(name, "tornado") == 0 || strcmp(name, "abc") == 0 || strcmp(name, "borromean") == 0;
     uint64_t cap = is_lines ? MAX_DEMO_LINES : strcmp(name, "points") == 0 ? MAX_DEMO_POINTS : MAX_DEMO_SURFACE_RES;
     if (count > cap)
         return lc_err(err, LC_ERR_LIMIT, "demo:%s: count %llu exceeds the limit of %llu", name,
@@ -633,6 +709,8 @@ int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, l
         rc = gen_tornado(s, count, &r, err);
     else if (strcmp(name, "abc") == 0)
         rc = gen_abc(s, count, &r, err);
+    else if (strcmp(name, "borromean") == 0)
+        rc = gen_borromean(s, count, &r, err);
     else if (strcmp(name, "points") == 0)
         rc = gen_points(s, count, &r, err);
     else
@@ -645,8 +723,13 @@ int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, l
         /* Streamlines read best from the side, with the z axis (the tornado's
          * core) up, slightly from above. */
         static const double dir_tornado[3] = {0, 1, -0.3}, dir_abc[3] = {-1, 0.6, -0.45}, up[3] = {0, 0, 1};
+        static const double dir_rings[3] = {-1, -0.8, -0.6};
         s->has_view = 1;
-        memcpy(s->view_direction, strcmp(name, "tornado") == 0 ? dir_tornado : dir_abc, sizeof dir_tornado);
+        memcpy(s->view_direction,
+               strcmp(name, "tornado") == 0 ? dir_tornado
+               : strcmp(name, "abc") == 0   ? dir_abc
+                                            : dir_rings,
+               sizeof dir_tornado);
         memcpy(s->view_up, up, sizeof up);
     }
     if (rc) {

@@ -10,6 +10,7 @@ void lc_scene_measure(const lc_scene *s, lc_scene_measures *out)
     out->type = s->type;
     out->primitives = (double)lc_scene_primitive_count(s);
     out->vertices = s->vertex_count;
+    out->lines = s->type == LC_PRIM_LINES ? s->line_count : 0;
     out->elements = s->elements.count;
     const double *b = s->bounds;
     double d2 = 0;
@@ -39,6 +40,8 @@ void lc_scene_measure(const lc_scene *s, lc_scene_measures *out)
         out->primitives = (double)s->whole_primitives;
         out->vertices = (double)s->whole_vertices;
         out->line_length = s->whole_line_length;
+        if (s->type == LC_PRIM_LINES)
+            out->lines = (double)s->whole_lines;
     }
     if (!isfinite(out->line_length))
         out->line_length = 1e300;

@@ -20,6 +20,7 @@ typedef struct lc_scene_measures {
     double area;        /* world units^2, all triangles */
     double center[3];
     double radius; /* half the bounds diagonal (> 0) */
+    double lines;  /* polylines (lines.clusters draws a share of them) */
 } lc_scene_measures;
 
 /* Measures s; a part read by one process (s->part_of) measures as the whole. */

@@ -74,6 +74,9 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         double width = fmax(p->style.min_line_pixels, world * ppu);
         double ribbon = st->line_length * ppu * width + st->primitives * width; /* + the joins */
         frags = fmin(ribbon, st->primitives * image);
+        /* lines.clusters draws one line per cluster (hidden ones still pass the vertex stage). */
+        if (p->clusters.count > 0 && st->lines > p->clusters.count)
+            frags *= p->clusters.count / st->lines;
         break;
     }
     default: frags = fmin(st->area * ppu * ppu, st->primitives * image); break;

@@ -80,14 +80,15 @@ int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, 
     json_t *v;
     json_object_foreach(root, key, v)
     {
-        static const char *const allowed[] = {"params", "importance", "color", "style", "camera", "elements", NULL};
+        static const char *const allowed[] = {"params", "importance", "color", "style",
+                                              "camera", "elements",   "lines", NULL};
         int ok = 0;
         for (int i = 0; allowed[i]; i++)
             ok |= strcmp(key, allowed[i]) == 0;
         if (!ok) {
             rc = lc_err_field(err, LC_ERR_INVALID, key,
                               "%s: unknown field \"%s\" (expected params, importance, "
-                              "color, style, camera or elements)",
+                              "color, style, camera, elements or lines)",
                               side, key);
             goto done;
         }

@@ -61,6 +61,15 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16 },
 
   { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8 },
+
+  { section: 'lines', name: 'clusters', alias: 'clusters', type: 'int', min: 0, max: 1000000 },
+  {
+    section: 'lines', name: 'representative', alias: 'representative', type: 'enum',
+    values: ['important', 'mean', 'leastDistance'],
+  },
+  { section: 'lines', name: 'linkage', alias: 'linkage', type: 'enum', values: ['complete', 'single', 'average'] },
+  { section: 'lines', name: 'liftImportance', alias: 'liftImportance', type: 'num', min: 0, max: 1000 },
+  { section: 'lines', name: 'liftColor', alias: 'liftColor', type: 'num', min: 0, max: 1000 },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
@@ -82,7 +91,7 @@ export const STREAM_FIELDS = Object.freeze([
 ]);
 
 /** The sections a params message may carry besides the stream settings. */
-export const UPDATE_SECTIONS = Object.freeze(['params', 'importance', 'color', 'style']);
+export const UPDATE_SECTIONS = Object.freeze(['params', 'importance', 'color', 'style', 'lines']);
 
 export const fieldPath = (f) => (f.section ? `${f.section}.${f.name}` : f.name);
 

@@ -92,6 +92,15 @@ export const GROUPS = [
       { path: 'interactiveScale', label: 'Resolution while moving', kind: 'range', min: 0.25, max: 1, step: 0.05, help: 'Image resolution while you move the view (fraction per side). Lower: smoother motion.' },
     ],
   },
+  {
+    id: 'lines', legend: 'Line clusters', controls: [
+      { path: 'lines.clusters', label: 'Clusters (0 = all lines)', kind: 'range', min: 0, max: 1000, step: 1, help: 'Lines: group similar lines and draw one line per group. 0 draws every line. The first use clusters the lines (seconds for large sets); then a new count costs one frame.' },
+      { path: 'lines.representative', label: 'Representative', kind: 'select', options: [['important', 'Most important'], ['mean', 'Closest to the mean'], ['leastDistance', 'Least distance to the rest']], help: 'Which line stands in for its group: the most important one, the one closest to the group\'s average line, or the one nearest to all the others.' },
+      { path: 'lines.linkage', label: 'Linkage', kind: 'select', options: [['complete', 'Complete'], ['single', 'Single'], ['average', 'Average']], help: 'How groups are merged: complete keeps groups compact (recommended), single chains neighbours, average is in between.' },
+      { path: 'lines.liftImportance', label: 'Importance weight λg', kind: 'range', min: 0, max: 2, step: 0.05, help: 'How much differences in importance separate lines, besides their position. Above 0.5: important lines form groups of their own.' },
+      { path: 'lines.liftColor', label: 'Colour weight λc', kind: 'range', min: 0, max: 2, step: 0.05, help: 'How much differences in the colour value separate lines, besides their position.' },
+    ],
+  },
 ];
 
 const idOf = (path) => `ctl-${path.replace(/\./g, '-')}`;

@@ -85,6 +85,12 @@ void ribbon_vertex(uint v, float side_sign)
     }
 }
 
+// Cluster representatives (line_clusters.c): a vertex whose bit is clear
+// belongs to a hidden line; its ribbon corners leave the clip volume.
+layout(std430, binding = BIND_LINE_MASK) readonly buffer LineMask { uint line_mask[]; };
+uniform int u_line_mask;
+bool line_hidden(uint v) { return u_line_mask != 0 && (line_mask[v >> 5] & (1u << (v & 31u))) == 0u; }
+
 #if PRIM == PRIM_POINTS
 layout(std430, binding = BIND_POINT_LIST) readonly buffer PointList { uint point_count; uint point_list[]; };
 #endif
@@ -129,6 +135,10 @@ void main()
         return;
     }
     uint a = ia >> 1, b = ib >> 1;
+    if (line_hidden(a)) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
     uint v = q.x < 0.0 ? a : b;
     ribbon_vertex(v, q.y);
     v_primary = uvec3(vertex_primary(b));
@@ -137,6 +147,10 @@ void main()
     // Indexed ribbon strips: two vertices (sides) per line vertex, shared by the
     // two segments that meet there, so each is shaded once.
     uint v = uint(gl_VertexID) >> 1;
+    if (line_hidden(v)) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
     ribbon_vertex(v, (gl_VertexID & 1) != 0 ? 1.0 : -1.0);
     v_primary = uvec3(vertex_primary(v));
 #else

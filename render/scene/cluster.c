@@ -1,0 +1,832 @@
+/* Line clustering: resampling and 5-D lift, rMCPD, a pruned agglomerative
+ * linkage with a dense top stage, and dendrogram cuts with representatives. */
+#include "cluster.h"
+#include "cluster_internal.h"
+
+#include <float.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define DEFAULT_NEIGHBOURS 96u
+#define DEFAULT_TOP_CLUSTERS 2048u
+/* Up to this many lines every pair is linked: the dense stage alone. */
+#define DENSE_LINES 1200u
+/* Threads of the pruned stage's sweep (at most the online processors). */
+#define MAX_THREADS 8
+
+/* ---- resampling (DLS §3.2: lines compared at a fixed number of points) */
+
+/* k samples equally spaced in arc length along line [v0, v1): sample s lies
+ * at t[s] between vertices at[s] and at[s] + 1 (at[s] + 1 = at[s] for a
+ * one-vertex line). Returns the line's length. */
+static double arc_samples(const float *pos, uint32_t v0, uint32_t v1, int k, uint32_t *at, float *t)
+{
+    double len = 0;
+    for (uint32_t v = v0 + 1; v < v1; v++) {
+        double dx = pos[3 * v] - pos[3 * v - 3], dy = pos[3 * v + 1] - pos[3 * v - 2],
+               dz = pos[3 * v + 2] - pos[3 * v - 1];
+        len += sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    uint32_t seg = v0;
+    double seg_start = 0;
+    for (int s = 0; s < k; s++) {
+        double target = len * s / (k - 1);
+        at[s] = v0;
+        t[s] = 0;
+        while (v1 - v0 > 1) {
+            uint32_t v = seg + 1;
+            double dx = pos[3 * v] - pos[3 * seg], dy = pos[3 * v + 1] - pos[3 * seg + 1],
+                   dz = pos[3 * v + 2] - pos[3 * seg + 2];
+            double l = sqrt(dx * dx + dy * dy + dz * dz);
+            if (seg_start + l >= target || seg + 2 == v1) {
+                double u = l > 0 ? (target - seg_start) / l : 0;
+                at[s] = seg;
+                t[s] = (float)(u < 0 ? 0 : u > 1 ? 1 : u);
+                break;
+            }
+            seg_start += l;
+            seg++;
+        }
+    }
+    return len;
+}
+
+static float lerp_at(const float *v, uint32_t at, float t, uint32_t end)
+{
+    return at + 1 < end ? v[at] * (1 - t) + v[at + 1] * t : v[at];
+}
+
+int lc_line_samples_create(const float *positions, const uint32_t *offsets, uint32_t lines, int k,
+                           const float *const *attributes, int attribute_count, lc_line_samples **out, lc_error *err)
+{
+    *out = NULL;
+    if (k == 0)
+        k = LC_CLUSTER_DEFAULT_SAMPLES;
+    if (!positions || !offsets || lines == 0)
+        return lc_err(err, LC_ERR_INVALID, "clustering needs at least one line");
+    if (k < 2 || k > LC_CLUSTER_MAX_SAMPLES)
+        return lc_err(err, LC_ERR_INVALID, "clustering: samples %d outside [2, %d]", k, LC_CLUSTER_MAX_SAMPLES);
+    if (lines > UINT32_MAX / 2)
+        return lc_err(err, LC_ERR_LIMIT, "clustering: %u lines exceed the limit", lines);
+    for (uint32_t i = 0; i < lines; i++)
+        if (offsets[i + 1] <= offsets[i])
+            return lc_err(err, LC_ERR_INVALID, "clustering: line %u has no vertices", i);
+    lc_line_samples *ls = calloc(1, sizeof *ls);
+    if (!ls)
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory");
+    ls->lines = lines;
+    ls->k = k;
+    ls->attributes = attribute_count;
+    ls->xyz = malloc((size_t)lines * k * 3 * sizeof *ls->xyz);
+    ls->values = malloc(((size_t)attribute_count * lines * k + 1) * sizeof *ls->values);
+    ls->length = malloc((size_t)lines * sizeof *ls->length);
+    if (!ls->xyz || !ls->values || !ls->length) {
+        lc_line_samples_destroy(ls);
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory resampling %u lines", lines);
+    }
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    for (uint32_t v = offsets[0]; v < offsets[lines]; v++)
+        for (int j = 0; j < 3; j++) {
+            lo[j] = fmin(lo[j], positions[3 * v + j]);
+            hi[j] = fmax(hi[j], positions[3 * v + j]);
+        }
+    double diag =
+        sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double inv_diag = diag > 0 && isfinite(diag) ? 1.0 / diag : 1.0;
+    uint32_t at[LC_CLUSTER_MAX_SAMPLES];
+    float t[LC_CLUSTER_MAX_SAMPLES];
+    for (uint32_t i = 0; i < lines; i++) {
+        uint32_t end = offsets[i + 1];
+        ls->length[i] = (float)arc_samples(positions, offsets[i], end, k, at, t);
+        for (int s = 0; s < k; s++) {
+            float *o = ls->xyz + ((size_t)i * k + s) * 3;
+            uint32_t b = at[s] + 1 < end ? at[s] + 1 : at[s];
+            for (int j = 0; j < 3; j++)
+                o[j] = (float)((positions[3 * at[s] + j] * (1 - t[s]) + positions[3 * b + j] * t[s]) * inv_diag);
+            for (int a = 0; a < attribute_count; a++)
+                ls->values[((size_t)a * lines + i) * k + s] = lerp_at(attributes[a], at[s], t[s], end);
+        }
+    }
+    *out = ls;
+    return 0;
+}
+
+void lc_line_samples_destroy(lc_line_samples *ls)
+{
+    if (!ls)
+        return;
+    free(ls->xyz);
+    free(ls->values);
+    free(ls->length);
+    free(ls);
+}
+
+size_t lc_line_samples_estimate(uint32_t lines, int k, int attributes)
+{
+    k = k ? k : LC_CLUSTER_DEFAULT_SAMPLES;
+    return sizeof(lc_line_samples) + (size_t)lines * ((size_t)k * (3 + (size_t)attributes) + 1) * sizeof(float);
+}
+
+size_t lc_line_samples_bytes(const lc_line_samples *ls)
+{
+    return ls ? sizeof *ls + (size_t)ls->lines * ((size_t)ls->k * (3 + (size_t)ls->attributes) + 1) * sizeof(float) : 0;
+}
+
+/* ---- rMCPD (DLS Eq. 3-4) */
+
+float lc_cluster_rmcpd(const float *a, const float *b, int k)
+{
+    float row[LC_CLUSTER_MAX_SAMPLES], col[LC_CLUSTER_MAX_SAMPLES];
+    for (int j = 0; j < k; j++)
+        col[j] = FLT_MAX;
+    for (int i = 0; i < k; i++) {
+        const float *p = a + i * DIM;
+        float best = FLT_MAX;
+        for (int j = 0; j < k; j++) {
+            const float *q = b + j * DIM;
+            float d0 = p[0] - q[0], d1 = p[1] - q[1], d2 = p[2] - q[2], d3 = p[3] - q[3], d4 = p[4] - q[4];
+            float d = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4;
+            best = d < best ? d : best;
+            col[j] = d < col[j] ? d : col[j];
+        }
+        row[i] = best;
+    }
+    double ab = 0, ba = 0;
+    for (int i = 0; i < k; i++) {
+        ab += sqrt(row[i]);
+        ba += sqrt(col[i]);
+    }
+    return (float)((ab < ba ? ab : ba) / k);
+}
+
+/* d'(a,b) of Eq. 4, or INFINITY as soon as it is known to reach r: the
+ * partial sum of closest distances only grows. */
+static float mean_closest_below(const float *a, const float *b, int k, float r)
+{
+    double sum = 0, limit = (double)r * k;
+    for (int i = 0; i < k; i++) {
+        const float *p = a + i * DIM;
+        float best = FLT_MAX;
+        for (int j = 0; j < k; j++) {
+            const float *q = b + j * DIM;
+            float d0 = p[0] - q[0], d1 = p[1] - q[1], d2 = p[2] - q[2], d3 = p[3] - q[3], d4 = p[4] - q[4];
+            float d = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4;
+            best = d < best ? d : best;
+        }
+        sum += sqrt(best);
+        if (sum >= limit)
+            return INFINITY;
+    }
+    return (float)(sum / k);
+}
+
+/* The rMCPD when it is below r, else INFINITY. Most pairs the pruned stage
+ * measures are rejected, and the early exit makes those cheap. */
+static float rmcpd_below(const float *a, const float *b, int k, float r)
+{
+    float ab = mean_closest_below(a, b, k, r);
+    float ba = mean_closest_below(b, a, k, ab < r ? ab : r);
+    return ab < ba ? ab : ba;
+}
+
+/* ---- the linkage engine: clusters as nodes of a weighted graph whose missing
+ * edges mean "at least r"; a min-heap of edges with lazy deletion (an edge
+ * between two live nodes never changes: a merge creates a new node). */
+
+typedef struct edge {
+    float d;
+    uint32_t a, b;
+} edge;
+
+typedef struct adj {
+    edge *e; /* e[i].a = neighbour, e[i].d = distance; b unused */
+    uint32_t n, cap;
+} adj;
+
+typedef struct engine {
+    lc_linkage linkage;
+    uint32_t nodes, next; /* capacity 2m - 1; next id to create */
+    float r;              /* missing edges are >= r; INFINITY in the dense stage */
+    adj *adj;
+    uint32_t *size;
+    uint8_t *alive;
+    edge *heap;
+    size_t heap_n, heap_cap;
+    float *mark_a, *mark_b; /* scratch per node: distance to a / b or NAN */
+    uint32_t *touched;
+    merge *merges;
+    uint32_t merge_count;
+} engine;
+
+static int adj_push(adj *l, uint32_t to, float d)
+{
+    if (l->n == l->cap) {
+        uint32_t cap = l->cap ? 2 * l->cap : 8;
+        edge *e = realloc(l->e, cap * sizeof *e);
+        if (!e)
+            return -1;
+        l->e = e;
+        l->cap = cap;
+    }
+    l->e[l->n++] = (edge){d, to, 0};
+    return 0;
+}
+
+static int heap_push(engine *g, edge x)
+{
+    if (g->heap_n == g->heap_cap) {
+        size_t cap = g->heap_cap ? 2 * g->heap_cap : 1024;
+        edge *h = realloc(g->heap, cap * sizeof *h);
+        if (!h)
+            return -1;
+        g->heap = h;
+        g->heap_cap = cap;
+    }
+    size_t i = g->heap_n++;
+    /* Ties break on node ids so the order never depends on the heap's history. */
+    while (i > 0) {
+        size_t p = (i - 1) / 2;
+        edge *q = &g->heap[p];
+        if (q->d < x.d || (q->d == x.d && (q->a < x.a || (q->a == x.a && q->b <= x.b))))
+            break;
+        g->heap[i] = *q;
+        i = p;
+    }
+    g->heap[i] = x;
+    return 0;
+}
+
+static int edge_less(const edge *x, const edge *y)
+{
+    return x->d < y->d || (x->d == y->d && (x->a < y->a || (x->a == y->a && x->b < y->b)));
+}
+
+static edge heap_pop(engine *g)
+{
+    edge top = g->heap[0], x = g->heap[--g->heap_n];
+    size_t i = 0, n = g->heap_n;
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= n)
+            break;
+        if (c + 1 < n && edge_less(&g->heap[c + 1], &g->heap[c]))
+            c++;
+        if (!edge_less(&g->heap[c], &x))
+            break;
+        g->heap[i] = g->heap[c];
+        i = c;
+    }
+    if (n)
+        g->heap[i] = x;
+    return top;
+}
+
+static int engine_init(engine *g, uint32_t m, lc_linkage linkage, merge *merges)
+{
+    memset(g, 0, sizeof *g);
+    g->linkage = linkage;
+    g->nodes = 2 * m - 1;
+    g->next = m;
+    g->r = INFINITY;
+    g->merges = merges;
+    g->adj = calloc(g->nodes, sizeof *g->adj);
+    g->size = calloc(g->nodes, sizeof *g->size);
+    g->alive = calloc(g->nodes, 1);
+    g->mark_a = malloc(g->nodes * sizeof *g->mark_a);
+    g->mark_b = malloc(g->nodes * sizeof *g->mark_b);
+    g->touched = malloc(g->nodes * sizeof *g->touched);
+    if (!g->adj || !g->size || !g->alive || !g->mark_a || !g->mark_b || !g->touched)
+        return -1;
+    for (uint32_t i = 0; i < g->nodes; i++) {
+        g->mark_a[i] = g->mark_b[i] = NAN;
+        g->size[i] = i < m ? 1 : 0;
+        g->alive[i] = i < m;
+    }
+    return 0;
+}
+
+static void engine_free(engine *g)
+{
+    if (g->adj)
+        for (uint32_t i = 0; i < g->nodes; i++)
+            free(g->adj[i].e);
+    free(g->adj);
+    free(g->size);
+    free(g->alive);
+    free(g->heap);
+    free(g->mark_a);
+    free(g->mark_b);
+    free(g->touched);
+}
+
+static int engine_edge(engine *g, uint32_t a, uint32_t b, float d)
+{
+    if (adj_push(&g->adj[a], b, d) || adj_push(&g->adj[b], a, d))
+        return -1;
+    return heap_push(g, (edge){d, a < b ? a : b, a < b ? b : a});
+}
+
+static void adj_remove(adj *l, uint32_t to)
+{
+    for (uint32_t i = 0; i < l->n; i++)
+        if (l->e[i].a == to) {
+            l->e[i] = l->e[--l->n];
+            return;
+        }
+}
+
+/* The Lance-Williams update of one neighbour x of the merged pair; NAN = no
+ * edge (only possible when r is finite). */
+static float linked(const engine *g, float da, float db, uint32_t na, uint32_t nb)
+{
+    int ha = !isnan(da), hb = !isnan(db);
+    switch (g->linkage) {
+    case LC_LINKAGE_SINGLE: return ha && hb ? fminf(da, db) : ha ? da : db;
+    case LC_LINKAGE_AVERAGE: {
+        /* A missing pair counts as r, the least it can be. */
+        float va = ha ? da : g->r, vb = hb ? db : g->r;
+        float v = (float)(((double)na * va + (double)nb * vb) / ((double)na + nb));
+        return v < g->r ? v : NAN;
+    }
+    default: /* complete: any missing pair is >= r, so the clusters are too */ return ha && hb ? fmaxf(da, db) : NAN;
+    }
+}
+
+static int engine_merge(engine *g, uint32_t a, uint32_t b, float height)
+{
+    uint32_t c = g->next++, nt = 0;
+    g->merges[g->merge_count++] = (merge){a, b, height};
+    g->alive[a] = g->alive[b] = 0;
+    g->alive[c] = 1;
+    g->size[c] = g->size[a] + g->size[b];
+    for (uint32_t i = 0; i < g->adj[a].n; i++) {
+        uint32_t x = g->adj[a].e[i].a;
+        if (!g->alive[x])
+            continue;
+        if (isnan(g->mark_a[x]) && isnan(g->mark_b[x]))
+            g->touched[nt++] = x;
+        g->mark_a[x] = g->adj[a].e[i].d;
+    }
+    for (uint32_t i = 0; i < g->adj[b].n; i++) {
+        uint32_t x = g->adj[b].e[i].a;
+        if (!g->alive[x])
+            continue;
+        if (isnan(g->mark_a[x]) && isnan(g->mark_b[x]))
+            g->touched[nt++] = x;
+        g->mark_b[x] = g->adj[b].e[i].d;
+    }
+    int rc = 0;
+    for (uint32_t i = 0; i < nt; i++) {
+        uint32_t x = g->touched[i];
+        float d = linked(g, g->mark_a[x], g->mark_b[x], g->size[a], g->size[b]);
+        g->mark_a[x] = g->mark_b[x] = NAN;
+        adj_remove(&g->adj[x], a);
+        adj_remove(&g->adj[x], b);
+        if (!rc && !isnan(d))
+            rc = engine_edge(g, c, x, d);
+    }
+    free(g->adj[a].e);
+    free(g->adj[b].e);
+    g->adj[a] = g->adj[b] = (adj){0};
+    return rc;
+}
+
+/* Merges along the heap until it is empty. */
+static int engine_run(engine *g)
+{
+    while (g->heap_n) {
+        edge e = heap_pop(g);
+        if (g->alive[e.a] && g->alive[e.b] && engine_merge(g, e.a, e.b, e.d))
+            return -1;
+    }
+    return 0;
+}
+
+/* ---- the build */
+
+typedef struct box {
+    float lo[DIM], hi[DIM];
+} box;
+
+static float box_distance(const box *p, const box *q)
+{
+    float s = 0;
+    for (int j = 0; j < DIM; j++) {
+        float gap = fmaxf(p->lo[j] - q->hi[j], q->lo[j] - p->hi[j]);
+        if (gap > 0)
+            s += gap * gap;
+    }
+    return sqrtf(s);
+}
+
+/* A lower bound of the rMCPD: each sample's closest distance to the other
+ * line is at least its distance to that line's box. O(k) per pair. */
+static float rmcpd_lower_bound(const float *a, const box *ba, const float *b, const box *bb, int k)
+{
+    double s[2] = {0, 0};
+    for (int dir = 0; dir < 2; dir++) {
+        const float *p = dir ? b : a;
+        const box *q = dir ? ba : bb;
+        for (int i = 0; i < k; i++) {
+            float t = 0;
+            for (int j = 0; j < DIM; j++) {
+                float v = p[i * DIM + j], gap = v < q->lo[j] ? q->lo[j] - v : v > q->hi[j] ? v - q->hi[j] : 0;
+                t += gap * gap;
+            }
+            s[dir] += sqrtf(t);
+        }
+    }
+    return (float)((s[0] < s[1] ? s[0] : s[1]) / k);
+}
+
+/* A line's box start on the sweep axis, sorted with its index (no global
+ * state: builds may run in several threads at once). */
+typedef struct sweep_key {
+    float lo;
+    uint32_t line;
+} sweep_key;
+
+static int cmp_sweep(const void *x, const void *y)
+{
+    const sweep_key *a = x, *b = y;
+    return a->lo < b->lo ? -1 : a->lo > b->lo ? 1 : (a->line > b->line) - (a->line < b->line);
+}
+
+static int cmp_float(const void *x, const void *y)
+{
+    float a = *(const float *)x, b = *(const float *)y;
+    return a < b ? -1 : a > b ? 1 : 0;
+}
+
+/* The pruning radius: the rMCPD lower bound below which a line has about
+ * `neighbours` other lines, estimated from up to 128 evenly spread lines. */
+static float prune_radius(const lc_dendrogram *dg, const box *bx, uint32_t neighbours)
+{
+    uint32_t m = dg->lines, s = m < 128 ? m : 128;
+    size_t stride = (size_t)dg->k * DIM;
+    float *d = malloc((size_t)m * sizeof *d);
+    if (!d)
+        return INFINITY;
+    double sum = 0;
+    for (uint32_t i = 0; i < s; i++) {
+        uint32_t p = (uint32_t)((uint64_t)i * m / s);
+        for (uint32_t j = 0; j < m; j++)
+            d[j] = rmcpd_lower_bound(dg->samples + p * stride, &bx[p], dg->samples + j * stride, &bx[j], dg->k);
+        uint32_t rank = neighbours < m ? neighbours : m - 1;
+        /* nth_element would do; a sort of m floats is cheap next to the rMCPDs. */
+        qsort(d, m, sizeof *d, cmp_float);
+        sum += d[rank];
+    }
+    free(d);
+    return (float)(sum / s);
+}
+
+/* The sparse stage: every pair whose boxes come closer than r is measured; an
+ * rMCPD under r becomes an edge (a sweep along the widest spatial axis).
+ * Threads take every T-th line of the sweep and collect their edges; the
+ * merges do not depend on the order edges are added (the heap orders them
+ * by distance, then node ids). */
+typedef struct sweep {
+    const lc_dendrogram *dg;
+    const box *bx;
+    const sweep_key *order;
+    float r;
+    int axis;
+    uint32_t first, step;
+    edge *edges;
+    size_t count, cap;
+    uint64_t pairs;
+    int failed;
+} sweep;
+
+static void *sweep_run(void *arg)
+{
+    sweep *w = arg;
+    const lc_dendrogram *dg = w->dg;
+    const box *bx = w->bx;
+    uint32_t m = dg->lines;
+    size_t stride = (size_t)dg->k * DIM;
+    float r = w->r;
+    for (uint32_t oi = w->first; oi < m && !w->failed; oi += w->step) {
+        uint32_t i = w->order[oi].line;
+        for (uint32_t oj = oi + 1; oj < m; oj++) {
+            uint32_t j = w->order[oj].line;
+            if (bx[j].lo[w->axis] > bx[i].hi[w->axis] + r)
+                break;
+            if (box_distance(&bx[i], &bx[j]) >= r ||
+                rmcpd_lower_bound(dg->samples + i * stride, &bx[i], dg->samples + j * stride, &bx[j], dg->k) >= r)
+                continue;
+            float d = rmcpd_below(dg->samples + i * stride, dg->samples + j * stride, dg->k, r);
+            w->pairs++;
+            if (!(d < r))
+                continue;
+            if (w->count == w->cap) {
+                size_t cap = w->cap ? 2 * w->cap : 4096;
+                edge *e = realloc(w->edges, cap * sizeof *e);
+                if (!e) {
+                    w->failed = 1;
+                    break;
+                }
+                w->edges = e;
+                w->cap = cap;
+            }
+            w->edges[w->count++] = (edge){d, i, j};
+        }
+    }
+    return NULL;
+}
+
+static int link_pruned(engine *g, lc_dendrogram *dg, const box *bx, float r)
+{
+    uint32_t m = dg->lines;
+    sweep_key *order = malloc((size_t)m * sizeof *order);
+    if (!order)
+        return -1;
+    int axis = 0;
+    float best = -1;
+    for (int j = 0; j < 3; j++) {
+        float lo = FLT_MAX, hi = -FLT_MAX;
+        for (uint32_t i = 0; i < m; i++) {
+            lo = fminf(lo, bx[i].lo[j]);
+            hi = fmaxf(hi, bx[i].hi[j]);
+        }
+        if (hi - lo > best) {
+            best = hi - lo;
+            axis = j;
+        }
+    }
+    for (uint32_t i = 0; i < m; i++)
+        order[i] = (sweep_key){bx[i].lo[axis], i};
+    qsort(order, m, sizeof *order, cmp_sweep);
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    uint32_t threads = cpus < 1 ? 1 : cpus > MAX_THREADS ? MAX_THREADS : (uint32_t)cpus;
+    if (m < 256)
+        threads = 1;
+    sweep w[MAX_THREADS];
+    pthread_t tid[MAX_THREADS];
+    int started[MAX_THREADS] = {0};
+    for (uint32_t t = 0; t < threads; t++) {
+        w[t] = (sweep){.dg = dg, .bx = bx, .order = order, .r = r, .axis = axis, .first = t, .step = threads};
+        started[t] = t > 0 && pthread_create(&tid[t], NULL, sweep_run, &w[t]) == 0;
+    }
+    /* This thread takes share 0, and any share a thread could not start for. */
+    for (uint32_t t = 0; t < threads; t++)
+        if (!started[t])
+            sweep_run(&w[t]);
+    for (uint32_t t = 1; t < threads; t++)
+        if (started[t])
+            pthread_join(tid[t], NULL);
+    int rc = 0;
+    for (uint32_t t = 0; t < threads; t++) {
+        rc |= w[t].failed;
+        dg->stats.pairs_tested += w[t].pairs;
+        for (size_t e = 0; e < w[t].count && !rc; e++)
+            rc = engine_edge(g, w[t].edges[e].a, w[t].edges[e].b, w[t].edges[e].d);
+        free(w[t].edges);
+    }
+    free(order);
+    return rc ? -1 : 0;
+}
+
+/* The dense top stage: each remaining cluster is stood in for by its line
+ * closest to the cluster's mean line; the clusters are linked pairwise by
+ * max(r, rMCPD of those lines), so no top merge comes below a pruned one. */
+static int link_top(engine *g, lc_dendrogram *dg, float r)
+{
+    uint32_t m = dg->lines, roots = 0;
+    size_t stride = (size_t)dg->k * DIM;
+    uint32_t *root_of = malloc((size_t)m * sizeof *root_of), *roots_list = malloc((size_t)m * sizeof *roots_list);
+    uint32_t *stand_in = malloc((size_t)m * sizeof *stand_in), *slot = malloc((size_t)g->nodes * sizeof *slot);
+    float *mean = NULL, *best = malloc((size_t)m * sizeof *best);
+    int rc = -1;
+    if (!root_of || !roots_list || !stand_in || !slot || !best)
+        goto out;
+    /* Each line's root: follow the merges forward (parent of a node). */
+    uint32_t *parent = slot; /* reused: parent per node, then slot per root */
+    for (uint32_t i = 0; i < g->nodes; i++)
+        parent[i] = UINT32_MAX;
+    for (uint32_t i = 0; i < g->merge_count; i++)
+        parent[g->merges[i].a] = parent[g->merges[i].b] = m + i;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t x = i;
+        while (parent[x] != UINT32_MAX)
+            x = parent[x];
+        root_of[i] = x;
+    }
+    for (uint32_t i = 0; i < g->nodes; i++)
+        slot[i] = UINT32_MAX;
+    for (uint32_t i = 0; i < m; i++)
+        if (slot[root_of[i]] == UINT32_MAX) {
+            slot[root_of[i]] = roots;
+            roots_list[roots++] = root_of[i];
+        }
+    dg->stats.top_clusters = roots;
+    mean = calloc((size_t)roots * stride, sizeof *mean);
+    if (!mean)
+        goto out;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t s = slot[root_of[i]];
+        for (size_t j = 0; j < stride; j++)
+            mean[s * stride + j] += dg->samples[i * stride + j] / (float)g->size[root_of[i]];
+    }
+    for (uint32_t s = 0; s < roots; s++)
+        best[s] = FLT_MAX;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t s = slot[root_of[i]];
+        float e = 0;
+        for (size_t j = 0; j < stride; j++) {
+            float t = dg->samples[i * stride + j] - mean[s * stride + j];
+            e += t * t;
+        }
+        if (e < best[s]) {
+            best[s] = e;
+            stand_in[s] = i;
+        }
+    }
+    rc = 0;
+    for (uint32_t s = 0; s < roots && !rc; s++)
+        for (uint32_t t = s + 1; t < roots && !rc; t++) {
+            float d = lc_cluster_rmcpd(dg->samples + stand_in[s] * stride, dg->samples + stand_in[t] * stride, dg->k);
+            dg->stats.pairs_tested++;
+            rc = engine_edge(g, roots_list[s], roots_list[t], isfinite(r) ? fmaxf(r, d) : d);
+        }
+    g->r = INFINITY;
+    if (!rc)
+        rc = engine_run(g);
+out:
+    free(root_of);
+    free(roots_list);
+    free(stand_in);
+    free(slot);
+    free(mean);
+    free(best);
+    return rc;
+}
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* One attempt at radius r; returns the clusters the sparse stage left (or 0
+ * on OOM), with dg->merges filled when they fit the top stage's limit. */
+static int build_with_radius(lc_dendrogram *dg, const box *bx, float r, uint32_t top_limit, lc_linkage linkage,
+                             int *too_many)
+{
+    engine g;
+    int rc = -1;
+    *too_many = 0;
+    if (engine_init(&g, dg->lines, linkage, dg->merges) == 0) {
+        g.r = r;
+        rc = link_pruned(&g, dg, bx, r) || engine_run(&g) ? -1 : 0;
+        if (!rc && dg->lines - g.merge_count > top_limit && isfinite(r))
+            *too_many = 1;
+        else if (!rc && g.merge_count < dg->lines - 1)
+            rc = link_top(&g, dg, r);
+    }
+    engine_free(&g);
+    return rc;
+}
+
+int lc_dendrogram_build_samples(const lc_line_samples *ls, const lc_cluster_desc *desc, lc_dendrogram **out,
+                                lc_error *err)
+{
+    lc_cluster_desc dd = desc ? *desc : (lc_cluster_desc){0};
+    *out = NULL;
+    if (!ls || ls->lines == 0)
+        return lc_err(err, LC_ERR_INVALID, "clustering needs at least one line");
+    if (!(dd.lift_importance >= 0) || !(dd.lift_color >= 0) || !isfinite(dd.lift_importance) ||
+        !isfinite(dd.lift_color))
+        return lc_err(err, LC_ERR_INVALID, "clustering: lift weights must be finite and >= 0");
+    if ((unsigned)dd.linkage > LC_LINKAGE_AVERAGE)
+        return lc_err(err, LC_ERR_INVALID, "clustering: unknown linkage %d", (int)dd.linkage);
+    double t0 = now_seconds();
+    uint32_t line_count = ls->lines;
+    int k = ls->k;
+    lc_dendrogram *dg = calloc(1, sizeof *dg);
+    if (!dg)
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory");
+    dg->lines = line_count;
+    dg->k = k;
+    size_t stride = (size_t)k * DIM;
+    dg->samples = malloc((size_t)line_count * stride * sizeof *dg->samples);
+    dg->mean_g = malloc((size_t)line_count * sizeof *dg->mean_g);
+    dg->merges = malloc((size_t)(line_count > 1 ? line_count - 1 : 1) * sizeof *dg->merges);
+    box *bx = malloc((size_t)line_count * sizeof *bx);
+    if (!dg->samples || !dg->mean_g || !dg->merges || !bx) {
+        free(bx);
+        lc_dendrogram_destroy(dg);
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory for %u lines", line_count);
+    }
+    /* The lift of DLS Eq. 2. */
+    for (uint32_t i = 0; i < line_count; i++) {
+        float *s = dg->samples + i * stride;
+        double gsum = 0;
+        for (int p = 0; p < k; p++) {
+            size_t q = (size_t)i * k + p;
+            float g = dd.importance ? dd.importance[q] : 0, c = dd.color ? dd.color[q] : 0;
+            s[p * DIM + 0] = ls->xyz[3 * q];
+            s[p * DIM + 1] = ls->xyz[3 * q + 1];
+            s[p * DIM + 2] = ls->xyz[3 * q + 2];
+            s[p * DIM + 3] = dd.lift_importance * g;
+            s[p * DIM + 4] = dd.lift_color * c;
+            gsum += g;
+        }
+        dg->mean_g[i] = dd.importance ? (float)(gsum / k) : ls->length[i];
+        for (int j = 0; j < DIM; j++) {
+            bx[i].lo[j] = FLT_MAX;
+            bx[i].hi[j] = -FLT_MAX;
+        }
+        for (int p = 0; p < k; p++)
+            for (int j = 0; j < DIM; j++) {
+                bx[i].lo[j] = fminf(bx[i].lo[j], s[p * DIM + j]);
+                bx[i].hi[j] = fmaxf(bx[i].hi[j], s[p * DIM + j]);
+            }
+    }
+    uint32_t top_limit = dd.top_clusters ? dd.top_clusters : DEFAULT_TOP_CLUSTERS;
+    /* Large sets need more neighbours for the pruned stage to leave at most
+     * top_limit clusters; starting near that saves repeated stages (10^4
+     * tornado lines needed about 1000 lower-bound neighbours). */
+    uint32_t neighbours = dd.neighbours ? dd.neighbours : DEFAULT_NEIGHBOURS;
+    if (!dd.neighbours && line_count / 16 > neighbours)
+        neighbours = line_count / 16;
+    int rc = 0;
+    if (line_count > 1) {
+        /* Small sets link every pair; larger ones prune at a radius that grows
+         * until the sparse stage leaves few enough clusters for the top. */
+        float r = line_count <= DENSE_LINES && !dd.neighbours ? INFINITY : prune_radius(dg, bx, neighbours);
+        for (;;) {
+            int too_many;
+            dg->stats.attempts++;
+            dg->stats.pairs_tested = 0;
+            dg->stats.prune_radius = r;
+            rc = build_with_radius(dg, bx, r, top_limit, dd.linkage, &too_many);
+            if (rc || !too_many)
+                break;
+            neighbours = neighbours < line_count / 4 ? 4 * neighbours : line_count;
+            float r2 = neighbours >= line_count ? INFINITY : prune_radius(dg, bx, neighbours);
+            r = r2 > 2.0f * r ? r2 : 2.0f * r;
+        }
+    }
+    free(bx);
+    if (rc) {
+        lc_dendrogram_destroy(dg);
+        return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory linking %u lines", line_count);
+    }
+    dg->stats.seconds = now_seconds() - t0;
+    LC_INFO("cluster", "%u lines, %s linkage: %.2f s, %u attempt(s), radius %.4g, %llu pairs measured, %u top clusters",
+            line_count, lc_linkage_name(dd.linkage), dg->stats.seconds, dg->stats.attempts, dg->stats.prune_radius,
+            (unsigned long long)dg->stats.pairs_tested, dg->stats.top_clusters);
+    *out = dg;
+    return 0;
+}
+
+int lc_dendrogram_build(const float *positions, const uint32_t *offsets, uint32_t line_count,
+                        const lc_cluster_desc *desc, lc_dendrogram **out, lc_error *err)
+{
+    lc_cluster_desc dd = desc ? *desc : (lc_cluster_desc){0};
+    const float *channels[2];
+    int n = 0;
+    if (dd.importance)
+        channels[n++] = dd.importance;
+    if (dd.color)
+        channels[n++] = dd.color;
+    lc_line_samples *ls = NULL;
+    *out = NULL;
+    int rc = lc_line_samples_create(positions, offsets, line_count, dd.samples, channels, n, &ls, err);
+    if (rc)
+        return rc;
+    size_t per = (size_t)ls->lines * ls->k;
+    dd.importance = desc && desc->importance ? ls->values : NULL;
+    dd.color = desc && desc->color ? ls->values + (dd.importance ? per : 0) : NULL;
+    rc = lc_dendrogram_build_samples(ls, &dd, out, err);
+    lc_line_samples_destroy(ls);
+    return rc;
+}
+
+void lc_dendrogram_destroy(lc_dendrogram *d)
+{
+    if (!d)
+        return;
+    free(d->samples);
+    free(d->mean_g);
+    free(d->merges);
+    free(d);
+}
+
+uint32_t lc_dendrogram_lines(const lc_dendrogram *d) { return d ? d->lines : 0; }
+
+void lc_dendrogram_stats(const lc_dendrogram *d, lc_cluster_stats *out) { *out = d->stats; }
+
+size_t lc_dendrogram_bytes(const lc_dendrogram *d)
+{
+    if (!d)
+        return 0;
+    return sizeof *d + (size_t)d->lines * ((size_t)d->k * DIM * sizeof(float) + sizeof(float) + sizeof(merge));
+}

@@ -88,7 +88,7 @@ void lc_renderer_destroy(lc_renderer *r)
     glDeleteFramebuffers(1, &r->nofb);
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
-                     r->point_histogram,   r->point_list};
+                     r->point_histogram,   r->point_list,         r->element_behind};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
@@ -115,8 +115,8 @@ static void ensure_element_buffers(lc_renderer *r, uint32_t count)
 {
     if (count <= r->element_capacity && r->element_alpha)
         return;
-    GLuint *bufs[] = {&r->element_alpha_min, &r->element_alpha, &r->smooth_a, &r->smooth_b};
-    for (int i = 0; i < 4; i++) {
+    GLuint *bufs[] = {&r->element_alpha_min, &r->element_alpha, &r->smooth_a, &r->smooth_b, &r->element_behind};
+    for (int i = 0; i < 5; i++) {
         if (*bufs[i])
             glDeleteBuffers(1, bufs[i]);
         glCreateBuffers(1, bufs[i]);
@@ -127,7 +127,7 @@ static void ensure_element_buffers(lc_renderer *r, uint32_t count)
         glNamedBufferStorage(r->stats, 16, NULL, GL_DYNAMIC_STORAGE_BIT);
     }
     r->element_capacity = count;
-    r->bytes_elements = (uint64_t)(count ? count : 1) * 16 + 16;
+    r->bytes_elements = (uint64_t)(count ? count : 1) * 20 + 16;
 }
 
 /* The RGBA8 image every method ends in; a depth buffer only for the opaque

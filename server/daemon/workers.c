@@ -634,6 +634,7 @@ static void encode_one(lc_workers *w, encode_item *e)
         h.top_decile_alpha = e->info.top_decile_alpha;
         h.bottom_half_alpha = e->info.bottom_half_alpha;
         h.covered_fraction = e->info.covered_fraction;
+        h.occluder_alpha = e->info.occluder_alpha;
     }
     unsigned char *msg = NULL;
     size_t len = 0;

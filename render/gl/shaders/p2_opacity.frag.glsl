@@ -32,4 +32,5 @@ void main()
     float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind));
     // Non-negative floats order like their bit patterns.
     atomicMin(element_alpha_min[fragment_element()], floatBitsToUint(alpha));
+    add_behind(fragment_element(), behind);
 }

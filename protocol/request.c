@@ -168,6 +168,7 @@ static const field fields[] = {
      (long)OFF(render.importance.has_range), NULL},
     {"importance", "exponent", "importanceExponent", T_NUM, 0, 1000, LO_OPEN, OFF(render.importance.exponent), 0,
      NOFLAG, NULL},
+    {"importance", "invert", "importanceInvert", T_BOOL, 0, 0, 0, OFF(render.importance.invert), 0, NOFLAG, NULL},
 
     {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
     {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG, colormap_names},

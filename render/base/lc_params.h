@@ -98,6 +98,7 @@ typedef struct lc_importance_map {
     double range[2];
     bool has_range; /* false = the attribute's own min/max */
     double exponent;
+    bool invert; /* g of 1 - the mapped value: smaller values matter more (the range stays as given) */
 } lc_importance_map;
 
 typedef struct lc_color_map {

@@ -165,6 +165,10 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
         int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
         fs->importance_range[0] = p->importance.has_range ? p->importance.range[0] : robust ? a->auto_lo : a->min;
         fs->importance_range[1] = p->importance.has_range ? p->importance.range[1] : robust ? a->auto_hi : a->max;
+        if (p->importance.invert) { /* the mapping inverts a range given max first */
+            double lo = fs->importance_range[0];
+            fs->importance_range[0] = fs->importance_range[1], fs->importance_range[1] = lo;
+        }
     }
     fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
 

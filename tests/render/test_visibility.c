@@ -3,7 +3,8 @@
  * occluderAlpha of the exact method against a CPU computation from the exact
  * opacities (foo_math.c) and the exact importance behind each quad; the
  * Fourier path against the same figures within its estimate's error. An
- * unimportant quad in front of nothing weighs nothing in occluderAlpha. */
+ * unimportant quad in front of nothing weighs nothing in occluderAlpha.
+ * importance.invert gives the image of the range given max first. */
 #include <math.h>
 
 #include "camera.h"
@@ -86,6 +87,38 @@ static void check(test_gl *t, const char *what, const test_quad *q, int n, lc_me
     lc_scene_destroy(s);
 }
 
+/* importance.invert: the same pixels as the range [1, 0], others than [0, 1]. */
+static void check_invert(test_gl *t, const test_quad *q, int n)
+{
+    enum { SIZE = 32 };
+    lc_scene *s = test_quad_scene(q, n);
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    CHECK(s && lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
+    uint8_t *img[3];
+    lc_frame_info info[3];
+    for (int k = 0; k < 3 && gs; k++) {
+        lc_render_params p;
+        test_quad_params(&p, SIZE);
+        p.importance.invert = k == 1;
+        p.importance.range[0] = k == 2 ? 1 : 0, p.importance.range[1] = k == 2 ? 0 : 1;
+        img[k] = malloc(SIZE * SIZE * 4);
+        CHECK(lc_render_frame(t->renderer, gs, &p, NULL, 0, img[k], &info[k], &err) == 0, "render: %s", err.msg);
+    }
+    if (gs) {
+        CHECK(memcmp(img[1], img[2], SIZE * SIZE * 4) == 0, "invert renders as the range [1, 0]");
+        CHECK(memcmp(img[0], img[1], SIZE * SIZE * 4) != 0, "invert changes the image");
+        CHECK(info[1].top_decile_alpha == info[2].top_decile_alpha &&
+                  info[1].occluder_alpha == info[2].occluder_alpha,
+              "invert reports as the range [1, 0]");
+        printf("invert: top decile %.4f (not inverted %.4f)\n", info[1].top_decile_alpha, info[0].top_decile_alpha);
+        for (int k = 0; k < 3; k++)
+            free(img[k]);
+    }
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
     test_gl t;
@@ -106,6 +139,7 @@ int main(void)
     const test_quad context[4] = {
         {0.4, 0.9, {1, 0, 0}, 2}, {0.2, 0.7, {0, 1, 0}, 2}, {0.0, 0.1, {0, 0, 1}, 2}, {-0.2, 0.0, {1, 1, 0}, 2}};
     check(&t, "context behind", context, 4, LC_METHOD_EXACT, 2e-3);
+    check_invert(&t, hiding, 5);
     test_gl_close(&t);
     return lc_test_finish();
 }

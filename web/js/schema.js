@@ -35,6 +35,7 @@ export const FIELDS = Object.freeze([
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },
   { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true },
+  { section: 'importance', name: 'invert', alias: 'importanceInvert', type: 'bool' },
 
   { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63 },
   {

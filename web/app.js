@@ -95,10 +95,10 @@ function showValues() {
       let v = getPath(values, c.path);
       if (c.path === 'importance.attribute' && !v) v = state.info?.defaultImportance;
       if (c.path === 'color.attribute' && !v) v = state.info?.defaultColor ?? 'importance';
-      if (v === undefined && c.path === 'importance.range') v = attributeRange(state.info, values.importance?.attribute || state.info?.defaultImportance);
+      if (v === undefined && c.path === 'importance.range') v = attributeRange(state.info, values.importance?.attribute || state.info?.defaultImportance, values.params?.normalize);
       if (v === undefined && c.path === 'color.range') {
         const by = values.color?.attribute || state.info?.defaultColor || 'importance';
-        v = by === 'importance' ? [0, 1] : attributeRange(state.info, by);
+        v = by === 'importance' ? [0, 1] : attributeRange(state.info, by, values.params?.normalize);
       }
       panel.setValue(c.path, v);
     }
@@ -140,7 +140,7 @@ function applyChange(path, value) {
   // attribute's range would not fit, and the server would keep it); importance is [0, 1]
   if (path === 'importance.attribute' || path === 'color.attribute') {
     const section = path.split('.')[0];
-    let r = value === 'importance' && section === 'color' ? [0, 1] : attributeRange(state.info, value);
+    let r = value === 'importance' && section === 'color' ? [0, 1] : attributeRange(state.info, value, currentValues().params?.normalize);
     if (r && r[0] === r[1]) r = [r[0] - 0.5, r[1] + 0.5];
     if (r) setPath(change, `${section}.range`, r);
     else if (state.update[section]) delete state.update[section].range;

@@ -188,8 +188,12 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
         if (fs->color_attr < 0)
             return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no attribute \"%s\"", s->name, col);
         fs->color_mode = 0;
-        fs->color_range[0] = s->attributes[fs->color_attr].min;
-        fs->color_range[1] = s->attributes[fs->color_attr].max;
+        /* The same range as importance: auto drops the outliers, so one
+         * extreme value cannot turn the picture one colour. */
+        const lc_attribute *a = &s->attributes[fs->color_attr];
+        int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
+        fs->color_range[0] = robust ? a->auto_lo : a->min;
+        fs->color_range[1] = robust ? a->auto_hi : a->max;
     }
     if (p->color.has_range)
         fs->color_range[0] = p->color.range[0], fs->color_range[1] = p->color.range[1];

@@ -39,6 +39,7 @@ typedef struct dump_load {
 
     /* The first frame's choice of columns. */
     int src, images, nattr, have_columns;
+    int typed; /* the first row has decided which attribute columns hold numbers */
     char attr_name[MAX_ATTR][LC_NAME_LEN];
     /* The current frame. */
     int ncol, col_id, col_pos[3], col_img[3], col_attr[MAX_ATTR];
@@ -415,6 +416,22 @@ static int atom_row(dump_load *D, const char *ls, const char *le)
         if (D->images && (!field_number(fs[c], fe[c], &img[k]) || img[k] != floor(img[k]) || fabs(img[k]) > 1e9))
             return fail(D, LC_ERR_INVALID, "image flag '%.*s' is not an integer",
                         (int)(fe[c] - fs[c] < 40 ? fe[c] - fs[c] : 40), fs[c]);
+    }
+    if (!D->typed) { /* text columns (element names) are skipped, as point tables skip them */
+        for (int j = 0; j < D->nattr; j++) {
+            double x;
+            c = D->col_attr[j];
+            if (field_number(fs[c], fe[c], &x))
+                continue;
+            if (lc_io_part_speaks(D->part))
+                LC_WARN(LC_IO_LOG, "%s: line %zu: column '%s' is not numeric, skipped", D->file, D->line,
+                        D->attr_name[j]);
+            D->nattr--;
+            memmove(D->attr_name[j], D->attr_name[j + 1], (size_t)(D->nattr - j) * sizeof D->attr_name[0]);
+            memmove(&D->col_attr[j], &D->col_attr[j + 1], (size_t)(D->nattr - j) * sizeof D->col_attr[0]);
+            j--;
+        }
+        D->typed = 1;
     }
     for (int j = 0; j < D->nattr; j++) {
         double x;

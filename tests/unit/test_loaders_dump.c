@@ -174,6 +174,24 @@ static void test_vanishing(void)
     lc_scene_destroy(s);
 }
 
+/* A text column (element names) is skipped; the numeric ones stay. */
+static void test_text_column(void)
+{
+    const char *text = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n0 10\n0 10\n0 10\n"
+                       "ITEM: ATOMS id element xu yu zu q\n1 C 1 2 3 0.5\n"
+                       "ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n0 10\n0 10\n0 10\n"
+                       "ITEM: ATOMS id element xu yu zu q\n1 C 1 2 4 0.25\n";
+    lc_error err;
+    lc_scene *s = load_text(text, &err);
+    CHECK(s != NULL, "text column: %s", err.msg);
+    if (!s)
+        return;
+    const float *q = attr(s, "q");
+    CHECK(lc_scene_find_attribute(s, "element") < 0 && s->attribute_count == 3 && q && q[0] == 0.5f && q[1] == 0.25f,
+          "element skipped, q kept (%d attributes)", s->attribute_count);
+    lc_scene_destroy(s);
+}
+
 /* Minimum-image unwrapping needs the periodic axes: a jump along a fixed
  * (ff) axis stays a jump. */
 static void test_fixed_axis(void)
@@ -242,6 +260,7 @@ int main(void)
     test_triclinic();
     test_vanishing();
     test_fixed_axis();
+    test_text_column();
     test_errors();
     /* Through the dispatcher, by both extensions. */
     lc_scene *s = NULL;

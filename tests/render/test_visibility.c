@@ -108,8 +108,7 @@ static void check_invert(test_gl *t, const test_quad *q, int n)
     if (gs) {
         CHECK(memcmp(img[1], img[2], SIZE * SIZE * 4) == 0, "invert renders as the range [1, 0]");
         CHECK(memcmp(img[0], img[1], SIZE * SIZE * 4) != 0, "invert changes the image");
-        CHECK(info[1].top_decile_alpha == info[2].top_decile_alpha &&
-                  info[1].occluder_alpha == info[2].occluder_alpha,
+        CHECK(info[1].top_decile_alpha == info[2].top_decile_alpha && info[1].occluder_alpha == info[2].occluder_alpha,
               "invert reports as the range [1, 0]");
         printf("invert: top decile %.4f (not inverted %.4f)\n", info[1].top_decile_alpha, info[0].top_decile_alpha);
         for (int k = 0; k < 3; k++)

@@ -484,13 +484,15 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
                           "quality", h->quality, "cameraSeq", (json_int_t)h->camera_seq, "converged", (int)h->converged,
                           "timings", timings, "encodeMs", h->encode_ms);
     if (o && h->has_visibility) {
-        if (!isfinite(h->top_decile_alpha) || !isfinite(h->bottom_half_alpha) || !isfinite(h->covered_fraction)) {
+        if (!isfinite(h->top_decile_alpha) || !isfinite(h->bottom_half_alpha) || !isfinite(h->covered_fraction) ||
+            !isfinite(h->occluder_alpha)) {
             json_decref(o);
             return LC_ERR_INVALID;
         }
         json_object_set_new(o, "visibility",
-                            json_pack("{s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
-                                      h->bottom_half_alpha, "coveredFraction", h->covered_fraction));
+                            json_pack("{s:f, s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
+                                      h->bottom_half_alpha, "coveredFraction", h->covered_fraction, "occluderAlpha",
+                                      h->occluder_alpha));
     }
     if (o && h->has_detail) {
         if (!isfinite(h->lod_pixels) || !isfinite(h->render_ms) || h->level < 0 || h->point_stride < 1 ||
@@ -594,11 +596,11 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
     }
     const json_t *vis = json_object_get(o, "visibility");
     if (vis) {
-        static const char *const keys[] = {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction"};
-        double *dst[] = {&h->top_decile_alpha, &h->bottom_half_alpha, &h->covered_fraction};
-        for (int i = 0; i < 3; i++) {
+        static const char *const keys[] = {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction", "occluderAlpha"};
+        double *dst[] = {&h->top_decile_alpha, &h->bottom_half_alpha, &h->covered_fraction, &h->occluder_alpha};
+        for (int i = 0; i < 4; i++) {
             const json_t *v = json_is_object(vis) ? json_object_get(vis, keys[i]) : NULL;
-            double x = json_is_number(v) ? json_number_value(v) : -1;
+            double x = json_is_number(v) ? json_number_value(v) : i == 3 && !v ? 0 : -1; /* occluderAlpha came later */
             if (!(x >= 0 && x <= 1)) {
                 status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility",
                                             "expected an object of numbers in [0, 1] (%s)", keys[i]);

@@ -137,6 +137,7 @@ typedef struct lc_frame_header {
      * elements are in this frame (docs/ALGORITHM.md "Visibility report"). */
     bool has_visibility;
     double top_decile_alpha, bottom_half_alpha, covered_fraction;
+    double occluder_alpha; /* "occluderAlpha"; 0 when a sender omits it */
     /* "detail" (optional): what the frame drew (docs/ALGORITHM.md "Level of
      * detail and interactive frames"). */
     bool has_detail;

@@ -186,6 +186,7 @@ static const field fields[] = {
      NULL},
     {"importance", "curve", "importanceCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.importance.curve), 0,
      NOFLAG, NULL},
+    {"importance", "invert", "importanceInvert", T_BOOL, 0, 0, 0, OFF(render.importance.invert), 0, NOFLAG, NULL},
 
     {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
     {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG, colormap_names},

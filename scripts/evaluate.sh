@@ -346,6 +346,7 @@ cat <<'EOF'
 
 EOF
 "$ROOT/scripts/evaluate_normalize.sh" "$LUCENT" "$(dirname "$OUT")"
+"$ROOT/scripts/evaluate_corpus.sh" "$LUCENT" "$(dirname "$OUT")"
 if [ -s "$TMP/peers.md" ]; then
     echo
     cat "$TMP/peers.md"

@@ -47,8 +47,8 @@ if [ -n "$real" ]; then
          { print }' "$real/bunny.ply" > "$TMP/bunny-height.ply"
     cat <<'MD'
 
-Real files (`scripts/real_data.sh`: CGAL's point sets and meshes from Debian's libcgal-demo; Debian 12 has no
-large real line data), each with its default importance attribute, at 512x512:
+Real files (`scripts/real_data.sh`: CGAL's point sets and meshes from Debian's libcgal-demo; the corpus
+subsection below adds real trajectories and stars), each with its default importance attribute, at 512x512:
 
 | file | what | importance | off: top decile | off: bottom half | auto: top decile | auto: bottom half | goal met (off / auto) | SSIM auto/off |
 |---|---|---|---|---|---|---|---|---|

@@ -1,9 +1,16 @@
 #!/bin/sh
-# Fetches the real point clouds and meshes that docs/EVALUATION.md §7 renders
-# with the density normalization: scans and reconstructions from CGAL's demo
-# data (Debian package libcgal-demo, downloaded with apt-get, not installed)
-# into build/real-data/. Debian 12 ships no large real line data (see
-# bench_peers_data.sh); these are the real point sets and meshes it has.
+# Fetches the real-data corpus that docs/EVALUATION.md §7 renders with
+# defaults: scans and reconstructions from CGAL's demo data (Debian package
+# libcgal-demo), a molecular-dynamics trajectory from votca-tutorials and the
+# Hipparcos star catalogue of kstars-data (each package downloaded with
+# apt-get, never installed) into build/real-data/.
+#   thiophene.dump      LAMMPS dump, 9,000 atoms x 100 frames (id type xs ys zs,
+#                       periodic box): 9,000 trajectories, 891,000 segments
+#   stars.csv           124,608 Hipparcos/Tycho stars: x,y,z in parsecs (sun at
+#                       the origin, equatorial axes: x toward RA 0, z toward
+#                       the north pole; distance 1000/parallax, parallaxes
+#                       below 1 mas clamped to 1000 pc, stars without one
+#                       skipped), magnitude (visual; larger = fainter), bv
 #   building.ply        100,000 points of a building with segment_index
 #   ball.ply             31,374 points with segment_index
 #   b9_training.ply      22,300 airborne LIDAR points with RGB and a class label
@@ -49,5 +56,41 @@ if [ "$missing" = 1 ]; then
              state == 3 { if ($1 != 3) { print "not a triangle" > "/dev/stderr"; exit 1 } print $1, $2, $3, $4 }' \
             "$TMP/data/meshes/${m%%:*}.off" > "$DIR/${m#*:}.ply"
     done
+fi
+
+# Fetches Debian package $1 into a fresh folder and unpacks it there; prints the folder.
+unpack() {
+    t=$(mktemp -d)
+    (cd "$t" && apt-get download "$1" >/dev/null 2>&1) || {
+        echo "real_data.sh: apt-get download $1 failed (no Debian mirror?)" >&2
+        rm -rf "$t"
+        exit 1
+    }
+    dpkg-deb -x "$t/$1"_*.deb "$t/x"
+    echo "$t"
+}
+
+if [ ! -s "$DIR/thiophene.dump" ]; then
+    T=$(unpack votca-tutorials)
+    cp "$T/x/usr/share/votca/xtp-tutorials/LAMMPS/Thiophene/MD_FILES/traj.dump" "$DIR/thiophene.dump"
+    rm -rf "$T"
+fi
+
+if [ ! -s "$DIR/stars.csv" ]; then
+    T=$(unpack kstars-data)
+    # Fixed-width rows: RA hhmmss.ss (columns 1-9), Dec +-ddmmss.s (11-19),
+    # parallax in mas (39-45), visual magnitude (46-51), B-V (52-56).
+    awk 'BEGIN { print "x,y,z,magnitude,bv"; d2r = atan2(1, 0) / 90 }
+         /^#/ || length($0) < 56 { next }
+         { ra = substr($0, 1, 9); de = substr($0, 11, 9); plx = substr($0, 39, 7) + 0
+           if (plx <= 0) next
+           a = 15 * (substr(ra, 1, 2) + substr(ra, 3, 2) / 60 + substr(ra, 5) / 3600) * d2r
+           s = substr(de, 1, 1) == "-" ? -1 : 1
+           d = s * (substr(de, 2, 2) + substr(de, 4, 2) / 60 + substr(de, 6) / 3600) * d2r
+           r = plx < 1 ? 1000 : 1000 / plx
+           printf "%.4f,%.4f,%.4f,%.2f,%.2f\n", r * cos(d) * cos(a), r * cos(d) * sin(a), r * sin(d),
+                  substr($0, 46, 6) + 0, substr($0, 52, 5) + 0 }' \
+        "$T/x/usr/share/kstars/stars.dat" > "$DIR/stars.csv"
+    rm -rf "$T"
 fi
 echo "$DIR"

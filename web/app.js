@@ -196,10 +196,10 @@ export function createApp(doc = document, win = window) {
         let x = getPath(v, c.path);
         if (c.path === 'importance.attribute' && !x) x = state.info?.defaultImportance;
         if (c.path === 'color.attribute' && !x) x = state.info?.defaultColor ?? 'importance';
-        if (x === undefined && c.path === 'importance.range') x = attributeRange(state.info, v.importance?.attribute || state.info?.defaultImportance);
+        if (x === undefined && c.path === 'importance.range') x = attributeRange(state.info, v.importance?.attribute || state.info?.defaultImportance, v.params?.normalize);
         if (x === undefined && c.path === 'color.range') {
           const by = v.color?.attribute || state.info?.defaultColor || 'importance';
-          x = by === 'importance' ? [0, 1] : attributeRange(state.info, by);
+          x = by === 'importance' ? [0, 1] : attributeRange(state.info, by, v.params?.normalize);
         }
         panel.setValue(c.path, x);
       }

@@ -130,6 +130,7 @@ typedef struct lc_importance_map {
     int term_count; /* 0: the single form above */
     lc_importance_term terms[LC_MAX_IMPORTANCE_TERMS];
     lc_curve curve; /* transfer function of clamp(t) before the exponent; no points = identity */
+    bool invert; /* g of 1 - the mapped value: smaller values matter more (the range stays as given) */
 } lc_importance_map;
 
 /* Hard filters (docs/ALGORITHM.md "Filters"): a line (or, for points, a point)

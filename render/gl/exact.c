@@ -86,7 +86,8 @@ static int ensure_programs(exact_state *st, lc_error *err)
 {
     char defines[96];
     if (!st->opacity) {
-        static const char *const cs[] = {"exact_common.glsl", "mass_common.glsl", "exact_opacity.comp.glsl", NULL};
+        static const char *const cs[] = {"exact_common.glsl", "mass_common.glsl", "occluders.glsl",
+                                         "exact_opacity.comp.glsl", NULL};
         snprintf(defines, sizeof defines, "#define EXACT_MAX_LAYERS %d\n#define EXACT_SUM_IMPORTANCE 1\n", MAX_LAYERS);
         st->opacity = lc_renderer_build_program(defines, NULL, NULL, cs, "exact opacity", err);
     }
@@ -222,6 +223,7 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     /* Exact sums and FOO Eq. 10, atomic-min per element (as P2). */
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" (p3_smooth.comp.glsl) */
     glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
+    lc_occluders_clear(r);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     lc_mass_clear(r);
     glUseProgram(st->opacity);

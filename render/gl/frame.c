@@ -89,7 +89,8 @@ void lc_renderer_destroy(lc_renderer *r)
     glDeleteFramebuffers(1, &r->nofb);
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
-                     r->point_histogram,   r->point_list,         r->line_mask};
+                     r->point_histogram,   r->point_list,         r->line_mask,
+                     r->element_behind};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
@@ -120,8 +121,8 @@ static void ensure_element_buffers(lc_renderer *r, uint32_t count)
 {
     if (count <= r->element_capacity && r->element_alpha)
         return;
-    GLuint *bufs[] = {&r->element_alpha_min, &r->element_alpha, &r->smooth_a, &r->smooth_b};
-    for (int i = 0; i < 4; i++) {
+    GLuint *bufs[] = {&r->element_alpha_min, &r->element_alpha, &r->smooth_a, &r->smooth_b, &r->element_behind};
+    for (int i = 0; i < 5; i++) {
         if (*bufs[i])
             glDeleteBuffers(1, bufs[i]);
         glCreateBuffers(1, bufs[i]);
@@ -132,7 +133,7 @@ static void ensure_element_buffers(lc_renderer *r, uint32_t count)
         glNamedBufferStorage(r->stats, 16, NULL, GL_DYNAMIC_STORAGE_BIT);
     }
     r->element_capacity = count;
-    r->bytes_elements = (uint64_t)(count ? count : 1) * 16 + 16;
+    r->bytes_elements = (uint64_t)(count ? count : 1) * 20 + 16;
 }
 
 /* The RGBA8 image every method ends in; a depth buffer only for the opaque
@@ -217,6 +218,10 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
         default_range(p, &s->attributes[fs->importance_attr], fs->importance_range);
         if (p->importance.has_range)
             fs->importance_range[0] = p->importance.range[0], fs->importance_range[1] = p->importance.range[1];
+        if (p->importance.invert) { /* the mapping inverts a range given max first */
+            double lo = fs->importance_range[0];
+            fs->importance_range[0] = fs->importance_range[1], fs->importance_range[1] = lo;
+        }
     }
     fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
     fs->terms.curve_count = p->importance.curve.count;
@@ -240,8 +245,12 @@ static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
         if (fs->color_attr < 0)
             return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no attribute \"%s\"", s->name, col);
         fs->color_mode = 0;
-        fs->color_range[0] = s->attributes[fs->color_attr].min;
-        fs->color_range[1] = s->attributes[fs->color_attr].max;
+        /* The same range as importance: auto drops the outliers, so one
+         * extreme value cannot turn the picture one colour. */
+        const lc_attribute *a = &s->attributes[fs->color_attr];
+        int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
+        fs->color_range[0] = robust ? a->auto_lo : a->min;
+        fs->color_range[1] = robust ? a->auto_hi : a->max;
     }
     if (p->color.has_range)
         fs->color_range[0] = p->color.range[0], fs->color_range[1] = p->color.range[1];

@@ -131,7 +131,7 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_p1[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
                                         "p1_importance.frag.glsl", NULL};
     static const char *const fs_p2[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
-                                        "p2_opacity.frag.glsl", NULL};
+                                        "occluders.glsl", "p2_opacity.frag.glsl", NULL};
     static const char *const fs_p4[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
                                         "p4_optical_depth.frag.glsl", NULL};
     static const char *const fs_p5[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",

@@ -52,8 +52,8 @@ void lc_gpu_scene_memory(const lc_gpu_scene *gs, lc_gpu_memory *out);
 void lc_gpu_scene_estimate(const lc_scene *scene, const lc_gpu_scene_desc *desc, lc_gpu_memory *out);
 /* Bytes per element that each renderer (render worker) holds for the largest
  * scene it has drawn: opacity buffers, smoothing ping-pong and the importance
- * cache of the visibility report. */
-#define LC_RENDERER_BYTES_PER_ELEMENT 20u
+ * cache and occluder weights of the visibility report. */
+#define LC_RENDERER_BYTES_PER_ELEMENT 24u
 /* Levels of detail (1 = full detail only) and the bytes of those beyond the
  * first (included in lc_gpu_scene_bytes). */
 int lc_gpu_scene_levels(const lc_gpu_scene *gs);
@@ -152,6 +152,9 @@ typedef struct lc_frame_info {
     uint32_t visible_elements;
     double top_decile_alpha;  /* mean opacity of the 10% most important */
     double bottom_half_alpha; /* mean opacity of the least important half */
+    /* Mean opacity of the least important half, each element weighted by the
+     * importance mass behind its fragments (0 when they hide nothing). */
+    double occluder_alpha;
     /* Exact method only (0 otherwise): */
     uint64_t fragments;         /* fragments rasterized at full resolution (stored + dropped) */
     uint64_t dropped_fragments; /* fragments lost because the node pool was full */

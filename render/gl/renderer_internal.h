@@ -45,6 +45,7 @@
     X(BIND_VISIBLE_OUT, 23)  /* filter.c: the mask being written */                                                   \
     X(BIND_ADJ_WEIGHTS, 24) /* params.smoothingWeights "distance" */                                                  \
     X(BIND_LINE_MASK, 25)   /* line_clusters.c: one bit per vertex, 1 = drawn */                                       \
+    X(BIND_ELEMENT_BEHIND, 26) /* importance mass behind each element's fragments (occluders.glsl) */                 \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -185,6 +186,7 @@ struct lc_renderer {
     int nofb_w, nofb_h;
     /* per-element buffers, grown to the largest scene */
     GLuint element_alpha_min, element_alpha, smooth_a, smooth_b, stats;
+    GLuint element_behind; /* per element: importance mass behind its fragments (visibility report) */
     uint32_t element_capacity;
     GLuint mass_histogram;     /* MASS_BINS counts (visibility.c) */
     GLuint element_importance; /* 2 uints per element: fixed-point sum, count */
@@ -425,6 +427,9 @@ int lc_reduce_check_method(const lc_renderer *r, lc_method method, lc_error *err
 /* Clears the mass histogram; the passes that know each pixel's total sum of
  * g^2 fill it (lc_mass_histogram_fourier, the exact opacity pass). */
 void lc_mass_clear(lc_renderer *r);
+/* Zeroes the occluder weights and binds them for P2 or the exact opacity pass
+ * (occluders.glsl). */
+void lc_occluders_clear(lc_renderer *r);
 /* Counts the P1 zeroth coefficients of coef_low into the histogram. */
 int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* Reads the histogram back into the mass fields of info. */

@@ -1,7 +1,8 @@
 /* The frame's density and visibility report (docs/ALGORITHM.md "Visibility
  * report"): a histogram of each pixel's total importance mass (how dense the
  * data is where it covers the image), and from the element opacities after P3
- * how visible the important and the unimportant elements are. */
+ * how visible the important and the unimportant elements are, and how opaque
+ * the unimportant ones are where they hide importance. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,6 +64,13 @@ void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *inf
     info->mass_median = covered ? mass_rank(hist, covered, 0.5) : 0.0;
     info->mass_p95 = covered ? mass_rank(hist, covered, 0.95) : 0.0;
     info->covered_fraction = (double)covered / ((double)fs->low_width * fs->low_height);
+}
+
+void lc_occluders_clear(lc_renderer *r)
+{
+    const uint32_t zero = 0;
+    glClearNamedBufferData(r->element_behind, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_BEHIND, r->element_behind);
 }
 
 static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
@@ -142,6 +150,23 @@ static double take_mean(const double *count, const double *sum, double want, int
     return taken > 0 ? acc / taken : 0.0;
 }
 
+/* The least important `want` elements' opacity, each weighted by the mass
+ * behind it (w: per bin the weights, wa: weight x opacity); 0 when that half
+ * hides nothing. */
+static double take_weighted(const double *count, const double *w, const double *wa, double want)
+{
+    double taken = 0, acc_w = 0, acc_wa = 0;
+    for (int k = 0; k < VIS_BINS && taken < want; k++) {
+        if (count[k] <= 0)
+            continue;
+        double part = want - taken < count[k] ? want - taken : count[k];
+        acc_w += w[k] * (part / count[k]);
+        acc_wa += wa[k] * (part / count[k]);
+        taken += part;
+    }
+    return acc_w > 0 ? acc_wa / acc_w : 0.0;
+}
+
 int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float *alphas, lc_frame_info *info,
                           lc_error *err)
 {
@@ -154,22 +179,28 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
     /* Read back in chunks: the report needs no O(elements) scratch (800 MB a
      * frame for 100 M points otherwise). */
     uint32_t chunk = count < VIS_CHUNK ? count : VIS_CHUNK;
-    uint32_t *seen = malloc((size_t)chunk * 4);
+    uint32_t *seen = malloc((size_t)chunk * 4), *behind = malloc((size_t)chunk * 4);
     float *own = alphas ? NULL : malloc((size_t)chunk * 4);
-    if (!seen || (!alphas && !own)) {
+    if (!seen || !behind || (!alphas && !own)) {
         free(seen);
+        free(behind);
         free(own);
         return lc_err(err, LC_ERR_NOMEM, "out of memory (visibility of %u elements)", count);
     }
-    static _Thread_local double n[VIS_BINS], sum[VIS_BINS];
+    static _Thread_local double n[VIS_BINS], sum[VIS_BINS], w[VIS_BINS], wa[VIS_BINS];
     memset(n, 0, sizeof n);
     memset(sum, 0, sizeof sum);
+    memset(w, 0, sizeof w);
+    memset(wa, 0, sizeof wa);
     uint32_t visible = 0;
     for (uint32_t first = 0; first < count; first += chunk) {
         uint32_t m = count - first < chunk ? count - first : chunk;
         glGetNamedBufferSubData(r->element_alpha_min, (GLintptr)first * 4, (GLsizeiptr)m * 4, seen);
         if (!alphas)
             glGetNamedBufferSubData(r->element_alpha, (GLintptr)first * 4, (GLsizeiptr)m * 4, own);
+        glGetNamedBufferSubData(r->element_behind, (GLintptr)first * 4, (GLsizeiptr)m * 4, behind);
+        if ((rc = lc_reduce_counts(r, behind, m, err)) != 0) /* fragments of an element may lie on several ranks */
+            break;
         const float *cur = alphas ? alphas + first : own;
         for (uint32_t i = 0; i < m; i++) {
             float a_min;
@@ -181,14 +212,20 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
             k = k < 0 ? 0 : k >= VIS_BINS ? VIS_BINS - 1 : k;
             n[k] += 1;
             sum[k] += cur[i];
+            w[k] += behind[i] / 4096.0; /* occluders.glsl's units */
+            wa[k] += behind[i] / 4096.0 * cur[i];
             visible++;
         }
     }
     free(seen);
+    free(behind);
     free(own);
+    if (rc)
+        return rc;
     info->has_visibility = 1;
     info->visible_elements = visible;
     info->top_decile_alpha = take_mean(n, sum, ceil(0.1 * visible), -1);
     info->bottom_half_alpha = take_mean(n, sum, ceil(0.5 * visible), +1);
+    info->occluder_alpha = take_weighted(n, w, wa, ceil(0.5 * visible));
     return 0;
 }

@@ -15,6 +15,7 @@ static const struct {
     {".ply", lc_load_ply}, {".obj", lc_load_obj},           {".vtk", lc_load_vtk},   {".trk", lc_load_trk},
     {".tck", lc_load_tck}, {".binlines", lc_load_binlines}, {".csv", lc_load_csv},   {".tsv", lc_load_csv},
     {".xyz", lc_load_csv}, {".trx", lc_load_trx},           {".nc", lc_load_netcdf},
+    {".dump", lc_load_dump}, {".lammpstrj", lc_load_dump},
 };
 
 static path_loader reader_for(const char *path)
@@ -47,7 +48,9 @@ static const struct {
                     {".tsv", lc_load_csv_part, NULL},
                     {".xyz", lc_load_csv_part, NULL},
                     {".ply", lc_load_ply_part, lc_ply_file_is_point_cloud},
-                    {".vtk", lc_load_vtk_part, lc_vtk_file_has_lines}};
+                    {".vtk", lc_load_vtk_part, lc_vtk_file_has_lines},
+                    {".dump", lc_load_dump_part, NULL},
+                    {".lammpstrj", lc_load_dump_part, NULL}};
 
 static part_loader part_reader_for(const char *path)
 {

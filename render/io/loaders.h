@@ -1,12 +1,13 @@
 /* Dataset files: the reader chosen by extension, and every format's own API
  * (ply.h, obj.h, vtk.h, trk.h, tck.h, binlines.h,
- * csv.h, trx.h, nc_trajectories.h) for callers that name a format.
+ * csv.h, trx.h, nc_trajectories.h, dump.h) for callers that name a format.
  * Threading: reentrant; a loaded scene belongs to the caller. */
 #ifndef LC_LOADERS_H
 #define LC_LOADERS_H
 
 #include "binlines.h"
 #include "csv.h"
+#include "dump.h"
 #include "lc_base.h"
 #include "nc_trajectories.h"
 #include "obj.h"
@@ -22,7 +23,8 @@ extern "C" {
 #endif
 
 /* The extensions lc_scene_load_file knows, for messages and help texts. */
-#define LC_DATASET_EXTENSIONS ".ply, .obj, .vtk, .trk, .tck, .trx, .binlines, .nc, .csv, .tsv or .xyz"
+#define LC_DATASET_EXTENSIONS                                                                                          \
+    ".ply, .obj, .vtk, .trk, .tck, .trx, .binlines, .nc, .csv, .tsv, .xyz, .dump or .lammpstrj"
 
 /* 1 when lc_scene_load_file has a reader for the path's extension. */
 int lc_scene_is_dataset_file(const char *path);
@@ -33,7 +35,8 @@ int lc_scene_is_dataset_file(const char *path);
 int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err);
 
 /* The extensions lc_scene_read_file_part reads in parts. */
-#define LC_PART_EXTENSIONS ".trk, .tck, .trx, .binlines, .nc, polyline .vtk, point-cloud .ply, .csv, .tsv and .xyz"
+#define LC_PART_EXTENSIONS                                                                                             \
+    ".trk, .tck, .trx, .binlines, .nc, polyline .vtk, point-cloud .ply, .csv, .tsv, .xyz, .dump and .lammpstrj"
 
 /* 1 when path can be read in parts (a .ply file only when it holds points alone). */
 int lc_scene_can_read_part(const char *path);

@@ -72,9 +72,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene
                             json_pack("{s:s, s:f, s:f}", "mode", p->foo.normalize == LC_NORMALIZE_OFF ? "off" : "auto",
                                       "massMedian", info->mass_median, "massP95", info->mass_p95));
         json_object_set_new(o, "visibility",
-                            json_pack("{s:f, s:f, s:f, s:I}", "topDecileAlpha", info->top_decile_alpha,
+                            json_pack("{s:f, s:f, s:f, s:I, s:f}", "topDecileAlpha", info->top_decile_alpha,
                                       "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
-                                      info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements));
+                                      info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements,
+                                      "occluderAlpha", info->occluder_alpha));
     }
     if (info->reductions)
         json_object_set_new(o, "mpi",
@@ -220,9 +221,9 @@ int lc_cli_render(int argc, char **argv)
     }
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
-               "importance mass per pixel: median %.3g, p95 %.3g\n",
+               "importance mass per pixel: median %.3g, p95 %.3g; occluder alpha %.3f\n",
                info.top_decile_alpha, info.bottom_half_alpha, 100.0 * info.covered_fraction, info.mass_median,
-               info.mass_p95);
+               info.mass_p95, info.occluder_alpha);
     if (stats_path) {
         json_t *o = frame_stats_json(&info, scene, &req.render);
         if (!o || json_dump_file(o, stats_path, JSON_INDENT(2) | JSON_REAL_PRECISION(6)) != 0) {

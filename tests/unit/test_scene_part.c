@@ -1,7 +1,7 @@
 /* lc_scene_read_file_part + lc_scene_finalize_part: 1..4 "processes" (threads
  * with a barrier-based lc_scene_collective) each read only their share of a
  * .binlines, .tck, .trx (directory), NetCDF (with and without an ensemble
- * dimension), polyline .vtk, .csv and point-cloud .ply file, or finalize
+ * dimension), polyline .vtk, .csv, LAMMPS .dump and point-cloud .ply file, or finalize
  * their share of a
  * point cloud cut by hand,
  * and every part must equal, array for array and bit for bit, the shard that
@@ -389,6 +389,30 @@ static void write_csv(const char *path, int with_attribute)
     fclose(f);
 }
 
+/* A LAMMPS dump of `atoms` atoms over `frames` frames in a periodic box,
+ * wrapped without image flags, listed in another order every frame; some
+ * atoms miss a frame (their lines end) or appear once (no line). */
+static void write_dump(const char *path, int atoms, int frames)
+{
+    FILE *f = fopen(path, "w");
+    for (int t = 0; t < frames; t++) {
+        int count = 0;
+        for (int a = 0; a < atoms; a++)
+            count += (a + t) % 17 != 0 && !(a % 23 == 0 && t > 0);
+        fprintf(f, "ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n%d\nITEM: BOX BOUNDS pp pp pp\n0 8\n0 8\n0 8\n"
+                   "ITEM: ATOMS type x y z id\n",
+                t, count);
+        for (int k = 0; k < atoms; k++) {
+            int a = (k * 7 + t) % atoms; /* atoms and 7 coprime: a permutation */
+            if ((a + t) % 17 == 0 || (a % 23 == 0 && t > 0))
+                continue;
+            double x = fmod(0.37 * a + 0.3 * t, 8), y = fmod(0.11 * a * a, 8), z = fmod(0.05 * a + 0.7 * t * (a % 3), 8);
+            fprintf(f, "%d %.4f %.4f %.4f %d\n", 1 + a % 4, x, y, z, 1000 + a);
+        }
+    }
+    fclose(f);
+}
+
 /* Writes demo `name` (count) to path with save; 0 on success, else a failed check. */
 static int write_demo(const char *name, uint64_t count, const char *path,
                       int (*save)(const lc_scene *, const char *, lc_error *))
@@ -494,6 +518,11 @@ int main(void)
     check_file(csv, 0, 0);
     check_file(xyz, 0, 0);
     check_points();
+    char dump[128];
+    snprintf(dump, sizeof dump, "%s/atoms.dump", dir);
+    write_dump(dump, 300, 12);
+    check_file(dump, 0, 0);
+    unlink(dump);
 
     /* A point cloud as PLY (every attribute a float property, colours as
      * uchar) and polylines as VTK (parsed whole, only the share's lines kept)

@@ -21,12 +21,12 @@ export function legendModel(values, info) {
   const imp = values?.importance ?? {};
   const colorAttr = color.attribute || info?.defaultColor || 'importance';
   const impAttr = imp.attribute || info?.defaultImportance || '';
-  const colorRange = color.range ?? (colorAttr === 'importance' ? [0, 1] : attributeRange(info, colorAttr)) ?? [0, 1];
+  const colorRange = color.range ?? (colorAttr === 'importance' ? [0, 1] : attributeRange(info, colorAttr, values?.params?.normalize)) ?? [0, 1];
   // Without an explicit range the server maps importance from the attribute's
   // auto range, min/max without the outliers (params.normalize "auto", the default), else min/max.
   const auto = (info?.attributes ?? []).find((x) => x?.name === impAttr)?.autoRange;
   const robust = values?.params?.normalize !== 'off' && Array.isArray(auto) && auto[1] > auto[0];
-  const impRange = imp.range ?? (robust ? [...auto] : attributeRange(info, impAttr)) ?? [0, 1];
+  const impRange = imp.range ?? (robust ? [...auto] : attributeRange(info, impAttr, values?.params?.normalize)) ?? [0, 1];
   const exponent = imp.exponent ?? 1;
   const colormap = color.colormap ?? 'viridis';
   const background = values?.style?.background ?? [1, 1, 1];

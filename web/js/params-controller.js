@@ -4,6 +4,7 @@
 import { paramsMessage } from './protocol.js';
 import { setPath, merge } from './schema.js';
 import { attributeRange } from './ui.js';
+import { currentValues } from './app-state.js';
 
 /**
  * ctx: state; send(msg) → false when the socket is closed; frame(fn) (requestAnimationFrame);
@@ -41,7 +42,7 @@ export function createParamsController(ctx) {
     // attribute's range would not fit, and the server would keep it); importance is [0, 1]
     if (path === 'importance.attribute' || path === 'color.attribute') {
       const section = path.split('.')[0];
-      let r = value === 'importance' && section === 'color' ? [0, 1] : attributeRange(state.info, value);
+      let r = value === 'importance' && section === 'color' ? [0, 1] : attributeRange(state.info, value, currentValues(state).params?.normalize);
       if (r && r[0] === r[1]) r = [r[0] - 0.5, r[1] + 0.5];
       if (r) setPath(change, `${section}.range`, r);
       else if (state.update[section]) delete state.update[section].range;

@@ -40,6 +40,7 @@ export const FIELDS = Object.freeze([
   { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true },
   { section: 'importance', name: 'terms', alias: 'importanceTerms', type: 'terms', maxItems: 4 },
   { section: 'importance', name: 'curve', alias: 'importanceCurve', type: 'curve', maxItems: 64 },
+  { section: 'importance', name: 'invert', alias: 'importanceInvert', type: 'bool' },
 
   { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63 },
   {

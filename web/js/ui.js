@@ -52,6 +52,7 @@ export const GROUPS = [
       { path: 'importance.attribute', label: 'Attribute', kind: 'select', dynamic: 'attributes', help: 'The data value that says what matters. Important parts stay visible; unimportant parts fade where they hide important ones.' },
       { path: 'importance.range', label: 'Range', kind: 'range2', dynamic: 'importanceRange', help: 'Values at or below the minimum get importance 0, at or above the maximum 1. Minimum above maximum inverts.' },
       { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads.' },
+      { path: 'importance.invert', label: 'Invert', kind: 'check', help: 'Smaller values matter more (a star\'s magnitude: larger is fainter); the range stays as it is.' },
     ],
   },
   {
@@ -395,9 +396,16 @@ export function clampToField(f, spec, value) {
   return f.type === 'int' ? Math.round(v) : v;
 }
 
-/** The attribute's [min, max] from a dataset description, or null. */
-export function attributeRange(info, name) {
+/**
+ * The range the server maps an attribute with when a request gives none, from a
+ * dataset description, or null: its auto range (min/max without the outliers)
+ * unless normalize is "off" or that range is empty, else [min, max]. The panel,
+ * the legend and the link all take it, so the page shows what the server uses.
+ */
+export function attributeRange(info, name, normalize) {
   const a = (info?.attributes ?? []).find((x) => (typeof x === 'string' ? x : x.name) === name);
+  const auto = a?.autoRange;
+  if (normalize !== 'off' && Array.isArray(auto) && auto[1] > auto[0]) return [...auto];
   return a && Array.isArray(a.range) ? [...a.range] : null;
 }
 

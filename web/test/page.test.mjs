@@ -8,7 +8,7 @@ import { fitCamera, orbit, pan, dolly, cloneCamera } from '../js/camera.js';
 import { colorAt, topColorClash, gradientCss, COLORMAP_STOPS } from '../js/colormaps.js';
 import { legendModel, importanceCurvePath } from '../js/legend.js';
 import { readPreset, applyPreset, removePreset } from '../js/preset.js';
-import { clampToField, GROUPS } from '../js/ui.js';
+import { clampToField, GROUPS, attributeRange } from '../js/ui.js';
 import { fieldByPath } from '../js/schema.js';
 
 const BOUNDS = [0, 0, 0, 1, 1, 1];
@@ -72,6 +72,13 @@ test('legend model: names, ranges, importance mapping and the opacity sentence',
   const robust = { ...info, attributes: [{ name: 'line_curvature', range: [0.08, 1], percentiles: [0.1, 0.9], autoRange: [0.15, 0.97] }] };
   assert.deepEqual(legendModel({}, robust).importance.range, [0.15, 0.97]);
   assert.deepEqual(legendModel({ params: { normalize: 'off' } }, robust).importance.range, [0.08, 1]);
+  // colour by an attribute takes the same robust range, and so does the panel (attributeRange)
+  const stars = { attributes: [{ name: 'bv', range: [-0.4, 5.46], autoRange: [-0.4, 2.1] }] };
+  assert.deepEqual(legendModel({ color: { attribute: 'bv' } }, stars).color.range, [-0.4, 2.1]);
+  assert.deepEqual(legendModel({ color: { attribute: 'bv' }, params: { normalize: 'off' } }, stars).color.range, [-0.4, 5.46]);
+  assert.deepEqual(attributeRange(stars, 'bv'), [-0.4, 2.1]);
+  assert.deepEqual(attributeRange(stars, 'bv', 'off'), [-0.4, 5.46]);
+  assert.deepEqual(attributeRange({ attributes: [{ name: 'c', range: [2, 2], autoRange: [2, 2] }] }, 'c'), [2, 2]);
   assert.match(importanceCurvePath(2), /^M0\.0,18\.0 L/);
 });
 

@@ -54,6 +54,7 @@ void far_fragments(ivec2 p, int n, float total, float k, float lambda)
             }
             float behind = max(total - front - g * g, 0.0);
             atomicMin(element_alpha_min[node.w], floatBitsToUint(optimal_alpha(g, front, behind, k, lambda)));
+            add_behind(node.w, behind);
         }
         i = next;
     }
@@ -84,6 +85,7 @@ void main()
         float alpha = optimal_alpha(g, front, behind, k, lambda);
         // Non-negative floats order like their bit patterns.
         atomicMin(element_alpha_min[node.w], floatBitsToUint(alpha));
+        add_behind(node.w, behind);
         front += own;
     }
     if (list_length > uint(n))

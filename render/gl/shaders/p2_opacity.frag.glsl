@@ -34,4 +34,5 @@ void main()
     alpha *= u_target_opacity;
     // Non-negative floats order like their bit patterns.
     atomicMin(element_alpha_min[fragment_element()], floatBitsToUint(alpha));
+    add_behind(fragment_element(), behind);
 }

@@ -55,8 +55,8 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
     MHD_add_response_header(r, "X-Lucent-Elements", buf);
     if (info->has_visibility) {
         char vis[192];
-        snprintf(vis, sizeof vis, "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f",
-                 info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction);
+        snprintf(vis, sizeof vis, "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f,occluderAlpha=%.4f",
+                 info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction, info->occluder_alpha);
         MHD_add_response_header(r, "X-Lucent-Visibility", vis);
     }
     snprintf(buf, sizeof buf, "%.4g", job->cost); /* the estimate --max-cost is compared with */

@@ -123,6 +123,7 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.has_visibility = true;
         h.top_decile_alpha = e->info.top_decile_alpha;
         h.bottom_half_alpha = e->info.bottom_half_alpha;
+        h.occluder_alpha = e->info.occluder_alpha;
         h.covered_fraction = e->info.covered_fraction;
     }
     unsigned char *msg = NULL;

@@ -1,0 +1,15 @@
+// Occluder weights of the visibility report (docs/ALGORITHM.md §8): each
+// element sums the importance mass behind its fragments (the sum that q
+// weighs in Eq. 10) in 1/4096 units, saturating, so the report can weigh an
+// unimportant element by how much it hides.
+layout(std430, binding = BIND_ELEMENT_BEHIND) buffer ElementBehind { uint element_behind[]; };
+
+void add_behind(uint element, float behind)
+{
+    uint add = uint(clamp(behind, 0.0, 256.0) * 4096.0 + 0.5);
+    if (add == 0u)
+        return;
+    uint old = atomicAdd(element_behind[element], add);
+    if (old > 0xFFFFFFFFu - add) // wrapped: stay at the top
+        atomicMax(element_behind[element], 0xFFFFFFFFu);
+}

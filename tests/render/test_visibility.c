@@ -1,0 +1,144 @@
+/* The visibility report on stacked full-screen quads (one element each, every
+ * pixel covered by all of them): topDecileAlpha, bottomHalfAlpha and
+ * occluderAlpha of the exact method against a CPU computation from the exact
+ * opacities (foo_math.c) and the exact importance behind each quad; the
+ * Fourier path against the same figures within its estimate's error. An
+ * unimportant quad in front of nothing weighs nothing in occluderAlpha.
+ * importance.invert gives the image of the range given max first. */
+#include <math.h>
+
+#include "camera.h"
+#include "foo_math.h"
+#include "render_util.h"
+
+typedef struct expected {
+    double top, bottom, occluder;
+} expected;
+
+/* The report computed on the CPU: element opacities from the exact sums
+ * (every pixel alike), weights = importance mass behind each quad. */
+static expected cpu_report(const test_quad *q, int n, const lc_render_params *p, const lc_scene *s)
+{
+    lc_fragment f[16];
+    lc_view view;
+    lc_camera_view(&p->camera, s->bounds, 1.0, p->height, &view);
+    for (int i = 0; i < n; i++) {
+        double zview = p->camera.position[2] - q[i].z;
+        f[i].depth = lc_foo_normalize_depth(zview, view.depth_min, view.depth_max, p->foo.depth_margin);
+        f[i].importance = q[i].g;
+    }
+    lc_foo_alpha_exact(f, (size_t)n, &p->foo);
+    int order[16]; /* by importance, least first */
+    for (int i = 0; i < n; i++)
+        order[i] = i;
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && q[order[j]].g < q[order[j - 1]].g; j--) {
+            int t = order[j];
+            order[j] = order[j - 1], order[j - 1] = t;
+        }
+    expected e = {0, 0, 0};
+    int top = (int)ceil(0.1 * n), half = (int)ceil(0.5 * n);
+    for (int k = 0; k < top; k++)
+        e.top += f[order[n - 1 - k]].alpha / top;
+    double w = 0, wa = 0;
+    for (int k = 0; k < half; k++) {
+        int i = order[k];
+        e.bottom += f[i].alpha / half;
+        double behind = 0; /* the quads farther from the camera (lower z) */
+        for (int j = 0; j < n; j++)
+            if (q[j].z < q[i].z)
+                behind += q[j].g * q[j].g;
+        w += behind, wa += behind * f[i].alpha;
+    }
+    e.occluder = w > 0 ? wa / w : 0;
+    return e;
+}
+
+static void check(test_gl *t, const char *what, const test_quad *q, int n, lc_method method, double tol)
+{
+    enum { SIZE = 32 };
+    lc_scene *s = test_quad_scene(q, n);
+    CHECK(s != NULL, "scene");
+    if (!s)
+        return;
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    p.method = method;
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    lc_frame_info info = {0};
+    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
+    if (gs && lc_render_frame(t->renderer, gs, &p, NULL, 0, rgba, &info, &err) == 0) {
+        expected e = cpu_report(q, n, &p, s);
+        const char *m = method == LC_METHOD_EXACT ? "exact" : "fourier";
+        printf("%s, %s: top %.4f (cpu %.4f), bottom %.4f (cpu %.4f), occluder %.4f (cpu %.4f)\n", what, m,
+               info.top_decile_alpha, e.top, info.bottom_half_alpha, e.bottom, info.occluder_alpha, e.occluder);
+        CHECK(info.has_visibility && info.visible_elements == (uint32_t)n, "%s %s: %u visible", what, m,
+              info.visible_elements);
+        CHECK_NEAR(info.top_decile_alpha, e.top, tol, "topDecileAlpha");
+        CHECK_NEAR(info.bottom_half_alpha, e.bottom, tol, "bottomHalfAlpha");
+        CHECK_NEAR(info.occluder_alpha, e.occluder, tol, "occluderAlpha");
+    } else {
+        CHECK(0, "%s: render: %s", what, err.msg);
+    }
+    free(rgba);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
+/* importance.invert: the same pixels as the range [1, 0], others than [0, 1]. */
+static void check_invert(test_gl *t, const test_quad *q, int n)
+{
+    enum { SIZE = 32 };
+    lc_scene *s = test_quad_scene(q, n);
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    CHECK(s && lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
+    uint8_t *img[3];
+    lc_frame_info info[3];
+    for (int k = 0; k < 3 && gs; k++) {
+        lc_render_params p;
+        test_quad_params(&p, SIZE);
+        p.importance.invert = k == 1;
+        p.importance.range[0] = k == 2 ? 1 : 0, p.importance.range[1] = k == 2 ? 0 : 1;
+        img[k] = malloc(SIZE * SIZE * 4);
+        CHECK(lc_render_frame(t->renderer, gs, &p, NULL, 0, img[k], &info[k], &err) == 0, "render: %s", err.msg);
+    }
+    if (gs) {
+        CHECK(memcmp(img[1], img[2], SIZE * SIZE * 4) == 0, "invert renders as the range [1, 0]");
+        CHECK(memcmp(img[0], img[1], SIZE * SIZE * 4) != 0, "invert changes the image");
+        CHECK(info[1].top_decile_alpha == info[2].top_decile_alpha && info[1].occluder_alpha == info[2].occluder_alpha,
+              "invert reports as the range [1, 0]");
+        printf("invert: top decile %.4f (not inverted %.4f)\n", info[1].top_decile_alpha, info[0].top_decile_alpha);
+        for (int k = 0; k < 3; k++)
+            free(img[k]);
+    }
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
+int main(void)
+{
+    test_gl t;
+    test_gl_open(&t);
+    printf("renderer: %s\n", lc_gl_renderer(t.gl));
+    /* Two unimportant quads hide important ones (0.1 in front of all, 0.05
+     * between 0.9 and 0.6); the least important (0.02) lies behind them all
+     * and hides nothing, so it must not count: occluderAlpha is twice
+     * bottomHalfAlpha here. */
+    const test_quad hiding[5] = {{0.4, 0.1, {1, 0, 0}, 2},
+                                 {0.2, 0.9, {0, 1, 0}, 2},
+                                 {0.0, 0.05, {0, 0, 1}, 2},
+                                 {-0.2, 0.6, {1, 1, 0}, 2},
+                                 {-0.4, 0.02, {0, 1, 1}, 2}};
+    check(&t, "occluders in front", hiding, 5, LC_METHOD_EXACT, 2e-3);
+    check(&t, "occluders in front", hiding, 5, LC_METHOD_FOURIER, 0.05);
+    /* Every unimportant quad behind every important one: nothing is hidden. */
+    const test_quad context[4] = {
+        {0.4, 0.9, {1, 0, 0}, 2}, {0.2, 0.7, {0, 1, 0}, 2}, {0.0, 0.1, {0, 0, 1}, 2}, {-0.2, 0.0, {1, 1, 0}, 2}};
+    check(&t, "context behind", context, 4, LC_METHOD_EXACT, 2e-3);
+    check_invert(&t, hiding, 5);
+    test_gl_close(&t);
+    return lc_test_finish();
+}

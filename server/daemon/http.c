@@ -663,6 +663,9 @@ static enum MHD_Result route(req_ctx *ctx, struct MHD_Connection *c, const char 
         return get ? route_datasets(srv, c, NULL) : method_not_allowed(srv, c, method, "GET");
     if (strncmp(url, "/api/v1/datasets/", 17) == 0)
         return get ? route_datasets(srv, c, url + 17) : method_not_allowed(srv, c, method, "GET");
+    if (strcmp(url, "/api/v1/schema") == 0) /* the request field table, for clients that validate before sending */
+        return get ? respond_json(srv, c, 200, lc_proto_schema(&srv->cfg.limits))
+                   : method_not_allowed(srv, c, method, "GET");
     if (atomic_load(&srv->stopping) && (post || strcmp(method, "DELETE") == 0))
         return respond_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
     if (strcmp(url, "/api/v1/render") == 0) /* HEAD would cost a whole render for no image */

@@ -19,6 +19,7 @@
 #include "frame_headers.h"
 #include "messages.h"
 #include "metrics.h"
+#include "movies.h"
 #include "session.h"
 #include "web_files.h"
 #include "workers.h"
@@ -671,6 +672,8 @@ static enum MHD_Result route(req_ctx *ctx, struct MHD_Connection *c, const char 
     if (strcmp(url, "/api/v1/render") == 0) /* HEAD would cost a whole render for no image */
         return ((get && strcmp(method, "HEAD") != 0) || post) ? route_render(ctx, c, method)
                                                               : method_not_allowed(srv, c, method, "GET, POST");
+    if (strncmp(url, "/api/v1/movies", 14) == 0 && (url[14] == 0 || url[14] == '/'))
+        return (enum MHD_Result)lc_movies_answer(srv->movies, c, method, url + 14, ctx->body, ctx->len);
     if (strcmp(url, "/api/v1/sessions") == 0)
         return post ? route_session_create(ctx, c) : method_not_allowed(srv, c, method, "POST");
     if (strncmp(url, "/api/v1/sessions/", 17) == 0)

@@ -15,6 +15,7 @@
 #include "lc_mpi.h"
 #include "loaders.h"
 #include "metrics.h"
+#include "movies.h"
 #include "serve_mpi.h"
 #include "server.h"
 #include "session.h"
@@ -496,11 +497,14 @@ static int serve_main(int argc, char **argv)
         srv.sink = (lc_stream_sink){.ctx = srv.ws, .send = sink_send, .send_frame = sink_send_frame};
     int port = 0;
     if (rc == 0)
+        rc = lc_movies_create(&srv, &srv.movies, &err);
+    if (rc == 0)
         rc = lc_http_start(&srv, &srv.http, &port, &err);
     if (rc == 0 && srv.mpi)
         lc_mpi_on_abort(srv.mpi, answer_before_abort, &srv);
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
+        lc_movies_destroy(srv.movies);
         lc_ws_destroy(srv.ws);
         lc_workers_destroy(srv.workers, srv.datasets);
         if (!srv.workers && primary)
@@ -536,6 +540,7 @@ static int serve_main(int argc, char **argv)
      * (queued HTTP renders get 503); 3. WebSocket clients get those frames and
      * a close frame; 4. MHD answers the resumed requests and stops. */
     lc_http_quiesce(srv.http);
+    lc_movies_stop(srv.movies); /* its frame in hand finishes; the rest is cancelled */
     lc_workers_stop(srv.workers);
     if (srv.mpi) {
         lc_serve_mpi_stop(&srv);
@@ -543,6 +548,7 @@ static int serve_main(int argc, char **argv)
     }
     lc_ws_shutdown(srv.ws, 2.0);
     lc_http_stop(srv.http);
+    lc_movies_destroy(srv.movies);
     lc_ws_destroy(srv.ws);
     lc_sessions_destroy(srv.sessions);
     lc_workers_destroy(srv.workers, srv.datasets);

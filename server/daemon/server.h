@@ -14,6 +14,7 @@
  *   cost.c     render cost estimate before queueing (--max-cost)
  *   web_files.c the embedded web client's files (content type, ETag)
  *   frame_headers.c an HTTP render's statistics as response headers
+ *   movies.c   movie jobs: camera paths rendered through the workers, encoded to a file
  *
  * Threads: main (start-up, then waits for a signal and shuts down), MHD's
  * threads (parse, validate, queue; never GL), render workers (all GL), encoder
@@ -99,6 +100,7 @@ typedef struct lc_server {
     char gl_platform[128];
     atomic_int stopping; /* set once shutdown begins: refuse new work */
     struct lc_mpi *mpi;  /* --mpi (serve_mpi.c); NULL in one process */
+    struct lc_movies *movies; /* movie jobs (movies.c) */
 } lc_server;
 
 #define LC_SERVE_WS_ACCEPT_LEN 29 /* base64 of a SHA-1 digest + NUL */

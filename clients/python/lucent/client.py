@@ -149,15 +149,26 @@ class Client:
     # ---- movies
 
     def movie(self, dataset=None, out=None, path="turntable", keyframes=None, camera=None, duration=10.0, fps=30,
-              size=(960, 540), codec="h264", params=None, wait=True, progress=None, poll=0.5, **fields):
+              size=(960, 540), codec="h264", params=None, wait=True, progress=None, poll=0.5, frames=None,
+              degrees=None, elevation=None, **fields):
         """Renders a movie on the server (POST /api/v1/movies) and, with wait
         (the default), waits for it and writes the file to `out` (default
         movie.mp4 / movie.webm); returns out. Without wait returns the job's
         status dict (id, state, progress). path: "turntable" (about the
         camera's view-up, starting at `camera` or the server's fit), "orbit",
         or "keyframes" with keyframes=[camera dicts or URL states]. codec:
-        "h264" (MP4) or "vp9" (WebM). progress(status) is called while waiting."""
-        body = {"path": path, "duration": duration, "fps": fps, "width": size[0], "height": size[1], "codec": codec}
+        "h264" (MP4) or "vp9" (WebM). frames=N instead of a duration; degrees
+        (of the turn, 360) and elevation (orbit's tilt, 20). progress(status)
+        is called while waiting."""
+        body = {"path": path, "fps": fps, "width": size[0], "height": size[1], "codec": codec}
+        if frames is not None:
+            body["frames"] = frames
+        else:
+            body["duration"] = duration
+        if degrees is not None:
+            body["degrees"] = degrees
+        if elevation is not None:
+            body["elevation"] = elevation
         if keyframes is not None:
             body["keyframes"] = [k for k in keyframes]
             body["path"] = "keyframes"

@@ -165,3 +165,15 @@ void lc_camera_path(const lc_camera *keys, int count, int i, int n, lc_camera *o
         k = 0;
     lc_camera_interpolate(&keys[k], &keys[k + 1], u - k, out);
 }
+
+void lc_camera_path_frame(const lc_camera_path_desc *d, const lc_camera *start, int i, lc_camera *out)
+{
+    if (d->kind == 2) {
+        lc_camera_path(d->keys, d->key_count, i, d->frames, out);
+        return;
+    }
+    lc_camera s = *start;
+    if (d->kind == 1)
+        lc_camera_tilt(&s, d->elevation, &s);
+    lc_camera_turn(&s, d->frames > 0 ? d->degrees * i / d->frames : 0, out);
+}

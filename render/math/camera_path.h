@@ -26,6 +26,20 @@ void lc_camera_interpolate(const lc_camera *a, const lc_camera *b, double t, lc_
  * first and last keyframes. */
 void lc_camera_path(const lc_camera *keys, int count, int i, int n, lc_camera *out);
 
+/* A movie's camera path: kind 0 = turntable of `degrees` about start's
+ * view-up, 1 = orbit (the turntable after a tilt of `elevation` degrees),
+ * 2 = keyframes (start unused); the values of protocol/movie.h's lc_movie_path. */
+typedef struct lc_camera_path_desc {
+    int kind;
+    double degrees, elevation;
+    const lc_camera *keys;
+    int key_count;
+    int frames;
+} lc_camera_path_desc;
+/* Frame i of the path. Turntables put frame i at i / frames of the turn, so a
+ * whole turn loops without a repeated frame. */
+void lc_camera_path_frame(const lc_camera_path_desc *d, const lc_camera *start, int i, lc_camera *out);
+
 #ifdef __cplusplus
 }
 #endif

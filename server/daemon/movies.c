@@ -145,20 +145,15 @@ static bool should_stop(lc_movies *m, movie_job *j)
 static void frame_camera(const movie_job *j, int i, lc_camera *out)
 {
     const lc_movie_spec *s = &j->spec;
-    if (s->path == LC_MOVIE_KEYFRAMES) {
-        lc_camera_path(s->keyframes, s->keyframe_count, i, s->frames, out);
-        return;
-    }
     lc_camera start = s->request.render.camera;
     if (!s->request.render.has_camera) {
         const lc_scene *sc = j->ds->scene;
         start.view_angle = start.view_angle > 0 ? start.view_angle : 30;
         lc_camera_fit(&start, sc->bounds, sc->has_view ? sc->view_direction : NULL, sc->has_view ? sc->view_up : NULL);
     }
-    if (s->path == LC_MOVIE_ORBIT)
-        lc_camera_tilt(&start, s->elevation, &start);
-    /* i / n of the turn: a whole turn loops without a repeated frame. */
-    lc_camera_turn(&start, s->degrees * i / s->frames, out);
+    lc_camera_path_desc d = {.kind = (int)s->path, .degrees = s->degrees, .elevation = s->elevation,
+                             .keys = s->keyframes, .key_count = s->keyframe_count, .frames = s->frames};
+    lc_camera_path_frame(&d, &start, i, out);
 }
 
 /* Renders frame i through the worker pool into rgba (w*h*4). */

@@ -178,6 +178,8 @@ static int render_frame(lc_movies *m, movie_job *j, lc_session *s, int i, lc_ima
     rj->user = m;
     int rc;
     for (;;) {
+        rj->rc = 0;
+        rj->refused = NULL;
         pthread_mutex_lock(&s->lock);
         s->http_busy = true;
         s->last_used = lc_now();
@@ -187,23 +189,28 @@ static int render_frame(lc_movies *m, movie_job *j, lc_session *s, int i, lc_ima
         pthread_mutex_unlock(&m->lock);
         lc_error serr = {0};
         rc = lc_workers_submit(m->srv->workers, rj, &serr);
-        if (rc == 0)
-            break;
-        pthread_mutex_lock(&s->lock);
-        s->http_busy = false;
-        pthread_mutex_unlock(&s->lock);
-        if (rc != LC_ERR_LIMIT || should_stop(m, j)) {
-            *err = serr;
-            lc_session_unref(s);
-            free(rj);
-            return rc;
+        if (rc != 0) {
+            pthread_mutex_lock(&s->lock);
+            s->http_busy = false;
+            pthread_mutex_unlock(&s->lock);
+            if (rc != LC_ERR_LIMIT || should_stop(m, j)) {
+                *err = serr;
+                lc_session_unref(s);
+                free(rj);
+                return rc;
+            }
+            usleep(100 * 1000); /* the queue is full of other clients' work: theirs first */
+            continue;
         }
-        usleep(100 * 1000); /* the queue is full of other clients' work: theirs first */
+        pthread_mutex_lock(&m->lock);
+        while (!m->frame_finished)
+            pthread_cond_wait(&m->cond, &m->lock);
+        pthread_mutex_unlock(&m->lock);
+        /* A frame that waited past the render deadline (other clients kept
+         * the workers busy) goes back in line: a movie is not in a hurry. */
+        if (!(rj->rc == LC_ERR_LIMIT && rj->refused && strcmp(rj->refused, "deadline") == 0) || should_stop(m, j))
+            break;
     }
-    pthread_mutex_lock(&m->lock);
-    while (!m->frame_finished)
-        pthread_cond_wait(&m->cond, &m->lock);
-    pthread_mutex_unlock(&m->lock);
     rc = rj->rc;
     if (rc == LC_ERR_LIMIT && rj->refused && strcmp(rj->refused, "deadline") == 0)
         rc = lc_err(err, LC_ERR_LIMIT, "a frame waited past the render deadline");

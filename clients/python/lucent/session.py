@@ -184,15 +184,18 @@ class Session:
     def _settled(self, f):
         return f.converged and not f.interactive and f.header.get("cameraSeq", 0) >= self.seq
 
-    def frames(self, cameras, timeout=None):
+    def frames(self, cameras, timeout=None, full=True):
         """One frame per camera, in order: each camera is sent and the first
         frame that reflects it is returned (fading carries over from frame to
-        frame, as in the browser). A generator of numpy arrays."""
+        frame, as in the browser). With full (the default) that is the first
+        full-resolution frame of the camera: frames rendered while input is
+        active may be smaller (the server's frame budget), the one that
+        follows ~150 ms of quiet is not. A generator of numpy arrays."""
         for cam in cameras:
             seq = self.camera(cam)
             while True:
                 f = self.next_frame(timeout)
-                if f.header.get("cameraSeq", 0) >= seq:
+                if f.header.get("cameraSeq", 0) >= seq and not (full and f.interactive):
                     yield f.array()
                     break
 

@@ -20,6 +20,7 @@ static const struct {
     {"schema", lc_cli_schema, "print the render request schema (fields, types, ranges) as JSON"},
     {"ssim", lc_cli_ssim, "SSIM and RMSE of two images of one size"},
     {"serve", lc_serve_main, "run the HTTP/WebSocket render daemon"},
+    {"movie", lc_cli_movie, "render a movie request (camera path) to an H.264/MP4 or VP9/WebM file"},
 };
 
 static void usage(FILE *f)

@@ -81,6 +81,8 @@ int lc_cli_gen(int argc, char **argv);
 int lc_cli_bench(int argc, char **argv);
 int lc_cli_compare(int argc, char **argv);
 int lc_cli_schema(int argc, char **argv);
+/* `lucent movie MOVIE.json -o OUT`: a movie request rendered and encoded offline. */
+int lc_cli_movie(int argc, char **argv);
 /* `lucent ssim A B`: SSIM and RMSE of two image files. */
 int lc_cli_ssim(int argc, char **argv);
 

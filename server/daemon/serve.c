@@ -14,6 +14,7 @@
 #include "lc_options.h"
 #include "loaders.h"
 #include "metrics.h"
+#include "movies.h"
 #include "ranks.h"
 #include "server.h"
 #include "session.h"
@@ -348,11 +349,14 @@ static int serve_main(int argc, char **argv)
         srv.sink = (lc_stream_sink){.ctx = srv.ws, .send = sink_send, .send_frame = sink_send_frame};
     int port = 0;
     if (rc == 0)
+        rc = lc_movies_create(&srv, &srv.movies, &err);
+    if (rc == 0)
         rc = lc_http_start(&srv, &srv.http, &port, &err);
     if (rc == 0 && srv.mpi)
         lc_ranks_serving(&srv);
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
+        lc_movies_destroy(srv.movies);
         lc_ws_destroy(srv.ws);
         lc_workers_destroy(srv.workers, srv.datasets);
         if (!srv.workers && primary)
@@ -379,11 +383,13 @@ static int serve_main(int argc, char **argv)
      * (queued HTTP renders get 503); 3. WebSocket clients get those frames and
      * a close frame; 4. MHD answers the resumed requests and stops. */
     lc_http_quiesce(srv.http);
+    lc_movies_stop(srv.movies); /* its frame in hand finishes; the rest is cancelled */
     lc_workers_stop(srv.workers);
     if (srv.mpi)
         lc_ranks_stop(&srv);
     lc_ws_shutdown(srv.ws, 2.0);
     lc_http_stop(srv.http);
+    lc_movies_destroy(srv.movies);
     lc_ws_destroy(srv.ws);
     lc_sessions_destroy(srv.sessions);
     lc_workers_destroy(srv.workers, srv.datasets);

@@ -18,6 +18,7 @@
  *   auth.c       token checks, the WebSocket accept key
  *   cost.c       render cost estimate before queueing (--max-cost)
  *   metrics.c    counters and histograms in Prometheus text format
+ *   movies.c     movie jobs: camera paths rendered through the workers, encoded to a file
  *
  * Threads: main (start-up, then waits for a signal and shuts down), MHD's
  * threads (parse, validate, queue; never GL), render workers (all GL), encoder
@@ -119,6 +120,7 @@ typedef struct lc_server {
     atomic_int stopping;      /* set once shutdown begins: refuse new work */
     struct lc_mpi *mpi;       /* --mpi (ranks.c; opaque here); NULL in one process */
     lc_frame_hook frame_hook; /* set by ranks.c under --mpi, else zero */
+    struct lc_movies *movies; /* movie jobs (movies.c) */
 } lc_server;
 
 #ifdef __cplusplus

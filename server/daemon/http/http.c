@@ -21,6 +21,7 @@
 #include "http_status.h"
 #include "http_upgrade.h"
 #include "messages.h"
+#include "movies.h"
 #include "web_files.h"
 
 #define MOD "http"
@@ -139,8 +140,13 @@ static enum MHD_Result route(lc_http_req *ctx, struct MHD_Connection *c, const c
         return get ? lc_http_datasets(srv, c, NULL) : lc_http_not_allowed(srv, c, method, "GET");
     if (strncmp(url, "/api/v1/datasets/", 17) == 0)
         return get ? lc_http_datasets(srv, c, url + 17) : lc_http_not_allowed(srv, c, method, "GET");
+    if (strcmp(url, "/api/v1/schema") == 0) /* the request field table, for clients that validate before sending */
+        return get ? lc_http_json(srv, c, 200, lc_proto_schema(&srv->cfg.limits))
+                   : lc_http_not_allowed(srv, c, method, "GET");
     if (atomic_load(&srv->stopping) && (post || strcmp(method, "DELETE") == 0))
         return lc_http_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
+    if (strncmp(url, "/api/v1/movies", 14) == 0 && (url[14] == 0 || url[14] == '/'))
+        return (enum MHD_Result)lc_movies_answer(srv->movies, c, method, url + 14, ctx->body, ctx->len);
     if (strcmp(url, "/api/v1/render") == 0) /* HEAD would cost a whole render for no image */
         return ((get && strcmp(method, "HEAD") != 0) || post) ? lc_http_route_render(ctx, c, method)
                                                               : lc_http_not_allowed(srv, c, method, "GET, POST");

@@ -1,0 +1,139 @@
+/* `lucent movie`: the daemon's movie jobs offline: a movie request (the body
+ * of POST /api/v1/movies, protocol/movie.h) rendered on this machine with
+ * fading opacities (dt = 1/fps) and encoded to H.264/MP4 or VP9/WebM. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "camera.h"
+#include "camera_path.h"
+#include "cli.h"
+#include "movie.h"
+#include "video.h"
+
+static void movie_usage(FILE *f)
+{
+    fprintf(f, "usage: lucent movie MOVIE.json -o OUT.mp4|OUT.webm [--input FILE|demo:NAME] [--device N]\n"
+               "Renders a movie request (the JSON of POST /api/v1/movies: request, path turntable|orbit|keyframes,\n"
+               "keyframes, degrees, elevation, duration or frames, fps, width, height, codec h264|vp9;\n"
+               "protocol/README.md \"Movies\") and encodes it. \"{}\" is a 10 s turntable of demo:tornado at 960x540.\n");
+}
+
+static char *read_text(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 1 << 20; /* far beyond any movie request; the parser caps JSON at 64 KiB anyway */
+    char *buf = malloc(cap + 1);
+    *len = buf ? fread(buf, 1, cap + 1, f) : 0;
+    fclose(f);
+    return buf; /* a longer file reads as cap + 1 bytes, which the parser refuses as too large */
+}
+
+int lc_cli_movie(int argc, char **argv)
+{
+    const char *spec_path = NULL, *out = NULL;
+    lc_cli_common common = {.device = -1};
+    for (int i = 1; i < argc; i++) {
+        if ((strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--out") == 0) && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(argv[i], "--input") == 0 && i + 1 < argc)
+            common.input = argv[++i];
+        else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
+            common.device = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            movie_usage(stdout);
+            return 0;
+        } else if (argv[i][0] != '-' && !spec_path)
+            spec_path = argv[i];
+        else {
+            fprintf(stderr, "lucent movie: unknown option %s\n", argv[i]);
+            movie_usage(stderr);
+            return 2;
+        }
+    }
+    if (!spec_path || !out) {
+        movie_usage(stderr);
+        return 2;
+    }
+    size_t len = 0;
+    char *text = read_text(spec_path, &len);
+    if (!text) {
+        fprintf(stderr, "lucent movie: %s: cannot read\n", spec_path);
+        return 1;
+    }
+    static lc_movie_spec m;
+    lc_proto_error pe;
+    int rc = lc_proto_parse_movie(text, len, NULL, &m, &pe);
+    free(text);
+    if (rc != 0) {
+        fprintf(stderr, "lucent movie: %s: %s\n", spec_path, pe.message);
+        return 2;
+    }
+    lc_video_codec codec = (lc_video_codec)lc_video_codec_from_name(m.codec);
+    const char *ext = strrchr(out, '.');
+    if (!ext || strcmp(ext + 1, lc_video_extension(codec)) != 0) {
+        fprintf(stderr, "lucent movie: %s: codec %s writes .%s files\n", out, m.codec, lc_video_extension(codec));
+        return 2;
+    }
+    lc_scene *scene = NULL;
+    lc_cli_gl g = {0};
+    if (lc_cli_open("movie", &m.request, &common, &scene, &g) != 0)
+        return 1;
+    int status = 1;
+    lc_gpu_scene *gs = NULL;
+    lc_frame_state *state = NULL;
+    lc_video *v = NULL;
+    lc_error err = {0};
+    int w = m.request.render.width, h = m.request.render.height;
+    uint8_t *rgba = malloc((size_t)w * h * 4);
+    if (!rgba || lc_cli_upload("movie", &common, scene, &gs) != 0 ||
+        !(state = lc_cli_frame_state(&common, scene->elements.count))) {
+        fprintf(stderr, "lucent movie: %s\n", rgba ? "cannot prepare the dataset (see above)" : "out of memory");
+        goto done;
+    }
+    if (lc_video_open(out, codec, w, h, m.fps, &v, &err) != 0) {
+        fprintf(stderr, "lucent movie: %s\n", err.msg);
+        goto done;
+    }
+    lc_camera start = m.request.render.camera;
+    if (!m.request.render.has_camera) { /* as a request without camera: the suggested view, fitted */
+        start.view_angle = start.view_angle > 0 ? start.view_angle : 30;
+        lc_camera_fit(&start, scene->bounds, scene->has_view ? scene->view_direction : NULL,
+                      scene->has_view ? scene->view_up : NULL);
+    }
+    lc_camera_path_desc path = {.kind = (int)m.path, .degrees = m.degrees, .elevation = m.elevation,
+                                .keys = m.keyframes, .key_count = m.keyframe_count, .frames = m.frames};
+    lc_render_params p = m.request.render;
+    p.has_camera = true;
+    for (int i = 0; i < m.frames; i++) {
+        lc_frame_info info;
+        lc_camera_path_frame(&path, &start, i, &p.camera);
+        /* Frame 0 shows its targets; then the opacities fade with the movie's clock. */
+        if (lc_render_frame(g.renderer, gs, &p, state, i == 0 ? 1e6 : 1.0 / m.fps, rgba, &info, &err) != 0 ||
+            lc_video_write(v, rgba, &err) != 0) {
+            fprintf(stderr, "lucent movie: frame %d: %s\n", i, err.msg);
+            goto done;
+        }
+        if (i % m.fps == m.fps - 1 || i == m.frames - 1)
+            fprintf(stderr, "\rlucent movie: %d of %d frames", i + 1, m.frames);
+    }
+    fputc('\n', stderr);
+    rc = lc_video_close(v, &err);
+    v = NULL;
+    if (rc != 0) {
+        fprintf(stderr, "lucent movie: %s\n", err.msg);
+        goto done;
+    }
+    printf("%s: %d frames of %dx%d at %d fps (%s), %s\n", out, m.frames, w, h, m.fps, m.codec, scene->name);
+    status = 0;
+done:
+    lc_video_abort(v);
+    free(rgba);
+    lc_frame_state_destroy(state);
+    lc_gpu_scene_destroy(gs);
+    lc_cli_gl_close(&g);
+    lc_scene_destroy(scene);
+    return status;
+}

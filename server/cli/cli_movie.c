@@ -8,15 +8,32 @@
 #include "camera.h"
 #include "camera_path.h"
 #include "cli.h"
+#include "lc_options.h"
 #include "movie.h"
 #include "video.h"
 
-static void movie_usage(FILE *f)
+typedef struct movie_args {
+    const char *out;
+    const char *input;
+    int device;
+} movie_args;
+
+#define MOVIE(member) LC_OPT_AT(movie_args, member)
+static const lc_option movie_options[] = {
+    {"--out", "OUT.mp4|OUT.webm", LC_OPT_TEXT, MOVIE(out), .help = "the movie file (its extension must match the codec)"},
+    {"-o", "OUT", LC_OPT_TEXT, MOVIE(out), .help = NULL}, /* alias of --out */
+    {"--input", "FILE|demo:NAME", LC_OPT_TEXT, MOVIE(input), .help = "a dataset file instead of the request's dataset"},
+    {"--device", "N", LC_OPT_INT, MOVIE(device), 0, 255,
+     .help = "EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)"},
+    {NULL}};
+
+static void movie_usage(FILE *f, const lc_opt_set *sets, int nsets)
 {
     fprintf(f, "usage: lucent movie MOVIE.json -o OUT.mp4|OUT.webm [--input FILE|demo:NAME] [--device N]\n"
                "Renders a movie request (the JSON of POST /api/v1/movies: request, path turntable|orbit|keyframes,\n"
                "keyframes, degrees, elevation, duration or frames, fps, width, height, codec h264|vp9;\n"
                "protocol/README.md \"Movies\") and encodes it. \"{}\" is a 10 s turntable of demo:tornado at 960x540.\n");
+    lc_opt_usage(f, sets, nsets);
 }
 
 static char *read_text(const char *path, size_t *len)
@@ -33,28 +50,21 @@ static char *read_text(const char *path, size_t *len)
 
 int lc_cli_movie(int argc, char **argv)
 {
-    const char *spec_path = NULL, *out = NULL;
-    lc_cli_common common = {.device = -1};
-    for (int i = 1; i < argc; i++) {
-        if ((strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--out") == 0) && i + 1 < argc)
-            out = argv[++i];
-        else if (strcmp(argv[i], "--input") == 0 && i + 1 < argc)
-            common.input = argv[++i];
-        else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
-            common.device = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            movie_usage(stdout);
-            return 0;
-        } else if (argv[i][0] != '-' && !spec_path)
-            spec_path = argv[i];
-        else {
-            fprintf(stderr, "lucent movie: unknown option %s\n", argv[i]);
-            movie_usage(stderr);
-            return 2;
-        }
+    movie_args args = {.device = -1};
+    lc_opt_set sets[] = {{movie_options, &args}};
+    const char *spec_path = NULL;
+    int npos = 0;
+    int prc = lc_opt_parse("movie", sets, 1, argc, argv, &spec_path, 1, &npos);
+    if (prc != 0) {
+        if (prc < 0 || !lc_cli_has_flag(argc, argv, "--list-flags"))
+            movie_usage(prc > 0 ? stdout : stderr, sets, 1);
+        return prc > 0 ? 0 : 2;
     }
+    const char *out = args.out;
+    lc_cli_common common = {.device = args.device, .input = args.input};
     if (!spec_path || !out) {
-        movie_usage(stderr);
+        fprintf(stderr, "lucent movie: %s is required (lucent movie --help lists the options)\n",
+                spec_path ? "-o OUT.mp4|OUT.webm" : "a MOVIE.json");
         return 2;
     }
     size_t len = 0;

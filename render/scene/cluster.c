@@ -830,3 +830,8 @@ size_t lc_dendrogram_bytes(const lc_dendrogram *d)
         return 0;
     return sizeof *d + (size_t)d->lines * ((size_t)d->k * DIM * sizeof(float) + sizeof(float) + sizeof(merge));
 }
+
+const char *lc_linkage_name(lc_linkage l)
+{
+    return l == LC_LINKAGE_SINGLE ? "single" : l == LC_LINKAGE_AVERAGE ? "average" : "complete";
+}

@@ -190,11 +190,6 @@ double lc_cluster_adjusted_rand(const uint32_t *a, const uint32_t *b, uint32_t n
     return result;
 }
 
-const char *lc_linkage_name(lc_linkage l)
-{
-    return l == LC_LINKAGE_SINGLE ? "single" : l == LC_LINKAGE_AVERAGE ? "average" : "complete";
-}
-
 const char *lc_representative_name(lc_representative r)
 {
     return r == LC_REPRESENTATIVE_MEAN ? "mean" : r == LC_REPRESENTATIVE_LEAST_DISTANCE ? "leastDistance" : "important";

@@ -1,7 +1,6 @@
 """HTTP client of a Lucent daemon (standard library urllib; numpy and Pillow
 for images): datasets, one-shot renders as arrays, sessions over the
 WebSocket, and movie jobs."""
-import io
 import json
 import time
 import urllib.error
@@ -9,22 +8,10 @@ import urllib.parse
 import urllib.request
 
 from . import camera as cameras
+from .images import decode_image
 from .schema import SECTIONS, LucentError, Schema
 
 FORMATS = ("array", "pil", "png", "jpeg")
-
-
-def decode_image(data, mode="array"):
-    """Image bytes (PNG/JPEG) as a numpy array (H, W, 3) uint8, or a PIL image
-    (mode "pil")."""
-    from PIL import Image
-    img = Image.open(io.BytesIO(data))
-    img.load()
-    img = img.convert("RGB")
-    if mode == "pil":
-        return img
-    import numpy as np
-    return np.asarray(img)
 
 
 def build_request(dataset=None, camera=None, params=None, size=None, importance=None, color=None, style=None,

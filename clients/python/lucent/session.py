@@ -12,7 +12,7 @@ import json
 import struct
 import threading
 
-from .client import decode_image
+from .images import decode_image
 from .schema import LucentError
 
 STREAM_KEYS = ("quality", "interactiveQuality", "interactiveScale")

@@ -220,6 +220,7 @@ int lc_cli_apply_flag(lc_request *req, lc_cli_common *common, int argc, char **a
                 fprintf(stderr, "lucent: --max-memory %s: expected bytes, e.g. 20G, 512M or 1000000\n", value);
                 return -1;
             }
+            lc_scene_set_load_limit(common->max_memory); /* readers refuse before allocating beyond it */
         } else if (strcmp(flag, "--elements") == 0) {
             char *end;
             long n = strtol(value, &end, 10);

@@ -18,6 +18,7 @@
 #include "serve_mpi.h"
 #include "server.h"
 #include "session.h"
+#include "signals.h"
 #include "workers.h"
 #include "ws.h"
 
@@ -52,6 +53,7 @@ static void usage(FILE *f)
             "                         compact 16-bit layout; about twice the bytes per vertex)\n"
             "  --max-memory BYTES     refuse a dataset whose estimated resident size, with the ones before it,\n"
             "                         exceeds BYTES (k, M, G, T suffixes; default: no limit)\n"
+            "  --follow-symlinks      serve files and sidecars of a --data folder that link outside it\n"
             "  --device N             EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)\n"
             "  --workers N            render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)\n"
             "  --encoders N           JPEG/PNG encoder threads (default 2)\n"
@@ -148,7 +150,8 @@ enum {
     OPT_QUEUE_PER_CLIENT,
     OPT_MPI,
     OPT_EXACT_POSITIONS,
-    OPT_MAX_MEMORY
+    OPT_MAX_MEMORY,
+    OPT_FOLLOW_SYMLINKS
 };
 
 /* A token that does not fit is refused: cutting it would accept its prefix
@@ -195,6 +198,7 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
                                          {"mpi", no_argument, NULL, OPT_MPI},
                                          {"exact-positions", no_argument, NULL, OPT_EXACT_POSITIONS},
                                          {"max-memory", required_argument, NULL, OPT_MAX_MEMORY},
+                                         {"follow-symlinks", no_argument, NULL, OPT_FOLLOW_SYMLINKS},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     optind = 1;
@@ -334,6 +338,7 @@ static int parse_flags(int argc, char **argv, lc_serve_config *cfg, const char *
             break;
         case OPT_MPI: cfg->mpi = true; break;
         case OPT_EXACT_POSITIONS: cfg->exact_positions = true; break;
+        case OPT_FOLLOW_SYMLINKS: cfg->follow_symlinks = true; break;
         case OPT_MAX_MEMORY:
             if (lc_memory_parse_bytes(optarg, &cfg->max_memory) != 0) {
                 fprintf(stderr, "lucent serve: --max-memory: expected bytes, e.g. 20G or 512M, got \"%s\"\n", optarg);
@@ -387,6 +392,15 @@ static void answer_before_abort(void *ctx, const char *msg)
     lc_workers_abandon(((lc_server *)ctx)->workers, MPI_ENDING);
 }
 
+/* A start-up that ends in an error: says so when a signal stopped it. */
+static int startup_failed(void)
+{
+    int sig = lc_signals_received();
+    if (sig)
+        LC_WARN(MOD, "%s during start-up: exited before serving", lc_signals_name(sig));
+    return 1;
+}
+
 static int serve_main(int argc, char **argv)
 {
     static lc_server srv; /* one per process; static so signal-free code can reach it in a debugger */
@@ -412,18 +426,18 @@ static int serve_main(int argc, char **argv)
         srv.mpi = serve_mpi;
     }
     srv.start_time = lc_now();
-    /* Block the shutdown signals in every thread (they inherit this mask);
-     * the main thread takes them synchronously with sigwait. */
-    sigset_t sigs;
-    sigemptyset(&sigs);
-    sigaddset(&sigs, SIGINT);
-    sigaddset(&sigs, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &sigs, NULL);
+    /* The shutdown signals go to one watcher thread from here on, so that
+     * they stop a start-up too (signals.h). */
+    if (lc_signals_start(&err) != 0) {
+        LC_ERROR(MOD, "%s", err.msg);
+        return 1;
+    }
     signal(SIGPIPE, SIG_IGN);
 
     lc_datasets_options dopts = {.demo_size = cfg->demo_size,
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
+                                 .follow_symlinks = cfg->follow_symlinks,
                                  .workers = cfg->workers > 0 ? cfg->workers : 1};
     const char *mpi_read = getenv("LUCENT_MPI_READ");
     if (srv.mpi && !(mpi_read && strcmp(mpi_read, "whole") == 0)) { /* line files, point clouds: each rank reads its share */
@@ -437,10 +451,12 @@ static int serve_main(int argc, char **argv)
         rc = lc_datasets_set_element_budget(srv.datasets, cfg->elements, &err);
     if (srv.mpi)
         rc = lc_serve_mpi_start(&srv, rc, &err);
+    if (rc == 0 && lc_cancelled())
+        rc = lc_err_cancelled(&err, "start-up");
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         lc_datasets_destroy(srv.datasets);
-        return 1;
+        return startup_failed();
     }
 
     /* The primary context: datasets are uploaded with it; worker 0 adopts it. */
@@ -476,7 +492,7 @@ static int serve_main(int argc, char **argv)
         if (primary)
             lc_gl_destroy(primary);
         lc_datasets_destroy(srv.datasets);
-        return 1;
+        return startup_failed();
     }
     int nworkers = cfg->workers > 0 ? cfg->workers : (lc_gl_is_software(primary) ? 1 : 2);
     if (srv.mpi)
@@ -508,7 +524,7 @@ static int serve_main(int argc, char **argv)
         lc_sessions_destroy(srv.sessions);
         lc_metrics_destroy(srv.metrics);
         lc_datasets_destroy(srv.datasets);
-        return 1;
+        return startup_failed();
     }
     const char *host = cfg->listen_host;
     bool v6 = strchr(host, ':') != NULL;
@@ -516,15 +532,15 @@ static int serve_main(int argc, char **argv)
             cfg->token[0] ? "required" : "off");
     LC_INFO(MOD, "listening on http://%s%s%s:%d/", v6 ? "[" : "", host, v6 ? "]" : "", port);
 
-    int sig = 0;
-    sigwait(&sigs, &sig);
-    LC_INFO(MOD, "%s: shutting down", sig == SIGINT ? "SIGINT" : "SIGTERM");
+    lc_signals_serving();
+    int sig = lc_signals_wait();
+    LC_INFO(MOD, "%s: shutting down", lc_signals_name(sig));
     if (srv.mpi) {
         /* Under mpirun a signal also comes when another rank died: mpirun then
          * ends the job and names the rank. A frame waiting for that rank
          * would hold the shutdown, so it has 10 s. */
         LC_WARN(MOD, "--mpi: %s received: ending the service on every rank (if a rank died, mpirun names it)",
-                sig == SIGINT ? "SIGINT" : "SIGTERM");
+                lc_signals_name(sig));
         lc_mpi_exit_guard(srv.mpi, 10.0);
         /* mpirun follows its signal with SIGKILL about a second later: answer
          * the frames in hand and the queue now rather than let them finish. */

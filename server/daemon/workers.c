@@ -9,6 +9,7 @@
 
 #include "image.h"
 #include "lc_mpi.h"
+#include "memory.h"
 #include "messages.h"
 #include "metrics.h"
 #include "serve_mpi.h"
@@ -410,6 +411,8 @@ static void render_job(worker *wk, lc_render_job *job)
     in_hand(wk, job, NULL);
     int rc = lc_server_render_frame(w->srv, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
                                     &info, &err);
+    if (!w->srv->mpi) /* a large frame keeps no targets (collective frames under MPI keep them) */
+        lc_renderer_release_after(wk->renderer, dataset->gpu, p);
     int mine = out_of_hand(wk);
     if (session)
         lc_session_unref(session);
@@ -588,6 +591,8 @@ static void encode_one(lc_workers *w, encode_item *e)
     double ms = (lc_now() - t0) * 1000.0;
     free(e->rgba);
     e->rgba = NULL;
+    if ((long long)e->width * e->height > LC_LARGE_FRAME_PIXELS)
+        lc_memory_trim(); /* what the large frame's buffers leave in the heap goes back too */
     if (rc == 0)
         lc_metrics_encode(srv->metrics, ms, (long long)e->width * e->height, size);
     if (e->job) {

@@ -9,7 +9,8 @@ than their size. Writes them into OUT (default .): each is a valid container
   zeros24.trx   98 KB TRX: 2^24 of them (--large only)
   zeros16.trx   a 2^16 one, small enough for the fuzz corpus
   claims.trx    header.json declares 2^28 vertices, the arrays are empty
-  repeated.csv  2^17 copies of one point in one line (level-of-detail stress)
+  zeros19.trx   2^19 zero vertices in one streamline: within the load
+                budget, so it loads (level-of-detail and element stress)
 """
 import json
 import os
@@ -28,18 +29,15 @@ def trx(path, vertices, streamlines=1, positions=None):
         z.writestr("offsets.uint64", b"".join(struct.pack("<Q", o) for o in offsets))
 
 
-def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else "."
+def write_all(out, large=False):
     os.makedirs(out, exist_ok=True)
     trx(os.path.join(out, "zeros22.trx"), 1 << 22)
     trx(os.path.join(out, "zeros16.trx"), 1 << 16)
     trx(os.path.join(out, "claims.trx"), 1 << 28, positions=b"")
-    if "--large" in sys.argv:
+    if large:
         trx(os.path.join(out, "zeros24.trx"), 1 << 24)
-    with open(os.path.join(out, "repeated.csv"), "w") as f:
-        f.write("x,y,z,line\n")
-        f.write("1.5,2.5,3.5,0\n" * (1 << 17))
+    trx(os.path.join(out, "zeros19.trx"), 1 << 19)
 
 
 if __name__ == "__main__":
-    main()
+    write_all(sys.argv[1] if len(sys.argv) > 1 and sys.argv[1] != "--large" else ".", "--large" in sys.argv)

@@ -162,7 +162,7 @@ typedef struct lc_io_progress {
 void lc_io_progress_start(lc_io_progress *p, const char *file);
 void lc_io_progress_report(lc_io_progress *p, size_t done, size_t total);
 
-/* The memory budget of one load (docs/SECURITY.md). A file may not make us
+/* The memory budget of one load (docs/MEMORY.md "Refusing what does not fit"). A file may not make us
  * allocate more than LC_IO_LOAD_RATIO times its own size (at least
  * LC_IO_LOAD_FLOOR bytes), nor more than the --max-memory left
  * (lc_io_set_memory_limit; process-wide, set before loading; 0 = none).

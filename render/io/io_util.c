@@ -110,13 +110,17 @@ static _Atomic uint64_t memory_limit;
 
 void lc_io_set_memory_limit(uint64_t bytes) { memory_limit = bytes; }
 
-int lc_io_check_load(const char *file, uint64_t file_bytes, uint64_t need, const char *what, lc_error *err)
+int lc_io_check_load(const char *file, uint64_t file_bytes, uint64_t vertices, uint64_t extra, const char *what,
+                     lc_error *err)
 {
     uint64_t ratio = file_bytes > UINT64_MAX / LC_IO_LOAD_RATIO ? UINT64_MAX : file_bytes * LC_IO_LOAD_RATIO;
     uint64_t budget = ratio > LC_IO_LOAD_FLOOR ? ratio : LC_IO_LOAD_FLOOR, limit = memory_limit;
-    if (limit && limit < budget && need > limit)
-        return lc_err(err, LC_ERR_LIMIT, "%.80s: refused before loading: %s need an estimated %.1f MB, over --max-memory %.1f MB",
-                      file, what, need / 1e6, limit / 1e6);
+    uint64_t resident = vertices * LC_IO_RESIDENT_BYTES_PER_VERTEX, need = vertices * LC_IO_LOAD_BYTES_PER_VERTEX + extra;
+    if (limit && resident > limit)
+        return lc_err(err, LC_ERR_LIMIT,
+                      "%.80s: refused before loading: %s stay resident with at least %.1f MB, over --max-memory "
+                      "%.1f MB",
+                      file, what, resident / 1e6, limit / 1e6);
     if (need > budget)
         return lc_err(err, LC_ERR_LIMIT,
                       "%.80s: refused before loading: %s need an estimated %.1f MB, over the load budget of %.1f MB "

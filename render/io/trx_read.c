@@ -411,11 +411,11 @@ static int check_budget(trx_load *T)
             inflated += e->size < (1ull << 50) ? e->size : (1ull << 50); /* declared, unchecked yet */
         vertex_arrays += strncmp(e->name, "dpv/", 4) == 0;
     }
-    uint64_t need = T->nv * (LC_IO_LOAD_BYTES_PER_VERTEX + 4 * vertex_arrays) + T->ns * 16 + inflated;
+    uint64_t extra = T->nv * 4 * vertex_arrays + T->ns * 16 + inflated;
     char what[96];
     snprintf(what, sizeof what, "%llu vertices in %llu streamlines", (unsigned long long)T->nv,
              (unsigned long long)T->ns);
-    return lc_io_check_load(T->file, file_bytes, need, what, T->err);
+    return lc_io_check_load(T->file, file_bytes, T->nv, extra, what, T->err);
 }
 
 static int trx_build(trx_load *T, lc_scene **out)

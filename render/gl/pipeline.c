@@ -38,7 +38,7 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
     lc_error ignored = {0};
     for (int k = 0; k < 2; k++) /* llvmpipe's scenes hold references for one frame more */
         lc_render_frame(r, gs, &tiny, NULL, 0.0, rgba, NULL, &ignored);
-    lc_targets *sets[] = {&r->coef_low, &r->coef_full, &r->accum,    &r->output,
+    lc_targets *sets[] = {&r->coef_low,   &r->coef_full, &r->accum,  &r->output,
                           &r->range_full, &r->range_low, &r->moments};
     for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++)
         lc_targets_free(sets[k], &r->bytes_targets);

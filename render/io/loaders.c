@@ -98,8 +98,8 @@ int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err)
         return rc;
     struct stat st;
     if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) /* what finalize will need, before it allocates */
-        rc = lc_io_check_load(base, (uint64_t)st.st_size, s->vertex_count, s->triangle_count * 12ull,
-                              "its vertices", err);
+        rc = lc_io_check_load(base, (uint64_t)st.st_size, s->vertex_count, s->triangle_count * 12ull, "its vertices",
+                              err);
     if (!rc)
         rc = lc_cancelled() ? lc_err_cancelled(err, base) : lc_scene_finalize(s, NULL, err);
     if (rc) {

@@ -61,7 +61,8 @@ static int split_run(builder *bd, uint32_t a, uint32_t b)
             /* Vertices on the chord (repeated points, straight runs) tie at 0:
              * the one nearest the middle keeps the split balanced, where the
              * first would peel one vertex per step (quadratic time). */
-            if (d2 > best || (d2 == 0 && best == 0 && (v > mid ? v - mid : mid - v) < (far > mid ? far - mid : mid - far)))
+            if (d2 > best ||
+                (d2 == 0 && best == 0 && (v > mid ? v - mid : mid - v) < (far > mid ? far - mid : mid - far)))
                 best = d2, far = v;
         }
         uint32_t v = sp.b - sp.a > BALANCED_SPAN ? sp.a + (sp.b - sp.a) / 2 : far;

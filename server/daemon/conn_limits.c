@@ -79,8 +79,9 @@ static void admit(pending *p)
         closed_evicted++;
         if (p->accepted - last_warning > 10.0) {
             last_warning = p->accepted;
-            LC_WARN(MOD, "many connections without a request: closing the oldest (%llu so far; %llu past the %.0f s "
-                         "header deadline)",
+            LC_WARN(MOD,
+                    "many connections without a request: closing the oldest (%llu so far; %llu past the %.0f s "
+                    "header deadline)",
                     (unsigned long long)closed_evicted, (unsigned long long)closed_deadline, LC_CONN_HEADER_DEADLINE);
         }
     }

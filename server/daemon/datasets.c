@@ -220,7 +220,7 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
             return add_directory(d, source, err);
         LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
         uint64_t left = d->opts.max_memory > d->estimated ? d->opts.max_memory - d->estimated : 1;
-        lc_scene_set_load_limit(d->opts.max_memory ? left : 0); /* readers refuse before allocating beyond it */
+        lc_scene_set_load_limit(d->opts.max_memory ? left : 0);  /* readers refuse before allocating beyond it */
         if (d->opts.read_part && lc_scene_can_read_part(source)) /* serve --mpi: this rank's share */
             rc = d->opts.read_part(d->opts.read_part_ctx, source, &ds->scene, err);
         else
@@ -230,7 +230,8 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
             base[4] = '_';
             LC_WARN(MOD, "%s: served as \"%s\" (names starting with demo: are the demos')", source, base);
         }
-        if (rc == 0 && (rc = lc_dataset_read_sidecar(source, d->opts.follow_symlinks, ds->scene, &ds->preset, err)) != 0) {
+        if (rc == 0 &&
+            (rc = lc_dataset_read_sidecar(source, d->opts.follow_symlinks, ds->scene, &ds->preset, err)) != 0) {
             lc_scene_destroy(ds->scene);
             ds->scene = NULL;
         }

@@ -414,5 +414,8 @@ with Server(binary, env={"LUCENT_TOKEN": TOKEN}) as srv:
           (HOLD, reopened, len(latencies), 1e3 * latencies[len(latencies) // 2], 1e3 * worst, failures[:3]))
     st, _, _ = srv.request("GET", "/api/v1/render?width=32&height=32&format=jpeg", headers=AUTH, timeout=10)
     check(st == 200, "an authenticated render still answers afterwards (%s)" % st)
+    closed = metric(srv, "lucent_http_unfinished_closed_total")
+    check(closed >= reopened > 0, "/metrics counts the connections closed unfinished: %d (%d seen here)" %
+          (closed, reopened))
 
 check.done()

@@ -130,6 +130,10 @@ static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){
 #define OFF(member) offsetof(lc_request, member)
 #define NOFLAG (-1L)
 #define BIG 1e300 /* "any finite number"; reals from jansson are finite anyway */
+/* A ribbon wider than 1e9 world units covers any data that float positions
+ * resolve at that scale; beyond it the width only overflows the cost model
+ * and the shaders' float half-width (9.2e18 was accepted before). */
+#define LINE_WIDTH_MAX 1e9
 
 /* Caps beyond the issue's ranges (q, r, λ, exponents, dt) only keep values in
  * float range for the shaders; the documented ranges in README.md match. */
@@ -195,7 +199,7 @@ static const field fields[] = {
     {"color", "curve", "colorCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.color.curve), 0, NOFLAG, NULL},
 
     {"style", "background", "background", T_COLOR, 0, 0, 0, OFF(render.style.background), 0, NOFLAG, NULL},
-    {"style", "lineWidth", "lineWidth", T_NUM, 0, BIG, 0, OFF(render.style.line_width), 0, NOFLAG, NULL},
+    {"style", "lineWidth", "lineWidth", T_NUM, 0, LINE_WIDTH_MAX, 0, OFF(render.style.line_width), 0, NOFLAG, NULL},
     {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
     {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
     {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},

@@ -3,6 +3,7 @@
 #include "lc_base.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
@@ -62,6 +63,7 @@ const char *lc_status_name(int code)
     case LC_ERR_GL: return "gl";
     case LC_ERR_NOT_FOUND: return "not_found";
     case LC_ERR_UNSUPPORTED: return "unsupported";
+    case LC_ERR_CANCELLED: return "cancelled";
     default: return "internal";
     }
 }
@@ -93,14 +95,39 @@ void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...)
     char when[32];
     strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%S", &tm);
 
+    /* One event, one line: control characters in the text (a file name with a
+     * newline or an escape sequence) are written as \n, \xHH, never raw. */
+    char safe[4 * sizeof text];
+    size_t k = 0;
+    for (const unsigned char *c = (const unsigned char *)text; *c && k + 5 < sizeof safe; c++) {
+        if (*c >= 32 && *c != 127)
+            safe[k++] = (char)*c;
+        else if (*c == '\n' || *c == '\t' || *c == '\r')
+            safe[k++] = '\\', safe[k++] = *c == '\n' ? 'n' : *c == '\t' ? 't' : 'r';
+        else
+            k += (size_t)snprintf(safe + k, sizeof safe - k, "\\x%02x", *c);
+    }
+    safe[k] = '\0';
+
     pthread_mutex_lock(&log_lock);
     fprintf(stderr, "%s.%03ldZ %s [%s] %s\n", when, ts.tv_nsec / 1000000L,
             tags[level < 0   ? 0
                  : level > 3 ? 3
                              : level],
-            module ? module : "-", text);
+            module ? module : "-", safe);
     fflush(stderr);
     pthread_mutex_unlock(&log_lock);
+}
+
+static atomic_int cancel_flag;
+
+void lc_cancel(int sig) { atomic_store(&cancel_flag, sig ? sig : 1); }
+
+int lc_cancelled(void) { return atomic_load_explicit(&cancel_flag, memory_order_relaxed); }
+
+int lc_err_cancelled(lc_error *err, const char *what)
+{
+    return lc_err(err, LC_ERR_CANCELLED, "%s: stopped by a signal", what ? what : "loading");
 }
 
 double lc_now(void)

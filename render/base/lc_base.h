@@ -20,7 +20,8 @@ enum {
     LC_ERR_GL = -5,          /* EGL / OpenGL failure */
     LC_ERR_NOT_FOUND = -6,   /* unknown dataset, attribute, name */
     LC_ERR_UNSUPPORTED = -7, /* feature not available here */
-    LC_ERR_INTERNAL = -8
+    LC_ERR_INTERNAL = -8,
+    LC_ERR_CANCELLED = -9 /* stopped by lc_cancel (a signal during start-up) */
 };
 
 #define LC_ERROR_MSG_LEN 256
@@ -67,6 +68,13 @@ void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...) 
 #define LC_WARN(module, ...) LC_LOG(LC_LOG_WARN, module, __VA_ARGS__)
 #define LC_INFO(module, ...) LC_LOG(LC_LOG_INFO, module, __VA_ARGS__)
 #define LC_DEBUG(module, ...) LC_LOG(LC_LOG_DEBUG, module, __VA_ARGS__)
+
+/* Cancellation: a signal handler (or its watcher thread) calls lc_cancel;
+ * long loops (readers' progress, finalize, elements, level of detail) poll
+ * lc_cancelled and stop with lc_err_cancelled, so start-up ends cleanly. */
+void lc_cancel(int sig);
+int lc_cancelled(void);
+int lc_err_cancelled(lc_error *err, const char *what);
 
 /* Monotonic clock in seconds. */
 double lc_now(void);

@@ -216,6 +216,16 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
 /* Sets the reduction hook after creation (same contract as the desc field). */
 void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
 
+/* After a frame of params p above LC_LARGE_FRAME_PIXELS (a 4096^2 still; no
+ * stream frame is that large): renders p once more at 8x8 (so that the
+ * driver lets go of the large frame's state), frees every render target (the
+ * next frame allocates its own size again) and trims the heap, so that one
+ * large render does not pin its memory for the life of the process. Smaller
+ * frames keep their targets. Not under MPI (the 8x8 frame is not collective).
+ * Thread: the thread that holds the context. */
+#define LC_LARGE_FRAME_PIXELS (2048LL * 2048LL)
+void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *p);
+
 /* GPU memory currently held by the renderer's targets and buffers. */
 uint64_t lc_renderer_bytes(const lc_renderer *r);
 /* Of that and its CPU caches: what grows with the element count. */

@@ -106,6 +106,30 @@ int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int
     return rc;
 }
 
+static _Atomic uint64_t memory_limit;
+
+void lc_io_set_memory_limit(uint64_t bytes) { memory_limit = bytes; }
+
+int lc_io_check_load(const char *file, uint64_t file_bytes, uint64_t vertices, uint64_t extra, const char *what,
+                     lc_error *err)
+{
+    uint64_t ratio = file_bytes > UINT64_MAX / LC_IO_LOAD_RATIO ? UINT64_MAX : file_bytes * LC_IO_LOAD_RATIO;
+    uint64_t budget = ratio > LC_IO_LOAD_FLOOR ? ratio : LC_IO_LOAD_FLOOR, limit = memory_limit;
+    uint64_t resident = vertices * LC_IO_RESIDENT_BYTES_PER_VERTEX;
+    uint64_t need = vertices * LC_IO_LOAD_BYTES_PER_VERTEX + extra;
+    if (limit && resident > limit)
+        return lc_err(err, LC_ERR_LIMIT,
+                      "%.80s: refused before loading: %s stay resident with at least %.1f MB, over --max-memory "
+                      "%.1f MB",
+                      file, what, resident / 1e6, limit / 1e6);
+    if (need > budget)
+        return lc_err(err, LC_ERR_LIMIT,
+                      "%.80s: refused before loading: %s need an estimated %.1f MB, over the load budget of %.1f MB "
+                      "(%d times the file's %.3f MB, at least %.0f MB)",
+                      file, what, need / 1e6, budget / 1e6, LC_IO_LOAD_RATIO, file_bytes / 1e6, LC_IO_LOAD_FLOOR / 1e6);
+    return 0;
+}
+
 int lc_io_file_test(const char *path, int (*test)(const char *data, size_t size, const char *name))
 {
     lc_io_file f;

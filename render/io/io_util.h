@@ -162,6 +162,29 @@ typedef struct lc_io_progress {
 void lc_io_progress_start(lc_io_progress *p, const char *file);
 void lc_io_progress_report(lc_io_progress *p, size_t done, size_t total);
 
+/* The memory budget of one load (docs/MEMORY.md "Refusing what does not fit").
+ * A file may not make us allocate more than LC_IO_LOAD_RATIO times its own
+ * size (at least LC_IO_LOAD_FLOOR bytes): a load needs at least
+ * LC_IO_LOAD_BYTES_PER_VERTEX per vertex (positions, vertex elements, the
+ * level of detail's error, parent and order arrays) beside what the reader
+ * inflates. Nor may a dataset whose resident size is surely over the
+ * --max-memory left (lc_io_set_memory_limit; process-wide, set before
+ * loading; 0 = none) be read at all: LC_IO_RESIDENT_BYTES_PER_VERTEX is below
+ * what any layout keeps a vertex, so this never refuses what the estimate
+ * after loading would accept. Readers whose declared counts can expand
+ * (compressed entries) check with lc_io_check_load from the counts before
+ * allocating; every load is checked again before finalize. */
+#define LC_IO_LOAD_RATIO 64
+#define LC_IO_LOAD_FLOOR (64ull << 20)
+#define LC_IO_LOAD_BYTES_PER_VERTEX 64
+#define LC_IO_RESIDENT_BYTES_PER_VERTEX 24
+void lc_io_set_memory_limit(uint64_t bytes);
+/* LC_ERR_LIMIT, naming file, what, the estimate and the limit it exceeds,
+ * when a load of `vertices` (and `extra` bytes more, e.g. inflated arrays)
+ * from a file_bytes input is over the budget. */
+int lc_io_check_load(const char *file, uint64_t file_bytes, uint64_t vertices, uint64_t extra, const char *what,
+                     lc_error *err);
+
 /* Attribute slots a loader may fill: finalize adds up to four derived ones. */
 #define LC_IO_MAX_FILE_ATTRIBUTES (LC_MAX_ATTRIBUTES - 4)
 

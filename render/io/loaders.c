@@ -3,6 +3,7 @@
 
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "io_util.h"
 
@@ -88,6 +89,8 @@ int lc_scene_read_file(const char *path, lc_scene **out, lc_error *err)
     return rc;
 }
 
+void lc_scene_set_load_limit(uint64_t bytes) { lc_io_set_memory_limit(bytes); }
+
 int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err)
 {
     *out = NULL;
@@ -96,7 +99,12 @@ int lc_scene_load_file(const char *path, lc_scene **out, lc_error *err)
     int rc = lc_scene_read_file(path, &s, err);
     if (rc)
         return rc;
-    rc = lc_scene_finalize(s, NULL, err);
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) /* what finalize will need, before it allocates */
+        rc = lc_io_check_load(base, (uint64_t)st.st_size, s->vertex_count, s->triangle_count * 12ull, "its vertices",
+                              err);
+    if (!rc)
+        rc = lc_cancelled() ? lc_err_cancelled(err, base) : lc_scene_finalize(s, NULL, err);
     if (rc) {
         if (err && strncmp(err->msg, base, strlen(base)) != 0)
             lc_err_prefix(err, "%s", base);

@@ -47,6 +47,11 @@ int lc_scene_can_read_part(const char *path);
  * process holds more than its share. LC_ERR_UNSUPPORTED for other formats. */
 int lc_scene_read_file_part(const char *path, int rank, int size, lc_scene **out, lc_error *err);
 
+/* The --max-memory left for the next load (0 = none): readers refuse a file
+ * whose declared counts need more before allocating (io_util.h). Call from
+ * the loading thread before lc_scene_load_file; process-wide. */
+void lc_scene_set_load_limit(uint64_t bytes);
+
 /* Picks the reader by extension (LC_DATASET_EXTENSIONS); the scene is named
  * after the file stem. Finalizes the scene with default element options. On
  * error *out is NULL and err names the file and the reason. */

@@ -394,9 +394,35 @@ static int finite3(const unsigned char *p, const dtype *t, float out[3])
     return isfinite(out[0]) && isfinite(out[1]) && isfinite(out[2]);
 }
 
+/* The bytes a load of the header's counts needs at least (the scene's arrays,
+ * the finalize's per-vertex ones, the offsets and every array a zip makes us
+ * inflate), checked against the load budget before anything is inflated: a
+ * few kilobytes of deflated zeros may declare gigabytes. */
+static int check_budget(trx_load *T)
+{
+    uint64_t file_bytes = T->zsize, inflated = 0, vertex_arrays = 1;
+    for (int i = 0; i < T->n; i++) {
+        const trx_entry *e = &T->e[i];
+        int read = strncmp(e->name, "positions.", 10) == 0 || strncmp(e->name, "offsets.", 8) == 0 ||
+                   strncmp(e->name, "dpv/", 4) == 0 || strncmp(e->name, "dps/", 4) == 0;
+        if (!T->zip)
+            file_bytes += e->size;
+        else if (read)
+            inflated += e->size < (1ull << 50) ? e->size : (1ull << 50); /* declared, unchecked yet */
+        vertex_arrays += strncmp(e->name, "dpv/", 4) == 0;
+    }
+    uint64_t extra = T->nv * 4 * vertex_arrays + T->ns * 16 + inflated;
+    char what[96];
+    snprintf(what, sizeof what, "%llu vertices in %llu streamlines", (unsigned long long)T->nv,
+             (unsigned long long)T->ns);
+    return lc_io_check_load(T->file, file_bytes, T->nv, extra, what, T->err);
+}
+
 static int trx_build(trx_load *T, lc_scene **out)
 {
     int rc = read_header(T);
+    if (!rc)
+        rc = check_budget(T);
     if (rc)
         return rc;
     if (T->ns == 0)

@@ -224,6 +224,10 @@ static int make_streamlines(lc_scene *s, const stream_spec *sp, uint32_t lines, 
             rc = lc_err(err, LC_ERR_LIMIT, "%s: too many vertices", s->name);
             goto fail_msg;
         }
+        if ((made & 63) == 0 && lc_cancelled()) { /* a signal during start-up */
+            rc = lc_err_cancelled(err, s->name);
+            goto fail_msg;
+        }
         offsets[++made] = (uint32_t)speed.n;
     }
     if (made == 0) {

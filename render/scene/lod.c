@@ -55,10 +55,14 @@ static int split_run(builder *bd, uint32_t a, uint32_t b)
     while (bd->top > 0) {
         span sp = bd->stack[--bd->top];
         double best = -1;
-        uint32_t far = sp.a + 1;
+        uint32_t far = sp.a + 1, mid = sp.a + (sp.b - sp.a) / 2;
         for (uint32_t v = sp.a + 1; v < sp.b; v++) {
             double d2 = seg_dist2(bd->pos + 3 * (size_t)v, bd->pos + 3 * (size_t)sp.a, bd->pos + 3 * (size_t)sp.b);
-            if (d2 > best)
+            /* Vertices on the chord (repeated points, straight runs) tie at 0:
+             * the one nearest the middle keeps the split balanced, where the
+             * first would peel one vertex per step (quadratic time). */
+            if (d2 > best ||
+                (d2 == 0 && best == 0 && (v > mid ? v - mid : mid - v) < (far > mid ? far - mid : mid - far)))
                 best = d2, far = v;
         }
         uint32_t v = sp.b - sp.a > BALANCED_SPAN ? sp.a + (sp.b - sp.a) / 2 : far;
@@ -91,6 +95,10 @@ int lc_lod_vertex_errors(const lc_scene *s, float *err, lc_error *err_out)
         err[v] = INFINITY; /* run end points; split_run gives every other vertex its error */
     const uint32_t *ve = s->elements.vertex_elements;
     for (uint32_t l = 0; l < s->line_count && rc == 0; l++) {
+        if ((l & 1023) == 0 && lc_cancelled()) {
+            rc = LC_ERR_CANCELLED;
+            break;
+        }
         uint32_t first = s->line_offsets[l], end = s->line_offsets[l + 1];
         for (uint32_t a = first, b; a + 1 < end && rc == 0; a = b) {
             /* Runs end where the primary element changes: that vertex stays, so
@@ -110,6 +118,8 @@ int lc_lod_vertex_errors(const lc_scene *s, float *err, lc_error *err_out)
             err[p] = err[v];
     }
     free(bd.parent), free(bd.order), free(bd.stack);
+    if (rc == LC_ERR_CANCELLED)
+        return lc_err_cancelled(err_out, s->name);
     if (rc)
         return lc_err(err_out, LC_ERR_NOMEM, "%s: out of memory for the level-of-detail hierarchy", s->name);
     return 0;

@@ -352,10 +352,14 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
         rc = lc_scene_derive_points(s, s->vertex_count, NULL, err);
     if (rc)
         return rc;
+    if (lc_cancelled())
+        return lc_err_cancelled(err, s->name);
     for (int i = 0; i < s->attribute_count; i++)
         lc_attribute_update_range(&s->attributes[i], s->vertex_count);
     choose_defaults(s);
     double t1 = lc_now();
+    if (lc_cancelled())
+        return lc_err_cancelled(err, s->name);
     lc_element_geometry g = element_geometry(s);
     rc = lc_elements_build(&g, desc, &s->elements, err);
     if (rc)

@@ -141,6 +141,7 @@ static int set_max_memory(void *target, const lc_option *o, const char *arg, cha
         snprintf(why, why_len, "\"%s\": expected bytes, e.g. 20G, 512M or 1000000", arg);
         return -1;
     }
+    lc_scene_set_load_limit(((lc_cli_common *)target)->max_memory); /* readers refuse before allocating beyond it */
     return 0;
 }
 

@@ -4,12 +4,14 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
+#include "data_paths.h"
 #include "demo.h"
 #include "loaders.h"
 #include "request.h"
@@ -52,8 +54,9 @@ static json_t *demo_preset(const char *demo)
 }
 
 #define SIDECAR_MAX_BYTES (64 * 1024)
+#define LC_MAX_ELEMENT_BUDGET (1u << 24) /* as lc_scene_set_element_budget */
 
-int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, lc_error *err)
+int lc_dataset_read_sidecar(const char *path, bool follow_symlinks, lc_scene *scene, json_t **preset, lc_error *err)
 {
     *preset = NULL;
     char side[600];
@@ -65,6 +68,9 @@ int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, 
     struct stat st;
     if (stat(side, &st) != 0)
         return 0; /* no sidecar */
+    int confined = lc_data_sidecar_check(path, side, follow_symlinks, err);
+    if (confined)
+        return confined;
     if (!S_ISREG(st.st_mode) || st.st_size > SIDECAR_MAX_BYTES)
         return lc_err(err, LC_ERR_INVALID, "%s: not a regular file of at most %d bytes", side, SIDECAR_MAX_BYTES);
     json_error_t je;
@@ -95,8 +101,12 @@ int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, 
     }
     json_t *elements = json_object_get(root, "elements");
     if (elements) {
-        if (!json_is_integer(elements) || json_integer_value(elements) < 1) {
-            rc = lc_err_field(err, LC_ERR_INVALID, "elements", "%s: elements: expected a positive integer", side);
+        /* Range before the cast: 4294967297 must not become 1. */
+        if (!json_is_integer(elements) || json_integer_value(elements) < 1 ||
+            json_integer_value(elements) > LC_MAX_ELEMENT_BUDGET) {
+            rc = lc_err_field(err, LC_ERR_INVALID, "elements", "%s: elements: expected an integer in 1..%u, got %s",
+                              side, LC_MAX_ELEMENT_BUDGET,
+                              json_is_integer(elements) ? "a number outside it" : "another type");
             goto done;
         }
         if ((rc = lc_scene_set_element_budget(scene, (uint32_t)json_integer_value(elements), err)) != 0) {
@@ -187,6 +197,8 @@ static int check_budget(lc_datasets *d, const lc_dataset *ds, lc_error *err)
 static int add_source(lc_datasets *d, const char *source, lc_error *err)
 {
     unsigned long long demo_size = d->opts.demo_size;
+    if (lc_cancelled()) /* a signal during start-up: no further dataset */
+        return lc_err_cancelled(err, source);
     if (d->count >= MAX_DATASETS)
         return lc_err(err, LC_ERR_LIMIT, "%s: more than %d datasets", source, MAX_DATASETS);
     lc_dataset *ds = &d->items[d->count];
@@ -208,12 +220,19 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
         if (S_ISDIR(st.st_mode) && !lc_scene_is_dataset_file(source)) /* a TRX directory is one dataset */
             return add_directory(d, source, err);
         LC_INFO(MOD, "loading %s (%.1f MB) ...", source, st.st_size / 1e6);
+        uint64_t left = d->opts.max_memory > d->estimated ? d->opts.max_memory - d->estimated : 1;
+        lc_scene_set_load_limit(d->opts.max_memory ? left : 0);  /* readers refuse before allocating beyond it */
         if (d->opts.read_part && lc_scene_can_read_part(source)) /* serve --mpi: this rank's share */
             rc = d->opts.read_part(d->opts.read_part_ctx, source, &ds->scene, err);
         else
             rc = lc_scene_load_file(source, &ds->scene, err);
         file_stem(source, base, sizeof base);
-        if (rc == 0 && (rc = lc_dataset_read_sidecar(source, ds->scene, &ds->preset, err)) != 0) {
+        if (strncmp(base, "demo:", 5) == 0) { /* the demos' names are theirs: "demo:x.csv" is "demo_x" */
+            base[4] = '_';
+            LC_WARN(MOD, "%s: served as \"%s\" (names starting with demo: are the demos')", source, base);
+        }
+        if (rc == 0 &&
+            (rc = lc_dataset_read_sidecar(source, d->opts.follow_symlinks, ds->scene, &ds->preset, err)) != 0) {
             lc_scene_destroy(ds->scene);
             ds->scene = NULL;
         }
@@ -255,17 +274,26 @@ static int add_directory(lc_datasets *d, const char *dir, lc_error *err)
         return lc_err(err, LC_ERR_IO, "%s: cannot list the folder: %s", dir, strerror(errno));
     int loaded = 0, failed = 0, rc = 0;
     lc_error last = {0};
+    char root[PATH_MAX];
+    if (!realpath(dir, root)) {
+        for (int i = 0; i < n; i++)
+            free(entries[i]);
+        free(entries);
+        return lc_err(err, LC_ERR_IO, "%s: cannot resolve the folder: %s", dir, strerror(errno));
+    }
     for (int i = 0; i < n; i++) {
         char path[1024];
         struct stat st;
         int len = snprintf(path, sizeof path, "%s/%s", dir, entries[i]->d_name);
+        lc_error e = {0};
         if (rc == 0 && len > 0 && (size_t)len < sizeof path && stat(path, &st) == 0 &&
             (S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) && lc_scene_is_dataset_file(path)) {
-            lc_error e = {0};
-            int r = add_source(d, path, &e);
+            int r = lc_data_path_check(root, path, d->opts.follow_symlinks, &e);
+            if (r == 0)
+                r = add_source(d, path, &e);
             if (r == 0) {
                 loaded++;
-            } else if (r == LC_ERR_LIMIT && d->count >= MAX_DATASETS) {
+            } else if (r == LC_ERR_CANCELLED || (r == LC_ERR_LIMIT && d->count >= MAX_DATASETS)) {
                 rc = lc_err(err, r, "%s", e.msg);
             } else {
                 LC_ERROR(MOD, "skipping %s", e.msg);

@@ -42,6 +42,7 @@ typedef struct lc_datasets_options {
     unsigned long long demo_size; /* lc_demo_desc.count for demos; 0 = the generator's */
     int exact_positions;          /* --exact-positions */
     uint64_t max_memory;          /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
+    bool follow_symlinks;         /* --follow-symlinks: a folder's links may leave it */
     int workers;                  /* render workers, each holding per-element state; 0 = 1 */
     /* serve --mpi: reads this rank's share of a file whose format allows it
      * (lc_scene_can_read_part), collectively with the other ranks, which load
@@ -75,8 +76,9 @@ int lc_datasets_set_element_budget(lc_datasets *d, uint32_t budget, lc_error *er
  * if there is one: validates it (unknown or bad fields name the file and the
  * field), applies its "elements" and its importance/colour attributes as the
  * scene's defaults, and returns the rest as the preset in *preset (NULL when
- * there is no sidecar). */
-int lc_dataset_read_sidecar(const char *path, lc_scene *scene, json_t **preset, lc_error *err);
+ * there is no sidecar). A sidecar that links outside the data file's folder
+ * is refused unless follow_symlinks. */
+int lc_dataset_read_sidecar(const char *path, bool follow_symlinks, lc_scene *scene, json_t **preset, lc_error *err);
 /* Replaces every scene with shard(ctx, &scene, err), keeping the whole
  * dataset's description for lc_dataset_info (serve --mpi; before upload).
  * A part read by this rank (read_part) is kept as it is. */

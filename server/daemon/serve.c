@@ -18,6 +18,7 @@
 #include "ranks.h"
 #include "server.h"
 #include "session.h"
+#include "signals.h"
 #include "workers.h"
 #include "ws.h"
 
@@ -146,6 +147,8 @@ static const lc_option serve_options[] = {
     {"--max-memory", "BYTES", LC_OPT_CALL, CFG(max_memory), .call = opt_bytes, .numeric = 1,
      .help = "refuse a dataset whose estimated resident size, with the ones before it,\n"
              "exceeds BYTES (k, M, G, T suffixes; default: no limit)"},
+    {"--follow-symlinks", NULL, LC_OPT_BOOL, CFG(follow_symlinks),
+     .help = "serve files and sidecars of a --data folder that link outside it"},
     {"--device", "N", LC_OPT_INT, CFG(device), 0, 64,
      .help = "EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)"},
     {"--workers", "N", LC_OPT_INT, CFG(workers), 1, 64,
@@ -247,6 +250,15 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->max_queue_per_client = 8;
 }
 
+/* A start-up that ends in an error: says so when a signal stopped it. */
+static int startup_failed(void)
+{
+    int sig = lc_signals_received();
+    if (sig)
+        LC_WARN(MOD, "%s during start-up: exited before serving", lc_signals_name(sig));
+    return 1;
+}
+
 static int serve_main(int argc, char **argv)
 {
     static lc_server srv; /* one per process; static so signal-free code can reach it in a debugger */
@@ -269,18 +281,18 @@ static int serve_main(int argc, char **argv)
         return 1;
     }
     srv.start_time = lc_now();
-    /* Block the shutdown signals in every thread (they inherit this mask);
-     * the main thread takes them synchronously with sigwait. */
-    sigset_t sigs;
-    sigemptyset(&sigs);
-    sigaddset(&sigs, SIGINT);
-    sigaddset(&sigs, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &sigs, NULL);
+    /* The shutdown signals go to one watcher thread from here on, so that
+     * they stop a start-up too (signals.h). */
+    if (lc_signals_start(&err) != 0) {
+        LC_ERROR(MOD, "%s", err.msg);
+        return 1;
+    }
     signal(SIGPIPE, SIG_IGN);
 
     lc_datasets_options dopts = {.demo_size = cfg->demo_size,
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
+                                 .follow_symlinks = cfg->follow_symlinks,
                                  .workers = cfg->workers > 0 ? cfg->workers : 1};
     lc_ranks_datasets_options(&srv, &dopts);
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
@@ -290,10 +302,12 @@ static int serve_main(int argc, char **argv)
         rc = lc_datasets_set_element_budget(srv.datasets, cfg->elements, &err);
     if (srv.mpi)
         rc = lc_ranks_start(&srv, rc, &err);
+    if (rc == 0 && lc_cancelled())
+        rc = lc_err_cancelled(&err, "start-up");
     if (rc != 0) {
         LC_ERROR(MOD, "%s", err.msg);
         lc_datasets_destroy(srv.datasets);
-        return 1;
+        return startup_failed();
     }
 
     /* The primary context: datasets are uploaded with it; worker 0 adopts it. */
@@ -329,7 +343,7 @@ static int serve_main(int argc, char **argv)
         if (primary)
             lc_gl_destroy(primary);
         lc_datasets_destroy(srv.datasets);
-        return 1;
+        return startup_failed();
     }
     int nworkers = cfg->workers > 0 ? cfg->workers : (lc_gl_is_software(primary) ? 1 : 2);
     if (srv.mpi)
@@ -364,7 +378,7 @@ static int serve_main(int argc, char **argv)
         lc_sessions_destroy(srv.sessions);
         lc_metrics_destroy(srv.metrics);
         lc_datasets_destroy(srv.datasets);
-        return 1;
+        return startup_failed();
     }
     const char *host = cfg->listen_host;
     bool v6 = strchr(host, ':') != NULL;
@@ -372,11 +386,11 @@ static int serve_main(int argc, char **argv)
             cfg->token[0] ? "required" : "off");
     LC_INFO(MOD, "listening on http://%s%s%s:%d/", v6 ? "[" : "", host, v6 ? "]" : "", port);
 
-    int sig = 0;
-    sigwait(&sigs, &sig);
-    LC_INFO(MOD, "%s: shutting down", sig == SIGINT ? "SIGINT" : "SIGTERM");
+    lc_signals_serving();
+    int sig = lc_signals_wait();
+    LC_INFO(MOD, "%s: shutting down", lc_signals_name(sig));
     if (srv.mpi)
-        lc_ranks_signal(&srv, sig == SIGINT ? "SIGINT" : "SIGTERM");
+        lc_ranks_signal(&srv, lc_signals_name(sig));
     atomic_store(&srv.stopping, 1);
 
     /* 1. no new connections; 2. frames in hand finish, are encoded and queued

@@ -98,6 +98,7 @@ typedef struct lc_serve_config {
     int max_queue_per_client;       /* queued HTTP renders of one client (429 beyond) */
     bool mpi;                       /* --mpi: one image from every rank's shard (docs/MPI.md) */
     bool exact_positions;           /* --exact-positions: float GPU buffers and session opacities */
+    bool follow_symlinks;           /* --follow-symlinks: a --data folder's links may leave it */
     unsigned long long max_memory;  /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
 } lc_serve_config;
 

@@ -158,6 +158,30 @@ int main(void)
     printf("400k-vertex line: finalize + levels + brute-force check in %.2f s CPU\n", secs);
     lc_scene_destroy(s);
 
+    /* 2^20 copies of one point in one line, one element (a hostile TRX of
+     * deflated zeros): every split ties at distance 0, and the split must
+     * still halve the span rather than peel one vertex per step (issue 32:
+     * 4 s before, quadratic in the run length up to the balanced span). */
+    const uint32_t same = 1u << 20;
+    lc_scene *z = lc_scene_create("zeros", LC_PRIM_LINES);
+    CHECK(z && lc_scene_alloc_vertices(z, same, 0, &err) == 0, "zeros: %s", err.msg);
+    memset(z->positions, 0, sizeof(float) * 3 * same);
+    z->line_count = 1;
+    z->line_offsets = malloc(2 * sizeof(uint32_t));
+    z->line_offsets[0] = 0, z->line_offsets[1] = same;
+    lc_elements_desc one = {.line_budget = 1};
+    CHECK(lc_scene_finalize(z, &one, &err) == 0, "finalize zeros: %s", err.msg);
+    float *ze = malloc(sizeof(float) * same);
+    t0 = (double)clock() / CLOCKS_PER_SEC;
+    CHECK(lc_lod_vertex_errors(z, ze, &err) == 0, "zeros: %s", err.msg);
+    secs = (double)clock() / CLOCKS_PER_SEC - t0;
+    printf("2^20 identical points: vertex errors in %.3f s CPU\n", secs);
+    CHECK(secs < 0.5, "2^20 identical points took %.2f s CPU for their vertex errors (linear-time bound 0.5 s)", secs);
+    for (uint32_t v = 1; v + 1 < same; v++)
+        CHECK(ze[v] == 0.0f, "identical point %u has error %g", v, ze[v]);
+    free(ze);
+    lc_scene_destroy(z);
+
     /* A wavy 200x200 height field: meshoptimizer's levels shrink by half or
      * more, with errors growing, and index only existing vertices. */
     lc_scene *m = lc_scene_create("field", LC_PRIM_TRIANGLES);

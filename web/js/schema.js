@@ -51,7 +51,7 @@ export const FIELDS = Object.freeze([
   { section: 'color', name: 'curve', alias: 'colorCurve', type: 'curve', maxItems: 64 },
 
   { section: 'style', name: 'background', alias: 'background', type: 'color' },
-  { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0 },
+  { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0, max: 1e9 },
   { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64 },
   { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true },
   { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'] },

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "auth.h"
+#include "conn_limits.h"
 #include "http_render.h"
 #include "http_respond.h"
 #include "http_status.h"
@@ -167,6 +168,7 @@ static enum MHD_Result handler(void *cls, struct MHD_Connection *c, const char *
         return MHD_NO; /* uri_log made it; NULL means out of memory */
     if (!ctx->headers_seen) {
         ctx->headers_seen = true;
+        lc_conn_limits_request(c); /* a whole header: no longer held to the header deadline */
         /* Refuse what can be refused from the headers before reading a body
          * or queueing anything: too many query parameters, an ambiguous
          * body length, a missing token, an announced oversized body. */
@@ -314,7 +316,8 @@ int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
                                  uri_log, srv, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2, MHD_OPTION_CONNECTION_LIMIT,
                                  (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30,
                                  MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER,
-                                 mhd_log, NULL, MHD_OPTION_END);
+                                 mhd_log, NULL, MHD_OPTION_NOTIFY_CONNECTION, lc_conn_limits_notify, NULL,
+                                 MHD_OPTION_END);
     if (!h->daemon) {
         int e = errno;
         free(h);

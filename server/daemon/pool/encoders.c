@@ -78,6 +78,8 @@ static void encode_one(lc_encoders *w, encode_item *e)
     double ms = (lc_now() - t0) * 1000.0;
     free(e->rgba);
     e->rgba = NULL;
+    if ((long long)e->width * e->height > LC_LARGE_FRAME_PIXELS)
+        lc_memory_trim(); /* what the large frame's buffers leave in the heap goes back too */
     if (rc == 0)
         lc_metrics_encode(srv->metrics, ms, (long long)e->width * e->height, size);
     if (e->job) {

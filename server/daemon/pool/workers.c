@@ -10,6 +10,7 @@
 
 #include "encoders.h"
 #include "fair_queue.h"
+#include "memory.h"
 #include "messages.h"
 #include "metrics.h"
 
@@ -290,6 +291,8 @@ static void render_job(worker *wk, lc_render_job *job)
     in_hand(wk, job, NULL);
     int rc = render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
                                     &info, &err);
+    if (!w->srv->mpi) /* a large frame keeps no targets (collective frames under MPI keep them) */
+        lc_renderer_release_after(wk->renderer, dataset->gpu, p);
     int mine = out_of_hand(wk);
     if (session)
         lc_session_unref(session);

@@ -43,6 +43,7 @@ void lc_frame_state_destroy(lc_frame_state *st)
 void lc_frame_state_reset(lc_frame_state *st)
 {
     st->fresh = 1;
+    st->eq_valid = 0;
     for (uint32_t i = 0; i < st->count; i++) {
         if (st->alpha)
             st->alpha[i] = 1.0f;

@@ -10,9 +10,7 @@
 
 _Static_assert(LC_EQUALIZE_BINS == 256, "shader colour histogram bins");
 
-static int active_reducer(const lc_renderer *r) { return r->desc.reducer && r->desc.reducer->size > 1; }
-
-int lc_color_equalize_check(const lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
+int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err)
 {
     const lc_render_params *p = fs->params;
     if (!p->color.equalize)
@@ -23,9 +21,6 @@ int lc_color_equalize_check(const lc_renderer *r, const lc_frame_setup *fs, lc_e
                             lc_method_name(p->method));
     if (fs->color_mode == 2)
         return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "per-vertex RGB colour has no colormap to equalize");
-    if (active_reducer(r))
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
-                            "equalized colour is not available when the frame is split over processes");
     if (p->color.fixed_count > 0 && p->color.curve.count > 0)
         return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "fixed ranges cannot be combined with color.curve");
     return 0;
@@ -86,8 +81,10 @@ int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_s
     return 0;
 }
 
-/* The histogram of the composite that just ran (P4/P5 targets in place) into r->eq_hist. */
-static int measure(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err)
+/* The histogram of the composite that just ran (P4/P5 targets in place) into
+ * r->eq_hist, summed over the processes of a split frame; *fresh: whether any
+ * process has no transfer yet (so that all of them composite again, together). */
+static int measure(lc_renderer *r, lc_frame_setup *fs, int direct, int *fresh, lc_error *err)
 {
     const lc_render_params *p = fs->params;
     GLuint prog = lc_renderer_geometry_program(r, direct ? PROG_COLOR_HISTOGRAM_DIRECT : PROG_COLOR_HISTOGRAM,
@@ -125,9 +122,15 @@ static int measure(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     uint32_t bins[LC_EQUALIZE_BINS];
     glGetNamedBufferSubData(r->color_histogram, 0, sizeof bins, bins);
+    float sums[LC_EQUALIZE_BINS + 1];
     for (int b = 0; b < LC_EQUALIZE_BINS; b++)
-        r->eq_hist[b] = bins[b] / scale;
-    return 0;
+        sums[b] = (float)(bins[b] / scale);
+    sums[LC_EQUALIZE_BINS] = (float)*fresh;
+    int rc = lc_reduce_sums(r, sums, LC_EQUALIZE_BINS + 1, fs->info, err);
+    for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+        r->eq_hist[b] = sums[b];
+    *fresh = sums[LC_EQUALIZE_BINS] > 0;
+    return rc;
 }
 
 int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
@@ -136,7 +139,8 @@ int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     const lc_color_map *c = &fs->params->color;
     if (!c->equalize)
         return 0;
-    int rc = measure(r, fs, direct, err);
+    int fresh = !(state && state->eq_valid);
+    int rc = measure(r, fs, direct, &fresh, err);
     if (rc)
         return rc;
     double fixed[LC_MAX_COLOR_FIXED][2];
@@ -144,7 +148,7 @@ int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     float target[LC_EQUALIZE_BINS + 1];
     if (lc_equalize_target(r->eq_hist, LC_EQUALIZE_BINS, (const double(*)[2])fixed, nfixed, target) != 0)
         return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "a fixed range is invalid");
-    if (state && state->eq_valid) {
+    if (!fresh) {
         /* This frame drew with the session's F; the next one draws with F moved toward this view's. */
         lc_frame_state_equalize(state, target, dt, c->fade_half_life);
         memcpy(r->eq_knots, state->eq_knots, sizeof r->eq_knots);
@@ -153,8 +157,10 @@ int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     }
     /* One-shot frames and a session's first: composite again with this view's F
      * (P1-P3 reused, only P4-P6 re-run). */
-    if (state)
+    if (state) {
+        state->eq_valid = 0;
         lc_frame_state_equalize(state, target, dt, c->fade_half_life);
+    }
     memcpy(r->eq_knots, target, sizeof r->eq_knots);
     r->eq_valid = 1;
     use_table(r, fs, target);

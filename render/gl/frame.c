@@ -438,7 +438,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         rc = lc_line_clusters_prepare(r, &fs, err);
     if (rc)
         return rc;
-    if ((rc = lc_filter_prepare(r, &fs, err)) != 0 || (rc = lc_color_equalize_check(r, &fs, err)) != 0)
+    if ((rc = lc_filter_prepare(r, &fs, err)) != 0 || (rc = lc_color_equalize_check(&fs, err)) != 0)
         return rc;
     lc_camera_view(&p.camera, s->bounds, (double)p.width / p.height, p.height, &fs.view);
     double diag = 0;

@@ -421,7 +421,7 @@ int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
  * equalized colormap in place; _end after them measures the frame's colour
  * histogram and either moves the session's transfer or (one-shot, first
  * frame) composites again with this view's. */
-int lc_color_equalize_check(const lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
+int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err);
 int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_state *state);
 int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
                           lc_error *err);
@@ -441,6 +441,8 @@ int lc_reduce_targets(lc_renderer *r, const lc_targets *t, lc_reduce_op op, int 
 /* MIN of the P2 element minima (count floats of element_alpha_min) into every process. */
 int lc_reduce_element_minima(lc_renderer *r, uint32_t count, lc_frame_info *info, lc_error *err);
 /* SUM of n counters into every process (through floats: exact below 2^24). */
+/* Sums n floats over the processes, every process receiving the sums (color_equalize.c). */
+int lc_reduce_sums(lc_renderer *r, float *values, size_t n, lc_frame_info *info, lc_error *err);
 int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err);
 /* LC_ERR_INVALID when the method cannot be combined over processes. */
 int lc_reduce_check_method(const lc_renderer *r, lc_method method, lc_error *err);

@@ -167,18 +167,6 @@ int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     return lc_fourier_composite(r, fs, direct, err);
 }
 
-void lc_frame_state_equalize(lc_frame_state *st, const float *target, double dt, double half_life)
-{
-    if (!st->eq_valid) {
-        memcpy(st->eq_knots, target, sizeof st->eq_knots);
-        st->eq_valid = 1;
-        return;
-    }
-    lc_equalize_approach(st->eq_knots, target, LC_EQUALIZE_BINS, dt, half_life);
-}
-
-const float *lc_frame_state_equalize_knots(const lc_frame_state *st) { return st->eq_valid ? st->eq_knots : NULL; }
-
 int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots)
 {
     if (!r->eq_valid)

@@ -79,6 +79,7 @@ typedef enum {
     T_TERMS,   /* lc_importance_map's terms, an array of objects (request_lists.c) */
     T_FILTERS, /* lc_render_params' filters, an array of objects (request_lists.c) */
     T_CURVE,   /* lc_curve, an array of [x, y] points (request_lists.c) */
+    T_RANGES,  /* lc_color_map's fixed ranges, an array of [lo, hi] (request_lists.c) */
 } ftype;
 
 enum {
@@ -197,6 +198,10 @@ static const field fields[] = {
     {"color", "range", "colorRange", T_RANGE, 0, 0, 0, OFF(render.color.range), 0, (long)OFF(render.color.has_range),
      NULL},
     {"color", "curve", "colorCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.color.curve), 0, NOFLAG, NULL},
+    /* View-dependent colour equalization (issue 36). */
+    {"color", "equalize", "equalize", T_BOOL, 0, 0, 0, OFF(render.color.equalize), 0, NOFLAG, NULL},
+    {"color", "fixed", "colorFixed", T_RANGES, 0, LC_MAX_COLOR_FIXED, 0, OFF(render.color), 0, NOFLAG, NULL},
+    {"color", "fadeHalfLife", "colorFadeHalfLife", T_NUM, 0, 60, 0, OFF(render.color.fade_half_life), 0, NOFLAG, NULL},
 
     {"style", "background", "background", T_COLOR, 0, 0, 0, OFF(render.style.background), 0, NOFLAG, NULL},
     {"style", "lineWidth", "lineWidth", T_NUM, 0, LINE_WIDTH_MAX, 0, OFF(render.style.line_width), 0, NOFLAG, NULL},
@@ -409,10 +414,12 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
     }
     case T_TERMS:
     case T_FILTERS:
-    case T_CURVE: {
+    case T_CURVE:
+    case T_RANGES: {
         lc_list_error le;
         int rc = f->type == T_TERMS     ? lc_proto_parse_terms(v, (lc_importance_map *)base, path, &le)
                  : f->type == T_FILTERS ? lc_proto_parse_filters(v, (lc_render_params *)base, path, &le)
+                 : f->type == T_RANGES  ? lc_proto_parse_fixed(v, (lc_color_map *)base, path, &le)
                                         : lc_proto_parse_curve(v, (lc_curve *)base, path, &le);
         if (rc)
             return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
@@ -717,7 +724,8 @@ static json_t *query_value(const field *f, const char *value)
     }
     case T_TERMS:
     case T_FILTERS:
-    case T_CURVE: return json_loads(value, JSON_REJECT_DUPLICATES, NULL); /* the array as JSON text */
+    case T_CURVE:
+    case T_RANGES: return json_loads(value, JSON_REJECT_DUPLICATES, NULL); /* the array as JSON text */
     }
     return NULL;
 }
@@ -794,6 +802,10 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
         if (((const lc_curve *)base)->count > 0)
             v = lc_proto_curve_json((const lc_curve *)base);
         break;
+    case T_RANGES:
+        if (((const lc_color_map *)base)->fixed_count > 0)
+            v = lc_proto_fixed_json((const lc_color_map *)base);
+        break;
     }
     if (v)
         json_object_set_new(obj, name, v);
@@ -818,7 +830,7 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
     static const char *const type_names[] = {
         [T_INT] = "int",   [T_NUM] = "num",   [T_BOOL] = "bool",   [T_STR] = "str",    [T_ENUM] = "enum",
         [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range",
-        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve"};
+        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges"};
     lc_proto_limits dl;
     if (!lim) {
         lc_proto_limits_default(&dl);
@@ -847,7 +859,7 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         }
         if (f->type == T_STR)
             json_object_set_new(o, "maxLength", json_integer((json_int_t)f->size - 1));
-        if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE)
+        if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE || f->type == T_RANGES)
             json_object_set_new(o, "maxItems", json_integer((json_int_t)f->hi));
         if (f->names) {
             json_t *values = json_array();

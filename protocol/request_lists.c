@@ -228,6 +228,40 @@ int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list
     return 0;
 }
 
+int lc_proto_parse_fixed(const json_t *v, lc_color_map *c, const char *path, lc_list_error *err)
+{
+    if (!json_is_array(v))
+        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of [lo, hi] ranges");
+    size_t n = json_array_size(v);
+    if (n > LC_MAX_COLOR_FIXED)
+        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d ranges", LC_MAX_COLOR_FIXED);
+    double tmp[LC_MAX_COLOR_FIXED][2];
+    for (size_t i = 0; i < n; i++) {
+        char at[96];
+        snprintf(at, sizeof at, "%s[%zu]", path, i);
+        int rc = get_pair(json_array_get(v, i), tmp[i], at, err);
+        if (rc)
+            return rc;
+        if (!(tmp[i][0] <= tmp[i][1]))
+            return set_error(err, LC_PROTO_BAD_FIELD, at, "lo must not exceed hi");
+    }
+    memcpy(c->fixed, tmp, n * sizeof tmp[0]);
+    c->fixed_count = (int)n;
+    return 0;
+}
+
+json_t *lc_proto_fixed_json(const lc_color_map *c)
+{
+    json_t *a = json_array();
+    for (int i = 0; a && i < c->fixed_count; i++) {
+        json_t *p = json_array();
+        json_array_append_new(p, json_real(c->fixed[i][0]));
+        json_array_append_new(p, json_real(c->fixed[i][1]));
+        json_array_append_new(a, p);
+    }
+    return a;
+}
+
 json_t *lc_proto_curve_json(const lc_curve *c)
 {
     json_t *a = json_array();

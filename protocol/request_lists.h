@@ -25,6 +25,9 @@ int lc_proto_parse_filters(const json_t *v, lc_render_params *p, const char *pat
  * [0, 1] with x not decreasing. */
 int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list_error *err);
 json_t *lc_proto_curve_json(const lc_curve *c);
+/* color.fixed: [] or up to LC_MAX_COLOR_FIXED [lo, hi] ranges, finite, lo <= hi. */
+int lc_proto_parse_fixed(const json_t *v, lc_color_map *c, const char *path, lc_list_error *err);
+json_t *lc_proto_fixed_json(const lc_color_map *c);
 json_t *lc_proto_terms_json(const lc_importance_map *m);
 json_t *lc_proto_filters_json(const lc_render_params *p);
 /* "vertex", "min", "max", "mean", "first", "last" or "change". */

@@ -53,6 +53,7 @@ void lc_render_params_default(lc_render_params *p)
     p->camera.parallel_scale = 1;
     strcpy(p->color.attribute, "importance");
     strcpy(p->color.colormap, "viridis");
+    p->color.fade_half_life = 0.8; /* DLS §5.3 */
 }
 
 static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit"};

@@ -154,12 +154,18 @@ typedef struct lc_filter {
     bool lo_open, hi_open; /* ... or (lo, ...) / (..., hi) */
 } lc_filter;
 
+#define LC_MAX_COLOR_FIXED 4
 typedef struct lc_color_map {
     char attribute[LC_NAME_LEN]; /* "importance", "rgb", an attribute, "" = default */
     char colormap[LC_NAME_LEN];  /* "viridis", "coolwarm", "grayscale", ... */
     double range[2];
     bool has_range;
     lc_curve curve; /* transfer function of the colormap coordinate; no points = identity */
+    /* View-dependent colour equalization (docs/ALGORITHM.md §19): */
+    bool equalize;   /* the colormap follows the visible colour values' CDF */
+    int fixed_count; /* ranges kept as the identity, data units */
+    double fixed[LC_MAX_COLOR_FIXED][2];
+    double fade_half_life; /* seconds: sessions' CDF approaches the frame's (DLS Eq. 10) */
 } lc_color_map;
 
 typedef struct lc_style {

@@ -244,7 +244,9 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
     lc_renderer_bind_halo(p5, fs);
     lc_renderer_draw_geometry(fs, 1);
-    if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, 1, fs->info, err)) != 0)
+    /* color.equalize's histogram pass needs every pixel's sum w on every process. */
+    int root_only = fs->params->color.equalize ? 0 : 1;
+    if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, root_only, fs->info, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
 

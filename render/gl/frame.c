@@ -90,11 +90,13 @@ void lc_renderer_destroy(lc_renderer *r)
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
                      r->point_histogram,   r->point_list,         r->line_mask,
-                     r->element_behind};
+                     r->element_behind,      r->color_histogram};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
     glDeleteTextures(r->colormap_count, r->colormap_tex);
+    if (r->equalized_tex)
+        glDeleteTextures(1, &r->equalized_tex);
     glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
     glDeleteVertexArrays(1, &r->vao);
     lc_filter_release(r);
@@ -445,7 +447,7 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         rc = lc_line_clusters_prepare(r, &fs, err);
     if (rc)
         return rc;
-    if ((rc = lc_filter_prepare(r, &fs, err)) != 0)
+    if ((rc = lc_filter_prepare(r, &fs, err)) != 0 || (rc = lc_color_equalize_check(&fs, err)) != 0)
         return rc;
     lc_camera_view(&p.camera, s->bounds, (double)p.width / p.height, p.height, &fs.view);
     double diag = 0;
@@ -481,13 +483,20 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     int guarded = p.foo.guard_band > 0 && !plan.pixel_range; /* optimize_frame runs the moments then */
     if (plan.moments && !guarded && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
         return rc;
+    lc_color_equalize_begin(r, &fs, state);
     switch (p.method) {
     case LC_METHOD_FOURIER:
         rc = plan.reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, plan.moments, err);
         if (!rc)
             rc = lc_fourier_composite(r, &fs, 0, err);
+        if (!rc)
+            rc = lc_color_equalize_end(r, &fs, state, dt, 0, err);
         break;
-    case LC_METHOD_DIRECT: rc = lc_fourier_composite(r, &fs, 1, err); break;
+    case LC_METHOD_DIRECT:
+        rc = lc_fourier_composite(r, &fs, 1, err);
+        if (!rc)
+            rc = lc_color_equalize_end(r, &fs, state, dt, 1, err);
+        break;
     case LC_METHOD_OPAQUE: rc = lc_render_opaque(r, &fs, err); break;
     case LC_METHOD_WBOIT:
         rc = plan.reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, plan.moments, err);

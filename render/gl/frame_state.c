@@ -1,8 +1,11 @@
 /* One viewer's element opacities between frames: the CPU side of temporal
- * fading, so any worker context can render any viewer's next frame. */
+ * fading, so any worker context can render any viewer's next frame; and the
+ * transfer of its equalized colour (color.equalize). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
+#include "equalize.h"
 #include "renderer_internal.h"
 
 /* Elements converted per transfer: the conversions need no O(elements) scratch. */
@@ -43,6 +46,7 @@ void lc_frame_state_destroy(lc_frame_state *st)
 void lc_frame_state_reset(lc_frame_state *st)
 {
     st->fresh = 1;
+    st->eq_valid = 0;
     for (uint32_t i = 0; i < st->count; i++) {
         if (st->alpha)
             st->alpha[i] = 1.0f;
@@ -109,3 +113,15 @@ void lc_frame_state_copy(const lc_frame_state *st, float *out)
     for (uint32_t i = 0; i < st->count; i++)
         out[i] = st->alpha ? st->alpha[i] : st->alpha16[i] * (1.0f / 65535.0f);
 }
+
+void lc_frame_state_equalize(lc_frame_state *st, const float *target, double dt, double half_life)
+{
+    if (!st->eq_valid) {
+        memcpy(st->eq_knots, target, sizeof st->eq_knots);
+        st->eq_valid = 1;
+        return;
+    }
+    lc_equalize_approach(st->eq_knots, target, LC_EQUALIZE_BINS, dt, half_life);
+}
+
+const float *lc_frame_state_equalize_knots(const lc_frame_state *st) { return st->eq_valid ? st->eq_knots : NULL; }

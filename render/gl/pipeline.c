@@ -163,7 +163,9 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
         glProgramUniform1iv(prog, glGetUniformLocation(prog, "u_attr_format"), na, gs->attr_format);
         glProgramUniform2fv(prog, glGetUniformLocation(prog, "u_attr_decode"), na, &gs->attr_decode[0][0]);
     }
-    glBindTextureUnit(TEX_COLORMAP, r->colormap_tex[fs->colormap < r->colormap_count ? fs->colormap : 0]);
+    glBindTextureUnit(TEX_COLORMAP, fs->colormap_texture
+                                        ? fs->colormap_texture
+                                        : r->colormap_tex[fs->colormap < r->colormap_count ? fs->colormap : 0]);
 
     glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view"), 1, GL_FALSE, v->view);
     glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view_proj"), 1, GL_FALSE, v->view_proj);

@@ -140,12 +140,15 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_wboit[] = {"common.glsl", "fragment_common.glsl", "wboit_accumulate.frag.glsl", NULL};
     static const char *const fs_range[] = {"common.glsl", "fragment_common.glsl", "depth_range.frag.glsl", NULL};
     static const char *const fs_moments[] = {"common.glsl", "fragment_common.glsl", "depth_moments.frag.glsl", NULL};
-    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {fs_p1, fs_p2,     fs_p4,    fs_p5,    fs_p4,
-                                                                 fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments};
+    static const char *const fs_hist[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
+                                          "color_histogram.frag.glsl", NULL};
+    static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
+        fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
-        "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments"};
-    int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT;
-    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT;
+        "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
+        "colour histogram", "colour histogram (direct)"};
+    int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT || kind == PROG_COLOR_HISTOGRAM;
+    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
     char defines[256];
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s", (int)prim, bands,
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",

@@ -94,6 +94,13 @@ int lc_reduce_element_minima(lc_renderer *r, uint32_t count, lc_frame_info *info
     return 0;
 }
 
+int lc_reduce_sums(lc_renderer *r, float *values, size_t n, lc_frame_info *info, lc_error *err)
+{
+    if (!active(r) || n == 0)
+        return 0;
+    return reduce(r, values, n, LC_REDUCE_SUM, 0, info, err);
+}
+
 int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err)
 {
     if (!active(r) || n == 0)

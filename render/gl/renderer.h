@@ -81,6 +81,11 @@ int lc_frame_state_is_fresh(const lc_frame_state *st);
 void lc_frame_state_load(lc_frame_state *st, const float *alpha);
 /* Writes the element_count opacities as floats (either layout). */
 void lc_frame_state_copy(const lc_frame_state *st, float *out);
+/* color.equalize (docs/ALGORITHM.md §19): the session's transfer F, 257 knots
+ * (render/image/equalize.h), moves toward target by DLS Eq. 10 (taken whole
+ * when the state has none yet); _knots is NULL until the first equalized frame. */
+void lc_frame_state_equalize(lc_frame_state *st, const float *target, double dt, double half_life);
+const float *lc_frame_state_equalize_knots(const lc_frame_state *st);
 
 /* ---- Per-frame report. */
 typedef enum {
@@ -225,6 +230,10 @@ void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
  * Thread: the thread that holds the context. */
 #define LC_LARGE_FRAME_PIXELS (2048LL * 2048LL)
 void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *p);
+/* The last color.equalize frame's visibility-weighted colour histogram H_b
+ * (256 bins over the colormap coordinate, in pixels: sum = sum (1 - T)) and
+ * the transfer it drew with (257 knots); either may be NULL. -1: none yet. */
+int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots);
 
 /* GPU memory currently held by the renderer's targets and buffers. */
 uint64_t lc_renderer_bytes(const lc_renderer *r);

@@ -46,10 +46,12 @@
     X(BIND_ADJ_WEIGHTS, 24) /* params.smoothingWeights "distance" */                                                  \
     X(BIND_LINE_MASK, 25)   /* line_clusters.c: one bit per vertex, 1 = drawn */                                       \
     X(BIND_ELEMENT_BEHIND, 26) /* importance mass behind each element's fragments (occluders.glsl) */                 \
+    X(BIND_COLOR_HISTOGRAM, 27) /* color_equalize.c: visibility-weighted colour bins */                               \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
     X(TEX_DEPTH_MOMENTS, 7) /* P0 "moments" output read by P1, P2, P4 and P5 */                                        \
+    X(TEX_EQUALIZE_ACCUM, 3) /* color_equalize.c: P5's sums read by the colour histogram */                           \
     X(TEX_RESOLVE_A, 0)     /* full-screen resolves: accumulation */                                                   \
     X(TEX_RESOLVE_B, 1)     /* ... and optical depth (P6) or revealage (WBOIT) */                                      \
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
@@ -154,6 +156,8 @@ typedef enum {
     PROG_WBOIT,
     PROG_DEPTH_RANGE,
     PROG_DEPTH_MOMENTS,
+    PROG_COLOR_HISTOGRAM, /* color_equalize.c, after P5 */
+    PROG_COLOR_HISTOGRAM_DIRECT,
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -237,6 +241,12 @@ struct lc_renderer {
     GLuint line_mask;
     uint64_t line_mask_bytes, line_mask_stamp;
     const lc_gpu_scene *line_mask_scene;
+    /* color_equalize.c: the histogram buffer, the equalized colormap, and the
+     * last equalized frame's histogram and transfer (lc_renderer_color_histogram). */
+    GLuint color_histogram, equalized_tex;
+    double eq_hist[256];
+    float eq_knots[257];
+    int eq_valid;
 };
 
 struct lc_frame_state {
@@ -244,6 +254,9 @@ struct lc_frame_state {
     int fresh;
     float *alpha;      /* full precision, or NULL when compact */
     uint16_t *alpha16; /* compact: unorm16 */
+    /* color.equalize: the transfer F the session's frames use (DLS Eq. 10). */
+    int eq_valid;
+    float eq_knots[257];
 };
 
 /* ---- frame_state.c: the state's opacities to and from a float GPU buffer. */
@@ -277,6 +290,7 @@ typedef struct lc_frame_setup {
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
+    GLuint colormap_texture; /* color_equalize.c: the equalized colormap; 0 = fs->colormap's */
 } lc_frame_setup;
 
 /* ---- filter.c */
@@ -404,6 +418,16 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
  * resolution; sets fs->depth_moments. */
 int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 /* P1 + P2 + P3: this frame's element opacities (faded into state when given). */
+/* ---- color_equalize.c (color.equalize): _check refuses what it cannot do,
+ * naming the field; _begin before the compositing passes puts the session's
+ * equalized colormap in place; _end after them measures the frame's colour
+ * histogram and either moves the session's transfer or (one-shot, first
+ * frame) composites again with this view's. */
+int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err);
+int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_state *state);
+int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
+                          lc_error *err);
+
 int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
                         lc_error *err);
 /* P3 alone on element_alpha_min -> element_alpha (uploads state first). */
@@ -419,6 +443,8 @@ int lc_reduce_targets(lc_renderer *r, const lc_targets *t, lc_reduce_op op, int 
 /* MIN of the P2 element minima (count floats of element_alpha_min) into every process. */
 int lc_reduce_element_minima(lc_renderer *r, uint32_t count, lc_frame_info *info, lc_error *err);
 /* SUM of n counters into every process (through floats: exact below 2^24). */
+/* Sums n floats over the processes, every process receiving the sums (color_equalize.c). */
+int lc_reduce_sums(lc_renderer *r, float *values, size_t n, lc_frame_info *info, lc_error *err);
 int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err);
 /* LC_ERR_INVALID when the method cannot be combined over processes. */
 int lc_reduce_check_method(const lc_renderer *r, lc_method method, lc_error *err);

@@ -57,6 +57,20 @@ static double perception_aids_cost(const lc_scene_measures *st, const lc_render_
                                             (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes);
 }
 
+/* color.equalize (docs/ALGORITHM.md §19) on fourier/direct: one full-resolution
+ * geometry pass for the colour histogram, and a one-shot frame composites
+ * again (P4-P6) with the equalized colormap. */
+static double equalize_cost(const lc_scene_measures *st, const lc_render_params *p, double frags)
+{
+    if (!p->color.equalize || (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT))
+        return 0;
+    const lc_foo_params *f = &p->foo;
+    double targets = ceil((2.0 * f->bands + 1.0) / 4.0), subset = f->subset > 1 ? f->subset : 1;
+    double geometry = 1.0 + targets / subset + 1.0, screens = targets + 2.0;
+    return frags * geometry + p->width * (double)p->height * screens +
+           (st->vertices + PRIMITIVE_UNITS * st->primitives) * 3.0;
+}
+
 double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
 {
     double w = p->width, h = p->height, image = w * h;
@@ -132,7 +146,7 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     }
     double passes = ceil(geometry);
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +
-           st->elements * (f->smoothing + 1.0) + perception_aids_cost(st, p, frags, ppu);
+           st->elements * (f->smoothing + 1.0) + perception_aids_cost(st, p, frags, ppu) + equalize_cost(st, p, frags);
 }
 
 const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p, double budget)

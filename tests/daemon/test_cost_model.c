@@ -91,6 +91,16 @@ static void test_estimates(void)
     double px = frags * g3 + image * screens + (1000 + 100.0 * 1000) * ceil(g3) + 1000 * (p.foo.smoothing + 1.0);
     CHECK_NEAR(lc_cost_estimate(&st, &p), px, 1e-9 * px, "fourier, pixel range: a pass at both resolutions");
 
+    /* color.equalize: the histogram pass (one geometry pass at full resolution)
+     * and P4-P6 once more. */
+    p.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
+    p.color.equalize = true;
+    double eg = 1.0 + t / sub + 1.0;
+    double eq = base + frags * eg + image * screens + (1000 + 100.0 * 1000) * 3.0;
+    CHECK_NEAR(lc_cost_estimate(&st, &p), eq, 1e-9 * eq, "fourier, color.equalize");
+    p.color.equalize = false;
+    p.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
+
     /* Direct: what the plan runs is charged, P0's pixel range included. */
     lc_render_params d = params(LC_METHOD_DIRECT, LC_DEPTH_RANGE_GLOBAL), dp = d;
     dp.foo.depth_range = LC_DEPTH_RANGE_PIXEL;

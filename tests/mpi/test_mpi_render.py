@@ -1,6 +1,6 @@
 """`mpirun -np N lucent render --mpi` against one process: lines, points and
 surfaces, fading off (one frame) and on (several frames with --fade), the
-per-pixel depth range and the direct method, line files and a point cloud
+per-pixel depth range and the direct method, equalized colour, line files and a point cloud
 that each rank reads only its share of, RMS difference <= 1/255 and the
 same visibility report (within 0.01); a rank
 that cannot load its shard and a method that cannot be split fail clearly.
@@ -24,6 +24,10 @@ env = mpirun_env()
 tmp = tempfile.mkdtemp(prefix="lucent-mpi-")
 failures = []
 
+equalize = os.path.join(tmp, "equalize.json")
+with open(equalize, "w") as f:
+    f.write('{"color": {"equalize": true, "attribute": "velocity"}}')
+
 # (name, flags): every case renders 160x120 in one process and over `ranks`.
 CASES = [
     ("tornado", ["--dataset", "demo:tornado?count=120"]),
@@ -36,6 +40,10 @@ CASES = [
     # Surface levels of detail are simplified per shard (docs/MPI.md): every triangle here.
     ("surface", ["--dataset", "demo:surface", "--lod", "0"]),
     ("surface-fading", ["--dataset", "demo:surface", "--frames", "3", "--fade", "0.15", "--lod", "0"]),
+    # color.equalize: the ranks add their colour histograms (docs/ALGORITHM.md section 19).
+    ("tornado-equalize", ["--dataset", "demo:tornado?count=120", "--request", equalize]),
+    ("tornado-equalize-fading", ["--dataset", "demo:tornado?count=120", "--request", equalize, "--frames", "3",
+                                 "--fade", "0.15"]),
 ]
 for name, flags in CASES:
     one, many = os.path.join(tmp, name + "-1.png"), os.path.join(tmp, name + "-n.png")

@@ -49,6 +49,9 @@ export const FIELDS = Object.freeze([
   },
   { section: 'color', name: 'range', alias: 'colorRange', type: 'range' },
   { section: 'color', name: 'curve', alias: 'colorCurve', type: 'curve', maxItems: 64 },
+  { section: 'color', name: 'equalize', alias: 'equalize', type: 'bool' },
+  { section: 'color', name: 'fixed', alias: 'colorFixed', type: 'ranges', maxItems: 4 },
+  { section: 'color', name: 'fadeHalfLife', alias: 'colorFadeHalfLife', type: 'num', min: 0, max: 60 },
 
   { section: 'style', name: 'background', alias: 'background', type: 'color' },
   { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0, max: 1e9 },
@@ -145,6 +148,7 @@ export function checkField(f, v) {
     case 'range':
       return Array.isArray(v) && v.length === 2 && v.every(isNum) ? null : bad('expected an array of 2 numbers');
     case 'curve':
+    case 'ranges':
     case 'terms':
     case 'filters':
       return checkList(f, v);
@@ -193,8 +197,18 @@ function checkElement(kind, o, at) {
 
 /** terms, filters and curves (protocol/request_lists.c); a problem's "at" extends the field's path ("[1].weight"). */
 function checkList(f, v) {
-  const what = { terms: 'an array of terms', filters: 'an array of filters', curve: 'an array of [x, y] points' }[f.type];
+  const what = { terms: 'an array of terms', filters: 'an array of filters', curve: 'an array of [x, y] points',
+    ranges: 'an array of [lo, hi] ranges' }[f.type];
   if (!Array.isArray(v)) return { code: 'bad_field', reason: `expected ${what}` };
+  if (f.type === 'ranges') {
+    if (v.length > f.maxItems) return { code: 'out_of_range', reason: `at most ${f.maxItems} ranges` };
+    for (let i = 0; i < v.length; i++) {
+      const at = `[${i}]`;
+      if (!isPair(v[i])) return { code: 'bad_field', reason: 'expected an array of 2 numbers', at };
+      if (!(v[i][0] <= v[i][1])) return { code: 'bad_field', reason: 'lo must not exceed hi', at };
+    }
+    return null;
+  }
   if (f.type === 'curve') {
     if (v.length === 1 || v.length > f.maxItems) return { code: 'out_of_range', reason: `2 to ${f.maxItems} points (none: the identity)` };
     for (let i = 0; i < v.length; i++) {
@@ -223,7 +237,7 @@ export function checkValue(f, v) {
 
 /** Text of a value for a URL (vectors comma-separated, terms and filters as JSON), as GET /api/v1/render reads it. */
 export function valueToText(f, v) {
-  if (f.type === 'terms' || f.type === 'filters' || f.type === 'curve') return JSON.stringify(v);
+  if (f.type === 'terms' || f.type === 'filters' || f.type === 'curve' || f.type === 'ranges') return JSON.stringify(v);
   if (Array.isArray(v)) return v.map((x) => String(x)).join(',');
   return String(v);
 }
@@ -253,6 +267,7 @@ export function valueFromText(f, text) {
     case 'terms':
     case 'filters':
     case 'curve':
+    case 'ranges':
       try {
         const v = JSON.parse(text);
         return Array.isArray(v) ? v : undefined;

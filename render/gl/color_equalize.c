@@ -1,0 +1,179 @@
+/* View-dependent colour equalization (DLS §3.4, docs/ALGORITHM.md §19) on the
+ * GPU side: the visibility-weighted histogram after P5, the equalized
+ * colormap texture, and the order of passes for one-shot and session frames. */
+#include <math.h>
+#include <string.h>
+
+#include "colormap.h"
+#include "equalize.h"
+#include "renderer_internal.h"
+
+_Static_assert(LC_EQUALIZE_BINS == 256, "shader colour histogram bins");
+
+int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    if (!p->color.equalize)
+        return 0;
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
+                            "equalized colour needs method \"fourier\" or \"direct\", not \"%s\"",
+                            lc_method_name(p->method));
+    if (fs->color_mode == 2)
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "per-vertex RGB colour has no colormap to equalize");
+    if (p->color.fixed_count > 0 && p->color.curve.count > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "fixed ranges cannot be combined with color.curve");
+    return 0;
+}
+
+/* The request's fixed ranges in colormap coordinates (through color.range). */
+static int fixed_ranges(const lc_frame_setup *fs, double (*out)[2])
+{
+    const lc_color_map *c = &fs->params->color;
+    double lo = fs->color_range[0], span = fs->color_range[1] - fs->color_range[0];
+    int n = 0;
+    for (int i = 0; i < c->fixed_count && i < LC_MAX_COLOR_FIXED; i++) {
+        double a = span != 0 ? (c->fixed[i][0] - lo) / span : 0.5;
+        double b = span != 0 ? (c->fixed[i][1] - lo) / span : 0.5;
+        if (a > b) {
+            double t = a;
+            a = b, b = t;
+        }
+        a = a < 0 ? 0 : a > 1 ? 1 : a;
+        b = b < 0 ? 0 : b > 1 ? 1 : b;
+        if (b > a || (a > 0 && a < 1))
+            out[n][0] = a, out[n][1] = b, n++;
+    }
+    return n;
+}
+
+/* Writes T(F(.)) into the equalized texture and makes the frame's geometry
+ * passes read it. */
+static void use_table(lc_renderer *r, lc_frame_setup *fs, const float *knots)
+{
+    float table[256 * 3];
+    lc_equalize_table(lc_colormap_table(fs->colormap), LC_COLORMAP_SIZE, knots, LC_EQUALIZE_BINS, table, 256);
+    uint8_t rgba[256 * 4];
+    for (int k = 0; k < 256; k++) {
+        for (int c = 0; c < 3; c++) {
+            float v = table[3 * k + c];
+            rgba[4 * k + c] = (uint8_t)lrintf(255.0f * (v < 0 ? 0 : v > 1 ? 1 : v));
+        }
+        rgba[4 * k + 3] = 255;
+    }
+    if (!r->equalized_tex) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->equalized_tex);
+        glTextureStorage2D(r->equalized_tex, 1, GL_RGBA8, 256, 1);
+        glTextureParameteri(r->equalized_tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(r->equalized_tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(r->equalized_tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(r->equalized_tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glTextureSubImage2D(r->equalized_tex, 0, 0, 0, 256, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    fs->colormap_texture = r->equalized_tex;
+}
+
+int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_state *state)
+{
+    fs->colormap_texture = 0;
+    if (fs->params->color.equalize && state && state->eq_valid)
+        use_table(r, fs, state->eq_knots);
+    return 0;
+}
+
+/* The histogram of the composite that just ran (P4/P5 targets in place) into
+ * r->eq_hist, summed over the processes of a split frame; *fresh: whether any
+ * process has no transfer yet (so that all of them composite again, together). */
+static int measure(lc_renderer *r, lc_frame_setup *fs, int direct, int *fresh, lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    GLuint prog = lc_renderer_geometry_program(r, direct ? PROG_COLOR_HISTOGRAM_DIRECT : PROG_COLOR_HISTOGRAM,
+                                               fs->gs->scene->type, p->foo.bands, 1, err);
+    if (!prog)
+        return LC_ERR_GL;
+    if (!r->color_histogram) {
+        glCreateBuffers(1, &r->color_histogram);
+        glNamedBufferStorage(r->color_histogram, LC_EQUALIZE_BINS * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
+    }
+    const uint32_t zero = 0;
+    glClearNamedBufferData(r->color_histogram, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    /* Fixed point: the whole image's share (<= one unit per pixel) fits 31 bits. */
+    double pixels = (double)fs->width * fs->height;
+    double scale = floor(2147483647.0 / (pixels + 1));
+    scale = scale > 65536 ? 65536 : scale < 1 ? 1 : scale;
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glDisable(GL_BLEND);
+    if (r->nofb_w != fs->width || r->nofb_h != fs->height) {
+        glNamedFramebufferParameteri(r->nofb, GL_FRAMEBUFFER_DEFAULT_WIDTH, fs->width);
+        glNamedFramebufferParameteri(r->nofb, GL_FRAMEBUFFER_DEFAULT_HEIGHT, fs->height);
+        r->nofb_w = fs->width, r->nofb_h = fs->height;
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->nofb);
+    lc_renderer_bind_geometry(r, prog, fs, fs->width, fs->height, 1);
+    lc_bind_coefficients(&r->coef_full);
+    glBindTextureUnit(TEX_EQUALIZE_ACCUM, r->accum.tex[0]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_COLOR_HISTOGRAM, r->color_histogram);
+    lc_uniform_i(prog, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    lc_uniform_f(prog, "u_direct_exponent", p->foo.direct_exponent);
+    lc_uniform_f(prog, "u_eq_scale", scale);
+    lc_renderer_bind_halo(prog, fs);
+    lc_renderer_draw_geometry(fs, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    uint32_t bins[LC_EQUALIZE_BINS];
+    glGetNamedBufferSubData(r->color_histogram, 0, sizeof bins, bins);
+    float sums[LC_EQUALIZE_BINS + 1];
+    for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+        sums[b] = (float)(bins[b] / scale);
+    sums[LC_EQUALIZE_BINS] = (float)*fresh;
+    int rc = lc_reduce_sums(r, sums, LC_EQUALIZE_BINS + 1, fs->info, err);
+    for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+        r->eq_hist[b] = sums[b];
+    *fresh = sums[LC_EQUALIZE_BINS] > 0;
+    return rc;
+}
+
+int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
+                          lc_error *err)
+{
+    const lc_color_map *c = &fs->params->color;
+    if (!c->equalize)
+        return 0;
+    int fresh = !(state && state->eq_valid);
+    int rc = measure(r, fs, direct, &fresh, err);
+    if (rc)
+        return rc;
+    double fixed[LC_MAX_COLOR_FIXED][2];
+    int nfixed = fixed_ranges(fs, fixed);
+    float target[LC_EQUALIZE_BINS + 1];
+    if (lc_equalize_target(r->eq_hist, LC_EQUALIZE_BINS, (const double(*)[2])fixed, nfixed, target) != 0)
+        return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "a fixed range is invalid");
+    if (!fresh) {
+        /* This frame drew with the session's F; the next one draws with F moved toward this view's. */
+        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
+        memcpy(r->eq_knots, state->eq_knots, sizeof r->eq_knots);
+        r->eq_valid = 1;
+        return 0;
+    }
+    /* One-shot frames and a session's first: composite again with this view's F
+     * (P1-P3 reused, only P4-P6 re-run). */
+    if (state) {
+        state->eq_valid = 0;
+        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
+    }
+    memcpy(r->eq_knots, target, sizeof r->eq_knots);
+    r->eq_valid = 1;
+    use_table(r, fs, target);
+    return lc_fourier_composite(r, fs, direct, err);
+}
+
+int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots)
+{
+    if (!r->eq_valid)
+        return -1;
+    if (hist)
+        memcpy(hist, r->eq_hist, sizeof r->eq_hist);
+    if (knots)
+        memcpy(knots, r->eq_knots, sizeof r->eq_knots);
+    return 0;
+}

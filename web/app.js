@@ -323,9 +323,13 @@ export function createApp(doc = document, win = window) {
     const btn = $('screenshot');
     const [w, h] = screenshotSize();
     const lim = state.limits ?? {};
-    const lo = lim.minSize ?? 16, hi = lim.maxSize ?? 4096;
+    const lo = lim.minSize ?? 16, hi = lim.maxSize ?? 8192;
     if (!(Number.isInteger(w) && Number.isInteger(h) && w >= lo && h >= lo && w <= hi && h <= hi)) {
       toast(`Screenshot size must be whole numbers between ${lo} and ${hi}.`);
+      return;
+    }
+    if (lim.maxPixels && w * h > lim.maxPixels) {
+      toast(`Screenshot of ${w} × ${h} exceeds this server's ${lim.maxPixels} pixels.`);
       return;
     }
     btn.disabled = true;

@@ -14,8 +14,10 @@
 void lc_proto_limits_default(lc_proto_limits *l)
 {
     l->min_size = 16;
-    l->max_size = 4096;
-    l->max_pixels = 4096LL * 4096LL;
+    /* 8K stills (8192 x 4608, 16:9); above 4096^2 pixels the renderer
+     * composites in tiles (render/gl/frame.c), so GPU memory stays bounded. */
+    l->max_size = 8192;
+    l->max_pixels = 8192LL * 4608LL;
     l->max_depth = 16;
     l->max_text = 64 * 1024;
 }

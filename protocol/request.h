@@ -36,8 +36,8 @@ typedef struct lc_request {
 /* Caps on untrusted input. Zero-initialised fields are NOT defaults: always start
  * from lc_proto_limits_default() and override. */
 typedef struct lc_proto_limits {
-    int min_size, max_size; /* image width and height, each (default 16..4096) */
-    long long max_pixels;   /* width*height (default 4096*4096 = 16.7M) */
+    int min_size, max_size; /* image width and height, each (default 16..8192) */
+    long long max_pixels;   /* width*height (default 8192*4608 = 37.7M) */
     int max_depth;          /* JSON nesting: {} and [] levels (default 16) */
     size_t max_text;        /* bytes of one JSON document (default 64 KiB) */
 } lc_proto_limits;

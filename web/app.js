@@ -27,6 +27,7 @@ import { createCameraController } from './js/camera-controller.js';
 import { createSessionController } from './js/session-controller.js';
 import { createUrlController } from './js/url-controller.js';
 import { createDatasetController, datasetView } from './js/dataset-controller.js';
+import { createRecordController } from './js/record-controller.js';
 
 const TOKEN_KEY = 'lucent.token';
 
@@ -322,9 +323,13 @@ export function createApp(doc = document, win = window) {
     const btn = $('screenshot');
     const [w, h] = screenshotSize();
     const lim = state.limits ?? {};
-    const lo = lim.minSize ?? 16, hi = lim.maxSize ?? 4096;
+    const lo = lim.minSize ?? 16, hi = lim.maxSize ?? 8192;
     if (!(Number.isInteger(w) && Number.isInteger(h) && w >= lo && h >= lo && w <= hi && h <= hi)) {
       toast(`Screenshot size must be whole numbers between ${lo} and ${hi}.`);
+      return;
+    }
+    if (lim.maxPixels && w * h > lim.maxPixels) {
+      toast(`Screenshot of ${w} × ${h} exceeds this server's ${lim.maxPixels} pixels.`);
       return;
     }
     btn.disabled = true;
@@ -349,8 +354,63 @@ export function createApp(doc = document, win = window) {
     }
   }
 
+  // ---------------------------------------------------------------- record: keyframes, preview, movie job
+  const record = createRecordController({
+    getCamera: () => state.camera,
+    setCamera: (cam) => camera.setCamera(cam),
+    request: () => renderRequest(0, 0),
+    api,
+    onChange: () => showRecord(),
+    now: () => win.performance.now(),
+    frame,
+    sleep: (ms) => new Promise((resolve) => win.setTimeout(resolve, ms)),
+  });
+  function showRecord() {
+    const v = record.view();
+    const list = $('record-keys');
+    list.replaceChildren(
+      ...v.keys.map((k) => {
+        const li = doc.createElement('li');
+        const rm = doc.createElement('button');
+        rm.type = 'button';
+        rm.textContent = '×';
+        rm.title = 'Remove this keyframe';
+        rm.setAttribute('aria-label', `Remove keyframe ${k.index + 1}`);
+        rm.addEventListener('click', () => record.remove(k.index));
+        li.append(k.label, ' ', rm);
+        return li;
+      }),
+    );
+    $('record-preview').disabled = !v.canPreview;
+    $('record-render').disabled = !v.canRender;
+    const job = v.job;
+    const bar = $('record-progress');
+    bar.hidden = !job || job.state === 'failed';
+    bar.value = job?.progress ?? 0;
+    $('record-status').textContent = !job
+      ? ''
+      : job.state === 'failed'
+        ? `Failed: ${job.error ?? 'unknown error'}`
+        : job.state === 'done'
+          ? 'Done.'
+          : `${job.state} ${Math.round(100 * (job.progress ?? 0))}%`;
+    const link = $('record-download');
+    link.hidden = !job?.url;
+    if (job?.url) {
+      link.href = job.url;
+      link.download = `lucent-${(state.dataset ?? 'view').replace(/[^A-Za-z0-9._-]+/g, '-')}.${$('record-codec').value === 'vp9' ? 'webm' : 'mp4'}`;
+    }
+  }
+  function recordOptions() {
+    const num = (id) => Number($(id).value);
+    return { duration: num('record-duration'), fps: num('record-fps'), width: num('record-width'), height: num('record-height'), codec: $('record-codec').value };
+  }
+
   // ---------------------------------------------------------------- the page's events
   function listen() {
+    $('record-add').addEventListener('click', () => record.add());
+    $('record-preview').addEventListener('click', () => record.preview(recordOptions().duration));
+    $('record-render').addEventListener('click', () => record.render(recordOptions()));
     new Navigation(canvas, { getCamera: () => state.camera, onCamera: camera.setCamera, onCommand: command });
     for (const btn of doc.querySelectorAll('[data-view]')) btn.addEventListener('click', () => command(btn.dataset.view));
     new ResizeObserver(onResize).observe($('view'));

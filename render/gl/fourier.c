@@ -95,7 +95,7 @@ static void draw_depth_range(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc
  * full resolution misses thin geometry that is wider at the optimization
  * resolution, and a fragment outside its range would wrap to the periodic
  * ends). Afterwards every geometry pass normalizes depth by its pixel's range. */
-int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low, lc_error *err)
 {
     GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_RANGE, fs->gs->scene->type, 1, 1, err);
     if (!prog)
@@ -105,12 +105,14 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     glEnable(GL_BLEND);
     glBlendEquation(GL_MIN);
     fs->pixel_depth_range = 0; /* this pass itself uses nothing per pixel */
-    draw_depth_range(r, fs, prog, &r->range_full, fs->width, fs->height);
-    draw_depth_range(r, fs, prog, &r->range_low, fs->low_width, fs->low_height);
+    if (full)
+        draw_depth_range(r, fs, prog, &r->range_full, fs->width, fs->height);
+    if (low)
+        draw_depth_range(r, fs, prog, &r->range_low, fs->low_width, fs->low_height);
     glBlendEquation(GL_FUNC_ADD);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    int rc = lc_reduce_targets(r, &r->range_full, LC_REDUCE_MIN, 0, fs->info, err);
-    if (rc || (rc = lc_reduce_targets(r, &r->range_low, LC_REDUCE_MIN, 0, fs->info, err)) != 0)
+    int rc = full ? lc_reduce_targets(r, &r->range_full, LC_REDUCE_MIN, 0, fs->info, err) : 0;
+    if (rc || (low && (rc = lc_reduce_targets(r, &r->range_low, LC_REDUCE_MIN, 0, fs->info, err)) != 0))
         return rc;
     fs->pixel_depth_range = 1;
     lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);

@@ -382,6 +382,18 @@ static int antialias_samples(const lc_render_params *p)
     return composites && k > 1 ? (k > LC_MAX_ANTIALIAS ? LC_MAX_ANTIALIAS : k) : 1;
 }
 
+/* P4-P6 (or the baselines' single pass) of a method with the frame's opacities. */
+static int composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+{
+    switch (fs->params->method) {
+    case LC_METHOD_FOURIER: return lc_fourier_composite(r, fs, 0, err);
+    case LC_METHOD_DIRECT: return lc_fourier_composite(r, fs, 1, err);
+    case LC_METHOD_OPAQUE: return lc_render_opaque(r, fs, err);
+    case LC_METHOD_WBOIT: return lc_render_wboit(r, fs, err);
+    default: return lc_err(err, LC_ERR_INVALID, "unknown method");
+    }
+}
+
 /* Samples 1..K-1 after the frame's own (unjittered) sample 0 in the output:
  * reads each back and writes the average into rgba. Sample i >= 1 is offset
  * by Halton (2, 3) point i + 1 minus 1/2, within the pixel. */
@@ -398,10 +410,10 @@ static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *r
     int rc = 0;
     for (int i = 1; i < samples && !rc; i++) {
         fs->view = base;
-        jitter_view(&fs->view, halton(i + 1, 2) - 0.5, halton(i + 1, 3) - 0.5, fs->width, fs->height);
-        int method = fs->params->method;
-        rc = method == LC_METHOD_WBOIT ? lc_render_wboit(r, fs, err)
-                                       : lc_fourier_composite(r, fs, method == LC_METHOD_DIRECT, err);
+        /* The shift is in pixels of the whole frame, which a tile's projection covers. */
+        jitter_view(&fs->view, halton(i + 1, 2) - 0.5, halton(i + 1, 3) - 0.5, fs->tiled ? fs->frame_width : fs->width,
+                    fs->tiled ? fs->frame_height : fs->height);
+        rc = composite(r, fs, err);
         if (!rc) {
             lc_renderer_readback(r, fs, rgba);
             for (size_t j = 0; j < n; j++)
@@ -412,6 +424,58 @@ static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *r
     for (size_t i = 0; i < n && !rc; i++)
         rgba[i] = (uint8_t)lrintf(sum[i] / (float)samples);
     free(sum);
+    return rc;
+}
+
+/* ---- Tiled stills (docs/ALGORITHM.md "Tiled stills"): a frame of more than
+ * LC_TILE_PIXELS pixels (or larger than lc_renderer_desc.tile_size when that is
+ * set; lc_pass_plan_tiles) is optimized once, P0-P3 over the whole view at the optimization
+ * resolution, then composited tile by tile: each tile's full-resolution
+ * passes project the whole frame through a viewport shifted by the tile's
+ * origin, so a tile's pixels see the fragments, per-pixel textures and
+ * opacities of the same pixels of one large frame, while the full-resolution
+ * targets (the memory that grows with the image) stay tile-sized. */
+/* Composites the frame in nx x ny about-equal tiles (lc_pass_plan_tiles) into
+ * rgba (the frame's size, rows top-down). */
+static int render_tiles(lc_renderer *r, lc_frame_setup *fs, int nx, int ny, int samples, int pixel_range,
+                        uint8_t *rgba, lc_error *err)
+{
+    GLint dims[2] = {0, 0};
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
+    int W = fs->width, H = fs->height;
+    if (W > dims[0] || H > dims[1])
+        return lc_err(err, LC_ERR_INVALID, "a %dx%d frame exceeds this GL's viewport limit %dx%d", W, H, dims[0],
+                      dims[1]);
+    uint8_t *tile = malloc((size_t)((W + nx - 1) / nx) * ((H + ny - 1) / ny) * 4);
+    if (!tile)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory (tile image)");
+    fs->tiled = 1, fs->frame_width = W, fs->frame_height = H;
+    fs->info->tiles = nx * ny;
+    glEnable(GL_SCISSOR_TEST);
+    int rc = 0;
+    for (int j = 0; j < ny && !rc; j++) {
+        int y0 = (int)((long long)H * j / ny), th = (int)((long long)H * (j + 1) / ny) - y0; /* rows top-down */
+        for (int i = 0; i < nx && !rc; i++) {
+            int x0 = (int)((long long)W * i / nx), tw = (int)((long long)W * (i + 1) / nx) - x0;
+            fs->width = tw, fs->height = th;
+            fs->tile_origin[0] = x0, fs->tile_origin[1] = H - y0 - th;
+            ensure_output(r, tw, th, fs->params->method == LC_METHOD_OPAQUE);
+            glScissor(0, 0, tw, th);
+            if (pixel_range)
+                rc = lc_fourier_depth_range(r, fs, 1, 0, err);
+            if (!rc)
+                rc = composite(r, fs, err);
+            if (!rc && samples > 1)
+                rc = antialias(r, fs, samples, tile, err);
+            else if (!rc)
+                lc_renderer_readback(r, fs, tile);
+            for (int y = 0; y < th && !rc; y++)
+                memcpy(rgba + ((size_t)(y0 + y) * W + x0) * 4, tile + (size_t)y * tw * 4, (size_t)tw * 4);
+        }
+    }
+    glDisable(GL_SCISSOR_TEST);
+    fs->tiled = 0, fs->width = W, fs->height = H;
+    free(tile);
     return rc;
 }
 
@@ -472,13 +536,19 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     lc_pass_plan_make(&p, state && !state->fresh, &plan);
 
     ensure_element_buffers(r, s->elements.count);
-    ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
+    int nx, ny, tiles = lc_pass_plan_tiles(&p, r->desc.tile_size, &nx, &ny);
+    if (tiles && p.color.equalize) /* the histogram would have to span every tile's compositing */
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
+                            "not with a tiled still (%dx%d is drawn in %dx%d tiles); render it at most 4096x4096",
+                            p.width, p.height, nx, ny);
+    if (!tiles)
+        ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
     /* P0 as the plan says (pass_plan.c says why the moments skip a reusing frame). */
-    if (plan.pixel_range && (rc = lc_fourier_depth_range(r, &fs, err)) != 0)
+    if (plan.pixel_range && (rc = lc_fourier_depth_range(r, &fs, !tiles, 1, err)) != 0)
         return rc;
     int guarded = p.foo.guard_band > 0 && !plan.pixel_range; /* optimize_frame runs the moments then */
     if (plan.moments && !guarded && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
@@ -486,30 +556,24 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     lc_color_equalize_begin(r, &fs, state);
     switch (p.method) {
     case LC_METHOD_FOURIER:
-        rc = plan.reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, plan.moments, err);
-        if (!rc)
-            rc = lc_fourier_composite(r, &fs, 0, err);
-        if (!rc)
-            rc = lc_color_equalize_end(r, &fs, state, dt, 0, err);
-        break;
-    case LC_METHOD_DIRECT:
-        rc = lc_fourier_composite(r, &fs, 1, err);
-        if (!rc)
-            rc = lc_color_equalize_end(r, &fs, state, dt, 1, err);
-        break;
-    case LC_METHOD_OPAQUE: rc = lc_render_opaque(r, &fs, err); break;
     case LC_METHOD_WBOIT:
         rc = plan.reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, plan.moments, err);
-        if (!rc)
-            rc = lc_render_wboit(r, &fs, err);
         break;
+    case LC_METHOD_DIRECT:
+    case LC_METHOD_OPAQUE: break;
     case LC_METHOD_EXACT: rc = lc_render_exact(r, &fs, state, dt, rgba, info, err); break;
     default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
     }
     int samples = antialias_samples(&p);
-    if (!rc && samples > 1)
+    if (!rc && tiles)
+        rc = render_tiles(r, &fs, nx, ny, samples, plan.pixel_range, rgba, err);
+    else if (!rc && p.method != LC_METHOD_EXACT)
+        rc = composite(r, &fs, err);
+    if (!rc && !tiles && (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT))
+        rc = lc_color_equalize_end(r, &fs, state, dt, p.method == LC_METHOD_DIRECT, err);
+    if (!rc && !tiles && samples > 1)
         rc = antialias(r, &fs, samples, rgba, err);
-    else if (!rc)
+    else if (!rc && !tiles)
         lc_renderer_readback(r, &fs, rgba);
     if (rc)
         return rc;

@@ -31,3 +31,15 @@ void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out)
     out->run[LC_PASS_RESOLVE] = m != LC_METHOD_OPAQUE ? LC_RUN_FULL : LC_RUN_NONE;
     out->run[LC_PASS_READBACK] = LC_RUN_FULL;
 }
+
+int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *ny)
+{
+    *nx = *ny = 1;
+    if (p->method == LC_METHOD_EXACT) /* its per-pixel fragment lists are not tiled */
+        return 0;
+    int ts = tile_size > 0 ? tile_size : LC_TILE_SIZE;
+    if (tile_size > 0 ? p->width <= ts && p->height <= ts : (long long)p->width * p->height <= LC_TILE_PIXELS)
+        return 0;
+    *nx = (p->width + ts - 1) / ts, *ny = (p->height + ts - 1) / ts;
+    return *nx * *ny;
+}

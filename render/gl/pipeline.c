@@ -142,6 +142,13 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     const lc_view *v = &fs->view;
     const lc_render_params *p = fs->params;
     const lc_gpu_level *level = &gs->levels[fs->level];
+    /* A full-resolution pass of a tile projects the whole frame, shifted so
+     * that the tile's pixels land on the tile-sized target. */
+    int tile = fs->tiled && w == fs->width && h == fs->height;
+    int vx = tile ? -fs->tile_origin[0] : 0, vy = tile ? -fs->tile_origin[1] : 0;
+    if (tile)
+        w = fs->frame_width, h = fs->frame_height;
+    int out_h = fs->tiled ? fs->frame_height : fs->height;
     glUseProgram(prog);
     glBindVertexArray(r->vao);
     glVertexArrayElementBuffer(r->vao, level->indices);
@@ -174,14 +181,14 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_i(prog, "u_ortho", p->camera.parallel_projection ? 1 : 0);
     lc_uniform_v2(prog, "u_viewport", w, h);
     /* Pixel size scales with this pass's resolution relative to the output. */
-    lc_uniform_f(prog, "u_pixel_world", v->pixel_world * (double)fs->height / h);
+    lc_uniform_f(prog, "u_pixel_world", v->pixel_world * (double)out_h / h);
     double focal = lc_frame_focal_distance(fs);
     lc_uniform_f(prog, "u_focal_dist", focal > 0 ? focal : 1);
     lc_uniform_f(prog, "u_line_half_width", fs->line_half_width);
     lc_uniform_f(prog, "u_min_half_pixels", 0.5 * (p->style.min_line_pixels > 0 ? p->style.min_line_pixels : 1.0));
     /* A disc of radius >= sqrt(2)/2 px always covers a pixel centre, so every
      * point reaches P2 even at the reduced optimization resolution. */
-    double radius = 0.5 * p->style.point_size * (double)h / fs->height;
+    double radius = 0.5 * p->style.point_size * (double)h / out_h;
     lc_uniform_f(prog, "u_point_radius_px", radius > 0.75 ? radius : 0.75);
     lc_uniform_u(prog, "u_vertex_count", gs->scene->vertex_count);
     lc_uniform_u(prog, "u_subset", lc_renderer_subset(fs, subset));
@@ -217,11 +224,12 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
         glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
         lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / w, (double)fs->low_height / h);
         lc_uniform_v2(prog, "u_moments_offset", fs->moments_guard[0], fs->moments_guard[1]);
+        lc_uniform_v2(prog, "u_pixel_origin", -vx, -vy); /* the frame's pixel of the target's (0, 0) */
     }
     if (fs->pixel_depth_range)
         glBindTextureUnit(TEX_PIXEL_RANGE,
-                          w == fs->width && h == fs->height ? r->range_full.tex[0] : r->range_low.tex[0]);
-    glViewport(0, 0, w, h);
+                          tile || (w == fs->width && h == fs->height) ? r->range_full.tex[0] : r->range_low.tex[0]);
+    glViewport(vx, vy, w, h);
 }
 
 /* Triangles per draw call of a large draw on a software rasterizer: llvmpipe

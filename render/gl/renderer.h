@@ -126,6 +126,11 @@ typedef struct lc_pass_plan {
  * full frame, passes 0); it counts only where p asks for it and the method
  * has element opacities to reuse (fourier, wboit). */
 void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out);
+/* Tiled stills: the tiles (nx across, ny down) a frame of p composites in
+ * with tile_size (0 = LC_TILE_SIZE, used only above LC_TILE_PIXELS pixels; a
+ * renderer's forced lc_renderer_desc.tile_size tiles any larger frame);
+ * returns nx * ny, or 0 when the frame is one tile. */
+int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *ny);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
 
@@ -170,6 +175,7 @@ typedef struct lc_frame_info {
     double reduce_ms;
     uint64_t reduce_bytes;
     int reductions;
+    int tiles; /* tiles the frame was composited in (0: one frame; frame.c "Tiled stills") */
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several
@@ -202,7 +208,16 @@ typedef struct lc_renderer_desc {
      * (lc_scene_shard) and only the fourier and direct methods are allowed.
      * Borrowed: must outlive the renderer. */
     const lc_reducer *reducer;
+    /* Tiled stills (frame.c): frames of more than LC_TILE_PIXELS pixels
+     * composite in tiles of at most tile_size^2 pixels; 0 = LC_TILE_SIZE.
+     * A smaller value forces small frames into tiles (tests). */
+    int tile_size;
 } lc_renderer_desc;
+
+/* Frames above LC_TILE_PIXELS pixels composite (P4-P6) tile by tile, each at
+ * most LC_TILE_SIZE^2, after one optimization (P0-P3) of the whole view. */
+#define LC_TILE_SIZE 2048
+#define LC_TILE_PIXELS (4096LL * 4096LL)
 
 /* Creates a renderer for the current context (compiles shaders). Errors carry
  * the shader info log. Thread: the thread that holds the context. */

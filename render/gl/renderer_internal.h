@@ -291,6 +291,11 @@ typedef struct lc_frame_setup {
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
     GLuint colormap_texture; /* color_equalize.c: the equalized colormap; 0 = fs->colormap's */
+    /* Tiled stills (frame.c): while tiled, width x height is the tile, whose
+     * lower-left pixel sits at tile_origin (GL's bottom-up pixels) of the
+     * frame_width x frame_height frame; full-resolution passes project the
+     * whole frame through a viewport offset by -tile_origin. */
+    int tiled, tile_origin[2], frame_width, frame_height;
 } lc_frame_setup;
 
 /* ---- filter.c */
@@ -412,8 +417,9 @@ void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_ki
 void lc_renderer_readback(lc_renderer *r, const lc_frame_setup *fs, uint8_t *rgba);
 
 /* ---- fourier.c */
-/* P0: per-pixel depth ranges at both resolutions; sets fs->pixel_depth_range. */
-int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* P0: per-pixel depth ranges at full and/or optimization resolution (a tiled
+ * frame draws the full one per tile); sets fs->pixel_depth_range. */
+int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low, lc_error *err);
 /* P0 "moments": per-pixel importance mass moments at the optimization
  * resolution; sets fs->depth_moments. */
 int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err);

@@ -145,6 +145,15 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         screens += plan.run[k] == LC_RUN_NONE ? 0.0 : sc[k];
     }
     double passes = ceil(geometry);
+    /* A tiled still draws every full-resolution pass's geometry once per tile
+     * (its fragments are the same: each lands in one tile). */
+    int nx, ny, tiles = lc_pass_plan_tiles(p, 0, &nx, &ny);
+    if (tiles > 1) {
+        double full = 0;
+        for (int k = 0; k < LC_PASS_COUNT; k++)
+            full += plan.run[k] == LC_RUN_FULL || plan.run[k] == LC_RUN_BOTH ? g[k] : 0.0;
+        passes += ceil(full) * (tiles - 1);
+    }
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +
            st->elements * (f->smoothing + 1.0) + perception_aids_cost(st, p, frags, ppu) + equalize_cost(st, p, frags);
 }

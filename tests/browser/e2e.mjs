@@ -329,6 +329,33 @@ test('screenshot button downloads a PNG of the chosen size', async () => {
   check(/\.png$/.test(download.suggestedFilename()), `file name ${download.suggestedFilename()}`);
 });
 
+test('record: two keyframes, a 6-frame movie with progress, and its download is a video', async () => {
+  const page = ctx.page;
+  const first = await page.evaluate(() => window.lucent.camera);
+  await page.locator('#record-add').click();
+  await page.locator('[data-view="+x"]').click();
+  await page.waitForFunction((c) => ['position', 'viewUp'].some((k) => window.lucent.camera[k].some((x, i) => Math.abs(x - c[k][i]) > 1e-3)), first, { timeout: 10000 });
+  await page.locator('#record-add').click();
+  check((await page.locator('#record-keys li').count()) === 2, 'two keyframes listed');
+  check(!(await page.locator('#record-preview').isDisabled()), 'preview enabled with two keyframes');
+  await page.locator('#record-duration').fill('1');
+  await page.locator('#record-fps').fill('6');
+  await page.locator('#record-width').fill('160');
+  await page.locator('#record-height').fill('96');
+  await page.locator('#record-render').click();
+  await page.locator('#record-progress').waitFor({ state: 'visible', timeout: 10000 });
+  await page.locator('#record-download').waitFor({ state: 'visible', timeout: 120000 });
+  const status = await page.locator('#record-status').textContent();
+  check(status === 'Done.', `status ${status}`);
+  const got = await page.evaluate(async () => {
+    const res = await fetch(document.getElementById('record-download').href);
+    const b = new Uint8Array(await res.arrayBuffer());
+    return { status: res.status, type: res.headers.get('content-type'), size: b.length, box: String.fromCharCode(...b.subarray(4, 8)) };
+  });
+  check(got.status === 200 && got.box === 'ftyp' && got.size > 1000, `download: ${JSON.stringify(got)}`);
+  check(/video/.test(got.type ?? ''), `content type ${got.type}`);
+});
+
 test('unknown dataset shows a readable message', async () => {
   const page = await newPage(`${ctx.d.url}/#dataset=demo:nope`);
   await page.waitForFunction(() => !document.getElementById('banner').hidden && window.lucent.state.error, null, { timeout: 30000 });

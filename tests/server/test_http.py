@@ -49,8 +49,8 @@ with Server(binary) as srv:
     check(st == 200 and jpeg_size(img) == (80, 60), "GET render with query parameters gives 80x60")
 
     # Errors with the field named.
-    st, _, e = srv.json("POST", "/api/v1/render", {"width": 5000})
-    check(st == 400 and e["error"]["field"] == "width", "width 5000 -> 400 naming the field")
+    st, _, e = srv.json("POST", "/api/v1/render", {"width": 9000})
+    check(st == 400 and e["error"]["field"] == "width", "width 9000 -> 400 naming the field")
     st, _, e = srv.json("POST", "/api/v1/render", {"params": {"bandz": 3}})
     check(st == 400 and e["error"]["code"] == "unknown_field" and e["error"]["field"] == "params.bandz",
           "unknown field -> 400 unknown_field params.bandz")

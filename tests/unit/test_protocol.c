@@ -430,7 +430,7 @@ static void test_defaults(void)
 {
     lc_proto_limits l;
     lc_proto_limits_default(&l);
-    CHECK(l.min_size == 16 && l.max_size == 4096 && l.max_pixels == 4096LL * 4096 && l.max_depth == 16,
+    CHECK(l.min_size == 16 && l.max_size == 8192 && l.max_pixels == 8192LL * 4608 && l.max_depth == 16,
           "limit defaults");
     lc_request r;
     lc_request_default(&r);
@@ -523,7 +523,7 @@ static void test_messages(void)
           "ready defaults parse back: %s", err.message);
     json_t *bj = lc_proto_request_to_json(&back);
     CHECK(json_equal(bj, def), "ready defaults are the default request");
-    CHECK(json_integer_value(at_path(rj, "limits.maxSize")) == 4096 &&
+    CHECK(json_integer_value(at_path(rj, "limits.maxSize")) == 8192 &&
               json_integer_value(at_path(rj, "stream.window")) == 2,
           "ready limits and stream");
     json_decref(bj);

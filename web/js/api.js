@@ -73,4 +73,33 @@ export class Api {
     if (!res.ok) throw await failure(res);
     return { blob: await res.blob(), timings: res.headers.get('X-Lucent-Timings') ?? res.headers.get('Server-Timing') };
   }
+
+  /** POST /api/v1/movies (protocol/README.md "Movies"); returns the job ({id, state, progress, ...}). */
+  async createMovie(body) {
+    let res;
+    try {
+      res = await fetch(new URL('api/v1/movies', this.base), {
+        method: 'POST',
+        headers: this.#headers({ 'Content-Type': 'application/json' }),
+        body: JSON.stringify(body),
+      });
+    } catch (e) {
+      throw new ApiError(0, 'unreachable', `The server cannot be reached (${e.message}).`);
+    }
+    if (!res.ok) throw await failure(res);
+    return res.json();
+  }
+
+  /** GET /api/v1/movies/ID: the job's state and progress. */
+  movie(id) {
+    return this.#get(`api/v1/movies/${encodeURIComponent(id)}`);
+  }
+
+  /** The link that downloads a finished movie (the token rides in the query, as for <img> renders). */
+  movieFileUrl(id) {
+    const url = new URL(`api/v1/movies/${encodeURIComponent(id)}/file`, this.base);
+    const t = this.token();
+    if (t) url.searchParams.set('token', t);
+    return url.href;
+  }
 }

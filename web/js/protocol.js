@@ -54,7 +54,7 @@ const g15 = (x) => String(Number(x.toPrecision(15)));
 const utf8Length = (s) => new TextEncoder().encode(s).length;
 
 /** Default caps (lc_proto_limits_default); ready.limits reports a server's own. */
-export const DEFAULT_LIMITS = Object.freeze({ minSize: 16, maxSize: 4096, maxPixels: 4096 * 4096, maxDepth: 16, maxText: 65536 });
+export const DEFAULT_LIMITS = Object.freeze({ minSize: 16, maxSize: 8192, maxPixels: 8192 * 4608, maxDepth: 16, maxText: 65536 });
 
 // ---- text loading under limits (lc_proto_load)
 

@@ -77,11 +77,11 @@ export const FIELDS = Object.freeze([
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
-// dataset and method; sizes follow the server's limits (16..4096 by default).
+// dataset and method; sizes follow the server's limits (16..8192 by default).
 export const REQUEST_TOP_FIELDS = Object.freeze([
   { section: null, name: 'version', alias: 'version', type: 'int', min: 1, max: 1 },
-  { section: null, name: 'width', alias: 'width', type: 'int', min: 16, max: 4096, sizeLimit: true },
-  { section: null, name: 'height', alias: 'height', type: 'int', min: 16, max: 4096, sizeLimit: true },
+  { section: null, name: 'width', alias: 'width', type: 'int', min: 16, max: 8192, sizeLimit: true },
+  { section: null, name: 'height', alias: 'height', type: 'int', min: 16, max: 8192, sizeLimit: true },
   { section: null, name: 'format', alias: 'format', type: 'enum', values: ['png', 'jpeg', 'jpg'] },
   { section: null, name: 'quality', alias: 'quality', type: 'int', min: 1, max: 100 },
   { section: null, name: 'dt', alias: 'dt', type: 'num', min: 0, max: 3600 },

@@ -71,7 +71,7 @@ with Server(binary, "--token", TOKEN, data=("demo:tornado",), demo_size=120) as 
              (dict(bandz=3), "bandz", "unknown_field"),
              (dict(params={"bands": 9}), "params.bands", "out_of_range"),
              (dict(params={"bands": "five"}), "params.bands", "bad_field"),
-             (dict(size=(5000, 100)), "width", "out_of_range"),
+             (dict(size=(9000, 100)), "width", "out_of_range"),
              (dict(color={"colormap": "rainbow"}), "color.colormap", "bad_field"),
              (dict(camera={"position": [0, 0]}), "camera.position", "bad_field"),
              (dict(style={"background": [2, 0, 0]}), "style.background", "out_of_range"),

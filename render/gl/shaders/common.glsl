@@ -211,6 +211,7 @@ float normalized_depth(float z_view)
 uniform int u_depth_moments;   // 1: P0 "moments" ran, warp the series' depth
 uniform vec2 u_moments_scale;  // moments texels per pixel of this pass
 uniform vec2 u_moments_offset; // params.guardBand: texels of the moments beyond the view (0 in P0-P2)
+uniform vec2 u_pixel_origin;   // tiled stills: the frame's pixel at this target's (0, 0); else 0
 layout(binding = TEX_DEPTH_MOMENTS) uniform sampler2D u_moments; // sum g^2 (1, u, u^2), u = d - 1/2
 
 // The depth the Fourier series of P1, P2, P4 and P5 use: normalized_depth,
@@ -221,7 +222,7 @@ float series_depth(float z_view)
     float d = normalized_depth(z_view);
     if (u_depth_moments == 0)
         return d;
-    vec4 m = texelFetch(u_moments, ivec2(gl_FragCoord.xy * u_moments_scale + u_moments_offset), 0);
+    vec4 m = texelFetch(u_moments, ivec2((gl_FragCoord.xy + u_pixel_origin) * u_moments_scale + u_moments_offset), 0);
     if (!(m.x > 0.0))
         return d;
     float mu = m.y / m.x;

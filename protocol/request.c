@@ -134,12 +134,11 @@ static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){
 #define NOFLAG (-1L)
 #define BIG 1e300 /* "any finite number"; reals from jansson are finite anyway */
 /* A ribbon wider than 1e9 world units covers any data that float positions
- * resolve at that scale; beyond it the width only overflows the cost model
- * and the shaders' float half-width (9.2e18 was accepted before). */
+ * resolve at that scale; beyond, the width overflows the cost model and the
+ * shaders' float half-width. */
 #define LINE_WIDTH_MAX 1e9
-
-/* Caps beyond the issue's ranges (q, r, λ, exponents, dt) only keep values in
- * float range for the shaders; the documented ranges in README.md match. */
+/* Caps beyond the useful ranges (q, r, λ, exponents, dt) keep values in float
+ * range for the shaders; the documented ranges in README.md match. */
 static const field fields[] = {
     {NULL, "version", "version", T_INT, 1, 1, CHECK_ONLY, 0, 0, NOFLAG, NULL},
     {NULL, "dataset", "dataset", T_STR, 0, 0, 0, OFF(dataset), LC_PROTO_DATASET_LEN, NOFLAG, NULL},
@@ -177,7 +176,6 @@ static const field fields[] = {
     {"params", "lod", "lod", T_NUM, 0, 16, 0, OFF(render.detail.lod_pixels), 0, NOFLAG, NULL},
     {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
      NULL},
-    /* Perception aids (issue 29). */
     {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
     {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
      smoothing_weights_names},
@@ -200,7 +198,6 @@ static const field fields[] = {
     {"color", "range", "colorRange", T_RANGE, 0, 0, 0, OFF(render.color.range), 0, (long)OFF(render.color.has_range),
      NULL},
     {"color", "curve", "colorCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.color.curve), 0, NOFLAG, NULL},
-    /* View-dependent colour equalization (issue 36). */
     {"color", "equalize", "equalize", T_BOOL, 0, 0, 0, OFF(render.color.equalize), 0, NOFLAG, NULL},
     {"color", "fixed", "colorFixed", T_RANGES, 0, LC_MAX_COLOR_FIXED, 0, OFF(render.color), 0, NOFLAG, NULL},
     {"color", "fadeHalfLife", "colorFadeHalfLife", T_NUM, 0, 60, 0, OFF(render.color.fade_half_life), 0, NOFLAG, NULL},
@@ -210,7 +207,6 @@ static const field fields[] = {
     {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
     {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
     {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
-    /* Perception aids (issue 29). */
     {"style", "silhouetteExponent", "silhouetteExponent", T_NUM, 1, 100, 0, OFF(render.style.silhouette_exponent), 0,
      NOFLAG, NULL},
     {"style", "haloWidth", "haloWidth", T_NUM, 0, 64, 0, OFF(render.style.halo_width), 0, NOFLAG, NULL},

@@ -8,6 +8,7 @@
 #include "colormap.h"
 #include "exact.h"
 #include "foo_math.h"
+#include "memory.h"
 #include "renderer_internal.h"
 
 const char *lc_pass_name(int pass)
@@ -612,4 +613,34 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     if (e != GL_NO_ERROR)
         return lc_err(err, LC_ERR_GL, "OpenGL error 0x%04x during the frame (out of GPU memory?)", e);
     return 0;
+}
+
+/* After a large frame (renderer.h): lives here, beside lc_render_frame, which
+ * it calls for the 8x8 frames. */
+void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *p)
+{
+    if ((long long)p->width * p->height <= LC_LARGE_FRAME_PIXELS)
+        return;
+    /* Deleting the targets is not enough for a software driver (llvmpipe):
+     * its context keeps the last frame's textures bound, and its binning and
+     * tile state sized for them, until a draw replaces them. An 8x8 one-shot
+     * frame of the same request does that for the price of its geometry. */
+    lc_render_params tiny = *p;
+    tiny.width = tiny.height = 8;
+    uint8_t rgba[8 * 8 * 4];
+    lc_error ignored = {0};
+    for (int k = 0; k < 2; k++) /* llvmpipe's scenes hold references for one frame more */
+        lc_render_frame(r, gs, &tiny, NULL, 0.0, rgba, NULL, &ignored);
+    lc_targets *sets[] = {&r->coef_low,   &r->coef_full, &r->accum,  &r->output,
+                          &r->range_full, &r->range_low, &r->moments};
+    for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++)
+        lc_targets_free(sets[k], &r->bytes_targets);
+    if (r->output_depth) { /* attached to the output's framebuffer: goes with it */
+        glDeleteRenderbuffers(1, &r->output_depth);
+        r->bytes_targets -= (uint64_t)r->depth_width * (uint64_t)r->depth_height * 4;
+        r->output_depth = 0;
+        r->depth_width = r->depth_height = 0;
+    }
+    glFinish();
+    lc_memory_trim();
 }

@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "memory.h"
 #include "renderer_internal.h"
 
 static uint64_t texel_bytes(GLenum format)
@@ -23,34 +22,6 @@ void lc_targets_free(lc_targets *t, uint64_t *bytes)
     uint64_t px = (uint64_t)t->width * (uint64_t)t->height;
     *bytes -= px * (uint64_t)t->count * texel_bytes(t->format);
     memset(t, 0, sizeof *t);
-}
-
-void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *p)
-{
-    if ((long long)p->width * p->height <= LC_LARGE_FRAME_PIXELS)
-        return;
-    /* Deleting the targets is not enough for a software driver (llvmpipe):
-     * its context keeps the last frame's textures bound, and its binning and
-     * tile state sized for them, until a draw replaces them. An 8x8 one-shot
-     * frame of the same request does that for the price of its geometry. */
-    lc_render_params tiny = *p;
-    tiny.width = tiny.height = 8;
-    uint8_t rgba[8 * 8 * 4];
-    lc_error ignored = {0};
-    for (int k = 0; k < 2; k++) /* llvmpipe's scenes hold references for one frame more */
-        lc_render_frame(r, gs, &tiny, NULL, 0.0, rgba, NULL, &ignored);
-    lc_targets *sets[] = {&r->coef_low,   &r->coef_full, &r->accum,  &r->output,
-                          &r->range_full, &r->range_low, &r->moments};
-    for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++)
-        lc_targets_free(sets[k], &r->bytes_targets);
-    if (r->output_depth) { /* attached to the output's framebuffer: goes with it */
-        glDeleteRenderbuffers(1, &r->output_depth);
-        r->bytes_targets -= (uint64_t)r->depth_width * (uint64_t)r->depth_height * 4;
-        r->output_depth = 0;
-        r->depth_width = r->depth_height = 0;
-    }
-    glFinish();
-    lc_memory_trim();
 }
 
 void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, uint64_t *bytes)

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "conn_limits.h"
 
 #define NBUCKETS 14
 /* Milliseconds: from a small GPU frame to a big llvmpipe one. */
@@ -282,13 +281,12 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
                 "# TYPE lucent_resident_bytes gauge\nlucent_resident_bytes %llu\n",
             (unsigned long long)g->resident);
     }
-    uint64_t deadline, evicted;
-    lc_conn_limits_counts(&deadline, &evicted);
-    put(&t, "# HELP lucent_http_unfinished_closed_total Connections closed before a whole request header: past the "
-            "header deadline, or the oldest beyond the caps (conn_limits.h).\n"
-            "# TYPE lucent_http_unfinished_closed_total counter\n"
-            "lucent_http_unfinished_closed_total{reason=\"deadline\"} %llu\n"
-            "lucent_http_unfinished_closed_total{reason=\"cap\"} %llu\n",
-        (unsigned long long)deadline, (unsigned long long)evicted);
+    if (g)
+        put(&t, "# HELP lucent_http_unfinished_closed_total Connections closed before a whole request header: past the "
+                "header deadline, or the oldest beyond the caps.\n"
+                "# TYPE lucent_http_unfinished_closed_total counter\n"
+                "lucent_http_unfinished_closed_total{reason=\"deadline\"} %llu\n"
+                "lucent_http_unfinished_closed_total{reason=\"cap\"} %llu\n",
+            (unsigned long long)g->unfinished_deadline, (unsigned long long)g->unfinished_evicted);
     return t.s;
 }

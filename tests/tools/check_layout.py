@@ -35,7 +35,7 @@ LAYERS = {
 }
 # server/daemon's rooms (http/, stream/, pool/) share its layer; which of them
 # stands above which is the circle check's to say.
-DAEMON_ROOMS = ["server/daemon/http", "server/daemon/stream", "server/daemon/pool"]
+DAEMON_ROOMS = ["server/daemon/http", "server/daemon/stream", "server/daemon/pool", "server/daemon/data", "server/daemon/start"]
 for room in DAEMON_ROOMS:
     LAYERS[room] = ["server/daemon"] + [r for r in DAEMON_ROOMS if r != room] + LAYERS["server/daemon"]
 LAYERS["server/daemon"] = DAEMON_ROOMS + LAYERS["server/daemon"]

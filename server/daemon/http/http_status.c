@@ -3,6 +3,7 @@
 
 #include <stdatomic.h>
 
+#include "conn_limits.h"
 #include "datasets.h"
 #include "memory.h"
 #include "messages.h"
@@ -56,5 +57,6 @@ enum MHD_Result lc_http_metrics(lc_server *srv, struct MHD_Connection *c)
     g.queue_clients = lc_workers_clients(srv->workers);
     lc_datasets_budget(srv->datasets, &g.memory_estimated, &g.memory_budget);
     g.resident = lc_memory_resident_bytes();
+    lc_conn_limits_counts(&g.unfinished_deadline, &g.unfinished_evicted);
     return lc_http_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");
 }

@@ -437,6 +437,18 @@ char *lc_proto_stats_json(const json_t *fields)
     return dump_and_free(o);
 }
 
+char *lc_proto_progress_json(const char *stage, double fraction, double elapsed)
+{
+    json_t *o = json_object();
+    if (!o)
+        return NULL;
+    json_object_set_new(o, "type", json_string("progress"));
+    json_object_set_new(o, "stage", json_string(stage));
+    json_object_set_new(o, "fraction", fraction >= 0 ? json_real(round(fraction * 1000.0) / 1000.0) : json_null());
+    json_object_set_new(o, "elapsed", json_real(round(elapsed * 1000.0) / 1000.0));
+    return dump_and_free(o);
+}
+
 char *lc_proto_error_json(const char *code, const char *message, const char *field)
 {
     json_t *e = json_object();

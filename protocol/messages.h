@@ -107,6 +107,11 @@ char *lc_proto_error_message_json(const char *code, const char *message, const c
  * "type" (a "type" key in it is ignored). websocket.md lists the usual keys. */
 char *lc_proto_stats_json(const json_t *fields);
 
+/* {"type":"progress","stage":..,"fraction":f|null,"elapsed":s}: a frame the
+ * client waits for is under way. fraction < 0 = not known (null); elapsed is
+ * rounded to the millisecond. */
+char *lc_proto_progress_json(const char *stage, double fraction, double elapsed);
+
 /* HTTP error body {"error":{"code":..,"message":..,"field":..?}}. */
 char *lc_proto_error_json(const char *code, const char *message, const char *field);
 /* Same from a filled lc_proto_error. */

@@ -172,6 +172,15 @@ export function createApp(doc = document, win = window) {
         el.dataset.state = s;
         el.textContent = text;
       },
+      progress(p) {
+        const box = $('progress');
+        box.hidden = !p;
+        if (!p) return;
+        const bar = $('progress-bar');
+        if (p.fraction === null) bar.removeAttribute('value'); // indeterminate
+        else bar.value = p.fraction;
+        $('progress-text').textContent = p.text;
+      },
       showBanner,
       hideBanner,
       toast,

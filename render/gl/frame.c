@@ -428,6 +428,11 @@ static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *r
     return rc;
 }
 
+/* The order in which a frame's passes run (and are timed and reported). */
+static const int pass_order[LC_PASS_COUNT] = {LC_PASS_DEPTH_RANGE, LC_PASS_IMPORTANCE,    LC_PASS_OPACITY,
+                                              LC_PASS_SMOOTH,      LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE,
+                                              LC_PASS_RESOLVE,     LC_PASS_READBACK};
+
 /* ---- Tiled stills (docs/ALGORITHM.md "Tiled stills"): a frame of more than
  * LC_TILE_PIXELS pixels (or larger than lc_renderer_desc.tile_size when that is
  * set; lc_pass_plan_tiles) is optimized once, P0-P3 over the whole view at the optimization
@@ -546,6 +551,11 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
         return rc;
+    r->progress_planned = r->progress_done = 0;
+    for (int i = 0; i < LC_PASS_COUNT; i++)
+        if (plan.run[pass_order[i]] != LC_RUN_NONE)
+            r->progress_order[r->progress_planned++] = pass_order[i];
+    r->progress_t0 = t0;
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
     /* P0 as the plan says (pass_plan.c says why the moments skip a reusing frame). */
@@ -585,10 +595,8 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         GLuint64 start = 0, prev;
         glGetQueryObjectui64v(r->timer_queries[LC_PASS_COUNT], GL_QUERY_RESULT, &start);
         prev = start;
-        static const int order[] = {LC_PASS_DEPTH_RANGE,   LC_PASS_IMPORTANCE, LC_PASS_OPACITY, LC_PASS_SMOOTH,
-                                    LC_PASS_OPTICAL_DEPTH, LC_PASS_ACCUMULATE, LC_PASS_RESOLVE, LC_PASS_READBACK};
         for (int i = 0; i < LC_PASS_COUNT; i++) {
-            int pass = order[i];
+            int pass = pass_order[i];
             if (plan.run[pass] == LC_RUN_NONE)
                 continue;
             GLuint64 t = 0;

@@ -51,10 +51,35 @@ void lc_targets_clear(const lc_targets *t, const float *value)
         glClearNamedFramebufferfv(t->fbo, GL_COLOR, i, value ? value : zero);
 }
 
+/* Reports the pass that ended at timestamp slot (LC_PASS_COUNT: the frame's
+ * start) to desc.progress. A pass that is not in the plan, or that runs again
+ * (antialias samples), reports nothing, so done only grows. */
+static void report_progress(lc_renderer *r, int slot)
+{
+    if (!r->desc.progress || r->progress_planned == 0)
+        return;
+    int done = 0;
+    if (slot < LC_PASS_COUNT) {
+        for (int i = 0; i < r->progress_planned; i++)
+            if (r->progress_order[i] == slot)
+                done = i + 1;
+        if (done <= r->progress_done)
+            return;
+        /* GL queues the passes: a slow frame waits for this one, so that what
+         * it reports has run; a fast frame never waits. */
+        if ((lc_now() - r->progress_t0) * 1e3 > LC_PROGRESS_SYNC_MS)
+            glFinish();
+    }
+    r->progress_done = done;
+    int next = done < r->progress_planned ? r->progress_order[done] : -1;
+    r->desc.progress(r->desc.progress_ctx, next, done, r->progress_planned);
+}
+
 void lc_renderer_timestamp(lc_renderer *r, int slot)
 {
     if (!r->desc.no_timer_queries)
         glQueryCounter(r->timer_queries[slot], GL_TIMESTAMP);
+    report_progress(r, slot);
 }
 
 double lc_frame_focal_distance(const lc_frame_setup *fs)

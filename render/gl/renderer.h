@@ -212,7 +212,17 @@ typedef struct lc_renderer_desc {
      * composite in tiles of at most tile_size^2 pixels; 0 = LC_TILE_SIZE.
      * A smaller value forces small frames into tiles (tests). */
     int tile_size;
+    /* Pass progress (NULL = none), for a viewer waiting on a long frame: called
+     * on the render thread when a frame's passes begin (done = 0) and after
+     * each pass of its plan (lc_pass_plan order: P0, P1..P6, readback) with the
+     * passes done, the passes planned and the pass that runs next (-1 once the
+     * readback is done). Once a frame has run LC_PROGRESS_SYNC_MS, each report
+     * waits for its pass to finish on the GPU (glFinish), so that a slow frame
+     * reports what has run rather than what was queued; images do not change. */
+    void (*progress)(void *ctx, int next_pass, int done, int planned);
+    void *progress_ctx;
 } lc_renderer_desc;
+#define LC_PROGRESS_SYNC_MS 100.0
 
 /* Frames above LC_TILE_PIXELS pixels composite (P4-P6) tile by tile, each at
  * most LC_TILE_SIZE^2, after one optimization (P0-P3) of the whole view. */

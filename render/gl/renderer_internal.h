@@ -231,6 +231,10 @@ struct lc_renderer {
         uint64_t serial;
     } filter;
     GLuint timer_queries[LC_PASS_COUNT + 1];
+    /* Pass progress of the current frame (desc.progress): its planned passes in order. */
+    int progress_order[LC_PASS_COUNT];
+    int progress_planned, progress_done;
+    double progress_t0; /* lc_now() at the frame's start */
     GLuint dummy_buffer;
     void *exact; /* exact.c's state */
     /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */

@@ -80,7 +80,7 @@ typedef struct lc_serve_config {
     unsigned long long demo_size;   /* lc_demo_desc.count for demos; 0 = default */
     unsigned elements;              /* --elements: line elements / patches of every dataset; 0 = derived */
     int device;                     /* EGL device index, -1 = auto / LUCENT_EGL_DEVICE */
-    int workers;                    /* render threads; 0 = 1 on llvmpipe, 2 on a GPU */
+    int workers;                    /* render threads; 0 = 2 (1 on llvmpipe under 8 GiB of memory, serve.c) */
     int encoders;                   /* encoder threads; 0 = 2 */
     char token[LC_PROTO_TOKEN_LEN]; /* "" = no authentication */
     lc_proto_limits limits;         /* image size, pixel count, JSON depth */

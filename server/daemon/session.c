@@ -102,6 +102,7 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     s->dataset = ds;
     s->srv = reg->srv;
     atomic_init(&s->refs, 2); /* registry + caller */
+    atomic_init(&s->progress.stage, LC_PROGRESS_NONE);
     pthread_mutex_init(&s->lock, NULL);
     s->created = s->last_used = lc_now();
     s->req = *initial;

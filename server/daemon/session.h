@@ -65,6 +65,19 @@ typedef struct lc_stream {
     double last_optimized;
 } lc_stream;
 
+/* Progress of the frame a render worker makes for a WebSocket session, for
+ * the I/O thread's progress messages (stream.c): written by the worker at the
+ * frame's start and its pass boundaries, read by the I/O thread, no lock. */
+#define LC_PROGRESS_NONE (-1)                   /* no frame under way (or it failed) */
+#define LC_PROGRESS_ENCODE LC_PASS_COUNT        /* rendered, being encoded */
+#define LC_PROGRESS_PREPARE (LC_PASS_COUNT + 1) /* set-up before the first pass (clusters, filters, subsets) */
+typedef struct lc_stream_progress {
+    _Atomic unsigned long long frame; /* id of the frame (lc_stream.next_frame); written last, read first */
+    _Atomic long long begun_us;       /* lc_now() of its start, in microseconds */
+    atomic_int stage;                 /* a pass (lc_pass), or LC_PROGRESS_* */
+    atomic_int done, planned;         /* passes of the frame's plan done and planned */
+} lc_stream_progress;
+
 typedef struct lc_session lc_session;
 struct lc_session {
     /* Immutable after creation. */
@@ -83,6 +96,7 @@ struct lc_session {
     bool http_busy;              /* an HTTP session render is queued or running */
     uint64_t http_frames;
     lc_stream stream;
+    lc_stream_progress progress;
 
     /* Worker pool scheduling (pool lock). */
     bool sched_queued, sched_timed;

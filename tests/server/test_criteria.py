@@ -30,7 +30,7 @@ async def recv(ws, timeout):
             m = await asyncio.wait_for(ws.recv(), left)
         except asyncio.TimeoutError:
             return None
-        if not (isinstance(m, str) and json.loads(m).get("type") == "stats"):
+        if not (isinstance(m, str) and json.loads(m).get("type") in ("stats", "progress")):
             return m
 
 

@@ -40,7 +40,7 @@ async def ws_client(srv, idx, stop_at, stats):
             except asyncio.TimeoutError:
                 continue
             if isinstance(m, str):
-                if json.loads(m).get("type") != "stats":  # stats come about once a second
+                if json.loads(m).get("type") not in ("stats", "progress"):  # stats come about once a second
                     stats["errors"].append(m)
                 continue
             h, img = unpack_frame(m)

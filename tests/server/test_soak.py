@@ -53,7 +53,7 @@ async def ws_client(srv, idx, stop_at, stats):
             except asyncio.TimeoutError:
                 continue
             if isinstance(m, str):
-                if json.loads(m).get("type") != "stats":
+                if json.loads(m).get("type") not in ("stats", "progress"):
                     stats["errors"].append(m)
                 continue
             h, img = unpack_frame(m)

@@ -25,7 +25,7 @@ def camera(seq, z):
 
 
 def is_stats(m):
-    return isinstance(m, str) and json.loads(m).get("type") == "stats"
+    return isinstance(m, str) and json.loads(m).get("type") in ("stats", "progress")
 
 
 async def recv(ws, timeout, keep_stats=False):
@@ -211,7 +211,7 @@ async def stats(srv):
             nonlocal frames, frame_bytes
             if isinstance(m, str):
                 o = json.loads(m)
-                check(o["type"] == "stats", "only stats text messages while streaming (%s)" % o)
+                check(o["type"] in ("stats", "progress"), "only stats/progress text messages while streaming (%s)" % o)
                 seen.append((frames, frame_bytes, o))
                 return
             h, _ = unpack_frame(m)

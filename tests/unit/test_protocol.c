@@ -416,6 +416,9 @@ static int replay_server_messages(void)
             text = lc_proto_error_json(opt_str(a, "code"), opt_str(a, "message"), opt_str(a, "field"));
         else if (!strcmp(kind, "stats"))
             text = lc_proto_stats_json(json_object_get(a, "fields"));
+        else if (!strcmp(kind, "progress"))
+            text = lc_proto_progress_json(opt_str(a, "stage"), json_number_value(json_object_get(a, "fraction")),
+                                          json_number_value(json_object_get(a, "elapsed")));
         CHECK(text && !strcmp(text, opt_str(c, "output")), "%s: got %s", name, text ? text : "NULL");
         free(text);
     }

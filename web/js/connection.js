@@ -174,6 +174,8 @@ export class Connection {
       }
     } else if (msg.type === 'stats') {
       this.h.onStats?.(msg);
+    } else if (msg.type === 'progress') {
+      this.h.onProgress?.(msg);
     }
   }
 }

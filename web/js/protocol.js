@@ -34,7 +34,7 @@ export function tokenSubprotocols(token) {
 }
 
 export const CLIENT_TYPES = Object.freeze(['hello', 'camera', 'params', 'resize', 'ack']);
-export const SERVER_TYPES = Object.freeze(['ready', 'error', 'stats']);
+export const SERVER_TYPES = Object.freeze(['ready', 'error', 'stats', 'progress']);
 
 /** A message that breaks the protocol; field is the dotted path when known. */
 export class ProtocolError extends Error {
@@ -351,7 +351,7 @@ export function ackMessage(frame) {
 export const encodeMessage = (msg) => JSON.stringify(msg);
 
 /**
- * Parses a server text message (ready, error, stats; unknown types pass through
+ * Parses a server text message (ready, error, stats, progress; unknown types pass through
  * for forward compatibility). Throws ProtocolError when it is not a JSON object
  * with a string type, or a known type lacks its required fields.
  */
@@ -370,6 +370,10 @@ export function parseServerMessage(text) {
   } else if (obj.type === 'error') {
     if (typeof obj.code !== 'string') fail('missing_field', 'code', 'required');
     if (typeof obj.message !== 'string') fail('missing_field', 'message', 'required');
+  } else if (obj.type === 'progress') {
+    if (typeof obj.stage !== 'string') fail('missing_field', 'stage', 'required');
+    if (obj.fraction !== null && typeof obj.fraction !== 'number') fail('bad_field', 'fraction', 'expected a number or null');
+    if (typeof obj.elapsed !== 'number') fail('missing_field', 'elapsed', 'required');
   }
   return obj;
 }

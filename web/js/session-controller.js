@@ -9,6 +9,19 @@ import { UPDATE_SECTIONS, STREAM_FIELDS } from './schema.js';
 import { datasetInfo } from './app-state.js';
 
 export const RETRY_DELAYS_KEPT = 50;
+
+/** Words for the stages of the server's progress messages (protocol/websocket.md "progress"). */
+export const PROGRESS_STAGES = Object.freeze({
+  queued: 'Waiting for a render worker', prepare: 'Preparing the frame', depthRange: 'Depth range',
+  importance: 'Importance', opacity: 'Opacities', smooth: 'Smoothing', opticalDepth: 'Optical depth',
+  accumulate: 'Accumulating', resolve: 'Resolving', readback: 'Reading back', encode: 'Encoding',
+});
+
+/** The line under the progress bar: stage, per cent when known, time so far. */
+export function progressText(p) {
+  const pct = p.fraction === null ? '' : ` ${Math.round(100 * p.fraction)}%`;
+  return `${PROGRESS_STAGES[p.stage] ?? p.stage}${pct} · ${p.elapsed.toFixed(1)} s`;
+}
 const TOKEN_REFUSED = 'The token was not accepted.';
 const TOKEN_NEEDED = 'This server requires an access token.';
 
@@ -16,13 +29,36 @@ const TOKEN_NEEDED = 'This server requires an access token.';
  * ctx: state; stats (FrameStats); view (push, reset, setSize); camera and params
  * (the controllers); panel (setMethods, setDataset, markInvalid); api (datasets());
  * conn() → the Connection (terminal); measure() → {width, height, dpr};
- * ui: {connection(state, text), showBanner(text, opts), hideBanner(), toast(text),
+ * ui: {connection(state, text), progress({stage, fraction, elapsed} | null),
+ * showBanner(text, opts), hideBanner(), toast(text),
  * askToken(reason), showDataset(), showValues(), writeHash(), body(key, value)};
  * timers: {setInterval, clearInterval, now}.
  */
 export function createSessionController(ctx) {
   const { state, ui } = ctx;
   let countdown = 0;
+  let waiting = false; // a progress bar is shown: the frame it is about has not come yet
+
+  // The server's progress messages while a frame is awaited (the first one,
+  // a long still): shown until the next frame or the end of the connection.
+  function onProgress(msg) {
+    waiting = true;
+    const fraction = typeof msg.fraction === 'number' ? Math.min(1, Math.max(0, msg.fraction)) : null;
+    state.progress = { stage: msg.stage, fraction, elapsed: msg.elapsed };
+    ui.progress({ ...state.progress, text: progressText(state.progress) });
+  }
+
+  function endProgress() {
+    if (!waiting) return;
+    waiting = false;
+    state.progress = null;
+    ui.progress(null);
+  }
+
+  function onFrame(frame) {
+    endProgress();
+    ctx.view.push(frame);
+  }
 
   function hello() {
     // send a camera from the start, so that the page and the server agree on it before the first drag
@@ -53,6 +89,7 @@ export function createSessionController(ctx) {
   function onState(s, detail) {
     ctx.timers.clearInterval(countdown);
     ui.body('connection', s);
+    if (s !== 'open') endProgress();
     if (s === 'connecting') {
       ui.connection(s, detail.attempt ? 'Reconnecting…' : 'Connecting…');
       ctx.view.reset();
@@ -120,6 +157,7 @@ export function createSessionController(ctx) {
   }
 
   function onError(msg, { fatal }) {
+    if (msg.code === 'render_failed' || msg.code === 'bad_field' || fatal) endProgress(); // no frame is coming
     state.error = { code: msg.code, message: msg.message, field: msg.field ?? '' };
     ui.body('lastError', msg.code);
     if (msg.code === 'unauthorized') {
@@ -148,6 +186,6 @@ export function createSessionController(ctx) {
 
   return {
     hello,
-    handlers: { onState, onReady, onFrame: (frame) => ctx.view.push(frame), onStats, onError },
+    handlers: { onState, onReady, onFrame, onStats, onError, onProgress },
   };
 }

@@ -7,7 +7,7 @@ import { createState, currentValues } from '../js/app-state.js';
 import { createParamsController } from '../js/params-controller.js';
 import { createCameraController, CAMERAS_KEPT } from '../js/camera-controller.js';
 import { createUrlController, HASH_DELAY_MS } from '../js/url-controller.js';
-import { createSessionController } from '../js/session-controller.js';
+import { createSessionController, progressText } from '../js/session-controller.js';
 import { createDatasetController, datasetView, describeDataset, shortSize } from '../js/dataset-controller.js';
 import { parseHash } from '../js/url-state.js';
 import { fitCamera, cloneCamera } from '../js/camera.js';
@@ -249,6 +249,44 @@ test('session: connection states reset the frame bookkeeping and keep the retry 
   assert.ok(r.log.some(([k, , text]) => k === 'connection' && /retrying in 1 s/.test(text)));
   r.s.handlers.onState('open', {});
   assert.deepEqual(r.state.retryDelays, []);
+});
+
+test('session: progress messages show a bar until the frame comes, and nothing after it', () => {
+  const r = sessionRig();
+  const shown = () => r.log.filter(([k]) => k === 'progress').map(([, p]) => p);
+  r.s.handlers.onReady({ session: 's1', dataset: INFO, defaults: {} });
+  r.log.length = 0;
+  r.s.handlers.onProgress({ type: 'progress', stage: 'queued', fraction: null, elapsed: 0.3 });
+  r.s.handlers.onProgress({ type: 'progress', stage: 'opticalDepth', fraction: 0.5, elapsed: 1.25 });
+  assert.deepEqual(shown(), [
+    { stage: 'queued', fraction: null, elapsed: 0.3, text: 'Waiting for a render worker · 0.3 s' },
+    { stage: 'opticalDepth', fraction: 0.5, elapsed: 1.25, text: 'Optical depth 50% · 1.3 s' },
+  ]);
+  assert.deepEqual(r.state.progress, { stage: 'opticalDepth', fraction: 0.5, elapsed: 1.25 });
+  // the frame hides the bar once, and is still shown
+  r.log.length = 0;
+  const view = r.s.handlers.onFrame;
+  view({ header: { frame: 1 } });
+  view({ header: { frame: 2 } });
+  assert.deepEqual(shown(), [null], 'hidden once when the frame comes, not again for later frames');
+  assert.equal(r.state.progress, null);
+  // an unknown stage is shown by its name; a fraction out of range is clamped
+  r.log.length = 0;
+  r.s.handlers.onProgress({ type: 'progress', stage: 'tiles', fraction: 1.5, elapsed: 2 });
+  assert.equal(shown()[0].text, 'tiles 100% · 2.0 s');
+  // a failed frame or a lost connection hides it as well
+  r.log.length = 0;
+  r.s.handlers.onError({ code: 'render_failed', message: 'GL error' }, { fatal: false });
+  assert.deepEqual(shown(), [null]);
+  r.s.handlers.onProgress({ type: 'progress', stage: 'accumulate', fraction: 0.7, elapsed: 3 });
+  r.log.length = 0;
+  r.s.handlers.onState('connecting', { attempt: 1 });
+  assert.deepEqual(shown(), [null]);
+});
+
+test('progress text: stage words, per cent when known, seconds so far', () => {
+  assert.equal(progressText({ stage: 'prepare', fraction: null, elapsed: 0.42 }), 'Preparing the frame · 0.4 s');
+  assert.equal(progressText({ stage: 'encode', fraction: 1, elapsed: 10 }), 'Encoding 100% · 10.0 s');
 });
 
 test('datasets: the picker model, descriptions and sizes', () => {

@@ -131,6 +131,11 @@ test('server_messages.json: byte-exact builders and parsing', () => {
     } else if (c.kind === 'stats') {
       assert.equal(P.statsText(a.fields), c.output, c.name);
       subset(P.parseServerMessage(c.output), { type: 'stats', ...a.fields });
+    } else if (c.kind === 'progress') {
+      const m = P.parseServerMessage(c.output);
+      assert.equal(m.stage, a.stage, c.name);
+      assert.equal(m.fraction, a.fraction < 0 ? null : Math.round(a.fraction * 1000) / 1000, c.name);
+      assert.equal(m.elapsed, Math.round(a.elapsed * 1000) / 1000, c.name);
     } else assert.fail(`unknown kind ${c.kind}`);
   }
 });

@@ -28,6 +28,7 @@ typedef struct worker {
     lc_render_job *job;
     lc_session *session;
     bool lost;
+    lc_session *progress; /* the stream session whose frame the renderer reports on (render thread only) */
 } worker;
 
 struct lc_workers {
@@ -316,6 +317,19 @@ static void render_job(worker *wk, lc_render_job *job)
     lc_encoders_job(w->encoders, rgba, job);
 }
 
+/* desc.progress of every worker's renderer: publishes the pass to the
+ * stream session being rendered (the I/O thread sends it, ws.c). */
+static void on_progress(void *ctx, int next_pass, int done, int planned)
+{
+    worker *wk = ctx;
+    lc_session *s = wk->progress;
+    if (!s)
+        return; /* an HTTP render */
+    atomic_store(&s->progress.planned, planned);
+    atomic_store(&s->progress.done, done);
+    atomic_store(&s->progress.stage, next_pass < 0 ? LC_PROGRESS_ENCODE : next_pass);
+}
+
 /* One frame of a WebSocket session, if it needs one. */
 static void render_session(worker *wk, lc_session *s)
 {
@@ -334,10 +348,18 @@ static void render_session(worker *wk, lc_session *s)
     uint8_t *rgba = malloc((size_t)p->width * (size_t)p->height * 4);
     lc_frame_info info;
     lc_error err = {0};
+    atomic_store(&s->progress.stage, LC_PROGRESS_PREPARE);
+    atomic_store(&s->progress.done, 0);
+    atomic_store(&s->progress.planned, 0);
+    atomic_store(&s->progress.begun_us, (long long)(lc_now() * 1e6));
+    atomic_store(&s->progress.frame, (unsigned long long)f.frame);
+    wk->progress = s;
     in_hand(wk, NULL, s);
     int rc = rgba ? render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
                   : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     out_of_hand(wk);
+    wk->progress = NULL;
+    atomic_store(&s->progress.stage, rc == 0 ? LC_PROGRESS_ENCODE : LC_PROGRESS_NONE);
     lc_session_stream_done(s, &f, rc == 0, rc == 0 ? &info : NULL);
     if (rc != 0) {
         free(rgba);
@@ -368,8 +390,9 @@ static void *worker_main(void *arg)
     if (rc == 0)
         rc = lc_gl_make_current(wk->gl, &err);
     if (rc == 0)
-        rc = lc_renderer_create(&(lc_renderer_desc){.reducer = w->srv->frame_hook.reducer},
-                                &wk->renderer, &err);
+        rc = lc_renderer_create(
+            &(lc_renderer_desc){.reducer = w->srv->frame_hook.reducer, .progress = on_progress, .progress_ctx = wk},
+            &wk->renderer, &err);
     pthread_mutex_lock(&w->lock);
     if (rc != 0 && !w->failed) {
         w->failed = 1;

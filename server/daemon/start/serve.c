@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cost.h"
 #include "datasets.h"
@@ -24,6 +25,18 @@
 
 #define MOD "serve"
 #define MAX_DATA 256
+
+/* --workers by default: 2, so that one session's long still does not hold
+ * every other session's frames; on llvmpipe only with LC_SOFTWARE_2_WORKERS
+ * of memory, since each worker keeps its own render targets in host memory
+ * (up to a 4096-pixel frame's) and both share the CPU cores. */
+#define LC_SOFTWARE_2_WORKERS (8ull << 30)
+static int default_workers(bool software)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    unsigned long long memory = pages > 0 && page > 0 ? (unsigned long long)pages * (unsigned long long)page : 0;
+    return !software || memory >= LC_SOFTWARE_2_WORKERS ? 2 : 1;
+}
 
 /* The workers' frame delivery: the WebSocket layer. */
 static void sink_send(void *ctx, lc_session *s, unsigned char *msg, size_t len, bool binary)
@@ -152,7 +165,7 @@ static const lc_option serve_options[] = {
     {"--device", "N", LC_OPT_INT, CFG(device), 0, 64,
      .help = "EGL device index (default: LUCENT_EGL_DEVICE or the first GPU)"},
     {"--workers", "N", LC_OPT_INT, CFG(workers), 1, 64,
-     .help = "render threads, one GL context each (default 1 on llvmpipe, 2 on a GPU)"},
+     .help = "render threads, one GL context each (default 2; 1 on llvmpipe with under 8 GiB of memory)"},
     {"--encoders", "N", LC_OPT_INT, CFG(encoders), 1, 64, .help = "JPEG/PNG encoder threads (default 2)"},
     {"--token", "T", LC_OPT_CALL, .call = opt_token,
      .help = "require this bearer token (default: LUCENT_TOKEN if set)"},
@@ -345,7 +358,7 @@ static int serve_main(int argc, char **argv)
         lc_datasets_destroy(srv.datasets);
         return startup_failed();
     }
-    int nworkers = cfg->workers > 0 ? cfg->workers : (lc_gl_is_software(primary) ? 1 : 2);
+    int nworkers = cfg->workers > 0 ? cfg->workers : default_workers(lc_gl_is_software(primary));
     if (srv.mpi)
         nworkers = 1; /* frames are collective: one at a time, in one order on every rank */
     int nencoders = cfg->encoders > 0 ? cfg->encoders : 2;

@@ -256,3 +256,45 @@ char *lc_stream_stats_message(lc_stream_stats *st, lc_session *s, int render_que
     st->last_report = now;
     return text;
 }
+
+/* ---------------------------------------------------------------- progress */
+
+/* The stage of a progress message: a pass (named as in the frame header's
+ * timings), or the work around the passes. */
+static const char *stage_name(int stage)
+{
+    if (stage == LC_PROGRESS_ENCODE)
+        return "encode";
+    if (stage == LC_PROGRESS_PREPARE)
+        return "prepare";
+    return lc_pass_name(stage);
+}
+
+char *lc_stream_progress_message(lc_stream_progress_report *pr, lc_session *s, uint64_t frames_sent, double now)
+{
+    if (now - pr->sent_at < LC_STREAM_PROGRESS_INTERVAL)
+        return NULL;
+    uint64_t frame = atomic_load(&s->progress.frame);
+    double begun = (double)atomic_load(&s->progress.begun_us) * 1e-6;
+    pthread_mutex_lock(&s->lock);
+    uint64_t sent = s->stream.last_sent;
+    pthread_mutex_unlock(&s->lock);
+    bool under_way = frame > sent; /* frame ids start at 1 */
+    bool first = frames_sent == 0;
+    double since = first ? pr->hello_at : begun;
+    if ((!first && !under_way) || now - since < LC_STREAM_PROGRESS_AFTER)
+        return NULL;
+    int stage = under_way ? atomic_load(&s->progress.stage) : LC_PROGRESS_PREPARE;
+    if (stage == LC_PROGRESS_NONE)
+        return NULL; /* the frame failed: an error message says so */
+    int done = atomic_load(&s->progress.done), planned = atomic_load(&s->progress.planned);
+    double fraction = under_way && planned > 0 && stage != LC_PROGRESS_PREPARE ? (double)done / planned : -1;
+    if (frame != pr->frame)
+        pr->frame = frame, pr->fraction = -1;
+    /* The worker writes stage, done and planned one by one: never step back. */
+    if (fraction < pr->fraction)
+        fraction = pr->fraction;
+    pr->fraction = fraction;
+    pr->sent_at = now;
+    return lc_proto_progress_json(under_way ? stage_name(stage) : "queued", fraction, now - since);
+}

@@ -34,6 +34,8 @@ typedef struct lc_stream_outcome {
  * frames flow, and once more after they stop. */
 #define LC_STREAM_STATS_INTERVAL 1.0 /* seconds between stats messages while frames flow */
 #define LC_STREAM_STATS_SAMPLES 256  /* latest frames remembered for fps and timing figures */
+#define LC_STREAM_PROGRESS_AFTER 0.3 /* seconds a frame is awaited before progress messages start */
+#define LC_STREAM_PROGRESS_INTERVAL 0.25 /* seconds between progress messages of a connection */
 
 /* What a connection's stats messages report (I/O thread only). The rings hold
  * the latest frames, indexed by frame count modulo LC_STREAM_STATS_SAMPLES. */
@@ -46,6 +48,22 @@ typedef struct lc_stream_stats {
     uint64_t frames_at_report;                 /* frames when the last stats message went out */
     double last_report;                        /* lc_now() of that message (of hello before the first) */
 } lc_stream_stats;
+
+/* What a connection's progress messages went by (lc_stream_progress_message). */
+typedef struct lc_stream_progress_report {
+    double hello_at; /* lc_now() of the session's hello */
+    double sent_at;  /* when the latest progress message was made */
+    uint64_t frame;  /* id of the frame it reported on */
+    double fraction; /* its fraction (-1 = none; fractions only grow within a frame) */
+} lc_stream_progress_report;
+
+/* A progress message (malloc'd) when one is due, else NULL: the client waits
+ * longer than LC_STREAM_PROGRESS_AFTER for the session's first frame
+ * (frames_sent == 0; counted from hello, stage "queued" until a worker takes
+ * it) or for a frame being rendered or encoded and not yet handed to the
+ * connection (counted from its render's start); at most one every
+ * LC_STREAM_PROGRESS_INTERVAL. Thread: the connection's I/O thread. */
+char *lc_stream_progress_message(lc_stream_progress_report *pr, lc_session *s, uint64_t frames_sent, double now);
 
 /* A frame message was queued at now, rendered in render_ms and encoded in encode_ms. */
 void lc_stream_stats_frame(lc_stream_stats *st, double now, double render_ms, double encode_ms);

@@ -49,6 +49,7 @@ typedef struct conn {
     double opened;   /* lc_now() at registration (the hello deadline) */
     uint32_t events; /* registered epoll events */
     lc_stream_stats stats;
+    lc_stream_progress_report progress;
 } conn;
 
 typedef struct inbox_item {
@@ -250,6 +251,20 @@ static int maybe_send_stats(conn *c, double now)
     return rc == 0 ? 1 : -1;
 }
 
+/* Queues a progress message when one is due (lc_stream_progress_message).
+ * Returns as maybe_send_stats. */
+static int maybe_send_progress(conn *c, double now)
+{
+    if (!c->proto.session || c->close_deadline > 0)
+        return 0;
+    char *text = lc_stream_progress_message(&c->progress, c->proto.session, c->stats.frames, now);
+    if (!text)
+        return 0;
+    int rc = queue_msg(c, WSLAY_TEXT_FRAME, text, strlen(text));
+    free(text);
+    return rc == 0 ? 1 : -1;
+}
+
 /* ---------------------------------------------------------------- messages */
 
 /* A text message goes to the stream protocol (stream.c); this acts on its outcome. */
@@ -260,7 +275,7 @@ static void on_text(conn *c, const uint8_t *data, size_t len)
     lc_stream_on_text(srv, &c->ws->limits, &c->proto, (const char *)data, len, &o);
     if (o.opened) {
         c->proto.session->ws_conn = c;
-        c->stats.last_report = lc_now();
+        c->stats.last_report = c->progress.hello_at = lc_now();
     }
     if (o.reply) {
         queue_msg(c, WSLAY_TEXT_FRAME, o.reply, strlen(o.reply));
@@ -574,7 +589,7 @@ static void *io_main(void *arg)
                 break;
             }
         }
-        int n = epoll_wait(ws->epfd, events, 64, stop ? 50 : 1000);
+        int n = epoll_wait(ws->epfd, events, 64, stop ? 50 : (int)(LC_STREAM_PROGRESS_INTERVAL * 1000));
         for (int i = 0; i < n; i++) {
             if (events[i].data.ptr == NULL) {
                 uint64_t v;
@@ -588,6 +603,14 @@ static void *io_main(void *arg)
             conn_io(ws, c, events[i].events);
         }
         now = lc_now();
+        for (conn *c = ws->conns, *next; c && !stop; c = next) {
+            next = c->next;
+            int r = maybe_send_progress(c, now);
+            if (r < 0)
+                conn_destroy(ws, c);
+            else if (r > 0)
+                conn_flush(ws, c);
+        }
         if (now - last_tick >= 1.0) {
             last_tick = now;
             tick(ws, now);

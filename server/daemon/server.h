@@ -6,19 +6,22 @@
  * whom; tests/tools/check_layout.py keeps it free of circles).
  *
  * Rooms (server/daemon/):
- *   serve.c      `lucent serve`: flags, start-up (datasets before the port opens), signals, shutdown
+ *   start/       `lucent serve`: flags, start-up (datasets before the port opens) and the ordered
+ *                shutdown (serve.c); SIGINT/SIGTERM at any time, start-up included (signals.c)
  *   ranks.c      serve --mpi: the one room that speaks MPI; sets the frame hook
  *   http/        libmicrohttpd: dispatch, token gates, the web client (http.c, web_files.c),
- *                renders (http_render.c), health/datasets/metrics (http_status.c), the
- *                WebSocket handshake (http_upgrade.c), responses (http_respond.c)
+ *                renders (http_render.c), health/datasets/metrics/schema (http_status.c), the
+ *                WebSocket handshake (http_upgrade.c), responses (http_respond.c), limits on
+ *                connections without a whole request (conn_limits.c)
  *   stream/      WebSocket: epoll/wslay transport (ws.c), the stream protocol (stream.c)
- *   pool/        render workers (workers.c), encoder threads (encoders.c), the fair queue (fair_queue.c)
+ *   pool/        render workers (workers.c), encoder threads (encoders.c), the fair queue
+ *                (fair_queue.c), movie jobs rendered through the workers (movies.c)
  *   session.c    per-viewer state: request and its updates, element opacities, stream flow control
- *   datasets.c   registry of loaded scenes, their GPU copies, presets and sidecars
+ *   data/        registry of loaded scenes, their GPU copies, presets and sidecars (datasets.c);
+ *                what a --data folder may reach (data_paths.c)
  *   auth.c       token checks, the WebSocket accept key
  *   cost.c       render cost estimate before queueing (--max-cost)
  *   metrics.c    counters and histograms in Prometheus text format
- *   movies.c     movie jobs: camera paths rendered through the workers, encoded to a file
  *
  * Threads: main (start-up, then waits for a signal and shuts down), MHD's
  * threads (parse, validate, queue; never GL), render workers (all GL), encoder
@@ -44,7 +47,7 @@ typedef struct lc_http lc_http;
 typedef struct lc_ws lc_ws;
 typedef struct lc_session lc_session;
 
-/* Where finished stream messages go: the WebSocket transport, set by serve.c,
+/* Where finished stream messages go: the WebSocket transport, set by start/serve.c,
  * so that the pool delivers frames without knowing the transport. Both
  * calls take ownership of msg (malloc'd) and may be made from any thread. */
 typedef struct lc_stream_sink {
@@ -70,7 +73,7 @@ typedef struct lc_frame_hook {
     const struct lc_reducer *reducer; /* every worker's lc_renderer_desc.reducer */
 } lc_frame_hook;
 
-/* Every cap and knob of the daemon; filled from flags by serve.c. */
+/* Every cap and knob of the daemon; filled from flags by start/serve.c. */
 typedef struct lc_serve_config {
     char listen_host[128]; /* "127.0.0.1", "0.0.0.0", "::1" */
     int port;              /* 0 = pick a free port (logged) */
@@ -102,7 +105,7 @@ typedef struct lc_serve_config {
     unsigned long long max_memory;  /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
 } lc_serve_config;
 
-/* The daemon: one per process, created by serve.c. Modules keep a pointer to
+/* The daemon: one per process, created by start/serve.c. Modules keep a pointer to
  * it; fields are set during start-up and read-only afterwards except those
  * marked atomic. */
 typedef struct lc_server {
@@ -121,7 +124,7 @@ typedef struct lc_server {
     atomic_int stopping;      /* set once shutdown begins: refuse new work */
     struct lc_mpi *mpi;       /* --mpi (ranks.c; opaque here); NULL in one process */
     lc_frame_hook frame_hook; /* set by ranks.c under --mpi, else zero */
-    struct lc_movies *movies; /* movie jobs (movies.c) */
+    struct lc_movies *movies; /* movie jobs (pool/movies.c) */
 } lc_server;
 
 #ifdef __cplusplus

@@ -250,29 +250,22 @@ int lc_proto_parse_fixed(const json_t *v, lc_color_map *c, const char *path, lc_
     return 0;
 }
 
-json_t *lc_proto_fixed_json(const lc_color_map *c)
+/* [[a, b], ...] of n pairs. */
+static json_t *pairs_json(const double (*v)[2], int n)
 {
     json_t *a = json_array();
-    for (int i = 0; a && i < c->fixed_count; i++) {
+    for (int i = 0; a && i < n; i++) {
         json_t *p = json_array();
-        json_array_append_new(p, json_real(c->fixed[i][0]));
-        json_array_append_new(p, json_real(c->fixed[i][1]));
+        json_array_append_new(p, json_real(v[i][0]));
+        json_array_append_new(p, json_real(v[i][1]));
         json_array_append_new(a, p);
     }
     return a;
 }
 
-json_t *lc_proto_curve_json(const lc_curve *c)
-{
-    json_t *a = json_array();
-    for (int i = 0; a && i < c->count; i++) {
-        json_t *p = json_array();
-        json_array_append_new(p, json_real(c->points[i][0]));
-        json_array_append_new(p, json_real(c->points[i][1]));
-        json_array_append_new(a, p);
-    }
-    return a;
-}
+json_t *lc_proto_fixed_json(const lc_color_map *c) { return pairs_json((const double(*)[2])c->fixed, c->fixed_count); }
+
+json_t *lc_proto_curve_json(const lc_curve *c) { return pairs_json((const double(*)[2])c->points, c->count); }
 
 json_t *lc_proto_terms_json(const lc_importance_map *m)
 {

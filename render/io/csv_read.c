@@ -46,14 +46,8 @@ static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 /* Next line [*ls, *le) without its end of line; 0 at the end of the file. */
 static int next_line(csv_load *C, const char **ls, const char **le)
 {
-    if (C->p >= C->end)
+    if (!lc_io_next_line(&C->p, C->end, 0, ls, le))
         return 0;
-    const char *nl = memchr(C->p, '\n', (size_t)(C->end - C->p));
-    *ls = C->p;
-    *le = nl ? nl : C->end;
-    C->p = nl ? nl + 1 : C->end;
-    while (*le > *ls && (*le)[-1] == '\r')
-        (*le)--;
     C->line++;
     return 1;
 }

@@ -75,19 +75,11 @@ static int fail(dump_load *D, int code, const char *fmt, ...)
 
 static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
-/* Next line [*ls, *le) without its end of line; 0 at the end of the file. */
+/* Next line [*ls, *le) without its end of line or surrounding blanks; 0 at the end of the file. */
 static int next_line(dump_load *D, const char **ls, const char **le)
 {
-    if (D->p >= D->end)
+    if (!lc_io_next_line(&D->p, D->end, 1, ls, le))
         return 0;
-    const char *nl = memchr(D->p, '\n', (size_t)(D->end - D->p));
-    *ls = D->p;
-    *le = nl ? nl : D->end;
-    D->p = nl ? nl + 1 : D->end;
-    while (*le > *ls && is_blank((*le)[-1]))
-        (*le)--;
-    while (*ls < *le && is_blank(**ls))
-        (*ls)++;
     D->line++;
     return 1;
 }

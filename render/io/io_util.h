@@ -117,6 +117,24 @@ int lc_io_make_lines(lc_scene **sp, const uint32_t *idx, size_t idx_count, uint3
  * ("rgb" when the file has colours, else "importance"). */
 void lc_io_set_defaults(lc_scene *s);
 
+/* The text readers' line cursor: the next line of [*p, end) as [*ls, *le)
+ * without its end of line; a trailing CR goes too, and with trim every blank
+ * (space, tab, CR) at either end. Advances *p past the line; 0 at the end. */
+static inline int lc_io_next_line(const char **p, const char *end, int trim, const char **ls, const char **le)
+{
+    if (*p >= end)
+        return 0;
+    const char *nl = memchr(*p, '\n', (size_t)(end - *p));
+    *ls = *p;
+    *le = nl ? nl : end;
+    *p = nl ? nl + 1 : end;
+    while (*le > *ls && ((*le)[-1] == '\r' || (trim && ((*le)[-1] == ' ' || (*le)[-1] == '\t'))))
+        (*le)--;
+    while (trim && *ls < *le && (**ls == ' ' || **ls == '\t' || **ls == '\r'))
+        (*ls)++;
+    return 1;
+}
+
 /* Unaligned little/big-endian reads of the binary readers. */
 static inline uint32_t lc_io_get_u32(const void *at, int big)
 {

@@ -289,17 +289,19 @@ static int serve_main(int argc, char **argv)
     srv.cfg.data = data;
     lc_serve_config *cfg = &srv.cfg;
     lc_error err = {0};
+    /* The shutdown signals go to one watcher thread from here on, so that
+     * they stop a start-up too (signals.h). Before MPI_Init: its threads
+     * inherit the mask, so a signal (mpirun's SIGTERM when a rank died)
+     * cannot land in one of them instead of the watcher. */
+    if (lc_signals_start(&err) != 0) {
+        LC_ERROR(MOD, "%s", err.msg);
+        return 1;
+    }
     if (cfg->mpi && lc_ranks_init(&srv, &err) != 0) {
         LC_ERROR(MOD, "--mpi: %s", err.msg);
         return 1;
     }
     srv.start_time = lc_now();
-    /* The shutdown signals go to one watcher thread from here on, so that
-     * they stop a start-up too (signals.h). */
-    if (lc_signals_start(&err) != 0) {
-        LC_ERROR(MOD, "%s", err.msg);
-        return 1;
-    }
     signal(SIGPIPE, SIG_IGN);
 
     lc_datasets_options dopts = {.demo_size = cfg->demo_size,

@@ -52,6 +52,16 @@ export function queryValue(f, text) {
     case 'str':
     case 'enum':
       return text;
+    case 'terms':
+    case 'filters':
+    case 'curve':
+    case 'ranges': // list fields travel as JSON text, as the server reads them
+      try {
+        const v = JSON.parse(text);
+        return Array.isArray(v) ? v : undefined;
+      } catch {
+        return undefined;
+      }
     default: {
       const parts = text.split(',');
       if (parts.length > 3) return undefined;
@@ -86,7 +96,7 @@ export function applyQueryParam(req, key, text, { limits = DEFAULT_LIMITS, strea
   const lim = { ...DEFAULT_LIMITS, ...limits };
   const fs = f.sizeLimit ? { ...f, min: lim.minSize, max: lim.maxSize } : f;
   const problem = v === undefined ? { code: 'bad_field', reason: `malformed value "${text}"` } : checkField(fs, v);
-  if (problem) throw new ProtocolError(problem.code, problem.reason, key);
+  if (problem) throw new ProtocolError(problem.code, problem.reason, `${key}${problem.at ?? ''}`);
   if (f.section === 'camera' && !req.camera) req.camera = structuredClone(DEFAULT_CAMERA_FIELDS);
   setPath(req, fieldPath(f), f.name === 'format' && v === 'jpg' ? 'jpeg' : v);
   return req;

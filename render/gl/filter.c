@@ -20,8 +20,8 @@ void lc_filter_release(lc_renderer *r)
     if (r->filter.mask)
         glDeleteBuffers(1, &r->filter.mask);
     r->filter.offsets = r->filter.mask = 0;
-    r->filter.mask_words = 0;
-    r->filter.gs = NULL;
+    r->filter.mask_words = r->filter.offset_words = 0;
+    r->filter.scene = 0;
     r->filter.count = -1;
 }
 
@@ -55,7 +55,7 @@ static int resolve(const lc_frame_setup *fs, int attr[LC_MAX_FILTERS], lc_error 
 static int same_filters(const lc_renderer *r, const lc_frame_setup *fs, const int *attr)
 {
     const lc_render_params *p = fs->params;
-    return r->filter.gs == fs->gs && r->filter.count == p->filter_count &&
+    return r->filter.scene == fs->gs->serial && r->filter.count == p->filter_count &&
            memcmp(r->filter.attr, attr, sizeof(int) * (size_t)p->filter_count) == 0 &&
            memcmp(r->filter.filters, p->filters, sizeof(lc_filter) * (size_t)p->filter_count) == 0;
 }
@@ -69,16 +69,18 @@ static int build(lc_renderer *r, lc_frame_setup *fs, const int *attr, lc_error *
     GLuint prog = lc_renderer_fixed_program(r, PROG_FILTER_MASK, err);
     if (!prog)
         return LC_ERR_GL;
-    if (r->filter.gs != fs->gs) {
+    if (r->filter.scene != fs->gs->serial) {
         lc_filter_release(r);
         uint64_t bytes = 0;
-        if (s->type == LC_PRIM_LINES)
+        if (s->type == LC_PRIM_LINES) {
             r->filter.offsets = lc_gl_buffer(s->line_offsets, ((size_t)s->line_count + 1) * sizeof(uint32_t), &bytes);
+            r->filter.offset_words = s->line_count + 1;
+        }
         r->filter.mask_words = (s->vertex_count + 31) / 32;
         glCreateBuffers(1, &r->filter.mask);
         glNamedBufferStorage(r->filter.mask, (GLsizeiptr)(r->filter.mask_words ? r->filter.mask_words : 1) * 4, NULL,
                              GL_DYNAMIC_STORAGE_BIT);
-        r->filter.gs = fs->gs;
+        r->filter.scene = fs->gs->serial;
     }
     const uint32_t ones = 0xffffffffu;
     glClearNamedBufferData(r->filter.mask, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &ones);

@@ -109,9 +109,7 @@ void lc_renderer_destroy(lc_renderer *r)
 uint64_t lc_renderer_bytes(const lc_renderer *r)
 {
     uint64_t points = r->point_histogram ? POINT_BINS * 4 + ((uint64_t)r->point_list_capacity + 1) * 4 : 0;
-    uint64_t filter = r->filter.mask ? (uint64_t)r->filter.mask_words * 4 : 0;
-    if (r->filter.offsets)
-        filter += ((uint64_t)r->filter.gs->scene->line_count + 1) * 4;
+    uint64_t filter = r->filter.mask ? ((uint64_t)r->filter.mask_words + r->filter.offset_words) * 4 : 0;
     return r->bytes_targets + r->bytes_elements + points + filter;
 }
 

@@ -1,6 +1,7 @@
 /* The GPU copy of a scene: vertex, attribute, element and index buffers,
  * uploaded once and shared by every context of the share group. */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -253,6 +254,8 @@ int lc_gpu_scene_create_ex(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_
     lc_gpu_scene *gs = calloc(1, sizeof *gs);
     if (!gs)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    static atomic_uint_fast64_t serials;
+    gs->serial = atomic_fetch_add(&serials, 1) + 1;
     gs->scene = s;
     gs->exact = desc && desc->exact_positions;
     gs->blend = lc_pack_blend_layout(s);

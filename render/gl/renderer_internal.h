@@ -117,6 +117,9 @@ typedef struct lc_gpu_level {
 
 struct lc_gpu_scene {
     const lc_scene *scene;
+    /* Unique for the life of the process: caches key on it, never on the
+     * address, which a later scene may reuse. */
+    uint64_t serial;
     GLuint positions, frames, attributes, colors, vertex_elements, vertex_weights;
     GLuint adj_offsets, adj;
     GLuint adj_weights; /* per adjacency entry (lc_elements_adjacency_weights) */
@@ -198,7 +201,7 @@ struct lc_renderer {
     float *importance_cache;
     uint32_t importance_cache_count;
     struct {
-        const lc_gpu_scene *gs;
+        uint64_t scene; /* lc_gpu_scene.serial */
         int attr;
         double range[2], exponent;
         lc_importance_terms terms;
@@ -222,9 +225,9 @@ struct lc_renderer {
     /* filter.c: the per-vertex visibility mask of the filters in its key and
      * the line offsets of the scene it was built for. */
     struct {
-        const lc_gpu_scene *gs;
+        uint64_t scene; /* lc_gpu_scene.serial of the scene it was built for; 0: none */
         GLuint offsets, mask;
-        uint32_t mask_words;
+        uint32_t mask_words, offset_words;
         lc_filter filters[LC_MAX_FILTERS];
         int attr[LC_MAX_FILTERS];
         int count; /* -1: no mask built */

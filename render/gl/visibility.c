@@ -76,7 +76,7 @@ void lc_occluders_clear(lc_renderer *r)
 static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
 {
     uint32_t count = fs->gs->scene->elements.count;
-    if (r->importance_cache && r->importance_key.gs == fs->gs && r->importance_key.attr == fs->importance_attr &&
+    if (r->importance_cache && r->importance_key.scene == fs->gs->serial && r->importance_key.attr == fs->importance_attr &&
         r->importance_key.range[0] == fs->importance_range[0] &&
         r->importance_key.range[1] == fs->importance_range[1] &&
         r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count &&
@@ -121,7 +121,7 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     glDeleteBuffers(1, &r->element_importance);
     r->element_importance = 0;
     r->importance_cache_count = count;
-    r->importance_key.gs = fs->gs;
+    r->importance_key.scene = fs->gs->serial;
     r->importance_key.attr = fs->importance_attr;
     r->importance_key.range[0] = fs->importance_range[0];
     r->importance_key.range[1] = fs->importance_range[1];

@@ -163,10 +163,14 @@ try:
         for i in ids:
             st, _, j = srv.json("DELETE", "/api/v1/movies/" + i)
             check(st == 200 and j["state"] in ("cancelled", "cancelling"), "DELETE cancels %s (%s)" % (i[:8], j["state"]))
+        # A running job is cancelled asynchronously (its frame in hand finishes), and the
+        # runner may have started a queued one before that one's DELETE came: wait for all.
         deadline = time.time() + 30
-        while time.time() < deadline and srv.json("GET", "/api/v1/movies/" + ids[0])[2]["state"] != "cancelled":
+        while True:
+            states = [srv.json("GET", "/api/v1/movies/" + i)[2]["state"] for i in ids]
+            if states == ["cancelled"] * 4 or time.time() > deadline:
+                break
             time.sleep(0.2)
-        states = [srv.json("GET", "/api/v1/movies/" + i)[2]["state"] for i in ids]
         check(states == ["cancelled"] * 4, "all cancelled: %s" % states)
         st, _, health = srv.json("GET", "/api/v1/health")
         check(health["sessions"]["http"] == 0, "the cancelled job's session is gone: %s" % health["sessions"])

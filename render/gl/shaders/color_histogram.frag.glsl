@@ -19,13 +19,7 @@ void main()
     float c[NTARGETS * 4];
     read_coefficients(p, c);
     float tau = max(fourier_eval(c, fragment_series_depth()), 0.0);
-    float w;
-    if (u_estimator == 1) {
-        float f = -log(1.0 - alpha);
-        w = alpha * exp(-max(tau - 0.5 * f, 0.0));
-    } else {
-        w = alpha / (1.0 - alpha) * exp(-tau);
-    }
+    float w = composite_weight(alpha, tau, u_estimator);
     float share = w / sum_w * (1.0 - exp(-c[0]));
     int bin = clamp(int(clamp(v_cscalar, 0.0, 1.0) * 256.0), 0, 255);
     uint units = uint(share * u_eq_scale + 0.5);

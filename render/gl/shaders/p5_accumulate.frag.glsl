@@ -13,12 +13,6 @@ void main()
     float c[NTARGETS * 4];
     read_coefficients(ivec2(gl_FragCoord.xy), c);
     float tau = max(fourier_eval(c, fragment_series_depth()), 0.0);
-    float w;
-    if (u_estimator == 1) {
-        float f = -log(1.0 - alpha);
-        w = alpha * exp(-max(tau - 0.5 * f, 0.0));
-    } else {
-        w = alpha / (1.0 - alpha) * exp(-tau);
-    }
+    float w = composite_weight(alpha, tau, u_estimator);
     o_accum = vec4(fragment_color() * w, w);
 }

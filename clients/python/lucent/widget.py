@@ -41,6 +41,8 @@ class Viewer:
         self.last_header = None
         self._frame_event = threading.Condition()
         self._closed = False
+        self._error = None
+        self._mark = 0  # frames seen when the last change was sent: wait_frame waits past it
         d = self.session.defaults or {}
         p = d.get("params", {})
         self.image = w.Image(format="jpeg", width=size[0], height=size[1])
@@ -80,12 +82,18 @@ class Viewer:
     def start_up(self):
         return cameras.turntable(self.start, 1, 0)[0]["viewUp"]
 
+    def _sent(self):
+        with self._frame_event:
+            self._mark = self.frames
+
     def _send_camera(self):
         if not self._closed:
+            self._sent()
             self.session.camera(self.camera())
 
     def _send_params(self):
         if not self._closed:
+            self._sent()
             self.session.update(params={"q": self.q.value, "r": self.r.value, "lambda": self.lam.value,
                                         "bands": self.bands.value})
 
@@ -99,6 +107,7 @@ class Viewer:
         self.zoom_slider.value = math.log2(factor)
 
     def update(self, **fields):
+        self._sent()
         self.session.update(**fields)
 
     def reset(self):
@@ -117,6 +126,9 @@ class Viewer:
             except Exception as e:  # noqa: BLE001 (shown to the user, the view stops)
                 if not self._closed:
                     self.stats.value = "error: %s" % e
+                with self._frame_event:
+                    self._error = e
+                    self._frame_event.notify_all()
                 return
             self.image.value = f.data
             with self._frame_event:
@@ -129,12 +141,25 @@ class Viewer:
                 st.get("renderMs", "-"), st.get("queue", "-"))
 
     def wait_frame(self, after=None, timeout=60):
-        """Waits until more than `after` frames (default: the count now) have
-        arrived; returns the newest frame's header."""
+        """Waits for a frame that shows the last change sent: more than
+        `after` frames in all (default: the count when the last camera or
+        parameter change was sent, so a frame that arrived before this call
+        counts), and, after an orbit or zoom, one rendered for that camera.
+        Returns the newest frame's header; raises the view's error if its
+        stream failed."""
         with self._frame_event:
-            n = self.frames if after is None else after
-            if not self._frame_event.wait_for(lambda: self.frames > n, timeout):
-                raise TimeoutError("no frame within %s s" % timeout)
+            n = self._mark if after is None else after
+            seq = self.session.seq
+
+            def ready():
+                if self._error is not None:
+                    return True
+                return self.frames > n and (self.last_header or {}).get("cameraSeq", 0) >= seq
+
+            if not self._frame_event.wait_for(ready, timeout):
+                raise TimeoutError("no frame within %s s (%d frames so far)" % (timeout, self.frames))
+            if self._error is not None:
+                raise self._error
             return self.last_header
 
     def close(self):

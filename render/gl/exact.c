@@ -282,6 +282,27 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     return 0;
 }
 
+void lc_exact_release(lc_renderer *r)
+{
+    exact_state *st = r->exact;
+    if (!st)
+        return;
+    if (st->nodes) {
+        glDeleteBuffers(1, &st->nodes);
+        glDeleteBuffers(1, &st->counters);
+        r->bytes_targets -= st->pool_bytes;
+        st->nodes = st->counters = 0;
+        st->capacity = 0;
+        st->pool_bytes = 0;
+    }
+    if (st->heads) {
+        glDeleteTextures(1, &st->heads);
+        r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * 4;
+        st->heads = 0;
+        st->heads_w = st->heads_h = 0;
+    }
+}
+
 void lc_exact_destroy(lc_renderer *r)
 {
     exact_state *st = r->exact;
@@ -295,12 +316,7 @@ void lc_exact_destroy(lc_renderer *r)
         glDeleteProgram(st->opacity);
     if (st->blend)
         glDeleteProgram(st->blend);
-    if (st->nodes)
-        glDeleteBuffers(1, &st->nodes);
-    if (st->counters)
-        glDeleteBuffers(1, &st->counters);
-    if (st->heads)
-        glDeleteTextures(1, &st->heads);
+    lc_exact_release(r);
     glDeleteFramebuffers(1, &st->fbo);
     free(st);
     r->exact = NULL;

@@ -631,8 +631,14 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
      * its context keeps the last frame's textures bound, and its binning and
      * tile state sized for them, until a draw replaces them. An 8x8 one-shot
      * frame of the same request does that for the price of its geometry. */
+    /* The exact method's heads grew to this frame and its pool holds the
+     * pages its fragments touched: freed, and the small frames drawn by the
+     * Fourier passes, so that the next exact frame allocates them anew. */
+    lc_exact_release(r);
     lc_render_params tiny = *p;
     tiny.width = tiny.height = 8;
+    if (tiny.method == LC_METHOD_EXACT)
+        tiny.method = LC_METHOD_FOURIER;
     uint8_t rgba[8 * 8 * 4];
     lc_error ignored = {0};
     for (int k = 0; k < 2; k++) /* llvmpipe's scenes hold references for one frame more */

@@ -58,5 +58,23 @@ with Server(binary, data=("demo:points",), demo_size=3000) as srv:
         check(st == 200 and after <= before + 100,
               "resident memory after a 4096^2 render: %.0f MB, before %.0f MB (tolerance +100 MB)" % (after, before))
 
+# The exact method's list heads grow to the frame and its node pool keeps the
+# pages a large frame's fragments touched: both go after a large frame too.
+with Server(binary, "--render-deadline", "0", data=("demo:points",), demo_size=3000) as srv:
+    st, _, _ = srv.request("GET", "/api/v1/render?width=256&height=256&format=jpeg&method=exact")
+    before = srv.rss_kb() / 1024.0
+    st, _, body = srv.request("GET", "/api/v1/render?width=4096&height=4096&format=jpeg&method=exact", timeout=140)
+    time.sleep(0.5)
+    after = srv.rss_kb() / 1024.0
+    if sanitized(binary):
+        check(st == 200, "an exact 4096^2 render (%.0f MB after, %.0f MB before: not bounded under "
+              "AddressSanitizer)" % (after, before))
+    else:
+        check(st == 200 and after <= before + 100,
+              "resident memory after an exact 4096^2 render: %.0f MB, before %.0f MB (tolerance +100 MB)" %
+              (after, before))
+    st, _, body = srv.request("GET", "/api/v1/render?width=256&height=256&format=jpeg&method=exact")
+    check(st == 200 and len(body) > 0, "the next exact frame allocates its pool again: %d" % st)
+
 
 check.done()

@@ -4,7 +4,7 @@
    1 s of CPU or 100 MB (measured with wait4); a file over --max-memory is
    refused before loading, naming the estimate and the limit;
 3. SIGTERM during start-up ends `serve` within seconds, with a message;
-5. a --data folder serves no symlink that leaves it (unless --follow-symlinks),
+5. a --data folder serves no symlink that leaves it, in a TRX folder neither (unless --follow-symlinks),
    reads no sidecar that links outside, escapes control characters of file
    names in the log, and a file named demo:tornado.csv cannot take the demo's
    name;
@@ -15,6 +15,7 @@ after a 4096^2 render) in test_memory.py."""
 import json
 import os
 import random
+import shutil
 import signal
 import struct
 import subprocess
@@ -138,6 +139,15 @@ points_csv(os.path.join(data, "huge.csv"), 30, 7)
 with open(os.path.join(data, "huge.lucent.json"), "w") as f:
     f.write('{"elements": 4294967297}')
 
+# A TRX folder is read file by file: a link inside it that leaves the data
+# folder is refused like a link in the folder itself.
+trx_dir = os.path.join(here, "..", "data", "loaders", "trx", "valid", "dir.trx")
+shutil.copytree(trx_dir, os.path.join(data, "bundle.trx"))
+shutil.copytree(trx_dir, os.path.join(data, "sneaky.trx"))
+shutil.copy(os.path.join(trx_dir, "dps", "length.float64"), os.path.join(outside, "length.float64"))
+os.remove(os.path.join(data, "sneaky.trx", "dps", "length.float64"))
+os.symlink(os.path.join(outside, "length.float64"), os.path.join(data, "sneaky.trx", "dps", "length.float64"))
+
 with Server(binary, "--demo", data=(data,), demo_size=300) as srv:
     names = {d["name"]: d for d in srv.json("GET", "/api/v1/datasets")[2]["datasets"]}
     logtext = "\n".join(srv.log)
@@ -147,6 +157,8 @@ check("escape" not in names and "links outside the data folder" in logtext,
       "a symlink leaving the folder is not served, and the log says why")
 check("passwd" not in names and "rootsecret" not in logtext and "sidecar links outside" in logtext,
       "a sidecar linking outside is not read: its dataset is skipped and nothing of the target reaches the log")
+check("bundle" in names and "sneaky" not in names and "sneaky.trx/dps/length.float64: links outside" in logtext,
+      "a TRX folder is served; one with a link inside it that leaves the data folder is not, and the log says why")
 check("\x1b" not in logtext and "\\x1b[31mname" in logtext and "evil\\n" in logtext,
       "control characters in file names are escaped in the log")
 check(not any(line.startswith("\x1b") or line.startswith("[31mname") for line in logtext.split("\n")),
@@ -160,7 +172,7 @@ check("huge" not in names and "elements: expected an integer in 1..16777216" in 
 
 with Server(binary, "--follow-symlinks", data=(data,), demo_size=0) as srv:
     names = {d["name"] for d in srv.json("GET", "/api/v1/datasets")[2]["datasets"]}
-    check("escape" in names, "--follow-symlinks serves the link that leaves the folder")
+    check("escape" in names and "sneaky" in names, "--follow-symlinks serves the links that leave the folder")
 
     # 6. lineWidth: range-checked, the field named.
     st, _, body = srv.request("POST", "/api/v1/render", body={"dataset": "plain", "width": 32, "height": 32,

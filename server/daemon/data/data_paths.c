@@ -2,6 +2,7 @@
 #include "data_paths.h"
 
 #include <errno.h>
+#include <ftw.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,52 @@ static bool inside(const char *root, const char *real)
     if (n == 1 && root[0] == '/')
         return true;
     return strncmp(real, root, n) == 0 && (real[n] == '/' || real[n] == '\0');
+}
+
+/* nftw's callback has no user pointer: the walk of one folder at a time
+ * (datasets are listed by one thread at start-up and on rescans, under the
+ * dataset lock) keeps its state here, thread-local to stay reentrant. */
+static _Thread_local struct {
+    const char *root;
+    char bad[PATH_MAX];
+    long entries;
+} walk;
+
+enum { WALK_MAX_ENTRIES = 4096 }; /* a TRX folder holds a few dozen files */
+
+static int walk_entry(const char *path, const struct stat *st, int kind, struct FTW *ftw)
+{
+    (void)st, (void)ftw;
+    if (++walk.entries > WALK_MAX_ENTRIES) {
+        snprintf(walk.bad, sizeof walk.bad, "%s: more than %d entries", path, WALK_MAX_ENTRIES);
+        return 1;
+    }
+    if (kind != FTW_SL)
+        return 0;
+    char real[PATH_MAX];
+    if (!realpath(path, real) || !inside(walk.root, real)) {
+        snprintf(walk.bad, sizeof walk.bad, "%s", path);
+        return 1;
+    }
+    return 0;
+}
+
+/* A folder dataset (TRX) is read file by file: every link inside it must stay
+ * inside root too, or a folder inside the data folder reaches out. */
+static int check_folder(const char *root, const char *path, lc_error *err)
+{
+    walk.root = root;
+    walk.bad[0] = '\0';
+    walk.entries = 0;
+    int rc = nftw(path, walk_entry, 8, FTW_PHYS);
+    if (rc > 0 && walk.entries > WALK_MAX_ENTRIES)
+        return lc_err(err, LC_ERR_INVALID, "%s", walk.bad);
+    if (rc > 0)
+        return lc_err(err, LC_ERR_INVALID, "%s: links outside the data folder (--follow-symlinks allows it)",
+                      walk.bad);
+    if (rc < 0)
+        return lc_err(err, LC_ERR_IO, "%s: cannot list (%s)", path, strerror(errno));
+    return 0;
 }
 
 int lc_data_path_check(const char *root, const char *path, bool follow, lc_error *err)
@@ -31,7 +78,7 @@ int lc_data_path_check(const char *root, const char *path, bool follow, lc_error
         return lc_err(err, LC_ERR_IO, "%s: cannot resolve (%s)", path, strerror(errno));
     if (!inside(root, real))
         return lc_err(err, LC_ERR_INVALID, "%s: links outside the data folder (--follow-symlinks allows it)", path);
-    return 0;
+    return S_ISDIR(st.st_mode) ? check_folder(root, real, err) : 0;
 }
 
 int lc_data_sidecar_check(const char *dataset, const char *side, bool follow, lc_error *err)

@@ -11,7 +11,8 @@
 
 /* 0 when path (an entry of the folder whose real path is root) may be served:
  * a regular file or a directory, inside root after resolving every link, or
- * anywhere when follow. Otherwise LC_ERR_INVALID naming path and the reason. */
+ * anywhere when follow. A directory's own entries (a TRX folder is read file
+ * by file) must not link out of root either. Otherwise LC_ERR_INVALID naming path and the reason. */
 int lc_data_path_check(const char *root, const char *path, bool follow, lc_error *err);
 /* 0 when the sidecar side of dataset may be read: a regular file whose real
  * path is in the dataset's own real folder (or anywhere when follow). */

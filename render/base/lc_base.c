@@ -123,10 +123,29 @@ static atomic_int cancel_flag;
 
 void lc_cancel(int sig) { atomic_store(&cancel_flag, sig ? sig : 1); }
 
-int lc_cancelled(void) { return atomic_load_explicit(&cancel_flag, memory_order_relaxed); }
+/* The calling thread's load budget: datasets load one at a time on the
+ * thread that starts the daemon (or a rescan), so one deadline per thread. */
+static _Thread_local double budget_seconds, budget_deadline;
+
+void lc_load_budget(double seconds)
+{
+    budget_seconds = seconds > 0 ? seconds : 0;
+    budget_deadline = seconds > 0 ? lc_now() + seconds : 0;
+}
+
+int lc_cancelled(void)
+{
+    int sig = atomic_load_explicit(&cancel_flag, memory_order_relaxed);
+    if (sig)
+        return sig;
+    return budget_deadline > 0 && lc_now() > budget_deadline ? -1 : 0;
+}
 
 int lc_err_cancelled(lc_error *err, const char *what)
 {
+    if (!atomic_load_explicit(&cancel_flag, memory_order_relaxed) && budget_deadline > 0)
+        return lc_err(err, LC_ERR_LIMIT, "%s: stopped after %.0f s, over the load budget of %g s",
+                      what ? what : "loading", lc_now() - (budget_deadline - budget_seconds), budget_seconds);
     return lc_err(err, LC_ERR_CANCELLED, "%s: stopped by a signal", what ? what : "loading");
 }
 

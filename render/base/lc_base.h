@@ -71,10 +71,14 @@ void lc_log_write(lc_log_level level, const char *module, const char *fmt, ...) 
 
 /* Cancellation: a signal handler (or its watcher thread) calls lc_cancel;
  * long loops (readers' progress, finalize, elements, level of detail) poll
- * lc_cancelled and stop with lc_err_cancelled, so start-up ends cleanly. */
+ * lc_cancelled and stop with lc_err_cancelled, so start-up ends cleanly.
+ * A load budget (lc_load_budget: seconds from now for the calling thread,
+ * 0 = none) makes lc_cancelled true past it too; lc_err_cancelled then says
+ * which: LC_ERR_CANCELLED for a signal, LC_ERR_LIMIT for the budget. */
 void lc_cancel(int sig);
 int lc_cancelled(void);
 int lc_err_cancelled(lc_error *err, const char *what);
+void lc_load_budget(double seconds);
 
 /* Monotonic clock in seconds. */
 double lc_now(void);

@@ -3,7 +3,8 @@
    before allocating, or load in linear time: none under 1 MB costs more than
    1 s of CPU or 100 MB (measured with wait4); a file over --max-memory is
    refused before loading, naming the estimate and the limit;
-3. SIGTERM during start-up ends `serve` within seconds, with a message;
+3. SIGTERM during start-up ends `serve` within seconds, with a message; a
+   dataset over --load-timeout is given up at the next check, with a message;
 5. a --data folder serves no symlink that leaves it, in a TRX folder neither (unless --follow-symlinks),
    reads no sidecar that links outside, escapes control characters of file
    names in the log, and a file named demo:tornado.csv cannot take the demo's
@@ -108,6 +109,17 @@ check(proc.returncode not in (None, 0, -9) and took <= 2.0 and "SIGTERM during s
       and "exited before serving" in text and "listening on" not in text,
       "SIGTERM while a demo is generated: exit %s after %.2f s, stopped at a check, with a message (bound 2 s)" %
       (proc.returncode, took))
+
+# The per-dataset load budget: a dataset that takes longer is given up at the
+# next check (here a demo of 100,000 streamlines, about 40 s of CPU).
+t0 = time.time()
+r = subprocess.run([binary, "serve", "--listen", "127.0.0.1:0", "--data", "demo:tornado", "--demo-size", "100000",
+                    "--load-timeout", "1"], capture_output=True, text=True, timeout=60)
+took = time.time() - t0
+check(r.returncode != 0 and took < 10 and "over the load budget of 1 s (--load-timeout)" in r.stderr and
+      "listening on" not in r.stderr,
+      "--load-timeout 1: the load stops at a check, naming the budget and the flag (exit %s after %.1f s): %s" %
+      (r.returncode, took, r.stderr[-300:]))
 
 # ---------------------------------------------------------------- 5, 6. the data folder
 data = os.path.join(tmp, "data")

@@ -205,6 +205,11 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     memset(ds, 0, sizeof *ds);
     snprintf(ds->source, sizeof ds->source, "%s", source);
     double t0 = lc_now();
+    /* The per-dataset time budget: loading stops at its next check (after
+     * reading, in the scene's derivation, elements and level of detail). Not
+     * under --mpi: the ranks read a file's shares together and must all stop
+     * or none. */
+    lc_load_budget(d->opts.read_part ? 0 : d->opts.load_timeout);
     int rc;
     char base[128];
     if (strncmp(source, "demo:", 5) == 0) {
@@ -236,6 +241,12 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
             lc_scene_destroy(ds->scene);
             ds->scene = NULL;
         }
+    }
+    lc_load_budget(0);
+    if (rc == LC_ERR_LIMIT && err && strstr(err->msg, "over the load budget")) {
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s", err->msg);
+        lc_err(err, rc, "%.*s (--load-timeout)", (int)sizeof msg - 20, msg);
     }
     if (rc != 0)
         return rc;

@@ -44,6 +44,7 @@ typedef struct lc_datasets_options {
     uint64_t max_memory;          /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
     bool follow_symlinks;         /* --follow-symlinks: a folder's links may leave it */
     int workers;                  /* render workers, each holding per-element state; 0 = 1 */
+    double load_timeout;          /* --load-timeout: seconds one dataset may take to load; 0 = none */
     /* serve --mpi: reads this rank's share of a file whose format allows it
      * (lc_scene_can_read_part), collectively with the other ranks, which load
      * the same sources in the same order; NULL: every file is read whole. */

@@ -160,6 +160,9 @@ static const lc_option serve_options[] = {
     {"--max-memory", "BYTES", LC_OPT_CALL, CFG(max_memory), .call = opt_bytes, .numeric = 1,
      .help = "refuse a dataset whose estimated resident size, with the ones before it,\n"
              "exceeds BYTES (k, M, G, T suffixes; default: no limit)"},
+    {"--load-timeout", "SEC", LC_OPT_INT, CFG(load_timeout), 0, 86400, 1,
+     .help = "give up on a dataset that takes longer than this to load (logged; a folder\n"
+             "skips it, an explicit --data file stops the start-up); 0 = none (default 600)"},
     {"--follow-symlinks", NULL, LC_OPT_BOOL, CFG(follow_symlinks),
      .help = "serve files and sidecars of a --data folder that link outside it"},
     {"--device", "N", LC_OPT_INT, CFG(device), 0, 64,
@@ -260,6 +263,7 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->frame_budget_ms = 70.0;
     cfg->max_cost = LC_COST_DEFAULT_BUDGET;
     cfg->render_deadline = 60;
+    cfg->load_timeout = 600;
     cfg->max_queue_per_client = 8;
 }
 
@@ -308,6 +312,7 @@ static int serve_main(int argc, char **argv)
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
                                  .follow_symlinks = cfg->follow_symlinks,
+                                 .load_timeout = cfg->load_timeout,
                                  .workers = cfg->workers > 0 ? cfg->workers : 1};
     lc_ranks_datasets_options(&srv, &dopts);
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);

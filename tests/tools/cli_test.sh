@@ -109,6 +109,15 @@ grep -Eq "^loaded in +[0-9.]+ ms" "$tmp/out" && grep -Eq "^memory +[0-9.]+ MB in
   ok || bad "info reports load time and memory: $(tail -2 "$tmp/out")"
 expect_ok "info tck" "$LUCENT" info "$SRC/tests/data/loaders/tck/valid/lines_f64be.tck"
 grep -q "lines       2" "$tmp/out" && ok || bad "info on a .tck: $(head -5 "$tmp/out")"
+# Vector fields: a demo field and a grid file are described, a bad grid names its line.
+expect_ok "info field demo" "$LUCENT" info demo:double-gyre-flow
+grep -q "^type        vector field (time-dependent" "$tmp/out" && grep -q "^time        \[0, 20\]" "$tmp/out" &&
+  ok || bad "info on a demo field: $(head -6 "$tmp/out")"
+expect_ok "info field file" "$LUCENT" info "$SRC/tests/data/fields/valid/rectilinear_be.vtk"
+grep -q "^grid        rectilinear, 3 x 3 x 2 nodes" "$tmp/out" && grep -q "^magnitude   \[3.16228, 7.87401\]" "$tmp/out" &&
+  ok || bad "info on a field file: $(head -6 "$tmp/out")"
+expect_fail "bad field file" "not_increasing.vtk: line 7: X_COORDINATES value 2" "$LUCENT" info \
+  "$SRC/tests/data/fields/invalid/not_increasing.vtk"
 for demo in surface tornado; do
   for ext in ply obj; do
     expect_ok "gen $demo.$ext" "$LUCENT" gen "$demo" -o "$tmp/$demo.$ext" --count 20

@@ -49,6 +49,28 @@ int lc_seed_check(lc_seed *seed, const lc_field *field, lc_error *err)
     return 0;
 }
 
+int lc_seed_parse(const char *text, lc_seed *seed, const lc_field *field, lc_error *err)
+{
+    memset(seed, 0, sizeof *seed);
+    const char *p = text;
+    while (*p) {
+        if (seed->count >= LC_SEED_MAX_POINTS)
+            return lc_err_field(err, LC_ERR_INVALID, "seed.points", "more than %d points", LC_SEED_MAX_POINTS);
+        double *q = seed->points[seed->count];
+        for (int a = 0; a < 3; a++) {
+            char *end;
+            q[a] = strtod(p, &end);
+            char want = a < 2 ? ',' : ';';
+            if (end == p || (*end != want && !(a == 2 && *end == '\0')))
+                return lc_err_field(err, LC_ERR_INVALID, "seed.points",
+                                    "point %d: expected x,y,z numbers separated by ';' at '%.20s'", seed->count, p);
+            p = *end ? end + 1 : end;
+        }
+        seed->count++;
+    }
+    return lc_seed_check(seed, field, err);
+}
+
 double lc_seed_param(uint64_t k)
 {
     uint64_t n = k + 1;

@@ -54,6 +54,10 @@ typedef struct lc_trace_curve {
  * its domain. Errors name "seed.points" and the point. */
 int lc_seed_check(lc_seed *seed, const lc_field *field, lc_error *err);
 
+/* Parses "x,y,z;x,y,z[;...]" (command lines) into seed and checks it as
+ * lc_seed_check does. Errors name "seed.points" and the point. */
+int lc_seed_parse(const char *text, lc_seed *seed, const lc_field *field, lc_error *err);
+
 /* Seed parameter of particle k in the progressive order: the base-2 radical
  * inverse of k+1 (0.5, 0.25, 0.75, 0.125, ...), so that any prefix of the
  * particles samples the seed curve evenly and later ones fill the gaps. */

@@ -361,6 +361,8 @@ int lc_cli_info(int argc, char **argv)
 typedef struct gen_args {
     const char *out;
     long long count, seed;
+    const char *seed_line; /* vector fields: the seed polyline */
+    double step, length;
 } gen_args;
 
 #define GEN(member) LC_OPT_AT(gen_args, member)
@@ -371,6 +373,11 @@ static const lc_option gen_options[] = {
      .help = "lines, points or grid size of a demo (default: the demo's)"},
     {"--seed", "S", LC_OPT_INT, GEN(seed), 0, 9007199254740992.0,
      .help = "random seed of a demo (default: the demo's)"},
+    {"--seed-line", "X,Y,Z;X,Y,Z", LC_OPT_TEXT, GEN(seed_line),
+     .help = "vector fields: the seed polyline the curves start from (--count curves, default 64)"},
+    {"--step", "H", LC_OPT_REAL, GEN(step), 1e-9, 1e9, .help = "vector fields: RK4 time step (default: automatic)"},
+    {"--length", "L", LC_OPT_REAL, GEN(length), 1e-9, 1e12,
+     .help = "vector fields: arc length of a curve (default: 2 domain diagonals)"},
     {NULL}};
 
 int lc_cli_gen(int argc, char **argv)
@@ -388,7 +395,9 @@ int lc_cli_gen(int argc, char **argv)
             return 0;
         fprintf(f,
                 "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
-                "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n");
+                "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
+                "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z -o FILE.vtk [--count CURVES] [--step H] [--length L]\n"
+                "         (the curves of an integral surface: FIELD is demo:abc-flow, ... or a grid .vtk)\n");
         lc_opt_usage(f, &set, 1);
         fprintf(f, "demos:");
         for (const char *const *d = lc_demo_names(); *d; d++)
@@ -403,10 +412,17 @@ int lc_cli_gen(int argc, char **argv)
     lc_scene *s = NULL;
     /* A demo name takes --count/--seed; any other dataset (a file in a format
      * Lucent reads, demo:NAME?count=N) is loaded and written: a converter. */
-    int rc = lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
-             : desc.count || desc.seed
-                 ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)
-                 : lc_cli_open_dataset(name, &s, &err);
+    int rc =
+        lc_field_is_source(name)
+            ? (args.count > 100000 ? lc_err(&err, LC_ERR_LIMIT, "--count: at most 100000 curves")
+                                   : lc_cli_trace_scene(name, args.seed_line, args.count ? (uint32_t)args.count : 64,
+                                                        args.step, args.length, &s, &err))
+        : args.seed_line || args.step || args.length
+            ? lc_err(&err, LC_ERR_INVALID, "%s: --seed-line, --step and --length apply to vector fields only", name)
+        : lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
+        : desc.count || desc.seed
+            ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)
+            : lc_cli_open_dataset(name, &s, &err);
     if (rc != 0) {
         fprintf(stderr, "lucent gen: %s\n", err.msg);
         return 1;

@@ -71,6 +71,18 @@ static void test_seed_errors(void)
                   strstr(err.msg, cases[i].msg),
               "case %zu: '%s' (field '%s')", i, err.msg, err.field);
     }
+    /* The command-line form. */
+    lc_seed parsed;
+    CHECK(lc_seed_parse("-0.5,0,0.25;0.5,0.5,0.25;0.5,-0.5,0", &parsed, f, &err) == 0 && parsed.count == 3 &&
+              parsed.points[1][1] == 0.5 && parsed.points[2][2] == 0,
+          "parse: %s", err.msg);
+    const char *bad[][2] = {{"1,2;3,4,5", "seed.points: point 0: expected x,y,z numbers separated by ';' at '2;3,4,5'"},
+                            {"0,0,0;x", "seed.points: point 1: expected x,y,z"},
+                            {"0,0,0", "seed.points: 1 points (2 to 256)"},
+                            {"", "seed.points: 0 points"}};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++)
+        CHECK(lc_seed_parse(bad[i][0], &parsed, f, &err) == LC_ERR_INVALID && strstr(err.msg, bad[i][1]),
+              "parse '%s': %s", bad[i][0], err.msg);
     lc_seed one = make_seed(0, 0, 0, 0, 1, 0);
     one.count = 1;
     CHECK(lc_seed_check(&one, f, &err) == LC_ERR_INVALID && strstr(err.msg, "seed.points: 1 points (2 to 256)"),

@@ -146,6 +146,22 @@ static void test_cases(void)
                 CHECK(grc != 0 && g == NULL && gerr.msg[0], "%s cut at %zu: rc %d", file, cut, grc);
                 lc_field_destroy(g);
             }
+            /* Each byte replaced by a few values: an error with a message or a field, never a crash
+             * (run under ASan to see reads past the input). */
+            char *copy = bytes ? malloc(size) : NULL;
+            static const unsigned char subst[] = {0, '\n', ' ', '9', 'e', 0x7f, 0xff};
+            for (size_t at = 0; copy && at < size; at++)
+                for (size_t k = 0; k < sizeof subst; k++) {
+                    memcpy(copy, bytes, size);
+                    copy[at] = (char)subst[k];
+                    lc_field *g = NULL;
+                    lc_error gerr = {0};
+                    int grc = lc_load_vtk_field_memory(copy, size, "mutant.vtk", &g, &gerr);
+                    CHECK(grc == 0 ? g != NULL : (g == NULL && gerr.msg[0] != 0), "%s byte %zu = %d: rc %d", file, at,
+                          subst[k], grc);
+                    lc_field_destroy(g);
+                }
+            free(copy);
         }
         free(bytes);
         lc_field_destroy(f);

@@ -172,9 +172,10 @@ int lc_field_create_grid(const char *name, lc_field_kind kind, const uint32_t di
         }
         for (uint32_t i = 0; i < dims[a]; i++)
             if (!isfinite(coords[a][i]) || (i && !(coords[a][i] > coords[a][i - 1]))) {
+                double bad = coords[a][i]; /* read before the arrays go with f */
                 lc_field_destroy(f);
                 return lc_err(err, LC_ERR_INVALID, "%s: %c coordinate %u (%g) is not finite or not increasing", nm,
-                              "xyz"[a], i, coords[a][i]);
+                              "xyz"[a], i, bad);
             }
         f->bounds[a] = coords[a][0];
         f->bounds[a + 3] = coords[a][dims[a] - 1];

@@ -100,7 +100,14 @@ int lc_cli_trace_scene(const char *spec, const char *seed_text, uint32_t curves,
     lc_trace_desc desc = {.step = step, .max_length = length};
     if (!rc) {
         long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        double t0 = lc_now();
         rc = lc_trace_curves(f, &seed, &desc, 0, curves, cpus > 0 ? (int)cpus : 1, c, err);
+        uint64_t vertices = 0;
+        for (uint32_t i = 0; !rc && i < curves; i++)
+            vertices += c[i].n;
+        if (!rc) /* the tracer alone, without the scene's finalize and the writer */
+            printf("traced %u curves (%llu vertices) in %.1f ms on %ld thread(s)\n", curves,
+                   (unsigned long long)vertices, (lc_now() - t0) * 1e3, cpus > 0 ? cpus : 1);
     }
     if (!rc) {
         char name[160];

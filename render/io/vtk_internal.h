@@ -67,5 +67,7 @@ uint64_t vtk_get_be(const unsigned char *p, int n);
 int vtk_read_value(vtk_load *L, vtype t, double *out, const char *what);
 int vtk_read_floats(vtk_load *L, vtype t, uint64_t count, float *out, size_t stride, const char *what);
 int vtk_read_index(vtk_load *L, vtype t, uint32_t *out, const char *what);
+/* "# vtk DataFile Version x.y", a title line, ASCII|BINARY (sets binary). */
+int vtk_read_preamble(vtk_load *L);
 
 #endif

@@ -441,7 +441,7 @@ static int read_data_count(vtk_load *L, const char *kw, uint64_t *out)
 }
 
 /* "# vtk DataFile Version x.y", a title line, ASCII|BINARY. */
-static int read_preamble(vtk_load *L)
+int vtk_read_preamble(vtk_load *L)
 {
     static const char magic[] = "# vtk DataFile Version";
     size_t n = sizeof magic - 1;
@@ -471,7 +471,7 @@ static int parse(vtk_load *L)
     char kw[MAX_WORD], w[MAX_WORD];
     int got, rc, have_dataset = 0;
     uint64_t tuples = 0; /* of the current POINT_DATA / CELL_DATA section */
-    if ((rc = read_preamble(L)))
+    if ((rc = vtk_read_preamble(L)))
         return rc;
     for (;;) {
         vtk_skip_ws(L);

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "field_demo.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
@@ -89,36 +91,10 @@ static int fbuf_push(fbuf *b, float x)
 /* ---- vector fields */
 typedef void (*field_fn)(const double p[3], double v[3]);
 
-/* Crawfis' tornado at t = 0 on [0,1]^3. */
-static void tornado_field(const double p[3], double v[3])
-{
-    double x = p[0], y = p[1], z = p[2];
-    double xc = 0.5 + 0.1 * sin(10.0 * z);
-    double yc = 0.5 + 0.1 * cos(3.0 * z);
-    double r = 0.1 + 0.4 * z * z + 0.1 * z * sin(8.0 * z);
-    double r2 = 0.2 + 0.1 * z;
-    double temp = hypot(x - xc, y - yc);
-    double scale = fabs(r - temp);
-    scale = scale > r2 ? 0.8 - scale : 1.0;
-    double z0 = 0.1 * (0.1 - temp * z);
-    if (z0 < 0.0)
-        z0 = 0.0;
-    temp = sqrt(temp * temp + z0 * z0);
-    scale = (r + r2 - temp) * scale / (temp + 1e-11);
-    scale = scale / (1.0 + z);
-    v[0] = scale * (y - yc) + 0.1 * (x - xc);
-    v[1] = -scale * (x - xc) + 0.1 * (y - yc);
-    v[2] = scale * z0;
-}
+/* The flows are render/field's (field_demo.h), at t = 0. */
+static void tornado_field(const double p[3], double v[3]) { lc_field_tornado(p, 0.0, v); }
 
-/* Arnold-Beltrami-Childress flow, A = sqrt(3), B = sqrt(2), C = 1. */
-static void abc_field(const double p[3], double v[3])
-{
-    const double A = sqrt(3.0), B = sqrt(2.0), C = 1.0;
-    v[0] = A * sin(p[2]) + C * cos(p[1]);
-    v[1] = B * sin(p[0]) + A * cos(p[2]);
-    v[2] = C * sin(p[1]) + B * cos(p[0]);
-}
+static void abc_field(const double p[3], double v[3]) { lc_field_abc(p, 0.0, v); }
 
 typedef struct {
     field_fn field;

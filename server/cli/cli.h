@@ -78,6 +78,12 @@ void lc_cli_print_timings(const lc_frame_info *info);
 int lc_cli_render(int argc, char **argv);
 int lc_cli_info(int argc, char **argv);
 int lc_cli_gen(int argc, char **argv);
+/* The curves particles seeded along seed_text ("x,y,z;x,y,z...") trace through
+ * the field spec (lc_field_open), as a finalized line scene with attributes
+ * time, speed, seed_u and normal_x/y/z; step and length 0 = the tracer's
+ * defaults (cli_trace.c). */
+int lc_cli_trace_scene(const char *spec, const char *seed_text, uint32_t curves, double step, double length,
+                       lc_scene **out, lc_error *err);
 int lc_cli_bench(int argc, char **argv);
 int lc_cli_compare(int argc, char **argv);
 int lc_cli_schema(int argc, char **argv);

@@ -13,6 +13,7 @@
 #include "loaders.h"
 #include "lod.h"
 #include "memory.h"
+#include "vtk_field.h"
 
 static int has_suffix(const char *s, const char *suffix)
 {
@@ -264,6 +265,38 @@ static void print_detail_levels(const lc_scene *s)
            lc_scene_bytes(s) / 1e6);
 }
 
+/* `lucent info` of a vector field (lc_field_is_source): grid, bounds, time span, magnitude range. */
+static int print_field_info(const char *spec)
+{
+    lc_error err = {0};
+    lc_field *f = NULL;
+    double t0 = lc_now();
+    if (lc_field_open(spec, &f, &err) != 0) {
+        fprintf(stderr, "lucent info: %s\n", err.msg);
+        return 1;
+    }
+    double ms = (lc_now() - t0) * 1e3;
+    printf("dataset     %s\n", f->name);
+    printf("type        vector field (%s)\n",
+           f->time_dependent ? "time-dependent: path surfaces" : "steady: stream surfaces");
+    if (f->kind == LC_FIELD_ANALYTIC)
+        printf("grid        analytic\n");
+    else
+        printf("grid        %s, %u x %u x %u nodes\n", lc_field_kind_name(f->kind), f->dims[0], f->dims[1], f->dims[2]);
+    printf("bounds      [%g, %g] x [%g, %g] x [%g, %g]\n", f->bounds[0], f->bounds[3], f->bounds[1], f->bounds[4],
+           f->bounds[2], f->bounds[5]);
+    if (f->time_dependent)
+        printf("time        [%g, %g]\n", f->t0, f->t1);
+    printf("magnitude   [%g, %g]%s\n", f->mag_min, f->mag_max,
+           f->kind == LC_FIELD_ANALYTIC ? " (on a 33^3 lattice at the start time)" : " (at the grid nodes)");
+    if (f->vectors_name[0])
+        printf("vectors     %s\n", f->vectors_name);
+    printf("loaded in   %.1f ms\n", ms);
+    printf("memory      %.3f MB\n", lc_field_bytes(f) / 1e6);
+    lc_field_destroy(f);
+    return 0;
+}
+
 int lc_cli_info(int argc, char **argv)
 {
     static const lc_option none[] = {{NULL}};
@@ -273,9 +306,14 @@ int lc_cli_info(int argc, char **argv)
     int pr = lc_opt_parse("info", &set, 1, argc, argv, &spec, 1, &npos);
     if (pr != 0 || !spec) {
         if (pr <= 0 || !lc_cli_has_flag(argc, argv, "--list-flags"))
-            fprintf(pr > 0 ? stdout : stderr, "usage: lucent info FILE|demo:NAME[?count=N&seed=S]\n");
+            fprintf(pr > 0 ? stdout : stderr,
+                    "usage: lucent info FILE|demo:NAME[?count=N&seed=S]\n"
+                    "  (vector fields: demo:tornado-flow, demo:abc-flow, demo:shear-flow, demo:double-gyre-flow or\n"
+                    "  a STRUCTURED_POINTS/RECTILINEAR_GRID .vtk)\n");
         return pr > 0 ? 0 : 2;
     }
+    if (lc_field_is_source(spec))
+        return print_field_info(spec);
     lc_error err = {0};
     lc_scene *s = NULL;
     double t0 = lc_now();
@@ -323,6 +361,8 @@ int lc_cli_info(int argc, char **argv)
 typedef struct gen_args {
     const char *out;
     long long count, seed;
+    const char *seed_line; /* vector fields: the seed polyline */
+    double step, length;
 } gen_args;
 
 #define GEN(member) LC_OPT_AT(gen_args, member)
@@ -333,6 +373,11 @@ static const lc_option gen_options[] = {
      .help = "lines, points or grid size of a demo (default: the demo's)"},
     {"--seed", "S", LC_OPT_INT, GEN(seed), 0, 9007199254740992.0,
      .help = "random seed of a demo (default: the demo's)"},
+    {"--seed-line", "X,Y,Z;X,Y,Z", LC_OPT_TEXT, GEN(seed_line),
+     .help = "vector fields: the seed polyline the curves start from (--count curves, default 64)"},
+    {"--step", "H", LC_OPT_REAL, GEN(step), 1e-9, 1e9, .help = "vector fields: RK4 time step (default: automatic)"},
+    {"--length", "L", LC_OPT_REAL, GEN(length), 1e-9, 1e12,
+     .help = "vector fields: arc length of a curve (default: 2 domain diagonals)"},
     {NULL}};
 
 int lc_cli_gen(int argc, char **argv)
@@ -350,7 +395,9 @@ int lc_cli_gen(int argc, char **argv)
             return 0;
         fprintf(f,
                 "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
-                "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n");
+                "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
+                "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z -o FILE.vtk [--count CURVES] [--step H] [--length L]\n"
+                "         (the curves of an integral surface: FIELD is demo:abc-flow, ... or a grid .vtk)\n");
         lc_opt_usage(f, &set, 1);
         fprintf(f, "demos:");
         for (const char *const *d = lc_demo_names(); *d; d++)
@@ -365,10 +412,17 @@ int lc_cli_gen(int argc, char **argv)
     lc_scene *s = NULL;
     /* A demo name takes --count/--seed; any other dataset (a file in a format
      * Lucent reads, demo:NAME?count=N) is loaded and written: a converter. */
-    int rc = lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
-             : desc.count || desc.seed
-                 ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)
-                 : lc_cli_open_dataset(name, &s, &err);
+    int rc =
+        lc_field_is_source(name)
+            ? (args.count > 100000 ? lc_err(&err, LC_ERR_LIMIT, "--count: at most 100000 curves")
+                                   : lc_cli_trace_scene(name, args.seed_line, args.count ? (uint32_t)args.count : 64,
+                                                        args.step, args.length, &s, &err))
+        : args.seed_line || args.step || args.length
+            ? lc_err(&err, LC_ERR_INVALID, "%s: --seed-line, --step and --length apply to vector fields only", name)
+        : lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
+        : desc.count || desc.seed
+            ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)
+            : lc_cli_open_dataset(name, &s, &err);
     if (rc != 0) {
         fprintf(stderr, "lucent gen: %s\n", err.msg);
         return 1;

@@ -22,15 +22,16 @@ src = os.path.abspath(sys.argv[1])
 LAYERS = {
     "render/base": [],
     "render/math": ["render/base"],
-    "render/scene": ["render/base"],
-    "render/io": ["render/scene", "render/base"],
+    "render/field": ["render/base"],
+    "render/scene": ["render/field", "render/base"],
+    "render/io": ["render/scene", "render/field", "render/base"],
     "render/image": ["render/base"],
     "render/gl": ["render/scene", "render/math", "render/image", "render/base"],
     "protocol": ["render/base"],
     "server/mpi": ["render/gl", "render/scene", "render/math", "render/image", "render/base"],
-    "server/daemon": ["server/mpi", "render/gl", "render/io", "render/scene", "render/math", "render/image", "render/base", "protocol"],
-    "server/cli": ["server/mpi", "render/gl", "render/io", "render/scene", "render/math", "render/image", "render/base", "protocol"],
-    "server": ["server/cli", "server/daemon", "server/mpi", "render/gl", "render/io", "render/scene", "render/math", "render/image",
+    "server/daemon": ["server/mpi", "render/gl", "render/io", "render/scene", "render/field", "render/math", "render/image", "render/base", "protocol"],
+    "server/cli": ["server/mpi", "render/gl", "render/io", "render/scene", "render/field", "render/math", "render/image", "render/base", "protocol"],
+    "server": ["server/cli", "server/daemon", "server/mpi", "render/gl", "render/io", "render/scene", "render/field", "render/math", "render/image",
                "render/base", "protocol"],
 }
 # server/daemon's rooms (http/, stream/, pool/) share its layer; which of them

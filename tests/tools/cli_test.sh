@@ -109,6 +109,28 @@ grep -Eq "^loaded in +[0-9.]+ ms" "$tmp/out" && grep -Eq "^memory +[0-9.]+ MB in
   ok || bad "info reports load time and memory: $(tail -2 "$tmp/out")"
 expect_ok "info tck" "$LUCENT" info "$SRC/tests/data/loaders/tck/valid/lines_f64be.tck"
 grep -q "lines       2" "$tmp/out" && ok || bad "info on a .tck: $(head -5 "$tmp/out")"
+# Vector fields: a demo field and a grid file are described, a bad grid names its line.
+expect_ok "info field demo" "$LUCENT" info demo:double-gyre-flow
+grep -q "^type        vector field (time-dependent" "$tmp/out" && grep -q "^time        \[0, 20\]" "$tmp/out" &&
+  ok || bad "info on a demo field: $(head -6 "$tmp/out")"
+expect_ok "info field file" "$LUCENT" info "$SRC/tests/data/fields/valid/rectilinear_be.vtk"
+grep -q "^grid        rectilinear, 3 x 3 x 2 nodes" "$tmp/out" && grep -q "^magnitude   \[3.16228, 7.87401\]" "$tmp/out" &&
+  ok || bad "info on a field file: $(head -6 "$tmp/out")"
+expect_fail "bad field file" "not_increasing.vtk: line 7: X_COORDINATES value 2" "$LUCENT" info \
+  "$SRC/tests/data/fields/invalid/not_increasing.vtk"
+# The curves of a stream surface from a seed line, as a line dataset; bad seeds name seed.points.
+expect_ok "gen traced curves" "$LUCENT" gen demo:shear-flow --seed-line "-0.9,-0.5,0;-0.9,0.5,0" --count 16 \
+  --length 1 -o "$tmp/sheet.vtk"
+expect_ok "info traced curves" "$LUCENT" info "$tmp/sheet.vtk"
+grep -q "^lines       16 " "$tmp/out" && grep -q "^  normal_z  *\[1, 1\]" "$tmp/out" &&
+  ok || bad "16 curves with the shear plane's normal: $(grep -E '^lines|normal_z' "$tmp/out")"
+expect_fail "seed outside" "seed.points: point 0 \(5, 0, 0\) lies outside demo:shear-flow" "$LUCENT" gen \
+  demo:shear-flow --seed-line "5,0,0;0,0,0" -o "$tmp/x.vtk"
+expect_fail "seed syntax" "seed.points: point 1: expected x,y,z" "$LUCENT" gen demo:abc-flow --seed-line "1,1,1;2,2" \
+  -o "$tmp/x.vtk"
+expect_fail "no seed" "seed.points: demo:abc-flow is a vector field" "$LUCENT" gen demo:abc-flow -o "$tmp/x.vtk"
+expect_fail "seed on lines" "tornado: .*seed-line, --step and --length apply to vector fields only" "$LUCENT" gen tornado \
+  --seed-line "0,0,0;1,1,1" -o "$tmp/x.vtk"
 for demo in surface tornado; do
   for ext in ply obj; do
     expect_ok "gen $demo.$ext" "$LUCENT" gen "$demo" -o "$tmp/$demo.$ext" --count 20

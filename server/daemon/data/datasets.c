@@ -13,8 +13,10 @@
 
 #include "data_paths.h"
 #include "demo.h"
+#include "fields.h"
 #include "loaders.h"
 #include "request.h"
+#include "vtk_field.h"
 
 #define MOD "datasets"
 #define MAX_DATASETS 256
@@ -24,6 +26,7 @@ struct lc_datasets {
     lc_dataset items[MAX_DATASETS];
     lc_datasets_options opts;
     uint64_t estimated; /* lc_memory_estimate of every dataset so far */
+    lc_fields fields;   /* vector fields, listed beside the scenes */
 };
 
 static void file_stem(const char *path, char *out, size_t cap)
@@ -199,6 +202,8 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     unsigned long long demo_size = d->opts.demo_size;
     if (lc_cancelled()) /* a signal during start-up: no further dataset */
         return lc_err_cancelled(err, source);
+    if (lc_field_is_source(source)) /* a vector field (demo or grid .vtk): fields.h */
+        return lc_fields_add(&d->fields, source, err);
     if (d->count >= MAX_DATASETS)
         return lc_err(err, LC_ERR_LIMIT, "%s: more than %d datasets", source, MAX_DATASETS);
     lc_dataset *ds = &d->items[d->count];
@@ -337,7 +342,7 @@ int lc_datasets_add_demos(lc_datasets *d, lc_error *err)
         if (rc != 0)
             return rc;
     }
-    return 0;
+    return lc_fields_add_demos(&d->fields, err);
 }
 
 int lc_datasets_load(const char *const *sources, int count, const lc_datasets_options *opts, lc_datasets **out,
@@ -407,12 +412,15 @@ void lc_datasets_destroy(lc_datasets *d)
         json_decref(d->items[i].preset);
         json_decref(d->items[i].whole_info);
     }
+    lc_fields_clear(&d->fields);
     /* A leftover GPU copy here means the caller had no context to destroy it
      * with; the process is exiting, so the driver reclaims it. */
     free(d);
 }
 
 int lc_datasets_count(const lc_datasets *d) { return d ? d->count : 0; }
+
+const lc_fields *lc_datasets_fields(const lc_datasets *d) { return d ? &d->fields : NULL; }
 
 const lc_dataset *lc_datasets_at(const lc_datasets *d, int i)
 {

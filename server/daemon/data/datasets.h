@@ -6,6 +6,7 @@
 #include <jansson.h>
 #include <stdint.h>
 
+#include "fields.h"
 #include "lc_base.h"
 #include "memory.h"
 #include "renderer.h"
@@ -94,6 +95,9 @@ void lc_datasets_release_gpu(lc_datasets *d);
 void lc_datasets_destroy(lc_datasets *d);
 
 int lc_datasets_count(const lc_datasets *d);
+/* The vector fields loaded beside the scenes (demo fields, grid .vtk files:
+ * lc_field_is_source); not counted by lc_datasets_count. Any thread. */
+const lc_fields *lc_datasets_fields(const lc_datasets *d);
 const lc_dataset *lc_datasets_at(const lc_datasets *d, int i);
 /* By exact name, by "demo:NAME" / "NAME" for demos, "" = the first one.
  * NULL when unknown. Any thread. */

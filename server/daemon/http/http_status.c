@@ -33,6 +33,9 @@ enum MHD_Result lc_http_datasets(lc_server *srv, struct MHD_Connection *c, const
 {
     if (name) {
         const lc_dataset *ds = lc_datasets_find(srv->datasets, name);
+        const lc_field_entry *fe = ds || !name[0] ? NULL : lc_fields_find(lc_datasets_fields(srv->datasets), name);
+        if (fe)
+            return lc_http_json(srv, c, 200, lc_field_info(fe));
         if (!ds || !name[0])
             return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", name);
         return lc_http_json(srv, c, 200, lc_dataset_info(ds));
@@ -42,6 +45,7 @@ enum MHD_Result lc_http_datasets(lc_server *srv, struct MHD_Connection *c, const
         json_array_append_new(arr, lc_dataset_info(lc_datasets_at(srv->datasets, i)));
     json_t *o = json_object();
     json_object_set_new(o, "datasets", arr);
+    json_object_set_new(o, "fields", lc_fields_json(lc_datasets_fields(srv->datasets)));
     json_object_set_new(o, "memory", lc_datasets_memory_json(srv->datasets));
     return lc_http_json(srv, c, 200, o);
 }

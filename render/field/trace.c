@@ -1,0 +1,311 @@
+/* Particle tracing for integral surfaces: seed sampling, RK4 with ghost
+ * particles for normals, curves traced on CPU threads (trace.h). */
+#include "trace.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double norm3(const double a[3]) { return sqrt(dot3(a, a)); }
+static void cross3(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double diagonal(const lc_field *f)
+{
+    double d[3] = {f->bounds[3] - f->bounds[0], f->bounds[4] - f->bounds[1], f->bounds[5] - f->bounds[2]};
+    return norm3(d);
+}
+
+int lc_seed_check(lc_seed *seed, const lc_field *field, lc_error *err)
+{
+    if (seed->count < 2 || seed->count > LC_SEED_MAX_POINTS)
+        return lc_err_field(err, LC_ERR_INVALID, "seed.points", "%d points (2 to %d)", seed->count, LC_SEED_MAX_POINTS);
+    seed->length = 0;
+    for (int i = 0; i < seed->count; i++) {
+        const double *p = seed->points[i];
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+            return lc_err_field(err, LC_ERR_INVALID, "seed.points", "point %d is not finite", i);
+        if (i) {
+            double d[3] = {p[0] - seed->points[i - 1][0], p[1] - seed->points[i - 1][1], p[2] - seed->points[i - 1][2]};
+            double len = norm3(d);
+            if (!(len > 0))
+                return lc_err_field(err, LC_ERR_INVALID, "seed.points", "point %d repeats point %d", i, i - 1);
+            seed->length += len;
+        }
+        seed->cumulative[i] = seed->length;
+    }
+    if (field && !lc_field_contains(field, seed->points[0]))
+        return lc_err_field(err, LC_ERR_INVALID, "seed.points",
+                            "point 0 (%g, %g, %g) lies outside %s's domain [%g, %g] x [%g, %g] x [%g, %g]",
+                            seed->points[0][0], seed->points[0][1], seed->points[0][2], field->name, field->bounds[0],
+                            field->bounds[3], field->bounds[1], field->bounds[4], field->bounds[2], field->bounds[5]);
+    return 0;
+}
+
+int lc_seed_parse(const char *text, lc_seed *seed, const lc_field *field, lc_error *err)
+{
+    memset(seed, 0, sizeof *seed);
+    const char *p = text;
+    while (*p) {
+        if (seed->count >= LC_SEED_MAX_POINTS)
+            return lc_err_field(err, LC_ERR_INVALID, "seed.points", "more than %d points", LC_SEED_MAX_POINTS);
+        double *q = seed->points[seed->count];
+        for (int a = 0; a < 3; a++) {
+            char *end;
+            q[a] = strtod(p, &end);
+            char want = a < 2 ? ',' : ';';
+            if (end == p || (*end != want && !(a == 2 && *end == '\0')))
+                return lc_err_field(err, LC_ERR_INVALID, "seed.points",
+                                    "point %d: expected x,y,z numbers separated by ';' at '%.20s'", seed->count, p);
+            p = *end ? end + 1 : end;
+        }
+        seed->count++;
+    }
+    return lc_seed_check(seed, field, err);
+}
+
+double lc_seed_param(uint64_t k)
+{
+    uint64_t n = k + 1;
+    double u = 0.0, scale = 0.5;
+    for (; n; n >>= 1, scale *= 0.5)
+        if (n & 1)
+            u += scale;
+    return u;
+}
+
+void lc_seed_at(const lc_seed *seed, double u, double p[3], double tangent[3])
+{
+    double s = (u < 0 ? 0 : u > 1 ? 1 : u) * seed->length;
+    int i = 1;
+    while (i < seed->count - 1 && seed->cumulative[i] < s)
+        i++;
+    const double *a = seed->points[i - 1], *b = seed->points[i];
+    double len = seed->cumulative[i] - seed->cumulative[i - 1], f = (s - seed->cumulative[i - 1]) / len;
+    for (int k = 0; k < 3; k++) {
+        p[k] = a[k] + (b[k] - a[k]) * f;
+        tangent[k] = (b[k] - a[k]) / len;
+    }
+}
+
+void lc_trace_resolve(const lc_field *field, const lc_trace_desc *desc, lc_trace_desc *out)
+{
+    *out = desc ? *desc : (lc_trace_desc){0};
+    double diag = diagonal(field), vmax = field->mag_max > 0 ? field->mag_max : 1.0;
+    if (!(out->step > 0))
+        out->step = diag / (200.0 * vmax);
+    if (!(out->max_length > 0))
+        out->max_length = 2.0 * diag;
+    if (!(out->max_time > 0))
+        out->max_time = field->time_dependent ? field->t1 - field->t0 : INFINITY;
+    if (out->max_steps <= 0 || out->max_steps > LC_TRACE_MAX_STEPS)
+        out->max_steps = LC_TRACE_MAX_STEPS;
+    if (!(out->ghost_delta > 0))
+        out->ghost_delta = 1e-5 * diag;
+    if (!isfinite(out->t0) || out->t0 == 0)
+        out->t0 = field->t0;
+}
+
+/* One RK4 step of h from (p, t); 0 when a stage leaves the domain. */
+static int rk4(const lc_field *f, double p[3], double t, double h)
+{
+    double k1[3], k2[3], k3[3], k4[3], q[3];
+    if (!lc_field_sample(f, p, t, k1))
+        return 0;
+    for (int a = 0; a < 3; a++)
+        q[a] = p[a] + 0.5 * h * k1[a];
+    if (!lc_field_sample(f, q, t + 0.5 * h, k2))
+        return 0;
+    for (int a = 0; a < 3; a++)
+        q[a] = p[a] + 0.5 * h * k2[a];
+    if (!lc_field_sample(f, q, t + 0.5 * h, k3))
+        return 0;
+    for (int a = 0; a < 3; a++)
+        q[a] = p[a] + h * k3[a];
+    if (!lc_field_sample(f, q, t + h, k4))
+        return 0;
+    for (int a = 0; a < 3; a++)
+        q[a] = p[a] + h / 6.0 * (k1[a] + 2 * k2[a] + 2 * k3[a] + k4[a]);
+    if (!lc_field_contains(f, q))
+        return 0;
+    memcpy(p, q, sizeof q);
+    return 1;
+}
+
+static int push(lc_trace_curve *c, uint32_t *cap, const double p[3], const double n[3], double t, double speed)
+{
+    if (c->n == *cap) {
+        uint32_t nc = *cap ? *cap * 2 : 64;
+        float *xyz = realloc(c->xyz, 3 * (size_t)nc * sizeof *xyz);
+        if (xyz)
+            c->xyz = xyz;
+        float *nrm = realloc(c->normal, 3 * (size_t)nc * sizeof *nrm);
+        if (nrm)
+            c->normal = nrm;
+        float *tm = realloc(c->time, (size_t)nc * sizeof *tm);
+        if (tm)
+            c->time = tm;
+        float *sp = realloc(c->speed, (size_t)nc * sizeof *sp);
+        if (sp)
+            c->speed = sp;
+        if (!xyz || !nrm || !tm || !sp)
+            return LC_ERR_NOMEM;
+        *cap = nc;
+    }
+    for (int a = 0; a < 3; a++) {
+        c->xyz[3 * c->n + a] = (float)p[a];
+        c->normal[3 * c->n + a] = (float)n[a];
+    }
+    c->time[c->n] = (float)t;
+    c->speed[c->n] = (float)speed;
+    c->n++;
+    return 0;
+}
+
+/* The normal at p: cross(v, d) normalized, or the previous one where v or
+ * the ghost's offset across the flow vanishes. */
+static void normal_at(const double v[3], const double d[3], double n[3])
+{
+    double c[3];
+    cross3(v, d, c);
+    double len = norm3(c);
+    if (len > 1e-300 && isfinite(len))
+        for (int a = 0; a < 3; a++)
+            n[a] = c[a] / len;
+}
+
+/* Traces the particle at seed parameter u (and its ghost) into c. */
+static int trace_one(const lc_field *f, const lc_seed *seed, const lc_trace_desc *d, double u, lc_trace_curve *c)
+{
+    double p[3], tangent[3], g[3], v[3], n[3] = {0, 0, 1}, off[3];
+    uint32_t cap = 0;
+    memset(c, 0, sizeof *c);
+    c->u = u;
+    lc_seed_at(seed, u, p, tangent);
+    const double delta = d->ghost_delta;
+    for (int a = 0; a < 3; a++)
+        g[a] = p[a] + delta * tangent[a];
+    double t = d->t0, length = 0.0;
+    int inside = lc_field_sample(f, p, t, v);
+    for (int a = 0; a < 3; a++)
+        off[a] = g[a] - p[a];
+    normal_at(v, off, n);
+    if (push(c, &cap, p, n, t, norm3(v)))
+        return LC_ERR_NOMEM;
+    if (!inside)
+        return 0;
+    for (int step = 0; step < d->max_steps; step++) {
+        double prev[3] = {p[0], p[1], p[2]};
+        double h = d->step;
+        if (t + h - d->t0 > d->max_time)
+            h = d->t0 + d->max_time - t;
+        if (!(h > 1e-9 * d->step) || !rk4(f, p, t, h)) /* a remainder of rounding is no step */
+            break;
+        double moved[3] = {p[0] - prev[0], p[1] - prev[1], p[2] - prev[2]};
+        length += norm3(moved);
+        if (!rk4(f, g, t, h)) /* the ghost left the domain: put it back beside the particle */
+            for (int a = 0; a < 3; a++)
+                g[a] = p[a] + off[a];
+        t += h;
+        lc_field_sample(f, p, t, v);
+        for (int a = 0; a < 3; a++)
+            off[a] = g[a] - p[a];
+        double dist = norm3(off);
+        if (dist > delta * (1 + 1e-9)) {
+            /* Pulled back to Δ, keeping only its offset across the flow: the
+             * normal depends on that part alone, and a ghost left to drift
+             * along the flow would make cross(v, d) ill-conditioned. */
+            double speed = norm3(v), across[3];
+            double along = speed > 0 ? dot3(off, v) / (speed * speed) : 0.0;
+            for (int a = 0; a < 3; a++)
+                across[a] = off[a] - along * v[a];
+            double la = norm3(across);
+            const double *dir = la > 1e-12 * dist ? across : off;
+            double ld = la > 1e-12 * dist ? la : dist;
+            for (int a = 0; a < 3; a++) {
+                off[a] = delta * dir[a] / ld;
+                g[a] = p[a] + off[a];
+            }
+            c->ghost_resets++;
+        }
+        normal_at(v, off, n);
+        if (push(c, &cap, p, n, t, norm3(v)))
+            return LC_ERR_NOMEM;
+        if (length >= d->max_length || t - d->t0 >= d->max_time || norm3(v) < 1e-12 * (f->mag_max + 1e-300))
+            break;
+    }
+    return 0;
+}
+
+typedef struct trace_job {
+    const lc_field *field;
+    const lc_seed *seed;
+    const lc_trace_desc *desc;
+    uint64_t first;
+    uint32_t count;
+    int stride, offset;
+    lc_trace_curve *curves;
+    int rc;
+} trace_job;
+
+static void *run_job(void *arg)
+{
+    trace_job *j = arg;
+    for (uint32_t i = (uint32_t)j->offset; i < j->count && !j->rc; i += (uint32_t)j->stride)
+        j->rc = trace_one(j->field, j->seed, j->desc, lc_seed_param(j->first + i), &j->curves[i]);
+    return NULL;
+}
+
+#define MAX_TRACE_THREADS 64
+
+int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, uint64_t first,
+                    uint32_t count, int threads, lc_trace_curve *curves, lc_error *err)
+{
+    memset(curves, 0, (size_t)count * sizeof *curves);
+    lc_trace_desc d;
+    lc_trace_resolve(field, desc, &d);
+    int nt = threads < 1 ? 1 : threads > MAX_TRACE_THREADS ? MAX_TRACE_THREADS : threads;
+    if ((uint32_t)nt > count)
+        nt = count ? (int)count : 1;
+    trace_job jobs[MAX_TRACE_THREADS];
+    pthread_t tid[MAX_TRACE_THREADS];
+    int started[MAX_TRACE_THREADS] = {0};
+    for (int k = 0; k < nt; k++) {
+        jobs[k] = (trace_job){field, seed, &d, first, count, nt, k, curves, 0};
+        if (k > 0)
+            started[k] = pthread_create(&tid[k], NULL, run_job, &jobs[k]) == 0;
+    }
+    run_job(&jobs[0]);
+    int rc = jobs[0].rc;
+    for (int k = 1; k < nt; k++) {
+        if (started[k])
+            pthread_join(tid[k], NULL);
+        else
+            run_job(&jobs[k]); /* no thread to spare: the caller does its share */
+        if (!rc)
+            rc = jobs[k].rc;
+    }
+    if (rc) {
+        lc_trace_curves_free(curves, count);
+        return lc_err(err, rc, "%s: out of memory tracing %u curves", field->name, count);
+    }
+    return 0;
+}
+
+void lc_trace_curves_free(lc_trace_curve *curves, uint32_t count)
+{
+    for (uint32_t i = 0; curves && i < count; i++) {
+        free(curves[i].xyz);
+        free(curves[i].normal);
+        free(curves[i].time);
+        free(curves[i].speed);
+        memset(&curves[i], 0, sizeof curves[i]);
+    }
+}

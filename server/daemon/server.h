@@ -103,6 +103,7 @@ typedef struct lc_serve_config {
     bool exact_positions;           /* --exact-positions: float GPU buffers and session opacities */
     bool follow_symlinks;           /* --follow-symlinks: a --data folder's links may leave it */
     unsigned long long max_memory;  /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
+    const char *cache;              /* --cache: scene cache folder, "off" = none; NULL = the XDG default */
 } lc_serve_config;
 
 /* The daemon: one per process, created by start/serve.c. Modules keep a pointer to

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 
 #include "data_paths.h"
+#include "dataset_cache.h"
 #include "demo.h"
 #include "loaders.h"
 #include "request.h"
@@ -225,7 +226,7 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
         if (d->opts.read_part && lc_scene_can_read_part(source)) /* serve --mpi: this rank's share */
             rc = d->opts.read_part(d->opts.read_part_ctx, source, &ds->scene, err);
         else
-            rc = lc_scene_load_file(source, &ds->scene, err);
+            rc = lc_dataset_cache_load(d->opts.cache_dir, source, &ds->scene, &ds->from_cache, err);
         file_stem(source, base, sizeof base);
         if (strncmp(base, "demo:", 5) == 0) { /* the demos' names are theirs: "demo:x.csv" is "demo_x" */
             base[4] = '_';
@@ -253,9 +254,9 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     }
     const lc_scene *s = ds->scene;
     lc_scene_measure(s, &ds->cost);
-    LC_INFO(MOD, "loaded %s: %s, %u vertices, %llu primitives, %u elements in %.2f s", ds->name,
+    LC_INFO(MOD, "loaded %s: %s, %u vertices, %llu primitives, %u elements in %.2f s%s", ds->name,
             lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
-            s->elements.count, ds->load_seconds);
+            s->elements.count, ds->load_seconds, ds->from_cache ? " (scene cache)" : "");
     d->count++;
     return 0;
 }

@@ -35,6 +35,7 @@ typedef struct lc_dataset {
     json_t *whole_info;
     int exact_positions;     /* float GPU buffers and session opacities (--exact-positions) */
     lc_memory_report memory; /* bytes by kind once uploaded (one worker's and one session's state) */
+    int from_cache;          /* the scene came from the scene cache (dataset_cache.h) */
 } lc_dataset;
 
 /* How datasets are loaded and held (lucent serve flags); zero = defaults. */
@@ -49,6 +50,8 @@ typedef struct lc_datasets_options {
      * the same sources in the same order; NULL: every file is read whole. */
     int (*read_part)(void *ctx, const char *path, lc_scene **out, lc_error *err);
     void *read_part_ctx;
+    /* --cache: the scene cache folder (dataset_cache.h); NULL or "" = none. */
+    const char *cache_dir;
 } lc_datasets_options;
 
 typedef struct lc_datasets lc_datasets;

@@ -2,6 +2,7 @@
  * signal handling and the ordered shutdown. */
 #include "serve.h"
 
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,6 +10,7 @@
 #include <unistd.h>
 
 #include "cost.h"
+#include "dataset_cache.h"
 #include "datasets.h"
 #include "gl_context.h"
 #include "http.h"
@@ -160,6 +162,10 @@ static const lc_option serve_options[] = {
     {"--max-memory", "BYTES", LC_OPT_CALL, CFG(max_memory), .call = opt_bytes, .numeric = 1,
      .help = "refuse a dataset whose estimated resident size, with the ones before it,\n"
              "exceeds BYTES (k, M, G, T suffixes; default: no limit)"},
+    {"--cache", "DIR|off", LC_OPT_TEXT, CFG(cache),
+     .help = "scene cache folder: data files of 1 MB or more start from a cached copy of\n"
+             "their derived scene when it matches the file (default $XDG_CACHE_HOME/lucent\n"
+             "or ~/.cache/lucent; off = none)"},
     {"--follow-symlinks", NULL, LC_OPT_BOOL, CFG(follow_symlinks),
      .help = "serve files and sidecars of a --data folder that link outside it"},
     {"--device", "N", LC_OPT_INT, CFG(device), 0, 64,
@@ -304,11 +310,17 @@ static int serve_main(int argc, char **argv)
     srv.start_time = lc_now();
     signal(SIGPIPE, SIG_IGN);
 
+    char cache_dir[PATH_MAX] = "";
+    if (!cfg->cache)
+        lc_dataset_cache_default_dir(cache_dir, sizeof cache_dir);
+    else if (strcmp(cfg->cache, "off") != 0)
+        snprintf(cache_dir, sizeof cache_dir, "%s", cfg->cache);
     lc_datasets_options dopts = {.demo_size = cfg->demo_size,
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
                                  .follow_symlinks = cfg->follow_symlinks,
-                                 .workers = cfg->workers > 0 ? cfg->workers : 1};
+                                 .workers = cfg->workers > 0 ? cfg->workers : 1,
+                                 .cache_dir = cache_dir};
     lc_ranks_datasets_options(&srv, &dopts);
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)

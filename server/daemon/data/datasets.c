@@ -352,6 +352,18 @@ int lc_datasets_load(const char *const *sources, int count, const lc_datasets_op
     return 0;
 }
 
+void lc_datasets_set_workers(lc_datasets *d, int workers)
+{
+    if (!d || workers < 1 || workers == d->opts.workers)
+        return;
+    d->opts.workers = workers;
+    lc_gpu_scene_desc desc = layout_of(d);
+    d->estimated = 0;
+    for (int i = 0; i < d->count; i++)
+        if (d->items[i].scene)
+            d->estimated += lc_memory_estimate(d->items[i].scene, &desc, workers, 1);
+}
+
 int lc_datasets_upload(lc_datasets *d, lc_error *err)
 {
     for (int i = 0; i < d->count; i++) {

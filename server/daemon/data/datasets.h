@@ -87,6 +87,12 @@ int lc_dataset_read_sidecar(const char *path, bool follow_symlinks, lc_scene *sc
  * A part read by this rank (read_part) is kept as it is. */
 int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, lc_error *err), void *ctx,
                       lc_error *err);
+/* The render workers the daemon runs, once the GL context tells (the default
+ * is 1 on llvmpipe with little memory): the estimate of every dataset is
+ * taken again with them. Loading counted opts->workers, which serve sets to
+ * the default's upper bound, so this never raises the estimate of a dataset
+ * already accepted. Before lc_datasets_upload. */
+void lc_datasets_set_workers(lc_datasets *d, int workers);
 /* Creates the GPU copies (the layout of the options), then releases the
  * scenes' CPU vertex arrays that the GPU now holds; a context of the share
  * group must be current. */

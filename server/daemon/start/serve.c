@@ -319,7 +319,8 @@ static int serve_main(int argc, char **argv)
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
                                  .follow_symlinks = cfg->follow_symlinks,
-                                 .workers = cfg->workers > 0 ? cfg->workers : 1,
+                                 /* the default's upper bound until the GL says (lc_datasets_set_workers) */
+                                 .workers = cfg->workers > 0 ? cfg->workers : default_workers(false),
                                  .cache_dir = cache_dir};
     lc_ranks_datasets_options(&srv, &dopts);
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
@@ -339,6 +340,7 @@ static int serve_main(int argc, char **argv)
 
     /* The primary context: datasets are uploaded with it; worker 0 adopts it. */
     lc_gl *primary = NULL;
+    int nworkers = 1;
     lc_gl_desc gdesc = {.device = cfg->device};
     rc = lc_gl_create(&gdesc, &primary, &err);
     if (rc == 0)
@@ -348,6 +350,10 @@ static int serve_main(int argc, char **argv)
         snprintf(srv.gl_version, sizeof srv.gl_version, "%s", lc_gl_version(primary));
         snprintf(srv.gl_platform, sizeof srv.gl_platform, "%s", lc_gl_platform(primary));
         LC_INFO(MOD, "GL: %s, %s (%s)", srv.gl_renderer, srv.gl_version, srv.gl_platform);
+        nworkers = cfg->workers > 0 ? cfg->workers : default_workers(lc_gl_is_software(primary));
+        if (srv.mpi)
+            nworkers = 1; /* frames are collective: one at a time, in one order on every rank */
+        lc_datasets_set_workers(srv.datasets, nworkers);
         rc = lc_datasets_upload(srv.datasets, &err);
         if (rc != 0)
             lc_datasets_release_gpu(srv.datasets);
@@ -372,9 +378,6 @@ static int serve_main(int argc, char **argv)
         lc_datasets_destroy(srv.datasets);
         return startup_failed();
     }
-    int nworkers = cfg->workers > 0 ? cfg->workers : default_workers(lc_gl_is_software(primary));
-    if (srv.mpi)
-        nworkers = 1; /* frames are collective: one at a time, in one order on every rank */
     int nencoders = cfg->encoders > 0 ? cfg->encoders : 2;
 
     srv.metrics = lc_metrics_create();

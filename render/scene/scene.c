@@ -16,6 +16,15 @@ lc_scene *lc_scene_create(const char *name, lc_prim_type type)
     return s;
 }
 
+/* The cached levels of detail (scene.h lod), through the owner's free. */
+static void free_lod(lc_scene *s)
+{
+    if (s->lod && s->lod_free)
+        s->lod_free(s->lod);
+    s->lod = NULL;
+    s->lod_free = NULL;
+}
+
 static void free_attributes(lc_scene *s)
 {
     for (int i = 0; i < s->attribute_count; i++)
@@ -36,6 +45,7 @@ void lc_scene_destroy(lc_scene *s)
     free(s->triangles);
     free_attributes(s);
     lc_elements_free(&s->elements);
+    free_lod(s);
     free(s);
 }
 
@@ -54,6 +64,7 @@ int lc_scene_alloc_vertices(lc_scene *s, uint32_t n, int with_rgb, lc_error *err
     s->positions = s->rgb = s->normals = s->tangents = NULL;
     free_attributes(s);
     lc_elements_free(&s->elements);
+    free_lod(s);
     s->finalized = 0;
     s->vertex_count = 0;
     size_t count = (size_t)(n ? n : 1) * 3;
@@ -220,6 +231,7 @@ void lc_scene_release_vertex_arrays(lc_scene *s)
     free(e->adjacency);
     e->vertex_elements = NULL, e->vertex_weights = NULL;
     e->adjacency_offsets = e->adjacency = NULL;
+    free_lod(s);
     s->released = 1;
 }
 

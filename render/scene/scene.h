@@ -93,6 +93,13 @@ typedef struct lc_scene {
     int released;
     int released_rgb; /* it had per-vertex RGB */
     lc_trajectory_info trajectory;
+    /* Levels of detail built before, with their indices (a scene cache's,
+     * scene_cache.h): lc_lod_build copies them instead of building. Owned,
+     * freed with the vertex arrays by lod_free (set by whoever set lod, so
+     * that the scene core need not call into lod.c, which includes it).
+     * NULL: built on demand. */
+    struct lc_lod *lod;
+    void (*lod_free)(struct lc_lod *lod);
 } lc_scene;
 
 /* CPU bytes of a scene's arrays by kind. */

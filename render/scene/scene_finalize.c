@@ -289,6 +289,16 @@ static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_sce
                          double *line_length, lc_error *err);
 static int part_lod_steps(lc_scene *s, const lc_scene_collective *c, lc_error *err);
 
+/* Levels of detail kept from a scene cache (scene.h lod) follow the elements'
+ * runs: new elements make them stale, and the upload builds them afresh. */
+static void drop_levels(lc_scene *s)
+{
+    if (s->lod && s->lod_free)
+        s->lod_free(s->lod);
+    s->lod = NULL;
+    s->lod_free = NULL;
+}
+
 int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
 {
     if (!s || !s->finalized)
@@ -318,12 +328,14 @@ int lc_scene_set_element_budget(lc_scene *s, uint32_t budget, lc_error *err)
         return rc;
     lc_elements_free(&s->elements);
     s->elements = fresh;
+    drop_levels(s);
     return 0;
 }
 
 /* Frees what finalize derives, so that it can run again. */
 static void drop_derived(lc_scene *s)
 {
+    drop_levels(s);
     free(s->normals);
     free(s->tangents);
     s->normals = s->tangents = NULL;

@@ -104,6 +104,7 @@ typedef struct lc_serve_config {
     bool follow_symlinks;           /* --follow-symlinks: a --data folder's links may leave it */
     unsigned long long max_memory;  /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
     double load_timeout;            /* --load-timeout: seconds one dataset may take to load; 0 = none */
+    const char *cache;              /* --cache: scene cache folder, "off" = none; NULL = the XDG default */
 } lc_serve_config;
 
 /* The daemon: one per process, created by start/serve.c. Modules keep a pointer to

@@ -20,6 +20,11 @@ static const struct {
 } detail_steps[] = {{0.5, 1, 1.0}, {1, 2, 1.0}, {2, 4, 0.85}, {4, 8, 0.7}, {8, 16, 0.5}};
 #define DETAIL_STEPS ((int)(sizeof detail_steps / sizeof detail_steps[0]))
 #define DETAIL_START 1
+/* A session's first frame on a dataset of this many primitives or more is
+ * rendered at the coarse end of the ladder, as a moving frame would be, and
+ * the full-quality still follows at once: an image within a fraction of the
+ * still's time instead of a black canvas (issue 35, coarse to fine). */
+#define FIRST_COARSE_PRIMITIVES 500000
 /* While the camera keeps moving, P1-P3 run again this often (seconds) so the
  * reused opacities follow the view. */
 #define REOPTIMIZE_SECONDS 1.0
@@ -305,20 +310,22 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         pthread_mutex_unlock(&s->lock);
         return 0;
     }
-    bool interactive = st->any_input && now - st->last_input < cfg->still_delay;
+    bool first_coarse = st->frames == 0 && !st->any_input && s->dataset && s->dataset->scene &&
+                        lc_scene_primitive_count(s->dataset->scene) >= FIRST_COARSE_PRIMITIVES;
+    bool interactive = first_coarse || (st->any_input && now - st->last_input < cfg->still_delay);
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
-    out->detail_step = st->detail_step;
+    out->detail_step = first_coarse ? DETAIL_STEPS - 1 : st->detail_step; /* not the controller's step */
     if (interactive) {
         lc_detail *d = &out->req.render.detail;
-        if (!st->last_interactive)
+        int step = out->detail_step;
+        if (!st->last_interactive && !first_coarse)
             st->last_optimized = now; /* the still frame's opacities start the interaction */
-        d->lod_pixels = d->lod_pixels > detail_steps[st->detail_step].lod_pixels ? d->lod_pixels
-                                                                                 : detail_steps[st->detail_step].lod_pixels;
-        d->point_stride = detail_steps[st->detail_step].point_stride;
-        d->reuse_opacities = now - st->last_optimized < REOPTIMIZE_SECONDS;
+        d->lod_pixels = d->lod_pixels > detail_steps[step].lod_pixels ? d->lod_pixels : detail_steps[step].lod_pixels;
+        d->point_stride = detail_steps[step].point_stride;
+        d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
-        scale *= detail_steps[st->detail_step].scale;
+        scale *= detail_steps[step].scale;
     }
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);

@@ -4,7 +4,9 @@
 One WebSocket client browses a dataset the way the web page does: hello at a
 browser-sized viewport (default 972x761), camera updates at 30 per second
 along an orbit, an ack for every frame, then release. It reports:
-  first frame     seconds from hello to the first frame (and to the first still)
+  first frame     seconds from hello to the first frame (and to the first still); with --binary
+                  also from the daemon's launch (the scene cache's figure: run twice with
+                  --server-args "--cache DIR" for a cold and a warm start)
   frames/s        frames received while orbiting
   input-to-frame  p50/p95 from sending camera seq k to the first frame with cameraSeq >= k
   still           seconds from the last camera update to the first full-size still of that camera,
@@ -108,7 +110,10 @@ def contender(base, token, args, stop, out):
 async def browse(ws_url, token, args):
     r = {"lat": [], "moving": 0, "pause_delay": None}
     async with websockets.connect(ws_url, max_size=None) as ws:
-        hello = {"type": "hello", "dataset": args.dataset, "width": args.width, "height": args.height,
+        name = args.dataset  # a file path is served under its stem
+        if os.path.exists(name):
+            name = os.path.splitext(os.path.basename(name.rstrip("/")))[0]
+        hello = {"type": "hello", "dataset": name, "width": args.width, "height": args.height,
                  "devicePixelRatio": 1, "window": args.window}
         if token:
             hello["token"] = token
@@ -139,6 +144,7 @@ async def browse(ws_url, token, args):
             h, img = await recv(deadline - time.time())
             if img is not None:
                 r["first"] = time.time() - t_hello
+                r["first_at"] = time.time()
                 if not (h.get("detail") or {}).get("interactive", False) and h["width"] == args.width:
                     r["first_still"] = r["first"]
                 break
@@ -204,7 +210,7 @@ async def browse(ws_url, token, args):
     return r
 
 
-def run(base, ws_url, token, args):
+def run(base, ws_url, token, args, launched=None, listening=None):
     stop, cout, threads = threading.Event(), [], []
     for _ in range(args.contend):
         t = threading.Thread(target=contender, args=(base, token, args, stop, cout), daemon=True)
@@ -221,6 +227,9 @@ def run(base, ws_url, token, args):
         args.dataset, args.width, args.height, args.rate, args.seconds, args.window,
         ", %d client(s) rendering %s stills" % (args.contend, args.contend_size) if args.contend else ""))
     print("first frame after hello     %s (first still %s)" % (f("first"), f("first_still")))
+    if launched is not None and "first_at" in r:
+        print("first frame after launch    %.2f s (listening after %.2f s)" % (r["first_at"] - launched,
+                                                                            listening - launched))
     print("frames/s while orbiting     %.1f" % (r["moving"] / r["orbit_s"]))
     print("input-to-frame p50 / p95    %.0f / %.0f ms" % (1000 * pct(r["lat"], 50), 1000 * pct(r["lat"], 95)))
     print("still after last input      %s (converged %s)" % (f("still"), f("converged")))
@@ -257,8 +266,9 @@ def main():
         sys.exit("python3-websockets is required")
     if args.binary:
         extra = args.server_args.split() if args.server_args else []
+        launched = time.time()
         with Server(args.binary, *extra, data=(args.dataset,), demo_size=0, timeout=600) as srv:
-            run(srv.base, srv.ws_url, args.token, args)
+            run(srv.base, srv.ws_url, args.token, args, launched, time.time())
             srv.stop()
     else:
         ws_url = args.url.replace("http://", "ws://").rstrip("/") + "/api/v1/ws"

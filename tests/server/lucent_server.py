@@ -37,6 +37,7 @@ class Server:
             cmd += ["--data", d]
         if demo_size:
             cmd += ["--demo-size", str(demo_size)]
+        cmd += ["--cache", "off"]  # no scene cache in $HOME from tests; a test's own --cache comes later and wins
         cmd += list(args)
         e = dict(os.environ)
         e.pop("LUCENT_TOKEN", None)

@@ -40,6 +40,12 @@ r = subprocess.run([binary, "serve", "--listen", "127.0.0.1:0", "--data", "demo:
 out = r.stderr + r.stdout
 check(r.returncode != 0 and "refused" in out and "--max-memory 0.1 MB" in out and "MB resident" in out,
       "a dataset over --max-memory stops the start-up, naming the estimate and the limit: %s" % out[-400:])
+# The estimate counts the workers that will run: --workers N, else the default's 2 (not 1).
+for extra, want in (([], "2 workers"), (["--workers", "3"], "3 workers"), (["--workers", "1"], "1 worker)")):
+    r = subprocess.run([binary, "serve", "--listen", "127.0.0.1:0", "--data", "demo:points", "--demo-size", "30000",
+                        "--max-memory", "100k", *extra], capture_output=True, text=True, timeout=60)
+    out = r.stderr + r.stdout
+    check(r.returncode != 0 and want in out, "the refusal counts %s (%s): %s" % (want, extra, out[-300:]))
 r = subprocess.run([binary, "serve", "--max-memory", "lots"], capture_output=True, text=True, timeout=30)
 check(r.returncode != 0 and "--max-memory" in r.stderr, "a malformed --max-memory is a usage error")
 

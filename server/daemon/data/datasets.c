@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 
 #include "data_paths.h"
+#include "dataset_cache.h"
 #include "demo.h"
 #include "fields.h"
 #include "loaders.h"
@@ -235,7 +236,7 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
         if (d->opts.read_part && lc_scene_can_read_part(source)) /* serve --mpi: this rank's share */
             rc = d->opts.read_part(d->opts.read_part_ctx, source, &ds->scene, err);
         else
-            rc = lc_scene_load_file(source, &ds->scene, err);
+            rc = lc_dataset_cache_load(d->opts.cache_dir, source, &ds->scene, &ds->from_cache, err);
         file_stem(source, base, sizeof base);
         if (strncmp(base, "demo:", 5) == 0) { /* the demos' names are theirs: "demo:x.csv" is "demo_x" */
             base[4] = '_';
@@ -269,9 +270,9 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     }
     const lc_scene *s = ds->scene;
     lc_scene_measure(s, &ds->cost);
-    LC_INFO(MOD, "loaded %s: %s, %u vertices, %llu primitives, %u elements in %.2f s", ds->name,
+    LC_INFO(MOD, "loaded %s: %s, %u vertices, %llu primitives, %u elements in %.2f s%s", ds->name,
             lc_prim_type_name(s->type), s->vertex_count, (unsigned long long)lc_scene_primitive_count(s),
-            s->elements.count, ds->load_seconds);
+            s->elements.count, ds->load_seconds, ds->from_cache ? " (scene cache)" : "");
     d->count++;
     return 0;
 }
@@ -365,6 +366,18 @@ int lc_datasets_load(const char *const *sources, int count, const lc_datasets_op
     }
     *out = d;
     return 0;
+}
+
+void lc_datasets_set_workers(lc_datasets *d, int workers)
+{
+    if (!d || workers < 1 || workers == d->opts.workers)
+        return;
+    d->opts.workers = workers;
+    lc_gpu_scene_desc desc = layout_of(d);
+    d->estimated = 0;
+    for (int i = 0; i < d->count; i++)
+        if (d->items[i].scene)
+            d->estimated += lc_memory_estimate(d->items[i].scene, &desc, workers, 1);
 }
 
 int lc_datasets_upload(lc_datasets *d, lc_error *err)

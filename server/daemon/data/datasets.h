@@ -36,6 +36,7 @@ typedef struct lc_dataset {
     json_t *whole_info;
     int exact_positions;     /* float GPU buffers and session opacities (--exact-positions) */
     lc_memory_report memory; /* bytes by kind once uploaded (one worker's and one session's state) */
+    int from_cache;          /* the scene came from the scene cache (dataset_cache.h) */
 } lc_dataset;
 
 /* How datasets are loaded and held (lucent serve flags); zero = defaults. */
@@ -51,6 +52,8 @@ typedef struct lc_datasets_options {
      * the same sources in the same order; NULL: every file is read whole. */
     int (*read_part)(void *ctx, const char *path, lc_scene **out, lc_error *err);
     void *read_part_ctx;
+    /* --cache: the scene cache folder (dataset_cache.h); NULL or "" = none. */
+    const char *cache_dir;
 } lc_datasets_options;
 
 typedef struct lc_datasets lc_datasets;
@@ -86,6 +89,12 @@ int lc_dataset_read_sidecar(const char *path, bool follow_symlinks, lc_scene *sc
  * A part read by this rank (read_part) is kept as it is. */
 int lc_datasets_shard(lc_datasets *d, int (*shard)(void *ctx, lc_scene **scene, lc_error *err), void *ctx,
                       lc_error *err);
+/* The render workers the daemon runs, once the GL context tells (the default
+ * is 1 on llvmpipe with little memory): the estimate of every dataset is
+ * taken again with them. Loading counted opts->workers, which serve sets to
+ * the default's upper bound, so this never raises the estimate of a dataset
+ * already accepted. Before lc_datasets_upload. */
+void lc_datasets_set_workers(lc_datasets *d, int workers);
 /* Creates the GPU copies (the layout of the options), then releases the
  * scenes' CPU vertex arrays that the GPU now holds; a context of the share
  * group must be current. */

@@ -2,6 +2,7 @@
  * signal handling and the ordered shutdown. */
 #include "serve.h"
 
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,6 +10,7 @@
 #include <unistd.h>
 
 #include "cost.h"
+#include "dataset_cache.h"
 #include "datasets.h"
 #include "gl_context.h"
 #include "http.h"
@@ -163,6 +165,10 @@ static const lc_option serve_options[] = {
     {"--load-timeout", "SEC", LC_OPT_INT, CFG(load_timeout), 0, 86400, 1,
      .help = "give up on a dataset that takes longer than this to load (logged; a folder\n"
              "skips it, an explicit --data file stops the start-up); 0 = none (default 600)"},
+    {"--cache", "DIR|off", LC_OPT_TEXT, CFG(cache),
+     .help = "scene cache folder: data files of 1 MB or more start from a cached copy of\n"
+             "their derived scene when it matches the file (default $XDG_CACHE_HOME/lucent\n"
+             "or ~/.cache/lucent; off = none)"},
     {"--follow-symlinks", NULL, LC_OPT_BOOL, CFG(follow_symlinks),
      .help = "serve files and sidecars of a --data folder that link outside it"},
     {"--device", "N", LC_OPT_INT, CFG(device), 0, 64,
@@ -308,12 +314,19 @@ static int serve_main(int argc, char **argv)
     srv.start_time = lc_now();
     signal(SIGPIPE, SIG_IGN);
 
+    char cache_dir[PATH_MAX] = "";
+    if (!cfg->cache)
+        lc_dataset_cache_default_dir(cache_dir, sizeof cache_dir);
+    else if (strcmp(cfg->cache, "off") != 0)
+        snprintf(cache_dir, sizeof cache_dir, "%s", cfg->cache);
     lc_datasets_options dopts = {.demo_size = cfg->demo_size,
                                  .exact_positions = cfg->exact_positions,
                                  .max_memory = cfg->max_memory,
                                  .follow_symlinks = cfg->follow_symlinks,
                                  .load_timeout = cfg->load_timeout,
-                                 .workers = cfg->workers > 0 ? cfg->workers : 1};
+                                 /* the default's upper bound until the GL says (lc_datasets_set_workers) */
+                                 .workers = cfg->workers > 0 ? cfg->workers : default_workers(false),
+                                 .cache_dir = cache_dir};
     lc_ranks_datasets_options(&srv, &dopts);
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)
@@ -332,6 +345,7 @@ static int serve_main(int argc, char **argv)
 
     /* The primary context: datasets are uploaded with it; worker 0 adopts it. */
     lc_gl *primary = NULL;
+    int nworkers = 1;
     lc_gl_desc gdesc = {.device = cfg->device};
     rc = lc_gl_create(&gdesc, &primary, &err);
     if (rc == 0)
@@ -341,6 +355,10 @@ static int serve_main(int argc, char **argv)
         snprintf(srv.gl_version, sizeof srv.gl_version, "%s", lc_gl_version(primary));
         snprintf(srv.gl_platform, sizeof srv.gl_platform, "%s", lc_gl_platform(primary));
         LC_INFO(MOD, "GL: %s, %s (%s)", srv.gl_renderer, srv.gl_version, srv.gl_platform);
+        nworkers = cfg->workers > 0 ? cfg->workers : default_workers(lc_gl_is_software(primary));
+        if (srv.mpi)
+            nworkers = 1; /* frames are collective: one at a time, in one order on every rank */
+        lc_datasets_set_workers(srv.datasets, nworkers);
         rc = lc_datasets_upload(srv.datasets, &err);
         if (rc != 0)
             lc_datasets_release_gpu(srv.datasets);
@@ -365,9 +383,6 @@ static int serve_main(int argc, char **argv)
         lc_datasets_destroy(srv.datasets);
         return startup_failed();
     }
-    int nworkers = cfg->workers > 0 ? cfg->workers : default_workers(lc_gl_is_software(primary));
-    if (srv.mpi)
-        nworkers = 1; /* frames are collective: one at a time, in one order on every rank */
     int nencoders = cfg->encoders > 0 ? cfg->encoders : 2;
 
     srv.metrics = lc_metrics_create();

@@ -124,9 +124,9 @@ static void test_two_planes(const lc_field *f)
         return;
     static const float back[3] = {0.2f, 0.4f, 0.9f}, front[3] = {0.9f, 0.3f, 0.1f};
     lc_trace_curve *a = trace_plane(f, -0.6, 0, CURVES), *b = trace_plane(f, 0.2, 0, CURVES);
-    /* The front plane (nearer the camera at z = 3) is added first: order must not matter. */
-    CHECK(lc_surface_layers_add(sl, b, CURVES, front, &err) == 0 &&
-              lc_surface_layers_add(sl, a, CURVES, back, &err) == 0,
+    /* The back plane first: the front plane's layers (nearer the camera at z = 3) must go before them. */
+    CHECK(lc_surface_layers_add(sl, a, CURVES, back, &err) == 0 &&
+              lc_surface_layers_add(sl, b, CURVES, front, &err) == 0,
           "add: %s", err.msg);
     static uint32_t counts[W * H];
     static uint8_t img[W * H * 4];

@@ -50,7 +50,7 @@ static int check_desc(const lc_surface_layers_desc *d, lc_error *err)
     if (!isfinite(d->epsilon) || d->epsilon < 0)
         return lc_err(err, LC_ERR_INVALID, "surface layers: epsilon must be finite and >= 0 (got %g)", d->epsilon);
     if (!isfinite(d->opacity) || d->opacity < 0 || d->opacity > 1)
-        return lc_err(err, LC_ERR_INVALID, "surface layers: opacity must lie in (0, 1] (got %g)", d->opacity);
+        return lc_err(err, LC_ERR_INVALID, "surface layers: opacity must lie in [0, 1] (0 = 0.5; got %g)", d->opacity);
     for (int i = 0; i < 16; i++)
         if (!isfinite(d->view[i]) || !isfinite(d->projection[i]))
             return lc_err(err, LC_ERR_INVALID, "surface layers: view and projection must be finite");

@@ -27,7 +27,7 @@ typedef struct lc_surface_layers_desc {
     /* A fragment joins a layer when |its view depth - the layer's mean depth|
      * < epsilon (view-space units; 0 = never merge). Negative or non-finite is an error. */
     double epsilon;
-    double opacity;       /* alpha of every layer, 0 = 0.5; in (0, 1] */
+    double opacity;       /* alpha of every layer in [0, 1]; 0 = 0.5 */
     double background[3]; /* composited behind the layers */
     /* world -> view and view -> clip, column-major (as OpenGL). View depth is
      * -z in view space (the camera looks down -z). */

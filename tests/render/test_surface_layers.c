@@ -172,6 +172,11 @@ static lc_surface_layers_stats plane_stats(const lc_field *f, int k, double eps)
     lc_trace_curve *c = trace_plane(f, -0.2, 0, CURVES);
     CHECK(lc_surface_layers_add(sl, c, CURVES, rgb, &err) == 0, "add: %s", err.msg);
     CHECK(lc_surface_layers_read(sl, NULL, &s, &err) == 0, "read: %s", err.msg);
+    /* Every fragment is accounted for: a layer, merged into one, or overflow. */
+    CHECK(s.fragments == s.merged + s.overflow + (uint64_t)llround(s.mean_layers * s.covered_pixels),
+          "K = %d, epsilon %g: %llu fragments, %llu merged, %llu overflow, %.0f layers", k, eps,
+          (unsigned long long)s.fragments, (unsigned long long)s.merged, (unsigned long long)s.overflow,
+          s.mean_layers * s.covered_pixels);
     /* A reset empties the layers. */
     lc_surface_layers_stats e;
     lc_surface_layers_reset(sl);

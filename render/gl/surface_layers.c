@@ -288,8 +288,8 @@ int lc_surface_layers_add(lc_surface_layers *sl, const lc_trace_curve *curves, u
 }
 
 /* Copies the section of w * h uints at offset (in uints) of the pixel words
- * into out with the rows flipped (GL's rows start at the bottom). */
-static int read_section(lc_surface_layers *sl, uint32_t offset, uint32_t *out, lc_error *err)
+ * into out (any alignment) with the rows flipped (GL's rows start at the bottom). */
+static int read_section(lc_surface_layers *sl, uint32_t offset, void *out, lc_error *err)
 {
     uint32_t *tmp = malloc((size_t)sl->pixel_count * 4);
     if (!tmp)
@@ -298,7 +298,7 @@ static int read_section(lc_surface_layers *sl, uint32_t offset, uint32_t *out, l
     glGetNamedBufferSubData(sl->pixels, (GLintptr)offset * 4, (GLsizeiptr)sl->pixel_count * 4, tmp);
     int w = sl->desc.width, h = sl->desc.height;
     for (int y = 0; y < h; y++)
-        memcpy(out + (size_t)y * w, tmp + (size_t)(h - 1 - y) * w, (size_t)w * 4);
+        memcpy((uint8_t *)out + (size_t)y * w * 4, tmp + (size_t)(h - 1 - y) * w, (size_t)w * 4);
     free(tmp);
     return 0;
 }
@@ -311,7 +311,7 @@ int lc_surface_layers_composite(lc_surface_layers *sl, uint8_t *rgba, lc_error *
     glDispatchCompute((sl->pixel_count + GROUP - 1) / GROUP, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     /* packUnorm4x8 puts r in the low byte: little-endian words are RGBA bytes. */
-    return read_section(sl, HEADS_OFFSET + 2 * sl->pixel_count, (uint32_t *)(void *)rgba, err);
+    return read_section(sl, HEADS_OFFSET + 2 * sl->pixel_count, rgba, err);
 }
 
 int lc_surface_layers_read(lc_surface_layers *sl, uint32_t *layer_counts, lc_surface_layers_stats *stats, lc_error *err)

@@ -207,6 +207,44 @@ static void test_epsilon_and_overflow(const lc_field *f)
     CHECK(merged.overflow == 0, "epsilon %g: no overflow (%llu)", EPS, (unsigned long long)merged.overflow);
 }
 
+/* A perspective camera (at z = 3, 2 atan(1/3) field of view): view depth is
+ * interpolated perspective-correctly, so each plane stays one layer. */
+static void test_perspective(const lc_field *f)
+{
+    lc_error err = {0};
+    lc_surface_layers_desc d = make_desc(16, EPS);
+    double n = 0.1, fa = 10.0;
+    memset(d.projection, 0, sizeof d.projection);
+    d.projection[0] = d.projection[5] = 3.0f;
+    d.projection[10] = (float)((fa + n) / (n - fa));
+    d.projection[11] = -1.0f;
+    d.projection[14] = (float)(2 * fa * n / (n - fa));
+    lc_surface_layers *sl = NULL;
+    CHECK(lc_surface_layers_create(&d, &sl, &err) == 0, "create: %s", err.msg);
+    if (!sl)
+        return;
+    static const float rgb[3] = {1, 1, 1};
+    static uint32_t counts[W * H];
+    lc_trace_curve *a = trace_plane(f, -0.6, 0, CURVES), *b = trace_plane(f, 0.2, 0, CURVES);
+    lc_surface_layers_stats s1, s2;
+    CHECK(lc_surface_layers_add(sl, a, CURVES, rgb, &err) == 0, "add: %s", err.msg);
+    CHECK(lc_surface_layers_read(sl, counts, &s1, &err) == 0, "read: %s", err.msg);
+    CHECK(lc_surface_layers_add(sl, b, CURVES, rgb, &err) == 0, "add: %s", err.msg);
+    CHECK(lc_surface_layers_read(sl, counts, &s2, &err) == 0, "read: %s", err.msg);
+    int both = 0;
+    for (int i = 0; i < W * H; i++)
+        both += counts[i] == 2;
+    CHECK(s1.max_layers == 1 && s1.covered_pixels > 1500, "perspective, one plane: max %u layers over %u pixels",
+          s1.max_layers, s1.covered_pixels);
+    CHECK(s2.max_layers == 2 && both > 1500 && s2.overflow == 0,
+          "perspective, two planes: max %u layers, %d pixels with two", s2.max_layers, both);
+    lc_trace_curves_free(a, CURVES);
+    lc_trace_curves_free(b, CURVES);
+    free(a);
+    free(b);
+    lc_surface_layers_destroy(sl);
+}
+
 static void test_bad_desc(void)
 {
     lc_error err = {0};
@@ -232,6 +270,7 @@ int main(void)
         test_one_plane(f);
         test_two_planes(f);
         test_epsilon_and_overflow(f);
+        test_perspective(f);
     }
     test_bad_desc();
     lc_field_destroy(f);

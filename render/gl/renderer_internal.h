@@ -47,6 +47,9 @@
     X(BIND_LINE_MASK, 25)   /* line_clusters.c: one bit per vertex, 1 = drawn */                                       \
     X(BIND_ELEMENT_BEHIND, 26) /* importance mass behind each element's fragments (occluders.glsl) */                 \
     X(BIND_COLOR_HISTOGRAM, 27) /* color_equalize.c: visibility-weighted colour bins */                               \
+    X(BIND_SURFACE_NODES, 28)  /* surface_layers.c: the batch's fragment lists */                                      \
+    X(BIND_SURFACE_PIXELS, 29) /* surface_layers.c: counters, list heads, layer counts, output */                      \
+    X(BIND_SURFACE_LAYERS, 30) /* surface_layers.c: the persistent per-pixel layers */                                 \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \

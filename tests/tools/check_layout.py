@@ -26,7 +26,7 @@ LAYERS = {
     "render/scene": ["render/field", "render/base"],
     "render/io": ["render/scene", "render/field", "render/base"],
     "render/image": ["render/base"],
-    "render/gl": ["render/scene", "render/math", "render/image", "render/base"],
+    "render/gl": ["render/scene", "render/field", "render/math", "render/image", "render/base"],
     "protocol": ["render/base"],
     "server/mpi": ["render/gl", "render/scene", "render/math", "render/image", "render/base"],
     "server/daemon": ["server/mpi", "render/gl", "render/io", "render/scene", "render/field", "render/math", "render/image", "render/base", "protocol"],

@@ -160,6 +160,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITION_CHUNKS, gs->position_chunks);
     lc_uniform_i(prog, "u_compact", gs->exact ? 0 : 1);
     lc_uniform_i(prog, "u_blend", (int)gs->blend);
+    lc_uniform_u(prog, "u_element_offset", fs->element_offset);
     int na = gs->scene->attribute_count;
     if (na > 0) {
         glProgramUniform1uiv(prog, glGetUniformLocation(prog, "u_attr_offset"), na, gs->attr_offset);
@@ -433,4 +434,19 @@ void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs)
     lc_uniform_f(prog, "u_halo_depth", st->halo_depth * (isfinite(diag) ? diag : 0.0));
     lc_uniform_f(prog, "u_halo_strength", st->halo_strength);
     lc_uniform_v3(prog, "u_halo_color", st->background);
+}
+
+size_t lc_renderer_read_targets(lc_renderer *r, int which, float *out, size_t n)
+{
+    const lc_targets *t = which == 0 ? &r->coef_low : &r->moments;
+    if (!t->fbo || t->format != GL_RGBA32F)
+        return 0;
+    size_t per = (size_t)t->width * t->height * 4, total = per * (size_t)t->count;
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    for (int i = 0; i < t->count && (size_t)i * per < n; i++) {
+        size_t take = n - (size_t)i * per < per ? n - (size_t)i * per : per;
+        if (take == per)
+            glGetTextureImage(t->tex[i], 0, GL_RGBA, GL_FLOAT, (GLsizei)(per * sizeof(float)), out + (size_t)i * per);
+    }
+    return total;
 }

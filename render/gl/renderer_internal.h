@@ -303,7 +303,44 @@ typedef struct lc_frame_setup {
      * frame_width x frame_height frame; full-resolution passes project the
      * whole frame through a viewport offset by -tile_origin. */
     int tiled, tile_origin[2], frame_width, frame_height;
+    /* Layers (layers.c): 0 for a frame of one dataset; otherwise every
+     * geometry pass draws each visible layer with lc_frame_layer's setup. */
+    int layer_count;
+    const struct lc_layer_setup *layers;
+    uint32_t element_offset; /* this setup's first element id (u_element_offset) */
+    uint32_t element_total;  /* elements of the frame: of every layer, or of gs */
 } lc_frame_setup;
+
+/* ---- layers.c (docs/ALGORITHM.md "Layers"): what differs per layer. */
+typedef struct lc_layer_setup {
+    const lc_gpu_scene *gs;
+    lc_render_params params; /* the frame's, with the layer's importance, colour and style */
+    int visible;
+    int importance_attr, color_mode, color_attr, colormap;
+    double importance_range[2], color_range[2], importance_exponent;
+    lc_importance_terms terms;
+    double line_half_width;
+    int level;
+    uint32_t element_offset;
+} lc_layer_setup;
+/* Geometry passes loop i over 0..lc_frame_layer_count(fs)-1: lc_frame_layer
+ * returns the setup to draw layer i with (fs itself for a frame of one
+ * dataset; else a copy of fs in *tmp with the layer's scene, mapping, level
+ * and element offset), or NULL for a hidden layer. */
+int lc_frame_layer_count(const lc_frame_setup *fs);
+const lc_frame_setup *lc_frame_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp);
+/* Fills out[0..n-1] from the layers' scenes and parameters over the frame's
+ * params (fs->params, fs->view set): mappings (errors name layers[i].*),
+ * levels, line widths, element offsets; sets fs->layers, fs->layer_count and
+ * fs->element_total. */
+int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
+                            lc_layer_setup *out, lc_error *err);
+/* The union of the layers' bounds (min xyz, max xyz). */
+void lc_layers_bounds(const lc_gpu_scene *const *scenes, int n, double out[6]);
+/* ---- mapping.c: the attribute mapping of fs->params over fs->gs (errors
+ * name the field), and the level of detail of fs->gs for the frame's view. */
+int lc_frame_resolve_mapping(lc_frame_setup *fs, lc_error *err);
+int lc_frame_pick_level(const lc_frame_setup *fs);
 
 /* ---- filter.c */
 /* Resolves the request's filters against the scene and builds (or reuses)

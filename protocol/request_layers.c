@@ -27,7 +27,7 @@ static int set_error(lc_layer_error *err, const char *code, const char *field, c
     return -1;
 }
 
-static const char *const role_names[] = {"transparent", NULL};
+static const char *const role_names[] = {"transparent", "context", NULL}; /* lc_layer_role */
 
 /* The style keys that belong to a layer; the rest (background, halos,
  * antialias, silhouettes) are the frame's. */
@@ -63,7 +63,7 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
         } else if (strcmp(key, "role") == 0) {
             int role = json_is_string(m) ? in_list(role_names, json_string_value(m)) : -1;
             if (role < 0)
-                return set_error(err, LC_PROTO_BAD_FIELD, field, "expected \"transparent\"");
+                return set_error(err, LC_PROTO_BAD_FIELD, field, "expected \"transparent\" or \"context\"");
             out->p.role = (lc_layer_role)role;
         } else if (strcmp(key, "visible") == 0) {
             if (!json_is_boolean(m))

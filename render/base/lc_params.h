@@ -227,7 +227,10 @@ typedef struct lc_render_params {
  * inside a layer. The frame's lc_render_params give everything else (size,
  * camera, FOO parameters, background, perception aids). */
 #define LC_MAX_LAYERS 8
-typedef enum { LC_LAYER_TRANSPARENT = 0 } lc_layer_role;
+typedef enum {
+    LC_LAYER_TRANSPARENT = 0, /* in the optimization */
+    LC_LAYER_CONTEXT          /* opaque, shaded, depth-tested against by the transparent layers (lines, surfaces) */
+} lc_layer_role;
 typedef struct lc_layer_params {
     lc_layer_role role;
     bool visible; /* false: the layer draws nothing and its elements get no fragments */

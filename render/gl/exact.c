@@ -267,6 +267,9 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     glProgramUniform2i(st->blend, glGetUniformLocation(st->blend, "u_size"), fs->width, fs->height);
     glProgramUniform3f(st->blend, glGetUniformLocation(st->blend, "u_background"), (float)p->style.background[0],
                        (float)p->style.background[1], (float)p->style.background[2]);
+    lc_uniform_i(st->blend, "u_context", fs->context_color ? 1 : 0);
+    if (fs->context_color)
+        glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
     glDispatchCompute((GLuint)(fs->width + 7) / 8, (GLuint)(fs->height + 7) / 8, 1);
     /* lc_render_frame reads the output back through its framebuffer. */
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);

@@ -68,6 +68,7 @@ void lc_renderer_destroy(lc_renderer *r)
     if (!r)
         return;
     lc_exact_destroy(r);
+    lc_context_destroy(r);
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
         for (int p = 0; p < 3; p++)
             for (int b = 0; b <= LC_MAX_BANDS; b++)
@@ -482,6 +483,10 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
         return rc;
+    if (lc_frame_has_context(&fs) && (tiles || antialias_samples(&p) > 1)) /* drawn once, unjittered, untiled */
+        return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",
+                            "a context layer is drawn in one untiled, unjittered frame: %s",
+                            tiles ? "render at most 4096x4096" : "antialias 1");
     r->progress_planned = r->progress_done = 0;
     for (int i = 0; i < LC_PASS_COUNT; i++)
         if (plan.run[pass_order[i]] != LC_RUN_NONE)
@@ -489,6 +494,9 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     r->progress_t0 = t0;
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
+    /* Opaque context layers first: every later pass tests against their depth. */
+    if ((rc = lc_context_draw(r, &fs, err)) != 0)
+        return rc;
     /* P0 as the plan says (pass_plan.c says why the moments skip a reusing frame). */
     if (plan.pixel_range && (rc = lc_fourier_depth_range(r, &fs, !tiles, 1, err)) != 0)
         return rc;

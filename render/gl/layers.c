@@ -9,6 +9,8 @@
 
 #include "renderer_internal.h"
 
+static const lc_frame_setup *layer_setup(const lc_frame_setup *fs, const lc_layer_setup *l, lc_frame_setup *tmp);
+
 int lc_frame_layer_count(const lc_frame_setup *fs) { return fs->layer_count > 0 ? fs->layer_count : 1; }
 
 const lc_frame_setup *lc_frame_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp)
@@ -16,8 +18,29 @@ const lc_frame_setup *lc_frame_layer(const lc_frame_setup *fs, int i, lc_frame_s
     if (fs->layer_count <= 0)
         return fs;
     const lc_layer_setup *l = &fs->layers[i];
-    if (!l->visible)
+    if (!l->visible || l->context)
         return NULL;
+    return layer_setup(fs, l, tmp);
+}
+
+const lc_frame_setup *lc_frame_context_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp)
+{
+    if (fs->layer_count <= 0 || !fs->layers[i].visible || !fs->layers[i].context)
+        return NULL;
+    return layer_setup(fs, &fs->layers[i], tmp);
+}
+
+int lc_frame_has_context(const lc_frame_setup *fs)
+{
+    for (int i = 0; i < fs->layer_count; i++)
+        if (fs->layers[i].visible && fs->layers[i].context)
+            return 1;
+    return 0;
+}
+
+/* fs with layer l's scene, mapping, level and element offset in *tmp. */
+static const lc_frame_setup *layer_setup(const lc_frame_setup *fs, const lc_layer_setup *l, lc_frame_setup *tmp)
+{
     *tmp = *fs;
     tmp->gs = l->gs;
     tmp->params = &l->params;
@@ -82,6 +105,13 @@ int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scene
         memset(l, 0, sizeof *l);
         l->gs = scenes[i];
         l->visible = in->visible ? 1 : 0;
+        l->context = in->role == LC_LAYER_CONTEXT;
+        if (l->context && s->type == LC_PRIM_POINTS) {
+            char field[32];
+            snprintf(field, sizeof field, "layers[%d].role", i);
+            return lc_err_field(err, LC_ERR_INVALID, field, "a context layer is lines or a surface; %s is points",
+                                s->name);
+        }
         l->params = *fs->params;
         l->params.importance = in->importance;
         l->params.color = in->color;

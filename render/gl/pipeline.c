@@ -217,6 +217,12 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     /* The moments live at the optimization resolution; a full-resolution pass
      * reads the texel its pixel falls in, as its projection and evaluation both do. */
     lc_uniform_i(prog, "u_depth_moments", fs->depth_moments);
+    /* Opaque context (context.c): the depth of this pass's resolution; the
+     * context pass itself runs before the textures are set. */
+    GLuint context_depth = tile || (w == fs->width && h == fs->height) ? fs->context_depth[0] : fs->context_depth[1];
+    lc_uniform_i(prog, "u_context_depth", context_depth ? 1 : 0);
+    if (context_depth)
+        glBindTextureUnit(TEX_CONTEXT_DEPTH, context_depth);
     if (fs->depth_moments) {
         glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
         lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / w, (double)fs->low_height / h);
@@ -421,6 +427,9 @@ void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_ki
     glBindTextureUnit(TEX_RESOLVE_A, a->tex[0]);
     glBindTextureUnit(TEX_RESOLVE_B, second_tex);
     lc_uniform_v3(prog, "u_background", fs->params->style.background);
+    lc_uniform_i(prog, "u_context", fs->context_color ? 1 : 0);
+    if (fs->context_color)
+        glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 

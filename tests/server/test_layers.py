@@ -2,8 +2,9 @@
 tornado lines) answers an image that differs from either layer alone, the GET
 form takes layers as JSON text, and bad layer specifications get a clear error
 naming the field: an unknown dataset (404, layers[i].dataset), an unknown key,
-an unknown attribute of one layer's dataset, a layer of the frame's style,
-layers in a session or a WebSocket hello, a method that cannot draw layers."""
+an unknown attribute of one layer's dataset, a layer of the frame's style, a
+context layer of points, layers in a session or a WebSocket hello, a method
+that cannot draw layers. A surface as opaque context renders."""
 import json
 import sys
 import urllib.parse
@@ -32,7 +33,7 @@ def error(srv, body, status, field, what, path="/api/v1/render"):
           "%s -> %d naming %s (got %d, %s)" % (what, status, field, st, data[:200].decode(errors="replace")))
 
 
-with Server(binary, data=("demo:points", "demo:tornado"), demo_size=3000) as srv:
+with Server(binary, data=("demo:points", "demo:tornado", "demo:surface"), demo_size=300) as srv:
     st, hdrs, both = render(srv, {"layers": LAYERS})
     check(st == 200 and png_size(both) == (96, 80), "two-layer render -> 200, a 96x80 PNG (%d)" % st)
     alone = []
@@ -56,8 +57,14 @@ with Server(binary, data=("demo:points", "demo:tornado"), demo_size=3000) as srv
           "layers[1].importance.attribute", "an attribute the layer's dataset lacks")
     error(srv, {"layers": [{"dataset": "demo:points", "style": {"background": [0, 0, 0]}}]}, 400,
           "layers[0].style.background", "the frame's style in a layer")
-    error(srv, {"layers": [{"dataset": "demo:points", "role": "context"}]}, 400, "layers[0].role",
-          "a role this server does not draw")
+    error(srv, {"layers": [{"dataset": "demo:points", "role": "context"}, LAYERS[1]]}, 400, "layers[0].role",
+          "a context layer of points")
+    error(srv, {"layers": [{"dataset": "demo:surface", "role": "opaque"}]}, 400, "layers[0].role", "an unknown role")
+    ctx = [{"dataset": "demo:surface", "role": "context"}, LAYERS[1]]
+    st, _, with_context = render(srv, {"layers": ctx})
+    st2, _, transparent = render(srv, {"layers": [dict(ctx[0], role="transparent"), LAYERS[1]]})
+    check(st == 200 and st2 == 200 and with_context != transparent,
+          "a surface as opaque context renders, unlike the same surface transparent (%d, %d)" % (st, st2))
     error(srv, {"layers": LAYERS, "method": "opaque"}, 400, "method", "the opaque method with layers")
     error(srv, {"layers": LAYERS, "dataset": "demo:points"}, 400, "layers", "layers in a scripted session",
           path="/api/v1/sessions")

@@ -244,7 +244,7 @@ function checkLayers(f, v) {
     if (!isObject(l)) return { code: 'bad_field', reason: 'expected an object with a dataset', at };
     for (const k of Object.keys(l)) if (!keys.includes(k)) return { code: 'unknown_field', reason: 'unknown field', at: `${at}.${k}` };
     if (typeof l.dataset !== 'string' || !l.dataset.length) return { code: 'missing_field', reason: 'every layer names its dataset', at: `${at}.dataset` };
-    if (l.role !== undefined && l.role !== 'transparent') return { code: 'bad_field', reason: 'expected "transparent"', at: `${at}.role` };
+    if (l.role !== undefined && l.role !== 'transparent' && l.role !== 'context') return { code: 'bad_field', reason: 'expected "transparent" or "context"', at: `${at}.role` };
     if (l.visible !== undefined && typeof l.visible !== 'boolean') return { code: 'bad_field', reason: 'expected true or false', at: `${at}.visible` };
   }
   return null;

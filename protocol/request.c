@@ -257,7 +257,7 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
     }
     case T_LAYERS: {
         lc_layer_error le = {0};
-        lc_request_layer *layers = malloc(LC_MAX_LAYERS * sizeof *layers); /* 32 KiB: off the stack */
+        lc_request_layer *layers = calloc(LC_MAX_LAYERS, sizeof *layers); /* 32 KiB: off the stack */
         int n = 0;
         if (!layers)
             return lc_proto_set_error(err, LC_PROTO_TOO_LARGE, path, "out of memory");

@@ -46,8 +46,8 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
 {
     if (!json_is_object(v))
         return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an object with a dataset");
+    memset(out, 0, sizeof *out); /* whole buffers: a request compares and copies as bytes */
     lc_layer_params_default(&out->p);
-    out->dataset[0] = '\0';
     const char *key;
     json_t *m;
     char field[320];

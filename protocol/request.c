@@ -2,6 +2,8 @@
  * validation and emission, so the four cannot drift apart. */
 #include "request.h"
 
+#include "request_fields.h"
+#include "request_layers.h"
 #include "request_lists.h"
 
 #include <float.h>
@@ -67,167 +69,7 @@ int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field,
 }
 
 /* ---- the schema */
-
-typedef enum {
-    T_INT,   /* int */
-    T_NUM,   /* double */
-    T_BOOL,  /* bool */
-    T_STR,   /* char[size], any text shorter than size */
-    T_ENUM,  /* int-sized enum, from a name table */
-    T_NAME,  /* char[size], one of a name table (colormap) */
-    T_VEC3,  /* double[3], finite */
-    T_COLOR, /* double[3] in [0,1] */
-    T_RANGE, /* double[2], finite; sets a bool */
-    T_TERMS,   /* lc_importance_map's terms, an array of objects (request_lists.c) */
-    T_FILTERS, /* lc_render_params' filters, an array of objects (request_lists.c) */
-    T_CURVE,   /* lc_curve, an array of [x, y] points (request_lists.c) */
-    T_RANGES,  /* lc_color_map's fixed ranges, an array of [lo, hi] (request_lists.c) */
-} ftype;
-
-enum {
-    LO_OPEN = 1,    /* lo excluded */
-    HI_OPEN = 2,    /* hi excluded */
-    SIZE_LIMIT = 4, /* lo/hi come from the limits */
-    CHECK_ONLY = 8  /* validated, not stored (version) */
-};
-
-typedef struct enum_name {
-    const char *name;
-    int value;
-} enum_name;
-
-typedef struct field {
-    const char *section; /* NULL = top level */
-    const char *name;    /* JSON key */
-    const char *alias;   /* flat query-parameter name, NULL = dotted path only */
-    ftype type;
-    double lo, hi;
-    int bounds;
-    size_t offset; /* into lc_request */
-    size_t size;   /* T_STR/T_NAME buffer size */
-    long flag;     /* offset of a bool set when the field is given, -1 = none */
-    const enum_name *names;
-} field;
-
-static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
-                                         {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
-                                         {"wboit", LC_METHOD_WBOIT},     {NULL, 0}};
-static const enum_name format_names[] = {
-    {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
-static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
-static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoint", LC_ESTIMATOR_MIDPOINT}, {NULL, 0}};
-static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
-                                              {"global", LC_DEPTH_RANGE_GLOBAL},
-                                              {"pixel", LC_DEPTH_RANGE_PIXEL},
-                                              {"moments", LC_DEPTH_RANGE_MOMENTS},
-                                              {NULL, 0}};
-static const enum_name smoothing_weights_names[] = {
-    {"uniform", LC_SMOOTHING_UNIFORM}, {"distance", LC_SMOOTHING_DISTANCE}, {NULL, 0}};
-static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
-static const enum_name representative_names[] = {{"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
-static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
-#define COLORMAP_ENUM_NAME(n) {#n, 0},
-static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
-#undef COLORMAP_ENUM_NAME
-
-#define OFF(member) offsetof(lc_request, member)
-#define NOFLAG (-1L)
-#define BIG 1e300 /* "any finite number"; reals from jansson are finite anyway */
-/* A ribbon wider than 1e9 world units covers any data that float positions
- * resolve at that scale; beyond, the width overflows the cost model and the
- * shaders' float half-width. */
-#define LINE_WIDTH_MAX 1e9
-/* Caps beyond the useful ranges (q, r, λ, exponents, dt) keep values in float
- * range for the shaders; the documented ranges in README.md match. */
-static const field fields[] = {
-    {NULL, "version", "version", T_INT, 1, 1, CHECK_ONLY, 0, 0, NOFLAG, NULL},
-    {NULL, "dataset", "dataset", T_STR, 0, 0, 0, OFF(dataset), LC_PROTO_DATASET_LEN, NOFLAG, NULL},
-    {NULL, "width", "width", T_INT, 0, 0, SIZE_LIMIT, OFF(render.width), 0, NOFLAG, NULL},
-    {NULL, "height", "height", T_INT, 0, 0, SIZE_LIMIT, OFF(render.height), 0, NOFLAG, NULL},
-    {NULL, "method", "method", T_ENUM, 0, 0, 0, OFF(render.method), 0, NOFLAG, method_names},
-    {NULL, "format", "format", T_ENUM, 0, 0, 0, OFF(format), 0, NOFLAG, format_names},
-    {NULL, "quality", "quality", T_INT, 1, 100, 0, OFF(quality), 0, NOFLAG, NULL},
-    {NULL, "dt", "dt", T_NUM, 0, 3600, 0, OFF(dt), 0, (long)OFF(has_dt), NULL},
-
-    {"camera", "position", "position", T_VEC3, 0, 0, 0, OFF(render.camera.position), 0, NOFLAG, NULL},
-    {"camera", "focalPoint", "focalPoint", T_VEC3, 0, 0, 0, OFF(render.camera.focal_point), 0, NOFLAG, NULL},
-    {"camera", "viewUp", "viewUp", T_VEC3, 0, 0, 0, OFF(render.camera.view_up), 0, NOFLAG, NULL},
-    {"camera", "viewAngle", "viewAngle", T_NUM, 0, 180, LO_OPEN | HI_OPEN, OFF(render.camera.view_angle), 0, NOFLAG,
-     NULL},
-    {"camera", "parallelProjection", "parallelProjection", T_BOOL, 0, 0, 0, OFF(render.camera.parallel_projection), 0,
-     NOFLAG, NULL},
-    {"camera", "parallelScale", "parallelScale", T_NUM, 0, BIG, LO_OPEN, OFF(render.camera.parallel_scale), 0, NOFLAG,
-     NULL},
-
-    {"params", "q", "q", T_NUM, 0, 1e6, 0, OFF(render.foo.q), 0, NOFLAG, NULL},
-    {"params", "r", "r", T_NUM, 0, 1e6, 0, OFF(render.foo.r), 0, NOFLAG, NULL},
-    {"params", "lambda", "lambda", T_NUM, 0, 1000, 0, OFF(render.foo.lambda), 0, NOFLAG, NULL},
-    {"params", "bands", "bands", T_INT, LC_MIN_BANDS, LC_MAX_BANDS, 0, OFF(render.foo.bands), 0, NOFLAG, NULL},
-    {"params", "smoothing", "smoothing", T_INT, 0, 1000, 0, OFF(render.foo.smoothing), 0, NOFLAG, NULL},
-    {"params", "smoothingWeight", "smoothingWeight", T_NUM, 0, 1, 0, OFF(render.foo.smoothing_weight), 0, NOFLAG, NULL},
-    {"params", "fadeHalfLife", "fadeHalfLife", T_NUM, 0, 60, 0, OFF(render.foo.fade_half_life), 0, NOFLAG, NULL},
-    {"params", "resolutionScale", "resolutionScale", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.resolution_scale), 0, NOFLAG,
-     NULL},
-    {"params", "subset", "subset", T_INT, 1, 1024, 0, OFF(render.foo.subset), 0, NOFLAG, NULL},
-    {"params", "depthMargin", "depthMargin", T_NUM, 0, 0.25, 0, OFF(render.foo.depth_margin), 0, NOFLAG, NULL},
-    {"params", "estimator", "estimator", T_ENUM, 0, 0, 0, OFF(render.foo.estimator), 0, NOFLAG, estimator_names},
-    {"params", "depthRange", "depthRange", T_ENUM, 0, 0, 0, OFF(render.foo.depth_range), 0, NOFLAG, depth_range_names},
-    {"params", "normalize", "normalize", T_ENUM, 0, 0, 0, OFF(render.foo.normalize), 0, NOFLAG, normalize_names},
-    {"params", "lod", "lod", T_NUM, 0, 16, 0, OFF(render.detail.lod_pixels), 0, NOFLAG, NULL},
-    {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
-     NULL},
-    {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
-    {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
-     smoothing_weights_names},
-    {"params", "guardBand", "guardBand", T_NUM, 0, 1, 0, OFF(render.foo.guard_band), 0, NOFLAG, NULL},
-
-    {"importance", "attribute", "importance", T_STR, 0, 0, 0, OFF(render.importance.attribute), LC_NAME_LEN, NOFLAG,
-     NULL},
-    {"importance", "range", "importanceRange", T_RANGE, 0, 0, 0, OFF(render.importance.range), 0,
-     (long)OFF(render.importance.has_range), NULL},
-    {"importance", "exponent", "importanceExponent", T_NUM, 0, 1000, LO_OPEN, OFF(render.importance.exponent), 0,
-     NOFLAG, NULL},
-    {"importance", "terms", "importanceTerms", T_TERMS, 0, LC_MAX_IMPORTANCE_TERMS, 0, OFF(render.importance), 0, NOFLAG,
-     NULL},
-    {"importance", "curve", "importanceCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.importance.curve), 0,
-     NOFLAG, NULL},
-    {"importance", "invert", "importanceInvert", T_BOOL, 0, 0, 0, OFF(render.importance.invert), 0, NOFLAG, NULL},
-
-    {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
-    {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG, colormap_names},
-    {"color", "range", "colorRange", T_RANGE, 0, 0, 0, OFF(render.color.range), 0, (long)OFF(render.color.has_range),
-     NULL},
-    {"color", "curve", "colorCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.color.curve), 0, NOFLAG, NULL},
-    {"color", "equalize", "equalize", T_BOOL, 0, 0, 0, OFF(render.color.equalize), 0, NOFLAG, NULL},
-    {"color", "fixed", "colorFixed", T_RANGES, 0, LC_MAX_COLOR_FIXED, 0, OFF(render.color), 0, NOFLAG, NULL},
-    {"color", "fadeHalfLife", "colorFadeHalfLife", T_NUM, 0, 60, 0, OFF(render.color.fade_half_life), 0, NOFLAG, NULL},
-
-    {"style", "background", "background", T_COLOR, 0, 0, 0, OFF(render.style.background), 0, NOFLAG, NULL},
-    {"style", "lineWidth", "lineWidth", T_NUM, 0, LINE_WIDTH_MAX, 0, OFF(render.style.line_width), 0, NOFLAG, NULL},
-    {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
-    {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
-    {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
-    {"style", "silhouetteExponent", "silhouetteExponent", T_NUM, 1, 100, 0, OFF(render.style.silhouette_exponent), 0,
-     NOFLAG, NULL},
-    {"style", "haloWidth", "haloWidth", T_NUM, 0, 64, 0, OFF(render.style.halo_width), 0, NOFLAG, NULL},
-    {"style", "haloDepth", "haloDepth", T_NUM, 0, 1, 0, OFF(render.style.halo_depth), 0, NOFLAG, NULL},
-    {"style", "haloStrength", "haloStrength", T_NUM, 0, 1, 0, OFF(render.style.halo_strength), 0, NOFLAG, NULL},
-    {"style", "antialias", "antialias", T_INT, 1, LC_MAX_ANTIALIAS, 0, OFF(render.style.antialias), 0, NOFLAG, NULL},
-
-    {NULL, "filter", "filter", T_FILTERS, 0, LC_MAX_FILTERS, 0, OFF(render), 0, NOFLAG, NULL},
-
-    {"lines", "clusters", "clusters", T_INT, 0, 1000000, 0, OFF(render.clusters.count), 0, NOFLAG, NULL},
-    {"lines", "representative", "representative", T_ENUM, 0, 0, 0, OFF(render.clusters.representative), 0, NOFLAG,
-     representative_names},
-    {"lines", "linkage", "linkage", T_ENUM, 0, 0, 0, OFF(render.clusters.linkage), 0, NOFLAG, linkage_names},
-    {"lines", "liftImportance", "liftImportance", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_importance), 0, NOFLAG,
-     NULL},
-    {"lines", "liftColor", "liftColor", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_color), 0, NOFLAG, NULL},
-};
-#define NFIELDS (sizeof fields / sizeof fields[0])
-
-static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines"};
-#define NSECTIONS (sizeof sections / sizeof sections[0])
+/* The field table and its types: request_fields.h (included above). */
 
 static bool same(const char *a, const char *b) { return (a == NULL && b == NULL) || (a && b && strcmp(a, b) == 0); }
 
@@ -323,6 +165,9 @@ static int get_vector(const json_t *v, double *out, size_t n, const char *path, 
 }
 
 /* Validates v against f and stores it into r. */
+static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p, lc_layer_error *err);
+static json_t *emit_section(const lc_request *r, const char *section);
+
 static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim, lc_request *r, const char *path,
                      lc_proto_error *err)
 {
@@ -408,6 +253,21 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
         if (rc)
             return rc;
         memcpy(base, vec, sizeof vec);
+        break;
+    }
+    case T_LAYERS: {
+        lc_layer_error le = {0};
+        lc_request_layer *layers = calloc(LC_MAX_LAYERS, sizeof *layers); /* 32 KiB: off the stack */
+        int n = 0;
+        if (!layers)
+            return lc_proto_set_error(err, LC_PROTO_TOO_LARGE, path, "out of memory");
+        if (lc_proto_parse_layers(v, layers, &n, path, apply_layer_section, (void *)lim, &le) != 0) {
+            free(layers);
+            return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
+        }
+        memcpy(r->layers, layers, (size_t)n * sizeof *layers);
+        r->layer_count = n;
+        free(layers);
         break;
     }
     case T_TERMS:
@@ -539,6 +399,50 @@ static int apply(const json_t *obj, const lc_proto_limits *lim, lc_request *r, b
     if (!rc)
         *r = tmp;
     return rc;
+}
+
+/* A layer's importance, colour or style object (request_layers.c), field
+ * checks only, on a scratch request that holds the layer's mapping and style. */
+static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p, lc_layer_error *err)
+{
+    lc_request *scratch = malloc(sizeof *scratch);
+    if (!scratch)
+        return -1;
+    lc_request_default(scratch);
+    scratch->render.importance = p->importance;
+    scratch->render.color = p->color;
+    scratch->render.style = p->style;
+    lc_proto_error pe;
+    int rc = apply(obj, lim, scratch, false, &pe);
+    if (rc) {
+        err->code = pe.code[0] == 'o' ? LC_PROTO_OUT_OF_RANGE : pe.code[0] == 'u' ? LC_PROTO_UNKNOWN_FIELD
+                                                                                   : LC_PROTO_BAD_FIELD;
+        snprintf(err->field, sizeof err->field, "%s", pe.field);
+        size_t n = strlen(pe.field);
+        const char *reason = strncmp(pe.message, pe.field, n) == 0 && pe.message[n] == ':' ? pe.message + n + 2
+                                                                                            : pe.message;
+        snprintf(err->reason, sizeof err->reason, "%s", reason);
+    } else {
+        p->importance = scratch->render.importance;
+        p->color = scratch->render.color;
+        p->style = scratch->render.style;
+    }
+    free(scratch);
+    return rc ? -1 : 0;
+}
+
+/* A layer's importance or colour as the request's own section emits it. */
+static json_t *emit_layer_section(const lc_layer_params *p, const char *section)
+{
+    lc_request *scratch = malloc(sizeof *scratch);
+    if (!scratch)
+        return json_object();
+    lc_request_default(scratch);
+    scratch->render.importance = p->importance;
+    scratch->render.color = p->color;
+    json_t *o = emit_section(scratch, section);
+    free(scratch);
+    return o;
 }
 
 int lc_proto_apply_request(const json_t *obj, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)
@@ -723,7 +627,8 @@ static json_t *query_value(const field *f, const char *value)
     case T_TERMS:
     case T_FILTERS:
     case T_CURVE:
-    case T_RANGES: return json_loads(value, JSON_REJECT_DUPLICATES, NULL); /* the array as JSON text */
+    case T_RANGES:
+    case T_LAYERS: return json_loads(value, JSON_REJECT_DUPLICATES, NULL); /* the array as JSON text */
     }
     return NULL;
 }
@@ -804,6 +709,10 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
         if (((const lc_color_map *)base)->fixed_count > 0)
             v = lc_proto_fixed_json((const lc_color_map *)base);
         break;
+    case T_LAYERS:
+        if (r->layer_count > 0)
+            v = lc_proto_layers_json(r->layers, r->layer_count, emit_layer_section);
+        break;
     }
     if (v)
         json_object_set_new(obj, name, v);
@@ -828,7 +737,7 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
     static const char *const type_names[] = {
         [T_INT] = "int",   [T_NUM] = "num",   [T_BOOL] = "bool",   [T_STR] = "str",    [T_ENUM] = "enum",
         [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range",
-        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges"};
+        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges", [T_LAYERS] = "layers"};
     lc_proto_limits dl;
     if (!lim) {
         lc_proto_limits_default(&dl);
@@ -857,7 +766,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         }
         if (f->type == T_STR)
             json_object_set_new(o, "maxLength", json_integer((json_int_t)f->size - 1));
-        if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE || f->type == T_RANGES)
+        if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE || f->type == T_RANGES ||
+            f->type == T_LAYERS)
             json_object_set_new(o, "maxItems", json_integer((json_int_t)f->hi));
         if (f->names) {
             json_t *values = json_array();
@@ -891,6 +801,7 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     json_object_set_new(o, "style", emit_section(r, "style"));
     emit(o, r, NULL, "filter");
     json_object_set_new(o, "lines", emit_section(r, "lines"));
+    emit(o, r, NULL, "layers");
     return o;
 }
 

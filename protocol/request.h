@@ -13,6 +13,7 @@
 
 #include "lc_base.h"
 #include "lc_params.h"
+#include "request_layers.h" /* lc_request_layer */
 
 #ifdef __cplusplus
 extern "C" {
@@ -31,6 +32,11 @@ typedef struct lc_request {
     int quality;                        /* JPEG quality 1..100, default 90 */
     double dt;                          /* sessions: seconds since the previous frame */
     bool has_dt;
+    /* layers[]: 0 = the one dataset above; else these datasets in one view,
+     * each with its own mapping and style (the request's own importance and
+     * colour then apply to none of them). */
+    int layer_count;
+    lc_request_layer layers[LC_MAX_LAYERS];
 } lc_request;
 
 /* Caps on untrusted input. Zero-initialised fields are NOT defaults: always start

@@ -56,6 +56,18 @@ void lc_render_params_default(lc_render_params *p)
     p->color.fade_half_life = 0.8; /* DLS §5.3 */
 }
 
+void lc_layer_params_default(lc_layer_params *l)
+{
+    lc_render_params p;
+    lc_render_params_default(&p);
+    memset(l, 0, sizeof *l);
+    l->role = LC_LAYER_TRANSPARENT;
+    l->visible = true;
+    l->importance = p.importance;
+    l->color = p.color;
+    l->style = p.style;
+}
+
 static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit"};
 
 const char *lc_method_name(lc_method m) { return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown"; }

@@ -220,6 +220,27 @@ typedef struct lc_render_params {
     lc_line_cluster_params clusters;
 } lc_render_params;
 
+/* Layers (docs/ALGORITHM.md "Layers"): a scene of several datasets in one
+ * view. Each transparent layer adds its fragments into the frame's one
+ * optimization (one G(d), one tau(d)) with its own mapping and style; its
+ * element ids follow those of the layers before it, and smoothing stays
+ * inside a layer. The frame's lc_render_params give everything else (size,
+ * camera, FOO parameters, background, perception aids). */
+#define LC_MAX_LAYERS 8
+typedef enum {
+    LC_LAYER_TRANSPARENT = 0, /* in the optimization */
+    LC_LAYER_CONTEXT          /* opaque, shaded, depth-tested against by the transparent layers (lines, surfaces) */
+} lc_layer_role;
+typedef struct lc_layer_params {
+    lc_layer_role role;
+    bool visible; /* false: the layer draws nothing and its elements get no fragments */
+    lc_importance_map importance;
+    lc_color_map color;
+    lc_style style; /* line_width, min_line_pixels, point_size and shading are the layer's */
+} lc_layer_params;
+/* The defaults of a layer: visible, transparent, lc_render_params_default's mapping and style. */
+void lc_layer_params_default(lc_layer_params *l);
+
 /* Fills with the paper-default values (m = 5, s = 15, q = 60, r = 500, ...). */
 void lc_foo_params_default(lc_foo_params *p);
 void lc_style_default(lc_style *s);

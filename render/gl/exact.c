@@ -174,8 +174,8 @@ static void clear_heads(const exact_state *st)
     glClearTexImage(st->heads, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
 }
 
-/* Draws every primitive with list program `prog` into the heads/pool at w x h. */
-static void build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, GLuint prog, int pass, int w, int h)
+/* Draws every primitive of every layer with its list program of `pass` into the heads/pool at w x h. */
+static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int w, int h, lc_error *err)
 {
     clear_heads(st);
     glDisable(GL_BLEND);
@@ -185,12 +185,22 @@ static void build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *f
     glNamedFramebufferParameteri(st->fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, w);
     glNamedFramebufferParameteri(st->fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st->fbo);
-    lc_renderer_bind_geometry(r, prog, fs, w, h, 1);
-    if (pass == 1)
-        lc_renderer_bind_halo(prog, fs);
-    bind_lists(st, prog, pass);
-    lc_renderer_draw_geometry(fs, 1);
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        GLuint prog = build_program(st, pass, lf->gs->scene->type, err);
+        if (!prog)
+            return LC_ERR_GL;
+        lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
+        if (pass == 1)
+            lc_renderer_bind_halo(prog, lf);
+        bind_lists(st, prog, pass);
+        lc_renderer_draw_geometry(lf, 1);
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    return 0;
 }
 
 int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, uint8_t *rgba,
@@ -198,7 +208,6 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
 {
     (void)rgba; /* lc_render_frame reads r->output back */
     const lc_render_params *p = fs->params;
-    lc_prim_type prim = fs->gs->scene->type;
     exact_state *st = get_state(r);
     if (!st)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
@@ -207,17 +216,14 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
         return rc;
     if ((rc = ensure_programs(st, err)) != 0)
         return rc;
-    GLuint build0 = build_program(st, 0, prim, err);
-    GLuint build1 = build0 ? build_program(st, 1, prim, err) : 0;
-    if (!build1)
-        return LC_ERR_GL;
     ensure_heads(r, st, fs->width, fs->height);
     const GLuint zero = 0;
     glClearNamedBufferData(st->counters, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 
     /* List pass 0 (optimization resolution): depth, importance, element. */
     int lw = fs->low_width, lh = fs->low_height;
-    build_lists(r, st, fs, build0, 0, lw, lh);
+    if ((rc = build_lists(r, st, fs, 0, lw, lh, err)) != 0)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
 
     /* Exact sums and FOO Eq. 10, atomic-min per element (as P2). */
@@ -243,14 +249,15 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     /* P3 exactly as the Fourier path, so the two differ only in P1/P2 and compositing. */
     lc_mass_report(r, fs, info);
     rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
-    if (!rc)
+    if (!rc && !fs->layer_count) /* the report ranks one dataset's elements by importance */
         rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
     lc_renderer_timestamp(r, LC_PASS_SMOOTH);
     if (rc)
         return rc;
 
     /* List pass 1 (full resolution): depth, opacity, colour. The pool is reused from index 0. */
-    build_lists(r, st, fs, build1, 1, fs->width, fs->height);
+    if ((rc = build_lists(r, st, fs, 1, fs->width, fs->height, err)) != 0)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
 
     /* Sort and blend front to back into the output (accumulate and resolve in one pass). */
@@ -260,6 +267,9 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     glProgramUniform2i(st->blend, glGetUniformLocation(st->blend, "u_size"), fs->width, fs->height);
     glProgramUniform3f(st->blend, glGetUniformLocation(st->blend, "u_background"), (float)p->style.background[0],
                        (float)p->style.background[1], (float)p->style.background[2]);
+    lc_uniform_i(st->blend, "u_context", fs->context_color ? 1 : 0);
+    if (fs->context_color)
+        glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
     glDispatchCompute((GLuint)(fs->width + 7) / 8, (GLuint)(fs->height + 7) / 8, 1);
     /* lc_render_frame reads the output back through its framebuffer. */
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);

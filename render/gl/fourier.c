@@ -6,11 +6,45 @@
 #include "foo_math.h"
 #include "renderer_internal.h"
 
+/* P3's stages over one dataset's elements, from element `offset` on. */
+static void smooth_layer(GLuint prog, const lc_gpu_scene *gs, uint32_t offset, int smoothing, lc_renderer *r)
+{
+    uint32_t count = gs->scene->elements.count;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_OFFSETS, gs->adj_offsets);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ, gs->adj);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_WEIGHTS, gs->adj_weights);
+    lc_uniform_u(prog, "u_count", count);
+    lc_uniform_u(prog, "u_element_offset", offset);
+    GLuint groups = (count + 255) / 256;
+    GLuint src = r->smooth_a, dst = r->smooth_b;
+    /* Stage 0 writes the targets into dst; then ping-pong. */
+    lc_uniform_i(prog, "u_stage", 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, dst);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, src);
+    if (groups)
+        lc_dispatch_linear(groups);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    lc_uniform_i(prog, "u_stage", 1);
+    int iterations = smoothing > 0 ? smoothing : 0;
+    for (int i = 0; i < iterations && gs->scene->elements.adjacency_count > 0; i++) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, dst);
+        if (groups)
+            lc_dispatch_linear(groups);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        GLuint t = src;
+        src = dst, dst = t;
+    }
+    lc_uniform_i(prog, "u_stage", 2);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
+    if (groups)
+        lc_dispatch_linear(groups);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
 int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_frame_state *state, double dt,
                                 lc_frame_info *info, lc_error *err)
 {
-    const lc_scene *s = fs->gs->scene;
-    uint32_t count = s->elements.count;
     GLuint prog = lc_renderer_fixed_program(r, PROG_P3, err);
     if (!prog)
         return LC_ERR_GL;
@@ -30,38 +64,17 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
     glUseProgram(prog);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA, r->element_alpha);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_OFFSETS, fs->gs->adj_offsets);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ, fs->gs->adj);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_STATS, r->stats);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ADJ_WEIGHTS, fs->gs->adj_weights);
     lc_uniform_i(prog, "u_weighted", fs->params->foo.smoothing_weights == LC_SMOOTHING_DISTANCE);
-    lc_uniform_u(prog, "u_count", count);
     lc_uniform_f(prog, "u_omega", fs->params->foo.smoothing_weight);
     lc_uniform_f(prog, "u_fade", fade);
-    GLuint groups = (count + 255) / 256;
-    GLuint src = r->smooth_a, dst = r->smooth_b;
-    /* Stage 0 writes the targets into dst; then ping-pong. */
-    lc_uniform_i(prog, "u_stage", 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, dst);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, src);
-    if (groups)
-        lc_dispatch_linear(groups);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    lc_uniform_i(prog, "u_stage", 1);
-    int iterations = fs->params->foo.smoothing > 0 ? fs->params->foo.smoothing : 0;
-    for (int i = 0; i < iterations && s->elements.adjacency_count > 0; i++) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, dst);
-        if (groups)
-            lc_dispatch_linear(groups);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        GLuint t = src;
-        src = dst, dst = t;
+    /* Layers smooth one by one over their own adjacency: smoothing never
+     * crosses layers. Hidden layers too, so that their elements fade. */
+    int layers = fs->layer_count > 0 ? fs->layer_count : 1;
+    for (int l = 0; l < layers; l++) {
+        const lc_gpu_scene *gs = fs->layer_count > 0 ? fs->layers[l].gs : fs->gs;
+        smooth_layer(prog, gs, fs->layer_count > 0 ? fs->layers[l].element_offset : 0, fs->params->foo.smoothing, r);
     }
-    lc_uniform_i(prog, "u_stage", 2);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
-    if (groups)
-        lc_dispatch_linear(groups);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
     if (state) {
@@ -80,14 +93,24 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
 }
 
 /* Draws the (z, -z) GL_MIN pass of P0 into one range target. */
-static void draw_depth_range(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc_targets *t, int w, int h)
+static int draw_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_targets *t, int w, int h, lc_error *err)
 {
     lc_targets_ensure(t, w, h, 1, GL_RG32F, &r->bytes_targets);
     const float empty[4] = {1e30f, 1e30f, 0, 0};
     lc_targets_clear(t, empty);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
-    lc_renderer_bind_geometry(r, prog, fs, w, h, 1);
-    lc_renderer_draw_geometry(fs, 1);
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_RANGE, lf->gs->scene->type, 1, 1, err);
+        if (!prog)
+            return LC_ERR_GL;
+        lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
+        lc_renderer_draw_geometry(lf, 1);
+    }
+    return 0;
 }
 
 /* P0: per-pixel depth ranges, drawn at both resolutions so that each pass sees
@@ -97,21 +120,19 @@ static void draw_depth_range(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc
  * ends). Afterwards every geometry pass normalizes depth by its pixel's range. */
 int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low, lc_error *err)
 {
-    GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_RANGE, fs->gs->scene->type, 1, 1, err);
-    if (!prog)
-        return LC_ERR_GL;
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
     glBlendEquation(GL_MIN);
     fs->pixel_depth_range = 0; /* this pass itself uses nothing per pixel */
-    if (full)
-        draw_depth_range(r, fs, prog, &r->range_full, fs->width, fs->height);
-    if (low)
-        draw_depth_range(r, fs, prog, &r->range_low, fs->low_width, fs->low_height);
+    int rc = full ? draw_depth_range(r, fs, &r->range_full, fs->width, fs->height, err) : 0;
+    if (!rc && low)
+        rc = draw_depth_range(r, fs, &r->range_low, fs->low_width, fs->low_height, err);
     glBlendEquation(GL_FUNC_ADD);
+    if (rc)
+        return rc;
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    int rc = full ? lc_reduce_targets(r, &r->range_full, LC_REDUCE_MIN, 0, fs->info, err) : 0;
+    rc = full ? lc_reduce_targets(r, &r->range_full, LC_REDUCE_MIN, 0, fs->info, err) : 0;
     if (rc || (low && (rc = lc_reduce_targets(r, &r->range_low, LC_REDUCE_MIN, 0, fs->info, err)) != 0))
         return rc;
     fs->pixel_depth_range = 1;
@@ -121,15 +142,25 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low
 
 /* Draws prog additively into t (cleared) at t's size with the optimization
  * subset and its weights, then sums t over MPI ranks: P0 "moments" and P1. */
-static int draw_summed(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc_targets *t, lc_error *err)
+static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, lc_targets *t,
+                       lc_error *err)
 {
     int subset = fs->params->foo.subset;
     lc_targets_clear(t, NULL);
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
-    lc_renderer_bind_geometry(r, prog, fs, t->width, t->height, subset);
-    lc_uniform_f(prog, "u_weight", lc_renderer_subset(fs, subset));
-    lc_renderer_draw_geometry(fs, subset);
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        GLuint prog = lc_renderer_geometry_program(r, kind, lf->gs->scene->type, bands, subset, err);
+        if (!prog)
+            return LC_ERR_GL;
+        lc_renderer_bind_geometry(r, prog, lf, t->width, t->height, subset);
+        lc_uniform_f(prog, "u_weight", lc_renderer_subset(lf, subset));
+        lc_renderer_draw_geometry(lf, subset);
+    }
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     return lc_reduce_targets(r, t, LC_REDUCE_SUM, 0, fs->info, err);
 }
@@ -140,13 +171,9 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, GLuint prog, lc_targe
  * depth by it (series_depth in common.glsl). */
 int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
-    const lc_render_params *p = fs->params;
-    GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_MOMENTS, fs->gs->scene->type, 1, p->foo.subset, err);
-    if (!prog)
-        return LC_ERR_GL;
     lc_targets_ensure(&r->moments, fs->low_width, fs->low_height, 1, GL_RGBA32F, &r->bytes_targets);
     fs->depth_moments = 0; /* this pass itself normalizes by the bounds */
-    int rc = draw_summed(r, fs, prog, &r->moments, err);
+    int rc = draw_summed(r, fs, PROG_DEPTH_MOMENTS, 1, &r->moments, err);
     if (rc)
         return rc;
     fs->depth_moments = 1;
@@ -159,17 +186,12 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
                         lc_error *err)
 {
     const lc_render_params *p = fs->params;
-    lc_prim_type prim = fs->gs->scene->type;
     int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
     int lw = fs->low_width, lh = fs->low_height;
-    GLuint p1 = lc_renderer_geometry_program(r, PROG_P1, prim, bands, p->foo.subset, err);
-    GLuint p2 = p1 ? lc_renderer_geometry_program(r, PROG_P2, prim, bands, 1, err) : 0;
-    if (!p2)
-        return LC_ERR_GL;
     lc_targets_ensure(&r->coef_low, lw, lh, ntargets, GL_RGBA32F, &r->bytes_targets);
 
     /* P1 importance projection. */
-    int rc = draw_summed(r, fs, p1, &r->coef_low, err);
+    int rc = draw_summed(r, fs, PROG_P1, bands, &r->coef_low, err);
     if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
@@ -187,24 +209,33 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         r->nofb_w = lw, r->nofb_h = lh;
     }
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->nofb);
-    lc_renderer_bind_geometry(r, p2, fs, lw, lh, 1);
-    lc_bind_coefficients(&r->coef_low);
-    lc_uniform_f(p2, "u_q", p->foo.q);
-    lc_uniform_f(p2, "u_r", p->foo.r);
-    lc_uniform_f(p2, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
-    lc_uniform_f(p2, "u_norm_mass", lc_foo_norm_mass(&p->foo));
-    lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
-    lc_uniform_f(p2, "u_target_opacity", lc_foo_target_opacity(&p->foo));
-    lc_renderer_draw_geometry(fs, 1);
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        GLuint p2 = lc_renderer_geometry_program(r, PROG_P2, lf->gs->scene->type, bands, 1, err);
+        if (!p2)
+            return LC_ERR_GL;
+        lc_renderer_bind_geometry(r, p2, lf, lw, lh, 1);
+        lc_bind_coefficients(&r->coef_low);
+        lc_uniform_f(p2, "u_q", p->foo.q);
+        lc_uniform_f(p2, "u_r", p->foo.r);
+        lc_uniform_f(p2, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
+        lc_uniform_f(p2, "u_norm_mass", lc_foo_norm_mass(&p->foo));
+        lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+        lc_uniform_f(p2, "u_target_opacity", lc_foo_target_opacity(&p->foo));
+        lc_renderer_draw_geometry(lf, 1);
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    if ((rc = lc_reduce_element_minima(r, fs->gs->scene->elements.count, fs->info, err)) != 0)
+    if ((rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
 
     /* P3 smoothing and fading. */
     lc_mass_report(r, fs, info);
     rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
-    if (!rc)
+    if (!rc && !fs->layer_count) /* the report ranks one dataset's elements by importance */
         rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
     lc_renderer_timestamp(r, LC_PASS_SMOOTH);
     return rc;
@@ -214,12 +245,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err)
 {
     const lc_render_params *p = fs->params;
-    lc_prim_type prim = fs->gs->scene->type;
     int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
-    GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : PROG_P4, prim, bands, p->foo.subset, err);
-    GLuint p5 = p4 ? lc_renderer_geometry_program(r, direct ? PROG_P5_DIRECT : PROG_P5, prim, bands, 1, err) : 0;
-    if (!p5)
-        return LC_ERR_GL;
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
     /* Half floats suffice for the weighted sums: the image is their ratio. */
     lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
@@ -228,11 +254,21 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
 
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
-    lc_renderer_bind_geometry(r, p4, fs, fs->width, fs->height, p->foo.subset);
-    lc_uniform_f(p4, "u_weight", lc_renderer_subset(fs, p->foo.subset));
-    lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
-    lc_renderer_bind_halo(p4, fs);
-    lc_renderer_draw_geometry(fs, p->foo.subset);
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : PROG_P4, lf->gs->scene->type, bands,
+                                                 p->foo.subset, err);
+        if (!p4)
+            return LC_ERR_GL;
+        lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
+        lc_uniform_f(p4, "u_weight", lc_renderer_subset(lf, p->foo.subset));
+        lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
+        lc_renderer_bind_halo(p4, lf);
+        lc_renderer_draw_geometry(lf, p->foo.subset);
+    }
     int rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err);
     if (rc)
         return rc;
@@ -240,12 +276,22 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
-    lc_renderer_bind_geometry(r, p5, fs, fs->width, fs->height, 1);
-    lc_bind_coefficients(&r->coef_full);
-    lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
-    lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
-    lc_renderer_bind_halo(p5, fs);
-    lc_renderer_draw_geometry(fs, 1);
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        GLuint p5 =
+            lc_renderer_geometry_program(r, direct ? PROG_P5_DIRECT : PROG_P5, lf->gs->scene->type, bands, 1, err);
+        if (!p5)
+            return LC_ERR_GL;
+        lc_renderer_bind_geometry(r, p5, lf, fs->width, fs->height, 1);
+        lc_bind_coefficients(&r->coef_full);
+        lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+        lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
+        lc_renderer_bind_halo(p5, lf);
+        lc_renderer_draw_geometry(lf, 1);
+    }
     /* color.equalize's histogram pass needs every pixel's sum w on every process. */
     int root_only = fs->params->color.equalize ? 0 : 1;
     if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, root_only, fs->info, err)) != 0)

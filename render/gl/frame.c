@@ -68,6 +68,7 @@ void lc_renderer_destroy(lc_renderer *r)
     if (!r)
         return;
     lc_exact_destroy(r);
+    lc_context_destroy(r);
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
         for (int p = 0; p < 3; p++)
             for (int b = 0; b <= LC_MAX_BANDS; b++)
@@ -155,112 +156,6 @@ static void ensure_output(lc_renderer *r, int w, int h, int with_depth)
     r->bytes_targets += (uint64_t)w * h * 4;
 }
 
-/* The range an importance attribute maps from when the request gives none:
- * auto: min/max without the outliers, unless that collapses (e.g. a mostly
- * constant attribute); off: min/max. */
-static void default_range(const lc_render_params *p, const lc_attribute *a, double out[2])
-{
-    int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
-    out[0] = robust ? a->auto_lo : a->min;
-    out[1] = robust ? a->auto_hi : a->max;
-}
-
-/* The weighted terms (docs/ALGORITHM.md "Importance terms"); the first
- * term's attribute also stands in importance_attr, so "g = 1" stays off. */
-static int resolve_terms(lc_frame_setup *fs, lc_error *err)
-{
-    const lc_importance_map *m = &fs->params->importance;
-    const lc_scene *s = fs->gs->scene;
-    lc_importance_terms *t = &fs->terms;
-    double sum = 0, sum_abs = 0;
-    for (int i = 0; i < m->term_count && i < LC_MAX_IMPORTANCE_TERMS; i++) {
-        const lc_importance_term *in = &m->terms[i];
-        char field[48];
-        snprintf(field, sizeof field, "importance.terms[%d].attribute", i);
-        t->attr[i] = lc_scene_find_attribute(s, in->attribute);
-        if (t->attr[i] < 0)
-            return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, in->attribute);
-        if (in->has_range)
-            t->range[i][0] = in->range[0], t->range[i][1] = in->range[1];
-        else
-            default_range(fs->params, &s->attributes[t->attr[i]], t->range[i]);
-        t->weight[i] = in->weight;
-        t->invert[i] = in->invert ? 1 : 0;
-        sum += in->weight;
-        sum_abs += fabs(in->weight);
-        t->count = i + 1;
-    }
-    if (!(sum_abs > 0))
-        return lc_err_field(err, LC_ERR_INVALID, "importance.terms", "every weight is 0");
-    t->norm = 1.0 / sum_abs;
-    t->penalty = sum < 0;
-    fs->importance_attr = t->attr[0];
-    fs->importance_range[0] = t->range[0][0], fs->importance_range[1] = t->range[0][1];
-    return 0;
-}
-
-static int resolve_mapping(lc_frame_setup *fs, lc_error *err)
-{
-    const lc_render_params *p = fs->params;
-    const lc_scene *s = fs->gs->scene;
-    const char *imp = p->importance.attribute[0] ? p->importance.attribute : s->default_importance;
-    fs->importance_attr = -1;
-    fs->importance_range[0] = 0, fs->importance_range[1] = 1;
-    memset(&fs->terms, 0, sizeof fs->terms);
-    if (p->importance.term_count > 0) {
-        int rc = resolve_terms(fs, err);
-        if (rc)
-            return rc;
-    } else if (imp[0]) {
-        fs->importance_attr = lc_scene_find_attribute(s, imp);
-        if (fs->importance_attr < 0)
-            return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name,
-                                imp);
-        default_range(p, &s->attributes[fs->importance_attr], fs->importance_range);
-        if (p->importance.has_range)
-            fs->importance_range[0] = p->importance.range[0], fs->importance_range[1] = p->importance.range[1];
-        if (p->importance.invert) { /* the mapping inverts a range given max first */
-            double lo = fs->importance_range[0];
-            fs->importance_range[0] = fs->importance_range[1], fs->importance_range[1] = lo;
-        }
-    }
-    fs->importance_exponent = p->importance.exponent > 0 ? p->importance.exponent : 1.0;
-    fs->terms.curve_count = p->importance.curve.count;
-    for (int i = 0; i < p->importance.curve.count; i++)
-        fs->terms.curve[i][0] = (float)p->importance.curve.points[i][0],
-        fs->terms.curve[i][1] = (float)p->importance.curve.points[i][1];
-
-    const char *col = p->color.attribute[0] ? p->color.attribute : s->default_color;
-    if (!col[0])
-        col = "importance";
-    fs->color_attr = -1;
-    fs->color_range[0] = 0, fs->color_range[1] = 1;
-    if (strcmp(col, "rgb") == 0) {
-        if (!lc_scene_has_rgb(s))
-            return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no per-vertex RGB", s->name);
-        fs->color_mode = 2;
-    } else if (strcmp(col, "importance") == 0) {
-        fs->color_mode = 1;
-    } else {
-        fs->color_attr = lc_scene_find_attribute(s, col);
-        if (fs->color_attr < 0)
-            return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no attribute \"%s\"", s->name, col);
-        fs->color_mode = 0;
-        /* The same range as importance: auto drops the outliers, so one
-         * extreme value cannot turn the picture one colour. */
-        const lc_attribute *a = &s->attributes[fs->color_attr];
-        int robust = p->foo.normalize == LC_NORMALIZE_AUTO && a->auto_hi > a->auto_lo;
-        fs->color_range[0] = robust ? a->auto_lo : a->min;
-        fs->color_range[1] = robust ? a->auto_hi : a->max;
-    }
-    if (p->color.has_range)
-        fs->color_range[0] = p->color.range[0], fs->color_range[1] = p->color.range[1];
-    fs->colormap = lc_colormap_find(p->color.colormap[0] ? p->color.colormap : "viridis");
-    if (fs->colormap < 0)
-        return lc_err_field(err, LC_ERR_INVALID, "color.colormap", "unknown colormap \"%s\"", p->color.colormap);
-    return 0;
-}
-
 /* The request was validated where it was parsed (protocol/): this guard only
  * keeps a caller that skipped that from indexing outside the renderer's
  * arrays, and names no request field. */
@@ -272,30 +167,6 @@ static int check_trusted_params(const lc_render_params *p, lc_error *err)
         return lc_err(err, LC_ERR_INTERNAL, "render parameters were not validated (size %dx%d, %d bands, method %d)",
                       p->width, p->height, p->foo.bands, (int)p->method);
     return 0;
-}
-
-/* The coarsest level whose simplification error stays under lod_pixels
- * output pixels, measured at the nearest depth of the data's bounds, so that
- * it bounds the error of every vertex on screen. */
-static int pick_level(const lc_frame_setup *fs)
-{
-    const lc_render_params *p = fs->params;
-    const lc_gpu_scene *gs = fs->gs;
-    if (gs->level_count <= 1 || !(p->detail.lod_pixels > 0))
-        return 0;
-    double pixel = fs->view.pixel_world;
-    if (!p->camera.parallel_projection) {
-        double focal = lc_frame_focal_distance(fs);
-        if (!(focal > 0))
-            return 0;
-        pixel *= fs->view.depth_min / focal;
-    }
-    double bound = p->detail.lod_pixels * pixel;
-    int best = 0;
-    for (int i = 1; i < gs->level_count; i++)
-        if (gs->levels[i].error <= bound)
-            best = i;
-    return best;
 }
 
 /* Interactive frames may skip P1-P3 and draw with the opacities the state
@@ -483,10 +354,37 @@ static int render_tiles(lc_renderer *r, lc_frame_setup *fs, int nx, int ny, int 
     return rc;
 }
 
-int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
-                    double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *state, double dt, uint8_t *rgba,
+                         double t0, lc_error *err);
+
+/* What a layered frame (lc_render_layers) leaves out, each refused naming its field. */
+static int check_layered(const lc_renderer *r, const lc_render_params *p, int n, lc_error *err)
+{
+    if (n < 1 || n > LC_MAX_LAYERS)
+        return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", n, LC_MAX_LAYERS);
+    if (r->desc.reducer)
+        return lc_err_field(err, LC_ERR_INVALID, "layers", "layers are not rendered over MPI ranks");
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_EXACT && p->method != LC_METHOD_DIRECT)
+        return lc_err_field(err, LC_ERR_INVALID, "method", "layers render with fourier, exact or direct, not %s",
+                            lc_method_name(p->method));
+    if (p->filter_count > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "filter", "filters apply to one dataset, not to layers");
+    if (p->clusters.count > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "line clusters apply to one dataset, not to layers");
+    if (p->color.equalize)
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "not with layers");
+    if (p->foo.guard_band > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "params.guardBand", "not with layers");
+    return 0;
+}
+
+/* One frame of gs alone (layers NULL) or of the n layers over scenes. */
+static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
+                  const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba,
+                  lc_frame_info *info, lc_error *err)
 {
     double t0 = lc_now();
+    const lc_gpu_scene *gs = scenes[0];
     lc_frame_info local;
     if (!info)
         info = &local;
@@ -494,30 +392,41 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     for (int i = 0; i < LC_PASS_COUNT; i++)
         info->pass_ms[i] = -1;
     int rc = check_trusted_params(params, err);
-    if (rc)
+    if (rc || (layers && (rc = check_layered(r, params, n, err)) != 0))
         return rc;
     const lc_scene *s = gs->scene;
-    if (state && state->count != s->elements.count)
-        return lc_err(err, LC_ERR_INVALID, "frame state has %u elements, scene %s has %u", state->count, s->name,
-                      s->elements.count);
+    uint32_t elements = s->elements.count;
+    for (int i = 1; layers && i < n; i++)
+        elements += scenes[i]->scene->elements.count;
+    if (state && state->count != elements)
+        return lc_err(err, LC_ERR_INVALID, "frame state has %u elements, the %s has %u", state->count,
+                      layers ? "layers" : s->name, elements);
+    double bounds[6];
+    if (layers)
+        lc_layers_bounds(scenes, n, bounds);
+    else
+        memcpy(bounds, s->bounds, sizeof bounds);
 
     lc_render_params p = *params;
-    lc_frame_setup fs = {.params = &p, .gs = gs, .width = p.width, .height = p.height, .info = info};
+    lc_frame_setup fs = {
+        .params = &p, .gs = gs, .width = p.width, .height = p.height, .info = info, .element_total = elements};
     if ((rc = lc_reduce_check_method(r, p.method, err)) != 0)
         return rc;
     if (!p.has_camera) {
         /* The dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds. */
         p.camera.view_angle = p.camera.view_angle > 0 ? p.camera.view_angle : 30;
-        lc_camera_fit(&p.camera, s->bounds, s->has_view ? s->view_direction : NULL, s->has_view ? s->view_up : NULL);
+        lc_camera_fit(&p.camera, bounds, s->has_view ? s->view_direction : NULL, s->has_view ? s->view_up : NULL);
     }
-    rc = resolve_mapping(&fs, err);
-    if (rc == 0)
-        rc = lc_line_clusters_prepare(r, &fs, err);
-    if (rc)
-        return rc;
-    if ((rc = lc_filter_prepare(r, &fs, err)) != 0 || (rc = lc_color_equalize_check(&fs, err)) != 0)
-        return rc;
-    lc_camera_view(&p.camera, s->bounds, (double)p.width / p.height, p.height, &fs.view);
+    if (!layers) {
+        rc = lc_frame_resolve_mapping(&fs, err);
+        if (rc == 0)
+            rc = lc_line_clusters_prepare(r, &fs, err);
+        if (rc)
+            return rc;
+        if ((rc = lc_filter_prepare(r, &fs, err)) != 0 || (rc = lc_color_equalize_check(&fs, err)) != 0)
+            return rc;
+    }
+    lc_camera_view(&p.camera, bounds, (double)p.width / p.height, p.height, &fs.view);
     double diag = 0;
     for (int i = 0; i < 3; i++)
         diag += (s->bounds[i + 3] - s->bounds[i]) * (s->bounds[i + 3] - s->bounds[i]);
@@ -533,13 +442,38 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     /* One level for every pass: the optimization passes would afford a
      * coarser one at their larger pixels, but the opacities (a minimum over
      * each element's fragments) follow coverage changes closely. */
-    fs.level = pick_level(&fs);
-    fs.point_stride =
-        s->type == LC_PRIM_POINTS && p.method != LC_METHOD_EXACT && p.detail.point_stride > 1 ? p.detail.point_stride : 1;
+    fs.level = lc_frame_pick_level(&fs);
+    fs.point_stride = s->type == LC_PRIM_POINTS && p.method != LC_METHOD_EXACT && p.detail.point_stride > 1 && !layers
+                          ? p.detail.point_stride
+                          : 1;
+    lc_layer_setup *setups = NULL;
+    if (layers) {
+        setups = malloc((size_t)n * sizeof *setups);
+        if (!setups)
+            return lc_err(err, LC_ERR_NOMEM, "out of memory (layers)");
+        if ((rc = lc_frame_layers_prepare(&fs, scenes, layers, n, setups, err)) != 0) {
+            free(setups);
+            return rc;
+        }
+    }
+    rc = render_passes(r, &fs, state, dt, rgba, t0, err);
+    free(setups);
+    return rc;
+}
+
+/* The passes of a set-up frame, its timings and its report. */
+static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *state, double dt, uint8_t *rgba,
+                         double t0, lc_error *err)
+{
+    lc_frame_setup fs = *fs_in;
+    lc_render_params p = *fs.params;
+    fs.params = &p;
+    lc_frame_info *info = fs.info;
+    int rc = 0;
     lc_pass_plan plan;
     lc_pass_plan_make(&p, state && !state->fresh, &plan);
 
-    ensure_element_buffers(r, s->elements.count);
+    ensure_element_buffers(r, fs.element_total);
     int nx, ny, tiles = lc_pass_plan_tiles(&p, r->desc.tile_size, &nx, &ny);
     if (tiles && p.color.equalize) /* the histogram would have to span every tile's compositing */
         return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
@@ -549,6 +483,10 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
         ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
         return rc;
+    if (lc_frame_has_context(&fs) && (tiles || antialias_samples(&p) > 1)) /* drawn once, unjittered, untiled */
+        return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",
+                            "a context layer is drawn in one untiled, unjittered frame: %s",
+                            tiles ? "render at most 4096x4096" : "antialias 1");
     r->progress_planned = r->progress_done = 0;
     for (int i = 0; i < LC_PASS_COUNT; i++)
         if (plan.run[pass_order[i]] != LC_RUN_NONE)
@@ -556,6 +494,9 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     r->progress_t0 = t0;
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
+    /* Opaque context layers first: every later pass tests against their depth. */
+    if ((rc = lc_context_draw(r, &fs, err)) != 0)
+        return rc;
     /* P0 as the plan says (pass_plan.c says why the moments skip a reusing frame). */
     if (plan.pixel_range && (rc = lc_fourier_depth_range(r, &fs, !tiles, 1, err)) != 0)
         return rc;
@@ -606,9 +547,16 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     }
     info->width = p.width, info->height = p.height;
     info->camera = p.camera;
-    info->element_count = s->elements.count;
+    info->element_count = fs.element_total;
     info->lod_level = fs.level;
-    info->primitives_drawn = (gs->levels[fs.level].primitive_count + fs.point_stride - 1) / fs.point_stride;
+    info->primitives_drawn = 0;
+    for (int i = 0; i < lc_frame_layer_count(&fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(&fs, i, &tmp);
+        if (lf)
+            info->primitives_drawn +=
+                (lf->gs->levels[lf->level].primitive_count + lf->point_stride - 1) / lf->point_stride;
+    }
     /* The kept points replace the ones among them that the stride drew (about 1 in point_stride). */
     info->primitives_drawn += fs.kept_points - fs.kept_points / (uint64_t)fs.point_stride;
     info->kept_points = fs.kept_points;
@@ -619,6 +567,21 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     if (e != GL_NO_ERROR)
         return lc_err(err, LC_ERR_GL, "OpenGL error 0x%04x during the frame (out of GPU memory?)", e);
     return 0;
+}
+
+int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
+                    double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
+}
+
+int lc_render_layers(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
+                     const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba,
+                     lc_frame_info *info, lc_error *err)
+{
+    if (n < 1 || n > LC_MAX_LAYERS || !scenes || !layers)
+        return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", n, LC_MAX_LAYERS);
+    return render(r, scenes, layers, n, params, state, dt, rgba, info, err);
 }
 
 /* After a large frame (renderer.h): lives here, beside lc_render_frame, which

@@ -160,6 +160,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITION_CHUNKS, gs->position_chunks);
     lc_uniform_i(prog, "u_compact", gs->exact ? 0 : 1);
     lc_uniform_i(prog, "u_blend", (int)gs->blend);
+    lc_uniform_u(prog, "u_element_offset", fs->element_offset);
     int na = gs->scene->attribute_count;
     if (na > 0) {
         glProgramUniform1uiv(prog, glGetUniformLocation(prog, "u_attr_offset"), na, gs->attr_offset);
@@ -216,6 +217,12 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     /* The moments live at the optimization resolution; a full-resolution pass
      * reads the texel its pixel falls in, as its projection and evaluation both do. */
     lc_uniform_i(prog, "u_depth_moments", fs->depth_moments);
+    /* Opaque context (context.c): the depth of this pass's resolution; the
+     * context pass itself runs before the textures are set. */
+    GLuint context_depth = tile || (w == fs->width && h == fs->height) ? fs->context_depth[0] : fs->context_depth[1];
+    lc_uniform_i(prog, "u_context_depth", context_depth ? 1 : 0);
+    if (context_depth)
+        glBindTextureUnit(TEX_CONTEXT_DEPTH, context_depth);
     if (fs->depth_moments) {
         glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
         lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / w, (double)fs->low_height / h);
@@ -420,6 +427,9 @@ void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_ki
     glBindTextureUnit(TEX_RESOLVE_A, a->tex[0]);
     glBindTextureUnit(TEX_RESOLVE_B, second_tex);
     lc_uniform_v3(prog, "u_background", fs->params->style.background);
+    lc_uniform_i(prog, "u_context", fs->context_color ? 1 : 0);
+    if (fs->context_color)
+        glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
@@ -433,4 +443,19 @@ void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs)
     lc_uniform_f(prog, "u_halo_depth", st->halo_depth * (isfinite(diag) ? diag : 0.0));
     lc_uniform_f(prog, "u_halo_strength", st->halo_strength);
     lc_uniform_v3(prog, "u_halo_color", st->background);
+}
+
+size_t lc_renderer_read_targets(lc_renderer *r, int which, float *out, size_t n)
+{
+    const lc_targets *t = which == 0 ? &r->coef_low : &r->moments;
+    if (!t->fbo || t->format != GL_RGBA32F)
+        return 0;
+    size_t per = (size_t)t->width * t->height * 4, total = per * (size_t)t->count;
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    for (int i = 0; i < t->count && (size_t)i * per < n; i++) {
+        size_t take = n - (size_t)i * per < per ? n - (size_t)i * per : per;
+        if (take == per)
+            glGetTextureImage(t->tex[i], 0, GL_RGBA, GL_FLOAT, (GLsizei)(per * sizeof(float)), out + (size_t)i * per);
+    }
+    return total;
 }

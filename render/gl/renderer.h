@@ -243,6 +243,24 @@ void lc_renderer_destroy(lc_renderer *r);
 int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
                     double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
 
+/* A frame of n layers (1..LC_MAX_LAYERS; docs/ALGORITHM.md "Layers"):
+ * layers[i] draws scenes[i] with its own mapping and style, params gives the
+ * rest. The layers share the optimization (one G(d), one tau(d)); the
+ * camera fits the union of their bounds; element ids of layer i follow those
+ * of layers 0..i-1, so state holds the sum of their element counts. Methods
+ * fourier, exact and direct; not with filters, line clusters, color.equalize,
+ * a guard band or a reducer (each refused naming its field). Errors of a
+ * layer's mapping name "layers[i].importance.attribute" and so on. */
+int lc_render_layers(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
+                     const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba,
+                     lc_frame_info *info, lc_error *err);
+
+/* The last frame's summed targets, for tests: which 0 = P1's importance
+ * coefficients (optimization resolution), 1 = P0's depth moments. Copies
+ * min(n, available) floats (RGBA texels, target by target, rows bottom-up)
+ * into out; returns the floats available, 0 when the frame had none. */
+size_t lc_renderer_read_targets(lc_renderer *r, int which, float *out, size_t n);
+
 /* Sets the reduction hook after creation (same contract as the desc field). */
 void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
 

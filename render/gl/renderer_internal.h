@@ -57,6 +57,8 @@
     X(TEX_EQUALIZE_ACCUM, 3) /* color_equalize.c: P5's sums read by the colour histogram */                           \
     X(TEX_RESOLVE_A, 0)     /* full-screen resolves: accumulation */                                                   \
     X(TEX_RESOLVE_B, 1)     /* ... and optical depth (P6) or revealage (WBOIT) */                                      \
+    X(TEX_CONTEXT_DEPTH, 8) /* context.c: the opaque context's depth, tested by every transparent pass */             \
+    X(TEX_CONTEXT_COLOR, 9) /* context.c: its colour, under P6 and the exact blend */                                  \
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
     X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
     X(IMG_COEF_FIRST, 2)    /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
@@ -242,7 +244,8 @@ struct lc_renderer {
     int progress_planned, progress_done;
     double progress_t0; /* lc_now() at the frame's start */
     GLuint dummy_buffer;
-    void *exact; /* exact.c's state */
+    void *exact;   /* exact.c's state */
+    void *context; /* context.c's state */
     /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */
     float *reduce_buf;
     size_t reduce_cap;
@@ -306,7 +309,55 @@ typedef struct lc_frame_setup {
      * frame_width x frame_height frame; full-resolution passes project the
      * whole frame through a viewport offset by -tile_origin. */
     int tiled, tile_origin[2], frame_width, frame_height;
+    /* Layers (layers.c): 0 for a frame of one dataset; otherwise every
+     * geometry pass draws each visible layer with lc_frame_layer's setup. */
+    int layer_count;
+    const struct lc_layer_setup *layers;
+    uint32_t element_offset; /* this setup's first element id (u_element_offset) */
+    uint32_t element_total;  /* elements of the frame: of every layer, or of gs */
+    /* context.c: the opaque context's depth at the output [0] and the
+     * optimization [1] resolution and its colour (0: no context layer). */
+    GLuint context_depth[2], context_color;
 } lc_frame_setup;
+
+/* ---- layers.c (docs/ALGORITHM.md "Layers"): what differs per layer. */
+typedef struct lc_layer_setup {
+    const lc_gpu_scene *gs;
+    lc_render_params params; /* the frame's, with the layer's importance, colour and style */
+    int visible;
+    int importance_attr, color_mode, color_attr, colormap;
+    double importance_range[2], color_range[2], importance_exponent;
+    lc_importance_terms terms;
+    double line_half_width;
+    int level;
+    uint32_t element_offset;
+    int context; /* role "context": drawn opaque by context.c, in no transparent pass */
+} lc_layer_setup;
+/* Geometry passes loop i over 0..lc_frame_layer_count(fs)-1: lc_frame_layer
+ * returns the setup to draw layer i with (fs itself for a frame of one
+ * dataset; else a copy of fs in *tmp with the layer's scene, mapping, level
+ * and element offset), or NULL for a hidden layer. */
+int lc_frame_layer_count(const lc_frame_setup *fs);
+const lc_frame_setup *lc_frame_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp);
+/* The same for the visible context layers (NULL for the others), and whether there is one. */
+const lc_frame_setup *lc_frame_context_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp);
+int lc_frame_has_context(const lc_frame_setup *fs);
+/* ---- context.c: draws the context layers' depth at both resolutions and
+ * colour (sets fs->context_*; nothing without a context layer). */
+int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+void lc_context_destroy(lc_renderer *r);
+/* Fills out[0..n-1] from the layers' scenes and parameters over the frame's
+ * params (fs->params, fs->view set): mappings (errors name layers[i].*),
+ * levels, line widths, element offsets; sets fs->layers, fs->layer_count and
+ * fs->element_total. */
+int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
+                            lc_layer_setup *out, lc_error *err);
+/* The union of the layers' bounds (min xyz, max xyz). */
+void lc_layers_bounds(const lc_gpu_scene *const *scenes, int n, double out[6]);
+/* ---- mapping.c: the attribute mapping of fs->params over fs->gs (errors
+ * name the field), and the level of detail of fs->gs for the frame's view. */
+int lc_frame_resolve_mapping(lc_frame_setup *fs, lc_error *err);
+int lc_frame_pick_level(const lc_frame_setup *fs);
 
 /* ---- filter.c */
 /* Resolves the request's filters against the scene and builds (or reuses)

@@ -74,6 +74,11 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     free(buf);
     if (rc)
         return lc_err(err, rc, "%s: %s", path, perr.message);
+    if (req->layer_count > 0) /* the commands load one dataset */
+        return lc_err(err, LC_ERR_INVALID,
+                      "%s: layers: the command line renders one dataset; POST /api/v1/render "
+                      "draws layers",
+                      path);
     return 0;
 }
 

@@ -213,3 +213,27 @@ int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double
              *cost, budget, *field, p->width, p->height, lc_method_name(p->method), st->primitives);
     return -1;
 }
+
+int lc_cost_check_layers(const lc_scene_measures *const *st, const lc_layer_params *const *layers, int n,
+                         const lc_render_params *p, double budget, double *cost, const char **field, char *msg,
+                         size_t size)
+{
+    *cost = 0;
+    for (int i = 0; i < n; i++) {
+        if (!layers[i]->visible)
+            continue;
+        lc_render_params q = *p;
+        q.style.line_width = layers[i]->style.line_width;
+        q.style.min_line_pixels = layers[i]->style.min_line_pixels;
+        q.style.point_size = layers[i]->style.point_size;
+        *cost += lc_cost_estimate(st[i], &q);
+    }
+    if (budget <= 0 || *cost <= budget)
+        return 0;
+    *field = "layers";
+    snprintf(msg, size,
+             "estimated cost %.3g of the %d layers exceeds this server's budget of %.3g per frame (--max-cost); "
+             "draw fewer or smaller layers, or lower width (%dx%d, %s)",
+             *cost, n, budget, p->width, p->height, lc_method_name(p->method));
+    return -1;
+}

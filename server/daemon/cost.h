@@ -51,6 +51,14 @@ const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p
 int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double budget, double *cost, const char **field,
                   char *msg, size_t n);
 
+/* layers[] (docs/ALGORITHM.md "Layers"): the sum of each layer's frame on its
+ * dataset (st[i]) with the layer's style; the screen passes are counted per
+ * layer, which overestimates a frame of n layers by n - 1 of them. Over the
+ * budget, *field is "layers". */
+int lc_cost_check_layers(const lc_scene_measures *const *st, const lc_layer_params *const *layers, int n,
+                         const lc_render_params *p, double budget, double *cost, const char **field, char *msg,
+                         size_t size);
+
 #ifdef __cplusplus
 }
 #endif

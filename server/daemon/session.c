@@ -266,11 +266,38 @@ int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_reque
     return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
 }
 
+int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe)
+{
+    if (req->layer_count <= 0)
+        return 0;
+    return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers",
+                              "a session shows one dataset; POST /api/v1/render draws layers");
+}
+
+int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
+                                   lc_proto_error *pe)
+{
+    const lc_scene_measures *st[LC_MAX_LAYERS];
+    const lc_layer_params *layers[LC_MAX_LAYERS];
+    for (int i = 0; i < req->layer_count; i++)
+        st[i] = &ds[i]->cost, layers[i] = &req->layers[i].p;
+    const char *field = NULL;
+    char why[320];
+    int rc = lc_cost_check_layers(st, layers, req->layer_count, &req->render, srv->cfg.max_cost, cost, &field, why,
+                                  sizeof why);
+    if (rc == 0)
+        return 0;
+    lc_metrics_refused(srv->metrics, "cost");
+    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
+}
+
 int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto_limits *lim, lc_request *out,
                              lc_proto_error *pe)
 {
     lc_request req = s->req;
     int rc = update ? lc_proto_apply_request(update, lim, &req, pe) : 0;
+    if (rc == 0)
+        rc = lc_session_refuse_layers(&req, pe);
     if (rc == 0 && strcmp(req.dataset, s->dataset->name) != 0 &&
         lc_datasets_find(s->srv->datasets, req.dataset) != s->dataset)
         rc = lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset", "cannot change within a session (it is \"%s\")",

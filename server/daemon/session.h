@@ -174,6 +174,13 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
 /* 0 when a frame of req on ds fits --max-cost (cost.h); else too_expensive
  * naming the field to lower, counted in the metrics. *cost (if given): the
  * estimate. */
+/* layers[] are rendered by POST/GET /api/v1/render only: a session (HTTP or
+ * WebSocket) refuses them naming "layers" (LC_ERR_INVALID with pe filled). */
+int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe);
+/* The budget of a request with layers[] over their datasets (ds[i] of
+ * req->layers[i]), as lc_session_check_budget for one dataset. */
+int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
+                                   lc_proto_error *pe);
 int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost,
                             lc_proto_error *pe);
 /* Applies a JSON update (NULL = none) to s's request, latest wins: a copy of

@@ -85,6 +85,7 @@ export const REQUEST_TOP_FIELDS = Object.freeze([
   { section: null, name: 'format', alias: 'format', type: 'enum', values: ['png', 'jpeg', 'jpg'] },
   { section: null, name: 'quality', alias: 'quality', type: 'int', min: 1, max: 100 },
   { section: null, name: 'dt', alias: 'dt', type: 'num', min: 0, max: 3600 },
+  { section: null, name: 'layers', alias: 'layers', type: 'layers', maxItems: 8 },
 ]);
 
 // Stream settings of the WebSocket session (hello/params top level), not part of a render request.
@@ -152,6 +153,8 @@ export function checkField(f, v) {
     case 'terms':
     case 'filters':
       return checkList(f, v);
+    case 'layers':
+      return checkLayers(f, v);
     default:
       return bad('unknown type');
   }
@@ -230,6 +233,23 @@ function checkList(f, v) {
   return null;
 }
 
+/** layers[] (protocol/request_layers.c): the shape only; each layer's importance, colour and style keys are the
+ * server's to check against the layer's dataset. */
+function checkLayers(f, v) {
+  if (!Array.isArray(v)) return { code: 'bad_field', reason: 'expected an array of layers' };
+  if (v.length > f.maxItems) return { code: 'out_of_range', reason: `at most ${f.maxItems} layers` };
+  const keys = ['dataset', 'role', 'visible', 'importance', 'color', 'style'];
+  for (let i = 0; i < v.length; i++) {
+    const at = `[${i}]`, l = v[i];
+    if (!isObject(l)) return { code: 'bad_field', reason: 'expected an object with a dataset', at };
+    for (const k of Object.keys(l)) if (!keys.includes(k)) return { code: 'unknown_field', reason: 'unknown field', at: `${at}.${k}` };
+    if (typeof l.dataset !== 'string' || !l.dataset.length) return { code: 'missing_field', reason: 'every layer names its dataset', at: `${at}.dataset` };
+    if (l.role !== undefined && l.role !== 'transparent' && l.role !== 'context') return { code: 'bad_field', reason: 'expected "transparent" or "context"', at: `${at}.role` };
+    if (l.visible !== undefined && typeof l.visible !== 'boolean') return { code: 'bad_field', reason: 'expected true or false', at: `${at}.visible` };
+  }
+  return null;
+}
+
 /** Like checkField but only the reason text (null when valid), for the panel and the URL. */
 export function checkValue(f, v) {
   return checkField(f, v)?.reason ?? null;
@@ -237,7 +257,7 @@ export function checkValue(f, v) {
 
 /** Text of a value for a URL (vectors comma-separated, terms and filters as JSON), as GET /api/v1/render reads it. */
 export function valueToText(f, v) {
-  if (f.type === 'terms' || f.type === 'filters' || f.type === 'curve' || f.type === 'ranges') return JSON.stringify(v);
+  if (f.type === 'terms' || f.type === 'filters' || f.type === 'curve' || f.type === 'ranges' || f.type === 'layers') return JSON.stringify(v);
   if (Array.isArray(v)) return v.map((x) => String(x)).join(',');
   return String(v);
 }
@@ -268,6 +288,7 @@ export function valueFromText(f, text) {
     case 'filters':
     case 'curve':
     case 'ranges':
+    case 'layers':
       try {
         const v = JSON.parse(text);
         return Array.isArray(v) ? v : undefined;

@@ -55,7 +55,8 @@ export function queryValue(f, text) {
     case 'terms':
     case 'filters':
     case 'curve':
-    case 'ranges': // list fields travel as JSON text, as the server reads them
+    case 'ranges':
+    case 'layers': // list fields travel as JSON text, as the server reads them
       try {
         const v = JSON.parse(text);
         return Array.isArray(v) ? v : undefined;

@@ -21,6 +21,7 @@ layout(std430, binding = BIND_VERTEX_WEIGHTS) readonly buffer VertexWeights { fl
 layout(std430, binding = BIND_INDICES) readonly buffer Indices { uint indices[]; }; // line ribbon strips / 3 per triangle
 
 uniform int u_compact;           // 0 exact float buffers, 1 compact
+uniform uint u_element_offset;   // layers: the first element id of this draw's layer (0 for one dataset)
 uniform int u_blend;             // 0 full (e0,e1,e2,primary + 4 weights), 1 implicit (points), 2 pair (lines), 3 triple (surfaces)
 uniform uint u_attr_offset[MAX_ATTRIBUTES];
 uniform int u_attr_format[MAX_ATTRIBUTES];  // 0 float, 1 unorm16
@@ -182,10 +183,10 @@ vec3 vertex_rgb(uint v)
 uint vertex_primary(uint v)
 {
     if (u_blend == 1)
-        return v;
+        return u_element_offset + v;
     if (u_blend == 2)
-        return vertex_elements[2u * v] + (vertex_elements[2u * v + 1u] >> 16);
-    return vertex_elements[4u * v + (u_blend == 0 ? 3u : 0u)];
+        return u_element_offset + vertex_elements[2u * v] + (vertex_elements[2u * v + 1u] >> 16);
+    return u_element_offset + vertex_elements[4u * v + (u_blend == 0 ? 3u : 0u)];
 }
 
 vec3 colormap_lookup(float t) { return texture(u_colormap, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, 0.5)).rgb; }

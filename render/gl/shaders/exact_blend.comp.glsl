@@ -6,6 +6,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba8, binding = IMG_EXACT_OUTPUT) writeonly uniform image2D u_output;
 uniform ivec2 u_size;
 uniform vec3 u_background;
+uniform int u_context; // layers: the opaque context's colour replaces the background (p6_resolve.frag.glsl)
+layout(binding = TEX_CONTEXT_COLOR) uniform sampler2D u_context_color;
 
 void main()
 {
@@ -27,5 +29,10 @@ void main()
         if (transmittance < 1e-6)
             break;
     }
-    imageStore(u_output, p, vec4(color + u_background * transmittance, 1.0));
+    vec3 bg = u_background;
+    if (u_context != 0) {
+        vec4 k = texelFetch(u_context_color, p, 0);
+        bg = k.a > 0.0 ? k.rgb : bg;
+    }
+    imageStore(u_output, p, vec4(color + bg * transmittance, 1.0));
 }

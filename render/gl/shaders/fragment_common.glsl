@@ -41,9 +41,18 @@ float fragment_zview()
     return u < 0.0 ? v_zview : v_zview + u_halo_depth * (1.0 + u);
 }
 
-// Round splats: fragments outside the unit disc are not part of the point.
+// Opaque context layers (docs/ALGORITHM.md §24): a transparent fragment
+// behind the context's depth at this pass's resolution is dropped, as by a
+// depth test with writes off, but before any side effect of the shader.
+uniform int u_context_depth;
+layout(binding = TEX_CONTEXT_DEPTH) uniform sampler2D u_context_depth_tex;
+
+// Round splats: fragments outside the unit disc are not part of the point;
+// nothing behind the opaque context is part of the picture.
 bool outside_primitive()
 {
+    if (u_context_depth != 0 && gl_FragCoord.z > texelFetch(u_context_depth_tex, ivec2(gl_FragCoord.xy), 0).r)
+        return true;
 #if PRIM == PRIM_POINTS
     return dot(v_quad, v_quad) > 1.0;
 #else

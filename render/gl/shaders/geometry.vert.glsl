@@ -19,17 +19,18 @@ uniform float u_halo_px; // lines, compositing passes with style.haloWidth: halo
 layout(std430, binding = BIND_ELEMENT_ALPHA) readonly buffer ElementAlpha { float element_alpha[]; };
 float vertex_alpha(uint v)
 {
+    uint o = u_element_offset; // layers: this layer's first element
     if (u_blend == 1)
-        return element_alpha[v];
+        return element_alpha[o + v];
     if (u_blend == 2) { // e0 and e0 + 1; a weight of 1 never reads past the last element
-        uint e = vertex_elements[2u * v];
+        uint e = o + vertex_elements[2u * v];
         float w = float(vertex_elements[2u * v + 1u] & 0xffffu) / 65535.0;
         return w < 1.0 ? w * element_alpha[e] + (1.0 - w) * element_alpha[e + 1u] : element_alpha[e];
     }
     uvec4 e = uvec4(vertex_elements[4u * v], vertex_elements[4u * v + 1u], vertex_elements[4u * v + 2u],
-                    vertex_elements[4u * v + 3u]);
+                    vertex_elements[4u * v + 3u]) + uvec4(o);
     if (u_blend == 3) {
-        vec2 w = unpackUnorm2x16(e.w);
+        vec2 w = unpackUnorm2x16(vertex_elements[4u * v + 3u]);
         return w.x * element_alpha[e.x] + w.y * element_alpha[e.y] + max(1.0 - w.x - w.y, 0.0) * element_alpha[e.z];
     }
     vec4 w = vec4(vertex_weights[4u * v], vertex_weights[4u * v + 1u], vertex_weights[4u * v + 2u],

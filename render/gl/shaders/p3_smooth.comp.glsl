@@ -16,15 +16,17 @@ float adjacency_weight(uint i) { return float((adjacency_weight_words[i >> 1] >>
 
 uniform int u_stage; // 0 gather targets, 1 smooth step, 2 fade
 uniform uint u_count;
+uniform uint u_element_offset; // layers: one dispatch per layer, its elements from here (its adjacency is local)
 uniform float u_omega;
 uniform float u_fade; // 1 - 2^(-dt / half-life); 1 for one-shot renders
 uniform int u_weighted; // params.smoothingWeights "distance": neighbours weighted by adjacency_weight()
 
 void main()
 {
-    uint e = linear_invocation();
-    if (e >= u_count)
+    uint local = linear_invocation();
+    if (local >= u_count)
         return;
+    uint e = u_element_offset + local;
     if (u_stage == 0) {
         // Elements with no fragment this frame keep their current value as target.
         float a = uintBitsToFloat(element_alpha_min[e]);
@@ -35,13 +37,13 @@ void main()
         // converges geometrically to the one-shot result. An element without
         // fragments (e.g. a patch too small for the optimization resolution) is
         // filled with the mean of its seen neighbours instead of its stale value.
-        uint begin = adjacency_offsets[e], end = adjacency_offsets[e + 1u];
+        uint begin = adjacency_offsets[local], end = adjacency_offsets[local + 1u];
         bool seen_self = uintBitsToFloat(element_alpha_min[e]) <= 1.0;
         float v = smooth_src[e];
         float sum = 0.0;
         uint seen = 0u;
         for (uint i = begin; i < end; i++) {
-            uint n = adjacency[i];
+            uint n = u_element_offset + adjacency[i];
             if (uintBitsToFloat(element_alpha_min[n]) <= 1.0) {
                 sum += smooth_src[n];
                 seen++;
@@ -52,7 +54,7 @@ void main()
             float wsum = 0.0;
             sum = 0.0;
             for (uint i = begin; i < end; i++) {
-                uint n = adjacency[i];
+                uint n = u_element_offset + adjacency[i];
                 if (uintBitsToFloat(element_alpha_min[n]) <= 1.0) {
                     sum += adjacency_weight(i) * smooth_src[n];
                     wsum += adjacency_weight(i);

@@ -119,12 +119,15 @@ static uint64_t client_key(struct MHD_Connection *c)
  * session reference (may be NULL); refuses (400, the field named) a request
  * whose estimated cost exceeds --max-cost. */
 static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req,
-                                    const lc_dataset *ds, lc_session *session, double dt)
+                                    const lc_dataset *ds, const lc_dataset *const *layers, lc_session *session,
+                                    double dt)
 {
     lc_server *srv = ctx->srv;
     double cost = 0;
     lc_proto_error pe;
-    if (lc_session_check_budget(srv, ds, req, &cost, &pe) != 0) {
+    int refused = layers ? lc_session_check_layers_budget(srv, layers, req, &cost, &pe)
+                         : lc_session_check_budget(srv, ds, req, &cost, &pe);
+    if (refused != 0) {
         if (session) {
             pthread_mutex_lock(&session->lock);
             session->http_busy = false;
@@ -141,6 +144,8 @@ static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, 
     }
     job->req = *req;
     job->dataset = ds;
+    for (int i = 0; layers && i < req->layer_count; i++)
+        job->layers[i] = layers[i];
     job->session = session;
     job->dt = dt;
     job->cost = cost;
@@ -216,6 +221,27 @@ static enum MHD_Result query_arg(void *cls, enum MHD_ValueKind kind, const char 
     return q->rc == 0 ? MHD_YES : MHD_NO;
 }
 
+/* layers[] (docs/ALGORITHM.md "Layers"): each layer's dataset must be loaded
+ * (404 naming layers[i].dataset); not under --mpi, whose ranks render one
+ * dataset's shards. */
+static enum MHD_Result start_layers(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req)
+{
+    lc_server *srv = ctx->srv;
+    if (srv->mpi)
+        return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "layers", "layers: not under serve --mpi");
+    const lc_dataset *layers[LC_MAX_LAYERS];
+    for (int i = 0; i < req->layer_count; i++) {
+        layers[i] = lc_datasets_find(srv->datasets, req->layers[i].dataset);
+        if (!layers[i]) {
+            char field[48];
+            snprintf(field, sizeof field, "layers[%d].dataset", i);
+            return lc_http_error(srv, c, 404, "not_found", field, "%s: unknown dataset \"%.300s\"", field,
+                                 req->layers[i].dataset);
+        }
+    }
+    return start_render(ctx, c, req, layers[0], layers, NULL, 0.0);
+}
+
 enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c, const char *method)
 {
     lc_server *srv = ctx->srv;
@@ -233,10 +259,12 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
         if (lc_proto_validate_request(&req, &srv->cfg.limits, &pe) != 0)
             return lc_http_proto_error(srv, c, &pe);
     }
+    if (req.layer_count > 0)
+        return start_layers(ctx, c, &req);
     const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
     if (!ds)
         return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
-    return start_render(ctx, c, &req, ds, NULL, 0.0);
+    return start_render(ctx, c, &req, ds, NULL, NULL, 0.0);
 }
 
 enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c)
@@ -250,6 +278,8 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
     } else {
         lc_request_default(&req);
     }
+    if (lc_session_refuse_layers(&req, &pe) != 0)
+        return lc_http_proto_error(srv, c, &pe);
     const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
     if (!ds)
         return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
@@ -317,7 +347,7 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
     s->http_busy = true;
     s->last_frame_time = lc_now();
     pthread_mutex_unlock(&s->lock);
-    return start_render(ctx, c, &req, s->dataset, s, dt);
+    return start_render(ctx, c, &req, s->dataset, NULL, s, dt);
 }
 
 enum MHD_Result lc_http_route_session(lc_http_req *ctx, struct MHD_Connection *c, const char *method, const char *rest)

@@ -417,6 +417,12 @@ static void create(lc_movies *m, const char *body, size_t len, lc_movie_reply *o
         return;
     }
     lc_request *req = &j->spec.request;
+    if (req->layer_count > 0) {
+        reply_error(m, out, 400, LC_PROTO_BAD_FIELD, "request.layers",
+                    "request.layers: a movie shows one dataset; POST /api/v1/render draws layers");
+        free(j);
+        return;
+    }
     j->ds = lc_datasets_find(srv->datasets, req->dataset);
     if (!j->ds) {
         reply_error(m, out, 404, "not_found", "request.dataset", "request.dataset: unknown dataset \"%.300s\"",

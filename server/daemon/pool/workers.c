@@ -227,6 +227,9 @@ static void learn_rate(lc_workers *w, double cost, double wall_ms)
 /* Every frame of a render worker: the frame hook (serve --mpi announces the
  * frame to the other ranks), then the renderer. */
 static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, const lc_render_params *p,
+                        lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+
+static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, const lc_render_params *p,
                         lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
     const lc_frame_hook *h = &w->srv->frame_hook;
@@ -280,8 +283,17 @@ static void render_job(worker *wk, lc_render_job *job)
     const lc_dataset *dataset = job->dataset;
     double dt = job->dt;
     lc_session *session = job->session;
-    uint8_t *rgba = malloc((size_t)p->width * (size_t)p->height * 4);
+    /* layers[] (HTTP renders only; the routes refuse them in sessions and under --mpi), copied like the rest */
+    int layer_count = session ? 0 : job->req.layer_count;
+    const lc_gpu_scene *scenes[LC_MAX_LAYERS];
+    lc_layer_params *layers = layer_count ? malloc((size_t)layer_count * sizeof *layers) : NULL;
+    for (int i = 0; i < layer_count && layers; i++) {
+        scenes[i] = job->layers[i]->gpu;
+        layers[i] = job->req.layers[i].p;
+    }
+    uint8_t *rgba = layer_count && !layers ? NULL : malloc((size_t)p->width * (size_t)p->height * 4);
     if (!rgba) {
+        free(layers);
         job->rc = lc_err(&job->err, LC_ERR_NOMEM, "out of memory for a %dx%d image", p->width, p->height);
         finish_job(job);
         return;
@@ -290,8 +302,10 @@ static void render_job(worker *wk, lc_render_job *job)
         lc_session_ref(session);
     lc_frame_info info;
     in_hand(wk, job, NULL);
-    int rc = render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
-                                    &info, &err);
+    int rc = layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
+                         : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
+                                        &info, &err);
+    free(layers);
     if (!w->srv->mpi) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
     int mine = out_of_hand(wk);

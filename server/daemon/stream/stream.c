@@ -60,6 +60,10 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
         answer_proto_error(srv, out, &pe);
         return;
     }
+    if (lc_session_refuse_layers(&req, &pe) != 0) {
+        answer_proto_error(srv, out, &pe);
+        return;
+    }
     /* The full-size frame of the viewport: its cost decides, and it is the
      * session's request size from here on. */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &req.render.width,

@@ -1,4 +1,4 @@
-/* Opaque context layers (docs/ALGORITHM.md §21): a plane with the tornado
+/* Opaque context layers (docs/ALGORITHM.md §24): a plane with the tornado
  * lines. Where the plane lies in front of every line, the picture is exactly
  * the plane's shaded colour (Fourier and exact alike) and no line fragment
  * behind it reaches the importance sums; with the plane through the middle of

@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "request_fields.h" /* after request.h: the table is of lc_request */
+
 void lc_proto_limits_default(lc_proto_limits *l)
 {
     l->min_size = 16;
@@ -26,6 +28,8 @@ void lc_request_default(lc_request *r)
 {
     memset(r, 0, sizeof *r);
     lc_render_params_default(&r->render);
+    /* The loop is the requests' default; renderer callers (tests) opt in. */
+    r->render.foo.clarity = LC_DEFAULT_CLARITY;
     r->format = LC_FORMAT_PNG;
     r->quality = LC_PROTO_DEFAULT_QUALITY;
 }
@@ -66,165 +70,7 @@ int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field,
     return status;
 }
 
-/* ---- the schema */
-
-typedef enum {
-    T_INT,   /* int */
-    T_NUM,   /* double */
-    T_BOOL,  /* bool */
-    T_STR,   /* char[size], any text shorter than size */
-    T_ENUM,  /* int-sized enum, from a name table */
-    T_NAME,  /* char[size], one of a name table (colormap) */
-    T_VEC3,  /* double[3], finite */
-    T_COLOR, /* double[3] in [0,1] */
-    T_RANGE, /* double[2], finite; sets a bool */
-    T_TERMS,   /* lc_importance_map's terms, an array of objects (request_lists.c) */
-    T_FILTERS, /* lc_render_params' filters, an array of objects (request_lists.c) */
-    T_CURVE,   /* lc_curve, an array of [x, y] points (request_lists.c) */
-    T_RANGES,  /* lc_color_map's fixed ranges, an array of [lo, hi] (request_lists.c) */
-} ftype;
-
-enum {
-    LO_OPEN = 1,    /* lo excluded */
-    HI_OPEN = 2,    /* hi excluded */
-    SIZE_LIMIT = 4, /* lo/hi come from the limits */
-    CHECK_ONLY = 8  /* validated, not stored (version) */
-};
-
-typedef struct enum_name {
-    const char *name;
-    int value;
-} enum_name;
-
-typedef struct field {
-    const char *section; /* NULL = top level */
-    const char *name;    /* JSON key */
-    const char *alias;   /* flat query-parameter name, NULL = dotted path only */
-    ftype type;
-    double lo, hi;
-    int bounds;
-    size_t offset; /* into lc_request */
-    size_t size;   /* T_STR/T_NAME buffer size */
-    long flag;     /* offset of a bool set when the field is given, -1 = none */
-    const enum_name *names;
-} field;
-
-static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
-                                         {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
-                                         {"wboit", LC_METHOD_WBOIT},     {NULL, 0}};
-static const enum_name format_names[] = {
-    {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
-static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
-static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoint", LC_ESTIMATOR_MIDPOINT}, {NULL, 0}};
-static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
-                                              {"global", LC_DEPTH_RANGE_GLOBAL},
-                                              {"pixel", LC_DEPTH_RANGE_PIXEL},
-                                              {"moments", LC_DEPTH_RANGE_MOMENTS},
-                                              {NULL, 0}};
-static const enum_name smoothing_weights_names[] = {
-    {"uniform", LC_SMOOTHING_UNIFORM}, {"distance", LC_SMOOTHING_DISTANCE}, {NULL, 0}};
-static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
-static const enum_name representative_names[] = {{"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
-static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
-#define COLORMAP_ENUM_NAME(n) {#n, 0},
-static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
-#undef COLORMAP_ENUM_NAME
-
-#define OFF(member) offsetof(lc_request, member)
-#define NOFLAG (-1L)
-#define BIG 1e300 /* "any finite number"; reals from jansson are finite anyway */
-/* A ribbon wider than 1e9 world units covers any data that float positions
- * resolve at that scale; beyond, the width overflows the cost model and the
- * shaders' float half-width. */
-#define LINE_WIDTH_MAX 1e9
-/* Caps beyond the useful ranges (q, r, λ, exponents, dt) keep values in float
- * range for the shaders; the documented ranges in README.md match. */
-static const field fields[] = {
-    {NULL, "version", "version", T_INT, 1, 1, CHECK_ONLY, 0, 0, NOFLAG, NULL},
-    {NULL, "dataset", "dataset", T_STR, 0, 0, 0, OFF(dataset), LC_PROTO_DATASET_LEN, NOFLAG, NULL},
-    {NULL, "width", "width", T_INT, 0, 0, SIZE_LIMIT, OFF(render.width), 0, NOFLAG, NULL},
-    {NULL, "height", "height", T_INT, 0, 0, SIZE_LIMIT, OFF(render.height), 0, NOFLAG, NULL},
-    {NULL, "method", "method", T_ENUM, 0, 0, 0, OFF(render.method), 0, NOFLAG, method_names},
-    {NULL, "format", "format", T_ENUM, 0, 0, 0, OFF(format), 0, NOFLAG, format_names},
-    {NULL, "quality", "quality", T_INT, 1, 100, 0, OFF(quality), 0, NOFLAG, NULL},
-    {NULL, "dt", "dt", T_NUM, 0, 3600, 0, OFF(dt), 0, (long)OFF(has_dt), NULL},
-
-    {"camera", "position", "position", T_VEC3, 0, 0, 0, OFF(render.camera.position), 0, NOFLAG, NULL},
-    {"camera", "focalPoint", "focalPoint", T_VEC3, 0, 0, 0, OFF(render.camera.focal_point), 0, NOFLAG, NULL},
-    {"camera", "viewUp", "viewUp", T_VEC3, 0, 0, 0, OFF(render.camera.view_up), 0, NOFLAG, NULL},
-    {"camera", "viewAngle", "viewAngle", T_NUM, 0, 180, LO_OPEN | HI_OPEN, OFF(render.camera.view_angle), 0, NOFLAG,
-     NULL},
-    {"camera", "parallelProjection", "parallelProjection", T_BOOL, 0, 0, 0, OFF(render.camera.parallel_projection), 0,
-     NOFLAG, NULL},
-    {"camera", "parallelScale", "parallelScale", T_NUM, 0, BIG, LO_OPEN, OFF(render.camera.parallel_scale), 0, NOFLAG,
-     NULL},
-
-    {"params", "q", "q", T_NUM, 0, 1e6, 0, OFF(render.foo.q), 0, NOFLAG, NULL},
-    {"params", "r", "r", T_NUM, 0, 1e6, 0, OFF(render.foo.r), 0, NOFLAG, NULL},
-    {"params", "lambda", "lambda", T_NUM, 0, 1000, 0, OFF(render.foo.lambda), 0, NOFLAG, NULL},
-    {"params", "bands", "bands", T_INT, LC_MIN_BANDS, LC_MAX_BANDS, 0, OFF(render.foo.bands), 0, NOFLAG, NULL},
-    {"params", "smoothing", "smoothing", T_INT, 0, 1000, 0, OFF(render.foo.smoothing), 0, NOFLAG, NULL},
-    {"params", "smoothingWeight", "smoothingWeight", T_NUM, 0, 1, 0, OFF(render.foo.smoothing_weight), 0, NOFLAG, NULL},
-    {"params", "fadeHalfLife", "fadeHalfLife", T_NUM, 0, 60, 0, OFF(render.foo.fade_half_life), 0, NOFLAG, NULL},
-    {"params", "resolutionScale", "resolutionScale", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.resolution_scale), 0, NOFLAG,
-     NULL},
-    {"params", "subset", "subset", T_INT, 1, 1024, 0, OFF(render.foo.subset), 0, NOFLAG, NULL},
-    {"params", "depthMargin", "depthMargin", T_NUM, 0, 0.25, 0, OFF(render.foo.depth_margin), 0, NOFLAG, NULL},
-    {"params", "estimator", "estimator", T_ENUM, 0, 0, 0, OFF(render.foo.estimator), 0, NOFLAG, estimator_names},
-    {"params", "depthRange", "depthRange", T_ENUM, 0, 0, 0, OFF(render.foo.depth_range), 0, NOFLAG, depth_range_names},
-    {"params", "normalize", "normalize", T_ENUM, 0, 0, 0, OFF(render.foo.normalize), 0, NOFLAG, normalize_names},
-    {"params", "lod", "lod", T_NUM, 0, 16, 0, OFF(render.detail.lod_pixels), 0, NOFLAG, NULL},
-    {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
-     NULL},
-    {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
-    {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
-     smoothing_weights_names},
-    {"params", "guardBand", "guardBand", T_NUM, 0, 1, 0, OFF(render.foo.guard_band), 0, NOFLAG, NULL},
-
-    {"importance", "attribute", "importance", T_STR, 0, 0, 0, OFF(render.importance.attribute), LC_NAME_LEN, NOFLAG,
-     NULL},
-    {"importance", "range", "importanceRange", T_RANGE, 0, 0, 0, OFF(render.importance.range), 0,
-     (long)OFF(render.importance.has_range), NULL},
-    {"importance", "exponent", "importanceExponent", T_NUM, 0, 1000, LO_OPEN, OFF(render.importance.exponent), 0,
-     NOFLAG, NULL},
-    {"importance", "terms", "importanceTerms", T_TERMS, 0, LC_MAX_IMPORTANCE_TERMS, 0, OFF(render.importance), 0, NOFLAG,
-     NULL},
-    {"importance", "curve", "importanceCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.importance.curve), 0,
-     NOFLAG, NULL},
-    {"importance", "invert", "importanceInvert", T_BOOL, 0, 0, 0, OFF(render.importance.invert), 0, NOFLAG, NULL},
-
-    {"color", "attribute", "color", T_STR, 0, 0, 0, OFF(render.color.attribute), LC_NAME_LEN, NOFLAG, NULL},
-    {"color", "colormap", "colormap", T_NAME, 0, 0, 0, OFF(render.color.colormap), LC_NAME_LEN, NOFLAG, colormap_names},
-    {"color", "range", "colorRange", T_RANGE, 0, 0, 0, OFF(render.color.range), 0, (long)OFF(render.color.has_range),
-     NULL},
-    {"color", "curve", "colorCurve", T_CURVE, 0, LC_MAX_CURVE_POINTS, 0, OFF(render.color.curve), 0, NOFLAG, NULL},
-    {"color", "equalize", "equalize", T_BOOL, 0, 0, 0, OFF(render.color.equalize), 0, NOFLAG, NULL},
-    {"color", "fixed", "colorFixed", T_RANGES, 0, LC_MAX_COLOR_FIXED, 0, OFF(render.color), 0, NOFLAG, NULL},
-    {"color", "fadeHalfLife", "colorFadeHalfLife", T_NUM, 0, 60, 0, OFF(render.color.fade_half_life), 0, NOFLAG, NULL},
-
-    {"style", "background", "background", T_COLOR, 0, 0, 0, OFF(render.style.background), 0, NOFLAG, NULL},
-    {"style", "lineWidth", "lineWidth", T_NUM, 0, LINE_WIDTH_MAX, 0, OFF(render.style.line_width), 0, NOFLAG, NULL},
-    {"style", "minLinePixels", "minLinePixels", T_NUM, 0, 64, 0, OFF(render.style.min_line_pixels), 0, NOFLAG, NULL},
-    {"style", "pointSize", "pointSize", T_NUM, 0, 256, LO_OPEN, OFF(render.style.point_size), 0, NOFLAG, NULL},
-    {"style", "shading", "shading", T_ENUM, 0, 0, 0, OFF(render.style.shading), 0, NOFLAG, shading_names},
-    {"style", "silhouetteExponent", "silhouetteExponent", T_NUM, 1, 100, 0, OFF(render.style.silhouette_exponent), 0,
-     NOFLAG, NULL},
-    {"style", "haloWidth", "haloWidth", T_NUM, 0, 64, 0, OFF(render.style.halo_width), 0, NOFLAG, NULL},
-    {"style", "haloDepth", "haloDepth", T_NUM, 0, 1, 0, OFF(render.style.halo_depth), 0, NOFLAG, NULL},
-    {"style", "haloStrength", "haloStrength", T_NUM, 0, 1, 0, OFF(render.style.halo_strength), 0, NOFLAG, NULL},
-    {"style", "antialias", "antialias", T_INT, 1, LC_MAX_ANTIALIAS, 0, OFF(render.style.antialias), 0, NOFLAG, NULL},
-
-    {NULL, "filter", "filter", T_FILTERS, 0, LC_MAX_FILTERS, 0, OFF(render), 0, NOFLAG, NULL},
-
-    {"lines", "clusters", "clusters", T_INT, 0, 1000000, 0, OFF(render.clusters.count), 0, NOFLAG, NULL},
-    {"lines", "representative", "representative", T_ENUM, 0, 0, 0, OFF(render.clusters.representative), 0, NOFLAG,
-     representative_names},
-    {"lines", "linkage", "linkage", T_ENUM, 0, 0, 0, OFF(render.clusters.linkage), 0, NOFLAG, linkage_names},
-    {"lines", "liftImportance", "liftImportance", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_importance), 0, NOFLAG,
-     NULL},
-    {"lines", "liftColor", "liftColor", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_color), 0, NOFLAG, NULL},
-};
-#define NFIELDS (sizeof fields / sizeof fields[0])
+/* ---- the schema: the field table is request_fields.h */
 
 static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines"};
 #define NSECTIONS (sizeof sections / sizeof sections[0])
@@ -816,7 +662,7 @@ static json_t *emit_section(const lc_request *r, const char *section)
         const field *f = &fields[i];
         if (!same(f->section, section))
             continue;
-        if (f->flag >= 0 && !*(const bool *)((const char *)r + f->flag))
+        if (f->flag >= 0 && !(f->bounds & ALWAYS_EMIT) && !*(const bool *)((const char *)r + f->flag))
             continue; /* optional value not set: the renderer's default applies */
         emit(obj, r, section, f->name);
     }

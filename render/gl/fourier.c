@@ -174,7 +174,10 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
 
-    /* P2 optimal opacity into the element minimum buffer. */
+    /* P2 optimal opacity into the element minimum buffer. The element
+     * importance (a dispatch of its own, once per mapping) comes first. */
+    if ((rc = lc_element_emphasis_bind(r, fs, p2, err)) != 0)
+        return rc;
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" */
     glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
     lc_occluders_clear(r);

@@ -76,6 +76,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene
                                       "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
                                       info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements,
                                       "occluderAlpha", info->occluder_alpha));
+        if (info->clarity_lambda > 0) /* params.clarity: the factors the loop settled on */
+            json_object_set_new(
+                o, "clarity",
+                json_pack("{s:f, s:f}", "lambdaFactor", info->clarity_lambda, "penaltyFactor", info->clarity_penalty));
     }
     if (info->reductions)
         json_object_set_new(o, "mpi",

@@ -27,9 +27,9 @@ export const GROUPS = [
   {
     id: 'optimization', legend: 'Optimization', controls: [
       { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS), help: 'How transparency is computed. Fourier: the fast optimization (default). Exact: the slow reference. Opaque: no transparency. Direct: opacity from importance alone. WBOIT: another way to blend the optimized opacities.' },
-      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1, help: 'How strongly a part is cleared when more important parts lie behind it. Higher: you see through to what matters.' },
-      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1, help: 'How strongly a part is cleared when more important parts lie in front of it. Higher: less background clutter.' },
-      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1, help: 'How much important parts are protected from fading. Higher: important parts stay solid.' },
+      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1, help: 'How strongly a part fades where importance lies behind it. Higher: what hides important parts fades more, but on dense data the important parts fade too (they hide each other). By default Clarity sets the strength for you; setting q, r or λ here turns Clarity off and uses these values.' },
+      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1, help: 'How strongly a part fades where importance lies in front of it. Higher: less clutter behind what matters. Setting it turns Clarity off (see Clarity).' },
+      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1, help: 'How much important parts are protected from fading: their penalty is scaled by (1 − importance)^(2λ). Higher: the important parts stay solid while the rest fades. Clarity raises it for you on dense data; setting it turns Clarity off.' },
       { path: 'params.bands', label: 'Bands m', kind: 'range', min: 1, max: 8, step: 1, help: 'Accuracy of the depth approximation, 1 to 8. More bands: closer to the exact result, but slower.' },
       { path: 'params.smoothing', label: 'Smoothing iterations', kind: 'range', min: 0, max: 100, step: 1, help: 'How often opacities are averaged with their neighbours along a line or surface, so that neighbours fade together. 0: no smoothing.' },
       { path: 'params.smoothingWeight', label: 'Smoothing weight ω', kind: 'range', min: 0, max: 1, step: 0.01, help: 'How far each averaging step pulls a part toward its neighbours (0 to 1).' },
@@ -44,6 +44,7 @@ export const GROUPS = [
       { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Direct method only: opacity = importance to the power k.' },
       { path: 'params.targetOpacity', label: 'Target opacity t', kind: 'range', min: 0.05, max: 1, step: 0.05, help: 'Upper bound of every opacity: even parts that hide nothing let this much of what lies behind through (0.9 in the surface paper). 1: the paper\'s method.' },
       { path: 'params.smoothingWeights', label: 'Smoothing neighbours', kind: 'select', options: [['uniform', 'Equal (FOO)'], ['distance', 'By distance (surface paper)']], help: 'How the smoothing averages a part with its neighbours: all equally, or nearer neighbours more (by the distance of their centres).' },
+      { path: 'params.clarity', label: 'Clarity', kind: 'range', min: 0, max: 1, step: 0.05, help: 'How opaque the most important tenth of what you see should be (0.5: at least half). The server strengthens the optimization (λ, and q and r together) frame by frame until the important parts reach it and the unimportant parts in front of them have faded to at most half of it; the line below shows what the last frame measured. Setting q, r or λ yourself, or density normalization off, turns it off. 0: off.' },
       { path: 'params.guardBand', label: 'Guard band', kind: 'range', min: 0, max: 0.5, step: 0.05, help: 'The optimization also looks this far (fraction of the view) beyond each edge, so parts entering the view while you turn it already have their transparency instead of popping in opaque. 0: off.' },
     ],
   },
@@ -351,6 +352,19 @@ export class Panel {
   setVisible(path, visible) {
     const ctl = this.controls.get(path);
     if (ctl) ctl.row.hidden = !visible;
+  }
+
+  /** A line of feedback under a control (the clarity's measured visibility); '' hides it. */
+  setFeedback(path, text) {
+    const ctl = this.controls.get(path);
+    if (!ctl) return;
+    if (!ctl.feedback) {
+      ctl.feedback = document.createElement('div');
+      ctl.feedback.className = 'feedback';
+      ctl.row.append(ctl.feedback);
+    }
+    ctl.feedback.textContent = text;
+    ctl.feedback.hidden = !text;
   }
 
   /** Marks a control invalid with the server's reason (error message with field). */

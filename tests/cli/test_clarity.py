@@ -6,7 +6,8 @@ two-sided features) must have topDecileAlpha >= 0.5, no inversion (topDecileAlph
 bottomHalfAlpha - 0.05) and occluderAlpha <= 0.5 x topDecileAlpha. Without the loop
 (--clarity 0) the mesh must miss it (so the loop is what meets it); an explicit
 lambda turns the loop off (the same image as --clarity 0); a session's later frames
-(--frames 3) keep the goal.
+(--frames 3) keep the goal. A star table's magnitude is the default importance inverted
+(smaller matters); flipped back it misses the goal.
 Usage: test_clarity.py LUCENT"""
 import json
 import math
@@ -73,6 +74,22 @@ def mesh(path, nu=96, nv=48, seed=2):
         for t in faces: f.write("3 %d %d %d\n" % t)
 
 
+def stars(path, n=10000, seed=3):
+    """A star catalogue like the Hipparcos one: positions within 1,000 pc and a
+    visual magnitude (larger = fainter), most stars faint; the default
+    importance (magnitude) must come inverted: the bright stars matter."""
+    rnd = random.Random(seed)
+    with open(path, "w") as f:
+        f.write("x,y,z,magnitude,bv\n")
+        for _ in range(n):
+            d = 1000 * rnd.random() ** (1 / 3)
+            u, ph = rnd.uniform(-1, 1), rnd.uniform(0, 2 * math.pi)
+            s = math.sqrt(1 - u * u)
+            mag = min(9.0, max(-1.5, 9.0 - rnd.expovariate(0.8)))
+            f.write("%.2f,%.2f,%.2f,%.2f,%.2f\n" % (d * s * math.cos(ph), d * s * math.sin(ph), d * u, mag,
+                                                    rnd.gauss(0.6, 0.4)))
+
+
 def render(spec, *flags, out="frame.png"):
     stats = os.path.join(tmp, "stats.json")
     if os.path.exists(stats):
@@ -103,7 +120,8 @@ def show(name, s):
 
 dump(os.path.join(tmp, "crystal.dump"))
 mesh(os.path.join(tmp, "fins.ply"))
-samples = [os.path.join(tmp, "crystal.dump"), os.path.join(tmp, "fins.ply")]
+stars(os.path.join(tmp, "stars.csv"))
+samples = [os.path.join(tmp, "crystal.dump"), os.path.join(tmp, "fins.ply"), os.path.join(tmp, "stars.csv")]
 for spec in ["demo:tornado", "demo:abc", "demo:points", "demo:surface"] + samples:
     v = show(os.path.basename(spec), render(spec))
     if not goal(v):
@@ -119,6 +137,15 @@ if "clarity" in s:
 with open(os.path.join(tmp, "c0.png"), "rb") as a, open(os.path.join(tmp, "lambda1.png"), "rb") as b:
     if a.read() != b.read():
         failures.append("--lambda 1 and --clarity 0 should give the same image")
+# The magnitude's direction: reported, and what meets the goal (flipped back, the faint stars count).
+info = subprocess.run([lucent, "info", samples[2]], capture_output=True, text=True).stdout
+if "smaller matters" not in info:
+    failures.append("lucent info does not say the magnitude is inverted:\n" + info)
+with open(os.path.join(tmp, "invert.json"), "w") as f:
+    json.dump({"importance": {"invert": True}}, f)
+v = show("stars.csv, invert flipped", render(samples[2], "--request", os.path.join(tmp, "invert.json")))
+if goal(v):
+    failures.append("stars with the larger magnitudes important should miss the goal (the test would prove nothing)")
 v = show("crystal.dump --frames 3", render(samples[0], "--frames", "3"))
 if not goal(v):
     failures.append("the third frame of a session misses the goal: %r" % v)

@@ -52,7 +52,7 @@ export const GROUPS = [
     id: 'importance', legend: 'Importance', controls: [
       { path: 'importance.attribute', label: 'Attribute', kind: 'select', dynamic: 'attributes', help: 'The data value that says what matters. Important parts stay visible; unimportant parts fade where they hide important ones.' },
       { path: 'importance.range', label: 'Range', kind: 'range2', dynamic: 'importanceRange', help: 'Values at or below the minimum get importance 0, at or above the maximum 1. Minimum above maximum inverts.' },
-      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads. On dense data a high exponent leaves few parts important enough to stay visible; Clarity then strengthens the emphasis, but only up to its limit.' },
+      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads. On dense data a high exponent can leave almost nothing visible (3 on a dense trajectory file: the most important tenth about 1% opaque), and Clarity cannot make up for it: keep it near 1 there.' },
       { path: 'importance.invert', label: 'Invert', kind: 'check', help: 'Flips which end of the range matters. Attributes named as a magnitude, rank or p-value (smaller matters: a star\'s magnitude is larger when fainter) already map inverted; checking this makes their larger values important instead. The range stays as it is.' },
     ],
   },

@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "request_fields.h" /* after request.h: the table is of lc_request */
+
 void lc_proto_limits_default(lc_proto_limits *l)
 {
     l->min_size = 16;
@@ -28,6 +30,8 @@ void lc_request_default(lc_request *r)
 {
     memset(r, 0, sizeof *r);
     lc_render_params_default(&r->render);
+    /* The loop is the requests' default; renderer callers (tests) opt in. */
+    r->render.foo.clarity = LC_DEFAULT_CLARITY;
     r->format = LC_FORMAT_PNG;
     r->quality = LC_PROTO_DEFAULT_QUALITY;
 }
@@ -725,7 +729,7 @@ static json_t *emit_section(const lc_request *r, const char *section)
         const field *f = &fields[i];
         if (!same(f->section, section))
             continue;
-        if (f->flag >= 0 && !*(const bool *)((const char *)r + f->flag))
+        if (f->flag >= 0 && !(f->bounds & ALWAYS_EMIT) && !*(const bool *)((const char *)r + f->flag))
             continue; /* optional value not set: the renderer's default applies */
         emit(obj, r, section, f->name);
     }

@@ -26,7 +26,8 @@ enum {
     LO_OPEN = 1,    /* lo excluded */
     HI_OPEN = 2,    /* hi excluded */
     SIZE_LIMIT = 4, /* lo/hi come from the limits */
-    CHECK_ONLY = 8  /* validated, not stored (version) */
+    CHECK_ONLY = 8, /* validated, not stored (version) */
+    ALWAYS_EMIT = 16 /* the flag records that the field was given; emitted either way */
 };
 
 typedef struct enum_name {
@@ -98,9 +99,12 @@ static const field fields[] = {
     {"camera", "parallelScale", "parallelScale", T_NUM, 0, BIG, LO_OPEN, OFF(render.camera.parallel_scale), 0, NOFLAG,
      NULL},
 
-    {"params", "q", "q", T_NUM, 0, 1e6, 0, OFF(render.foo.q), 0, NOFLAG, NULL},
-    {"params", "r", "r", T_NUM, 0, 1e6, 0, OFF(render.foo.r), 0, NOFLAG, NULL},
-    {"params", "lambda", "lambda", T_NUM, 0, 1000, 0, OFF(render.foo.lambda), 0, NOFLAG, NULL},
+    {"params", "q", "q", T_NUM, 0, 1e6, ALWAYS_EMIT, OFF(render.foo.q), 0,
+     (long)OFF(render.foo.strength_given), NULL},
+    {"params", "r", "r", T_NUM, 0, 1e6, ALWAYS_EMIT, OFF(render.foo.r), 0,
+     (long)OFF(render.foo.strength_given), NULL},
+    {"params", "lambda", "lambda", T_NUM, 0, 1000, ALWAYS_EMIT, OFF(render.foo.lambda), 0,
+     (long)OFF(render.foo.strength_given), NULL},
     {"params", "bands", "bands", T_INT, LC_MIN_BANDS, LC_MAX_BANDS, 0, OFF(render.foo.bands), 0, NOFLAG, NULL},
     {"params", "smoothing", "smoothing", T_INT, 0, 1000, 0, OFF(render.foo.smoothing), 0, NOFLAG, NULL},
     {"params", "smoothingWeight", "smoothingWeight", T_NUM, 0, 1, 0, OFF(render.foo.smoothing_weight), 0, NOFLAG, NULL},
@@ -119,6 +123,8 @@ static const field fields[] = {
     {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
      smoothing_weights_names},
     {"params", "guardBand", "guardBand", T_NUM, 0, 1, 0, OFF(render.foo.guard_band), 0, NOFLAG, NULL},
+    /* params.clarity: the loop on the optimization's strength (render/gl/clarity.c) */
+    {"params", "clarity", "clarity", T_NUM, 0, 1, 0, OFF(render.foo.clarity), 0, NOFLAG, NULL},
 
     {"importance", "attribute", "importance", T_STR, 0, 0, 0, OFF(render.importance.attribute), LC_NAME_LEN, NOFLAG,
      NULL},

@@ -17,7 +17,7 @@ import { Connection } from './js/connection.js';
 import { FrameView } from './js/view.js';
 import { Navigation } from './js/navigation.js';
 import { Panel, GROUPS, attributeRange, rgbToHex } from './js/ui.js';
-import { FrameStats, renderStats, formatBytes } from './js/stats.js';
+import { FrameStats, renderStats, formatBytes, visibilityText } from './js/stats.js';
 import { Api, ApiError } from './js/api.js';
 import { Legend } from './js/legend.js';
 import { AxesTriad } from './js/axes.js';
@@ -95,6 +95,8 @@ export function createApp(doc = document, win = window) {
       state.framesDrawn++;
       if (f.header.cameraSeq > state.confirmedSeq) state.confirmedSeq = f.header.cameraSeq;
       stats.frameDrawn(f.header, f.bytes, f.drawnAt);
+      const seen = visibilityText(f.header.visibility);
+      if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.`);
       canvas.dataset.frame = String(f.header.frame);
       canvas.dataset.converged = String(!!f.header.converged);
       body('frames', state.framesDrawn);

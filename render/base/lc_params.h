@@ -98,6 +98,11 @@ typedef struct lc_foo_params {
     double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */
     lc_smoothing_weights smoothing_weights;
     double guard_band; /* P0 moments-P2 see this fraction of the view more on each side; 0 = none */
+    /* params.clarity (docs/ALGORITHM.md §25): the top decile's target opacity
+     * of the loop on the emphasis; 0 = off. It acts only while q, r and λ are
+     * the defaults, not given by the request (strength_given). */
+    double clarity;
+    bool strength_given;
 } lc_foo_params;
 
 /* One weighted criterion of the importance (docs/ALGORITHM.md "Importance
@@ -187,6 +192,9 @@ typedef struct lc_style {
  * "Level of detail"). Only lod_pixels is a request field; a session sets the
  * others on the frames it renders while the camera moves. */
 #define LC_DEFAULT_LOD_PIXELS 0.2
+/* params.clarity by default: the most important tenth at least half opaque
+ * (chosen on the corpus, docs/EVALUATION.md §7). */
+#define LC_DEFAULT_CLARITY 0.5
 typedef struct lc_detail {
     double lod_pixels;    /* lines: largest screen error of the simplified polylines, output pixels; 0 = full */
     int point_stride;     /* points: every n-th point in every pass, weighted n in P1/P4; <= 1 = all */

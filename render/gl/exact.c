@@ -227,6 +227,8 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
 
     /* Exact sums and FOO Eq. 10, atomic-min per element (as P2). */
+    if ((rc = lc_element_emphasis_bind(r, fs, st->opacity, err)) != 0)
+        return rc;
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" (p3_smooth.comp.glsl) */
     glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
     lc_occluders_clear(r);

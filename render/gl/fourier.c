@@ -196,7 +196,17 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
 
-    /* P2 optimal opacity into the element minimum buffer. */
+    /* P2 optimal opacity into the element minimum buffer. The element
+     * importance of its emphasis on patches (a dispatch of its own, once per
+     * mapping) comes first; layered frames go without (it ranks one
+     * dataset's elements, as the visibility report does). */
+    if (!fs->layer_count) {
+        GLuint p2 = lc_renderer_geometry_program(r, PROG_P2, fs->gs->scene->type, bands, 1, err);
+        if (!p2)
+            return LC_ERR_GL;
+        if ((rc = lc_element_emphasis_bind(r, fs, p2, err)) != 0)
+            return rc;
+    }
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" */
     glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
     lc_occluders_clear(r);
@@ -218,6 +228,10 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         if (!p2)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p2, lf, lw, lh, 1);
+        if (fs->layer_count) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_G, r->dummy_buffer);
+            lc_uniform_i(p2, "u_element_emphasis", 0);
+        }
         lc_bind_coefficients(&r->coef_low);
         lc_uniform_f(p2, "u_q", p->foo.q);
         lc_uniform_f(p2, "u_r", p->foo.r);

@@ -92,7 +92,7 @@ void lc_renderer_destroy(lc_renderer *r)
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
                      r->point_histogram,   r->point_list,         r->line_mask,
-                     r->element_behind,      r->color_histogram};
+                     r->element_behind,      r->color_histogram, r->element_g};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
@@ -507,7 +507,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     switch (p.method) {
     case LC_METHOD_FOURIER:
     case LC_METHOD_WBOIT:
-        rc = plan.reuse ? reuse_opacities(r, state, info) : optimize_frame(r, &fs, state, dt, info, plan.moments, err);
+        rc = plan.reuse ? reuse_opacities(r, state, info)
+                        : lc_clarity_optimize(r, &fs, state, dt, info, plan.moments, optimize_frame, err);
         break;
     case LC_METHOD_DIRECT:
     case LC_METHOD_OPAQUE: break;

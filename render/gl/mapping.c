@@ -71,7 +71,9 @@ int lc_frame_resolve_mapping(lc_frame_setup *fs, lc_error *err)
         default_range(p, &s->attributes[fs->importance_attr], fs->importance_range);
         if (p->importance.has_range)
             fs->importance_range[0] = p->importance.range[0], fs->importance_range[1] = p->importance.range[1];
-        if (p->importance.invert) { /* the mapping inverts a range given max first */
+        /* The mapping inverts a range given max first; importance.invert flips
+         * the attribute's own direction (smaller matters more for a magnitude). */
+        if (p->importance.invert != s->attributes[fs->importance_attr].smaller_matters) {
             double lo = fs->importance_range[0];
             fs->importance_range[0] = fs->importance_range[1], fs->importance_range[1] = lo;
         }

@@ -134,6 +134,21 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
 
+/* params.clarity (render/gl/clarity.c): a one-shot frame tries up to this
+ * many strengths (P1-P3 each); the cost model charges LC_CLARITY_CHARGED_TRIES
+ * (most data meet the goal at the first). */
+#define LC_CLARITY_ITERATIONS 6
+#define LC_CLARITY_CHARGED_TRIES 2
+/* Whether the loop runs for p: clarity > 0, normalize auto, no explicit q/r/λ,
+ * a method whose opacities P1-P3 optimize (fourier, wboit). */
+int lc_clarity_active(const lc_render_params *p);
+/* params.clarity's strength: factors on λ and on q and r, each >= 1. */
+typedef struct lc_clarity_strength {
+    double lambda, penalty;
+    int stalled; /* a step did not bring the goal nearer: no more steps until the state resets */
+    double miss; /* how far the last frame was from the goal (lc_clarity_miss; -1: none yet) */
+} lc_clarity_strength;
+
 typedef struct lc_frame_info {
     int width, height;
     double pass_ms[LC_PASS_COUNT]; /* GPU time per pass (timer queries); -1 = pass not run */
@@ -176,6 +191,9 @@ typedef struct lc_frame_info {
     uint64_t reduce_bytes;
     int reductions;
     int tiles; /* tiles the frame was composited in (0: one frame; frame.c "Tiled stills") */
+    /* params.clarity: the factors on λ and on q and r the frame's opacities
+     * used (0: the loop was off; render/gl/clarity.c). */
+    double clarity_lambda, clarity_penalty;
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several

@@ -50,6 +50,7 @@
     X(BIND_SURFACE_NODES, 28)  /* surface_layers.c: the batch's fragment lists */                                      \
     X(BIND_SURFACE_PIXELS, 29) /* surface_layers.c: counters, list heads, layer counts, output */                      \
     X(BIND_SURFACE_LAYERS, 30) /* surface_layers.c: the persistent per-pixel layers */                                 \
+    X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */  \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -202,6 +203,9 @@ struct lc_renderer {
     uint32_t element_capacity;
     GLuint mass_histogram;     /* MASS_BINS counts (visibility.c) */
     GLuint element_importance; /* 2 uints per element: fixed-point sum, count */
+    GLuint element_g;          /* importance_cache on the GPU (BIND_ELEMENT_G), valid while element_g_serial matches */
+    uint64_t importance_serial, element_g_serial; /* bumped per importance_cache fill; element_g's copy of it */
+    uint32_t element_g_count;
     /* CPU copy of the elements' mean importance for the mapping in the key. */
     float *importance_cache;
     uint32_t importance_cache_count;
@@ -270,6 +274,7 @@ struct lc_frame_state {
     /* color.equalize: the transfer F the session's frames use (DLS Eq. 10). */
     int eq_valid;
     float eq_knots[257];
+    lc_clarity_strength clarity; /* params.clarity: the factors the next frame starts from (clarity.c) */
 };
 
 /* ---- frame_state.c: the state's opacities to and from a float GPU buffer. */
@@ -527,10 +532,31 @@ void lc_occluders_clear(lc_renderer *r);
 int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* Reads the histogram back into the mass fields of info. */
 void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info);
+/* Whether the opacity passes weigh a fragment's emphasis by its element's
+ * importance instead of its own (docs/ALGORITHM.md §6, "Patches"): surfaces
+ * under density normalization. */
+int lc_element_emphasis(const lc_frame_setup *fs);
+/* Binds BIND_ELEMENT_G for P2 or the exact opacity pass: the elements' mean
+ * importance when lc_element_emphasis, else a dummy; sets u_element_emphasis. */
+int lc_element_emphasis_bind(lc_renderer *r, const lc_frame_setup *fs, GLuint prog, lc_error *err);
 /* The visibility report of info from the element opacities after P3 (alphas:
  * the state's copy, or NULL to read them back). */
 int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float *alphas, lc_frame_info *info,
                           lc_error *err);
+
+/* ---- clarity.c (params.clarity, docs/ALGORITHM.md §25) */
+#define LC_CLARITY_MAX_STRENGTH 16.0 /* largest factor on λ (on q and r: its square) */
+/* One optimization of the frame (frame.c's optimize_frame). */
+typedef int (*lc_clarity_step)(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt,
+                               lc_frame_info *info, int moments, lc_error *err);
+/* How far the frame's report is from the goal at target (0: met). */
+double lc_clarity_miss(double target, const lc_frame_info *info);
+/* The strength after a frame measured at st, each factor moving by at most
+ * max_step (q and r: its square). */
+void lc_clarity_next(lc_clarity_strength *st, double target, const lc_frame_info *info, double max_step);
+/* optimize under the loop (or once, as it is, when the loop is not active). */
+int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                        int moments, lc_clarity_step optimize, lc_error *err);
 
 /* ---- baselines.c */
 int lc_render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err);

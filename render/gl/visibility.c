@@ -76,8 +76,8 @@ void lc_occluders_clear(lc_renderer *r)
 static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
 {
     uint32_t count = fs->gs->scene->elements.count;
-    if (r->importance_cache && r->importance_key.scene == fs->gs->serial && r->importance_key.attr == fs->importance_attr &&
-        r->importance_key.range[0] == fs->importance_range[0] &&
+    if (r->importance_cache && r->importance_key.scene == fs->gs->serial &&
+        r->importance_key.attr == fs->importance_attr && r->importance_key.range[0] == fs->importance_range[0] &&
         r->importance_key.range[1] == fs->importance_range[1] &&
         r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count &&
         memcmp(&r->importance_key.terms, &fs->terms, sizeof fs->terms) == 0)
@@ -127,6 +127,39 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     r->importance_key.range[1] = fs->importance_range[1];
     r->importance_key.exponent = fs->importance_exponent;
     r->importance_key.terms = fs->terms;
+    r->importance_serial++;
+    return 0;
+}
+
+int lc_element_emphasis(const lc_frame_setup *fs)
+{
+    /* Not on layered frames: the element importance ranks one dataset's elements. */
+    return !fs->layer_count && fs->gs->scene->type == LC_PRIM_TRIANGLES &&
+           fs->params->foo.normalize == LC_NORMALIZE_AUTO;
+}
+
+int lc_element_emphasis_bind(lc_renderer *r, const lc_frame_setup *fs, GLuint prog, lc_error *err)
+{
+    int use = lc_element_emphasis(fs) && fs->gs->scene->elements.count > 0;
+    if (use) {
+        int rc = ensure_importance(r, fs, err);
+        if (rc)
+            return rc;
+        if (!r->element_g || r->element_g_serial != r->importance_serial) {
+            if (r->element_g) {
+                glDeleteBuffers(1, &r->element_g);
+                r->bytes_elements -= (uint64_t)r->element_g_count * 4;
+            }
+            uint32_t count = r->importance_cache_count;
+            r->element_g_count = count;
+            glCreateBuffers(1, &r->element_g);
+            glNamedBufferStorage(r->element_g, (GLsizeiptr)count * 4, r->importance_cache, 0);
+            r->bytes_elements += (uint64_t)count * 4;
+            r->element_g_serial = r->importance_serial;
+        }
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_G, use ? r->element_g : r->dummy_buffer);
+    lc_uniform_i(prog, "u_element_emphasis", use);
     return 0;
 }
 

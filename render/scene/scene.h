@@ -8,6 +8,7 @@
 #ifndef LC_SCENE_H
 #define LC_SCENE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -24,6 +25,12 @@ extern "C" {
 #define LC_MAX_PRIMITIVES (1u << 29) /* lines or triangles */
 #define LC_MAX_ATTRIBUTES 32
 
+/* Whether an attribute's name says that smaller values matter more: a word of
+ * it (split at anything but letters and digits, any case) is mag, magnitude,
+ * vmag, bmag, gmag, absmag, appmag, rank, pvalue or pval, or it has the words
+ * p and value (p_value). */
+bool lc_attribute_smaller_matters(const char *name);
+
 typedef struct lc_attribute {
     char name[LC_NAME_LEN];
     float *values;  /* vertex_count values, owned by the scene */
@@ -34,6 +41,10 @@ typedef struct lc_attribute {
      * (lc_attribute_update_range): [min, max] with only the outliers cut off,
      * so one extreme value cannot squash every other one to zero. */
     float auto_lo, auto_hi;
+    /* Smaller values matter more (a magnitude, a rank, a p-value: named so;
+     * lc_attribute_smaller_matters): the importance maps it inverted unless
+     * the request's importance.invert flips it back. Set by lc_scene_finalize. */
+    bool smaller_matters;
 } lc_attribute;
 
 /* Lines that are air-parcel trajectories (a reader sets it; at finalize

@@ -1,5 +1,6 @@
 /* Scene finalize: validation, bounds, attribute ranges, default mappings, the
  * derived per-vertex data (scene_derive.c) and the elements (elements.c). */
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -247,11 +248,40 @@ static int update_range(lc_attribute *a, uint32_t n, const lc_scene_collective *
 
 void lc_attribute_update_range(lc_attribute *a, uint32_t n) { update_range(a, n, NULL, NULL); }
 
+/* README "Default attributes": the names whose smaller values matter more. */
+bool lc_attribute_smaller_matters(const char *name)
+{
+    static const char *const words[] = {"mag",    "magnitude", "vmag", "bmag",   "gmag",
+                                        "absmag", "appmag",    "rank", "pvalue", "pval"};
+    char word[LC_NAME_LEN];
+    int p_word = 0;
+    for (const char *c = name;;) {
+        size_t n = 0;
+        while (*c && !isalnum((unsigned char)*c))
+            c++;
+        while (isalnum((unsigned char)*c) && n + 1 < sizeof word)
+            word[n++] = (char)tolower((unsigned char)*c++);
+        while (isalnum((unsigned char)*c)) /* a word longer than a name: cut */
+            c++;
+        if (n == 0)
+            return false;
+        word[n] = '\0';
+        for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
+            if (strcmp(word, words[i]) == 0)
+                return true;
+        if (p_word && strcmp(word, "value") == 0)
+            return true;
+        p_word = strcmp(word, "p") == 0;
+    }
+}
+
 /* Picks the importance attribute a request without one gets. A name that the
  * loader set but that does not exist is dropped with a warning rather than
  * failing the whole dataset. */
 static void choose_defaults(lc_scene *s)
 {
+    for (int i = 0; i < s->attribute_count; i++)
+        s->attributes[i].smaller_matters = lc_attribute_smaller_matters(s->attributes[i].name);
     if (s->default_importance[0] && lc_scene_find_attribute(s, s->default_importance) < 0) {
         LC_WARN("scene", "%s: default importance '%s' is not an attribute; choosing another", s->name,
                 s->default_importance);

@@ -183,6 +183,9 @@ static const lc_option common_options[] = {
         "each pixel's range, or the bounds warped around each pixel's\n"
         "importance (auto: moments, or global with --normalize off)"),
     REQ("--normalize", "auto|off", "normalize", "density-aware opacity (auto) or the paper formula (off)"),
+    REQ("--clarity", "C", "clarity",
+        "target opacity of the most important tenth, 0..1 (default 0.5;\n"
+        "0 = off): a loop on the emphasis while q, r and lambda are not given"),
     REQ("--importance", "ATTR", "importance", "importance attribute"),
     REQ("--color", "ATTR", "color", "colour by an attribute, importance or rgb"),
     REQ("--colormap", "NAME", "colormap", "viridis, coolwarm, grayscale, inferno, plasma, ..."),

@@ -77,6 +77,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene
                                       "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
                                       info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements,
                                       "occluderAlpha", info->occluder_alpha));
+        if (info->clarity_lambda > 0) /* params.clarity: the factors the loop settled on */
+            json_object_set_new(
+                o, "clarity",
+                json_pack("{s:f, s:f}", "lambdaFactor", info->clarity_lambda, "penaltyFactor", info->clarity_penalty));
     }
     if (info->reductions)
         json_object_set_new(o, "mpi",
@@ -338,9 +342,10 @@ int lc_cli_info(int argc, char **argv)
     printf("color       %s (default)\n", s->default_color);
     printf("attributes  %d\n", s->attribute_count);
     for (int i = 0; i < s->attribute_count; i++)
-        printf("  %-20s [%g, %g]  2nd-98th percentiles [%g, %g]  auto range [%g, %g]\n", s->attributes[i].name,
+        printf("  %-20s [%g, %g]  2nd-98th percentiles [%g, %g]  auto range [%g, %g]%s\n", s->attributes[i].name,
                s->attributes[i].min, s->attributes[i].max, s->attributes[i].p02, s->attributes[i].p98,
-               s->attributes[i].auto_lo, s->attributes[i].auto_hi);
+               s->attributes[i].auto_lo, s->attributes[i].auto_hi,
+               s->attributes[i].smaller_matters ? "  (smaller matters: importance inverted)" : "");
     printf("loaded in   %.1f ms\n", ms);
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);

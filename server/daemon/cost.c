@@ -132,6 +132,10 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         sc[LC_PASS_RESOLVE] = 1.0;
         break;
     }
+    /* params.clarity: a one-shot frame may optimize again at other strengths. */
+    double tries = lc_clarity_active(p) ? LC_CLARITY_CHARGED_TRIES : 1.0;
+    g[LC_PASS_IMPORTANCE] *= tries;
+    g[LC_PASS_OPACITY] *= tries;
     /* P0: the per-pixel range draws everything once at each resolution, the
      * moments one target of every subset-th element at s^2. */
     g[LC_PASS_DEPTH_RANGE] = plan.moments ? 1.0 / subset : 1.0;
@@ -155,7 +159,8 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         passes += ceil(full) * (tiles - 1);
     }
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +
-           st->elements * (f->smoothing + 1.0) + perception_aids_cost(st, p, frags, ppu) + equalize_cost(st, p, frags);
+           st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
+           equalize_cost(st, p, frags);
 }
 
 const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p, double budget)

@@ -1,4 +1,4 @@
-"""The render request schema has one source, protocol/request.c's field table
+"""The render request schema has one source, protocol/request_fields.h (the field table)
 (printed by `lucent schema`). This checks the two hand-written copies against
 it: the web client's table (web/js/schema.js, read through node) and the
 OpenAPI description (protocol/openapi.yaml): names, aliases, types, ranges and

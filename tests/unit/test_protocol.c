@@ -439,6 +439,10 @@ static void test_defaults(void)
     lc_request_default(&r);
     lc_render_params p;
     lc_render_params_default(&p);
+    /* The clarity loop is a request's default, not the renderer's (ALGORITHM §25). */
+    CHECK(p.foo.clarity == 0 && r.render.foo.clarity == LC_DEFAULT_CLARITY, "clarity default %g / %g", p.foo.clarity,
+          r.render.foo.clarity);
+    p.foo.clarity = LC_DEFAULT_CLARITY;
     CHECK(memcmp(&r.render.foo, &p.foo, sizeof p.foo) == 0, "FOO defaults come from lc_render_params_default");
     CHECK(r.format == LC_FORMAT_PNG && r.quality == 90 && !r.has_dt && !r.render.has_camera, "request defaults");
 }
@@ -551,6 +555,35 @@ static void test_messages(void)
     CHECK(lc_proto_pack_frame(&h, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "frame id above 2^53-1");
 }
 
+/* params.clarity: the loop acts only while q, r and lambda are not given, so
+ * the parser records whether any was; emission still writes them. */
+static void test_clarity(void)
+{
+    lc_request r;
+    lc_proto_error err = {0};
+    const char *plain = "{\"params\":{\"clarity\":0.7}}";
+    CHECK(lc_proto_parse_request(plain, strlen(plain), NULL, &r, &err) == 0, "%s", err.message);
+    CHECK(r.render.foo.clarity == 0.7 && !r.render.foo.strength_given, "clarity alone: %g, given %d",
+          r.render.foo.clarity, r.render.foo.strength_given);
+    json_t *j = lc_proto_request_to_json(&r);
+    json_t *params = json_object_get(j, "params");
+    CHECK(json_number_value(json_object_get(params, "q")) == 60 &&
+              json_number_value(json_object_get(params, "lambda")) == 1 &&
+              json_number_value(json_object_get(params, "clarity")) == 0.7,
+          "q, lambda and clarity emitted");
+    json_decref(j);
+    static const char *const given[] = {"{\"params\":{\"q\":60}}", "{\"params\":{\"r\":10}}",
+                                        "{\"params\":{\"lambda\":1}}"};
+    for (int i = 0; i < 3; i++) {
+        CHECK(lc_proto_parse_request(given[i], strlen(given[i]), NULL, &r, &err) == 0, "%s", err.message);
+        CHECK(r.render.foo.strength_given && r.render.foo.clarity == LC_DEFAULT_CLARITY, "%s: strength given",
+              given[i]);
+    }
+    const char *bad = "{\"params\":{\"clarity\":1.5}}";
+    CHECK(lc_proto_parse_request(bad, strlen(bad), NULL, &r, &err) != 0 && strcmp(err.field, "params.clarity") == 0,
+          "clarity 1.5 refused naming the field (%s)", err.field);
+}
+
 int main(void)
 {
     int nreq = replay_requests();
@@ -561,6 +594,7 @@ int main(void)
     printf("vectors: %d requests, %d query, %d client messages, %d frames, %d server messages\n", nreq, nq, nmsg, nfr,
            nsv);
     test_defaults();
+    test_clarity();
     test_partial_update();
     test_messages();
     return lc_test_finish();

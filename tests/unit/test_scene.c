@@ -422,8 +422,20 @@ static void test_percentiles_and_budget(void)
     lc_scene_destroy(s);
 }
 
+/* The names whose smaller values matter more (README "Default attributes"). */
+static void test_smaller_matters(void)
+{
+    static const char *const yes[] = {"magnitude", "Vmag", "abs_mag", "mag", "p_value", "P-Value", "pval", "rank"};
+    static const char *const no[] = {"speed", "image", "magnet", "pv", "value", "p", "ranking", "", "mean_curvature"};
+    for (size_t i = 0; i < sizeof yes / sizeof yes[0]; i++)
+        CHECK(lc_attribute_smaller_matters(yes[i]), "%s: smaller should matter", yes[i]);
+    for (size_t i = 0; i < sizeof no / sizeof no[0]; i++)
+        CHECK(!lc_attribute_smaller_matters(no[i]), "%s: larger should matter", no[i]);
+}
+
 int main(void)
 {
+    test_smaller_matters();
     test_basics();
     test_validation();
     test_straight_line();

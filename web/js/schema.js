@@ -1,5 +1,5 @@
 // The render request's fields (protocol/README.md; mirrors the table in
-// protocol/request.c): where each lives in the JSON, its flat alias (the key of
+// protocol/request_fields.h): where each lives in the JSON, its flat alias (the key of
 // GET /api/v1/render query parameters, reused for the page's URL hash), its type
 // and its range. Client-side checks use it to refuse what the server would
 // refuse, with the same field names in the messages.
@@ -34,6 +34,7 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true },
   { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'] },
   { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1 },
+  { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1 },
 
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },

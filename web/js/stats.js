@@ -78,6 +78,8 @@ export class FrameStats {
         out.push(['detail', `${parts.join(', ')}; ${d.primitives} primitives`]);
       }
       out.push(['state', h.converged ? 'converged' : 'fading']);
+      const v = visibilityText(h.visibility);
+      if (v) out.push(['visibility', v]);
     }
     if (this.bytes != null) out.push(['bytes/frame', `${formatBytes(this.bytes)} (avg ${formatBytes(this.bytesAvg)})`]);
     if (this.renderer) out.push(['renderer', this.renderer]);
@@ -88,6 +90,13 @@ export class FrameStats {
     }
     return out;
   }
+}
+
+/** The frame's visibility report in words (null without one): what params.clarity aims at. */
+export function visibilityText(v) {
+  if (!v || typeof v.topDecileAlpha !== 'number') return null;
+  const f = (x) => (typeof x === 'number' ? x.toFixed(2) : '–');
+  return `most important tenth ${f(v.topDecileAlpha)}, occluders ${f(v.occluderAlpha)}, least important half ${f(v.bottomHalfAlpha)} opaque`;
 }
 
 export function formatBytes(n) {

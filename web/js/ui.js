@@ -27,9 +27,9 @@ export const GROUPS = [
   {
     id: 'optimization', legend: 'Optimization', controls: [
       { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS), help: 'How transparency is computed. Fourier: the fast optimization (default). Exact: the slow reference. Opaque: no transparency. Direct: opacity from importance alone. WBOIT: another way to blend the optimized opacities.' },
-      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1, help: 'How strongly a part is cleared when more important parts lie behind it. Higher: you see through to what matters.' },
-      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1, help: 'How strongly a part is cleared when more important parts lie in front of it. Higher: less background clutter.' },
-      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1, help: 'How much important parts are protected from fading. Higher: important parts stay solid.' },
+      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1, help: 'How strongly a part fades where importance lies behind it. Higher: what hides important parts fades more, but on dense data the important parts fade too (they hide each other). By default Clarity sets the strength for you; setting q, r or λ here turns Clarity off and uses these values.' },
+      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1, help: 'How strongly a part fades where importance lies in front of it. Higher: less clutter behind what matters. Setting it turns Clarity off (see Clarity).' },
+      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1, help: 'How much important parts are protected from fading: their penalty is scaled by (1 − importance)^(2λ). Higher: the important parts stay solid while the rest fades. Clarity raises it for you on dense data; setting it turns Clarity off.' },
       { path: 'params.bands', label: 'Bands m', kind: 'range', min: 1, max: 8, step: 1, help: 'Accuracy of the depth approximation, 1 to 8. More bands: closer to the exact result, but slower.' },
       { path: 'params.smoothing', label: 'Smoothing iterations', kind: 'range', min: 0, max: 100, step: 1, help: 'How often opacities are averaged with their neighbours along a line or surface, so that neighbours fade together. 0: no smoothing.' },
       { path: 'params.smoothingWeight', label: 'Smoothing weight ω', kind: 'range', min: 0, max: 1, step: 0.01, help: 'How far each averaging step pulls a part toward its neighbours (0 to 1).' },
@@ -39,11 +39,12 @@ export const GROUPS = [
       { path: 'params.subset', label: 'Subset (every n-th)', kind: 'range', min: 1, max: 64, step: 1, help: 'Use every n-th primitive for the optimization (for dense point clouds). 1: all of them.' },
       { path: 'params.depthMargin', label: 'Depth margin δ', kind: 'range', min: 0, max: 0.25, step: 0.005, help: 'Keeps depths away from the ends of the periodic depth range. Rarely needs changing.' },
       { path: 'params.depthRange', label: 'Depth range', kind: 'select', options: [['auto', 'Auto'], ['global', 'Data bounds'], ['pixel', 'Per pixel'], ['moments', 'Around the important layers']], help: "How depth maps onto the Fourier series' period: over the whole data, over each pixel's own depth range, or spread around where each pixel's importance sits (closest to the exact method, one more pass at half resolution). Auto: around the important layers with density normalization, the whole data with it off (the paper's)." },
-      { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']], help: 'Auto: dense data does not wash out (opacities adapt to how many layers a pixel has, importance maps from min to max without outliers). Off: the paper\'s formula unchanged.' },
+      { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']], help: 'Auto: dense data does not wash out (opacities adapt to how many layers a pixel has, importance maps from min to max without outliers). Off: the paper\'s formula unchanged, and Clarity off with it.' },
       { path: 'params.lod', label: 'Line detail (px)', kind: 'range', min: 0, max: 4, step: 0.05, help: 'Lines: how far, in pixels, simplified lines may stray from the full ones in still frames. 0: draw every segment.' },
       { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Direct method only: opacity = importance to the power k.' },
       { path: 'params.targetOpacity', label: 'Target opacity t', kind: 'range', min: 0.05, max: 1, step: 0.05, help: 'Upper bound of every opacity: even parts that hide nothing let this much of what lies behind through (0.9 in the surface paper). 1: the paper\'s method.' },
       { path: 'params.smoothingWeights', label: 'Smoothing neighbours', kind: 'select', options: [['uniform', 'Equal (FOO)'], ['distance', 'By distance (surface paper)']], help: 'How the smoothing averages a part with its neighbours: all equally, or nearer neighbours more (by the distance of their centres).' },
+      { path: 'params.clarity', label: 'Clarity', kind: 'range', min: 0, max: 1, step: 0.05, help: 'How opaque the most important tenth of what you see should be (0.5: at least half). The server strengthens the optimization (λ, and q and r together) frame by frame until the important parts reach it and the unimportant parts in front of them have faded to at most half of it; the line below shows what the last frame measured. Setting q, r or λ yourself, or density normalization off, turns it off. 0: off.' },
       { path: 'params.guardBand', label: 'Guard band', kind: 'range', min: 0, max: 0.5, step: 0.05, help: 'The optimization also looks this far (fraction of the view) beyond each edge, so parts entering the view while you turn it already have their transparency instead of popping in opaque. 0: off.' },
     ],
   },
@@ -51,8 +52,8 @@ export const GROUPS = [
     id: 'importance', legend: 'Importance', controls: [
       { path: 'importance.attribute', label: 'Attribute', kind: 'select', dynamic: 'attributes', help: 'The data value that says what matters. Important parts stay visible; unimportant parts fade where they hide important ones.' },
       { path: 'importance.range', label: 'Range', kind: 'range2', dynamic: 'importanceRange', help: 'Values at or below the minimum get importance 0, at or above the maximum 1. Minimum above maximum inverts.' },
-      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads.' },
-      { path: 'importance.invert', label: 'Invert', kind: 'check', help: 'Smaller values matter more (a star\'s magnitude: larger is fainter); the range stays as it is.' },
+      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads. On dense data a high exponent can leave almost nothing visible (3 on a dense trajectory file: the most important tenth about 1% opaque), and Clarity cannot make up for it: keep it near 1 there.' },
+      { path: 'importance.invert', label: 'Invert', kind: 'check', help: 'Flips which end of the range matters. Attributes named as a magnitude, rank or p-value (smaller matters: a star\'s magnitude is larger when fainter) already map inverted; checking this makes their larger values important instead. The range stays as it is.' },
     ],
   },
   {
@@ -351,6 +352,19 @@ export class Panel {
   setVisible(path, visible) {
     const ctl = this.controls.get(path);
     if (ctl) ctl.row.hidden = !visible;
+  }
+
+  /** A line of feedback under a control (the clarity's measured visibility); '' hides it. */
+  setFeedback(path, text) {
+    const ctl = this.controls.get(path);
+    if (!ctl) return;
+    if (!ctl.feedback) {
+      ctl.feedback = document.createElement('div');
+      ctl.feedback.className = 'feedback';
+      ctl.row.append(ctl.feedback);
+    }
+    ctl.feedback.textContent = text;
+    ctl.feedback.hidden = !text;
   }
 
   /** Marks a control invalid with the server's reason (error message with field). */

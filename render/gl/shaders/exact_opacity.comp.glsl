@@ -14,9 +14,10 @@ uniform float u_lambda;
 uniform float u_norm_mass; // as in P2: reference mass of the density normalization, 0 = off
 uniform float u_target_opacity; // as in P2: t of OOS Eq. 7
 
-float optimal_alpha(float g, float front, float behind, float k, float lambda)
+float optimal_alpha(uint element, float g, float front, float behind, float k, float lambda)
 {
-    float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
+    float ge = emphasis_importance(element, g); // as in P2
+    float emphasis = lambda > 0.0 ? pow(max(1.0 - ge, 0.0), 2.0 * lambda) : 1.0;
     float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind)); // FOO Eq. 10
     return alpha * u_target_opacity;
 }
@@ -53,7 +54,7 @@ void far_fragments(ivec2 p, int n, float total, float k, float lambda)
                 o = other.x;
             }
             float behind = max(total - front - g * g, 0.0);
-            atomicMin(element_alpha_min[node.w], floatBitsToUint(optimal_alpha(g, front, behind, k, lambda)));
+            atomicMin(element_alpha_min[node.w], floatBitsToUint(optimal_alpha(node.w, g, front, behind, k, lambda)));
             add_behind(node.w, behind);
         }
         i = next;
@@ -82,7 +83,7 @@ void main()
         float g = uintBitsToFloat(node.z);
         float own = g * g;
         float behind = max(total - front - own, 0.0);
-        float alpha = optimal_alpha(g, front, behind, k, lambda);
+        float alpha = optimal_alpha(node.w, g, front, behind, k, lambda);
         // Non-negative floats order like their bit patterns.
         atomicMin(element_alpha_min[node.w], floatBitsToUint(alpha));
         add_behind(node.w, behind);

@@ -13,3 +13,11 @@ void add_behind(uint element, float behind)
     if (old > 0xFFFFFFFFu - add) // wrapped: stay at the top
         atomicMax(element_behind[element], 0xFFFFFFFFu);
 }
+
+// Patches (docs/ALGORITHM.md §6): with u_element_emphasis the emphasis of Eq. 10
+// reads the element's mean importance instead of the fragment's own, so that
+// a patch's opacity is not set by its least important fragment.
+layout(std430, binding = BIND_ELEMENT_G) readonly buffer ElementG { float element_g[]; };
+uniform int u_element_emphasis;
+
+float emphasis_importance(uint element, float g) { return u_element_emphasis != 0 ? element_g[element] : g; }

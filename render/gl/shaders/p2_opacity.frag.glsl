@@ -29,7 +29,8 @@ void main()
     // and the emphasis exponent grows with the density (foo_math.h).
     float k = u_norm_mass > 0.0 && c[0] > u_norm_mass ? u_norm_mass / c[0] : 1.0;
     float lambda = u_norm_mass > 0.0 ? (1.0 + 3.0 * (1.0 - k) * (1.0 - k)) * u_lambda : u_lambda;
-    float emphasis = lambda > 0.0 ? pow(max(1.0 - g, 0.0), 2.0 * lambda) : 1.0;
+    float ge = emphasis_importance(fragment_element(), g);
+    float emphasis = lambda > 0.0 ? pow(max(1.0 - ge, 0.0), 2.0 * lambda) : 1.0;
     float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind));
     alpha *= u_target_opacity;
     // Non-negative floats order like their bit patterns.

@@ -259,6 +259,11 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
  * (256 bins over the colormap coordinate, in pixels: sum = sum (1 - T)) and
  * the transfer it drew with (257 knots); either may be NULL. -1: none yet. */
 int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots);
+/* The exact method's last equalized frame: the sum over pixels of 1 - T
+ * (each pixel's rounded once to 2^-20) and the part of it that halo fragments
+ * cover (left out of the histogram, so sum H_b + halo = cover exactly).
+ * -1: no such frame (other methods do not measure it). */
+int lc_renderer_color_coverage(const lc_renderer *r, double *cover, double *halo);
 
 /* GPU memory currently held by the renderer's targets and buffers. */
 uint64_t lc_renderer_bytes(const lc_renderer *r);

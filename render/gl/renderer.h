@@ -176,6 +176,10 @@ typedef struct lc_frame_info {
     uint64_t reduce_bytes;
     int reductions;
     int tiles; /* tiles the frame was composited in (0: one frame; frame.c "Tiled stills") */
+    /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
+     * (else it reused the scene's), and the time spent building and cutting. */
+    int clusters_built;
+    double clusters_ms;
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several

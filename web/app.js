@@ -95,6 +95,7 @@ export function createApp(doc = document, win = window) {
       state.framesDrawn++;
       if (f.header.cameraSeq > state.confirmedSeq) state.confirmedSeq = f.header.cameraSeq;
       stats.frameDrawn(f.header, f.bytes, f.drawnAt);
+      legend.setColorTicks(f.header.colorTicks);
       canvas.dataset.frame = String(f.header.frame);
       canvas.dataset.converged = String(!!f.header.converged);
       body('frames', state.framesDrawn);

@@ -140,6 +140,18 @@ int lc_color_equalize_measure(lc_renderer *r, lc_frame_setup *fs, int direct, in
     return rc;
 }
 
+/* The legend's ticks (lc_frame_info.color_ticks): where the bar shows T(x),
+ * the frame shows the data value whose colormap coordinate u has F(u) = x. */
+static void color_ticks(lc_frame_setup *fs, const float *knots)
+{
+    lc_frame_info *info = fs->info;
+    info->has_color_ticks = fs->params->color.curve.count == 0; /* u would need the curve's inverse */
+    for (int i = 0; i < 5 && info->has_color_ticks; i++) {
+        double u = lc_equalize_inverse(knots, LC_EQUALIZE_BINS, (float)i / 4.0f);
+        info->color_ticks[i] = fs->color_range[0] + u * (fs->color_range[1] - fs->color_range[0]);
+    }
+}
+
 int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int fresh,
                              int *again, lc_error *err)
 {
@@ -152,9 +164,10 @@ int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
         return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "a fixed range is invalid");
     if (!fresh) {
         /* This frame drew with the session's F; the next one draws with F moved toward this view's. */
-        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
         memcpy(r->eq_knots, state->eq_knots, sizeof r->eq_knots);
         r->eq_valid = 1;
+        color_ticks(fs, r->eq_knots);
+        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
         return 0;
     }
     /* One-shot frames and a session's first: composite again with this view's F. */
@@ -164,6 +177,7 @@ int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
     }
     memcpy(r->eq_knots, target, sizeof r->eq_knots);
     r->eq_valid = 1;
+    color_ticks(fs, target);
     lc_color_equalize_use_table(r, fs, target);
     *again = 1;
     return 0;

@@ -180,6 +180,11 @@ typedef struct lc_frame_info {
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;
     double clusters_ms;
+    /* color.equalize: the data values at 0, 1/4, 1/2, 3/4 and 1 of the
+     * colormap's bar under the transfer this frame drew with (F^-1 through
+     * color.range); has_color_ticks = 0 without equalization or with color.curve. */
+    int has_color_ticks;
+    double color_ticks[5];
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several

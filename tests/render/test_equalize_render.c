@@ -74,6 +74,41 @@ static void coverage(const uint8_t *black, const uint8_t *white, double *sum_cov
     }
 }
 
+/* The legend's ticks: tick i is the data value whose colormap coordinate u
+ * has F(u) = i/4, found here by bisection on F; the middle one is the
+ * visibility-weighted median of the visible colour values (F is their CDF). */
+static void check_ticks(const lc_frame_info *info, const double *hist, const float *knots, double lo, double span,
+                        const char *name)
+{
+    CHECK(info->has_color_ticks, "%s: the frame reports its colour ticks", name);
+    double total = 0, run = 0, median = 0;
+    for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+        total += hist[b];
+    for (int b = 0; b < LC_EQUALIZE_BINS && run < total / 2; b++)
+        if ((run += hist[b]) >= total / 2)
+            median = lo + span * (b + 0.5) / LC_EQUALIZE_BINS;
+    for (int i = 0; i < 5; i++) {
+        double a = 0, z = 1;
+        for (int k = 0; k < 40; k++) {
+            double m = 0.5 * (a + z);
+            if (lc_equalize_map(knots, LC_EQUALIZE_BINS, (float)m) < i / 4.0f)
+                a = m;
+            else
+                z = m;
+        }
+        double want = lo + span * z;
+        /* within half a bin: float knots and float interpolation reach F = 1 a little early or late */
+        CHECK(fabs(info->color_ticks[i] - want) <= 0.5 * span / LC_EQUALIZE_BINS, "%s: tick %d = %g, F^-1 gives %g",
+              name, i, info->color_ticks[i], want);
+        CHECK(i == 0 || info->color_ticks[i] >= info->color_ticks[i - 1], "%s: ticks in order", name);
+    }
+    printf("%s: ticks %.3g %.3g %.3g %.3g %.3g (range %.3g..%.3g); visible median %.3g\n", name, info->color_ticks[0],
+           info->color_ticks[1], info->color_ticks[2], info->color_ticks[3], info->color_ticks[4], lo, lo + span,
+           median);
+    CHECK(fabs(info->color_ticks[2] - median) <= span / LC_EQUALIZE_BINS, "%s: the middle tick is the visible median",
+          name);
+}
+
 static void test_one_shot(test_gl *t, const lc_gpu_scene *gs, const lc_scene *s)
 {
     const lc_attribute *speed = &s->attributes[lc_scene_find_attribute(s, "velocity")];
@@ -91,10 +126,14 @@ static void test_one_shot(test_gl *t, const lc_gpu_scene *gs, const lc_scene *s)
         base_params(&p, 0);
         p.method = method ? LC_METHOD_DIRECT : LC_METHOD_FOURIER;
         p.color.has_range = true, p.color.range[0] = lo, p.color.range[1] = lo + 2 * span;
-        CHECK(render(t, gs, &p, NULL, 0, plain, NULL, &err) == 0, "%s plain", name);
+        lc_frame_info plain_info;
+        CHECK(render(t, gs, &p, NULL, 0, plain, &plain_info, &err) == 0 && !plain_info.has_color_ticks, "%s plain",
+              name);
         p.color.equalize = true;
-        CHECK(render(t, gs, &p, NULL, 0, black, NULL, &err) == 0, "%s black", name);
+        lc_frame_info info;
+        CHECK(render(t, gs, &p, NULL, 0, black, &info, &err) == 0, "%s black", name);
         CHECK(lc_renderer_color_histogram(t->renderer, hist, knots) == 0, "%s histogram", name);
+        check_ticks(&info, hist, knots, lo, 2 * span, name);
         base_params(&p, 1);
         p.method = method ? LC_METHOD_DIRECT : LC_METHOD_FOURIER;
         p.color.has_range = true, p.color.range[0] = lo, p.color.range[1] = lo + 2 * span;
@@ -232,6 +271,7 @@ static void test_exact(test_gl *t, const lc_gpu_scene *gs, const lc_scene *s)
     uint8_t *black = malloc(SIZE * SIZE * 4), *white = malloc(SIZE * SIZE * 4), *plain = malloc(SIZE * SIZE * 4);
     lc_render_params p;
     double hist[LC_EQUALIZE_BINS], cover = -1, halo = -1;
+    lc_frame_info info;
     float knots[LC_EQUALIZE_BINS + 1], identity[LC_EQUALIZE_BINS + 1];
     for (int b = 0; b <= LC_EQUALIZE_BINS; b++)
         identity[b] = (float)b / LC_EQUALIZE_BINS;
@@ -242,9 +282,10 @@ static void test_exact(test_gl *t, const lc_gpu_scene *gs, const lc_scene *s)
         if (bg == 0)
             CHECK(render(t, gs, &p, NULL, 0, plain, NULL, &err) == 0, "exact plain");
         p.color.equalize = true;
-        CHECK(render(t, gs, &p, NULL, 0, bg ? white : black, NULL, &err) == 0, "exact equalized %d", bg);
+        CHECK(render(t, gs, &p, NULL, 0, bg ? white : black, &info, &err) == 0, "exact equalized %d", bg);
     }
     CHECK(lc_renderer_color_histogram(t->renderer, hist, knots) == 0, "exact histogram");
+    check_ticks(&info, hist, knots, lo, 2 * span, "exact");
     CHECK(lc_renderer_color_coverage(t->renderer, &cover, &halo) == 0, "exact coverage");
     double sum_h = 0;
     for (int b = 0; b < LC_EQUALIZE_BINS; b++)

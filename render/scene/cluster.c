@@ -3,6 +3,7 @@
 #include "cluster.h"
 #include "cluster_distance.h"
 #include "cluster_internal.h"
+#include "cluster_sample.h"
 
 #include <float.h>
 #include <math.h>
@@ -14,6 +15,7 @@
 
 #define DEFAULT_NEIGHBOURS 96u
 #define DEFAULT_TOP_CLUSTERS 2048u
+#define DEFAULT_SAMPLE_LINES 20000u
 /* Up to this many lines every pair is linked: the dense stage alone. */
 #define DENSE_LINES 1200u
 /* Threads of the pruned stage's sweep (at most the online processors). */
@@ -670,6 +672,106 @@ static int build_with_radius(lc_dendrogram *dg, const float *soa, const box *bx,
     return rc;
 }
 
+/* Links dg's lines (the pruned stage at a growing radius, then the top stage). */
+static int link_lines(lc_dendrogram *dg, const float *soa, const box *bx, const lc_cluster_desc *dd)
+{
+    uint32_t top_limit = dd->top_clusters ? dd->top_clusters : DEFAULT_TOP_CLUSTERS;
+    /* Large sets need more neighbours for the pruned stage to leave at most
+     * top_limit clusters; starting near that saves repeated stages (10^4
+     * tornado lines needed about 1000 lower-bound neighbours). */
+    uint32_t neighbours = dd->neighbours ? dd->neighbours : DEFAULT_NEIGHBOURS;
+    if (!dd->neighbours && dg->lines / 16 > neighbours)
+        neighbours = dg->lines / 16;
+    int rc = 0;
+    if (dg->lines > 1) {
+        /* Small sets link every pair; larger ones prune at a radius that grows
+         * until the sparse stage leaves few enough clusters for the top. */
+        float r = dg->lines <= DENSE_LINES && !dd->neighbours ? INFINITY : prune_radius(dg, soa, bx, neighbours);
+        for (;;) {
+            int too_many;
+            dg->stats.attempts++;
+            dg->stats.pairs_tested = 0;
+            dg->stats.prune_radius = r;
+            rc = build_with_radius(dg, soa, bx, r, top_limit, dd->linkage, &too_many);
+            if (rc || !too_many)
+                break;
+            neighbours = neighbours < dg->lines / 4 ? 4 * neighbours : dg->lines;
+            float r2 = neighbours >= dg->lines ? INFINITY : prune_radius(dg, soa, bx, neighbours);
+            r = r2 > 2.0f * r ? r2 : 2.0f * r;
+        }
+    }
+    return rc;
+}
+
+/* Sampled clustering: `count` evenly spread lines are linked as a set of
+ * their own, every other line attaches to its nearest sampled line
+ * (cluster_sample.c), and the merges are the attachments (each joins the
+ * sampled line's growing cluster, nearest first) followed by the sample's
+ * merges, so a cut into k <= count clusters is the sample's cut with every
+ * line in its nearest sampled line's cluster. */
+static int link_sampled(lc_dendrogram *dg, const float *soa, const box *bx, const lc_cluster_desc *dd, uint32_t count)
+{
+    uint32_t n = dg->lines;
+    size_t stride = (size_t)dg->k * DIM;
+    lc_dendrogram sub = {.lines = count, .k = dg->k};
+    uint32_t *pick = malloc((size_t)count * sizeof *pick), *nearest = malloc((size_t)n * sizeof *nearest);
+    uint32_t *cur = malloc((size_t)count * sizeof *cur);
+    float *dist = malloc((size_t)n * sizeof *dist), *ssoa = malloc((size_t)count * stride * sizeof *ssoa);
+    sweep_key *order = malloc((size_t)n * sizeof *order);
+    box *sbx = malloc((size_t)count * sizeof *sbx);
+    sub.samples = malloc((size_t)count * stride * sizeof *sub.samples);
+    sub.merges = malloc((size_t)count * sizeof *sub.merges);
+    int rc = -1;
+    if (!pick || !nearest || !cur || !dist || !ssoa || !order || !sbx || !sub.samples || !sub.merges)
+        goto out;
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t l = pick[i] = (uint32_t)((uint64_t)i * n / count);
+        memcpy(sub.samples + i * stride, dg->samples + l * stride, stride * sizeof *ssoa);
+        memcpy(ssoa + i * stride, soa + l * stride, stride * sizeof *ssoa);
+        sbx[i] = bx[l];
+        cur[i] = l;
+    }
+    uint64_t pairs = 0;
+    if (link_lines(&sub, ssoa, sbx, dd) ||
+        lc_cluster_attach(soa, n, dg->k, pick, count, thread_count(n), nearest, dist, &pairs))
+        goto out;
+    uint32_t others = 0;
+    for (uint32_t i = 0, s = 0; i < n; i++) {
+        if (s < count && pick[s] == i) {
+            s++;
+            continue;
+        }
+        order[others++] = (sweep_key){dist[i], i}; /* nearest first, ties by line */
+    }
+    qsort(order, others, sizeof *order, cmp_sweep);
+    for (uint32_t e = 0; e < others; e++) {
+        uint32_t i = order[e].line, s = nearest[i];
+        dg->merges[e] = (merge){cur[s], i, order[e].lo};
+        cur[s] = n + e;
+    }
+    for (uint32_t e = 0; e + 1 < count; e++) { /* the sample's node x: its line's cluster, or a merge of its own */
+        merge m = sub.merges[e];
+        m.a = m.a < count ? cur[m.a] : n + others + (m.a - count);
+        m.b = m.b < count ? cur[m.b] : n + others + (m.b - count);
+        dg->merges[others + e] = m;
+    }
+    dg->stats = sub.stats;
+    dg->stats.pairs_tested += pairs;
+    dg->stats.sampled_lines = count;
+    rc = 0;
+out:
+    free(pick);
+    free(nearest);
+    free(cur);
+    free(dist);
+    free(ssoa);
+    free(order);
+    free(sbx);
+    free(sub.samples);
+    free(sub.merges);
+    return rc;
+}
+
 int lc_dendrogram_build_samples(const lc_line_samples *ls, const lc_cluster_desc *desc, lc_dendrogram **out,
                                 lc_error *err)
 {
@@ -728,31 +830,8 @@ int lc_dendrogram_build_samples(const lc_line_samples *ls, const lc_cluster_desc
             }
         lc_cluster_transpose(s, k, soa + i * stride);
     }
-    uint32_t top_limit = dd.top_clusters ? dd.top_clusters : DEFAULT_TOP_CLUSTERS;
-    /* Large sets need more neighbours for the pruned stage to leave at most
-     * top_limit clusters; starting near that saves repeated stages (10^4
-     * tornado lines needed about 1000 lower-bound neighbours). */
-    uint32_t neighbours = dd.neighbours ? dd.neighbours : DEFAULT_NEIGHBOURS;
-    if (!dd.neighbours && line_count / 16 > neighbours)
-        neighbours = line_count / 16;
-    int rc = 0;
-    if (line_count > 1) {
-        /* Small sets link every pair; larger ones prune at a radius that grows
-         * until the sparse stage leaves few enough clusters for the top. */
-        float r = line_count <= DENSE_LINES && !dd.neighbours ? INFINITY : prune_radius(dg, soa, bx, neighbours);
-        for (;;) {
-            int too_many;
-            dg->stats.attempts++;
-            dg->stats.pairs_tested = 0;
-            dg->stats.prune_radius = r;
-            rc = build_with_radius(dg, soa, bx, r, top_limit, dd.linkage, &too_many);
-            if (rc || !too_many)
-                break;
-            neighbours = neighbours < line_count / 4 ? 4 * neighbours : line_count;
-            float r2 = neighbours >= line_count ? INFINITY : prune_radius(dg, soa, bx, neighbours);
-            r = r2 > 2.0f * r ? r2 : 2.0f * r;
-        }
-    }
+    uint32_t limit = dd.sample_lines ? dd.sample_lines : DEFAULT_SAMPLE_LINES;
+    int rc = line_count > limit && limit > 1 ? link_sampled(dg, soa, bx, &dd, limit) : link_lines(dg, soa, bx, &dd);
     free(bx);
     free(soa);
     if (rc) {

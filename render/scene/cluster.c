@@ -15,7 +15,7 @@
 
 #define DEFAULT_NEIGHBOURS 96u
 #define DEFAULT_TOP_CLUSTERS 2048u
-#define DEFAULT_SAMPLE_LINES 20000u
+#define DEFAULT_SAMPLE_LINES 10000u
 /* Up to this many lines every pair is linked: the dense stage alone. */
 #define DENSE_LINES 1200u
 /* Threads of the pruned stage's sweep (at most the online processors). */

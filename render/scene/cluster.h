@@ -54,7 +54,7 @@ typedef struct lc_cluster_desc {
      * 2048). Tests lower them to exercise both stages on small inputs. */
     uint32_t neighbours;
     uint32_t top_clusters;
-    /* Above this many lines (0 = 20,000) an evenly spread sample of that many
+    /* Above this many lines (0 = 10,000) an evenly spread sample of that many
      * is clustered and every other line attached to its nearest sampled line
      * (docs/ALGORITHM.md §19, "Sampled clustering"). */
     uint32_t sample_lines;

@@ -13,7 +13,45 @@
 
 #include "cluster_distance.h"
 
-#define CANDIDATES 32 /* rMCPDs measured per attached line, at least (all when fewer are sampled) */
+#define CANDIDATES 32 /* sampled lines gathered by centroid before the search stops widening */
+#define MEASURED 64   /* of those, the nearest by centroid are measured by rMCPD */
+
+typedef struct cand {
+    float d2; /* squared centroid distance */
+    uint32_t s;
+} cand;
+
+/* Keeps the MEASURED nearest candidates in a max-heap on d2 (ties: larger index on top). */
+static int cand_above(const cand *x, const cand *y) { return x->d2 > y->d2 || (x->d2 == y->d2 && x->s > y->s); }
+
+static void cand_offer(cand *h, uint32_t *n, cand c)
+{
+    uint32_t i;
+    if (*n < MEASURED) {
+        i = (*n)++;
+        while (i > 0 && cand_above(&c, &h[(i - 1) / 2])) {
+            h[i] = h[(i - 1) / 2];
+            i = (i - 1) / 2;
+        }
+        h[i] = c;
+        return;
+    }
+    if (!cand_above(&h[0], &c))
+        return;
+    i = 0;
+    for (;;) { /* replace the top and sift down */
+        uint32_t l = 2 * i + 1, m = l;
+        if (l >= *n)
+            break;
+        if (l + 1 < *n && cand_above(&h[l + 1], &h[l]))
+            m = l + 1;
+        if (!cand_above(&h[m], &c))
+            break;
+        h[i] = h[m];
+        i = m;
+    }
+    h[i] = c;
+}
 
 typedef struct grid {
     int g;             /* cells per side */
@@ -68,7 +106,8 @@ static void *attach_run(void *arg)
         centroid(a, w->k, c);
         int cx = cell_of(gr, c, 0), cy = cell_of(gr, c, 1), cz = cell_of(gr, c, 2);
         float best = INFINITY;
-        uint32_t best_s = 0, seen = 0;
+        uint32_t best_s = 0, seen = 0, held = 0;
+        cand heap[MEASURED];
         /* Rings of cells around the line's: until `want` candidates, then one ring more. */
         int last = -1;
         for (int ring = 0; ring < gr->g && (last < 0 || ring <= last); ring++) {
@@ -82,15 +121,21 @@ static void *attach_run(void *arg)
                         size_t cell = ((size_t)z * gr->g + y) * gr->g + x;
                         for (uint32_t q = gr->start[cell]; q < gr->start[cell + 1]; q++) {
                             uint32_t s = gr->idx[q];
-                            float d = lc_cluster_rmcpd_below(a, w->soa + (size_t)w->pick[s] * stride, w->k, best);
-                            w->pairs++;
+                            const float *e = w->cent + 3 * s;
+                            float d0 = e[0] - c[0], d1 = e[1] - c[1], d2 = e[2] - c[2];
+                            cand_offer(heap, &held, (cand){d0 * d0 + d1 * d1 + d2 * d2, s});
                             seen++;
-                            if (d < best || (d == best && s < best_s))
-                                best = d, best_s = s;
                         }
                     }
             if (last < 0 && seen >= want)
                 last = ring + 1;
+        }
+        for (uint32_t h = 0; h < held; h++) {
+            uint32_t s = heap[h].s;
+            float d = lc_cluster_rmcpd_below(a, w->soa + (size_t)w->pick[s] * stride, w->k, best);
+            w->pairs++;
+            if (d < best || (d == best && s < best_s))
+                best = d, best_s = s;
         }
         w->nearest[i] = best_s;
         w->dist[i] = best;

@@ -518,6 +518,18 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
                                       "pointStride", h->point_stride, "primitives", (json_int_t)h->primitives,
                                       "renderMs", h->render_ms));
     }
+    if (o && h->has_color_ticks) {
+        json_t *ticks = json_array();
+        for (int i = 0; i < 5 && ticks; i++) {
+            if (!isfinite(h->color_ticks[i])) {
+                json_decref(ticks);
+                json_decref(o);
+                return LC_ERR_INVALID;
+            }
+            json_array_append_new(ticks, json_real(h->color_ticks[i]));
+        }
+        json_object_set_new(o, "colorTicks", ticks);
+    }
     char *text = dump_and_free(o);
     if (!text)
         return LC_ERR_NOMEM;
@@ -646,6 +658,20 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         h->interactive = json_is_true(in);
         h->reused = json_is_true(re);
         h->has_detail = true;
+    }
+    const json_t *ticks = json_object_get(o, "colorTicks");
+    if (ticks) {
+        bool ok = json_is_array(ticks) && json_array_size(ticks) == 5;
+        for (int i = 0; i < 5 && ok; i++) {
+            const json_t *v = json_array_get(ticks, (size_t)i);
+            ok = json_is_number(v) && isfinite(json_number_value(v));
+            h->color_ticks[i] = ok ? json_number_value(v) : 0;
+        }
+        if (!ok) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "colorTicks", "expected an array of 5 numbers");
+            goto done;
+        }
+        h->has_color_ticks = true;
     }
     *image = msg + 4 + n;
     *image_len = len - 4 - n;

@@ -153,6 +153,10 @@ typedef struct lc_frame_header {
     int point_stride;      /* points: every n-th drawn */
     uint64_t primitives;   /* primitives drawn per geometry pass */
     double render_ms;      /* wall time of the render */
+    /* "colorTicks" (optional): with color.equalize, the data values at 0,
+     * 1/4, 1/2, 3/4 and 1 of the colormap's bar (docs/ALGORITHM.md §19). */
+    bool has_color_ticks;
+    double color_ticks[5];
 } lc_frame_header;
 
 /* Packs header + image into one malloc'd binary message (*out, free()).

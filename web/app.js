@@ -97,6 +97,7 @@ export function createApp(doc = document, win = window) {
       stats.frameDrawn(f.header, f.bytes, f.drawnAt);
       const seen = visibilityText(f.header.visibility);
       if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.`);
+      legend.setColorTicks(f.header.colorTicks);
       canvas.dataset.frame = String(f.header.frame);
       canvas.dataset.converged = String(!!f.header.converged);
       body('frames', state.framesDrawn);

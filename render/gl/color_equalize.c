@@ -15,9 +15,9 @@ int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err)
     const lc_render_params *p = fs->params;
     if (!p->color.equalize)
         return 0;
-    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_EXACT)
         return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
-                            "equalized colour needs method \"fourier\" or \"direct\", not \"%s\"",
+                            "equalized colour needs method \"fourier\", \"direct\" or \"exact\", not \"%s\"",
                             lc_method_name(p->method));
     if (fs->color_mode == 2)
         return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "per-vertex RGB colour has no colormap to equalize");
@@ -49,7 +49,7 @@ static int fixed_ranges(const lc_frame_setup *fs, double (*out)[2])
 
 /* Writes T(F(.)) into the equalized texture and makes the frame's geometry
  * passes read it. */
-static void use_table(lc_renderer *r, lc_frame_setup *fs, const float *knots)
+void lc_color_equalize_use_table(lc_renderer *r, lc_frame_setup *fs, const float *knots)
 {
     float table[256 * 3];
     lc_equalize_table(lc_colormap_table(fs->colormap), LC_COLORMAP_SIZE, knots, LC_EQUALIZE_BINS, table, 256);
@@ -77,14 +77,21 @@ int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_s
 {
     fs->colormap_texture = 0;
     if (fs->params->color.equalize && state && state->eq_valid)
-        use_table(r, fs, state->eq_knots);
+        lc_color_equalize_use_table(r, fs, state->eq_knots);
     return 0;
 }
 
-/* The histogram of the composite that just ran (P4/P5 targets in place) into
- * r->eq_hist, summed over the processes of a split frame; *fresh: whether any
- * process has no transfer yet (so that all of them composite again, together). */
-static int measure(lc_renderer *r, lc_frame_setup *fs, int direct, int *fresh, lc_error *err)
+void lc_color_equalize_reset(lc_renderer *r)
+{
+    memset(r->eq_hist, 0, sizeof r->eq_hist);
+    r->eq_cover = r->eq_halo = -1;
+}
+
+/* The histogram of the composite that just ran (P4/P5 targets in place, a tile
+ * or the whole frame) added to r->eq_hist, summed over the processes of a split
+ * frame; *fresh: whether any process has no transfer yet (so that all of them
+ * composite again, together). */
+int lc_color_equalize_measure(lc_renderer *r, lc_frame_setup *fs, int direct, int *fresh, lc_error *err)
 {
     const lc_render_params *p = fs->params;
     GLuint prog = lc_renderer_geometry_program(r, direct ? PROG_COLOR_HISTOGRAM_DIRECT : PROG_COLOR_HISTOGRAM,
@@ -128,21 +135,28 @@ static int measure(lc_renderer *r, lc_frame_setup *fs, int direct, int *fresh, l
     sums[LC_EQUALIZE_BINS] = (float)*fresh;
     int rc = lc_reduce_sums(r, sums, LC_EQUALIZE_BINS + 1, fs->info, err);
     for (int b = 0; b < LC_EQUALIZE_BINS; b++)
-        r->eq_hist[b] = sums[b];
+        r->eq_hist[b] += sums[b];
     *fresh = sums[LC_EQUALIZE_BINS] > 0;
     return rc;
 }
 
-int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
-                          lc_error *err)
+/* The legend's ticks (lc_frame_info.color_ticks): where the bar shows T(x),
+ * the frame shows the data value whose colormap coordinate u has F(u) = x. */
+static void color_ticks(lc_frame_setup *fs, const float *knots)
+{
+    lc_frame_info *info = fs->info;
+    info->has_color_ticks = fs->params->color.curve.count == 0; /* u would need the curve's inverse */
+    for (int i = 0; i < 5 && info->has_color_ticks; i++) {
+        double u = lc_equalize_inverse(knots, LC_EQUALIZE_BINS, (float)i / 4.0f);
+        info->color_ticks[i] = fs->color_range[0] + u * (fs->color_range[1] - fs->color_range[0]);
+    }
+}
+
+int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int fresh,
+                             int *again, lc_error *err)
 {
     const lc_color_map *c = &fs->params->color;
-    if (!c->equalize)
-        return 0;
-    int fresh = !(state && state->eq_valid);
-    int rc = measure(r, fs, direct, &fresh, err);
-    if (rc)
-        return rc;
+    *again = 0;
     double fixed[LC_MAX_COLOR_FIXED][2];
     int nfixed = fixed_ranges(fs, fixed);
     float target[LC_EQUALIZE_BINS + 1];
@@ -150,21 +164,37 @@ int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
         return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "a fixed range is invalid");
     if (!fresh) {
         /* This frame drew with the session's F; the next one draws with F moved toward this view's. */
-        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
         memcpy(r->eq_knots, state->eq_knots, sizeof r->eq_knots);
         r->eq_valid = 1;
+        color_ticks(fs, r->eq_knots);
+        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
         return 0;
     }
-    /* One-shot frames and a session's first: composite again with this view's F
-     * (P1-P3 reused, only P4-P6 re-run). */
+    /* One-shot frames and a session's first: composite again with this view's F. */
     if (state) {
         state->eq_valid = 0;
         lc_frame_state_equalize(state, target, dt, c->fade_half_life);
     }
     memcpy(r->eq_knots, target, sizeof r->eq_knots);
     r->eq_valid = 1;
-    use_table(r, fs, target);
-    return lc_fourier_composite(r, fs, direct, err);
+    color_ticks(fs, target);
+    lc_color_equalize_use_table(r, fs, target);
+    *again = 1;
+    return 0;
+}
+
+int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
+                          lc_error *err)
+{
+    if (!fs->params->color.equalize)
+        return 0;
+    int fresh = !(state && state->eq_valid), again = 0;
+    lc_color_equalize_reset(r);
+    int rc = lc_color_equalize_measure(r, fs, direct, &fresh, err);
+    if (!rc)
+        rc = lc_color_equalize_finish(r, fs, state, dt, fresh, &again, err);
+    /* P1-P3 reused, only P4-P6 re-run. */
+    return rc || !again ? rc : lc_fourier_composite(r, fs, direct, err);
 }
 
 int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots)
@@ -175,5 +205,16 @@ int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots
         memcpy(hist, r->eq_hist, sizeof r->eq_hist);
     if (knots)
         memcpy(knots, r->eq_knots, sizeof r->eq_knots);
+    return 0;
+}
+
+int lc_renderer_color_coverage(const lc_renderer *r, double *cover, double *halo)
+{
+    if (!r->eq_valid || r->eq_cover < 0)
+        return -1;
+    if (cover)
+        *cover = r->eq_cover;
+    if (halo)
+        *halo = r->eq_halo;
     return 0;
 }

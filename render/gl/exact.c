@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "equalize.h"
 #include "exact.h"
 #include "foo_math.h"
 
@@ -41,9 +42,16 @@ enum {
     COUNTER_SLOTS = 16
 };
 
+/* color.equalize: 64-bit (low, high) counters of the blend pass, bins 0-255,
+ * the halos, the pixels' total coverage (exact_blend.comp.glsl). */
+#define EQ_SLOTS (LC_EQUALIZE_BINS + 2)
+#define EQ_SCALE 1048576.0 /* fixed-point units per unit of coverage: 2^20 */
+
 typedef struct exact_state {
     GLuint build[2][3]; /* [list pass][primitive type] */
-    GLuint opacity, blend;
+    GLuint build_eq[3]; /* list pass 1 keeping colour bins (color.equalize) */
+    GLuint opacity, blend, blend_eq;
+    GLuint eq_counts; /* EQ_SLOTS x 2 uints */
     GLuint nodes, counters, heads, fbo;
     uint32_t capacity; /* nodes in the pool */
     uint64_t pool_bytes;
@@ -65,19 +73,20 @@ static exact_state *get_state(lc_renderer *r)
     return st;
 }
 
-static GLuint build_program(exact_state *st, int pass, lc_prim_type prim, lc_error *err)
+static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, lc_error *err)
 {
-    GLuint *slot = &st->build[pass][prim];
+    GLuint *slot = equalize ? &st->build_eq[prim] : &st->build[pass][prim];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
     static const char *const fs[] = {"common.glsl", "fragment_common.glsl", "exact_common.glsl",
                                      "exact_build.frag.glsl", NULL};
-    char defines[160], label[64];
+    char defines[192], label[64];
     /* Pass 1 reads the element opacities in the vertex shader (v_alpha). */
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s", (int)prim,
-             pass, pass ? "#define READ_ALPHA 1\n" : "");
-    snprintf(label, sizeof label, "exact list pass %d (%s)", pass, lc_prim_type_name(prim));
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s", (int)prim,
+             pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "");
+    snprintf(label, sizeof label, "exact list pass %d%s (%s)", pass, equalize ? " equalize" : "",
+             lc_prim_type_name(prim));
     *slot = lc_renderer_build_program(defines, vs, fs, NULL, label, err);
     return *slot;
 }
@@ -91,12 +100,29 @@ static int ensure_programs(exact_state *st, lc_error *err)
         snprintf(defines, sizeof defines, "#define EXACT_MAX_LAYERS %d\n#define EXACT_SUM_IMPORTANCE 1\n", MAX_LAYERS);
         st->opacity = lc_renderer_build_program(defines, NULL, NULL, cs, "exact opacity", err);
     }
+    static const char *const blend_cs[] = {"exact_common.glsl", "exact_blend.comp.glsl", NULL};
     snprintf(defines, sizeof defines, "#define EXACT_MAX_LAYERS %d\n", MAX_LAYERS);
-    if (!st->blend) {
-        static const char *const cs[] = {"exact_common.glsl", "exact_blend.comp.glsl", NULL};
-        st->blend = lc_renderer_build_program(defines, NULL, NULL, cs, "exact blend", err);
-    }
+    if (!st->blend)
+        st->blend = lc_renderer_build_program(defines, NULL, NULL, blend_cs, "exact blend", err);
     return st->opacity && st->blend ? 0 : LC_ERR_GL;
+}
+
+/* The blend pass that also measures the colour histogram, and its counters. */
+static int ensure_equalize(exact_state *st, lc_error *err)
+{
+    if (!st->blend_eq) {
+        static const char *const cs[] = {"exact_common.glsl", "exact_blend.comp.glsl", NULL};
+        char defines[96];
+        snprintf(defines, sizeof defines, "#define EXACT_MAX_LAYERS %d\n#define EXACT_EQUALIZE 1\n", MAX_LAYERS);
+        st->blend_eq = lc_renderer_build_program(defines, NULL, NULL, cs, "exact blend equalize", err);
+        if (!st->blend_eq)
+            return LC_ERR_GL;
+    }
+    if (!st->eq_counts) {
+        glCreateBuffers(1, &st->eq_counts);
+        glNamedBufferStorage(st->eq_counts, EQ_SLOTS * 2 * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
+    }
+    return 0;
 }
 
 /* Allocates the node pool once, at the configured size clamped to what one
@@ -174,8 +200,10 @@ static void clear_heads(const exact_state *st)
     glClearTexImage(st->heads, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
 }
 
-/* Draws every primitive of every layer with its list program of `pass` into the heads/pool at w x h. */
-static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int w, int h, lc_error *err)
+/* Draws every primitive of every layer with its list program of `pass`
+ * (equalize: the variant that keeps colour bins) into the heads/pool at w x h. */
+static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int equalize, int w, int h,
+                       lc_error *err)
 {
     clear_heads(st);
     glDisable(GL_BLEND);
@@ -190,7 +218,7 @@ static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint prog = build_program(st, pass, lf->gs->scene->type, err);
+        GLuint prog = build_program(st, pass, equalize, lf->gs->scene->type, err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
@@ -200,6 +228,82 @@ static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs
         lc_renderer_draw_geometry(lf, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    return 0;
+}
+
+/* The equalize blend's counters into r->eq_hist (pixels of coverage), r->eq_cover and r->eq_halo. */
+static void read_histogram(lc_renderer *r, const exact_state *st)
+{
+    uint32_t words[EQ_SLOTS * 2];
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glGetNamedBufferSubData(st->eq_counts, 0, sizeof words, words);
+    double v[EQ_SLOTS];
+    for (int k = 0; k < EQ_SLOTS; k++) /* integers below 2^53 and a power-of-two scale: exact doubles */
+        v[k] = (double)((uint64_t)words[2 * k + 1] << 32 | words[2 * k]) / EQ_SCALE;
+    memcpy(r->eq_hist, v, sizeof r->eq_hist);
+    r->eq_halo = v[LC_EQUALIZE_BINS];
+    r->eq_cover = v[LC_EQUALIZE_BINS + 1];
+}
+
+/* The list counters into info (the last composite's full-resolution pass). */
+static void report(const exact_state *st, lc_frame_info *info)
+{
+    uint32_t c[COUNTER_SLOTS];
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(st->counters, 0, sizeof c, c);
+    uint64_t dropped =
+        (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1] + c[COUNTER_DROP_LAYERS] + c[COUNTER_DROP_LAYERS + 1];
+    info->fragments = c[COUNTER_NODES + 1];
+    info->dropped_fragments = dropped;
+    info->max_layers = c[COUNTER_MAX_LAYERS + 1];
+    info->mean_layers = c[COUNTER_COVERED + 1] ? (double)c[COUNTER_NODES + 1] / c[COUNTER_COVERED + 1] : 0.0;
+    if (dropped)
+        LC_DEBUG(MODULE, "%llu fragments dropped (pool: %u + %u of %u nodes, layer cap %d: %u + %u)",
+                 (unsigned long long)dropped, c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity, MAX_LAYERS,
+                 c[COUNTER_DROP_LAYERS], c[COUNTER_DROP_LAYERS + 1]);
+}
+
+/* List pass 1 (full resolution: depth, opacity, colour; the pool is reused
+ * from index 0), then the sort and blend into the output, over the opaque
+ * context's colour where there is one; measure: the list pass keeps colour
+ * bins and the blend counts the colour histogram. */
+static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, lc_frame_info *info,
+                     lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    /* Counters of list pass 1 restart: a second composite reports itself, not the sum. */
+    const GLuint zero = 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
+        glClearNamedBufferSubData(st->counters, GL_R32UI, slot * 4, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    int rc = build_lists(r, st, fs, 1, measure, fs->width, fs->height, err);
+    if (rc)
+        return rc;
+    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
+
+    /* Sort and blend front to back into the output (accumulate and resolve in one pass). */
+    GLuint blend = measure ? st->blend_eq : st->blend;
+    glUseProgram(blend);
+    bind_lists(st, blend, 1);
+    if (measure) {
+        glClearNamedBufferData(st->eq_counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_COLOR_HISTOGRAM, st->eq_counts);
+        lc_uniform_f(blend, "u_eq_scale", (float)EQ_SCALE);
+    }
+    glBindImageTexture(IMG_EXACT_OUTPUT, r->output.tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glProgramUniform2i(blend, glGetUniformLocation(blend, "u_size"), fs->width, fs->height);
+    glProgramUniform3f(blend, glGetUniformLocation(blend, "u_background"), (float)p->style.background[0],
+                       (float)p->style.background[1], (float)p->style.background[2]);
+    lc_uniform_i(blend, "u_context", fs->context_color ? 1 : 0);
+    if (fs->context_color)
+        glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
+    glDispatchCompute((GLuint)(fs->width + 7) / 8, (GLuint)(fs->height + 7) / 8, 1);
+    /* lc_render_frame reads the output back through its framebuffer. */
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
+    lc_renderer_timestamp(r, LC_PASS_RESOLVE);
+    report(st, info);
     return 0;
 }
 
@@ -222,7 +326,7 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
 
     /* List pass 0 (optimization resolution): depth, importance, element. */
     int lw = fs->low_width, lh = fs->low_height;
-    if ((rc = build_lists(r, st, fs, 0, lw, lh, err)) != 0)
+    if ((rc = build_lists(r, st, fs, 0, 0, lw, lh, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
 
@@ -257,41 +361,20 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     if (rc)
         return rc;
 
-    /* List pass 1 (full resolution): depth, opacity, colour. The pool is reused from index 0. */
-    if ((rc = build_lists(r, st, fs, 1, fs->width, fs->height, err)) != 0)
+    /* List pass 1 and the blend; with color.equalize they measure the colour
+     * histogram, and a one-shot frame (or a session's first) runs them again
+     * with this view's equalized colormap (color_equalize.c). */
+    if (!p->color.equalize)
+        return composite(r, st, fs, 0, info, err);
+    if ((rc = ensure_equalize(st, err)) != 0)
         return rc;
-    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
-
-    /* Sort and blend front to back into the output (accumulate and resolve in one pass). */
-    glUseProgram(st->blend);
-    bind_lists(st, st->blend, 1);
-    glBindImageTexture(IMG_EXACT_OUTPUT, r->output.tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    glProgramUniform2i(st->blend, glGetUniformLocation(st->blend, "u_size"), fs->width, fs->height);
-    glProgramUniform3f(st->blend, glGetUniformLocation(st->blend, "u_background"), (float)p->style.background[0],
-                       (float)p->style.background[1], (float)p->style.background[2]);
-    lc_uniform_i(st->blend, "u_context", fs->context_color ? 1 : 0);
-    if (fs->context_color)
-        glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
-    glDispatchCompute((GLuint)(fs->width + 7) / 8, (GLuint)(fs->height + 7) / 8, 1);
-    /* lc_render_frame reads the output back through its framebuffer. */
-    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
-    lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
-    lc_renderer_timestamp(r, LC_PASS_RESOLVE);
-
-    uint32_t c[COUNTER_SLOTS];
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(st->counters, 0, sizeof c, c);
-    uint64_t dropped =
-        (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1] + c[COUNTER_DROP_LAYERS] + c[COUNTER_DROP_LAYERS + 1];
-    info->fragments = c[COUNTER_NODES + 1];
-    info->dropped_fragments = dropped;
-    info->max_layers = c[COUNTER_MAX_LAYERS + 1];
-    info->mean_layers = c[COUNTER_COVERED + 1] ? (double)c[COUNTER_NODES + 1] / c[COUNTER_COVERED + 1] : 0.0;
-    if (dropped)
-        LC_DEBUG(MODULE, "%llu fragments dropped (pool: %u + %u of %u nodes, layer cap %d: %u + %u)",
-                 (unsigned long long)dropped, c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity, MAX_LAYERS,
-                 c[COUNTER_DROP_LAYERS], c[COUNTER_DROP_LAYERS + 1]);
-    return 0;
+    lc_color_equalize_reset(r);
+    if ((rc = composite(r, st, fs, 1, info, err)) != 0)
+        return rc;
+    read_histogram(r, st);
+    int again = 0;
+    rc = lc_color_equalize_finish(r, fs, state, dt, !(state && state->eq_valid), &again, err);
+    return rc || !again ? rc : composite(r, st, fs, 0, info, err); /* full-precision colour */
 }
 
 void lc_exact_release(lc_renderer *r)
@@ -320,10 +403,17 @@ void lc_exact_destroy(lc_renderer *r)
     exact_state *st = r->exact;
     if (!st)
         return;
-    for (int pass = 0; pass < 2; pass++)
-        for (int prim = 0; prim < 3; prim++)
+    for (int prim = 0; prim < 3; prim++) {
+        for (int pass = 0; pass < 2; pass++)
             if (st->build[pass][prim])
                 glDeleteProgram(st->build[pass][prim]);
+        if (st->build_eq[prim])
+            glDeleteProgram(st->build_eq[prim]);
+    }
+    if (st->blend_eq)
+        glDeleteProgram(st->blend_eq);
+    if (st->eq_counts)
+        glDeleteBuffers(1, &st->eq_counts);
     if (st->opacity)
         glDeleteProgram(st->opacity);
     if (st->blend)

@@ -312,8 +312,51 @@ static const int pass_order[LC_PASS_COUNT] = {LC_PASS_DEPTH_RANGE, LC_PASS_IMPOR
  * targets (the memory that grows with the image) stay tile-sized. */
 /* Composites the frame in nx x ny about-equal tiles (lc_pass_plan_tiles) into
  * rgba (the frame's size, rows top-down). */
-static int render_tiles(lc_renderer *r, lc_frame_setup *fs, int nx, int ny, int samples, int pixel_range,
-                        uint8_t *rgba, lc_error *err)
+/* Sets fs to tile (i, j) of nx x ny (rows top-down) and its output; *x0, *y0: its origin in the image. */
+static void select_tile(lc_renderer *r, lc_frame_setup *fs, int W, int H, int nx, int ny, int i, int j, int *x0,
+                        int *y0)
+{
+    *y0 = (int)((long long)H * j / ny);
+    *x0 = (int)((long long)W * i / nx);
+    int th = (int)((long long)H * (j + 1) / ny) - *y0, tw = (int)((long long)W * (i + 1) / nx) - *x0;
+    fs->width = tw, fs->height = th;
+    fs->tile_origin[0] = *x0, fs->tile_origin[1] = H - *y0 - th;
+    ensure_output(r, tw, th, fs->params->method == LC_METHOD_OPAQUE);
+    glScissor(0, 0, tw, th);
+}
+
+/* color.equalize on a tiled still: one histogram over all tiles. Without a
+ * session transfer (one-shot stills) a first round composites every tile
+ * (P4, P5) only to measure it, and the image's round then draws with this
+ * view's F; with one, the image's round measures as it draws (*measure).
+ * Either way the histogram is that of the whole frame, as untiled. */
+static int equalize_tiles_first(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int nx, int ny,
+                                int pixel_range, int *measure, lc_error *err)
+{
+    int direct = fs->params->method == LC_METHOD_DIRECT;
+    float fresh = !(state && state->eq_valid);
+    int rc = lc_reduce_sums(r, &fresh, 1, fs->info, err); /* all processes take the same branch */
+    lc_color_equalize_reset(r);
+    *measure = !rc && !(fresh > 0);
+    int W = fs->frame_width, H = fs->frame_height, x0, y0, again = 0;
+    for (int j = 0; j < ny && !rc && !*measure; j++)
+        for (int i = 0; i < nx && !rc; i++) {
+            select_tile(r, fs, W, H, nx, ny, i, j, &x0, &y0);
+            int ignored = 1;
+            if (pixel_range)
+                rc = lc_fourier_depth_range(r, fs, 1, 0, err);
+            if (!rc)
+                rc = lc_fourier_composite(r, fs, direct, err);
+            if (!rc)
+                rc = lc_color_equalize_measure(r, fs, direct, &ignored, err);
+        }
+    if (!rc && !*measure)
+        rc = lc_color_equalize_finish(r, fs, state, dt, 1, &again, err);
+    return rc;
+}
+
+static int render_tiles(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int nx, int ny,
+                        int samples, int pixel_range, uint8_t *rgba, lc_error *err)
 {
     GLint dims[2] = {0, 0};
     glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
@@ -327,19 +370,22 @@ static int render_tiles(lc_renderer *r, lc_frame_setup *fs, int nx, int ny, int 
     fs->tiled = 1, fs->frame_width = W, fs->frame_height = H;
     fs->info->tiles = nx * ny;
     glEnable(GL_SCISSOR_TEST);
-    int rc = 0;
+    int rc = 0, measure = 0, direct = fs->params->method == LC_METHOD_DIRECT;
+    if (fs->params->color.equalize)
+        rc = equalize_tiles_first(r, fs, state, dt, nx, ny, pixel_range, &measure, err);
     for (int j = 0; j < ny && !rc; j++) {
-        int y0 = (int)((long long)H * j / ny), th = (int)((long long)H * (j + 1) / ny) - y0; /* rows top-down */
         for (int i = 0; i < nx && !rc; i++) {
-            int x0 = (int)((long long)W * i / nx), tw = (int)((long long)W * (i + 1) / nx) - x0;
-            fs->width = tw, fs->height = th;
-            fs->tile_origin[0] = x0, fs->tile_origin[1] = H - y0 - th;
-            ensure_output(r, tw, th, fs->params->method == LC_METHOD_OPAQUE);
-            glScissor(0, 0, tw, th);
+            int x0, y0;
+            select_tile(r, fs, W, H, nx, ny, i, j, &x0, &y0);
+            int tw = fs->width, th = fs->height;
             if (pixel_range)
                 rc = lc_fourier_depth_range(r, fs, 1, 0, err);
             if (!rc)
                 rc = composite(r, fs, err);
+            if (!rc && measure) {
+                int ignored = 0;
+                rc = lc_color_equalize_measure(r, fs, direct, &ignored, err);
+            }
             if (!rc && samples > 1)
                 rc = antialias(r, fs, samples, tile, err);
             else if (!rc)
@@ -349,6 +395,10 @@ static int render_tiles(lc_renderer *r, lc_frame_setup *fs, int nx, int ny, int 
         }
     }
     glDisable(GL_SCISSOR_TEST);
+    if (!rc && measure) { /* the session's transfer moves toward the whole frame's */
+        int again = 0;
+        rc = lc_color_equalize_finish(r, fs, state, dt, 0, &again, err);
+    }
     fs->tiled = 0, fs->width = W, fs->height = H;
     free(tile);
     return rc;
@@ -475,10 +525,6 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
 
     ensure_element_buffers(r, fs.element_total);
     int nx, ny, tiles = lc_pass_plan_tiles(&p, r->desc.tile_size, &nx, &ny);
-    if (tiles && p.color.equalize) /* the histogram would have to span every tile's compositing */
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
-                            "not with a tiled still (%dx%d is drawn in %dx%d tiles); render it at most 4096x4096",
-                            p.width, p.height, nx, ny);
     if (!tiles)
         ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
@@ -517,7 +563,7 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     }
     int samples = antialias_samples(&p);
     if (!rc && tiles)
-        rc = render_tiles(r, &fs, nx, ny, samples, plan.pixel_range, rgba, err);
+        rc = render_tiles(r, &fs, state, dt, nx, ny, samples, plan.pixel_range, rgba, err);
     else if (!rc && p.method != LC_METHOD_EXACT)
         rc = composite(r, &fs, err);
     if (!rc && !tiles && (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT))

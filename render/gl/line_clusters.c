@@ -184,6 +184,7 @@ static int cut_locked(lc_line_clusters *lc, const lc_frame_setup *fs, lc_error *
         lc->dg = NULL;
         lc->has_tree = lc->has_cut = 0;
         rc = lc_dendrogram_build_samples(ls, &desc, &lc->dg, err);
+        fs->info->clusters_built = 1;
         if (rc) {
             lc_err_prefix(err, "lines.clusters");
             goto out;
@@ -239,8 +240,10 @@ int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
         return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
                             "%s is split across processes; clustering needs every line in one process",
                             fs->gs->scene->name);
+    double t0 = lc_now();
     pthread_mutex_lock(&lc->lock);
     int rc = cut_locked(lc, fs, err);
+    fs->info->clusters_ms = (lc_now() - t0) * 1e3;
     if (rc == 0 && (r->line_mask_scene != fs->gs || r->line_mask_stamp != lc->stamp)) {
         size_t bytes = ((size_t)lc->vertex_count + 31) / 32 * 4;
         if (!r->line_mask)

@@ -194,6 +194,15 @@ typedef struct lc_frame_info {
     /* params.clarity: the factors on λ and on q and r the frame's opacities
      * used (0: the loop was off; render/gl/clarity.c). */
     double clarity_lambda, clarity_penalty;
+    /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
+     * (else it reused the scene's), and the time spent building and cutting. */
+    int clusters_built;
+    double clusters_ms;
+    /* color.equalize: the data values at 0, 1/4, 1/2, 3/4 and 1 of the
+     * colormap's bar under the transfer this frame drew with (F^-1 through
+     * color.range); has_color_ticks = 0 without equalization or with color.curve. */
+    int has_color_ticks;
+    double color_ticks[5];
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several
@@ -295,6 +304,11 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
  * (256 bins over the colormap coordinate, in pixels: sum = sum (1 - T)) and
  * the transfer it drew with (257 knots); either may be NULL. -1: none yet. */
 int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots);
+/* The exact method's last equalized frame: the sum over pixels of 1 - T
+ * (each pixel's rounded once to 2^-20) and the part of it that halo fragments
+ * cover (left out of the histogram, so sum H_b + halo = cover exactly).
+ * -1: no such frame (other methods do not measure it). */
+int lc_renderer_color_coverage(const lc_renderer *r, double *cover, double *halo);
 
 /* GPU memory currently held by the renderer's targets and buffers. */
 uint64_t lc_renderer_bytes(const lc_renderer *r);

@@ -264,6 +264,9 @@ struct lc_renderer {
     double eq_hist[256];
     float eq_knots[257];
     int eq_valid;
+    /* The exact method's sum over pixels of 1 - T and the halos' part of it,
+     * in the histogram's units (lc_renderer_color_coverage); -1: not measured. */
+    double eq_cover, eq_halo;
 };
 
 struct lc_frame_state {
@@ -499,6 +502,17 @@ int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err);
 int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_state *state);
 int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
                           lc_error *err);
+/* The steps of _end for callers that composite otherwise (tiles, the exact
+ * method): _reset empties the histogram; _measure adds the Fourier/direct
+ * composite in place (one tile or the frame); _finish turns r->eq_hist into
+ * the transfer, moves the session's or (*again = 1, fresh) puts this view's
+ * table in place for a second composite; _use_table makes the frame's
+ * geometry passes read T(F(.)) for the knots given. */
+void lc_color_equalize_reset(lc_renderer *r);
+int lc_color_equalize_measure(lc_renderer *r, lc_frame_setup *fs, int direct, int *fresh, lc_error *err);
+int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int fresh,
+                             int *again, lc_error *err);
+void lc_color_equalize_use_table(lc_renderer *r, lc_frame_setup *fs, const float *knots);
 
 int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
                         lc_error *err);

@@ -68,6 +68,19 @@ float lc_equalize_map(const float *knots, int bins, float c)
     return knots[b] * (1 - t) + knots[b + 1] * t;
 }
 
+float lc_equalize_inverse(const float *knots, int bins, float x)
+{
+    if (!(x > knots[0]))
+        return 0.0f;
+    for (int b = 0; b < bins; b++)
+        if (x <= knots[b + 1]) {
+            float span = knots[b + 1] - knots[b];
+            float t = span > 0 ? (x - knots[b]) / span : 0.0f;
+            return ((float)b + t) / (float)bins;
+        }
+    return 1.0f;
+}
+
 void lc_equalize_table(const float *table, int table_size, const float *knots, int bins, float *out, int size)
 {
     for (int k = 0; k < size; k++) {

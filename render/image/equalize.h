@@ -32,6 +32,10 @@ void lc_equalize_approach(float *knots, const float *target, int bins, double dt
 /* F(c) for c in [0, 1] (clamped), linear between the knots. */
 float lc_equalize_map(const float *knots, int bins, float c);
 
+/* The inverse: the least c in [0, 1] with F(c) = x (x clamped to [F(0), F(1)]),
+ * for knots that do not decrease; the legend's tick positions. */
+float lc_equalize_inverse(const float *knots, int bins, float x);
+
 /* The equalized colormap: entry k of out (size entries, 3 floats each) is the
  * colour of table (LC_COLORMAP_SIZE entries, lc_colormap_table) at F(k / (size - 1)). */
 void lc_equalize_table(const float *table, int table_size, const float *knots, int bins, float *out, int size);

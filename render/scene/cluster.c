@@ -1,7 +1,9 @@
 /* Line clustering: resampling and 5-D lift, rMCPD, a pruned agglomerative
  * linkage with a dense top stage, and dendrogram cuts with representatives. */
 #include "cluster.h"
+#include "cluster_distance.h"
 #include "cluster_internal.h"
+#include "cluster_sample.h"
 
 #include <float.h>
 #include <math.h>
@@ -13,6 +15,7 @@
 
 #define DEFAULT_NEIGHBOURS 96u
 #define DEFAULT_TOP_CLUSTERS 2048u
+#define DEFAULT_SAMPLE_LINES 10000u
 /* Up to this many lines every pair is linked: the dense stage alone. */
 #define DENSE_LINES 1200u
 /* Threads of the pruned stage's sweep (at most the online processors). */
@@ -136,66 +139,25 @@ size_t lc_line_samples_bytes(const lc_line_samples *ls)
     return ls ? sizeof *ls + (size_t)ls->lines * ((size_t)ls->k * (3 + (size_t)ls->attributes) + 1) * sizeof(float) : 0;
 }
 
-/* ---- rMCPD (DLS Eq. 3-4) */
+_Static_assert(KERNEL_MAX_K == LC_CLUSTER_MAX_SAMPLES && KERNEL_FAST_K == LC_CLUSTER_DEFAULT_SAMPLES &&
+                   KERNEL_DIM == DIM,
+               "cluster_distance.c's sample counts");
 
+/* DLS Eq. 3-4 on two lines as stored (AoS), through the kernel. */
 float lc_cluster_rmcpd(const float *a, const float *b, int k)
 {
-    float row[LC_CLUSTER_MAX_SAMPLES], col[LC_CLUSTER_MAX_SAMPLES];
-    for (int j = 0; j < k; j++)
-        col[j] = FLT_MAX;
-    for (int i = 0; i < k; i++) {
-        const float *p = a + i * DIM;
-        float best = FLT_MAX;
-        for (int j = 0; j < k; j++) {
-            const float *q = b + j * DIM;
-            float d0 = p[0] - q[0], d1 = p[1] - q[1], d2 = p[2] - q[2], d3 = p[3] - q[3], d4 = p[4] - q[4];
-            float d = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4;
-            best = d < best ? d : best;
-            col[j] = d < col[j] ? d : col[j];
-        }
-        row[i] = best;
-    }
-    double ab = 0, ba = 0;
-    for (int i = 0; i < k; i++) {
-        ab += sqrt(row[i]);
-        ba += sqrt(col[i]);
-    }
-    return (float)((ab < ba ? ab : ba) / k);
-}
-
-/* d'(a,b) of Eq. 4, or INFINITY as soon as it is known to reach r: the
- * partial sum of closest distances only grows. */
-static float mean_closest_below(const float *a, const float *b, int k, float r)
-{
-    double sum = 0, limit = (double)r * k;
-    for (int i = 0; i < k; i++) {
-        const float *p = a + i * DIM;
-        float best = FLT_MAX;
-        for (int j = 0; j < k; j++) {
-            const float *q = b + j * DIM;
-            float d0 = p[0] - q[0], d1 = p[1] - q[1], d2 = p[2] - q[2], d3 = p[3] - q[3], d4 = p[4] - q[4];
-            float d = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4;
-            best = d < best ? d : best;
-        }
-        sum += sqrt(best);
-        if (sum >= limit)
-            return INFINITY;
-    }
-    return (float)(sum / k);
-}
-
-/* The rMCPD when it is below r, else INFINITY. Most pairs the pruned stage
- * measures are rejected, and the early exit makes those cheap. */
-static float rmcpd_below(const float *a, const float *b, int k, float r)
-{
-    float ab = mean_closest_below(a, b, k, r);
-    float ba = mean_closest_below(b, a, k, ab < r ? ab : r);
-    return ab < ba ? ab : ba;
+    float sa[LC_CLUSTER_MAX_SAMPLES * DIM], sb[LC_CLUSTER_MAX_SAMPLES * DIM];
+    lc_cluster_transpose(a, k, sa);
+    lc_cluster_transpose(b, k, sb);
+    return lc_cluster_rmcpd_soa(sa, sb, k);
 }
 
 /* ---- the linkage engine: clusters as nodes of a weighted graph whose missing
  * edges mean "at least r"; a min-heap of edges with lazy deletion (an edge
- * between two live nodes never changes: a merge creates a new node). */
+ * between two live nodes never changes: a merge creates a new node). The
+ * adjacency lists delete lazily too: an entry for a merged node stays in its
+ * neighbours' lists and is skipped (a linear removal per neighbour and merge
+ * was most of the linkage's time at 10^4 lines). */
 
 typedef struct edge {
     float d;
@@ -330,15 +292,6 @@ static int engine_edge(engine *g, uint32_t a, uint32_t b, float d)
     return heap_push(g, (edge){d, a < b ? a : b, a < b ? b : a});
 }
 
-static void adj_remove(adj *l, uint32_t to)
-{
-    for (uint32_t i = 0; i < l->n; i++)
-        if (l->e[i].a == to) {
-            l->e[i] = l->e[--l->n];
-            return;
-        }
-}
-
 /* The Lance-Williams update of one neighbour x of the merged pair; NAN = no
  * edge (only possible when r is finite). */
 static float linked(const engine *g, float da, float db, uint32_t na, uint32_t nb)
@@ -384,8 +337,6 @@ static int engine_merge(engine *g, uint32_t a, uint32_t b, float height)
         uint32_t x = g->touched[i];
         float d = linked(g, g->mark_a[x], g->mark_b[x], g->size[a], g->size[b]);
         g->mark_a[x] = g->mark_b[x] = NAN;
-        adj_remove(&g->adj[x], a);
-        adj_remove(&g->adj[x], b);
         if (!rc && !isnan(d))
             rc = engine_edge(g, c, x, d);
     }
@@ -423,26 +374,6 @@ static float box_distance(const box *p, const box *q)
     return sqrtf(s);
 }
 
-/* A lower bound of the rMCPD: each sample's closest distance to the other
- * line is at least its distance to that line's box. O(k) per pair. */
-static float rmcpd_lower_bound(const float *a, const box *ba, const float *b, const box *bb, int k)
-{
-    double s[2] = {0, 0};
-    for (int dir = 0; dir < 2; dir++) {
-        const float *p = dir ? b : a;
-        const box *q = dir ? ba : bb;
-        for (int i = 0; i < k; i++) {
-            float t = 0;
-            for (int j = 0; j < DIM; j++) {
-                float v = p[i * DIM + j], gap = v < q->lo[j] ? q->lo[j] - v : v > q->hi[j] ? v - q->hi[j] : 0;
-                t += gap * gap;
-            }
-            s[dir] += sqrtf(t);
-        }
-    }
-    return (float)((s[0] < s[1] ? s[0] : s[1]) / k);
-}
-
 /* A line's box start on the sweep axis, sorted with its index (no global
  * state: builds may run in several threads at once). */
 typedef struct sweep_key {
@@ -464,7 +395,7 @@ static int cmp_float(const void *x, const void *y)
 
 /* The pruning radius: the rMCPD lower bound below which a line has about
  * `neighbours` other lines, estimated from up to 128 evenly spread lines. */
-static float prune_radius(const lc_dendrogram *dg, const box *bx, uint32_t neighbours)
+static float prune_radius(const lc_dendrogram *dg, const float *soa, const box *bx, uint32_t neighbours)
 {
     uint32_t m = dg->lines, s = m < 128 ? m : 128;
     size_t stride = (size_t)dg->k * DIM;
@@ -475,7 +406,8 @@ static float prune_radius(const lc_dendrogram *dg, const box *bx, uint32_t neigh
     for (uint32_t i = 0; i < s; i++) {
         uint32_t p = (uint32_t)((uint64_t)i * m / s);
         for (uint32_t j = 0; j < m; j++)
-            d[j] = rmcpd_lower_bound(dg->samples + p * stride, &bx[p], dg->samples + j * stride, &bx[j], dg->k);
+            d[j] = lc_cluster_lower_bound(soa + p * stride, bx[p].lo, bx[p].hi, soa + j * stride, bx[j].lo, bx[j].hi,
+                                          dg->k, -INFINITY);
         uint32_t rank = neighbours < m ? neighbours : m - 1;
         /* nth_element would do; a sort of m floats is cheap next to the rMCPDs. */
         qsort(d, m, sizeof *d, cmp_float);
@@ -485,6 +417,30 @@ static float prune_radius(const lc_dendrogram *dg, const box *bx, uint32_t neigh
     return (float)(sum / s);
 }
 
+/* Runs fn on jobs[0..n) (each `size` bytes), job t >= 1 in a thread of its
+ * own and job 0 (and any whose thread could not start) in this one. */
+static void run_jobs(void *(*fn)(void *), void *jobs, size_t size, uint32_t n)
+{
+    pthread_t tid[MAX_THREADS];
+    int started[MAX_THREADS] = {0};
+    for (uint32_t t = 1; t < n; t++)
+        started[t] = pthread_create(&tid[t], NULL, fn, (char *)jobs + t * size) == 0;
+    for (uint32_t t = 0; t < n; t++)
+        if (!started[t])
+            fn((char *)jobs + t * size);
+    for (uint32_t t = 1; t < n; t++)
+        if (started[t])
+            pthread_join(tid[t], NULL);
+}
+
+/* Threads for a stage of `work` items: one per online core, at most MAX_THREADS, one for small work. */
+static uint32_t thread_count(uint32_t work)
+{
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    uint32_t threads = cpus < 1 ? 1 : cpus > MAX_THREADS ? MAX_THREADS : (uint32_t)cpus;
+    return work < 256 ? 1 : threads;
+}
+
 /* The sparse stage: every pair whose boxes come closer than r is measured; an
  * rMCPD under r becomes an edge (a sweep along the widest spatial axis).
  * Threads take every T-th line of the sweep and collect their edges; the
@@ -492,6 +448,7 @@ static float prune_radius(const lc_dendrogram *dg, const box *bx, uint32_t neigh
  * by distance, then node ids). */
 typedef struct sweep {
     const lc_dendrogram *dg;
+    const float *soa; /* the lines by coordinate (cluster_distance.c) */
     const box *bx;
     const sweep_key *order;
     float r;
@@ -517,10 +474,11 @@ static void *sweep_run(void *arg)
             uint32_t j = w->order[oj].line;
             if (bx[j].lo[w->axis] > bx[i].hi[w->axis] + r)
                 break;
+            const float *a = w->soa + i * stride, *b = w->soa + j * stride;
             if (box_distance(&bx[i], &bx[j]) >= r ||
-                rmcpd_lower_bound(dg->samples + i * stride, &bx[i], dg->samples + j * stride, &bx[j], dg->k) >= r)
+                lc_cluster_lower_bound(a, bx[i].lo, bx[i].hi, b, bx[j].lo, bx[j].hi, dg->k, r) >= r)
                 continue;
-            float d = rmcpd_below(dg->samples + i * stride, dg->samples + j * stride, dg->k, r);
+            float d = lc_cluster_rmcpd_below(a, b, dg->k, r);
             w->pairs++;
             if (!(d < r))
                 continue;
@@ -540,7 +498,7 @@ static void *sweep_run(void *arg)
     return NULL;
 }
 
-static int link_pruned(engine *g, lc_dendrogram *dg, const box *bx, float r)
+static int link_pruned(engine *g, lc_dendrogram *dg, const float *soa, const box *bx, float r)
 {
     uint32_t m = dg->lines;
     sweep_key *order = malloc((size_t)m * sizeof *order);
@@ -562,24 +520,12 @@ static int link_pruned(engine *g, lc_dendrogram *dg, const box *bx, float r)
     for (uint32_t i = 0; i < m; i++)
         order[i] = (sweep_key){bx[i].lo[axis], i};
     qsort(order, m, sizeof *order, cmp_sweep);
-    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-    uint32_t threads = cpus < 1 ? 1 : cpus > MAX_THREADS ? MAX_THREADS : (uint32_t)cpus;
-    if (m < 256)
-        threads = 1;
+    uint32_t threads = thread_count(m);
     sweep w[MAX_THREADS];
-    pthread_t tid[MAX_THREADS];
-    int started[MAX_THREADS] = {0};
-    for (uint32_t t = 0; t < threads; t++) {
-        w[t] = (sweep){.dg = dg, .bx = bx, .order = order, .r = r, .axis = axis, .first = t, .step = threads};
-        started[t] = t > 0 && pthread_create(&tid[t], NULL, sweep_run, &w[t]) == 0;
-    }
-    /* This thread takes share 0, and any share a thread could not start for. */
     for (uint32_t t = 0; t < threads; t++)
-        if (!started[t])
-            sweep_run(&w[t]);
-    for (uint32_t t = 1; t < threads; t++)
-        if (started[t])
-            pthread_join(tid[t], NULL);
+        w[t] =
+            (sweep){.dg = dg, .soa = soa, .bx = bx, .order = order, .r = r, .axis = axis, .first = t, .step = threads};
+    run_jobs(sweep_run, w, sizeof w[0], threads);
     int rc = 0;
     for (uint32_t t = 0; t < threads; t++) {
         rc |= w[t].failed;
@@ -592,16 +538,39 @@ static int link_pruned(engine *g, lc_dendrogram *dg, const box *bx, float r)
     return rc ? -1 : 0;
 }
 
+/* The top stage's rMCPDs of stand-in pairs (s < t), row s from offset
+ * s * roots - s (s + 1) / 2; threads take every step-th row. */
+typedef struct top_job {
+    const float *soa;
+    const uint32_t *stand_in;
+    uint32_t roots, first, step;
+    int k;
+    float *d;
+} top_job;
+
+static void *top_run(void *arg)
+{
+    top_job *j = arg;
+    size_t stride = (size_t)j->k * DIM;
+    for (uint32_t s = j->first; s < j->roots; s += j->step) {
+        float *row = j->d + (size_t)s * j->roots - (size_t)s * (s + 1) / 2; /* pairs (s, s + 1), ... */
+        for (uint32_t t = s + 1; t < j->roots; t++)
+            row[t - s - 1] =
+                lc_cluster_rmcpd_soa(j->soa + j->stand_in[s] * stride, j->soa + j->stand_in[t] * stride, j->k);
+    }
+    return NULL;
+}
+
 /* The dense top stage: each remaining cluster is stood in for by its line
  * closest to the cluster's mean line; the clusters are linked pairwise by
  * max(r, rMCPD of those lines), so no top merge comes below a pruned one. */
-static int link_top(engine *g, lc_dendrogram *dg, float r)
+static int link_top(engine *g, lc_dendrogram *dg, const float *soa, float r)
 {
     uint32_t m = dg->lines, roots = 0;
     size_t stride = (size_t)dg->k * DIM;
     uint32_t *root_of = malloc((size_t)m * sizeof *root_of), *roots_list = malloc((size_t)m * sizeof *roots_list);
     uint32_t *stand_in = malloc((size_t)m * sizeof *stand_in), *slot = malloc((size_t)g->nodes * sizeof *slot);
-    float *mean = NULL, *best = malloc((size_t)m * sizeof *best);
+    float *mean = NULL, *pair_d = NULL, *best = malloc((size_t)m * sizeof *best);
     int rc = -1;
     if (!root_of || !roots_list || !stand_in || !slot || !best)
         goto out;
@@ -647,10 +616,18 @@ static int link_top(engine *g, lc_dendrogram *dg, float r)
             stand_in[s] = i;
         }
     }
-    rc = 0;
-    for (uint32_t s = 0; s < roots && !rc; s++)
-        for (uint32_t t = s + 1; t < roots && !rc; t++) {
-            float d = lc_cluster_rmcpd(dg->samples + stand_in[s] * stride, dg->samples + stand_in[t] * stride, dg->k);
+    pair_d = malloc(((size_t)roots * (roots - 1) / 2 + 1) * sizeof *pair_d);
+    if (!pair_d)
+        goto out;
+    uint32_t threads = thread_count(roots);
+    top_job jobs[MAX_THREADS];
+    for (uint32_t t = 0; t < threads; t++)
+        jobs[t] = (top_job){soa, stand_in, roots, t, threads, dg->k, pair_d};
+    run_jobs(top_run, jobs, sizeof jobs[0], threads);
+    rc = 0; /* edges in the order of the pairs: the merges do not depend on the threads */
+    for (uint32_t s = 0, e = 0; s < roots && !rc; s++)
+        for (uint32_t t = s + 1; t < roots && !rc; t++, e++) {
+            float d = pair_d[e];
             dg->stats.pairs_tested++;
             rc = engine_edge(g, roots_list[s], roots_list[t], isfinite(r) ? fmaxf(r, d) : d);
         }
@@ -663,6 +640,7 @@ out:
     free(stand_in);
     free(slot);
     free(mean);
+    free(pair_d);
     free(best);
     return rc;
 }
@@ -676,21 +654,121 @@ static double now_seconds(void)
 
 /* One attempt at radius r; returns the clusters the sparse stage left (or 0
  * on OOM), with dg->merges filled when they fit the top stage's limit. */
-static int build_with_radius(lc_dendrogram *dg, const box *bx, float r, uint32_t top_limit, lc_linkage linkage,
-                             int *too_many)
+static int build_with_radius(lc_dendrogram *dg, const float *soa, const box *bx, float r, uint32_t top_limit,
+                             lc_linkage linkage, int *too_many)
 {
     engine g;
     int rc = -1;
     *too_many = 0;
     if (engine_init(&g, dg->lines, linkage, dg->merges) == 0) {
         g.r = r;
-        rc = link_pruned(&g, dg, bx, r) || engine_run(&g) ? -1 : 0;
+        rc = link_pruned(&g, dg, soa, bx, r) || engine_run(&g) ? -1 : 0;
         if (!rc && dg->lines - g.merge_count > top_limit && isfinite(r))
             *too_many = 1;
         else if (!rc && g.merge_count < dg->lines - 1)
-            rc = link_top(&g, dg, r);
+            rc = link_top(&g, dg, soa, r);
     }
     engine_free(&g);
+    return rc;
+}
+
+/* Links dg's lines (the pruned stage at a growing radius, then the top stage). */
+static int link_lines(lc_dendrogram *dg, const float *soa, const box *bx, const lc_cluster_desc *dd)
+{
+    uint32_t top_limit = dd->top_clusters ? dd->top_clusters : DEFAULT_TOP_CLUSTERS;
+    /* Large sets need more neighbours for the pruned stage to leave at most
+     * top_limit clusters; starting near that saves repeated stages (10^4
+     * tornado lines needed about 1000 lower-bound neighbours). */
+    uint32_t neighbours = dd->neighbours ? dd->neighbours : DEFAULT_NEIGHBOURS;
+    if (!dd->neighbours && dg->lines / 16 > neighbours)
+        neighbours = dg->lines / 16;
+    int rc = 0;
+    if (dg->lines > 1) {
+        /* Small sets link every pair; larger ones prune at a radius that grows
+         * until the sparse stage leaves few enough clusters for the top. */
+        float r = dg->lines <= DENSE_LINES && !dd->neighbours ? INFINITY : prune_radius(dg, soa, bx, neighbours);
+        for (;;) {
+            int too_many;
+            dg->stats.attempts++;
+            dg->stats.pairs_tested = 0;
+            dg->stats.prune_radius = r;
+            rc = build_with_radius(dg, soa, bx, r, top_limit, dd->linkage, &too_many);
+            if (rc || !too_many)
+                break;
+            neighbours = neighbours < dg->lines / 4 ? 4 * neighbours : dg->lines;
+            float r2 = neighbours >= dg->lines ? INFINITY : prune_radius(dg, soa, bx, neighbours);
+            r = r2 > 2.0f * r ? r2 : 2.0f * r;
+        }
+    }
+    return rc;
+}
+
+/* Sampled clustering: `count` evenly spread lines are linked as a set of
+ * their own, every other line attaches to its nearest sampled line
+ * (cluster_sample.c), and the merges are the attachments (each joins the
+ * sampled line's growing cluster, nearest first) followed by the sample's
+ * merges, so a cut into k <= count clusters is the sample's cut with every
+ * line in its nearest sampled line's cluster. */
+static int link_sampled(lc_dendrogram *dg, const float *soa, const box *bx, const lc_cluster_desc *dd, uint32_t count)
+{
+    uint32_t n = dg->lines;
+    size_t stride = (size_t)dg->k * DIM;
+    lc_dendrogram sub = {.lines = count, .k = dg->k};
+    uint32_t *pick = malloc((size_t)count * sizeof *pick), *nearest = malloc((size_t)n * sizeof *nearest);
+    uint32_t *cur = malloc((size_t)count * sizeof *cur);
+    float *dist = malloc((size_t)n * sizeof *dist), *ssoa = malloc((size_t)count * stride * sizeof *ssoa);
+    sweep_key *order = malloc((size_t)n * sizeof *order);
+    box *sbx = malloc((size_t)count * sizeof *sbx);
+    sub.samples = malloc((size_t)count * stride * sizeof *sub.samples);
+    sub.merges = malloc((size_t)count * sizeof *sub.merges);
+    int rc = -1;
+    if (!pick || !nearest || !cur || !dist || !ssoa || !order || !sbx || !sub.samples || !sub.merges)
+        goto out;
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t l = pick[i] = (uint32_t)((uint64_t)i * n / count);
+        memcpy(sub.samples + i * stride, dg->samples + l * stride, stride * sizeof *ssoa);
+        memcpy(ssoa + i * stride, soa + l * stride, stride * sizeof *ssoa);
+        sbx[i] = bx[l];
+        cur[i] = l;
+    }
+    uint64_t pairs = 0;
+    if (link_lines(&sub, ssoa, sbx, dd) ||
+        lc_cluster_attach(soa, n, dg->k, pick, count, thread_count(n), nearest, dist, &pairs))
+        goto out;
+    uint32_t others = 0;
+    for (uint32_t i = 0, s = 0; i < n; i++) {
+        if (s < count && pick[s] == i) {
+            s++;
+            continue;
+        }
+        order[others++] = (sweep_key){dist[i], i}; /* nearest first, ties by line */
+    }
+    qsort(order, others, sizeof *order, cmp_sweep);
+    for (uint32_t e = 0; e < others; e++) {
+        uint32_t i = order[e].line, s = nearest[i];
+        dg->merges[e] = (merge){cur[s], i, order[e].lo};
+        cur[s] = n + e;
+    }
+    for (uint32_t e = 0; e + 1 < count; e++) { /* the sample's node x: its line's cluster, or a merge of its own */
+        merge m = sub.merges[e];
+        m.a = m.a < count ? cur[m.a] : n + others + (m.a - count);
+        m.b = m.b < count ? cur[m.b] : n + others + (m.b - count);
+        dg->merges[others + e] = m;
+    }
+    dg->stats = sub.stats;
+    dg->stats.pairs_tested += pairs;
+    dg->stats.sampled_lines = count;
+    rc = 0;
+out:
+    free(pick);
+    free(nearest);
+    free(cur);
+    free(dist);
+    free(ssoa);
+    free(order);
+    free(sbx);
+    free(sub.samples);
+    free(sub.merges);
     return rc;
 }
 
@@ -719,8 +797,10 @@ int lc_dendrogram_build_samples(const lc_line_samples *ls, const lc_cluster_desc
     dg->mean_g = malloc((size_t)line_count * sizeof *dg->mean_g);
     dg->merges = malloc((size_t)(line_count > 1 ? line_count - 1 : 1) * sizeof *dg->merges);
     box *bx = malloc((size_t)line_count * sizeof *bx);
-    if (!dg->samples || !dg->mean_g || !dg->merges || !bx) {
+    float *soa = malloc((size_t)line_count * stride * sizeof *soa); /* the build's kernels read lines by coordinate */
+    if (!dg->samples || !dg->mean_g || !dg->merges || !bx || !soa) {
         free(bx);
+        free(soa);
         lc_dendrogram_destroy(dg);
         return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory for %u lines", line_count);
     }
@@ -748,33 +828,12 @@ int lc_dendrogram_build_samples(const lc_line_samples *ls, const lc_cluster_desc
                 bx[i].lo[j] = fminf(bx[i].lo[j], s[p * DIM + j]);
                 bx[i].hi[j] = fmaxf(bx[i].hi[j], s[p * DIM + j]);
             }
+        lc_cluster_transpose(s, k, soa + i * stride);
     }
-    uint32_t top_limit = dd.top_clusters ? dd.top_clusters : DEFAULT_TOP_CLUSTERS;
-    /* Large sets need more neighbours for the pruned stage to leave at most
-     * top_limit clusters; starting near that saves repeated stages (10^4
-     * tornado lines needed about 1000 lower-bound neighbours). */
-    uint32_t neighbours = dd.neighbours ? dd.neighbours : DEFAULT_NEIGHBOURS;
-    if (!dd.neighbours && line_count / 16 > neighbours)
-        neighbours = line_count / 16;
-    int rc = 0;
-    if (line_count > 1) {
-        /* Small sets link every pair; larger ones prune at a radius that grows
-         * until the sparse stage leaves few enough clusters for the top. */
-        float r = line_count <= DENSE_LINES && !dd.neighbours ? INFINITY : prune_radius(dg, bx, neighbours);
-        for (;;) {
-            int too_many;
-            dg->stats.attempts++;
-            dg->stats.pairs_tested = 0;
-            dg->stats.prune_radius = r;
-            rc = build_with_radius(dg, bx, r, top_limit, dd.linkage, &too_many);
-            if (rc || !too_many)
-                break;
-            neighbours = neighbours < line_count / 4 ? 4 * neighbours : line_count;
-            float r2 = neighbours >= line_count ? INFINITY : prune_radius(dg, bx, neighbours);
-            r = r2 > 2.0f * r ? r2 : 2.0f * r;
-        }
-    }
+    uint32_t limit = dd.sample_lines ? dd.sample_lines : DEFAULT_SAMPLE_LINES;
+    int rc = line_count > limit && limit > 1 ? link_sampled(dg, soa, bx, &dd, limit) : link_lines(dg, soa, bx, &dd);
     free(bx);
+    free(soa);
     if (rc) {
         lc_dendrogram_destroy(dg);
         return lc_err(err, LC_ERR_NOMEM, "clustering: out of memory linking %u lines", line_count);

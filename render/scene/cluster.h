@@ -54,6 +54,10 @@ typedef struct lc_cluster_desc {
      * 2048). Tests lower them to exercise both stages on small inputs. */
     uint32_t neighbours;
     uint32_t top_clusters;
+    /* Above this many lines (0 = 10,000) an evenly spread sample of that many
+     * is clustered and every other line attached to its nearest sampled line
+     * (docs/ALGORITHM.md §19, "Sampled clustering"). */
+    uint32_t sample_lines;
 } lc_cluster_desc;
 
 typedef struct lc_dendrogram lc_dendrogram;
@@ -87,6 +91,7 @@ typedef struct lc_cluster_stats {
     uint32_t top_clusters; /* clusters left for the dense top stage */
     uint32_t attempts;     /* pruned stages run (the radius grows until few enough clusters are left) */
     double seconds;
+    uint32_t sampled_lines; /* 0, or the lines clustered before the others were attached */
 } lc_cluster_stats;
 
 /* Clusters resampled lines (desc->samples is ignored: ls has its own k). */

@@ -17,7 +17,8 @@ struct lc_dendrogram {
     int k;          /* samples per line */
     float *samples; /* lines * k * DIM, the lifted resampled lines */
     float *mean_g;  /* per line: mean importance, or length when none was given */
-    merge *merges;  /* lines - 1, in the order they happened (non-decreasing height) */
+    merge *merges;  /* lines - 1, in the order a cut replays them (non-decreasing height, except with
+                     * sampling: the attachments, then the sample's merges) */
     lc_cluster_stats stats;
 };
 

@@ -82,6 +82,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene
                 o, "clarity",
                 json_pack("{s:f, s:f}", "lambdaFactor", info->clarity_lambda, "penaltyFactor", info->clarity_penalty));
     }
+    if (info->has_color_ticks) /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */
+        json_object_set_new(o, "colorTicks",
+                            json_pack("[f, f, f, f, f]", info->color_ticks[0], info->color_ticks[1],
+                                      info->color_ticks[2], info->color_ticks[3], info->color_ticks[4]));
     if (info->reductions)
         json_object_set_new(o, "mpi",
                             json_pack("{s:i, s:f, s:I}", "reductions", info->reductions, "reduceMs", info->reduce_ms,

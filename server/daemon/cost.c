@@ -59,16 +59,23 @@ static double perception_aids_cost(const lc_scene_measures *st, const lc_render_
 
 /* color.equalize (docs/ALGORITHM.md §19) on fourier/direct: one full-resolution
  * geometry pass for the colour histogram, and a one-shot frame composites
- * again (P4-P6) with the equalized colormap. */
+ * again (P4-P6) with the equalized colormap; a tiled still draws those three
+ * geometry passes per tile. The exact method measures in its blend and runs
+ * list pass 1 and the blend once more. */
 static double equalize_cost(const lc_scene_measures *st, const lc_render_params *p, double frags)
 {
-    if (!p->color.equalize || (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT))
+    if (!p->color.equalize)
+        return 0;
+    double vertex = st->vertices + PRIMITIVE_UNITS * st->primitives, image = p->width * (double)p->height;
+    if (p->method == LC_METHOD_EXACT)
+        return frags * 4.0 + image * 2.0 + vertex;
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
         return 0;
     const lc_foo_params *f = &p->foo;
     double targets = ceil((2.0 * f->bands + 1.0) / 4.0), subset = f->subset > 1 ? f->subset : 1;
     double geometry = 1.0 + targets / subset + 1.0, screens = targets + 2.0;
-    return frags * geometry + p->width * (double)p->height * screens +
-           (st->vertices + PRIMITIVE_UNITS * st->primitives) * 3.0;
+    int nx, ny, tiles = lc_pass_plan_tiles(p, 0, &nx, &ny);
+    return frags * geometry + image * screens + vertex * 3.0 * (tiles > 1 ? tiles : 1);
 }
 
 double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)

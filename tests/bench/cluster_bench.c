@@ -99,6 +99,9 @@ int main(int argc, char **argv)
                "pairs measured, %u top clusters)\n",
                1e3 * (t1 - t0), t2 - t1, cpu, st.attempts, st.prune_radius, (unsigned long long)st.pairs_tested,
                st.top_clusters);
+        if (st.sampled_lines)
+            printf("  sampled: %u lines clustered, the other %u attached\n", st.sampled_lines,
+                   sc->line_count - st.sampled_lines);
         uint8_t *keep = malloc(sc->line_count);
         for (int rep = 0; rep < 3; rep++) {
             double a = now();

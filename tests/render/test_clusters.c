@@ -17,6 +17,47 @@ static int render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p,
     return lc_render_frame(t->renderer, gs, p, NULL, 0, rgba, NULL, err);
 }
 
+/* Changing the count (or the representative) is a cut of the cached
+ * dendrogram, paid inside one frame: no rebuild, and the cut costs less than
+ * the rest of the frame; a lift weight rebuilds (the counter sees builds). */
+static void one_frame_cut(test_gl *t)
+{
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = NULL;
+    lc_demo_desc dd = {.count = 1500}; /* above the dense stage's 1,200: the pruned build */
+    CHECK(lc_demo_create("tornado", &dd, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "tornado 1500");
+    uint8_t *a = malloc(96 * 96 * 4), *b = malloc(96 * 96 * 4);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = 96;
+    lc_frame_info first, next;
+    p.clusters.count = 40;
+    CHECK(lc_render_frame(t->renderer, gs, &p, NULL, 0, a, &first, &err) == 0, "first cut: %s", err.msg);
+    const int counts[] = {200, 7, 40};
+    for (int i = 0; i < 3; i++) {
+        p.clusters.count = counts[i];
+        p.clusters.representative = i == 1 ? LC_REPRESENTATIVE_MEAN : LC_REPRESENTATIVE_IMPORTANT;
+        CHECK(lc_render_frame(t->renderer, gs, &p, NULL, 0, b, &next, &err) == 0, "cut %d: %s", counts[i], err.msg);
+        printf("1500 lines: build + cut %.1f ms in a %.1f ms frame; count %d: cut %.2f ms in a %.1f ms frame\n",
+               first.clusters_ms, first.wall_ms, counts[i], next.clusters_ms, next.wall_ms);
+        CHECK(!next.clusters_built, "count %d: no rebuild", counts[i]);
+        CHECK(next.clusters_ms < 0.5 * (next.wall_ms - next.clusters_ms) && next.clusters_ms < 0.1 * first.clusters_ms,
+              "count %d: the cut (%.2f ms) is cheaper than the frame's passes (%.1f ms) and the build (%.1f ms)",
+              counts[i], next.clusters_ms, next.wall_ms - next.clusters_ms, first.clusters_ms);
+        CHECK(i == 2 ? memcmp(a, b, 96 * 96 * 4) == 0 : memcmp(a, b, 96 * 96 * 4) != 0, "count %d: %s frame", counts[i],
+              i == 2 ? "the first count's" : "another");
+    }
+    CHECK(first.clusters_built, "the first frame built the dendrogram");
+    p.clusters.lift_importance = 0.6;
+    CHECK(lc_render_frame(t->renderer, gs, &p, NULL, 0, b, &next, &err) == 0 && next.clusters_built,
+          "a lift weight rebuilds");
+    free(a);
+    free(b);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
 /* The lines keep[i] != 0 of s as a new finalized scene, with its attributes. */
 static lc_scene *subset_scene(const lc_scene *s, const uint8_t *keep)
 {
@@ -149,6 +190,7 @@ int main(void)
 
     lc_gpu_scene_destroy(gpts);
     lc_scene_destroy(pts);
+    one_frame_cut(&t);
     lc_gpu_scene_destroy(gs);
     lc_gpu_scene_destroy(gsub);
     lc_scene_destroy(sub);

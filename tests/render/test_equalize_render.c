@@ -74,6 +74,41 @@ static void coverage(const uint8_t *black, const uint8_t *white, double *sum_cov
     }
 }
 
+/* The legend's ticks: tick i is the data value whose colormap coordinate u
+ * has F(u) = i/4, found here by bisection on F; the middle one is the
+ * visibility-weighted median of the visible colour values (F is their CDF). */
+static void check_ticks(const lc_frame_info *info, const double *hist, const float *knots, double lo, double span,
+                        const char *name)
+{
+    CHECK(info->has_color_ticks, "%s: the frame reports its colour ticks", name);
+    double total = 0, run = 0, median = 0;
+    for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+        total += hist[b];
+    for (int b = 0; b < LC_EQUALIZE_BINS && run < total / 2; b++)
+        if ((run += hist[b]) >= total / 2)
+            median = lo + span * (b + 0.5) / LC_EQUALIZE_BINS;
+    for (int i = 0; i < 5; i++) {
+        double a = 0, z = 1;
+        for (int k = 0; k < 40; k++) {
+            double m = 0.5 * (a + z);
+            if (lc_equalize_map(knots, LC_EQUALIZE_BINS, (float)m) < i / 4.0f)
+                a = m;
+            else
+                z = m;
+        }
+        double want = lo + span * z;
+        /* within half a bin: float knots and float interpolation reach F = 1 a little early or late */
+        CHECK(fabs(info->color_ticks[i] - want) <= 0.5 * span / LC_EQUALIZE_BINS, "%s: tick %d = %g, F^-1 gives %g",
+              name, i, info->color_ticks[i], want);
+        CHECK(i == 0 || info->color_ticks[i] >= info->color_ticks[i - 1], "%s: ticks in order", name);
+    }
+    printf("%s: ticks %.3g %.3g %.3g %.3g %.3g (range %.3g..%.3g); visible median %.3g\n", name, info->color_ticks[0],
+           info->color_ticks[1], info->color_ticks[2], info->color_ticks[3], info->color_ticks[4], lo, lo + span,
+           median);
+    CHECK(fabs(info->color_ticks[2] - median) <= span / LC_EQUALIZE_BINS, "%s: the middle tick is the visible median",
+          name);
+}
+
 static void test_one_shot(test_gl *t, const lc_gpu_scene *gs, const lc_scene *s)
 {
     const lc_attribute *speed = &s->attributes[lc_scene_find_attribute(s, "velocity")];
@@ -91,10 +126,14 @@ static void test_one_shot(test_gl *t, const lc_gpu_scene *gs, const lc_scene *s)
         base_params(&p, 0);
         p.method = method ? LC_METHOD_DIRECT : LC_METHOD_FOURIER;
         p.color.has_range = true, p.color.range[0] = lo, p.color.range[1] = lo + 2 * span;
-        CHECK(render(t, gs, &p, NULL, 0, plain, NULL, &err) == 0, "%s plain", name);
+        lc_frame_info plain_info;
+        CHECK(render(t, gs, &p, NULL, 0, plain, &plain_info, &err) == 0 && !plain_info.has_color_ticks, "%s plain",
+              name);
         p.color.equalize = true;
-        CHECK(render(t, gs, &p, NULL, 0, black, NULL, &err) == 0, "%s black", name);
+        lc_frame_info info;
+        CHECK(render(t, gs, &p, NULL, 0, black, &info, &err) == 0, "%s black", name);
         CHECK(lc_renderer_color_histogram(t->renderer, hist, knots) == 0, "%s histogram", name);
+        check_ticks(&info, hist, knots, lo, 2 * span, name);
         base_params(&p, 1);
         p.method = method ? LC_METHOD_DIRECT : LC_METHOD_FOURIER;
         p.color.has_range = true, p.color.range[0] = lo, p.color.range[1] = lo + 2 * span;
@@ -221,17 +260,102 @@ static void test_decay_cpu(void)
     lc_frame_state_destroy(st);
 }
 
+/* The exact method measures the histogram in its blend pass (exact.c): the
+ * shares of a pixel are differences of its rounded coverage, so sum H_b (plus
+ * the halos' part) equals sum (1 - T) exactly, and both agree with the image. */
+static void test_exact(test_gl *t, const lc_gpu_scene *gs, const lc_scene *s)
+{
+    const lc_attribute *speed = &s->attributes[lc_scene_find_attribute(s, "velocity")];
+    double lo = speed->min, span = speed->max - speed->min;
+    lc_error err = {0};
+    uint8_t *black = malloc(SIZE * SIZE * 4), *white = malloc(SIZE * SIZE * 4), *plain = malloc(SIZE * SIZE * 4);
+    lc_render_params p;
+    double hist[LC_EQUALIZE_BINS], cover = -1, halo = -1;
+    lc_frame_info info;
+    float knots[LC_EQUALIZE_BINS + 1], identity[LC_EQUALIZE_BINS + 1];
+    for (int b = 0; b <= LC_EQUALIZE_BINS; b++)
+        identity[b] = (float)b / LC_EQUALIZE_BINS;
+    for (int bg = 0; bg < 2; bg++) {
+        base_params(&p, bg);
+        p.method = LC_METHOD_EXACT;
+        p.color.has_range = true, p.color.range[0] = lo, p.color.range[1] = lo + 2 * span;
+        if (bg == 0)
+            CHECK(render(t, gs, &p, NULL, 0, plain, NULL, &err) == 0, "exact plain");
+        p.color.equalize = true;
+        CHECK(render(t, gs, &p, NULL, 0, bg ? white : black, &info, &err) == 0, "exact equalized %d", bg);
+    }
+    CHECK(lc_renderer_color_histogram(t->renderer, hist, knots) == 0, "exact histogram");
+    check_ticks(&info, hist, knots, lo, 2 * span, "exact");
+    CHECK(lc_renderer_color_coverage(t->renderer, &cover, &halo) == 0, "exact coverage");
+    double sum_h = 0;
+    for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+        sum_h += hist[b];
+    double img_cover, grey, plain_cover, plain_grey;
+    coverage(black, white, &img_cover, &grey);
+    coverage(plain, white, &plain_cover, &plain_grey);
+    double before = coarse_deviation(hist, identity), after = coarse_deviation(hist, knots);
+    printf("exact: sum H %.6f, sum (1 - T) %.6f (halos %.6f), from the images %.2f; deviation %.3f before, %.3f "
+           "after; mean visible grey %.3f plain, %.3f equalized\n",
+           sum_h, cover, halo, img_cover, before, after, plain_grey / img_cover, grey / img_cover);
+    CHECK(cover > 0.05 * SIZE * SIZE, "exact: the lines cover the image (%.0f px)", cover);
+    CHECK(sum_h == cover && halo == 0, "exact: sum H %.9g == sum (1 - T) %.9g exactly", sum_h, cover);
+    CHECK(fabs(img_cover - cover) <= 0.01 * cover, "exact: the images' coverage %.3f vs %.3f", img_cover, cover);
+    CHECK(before > 0.3 && after <= 0.1, "exact: deviation from uniform %.3f -> %.3f", before, after);
+    CHECK(fabs(grey / img_cover - 0.5) < 0.02, "exact: mean visible grey %.3f", grey / img_cover);
+
+    /* Halos: their fragments carry the background, not a colour value: counted apart. */
+    base_params(&p, 0);
+    p.method = LC_METHOD_EXACT;
+    p.color.equalize = true;
+    p.style.halo_width = 2, p.style.halo_strength = 1;
+    CHECK(render(t, gs, &p, NULL, 0, black, NULL, &err) == 0, "exact halos");
+    CHECK(lc_renderer_color_histogram(t->renderer, hist, NULL) == 0 &&
+              lc_renderer_color_coverage(t->renderer, &cover, &halo) == 0,
+          "exact halos histogram");
+    sum_h = 0;
+    for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+        sum_h += hist[b];
+    printf("exact with halos: sum H %.6f + halos %.6f = %.6f, sum (1 - T) %.6f\n", sum_h, halo, sum_h + halo, cover);
+    CHECK(halo > 0 && sum_h + halo == cover, "exact halos: sum H + halos == sum (1 - T) exactly");
+
+    /* A session: the first frame composites twice, the next ones measure as they draw. */
+    base_params(&p, 0);
+    p.method = LC_METHOD_EXACT;
+    p.color.equalize = true;
+    lc_frame_state *st = lc_frame_state_create(s->elements.count);
+    for (int f = 0; f < 3; f++) {
+        CHECK(render(t, gs, &p, st, 0.1, black, NULL, &err) == 0, "exact session frame %d", f);
+        CHECK(lc_renderer_color_histogram(t->renderer, hist, NULL) == 0 &&
+                  lc_renderer_color_coverage(t->renderer, &cover, &halo) == 0,
+              "exact session histogram %d", f);
+        sum_h = 0;
+        for (int b = 0; b < LC_EQUALIZE_BINS; b++)
+            sum_h += hist[b];
+        CHECK(sum_h == cover && cover > 0, "exact session frame %d: sum H == sum (1 - T)", f);
+    }
+    CHECK(lc_frame_state_equalize_knots(st) != NULL, "exact session transfer");
+    lc_frame_state_destroy(st);
+    /* Off: the exact image is the one without the fields. */
+    base_params(&p, 0);
+    p.method = LC_METHOD_EXACT;
+    CHECK(render(t, gs, &p, NULL, 0, plain, NULL, &err) == 0, "exact default");
+    p.color.fixed_count = 1, p.color.fade_half_life = 3;
+    CHECK(render(t, gs, &p, NULL, 0, black, NULL, &err) == 0, "exact off");
+    CHECK(memcmp(plain, black, SIZE * SIZE * 4) == 0, "exact, equalize off: bit for bit");
+    free(black), free(white), free(plain);
+}
+
 static void test_refusals(test_gl *t, const lc_gpu_scene *gs)
 {
     uint8_t *rgba = malloc(SIZE * SIZE * 4);
     lc_render_params p;
     base_params(&p, 0);
     p.color.equalize = true;
-    p.method = LC_METHOD_EXACT;
+    p.method = LC_METHOD_WBOIT;
     lc_error err = {0};
     CHECK(lc_render_frame(t->renderer, gs, &p, NULL, 0, rgba, NULL, &err) != 0 &&
               strcmp(err.field, "color.equalize") == 0,
-          "exact refused naming color.equalize (%s)", err.msg);
+          "wboit refused naming color.equalize (%s)", err.msg);
     free(rgba);
 }
 
@@ -248,6 +372,7 @@ int main(void)
     if (s && lc_gpu_scene_create(s, &gs, &err) == 0) {
         test_one_shot(&t, gs, s);
         test_session(&t, gs, s);
+        test_exact(&t, gs, s);
         test_refusals(&t, gs);
         lc_gpu_scene_destroy(gs);
     } else {

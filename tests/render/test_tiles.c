@@ -1,6 +1,9 @@
 /* Tiled stills (frame.c "Tiled stills"): a frame composited in tiles after one
  * optimization of the whole view is the image of one untiled frame. */
+#include <math.h>
+
 #include "demo.h"
+#include "equalize.h"
 #include "image.h"
 #include "render_util.h"
 
@@ -13,15 +16,16 @@ typedef struct case_ {
     lc_depth_range range;
     int antialias;
     double guard;
-    int tile; /* lc_renderer_desc.tile_size */
-    int tiles; /* tiles expected */
+    int tile;     /* lc_renderer_desc.tile_size */
+    int tiles;    /* tiles expected */
+    int equalize; /* color.equalize: 1 one-shot, 2 a session's second frame */
 } case_;
 
-static int render(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *p, uint8_t *rgba,
+static int render(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *p, lc_frame_state *st, uint8_t *rgba,
                   lc_frame_info *info)
 {
     lc_error err = {0};
-    int rc = lc_render_frame(r, gs, p, NULL, 0.0, rgba, info, &err);
+    int rc = lc_render_frame(r, gs, p, st, 0.1, rgba, info, &err);
     if (rc)
         fprintf(stderr, "render: %s\n", err.msg);
     return rc;
@@ -40,10 +44,13 @@ int main(void)
         return 1;
     }
     static const case_ cases[] = {
-        {"fourier (moments)", LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO, 1, 0, 400, 6},
-        {"fourier pixel range, antialias 2, guard band", LC_METHOD_FOURIER, LC_DEPTH_RANGE_PIXEL, 2, 0.1, 512, 4},
-        {"wboit", LC_METHOD_WBOIT, LC_DEPTH_RANGE_AUTO, 1, 0, 512, 4},
-        {"opaque", LC_METHOD_OPAQUE, LC_DEPTH_RANGE_AUTO, 1, 0, 400, 6},
+        {"fourier (moments)", LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO, 1, 0, 400, 6, 0},
+        {"fourier pixel range, antialias 2, guard band", LC_METHOD_FOURIER, LC_DEPTH_RANGE_PIXEL, 2, 0.1, 512, 4, 0},
+        {"wboit", LC_METHOD_WBOIT, LC_DEPTH_RANGE_AUTO, 1, 0, 512, 4, 0},
+        {"opaque", LC_METHOD_OPAQUE, LC_DEPTH_RANGE_AUTO, 1, 0, 400, 6, 0},
+        {"fourier, color.equalize", LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO, 1, 0, 400, 6, 1},
+        {"direct, color.equalize, antialias 2", LC_METHOD_DIRECT, LC_DEPTH_RANGE_AUTO, 2, 0, 512, 4, 1},
+        {"fourier, color.equalize, session", LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO, 1, 0, 512, 4, 2},
     };
     uint8_t *whole = malloc((size_t)W * H * 4), *tiled = malloc((size_t)W * H * 4);
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
@@ -58,8 +65,38 @@ int main(void)
         p.foo.depth_range = k->range;
         p.style.antialias = k->antialias;
         p.foo.guard_band = k->guard;
+        if (k->equalize) {
+            snprintf(p.color.attribute, sizeof p.color.attribute, "velocity");
+            p.color.equalize = true;
+        }
         lc_frame_info a = {0}, b = {0};
-        if (small && render(t.renderer, gs, &p, whole, &a) == 0 && render(small, gs, &p, tiled, &b) == 0) {
+        lc_frame_state *sa = NULL, *sb = NULL;
+        if (k->equalize == 2) { /* the second frame measures the tiles as it draws them */
+            sa = lc_frame_state_create(s->elements.count), sb = lc_frame_state_create(s->elements.count);
+            CHECK(render(t.renderer, gs, &p, sa, whole, NULL) == 0, "%s: first", k->name);
+            CHECK(small && render(small, gs, &p, sb, tiled, NULL) == 0, "%s: first", k->name);
+        }
+        if (small && render(t.renderer, gs, &p, sa, whole, &a) == 0 && render(small, gs, &p, sb, tiled, &b) == 0) {
+            if (k->equalize) { /* one histogram over the tiles: the untiled frame's */
+                double ha[LC_EQUALIZE_BINS], hb[LC_EQUALIZE_BINS], diff = 0, total = 0, knot = 0;
+                float ka[LC_EQUALIZE_BINS + 1], kb[LC_EQUALIZE_BINS + 1];
+                CHECK(lc_renderer_color_histogram(t.renderer, ha, ka) == 0 &&
+                          lc_renderer_color_histogram(small, hb, kb) == 0,
+                      "%s: histograms", k->name);
+                for (int i = 0; i < LC_EQUALIZE_BINS; i++)
+                    diff += fabs(ha[i] - hb[i]), total += ha[i];
+                for (int i = 0; i <= LC_EQUALIZE_BINS; i++)
+                    knot = fmax(knot, fabs(ka[i] - kb[i]));
+                if (sa)
+                    for (int i = 0; i <= LC_EQUALIZE_BINS; i++)
+                        knot = fmax(knot,
+                                    fabs(lc_frame_state_equalize_knots(sa)[i] - lc_frame_state_equalize_knots(sb)[i]));
+                printf("%-45s histogram: sum %.1f, tiled differs by %.4f%%; transfer by %.5f\n", k->name, total,
+                       100 * diff / total, knot);
+                CHECK(total > 0.03 * W * H && diff <= 0.002 * total, "%s: tiled histogram off by %.4f%%", k->name,
+                      100 * diff / total);
+                CHECK(knot <= 0.002, "%s: tiled transfer off by %.5f", k->name, knot);
+            }
             size_t same = 0, n = (size_t)W * H * 4;
             for (size_t i = 0; i < n; i++)
                 same += whole[i] == tiled[i];
@@ -77,6 +114,8 @@ int main(void)
         } else {
             CHECK(0, "%s: render failed", k->name);
         }
+        lc_frame_state_destroy(sa);
+        lc_frame_state_destroy(sb);
         lc_renderer_destroy(small);
     }
     free(whole);

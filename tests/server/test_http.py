@@ -154,15 +154,20 @@ with Server(binary, data=("demo:abc", "demo:points"), demo_size=40) as srv:
     check("view" not in by_name.get("demo:points", {}), "demo:points has none")
     st, _, one = srv.json("GET", "/api/v1/datasets/demo:abc")
     check(st == 200 and one.get("view") == view, "GET /api/v1/datasets/demo:abc carries the same view")
-    # color.equalize (docs/ALGORITHM.md section 19): a one-shot render, a session, and the refusal of exact.
+    # color.equalize (docs/ALGORITHM.md section 19): a one-shot render, exact, a session, and the refusal of wboit.
     eq = {"dataset": "demo:abc", "width": 64, "height": 48, "format": "png"}
-    st, _, plain = srv.request("POST", "/api/v1/render", eq)
-    st2, _, equalized = srv.request("POST", "/api/v1/render", dict(eq, color={"equalize": True}))
+    st, ph, plain = srv.request("POST", "/api/v1/render", eq)
+    st2, eh, equalized = srv.request("POST", "/api/v1/render", dict(eq, color={"equalize": True}))
     check(st == 200 and st2 == 200 and png_size(equalized) == (64, 48) and equalized != plain,
           "color.equalize renders another image (%d, %d)" % (st, st2))
-    st, _, e = srv.json("POST", "/api/v1/render", dict(eq, method="exact", color={"equalize": True}))
+    ticks = [float(x) for x in eh.get("x-lucent-color-ticks", "").split(",") if x]
+    check(len(ticks) == 5 and ticks == sorted(ticks) and ticks[0] < ticks[4] and "x-lucent-color-ticks" not in ph,
+          "the equalized render's legend ticks in X-Lucent-Color-Ticks, the plain one has none (%s)" % ticks)
+    st, _, ex = srv.request("POST", "/api/v1/render", dict(eq, method="exact", color={"equalize": True}))
+    check(st == 200 and png_size(ex) == (64, 48), "color.equalize with method exact renders (%d)" % st)
+    st, _, e = srv.json("POST", "/api/v1/render", dict(eq, method="wboit", color={"equalize": True}))
     check(st == 400 and e["error"]["code"] == "bad_field" and e["error"].get("field") == "color.equalize",
-          "color.equalize with method exact -> 400 naming color.equalize (%s)" % e)
+          "color.equalize with method wboit -> 400 naming color.equalize (%s)" % e)
     st, _, s = srv.json("POST", "/api/v1/sessions", dict(eq, color={"equalize": True, "fadeHalfLife": 0.4}))
     frames = [srv.request("POST", "/api/v1/sessions/%s/render" % s.get("session"), {"dt": 0.1})[0] for _ in range(2)]
     check(st == 201 and frames == [200, 200], "an equalized session renders (%s, %s)" % (st, frames))

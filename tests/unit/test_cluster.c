@@ -135,6 +135,75 @@ static void test_bundles(void)
     free(off);
 }
 
+/* Sampled clustering (lc_cluster_desc.sample_lines): the sample's cut with
+ * every other line in its nearest sampled line's cluster. */
+static void test_sampled(void)
+{
+    enum { PER = 400, N = 3 * PER, S = 150 };
+    uint32_t *truth = malloc(N * sizeof *truth), *labels = malloc(N * sizeof *labels), rep[S];
+    float *pos;
+    uint32_t *off;
+    bundles(PER, &pos, &off, truth);
+    lc_cluster_desc desc = {.sample_lines = S};
+    lc_dendrogram *d = NULL;
+    lc_error err = {0};
+    CHECK(lc_dendrogram_build(pos, off, N, &desc, &d, &err) == 0, "sampled build: %s", err.msg);
+    if (d) {
+        lc_cluster_stats st;
+        lc_dendrogram_stats(d, &st);
+        CHECK(st.sampled_lines == S, "%u lines sampled", st.sampled_lines);
+        CHECK(lc_dendrogram_cut(d, 3, LC_REPRESENTATIVE_MEAN, NULL, labels, rep, &err) == 3, "cut 3: %s", err.msg);
+        double ari = lc_cluster_adjusted_rand(labels, truth, N);
+        CHECK(ari == 1.0, "sampled: adjusted Rand index %.4f", ari);
+        /* Cut into S: one sampled line per cluster; a line's cluster is its nearest sampled line's (brute force). */
+        CHECK(lc_dendrogram_cut(d, S, LC_REPRESENTATIVE_MEAN, NULL, labels, rep, &err) == S, "cut S: %s", err.msg);
+        uint32_t cluster_of_sample[S], agree = 0, others = 0;
+        int one_each = 1;
+        uint8_t seen[S] = {0};
+        for (uint32_t s = 0; s < S; s++) {
+            cluster_of_sample[s] = labels[(uint64_t)s * N / S];
+            one_each &= !seen[cluster_of_sample[s]]++;
+        }
+        CHECK(one_each, "every cluster of the cut into S holds one sampled line");
+        lc_line_samples *ls = NULL;
+        CHECK(lc_line_samples_create(pos, off, N, 0, NULL, 0, &ls, &err) == 0, "samples");
+        uint8_t *picked = calloc(N, 1);
+        for (uint32_t s = 0; s < S; s++)
+            picked[(uint64_t)s * N / S] = 1;
+        for (uint32_t i = 0; ls && i < N; i += 7) {
+            if (picked[i])
+                continue;
+            others++;
+            float best = INFINITY;
+            uint32_t best_s = 0;
+            float a[16 * 5], b[16 * 5];
+            for (uint32_t s = 0; s < S; s++) {
+                uint32_t l = (uint32_t)((uint64_t)s * N / S);
+                for (int q = 0; q < 16; q++)
+                    for (int j = 0; j < 5; j++) {
+                        a[q * 5 + j] = j < 3 ? ls->xyz[((size_t)i * 16 + q) * 3 + j] : 0;
+                        b[q * 5 + j] = j < 3 ? ls->xyz[((size_t)l * 16 + q) * 3 + j] : 0;
+                    }
+                float dd = lc_cluster_rmcpd(a, b, 16);
+                if (dd < best)
+                    best = dd, best_s = s;
+            }
+            agree += labels[i] == cluster_of_sample[best_s];
+        }
+        printf("sampled clustering of %d lines from %d: ARI %.3f; %u of %u checked lines in their nearest sampled "
+               "line's cluster\n",
+               N, S, ari, agree, others);
+        CHECK(others > 100 && agree >= 0.95 * others, "attached to the nearest sampled line: %u of %u", agree, others);
+        free(picked);
+        lc_line_samples_destroy(ls);
+        lc_dendrogram_destroy(d);
+    }
+    free(truth);
+    free(labels);
+    free(pos);
+    free(off);
+}
+
 /* Representatives: the most important line, and least total distance by brute force. */
 static void test_representatives(void)
 {
@@ -280,6 +349,7 @@ int main(void)
 {
     test_rmcpd();
     test_bundles();
+    test_sampled();
     test_representatives();
     test_pruning_exact();
     test_borromean();

@@ -126,10 +126,29 @@ static void test_decay(void)
     CHECK(memcmp(cur, target, sizeof cur) == 0, "half-life 0 jumps to the target");
 }
 
+/* F^-1 (the legend's ticks): the least c with F(c) = x; flat stretches answer their start. */
+static void test_inverse(void)
+{
+    float knots[BINS + 1];
+    for (int b = 0; b <= BINS; b++) /* F(c) = c^2, then a flat stretch in the middle third */
+        knots[b] = (float)((double)b / BINS * b / BINS);
+    for (int i = 0; i <= 40; i++) {
+        float c = (float)i / 40, x = lc_equalize_map(knots, BINS, c);
+        CHECK(fabsf(lc_equalize_inverse(knots, BINS, x) - c) < 1e-5f, "F^-1(F(%g)) = %g", c,
+              lc_equalize_inverse(knots, BINS, x));
+    }
+    for (int b = BINS / 3; b <= 2 * BINS / 3; b++)
+        knots[b] = knots[BINS / 3];
+    CHECK(fabsf(lc_equalize_inverse(knots, BINS, knots[BINS / 3]) - (float)(BINS / 3) / BINS) < 1e-6f,
+          "a flat stretch: its start");
+    CHECK(lc_equalize_inverse(knots, BINS, -1) == 0 && lc_equalize_inverse(knots, BINS, 2) == 1, "clamped");
+}
+
 int main(void)
 {
     test_uniform();
     test_fixed();
     test_decay();
+    test_inverse();
     return lc_test_finish();
 }

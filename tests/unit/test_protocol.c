@@ -1,6 +1,7 @@
 /* Replays the shared protocol vectors (the JSON files in protocol/vectors/, also read by the
  * browser client's Node tests) and checks round trips and update semantics. */
 #include <ctype.h>
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -553,6 +554,35 @@ static void test_messages(void)
     unsigned char *out;
     size_t out_len;
     CHECK(lc_proto_pack_frame(&h, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "frame id above 2^53-1");
+
+    /* colorTicks (color.equalize): five numbers round trip; anything else is refused naming the key. */
+    lc_frame_header t = {
+        .frame = 3, .width = 4, .height = 2, .has_color_ticks = true, .color_ticks = {-1.5, 0.25, 2, 3.125, 1e3}};
+    CHECK(lc_proto_pack_frame(&t, NULL, 0, &out, &out_len) == 0, "pack colorTicks");
+    lc_frame_header tb;
+    const unsigned char *img;
+    size_t img_len;
+    lc_proto_error perr;
+    CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_color_ticks &&
+              memcmp(tb.color_ticks, t.color_ticks, sizeof t.color_ticks) == 0,
+          "colorTicks round trip");
+    CHECK(strstr((const char *)out + 4, "\"colorTicks\":[-1.5,0.25,2.0,3.125,1000.0]") != NULL, "colorTicks JSON: %.*s",
+          (int)out_len - 4, (const char *)out + 4);
+    free(out);
+    t.color_ticks[2] = NAN;
+    CHECK(lc_proto_pack_frame(&t, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "a non-finite tick is refused");
+    static const char *const bad[] = {"[1,2,3,4]", "[1,2,3,4,\"5\"]", "{}"};
+    for (int i = 0; i < 3; i++) {
+        char text[160];
+        int n = snprintf(text + 4, sizeof text - 4,
+                         "{\"frame\":1,\"width\":1,\"height\":1,\"format\":\"jpeg\",\"quality\":80,"
+                         "\"cameraSeq\":0,\"converged\":true,\"colorTicks\":%s}",
+                         bad[i]);
+        text[0] = (char)n, text[1] = text[2] = text[3] = 0;
+        CHECK(lc_proto_unpack_frame((const unsigned char *)text, (size_t)n + 4, &tb, &img, &img_len, &perr) != 0 &&
+                  !strcmp(perr.field, "colorTicks"),
+              "colorTicks %s refused naming the key", bad[i]);
+    }
 }
 
 /* params.clarity: the loop acts only while q, r and lambda are not given, so

@@ -58,6 +58,18 @@ export function importanceCurvePath(exponent, w = 36, h = 18, n = 16) {
   return `M${pts.join(' L')}`;
 }
 
+/**
+ * The warped ticks of an equalized frame (color.equalize): the frame header's
+ * colorTicks, the data values at 0, ¼, ½, ¾ and 1 of the bar, as
+ * [{at: percent along the bar, text}], or null when the frame has none (not
+ * equalized, or malformed). inverted: the bar is drawn flipped (range max
+ * first), so the values run right to left as the colours do.
+ */
+export function equalizedTicks(colorTicks, inverted = false) {
+  if (!Array.isArray(colorTicks) || colorTicks.length !== 5 || !colorTicks.every((v) => typeof v === 'number' && Number.isFinite(v))) return null;
+  return colorTicks.map((v, i) => ({ at: inverted ? 100 - 25 * i : 25 * i, text: fmt(v) }));
+}
+
 const NS = 'http://www.w3.org/2000/svg';
 
 export class Legend {
@@ -69,6 +81,7 @@ export class Legend {
       <div class="legend-color"><span class="legend-label">Colour: <b data-role="color-attr"></b></span>
         <div class="legend-bar" data-role="bar"></div>
         <div class="legend-ticks"><span data-role="cmin"></span><span data-role="cmap"></span><span data-role="cmax"></span></div>
+        <div class="legend-eq" data-role="eq-ticks" hidden title="Equalized colours: the data value at each mark of the bar in this view"></div>
       </div>
       <div class="legend-imp" title="Importance g from its attribute: g = clamp((v − min)/(max − min))^exponent">
         <svg width="36" height="18" viewBox="-1 -1 38 20" aria-hidden="true"><rect x="0" y="0" width="36" height="18" class="legend-curve-box"/><path data-role="curve"/></svg>
@@ -118,5 +131,24 @@ export class Legend {
     this.el.dataset.colorAttribute = c.attribute;
     this.el.dataset.colorRange = c.range.map(fmt).join(',');
     this.el.dataset.clash = String(m.clash);
+  }
+
+  /** The latest frame header's colorTicks (color.equalize): warped ticks under the bar, or none. */
+  setColorTicks(colorTicks) {
+    const c = this.model?.color;
+    const ticks = c && !c.rgb ? equalizedTicks(colorTicks, c.range[0] > c.range[1]) : null;
+    const row = this.q('eq-ticks');
+    const key = ticks ? ticks.map((t) => t.text).join(',') : '';
+    if (row.dataset.ticks === key) return; // every frame carries them: touch the DOM on change only
+    row.dataset.ticks = key;
+    row.hidden = !ticks;
+    row.replaceChildren(...(ticks ?? []).map((t) => {
+      const span = document.createElement('span');
+      span.style.left = `${t.at}%`;
+      span.style.transform = `translateX(${-t.at}%)`; // the ends stay inside the bar
+      span.textContent = t.text;
+      return span;
+    }));
+    this.el.dataset.colorTicks = key;
   }
 }

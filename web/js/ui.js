@@ -61,7 +61,7 @@ export const GROUPS = [
       { path: 'color.attribute', label: 'Colour by', kind: 'select', dynamic: 'colorAttributes', help: "The data value shown by colour: the importance, an attribute, or the file's own RGB colours." },
       { path: 'color.colormap', label: 'Colormap', kind: 'select', options: fieldByPath('color.colormap').values.map((v) => [v, v]), help: 'Colours from the lowest to the highest value; the legend over the view shows them.' },
       { path: 'color.range', label: 'Range', kind: 'range2', dynamic: 'colorRange', help: 'The values at the two ends of the colormap. Minimum above maximum flips the colours.' },
-      { path: 'color.equalize', label: 'Equalize colours', kind: 'check', help: 'Spread the colormap evenly over the colour values you can see in this view (weighted by how visible they are); the colours follow the view smoothly. Fourier and direct methods.' },
+      { path: 'color.equalize', label: 'Equalize colours', kind: 'check', help: 'Spread the colormap evenly over the colour values you can see in this view (weighted by how visible they are); the colours follow the view smoothly. Fourier, direct and exact methods.' },
     ],
   },
   {

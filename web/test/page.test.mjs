@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import { projector, warpTransform, isIdentity, axesDirections } from '../js/warp.js';
 import { fitCamera, orbit, pan, dolly, cloneCamera } from '../js/camera.js';
 import { colorAt, topColorClash, gradientCss, COLORMAP_STOPS } from '../js/colormaps.js';
-import { legendModel, importanceCurvePath } from '../js/legend.js';
+import { legendModel, importanceCurvePath, equalizedTicks } from '../js/legend.js';
 import { readPreset, applyPreset, removePreset } from '../js/preset.js';
 import { clampToField, GROUPS, attributeRange } from '../js/ui.js';
 import { fieldByPath } from '../js/schema.js';
@@ -118,4 +118,14 @@ test('portrait views fit the bounding sphere into the horizontal angle', () => {
     const [u, v] = P([x, y, z]);
     assert.ok(u >= 0 && u <= 100 && v >= 0 && v <= 200, `corner ${x}${y}${z} at ${u}, ${v}`);
   }
+});
+
+test('legend: an equalized frame\'s colorTicks become warped ticks along the bar', () => {
+  const t = equalizedTicks([0.1, 1.234567, 2.5, 4, 10]);
+  assert.deepEqual(t.map((x) => x.at), [0, 25, 50, 75, 100]);
+  assert.deepEqual(t.map((x) => x.text), ['0.1', '1.23', '2.5', '4', '10']);
+  // a flipped bar (range max first) runs the values right to left, as the colours
+  assert.deepEqual(equalizedTicks([0, 1, 2, 3, 4], true).map((x) => x.at), [100, 75, 50, 25, 0]);
+  // frames without equalization (or a malformed header) have none
+  for (const bad of [undefined, null, [1, 2, 3], [0, 1, 2, 3, 'x'], [0, 1, 2, 3, NaN]]) assert.equal(equalizedTicks(bad), null);
 });

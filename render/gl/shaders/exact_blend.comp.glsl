@@ -1,6 +1,11 @@
 // Exact reference, compositing: per output pixel, sort the list and blend
 // front to back over the background, C = sum C_i a_i prod_{j<i}(1 - a_j) + T C_bg.
 // A compute pass rather than a full-screen fragment pass: see exact.c.
+// With EXACT_EQUALIZE it also measures the visibility-weighted colour
+// histogram (DLS Eq. 6) exactly: fragment i's share a_i prod_{j<i}(1 - a_j) is
+// taken in fixed point as the difference of the pixel's rounded coverage
+// 1 - T after and before it, so the shares of a pixel add up to its rounded
+// 1 - T without any rounding of their own (exact.c).
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(rgba8, binding = IMG_EXACT_OUTPUT) writeonly uniform image2D u_output;
@@ -8,6 +13,24 @@ uniform ivec2 u_size;
 uniform vec3 u_background;
 uniform int u_context; // layers: the opaque context's colour replaces the background (p6_resolve.frag.glsl)
 layout(binding = TEX_CONTEXT_COLOR) uniform sampler2D u_context_color;
+
+#ifdef EXACT_EQUALIZE
+// 64-bit counters as (low, high) words: bins 0-255, EXACT_NO_BIN (halos), then
+// the pixels' total coverage; u_eq_scale units per unit of coverage.
+layout(std430, binding = BIND_COLOR_HISTOGRAM) buffer ColorHistogram { uint color_histogram[]; };
+uniform float u_eq_scale;
+
+void add_units(uint slot, uint units)
+{
+    if (units == 0u)
+        return;
+    uint old = atomicAdd(color_histogram[2u * slot], units);
+    if (old + units < old) // the low word wrapped: carry (each wrap is seen by exactly one adder)
+        atomicAdd(color_histogram[2u * slot + 1u], 1u);
+}
+
+uint coverage_units(float transmittance) { return uint((1.0 - transmittance) * u_eq_scale + 0.5); }
+#endif
 
 void main()
 {
@@ -19,12 +42,27 @@ void main()
     sort_list(n);
     vec3 color = vec3(0.0);
     float transmittance = 1.0;
+#ifdef EXACT_EQUALIZE
+    uint covered = 0u; // coverage_units(transmittance) so far
+#endif
     for (int i = 0; i < n; i++) {
         uvec4 node = nodes[list[i].y];
+#ifdef EXACT_EQUALIZE
+        vec3 c = vec3(uvec3(node.z, node.z >> 10, node.z >> 20) & 1023u) / 1023.0;
+        float a = unpackUnorm2x16(node.w & 0xFFFFu).x;
+#else
         vec2 rg = unpackUnorm2x16(node.z);
         vec2 ba = unpackUnorm2x16(node.w);
-        color += vec3(rg, ba.x) * (ba.y * transmittance);
-        transmittance *= 1.0 - ba.y;
+        vec3 c = vec3(rg, ba.x);
+        float a = ba.y;
+#endif
+        color += c * (a * transmittance);
+        transmittance *= 1.0 - a;
+#ifdef EXACT_EQUALIZE
+        uint now = coverage_units(transmittance);
+        add_units(node.w >> 16, now - covered);
+        covered = now;
+#endif
         // What remains is far below one 8-bit step of the output.
         if (transmittance < 1e-6)
             break;
@@ -34,5 +72,8 @@ void main()
         vec4 k = texelFetch(u_context_color, p, 0);
         bg = k.a > 0.0 ? k.rgb : bg;
     }
+#ifdef EXACT_EQUALIZE
+    add_units(EXACT_NO_BIN + 1u, covered);
+#endif
     imageStore(u_output, p, vec4(color + bg * transmittance, 1.0));
 }

@@ -21,8 +21,17 @@ void main()
     // The opacity of P4/P5 (clamped, silhouettes) so that both methods see the same.
     float alpha = fragment_alpha();
     vec3 c = fragment_color();
+#ifdef EXACT_EQUALIZE
+    // color.equalize: the colour in 10 bits a channel (below the output's 8)
+    // makes room for the fragment's colour bin, EXACT_NO_BIN for a halo.
+    uvec3 q = uvec3(round(clamp(c, 0.0, 1.0) * 1023.0));
+    node.z = q.r | (q.g << 10) | (q.b << 20);
+    uint bin = halo_position() >= 0.0 ? EXACT_NO_BIN : uint(clamp(int(clamp(v_cscalar, 0.0, 1.0) * 256.0), 0, 255));
+    node.w = (packUnorm2x16(vec2(alpha, 0.0)) & 0xFFFFu) | (bin << 16);
+#else
     node.z = packUnorm2x16(c.rg);
     node.w = packUnorm2x16(vec2(c.b, alpha));
+#endif
 #endif
     node.x = imageAtomicExchange(u_heads, ivec2(gl_FragCoord.xy), idx);
     nodes[idx] = node;

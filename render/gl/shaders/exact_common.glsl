@@ -17,6 +17,9 @@
 // Node: (next, view depth bits, payload a, payload b).
 //   pass 0: a = importance g bits, b = element
 //   pass 1: a = packUnorm2x16(r, g), b = packUnorm2x16(b, alpha)
+//   pass 1 with EXACT_EQUALIZE: a = r | g << 10 | b << 20 (10 bits each),
+//           b = unorm16 alpha | colour bin << 16 (EXACT_NO_BIN: a halo)
+#define EXACT_NO_BIN 256u
 layout(std430, binding = BIND_EXACT_NODES) coherent buffer ExactNodes { uvec4 nodes[]; };
 layout(std430, binding = BIND_EXACT_COUNTERS) coherent buffer ExactCounters { uint counters[16]; };
 layout(r32ui, binding = IMG_EXACT_HEADS) coherent uniform uimage2D u_heads;

@@ -59,6 +59,12 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
                  info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction, info->occluder_alpha);
         MHD_add_response_header(r, "X-Lucent-Visibility", vis);
     }
+    if (info->has_color_ticks) { /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */
+        char ticks[160];
+        snprintf(ticks, sizeof ticks, "%.6g,%.6g,%.6g,%.6g,%.6g", info->color_ticks[0], info->color_ticks[1],
+                 info->color_ticks[2], info->color_ticks[3], info->color_ticks[4]);
+        MHD_add_response_header(r, "X-Lucent-Color-Ticks", ticks);
+    }
     snprintf(buf, sizeof buf, "%.4g", job->cost); /* the estimate --max-cost is compared with */
     MHD_add_response_header(r, "X-Lucent-Cost", buf);
     if (job->session) {

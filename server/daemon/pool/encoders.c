@@ -128,6 +128,10 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.occluder_alpha = e->info.occluder_alpha;
         h.covered_fraction = e->info.covered_fraction;
     }
+    if (e->info.has_color_ticks) {
+        h.has_color_ticks = true;
+        memcpy(h.color_ticks, e->info.color_ticks, sizeof h.color_ticks);
+    }
     unsigned char *msg = NULL;
     size_t len = 0;
     rc = lc_proto_pack_frame(&h, img, size, &msg, &len);

@@ -113,8 +113,8 @@ static void trace(const bench *b, uint64_t first, uint32_t count, lc_trace_curve
 }
 
 /* PRT Fig. 6/7: all curves at each epsilon; the composite at eps_ref goes to ref. */
-static void sweep(const bench *b, const lc_trace_curve *curves, uint32_t n, const double *eps, int neps,
-                  double eps_ref, double diag, uint8_t *ref)
+static void sweep(const bench *b, const lc_trace_curve *curves, uint32_t n, const double *eps, int neps, double eps_ref,
+                  double diag, uint8_t *ref)
 {
     lc_error err = {0};
     int done_ref = 0;
@@ -194,8 +194,8 @@ static void progressive(const bench *b, uint32_t n, uint32_t batch, double eps, 
     size_t px = (size_t)w * h * 4;
     uint32_t nb = (n + batch - 1) / batch;
     if ((double)nb * (double)px > 2e9) {
-        fprintf(stderr, "batch %u: %u composites of %zu bytes are too many to keep; use a larger batch\n", batch,
-                nb, px);
+        fprintf(stderr, "batch %u: %u composites of %zu bytes are too many to keep; use a larger batch\n", batch, nb,
+                px);
         return;
     }
     uint8_t *imgs = malloc(px * nb), *ca = malloc(px), *cb = malloc(px);
@@ -249,11 +249,10 @@ static void progressive(const bench *b, uint32_t n, uint32_t batch, double eps, 
     }
     for (int j = 0; j < 2; j++)
         if (reached[j] >= 0)
-            printf("recognizable (%s >= %.2f) at batch %u: %u curves, %.1f ms wall (%.2f s)\n",
-                   j ? "ssim_box" : "ssim", TARGET_SSIM, batch, reached_at[j], reached[j], reached[j] / 1e3);
+            printf("recognizable (%s >= %.2f) at batch %u: %u curves, %.1f ms wall (%.2f s)\n", j ? "ssim_box" : "ssim",
+                   TARGET_SSIM, batch, reached_at[j], reached[j], reached[j] / 1e3);
         else
-            printf("recognizable (%s >= %.2f) at batch %u: not reached\n", j ? "ssim_box" : "ssim", TARGET_SSIM,
-                   batch);
+            printf("recognizable (%s >= %.2f) at batch %u: not reached\n", j ? "ssim_box" : "ssim", TARGET_SSIM, batch);
     box rs = surface_box(sweep_ref, w, h);
     printf("converged at batch %u against the sweep's image (chunks of %d): ssim %.4f ssim_box %.4f\n", batch,
            ADD_CHUNK, lc_image_ssim(ref, sweep_ref, w, h), box_ssim(ref, sweep_ref, w, rs, ca, cb));
@@ -368,7 +367,7 @@ int main(int argc, char **argv)
     }
     sr = sqrt(sr);
     for (int a = 0; a < 3; a++)
-        eye[a] = sc[a] + 2.2 * sr * dir[a] / dl;
+        eye[a] = sc[a] + 2.6 * sr * dir[a] / dl;
     camera(eye, sc, 0.5 * sr, 5.0 * sr, b.desc.view, b.desc.projection);
     printf("camera: centre %.3f,%.3f,%.3f eye %.3f,%.3f,%.3f (surface box radius %.3f), 40 degrees\n", sc[0], sc[1],
            sc[2], eye[0], eye[1], eye[2], sr);

@@ -2,7 +2,6 @@
  * validation and emission, so the four cannot drift apart. */
 #include "request.h"
 
-#include "request_fields.h"
 #include "request_layers.h"
 #include "request_lists.h"
 

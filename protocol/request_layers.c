@@ -4,28 +4,9 @@
  * by request.c's section parser (lc_layer_apply_fn). */
 #include "request_layers.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
-/* request.h's error codes (this module sits below it). */
-#define LC_PROTO_BAD_FIELD "bad_field"
-#define LC_PROTO_UNKNOWN_FIELD "unknown_field"
-#define LC_PROTO_MISSING_FIELD "missing_field"
-#define LC_PROTO_OUT_OF_RANGE "out_of_range"
-
-static int set_error(lc_layer_error *err, const char *code, const char *field, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-static int set_error(lc_layer_error *err, const char *code, const char *field, const char *fmt, ...)
-{
-    err->code = code;
-    snprintf(err->field, sizeof err->field, "%s", field);
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err->reason, sizeof err->reason, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 static const char *const role_names[] = {"transparent", "context", NULL}; /* lc_layer_role */
 
@@ -45,7 +26,7 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
                        lc_layer_error *err)
 {
     if (!json_is_object(v))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an object with a dataset");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an object with a dataset");
     memset(out, 0, sizeof *out); /* whole buffers: a request compares and copies as bytes */
     lc_layer_params_default(&out->p);
     const char *key;
@@ -56,22 +37,22 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
         snprintf(field, sizeof field, "%s.%s", path, key);
         if (strcmp(key, "dataset") == 0) {
             if (!json_is_string(m) || json_string_length(m) == 0)
-                return set_error(err, LC_PROTO_BAD_FIELD, field, "expected a dataset name");
+                return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected a dataset name");
             if (json_string_length(m) >= sizeof out->dataset)
-                return set_error(err, LC_PROTO_OUT_OF_RANGE, field, "longer than %zu bytes", sizeof out->dataset - 1);
+                return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, field, "longer than %zu bytes", sizeof out->dataset - 1);
             memcpy(out->dataset, json_string_value(m), json_string_length(m) + 1);
         } else if (strcmp(key, "role") == 0) {
             int role = json_is_string(m) ? in_list(role_names, json_string_value(m)) : -1;
             if (role < 0)
-                return set_error(err, LC_PROTO_BAD_FIELD, field, "expected \"transparent\" or \"context\"");
+                return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected \"transparent\" or \"context\"");
             out->p.role = (lc_layer_role)role;
         } else if (strcmp(key, "visible") == 0) {
             if (!json_is_boolean(m))
-                return set_error(err, LC_PROTO_BAD_FIELD, field, "expected true or false");
+                return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected true or false");
             out->p.visible = json_is_true(m);
         } else if (strcmp(key, "importance") == 0 || strcmp(key, "color") == 0 || strcmp(key, "style") == 0) {
             if (!json_is_object(m))
-                return set_error(err, LC_PROTO_BAD_FIELD, field, "expected an object");
+                return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected an object");
             const char *sk;
             json_t *sv;
             if (strcmp(key, "style") == 0)
@@ -79,7 +60,7 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
                 {
                     if (in_list(layer_style_keys, sk) < 0) {
                         snprintf(field, sizeof field, "%s.style.%s", path, sk);
-                        return set_error(err, LC_PROTO_UNKNOWN_FIELD, field,
+                        return lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, field,
                                          "not a layer's style (a layer takes lineWidth, minLinePixels, pointSize and "
                                          "shading; the request's style has the rest)");
                     }
@@ -91,20 +72,20 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
             json_decref(wrap);
             if (rc) {
                 snprintf(field, sizeof field, "%s.%s", path, inner.field);
-                return set_error(err, inner.code, field, "%s", inner.reason);
+                return lc_proto_list_fail(err, inner.code, field, "%s", inner.reason);
             }
         } else {
-            return set_error(err, LC_PROTO_UNKNOWN_FIELD, field,
+            return lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, field,
                              "unknown field (a layer has dataset, role, visible, importance, color, style)");
         }
     }
     if (!out->dataset[0]) {
         snprintf(field, sizeof field, "%s.dataset", path);
-        return set_error(err, LC_PROTO_MISSING_FIELD, field, "every layer names its dataset");
+        return lc_proto_list_fail(err, LC_PROTO_MISSING_FIELD, field, "every layer names its dataset");
     }
     if (out->p.color.equalize) {
         snprintf(field, sizeof field, "%s.color.equalize", path);
-        return set_error(err, LC_PROTO_BAD_FIELD, field, "not with layers");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "not with layers");
     }
     return 0;
 }
@@ -113,10 +94,10 @@ int lc_proto_parse_layers(const json_t *v, lc_request_layer *out, int *count, co
                           void *ctx, lc_layer_error *err)
 {
     if (!json_is_array(v))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of layers");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of layers");
     size_t n = json_array_size(v);
     if (n > LC_MAX_LAYERS)
-        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d layers", LC_MAX_LAYERS);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d layers", LC_MAX_LAYERS);
     for (size_t i = 0; i < n; i++) {
         char at[64];
         snprintf(at, sizeof at, "%s[%zu]", path, i);

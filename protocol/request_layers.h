@@ -8,6 +8,7 @@
 #include <jansson.h>
 
 #include "lc_params.h"
+#include "request_lists.h"
 
 #define LC_LAYER_DATASET_LEN 512 /* = LC_PROTO_DATASET_LEN */
 
@@ -17,11 +18,8 @@ typedef struct lc_request_layer {
     lc_layer_params p;                  /* role, visibility, mapping and style */
 } lc_request_layer;
 
-typedef struct lc_layer_error {
-    const char *code; /* request.h's codes: "bad_field", "unknown_field", ... */
-    char field[128];
-    char reason[256];
-} lc_layer_error;
+/* Errors name layers[i].key; the same error as the list fields. */
+typedef lc_list_error lc_layer_error;
 
 /* request.c's section parser: applies obj ({"importance": {...}} and the
  * like) to p's mapping and style, field checks only; err->field relative to

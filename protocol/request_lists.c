@@ -8,15 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-/* request.h's error codes (this module sits below it). */
-#define LC_PROTO_BAD_FIELD "bad_field"
-#define LC_PROTO_UNKNOWN_FIELD "unknown_field"
-#define LC_PROTO_MISSING_FIELD "missing_field"
-#define LC_PROTO_OUT_OF_RANGE "out_of_range"
-
-static int set_error(lc_list_error *err, const char *code, const char *field, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-static int set_error(lc_list_error *err, const char *code, const char *field, const char *fmt, ...)
+int lc_proto_list_fail(lc_list_error *err, const char *code, const char *field, const char *fmt, ...)
 {
     err->code = code;
     snprintf(err->field, sizeof err->field, "%s", field);
@@ -37,10 +29,10 @@ const char *lc_filter_over_name(lc_filter_over o)
 static int get_number(const json_t *v, double lo, double hi, double *out, const char *path, lc_list_error *err)
 {
     if (!json_is_number(v) || !isfinite(json_number_value(v)))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected a number");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected a number");
     double d = json_number_value(v);
     if (d < lo || d > hi)
-        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "must be in [%g, %g]", lo, hi);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "must be in [%g, %g]", lo, hi);
     *out = d;
     return 0;
 }
@@ -48,11 +40,11 @@ static int get_number(const json_t *v, double lo, double hi, double *out, const 
 static int get_pair(const json_t *v, double out[2], const char *path, lc_list_error *err)
 {
     if (!json_is_array(v) || json_array_size(v) != 2)
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of 2 numbers");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of 2 numbers");
     for (size_t i = 0; i < 2; i++) {
         const json_t *x = json_array_get(v, i);
         if (!json_is_number(x) || !isfinite(json_number_value(x)))
-            return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of 2 numbers");
+            return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of 2 numbers");
         out[i] = json_number_value(x);
     }
     return 0;
@@ -61,12 +53,12 @@ static int get_pair(const json_t *v, double out[2], const char *path, lc_list_er
 static int get_name(const json_t *v, char out[LC_NAME_LEN], const char *path, lc_list_error *err)
 {
     if (!json_is_string(v))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected a string");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected a string");
     size_t n = json_string_length(v);
     if (n == 0)
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "must name an attribute");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "must name an attribute");
     if (n >= LC_NAME_LEN)
-        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "longer than %d bytes", LC_NAME_LEN - 1);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "longer than %d bytes", LC_NAME_LEN - 1);
     memcpy(out, json_string_value(v), n + 1);
     return 0;
 }
@@ -75,7 +67,7 @@ static int parse_term(const json_t *o, lc_importance_term *t, const char *base, 
 {
     char path[128];
     if (!json_is_object(o))
-        return set_error(err, LC_PROTO_BAD_FIELD, base, "expected an object");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, base, "expected an object");
     memset(t, 0, sizeof *t);
     t->weight = 1;
     const char *key;
@@ -93,16 +85,16 @@ static int parse_term(const json_t *o, lc_importance_term *t, const char *base, 
             rc = get_number(v, -1, 1, &t->weight, path, err);
         else if (strcmp(key, "invert") == 0) {
             if (!json_is_boolean(v))
-                rc = set_error(err, LC_PROTO_BAD_FIELD, path, "expected true or false");
+                rc = lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected true or false");
             t->invert = json_is_true(v);
         } else
-            rc = set_error(err, LC_PROTO_UNKNOWN_FIELD, path, "unknown field");
+            rc = lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, path, "unknown field");
         if (rc)
             return rc;
     }
     if (!t->attribute[0]) {
         snprintf(path, sizeof path, "%s.attribute", base);
-        return set_error(err, LC_PROTO_MISSING_FIELD, path, "every term names an attribute");
+        return lc_proto_list_fail(err, LC_PROTO_MISSING_FIELD, path, "every term names an attribute");
     }
     return 0;
 }
@@ -110,10 +102,10 @@ static int parse_term(const json_t *o, lc_importance_term *t, const char *base, 
 int lc_proto_parse_terms(const json_t *v, lc_importance_map *m, const char *path, lc_list_error *err)
 {
     if (!json_is_array(v))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of terms");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of terms");
     size_t n = json_array_size(v);
     if (n > LC_MAX_IMPORTANCE_TERMS)
-        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d terms", LC_MAX_IMPORTANCE_TERMS);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d terms", LC_MAX_IMPORTANCE_TERMS);
     lc_importance_term terms[LC_MAX_IMPORTANCE_TERMS];
     double sum_abs = 0;
     for (size_t i = 0; i < n; i++) {
@@ -125,7 +117,7 @@ int lc_proto_parse_terms(const json_t *v, lc_importance_map *m, const char *path
         sum_abs += fabs(terms[i].weight);
     }
     if (n > 0 && !(sum_abs > 0))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "at least one weight must be non-zero");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "at least one weight must be non-zero");
     memcpy(m->terms, terms, n * sizeof terms[0]);
     m->term_count = (int)n;
     return 0;
@@ -135,7 +127,7 @@ static int parse_filter(const json_t *o, lc_filter *f, const char *base, lc_list
 {
     char path[128];
     if (!json_is_object(o))
-        return set_error(err, LC_PROTO_BAD_FIELD, base, "expected an object");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, base, "expected an object");
     memset(f, 0, sizeof *f);
     f->lo = -HUGE_VAL, f->hi = HUGE_VAL;
     int bounded = 0;
@@ -153,7 +145,7 @@ static int parse_filter(const json_t *o, lc_filter *f, const char *base, lc_list
                 if (strcmp(json_string_value(v), over_names[i]) == 0)
                     found = i;
             if (found < 0)
-                rc = set_error(err, LC_PROTO_BAD_FIELD, path,
+                rc = lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path,
                                         "expected one of vertex, min, max, mean, first, last, change");
             f->over = (lc_filter_over)(found < 0 ? 0 : found);
         } else if (strcmp(key, "gt") == 0) {
@@ -166,29 +158,29 @@ static int parse_filter(const json_t *o, lc_filter *f, const char *base, lc_list
             double r[2];
             rc = get_pair(v, r, path, err);
             if (!rc && r[0] > r[1])
-                rc = set_error(err, LC_PROTO_BAD_FIELD, path, "range [%g, %g] is empty", r[0], r[1]);
+                rc = lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "range [%g, %g] is empty", r[0], r[1]);
             f->lo = r[0], f->hi = r[1], bounded |= 4;
         } else
-            rc = set_error(err, LC_PROTO_UNKNOWN_FIELD, path, "unknown field");
+            rc = lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, path, "unknown field");
         if (rc)
             return rc;
     }
     if (!f->attribute[0]) {
         snprintf(path, sizeof path, "%s.attribute", base);
-        return set_error(err, LC_PROTO_MISSING_FIELD, path, "every filter names an attribute");
+        return lc_proto_list_fail(err, LC_PROTO_MISSING_FIELD, path, "every filter names an attribute");
     }
     if (!bounded || ((bounded & 4) && (bounded & 3)))
-        return set_error(err, LC_PROTO_BAD_FIELD, base, "give \"gt\" and/or \"lt\", or \"range\"");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, base, "give \"gt\" and/or \"lt\", or \"range\"");
     return 0;
 }
 
 int lc_proto_parse_filters(const json_t *v, lc_render_params *p, const char *path, lc_list_error *err)
 {
     if (!json_is_array(v))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of filters");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of filters");
     size_t n = json_array_size(v);
     if (n > LC_MAX_FILTERS)
-        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d filters", LC_MAX_FILTERS);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d filters", LC_MAX_FILTERS);
     lc_filter filters[LC_MAX_FILTERS];
     for (size_t i = 0; i < n; i++) {
         char base[96];
@@ -205,10 +197,10 @@ int lc_proto_parse_filters(const json_t *v, lc_render_params *p, const char *pat
 int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list_error *err)
 {
     if (!json_is_array(v))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of [x, y] points");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of [x, y] points");
     size_t n = json_array_size(v);
     if (n == 1 || n > LC_MAX_CURVE_POINTS)
-        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "2 to %d points (none: the identity)", LC_MAX_CURVE_POINTS);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "2 to %d points (none: the identity)", LC_MAX_CURVE_POINTS);
     lc_curve tmp = {0};
     for (size_t i = 0; i < n; i++) {
         char at[96];
@@ -218,9 +210,9 @@ int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list
         if (rc)
             return rc;
         if (!(xy[0] >= 0 && xy[0] <= 1 && xy[1] >= 0 && xy[1] <= 1))
-            return set_error(err, LC_PROTO_OUT_OF_RANGE, at, "x and y must lie in [0, 1]");
+            return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, at, "x and y must lie in [0, 1]");
         if (i > 0 && !(xy[0] >= tmp.points[i - 1][0]))
-            return set_error(err, LC_PROTO_BAD_FIELD, at, "x must not decrease");
+            return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, at, "x must not decrease");
         tmp.points[i][0] = xy[0], tmp.points[i][1] = xy[1];
     }
     tmp.count = (int)n;
@@ -231,10 +223,10 @@ int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list
 int lc_proto_parse_fixed(const json_t *v, lc_color_map *c, const char *path, lc_list_error *err)
 {
     if (!json_is_array(v))
-        return set_error(err, LC_PROTO_BAD_FIELD, path, "expected an array of [lo, hi] ranges");
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of [lo, hi] ranges");
     size_t n = json_array_size(v);
     if (n > LC_MAX_COLOR_FIXED)
-        return set_error(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d ranges", LC_MAX_COLOR_FIXED);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "at most %d ranges", LC_MAX_COLOR_FIXED);
     double tmp[LC_MAX_COLOR_FIXED][2];
     for (size_t i = 0; i < n; i++) {
         char at[96];
@@ -243,7 +235,7 @@ int lc_proto_parse_fixed(const json_t *v, lc_color_map *c, const char *path, lc_
         if (rc)
             return rc;
         if (!(tmp[i][0] <= tmp[i][1]))
-            return set_error(err, LC_PROTO_BAD_FIELD, at, "lo must not exceed hi");
+            return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, at, "lo must not exceed hi");
     }
     memcpy(c->fixed, tmp, n * sizeof tmp[0]);
     c->fixed_count = (int)n;

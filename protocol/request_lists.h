@@ -9,12 +9,23 @@
 
 #include "lc_params.h"
 
-/* What went wrong: request.c turns it into an lc_proto_error. */
+/* request.h's error codes (this module and request_layers.c sit below it). */
+#define LC_PROTO_BAD_FIELD "bad_field"
+#define LC_PROTO_UNKNOWN_FIELD "unknown_field"
+#define LC_PROTO_MISSING_FIELD "missing_field"
+#define LC_PROTO_OUT_OF_RANGE "out_of_range"
+
+/* What went wrong (here and in request_layers.c): request.c turns it into an
+ * lc_proto_error. */
 typedef struct lc_list_error {
-    const char *code; /* request.h's codes: "bad_field", "out_of_range", ... */
-    char field[96];
-    char reason[160];
+    const char *code; /* the codes above */
+    char field[128];
+    char reason[256];
 } lc_list_error;
+
+/* Fills err (field and a printf-style reason) and returns -1. */
+int lc_proto_list_fail(lc_list_error *err, const char *code, const char *field, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
 
 /* Replaces m's terms with the array v (at most LC_MAX_IMPORTANCE_TERMS; an
  * empty array goes back to the single form). m is untouched on error. */

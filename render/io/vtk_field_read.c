@@ -134,26 +134,11 @@ static int read_vectors(field_load *F, uint64_t tuples, int point_data)
 /* SCALARS name type [ncomp] [LOOKUP_TABLE name]: skipped. */
 static int skip_scalars(vtk_load *L, uint64_t tuples)
 {
-    char name[MAX_WORD], w[MAX_WORD];
+    char name[MAX_WORD];
     vtype t;
-    uint64_t ncomp = 1;
-    int got, rc;
-    if ((rc = vtk_need_word(L, name, "SCALARS name")) || (rc = vtk_need_type(L, "SCALARS", &t)))
-        return rc;
-    size_t save_pos = L->pos, save_line = L->line;
-    while (L->pos < L->size && (L->data[L->pos] == ' ' || L->data[L->pos] == '\t' || L->data[L->pos] == '\r'))
-        L->pos++;
-    if (L->pos < L->size && L->data[L->pos] != '\n') {
-        if ((rc = vtk_need_count(L, "SCALARS component count", &ncomp)))
-            return rc;
-    } else {
-        L->pos = save_pos, L->line = save_line;
-    }
-    if ((rc = vtk_end_keyword_line(L)))
-        return rc;
-    if (vtk_at_keyword(L, "LOOKUP_TABLE", 0) &&
-        ((rc = vtk_next_word(L, w, &got)) || (rc = vtk_need_word(L, w, "LOOKUP_TABLE name")) ||
-         (rc = vtk_end_keyword_line(L))))
+    uint64_t ncomp;
+    int rc = vtk_scalars_header(L, name, &t, &ncomp);
+    if (rc)
         return rc;
     if (ncomp == 0 || ncomp > 4 || tuples > UINT64_MAX / ncomp)
         return fail_kw(L, LC_ERR_INVALID, "SCALARS has %llu components (1 to 4)", (unsigned long long)ncomp);

@@ -57,6 +57,10 @@ int vtk_parse_count(const char *s, uint64_t *out);
 int vtk_need_count(vtk_load *L, const char *what, uint64_t *out);
 int vtk_need_type(vtk_load *L, const char *what, vtype *out);
 int vtk_end_keyword_line(vtk_load *L);
+/* After the SCALARS keyword: "name type [ncomp]" to the end of the line and
+ * the LOOKUP_TABLE line that may follow (VTK requires it; some writers omit
+ * it). name holds MAX_WORD bytes; ncomp is 1 when the line does not say. */
+int vtk_scalars_header(vtk_load *L, char *name, vtype *t, uint64_t *ncomp);
 void vtk_skip_line(vtk_load *L);
 int vtk_at_keyword(const vtk_load *L, const char *kw, int after_data);
 void vtk_skip_metadata_block(vtk_load *L);

@@ -305,3 +305,29 @@ int vtk_read_index(vtk_load *L, vtype t, uint32_t *out, const char *what)
     *out = (uint32_t)v;
     return 0;
 }
+
+int vtk_scalars_header(vtk_load *L, char *name, vtype *t, uint64_t *ncomp)
+{
+    char w[MAX_WORD];
+    int got, rc;
+    *ncomp = 1;
+    if ((rc = vtk_need_word(L, name, "SCALARS name")) || (rc = vtk_need_type(L, "SCALARS", t)))
+        return rc;
+    /* The component count is optional: look at the rest of this line only. */
+    size_t save_pos = L->pos, save_line = L->line;
+    while (L->pos < L->size && (L->data[L->pos] == ' ' || L->data[L->pos] == '\t' || L->data[L->pos] == '\r'))
+        L->pos++;
+    if (L->pos < L->size && L->data[L->pos] != '\n') {
+        if ((rc = vtk_need_count(L, "SCALARS component count", ncomp)))
+            return rc;
+    } else {
+        L->pos = save_pos, L->line = save_line;
+    }
+    if ((rc = vtk_end_keyword_line(L)))
+        return rc;
+    if (vtk_at_keyword(L, "LOOKUP_TABLE", 0) &&
+        ((rc = vtk_next_word(L, w, &got)) || (rc = vtk_need_word(L, w, "LOOKUP_TABLE name")) ||
+         (rc = vtk_end_keyword_line(L))))
+        return rc;
+    return 0;
+}

@@ -303,30 +303,12 @@ static int read_array(vtk_load *L, const char *raw_name, vtype t, uint64_t ncomp
 
 static int read_scalars(vtk_load *L, uint64_t tuples)
 {
-    char name[MAX_WORD], w[MAX_WORD];
+    char name[MAX_WORD];
     vtype t;
-    uint64_t ncomp = 1;
-    int got, rc;
-    if ((rc = vtk_need_word(L, name, "SCALARS name")) || (rc = vtk_need_type(L, "SCALARS", &t)))
+    uint64_t ncomp;
+    int rc = vtk_scalars_header(L, name, &t, &ncomp);
+    if (rc)
         return rc;
-    /* The component count is optional: look at the rest of this line only. */
-    size_t save_pos = L->pos, save_line = L->line;
-    while (L->pos < L->size && (L->data[L->pos] == ' ' || L->data[L->pos] == '\t' || L->data[L->pos] == '\r'))
-        L->pos++;
-    if (L->pos < L->size && L->data[L->pos] != '\n') {
-        if ((rc = vtk_need_count(L, "SCALARS component count", &ncomp)))
-            return rc;
-    } else {
-        L->pos = save_pos, L->line = save_line;
-    }
-    /* LOOKUP_TABLE is required by VTK but some writers omit it. */
-    if ((rc = vtk_end_keyword_line(L)))
-        return rc;
-    if (vtk_at_keyword(L, "LOOKUP_TABLE", 0)) {
-        if ((rc = vtk_next_word(L, w, &got)) || (rc = vtk_need_word(L, w, "LOOKUP_TABLE name")) ||
-            (rc = vtk_end_keyword_line(L)))
-            return rc;
-    }
     return read_array(L, name, t, ncomp, tuples, 1);
 }
 

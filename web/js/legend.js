@@ -39,8 +39,12 @@ export function legendModel(values, info) {
   else
     opacity = 'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
       'Values below the range minimum get g = 0; if little is important, little is cleared, so clutter stays opaque.';
+  // Ticks in data units under the bar: linear over the colour range unless the
+  // colours are equalized (then the frames' warped colorTicks take the row).
+  const ticks = rgb || color.equalize ? null : linearTicks(colorRange);
   return {
     color: { attribute: colorAttr, colormap, range: colorRange, rgb },
+    ticks, equalize: !!color.equalize,
     importance: { attribute: impAttr, range: impRange, exponent },
     criteria: { terms: termsSummary(imp.terms), filters: filtersSummary(values?.filter) },
     method, opacity, clash, top, background,
@@ -68,6 +72,18 @@ export function importanceCurvePath(exponent, w = 36, h = 18, n = 16) {
 export function equalizedTicks(colorTicks, inverted = false) {
   if (!Array.isArray(colorTicks) || colorTicks.length !== 5 || !colorTicks.every((v) => typeof v === 'number' && Number.isFinite(v))) return null;
   return colorTicks.map((v, i) => ({ at: inverted ? 100 - 25 * i : 25 * i, text: fmt(v) }));
+}
+
+/**
+ * Ticks of a linear colour bar in data units: the range's minimum, quarter
+ * points and maximum as [{at: percent along the bar, text}], values running
+ * right to left when the range is given max first (the bar is drawn flipped);
+ * null for a range that is not two finite numbers.
+ */
+export function linearTicks(range) {
+  if (!Array.isArray(range) || range.length !== 2 || !range.every((v) => typeof v === 'number' && Number.isFinite(v))) return null;
+  const lo = Math.min(range[0], range[1]), hi = Math.max(range[0], range[1]);
+  return equalizedTicks([0, 1, 2, 3, 4].map((i) => (i === 4 ? hi : lo + ((hi - lo) * i) / 4)), range[0] > range[1]);
 }
 
 const NS = 'http://www.w3.org/2000/svg';
@@ -111,8 +127,9 @@ export class Legend {
     const inverted = c.range[0] > c.range[1];
     bar.style.background = gradientCss(c.colormap, inverted);
     const lo = Math.min(c.range[0], c.range[1]), hi = Math.max(c.range[0], c.range[1]);
-    this.q('cmin').textContent = c.rgb ? '' : fmt(lo);
-    this.q('cmax').textContent = c.rgb ? '' : fmt(hi);
+    // min and max stand beside the colormap's name only when the tick row is empty (equalized, awaiting a frame)
+    this.q('cmin').textContent = c.rgb || m.ticks ? '' : fmt(lo);
+    this.q('cmax').textContent = c.rgb || m.ticks ? '' : fmt(hi);
     this.q('cmap').textContent = c.rgb ? '' : `${c.colormap}${inverted ? ' (flipped)' : ''}`;
     const i = m.importance;
     this.q('imp-attr').textContent = i.attribute || 'default';
@@ -131,16 +148,24 @@ export class Legend {
     this.el.dataset.colorAttribute = c.attribute;
     this.el.dataset.colorRange = c.range.map(fmt).join(',');
     this.el.dataset.clash = String(m.clash);
+    this.setColorTicks(this.colorTicks);
   }
 
-  /** The latest frame header's colorTicks (color.equalize): warped ticks under the bar, or none. */
+  /**
+   * The latest frame header's colorTicks (color.equalize): warped ticks under
+   * the bar; without them the linear ticks of the colour range (equalize off).
+   */
   setColorTicks(colorTicks) {
+    this.colorTicks = colorTicks;
     const c = this.model?.color;
-    const ticks = c && !c.rgb ? equalizedTicks(colorTicks, c.range[0] > c.range[1]) : null;
+    const warped = c && !c.rgb && this.model.equalize ? equalizedTicks(colorTicks, c.range[0] > c.range[1]) : null;
+    const ticks = warped ?? this.model?.ticks ?? null;
     const row = this.q('eq-ticks');
-    const key = ticks ? ticks.map((t) => t.text).join(',') : '';
+    const key = ticks ? `${warped ? 'eq' : 'lin'}:${ticks.map((t) => t.text).join(',')}` : '';
     if (row.dataset.ticks === key) return; // every frame carries them: touch the DOM on change only
     row.dataset.ticks = key;
+    row.dataset.kind = warped ? 'equalized' : 'linear';
+    row.title = warped ? 'Equalized colours: the data value at each mark of the bar in this view' : 'The data value at each mark of the bar (the colour range, in the attribute\'s units)';
     row.hidden = !ticks;
     row.replaceChildren(...(ticks ?? []).map((t) => {
       const span = document.createElement('span');
@@ -149,6 +174,6 @@ export class Legend {
       span.textContent = t.text;
       return span;
     }));
-    this.el.dataset.colorTicks = key;
+    this.el.dataset.colorTicks = ticks ? ticks.map((t) => t.text).join(',') : '';
   }
 }

@@ -1,0 +1,36 @@
+// The legend's defaults that suit the data (issue 26): ticks in data units
+// under a linear colour bar, the importance direction of attributes where
+// smaller matters, and the background/colormap contrast.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { legendModel, linearTicks } from '../js/legend.js';
+
+const stars = {
+  defaultImportance: 'magnitude',
+  attributes: [
+    { name: 'magnitude', range: [-1.44, 8.99], autoRange: [4.62, 8.99], smallerMatters: true },
+    { name: 'bv', range: [-0.4, 5.46], autoRange: [-0.4, 2.1] },
+  ],
+};
+const at = (t) => t.map((x) => x.at);
+const text = (t) => t.map((x) => x.text);
+
+test('legend ticks: min, quarter points and max of the colour range in data units', () => {
+  // colour by an attribute: the server's auto range (params.normalize auto), ticks evenly spaced
+  let m = legendModel({ color: { attribute: 'bv' } }, stars);
+  assert.deepEqual(at(m.ticks), [0, 25, 50, 75, 100]);
+  assert.deepEqual(text(m.ticks), ['-0.4', '0.225', '0.85', '1.48', '2.1']);
+  // normalize off: min/max, as the server maps it
+  m = legendModel({ color: { attribute: 'bv' }, params: { normalize: 'off' } }, stars);
+  assert.deepEqual(text(m.ticks), ['-0.4', '1.06', '2.53', '4', '5.46']);
+  // colour by importance: the importance scale 0…1
+  assert.deepEqual(text(legendModel({}, stars).ticks), ['0', '0.25', '0.5', '0.75', '1']);
+  // an explicit range, given max first: the bar is flipped, the values run right to left
+  m = legendModel({ color: { attribute: 'bv', range: [3, -1] } }, stars);
+  assert.deepEqual(text(m.ticks), ['-1', '0', '1', '2', '3']);
+  assert.deepEqual(at(m.ticks), [100, 75, 50, 25, 0]);
+  // equalized colours (the frames' warped ticks take the row) and per-vertex RGB have none
+  assert.equal(legendModel({ color: { attribute: 'bv', equalize: true } }, stars).ticks, null);
+  assert.equal(legendModel({ color: { attribute: 'rgb' } }, stars).ticks, null);
+  for (const bad of [undefined, [1], [0, NaN], ['a', 1]]) assert.equal(linearTicks(bad), null);
+});

@@ -39,16 +39,38 @@ export function legendModel(values, info) {
   else
     opacity = 'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
       'Values below the range minimum get g = 0; if little is important, little is cleared, so clutter stays opaque.';
+  // Direction: the server maps an attribute where smaller matters (smallerMatters,
+  // a magnitude) inverted by default; importance.invert and a range given max
+  // first each flip it once more.
+  const impInfo = (info?.attributes ?? []).find((x) => x?.name === impAttr);
+  const smallerMatters = !imp.terms?.length && !!impInfo?.smallerMatters;
+  const smallerFirst = !imp.terms?.length && (!!imp.invert !== smallerMatters) !== (impRange[0] > impRange[1]);
   // Ticks in data units under the bar: linear over the colour range unless the
   // colours are equalized (then the frames' warped colorTicks take the row).
   const ticks = rgb || color.equalize ? null : linearTicks(colorRange);
   return {
     color: { attribute: colorAttr, colormap, range: colorRange, rgb },
     ticks, equalize: !!color.equalize,
+    direction: { smallerMatters, smallerFirst, text: smallerFirst ? 'smaller = more important' : '' },
     importance: { attribute: impAttr, range: impRange, exponent },
     criteria: { terms: termsSummary(imp.terms), filters: filtersSummary(values?.filter) },
     method, opacity, clash, top, background,
   };
+}
+
+/**
+ * The note beside the panel's Invert box for the importance attribute in force:
+ * says when it already maps inverted by default (smallerMatters) and what the
+ * box then does; '' for an attribute with the plain direction.
+ */
+export function invertNote(values, info) {
+  const imp = values?.importance ?? {};
+  if (imp.terms?.length) return '';
+  const name = imp.attribute || info?.defaultImportance || '';
+  if (!(info?.attributes ?? []).find((x) => x?.name === name)?.smallerMatters) return '';
+  return imp.invert
+    ? `${name}: inverted back, larger values are important (by default smaller ones are).`
+    : `${name}: smaller values are important by default (its name says smaller matters); check to make larger values important.`;
 }
 
 /** SVG path of g = clamp((v − min)/(max − min))^exponent over the range, in a w × h box (y down). */
@@ -133,9 +155,12 @@ export class Legend {
     this.q('cmap').textContent = c.rgb ? '' : `${c.colormap}${inverted ? ' (flipped)' : ''}`;
     const i = m.importance;
     this.q('imp-attr').textContent = i.attribute || 'default';
-    this.q('imp-range').textContent = `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}`;
+    const dir = m.direction.text ? ` (${m.direction.text})` : '';
+    this.q('imp-range').textContent = `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}${dir}`;
     this.q('curve').setAttribute('d', importanceCurvePath(i.exponent));
-    this.q('curve').setAttribute('transform', i.range[0] > i.range[1] ? 'translate(36 0) scale(-1 1)' : '');
+    // the curve falls from left to right when the smaller values are the important ones
+    this.q('curve').setAttribute('transform', m.direction.smallerFirst ? 'translate(36 0) scale(-1 1)' : '');
+    this.el.dataset.importanceDirection = m.direction.smallerFirst ? 'smaller' : 'larger';
     // terms replace the single attribute; filters say what is hidden
     const k = m.criteria;
     if (k.terms) this.q('imp-attr').textContent = k.terms;

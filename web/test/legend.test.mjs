@@ -3,7 +3,7 @@
 // smaller matters, and the background/colormap contrast.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { legendModel, linearTicks } from '../js/legend.js';
+import { legendModel, linearTicks, invertNote } from '../js/legend.js';
 
 const stars = {
   defaultImportance: 'magnitude',
@@ -33,4 +33,30 @@ test('legend ticks: min, quarter points and max of the colour range in data unit
   assert.equal(legendModel({ color: { attribute: 'bv', equalize: true } }, stars).ticks, null);
   assert.equal(legendModel({ color: { attribute: 'rgb' } }, stars).ticks, null);
   for (const bad of [undefined, [1], [0, NaN], ['a', 1]]) assert.equal(linearTicks(bad), null);
+});
+
+test('smaller matters: the legend says so, the curve falls, the Invert box has a note', () => {
+  // the default importance of the stars is their magnitude: smaller (brighter) is more important
+  let m = legendModel({}, stars);
+  assert.equal(m.importance.attribute, 'magnitude');
+  assert.deepEqual(m.importance.range, [4.62, 8.99]);
+  assert.deepEqual(m.direction, { smallerMatters: true, smallerFirst: true, text: 'smaller = more important' });
+  assert.match(invertNote({}, stars), /^magnitude: smaller values are important by default/);
+  // Invert maps it the plain way (as the server: invert != smallerMatters)
+  m = legendModel({ importance: { invert: true } }, stars);
+  assert.equal(m.direction.smallerFirst, false);
+  assert.equal(m.direction.text, '');
+  assert.match(invertNote({ importance: { invert: true } }, stars), /larger values are important/);
+  // a range given max first flips once more
+  assert.equal(legendModel({ importance: { range: [9, 4] } }, stars).direction.smallerFirst, false);
+  assert.equal(legendModel({ importance: { range: [9, 4], invert: true } }, stars).direction.smallerFirst, true);
+  // an attribute with the plain direction: no label, no note unless inverted by hand
+  m = legendModel({ importance: { attribute: 'bv' } }, stars);
+  assert.deepEqual(m.direction, { smallerMatters: false, smallerFirst: false, text: '' });
+  assert.equal(invertNote({ importance: { attribute: 'bv' } }, stars), '');
+  assert.equal(legendModel({ importance: { attribute: 'bv', invert: true } }, stars).direction.text, 'smaller = more important');
+  // terms replace the single attribute: their own 1−t flags say the direction
+  const terms = { importance: { terms: [{ attribute: 'magnitude', weight: 1 }] } };
+  assert.equal(legendModel(terms, stars).direction.smallerFirst, false);
+  assert.equal(invertNote(terms, stars), '');
 });

@@ -4,6 +4,10 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { legendModel, linearTicks, invertNote } from '../js/legend.js';
+import { colorAt, contrastRatio, topColorClash, contrastBackground, COLORMAP_STOPS, DARK_BACKGROUND } from '../js/colormaps.js';
+import { pageDefaults, currentValues } from '../js/app-state.js';
+
+const DARK = [...DARK_BACKGROUND];
 
 const stars = {
   defaultImportance: 'magnitude',
@@ -59,4 +63,28 @@ test('smaller matters: the legend says so, the curve falls, the Invert box has a
   const terms = { importance: { terms: [{ attribute: 'magnitude', weight: 1 }] } };
   assert.equal(legendModel(terms, stars).direction.smallerFirst, false);
   assert.equal(invertNote(terms, stars), '');
+});
+
+test('contrast: the warning measures luminance contrast; the page opens on a background that contrasts with the colormap', () => {
+  assert.equal(contrastRatio([0, 0, 0], [1, 1, 1]), 21);
+  assert.equal(contrastRatio([0.3, 0.6, 0.2], [0.3, 0.6, 0.2]), 1);
+  // viridis' top (yellow #fde725) on white: the issue's "yellow on white"
+  const yellow = contrastRatio(colorAt('viridis', 1), [1, 1, 1]);
+  assert.ok(yellow > 1.2 && yellow < 1.3, `yellow on white ${yellow}`);
+  assert.equal(topColorClash('viridis', [0, 1], [1, 1, 1]).clash, true);
+  // the rule: white when the top colour has ≥ 3:1 against white, else the dark background
+  const bg = Object.fromEntries(Object.keys(COLORMAP_STOPS).map((c) => [c, contrastBackground(c)]));
+  assert.deepEqual(bg, { viridis: DARK, coolwarm: [1, 1, 1], grayscale: DARK, inferno: DARK, plasma: DARK, turbo: [1, 1, 1] });
+  for (const [c, b] of Object.entries(bg)) {
+    assert.ok(contrastRatio(colorAt(c, 1), b) >= 3, `${c}: the most important colour stands out`);
+    assert.equal(legendModel({ color: { colormap: c }, style: { background: b } }, stars).clash, false, c);
+  }
+  // the page's defaults: the background for the colormap in force, unless the user, link or preset chose one
+  assert.deepEqual(pageDefaults({}), { style: { background: DARK } });
+  assert.deepEqual(pageDefaults({ color: { colormap: 'turbo' } }), { style: { background: [1, 1, 1] } });
+  assert.deepEqual(pageDefaults({ style: { background: [1, 1, 1] } }), {});
+  const state = { defaults: { style: { background: [1, 1, 1], lineWidth: 0 } }, pageDefaults: pageDefaults({}), stream: null, update: {} };
+  assert.deepEqual(currentValues(state).style, { background: DARK, lineWidth: 0 });
+  state.update = { style: { background: [0, 0, 1] } };
+  assert.deepEqual(currentValues(state).style.background, [0, 0, 1], 'the user wins');
 });

@@ -19,7 +19,7 @@ import { Navigation } from './js/navigation.js';
 import { Panel, GROUPS, attributeRange, rgbToHex } from './js/ui.js';
 import { FrameStats, renderStats, formatBytes, visibilityText } from './js/stats.js';
 import { Api, ApiError } from './js/api.js';
-import { Legend } from './js/legend.js';
+import { Legend, invertNote } from './js/legend.js';
 import { AxesTriad } from './js/axes.js';
 import { createState, currentValues, linkCamera, datasetInfo } from './js/app-state.js';
 import { createParamsController } from './js/params-controller.js';
@@ -225,6 +225,7 @@ export function createApp(doc = document, win = window) {
     const colorBy = v.color?.attribute;
     panel.setVisible('color.colormap', colorBy !== 'rgb');
     panel.setVisible('color.range', colorBy !== 'rgb');
+    panel.setFeedback('importance.invert', invertNote(v, state.info));
     legend.update(v, state.info);
   }
 

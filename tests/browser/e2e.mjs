@@ -620,6 +620,9 @@ test('bug 3: an out-of-range value is brought into range everywhere and said so'
 test('grayscale on a white background: warning, and one click flips the colours', async () => {
   const page = ctx.desk;
   await settled(page);
+  // the page opens viridis on a dark background (README "Contrast by default"): choose white first
+  await page.locator('#ctl-style-background').fill('#ffffff');
+  await page.waitForFunction(() => String(window.lucent.values().style.background) === '1,1,1', null, { timeout: 5000 });
   const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);
   await page.locator('#ctl-color-colormap').selectOption('grayscale');
   await page.waitForFunction(() => document.getElementById('legend').dataset.clash === 'true', null, { timeout: 5000 });
@@ -637,6 +640,7 @@ test('grayscale on a white background: warning, and one click flips the colours'
   await hi.fill('1');
   await hi.press('Enter');
   await page.waitForFunction(() => document.getElementById('legend').dataset.colorRange === '0,1', null, { timeout: 5000 });
+  await page.locator('#ctl-style-background').fill('#1a1a1a'); // back to the page's default
   await settled(page);
 });
 

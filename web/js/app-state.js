@@ -4,6 +4,7 @@
 
 import { cloneCamera, validateCamera } from './camera.js';
 import { merge } from './schema.js';
+import { contrastBackground } from './colormaps.js';
 
 /** A camera from a link, or null when it is missing or degenerate. */
 export function linkCamera(camera) {
@@ -17,6 +18,7 @@ export function createState(initial, token) {
     datasets: [], // descriptions from GET /api/v1/datasets
     info: null, // ready.dataset
     defaults: null, // ready.defaults (a render request)
+    pageDefaults: {}, // what the page chose for the session where the user, link and preset chose nothing (pageDefaults())
     stream: null, // ready.stream
     limits: null, // ready.limits
     session: null,
@@ -37,11 +39,22 @@ export function createState(initial, token) {
   };
 }
 
-/** The values shown: defaults + stream settings + the user's changes. */
+/**
+ * What the page asks for in a session's hello beyond the user's changes
+ * (README "Contrast by default"): without a background from the user, the link
+ * or a preset, the background that contrasts with the colormap in force (the
+ * changes' colormap, else the server's default viridis).
+ */
+export function pageDefaults(update) {
+  if (update?.style?.background !== undefined) return {};
+  return { style: { background: contrastBackground(update?.color?.colormap ?? 'viridis') } };
+}
+
+/** The values shown: defaults + the page's defaults + stream settings + the user's changes. */
 export function currentValues(state) {
   const s = state.stream;
   const streamDefaults = s ? { quality: s.quality, interactiveQuality: s.interactiveQuality, interactiveScale: s.interactiveScale } : {};
-  return merge(merge(state.defaults ?? {}, streamDefaults), state.update);
+  return merge(merge(merge(state.defaults ?? {}, state.pageDefaults ?? {}), streamDefaults), state.update);
 }
 
 /** The description of the chosen dataset: the session's, else the list's. */

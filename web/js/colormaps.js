@@ -32,14 +32,45 @@ export function gradientCss(name, reversed = false) {
 /** Euclidean distance of two RGB colours in [0, 1]³ (0 = same, √3 = black vs white). */
 export const rgbDistance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 
+/** WCAG relative luminance of an sRGB colour in [0, 1]³. */
+export function relativeLuminance(rgb) {
+  const lin = (c) => (c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4));
+  return 0.2126 * lin(rgb[0]) + 0.7152 * lin(rgb[1]) + 0.0722 * lin(rgb[2]);
+}
+
+/** WCAG contrast ratio of two colours: 1 (same luminance) to 21 (black on white). */
+export function contrastRatio(a, b) {
+  const la = relativeLuminance(a), lb = relativeLuminance(b);
+  return (Math.max(la, lb) + 0.05) / (Math.min(la, lb) + 0.05);
+}
+
+/** Below this luminance contrast the legend warns: the colour is lost in the background. */
+export const CLASH_RATIO = 1.5;
+
 /**
  * The colour drawn for the highest value of the colour range (t = 1, or t = 0
  * when the range is inverted), and whether it is too close to the background to
- * be seen. With colour by importance this is the most important structure.
+ * be seen: luminance contrast below minRatio (viridis' yellow on white is 1.26,
+ * grayscale's white on white 1). With colour by importance this is the most
+ * important structure.
  */
-export function topColorClash(colormap, range, background, threshold = 0.2) {
+export function topColorClash(colormap, range, background, minRatio = CLASH_RATIO) {
   const inverted = Array.isArray(range) && range[0] > range[1];
   const top = colorAt(colormap, inverted ? 0 : 1);
   const bg = Array.isArray(background) && background.length === 3 ? background : [1, 1, 1];
-  return { top, clash: rgbDistance(top, bg) < threshold };
+  return { top, clash: contrastRatio(top, bg) < minRatio };
+}
+
+/** The page's dark background (README "Contrast by default"). */
+export const DARK_BACKGROUND = Object.freeze([0.1, 0.1, 0.1]);
+
+/**
+ * The background the page opens with for a colormap (README "Contrast by
+ * default"): white when the colormap's top colour (the highest values, with
+ * colour by importance the most important parts) has a contrast ratio of at
+ * least 3:1 against white (turbo, coolwarm), else dark (viridis, inferno,
+ * plasma and grayscale end near white).
+ */
+export function contrastBackground(colormap) {
+  return contrastRatio(colorAt(colormap, 1), [1, 1, 1]) >= 3 ? [1, 1, 1] : [...DARK_BACKGROUND];
 }

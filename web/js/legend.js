@@ -39,12 +39,38 @@ export function legendModel(values, info) {
   else
     opacity = 'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
       'Values below the range minimum get g = 0; if little is important, little is cleared, so clutter stays opaque.';
+  // Direction: the server maps an attribute where smaller matters (smallerMatters,
+  // a magnitude) inverted by default; importance.invert and a range given max
+  // first each flip it once more.
+  const impInfo = (info?.attributes ?? []).find((x) => x?.name === impAttr);
+  const smallerMatters = !imp.terms?.length && !!impInfo?.smallerMatters;
+  const smallerFirst = !imp.terms?.length && (!!imp.invert !== smallerMatters) !== (impRange[0] > impRange[1]);
+  // Ticks in data units under the bar: linear over the colour range unless the
+  // colours are equalized (then the frames' warped colorTicks take the row).
+  const ticks = rgb || color.equalize ? null : linearTicks(colorRange);
   return {
     color: { attribute: colorAttr, colormap, range: colorRange, rgb },
+    ticks, equalize: !!color.equalize,
+    direction: { smallerMatters, smallerFirst, text: smallerFirst ? 'smaller = more important' : '' },
     importance: { attribute: impAttr, range: impRange, exponent },
     criteria: { terms: termsSummary(imp.terms), filters: filtersSummary(values?.filter) },
     method, opacity, clash, top, background,
   };
+}
+
+/**
+ * The note beside the panel's Invert box for the importance attribute in force:
+ * says when it already maps inverted by default (smallerMatters) and what the
+ * box then does; '' for an attribute with the plain direction.
+ */
+export function invertNote(values, info) {
+  const imp = values?.importance ?? {};
+  if (imp.terms?.length) return '';
+  const name = imp.attribute || info?.defaultImportance || '';
+  if (!(info?.attributes ?? []).find((x) => x?.name === name)?.smallerMatters) return '';
+  return imp.invert
+    ? `${name}: inverted back, larger values are important (by default smaller ones are).`
+    : `${name}: smaller values are important by default (its name says smaller matters); check to make larger values important.`;
 }
 
 /** SVG path of g = clamp((v − min)/(max − min))^exponent over the range, in a w × h box (y down). */
@@ -68,6 +94,18 @@ export function importanceCurvePath(exponent, w = 36, h = 18, n = 16) {
 export function equalizedTicks(colorTicks, inverted = false) {
   if (!Array.isArray(colorTicks) || colorTicks.length !== 5 || !colorTicks.every((v) => typeof v === 'number' && Number.isFinite(v))) return null;
   return colorTicks.map((v, i) => ({ at: inverted ? 100 - 25 * i : 25 * i, text: fmt(v) }));
+}
+
+/**
+ * Ticks of a linear colour bar in data units: the range's minimum, quarter
+ * points and maximum as [{at: percent along the bar, text}], values running
+ * right to left when the range is given max first (the bar is drawn flipped);
+ * null for a range that is not two finite numbers.
+ */
+export function linearTicks(range) {
+  if (!Array.isArray(range) || range.length !== 2 || !range.every((v) => typeof v === 'number' && Number.isFinite(v))) return null;
+  const lo = Math.min(range[0], range[1]), hi = Math.max(range[0], range[1]);
+  return equalizedTicks([0, 1, 2, 3, 4].map((i) => (i === 4 ? hi : lo + ((hi - lo) * i) / 4)), range[0] > range[1]);
 }
 
 const NS = 'http://www.w3.org/2000/svg';
@@ -111,14 +149,18 @@ export class Legend {
     const inverted = c.range[0] > c.range[1];
     bar.style.background = gradientCss(c.colormap, inverted);
     const lo = Math.min(c.range[0], c.range[1]), hi = Math.max(c.range[0], c.range[1]);
-    this.q('cmin').textContent = c.rgb ? '' : fmt(lo);
-    this.q('cmax').textContent = c.rgb ? '' : fmt(hi);
+    // min and max stand beside the colormap's name only when the tick row is empty (equalized, awaiting a frame)
+    this.q('cmin').textContent = c.rgb || m.ticks ? '' : fmt(lo);
+    this.q('cmax').textContent = c.rgb || m.ticks ? '' : fmt(hi);
     this.q('cmap').textContent = c.rgb ? '' : `${c.colormap}${inverted ? ' (flipped)' : ''}`;
     const i = m.importance;
     this.q('imp-attr').textContent = i.attribute || 'default';
-    this.q('imp-range').textContent = `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}`;
+    const dir = m.direction.text ? ` (${m.direction.text})` : '';
+    this.q('imp-range').textContent = `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}${dir}`;
     this.q('curve').setAttribute('d', importanceCurvePath(i.exponent));
-    this.q('curve').setAttribute('transform', i.range[0] > i.range[1] ? 'translate(36 0) scale(-1 1)' : '');
+    // the curve falls from left to right when the smaller values are the important ones
+    this.q('curve').setAttribute('transform', m.direction.smallerFirst ? 'translate(36 0) scale(-1 1)' : '');
+    this.el.dataset.importanceDirection = m.direction.smallerFirst ? 'smaller' : 'larger';
     // terms replace the single attribute; filters say what is hidden
     const k = m.criteria;
     if (k.terms) this.q('imp-attr').textContent = k.terms;
@@ -131,16 +173,24 @@ export class Legend {
     this.el.dataset.colorAttribute = c.attribute;
     this.el.dataset.colorRange = c.range.map(fmt).join(',');
     this.el.dataset.clash = String(m.clash);
+    this.setColorTicks(this.colorTicks);
   }
 
-  /** The latest frame header's colorTicks (color.equalize): warped ticks under the bar, or none. */
+  /**
+   * The latest frame header's colorTicks (color.equalize): warped ticks under
+   * the bar; without them the linear ticks of the colour range (equalize off).
+   */
   setColorTicks(colorTicks) {
+    this.colorTicks = colorTicks;
     const c = this.model?.color;
-    const ticks = c && !c.rgb ? equalizedTicks(colorTicks, c.range[0] > c.range[1]) : null;
+    const warped = c && !c.rgb && this.model.equalize ? equalizedTicks(colorTicks, c.range[0] > c.range[1]) : null;
+    const ticks = warped ?? this.model?.ticks ?? null;
     const row = this.q('eq-ticks');
-    const key = ticks ? ticks.map((t) => t.text).join(',') : '';
+    const key = ticks ? `${warped ? 'eq' : 'lin'}:${ticks.map((t) => t.text).join(',')}` : '';
     if (row.dataset.ticks === key) return; // every frame carries them: touch the DOM on change only
     row.dataset.ticks = key;
+    row.dataset.kind = warped ? 'equalized' : 'linear';
+    row.title = warped ? 'Equalized colours: the data value at each mark of the bar in this view' : 'The data value at each mark of the bar (the colour range, in the attribute\'s units)';
     row.hidden = !ticks;
     row.replaceChildren(...(ticks ?? []).map((t) => {
       const span = document.createElement('span');
@@ -149,6 +199,6 @@ export class Legend {
       span.textContent = t.text;
       return span;
     }));
-    this.el.dataset.colorTicks = key;
+    this.el.dataset.colorTicks = ticks ? ticks.map((t) => t.text).join(',') : '';
   }
 }

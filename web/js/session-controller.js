@@ -5,8 +5,8 @@
 
 import { helloMessage, describeError, DEFAULT_WINDOW } from './protocol.js';
 import { cloneCamera, validateCamera, roundCamera } from './camera.js';
-import { UPDATE_SECTIONS, STREAM_FIELDS } from './schema.js';
-import { datasetInfo } from './app-state.js';
+import { UPDATE_SECTIONS, STREAM_FIELDS, merge } from './schema.js';
+import { datasetInfo, pageDefaults } from './app-state.js';
 
 export const RETRY_DELAYS_KEPT = 50;
 
@@ -77,7 +77,10 @@ export function createSessionController(ctx) {
     ctx.view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
     const msg = { dataset: state.dataset ?? undefined, width: v.width, height: v.height, devicePixelRatio: v.dpr, window: DEFAULT_WINDOW, token: state.token ?? undefined };
     if (state.camera) msg.camera = roundCamera(state.camera, 12);
-    for (const s of UPDATE_SECTIONS) if (state.update[s] && Object.keys(state.update[s]).length) msg[s] = state.update[s];
+    // the page's own defaults (a contrasting background) go first: the user's changes win
+    state.pageDefaults = pageDefaults(state.update);
+    const sent = merge(state.pageDefaults, state.update);
+    for (const s of UPDATE_SECTIONS) if (sent[s] && Object.keys(sent[s]).length) msg[s] = sent[s];
     if (state.update.method) msg.method = state.update.method;
     if (state.update.filter) msg.filter = state.update.filter;
     for (const f of STREAM_FIELDS) if (state.update[f.name] !== undefined) msg[f.name] = state.update[f.name];

@@ -69,7 +69,7 @@ export const GROUPS = [
       { path: 'style.lineWidth', label: 'Line width (0 = auto)', kind: 'range', min: 0, max: 0.05, step: 0.0005, dynamic: 'lineWidth', help: 'Width of lines in data units. 0: automatic from the size of the data.' },
       { path: 'style.minLinePixels', label: 'Minimum line pixels', kind: 'range', min: 0, max: 8, step: 0.5, help: 'Lines are never drawn thinner than this many pixels.' },
       { path: 'style.pointSize', label: 'Point size (px)', kind: 'range', min: 0.5, max: 20, step: 0.5, help: 'Diameter of points in pixels.' },
-      { path: 'style.background', label: 'Background', kind: 'color', help: 'Background colour of the image.' },
+      { path: 'style.background', label: 'Background', kind: 'color', help: 'Background colour of the image. The page opens on one that contrasts with the colormap\'s highest values: dark grey for viridis, inferno, plasma and grayscale, white for turbo and coolwarm.' },
       { path: 'style.shading', label: 'Shading', kind: 'select', options: [['phong', 'Phong'], ['none', 'None (flat)']], help: 'Phong: lit like tubes and surfaces. None: flat colours.' },
       { path: 'camera.viewAngle', label: 'View angle (°)', kind: 'range', min: 5, max: 120, step: 1, help: 'Vertical field of view in degrees (perspective projection).' },
       { path: 'camera.parallelProjection', label: 'Parallel projection', kind: 'check', help: 'Orthographic view: sizes do not shrink with distance.' },

@@ -328,3 +328,16 @@ test('datasets: a preset goes under the link, says so, and undo takes it back ou
   assert.equal(d.checkDataset(), true);
   assert.ok(log.some(([k, text]) => k === 'showBanner' && /demo:zz/.test(text)));
 });
+
+test('session: the hello asks for a background that contrasts with the colormap unless one was chosen', () => {
+  let r = sessionRig();
+  assert.deepEqual(r.s.hello().style, { background: [0.1, 0.1, 0.1] }, "viridis' yellow end: dark");
+  assert.deepEqual(currentValues(r.state).style.background, [0.1, 0.1, 0.1], 'the panel and legend show it');
+  r = sessionRig();
+  r.state.update = { ...r.state.update, color: { colormap: 'turbo' } };
+  assert.deepEqual(r.s.hello().style, { background: [1, 1, 1] }, "turbo's dark red end: white");
+  r = sessionRig();
+  r.state.update = { ...r.state.update, style: { background: [1, 1, 1], lineWidth: 0.01 } };
+  assert.deepEqual(r.s.hello().style, { background: [1, 1, 1], lineWidth: 0.01 }, 'a chosen background wins');
+  assert.deepEqual(r.state.pageDefaults, {});
+});

@@ -53,7 +53,8 @@ test('colormaps: stops, interpolation, the top colour against the background', (
   assert.equal(topColorClash('grayscale', [0, 1], [1, 1, 1]).clash, true, 'white on white');
   assert.equal(topColorClash('grayscale', [1, 0], [1, 1, 1]).clash, false, 'flipped: black on white');
   assert.equal(topColorClash('grayscale', [0, 1], [0, 0, 0]).clash, false, 'white on black');
-  assert.equal(topColorClash('viridis', [0, 1], [1, 1, 1]).clash, false);
+  assert.equal(topColorClash('viridis', [0, 1], [1, 1, 1]).clash, true, "viridis' yellow on white: luminance contrast 1.26");
+  assert.equal(topColorClash('viridis', [1, 0], [1, 1, 1]).clash, false, 'flipped: purple on white');
   assert.equal(topColorClash('inferno', [1, 0], [0, 0, 0]).clash, true, 'inferno flipped on black');
 });
 

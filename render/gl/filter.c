@@ -8,6 +8,7 @@
  * buffer changes: a new filter costs one pass over the vertices, not a reload.
  * The mask is kept while the scene and the filters stay the same. */
 #include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -78,7 +79,11 @@ static int add_time(const lc_frame_setup *fs, filter_list *L, lc_error *err)
     memset(f, 0, sizeof *f);
     snprintf(f->attribute, sizeof f->attribute, "%s", s->attributes[a].name);
     f->over = LC_FILTER_VERTEX;
-    f->lo = t->window[0], f->hi = t->window[1];
+    /* A compact scene keeps the attribute in 16 bits (vertex_pack.c): a vertex
+     * at exactly t0 or t1 may decode half a step off, so the window widens by
+     * that much (a time step is far coarser than 1/65535 of the span). */
+    double slack = fs->gs->attr_format[a] == 1 ? 0.5 * fabs((double)fs->gs->attr_decode[a][1]) * (1 + 1e-3) : 0;
+    f->lo = t->window[0] - slack, f->hi = t->window[1] + slack;
     L->attr[L->n++] = a;
     L->time = 1;
     return 0;

@@ -8,6 +8,7 @@ Usage: test_time.py LUCENT"""
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -87,4 +88,5 @@ for extra, field in (({"time": {"window": [120, 50]}}, "time.window"),
 
 for f in failures:
     print("FAIL:", f)
+shutil.rmtree(tmp, ignore_errors=True)
 sys.exit(1 if failures else 0)

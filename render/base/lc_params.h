@@ -163,10 +163,10 @@ typedef struct lc_filter {
  * carry a time, only the segments whose two vertices lie in [t0, t1] draw and
  * count; a vertex-level filter on the time attribute. */
 typedef struct lc_time_window {
-    bool has_window;              /* false: no window, every segment */
-    double window[2];             /* [t0, t1], inclusive */
-    bool markers;                 /* accepted; not drawn yet (docs) */
-    char attribute[LC_NAME_LEN];  /* "": time, t, frame or timestep */
+    bool has_window;             /* false: no window, every segment */
+    double window[2];            /* [t0, t1], inclusive */
+    bool markers;                /* accepted; not drawn yet (docs) */
+    char attribute[LC_NAME_LEN]; /* "": time, t, frame or timestep */
 } lc_time_window;
 
 #define LC_MAX_COLOR_FIXED 4

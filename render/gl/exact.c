@@ -76,7 +76,9 @@ static exact_state *get_state(lc_renderer *r)
 
 static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, int pulled, lc_error *err)
 {
-    GLuint *slot = pulled ? &st->build_pulled[pass + equalize] : equalize ? &st->build_eq[prim] : &st->build[pass][prim];
+    GLuint *slot = pulled     ? &st->build_pulled[pass + equalize]
+                   : equalize ? &st->build_eq[prim]
+                              : &st->build[pass][prim];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -84,8 +86,8 @@ static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_typ
                                      "exact_build.frag.glsl", NULL};
     char defines[192], label[64];
     /* Pass 1 reads the element opacities in the vertex shader (v_alpha). */
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s", (int)prim,
-             pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "",
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s",
+             (int)prim, pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "",
              pulled ? "#define PULL_PRIMITIVES 1\n" : "");
     snprintf(label, sizeof label, "exact list pass %d%s (%s%s)", pass, equalize ? " equalize" : "",
              lc_prim_type_name(prim), pulled ? ", pulled" : "");

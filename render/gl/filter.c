@@ -65,8 +65,8 @@ static int add_time(const lc_frame_setup *fs, filter_list *L, lc_error *err)
     if (!(t->window[0] <= t->window[1]))
         return lc_err_field(err, LC_ERR_INVALID, "time.window", "t0 %g is after t1 %g", t->window[0], t->window[1]);
     if (s->type == LC_PRIM_TRIANGLES)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "%s is a surface: time windows apply to lines and points",
-                            s->name);
+        return lc_err_field(err, LC_ERR_INVALID, "time.window",
+                            "%s is a surface: time windows apply to lines and points", s->name);
     if (s->type == LC_PRIM_LINES && !s->line_offsets)
         return lc_err_field(err, LC_ERR_INVALID, "time.window", "%s keeps no line offsets", s->name);
     if (L->n >= LC_MAX_FILTERS)

@@ -649,7 +649,7 @@ static int load_dump(const void *data, size_t size, const char *name, lc_io_part
             goto done;
         }
         lc_scene_unique_attribute_name(s,
-                                       j < D->nattr    ? D->attr_name[j]
+                                       j < D->nattr        ? D->attr_name[j]
                                        : j == D->nattr     ? "speed"
                                        : j == D->nattr + 1 ? "displacement"
                                                            : "timestep",
@@ -659,7 +659,7 @@ static int load_dump(const void *data, size_t size, const char *name, lc_io_part
             rc = idx;
             goto done;
         }
-        *(j < D->nattr       ? &D->attr[j]
+        *(j < D->nattr        ? &D->attr[j]
           : j == D->nattr     ? &D->speed
           : j == D->nattr + 1 ? &D->disp
                               : &D->timestep) = s->attributes[idx].values;

@@ -175,8 +175,8 @@ static void check_methods(test_gl *t, const lc_scene *all, const lc_scene *part)
         }
         int d = differing(want, got);
         double ssim = lc_image_ssim(want, got, SIZE, SIZE);
-        printf("%s window: %d differing bytes, SSIM %.6f against the kept segments alone\n",
-               lc_method_name(methods[m]), d, ssim);
+        printf("%s window: %d differing bytes, SSIM %.6f against the kept segments alone\n", lc_method_name(methods[m]),
+               d, ssim);
         if (methods[m] == LC_METHOD_EXACT)
             CHECK(d == 0, "exact: the window differs from the kept segments alone in %d bytes", d);
         else

@@ -805,6 +805,7 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     emit(o, r, NULL, "filter");
     json_object_set_new(o, "lines", emit_section(r, "lines"));
     emit(o, r, NULL, "layers");
+    json_object_set_new(o, "time", emit_section(r, "time"));
     return o;
 }
 

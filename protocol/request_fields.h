@@ -170,10 +170,15 @@ static const field fields[] = {
     {"lines", "liftColor", "liftColor", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_color), 0, NOFLAG, NULL},
 
     {NULL, "layers", "layers", T_LAYERS, 0, LC_MAX_LAYERS, 0, OFF(layer_count), 0, NOFLAG, NULL},
+
+    {"time", "window", "timeWindow", T_RANGE, 0, 0, 0, OFF(render.time.window), 0, (long)OFF(render.time.has_window),
+     NULL},
+    {"time", "attribute", "timeAttribute", T_STR, 0, 0, 0, OFF(render.time.attribute), LC_NAME_LEN, NOFLAG, NULL},
+    {"time", "markers", "timeMarkers", T_BOOL, 0, 0, 0, OFF(render.time.markers), 0, NOFLAG, NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
-static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines"};
+static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines", "time"};
 #define NSECTIONS (sizeof sections / sizeof sections[0])
 
 #endif

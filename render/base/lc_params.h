@@ -159,6 +159,16 @@ typedef struct lc_filter {
     bool lo_open, hi_open; /* ... or (lo, ...) / (..., hi) */
 } lc_filter;
 
+/* Time windows (docs/ALGORITHM.md "Time windows"): on lines whose vertices
+ * carry a time, only the segments whose two vertices lie in [t0, t1] draw and
+ * count; a vertex-level filter on the time attribute. */
+typedef struct lc_time_window {
+    bool has_window;             /* false: no window, every segment */
+    double window[2];            /* [t0, t1], inclusive */
+    bool markers;                /* accepted; not drawn yet (docs) */
+    char attribute[LC_NAME_LEN]; /* "": time, t, frame or timestep */
+} lc_time_window;
+
 #define LC_MAX_COLOR_FIXED 4
 typedef struct lc_color_map {
     char attribute[LC_NAME_LEN]; /* "importance", "rgb", an attribute, "" = default */
@@ -226,6 +236,7 @@ typedef struct lc_render_params {
     int filter_count;
     lc_filter filters[LC_MAX_FILTERS];
     lc_line_cluster_params clusters;
+    lc_time_window time;
 } lc_render_params;
 
 /* Layers (docs/ALGORITHM.md "Layers"): a scene of several datasets in one

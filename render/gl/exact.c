@@ -48,8 +48,9 @@ enum {
 #define EQ_SCALE 1048576.0 /* fixed-point units per unit of coverage: 2^20 */
 
 typedef struct exact_state {
-    GLuint build[2][3]; /* [list pass][primitive type] */
-    GLuint build_eq[3]; /* list pass 1 keeping colour bins (color.equalize) */
+    GLuint build[2][3];     /* [list pass][primitive type] */
+    GLuint build_eq[3];     /* list pass 1 keeping colour bins (color.equalize) */
+    GLuint build_pulled[3]; /* lines segment by segment (a time window), [list pass + equalize] */
     GLuint opacity, blend, blend_eq;
     GLuint eq_counts; /* EQ_SLOTS x 2 uints */
     GLuint nodes, counters, heads, fbo;
@@ -73,9 +74,11 @@ static exact_state *get_state(lc_renderer *r)
     return st;
 }
 
-static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, lc_error *err)
+static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, int pulled, lc_error *err)
 {
-    GLuint *slot = equalize ? &st->build_eq[prim] : &st->build[pass][prim];
+    GLuint *slot = pulled     ? &st->build_pulled[pass + equalize]
+                   : equalize ? &st->build_eq[prim]
+                              : &st->build[pass][prim];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -83,10 +86,11 @@ static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_typ
                                      "exact_build.frag.glsl", NULL};
     char defines[192], label[64];
     /* Pass 1 reads the element opacities in the vertex shader (v_alpha). */
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s", (int)prim,
-             pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "");
-    snprintf(label, sizeof label, "exact list pass %d%s (%s)", pass, equalize ? " equalize" : "",
-             lc_prim_type_name(prim));
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s",
+             (int)prim, pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "",
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "");
+    snprintf(label, sizeof label, "exact list pass %d%s (%s%s)", pass, equalize ? " equalize" : "",
+             lc_prim_type_name(prim), pulled ? ", pulled" : "");
     *slot = lc_renderer_build_program(defines, vs, fs, NULL, label, err);
     return *slot;
 }
@@ -218,7 +222,8 @@ static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint prog = build_program(st, pass, equalize, lf->gs->scene->type, err);
+        lc_prim_type prim = lf->gs->scene->type;
+        GLuint prog = build_program(st, pass, equalize, prim, lc_pulls_primitives(prim, 1, lf->pull_lines), err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
@@ -409,6 +414,8 @@ void lc_exact_destroy(lc_renderer *r)
                 glDeleteProgram(st->build[pass][prim]);
         if (st->build_eq[prim])
             glDeleteProgram(st->build_eq[prim]);
+        if (st->build_pulled[prim])
+            glDeleteProgram(st->build_pulled[prim]);
     }
     if (st->blend_eq)
         glDeleteProgram(st->blend_eq);

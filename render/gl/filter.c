@@ -8,6 +8,7 @@
  * buffer changes: a new filter costs one pass over the vertices, not a reload.
  * The mask is kept while the scene and the filters stay the same. */
 #include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -25,17 +26,82 @@ void lc_filter_release(lc_renderer *r)
     r->filter.count = -1;
 }
 
+/* The frame's filters: the request's, then its time window as a vertex-level
+ * filter on the time attribute (docs/ALGORITHM.md "Time windows"). */
+typedef struct filter_list {
+    lc_filter f[LC_MAX_FILTERS];
+    int attr[LC_MAX_FILTERS];
+    int n, time; /* time: the window is f[n - 1] */
+} filter_list;
+
+/* The time attribute: the request's, else the first of the usual names. */
+static int time_attribute(const lc_time_window *t, const lc_scene *s, lc_error *err)
+{
+    if (t->attribute[0]) {
+        int a = lc_scene_find_attribute(s, t->attribute);
+        if (a < 0)
+            return lc_err_field(err, LC_ERR_INVALID, "time.attribute", "%s has no attribute \"%s\"", s->name,
+                                t->attribute);
+        return a;
+    }
+    static const char *const names[] = {"time", "t", "frame", "timestep"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        int a = lc_scene_find_attribute(s, names[i]);
+        if (a >= 0)
+            return a;
+    }
+    return lc_err_field(err, LC_ERR_INVALID, "time.attribute",
+                        "%s has no time: no attribute time, t, frame or timestep (name one in time.attribute)",
+                        s->name);
+}
+
+static int add_time(const lc_frame_setup *fs, filter_list *L, lc_error *err)
+{
+    const lc_time_window *t = &fs->params->time;
+    const lc_scene *s = fs->gs->scene;
+    L->time = 0;
+    if (!t->has_window)
+        return 0;
+    if (!(t->window[0] <= t->window[1]))
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "t0 %g is after t1 %g", t->window[0], t->window[1]);
+    if (s->type == LC_PRIM_TRIANGLES)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window",
+                            "%s is a surface: time windows apply to lines and points", s->name);
+    if (s->type == LC_PRIM_LINES && !s->line_offsets)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "%s keeps no line offsets", s->name);
+    if (L->n >= LC_MAX_FILTERS)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "at most %d filters with a time window",
+                            LC_MAX_FILTERS - 1);
+    int a = time_attribute(t, s, err);
+    if (a < 0)
+        return a;
+    lc_filter *f = &L->f[L->n];
+    memset(f, 0, sizeof *f);
+    snprintf(f->attribute, sizeof f->attribute, "%s", s->attributes[a].name);
+    f->over = LC_FILTER_VERTEX;
+    /* A compact scene keeps the attribute in 16 bits (vertex_pack.c): a vertex
+     * at exactly t0 or t1 may decode half a step off, so the window widens by
+     * that much (a time step is far coarser than 1/65535 of the span). */
+    double slack = fs->gs->attr_format[a] == 1 ? 0.5 * fabs((double)fs->gs->attr_decode[a][1]) * (1 + 1e-3) : 0;
+    f->lo = t->window[0] - slack, f->hi = t->window[1] + slack;
+    L->attr[L->n++] = a;
+    L->time = 1;
+    return 0;
+}
+
 /* Resolves attribute names and checks that each predicate suits the scene. */
-static int resolve(const lc_frame_setup *fs, int attr[LC_MAX_FILTERS], lc_error *err)
+static int resolve(const lc_frame_setup *fs, filter_list *L, lc_error *err)
 {
     const lc_render_params *p = fs->params;
     const lc_scene *s = fs->gs->scene;
+    L->n = p->filter_count;
+    memcpy(L->f, p->filters, sizeof(lc_filter) * (size_t)L->n);
     for (int i = 0; i < p->filter_count; i++) {
         const lc_filter *f = &p->filters[i];
         char field[40];
         snprintf(field, sizeof field, "filter[%d].attribute", i);
-        attr[i] = lc_scene_find_attribute(s, f->attribute);
-        if (attr[i] < 0)
+        L->attr[i] = lc_scene_find_attribute(s, f->attribute);
+        if (L->attr[i] < 0)
             return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, f->attribute);
         snprintf(field, sizeof field, "filter[%d].over", i);
         if (s->type == LC_PRIM_TRIANGLES)
@@ -49,22 +115,21 @@ static int resolve(const lc_frame_setup *fs, int attr[LC_MAX_FILTERS], lc_error 
         if (s->type == LC_PRIM_LINES && !s->line_offsets)
             return lc_err_field(err, LC_ERR_INVALID, field, "%s keeps no line offsets", s->name);
     }
-    return 0;
+    return add_time(fs, L, err);
 }
 
-static int same_filters(const lc_renderer *r, const lc_frame_setup *fs, const int *attr)
+static int same_filters(const lc_renderer *r, const lc_frame_setup *fs, const filter_list *L)
 {
-    const lc_render_params *p = fs->params;
-    return r->filter.scene == fs->gs->serial && r->filter.count == p->filter_count &&
-           memcmp(r->filter.attr, attr, sizeof(int) * (size_t)p->filter_count) == 0 &&
-           memcmp(r->filter.filters, p->filters, sizeof(lc_filter) * (size_t)p->filter_count) == 0;
+    return r->filter.scene == fs->gs->serial && r->filter.count == L->n &&
+           memcmp(r->filter.attr, L->attr, sizeof(int) * (size_t)L->n) == 0 &&
+           memcmp(r->filter.filters, L->f, sizeof(lc_filter) * (size_t)L->n) == 0;
 }
 
 static float bound(double v) { return v > FLT_MAX ? FLT_MAX : v < -FLT_MAX ? -FLT_MAX : (float)v; }
 
-static int build(lc_renderer *r, lc_frame_setup *fs, const int *attr, lc_error *err)
+static int build(lc_renderer *r, lc_frame_setup *fs, const filter_list *L, lc_error *err)
 {
-    const lc_render_params *p = fs->params;
+    const int *attr = L->attr;
     const lc_scene *s = fs->gs->scene;
     GLuint prog = lc_renderer_fixed_program(r, PROG_FILTER_MASK, err);
     if (!prog)
@@ -89,12 +154,12 @@ static int build(lc_renderer *r, lc_frame_setup *fs, const int *attr, lc_error *
     lc_frame_setup plain = *fs;
     plain.filtered = 0;
     lc_renderer_bind_geometry(r, prog, &plain, fs->width, fs->height, 1); /* the attributes */
-    int n = p->filter_count, over[LC_MAX_FILTERS], open[LC_MAX_FILTERS][2];
+    int n = L->n, over[LC_MAX_FILTERS], open[LC_MAX_FILTERS][2];
     float bounds[LC_MAX_FILTERS][2];
     for (int i = 0; i < n; i++) {
-        over[i] = (int)p->filters[i].over;
-        bounds[i][0] = bound(p->filters[i].lo), bounds[i][1] = bound(p->filters[i].hi);
-        open[i][0] = p->filters[i].lo_open, open[i][1] = p->filters[i].hi_open;
+        over[i] = (int)L->f[i].over;
+        bounds[i][0] = bound(L->f[i].lo), bounds[i][1] = bound(L->f[i].hi);
+        open[i][0] = L->f[i].lo_open, open[i][1] = L->f[i].hi_open;
     }
     lc_uniform_i(prog, "u_filters", n);
     glProgramUniform1iv(prog, glGetUniformLocation(prog, "u_filter_attr"), n, attr);
@@ -111,7 +176,7 @@ static int build(lc_renderer *r, lc_frame_setup *fs, const int *attr, lc_error *
     lc_dispatch_linear((items + 255) / 256);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-    memcpy(r->filter.filters, p->filters, sizeof(lc_filter) * (size_t)n);
+    memcpy(r->filter.filters, L->f, sizeof(lc_filter) * (size_t)n);
     memcpy(r->filter.attr, attr, sizeof(int) * (size_t)n);
     r->filter.count = n;
     r->filter.serial++;
@@ -122,15 +187,19 @@ int lc_filter_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     fs->filtered = 0;
     fs->terms.mask_serial = 0;
-    if (fs->params->filter_count <= 0)
+    fs->pull_lines = r->pull_lines = 0;
+    if (fs->params->filter_count <= 0 && !fs->params->time.has_window)
         return 0;
-    int attr[LC_MAX_FILTERS];
-    int rc = resolve(fs, attr, err);
+    filter_list L;
+    int rc = resolve(fs, &L, err);
     if (rc)
         return rc;
-    if (!same_filters(r, fs, attr) && (rc = build(r, fs, attr, err)) != 0)
+    if (!same_filters(r, fs, &L) && (rc = build(r, fs, &L, err)) != 0)
         return rc;
     fs->filtered = 1;
     fs->terms.mask_serial = r->filter.serial;
+    /* A window hides single segments of a line: ribbon strips share each
+     * vertex between two segments, so lines are drawn segment by segment. */
+    fs->pull_lines = r->pull_lines = L.time && fs->gs->scene->type == LC_PRIM_LINES;
     return 0;
 }

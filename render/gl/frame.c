@@ -419,6 +419,8 @@ static int check_layered(const lc_renderer *r, const lc_render_params *p, int n,
                             lc_method_name(p->method));
     if (p->filter_count > 0)
         return lc_err_field(err, LC_ERR_INVALID, "filter", "filters apply to one dataset, not to layers");
+    if (p->time.has_window)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "time windows apply to one dataset, not to layers");
     if (p->clusters.count > 0)
         return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "line clusters apply to one dataset, not to layers");
     if (p->color.equalize)
@@ -462,6 +464,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
         .params = &p, .gs = gs, .width = p.width, .height = p.height, .info = info, .element_total = elements};
     if ((rc = lc_reduce_check_method(r, p.method, err)) != 0)
         return rc;
+    r->pull_lines = 0; /* lc_filter_prepare sets it for a time window */
     if (!p.has_camera) {
         /* The dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds. */
         p.camera.view_angle = p.camera.view_angle > 0 ? p.camera.view_angle : 30;

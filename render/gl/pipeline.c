@@ -334,7 +334,7 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     lc_prim_type prim = fs->gs->scene->type;
     const lc_gpu_level *lv = &fs->gs->levels[fs->level];
     uint64_t n = lv->primitive_count;
-    int pulled = lc_pulls_primitives(prim, subset);
+    int pulled = lc_pulls_primitives(prim, subset, fs->pull_lines);
     if (prim == LC_PRIM_LINES && pulled)
         n = lv->index_count >= 4 ? lv->index_count / 2 - 1 : 0; /* ribbon slots of the strip */
     uint64_t step = lc_renderer_subset(fs, subset);

@@ -123,7 +123,7 @@ fail:
 GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
                                     lc_error *err)
 {
-    int pulled = lc_pulls_primitives(prim, subset);
+    int pulled = lc_pulls_primitives(prim, subset, r->pull_lines);
     GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled];
     if (*slot)
         return *slot;

@@ -242,6 +242,9 @@ struct lc_renderer {
         int count; /* -1: no mask built */
         uint64_t serial;
     } filter;
+    /* filter.c: this frame's lines draw as pulled segments (a time window hides
+     * single segments, which shared ribbon strip vertices cannot). */
+    int pull_lines;
     GLuint timer_queries[LC_PASS_COUNT + 1];
     /* Pass progress of the current frame (desc.progress): its planned passes in order. */
     int progress_order[LC_PASS_COUNT];
@@ -308,6 +311,7 @@ typedef struct lc_frame_setup {
     uint32_t kept_points;
     /* filter.c: the visibility mask r->filter.mask applies (0: every vertex draws). */
     int filtered;
+    int pull_lines; /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
@@ -416,7 +420,10 @@ static inline void lc_uniform_v3(GLuint prog, const char *name, const double *v)
     glProgramUniform3f(prog, glGetUniformLocation(prog, name), (float)v[0], (float)v[1], (float)v[2]);
 }
 
-static inline int lc_pulls_primitives(lc_prim_type prim, int subset) { return prim != LC_PRIM_POINTS && subset > 1; }
+static inline int lc_pulls_primitives(lc_prim_type prim, int subset, int pull_lines)
+{
+    return prim != LC_PRIM_POINTS && (subset > 1 || (prim == LC_PRIM_LINES && pull_lines));
+}
 
 /* ---- programs.c */
 /* Returns the program for (kind, primitive, bands) that lc_renderer_draw_geometry

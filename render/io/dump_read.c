@@ -2,7 +2,8 @@
  * frame and number, finds the atoms (a hash of ids) and the length of every
  * line (an atom's run of consecutive frames); the second fills arrays of
  * exactly that size, unwrapping positions and deriving speed and
- * displacement. Per atom it keeps only the state of its current run. */
+ * displacement, and the frame's TIMESTEP per vertex (a time for time
+ * windows; the frame's number when a frame has none). Per atom it keeps only the state of its current run. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -14,7 +15,7 @@
 #include "io_util.h"
 
 #define MAX_COLUMNS 256
-#define MAX_ATTR (LC_IO_MAX_FILE_ATTRIBUTES - 2) /* speed and displacement follow */
+#define MAX_ATTR (LC_IO_MAX_FILE_ATTRIBUTES - 3) /* speed, displacement and timestep follow */
 
 enum { SRC_X, SRC_XS, SRC_XU, SRC_XSU, SRC_COUNT };
 
@@ -46,6 +47,7 @@ typedef struct dump_load {
     double lo[3], h[6]; /* origin; lx, ly, lz, xy, xz, yz */
     int periodic[3], have_box;
     long long frame;
+    double step_now, step_prev; /* TIMESTEP of this frame and of the previous one */
     const char *fs[MAX_COLUMNS], *fe[MAX_COLUMNS];
 
     dump_atom *atoms;
@@ -58,7 +60,7 @@ typedef struct dump_load {
 
     /* Walk 2: where values go. */
     lc_scene *s;
-    float *attr[MAX_ATTR], *speed, *disp;
+    float *attr[MAX_ATTR], *speed, *disp, *timestep;
     float *pending; /* natoms * nattr: a run's first row, written with its second */
 } dump_load;
 
@@ -385,6 +387,7 @@ static void store(dump_load *D, const dump_atom *a, uint32_t k, const double pos
         D->attr[j][v] = vals[j];
     D->speed[v] = (float)speed;
     D->disp[v] = (float)disp;
+    D->timestep[v] = (float)(k == 0 && a->run > 1 ? D->step_prev : D->step_now); /* k 0 is stored with k 1 */
 }
 
 /* One row of ATOMS: checked in both walks, stored in the second. */
@@ -480,13 +483,15 @@ static int read_frame(dump_load *D)
         if (ls == le)
             continue;
         if (item_is(ls, le, "TIMESTEP") || item_is(ls, le, "TIME") || item_is(ls, le, "UNITS")) {
-            int units = item_is(ls, le, "UNITS") != NULL;
+            int units = item_is(ls, le, "UNITS") != NULL, step = !units && !item_is(ls, le, "TIME");
             if ((rc = value_line(D,
                                  units                     ? "UNITS"
                                  : item_is(ls, le, "TIME") ? "TIME"
                                                            : "TIMESTEP",
                                  units ? NULL : &v)))
                 return rc;
+            if (step)
+                D->step_now = v;
         } else if (item_is(ls, le, "NUMBER OF ATOMS")) {
             if ((rc = value_line(D, "NUMBER OF ATOMS", &natoms)))
                 return rc;
@@ -531,6 +536,8 @@ static int walk(dump_load *D)
             break;
         lc_io_progress_report(&D->progress, (size_t)(D->p - D->data) + (D->walk == 2 ? (size_t)(D->end - D->data) : 0),
                               2 * (size_t)(D->end - D->data));
+        D->step_prev = D->step_now;
+        D->step_now = (double)D->frame;
         int rc = read_frame(D);
         if (rc)
             return rc;
@@ -635,23 +642,27 @@ static int load_dump(const void *data, size_t size, const char *name, lc_io_part
     for (uint32_t l = 0; l < lines; l++)
         s->line_offsets[l + 1] = s->line_offsets[l] + D->line_len[part->first + l];
     char aname[LC_NAME_LEN];
-    for (int j = 0; j < D->nattr + 2; j++) {
+    for (int j = 0; j < D->nattr + 3; j++) {
         float *values = malloc(((size_t)part->points + 1) * sizeof *values);
         if (!values) {
             rc = lc_err(err, LC_ERR_NOMEM, "%s: out of memory for attributes", name);
             goto done;
         }
         lc_scene_unique_attribute_name(s,
-                                       j < D->nattr    ? D->attr_name[j]
-                                       : j == D->nattr ? "speed"
-                                                       : "displacement",
+                                       j < D->nattr        ? D->attr_name[j]
+                                       : j == D->nattr     ? "speed"
+                                       : j == D->nattr + 1 ? "displacement"
+                                                           : "timestep",
                                        aname);
         int idx = lc_scene_add_attribute(s, aname, values, err);
         if (idx < 0) {
             rc = idx;
             goto done;
         }
-        *(j < D->nattr ? &D->attr[j] : j == D->nattr ? &D->speed : &D->disp) = s->attributes[idx].values;
+        *(j < D->nattr        ? &D->attr[j]
+          : j == D->nattr     ? &D->speed
+          : j == D->nattr + 1 ? &D->disp
+                              : &D->timestep) = s->attributes[idx].values;
     }
     D->walk = 2;
     if ((rc = walk(D)))

@@ -105,8 +105,11 @@ static void test_positions(void)
                   "%s: displacement %g %g %g", kinds[kind], disp[0], disp[3], disp[11]);
         }
         CHECK(lc_scene_find_attribute(s, "id") < 0 && lc_scene_find_attribute(s, "x") < 0 &&
-                  lc_scene_find_attribute(s, "ix") < 0 && s->attribute_count == 3,
+                  lc_scene_find_attribute(s, "ix") < 0 && s->attribute_count == 4,
               "%s: id, positions and image flags are no attributes (%d attributes)", kinds[kind], s->attribute_count);
+        const float *step = attr(s, "timestep"); /* the frame's TIMESTEP, 100 f, per vertex */
+        CHECK(step && step[0] == 0 && step[3] == 300 && step[4] == 0 && step[9] == 100, "%s: timestep per vertex",
+              kinds[kind]);
         CHECK(strcmp(s->default_importance, "speed") == 0, "%s: default importance %s", kinds[kind],
               s->default_importance);
         lc_error ferr = {0};
@@ -170,6 +173,9 @@ static void test_vanishing(void)
         check_point(s, 8, 7, 2, 0, "atom 7, frame 2");
         const float *disp = attr(s, "displacement");
         CHECK(disp && disp[2] == 0 && disp[3] == 1, "a new line measures displacement from its own start");
+        const float *step = attr(s, "timestep"); /* a run's first vertex has its own frame's TIMESTEP */
+        CHECK(step && step[0] == 0 && step[1] == 1 && step[2] == 3 && step[3] == 4 && step[6] == 0 && step[8] == 2,
+              "timestep follows the frames of each run");
     }
     lc_scene_destroy(s);
 }
@@ -187,7 +193,7 @@ static void test_text_column(void)
     if (!s)
         return;
     const float *q = attr(s, "q");
-    CHECK(lc_scene_find_attribute(s, "element") < 0 && s->attribute_count == 3 && q && q[0] == 0.5f && q[1] == 0.25f,
+    CHECK(lc_scene_find_attribute(s, "element") < 0 && s->attribute_count == 4 && q && q[0] == 0.5f && q[1] == 0.25f,
           "element skipped, q kept (%d attributes)", s->attribute_count);
     lc_scene_destroy(s);
 }

@@ -75,6 +75,10 @@ export const FIELDS = Object.freeze([
   { section: 'lines', name: 'linkage', alias: 'linkage', type: 'enum', values: ['complete', 'single', 'average'] },
   { section: 'lines', name: 'liftImportance', alias: 'liftImportance', type: 'num', min: 0, max: 1000 },
   { section: 'lines', name: 'liftColor', alias: 'liftColor', type: 'num', min: 0, max: 1000 },
+
+  { section: 'time', name: 'window', alias: 'timeWindow', type: 'range' },
+  { section: 'time', name: 'attribute', alias: 'timeAttribute', type: 'str', maxLength: 63 },
+  { section: 'time', name: 'markers', alias: 'timeMarkers', type: 'bool' },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
@@ -97,7 +101,7 @@ export const STREAM_FIELDS = Object.freeze([
 ]);
 
 /** The sections a params message may carry besides the stream settings. */
-export const UPDATE_SECTIONS = Object.freeze(['params', 'importance', 'color', 'style', 'lines']);
+export const UPDATE_SECTIONS = Object.freeze(['params', 'importance', 'color', 'style', 'lines', 'time']);
 
 export const fieldPath = (f) => (f.section ? `${f.section}.${f.name}` : f.name);
 

@@ -1,6 +1,7 @@
 // The filters' visibility mask (filter.c): one invocation per line (or per
 // point), which reduces each filtered attribute over the line's vertices and
-// clears the visibility bit of every vertex of a line that fails a filter.
+// clears the visibility bit of every vertex of a line that fails a filter
+// (a vertex-level filter on lines, a time window, clears single vertices).
 // The mask starts as all ones.
 layout(local_size_x = 256) in;
 uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 256u + gl_GlobalInvocationID.x; }
@@ -57,9 +58,18 @@ void main()
         return;
     bool pass = true;
     for (int i = 0; i < u_filters && pass; i++)
-        pass = holds(i, u_per_line != 0 ? line_statistic(i, a, b) : attribute_value(u_filter_attr[i], a));
-    if (pass)
+        if (u_per_line == 0 || u_filter_over[i] != 0)
+            pass = holds(i, u_per_line != 0 ? line_statistic(i, a, b) : attribute_value(u_filter_attr[i], a));
+    if (!pass) {
+        for (uint v = a; v < b; v++)
+            atomicAnd(visible_out[v >> 5], ~(1u << (v & 31u)));
         return;
-    for (uint v = a; v < b; v++)
-        atomicAnd(visible_out[v >> 5], ~(1u << (v & 31u)));
+    }
+    // A line's vertex-level filters (a time window) clear single vertices;
+    // the pulled segment draw then drops every segment with a cleared end.
+    for (int i = 0; i < u_filters && u_per_line != 0; i++)
+        if (u_filter_over[i] == 0)
+            for (uint v = a; v < b; v++)
+                if (!holds(i, attribute_value(u_filter_attr[i], v)))
+                    atomicAnd(visible_out[v >> 5], ~(1u << (v & 31u)));
 }

@@ -136,7 +136,8 @@ void main()
         return;
     }
     uint a = ia >> 1, b = ib >> 1;
-    if (line_hidden(a)) {
+    // A time window (filter.c) hides a segment unless both its vertices are kept.
+    if (line_hidden(a) || !vertex_visible(a) || !vertex_visible(b)) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         return;
     }

@@ -1,0 +1,239 @@
+/* Time windows (docs/ALGORITHM.md "Time windows") on straight lines whose
+ * vertices carry a time t = k + offset of the line:
+ * - opaque: the middle pixel of every segment is lit exactly where the CPU
+ *   says that both of its vertices lie in the window (and dark elsewhere);
+ * - exact and Fourier: the windowed frame equals the frame of a scene that
+ *   holds only the kept segments (exact: byte for byte; Fourier: SSIM >= 0.999,
+ *   byte for byte on llvmpipe) (lines overlap in depth in pairs, so a hidden
+ *   segment that still counted would change the opacity of the one behind);
+ * - errors: t0 > t1 names time.window, data without a time attribute and a
+ *   named attribute the data lacks name time.attribute. */
+#include <math.h>
+
+#include "image.h"
+#include "render_util.h"
+
+enum { SIZE = 128, LINES = 8, PER_LINE = 16 };
+static const double T0 = 3.2, T1 = 9.7;
+
+/* Line i lies along x at height y_i (pairs share a height at z = +-0.4);
+ * vertex k is at x_k = -1 + 2k/(PER_LINE-1) with time k + 0.7 i. */
+static double line_y(int i) { return -0.75 + 1.5 * (i / 2) / (LINES / 2 - 1); }
+static double line_z(int i) { return i % 2 ? -0.4 : 0.4; }
+static double vertex_x(int k) { return -1 + 2.0 * k / (PER_LINE - 1); }
+static double vertex_t(int i, int k) { return k + 0.7 * i; }
+static int inside(int i, int k) { return vertex_t(i, k) >= T0 && vertex_t(i, k) <= T1; }
+static int segment_kept(int i, int k) { return inside(i, k) && inside(i, k + 1); }
+
+/* The lines; reduced: only each line's run of vertices inside the window (a
+ * line with no kept segment is left out). time_name: the time attribute's name. */
+static lc_scene *lines_scene(int reduced, const char *time_name)
+{
+    lc_error err = {0};
+    int first[LINES], count[LINES], n = 0, lines = 0;
+    for (int i = 0; i < LINES; i++) {
+        first[i] = 0, count[i] = PER_LINE;
+        if (reduced) {
+            first[i] = -1, count[i] = 0;
+            for (int k = 0; k < PER_LINE; k++)
+                if (inside(i, k)) {
+                    first[i] = first[i] < 0 ? k : first[i];
+                    count[i]++;
+                }
+            if (count[i] < 2)
+                count[i] = 0;
+        }
+        n += count[i];
+        lines += count[i] > 0;
+    }
+    lc_scene *s = lc_scene_create("timed", LC_PRIM_LINES);
+    if (!s || lc_scene_alloc_vertices(s, (uint32_t)n, 0, &err) != 0)
+        return NULL;
+    s->line_count = (uint32_t)lines;
+    s->line_offsets = malloc(sizeof(uint32_t) * ((size_t)lines + 1));
+    float *t = malloc(sizeof(float) * (size_t)n), *g = malloc(sizeof(float) * (size_t)n);
+    uint32_t v = 0;
+    int l = 0;
+    for (int i = 0; i < LINES; i++) {
+        if (!count[i])
+            continue;
+        s->line_offsets[l++] = v;
+        for (int k = first[i]; k < first[i] + count[i]; k++, v++) {
+            s->positions[3 * v] = (float)vertex_x(k);
+            s->positions[3 * v + 1] = (float)line_y(i);
+            s->positions[3 * v + 2] = (float)line_z(i);
+            t[v] = (float)vertex_t(i, k);
+            g[v] = (float)(0.2 + 0.1 * i); /* constant along a line */
+        }
+    }
+    s->line_offsets[lines] = v;
+    lc_scene_add_attribute(s, time_name, t, &err);
+    lc_scene_add_attribute(s, "g", g, &err);
+    lc_elements_desc desc = {.line_budget = (uint32_t)lines}; /* one element per line */
+    if (lc_scene_finalize(s, &desc, &err) != 0) {
+        fprintf(stderr, "finalize: %s\n", err.msg);
+        lc_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void params(lc_render_params *p, lc_method method, int window)
+{
+    lc_render_params_default(p);
+    p->width = p->height = SIZE;
+    p->method = method;
+    p->has_camera = true;
+    lc_camera *c = &p->camera;
+    c->position[2] = 5;
+    c->view_up[1] = 1;
+    c->view_angle = 30;
+    c->parallel_projection = true;
+    c->parallel_scale = 1.1;
+    p->detail.lod_pixels = 0;
+    p->style.line_width = 0.06;
+    p->style.background[0] = p->style.background[1] = p->style.background[2] = 0;
+    snprintf(p->importance.attribute, sizeof p->importance.attribute, "g");
+    snprintf(p->color.attribute, sizeof p->color.attribute, "g");
+    p->color.has_range = p->importance.has_range = true;
+    p->color.range[0] = p->importance.range[0] = 0;
+    p->color.range[1] = p->importance.range[1] = 1;
+    p->time.has_window = window;
+    p->time.window[0] = T0, p->time.window[1] = T1;
+}
+
+static int render(test_gl *t, const lc_scene *s, const lc_render_params *p, uint8_t *rgba, lc_error *err)
+{
+    lc_gpu_scene *gs = NULL;
+    lc_gpu_scene_desc desc = {.exact_positions = 1};
+    if (lc_gpu_scene_create_ex(s, &desc, &gs, err) != 0)
+        return -1;
+    int rc = lc_render_frame(t->renderer, gs, p, NULL, 0, rgba, NULL, err);
+    lc_gpu_scene_destroy(gs);
+    return rc;
+}
+
+static int differing(const uint8_t *x, const uint8_t *y)
+{
+    int n = 0;
+    for (int i = 0; i < SIZE * SIZE * 4; i++)
+        n += x[i] != y[i];
+    return n;
+}
+
+/* The pixel of world (x, y) (rows from the top). */
+static const uint8_t *pixel(const uint8_t *rgba, double x, double y)
+{
+    int col = (int)floor((x / 1.1 + 1) * 0.5 * SIZE), row = (int)floor((1 - (y / 1.1 + 1) * 0.5) * SIZE);
+    return rgba + 4 * ((size_t)row * SIZE + (size_t)col);
+}
+
+/* Opaque lines: each segment's middle pixel is lit iff the CPU keeps it. */
+static void check_segments(test_gl *t, const lc_scene *s)
+{
+    static uint8_t img[SIZE * SIZE * 4];
+    lc_error err = {0};
+    lc_render_params p;
+    params(&p, LC_METHOD_OPAQUE, 1);
+    if (render(t, s, &p, img, &err) != 0) {
+        CHECK(0, "opaque with a window: %s", err.msg);
+        return;
+    }
+    int kept = 0, wrong = 0;
+    for (int i = 0; i < LINES; i += 2) /* the front line of each pair */
+        for (int k = 0; k + 1 < PER_LINE; k++) {
+            const uint8_t *px = pixel(img, 0.5 * (vertex_x(k) + vertex_x(k + 1)), line_y(i));
+            int lit = px[0] + px[1] + px[2] > 0, want = segment_kept(i, k) || segment_kept(i + 1, k);
+            kept += segment_kept(i, k) + segment_kept(i + 1, k);
+            if (lit != want) {
+                wrong++;
+                printf("line %d segment %d: lit %d, kept %d\n", i, k, lit, want);
+            }
+        }
+    printf("opaque: %d of %d segments kept, %d middle pixels wrong\n", kept, LINES * (PER_LINE - 1), wrong);
+    CHECK(kept > 10 && kept < LINES * (PER_LINE - 1) - 10, "the window keeps %d segments", kept);
+    CHECK(wrong == 0, "%d segments drawn against the window", wrong);
+}
+
+/* Exact and Fourier: windowed full scene against the scene of kept segments. */
+static void check_methods(test_gl *t, const lc_scene *all, const lc_scene *part)
+{
+    static uint8_t want[SIZE * SIZE * 4], got[SIZE * SIZE * 4];
+    lc_method methods[2] = {LC_METHOD_EXACT, LC_METHOD_FOURIER};
+    for (int m = 0; m < 2; m++) {
+        lc_error err = {0};
+        lc_render_params p;
+        params(&p, methods[m], 0);
+        if (render(t, part, &p, want, &err) != 0) {
+            CHECK(0, "reduced scene: %s", err.msg);
+            return;
+        }
+        params(&p, methods[m], 1);
+        if (render(t, all, &p, got, &err) != 0) {
+            CHECK(0, "windowed scene: %s", err.msg);
+            return;
+        }
+        int d = differing(want, got);
+        double ssim = lc_image_ssim(want, got, SIZE, SIZE);
+        printf("%s window: %d differing bytes, SSIM %.6f against the kept segments alone\n", lc_method_name(methods[m]),
+               d, ssim);
+        if (methods[m] == LC_METHOD_EXACT)
+            CHECK(d == 0, "exact: the window differs from the kept segments alone in %d bytes", d);
+        else
+            CHECK(ssim >= 0.999, "fourier: SSIM %.5f of the window against the kept segments", ssim);
+        params(&p, methods[m], 0);
+        if (render(t, all, &p, got, &err) != 0)
+            return;
+        CHECK(differing(want, got) > 0, "%s: the frame without a window equals the windowed one",
+              lc_method_name(methods[m]));
+    }
+}
+
+static void expect_error(test_gl *t, const lc_scene *s, const lc_render_params *p, const char *field)
+{
+    static uint8_t img[SIZE * SIZE * 4];
+    lc_error err = {0};
+    int rc = render(t, s, p, img, &err);
+    printf("error %s: %s\n", err.field, err.msg);
+    CHECK(rc != 0 && strcmp(err.field, field) == 0, "expected an error naming %s, got rc %d field \"%s\"", field, rc,
+          err.field);
+}
+
+static void check_errors(test_gl *t, const lc_scene *timed)
+{
+    lc_render_params p;
+    params(&p, LC_METHOD_FOURIER, 1);
+    p.time.window[0] = 5, p.time.window[1] = 4;
+    expect_error(t, timed, &p, "time.window");
+    params(&p, LC_METHOD_FOURIER, 1);
+    snprintf(p.time.attribute, sizeof p.time.attribute, "clock");
+    expect_error(t, timed, &p, "time.attribute");
+    lc_scene *untimed = lines_scene(0, "age"); /* no time, t, frame or timestep */
+    CHECK(untimed != NULL, "untimed scene");
+    if (!untimed)
+        return;
+    params(&p, LC_METHOD_FOURIER, 1);
+    expect_error(t, untimed, &p, "time.attribute");
+    snprintf(p.time.attribute, sizeof p.time.attribute, "age"); /* named: accepted */
+    static uint8_t img[SIZE * SIZE * 4];
+    lc_error err = {0};
+    CHECK(render(t, untimed, &p, img, &err) == 0, "time.attribute \"age\": %s", err.msg);
+    lc_scene_destroy(untimed);
+}
+
+int main(void)
+{
+    test_gl t;
+    test_gl_open(&t);
+    lc_scene *all = lines_scene(0, "time"), *part = lines_scene(1, "time");
+    CHECK(all && part, "scenes");
+    if (all && part) {
+        check_segments(&t, all);
+        check_methods(&t, all, part);
+        check_errors(&t, all);
+    }
+    lc_scene_destroy(all);
+    lc_scene_destroy(part);
+    test_gl_close(&t);
+    return lc_test_finish();
+}

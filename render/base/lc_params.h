@@ -165,7 +165,6 @@ typedef struct lc_filter {
 typedef struct lc_time_window {
     bool has_window;             /* false: no window, every segment */
     double window[2];            /* [t0, t1], inclusive */
-    bool markers;                /* accepted; not drawn yet (docs) */
     char attribute[LC_NAME_LEN]; /* "": time, t, frame or timestep */
 } lc_time_window;
 

@@ -124,7 +124,7 @@ static atomic_int cancel_flag;
 void lc_cancel(int sig) { atomic_store(&cancel_flag, sig ? sig : 1); }
 
 /* The calling thread's load budget: datasets load one at a time on the
- * thread that starts the daemon (or a rescan), so one deadline per thread. */
+ * thread that starts the daemon, so one deadline per thread. */
 static _Thread_local double budget_seconds, budget_deadline;
 
 void lc_load_budget(double seconds)

@@ -18,9 +18,8 @@ static bool inside(const char *root, const char *real)
     return strncmp(real, root, n) == 0 && (real[n] == '/' || real[n] == '\0');
 }
 
-/* nftw's callback has no user pointer: the walk of one folder at a time
- * (datasets are listed by one thread at start-up and on rescans, under the
- * dataset lock) keeps its state here, thread-local to stay reentrant. */
+/* nftw's callback has no user pointer: the walk keeps its state here,
+ * thread-local so that the check stays reentrant across threads. */
 static _Thread_local struct {
     const char *root;
     char bad[PATH_MAX];

@@ -36,8 +36,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (lc_field_node_count(f) <= 4096)
         for (int i = 0; i <= 8; i++) {
             double p[3], v[3];
+            /* Corners are the bounds themselves: lo + (hi - lo) * 1 can round past hi. */
             for (int a = 0; a < 3; a++)
-                p[a] = f->bounds[a] + (f->bounds[a + 3] - f->bounds[a]) * ((i >> a & 1) ? 1.0 : i == 8 ? 0.5 : 0.0);
+                p[a] = i == 8         ? f->bounds[a] + (f->bounds[a + 3] - f->bounds[a]) * 0.5
+                       : (i >> a & 1) ? f->bounds[a + 3]
+                                      : f->bounds[a];
             if (!lc_field_sample(f, p, 0.0, v) || !isfinite(v[0]) || !isfinite(v[1]) || !isfinite(v[2])) {
                 fprintf(stderr, "fuzz: sample %d outside or not finite\n", i);
                 abort();

@@ -157,15 +157,11 @@ static int skip_field_data(vtk_load *L)
     for (uint64_t i = 0; i < narrays; i++) {
         uint64_t ncomp, ntuples;
         vtype t;
-        if ((rc = vtk_need_word(L, name, "FIELD array name")))
+        int null;
+        if ((rc = vtk_field_array_header(L, name, &ncomp, &ntuples, &t, &null)))
             return rc;
-        L->kw_line = L->line, L->kw_pos = L->pos;
-        if (strcasecmp(name, "NULL_ARRAY") == 0)
+        if (null)
             continue;
-        if ((rc = vtk_need_count(L, "FIELD array component count", &ncomp)) ||
-            (rc = vtk_need_count(L, "FIELD array tuple count", &ntuples)) ||
-            (rc = vtk_need_type(L, "FIELD array", &t)) || (rc = vtk_end_keyword_line(L)))
-            return rc;
         if (ncomp && ntuples > UINT64_MAX / ncomp)
             return fail_kw(L, LC_ERR_INVALID, "FIELD array size exceeds the file size");
         if ((rc = skip_values(L, ncomp * ntuples, t, "FIELD array")))

@@ -61,6 +61,10 @@ int vtk_end_keyword_line(vtk_load *L);
  * the LOOKUP_TABLE line that may follow (VTK requires it; some writers omit
  * it). name holds MAX_WORD bytes; ncomp is 1 when the line does not say. */
 int vtk_scalars_header(vtk_load *L, char *name, vtype *t, uint64_t *ncomp);
+/* One array of a FIELD block: "name ncomp ntuples type" to the end of its
+ * line, the keyword position set to it for errors; *null = 1 for a
+ * NULL_ARRAY, which has nothing after its name. name holds MAX_WORD bytes. */
+int vtk_field_array_header(vtk_load *L, char *name, uint64_t *ncomp, uint64_t *ntuples, vtype *t, int *null);
 void vtk_skip_line(vtk_load *L);
 int vtk_at_keyword(const vtk_load *L, const char *kw, int after_data);
 void vtk_skip_metadata_block(vtk_load *L);

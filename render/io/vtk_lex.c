@@ -331,3 +331,18 @@ int vtk_scalars_header(vtk_load *L, char *name, vtype *t, uint64_t *ncomp)
         return rc;
     return 0;
 }
+
+int vtk_field_array_header(vtk_load *L, char *name, uint64_t *ncomp, uint64_t *ntuples, vtype *t, int *null)
+{
+    int rc = vtk_need_word(L, name, "FIELD array name");
+    if (rc)
+        return rc;
+    L->kw_line = L->line, L->kw_pos = L->pos;
+    *null = strcasecmp(name, "NULL_ARRAY") == 0;
+    if (*null)
+        return 0;
+    if ((rc = vtk_need_count(L, "FIELD array component count", ncomp)) ||
+        (rc = vtk_need_count(L, "FIELD array tuple count", ntuples)) || (rc = vtk_need_type(L, "FIELD array", t)))
+        return rc;
+    return vtk_end_keyword_line(L);
+}

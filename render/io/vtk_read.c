@@ -363,15 +363,11 @@ static int read_field(vtk_load *L, uint64_t tuples)
     for (uint64_t i = 0; i < narrays; i++) {
         uint64_t ncomp, ntuples;
         vtype t;
-        if ((rc = vtk_need_word(L, name, "FIELD array name")))
+        int null;
+        if ((rc = vtk_field_array_header(L, name, &ncomp, &ntuples, &t, &null)))
             return rc;
-        L->kw_line = L->line, L->kw_pos = L->pos;
-        if (strcasecmp(name, "NULL_ARRAY") == 0)
+        if (null)
             continue;
-        if ((rc = vtk_need_count(L, "FIELD array component count", &ncomp)) ||
-            (rc = vtk_need_count(L, "FIELD array tuple count", &ntuples)) ||
-            (rc = vtk_need_type(L, "FIELD array", &t)) || (rc = vtk_end_keyword_line(L)))
-            return rc;
         int keep = L->sec == SEC_POINT && ncomp == 1 && ntuples == tuples;
         if (L->sec == SEC_POINT && !keep)
             LC_WARN(LC_IO_LOG, "%s: field array '%s' (%llu components, %llu tuples) skipped", L->file, name,

@@ -5,6 +5,7 @@
  * return the asked count fails the run, so a fast wrong result is caught.
  *
  *   cluster_bench [--demo tornado] [--lines 1000,10000] [--clusters 1000] [--size 1024] [--no-gpu]
+ *   cluster_bench --file PATH ...   a real line file, whole (--lines is ignored)
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,7 @@
 
 #include "cluster.h"
 #include "demo.h"
+#include "loaders.h"
 #include "gl_context.h"
 #include "renderer.h"
 
@@ -46,11 +48,13 @@ static void frame(lc_renderer *r, const lc_gpu_scene *gs, int size, int clusters
 
 int main(int argc, char **argv)
 {
-    const char *demo = "tornado", *lines = "1000,10000";
+    const char *demo = "tornado", *lines = "1000,10000", *file = NULL;
     int clusters = 1000, size = 1024, gpu = 1;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--demo") && i + 1 < argc)
             demo = argv[++i];
+        else if (!strcmp(argv[i], "--file") && i + 1 < argc)
+            file = argv[++i], lines = "0";
         else if (!strcmp(argv[i], "--lines") && i + 1 < argc)
             lines = argv[++i];
         else if (!strcmp(argv[i], "--clusters") && i + 1 < argc)
@@ -60,7 +64,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--no-gpu"))
             gpu = 0;
         else {
-            fprintf(stderr, "usage: cluster_bench [--demo NAME] [--lines N,N] [--clusters K] [--size PX] [--no-gpu]\n");
+            fprintf(stderr, "usage: cluster_bench [--demo NAME | --file PATH] [--lines N,N] [--clusters K] [--size PX] [--no-gpu]\n");
             return 2;
         }
     }
@@ -76,11 +80,17 @@ int main(int argc, char **argv)
     for (const char *s = lines; *s;) {
         uint32_t n = (uint32_t)strtoul(s, NULL, 10);
         lc_scene *sc = NULL;
-        if (lc_demo_create(demo, &(lc_demo_desc){.count = n}, &sc, &err) != 0) {
-            fprintf(stderr, "demo:%s: %s\n", demo, err.msg);
+        if (file ? lc_scene_load_file(file, &sc, &err) != 0
+                 : lc_demo_create(demo, &(lc_demo_desc){.count = n}, &sc, &err) != 0) {
+            fprintf(stderr, "%s: %s\n", file ? file : demo, err.msg);
             return 1;
         }
-        printf("demo:%s, %u lines, %u vertices\n", demo, sc->line_count, sc->vertex_count);
+        if (sc->type != LC_PRIM_LINES) {
+            fprintf(stderr, "%s: not a line dataset\n", file ? file : demo);
+            return 1;
+        }
+        printf("%s%s, %u lines, %u vertices\n", file ? "" : "demo:", file ? file : demo, sc->line_count,
+               sc->vertex_count);
         double t0 = now();
         clock_t c0 = clock(); /* process CPU time, all threads: the wall time depends on the host's load */
         lc_line_samples *ls = NULL;

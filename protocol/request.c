@@ -33,6 +33,11 @@ void lc_request_default(lc_request *r)
     r->render.foo.clarity = LC_DEFAULT_CLARITY;
     r->format = LC_FORMAT_PNG;
     r->quality = LC_PROTO_DEFAULT_QUALITY;
+    r->surface.particles = 2000;
+    r->surface.epsilon = 1e-3;
+    r->surface.opacity = 0.3;
+    r->surface.max_layers = 8;
+    r->surface.color[0] = 0.95, r->surface.color[1] = 0.6, r->surface.color[2] = 0.2;
 }
 
 /* Copies with truncation; snprintf("%s") would trip -Wformat-truncation. */
@@ -273,6 +278,13 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
         free(layers);
         break;
     }
+    case T_SEED: {
+        lc_list_error le;
+        lc_surface_request *sr = (lc_surface_request *)base;
+        if (lc_proto_parse_seed(v, sr->seed, &sr->seed_count, LC_SURFACE_SEED_MAX, path, &le) != 0)
+            return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
+        break;
+    }
     case T_TERMS:
     case T_FILTERS:
     case T_CURVE:
@@ -381,6 +393,12 @@ int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, l
     if (px > lim->max_pixels)
         return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "width", "%d x %d = %lld pixels exceeds the limit %lld",
                                   r->render.width, r->render.height, px, lim->max_pixels);
+    if (r->render.method == LC_METHOD_SURFACE_LAYERS && !r->surface.field[0])
+        return lc_proto_set_error(err, LC_PROTO_MISSING_FIELD, "surface.field",
+                                  "method surface-layers needs a vector field (GET /api/v1/datasets lists them)");
+    if (r->render.method == LC_METHOD_SURFACE_LAYERS && r->surface.seed_count < 2)
+        return lc_proto_set_error(err, LC_PROTO_MISSING_FIELD, "surface.seed",
+                                  "method surface-layers needs a seed polyline of 2 or more [x, y, z] points");
     if (r->render.has_camera)
         return check_camera(&r->render.camera, true, err);
     return 0;
@@ -631,6 +649,7 @@ static json_t *query_value(const field *f, const char *value)
     case T_FILTERS:
     case T_CURVE:
     case T_RANGES:
+    case T_SEED:
     case T_LAYERS: return json_loads(value, JSON_REJECT_DUPLICATES, NULL); /* the array as JSON text */
     }
     return NULL;
@@ -716,6 +735,10 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
         if (r->layer_count > 0)
             v = lc_proto_layers_json(r->layers, r->layer_count, emit_layer_section);
         break;
+    case T_SEED:
+        if (r->surface.seed_count > 0)
+            v = lc_proto_seed_json(r->surface.seed, r->surface.seed_count);
+        break;
     }
     if (v)
         json_object_set_new(obj, name, v);
@@ -740,7 +763,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
     static const char *const type_names[] = {
         [T_INT] = "int",   [T_NUM] = "num",   [T_BOOL] = "bool",   [T_STR] = "str",    [T_ENUM] = "enum",
         [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range",
-        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges", [T_LAYERS] = "layers"};
+        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges", [T_LAYERS] = "layers",
+        [T_SEED] = "seed"};
     lc_proto_limits dl;
     if (!lim) {
         lc_proto_limits_default(&dl);
@@ -770,7 +794,7 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         if (f->type == T_STR)
             json_object_set_new(o, "maxLength", json_integer((json_int_t)f->size - 1));
         if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE || f->type == T_RANGES ||
-            f->type == T_LAYERS)
+            f->type == T_LAYERS || f->type == T_SEED)
             json_object_set_new(o, "maxItems", json_integer((json_int_t)f->hi));
         if (f->names) {
             json_t *values = json_array();
@@ -806,6 +830,8 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     json_object_set_new(o, "lines", emit_section(r, "lines"));
     emit(o, r, NULL, "layers");
     json_object_set_new(o, "time", emit_section(r, "time"));
+    if (r->render.method == LC_METHOD_SURFACE_LAYERS || r->surface.field[0] || r->surface.seed_count)
+        json_object_set_new(o, "surface", emit_section(r, "surface"));
     return o;
 }
 

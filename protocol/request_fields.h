@@ -20,6 +20,7 @@ typedef enum {
     T_CURVE,   /* lc_curve, an array of [x, y] points (request_lists.c) */
     T_RANGES,  /* lc_color_map's fixed ranges, an array of [lo, hi] (request_lists.c) */
     T_LAYERS,  /* lc_request's layers, an array of objects (request_layers.c) */
+    T_SEED,    /* lc_surface_request's seed, an array of [x, y, z] points (request_lists.c) */
 } ftype;
 
 enum {
@@ -52,7 +53,8 @@ typedef struct field {
 
 static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
                                          {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
-                                         {"wboit", LC_METHOD_WBOIT},     {NULL, 0}};
+                                         {"wboit", LC_METHOD_WBOIT},     {"surface-layers", LC_METHOD_SURFACE_LAYERS},
+                                         {NULL, 0}};
 static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
 static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
@@ -66,6 +68,10 @@ static const enum_name smoothing_weights_names[] = {
     {"uniform", LC_SMOOTHING_UNIFORM}, {"distance", LC_SMOOTHING_DISTANCE}, {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
 static const enum_name representative_names[] = {{"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
+static const enum_name composite_names[] = {{"layers", LC_SURFACE_LAYERS},
+                                            {"weighted-average", LC_SURFACE_WEIGHTED_AVERAGE},
+                                            {"weighted-sum", LC_SURFACE_WEIGHTED_SUM},
+                                            {NULL, 0}};
 static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
@@ -174,10 +180,24 @@ static const field fields[] = {
     {"time", "window", "timeWindow", T_RANGE, 0, 0, 0, OFF(render.time.window), 0, (long)OFF(render.time.has_window),
      NULL},
     {"time", "attribute", "timeAttribute", T_STR, 0, 0, 0, OFF(render.time.attribute), LC_NAME_LEN, NOFLAG, NULL},
+
+    /* surface: method "surface-layers" (a field's integral surface) */
+    {"surface", "field", "surfaceField", T_STR, 0, 0, 0, OFF(surface.field), sizeof(((lc_request *)0)->surface.field),
+     NOFLAG, NULL},
+    {"surface", "seed", "surfaceSeed", T_SEED, 0, LC_SURFACE_SEED_MAX, 0, OFF(surface), 0, NOFLAG, NULL},
+    {"surface", "particles", "surfaceParticles", T_INT, 1, 100000, 0, OFF(surface.particles), 0, NOFLAG, NULL},
+    {"surface", "step", "surfaceStep", T_NUM, 0, BIG, 0, OFF(surface.step), 0, NOFLAG, NULL},
+    {"surface", "length", "surfaceLength", T_NUM, 0, BIG, 0, OFF(surface.length), 0, NOFLAG, NULL},
+    {"surface", "epsilon", "surfaceEpsilon", T_NUM, 0, 1, 0, OFF(surface.epsilon), 0, NOFLAG, NULL},
+    {"surface", "opacity", "surfaceOpacity", T_NUM, 0, 1, LO_OPEN, OFF(surface.opacity), 0, NOFLAG, NULL},
+    {"surface", "maxLayers", "surfaceMaxLayers", T_INT, 1, 64, 0, OFF(surface.max_layers), 0, NOFLAG, NULL},
+    {"surface", "composite", "surfaceComposite", T_ENUM, 0, 0, 0, OFF(surface.composite), 0, NOFLAG, composite_names},
+    {"surface", "color", "surfaceColor", T_COLOR, 0, 0, 0, OFF(surface.color), 0, NOFLAG, NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
-static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines", "time"};
+static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines", "time",
+                                        "surface"};
 #define NSECTIONS (sizeof sections / sizeof sections[0])
 
 #endif

@@ -220,6 +220,51 @@ int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list
     return 0;
 }
 
+#define SEED_CAP 256 /* points a seed may have at most, whatever max says */
+
+int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int max, const char *path,
+                        lc_list_error *err)
+{
+    if (!json_is_array(v))
+        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of [x, y, z] points");
+    size_t n = json_array_size(v);
+    if (max > SEED_CAP)
+        max = SEED_CAP;
+    if (n < 2 || n > (size_t)max)
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "2 to %d points (got %zu)", max, n);
+    double tmp[SEED_CAP][3];
+    for (size_t i = 0; i < n; i++) {
+        char at[96];
+        snprintf(at, sizeof at, "%s[%zu]", path, i);
+        const json_t *p = json_array_get(v, i);
+        if (!json_is_array(p) || json_array_size(p) != 3)
+            return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, at, "expected an array of 3 numbers");
+        for (size_t a = 0; a < 3; a++) {
+            const json_t *x = json_array_get(p, a);
+            if (!json_is_number(x) || !isfinite(json_number_value(x)))
+                return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, at, "expected an array of 3 finite numbers");
+            tmp[i][a] = json_number_value(x);
+        }
+        if (i > 0 && tmp[i][0] == tmp[i - 1][0] && tmp[i][1] == tmp[i - 1][1] && tmp[i][2] == tmp[i - 1][2])
+            return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, at, "repeats the point before it (a segment of length 0)");
+    }
+    memcpy(points, tmp, n * sizeof tmp[0]);
+    *count = (int)n;
+    return 0;
+}
+
+json_t *lc_proto_seed_json(const double (*points)[3], int count)
+{
+    json_t *a = json_array();
+    for (int i = 0; a && i < count; i++) {
+        json_t *p = json_array();
+        for (int k = 0; k < 3; k++)
+            json_array_append_new(p, json_real(points[i][k]));
+        json_array_append_new(a, p);
+    }
+    return a;
+}
+
 int lc_proto_parse_fixed(const json_t *v, lc_color_map *c, const char *path, lc_list_error *err)
 {
     if (!json_is_array(v))

@@ -22,6 +22,9 @@ typedef enum {
     LC_METHOD_OPAQUE,      /* depth-tested opaque geometry */
     LC_METHOD_DIRECT,      /* alpha = g^k, order-independent weighted blend */
     LC_METHOD_WBOIT,       /* McGuire & Bavoil 2013 with the FOO opacities */
+    /* A vector field's integral surface (the request's surface object,
+     * render/gl/surface_render.c), not a dataset's elements: lc_render_frame refuses it. */
+    LC_METHOD_SURFACE_LAYERS,
     LC_METHOD_COUNT
 } lc_method;
 

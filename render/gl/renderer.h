@@ -203,6 +203,14 @@ typedef struct lc_frame_info {
      * color.range); has_color_ticks = 0 without equalization or with color.curve. */
     int has_color_ticks;
     double color_ticks[5];
+    /* method surface-layers (server/daemon/pool/surface_job.c; 0 otherwise):
+     * curves traced, the layers a pixel kept (K), layers per covered pixel,
+     * the most in one pixel, fragments dropped beyond K, tracing time. */
+    int has_surface;
+    uint64_t surface_curves, surface_overflow;
+    int surface_k;
+    uint32_t surface_max_layers;
+    double surface_mean_layers, surface_trace_ms;
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several

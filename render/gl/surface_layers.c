@@ -47,6 +47,8 @@ static int check_desc(const lc_surface_layers_desc *d, lc_error *err)
     if (d->max_layers < 0 || d->max_layers > LC_SURFACE_LAYERS_MAX_K)
         return lc_err(err, LC_ERR_INVALID, "surface layers: max_layers must lie in 0..%d (got %d)",
                       LC_SURFACE_LAYERS_MAX_K, d->max_layers);
+    if (d->composite < LC_SURFACE_COMPOSITE_LAYERS || d->composite > LC_SURFACE_COMPOSITE_WEIGHTED_SUM)
+        return lc_err(err, LC_ERR_INVALID, "surface layers: composite must be 0, 1 or 2 (got %d)", d->composite);
     if (!isfinite(d->epsilon) || d->epsilon < 0)
         return lc_err(err, LC_ERR_INVALID, "surface layers: epsilon must be finite and >= 0 (got %g)", d->epsilon);
     if (!isfinite(d->opacity) || d->opacity < 0 || d->opacity > 1)
@@ -88,6 +90,7 @@ static void set_uniforms(lc_surface_layers *sl)
     lc_uniform_f(sl->composite, "u_opacity", d->opacity);
     lc_uniform_f(sl->composite, "u_ambient", AMBIENT);
     lc_uniform_v3(sl->composite, "u_background", d->background);
+    lc_uniform_i(sl->composite, "u_composite", d->composite);
 }
 
 int lc_surface_layers_create(const lc_surface_layers_desc *desc, lc_surface_layers **out, lc_error *err)

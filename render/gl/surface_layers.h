@@ -34,7 +34,12 @@ typedef struct lc_surface_layers_desc {
     float view[16];
     float projection[16];
     uint64_t pool_fragments; /* fragment pool of one batch, 0 = 4 Mi fragments */
+    /* How composite blends: LC_SURFACE_COMPOSITE_LAYERS (PRT Alg. 2), or the
+     * count-based OIT baselines over the same fragments (PRT Fig. 5). */
+    int composite;
 } lc_surface_layers_desc;
+
+enum { LC_SURFACE_COMPOSITE_LAYERS = 0, LC_SURFACE_COMPOSITE_WEIGHTED_AVERAGE, LC_SURFACE_COMPOSITE_WEIGHTED_SUM };
 
 typedef struct lc_surface_layers_stats {
     uint64_t fragments;      /* fragments rasterized, all batches */

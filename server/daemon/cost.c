@@ -249,3 +249,32 @@ int lc_cost_check_layers(const lc_scene_measures *const *st, const lc_layer_para
              *cost, n, budget, p->width, p->height, lc_method_name(p->method));
     return -1;
 }
+
+double lc_cost_surface_steps(double diagonal, double max_speed, double step, double length)
+{
+    double v = max_speed > 0 ? max_speed : 1.0;
+    double h = step > 0 ? step : diagonal / (200.0 * v);
+    double len = length > 0 ? length : 2.0 * diagonal;
+    double steps = h > 0 ? len / (h * v) : 1e5;
+    return steps < 1 ? 1 : steps > 1e5 ? 1e5 : steps;
+}
+
+double lc_cost_surface(const lc_render_params *p, int particles, double steps, int k)
+{
+    double segment = fmax(1.0, p->height / 400.0);
+    return (double)particles * steps * (10.0 + 2.0 * segment) + (double)p->width * p->height * (k + 3.0);
+}
+
+int lc_cost_check_surface(const lc_render_params *p, int particles, double steps, int k, double budget, double *cost,
+                          const char **field, char *msg, size_t n)
+{
+    *cost = lc_cost_surface(p, particles, steps, k);
+    if (budget <= 0 || *cost <= budget)
+        return 0;
+    *field = "surface.particles";
+    snprintf(msg, n,
+             "estimated cost %.3g exceeds this server's budget of %.3g per frame (--max-cost); lower "
+             "surface.particles (%d curves of about %.0f steps, %dx%d)",
+             *cost, budget, particles, steps, p->width, p->height);
+    return -1;
+}

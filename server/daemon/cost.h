@@ -59,6 +59,20 @@ int lc_cost_check_layers(const lc_scene_measures *const *st, const lc_layer_para
                          const lc_render_params *p, double budget, double *cost, const char **field, char *msg,
                          size_t size);
 
+/* Method surface-layers (render/gl/surface_render.h): particles curves of
+ * about `steps` RK4 steps each (lc_cost_surface_steps), each step traced (10
+ * units: RK4 with its ghost particle) and drawn as a segment of about
+ * H / 400 pixels under the fitted camera, every fragment written and merged
+ * (2 units); plus W*H*(K + 3) for the clears, the merge and composite passes
+ * over the K layers and the read-back. Not calibrated against the renderer
+ * yet; over the budget, *field is "surface.particles". */
+double lc_cost_surface(const lc_render_params *p, int particles, double steps, int k);
+/* Steps of one curve: length (0 = 2 diagonals) over step (0 = diagonal / (200
+ * max |v|)) times the largest speed, in 1 .. 1e5. */
+double lc_cost_surface_steps(double diagonal, double max_speed, double step, double length);
+int lc_cost_check_surface(const lc_render_params *p, int particles, double steps, int k, double budget, double *cost,
+                          const char **field, char *msg, size_t n);
+
 #ifdef __cplusplus
 }
 #endif

@@ -268,6 +268,9 @@ int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_reque
 
 int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe)
 {
+    if (req->render.method == LC_METHOD_SURFACE_LAYERS)
+        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method",
+                                  "sessions do not stream surface-layers yet; POST /api/v1/render draws it");
     if (req->layer_count <= 0)
         return 0;
     return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers",

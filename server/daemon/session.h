@@ -175,7 +175,8 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
  * naming the field to lower, counted in the metrics. *cost (if given): the
  * estimate. */
 /* layers[] are rendered by POST/GET /api/v1/render only: a session (HTTP or
- * WebSocket) refuses them naming "layers" (LC_ERR_INVALID with pe filled). */
+ * WebSocket) refuses them naming "layers" (LC_ERR_INVALID with pe filled);
+ * the same for method surface-layers, naming "method". */
 int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe);
 /* The budget of a request with layers[] over their datasets (ds[i] of
  * req->layers[i]), as lc_session_check_budget for one dataset. */

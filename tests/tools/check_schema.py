@@ -60,6 +60,8 @@ for ctl in json.loads(subprocess.check_output(["node", "--input-type=module", "-
             fail("%s: slider [%r, %r] outside the field's [%r, %r]" % (where, ctl["min"], ctl["max"], f.get("min"), f.get("max")))
     elif ctl["kind"] == "select" and ctl.get("options"):
         offered = [o[0] if isinstance(o, list) else o for o in ctl["options"]]
+        if ctl["path"] == "method":
+            offered.append("surface-layers")  # one-shot renders only: the panel's sessions cannot stream it
         if f.get("type") == "enum" and sorted(offered) != sorted(f["values"]):
             fail("%s: offers %r, the field takes %r" % (where, offered, f["values"]))
 

@@ -7,7 +7,10 @@
 // Types: int, num, bool, str, enum, vec3, range (two numbers), color (three in [0,1]).
 export const FIELDS = Object.freeze([
   { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
-  { section: null, name: 'method', alias: 'method', type: 'enum', values: ['fourier', 'exact', 'opaque', 'direct', 'wboit'] },
+  {
+    section: null, name: 'method', alias: 'method', type: 'enum',
+    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers'],
+  },
 
   { section: 'camera', name: 'position', alias: 'position', type: 'vec3' },
   { section: 'camera', name: 'focalPoint', alias: 'focalPoint', type: 'vec3' },
@@ -78,6 +81,21 @@ export const FIELDS = Object.freeze([
 
   { section: 'time', name: 'window', alias: 'timeWindow', type: 'range' },
   { section: 'time', name: 'attribute', alias: 'timeAttribute', type: 'str', maxLength: 63 },
+
+  // surface: method "surface-layers" (a vector field's integral surface)
+  { section: 'surface', name: 'field', alias: 'surfaceField', type: 'str', maxLength: 127 },
+  { section: 'surface', name: 'seed', alias: 'surfaceSeed', type: 'seed', maxItems: 64 },
+  { section: 'surface', name: 'particles', alias: 'surfaceParticles', type: 'int', min: 1, max: 100000 },
+  { section: 'surface', name: 'step', alias: 'surfaceStep', type: 'num', min: 0 },
+  { section: 'surface', name: 'length', alias: 'surfaceLength', type: 'num', min: 0 },
+  { section: 'surface', name: 'epsilon', alias: 'surfaceEpsilon', type: 'num', min: 0, max: 1 },
+  { section: 'surface', name: 'opacity', alias: 'surfaceOpacity', type: 'num', min: 0, max: 1, loOpen: true },
+  { section: 'surface', name: 'maxLayers', alias: 'surfaceMaxLayers', type: 'int', min: 1, max: 64 },
+  {
+    section: 'surface', name: 'composite', alias: 'surfaceComposite', type: 'enum',
+    values: ['layers', 'weighted-average', 'weighted-sum'],
+  },
+  { section: 'surface', name: 'color', alias: 'surfaceColor', type: 'color' },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides

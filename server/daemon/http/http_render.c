@@ -3,15 +3,19 @@
 #include "http_render.h"
 
 #include <arpa/inet.h>
+#include <math.h>
 #include <netinet/in.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "cost.h"
 #include "datasets.h"
+#include "fields.h"
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
+#include "surface_render.h"
 #include "workers.h"
 
 #define MOD "http"
@@ -64,6 +68,13 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
         snprintf(ticks, sizeof ticks, "%.6g,%.6g,%.6g,%.6g,%.6g", info->color_ticks[0], info->color_ticks[1],
                  info->color_ticks[2], info->color_ticks[3], info->color_ticks[4]);
         MHD_add_response_header(r, "X-Lucent-Color-Ticks", ticks);
+    }
+    if (info->has_surface) { /* method surface-layers: what the layers hold */
+        char surf[256];
+        snprintf(surf, sizeof surf, "curves=%llu,layersPerPixel=%.3f,maxLayers=%u,k=%d,overflow=%llu,traceMs=%.1f",
+                 (unsigned long long)info->surface_curves, info->surface_mean_layers, info->surface_max_layers,
+                 info->surface_k, (unsigned long long)info->surface_overflow, info->surface_trace_ms);
+        MHD_add_response_header(r, "X-Lucent-Surface", surf);
     }
     snprintf(buf, sizeof buf, "%.4g", job->cost); /* the estimate --max-cost is compared with */
     MHD_add_response_header(r, "X-Lucent-Cost", buf);
@@ -121,6 +132,10 @@ static uint64_t client_key(struct MHD_Connection *c)
     return h | 1; /* never 0, never a session pointer (those are even) */
 }
 
+static enum MHD_Result queue_job(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req,
+                                 const lc_dataset *ds, const lc_dataset *const *layers, lc_session *session, double dt,
+                                 double cost, const lc_field *field);
+
 /* Queues a render and suspends the connection until it is done. Takes the
  * session reference (may be NULL); refuses (400, the field named) a request
  * whose estimated cost exceeds --max-cost. */
@@ -142,6 +157,49 @@ static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, 
         }
         return lc_http_proto_error(srv, c, &pe);
     }
+    return queue_job(ctx, c, req, ds, layers, session, dt, cost, NULL);
+}
+
+/* method surface-layers (docs/ALGORITHM.md §23): the field must be loaded (404
+ * naming surface.field), the seed must start inside it (400 naming
+ * surface.seed) and the frame fit --max-cost; not under serve --mpi, whose
+ * ranks hold scene shards. */
+static enum MHD_Result start_surface(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req)
+{
+    lc_server *srv = ctx->srv;
+    const lc_surface_request *s = &req->surface;
+    if (srv->mpi)
+        return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "method", "method: surface-layers is not served under --mpi");
+    const lc_field_entry *fe = lc_fields_find(lc_datasets_fields(srv->datasets), s->field);
+    if (!fe)
+        return lc_http_error(srv, c, 404, "not_found", "surface.field",
+                             "surface.field: unknown field \"%.200s\" (GET /api/v1/datasets lists the fields)", s->field);
+    lc_seed seed = {.count = s->seed_count};
+    memcpy(seed.points, s->seed, (size_t)s->seed_count * sizeof s->seed[0]);
+    lc_error e = {0};
+    if (lc_seed_check(&seed, fe->field, &e) != 0)
+        return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "surface.seed", "surface.seed: %s", e.msg);
+    const double *b = fe->field->bounds;
+    double diag = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
+    int k = 1;
+    lc_surface_bytes(req->render.width, req->render.height, s->max_layers, &k);
+    double steps = lc_cost_surface_steps(diag, fe->field->mag_max, s->step, s->length), cost = 0;
+    const char *field = NULL;
+    char why[320];
+    if (lc_cost_check_surface(&req->render, s->particles, steps, k, srv->cfg.max_cost, &cost, &field, why,
+                              sizeof why) != 0) {
+        lc_metrics_refused(srv->metrics, "cost");
+        return lc_http_error(srv, c, 400, "too_expensive", field, "%s: %s", field, why);
+    }
+    return queue_job(ctx, c, req, NULL, NULL, NULL, 0.0, cost, fe->field);
+}
+
+/* Hands a checked render to the pool (field: method surface-layers). */
+static enum MHD_Result queue_job(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req,
+                                 const lc_dataset *ds, const lc_dataset *const *layers, lc_session *session, double dt,
+                                 double cost, const lc_field *field)
+{
+    lc_server *srv = ctx->srv;
     lc_render_job *job = calloc(1, sizeof *job);
     if (!job) {
         if (session)
@@ -150,6 +208,7 @@ static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, 
     }
     job->req = *req;
     job->dataset = ds;
+    job->field = field;
     for (int i = 0; layers && i < req->layer_count; i++)
         job->layers[i] = layers[i];
     job->session = session;
@@ -265,6 +324,8 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
         if (lc_proto_validate_request(&req, &srv->cfg.limits, &pe) != 0)
             return lc_http_proto_error(srv, c, &pe);
     }
+    if (req.render.method == LC_METHOD_SURFACE_LAYERS)
+        return start_surface(ctx, c, &req);
     if (req.layer_count > 0)
         return start_layers(ctx, c, &req);
     const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);

@@ -5,6 +5,7 @@
 #ifndef LC_SERVER_ENCODERS_H
 #define LC_SERVER_ENCODERS_H
 
+#include "field.h"
 #include "renderer.h"
 #include "request.h"
 #include "server.h"
@@ -23,6 +24,7 @@ struct lc_render_job {
     double dt;           /* fading step for sessions */
     uint64_t client;     /* fairness key: jobs of one client take turns with other clients' */
     double cost;         /* estimated cost units (cost.h); 0 = unknown */
+    const lc_field *field; /* method surface-layers: req.surface.field's field (dataset is NULL then) */
     void (*done)(lc_render_job *job);
     void *user;
     /* output, valid in done() */

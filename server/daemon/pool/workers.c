@@ -13,6 +13,7 @@
 #include "memory.h"
 #include "messages.h"
 #include "metrics.h"
+#include "surface_job.h"
 
 #define MOD "workers"
 
@@ -281,6 +282,8 @@ static void render_job(worker *wk, lc_render_job *job)
      * the session): lc_workers_abandon may hand the job back meanwhile. */
     const lc_render_params params = job->req.render, *p = &params;
     const lc_dataset *dataset = job->dataset;
+    const lc_field *field = job->field;
+    const lc_surface_request surface = job->req.surface;
     double dt = job->dt;
     lc_session *session = job->session;
     /* layers[] (HTTP renders only; the routes refuse them in sessions and under --mpi), copied like the rest */
@@ -302,11 +305,12 @@ static void render_job(worker *wk, lc_render_job *job)
         lc_session_ref(session);
     lc_frame_info info;
     in_hand(wk, job, NULL);
-    int rc = layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
-                         : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
-                                        &info, &err);
+    int rc = field        ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
+             : layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
+                           : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
+                                          &info, &err);
     free(layers);
-    if (!w->srv->mpi) /* a large frame keeps no targets (collective frames under MPI keep them) */
+    if (!w->srv->mpi && dataset) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
     int mine = out_of_hand(wk);
     if (session)

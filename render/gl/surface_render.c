@@ -1,0 +1,148 @@
+/* One frame of a field's integral surface (method "surface-layers";
+ * docs/ALGORITHM.md §23): trace, draw in batches into surface layers,
+ * composite. The layers' K is bounded by the frame size so that a frame's
+ * layer memory stays within LC_SURFACE_LAYER_BUDGET. */
+#include "surface_render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "camera.h"
+
+#define PIXEL_WORD_BYTES 12u /* list head, layer count, output of a pixel (surface_layers.c) */
+#define LAYER_BYTES 32u
+#define FRAGMENT_BYTES 32u
+
+uint64_t lc_surface_bytes(int width, int height, int max_layers, int *k_used)
+{
+    uint64_t px = (uint64_t)(width > 0 ? width : 1) * (uint64_t)(height > 0 ? height : 1);
+    uint64_t fit = LC_SURFACE_LAYER_BUDGET / (px * LAYER_BYTES);
+    int k = max_layers < 1 ? 1 : max_layers;
+    if ((uint64_t)k > fit)
+        k = fit > 0 ? (int)fit : 1;
+    if (k_used)
+        *k_used = k;
+    return px * ((uint64_t)k * LAYER_BYTES + PIXEL_WORD_BYTES) + LC_SURFACE_POOL_FRAGMENTS * FRAGMENT_BYTES;
+}
+
+static double diagonal(const double b[6])
+{
+    double d = 0;
+    for (int a = 0; a < 3; a++)
+        d += (b[3 + a] - b[a]) * (b[3 + a] - b[a]);
+    return sqrt(d);
+}
+
+/* The curves' bounding box; the field's bounds when no curve has a vertex. */
+static void curve_bounds(const lc_field *f, const lc_trace_curve *c, uint32_t n, double b[6], uint64_t *vertices)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    *vertices = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        *vertices += c[i].n;
+        for (uint32_t v = 0; v < c[i].n; v++)
+            for (int a = 0; a < 3; a++) {
+                lo[a] = fmin(lo[a], c[i].xyz[3 * v + a]);
+                hi[a] = fmax(hi[a], c[i].xyz[3 * v + a]);
+            }
+    }
+    for (int a = 0; a < 3; a++) {
+        b[a] = lo[a] <= hi[a] ? lo[a] : f->bounds[a];
+        b[3 + a] = lo[a] <= hi[a] ? hi[a] : f->bounds[3 + a];
+    }
+}
+
+static int check_params(const lc_surface_params *sp, lc_error *err)
+{
+    if (sp->particles < 1)
+        return lc_err_field(err, LC_ERR_INVALID, "surface.particles", "surface.particles must be >= 1");
+    if (!(sp->epsilon >= 0 && isfinite(sp->epsilon)))
+        return lc_err_field(err, LC_ERR_INVALID, "surface.epsilon", "surface.epsilon must be finite and >= 0");
+    if (!(sp->opacity > 0 && sp->opacity <= 1))
+        return lc_err_field(err, LC_ERR_INVALID, "surface.opacity", "surface.opacity must lie in (0, 1]");
+    if (sp->max_layers < 1 || sp->max_layers > LC_SURFACE_LAYERS_MAX_K)
+        return lc_err_field(err, LC_ERR_INVALID, "surface.maxLayers", "surface.maxLayers must lie in 1..%d",
+                            LC_SURFACE_LAYERS_MAX_K);
+    if (!(sp->step >= 0 && isfinite(sp->step)) || !(sp->length >= 0 && isfinite(sp->length)))
+        return lc_err_field(err, LC_ERR_INVALID, "surface.step", "surface.step and length must be finite and >= 0");
+    return 0;
+}
+
+/* Draws the curves in batches (bounding the fragment pool) and composites. */
+static int draw(const lc_surface_layers_desc *d, const lc_trace_curve *curves, uint32_t n, const float rgb[3],
+                uint8_t *rgba, lc_surface_info *info, lc_error *err)
+{
+    lc_surface_layers *sl = NULL;
+    int rc = lc_surface_layers_create(d, &sl, err);
+    for (uint32_t i = 0; !rc && i < n; i += LC_SURFACE_BATCH) {
+        uint32_t c = n - i < LC_SURFACE_BATCH ? n - i : LC_SURFACE_BATCH;
+        rc = lc_surface_layers_add(sl, curves + i, c, rgb, err);
+    }
+    if (!rc)
+        rc = lc_surface_layers_composite(sl, rgba, err);
+    if (!rc)
+        rc = lc_surface_layers_read(sl, NULL, &info->stats, err);
+    lc_surface_layers_destroy(sl);
+    return rc;
+}
+
+int lc_surface_render(const lc_field *field, const lc_seed *seed_in, const lc_surface_params *sp,
+                      const lc_render_params *p, int threads, uint8_t *rgba, lc_surface_info *info,
+                      lc_camera *camera_out, lc_error *err)
+{
+    memset(info, 0, sizeof *info);
+    int rc = check_params(sp, err);
+    if (rc)
+        return rc;
+    for (int c = 0; c < 3; c++)
+        if (!(sp->color[c] >= 0 && sp->color[c] <= 1))
+            return lc_err_field(err, LC_ERR_INVALID, "surface.color", "surface.color components must lie in [0, 1]");
+    lc_seed seed = *seed_in;
+    if ((rc = lc_seed_check(&seed, field, err)) != 0) {
+        if (err)
+            snprintf(err->field, sizeof err->field, "surface.seed");
+        return rc;
+    }
+    lc_trace_curve *curves = calloc((size_t)sp->particles, sizeof *curves);
+    if (!curves)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory for %d curves", sp->particles);
+    double t0 = lc_now();
+    lc_trace_desc td = {.step = sp->step, .max_length = sp->length};
+    rc = lc_trace_curves(field, &seed, &td, 0, (uint32_t)sp->particles, threads, curves, err);
+    info->trace_ms = (lc_now() - t0) * 1000.0;
+    if (rc) {
+        free(curves);
+        return rc;
+    }
+    double box[6];
+    curve_bounds(field, curves, (uint32_t)sp->particles, box, &info->vertices);
+    lc_camera cam = p->camera;
+    if (!p->has_camera) { /* fit the surface, seen obliquely from above the seed's side */
+        const double dir[3] = {-1.0, 1.5, -0.8};
+        lc_camera_fit(&cam, box, dir, NULL);
+    }
+    if (camera_out)
+        *camera_out = cam;
+    lc_view v;
+    lc_camera_view(&cam, box, (double)p->width / p->height, p->height, &v);
+    lc_surface_layers_desc d = {.width = p->width,
+                                .height = p->height,
+                                .epsilon = sp->epsilon * diagonal(field->bounds),
+                                .opacity = sp->opacity,
+                                .pool_fragments = LC_SURFACE_POOL_FRAGMENTS,
+                                .composite = sp->composite};
+    lc_surface_bytes(p->width, p->height, sp->max_layers, &info->k);
+    d.max_layers = info->k;
+    memcpy(d.background, p->style.background, sizeof d.background);
+    memcpy(d.view, v.view, sizeof d.view);
+    memcpy(d.projection, v.proj, sizeof d.projection);
+    const float rgb[3] = {(float)sp->color[0], (float)sp->color[1], (float)sp->color[2]};
+    t0 = lc_now();
+    rc = draw(&d, curves, (uint32_t)sp->particles, rgb, rgba, info, err);
+    info->draw_ms = (lc_now() - t0) * 1000.0;
+    lc_trace_curves_free(curves, (uint32_t)sp->particles);
+    free(curves);
+    return rc;
+}

@@ -1,0 +1,62 @@
+/* One frame of a vector field's integral surface (method "surface-layers",
+ * docs/ALGORITHM.md §23): particles traced from a seed polyline on CPU
+ * threads, their curves drawn into surface layers in batches and composited,
+ * with the render parameters' size, camera and background.
+ * Threading: runs on the thread whose GL 4.5 context is current (a render
+ * worker); the field and seed are only read. */
+#ifndef LC_GL_SURFACE_RENDER_H
+#define LC_GL_SURFACE_RENDER_H
+
+#include <stdint.h>
+
+#include "lc_base.h"
+#include "lc_params.h"
+#include "surface_layers.h"
+#include "trace.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Layer memory one frame may take (width * height * K * 32 bytes); K is
+ * lowered to fit (at least 1), so that a full-HD frame keeps 4 layers. */
+#define LC_SURFACE_LAYER_BUDGET (256ull << 20)
+#define LC_SURFACE_POOL_FRAGMENTS (2ull << 20) /* fragment pool of one batch (64 MiB) */
+#define LC_SURFACE_BATCH 1000                  /* curves drawn per batch */
+
+typedef struct lc_surface_params {
+    int particles;      /* curves traced along the seed, >= 1 */
+    double step;        /* RK4 step, 0 = the tracer's default */
+    double length;      /* arc length of a curve, 0 = the tracer's default */
+    double epsilon;     /* merge distance, a fraction of the field's diagonal, >= 0 */
+    double opacity;     /* every layer's alpha in (0, 1] */
+    int max_layers;     /* K asked for (1..LC_SURFACE_LAYERS_MAX_K), lowered to the budget */
+    int composite;      /* LC_SURFACE_COMPOSITE_* */
+    double color[3];    /* base colour in [0, 1] */
+} lc_surface_params;
+
+typedef struct lc_surface_info {
+    lc_surface_layers_stats stats;
+    int k;              /* layers per pixel used (max_layers under the budget) */
+    double trace_ms;    /* CPU tracing */
+    double draw_ms;     /* batches and composite, read back */
+    uint64_t vertices;  /* of all curves */
+} lc_surface_info;
+
+/* Bytes a frame of w x h with K layers holds on the GPU (layers, pixel words,
+ * fragment pool), and the K it would use for max_layers. */
+uint64_t lc_surface_bytes(int width, int height, int max_layers, int *k_used);
+
+/* Traces sp->particles curves of field from seed (checked by lc_seed_check)
+ * on `threads` threads and renders them at p's size with p's camera (when
+ * p->has_camera; else one fitted to the curves' bounds, the fitted camera in
+ * *camera_out when not NULL) over p's background into rgba (top row first).
+ * Errors name the request field ("surface.seed", ...). */
+int lc_surface_render(const lc_field *field, const lc_seed *seed, const lc_surface_params *sp,
+                      const lc_render_params *p, int threads, uint8_t *rgba, lc_surface_info *info,
+                      lc_camera *camera_out, lc_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

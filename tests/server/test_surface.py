@@ -1,0 +1,151 @@
+"""Method surface-layers over HTTP (docs/ALGORITHM.md §23): a real client asks
+for a field's stream surface. On the linear shear field a straight seed line
+across the flow gives a planar surface, seen face-on: every covered pixel holds
+one layer and shows exactly opacity * colour + (1 - opacity) * background; the
+weighted-average baseline of the same curves saturates towards the surface
+colour (PRT Fig. 5). Bad surface objects are refused naming the field."""
+import json
+import struct
+import sys
+import urllib.parse
+import zlib
+
+from lucent_server import Check, Server
+
+binary = sys.argv[1]
+check = Check()
+SIZE = 96
+BG = [1.0, 1.0, 1.0]
+COLOR = [0.2, 0.4, 0.8]
+OPACITY = 0.3
+
+
+def decode_png(data):
+    """8-bit RGB/RGBA PNG -> (w, h, channels, rows of bytes), filters undone."""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    i, idat, w = 8, b"", 0
+    while i < len(data):
+        n, kind = struct.unpack(">I4s", data[i:i + 8])
+        body = data[i + 8:i + 8 + n]
+        if kind == b"IHDR":
+            w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
+            assert depth == 8 and ctype in (2, 6), "PNG type %d depth %d" % (ctype, depth)
+            ch = 3 if ctype == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        i += 12 + n
+    raw, rows, stride, prev = zlib.decompress(idat), [], w * ch, bytearray(w * ch)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for x in range(stride):
+            a = line[x - ch] if x >= ch else 0
+            b, c = prev[x], prev[x - ch] if x >= ch else 0
+            p = {0: 0, 1: a, 2: b, 3: (a + b) // 2}.get(f)
+            if p is None:  # Paeth
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                p = a if pa <= pb and pa <= pc else b if pb <= pc else c
+            line[x] = (line[x] + p) & 255
+        rows.append(bytes(line))
+        prev = line
+    return w, h, ch, rows
+
+
+def pixel(img, x, y):
+    w, h, ch, rows = img
+    return tuple(rows[y][x * ch:x * ch + 3])
+
+
+def surface_request(**surface):
+    s = dict(field="demo:shear-flow", seed=[[-0.9, -0.6, 0], [-0.9, 0.6, 0]], particles=200, opacity=OPACITY,
+             color=COLOR, length=1.6)
+    s.update(surface)
+    return {"method": "surface-layers", "width": SIZE, "height": SIZE, "format": "png",
+            "camera": {"position": [0, 0, 3], "focalPoint": [0, 0, 0], "viewUp": [0, 1, 0], "viewAngle": 40},
+            "style": {"background": BG}, "surface": s}
+
+
+def header_fields(headers):
+    text = headers.get("x-lucent-surface", "")
+    return dict(kv.split("=", 1) for kv in text.split(",") if "=" in kv)
+
+
+def render(srv, body):
+    st, headers, data = srv.request("POST", "/api/v1/render", json.dumps(body))
+    return st, headers, data
+
+
+def error(srv, body, status, field, what):
+    st, _, data = render(srv, body)
+    try:
+        e = json.loads(data).get("error", {})
+    except ValueError:
+        e = {}
+    check(st == status and e.get("field") == field,
+          "%s -> %d naming %s (got %d, %s)" % (what, status, field, st, data[:200].decode(errors="replace")))
+
+
+with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as srv:
+    st, headers, data = render(srv, surface_request())
+    check(st == 200 and headers.get("content-type") == "image/png",
+          "a shear surface renders: %d %s" % (st, data[:200] if st != 200 else ""))
+    hf = header_fields(headers)
+    check(hf.get("curves") == "200", "X-Lucent-Surface counts the 200 curves traced: %r" % hf)
+    lpp = float(hf.get("layersPerPixel", "0"))
+    check(1.0 <= lpp <= 1.02 and hf.get("maxLayers") in ("1", "2") and hf.get("overflow") == "0",
+          "a planar surface is one layer per covered pixel: %r" % hf)
+    img = decode_png(data)
+    want = tuple(round(255 * (OPACITY * c + (1 - OPACITY) * b)) for c, b in zip(COLOR, BG))
+    centre = pixel(img, SIZE // 2, SIZE // 2)
+    check(all(abs(a - b) <= 1 for a, b in zip(centre, want)),
+          "the centre shows one layer over the background: %r, want %r" % (centre, want))
+    corner = pixel(img, 1, 1)
+    check(corner == (255, 255, 255), "outside the surface the background: %r" % (corner,))
+
+    # The count-based baseline: many curves per pixel saturate towards the surface colour.
+    st, headers, wa = render(srv, surface_request(composite="weighted-average", particles=2000))
+    wimg = decode_png(wa) if st == 200 else None
+    wc = pixel(wimg, SIZE // 2, SIZE // 2) if wimg else (0, 0, 0)
+    opaque = tuple(round(255 * c) for c in COLOR)
+    check(st == 200 and all(abs(a - b) <= 12 for a, b in zip(wc, opaque)),
+          "weighted-average saturates to the surface colour %r: %r" % (opaque, wc))
+    st, headers, la = render(srv, surface_request(particles=2000))
+    lc = pixel(decode_png(la), SIZE // 2, SIZE // 2) if st == 200 else (0, 0, 0)
+    check(all(abs(a - b) <= 1 for a, b in zip(lc, want)), "the layers stay at one layer's colour: %r" % (lc,))
+
+    # The flat query form reaches the same fields.
+    q = urllib.parse.urlencode({"method": "surface-layers", "surfaceField": "demo:abc-flow",
+                                "surfaceSeed": "[[3.14,0.63,3.14],[3.14,5.65,3.14]]", "surfaceParticles": 100,
+                                "width": 64, "height": 64})
+    st, headers, data = srv.request("GET", "/api/v1/render?" + q)
+    check(st == 200 and header_fields(headers).get("curves") == "100", "GET with surfaceField/surfaceSeed: %d" % st)
+
+    error(srv, surface_request(field="no-such-flow"), 404, "surface.field", "an unknown field")
+    error(srv, surface_request(field="demo:points"), 404, "surface.field", "a scene dataset is no field")
+    error(srv, surface_request(seed=[[0, 0, 0]]), 400, "surface.seed", "a seed of one point")
+    error(srv, surface_request(seed=[[0, 0, 0], [0, 0, 0]]), 400, "surface.seed[1]", "a zero-length segment")
+    error(srv, surface_request(seed=[[0, 0, "x"], [0, 1, 0]]), 400, "surface.seed[0]", "a seed point not a number")
+    error(srv, surface_request(seed=[[5, 5, 5], [6, 6, 6]]), 400, "surface.seed", "a seed outside the field")
+    error(srv, surface_request(particles=0), 400, "surface.particles", "no particles")
+    error(srv, surface_request(particles=10 ** 6), 400, "surface.particles", "too many particles")
+    error(srv, surface_request(opacity=0), 400, "surface.opacity", "opacity 0")
+    error(srv, surface_request(composite="paint"), 400, "surface.composite", "an unknown composite")
+    body = surface_request()
+    del body["surface"]["seed"]
+    error(srv, body, 400, "surface.seed", "no seed")
+    body = surface_request()
+    del body["surface"]["field"]
+    error(srv, body, 400, "surface.field", "no field")
+    st, _, data = srv.request("POST", "/api/v1/sessions", json.dumps(surface_request()))
+    check(st == 400 and json.loads(data).get("error", {}).get("field") == "method",
+          "sessions refuse surface-layers naming method: %d" % st)
+    st, _, data = srv.request("POST", "/api/v1/render", json.dumps(dict(surface_request(), **{"dataset": "demo:points"})))
+    check(st == 200, "the request's dataset does not matter to the method: %d" % st)
+    st, _, h = srv.json("GET", "/api/v1/health")
+    check(st == 200, "the daemon still serves: %d" % st)
+
+with Server(binary, "--max-cost", "1e6", data=("demo:points", "demo:shear-flow")) as srv:
+    st, _, data = render(srv, surface_request(particles=5000))
+    e = json.loads(data).get("error", {}) if st != 200 else {}
+    check(st == 400 and e.get("code") == "too_expensive" and e.get("field") == "surface.particles",
+          "--max-cost refuses a large surface naming surface.particles: %d %r" % (st, e))
+check.done()

@@ -34,7 +34,7 @@ void lc_request_default(lc_request *r)
     r->format = LC_FORMAT_PNG;
     r->quality = LC_PROTO_DEFAULT_QUALITY;
     r->surface.particles = 2000;
-    r->surface.epsilon = 1e-3;
+    r->surface.epsilon = 1e-2;
     r->surface.opacity = 0.3;
     r->surface.max_layers = 8;
     r->surface.color[0] = 0.95, r->surface.color[1] = 0.6, r->surface.color[2] = 0.2;

@@ -37,7 +37,7 @@ typedef struct lc_surface_request {
     int particles;       /* curves traced along the seed (default 2000) */
     double step;         /* RK4 time step, 0 = 1/200 of the diagonal over the largest |v| */
     double length;       /* arc length of a curve, 0 = 2 field diagonals */
-    double epsilon;      /* merge distance as a fraction of the field's diagonal (default 1e-3) */
+    double epsilon;      /* merge distance as a fraction of the field's diagonal (default 1e-2) */
     double opacity;      /* every layer's alpha (default 0.3) */
     int max_layers;      /* K, layers a pixel keeps (default 8) */
     lc_surface_composite composite; /* layers (default), or a count-based OIT baseline */

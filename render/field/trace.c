@@ -244,6 +244,18 @@ static int trace_one(const lc_field *f, const lc_seed *seed, const lc_trace_desc
     return 0;
 }
 
+int lc_trace_curve_at(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, double u,
+                      lc_trace_curve *curve, lc_error *err)
+{
+    lc_trace_desc d;
+    lc_trace_resolve(field, desc, &d);
+    if (trace_one(field, seed, &d, u, curve) != 0) {
+        lc_trace_curves_free(curve, 1);
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory tracing a curve", field->name);
+    }
+    return 0;
+}
+
 typedef struct trace_job {
     const lc_field *field;
     const lc_seed *seed;

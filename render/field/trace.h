@@ -75,6 +75,11 @@ void lc_trace_resolve(const lc_field *field, const lc_trace_desc *desc, lc_trace
 int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, uint64_t first,
                     uint32_t count, int threads, lc_trace_curve *curves, lc_error *err);
 void lc_trace_curves_free(lc_trace_curve *curves, uint32_t count);
+/* Traces the one particle at seed parameter u in [0, 1] (the meshed
+ * reference's particles, stream_mesh.c) into *curve (free with
+ * lc_trace_curves_free(curve, 1)). */
+int lc_trace_curve_at(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, double u,
+                      lc_trace_curve *curve, lc_error *err);
 
 #ifdef __cplusplus
 }

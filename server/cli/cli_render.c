@@ -372,6 +372,8 @@ typedef struct gen_args {
     long long count, seed;
     const char *seed_line; /* vector fields: the seed polyline */
     double step, length;
+    int mesh;     /* vector fields: the meshed reference instead of curves */
+    double split; /* ... its insertion distance */
 } gen_args;
 
 #define GEN(member) LC_OPT_AT(gen_args, member)
@@ -387,6 +389,10 @@ static const lc_option gen_options[] = {
     {"--step", "H", LC_OPT_REAL, GEN(step), 1e-9, 1e9, .help = "vector fields: RK4 time step (default: automatic)"},
     {"--length", "L", LC_OPT_REAL, GEN(length), 1e-9, 1e12,
      .help = "vector fields: arc length of a curve (default: 2 domain diagonals)"},
+    {"--mesh", NULL, LC_OPT_BOOL, GEN(mesh),
+     .help = "vector fields: the surface as a triangle mesh with front refinement (the meshed reference)"},
+    {"--split", "D", LC_OPT_REAL, GEN(split), 1e-12, 1e12,
+     .help = "with --mesh: insert a particle where neighbours drift farther apart (default: diagonal / 200)"},
     {NULL}};
 
 int lc_cli_gen(int argc, char **argv)
@@ -406,7 +412,9 @@ int lc_cli_gen(int argc, char **argv)
                 "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
                 "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
                 "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z -o FILE.vtk [--count CURVES] [--step H] [--length L]\n"
-                "         (the curves of an integral surface: FIELD is demo:abc-flow, ... or a grid .vtk)\n");
+                "         (the curves of an integral surface: FIELD is demo:abc-flow, ... or a grid .vtk)\n"
+                "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z --mesh -o FILE.obj [--split D] [--step H] [--length L]\n"
+                "         (the surface as a triangle mesh, front refinement: the meshed reference)\n");
         lc_opt_usage(f, &set, 1);
         fprintf(f, "demos:");
         for (const char *const *d = lc_demo_names(); *d; d++)
@@ -423,11 +431,13 @@ int lc_cli_gen(int argc, char **argv)
      * Lucent reads, demo:NAME?count=N) is loaded and written: a converter. */
     int rc =
         lc_field_is_source(name)
-            ? (args.count > 100000 ? lc_err(&err, LC_ERR_LIMIT, "--count: at most 100000 curves")
-                                   : lc_cli_trace_scene(name, args.seed_line, args.count ? (uint32_t)args.count : 64,
-                                                        args.step, args.length, &s, &err))
-        : args.seed_line || args.step || args.length
-            ? lc_err(&err, LC_ERR_INVALID, "%s: --seed-line, --step and --length apply to vector fields only", name)
+            ? (args.mesh ? lc_cli_mesh_scene(name, args.seed_line, args.split, args.step, args.length, &s, &err)
+               : args.count > 100000
+                   ? lc_err(&err, LC_ERR_LIMIT, "--count: at most 100000 curves")
+                   : lc_cli_trace_scene(name, args.seed_line, args.count ? (uint32_t)args.count : 64, args.step,
+                                        args.length, &s, &err))
+        : args.seed_line || args.step || args.length || args.mesh || args.split
+            ? lc_err(&err, LC_ERR_INVALID, "%s: --seed-line, --step, --length, --mesh and --split apply to vector fields only", name)
         : lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
         : desc.count || desc.seed
             ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)

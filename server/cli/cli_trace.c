@@ -1,11 +1,13 @@
 /* `lucent gen FIELD --seed-line ...`: the curves of render/field/trace.c from a
- * seed polyline, written as a line dataset (cli.h). */
+ * seed polyline, written as a line dataset, or with --mesh the meshed
+ * reference of render/field/stream_mesh.c as a triangle dataset (cli.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "cli.h"
+#include "stream_mesh.h"
 #include "trace.h"
 #include "vtk_field.h"
 
@@ -119,4 +121,54 @@ int lc_cli_trace_scene(const char *spec, const char *seed_text, uint32_t curves,
     free(c);
     lc_field_destroy(f);
     return rc;
+}
+
+int lc_cli_mesh_scene(const char *spec, const char *seed_text, double split, double step, double length,
+                      lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    lc_field *f = NULL;
+    lc_seed seed;
+    int rc = lc_field_open(spec, &f, err);
+    if (rc)
+        return rc;
+    if (!seed_text)
+        rc = lc_err_field(err, LC_ERR_INVALID, "seed.points", "%s is a vector field: give --seed-line X,Y,Z;X,Y,Z",
+                          spec);
+    else
+        rc = lc_seed_parse(seed_text, &seed, f, err);
+    lc_stream_mesh m = {0};
+    lc_stream_mesh_desc desc = {.trace = {.step = step, .max_length = length}, .split = split};
+    double t0 = lc_now();
+    if (!rc && (rc = lc_stream_mesh_build(f, &seed, &desc, &m, err)) == 0)
+        printf("meshed %u particles: %u vertices, %u triangles in %.1f ms\n", m.particles, m.vertex_count,
+               m.triangle_count, (lc_now() - t0) * 1e3);
+    if (!rc && m.triangle_count == 0)
+        rc = lc_err(err, LC_ERR_INVALID, "%s: the surface has no triangle (does the seed line lie in a stalled region?)",
+                    spec);
+    if (!rc && m.vertex_count > LC_MAX_VERTICES)
+        rc = lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", spec, m.vertex_count,
+                    (unsigned)LC_MAX_VERTICES);
+    lc_scene *s = NULL;
+    if (!rc) {
+        char name[160];
+        snprintf(name, sizeof name, "%s-mesh", f->name);
+        s = lc_scene_create(name, LC_PRIM_TRIANGLES);
+        if (!s)
+            rc = lc_err(err, LC_ERR_NOMEM, "out of memory");
+    }
+    if (!rc) { /* the scene takes the arrays */
+        s->positions = m.xyz, s->vertex_count = m.vertex_count;
+        s->triangles = m.triangles, s->triangle_count = m.triangle_count;
+        m.xyz = NULL, m.triangles = NULL;
+        rc = lc_scene_finalize(s, NULL, err);
+    }
+    lc_stream_mesh_free(&m);
+    lc_field_destroy(f);
+    if (rc) {
+        lc_scene_destroy(s);
+        return rc;
+    }
+    *out = s;
+    return 0;
 }

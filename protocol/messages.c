@@ -13,18 +13,18 @@ const char *lc_proto_msg_type_name(lc_msg_type t) { return (unsigned)t < NTYPES 
 
 /* Keys of the render request that hello/params/camera pass on in m->update. */
 static const char *const update_keys[] = {"camera", "params", "importance", "color", "style",
-                                          "method", "filter", "lines",      "time"};
+                                          "method", "filter", "lines",      "time",  "surface"};
 #define NUPDATE (sizeof update_keys / sizeof update_keys[0])
 
 /* Which keys each message type allows, besides "type". */
 static const char *const hello_keys[] = {
     "dataset",          "width",  "height", "devicePixelRatio", "window", "token", "quality", "interactiveQuality",
     "interactiveScale", "camera", "params", "importance",       "color",  "style", "method",  "filter", "lines",
-    "time",             NULL};
+    "time",             "surface", NULL};
 static const char *const camera_keys[] = {"seq", "camera", NULL};
 static const char *const params_keys[] = {
     "quality", "interactiveQuality", "interactiveScale", "params", "importance", "color", "style", "method", "filter", "lines",
-    "time", NULL};
+    "time", "surface", NULL};
 static const char *const resize_keys[] = {"width", "height", "devicePixelRatio", NULL};
 static const char *const ack_keys[] = {"frame", NULL};
 static const char *const *const allowed_keys[] = {hello_keys, camera_keys, params_keys, resize_keys, ack_keys};
@@ -532,6 +532,16 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
         }
         json_object_set_new(o, "colorTicks", ticks);
     }
+    if (o && h->has_surface) {
+        if (!isfinite(h->surface_layers)) {
+            json_decref(o);
+            return LC_ERR_INVALID;
+        }
+        json_object_set_new(o, "surface",
+                            json_pack("{s:I, s:I, s:f, s:I, s:i}", "curves", (json_int_t)h->surface_curves, "particles",
+                                      (json_int_t)h->surface_particles, "layersPerPixel", h->surface_layers,
+                                      "overflow", (json_int_t)h->surface_overflow, "k", h->surface_k));
+    }
     char *text = dump_and_free(o);
     if (!text)
         return LC_ERR_NOMEM;
@@ -674,6 +684,24 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             goto done;
         }
         h->has_color_ticks = true;
+    }
+    const json_t *surf = json_object_get(o, "surface");
+    if (surf) {
+        const json_t *c = json_object_get(surf, "curves"), *pa = json_object_get(surf, "particles"),
+                     *l = json_object_get(surf, "layersPerPixel"), *ov = json_object_get(surf, "overflow"),
+                     *k = json_object_get(surf, "k");
+        if (!json_is_integer(c) || !json_is_integer(pa) || !json_is_number(l) || !json_is_integer(ov) ||
+            !json_is_integer(k)) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "surface",
+                                        "expected curves, particles, layersPerPixel, overflow and k");
+            goto done;
+        }
+        h->surface_curves = (uint64_t)json_integer_value(c);
+        h->surface_particles = (uint64_t)json_integer_value(pa);
+        h->surface_layers = json_number_value(l);
+        h->surface_overflow = (uint64_t)json_integer_value(ov);
+        h->surface_k = (int)json_integer_value(k);
+        h->has_surface = true;
     }
     *image = msg + 4 + n;
     *image_len = len - 4 - n;

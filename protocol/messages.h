@@ -157,6 +157,13 @@ typedef struct lc_frame_header {
      * 1/4, 1/2, 3/4 and 1 of the colormap's bar (docs/ALGORITHM.md §19). */
     bool has_color_ticks;
     double color_ticks[5];
+    /* "surface" (optional; method surface-layers): curves traced so far, the
+     * particles asked for, mean layers per covered pixel, fragments dropped
+     * beyond k layers, k (docs/ALGORITHM.md §23). */
+    bool has_surface;
+    uint64_t surface_curves, surface_particles, surface_overflow;
+    double surface_layers;
+    int surface_k;
 } lc_frame_header;
 
 /* Packs header + image into one malloc'd binary message (*out, free()).

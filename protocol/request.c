@@ -37,6 +37,7 @@ void lc_request_default(lc_request *r)
     r->surface.epsilon = 1e-2;
     r->surface.opacity = 0.3;
     r->surface.max_layers = 8;
+    r->surface.curves_per_frame = 200;
     r->surface.color[0] = 0.95, r->surface.color[1] = 0.6, r->surface.color[2] = 0.2;
 }
 

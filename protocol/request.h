@@ -42,6 +42,7 @@ typedef struct lc_surface_request {
     int max_layers;      /* K, layers a pixel keeps (default 8) */
     lc_surface_composite composite; /* layers (default), or a count-based OIT baseline */
     double color[3];     /* the surface's base colour */
+    int curves_per_frame; /* WebSocket sessions: curves traced and added per frame (default 200) */
 } lc_surface_request;
 
 /* One render: which data, how big, which camera and parameters, which image. */

@@ -193,6 +193,8 @@ static const field fields[] = {
     {"surface", "maxLayers", "surfaceMaxLayers", T_INT, 1, 64, 0, OFF(surface.max_layers), 0, NOFLAG, NULL},
     {"surface", "composite", "surfaceComposite", T_ENUM, 0, 0, 0, OFF(surface.composite), 0, NOFLAG, composite_names},
     {"surface", "color", "surfaceColor", T_COLOR, 0, 0, 0, OFF(surface.color), 0, NOFLAG, NULL},
+    {"surface", "curvesPerFrame", "surfaceCurvesPerFrame", T_INT, 1, 100000, 0, OFF(surface.curves_per_frame), 0,
+     NOFLAG, NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 

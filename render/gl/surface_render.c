@@ -88,17 +88,65 @@ static int draw(const lc_surface_layers_desc *d, const lc_trace_curve *curves, u
     return rc;
 }
 
+static int check_color(const lc_surface_params *sp, lc_error *err)
+{
+    for (int c = 0; c < 3; c++)
+        if (!(sp->color[c] >= 0 && sp->color[c] <= 1))
+            return lc_err_field(err, LC_ERR_INVALID, "surface.color", "surface.color components must lie in [0, 1]");
+    return 0;
+}
+
+int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_t n, const lc_surface_params *sp,
+                    const lc_render_params *p, const double fit_box[6], uint8_t *rgba, lc_surface_info *info,
+                    lc_camera *camera_out, lc_error *err)
+{
+    double trace_ms = info->trace_ms;
+    memset(info, 0, sizeof *info);
+    info->trace_ms = trace_ms;
+    int rc = check_params(sp, err);
+    if (!rc)
+        rc = check_color(sp, err);
+    if (rc)
+        return rc;
+    for (uint32_t i = 0; i < n; i++)
+        info->vertices += curves[i].n;
+    lc_camera cam = p->camera;
+    if (!p->has_camera) { /* fit the box, seen obliquely from above the seed's side */
+        const double dir[3] = {-1.0, 1.5, -0.8};
+        lc_camera_fit(&cam, fit_box, dir, NULL);
+    }
+    if (camera_out)
+        *camera_out = cam;
+    lc_view v;
+    lc_camera_view(&cam, fit_box, (double)p->width / p->height, p->height, &v);
+    lc_surface_layers_desc d = {.width = p->width,
+                                .height = p->height,
+                                .epsilon = sp->epsilon * diagonal(field->bounds),
+                                .opacity = sp->opacity,
+                                .pool_fragments = LC_SURFACE_POOL_FRAGMENTS,
+                                .composite = sp->composite};
+    lc_surface_bytes(p->width, p->height, sp->max_layers, &info->k);
+    d.max_layers = info->k;
+    memcpy(d.background, p->style.background, sizeof d.background);
+    memcpy(d.view, v.view, sizeof d.view);
+    memcpy(d.projection, v.proj, sizeof d.projection);
+    const float rgb[3] = {(float)sp->color[0], (float)sp->color[1], (float)sp->color[2]};
+    double t0 = lc_now();
+    rc = draw(&d, curves, n, rgb, rgba, info, err);
+    info->draw_ms = (lc_now() - t0) * 1000.0;
+    return rc;
+}
+
 int lc_surface_render(const lc_field *field, const lc_seed *seed_in, const lc_surface_params *sp,
                       const lc_render_params *p, int threads, uint8_t *rgba, lc_surface_info *info,
                       lc_camera *camera_out, lc_error *err)
 {
     memset(info, 0, sizeof *info);
     int rc = check_params(sp, err);
+    if (!rc)
+        rc = check_color(sp, err);
     if (rc)
         return rc;
-    for (int c = 0; c < 3; c++)
-        if (!(sp->color[c] >= 0 && sp->color[c] <= 1))
-            return lc_err_field(err, LC_ERR_INVALID, "surface.color", "surface.color components must lie in [0, 1]");
     lc_seed seed = *seed_in;
     if ((rc = lc_seed_check(&seed, field, err)) != 0) {
         if (err)
@@ -117,31 +165,9 @@ int lc_surface_render(const lc_field *field, const lc_seed *seed_in, const lc_su
         return rc;
     }
     double box[6];
-    curve_bounds(field, curves, (uint32_t)sp->particles, box, &info->vertices);
-    lc_camera cam = p->camera;
-    if (!p->has_camera) { /* fit the surface, seen obliquely from above the seed's side */
-        const double dir[3] = {-1.0, 1.5, -0.8};
-        lc_camera_fit(&cam, box, dir, NULL);
-    }
-    if (camera_out)
-        *camera_out = cam;
-    lc_view v;
-    lc_camera_view(&cam, box, (double)p->width / p->height, p->height, &v);
-    lc_surface_layers_desc d = {.width = p->width,
-                                .height = p->height,
-                                .epsilon = sp->epsilon * diagonal(field->bounds),
-                                .opacity = sp->opacity,
-                                .pool_fragments = LC_SURFACE_POOL_FRAGMENTS,
-                                .composite = sp->composite};
-    lc_surface_bytes(p->width, p->height, sp->max_layers, &info->k);
-    d.max_layers = info->k;
-    memcpy(d.background, p->style.background, sizeof d.background);
-    memcpy(d.view, v.view, sizeof d.view);
-    memcpy(d.projection, v.proj, sizeof d.projection);
-    const float rgb[3] = {(float)sp->color[0], (float)sp->color[1], (float)sp->color[2]};
-    t0 = lc_now();
-    rc = draw(&d, curves, (uint32_t)sp->particles, rgb, rgba, info, err);
-    info->draw_ms = (lc_now() - t0) * 1000.0;
+    uint64_t vertices;
+    curve_bounds(field, curves, (uint32_t)sp->particles, box, &vertices);
+    rc = lc_surface_draw(field, curves, (uint32_t)sp->particles, sp, p, box, rgba, info, camera_out, err);
     lc_trace_curves_free(curves, (uint32_t)sp->particles);
     free(curves);
     return rc;

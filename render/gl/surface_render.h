@@ -47,6 +47,14 @@ typedef struct lc_surface_info {
  * fragment pool), and the K it would use for max_layers. */
 uint64_t lc_surface_bytes(int width, int height, int max_layers, int *k_used);
 
+/* Draws n traced curves at p's size with p's camera (when p->has_camera;
+ * else one fitted to fit_box, in *camera_out when not NULL) over p's
+ * background into rgba (top row first); info->trace_ms is kept, the rest set.
+ * A session's frame: the curves traced so far. */
+int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_t n, const lc_surface_params *sp,
+                    const lc_render_params *p, const double fit_box[6], uint8_t *rgba, lc_surface_info *info,
+                    lc_camera *camera_out, lc_error *err);
+
 /* Traces sp->particles curves of field from seed (checked by lc_seed_check)
  * on `threads` threads and renders them at p's size with p's camera (when
  * p->has_camera; else one fitted to the curves' bounds, the fitted camera in

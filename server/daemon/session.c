@@ -8,7 +8,11 @@
 #include <sys/random.h>
 
 #include "cost.h"
+#include "datasets.h"
+#include "fields.h"
 #include "metrics.h"
+#include "surface_job.h"
+#include "surface_render.h"
 
 /* The interactive detail ladder, finest first: line error bound (pixels),
  * point stride and a factor on the stream's interactiveScale. One step down
@@ -184,6 +188,7 @@ void lc_session_unref(lc_session *s)
     if (!s || atomic_fetch_sub(&s->refs, 1) != 1)
         return;
     lc_frame_state_destroy(s->frame_state);
+    lc_surface_stream_free(s->surface);
     pthread_mutex_destroy(&s->lock);
     free(s);
 }
@@ -251,9 +256,43 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
     *h = ih < lo ? lo : ih > hi ? hi : ih;
 }
 
+int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost_out, const lc_field **field_out,
+                             lc_proto_error *pe)
+{
+    const lc_surface_request *s = &req->surface;
+    const lc_field_entry *fe = lc_fields_find(lc_datasets_fields(srv->datasets), s->field);
+    if (!fe)
+        return lc_proto_set_error(pe, "not_found", "surface.field",
+                                  "unknown field \"%.200s\" (GET /api/v1/datasets lists the fields)", s->field);
+    lc_seed seed = {.count = s->seed_count};
+    memcpy(seed.points, s->seed, (size_t)s->seed_count * sizeof s->seed[0]);
+    lc_error e = {0};
+    if (lc_seed_check(&seed, fe->field, &e) != 0)
+        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "surface.seed", "%s", e.msg);
+    const double *b = fe->field->bounds;
+    double diag = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
+    int k = 1;
+    lc_surface_bytes(req->render.width, req->render.height, s->max_layers, &k);
+    double steps = lc_cost_surface_steps(diag, fe->field->mag_max, s->step, s->length), cost = 0;
+    const char *field = NULL;
+    char why[320];
+    int rc = lc_cost_check_surface(&req->render, s->particles, steps, k, srv->cfg.max_cost, &cost, &field, why,
+                                   sizeof why);
+    if (cost_out)
+        *cost_out = cost;
+    if (field_out)
+        *field_out = fe->field;
+    if (rc == 0)
+        return 0;
+    lc_metrics_refused(srv->metrics, "cost");
+    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
+}
+
 int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost_out,
                             lc_proto_error *pe)
 {
+    if (req->render.method == LC_METHOD_SURFACE_LAYERS)
+        return lc_session_check_surface(srv, req, cost_out, NULL, pe);
     double cost;
     const char *field = NULL;
     char why[320];
@@ -268,9 +307,6 @@ int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_reque
 
 int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe)
 {
-    if (req->render.method == LC_METHOD_SURFACE_LAYERS)
-        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method",
-                                  "sessions do not stream surface-layers yet; POST /api/v1/render draws it");
     if (req->layer_count <= 0)
         return 0;
     return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers",

@@ -92,6 +92,9 @@ struct lc_session {
     double created, last_used;   /* lc_now() */
     lc_request req;              /* the latest requested state (latest wins) */
     lc_frame_state *frame_state; /* element opacities; see "Locking" above */
+    /* Method surface-layers: the curves traced so far (surface_job.h); only
+     * the worker rendering the session's frame touches it. */
+    struct lc_surface_stream *surface;
     double last_frame_time;      /* lc_now() of the previous frame, 0 = none */
     bool http_busy;              /* an HTTP session render is queued or running */
     uint64_t http_frames;
@@ -175,13 +178,19 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
  * naming the field to lower, counted in the metrics. *cost (if given): the
  * estimate. */
 /* layers[] are rendered by POST/GET /api/v1/render only: a session (HTTP or
- * WebSocket) refuses them naming "layers" (LC_ERR_INVALID with pe filled);
- * the same for method surface-layers, naming "method". */
+ * WebSocket) refuses them naming "layers" (LC_ERR_INVALID with pe filled). */
 int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe);
 /* The budget of a request with layers[] over their datasets (ds[i] of
  * req->layers[i]), as lc_session_check_budget for one dataset. */
 int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
                                    lc_proto_error *pe);
+/* Method surface-layers (docs/ALGORITHM.md §23): the field must be loaded
+ * (not_found naming surface.field), the seed must start inside it (naming
+ * surface.seed), the frame must fit --max-cost (too_expensive naming
+ * surface.particles). *field (if given): the field. lc_session_check_budget
+ * calls it for such requests. */
+int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost, const lc_field **field,
+                             lc_proto_error *pe);
 int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost,
                             lc_proto_error *pe);
 /* Applies a JSON update (NULL = none) to s's request, latest wins: a copy of

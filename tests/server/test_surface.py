@@ -137,7 +137,7 @@ with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as
     error(srv, body, 400, "surface.field", "no field")
     st, _, data = srv.request("POST", "/api/v1/sessions", json.dumps(surface_request()))
     check(st == 400 and json.loads(data).get("error", {}).get("field") == "method",
-          "sessions refuse surface-layers naming method: %d" % st)
+          "HTTP sessions refuse surface-layers naming method: %d" % st)
     st, _, data = srv.request("POST", "/api/v1/render", json.dumps(dict(surface_request(), **{"dataset": "demo:points"})))
     check(st == 200, "the request's dataset does not matter to the method: %d" % st)
     st, _, h = srv.json("GET", "/api/v1/health")

@@ -96,6 +96,7 @@ export const FIELDS = Object.freeze([
     values: ['layers', 'weighted-average', 'weighted-sum'],
   },
   { section: 'surface', name: 'color', alias: 'surfaceColor', type: 'color' },
+  { section: 'surface', name: 'curvesPerFrame', alias: 'surfaceCurvesPerFrame', type: 'int', min: 1, max: 100000 },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides

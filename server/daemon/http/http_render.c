@@ -3,19 +3,15 @@
 #include "http_render.h"
 
 #include <arpa/inet.h>
-#include <math.h>
 #include <netinet/in.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cost.h"
 #include "datasets.h"
-#include "fields.h"
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
-#include "surface_render.h"
 #include "workers.h"
 
 #define MOD "http"
@@ -167,31 +163,16 @@ static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, 
 static enum MHD_Result start_surface(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req)
 {
     lc_server *srv = ctx->srv;
-    const lc_surface_request *s = &req->surface;
     if (srv->mpi)
         return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "method", "method: surface-layers is not served under --mpi");
-    const lc_field_entry *fe = lc_fields_find(lc_datasets_fields(srv->datasets), s->field);
-    if (!fe)
-        return lc_http_error(srv, c, 404, "not_found", "surface.field",
-                             "surface.field: unknown field \"%.200s\" (GET /api/v1/datasets lists the fields)", s->field);
-    lc_seed seed = {.count = s->seed_count};
-    memcpy(seed.points, s->seed, (size_t)s->seed_count * sizeof s->seed[0]);
-    lc_error e = {0};
-    if (lc_seed_check(&seed, fe->field, &e) != 0)
-        return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "surface.seed", "surface.seed: %s", e.msg);
-    const double *b = fe->field->bounds;
-    double diag = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
-    int k = 1;
-    lc_surface_bytes(req->render.width, req->render.height, s->max_layers, &k);
-    double steps = lc_cost_surface_steps(diag, fe->field->mag_max, s->step, s->length), cost = 0;
-    const char *field = NULL;
-    char why[320];
-    if (lc_cost_check_surface(&req->render, s->particles, steps, k, srv->cfg.max_cost, &cost, &field, why,
-                              sizeof why) != 0) {
-        lc_metrics_refused(srv->metrics, "cost");
-        return lc_http_error(srv, c, 400, "too_expensive", field, "%s: %s", field, why);
-    }
-    return queue_job(ctx, c, req, NULL, NULL, NULL, 0.0, cost, fe->field);
+    double cost = 0;
+    const lc_field *field = NULL;
+    lc_proto_error pe;
+    if (lc_session_check_surface(srv, req, &cost, &field, &pe) != 0)
+        return strcmp(pe.code, "not_found") == 0
+                   ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
+                   : lc_http_proto_error(srv, c, &pe);
+    return queue_job(ctx, c, req, NULL, NULL, NULL, 0.0, cost, field);
 }
 
 /* Hands a checked render to the pool (field: method surface-layers). */
@@ -334,6 +315,17 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
     return start_render(ctx, c, &req, ds, NULL, NULL, 0.0);
 }
 
+/* HTTP sessions render one frame per request with the dataset's frame
+ * state; method surface-layers streams over WebSocket sessions instead. */
+static int refuse_surface(const lc_request *req, lc_proto_error *pe)
+{
+    if (req->render.method != LC_METHOD_SURFACE_LAYERS)
+        return 0;
+    return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method",
+                              "HTTP sessions do not render surface-layers; POST /api/v1/render draws it in one "
+                              "request, a WebSocket session streams it");
+}
+
 enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c)
 {
     lc_server *srv = ctx->srv;
@@ -345,7 +337,7 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
     } else {
         lc_request_default(&req);
     }
-    if (lc_session_refuse_layers(&req, &pe) != 0)
+    if (lc_session_refuse_layers(&req, &pe) != 0 || refuse_surface(&req, &pe) != 0)
         return lc_http_proto_error(srv, c, &pe);
     const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
     if (!ds)
@@ -400,7 +392,10 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
                              "session %s is rendering a frame; send the next one after it", s->id);
     }
     lc_request req; /* s->req never keeps a dt: without one in the update, req has none */
+    lc_request before = s->req;
     int rc = lc_session_update_locked(s, update, &srv->cfg.limits, &req, &pe);
+    if (rc == 0 && (rc = refuse_surface(&req, &pe)) != 0)
+        s->req = before;
     json_decref(update);
     if (rc != 0) {
         pthread_mutex_unlock(&s->lock);

@@ -132,6 +132,14 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.has_color_ticks = true;
         memcpy(h.color_ticks, e->info.color_ticks, sizeof h.color_ticks);
     }
+    if (e->info.has_surface) {
+        h.has_surface = true;
+        h.surface_curves = e->info.surface_curves;
+        h.surface_particles = (uint64_t)e->frame.req.surface.particles;
+        h.surface_layers = e->info.surface_mean_layers;
+        h.surface_overflow = e->info.surface_overflow;
+        h.surface_k = e->info.surface_k;
+    }
     unsigned char *msg = NULL;
     size_t len = 0;
     rc = lc_proto_pack_frame(&h, img, size, &msg, &len);

@@ -1,6 +1,9 @@
-/* A worker's frame of method "surface-layers" (surface_job.h). */
+/* A worker's frame of method "surface-layers", one-shot or a session's
+ * (surface_job.h). */
 #include "surface_job.h"
 
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -8,44 +11,143 @@
 
 #define TRACE_THREADS_MAX 8
 
-int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
-                          uint8_t *rgba, lc_frame_info *info, lc_error *err)
+static int trace_threads(void)
+{
+    /* Tracing is CPU work on the worker's thread and a few more: the frame waits for it anyway. */
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    return cpus < 1 ? 1 : cpus > TRACE_THREADS_MAX ? TRACE_THREADS_MAX : (int)cpus;
+}
+
+static int to_params(const lc_surface_request *s, lc_surface_params *sp, lc_seed *seed, lc_error *err)
+{
+    if (s->seed_count < 2 || s->seed_count > LC_SEED_MAX_POINTS)
+        return lc_err_field(err, LC_ERR_INVALID, "surface.seed", "surface.seed: 2 to %d points", LC_SEED_MAX_POINTS);
+    memset(seed, 0, sizeof *seed);
+    seed->count = s->seed_count;
+    memcpy(seed->points, s->seed, (size_t)s->seed_count * sizeof s->seed[0]);
+    *sp = (lc_surface_params){.particles = s->particles,
+                              .step = s->step,
+                              .length = s->length,
+                              .epsilon = s->epsilon,
+                              .opacity = s->opacity,
+                              .max_layers = s->max_layers,
+                              .composite = (int)s->composite};
+    memcpy(sp->color, s->color, sizeof sp->color);
+    return 0;
+}
+
+/* The frame info of a surface frame from its statistics. */
+static void fill_info(lc_frame_info *info, const lc_surface_info *si)
+{
+    info->element_count = (uint32_t)si->stats.curves;
+    info->has_surface = 1;
+    info->surface_curves = si->stats.curves;
+    info->surface_overflow = si->stats.overflow;
+    info->surface_k = si->k;
+    info->surface_max_layers = si->stats.max_layers;
+    info->surface_mean_layers = si->stats.mean_layers;
+    info->surface_trace_ms = si->trace_ms;
+    info->fragments = si->stats.fragments;
+    info->dropped_fragments = si->stats.pool_dropped;
+}
+
+static void reset_info(lc_frame_info *info, const lc_render_params *p)
 {
     memset(info, 0, sizeof *info);
     for (int i = 0; i < LC_PASS_COUNT; i++)
         info->pass_ms[i] = -1;
-    lc_seed seed = {.count = s->seed_count};
-    if (s->seed_count < 2 || s->seed_count > LC_SEED_MAX_POINTS)
-        return lc_err_field(err, LC_ERR_INVALID, "surface.seed", "surface.seed: 2 to %d points", LC_SEED_MAX_POINTS);
-    memcpy(seed.points, s->seed, (size_t)s->seed_count * sizeof s->seed[0]);
-    lc_surface_params sp = {.particles = s->particles,
-                            .step = s->step,
-                            .length = s->length,
-                            .epsilon = s->epsilon,
-                            .opacity = s->opacity,
-                            .max_layers = s->max_layers,
-                            .composite = (int)s->composite};
-    memcpy(sp.color, s->color, sizeof sp.color);
-    /* Tracing is CPU work on the worker's thread and a few more: the frame waits for it anyway. */
-    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-    int threads = cpus < 1 ? 1 : cpus > TRACE_THREADS_MAX ? TRACE_THREADS_MAX : (int)cpus;
-    lc_surface_info si;
-    double t0 = lc_now();
-    int rc = lc_surface_render(field, &seed, &sp, p, threads, rgba, &si, &info->camera, err);
-    info->wall_ms = (lc_now() - t0) * 1000.0;
     info->width = p->width, info->height = p->height;
+}
+
+int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
+                          uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    reset_info(info, p);
+    lc_surface_params sp;
+    lc_seed seed;
+    int rc = to_params(s, &sp, &seed, err);
     if (rc)
         return rc;
-    info->element_count = (uint32_t)si.stats.curves;
-    info->has_surface = 1;
-    info->surface_curves = si.stats.curves;
-    info->surface_overflow = si.stats.overflow;
-    info->surface_k = si.k;
-    info->surface_max_layers = si.stats.max_layers;
-    info->surface_mean_layers = si.stats.mean_layers;
-    info->surface_trace_ms = si.trace_ms;
-    info->fragments = si.stats.fragments;
-    info->dropped_fragments = si.stats.pool_dropped;
+    lc_surface_info si;
+    double t0 = lc_now();
+    rc = lc_surface_render(field, &seed, &sp, p, trace_threads(), rgba, &si, &info->camera, err);
+    info->wall_ms = (lc_now() - t0) * 1000.0;
+    if (rc)
+        return rc;
+    fill_info(info, &si);
     info->converged = 1; /* every curve is in: the one-shot image is the converged surface */
+    return 0;
+}
+
+struct lc_surface_stream {
+    const lc_field *field;
+    lc_surface_request traced_for; /* seed, step and length of the curves below */
+    lc_trace_curve *curves;
+    uint32_t count, cap;
+};
+
+void lc_surface_stream_free(lc_surface_stream *st)
+{
+    if (!st)
+        return;
+    lc_trace_curves_free(st->curves, st->count);
+    free(st->curves);
+    free(st);
+}
+
+/* Whether the curves traced so far belong to s's surface. */
+static int same_surface(const lc_surface_stream *st, const lc_field *field, const lc_surface_request *s)
+{
+    const lc_surface_request *t = &st->traced_for;
+    return st->field == field && t->seed_count == s->seed_count &&
+           memcmp(t->seed, s->seed, (size_t)s->seed_count * sizeof s->seed[0]) == 0 && t->step == s->step &&
+           t->length == s->length;
+}
+
+int lc_surface_stream_frame(lc_surface_stream **stp, const lc_field *field, const lc_surface_request *s,
+                            const lc_render_params *p, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    reset_info(info, p);
+    lc_surface_params sp;
+    lc_seed seed;
+    int rc = to_params(s, &sp, &seed, err);
+    if (!rc && (rc = lc_seed_check(&seed, field, err)) != 0 && err)
+        snprintf(err->field, sizeof err->field, "surface.seed");
+    if (rc)
+        return rc;
+    if (!*stp && !(*stp = calloc(1, sizeof **stp)))
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    lc_surface_stream *st = *stp;
+    if (!same_surface(st, field, s) || st->count > (uint32_t)s->particles) { /* a new surface: start again */
+        lc_trace_curves_free(st->curves, st->count);
+        st->count = 0;
+        st->field = field;
+        st->traced_for = *s;
+    }
+    double t0 = lc_now();
+    uint32_t want = (uint32_t)s->particles, add = want - st->count;
+    if (add > (uint32_t)s->curves_per_frame)
+        add = (uint32_t)s->curves_per_frame;
+    if (st->count + add > st->cap) {
+        uint32_t cap = st->cap ? st->cap : 256;
+        while (cap < st->count + add)
+            cap *= 2;
+        lc_trace_curve *c = realloc(st->curves, cap * sizeof *c);
+        if (!c)
+            return lc_err(err, LC_ERR_NOMEM, "out of memory for %u curves", cap);
+        st->curves = c, st->cap = cap;
+    }
+    lc_surface_info si = {0};
+    lc_trace_desc td = {.step = s->step, .max_length = s->length};
+    if (add && (rc = lc_trace_curves(field, &seed, &td, st->count, add, trace_threads(), st->curves + st->count, err)))
+        return rc;
+    st->count += add;
+    si.trace_ms = (lc_now() - t0) * 1000.0;
+    rc = lc_surface_draw(field, st->curves, st->count, &sp, p, field->bounds, rgba, &si, &info->camera, err);
+    info->wall_ms = (lc_now() - t0) * 1000.0;
+    if (rc)
+        return rc;
+    fill_info(info, &si);
+    info->converged = st->count >= want;
     return 0;
 }

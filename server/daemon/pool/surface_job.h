@@ -20,6 +20,21 @@ extern "C" {
 int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
                           uint8_t *rgba, lc_frame_info *info, lc_error *err);
 
+/* A WebSocket session's surface (method surface-layers): the curves traced
+ * so far, kept on the CPU between frames. Owned by the session, touched only
+ * by the worker rendering its frame. */
+typedef struct lc_surface_stream lc_surface_stream;
+void lc_surface_stream_free(lc_surface_stream *st);
+
+/* One session frame: traces the next s->curves_per_frame particles (all
+ * traced ones are dropped first when the field, seed, step or length
+ * changed: a new surface) and draws every curve traced so far with p's
+ * camera (no camera: fitted to the field's bounds, so that the view stays
+ * put while the surface grows). info->converged once all s->particles are
+ * in. *st is created on the first frame. */
+int lc_surface_stream_frame(lc_surface_stream **st, const lc_field *field, const lc_surface_request *s,
+                            const lc_render_params *p, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+
 #ifdef __cplusplus
 }
 #endif

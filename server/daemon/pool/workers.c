@@ -373,8 +373,15 @@ static void render_session(worker *wk, lc_session *s)
     atomic_store(&s->progress.frame, (unsigned long long)f.frame);
     wk->progress = s;
     in_hand(wk, NULL, s);
-    int rc = rgba ? render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
-                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
+    const lc_field *field = NULL; /* method surface-layers: the field, looked up again as the request may change */
+    lc_proto_error pe;
+    if (p->method == LC_METHOD_SURFACE_LAYERS && lc_session_check_surface(w->srv, &f.req, NULL, &field, &pe) != 0)
+        lc_err_field(&err, LC_ERR_INVALID, pe.field, "%s", pe.message);
+    int rc = !rgba ? lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height)
+             : p->method == LC_METHOD_SURFACE_LAYERS
+                 ? (field ? lc_surface_stream_frame(&s->surface, field, &f.req.surface, p, rgba, &info, &err)
+                          : LC_ERR_INVALID)
+                 : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
     out_of_hand(wk);
     wk->progress = NULL;
     atomic_store(&s->progress.stage, rc == 0 ? LC_PROGRESS_ENCODE : LC_PROGRESS_NONE);

@@ -1,0 +1,116 @@
+"""Method surface-layers in a WebSocket session (docs/ALGORITHM.md §23): each
+frame traces surface.curvesPerFrame more curves and draws all traced so far,
+so the frame headers count curves up to surface.particles and the frames stop
+once converged; a camera change redraws the curves traced so far without
+tracing again from the start (the count keeps growing); a new seed starts
+again from curvesPerFrame; an unknown field is refused naming surface.field
+while the session keeps serving."""
+import asyncio
+import json
+import sys
+import time
+
+from lucent_server import Check, Server, jpeg_size, skip, unpack_frame, websockets
+
+if websockets is None:
+    skip("python3-websockets is not installed")
+
+binary = sys.argv[1]
+check = Check()
+SEED = [[3.14, 0.63, 3.14], [3.14, 5.65, 3.14]]
+CAMERA = {"position": [14, 3, 8], "focalPoint": [3.14, 3.14, 3.14], "viewUp": [0, 0, 1]}
+
+
+async def recv(ws, timeout):
+    """The next non-stats message within timeout, or None."""
+    deadline = time.time() + timeout
+    while True:
+        left = deadline - time.time()
+        if left <= 0:
+            return None
+        try:
+            m = await asyncio.wait_for(ws.recv(), left)
+        except asyncio.TimeoutError:
+            return None
+        if isinstance(m, str) and json.loads(m).get("type") in ("stats", "progress"):
+            continue
+        return m
+
+
+async def frames(ws, quiet, first=30, limit=100):
+    """(header, image) of the frames until none comes for `quiet` s; text messages as ("text", msg)."""
+    got = []
+    while len(got) < limit:
+        m = await recv(ws, first if not got else quiet)
+        if m is None:
+            break
+        if isinstance(m, str):
+            got.append(("text", json.loads(m)))
+            continue
+        h, img = unpack_frame(m)
+        got.append((h, img))
+        await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+    return got
+
+
+def surfaces(got):
+    return [h["surface"] for h, _ in got if h != "text" and "surface" in h]
+
+
+async def main(srv):
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 96, "height": 80,
+                                  "devicePixelRatio": 1, "method": "surface-layers", "camera": CAMERA,
+                                  "surface": {"field": "demo:abc-flow", "seed": SEED, "particles": 600,
+                                              "curvesPerFrame": 150}}))
+        ready = json.loads(await recv(ws, 30))
+        check(ready.get("type") == "ready", "hello with method surface-layers -> ready: %r" % ready)
+        got = await frames(ws, 2)
+        s = surfaces(got)
+        counts = [x["curves"] for x in s]
+        check(counts[:4] == [150, 300, 450, 600], "each frame adds 150 curves up to 600: %r" % counts)
+        check(all(c == 600 for c in counts[4:]), "then the surface stays at 600: %r" % counts)
+        conv = [h.get("converged") for h, _ in got if h != "text"]
+        check(conv and conv[-1] is True and conv[0] is False, "converged only once all curves are in: %r" % conv)
+        check(all(x["particles"] == 600 and x["layersPerPixel"] >= 1 and x["k"] == 8 for x in s),
+              "headers carry particles, layers per pixel and k: %r" % s[-1:])
+        imgs = [img for h, img in got if h != "text"]
+        check(imgs and jpeg_size(imgs[-1]) == (96, 80), "JPEG frames of the viewport")
+        check(len(set(imgs)) >= 3, "the image changes while the surface grows (%d distinct)" % len(set(imgs)))
+
+        # A camera change redraws what was traced: no restart, the count stays.
+        cam = dict(CAMERA, position=[3.14, -10, 3.14])
+        await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": cam}))
+        got = await frames(ws, 2)
+        counts = [x["curves"] for x in surfaces(got)]
+        check(counts and min(counts) == 600, "a camera change keeps the 600 curves: %r" % counts)
+
+        # A new seed restarts from curvesPerFrame.
+        seed2 = [[2.0, 0.63, 3.14], [2.0, 5.65, 3.14]]
+        await ws.send(json.dumps({"type": "params", "surface": {"seed": seed2, "particles": 300}}))
+        got = await frames(ws, 2)
+        counts = [x["curves"] for x in surfaces(got)]
+        check(counts[:2] == [150, 300], "a new seed starts again: %r" % counts)
+
+        # Bad input is refused naming the field; the session goes on.
+        await ws.send(json.dumps({"type": "params", "surface": {"field": "no-such-flow"}}))
+        err = None
+        for _ in range(5):
+            m = await recv(ws, 10)
+            if isinstance(m, str) and json.loads(m).get("type") == "error":
+                err = json.loads(m)
+                break
+        check(err is not None and err.get("field") == "surface.field", "an unknown field names surface.field: %r" % err)
+        await ws.send(json.dumps({"type": "params", "surface": {"particles": 450}}))
+        got = await frames(ws, 2)
+        counts = [x["curves"] for x in surfaces(got)]
+        check(counts and counts[-1] == 450, "the session still serves the old field: %r" % counts)
+
+
+with Server(binary, data=("demo:points", "demo:abc-flow")) as srv:
+    asyncio.run(main(srv))
+    st, _, data = srv.request("POST", "/api/v1/sessions", json.dumps(
+        {"method": "surface-layers", "surface": {"field": "demo:abc-flow", "seed": SEED}}))
+    check(st == 400 and json.loads(data).get("error", {}).get("field") == "method",
+          "HTTP sessions refuse surface-layers naming method: %d" % st)
+check.done()

@@ -28,6 +28,7 @@ import { createSessionController } from './js/session-controller.js';
 import { createUrlController } from './js/url-controller.js';
 import { createDatasetController, datasetView } from './js/dataset-controller.js';
 import { createRecordController } from './js/record-controller.js';
+import { SurfacePanel } from './js/surface-panel.js';
 
 const TOKEN_KEY = 'lucent.token';
 
@@ -98,6 +99,7 @@ export function createApp(doc = document, win = window) {
       const seen = visibilityText(f.header.visibility);
       if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.`);
       legend.setColorTicks(f.header.colorTicks);
+      surface.frame(f.header);
       canvas.dataset.frame = String(f.header.frame);
       canvas.dataset.converged = String(!!f.header.converged);
       body('frames', state.framesDrawn);
@@ -142,6 +144,10 @@ export function createApp(doc = document, win = window) {
     toast,
   });
   const panel = new Panel($('generated'), (path, value) => params.applyChange(path, value), (text) => toast(text));
+  const surface = new SurfacePanel($('generated'), doc, (path, value) => {
+    if (path === 'method' || path === 'surface') surface.setMethod(values().method);
+    params.applyChange(path, value);
+  }, (text) => toast(text));
   const datasets = createDatasetController({
     state,
     camera,
@@ -530,6 +536,7 @@ export function createApp(doc = document, win = window) {
       // the WebSocket may still work (or will report the problem itself)
       toast(`Dataset list unavailable: ${e.message}`);
     }
+    api.fields().then((f) => surface.setFields(f), () => {});
     api.health().then((h) => {
       state.health = h;
       const r = h?.renderer ?? h?.gl?.renderer;

@@ -54,6 +54,12 @@ export class Api {
     return Array.isArray(body) ? body : Array.isArray(body?.datasets) ? body.datasets : [];
   }
 
+  /** The vector fields (GET /api/v1/datasets "fields"): an array of {name, bounds, ...}. */
+  async fields() {
+    const body = await this.#get('api/v1/datasets');
+    return Array.isArray(body?.fields) ? body.fields : [];
+  }
+
   health() {
     return this.#get('api/v1/health');
   }

@@ -178,9 +178,25 @@ export function checkField(f, v) {
       return checkList(f, v);
     case 'layers':
       return checkLayers(f, v);
+    case 'seed':
+      return checkSeed(f, v);
     default:
       return bad('unknown type');
   }
+}
+
+/** surface.seed (protocol/request_lists.c lc_proto_parse_seed): 2..maxItems finite [x, y, z], no repeats in a row. */
+function checkSeed(f, v) {
+  if (!Array.isArray(v)) return { code: 'bad_field', reason: 'expected an array of [x, y, z] points' };
+  if (v.length < 2 || v.length > f.maxItems) return { code: 'out_of_range', reason: `2 to ${f.maxItems} points (got ${v.length})` };
+  for (let i = 0; i < v.length; i++) {
+    const p = v[i], at = `[${i}]`;
+    if (!(Array.isArray(p) && p.length === 3 && p.every(isNum)))
+      return { code: 'bad_field', reason: 'expected an array of 3 finite numbers', at };
+    if (i > 0 && p.every((x, k) => x === v[i - 1][k]))
+      return { code: 'bad_field', reason: 'repeats the point before it (a segment of length 0)', at };
+  }
+  return null;
 }
 
 const isObject = (v) => v !== null && typeof v === 'object' && !Array.isArray(v);

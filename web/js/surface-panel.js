@@ -1,0 +1,116 @@
+// The page's stream-surface controls (method "surface-layers", docs/ALGORITHM.md
+// §23): pick a vector field, type the seed line's two endpoints, and the session
+// streams the surface, more curves each frame; a new seed or field restarts it.
+
+/** The default seed line of a field: across the middle along y, a tenth in from the faces. */
+export function defaultSeed(bounds) {
+  const [lo, hi] = bounds;
+  const c = [0, 1, 2].map((i) => (lo[i] + hi[i]) / 2);
+  const ey = hi[1] - lo[1];
+  const r = (x) => Number(x.toPrecision(6));
+  return [[r(c[0]), r(lo[1] + 0.1 * ey), r(c[2])], [r(c[0]), r(hi[1] - 0.1 * ey), r(c[2])]];
+}
+
+/**
+ * The request changes that show the surface (on) or go back to the dataset
+ * (off, to previousMethod): a list of [path, value] for the params controller.
+ */
+export function surfaceChanges(on, { field, seed, particles, curvesPerFrame }, previousMethod = 'fourier') {
+  if (!on) return [['method', previousMethod]];
+  return [['surface', { field, seed, particles, curvesPerFrame }], ['method', 'surface-layers']];
+}
+
+/** "curves 450 / 600 · 1.10 layers per pixel" from a frame header's surface object. */
+export function surfaceStatus(s) {
+  if (!s) return '';
+  const done = s.curves >= s.particles ? ' (complete)' : '';
+  return `curves ${s.curves} / ${s.particles}${done} · ${Number(s.layersPerPixel).toFixed(2)} layers per pixel` +
+    (s.overflow ? ` · ${s.overflow} fragments beyond ${s.k} layers` : '');
+}
+
+/** A fieldset in the settings panel; apply(path, value) edits the request, toast(text) reports. */
+export class SurfacePanel {
+  constructor(parent, doc, apply, toast) {
+    this.apply = apply;
+    this.toast = toast;
+    this.fields = [];
+    this.previousMethod = 'fourier';
+    const el = (tag, props = {}) => Object.assign(doc.createElement(tag), props);
+    const box = el('fieldset', { className: 'group', id: 'group-surface' });
+    box.dataset.testid = 'surface';
+    box.append(el('legend', { textContent: 'Stream surface' }));
+    const row = (label, input) => {
+      const r = el('div', { className: 'row' });
+      r.append(el('label', { textContent: label, htmlFor: input.id }), input);
+      box.append(r);
+      return input;
+    };
+    this.on = row('Show', el('input', { type: 'checkbox', id: 'surface-on' }));
+    this.field = row('Vector field', el('select', { id: 'surface-field' }));
+    this.a = row('Seed start x,y,z', el('input', { type: 'text', id: 'surface-a', size: 18 }));
+    this.b = row('Seed end x,y,z', el('input', { type: 'text', id: 'surface-b', size: 18 }));
+    this.particles = row('Curves', el('input', { type: 'number', id: 'surface-particles', min: 1, max: 100000, value: 2000 }));
+    this.perFrame = row('Curves per frame', el('input', { type: 'number', id: 'surface-per-frame', min: 1, max: 100000, value: 200 }));
+    this.status = el('p', { className: 'info', id: 'surface-status' });
+    this.status.setAttribute('role', 'status');
+    box.append(this.status);
+    box.hidden = true; // until the server lists a field
+    this.box = box;
+    parent.append(box);
+    this.field.addEventListener('change', () => {
+      this.resetSeed();
+      this.send();
+    });
+    this.on.addEventListener('change', () => this.send());
+    for (const input of [this.a, this.b, this.particles, this.perFrame]) input.addEventListener('change', () => this.send());
+  }
+
+  /** The server's fields (GET /api/v1/datasets "fields"). */
+  setFields(fields) {
+    this.fields = Array.isArray(fields) ? fields : [];
+    this.field.replaceChildren(...this.fields.map((f) => Object.assign(this.field.ownerDocument.createElement('option'), { value: f.name, textContent: f.name })));
+    this.box.hidden = this.fields.length === 0;
+    if (this.fields.length) this.resetSeed();
+  }
+
+  resetSeed() {
+    const f = this.fields.find((x) => x.name === this.field.value);
+    if (!f?.bounds) return;
+    const [a, b] = defaultSeed(f.bounds);
+    this.a.value = a.join(', ');
+    this.b.value = b.join(', ');
+  }
+
+  /** The form's values, or null (with a toast) when a seed point is not three numbers. */
+  values() {
+    const point = (input, name) => {
+      const p = input.value.split(',').map((x) => Number(x.trim()));
+      if (p.length !== 3 || !p.every(Number.isFinite)) {
+        this.toast(`${name}: expected three numbers x, y, z`);
+        return null;
+      }
+      return p;
+    };
+    const a = point(this.a, 'Seed start'), b = point(this.b, 'Seed end');
+    if (!a || !b) return null;
+    return { field: this.field.value, seed: [a, b], particles: Number(this.particles.value), curvesPerFrame: Number(this.perFrame.value) };
+  }
+
+  /** Sends the form: a new seed or field restarts the surface on the server. */
+  send() {
+    const v = this.on.checked ? this.values() : {};
+    if (!v) return;
+    for (const [path, value] of surfaceChanges(this.on.checked, v, this.previousMethod)) this.apply(path, value);
+    if (!this.on.checked) this.status.textContent = '';
+  }
+
+  /** The method the dataset had, to go back to. */
+  setMethod(method) {
+    if (method && method !== 'surface-layers') this.previousMethod = method;
+  }
+
+  /** A drawn frame's header: its surface statistics. */
+  frame(header) {
+    if (header?.surface) this.status.textContent = surfaceStatus(header.surface);
+  }
+}

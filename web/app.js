@@ -10,7 +10,7 @@
 // message, its errors are shown as they are).
 
 import { ackMessage, resizeMessage, tokenSubprotocols } from './js/protocol.js';
-import { cloneCamera, roundCamera } from './js/camera.js';
+import { cloneCamera, roundCamera, DEFAULT_CAMERA, fitCamera, flatBounds } from './js/camera.js';
 import { parseHash, tokenFromLocation } from './js/url-state.js';
 import { getPath, merge, UPDATE_SECTIONS } from './js/schema.js';
 import { Connection } from './js/connection.js';
@@ -147,7 +147,7 @@ export function createApp(doc = document, win = window) {
   const surface = new SurfacePanel($('generated'), doc, (path, value) => {
     if (path === 'method' || path === 'surface') surface.setMethod(values().method);
     params.applyChange(path, value);
-  }, (text) => toast(text));
+  }, (text) => toast(text), (bounds) => camera.setCamera(fitCamera(DEFAULT_CAMERA, flatBounds(bounds), [-1, 1.5, -0.8], [0, 0, 1], aspect())));
   const datasets = createDatasetController({
     state,
     camera,

@@ -55,7 +55,7 @@ const T0 = Date.now();
 const log = (...a) => console.log(`[${((Date.now() - T0) / 1000).toFixed(1)}s]`, ...a);
 
 // ------------------------------------------------------------------ daemon
-const DAEMON_ARGS = ['--data', 'demo:tornado', 'demo:points', '--demo-size', env.LUCENT_E2E_DEMO_SIZE ?? '80', '--workers', '1'];
+const DAEMON_ARGS = ['--data', 'demo:tornado', 'demo:points', 'demo:abc-flow', '--demo-size', env.LUCENT_E2E_DEMO_SIZE ?? '80', '--workers', '1'];
 const daemons = new Set();
 
 /** Starts `lucent serve` on a free port (port 0, read back from the log); resolves {proc, url, port, lines}. */
@@ -840,6 +840,49 @@ test('stopped server: visible state, then reconnection restores the view', async
   const d = meanDiff(sig0, await signature(page));
   check(d < 3, `image after reconnect differs (mean diff ${d.toFixed(2)})`);
   await shot(page, '09-reconnected');
+});
+
+test('stream surface: pick a field, place the seed line, watch it grow; a new seed restarts', async () => {
+  const page = await newPage(`${ctx.d.url}/#dataset=demo:tornado`);
+  ctx.page = page;
+  await settled(page);
+  await page.locator('#surface-field').selectOption('demo:abc-flow');
+  const seedA = await page.locator('#surface-a').inputValue();
+  check(/^3\.14159, 0\.628319, 3\.14159$/.test(seedA), `default seed start from the field's bounds: ${seedA}`);
+  await page.locator('#surface-particles').fill('400');
+  await page.locator('#surface-per-frame').fill('100');
+  // every drawn frame's curve count, in order
+  await page.evaluate(() => {
+    window.__curves = [];
+    window.__after = window.lucent.state.lastFrame?.frame ?? -1;
+    setInterval(() => {
+      const f = window.lucent.state.lastFrame;
+      const c = f?.surface?.curves;
+      const l = window.__curves;
+      if (c !== undefined && f.frame > window.__after && l[l.length - 1] !== c) l.push(c);
+    }, 10);
+  });
+  await page.locator('#surface-on').check();
+  const complete = () => page.waitForFunction(() => /curves 400 \/ 400 \(complete\)/.test(document.getElementById('surface-status').textContent) &&
+    window.__curves[window.__curves.length - 1] === 400, null, { timeout: 60000 });
+  await complete();
+  let curves = await page.evaluate(() => window.__curves.slice());
+  check(curves.length >= 2 && curves[0] < 400 && curves[curves.length - 1] === 400, `the surface grows frame by frame: ${curves}`);
+  const grown = await signature(page);
+  await page.evaluate(() => { window.__curves = []; window.__after = window.lucent.state.lastFrame.frame; });
+  await page.locator('#surface-a').fill('2, 0.63, 3.14');
+  await page.locator('#surface-a').dispatchEvent('change');
+  await page.waitForFunction(() => window.__curves.length > 0, null, { timeout: 60000 });
+  await complete();
+  curves = await page.evaluate(() => window.__curves.slice());
+  check(curves[0] < 400, `a new seed restarts the surface: ${curves}`);
+  const moved = await signature(page);
+  check(meanDiff(grown, moved) > 0.1, `the new seed's surface looks different (mean diff ${meanDiff(grown, moved).toFixed(2)})`);
+  await shot(page, '10-stream-surface');
+  await page.locator('#surface-on').uncheck();
+  await page.waitForFunction(() => { const f = window.lucent.state.lastFrame; return f && !f.surface && f.converged; }, null, { timeout: 60000 });
+  const method = await page.evaluate(() => window.lucent.state.update.method);
+  check(method === 'fourier', `hiding the surface goes back to the dataset's method: ${method}`);
 });
 
 // ------------------------------------------------------------------ runner

@@ -28,11 +28,17 @@ export function surfaceStatus(s) {
     (s.overflow ? ` · ${s.overflow} fragments beyond ${s.k} layers` : '');
 }
 
-/** A fieldset in the settings panel; apply(path, value) edits the request, toast(text) reports. */
+/**
+ * A fieldset in the settings panel; apply(path, value) edits the request,
+ * toast(text) reports, fit(bounds) points the camera at a field's domain (the
+ * dataset's view would miss it).
+ */
 export class SurfacePanel {
-  constructor(parent, doc, apply, toast) {
+  constructor(parent, doc, apply, toast, fit = () => {}) {
     this.apply = apply;
     this.toast = toast;
+    this.fit = fit;
+    this.fitted = null; // the field the camera was last fitted to
     this.fields = [];
     this.previousMethod = 'fourier';
     const el = (tag, props = {}) => Object.assign(doc.createElement(tag), props);
@@ -100,6 +106,12 @@ export class SurfacePanel {
   send() {
     const v = this.on.checked ? this.values() : {};
     if (!v) return;
+    const f = this.fields.find((x) => x.name === v.field);
+    if (this.on.checked && f?.bounds && this.fitted !== f.name) {
+      this.fitted = f.name;
+      this.fit(f.bounds);
+    }
+    if (!this.on.checked) this.fitted = null;
     for (const [path, value] of surfaceChanges(this.on.checked, v, this.previousMethod)) this.apply(path, value);
     if (!this.on.checked) this.status.textContent = '';
   }

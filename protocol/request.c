@@ -762,10 +762,9 @@ static json_t *emit_section(const lc_request *r, const char *section)
 json_t *lc_proto_schema(const lc_proto_limits *lim)
 {
     static const char *const type_names[] = {
-        [T_INT] = "int",   [T_NUM] = "num",   [T_BOOL] = "bool",   [T_STR] = "str",    [T_ENUM] = "enum",
-        [T_NAME] = "enum", [T_VEC3] = "vec3", [T_COLOR] = "color", [T_RANGE] = "range",
-        [T_TERMS] = "terms", [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges", [T_LAYERS] = "layers",
-        [T_SEED] = "seed"};
+        [T_INT] = "int",         [T_NUM] = "num",     [T_BOOL] = "bool",     [T_STR] = "str",       [T_ENUM] = "enum",
+        [T_NAME] = "enum",       [T_VEC3] = "vec3",   [T_COLOR] = "color",   [T_RANGE] = "range",   [T_TERMS] = "terms",
+        [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges", [T_LAYERS] = "layers", [T_SEED] = "seed"};
     lc_proto_limits dl;
     if (!lim) {
         lc_proto_limits_default(&dl);

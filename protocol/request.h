@@ -31,18 +31,18 @@ typedef enum { LC_SURFACE_LAYERS = 0, LC_SURFACE_WEIGHTED_AVERAGE, LC_SURFACE_WE
  * vector field's integral surface, traced from a seed polyline and drawn as
  * surface layers. Zero step/length mean the tracer's defaults. */
 typedef struct lc_surface_request {
-    char field[128];     /* a loaded field's name ("demo:abc-flow"); required by the method */
-    int seed_count;      /* 2 .. LC_SURFACE_SEED_MAX points (0 = not given) */
+    char field[128]; /* a loaded field's name ("demo:abc-flow"); required by the method */
+    int seed_count;  /* 2 .. LC_SURFACE_SEED_MAX points (0 = not given) */
     double seed[LC_SURFACE_SEED_MAX][3];
-    int particles;       /* curves traced along the seed (default 2000) */
-    double step;         /* RK4 time step, 0 = 1/200 of the diagonal over the largest |v| */
-    double length;       /* arc length of a curve, 0 = 2 field diagonals */
-    double epsilon;      /* merge distance as a fraction of the field's diagonal (default 1e-2) */
-    double opacity;      /* every layer's alpha (default 0.3) */
-    int max_layers;      /* K, layers a pixel keeps (default 8) */
+    int particles;                  /* curves traced along the seed (default 2000) */
+    double step;                    /* RK4 time step, 0 = 1/200 of the diagonal over the largest |v| */
+    double length;                  /* arc length of a curve, 0 = 2 field diagonals */
+    double epsilon;                 /* merge distance as a fraction of the field's diagonal (default 1e-2) */
+    double opacity;                 /* every layer's alpha (default 0.3) */
+    int max_layers;                 /* K, layers a pixel keeps (default 8) */
     lc_surface_composite composite; /* layers (default), or a count-based OIT baseline */
-    double color[3];     /* the surface's base colour */
-    int curves_per_frame; /* WebSocket sessions: curves traced and added per frame (default 200) */
+    double color[3];                /* the surface's base colour */
+    int curves_per_frame;           /* WebSocket sessions: curves traced and added per frame (default 200) */
 } lc_surface_request;
 
 /* One render: which data, how big, which camera and parameters, which image. */

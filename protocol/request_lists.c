@@ -222,8 +222,7 @@ int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list
 
 #define SEED_CAP 256 /* points a seed may have at most, whatever max says */
 
-int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int max, const char *path,
-                        lc_list_error *err)
+int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int max, const char *path, lc_list_error *err)
 {
     if (!json_is_array(v))
         return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of [x, y, z] points");
@@ -246,7 +245,8 @@ int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int ma
             tmp[i][a] = json_number_value(x);
         }
         if (i > 0 && tmp[i][0] == tmp[i - 1][0] && tmp[i][1] == tmp[i - 1][1] && tmp[i][2] == tmp[i - 1][2])
-            return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, at, "repeats the point before it (a segment of length 0)");
+            return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, at,
+                                      "repeats the point before it (a segment of length 0)");
     }
     memcpy(points, tmp, n * sizeof tmp[0]);
     *count = (int)n;

@@ -27,8 +27,8 @@ typedef struct lc_stream_mesh_desc {
 
 typedef struct lc_stream_mesh {
     uint32_t vertex_count, triangle_count, particles;
-    float *xyz;         /* 3 per vertex */
-    float *normal;      /* 3 per vertex, the particles' ghost normals (unit, side arbitrary) */
+    float *xyz;          /* 3 per vertex */
+    float *normal;       /* 3 per vertex, the particles' ghost normals (unit, side arbitrary) */
     uint32_t *triangles; /* 3 per triangle */
 } lc_stream_mesh;
 

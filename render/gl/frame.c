@@ -167,8 +167,9 @@ static int check_trusted_params(const lc_render_params *p, lc_error *err)
         return lc_err(err, LC_ERR_INTERNAL, "render parameters were not validated (size %dx%d, %d bands, method %d)",
                       p->width, p->height, p->foo.bands, (int)p->method);
     if (p->method == LC_METHOD_SURFACE_LAYERS) /* a field's surface: lc_surface_render */
-        return lc_err_field(err, LC_ERR_INVALID, "method", "surface-layers renders a vector field's surface "
-                                                           "(surface.field), not a dataset");
+        return lc_err_field(err, LC_ERR_INVALID, "method",
+                            "surface-layers renders a vector field's surface "
+                            "(surface.field), not a dataset");
     return 0;
 }
 

@@ -25,22 +25,22 @@ extern "C" {
 #define LC_SURFACE_BATCH 1000                  /* curves drawn per batch */
 
 typedef struct lc_surface_params {
-    int particles;      /* curves traced along the seed, >= 1 */
-    double step;        /* RK4 step, 0 = the tracer's default */
-    double length;      /* arc length of a curve, 0 = the tracer's default */
-    double epsilon;     /* merge distance, a fraction of the field's diagonal, >= 0 */
-    double opacity;     /* every layer's alpha in (0, 1] */
-    int max_layers;     /* K asked for (1..LC_SURFACE_LAYERS_MAX_K), lowered to the budget */
-    int composite;      /* LC_SURFACE_COMPOSITE_* */
-    double color[3];    /* base colour in [0, 1] */
+    int particles;   /* curves traced along the seed, >= 1 */
+    double step;     /* RK4 step, 0 = the tracer's default */
+    double length;   /* arc length of a curve, 0 = the tracer's default */
+    double epsilon;  /* merge distance, a fraction of the field's diagonal, >= 0 */
+    double opacity;  /* every layer's alpha in (0, 1] */
+    int max_layers;  /* K asked for (1..LC_SURFACE_LAYERS_MAX_K), lowered to the budget */
+    int composite;   /* LC_SURFACE_COMPOSITE_* */
+    double color[3]; /* base colour in [0, 1] */
 } lc_surface_params;
 
 typedef struct lc_surface_info {
     lc_surface_layers_stats stats;
-    int k;              /* layers per pixel used (max_layers under the budget) */
-    double trace_ms;    /* CPU tracing */
-    double draw_ms;     /* batches and composite, read back */
-    uint64_t vertices;  /* of all curves */
+    int k;             /* layers per pixel used (max_layers under the budget) */
+    double trace_ms;   /* CPU tracing */
+    double draw_ms;    /* batches and composite, read back */
+    uint64_t vertices; /* of all curves */
 } lc_surface_info;
 
 /* Bytes a frame of w x h with K layers holds on the GPU (layers, pixel words,

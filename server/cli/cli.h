@@ -87,8 +87,8 @@ int lc_cli_trace_scene(const char *spec, const char *seed_text, uint32_t curves,
 /* `lucent gen FIELD --seed-line ... --mesh`: the meshed reference of the
  * surface (render/field/stream_mesh.h) as a triangle scene; split 0 = the
  * default insertion distance. */
-int lc_cli_mesh_scene(const char *spec, const char *seed_text, double split, double step, double length,
-                      lc_scene **out, lc_error *err);
+int lc_cli_mesh_scene(const char *spec, const char *seed_text, double split, double step, double length, lc_scene **out,
+                      lc_error *err);
 int lc_cli_bench(int argc, char **argv);
 int lc_cli_compare(int argc, char **argv);
 int lc_cli_schema(int argc, char **argv);

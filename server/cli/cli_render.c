@@ -408,13 +408,14 @@ int lc_cli_gen(int argc, char **argv)
         FILE *f = pr > 0 ? stdout : stderr;
         if (pr > 0 && lc_cli_has_flag(argc, argv, "--list-flags"))
             return 0;
-        fprintf(f,
-                "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
-                "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
-                "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z -o FILE.vtk [--count CURVES] [--step H] [--length L]\n"
-                "         (the curves of an integral surface: FIELD is demo:abc-flow, ... or a grid .vtk)\n"
-                "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z --mesh -o FILE.obj [--split D] [--step H] [--length L]\n"
-                "         (the surface as a triangle mesh, front refinement: the meshed reference)\n");
+        fprintf(
+            f,
+            "usage: lucent gen NAME -o FILE.ply|FILE.obj|FILE.vtk [--count N] [--seed S]\n"
+            "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
+            "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z -o FILE.vtk [--count CURVES] [--step H] [--length L]\n"
+            "         (the curves of an integral surface: FIELD is demo:abc-flow, ... or a grid .vtk)\n"
+            "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z --mesh -o FILE.obj [--split D] [--step H] [--length L]\n"
+            "         (the surface as a triangle mesh, front refinement: the meshed reference)\n");
         lc_opt_usage(f, &set, 1);
         fprintf(f, "demos:");
         for (const char *const *d = lc_demo_names(); *d; d++)
@@ -432,12 +433,12 @@ int lc_cli_gen(int argc, char **argv)
     int rc =
         lc_field_is_source(name)
             ? (args.mesh ? lc_cli_mesh_scene(name, args.seed_line, args.split, args.step, args.length, &s, &err)
-               : args.count > 100000
-                   ? lc_err(&err, LC_ERR_LIMIT, "--count: at most 100000 curves")
-                   : lc_cli_trace_scene(name, args.seed_line, args.count ? (uint32_t)args.count : 64, args.step,
-                                        args.length, &s, &err))
+               : args.count > 100000 ? lc_err(&err, LC_ERR_LIMIT, "--count: at most 100000 curves")
+                                     : lc_cli_trace_scene(name, args.seed_line, args.count ? (uint32_t)args.count : 64,
+                                                          args.step, args.length, &s, &err))
         : args.seed_line || args.step || args.length || args.mesh || args.split
-            ? lc_err(&err, LC_ERR_INVALID, "%s: --seed-line, --step, --length, --mesh and --split apply to vector fields only", name)
+            ? lc_err(&err, LC_ERR_INVALID,
+                     "%s: --seed-line, --step, --length, --mesh and --split apply to vector fields only", name)
         : lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
         : desc.count || desc.seed
             ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)

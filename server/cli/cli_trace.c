@@ -123,8 +123,8 @@ int lc_cli_trace_scene(const char *spec, const char *seed_text, uint32_t curves,
     return rc;
 }
 
-int lc_cli_mesh_scene(const char *spec, const char *seed_text, double split, double step, double length,
-                      lc_scene **out, lc_error *err)
+int lc_cli_mesh_scene(const char *spec, const char *seed_text, double split, double step, double length, lc_scene **out,
+                      lc_error *err)
 {
     *out = NULL;
     lc_field *f = NULL;
@@ -144,8 +144,8 @@ int lc_cli_mesh_scene(const char *spec, const char *seed_text, double split, dou
         printf("meshed %u particles: %u vertices, %u triangles in %.1f ms\n", m.particles, m.vertex_count,
                m.triangle_count, (lc_now() - t0) * 1e3);
     if (!rc && m.triangle_count == 0)
-        rc = lc_err(err, LC_ERR_INVALID, "%s: the surface has no triangle (does the seed line lie in a stalled region?)",
-                    spec);
+        rc = lc_err(err, LC_ERR_INVALID,
+                    "%s: the surface has no triangle (does the seed line lie in a stalled region?)", spec);
     if (!rc && m.vertex_count > LC_MAX_VERTICES)
         rc = lc_err(err, LC_ERR_LIMIT, "%s: %u vertices exceed the limit of %u", spec, m.vertex_count,
                     (unsigned)LC_MAX_VERTICES);

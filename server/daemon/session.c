@@ -276,8 +276,8 @@ int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost
     double steps = lc_cost_surface_steps(diag, fe->field->mag_max, s->step, s->length), cost = 0;
     const char *field = NULL;
     char why[320];
-    int rc = lc_cost_check_surface(&req->render, s->particles, steps, k, srv->cfg.max_cost, &cost, &field, why,
-                                   sizeof why);
+    int rc =
+        lc_cost_check_surface(&req->render, s->particles, steps, k, srv->cfg.max_cost, &cost, &field, why, sizeof why);
     if (cost_out)
         *cost_out = cost;
     if (field_out)

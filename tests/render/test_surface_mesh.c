@@ -76,7 +76,8 @@ static void check_mesh(const lc_stream_mesh *m, double split)
         /* (a_k, b_k) of every quad's first triangle are neighbours on one front */
         if (t % 2 == 0) {
             const float *a = m->xyz + 3 * v[0], *b = m->xyz + 3 * v[1];
-            double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+            double d =
+                sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
             far += d > split * (1 + 1e-6);
         }
     }
@@ -98,8 +99,8 @@ int main(void)
     lc_render_params_default(&p);
     p.width = p.height = SIZE;
     p.style.background[0] = p.style.background[1] = p.style.background[2] = 1;
-    lc_surface_params sp = {.particles = CURVES, .length = LENGTH, .epsilon = EPSILON, .opacity = OPACITY,
-                            .max_layers = 16};
+    lc_surface_params sp = {
+        .particles = CURVES, .length = LENGTH, .epsilon = EPSILON, .opacity = OPACITY, .max_layers = 16};
     memcpy(sp.color, COLOR, sizeof sp.color);
     uint8_t *layers = malloc(SIZE * SIZE * 4), *wavg = malloc(SIZE * SIZE * 4), *ref = malloc(SIZE * SIZE * 4);
     lc_surface_info si;
@@ -117,8 +118,8 @@ int main(void)
     lc_stream_mesh_desc md = {.trace = {.max_length = LENGTH}, .split = split};
     double t0 = lc_now();
     CHECK(lc_stream_mesh_build(f, &seed, &md, &m, &err) == 0, "mesh: %s", err.msg);
-    printf("mesh: %u particles, %u vertices, %u triangles in %.0f ms\n", m.particles, m.vertex_count,
-           m.triangle_count, (lc_now() - t0) * 1e3);
+    printf("mesh: %u particles, %u vertices, %u triangles in %.0f ms\n", m.particles, m.vertex_count, m.triangle_count,
+           (lc_now() - t0) * 1e3);
     check_mesh(&m, split);
 
     /* Exact method, one opacity for every fragment: q = r = 0 leave alpha = t. */

@@ -164,14 +164,14 @@ static enum MHD_Result start_surface(lc_http_req *ctx, struct MHD_Connection *c,
 {
     lc_server *srv = ctx->srv;
     if (srv->mpi)
-        return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "method", "method: surface-layers is not served under --mpi");
+        return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "method",
+                             "method: surface-layers is not served under --mpi");
     double cost = 0;
     const lc_field *field = NULL;
     lc_proto_error pe;
     if (lc_session_check_surface(srv, req, &cost, &field, &pe) != 0)
-        return strcmp(pe.code, "not_found") == 0
-                   ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
-                   : lc_http_proto_error(srv, c, &pe);
+        return strcmp(pe.code, "not_found") == 0 ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
+                                                 : lc_http_proto_error(srv, c, &pe);
     return queue_job(ctx, c, req, NULL, NULL, NULL, 0.0, cost, field);
 }
 

@@ -59,8 +59,8 @@ static void reset_info(lc_frame_info *info, const lc_render_params *p)
     info->width = p->width, info->height = p->height;
 }
 
-int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
-                          uint8_t *rgba, lc_frame_info *info, lc_error *err)
+int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba,
+                          lc_frame_info *info, lc_error *err)
 {
     reset_info(info, p);
     lc_surface_params sp;

@@ -17,8 +17,8 @@ extern "C" {
 /* Renders the surface s of field with p's size, camera and background into
  * rgba (p's width x height, top row first) on the calling worker's GL context. Errors name the
  * request field. */
-int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
-                          uint8_t *rgba, lc_frame_info *info, lc_error *err);
+int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba,
+                          lc_frame_info *info, lc_error *err);
 
 /* A WebSocket session's surface (method surface-layers): the curves traced
  * so far, kept on the CPU between frames. Owned by the session, touched only

@@ -305,10 +305,11 @@ static void render_job(worker *wk, lc_render_job *job)
         lc_session_ref(session);
     lc_frame_info info;
     in_hand(wk, job, NULL);
-    int rc = field        ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
-             : layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
-                           : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
-                                          &info, &err);
+    int rc =
+        field ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
+        : layer_count
+            ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
+            : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba, &info, &err);
     free(layers);
     if (!w->srv->mpi && dataset) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);

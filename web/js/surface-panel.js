@@ -46,17 +46,22 @@ export class SurfacePanel {
     box.dataset.testid = 'surface';
     box.append(el('legend', { textContent: 'Stream surface' }));
     const row = (label, input) => {
-      const r = el('div', { className: 'row' });
+      const r = el('div', { className: 'row', title: input.title }); // the tooltip covers label and control
       r.append(el('label', { textContent: label, htmlFor: input.id }), input);
       box.append(r);
       return input;
     };
-    this.on = row('Show', el('input', { type: 'checkbox', id: 'surface-on' }));
-    this.field = row('Vector field', el('select', { id: 'surface-field' }));
-    this.a = row('Seed start x,y,z', el('input', { type: 'text', id: 'surface-a', size: 18 }));
-    this.b = row('Seed end x,y,z', el('input', { type: 'text', id: 'surface-b', size: 18 }));
-    this.particles = row('Curves', el('input', { type: 'number', id: 'surface-particles', min: 1, max: 100000, value: 2000 }));
-    this.perFrame = row('Curves per frame', el('input', { type: 'number', id: 'surface-per-frame', min: 1, max: 100000, value: 200 }));
+    this.on = row('Show', el('input', { type: 'checkbox', id: 'surface-on',
+      title: 'Show the stream surface of the vector field instead of the dataset; it fills in frame by frame.' }));
+    this.field = row('Vector field', el('select', { id: 'surface-field', title: 'The flow the surface follows.' }));
+    this.a = row('Seed start x,y,z', el('input', { type: 'text', id: 'surface-a', size: 18,
+      title: 'Where the seed line starts: three numbers x, y, z inside the field. Changing it starts the surface again.' }));
+    this.b = row('Seed end x,y,z', el('input', { type: 'text', id: 'surface-b', size: 18,
+      title: 'Where the seed line ends: three numbers x, y, z. Changing it starts the surface again.' }));
+    this.particles = row('Curves', el('input', { type: 'number', id: 'surface-particles', min: 1, max: 100000, value: 2000,
+      title: 'How many flow lines make up the finished surface. More: a smoother surface, slower to finish.' }));
+    this.perFrame = row('Curves per frame', el('input', { type: 'number', id: 'surface-per-frame', min: 1, max: 100000, value: 200,
+      title: 'How many flow lines each new frame adds. More: the surface appears in fewer, slower frames.' }));
     this.status = el('p', { className: 'info', id: 'surface-status' });
     this.status.setAttribute('role', 'status');
     box.append(this.status);

@@ -129,8 +129,18 @@ expect_fail "seed outside" "seed.points: point 0 \(5, 0, 0\) lies outside demo:s
 expect_fail "seed syntax" "seed.points: point 1: expected x,y,z" "$LUCENT" gen demo:abc-flow --seed-line "1,1,1;2,2" \
   -o "$tmp/x.vtk"
 expect_fail "no seed" "seed.points: demo:abc-flow is a vector field" "$LUCENT" gen demo:abc-flow -o "$tmp/x.vtk"
-expect_fail "seed on lines" "tornado: .*seed-line, --step and --length apply to vector fields only" "$LUCENT" gen tornado \
-  --seed-line "0,0,0;1,1,1" -o "$tmp/x.vtk"
+expect_fail "seed on lines" "tornado: .*seed-line, --step, --length, --mesh and --split apply to vector fields only" \
+  "$LUCENT" gen tornado --seed-line "0,0,0;1,1,1" -o "$tmp/x.vtk"
+# The meshed reference: the shear flow's surface from a straight seed line is the plane z = 0.
+expect_ok "gen meshed surface" "$LUCENT" gen demo:shear-flow --seed-line "-0.9,-0.5,0;-0.9,0.5,0" --length 1 --mesh \
+  -o "$tmp/sheet.obj"
+grep -q "^meshed [0-9]* particles: [0-9]* vertices, [1-9][0-9]* triangles" "$tmp/out" &&
+  ok || bad "gen --mesh reports its particles and triangles: $(head -2 "$tmp/out")"
+expect_ok "info meshed surface" "$LUCENT" info "$tmp/sheet.obj"
+grep -q "^type        triangles" "$tmp/out" && grep -q "^bounds .* x \[-0.5, 0.5\] x \[0, 0\]" "$tmp/out" &&
+  ok || bad "the mesh is the plane z = 0: $(grep -E '^type|^bounds' "$tmp/out")"
+expect_fail "mesh on lines" "tornado: .*--mesh and --split apply to vector fields only" "$LUCENT" gen tornado --mesh \
+  -o "$tmp/x.obj"
 for demo in surface tornado; do
   for ext in ply obj; do
     expect_ok "gen $demo.$ext" "$LUCENT" gen "$demo" -o "$tmp/$demo.$ext" --count 20

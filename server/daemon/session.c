@@ -260,6 +260,8 @@ int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost
                              lc_proto_error *pe)
 {
     const lc_surface_request *s = &req->surface;
+    if (srv->mpi) /* the ranks hold scene shards; a field's surface is one process's work */
+        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method", "surface-layers is not served under --mpi");
     const lc_field_entry *fe = lc_fields_find(lc_datasets_fields(srv->datasets), s->field);
     if (!fe)
         return lc_proto_set_error(pe, "not_found", "surface.field",

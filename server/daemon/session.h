@@ -187,7 +187,8 @@ int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, 
 /* Method surface-layers (docs/ALGORITHM.md §23): the field must be loaded
  * (not_found naming surface.field), the seed must start inside it (naming
  * surface.seed), the frame must fit --max-cost (too_expensive naming
- * surface.particles). *field (if given): the field. lc_session_check_budget
+ * surface.particles); not under serve --mpi (naming method). *field (if
+ * given): the field. lc_session_check_budget
  * calls it for such requests. */
 int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost, const lc_field **field,
                              lc_proto_error *pe);

@@ -339,7 +339,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     }
     bool first_coarse = st->frames == 0 && !st->any_input && s->dataset && s->dataset->scene &&
                         lc_scene_primitive_count(s->dataset->scene) >= FIRST_COARSE_PRIMITIVES;
-    bool interactive = first_coarse || (st->any_input && now - st->last_input < cfg->still_delay);
+    bool interactive = first_coarse || st->moving_next || (st->any_input && now - st->last_input < cfg->still_delay);
+    st->moving_next = false;
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
     out->detail_step = first_coarse ? DETAIL_STEPS - 1 : st->detail_step; /* not the controller's step */
@@ -418,6 +419,24 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
         st->converged = true;
         st->last_interactive = false;
     }
+    pthread_mutex_unlock(&s->lock);
+}
+
+bool lc_session_stream_preempted(lc_session *s)
+{
+    pthread_mutex_lock(&s->lock);
+    bool stop = s->closed || s->stream.dirty;
+    pthread_mutex_unlock(&s->lock);
+    return stop;
+}
+
+void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f)
+{
+    pthread_mutex_lock(&s->lock);
+    s->stream.rendering = false;
+    drop_outstanding(&s->stream, f->frame, true);
+    s->stream.yielded++;
+    s->stream.moving_next = true;
     pthread_mutex_unlock(&s->lock);
 }
 

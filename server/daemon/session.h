@@ -63,6 +63,8 @@ typedef struct lc_stream {
      * the frames that reused opacities, and when P1-P3 last ran. */
     int detail_step;
     double last_optimized;
+    uint64_t yielded; /* still/refinement frames abandoned for newer input (stats) */
+    bool moving_next; /* after such a frame: the next frame is a moving one, however long the pass took */
 } lc_stream;
 
 /* Progress of the frame a render worker makes for a WebSocket session, for
@@ -150,6 +152,14 @@ int lc_sessions_sweep(lc_sessions *reg, double now, double idle);
 int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at);
 /* Worker side: the frame reserved by stream_next finished (ok = rendered). */
 void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, const lc_frame_info *info);
+/* Worker side, during a still or refinement (not interactive) frame: whether
+ * it should be abandoned for newer input (a camera/params/resize update came
+ * since stream_next took it) or because the session closed. */
+bool lc_session_stream_preempted(lc_session *s);
+/* Worker side: the frame reserved by stream_next was abandoned at a yield
+ * point (nothing goes out for its id); the session stays as it was before
+ * that frame, so its still is due again once input is quiet. */
+void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f);
 /* I/O side: the client acknowledged every frame up to id `frame`. Returns
  * false (and changes nothing) for an id that was never sent: a blind ack must
  * not open the window. */

@@ -8,11 +8,13 @@
 #include <string.h>
 #include <time.h>
 
+#include "cost.h"
 #include "encoders.h"
 #include "fair_queue.h"
 #include "memory.h"
 #include "messages.h"
 #include "metrics.h"
+#include "yield.h"
 
 #define MOD "workers"
 
@@ -29,6 +31,13 @@ typedef struct worker {
     lc_session *session;
     bool lost;
     lc_session *progress; /* the stream session whose frame the renderer reports on (render thread only) */
+    /* The frame's yield points (render thread only, yield.h): a session's
+     * still or refinement that newer input of that session pre-empts, and
+     * whether the frame is large enough to wait for other sessions' moving
+     * frames (owner: whose it is). */
+    lc_session *preempt;
+    bool large;
+    const void *owner;
 } worker;
 
 struct lc_workers {
@@ -47,6 +56,7 @@ struct lc_workers {
     lc_fair_queue queue; /* the render tasks, by client (fair_queue.h) */
     double cost_rate; /* learned cost units per second of render time (0 = none measured yet) */
     lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
+    lc_yield_gate gate; /* large renders wait here for other sessions' moving frames (yield.h) */
 };
 
 /* ---------------------------------------------------------------- queues */
@@ -195,20 +205,6 @@ static double run_timers(lc_workers *w, double now)
     return next;
 }
 
-static void wait_until(pthread_cond_t *c, pthread_mutex_t *m, double when_monotonic)
-{
-    /* The condition variable uses CLOCK_MONOTONIC (see create), as does lc_now(). */
-    double secs = when_monotonic;
-    struct timespec ts;
-    ts.tv_sec = (time_t)secs;
-    ts.tv_nsec = (long)((secs - (double)ts.tv_sec) * 1e9);
-    if (ts.tv_nsec >= 1000000000L) {
-        ts.tv_sec++;
-        ts.tv_nsec -= 1000000000L;
-    }
-    pthread_cond_timedwait(c, m, &ts);
-}
-
 /* ---------------------------------------------------------------- rendering */
 
 /* Cost units per second of render time, a moving average over renders that
@@ -226,9 +222,6 @@ static void learn_rate(lc_workers *w, double cost, double wall_ms)
 
 /* Every frame of a render worker: the frame hook (serve --mpi announces the
  * frame to the other ranks), then the renderer. */
-static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, const lc_render_params *p,
-                        lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
-
 static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, const lc_render_params *p,
                         lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
@@ -262,6 +255,14 @@ static bool out_of_hand(worker *wk)
     wk->job = NULL, wk->session = NULL, wk->lost = false;
     pthread_mutex_unlock(&wk->pool->lock);
     return mine;
+}
+
+static double rate_of(lc_workers *w)
+{
+    pthread_mutex_lock(&w->lock);
+    double rate = w->cost_rate;
+    pthread_mutex_unlock(&w->lock);
+    return rate;
 }
 
 static void render_job(worker *wk, lc_render_job *job)
@@ -301,11 +302,14 @@ static void render_job(worker *wk, lc_render_job *job)
     if (session)
         lc_session_ref(session);
     lc_frame_info info;
+    wk->large = w->nworkers > 1 && lc_yield_large(job->cost, rate_of(w));
+    wk->owner = session ? (const void *)session : (const void *)job;
     in_hand(wk, job, NULL);
     int rc = layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
                          : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
                                         &info, &err);
     free(layers);
+    wk->large = false, wk->owner = NULL;
     if (!w->srv->mpi) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
     int mine = out_of_hand(wk);
@@ -344,6 +348,22 @@ static void on_progress(void *ctx, int next_pass, int done, int planned)
     atomic_store(&s->progress.stage, next_pass < 0 ? LC_PROGRESS_ENCODE : next_pass);
 }
 
+/* desc.yield: a session's still gives way to its newer input; a large frame waits
+ * while other sessions' moving frames render (yield.h); an abandoned frame stops. */
+static int on_yield(void *ctx)
+{
+    worker *wk = ctx;
+    lc_workers *w = wk->pool;
+    if (wk->preempt && lc_session_stream_preempted(wk->preempt))
+        return 1;
+    if (wk->large)
+        lc_yield_wait(&w->gate, wk->owner);
+    pthread_mutex_lock(&w->lock);
+    bool lost = wk->lost;
+    pthread_mutex_unlock(&w->lock);
+    return lost;
+}
+
 /* One frame of a WebSocket session, if it needs one. */
 static void render_session(worker *wk, lc_session *s)
 {
@@ -368,11 +388,28 @@ static void render_session(worker *wk, lc_session *s)
     atomic_store(&s->progress.begun_us, (long long)(lc_now() * 1e6));
     atomic_store(&s->progress.frame, (unsigned long long)f.frame);
     wk->progress = s;
+    /* Stills and refinements give way to newer input; moving frames are short
+     * and tell the yield gate that a drag is under way. */
+    wk->preempt = f.interactive ? NULL : s;
+    double cost = lc_cost_estimate(&s->dataset->cost, p);
+    wk->large = !f.interactive && w->nworkers > 1 && lc_yield_large(cost, rate_of(w)), wk->owner = s;
+    if (f.interactive)
+        lc_yield_interactive_begin(&w->gate, s);
     in_hand(wk, NULL, s);
     int rc = rgba ? render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
                   : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     out_of_hand(wk);
-    wk->progress = NULL;
+    if (f.interactive)
+        lc_yield_interactive_end(&w->gate, s);
+    wk->progress = NULL, wk->preempt = NULL, wk->large = false, wk->owner = NULL;
+    if (rc == LC_ERR_CANCELLED && !f.interactive) { /* pre-empted: the moving frame for the new input follows */
+        free(rgba);
+        atomic_store(&s->progress.stage, LC_PROGRESS_NONE);
+        lc_session_stream_yielded(s, &f);
+        lc_metrics_yielded(w->srv->metrics);
+        lc_workers_wake(w, s);
+        return;
+    }
     atomic_store(&s->progress.stage, rc == 0 ? LC_PROGRESS_ENCODE : LC_PROGRESS_NONE);
     lc_session_stream_done(s, &f, rc == 0, rc == 0 ? &info : NULL);
     if (rc != 0) {
@@ -404,9 +441,12 @@ static void *worker_main(void *arg)
     if (rc == 0)
         rc = lc_gl_make_current(wk->gl, &err);
     if (rc == 0)
-        rc = lc_renderer_create(
-            &(lc_renderer_desc){.reducer = w->srv->frame_hook.reducer, .progress = on_progress, .progress_ctx = wk},
-            &wk->renderer, &err);
+        rc = lc_renderer_create(&(lc_renderer_desc){.reducer = w->srv->frame_hook.reducer,
+                                                    .progress = on_progress,
+                                                    .progress_ctx = wk,
+                                                    .yield = on_yield,
+                                                    .yield_ctx = wk},
+                                &wk->renderer, &err);
     pthread_mutex_lock(&w->lock);
     if (rc != 0 && !w->failed) {
         w->failed = 1;
@@ -429,7 +469,7 @@ static void *worker_main(void *arg)
             if (t)
                 break;
             if (next > 0)
-                wait_until(&w->work, &w->lock, next);
+                lc_cond_wait_until(&w->work, &w->lock, next);
             else
                 pthread_cond_wait(&w->work, &w->lock);
         }
@@ -483,6 +523,7 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     pthread_cond_init(&w->work, &ca);
     pthread_condattr_destroy(&ca);
     pthread_cond_init(&w->ready, NULL);
+    lc_yield_gate_init(&w->gate, srv->cfg.still_delay, LC_YIELD_MAX_WAIT);
     w->workers[0].gl = primary;
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];
@@ -550,6 +591,7 @@ void lc_workers_abandon(lc_workers *w, const char *why)
     }
     w->abandoned = w->stopping = true;
     pthread_cond_broadcast(&w->work);
+    lc_yield_release(&w->gate);
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];
         if (wk->job && nj < 64) {
@@ -593,6 +635,7 @@ void lc_workers_stop(lc_workers *w)
     pthread_cond_broadcast(&w->work);
     pthread_cond_broadcast(&w->ready);
     pthread_mutex_unlock(&w->lock);
+    lc_yield_release(&w->gate); /* the frames in hand finish without waiting */
     for (int i = 0; i < w->nworkers; i++) {
         if (w->workers[i].started)
             pthread_join(w->workers[i].thread, NULL);
@@ -630,6 +673,7 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
     pthread_mutex_destroy(&w->lock);
     pthread_cond_destroy(&w->work);
     pthread_cond_destroy(&w->ready);
+    lc_yield_gate_destroy(&w->gate);
     free(w->workers);
     lc_encoders_destroy(w->encoders);
     free(w);

@@ -3,10 +3,16 @@ dataset whose still takes over a second here, a camera update sent while the
 still is under way (its progress messages say so) gets its moving frame
 after about one moving frame and one pass, not after the rest of the still;
 the abandoned still is counted in /metrics (lucent_frames_yielded_total) and
-the still of the new camera follows once input is quiet."""
+the still of the new camera follows once input is quiet.
+
+A large HTTP render (over half a second here) made while another session
+orbits waits at its yield points for the orbit's moving frames
+(lucent_yield_waits_total), finishes, and is the same image byte for byte as
+the same render alone."""
 import asyncio
 import json
 import sys
+import threading
 import time
 
 from lucent_server import Check, Server, skip, unpack_frame, websockets
@@ -21,7 +27,7 @@ COUNT = 150000  # points: a still of one to a few seconds on llvmpipe, below the
 
 
 def camera(seq):
-    return {"type": "camera", "seq": seq, "camera": {"position": [0.5 + 0.05 * seq, 0.5, 2.6],
+    return {"type": "camera", "seq": seq, "camera": {"position": [0.5 + 0.05 * (seq % 20), 0.5, 2.6],
                                                       "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}}
 
 
@@ -109,7 +115,49 @@ async def main(srv):
         check(yielded >= 1, "/metrics counts the abandoned still (%g)" % yielded)
 
 
+BIG = {"dataset": "demo:points", "width": 1280, "height": 960, "format": "png"}
+
+
+def render_big(srv, out):
+    t = time.time()
+    st, _, body = srv.request("POST", "/api/v1/render", json.dumps(BIG).encode(),
+                              {"Content-Type": "application/json"}, timeout=300)
+    out.update(status=st, body=body, seconds=time.time() - t)
+
+
+async def fair(srv):
+    alone = {}
+    render_big(srv, alone)
+    check(alone["status"] == 200, "the large render alone: %s" % alone["status"])
+    waits0 = metric(srv, "lucent_yield_waits_total")
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 320, "height": 240,
+                                  "devicePixelRatio": 1, "window": 2}))
+        await until(ws, lambda m: m["type"] == "frame" and not interactive(m), 120)
+        await drain(ws, 1.0)
+        shared = {}
+        th = threading.Thread(target=render_big, args=(srv, shared), daemon=True)
+        th.start()
+        seq, moving, end = 0, 0, time.time() + 240
+        while th.is_alive() and time.time() < end:  # orbit at 15 updates/s until the render is done
+            seq += 1
+            await ws.send(json.dumps(camera(seq)))
+            t_next = time.time() + 1 / 15
+            while time.time() < t_next:
+                m, _ = await recv(ws, max(0.001, t_next - time.time()))
+                moving += m is not None and m["type"] == "frame" and interactive(m)
+        th.join(1)
+        print("large render alone %.2f s, beside an orbit %.2f s; the orbit got %d moving frames meanwhile "
+              "(figures on a loaded host)" % (alone["seconds"], shared.get("seconds", -1), moving))
+        check(shared.get("status") == 200, "the large render finishes beside the orbit: %s" % shared.get("status"))
+        check(shared.get("body") == alone["body"], "and it is the same image byte for byte")
+        check(moving >= 3, "the orbit got moving frames meanwhile (%d)" % moving)
+    waits = metric(srv, "lucent_yield_waits_total") - waits0
+    check(waits >= 1, "the large render waited for the orbit's frames at its yield points (%g)" % waits)
+
+
 with Server(binary, "--workers", "2", data=("demo:points",), demo_size=COUNT, timeout=120) as srv:
     asyncio.run(main(srv))
+    asyncio.run(fair(srv))
     check(srv.stop() == 0, "the daemon exits cleanly")
 check.done()

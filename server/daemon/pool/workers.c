@@ -356,8 +356,9 @@ static int on_yield(void *ctx)
     lc_workers *w = wk->pool;
     if (wk->preempt && lc_session_stream_preempted(wk->preempt))
         return 1;
-    if (wk->large)
-        lc_yield_wait(&w->gate, wk->owner);
+    double waited = wk->large ? lc_yield_wait(&w->gate, wk->owner) : 0;
+    if (waited > 0)
+        lc_metrics_yield_wait(w->srv->metrics, waited);
     pthread_mutex_lock(&w->lock);
     bool lost = wk->lost;
     pthread_mutex_unlock(&w->lock);

@@ -88,7 +88,7 @@ double lc_yield_wait(lc_yield_gate *g, const void *owner)
     if (waited)
         g->waits++;
     pthread_mutex_unlock(&g->lock);
-    return now - start;
+    return waited ? now - start : 0.0;
 }
 
 void lc_yield_release(lc_yield_gate *g)

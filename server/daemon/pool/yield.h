@@ -41,7 +41,7 @@ void lc_yield_interactive_end(lc_yield_gate *g, const void *owner);
  * interactive frame is in hand or ended less than gap ago. */
 bool lc_yield_busy(lc_yield_gate *g, const void *owner, double now);
 /* Blocks while lc_yield_busy holds, at most max_wait seconds; returns the
- * seconds waited. A large render's yield point. Any thread. */
+ * seconds waited (0: it did not wait). A large render's yield point. Any thread. */
 double lc_yield_wait(lc_yield_gate *g, const void *owner);
 /* Wakes every waiter and lets nobody wait again (the pool stops or is abandoned). */
 void lc_yield_release(lc_yield_gate *g);

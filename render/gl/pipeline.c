@@ -82,6 +82,8 @@ void lc_renderer_timestamp(lc_renderer *r, int slot)
     report_progress(r, slot);
 }
 
+void lc_renderer_set_tile_size(lc_renderer *r, int tile_size) { r->desc.tile_size = tile_size > 0 ? tile_size : 0; }
+
 int lc_renderer_yield_point(lc_renderer *r, lc_error *err)
 {
     if (!r->desc.yield || (r->desc.reducer && r->desc.reducer->size > 1))

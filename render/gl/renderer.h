@@ -301,6 +301,9 @@ size_t lc_renderer_read_targets(lc_renderer *r, int which, float *out, size_t n)
 
 /* Sets the reduction hook after creation (same contract as the desc field). */
 void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
+/* Sets desc.tile_size for the frames that follow (0 = the default rule), e.g.
+ * to give a large frame a yield point every tile. */
+void lc_renderer_set_tile_size(lc_renderer *r, int tile_size);
 
 /* After a frame of params p above LC_LARGE_FRAME_PIXELS (a 4096^2 still; no
  * stream frame is that large): renders p once more at 8x8 (so that the

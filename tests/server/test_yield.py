@@ -8,7 +8,8 @@ the still of the new camera follows once input is quiet.
 A large HTTP render (over half a second here) made while another session
 orbits waits at its yield points for the orbit's moving frames
 (lucent_yield_waits_total), finishes, and is the same image byte for byte as
-the same render alone."""
+the same render alone. One-shot frames above 2048x2048 pixels composite in
+tiles of at most 1024x1024 (X-Lucent-Tiles), a yield point per tile."""
 import asyncio
 import json
 import sys
@@ -154,6 +155,14 @@ async def fair(srv):
         check(moving >= 3, "the orbit got moving frames meanwhile (%d)" % moving)
     waits = metric(srv, "lucent_yield_waits_total") - waits0
     check(waits >= 1, "the large render waited for the orbit's frames at its yield points (%g)" % waits)
+    # Above 2048x2048 pixels a one-shot frame composites in tiles of at most 1024x1024: a yield point per tile.
+    st, hdr, body = srv.request("POST", "/api/v1/render", json.dumps(dict(BIG, width=2100, height=2050,
+                                                                          method="opaque")).encode(),
+                                {"Content-Type": "application/json"}, timeout=300)
+    check(st == 200 and hdr.get("x-lucent-tiles") == "9", "a 2100x2050 render in 3x3 tiles: %s %s"
+          % (st, hdr.get("x-lucent-tiles")))
+    st, hdr, _ = srv.request("POST", "/api/v1/render", json.dumps(BIG).encode(), {"Content-Type": "application/json"})
+    check(st == 200 and "x-lucent-tiles" not in hdr, "a smaller one in one piece")
 
 
 with Server(binary, "--workers", "2", data=("demo:points",), demo_size=COUNT, timeout=120) as srv:

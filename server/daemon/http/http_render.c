@@ -65,6 +65,10 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
                  info->color_ticks[2], info->color_ticks[3], info->color_ticks[4]);
         MHD_add_response_header(r, "X-Lucent-Color-Ticks", ticks);
     }
+    if (info->tiles > 0) { /* composited in tiles (a large one-shot frame) */
+        snprintf(buf, sizeof buf, "%d", info->tiles);
+        MHD_add_response_header(r, "X-Lucent-Tiles", buf);
+    }
     snprintf(buf, sizeof buf, "%.4g", job->cost); /* the estimate --max-cost is compared with */
     MHD_add_response_header(r, "X-Lucent-Cost", buf);
     if (job->session) {

@@ -31,10 +31,8 @@ typedef struct worker {
     lc_session *session;
     bool lost;
     lc_session *progress; /* the stream session whose frame the renderer reports on (render thread only) */
-    /* The frame's yield points (render thread only, yield.h): a session's
-     * still or refinement that newer input of that session pre-empts, and
-     * whether the frame is large enough to wait for other sessions' moving
-     * frames (owner: whose it is). */
+    /* The frame's yield points (render thread only, yield.h): the session whose input pre-empts
+     * it; large: it waits for other sessions' moving frames (owner: whose frame it is). */
     lc_session *preempt;
     bool large;
     const void *owner;
@@ -303,13 +301,15 @@ static void render_job(worker *wk, lc_render_job *job)
         lc_session_ref(session);
     lc_frame_info info;
     wk->large = w->nworkers > 1 && lc_yield_large(job->cost, rate_of(w));
+    bool tiled = w->nworkers > 1 && !layer_count && (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
+    lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;
     in_hand(wk, job, NULL);
     int rc = layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
                          : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
                                         &info, &err);
     free(layers);
-    wk->large = false, wk->owner = NULL;
+    wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
     if (!w->srv->mpi) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
     int mine = out_of_hand(wk);

@@ -18,6 +18,10 @@
 /* Without a learned rate: the cost units from which a frame yields (cost.h
  * measures 2e7..5e7 units per second on llvmpipe). */
 #define LC_YIELD_LARGE_COST 2.5e7
+/* One-shot frames above LC_LARGE_FRAME_PIXELS (renderer.h) composite in tiles
+ * of at most this side when the pool has 2 or more workers: a yield point per
+ * tile. By pixels alone, so that a request's image never depends on the load. */
+#define LC_YIELD_TILE 1024
 /* The longest wait at one yield point. */
 #define LC_YIELD_MAX_WAIT 2.0
 

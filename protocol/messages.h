@@ -157,6 +157,9 @@ typedef struct lc_frame_header {
      * 1/4, 1/2, 3/4 and 1 of the colormap's bar (docs/ALGORITHM.md §19). */
     bool has_color_ticks;
     double color_ticks[5];
+    /* "stage", "stages", "final" (optional): a staged still's stage (1..stages);
+     * stages 0 = not staged (a still without them is final). */
+    int stage, stages;
 } lc_frame_header;
 
 /* Packs header + image into one malloc'd binary message (*out, free()).

@@ -28,6 +28,10 @@ static const struct {
 /* While the camera keeps moving, P1-P3 run again this often (seconds) so the
  * reused opacities follow the view. */
 #define REOPTIMIZE_SECONDS 1.0
+/* Staged stills (protocol/websocket.md): when the session's last full still
+ * took longer than this, a still comes in two stages, the moving frames'
+ * opacities at full size and detail first, then the full optimization. */
+#define STAGED_STILL_MS 500.0
 
 #define MOD "session"
 
@@ -341,6 +345,13 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
                         lc_scene_primitive_count(s->dataset->scene) >= FIRST_COARSE_PRIMITIVES;
     bool interactive = first_coarse || st->moving_next || (st->any_input && now - st->last_input < cfg->still_delay);
     st->moving_next = false;
+    /* A staged still: stage 1 reuses the opacities the moving frames drew with (methods that have them). */
+    lc_method method = s->req.render.method;
+    bool reusable = (method == LC_METHOD_FOURIER || method == LC_METHOD_WBOIT) && s->frame_state &&
+                    !lc_frame_state_is_fresh(s->frame_state);
+    out->stages = 0, out->stage = 0;
+    if (!interactive && still && (st->still_stage == 1 || (reusable && st->still_ms > STAGED_STILL_MS)))
+        out->stages = 2, out->stage = st->still_stage + 1;
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
     out->detail_step = first_coarse ? DETAIL_STEPS - 1 : st->detail_step; /* not the controller's step */
@@ -355,6 +366,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         out->req.render.style.antialias = 1; /* frames while moving stay single */
         scale *= detail_steps[step].scale;
     }
+    if (out->stage == 1)
+        out->req.render.detail.reuse_opacities = true;
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);
     out->req.format = LC_FORMAT_JPEG;
@@ -395,7 +408,13 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     pthread_mutex_lock(&s->lock);
     lc_stream *st = &s->stream;
     st->rendering = false;
-    if (ok) {
+    if (ok && f->stage == 1) { /* stage 2 is due next: still_due holds on */
+        st->still_stage = 1;
+        st->frames++;
+    } else if (ok) {
+        st->still_stage = 0;
+        if (!f->interactive && info)
+            st->still_ms = info->wall_ms;
         st->converged = info ? info->converged != 0 : true;
         st->last_interactive = f->interactive;
         st->frames++;
@@ -435,6 +454,8 @@ void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f)
     pthread_mutex_lock(&s->lock);
     s->stream.rendering = false;
     drop_outstanding(&s->stream, f->frame, true);
+    if (s->stream.next_frame == f->frame + 1) /* no id was taken since (rendering held): ids stay consecutive */
+        s->stream.next_frame = f->frame;
     s->stream.yielded++;
     s->stream.moving_next = true;
     pthread_mutex_unlock(&s->lock);
@@ -473,6 +494,7 @@ void lc_session_stream_input(lc_session *s, double now)
 {
     pthread_mutex_lock(&s->lock);
     s->stream.dirty = true;
+    s->stream.still_stage = 0; /* a still begins again from stage 1 */
     s->stream.any_input = true;
     s->stream.last_input = now;
     s->stream.updates_since_frame++;

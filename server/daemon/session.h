@@ -65,6 +65,8 @@ typedef struct lc_stream {
     double last_optimized;
     uint64_t yielded; /* still/refinement frames abandoned for newer input (stats) */
     bool moving_next; /* after such a frame: the next frame is a moving one, however long the pass took */
+    int still_stage;  /* staged stills: 1 = stage 1 sent, stage 2 due (0 otherwise) */
+    double still_ms;  /* render time of the last still (not interactive, not a stage 1), 0 = none yet */
 } lc_stream;
 
 /* Progress of the frame a render worker makes for a WebSocket session, for
@@ -118,6 +120,7 @@ typedef struct lc_stream_frame {
     bool interactive;
     int detail_step; /* interactive frames: the ladder step used */
     double dt;
+    int stage, stages; /* a staged still: stage 1 or 2 of 2 (0, 0: not staged) */
 } lc_stream_frame;
 
 typedef struct lc_sessions lc_sessions;
@@ -157,8 +160,9 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
  * since stream_next took it) or because the session closed. */
 bool lc_session_stream_preempted(lc_session *s);
 /* Worker side: the frame reserved by stream_next was abandoned at a yield
- * point (nothing goes out for its id); the session stays as it was before
- * that frame, so its still is due again once input is quiet. */
+ * point (nothing goes out for it, and its id goes to the next frame); the
+ * session stays as it was before that frame, so its still is due again once
+ * input is quiet, and the next frame is a moving one. */
 void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f);
 /* I/O side: the client acknowledged every frame up to id `frame`. Returns
  * false (and changes nothing) for an id that was never sent: a blind ack must

@@ -36,6 +36,11 @@ def interactive(h):
     return (h.get("detail") or {}).get("interactive", False)
 
 
+def final_still(m):
+    """The last (or only) stage of a still."""
+    return m["type"] == "frame" and not interactive(m) and m.get("final", True)
+
+
 async def recv(ws, timeout):
     """(header or message, arrival time); frames are acked; (None, t) on timeout."""
     try:
@@ -80,7 +85,7 @@ async def main(srv):
         t_sent = time.time()
         await ws.send(json.dumps(camera(1)))
         mv, t_mv = await until(ws, lambda m: m["type"] == "frame" and m["cameraSeq"] >= 1, 60)
-        still, t_still = await until(ws, lambda m: m["type"] == "frame" and not interactive(m), 120)
+        still, t_still = await until(ws, final_still, 120)
         check(mv is not None and interactive(mv) and still is not None, "a moving frame, then the still")
         moving_s, still_s = t_mv - t_sent, t_still - t_sent
         longest = max((still.get("timings") or {}).values() or [0]) / 1000.0 if still else 0
@@ -109,9 +114,18 @@ async def main(srv):
         # About one pass of the still and one moving frame (generously: a loaded host varies).
         check(delay < 2 * (longest + moving_s) + 0.5, "the moving frame came %.2f s after the input (a pass takes "
               "up to %.2f s, a moving frame %.2f s)" % (delay, longest, moving_s))
-        last, _ = await until(ws, lambda m: m["type"] == "frame" and not interactive(m), 120)
+        last, t1 = await until(ws, lambda m: m["type"] == "frame" and not interactive(m), 120)
         check(last is not None and last["cameraSeq"] == 3 and last["width"] == W,
               "the still of the new camera follows: %r" % ((last["cameraSeq"], last["width"]) if last else None,))
+        # Staged: the last still took over 0.5 s, so stage 1 (the moving frames' opacities at full size and
+        # detail) comes first, then stage 2 (the full optimization), both of the new camera.
+        fin, t2 = await until(ws, lambda m: m["type"] == "frame" and not interactive(m) and m.get("final"), 120)
+        s1 = last and (last.get("stage"), last.get("stages"), last.get("final"), last["detail"]["reusedOpacities"])
+        s2 = fin and (fin.get("stage"), fin.get("stages"), fin.get("final"), fin["detail"]["reusedOpacities"])
+        print("staged still: stage 1 %.2f s, stage 2 %.2f s after the input" % (t1 - t_move, t2 - t_move))
+        check(s1 == (1, 2, False, True), "stage 1 of 2 reuses the opacities: %s" % (s1,))
+        check(s2 == (2, 2, True, False) and fin["cameraSeq"] == 3 and fin["width"] == W,
+              "stage 2 of 2 is the full still: %s" % (s2,))
         yielded = metric(srv, "lucent_frames_yielded_total") - before
         check(yielded >= 1, "/metrics counts the abandoned still (%g)" % yielded)
 

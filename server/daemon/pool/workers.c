@@ -301,7 +301,8 @@ static void render_job(worker *wk, lc_render_job *job)
         lc_session_ref(session);
     lc_frame_info info;
     wk->large = w->nworkers > 1 && lc_yield_large(job->cost, rate_of(w));
-    bool tiled = w->nworkers > 1 && !layer_count && (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
+    bool tiled = w->nworkers > 1 && !w->srv->mpi && !layer_count && /* not collective: every rank must tile alike */
+                 (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
     lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;
     in_hand(wk, job, NULL);
@@ -354,11 +355,11 @@ static int on_yield(void *ctx)
 {
     worker *wk = ctx;
     lc_workers *w = wk->pool;
-    if (wk->preempt && lc_session_stream_preempted(wk->preempt))
-        return 1;
     double waited = wk->large ? lc_yield_wait(&w->gate, wk->owner) : 0;
     if (waited > 0)
         lc_metrics_yield_wait(w->srv->metrics, waited);
+    if (wk->preempt && lc_session_stream_preempted(wk->preempt)) /* input may have come while it waited */
+        return 1;
     pthread_mutex_lock(&w->lock);
     bool lost = wk->lost;
     pthread_mutex_unlock(&w->lock);

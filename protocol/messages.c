@@ -542,6 +542,15 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
                                       (json_int_t)h->surface_particles, "layersPerPixel", h->surface_layers,
                                       "overflow", (json_int_t)h->surface_overflow, "k", h->surface_k));
     }
+    if (o && h->stages > 0) {
+        if (h->stage < 1 || h->stage > h->stages) {
+            json_decref(o);
+            return LC_ERR_INVALID;
+        }
+        json_object_set_new(o, "stage", json_integer(h->stage));
+        json_object_set_new(o, "stages", json_integer(h->stages));
+        json_object_set_new(o, "final", json_boolean(h->stage == h->stages));
+    }
     char *text = dump_and_free(o);
     if (!text)
         return LC_ERR_NOMEM;
@@ -702,6 +711,15 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         h->surface_overflow = (uint64_t)json_integer_value(ov);
         h->surface_k = (int)json_integer_value(k);
         h->has_surface = true;
+    }
+    const json_t *stage = json_object_get(o, "stage"), *stages = json_object_get(o, "stages");
+    if (stage || stages) {
+        if (!json_is_integer(stage) || !json_is_integer(stages) || json_integer_value(stage) < 1 ||
+            json_integer_value(stage) > json_integer_value(stages) || json_integer_value(stages) > 16) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "stage", "expected stage 1..stages (at most 16)");
+            goto done;
+        }
+        h->stage = (int)json_integer_value(stage), h->stages = (int)json_integer_value(stages);
     }
     *image = msg + 4 + n;
     *image_len = len - 4 - n;

@@ -164,6 +164,9 @@ typedef struct lc_frame_header {
     uint64_t surface_curves, surface_particles, surface_overflow;
     double surface_layers;
     int surface_k;
+    /* "stage", "stages", "final" (optional): a staged still's stage (1..stages);
+     * stages 0 = not staged (a still without them is final). */
+    int stage, stages;
 } lc_frame_header;
 
 /* Packs header + image into one malloc'd binary message (*out, free()).

@@ -195,6 +195,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
+    if ((rc = lc_renderer_yield_point(r, err)) != 0)
+        return rc;
 
     /* P2 optimal opacity into the element minimum buffer. The element
      * importance of its emphasis on patches (a dispatch of its own, once per
@@ -245,6 +247,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     if ((rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
+    if ((rc = lc_renderer_yield_point(r, err)) != 0)
+        return rc;
 
     /* P3 smoothing and fading. */
     lc_mass_report(r, fs, info);
@@ -287,6 +291,8 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     if (rc)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
+    if ((rc = lc_renderer_yield_point(r, err)) != 0)
+        return rc;
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
@@ -311,6 +317,8 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, root_only, fs->info, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
+    if ((rc = lc_renderer_yield_point(r, err)) != 0)
+        return rc;
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     lc_renderer_resolve(r, fs, PROG_RESOLVE, &r->accum, r->coef_full.tex[0], err);

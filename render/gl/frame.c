@@ -396,6 +396,8 @@ static int render_tiles(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
                 lc_renderer_readback(r, fs, tile);
             for (int y = 0; y < th && !rc; y++)
                 memcpy(rgba + ((size_t)(y0 + y) * W + x0) * 4, tile + (size_t)y * tw * 4, (size_t)tw * 4);
+            if (!rc && (i + 1 < nx || j + 1 < ny))
+                rc = lc_renderer_yield_point(r, err);
         }
     }
     glDisable(GL_SCISSOR_TEST);
@@ -556,6 +558,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     int guarded = p.foo.guard_band > 0 && !plan.pixel_range; /* optimize_frame runs the moments then */
     if (plan.moments && !guarded && (rc = lc_fourier_depth_moments(r, &fs, err)) != 0)
         return rc;
+    if ((rc = lc_renderer_yield_point(r, err)) != 0)
+        return rc;
     lc_color_equalize_begin(r, &fs, state);
     switch (p.method) {
     case LC_METHOD_FOURIER:
@@ -569,6 +573,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
     }
     int samples = antialias_samples(&p);
+    if (!rc && p.method != LC_METHOD_EXACT)
+        rc = lc_renderer_yield_point(r, err);
     if (!rc && tiles)
         rc = render_tiles(r, &fs, state, dt, nx, ny, samples, plan.pixel_range, rgba, err);
     else if (!rc && p.method != LC_METHOD_EXACT)

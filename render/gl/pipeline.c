@@ -82,6 +82,20 @@ void lc_renderer_timestamp(lc_renderer *r, int slot)
     report_progress(r, slot);
 }
 
+void lc_renderer_set_tile_size(lc_renderer *r, int tile_size) { r->desc.tile_size = tile_size > 0 ? tile_size : 0; }
+
+int lc_renderer_yield_point(lc_renderer *r, lc_error *err)
+{
+    if (!r->desc.yield || (r->desc.reducer && r->desc.reducer->size > 1))
+        return 0;
+    /* What is queued runs now, not while the caller waits (or after it gave up). */
+    if ((lc_now() - r->progress_t0) * 1e3 > LC_PROGRESS_SYNC_MS)
+        glFinish();
+    if (!r->desc.yield(r->desc.yield_ctx))
+        return 0;
+    return lc_err(err, LC_ERR_CANCELLED, "the frame yielded (pre-empted between passes)");
+}
+
 double lc_frame_focal_distance(const lc_frame_setup *fs)
 {
     double focal = 0;

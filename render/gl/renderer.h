@@ -256,6 +256,17 @@ typedef struct lc_renderer_desc {
      * reports what has run rather than what was queued; images do not change. */
     void (*progress)(void *ctx, int next_pass, int done, int planned);
     void *progress_ctx;
+    /* Yield points (NULL = none; docs/ARCHITECTURE.md "Yielding"): called on
+     * the render thread between passes (after P0, P1, P2, the optimization,
+     * P4 and P5) and between the tiles of a tiled composite, each time after
+     * the work so far has finished on the GPU once the frame has run
+     * LC_PROGRESS_SYNC_MS. It may block, to leave the CPU/GPU to other work.
+     * Nonzero ends the frame there: lc_render_frame returns LC_ERR_CANCELLED
+     * and writes no image; the renderer and a frame state stay usable (the
+     * state keeps the opacities of the last P3 that ran, as after a frame).
+     * Not called with a reducer of more than one process (collective frames). */
+    int (*yield)(void *ctx);
+    void *yield_ctx;
 } lc_renderer_desc;
 #define LC_PROGRESS_SYNC_MS 100.0
 
@@ -298,6 +309,9 @@ size_t lc_renderer_read_targets(lc_renderer *r, int which, float *out, size_t n)
 
 /* Sets the reduction hook after creation (same contract as the desc field). */
 void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
+/* Sets desc.tile_size for the frames that follow (0 = the default rule), e.g.
+ * to give a large frame a yield point every tile. */
+void lc_renderer_set_tile_size(lc_renderer *r, int tile_size);
 
 /* After a frame of params p above LC_LARGE_FRAME_PIXELS (a 4096^2 still; no
  * stream frame is that large): renders p once more at 8x8 (so that the

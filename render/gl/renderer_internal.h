@@ -486,6 +486,9 @@ void lc_dispatch_linear(GLuint groups);
 void lc_additive_blending(void);
 /* Records a timestamp after pass `pass` (index LC_PASS_COUNT = frame start). */
 void lc_renderer_timestamp(lc_renderer *r, int slot);
+/* A yield point (desc.yield): 0 to go on, else LC_ERR_CANCELLED with err set;
+ * the caller returns it at once. */
+int lc_renderer_yield_point(lc_renderer *r, lc_error *err);
 /* Full-screen resolve of `kind` into the output from a's first texture and second_tex. */
 void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_kind kind, const lc_targets *a,
                          GLuint second_tex, lc_error *err);

@@ -30,6 +30,9 @@ struct lc_metrics {
     uint64_t encoded_pixels, encoded_bytes;
     uint64_t bytes_sent;
     uint64_t coalesced;
+    uint64_t yielded; /* stills pre-empted by newer input */
+    uint64_t yield_waits; /* large renders' waits for other sessions' moving frames */
+    double yield_wait_seconds;
     int code_count;
     char codes[MAX_CODES][32];
     uint64_t code_n[MAX_CODES];
@@ -104,6 +107,21 @@ void lc_metrics_coalesced(lc_metrics *m, uint64_t frames)
 {
     pthread_mutex_lock(&m->lock);
     m->coalesced += frames;
+    pthread_mutex_unlock(&m->lock);
+}
+
+void lc_metrics_yielded(lc_metrics *m)
+{
+    pthread_mutex_lock(&m->lock);
+    m->yielded++;
+    pthread_mutex_unlock(&m->lock);
+}
+
+void lc_metrics_yield_wait(lc_metrics *m, double seconds)
+{
+    pthread_mutex_lock(&m->lock);
+    m->yield_waits++;
+    m->yield_wait_seconds += seconds;
     pthread_mutex_unlock(&m->lock);
 }
 
@@ -235,6 +253,16 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
         "# HELP lucent_frames_coalesced_total Camera/params updates overwritten by a newer one before rendering.\n");
     put(&t, "# TYPE lucent_frames_coalesced_total counter\nlucent_frames_coalesced_total %llu\n",
         (unsigned long long)m->coalesced);
+    put(&t, "# HELP lucent_frames_yielded_total Still frames abandoned at a yield point for newer input.\n");
+    put(&t, "# TYPE lucent_frames_yielded_total counter\nlucent_frames_yielded_total %llu\n",
+        (unsigned long long)m->yielded);
+    put(&t, "# HELP lucent_yield_waits_total Yield points at which a large render waited for other sessions' moving "
+            "frames.\n");
+    put(&t, "# TYPE lucent_yield_waits_total counter\nlucent_yield_waits_total %llu\n",
+        (unsigned long long)m->yield_waits);
+    put(&t, "# HELP lucent_yield_wait_seconds_total Seconds large renders waited so.\n");
+    put(&t, "# TYPE lucent_yield_wait_seconds_total counter\nlucent_yield_wait_seconds_total %.3f\n",
+        m->yield_wait_seconds);
     put(&t, "# HELP lucent_errors_total Errors answered, by code.\n# TYPE lucent_errors_total counter\n");
     for (int i = 0; i < m->code_count; i++)
         put(&t, "lucent_errors_total{code=\"%s\"} %llu\n", m->codes[i], (unsigned long long)m->code_n[i]);

@@ -32,6 +32,10 @@ static const struct {
 /* While the camera keeps moving, P1-P3 run again this often (seconds) so the
  * reused opacities follow the view. */
 #define REOPTIMIZE_SECONDS 1.0
+/* Staged stills (protocol/websocket.md): when the session's last full still
+ * took longer than this, a still comes in two stages, the moving frames'
+ * opacities at full size and detail first, then the full optimization. */
+#define STAGED_STILL_MS 500.0
 
 #define MOD "session"
 
@@ -380,7 +384,15 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     }
     bool first_coarse = st->frames == 0 && !st->any_input && s->dataset && s->dataset->scene &&
                         lc_scene_primitive_count(s->dataset->scene) >= FIRST_COARSE_PRIMITIVES;
-    bool interactive = first_coarse || (st->any_input && now - st->last_input < cfg->still_delay);
+    bool interactive = first_coarse || st->moving_next || (st->any_input && now - st->last_input < cfg->still_delay);
+    st->moving_next = false;
+    /* A staged still: stage 1 reuses the opacities the moving frames drew with (methods that have them). */
+    lc_method method = s->req.render.method;
+    bool reusable = (method == LC_METHOD_FOURIER || method == LC_METHOD_WBOIT) && s->frame_state &&
+                    !lc_frame_state_is_fresh(s->frame_state);
+    out->stages = 0, out->stage = 0;
+    if (!interactive && still && (st->still_stage == 1 || (reusable && st->still_ms > STAGED_STILL_MS)))
+        out->stages = 2, out->stage = st->still_stage + 1;
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
     out->detail_step = first_coarse ? DETAIL_STEPS - 1 : st->detail_step; /* not the controller's step */
@@ -395,6 +407,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         out->req.render.style.antialias = 1; /* frames while moving stay single */
         scale *= detail_steps[step].scale;
     }
+    if (out->stage == 1)
+        out->req.render.detail.reuse_opacities = true;
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);
     out->req.format = LC_FORMAT_JPEG;
@@ -435,7 +449,13 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     pthread_mutex_lock(&s->lock);
     lc_stream *st = &s->stream;
     st->rendering = false;
-    if (ok) {
+    if (ok && f->stage == 1) { /* stage 2 is due next: still_due holds on */
+        st->still_stage = 1;
+        st->frames++;
+    } else if (ok) {
+        st->still_stage = 0;
+        if (!f->interactive && info)
+            st->still_ms = info->wall_ms;
         st->converged = info ? info->converged != 0 : true;
         st->last_interactive = f->interactive;
         st->frames++;
@@ -460,6 +480,46 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
         st->last_interactive = false;
     }
     pthread_mutex_unlock(&s->lock);
+}
+
+bool lc_session_stream_preempted(lc_session *s)
+{
+    pthread_mutex_lock(&s->lock);
+    bool stop = s->closed || s->stream.dirty;
+    pthread_mutex_unlock(&s->lock);
+    return stop;
+}
+
+void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f)
+{
+    pthread_mutex_lock(&s->lock);
+    s->stream.rendering = false;
+    drop_outstanding(&s->stream, f->frame, true);
+    if (s->stream.next_frame == f->frame + 1) /* no id was taken since (rendering held): ids stay consecutive */
+        s->stream.next_frame = f->frame;
+    s->stream.yielded++;
+    s->stream.moving_next = true;
+    pthread_mutex_unlock(&s->lock);
+    atomic_store(&s->progress.stage, LC_PROGRESS_NONE);
+}
+
+void lc_session_progress_begin(lc_session *s, uint64_t frame)
+{
+    atomic_store(&s->progress.stage, LC_PROGRESS_PREPARE);
+    atomic_store(&s->progress.done, 0);
+    atomic_store(&s->progress.planned, 0);
+    atomic_store(&s->progress.begun_us, (long long)(lc_now() * 1e6));
+    atomic_store(&s->progress.frame, (unsigned long long)frame);
+}
+
+int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *req, uint8_t *rgba, lc_frame_info *info,
+                             lc_error *err)
+{
+    const lc_field *field = NULL; /* looked up again: the session's request may have changed since it was checked */
+    lc_proto_error pe;
+    if (lc_session_check_surface(srv, req, NULL, &field, &pe) != 0)
+        return lc_err_field(err, LC_ERR_INVALID, pe.field, "%s", pe.message);
+    return lc_surface_stream_frame(&s->surface, field, &req->surface, &req->render, rgba, info, err);
 }
 
 bool lc_session_stream_ack(lc_session *s, uint64_t frame)
@@ -495,6 +555,7 @@ void lc_session_stream_input(lc_session *s, double now)
 {
     pthread_mutex_lock(&s->lock);
     s->stream.dirty = true;
+    s->stream.still_stage = 0; /* a still begins again from stage 1 */
     s->stream.any_input = true;
     s->stream.last_input = now;
     s->stream.updates_since_frame++;

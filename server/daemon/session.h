@@ -63,6 +63,10 @@ typedef struct lc_stream {
      * the frames that reused opacities, and when P1-P3 last ran. */
     int detail_step;
     double last_optimized;
+    uint64_t yielded; /* still/refinement frames abandoned for newer input (stats) */
+    bool moving_next; /* after such a frame: the next frame is a moving one, however long the pass took */
+    int still_stage;  /* staged stills: 1 = stage 1 sent, stage 2 due (0 otherwise) */
+    double still_ms;  /* render time of the last still (not interactive, not a stage 1), 0 = none yet */
 } lc_stream;
 
 /* Progress of the frame a render worker makes for a WebSocket session, for
@@ -119,6 +123,7 @@ typedef struct lc_stream_frame {
     bool interactive;
     int detail_step; /* interactive frames: the ladder step used */
     double dt;
+    int stage, stages; /* a staged still: stage 1 or 2 of 2 (0, 0: not staged) */
 } lc_stream_frame;
 
 typedef struct lc_sessions lc_sessions;
@@ -153,6 +158,21 @@ int lc_sessions_sweep(lc_sessions *reg, double now, double idle);
 int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at);
 /* Worker side: the frame reserved by stream_next finished (ok = rendered). */
 void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, const lc_frame_info *info);
+/* Worker side, during a still or refinement (not interactive) frame: whether
+ * it should be abandoned for newer input (a camera/params/resize update came
+ * since stream_next took it) or because the session closed. */
+bool lc_session_stream_preempted(lc_session *s);
+/* Worker side: the frame reserved by stream_next was abandoned at a yield
+ * point (nothing goes out for it, and its id goes to the next frame); the
+ * session stays as it was before that frame, so its still is due again once
+ * input is quiet, and the next frame is a moving one. */
+void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f);
+/* Worker side: a frame of s begins (its progress starts at "prepare"). */
+void lc_session_progress_begin(lc_session *s, uint64_t frame);
+/* Worker side: one frame of method surface-layers for s (the next batch of
+ * curves of req's surface, drawn with req's camera); errors name the field. */
+int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *req, uint8_t *rgba, lc_frame_info *info,
+                             lc_error *err);
 /* I/O side: the client acknowledged every frame up to id `frame`. Returns
  * false (and changes nothing) for an id that was never sent: a blind ack must
  * not open the window. */

@@ -17,7 +17,9 @@ along an orbit, an ack for every frame, then release. It reports:
                   the first update after the pause to its frame (a still started in the pause must
                   not hold it up)
 With --contend N, N other clients render --contend-size stills over HTTP in a loop
-during the orbit (the fairness case: another user's 4K render must not stall the drag).
+during the orbit (the fairness case: another user's 4K render must not stall the drag); the
+orbit's p95 input-to-frame is the figure, and the daemon's yield counters (/metrics) say how
+often stills were pre-empted and large renders waited for the orbit.
 
   tests/bench/browse_bench.py --binary build/lucent --dataset build/real-data/traj.dump
   tests/bench/browse_bench.py --binary build/lucent --dataset demo:points?count=1000000 --pause 0.4
@@ -87,6 +89,24 @@ def pct(values, p):
         return float("nan")
     v = sorted(values)
     return v[min(len(v) - 1, int(round(p / 100.0 * (len(v) - 1))))]
+
+
+YIELD_METRICS = ("lucent_frames_yielded_total", "lucent_yield_waits_total", "lucent_yield_wait_seconds_total")
+
+
+def yield_metrics(base, token):
+    """The daemon's yield counters (docs/ARCHITECTURE.md "Yielding"); {} when /metrics cannot be read."""
+    hdr = {"Authorization": "Bearer " + token} if token else {}
+    try:
+        text = urllib.request.urlopen(urllib.request.Request(base + "/metrics", headers=hdr), timeout=10).read()
+    except Exception:  # an older daemon, or metrics behind another token
+        return {}
+    out = {}
+    for line in text.decode().splitlines():
+        parts = line.split()
+        if len(parts) == 2 and parts[0] in YIELD_METRICS:
+            out[parts[0]] = float(parts[1])
+    return out
 
 
 def contender(base, token, args, stop, out):
@@ -212,6 +232,7 @@ async def browse(ws_url, token, args):
 
 def run(base, ws_url, token, args, launched=None, listening=None):
     stop, cout, threads = threading.Event(), [], []
+    y0 = yield_metrics(base, token)
     for _ in range(args.contend):
         t = threading.Thread(target=contender, args=(base, token, args, stop, cout), daemon=True)
         t.start()
@@ -242,6 +263,11 @@ def run(base, ws_url, token, args, launched=None, listening=None):
         ok = [t for s, t in cout if s == "ok"]
         print("contending stills           %d done (median %.1f s), %d refused" % (
             len(ok), pct(ok, 50) if ok else float("nan"), len(cout) - len(ok)))
+    y1 = yield_metrics(base, token)
+    if y1:
+        d = {k: y1.get(k, 0) - y0.get(k, 0) for k in YIELD_METRICS}
+        print("yielding                    %d stills pre-empted by input, %d waits of large renders (%.1f s)" % (
+            d["lucent_frames_yielded_total"], d["lucent_yield_waits_total"], d["lucent_yield_wait_seconds_total"]))
 
 
 def main():

@@ -212,7 +212,8 @@ async def stats(srv):
             if isinstance(m, str):
                 o = json.loads(m)
                 check(o["type"] in ("stats", "progress"), "only stats/progress text messages while streaming (%s)" % o)
-                seen.append((frames, frame_bytes, o))
+                if o["type"] == "stats":  # a slow frame on a loaded host may bring progress messages too
+                    seen.append((frames, frame_bytes, o))
                 return
             h, _ = unpack_frame(m)
             frames += 1

@@ -17,10 +17,12 @@ export const PROGRESS_STAGES = Object.freeze({
   accumulate: 'Accumulating', resolve: 'Resolving', readback: 'Reading back', encode: 'Encoding',
 });
 
-/** The line under the progress bar: stage, per cent when known, time so far. */
+/** The line under the progress bar: stage, per cent when known, time so far; while a staged
+ * still refines (protocol/websocket.md "Staged stills"), which stage of how many. */
 export function progressText(p) {
   const pct = p.fraction === null ? '' : ` ${Math.round(100 * p.fraction)}%`;
-  return `${PROGRESS_STAGES[p.stage] ?? p.stage}${pct} · ${p.elapsed.toFixed(1)} s`;
+  const pre = p.refine ? `Refining, stage ${p.refine.stage} of ${p.refine.stages}: ` : '';
+  return `${pre}${PROGRESS_STAGES[p.stage] ?? p.stage}${pct} · ${p.elapsed.toFixed(1)} s`;
 }
 const TOKEN_REFUSED = 'The token was not accepted.';
 const TOKEN_NEEDED = 'This server requires an access token.';
@@ -38,6 +40,7 @@ export function createSessionController(ctx) {
   const { state, ui } = ctx;
   let countdown = 0;
   let waiting = false; // a progress bar is shown: the frame it is about has not come yet
+  let refining = null; // after a staged still's non-final stage: {stage, stages} of the one under way
 
   // The server's progress messages while a frame is awaited (the first one,
   // a long still): shown until the next frame or the end of the connection.
@@ -45,6 +48,7 @@ export function createSessionController(ctx) {
     waiting = true;
     const fraction = typeof msg.fraction === 'number' ? Math.min(1, Math.max(0, msg.fraction)) : null;
     state.progress = { stage: msg.stage, fraction, elapsed: msg.elapsed };
+    if (refining) state.progress.refine = refining;
     ui.progress({ ...state.progress, text: progressText(state.progress) });
   }
 
@@ -57,6 +61,9 @@ export function createSessionController(ctx) {
 
   function onFrame(frame) {
     endProgress();
+    const h = frame.header ?? {};
+    refining = Number.isInteger(h.stages) && Number.isInteger(h.stage) && h.stage < h.stages && h.final === false
+      ? { stage: h.stage + 1, stages: h.stages } : null;
     ctx.view.push(frame);
   }
 

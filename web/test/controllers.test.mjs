@@ -284,6 +284,23 @@ test('session: progress messages show a bar until the frame comes, and nothing a
   assert.deepEqual(shown(), [null]);
 });
 
+test('session: after stage 1 of a staged still, the progress says the refinement is stage 2 of 2', () => {
+  const r = sessionRig();
+  const shown = () => r.log.filter(([k]) => k === 'progress').map(([, p]) => p);
+  r.s.handlers.onReady({ session: 's1', dataset: INFO, defaults: {} });
+  r.s.handlers.onFrame({ header: { frame: 1, stage: 1, stages: 2, final: false } });
+  r.log.length = 0;
+  r.s.handlers.onProgress({ type: 'progress', stage: 'importance', fraction: 0.25, elapsed: 0.5 });
+  assert.equal(shown()[0].text, 'Refining, stage 2 of 2: Importance 25% · 0.5 s');
+  assert.deepEqual(r.state.progress.refine, { stage: 2, stages: 2 });
+  // the final stage (or a moving frame) ends it: later progress is a plain frame's
+  r.s.handlers.onFrame({ header: { frame: 2, stage: 2, stages: 2, final: true } });
+  r.log.length = 0;
+  r.s.handlers.onProgress({ type: 'progress', stage: 'opacity', fraction: 0.5, elapsed: 0.4 });
+  assert.equal(shown()[0].text, 'Opacities 50% · 0.4 s');
+  assert.equal(r.state.progress.refine, undefined);
+});
+
 test('progress text: stage words, per cent when known, seconds so far', () => {
   assert.equal(progressText({ stage: 'prepare', fraction: null, elapsed: 0.42 }), 'Preparing the frame · 0.4 s');
   assert.equal(progressText({ stage: 'encode', fraction: 1, elapsed: 10 }), 'Encoding 100% · 10.0 s');

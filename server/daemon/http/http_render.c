@@ -72,6 +72,10 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
                  info->surface_k, (unsigned long long)info->surface_overflow, info->surface_trace_ms);
         MHD_add_response_header(r, "X-Lucent-Surface", surf);
     }
+    if (info->tiles > 0) { /* composited in tiles (a large one-shot frame) */
+        snprintf(buf, sizeof buf, "%d", info->tiles);
+        MHD_add_response_header(r, "X-Lucent-Tiles", buf);
+    }
     snprintf(buf, sizeof buf, "%.4g", job->cost); /* the estimate --max-cost is compared with */
     MHD_add_response_header(r, "X-Lucent-Cost", buf);
     if (job->session) {

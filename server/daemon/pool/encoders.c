@@ -115,6 +115,7 @@ static void encode_one(lc_encoders *w, encode_item *e)
     h.encode_ms = ms;
     h.has_detail = true;
     h.interactive = e->frame.interactive;
+    h.stage = e->frame.stage, h.stages = e->frame.stages;
     h.reused = e->info.reused_opacities != 0;
     h.level = e->info.lod_level;
     h.lod_pixels = e->frame.req.render.detail.lod_pixels;

@@ -3,17 +3,20 @@
 #include "workers.h"
 
 #include <errno.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "cost.h"
 #include "encoders.h"
 #include "fair_queue.h"
 #include "memory.h"
 #include "messages.h"
 #include "metrics.h"
 #include "surface_job.h"
+#include "yield.h"
 
 #define MOD "workers"
 
@@ -30,6 +33,11 @@ typedef struct worker {
     lc_session *session;
     bool lost;
     lc_session *progress; /* the stream session whose frame the renderer reports on (render thread only) */
+    /* The frame's yield points (render thread only, yield.h): the session whose input pre-empts
+     * it; large: it waits for other sessions' moving frames (owner: whose frame it is). */
+    lc_session *preempt;
+    bool large;
+    const void *owner;
 } worker;
 
 struct lc_workers {
@@ -46,8 +54,9 @@ struct lc_workers {
     bool stopping;
     bool abandoned; /* lc_workers_abandon ran (the watchdog and mpirun's signal may both call it) */
     lc_fair_queue queue; /* the render tasks, by client (fair_queue.h) */
-    double cost_rate; /* learned cost units per second of render time (0 = none measured yet) */
+    _Atomic double cost_rate; /* learned cost units per second of render (0 = none yet); written under lock */
     lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
+    lc_yield_gate gate; /* large renders wait here for other sessions' moving frames (yield.h) */
 };
 
 /* ---------------------------------------------------------------- queues */
@@ -196,20 +205,6 @@ static double run_timers(lc_workers *w, double now)
     return next;
 }
 
-static void wait_until(pthread_cond_t *c, pthread_mutex_t *m, double when_monotonic)
-{
-    /* The condition variable uses CLOCK_MONOTONIC (see create), as does lc_now(). */
-    double secs = when_monotonic;
-    struct timespec ts;
-    ts.tv_sec = (time_t)secs;
-    ts.tv_nsec = (long)((secs - (double)ts.tv_sec) * 1e9);
-    if (ts.tv_nsec >= 1000000000L) {
-        ts.tv_sec++;
-        ts.tv_nsec -= 1000000000L;
-    }
-    pthread_cond_timedwait(c, m, &ts);
-}
-
 /* ---------------------------------------------------------------- rendering */
 
 /* Cost units per second of render time, a moving average over renders that
@@ -227,9 +222,6 @@ static void learn_rate(lc_workers *w, double cost, double wall_ms)
 
 /* Every frame of a render worker: the frame hook (serve --mpi announces the
  * frame to the other ranks), then the renderer. */
-static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, const lc_render_params *p,
-                        lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
-
 static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, const lc_render_params *p,
                         lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
@@ -304,6 +296,11 @@ static void render_job(worker *wk, lc_render_job *job)
     if (session)
         lc_session_ref(session);
     lc_frame_info info;
+    wk->large = w->nworkers > 1 && lc_yield_large(job->cost, atomic_load(&w->cost_rate));
+    bool tiled = w->nworkers > 1 && !w->srv->mpi && !layer_count && /* not collective: every rank must tile alike */
+                 (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
+    lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
+    wk->owner = session ? (const void *)session : (const void *)job;
     in_hand(wk, job, NULL);
     int rc =
         field ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
@@ -311,6 +308,7 @@ static void render_job(worker *wk, lc_render_job *job)
             ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
             : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba, &info, &err);
     free(layers);
+    wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
     if (!w->srv->mpi && dataset) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
     int mine = out_of_hand(wk);
@@ -349,6 +347,23 @@ static void on_progress(void *ctx, int next_pass, int done, int planned)
     atomic_store(&s->progress.stage, next_pass < 0 ? LC_PROGRESS_ENCODE : next_pass);
 }
 
+/* desc.yield: a session's still gives way to its newer input; a large frame waits
+ * while other sessions' moving frames render (yield.h); an abandoned frame stops. */
+static int on_yield(void *ctx)
+{
+    worker *wk = ctx;
+    lc_workers *w = wk->pool;
+    double waited = wk->large ? lc_yield_wait(&w->gate, wk->owner) : 0;
+    if (waited > 0)
+        lc_metrics_yield_wait(w->srv->metrics, waited);
+    if (wk->preempt && lc_session_stream_preempted(wk->preempt)) /* input may have come while it waited */
+        return 1;
+    pthread_mutex_lock(&w->lock);
+    bool lost = wk->lost;
+    pthread_mutex_unlock(&w->lock);
+    return lost;
+}
+
 /* One frame of a WebSocket session, if it needs one. */
 static void render_session(worker *wk, lc_session *s)
 {
@@ -367,24 +382,31 @@ static void render_session(worker *wk, lc_session *s)
     uint8_t *rgba = malloc((size_t)p->width * (size_t)p->height * 4);
     lc_frame_info info;
     lc_error err = {0};
-    atomic_store(&s->progress.stage, LC_PROGRESS_PREPARE);
-    atomic_store(&s->progress.done, 0);
-    atomic_store(&s->progress.planned, 0);
-    atomic_store(&s->progress.begun_us, (long long)(lc_now() * 1e6));
-    atomic_store(&s->progress.frame, (unsigned long long)f.frame);
+    lc_session_progress_begin(s, f.frame);
     wk->progress = s;
+    /* Stills and refinements give way to newer input; moving frames are short
+     * and tell the yield gate that a drag is under way. */
+    wk->preempt = f.interactive ? NULL : s;
+    double cost = lc_cost_estimate(&s->dataset->cost, p);
+    wk->large = !f.interactive && w->nworkers > 1 && lc_yield_large(cost, atomic_load(&w->cost_rate)), wk->owner = s;
+    if (f.interactive)
+        lc_yield_interactive_begin(&w->gate, s);
     in_hand(wk, NULL, s);
-    const lc_field *field = NULL; /* method surface-layers: the field, looked up again as the request may change */
-    lc_proto_error pe;
-    if (p->method == LC_METHOD_SURFACE_LAYERS && lc_session_check_surface(w->srv, &f.req, NULL, &field, &pe) != 0)
-        lc_err_field(&err, LC_ERR_INVALID, pe.field, "%s", pe.message);
     int rc = !rgba ? lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height)
-             : p->method == LC_METHOD_SURFACE_LAYERS
-                 ? (field ? lc_surface_stream_frame(&s->surface, field, &f.req.surface, p, rgba, &info, &err)
-                          : LC_ERR_INVALID)
-                 : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
+             : p->method == LC_METHOD_SURFACE_LAYERS ? lc_session_surface_frame(w->srv, s, &f.req, rgba, &info, &err)
+                                                     : render_frame(w, wk->renderer, s->dataset, p, s->frame_state,
+                                                                    f.dt, rgba, &info, &err);
     out_of_hand(wk);
-    wk->progress = NULL;
+    if (f.interactive)
+        lc_yield_interactive_end(&w->gate, s);
+    wk->progress = NULL, wk->preempt = NULL, wk->large = false, wk->owner = NULL;
+    if (rc == LC_ERR_CANCELLED && !f.interactive) { /* pre-empted: the moving frame for the new input follows */
+        free(rgba);
+        lc_session_stream_yielded(s, &f);
+        lc_metrics_yielded(w->srv->metrics);
+        lc_workers_wake(w, s);
+        return;
+    }
     atomic_store(&s->progress.stage, rc == 0 ? LC_PROGRESS_ENCODE : LC_PROGRESS_NONE);
     lc_session_stream_done(s, &f, rc == 0, rc == 0 ? &info : NULL);
     if (rc != 0) {
@@ -416,9 +438,12 @@ static void *worker_main(void *arg)
     if (rc == 0)
         rc = lc_gl_make_current(wk->gl, &err);
     if (rc == 0)
-        rc = lc_renderer_create(
-            &(lc_renderer_desc){.reducer = w->srv->frame_hook.reducer, .progress = on_progress, .progress_ctx = wk},
-            &wk->renderer, &err);
+        rc = lc_renderer_create(&(lc_renderer_desc){.reducer = w->srv->frame_hook.reducer,
+                                                    .progress = on_progress,
+                                                    .progress_ctx = wk,
+                                                    .yield = on_yield,
+                                                    .yield_ctx = wk},
+                                &wk->renderer, &err);
     pthread_mutex_lock(&w->lock);
     if (rc != 0 && !w->failed) {
         w->failed = 1;
@@ -441,7 +466,7 @@ static void *worker_main(void *arg)
             if (t)
                 break;
             if (next > 0)
-                wait_until(&w->work, &w->lock, next);
+                lc_cond_wait_until(&w->work, &w->lock, next);
             else
                 pthread_cond_wait(&w->work, &w->lock);
         }
@@ -495,6 +520,7 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     pthread_cond_init(&w->work, &ca);
     pthread_condattr_destroy(&ca);
     pthread_cond_init(&w->ready, NULL);
+    lc_yield_gate_init(&w->gate, srv->cfg.still_delay, LC_YIELD_MAX_WAIT);
     w->workers[0].gl = primary;
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];
@@ -562,6 +588,7 @@ void lc_workers_abandon(lc_workers *w, const char *why)
     }
     w->abandoned = w->stopping = true;
     pthread_cond_broadcast(&w->work);
+    lc_yield_release(&w->gate);
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];
         if (wk->job && nj < 64) {
@@ -605,6 +632,7 @@ void lc_workers_stop(lc_workers *w)
     pthread_cond_broadcast(&w->work);
     pthread_cond_broadcast(&w->ready);
     pthread_mutex_unlock(&w->lock);
+    lc_yield_release(&w->gate); /* the frames in hand finish without waiting */
     for (int i = 0; i < w->nworkers; i++) {
         if (w->workers[i].started)
             pthread_join(w->workers[i].thread, NULL);
@@ -642,6 +670,7 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
     pthread_mutex_destroy(&w->lock);
     pthread_cond_destroy(&w->work);
     pthread_cond_destroy(&w->ready);
+    lc_yield_gate_destroy(&w->gate);
     free(w->workers);
     lc_encoders_destroy(w->encoders);
     free(w);

@@ -219,12 +219,12 @@ export function checkRequest(req, limits = DEFAULT_LIMITS) {
 
 // ---- client messages (lc_proto_parse_client_message)
 
-const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method', 'filter'];
+const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method', 'filter', 'layers'];
 const STREAM_KEYS = STREAM_FIELDS.map((f) => f.name);
 const ALLOWED = {
   hello: ['dataset', 'width', 'height', 'devicePixelRatio', 'window', 'token', ...STREAM_KEYS, ...UPDATE_KEYS],
   camera: ['seq', 'camera'],
-  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method', 'filter'],
+  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method', 'filter', 'layers'],
   resize: ['width', 'height', 'devicePixelRatio'],
   ack: ['frame'],
 };

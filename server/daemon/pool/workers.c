@@ -237,6 +237,18 @@ static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, con
     return rc ? rc : lc_render_frame(r, ds->gpu, p, state, dt, rgba, info, err);
 }
 
+/* layers[] (docs/ALGORITHM.md "Layers"): the renderer's copy of req's
+ * layer parameters (malloc'd, 2 KiB a layer: off the stack) and the scenes
+ * of their datasets ds, so the frame reads nothing of its job or snapshot.
+ * NULL when out of memory. */
+static lc_layer_params *copy_layers(const lc_request *req, const lc_dataset *const *ds, const lc_gpu_scene **scenes)
+{
+    lc_layer_params *lp = malloc((size_t)req->layer_count * sizeof *lp);
+    for (int i = 0; lp && i < req->layer_count; i++)
+        scenes[i] = ds[i]->gpu, lp[i] = req->layers[i].p;
+    return lp;
+}
+
 static void finish_job(lc_render_job *job)
 {
     if (job->done)
@@ -283,14 +295,12 @@ static void render_job(worker *wk, lc_render_job *job)
     const lc_dataset *dataset = job->dataset;
     double dt = job->dt;
     lc_session *session = job->session;
-    /* layers[] (HTTP renders only; the routes refuse them in sessions and under --mpi), copied like the rest */
-    int layer_count = session ? 0 : job->req.layer_count;
+    /* layers[] (not under --mpi: the routes refuse them there), copied like the rest */
+    int layer_count = job->req.layer_count;
+    const lc_dataset *layer_ds[LC_MAX_LAYERS];
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
-    lc_layer_params *layers = layer_count ? malloc((size_t)layer_count * sizeof *layers) : NULL;
-    for (int i = 0; i < layer_count && layers; i++) {
-        scenes[i] = job->layers[i]->gpu;
-        layers[i] = job->req.layers[i].p;
-    }
+    memcpy(layer_ds, job->layers, (size_t)layer_count * sizeof *layer_ds);
+    lc_layer_params *layers = layer_count ? copy_layers(&job->req, layer_ds, scenes) : NULL;
     uint8_t *rgba = layer_count && !layers ? NULL : malloc((size_t)p->width * (size_t)p->height * 4);
     if (!rgba) {
         free(layers);
@@ -302,9 +312,14 @@ static void render_job(worker *wk, lc_render_job *job)
         lc_session_ref(session);
     lc_frame_info info;
     in_hand(wk, job, NULL);
-    int rc = layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
-                         : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba,
-                                        &info, &err);
+    /* A session's opacities span its layers (lc_session_prepare_state). */
+    lc_frame_state *state = NULL;
+    int rc = session ? lc_session_prepare_state(session, layer_ds, layer_count, &err) : 0;
+    if (session && rc == 0)
+        state = session->frame_state;
+    if (rc == 0)
+        rc = layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, state, dt, rgba, &info, &err)
+                         : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
     free(layers);
     if (!w->srv->mpi) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
@@ -369,8 +384,17 @@ static void render_session(worker *wk, lc_session *s)
     atomic_store(&s->progress.frame, (unsigned long long)f.frame);
     wk->progress = s;
     in_hand(wk, NULL, s);
-    int rc = rgba ? render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err)
-                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
+    /* layers[]: their parameters copied, the opacities spanning them (lc_session_prepare_state) */
+    int n = f.req.layer_count;
+    const lc_gpu_scene *scenes[LC_MAX_LAYERS];
+    lc_layer_params *layers = n ? copy_layers(&f.req, f.layers, scenes) : NULL;
+    int rc = rgba && (layers || !n)
+                 ? lc_session_prepare_state(s, f.layers, n, &err)
+                 : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
+    if (rc == 0)
+        rc = n ? lc_render_layers(wk->renderer, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info, &err)
+               : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
+    free(layers);
     out_of_hand(wk);
     wk->progress = NULL;
     atomic_store(&s->progress.stage, rc == 0 ? LC_PROGRESS_ENCODE : LC_PROGRESS_NONE);

@@ -23,6 +23,7 @@ import { Legend, invertNote } from './js/legend.js';
 import { AxesTriad } from './js/axes.js';
 import { createState, currentValues, linkCamera, datasetInfo } from './js/app-state.js';
 import { createParamsController } from './js/params-controller.js';
+import { createTimeController } from './js/time-controller.js';
 import { createCameraController } from './js/camera-controller.js';
 import { createSessionController } from './js/session-controller.js';
 import { createUrlController } from './js/url-controller.js';
@@ -142,6 +143,7 @@ export function createApp(doc = document, win = window) {
     toast,
   });
   const panel = new Panel($('generated'), (path, value) => params.applyChange(path, value), (text) => toast(text));
+  const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id) });
   const datasets = createDatasetController({
     state,
     camera,
@@ -227,6 +229,7 @@ export function createApp(doc = document, win = window) {
     panel.setVisible('color.range', colorBy !== 'rgb');
     panel.setFeedback('importance.invert', invertNote(v, state.info));
     legend.update(v, state.info);
+    time.show(v, state.info);
   }
 
   // ---------------------------------------------------------------- viewport and navigation

@@ -24,6 +24,7 @@ import { AxesTriad } from './js/axes.js';
 import { createState, currentValues, linkCamera, datasetInfo } from './js/app-state.js';
 import { createParamsController } from './js/params-controller.js';
 import { createTimeController } from './js/time-controller.js';
+import { createLayersController } from './js/layers-controller.js';
 import { createCameraController } from './js/camera-controller.js';
 import { createSessionController } from './js/session-controller.js';
 import { createUrlController } from './js/url-controller.js';
@@ -143,6 +144,7 @@ export function createApp(doc = document, win = window) {
     toast,
   });
   const panel = new Panel($('generated'), (path, value) => params.applyChange(path, value), (text) => toast(text));
+  const layers = createLayersController({ doc, state, values: () => values(), apply: (path, value) => params.applyChange(path, value) });
   const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id) });
   const datasets = createDatasetController({
     state,
@@ -230,6 +232,7 @@ export function createApp(doc = document, win = window) {
     panel.setFeedback('importance.invert', invertNote(v, state.info));
     legend.update(v, state.info);
     time.show(v, state.info);
+    layers.show(v);
   }
 
   // ---------------------------------------------------------------- viewport and navigation

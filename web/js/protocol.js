@@ -198,7 +198,8 @@ const DEFAULT_POSE = { position: [0, 0, 0], focalPoint: [0, 0, 0], viewUp: [0, 1
 export function checkUpdate(update, limits = DEFAULT_LIMITS) {
   if (!isObj(update)) fail('bad_field', '', 'expected a JSON object');
   const lim = { ...DEFAULT_LIMITS, ...limits };
-  checkMembers(update, null, lim, FIELDS);
+  // layers[] is a session update too (hello, params), unlike the request's other top-level fields
+  checkMembers(update, null, lim, [...FIELDS, ...REQUEST_TOP_FIELDS.filter((f) => f.name === 'layers')]);
   const cam = update.camera;
   if (isObj(cam) && cam.position !== undefined && cam.focalPoint !== undefined)
     checkCameraPose({ ...DEFAULT_POSE, ...cam }, cam.viewUp !== undefined);

@@ -83,6 +83,7 @@ export function createSessionController(ctx) {
     for (const s of UPDATE_SECTIONS) if (sent[s] && Object.keys(sent[s]).length) msg[s] = sent[s];
     if (state.update.method) msg.method = state.update.method;
     if (state.update.filter) msg.filter = state.update.filter;
+    if (state.update.layers?.length) msg.layers = state.update.layers;
     for (const f of STREAM_FIELDS) if (state.update[f.name] !== undefined) msg[f.name] = state.update[f.name];
     ctx.params.drop(); // the hello carries them
     ctx.camera.drop();

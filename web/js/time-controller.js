@@ -100,7 +100,8 @@ export function createTimeController(ctx) {
   return {
     /** The values the page shows (defaults + its changes) and the dataset: shows or hides the bar. */
     show(values, info) {
-      const a = timeAttribute(info, values?.time?.attribute ?? '');
+      // layered frames take no window (the server refuses one, naming time.window)
+      const a = values?.layers?.length ? null : timeAttribute(info, values?.time?.attribute ?? '');
       if (!a) {
         stop();
         attr = null;

@@ -1,10 +1,14 @@
-// The page's time bar (issue 27) in headless Chromium against the real daemon: a LAMMPS dump
-// (per-vertex timestep) shows the bar, the demo points do not; moving t sends time.window, the
-// link carries it (timeWindow=t0,t1) and the image changes; a window length narrows the window;
-// play steps t (the window's end grows, frames keep coming, no error) and pause stops it; a link
-// with timeWindow reopens the bar at that t.
+// The page's time bar and layer list (issue 27) in headless Chromium against the real daemon.
+// Time: a LAMMPS dump (per-vertex timestep) shows the bar, the demo points do not; moving t sends
+// time.window, the link carries it (timeWindow=t0,t1) and the image changes; a window length narrows
+// the window; play steps t (the window's end grows, frames keep coming, no error) and pause stops it;
+// a link with timeWindow reopens the bar at that t.
+// Layers: adding the dump to the points makes a two-layer session (the points stay layer 1) whose
+// frames differ from the points alone, with a legend line per layer; hiding the dump brings the
+// points' picture back; a layer's colour attribute and role go to the server (the legend follows);
+// the link reopens both layers in a new session; removing them returns to the single dataset.
 //
-//   node tests/browser/time.mjs --binary build/lucent
+//   node tests/browser/scenes.mjs --binary build/lucent
 //
 // Exit codes: 0 passed, 1 a failure, 77 skipped (chromium or node_modules missing, outside CI).
 
@@ -166,6 +170,86 @@ try {
   const st2 = await page2.evaluate(() => ({ t: document.getElementById('time-t').value, len: document.getElementById('time-length').value, defaults: window.lucent.state.lastReady?.defaults?.time }));
   check(st2.t === '150' && st2.len === '50', `a link with timeWindow=100,150 opens at t = 150, length 50 (${st2.t}, ${st2.len})`);
   check(JSON.stringify(st2.defaults?.window) === '[100,150]', `the session has the link's window (${JSON.stringify(st2.defaults)})`);
+
+  // ---- layers
+  const page3 = await context.newPage();
+  page3.on('pageerror', (e) => pageErrors.push(e.message));
+  const sig3 = () => page3.evaluate(() => {
+    const c = document.createElement('canvas');
+    c.width = 48;
+    c.height = 32;
+    const g = c.getContext('2d');
+    g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
+    return Array.from(g.getImageData(0, 0, 48, 32).data);
+  });
+  const settled3 = async (min) => {
+    await page3.waitForFunction((m) => {
+      const f = window.lucent?.state?.lastFrame;
+      return !!f && f.frame > m && f.converged;
+    }, min, { timeout: 60000, polling: 100 });
+    await page3.waitForTimeout(400);
+  };
+  const lastFrame = () => page3.evaluate(() => window.lucent.state.lastFrame?.frame ?? 0);
+  await page3.goto(`${url}/#dataset=demo:points&position=0,0,60&focalPoint=0,0,0&viewUp=0,1,0`);
+  await page3.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
+  await settled3(0);
+  const pointsAlone = await sig3();
+  check(await page3.evaluate(() => document.querySelectorAll('.layer-row').length === 0 && document.querySelector('.legend-layers').hidden), 'no layers at first');
+  let f = await lastFrame();
+  await page3.selectOption('#layer-add', name);
+  await page3.waitForFunction(() => /layers=/.test(location.hash), null, { timeout: 10000 }).catch(async (e) => {
+    throw new Error(`${e.message}: ${await page3.evaluate(() => JSON.stringify({ hash: location.hash, update: window.lucent.state.update, toast: document.getElementById('toast').textContent, err: window.lucent.state.error }))}`);
+  });
+  await settled3(f);
+  const two = await page3.evaluate(() => ({
+    rows: [...document.querySelectorAll('.layer-row .layer-name')].map((e) => e.textContent.trim()),
+    legend: [...document.querySelectorAll('.legend-layer')].map((e) => e.dataset.dataset),
+    layered: document.getElementById('legend').classList.contains('layered'),
+    err: window.lucent.state.error,
+  }));
+  check(JSON.stringify(two.rows) === JSON.stringify(['demo:points', name]), `adding ${name}: the points stay layer 1 (${two.rows})`);
+  check(JSON.stringify(two.legend) === JSON.stringify(['demo:points', name]) && two.layered, `a legend line per layer (${two.legend})`);
+  check(!two.err, `the session draws the two layers (${JSON.stringify(two.err)})`);
+  const both = await sig3();
+  check(diff(pointsAlone, both) > 0.3, `the two-layer frame differs from the points alone (${diff(pointsAlone, both).toFixed(2)})`);
+
+  f = await lastFrame();
+  await page3.click('.layer-row[data-index="1"] input[type=checkbox]');
+  await settled3(f);
+  const hidden = await sig3();
+  check(diff(pointsAlone, hidden) < 0.25 * diff(pointsAlone, both), `hiding the dump brings the points' picture back (${diff(pointsAlone, hidden).toFixed(2)} against ${diff(pointsAlone, both).toFixed(2)})`);
+  check(await page3.evaluate(() => document.querySelectorAll('.legend-layer').length === 1), 'the legend lists the visible layer only');
+  await page3.click('.layer-row[data-index="1"] input[type=checkbox]');
+
+  f = await lastFrame();
+  await page3.selectOption('.layer-row[data-index="1"] select[aria-label^="Colour attribute"]', 'timestep');
+  await page3.selectOption('.layer-row[data-index="1"] select[aria-label^="Role"]', 'context');
+  await settled3(f);
+  const mapped = await page3.evaluate(() => ({
+    legend: document.querySelector(`.legend-layer[data-dataset]:last-child`)?.textContent,
+    err: window.lucent.state.error,
+    hash: decodeURIComponent(location.hash),
+  }));
+  check(!mapped.err, `colour by timestep and opaque context: no error (${JSON.stringify(mapped.err)})`);
+  check(/\(context\): timestep/.test(mapped.legend) && /190/.test(mapped.legend), `the legend line says context, timestep and its range (${mapped.legend})`);
+  check(/"role":"context"/.test(mapped.hash) && /"attribute":"timestep"/.test(mapped.hash), 'the link carries the role and the colour attribute');
+
+  const page4 = await context.newPage();
+  page4.on('pageerror', (e) => pageErrors.push(e.message));
+  await page4.goto(await page3.evaluate(() => location.href));
+  await page4.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
+  const reopened = await page4.evaluate(() => ({ rows: document.querySelectorAll('.layer-row').length, server: window.lucent.state.lastReady?.defaults?.layers }));
+  check(reopened.rows === 2 && reopened.server?.length === 2 && reopened.server[1].role === 'context', `the link reopens both layers in a new session (${JSON.stringify(reopened.server?.map((l) => [l.dataset, l.role]))})`);
+  await page4.close();
+
+  f = await lastFrame();
+  await page3.click('.layer-row[data-index="1"] .layer-remove');
+  await page3.click('.layer-row[data-index="0"] .layer-remove');
+  await settled3(f);
+  const none = await page3.evaluate(() => ({ rows: document.querySelectorAll('.layer-row').length, layered: document.getElementById('legend').classList.contains('layered'), err: window.lucent.state.error }));
+  const back = await sig3();
+  check(none.rows === 0 && !none.layered && !none.err, 'removing both layers returns to the single dataset');
+  check(diff(pointsAlone, back) < 0.25 * diff(pointsAlone, both), `and its picture (${diff(pointsAlone, back).toFixed(2)})`);
   check(pageErrors.length === 0, `no page errors (${pageErrors.join('; ')})`);
 } catch (e) {
   check(false, `exception: ${e.stack ?? e}`);

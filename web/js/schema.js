@@ -78,6 +78,7 @@ export const FIELDS = Object.freeze([
 
   { section: 'time', name: 'window', alias: 'timeWindow', type: 'range' },
   { section: 'time', name: 'attribute', alias: 'timeAttribute', type: 'str', maxLength: 63 },
+  { section: 'time', name: 'markers', alias: 'timeMarkers', type: 'bool' },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides

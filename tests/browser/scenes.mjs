@@ -145,6 +145,18 @@ try {
   check(diff(win, again) < 0.05, `the settled image holds still (${diff(win, again).toFixed(3)}): the differences measure the windows`);
   check(diff(upTo60, win) > 0.2, `a window of length 30 draws less than everything up to 60 (${diff(upTo60, win).toFixed(2)})`);
 
+  // markers: a dot at each line's position at t, over the picture; the link carries them
+  await page.check('#time-markers');
+  await page.waitForFunction(() => /timeMarkers=true/.test(location.hash), null, { timeout: 10000 });
+  await page.waitForTimeout(300);
+  await settled();
+  const marked = await sig();
+  check(diff(win, marked) > 0.05, `markers change the picture (${diff(win, marked).toFixed(3)})`);
+  check(!(await page.evaluate(() => window.lucent.state.error)), 'the server draws the markers');
+  await page.uncheck('#time-markers');
+  await page.waitForTimeout(300);
+  await settled();
+
   // play: t steps on, frames keep coming, the link follows; pause stops it
   const f0 = await frames();
   await page.click('#time-play');

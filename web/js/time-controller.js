@@ -48,11 +48,12 @@ export function nextT(t, range, steps = PLAY_STEPS) {
 /**
  * ctx: doc; apply(path, value) (the params controller's applyChange); setInterval/clearInterval (the
  * window's, replaceable in tests). Elements: #time (the bar), #time-t (slider), #time-length (number),
- * #time-play (button), #time-label (text).
+ * #time-play (button), #time-markers (checkbox: time.markers), #time-label (text).
  */
 export function createTimeController(ctx) {
   const $ = (id) => ctx.doc.getElementById(id);
   const bar = $('time'), slider = $('time-t'), lengthBox = $('time-length'), play = $('time-play'), label = $('time-label');
+  const markers = $('time-markers');
   let attr = null;
   let t = 0, length = 0;
   let timer = 0;
@@ -88,6 +89,10 @@ export function createTimeController(ctx) {
     lengthBox.value = String(length);
     send();
   });
+  markers.addEventListener('change', () => {
+    ctx.apply('time.markers', markers.checked);
+    send(); // markers draw under a window only: make sure there is one
+  });
   play.addEventListener('click', () => {
     if (timer) return stop();
     if (t >= attr.range[1]) t = attr.range[0]; // from the start again
@@ -119,6 +124,8 @@ export function createTimeController(ctx) {
         slider.value = String(t);
         lengthBox.value = String(length);
       }
+      markers.checked = values?.time?.markers === true;
+      markers.disabled = info?.type !== 'lines';
       showLabel();
     },
     stop,

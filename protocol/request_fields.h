@@ -180,6 +180,7 @@ static const field fields[] = {
     {"time", "window", "timeWindow", T_RANGE, 0, 0, 0, OFF(render.time.window), 0, (long)OFF(render.time.has_window),
      NULL},
     {"time", "attribute", "timeAttribute", T_STR, 0, 0, 0, OFF(render.time.attribute), LC_NAME_LEN, NOFLAG, NULL},
+    {"time", "markers", "timeMarkers", T_BOOL, 0, 0, 0, OFF(render.time.markers), 0, NOFLAG, NULL},
 
     /* surface: method "surface-layers" (a field's integral surface) */
     {"surface", "field", "surfaceField", T_STR, 0, 0, 0, OFF(surface.field), sizeof(((lc_request *)0)->surface.field),

@@ -23,6 +23,8 @@ import { Legend, invertNote } from './js/legend.js';
 import { AxesTriad } from './js/axes.js';
 import { createState, currentValues, linkCamera, datasetInfo } from './js/app-state.js';
 import { createParamsController } from './js/params-controller.js';
+import { createTimeController } from './js/time-controller.js';
+import { createLayersController } from './js/layers-controller.js';
 import { createCameraController } from './js/camera-controller.js';
 import { createSessionController } from './js/session-controller.js';
 import { createUrlController } from './js/url-controller.js';
@@ -148,6 +150,8 @@ export function createApp(doc = document, win = window) {
     if (path === 'method' || path === 'surface') surface.setMethod(values().method);
     params.applyChange(path, value);
   }, (text) => toast(text), (bounds) => camera.setCamera(fitCamera(DEFAULT_CAMERA, flatBounds(bounds), [-1, 1.5, -0.8], [0, 0, 1], aspect())));
+  const layers = createLayersController({ doc, state, values: () => values(), apply: (path, value) => params.applyChange(path, value) });
+  const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id) });
   const datasets = createDatasetController({
     state,
     camera,
@@ -233,6 +237,8 @@ export function createApp(doc = document, win = window) {
     panel.setVisible('color.range', colorBy !== 'rgb');
     panel.setFeedback('importance.invert', invertNote(v, state.info));
     legend.update(v, state.info);
+    time.show(v, state.info);
+    layers.show(v);
   }
 
   // ---------------------------------------------------------------- viewport and navigation

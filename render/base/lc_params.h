@@ -169,6 +169,7 @@ typedef struct lc_time_window {
     bool has_window;             /* false: no window, every segment */
     double window[2];            /* [t0, t1], inclusive */
     char attribute[LC_NAME_LEN]; /* "": time, t, frame or timestep */
+    bool markers;                /* a splat at each line's position at t1 (docs/ALGORITHM.md §26) */
 } lc_time_window;
 
 #define LC_MAX_COLOR_FIXED 4

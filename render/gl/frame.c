@@ -69,6 +69,8 @@ void lc_renderer_destroy(lc_renderer *r)
         return;
     lc_exact_destroy(r);
     lc_context_destroy(r);
+    if (r->marker_program)
+        glDeleteProgram(r->marker_program);
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
         for (int p = 0; p < 3; p++)
             for (int b = 0; b <= LC_MAX_BANDS; b++)
@@ -542,6 +544,10 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",
                             "a context layer is drawn in one untiled, unjittered frame: %s",
                             tiles ? "render at most 4096x4096" : "antialias 1");
+    if (p.time.markers && p.time.has_window && (tiles || antialias_samples(&p) > 1)) /* drawn once over the image */
+        return lc_err_field(err, LC_ERR_INVALID, "time.markers",
+                            "markers are drawn over one untiled, unjittered image: %s",
+                            tiles ? "render at most 4096x4096" : "antialias 1");
     r->progress_planned = r->progress_done = 0;
     for (int i = 0; i < LC_PASS_COUNT; i++)
         if (plan.run[pass_order[i]] != LC_RUN_NONE)
@@ -581,6 +587,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         rc = composite(r, &fs, err);
     if (!rc && !tiles && (p.method == LC_METHOD_FOURIER || p.method == LC_METHOD_DIRECT))
         rc = lc_color_equalize_end(r, &fs, state, dt, p.method == LC_METHOD_DIRECT, err);
+    if (!rc && !tiles && samples <= 1)
+        rc = lc_markers_draw(r, &fs, err); /* over the finished image (a no-op without time.markers) */
     if (!rc && !tiles && samples > 1)
         rc = antialias(r, &fs, samples, rgba, err);
     else if (!rc && !tiles)

@@ -253,6 +253,7 @@ struct lc_renderer {
     GLuint dummy_buffer;
     void *exact;   /* exact.c's state */
     void *context; /* context.c's state */
+    GLuint marker_program; /* markers.c's (lines, pulled), built on first use */
     /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */
     float *reduce_buf;
     size_t reduce_cap;
@@ -358,6 +359,9 @@ int lc_frame_has_context(const lc_frame_setup *fs);
  * colour (sets fs->context_*; nothing without a context layer). */
 int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 void lc_context_destroy(lc_renderer *r);
+/* ---- markers.c: time.markers, drawn opaque over the frame's output (docs/ALGORITHM.md §26); nothing unless the
+ * request asks for them on lines under a window. */
+int lc_markers_draw(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* Fills out[0..n-1] from the layers' scenes and parameters over the frame's
  * params (fs->params, fs->view set): mappings (errors name layers[i].*),
  * levels, line widths, element offsets; sets fs->layers, fs->layer_count and

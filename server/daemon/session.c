@@ -104,11 +104,15 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     lc_session *s = calloc(1, sizeof *s);
     if (!s)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
-    s->frame_state = ds->exact_positions ? lc_frame_state_create(ds->scene->elements.count)
-                                         : lc_frame_state_create_compact(ds->scene->elements.count);
-    if (!s->frame_state) {
+    s->dataset = ds;
+    /* The callers resolved the layers' datasets already (lc_session_resolve_layers). */
+    for (int i = 0; i < initial->layer_count; i++)
+        s->layer_ds[i] = lc_datasets_find(reg->srv->datasets, initial->layers[i].dataset);
+    s->state_layers = -1; /* no state yet */
+    int rc = lc_session_prepare_state(s, s->layer_ds, initial->layer_count, err);
+    if (rc != 0) {
         free(s);
-        return lc_err(err, LC_ERR_NOMEM, "out of memory for %u element opacities", ds->scene->elements.count);
+        return rc;
     }
     random_id(s->id);
     s->kind = kind;
@@ -311,12 +315,48 @@ int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_reque
     return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
 }
 
-int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe)
+int lc_session_resolve_layers(lc_server *srv, const lc_request *req, const lc_dataset **out, lc_proto_error *pe)
 {
-    if (req->layer_count <= 0)
+    if (req->layer_count > 0 && srv->mpi)
+        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers", "layers: not under serve --mpi");
+    for (int i = 0; i < req->layer_count; i++) {
+        out[i] = lc_datasets_find(srv->datasets, req->layers[i].dataset);
+        if (!out[i]) {
+            char field[32];
+            snprintf(field, sizeof field, "layers[%d].dataset", i);
+            return lc_proto_set_error(pe, "not_found", field, "unknown dataset \"%.300s\"", req->layers[i].dataset);
+        }
+    }
+    return 0;
+}
+
+int lc_session_check_frame_budget(lc_server *srv, const lc_dataset *ds, const lc_dataset *const *layers,
+                                  const lc_request *req, double *cost, lc_proto_error *pe)
+{
+    return req->layer_count > 0 && layers ? lc_session_check_layers_budget(srv, layers, req, cost, pe)
+                                          : lc_session_check_budget(srv, ds, req, cost, pe);
+}
+
+int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int n, lc_error *err)
+{
+    if (n == s->state_layers && memcmp(layers, s->state_ds, (size_t)n * sizeof *layers) == 0)
         return 0;
-    return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers",
-                              "a session shows one dataset; POST /api/v1/render draws layers");
+    /* Compact opacities unless every dataset keeps exact ones (--exact-positions). */
+    uint64_t count = n ? 0 : s->dataset->scene->elements.count;
+    int exact = n ? 1 : s->dataset->exact_positions;
+    for (int i = 0; i < n; i++)
+        count += layers[i]->scene->elements.count, exact &= layers[i]->exact_positions;
+    if (count > UINT32_MAX) /* the renderer refuses such layers itself, naming them */
+        count = 0;
+    lc_frame_state *st =
+        exact ? lc_frame_state_create((uint32_t)count) : lc_frame_state_create_compact((uint32_t)count);
+    if (!st)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory for %llu element opacities", (unsigned long long)count);
+    lc_frame_state_destroy(s->frame_state);
+    s->frame_state = st;
+    memcpy(s->state_ds, layers, (size_t)n * sizeof *layers);
+    s->state_layers = n;
+    return 0;
 }
 
 int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
@@ -328,8 +368,11 @@ int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, 
         st[i] = &ds[i]->cost, layers[i] = &req->layers[i].p;
     const char *field = NULL;
     char why[320];
-    int rc = lc_cost_check_layers(st, layers, req->layer_count, &req->render, srv->cfg.max_cost, cost, &field, why,
+    double c = 0;
+    int rc = lc_cost_check_layers(st, layers, req->layer_count, &req->render, srv->cfg.max_cost, &c, &field, why,
                                   sizeof why);
+    if (cost)
+        *cost = c;
     if (rc == 0)
         return 0;
     lc_metrics_refused(srv->metrics, "cost");
@@ -341,17 +384,19 @@ int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto
 {
     lc_request req = s->req;
     int rc = update ? lc_proto_apply_request(update, lim, &req, pe) : 0;
+    const lc_dataset *layers[LC_MAX_LAYERS];
     if (rc == 0)
-        rc = lc_session_refuse_layers(&req, pe);
+        rc = lc_session_resolve_layers(s->srv, &req, layers, pe);
     if (rc == 0 && strcmp(req.dataset, s->dataset->name) != 0 &&
         lc_datasets_find(s->srv->datasets, req.dataset) != s->dataset)
         rc = lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset", "cannot change within a session (it is \"%s\")",
                                 s->dataset->name);
     if (rc == 0)
-        rc = lc_session_check_budget(s->srv, s->dataset, &req, NULL, pe);
+        rc = lc_session_check_frame_budget(s->srv, s->dataset, layers, &req, NULL, pe);
     if (rc != 0)
         return rc;
     s->req = req;
+    memcpy(s->layer_ds, layers, (size_t)req.layer_count * sizeof *layers);
     if (out)
         *out = req;
     return 0;
@@ -382,8 +427,12 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         pthread_mutex_unlock(&s->lock);
         return 0;
     }
-    bool first_coarse = st->frames == 0 && !st->any_input && s->dataset && s->dataset->scene &&
-                        lc_scene_primitive_count(s->dataset->scene) >= FIRST_COARSE_PRIMITIVES;
+    uint64_t primitives = 0;
+    for (int i = 0; i < s->req.layer_count; i++)
+        primitives += lc_scene_primitive_count(s->layer_ds[i]->scene);
+    if (!s->req.layer_count && s->dataset && s->dataset->scene)
+        primitives = lc_scene_primitive_count(s->dataset->scene);
+    bool first_coarse = st->frames == 0 && !st->any_input && primitives >= FIRST_COARSE_PRIMITIVES;
     bool interactive = first_coarse || st->moving_next || (st->any_input && now - st->last_input < cfg->still_delay);
     st->moving_next = false;
     /* A staged still: stage 1 reuses the opacities the moving frames drew with (methods that have them). */
@@ -395,6 +444,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         out->stages = 2, out->stage = st->still_stage + 1;
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
+    memcpy(out->layers, s->layer_ds, (size_t)s->req.layer_count * sizeof *out->layers);
     out->detail_step = first_coarse ? DETAIL_STEPS - 1 : st->detail_step; /* not the controller's step */
     if (interactive) {
         lc_detail *d = &out->req.render.detail;

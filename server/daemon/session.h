@@ -95,10 +95,15 @@ struct lc_session {
     bool closed;                 /* removed from the registry; render nothing more */
     double created, last_used;   /* lc_now() */
     lc_request req;              /* the latest requested state (latest wins) */
+    const lc_dataset *layer_ds[LC_MAX_LAYERS]; /* the datasets of req.layers (req.layer_count of them) */
     lc_frame_state *frame_state; /* element opacities; see "Locking" above */
     /* Method surface-layers: the curves traced so far (surface_job.h); only
      * the worker rendering the session's frame touches it. */
     struct lc_surface_stream *surface;
+    /* The datasets frame_state's elements belong to, in order (state_layers
+     * of them; 0 = the session's dataset alone): owned like frame_state. */
+    const lc_dataset *state_ds[LC_MAX_LAYERS];
+    int state_layers;
     double last_frame_time;      /* lc_now() of the previous frame, 0 = none */
     bool http_busy;              /* an HTTP session render is queued or running */
     uint64_t http_frames;
@@ -117,6 +122,7 @@ struct lc_session {
 /* One WebSocket frame to render: a snapshot taken by the worker. */
 typedef struct lc_stream_frame {
     lc_request req; /* with width/height already set for this frame */
+    const lc_dataset *layers[LC_MAX_LAYERS]; /* the datasets of req.layers */
     uint64_t frame;
     uint64_t camera_seq;
     int quality;
@@ -132,7 +138,8 @@ lc_sessions *lc_sessions_create(lc_server *srv, int max_sessions);
 /* Closes every session still open (their memory goes when the last reference does). */
 void lc_sessions_destroy(lc_sessions *reg);
 
-/* Creates an open session of the given kind on ds with request initial (copied).
+/* Creates an open session of the given kind on ds with request initial (copied;
+ * its layers' datasets must be loaded: lc_session_resolve_layers first).
  * *out gets a reference for the caller. LC_ERR_LIMIT when max_sessions are open,
  * LC_ERR_NOMEM. Any thread. */
 int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *ds, const lc_request *initial,
@@ -197,13 +204,6 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
 /* 0 when a frame of req on ds fits --max-cost (cost.h); else too_expensive
  * naming the field to lower, counted in the metrics. *cost (if given): the
  * estimate. */
-/* layers[] are rendered by POST/GET /api/v1/render only: a session (HTTP or
- * WebSocket) refuses them naming "layers" (LC_ERR_INVALID with pe filled). */
-int lc_session_refuse_layers(const lc_request *req, lc_proto_error *pe);
-/* The budget of a request with layers[] over their datasets (ds[i] of
- * req->layers[i]), as lc_session_check_budget for one dataset. */
-int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
-                                   lc_proto_error *pe);
 /* Method surface-layers (docs/ALGORITHM.md §23): the field must be loaded
  * (not_found naming surface.field), the seed must start inside it (naming
  * surface.seed), the frame must fit --max-cost (too_expensive naming
@@ -214,8 +214,26 @@ int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost
                              lc_proto_error *pe);
 int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost,
                             lc_proto_error *pe);
+/* The same for a request with layers[] over their datasets (ds[i] of
+ * req->layers[i]). */
+int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
+                                   lc_proto_error *pe);
+/* Either of the two: layers (may be NULL) when req has layers[], else ds. */
+int lc_session_check_frame_budget(lc_server *srv, const lc_dataset *ds, const lc_dataset *const *layers,
+                                  const lc_request *req, double *cost, lc_proto_error *pe);
+/* layers[] (docs/ALGORITHM.md "Layers") in sessions: the dataset of each of
+ * req's layers into out[i]; not_found naming layers[i].dataset for one not
+ * loaded, bad_field naming layers under serve --mpi (its ranks render one
+ * dataset). 0 without layers. */
+int lc_session_resolve_layers(lc_server *srv, const lc_request *req, const lc_dataset **out, lc_proto_error *pe);
+/* Worker side, before a frame of s (the caller owns frame_state): makes
+ * frame_state hold the elements of the n layers' datasets, in order (n = 0:
+ * those of the session's dataset). A change of that set starts a new state,
+ * so fading begins afresh; the same set keeps it. LC_ERR_NOMEM keeps the old. */
+int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int n, lc_error *err);
 /* Applies a JSON update (NULL = none) to s's request, latest wins: a copy of
- * the request takes the update, a change of dataset is refused, and the frame
+ * the request takes the update, a change of dataset is refused (layers[] may
+ * change: their datasets go to s->layer_ds), and the frame
  * it asks for (at the request's size) must fit --max-cost; only then is it
  * committed, and *out (if given) is the new request. On failure s is
  * unchanged and pe names the field. Caller holds s->lock. */

@@ -7,9 +7,15 @@
  *   byte for byte on llvmpipe) (lines overlap in depth in pairs, so a hidden
  *   segment that still counted would change the opacity of the one behind);
  * - errors: t0 > t1 names time.window, data without a time attribute and a
- *   named attribute the data lacks name time.attribute. */
+ *   named attribute the data lacks name time.attribute;
+ * - time.markers: where each front line leaves the window, its position at
+ *   t1 (interpolated on the segment that crosses t1, beyond the last drawn
+ *   vertex) is lit with markers and dark without, in the line's colour, with
+ *   the opaque and the Fourier method; markers with antialias are refused
+ *   naming time.markers. */
 #include <math.h>
 
+#include "colormap.h"
 #include "image.h"
 #include "render_util.h"
 
@@ -199,6 +205,65 @@ static void expect_error(test_gl *t, const lc_scene *s, const lc_render_params *
           err.field);
 }
 
+/* The x where line i crosses T1: on the segment from its last kept vertex a
+ * to the next, at (T1 - t_a) / (t_b - t_a). *s gets that fraction. */
+static double marker_x(int i, double *s)
+{
+    int a = (int)floor(T1 - 0.7 * i);
+    *s = (T1 - vertex_t(i, a)) / (vertex_t(i, a + 1) - vertex_t(i, a));
+    return vertex_x(a) + *s * (vertex_x(a + 1) - vertex_x(a));
+}
+
+static void check_markers(test_gl *t, const lc_scene *s)
+{
+    static uint8_t with[SIZE * SIZE * 4], without[SIZE * SIZE * 4];
+    lc_method methods[2] = {LC_METHOD_OPAQUE, LC_METHOD_FOURIER};
+    for (int m = 0; m < 2; m++) {
+        lc_error err = {0};
+        lc_render_params p;
+        params(&p, methods[m], 1);
+        p.style.shading = LC_SHADING_NONE; /* the colormap's colour, unlit */
+        if (render(t, s, &p, without, &err) != 0) {
+            CHECK(0, "without markers: %s", err.msg);
+            return;
+        }
+        p.time.markers = true;
+        if (render(t, s, &p, with, &err) != 0) {
+            CHECK(0, "markers: %s", err.msg);
+            return;
+        }
+        int checked = 0;
+        for (int i = 0; i < LINES; i += 2) { /* front lines: their pair's back line ends earlier (0.7 later in t) */
+            double frac, x = marker_x(i, &frac);
+            if (frac < 0.25) /* within a few pixels of the drawn end: not told apart from the line */
+                continue;
+            const uint8_t *on = pixel(with, x, line_y(i)), *off = pixel(without, x, line_y(i));
+            float rgb[3];
+            lc_colormap_sample(lc_colormap_find("viridis"), (float)(0.2 + 0.1 * i), rgb);
+            int dc = 0;
+            for (int c = 0; c < 3; c++)
+                dc = fmax(dc, fabs(on[c] - 255.0 * rgb[c]));
+            printf("%s line %d: t1 at x %.3f (%.2f of its segment): with markers %d %d %d, without %d %d %d, colormap "
+                   "%.0f %.0f %.0f\n",
+                   lc_method_name(methods[m]), i, x, frac, on[0], on[1], on[2], off[0], off[1], off[2], 255 * rgb[0],
+                   255 * rgb[1], 255 * rgb[2]);
+            CHECK(off[0] + off[1] + off[2] == 0, "%s line %d: the pixel at t1 is lit without markers",
+                  lc_method_name(methods[m]), i);
+            CHECK(dc <= 3, "%s line %d: the marker's colour is %d levels off the line's colour",
+                  lc_method_name(methods[m]), i, dc);
+            checked++;
+        }
+        CHECK(checked >= 3, "%d markers checked", checked);
+        CHECK(differing(with, without) < SIZE * SIZE * 4 / 20, "markers change a few pixels only (%d bytes)",
+              differing(with, without));
+    }
+    lc_render_params p;
+    params(&p, LC_METHOD_FOURIER, 1);
+    p.time.markers = true;
+    p.style.antialias = 2;
+    expect_error(t, s, &p, "time.markers");
+}
+
 static void check_errors(test_gl *t, const lc_scene *timed)
 {
     lc_render_params p;
@@ -231,6 +296,7 @@ int main(void)
         check_segments(&t, all);
         check_methods(&t, all, part);
         check_errors(&t, all);
+        check_markers(&t, all);
     }
     lc_scene_destroy(all);
     lc_scene_destroy(part);

@@ -3,13 +3,26 @@ tornado lines) answers an image that differs from either layer alone, the GET
 form takes layers as JSON text, and bad layer specifications get a clear error
 naming the field: an unknown dataset (404, layers[i].dataset), an unknown key,
 an unknown attribute of one layer's dataset, a layer of the frame's style, a
-context layer of points, layers in a session or a WebSocket hello, a method
-that cannot draw layers. A surface as opaque context renders."""
+context layer of points, a method that cannot draw layers. A surface as
+opaque context renders.
+
+Layers in sessions: a WebSocket session of two layers (its hello naming no
+dataset) streams, as its first still, the very image of the HTTP render of the
+same request; after a camera move its last still matches the HTTP render of
+that camera (SSIM >= 0.99: the fading may leave a trace); a change of the
+layer set (one layer, then the points alone) renders on fresh opacities; an
+unknown layer dataset in an update is refused naming layers[i].dataset and the
+session goes on. A scripted HTTP session of the two layers renders the
+one-shot image."""
 import json
+import os
+import subprocess
 import sys
+import tempfile
+import time
 import urllib.parse
 
-from lucent_server import Check, Server, png_size, skip, websockets
+from lucent_server import Check, Server, jpeg_size, png_size, skip, unpack_frame, websockets
 
 binary = sys.argv[1]
 check = Check()
@@ -31,6 +44,115 @@ def error(srv, body, status, field, what, path="/api/v1/render"):
     got = e.get("field") if "field" in e else e.get("error", {}).get("field")
     check(st == status and got == field,
           "%s -> %d naming %s (got %d, %s)" % (what, status, field, st, data[:200].decode(errors="replace")))
+
+
+def ssim(a, b):
+    """lucent ssim of two encoded images (-1 when it cannot tell)."""
+    with tempfile.TemporaryDirectory() as d:
+        pa, pb = os.path.join(d, "a.jpg"), os.path.join(d, "b.jpg")
+        with open(pa, "wb") as f:
+            f.write(a)
+        with open(pb, "wb") as f:
+            f.write(b)
+        out = subprocess.run([binary, "ssim", pa, pb], capture_output=True, text=True).stdout.split()
+    return float(out[1]) if len(out) > 1 and out[0].lower() == "ssim" else -1.0
+
+
+CAMERA = {"position": [2.2, 1.4, 2.0], "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}
+
+
+def sessions(srv):
+    """A scripted session of layers: its frame without dt is the one-shot image."""
+    st, _, data = srv.request("POST", "/api/v1/sessions", {"layers": LAYERS, "width": 96, "height": 80})
+    check(st == 201, "a scripted session of two layers (no dataset named) -> 201 (%d %s)" % (st, data[:120]))
+    if st != 201:
+        return
+    sid = json.loads(data)["session"]
+    st, _, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {})
+    st2, _, ref = render(srv, {"layers": LAYERS})
+    check(st == 200 and st2 == 200 and img == ref, "its frame is the HTTP render's image (%d, %d)" % (st, st2))
+    st, _, data = srv.request("POST", "/api/v1/sessions/%s/render" % sid,
+                              {"layers": [LAYERS[0], {"dataset": "demo:nope"}]})
+    check(st == 404 and json.loads(data).get("error", {}).get("field") == "layers[1].dataset",
+          "an unknown layer dataset in its update -> 404 naming layers[1].dataset (%d %s)" % (st, data[:160]))
+    st, _, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {"layers": [LAYERS[1]]})
+    st2, _, ref = render(srv, {"layers": [LAYERS[1]]})
+    check(st == 200 and img == ref, "one layer of the two: the session renders it on fresh opacities (%d)" % st)
+    srv.request("DELETE", "/api/v1/sessions/%s" % sid)
+
+
+async def stream(srv):
+    import asyncio
+
+    async def recv(ws, timeout):
+        try:
+            return await asyncio.wait_for(ws.recv(), timeout)
+        except asyncio.TimeoutError:
+            return None
+
+    async def until_quiet(ws, quiet, first=60):
+        """Frames (acked) and error messages until none comes for quiet seconds."""
+        frames, errors = [], []
+        while True:
+            m = await recv(ws, first if not frames and not errors else quiet)
+            if m is None:
+                return frames, errors
+            if isinstance(m, str):
+                j = json.loads(m)
+                if j.get("type") == "error":
+                    errors.append(j)
+                continue
+            h, img = unpack_frame(m)
+            frames.append((h, img))
+            await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+
+    def still(frames):
+        s = [f for f in frames if f[0]["quality"] == 90 and f[0]["width"] == 96]
+        return s[-1] if s else (None, b"")
+
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "width": 96, "height": 80, "devicePixelRatio": 1,
+                                  "layers": LAYERS}))
+        ready = json.loads(await recv(ws, 30))
+        check(ready.get("type") == "ready" and ready.get("defaults", {}).get("layers", [{}])[0].get("dataset")
+              == "demo:points", "a hello of two layers without dataset -> ready, its defaults hold the layers (%s)"
+              % json.dumps(ready)[:300])
+        frames, errors = await until_quiet(ws, 1.5)
+        check(frames and not errors, "frames follow (%d), no errors (%r)" % (len(frames), errors[:1]))
+        st, _, ref = render(srv, {"layers": LAYERS, "format": "jpeg", "quality": 90})
+        h, first = frames[0] if frames else ({}, b"")
+        check(st == 200 and first and jpeg_size(first) == (96, 80) and first == ref,
+              "the session's first still is the HTTP render of the same layers, byte for byte (SSIM %.4f)"
+              % (ssim(first, ref) if first else -1))
+        check(frames and h.get("timings") is not None and frames[-1][0]["converged"], "the stream converges")
+
+        await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": CAMERA}))
+        frames, errors = await until_quiet(ws, 2.5)
+        inter = [f for f in frames if f[0]["quality"] == 70]
+        h, img = still(frames)
+        st, _, ref = render(srv, {"layers": LAYERS, "format": "jpeg", "quality": 90, "camera": CAMERA})
+        s = ssim(img, ref) if img else -1
+        check(not errors and inter and img and s >= 0.99,
+              "a camera move: %d interactive frames, then a still of SSIM %.4f >= 0.99 to the HTTP render %r"
+              % (len(inter), s, [(f[0]["quality"], f[0]["width"]) for f in frames]))
+
+        for i, layers in enumerate(([LAYERS[1]], [dict(LAYERS[0], importance={"exponent": 2})])):
+            await ws.send(json.dumps({"type": "params", "layers": layers}))
+            frames, errors = await until_quiet(ws, 2.5)
+            h, img = still(frames)
+            st, _, ref = render(srv, {"layers": layers, "format": "jpeg", "quality": 90, "camera": CAMERA})
+            s = ssim(img, ref) if img else -1
+            check(not errors and img and s >= 0.99,
+                  "layer set %d changed: frames on fresh opacities, the still's SSIM %.4f >= 0.99 (%r)"
+                  % (i + 1, s, errors[:1]))
+
+        await ws.send(json.dumps({"type": "params", "layers": [LAYERS[0], {"dataset": "demo:nope"}]}))
+        frames, errors = await until_quiet(ws, 1.0)
+        check(errors and errors[0].get("field") == "layers[1].dataset" and not frames,
+              "an unknown layer dataset in params -> error naming layers[1].dataset (%r)" % errors[:1])
+        await ws.send(json.dumps({"type": "params", "layers": LAYERS}))
+        frames, errors = await until_quiet(ws, 1.5)
+        check(frames and not errors, "the session goes on with both layers (%d frames)" % len(frames))
 
 
 with Server(binary, data=("demo:points", "demo:tornado", "demo:surface"), demo_size=300) as srv:
@@ -66,25 +188,12 @@ with Server(binary, data=("demo:points", "demo:tornado", "demo:surface"), demo_s
     check(st == 200 and st2 == 200 and with_context != transparent,
           "a surface as opaque context renders, unlike the same surface transparent (%d, %d)" % (st, st2))
     error(srv, {"layers": LAYERS, "method": "opaque"}, 400, "method", "the opaque method with layers")
-    error(srv, {"layers": LAYERS, "dataset": "demo:points"}, 400, "layers", "layers in a scripted session",
-          path="/api/v1/sessions")
-
+    sessions(srv)
     if websockets is not None:
         import asyncio
-
-        async def hello():
-            async with websockets.connect(srv.ws_url, max_size=None) as ws:
-                await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 64, "height": 48,
-                                          "layers": LAYERS}))
-                while True:
-                    m = json.loads(await asyncio.wait_for(ws.recv(), 30))
-                    if m.get("type") not in ("stats", "progress"):
-                        return m
-
-        m = asyncio.run(hello())
-        check(m.get("type") == "error" and m.get("field") == "layers", "a WebSocket hello with layers -> error naming layers (%r)" % m)
+        asyncio.run(stream(srv))
     else:
-        print("skip WebSocket hello: python3-websockets is not installed")
+        print("skip WebSocket sessions: python3-websockets is not installed")
 
     st, _, _ = render(srv, {"dataset": "demo:points"})
     check(st == 200, "the daemon keeps serving after the refusals")

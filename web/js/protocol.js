@@ -198,7 +198,8 @@ const DEFAULT_POSE = { position: [0, 0, 0], focalPoint: [0, 0, 0], viewUp: [0, 1
 export function checkUpdate(update, limits = DEFAULT_LIMITS) {
   if (!isObj(update)) fail('bad_field', '', 'expected a JSON object');
   const lim = { ...DEFAULT_LIMITS, ...limits };
-  checkMembers(update, null, lim, FIELDS);
+  // layers[] is a session update too (hello, params), unlike the request's other top-level fields
+  checkMembers(update, null, lim, [...FIELDS, ...REQUEST_TOP_FIELDS.filter((f) => f.name === 'layers')]);
   const cam = update.camera;
   if (isObj(cam) && cam.position !== undefined && cam.focalPoint !== undefined)
     checkCameraPose({ ...DEFAULT_POSE, ...cam }, cam.viewUp !== undefined);
@@ -220,12 +221,12 @@ export function checkRequest(req, limits = DEFAULT_LIMITS) {
 // ---- client messages (lc_proto_parse_client_message)
 
 // surface: method surface-layers (a field's surface), not one of the page's panel sections
-const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method', 'filter', 'surface'];
+const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method', 'filter', 'surface', 'layers'];
 const STREAM_KEYS = STREAM_FIELDS.map((f) => f.name);
 const ALLOWED = {
   hello: ['dataset', 'width', 'height', 'devicePixelRatio', 'window', 'token', ...STREAM_KEYS, ...UPDATE_KEYS],
   camera: ['seq', 'camera'],
-  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method', 'filter', 'surface'],
+  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method', 'filter', 'surface', 'layers'],
   resize: ['width', 'height', 'devicePixelRatio'],
   ack: ['frame'],
 };

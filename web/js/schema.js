@@ -81,6 +81,7 @@ export const FIELDS = Object.freeze([
 
   { section: 'time', name: 'window', alias: 'timeWindow', type: 'range' },
   { section: 'time', name: 'attribute', alias: 'timeAttribute', type: 'str', maxLength: 63 },
+  { section: 'time', name: 'markers', alias: 'timeMarkers', type: 'bool' },
 
   // surface: method "surface-layers" (a vector field's integral surface)
   { section: 'surface', name: 'field', alias: 'surfaceField', type: 'str', maxLength: 127 },

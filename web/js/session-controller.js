@@ -91,6 +91,7 @@ export function createSessionController(ctx) {
     if (state.update.method) msg.method = state.update.method;
     if (state.update.filter) msg.filter = state.update.filter;
     if (state.update.surface) msg.surface = state.update.surface;
+    if (state.update.layers?.length) msg.layers = state.update.layers;
     for (const f of STREAM_FIELDS) if (state.update[f.name] !== undefined) msg[f.name] = state.update[f.name];
     ctx.params.drop(); // the hello carries them
     ctx.camera.drop();

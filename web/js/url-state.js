@@ -134,7 +134,7 @@ export function parseHash(hash) {
       continue;
     }
     const f = STREAM_FIELDS.find((x) => x.alias === key) ?? queryField(key, true);
-    if (!f || (f.section === null && !['dataset', 'method'].includes(f.name) && !STREAM_FIELDS.includes(f))) {
+    if (!f || (f.section === null && !['dataset', 'method', 'layers'].includes(f.name) && !STREAM_FIELDS.includes(f))) {
       state.errors.push(`${key}: unknown key in the link`);
       continue;
     }
@@ -169,13 +169,15 @@ export function formatHash({ dataset, camera, update }, defaults = null) {
       parts.push(`${k}=${enc(valueToText(f, c[k]))}`);
     }
   }
-  for (const f of [...FIELDS, ...STREAM_FIELDS]) {
+  for (const f of [...FIELDS, ...STREAM_FIELDS, ...REQUEST_TOP_FIELDS.filter((x) => x.name === 'layers')]) {
     if (f.name === 'dataset' || f.section === 'camera') continue;
     const path = fieldPath(f);
     const v = getPath(update ?? {}, path);
     if (v === undefined || v === null) continue;
     if (defaults && sameValue(v, getPath(defaults, path))) continue;
-    const r = typeof v === 'number' ? Number(v.toPrecision(7)) : Array.isArray(v) ? v.map((x) => Number(Number(x).toPrecision(7))) : v;
+    if (f.name === 'layers' && Array.isArray(v) && !v.length) continue; // [] = the single dataset, the default
+    const list = ['terms', 'filters', 'curve', 'ranges', 'layers'].includes(f.type); // JSON text, as it is
+    const r = typeof v === 'number' ? Number(v.toPrecision(7)) : Array.isArray(v) && !list ? v.map((x) => Number(Number(x).toPrecision(7))) : v;
     parts.push(`${f.alias}=${enc(valueToText(f, r))}`);
   }
   return parts.length ? `#${parts.join('&')}` : '';

@@ -92,6 +92,12 @@ layout(std430, binding = BIND_LINE_MASK) readonly buffer LineMask { uint line_ma
 uniform int u_line_mask;
 bool line_hidden(uint v) { return u_line_mask != 0 && (line_mask[v >> 5] & (1u << (v & 31u))) == 0u; }
 
+#ifdef MARKERS
+// time.markers (markers.c): the time attribute and the window's end t1.
+uniform int u_marker_attr;
+uniform float u_marker_t1;
+#endif
+
 #if PRIM == PRIM_POINTS
 layout(std430, binding = BIND_POINT_LIST) readonly buffer PointList { uint point_count; uint point_list[]; };
 #endif
@@ -131,6 +137,25 @@ void main()
     uint slot = uint(gl_VertexID) / 6u * u_subset;
     vec2 q = quad[gl_VertexID % 6];
     uint ia = indices[2u * slot], ib = indices[2u * slot + 2u];
+#ifdef MARKERS
+    // A marker where the line leaves the window: its kept vertex a is followed by a vertex b after t1 (the
+    // splat sits at t1 on the segment) or by the end of its run (the splat sits at a). Six corners of a
+    // screen-aligned square of u_point_radius_px around it, in the colour of a.
+    {
+        bool ends = ib == STRIP_RESTART;
+        uint a = ia >> 1, b = ends ? a : ib >> 1;
+        if (ia == STRIP_RESTART || line_hidden(a) || !vertex_visible(a) || (!ends && vertex_visible(b))) {
+            gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+            return;
+        }
+        float ta = attribute_value(u_marker_attr, a), tb = attribute_value(u_marker_attr, b);
+        float s = tb > ta ? clamp((u_marker_t1 - ta) / (tb - ta), 0.0, 1.0) : 0.0;
+        emit(a, mix(vertex_position(a), vertex_position(b), s));
+        gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
+        v_primary = uvec3(vertex_primary(a));
+        return;
+    }
+#endif
     if (ia == STRIP_RESTART || ib == STRIP_RESTART) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         return;

@@ -341,9 +341,12 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
     } else {
         lc_request_default(&req);
     }
-    if (lc_session_refuse_layers(&req, &pe) != 0 || refuse_surface(&req, &pe) != 0)
+    const lc_dataset *layers[LC_MAX_LAYERS];
+    if (refuse_surface(&req, &pe) != 0 || lc_session_resolve_layers(srv, &req, layers, &pe) != 0)
         return lc_http_proto_error(srv, c, &pe);
-    const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
+    /* With layers[] the request may leave dataset out: the session's is layers[0]'s. */
+    const lc_dataset *ds =
+        !req.dataset[0] && req.layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, req.dataset);
     if (!ds)
         return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
     snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
@@ -412,8 +415,10 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
     s->req.has_dt = false;
     s->http_busy = true;
     s->last_frame_time = lc_now();
+    const lc_dataset *layers[LC_MAX_LAYERS];
+    memcpy(layers, s->layer_ds, (size_t)req.layer_count * sizeof *layers);
     pthread_mutex_unlock(&s->lock);
-    return start_render(ctx, c, &req, s->dataset, NULL, s, dt);
+    return start_render(ctx, c, &req, s->dataset, req.layer_count ? layers : NULL, s, dt);
 }
 
 enum MHD_Result lc_http_route_session(lc_http_req *ctx, struct MHD_Connection *c, const char *method, const char *rest)

@@ -69,7 +69,7 @@ enum MHD_Result lc_http_error(lc_server *srv, struct MHD_Connection *c, unsigned
 
 enum MHD_Result lc_http_proto_error(lc_server *srv, struct MHD_Connection *c, const lc_proto_error *pe)
 {
-    unsigned status = strcmp(pe->code, LC_PROTO_TOO_LARGE) == 0 ? 413 : 400;
+    unsigned status = strcmp(pe->code, LC_PROTO_TOO_LARGE) == 0 ? 413 : strcmp(pe->code, "not_found") == 0 ? 404 : 400;
     return lc_http_error(srv, c, status, pe->code, pe->field, "%s", pe->message);
 }
 

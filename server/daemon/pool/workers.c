@@ -1,6 +1,7 @@
 /* Render worker pool: one GL context per thread calling the renderer, the
  * queue (fair_queue.c) and the still-frame timers. */
 #include "workers.h"
+#include "workers_internal.h"
 
 #include <errno.h>
 #include <stdatomic.h>
@@ -19,45 +20,6 @@
 #include "yield.h"
 
 #define MOD "workers"
-
-typedef struct worker {
-    lc_workers *pool;
-    int index;
-    pthread_t thread;
-    bool started;
-    lc_gl *gl;
-    lc_renderer *renderer;
-    /* The frame being rendered (under the pool's lock), for lc_workers_abandon;
-     * lost: that function answered the job meanwhile. */
-    lc_render_job *job;
-    lc_session *session;
-    bool lost;
-    lc_session *progress; /* the stream session whose frame the renderer reports on (render thread only) */
-    /* The frame's yield points (render thread only, yield.h): the session whose input pre-empts
-     * it; large: it waits for other sessions' moving frames (owner: whose frame it is). */
-    lc_session *preempt;
-    bool large;
-    const void *owner;
-} worker;
-
-struct lc_workers {
-    lc_server *srv;
-    int nworkers, max_queue;
-    worker *workers;
-    lc_encoders *encoders; /* where the readbacks go (encoders.c) */
-
-    pthread_mutex_t lock; /* guards the render FIFO, the timer list and sessions' sched_* fields */
-    pthread_cond_t work;  /* FIFO non-empty, timer list changed, stopping */
-    pthread_cond_t ready; /* start-up progress */
-    int ready_count, failed;
-    lc_error start_err;
-    bool stopping;
-    bool abandoned; /* lc_workers_abandon ran (the watchdog and mpirun's signal may both call it) */
-    lc_fair_queue queue; /* the render tasks, by client (fair_queue.h) */
-    _Atomic double cost_rate; /* learned cost units per second of render (0 = none yet); written under lock */
-    lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
-    lc_yield_gate gate; /* large renders wait here for other sessions' moving frames (yield.h) */
-};
 
 /* ---------------------------------------------------------------- queues */
 
@@ -124,22 +86,6 @@ int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err)
     return 0;
 }
 
-/* Removes s from the timer list if present; pool lock held. */
-static void untime(lc_workers *w, lc_session *s)
-{
-    if (!s->sched_timed)
-        return;
-    for (lc_session **p = &w->timed; *p; p = &(*p)->sched_next) {
-        if (*p == s) {
-            *p = s->sched_next;
-            break;
-        }
-    }
-    s->sched_timed = false;
-    s->sched_next = NULL;
-    lc_session_unref(s); /* the timer list's reference */
-}
-
 /* Queues s unless it is queued already; pool lock held. */
 static void enqueue_session(lc_workers *w, lc_session *s)
 {
@@ -160,7 +106,7 @@ static void enqueue_session(lc_workers *w, lc_session *s)
 void lc_workers_wake(lc_workers *w, lc_session *s)
 {
     pthread_mutex_lock(&w->lock);
-    untime(w, s);
+    lc_workers_untime(w, s);
     enqueue_session(w, s);
     pthread_mutex_unlock(&w->lock);
 }
@@ -230,10 +176,16 @@ static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, con
     return rc ? rc : lc_render_frame(r, ds->gpu, p, state, dt, rgba, info, err);
 }
 
-static void finish_job(lc_render_job *job)
+/* layers[] (docs/ALGORITHM.md "Layers"): the renderer's copy of req's
+ * layer parameters (malloc'd, 2 KiB a layer: off the stack) and the scenes
+ * of their datasets ds, so the frame reads nothing of its job or snapshot.
+ * NULL when out of memory. */
+static lc_layer_params *copy_layers(const lc_request *req, const lc_dataset *const *ds, const lc_gpu_scene **scenes)
 {
-    if (job->done)
-        job->done(job); /* the job belongs to its submitter again from here */
+    lc_layer_params *lp = malloc((size_t)req->layer_count * sizeof *lp);
+    for (int i = 0; lp && i < req->layer_count; i++)
+        scenes[i] = ds[i]->gpu, lp[i] = req->layers[i].p;
+    return lp;
 }
 
 /* The frame a worker renders is "in hand" while the renderer runs: under MPI
@@ -267,7 +219,7 @@ static void render_job(worker *wk, lc_render_job *job)
         job->refused = "deadline";
         job->rc = lc_err(&job->err, LC_ERR_LIMIT, "waited %.1f s for a worker, beyond the %.0f s render deadline",
                          job->queue_ms / 1000.0, deadline);
-        finish_job(job);
+        lc_workers_finish_job(job);
         return;
     }
     /* While in hand the frame reads and writes only its own copies (and holds
@@ -278,19 +230,17 @@ static void render_job(worker *wk, lc_render_job *job)
     const lc_surface_request surface = job->req.surface;
     double dt = job->dt;
     lc_session *session = job->session;
-    /* layers[] (HTTP renders only; the routes refuse them in sessions and under --mpi), copied like the rest */
-    int layer_count = session ? 0 : job->req.layer_count;
+    /* layers[] (not under --mpi: the routes refuse them there), copied like the rest */
+    int layer_count = job->req.layer_count;
+    const lc_dataset *layer_ds[LC_MAX_LAYERS];
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
-    lc_layer_params *layers = layer_count ? malloc((size_t)layer_count * sizeof *layers) : NULL;
-    for (int i = 0; i < layer_count && layers; i++) {
-        scenes[i] = job->layers[i]->gpu;
-        layers[i] = job->req.layers[i].p;
-    }
+    memcpy(layer_ds, job->layers, (size_t)layer_count * sizeof *layer_ds);
+    lc_layer_params *layers = layer_count ? copy_layers(&job->req, layer_ds, scenes) : NULL;
     uint8_t *rgba = layer_count && !layers ? NULL : malloc((size_t)p->width * (size_t)p->height * 4);
     if (!rgba) {
         free(layers);
         job->rc = lc_err(&job->err, LC_ERR_NOMEM, "out of memory for a %dx%d image", p->width, p->height);
-        finish_job(job);
+        lc_workers_finish_job(job);
         return;
     }
     if (session)
@@ -302,11 +252,15 @@ static void render_job(worker *wk, lc_render_job *job)
     lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;
     in_hand(wk, job, NULL);
-    int rc =
-        field ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
-        : layer_count
-            ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, NULL, 0.0, rgba, &info, &err)
-            : render_frame(w, wk->renderer, dataset, p, session ? session->frame_state : NULL, dt, rgba, &info, &err);
+    /* A session's opacities span its layers (lc_session_prepare_state). */
+    lc_frame_state *state = NULL;
+    int rc = session ? lc_session_prepare_state(session, layer_ds, layer_count, &err) : 0;
+    if (session && rc == 0)
+        state = session->frame_state;
+    if (rc == 0)
+        rc = field         ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
+             : layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, state, dt, rgba, &info, &err)
+                           : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
     free(layers);
     wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
     if (!w->srv->mpi && dataset) /* a large frame keeps no targets (collective frames under MPI keep them) */
@@ -325,7 +279,7 @@ static void render_job(worker *wk, lc_render_job *job)
     if (job->rc != 0) {
         free(job->rgba);
         job->rgba = NULL;
-        finish_job(job);
+        lc_workers_finish_job(job);
         return;
     }
     lc_metrics_frame(w->srv->metrics, job->session ? "session" : "http", &job->info);
@@ -392,10 +346,18 @@ static void render_session(worker *wk, lc_session *s)
     if (f.interactive)
         lc_yield_interactive_begin(&w->gate, s);
     in_hand(wk, NULL, s);
-    int rc = !rgba ? lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height)
-             : p->method == LC_METHOD_SURFACE_LAYERS ? lc_session_surface_frame(w->srv, s, &f.req, rgba, &info, &err)
-                                                     : render_frame(w, wk->renderer, s->dataset, p, s->frame_state,
-                                                                    f.dt, rgba, &info, &err);
+    /* layers[]: their parameters copied, the opacities spanning them (lc_session_prepare_state) */
+    int n = f.req.layer_count;
+    const lc_gpu_scene *scenes[LC_MAX_LAYERS];
+    lc_layer_params *layers = n ? copy_layers(&f.req, f.layers, scenes) : NULL;
+    int rc = rgba && (layers || !n)
+                 ? lc_session_prepare_state(s, f.layers, n, &err)
+                 : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
+    if (rc == 0)
+        rc = p->method == LC_METHOD_SURFACE_LAYERS ? lc_session_surface_frame(w->srv, s, &f.req, rgba, &info, &err)
+             : n ? lc_render_layers(wk->renderer, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info, &err)
+                 : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
+    free(layers);
     out_of_hand(wk);
     if (f.interactive)
         lc_yield_interactive_end(&w->gate, s);
@@ -555,141 +517,4 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     LC_INFO(MOD, "%d render worker(s), %d encoder thread(s)", w->nworkers, nencoders > 0 ? nencoders : 1);
     *out = w;
     return 0;
-}
-
-/* A queued task that will not run: its HTTP job fails with `why`; a session
- * leaves the queue, told `why` as an error when `tell`. Frees t. */
-static void fail_task(lc_workers *w, lc_task *t, const char *why, bool tell)
-{
-    if (t->job) {
-        t->job->rc = lc_err(&t->job->err, LC_ERR_UNSUPPORTED, "%s", why);
-        finish_job(t->job);
-    } else {
-        t->session->sched_queued = false;
-        if (tell)
-            lc_stream_error(w->srv, t->session, "render_failed", why, NULL);
-        lc_session_unref(t->session);
-    }
-    free(t);
-}
-
-void lc_workers_abandon(lc_workers *w, const char *why)
-{
-    if (!w)
-        return;
-    lc_render_job *jobs[64];
-    lc_session *sessions[64];
-    int nj = 0, ns = 0;
-    lc_task *queued = NULL;
-    pthread_mutex_lock(&w->lock);
-    if (w->abandoned) {
-        pthread_mutex_unlock(&w->lock);
-        return;
-    }
-    w->abandoned = w->stopping = true;
-    pthread_cond_broadcast(&w->work);
-    lc_yield_release(&w->gate);
-    for (int i = 0; i < w->nworkers; i++) {
-        worker *wk = &w->workers[i];
-        if (wk->job && nj < 64) {
-            jobs[nj++] = wk->job;
-            wk->job = NULL, wk->lost = true;
-        }
-        if (wk->session && ns < 64) {
-            lc_session_ref(wk->session);
-            sessions[ns++] = wk->session;
-        }
-    }
-    lc_task *t;
-    while ((t = lc_fair_pop(&w->queue))) {
-        t->next = queued;
-        queued = t;
-    }
-    pthread_mutex_unlock(&w->lock);
-    for (int i = 0; i < nj; i++) {
-        jobs[i]->rc = lc_err(&jobs[i]->err, LC_ERR_UNSUPPORTED, "%s", why);
-        finish_job(jobs[i]);
-    }
-    for (int i = 0; i < ns; i++)
-        lc_stream_error(w->srv, sessions[i], "render_failed", why, NULL);
-    while ((t = queued)) {
-        queued = t->next;
-        bool told = false; /* a session can be queued again while its frame is in hand */
-        for (int i = 0; i < ns; i++)
-            told |= sessions[i] == t->session;
-        fail_task(w, t, why, !told);
-    }
-    for (int i = 0; i < ns; i++)
-        lc_session_unref(sessions[i]);
-}
-
-void lc_workers_stop(lc_workers *w)
-{
-    if (!w)
-        return;
-    pthread_mutex_lock(&w->lock);
-    w->stopping = true;
-    pthread_cond_broadcast(&w->work);
-    pthread_cond_broadcast(&w->ready);
-    pthread_mutex_unlock(&w->lock);
-    lc_yield_release(&w->gate); /* the frames in hand finish without waiting */
-    for (int i = 0; i < w->nworkers; i++) {
-        if (w->workers[i].started)
-            pthread_join(w->workers[i].thread, NULL);
-        w->workers[i].started = false;
-    }
-    /* Workers are gone: fail what is still queued, drop parked sessions. */
-    pthread_mutex_lock(&w->lock);
-    lc_task *t;
-    while ((t = lc_fair_pop(&w->queue))) {
-        pthread_mutex_unlock(&w->lock);
-        fail_task(w, t, "the server is shutting down", false);
-        pthread_mutex_lock(&w->lock);
-    }
-    while (w->timed)
-        untime(w, w->timed);
-    pthread_mutex_unlock(&w->lock);
-    /* Encoders finish what the workers handed them, then exit. */
-    lc_encoders_stop(w->encoders);
-}
-
-void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
-{
-    if (!w)
-        return;
-    lc_workers_stop(w);
-    lc_gl *primary = w->workers[0].gl;
-    lc_error err = {0};
-    if (primary && lc_gl_make_current(primary, &err) == 0) {
-        lc_datasets_release_gpu(datasets);
-        lc_gl_release_current(primary);
-    }
-    for (int i = w->nworkers - 1; i >= 0; i--)
-        if (w->workers[i].gl)
-            lc_gl_destroy(w->workers[i].gl);
-    pthread_mutex_destroy(&w->lock);
-    pthread_cond_destroy(&w->work);
-    pthread_cond_destroy(&w->ready);
-    lc_yield_gate_destroy(&w->gate);
-    free(w->workers);
-    lc_encoders_destroy(w->encoders);
-    free(w);
-}
-
-int lc_workers_count(const lc_workers *w) { return w ? w->nworkers : 0; }
-
-int lc_workers_clients(lc_workers *w)
-{
-    pthread_mutex_lock(&w->lock);
-    int n = w->queue.clients;
-    pthread_mutex_unlock(&w->lock);
-    return n;
-}
-
-void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue)
-{
-    pthread_mutex_lock(&w->lock);
-    *render_queue = w->queue.tasks;
-    pthread_mutex_unlock(&w->lock);
-    *encode_queue = w->encoders ? lc_encoders_depth(w->encoders) : 0;
 }

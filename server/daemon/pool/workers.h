@@ -27,6 +27,7 @@
 #include "server.h"
 #include "encoders.h"
 #include "session.h"
+#include "workers_stop.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -40,20 +41,6 @@ typedef struct lc_workers lc_workers;
  * reported here, e.g. shader compile logs). Thread: main. */
 int lc_workers_create(lc_server *srv, lc_gl *primary, int workers, int encoders, int max_queue, lc_workers **out,
                       lc_error *err);
-/* Stops accepting work, lets the frames in hand finish and be encoded and
- * delivered, fails queued HTTP jobs with LC_ERR_UNSUPPORTED ("shutting down"),
- * and joins every thread. Thread: main. */
-void lc_workers_stop(lc_workers *w);
-/* For a service that cannot go on (serve --mpi when a rank died): answers
- * every queued HTTP job and the ones being rendered now with LC_ERR_UNSUPPORTED
- * and `why`, sends `why` as an error to the WebSocket sessions being rendered
- * or queued for a frame, and accepts no more work. A worker stuck in its frame never touches an
- * answered job again. Call lc_workers_stop afterwards as usual, unless the
- * process is about to exit. Any thread. */
-void lc_workers_abandon(lc_workers *w, const char *why);
-/* After stop: destroys renderers, releases the datasets' GPU copies with the
- * primary context current on the calling thread, destroys the contexts. */
-void lc_workers_destroy(lc_workers *w, lc_datasets *datasets);
 
 /* Queues an HTTP job. LC_ERR_LIMIT when max_queue jobs are waiting or
  * job->client has max_queue_per_client of them (job->refused says which),
@@ -65,10 +52,6 @@ int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err);
  * ack, or a finished frame). Cheap and idempotent. Any thread. */
 void lc_workers_wake(lc_workers *w, lc_session *s);
 
-int lc_workers_count(const lc_workers *w);
-/* Clients (fairness keys) with queued work now. */
-int lc_workers_clients(lc_workers *w);
-void lc_workers_depths(lc_workers *w, int *render_queue, int *encode_queue);
 
 #ifdef __cplusplus
 }

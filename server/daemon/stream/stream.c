@@ -44,31 +44,35 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
         }
         conn->authed = true;
     }
-    const lc_dataset *ds = lc_datasets_find(srv->datasets, m->dataset);
-    if (!ds) {
-        char msg[700];
-        snprintf(msg, sizeof msg, "unknown dataset \"%s\"", m->dataset);
-        answer_error(srv, out, "not_found", msg, "dataset", false, 0);
-        return;
-    }
     lc_request req;
     lc_request_default(&req);
-    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
+    snprintf(req.dataset, sizeof req.dataset, "%s", m->dataset);
     req.format = LC_FORMAT_JPEG;
     lc_proto_error pe;
     if (m->update && lc_proto_apply_request(m->update, lim, &req, &pe) != 0) {
         answer_proto_error(srv, out, &pe);
         return;
     }
-    if (lc_session_refuse_layers(&req, &pe) != 0) {
+    const lc_dataset *layers[LC_MAX_LAYERS];
+    if (lc_session_resolve_layers(srv, &req, layers, &pe) != 0) {
         answer_proto_error(srv, out, &pe);
         return;
     }
+    /* With layers[] the hello may leave dataset out: the session's is layers[0]'s. */
+    const lc_dataset *ds =
+        !m->has_dataset && req.layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, m->dataset);
+    if (!ds) {
+        char msg[700];
+        snprintf(msg, sizeof msg, "unknown dataset \"%s\"", m->dataset);
+        answer_error(srv, out, "not_found", msg, "dataset", false, 0);
+        return;
+    }
+    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
     /* The full-size frame of the viewport: its cost decides, and it is the
      * session's request size from here on. */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &req.render.width,
                          &req.render.height);
-    if (lc_session_check_budget(srv, ds, &req, NULL, &pe) != 0) {
+    if (lc_session_check_frame_budget(srv, ds, layers, &req, NULL, &pe) != 0) {
         answer_proto_error(srv, out, &pe);
         return;
     }
@@ -137,7 +141,7 @@ static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double no
     double dpr = m->has_device_pixel_ratio ? m->device_pixel_ratio : s->stream.device_pixel_ratio;
     lc_request req = s->req; /* a larger frame costs more (wider ribbons) */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req.render.width, &req.render.height);
-    int rc = lc_session_check_budget(srv, s->dataset, &req, NULL, &pe);
+    int rc = lc_session_check_frame_budget(srv, s->dataset, s->layer_ds, &req, NULL, &pe);
     if (rc == 0) {
         s->stream.css_width = m->width;
         s->stream.css_height = m->height;

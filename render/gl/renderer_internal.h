@@ -312,6 +312,7 @@ typedef struct lc_frame_setup {
     /* filter.c: the visibility mask r->filter.mask applies (0: every vertex draws). */
     int filtered;
     int pull_lines; /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
+    int p1_subset;  /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
@@ -553,6 +554,10 @@ void lc_occluders_clear(lc_renderer *r);
 int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* Reads the histogram back into the mass fields of info. */
 void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info);
+/* The median over covered pixels of P0's moments tex (w x h) of the
+ * effective fragment count (sum g^2)^2 / sum g^4; 0 when nothing is covered,
+ * -1 on error. */
+double lc_moments_effective_median(lc_renderer *r, GLuint tex, int w, int h, lc_error *err);
 /* Whether the opacity passes weigh a fragment's emphasis by its element's
  * importance instead of its own (docs/ALGORITHM.md §6, "Patches"): surfaces
  * under density normalization. */

@@ -142,8 +142,8 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low
 
 /* Draws prog additively into t (cleared) at t's size with every subset-th
  * primitive weighted subset, then sums t over MPI ranks: P0 "moments" and P1. */
-static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset,
-                       lc_targets *t, lc_error *err)
+static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset, lc_targets *t,
+                       lc_error *err)
 {
     lc_targets_clear(t, NULL);
     lc_additive_blending();

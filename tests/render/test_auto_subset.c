@@ -75,8 +75,8 @@ static void check_stack(test_gl *t, int n, double hi, double lo)
     for (int cap = 4; cap <= 8; cap *= 2) {
         if (render(t, gs, cap, LC_NORMALIZE_AUTO, 1, &info, a) != 0)
             break;
-        printf("%d quads (g %.2f/%.2f), autoSubset %d: P0 measured N %.3f (cpu %.3f), P1 stride %d (rule %d)\n", n,
-               hi, lo, cap, info.p0_fragments_median, want, info.p1_subset, rule(want, cap));
+        printf("%d quads (g %.2f/%.2f), autoSubset %d: P0 measured N %.3f (cpu %.3f), P1 stride %d (rule %d)\n", n, hi,
+               lo, cap, info.p0_fragments_median, want, info.p1_subset, rule(want, cap));
         CHECK_NEAR(info.p0_fragments_median, want, tol, "effective fragments");
         CHECK(info.p1_subset == rule(want, cap), "%d quads, autoSubset %d: P1 stride %d, rule %d", n, cap,
               info.p1_subset, rule(want, cap));
@@ -93,8 +93,8 @@ static void check_stack(test_gl *t, int n, double hi, double lo)
     for (size_t k = 0; k < sizeof off / sizeof off[0]; k++) {
         if (render(t, gs, off[k].cap, off[k].normalize, off[k].subset, &info, b) != 0)
             break;
-        CHECK(info.p1_subset == off[k].subset && info.p0_fragments_median == 0, "%d quads, %s: P1 stride %d, N %.3f",
-              n, off[k].what, info.p1_subset, info.p0_fragments_median);
+        CHECK(info.p1_subset == off[k].subset && info.p0_fragments_median == 0, "%d quads, %s: P1 stride %d, N %.3f", n,
+              off[k].what, info.p1_subset, info.p0_fragments_median);
     }
     /* P1's zeroth coefficient (sum of g^2, weighted by the stride) against the
      * CPU: a stride n over the triangles (two per quad, even n) keeps the first
@@ -117,8 +117,8 @@ static void check_stack(test_gl *t, int n, double hi, double lo)
                 below += stride * g2;
         }
         double got_below = coef[(3 * LOW + 12) * 4], got_above = coef[(12 * LOW + 3) * 4];
-        printf("%d quads, P1 stride %d: sum g^2 below the diagonal %.4f (cpu %.4f), above %.4f (cpu %.4f)\n", n,
-               stride, got_below, below, got_above, above);
+        printf("%d quads, P1 stride %d: sum g^2 below the diagonal %.4f (cpu %.4f), above %.4f (cpu %.4f)\n", n, stride,
+               got_below, below, got_above, above);
         CHECK_NEAR(got_below, below, 1e-4 * below + 1e-6, "P1 sum of g^2 below the diagonal");
         CHECK_NEAR(got_above, above, 1e-4 * above + 1e-6, "P1 sum of g^2 above the diagonal");
         free(coef);

@@ -465,6 +465,9 @@ void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs);
 void lc_pipeline_configure(const char *gl_renderer);
 /* Issues the draw of every (subset-th) primitive of the frame's level. */
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
+/* LUCENT_POINT_SPRITES=1 (an experiment, docs/EVALUATION.md §16): points as GL
+ * point sprites (gl_PointCoord) instead of one 4-vertex quad each. */
+int lc_point_sprites(void);
 /* Distance from the eye to the focal point along the view direction (world
  * size of a pixel at depth d: pixel_world * d / this). */
 double lc_frame_focal_distance(const lc_frame_setup *fs);

@@ -12,6 +12,7 @@ extern "C" {
 #define LC_NAME_LEN 64
 #define LC_MAX_BANDS 8
 #define LC_MIN_BANDS 1
+#define LC_AUTO_SUBSET_DEFAULT 8 /* params.autoSubset: P1's largest automatic stride */
 
 /* What a dataset is made of. */
 typedef enum { LC_PRIM_POINTS = 0, LC_PRIM_LINES = 1, LC_PRIM_TRIANGLES = 2 } lc_prim_type;
@@ -105,6 +106,9 @@ typedef struct lc_foo_params {
      * of the loop on the emphasis; 0 = off. It acts only while q, r and λ are
      * the defaults, not given by the request (strength_given). */
     double clarity;
+    /* params.autoSubset (docs/ALGORITHM.md §10): the largest stride P1 may
+     * draw with where P0 measured dense data; 1 = P1 draws what params.subset says. */
+    int auto_subset;
     bool strength_given;
 } lc_foo_params;
 

@@ -31,6 +31,7 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
     /* Line ribbons are strips separated by LC_STRIP_RESTART (gpu_scene.c);
      * triangle index buffers never hold that index. */
     glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+    glEnable(GL_PROGRAM_POINT_SIZE); /* point sprites size themselves (lc_point_sprites) */
     glGenQueries(LC_PASS_COUNT + 1, r->timer_queries);
     r->dummy_buffer = lc_gl_buffer(NULL, 0, &(uint64_t){0});
 

@@ -150,9 +150,10 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT || kind == PROG_COLOR_HISTOGRAM;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
     char defines[256];
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s", (int)prim, bands,
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s", (int)prim, bands,
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
-             pulled ? "#define PULL_PRIMITIVES 1\n" : "");
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "",
+             prim == LC_PRIM_POINTS && lc_point_sprites() ? "#define POINT_SPRITES 1\n" : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s)", kind_names[kind], lc_prim_type_name(prim), bands,
              pulled ? ", subset" : "");

@@ -211,6 +211,11 @@ typedef struct lc_frame_info {
     int surface_k;
     uint32_t surface_max_layers;
     double surface_mean_layers, surface_trace_ms;
+    /* params.autoSubset: the stride P1 drew with (1: every primitive) and the
+     * median effective fragment count per covered pixel that P0 measured to
+     * choose it ((sum g^2)^2 / sum g^4; 0 when the rule did not run). */
+    int p1_subset;
+    double p0_fragments_median;
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several

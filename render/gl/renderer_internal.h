@@ -313,6 +313,7 @@ typedef struct lc_frame_setup {
     /* filter.c: the visibility mask r->filter.mask applies (0: every vertex draws). */
     int filtered;
     int pull_lines; /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
+    int p1_subset;  /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
@@ -468,6 +469,9 @@ void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs);
 void lc_pipeline_configure(const char *gl_renderer);
 /* Issues the draw of every (subset-th) primitive of the frame's level. */
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
+/* LUCENT_POINT_SPRITES=1 (an experiment, docs/EVALUATION.md §16): points as GL
+ * point sprites (gl_PointCoord) instead of one 4-vertex quad each. */
+int lc_point_sprites(void);
 /* Distance from the eye to the focal point along the view direction (world
  * size of a pixel at depth d: pixel_world * d / this). */
 double lc_frame_focal_distance(const lc_frame_setup *fs);
@@ -560,6 +564,10 @@ void lc_occluders_clear(lc_renderer *r);
 int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* Reads the histogram back into the mass fields of info. */
 void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info);
+/* The median over covered pixels of P0's moments tex (w x h) of the
+ * effective fragment count (sum g^2)^2 / sum g^4; 0 when nothing is covered,
+ * -1 on error. */
+double lc_moments_effective_median(lc_renderer *r, GLuint tex, int w, int h, lc_error *err);
 /* Whether the opacity passes weigh a fragment's emphasis by its element's
  * importance instead of its own (docs/ALGORITHM.md §6, "Patches"): surfaces
  * under density normalization. */

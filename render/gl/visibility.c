@@ -26,7 +26,8 @@ void lc_mass_clear(lc_renderer *r)
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
+/* Counts the .r channel of tex (w x h) into the histogram, cleared first. */
+static int histogram_of(lc_renderer *r, GLuint tex, int w, int h, int effective, lc_error *err)
 {
     GLuint prog = lc_renderer_fixed_program(r, PROG_MASS_HISTOGRAM, err);
     if (!prog)
@@ -34,11 +35,17 @@ int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error
     lc_mass_clear(r);
     glUseProgram(prog);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_MASS_HISTOGRAM, r->mass_histogram);
-    glBindTextureUnit(TEX_COEF_FIRST, r->coef_low.tex[0]);
-    glProgramUniform2i(prog, glGetUniformLocation(prog, "u_size"), fs->low_width, fs->low_height);
-    glDispatchCompute((GLuint)(fs->low_width + 7) / 8, (GLuint)(fs->low_height + 7) / 8, 1);
+    glBindTextureUnit(TEX_COEF_FIRST, tex);
+    glProgramUniform2i(prog, glGetUniformLocation(prog, "u_size"), w, h);
+    lc_uniform_i(prog, "u_effective", effective);
+    glDispatchCompute((GLuint)(w + 7) / 8, (GLuint)(h + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     return 0;
+}
+
+int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
+{
+    return histogram_of(r, r->coef_low.tex[0], fs->low_width, fs->low_height, 0, err);
 }
 
 /* Lower edge of bin k (mass_common.glsl). */
@@ -64,6 +71,18 @@ void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *inf
     info->mass_median = covered ? mass_rank(hist, covered, 0.5) : 0.0;
     info->mass_p95 = covered ? mass_rank(hist, covered, 0.95) : 0.0;
     info->covered_fraction = (double)covered / ((double)fs->low_width * fs->low_height);
+}
+
+double lc_moments_effective_median(lc_renderer *r, GLuint tex, int w, int h, lc_error *err)
+{
+    if (histogram_of(r, tex, w, h, 1, err) != 0)
+        return -1;
+    uint32_t hist[MASS_BINS];
+    glGetNamedBufferSubData(r->mass_histogram, 0, sizeof hist, hist);
+    uint64_t covered = 0;
+    for (int k = 0; k < MASS_BINS; k++)
+        covered += hist[k];
+    return covered ? mass_rank(hist, covered, 0.5) : 0.0;
 }
 
 void lc_occluders_clear(lc_renderer *r)

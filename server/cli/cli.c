@@ -199,6 +199,9 @@ static const lc_option common_options[] = {
     REQ("--quality", "Q", "quality", "image format and JPEG quality"),
     REQ("--resolution-scale", "S", "resolutionScale", "resolution of the opacity passes P1/P2"),
     REQ("--subset", "N", "subset", "P1/P4 use every N-th primitive, weights x N"),
+    REQ("--auto-subset", "N", "autoSubset",
+        "largest stride P1 draws with where P0 measured dense data\n"
+        "(default 8; 1 = off)"),
     REQ("--background", "R,G,B", "background", "background colour, each in [0, 1]"),
     {"--exact-positions", NULL, LC_OPT_BOOL, COMMON(exact_positions),
      .help = "float vertex buffers and session opacities (images bit for bit\n"

@@ -233,6 +233,10 @@ int lc_cli_render(int argc, char **argv)
                "importance mass per pixel: median %.3g, p95 %.3g; occluder alpha %.3f\n",
                info.top_decile_alpha, info.bottom_half_alpha, 100.0 * info.covered_fraction, info.mass_median,
                info.mass_p95, info.occluder_alpha);
+    if (info.p0_fragments_median > 0 || info.p1_subset > 1)
+        printf("  importance pass (P1): every %d-th primitive, weighted %d (P0's median effective fragments per "
+               "pixel %.3g; params.autoSubset)\n",
+               info.p1_subset, info.p1_subset, info.p0_fragments_median);
     if (stats_path) {
         json_t *o = frame_stats_json(&info, scene, &req.render);
         if (!o || json_dump_file(o, stats_path, JSON_INDENT(2) | JSON_REAL_PRECISION(6)) != 0) {

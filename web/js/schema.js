@@ -38,6 +38,7 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'] },
   { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1 },
   { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1 },
+  { section: 'params', name: 'autoSubset', alias: 'autoSubset', type: 'int', min: 1, max: 64 },
 
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },

@@ -2,6 +2,8 @@
 // two moments in depth, sum g^2 (1, u, u^2) with u = d - 1/2 (centred, so that
 // the variance keeps its digits), additively at the optimization resolution.
 // series_depth (common.glsl) warps every later Fourier pass's depth by them.
+// The fourth channel, sum g^4, gives params.autoSubset the effective number of
+// fragments in P1's sums, (sum g^2)^2 / sum g^4 (render/gl/fourier.c).
 
 uniform float u_weight; // subset stride n, as P1
 
@@ -14,5 +16,5 @@ void main()
     float g = fragment_importance();
     float w = g * g * draw_weight(u_weight);
     float u = normalized_depth(v_zview) - 0.5;
-    o_moments = vec4(w, w * u, w * u * u, 0.0);
+    o_moments = vec4(w, w * u, w * u * u, w * g * g);
 }

@@ -9,6 +9,13 @@ in float v_zview;
 in vec3 v_wpos;
 in vec3 v_normal;
 in vec2 v_quad;
+// Points: the disc coordinate of the fragment, from the quad's corners or, for
+// GL point sprites (POINT_SPRITES), from gl_PointCoord.
+#ifdef POINT_SPRITES
+#define SPLAT (gl_PointCoord * 2.0 - 1.0)
+#else
+#define SPLAT v_quad
+#endif
 flat in uvec3 v_primary;
 in vec2 v_halo;
 
@@ -54,7 +61,7 @@ bool outside_primitive()
     if (u_context_depth != 0 && gl_FragCoord.z > texelFetch(u_context_depth_tex, ivec2(gl_FragCoord.xy), 0).r)
         return true;
 #if PRIM == PRIM_POINTS
-    return dot(v_quad, v_quad) > 1.0;
+    return dot(SPLAT, SPLAT) > 1.0;
 #else
     return false;
 #endif
@@ -119,7 +126,7 @@ vec3 fragment_color()
     vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - v_wpos);
     float ndotl;
 #if PRIM == PRIM_POINTS
-    ndotl = sqrt(max(1.0 - dot(v_quad, v_quad), 0.0));
+    ndotl = sqrt(max(1.0 - dot(SPLAT, SPLAT), 0.0));
 #elif PRIM == PRIM_LINES
     float across = clamp(v_quad.x, -1.0, 1.0);
     vec3 n = normalize(v_normal * across + to_cam * sqrt(max(1.0 - across * across, 0.0)));

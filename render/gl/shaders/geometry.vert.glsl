@@ -108,16 +108,24 @@ void main()
     // Instanced triangle strip: one instance per (subset-th) point, 4 corners;
     // or per entry of the list of important points, which the strided draw
     // then leaves out (they would count twice).
-    uint v = u_point_list != 0 ? point_list[u_first_primitive + uint(gl_InstanceID)]
-                               : (u_first_primitive + uint(gl_InstanceID)) * u_subset;
+#ifdef POINT_SPRITES
+    uint k = uint(gl_VertexID); // one GL point per splat
+#else
+    uint k = uint(gl_InstanceID); // one quad (4-vertex strip) per splat
+#endif
+    uint v = u_point_list != 0 ? point_list[u_first_primitive + k] : (u_first_primitive + k) * u_subset;
     if (u_point_list == 0 && u_keep_bin <= POINT_BINS - 1 && point_bin(vertex_importance(v)) >= u_keep_bin) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         return;
     }
     vec2 q = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
     emit(v, vertex_position(v));
+#ifdef POINT_SPRITES
+    gl_PointSize = 2.0 * u_point_radius_px;
+#else
     gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
     v_quad = q;
+#endif
     v_primary = uvec3(vertex_primary(v));
 #elif defined(PULL_PRIMITIVES)
     // Subset draws (every n-th primitive): unindexed, six corners per segment

@@ -5,9 +5,10 @@ here like the real corpus (a dense LAMMPS trajectory dump, a closed mesh with th
 two-sided features) must have topDecileAlpha >= 0.5, no inversion (topDecileAlpha >=
 bottomHalfAlpha - 0.05) and occluderAlpha <= 0.5 x topDecileAlpha. Without the loop
 (--clarity 0) the mesh must miss it (so the loop is what meets it); an explicit
-lambda turns the loop off (the same image as --clarity 0); a session's later frames
+lambda turns the loop off (the same image as --clarity 0); the exact method runs the loop
+too (the mesh meets the goal with it, misses it without); a session's later frames
 (--frames 3) keep the goal. A star table's magnitude is the default importance inverted
-(smaller matters); flipped back it misses the goal. A LIDAR tile's class label is not the
+(smaller matters); at the paper's strength it meets the goal, flipped back it misses it. A LIDAR tile's class label is not the
 default importance (density is; the colour is the file's RGB); as the importance it misses the goal.
 Usage: test_clarity.py LUCENT"""
 import json
@@ -196,6 +197,13 @@ fins = samples[1]
 off = show("fins.ply --clarity 0", render(fins, "--clarity", "0", out="c0.png"))
 if goal(off) or off["topDecileAlpha"] >= off["bottomHalfAlpha"] - 0.05:
     failures.append("without the loop the mesh should come out inverted (the test would prove nothing): %r" % off)
+# The exact method runs the same loop on its own opacities: the goal at defaults, missed without the loop.
+v = show("fins.ply --method exact", render(fins, "--method", "exact", out="exact.png"))
+if not goal(v) or "clarity" not in render(fins, "--method", "exact", out="exact.png"):
+    failures.append("the exact method at defaults should run the loop and meet the goal: %r" % v)
+v = show("fins.ply exact --clarity 0", render(fins, "--method", "exact", "--clarity", "0", out="exact0.png"))
+if goal(v):
+    failures.append("the exact method without the loop should miss the goal on the mesh (the test would prove nothing)")
 s = render(fins, "--lambda", "1", out="lambda1.png")
 if "clarity" in s:
     failures.append("an explicit lambda must turn the loop off: %r" % s["clarity"])
@@ -208,7 +216,12 @@ if "smaller matters" not in info:
     failures.append("lucent info does not say the magnitude is inverted:\n" + info)
 with open(os.path.join(tmp, "invert.json"), "w") as f:
     json.dump({"importance": {"invert": True}}, f)
-v = show("stars.csv, invert flipped", render(samples[2], "--request", os.path.join(tmp, "invert.json")))
+# At the paper's strength (the loop off) the direction alone decides: the default meets the goal there (its
+# loop stays at factor 1), flipped back it misses it. (The loop can still fade the faint stars' occluders.)
+v = show("stars.csv --clarity 0", render(samples[2], "--clarity", "0"))
+if not goal(v):
+    failures.append("stars with the default direction should meet the goal at the paper's strength: %r" % v)
+v = show("stars.csv, invert flipped", render(samples[2], "--clarity", "0", "--request", os.path.join(tmp, "invert.json")))
 if goal(v):
     failures.append("stars with the larger magnitudes important should miss the goal (the test would prove nothing)")
 # The class label: not the default importance (density instead), the file's RGB the colour; as the importance

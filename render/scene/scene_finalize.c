@@ -661,7 +661,7 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err); /* per line */
-    } else if (!measured)                            /* the same on every part (agreed above) */
+    } else if (!measured)                              /* the same on every part (agreed above) */
         rc = lc_scene_derive_points(s, total, c, err); /* collective */
     if ((rc = c->agree(c->ctx, rc, err)) != 0)
         return rc;

@@ -83,7 +83,7 @@ static void test_basics(void)
         CHECK(lc_scene_add_attribute(s, name, floats(4, (float)i), &err) == i, "fill %d", i);
     }
     CHECK(lc_scene_add_attribute(s, "one-too-many", floats(4, 0), &err) == LC_ERR_LIMIT, "attribute cap: %s", err.msg);
-    s->attributes[0].values[2] = NAN; /* min/max must ignore it */
+    s->attributes[0].values[2] = NAN;  /* min/max must ignore it */
     s->attributes[0].values[3] = 9.5f; /* not a whole number: an amount, not a class label */
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize points: %s", err.msg);
     CHECK(s->finalized, "finalized");

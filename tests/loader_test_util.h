@@ -95,8 +95,8 @@ static void check_key(const lc_scene *s, const char *file, const char *key, cons
               value);
     } else if (strcmp(key, "rgb") == 0) {
         CHECK((s->rgb != NULL) == (atoi(value) != 0), "%s: rgb %s, expected %s", file, s->rgb ? "yes" : "no", value);
-        CHECK(strcmp(s->default_color, s->rgb ? "rgb" : "importance") == 0, "%s: default colour '%s'", file,
-              s->default_color);
+        /* without colours of its own the loader leaves the choice to lc_scene_finalize */
+        CHECK(strcmp(s->default_color, s->rgb ? "rgb" : "") == 0, "%s: default colour '%s'", file, s->default_color);
     } else if (strcmp(key, "attrs") == 0) {
         for (int i = 0; i < s->attribute_count; i++)
             snprintf(attrs + strlen(attrs), sizeof attrs - strlen(attrs), "%s%s", i ? "," : "", s->attributes[i].name);

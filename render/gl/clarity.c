@@ -12,7 +12,7 @@ int lc_clarity_active(const lc_render_params *p)
 {
     const lc_foo_params *f = &p->foo;
     return f->clarity > 0 && f->normalize == LC_NORMALIZE_AUTO && !f->strength_given &&
-           (p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_WBOIT);
+           (p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_WBOIT || p->method == LC_METHOD_EXACT);
 }
 
 double lc_clarity_miss(double target, const lc_frame_info *info)
@@ -42,7 +42,9 @@ void lc_clarity_next(lc_clarity_strength *st, double target, const lc_frame_info
     if (info->bottom_half_alpha - 0.05 > t)
         need_occ = fmax(need_occ, info->bottom_half_alpha / t);
     double up = need_occ > 1 ? fmin(pow(need_occ, 1.5), max_step * max_step) : 1;
-    double lift = fmax(need_top, 1) * sqrt(up);
+    /* λ follows the penalty only as far as the top decile needs: above its
+     * aim it has room to drop, and more λ would lift the occluders with it. */
+    double lift = (up > 1 ? need_top : fmax(need_top, 1)) * sqrt(up);
     double step = lift > 1 ? fmin(lift, max_step) : 1;
     /* Well past the goal: ease off, toward the paper's strength. */
     if (lift <= 1 && t > target + 0.2 && info->occluder_alpha < 0.4 * t) {

@@ -312,31 +312,19 @@ static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int me
     return 0;
 }
 
-int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, uint8_t *rgba,
-                    lc_frame_info *info, lc_error *err)
+/* The exact opacities at the strength of fs->params from list pass 0 (built
+ * once: it does not depend on q, r or λ), P3 and the visibility report; the
+ * step params.clarity's loop repeats (clarity.c). */
+static int exact_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                          int moments, lc_error *err)
 {
-    (void)rgba; /* lc_render_frame reads r->output back */
+    (void)moments; /* no Fourier moments here */
     const lc_render_params *p = fs->params;
-    exact_state *st = get_state(r);
-    if (!st)
-        return lc_err(err, LC_ERR_NOMEM, "out of memory");
-    int rc = ensure_pool(r, st, err);
-    if (rc)
-        return rc;
-    if ((rc = ensure_programs(st, err)) != 0)
-        return rc;
-    ensure_heads(r, st, fs->width, fs->height);
-    const GLuint zero = 0;
-    glClearNamedBufferData(st->counters, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-
-    /* List pass 0 (optimization resolution): depth, importance, element. */
+    exact_state *st = r->exact;
     int lw = fs->low_width, lh = fs->low_height;
-    if ((rc = build_lists(r, st, fs, 0, 0, lw, lh, err)) != 0)
-        return rc;
-    lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
-
     /* Exact sums and FOO Eq. 10, atomic-min per element (as P2). */
-    if ((rc = lc_element_emphasis_bind(r, fs, st->opacity, err)) != 0)
+    int rc = lc_element_emphasis_bind(r, fs, st->opacity, err);
+    if (rc)
         return rc;
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" (p3_smooth.comp.glsl) */
     glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
@@ -363,7 +351,32 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     if (!rc && !fs->layer_count) /* the report ranks one dataset's elements by importance */
         rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
     lc_renderer_timestamp(r, LC_PASS_SMOOTH);
+    return rc;
+}
+
+int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, uint8_t *rgba,
+                    lc_frame_info *info, lc_error *err)
+{
+    (void)rgba; /* lc_render_frame reads r->output back */
+    const lc_render_params *p = fs->params;
+    exact_state *st = get_state(r);
+    if (!st)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    int rc = ensure_pool(r, st, err);
     if (rc)
+        return rc;
+    if ((rc = ensure_programs(st, err)) != 0)
+        return rc;
+    ensure_heads(r, st, fs->width, fs->height);
+    const GLuint zero = 0;
+    glClearNamedBufferData(st->counters, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+
+    /* List pass 0 (optimization resolution): depth, importance, element. */
+    if ((rc = build_lists(r, st, fs, 0, 0, fs->low_width, fs->low_height, err)) != 0)
+        return rc;
+    lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
+    /* The opacities, under params.clarity's loop when it is active. */
+    if ((rc = lc_clarity_optimize(r, fs, state, dt, info, 0, exact_optimize, err)) != 0)
         return rc;
 
     /* List pass 1 and the blend; with color.equalize they measure the colour

@@ -140,7 +140,7 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
 #define LC_CLARITY_ITERATIONS 6
 #define LC_CLARITY_CHARGED_TRIES 2
 /* Whether the loop runs for p: clarity > 0, normalize auto, no explicit q/r/λ,
- * a method whose opacities P1-P3 optimize (fourier, wboit). */
+ * a method whose opacities are optimized (fourier, wboit; exact on its lists). */
 int lc_clarity_active(const lc_render_params *p);
 /* params.clarity's strength: factors on λ and on q and r, each >= 1. */
 typedef struct lc_clarity_strength {

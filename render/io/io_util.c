@@ -375,7 +375,8 @@ void lc_io_set_defaults(lc_scene *s)
             snprintf(s->default_importance, sizeof s->default_importance, "%s", preferred[i]);
     if (!s->default_importance[0] && s->attribute_count > 0)
         snprintf(s->default_importance, sizeof s->default_importance, "%s", s->attributes[0].name);
-    snprintf(s->default_color, sizeof s->default_color, "%s", s->rgb ? "rgb" : "importance");
+    /* Without per-vertex colours lc_scene_finalize chooses (a class label, else the importance). */
+    snprintf(s->default_color, sizeof s->default_color, "%s", s->rgb ? "rgb" : "");
 }
 
 /* ---- progress */

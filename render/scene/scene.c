@@ -140,6 +140,7 @@ int lc_scene_add_attribute(lc_scene *s, const char *name, float *values, lc_erro
         snprintf(s->attributes[i].name, sizeof s->attributes[i].name, "%s", name);
     }
     s->attributes[i].values = values;
+    s->attributes[i].categorical = false; /* lc_scene_finalize marks the file's own */
     s->attributes[i].min = 0.0f;
     s->attributes[i].max = 0.0f;
     return i;

@@ -31,6 +31,14 @@ extern "C" {
  * p and value (p_value). */
 bool lc_attribute_smaller_matters(const char *name);
 
+/* Values that name kinds rather than amounts (a class label, an atom type, a
+ * segment number): every finite value an integer, at least two of them, the
+ * largest less than LC_CATEGORY_SPAN above the smallest. Such an attribute is never the default
+ * importance (README "Default attributes"). */
+#define LC_CATEGORY_SPAN 64
+struct lc_attribute;
+bool lc_attribute_categorical(const struct lc_attribute *a, uint32_t n);
+
 typedef struct lc_attribute {
     char name[LC_NAME_LEN];
     float *values;  /* vertex_count values, owned by the scene */
@@ -45,6 +53,9 @@ typedef struct lc_attribute {
      * lc_attribute_smaller_matters): the importance maps it inverted unless
      * the request's importance.invert flips it back. Set by lc_scene_finalize. */
     bool smaller_matters;
+    /* Names kinds, not amounts (lc_attribute_categorical, agreed by every
+     * process of a collective load). Set by lc_scene_finalize. */
+    bool categorical;
 } lc_attribute;
 
 /* Lines that are air-parcel trajectories (a reader sets it; at finalize

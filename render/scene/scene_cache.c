@@ -383,6 +383,9 @@ static int read_arrays(io *r, const meta *m, const level_meta *lv, lc_scene *s, 
         at->auto_lo = am.auto_lo, at->auto_hi = am.auto_hi;
         if (alloc_into((void **)&at->values, n * 4, &nomem))
             get(r, at->values, n * 4);
+        /* the flags lc_scene_finalize sets, from the name and the values */
+        at->smaller_matters = lc_attribute_smaller_matters(at->name);
+        at->categorical = at->values && !r->failed && lc_attribute_categorical(at, n);
     }
     lc_elements *e = &s->elements;
     e->count = m->element_count, e->adjacency_count = m->adjacency_count;

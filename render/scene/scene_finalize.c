@@ -275,10 +275,64 @@ bool lc_attribute_smaller_matters(const char *name)
     }
 }
 
-/* Picks the importance attribute a request without one gets. A name that the
+/* Whole values over a short span (scene.h): [0] 1 when every finite value is
+ * an integer, [1] the smallest, [2] minus the largest, so that one MIN over
+ * the processes agrees on all three. */
+static void category_terms(const lc_attribute *a, uint32_t n, double m[3])
+{
+    double whole = 1, lo = INFINITY, hi = -INFINITY;
+    for (uint32_t i = 0; i < n; i++) {
+        float v = a->values[i];
+        if (!isfinite(v))
+            continue;
+        if (v != floorf(v)) {
+            whole = 0;
+            break;
+        }
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+    }
+    m[0] = whole, m[1] = lo, m[2] = -hi;
+}
+
+static bool category_of(const double m[3]) { return m[0] == 1 && -m[2] > m[1] && -m[2] - m[1] < LC_CATEGORY_SPAN; }
+
+bool lc_attribute_categorical(const lc_attribute *a, uint32_t n)
+{
+    double m[3];
+    category_terms(a, n, m);
+    return category_of(m);
+}
+
+/* Marks the file's categorical attributes (before anything is derived) and
+ * says whether one of them can be the importance. */
+static int mark_categories(lc_scene *s, const lc_scene_collective *c, bool *measured, lc_error *err)
+{
+    double m[3 * LC_MAX_ATTRIBUTES];
+    for (int i = 0; i < s->attribute_count; i++)
+        category_terms(&s->attributes[i], s->vertex_count, m + 3 * i);
+    if (c && s->attribute_count > 0 && c->min_f64(c->ctx, m, 3 * (size_t)s->attribute_count, err))
+        return LC_ERR_INTERNAL;
+    *measured = false;
+    for (int i = 0; i < s->attribute_count; i++) {
+        s->attributes[i].categorical = category_of(m + 3 * i);
+        /* one named importance stays the importance (choose_defaults) */
+        *measured = *measured || !s->attributes[i].categorical || strcmp(s->attributes[i].name, "importance") == 0;
+    }
+    return 0;
+}
+
+/* Picks the importance and colour attributes a request without them gets
+ * (README "Default attributes"); file_attributes: how many of the scene's
+ * attributes came from the file (the derived ones follow). A name that the
  * loader set but that does not exist is dropped with a warning rather than
- * failing the whole dataset. */
-static void choose_defaults(lc_scene *s)
+ * failing the whole dataset; a class label the loader picked gives way to the
+ * first attribute of the file that measures an amount, else to the derived
+ * one (for points, density is derived when every attribute is a label). The
+ * colour a loader left open: the file's own colours, else its first class
+ * label (the kinds shown by colour, their importance by opacity), else the
+ * importance. */
+static void choose_defaults(lc_scene *s, int file_attributes)
 {
     for (int i = 0; i < s->attribute_count; i++)
         s->attributes[i].smaller_matters = lc_attribute_smaller_matters(s->attributes[i].name);
@@ -287,18 +341,36 @@ static void choose_defaults(lc_scene *s)
                 s->default_importance);
         s->default_importance[0] = '\0';
     }
+    const char *derived = s->type == LC_PRIM_LINES       ? "curvature"
+                          : s->type == LC_PRIM_TRIANGLES ? "mean_curvature"
+                                                         : "density";
+    int at = s->default_importance[0] ? lc_scene_find_attribute(s, s->default_importance) : -1;
+    bool label = at >= 0 && s->attributes[at].categorical && strcmp(s->default_importance, "importance") != 0;
+    if (label || (!s->default_importance[0] && s->type == LC_PRIM_POINTS)) {
+        char was[LC_NAME_LEN];
+        snprintf(was, sizeof was, "%s", s->default_importance);
+        s->default_importance[0] = '\0';
+        for (int i = 0; i < file_attributes && !s->default_importance[0]; i++)
+            if (!s->attributes[i].categorical)
+                snprintf(s->default_importance, sizeof s->default_importance, "%s", s->attributes[i].name);
+        if (!s->default_importance[0] && lc_scene_find_attribute(s, derived) >= 0)
+            snprintf(s->default_importance, sizeof s->default_importance, "%s", derived);
+        if (label)
+            LC_INFO("scene", "%s: '%s' names classes, not amounts: importance '%s' by default", s->name, was,
+                    s->default_importance[0] ? s->default_importance : "(none)");
+    }
     if (!s->default_importance[0]) {
-        const char *pick = NULL;
-        if (s->type == LC_PRIM_LINES)
-            pick = "curvature";
-        else if (s->type == LC_PRIM_TRIANGLES)
-            pick = "mean_curvature";
-        if (pick && lc_scene_find_attribute(s, pick) >= 0)
-            snprintf(s->default_importance, sizeof s->default_importance, "%s", pick);
+        if (s->type != LC_PRIM_POINTS && lc_scene_find_attribute(s, derived) >= 0)
+            snprintf(s->default_importance, sizeof s->default_importance, "%s", derived);
         else if (s->attribute_count > 0)
             snprintf(s->default_importance, sizeof s->default_importance, "%s", s->attributes[0].name);
         /* else: no attribute at all, the renderer uses g = 1 */
     }
+    if (!s->default_color[0] && s->rgb)
+        snprintf(s->default_color, sizeof s->default_color, "rgb");
+    for (int i = 0; i < file_attributes && !s->default_color[0]; i++)
+        if (s->attributes[i].categorical && strcmp(s->attributes[i].name, s->default_importance) != 0)
+            snprintf(s->default_color, sizeof s->default_color, "%s", s->attributes[i].name);
     if (!s->default_color[0])
         snprintf(s->default_color, sizeof s->default_color, "importance");
 }
@@ -384,13 +456,17 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
     drop_derived(s); /* finalize may run again (e.g. new element budget) */
 
     compute_bounds(s);
+    bool measured;
+    int file_attributes = s->attribute_count;
+    if ((rc = mark_categories(s, NULL, &measured, err)) != 0)
+        return rc;
     if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err);
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err);
     } else if (s->type == LC_PRIM_TRIANGLES)
         rc = lc_scene_derive_triangles(s, err);
-    else if (s->attribute_count == 0)
+    else if (!measured) /* no attribute, or only class labels */
         rc = lc_scene_derive_points(s, s->vertex_count, NULL, err);
     if (rc)
         return rc;
@@ -398,7 +474,7 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
         return lc_err_cancelled(err, s->name);
     for (int i = 0; i < s->attribute_count; i++)
         lc_attribute_update_range(&s->attributes[i], s->vertex_count);
-    choose_defaults(s);
+    choose_defaults(s, file_attributes);
     double t1 = lc_now();
     if (lc_cancelled())
         return lc_err_cancelled(err, s->name);
@@ -577,18 +653,22 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
     for (int k = 0; k < 3; k++)
         s->bounds[k] = b[k], s->bounds[3 + k] = -b[3 + k];
 
+    bool measured;
+    int file_attributes = s->attribute_count;
+    if (mark_categories(s, c, &measured, err)) /* agreed by every part */
+        return LC_ERR_INTERNAL;
     if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err); /* per line */
-    } else if (s->attribute_count == 0)   /* the same on every part (checked above) */
+    } else if (!measured)                              /* the same on every part (agreed above) */
         rc = lc_scene_derive_points(s, total, c, err); /* collective */
     if ((rc = c->agree(c->ctx, rc, err)) != 0)
         return rc;
     for (int i = 0; i < s->attribute_count; i++)
         if (update_range(&s->attributes[i], s->vertex_count, c, err))
             return LC_ERR_INTERNAL;
-    choose_defaults(s);
+    choose_defaults(s, file_attributes);
     double t1 = lc_now();
     double length = 0;
     rc = part_elements(s, desc, c, &length, err);

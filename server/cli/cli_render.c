@@ -350,10 +350,11 @@ int lc_cli_info(int argc, char **argv)
     printf("color       %s (default)\n", s->default_color);
     printf("attributes  %d\n", s->attribute_count);
     for (int i = 0; i < s->attribute_count; i++)
-        printf("  %-20s [%g, %g]  2nd-98th percentiles [%g, %g]  auto range [%g, %g]%s\n", s->attributes[i].name,
+        printf("  %-20s [%g, %g]  2nd-98th percentiles [%g, %g]  auto range [%g, %g]%s%s\n", s->attributes[i].name,
                s->attributes[i].min, s->attributes[i].max, s->attributes[i].p02, s->attributes[i].p98,
                s->attributes[i].auto_lo, s->attributes[i].auto_hi,
-               s->attributes[i].smaller_matters ? "  (smaller matters: importance inverted)" : "");
+               s->attributes[i].smaller_matters ? "  (smaller matters: importance inverted)" : "",
+               s->attributes[i].categorical ? "  (class labels: not a default importance)" : "");
     printf("loaded in   %.1f ms\n", ms);
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);

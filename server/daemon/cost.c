@@ -141,8 +141,12 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     }
     /* params.clarity: a one-shot frame may optimize again at other strengths. */
     double tries = lc_clarity_active(p) ? LC_CLARITY_CHARGED_TRIES : 1.0;
-    g[LC_PASS_IMPORTANCE] *= tries;
-    g[LC_PASS_OPACITY] *= tries;
+    if (p->method == LC_METHOD_EXACT) { /* its lists are built once; each try repeats the opacity pass over them */
+        sc[LC_PASS_OPACITY] *= tries;
+    } else {
+        g[LC_PASS_IMPORTANCE] *= tries;
+        g[LC_PASS_OPACITY] *= tries;
+    }
     /* P0: the per-pixel range draws everything once at each resolution, the
      * moments one target of every subset-th element at s^2. */
     g[LC_PASS_DEPTH_RANGE] = plan.moments ? 1.0 / subset : 1.0;

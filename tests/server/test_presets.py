@@ -2,7 +2,8 @@
 file's sidecar NAME.lucent.json in /api/v1/datasets (with the attributes'
 percentiles), the sidecar's attribute as the dataset default, --elements, the
 X-Lucent-Visibility header, the frame header's "visibility" on a WebSocket
-session, and bad sidecars refused at start-up naming the file and the field."""
+session, and bad sidecars refused at start-up naming the file and the field; class labels
+reported categorical, never the default importance but the default colour, a sidecar winning."""
 import asyncio
 import json
 import os
@@ -86,4 +87,28 @@ for content, field in (({"params": {"q": 1}, "colour": {}}, "colour"), ({"params
     check(rc != 0 and "flow.lucent.json" in out and field in out,
           "bad sidecar %r refused naming the file and %s (rc %d): %s" % (content, field, rc, out.strip()[-200:]))
 os.unlink(sidecar)
+
+# Class labels (README "Default attributes"): never the default importance, the default colour; a sidecar wins.
+for name, header in (("tagged", "x,y,z,label,height"), ("labels", "x,y,z,label")):
+    with open(os.path.join(tmp, name + ".csv"), "w") as f:
+        f.write(header + "\n")
+        for i in range(400):
+            row = [i % 20 * 0.1, i // 20 * 0.1, (i * 7 % 11) * 0.05, i % 4 - 1, i * 0.01 + 0.005]
+            f.write(",".join("%g" % v for v in row[:len(header.split(","))]) + "\n")
+with open(os.path.join(tmp, "labels.lucent.json"), "w") as f:
+    json.dump({"color": {"attribute": "importance"}}, f)
+with Server(binary, data=(os.path.join(tmp, "tagged.csv"), os.path.join(tmp, "labels.csv")), demo_size=0) as srv:
+    st, _, body = srv.json("GET", "/api/v1/datasets")
+    ds = {d["name"]: d for d in body.get("datasets", [])}
+    tagged, labels = ds.get("tagged", {}), ds.get("labels", {})
+    cats = {a["name"]: a.get("categorical", False) for a in tagged.get("attributes", [])}
+    check(cats == {"label": True, "height": False}, "the label is reported categorical, height not: %r" % cats)
+    check(tagged.get("defaultImportance") == "height" and tagged.get("defaultColor") == "label",
+          "a label is not the default importance but the default colour: %r / %r"
+          % (tagged.get("defaultImportance"), tagged.get("defaultColor")))
+    check(labels.get("defaultImportance") == "density" and labels.get("defaultColor") == "importance",
+          "only a label: density the importance, the sidecar's colour wins: %r / %r"
+          % (labels.get("defaultImportance"), labels.get("defaultColor")))
+    st, _, _ = srv.request("GET", "/api/v1/render?dataset=tagged&width=64&height=48")
+    check(st == 200, "a render with the defaults (colour by the label): %d" % st)
 check.done()

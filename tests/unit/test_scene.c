@@ -83,15 +83,15 @@ static void test_basics(void)
         CHECK(lc_scene_add_attribute(s, name, floats(4, (float)i), &err) == i, "fill %d", i);
     }
     CHECK(lc_scene_add_attribute(s, "one-too-many", floats(4, 0), &err) == LC_ERR_LIMIT, "attribute cap: %s", err.msg);
-    s->attributes[0].values[2] = NAN; /* min/max must ignore it */
-    s->attributes[0].values[3] = 9.0f;
+    s->attributes[0].values[2] = NAN;  /* min/max must ignore it */
+    s->attributes[0].values[3] = 9.5f; /* not a whole number: an amount, not a class label */
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize points: %s", err.msg);
     CHECK(s->finalized, "finalized");
-    CHECK(s->attributes[0].min == 3.0f && s->attributes[0].max == 9.0f, "range over finite values");
+    CHECK(s->attributes[0].min == 3.0f && s->attributes[0].max == 9.5f, "range over finite values");
     CHECK(s->bounds[0] == 0 && s->bounds[1] == 1 && s->bounds[2] == 2, "bounds min");
     CHECK(s->bounds[3] == 9 && s->bounds[4] == 10 && s->bounds[5] == 11, "bounds max");
     CHECK(strcmp(s->default_importance, "speed") == 0, "points: first attribute is default");
-    CHECK(strcmp(s->default_color, "importance") == 0, "default colour");
+    CHECK(strcmp(s->default_color, "rgb") == 0, "default colour: the file's own colours");
     CHECK(s->elements.count == 4 && s->elements.adjacency_count == 0, "one element per point");
     CHECK(s->normals == NULL && s->tangents == NULL, "points have no normals/tangents");
     /* finalize twice is fine */
@@ -433,9 +433,94 @@ static void test_smaller_matters(void)
         CHECK(!lc_attribute_smaller_matters(no[i]), "%s: larger should matter", no[i]);
 }
 
+/* A point cloud of n points on a line with the given attributes (values
+ * value(i, k) for attribute k); the loader's pick is the first, as
+ * lc_io_set_defaults does. */
+static lc_scene *labelled(int rgb, int count, const char *const *names, float (*value)(uint32_t, int))
+{
+    enum { N = 64 };
+    lc_scene *s = lc_scene_create("labels", LC_PRIM_POINTS);
+    lc_scene_alloc_vertices(s, N, rgb, NULL);
+    for (uint32_t i = 0; i < 3 * N; i++) {
+        s->positions[i] = (float)(i * 7 % 13);
+        if (rgb)
+            s->rgb[i] = 0.5f;
+    }
+    for (int k = 0; k < count; k++) {
+        float *v = floats(N, 0);
+        for (uint32_t i = 0; i < N; i++)
+            v[i] = value(i, k);
+        lc_scene_add_attribute(s, names[k], v, NULL);
+    }
+    snprintf(s->default_importance, sizeof s->default_importance, "%s", names[0]);
+    if (rgb)
+        snprintf(s->default_color, sizeof s->default_color, "rgb");
+    return s;
+}
+
+static float class_then_amount(uint32_t i, int k) { return k == 0 ? (float)(i % 4) - 1 : 0.25f * (float)i; }
+static float wide_integers(uint32_t i, int k) { return k == 0 ? (float)(i * 3) : 1.5f; } /* 0..189: an amount */
+static float halves(uint32_t i, int k) { return k == 0 ? 0.5f * (float)(i % 4) : 1.0f; }
+
+/* The class-label rule (README "Default attributes"): a categorical attribute
+ * is never the default importance, and colours the points instead. */
+static void test_class_labels(void)
+{
+    lc_error err = {0};
+    static const char *const label_speed[] = {"label", "speed"}, *const label_only[] = {"label"};
+    lc_scene *s = labelled(0, 2, label_speed, class_then_amount);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    CHECK(s->attributes[0].categorical && !s->attributes[1].categorical, "label categorical, speed not");
+    CHECK(strcmp(s->default_importance, "speed") == 0, "a label gives way to an amount: %s", s->default_importance);
+    CHECK(strcmp(s->default_color, "label") == 0, "the label colours: %s", s->default_color);
+    lc_scene_destroy(s);
+
+    s = labelled(1, 1, label_only, class_then_amount);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    CHECK(strcmp(s->default_importance, "density") == 0 && lc_scene_find_attribute(s, "density") == 1,
+          "only a label: density derived and the importance (%s)", s->default_importance);
+    CHECK(!s->attributes[1].categorical, "density is an amount");
+    CHECK(strcmp(s->default_color, "rgb") == 0, "the file's colours win over the label: %s", s->default_color);
+    lc_scene_destroy(s);
+
+    static const char *const named[] = {"importance"};
+    s = labelled(0, 1, named, class_then_amount);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    CHECK(strcmp(s->default_importance, "importance") == 0 && s->attribute_count == 1,
+          "an attribute named importance stays, whole numbers or not (%s)", s->default_importance);
+    lc_scene_destroy(s);
+
+    s = labelled(0, 1, label_only, wide_integers);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    CHECK(!s->attributes[0].categorical && strcmp(s->default_importance, "label") == 0,
+          "integers spanning %d or more are an amount", LC_CATEGORY_SPAN);
+    CHECK(strcmp(s->default_color, "importance") == 0, "colour: %s", s->default_color);
+    lc_scene_destroy(s);
+
+    s = labelled(0, 1, label_only, halves);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    CHECK(!s->attributes[0].categorical && strcmp(s->default_importance, "label") == 0, "halves are an amount");
+    lc_scene_destroy(s);
+
+    /* Lines: a label the loader picked gives way to the derived curvature. */
+    const float pos[] = {0, 0, 0, 1, 0, 0, 2, 1, 0, 3, 1, 1};
+    const uint32_t lens[] = {4};
+    s = make_lines(1, lens, pos);
+    float *v = floats(4, 0);
+    v[1] = v[3] = 2;
+    lc_scene_add_attribute(s, "tract", v, NULL);
+    snprintf(s->default_importance, sizeof s->default_importance, "tract");
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize lines: %s", err.msg);
+    CHECK(strcmp(s->default_importance, "curvature") == 0, "lines: %s", s->default_importance);
+    CHECK(strcmp(s->default_color, "tract") == 0, "lines colour: %s", s->default_color);
+    CHECK(lc_attribute_categorical(&s->attributes[0], s->vertex_count), "the public check agrees");
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
     test_smaller_matters();
+    test_class_labels();
     test_basics();
     test_validation();
     test_straight_line();

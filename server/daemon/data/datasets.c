@@ -570,6 +570,8 @@ json_t *lc_dataset_info(const lc_dataset *ds)
         json_object_set_new(ja, "autoRange", ar);
         if (a->smaller_matters) /* the importance maps it inverted by default (README "Default attributes") */
             json_object_set_new(ja, "smallerMatters", json_true());
+        if (a->categorical) /* class labels: never the default importance (README "Default attributes") */
+            json_object_set_new(ja, "categorical", json_true());
         json_array_append_new(attrs, ja);
     }
     json_object_set_new(o, "attributes", attrs);

@@ -12,7 +12,7 @@ extern "C" {
 #define LC_NAME_LEN 64
 #define LC_MAX_BANDS 8
 #define LC_MIN_BANDS 1
-#define LC_AUTO_SUBSET_DEFAULT 8 /* params.autoSubset: P1's largest automatic stride */
+#define LC_AUTO_SUBSET_DEFAULT 1 /* params.autoSubset: P1's largest automatic stride (1 = off) */
 
 /* What a dataset is made of. */
 typedef enum { LC_PRIM_POINTS = 0, LC_PRIM_LINES = 1, LC_PRIM_TRIANGLES = 2 } lc_prim_type;

@@ -177,12 +177,18 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
  * (docs/EVALUATION.md §16).
  * A stride below 4 is not taken: lines then draw segment by segment (six
  * vertices each, against two in a strip), which would cost more vertex work
- * than the stride saves. P4 keeps every primitive: its stride lowered SSIM. */
+ * than the stride saves. P4 keeps every primitive: its stride lowered SSIM.
+ * Off by default (LC_AUTO_SUBSET_DEFAULT): on the MD trajectories it saves
+ * 8-11 % of the frame on a quiet host (docs/EVALUATION.md §18), but a rank's
+ * every n-th primitive is not the whole file's, so MPI frames would no
+ * longer equal one process's; ranks skip it. */
 static int choose_p1_subset(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     const lc_foo_params *foo = &fs->params->foo;
     fs->p1_subset = foo->subset;
     if (foo->subset > 1 || foo->auto_subset <= 1 || foo->normalize == LC_NORMALIZE_OFF) /* the paper's formula */
+        return 0;
+    if (r->desc.reducer) /* a rank's every n-th primitive is not the whole's: MPI must equal one process */
         return 0;
     double median = lc_moments_effective_median(r, r->moments.tex[0], fs->low_width, fs->low_height, err);
     if (median < 0)

@@ -280,16 +280,6 @@ void lc_pipeline_configure(const char *gl_renderer)
 /* Issues primitives [first, first + count) of the current program: points
  * (instances), pulled primitives (six or three corners each) or triangles of
  * the index buffer. */
-int lc_point_sprites(void)
-{
-    static int on = -1;
-    if (on < 0) {
-        const char *e = getenv("LUCENT_POINT_SPRITES");
-        on = e && e[0] == '1';
-    }
-    return on;
-}
-
 static void draw_range(lc_prim_type prim, int pulled, uint64_t first, uint64_t count)
 {
     if (prim == LC_PRIM_POINTS) {

@@ -120,6 +120,17 @@ fail:
     return 0;
 }
 
+/* LUCENT_POINT_SPRITES=1 (renderer_internal.h): read once per process. */
+int lc_point_sprites(void)
+{
+    static int on = -1;
+    if (on < 0) {
+        const char *e = getenv("LUCENT_POINT_SPRITES");
+        on = e && e[0] == '1';
+    }
+    return on;
+}
+
 GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
                                     lc_error *err)
 {

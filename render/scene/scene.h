@@ -33,9 +33,12 @@ bool lc_attribute_smaller_matters(const char *name);
 
 /* Values that name kinds rather than amounts (a class label, an atom type, a
  * segment number): every finite value an integer, at least two of them, the
- * largest less than LC_CATEGORY_SPAN above the smallest. Such an attribute is never the default
- * importance (README "Default attributes"). */
+ * largest less than LC_CATEGORY_SPAN above the smallest, and the file's
+ * vertices at least LC_CATEGORY_REPEATS times the span + 1 (kinds repeat).
+ * Such an attribute is never the default importance (README "Default
+ * attributes"). */
 #define LC_CATEGORY_SPAN 64
+#define LC_CATEGORY_REPEATS 4
 struct lc_attribute;
 bool lc_attribute_categorical(const struct lc_attribute *a, uint32_t n);
 

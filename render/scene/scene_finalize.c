@@ -295,18 +295,25 @@ static void category_terms(const lc_attribute *a, uint32_t n, double m[3])
     m[0] = whole, m[1] = lo, m[2] = -hi;
 }
 
-static bool category_of(const double m[3]) { return m[0] == 1 && -m[2] > m[1] && -m[2] - m[1] < LC_CATEGORY_SPAN; }
+/* n: the whole file's vertices; a label's kinds repeat (LC_CATEGORY_REPEATS
+ * vertices a kind on average), so a short file of whole-number amounts (a
+ * temperature in whole kelvins over six vertices) is not taken for one. */
+static bool category_of(const double m[3], uint64_t n)
+{
+    double span = -m[2] - m[1];
+    return m[0] == 1 && span > 0 && span < LC_CATEGORY_SPAN && (double)n >= LC_CATEGORY_REPEATS * (span + 1);
+}
 
 bool lc_attribute_categorical(const lc_attribute *a, uint32_t n)
 {
     double m[3];
     category_terms(a, n, m);
-    return category_of(m);
+    return category_of(m, n);
 }
 
 /* Marks the file's categorical attributes (before anything is derived) and
  * says whether one of them can be the importance. */
-static int mark_categories(lc_scene *s, const lc_scene_collective *c, bool *measured, lc_error *err)
+static int mark_categories(lc_scene *s, const lc_scene_collective *c, uint64_t whole, bool *measured, lc_error *err)
 {
     double m[3 * LC_MAX_ATTRIBUTES];
     for (int i = 0; i < s->attribute_count; i++)
@@ -315,7 +322,7 @@ static int mark_categories(lc_scene *s, const lc_scene_collective *c, bool *meas
         return LC_ERR_INTERNAL;
     *measured = false;
     for (int i = 0; i < s->attribute_count; i++) {
-        s->attributes[i].categorical = category_of(m + 3 * i);
+        s->attributes[i].categorical = category_of(m + 3 * i, whole);
         /* one named importance stays the importance (choose_defaults) */
         *measured = *measured || !s->attributes[i].categorical || strcmp(s->attributes[i].name, "importance") == 0;
     }
@@ -458,7 +465,7 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
     compute_bounds(s);
     bool measured;
     int file_attributes = s->attribute_count;
-    if ((rc = mark_categories(s, NULL, &measured, err)) != 0)
+    if ((rc = mark_categories(s, NULL, s->vertex_count, &measured, err)) != 0)
         return rc;
     if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err);
@@ -655,7 +662,7 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
 
     bool measured;
     int file_attributes = s->attribute_count;
-    if (mark_categories(s, c, &measured, err)) /* agreed by every part */
+    if (mark_categories(s, c, total, &measured, err)) /* agreed by every part */
         return LC_ERR_INTERNAL;
     if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */

@@ -201,7 +201,7 @@ static const lc_option common_options[] = {
     REQ("--subset", "N", "subset", "P1/P4 use every N-th primitive, weights x N"),
     REQ("--auto-subset", "N", "autoSubset",
         "largest stride P1 draws with where P0 measured dense data\n"
-        "(default 8; 1 = off)"),
+        "(default 1 = off; e.g. 8)"),
     REQ("--background", "R,G,B", "background", "background colour, each in [0, 1]"),
     {"--exact-positions", NULL, LC_OPT_BOOL, COMMON(exact_positions),
      .help = "float vertex buffers and session opacities (images bit for bit\n"

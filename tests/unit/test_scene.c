@@ -502,19 +502,32 @@ static void test_class_labels(void)
     CHECK(!s->attributes[0].categorical && strcmp(s->default_importance, "label") == 0, "halves are an amount");
     lc_scene_destroy(s);
 
-    /* Lines: a label the loader picked gives way to the derived curvature. */
-    const float pos[] = {0, 0, 0, 1, 0, 0, 2, 1, 0, 3, 1, 1};
-    const uint32_t lens[] = {4};
-    s = make_lines(1, lens, pos);
-    float *v = floats(4, 0);
-    v[1] = v[3] = 2;
-    lc_scene_add_attribute(s, "tract", v, NULL);
-    snprintf(s->default_importance, sizeof s->default_importance, "tract");
-    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize lines: %s", err.msg);
-    CHECK(strcmp(s->default_importance, "curvature") == 0, "lines: %s", s->default_importance);
-    CHECK(strcmp(s->default_color, "tract") == 0, "lines colour: %s", s->default_color);
-    CHECK(lc_attribute_categorical(&s->attributes[0], s->vertex_count), "the public check agrees");
-    lc_scene_destroy(s);
+    /* Lines: a label the loader picked gives way to the derived curvature;
+     * the kinds 0 and 2 (span 2) repeat over 12 vertices (LC_CATEGORY_REPEATS
+     * x 3), not over 4. */
+    float pos[36];
+    for (int i = 0; i < 12; i++)
+        pos[3 * i] = (float)i, pos[3 * i + 1] = (float)(i % 3), pos[3 * i + 2] = (float)(i / 4);
+    for (int pass = 0; pass < 2; pass++) {
+        const uint32_t n = pass == 0 ? 12 : 4;
+        const uint32_t lens[] = {n};
+        s = make_lines(1, lens, pos);
+        float *v = floats(n, 0);
+        for (uint32_t i = 1; i < n; i += 2)
+            v[i] = 2;
+        lc_scene_add_attribute(s, "tract", v, NULL);
+        snprintf(s->default_importance, sizeof s->default_importance, "tract");
+        CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize lines: %s", err.msg);
+        if (pass == 0) {
+            CHECK(strcmp(s->default_importance, "curvature") == 0, "lines: %s", s->default_importance);
+            CHECK(strcmp(s->default_color, "tract") == 0, "lines colour: %s", s->default_color);
+            CHECK(lc_attribute_categorical(&s->attributes[0], s->vertex_count), "the public check agrees");
+        } else {
+            CHECK(!s->attributes[0].categorical && strcmp(s->default_importance, "tract") == 0,
+                  "two kinds over 4 vertices do not repeat enough to be a label: %s", s->default_importance);
+        }
+        lc_scene_destroy(s);
+    }
 }
 
 int main(void)

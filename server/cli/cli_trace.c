@@ -82,20 +82,29 @@ static int curves_to_scene(const char *name, lc_trace_curve *c, uint32_t count, 
     return 0;
 }
 
+/* Opens the field spec and parses the --seed-line text against it; *f is
+ * NULL when the field did not open, else the caller's (also when the seed
+ * was refused: rc says so). */
+static int open_field_seed(const char *spec, const char *seed_text, lc_field **f, lc_seed *seed, lc_error *err)
+{
+    int rc = lc_field_open(spec, f, err);
+    if (rc)
+        return rc;
+    if (!seed_text)
+        return lc_err_field(err, LC_ERR_INVALID, "seed.points", "%s is a vector field: give --seed-line X,Y,Z;X,Y,Z",
+                            spec);
+    return lc_seed_parse(seed_text, seed, *f, err);
+}
+
 int lc_cli_trace_scene(const char *spec, const char *seed_text, uint32_t curves, double step, double length,
                        lc_scene **out, lc_error *err)
 {
     *out = NULL;
     lc_field *f = NULL;
     lc_seed seed;
-    int rc = lc_field_open(spec, &f, err);
-    if (rc)
+    int rc = open_field_seed(spec, seed_text, &f, &seed, err);
+    if (!f)
         return rc;
-    if (!seed_text)
-        rc = lc_err_field(err, LC_ERR_INVALID, "seed.points", "%s is a vector field: give --seed-line X,Y,Z;X,Y,Z",
-                          spec);
-    else
-        rc = lc_seed_parse(seed_text, &seed, f, err);
     lc_trace_curve *c = rc ? NULL : calloc(curves, sizeof *c);
     if (!rc && !c)
         rc = lc_err(err, LC_ERR_NOMEM, "out of memory for %u curves", curves);
@@ -129,14 +138,9 @@ int lc_cli_mesh_scene(const char *spec, const char *seed_text, double split, dou
     *out = NULL;
     lc_field *f = NULL;
     lc_seed seed;
-    int rc = lc_field_open(spec, &f, err);
-    if (rc)
+    int rc = open_field_seed(spec, seed_text, &f, &seed, err);
+    if (!f)
         return rc;
-    if (!seed_text)
-        rc = lc_err_field(err, LC_ERR_INVALID, "seed.points", "%s is a vector field: give --seed-line X,Y,Z;X,Y,Z",
-                          spec);
-    else
-        rc = lc_seed_parse(seed_text, &seed, f, err);
     lc_stream_mesh m = {0};
     lc_stream_mesh_desc desc = {.trace = {.step = step, .max_length = length}, .split = split};
     double t0 = lc_now();

@@ -32,6 +32,11 @@ struct lc_http {
     lc_server *srv;
     struct MHD_Daemon *daemon;
     int port;
+    /* The listening socket MHD_quiesce_daemon handed back: closed only after
+     * MHD_stop_daemon, since MHD's polling thread still takes it out of its
+     * epoll set after the quiesce, and a closed descriptor there is MHD's
+     * fatal "Failed to remove listen FD from epoll set" (seen at shutdown). */
+    MHD_socket quiesced;
 };
 
 /* ---------------------------------------------------------------- auth */
@@ -311,6 +316,7 @@ int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
     if (!h)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     h->srv = srv;
+    h->quiesced = MHD_INVALID_SOCKET;
     h->daemon = MHD_start_daemon(flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
                                  MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_URI_LOG_CALLBACK,
                                  uri_log, srv, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2, MHD_OPTION_CONNECTION_LIMIT,
@@ -335,9 +341,8 @@ void lc_http_quiesce(lc_http *h)
 {
     if (!h || !h->daemon)
         return;
-    MHD_socket s = MHD_quiesce_daemon(h->daemon);
-    if (s != MHD_INVALID_SOCKET)
-        close(s);
+    if (h->quiesced == MHD_INVALID_SOCKET)
+        h->quiesced = MHD_quiesce_daemon(h->daemon);
 }
 
 void lc_http_stop(lc_http *h)
@@ -346,5 +351,7 @@ void lc_http_stop(lc_http *h)
         return;
     if (h->daemon)
         MHD_stop_daemon(h->daemon);
+    if (h->quiesced != MHD_INVALID_SOCKET)
+        close(h->quiesced);
     free(h);
 }

@@ -16,7 +16,8 @@ extern "C" {
 /* Opens the listening socket (cfg.listen_host:cfg.port) and starts MHD.
  * *port_out receives the bound port (useful with port 0). Thread: main. */
 int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err);
-/* Stops accepting new connections (shutdown step 1). */
+/* Stops accepting new connections (shutdown step 1); the listening socket
+ * itself closes in lc_http_stop, after MHD has let go of it. */
 void lc_http_quiesce(lc_http *h);
 /* Stops MHD; every suspended connection must have been resumed (the worker pool
  * is stopped first) and every upgraded one closed (lc_ws_shutdown). */

@@ -100,7 +100,8 @@ export class SeedOverlay {
   }
 
   #size() {
-    return [this.svg.clientWidth || 1, this.svg.clientHeight || 1];
+    const r = this.svg.parentElement.getBoundingClientRect(); // the view's: the overlay covers it, even while hidden
+    return [r.width || 1, r.height || 1];
   }
 
   #pos(e) {

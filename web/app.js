@@ -31,6 +31,7 @@ import { createUrlController } from './js/url-controller.js';
 import { createDatasetController, datasetView } from './js/dataset-controller.js';
 import { createRecordController } from './js/record-controller.js';
 import { SurfacePanel } from './js/surface-panel.js';
+import { SeedOverlay } from './js/seed-handles.js';
 
 const TOKEN_KEY = 'lucent.token';
 
@@ -102,6 +103,7 @@ export function createApp(doc = document, win = window) {
       if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.`);
       legend.setColorTicks(f.header.colorTicks);
       surface.frame(f.header);
+      seeds?.update();
       canvas.dataset.frame = String(f.header.frame);
       canvas.dataset.converged = String(!!f.header.converged);
       body('frames', state.framesDrawn);
@@ -112,6 +114,7 @@ export function createApp(doc = document, win = window) {
     background: () => rgbToHex(values().style?.background ?? [1, 1, 1]),
   });
   const axes = new AxesTriad($('axes'), 72);
+  let seeds = null; // the seed line over the view, made with the surface panel below
   const legend = new Legend($('legend'), {
     onFlip: () => {
       const r = legend.model?.color.range;
@@ -127,7 +130,7 @@ export function createApp(doc = document, win = window) {
     now: () => win.performance.now(),
     isOpen: () => conn.isOpen,
     send: (msg) => conn.send(msg),
-    axes,
+    axes: { update: (c) => { axes.update(c); seeds?.update(); } },
     view,
     stats,
     aspect,
@@ -149,7 +152,16 @@ export function createApp(doc = document, win = window) {
   const surface = new SurfacePanel($('generated'), doc, (path, value) => {
     if (path === 'method' || path === 'surface') surface.setMethod(values().method);
     params.applyChange(path, value);
+    seeds?.update();
   }, (text) => toast(text), (bounds) => camera.setCamera(fitCamera(DEFAULT_CAMERA, flatBounds(bounds), [-1, 1.5, -0.8], [0, 0, 1], aspect())));
+  seeds = new SeedOverlay($('seed-overlay'), {
+    get: () => {
+      const s = surface.shownSeed();
+      return s && state.camera ? { ...s, cam: state.camera } : null;
+    },
+    onMove: (i, p) => surface.setPoint(i, p),
+    onEnd: () => surface.send(),
+  });
   const layers = createLayersController({ doc, state, values: () => values(), apply: (path, value) => params.applyChange(path, value) });
   const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id) });
   const datasets = createDatasetController({
@@ -261,6 +273,7 @@ export function createApp(doc = document, win = window) {
       const old = state.viewport;
       if (v.width === old.width && v.height === old.height && v.dpr === old.dpr) return;
       state.viewport = v;
+      seeds?.update();
       view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
       conn.send(resizeMessage(v.width, v.height, v.dpr));
       // a view the user has not moved since it was fitted is fitted again to its new shape

@@ -842,7 +842,7 @@ test('stopped server: visible state, then reconnection restores the view', async
   await shot(page, '09-reconnected');
 });
 
-test('stream surface: pick a field, place the seed line, watch it grow; a new seed restarts', async () => {
+test('stream surface: pick a field, place the seed line, watch it grow; a new seed restarts, typed or dragged', async () => {
   const page = await newPage(`${ctx.d.url}/#dataset=demo:tornado`);
   ctx.page = page;
   await settled(page);
@@ -879,6 +879,43 @@ test('stream surface: pick a field, place the seed line, watch it grow; a new se
   const moved = await signature(page);
   check(meanDiff(grown, moved) > 0.1, `the new seed's surface looks different (mean diff ${meanDiff(grown, moved).toFixed(2)})`);
   await shot(page, '10-stream-surface');
+  // the seed line is drawn over the view; dragging its end handle moves that endpoint and restarts the surface
+  check(await page.locator('#seed-overlay').isVisible(), 'the seed line is drawn over the view while the surface is shown');
+  const handle = page.locator('[data-testid="seed-end"]');
+  const box0 = await handle.boundingBox();
+  check(box0 && box0.width > 4, `the seed's end handle is on the page: ${JSON.stringify(box0)}`);
+  const seedB = await page.locator('#surface-b').inputValue();
+  const cam0 = await page.evaluate(() => JSON.stringify(window.lucent.state.camera));
+  await page.evaluate(() => { window.__curves = []; window.__after = window.lucent.state.lastFrame.frame; });
+  const [hx, hy] = [box0.x + box0.width / 2, box0.y + box0.height / 2];
+  await page.mouse.move(hx, hy);
+  await page.mouse.down();
+  await page.mouse.move(hx - 30, hy + 20, { steps: 5 });
+  await page.mouse.move(hx - 60, hy + 40, { steps: 5 });
+  await page.mouse.up();
+  const seedB2 = await page.locator('#surface-b').inputValue();
+  const p2 = seedB2.split(',').map(Number);
+  check(seedB2 !== seedB && p2.length === 3 && p2.every(Number.isFinite), `dragging the end handle changes the typed seed end: ${seedB} -> ${seedB2}`);
+  const box1 = await handle.boundingBox();
+  check(Math.abs(box1.x - box0.x + 60) < 3 && Math.abs(box1.y - box0.y - 40) < 3, `the handle follows the pointer: ${box0.x},${box0.y} -> ${box1.x},${box1.y}`);
+  check(await page.evaluate(() => JSON.stringify(window.lucent.state.camera)) === cam0, 'dragging a handle does not orbit the view');
+  const sent = await page.evaluate(() => window.lucent.state.update.surface?.seed?.[1]);
+  check(JSON.stringify(sent) === JSON.stringify(p2), `the dragged seed is the session's seed: ${JSON.stringify(sent)}`);
+  await page.waitForFunction(() => window.__curves.length > 0, null, { timeout: 60000 });
+  await complete();
+  curves = await page.evaluate(() => window.__curves.slice());
+  check(curves[0] < 400, `the dragged seed restarts the surface: ${curves}`);
+  const dragged = await signature(page);
+  check(meanDiff(moved, dragged) > 0.1, `the dragged seed's surface looks different (mean diff ${meanDiff(moved, dragged).toFixed(2)})`);
+  // off the handles the canvas still orbits
+  const vb = await page.locator('#view').boundingBox();
+  await page.mouse.move(vb.x + vb.width * 0.15, vb.y + vb.height * 0.85);
+  await page.mouse.down();
+  await page.mouse.move(vb.x + vb.width * 0.25, vb.y + vb.height * 0.85, { steps: 5 });
+  await page.mouse.up();
+  check(await page.evaluate(() => JSON.stringify(window.lucent.state.camera)) !== cam0, 'a drag off the handles still orbits');
+  const box2 = await handle.boundingBox();
+  check(Math.abs(box2.x - box1.x) > 1 || Math.abs(box2.y - box1.y) > 1, 'the seed line follows the camera');
   await page.locator('#surface-on').uncheck();
   await page.waitForFunction(() => { const f = window.lucent.state.lastFrame; return f && !f.surface && f.converged; }, null, { timeout: 60000 });
   const method = await page.evaluate(() => window.lucent.state.update.method);

@@ -107,6 +107,26 @@ export class SurfacePanel {
     return { field: this.field.value, seed: [a, b], particles: Number(this.particles.value), curvesPerFrame: Number(this.perFrame.value) };
   }
 
+  /**
+   * What the view's seed overlay draws: { seed, bounds } of the shown surface's
+   * typed seed, or null while hidden or a typed point is not three numbers.
+   */
+  shownSeed() {
+    if (!this.on.checked || this.box.hidden) return null;
+    const point = (input) => {
+      const p = input.value.split(',').map((x) => Number(x.trim()));
+      return p.length === 3 && p.every(Number.isFinite) ? p : null;
+    };
+    const a = point(this.a), b = point(this.b);
+    const f = this.fields.find((x) => x.name === this.field.value);
+    return a && b ? { seed: [a, b], bounds: f?.bounds ?? null } : null;
+  }
+
+  /** A dragged seed endpoint (0 start, 1 end) into its typed field; send() sends it. */
+  setPoint(index, p) {
+    (index ? this.b : this.a).value = p.join(', ');
+  }
+
   /** Sends the form: a new seed or field restarts the surface on the server. */
   send() {
     const v = this.on.checked ? this.values() : {};

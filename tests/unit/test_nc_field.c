@@ -256,6 +256,19 @@ int main(void)
     char path[256];
     snprintf(path, sizeof path, "%s/no_v.nc", dir);
     CHECK(!lc_field_is_source(path), "a file without v counts as a field source");
+    /* A trajectory file (lon, lat, pressure) with u, v along its trajectories stays a line dataset. */
+    snprintf(path, sizeof path, "%s/traj.nc", dir);
+    int nc, td[2], ids[5];
+    if (nc_create(path, NC_CLOBBER, &nc) == NC_NOERR) {
+        nc_def_dim(nc, "trajectory", 2, &td[0]);
+        nc_def_dim(nc, "time", 3, &td[1]);
+        static const char *const tv[5] = {"lon", "lat", "pressure", "u", "v"};
+        for (int k = 0; k < 5; k++)
+            nc_def_var(nc, tv[k], NC_FLOAT, 2, td, &ids[k]);
+        nc_close(nc);
+        CHECK(!lc_field_is_source(path), "a trajectory file with u, v counts as a field source");
+        unlink(path);
+    }
     /* Garbage named .nc: not a field, and opening it says why. */
     snprintf(path, sizeof path, "%s/junk.nc", dir);
     FILE *j = fopen(path, "wb");

@@ -194,11 +194,8 @@ static int read_shape(ncf_load *L)
     int nd = L->ndims;
     L->has_time = nd == 4 || (nd == 3 && leading_is_time(L->ncid, L->dimids[0]));
     L->T = 1;
-    if (L->has_time) {
+    if (L->has_time)
         nc_inq_dimlen(L->ncid, L->dimids[0], &L->T);
-        if (L->T == 0)
-            return fail(L, LC_ERR_INVALID, L->c[0].name, "its time dimension is empty");
-    }
     int spatial = nd - L->has_time;
     for (int a = 0; a < 3; a++) {
         L->n[a] = 1;
@@ -214,6 +211,8 @@ static int read_shape(ncf_load *L)
         (uint64_t)L->n[0] * L->n[1] > LC_FIELD_MAX_NODES || (uint64_t)L->n[0] * L->n[1] * nz > LC_FIELD_MAX_NODES)
         return fail(L, LC_ERR_LIMIT, L->c[0].name, "grid %zu x %zu x %zu exceeds the limit of %llu nodes", L->n[0],
                     L->n[1], nz, (unsigned long long)LC_FIELD_MAX_NODES);
+    if (L->T == 0)
+        return fail(L, LC_ERR_INVALID, L->c[0].name, "its time dimension is empty");
     return 0;
 }
 

@@ -269,6 +269,29 @@ int main(void)
         CHECK(!lc_field_is_source(path), "a trajectory file with u, v counts as a field source");
         unlink(path);
     }
+    /* Over the node cap (NetCDF-4 allocates no chunk that is never written: the file stays small), and an empty
+     * time axis. */
+    for (int big = 1; big >= 0; big--) {
+        snprintf(path, sizeof path, "%s/big.nc", dir);
+        int gd[4];
+        if (nc_create(path, NC_CLOBBER | NC_NETCDF4, &nc) != NC_NOERR)
+            continue;
+        nc_def_dim(nc, "time", NC_UNLIMITED, &gd[0]);
+        nc_def_dim(nc, "z", big ? 128 : 2, &gd[1]);
+        nc_def_dim(nc, "y", big ? 2048 : 2, &gd[2]);
+        nc_def_dim(nc, "x", big ? 2048 : 2, &gd[3]);
+        nc_def_var(nc, "u", NC_FLOAT, 4, gd, &ids[0]);
+        nc_def_var(nc, "v", NC_FLOAT, 4, gd, &ids[1]);
+        nc_close(nc);
+        lc_field *b = NULL;
+        lc_error e = {0};
+        int brc = lc_field_open(path, &b, &e);
+        CHECK(brc == (big ? LC_ERR_LIMIT : LC_ERR_INVALID) && !b &&
+                  strstr(e.msg, big ? "variable 'u': grid 2048 x 2048 x 128 exceeds the limit of 268435456 nodes"
+                                    : "variable 'u': its time dimension is empty"),
+              "big=%d: rc %d '%s'", big, brc, e.msg);
+        unlink(path);
+    }
     /* Garbage named .nc: not a field, and opening it says why. */
     snprintf(path, sizeof path, "%s/junk.nc", dir);
     FILE *j = fopen(path, "wb");

@@ -1,8 +1,8 @@
 /* Vector-field datasets: the VTK legacy STRUCTURED_POINTS / RECTILINEAR_GRID
  * reader (the first POINT_DATA VECTORS array; SCALARS, NORMALS, FIELD arrays,
  * CELL_DATA and METADATA are skipped) and the opener of field sources
- * ("demo:NAME" of render/field or a .vtk file). ASCII or big-endian BINARY;
- * every count is checked against the bytes left before anything is allocated.
+ * ("demo:NAME" of render/field, a .vtk file or a NetCDF .nc grid). ASCII or
+ * big-endian BINARY; every count is checked against the bytes left before anything is allocated.
  * Threading: reentrant; a loaded field belongs to the caller. */
 #ifndef LC_IO_VTK_FIELD_H
 #define LC_IO_VTK_FIELD_H
@@ -25,8 +25,8 @@ int lc_load_vtk_field(const char *path, lc_field **out, lc_error *err);
  * RECTILINEAR_GRID (looks at its first 4 KiB only). */
 int lc_vtk_file_is_field(const char *path);
 
-/* 1 when spec names a field: "demo:NAME" of a demo field or a .vtk file
- * whose dataset is a grid. */
+/* 1 when spec names a field: "demo:NAME" of a demo field, a .vtk file
+ * whose dataset is a grid, or a .nc file holding gridded u, v (nc_field.h). */
 int lc_field_is_source(const char *spec);
 /* Opens a field source (lc_field_is_source); file fields are named after the
  * file stem. */

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "nc_field.h"
 #include "vtk_field.h"
 #include "vtk_internal.h"
 
@@ -355,6 +356,8 @@ int lc_field_is_source(const char *spec)
     if (strncmp(spec, "demo:", 5) == 0)
         return lc_field_is_demo(spec + 5);
     size_t n = strlen(spec);
+    if (n > 3 && strcasecmp(spec + n - 3, ".nc") == 0)
+        return lc_nc_file_is_field(spec);
     return n > 4 && strcasecmp(spec + n - 4, ".vtk") == 0 && lc_vtk_file_is_field(spec);
 }
 
@@ -362,5 +365,8 @@ int lc_field_open(const char *spec, lc_field **out, lc_error *err)
 {
     if (strncmp(spec, "demo:", 5) == 0)
         return lc_field_demo_create(spec + 5, out, err);
+    size_t n = strlen(spec);
+    if (n > 3 && strcasecmp(spec + n - 3, ".nc") == 0)
+        return lc_load_nc_field(spec, out, err);
     return lc_load_vtk_field(spec, out, err);
 }

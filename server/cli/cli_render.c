@@ -321,7 +321,7 @@ int lc_cli_info(int argc, char **argv)
             fprintf(pr > 0 ? stdout : stderr,
                     "usage: lucent info FILE|demo:NAME[?count=N&seed=S]\n"
                     "  (vector fields: demo:tornado-flow, demo:abc-flow, demo:shear-flow, demo:double-gyre-flow or\n"
-                    "  a STRUCTURED_POINTS/RECTILINEAR_GRID .vtk)\n");
+                    "  a STRUCTURED_POINTS/RECTILINEAR_GRID .vtk or a gridded u/v/w .nc)\n");
         return pr > 0 ? 0 : 2;
     }
     if (lc_field_is_source(spec))

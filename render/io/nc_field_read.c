@@ -2,7 +2,6 @@
  * name on a rectilinear grid from the coordinate variables (nc_field.h). */
 #include <math.h>
 #include <netcdf.h>
-#include <netcdf_mem.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,13 +10,12 @@
 
 #include "io_util.h"
 #include "nc_field.h"
-#include "netcdf_check.h"
+#include "netcdf_util.h"
 
 typedef struct comp {
     int id; /* -1: absent (w only: 0 velocity) */
     char name[NC_MAX_NAME + 1];
-    double fill[3]; /* _FillValue, missing_value, the type's default fill */
-    int nfill;
+    lc_nc_fill fill;
     double scale, offset; /* scale_factor, add_offset of packed data */
 } comp;
 
@@ -38,14 +36,11 @@ typedef struct ncf_load {
 static int fail(ncf_load *L, int code, const char *var, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
 static int fail(ncf_load *L, int code, const char *var, const char *fmt, ...)
 {
-    char reason[LC_ERROR_MSG_LEN];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
+    int rc = lc_nc_vfail(L->err, L->file, code, var, fmt, ap);
     va_end(ap);
-    if (var)
-        return lc_err(L->err, code, "%.80s: variable '%.40s': %s", L->file, var, reason);
-    return lc_err(L->err, code, "%.80s: %s", L->file, reason);
+    return rc;
 }
 
 /* CF standard names per component; a name ending in "x_velocity" etc. also counts. */
@@ -85,35 +80,13 @@ static int find_component(int ncid, int axis)
 
 static void read_packing(ncf_load *L, comp *c)
 {
-    nc_type type = NC_NAT;
     double x;
-    c->nfill = 0, c->scale = 1, c->offset = 0;
-    if (nc_get_att_double(L->ncid, c->id, "_FillValue", &x) == NC_NOERR)
-        c->fill[c->nfill++] = x;
-    if (nc_get_att_double(L->ncid, c->id, "missing_value", &x) == NC_NOERR)
-        c->fill[c->nfill++] = x;
-    nc_inq_vartype(L->ncid, c->id, &type);
-    switch (type) {
-    case NC_FLOAT: c->fill[c->nfill++] = (double)NC_FILL_FLOAT; break;
-    case NC_DOUBLE: c->fill[c->nfill++] = NC_FILL_DOUBLE; break;
-    case NC_SHORT: c->fill[c->nfill++] = NC_FILL_SHORT; break;
-    case NC_INT: c->fill[c->nfill++] = NC_FILL_INT; break;
-    default: break;
-    }
+    c->scale = 1, c->offset = 0;
+    lc_nc_read_fill(L->ncid, c->id, &c->fill);
     if (nc_get_att_double(L->ncid, c->id, "scale_factor", &x) == NC_NOERR && isfinite(x))
         c->scale = x;
     if (nc_get_att_double(L->ncid, c->id, "add_offset", &x) == NC_NOERR && isfinite(x))
         c->offset = x;
-}
-
-static int is_fill(const comp *c, double x)
-{
-    if (!isfinite(x))
-        return 1;
-    for (int i = 0; i < c->nfill; i++)
-        if (x == c->fill[i] || (c->fill[i] != 0 && fabs(x - c->fill[i]) <= 1e-6 * fabs(c->fill[i])))
-            return 1;
-    return 0;
 }
 
 /* A 3-D variable is (time, y, x) when its first dimension is the record
@@ -292,7 +265,7 @@ static int read_component(ncf_load *L, int a, double *slab, float *vectors)
                 double x = 0;
                 if (c->id >= 0) {
                     x = slab[j * nx + i];
-                    if (is_fill(c, x))
+                    if (lc_nc_is_fill(&c->fill, x))
                         x = 0, L->fills++;
                     else
                         x = x * c->scale + c->offset;
@@ -356,20 +329,6 @@ static int load(ncf_load *L, const char *name, lc_field **out)
     return 0;
 }
 
-static int open_mem(const void *data, size_t size, const char *file, int *ncid, lc_error *err)
-{
-    if (!data || size == 0)
-        return lc_err(err, LC_ERR_INVALID, "%.80s: empty file", file);
-    int rc = lc_netcdf_check_classic(data, size, file, err);
-    if (rc)
-        return rc;
-    /* nc_open_mem does not write to the buffer in NC_NOWRITE mode. */
-    rc = nc_open_mem(file, NC_NOWRITE, size, (void *)data, ncid);
-    if (rc != NC_NOERR)
-        return lc_err(err, LC_ERR_INVALID, "%.80s: not a readable NetCDF file: %s", file, nc_strerror(rc));
-    return 0;
-}
-
 int lc_load_nc_field_memory(const void *data, size_t size, const char *name, lc_field **out, lc_error *err)
 {
     *out = NULL;
@@ -377,7 +336,7 @@ int lc_load_nc_field_memory(const void *data, size_t size, const char *name, lc_
     memset(&L, 0, sizeof L);
     L.file = name ? name : "<memory>";
     L.err = err;
-    int rc = open_mem(data, size, L.file, &L.ncid, err);
+    int rc = lc_nc_open_memory(data, size, L.file, &L.ncid, err);
     if (rc)
         return rc;
     rc = load(&L, L.file, out);
@@ -413,7 +372,7 @@ static int holds_field(const char *data, size_t size, const char *name)
 {
     lc_error err = {0};
     int ncid, found = 1, id = -1;
-    if (open_mem(data, size, name, &ncid, &err))
+    if (lc_nc_open_memory(data, size, name, &ncid, &err))
         return 0;
     for (int a = 0; a < 2 && found; a++) {
         int nd = 0;

@@ -2,7 +2,6 @@
  * time) or (ensemble, trajectory, time), read in blocks of trajectories. */
 #include <math.h>
 #include <netcdf.h>
-#include <netcdf_mem.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,7 +10,7 @@
 
 #include "io_util.h"
 #include "nc_trajectories.h"
-#include "netcdf_check.h"
+#include "netcdf_util.h"
 
 #define BLOCK_VALUES (1u << 18) /* values per read and variable */
 #define P0_HPA 1013.25
@@ -19,8 +18,7 @@
 
 typedef struct nc_var {
     int id;
-    double fill[3]; /* _FillValue, missing_value, the type's default fill */
-    int nfill;
+    lc_nc_fill fill;
     double scale; /* 0.01 for pressure in Pa */
     char name[LC_NAME_LEN];
 } nc_var;
@@ -43,37 +41,11 @@ typedef struct nc_load {
 static int fail(nc_load *L, int code, const char *var, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
 static int fail(nc_load *L, int code, const char *var, const char *fmt, ...)
 {
-    char reason[LC_ERROR_MSG_LEN];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
+    int rc = lc_nc_vfail(L->err, L->file, code, var, fmt, ap);
     va_end(ap);
-    if (var)
-        return lc_err(L->err, code, "%.80s: variable '%.40s': %s", L->file, var, reason);
-    return lc_err(L->err, code, "%.80s: %s", L->file, reason);
-}
-
-static void read_fill(nc_load *L, nc_var *v)
-{
-    nc_type type;
-    double x;
-    v->nfill = 0;
-    if (nc_get_att_double(L->ncid, v->id, "_FillValue", &x) == NC_NOERR)
-        v->fill[v->nfill++] = x;
-    if (nc_get_att_double(L->ncid, v->id, "missing_value", &x) == NC_NOERR)
-        v->fill[v->nfill++] = x;
-    if (nc_inq_vartype(L->ncid, v->id, &type) == NC_NOERR)
-        v->fill[v->nfill++] = type == NC_FLOAT ? (double)NC_FILL_FLOAT : NC_FILL_DOUBLE;
-}
-
-static int is_missing(const nc_var *v, double x)
-{
-    if (!isfinite(x))
-        return 1;
-    for (int i = 0; i < v->nfill; i++)
-        if (x == v->fill[i] || (v->fill[i] != 0 && fabs(x - v->fill[i]) <= 1e-6 * fabs(v->fill[i])))
-            return 1;
-    return 0;
+    return rc;
 }
 
 /* A variable's units attribute, or "" without one. */
@@ -141,7 +113,7 @@ static int inspect(nc_load *L)
                         "no variable '%s' (expected lon, lat, pressure over (trajectory, time))", names[k]);
         snprintf(v->name, sizeof v->name, "%s", names[k]);
         v->scale = 1;
-        read_fill(L, v);
+        lc_nc_read_fill(L->ncid, v->id, &v->fill);
         if (k == 0) {
             if (nc_inq_varndims(L->ncid, v->id, &L->ndims) != NC_NOERR || (L->ndims != 2 && L->ndims != 3))
                 return fail(L, LC_ERR_INVALID, "lon",
@@ -201,7 +173,7 @@ static int inspect(nc_load *L)
                 *c = '_';
         v->id = id;
         v->scale = 1;
-        read_fill(L, v);
+        lc_nc_read_fill(L->ncid, v->id, &v->fill);
     }
     return 0;
 }
@@ -274,9 +246,9 @@ static int walk(nc_load *L, uint32_t *len, lc_scene *s, float **attr, double *bu
         if (!s) {
             for (size_t r = 0; r < n; r++) {
                 size_t t = 0;
-                while (t < L->T && !is_missing(&L->pos[0], p[0][r * L->T + t]) &&
-                       !is_missing(&L->pos[1], p[1][r * L->T + t]) && !is_missing(&L->pos[2], p[2][r * L->T + t]) &&
-                       p[2][r * L->T + t] > 0)
+                while (t < L->T && !lc_nc_is_fill(&L->pos[0].fill, p[0][r * L->T + t]) &&
+                       !lc_nc_is_fill(&L->pos[1].fill, p[1][r * L->T + t]) &&
+                       !lc_nc_is_fill(&L->pos[2].fill, p[2][r * L->T + t]) && p[2][r * L->T + t] > 0)
                     t++;
                 len[r0 + r] = (uint32_t)t;
             }
@@ -307,7 +279,7 @@ static int walk(nc_load *L, uint32_t *len, lc_scene *s, float **attr, double *bu
                     continue;
                 for (size_t t = 0; t < len[r0 + r]; t++) {
                     double x = abuf[r * L->T + t];
-                    attr[a][wa + t] = is_missing(&L->attr[a], x) ? NAN : (float)x;
+                    attr[a][wa + t] = lc_nc_is_fill(&L->attr[a].fill, x) ? NAN : (float)x;
                 }
                 wa += len[r0 + r];
             }
@@ -430,15 +402,9 @@ static int load_netcdf(const void *data, size_t size, const char *name, lc_io_pa
 {
     *out = NULL;
     nc_load L = {.file = name ? name : "<memory>", .err = err, .part = part};
-    if (!data || size == 0)
-        return lc_err(err, LC_ERR_INVALID, "%.80s: empty file", L.file);
-    int rc = lc_netcdf_check_classic(data, size, L.file, err);
+    int rc = lc_nc_open_memory(data, size, L.file, &L.ncid, err);
     if (rc)
         return rc;
-    /* nc_open_mem does not write to the buffer in NC_NOWRITE mode. */
-    rc = nc_open_mem(L.file, NC_NOWRITE, size, (void *)data, &L.ncid);
-    if (rc != NC_NOERR)
-        return lc_err(err, LC_ERR_INVALID, "%.80s: not a readable NetCDF file: %s", L.file, nc_strerror(rc));
     rc = load(&L, out);
     nc_close(L.ncid);
     return rc;

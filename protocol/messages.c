@@ -510,15 +510,16 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
     }
     if (o && h->has_detail) {
         if (!isfinite(h->lod_pixels) || !isfinite(h->render_ms) || h->level < 0 || h->point_stride < 1 ||
-            h->primitives > LC_PROTO_MAX_SEQ) {
+            h->line_stride < 0 || h->primitives > LC_PROTO_MAX_SEQ) {
             json_decref(o);
             return LC_ERR_INVALID;
         }
         json_object_set_new(o, "detail",
-                            json_pack("{s:b, s:b, s:i, s:f, s:i, s:I, s:f}", "interactive", (int)h->interactive,
+                            json_pack("{s:b, s:b, s:i, s:f, s:i, s:i, s:I, s:f}", "interactive", (int)h->interactive,
                                       "reusedOpacities", (int)h->reused, "level", h->level, "lodPixels", h->lod_pixels,
-                                      "pointStride", h->point_stride, "primitives", (json_int_t)h->primitives,
-                                      "renderMs", h->render_ms));
+                                      "pointStride", h->point_stride, "lineStride",
+                                      h->line_stride > 1 ? h->line_stride : 1, "primitives",
+                                      (json_int_t)h->primitives, "renderMs", h->render_ms));
     }
     if (o && h->has_color_ticks) {
         json_t *ticks = json_array();
@@ -660,7 +661,11 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         const json_t *lv = json_object_get(det, "level"), *px = json_object_get(det, "lodPixels"),
                      *st = json_object_get(det, "pointStride"), *pr = json_object_get(det, "primitives"),
                      *ms = json_object_get(det, "renderMs"), *in = json_object_get(det, "interactive"),
-                     *re = json_object_get(det, "reusedOpacities");
+                     *re = json_object_get(det, "reusedOpacities"), *ls = json_object_get(det, "lineStride");
+        if (ls && (!json_is_integer(ls) || json_integer_value(ls) < 1 || json_integer_value(ls) > 1 << 20)) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "detail.lineStride", "expected an integer >= 1");
+            goto done;
+        }
         if (!json_is_object(det) || !json_is_integer(lv) || json_integer_value(lv) < 0 ||
             json_integer_value(lv) > 255 || !json_is_number(px) || json_number_value(px) < 0 ||
             !json_is_integer(st) || json_integer_value(st) < 1 || json_integer_value(st) > 1 << 20 ||
@@ -674,6 +679,7 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         h->level = (int)json_integer_value(lv);
         h->lod_pixels = json_number_value(px);
         h->point_stride = (int)json_integer_value(st);
+        h->line_stride = ls ? (int)json_integer_value(ls) : 1;
         h->primitives = (uint64_t)json_integer_value(pr);
         h->render_ms = json_number_value(ms);
         h->interactive = json_is_true(in);

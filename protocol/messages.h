@@ -151,6 +151,7 @@ typedef struct lc_frame_header {
     int level;             /* level of detail, 0 = every segment */
     double lod_pixels;     /* the pixel bound it was chosen for */
     int point_stride;      /* points: every n-th drawn */
+    int line_stride;       /* lines: one in n of the less important lines drawn (0 from a sender without it: 1) */
     uint64_t primitives;   /* primitives drawn per geometry pass */
     double render_ms;      /* wall time of the render */
     /* "colorTicks" (optional): with color.equalize, the data values at 0,

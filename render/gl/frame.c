@@ -95,7 +95,8 @@ void lc_renderer_destroy(lc_renderer *r)
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
                      r->point_histogram,   r->point_list,         r->line_mask,
-                     r->element_behind,      r->color_histogram, r->element_g};
+                     r->element_behind,      r->color_histogram, r->element_g,
+                     r->line_select,       r->line_kept};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
@@ -114,7 +115,7 @@ uint64_t lc_renderer_bytes(const lc_renderer *r)
 {
     uint64_t points = r->point_histogram ? POINT_BINS * 4 + ((uint64_t)r->point_list_capacity + 1) * 4 : 0;
     uint64_t filter = r->filter.mask ? ((uint64_t)r->filter.mask_words + r->filter.offset_words) * 4 : 0;
-    return r->bytes_targets + r->bytes_elements + points + filter;
+    return r->bytes_targets + r->bytes_elements + points + filter + r->line_select_bytes + r->line_kept_bytes;
 }
 
 uint64_t lc_renderer_element_bytes(const lc_renderer *r)
@@ -541,6 +542,19 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
         return rc;
+    /* Lines thin only where the opacities are reused (P1-P3 would leave the
+     * dropped lines' elements without opacities), with the Fourier method
+     * (its P4 weights a stride), and not under MPI (a rank's every n-th line
+     * is not the whole's). */
+    fs.line_stride = plan.reuse && p.method == LC_METHOD_FOURIER && fs.gs->scene->type == LC_PRIM_LINES &&
+                             !fs.layer_count && !r->desc.reducer && p.detail.line_stride > 1
+                         ? p.detail.line_stride
+                         : 1;
+    uint64_t level_segments = fs.gs->levels[fs.level].primitive_count;
+    while (fs.line_stride > 1 && level_segments / (uint64_t)fs.line_stride < LC_LINE_SUBSET_FLOOR)
+        fs.line_stride /= 2;
+    if ((rc = lc_line_subset_prepare(r, &fs, err)) != 0)
+        return rc;
     if (lc_frame_has_context(&fs) && (tiles || antialias_samples(&p) > 1)) /* drawn once, unjittered, untiled */
         return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",
                             "a context layer is drawn in one untiled, unjittered frame: %s",
@@ -630,6 +644,17 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     info->primitives_drawn += fs.kept_points - fs.kept_points / (uint64_t)fs.point_stride;
     info->kept_points = fs.kept_points;
     info->point_stride = fs.point_stride;
+    info->line_stride = 1;
+    info->kept_line_segments[0] = info->kept_line_segments[1] = 0;
+    if (fs.kept_line_indices[0] + fs.kept_line_indices[1]) {
+        /* Two indices a segment plus four a run (its first vertex, two restarts): segments only approximately. */
+        const lc_gpu_level *lv = &fs.gs->levels[fs.level];
+        double per = lv->index_count ? (double)lv->primitive_count / (double)lv->index_count : 0;
+        info->line_stride = fs.line_stride;
+        info->kept_line_segments[0] = (uint64_t)(fs.kept_line_indices[0] * per + 0.5);
+        info->kept_line_segments[1] = (uint64_t)(fs.kept_line_indices[1] * per + 0.5);
+        info->primitives_drawn = info->kept_line_segments[0] + info->kept_line_segments[1];
+    }
     info->pipeline_bytes = lc_renderer_bytes(r);
     info->wall_ms = (lc_now() - t0) * 1e3;
     GLenum e = glGetError();

@@ -179,20 +179,24 @@ static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k
     uint64_t cap = strip_indices(k, k);
     uint32_t *strip = malloc((cap ? cap : 1) * sizeof(uint32_t));
     uint64_t *breaks = malloc(((cap / STRIP_BREAK_SPACING) + 2) * sizeof(uint64_t));
-    if (!strip || !breaks) {
+    uint32_t *runs = malloc((k ? 2 * k : 2) * sizeof(uint32_t)); /* at most a run per segment */
+    if (!strip || !breaks || !runs) {
         free(strip);
         free(breaks);
+        free(runs);
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for segments", gs->scene->name);
     }
     uint64_t n = 0;
-    uint32_t nb = 0;
+    uint32_t nb = 0, nr = 0;
     for (uint64_t j = 0; j < k; j++) {
         uint32_t a = pairs[2 * j], b = pairs[2 * j + 1];
         if (j == 0 || pairs[2 * j - 1] != a) {
             if (j > 0) {
+                runs[2 * nr - 1] = (uint32_t)(n - runs[2 * nr - 2]);
                 strip[n++] = LC_STRIP_RESTART;
                 strip[n++] = LC_STRIP_RESTART;
             }
+            runs[2 * nr++] = (uint32_t)n;
             if (nb == 0 || n - breaks[nb - 1] >= STRIP_BREAK_SPACING)
                 breaks[nb++] = n;
             strip[n++] = 2 * a;
@@ -201,8 +205,13 @@ static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k
         strip[n++] = 2 * b;
         strip[n++] = 2 * b + 1;
     }
+    if (nr)
+        runs[2 * nr - 1] = (uint32_t)(n - runs[2 * nr - 2]);
     lc_gpu_level *lv = &gs->levels[gs->level_count++];
     lv->indices = lc_gl_buffer(strip, n * sizeof(uint32_t), &gs->bytes);
+    lv->runs = lc_gl_buffer(runs, (size_t)nr * 2 * sizeof(uint32_t), &gs->bytes);
+    lv->run_count = nr;
+    free(runs);
     lv->primitive_count = k;
     lv->error = error;
     lv->index_count = n;
@@ -323,6 +332,7 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
     for (int i = 0; i < gs->level_count; i++) {
         lc_gpu_level *lv = &gs->levels[i];
         glDeleteBuffers(1, &lv->indices);
+        glDeleteBuffers(1, &lv->runs);
         free(lv->breaks);
     }
     lc_line_clusters_destroy(gs->clusters);

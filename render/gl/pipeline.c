@@ -346,6 +346,40 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
     lc_uniform_i((GLuint)prog, "u_point_list", 0);
 }
 
+/* The kept strip of an importance-aware line subset (line_subset.c): the
+ * full runs with the pass's weight, the strided ones with line_stride times
+ * it (P4's u_weight; other passes have none). Batches split at even offsets
+ * and overlap by one vertex pair: a strip resumes at any pair without losing
+ * or repeating a segment. */
+static void draw_kept_lines(const lc_frame_setup *fs, uint64_t batch, GLsync in_flight[2])
+{
+    GLint prog = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
+    GLint loc = glGetUniformLocation((GLuint)prog, "u_weight");
+    GLfloat weight = 1;
+    if (loc >= 0)
+        glGetUniformfv((GLuint)prog, loc, &weight);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, fs->kept_line_buffer);
+    batch &= ~(uint64_t)1;
+    uint64_t k = 0;
+    for (int part = 0; part < 2; part++) {
+        uint64_t start = part ? fs->kept_line_total - fs->kept_line_indices[1] : 0;
+        uint64_t end = start + fs->kept_line_indices[part];
+        if (loc >= 0)
+            glProgramUniform1f((GLuint)prog, loc, part ? weight * (float)fs->line_stride : weight);
+        for (uint64_t s = start; s + 2 < end; s += batch ? batch : end) {
+            uint64_t e = batch && s + batch + 2 < end ? s + batch + 2 : end;
+            glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(e - s), GL_UNSIGNED_INT,
+                           (const void *)(uintptr_t)(s * sizeof(uint32_t)));
+            if (batch && fs->kept_line_indices[0] + fs->kept_line_indices[1] > batch)
+                end_batch(in_flight, k++);
+        }
+    }
+    if (loc >= 0)
+        glProgramUniform1f((GLuint)prog, loc, weight);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, fs->gs->levels[fs->level].indices);
+}
+
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
 {
     lc_prim_type prim = fs->gs->scene->type;
@@ -362,13 +396,16 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
         drawn = n; /* indexed draws cover every primitive */
     uint64_t per_batch = atomic_load(&draw_batch_triangles);
     if (per_batch) {
-        uint64_t triangles =
-            prim == LC_PRIM_LINES && !pulled ? lv->index_count : drawn * (prim == LC_PRIM_TRIANGLES ? 1 : 2);
+        uint64_t kept = fs->kept_line_indices[0] + fs->kept_line_indices[1];
+        uint64_t triangles = prim == LC_PRIM_LINES && !pulled ? (kept ? kept : lv->index_count)
+                                                               : drawn * (prim == LC_PRIM_TRIANGLES ? 1 : 2);
         uint64_t share = triangles / SOFTWARE_BATCH_SPLIT;
         per_batch = share < SOFTWARE_BATCH_MIN ? SOFTWARE_BATCH_MIN : share < per_batch ? share : per_batch;
     }
     GLsync in_flight[2] = {0, 0};
-    if (prim == LC_PRIM_LINES && !pulled) {
+    if (prim == LC_PRIM_LINES && !pulled && fs->kept_line_indices[0] + fs->kept_line_indices[1]) {
+        draw_kept_lines(fs, per_batch, in_flight);
+    } else if (prim == LC_PRIM_LINES && !pulled) {
         draw_strips(lv, per_batch ? per_batch : lv->index_count, in_flight);
     } else {
         uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;

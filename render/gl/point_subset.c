@@ -48,7 +48,7 @@ static void histogram(lc_renderer *r, lc_frame_setup *fs, GLuint prog)
 /* The lowest bin whose points and those above number at least `want`,
  * without going over `most`; 0 when no such cut exists (bin 0, g < 1/1024,
  * is never kept: those points are not important). *count: how many. */
-static int choose_bin(const uint32_t *bins, uint64_t want, uint64_t most, uint32_t *count)
+int lc_subset_choose_bin(const uint32_t *bins, uint64_t want, uint64_t most, uint32_t *count)
 {
     uint64_t acc = 0;
     int best = 0;
@@ -106,7 +106,7 @@ int lc_point_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     /* Kept in full: about n / (4 stride) points, at most n / stride (ties in
      * a bin, e.g. the values clamped to g = 1, can make a bin large). */
     uint32_t count = 0;
-    int bin = choose_bin(r->point_hist.bins, (n + 4 * stride - 1) / (4 * stride), n / stride, &count);
+    int bin = lc_subset_choose_bin(r->point_hist.bins, (n + 4 * stride - 1) / (4 * stride), n / stride, &count);
     if (bin == 0)
         return 0; /* nothing stands out: a uniform stride */
     if (r->point_kept.keep_bin != bin)

@@ -184,6 +184,7 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
     static const char *const cs_mass[] = {"mass_common.glsl", "mass_histogram.comp.glsl", NULL};
     static const char *const cs_importance[] = {"common.glsl", "element_importance.comp.glsl", NULL};
     static const char *const cs_points[] = {"common.glsl", "point_select.comp.glsl", NULL};
+    static const char *const cs_lines[] = {"common.glsl", "line_select.comp.glsl", NULL};
     static const char *const cs_filter[] = {"common.glsl", "filter_mask.comp.glsl", NULL};
     if (kind == PROG_P3)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_p3, "P3 smoothing", err);
@@ -193,6 +194,8 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
         *slot = lc_renderer_build_program("", NULL, NULL, cs_importance, "element importance", err);
     else if (kind == PROG_POINT_SELECT)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_points, "point subset", err);
+    else if (kind == PROG_LINE_SELECT)
+        *slot = lc_renderer_build_program("", NULL, NULL, cs_lines, "line subset", err);
     else if (kind == PROG_FILTER_MASK)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_filter, "filter mask", err);
     else if (kind == PROG_RESOLVE)

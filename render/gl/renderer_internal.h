@@ -51,6 +51,9 @@
     X(BIND_SURFACE_PIXELS, 29) /* surface_layers.c: counters, list heads, layer counts, output */                      \
     X(BIND_SURFACE_LAYERS, 30) /* surface_layers.c: the persistent per-pixel layers */                                 \
     X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */  \
+    X(BIND_LINE_RUNS, 9)    /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */         \
+    X(BIND_LINE_SELECT, 10) /* line_subset.c: the kept strip's two counts and each run's importance bin */            \
+    X(BIND_LINE_KEPT, 20)   /* line_subset.c: the kept strip (lines never bind the point list) */                     \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -119,6 +122,10 @@ typedef struct lc_gpu_level {
     uint64_t index_count;
     uint64_t *breaks;
     uint32_t break_count;
+    /* Lines: (first index, indices) of each run of the strip, for the
+     * importance-aware line subsets of moving frames (line_subset.c). */
+    GLuint runs;
+    uint32_t run_count;
 } lc_gpu_level;
 
 struct lc_gpu_scene {
@@ -174,6 +181,7 @@ typedef enum {
     PROG_MASS_HISTOGRAM,
     PROG_ELEMENT_IMPORTANCE,
     PROG_POINT_SELECT,
+    PROG_LINE_SELECT,
     PROG_FILTER_MASK,
     PROG_FIXED_KINDS
 } lc_program_kind;
@@ -231,6 +239,21 @@ struct lc_renderer {
         int keep_bin;
         uint32_t count;
     } point_kept;
+    /* line_subset.c: each run's importance bin and the counts (line_select),
+     * the kept strip (line_kept), and what they were built for. */
+    GLuint line_select, line_kept;
+    uint64_t line_select_bytes, line_kept_bytes;
+    struct {
+        uint64_t scene; /* lc_gpu_scene.serial */
+        int level, attr;
+        double range[2], exponent;
+        lc_importance_terms terms;
+        int bins_valid;
+        uint32_t bins[POINT_BINS];
+        int keep_bin, stride;       /* the kept strip's cut; keep_bin -1: none built */
+        uint32_t full, strided;     /* its indices: full runs from 0, strided ones ending at total */
+        uint64_t total;
+    } line_sel;
     /* filter.c: the per-vertex visibility mask of the filters in its key and
      * the line offsets of the scene it was built for. */
     struct {
@@ -310,6 +333,13 @@ typedef struct lc_frame_setup {
      * keep_bin > POINT_BINS when the stride is uniform. */
     int keep_bin;
     uint32_t kept_points;
+    /* Importance-aware line subsets (line_subset.c): frames that reuse the
+     * opacities draw the renderer's kept strip instead of the level's when
+     * line_stride > 1: kept_line_indices[0] indices of full runs from its
+     * start, [1] of every line_stride-th other run ending at kept_line_total. */
+    int line_stride;
+    uint64_t kept_line_indices[2], kept_line_total;
+    GLuint kept_line_buffer;
     /* filter.c: the visibility mask r->filter.mask applies (0: every vertex draws). */
     int filtered;
     int pull_lines; /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
@@ -399,6 +429,15 @@ int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
  * fs->point_stride: the points whose importance lies in the top 1/(4 n) of
  * the points (n the stride) are kept in full, where importance ranks them. */
 int lc_point_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* The lowest histogram bin whose entries and those above number at least
+ * `want` without going over `most`; 0 when none (bin 0 is never kept).
+ * *count: how many. Shared with line_subset.c. */
+int lc_subset_choose_bin(const uint32_t *bins, uint64_t want, uint64_t most, uint32_t *count);
+
+/* ---- line_subset.c */
+/* Fills fs->kept_line_indices for a frame that thins lines with
+ * fs->line_stride (0 when it does not: the level's strip draws). */
+int lc_line_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 static inline void lc_uniform_f(GLuint prog, const char *name, double v)
 {

@@ -9,7 +9,7 @@
 
 /* The flags of `lucent bench` besides the shared ones (cli.c). */
 typedef struct bench_args {
-    int frames, warmup, memory, interactive, point_stride, uniform_points;
+    int frames, warmup, memory, interactive, point_stride, uniform_points, line_stride;
     const char *datasets;
 } bench_args;
 
@@ -29,6 +29,9 @@ static const lc_option bench_options[] = {
              "every N-th of the rest"},
     {"--uniform-points", NULL, LC_OPT_BOOL, BENCH(uniform_points),
      .help = "with --point-stride: every N-th of all points"},
+    {"--line-stride", "N", LC_OPT_INT, BENCH(line_stride), 1, 1024,
+     .help = "with --interactive, lines: the most important 1/(4N) in full,\n"
+             "every N-th of the rest (whole lines)"},
     {NULL}};
 
 static void bench_usage(FILE *f, const lc_opt_set *sets, int nsets)
@@ -48,7 +51,7 @@ int lc_cli_bench(int argc, char **argv)
 {
     lc_request req;
     lc_cli_common common;
-    bench_args args = {.frames = 10, .warmup = 2, .point_stride = 1};
+    bench_args args = {.frames = 10, .warmup = 2, .point_stride = 1, .line_stride = 1};
     int pr = lc_cli_parse("bench", bench_options, &args, argc, argv, &req, &common, bench_usage);
     if (pr != 0)
         return pr == 1 ? 0 : 2;
@@ -57,7 +60,7 @@ int lc_cli_bench(int argc, char **argv)
         req.render.height = common.height_set ? req.render.height : 1024;
     }
     int frames = args.frames, warmup = args.warmup, show_memory = args.memory, interactive = args.interactive,
-        point_stride = args.point_stride, uniform_points = args.uniform_points;
+        point_stride = args.point_stride, uniform_points = args.uniform_points, line_stride = args.line_stride;
     int have_list = args.datasets != NULL, have_one = common.input || common.dataset_set;
     char datasets[512] = "";
     if (have_list && strlen(args.datasets) >= sizeof datasets) {
@@ -75,8 +78,9 @@ int lc_cli_bench(int argc, char **argv)
         fprintf(stderr, "lucent bench: give --dataset or --datasets, not both\n");
         return 2;
     }
-    if (point_stride > 1 && !interactive) {
-        fprintf(stderr, "lucent bench: --point-stride applies to --interactive frames only\n");
+    if ((point_stride > 1 || line_stride > 1) && !interactive) {
+        fprintf(stderr, "lucent bench: --%s-stride applies to --interactive frames only\n",
+                point_stride > 1 ? "point" : "line");
         return 2;
     }
     if (uniform_points && point_stride <= 1) {
@@ -137,6 +141,7 @@ int lc_cli_bench(int argc, char **argv)
                     p.detail.reuse_opacities = true;
                     p.detail.point_stride = point_stride;
                     p.detail.uniform_points = uniform_points;
+                    p.detail.line_stride = line_stride;
                 }
                 if (lc_render_frame(g.renderer, gs, &p, st, 1.0 / 30.0, rgba, &info, &err) != 0) {
                     fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);

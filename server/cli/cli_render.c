@@ -24,7 +24,7 @@ static int has_suffix(const char *s, const char *suffix)
 /* The flags of `lucent render` besides the shared ones (cli.c). */
 typedef struct render_args {
     const char *out, *stats;
-    int frames, mpi, point_stride, uniform_points;
+    int frames, mpi, point_stride, uniform_points, line_stride;
     double dt;
 } render_args;
 
@@ -48,6 +48,11 @@ static const lc_option render_options[] = {
              "important 1/(4N) of the points in full, every N-th of the rest"},
     {"--uniform-points", NULL, LC_OPT_BOOL, RENDER(uniform_points),
      .help = "with --point-stride: every N-th of all points instead"},
+    {"--line-stride", "N", LC_OPT_INT, RENDER(line_stride), 1, 1024,
+     .help = "lines, with --frames 2 or more: the last frame reuses the opacities\n"
+             "and draws as a session does while the camera moves: the most\n"
+             "important 1/(4N) of the lines in full, one in N of the rest\n"
+             "(1: every line)"},
     {NULL}};
 
 static void render_usage(FILE *f, const lc_opt_set *sets, int nsets)
@@ -102,13 +107,17 @@ int lc_cli_render(int argc, char **argv)
 {
     lc_request req;
     lc_cli_common common;
-    render_args args = {.frames = 1, .point_stride = 1, .dt = 1.0 / 30.0};
+    render_args args = {.frames = 1, .point_stride = 1, .line_stride = 0, .dt = 1.0 / 30.0};
     lc_error err = {0};
     int pr = lc_cli_parse("render", render_options, &args, argc, argv, &req, &common, render_usage);
     if (pr != 0)
         return pr == 1 ? 0 : 2;
     if (!args.out) {
         fprintf(stderr, "lucent render: --out IMG.png|.jpg is required (lucent render --help lists the options)\n");
+        return 2;
+    }
+    if (args.line_stride > 0 && args.frames < 2) {
+        fprintf(stderr, "lucent render: --line-stride needs --frames 2 or more (its frame reuses opacities)\n");
         return 2;
     }
     if (args.uniform_points && args.point_stride == 1) {
@@ -188,7 +197,10 @@ int lc_cli_render(int argc, char **argv)
     for (int f = 0; f < frames; f++) {
         if (mpi) /* the figures of the last frame */
             lc_mpi_profile(mpi, &wait_ms, &transfer_ms);
-        if (lc_render_frame(g.renderer, gs, &req.render, state, dt, rgba, &info, &err) != 0) {
+        lc_render_params p = req.render;
+        if (args.line_stride > 0 && f == frames - 1) /* a moving frame after the stills */
+            p.detail.reuse_opacities = true, p.detail.line_stride = args.line_stride;
+        if (lc_render_frame(g.renderer, gs, &p, state, dt, rgba, &info, &err) != 0) {
             fprintf(stderr, "lucent render: %s\n", err.msg);
             goto done;
         }
@@ -215,6 +227,10 @@ int lc_cli_render(int argc, char **argv)
                req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
                (unsigned long long)lc_scene_primitive_count(scene),
                scene->type == LC_PRIM_LINES ? "segments" : "triangles");
+    if (info.line_stride > 1)
+        printf("  lines: stride %d, about %llu segments of important lines in full, %llu of every %d-th other\n",
+               info.line_stride, (unsigned long long)info.kept_line_segments[0],
+               (unsigned long long)info.kept_line_segments[1], info.line_stride);
     else if (info.point_stride > 1)
         printf("  detail: %llu of %llu points (stride %d, %u important ones in full)\n",
                (unsigned long long)info.primitives_drawn, (unsigned long long)lc_scene_primitive_count(scene),

@@ -15,13 +15,18 @@
 #include "surface_render.h"
 
 /* The interactive detail ladder, finest first: line error bound (pixels),
- * point stride and a factor on the stream's interactiveScale. One step down
- * roughly halves the geometry a frame draws. */
+ * point stride, line stride and a factor on the stream's interactiveScale.
+ * One step down roughly halves the geometry a frame draws. Lines coarsen
+ * their level of detail first; the line stride (whole lines, the important
+ * ones kept) serves data the levels cannot thin, such as noise-like MD
+ * trajectories, and the renderer never thins a level below
+ * LC_LINE_SUBSET_FLOOR segments, so sparse lines keep every line. */
 static const struct {
     double lod_pixels;
     int point_stride;
+    int line_stride;
     double scale;
-} detail_steps[] = {{0.5, 1, 1.0}, {1, 2, 1.0}, {2, 4, 0.85}, {4, 8, 0.7}, {8, 16, 0.5}};
+} detail_steps[] = {{0.5, 1, 1, 1.0}, {1, 2, 2, 1.0}, {2, 4, 4, 0.85}, {4, 8, 8, 0.7}, {8, 16, 16, 0.5}};
 #define DETAIL_STEPS ((int)(sizeof detail_steps / sizeof detail_steps[0]))
 #define DETAIL_START 1
 /* A session's first frame on a dataset of this many primitives or more is
@@ -453,6 +458,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
             st->last_optimized = now; /* the still frame's opacities start the interaction */
         d->lod_pixels = d->lod_pixels > detail_steps[step].lod_pixels ? d->lod_pixels : detail_steps[step].lod_pixels;
         d->point_stride = detail_steps[step].point_stride;
+        d->line_stride = detail_steps[step].line_stride;
         d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
         scale *= detail_steps[step].scale;

@@ -74,6 +74,7 @@ export class FrameStats {
       if (d && typeof d === 'object') {
         const parts = [d.interactive ? 'interactive' : 'still', `level ${d.level} (${d.lodPixels} px)`];
         if (d.pointStride > 1) parts.push(`every ${d.pointStride}th point`);
+        if (d.lineStride > 1) parts.push(`1 in ${d.lineStride} of the less important lines`);
         if (d.reusedOpacities) parts.push('opacities reused');
         out.push(['detail', `${parts.join(', ')}; ${d.primitives} primitives`]);
       }

@@ -120,6 +120,7 @@ static void encode_one(lc_encoders *w, encode_item *e)
     h.level = e->info.lod_level;
     h.lod_pixels = e->frame.req.render.detail.lod_pixels;
     h.point_stride = e->info.point_stride > 0 ? e->info.point_stride : 1;
+    h.line_stride = e->info.line_stride > 0 ? e->info.line_stride : 1;
     h.primitives = e->info.primitives_drawn;
     h.render_ms = e->info.wall_ms;
     if (e->info.has_visibility) {

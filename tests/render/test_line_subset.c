@@ -1,0 +1,182 @@
+/* Importance-aware line subsets of moving frames (render/gl/line_subset.c,
+ * docs/ALGORITHM.md §11): a frame that reuses the opacities with
+ * detail.lineStride n draws the most important lines in full and about one
+ * in n of the others, whole lines, weighted n in P4:
+ * - it draws about 1/n of the segments plus the important lines, and looks
+ *   like the same frame with every line (SSIM), with the background covered
+ *   about as much (the weight n keeps the optical depth; unweighted, the
+ *   tornado's coverage halves);
+ * - the important lines are the ones kept in full: a bundle of important
+ *   lines in front of faint clutter shows in as many pixels as with every line;
+ * - frames that optimize, and levels under LC_LINE_SUBSET_FLOOR segments,
+ *   draw every line. */
+#include <math.h>
+
+#include "demo.h"
+#include "image.h"
+#include "render_util.h"
+
+#define SIZE 256
+
+static void render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, lc_frame_state *st, uint8_t *rgba,
+                   lc_frame_info *info)
+{
+    lc_error err = {0};
+    int rc = lc_render_frame(t->renderer, gs, p, st, 1.0 / 30, rgba, info, &err);
+    CHECK(rc == 0, "render: %s", err.msg);
+}
+
+/* Mean over the pixels of the distance to the white background (0..255). */
+static double coverage(const uint8_t *rgba)
+{
+    double sum = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
+        sum += 3 * 255 - (rgba[4 * i] + rgba[4 * i + 1] + rgba[4 * i + 2]);
+    return sum / (3.0 * SIZE * SIZE);
+}
+
+static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
+{
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_demo_desc desc = {0};
+    CHECK(lc_demo_create("tornado", &desc, &s, &err) == 0, "demo: %s", err.msg);
+    lc_gpu_scene *gs = NULL;
+    CHECK(s && lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
+    if (!gs)
+        return;
+    lc_frame_state *st = lc_frame_state_create(s->elements.count);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    p.detail.lod_pixels = 0; /* every segment: 266k, over the floor */
+    p.style.background[0] = p.style.background[1] = p.style.background[2] = 1;
+    p.foo.fade_half_life = 0;
+    lc_frame_info info, all, some;
+    p.detail.line_stride = 4;
+    render(t, gs, &p, st, a, &info); /* optimizes: no thinning */
+    CHECK(info.line_stride == 1 && info.primitives_drawn == lc_scene_primitive_count(s),
+          "an optimizing frame thinned lines (stride %d, %llu segments)", info.line_stride,
+          (unsigned long long)info.primitives_drawn);
+    p.detail.reuse_opacities = true;
+    p.detail.line_stride = 1;
+    render(t, gs, &p, st, a, &all);
+    p.detail.line_stride = 4;
+    render(t, gs, &p, st, b, &some);
+    uint64_t n = lc_scene_primitive_count(s);
+    double ssim = lc_image_ssim(a, b, SIZE, SIZE), ca = coverage(a), cb = coverage(b);
+    printf("demo:tornado, every segment (%llu), moving frame with line stride 4: %llu segments of important lines "
+           "in full, %llu strided; SSIM %.4f vs every line; coverage %.2f vs %.2f\n",
+           (unsigned long long)n, (unsigned long long)some.kept_line_segments[0],
+           (unsigned long long)some.kept_line_segments[1], ssim, cb, ca);
+    CHECK(all.line_stride == 1 && all.primitives_drawn == n, "stride 1 drew %llu of %llu",
+          (unsigned long long)all.primitives_drawn, (unsigned long long)n);
+    CHECK(some.line_stride == 4 && some.kept_line_segments[0] > 0 && some.primitives_drawn > n / 8 &&
+              some.primitives_drawn < n / 2,
+          "stride 4: %llu + %llu of %llu segments", (unsigned long long)some.kept_line_segments[0],
+          (unsigned long long)some.kept_line_segments[1], (unsigned long long)n);
+    CHECK(ssim > 0.75 && ssim < 0.9999, "stride 4: SSIM %.4f vs every line", ssim);
+    CHECK(fabs(cb - ca) < 0.25 * ca, "stride 4 covers the background %.2f, every line %.2f", cb, ca);
+
+    /* A level under the floor keeps every line. */
+    p.detail.lod_pixels = 4;
+    render(t, gs, &p, st, b, &some);
+    CHECK(some.line_stride == 1 || some.primitives_drawn * (uint64_t)some.line_stride >= LC_LINE_SUBSET_FLOOR,
+          "4 px level: stride %d, %llu segments", some.line_stride, (unsigned long long)some.primitives_drawn);
+    lc_frame_state_destroy(st);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
+/* BUNDLE important lines (g = 0.9) in front of CLUTTER faint ones (g = 0.05),
+ * every line 40 segments (122k, so the floor allows a stride of 2): thinned,
+ * the bundle stays whole. */
+static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
+{
+    enum { CLUTTER = 3000, BUNDLE = 60, SEGS = 40, LINES = CLUTTER + BUNDLE, V = LINES * (SEGS + 1), STRIDE = 2 };
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("bundle", LC_PRIM_LINES);
+    float *imp = malloc(V * sizeof(float));
+    CHECK(s && imp && lc_scene_alloc_vertices(s, V, 0, &err) == 0, "scene: %s", err.msg);
+    if (!s || !imp)
+        return;
+    s->line_count = LINES;
+    s->line_offsets = malloc((LINES + 1) * sizeof(uint32_t));
+    uint32_t seed = 11;
+    for (int l = 0; l < LINES; l++) {
+        s->line_offsets[l] = (uint32_t)(l * (SEGS + 1));
+        float y0, z0;
+        seed = seed * 1664525u + 1013904223u;
+        y0 = (float)(seed >> 8) / 16777216.0f;
+        seed = seed * 1664525u + 1013904223u;
+        z0 = (float)(seed >> 8) / 16777216.0f;
+        int important = l >= CLUTTER;
+        for (int k = 0; k <= SEGS; k++) {
+            float *p = s->positions + 3 * (size_t)(l * (SEGS + 1) + k);
+            /* clutter: wavy lines filling a slab at the back; the bundle: a
+             * sparse sheet of straight lines in front */
+            p[0] = (float)k / SEGS;
+            p[1] = important ? 0.1f + 0.8f * y0 : y0 + 0.02f * sinf(9.0f * p[0] + 6.0f * z0);
+            p[2] = important ? 0.9f + 0.05f * z0 : 0.4f * z0;
+            imp[l * (SEGS + 1) + k] = important ? 0.9f : 0.05f;
+        }
+    }
+    s->line_offsets[LINES] = V;
+    CHECK(lc_scene_add_attribute(s, "importance", imp, &err) >= 0, "attribute: %s", err.msg);
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    lc_gpu_scene *gs = NULL;
+    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
+    if (!gs) {
+        lc_scene_destroy(s);
+        return;
+    }
+    lc_frame_state *st = lc_frame_state_create(s->elements.count);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    p.detail.lod_pixels = 0;
+    snprintf(p.importance.attribute, sizeof p.importance.attribute, "importance");
+    p.importance.has_range = true, p.importance.range[0] = 0, p.importance.range[1] = 1;
+    p.foo.fade_half_life = 0;
+    lc_frame_info info;
+    render(t, gs, &p, st, a, &info);
+    p.detail.reuse_opacities = true;
+    render(t, gs, &p, st, a, &info);
+    p.detail.line_stride = STRIDE;
+    uint8_t *c = malloc(SIZE * SIZE * 4);
+    render(t, gs, &p, st, b, &info);
+    /* The bundle's colour (viridis at 0.9, yellow-green) against the clutter's (dark purple). */
+    int n_all = 0, n_kept = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++) {
+        const uint8_t *pa = a + 4 * i, *pb = b + 4 * i;
+        n_all += pa[1] > 150 && pa[1] > pa[2] + 40;
+        n_kept += pb[1] > 150 && pb[1] > pb[2] + 40;
+    }
+    printf("important bundle, stride %d: stride used %d, %llu segments in full (the bundle has %d), %llu strided; "
+           "the bundle shows in %d pixels (every line: %d)\n",
+           STRIDE, info.line_stride, (unsigned long long)info.kept_line_segments[0], BUNDLE * SEGS,
+           (unsigned long long)info.kept_line_segments[1], n_kept, n_all);
+    CHECK(info.line_stride == STRIDE, "stride %d used (%d asked, %d segments)", info.line_stride, STRIDE, LINES * SEGS);
+    CHECK(info.kept_line_segments[0] >= (uint64_t)BUNDLE * SEGS * 9 / 10 &&
+              info.kept_line_segments[0] <= (uint64_t)LINES * SEGS / STRIDE,
+          "%llu segments in full, the bundle has %d", (unsigned long long)info.kept_line_segments[0], BUNDLE * SEGS);
+    CHECK(n_all > 100 && abs(n_kept - n_all) * 10 <= n_all, "the bundle shows in %d pixels thinned, %d with all",
+          n_kept, n_all);
+    free(c);
+    lc_frame_state_destroy(st);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
+int main(void)
+{
+    test_gl t;
+    test_gl_open(&t);
+    uint8_t *a = malloc(SIZE * SIZE * 4), *b = malloc(SIZE * SIZE * 4);
+    tornado(&t, a, b);
+    important_bundle(&t, a, b);
+    free(a);
+    free(b);
+    test_gl_close(&t);
+    return lc_test_finish();
+}

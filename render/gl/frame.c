@@ -542,11 +542,12 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         ensure_output(r, p.width, p.height, p.method == LC_METHOD_OPAQUE);
     if ((rc = lc_point_subset_prepare(r, &fs, err)) != 0)
         return rc;
-    /* Lines thin only where the opacities are reused (P1-P3 would leave the
-     * dropped lines' elements without opacities), with the Fourier method
-     * (its P4 weights a stride), and not under MPI (a rank's every n-th line
-     * is not the whole's). */
-    fs.line_stride = plan.reuse && p.method == LC_METHOD_FOURIER && fs.gs->scene->type == LC_PRIM_LINES &&
+    /* Lines thin only with a frame state that holds opacities (P3 keeps the
+     * value of an element without fragments, so the dropped lines' elements
+     * keep theirs while a moving frame re-optimizes), with the Fourier method
+     * (its P1 and P4 weight a stride), and not under MPI (a rank's lines are
+     * not the whole's). */
+    fs.line_stride = state && !state->fresh && p.method == LC_METHOD_FOURIER && fs.gs->scene->type == LC_PRIM_LINES &&
                              !fs.layer_count && !r->desc.reducer && p.detail.line_stride > 1
                          ? p.detail.line_stride
                          : 1;

@@ -1,14 +1,16 @@
-/* Importance-aware line subsets for moving frames (docs/ALGORITHM.md "Level
- * of detail"): dense real lines (MD trajectories keep every segment at any
- * useful level of detail) cost the compositing passes per fragment, so a
- * frame that reuses the opacities may draw whole lines thinned to every n-th
- * (lc_detail.line_stride), weighted n in P4 as FOO's subset approximation
- * weights a stride, while the most important lines, the top 1/(4 n) by their
- * largest vertex importance g, stay in full with weight 1. Whole runs of the
- * level's strip are kept or dropped, never single segments, so a kept line
- * looks as in the still. A compute pass bins each run once per importance
- * mapping and level; a second copies the kept runs into one strip, once per
- * cut, important runs at the front and strided ones at the back. */
+/* Importance-aware line subsets for moving frames (docs/ALGORITHM.md §11):
+ * dense real lines (MD trajectories keep every segment at any useful level of
+ * detail) cost every pass per fragment, so a frame with a frame state's
+ * opacities may draw whole lines thinned to about one in n
+ * (lc_detail.line_stride), weighted n in P1 and P4 as FOO's subset
+ * approximation weights a stride, while the most important lines, the top
+ * 1/(4 n) by their mean vertex importance g, stay in full with weight 1. An
+ * element of a dropped line gets no fragment, and P3 keeps its opacity, so a
+ * moving frame may still re-optimize. Whole runs of the level's strip are
+ * kept or dropped, never single segments, so a kept line looks as in the
+ * still. A compute pass bins each run once per importance mapping and level;
+ * a second copies the kept runs into one strip, once per cut, important runs
+ * at the front and strided ones at the back. */
 #include <string.h>
 
 #include "renderer_internal.h"

@@ -196,6 +196,13 @@ async def browse(ws_url, token, args):
             if img is None:
                 continue
             r["moving"] += 1
+            if args.verbose:
+                d = h.get("detail") or {}
+                print(f"  frame {h['frame']} {h['width']}x{h['height']} seq {h['cameraSeq']}/{seq} "
+                      f"{'moving' if d.get('interactive') else 'still'} level {d.get('level')} "
+                      f"points 1/{d.get('pointStride')} lines 1/{d.get('lineStride', 1)} "
+                      f"reused {d.get('reusedOpacities')} primitives {d.get('primitives')} "
+                      f"render {d.get('renderMs', 0):.0f} ms", flush=True)
             if h["cameraSeq"] > answered:
                 r["lat"].append(time.time() - sent[h["cameraSeq"]])
                 answered = h["cameraSeq"]
@@ -280,6 +287,7 @@ def main():
     ap.add_argument("--width", type=int, default=972)
     ap.add_argument("--height", type=int, default=761)
     ap.add_argument("--window", type=int, default=2)
+    ap.add_argument("--verbose", action="store_true", help="print each frame received while orbiting (size, detail, render time)")
     ap.add_argument("--rate", type=float, default=30, help="camera updates per second")
     ap.add_argument("--orbit-seconds", type=float, default=12, help="seconds per full orbit")
     ap.add_argument("--pause", type=float, default=0, help="pause mid-drag for this many seconds")

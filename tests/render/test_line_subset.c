@@ -1,14 +1,16 @@
 /* Importance-aware line subsets of moving frames (render/gl/line_subset.c,
- * docs/ALGORITHM.md §11): a frame that reuses the opacities with
+ * docs/ALGORITHM.md §11): a frame with a frame state's opacities and
  * detail.lineStride n draws the most important lines in full and about one
- * in n of the others, whole lines, weighted n in P4:
+ * in n of the others, whole lines, weighted n in P1 and P4:
  * - it draws about 1/n of the segments plus the important lines, and looks
  *   like the same frame with every line (SSIM), with the background covered
  *   about as much (the weight n keeps the optical depth; unweighted, the
  *   tornado's coverage halves);
  * - the important lines are the ones kept in full: a bundle of important
  *   lines in front of faint clutter shows in as many pixels as with every line;
- * - frames that optimize, and levels under LC_LINE_SUBSET_FLOOR segments,
+ * - a frame that re-optimizes thinned keeps the opacities of the elements it
+ *   drops and looks like the one that re-optimizes with every line;
+ * - a fresh state's frame, and levels under LC_LINE_SUBSET_FLOOR segments,
  *   draw every line. */
 #include <math.h>
 
@@ -54,10 +56,34 @@ static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
     p.foo.fade_half_life = 0;
     lc_frame_info info, all, some;
     p.detail.line_stride = 4;
-    render(t, gs, &p, st, a, &info); /* optimizes: no thinning */
+    render(t, gs, &p, st, a, &info); /* a fresh state: no thinning */
     CHECK(info.line_stride == 1 && info.primitives_drawn == lc_scene_primitive_count(s),
-          "an optimizing frame thinned lines (stride %d, %llu segments)", info.line_stride,
+          "a fresh state's frame thinned lines (stride %d, %llu segments)", info.line_stride,
           (unsigned long long)info.primitives_drawn);
+    /* Re-optimizing, thinned and with every line, from the same opacities. */
+    lc_frame_state *st2 = lc_frame_state_create(s->elements.count);
+    p.detail.line_stride = 1;
+    render(t, gs, &p, st2, b, &info);
+    render(t, gs, &p, st2, b, &info);
+    p.detail.line_stride = 4;
+    render(t, gs, &p, st2, a, &info);
+    double ssim_opt = lc_image_ssim(a, b, SIZE, SIZE);
+    printf("demo:tornado, a frame that re-optimizes with line stride 4: stride %d, P1 %s, SSIM %.4f vs every line\n",
+           info.line_stride, info.pass_ms[LC_PASS_IMPORTANCE] >= 0 ? "ran" : "skipped", ssim_opt);
+    CHECK(info.line_stride == 4 && !info.reused_opacities, "re-optimizing: stride %d, reused %d", info.line_stride,
+          info.reused_opacities);
+    CHECK(ssim_opt > 0.7 && ssim_opt < 0.9999, "re-optimizing with stride 4: SSIM %.4f vs every line", ssim_opt);
+    /* Every line again with the opacities now in the state: the dropped
+     * lines' elements kept theirs, the drawn ones moved only a little. */
+    p.detail.line_stride = 1;
+    p.detail.reuse_opacities = true;
+    render(t, gs, &p, st2, a, &info);
+    double ssim_after = lc_image_ssim(a, b, SIZE, SIZE);
+    printf("  then every line with those opacities: SSIM %.4f vs before\n", ssim_after);
+    CHECK(ssim_after > 0.95, "after a thinned re-optimization, every line: SSIM %.4f vs before", ssim_after);
+    p.detail.reuse_opacities = false;
+    lc_frame_state_destroy(st2);
+    p.detail.line_stride = 4;
     p.detail.reuse_opacities = true;
     p.detail.line_stride = 1;
     render(t, gs, &p, st, a, &all);

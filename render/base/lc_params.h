@@ -212,14 +212,16 @@ typedef struct lc_style {
 /* params.clarity by default: the most important tenth at least half opaque
  * (chosen on the corpus, docs/EVALUATION.md §7). */
 #define LC_DEFAULT_CLARITY 0.5
-#define LC_LINE_SUBSET_FLOOR 20000
+#define LC_LINE_SUBSET_FLOOR 4096
+#define LC_LINE_SUBSET_PIXELS 8
 typedef struct lc_detail {
     double lod_pixels;    /* lines: largest screen error of the simplified polylines, output pixels; 0 = full */
     int point_stride;     /* points: every n-th point in every pass, weighted n in P1/P4; <= 1 = all */
     bool uniform_points;  /* with a stride: thin the important points too (default: keep them, point_subset.c) */
     int line_stride;      /* lines, frames with a frame state's opacities: one in n of the lines beside the most
                              important in full, weighted n in P1/P4 (line_subset.c); <= 1 = all. Halved until
-                             the level keeps LC_LINE_SUBSET_FLOOR segments: sparse lines are never thinned. */
+                             the frame keeps a segment per LC_LINE_SUBSET_PIXELS pixels and at least
+                             LC_LINE_SUBSET_FLOOR segments: sparse lines are not thinned. */
     bool reuse_opacities; /* skip P1-P3: draw with the frame state's opacities when it has them */
 } lc_detail;
 

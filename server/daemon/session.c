@@ -19,14 +19,18 @@
  * One step down roughly halves the geometry a frame draws. Lines coarsen
  * their level of detail first; the line stride (whole lines, the important
  * ones kept) serves data the levels cannot thin, such as noise-like MD
- * trajectories, and the renderer never thins a level below
- * LC_LINE_SUBSET_FLOOR segments, so sparse lines keep every line. */
+ * trajectories, and the renderer keeps a segment per LC_LINE_SUBSET_PIXELS
+ * pixels, so sparse lines keep every line. Lines lower
+ * the resolution later (line_scale): a thinned frame at a larger size looks
+ * more like the still than a small one stretched (docs/EVALUATION.md §19). */
 static const struct {
     double lod_pixels;
     int point_stride;
     int line_stride;
     double scale;
-} detail_steps[] = {{0.5, 1, 1, 1.0}, {1, 2, 2, 1.0}, {2, 4, 4, 0.85}, {4, 8, 8, 0.7}, {8, 16, 16, 0.5}};
+    double line_scale;
+} detail_steps[] = {{0.5, 1, 1, 1.0, 1.0}, {1, 2, 2, 1.0, 1.0}, {2, 4, 4, 0.85, 1.0}, {4, 8, 8, 0.7, 0.85},
+                    {8, 16, 16, 0.5, 0.7}};
 #define DETAIL_STEPS ((int)(sizeof detail_steps / sizeof detail_steps[0]))
 #define DETAIL_START 1
 /* A session's first frame on a dataset of this many primitives or more is
@@ -461,7 +465,9 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         d->line_stride = detail_steps[step].line_stride;
         d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
-        scale *= detail_steps[step].scale;
+        bool lines = !s->req.layer_count && s->dataset && s->dataset->scene &&
+                     s->dataset->scene->type == LC_PRIM_LINES;
+        scale *= lines ? detail_steps[step].line_scale : detail_steps[step].scale;
     }
     if (out->stage == 1)
         out->req.render.detail.reuse_opacities = true;

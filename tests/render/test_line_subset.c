@@ -10,8 +10,8 @@
  *   lines in front of faint clutter shows in as many pixels as with every line;
  * - a frame that re-optimizes thinned keeps the opacities of the elements it
  *   drops and looks like the one that re-optimizes with every line;
- * - a fresh state's frame, and levels under LC_LINE_SUBSET_FLOOR segments,
- *   draw every line. */
+ * - a fresh state's frame draws every line, and a coarse level is thinned
+ *   only as far as a segment per LC_LINE_SUBSET_PIXELS pixels. */
 #include <math.h>
 
 #include "demo.h"
@@ -104,22 +104,29 @@ static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
     CHECK(ssim > 0.75 && ssim < 0.9999, "stride 4: SSIM %.4f vs every line", ssim);
     CHECK(fabs(cb - ca) < 0.25 * ca, "stride 4 covers the background %.2f, every line %.2f", cb, ca);
 
-    /* A level under the floor keeps every line. */
+    /* A coarse level keeps a segment per LC_LINE_SUBSET_PIXELS pixels: the
+     * stride halves until it does, down to every line. */
     p.detail.lod_pixels = 4;
+    p.detail.line_stride = 1;
+    render(t, gs, &p, st, b, &all);
+    p.detail.line_stride = 16;
     render(t, gs, &p, st, b, &some);
-    CHECK(some.line_stride == 1 || some.primitives_drawn * (uint64_t)some.line_stride >= LC_LINE_SUBSET_FLOOR,
-          "4 px level: stride %d, %llu segments", some.line_stride, (unsigned long long)some.primitives_drawn);
+    uint64_t floor_segments = (uint64_t)SIZE * SIZE / LC_LINE_SUBSET_PIXELS;
+    printf("4 px level: %llu segments; stride 16 asked, %d used\n", (unsigned long long)all.primitives_drawn,
+           some.line_stride);
+    CHECK(all.primitives_drawn / (uint64_t)some.line_stride >= floor_segments &&
+              (some.line_stride == 1 || all.primitives_drawn / (2 * (uint64_t)some.line_stride) < floor_segments),
+          "4 px level of %llu segments: stride %d", (unsigned long long)all.primitives_drawn, some.line_stride);
     lc_frame_state_destroy(st);
     lc_gpu_scene_destroy(gs);
     lc_scene_destroy(s);
 }
 
 /* BUNDLE important lines (g = 0.9) in front of CLUTTER faint ones (g = 0.05),
- * every line 40 segments (122k, so the floor allows a stride of 2): thinned,
- * the bundle stays whole. */
+ * every line 40 segments: thinned 8-fold, the bundle stays whole. */
 static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
 {
-    enum { CLUTTER = 3000, BUNDLE = 60, SEGS = 40, LINES = CLUTTER + BUNDLE, V = LINES * (SEGS + 1), STRIDE = 2 };
+    enum { CLUTTER = 3000, BUNDLE = 60, SEGS = 40, LINES = CLUTTER + BUNDLE, V = LINES * (SEGS + 1), STRIDE = 8 };
     lc_error err = {0};
     lc_scene *s = lc_scene_create("bundle", LC_PRIM_LINES);
     float *imp = malloc(V * sizeof(float));

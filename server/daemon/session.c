@@ -20,9 +20,10 @@
  * their level of detail first; the line stride (whole lines, the important
  * ones kept) serves data the levels cannot thin, such as noise-like MD
  * trajectories, and the renderer keeps a segment per LC_LINE_SUBSET_PIXELS
- * pixels, so sparse lines keep every line. Lines lower
- * the resolution later (line_scale): a thinned frame at a larger size looks
- * more like the still than a small one stretched (docs/EVALUATION.md §19). */
+ * pixels, so sparse lines keep every line. Lines that it thins lower the
+ * resolution later (line_scale): a thinned frame at a larger size looks more
+ * like the still than a small one stretched (docs/EVALUATION.md §19); sparse
+ * lines, which it does not thin, shrink as before. */
 static const struct {
     double lod_pixels;
     int point_stride;
@@ -465,9 +466,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         d->line_stride = detail_steps[step].line_stride;
         d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
-        bool lines = !s->req.layer_count && s->dataset && s->dataset->scene &&
-                     s->dataset->scene->type == LC_PRIM_LINES;
-        scale *= lines ? detail_steps[step].line_scale : detail_steps[step].scale;
+        scale *= st->lines_thinned ? detail_steps[step].line_scale : detail_steps[step].scale;
     }
     if (out->stage == 1)
         out->req.render.detail.reuse_opacities = true;
@@ -523,6 +522,11 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
         st->frames++;
         if (info && !info->reused_opacities)
             st->last_optimized = lc_now();
+        /* Dense lines (thinned 4-fold or more) take the lines' scales; lines
+         * not thinned at all at such a step go back to the common ones. In
+         * between nothing changes, so sizes do not flip frame to frame. */
+        if (info && f->interactive && f->detail_step < DETAIL_STEPS && detail_steps[f->detail_step].line_stride >= 4)
+            st->lines_thinned = info->line_stride >= 4 ? true : info->line_stride == 1 ? false : st->lines_thinned;
         /* Coarser when a frame overran the budget, finer when it took well
          * under half (a step roughly halves or doubles the work; the gap keeps
          * the controller from oscillating). Only frames that reused opacities

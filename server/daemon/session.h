@@ -63,6 +63,7 @@ typedef struct lc_stream {
      * the frames that reused opacities, and when P1-P3 last ran. */
     int detail_step;
     double last_optimized;
+    bool lines_thinned; /* moving frames draw line subsets (dense lines): the ladder's line_scale applies */
     uint64_t yielded; /* still/refinement frames abandoned for newer input (stats) */
     bool moving_next; /* after such a frame: the next frame is a moving one, however long the pass took */
     int still_stage;  /* staged stills: 1 = stage 1 sent, stage 2 due (0 otherwise) */

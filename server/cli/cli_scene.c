@@ -36,8 +36,8 @@ static int check_memory(const lc_cli_scene *s, const lc_cli_common *common, lc_e
     if (need <= common->max_memory)
         return 0;
     return lc_err_field(err, LC_ERR_LIMIT, "layers",
-                        "layers: the %d datasets need an estimated %.1f MB resident, over --max-memory %.1f MB",
-                        s->count, need / 1e6, common->max_memory / 1e6);
+                        "the %d datasets need an estimated %.1f MB resident, over --max-memory %.1f MB", s->count,
+                        need / 1e6, common->max_memory / 1e6);
 }
 
 int lc_cli_scene_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_cli_scene *out,

@@ -4,7 +4,8 @@ layers in its status, renders every frame, and its file is a video of that many 
 frame is the HTTP render of the same layered request (the camera path starts where a request without
 camera looks: fitted to both layers), not the tornado's alone. An unknown layer dataset is a 404 naming
 request.layers[1].dataset; a context layer of points fails the job with an error naming layers[0].role;
-the daemon goes on serving.
+the daemon goes on serving. Under --max-cost a movie's layered frame is charged as the HTTP render of the
+layers: under twice its cost, 800 times its pixels is refused naming layers.
 Frames are counted and decoded with ffprobe/ffmpeg where installed (scripts/packages/test.txt)."""
 import json
 import os
@@ -88,8 +89,20 @@ with Server(binary, data=("demo:points", "demo:tornado"), demo_size=150) as srv:
     bad = wait(srv, json.loads(data).get("id", "none")) if st == 202 else {}
     check(bad.get("state") == "failed" and bad.get("error", {}).get("field") == "layers[0].role",
           "a context layer of points: the job fails naming layers[0].role (%d %s)" % (st, json.dumps(bad)[:300]))
-    st, _, _ = srv.request("POST", "/api/v1/render", dict(SIZE, layers=LAYERS))
+    st, hdrs, _ = srv.request("POST", "/api/v1/render", dict(SIZE, layers=LAYERS))
     check(st == 200, "the daemon goes on serving (%d)" % st)
+    cost = float(hdrs.get("x-lucent-cost", 0))
+
+# --max-cost: a movie's layered frame costs the sum of its layers' (as an HTTP render of the layers).
+with Server(binary, "--max-cost", "%g" % (2 * cost), data=("demo:points", "demo:tornado"), demo_size=150) as srv:
+    st, _, data = srv.request("POST", "/api/v1/movies", dict(SIZE, request={"layers": LAYERS}, frames=1))
+    check(st == 202, "under --max-cost of twice its frame, the small movie of layers is queued (%d)" % st)
+    wait(srv, json.loads(data).get("id", "none") if st == 202 else "none", timeout=30)
+    st, _, data = srv.request("POST", "/api/v1/movies", {"request": {"layers": LAYERS}, "frames": 1,
+                                                         "width": 4096, "height": 4096})
+    e = json.loads(data).get("error", {}) if data else {}
+    check(st == 400 and e.get("code") == "too_expensive" and e.get("field") == "layers",
+          "a 4096x4096 movie of the layers is too expensive, naming layers (%d %s)" % (st, data[:200]))
 
 shutil.rmtree(tmp, ignore_errors=True)
 check.done()

@@ -16,6 +16,7 @@
 
 #include "camera.h"
 #include "camera_path.h"
+#include "cost.h"
 #include "datasets.h"
 #include "image.h"
 #include "metrics.h"
@@ -450,8 +451,17 @@ static void create(lc_movies *m, const char *body, size_t len, lc_movie_reply *o
         free(j);
         return;
     }
-    if (lc_session_check_frame_budget(srv, j->ds, j->layers, req, &j->cost, &pe) != 0) {
-        reply_error(m, out, 400, pe.code, pe.field, "%s", pe.message);
+    if (req->layer_count > 0 && lc_session_check_layers_budget(srv, j->layers, req, &j->cost, &pe) != 0) {
+        reply_error(m, out, 400, pe.code, pe.field, "%s", pe.message); /* the sum of the layers' frames */
+        free(j);
+        return;
+    }
+    const char *field = NULL;
+    char why[320];
+    if (req->layer_count == 0 &&
+        lc_cost_check(&j->ds->cost, &req->render, srv->cfg.max_cost, &j->cost, &field, why, sizeof why) != 0) {
+        lc_metrics_refused(srv->metrics, "cost");
+        reply_error(m, out, 400, "too_expensive", field, "%s", why);
         free(j);
         return;
     }

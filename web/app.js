@@ -355,6 +355,7 @@ export function createApp(doc = document, win = window) {
     if (state.camera) req.camera = roundCamera(state.camera, 12);
     for (const s of UPDATE_SECTIONS) if (v[s]) req[s] = v[s];
     if (v.filter?.length) req.filter = v.filter;
+    if (v.layers?.length) req.layers = v.layers; // the screenshot and the movie draw the layers the view shows
     return req;
   }
   async function screenshot() {

@@ -475,11 +475,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     if ((rc = lc_reduce_check_method(r, p.method, err)) != 0)
         return rc;
     r->pull_lines = 0; /* lc_filter_prepare sets it for a time window */
-    if (!p.has_camera) {
-        /* The dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds. */
-        p.camera.view_angle = p.camera.view_angle > 0 ? p.camera.view_angle : 30;
-        lc_camera_fit(&p.camera, bounds, s->has_view ? s->view_direction : NULL, s->has_view ? s->view_up : NULL);
-    }
+    if (!p.has_camera) /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
+        lc_render_fit_camera(scenes, layers ? n : 1, &p.camera);
     if (!layers) {
         rc = lc_frame_resolve_mapping(&fs, err);
         if (rc == 0)

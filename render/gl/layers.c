@@ -77,6 +77,15 @@ void lc_layers_bounds(const lc_gpu_scene *const *scenes, int n, double out[6])
     }
 }
 
+void lc_render_fit_camera(const lc_gpu_scene *const *scenes, int n, lc_camera *cam)
+{
+    double bounds[6];
+    lc_layers_bounds(scenes, n, bounds);
+    const lc_scene *s = scenes[0]->scene;
+    cam->view_angle = cam->view_angle > 0 ? cam->view_angle : 30;
+    lc_camera_fit(cam, bounds, s->has_view ? s->view_direction : NULL, s->has_view ? s->view_up : NULL);
+}
+
 /* Prefixes err's field with "layers[i]." so that a mapping error names the layer. */
 static int layer_error(lc_error *err, int i, int rc)
 {

@@ -307,6 +307,12 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
 int lc_render_layers(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
                      const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba,
                      lc_frame_info *info, lc_error *err);
+/* The camera of a frame whose params have none (has_camera false), as
+ * lc_render_frame (n = 1) and lc_render_layers (the n layers' scenes) choose
+ * it: the first scene's suggested view, else -Z with +Y up, fitted to the
+ * union of the scenes' bounds; cam's view angle, else 30 degrees. A movie's
+ * path starts from it. */
+void lc_render_fit_camera(const lc_gpu_scene *const *scenes, int n, lc_camera *cam);
 
 /* The last frame's summed targets, for tests: which 0 = P1's importance
  * coefficients (optimization resolution), 1 = P0's depth moments. Copies

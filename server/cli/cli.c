@@ -74,12 +74,27 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     free(buf);
     if (rc)
         return lc_err(err, rc, "%s: %s", path, perr.message);
-    if (req->layer_count > 0) /* the commands load one dataset */
-        return lc_err(err, LC_ERR_INVALID,
-                      "%s: layers: the command line renders one dataset; POST /api/v1/render "
-                      "draws layers",
-                      path);
     return 0;
+}
+
+/* A layered request maps each layer by its own layers[i].importance, .color
+ * and .style (docs/ALGORITHM.md §24): the flags that set one dataset's
+ * mapping and sizes would change nothing, so they are refused rather than
+ * ignored. before: the request as the file left it. */
+static int check_layer_flags(const char *cmd, const lc_request *req, const lc_render_params *before)
+{
+    const lc_render_params *p = &req->render;
+    const lc_style *a = &before->style, *b = &p->style;
+    if (req->layer_count == 0 ||
+        (memcmp(&before->importance, &p->importance, sizeof p->importance) == 0 &&
+         memcmp(&before->color, &p->color, sizeof p->color) == 0 && a->line_width == b->line_width &&
+         a->min_line_pixels == b->min_line_pixels && a->point_size == b->point_size && a->shading == b->shading))
+        return 0;
+    fprintf(stderr,
+            "lucent %s: layers: the request maps each layer by its layers[i].importance, .color and .style; "
+            "--importance, --color, --colormap, --line-width, --point-size and --unlit apply to one dataset\n",
+            cmd);
+    return -1;
 }
 
 /* Applies one request field through the protocol's query aliases so the
@@ -231,18 +246,22 @@ int lc_cli_parse(const char *cmd, const lc_option *own, void *own_target, int ar
             return 2;
         }
     }
+    lc_render_params *before = malloc(sizeof *before); /* the request file's, for check_layer_flags */
+    if (!before) {
+        fprintf(stderr, "lucent %s: out of memory\n", cmd);
+        return 2;
+    }
+    *before = req->render;
     lc_opt_set sets[2] = {{own, own_target}, {common_options, common}};
     int rc = lc_opt_parse(cmd, sets, 2, argc, argv, NULL, 0, NULL);
-    if (rc < 0)
-        return 2;
-    if (rc > 0) {
-        if (!lc_cli_has_flag(argc, argv, "--list-flags"))
-            usage(stdout, sets, 2);
-        return 1;
-    }
-    if (common->unlit)
+    if (rc > 0 && !lc_cli_has_flag(argc, argv, "--list-flags"))
+        usage(stdout, sets, 2);
+    if (rc == 0 && common->unlit)
         req->render.style.shading = LC_SHADING_NONE;
-    return 0;
+    if (rc == 0 && check_layer_flags(cmd, req, before) != 0)
+        rc = -1;
+    free(before);
+    return rc < 0 ? 2 : rc > 0 ? 1 : 0;
 }
 
 int lc_cli_has_flag(int argc, char **argv, const char *flag)

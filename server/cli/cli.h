@@ -72,6 +72,41 @@ uint64_t lc_cli_resident_bytes(void);
  * state of one renderer and one session. */
 void lc_cli_print_memory(const lc_scene *scene, const lc_gpu_scene *gs, const lc_cli_common *common);
 
+/* The scene a command renders (cli_scene.c): one dataset, or the datasets of
+ * the request's layers[] (docs/ALGORITHM.md §24), each a spec as --input
+ * takes (demo:NAME[?count=N&seed=S] or a file), drawn in one frame as POST
+ * /api/v1/render draws them. */
+typedef struct lc_cli_scene {
+    int layer_count;                       /* req->layer_count; 0: one dataset, scenes[0] */
+    int count;                             /* scenes held: 1, or layer_count once open */
+    lc_scene *scenes[LC_MAX_LAYERS];       /* finalized; their vertex arrays released after the upload */
+    lc_gpu_scene *gpu[LC_MAX_LAYERS];      /* their GPU copies */
+    lc_layer_params layers[LC_MAX_LAYERS]; /* req->layers[i].p, the renderer's copy */
+} lc_cli_scene;
+
+/* Opens req's scene and a GL renderer, and uploads the scene in the layout
+ * common asks for. Without layers: lc_cli_open and lc_cli_upload. With
+ * layers: every layer's dataset (--elements applied to each, --max-memory to
+ * their sum); an unknown one names layers[i].dataset; --input and --dataset
+ * are refused (the layers name their datasets). Prints "lucent CMD: reason"
+ * and returns non-zero on error; on success the caller closes both. */
+int lc_cli_scene_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_cli_scene *out,
+                      lc_cli_gl *g);
+/* One frame of the scene: lc_render_frame of the dataset, or lc_render_layers
+ * of the layers (state then spans the sum of their element counts). */
+int lc_cli_scene_render(lc_renderer *r, const lc_cli_scene *s, const lc_render_params *p, lc_frame_state *state,
+                        double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+/* The elements (a frame state's size) and primitives of every scene together. */
+uint64_t lc_cli_scene_elements(const lc_cli_scene *s);
+uint64_t lc_cli_scene_primitives(const lc_cli_scene *s);
+/* "demo:points + demo:tornado": the scenes' names, in buf. */
+const char *lc_cli_scene_name(const lc_cli_scene *s, char *buf, size_t cap);
+/* The camera a frame of the scene without a camera gets (lc_render_fit_camera):
+ * where a movie's path starts. */
+void lc_cli_scene_camera(const lc_cli_scene *s, lc_camera *cam);
+/* Destroys the GPU copies (g current), closes g, destroys the scenes. */
+void lc_cli_scene_close(lc_cli_scene *s, lc_cli_gl *g);
+
 /* Prints the per-pass timings of a frame as "  importance   1.23 ms" lines. */
 void lc_cli_print_timings(const lc_frame_info *info);
 

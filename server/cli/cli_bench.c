@@ -55,6 +55,12 @@ int lc_cli_bench(int argc, char **argv)
     int pr = lc_cli_parse("bench", bench_options, &args, argc, argv, &req, &common, bench_usage);
     if (pr != 0)
         return pr == 1 ? 0 : 2;
+    if (req.layer_count > 0) { /* a row a dataset: a layered frame is no dataset's */
+        fprintf(stderr,
+                "lucent bench: layers: bench times one dataset a row; `lucent render --request FILE --frames N` "
+                "or `lucent compare --request FILE` time a layered request\n");
+        return 2;
+    }
     if (!common.request) { /* the benchmark's own default size, unless a flag gave one */
         req.render.width = common.width_set ? req.render.width : 1024;
         req.render.height = common.height_set ? req.render.height : 1024;

@@ -51,7 +51,8 @@ static void compare_usage(FILE *f, const lc_opt_set *sets, int nsets)
                "Renders the request with its method (default fourier) and with --against (default exact), same\n"
                "scene, camera and parameters, one-shot (no fading), and prints one \"NAME value\" per line:\n"
                "SSIM, RMSE (Rec. 709 luminance SSIM, 11x11 Gaussian, sigma 1.5; RMSE over RGB in [0,1]), per-pass\n"
-               "and total GPU times, GPU memory of each method, the exact method's fragment count and layers.\n");
+               "and total GPU times, GPU memory of each method, the exact method's fragment count and layers.\n"
+               "A request's layers[] (several datasets in one view) name each dataset as --input does.\n");
     lc_opt_usage(f, sets, nsets);
 }
 
@@ -62,7 +63,7 @@ typedef struct method_run {
     lc_frame_info info; /* last frame; pass_ms/gpu_ms/wall_ms replaced by means */
 } method_run;
 
-static int run_method(const lc_renderer_desc *desc, const lc_gpu_scene *gs, lc_render_params p, lc_method method,
+static int run_method(const lc_renderer_desc *desc, const lc_cli_scene *cs, lc_render_params p, lc_method method,
                       int repeat, method_run *out, lc_error *err)
 {
     /* A renderer per method (on the current context) so that each one's pipeline memory is its own. */
@@ -74,7 +75,7 @@ static int run_method(const lc_renderer_desc *desc, const lc_gpu_scene *gs, lc_r
     out->method = method;
     double pass[LC_PASS_COUNT] = {0}, gpu = 0, wall = 0;
     for (int f = 0; f <= repeat && !rc; f++) {
-        rc = lc_render_frame(r, gs, &p, NULL, 0, out->rgba, &out->info, err);
+        rc = lc_cli_scene_render(r, cs, &p, NULL, 0, out->rgba, &out->info, err);
         if (rc || (f == 0 && repeat > 0)) /* the first frame compiles shaders and allocates */
             continue;
         for (int i = 0; i < LC_PASS_COUNT; i++)
@@ -144,32 +145,32 @@ int lc_cli_compare(int argc, char **argv)
         fprintf(stderr, "lucent compare: %s: %s\n", out_dir, strerror(errno));
         return 1;
     }
-    lc_scene *scene = NULL;
+    static lc_cli_scene cs; /* one dataset, or the request's layers (16 KiB of their parameters: off the stack) */
     lc_cli_gl g;
-    if (lc_cli_open("compare", &req, &common, &scene, &g) != 0)
+    if (lc_cli_scene_open("compare", &req, &common, &cs, &g) != 0)
         return 1;
     int status = 1, w = req.render.width, h = req.render.height;
     size_t bytes = (size_t)w * h * 4;
     method_run runs[2] = {{.rgba = malloc(bytes)}, {.rgba = malloc(bytes)}};
-    lc_gpu_scene *gs = NULL;
     uint8_t *diff = NULL;
     lc_renderer_desc desc = {.exact_pool_bytes = (uint64_t)(pool_mib * MIB)};
     if (!runs[0].rgba || !runs[1].rgba) {
         fprintf(stderr, "lucent compare: out of memory\n");
         goto done;
     }
-    if (lc_cli_upload("compare", &common, scene, &gs) != 0)
-        goto done;
     const lc_method methods[2] = {req.render.method, (lc_method)against};
     for (int k = 0; k < 2; k++)
-        if (run_method(&desc, gs, req.render, methods[k], repeat, &runs[k], &err) != 0) {
+        if (run_method(&desc, &cs, req.render, methods[k], repeat, &runs[k], &err) != 0) {
             fprintf(stderr, "lucent compare: %s: %s\n", lc_method_name(methods[k]), err.msg);
             goto done;
         }
 
-    printf("dataset %s\n", scene->name);
-    printf("primitives %llu\n", (unsigned long long)lc_scene_primitive_count(scene));
-    printf("elements %u\n", scene->elements.count);
+    char names[1200];
+    printf("dataset %s\n", lc_cli_scene_name(&cs, names, sizeof names));
+    if (cs.layer_count > 0)
+        printf("layers %d\n", cs.layer_count);
+    printf("primitives %llu\n", (unsigned long long)lc_cli_scene_primitives(&cs));
+    printf("elements %llu\n", (unsigned long long)lc_cli_scene_elements(&cs));
     printf("renderer %s\n", lc_gl_renderer(g.gl));
     printf("size %dx%d\n", w, h);
     printf("method %s\n", lc_method_name(methods[0]));
@@ -201,9 +202,7 @@ done:
     free(diff);
     free(runs[0].rgba);
     free(runs[1].rgba);
-    lc_gpu_scene_destroy(gs);
-    lc_cli_gl_close(&g);
-    lc_scene_destroy(scene);
+    lc_cli_scene_close(&cs, &g);
     return status;
 }
 

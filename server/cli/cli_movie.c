@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "camera.h"
 #include "camera_path.h"
 #include "cli.h"
 #include "lc_options.h"
@@ -32,7 +31,8 @@ static void movie_usage(FILE *f, const lc_opt_set *sets, int nsets)
     fprintf(f, "usage: lucent movie MOVIE.json -o OUT.mp4|OUT.webm [--input FILE|demo:NAME] [--device N]\n"
                "Renders a movie request (the JSON of POST /api/v1/movies: request, path turntable|orbit|keyframes,\n"
                "keyframes, degrees, elevation, duration or frames, fps, width, height, codec h264|vp9;\n"
-               "protocol/README.md \"Movies\") and encodes it. \"{}\" is a 10 s turntable of demo:tornado at 960x540.\n");
+               "protocol/README.md \"Movies\") and encodes it. \"{}\" is a 10 s turntable of demo:tornado at 960x540.\n"
+               "A request with layers[] (several datasets in one view) names each dataset as --input does.\n");
     lc_opt_usage(f, sets, nsets);
 }
 
@@ -87,20 +87,19 @@ int lc_cli_movie(int argc, char **argv)
         fprintf(stderr, "lucent movie: %s: codec %s writes .%s files\n", out, m.codec, lc_video_extension(codec));
         return 2;
     }
-    lc_scene *scene = NULL;
+    /* One dataset, or the request's layers[]: every frame a layered frame. */
+    static lc_cli_scene cs;
     lc_cli_gl g = {0};
-    if (lc_cli_open("movie", &m.request, &common, &scene, &g) != 0)
+    if (lc_cli_scene_open("movie", &m.request, &common, &cs, &g) != 0)
         return 1;
     int status = 1;
-    lc_gpu_scene *gs = NULL;
     lc_frame_state *state = NULL;
     lc_video *v = NULL;
     lc_error err = {0};
     int w = m.request.render.width, h = m.request.render.height;
     uint8_t *rgba = malloc((size_t)w * h * 4);
-    if (!rgba || lc_cli_upload("movie", &common, scene, &gs) != 0 ||
-        !(state = lc_cli_frame_state(&common, scene->elements.count))) {
-        fprintf(stderr, "lucent movie: %s\n", rgba ? "cannot prepare the dataset (see above)" : "out of memory");
+    if (!rgba || !(state = lc_cli_frame_state(&common, (uint32_t)lc_cli_scene_elements(&cs)))) {
+        fprintf(stderr, "lucent movie: out of memory\n");
         goto done;
     }
     if (lc_video_open(out, codec, w, h, m.fps, &v, &err) != 0) {
@@ -108,11 +107,8 @@ int lc_cli_movie(int argc, char **argv)
         goto done;
     }
     lc_camera start = m.request.render.camera;
-    if (!m.request.render.has_camera) { /* as a request without camera: the suggested view, fitted */
-        start.view_angle = start.view_angle > 0 ? start.view_angle : 30;
-        lc_camera_fit(&start, scene->bounds, scene->has_view ? scene->view_direction : NULL,
-                      scene->has_view ? scene->view_up : NULL);
-    }
+    if (!m.request.render.has_camera) /* as a request without camera: the suggested view, fitted (to every layer) */
+        lc_cli_scene_camera(&cs, &start);
     lc_camera_path_desc path = {.kind = (int)m.path, .degrees = m.degrees, .elevation = m.elevation,
                                 .keys = m.keyframes, .key_count = m.keyframe_count, .frames = m.frames};
     lc_render_params p = m.request.render;
@@ -121,7 +117,7 @@ int lc_cli_movie(int argc, char **argv)
         lc_frame_info info;
         lc_camera_path_frame(&path, &start, i, &p.camera);
         /* Frame 0 shows its targets; then the opacities fade with the movie's clock. */
-        if (lc_render_frame(g.renderer, gs, &p, state, i == 0 ? 1e6 : 1.0 / m.fps, rgba, &info, &err) != 0 ||
+        if (lc_cli_scene_render(g.renderer, &cs, &p, state, i == 0 ? 1e6 : 1.0 / m.fps, rgba, &info, &err) != 0 ||
             lc_video_write(v, rgba, &err) != 0) {
             fprintf(stderr, "lucent movie: frame %d: %s\n", i, err.msg);
             goto done;
@@ -136,14 +132,14 @@ int lc_cli_movie(int argc, char **argv)
         fprintf(stderr, "lucent movie: %s\n", err.msg);
         goto done;
     }
-    printf("%s: %d frames of %dx%d at %d fps (%s), %s\n", out, m.frames, w, h, m.fps, m.codec, scene->name);
+    char names[1200];
+    printf("%s: %d frames of %dx%d at %d fps (%s), %s\n", out, m.frames, w, h, m.fps, m.codec,
+           lc_cli_scene_name(&cs, names, sizeof names));
     status = 0;
 done:
     lc_video_abort(v);
     free(rgba);
     lc_frame_state_destroy(state);
-    lc_gpu_scene_destroy(gs);
-    lc_cli_gl_close(&g);
-    lc_scene_destroy(scene);
+    lc_cli_scene_close(&cs, &g);
     return status;
 }

@@ -58,18 +58,19 @@ static const lc_option render_options[] = {
 static void render_usage(FILE *f, const lc_opt_set *sets, int nsets)
 {
     fprintf(f, "usage: lucent render [--request REQ.json] [--input FILE|demo:NAME] --out IMG.png|.jpg [flags]\n"
-               "Renders one frame of a render request (protocol/README.md); flags override its fields.\n");
+               "Renders one frame of a render request (protocol/README.md); flags override its fields.\n"
+               "A request's layers[] (several datasets in one view) name each dataset as --input does.\n");
     lc_opt_usage(f, sets, nsets);
 }
 
 /* The frame's statistics as JSON (what --stats writes). */
-static json_t *frame_stats_json(const lc_frame_info *info, const lc_scene *scene, const lc_render_params *p)
+static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, const lc_render_params *p)
 {
     json_t *passes = json_object();
     for (int i = 0; i < LC_PASS_COUNT; i++)
         if (info->pass_ms[i] >= 0)
             json_object_set_new(passes, lc_pass_name(i), json_real(info->pass_ms[i]));
-    json_t *o = json_pack("{s:s, s:s, s:i, s:i, s:I, s:o, s:f, s:f, s:b, s:f}", "dataset", scene->name, "method",
+    json_t *o = json_pack("{s:s, s:s, s:i, s:i, s:I, s:o, s:f, s:f, s:b, s:f}", "dataset", dataset, "method",
                           lc_method_name(p->method), "width", info->width, "height", info->height, "elements",
                           (json_int_t)info->element_count, "passMs", passes, "gpuMs", info->gpu_ms, "wallMs",
                           info->wall_ms, "converged", info->converged, "maxAlphaChange", info->max_alpha_change);
@@ -130,8 +131,16 @@ int lc_cli_render(int argc, char **argv)
     double dt = args.dt;
     req.render.detail.point_stride = point_stride;
     req.render.detail.uniform_points = uniform_points;
+    if (req.layer_count > 0 && (use_mpi || point_stride > 1 || args.line_stride > 1)) { /* every flag used or refused */
+        fprintf(stderr, "lucent render: layers: %s\n",
+                use_mpi            ? "not with --mpi (each rank renders its shard of one dataset)"
+                : point_stride > 1 ? "not with --point-stride (a layered frame draws every point of its layers)"
+                                   : "not with --line-stride (a layered frame draws every line of its layers)");
+        return 2;
+    }
     lc_scene *scene = NULL;
     lc_cli_gl g = {0};
+    static lc_cli_scene cs; /* the scene (or layers) rendered; 16 KiB of layer parameters: off the stack */
     lc_mpi *mpi = NULL;
     if (use_mpi && lc_mpi_init(&mpi, &err) != 0) {
         fprintf(stderr, "lucent render: --mpi: %s\n", err.msg);
@@ -175,8 +184,9 @@ int lc_cli_render(int argc, char **argv)
             return 1;
         }
         lc_renderer_set_reducer(g.renderer, lc_mpi_reducer(mpi));
-    } else if ((open_rc = lc_cli_open("render", &req, &common, &scene, &g)) != 0)
+    } else if (lc_cli_scene_open("render", &req, &common, &cs, &g) != 0) {
         return 1;
+    }
     int status = 1;
     lc_gpu_scene *gs = NULL;
     lc_frame_state *state = NULL;
@@ -187,9 +197,14 @@ int lc_cli_render(int argc, char **argv)
         fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
-    if (lc_cli_upload("render", &common, scene, &gs) != 0)
-        goto done;
-    if (frames > 1 && !(state = lc_cli_frame_state(&common, scene->elements.count))) {
+    if (mpi) { /* the shard (or part) this rank holds is the scene */
+        if (lc_cli_upload("render", &common, scene, &gs) != 0)
+            goto done;
+        cs.scenes[0] = scene, cs.gpu[0] = gs, cs.count = 1;
+        scene = NULL, gs = NULL;
+    }
+    scene = cs.scenes[0], gs = cs.gpu[0]; /* one dataset's, or the first layer's */
+    if (frames > 1 && !(state = lc_cli_frame_state(&common, (uint32_t)lc_cli_scene_elements(&cs)))) {
         fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
@@ -200,7 +215,7 @@ int lc_cli_render(int argc, char **argv)
         lc_render_params p = req.render;
         if (args.line_stride > 0 && f == frames - 1) /* a moving frame after the stills */
             p.detail.reuse_opacities = true, p.detail.line_stride = args.line_stride;
-        if (lc_render_frame(g.renderer, gs, &p, state, dt, rgba, &info, &err) != 0) {
+        if (lc_cli_scene_render(g.renderer, &cs, &p, state, dt, rgba, &info, &err) != 0) {
             fprintf(stderr, "lucent render: %s\n", err.msg);
             goto done;
         }
@@ -218,20 +233,31 @@ int lc_cli_render(int argc, char **argv)
         fprintf(stderr, "lucent render: %s\n", err.msg);
         goto done;
     }
-    printf("%s: %dx%d, %s, method %s, m=%d, %s estimator, %u elements\n", out, info.width, info.height, scene->name,
+    char names[1200];
+    lc_cli_scene_name(&cs, names, sizeof names);
+    printf("%s: %dx%d, %s, method %s, m=%d, %s estimator, %u elements\n", out, info.width, info.height, names,
            lc_method_name(req.render.method), req.render.foo.bands, lc_estimator_name(req.render.foo.estimator),
            info.element_count);
     lc_cli_print_timings(&info);
-    if (scene->type != LC_PRIM_POINTS)
+    for (int i = 0; i < cs.layer_count; i++) /* a layered frame: what each layer is */
+        printf("  layer %d: %s, %llu %s, %u elements, %s%s\n", i, cs.scenes[i]->name,
+               (unsigned long long)lc_scene_primitive_count(cs.scenes[i]),
+               cs.scenes[i]->type == LC_PRIM_POINTS  ? "points"
+               : cs.scenes[i]->type == LC_PRIM_LINES ? "segments"
+                                                     : "triangles",
+               cs.scenes[i]->elements.count, cs.layers[i].role == LC_LAYER_CONTEXT ? "context" : "transparent",
+               cs.layers[i].visible ? "" : ", hidden");
+    if (cs.layer_count == 0 && scene->type != LC_PRIM_POINTS) /* (a layer's level of detail is its own) */
         printf("  detail: level %d of %d (lod %.3g px), %llu of %llu %s\n", info.lod_level, lc_gpu_scene_levels(gs),
                req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
                (unsigned long long)lc_scene_primitive_count(scene),
                scene->type == LC_PRIM_LINES ? "segments" : "triangles");
     if (info.line_stride > 1)
-        printf("  lines: stride %d, about %llu segments of important lines in full, %llu of every %d-th other\n",
-               info.line_stride, (unsigned long long)info.kept_line_segments[0],
-               (unsigned long long)info.kept_line_segments[1], info.line_stride);
-    else if (info.point_stride > 1)
+        printf("  lines: about %llu segments of the most important lines in full, %llu of one line in %d of the "
+               "others\n",
+               (unsigned long long)info.kept_line_segments[0], (unsigned long long)info.kept_line_segments[1],
+               info.line_stride);
+    else if (cs.layer_count == 0 && info.point_stride > 1)
         printf("  detail: %llu of %llu points (stride %d, %u important ones in full)\n",
                (unsigned long long)info.primitives_drawn, (unsigned long long)lc_scene_primitive_count(scene),
                info.point_stride, info.kept_points);
@@ -254,7 +280,7 @@ int lc_cli_render(int argc, char **argv)
                "pixel %.3g; params.autoSubset)\n",
                info.p1_subset, info.p1_subset, info.p0_fragments_median);
     if (stats_path) {
-        json_t *o = frame_stats_json(&info, scene, &req.render);
+        json_t *o = frame_stats_json(&info, names, &req.render);
         if (!o || json_dump_file(o, stats_path, JSON_INDENT(2) | JSON_REAL_PRECISION(6)) != 0) {
             fprintf(stderr, "lucent render: %s: cannot write the statistics\n", stats_path);
             json_decref(o);
@@ -269,9 +295,11 @@ int lc_cli_render(int argc, char **argv)
 done:
     free(rgba);
     lc_frame_state_destroy(state);
-    lc_gpu_scene_destroy(gs);
-    lc_cli_gl_close(&g);
-    lc_scene_destroy(scene);
+    if (mpi && !cs.count) { /* the upload failed: the shard is not in cs */
+        lc_gpu_scene_destroy(gs);
+        lc_scene_destroy(scene);
+    }
+    lc_cli_scene_close(&cs, &g);
     lc_mpi_finalize(mpi);
     return status;
 }

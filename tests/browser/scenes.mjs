@@ -246,6 +246,17 @@ try {
   check(/\(context\): timestep/.test(mapped.legend) && /190/.test(mapped.legend), `the legend line says context, timestep and its range (${mapped.legend})`);
   check(/"role":"context"/.test(mapped.hash) && /"attribute":"timestep"/.test(mapped.hash), 'the link carries the role and the colour attribute');
 
+  // The screenshot's and the movie's request (renderRequest, the Record group's too) carries the layers shown.
+  await page3.locator('#shot-size').selectOption('custom');
+  await page3.locator('#shot-width').fill('64');
+  await page3.locator('#shot-height').fill('48');
+  const [shotRequest] = await Promise.all([page3.waitForRequest('**/api/v1/render', { timeout: 10000 }), page3.locator('#screenshot').click()]);
+  await page3.waitForFunction(() => !document.getElementById('screenshot').disabled, null, { timeout: 30000 });
+  const shotBody = shotRequest.postData() ?? '{}';
+  const shot = JSON.parse(shotBody);
+  const shotAnswer = await shotRequest.response();
+  check(shot.layers?.length === 2 && shot.layers[1].role === 'context' && shotAnswer?.status() === 200, `the screenshot's (and the movie's) request draws both layers (${shotAnswer?.status()}: ${shotBody.slice(0, 200)})`);
+
   const page4 = await context.newPage();
   page4.on('pageerror', (e) => pageErrors.push(e.message));
   await page4.goto(await page3.evaluate(() => location.href));

@@ -33,7 +33,8 @@ static const char *const STATE_NAMES[] = {"queued", "running", "done", "failed",
 typedef struct movie_job {
     char id[LC_SESSION_ID_LEN];
     lc_movie_spec spec;
-    const lc_dataset *ds;
+    const lc_dataset *ds;                    /* the request's dataset, or its first layer's */
+    const lc_dataset *layers[LC_MAX_LAYERS]; /* request.layers' datasets (spec.request.layer_count of them) */
     lc_video_codec codec;
     double cost;
     job_state state;
@@ -101,6 +102,12 @@ static json_t *job_json(const movie_job *j)
     json_object_set_new(o, "height", json_integer(s->request.render.height));
     json_object_set_new(o, "codec", json_string(s->codec));
     json_object_set_new(o, "dataset", json_string(j->ds->name));
+    if (s->request.layer_count > 0) { /* a movie of layers: every frame draws them all */
+        json_t *names = json_array();
+        for (int i = 0; i < s->request.layer_count; i++)
+            json_array_append_new(names, json_string(j->layers[i]->name));
+        json_object_set_new(o, "layers", names);
+    }
     double end = j->finished > 0 ? j->finished : lc_now();
     json_object_set_new(o, "seconds", json_real(j->started > 0 ? end - j->started : 0));
     if (j->state == DONE) {
@@ -141,15 +148,18 @@ static bool should_stop(lc_movies *m, movie_job *j)
 }
 
 /* The camera of frame i: the path's start is the request's camera, else the
- * one a request without camera gets (the dataset's suggested view, fitted). */
+ * one a request without camera gets (the dataset's suggested view, fitted to
+ * it, or to the union of the layers' bounds). */
 static void frame_camera(const movie_job *j, int i, lc_camera *out)
 {
     const lc_movie_spec *s = &j->spec;
     lc_camera start = s->request.render.camera;
     if (!s->request.render.has_camera) {
-        const lc_scene *sc = j->ds->scene;
-        start.view_angle = start.view_angle > 0 ? start.view_angle : 30;
-        lc_camera_fit(&start, sc->bounds, sc->has_view ? sc->view_direction : NULL, sc->has_view ? sc->view_up : NULL);
+        int n = s->request.layer_count;
+        const lc_gpu_scene *scenes[LC_MAX_LAYERS] = {j->ds->gpu};
+        for (int k = 0; k < n; k++)
+            scenes[k] = j->layers[k]->gpu;
+        lc_render_fit_camera(scenes, n ? n : 1, &start);
     }
     lc_camera_path_desc d = {.kind = (int)s->path, .degrees = s->degrees, .elevation = s->elevation,
                              .keys = s->keyframes, .key_count = s->keyframe_count, .frames = s->frames};
@@ -168,6 +178,7 @@ static int render_frame(lc_movies *m, movie_job *j, lc_session *s, int i, lc_ima
     rj->req.render.has_camera = true;
     frame_camera(j, i, &rj->req.render.camera);
     rj->dataset = j->ds;
+    memcpy(rj->layers, j->layers, sizeof rj->layers); /* a layered frame when the request has layers */
     rj->session = s;
     lc_session_ref(s);
     /* The first frame shows its targets, as an HTTP render of its camera
@@ -417,13 +428,15 @@ static void create(lc_movies *m, const char *body, size_t len, lc_movie_reply *o
         return;
     }
     lc_request *req = &j->spec.request;
-    if (req->layer_count > 0) {
-        reply_error(m, out, 400, LC_PROTO_BAD_FIELD, "request.layers",
-                    "request.layers: a movie shows one dataset; POST /api/v1/render draws layers");
+    /* layers[] (docs/ALGORITHM.md §24): their datasets resolved as a session's; the first is the movie's dataset. */
+    if (lc_session_resolve_layers(srv, req, j->layers, &pe) != 0) {
+        char field[sizeof pe.field + 8];
+        snprintf(field, sizeof field, "request.%s", pe.field);
+        reply_error(m, out, strcmp(pe.code, "not_found") == 0 ? 404 : 400, pe.code, field, "request.%s", pe.message);
         free(j);
         return;
     }
-    j->ds = lc_datasets_find(srv->datasets, req->dataset);
+    j->ds = req->layer_count > 0 ? j->layers[0] : lc_datasets_find(srv->datasets, req->dataset);
     if (!j->ds) {
         reply_error(m, out, 404, "not_found", "request.dataset", "request.dataset: unknown dataset \"%.300s\"",
                     req->dataset);
@@ -438,9 +451,15 @@ static void create(lc_movies *m, const char *body, size_t len, lc_movie_reply *o
         free(j);
         return;
     }
+    if (req->layer_count > 0 && lc_session_check_layers_budget(srv, j->layers, req, &j->cost, &pe) != 0) {
+        reply_error(m, out, 400, pe.code, pe.field, "%s", pe.message); /* the sum of the layers' frames */
+        free(j);
+        return;
+    }
     const char *field = NULL;
     char why[320];
-    if (lc_cost_check(&j->ds->cost, &req->render, srv->cfg.max_cost, &j->cost, &field, why, sizeof why) != 0) {
+    if (req->layer_count == 0 &&
+        lc_cost_check(&j->ds->cost, &req->render, srv->cfg.max_cost, &j->cost, &field, why, sizeof why) != 0) {
         lc_metrics_refused(srv->metrics, "cost");
         reply_error(m, out, 400, "too_expensive", field, "%s", why);
         free(j);

@@ -103,7 +103,7 @@ int lc_line_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     fs->kept_line_indices[0] = fs->kept_line_indices[1] = 0;
     const lc_gpu_level *lv = &fs->gs->levels[fs->level];
     int stride = fs->line_stride;
-    if (stride <= 1 || fs->gs->scene->type != LC_PRIM_LINES || fs->pull_lines || !lv->run_count)
+    if (stride <= 1 || fs->gs->scene->type != LC_PRIM_LINES || !lv->run_count)
         return 0;
     GLuint prog = lc_renderer_fixed_program(r, PROG_LINE_SELECT, err);
     if (!prog)

@@ -54,7 +54,9 @@ int lc_markers_draw(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
     glProgramUniform1f(prog, glGetUniformLocation(prog, "u_marker_t1"), (float)p->time.window[1]);
     glProgramUniform1f(prog, glGetUniformLocation(prog, "u_point_radius_px"), MARKER_RADIUS_PX);
     glProgramUniform1i(prog, glGetUniformLocation(prog, "u_context_depth"), 0); /* over everything */
-    lc_renderer_draw_geometry(fs, 1);
+    lc_frame_setup every = *fs; /* a marker for every line, also where a moving frame thinned them */
+    every.kept_line_indices[0] = every.kept_line_indices[1] = 0;
+    lc_renderer_draw_geometry(&every, 1);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT);
     return 0;
 }

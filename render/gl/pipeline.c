@@ -351,7 +351,7 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
  * it (P4's u_weight; other passes have none). Batches split at even offsets
  * and overlap by one vertex pair: a strip resumes at any pair without losing
  * or repeating a segment. */
-static void draw_kept_lines(const lc_frame_setup *fs, uint64_t batch, GLsync in_flight[2])
+static void draw_kept_lines(const lc_frame_setup *fs, int pulled, uint64_t batch, GLsync in_flight[2])
 {
     GLint prog = 0;
     glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
@@ -359,7 +359,10 @@ static void draw_kept_lines(const lc_frame_setup *fs, uint64_t batch, GLsync in_
     GLfloat weight = 1;
     if (loc >= 0)
         glGetUniformfv((GLuint)prog, loc, &weight);
+    /* Indexed strips read the kept strip as their element buffer; pulled
+     * segments (a time window) read its ribbon slots as the indices SSBO. */
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, fs->kept_line_buffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_INDICES, fs->kept_line_buffer);
     batch &= ~(uint64_t)1;
     uint64_t k = 0;
     for (int part = 0; part < 2; part++) {
@@ -369,8 +372,11 @@ static void draw_kept_lines(const lc_frame_setup *fs, uint64_t batch, GLsync in_
             glProgramUniform1f((GLuint)prog, loc, part ? weight * (float)fs->line_stride : weight);
         for (uint64_t s = start; s + 2 < end; s += batch ? batch : end) {
             uint64_t e = batch && s + batch + 2 < end ? s + batch + 2 : end;
-            glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(e - s), GL_UNSIGNED_INT,
-                           (const void *)(uintptr_t)(s * sizeof(uint32_t)));
+            if (pulled) /* slot q spans indices 2q .. 2q + 3: (e - s) / 2 - 1 slots from s / 2 */
+                glDrawArrays(GL_TRIANGLES, (GLint)(s / 2 * 6), (GLsizei)((e - s) / 2 - 1) * 6);
+            else
+                glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(e - s), GL_UNSIGNED_INT,
+                               (const void *)(uintptr_t)(s * sizeof(uint32_t)));
             if (batch && fs->kept_line_indices[0] + fs->kept_line_indices[1] > batch)
                 end_batch(in_flight, k++);
         }
@@ -378,6 +384,7 @@ static void draw_kept_lines(const lc_frame_setup *fs, uint64_t batch, GLsync in_
     if (loc >= 0)
         glProgramUniform1f((GLuint)prog, loc, weight);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, fs->gs->levels[fs->level].indices);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_INDICES, fs->gs->levels[fs->level].indices);
 }
 
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
@@ -403,8 +410,8 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
         per_batch = share < SOFTWARE_BATCH_MIN ? SOFTWARE_BATCH_MIN : share < per_batch ? share : per_batch;
     }
     GLsync in_flight[2] = {0, 0};
-    if (prim == LC_PRIM_LINES && !pulled && fs->kept_line_indices[0] + fs->kept_line_indices[1]) {
-        draw_kept_lines(fs, per_batch, in_flight);
+    if (prim == LC_PRIM_LINES && subset <= 1 && fs->kept_line_indices[0] + fs->kept_line_indices[1]) {
+        draw_kept_lines(fs, pulled, per_batch, in_flight);
     } else if (prim == LC_PRIM_LINES && !pulled) {
         draw_strips(lv, per_batch ? per_batch : lv->index_count, in_flight);
     } else {

@@ -129,9 +129,9 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
     enum { CLUTTER = 3000, BUNDLE = 60, SEGS = 40, LINES = CLUTTER + BUNDLE, V = LINES * (SEGS + 1), STRIDE = 8 };
     lc_error err = {0};
     lc_scene *s = lc_scene_create("bundle", LC_PRIM_LINES);
-    float *imp = malloc(V * sizeof(float));
-    CHECK(s && imp && lc_scene_alloc_vertices(s, V, 0, &err) == 0, "scene: %s", err.msg);
-    if (!s || !imp)
+    float *imp = malloc(V * sizeof(float)), *time = malloc(V * sizeof(float));
+    CHECK(s && imp && time && lc_scene_alloc_vertices(s, V, 0, &err) == 0, "scene: %s", err.msg);
+    if (!s || !imp || !time)
         return;
     s->line_count = LINES;
     s->line_offsets = malloc((LINES + 1) * sizeof(uint32_t));
@@ -152,10 +152,12 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
             p[1] = important ? 0.1f + 0.8f * y0 : y0 + 0.02f * sinf(9.0f * p[0] + 6.0f * z0);
             p[2] = important ? 0.9f + 0.05f * z0 : 0.4f * z0;
             imp[l * (SEGS + 1) + k] = important ? 0.9f : 0.05f;
+            time[l * (SEGS + 1) + k] = (float)k;
         }
     }
     s->line_offsets[LINES] = V;
     CHECK(lc_scene_add_attribute(s, "importance", imp, &err) >= 0, "attribute: %s", err.msg);
+    CHECK(lc_scene_add_attribute(s, "time", time, &err) >= 0, "attribute: %s", err.msg);
     CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
     lc_gpu_scene *gs = NULL;
     CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
@@ -169,6 +171,7 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
     p.width = p.height = SIZE;
     p.detail.lod_pixels = 0;
     snprintf(p.importance.attribute, sizeof p.importance.attribute, "importance");
+    snprintf(p.color.attribute, sizeof p.color.attribute, "importance");
     p.importance.has_range = true, p.importance.range[0] = 0, p.importance.range[1] = 1;
     p.foo.fade_half_life = 0;
     lc_frame_info info;
@@ -195,6 +198,28 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
           "%llu segments in full, the bundle has %d", (unsigned long long)info.kept_line_segments[0], BUNDLE * SEGS);
     CHECK(n_all > 100 && abs(n_kept - n_all) * 10 <= n_all, "the bundle shows in %d pixels thinned, %d with all",
           n_kept, n_all);
+
+    /* Under a time window (segments drawn one by one from the kept strip's
+     * ribbon slots): the first half of every line, the bundle still whole. */
+    p.time.has_window = true, p.time.window[0] = 0, p.time.window[1] = SEGS / 2;
+    p.detail.line_stride = 1;
+    render(t, gs, &p, st, a, &info);
+    p.detail.line_stride = STRIDE;
+    render(t, gs, &p, st, b, &info);
+    int w_all = 0, w_kept = 0, w_right = 0;
+    for (int y = 0; y < SIZE; y++)
+        for (int x = 0; x < SIZE; x++) {
+            const uint8_t *pa = a + 4 * ((size_t)y * SIZE + x), *pb = b + 4 * ((size_t)y * SIZE + x);
+            w_all += pa[1] > 150 && pa[1] > pa[2] + 40;
+            w_kept += pb[1] > 150 && pb[1] > pb[2] + 40;
+            w_right += x > SIZE * 3 / 4 && pb[0] + pb[1] + pb[2] < 3 * 250; /* the window's far end: nothing */
+        }
+    printf("  under the time window [0, %d]: stride %d, the bundle shows in %d pixels (every line: %d), %d pixels "
+           "drawn past the window\n", SEGS / 2, info.line_stride, w_kept, w_all, w_right);
+    CHECK(info.line_stride == STRIDE && w_all > 50 && abs(w_kept - w_all) * 10 <= w_all && w_kept < n_kept && w_right == 0,
+          "time window: stride %d, the bundle in %d pixels thinned, %d with every line, %d without the window; %d past it",
+          info.line_stride, w_kept, w_all, n_kept, w_right);
+    p.time.has_window = false;
     free(c);
     lc_frame_state_destroy(st);
     lc_gpu_scene_destroy(gs);

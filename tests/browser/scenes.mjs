@@ -161,10 +161,13 @@ try {
   const f0 = await frames();
   await page.click('#time-play');
   await page.waitForTimeout(3000);
+  // Five frames, waited for rather than timed (a loaded CI host renders slower); t stays short of the range's end,
+  // where play starts over, for (190 - 60) / (1.9 x 5 steps/s) = 13.7 s.
+  await page.waitForFunction((n) => Number(document.body.dataset.frames ?? 0) >= n, f0 + 5, { timeout: 9000, polling: 100 }).catch(() => {});
   const during = await page.evaluate(() => ({ pressed: document.getElementById('time-play').getAttribute('aria-pressed'), t: Number(document.getElementById('time-t').value), hash: location.hash, err: window.lucent.state.error }));
   const f1 = await frames();
-  check(during.pressed === 'true' && during.t > 60, `play steps t on (t = ${during.t} after 3 s)`);
-  check(f1 - f0 >= 5, `frames keep coming while playing (${f1 - f0} in 3 s)`);
+  check(during.pressed === 'true' && during.t > 60, `play steps t on (t = ${during.t} after 3-12 s)`);
+  check(f1 - f0 >= 5, `frames keep coming while playing (${f1 - f0} in 3-12 s)`);
   check(!during.err, `no error while playing (${JSON.stringify(during.err)})`);
   const m = /timeWindow=([\d.]+),([\d.]+)/.exec(during.hash);
   check(m && Number(m[2]) - Number(m[1]) <= 30 + 1e-9 && Number(m[2]) > 60, `the link follows play (${m && m[0]})`);

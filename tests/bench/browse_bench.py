@@ -109,13 +109,20 @@ def yield_metrics(base, token):
     return out
 
 
+def served_name(dataset):
+    """The name the daemon serves a dataset under: a file path under its stem."""
+    if os.path.exists(dataset):
+        return os.path.splitext(os.path.basename(dataset.rstrip("/")))[0]
+    return dataset
+
+
 def contender(base, token, args, stop, out):
     """Renders args.contend_size stills over HTTP until stop is set; records their wall times."""
     w, h = (int(x) for x in args.contend_size.split("x"))
     hdr = {"Content-Type": "application/json"}
     if token:
         hdr["Authorization"] = "Bearer " + token
-    body = json.dumps({"dataset": args.dataset, "width": w, "height": h, "format": "jpeg"}).encode()
+    body = json.dumps({"dataset": served_name(args.dataset), "width": w, "height": h, "format": "jpeg"}).encode()
     while not stop.is_set():
         t = time.time()
         try:
@@ -130,9 +137,7 @@ def contender(base, token, args, stop, out):
 async def browse(ws_url, token, args):
     r = {"lat": [], "moving": 0, "pause_delay": None}
     async with websockets.connect(ws_url, max_size=None) as ws:
-        name = args.dataset  # a file path is served under its stem
-        if os.path.exists(name):
-            name = os.path.splitext(os.path.basename(name.rstrip("/")))[0]
+        name = served_name(args.dataset)
         hello = {"type": "hello", "dataset": name, "width": args.width, "height": args.height,
                  "devicePixelRatio": 1, "window": args.window}
         if token:

@@ -179,7 +179,6 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
     p.detail.reuse_opacities = true;
     render(t, gs, &p, st, a, &info);
     p.detail.line_stride = STRIDE;
-    uint8_t *c = malloc(SIZE * SIZE * 4);
     render(t, gs, &p, st, b, &info);
     /* The bundle's colour (viridis at 0.9, yellow-green) against the clutter's (dark purple). */
     int n_all = 0, n_kept = 0;
@@ -220,7 +219,6 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
           "time window: stride %d, the bundle in %d pixels thinned, %d with every line, %d without the window; %d past it",
           info.line_stride, w_kept, w_all, n_kept, w_right);
     p.time.has_window = false;
-    free(c);
     lc_frame_state_destroy(st);
     lc_gpu_scene_destroy(gs);
     lc_scene_destroy(s);

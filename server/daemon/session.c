@@ -414,9 +414,24 @@ int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto
 
 /* Whether the still frame is due: the last frame was interactive and input has
  * been quiet for still_delay. */
+/* The quiet time before a still: --still-delay, or 1.5 times the session's
+ * recent spacing of input where that is longer (at most STILL_DELAY_MAX).
+ * Input that comes at a slow, steady pace, such as the page's time bar
+ * playing at 5 steps a second, would otherwise start a still between every
+ * two steps that the next step then has to wait out (a pass of a still of
+ * the MD trajectories takes up to a second); camera drags at 30-60 updates a
+ * second keep the configured delay. */
+#define STILL_DELAY_MAX 1.0
+static double effective_still_delay(const lc_stream *st, double delay)
+{
+    double paced = 1.5 * st->input_interval;
+    paced = paced < STILL_DELAY_MAX ? paced : STILL_DELAY_MAX;
+    return paced > delay ? paced : delay;
+}
+
 static bool still_due(const lc_session *s, double now, double delay)
 {
-    return s->stream.last_interactive && now - s->stream.last_input >= delay;
+    return s->stream.last_interactive && now - s->stream.last_input >= effective_still_delay(&s->stream, delay);
 }
 
 int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at)
@@ -433,7 +448,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     bool still = still_due(s, now, cfg->still_delay);
     if (!st->dirty && !fading && !still) {
         if (st->last_interactive)
-            *wake_at = st->last_input + cfg->still_delay;
+            *wake_at = st->last_input + effective_still_delay(st, cfg->still_delay);
         pthread_mutex_unlock(&s->lock);
         return 0;
     }
@@ -443,7 +458,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     if (!s->req.layer_count && s->dataset && s->dataset->scene)
         primitives = lc_scene_primitive_count(s->dataset->scene);
     bool first_coarse = st->frames == 0 && !st->any_input && primitives >= FIRST_COARSE_PRIMITIVES;
-    bool interactive = first_coarse || st->moving_next || (st->any_input && now - st->last_input < cfg->still_delay);
+    bool interactive = first_coarse || st->moving_next ||
+                       (st->any_input && now - st->last_input < effective_still_delay(st, cfg->still_delay));
     st->moving_next = false;
     /* A staged still: stage 1 reuses the opacities the moving frames drew with (methods that have them). */
     lc_method method = s->req.render.method;
@@ -622,6 +638,14 @@ void lc_session_stream_input(lc_session *s, double now)
     pthread_mutex_lock(&s->lock);
     s->stream.dirty = true;
     s->stream.still_stage = 0; /* a still begins again from stage 1 */
+    /* The recent spacing of input (effective_still_delay): messages within
+     * 10 ms are one burst (a time step's params and camera), and a gap of a
+     * second or more starts a new gesture. */
+    double gap = now - s->stream.last_input;
+    if (!s->stream.any_input || gap < 0 || gap >= 1.0)
+        s->stream.input_interval = 0;
+    else if (gap >= 0.010)
+        s->stream.input_interval = s->stream.input_interval > 0 ? 0.7 * s->stream.input_interval + 0.3 * gap : gap;
     s->stream.any_input = true;
     s->stream.last_input = now;
     s->stream.updates_since_frame++;

@@ -548,14 +548,6 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
                              !fs.layer_count && !r->desc.reducer && p.detail.line_stride > 1
                          ? p.detail.line_stride
                          : 1;
-    /* Sparse lines keep every line: a thinned frame draws at least one segment
-     * per LC_LINE_SUBSET_PIXELS pixels of the frame, and LC_LINE_SUBSET_FLOOR. */
-    uint64_t level_segments = fs.gs->levels[fs.level].primitive_count;
-    uint64_t floor_segments = (uint64_t)p.width * (uint64_t)p.height / LC_LINE_SUBSET_PIXELS;
-    if (floor_segments < LC_LINE_SUBSET_FLOOR)
-        floor_segments = LC_LINE_SUBSET_FLOOR;
-    while (fs.line_stride > 1 && level_segments / (uint64_t)fs.line_stride < floor_segments)
-        fs.line_stride /= 2;
     if ((rc = lc_line_subset_prepare(r, &fs, err)) != 0)
         return rc;
     if (lc_frame_has_context(&fs) && (tiles || antialias_samples(&p) > 1)) /* drawn once, unjittered, untiled */

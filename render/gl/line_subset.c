@@ -40,7 +40,7 @@ static void bind(lc_renderer *r, lc_frame_setup *fs, GLuint prog, const lc_gpu_l
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_RUNS, lv->runs);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_SELECT, r->line_select);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POINT_HISTOGRAM, r->point_histogram);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_KEPT, r->line_kept);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_KEPT, r->line_kept ? r->line_kept : r->dummy_buffer);
     lc_uniform_u(prog, "u_runs", lv->run_count);
 }
 
@@ -52,7 +52,6 @@ static void histogram(lc_renderer *r, lc_frame_setup *fs, GLuint prog, const lc_
         glNamedBufferStorage(r->point_histogram, POINT_BINS * sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT);
     }
     grow(&r->line_select, &r->line_select_bytes, (2 + (uint64_t)lv->run_count) * sizeof(uint32_t));
-    grow(&r->line_kept, &r->line_kept_bytes, 16); /* bound, not written */
     const uint32_t zero = 0;
     glClearNamedBufferData(r->point_histogram, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
@@ -102,6 +101,13 @@ int lc_line_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     fs->kept_line_indices[0] = fs->kept_line_indices[1] = 0;
     const lc_gpu_level *lv = &fs->gs->levels[fs->level];
+    /* Sparse lines keep every line: the stride halves until the frame draws
+     * a segment per LC_LINE_SUBSET_PIXELS pixels, and LC_LINE_SUBSET_FLOOR. */
+    uint64_t floor_segments = (uint64_t)fs->width * (uint64_t)fs->height / LC_LINE_SUBSET_PIXELS;
+    if (floor_segments < LC_LINE_SUBSET_FLOOR)
+        floor_segments = LC_LINE_SUBSET_FLOOR;
+    while (fs->line_stride > 1 && lv->primitive_count / (uint64_t)fs->line_stride < floor_segments)
+        fs->line_stride /= 2;
     int stride = fs->line_stride;
     if (stride <= 1 || fs->gs->scene->type != LC_PRIM_LINES || !lv->run_count)
         return 0;

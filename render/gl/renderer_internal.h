@@ -435,8 +435,9 @@ int lc_point_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 int lc_subset_choose_bin(const uint32_t *bins, uint64_t want, uint64_t most, uint32_t *count);
 
 /* ---- line_subset.c */
-/* Fills fs->kept_line_indices for a frame that thins lines with
- * fs->line_stride (0 when it does not: the level's strip draws). */
+/* Fills fs->kept_line_indices for a frame that may thin lines with
+ * fs->line_stride (0 when it does not: the level's strip draws); lowers the
+ * stride where the level is too sparse to thin that far. */
 int lc_line_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 static inline void lc_uniform_f(GLuint prog, const char *name, double v)

@@ -14,14 +14,6 @@
 
 #define SIZE 512
 
-static void render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, lc_frame_state *st, uint8_t *rgba,
-                   lc_frame_info *info)
-{
-    lc_error err = {0};
-    int rc = lc_render_frame(t->renderer, gs, p, st, 1.0 / 30, rgba, info, &err);
-    CHECK(rc == 0, "render: %s", err.msg);
-}
-
 static lc_gpu_scene *open_demo(const char *name, int count, lc_scene **s)
 {
     lc_error err = {0};
@@ -44,9 +36,9 @@ static void still_frames(test_gl *t, const char *name, uint8_t *a, uint8_t *b)
     p.width = p.height = SIZE;
     lc_frame_info full, lod;
     p.detail.lod_pixels = 0;
-    render(t, gs, &p, NULL, a, &full);
+    test_render_frame(t, gs, &p, NULL, a, &full);
     p.detail.lod_pixels = LC_DEFAULT_LOD_PIXELS;
-    render(t, gs, &p, NULL, b, &lod);
+    test_render_frame(t, gs, &p, NULL, b, &lod);
     double ssim = lc_image_ssim(a, b, SIZE, SIZE);
     printf("demo:%-8s %d levels; default %.2g px: level %d, %llu of %llu segments, SSIM %.4f vs every segment\n",
            name, lc_gpu_scene_levels(gs), LC_DEFAULT_LOD_PIXELS, lod.lod_level,
@@ -67,7 +59,7 @@ static void still_frames(test_gl *t, const char *name, uint8_t *a, uint8_t *b)
     p.has_camera = true;
     for (int i = 0; i < 3; i++)
         p.camera.position[i] = 0.25 * p.camera.position[i] + 0.75 * p.camera.focal_point[i];
-    render(t, gs, &p, NULL, b, &closer);
+    test_render_frame(t, gs, &p, NULL, b, &closer);
     CHECK(closer.lod_level < lod.lod_level, "demo:%s: closer camera level %d, fitted %d", name, closer.lod_level,
           lod.lod_level);
     lc_gpu_scene_destroy(gs);
@@ -86,9 +78,9 @@ static void surface_levels(test_gl *t, uint8_t *a, uint8_t *b)
     lc_render_params_default(&p);
     p.width = p.height = SIZE;
     lc_frame_info still, coarse;
-    render(t, gs, &p, NULL, a, &still);
+    test_render_frame(t, gs, &p, NULL, a, &still);
     p.detail.lod_pixels = 2;
-    render(t, gs, &p, NULL, b, &coarse);
+    test_render_frame(t, gs, &p, NULL, b, &coarse);
     double ssim = lc_image_ssim(a, b, SIZE, SIZE);
     printf("demo:surface %d levels; still: level %d; 2 px: level %d, %llu of %llu triangles, SSIM %.4f\n",
            lc_gpu_scene_levels(gs), still.lod_level, coarse.lod_level, (unsigned long long)coarse.primitives_drawn,
@@ -117,9 +109,9 @@ static void reuse_opacities(test_gl *t, uint8_t *a, uint8_t *b)
      * depthRange says (checked below): then reuse changes nothing. */
     p.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
     lc_frame_info opt, reused;
-    render(t, gs, &p, st, a, &opt);
+    test_render_frame(t, gs, &p, st, a, &opt);
     p.detail.reuse_opacities = true;
-    render(t, gs, &p, st, b, &reused);
+    test_render_frame(t, gs, &p, st, b, &reused);
     CHECK(!opt.reused_opacities && reused.reused_opacities, "reused flags %d, %d", opt.reused_opacities,
           reused.reused_opacities);
     CHECK(reused.pass_ms[LC_PASS_IMPORTANCE] < 0 && reused.pass_ms[LC_PASS_OPACITY] < 0 &&
@@ -131,19 +123,19 @@ static void reuse_opacities(test_gl *t, uint8_t *a, uint8_t *b)
      * a reusing one skips P0 and draws what the bounds' range draws. */
     p.foo.depth_range = LC_DEPTH_RANGE_AUTO;
     p.detail.reuse_opacities = false;
-    render(t, gs, &p, st, a, &opt);
+    test_render_frame(t, gs, &p, st, a, &opt);
     CHECK(opt.pass_ms[LC_PASS_DEPTH_RANGE] >= 0, "the default optimizing frame ran no P0 moments pass");
     p.detail.reuse_opacities = true;
-    render(t, gs, &p, st, a, &reused);
+    test_render_frame(t, gs, &p, st, a, &reused);
     CHECK(reused.reused_opacities && reused.pass_ms[LC_PASS_DEPTH_RANGE] < 0, "a reusing frame ran P0");
     p.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
-    render(t, gs, &p, st, b, &reused);
+    test_render_frame(t, gs, &p, st, b, &reused);
     CHECK(memcmp(a, b, 256 * 256 * 4) == 0, "a reusing frame with moments differs from the bounds' (SSIM %.5f)",
           lc_image_ssim(a, b, 256, 256));
     p.foo.depth_range = LC_DEPTH_RANGE_AUTO;
     /* A fresh state has nothing to reuse: the frame optimizes. */
     lc_frame_state_reset(st);
-    render(t, gs, &p, st, b, &reused);
+    test_render_frame(t, gs, &p, st, b, &reused);
     CHECK(!reused.reused_opacities && reused.pass_ms[LC_PASS_OPACITY] >= 0, "a fresh state reused opacities");
     lc_frame_state_destroy(st);
     lc_gpu_scene_destroy(gs);
@@ -160,10 +152,10 @@ static void point_stride(test_gl *t, uint8_t *a, uint8_t *b)
     lc_render_params_default(&p);
     p.width = p.height = 256;
     lc_frame_info all, some, uniform;
-    render(t, gs, &p, NULL, a, &all);
+    test_render_frame(t, gs, &p, NULL, a, &all);
     p.detail.point_stride = 4;
     p.detail.uniform_points = true;
-    render(t, gs, &p, NULL, b, &uniform);
+    test_render_frame(t, gs, &p, NULL, b, &uniform);
     CHECK(all.primitives_drawn == 40000 && uniform.primitives_drawn == 10000 && uniform.point_stride == 4 &&
               uniform.kept_points == 0,
           "drew %llu and %llu points", (unsigned long long)all.primitives_drawn,
@@ -172,7 +164,7 @@ static void point_stride(test_gl *t, uint8_t *a, uint8_t *b)
     /* Importance-aware (the default): the top 1/16 by importance in full, the
      * rest every 4th; the kept ones replace the quarter of them the stride drew. */
     p.detail.uniform_points = false;
-    render(t, gs, &p, NULL, b, &some);
+    test_render_frame(t, gs, &p, NULL, b, &some);
     CHECK(some.kept_points >= 2500 && some.kept_points <= 10000 &&
               some.primitives_drawn == 10000 + some.kept_points - some.kept_points / 4,
           "kept %u important points, drew %llu", some.kept_points, (unsigned long long)some.primitives_drawn);
@@ -224,12 +216,12 @@ static void important_cluster(test_gl *t, uint8_t *a, uint8_t *b)
     p.style.point_size = 3;
     uint8_t *all = malloc(256 * 256 * 4);
     lc_frame_info info;
-    render(t, gs, &p, NULL, all, &info);
+    test_render_frame(t, gs, &p, NULL, all, &info);
     p.detail.point_stride = STRIDE;
     p.detail.uniform_points = true;
-    render(t, gs, &p, NULL, a, &info);
+    test_render_frame(t, gs, &p, NULL, a, &info);
     p.detail.uniform_points = false;
-    render(t, gs, &p, NULL, b, &info);
+    test_render_frame(t, gs, &p, NULL, b, &info);
     CHECK(info.kept_points == CLUSTER, "kept %u points, the cluster has %d", info.kept_points, CLUSTER);
     /* The cluster's colour (viridis at 0.8, green) against the cloud's (dark
      * purple): the pixels that show the cluster. */

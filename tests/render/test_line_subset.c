@@ -20,14 +20,6 @@
 
 #define SIZE 256
 
-static void render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, lc_frame_state *st, uint8_t *rgba,
-                   lc_frame_info *info)
-{
-    lc_error err = {0};
-    int rc = lc_render_frame(t->renderer, gs, p, st, 1.0 / 30, rgba, info, &err);
-    CHECK(rc == 0, "render: %s", err.msg);
-}
-
 /* Mean over the pixels of the distance to the white background (0..255). */
 static double coverage(const uint8_t *rgba)
 {
@@ -56,17 +48,17 @@ static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
     p.foo.fade_half_life = 0;
     lc_frame_info info, all, some;
     p.detail.line_stride = 4;
-    render(t, gs, &p, st, a, &info); /* a fresh state: no thinning */
+    test_render_frame(t, gs, &p, st, a, &info); /* a fresh state: no thinning */
     CHECK(info.line_stride == 1 && info.primitives_drawn == lc_scene_primitive_count(s),
           "a fresh state's frame thinned lines (stride %d, %llu segments)", info.line_stride,
           (unsigned long long)info.primitives_drawn);
     /* Re-optimizing, thinned and with every line, from the same opacities. */
     lc_frame_state *st2 = lc_frame_state_create(s->elements.count);
     p.detail.line_stride = 1;
-    render(t, gs, &p, st2, b, &info);
-    render(t, gs, &p, st2, b, &info);
+    test_render_frame(t, gs, &p, st2, b, &info);
+    test_render_frame(t, gs, &p, st2, b, &info);
     p.detail.line_stride = 4;
-    render(t, gs, &p, st2, a, &info);
+    test_render_frame(t, gs, &p, st2, a, &info);
     double ssim_opt = lc_image_ssim(a, b, SIZE, SIZE);
     printf("demo:tornado, a frame that re-optimizes with line stride 4: stride %d, P1 %s, SSIM %.4f vs every line\n",
            info.line_stride, info.pass_ms[LC_PASS_IMPORTANCE] >= 0 ? "ran" : "skipped", ssim_opt);
@@ -77,7 +69,7 @@ static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
      * lines' elements kept theirs, the drawn ones moved only a little. */
     p.detail.line_stride = 1;
     p.detail.reuse_opacities = true;
-    render(t, gs, &p, st2, a, &info);
+    test_render_frame(t, gs, &p, st2, a, &info);
     double ssim_after = lc_image_ssim(a, b, SIZE, SIZE);
     printf("  then every line with those opacities: SSIM %.4f vs before\n", ssim_after);
     CHECK(ssim_after > 0.95, "after a thinned re-optimization, every line: SSIM %.4f vs before", ssim_after);
@@ -86,9 +78,9 @@ static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
     p.detail.line_stride = 4;
     p.detail.reuse_opacities = true;
     p.detail.line_stride = 1;
-    render(t, gs, &p, st, a, &all);
+    test_render_frame(t, gs, &p, st, a, &all);
     p.detail.line_stride = 4;
-    render(t, gs, &p, st, b, &some);
+    test_render_frame(t, gs, &p, st, b, &some);
     uint64_t n = lc_scene_primitive_count(s);
     double ssim = lc_image_ssim(a, b, SIZE, SIZE), ca = coverage(a), cb = coverage(b);
     printf("demo:tornado, every segment (%llu), moving frame with line stride 4: %llu segments of important lines "
@@ -108,9 +100,9 @@ static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
      * stride halves until it does, down to every line. */
     p.detail.lod_pixels = 4;
     p.detail.line_stride = 1;
-    render(t, gs, &p, st, b, &all);
+    test_render_frame(t, gs, &p, st, b, &all);
     p.detail.line_stride = 16;
-    render(t, gs, &p, st, b, &some);
+    test_render_frame(t, gs, &p, st, b, &some);
     uint64_t floor_segments = (uint64_t)SIZE * SIZE / LC_LINE_SUBSET_PIXELS;
     printf("4 px level: %llu segments; stride 16 asked, %d used\n", (unsigned long long)all.primitives_drawn,
            some.line_stride);
@@ -175,11 +167,11 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
     p.importance.has_range = true, p.importance.range[0] = 0, p.importance.range[1] = 1;
     p.foo.fade_half_life = 0;
     lc_frame_info info;
-    render(t, gs, &p, st, a, &info);
+    test_render_frame(t, gs, &p, st, a, &info);
     p.detail.reuse_opacities = true;
-    render(t, gs, &p, st, a, &info);
+    test_render_frame(t, gs, &p, st, a, &info);
     p.detail.line_stride = STRIDE;
-    render(t, gs, &p, st, b, &info);
+    test_render_frame(t, gs, &p, st, b, &info);
     /* The bundle's colour (viridis at 0.9, yellow-green) against the clutter's (dark purple). */
     int n_all = 0, n_kept = 0;
     for (size_t i = 0; i < (size_t)SIZE * SIZE; i++) {
@@ -202,9 +194,9 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
      * ribbon slots): the first half of every line, the bundle still whole. */
     p.time.has_window = true, p.time.window[0] = 0, p.time.window[1] = SEGS / 2;
     p.detail.line_stride = 1;
-    render(t, gs, &p, st, a, &info);
+    test_render_frame(t, gs, &p, st, a, &info);
     p.detail.line_stride = STRIDE;
-    render(t, gs, &p, st, b, &info);
+    test_render_frame(t, gs, &p, st, b, &info);
     int w_all = 0, w_kept = 0, w_right = 0;
     for (int y = 0; y < SIZE; y++)
         for (int x = 0; x < SIZE; x++) {

@@ -41,7 +41,7 @@ import time
 import urllib.request
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "server"))
-from lucent_server import Server, unpack_frame, websockets  # noqa: E402
+from lucent_server import Server, served_name, unpack_frame, websockets  # noqa: E402
 
 try:
     import numpy as np
@@ -107,13 +107,6 @@ def yield_metrics(base, token):
         if len(parts) == 2 and parts[0] in YIELD_METRICS:
             out[parts[0]] = float(parts[1])
     return out
-
-
-def served_name(dataset):
-    """The name the daemon serves a dataset under: a file path under its stem."""
-    if os.path.exists(dataset):
-        return os.path.splitext(os.path.basename(dataset.rstrip("/")))[0]
-    return dataset
 
 
 def contender(base, token, args, stop, out):

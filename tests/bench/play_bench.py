@@ -27,7 +27,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "server"))
-from lucent_server import Server, unpack_frame, websockets  # noqa: E402
+from lucent_server import Server, served_name, unpack_frame, websockets  # noqa: E402
 
 TIME_NAMES = ("time", "t", "frame", "timestep")  # the server's order (render/gl/filter.c)
 
@@ -43,9 +43,7 @@ def fit_camera(bounds):
 
 async def play(ws_url, token, args):
     async with websockets.connect(ws_url, max_size=None) as ws:
-        name = args.dataset
-        if os.path.exists(name):
-            name = os.path.splitext(os.path.basename(name.rstrip("/")))[0]
+        name = served_name(args.dataset)
         hello = {"type": "hello", "dataset": name, "width": args.width, "height": args.height,
                  "devicePixelRatio": 1, "window": args.window}
         if token:

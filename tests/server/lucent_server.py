@@ -146,6 +146,13 @@ class Server:
             self.proc.wait()
 
 
+def served_name(dataset):
+    """The name `serve --data` serves a dataset under: a file path under its stem, anything else as given."""
+    if os.path.exists(dataset):
+        return os.path.splitext(os.path.basename(dataset.rstrip("/")))[0]
+    return dataset
+
+
 def sanitized(binary):
     """True for a binary built with AddressSanitizer (scripts/test.sh's second
     build): its shadow memory and quarantine make resident sizes and CPU times

@@ -292,6 +292,8 @@ char *lc_stream_progress_message(lc_stream_progress_report *pr, lc_session *s, u
     double since = first ? pr->hello_at : begun;
     if ((!first && !under_way) || now - since < LC_STREAM_PROGRESS_AFTER)
         return NULL;
+    if (first && !under_way && frame != 0)
+        return NULL; /* the first frame is rendered and on its way out, not queued (nor sent: frames_sent is 0) */
     int stage = under_way ? atomic_load(&s->progress.stage) : LC_PROGRESS_PREPARE;
     if (stage == LC_PROGRESS_NONE)
         return NULL; /* the frame failed: an error message says so */

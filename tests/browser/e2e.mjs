@@ -149,13 +149,13 @@ async function docShot(page, name) {
   if (env.LUCENT_E2E_PNG) await shot(page, name); // for viewers without a JPEG decoder
 }
 
-/** Waits until the newest frame reflects the last camera sent, is converged and full size. */
+/** Waits until the newest frame reflects the last camera sent, is a converged still and full size. */
 async function settled(page, timeout = 60000, minFrame = -1) {
   await page.waitForFunction((min) => {
     const s = window.lucent?.state;
     const f = s?.lastFrame;
     const c = document.getElementById('canvas');
-    return !!f && f.frame > min && f.converged && s.confirmedSeq >= s.seq && f.width === c.width && f.height === c.height;
+    return !!f && f.frame > min && f.converged && !f.detail?.interactive && s.confirmedSeq >= s.seq && f.width === c.width && f.height === c.height;
   }, minFrame, { timeout, polling: 100 });
 }
 

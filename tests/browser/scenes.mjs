@@ -93,7 +93,7 @@ try {
   const frames = () => page.evaluate(() => Number(document.body.dataset.frames ?? 0));
   const settled = () => page.waitForFunction(() => {
     const f = window.lucent?.state?.lastFrame;
-    return !!f && f.converged;
+    return !!f && f.converged && !f.detail?.interactive; // a still, not a moving frame that a still follows
   }, null, { timeout: 60000, polling: 100 });
   const sig = () => page.evaluate(() => {
     const c = document.createElement('canvas');
@@ -200,7 +200,7 @@ try {
   const settled3 = async (min) => {
     await page3.waitForFunction((m) => {
       const f = window.lucent?.state?.lastFrame;
-      return !!f && f.frame > m && f.converged;
+      return !!f && f.frame > m && f.converged && !f.detail?.interactive;
     }, min, { timeout: 60000, polling: 100 });
     await page3.waitForTimeout(400);
   };

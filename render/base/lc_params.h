@@ -214,9 +214,13 @@ typedef struct lc_style {
 #define LC_DEFAULT_CLARITY 0.5
 #define LC_LINE_SUBSET_FLOOR 4096
 #define LC_LINE_SUBSET_PIXELS 8
+#define LC_POINT_SUBSET_FLOOR 4096
+#define LC_POINT_SUBSET_PIXELS 8
 typedef struct lc_detail {
     double lod_pixels;    /* lines: largest screen error of the simplified polylines, output pixels; 0 = full */
-    int point_stride;     /* points: every n-th point in every pass, weighted n in P1/P4; <= 1 = all */
+    int point_stride;     /* points: every n-th point in every pass, weighted n in P1/P4; <= 1 = all. Halved
+                             until the frame keeps a point per LC_POINT_SUBSET_PIXELS pixels and at least
+                             LC_POINT_SUBSET_FLOOR points: small clouds are not thinned. */
     bool uniform_points;  /* with a stride: thin the important points too (default: keep them, point_subset.c) */
     int line_stride;      /* lines, frames with a frame state's opacities: one in n of the lines beside the most
                              important in full, weighted n in P1/P4 (line_subset.c); <= 1 = all. Halved until

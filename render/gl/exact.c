@@ -48,9 +48,10 @@ enum {
 #define EQ_SCALE 1048576.0 /* fixed-point units per unit of coverage: 2^20 */
 
 typedef struct exact_state {
-    GLuint build[2][3];     /* [list pass][primitive type] */
-    GLuint build_eq[3];     /* list pass 1 keeping colour bins (color.equalize) */
-    GLuint build_pulled[3]; /* lines segment by segment (a time window), [list pass + equalize] */
+    GLuint build[2][3];      /* [list pass][primitive type] */
+    GLuint build_eq[3];      /* list pass 1 keeping colour bins (color.equalize) */
+    GLuint build_pulled[3];  /* lines segment by segment (a time window), [list pass + equalize] */
+    GLuint build_sprites[3]; /* points as GL points (lc_frame_point_sprites), [list pass + equalize] */
     GLuint opacity, blend, blend_eq;
     GLuint eq_counts; /* EQ_SLOTS x 2 uints */
     GLuint nodes, counters, heads, fbo;
@@ -74,9 +75,11 @@ static exact_state *get_state(lc_renderer *r)
     return st;
 }
 
-static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, int pulled, lc_error *err)
+static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, int pulled, int sprites,
+                            lc_error *err)
 {
-    GLuint *slot = pulled     ? &st->build_pulled[pass + equalize]
+    GLuint *slot = sprites    ? &st->build_sprites[pass + equalize]
+                   : pulled   ? &st->build_pulled[pass + equalize]
                    : equalize ? &st->build_eq[prim]
                               : &st->build[pass][prim];
     if (*slot)
@@ -84,13 +87,16 @@ static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_typ
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
     static const char *const fs[] = {"common.glsl", "fragment_common.glsl", "exact_common.glsl",
                                      "exact_build.frag.glsl", NULL};
-    char defines[192], label[64];
+    char defines[224], label[64];
     /* Pass 1 reads the element opacities in the vertex shader (v_alpha). */
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s",
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s%s",
              (int)prim, pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "",
-             pulled ? "#define PULL_PRIMITIVES 1\n" : "");
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "");
     snprintf(label, sizeof label, "exact list pass %d%s (%s%s)", pass, equalize ? " equalize" : "",
-             lc_prim_type_name(prim), pulled ? ", pulled" : "");
+             lc_prim_type_name(prim),
+             pulled    ? ", pulled"
+             : sprites ? ", sprites"
+                       : "");
     *slot = lc_renderer_build_program(defines, vs, fs, NULL, label, err);
     return *slot;
 }
@@ -223,7 +229,8 @@ static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs
         if (!lf)
             continue;
         lc_prim_type prim = lf->gs->scene->type;
-        GLuint prog = build_program(st, pass, equalize, prim, lc_pulls_primitives(prim, 1, lf->pull_lines), err);
+        GLuint prog = build_program(st, pass, equalize, prim, lc_pulls_primitives(prim, 1, lf->pull_lines),
+                                    prim == LC_PRIM_POINTS && lf->point_sprites, err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
@@ -429,6 +436,8 @@ void lc_exact_destroy(lc_renderer *r)
             glDeleteProgram(st->build_eq[prim]);
         if (st->build_pulled[prim])
             glDeleteProgram(st->build_pulled[prim]);
+        if (st->build_sprites[prim])
+            glDeleteProgram(st->build_sprites[prim]);
     }
     if (st->blend_eq)
         glDeleteProgram(st->blend_eq);

@@ -31,7 +31,11 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
     /* Line ribbons are strips separated by LC_STRIP_RESTART (gpu_scene.c);
      * triangle index buffers never hold that index. */
     glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    glEnable(GL_PROGRAM_POINT_SIZE); /* point sprites size themselves (lc_point_sprites) */
+    glEnable(GL_PROGRAM_POINT_SIZE); /* point sprites size themselves (lc_frame_point_sprites) */
+    GLfloat sizes[2] = {1, 1};
+    glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
+    r->point_size_max = sizes[1];
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, r->max_viewport);
     glGenQueries(LC_PASS_COUNT + 1, r->timer_queries);
     r->dummy_buffer = lc_gl_buffer(NULL, 0, &(uint64_t){0});
 
@@ -474,6 +478,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
         .params = &p, .gs = gs, .width = p.width, .height = p.height, .info = info, .element_total = elements};
     if ((rc = lc_reduce_check_method(r, p.method, err)) != 0)
         return rc;
+    fs.point_sprites = r->point_sprites = lc_frame_point_sprites(r, &p, p.width, p.height);
     r->pull_lines = 0; /* lc_filter_prepare sets it for a time window */
     if (!p.has_camera) /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
         lc_render_fit_camera(scenes, layers ? n : 1, &p.camera);
@@ -638,6 +643,7 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     /* The kept points replace the ones among them that the stride drew (about 1 in point_stride). */
     info->primitives_drawn += fs.kept_points - fs.kept_points / (uint64_t)fs.point_stride;
     info->kept_points = fs.kept_points;
+    info->point_sprites = fs.point_sprites && fs.gs->scene->type == LC_PRIM_POINTS;
     info->point_stride = fs.point_stride;
     info->line_stride = 1;
     info->kept_line_segments[0] = info->kept_line_segments[1] = 0;

@@ -104,6 +104,16 @@ double lc_frame_focal_distance(const lc_frame_setup *fs)
     return focal;
 }
 
+int lc_frame_point_sprites(const lc_renderer *r, const lc_render_params *p, int frame_width, int frame_height)
+{
+    const char *e = getenv("LUCENT_POINT_SPRITES"); /* 0: quads always */
+    int allowed = !(e && e[0] == '0');
+    double diameter = p->style.point_size > 1.5 ? p->style.point_size : 1.5; /* bind_geometry's floor */
+    int guard = (int)ceil(0.5 * diameter) + 1;
+    return allowed && diameter <= r->point_size_max && frame_width + 2 * guard <= r->max_viewport[0] &&
+           frame_height + 2 * guard <= r->max_viewport[1];
+}
+
 unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset)
 {
     unsigned n = subset > 0 ? (unsigned)subset : 1u;
@@ -200,7 +210,21 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     /* A disc of radius >= sqrt(2)/2 px always covers a pixel centre, so every
      * point reaches P2 even at the reduced optimization resolution. */
     double radius = 0.5 * p->style.point_size * (double)h / out_h;
-    lc_uniform_f(prog, "u_point_radius_px", radius > 0.75 ? radius : 0.75);
+    radius = radius > 0.75 ? radius : 0.75;
+    lc_uniform_f(prog, "u_point_radius_px", radius);
+    /* Point sprites (lc_frame_point_sprites): GL drops a point whose centre
+     * lies outside the viewport, so the viewport reaches a splat's radius and
+     * a pixel beyond the target on each side and the projection shrinks to
+     * match (u_clip_scale): every pixel stays where it was, and a splat
+     * centred just outside still draws the part that reaches in. */
+    int guard = 0;
+    if (fs->point_sprites && gs->scene->type == LC_PRIM_POINTS) {
+        guard = (int)ceil(radius) + 1;
+        int room =
+            (r->max_viewport[0] - w < r->max_viewport[1] - h ? r->max_viewport[0] - w : r->max_viewport[1] - h) / 2;
+        guard = guard < room ? guard : room > 0 ? room : 0;
+    }
+    lc_uniform_v2(prog, "u_clip_scale", (double)w / (w + 2 * guard), (double)h / (h + 2 * guard));
     lc_uniform_u(prog, "u_vertex_count", gs->scene->vertex_count);
     lc_uniform_u(prog, "u_subset", lc_renderer_subset(fs, subset));
     lc_uniform_i(prog, "u_keep_bin", fs->kept_points ? fs->keep_bin : POINT_BINS + 1);
@@ -246,7 +270,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     if (fs->pixel_depth_range)
         glBindTextureUnit(TEX_PIXEL_RANGE,
                           tile || (w == fs->width && h == fs->height) ? r->range_full.tex[0] : r->range_low.tex[0]);
-    glViewport(vx, vy, w, h);
+    glViewport(vx - guard, vy - guard, w + 2 * guard, h + 2 * guard);
 }
 
 /* Triangles per draw call of a large draw on a software rasterizer: llvmpipe
@@ -278,15 +302,15 @@ void lc_pipeline_configure(const char *gl_renderer)
 }
 
 /* Issues primitives [first, first + count) of the current program: points
- * (instances), pulled primitives (six or three corners each) or triangles of
- * the index buffer. */
-static void draw_range(lc_prim_type prim, int pulled, uint64_t first, uint64_t count)
+ * (GL points when sprites, else instances), pulled primitives (six or three
+ * corners each) or triangles of the index buffer. */
+static void draw_range(lc_prim_type prim, int pulled, int sprites, uint64_t first, uint64_t count)
 {
     if (prim == LC_PRIM_POINTS) {
         GLint prog = 0;
         glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
         lc_uniform_u((GLuint)prog, "u_first_primitive", (unsigned)first);
-        if (lc_point_sprites())
+        if (sprites)
             glDrawArrays(GL_POINTS, 0, (GLsizei)count);
         else
             glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)count);
@@ -339,7 +363,7 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
     lc_uniform_i((GLuint)prog, "u_point_list", 1);
     uint64_t n = fs->kept_points;
     for (uint64_t first = 0, k = 0; first < n; first += batch, k++) {
-        draw_range(LC_PRIM_POINTS, 0, first, n - first < batch ? n - first : batch);
+        draw_range(LC_PRIM_POINTS, 0, fs->point_sprites, first, n - first < batch ? n - first : batch);
         if (n > batch)
             end_batch(in_flight, k);
     }
@@ -417,7 +441,7 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     } else {
         uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
         for (uint64_t first = 0, k = 0; first < drawn; first += batch, k++) {
-            draw_range(prim, pulled, first, drawn - first < batch ? drawn - first : batch);
+            draw_range(prim, pulled, fs->point_sprites, first, drawn - first < batch ? drawn - first : batch);
             if (drawn > batch)
                 end_batch(in_flight, k);
         }

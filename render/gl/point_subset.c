@@ -94,6 +94,14 @@ int lc_point_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     fs->keep_bin = POINT_BINS + 1;
     fs->kept_points = 0;
     const lc_scene *s = fs->gs->scene;
+    /* Small clouds keep every point: the stride halves until the frame draws
+     * a point per LC_POINT_SUBSET_PIXELS pixels, and LC_POINT_SUBSET_FLOOR. */
+    uint64_t floor_points = (uint64_t)fs->width * (uint64_t)fs->height / LC_POINT_SUBSET_PIXELS;
+    if (floor_points < LC_POINT_SUBSET_FLOOR)
+        floor_points = LC_POINT_SUBSET_FLOOR;
+    while (s->type == LC_PRIM_POINTS && fs->point_stride > 1 &&
+           s->vertex_count / (uint64_t)fs->point_stride < floor_points)
+        fs->point_stride /= 2;
     uint64_t n = s->vertex_count, stride = (uint64_t)fs->point_stride;
     if (stride <= 1 || s->type != LC_PRIM_POINTS || fs->importance_attr < 0 || n == 0 ||
         fs->params->detail.uniform_points)

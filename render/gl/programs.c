@@ -120,22 +120,12 @@ fail:
     return 0;
 }
 
-/* LUCENT_POINT_SPRITES=1 (renderer_internal.h): read once per process. */
-int lc_point_sprites(void)
-{
-    static int on = -1;
-    if (on < 0) {
-        const char *e = getenv("LUCENT_POINT_SPRITES");
-        on = e && e[0] == '1';
-    }
-    return on;
-}
-
 GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
                                     lc_error *err)
 {
     int pulled = lc_pulls_primitives(prim, subset, r->pull_lines);
-    GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled];
+    int sprites = prim == LC_PRIM_POINTS && r->point_sprites; /* points never pull: the variant slots share */
+    GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled | sprites];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -163,11 +153,12 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     char defines[256];
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s", (int)prim, bands,
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
-             pulled ? "#define PULL_PRIMITIVES 1\n" : "",
-             prim == LC_PRIM_POINTS && lc_point_sprites() ? "#define POINT_SPRITES 1\n" : "");
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s)", kind_names[kind], lc_prim_type_name(prim), bands,
-             pulled ? ", subset" : "");
+             pulled    ? ", subset"
+             : sprites ? ", sprites"
+                       : "");
     *slot = lc_renderer_build_program(defines, vs, fs_by_kind[kind], NULL, label, err);
     return *slot;
 }

@@ -163,8 +163,9 @@ typedef struct lc_frame_info {
     int lod_level;
     uint64_t primitives_drawn;
     int point_stride;
-    uint32_t kept_points; /* with a stride: the important points drawn in full (point_subset.c) */
-    int line_stride;      /* lines: one in n of the less important lines (line_subset.c); 1 = all */
+    uint32_t kept_points;           /* with a stride: the important points drawn in full (point_subset.c) */
+    int line_stride;                /* lines: one in n of the less important lines (line_subset.c); 1 = all */
+    int point_sprites;              /* points drew as GL point sprites, not quads (lc_frame_point_sprites) */
     uint64_t kept_line_segments[2]; /* with a line stride: segments of the full and of the strided lines */
     int reused_opacities;
     double max_alpha_change; /* max |delta| of element opacities this frame */

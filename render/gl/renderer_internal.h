@@ -191,7 +191,8 @@ struct lc_renderer {
     GLuint vao;
     GLuint colormap_tex[16];
     int colormap_count;
-    /* [kind][primitive][bands][pulled]: pulled = unindexed subset variant */
+    /* [kind][primitive][bands][variant]: lines and triangles 1 = pulled (the
+     * unindexed subset variant), points 1 = GL point sprites */
     GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2];
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
@@ -268,6 +269,11 @@ struct lc_renderer {
     /* filter.c: this frame's lines draw as pulled segments (a time window hides
      * single segments, which shared ribbon strip vertices cannot). */
     int pull_lines;
+    /* This frame's points draw as GL point sprites (lc_frame_point_sprites),
+     * and the limits that decide it (read at creation). */
+    int point_sprites;
+    float point_size_max;
+    int max_viewport[2];
     GLuint timer_queries[LC_PASS_COUNT + 1];
     /* Pass progress of the current frame (desc.progress): its planned passes in order. */
     int progress_order[LC_PASS_COUNT];
@@ -342,8 +348,9 @@ typedef struct lc_frame_setup {
     GLuint kept_line_buffer;
     /* filter.c: the visibility mask r->filter.mask applies (0: every vertex draws). */
     int filtered;
-    int pull_lines; /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
-    int p1_subset;  /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
+    int pull_lines;    /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
+    int point_sprites; /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
+    int p1_subset;     /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
@@ -426,8 +433,9 @@ int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 /* ---- point_subset.c */
 /* Fills fs->keep_bin and fs->kept_points for a frame that thins points with
- * fs->point_stride: the points whose importance lies in the top 1/(4 n) of
- * the points (n the stride) are kept in full, where importance ranks them. */
+ * fs->point_stride (first lowered to the LC_POINT_SUBSET_PIXELS floor): the
+ * points whose importance lies in the top 1/(4 n) of the points (n the
+ * stride) are kept in full, where importance ranks them. */
 int lc_point_subset_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 /* The lowest histogram bin whose entries and those above number at least
  * `want` without going over `most`; 0 when none (bin 0 is never kept).
@@ -509,9 +517,16 @@ void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs);
 void lc_pipeline_configure(const char *gl_renderer);
 /* Issues the draw of every (subset-th) primitive of the frame's level. */
 void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset);
-/* LUCENT_POINT_SPRITES=1 (an experiment, docs/EVALUATION.md §16): points as GL
- * point sprites (gl_PointCoord) instead of one 4-vertex quad each. */
-int lc_point_sprites(void);
+/* Whether this frame's points draw as GL point sprites (one vertex each, the
+ * disc from gl_PointCoord) rather than one 4-vertex quad each: on llvmpipe a
+ * quad costs two triangle set-ups, about three times a point's
+ * (docs/ALGORITHM.md "Point sprites"). Sprites need a splat no wider than the
+ * driver's largest point and a frame that fits the viewport with a guard band
+ * of a splat's radius on each side (GL drops a point whose centre is outside
+ * the viewport; the guard band keeps the part of such a splat that reaches
+ * into the image). LUCENT_POINT_SPRITES=0 in the environment draws quads
+ * always. */
+int lc_frame_point_sprites(const lc_renderer *r, const lc_render_params *p, int frame_width, int frame_height);
 /* Distance from the eye to the focal point along the view direction (world
  * size of a pixel at depth d: pixel_world * d / this). */
 double lc_frame_focal_distance(const lc_frame_setup *fs);

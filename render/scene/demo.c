@@ -3,6 +3,7 @@
  * surfaces (a trefoil-knot tube inside a bumpy ellipsoid). */
 #include "demo.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -657,6 +658,41 @@ static int gen_borromean(lc_scene *s, uint64_t count, rng *r, lc_error *err)
     snprintf(s->default_importance, sizeof s->default_importance, "ring_proximity");
     snprintf(s->default_color, sizeof s->default_color, "ring");
     return LC_OK;
+}
+
+static int parse_u64(const char *s, uint64_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (errno || end == s || (*end && *end != '&') || s[0] == '-')
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int lc_demo_create_spec(const char *spec, const lc_demo_desc *defaults, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    char name[64];
+    const char *q = strchr(spec, '?');
+    size_t n = q ? (size_t)(q - spec) : strlen(spec);
+    if (n == 0 || n >= sizeof name)
+        return lc_err(err, LC_ERR_INVALID, "demo:%.80s: expected demo:NAME", spec);
+    memcpy(name, spec, n);
+    name[n] = '\0';
+    lc_demo_desc desc = defaults ? *defaults : (lc_demo_desc){0};
+    for (const char *p = q; p && *p; p = strchr(p + 1, '&')) {
+        const char *kv = p + 1;
+        uint64_t v;
+        if (strncmp(kv, "count=", 6) == 0 && parse_u64(kv + 6, &v) == 0)
+            desc.count = v;
+        else if (strncmp(kv, "seed=", 5) == 0 && parse_u64(kv + 5, &v) == 0)
+            desc.seed = v;
+        else
+            return lc_err(err, LC_ERR_INVALID, "demo:%.80s: expected ?count=N&seed=S after the demo name", spec);
+    }
+    return lc_demo_create(name, &desc, out, err);
 }
 
 int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, lc_error *err)

@@ -23,6 +23,10 @@ const char *lc_demo_description(const char *name);
 /* Generates demo `name` (without the "demo:" prefix) and finalizes it. The
  * scene is named "demo:NAME". */
 int lc_demo_create(const char *name, const lc_demo_desc *desc, lc_scene **out, lc_error *err);
+/* The same from a spec "NAME[?count=N&seed=S]" (what follows "demo:" in a
+ * dataset spec, e.g. "points?count=1000000"); desc's fields are the defaults
+ * that the spec's override. */
+int lc_demo_create_spec(const char *spec, const lc_demo_desc *defaults, lc_scene **out, lc_error *err);
 
 #ifdef __cplusplus
 }

@@ -98,6 +98,10 @@ uniform int u_marker_attr;
 uniform float u_marker_t1;
 #endif
 
+#ifdef POINT_SPRITES
+uniform vec2 u_clip_scale; // the target's share of the viewport, per axis
+#endif
+
 #if PRIM == PRIM_POINTS
 layout(std430, binding = BIND_POINT_LIST) readonly buffer PointList { uint point_count; uint point_list[]; };
 #endif
@@ -122,6 +126,7 @@ void main()
     emit(v, vertex_position(v));
 #ifdef POINT_SPRITES
     gl_PointSize = 2.0 * u_point_radius_px;
+    gl_Position.xy *= u_clip_scale; // the guard band's wider viewport (lc_renderer_bind_geometry)
 #else
     gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
     v_quad = q;

@@ -12,41 +12,12 @@
 
 #define MAX_REQUEST_BYTES (1 << 20)
 
-static int parse_u64(const char *s, uint64_t *out)
-{
-    char *end;
-    errno = 0;
-    unsigned long long v = strtoull(s, &end, 10);
-    if (errno || end == s || (*end && *end != '&') || s[0] == '-')
-        return -1;
-    *out = v;
-    return 0;
-}
-
 int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     if (strncmp(spec, "demo:", 5) != 0)
         return lc_scene_load_file(spec, out, err);
-    char name[64];
-    const char *q = strchr(spec + 5, '?');
-    size_t n = q ? (size_t)(q - (spec + 5)) : strlen(spec + 5);
-    if (n == 0 || n >= sizeof name)
-        return lc_err(err, LC_ERR_INVALID, "%s: expected demo:NAME", spec);
-    memcpy(name, spec + 5, n);
-    name[n] = '\0';
-    lc_demo_desc desc = {0};
-    for (const char *p = q; p && *p; p = strchr(p + 1, '&')) {
-        const char *kv = p + 1;
-        uint64_t v;
-        if (strncmp(kv, "count=", 6) == 0 && parse_u64(kv + 6, &v) == 0)
-            desc.count = v;
-        else if (strncmp(kv, "seed=", 5) == 0 && parse_u64(kv + 5, &v) == 0)
-            desc.seed = v;
-        else
-            return lc_err(err, LC_ERR_INVALID, "%s: expected ?count=N&seed=S after the demo name", spec);
-    }
-    return lc_demo_create(name, &desc, out, err);
+    return lc_demo_create_spec(spec + 5, NULL, out, err);
 }
 
 int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)

@@ -21,17 +21,22 @@
  * ones kept) serves data the levels cannot thin, such as noise-like MD
  * trajectories, and the renderer keeps a segment per LC_LINE_SUBSET_PIXELS
  * pixels, so sparse lines keep every line. Lines that it thins lower the
- * resolution later (line_scale): a thinned frame at a larger size looks more
+ * resolution later (thinned_scale): a thinned frame at a larger size looks more
  * like the still than a small one stretched (docs/EVALUATION.md §19); sparse
- * lines, which it does not thin, shrink as before. */
+ * lines, which it does not thin, shrink as before. Point clouds take the
+ * thinned scales too, and a steeper stride at the coarse end: on llvmpipe a
+ * splat costs about the same at any size of frame (it shades a block of
+ * pixels however small it is), so only fewer splats make a frame cheaper,
+ * and the renderer keeps a point per LC_POINT_SUBSET_PIXELS pixels
+ * (docs/EVALUATION.md §20). */
 static const struct {
     double lod_pixels;
     int point_stride;
     int line_stride;
     double scale;
-    double line_scale;
-} detail_steps[] = {{0.5, 1, 1, 1.0, 1.0}, {1, 2, 2, 1.0, 1.0}, {2, 4, 4, 0.85, 1.0}, {4, 8, 8, 0.7, 0.85},
-                    {8, 16, 16, 0.5, 0.7}};
+    double thinned_scale; /* point clouds, and lines thinned 4-fold or more */
+} detail_steps[] = {{0.5, 1, 1, 1.0, 1.0}, {1, 2, 2, 1.0, 1.0}, {2, 4, 4, 0.85, 1.0}, {4, 16, 8, 0.7, 0.85},
+                    {8, 64, 16, 0.5, 0.7}};
 #define DETAIL_STEPS ((int)(sizeof detail_steps / sizeof detail_steps[0]))
 #define DETAIL_START 1
 /* A session's first frame on a dataset of this many primitives or more is
@@ -482,7 +487,9 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         d->line_stride = detail_steps[step].line_stride;
         d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
-        scale *= st->lines_thinned ? detail_steps[step].line_scale : detail_steps[step].scale;
+        bool points = !s->req.layer_count && s->dataset && s->dataset->scene &&
+                      s->dataset->scene->type == LC_PRIM_POINTS;
+        scale *= points || st->lines_thinned ? detail_steps[step].thinned_scale : detail_steps[step].scale;
     }
     if (out->stage == 1)
         out->req.render.detail.reuse_opacities = true;

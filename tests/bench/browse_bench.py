@@ -223,11 +223,18 @@ async def browse(ws_url, token, args):
                 if still is None:
                     r["still"] = time.time() - t_last
                 still = (h, img)
-                if h.get("converged"):
+                if h.get("converged") and h.get("final", True):  # a staged still's last stage
                     r["converged"] = time.time() - t_last
                     break
             elif h["cameraSeq"] == seq:
                 last_moving = (h, img)
+        if args.save and still is not None and last_moving is not None:
+            os.makedirs(args.save, exist_ok=True)
+            for name, (head, data) in (("moving", last_moving), ("still", still)):
+                with open(os.path.join(args.save, name + ".jpg"), "wb") as out:
+                    out.write(data)
+                with open(os.path.join(args.save, name + ".json"), "w") as out:
+                    json.dump({"header": head, "camera": orbit_camera(bounds, angle)}, out, indent=1)
         if np is not None and still is not None and last_moving is not None:
             size = (still[0]["width"], still[0]["height"])
             r["ssim"] = ssim(luminance(last_moving[1], size), luminance(still[1]))
@@ -293,6 +300,7 @@ def main():
     ap.add_argument("--contend-size", default="3840x2160")
     ap.add_argument("--timeout", type=float, default=120, help="seconds to wait for a first frame or a still")
     ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
+    ap.add_argument("--save", metavar="DIR", help="write the last moving frame and the still to DIR (moving.jpg, still.jpg)")
     args = ap.parse_args()
     if websockets is None:
         sys.exit("python3-websockets is required")

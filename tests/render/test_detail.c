@@ -175,6 +175,14 @@ static void point_stride(test_gl *t, uint8_t *a, uint8_t *b)
           ssim_uniform);
     CHECK(ssim >= ssim_uniform - 1e-3 && ssim < 0.9999, "keeping the important points: SSIM %.4f vs %.4f uniform",
           ssim, ssim_uniform);
+    /* The floor: a point per LC_POINT_SUBSET_PIXELS pixels (8192 at 256x256).
+     * Stride 16 would leave 2500 of the 40000: it halves to 4 (10000). */
+    p.detail.point_stride = 16;
+    p.detail.uniform_points = true;
+    test_render_frame(t, gs, &p, NULL, b, &uniform);
+    CHECK(uniform.point_stride == 4 && uniform.primitives_drawn == 10000,
+          "stride 16 on 40000 points at 256x256: stride %d, %llu points drawn (the floor keeps 8192)",
+          uniform.point_stride, (unsigned long long)uniform.primitives_drawn);
     lc_gpu_scene_destroy(gs);
     lc_scene_destroy(s);
 }

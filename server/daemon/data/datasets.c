@@ -219,11 +219,13 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     int rc;
     char base[128];
     if (strncmp(source, "demo:", 5) == 0) {
-        lc_demo_desc desc = {.seed = 0, .count = demo_size};
+        lc_demo_desc desc = {.seed = 0, .count = demo_size}; /* "?count=N&seed=S" overrides */
         LC_INFO(MOD, "generating %s ...", source);
-        rc = lc_demo_create(source + 5, &desc, &ds->scene, err);
+        rc = lc_demo_create_spec(source + 5, &desc, &ds->scene, err);
         snprintf(base, sizeof base, "%s", source);
-        ds->preset = rc ? NULL : demo_preset(source + 5);
+        char demo[64];
+        snprintf(demo, sizeof demo, "%.*s", (int)strcspn(source + 5, "?"), source + 5);
+        ds->preset = rc ? NULL : demo_preset(demo);
     } else {
         struct stat st;
         if (stat(source, &st) != 0)

@@ -1,7 +1,8 @@
 """`mpirun -np N lucent serve --mpi` against the single-process daemon: HTTP
 renders of lines, points and a surface, a scripted session whose opacities
-fade while the camera moves (the fading history travels with each frame), a
-WebSocket session, /datasets; then killing one rank during a session ends the
+fade while the camera moves (the fading history travels with each frame),
+layers[] (points and lines; a surface as opaque context through lines) in
+HTTP renders and a scripted session, a WebSocket session, /datasets; then killing one rank during a session ends the
 service within seconds with a message naming the rank, and the render in
 flight is answered 503 with a message; ranks that see different dataset lists
 refuse to start; a hung rank ends the job after LUCENT_MPI_TIMEOUT seconds,
@@ -168,6 +169,34 @@ try:
             imgs.append(img if st == 200 else None)
         if check(all(imgs), "session frame %d rendered by both" % i):
             compare("session-frame-%d" % i, imgs[0], imgs[1])
+    # layers[] (docs/MPI.md "Layers"): the ranks draw their shards of each
+    # layer; a surface as opaque context is combined over the ranks (its
+    # nearest depth on every rank, its colour once). HTTP renders and a session
+    # whose fading history spans the layers.
+    LAYERS = [{"dataset": "demo:points", "style": {"pointSize": 4}}, {"dataset": "demo:tornado"}]
+    CONTEXT = [{"dataset": "demo:surface", "role": "context"}, {"dataset": "demo:tornado"}]
+    for what, layers in (("layers", LAYERS), ("context", CONTEXT)):
+        req = {"layers": layers, "width": 160, "height": 120, "format": "png", "params": {"lod": 0}}
+        (s1, _, a), (s2, _, b) = single.request("POST", "/api/v1/render", req), multi.request("POST", "/api/v1/render",
+                                                                                                req)
+        if check(s1 == 200 and s2 == 200, "HTTP render of %s: 200 from both (%d, %d%s)" % (what, s1, s2, "" if s2 == 200 else ": %s" % b[:200])):
+            compare("http-" + what, a, b)
+    sessions = []
+    for srv in (single, multi):
+        st, _, info = srv.json("POST", "/api/v1/sessions", {"layers": CONTEXT, "width": 160, "height": 120,
+                                                             "format": "png", "params": {"fadeHalfLife": 0.3,
+                                                                                         "lod": 0}})
+        sessions.append(info.get("session") if st in (200, 201) and info else None)
+    if check(all(sessions), "sessions of layers created on both"):
+        for i in range(3):
+            cam = {"position": [0.5 + 2.2 * math.cos(0.3 * i), 0.5 + 2.2 * math.sin(0.3 * i), 0.9],
+                   "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 0, 1]}
+            imgs = []
+            for srv, sid in zip((single, multi), sessions):
+                st, _, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam})
+                imgs.append(img if st == 200 else None)
+            if check(all(imgs), "session frame %d of layers rendered by both" % i):
+                compare("session-layers-%d" % i, imgs[0], imgs[1])
     # A WebSocket session: the last frame (still, converged) of each.
     if websockets:
         (a, na), (b, nb) = asyncio.run(ws_last_frame(single)), asyncio.run(ws_last_frame(multi))

@@ -435,8 +435,7 @@ int lc_mpi_finalize_part(lc_mpi *m, int read_rc, lc_scene **scene, uint32_t elem
 /* The announcement: msg, then the layers' parameters (layers: room for
  * LC_MAX_LAYERS on a follower), then the fading history when alpha is given
  * (a follower receives it in a second step, once it knows the size). */
-static int bcast_frame(lc_mpi *m, frame_msg *msg, lc_layer_params *layers, float *alpha, double timeout,
-                       lc_error *err)
+static int bcast_frame(lc_mpi *m, frame_msg *msg, lc_layer_params *layers, float *alpha, double timeout, lc_error *err)
 {
     MPI_Request req;
     MPI_Ibcast(msg, sizeof *msg, MPI_BYTE, 0, MPI_COMM_WORLD, &req);
@@ -571,9 +570,10 @@ int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, 
         /* A failure before the first reduction (a bad parameter) is the same
          * on every rank; rank 0 reports it. */
         lc_frame_state *st = msg.has_state ? state : NULL;
-        if ((msg.layer_count ? lc_render_layers(r, layer_scenes, layers, msg.layer_count, &msg.params, st, msg.dt,
-                                                rgba, NULL, &ferr)
-                             : lc_render_frame(r, scenes[msg.dataset], &msg.params, st, msg.dt, rgba, NULL, &ferr)) != 0)
+        if ((msg.layer_count
+                 ? lc_render_layers(r, layer_scenes, layers, msg.layer_count, &msg.params, st, msg.dt, rgba, NULL,
+                                    &ferr)
+                 : lc_render_frame(r, scenes[msg.dataset], &msg.params, st, msg.dt, rgba, NULL, &ferr)) != 0)
             LC_DEBUG(MOD, "rank %d: frame failed: %s", m->rank, ferr.msg);
     }
     free(layers);

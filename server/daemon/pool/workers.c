@@ -269,9 +269,9 @@ static void render_job(worker *wk, lc_render_job *job)
         state = session->frame_state;
     if (rc == 0)
         rc = field         ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
-             : layer_count
-                 ? render_layers(w, wk->renderer, layer_ds, scenes, layers, layer_count, p, state, dt, rgba, &info, &err)
-                 : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
+             : layer_count ? render_layers(w, wk->renderer, layer_ds, scenes, layers, layer_count, p, state, dt, rgba,
+                                           &info, &err)
+                           : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
     free(layers);
     wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
     if (!w->srv->mpi && dataset) /* a large frame keeps no targets (collective frames under MPI keep them) */
@@ -366,7 +366,8 @@ static void render_session(worker *wk, lc_session *s)
                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     if (rc == 0)
         rc = p->method == LC_METHOD_SURFACE_LAYERS ? lc_session_surface_frame(w->srv, s, &f.req, rgba, &info, &err)
-             : n ? render_layers(w, wk->renderer, f.layers, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info, &err)
+             : n ? render_layers(w, wk->renderer, f.layers, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info,
+                                 &err)
                  : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
     free(layers);
     out_of_hand(wk);

@@ -1,11 +1,11 @@
 """`mpirun -np N lucent render --mpi --request` of layers[] (docs/MPI.md "Layers") against one process
 rendering the same request file: two transparent layers (the points demo and the tornado lines; one frame
-and fading frames whose state spans both), a line file read in parts beside the tornado, a plane as
-opaque context through the tornado (the plane alone on one rank: the other ranks take its depth from the
-combination) and a curved surface as context shared between the ranks. Each within RMSE 1/255 and SSIM 0.99; in the context scene every pixel where the plane is in
-front of every line is the one-process pixel exactly, and some lines lie in front of it. Bad layers fail on
-every rank naming the field, as in one process: an unknown dataset file (layers[1].dataset), a context layer
-of points (layers[0].role).
+and fading frames whose state spans both), a line file read in parts beside the tornado, a plane as opaque
+context through the tornado (the plane alone on one rank: the other ranks take its depth from the
+combination) and a curved surface as context shared between the ranks. Each within RMSE 1/255 and SSIM
+0.99; in the context scene every pixel where the plane is in front of every line is the one-process pixel
+exactly, and some lines lie in front of it. Bad layers fail on every rank naming the field, as in one
+process: an unknown dataset file (layers[1].dataset), a context layer of points (layers[0].role).
 Usage: test_mpi_layers.py LUCENT RANKS"""
 import json
 import os

@@ -2,7 +2,7 @@
 renders of lines, points and a surface, a scripted session whose opacities
 fade while the camera moves (the fading history travels with each frame),
 layers[] (points and lines; a surface as opaque context through lines) in
-HTTP renders and a scripted session, a WebSocket session, /datasets; then killing one rank during a session ends the
+HTTP renders and a scripted session, bad layers answered as one process does, a WebSocket session, /datasets; then killing one rank during a session ends the
 service within seconds with a message naming the rank, and the render in
 flight is answered 503 with a message; ranks that see different dataset lists
 refuse to start; a hung rank ends the job after LUCENT_MPI_TIMEOUT seconds,
@@ -179,8 +179,16 @@ try:
         req = {"layers": layers, "width": 160, "height": 120, "format": "png", "params": {"lod": 0}}
         (s1, _, a), (s2, _, b) = single.request("POST", "/api/v1/render", req), multi.request("POST", "/api/v1/render",
                                                                                                 req)
-        if check(s1 == 200 and s2 == 200, "HTTP render of %s: 200 from both (%d, %d%s)" % (what, s1, s2, "" if s2 == 200 else ": %s" % b[:200])):
+        if check(s1 == 200 and s2 == 200, "HTTP render of %s: 200 from both (%d, %d%s)" %
+                 (what, s1, s2, "" if s2 == 200 else ": %s" % b[:200])):
             compare("http-" + what, a, b)
+    # Bad layers: the one-process answer, naming the field; the ranks go on serving.
+    for body, status, field in (({"layers": [LAYERS[0], {"dataset": "nonesuch"}]}, 404, "layers[1].dataset"),
+                                ({"layers": [dict(LAYERS[0], role="context"), LAYERS[1]]}, 400, "layers[0].role")):
+        answers = [srv.request("POST", "/api/v1/render", dict(body, width=64, height=48)) for srv in (single, multi)]
+        fields = [json.loads(b or b"{}").get("error", {}).get("field") for _, _, b in answers]
+        check([a[0] for a in answers] == [status] * 2 and fields == [field] * 2,
+              "bad layers answered %d naming %s by both: %s" % (status, field, [(a[0], a[2][:120]) for a in answers]))
     sessions = []
     for srv in (single, multi):
         st, _, info = srv.json("POST", "/api/v1/sessions", {"layers": CONTEXT, "width": 160, "height": 120,

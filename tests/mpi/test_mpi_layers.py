@@ -59,9 +59,11 @@ def request_file(name, body):
 
 
 def render(name, body, flags=(), n=1):
-    """(process, image path) of `lucent render --request` in one process (n = 1) or over the ranks."""
+    """(process, image path) of `lucent render --request` in one process (n = 1) or over the ranks. Float vertex
+    buffers on both sides: compact positions quantize a line shard's boundary chunk over fewer vertices than one
+    process does (docs/MPI.md "Limits"), which with 3 ranks moved one line pixel of the context scene."""
     out = os.path.join(tmp, "%s-%s.png" % (name, n))
-    cmd = [lucent, "render", "--request", request_file(name, body), "--out", out] + list(flags)
+    cmd = [lucent, "render", "--request", request_file(name, body), "--out", out, "--exact-positions"] + list(flags)
     if n > 1:
         return subprocess.run(launcher + cmd + ["--mpi"], capture_output=True, text=True, env=env, timeout=300), out
     return subprocess.run(cmd, capture_output=True, text=True, timeout=300), out

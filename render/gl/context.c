@@ -89,6 +89,12 @@ int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     }
     glDisable(GL_DEPTH_TEST);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    /* Over MPI each process drew its shard of the context: the ranks combine
+     * the nearest depth (every rank's transparent passes test against the
+     * whole context) and the colour once, on rank 0 (reduce.c). */
+    int rc = lc_reduce_context(r, st->depth, st->w, st->h, st->color, fs->info, err);
+    if (rc)
+        return rc;
     fs->context_depth[0] = st->depth[0], fs->context_depth[1] = st->depth[1];
     fs->context_color = st->color;
     return 0;

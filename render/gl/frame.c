@@ -422,12 +422,10 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
                          double t0, lc_error *err);
 
 /* What a layered frame (lc_render_layers) leaves out, each refused naming its field. */
-static int check_layered(const lc_renderer *r, const lc_render_params *p, int n, lc_error *err)
+static int check_layered(const lc_render_params *p, int n, lc_error *err)
 {
     if (n < 1 || n > LC_MAX_LAYERS)
         return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", n, LC_MAX_LAYERS);
-    if (r->desc.reducer)
-        return lc_err_field(err, LC_ERR_INVALID, "layers", "layers are not rendered over MPI ranks");
     if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_EXACT && p->method != LC_METHOD_DIRECT)
         return lc_err_field(err, LC_ERR_INVALID, "method", "layers render with fourier, exact or direct, not %s",
                             lc_method_name(p->method));
@@ -458,7 +456,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     for (int i = 0; i < LC_PASS_COUNT; i++)
         info->pass_ms[i] = -1;
     int rc = check_trusted_params(params, err);
-    if (rc || (layers && (rc = check_layered(r, params, n, err)) != 0))
+    if (rc || (layers && (rc = check_layered(params, n, err)) != 0))
         return rc;
     const lc_scene *s = gs->scene;
     uint32_t elements = s->elements.count;

@@ -1,6 +1,7 @@
 /* Combining the Fourier passes' targets over processes through the
  * lc_reducer hook (renderer.h): read back, reduce, upload. */
 #include <stdlib.h>
+#include <string.h>
 
 #include "renderer_internal.h"
 
@@ -114,4 +115,51 @@ int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err)
     for (size_t i = 0; i < n && !rc; i++)
         values[i] = (uint32_t)(buf[i] + 0.5f);
     return rc;
+}
+
+int lc_reduce_context(lc_renderer *r, const GLuint depth[2], const int w[2], const int h[2], GLuint color,
+                      lc_frame_info *info, lc_error *err)
+{
+    if (!active(r))
+        return 0;
+    /* One buffer: the combined depth, this process's own depth and the colour. */
+    size_t n0 = (size_t)w[0] * h[0], n1 = (size_t)w[1] * h[1];
+    size_t depth_n = n0 > n1 ? n0 : n1;
+    float *buf = host_buffer(r, 2 * depth_n + 4 * n0, err);
+    if (!buf)
+        return LC_ERR_NOMEM;
+    float *nearest = buf, *mine = buf + depth_n, *rgba = buf + 2 * depth_n;
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (int k = 1; k >= 0; k--) { /* the full resolution last: its own depth stays in mine for the colour */
+        size_t n = k ? n1 : n0;
+        glGetTextureImage(depth[k], 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(n * sizeof(float)), nearest);
+        memcpy(mine, nearest, n * sizeof(float));
+        /* A depth test keeps the nearest fragment: the same fragment wins
+         * whichever process's shard holds its primitive. */
+        int rc = reduce(r, nearest, n, LC_REDUCE_MIN, 0, info, err);
+        if (rc)
+            return rc;
+        glTextureSubImage2D(depth[k], 0, 0, 0, w[k], h[k], GL_DEPTH_COMPONENT, GL_FLOAT, nearest);
+    }
+    /* The colour: each process keeps the pixels where its depth is the
+     * nearest (alpha 1 there, 0 where it drew nothing), the sums go to process
+     * 0, and alpha counts the processes that held it. The context enters the
+     * picture once, as in one process. */
+    glGetTextureImage(color, 0, GL_RGBA, GL_FLOAT, (GLsizei)(4 * n0 * sizeof(float)), rgba);
+    for (size_t i = 0; i < n0; i++)
+        if (mine[i] != nearest[i] || rgba[4 * i + 3] <= 0.0f)
+            rgba[4 * i] = rgba[4 * i + 1] = rgba[4 * i + 2] = rgba[4 * i + 3] = 0.0f;
+    int rc = reduce(r, rgba, 4 * n0, LC_REDUCE_SUM, 1, info, err);
+    if (rc || r->desc.reducer->rank != 0)
+        return rc;
+    for (size_t i = 0; i < n0; i++) {
+        float a = rgba[4 * i + 3];
+        if (a > 1.0f)
+            rgba[4 * i] /= a, rgba[4 * i + 1] /= a, rgba[4 * i + 2] /= a, rgba[4 * i + 3] = 1.0f;
+    }
+    glTextureSubImage2D(color, 0, 0, 0, w[0], h[0], GL_RGBA, GL_FLOAT, rgba);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    return 0;
 }

@@ -302,8 +302,11 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
  * rest. The layers share the optimization (one G(d), one tau(d)); the
  * camera fits the union of their bounds; element ids of layer i follow those
  * of layers 0..i-1, so state holds the sum of their element counts. Methods
- * fourier, exact and direct; not with filters, line clusters, color.equalize,
- * a guard band or a reducer (each refused naming its field). Errors of a
+ * fourier, exact and direct; not with filters, line clusters, color.equalize
+ * or a guard band (each refused naming its field). With a reducer the scenes
+ * are this process's shards: transparent layers add into the combined targets
+ * as one dataset's shards do, and the context layers' nearest depth and
+ * colour are combined over the processes. Errors of a
  * layer's mapping name "layers[i].importance.attribute" and so on. */
 int lc_render_layers(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
                      const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba,

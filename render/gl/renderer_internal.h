@@ -605,6 +605,12 @@ int lc_reduce_element_minima(lc_renderer *r, uint32_t count, lc_frame_info *info
 /* Sums n floats over the processes, every process receiving the sums (color_equalize.c). */
 int lc_reduce_sums(lc_renderer *r, float *values, size_t n, lc_frame_info *info, lc_error *err);
 int lc_reduce_counts(lc_renderer *r, uint32_t *values, size_t n, lc_error *err);
+/* Opaque context layers drawn from each process's shard (context.c): the
+ * nearest depth over the processes into every process's depth[k] (w[k] x
+ * h[k], k = 0, 1), and into color (depth[0]'s size) on process 0 the colour
+ * of the process holding that nearest depth (the mean where several tie). */
+int lc_reduce_context(lc_renderer *r, const GLuint depth[2], const int w[2], const int h[2], GLuint color,
+                      lc_frame_info *info, lc_error *err);
 /* LC_ERR_INVALID when the method cannot be combined over processes. */
 int lc_reduce_check_method(const lc_renderer *r, lc_method method, lc_error *err);
 

@@ -104,6 +104,63 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
     return o;
 }
 
+/* `render --mpi` of a request's layers[] (docs/MPI.md "Layers"): the GL
+ * context, then each layer's dataset read as --input would be under --mpi (line
+ * files and point clouds in parts, anything else whole and then sharded),
+ * context layers too (the ranks combine the context's nearest depth in the
+ * frame), and uploaded. Collective: a failure on any rank fails every rank,
+ * with err naming layers[i].dataset. */
+static int open_mpi_layers(lc_mpi *mpi, const lc_request *req, const lc_cli_common *common, lc_cli_scene *cs,
+                           lc_cli_gl *g, lc_error *err)
+{
+    memset(cs, 0, sizeof *cs);
+    if (common->input || common->dataset_set) /* every rank parses the same flags: no agreement needed */
+        return lc_err_field(err, LC_ERR_INVALID, "layers", "%s names one dataset; the request's layers name theirs",
+                            common->input ? "--input" : "--dataset");
+    int rank = lc_mpi_rank(mpi), size = lc_mpi_size(mpi);
+    const char *how = getenv("LUCENT_MPI_READ");
+    int rc = lc_mpi_agree(mpi, lc_cli_gl_open(common->device, g, err), err);
+    cs->layer_count = req->layer_count;
+    for (int i = 0; rc == 0 && i < req->layer_count; i++) {
+        const char *spec = req->layers[i].dataset;
+        int parts = lc_scene_can_read_part(spec) && !(how && strcmp(how, "whole") == 0);
+        char way[1100];
+        snprintf(way, sizeof way, "layers[%d]: %s%s", i, parts ? "in parts: " : "whole", parts ? spec : "");
+        if ((rc = lc_mpi_check_same(mpi, "datasets or ways of reading them", way, err)) != 0)
+            break;
+        lc_scene *s = NULL;
+        int read_rc = parts ? lc_scene_read_file_part(spec, rank, size, &s, err) : lc_cli_open_dataset(spec, &s, err);
+        if (read_rc == 0 && !parts && common->elements)
+            read_rc = lc_scene_set_element_budget(s, (uint32_t)common->elements, err);
+        if (read_rc) { /* named as in one process (cli_scene.c) */
+            char reason[LC_ERROR_MSG_LEN];
+            snprintf(reason, sizeof reason, "%s", err->msg);
+            char field[32];
+            snprintf(field, sizeof field, "layers[%d].dataset", i);
+            lc_err_field(err, read_rc, field, "cannot open \"%.300s\": %.400s", spec, reason);
+        }
+        if (parts) {
+            rc = lc_mpi_finalize_part(mpi, read_rc, &s, (uint32_t)common->elements, stdout, err);
+        } else if ((rc = lc_mpi_agree(mpi, read_rc, err)) == 0) {
+            rc = lc_mpi_shard(mpi, &s, stdout, err); /* on failure s is still the whole */
+        }
+        if (rc && !parts) {
+            lc_scene_destroy(s);
+            s = NULL;
+        }
+        if (rc == 0)
+            cs->scenes[cs->count++] = s;
+        cs->layers[i] = req->layers[i].p;
+    }
+    for (int i = 0; rc == 0 && i < cs->count; i++) {
+        if ((rc = lc_cli_upload("render", common, cs->scenes[i], &cs->gpu[i])) != 0) /* prints its reason */
+            lc_err(err, rc, "cannot upload (the reason is above)");
+        if ((rc = lc_mpi_agree(mpi, rc, err)) != 0)
+            lc_err_prefix(err, "layers[%d].dataset", i);
+    }
+    return rc;
+}
+
 int lc_cli_render(int argc, char **argv)
 {
     lc_request req;
@@ -131,11 +188,10 @@ int lc_cli_render(int argc, char **argv)
     double dt = args.dt;
     req.render.detail.point_stride = point_stride;
     req.render.detail.uniform_points = uniform_points;
-    if (req.layer_count > 0 && (use_mpi || point_stride > 1 || args.line_stride > 1)) { /* every flag used or refused */
+    if (req.layer_count > 0 && (point_stride > 1 || args.line_stride > 1)) { /* every flag used or refused */
         fprintf(stderr, "lucent render: layers: %s\n",
-                use_mpi            ? "not with --mpi (each rank renders its shard of one dataset)"
-                : point_stride > 1 ? "not with --point-stride (a layered frame draws every point of its layers)"
-                                   : "not with --line-stride (a layered frame draws every line of its layers)");
+                point_stride > 1 ? "not with --point-stride (a layered frame draws every point of its layers)"
+                                 : "not with --line-stride (a layered frame draws every line of its layers)");
         return 2;
     }
     lc_scene *scene = NULL;
@@ -148,7 +204,16 @@ int lc_cli_render(int argc, char **argv)
     }
     int rank = mpi ? lc_mpi_rank(mpi) : 0;
     int open_rc;
-    if (mpi) {
+    if (mpi && req.layer_count > 0) { /* layers: each rank keeps its shard of every layer */
+        if ((open_rc = open_mpi_layers(mpi, &req, &common, &cs, &g, &err)) != 0) {
+            if (rank == 0)
+                fprintf(stderr, "lucent render: --mpi: %s; every rank exits\n", err.msg);
+            lc_cli_scene_close(&cs, &g);
+            lc_mpi_finalize(mpi);
+            return 1;
+        }
+        lc_renderer_set_reducer(g.renderer, lc_mpi_reducer(mpi));
+    } else if (mpi) {
         /* Line files, point clouds and point tables (a format that can be
          * skipped through): each rank reads only its share and the ranks finalize the
          * parts together (docs/MPI.md "Loading"). Other
@@ -197,7 +262,7 @@ int lc_cli_render(int argc, char **argv)
         fprintf(stderr, "lucent render: out of memory\n");
         goto done;
     }
-    if (mpi) { /* the shard (or part) this rank holds is the scene */
+    if (mpi && !cs.count) { /* the shard (or part) this rank holds is the scene */
         if (lc_cli_upload("render", &common, scene, &gs) != 0)
             goto done;
         cs.scenes[0] = scene, cs.gpu[0] = gs, cs.count = 1;

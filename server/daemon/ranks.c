@@ -19,16 +19,39 @@ static lc_mpi *process_mpi; /* ended after everything else (lc_ranks_finalize) *
  * requests waiting for it get an answer that says so, not a closed connection. */
 #define MPI_ENDING "the MPI job is ending: a rank has died, hangs or was stopped (the log names it)"
 
+/* A dataset's index in the registry: frames name datasets by index (every
+ * rank loaded the same list, lc_ranks_start). */
+static int dataset_index(const lc_server *srv, const lc_dataset *ds)
+{
+    int index = 0;
+    while (index < lc_datasets_count(srv->datasets) && lc_datasets_at(srv->datasets, index) != ds)
+        index++;
+    return index;
+}
+
 /* The frame hook: announces the frame (dataset index in the registry,
  * parameters, the viewer's fading history) to the other ranks. */
 static int announce(void *ctx, const lc_dataset *ds, const lc_render_params *p, const lc_frame_state *state, double dt,
                     lc_error *err)
 {
     lc_server *srv = ctx;
-    int index = 0;
-    while (index < lc_datasets_count(srv->datasets) && lc_datasets_at(srv->datasets, index) != ds)
-        index++;
-    return lc_mpi_frame_announce(srv->mpi, index, ds->scene->elements.count, p, state, dt, err);
+    int index = dataset_index(srv, ds);
+    return lc_mpi_frame_announce(srv->mpi, &index, NULL, 0, ds->scene->elements.count, p, state, dt, err);
+}
+
+/* The hook of a frame of layers: their datasets' indices and parameters too;
+ * the state spans their elements. */
+static int announce_layers(void *ctx, const lc_dataset *const *ds, const lc_layer_params *layers, int n,
+                           const lc_render_params *p, const lc_frame_state *state, double dt, lc_error *err)
+{
+    lc_server *srv = ctx;
+    int index[LC_MAX_LAYERS];
+    uint64_t elements = 0;
+    for (int i = 0; i < n && i < LC_MAX_LAYERS; i++) {
+        index[i] = dataset_index(srv, ds[i]);
+        elements += ds[i]->scene->elements.count;
+    }
+    return lc_mpi_frame_announce(srv->mpi, index, layers, n, (uint32_t)elements, p, state, dt, err);
 }
 
 int lc_ranks_init(lc_server *srv, lc_error *err)
@@ -37,7 +60,8 @@ int lc_ranks_init(lc_server *srv, lc_error *err)
     if (rc)
         return rc;
     srv->mpi = process_mpi;
-    srv->frame_hook = (lc_frame_hook){.ctx = srv, .before = announce, .reducer = lc_mpi_reducer(process_mpi)};
+    srv->frame_hook = (lc_frame_hook){
+        .ctx = srv, .before = announce, .before_layers = announce_layers, .reducer = lc_mpi_reducer(process_mpi)};
     return 0;
 }
 
@@ -103,17 +127,21 @@ int lc_ranks_follow(lc_server *srv, lc_gl *primary, lc_error *err)
     int rc = lc_renderer_create(&(lc_renderer_desc){.reducer = lc_mpi_reducer(srv->mpi)}, &r, err);
     int n = lc_datasets_count(srv->datasets);
     const lc_gpu_scene **scenes = calloc((size_t)n + 1, sizeof *scenes);
-    if (!scenes && rc == 0)
+    uint32_t *elements = calloc((size_t)n + 1, sizeof *elements);
+    if ((!scenes || !elements) && rc == 0)
         rc = lc_err(err, LC_ERR_NOMEM, "out of memory");
-    for (int i = 0; scenes && i < n; i++)
-        scenes[i] = lc_datasets_at(srv->datasets, i)->gpu;
+    for (int i = 0; scenes && elements && i < n; i++) {
+        const lc_dataset *ds = lc_datasets_at(srv->datasets, i);
+        scenes[i] = ds->gpu, elements[i] = ds->scene->elements.count;
+    }
     /* Rank 0 creates its worker's renderer meanwhile; a failure here shows
      * as a frame that never completes (the collective timeout ends the job). */
     if (rc == 0) {
         LC_INFO(MOD, "rank %d (pid %d): following rank 0's frames", lc_mpi_rank(srv->mpi), (int)getpid());
-        rc = lc_mpi_follow(srv->mpi, r, scenes, n, err);
+        rc = lc_mpi_follow(srv->mpi, r, scenes, elements, n, err);
     }
     free(scenes);
+    free(elements);
     lc_renderer_destroy(r);
     return rc;
 }

@@ -70,6 +70,9 @@ typedef struct lc_frame_hook {
     /* Before each frame, with its arguments; non-zero fails the frame. Thread: a render worker. */
     int (*before)(void *ctx, const struct lc_dataset *ds, const lc_render_params *p, const struct lc_frame_state *state,
                   double dt, lc_error *err);
+    /* Before each frame of layers[] (n, their datasets ds), likewise. */
+    int (*before_layers)(void *ctx, const struct lc_dataset *const *ds, const lc_layer_params *layers, int n,
+                         const lc_render_params *p, const struct lc_frame_state *state, double dt, lc_error *err);
     const struct lc_reducer *reducer; /* every worker's lc_renderer_desc.reducer */
 } lc_frame_hook;
 

@@ -332,8 +332,6 @@ int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_reque
 
 int lc_session_resolve_layers(lc_server *srv, const lc_request *req, const lc_dataset **out, lc_proto_error *pe)
 {
-    if (req->layer_count > 0 && srv->mpi)
-        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers", "not under serve --mpi");
     for (int i = 0; i < req->layer_count; i++) {
         out[i] = lc_datasets_find(srv->datasets, req->layers[i].dataset);
         if (!out[i]) {

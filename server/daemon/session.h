@@ -225,8 +225,7 @@ int lc_session_check_frame_budget(lc_server *srv, const lc_dataset *ds, const lc
                                   const lc_request *req, double *cost, lc_proto_error *pe);
 /* layers[] (docs/ALGORITHM.md "Layers") in sessions: the dataset of each of
  * req's layers into out[i]; not_found naming layers[i].dataset for one not
- * loaded, bad_field naming layers under serve --mpi (its ranks render one
- * dataset). 0 without layers. */
+ * loaded. 0 without layers. */
 int lc_session_resolve_layers(lc_server *srv, const lc_request *req, const lc_dataset **out, lc_proto_error *pe);
 /* Worker side, before a frame of s (the caller owns frame_state): makes
  * frame_state hold the elements of the n layers' datasets, in order (n = 0:

@@ -50,13 +50,16 @@ struct lc_mpi {
 };
 
 /* What rank 0 broadcasts before each frame of `serve --mpi`. The ranks run
- * the same binary on the same kind of host (docs/MPI.md), so it travels as bytes. */
+ * the same binary on the same kind of host (docs/MPI.md), so it travels as
+ * bytes. A frame of layers is followed by its layer_count lc_layer_params. */
 enum { OP_FRAME = 1, OP_STOP = 2 };
 typedef struct frame_msg {
     int32_t op, dataset, has_state, fresh;
     uint32_t element_count;
     double dt;
     lc_render_params params;
+    int32_t layer_count;                  /* 0: one dataset (dataset) */
+    int32_t layer_dataset[LC_MAX_LAYERS]; /* the layers' datasets by index in the registry */
 } frame_msg;
 
 int lc_mpi_available(void) { return 1; }
@@ -429,28 +432,46 @@ int lc_mpi_finalize_part(lc_mpi *m, int read_rc, lc_scene **scene, uint32_t elem
     return 0;
 }
 
-static int bcast_frame(lc_mpi *m, frame_msg *msg, float *alpha, double timeout, lc_error *err)
+/* The announcement: msg, then the layers' parameters (layers: room for
+ * LC_MAX_LAYERS on a follower), then the fading history when alpha is given
+ * (a follower receives it in a second step, once it knows the size). */
+static int bcast_frame(lc_mpi *m, frame_msg *msg, lc_layer_params *layers, float *alpha, double timeout, lc_error *err)
 {
     MPI_Request req;
     MPI_Ibcast(msg, sizeof *msg, MPI_BYTE, 0, MPI_COMM_WORLD, &req);
     int rc = wait_request(m, &req, "the frame announcement", timeout, err);
-    if (rc || msg->op != OP_FRAME || !msg->has_state || msg->fresh || !msg->element_count)
+    if (rc || msg->op != OP_FRAME)
         return rc;
-    if (!alpha)
-        return 0; /* the caller receives the history in a second step */
+    if (msg->layer_count < 0 || msg->layer_count > LC_MAX_LAYERS)
+        return lc_err(err, LC_ERR_INTERNAL, "rank %d: a frame of %d layers (at most %d)", m->rank, msg->layer_count,
+                      LC_MAX_LAYERS);
+    if (msg->layer_count > 0) {
+        MPI_Ibcast(layers, (int)((size_t)msg->layer_count * sizeof *layers), MPI_BYTE, 0, MPI_COMM_WORLD, &req);
+        if ((rc = wait_request(m, &req, "the frame's layers", m->timeout, err)) != 0)
+            return rc;
+    }
+    if (!msg->has_state || msg->fresh || !msg->element_count || !alpha)
+        return 0;
     MPI_Ibcast(alpha, (int)msg->element_count, MPI_FLOAT, 0, MPI_COMM_WORLD, &req);
     return wait_request(m, &req, "the fading history", m->timeout, err);
 }
 
-int lc_mpi_frame_announce(lc_mpi *m, int dataset, uint32_t element_count, const lc_render_params *p,
-                          const lc_frame_state *state, double dt, lc_error *err)
+int lc_mpi_frame_announce(lc_mpi *m, const int *datasets, const lc_layer_params *layers, int layer_count,
+                          uint32_t element_count, const lc_render_params *p, const lc_frame_state *state, double dt,
+                          lc_error *err)
 {
+    if (layer_count < 0 || layer_count > LC_MAX_LAYERS)
+        return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", layer_count,
+                            LC_MAX_LAYERS);
     frame_msg msg;
     memset(&msg, 0, sizeof msg);
-    msg.op = OP_FRAME, msg.dataset = dataset, msg.dt = dt, msg.params = *p;
+    msg.op = OP_FRAME, msg.dataset = datasets[0], msg.dt = dt, msg.params = *p;
     msg.has_state = state != NULL;
     msg.fresh = state ? lc_frame_state_is_fresh(state) : 1;
     msg.element_count = element_count;
+    msg.layer_count = layer_count;
+    for (int i = 0; i < layer_count; i++)
+        msg.layer_dataset[i] = datasets[i];
     /* The history P3 fades from; every rank computes the same next one. A
      * compact (16-bit) state travels as floats like the others. */
     float *alpha = NULL;
@@ -460,7 +481,7 @@ int lc_mpi_frame_announce(lc_mpi *m, int dataset, uint32_t element_count, const 
             return lc_err(err, LC_ERR_NOMEM, "out of memory for the fading history");
         lc_frame_state_copy(state, alpha);
     }
-    int rc = bcast_frame(m, &msg, alpha, m->timeout, err);
+    int rc = bcast_frame(m, &msg, (lc_layer_params *)layers, alpha, m->timeout, err); /* only read on rank 0 */
     free(alpha);
     return rc;
 }
@@ -470,10 +491,34 @@ int lc_mpi_stop_followers(lc_mpi *m, lc_error *err)
     frame_msg msg;
     memset(&msg, 0, sizeof msg);
     msg.op = OP_STOP;
-    return bcast_frame(m, &msg, NULL, m->timeout, err);
+    return bcast_frame(m, &msg, NULL, NULL, m->timeout, err);
 }
 
-int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, int count, lc_error *err)
+/* A follower's check of what arrived: the datasets by index, the layers'
+ * roles, and the fading history's size against the datasets' elements (a
+ * frame's state spans its layers); the layers' scenes into layer_scenes. */
+static int check_frame(lc_mpi *m, frame_msg *msg, lc_layer_params *layers, const lc_gpu_scene *const *scenes,
+                       const uint32_t *element_counts, int count, const lc_gpu_scene **layer_scenes, lc_error *err)
+{
+    int n = msg->layer_count ? msg->layer_count : 1;
+    const int32_t *index = msg->layer_count ? msg->layer_dataset : &msg->dataset;
+    uint64_t elements = 0;
+    for (int i = 0; i < n; i++) {
+        if (index[i] < 0 || index[i] >= count)
+            return lc_err(err, LC_ERR_INTERNAL, "rank %d: frame for dataset %d of %d", m->rank, index[i], count);
+        if (msg->layer_count && layers[i].role != LC_LAYER_TRANSPARENT && layers[i].role != LC_LAYER_CONTEXT)
+            return lc_err(err, LC_ERR_INTERNAL, "rank %d: layer %d has role %d", m->rank, i, (int)layers[i].role);
+        layer_scenes[i] = scenes[index[i]];
+        elements += element_counts[index[i]];
+    }
+    if (msg->has_state && msg->element_count != elements)
+        return lc_err(err, LC_ERR_INTERNAL, "rank %d: a fading history of %u elements for datasets of %llu", m->rank,
+                      msg->element_count, (unsigned long long)elements);
+    return 0;
+}
+
+int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, const uint32_t *element_counts,
+                  int count, lc_error *err)
 {
     lc_frame_state *state = NULL;
     uint32_t state_count = 0;
@@ -481,15 +526,15 @@ int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, 
     uint8_t *rgba = NULL;
     size_t rgba_bytes = 0;
     frame_msg msg;
-    int rc = 0;
-    for (;;) {
+    lc_layer_params *layers = malloc(LC_MAX_LAYERS * sizeof *layers); /* 2 KiB a layer: off the stack */
+    const lc_gpu_scene *layer_scenes[LC_MAX_LAYERS];
+    int rc = layers ? 0 : lc_err(err, LC_ERR_NOMEM, "rank %d: out of memory", m->rank);
+    for (; rc == 0;) {
         memset(&msg, 0, sizeof msg);
-        if ((rc = bcast_frame(m, &msg, NULL, 0, err)) != 0 || msg.op != OP_FRAME)
+        if ((rc = bcast_frame(m, &msg, layers, NULL, 0, err)) != 0 || msg.op != OP_FRAME)
             break;
-        if (msg.dataset < 0 || msg.dataset >= count) {
-            rc = lc_err(err, LC_ERR_INTERNAL, "rank %d: frame for dataset %d of %d", m->rank, msg.dataset, count);
+        if ((rc = check_frame(m, &msg, layers, scenes, element_counts, count, layer_scenes, err)) != 0)
             break;
-        }
         if (msg.has_state && (!state || state_count != msg.element_count)) {
             lc_frame_state_destroy(state);
             free(alpha);
@@ -524,10 +569,14 @@ int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, 
         lc_error ferr = {0};
         /* A failure before the first reduction (a bad parameter) is the same
          * on every rank; rank 0 reports it. */
-        if (lc_render_frame(r, scenes[msg.dataset], &msg.params, msg.has_state ? state : NULL, msg.dt, rgba, NULL,
-                            &ferr) != 0)
+        lc_frame_state *st = msg.has_state ? state : NULL;
+        if ((msg.layer_count
+                 ? lc_render_layers(r, layer_scenes, layers, msg.layer_count, &msg.params, st, msg.dt, rgba, NULL,
+                                    &ferr)
+                 : lc_render_frame(r, scenes[msg.dataset], &msg.params, st, msg.dt, rgba, NULL, &ferr)) != 0)
             LC_DEBUG(MOD, "rank %d: frame failed: %s", m->rank, ferr.msg);
     }
+    free(layers);
     lc_frame_state_destroy(state);
     free(alpha);
     free(rgba);

@@ -72,17 +72,24 @@ int lc_mpi_shard(lc_mpi *m, lc_scene **scene, FILE *report, lc_error *err);
 int lc_mpi_finalize_part(lc_mpi *m, int read_rc, lc_scene **scene, uint32_t elements, FILE *report, lc_error *err);
 
 /* ---- Serve: rank 0 leads, the others follow. */
-/* Rank 0: announces the next frame to the other ranks (dataset index in the
+/* Rank 0: announces the next frame to the other ranks (dataset indices in the
  * registry, parameters, the viewer's fading history) before its own
- * lc_render_frame with the same arguments. */
-int lc_mpi_frame_announce(lc_mpi *m, int dataset, uint32_t element_count, const lc_render_params *p,
-                          const lc_frame_state *state, double dt, lc_error *err);
+ * lc_render_frame of datasets[0] (layer_count 0) or lc_render_layers of the
+ * layer_count layers over datasets[0..layer_count) with the same arguments.
+ * element_count: the state's size (the layers' sum). */
+int lc_mpi_frame_announce(lc_mpi *m, const int *datasets, const lc_layer_params *layers, int layer_count,
+                          uint32_t element_count, const lc_render_params *p, const lc_frame_state *state, double dt,
+                          lc_error *err);
 /* Rank 0: tells the followers to leave lc_mpi_follow (once, at shutdown). */
 int lc_mpi_stop_followers(lc_mpi *m, lc_error *err);
 /* Ranks > 0: renders every announced frame with r (its reducer set) on
- * scenes[dataset] until rank 0 stops; the image stays on rank 0. Returns 0
- * after the stop, or the error that ended the loop. */
-int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, int count, lc_error *err);
+ * scenes[dataset] (or the layers over theirs) until rank 0 stops; the image
+ * stays on rank 0. element_counts[i]: the elements of scenes[i]. What arrives
+ * is checked (layer count, dataset indices, roles, the state's size against
+ * the datasets' elements). Returns 0 after the stop, or the error that ended
+ * the loop. */
+int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, const uint32_t *element_counts,
+                  int count, lc_error *err);
 /* After a shutdown signal: ends the job with a message if this process has
  * not exited `seconds` from now (a rank that died leaves a collective waiting). */
 void lc_mpi_exit_guard(lc_mpi *m, double seconds);

@@ -47,14 +47,17 @@ int lc_mpi_finalize_part(lc_mpi *m, int read_rc, lc_scene **scene, uint32_t elem
     *scene = NULL;
     return (void)m, (void)read_rc, (void)elements, (void)report, unavailable(err);
 }
-int lc_mpi_frame_announce(lc_mpi *m, int dataset, uint32_t element_count, const lc_render_params *p,
-                          const lc_frame_state *state, double dt, lc_error *err)
+int lc_mpi_frame_announce(lc_mpi *m, const int *datasets, const lc_layer_params *layers, int layer_count,
+                          uint32_t element_count, const lc_render_params *p, const lc_frame_state *state, double dt,
+                          lc_error *err)
 {
-    return (void)m, (void)dataset, (void)element_count, (void)p, (void)state, (void)dt, unavailable(err);
+    return (void)m, (void)datasets, (void)layers, (void)layer_count, (void)element_count, (void)p, (void)state,
+           (void)dt, unavailable(err);
 }
 int lc_mpi_stop_followers(lc_mpi *m, lc_error *err) { return (void)m, unavailable(err); }
-int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, int count, lc_error *err)
+int lc_mpi_follow(lc_mpi *m, lc_renderer *r, const lc_gpu_scene *const *scenes, const uint32_t *element_counts,
+                  int count, lc_error *err)
 {
-    return (void)m, (void)r, (void)scenes, (void)count, unavailable(err);
+    return (void)m, (void)r, (void)scenes, (void)element_counts, (void)count, unavailable(err);
 }
 void lc_mpi_exit_guard(lc_mpi *m, double seconds) { (void)m, (void)seconds; }

@@ -1,12 +1,14 @@
 """`mpirun -np N lucent serve --mpi` against the single-process daemon: HTTP
-renders of lines, points and a surface, a scripted session whose opacities
-fade while the camera moves (the fading history travels with each frame), a
-WebSocket session, /datasets; then killing one rank during a session ends the
-service within seconds with a message naming the rank, and the render in
-flight is answered 503 with a message; ranks that see different dataset lists
-refuse to start; a hung rank ends the job after LUCENT_MPI_TIMEOUT seconds,
-with the request that waited for it answered 503 and a WebSocket session told
-why.
+renders of lines, points, a surface and a plane, a scripted session whose
+opacities fade while the camera moves (the fading history travels with each
+frame), a WebSocket session, layers[] (points and lines; a plane as opaque
+context through lines) in HTTP renders, a scripted session and a WebSocket
+session, bad layers answered as one process does, /datasets; then killing one
+rank during a session ends the service within seconds with a message naming
+the rank, and the render in flight is answered 503 with a message; ranks that
+see different dataset lists refuse to start; a hung rank ends the job after
+LUCENT_MPI_TIMEOUT seconds, with the request that waited for it answered 503
+and a WebSocket session told why.
 Usage: test_mpi_serve.py LUCENT RANKS"""
 import asyncio
 import json
@@ -38,7 +40,11 @@ TRK = write_all(tmp, 120)["trk"]
 # Its sidecar sets an element budget: the ranks rebuild their parts' elements together.
 with open(os.path.join(tmp, "helices.lucent.json"), "w") as f:
     json.dump({"elements": 500, "params": {"q": 80}}, f)
-DATA = ["demo:tornado", "demo:surface", "demo:points", TRK]
+# A plane z = 0.5 over the left half of the tornado (one element: one rank holds it), as opaque context.
+PLANE = os.path.join(tmp, "plane.obj")
+with open(PLANE, "w") as f:
+    f.write("v -0.2 -0.2 0.5\nv 0.5 -0.2 0.5\nv 0.5 1.2 0.5\nv -0.2 1.2 0.5\nf 1 2 3\nf 1 3 4\n")
+DATA = ["demo:tornado", "demo:surface", "demo:points", TRK, PLANE]
 check = Check()
 
 
@@ -86,10 +92,10 @@ def compare(what, one, many, limit=MAX_RMSE):
     check(e <= limit, "%s: rmse %.6f <= %.6f" % (what, e, limit))
 
 
-async def ws_last_frame(srv):
+async def ws_last_frame(srv, scene=None):
     async with websockets.connect(srv.ws_url, max_size=None) as ws:
-        await ws.send(json.dumps({"type": "hello", "dataset": "demo:surface", "width": 96, "height": 72,
-                                  "devicePixelRatio": 1, "params": {"lod": 0}}))
+        await ws.send(json.dumps(dict({"type": "hello", "width": 96, "height": 72, "devicePixelRatio": 1,
+                                       "params": {"lod": 0}}, **(scene or {"dataset": "demo:surface"}))))
         last, frames, deadline = None, 0, time.time() + 120
         while time.time() < deadline:
             try:
@@ -137,7 +143,7 @@ multi = MpiServer(lucent, ranks, DATA, DEMO_SIZE, args=("--exact-positions",))
 try:
     # One-shot HTTP renders of every kind of geometry.
     for src in DATA:
-        ds = "helices" if src == TRK else src
+        ds = "helices" if src == TRK else "plane" if src == PLANE else src
         req = {"dataset": ds, "width": 160, "height": 120, "format": "png"}
         if ds == "demo:surface":  # surface levels of detail are simplified per shard (docs/MPI.md)
             req["params"] = {"lod": 0}
@@ -168,11 +174,51 @@ try:
             imgs.append(img if st == 200 else None)
         if check(all(imgs), "session frame %d rendered by both" % i):
             compare("session-frame-%d" % i, imgs[0], imgs[1])
+    # layers[] (docs/MPI.md "Layers"): the ranks draw their shards of each
+    # layer; the plane as opaque context is combined over the ranks (its
+    # nearest depth on every rank, its colour once), looked at down -z with
+    # lines in front of it and behind it. HTTP renders and a session whose
+    # fading history spans the layers.
+    LAYERS = [{"dataset": "demo:points", "style": {"pointSize": 4}}, {"dataset": "demo:tornado"}]
+    CONTEXT = [{"dataset": "plane", "role": "context"}, {"dataset": "demo:tornado"}]
+    DOWN_Z = {"position": [0.5, 0.5, 3.2], "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}
+    for what, layers in (("layers", LAYERS), ("context", CONTEXT)):
+        req = {"layers": layers, "width": 160, "height": 120, "format": "png", "camera": DOWN_Z}
+        (s1, _, a), (s2, _, b) = single.request("POST", "/api/v1/render", req), multi.request("POST", "/api/v1/render",
+                                                                                                req)
+        if check(s1 == 200 and s2 == 200, "HTTP render of %s: 200 from both (%d, %d%s)" %
+                 (what, s1, s2, "" if s2 == 200 else ": %s" % b[:200])):
+            compare("http-" + what, a, b)
+    # Bad layers: the one-process answer, naming the field; the ranks go on serving.
+    for body, status, field in (({"layers": [LAYERS[0], {"dataset": "nonesuch"}]}, 404, "layers[1].dataset"),
+                                ({"layers": [dict(LAYERS[0], role="context"), LAYERS[1]]}, 400, "layers[0].role")):
+        answers = [srv.request("POST", "/api/v1/render", dict(body, width=64, height=48)) for srv in (single, multi)]
+        fields = [json.loads(b or b"{}").get("error", {}).get("field") for _, _, b in answers]
+        check([a[0] for a in answers] == [status] * 2 and fields == [field] * 2,
+              "bad layers answered %d naming %s by both: %s" % (status, field, [(a[0], a[2][:120]) for a in answers]))
+    sessions = []
+    for srv in (single, multi):
+        st, _, info = srv.json("POST", "/api/v1/sessions", {"layers": CONTEXT, "width": 160, "height": 120,
+                                                             "format": "png", "params": {"fadeHalfLife": 0.3}})
+        sessions.append(info.get("session") if st in (200, 201) and info else None)
+    if check(all(sessions), "sessions of layers created on both"):
+        for i in range(3):
+            cam = dict(DOWN_Z, position=[0.5 + 0.4 * i, 0.5, 3.2])
+            imgs = []
+            for srv, sid in zip((single, multi), sessions):
+                st, _, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam})
+                imgs.append(img if st == 200 else None)
+            if check(all(imgs), "session frame %d of layers rendered by both" % i):
+                compare("session-layers-%d" % i, imgs[0], imgs[1])
     # A WebSocket session: the last frame (still, converged) of each.
     if websockets:
         (a, na), (b, nb) = asyncio.run(ws_last_frame(single)), asyncio.run(ws_last_frame(multi))
         if check(a is not None and b is not None, "WebSocket frames from both (%d, %d)" % (na, nb)):
             compare("websocket-last-frame", a, b, 2.0 / 255.0)  # JPEG on top of the rendering
+        # ... and one of layers (the render worker's stream path announces them too).
+        (a, na), (b, nb) = (asyncio.run(ws_last_frame(srv, {"layers": LAYERS})) for srv in (single, multi))
+        if check(a is not None and b is not None, "WebSocket frames of layers from both (%d, %d)" % (na, nb)):
+            compare("websocket-layers-last-frame", a, b, 2.0 / 255.0)
     # /datasets describes the whole datasets, not rank 0's shards.
     _, _, d1 = single.json("GET", "/api/v1/datasets")
     _, _, d2 = multi.json("GET", "/api/v1/datasets")

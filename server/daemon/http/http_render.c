@@ -272,13 +272,10 @@ static enum MHD_Result query_arg(void *cls, enum MHD_ValueKind kind, const char 
 }
 
 /* layers[] (docs/ALGORITHM.md "Layers"): each layer's dataset must be loaded
- * (404 naming layers[i].dataset); not under --mpi, whose ranks render one
- * dataset's shards. */
+ * (404 naming layers[i].dataset); under --mpi the ranks draw their shards of each. */
 static enum MHD_Result start_layers(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req)
 {
     lc_server *srv = ctx->srv;
-    if (srv->mpi)
-        return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "layers", "layers: not under serve --mpi");
     const lc_dataset *layers[LC_MAX_LAYERS];
     for (int i = 0; i < req->layer_count; i++) {
         layers[i] = lc_datasets_find(srv->datasets, req->layers[i].dataset);

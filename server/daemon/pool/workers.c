@@ -176,6 +176,16 @@ static int render_frame(lc_workers *w, lc_renderer *r, const lc_dataset *ds, con
     return rc ? rc : lc_render_frame(r, ds->gpu, p, state, dt, rgba, info, err);
 }
 
+/* A frame of layers, likewise: the hook (serve --mpi announces the layers), then the renderer. */
+static int render_layers(lc_workers *w, lc_renderer *r, const lc_dataset *const *ds, const lc_gpu_scene *const *scenes,
+                         const lc_layer_params *layers, int n, const lc_render_params *p, lc_frame_state *state,
+                         double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    const lc_frame_hook *h = &w->srv->frame_hook;
+    int rc = h->before_layers ? h->before_layers(h->ctx, ds, layers, n, p, state, dt, err) : 0;
+    return rc ? rc : lc_render_layers(r, scenes, layers, n, p, state, dt, rgba, info, err);
+}
+
 /* layers[] (docs/ALGORITHM.md "Layers"): the renderer's copy of req's
  * layer parameters (malloc'd, 2 KiB a layer: off the stack) and the scenes
  * of their datasets ds, so the frame reads nothing of its job or snapshot.
@@ -230,7 +240,7 @@ static void render_job(worker *wk, lc_render_job *job)
     const lc_surface_request surface = job->req.surface;
     double dt = job->dt;
     lc_session *session = job->session;
-    /* layers[] (not under --mpi: the routes refuse them there), copied like the rest */
+    /* layers[], copied like the rest */
     int layer_count = job->req.layer_count;
     const lc_dataset *layer_ds[LC_MAX_LAYERS];
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
@@ -259,7 +269,8 @@ static void render_job(worker *wk, lc_render_job *job)
         state = session->frame_state;
     if (rc == 0)
         rc = field         ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
-             : layer_count ? lc_render_layers(wk->renderer, scenes, layers, layer_count, p, state, dt, rgba, &info, &err)
+             : layer_count ? render_layers(w, wk->renderer, layer_ds, scenes, layers, layer_count, p, state, dt, rgba,
+                                           &info, &err)
                            : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
     free(layers);
     wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
@@ -355,7 +366,8 @@ static void render_session(worker *wk, lc_session *s)
                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     if (rc == 0)
         rc = p->method == LC_METHOD_SURFACE_LAYERS ? lc_session_surface_frame(w->srv, s, &f.req, rgba, &info, &err)
-             : n ? lc_render_layers(wk->renderer, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info, &err)
+             : n ? render_layers(w, wk->renderer, f.layers, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info,
+                                 &err)
                  : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
     free(layers);
     out_of_hand(wk);

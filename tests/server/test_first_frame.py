@@ -1,6 +1,6 @@
 """Coarse to fine on a large dataset (issue 35): a WebSocket session's first
 frame on 500,000 points or more is an interactive frame at the coarse end of
-the detail ladder (every 16th point, a quarter of the viewport's width), and
+the detail ladder (every 64th point, 0.35 of the viewport's width), and
 the full-resolution still of the same camera follows without any input; on a
 small dataset the first frame is the still itself."""
 import asyncio
@@ -48,8 +48,14 @@ async def main():
               "the full-resolution still follows without input: %dx%d" % (still["width"], still["height"]))
         check(all(h["cameraSeq"] == 0 for h in got), "no camera was sent")
         check(srv.stop() == 0, "the daemon exits cleanly")
-    with Server(binary, data=("demo:points",), demo_size=3000) as srv:
-        got = await frames_until_still(srv, "demo:points")
+    # the count given with the demo's name (serve --data demo:NAME?count=N), over --demo-size
+    with Server(binary, data=("demo:points?count=3000",), demo_size=600000) as srv:
+        status, _, listing = srv.json("GET", "/api/v1/datasets")
+        items = [d for d in (listing or {}).get("datasets", []) if d.get("name") == "demo:points?count=3000"]
+        check(status == 200 and len(items) == 1 and items[0].get("vertices") == 3000,
+              "demo:points?count=3000 is served under that name with 3000 points: %s"
+              % [(d.get("name"), d.get("vertices")) for d in items])
+        got = await frames_until_still(srv, "demo:points?count=3000")
         check(len(got) == 1 and got[0]["width"] == W, "a small dataset's first frame is the still")
         check(srv.stop() == 0, "the daemon exits cleanly")
 

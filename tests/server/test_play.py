@@ -1,0 +1,125 @@
+"""Playing a time window against the real daemon (issue 27): steps of t at 5 a second, each a `params`
+message with time.window and a camera message in one burst, as the page's Play sends them. Input that
+keeps coming at a steady pace must not start a still between two steps (the session waits 1.5 times the
+recent spacing of input before a still: README's --still-delay): no still frame of a step arrives and
+no still is begun and abandoned (/metrics lucent_frames_yielded_total) while the steps keep their pace,
+frames keep coming, and after the last step the still of the last window follows. The first step is
+excused (no pace is known before the second: its still may begin after --still-delay), and so is a step
+that the client itself followed late (a gap of 0.28 s or more, under load)."""
+import asyncio
+import json
+import os
+import sys
+import tempfile
+import time
+
+from lucent_server import Check, Server, served_name, skip, unpack_frame, websockets
+
+if websockets is None:
+    skip("python3-websockets is not installed")
+
+binary = sys.argv[1]
+check = Check()
+W, H = 320, 240
+STEPS, RATE = 20, 5.0
+
+# 30 atoms crossing the box along x over 20 frames, TIMESTEP = 10 x frame (tests/browser/scenes.mjs).
+tmp = tempfile.mkdtemp(prefix="lucent-play-")
+dump = os.path.join(tmp, "crossing.dump")
+with open(dump, "w") as f:
+    for fr in range(20):
+        f.write("ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n30\nITEM: BOX BOUNDS ff ff ff\n-20 20\n-20 20\n"
+                "-20 20\nITEM: ATOMS id type xu yu zu\n" % (fr * 10))
+        for a in range(30):
+            f.write("%d 1 %.4f %.4f %.4f\n" % (a + 1, -18 + 1.8 * fr + 0.3 * (a % 7), -14.5 + a, 0.1 * a))
+CAMERA = {"position": [0, 0, 80], "focalPoint": [0, 0, 0], "viewUp": [0, 1, 0], "viewAngle": 30}
+
+
+def yielded(srv):
+    status, _, body = srv.request("GET", "/metrics")
+    for line in body.decode().splitlines() if status == 200 else []:
+        parts = line.split()
+        if len(parts) == 2 and parts[0] == "lucent_frames_yielded_total":
+            return float(parts[1])
+    return None
+
+
+async def play(srv):
+    frames = []  # (arrival time, header)
+
+    async def recv(ws, timeout):
+        try:
+            m = await asyncio.wait_for(ws.recv(), timeout)
+        except asyncio.TimeoutError:
+            return None
+        if isinstance(m, str):
+            o = json.loads(m)
+            if o.get("type") == "error":
+                check(False, "no error message: %s" % o)
+            return o
+        h, _ = unpack_frame(m)
+        frames.append((time.time(), h))
+        await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+        return h
+
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "dataset": served_name(dump), "width": W, "height": H,
+                                  "devicePixelRatio": 1}))
+
+        async def step(k, t):
+            await ws.send(json.dumps({"type": "params", "time": {"window": [0, t]}}))
+            await ws.send(json.dumps({"type": "camera", "seq": k, "camera": CAMERA}))
+
+        # the first still of the window [0, 20], converged, and nothing after it
+        await step(0, 20)
+        end = time.time() + 120
+        while time.time() < end:
+            h = await recv(ws, end - time.time())
+            if h and "frame" in h and h["cameraSeq"] == 0 and h.get("converged") and \
+                    not (h.get("detail") or {}).get("interactive") and h.get("final", True):
+                break
+        while await recv(ws, 1.0) is not None:
+            pass
+        y0 = yielded(srv)
+        n0 = len(frames)
+        sent = []
+        start = time.time()
+        for k in range(1, STEPS + 1):
+            sent.append(time.time())
+            await step(k, 20 + 8 * k)
+            due = start + k / RATE
+            while time.time() < due:
+                await recv(ws, max(0.0, due - time.time()))
+        y1 = yielded(srv)
+        last_step = time.time()
+        # the last steps' frames, then the still of the last window
+        still = None
+        end = time.time() + 120
+        while time.time() < end and still is None:
+            h = await recv(ws, end - time.time())
+            if h and "frame" in h and h["cameraSeq"] == STEPS and not (h.get("detail") or {}).get("interactive"):
+                still = h
+        return frames[n0:], sent, y1 - y0 if y0 is not None and y1 is not None else None, last_step, still
+
+
+async def main():
+    with Server(binary, data=(dump,), demo_size=0) as srv:
+        played, sent, aborted, last_step, still = await play(srv)
+        gaps = [b - a for a, b in zip(sent, sent[1:])]
+        late = {1} | {k + 1 for k, g in enumerate(gaps) if g >= 0.28}  # the first, and steps followed late
+        during = [h for t, h in played if t <= last_step]
+        stills = [h for h in during if not (h.get("detail") or {}).get("interactive") and h["cameraSeq"] >= 1]
+        unexcused = [h["cameraSeq"] for h in stills if h["cameraSeq"] not in late]
+        print("steps sent over %.2f s (largest gap %.3f s, excused steps %s); %d frames while playing, "
+              "stills %s, stills abandoned %s" % (sent[-1] - sent[0], max(gaps), sorted(late), len(during),
+                                                  [h["cameraSeq"] for h in stills], aborted))
+        check(len(during) >= STEPS // 4, "frames keep coming while playing (%d for %d steps)" % (len(during), STEPS))
+        check(not unexcused, "no still of a step while the steps keep their pace (stills of steps %s)" % unexcused)
+        check(aborted is not None and aborted <= len(late),  # at most one a step excused
+              "no still begun and abandoned while playing (%s, %d late steps)" % (aborted, len(late)))
+        check(still is not None, "the still of the last window follows the last step")
+        check(srv.stop() == 0, "the daemon exits cleanly")
+
+
+asyncio.run(main())
+check.done()

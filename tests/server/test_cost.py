@@ -111,9 +111,13 @@ with Server(binary) as srv:
 
     # Fairness: client A queues 8 renders, then client B asks for one. Round
     # robin serves B after A's renders already past the queue (one encoding,
-    # one rendering) and at most one more; a FIFO would serve it last. The
-    # count starts when /metrics shows B queued, not when its thread starts:
-    # on a loaded machine B's connection can take longer than a render.
+    # one rendering) and at most one more; a FIFO would serve it last (none of
+    # A's after it). The count starts when /metrics shows B queued, not when
+    # its thread starts: on a loaded machine B's connection can take longer
+    # than a render. Times are when each client thread read its response, which
+    # under load can lag the daemon's order by a render (CI once saw AAAABAAAA),
+    # so one more is allowed; at least three of
+    # A's after B is what a FIFO cannot give.
     get(srv, SLOW)  # warm-up (shader compile, targets)
     results = []
     threads = burst(srv, 8, "127.0.0.1", results, "A")
@@ -131,8 +135,9 @@ with Server(binary) as srv:
     b_end = [r[0] for r in results if r[1] == "B"][0]
     a_before_b = sum(1 for r in results if r[1] == "A" and b_start < r[0] < b_end)
     a_after_b = sum(1 for r in results if r[1] == "A" and r[0] > b_end)
-    check(len(order) == 9 and a_before_b <= 3 and a_after_b >= 3,
-          "client B waited for %d of client A's renders (at most the one encoding, the one in hand and one more), "
+    check(len(order) == 9 and a_before_b <= 4 and a_after_b >= 3,
+          "client B waited for %d of client A's renders (at most the one encoding, the one in hand, one more and "
+          "one late read), "
           "%d of A's came after it (order %s)" % (a_before_b, a_after_b, "".join(order)))
     check(metric(srv, "lucent_queue_clients") == 0, "queue empty afterwards")
     check(srv.stop() == 0, "clean exit")

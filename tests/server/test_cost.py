@@ -116,8 +116,8 @@ with Server(binary) as srv:
     # its thread starts: on a loaded machine B's connection can take longer
     # than a render. Times are when each client thread read its response, which
     # under load can lag the daemon's order by a render (CI once saw AAAABAAAA),
-    # so one more is allowed; at least three of
-    # A's after B is what a FIFO cannot give.
+    # so one more is allowed; at least three of A's after B is what a FIFO
+    # cannot give.
     get(srv, SLOW)  # warm-up (shader compile, targets)
     results = []
     threads = burst(srv, 8, "127.0.0.1", results, "A")

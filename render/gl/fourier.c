@@ -148,6 +148,7 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
     lc_targets_clear(t, NULL);
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+    r->draw_yields = 1; /* P0 and P1: a yield point follows before anything keeps the sums */
     for (int i = 0; i < lc_frame_layer_count(fs); i++) {
         lc_frame_setup tmp;
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
@@ -160,6 +161,7 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
         lc_uniform_f(prog, "u_weight", lc_renderer_subset(lf, subset));
         lc_renderer_draw_geometry(lf, subset);
     }
+    r->draw_yields = 0;
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     return lc_reduce_targets(r, t, LC_REDUCE_SUM, 0, fs->info, err);
 }
@@ -258,6 +260,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         r->nofb_w = lw, r->nofb_h = lh;
     }
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->nofb);
+    r->draw_yields = 1; /* the yield point after P2 comes before P3 keeps anything */
     for (int i = 0; i < lc_frame_layer_count(fs); i++) {
         lc_frame_setup tmp;
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
@@ -280,6 +283,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         lc_uniform_f(p2, "u_target_opacity", lc_foo_target_opacity(&p->foo));
         lc_renderer_draw_geometry(lf, 1);
     }
+    r->draw_yields = 0;
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     if ((rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err)) != 0)
         return rc;
@@ -309,6 +313,7 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
 
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
+    r->draw_yields = 1; /* P4 and P5: yield points follow, and the image is all they make */
     for (int i = 0; i < lc_frame_layer_count(fs); i++) {
         lc_frame_setup tmp;
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
@@ -349,6 +354,7 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
         lc_renderer_bind_halo(p5, lf);
         lc_renderer_draw_geometry(lf, 1);
     }
+    r->draw_yields = 0;
     /* color.equalize's histogram pass needs every pixel's sum w on every process. */
     int root_only = fs->params->color.equalize ? 0 : 1;
     if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, root_only, fs->info, err)) != 0)

@@ -477,6 +477,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     if ((rc = lc_reduce_check_method(r, p.method, err)) != 0)
         return rc;
     fs.point_sprites = r->point_sprites = lc_frame_point_sprites(r, &p, p.width, p.height);
+    fs.renderer = r;
+    r->draw_yields = r->yield_cut = 0;
     r->pull_lines = 0; /* lc_filter_prepare sets it for a time window */
     if (!p.has_camera) /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
         lc_render_fit_camera(scenes, layers ? n : 1, &p.camera);

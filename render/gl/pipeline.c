@@ -86,6 +86,10 @@ void lc_renderer_set_tile_size(lc_renderer *r, int tile_size) { r->desc.tile_siz
 
 int lc_renderer_yield_point(lc_renderer *r, lc_error *err)
 {
+    if (r->yield_cut) { /* a draw of this pass ended at a batch (batch_yield) */
+        r->yield_cut = 0;
+        return lc_err(err, LC_ERR_CANCELLED, "the frame yielded (pre-empted during a pass)");
+    }
     if (!r->desc.yield || (r->desc.reducer && r->desc.reducer->size > 1))
         return 0;
     /* What is queued runs now, not while the caller waits (or after it gave up). */
@@ -336,9 +340,26 @@ static void end_batch(GLsync in_flight[2], uint64_t k)
     *slot = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
 }
 
+/* Pre-emption between two batches of a draw (desc.preempted;
+ * docs/ARCHITECTURE.md "Yielding"): one pass of a large still on llvmpipe
+ * takes up to a couple of seconds, which new input would otherwise wait out.
+ * Only where fourier.c allows it (r->draw_yields); nonzero ends the draw, and
+ * the frame's next yield point ends the frame. Large renders wait for other
+ * sessions only at the passes' yield points: waiting between batches as well
+ * starved them behind a steady orbit. */
+static int batch_yield(const lc_frame_setup *fs)
+{
+    lc_renderer *r = fs->renderer;
+    if (!r || !r->draw_yields || !r->desc.preempted || (r->desc.reducer && r->desc.reducer->size > 1))
+        return r && r->yield_cut;
+    if (!r->yield_cut && r->desc.preempted(r->desc.yield_ctx))
+        r->yield_cut = 1;
+    return r->yield_cut;
+}
+
 /* Line strips split only where a run starts (the level's breaks): a batch
  * takes whole runs until it holds about `batch` triangles. */
-static void draw_strips(const lc_gpu_level *lv, uint64_t batch, GLsync in_flight[2])
+static void draw_strips(const lc_frame_setup *fs, const lc_gpu_level *lv, uint64_t batch, GLsync in_flight[2])
 {
     uint64_t start = 0, k = 0;
     for (uint32_t i = 1; i <= lv->break_count; i++) {
@@ -348,8 +369,11 @@ static void draw_strips(const lc_gpu_level *lv, uint64_t batch, GLsync in_flight
         glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(end - start), GL_UNSIGNED_INT,
                        (const void *)(uintptr_t)(start * sizeof(uint32_t)));
         start = end;
-        if (batch < lv->index_count)
+        if (batch < lv->index_count) {
             end_batch(in_flight, k++);
+            if (batch_yield(fs))
+                return;
+        }
     }
 }
 
@@ -364,8 +388,11 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
     uint64_t n = fs->kept_points;
     for (uint64_t first = 0, k = 0; first < n; first += batch, k++) {
         draw_range(LC_PRIM_POINTS, 0, fs->point_sprites, first, n - first < batch ? n - first : batch);
-        if (n > batch)
+        if (n > batch) {
             end_batch(in_flight, k);
+            if (batch_yield(fs))
+                break;
+        }
     }
     lc_uniform_i((GLuint)prog, "u_point_list", 0);
 }
@@ -389,20 +416,23 @@ static void draw_kept_lines(const lc_frame_setup *fs, int pulled, uint64_t batch
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_INDICES, fs->kept_line_buffer);
     batch &= ~(uint64_t)1;
     uint64_t k = 0;
-    for (int part = 0; part < 2; part++) {
+    int cut = 0; /* batch_yield ended the draw */
+    for (int part = 0; part < 2 && !cut; part++) {
         uint64_t start = part ? fs->kept_line_total - fs->kept_line_indices[1] : 0;
         uint64_t end = start + fs->kept_line_indices[part];
         if (loc >= 0)
             glProgramUniform1f((GLuint)prog, loc, part ? weight * (float)fs->line_stride : weight);
-        for (uint64_t s = start; s + 2 < end; s += batch ? batch : end) {
+        for (uint64_t s = start; s + 2 < end && !cut; s += batch ? batch : end) {
             uint64_t e = batch && s + batch + 2 < end ? s + batch + 2 : end;
             if (pulled) /* slot q spans indices 2q .. 2q + 3: (e - s) / 2 - 1 slots from s / 2 */
                 glDrawArrays(GL_TRIANGLES, (GLint)(s / 2 * 6), (GLsizei)((e - s) / 2 - 1) * 6);
             else
                 glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(e - s), GL_UNSIGNED_INT,
                                (const void *)(uintptr_t)(s * sizeof(uint32_t)));
-            if (batch && fs->kept_line_indices[0] + fs->kept_line_indices[1] > batch)
+            if (batch && fs->kept_line_indices[0] + fs->kept_line_indices[1] > batch) {
                 end_batch(in_flight, k++);
+                cut = batch_yield(fs);
+            }
         }
     }
     if (loc >= 0)
@@ -421,7 +451,7 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
         n = lv->index_count >= 4 ? lv->index_count / 2 - 1 : 0; /* ribbon slots of the strip */
     uint64_t step = lc_renderer_subset(fs, subset);
     uint64_t drawn = (n + step - 1) / step;
-    if (!drawn)
+    if (!drawn || (fs->renderer && fs->renderer->yield_cut))
         return;
     if (!pulled && prim != LC_PRIM_POINTS)
         drawn = n; /* indexed draws cover every primitive */
@@ -437,15 +467,18 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     if (prim == LC_PRIM_LINES && subset <= 1 && fs->kept_line_indices[0] + fs->kept_line_indices[1]) {
         draw_kept_lines(fs, pulled, per_batch, in_flight);
     } else if (prim == LC_PRIM_LINES && !pulled) {
-        draw_strips(lv, per_batch ? per_batch : lv->index_count, in_flight);
+        draw_strips(fs, lv, per_batch ? per_batch : lv->index_count, in_flight);
     } else {
         uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
         for (uint64_t first = 0, k = 0; first < drawn; first += batch, k++) {
             draw_range(prim, pulled, fs->point_sprites, first, drawn - first < batch ? drawn - first : batch);
-            if (drawn > batch)
+            if (drawn > batch) {
                 end_batch(in_flight, k);
+                if (batch_yield(fs))
+                    break;
+            }
         }
-        if (prim == LC_PRIM_POINTS && fs->kept_points)
+        if (prim == LC_PRIM_POINTS && fs->kept_points && !(fs->renderer && fs->renderer->yield_cut))
             draw_point_list(fs, batch, in_flight);
     }
     for (int i = 0; i < 2; i++)

@@ -272,6 +272,12 @@ struct lc_renderer {
     /* This frame's points draw as GL point sprites (lc_frame_point_sprites),
      * and the limits that decide it (read at creation). */
     int point_sprites;
+    /* Yield points inside a pass (pipeline.c batch_yield): fourier.c allows
+     * them around the draws of P0, P1, P2, P4 and P5, each followed by a
+     * yield point before anything keeps the pass's result; yield_cut says a
+     * draw ended early, so the frame's other draws are skipped and the next
+     * yield point ends the frame. */
+    int draw_yields, yield_cut;
     float point_size_max;
     int max_viewport[2];
     GLuint timer_queries[LC_PASS_COUNT + 1];
@@ -369,6 +375,7 @@ typedef struct lc_frame_setup {
     /* context.c: the opaque context's depth at the output [0] and the
      * optimization [1] resolution and its colour (0: no context layer). */
     GLuint context_depth[2], context_color;
+    lc_renderer *renderer; /* the frame's renderer: a draw's yield points between batches (pipeline.c) */
 } lc_frame_setup;
 
 /* ---- layers.c (docs/ALGORITHM.md "Layers"): what differs per layer. */

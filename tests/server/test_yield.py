@@ -24,7 +24,7 @@ if websockets is None:
 binary = sys.argv[1]
 check = Check()
 W, H = 640, 480
-COUNT = 150000  # points: a still of one to a few seconds on llvmpipe, below the coarse-first-frame size
+COUNT = 400000  # points: a still of one to a few seconds on llvmpipe (point sprites), below the coarse-first-frame size
 
 
 def camera(seq):

@@ -312,8 +312,22 @@ static void on_progress(void *ctx, int next_pass, int done, int planned)
     atomic_store(&s->progress.stage, next_pass < 0 ? LC_PROGRESS_ENCODE : next_pass);
 }
 
-/* desc.yield: a session's still gives way to its newer input; a large frame waits
- * while other sessions' moving frames render (yield.h); an abandoned frame stops. */
+/* desc.preempted: a session's still gives way to its newer input; an
+ * abandoned frame stops. Never blocks (called between a pass's batches). */
+static int on_preempted(void *ctx)
+{
+    worker *wk = ctx;
+    lc_workers *w = wk->pool;
+    if (wk->preempt && lc_session_stream_preempted(wk->preempt))
+        return 1;
+    pthread_mutex_lock(&w->lock);
+    bool lost = wk->lost;
+    pthread_mutex_unlock(&w->lock);
+    return lost;
+}
+
+/* desc.yield: as on_preempted, and first a large frame waits while other
+ * sessions' moving frames render (yield.h). */
 static int on_yield(void *ctx)
 {
     worker *wk = ctx;
@@ -321,12 +335,7 @@ static int on_yield(void *ctx)
     double waited = wk->large ? lc_yield_wait(&w->gate, wk->owner) : 0;
     if (waited > 0)
         lc_metrics_yield_wait(w->srv->metrics, waited);
-    if (wk->preempt && lc_session_stream_preempted(wk->preempt)) /* input may have come while it waited */
-        return 1;
-    pthread_mutex_lock(&w->lock);
-    bool lost = wk->lost;
-    pthread_mutex_unlock(&w->lock);
-    return lost;
+    return on_preempted(wk); /* input may have come while it waited */
 }
 
 /* One frame of a WebSocket session, if it needs one. */
@@ -416,6 +425,7 @@ static void *worker_main(void *arg)
                                                     .progress = on_progress,
                                                     .progress_ctx = wk,
                                                     .yield = on_yield,
+                                                    .preempted = on_preempted,
                                                     .yield_ctx = wk},
                                 &wk->renderer, &err);
     pthread_mutex_lock(&w->lock);

@@ -2,7 +2,8 @@
 plus concurrent HTTP renders for a fixed time. No crash, every HTTP request is
 answered with an image or 429/503 + Retry-After, every WebSocket session keeps
 getting frames, and resident memory returns near its baseline once the clients
-leave (read from /proc/PID/status)."""
+leave (read from /proc/PID/status; not under AddressSanitizer, whose quarantine
+keeps freed memory)."""
 import asyncio
 import json
 import os
@@ -10,7 +11,7 @@ import sys
 import threading
 import time
 
-from lucent_server import Check, Server, jpeg_size, skip, unpack_frame, websockets
+from lucent_server import Check, Server, jpeg_size, sanitized, skip, unpack_frame, websockets
 
 if websockets is None:
     skip("python3-websockets is not installed")
@@ -112,7 +113,12 @@ with Server(binary, "--max-queue", "4", "--encoders", "2") as srv:
     after = srv.rss_kb()
     print("RSS: baseline %.1f MB, end of load %.1f MB, after clients left %.1f MB" % (base / 1024, peak / 1024,
                                                                                       after / 1024))
-    check(after <= base * 1.25 + 24 * 1024, "RSS back near baseline (%.1f MB vs %.1f MB)" % (after / 1024, base / 1024))
+    if sanitized(binary):  # the quarantine keeps freed memory (CI's ASan run: 380 -> 560 MB; the plain build +1 MB)
+        print("note: resident memory not bounded under AddressSanitizer (%.1f MB after, %.1f MB before)"
+              % (after / 1024, base / 1024))
+    else:
+        check(after <= base * 1.25 + 24 * 1024,
+              "RSS back near baseline (%.1f MB vs %.1f MB)" % (after / 1024, base / 1024))
     check(srv.stop() == 0, "clean exit after the load")
 
 check.done()

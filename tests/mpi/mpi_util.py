@@ -5,6 +5,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 
 MAX_RMSE = 1.0 / 255.0
 
@@ -35,33 +36,8 @@ def rmse(lucent, a, b):
 
 def read_png(path):
     """An 8-bit RGB/RGBA PNG file -> (width, height, [(r, g, b) per pixel, rows top-down])."""
-    import struct
-    import zlib
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "server"))
+    from lucent_server import decode_png
     with open(path, "rb") as f:
-        data = f.read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", path + ": not a PNG"
-    i, idat, w, h, ch = 8, b"", 0, 0, 3
-    while i < len(data):
-        n, kind = struct.unpack(">I4s", data[i:i + 8])
-        body = data[i + 8:i + 8 + n]
-        if kind == b"IHDR":
-            w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
-            assert depth == 8 and ctype in (2, 6), "%s: PNG type %d depth %d" % (path, ctype, depth)
-            ch = 3 if ctype == 2 else 4
-        elif kind == b"IDAT":
-            idat += body
-        i += 12 + n
-    raw, stride, prev, pixels = zlib.decompress(idat), w * ch, bytearray(w * ch), []
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for x in range(stride):
-            a = line[x - ch] if x >= ch else 0
-            b, c = prev[x], prev[x - ch] if x >= ch else 0
-            p = {0: 0, 1: a, 2: b, 3: (a + b) // 2}.get(f)
-            if p is None:  # Paeth
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                p = a if pa <= pb and pa <= pc else b if pb <= pc else c
-            line[x] = (line[x] + p) & 255
-        pixels += [tuple(line[x * ch:x * ch + 3]) for x in range(w)]
-        prev = line
-    return w, h, pixels
+        w, h, ch, rows = decode_png(f.read())
+    return w, h, [tuple(row[x * ch:x * ch + 3]) for row in rows for x in range(w)]

@@ -92,6 +92,18 @@ def compare(what, one, many, limit=MAX_RMSE):
     check(e <= limit, "%s: rmse %.6f <= %.6f" % (what, e, limit))
 
 
+def session_frames(what, pairs, cameras):
+    """Renders each camera in turn on each (server, session id) of pairs, the
+    one-process daemon's first, and compares the two frames."""
+    for i, cam in enumerate(cameras):
+        imgs = []
+        for srv, sid in pairs:
+            st, _, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam})
+            imgs.append(img if st == 200 else None)
+        if check(all(imgs), "%s %d rendered by both" % (what, i)):
+            compare("%s-%d" % (what, i), imgs[0], imgs[1])
+
+
 async def ws_last_frame(srv, scene=None):
     async with websockets.connect(srv.ws_url, max_size=None) as ws:
         await ws.send(json.dumps(dict({"type": "hello", "width": 96, "height": 72, "devicePixelRatio": 1,
@@ -164,16 +176,9 @@ try:
                                                              "format": "png", "params": {"fadeHalfLife": 0.3}})
         sessions.append(info["session"] if st in (200, 201) else None)
     check(all(sessions), "sessions created on both")
-    for i in range(4):
-        a = 0.4 * i
-        cam = {"position": [0.5 + 2.2 * math.cos(a), 0.5 + 2.2 * math.sin(a), 0.9], "focalPoint": [0.5, 0.5, 0.5],
-               "viewUp": [0, 0, 1]}
-        imgs = []
-        for srv, sid in zip((single, multi), sessions):
-            st, hdr, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam})
-            imgs.append(img if st == 200 else None)
-        if check(all(imgs), "session frame %d rendered by both" % i):
-            compare("session-frame-%d" % i, imgs[0], imgs[1])
+    session_frames("session-frame", list(zip((single, multi), sessions)), [
+        {"position": [0.5 + 2.2 * math.cos(0.4 * i), 0.5 + 2.2 * math.sin(0.4 * i), 0.9],
+         "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 0, 1]} for i in range(4)])
     # layers[] (docs/MPI.md "Layers"): the ranks draw their shards of each
     # layer; the plane as opaque context is combined over the ranks (its
     # nearest depth on every rank, its colour once), looked at down -z with
@@ -202,14 +207,8 @@ try:
                                                              "format": "png", "params": {"fadeHalfLife": 0.3}})
         sessions.append(info.get("session") if st in (200, 201) and info else None)
     if check(all(sessions), "sessions of layers created on both"):
-        for i in range(3):
-            cam = dict(DOWN_Z, position=[0.5 + 0.4 * i, 0.5, 3.2])
-            imgs = []
-            for srv, sid in zip((single, multi), sessions):
-                st, _, img = srv.request("POST", "/api/v1/sessions/%s/render" % sid, {"dt": 1 / 30, "camera": cam})
-                imgs.append(img if st == 200 else None)
-            if check(all(imgs), "session frame %d of layers rendered by both" % i):
-                compare("session-layers-%d" % i, imgs[0], imgs[1])
+        session_frames("session-layers", list(zip((single, multi), sessions)),
+                       [dict(DOWN_Z, position=[0.5 + 0.4 * i, 0.5, 3.2]) for i in range(3)])
     # A WebSocket session: the last frame (still, converged) of each.
     if websockets:
         (a, na), (b, nb) = asyncio.run(ws_last_frame(single)), asyncio.run(ws_last_frame(multi))

@@ -5,12 +5,10 @@ one layer and shows exactly opacity * colour + (1 - opacity) * background; the
 weighted-average baseline of the same curves saturates towards the surface
 colour (PRT Fig. 5). Bad surface objects are refused naming the field."""
 import json
-import struct
 import sys
 import urllib.parse
-import zlib
 
-from lucent_server import Check, Server
+from lucent_server import Check, Server, decode_png
 
 binary = sys.argv[1]
 check = Check()
@@ -18,36 +16,6 @@ SIZE = 96
 BG = [1.0, 1.0, 1.0]
 COLOR = [0.2, 0.4, 0.8]
 OPACITY = 0.3
-
-
-def decode_png(data):
-    """8-bit RGB/RGBA PNG -> (w, h, channels, rows of bytes), filters undone."""
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
-    i, idat, w = 8, b"", 0
-    while i < len(data):
-        n, kind = struct.unpack(">I4s", data[i:i + 8])
-        body = data[i + 8:i + 8 + n]
-        if kind == b"IHDR":
-            w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
-            assert depth == 8 and ctype in (2, 6), "PNG type %d depth %d" % (ctype, depth)
-            ch = 3 if ctype == 2 else 4
-        elif kind == b"IDAT":
-            idat += body
-        i += 12 + n
-    raw, rows, stride, prev = zlib.decompress(idat), [], w * ch, bytearray(w * ch)
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for x in range(stride):
-            a = line[x - ch] if x >= ch else 0
-            b, c = prev[x], prev[x - ch] if x >= ch else 0
-            p = {0: 0, 1: a, 2: b, 3: (a + b) // 2}.get(f)
-            if p is None:  # Paeth
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                p = a if pa <= pb and pa <= pc else b if pb <= pc else c
-            line[x] = (line[x] + p) & 255
-        rows.append(bytes(line))
-        prev = line
-    return w, h, ch, rows
 
 
 def pixel(img, x, y):

@@ -81,13 +81,18 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
         lc_frame_state_download(state, r->element_alpha);
         state->fresh = 0;
     }
-    uint32_t bits = 0;
-    glGetNamedBufferSubData(r->stats, 0, 4, &bits);
-    float change;
-    memcpy(&change, &bits, 4);
+    uint32_t bits[2] = {0, 0};
+    glGetNamedBufferSubData(r->stats, 0, sizeof bits, bits);
+    float change, gap;
+    memcpy(&change, &bits[0], 4);
+    memcpy(&gap, &bits[1], 4);
     if (info) {
+        /* Converged when this frame's step was small, or when what is left
+         * is: after a long pause (a still after release, dt of seconds) the
+         * fade reaches the targets in one frame, and another frame at the
+         * same view would only confirm it at the cost of a whole still. */
         info->max_alpha_change = one_shot ? 0.0 : change;
-        info->converged = info->max_alpha_change < LC_CONVERGED_EPSILON;
+        info->converged = info->max_alpha_change < LC_CONVERGED_EPSILON || (!one_shot && gap < LC_CONVERGED_EPSILON);
     }
     return 0;
 }

@@ -169,7 +169,7 @@ typedef struct lc_frame_info {
     uint64_t kept_line_segments[2]; /* with a line stride: segments of the full and of the strided lines */
     int reused_opacities;
     double max_alpha_change; /* max |delta| of element opacities this frame */
-    int converged;           /* max_alpha_change < LC_CONVERGED_EPSILON */
+    int converged;           /* max_alpha_change, or what is left to fade, < LC_CONVERGED_EPSILON */
     /* Density normalization (params.normalize; methods with element opacities): */
     double mass_median, mass_p95; /* per-pixel sum of g^2 over covered pixels (optimization resolution) */
     double covered_fraction;      /* covered pixels / pixels, at the optimization resolution */

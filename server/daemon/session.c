@@ -11,6 +11,7 @@
 #include "datasets.h"
 #include "fields.h"
 #include "metrics.h"
+#include "still_stages.h"
 #include "surface_job.h"
 #include "surface_render.h"
 
@@ -49,7 +50,9 @@ static const struct {
 #define REOPTIMIZE_SECONDS 1.0
 /* Staged stills (protocol/websocket.md): when the session's last full still
  * took longer than this, a still comes in two stages, the moving frames'
- * opacities at full size and detail first, then the full optimization. */
+ * opacities at full size and detail first, then the full optimization; on
+ * data the moving frames thinned, a thinned full-size stage comes before
+ * them when the full-detail one would miss LC_STILL_PREVIEW_TARGET_MS. */
 #define STAGED_STILL_MS 500.0
 
 #define MOD "session"
@@ -469,8 +472,16 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     bool reusable = (method == LC_METHOD_FOURIER || method == LC_METHOD_WBOIT) && s->frame_state &&
                     !lc_frame_state_is_fresh(s->frame_state);
     out->stages = 0, out->stage = 0;
-    if (!interactive && still && (st->still_stage == 1 || (reusable && st->still_ms > STAGED_STILL_MS)))
-        out->stages = 2, out->stage = st->still_stage + 1;
+    if (!interactive && still && (st->still_stage > 0 || (reusable && st->still_ms > STAGED_STILL_MS))) {
+        if (st->still_stage == 0) {
+            /* The full-detail stage's time, or the full still's as an upper bound until one was measured. */
+            double full_ms = st->reused_ms > 0 ? st->reused_ms : st->still_ms;
+            double budget = LC_STILL_PREVIEW_TARGET_MS - 1000.0 * effective_still_delay(st, cfg->still_delay);
+            st->preview_stride = lc_still_preview_stride(full_ms, budget, st->moving_stride);
+            st->still_stages = st->preview_stride > 1 ? 3 : 2;
+        }
+        out->stages = st->still_stages, out->stage = st->still_stage + 1;
+    }
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
     memcpy(out->layers, s->layer_ds, (size_t)s->req.layer_count * sizeof *out->layers);
@@ -489,8 +500,10 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
                       s->dataset->scene->type == LC_PRIM_POINTS;
         scale *= points || st->lines_thinned ? detail_steps[step].thinned_scale : detail_steps[step].scale;
     }
-    if (out->stage == 1)
+    if (out->stage > 0 && out->stage < out->stages)
         out->req.render.detail.reuse_opacities = true;
+    if (out->stages == 3 && out->stage == 1) /* the preview: the renderer applies the stride its data type has */
+        out->req.render.detail.line_stride = out->req.render.detail.point_stride = st->preview_stride;
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);
     out->req.format = LC_FORMAT_JPEG;
@@ -531,9 +544,11 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     pthread_mutex_lock(&s->lock);
     lc_stream *st = &s->stream;
     st->rendering = false;
-    if (ok && f->stage == 1) { /* stage 2 is due next: still_due holds on */
-        st->still_stage = 1;
+    if (ok && f->stage > 0 && f->stage < f->stages) { /* the next stage is due: still_due holds on */
+        st->still_stage = f->stage;
         st->frames++;
+        if (info && f->stage == f->stages - 1) /* the full-detail stage (its preview's measure) */
+            st->reused_ms = info->wall_ms;
     } else if (ok) {
         st->still_stage = 0;
         if (!f->interactive && info)
@@ -546,6 +561,8 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
         /* Dense lines (thinned 4-fold or more) take the lines' scales; lines
          * not thinned at all at such a step go back to the common ones. In
          * between nothing changes, so sizes do not flip frame to frame. */
+        if (info && f->interactive)
+            st->moving_stride = info->line_stride > info->point_stride ? info->line_stride : info->point_stride;
         if (info && f->interactive && f->detail_step < DETAIL_STEPS && detail_steps[f->detail_step].line_stride >= 4)
             st->lines_thinned = info->line_stride >= 4 ? true : info->line_stride == 1 ? false : st->lines_thinned;
         /* Coarser when a frame overran the budget, finer when it took well

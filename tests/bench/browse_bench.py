@@ -9,10 +9,11 @@ along an orbit, an ack for every frame, then release. It reports:
                   --server-args "--cache DIR" for a cold and a warm start)
   frames/s        frames received while orbiting
   input-to-frame  p50/p95 from sending camera seq k to the first frame with cameraSeq >= k
-  still           seconds from the last camera update to the first full-size still of that camera,
-                  and to the converged still
+  still           seconds from the last camera update to the first full-size still of that camera
+                  (a staged still's first stage), to its final stage, and to the converged still
   moving vs still SSIM between the last moving frame (stretched to the still's size, as the page
-                  stretches it) and the still of the same camera
+                  stretches it) and the still of the same camera; with a staged still, also
+                  between its first stage and its final one
   pause           with --pause S: the orbit stops for S seconds mid-drag and resumes; the delay from
                   the first update after the pause to its frame (a still started in the pause must
                   not hold it up)
@@ -212,17 +213,29 @@ async def browse(ws_url, token, args):
         t_last = sent[seq]
         # Release: the still of the last camera, then convergence.
         deadline = time.time() + args.timeout
-        still = None
+        still = first_stage = None
+        stages = []
         while time.time() < deadline:
             h, img = await recv(deadline - time.time())
             if img is None:
                 continue
             if resume_seq is not None and r["pause_delay"] is None and h["cameraSeq"] >= resume_seq:
                 r["pause_delay"] = time.time() - sent[resume_seq]
+            if args.verbose:
+                d = h.get("detail") or {}
+                print(f"  after release +{time.time() - t_last:.2f} s: frame {h['frame']} {h['width']}x{h['height']} "
+                      f"{'moving' if d.get('interactive') else 'still'} stage {h.get('stage', '-')}/"
+                      f"{h.get('stages', '-')} converged {h.get('converged')} render {d.get('renderMs', 0):.0f} ms "
+                      f"({', '.join('%s %.0f' % kv for kv in (h.get('timings') or {}).items())})",
+                      flush=True)
             if h["cameraSeq"] == seq and not (h.get("detail") or {}).get("interactive", False):
                 if still is None:
                     r["still"] = time.time() - t_last
+                    first_stage = (h, img)
                 still = (h, img)
+                stages.append(still)
+                if h.get("final", True) and "full" not in r:  # a staged still's last stage, or an unstaged one
+                    r["full"] = time.time() - t_last
                 if h.get("converged") and h.get("final", True):  # a staged still's last stage
                     r["converged"] = time.time() - t_last
                     break
@@ -238,6 +251,16 @@ async def browse(ws_url, token, args):
         if np is not None and still is not None and last_moving is not None:
             size = (still[0]["width"], still[0]["height"])
             r["ssim"] = ssim(luminance(last_moving[1], size), luminance(still[1]))
+            if args.verbose:
+                for head, data in stages:
+                    print("  %s stage %s/%s vs the final still: SSIM %.3f" % (
+                        "%dx%d" % (head["width"], head["height"]), head.get("stage", "-"), head.get("stages", "-"),
+                        ssim(luminance(data, size), luminance(still[1]))))
+                print("  last moving frame vs the first still frame: SSIM %.3f" % ssim(
+                    luminance(last_moving[1], size), luminance(stages[0][1])))
+            if first_stage is not still:
+                r["ssim_first"] = ssim(luminance(first_stage[1], size), luminance(still[1]))
+                r["first_stage"] = "stage %s of %s" % (first_stage[0].get("stage"), first_stage[0].get("stages"))
             r["moving_size"] = "%dx%d" % (last_moving[0]["width"], last_moving[0]["height"])
     return r
 
@@ -265,10 +288,12 @@ def run(base, ws_url, token, args, launched=None, listening=None):
                                                                             listening - launched))
     print("frames/s while orbiting     %.1f" % (r["moving"] / r["orbit_s"]))
     print("input-to-frame p50 / p95    %.0f / %.0f ms" % (1000 * pct(r["lat"], 50), 1000 * pct(r["lat"], 95)))
-    print("still after last input      %s (converged %s)" % (f("still"), f("converged")))
+    print("still after last input      %s, final stage %s (converged %s)" % (f("still"), f("full"), f("converged")))
     print("moving vs still SSIM        %s%s" % (f("ssim", "%.3f"),
           " (moving frame %s)" % r["moving_size"] if "moving_size" in r else
           "" if np is not None else " (n/a: needs python3-numpy, python3-pil)"))
+    if "ssim_first" in r:
+        print("first stage vs still SSIM   %.3f (%s)" % (r["ssim_first"], r["first_stage"]))
     if args.pause:
         print("first frame after a %.1f s pause  %s" % (args.pause, f("pause_delay")))
     if args.contend:

@@ -1,11 +1,13 @@
 /* The stream's flow control in process (session.c, stream.c): hello through
  * the stream protocol, the window of unacknowledged frames, latest-wins
- * coalescing of updates, convergence and the still frame, blind acks, and
- * one update path with its budget check for HTTP sessions and streams. */
+ * coalescing of updates, convergence and the still frame, staged stills and
+ * their preview stage, blind acks, and one update path with its budget check
+ * for HTTP sessions and streams. */
 #include <stdlib.h>
 
 #include "daemon_test_util.h"
 #include "lc_test.h"
+#include "still_stages.h"
 #include "stream.h"
 
 static lc_server srv;
@@ -120,6 +122,104 @@ static void test_convergence(lc_session *s)
     CHECK(lc_session_stream_next(s, t0 + 2 * delay, &f, &wake) == 0 && wake == 0, "after it: idle");
 }
 
+/* What a render worker reports for a frame of a thinned draw (line_stride) that took wall_ms. */
+static void finish_timed(lc_session *s, const lc_stream_frame *f, double wall_ms, int line_stride)
+{
+    lc_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.converged = 1;
+    info.wall_ms = wall_ms;
+    info.line_stride = line_stride;
+    info.point_stride = 1;
+    info.reused_opacities = f->req.render.detail.reuse_opacities;
+    lc_session_stream_done(s, f, true, &info);
+    lc_session_stream_sent(s, f->frame);
+    lc_session_stream_ack(s, f->frame);
+}
+
+/* One moving frame drawn at line_stride, then the still's frames once input is quiet: their stage/stages and
+ * preview stride into out[] (up to 4 frames); the full optimization's frame takes still_ms, a full-detail stage
+ * that reuses opacities reused_ms. Returns the number of still frames. */
+static int move_and_settle(lc_session *s, int line_stride, double still_ms, double reused_ms, lc_stream_frame out[4])
+{
+    lc_stream_frame f;
+    double wake = 0, t0 = lc_now();
+    lc_session_stream_input(s, t0);
+    if (lc_session_stream_next(s, t0, &f, &wake) != 1 || !f.interactive)
+        return -1;
+    finish_timed(s, &f, 10, line_stride);
+    double later = t0 + srv.cfg.still_delay + 1e-6;
+    int n = 0;
+    while (n < 4 && lc_session_stream_next(s, later, &out[n], &wake) == 1 && !out[n].interactive) {
+        const lc_stream_frame *g = &out[n++];
+        bool reusing = g->stage > 0 && g->stage < g->stages;
+        finish_timed(s, g, reusing && g->stage == g->stages - 1 ? reused_ms : reusing ? 100 : still_ms, 1);
+    }
+    return n;
+}
+
+static void test_staged(lc_session *s)
+{
+    /* Stages need opacities to reuse: a state that is not fresh (the render worker's, in the daemon). */
+    pthread_mutex_lock(&s->lock);
+    if (!s->frame_state)
+        s->frame_state = lc_frame_state_create(4);
+    lc_frame_state_load(s->frame_state, (const float[]){0.5f, 0.5f, 0.5f, 0.5f});
+    s->stream.input_interval = 0; /* the still waits still_delay, not a pace of input */
+    pthread_mutex_unlock(&s->lock);
+    lc_stream_frame st[4];
+    double budget = LC_STILL_PREVIEW_TARGET_MS - 1000.0 * srv.cfg.still_delay;
+
+    /* A quick still: one piece. A slow one makes the next still staged. */
+    int n = move_and_settle(s, 1, 5000, 0, st);
+    CHECK(n == 1 && st[0].stages == 0, "a still after quick ones comes in one piece (%d frames, %d stages)", n,
+          n > 0 ? st[0].stages : -1);
+    /* The moving frames were not thinned: two stages, the first reusing the opacities at full detail. */
+    n = move_and_settle(s, 1, 5000, 3000, st);
+    CHECK(n == 2 && st[0].stage == 1 && st[0].stages == 2 && st[0].req.render.detail.reuse_opacities &&
+              st[0].req.render.detail.line_stride <= 1 && st[1].stage == 2 && !st[1].req.render.detail.reuse_opacities,
+          "unthinned data: stage 1 of 2 reuses the opacities at full detail, stage 2 optimizes (%d frames)", n);
+    /* Thinned moving frames (1 in 16) and a full-detail stage of 3 s: a preview first, thinned by the smallest
+     * power of two that fits the second (3000 * 1.25 / n <= budget). */
+    int want = 2;
+    while (3000 * LC_STILL_THINNED_SHARE(want) > budget)
+        want *= 2;
+    n = move_and_settle(s, 16, 5000, 3000, st);
+    CHECK(n == 3 && st[0].stages == 3 && st[0].stage == 1 && st[0].req.render.detail.reuse_opacities &&
+              st[0].req.render.detail.line_stride == want && st[0].req.render.detail.point_stride == want,
+          "thinned data: stage 1 of 3 is the preview at stride %d (%d frames, stride %d)", want, n,
+          n > 0 ? st[0].req.render.detail.line_stride : -1);
+    CHECK(n == 3 && st[1].stage == 2 && st[1].req.render.detail.reuse_opacities &&
+              st[1].req.render.detail.line_stride <= 1 && st[2].stage == 3 && st[2].stages == 3 &&
+              !st[2].req.render.detail.reuse_opacities,
+          "then the full-detail stage reusing opacities, then the optimization");
+    /* Never thinner than the moving frames were. */
+    n = move_and_settle(s, 2, 5000, 3000, st);
+    CHECK(n == 3 && st[0].req.render.detail.line_stride == 2, "the preview's stride is capped by the moving "
+          "frames' (%d)", n > 0 ? st[0].req.render.detail.line_stride : -1);
+    /* A full-detail stage within the budget needs no preview. */
+    n = move_and_settle(s, 16, 5000, 0.5 * budget, st);
+    n = move_and_settle(s, 16, 5000, 0.5 * budget, st);
+    CHECK(n == 2 && st[0].stages == 2, "a full-detail stage that fits the budget: two stages (%d frames)", n);
+
+    /* Input during a stage starts the still over. */
+    move_and_settle(s, 16, 5000, 3000, st);
+    lc_stream_frame f;
+    double wake = 0, t0 = lc_now();
+    lc_session_stream_input(s, t0);
+    CHECK(lc_session_stream_next(s, t0, &f, &wake) == 1 && f.interactive, "input: a moving frame");
+    finish_timed(s, &f, 10, 16);
+    CHECK(lc_session_stream_next(s, t0 + srv.cfg.still_delay + 1e-6, &f, &wake) == 1 && f.stage == 1 && f.stages == 3,
+          "the still's stage 1 (%d of %d)", f.stage, f.stages);
+    finish_timed(s, &f, 100, 16);
+    lc_session_stream_input(s, t0);
+    CHECK(lc_session_stream_next(s, t0, &f, &wake) == 1 && f.interactive, "input after stage 1: a moving frame");
+    finish_timed(s, &f, 10, 16);
+    CHECK(lc_session_stream_next(s, t0 + srv.cfg.still_delay + 1e-6, &f, &wake) == 1 && f.stage == 1,
+          "and the still starts again from stage 1 (%d)", f.stage);
+    finish_timed(s, &f, 100, 1);
+}
+
 static void test_budget(lc_stream_conn *conn)
 {
     lc_session *s = conn->session;
@@ -199,6 +299,7 @@ int main(void)
     test_window(s);
     test_latest_wins(&conn);
     test_convergence(s);
+    test_staged(s);
     test_budget(&conn);
     lc_session_close(srv.sessions, s);
     lc_session_unref(s);

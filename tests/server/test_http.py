@@ -103,7 +103,9 @@ with Server(binary) as srv:
     check(0 < ch1 <= bound + 1e-4 and not conv1, "dt=0.01: opacity change %.5f within 1-2^(-dt/t) = %.5f" % (ch1, bound))
     ch2, conv2, _ = frame({"dt": 0.5})
     check(ch2 > ch1 and not conv2, "dt=0.5 moves further (%.5f > %.5f)" % (ch2, ch1))
-    ch3, _, _ = frame({"dt": 100})
+    ch3, conv3, _ = frame({"dt": 100})
+    check(conv3 and ch3 > 1e-3, "a long dt reaches the targets in one frame: converged at once, though the step "
+          "was large (%.2g)" % ch3)
     ch4, conv4, _ = frame({"dt": 100})
     check(conv4 and ch4 < 1e-3, "after a long dt the session has converged (%.2g, then %.2g)" % (ch3, ch4))
     st, _, info = srv.json("GET", "/api/v1/sessions/" + sid)

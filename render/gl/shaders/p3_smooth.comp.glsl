@@ -10,7 +10,7 @@ layout(std430, binding = BIND_SMOOTH_SRC) buffer SmoothSrc { float smooth_src[];
 layout(std430, binding = BIND_SMOOTH_DST) buffer SmoothDst { float smooth_dst[]; };
 layout(std430, binding = BIND_ADJ_OFFSETS) readonly buffer AdjacencyOffsets { uint adjacency_offsets[]; };
 layout(std430, binding = BIND_ADJ) readonly buffer Adjacency { uint adjacency[]; };
-layout(std430, binding = BIND_STATS) buffer Stats { uint max_change_bits; };
+layout(std430, binding = BIND_STATS) buffer Stats { uint max_change_bits; uint max_gap_bits; };
 layout(std430, binding = BIND_ADJ_WEIGHTS) readonly buffer AdjacencyWeights { uint adjacency_weight_words[]; }; // 16-bit unorm, 2 per word
 float adjacency_weight(uint i) { return float((adjacency_weight_words[i >> 1] >> ((i & 1u) * 16u)) & 0xffffu) / 65535.0; }
 
@@ -70,5 +70,8 @@ void main()
         float next = cur + (smooth_src[e] - cur) * u_fade;
         element_alpha[e] = next;
         atomicMax(max_change_bits, floatBitsToUint(abs(next - cur)));
+        // What fading still has to cover: the next frame's targets are this
+        // frame's unless the view or the parameters change.
+        atomicMax(max_gap_bits, floatBitsToUint(abs(smooth_src[e] - next)));
     }
 }

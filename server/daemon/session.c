@@ -50,9 +50,9 @@ static const struct {
 #define REOPTIMIZE_SECONDS 1.0
 /* Staged stills (protocol/websocket.md): when the session's last full still
  * took longer than this, a still comes in two stages, the moving frames'
- * opacities at full size and detail first, then the full optimization; on
- * data the moving frames thinned, a thinned full-size stage comes before
- * them when the full-detail one would miss LC_STILL_PREVIEW_TARGET_MS. */
+ * opacities at full size first, then the full optimization. On data the
+ * moving frames thinned, stage 1 is thinned too where its full detail would
+ * miss LC_STILL_PREVIEW_TARGET_MS (a preview, still_stages.h). */
 #define STAGED_STILL_MS 500.0
 
 #define MOD "session"
@@ -474,13 +474,12 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     out->stages = 0, out->stage = 0;
     if (!interactive && still && (st->still_stage > 0 || (reusable && st->still_ms > STAGED_STILL_MS))) {
         if (st->still_stage == 0) {
-            /* The full-detail stage's time, or the full still's as an upper bound until one was measured. */
-            double full_ms = st->reused_ms > 0 ? st->reused_ms : st->still_ms;
             double budget = LC_STILL_PREVIEW_TARGET_MS - 1000.0 * effective_still_delay(st, cfg->still_delay);
+            /* What stage 1 costs at full detail: measured by the last stage 1, else at most the whole still. */
+            double full_ms = st->reused_ms > 0 ? st->reused_ms : st->still_ms;
             st->preview_stride = lc_still_preview_stride(full_ms, budget, st->moving_stride);
-            st->still_stages = st->preview_stride > 1 ? 3 : 2;
         }
-        out->stages = st->still_stages, out->stage = st->still_stage + 1;
+        out->stages = 2, out->stage = st->still_stage + 1;
     }
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
@@ -500,10 +499,14 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
                       s->dataset->scene->type == LC_PRIM_POINTS;
         scale *= points || st->lines_thinned ? detail_steps[step].thinned_scale : detail_steps[step].scale;
     }
-    if (out->stage > 0 && out->stage < out->stages)
+    if (out->stage == 1) {
         out->req.render.detail.reuse_opacities = true;
-    if (out->stages == 3 && out->stage == 1) /* the preview: the renderer applies the stride its data type has */
-        out->req.render.detail.line_stride = out->req.render.detail.point_stride = st->preview_stride;
+        if (st->preview_stride > 1) /* a preview; the renderer applies the stride its data type has */
+            out->req.render.detail.line_stride = out->req.render.detail.point_stride = st->preview_stride;
+    }
+    /* The stages are one still refined: each shows its own targets, not a fade from the frame before. */
+    if (out->stage > 0)
+        out->req.render.foo.fade_half_life = 0;
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);
     out->req.format = LC_FORMAT_JPEG;
@@ -547,8 +550,9 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     if (ok && f->stage > 0 && f->stage < f->stages) { /* the next stage is due: still_due holds on */
         st->still_stage = f->stage;
         st->frames++;
-        if (info && f->stage == f->stages - 1) /* the full-detail stage (its preview's measure) */
-            st->reused_ms = info->wall_ms;
+        int n = st->preview_stride;
+        if (info) /* stage 1 at full detail, from this one's time and share */
+            st->reused_ms = n > 1 ? info->wall_ms / LC_STILL_THINNED_SHARE(n) : info->wall_ms;
     } else if (ok) {
         st->still_stage = 0;
         if (!f->interactive && info)

@@ -67,11 +67,10 @@ typedef struct lc_stream {
     bool lines_thinned; /* moving frames draw line subsets (dense lines): the ladder's line_scale applies */
     uint64_t yielded; /* still/refinement frames abandoned for newer input (stats) */
     bool moving_next; /* after such a frame: the next frame is a moving one, however long the pass took */
-    int still_stage;    /* staged stills: the stages of the still under way sent so far (0: none) */
-    int still_stages;   /* its stages (2, or 3 with a preview), planned at its stage 1 */
-    int preview_stride; /* a 3-stage still: the line/point stride of its stage 1 (still_stages.h) */
-    double still_ms;    /* render time of the last still (not interactive, not an earlier stage), 0 = none yet */
-    double reused_ms;   /* render time of the last full-detail stage that reused opacities, 0 = none yet */
+    int still_stage;    /* staged stills: 1 = stage 1 sent, stage 2 due (0 otherwise) */
+    int preview_stride; /* the still under way: its stage 1's line/point stride (1: no preview; still_stages.h) */
+    double still_ms;    /* render time of the last still (not interactive, not a stage 1), 0 = none yet */
+    double reused_ms;   /* a stage 1 at full detail: its time, or the last thinned one's over its share; 0 = none */
     int moving_stride;  /* the line or point stride the last moving frame drew at (1: not thinned) */
 } lc_stream;
 
@@ -135,7 +134,7 @@ typedef struct lc_stream_frame {
     bool interactive;
     int detail_step; /* interactive frames: the ladder step used */
     double dt;
-    int stage, stages; /* a staged still: stage 1 or 2 of 2, or 1..3 of 3 (0, 0: not staged) */
+    int stage, stages; /* a staged still: stage 1 or 2 of 2 (0, 0: not staged) */
 } lc_stream_frame;
 
 typedef struct lc_sessions lc_sessions;

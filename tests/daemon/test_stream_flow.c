@@ -137,10 +137,9 @@ static void finish_timed(lc_session *s, const lc_stream_frame *f, double wall_ms
     lc_session_stream_ack(s, f->frame);
 }
 
-/* One moving frame drawn at line_stride, then the still's frames once input is quiet: their stage/stages and
- * preview stride into out[] (up to 4 frames); the full optimization's frame takes still_ms, a full-detail stage
- * that reuses opacities reused_ms. Returns the number of still frames. */
-static int move_and_settle(lc_session *s, int line_stride, double still_ms, double reused_ms, lc_stream_frame out[4])
+/* One moving frame drawn at line_stride, then the still's frames once input is quiet (up to 3) into out[]; the
+ * still's stage 1 takes stage1_ms, its last frame still_ms. Returns the number of still frames. */
+static int move_and_settle(lc_session *s, int line_stride, double stage1_ms, double still_ms, lc_stream_frame out[3])
 {
     lc_stream_frame f;
     double wake = 0, t0 = lc_now();
@@ -150,11 +149,19 @@ static int move_and_settle(lc_session *s, int line_stride, double still_ms, doub
     finish_timed(s, &f, 10, line_stride);
     double later = t0 + srv.cfg.still_delay + 1e-6;
     int n = 0;
-    while (n < 4 && lc_session_stream_next(s, later, &out[n], &wake) == 1 && !out[n].interactive) {
+    while (n < 3 && lc_session_stream_next(s, later, &out[n], &wake) == 1 && !out[n].interactive) {
         const lc_stream_frame *g = &out[n++];
-        bool reusing = g->stage > 0 && g->stage < g->stages;
-        finish_timed(s, g, reusing && g->stage == g->stages - 1 ? reused_ms : reusing ? 100 : still_ms, 1);
+        finish_timed(s, g, g->stage == 1 ? stage1_ms : still_ms, 1);
     }
+    return n;
+}
+
+/* The smallest power-of-two stride whose share of full_ms fits the budget. */
+static int expected_stride(double full_ms, double budget)
+{
+    int n = 2;
+    while (full_ms * LC_STILL_THINNED_SHARE(n) > budget)
+        n *= 2;
     return n;
 }
 
@@ -167,49 +174,62 @@ static void test_staged(lc_session *s)
     lc_frame_state_load(s->frame_state, (const float[]){0.5f, 0.5f, 0.5f, 0.5f});
     s->stream.input_interval = 0; /* the still waits still_delay, not a pace of input */
     pthread_mutex_unlock(&s->lock);
-    lc_stream_frame st[4];
+    lc_stream_frame st[3];
     double budget = LC_STILL_PREVIEW_TARGET_MS - 1000.0 * srv.cfg.still_delay;
+    const lc_detail *d0 = &st[0].req.render.detail, *d1 = &st[1].req.render.detail;
 
     /* A quick still: one piece. A slow one makes the next still staged. */
-    int n = move_and_settle(s, 1, 5000, 0, st);
+    int n = move_and_settle(s, 1, 0, 6000, st);
     CHECK(n == 1 && st[0].stages == 0, "a still after quick ones comes in one piece (%d frames, %d stages)", n,
           n > 0 ? st[0].stages : -1);
-    /* The moving frames were not thinned: two stages, the first reusing the opacities at full detail. */
-    n = move_and_settle(s, 1, 5000, 3000, st);
-    CHECK(n == 2 && st[0].stage == 1 && st[0].stages == 2 && st[0].req.render.detail.reuse_opacities &&
-              st[0].req.render.detail.line_stride <= 1 && st[1].stage == 2 && !st[1].req.render.detail.reuse_opacities,
+    /* The moving frames were not thinned: stage 1 reuses their opacities at full detail. */
+    n = move_and_settle(s, 1, 3000, 6000, st);
+    CHECK(n == 2 && st[0].stage == 1 && st[0].stages == 2 && d0->reuse_opacities && d0->line_stride <= 1 &&
+              st[1].stage == 2 && st[1].stages == 2 && !d1->reuse_opacities && d1->line_stride <= 1,
           "unthinned data: stage 1 of 2 reuses the opacities at full detail, stage 2 optimizes (%d frames)", n);
-    /* Thinned moving frames (1 in 16) and a full-detail stage of 3 s: a preview first, thinned by the smallest
-     * power of two that fits the second (3000 * 1.25 / n <= budget). */
-    int want = 2;
-    while (3000 * LC_STILL_THINNED_SHARE(want) > budget)
-        want *= 2;
-    n = move_and_settle(s, 16, 5000, 3000, st);
-    CHECK(n == 3 && st[0].stages == 3 && st[0].stage == 1 && st[0].req.render.detail.reuse_opacities &&
-              st[0].req.render.detail.line_stride == want && st[0].req.render.detail.point_stride == want,
-          "thinned data: stage 1 of 3 is the preview at stride %d (%d frames, stride %d)", want, n,
-          n > 0 ? st[0].req.render.detail.line_stride : -1);
-    CHECK(n == 3 && st[1].stage == 2 && st[1].req.render.detail.reuse_opacities &&
-              st[1].req.render.detail.line_stride <= 1 && st[2].stage == 3 && st[2].stages == 3 &&
-              !st[2].req.render.detail.reuse_opacities,
-          "then the full-detail stage reusing opacities, then the optimization");
-    /* Never thinner than the moving frames were. */
-    n = move_and_settle(s, 2, 5000, 3000, st);
-    CHECK(n == 3 && st[0].req.render.detail.line_stride == 2, "the preview's stride is capped by the moving "
-          "frames' (%d)", n > 0 ? st[0].req.render.detail.line_stride : -1);
-    /* A full-detail stage within the budget needs no preview. */
-    n = move_and_settle(s, 16, 5000, 0.5 * budget, st);
-    n = move_and_settle(s, 16, 5000, 0.5 * budget, st);
-    CHECK(n == 2 && st[0].stages == 2, "a full-detail stage that fits the budget: two stages (%d frames)", n);
+    CHECK(n == 2 && st[0].req.render.foo.fade_half_life == 0 && st[1].req.render.foo.fade_half_life == 0 &&
+              s->req.render.foo.fade_half_life > 0,
+          "the stages do not fade into each other (the session keeps its half-life)");
+    /* Thinned moving frames (1 in 16), and stage 1 took 3 s at full detail: the next stage 1 is a preview
+     * thinned by the smallest power-of-two stride that fits (3000 * 1.25 / n <= budget). */
+    int want = expected_stride(3000, budget);
+    n = move_and_settle(s, 16, 100, 6000, st);
+    CHECK(n == 2 && st[0].stage == 1 && st[0].stages == 2 && d0->reuse_opacities && d0->line_stride == want &&
+              d0->point_stride == want,
+          "thinned data: stage 1 of 2 is a preview at stride %d (%d frames, stride %d)", want, n,
+          n > 0 ? d0->line_stride : -1);
+    CHECK(n == 2 && st[1].stage == 2 && !d1->reuse_opacities && d1->line_stride <= 1 && d1->point_stride <= 1,
+          "then the full still");
+    /* That preview took 100 ms at stride `want`: full detail would be 100 / share, within the budget. */
+    n = move_and_settle(s, 16, 600, 6000, st);
+    CHECK(n == 2 && d0->reuse_opacities && d0->line_stride <= 1, "a stage 1 whose full detail fits is not "
+          "thinned (stride %d)", n > 0 ? d0->line_stride : -1);
+    /* Full detail at 600 ms measured; now 4 s: the stride follows, and never thinner than the moving frames. */
+    n = move_and_settle(s, 16, 4000, 6000, st);
+    n = move_and_settle(s, 2, 100, 6000, st);
+    CHECK(n == 2 && d0->line_stride == 2, "the preview's stride is capped by the moving frames' (%d)",
+          n > 0 ? d0->line_stride : -1);
+    /* Unknown stage 1 time (a new session): the whole still's bounds it. */
+    pthread_mutex_lock(&s->lock);
+    s->stream.reused_ms = 0;
+    pthread_mutex_unlock(&s->lock);
+    want = expected_stride(6000, budget);
+    n = move_and_settle(s, 64, 100, 6000, st);
+    CHECK(n == 2 && d0->line_stride == want, "without a measured stage 1 the whole still's time picks the stride "
+          "(%d, want %d)", n > 0 ? d0->line_stride : -1, want);
+    /* A still within the budget comes whole. */
+    n = move_and_settle(s, 16, 100, 0.5 * budget, st);
+    n = move_and_settle(s, 16, 100, 0.5 * budget, st);
+    CHECK(n == 1 && st[0].stages == 0, "a still that fits the budget comes whole (%d frames)", n);
 
     /* Input during a stage starts the still over. */
-    move_and_settle(s, 16, 5000, 3000, st);
+    move_and_settle(s, 16, 100, 6000, st);
     lc_stream_frame f;
     double wake = 0, t0 = lc_now();
     lc_session_stream_input(s, t0);
     CHECK(lc_session_stream_next(s, t0, &f, &wake) == 1 && f.interactive, "input: a moving frame");
     finish_timed(s, &f, 10, 16);
-    CHECK(lc_session_stream_next(s, t0 + srv.cfg.still_delay + 1e-6, &f, &wake) == 1 && f.stage == 1 && f.stages == 3,
+    CHECK(lc_session_stream_next(s, t0 + srv.cfg.still_delay + 1e-6, &f, &wake) == 1 && f.stage == 1 && f.stages == 2,
           "the still's stage 1 (%d of %d)", f.stage, f.stages);
     finish_timed(s, &f, 100, 16);
     lc_session_stream_input(s, t0);

@@ -13,7 +13,8 @@ along an orbit, an ack for every frame, then release. It reports:
                   (a staged still's first stage), to its final stage, and to the converged still
   moving vs still SSIM between the last moving frame (stretched to the still's size, as the page
                   stretches it) and the still of the same camera; with a staged still, also
-                  between its first stage and its final one
+                  between its first stage and its final one; each also with both images halved
+                  and quartered (2x2 box averages), the scales of structure rather than of pixels
   pause           with --pause S: the orbit stops for S seconds mid-drag and resumes; the delay from
                   the first update after the pause to its frame (a still started in the pause must
                   not hold it up)
@@ -83,6 +84,19 @@ def ssim(a, b):
     va, vb, cov = blur(a * a) - ma * ma, blur(b * b) - mb * mb, blur(a * b) - ma * mb
     s = ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2))
     return float(s.mean())
+
+
+def halve(m):
+    """2x2 box average (the next scale of a multi-scale comparison)."""
+    h, w = m.shape[0] // 2 * 2, m.shape[1] // 2 * 2
+    return 0.25 * (m[0:h:2, 0:w:2] + m[1:h:2, 0:w:2] + m[0:h:2, 1:w:2] + m[1:h:2, 1:w:2])
+
+
+def ssim_coarse(a, b):
+    """SSIM of both images halved and quartered: how alike they are at the scales of structure, where SSIM at
+    full size also weighs the pixel-level detail (noise-like on dense lines and points)."""
+    a2, b2 = halve(a), halve(b)
+    return ssim(a2, b2), ssim(halve(a2), halve(b2))
 
 
 def pct(values, p):
@@ -164,6 +178,11 @@ async def browse(ws_url, token, args):
             if img is not None:
                 r["first"] = time.time() - t_hello
                 r["first_at"] = time.time()
+                if args.verbose:
+                    d = h.get("detail") or {}
+                    print(f"  first frame +{r['first']:.2f} s: {h['width']}x{h['height']} render "
+                          f"{d.get('renderMs', 0):.0f} ms ({', '.join('%s %.0f' % kv for kv in (h.get('timings') or {}).items())})"
+                          f", encode {h.get('encodeMs', 0):.0f} ms", flush=True)
                 if not (h.get("detail") or {}).get("interactive", False) and h["width"] == args.width:
                     r["first_still"] = r["first"]
                 break
@@ -250,7 +269,9 @@ async def browse(ws_url, token, args):
                     json.dump({"header": head, "camera": orbit_camera(bounds, angle)}, out, indent=1)
         if np is not None and still is not None and last_moving is not None:
             size = (still[0]["width"], still[0]["height"])
-            r["ssim"] = ssim(luminance(last_moving[1], size), luminance(still[1]))
+            moving_l, still_l = luminance(last_moving[1], size), luminance(still[1])
+            r["ssim"] = ssim(moving_l, still_l)
+            r["ssim_coarse"] = ssim_coarse(moving_l, still_l)
             if args.verbose:
                 for head, data in stages:
                     print("  %s stage %s/%s vs the final still: SSIM %.3f" % (
@@ -259,7 +280,9 @@ async def browse(ws_url, token, args):
                 print("  last moving frame vs the first still frame: SSIM %.3f" % ssim(
                     luminance(last_moving[1], size), luminance(stages[0][1])))
             if first_stage is not still:
-                r["ssim_first"] = ssim(luminance(first_stage[1], size), luminance(still[1]))
+                first_l = luminance(first_stage[1], size)
+                r["ssim_first"] = ssim(first_l, still_l)
+                r["ssim_first_coarse"] = ssim_coarse(first_l, still_l)
                 r["first_stage"] = "stage %s of %s" % (first_stage[0].get("stage"), first_stage[0].get("stages"))
             r["moving_size"] = "%dx%d" % (last_moving[0]["width"], last_moving[0]["height"])
     return r
@@ -290,10 +313,11 @@ def run(base, ws_url, token, args, launched=None, listening=None):
     print("input-to-frame p50 / p95    %.0f / %.0f ms" % (1000 * pct(r["lat"], 50), 1000 * pct(r["lat"], 95)))
     print("still after last input      %s, final stage %s (converged %s)" % (f("still"), f("full"), f("converged")))
     print("moving vs still SSIM        %s%s" % (f("ssim", "%.3f"),
-          " (moving frame %s)" % r["moving_size"] if "moving_size" in r else
-          "" if np is not None else " (n/a: needs python3-numpy, python3-pil)"))
+          " (moving frame %s; halved %.3f, quartered %.3f)" % ((r["moving_size"],) + r["ssim_coarse"])
+          if "moving_size" in r else "" if np is not None else " (n/a: needs python3-numpy, python3-pil)"))
     if "ssim_first" in r:
-        print("first stage vs still SSIM   %.3f (%s)" % (r["ssim_first"], r["first_stage"]))
+        print("first stage vs still SSIM   %.3f (%s; halved %.3f, quartered %.3f)" % (
+            (r["ssim_first"], r["first_stage"]) + r["ssim_first_coarse"]))
     if args.pause:
         print("first frame after a %.1f s pause  %s" % (args.pause, f("pause_delay")))
     if args.contend:

@@ -64,6 +64,7 @@ static int try_strength(lc_renderer *r, lc_frame_setup *fs, lc_render_params *p,
     p->foo.q = given->foo.q * st.penalty;
     p->foo.r = given->foo.r * st.penalty;
     int rc = optimize(r, fs, state, dt, info, moments, err);
+    info->clarity_tries++;
     info->clarity_lambda = st.lambda;
     info->clarity_penalty = st.penalty;
     return rc;

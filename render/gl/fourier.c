@@ -233,11 +233,17 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     int lw = fs->low_width, lh = fs->low_height;
     lc_targets_ensure(&r->coef_low, lw, lh, ntargets, GL_RGBA32F, &r->bytes_targets);
 
-    /* P1 importance projection. */
+    /* P1 importance projection, once a frame: its sums do not depend on the
+     * strength (lambda, q, r) that the clarity loop's tries change. */
     info->p1_subset = fs->p1_subset > 0 ? fs->p1_subset : p->foo.subset;
-    int rc = draw_summed(r, fs, PROG_P1, bands, info->p1_subset, &r->coef_low, err);
-    if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)
-        return rc;
+    int rc = 0;
+    if (!fs->p1_done) {
+        rc = draw_summed(r, fs, PROG_P1, bands, info->p1_subset, &r->coef_low, err);
+        if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)
+            return rc;
+        fs->p1_done = 1;
+        info->importance_passes++;
+    }
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
     if ((rc = lc_renderer_yield_point(r, err)) != 0)
         return rc;

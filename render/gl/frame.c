@@ -218,12 +218,13 @@ static int optimize_frame(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     fs->view.pixel_world *= (double)h / lh;
     fs->params = &wide;
     fs->low_width = w, fs->low_height = h;
-    int rc = moments ? lc_fourier_depth_moments(r, fs, err) : 0;
+    int rc = moments && !fs->p1_done ? lc_fourier_depth_moments(r, fs, err) : 0; /* once a frame, as P1 */
     if (!rc)
         rc = lc_fourier_optimize(r, fs, state, dt, info, err);
-    int depth_moments = fs->depth_moments;
+    int depth_moments = fs->depth_moments, p1_done = fs->p1_done;
     *fs = saved;
     fs->depth_moments = depth_moments;
+    fs->p1_done = p1_done;
     if (depth_moments)
         fs->moments_guard[0] = gx, fs->moments_guard[1] = gy;
     return rc;

@@ -197,6 +197,8 @@ typedef struct lc_frame_info {
     /* params.clarity: the factors on λ and on q and r the frame's opacities
      * used (0: the loop was off; render/gl/clarity.c). */
     double clarity_lambda, clarity_penalty;
+    int clarity_tries;     /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
+    int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;

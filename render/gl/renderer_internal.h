@@ -357,6 +357,8 @@ typedef struct lc_frame_setup {
     int pull_lines;    /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
     int point_sprites; /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
     int p1_subset;     /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
+    int p1_done;       /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
+                          change only the strength P2 applies, keep them (lc_fourier_optimize) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */

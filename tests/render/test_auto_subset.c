@@ -4,7 +4,8 @@
  * stride P1 draws with against the rule (largest power of two <= 1 + N/4,
  * capped by autoSubset, only from 4 on); sparse stacks, autoSubset 1,
  * normalize "off" and an explicit subset keep P1 on every primitive; P1's
- * sums under the stride against the CPU's sums over the primitives it keeps. */
+ * sums under the stride against the CPU's sums over the primitives it keeps,
+ * after a clarity loop of several tries that draws P1 once. */
 #include <math.h>
 
 #include "render_util.h"
@@ -37,22 +38,29 @@ static int rule(double effective, int cap)
 }
 
 enum { SIZE = 32 };
+static int most_tries; /* the clarity loop's tries on the stacks (one must iterate for the P1 check to say much) */
 
 /* Renders the stack; returns the frame's report in *info and the image in rgba. */
-static int render(test_gl *t, lc_gpu_scene *gs, int auto_subset, lc_normalize normalize, int subset,
-                  lc_frame_info *info, uint8_t *rgba)
+static int render_clarity(test_gl *t, lc_gpu_scene *gs, int auto_subset, lc_normalize normalize, int subset,
+                          double clarity, lc_frame_info *info, uint8_t *rgba)
 {
     lc_render_params p;
     test_quad_params(&p, SIZE);
     p.foo.auto_subset = auto_subset;
     p.foo.normalize = normalize;
     p.foo.subset = subset;
-    p.foo.clarity = 0; /* one optimization, so that P1 runs once */
+    p.foo.clarity = clarity;
     lc_error err = {0};
     memset(info, 0, sizeof *info);
     int rc = lc_render_frame(t->renderer, gs, &p, NULL, 0, rgba, info, &err);
     CHECK(rc == 0, "render: %s", err.msg);
     return rc;
+}
+
+static int render(test_gl *t, lc_gpu_scene *gs, int auto_subset, lc_normalize normalize, int subset,
+                  lc_frame_info *info, uint8_t *rgba)
+{
+    return render_clarity(t, gs, auto_subset, normalize, subset, 0 /* one optimization */, info, rgba);
 }
 
 static void check_stack(test_gl *t, int n, double hi, double lo)
@@ -100,7 +108,13 @@ static void check_stack(test_gl *t, int n, double hi, double lo)
      * CPU: a stride n over the triangles (two per quad, even n) keeps the first
      * triangle of every (n/2)-th quad, the half of the view below its diagonal
      * (x > y), and nothing above it. */
-    render(t, gs, 8, LC_NORMALIZE_AUTO, 1, &info, a);
+    /* With the clarity loop trying several strengths (a target the stack cannot meet at strength 1), P1 draws
+     * once: the sums below must still be the whole frame's after the last try. */
+    render_clarity(t, gs, 8, LC_NORMALIZE_AUTO, 1, 0.99, &info, a);
+    printf("%d quads, clarity 0.99: %d tries, P1 drawn %d time(s)\n", n, info.clarity_tries, info.importance_passes);
+    CHECK(info.clarity_tries >= 1 && info.importance_passes == 1, "%d quads: the loop tried %d strengths and P1 ran "
+          "%d times (once)", n, info.clarity_tries, info.importance_passes);
+    most_tries = info.clarity_tries > most_tries ? info.clarity_tries : most_tries;
     int stride = info.p1_subset;
     size_t count = lc_renderer_read_targets(t->renderer, 0, NULL, 0);
     float *coef = count ? malloc(count * sizeof *coef) : NULL;
@@ -142,6 +156,7 @@ int main(void)
     check_stack(&t, 40, 1.0, 0.5);  /* N = 29.4: stride 8 (4 under autoSubset 4) */
     check_stack(&t, 24, 0.9, 0.15); /* dominated by the 12 important quads: N = 12.3, stride 4 */
     check_stack(&t, 6, 1.0, 0.5);   /* sparse: N = 4.4 allows 2, which is not taken */
+    CHECK(most_tries >= 2, "the clarity loop tried several strengths on some stack (%d at most)", most_tries);
     test_gl_close(&t);
     return lc_test_finish();
 }

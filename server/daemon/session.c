@@ -562,11 +562,11 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
         st->frames++;
         if (info && !info->reused_opacities)
             st->last_optimized = lc_now();
+        if (info && f->interactive) /* a later still's stage 1 thins no further than this */
+            st->moving_stride = info->line_stride > info->point_stride ? info->line_stride : info->point_stride;
         /* Dense lines (thinned 4-fold or more) take the lines' scales; lines
          * not thinned at all at such a step go back to the common ones. In
          * between nothing changes, so sizes do not flip frame to frame. */
-        if (info && f->interactive)
-            st->moving_stride = info->line_stride > info->point_stride ? info->line_stride : info->point_stride;
         if (info && f->interactive && f->detail_step < DETAIL_STEPS && detail_steps[f->detail_step].line_stride >= 4)
             st->lines_thinned = info->line_stride >= 4 ? true : info->line_stride == 1 ? false : st->lines_thinned;
         /* Coarser when a frame overran the budget, finer when it took well

@@ -167,10 +167,11 @@ static int expected_stride(double full_ms, double budget)
 
 static void test_staged(lc_session *s)
 {
-    /* Stages need opacities to reuse: a state that is not fresh (the render worker's, in the daemon). */
+    /* Stages need opacities to reuse: a state that is not fresh (the render worker's, in the daemon; its
+     * size does not matter here, as nothing renders). */
     pthread_mutex_lock(&s->lock);
-    if (!s->frame_state)
-        s->frame_state = lc_frame_state_create(4);
+    lc_frame_state_destroy(s->frame_state);
+    s->frame_state = lc_frame_state_create(4);
     lc_frame_state_load(s->frame_state, (const float[]){0.5f, 0.5f, 0.5f, 0.5f});
     s->stream.input_interval = 0; /* the still waits still_delay, not a pace of input */
     pthread_mutex_unlock(&s->lock);

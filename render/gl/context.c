@@ -96,6 +96,7 @@ int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     if (rc)
         return rc;
     fs->context_depth[0] = st->depth[0], fs->context_depth[1] = st->depth[1];
+    r->context_layers = 1; /* the later passes' programs test the context's depth */
     fs->context_color = st->color;
     return 0;
 }

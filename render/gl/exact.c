@@ -47,11 +47,17 @@ enum {
 #define EQ_SLOTS (LC_EQUALIZE_BINS + 2)
 #define EQ_SCALE 1048576.0 /* fixed-point units per unit of coverage: 2^20 */
 
-typedef struct exact_state {
+/* The list passes' programs; a set each without and with the opaque
+ * context's depth test (r->context_layers). */
+typedef struct build_programs {
     GLuint build[2][3];      /* [list pass][primitive type] */
     GLuint build_eq[3];      /* list pass 1 keeping colour bins (color.equalize) */
     GLuint build_pulled[3];  /* lines segment by segment (a time window), [list pass + equalize] */
     GLuint build_sprites[3]; /* points as GL points (lc_frame_point_sprites), [list pass + equalize] */
+} build_programs;
+
+typedef struct exact_state {
+    build_programs programs[2]; /* [context] */
     GLuint opacity, blend, blend_eq;
     GLuint eq_counts; /* EQ_SLOTS x 2 uints */
     GLuint nodes, counters, heads, fbo;
@@ -76,12 +82,13 @@ static exact_state *get_state(lc_renderer *r)
 }
 
 static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, int pulled, int sprites,
-                            lc_error *err)
+                            int context, lc_error *err)
 {
-    GLuint *slot = sprites    ? &st->build_sprites[pass + equalize]
-                   : pulled   ? &st->build_pulled[pass + equalize]
-                   : equalize ? &st->build_eq[prim]
-                              : &st->build[pass][prim];
+    build_programs *set = &st->programs[context != 0];
+    GLuint *slot = sprites    ? &set->build_sprites[pass + equalize]
+                   : pulled   ? &set->build_pulled[pass + equalize]
+                   : equalize ? &set->build_eq[prim]
+                              : &set->build[pass][prim];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -89,14 +96,16 @@ static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_typ
                                      "exact_build.frag.glsl", NULL};
     char defines[224], label[64];
     /* Pass 1 reads the element opacities in the vertex shader (v_alpha). */
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s%s",
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s%s%s",
              (int)prim, pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "",
-             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "");
-    snprintf(label, sizeof label, "exact list pass %d%s (%s%s)", pass, equalize ? " equalize" : "",
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
+             context ? "#define CONTEXT_DEPTH 1\n" : "");
+    snprintf(label, sizeof label, "exact list pass %d%s (%s%s%s)", pass, equalize ? " equalize" : "",
              lc_prim_type_name(prim),
              pulled    ? ", pulled"
              : sprites ? ", sprites"
-                       : "");
+                       : "",
+             context ? ", context" : "");
     *slot = lc_renderer_build_program(defines, vs, fs, NULL, label, err);
     return *slot;
 }
@@ -230,7 +239,7 @@ static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs
             continue;
         lc_prim_type prim = lf->gs->scene->type;
         GLuint prog = build_program(st, pass, equalize, prim, lc_pulls_primitives(prim, 1, lf->pull_lines),
-                                    prim == LC_PRIM_POINTS && lf->point_sprites, err);
+                                    prim == LC_PRIM_POINTS && lf->point_sprites, r->context_layers, err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
@@ -428,16 +437,19 @@ void lc_exact_destroy(lc_renderer *r)
     exact_state *st = r->exact;
     if (!st)
         return;
-    for (int prim = 0; prim < 3; prim++) {
-        for (int pass = 0; pass < 2; pass++)
-            if (st->build[pass][prim])
-                glDeleteProgram(st->build[pass][prim]);
-        if (st->build_eq[prim])
-            glDeleteProgram(st->build_eq[prim]);
-        if (st->build_pulled[prim])
-            glDeleteProgram(st->build_pulled[prim]);
-        if (st->build_sprites[prim])
-            glDeleteProgram(st->build_sprites[prim]);
+    for (int c = 0; c < 2; c++) {
+        const build_programs *set = &st->programs[c];
+        for (int prim = 0; prim < 3; prim++) {
+            for (int pass = 0; pass < 2; pass++)
+                if (set->build[pass][prim])
+                    glDeleteProgram(set->build[pass][prim]);
+            if (set->build_eq[prim])
+                glDeleteProgram(set->build_eq[prim]);
+            if (set->build_pulled[prim])
+                glDeleteProgram(set->build_pulled[prim]);
+            if (set->build_sprites[prim])
+                glDeleteProgram(set->build_sprites[prim]);
+        }
     }
     if (st->blend_eq)
         glDeleteProgram(st->blend_eq);

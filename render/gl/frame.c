@@ -80,8 +80,9 @@ void lc_renderer_destroy(lc_renderer *r)
         for (int p = 0; p < 3; p++)
             for (int b = 0; b <= LC_MAX_BANDS; b++)
                 for (int v = 0; v < 2; v++)
-                    if (r->geometry_programs[k][p][b][v])
-                        glDeleteProgram(r->geometry_programs[k][p][b][v]);
+                    for (int c = 0; c < 2; c++)
+                        if (r->geometry_programs[k][p][b][v][c])
+                            glDeleteProgram(r->geometry_programs[k][p][b][v][c]);
     for (int k = 0; k < PROG_FIXED_KINDS - PROG_GEOMETRY_KINDS; k++)
         if (r->fixed_programs[k])
             glDeleteProgram(r->fixed_programs[k]);
@@ -480,7 +481,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     fs.point_sprites = r->point_sprites = lc_frame_point_sprites(r, &p, p.width, p.height);
     fs.renderer = r;
     r->draw_yields = r->yield_cut = 0;
-    r->pull_lines = 0; /* lc_filter_prepare sets it for a time window */
+    r->pull_lines = 0;     /* lc_filter_prepare sets it for a time window */
+    r->context_layers = 0; /* lc_context_draw sets it */
     if (!p.has_camera) /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
         lc_render_fit_camera(scenes, layers ? n : 1, &p.camera);
     if (!layers) {

@@ -125,7 +125,8 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
 {
     int pulled = lc_pulls_primitives(prim, subset, r->pull_lines);
     int sprites = prim == LC_PRIM_POINTS && r->point_sprites; /* points never pull: the variant slots share */
-    GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled | sprites];
+    int context = r->context_layers != 0;
+    GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled | sprites][context];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -151,14 +152,16 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT || kind == PROG_COLOR_HISTOGRAM;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
     char defines[256];
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s", (int)prim, bands,
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s", (int)prim, bands,
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
-             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "");
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
+             context ? "#define CONTEXT_DEPTH 1\n" : "");
     char label[80];
-    snprintf(label, sizeof label, "%s program (%s, m=%d%s)", kind_names[kind], lc_prim_type_name(prim), bands,
+    snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,
              pulled    ? ", subset"
              : sprites ? ", sprites"
-                       : "");
+                       : "",
+             context ? ", context" : "");
     *slot = lc_renderer_build_program(defines, vs, fs_by_kind[kind], NULL, label, err);
     return *slot;
 }

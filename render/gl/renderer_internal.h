@@ -191,9 +191,10 @@ struct lc_renderer {
     GLuint vao;
     GLuint colormap_tex[16];
     int colormap_count;
-    /* [kind][primitive][bands][variant]: lines and triangles 1 = pulled (the
-     * unindexed subset variant), points 1 = GL point sprites */
-    GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2];
+    /* [kind][primitive][bands][variant][context]: lines and triangles 1 =
+     * pulled (the unindexed subset variant), points 1 = GL point sprites;
+     * context 1 = with the opaque context's depth test (r->context_layers) */
+    GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2][2];
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -269,6 +270,9 @@ struct lc_renderer {
     /* filter.c: this frame's lines draw as pulled segments (a time window hides
      * single segments, which shared ribbon strip vertices cannot). */
     int pull_lines;
+    /* This frame has an opaque context layer whose depth the transparent
+     * passes test (context.c): their programs are the CONTEXT_DEPTH variants. */
+    int context_layers;
     /* This frame's points draw as GL point sprites (lc_frame_point_sprites),
      * and the limits that decide it (read at creation). */
     int point_sprites;

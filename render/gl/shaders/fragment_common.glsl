@@ -58,8 +58,13 @@ layout(binding = TEX_CONTEXT_DEPTH) uniform sampler2D u_context_depth_tex;
 // nothing behind the opaque context is part of the picture.
 bool outside_primitive()
 {
+#ifdef CONTEXT_DEPTH
+    // Compiled only into the programs of frames with a context layer: on
+    // llvmpipe the test cost every pass about a third more even when its
+    // uniform switched it off (docs/EVALUATION.md §21).
     if (u_context_depth != 0 && gl_FragCoord.z > texelFetch(u_context_depth_tex, ivec2(gl_FragCoord.xy), 0).r)
         return true;
+#endif
 #if PRIM == PRIM_POINTS
     return dot(SPLAT, SPLAT) > 1.0;
 #else

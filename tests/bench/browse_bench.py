@@ -99,6 +99,11 @@ def ssim_coarse(a, b):
     return ssim(a2, b2), ssim(halve(a2), halve(b2))
 
 
+def timings_text(h):
+    """A frame header's pass timings, "pass ms, ..."."""
+    return ", ".join("%s %.0f" % kv for kv in (h.get("timings") or {}).items())
+
+
 def pct(values, p):
     if not values:
         return float("nan")
@@ -181,8 +186,8 @@ async def browse(ws_url, token, args):
                 if args.verbose:
                     d = h.get("detail") or {}
                     print(f"  first frame +{r['first']:.2f} s: {h['width']}x{h['height']} render "
-                          f"{d.get('renderMs', 0):.0f} ms ({', '.join('%s %.0f' % kv for kv in (h.get('timings') or {}).items())})"
-                          f", encode {h.get('encodeMs', 0):.0f} ms", flush=True)
+                          f"{d.get('renderMs', 0):.0f} ms ({timings_text(h)}), encode {h.get('encodeMs', 0):.0f} ms",
+                          flush=True)
                 if not (h.get("detail") or {}).get("interactive", False) and h["width"] == args.width:
                     r["first_still"] = r["first"]
                 break
@@ -232,8 +237,8 @@ async def browse(ws_url, token, args):
         t_last = sent[seq]
         # Release: the still of the last camera, then convergence.
         deadline = time.time() + args.timeout
-        still = first_stage = None
-        stages = []
+        still = None
+        stages = []  # every still frame of the last camera, in order: stages[0] is the first stage
         while time.time() < deadline:
             h, img = await recv(deadline - time.time())
             if img is None:
@@ -245,12 +250,10 @@ async def browse(ws_url, token, args):
                 print(f"  after release +{time.time() - t_last:.2f} s: frame {h['frame']} {h['width']}x{h['height']} "
                       f"{'moving' if d.get('interactive') else 'still'} stage {h.get('stage', '-')}/"
                       f"{h.get('stages', '-')} converged {h.get('converged')} render {d.get('renderMs', 0):.0f} ms "
-                      f"({', '.join('%s %.0f' % kv for kv in (h.get('timings') or {}).items())})",
-                      flush=True)
+                      f"({timings_text(h)})", flush=True)
             if h["cameraSeq"] == seq and not (h.get("detail") or {}).get("interactive", False):
                 if still is None:
                     r["still"] = time.time() - t_last
-                    first_stage = (h, img)
                 still = (h, img)
                 stages.append(still)
                 if h.get("final", True) and "full" not in r:  # a staged still's last stage, or an unstaged one
@@ -274,16 +277,17 @@ async def browse(ws_url, token, args):
             r["ssim_coarse"] = ssim_coarse(moving_l, still_l)
             if args.verbose:
                 for head, data in stages:
-                    print("  %s stage %s/%s vs the final still: SSIM %.3f" % (
-                        "%dx%d" % (head["width"], head["height"]), head.get("stage", "-"), head.get("stages", "-"),
-                        ssim(luminance(data, size), luminance(still[1]))))
+                    print("  %dx%d stage %s/%s vs the final still: SSIM %.3f" % (
+                        head["width"], head["height"], head.get("stage", "-"), head.get("stages", "-"),
+                        ssim(luminance(data, size), still_l)))
                 print("  last moving frame vs the first still frame: SSIM %.3f" % ssim(
-                    luminance(last_moving[1], size), luminance(stages[0][1])))
-            if first_stage is not still:
-                first_l = luminance(first_stage[1], size)
+                    moving_l, luminance(stages[0][1], size)))
+            if len(stages) > 1:
+                first_head, first_img = stages[0]
+                first_l = luminance(first_img, size)
                 r["ssim_first"] = ssim(first_l, still_l)
                 r["ssim_first_coarse"] = ssim_coarse(first_l, still_l)
-                r["first_stage"] = "stage %s of %s" % (first_stage[0].get("stage"), first_stage[0].get("stages"))
+                r["first_stage"] = "stage %s of %s" % (first_head.get("stage"), first_head.get("stages"))
             r["moving_size"] = "%dx%d" % (last_moving[0]["width"], last_moving[0]["height"])
     return r
 

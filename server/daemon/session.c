@@ -9,37 +9,13 @@
 
 #include "cost.h"
 #include "datasets.h"
+#include "detail_ladder.h"
 #include "fields.h"
 #include "metrics.h"
 #include "still_stages.h"
 #include "surface_job.h"
 #include "surface_render.h"
 
-/* The interactive detail ladder, finest first: line error bound (pixels),
- * point stride, line stride and a factor on the stream's interactiveScale.
- * One step down roughly halves the geometry a frame draws. Lines coarsen
- * their level of detail first; the line stride (whole lines, the important
- * ones kept) serves data the levels cannot thin, such as noise-like MD
- * trajectories, and the renderer keeps a segment per LC_LINE_SUBSET_PIXELS
- * pixels, so sparse lines keep every line. Lines that it thins lower the
- * resolution later (thinned_scale): a thinned frame at a larger size looks more
- * like the still than a small one stretched (docs/EVALUATION.md §19); sparse
- * lines, which it does not thin, shrink as before. Point clouds take the
- * thinned scales too, and a steeper stride at the coarse end: on llvmpipe a
- * splat costs about the same at any size of frame (it shades a block of
- * pixels however small it is), so only fewer splats make a frame cheaper,
- * and the renderer keeps a point per LC_POINT_SUBSET_PIXELS pixels
- * (docs/EVALUATION.md §20). */
-static const struct {
-    double lod_pixels;
-    int point_stride;
-    int line_stride;
-    double scale;
-    double thinned_scale; /* point clouds, and lines thinned 4-fold or more */
-} detail_steps[] = {{0.5, 1, 1, 1.0, 1.0}, {1, 2, 2, 1.0, 1.0}, {2, 4, 4, 0.85, 1.0}, {4, 16, 8, 0.7, 0.85},
-                    {8, 64, 16, 0.5, 0.7}};
-#define DETAIL_STEPS ((int)(sizeof detail_steps / sizeof detail_steps[0]))
-#define DETAIL_START 1
 /* A session's first frame on a dataset of this many primitives or more is
  * rendered at the coarse end of the ladder, as a moving frame would be, and
  * the full-quality still follows at once: an image within a fraction of the
@@ -145,7 +121,7 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     s->stream.quality = LC_PROTO_DEFAULT_QUALITY;
     s->stream.interactive_quality = LC_PROTO_DEFAULT_INTERACTIVE_QUALITY;
     s->stream.interactive_scale = LC_PROTO_DEFAULT_INTERACTIVE_SCALE;
-    s->stream.detail_step = DETAIL_START;
+    s->stream.detail_step = LC_DETAIL_START;
     s->stream.device_pixel_ratio = 1.0;
     s->stream.next_frame = 1;
     s->stream.converged = true;
@@ -484,20 +460,32 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     double scale = interactive ? st->interactive_scale : 1.0;
     out->req = s->req;
     memcpy(out->layers, s->layer_ds, (size_t)s->req.layer_count * sizeof *out->layers);
-    out->detail_step = first_coarse ? DETAIL_STEPS - 1 : st->detail_step; /* not the controller's step */
+    out->detail_step = first_coarse ? LC_DETAIL_RUNGS - 1 : st->detail_step; /* not the controller's step */
     if (interactive) {
         lc_detail *d = &out->req.render.detail;
-        int step = out->detail_step;
-        if (!st->last_interactive && !first_coarse)
+        if (!st->last_interactive && !first_coarse) {
             st->last_optimized = now; /* the still frame's opacities start the interaction */
-        d->lod_pixels = d->lod_pixels > detail_steps[step].lod_pixels ? d->lod_pixels : detail_steps[step].lod_pixels;
-        d->point_stride = detail_steps[step].point_stride;
-        d->line_stride = detail_steps[step].line_stride;
+            /* The session's first drag: no moving frame measured yet, so start
+             * where the last still's time predicts, scaled to the moving
+             * frame's pixels (an underestimate on dense data, which is
+             * geometry-bound), never finer than the ladder's start. */
+            if (!st->step_measured && st->still_ms > 0 && cfg->frame_budget_ms > 0) {
+                double predicted = st->still_ms * st->interactive_scale * st->interactive_scale *
+                                   lc_detail_rung_share(LC_DETAIL_START);
+                int step = lc_detail_rung_next(LC_DETAIL_START, predicted, cfg->frame_budget_ms);
+                st->detail_step = step > st->detail_step ? step : st->detail_step;
+                out->detail_step = st->detail_step;
+            }
+        }
+        const lc_detail_rung *rung = lc_detail_rung_at(out->detail_step);
+        d->lod_pixels = d->lod_pixels > rung->lod_pixels ? d->lod_pixels : rung->lod_pixels;
+        d->point_stride = rung->point_stride;
+        d->line_stride = rung->line_stride;
         d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
         bool points = !s->req.layer_count && s->dataset && s->dataset->scene &&
                       s->dataset->scene->type == LC_PRIM_POINTS;
-        scale *= points || st->lines_thinned ? detail_steps[step].thinned_scale : detail_steps[step].scale;
+        scale *= points || st->lines_thinned ? rung->thinned_scale : rung->scale;
     }
     if (out->stage == 1) {
         out->req.render.detail.reuse_opacities = true;
@@ -567,18 +555,20 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
         /* Dense lines (thinned 4-fold or more) take the lines' scales; lines
          * not thinned at all at such a step go back to the common ones. In
          * between nothing changes, so sizes do not flip frame to frame. */
-        if (info && f->interactive && f->detail_step < DETAIL_STEPS && detail_steps[f->detail_step].line_stride >= 4)
+        if (info && f->interactive && lc_detail_rung_at(f->detail_step)->line_stride >= 4)
             st->lines_thinned = info->line_stride >= 4 ? true : info->line_stride == 1 ? false : st->lines_thinned;
         /* Coarser when a frame overran the budget, finer when it took well
-         * under half (a step roughly halves or doubles the work; the gap keeps
-         * the controller from oscillating). Only frames that reused opacities
-         * count: the periodic re-optimized ones cost more by design. */
+         * under half (the gap keeps the controller from oscillating). A step
+         * roughly halves the work, so an overrun of k times the budget goes
+         * ceil(log2 k) steps at once: the first moving frame of a drag on
+         * dense data can take a second, and one step a frame would spend
+         * several more such frames reaching the rung that fits. Finer goes
+         * one step at a time. Only frames that reused opacities count: the
+         * periodic re-optimized ones cost more by design. */
         double budget = s->srv->cfg.frame_budget_ms;
         if (info && f->interactive && info->reused_opacities && budget > 0 && f->detail_step == st->detail_step) {
-            if (info->wall_ms > budget && st->detail_step + 1 < DETAIL_STEPS)
-                st->detail_step++;
-            else if (info->wall_ms < 0.45 * budget && st->detail_step > 0)
-                st->detail_step--;
+            st->detail_step = lc_detail_rung_next(st->detail_step, info->wall_ms, budget);
+            st->step_measured = true;
         }
     } else {
         /* Nothing goes out for this id, so it cannot be acked; and retrying

@@ -63,6 +63,7 @@ typedef struct lc_stream {
      * frames"): a step of the session's ladder, moved by the render times of
      * the frames that reused opacities, and when P1-P3 last ran. */
     int detail_step;
+    bool step_measured; /* a moving frame has moved detail_step; until then a drag starts where the still predicts */
     double last_optimized;
     bool lines_thinned; /* moving frames draw line subsets (dense lines): the ladder's line_scale applies */
     uint64_t yielded; /* still/refinement frames abandoned for newer input (stats) */

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "daemon_test_util.h"
+#include "detail_ladder.h"
 #include "lc_test.h"
 #include "still_stages.h"
 #include "stream.h"
@@ -241,6 +242,73 @@ static void test_staged(lc_session *s)
     finish_timed(s, &f, 100, 1);
 }
 
+/* The detail controller: an overrun of k times the budget moves ceil(log2 k) rungs coarser at once (a rung about
+ * halves the work), a frame under 0.45 of it one rung finer; in between, and at the ends, it stays. */
+static void test_ladder(lc_session *s)
+{
+    static const struct {
+        int step;
+        double wall_ms;
+        int want;
+    } cases[] = {{1, 945, 4}, {1, 75, 2}, {1, 140, 2}, {1, 141, 3},  {0, 300, 3}, {2, 30, 1},
+                 {2, 40, 2},  {2, 70, 2}, {0, 10, 0},  {4, 9000, 4}, {3, 71, 4}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int got = lc_detail_rung_next(cases[i].step, cases[i].wall_ms, 70);
+        CHECK(got == cases[i].want, "rung %d, %g ms against 70: rung %d (want %d)", cases[i].step, cases[i].wall_ms,
+              got, cases[i].want);
+    }
+    CHECK(lc_detail_rung_at(LC_DETAIL_RUNGS - 1)->line_stride == 16 &&
+              lc_detail_rung_at(99) == lc_detail_rung_at(LC_DETAIL_RUNGS - 1),
+          "the coarsest rung draws one line in 16; beyond the ladder is its end");
+
+    /* Through the session: a drag's first frame (reusing opacities) at 945 ms against the 70 ms budget. */
+    pthread_mutex_lock(&s->lock);
+    s->stream.detail_step = LC_DETAIL_START;
+    pthread_mutex_unlock(&s->lock);
+    lc_stream_frame f;
+    double wake = 0, t0 = lc_now();
+    lc_session_stream_input(s, t0);
+    CHECK(lc_session_stream_next(s, t0, &f, &wake) == 1 && f.interactive && f.detail_step == LC_DETAIL_START &&
+              f.req.render.detail.reuse_opacities,
+          "a moving frame at the session's rung, reusing opacities");
+    finish_timed(s, &f, 945, 2);
+    CHECK(s->stream.detail_step == LC_DETAIL_RUNGS - 1, "945 ms against 70: the coarsest rung next (%d)",
+          s->stream.detail_step);
+    lc_session_stream_input(s, t0 + 0.03);
+    CHECK(lc_session_stream_next(s, t0 + 0.03, &f, &wake) == 1 && f.detail_step == LC_DETAIL_RUNGS - 1 &&
+              f.req.render.detail.line_stride == 16,
+          "the next moving frame draws one line in 16 (%d)", f.req.render.detail.line_stride);
+    finish_timed(s, &f, 20, 16);
+    CHECK(s->stream.detail_step == LC_DETAIL_RUNGS - 2, "20 ms against 70: one rung finer (%d)", s->stream.detail_step);
+    double later = t0 + 0.03 + srv.cfg.still_delay + 1e-6; /* let the still come and go */
+    for (int n = 0; n < 3 && lc_session_stream_next(s, later, &f, &wake) == 1; n++)
+        finish_timed(s, &f, 10, 1);
+
+    /* A session's first drag starts where its last still predicts: still_ms x interactiveScale^2 x the start
+     * rung's share (1/2), as an overrun of the budget; never finer than the start. */
+    static const double stills[] = {3000, 100};
+    for (int i = 0; i < 2; i++) {
+        pthread_mutex_lock(&s->lock);
+        s->stream.step_measured = false;
+        s->stream.detail_step = LC_DETAIL_START;
+        s->stream.still_ms = stills[i];
+        double sc = s->stream.interactive_scale;
+        pthread_mutex_unlock(&s->lock);
+        double k = stills[i] * sc * sc * 0.5 / srv.cfg.frame_budget_ms;
+        int want = LC_DETAIL_START;
+        for (double m = 1; k > m && want < LC_DETAIL_RUNGS - 1; m *= 2)
+            want++;
+        double t1 = later + 2.0 + i;
+        lc_session_stream_input(s, t1);
+        CHECK(lc_session_stream_next(s, t1, &f, &wake) == 1 && f.interactive && f.detail_step == want,
+              "still of %g ms, interactiveScale %g: the first drag starts at rung %d (%d)", stills[i], sc, want,
+              f.detail_step);
+        finish_timed(s, &f, 10, 1);
+        for (int n = 0; n < 3 && lc_session_stream_next(s, t1 + 1.0, &f, &wake) == 1; n++)
+            finish_timed(s, &f, 10, 1);
+    }
+}
+
 static void test_budget(lc_stream_conn *conn)
 {
     lc_session *s = conn->session;
@@ -321,6 +389,7 @@ int main(void)
     test_latest_wins(&conn);
     test_convergence(s);
     test_staged(s);
+    test_ladder(s);
     test_budget(&conn);
     lc_session_close(srv.sessions, s);
     lc_session_unref(s);

@@ -448,12 +448,22 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     bool reusable = (method == LC_METHOD_FOURIER || method == LC_METHOD_WBOIT) && s->frame_state &&
                     !lc_frame_state_is_fresh(s->frame_state);
     out->stages = 0, out->stage = 0;
-    if (!interactive && still && (st->still_stage > 0 || (reusable && st->still_ms > STAGED_STILL_MS))) {
+    /* Until a still has finished, a session that began with a coarse first
+     * frame (a large dataset) stages its stills though no time is known:
+     * stage 1, at the coarsest rung's line stride (or the moving frames'),
+     * is a full-size picture well before the full still, and neither stage
+     * fades from the coarse frame (which cost a second full still). */
+    bool unmeasured = st->coarse_first && st->still_ms <= 0;
+    if (!interactive && still &&
+        (st->still_stage > 0 || (reusable && (st->still_ms > STAGED_STILL_MS || unmeasured)))) {
         if (st->still_stage == 0) {
             double budget = LC_STILL_PREVIEW_TARGET_MS - 1000.0 * effective_still_delay(st, cfg->still_delay);
             /* What stage 1 costs at full detail: measured by the last stage 1, else at most the whole still. */
             double full_ms = st->reused_ms > 0 ? st->reused_ms : st->still_ms;
-            st->preview_stride = lc_still_preview_stride(full_ms, budget, st->moving_stride);
+            int coarsest = lc_detail_rung_at(LC_DETAIL_RUNGS - 1)->line_stride;
+            st->preview_stride = full_ms > 0         ? lc_still_preview_stride(full_ms, budget, st->moving_stride)
+                                 : st->moving_stride > 1 ? st->moving_stride
+                                                         : coarsest;
         }
         out->stages = 2, out->stage = st->still_stage + 1;
     }
@@ -461,6 +471,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     out->req = s->req;
     memcpy(out->layers, s->layer_ds, (size_t)s->req.layer_count * sizeof *out->layers);
     out->detail_step = first_coarse ? LC_DETAIL_RUNGS - 1 : st->detail_step; /* not the controller's step */
+    st->coarse_first = st->coarse_first || first_coarse;
     if (interactive) {
         lc_detail *d = &out->req.render.detail;
         if (!st->last_interactive && !first_coarse) {

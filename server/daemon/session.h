@@ -73,6 +73,7 @@ typedef struct lc_stream {
     double still_ms;    /* render time of the last still (not interactive, not a stage 1), 0 = none yet */
     double reused_ms;   /* a stage 1 at full detail: its time, or the last thinned one's over its share; 0 = none */
     int moving_stride;  /* the line or point stride the last moving frame drew at (1: not thinned) */
+    bool coarse_first;  /* the session's first frame was a coarse one (a large dataset): stills are staged */
 } lc_stream;
 
 /* Progress of the frame a render worker makes for a WebSocket session, for

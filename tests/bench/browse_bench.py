@@ -191,10 +191,19 @@ async def browse(ws_url, token, args):
                 if not (h.get("detail") or {}).get("interactive", False) and h["width"] == args.width:
                     r["first_still"] = r["first"]
                 break
-        while "first_still" not in r and time.time() < deadline:
+        # A staged first still: its first stage, then wait for the last (final) one.
+        if "first_still" in r and h.get("stage", 0) == h.get("stages", 0):
+            r["first_final"] = r["first_still"]  # the first frame was the whole still
+        while "first_final" not in r and time.time() < deadline:
             h, img = await recv(deadline - time.time())
             if img is not None and not (h.get("detail") or {}).get("interactive", False):
-                r["first_still"] = time.time() - t_hello
+                r.setdefault("first_still", time.time() - t_hello)
+                if h.get("stage", 0) == h.get("stages", 0):
+                    r["first_final"] = time.time() - t_hello
+                if args.verbose:
+                    print(f"  first still +{time.time() - t_hello:.2f} s: stage {h.get('stage', '-')}/"
+                          f"{h.get('stages', '-')} {h['width']}x{h['height']} render "
+                          f"{(h.get('detail') or {}).get('renderMs', 0):.0f} ms", flush=True)
         # Orbit: updates at args.rate per second for args.seconds (with an optional pause half-way).
         sent, seq, answered, angle = {}, 0, 0, 0.0
         t0 = time.time()
@@ -309,7 +318,8 @@ def run(base, ws_url, token, args, launched=None, listening=None):
     print("dataset %s, %dx%d, camera updates at %g/s for %g s, window %d%s" % (
         args.dataset, args.width, args.height, args.rate, args.seconds, args.window,
         ", %d client(s) rendering %s stills" % (args.contend, args.contend_size) if args.contend else ""))
-    print("first frame after hello     %s (first still %s)" % (f("first"), f("first_still")))
+    print("first frame after hello     %s (first still %s, its final stage %s)" % (
+        f("first"), f("first_still"), f("first_final")))
     if launched is not None and "first_at" in r:
         print("first frame after launch    %.2f s (listening after %.2f s)" % (r["first_at"] - launched,
                                                                             listening - launched))

@@ -240,6 +240,25 @@ static void test_staged(lc_session *s)
     CHECK(lc_session_stream_next(s, t0 + srv.cfg.still_delay + 1e-6, &f, &wake) == 1 && f.stage == 1,
           "and the still starts again from stage 1 (%d)", f.stage);
     finish_timed(s, &f, 100, 1);
+    CHECK(lc_session_stream_next(s, t0 + srv.cfg.still_delay + 1e-6, &f, &wake) == 1 && f.stage == 2,
+          "then its stage 2 (%d)", f.stage);
+    finish_timed(s, &f, 6000, 1);
+
+    /* A session whose first frame was coarse (a large dataset) and that has no still time yet stages its still
+     * all the same: stage 1 at the coarsest rung's line stride (its moving frame drew every line), neither stage
+     * fading from the frame before. */
+    pthread_mutex_lock(&s->lock);
+    s->stream.still_ms = 0, s->stream.reused_ms = 0, s->stream.coarse_first = true;
+    pthread_mutex_unlock(&s->lock);
+    int coarsest = lc_detail_rung_at(LC_DETAIL_RUNGS - 1)->line_stride;
+    n = move_and_settle(s, 1, 100, 3000, st);
+    CHECK(n == 2 && st[0].stage == 1 && d0->reuse_opacities && d0->line_stride == coarsest &&
+              st[0].req.render.foo.fade_half_life == 0 && st[1].req.render.foo.fade_half_life == 0,
+          "no still time after a coarse first frame: 2 stages, stage 1 at stride %d (%d frames, stride %d)", coarsest,
+          n, n > 0 ? d0->line_stride : -1);
+    pthread_mutex_lock(&s->lock);
+    s->stream.coarse_first = false;
+    pthread_mutex_unlock(&s->lock);
 }
 
 /* The detail controller: an overrun of k times the budget moves ceil(log2 k) rungs coarser at once (a rung about

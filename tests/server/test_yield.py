@@ -99,7 +99,7 @@ async def main(srv):
         await drain(ws, 1.5)
         before = metric(srv, "lucent_frames_yielded_total")
 
-        # Move, stop: once the still is under way (a progress message past the prepare stage), move again.
+        # Move, stop: once the still's final stage is under way (a progress message of its optimization), move again.
         await ws.send(json.dumps(camera(2)))
         await until(ws, lambda m: m["type"] == "frame" and m["cameraSeq"] >= 2, 60)
         # The still is staged here (the first took over 500 ms): stage 1 reuses the moving frames' opacities and

@@ -42,7 +42,6 @@ static int default_workers(bool software)
     return !software || memory >= LC_SOFTWARE_2_WORKERS ? 2 : 1;
 }
 
-/* The workers' frame delivery: the WebSocket layer. */
 /* The primary GL context is created on a thread of its own while the
  * datasets load: EGL's set-up (0.1-0.2 s on llvmpipe) overlaps the scene
  * cache's read, which a warm restart spends most of its start in. */
@@ -60,6 +59,7 @@ static void *gl_start_run(void *arg)
     return NULL;
 }
 
+/* The workers' frame delivery: the WebSocket layer. */
 static void sink_send(void *ctx, lc_session *s, unsigned char *msg, size_t len, bool binary)
 {
     lc_ws_send(ctx, s, msg, len, binary);
@@ -350,7 +350,7 @@ static int serve_main(int argc, char **argv)
     /* Under MPI the ranks agree on the load first; a context is made after. */
     gl_start gls = {.desc = {.device = cfg->device}};
     pthread_t gl_thread;
-    bool gl_early = !srv.mpi && pthread_create(&gl_thread, NULL, gl_start_run, &gls) == 0;
+    bool gl_early = !cfg->mpi && !srv.mpi && pthread_create(&gl_thread, NULL, gl_start_run, &gls) == 0;
     int rc = lc_datasets_load(cfg->data, cfg->data_count, &dopts, &srv.datasets, &err);
     if (rc == 0 && cfg->demo && cfg->data_count > 0)
         rc = lc_datasets_add_demos(srv.datasets, &err);

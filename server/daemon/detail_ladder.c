@@ -23,8 +23,6 @@ static int clamp_rung(int i) { return i < 0 ? 0 : i >= LC_DETAIL_RUNGS ? LC_DETA
 
 const lc_detail_rung *lc_detail_rung_at(int i) { return &rungs[clamp_rung(i)]; }
 
-double lc_detail_rung_share(int i) { return ldexp(1.0, -clamp_rung(i)); }
-
 int lc_detail_rung_next(int step, double wall_ms, double budget_ms)
 {
     int next = step;
@@ -35,4 +33,11 @@ int lc_detail_rung_next(int step, double wall_ms, double budget_ms)
         next = step - 1;
     }
     return clamp_rung(next);
+}
+
+int lc_detail_rung_predict(double full_ms, double pixel_share, double budget_ms)
+{
+    double predicted = full_ms * pixel_share * ldexp(1.0, -LC_DETAIL_START);
+    int next = lc_detail_rung_next(LC_DETAIL_START, predicted, budget_ms);
+    return next > LC_DETAIL_START ? next : LC_DETAIL_START;
 }

@@ -471,21 +471,17 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     out->req = s->req;
     memcpy(out->layers, s->layer_ds, (size_t)s->req.layer_count * sizeof *out->layers);
     out->detail_step = first_coarse ? LC_DETAIL_RUNGS - 1 : st->detail_step; /* not the controller's step */
-    st->coarse_first = st->coarse_first || first_coarse;
+    if (first_coarse)
+        st->coarse_first = true;
     if (interactive) {
         lc_detail *d = &out->req.render.detail;
         if (!st->last_interactive && !first_coarse) {
             st->last_optimized = now; /* the still frame's opacities start the interaction */
-            /* The session's first drag: no moving frame measured yet, so start
-             * where the last still's time predicts, scaled to the moving
-             * frame's pixels (an underestimate on dense data, which is
-             * geometry-bound), never finer than the ladder's start. */
-            if (!st->step_measured && st->still_ms > 0 && cfg->frame_budget_ms > 0) {
-                double predicted = st->still_ms * st->interactive_scale * st->interactive_scale *
-                                   lc_detail_rung_share(LC_DETAIL_START);
-                int step = lc_detail_rung_next(LC_DETAIL_START, predicted, cfg->frame_budget_ms);
-                st->detail_step = step > st->detail_step ? step : st->detail_step;
-                out->detail_step = st->detail_step;
+            /* The session's first drag: no moving frame measured yet, so start where the last still predicts. */
+            if (!st->step_measured && st->still_ms > 0) {
+                int step = lc_detail_rung_predict(st->still_ms, st->interactive_scale * st->interactive_scale,
+                                                  cfg->frame_budget_ms);
+                st->detail_step = out->detail_step = step > st->detail_step ? step : st->detail_step;
             }
         }
         const lc_detail_rung *rung = lc_detail_rung_at(out->detail_step);

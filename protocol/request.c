@@ -400,6 +400,11 @@ int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, l
     if (r->render.method == LC_METHOD_SURFACE_LAYERS && r->surface.seed_count < 2)
         return lc_proto_set_error(err, LC_PROTO_MISSING_FIELD, "surface.seed",
                                   "method surface-layers needs a seed polyline of 2 or more [x, y, z] points");
+    /* The surface is the frame's only geometry: no path draws datasets beside it. */
+    if (r->render.method == LC_METHOD_SURFACE_LAYERS && r->layer_count > 0)
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "layers",
+                                  "method surface-layers draws the field's surface alone; drop layers or choose "
+                                  "another method");
     if (r->render.has_camera)
         return check_camera(&r->render.camera, true, err);
     return 0;

@@ -83,9 +83,9 @@ static void read_packing(ncf_load *L, comp *c)
     double x;
     c->scale = 1, c->offset = 0;
     lc_nc_read_fill(L->ncid, c->id, &c->fill);
-    if (nc_get_att_double(L->ncid, c->id, "scale_factor", &x) == NC_NOERR && isfinite(x))
+    if (lc_nc_scalar_att(L->ncid, c->id, "scale_factor", &x) && isfinite(x))
         c->scale = x;
-    if (nc_get_att_double(L->ncid, c->id, "add_offset", &x) == NC_NOERR && isfinite(x))
+    if (lc_nc_scalar_att(L->ncid, c->id, "add_offset", &x) && isfinite(x))
         c->offset = x;
 }
 

@@ -22,14 +22,30 @@ int lc_nc_open_memory(const void *data, size_t size, const char *file, int *ncid
     return 0;
 }
 
+int lc_nc_scalar_att(int ncid, int varid, const char *name, double *out)
+{
+    nc_type type = NC_NAT;
+    size_t len = 0;
+    /* nc_get_att_double writes every value the file declares: read only a
+     * numeric attribute of exactly one value into the one double. */
+    if (nc_inq_att(ncid, varid, name, &type, &len) != NC_NOERR || len != 1)
+        return 0;
+    switch (type) {
+    case NC_BYTE: case NC_UBYTE: case NC_SHORT: case NC_USHORT: case NC_INT: case NC_UINT:
+    case NC_INT64: case NC_UINT64: case NC_FLOAT: case NC_DOUBLE: break;
+    default: return 0;
+    }
+    return nc_get_att_double(ncid, varid, name, out) == NC_NOERR;
+}
+
 void lc_nc_read_fill(int ncid, int varid, lc_nc_fill *f)
 {
     nc_type type = NC_NAT;
     double x;
     f->n = 0;
-    if (nc_get_att_double(ncid, varid, "_FillValue", &x) == NC_NOERR)
+    if (lc_nc_scalar_att(ncid, varid, "_FillValue", &x))
         f->v[f->n++] = x;
-    if (nc_get_att_double(ncid, varid, "missing_value", &x) == NC_NOERR)
+    if (lc_nc_scalar_att(ncid, varid, "missing_value", &x))
         f->v[f->n++] = x;
     nc_inq_vartype(ncid, varid, &type);
     switch (type) {

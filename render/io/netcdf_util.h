@@ -14,6 +14,11 @@
  * lc_netcdf_check_classic; file names it in errors. Close with nc_close. */
 int lc_nc_open_memory(const void *data, size_t size, const char *file, int *ncid, lc_error *err);
 
+/* A numeric attribute holding exactly one value, as a double: 1 when read,
+ * 0 when absent, of another type or of any other length (never writes more
+ * than *out). */
+int lc_nc_scalar_att(int ncid, int varid, const char *name, double *out);
+
 /* The values of a variable that mean "no value": _FillValue, missing_value and
  * the type's default fill (CF); lc_nc_is_fill also takes every non-finite value. */
 typedef struct lc_nc_fill {

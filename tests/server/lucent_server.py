@@ -49,7 +49,8 @@ class Server:
                                      stderr=subprocess.STDOUT, env=e, text=True)
         self._port = None
         self._ready = threading.Event()
-        threading.Thread(target=self._drain, daemon=True).start()
+        self._drainer = threading.Thread(target=self._drain, daemon=True)
+        self._drainer.start()
         if not self._ready.wait(timeout) or self._port is None:
             self.proc.kill()
             text = "\n".join(self.log)
@@ -98,6 +99,19 @@ class Server:
                     return int(line.split()[1])
         return 0
 
+    def open_files(self):
+        """The paths of the daemon's open descriptors. The daemon opens and
+        closes files meanwhile: a descriptor gone between the listing and
+        its readlink is skipped, not an error."""
+        fd_dir = "/proc/%d/fd" % self.proc.pid
+        paths = []
+        for fd in os.listdir(fd_dir):
+            try:
+                paths.append(os.readlink(os.path.join(fd_dir, fd)))
+            except FileNotFoundError:
+                pass
+        return paths
+
     def stop(self, sig=signal.SIGTERM, timeout=30):
         """Signals the daemon and returns its exit status."""
         if self.proc.poll() is None:
@@ -108,7 +122,7 @@ class Server:
             self.proc.kill()
             self.proc.wait()
             raise AssertionError("server did not exit within %d s after signal %d" % (timeout, sig))
-        time.sleep(0.2)  # let the reader thread collect the last lines
+        self._drainer.join(timeout)  # the log's last lines: the pipe closes when the daemon has exited
         if rc != 0 and self.only_foreign_leaks():
             print("note: LeakSanitizer found only leaks inside the GL driver (Mesa/LLVM); "
                   "`lucent render` shows the same ones, so they are not the server's")

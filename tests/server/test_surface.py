@@ -108,6 +108,29 @@ with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as
           "HTTP sessions refuse surface-layers naming method: %d" % st)
     st, _, data = srv.request("POST", "/api/v1/render", json.dumps(dict(surface_request(), **{"dataset": "demo:points"})))
     check(st == 200, "the request's dataset does not matter to the method: %d" % st)
+
+    # Every method with every kind of data, POST and GET: an image, or a 4xx
+    # naming a field; never a dead daemon (surface-layers with layers was one).
+    surface = {"field": "demo:shear-flow", "seed": [[-0.9, -0.6, 0], [-0.9, 0.6, 0]], "particles": 20}
+    kinds = {"dataset": {"dataset": "demo:points"}, "layers": {"layers": [{"dataset": "demo:points"}]},
+             "field": {"surface": surface},
+             "layers+field": {"layers": [{"dataset": "demo:points"}], "surface": surface}}
+    for method in ("fourier", "exact", "opaque", "direct", "wboit", "surface-layers"):
+        for kind, extra in kinds.items():
+            body = dict({"method": method, "width": 32, "height": 32}, **extra)
+            flat = {k: json.dumps(v) if isinstance(v, (list, dict)) else v for k, v in body.items()}
+            if "surface" in flat:
+                del flat["surface"]
+                flat.update(surfaceField=surface["field"], surfaceSeed=json.dumps(surface["seed"]),
+                            surfaceParticles=surface["particles"])
+            for verb, (st, _, data) in (("POST", render(srv, body)),
+                                        ("GET", srv.request("GET", "/api/v1/render?" + urllib.parse.urlencode(flat)))):
+                e = json.loads(data).get("error", {}) if st != 200 else {}
+                check(st == 200 or (400 <= st < 500 and e.get("field")),
+                      "%s %s with %s: an image or an error naming a field (%d %r)" % (verb, method, kind, st, e))
+                if method == "surface-layers" and kind == "layers+field":
+                    check(st == 400 and e.get("field") == "layers",
+                          "%s surface-layers with layers is refused naming layers: %d %r" % (verb, st, e))
     st, _, h = srv.json("GET", "/api/v1/health")
     check(st == 200, "the daemon still serves: %d" % st)
 

@@ -107,8 +107,35 @@ async def main(srv):
         check(counts and counts[-1] == 450, "the session still serves the old field: %r" % counts)
 
 
+async def refused_layers(srv):
+    """A surface session beside layers is refused naming layers; the daemon lives."""
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "width": 64, "height": 64, "method": "surface-layers",
+                                  "layers": [{"dataset": "demo:points"}],
+                                  "surface": {"field": "demo:abc-flow", "seed": SEED, "particles": 50}}))
+        m = json.loads(await recv(ws, 30) or "{}")
+        check(m.get("type") == "error" and m.get("field") == "layers", "hello: surface-layers with layers -> %r" % m)
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "width": 64, "height": 64, "dataset": "demo:points",
+                                  "layers": [{"dataset": "demo:points"}]}))
+        m = json.loads(await recv(ws, 30) or "{}")
+        check(m.get("type") == "ready", "a layered session starts: %r" % m)
+        await ws.send(json.dumps({"type": "params", "method": "surface-layers",
+                                  "surface": {"field": "demo:abc-flow", "seed": SEED, "particles": 50}}))
+        err = None
+        for _ in range(20):
+            m = await recv(ws, 30)
+            if m is None:
+                break
+            if isinstance(m, str) and json.loads(m).get("type") == "error":
+                err = json.loads(m)
+                break
+        check(err is not None and err.get("field") == "layers", "params: surface-layers over layers -> %r" % err)
+
+
 with Server(binary, data=("demo:points", "demo:abc-flow")) as srv:
     asyncio.run(main(srv))
+    asyncio.run(refused_layers(srv))
     st, _, data = srv.request("POST", "/api/v1/sessions", json.dumps(
         {"method": "surface-layers", "surface": {"field": "demo:abc-flow", "seed": SEED}}))
     check(st == 400 and json.loads(data).get("error", {}).get("field") == "method",

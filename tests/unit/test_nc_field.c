@@ -37,6 +37,7 @@ enum {
     F_SHAPE = 128,   /* v has one x node fewer */
     F_FILL = 256,    /* node (1, 0, 0) of u is _FillValue */
     F_PACKED = 512,  /* u stored as short with scale_factor / add_offset */
+    F_LONG_ATTS = 1024, /* u: missing_value, v: scale_factor and add_offset of 16 values each */
 };
 
 static const double XS[] = {0, 1, 2.5, 3}, YS[] = {4, 2, 1}, ZS[] = {-1, 0};
@@ -81,6 +82,15 @@ static int write_file(const char *path, int flags)
         if (a == 0 && (flags & F_FILL)) {
             float fill = -999.f;
             nc_put_att_float(nc, var[a], "_FillValue", NC_FLOAT, 1, &fill);
+        }
+        if (flags & F_LONG_ATTS) {
+            /* CF wants these scalar; a reader that trusts the file writes all
+             * 16 values into one double. Not scalar: ignored. */
+            double many[16];
+            for (int i = 0; i < 16; i++)
+                many[i] = i ? 7e300 : 1e6;
+            nc_put_att_double(nc, var[a], a == 0 ? "missing_value" : "scale_factor", NC_DOUBLE, 16, many);
+            nc_put_att_double(nc, var[a], "add_offset", NC_DOUBLE, 16, many);
         }
         if (type == NC_SHORT) {
             double sc = 0.001, off = 2;
@@ -232,6 +242,11 @@ int main(void)
     /* No w: w = 0. */
     if ((f = open_case("no_w.nc", F_NO_W, 0, NULL))) {
         check_linear(f, "no_w.nc", 1, 0, 1e-5);
+        lc_field_destroy(f);
+    }
+    /* Attributes of 16 values where CF wants one: ignored, the field intact. */
+    if ((f = open_case("long_atts.nc", F_LONG_ATTS, 0, NULL))) {
+        check_linear(f, "long_atts.nc", 0, 0, 1e-5);
         lc_field_destroy(f);
     }
     /* Packed short u (scale 0.001, offset 2): within half a quantum. */

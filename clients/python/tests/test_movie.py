@@ -178,8 +178,7 @@ try:
         done = [f for f in files if not any(i in f for i in ids)]
         check(len(done) == len(files), "the cancelled jobs' files are gone (%d files left, all finished movies)"
               % len(files))
-        fds = [os.readlink("/proc/%d/fd/%s" % (srv.proc.pid, f)) for f in os.listdir("/proc/%d/fd" % srv.proc.pid)]
-        check(not [f for f in fds if "lucent-movies" in f], "the daemon holds no movie file open")
+        check(not [f for f in srv.open_files() if "lucent-movies" in f], "the daemon holds no movie file open")
         st, _, e = srv.json("GET", "/api/v1/movies/%s/file" % ids[1])
         check(st == 409 and e["error"]["code"] == "not_ready", "a cancelled job has no file (409)")
         st, _, e = srv.json("GET", "/api/v1/movies/nope")

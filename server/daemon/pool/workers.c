@@ -190,12 +190,26 @@ static int render_layers(lc_workers *w, lc_renderer *r, const lc_dataset *const 
  * layer parameters (malloc'd, 2 KiB a layer: off the stack) and the scenes
  * of their datasets ds, so the frame reads nothing of its job or snapshot.
  * NULL when out of memory. */
-static lc_layer_params *copy_layers(const lc_request *req, const lc_dataset *const *ds, const lc_gpu_scene **scenes)
+static lc_layer_params *copy_layers(const lc_request *req, int n, const lc_dataset *const *ds,
+                                    const lc_gpu_scene **scenes)
 {
-    lc_layer_params *lp = malloc((size_t)req->layer_count * sizeof *lp);
-    for (int i = 0; lp && i < req->layer_count; i++)
+    lc_layer_params *lp = malloc((size_t)n * sizeof *lp);
+    for (int i = 0; lp && i < n; i++)
         scenes[i] = ds[i]->gpu, lp[i] = req->layers[i].p;
     return lp;
+}
+
+/* How many layers the job carries: its request's count only when the
+ * submitter resolved every layer's dataset (a surface frame carries none).
+ * -1 when the request names layers the job does not hold. */
+static int job_layer_count(const lc_render_job *job)
+{
+    if (job->field)
+        return job->req.layer_count ? -1 : 0;
+    for (int i = 0; i < job->req.layer_count; i++)
+        if (!job->layers[i] || !job->layers[i]->gpu)
+            return -1;
+    return job->req.layer_count;
 }
 
 /* The frame a worker renders is "in hand" while the renderer runs: under MPI
@@ -241,11 +255,16 @@ static void render_job(worker *wk, lc_render_job *job)
     double dt = job->dt;
     lc_session *session = job->session;
     /* layers[], copied like the rest */
-    int layer_count = job->req.layer_count;
+    int layer_count = job_layer_count(job);
+    if (layer_count < 0 || (!field && !layer_count && !dataset)) {
+        job->rc = lc_err(&job->err, LC_ERR_INVALID, "the render names data it does not carry");
+        lc_workers_finish_job(job);
+        return;
+    }
     const lc_dataset *layer_ds[LC_MAX_LAYERS];
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
     memcpy(layer_ds, job->layers, (size_t)layer_count * sizeof *layer_ds);
-    lc_layer_params *layers = layer_count ? copy_layers(&job->req, layer_ds, scenes) : NULL;
+    lc_layer_params *layers = layer_count ? copy_layers(&job->req, layer_count, layer_ds, scenes) : NULL;
     uint8_t *rgba = layer_count && !layers ? NULL : malloc((size_t)p->width * (size_t)p->height * 4);
     if (!rgba) {
         free(layers);
@@ -367,9 +386,9 @@ static void render_session(worker *wk, lc_session *s)
         lc_yield_interactive_begin(&w->gate, s);
     in_hand(wk, NULL, s);
     /* layers[]: their parameters copied, the opacities spanning them (lc_session_prepare_state) */
-    int n = f.req.layer_count;
+    int n = p->method == LC_METHOD_SURFACE_LAYERS ? 0 : f.req.layer_count; /* validation refuses both */
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
-    lc_layer_params *layers = n ? copy_layers(&f.req, f.layers, scenes) : NULL;
+    lc_layer_params *layers = n ? copy_layers(&f.req, n, f.layers, scenes) : NULL;
     int rc = rgba && (layers || !n)
                  ? lc_session_prepare_state(s, f.layers, n, &err)
                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);

@@ -227,6 +227,8 @@ typedef struct lc_detail {
                              the frame keeps a segment per LC_LINE_SUBSET_PIXELS pixels and at least
                              LC_LINE_SUBSET_FLOOR segments: sparse lines are not thinned. */
     bool reuse_opacities; /* skip P1-P3: draw with the frame state's opacities when it has them */
+    bool still;           /* a session's still: optimized as a one-shot render of its request is (the clarity
+                             loop from the paper's strength, targets taken whole), whatever frames came before */
 } lc_detail;
 
 /* Line clustering (docs/ALGORITHM.md "Line clustering"): count 0 = off;

@@ -79,6 +79,15 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_render_params p = *given;
     double target = p.foo.clarity;
     lc_clarity_strength st = {1, 1, 0, -1};
+    /* A session's still settles as the one-shot render of its request does:
+     * the strength the moving frames stepped to came from other pictures (a
+     * coarse first frame, thinned lines), and one gentle step a frame would
+     * stop wherever the opacities converge. */
+    if (given->detail.still && state && !state->fresh) {
+        int eq_valid = state->eq_valid; /* the colour map keeps its own half-life */
+        lc_frame_state_reset(state);
+        state->eq_valid = eq_valid;
+    }
     if (state && !state->fresh && state->clarity.lambda >= 1 && state->clarity.penalty >= 1)
         st = state->clarity;
     int iterate = !state || state->fresh;

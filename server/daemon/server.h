@@ -98,6 +98,7 @@ typedef struct lc_serve_config {
     double idle_timeout;            /* seconds without use before a session is dropped */
     long long max_stream_pixels;    /* cap of viewport x devicePixelRatio for WS frames */
     double still_delay;             /* seconds of quiet input before the still frame */
+    double pass_delay;              /* tests: seconds slept before each pass (--pass-delay) */
     double frame_budget_ms;         /* interactive frames: render time the detail controller aims under */
     double max_cost;                /* estimated cost units of one frame (cost.h); 0 = no limit */
     double render_deadline;         /* seconds an HTTP render may wait for a worker (503 beyond); 0 = none */

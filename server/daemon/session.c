@@ -502,6 +502,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     /* The stages are one still refined: each shows its own targets, not a fade from the frame before. */
     if (out->stage > 0)
         out->req.render.foo.fade_half_life = 0;
+    /* The still (the last stage) is the one-shot render of the session's request. */
+    out->req.render.detail.still = !interactive && out->stage != 1;
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);
     out->req.format = LC_FORMAT_JPEG;

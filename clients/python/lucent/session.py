@@ -182,7 +182,9 @@ class Session:
                 return f.array()
 
     def _settled(self, f):
-        return f.converged and not f.interactive and f.header.get("cameraSeq", 0) >= self.seq
+        # A staged still's earlier stages are not the still (header "final": false).
+        return (f.converged and not f.interactive and f.header.get("final", True) is not False
+                and f.header.get("cameraSeq", 0) >= self.seq)
 
     def frames(self, cameras, timeout=None, full=True):
         """One frame per camera, in order: each camera is sent and the first

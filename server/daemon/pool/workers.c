@@ -323,6 +323,9 @@ static void render_job(worker *wk, lc_render_job *job)
 static void on_progress(void *ctx, int next_pass, int done, int planned)
 {
     worker *wk = ctx;
+    double delay = wk->pool->srv->cfg.pass_delay;
+    if (delay > 0 && next_pass >= 0) /* --pass-delay: a slow frame on demand, for tests */
+        nanosleep(&(struct timespec){(time_t)delay, (long)((delay - (time_t)delay) * 1e9)}, NULL);
     lc_session *s = wk->progress;
     if (!s)
         return; /* an HTTP render */

@@ -225,6 +225,9 @@ static const lc_option serve_options[] = {
      .help = "close sessions unused this long (default 300)"},
     {"--still-delay", "MS", LC_OPT_INT, CFG(still_delay), 0, 60000, 0.001,
      .help = "quiet input before the full-quality still frame (default 150)"},
+    {"--pass-delay", "MS", LC_OPT_INT, CFG(pass_delay), 0, 10000, 0.001,
+     .help = "for tests: wait this long before every pass of every frame, so that\n"
+             "progress and pre-emption are observable on any machine (default 0)"},
     {"--frame-budget", "MS", LC_OPT_INT, CFG(frame_budget_ms), 5, 10000, 1,
      .help = "render time interactive frames aim under: line detail, point stride and\n"
              "resolution adapt to it (default 70)"},

@@ -27,6 +27,7 @@ export function createState(initial, token) {
     seq: 0, // last camera seq sent
     confirmedSeq: 0, // newest cameraSeq a drawn frame reflects
     lastFrame: null, // header of the newest drawn frame
+    received: [], // headers of the newest 64 frames received, drawn or not (the view drops frames a newer one replaces)
     framesDrawn: 0,
     token: token ?? null,
     error: null, // last error shown {code, message}

@@ -62,6 +62,8 @@ export function createSessionController(ctx) {
   function onFrame(frame) {
     endProgress();
     const h = frame.header ?? {};
+    state.received.push(h);
+    if (state.received.length > 64) state.received.shift();
     refining = Number.isInteger(h.stages) && Number.isInteger(h.stage) && h.stage < h.stages && h.final === false
       ? { stage: h.stage + 1, stages: h.stages } : null;
     ctx.view.push(frame);

@@ -4,6 +4,7 @@
 #include "scene_cache.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -234,9 +235,16 @@ int lc_scene_cache_write(const char *cache_path, const lc_scene_cache_key *key, 
     char tmp[4096];
     if (snprintf(tmp, sizeof tmp, "%s.%ld.tmp", cache_path, (long)getpid()) >= (int)sizeof tmp)
         return lc_err(err, LC_ERR_INVALID, "scene cache path too long");
-    FILE *f = fopen(tmp, "wb");
-    if (!f)
-        return lc_err(err, LC_ERR_IO, "%s: cannot write: %s", tmp, strerror(errno));
+    /* A new file only, never through a link planted at its name, readable by
+     * the daemon's user alone (the cache holds the data's content). */
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    FILE *f = fd >= 0 ? fdopen(fd, "wb") : NULL;
+    if (!f) {
+        int e = errno;
+        if (fd >= 0)
+            close(fd), unlink(tmp);
+        return lc_err(err, LC_ERR_IO, "%s: cannot write: %s", tmp, strerror(e));
+    }
     header h = {.version = CACHE_VERSION, .header_bytes = sizeof(header), .key = *key};
     memcpy(h.magic, MAGIC, sizeof MAGIC);
     io w = {.f = f};

@@ -119,7 +119,23 @@ static void round_trip(const char *demo, uint64_t count)
     expect_miss(cache, &key, "No such file", "absent");
     lc_lod fresh;
     CHECK(lc_lod_build(s, &fresh, &err) == 0, "lod: %s", err.msg);
+    /* A link planted at the temporary file's name: the write fails and the
+     * link's target is untouched. */
+    char tmp[300], victim[256];
+    snprintf(tmp, sizeof tmp, "%s.%ld.tmp", cache, (long)getpid());
+    snprintf(victim, sizeof victim, "%s/%s.victim", dir, demo);
+    write_bytes(victim, "victim", 6);
+    CHECK(symlink(victim, tmp) == 0, "%s: symlink", demo);
+    CHECK(lc_scene_cache_write(cache, &key, s, &err) != 0, "%s: a write through a planted link fails", demo);
+    struct stat vs;
+    CHECK(stat(victim, &vs) == 0 && vs.st_size == 6, "%s: the link's target is untouched (%lld bytes)", demo,
+          (long long)vs.st_size);
+    unlink(tmp);
+    unlink(victim);
     CHECK(lc_scene_cache_write(cache, &key, s, &err) == 0, "%s: write: %s", demo, err.msg);
+    struct stat cs;
+    CHECK(stat(cache, &cs) == 0 && (cs.st_mode & 0777) == 0600, "%s: the cache file is 0600 (%o)", demo,
+          (unsigned)(cs.st_mode & 0777));
     CHECK(s->lod != NULL, "%s: the written levels stay with the scene", demo);
     lc_scene *r = NULL;
     CHECK(lc_scene_cache_read(cache, &key, &r, &err) == 0 && r, "%s: read: %s", demo, err.msg);

@@ -346,3 +346,9 @@ void lc_gpu_scene_memory(const lc_gpu_scene *gs, lc_gpu_memory *out) { *out = gs
 int lc_gpu_scene_levels(const lc_gpu_scene *gs) { return gs->level_count; }
 
 uint64_t lc_gpu_scene_lod_bytes(const lc_gpu_scene *gs) { return gs->lod_bytes; }
+
+void lc_gpu_scene_level(const lc_gpu_scene *gs, int i, double *error, double *primitives)
+{
+    *error = gs->levels[i].error;
+    *primitives = (double)gs->levels[i].primitive_count;
+}

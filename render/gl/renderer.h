@@ -57,6 +57,10 @@ void lc_gpu_scene_estimate(const lc_scene *scene, const lc_gpu_scene_desc *desc,
 /* Levels of detail (1 = full detail only) and the bytes of those beyond the
  * first (included in lc_gpu_scene_bytes). */
 int lc_gpu_scene_levels(const lc_gpu_scene *gs);
+/* Level i's simplification error (world units, 0 for level 0) and the
+ * primitives it draws, i < lc_gpu_scene_levels(gs): what the cost model
+ * needs to price the level a frame will pick. */
+void lc_gpu_scene_level(const lc_gpu_scene *gs, int i, double *error, double *primitives);
 uint64_t lc_gpu_scene_lod_bytes(const lc_gpu_scene *gs);
 
 /* ---- One viewer's element opacities between frames (temporal fading).

@@ -7,6 +7,8 @@
 
 #include "scene.h"
 
+#define LC_MEASURE_LEVELS 12 /* LC_LOD_MAX_LEVELS (lod.h) */
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -21,6 +23,12 @@ typedef struct lc_scene_measures {
     double center[3];
     double radius; /* half the bounds diagonal (> 0) */
     double lines;  /* polylines (lines.clusters draws a share of them) */
+    /* Levels of detail once uploaded (0 = not known: every frame is priced at
+     * full detail): each level's simplification error in world units and the
+     * share of the primitives it draws (level 0: 0 and 1). */
+    int levels;
+    double level_error[LC_MEASURE_LEVELS];
+    double level_share[LC_MEASURE_LEVELS];
 } lc_scene_measures;
 
 /* Measures s; a part read by one process (s->part_of) measures as the whole. */

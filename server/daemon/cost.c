@@ -32,6 +32,37 @@ static double pixels_per_unit(const lc_scene_measures *st, const lc_render_param
     return h / (2.0 * dist * half);
 }
 
+/* The share of the primitives a frame draws: the coarsest level of detail
+ * whose error stays under params.lod output pixels at the nearest depth of
+ * the data's bounding sphere, as the renderer picks it (render/gl/mapping.c
+ * takes the nearest corner of the bounds, never nearer: this share is never
+ * the smaller). 1 without levels, with params.lod 0 or a camera inside. */
+static double level_share(const lc_scene_measures *st, const lc_render_params *p, double ppu)
+{
+    if (st->levels <= 1 || !(p->detail.lod_pixels > 0) || !(ppu > 0))
+        return 1.0;
+    double pixel = 1.0 / ppu; /* world units per output pixel at the data centre */
+    if (!p->has_camera || !p->camera.parallel_projection) {
+        double dist = 0;
+        if (p->has_camera) {
+            for (int k = 0; k < 3; k++)
+                dist += (p->camera.position[k] - st->center[k]) * (p->camera.position[k] - st->center[k]);
+            dist = sqrt(dist);
+        } else { /* the fit: the bounding sphere fills the default 30 degree view */
+            dist = st->radius / sin(15.0 * PI / 180.0);
+        }
+        double nearest = dist - st->radius;
+        if (!(nearest > 0) || !(dist > 0))
+            return 1.0;
+        pixel *= nearest / dist;
+    }
+    double bound = p->detail.lod_pixels * pixel, share = 1.0;
+    for (int i = 1; i < st->levels && i < LC_MEASURE_LEVELS; i++)
+        if (st->level_error[i] <= bound)
+            share = st->level_share[i];
+    return share;
+}
+
 /* The work the perception aids add (docs/ALGORITHM.md "Perception aids"):
  * halos widen every line ribbon of the full-resolution compositing passes by
  * twice their width, and style.antialias K runs those passes (P4-P6 of the
@@ -82,6 +113,14 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
 {
     double w = p->width, h = p->height, image = w * h;
     double ppu = pixels_per_unit(st, p);
+    /* What the frame draws: its level of detail's primitives (every term below). */
+    lc_scene_measures drawn;
+    double share = level_share(st, p, ppu);
+    if (share < 1) {
+        drawn = *st;
+        drawn.primitives *= share, drawn.vertices *= share;
+        st = &drawn;
+    }
     /* Fragments of one full-resolution geometry pass. */
     double frags;
     switch (st->type) {

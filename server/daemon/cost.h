@@ -20,6 +20,9 @@
  * The default budget (1e9) is therefore 20-50 s on the 2-core llvmpipe
  * development machine and well under a second on a GPU.
  *
+ * A frame is priced at the level of detail it will draw (params.lod at the
+ * data's nearest depth; the levels are measured at upload).
+ *
  * Threading: pure functions; a dataset's lc_scene_measures (render/scene
  * scene_measure.h) are taken once, at load. */
 #ifndef LC_SERVER_COST_H

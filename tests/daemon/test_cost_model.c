@@ -128,9 +128,55 @@ static void test_estimates(void)
     CHECK(lc_cost_check(&st, &huge, 0, &cost, &field, why, sizeof why) == 0, "budget 0 = no limit");
 }
 
+/* A frame is priced at the level of detail it draws: the coarsest level whose
+ * error stays under params.lod pixels at the data's nearest depth. */
+static void test_levels(void)
+{
+    lc_scene_measures st;
+    memset(&st, 0, sizeof st);
+    st.type = LC_PRIM_LINES;
+    st.primitives = st.vertices = 2e6;
+    st.elements = 1e4;
+    st.lines = 4000;
+    st.line_length = 500;
+    st.radius = 1.0;
+    st.levels = 3;
+    /* level 1: half the segments within 4e-4 world units, level 2: a tenth within 4e-3 */
+    st.level_error[1] = 4e-4, st.level_error[2] = 4e-3;
+    st.level_share[0] = 1, st.level_share[1] = 0.5, st.level_share[2] = 0.1;
+    lc_scene_measures full = st;
+    full.levels = 0;
+    lc_render_params p = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_MOMENTS);
+    /* fitted: 2/H units a pixel at the centre, x (1 - sin 15 deg) = 0.741 at the
+     * nearest depth, x params.lod 0.2 (the default): 64 -> 4.63e-3 */
+    p.width = p.height = 64;
+    lc_scene_measures coarse = st;
+    coarse.levels = 0, coarse.primitives = coarse.vertices = 2e5;
+    double small = lc_cost_estimate(&st, &p);
+    CHECK(fabs(small - lc_cost_estimate(&coarse, &p)) < 1e-6 * small,
+          "64x64: priced as level 2's tenth of the segments (%g, %g)", small, lc_cost_estimate(&coarse, &p));
+    p.width = p.height = 4096; /* 7.2e-5: under level 1's error, full detail */
+    CHECK(lc_cost_estimate(&st, &p) == lc_cost_estimate(&full, &p), "4096x4096: full detail");
+    p.width = p.height = 800; /* 3.7e-4: just under level 1's error */
+    CHECK(lc_cost_estimate(&st, &p) == lc_cost_estimate(&full, &p), "800x800: full detail");
+    p.width = p.height = 600; /* 4.9e-4: level 1 */
+    lc_scene_measures half = coarse;
+    half.primitives = half.vertices = 1e6;
+    CHECK(fabs(lc_cost_estimate(&st, &p) - lc_cost_estimate(&half, &p)) < 1e-6 * lc_cost_estimate(&half, &p),
+          "600x600: level 1");
+    p.width = p.height = 64;
+    p.detail.lod_pixels = 0;
+    CHECK(lc_cost_estimate(&st, &p) == lc_cost_estimate(&full, &p), "params.lod 0: full detail");
+    p.detail.lod_pixels = LC_DEFAULT_LOD_PIXELS;
+    p.has_camera = true;
+    p.camera.position[0] = 0.5; /* inside the bounding sphere */
+    CHECK(lc_cost_estimate(&st, &p) == lc_cost_estimate(&full, &p), "a camera inside the data: full detail");
+}
+
 int main(void)
 {
     test_plan();
     test_estimates();
+    test_levels();
     return lc_test_finish();
 }

@@ -382,6 +382,27 @@ void lc_datasets_set_workers(lc_datasets *d, int workers)
             d->estimated += lc_memory_estimate(d->items[i].scene, &desc, workers, 1);
 }
 
+/* The uploaded levels of detail, for the cost model: a frame is priced at
+ * the level it will draw (cost.c), not at full detail. */
+static void measure_levels(lc_dataset *ds)
+{
+    lc_scene_measures *m = &ds->cost;
+    int n = lc_gpu_scene_levels(ds->gpu);
+    double e0 = 0, p0 = 0;
+    m->levels = 0;
+    if (n <= 1 || n > LC_MEASURE_LEVELS)
+        return;
+    lc_gpu_scene_level(ds->gpu, 0, &e0, &p0);
+    if (!(p0 > 0))
+        return;
+    for (int i = 0; i < n; i++) {
+        double e, prims;
+        lc_gpu_scene_level(ds->gpu, i, &e, &prims);
+        m->level_error[i] = e, m->level_share[i] = prims / p0;
+    }
+    m->levels = n;
+}
+
 int lc_datasets_upload(lc_datasets *d, lc_error *err)
 {
     for (int i = 0; i < d->count; i++) {
@@ -394,6 +415,7 @@ int lc_datasets_upload(lc_datasets *d, lc_error *err)
             lc_err_prefix(err, "%s", ds->name);
             return rc;
         }
+        measure_levels(ds);
         /* Nothing reads the per-vertex arrays after the upload (cost stats
          * and descriptions were taken at load). */
         lc_scene_release_vertex_arrays(ds->scene);

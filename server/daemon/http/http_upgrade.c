@@ -68,8 +68,9 @@ enum MHD_Result lc_http_upgrade(lc_http_req *ctx, struct MHD_Connection *c, bool
     struct MHD_Response *r = MHD_create_response_for_upgrade(upgrade_handler, srv);
     if (!r)
         return MHD_NO;
+    /* libmicrohttpd adds "Connection: Upgrade" to an upgrade response itself:
+     * a second one makes strict clients refuse the handshake. */
     MHD_add_response_header(r, MHD_HTTP_HEADER_UPGRADE, "websocket");
-    MHD_add_response_header(r, MHD_HTTP_HEADER_CONNECTION, "Upgrade");
     MHD_add_response_header(r, "Sec-WebSocket-Accept", accept);
     /* A client that offers subprotocols must get one back (browsers fail the
      * handshake otherwise); never echo the one that carries the token. */

@@ -57,6 +57,16 @@ static void client_address(struct MHD_Connection *c, unsigned char out[16])
         memcpy(out, &((const struct sockaddr_in6 *)sa)->sin6_addr, 16);
 }
 
+uint64_t lc_conn_client_key(struct MHD_Connection *c)
+{
+    unsigned char a[16];
+    client_address(c, a);
+    uint64_t h = 1469598103934665603ULL; /* FNV-1a */
+    for (int i = 0; i < 16; i++)
+        h = (h ^ a[i]) * 1099511628211ULL;
+    return h;
+}
+
 /* Makes room for p: drops the connections past the deadline, then the
  * oldest of p's address beyond its cap, then the oldest beyond the total. */
 static void admit(pending *p)

@@ -23,6 +23,10 @@ void lc_conn_limits_notify(void *cls, struct MHD_Connection *c, void **socket_co
                            enum MHD_ConnectionNotificationCode code);
 /* From the access handler's first call: c has sent a whole request header. */
 void lc_conn_limits_request(struct MHD_Connection *c);
+/* The client a connection comes from, as a key: a hash of its address (not
+ * its port, so that many connections of one client count as one). What
+ * fairness and the ownership of jobs key on. */
+uint64_t lc_conn_client_key(struct MHD_Connection *c);
 /* Connections closed so far for the deadline and for the caps. */
 void lc_conn_limits_counts(uint64_t *deadline, uint64_t *evicted);
 

@@ -152,7 +152,8 @@ static enum MHD_Result route(lc_http_req *ctx, struct MHD_Connection *c, const c
     if (atomic_load(&srv->stopping) && (post || strcmp(method, "DELETE") == 0))
         return lc_http_error(srv, c, 503, "overloaded", NULL, "the server is shutting down");
     if (strncmp(url, "/api/v1/movies", 14) == 0 && (url[14] == 0 || url[14] == '/'))
-        return (enum MHD_Result)lc_movies_answer(srv->movies, c, method, url + 14, ctx->body, ctx->len);
+        return (enum MHD_Result)lc_movies_answer(srv->movies, c, lc_conn_client_key(c), method, url + 14, ctx->body,
+                                                 ctx->len);
     if (strcmp(url, "/api/v1/render") == 0) /* HEAD would cost a whole render for no image */
         return ((get && strcmp(method, "HEAD") != 0) || post) ? lc_http_route_render(ctx, c, method)
                                                               : lc_http_not_allowed(srv, c, method, "GET, POST");

@@ -1,6 +1,7 @@
 /* HTTP renders: one-shot and session renders on the worker pool, the image
  * with its statistics as headers (http_render.h). */
 #include "http_render.h"
+#include "conn_limits.h"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -111,25 +112,10 @@ void lc_http_free_job(lc_render_job *job)
     free(job);
 }
 
-/* The fairness key of a one-shot render: the client's address (not its port,
- * so that many connections of one client still count as one). */
+/* The fairness key of a one-shot render: the client (lc_conn_client_key). */
 static uint64_t client_key(struct MHD_Connection *c)
 {
-    const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
-    const struct sockaddr *sa = ci ? ci->client_addr : NULL;
-    const unsigned char *p = NULL;
-    size_t n = 0;
-    if (sa && sa->sa_family == AF_INET) {
-        p = (const unsigned char *)&((const struct sockaddr_in *)sa)->sin_addr;
-        n = 4;
-    } else if (sa && sa->sa_family == AF_INET6) {
-        p = (const unsigned char *)&((const struct sockaddr_in6 *)sa)->sin6_addr;
-        n = 16;
-    }
-    uint64_t h = 1469598103934665603ULL;
-    for (size_t i = 0; i < n; i++)
-        h = (h ^ p[i]) * 1099511628211ULL;
-    return h | 1; /* never 0, never a session pointer (those are even) */
+    return lc_conn_client_key(c) | 1; /* never 0, never a session pointer (those are even) */
 }
 
 static enum MHD_Result queue_job(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req,

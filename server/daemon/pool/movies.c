@@ -36,6 +36,7 @@ typedef struct movie_job {
     const lc_dataset *ds;                    /* the request's dataset, or its first layer's */
     const lc_dataset *layers[LC_MAX_LAYERS]; /* request.layers' datasets (spec.request.layer_count of them) */
     lc_video_codec codec;
+    uint64_t owner; /* the client that made it (lc_movies_route) */
     double cost;
     job_state state;
     bool cancel;
@@ -395,11 +396,11 @@ static void random_id(char out[LC_SESSION_ID_LEN])
         snprintf(out + 2 * i, 3, "%02x", b[i]);
 }
 
-/* Index of job id, or -1; m->lock held. */
-static int find(lc_movies *m, const char *id, size_t len)
+/* Index of owner's job id, or -1 (another client's job too); m->lock held. */
+static int find(lc_movies *m, uint64_t owner, const char *id, size_t len)
 {
     for (int i = 0; i < m->count; i++)
-        if (strlen(m->jobs[i]->id) == len && strncmp(m->jobs[i]->id, id, len) == 0)
+        if (m->jobs[i]->owner == owner && strlen(m->jobs[i]->id) == len && strncmp(m->jobs[i]->id, id, len) == 0)
             return i;
     return -1;
 }
@@ -412,7 +413,7 @@ static void forget(lc_movies *m, int i)
     m->count--;
 }
 
-static void create(lc_movies *m, const char *body, size_t len, lc_movie_reply *out)
+static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, lc_movie_reply *out)
 {
     lc_server *srv = m->srv;
     movie_job *j = calloc(1, sizeof *j);
@@ -466,6 +467,7 @@ static void create(lc_movies *m, const char *body, size_t len, lc_movie_reply *o
         return;
     }
     random_id(j->id);
+    j->owner = owner;
     snprintf(j->path, sizeof j->path, "%s/%s.%s", m->dir, j->id, lc_video_extension(j->codec));
     j->created = lc_now();
     pthread_mutex_lock(&m->lock);
@@ -493,7 +495,7 @@ static void create(lc_movies *m, const char *body, size_t len, lc_movie_reply *o
     reply_json(m, out, 202, o);
 }
 
-void lc_movies_route(lc_movies *m, const char *method, const char *rest, const char *body, size_t len,
+void lc_movies_route(lc_movies *m, uint64_t owner, const char *method, const char *rest, const char *body, size_t len,
                      lc_movie_reply *out)
 {
     memset(out, 0, sizeof *out);
@@ -501,12 +503,13 @@ void lc_movies_route(lc_movies *m, const char *method, const char *rest, const c
     bool get = strcmp(method, "GET") == 0 || strcmp(method, "HEAD") == 0;
     if (rest[0] == 0) {
         if (strcmp(method, "POST") == 0) {
-            create(m, body, len, out);
+            create(m, owner, body, len, out);
         } else if (get) {
             json_t *list = json_array();
             pthread_mutex_lock(&m->lock);
             for (int i = 0; i < m->count; i++)
-                json_array_append_new(list, job_json(m->jobs[i]));
+                if (m->jobs[i]->owner == owner)
+                    json_array_append_new(list, job_json(m->jobs[i]));
             pthread_mutex_unlock(&m->lock);
             reply_json(m, out, 200, json_pack("{so si}", "movies", list, "limit", LC_MOVIES_ACTIVE));
         } else {
@@ -521,7 +524,7 @@ void lc_movies_route(lc_movies *m, const char *method, const char *rest, const c
     size_t idlen = slash ? (size_t)(slash - id) : strlen(id);
     bool file = slash && strcmp(slash, "/file") == 0;
     pthread_mutex_lock(&m->lock);
-    int i = rest[0] == '/' && (!slash || file) ? find(m, id, idlen) : -1;
+    int i = rest[0] == '/' && (!slash || file) ? find(m, owner, id, idlen) : -1;
     if (i < 0) {
         pthread_mutex_unlock(&m->lock);
         reply_error(m, out, 404, "not_found", NULL, "no such movie: %.100s", rest);
@@ -590,11 +593,11 @@ void lc_movies_route(lc_movies *m, const char *method, const char *rest, const c
     }
 }
 
-int lc_movies_answer(lc_movies *m, struct MHD_Connection *c, const char *method, const char *rest, const char *body,
-                     size_t len)
+int lc_movies_answer(lc_movies *m, struct MHD_Connection *c, uint64_t owner, const char *method, const char *rest,
+                     const char *body, size_t len)
 {
     lc_movie_reply rep;
-    lc_movies_route(m, method, rest, body, len, &rep);
+    lc_movies_route(m, owner, method, rest, body, len, &rep);
     struct MHD_Response *r = rep.fd >= 0 ? MHD_create_response_from_fd(rep.size, rep.fd)
                              : rep.body   ? MHD_create_response_from_buffer(strlen(rep.body), rep.body,
                                                                             MHD_RESPMEM_MUST_FREE)

@@ -9,6 +9,7 @@
 #define LC_SERVER_MOVIES_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "server.h"
 
@@ -42,11 +43,13 @@ void lc_movies_destroy(lc_movies *m);
 struct MHD_Connection;
 /* Queues the answer of lc_movies_route on an MHD connection (JSON or the
  * file); returns MHD_YES or MHD_NO for the access handler. */
-int lc_movies_answer(lc_movies *m, struct MHD_Connection *c, const char *method, const char *rest, const char *body,
-                     size_t len);
+int lc_movies_answer(lc_movies *m, struct MHD_Connection *c, uint64_t owner, const char *method, const char *rest,
+                     const char *body, size_t len);
 /* Answers a request to /api/v1/movies + rest ("" or "/ID" or "/ID/file") with
- * the body given (POST). Any MHD thread. */
-void lc_movies_route(lc_movies *m, const char *method, const char *rest, const char *body, size_t len,
+ * the body given (POST). A job belongs to the client that made it (owner: its
+ * key, http/conn_limits.h): the list shows a client its own jobs, and another
+ * client's ID answers 404 as an unknown one. Any MHD thread. */
+void lc_movies_route(lc_movies *m, uint64_t owner, const char *method, const char *rest, const char *body, size_t len,
                      lc_movie_reply *out);
 
 #ifdef __cplusplus

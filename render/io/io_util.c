@@ -113,10 +113,18 @@ void lc_io_set_memory_limit(uint64_t bytes) { memory_limit = bytes; }
 int lc_io_check_load(const char *file, uint64_t file_bytes, uint64_t vertices, uint64_t extra, const char *what,
                      lc_error *err)
 {
+    uint64_t big = UINT64_MAX / LC_IO_LOAD_BYTES_PER_VERTEX;
+    uint64_t need = vertices > big ? UINT64_MAX : vertices * LC_IO_LOAD_BYTES_PER_VERTEX;
+    need = need > UINT64_MAX - extra ? UINT64_MAX : need + extra;
+    return lc_io_check_bytes(file, file_bytes, vertices > big ? UINT64_MAX : vertices * LC_IO_RESIDENT_BYTES_PER_VERTEX,
+                             need, what, err);
+}
+
+int lc_io_check_bytes(const char *file, uint64_t file_bytes, uint64_t resident, uint64_t need, const char *what,
+                      lc_error *err)
+{
     uint64_t ratio = file_bytes > UINT64_MAX / LC_IO_LOAD_RATIO ? UINT64_MAX : file_bytes * LC_IO_LOAD_RATIO;
     uint64_t budget = ratio > LC_IO_LOAD_FLOOR ? ratio : LC_IO_LOAD_FLOOR, limit = memory_limit;
-    uint64_t resident = vertices * LC_IO_RESIDENT_BYTES_PER_VERTEX;
-    uint64_t need = vertices * LC_IO_LOAD_BYTES_PER_VERTEX + extra;
     if (limit && resident > limit)
         return lc_err(err, LC_ERR_LIMIT,
                       "%.80s: refused before loading: %s stay resident with at least %.1f MB, over --max-memory "

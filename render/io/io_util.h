@@ -202,6 +202,10 @@ void lc_io_set_memory_limit(uint64_t bytes);
  * from a file_bytes input is over the budget. */
 int lc_io_check_load(const char *file, uint64_t file_bytes, uint64_t vertices, uint64_t extra, const char *what,
                      lc_error *err);
+/* The same for a load measured in bytes (a vector field's grid): resident
+ * bytes over the --max-memory left, or need bytes over the load budget. */
+int lc_io_check_bytes(const char *file, uint64_t file_bytes, uint64_t resident, uint64_t need, const char *what,
+                      lc_error *err);
 
 /* Attribute slots a loader may fill: finalize adds up to four derived ones. */
 #define LC_IO_MAX_FILE_ATTRIBUTES (LC_MAX_ATTRIBUTES - 4)

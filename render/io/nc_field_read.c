@@ -22,6 +22,7 @@ typedef struct comp {
 typedef struct ncf_load {
     int ncid;
     const char *file;
+    size_t file_bytes;
     lc_error *err;
     comp c[3];
     int ndims;           /* of u: 2, 3 or 4 */
@@ -291,6 +292,17 @@ static int load(ncf_load *L, const char *name, lc_field **out)
     for (int a = 0; a < 3 && !rc; a++)
         rc = read_axis(L, a, &coords[a]);
     if (!rc) {
+        /* What the header declares is checked before it is allocated: a file
+         * of a few bytes may declare a grid of gigabytes (chunks never written
+         * read as fill values), beyond the load budget or --max-memory. */
+        double nodes = (double)nx * (double)ny * (double)nz2;
+        double resident = 3.0 * nodes * sizeof *vectors, need = resident + (double)nx * ny * sizeof *slab;
+        char what[96];
+        snprintf(what, sizeof what, "%zu x %zu x %zu vectors", nx, ny, nz2);
+        rc = lc_io_check_bytes(L->file, L->file_bytes, resident >= 1.8e19 ? UINT64_MAX : (uint64_t)resident,
+                               need >= 1.8e19 ? UINT64_MAX : (uint64_t)need, what, L->err);
+    }
+    if (!rc) {
         vectors = malloc(3 * nx * ny * nz2 * sizeof *vectors);
         slab = malloc(nx * ny * sizeof *slab);
         if (!vectors || !slab)
@@ -335,6 +347,7 @@ int lc_load_nc_field_memory(const void *data, size_t size, const char *name, lc_
     ncf_load L;
     memset(&L, 0, sizeof L);
     L.file = name ? name : "<memory>";
+    L.file_bytes = size;
     L.err = err;
     int rc = lc_nc_open_memory(data, size, L.file, &L.ncid, err);
     if (rc)

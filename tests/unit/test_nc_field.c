@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "field.h"
+#include "io_util.h"
 #include "lc_test.h"
 #include "nc_field.h"
 #include "vtk_field.h"
@@ -189,6 +190,45 @@ static void check_linear(const lc_field *f, const char *what, int no_w, int two_
     CHECK(worst <= tol, "%s: largest error %g (tolerance %g)", what, worst, tol);
 }
 
+/* A NetCDF-4 grid of nx x ny x nz whose chunks are never written: a file of
+ * a few kilobytes that reads as gigabytes of fill values. */
+static void write_unwritten(const char *path, size_t nx, size_t ny, size_t nz)
+{
+    int nc, d[3], v;
+    CHECK(nc_create(path, NC_CLOBBER | NC_NETCDF4, &nc) == NC_NOERR, "%s: not created", path);
+    nc_def_dim(nc, "z", nz, &d[0]);
+    nc_def_dim(nc, "y", ny, &d[1]);
+    nc_def_dim(nc, "x", nx, &d[2]);
+    nc_def_var(nc, "u", NC_FLOAT, 3, d, &v);
+    nc_def_var(nc, "v", NC_FLOAT, 3, d, &v);
+    nc_def_var(nc, "w", NC_FLOAT, 3, d, &v);
+    nc_close(nc);
+}
+
+/* The grid a file declares is checked before it is allocated: against the
+ * load budget (64 times the file, at least 64 MB) and --max-memory. */
+static void test_declared_size(void)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/unwritten.nc", dir);
+    write_unwritten(path, 1000, 1000, 200); /* 2.4 GB of vectors */
+    lc_field *f = NULL;
+    lc_error err = {0};
+    int rc = lc_field_open(path, &f, &err);
+    CHECK(rc == LC_ERR_LIMIT && !f && strstr(err.msg, "refused before loading") && strstr(err.msg, "load budget"),
+          "an unwritten 1000 x 1000 x 200 grid is refused before loading: rc %d, %s", rc, err.msg);
+    snprintf(path, sizeof path, "%s/unwritten_small.nc", dir);
+    write_unwritten(path, 200, 200, 100); /* 48 MB: within the load budget's floor */
+    lc_io_set_memory_limit(16u << 20);
+    rc = lc_field_open(path, &f, &err);
+    CHECK(rc == LC_ERR_LIMIT && !f && strstr(err.msg, "--max-memory"),
+          "a 48 MB grid over a 16 MB --max-memory is refused: rc %d, %s", rc, err.msg);
+    lc_io_set_memory_limit(0);
+    rc = lc_field_open(path, &f, &err);
+    CHECK(rc == 0 && f, "without the limit it loads (fill values read as 0): %s", err.msg);
+    lc_field_destroy(f);
+}
+
 int main(void)
 {
     if (!mkdtemp(dir)) {
@@ -244,6 +284,7 @@ int main(void)
         check_linear(f, "no_w.nc", 1, 0, 1e-5);
         lc_field_destroy(f);
     }
+    test_declared_size();
     /* Attributes of 16 values where CF wants one: ignored, the field intact. */
     if ((f = open_case("long_atts.nc", F_LONG_ATTS, 0, NULL))) {
         check_linear(f, "long_atts.nc", 0, 0, 1e-5);
@@ -322,7 +363,8 @@ int main(void)
     CHECK(lc_load_nc_field_memory("", 0, "empty.nc", &g, &err) == LC_ERR_INVALID && strstr(err.msg, "empty"),
           "empty: '%s'", err.msg);
     static const char *const files[] = {"rect.nc",   "time.nc", "flat.nc", "surface_time.nc", "std.nc",   "no_w.nc",
-                                        "packed.nc", "fill.nc", "no_v.nc", "bad_axis.nc",     "shape.nc", "junk.nc"};
+                                        "packed.nc", "fill.nc", "no_v.nc", "bad_axis.nc",     "shape.nc", "junk.nc",
+                                        "long_atts.nc", "unwritten.nc", "unwritten_small.nc"};
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         snprintf(path, sizeof path, "%s/%s", dir, files[i]);
         unlink(path);

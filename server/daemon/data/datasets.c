@@ -203,8 +203,17 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     unsigned long long demo_size = d->opts.demo_size;
     if (lc_cancelled()) /* a signal during start-up: no further dataset */
         return lc_err_cancelled(err, source);
-    if (lc_field_is_source(source)) /* a vector field (demo or grid .vtk): fields.h */
-        return lc_fields_add(&d->fields, source, err);
+    if (lc_field_is_source(source)) { /* a vector field (demo or grid .vtk/.nc): fields.h */
+        /* Its grid counts against --max-memory as a dataset does: the reader
+         * refuses before allocating beyond what is left. */
+        uint64_t left = d->opts.max_memory > d->estimated ? d->opts.max_memory - d->estimated : 1;
+        lc_scene_set_load_limit(d->opts.max_memory ? left : 0);
+        int rc = lc_fields_add(&d->fields, source, err);
+        lc_scene_set_load_limit(0);
+        if (rc == 0)
+            d->estimated += lc_field_bytes(d->fields.items[d->fields.count - 1].field);
+        return rc;
+    }
     if (d->count >= MAX_DATASETS)
         return lc_err(err, LC_ERR_LIMIT, "%s: more than %d datasets", source, MAX_DATASETS);
     lc_dataset *ds = &d->items[d->count];

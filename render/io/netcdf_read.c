@@ -26,6 +26,7 @@ typedef struct nc_var {
 typedef struct nc_load {
     int ncid;
     const char *file;
+    size_t file_bytes;
     lc_error *err;
     int ndims;      /* 2 or 3 */
     size_t rows, T; /* trajectories (times members), time steps */
@@ -354,6 +355,14 @@ static int load(nc_load *L, lc_scene **out)
     }
     if (lines == 0)
         L->row_lo = L->row_hi = 0;
+    /* The counts are known before anything of their size is allocated: a
+     * deflated file may inflate far beyond the load budget. */
+    char what[96];
+    snprintf(what, sizeof what, "%llu points in %llu trajectories", (unsigned long long)points,
+             (unsigned long long)lines);
+    if ((rc = lc_io_check_load(L->file, L->file_bytes, points, points * sizeof(float) * (uint64_t)L->nattr, what,
+                               L->err)) != 0)
+        goto done;
     s = lc_scene_create(L->file, LC_PRIM_LINES);
     if (!s) {
         rc = fail(L, LC_ERR_NOMEM, NULL, "out of memory");
@@ -401,7 +410,7 @@ static int load_netcdf(const void *data, size_t size, const char *name, lc_io_pa
                        lc_error *err)
 {
     *out = NULL;
-    nc_load L = {.file = name ? name : "<memory>", .err = err, .part = part};
+    nc_load L = {.file = name ? name : "<memory>", .file_bytes = size, .err = err, .part = part};
     int rc = lc_nc_open_memory(data, size, L.file, &L.ncid, err);
     if (rc)
         return rc;

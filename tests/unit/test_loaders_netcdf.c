@@ -125,6 +125,45 @@ static void test_mutations(void)
                                  load_memory);
 }
 
+/* A deflated NetCDF-4 file of constant trajectories: a few hundred KB that
+ * declare millions of points. The reader counts them and refuses before
+ * allocating what the load budget (64 times the file, at least 64 MB) does
+ * not allow. */
+static void test_inflating(const char *dir)
+{
+    enum { ROWS = 4000, T = 1000 };
+    char path[256];
+    snprintf(path, sizeof path, "%s/inflating.nc", dir);
+    int nc, dims[2], ids[3];
+    CHECK(nc_create(path, NC_CLOBBER | NC_NETCDF4, &nc) == NC_NOERR, "inflating.nc: not created");
+    nc_def_dim(nc, "trajectory", ROWS, &dims[0]);
+    nc_def_dim(nc, "time", T, &dims[1]);
+    static const char *const pos[3] = {"lon", "lat", "pressure"};
+    for (int k = 0; k < 3; k++) {
+        nc_def_var(nc, pos[k], NC_FLOAT, 2, dims, &ids[k]);
+        nc_def_var_deflate(nc, ids[k], 1, 1, 9);
+    }
+    nc_enddef(nc);
+    float *row = malloc(T * sizeof *row);
+    for (int k = 0; row && k < 3; k++)
+        for (size_t r = 0; r < ROWS; r++) {
+            for (size_t t = 0; t < T; t++)
+                row[t] = k == 2 ? 900.0f : (float)t * 0.01f;
+            size_t start[2] = {r, 0}, count[2] = {1, T};
+            nc_put_vara_float(nc, ids[k], start, count, row);
+        }
+    free(row);
+    nc_close(nc);
+    lc_scene *sc = NULL;
+    lc_error err = {0};
+    int rc = lc_load_netcdf(path, &sc, &err);
+    CHECK(rc == LC_ERR_LIMIT && !sc && strstr(err.msg, "refused before loading") &&
+              strstr(err.msg, "4000000 points in 4000 trajectories"),
+          "a deflated file declaring 4M points is refused before loading: rc %d, %s", rc, err.msg);
+    lc_scene_destroy(sc);
+    unlink(path);
+}
+
 int main(void)
 {
     lc_log_set_level(LC_LOG_ERROR); /* the cases trigger expected warnings */
@@ -138,6 +177,7 @@ int main(void)
     test_values();
     test_roundtrip(dir);
     test_mutations();
+    test_inflating(dir);
     rmdir(dir);
     return lc_test_finish();
 }

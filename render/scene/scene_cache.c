@@ -343,10 +343,27 @@ static const char *check_scene(const lc_scene *s, const lc_lod *lod)
     if (!increasing_to(e->adjacency_offsets, e->count, e->adjacency_count) ||
         !all_below(e->adjacency, e->adjacency_count, e->count))
         return "element adjacency out of range";
-    for (int i = 0; i < lod->count; i++)
-        if (lod->levels[i].indices &&
-            !all_below(lod->levels[i].indices, level_index_count(s->type, lod->levels[i].primitives), s->vertex_count))
+    /* The levels as lc_lod_build makes them: points one level without
+     * indices; lines indices at every level; triangles at every level but 0
+     * (s->triangles); each coarser level no larger than the one before, its
+     * error finite and no smaller. */
+    uint64_t prims = lc_scene_primitive_count(s);
+    if (s->type == LC_PRIM_POINTS && (lod->count != 1 || lod->levels[0].indices))
+        return "a point scene with levels of detail";
+    for (int i = 0; i < lod->count; i++) {
+        const lc_lod_level *l = &lod->levels[i];
+        int want = s->type == LC_PRIM_LINES || (s->type == LC_PRIM_TRIANGLES && i > 0);
+        if (want != (l->indices != NULL))
+            return "a level of detail without its indices";
+        if (l->primitives > prims || (i > 0 && l->primitives > lod->levels[i - 1].primitives))
+            return "a level of detail larger than the one before";
+        if (!isfinite(l->error) || l->error < 0 || (i > 0 && l->error < lod->levels[i - 1].error))
+            return "a level of detail's error out of order";
+        if (l->indices && !all_below(l->indices, level_index_count(s->type, l->primitives), s->vertex_count))
             return "a level-of-detail index out of range";
+    }
+    if (s->type == LC_PRIM_TRIANGLES && lod->levels[0].primitives != prims)
+        return "level 0 is not the scene's triangles";
     if (s->type == LC_PRIM_LINES &&
         (!lod->levels[0].indices || lod->levels[0].primitives != lc_scene_primitive_count(s)))
         return "level 0 is not the scene's segments";

@@ -3,6 +3,7 @@
  * cool-warm diverging map (33 published points) and linear grayscale. */
 #include "colormap.h"
 
+#include <math.h>
 #include <pthread.h>
 #include <stddef.h>
 #include <string.h>
@@ -244,4 +245,22 @@ void lc_colormap_sample(int i, float t, float rgb[3])
     float f = x - (float)k;
     for (int c = 0; c < 3; c++)
         rgb[c] = tab[3 * k + c] + (tab[3 * (k + 1) + c] - tab[3 * k + c]) * f;
+}
+
+/* WCAG 2 relative luminance of an sRGB colour. */
+static double relative_luminance(const double c[3])
+{
+    double l[3];
+    for (int k = 0; k < 3; k++)
+        l[k] = c[k] <= 0.04045 ? c[k] / 12.92 : pow((c[k] + 0.055) / 1.055, 2.4);
+    return 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2];
+}
+
+double lc_colormap_contrast(int i, float t, const double bg[3])
+{
+    float rgb[3];
+    lc_colormap_sample(i, t, rgb);
+    double c[3] = {rgb[0], rgb[1], rgb[2]};
+    double a = relative_luminance(c), b = relative_luminance(bg);
+    return (fmax(a, b) + 0.05) / (fmin(a, b) + 0.05);
 }

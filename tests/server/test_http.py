@@ -174,6 +174,16 @@ with Server(binary, data=("demo:abc", "demo:points"), demo_size=40) as srv:
     st, _, s = srv.json("POST", "/api/v1/sessions", dict(eq, color={"equalize": True, "fadeHalfLife": 0.4}))
     frames = [srv.request("POST", "/api/v1/sessions/%s/render" % s.get("session"), {"dt": 0.1})[0] for _ in range(2)]
     check(st == 201 and frames == [200, 200], "an equalized session renders (%s, %s)" % (st, frames))
+    # A render whose colormap's highest values are lost in its background says so (X-Lucent-Warning).
+    base = {"dataset": "demo:abc", "width": 32, "height": 32}
+    for extra, warned in (({}, True), ({"style": {"background": [0.1, 0.1, 0.1]}}, False),
+                          ({"color": {"colormap": "coolwarm"}}, False),
+                          ({"color": {"colormap": "grayscale", "range": [1, 0]}}, False),
+                          ({"color": {"colormap": "plasma"}}, True)):
+        st, h, _ = srv.request("POST", "/api/v1/render", dict(base, **extra))
+        w = h.get("x-lucent-warning", "")
+        check(st == 200 and (w.startswith("color.colormap:") and "style.background" in w) == warned and
+              (bool(w) == warned), "%r: %s (%s)" % (extra, "warned" if warned else "no warning", w))
     # The WebSocket handshake, read raw: one Connection header (strict clients refuse "Upgrade, Upgrade").
     sock = socket.create_connection((srv.host, srv.port), timeout=60)
     sock.sendall(b"GET /api/v1/ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"

@@ -3,6 +3,7 @@
 // pasted or edited link taken over as a fresh start.
 
 import { parseHash, formatHash } from './url-state.js';
+import { merge } from './schema.js';
 
 export const HASH_DELAY_MS = 200;
 
@@ -14,8 +15,11 @@ export function createUrlController(ctx) {
 
   function write() {
     timer = 0;
-    // every value the user changed, even one equal to a default: ready.defaults already holds the hello's values
-    const hash = formatHash({ dataset: state.dataset, camera: state.camera, update: state.update });
+    // every value the user changed, even one equal to a default: ready.defaults already holds the hello's values;
+    // and what the page chose where the user chose nothing (the contrasting background), which the picture
+    // depends on as much: the link reproduces the picture wherever it is opened or turned into a render request
+    const update = merge(state.pageDefaults ?? {}, state.update);
+    const hash = formatHash({ dataset: state.dataset, camera: state.camera, update });
     if (hash !== location.hash) history.replaceState(history.state, '', `${location.pathname}${location.search}${hash}`);
     last = location.hash;
   }

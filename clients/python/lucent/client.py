@@ -6,10 +6,17 @@ import time
 import urllib.error
 import urllib.parse
 import urllib.request
+import warnings
 
 from . import camera as cameras
 from .images import decode_image
 from .schema import SECTIONS, LucentError, Schema
+
+
+class LucentWarning(UserWarning):
+    """The server rendered the request but says the picture may not show what
+    was asked (header X-Lucent-Warning), e.g. the important end of the
+    colormap in the background's colour."""
 
 FORMATS = ("array", "pil", "png", "jpeg")
 
@@ -123,7 +130,9 @@ class Client:
         req = build_request(dataset, camera, params, size, **fields)
         req["format"] = "jpeg" if format == "jpeg" else "png"
         self.validate(req)
-        data, _ = self._bytes("POST", "/api/v1/render", req)
+        data, headers = self._bytes("POST", "/api/v1/render", req)
+        if headers.get("x-lucent-warning"):  # e.g. the colormap's highest values lost in the background
+            warnings.warn(headers["x-lucent-warning"], LucentWarning, stacklevel=2)
         if format in ("png", "jpeg"):
             return data
         return decode_image(data, format)

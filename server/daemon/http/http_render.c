@@ -1,7 +1,6 @@
 /* HTTP renders: one-shot and session renders on the worker pool, the image
  * with its statistics as headers (http_render.h). */
 #include "http_render.h"
-#include "conn_limits.h"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -9,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "colormap.h"
+#include "conn_limits.h"
 #include "datasets.h"
 #include "messages.h"
 #include "metrics.h"
@@ -21,8 +22,39 @@
  * "Image"): X-Lucent-Timings, Server-Timing, X-Lucent-Converged,
  * X-Lucent-Max-Alpha-Change, X-Lucent-Elements, X-Lucent-Visibility (methods
  * with element opacities), X-Lucent-Cost and X-Lucent-Frame (session renders). */
+/* X-Lucent-Warning: a scripted render chooses no background for its client,
+ * so say when the colour of the highest values (with colour by importance,
+ * the most important structures) is lost in the one asked for, e.g.
+ * viridis' yellow on the default white: the page opens on a contrasting one. */
+static void add_contrast_warning(struct MHD_Response *r, const lc_render_job *job)
+{
+    const lc_color_map *c = &job->req.render.color;
+    if (job->field || job->req.layer_count > 0 || !job->dataset || !job->dataset->scene)
+        return;
+    const char *attr = c->attribute[0] ? c->attribute : job->dataset->scene->default_color;
+    if (strcmp(attr, "rgb") == 0)
+        return;
+    const char *name = c->colormap[0] ? c->colormap : "viridis";
+    int map = lc_colormap_find(name);
+    if (map < 0)
+        return;
+    float top = c->has_range && c->range[0] > c->range[1] ? 0.0f : 1.0f;
+    const double *bg = job->req.render.style.background;
+    double ratio = lc_colormap_contrast(map, top, bg);
+    if (ratio >= LC_COLORMAP_CLASH_RATIO)
+        return;
+    double white[3] = {1, 1, 1};
+    char text[320];
+    snprintf(text, sizeof text,
+             "color.colormap: the highest values of %.40s have a contrast of %.2f:1 against style.background; "
+             "style.background [%s] shows them",
+             name, ratio, lc_colormap_contrast(map, top, white) >= 3.0 ? "1, 1, 1" : "0.1, 0.1, 0.1");
+    MHD_add_response_header(r, "X-Lucent-Warning", text);
+}
+
 static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
 {
+    add_contrast_warning(r, job);
     const lc_frame_info *info = &job->info;
     /* X-Lucent-Timings: pass=ms pairs (openapi.yaml); Server-Timing shows the
      * same in browser dev tools. */

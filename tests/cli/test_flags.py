@@ -21,7 +21,7 @@ checks = 0
 
 def run(args):
     try:
-        p = subprocess.run([lucent] + args, capture_output=True, text=True, timeout=30)
+        p = subprocess.run([lucent] + args, capture_output=True, text=True, timeout=60)
     except subprocess.TimeoutExpired:
         return None, "timed out (the value was taken and the command started)"
     return p.returncode, p.stdout + p.stderr

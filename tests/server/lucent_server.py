@@ -112,7 +112,7 @@ class Server:
                 pass
         return paths
 
-    def stop(self, sig=signal.SIGTERM, timeout=30):
+    def stop(self, sig=signal.SIGTERM, timeout=60):
         """Signals the daemon and returns its exit status."""
         if self.proc.poll() is None:
             self.proc.send_signal(sig)
@@ -237,6 +237,119 @@ def unpack_frame(msg):
     n = struct.unpack("<I", msg[:4])[0]
     header = json.loads(msg[4:4 + n].decode())
     return header, bytes(msg[4 + n:])
+
+
+# ---------------------------------------------------------------- waiting for states
+#
+# Tests wait for a STATE (a frame with a given property, a message, a status
+# field), each with a generous deadline, never for a fixed time: CI runs on
+# small machines that are sometimes busy, and a sanitizer build is several
+# times slower. The deadlines only bound a test that would otherwise hang.
+
+DEADLINE = 120  # seconds: the default bound of a wait for a state
+
+
+def interactive(header):
+    """A frame rendered while input was active (its header's detail.interactive)."""
+    return bool((header.get("detail") or {}).get("interactive"))
+
+
+def stream_done(m):
+    """True for the frame after which a session sends nothing more without
+    input (protocol/websocket.md): converged, not an interactive frame (a still
+    follows those, converged or not: moving frames that reuse opacities report
+    converged) and not a stage before the last of a staged still (stage 1 reuses
+    opacities, so it reports converged too). Takes a message as returned by
+    next_message (a frame is its header with "type": "frame")."""
+    return (m.get("type") == "frame" and m.get("converged") is True and not interactive(m)
+            and m.get("final", True) is not False)
+
+
+async def next_message(ws, timeout, ack=True):
+    """The next message within timeout seconds, or None: a text message as
+    its parsed object, a binary frame as its header plus "type": "frame" and
+    "image" (the image bytes). Frames are acknowledged unless ack is false."""
+    import asyncio
+    try:
+        m = await asyncio.wait_for(ws.recv(), timeout)
+    except asyncio.TimeoutError:
+        return None
+    if isinstance(m, str):
+        return json.loads(m)
+    h, img = unpack_frame(m)
+    if ack:
+        await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+    return dict(h, type="frame", image=img)
+
+
+class Received(list):
+    """The messages a wait received; reached says whether the state came
+    (then it is the last of them) before the deadline."""
+    reached = False
+
+
+async def wait_for_message(ws, done, deadline=DEADLINE, ack=True, skip=("stats",)):
+    """Receives messages (next_message) until done(message) holds for one,
+    or deadline seconds pass. Returns them as a Received list, the one that
+    satisfied done last (reached true); messages whose type is in skip are
+    neither kept nor tested (stats come about once a second while frames
+    flow)."""
+    got = Received()
+    end = time.monotonic() + deadline
+    while True:
+        left = end - time.monotonic()
+        if left <= 0:
+            return got
+        m = await next_message(ws, left, ack)
+        if m is None:
+            return got
+        if m.get("type") in skip:
+            continue
+        got.append(m)
+        if done(m):
+            got.reached = True
+            return got
+
+
+async def wait_for_frame(ws, predicate=lambda h: True, deadline=DEADLINE, ack=True, skip=("stats",)):
+    """wait_for_message for a frame whose header satisfies predicate."""
+    return await wait_for_message(ws, lambda m: m.get("type") == "frame" and predicate(m), deadline, ack, skip)
+
+
+async def wait_for_stream_done(ws, predicate=lambda h: True, deadline=DEADLINE, ack=True, skip=("stats",)):
+    """wait_for_message until the stream ends (stream_done) with a frame that
+    also satisfies predicate (e.g. the camera seq it must reflect)."""
+    return await wait_for_message(ws, lambda m: stream_done(m) and predicate(m), deadline, ack, skip)
+
+
+async def listen(ws, seconds, ack=True, skip=("stats",)):
+    """Every message (next_message) that arrives within `seconds`. Only for
+    checking that NOTHING more comes once a state has been reached (e.g. no
+    frame after the stream ended): a correct server sends nothing then, so
+    such a check cannot fail because the machine is slow."""
+    got = []
+    end = time.monotonic() + seconds
+    while True:
+        left = end - time.monotonic()
+        if left <= 0:
+            return got
+        m = await next_message(ws, left, ack)
+        if m is None:
+            return got
+        if m.get("type") not in skip:
+            got.append(m)
+
+
+def wait_until(probe, deadline=60, interval=0.1):
+    """Calls probe() until it returns a true value (returned) or deadline
+    seconds pass (its last value is returned): for states read over HTTP or
+    from /proc."""
+    end = time.monotonic() + deadline
+    while True:
+        v = probe()
+        if v or time.monotonic() > end:
+            return v
+        time.sleep(interval)
 
 
 class Check:

@@ -12,15 +12,20 @@ import sys
 import threading
 import time
 
-from lucent_server import Check, Server, skip, websockets
+from lucent_server import Check, Server, skip, wait_for_message, wait_until, websockets
 
 if websockets is None:
     skip("python3-websockets is not installed")
 
 binary = sys.argv[1]
 check = Check()
-# ~0.1-0.5 s each on llvmpipe with 3000 points
+# ~0.1-0.5 s each on llvmpipe with 3000 points; the servers that test the
+# queue add --pass-delay (PASS_DELAY ms before each of its eight passes), so
+# that it takes over a second on any machine: a burst's requests are all
+# queued before the first ones are done, however fast the renderer and
+# however slowly the client's threads start.
 SLOW = "/api/v1/render?width=192&height=192&format=jpeg&pointSize=24"
+PASS_DELAY = "150"
 
 
 def get(srv, path, source="127.0.0.1", timeout=120):
@@ -41,7 +46,7 @@ def metric(srv, name):
 def burst(srv, n, source, results, tag, path=SLOW):
     def one(i):
         st, h, body = get(srv, path + "&_n=%s%d" % (tag, i), source)
-        results.append((time.time(), tag, st, h.get("retry-after"), body[:200] if st != 200 else b""))
+        results.append((time.monotonic(), tag, st, h.get("retry-after"), body[:200] if st != 200 else b""))
     threads = [threading.Thread(target=one, args=(i,)) for i in range(n)]
     for t in threads:
         t.start()
@@ -51,11 +56,13 @@ def burst(srv, n, source, results, tag, path=SLOW):
 with Server(binary, demo_size=200000) as srv:
     # The request: 64x64 with 256-pixel splats over the default
     # 200,000 points held the renderer for 80-92 s. Now it is refused at once.
-    t0 = time.time()
+    # Refused before it is queued: no frame is rendered for it (the render
+    # counters stay at zero), which is what "at once" means on any machine.
     st, _, e = srv.json("GET", "/api/v1/render?dataset=demo:points&width=64&height=64&pointSize=256")
+    rendered = metric(srv, "lucent_frames_rendered_total") + metric(srv, "lucent_render_seconds_count")
     check(st == 400 and e["error"]["code"] == "too_expensive" and e["error"]["field"] == "style.pointSize"
-          and time.time() - t0 < 3, "the issue's 64x64 pointSize=256 -> 400 too_expensive naming style.pointSize "
-          "in %.2f s (%s)" % (time.time() - t0, e["error"]["message"]))
+          and rendered == 0, "the issue's 64x64 pointSize=256 -> 400 too_expensive naming style.pointSize, "
+          "without rendering (%d renders counted; %s)" % (rendered, e["error"]["message"]))
     st, _, _ = srv.request("GET", "/api/v1/health")
     check(st == 200, "health answers")
     st, h, _ = srv.request("GET", "/api/v1/render?width=64&height=64&format=jpeg")
@@ -73,41 +80,34 @@ with Server(binary, demo_size=200000) as srv:
         async with websockets.connect(srv.ws_url) as ws:
             await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 256, "height": 256,
                                       "style": {"pointSize": 256}}))
-            e = json.loads(await asyncio.wait_for(ws.recv(), 20))
+            e = json.loads(await asyncio.wait_for(ws.recv(), 60))
             check(e["type"] == "error" and e["code"] == "too_expensive" and e["field"] == "style.pointSize"
                   and not e["fatal"], "WebSocket hello over budget -> recoverable error naming the field")
             await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 256, "height": 256}))
-            r = json.loads(await asyncio.wait_for(ws.recv(), 20))
+            r = json.loads(await asyncio.wait_for(ws.recv(), 60))
             check(r["type"] == "ready", "a corrected hello -> ready")
             await ws.send(json.dumps({"type": "params", "style": {"pointSize": 256}}))
-            for _ in range(20):
-                m = await asyncio.wait_for(ws.recv(), 30)
-                if isinstance(m, str) and json.loads(m)["type"] == "error":
-                    e = json.loads(m)
-                    break
-            check(e["code"] == "too_expensive" and e["field"] == "style.pointSize",
+            got = await wait_for_message(ws, lambda m: m["type"] == "error")
+            e = got[-1] if got.reached else {}
+            check(e.get("code") == "too_expensive" and e.get("field") == "style.pointSize",
                   "params update over budget -> error naming style.pointSize, not applied")
         # Splats are capped at the image: 256-pixel splats fit the budget in a
         # 16x16 view, and the resize to 256x256 is what would cost too much.
         async with websockets.connect(srv.ws_url) as ws:
             await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 16, "height": 16,
                                       "style": {"pointSize": 256}}))
-            r = json.loads(await asyncio.wait_for(ws.recv(), 20))
+            r = json.loads(await asyncio.wait_for(ws.recv(), 60))
             check(r["type"] == "ready", "256-pixel splats in a 16x16 view -> ready")
             await ws.send(json.dumps({"type": "resize", "width": 256, "height": 256}))
-            e = {}
-            for _ in range(20):
-                m = await asyncio.wait_for(ws.recv(), 60)
-                if isinstance(m, str) and json.loads(m)["type"] == "error":
-                    e = json.loads(m)
-                    break
+            got = await wait_for_message(ws, lambda m: m["type"] == "error")
+            e = got[-1] if got.reached else {}
             check(e.get("code") == "too_expensive" and e.get("field") == "style.pointSize",
                   "resize that would exceed the budget -> error naming style.pointSize (%s)" % e)
     asyncio.run(ws_cost())
     check(metric(srv, 'lucent_renders_refused_total{reason="cost"}') >= 5, "refusals counted by reason=cost")
     check(srv.stop() == 0, "clean exit")
 
-with Server(binary) as srv:
+with Server(binary, "--pass-delay", PASS_DELAY) as srv:
 
     # Fairness: client A queues 8 renders, then client B asks for one. Round
     # robin serves B after A's renders already past the queue (one encoding,
@@ -117,18 +117,18 @@ with Server(binary) as srv:
     # than a render. Times are when each client thread read its response, which
     # under load can lag the daemon's order by a render (CI once saw AAAABAAAA),
     # so one more is allowed; at least three of A's after B is what a FIFO
-    # cannot give.
+    # cannot give. With --pass-delay every render takes over a second, so a
+    # client thread would have to lag by that much to misplace a response.
+    # (Only the daemon could make this exact: a response header with the
+    # order in which renders were taken from the queue.)
     get(srv, SLOW)  # warm-up (shader compile, targets)
     results = []
     threads = burst(srv, 8, "127.0.0.1", results, "A")
-    deadline = time.time() + 30
-    while metric(srv, "lucent_queue_depth") < 5 and time.time() < deadline:
-        time.sleep(0.01)
+    queued = wait_until(lambda: metric(srv, "lucent_queue_depth") >= 5, 120, 0.01)
+    check(queued, "client A's burst is queued")
     threads += burst(srv, 1, "127.0.0.2", results, "B")
-    while metric(srv, "lucent_queue_clients") < 2 and not any(r[1] == "B" for r in results) \
-            and time.time() < deadline:
-        time.sleep(0.005)
-    b_start = time.time()
+    wait_until(lambda: metric(srv, "lucent_queue_clients") >= 2 or any(r[1] == "B" for r in results), 120, 0.005)
+    b_start = time.monotonic()
     for t in threads:
         t.join()
     order = [tag for _, tag, st, _, _ in sorted(results) if st == 200]
@@ -142,11 +142,13 @@ with Server(binary) as srv:
     check(metric(srv, "lucent_queue_clients") == 0, "queue empty afterwards")
     check(srv.stop() == 0, "clean exit")
 
-with Server(binary, "--max-queue-per-client", "3") as srv:
+with Server(binary, "--max-queue-per-client", "3", "--pass-delay", PASS_DELAY) as srv:
     get(srv, SLOW)
     results = []
     threads = burst(srv, 10, "127.0.0.1", results, "A")
-    time.sleep(0.3)
+    # B comes once A holds its share of the queue (or A's requests are all
+    # answered: then the checks below say what went wrong).
+    wait_until(lambda: metric(srv, "lucent_queue_depth") >= 3 or len(results) == 10, 120, 0.01)
     threads += burst(srv, 1, "127.0.0.2", results, "B")
     for t in threads:
         t.join()
@@ -160,14 +162,23 @@ with Server(binary, "--max-queue-per-client", "3") as srv:
           "refusals counted by reason=client_queue")
     check(srv.stop() == 0, "clean exit")
 
-with Server(binary, "--render-deadline", "1", "--max-queue-per-client", "32") as srv:
+# A render that waited in the queue past the deadline. With --pass-delay
+# every render takes over a second, so with at most two workers the third of
+# twelve requests has waited longer than the deadline of 1 s, on any machine.
+# The burst is of small renders: the server also refuses up front a render it
+# estimates (cost / the cost rate it learned, here from the large warm-up)
+# to take longer than the deadline, and that is not what this checks.
+CHEAP = "/api/v1/render?width=32&height=32&format=jpeg"
+with Server(binary, "--render-deadline", "1", "--max-queue-per-client", "32", "--pass-delay", PASS_DELAY) as srv:
     get(srv, SLOW)
     results = []
-    for t in burst(srv, 12, "127.0.0.1", results, "A"):
+    for t in burst(srv, 12, "127.0.0.1", results, "A", CHEAP):
         t.join()
     late = [r for r in results if r[2] == 503 and b"deadline" in r[4]]
-    check(len(late) >= 1 and all(r[2] in (200, 503) for r in results),
-          "renders that waited past --render-deadline 1 -> 503 (%s)" % sorted(r[2] for r in results))
+    waited = [r for r in late if b"waited" in r[4]]
+    check(len(waited) >= 1 and all(r[2] in (200, 503) for r in results),
+          "renders that waited past --render-deadline 1 -> 503 (%s; %s)" % (sorted(r[2] for r in results),
+                                                                            late[0][4] if late else None))
     check(metric(srv, 'lucent_renders_refused_total{reason="deadline"}') == len(late), "counted by reason=deadline")
     st, _, _ = srv.request("GET", "/api/v1/health")
     check(st == 200, "health fine")

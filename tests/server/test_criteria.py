@@ -7,9 +7,8 @@ import asyncio
 import json
 import os
 import sys
-import time
 
-from lucent_server import Check, Server, png_size, skip, unpack_frame, websockets
+from lucent_server import Check, Server, png_size, skip, wait_for_message, wait_for_stream_done, websockets
 
 if websockets is None:
     skip("python3-websockets is not installed")
@@ -20,41 +19,29 @@ sample = os.path.join(here, "..", "data", "loaders", "nc", "valid", "trajectorie
 check = Check()
 
 
-async def recv(ws, timeout):
-    deadline = time.time() + timeout
-    while True:
-        left = deadline - time.time()
-        if left <= 0:
-            return None
-        try:
-            m = await asyncio.wait_for(ws.recv(), left)
-        except asyncio.TimeoutError:
-            return None
-        if not (isinstance(m, str) and json.loads(m).get("type") in ("stats", "progress")):
-            return m
+QUIET = ("stats", "progress")
 
 
-async def settle(ws, quiet=1.5, first=60):
-    """Frames (acked) until none comes for `quiet` s: the last image, and text messages."""
-    last, texts, n = None, [], 0
-    while True:
-        m = await recv(ws, first if n == 0 else quiet)
-        if m is None:
-            return last, texts, n
-        n += 1
-        if isinstance(m, str):
-            texts.append(json.loads(m))
-            continue
-        h, img = unpack_frame(m)
-        last = img
-        await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
+async def settle(ws):
+    """The frames (acked) until the stream ends (a converged final still, however
+    long that takes): the last image, the text messages, the number of frames."""
+    got = await wait_for_stream_done(ws, skip=QUIET)
+    check(got.reached, "the stream ends with a converged still")
+    frames = [m for m in got if m["type"] == "frame"]
+    return (frames[-1]["image"] if frames else None), [m for m in got if m["type"] != "frame"], len(frames)
+
+
+async def refused(ws):
+    """The error message that answers a params message (nothing of it is applied: no frames follow)."""
+    got = await wait_for_message(ws, lambda m: m["type"] == "error", skip=QUIET)
+    return [m for m in got if m["type"] == "error"]
 
 
 async def session(srv, name):
     async with websockets.connect(srv.ws_url, max_size=None) as ws:
         await ws.send(json.dumps({"type": "hello", "dataset": name, "width": 64, "height": 48,
                                   "importance": {"attribute": "temperature"}}))
-        ready = json.loads(await recv(ws, 60))
+        ready = (await wait_for_message(ws, lambda m: True, skip=QUIET) or [{}])[-1]
         check(ready.get("type") == "ready", "hello on the NetCDF sample -> ready")
         base, _, n = await settle(ws)
         check(base is not None and n > 0, "frames of the unfiltered trajectories")
@@ -71,14 +58,12 @@ async def session(srv, name):
         check(n > 0 and weighted is not None and weighted != filtered, "re-weighting with terms changes the frames")
 
         await ws.send(json.dumps({"type": "params", "filter": [{"attribute": "nope", "over": "min", "gt": 0}]}))
-        _, texts, _ = await settle(ws, quiet=1.0, first=10)
-        errs = [t for t in texts if t.get("type") == "error"]
+        errs = await refused(ws)
         check(errs and errs[0].get("field") == "filter[0].attribute",
               "an unknown filter attribute is an error naming filter[0].attribute: %r" % (errs[:1],))
 
         await ws.send(json.dumps({"type": "params", "filter": [{"attribute": "pressure", "over": "median", "gt": 0}]}))
-        _, texts, _ = await settle(ws, quiet=1.0, first=10)
-        errs = [t for t in texts if t.get("type") == "error"]
+        errs = await refused(ws)
         check(errs and errs[0].get("field") == "filter[0].over", "a bad statistic is refused naming filter[0].over")
 
         await ws.send(json.dumps({"type": "params", "filter": [], "importance": {"terms": [], "curve": [[0, 0], [1, 1]]}}))

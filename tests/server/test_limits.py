@@ -5,9 +5,8 @@ import asyncio
 import json
 import sys
 import threading
-import time
 
-from lucent_server import Check, Server, skip, websockets
+from lucent_server import Check, Server, skip, wait_until, websockets
 
 if websockets is None:
     skip("python3-websockets is not installed")
@@ -17,8 +16,12 @@ check = Check()
 TOKEN = "s3cret-token"
 AUTH = {"Authorization": "Bearer " + TOKEN}
 
-with Server(binary, "--max-sessions", "2", "--max-body", "2048", "--max-queue", "1", "--idle-timeout", "2",
-            env={"LUCENT_TOKEN": TOKEN}) as srv:
+# --idle-timeout 5: the session cap is checked right after the two sessions
+# are made, well within it, and their expiry is then waited for as a state.
+# --pass-delay 150: a render takes over a second (eight passes), so the 8
+# concurrent renders below overflow --max-queue 1 however fast the renderer.
+with Server(binary, "--max-sessions", "2", "--max-body", "2048", "--max-queue", "1", "--idle-timeout", "5",
+            "--pass-delay", "150", env={"LUCENT_TOKEN": TOKEN}) as srv:
     st, _, _ = srv.request("GET", "/api/v1/health")
     check(st == 200, "health needs no token")
     st, h, e = srv.json("GET", "/api/v1/datasets")
@@ -63,8 +66,13 @@ with Server(binary, "--max-sessions", "2", "--max-body", "2048", "--max-queue", 
 
     asyncio.run(ws_checks())
 
-    # Idle timeout (2 s) frees the HTTP sessions.
-    time.sleep(3.5)
+    # Idle timeout (5 s) frees the HTTP sessions: wait until health (which
+    # touches no session) counts none, then the session's id is unknown.
+    def http_sessions():
+        st, _, health = srv.json("GET", "/api/v1/health")
+        return health["sessions"]["http"] if st == 200 else -1
+    gone = wait_until(lambda: http_sessions() == 0, 120, 0.25)
+    check(gone, "the idle sessions expire (%d left)" % http_sessions())
     st, _, _ = srv.json("POST", "/api/v1/sessions/%s/render" % ids[0], {"dt": 0.1}, headers=AUTH)
     check(st == 404, "session unused past --idle-timeout is gone (404)")
 
@@ -84,12 +92,12 @@ with Server(binary, "--max-sessions", "2", "--max-body", "2048", "--max-queue", 
         check(status == 401, "WebSocket upgrade without a token -> 401 at the handshake (%s)" % status)
         async with websockets.connect(srv.ws_url, extra_headers=AUTH) as ws:
             await ws.send(json.dumps({"type": "hello", "dataset": "demo:points", "width": 32, "height": 32}))
-            r = json.loads(await asyncio.wait_for(ws.recv(), 10))
+            r = json.loads(await asyncio.wait_for(ws.recv(), 60))
             check(r["type"] == "ready", "token in the upgrade's Authorization header -> ready")
 
     asyncio.run(ws_auth())
 
-    # Render queue overload: 1 worker, --max-queue 1, 8 concurrent requests.
+    # Render queue overload: --max-queue 1, 8 concurrent requests of over a second each.
     results = []
 
     def one():

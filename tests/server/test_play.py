@@ -5,7 +5,12 @@ recent spacing of input before a still: README's --still-delay): no still frame 
 no still is begun and abandoned (/metrics lucent_frames_yielded_total) while the steps keep their pace,
 frames keep coming, and after the last step the still of the last window follows. The first step is
 excused (no pace is known before the second: its still may begin after --still-delay), and so is a step
-that the client itself followed late (a gap of 0.28 s or more, under load)."""
+that the client itself followed late: by the server's own rule (1.5 times the running mean of the
+spacing) applied to the client's send times, less 50 ms for the messages' way to the server.
+
+The rule under test is one of time (the pace of input), so this test cannot be free of the clock; what
+it does not do is assume a fast machine: the steps go on at 5 a second until enough frames came while
+playing (a state), and every step the client itself sent late is excused."""
 import asyncio
 import json
 import os
@@ -21,7 +26,9 @@ if websockets is None:
 binary = sys.argv[1]
 check = Check()
 W, H = 320, 240
-STEPS, RATE = 20, 5.0
+STEPS, RATE = 20, 5.0  # at least STEPS steps, RATE a second, and on until MIN_FRAMES frames came while playing
+MIN_FRAMES = STEPS // 4
+SLACK = 0.05  # seconds a message's way to the server may add to a gap the client measured
 
 # 30 atoms crossing the box along x over 20 frames, TIMESTEP = 10 x frame (tests/browser/scenes.mjs).
 tmp = tempfile.mkdtemp(prefix="lucent-play-")
@@ -58,7 +65,7 @@ async def play(srv):
                 check(False, "no error message: %s" % o)
             return o
         h, _ = unpack_frame(m)
-        frames.append((time.time(), h))
+        frames.append((time.monotonic(), h))
         await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
         return h
 
@@ -72,48 +79,67 @@ async def play(srv):
 
         # the first still of the window [0, 20], converged, and nothing after it
         await step(0, 20)
-        end = time.time() + 120
-        while time.time() < end:
-            h = await recv(ws, end - time.time())
+        end = time.monotonic() + 120
+        while time.monotonic() < end:
+            h = await recv(ws, end - time.monotonic())
             if h and "frame" in h and h["cameraSeq"] == 0 and h.get("converged") and \
                     not (h.get("detail") or {}).get("interactive") and h.get("final", True):
                 break
+        # the stream has ended: anything still coming (stats) is read before the play starts
         while await recv(ws, 1.0) is not None:
             pass
         y0 = yielded(srv)
         n0 = len(frames)
         sent = []
-        start = time.time()
-        for k in range(1, STEPS + 1):
-            sent.append(time.time())
-            await step(k, 20 + 8 * k)
+        start = time.monotonic()
+        k, end = 0, start + 120
+        while k < STEPS or len(frames) - n0 < MIN_FRAMES and time.monotonic() < end:
+            k += 1
+            sent.append(time.monotonic())
+            await step(k, 20 + 8 * ((k - 1) % STEPS + 1))  # past STEPS the window starts over
             due = start + k / RATE
-            while time.time() < due:
-                await recv(ws, max(0.0, due - time.time()))
+            while time.monotonic() < due:
+                await recv(ws, max(0.0, due - time.monotonic()))
         y1 = yielded(srv)
-        last_step = time.time()
+        last_step = time.monotonic()
         # the last steps' frames, then the still of the last window
         still = None
-        end = time.time() + 120
-        while time.time() < end and still is None:
-            h = await recv(ws, end - time.time())
-            if h and "frame" in h and h["cameraSeq"] == STEPS and not (h.get("detail") or {}).get("interactive"):
+        end = time.monotonic() + 120
+        while time.monotonic() < end and still is None:
+            h = await recv(ws, end - time.monotonic())
+            if h and "frame" in h and h["cameraSeq"] == k and not (h.get("detail") or {}).get("interactive"):
                 still = h
         return frames[n0:], sent, y1 - y0 if y0 is not None and y1 is not None else None, last_step, still
+
+
+def excused(sent):
+    """The steps whose still may begin: the first (no pace known yet), and
+    step k when the client sent step k+1 late by the server's rule applied
+    to the client's send times (a gap of 1.5 times the running mean of the
+    earlier gaps, at most 1 s; a gap of 1 s or more starts the mean afresh),
+    less SLACK for the messages' way to the server."""
+    late, mean = {1}, 0.0
+    for k in range(1, len(sent)):  # sent[k - 1]: step k, sent[k]: step k + 1
+        gap = sent[k] - sent[k - 1]
+        if not mean or gap >= min(1.5 * mean, 1.0) - SLACK:
+            late.add(k)
+        mean = 0.0 if gap >= 1.0 else 0.7 * mean + 0.3 * gap if mean else gap
+    return late
 
 
 async def main():
     with Server(binary, data=(dump,), demo_size=0) as srv:
         played, sent, aborted, last_step, still = await play(srv)
         gaps = [b - a for a, b in zip(sent, sent[1:])]
-        late = {1} | {k + 1 for k, g in enumerate(gaps) if g >= 0.28}  # the first, and steps followed late
+        late = excused(sent)
         during = [h for t, h in played if t <= last_step]
         stills = [h for h in during if not (h.get("detail") or {}).get("interactive") and h["cameraSeq"] >= 1]
         unexcused = [h["cameraSeq"] for h in stills if h["cameraSeq"] not in late]
         print("steps sent over %.2f s (largest gap %.3f s, excused steps %s); %d frames while playing, "
               "stills %s, stills abandoned %s" % (sent[-1] - sent[0], max(gaps), sorted(late), len(during),
                                                   [h["cameraSeq"] for h in stills], aborted))
-        check(len(during) >= STEPS // 4, "frames keep coming while playing (%d for %d steps)" % (len(during), STEPS))
+        check(len(during) >= MIN_FRAMES, "frames keep coming while playing (%d for %d steps)" % (len(during),
+                                                                                                 len(sent)))
         check(not unexcused, "no still of a step while the steps keep their pace (stills of steps %s)" % unexcused)
         check(aborted is not None and aborted <= len(late),  # at most one a step excused
               "no still begun and abandoned while playing (%s, %d late steps)" % (aborted, len(late)))

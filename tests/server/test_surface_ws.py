@@ -10,7 +10,7 @@ import json
 import sys
 import time
 
-from lucent_server import Check, Server, jpeg_size, skip, unpack_frame, websockets
+from lucent_server import Check, Server, jpeg_size, skip, wait_for_message, wait_for_stream_done, websockets
 
 if websockets is None:
     skip("python3-websockets is not installed")
@@ -23,9 +23,9 @@ CAMERA = {"position": [14, 3, 8], "focalPoint": [3.14, 3.14, 3.14], "viewUp": [0
 
 async def recv(ws, timeout):
     """The next non-stats message within timeout, or None."""
-    deadline = time.time() + timeout
+    deadline = time.monotonic() + timeout
     while True:
-        left = deadline - time.time()
+        left = deadline - time.monotonic()
         if left <= 0:
             return None
         try:
@@ -37,20 +37,21 @@ async def recv(ws, timeout):
         return m
 
 
-async def frames(ws, quiet, first=30, limit=100):
-    """(header, image) of the frames until none comes for `quiet` s; text messages as ("text", msg)."""
-    got = []
-    while len(got) < limit:
-        m = await recv(ws, first if not got else quiet)
-        if m is None:
-            break
-        if isinstance(m, str):
-            got.append(("text", json.loads(m)))
-            continue
-        h, img = unpack_frame(m)
-        got.append((h, img))
-        await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
-    return got
+QUIET = ("stats", "progress")
+
+
+async def frames(ws):
+    """(header, image) of the frames until the stream ends (converged, however
+    long that takes); text messages as ("text", msg)."""
+    got = await wait_for_stream_done(ws, skip=QUIET)
+    check(got.reached, "the stream ends with a converged frame")
+    return [(m, m["image"]) if m["type"] == "frame" else ("text", m) for m in got]
+
+
+async def error(ws):
+    """The error message that answers an update (DEADLINE at most), or None."""
+    got = await wait_for_message(ws, lambda m: m["type"] == "error", skip=QUIET)
+    return got[-1] if got.reached else None
 
 
 def surfaces(got):
@@ -63,9 +64,9 @@ async def main(srv):
                                   "devicePixelRatio": 1, "method": "surface-layers", "camera": CAMERA,
                                   "surface": {"field": "demo:abc-flow", "seed": SEED, "particles": 600,
                                               "curvesPerFrame": 150}}))
-        ready = json.loads(await recv(ws, 30))
+        ready = json.loads(await recv(ws, 120))
         check(ready.get("type") == "ready", "hello with method surface-layers -> ready: %r" % ready)
-        got = await frames(ws, 2)
+        got = await frames(ws)
         s = surfaces(got)
         counts = [x["curves"] for x in s]
         check(counts[:4] == [150, 300, 450, 600], "each frame adds 150 curves up to 600: %r" % counts)
@@ -81,28 +82,23 @@ async def main(srv):
         # A camera change redraws what was traced: no restart, the count stays.
         cam = dict(CAMERA, position=[3.14, -10, 3.14])
         await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": cam}))
-        got = await frames(ws, 2)
+        got = await frames(ws)
         counts = [x["curves"] for x in surfaces(got)]
         check(counts and min(counts) == 600, "a camera change keeps the 600 curves: %r" % counts)
 
         # A new seed restarts from curvesPerFrame.
         seed2 = [[2.0, 0.63, 3.14], [2.0, 5.65, 3.14]]
         await ws.send(json.dumps({"type": "params", "surface": {"seed": seed2, "particles": 300}}))
-        got = await frames(ws, 2)
+        got = await frames(ws)
         counts = [x["curves"] for x in surfaces(got)]
         check(counts[:2] == [150, 300], "a new seed starts again: %r" % counts)
 
         # Bad input is refused naming the field; the session goes on.
         await ws.send(json.dumps({"type": "params", "surface": {"field": "no-such-flow"}}))
-        err = None
-        for _ in range(5):
-            m = await recv(ws, 10)
-            if isinstance(m, str) and json.loads(m).get("type") == "error":
-                err = json.loads(m)
-                break
+        err = await error(ws)
         check(err is not None and err.get("field") == "surface.field", "an unknown field names surface.field: %r" % err)
         await ws.send(json.dumps({"type": "params", "surface": {"particles": 450}}))
-        got = await frames(ws, 2)
+        got = await frames(ws)
         counts = [x["curves"] for x in surfaces(got)]
         check(counts and counts[-1] == 450, "the session still serves the old field: %r" % counts)
 
@@ -113,23 +109,16 @@ async def refused_layers(srv):
         await ws.send(json.dumps({"type": "hello", "width": 64, "height": 64, "method": "surface-layers",
                                   "layers": [{"dataset": "demo:points"}],
                                   "surface": {"field": "demo:abc-flow", "seed": SEED, "particles": 50}}))
-        m = json.loads(await recv(ws, 30) or "{}")
+        m = json.loads(await recv(ws, 120) or "{}")
         check(m.get("type") == "error" and m.get("field") == "layers", "hello: surface-layers with layers -> %r" % m)
     async with websockets.connect(srv.ws_url, max_size=None) as ws:
         await ws.send(json.dumps({"type": "hello", "width": 64, "height": 64, "dataset": "demo:points",
                                   "layers": [{"dataset": "demo:points"}]}))
-        m = json.loads(await recv(ws, 30) or "{}")
+        m = json.loads(await recv(ws, 120) or "{}")
         check(m.get("type") == "ready", "a layered session starts: %r" % m)
         await ws.send(json.dumps({"type": "params", "method": "surface-layers",
                                   "surface": {"field": "demo:abc-flow", "seed": SEED, "particles": 50}}))
-        err = None
-        for _ in range(20):
-            m = await recv(ws, 30)
-            if m is None:
-                break
-            if isinstance(m, str) and json.loads(m).get("type") == "error":
-                err = json.loads(m)
-                break
+        err = await error(ws)
         check(err is not None and err.get("field") == "layers", "params: surface-layers over layers -> %r" % err)
 
 

@@ -19,7 +19,7 @@ export function backoffDelay(attempt, random = Math.random) {
 
 /** Error codes after which reconnecting with the same hello cannot succeed. */
 export const TERMINAL_CODES = new Set(['unauthorized', 'forbidden', 'unknown_dataset', 'not_found', 'bad_field',
-  'unknown_field', 'missing_field', 'out_of_range', 'bad_json']);
+  'unknown_field', 'missing_field', 'out_of_range', 'bad_json', 'too_expensive']);
 
 export class Connection {
   /**

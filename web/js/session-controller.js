@@ -41,6 +41,7 @@ export function createSessionController(ctx) {
   let countdown = 0;
   let waiting = false; // a progress bar is shown: the frame it is about has not come yet
   let refining = null; // after a staged still's non-final stage: {stage, stages} of the one under way
+  let reopen = false; // a refused hello went back to the last dataset: connect again once this one has stopped
 
   // The server's progress messages while a frame is awaited (the first one,
   // a long still): shown until the next frame or the end of the connection.
@@ -133,7 +134,31 @@ export function createSessionController(ctx) {
       countdown = ctx.timers.setInterval(tick, 1000);
     } else if (s === 'stopped') {
       ui.connection(s, 'Disconnected');
+      if (reopen) {
+        reopen = false;
+        ctx.conn().start();
+      }
     }
+  }
+
+  // A hello the server refused for what it asked of the dataset (too costly to draw, not there) after another
+  // dataset had opened: the page goes back to that one, with a message that stays, instead of retrying what
+  // cannot succeed or leaving the picker on a dataset the view does not show.
+  function backToLastDataset(msg) {
+    const last = state.lastReady?.dataset?.name ?? state.lastReady?.defaults?.dataset;
+    const refusal = msg.code === 'too_expensive' || msg.code === 'not_found' || msg.code === 'unknown_dataset' ||
+      msg.field === 'dataset';
+    if (!refusal || ctx.conn().ready || !last || last === state.dataset) return false;
+    const refused = state.dataset;
+    state.dataset = last;
+    state.camera = null; // the last dataset's own view
+    state.info = datasetInfo(state);
+    state.error = { code: 'dataset_refused', message: msg.message, field: '' };
+    reopen = true;
+    ui.showDataset();
+    const why = /[.!?]$/.test(msg.message) ? msg.message : `${msg.message}.`;
+    ui.showBanner(`Dataset “${refused}” was not opened: ${why} Showing “${last}” again.`, { kind: 'error' });
+    return true;
   }
 
   function onReady(msg) {
@@ -178,6 +203,7 @@ export function createSessionController(ctx) {
       ui.askToken(state.token ? TOKEN_REFUSED : TOKEN_NEEDED);
       return;
     }
+    if (fatal && backToLastDataset(msg)) return;
     const field = msg.field ?? '';
     if (!fatal && field && ctx.panel.markInvalid(field, describeError(msg))) {
       ui.toast(`Not applied — ${describeError(msg)}`);

@@ -179,6 +179,10 @@ test('url: the link is written once, after the last change, and a pasted link is
 });
 
 function sessionRig() {
+  return sessionRigWith({ terminal: false });
+}
+
+function sessionRigWith(conn) {
   const state = newState('#dataset=demo:a&q=80');
   state.datasets = [INFO, { name: 'demo:b', type: 'points', vertices: 5 }];
   const log = [];
@@ -192,7 +196,7 @@ function sessionRig() {
   const stats = { sent: new Map(), lastMeasuredSeq: 0 };
   const s = createSessionController({
     state, stats, view, camera, panel, params: { drop: () => dropped++ }, api: { datasets: () => Promise.resolve([]) },
-    conn: () => ({ terminal: false }), measure: () => ({ width: 320, height: 200, dpr: 2 }),
+    conn: () => conn, measure: () => ({ width: 320, height: 200, dpr: 2 }),
     timers: { setInterval: () => 1, clearInterval() {}, now: () => 0 }, ui,
   });
   return { state, s, log, marked, adopted, dropped: () => dropped };
@@ -235,6 +239,33 @@ test('session: ready takes the server defaults and camera; errors go to the fiel
   r.state.error = { code: 'not_found', field: 'dataset' };
   r.s.handlers.onReady({ session: 's2', dataset: INFO, defaults: {} });
   assert.equal(r.state.error, null);
+});
+
+test('session: a dataset the server refuses to open takes the page back to the last one, once, with a lasting message', () => {
+  let started = 0;
+  const rig = sessionRigWith({ terminal: false, ready: false, start: () => started++ });
+  rig.s.handlers.onReady({ session: 's1', dataset: INFO, defaults: {} });
+  rig.state.dataset = 'demo:b'; // the picker chose it; its hello is refused before ready
+  rig.log.length = 0;
+  rig.s.handlers.onError({ code: 'too_expensive', message: 'width: estimated cost 2e9 exceeds the budget', field: 'width' }, { fatal: true });
+  assert.equal(rig.state.dataset, 'demo:a', 'back to the dataset that last opened');
+  const banner = rig.log.find(([k]) => k === 'showBanner');
+  assert.match(banner[1], /“demo:b” was not opened: width: estimated cost 2e9 exceeds the budget\. Showing “demo:a” again\./);
+  assert.ok(rig.log.some(([k]) => k === 'showDataset'), 'the picker shows the dataset in view');
+  assert.equal(started, 0, 'no reconnect before this connection has ended');
+  rig.s.handlers.onState('stopped', { reason: 'refused' });
+  assert.equal(started, 1, 'one new session for the last dataset');
+  rig.s.handlers.onState('stopped', { reason: 'again' });
+  assert.equal(started, 1, 'and no loop');
+  rig.log.length = 0;
+  rig.s.handlers.onReady({ session: 's2', dataset: INFO, defaults: {} });
+  assert.ok(!rig.log.some(([k]) => k === 'hideBanner'), 'the message stays once the last dataset is back');
+  // a first dataset refused (nothing opened before): the banner, no reopening
+  const first = sessionRigWith({ terminal: false, ready: false, start: () => started++ });
+  first.s.handlers.onError({ code: 'too_expensive', message: 'too costly', field: 'width' }, { fatal: true });
+  first.s.handlers.onState('stopped', { reason: 'refused' });
+  assert.equal(started, 1);
+  assert.equal(first.state.dataset, 'demo:a');
 });
 
 test('session: connection states reset the frame bookkeeping and keep the retry delays', () => {

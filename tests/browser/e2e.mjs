@@ -382,6 +382,43 @@ test('unknown dataset shows a readable message', async () => {
   await page.close();
 });
 
+test('a dataset too costly to open: back to the last one with a lasting message, no reconnect loop', async () => {
+  // the costs of both datasets at this page's size, from the shared daemon's X-Lucent-Cost; a second
+  // daemon whose --max-cost lies between them opens demo:points and refuses demo:tornado
+  const probe = await newPage(`${ctx.d.url}/#dataset=demo:points`);
+  await settled(probe);
+  const size = await probe.evaluate(() => [document.getElementById('canvas').width, document.getElementById('canvas').height]);
+  await probe.close();
+  const cost = async (dataset) => {
+    const r = await fetch(`${ctx.d.url}/api/v1/render`, { method: 'POST', body: JSON.stringify({ dataset, width: size[0], height: size[1] }) });
+    await r.arrayBuffer();
+    return Number(r.headers.get('x-lucent-cost'));
+  };
+  const [points, tornado] = [await cost('demo:points'), await cost('demo:tornado')];
+  check(tornado > 4 * points, `the tornado costs more than the points at ${size}: ${tornado} vs ${points}`);
+  const d = await startDaemon(['--max-cost', String(Math.round(Math.sqrt(points * tornado)))]);
+  try {
+    const page = await newPage(`${d.url}/#dataset=demo:points`);
+    await settled(page);
+    await page.locator('#dataset').selectOption('demo:tornado');
+    await until(page, () => /was not opened/.test(document.getElementById('banner-text').textContent));
+    const frame = await page.evaluate(() => window.lucent.state.lastFrame?.frame ?? -1);
+    await until(page, () => document.body.dataset.connection === 'open' && window.lucent.state.lastReady?.dataset?.name === 'demo:points');
+    await settled(page);
+    const st = await page.evaluate(() => ({
+      ds: window.lucent.state.dataset, picker: document.getElementById('dataset').value, retries: window.lucent.state.retryDelays.length,
+      banner: document.getElementById('banner').hidden ? '' : document.getElementById('banner-text').textContent,
+    }));
+    check(st.ds === 'demo:points' && st.picker === 'demo:points', `back on demo:points (state ${st.ds}, picker ${st.picker})`);
+    check(/demo:tornado/.test(st.banner) && /budget|cost/.test(st.banner), `a lasting message names the dataset and the reason: ${st.banner}`);
+    check(st.retries === 0, `no reconnect loop: ${st.retries} retries`);
+    log(`  refused dataset: frame ${frame} before, banner: ${st.banner}`);
+    await page.close();
+  } finally {
+    await stopDaemon(d);
+  }
+});
+
 // ------------------------------------------------------------------ issue 13: the page scientists expect
 
 /** Share of the view each overlay covers (visible ones only), in the view's own pixels. */

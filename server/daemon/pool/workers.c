@@ -467,10 +467,19 @@ static void *worker_main(void *arg)
     for (;;) {
         lc_task *t = NULL;
         while (!w->stopping) {
-            double next = run_timers(w, lc_now());
+            double now = lc_now(), next = run_timers(w, now);
             t = lc_fair_pop(&w->queue);
             if (t)
                 break;
+            if (wk->trim_at > 0 && now >= wk->trim_at) { /* idle after a large frame */
+                wk->trim_at = 0;
+                pthread_mutex_unlock(&w->lock);
+                lc_memory_trim();
+                pthread_mutex_lock(&w->lock);
+                continue;
+            }
+            if (wk->trim_at > 0 && (next <= 0 || wk->trim_at < next))
+                next = wk->trim_at;
             if (next > 0)
                 lc_cond_wait_until(&w->work, &w->lock, next);
             else
@@ -481,9 +490,13 @@ static void *worker_main(void *arg)
         if (t->session)
             t->session->sched_queued = false;
         pthread_mutex_unlock(&w->lock);
-        if (t->job)
-            render_job(wk, t->job);
-        else {
+        if (t->job) {
+            const lc_render_params *p = &t->job->req.render;
+            bool large = (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
+            render_job(wk, t->job); /* the job may be its submitter's again from here */
+            if (large)
+                wk->trim_at = lc_now() + LC_IDLE_TRIM_DELAY;
+        } else {
             render_session(wk, t->session);
             lc_session_unref(t->session);
         }

@@ -18,6 +18,8 @@
 
 typedef struct lc_workers lc_workers;
 
+#define LC_IDLE_TRIM_DELAY 1.0 /* seconds after a large frame (worker.trim_at) */
+
 typedef struct worker {
     lc_workers *pool;
     int index;
@@ -36,6 +38,11 @@ typedef struct worker {
     lc_session *preempt;
     bool large;
     const void *owner;
+    /* After a large frame: when the idle worker returns the heap to the
+     * system once more (0 = not due). The driver's own threads free some of
+     * the frame's memory after the frame has been read back, later than the
+     * trim right after it. Render thread only. */
+    double trim_at;
 } worker;
 
 struct lc_workers {

@@ -327,17 +327,7 @@ async def listen(ws, seconds, ack=True, skip=("stats",)):
     checking that NOTHING more comes once a state has been reached (e.g. no
     frame after the stream ended): a correct server sends nothing then, so
     such a check cannot fail because the machine is slow."""
-    got = []
-    end = time.monotonic() + seconds
-    while True:
-        left = end - time.monotonic()
-        if left <= 0:
-            return got
-        m = await next_message(ws, left, ack)
-        if m is None:
-            return got
-        if m.get("type") not in skip:
-            got.append(m)
+    return list(await wait_for_message(ws, lambda m: False, seconds, ack, skip))
 
 
 def wait_until(probe, deadline=60, interval=0.1):

@@ -26,7 +26,7 @@ cat <<'MD'
 Every file of `scripts/real_data.sh` (CGAL's point sets and meshes, the thiophene LAMMPS dump of
 votca-tutorials read directly, the Hipparcos stars of kstars-data converted to a point table) and the demos,
 rendered as a new user would: 512x512, every parameter at its default, the file's default importance and colour
-(README "Default attributes"), with the default method (fourier) and with `method: "exact"`. The goal
+(docs/GUIDE.md "Default attributes"), with the default method (fourier) and with `method: "exact"`. The goal
 (issue 26): topDecileAlpha >= 0.5, no inversion (topDecileAlpha >= bottomHalfAlpha - 0.05) and the unimportant
 elements that hide importance faded (occluderAlpha <= 0.5 x topDecileAlpha; docs/ALGORITHM.md §8).
 

@@ -52,7 +52,7 @@ void lc_render_params_default(lc_render_params *p)
     p->camera.view_angle = 30;
     p->camera.view_up[1] = 1;
     p->camera.parallel_scale = 1;
-    /* color.attribute "": the dataset's default colour (README "Default attributes") */
+    /* color.attribute "": the dataset's default colour (docs/GUIDE.md "Default attributes") */
     strcpy(p->color.colormap, "viridis");
     p->color.fade_half_life = 0.8; /* DLS §5.3 */
 }

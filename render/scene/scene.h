@@ -35,7 +35,7 @@ bool lc_attribute_smaller_matters(const char *name);
  * segment number): every finite value an integer, at least two of them, the
  * largest less than LC_CATEGORY_SPAN above the smallest, and the file's
  * vertices at least LC_CATEGORY_REPEATS times the span + 1 (kinds repeat).
- * Such an attribute is never the default importance (README "Default
+ * Such an attribute is never the default importance (docs/GUIDE.md "Default
  * attributes"). */
 #define LC_CATEGORY_SPAN 64
 #define LC_CATEGORY_REPEATS 4

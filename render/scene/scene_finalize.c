@@ -248,7 +248,7 @@ static int update_range(lc_attribute *a, uint32_t n, const lc_scene_collective *
 
 void lc_attribute_update_range(lc_attribute *a, uint32_t n) { update_range(a, n, NULL, NULL); }
 
-/* README "Default attributes": the names whose smaller values matter more. */
+/* docs/GUIDE.md "Default attributes": the names whose smaller values matter more. */
 bool lc_attribute_smaller_matters(const char *name)
 {
     static const char *const words[] = {"mag",    "magnitude", "vmag", "bmag",   "gmag",
@@ -330,7 +330,7 @@ static int mark_categories(lc_scene *s, const lc_scene_collective *c, uint64_t w
 }
 
 /* Picks the importance and colour attributes a request without them gets
- * (README "Default attributes"); file_attributes: how many of the scene's
+ * (docs/GUIDE.md "Default attributes"); file_attributes: how many of the scene's
  * attributes came from the file (the derived ones follow). A name that the
  * loader set but that does not exist is dropped with a warning rather than
  * failing the whole dataset; a class label the loader picked gives way to the

@@ -673,7 +673,7 @@ test('bug 3: an out-of-range value is brought into range everywhere and said so'
 test('grayscale on a white background: warning, and one click flips the colours', async () => {
   const page = ctx.desk;
   await settled(page);
-  // the page opens viridis on a dark background (README "Contrast by default"): choose white first
+  // the page opens viridis on a dark background (docs/GUIDE.md "Contrast by default"): choose white first
   await page.locator('#ctl-style-background').fill('#ffffff');
   await page.waitForFunction(() => String(window.lucent.values().style.background) === '1,1,1', null, { timeout: 30000 });
   const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);

@@ -1,7 +1,7 @@
 """Playing a time window against the real daemon (issue 27): steps of t at 5 a second, each a `params`
 message with time.window and a camera message in one burst, as the page's Play sends them. Input that
 keeps coming at a steady pace must not start a still between two steps (the session waits 1.5 times the
-recent spacing of input before a still: README's --still-delay): no still frame of a step arrives and
+recent spacing of input before a still: docs/GUIDE.md's --still-delay): no still frame of a step arrives and
 no still is begun and abandoned (/metrics lucent_frames_yielded_total) while the steps keep their pace,
 frames keep coming, and after the last step the still of the last window follows. The first step is
 excused (no pace is known before the second: its still may begin after --still-delay), and so is a step

@@ -88,7 +88,7 @@ for content, field in (({"params": {"q": 1}, "colour": {}}, "colour"), ({"params
           "bad sidecar %r refused naming the file and %s (rc %d): %s" % (content, field, rc, out.strip()[-200:]))
 os.unlink(sidecar)
 
-# Class labels (README "Default attributes"): never the default importance, the default colour; a sidecar wins.
+# Class labels (docs/GUIDE.md "Default attributes"): never the default importance, the default colour; a sidecar wins.
 for name, header in (("tagged", "x,y,z,label,height"), ("labels", "x,y,z,label")):
     with open(os.path.join(tmp, name + ".csv"), "w") as f:
         f.write(header + "\n")

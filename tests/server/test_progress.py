@@ -6,7 +6,7 @@ stages in pass order and a fraction that never decreases, and they stop once
 the frame is there; a still after a camera move reports its passes again; a
 small fast session gets only messages that its frames earned (each one says
 it was sent after 300 ms of waiting) and none once its stream has ended; the
-default number of render workers follows README's rule.
+default number of render workers follows docs/GUIDE.md's rule.
 
 Nothing here depends on how fast the machine is: the waits are for states
 (a converged frame, the end of a stream), and the timing rules of the
@@ -165,7 +165,7 @@ async def fast(srv):
 def main():
     with Server(binary, data=("demo:points",)) as srv:  # 3000 points
         asyncio.run(fast(srv))
-        # README "--workers": 2 by default, 1 on llvmpipe with under 8 GiB of memory
+        # docs/GUIDE.md "--workers": 2 by default, 1 on llvmpipe with under 8 GiB of memory
         _, _, health = srv.json("GET", "/api/v1/health")
         memory = os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGESIZE")
         software = "llvmpipe" in health.get("renderer", "") or "softpipe" in health.get("renderer", "")

@@ -422,7 +422,7 @@ static void test_percentiles_and_budget(void)
     lc_scene_destroy(s);
 }
 
-/* The names whose smaller values matter more (README "Default attributes"). */
+/* The names whose smaller values matter more (docs/GUIDE.md "Default attributes"). */
 static void test_smaller_matters(void)
 {
     static const char *const yes[] = {"magnitude", "Vmag", "abs_mag", "mag", "p_value", "P-Value", "pval", "rank"};
@@ -462,7 +462,7 @@ static float class_then_amount(uint32_t i, int k) { return k == 0 ? (float)(i % 
 static float wide_integers(uint32_t i, int k) { return k == 0 ? (float)(i * 3) : 1.5f; } /* 0..189: an amount */
 static float halves(uint32_t i, int k) { return k == 0 ? 0.5f * (float)(i % 4) : 1.0f; }
 
-/* The class-label rule (README "Default attributes"): a categorical attribute
+/* The class-label rule (docs/GUIDE.md "Default attributes"): a categorical attribute
  * is never the default importance, and colours the points instead. */
 static void test_class_labels(void)
 {

@@ -42,7 +42,7 @@ export function createState(initial, token) {
 
 /**
  * What the page asks for in a session's hello beyond the user's changes
- * (README "Contrast by default"): without a background from the user, the link
+ * (docs/GUIDE.md "Contrast by default"): without a background from the user, the link
  * or a preset, the background that contrasts with the colormap in force (the
  * changes' colormap, else the server's default viridis).
  */

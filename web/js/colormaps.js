@@ -61,11 +61,11 @@ export function topColorClash(colormap, range, background, minRatio = CLASH_RATI
   return { top, clash: contrastRatio(top, bg) < minRatio };
 }
 
-/** The page's dark background (README "Contrast by default"). */
+/** The page's dark background (docs/GUIDE.md "Contrast by default"). */
 export const DARK_BACKGROUND = Object.freeze([0.1, 0.1, 0.1]);
 
 /**
- * The background the page opens with for a colormap (README "Contrast by
+ * The background the page opens with for a colormap (docs/GUIDE.md "Contrast by
  * default"): white when the colormap's top colour (the highest values, with
  * colour by importance the most important parts) has a contrast ratio of at
  * least 3:1 against white (turbo, coolwarm), else dark (viridis, inferno,

@@ -601,9 +601,9 @@ json_t *lc_dataset_info(const lc_dataset *ds)
         json_array_append_new(ar, json_real(isfinite(a->auto_lo) ? a->auto_lo : 0.0));
         json_array_append_new(ar, json_real(isfinite(a->auto_hi) ? a->auto_hi : 0.0));
         json_object_set_new(ja, "autoRange", ar);
-        if (a->smaller_matters) /* the importance maps it inverted by default (README "Default attributes") */
+        if (a->smaller_matters) /* the importance maps it inverted by default (docs/GUIDE.md "Default attributes") */
             json_object_set_new(ja, "smallerMatters", json_true());
-        if (a->categorical) /* class labels: never the default importance (README "Default attributes") */
+        if (a->categorical) /* class labels: never the default importance (docs/GUIDE.md "Default attributes") */
             json_object_set_new(ja, "categorical", json_true());
         json_array_append_new(attrs, ja);
     }

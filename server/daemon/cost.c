@@ -48,8 +48,9 @@ static double level_share(const lc_scene_measures *st, const lc_render_params *p
             for (int k = 0; k < 3; k++)
                 dist += (p->camera.position[k] - st->center[k]) * (p->camera.position[k] - st->center[k]);
             dist = sqrt(dist);
-        } else { /* the fit: the bounding sphere fills the default 30 degree view */
-            dist = st->radius / sin(15.0 * PI / 180.0);
+        } else { /* the fit: the bounding sphere fills the view angle */
+            double angle = p->camera.view_angle > 1 ? fmin(p->camera.view_angle, 179.0) : 30.0;
+            dist = st->radius / sin(0.5 * angle * PI / 180.0);
         }
         double nearest = dist - st->radius;
         if (!(nearest > 0) || !(dist > 0))

@@ -1,11 +1,13 @@
 """Helpers for the server integration tests: start the real daemon on a free
 loopback port, talk HTTP with urllib/http.client, read frame messages and image
 sizes. Standard library plus Debian's python3-websockets only."""
+import base64
 import http.client
 import json
 import os
 import re
 import signal
+import socket
 import struct
 import subprocess
 import sys
@@ -237,6 +239,30 @@ def unpack_frame(msg):
     n = struct.unpack("<I", msg[:4])[0]
     header = json.loads(msg[4:4 + n].decode())
     return header, bytes(msg[4 + n:])
+
+
+def ws_connect(port, path="/api/v1/ws", headers=(), rcvbuf=None):
+    """Handshake by hand; returns (socket, status line, headers text, bytes after the header)."""
+    s = socket.socket()
+    if rcvbuf:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, rcvbuf)
+    s.connect(("127.0.0.1", port))
+    s.settimeout(60)
+    key = base64.b64encode(os.urandom(16)).decode()
+    req = ("GET %s HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+           "Sec-WebSocket-Key: %s\r\nSec-WebSocket-Version: 13\r\n" % (path, key))
+    for h in headers:
+        req += h + "\r\n"
+    s.sendall((req + "\r\n").encode())
+    buf = b""
+    while b"\r\n\r\n" not in buf:
+        d = s.recv(4096)
+        if not d:
+            break
+        buf += d
+    head, _, rest = buf.partition(b"\r\n\r\n")
+    text = head.decode(errors="replace")
+    return s, text.split("\r\n")[0], text, rest
 
 
 # ---------------------------------------------------------------- waiting for states

@@ -19,7 +19,7 @@ import sys
 import tempfile
 import time
 
-from lucent_server import Check, Server, skip, websockets
+from lucent_server import Check, Server, skip, websockets, ws_connect
 
 if websockets is None:
     skip("python3-websockets is not installed")
@@ -35,30 +35,6 @@ def token_subprotocol(token):
 
 
 # ---------------------------------------------------------------- raw WebSocket
-
-def ws_connect(port, path="/api/v1/ws", headers=(), rcvbuf=None):
-    """Handshake by hand; returns (socket, status line, headers text, bytes after the header)."""
-    s = socket.socket()
-    if rcvbuf:
-        s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, rcvbuf)
-    s.connect(("127.0.0.1", port))
-    s.settimeout(60)
-    key = base64.b64encode(os.urandom(16)).decode()
-    req = ("GET %s HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-           "Sec-WebSocket-Key: %s\r\nSec-WebSocket-Version: 13\r\n" % (path, key))
-    for h in headers:
-        req += h + "\r\n"
-    s.sendall((req + "\r\n").encode())
-    buf = b""
-    while b"\r\n\r\n" not in buf:
-        d = s.recv(4096)
-        if not d:
-            break
-        buf += d
-    head, _, rest = buf.partition(b"\r\n\r\n")
-    text = head.decode(errors="replace")
-    return s, text.split("\r\n")[0], text, rest
-
 
 def ws_frame(payload, opcode=1):
     if isinstance(payload, str):

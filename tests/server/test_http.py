@@ -2,10 +2,9 @@
 images of the requested size), scripted sessions with dt fading, static files,
 metrics, errors, a dataset's suggested view, and a clean SIGTERM exit."""
 import json
-import socket
 import sys
 
-from lucent_server import Check, Server, jpeg_size, png_size
+from lucent_server import Check, Server, jpeg_size, png_size, ws_connect
 
 binary = sys.argv[1]
 check = Check()
@@ -185,20 +184,12 @@ with Server(binary, data=("demo:abc", "demo:points"), demo_size=40) as srv:
         check(st == 200 and (w.startswith("color.colormap:") and "style.background" in w) == warned and
               (bool(w) == warned), "%r: %s (%s)" % (extra, "warned" if warned else "no warning", w))
     # The WebSocket handshake, read raw: one Connection header (strict clients refuse "Upgrade, Upgrade").
-    sock = socket.create_connection((srv.host, srv.port), timeout=60)
-    sock.sendall(b"GET /api/v1/ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                 b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
-    head = b""
-    while b"\r\n\r\n" not in head:
-        chunk = sock.recv(4096)
-        if not chunk:
-            break
-        head += chunk
+    sock, status, text, _ = ws_connect(srv.port)
     sock.close()
-    lines = head.split(b"\r\n\r\n")[0].decode().split("\r\n")
+    lines = text.split("\r\n")
     conn = [ln.split(":", 1)[1].strip() for ln in lines[1:] if ln.lower().startswith("connection:")]
-    check(lines[0].startswith("HTTP/1.1 101") and conn == ["Upgrade"],
-          "the WebSocket handshake answers 101 with one Connection: Upgrade (%s, %s)" % (lines[0], conn))
+    check(status.startswith("HTTP/1.1 101") and conn == ["Upgrade"],
+          "the WebSocket handshake answers 101 with one Connection: Upgrade (%s, %s)" % (status, conn))
     check(srv.stop() == 0, "second server exits 0")
 
 check.done()

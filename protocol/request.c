@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "request_scope.h"
 #include "request_fields.h" /* after request.h: the table is of lc_request */
 
 void lc_proto_limits_default(lc_proto_limits *l)
@@ -750,6 +751,18 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
         json_object_set_new(obj, name, v);
 }
 
+json_t *lc_proto_field_json(const lc_request *r, const char *section, const char *name)
+{
+    if (!find_field(section, name))
+        return NULL;
+    json_t *o = json_object(), *v = NULL;
+    emit(o, r, section, name);
+    if ((v = json_object_get(o, name)))
+        json_incref(v);
+    json_decref(o);
+    return v;
+}
+
 static json_t *emit_section(const lc_request *r, const char *section)
 {
     json_t *obj = json_object();
@@ -776,9 +789,15 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         lim = &dl;
     }
     json_t *arr = json_array();
+    lc_request *def = malloc(sizeof *def); /* off the stack: lc_request holds its layers */
+    if (def)
+        lc_request_default(def);
     for (size_t i = 0; arr && i < NFIELDS; i++) {
         const field *f = &fields[i];
         json_t *o = json_object();
+        json_t *dv = def && !(f->bounds & CHECK_ONLY) ? lc_proto_field_json(def, f->section, f->name) : NULL;
+        if (dv)
+            json_object_set_new(o, "default", dv);
         json_object_set_new(o, "section", f->section ? json_string(f->section) : json_null());
         json_object_set_new(o, "name", json_string(f->name));
         json_object_set_new(o, "alias", json_string(f->alias ? f->alias : f->name));
@@ -801,6 +820,22 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE || f->type == T_RANGES ||
             f->type == T_LAYERS || f->type == T_SEED)
             json_object_set_new(o, "maxItems", json_integer((json_int_t)f->hi));
+        unsigned ms, ps;
+        lc_proto_field_scope(f->section, f->name, &ms, &ps);
+        if (ms != LC_PROTO_ALL_METHODS) {
+            json_t *a = json_array();
+            for (const enum_name *n = method_names; n->name; n++)
+                if (ms & (1u << n->value))
+                    json_array_append_new(a, json_string(n->name));
+            json_object_set_new(o, "methods", a);
+        }
+        if (ps != LC_PROTO_ALL_PRIMS) {
+            json_t *a = json_array();
+            for (int k = 0; k < 3; k++)
+                if (ps & (1u << k))
+                    json_array_append_new(a, json_string(lc_proto_prim_name(k)));
+            json_object_set_new(o, "primitives", a);
+        }
         if (f->names) {
             json_t *values = json_array();
             for (const enum_name *n = f->names; n->name; n++)
@@ -809,6 +844,7 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         }
         json_array_append_new(arr, o);
     }
+    free(def);
     return arr;
 }
 

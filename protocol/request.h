@@ -132,6 +132,10 @@ json_t *lc_proto_request_to_json(const lc_request *r);
  * schema`). Width and height ranges come from lim (NULL = defaults). */
 json_t *lc_proto_schema(const lc_proto_limits *lim);
 
+/* One field's value as the request emits it (a new reference), or NULL when
+ * it is unset (an optional value, an empty list). */
+json_t *lc_proto_field_json(const lc_request *r, const char *section, const char *name);
+
 /* Dumps JSON for the wire: compact, reals with 15 significant digits (so 0.1
  * prints as 0.1). Returns malloc'd text (free()) or NULL on allocation failure. */
 char *lc_proto_dump(const json_t *value);

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/random.h>
 
+#include "admit.h"
 #include "cost.h"
 #include "datasets.h"
 #include "detail_ladder.h"
@@ -99,7 +100,7 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     if (!s)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     s->dataset = ds;
-    /* The callers resolved the layers' datasets already (lc_session_resolve_layers). */
+    /* The callers resolved the layers' datasets already (lc_admit_resolve_layers). */
     for (int i = 0; i < initial->layer_count; i++)
         s->layer_ds[i] = lc_datasets_find(reg->srv->datasets, initial->layers[i].dataset);
     s->state_layers = -1; /* no state yet */
@@ -258,77 +259,6 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
     *h = ih < lo ? lo : ih > hi ? hi : ih;
 }
 
-int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost_out, const lc_field **field_out,
-                             lc_proto_error *pe)
-{
-    const lc_surface_request *s = &req->surface;
-    if (srv->mpi) /* the ranks hold scene shards; a field's surface is one process's work */
-        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method", "surface-layers is not served under --mpi");
-    const lc_field_entry *fe = lc_fields_find(lc_datasets_fields(srv->datasets), s->field);
-    if (!fe)
-        return lc_proto_set_error(pe, "not_found", "surface.field",
-                                  "unknown field \"%.200s\" (GET /api/v1/datasets lists the fields)", s->field);
-    lc_seed seed = {.count = s->seed_count};
-    memcpy(seed.points, s->seed, (size_t)s->seed_count * sizeof s->seed[0]);
-    lc_error e = {0};
-    if (lc_seed_check(&seed, fe->field, &e) != 0)
-        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "surface.seed", "%s", e.msg);
-    const double *b = fe->field->bounds;
-    double diag = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
-    int k = 1;
-    lc_surface_bytes(req->render.width, req->render.height, s->max_layers, &k);
-    double steps = lc_cost_surface_steps(diag, fe->field->mag_max, s->step, s->length), cost = 0;
-    const char *field = NULL;
-    char why[320];
-    int rc =
-        lc_cost_check_surface(&req->render, s->particles, steps, k, srv->cfg.max_cost, &cost, &field, why, sizeof why);
-    if (cost_out)
-        *cost_out = cost;
-    if (field_out)
-        *field_out = fe->field;
-    if (rc == 0)
-        return 0;
-    lc_metrics_refused(srv->metrics, "cost");
-    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
-}
-
-int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost_out,
-                            lc_proto_error *pe)
-{
-    if (req->render.method == LC_METHOD_SURFACE_LAYERS)
-        return lc_session_check_surface(srv, req, cost_out, NULL, pe);
-    double cost;
-    const char *field = NULL;
-    char why[320];
-    int rc = lc_cost_check(&ds->cost, &req->render, srv->cfg.max_cost, &cost, &field, why, sizeof why);
-    if (cost_out)
-        *cost_out = cost;
-    if (rc == 0)
-        return 0;
-    lc_metrics_refused(srv->metrics, "cost");
-    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
-}
-
-int lc_session_resolve_layers(lc_server *srv, const lc_request *req, const lc_dataset **out, lc_proto_error *pe)
-{
-    for (int i = 0; i < req->layer_count; i++) {
-        out[i] = lc_datasets_find(srv->datasets, req->layers[i].dataset);
-        if (!out[i]) {
-            char field[32];
-            snprintf(field, sizeof field, "layers[%d].dataset", i);
-            return lc_proto_set_error(pe, "not_found", field, "unknown dataset \"%.300s\"", req->layers[i].dataset);
-        }
-    }
-    return 0;
-}
-
-int lc_session_check_frame_budget(lc_server *srv, const lc_dataset *ds, const lc_dataset *const *layers,
-                                  const lc_request *req, double *cost, lc_proto_error *pe)
-{
-    return req->layer_count > 0 && layers ? lc_session_check_layers_budget(srv, layers, req, cost, pe)
-                                          : lc_session_check_budget(srv, ds, req, cost, pe);
-}
-
 int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int n, lc_error *err)
 {
     if (n == s->state_layers && memcmp(layers, s->state_ds, (size_t)n * sizeof *layers) == 0)
@@ -351,26 +281,6 @@ int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int
     return 0;
 }
 
-int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
-                                   lc_proto_error *pe)
-{
-    const lc_scene_measures *st[LC_MAX_LAYERS];
-    const lc_layer_params *layers[LC_MAX_LAYERS];
-    for (int i = 0; i < req->layer_count; i++)
-        st[i] = &ds[i]->cost, layers[i] = &req->layers[i].p;
-    const char *field = NULL;
-    char why[320];
-    double c = 0;
-    int rc = lc_cost_check_layers(st, layers, req->layer_count, &req->render, srv->cfg.max_cost, &c, &field, why,
-                                  sizeof why);
-    if (cost)
-        *cost = c;
-    if (rc == 0)
-        return 0;
-    lc_metrics_refused(srv->metrics, "cost");
-    return lc_proto_set_error(pe, "too_expensive", field, "%s", why);
-}
-
 int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto_limits *lim, lc_request *out,
                              lc_proto_error *pe)
 {
@@ -378,13 +288,13 @@ int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto
     int rc = update ? lc_proto_apply_request(update, lim, &req, pe) : 0;
     const lc_dataset *layers[LC_MAX_LAYERS];
     if (rc == 0)
-        rc = lc_session_resolve_layers(s->srv, &req, layers, pe);
+        rc = lc_admit_resolve_layers(s->srv, &req, layers, pe);
     if (rc == 0 && strcmp(req.dataset, s->dataset->name) != 0 &&
         lc_datasets_find(s->srv->datasets, req.dataset) != s->dataset)
         rc = lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset", "cannot change within a session (it is \"%s\")",
                                 s->dataset->name);
     if (rc == 0)
-        rc = lc_session_check_frame_budget(s->srv, s->dataset, layers, &req, NULL, pe);
+        rc = lc_request_admit(s->srv, update, &req, s->dataset, layers, NULL, pe);
     if (rc != 0)
         return rc;
     s->req = req;
@@ -624,7 +534,7 @@ int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *re
 {
     const lc_field *field = NULL; /* looked up again: the session's request may have changed since it was checked */
     lc_proto_error pe;
-    if (lc_session_check_surface(srv, req, NULL, &field, &pe) != 0)
+    if (lc_admit_surface(srv, req, NULL, &field, &pe) != 0)
         return lc_err_field(err, LC_ERR_INVALID, pe.field, "%s", pe.message);
     return lc_surface_stream_frame(&s->surface, field, &req->surface, &req->render, rgba, info, err);
 }

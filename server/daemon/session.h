@@ -208,30 +208,6 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
 
 /* ---- Updates (HTTP session renders and stream camera/params alike). */
 
-/* 0 when a frame of req on ds fits --max-cost (cost.h); else too_expensive
- * naming the field to lower, counted in the metrics. *cost (if given): the
- * estimate. */
-/* Method surface-layers (docs/ALGORITHM.md §23): the field must be loaded
- * (not_found naming surface.field), the seed must start inside it (naming
- * surface.seed), the frame must fit --max-cost (too_expensive naming
- * surface.particles); not under serve --mpi (naming method). *field (if
- * given): the field. lc_session_check_budget
- * calls it for such requests. */
-int lc_session_check_surface(lc_server *srv, const lc_request *req, double *cost, const lc_field **field,
-                             lc_proto_error *pe);
-int lc_session_check_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req, double *cost,
-                            lc_proto_error *pe);
-/* The same for a request with layers[] over their datasets (ds[i] of
- * req->layers[i]). */
-int lc_session_check_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
-                                   lc_proto_error *pe);
-/* Either of the two: layers (may be NULL) when req has layers[], else ds. */
-int lc_session_check_frame_budget(lc_server *srv, const lc_dataset *ds, const lc_dataset *const *layers,
-                                  const lc_request *req, double *cost, lc_proto_error *pe);
-/* layers[] (docs/ALGORITHM.md "Layers") in sessions: the dataset of each of
- * req's layers into out[i]; not_found naming layers[i].dataset for one not
- * loaded. 0 without layers. */
-int lc_session_resolve_layers(lc_server *srv, const lc_request *req, const lc_dataset **out, lc_proto_error *pe);
 /* Worker side, before a frame of s (the caller owns frame_state): makes
  * frame_state hold the elements of the n layers' datasets, in order (n = 0:
  * those of the session's dataset). A change of that set starts a new state,

@@ -193,8 +193,12 @@ with Server(binary, "--follow-symlinks", data=(data,), demo_size=0) as srv:
                                                                 "style": {"lineWidth": 9.2e18}})
     check(st == 400 and b"style.lineWidth" in body, "lineWidth 9.2e18 is refused naming the field: %s %s" %
           (st, body[:200]))
+    st, _, body = srv.request("POST", "/api/v1/render", body={"dataset": "plain", "width": 32, "height": 32,
+                                                              "style": {"lineWidth": 0.5}})
+    check(st == 400 and b'"style.lineWidth"' in body and b"applies to lines" in body,
+          "lineWidth 0.5 on points is refused as not applying, naming the field: %s %s" % (st, body[:200]))
     st, _, _ = srv.request("POST", "/api/v1/render", body={"dataset": "plain", "width": 32, "height": 32,
-                                                           "style": {"lineWidth": 0.5}})
-    check(st == 200, "lineWidth 0.5 still renders (%s)" % st)
+                                                           "style": {"pointSize": 0.5}})
+    check(st == 200, "pointSize 0.5 renders the points (%s)" % st)
 
 check.done()

@@ -2,7 +2,7 @@
 // state at once, to the server as one params message per animation frame.
 
 import { paramsMessage } from './protocol.js';
-import { setPath, merge } from './schema.js';
+import { setPath, merge, applicableUpdate } from './schema.js';
 import { attributeRange } from './ui.js';
 import { currentValues } from './app-state.js';
 
@@ -49,6 +49,8 @@ export function createParamsController(ctx) {
     }
     state.update = merge(state.update, change);
     pending = merge(pending ?? {}, change);
+    // a new method: the fields kept in the page's state that apply again go with it
+    if (path === 'method') pending = merge(pending, applicableUpdate(state.update, state.update.layers?.length ? null : state.info?.type ?? null));
     if (!frame) frame = ctx.frame(flush);
     ctx.changed();
   }

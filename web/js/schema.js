@@ -5,6 +5,9 @@
 // refuse, with the same field names in the messages.
 
 // Types: int, num, bool, str, enum, vec3, range (two numbers), color (three in [0,1]).
+// methods / primitives: where a field applies (protocol/request_scope.c); absent = everywhere.
+// The server refuses a field with a value other than its default elsewhere.
+const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit']);
 export const FIELDS = Object.freeze([
   { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
   {
@@ -19,86 +22,86 @@ export const FIELDS = Object.freeze([
   { section: 'camera', name: 'parallelProjection', alias: 'parallelProjection', type: 'bool' },
   { section: 'camera', name: 'parallelScale', alias: 'parallelScale', type: 'num', min: 0, loOpen: true },
 
-  { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6 },
-  { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6 },
-  { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000 },
-  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8 },
-  { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000 },
-  { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1 },
-  { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60 },
-  { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true },
-  { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024 },
-  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25 },
-  { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'] },
-  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'] },
-  { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'] },
-  { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16 },
-  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true },
-  { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true },
-  { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'] },
-  { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1 },
-  { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1 },
-  { section: 'params', name: 'autoSubset', alias: 'autoSubset', type: 'int', min: 1, max: 64 },
+  { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true, methods: ['fourier', 'wboit'] },
+  { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024, methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'], methods: ['fourier', 'wboit'] },
+  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'], methods: DATASET_METHODS },
+  { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'] },
+  { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: DATASET_METHODS },
+  { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit'] },
+  { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit'] },
+  { section: 'params', name: 'autoSubset', alias: 'autoSubset', type: 'int', min: 1, max: 64, methods: ['fourier', 'wboit'] },
 
-  { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63 },
-  { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range' },
-  { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true },
-  { section: 'importance', name: 'terms', alias: 'importanceTerms', type: 'terms', maxItems: 4 },
-  { section: 'importance', name: 'curve', alias: 'importanceCurve', type: 'curve', maxItems: 64 },
-  { section: 'importance', name: 'invert', alias: 'importanceInvert', type: 'bool' },
+  { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63, methods: DATASET_METHODS },
+  { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range', methods: DATASET_METHODS },
+  { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true, methods: DATASET_METHODS },
+  { section: 'importance', name: 'terms', alias: 'importanceTerms', type: 'terms', maxItems: 4, methods: DATASET_METHODS },
+  { section: 'importance', name: 'curve', alias: 'importanceCurve', type: 'curve', maxItems: 64, methods: DATASET_METHODS },
+  { section: 'importance', name: 'invert', alias: 'importanceInvert', type: 'bool', methods: DATASET_METHODS },
 
-  { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63 },
+  { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63, methods: DATASET_METHODS },
   {
     section: 'color', name: 'colormap', alias: 'colormap', type: 'enum',
-    values: ['viridis', 'coolwarm', 'grayscale', 'inferno', 'plasma', 'turbo'],
+    values: ['viridis', 'coolwarm', 'grayscale', 'inferno', 'plasma', 'turbo'], methods: DATASET_METHODS,
   },
-  { section: 'color', name: 'range', alias: 'colorRange', type: 'range' },
-  { section: 'color', name: 'curve', alias: 'colorCurve', type: 'curve', maxItems: 64 },
-  { section: 'color', name: 'equalize', alias: 'equalize', type: 'bool' },
-  { section: 'color', name: 'fixed', alias: 'colorFixed', type: 'ranges', maxItems: 4 },
-  { section: 'color', name: 'fadeHalfLife', alias: 'colorFadeHalfLife', type: 'num', min: 0, max: 60 },
+  { section: 'color', name: 'range', alias: 'colorRange', type: 'range', methods: DATASET_METHODS },
+  { section: 'color', name: 'curve', alias: 'colorCurve', type: 'curve', maxItems: 64, methods: DATASET_METHODS },
+  { section: 'color', name: 'equalize', alias: 'equalize', type: 'bool', methods: ['fourier', 'exact', 'direct'] },
+  { section: 'color', name: 'fixed', alias: 'colorFixed', type: 'ranges', maxItems: 4, methods: ['fourier', 'exact', 'direct'] },
+  { section: 'color', name: 'fadeHalfLife', alias: 'colorFadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'direct'] },
 
   { section: 'style', name: 'background', alias: 'background', type: 'color' },
-  { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0, max: 1e9 },
-  { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64 },
-  { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true },
-  { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'] },
-  { section: 'style', name: 'silhouetteExponent', alias: 'silhouetteExponent', type: 'num', min: 1, max: 100 },
-  { section: 'style', name: 'haloWidth', alias: 'haloWidth', type: 'num', min: 0, max: 64 },
-  { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1 },
-  { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1 },
-  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16 },
+  { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0, max: 1e9, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true, methods: DATASET_METHODS, primitives: ['points'] },
+  { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'], methods: DATASET_METHODS },
+  { section: 'style', name: 'silhouetteExponent', alias: 'silhouetteExponent', type: 'num', min: 1, max: 100, methods: DATASET_METHODS, primitives: ['surfaces'] },
+  { section: 'style', name: 'haloWidth', alias: 'haloWidth', type: 'num', min: 0, max: 64, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit'] },
 
-  { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8 },
+  { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
 
-  { section: 'lines', name: 'clusters', alias: 'clusters', type: 'int', min: 0, max: 1000000 },
+  { section: 'lines', name: 'clusters', alias: 'clusters', type: 'int', min: 0, max: 1000000, methods: DATASET_METHODS, primitives: ['lines'] },
   {
     section: 'lines', name: 'representative', alias: 'representative', type: 'enum',
-    values: ['important', 'mean', 'leastDistance'],
+    values: ['important', 'mean', 'leastDistance'], methods: DATASET_METHODS, primitives: ['lines'],
   },
-  { section: 'lines', name: 'linkage', alias: 'linkage', type: 'enum', values: ['complete', 'single', 'average'] },
-  { section: 'lines', name: 'liftImportance', alias: 'liftImportance', type: 'num', min: 0, max: 1000 },
-  { section: 'lines', name: 'liftColor', alias: 'liftColor', type: 'num', min: 0, max: 1000 },
+  { section: 'lines', name: 'linkage', alias: 'linkage', type: 'enum', values: ['complete', 'single', 'average'], methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'lines', name: 'liftImportance', alias: 'liftImportance', type: 'num', min: 0, max: 1000, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'lines', name: 'liftColor', alias: 'liftColor', type: 'num', min: 0, max: 1000, methods: DATASET_METHODS, primitives: ['lines'] },
 
-  { section: 'time', name: 'window', alias: 'timeWindow', type: 'range' },
-  { section: 'time', name: 'attribute', alias: 'timeAttribute', type: 'str', maxLength: 63 },
-  { section: 'time', name: 'markers', alias: 'timeMarkers', type: 'bool' },
+  { section: 'time', name: 'window', alias: 'timeWindow', type: 'range', methods: DATASET_METHODS, primitives: ['points', 'lines'] },
+  { section: 'time', name: 'attribute', alias: 'timeAttribute', type: 'str', maxLength: 63, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
+  { section: 'time', name: 'markers', alias: 'timeMarkers', type: 'bool', methods: DATASET_METHODS, primitives: ['lines'] },
 
   // surface: method "surface-layers" (a vector field's integral surface)
-  { section: 'surface', name: 'field', alias: 'surfaceField', type: 'str', maxLength: 127 },
-  { section: 'surface', name: 'seed', alias: 'surfaceSeed', type: 'seed', maxItems: 64 },
-  { section: 'surface', name: 'particles', alias: 'surfaceParticles', type: 'int', min: 1, max: 100000 },
-  { section: 'surface', name: 'step', alias: 'surfaceStep', type: 'num', min: 0 },
-  { section: 'surface', name: 'length', alias: 'surfaceLength', type: 'num', min: 0 },
-  { section: 'surface', name: 'epsilon', alias: 'surfaceEpsilon', type: 'num', min: 0, max: 1 },
-  { section: 'surface', name: 'opacity', alias: 'surfaceOpacity', type: 'num', min: 0, max: 1, loOpen: true },
-  { section: 'surface', name: 'maxLayers', alias: 'surfaceMaxLayers', type: 'int', min: 1, max: 64 },
+  { section: 'surface', name: 'field', alias: 'surfaceField', type: 'str', maxLength: 127, methods: ['surface-layers'] },
+  { section: 'surface', name: 'seed', alias: 'surfaceSeed', type: 'seed', maxItems: 64, methods: ['surface-layers'] },
+  { section: 'surface', name: 'particles', alias: 'surfaceParticles', type: 'int', min: 1, max: 100000, methods: ['surface-layers'] },
+  { section: 'surface', name: 'step', alias: 'surfaceStep', type: 'num', min: 0, methods: ['surface-layers'] },
+  { section: 'surface', name: 'length', alias: 'surfaceLength', type: 'num', min: 0, methods: ['surface-layers'] },
+  { section: 'surface', name: 'epsilon', alias: 'surfaceEpsilon', type: 'num', min: 0, max: 1, methods: ['surface-layers'] },
+  { section: 'surface', name: 'opacity', alias: 'surfaceOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: ['surface-layers'] },
+  { section: 'surface', name: 'maxLayers', alias: 'surfaceMaxLayers', type: 'int', min: 1, max: 64, methods: ['surface-layers'] },
   {
     section: 'surface', name: 'composite', alias: 'surfaceComposite', type: 'enum',
-    values: ['layers', 'weighted-average', 'weighted-sum'],
+    values: ['layers', 'weighted-average', 'weighted-sum'], methods: ['surface-layers'],
   },
-  { section: 'surface', name: 'color', alias: 'surfaceColor', type: 'color' },
-  { section: 'surface', name: 'curvesPerFrame', alias: 'surfaceCurvesPerFrame', type: 'int', min: 1, max: 100000 },
+  { section: 'surface', name: 'color', alias: 'surfaceColor', type: 'color', methods: ['surface-layers'] },
+  { section: 'surface', name: 'curvesPerFrame', alias: 'surfaceCurvesPerFrame', type: 'int', min: 1, max: 100000, methods: ['surface-layers'] },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
@@ -370,6 +373,39 @@ export function merge(base, update) {
     if (v && typeof v === 'object' && !Array.isArray(v) && out[k] && typeof out[k] === 'object' && !Array.isArray(out[k]))
       out[k] = merge(out[k], v);
     else out[k] = Array.isArray(v) ? [...v] : v && typeof v === 'object' ? merge({}, v) : v;
+  }
+  return out;
+}
+
+const scopeByPath = new Map([...FIELDS, ...REQUEST_TOP_FIELDS].map((f) => [fieldPath(f), f]));
+const PRIMITIVE_NAMES = { points: 'points', lines: 'lines', triangles: 'surfaces', surfaces: 'surfaces' };
+
+/** Whether field f applies under method (default fourier) to data of kind prim ('points', 'lines',
+ *  'triangles'; null = not known, as with layers of several kinds). */
+export function applies(f, method, prim) {
+  if (f.methods && !f.methods.includes(method ?? 'fourier')) return false;
+  return !(f.primitives && prim && !f.primitives.includes(PRIMITIVE_NAMES[prim] ?? prim));
+}
+
+/** update without the fields that do not apply under its method to data of kind prim: what the page
+ *  sends, while its own state keeps the rest for when they apply again (the server refuses a field
+ *  given where it does not apply). */
+export function applicableUpdate(update, prim) {
+  const method = update?.method ?? 'fourier';
+  const out = {};
+  for (const [k, v] of Object.entries(update ?? {})) {
+    const top = scopeByPath.get(k);
+    if (top) {
+      if (applies(top, method, prim)) out[k] = v;
+    } else if (v && typeof v === 'object' && !Array.isArray(v) && k !== 'camera') {
+      const kept = Object.fromEntries(Object.entries(v).filter(([n]) => {
+        const f = scopeByPath.get(`${k}.${n}`);
+        return !f || applies(f, method, prim);
+      }));
+      if (Object.keys(kept).length) out[k] = kept;
+    } else {
+      out[k] = v;
+    }
   }
   return out;
 }

@@ -5,7 +5,7 @@
 
 import { helloMessage, describeError, DEFAULT_WINDOW } from './protocol.js';
 import { cloneCamera, validateCamera, roundCamera } from './camera.js';
-import { UPDATE_SECTIONS, STREAM_FIELDS, merge } from './schema.js';
+import { UPDATE_SECTIONS, STREAM_FIELDS, merge, applicableUpdate } from './schema.js';
 import { datasetInfo, pageDefaults } from './app-state.js';
 
 export const RETRY_DELAYS_KEPT = 50;
@@ -98,7 +98,9 @@ export function createSessionController(ctx) {
     for (const f of STREAM_FIELDS) if (state.update[f.name] !== undefined) msg[f.name] = state.update[f.name];
     ctx.params.drop(); // the hello carries them
     ctx.camera.drop();
-    return helloMessage(msg);
+    // fields that do not apply to this method or kind of data stay in the page's state, not in the hello
+    const prim = state.update.layers?.length ? null : datasetInfo(state)?.type ?? null;
+    return helloMessage(applicableUpdate(msg, prim));
   }
 
   function onState(s, detail) {

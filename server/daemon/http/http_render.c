@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "admit.h"
 #include "colormap.h"
 #include "conn_limits.h"
 #include "datasets.h"
@@ -156,7 +157,8 @@ static enum MHD_Result queue_job(lc_http_req *ctx, struct MHD_Connection *c, con
 
 /* Queues a render and suspends the connection until it is done. Takes the
  * session reference (may be NULL); refuses (400, the field named) a request
- * whose estimated cost exceeds --max-cost. */
+ * that admit.h refuses: a field where it does not apply, what the renderer
+ * would refuse, a cost above --max-cost. */
 static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, const lc_request *req,
                                     const lc_dataset *ds, const lc_dataset *const *layers, lc_session *session,
                                     double dt)
@@ -164,8 +166,10 @@ static enum MHD_Result start_render(lc_http_req *ctx, struct MHD_Connection *c, 
     lc_server *srv = ctx->srv;
     double cost = 0;
     lc_proto_error pe;
-    int refused = layers ? lc_session_check_layers_budget(srv, layers, req, &cost, &pe)
-                         : lc_session_check_budget(srv, ds, req, &cost, &pe);
+    /* A session's update was admitted as it was applied (lc_session_update_locked);
+     * a one-shot request is judged whole here. */
+    int refused = session ? lc_admit_frame_budget(srv, ds, layers, req, &cost, &pe)
+                          : lc_request_admit(srv, NULL, req, ds, layers, &cost, &pe);
     if (refused != 0) {
         if (session) {
             pthread_mutex_lock(&session->lock);
@@ -191,7 +195,8 @@ static enum MHD_Result start_surface(lc_http_req *ctx, struct MHD_Connection *c,
     double cost = 0;
     const lc_field *field = NULL;
     lc_proto_error pe;
-    if (lc_session_check_surface(srv, req, &cost, &field, &pe) != 0)
+    if (lc_request_admit(srv, NULL, req, NULL, NULL, NULL, &pe) != 0 ||
+        lc_admit_surface(srv, req, &cost, &field, &pe) != 0) /* admitted; the field and cost to queue it */
         return strcmp(pe.code, "not_found") == 0 ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
                                                  : lc_http_proto_error(srv, c, &pe);
     return queue_job(ctx, c, req, NULL, NULL, NULL, 0.0, cost, field);
@@ -357,7 +362,7 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
         lc_request_default(&req);
     }
     const lc_dataset *layers[LC_MAX_LAYERS];
-    if (refuse_surface(&req, &pe) != 0 || lc_session_resolve_layers(srv, &req, layers, &pe) != 0)
+    if (refuse_surface(&req, &pe) != 0 || lc_admit_resolve_layers(srv, &req, layers, &pe) != 0)
         return lc_http_proto_error(srv, c, &pe);
     /* With layers[] the request may leave dataset out: the session's is layers[0]'s. */
     const lc_dataset *ds =
@@ -366,6 +371,8 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
         return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
     snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
     req.has_dt = false;
+    if (lc_request_admit(srv, NULL, &req, ds, layers, NULL, &pe) != 0)
+        return lc_http_proto_error(srv, c, &pe);
     lc_session *s = NULL;
     lc_error err = {0};
     if (lc_session_create(srv->sessions, LC_SESSION_HTTP, ds, &req, &s, &err) != 0)

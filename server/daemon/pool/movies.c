@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "admit.h"
 #include "camera.h"
 #include "camera_path.h"
 #include "cost.h"
@@ -430,7 +431,7 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
     }
     lc_request *req = &j->spec.request;
     /* layers[] (docs/ALGORITHM.md §24): their datasets resolved as a session's; the first is the movie's dataset. */
-    if (lc_session_resolve_layers(srv, req, j->layers, &pe) != 0) {
+    if (lc_admit_resolve_layers(srv, req, j->layers, &pe) != 0) {
         char field[sizeof pe.field + 8];
         snprintf(field, sizeof field, "request.%s", pe.field);
         reply_error(m, out, strcmp(pe.code, "not_found") == 0 ? 404 : 400, pe.code, field, "request.%s", pe.message);
@@ -452,17 +453,9 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
         free(j);
         return;
     }
-    if (req->layer_count > 0 && lc_session_check_layers_budget(srv, j->layers, req, &j->cost, &pe) != 0) {
-        reply_error(m, out, 400, pe.code, pe.field, "%s", pe.message); /* the sum of the layers' frames */
-        free(j);
-        return;
-    }
-    const char *field = NULL;
-    char why[320];
-    if (req->layer_count == 0 &&
-        lc_cost_check(&j->ds->cost, &req->render, srv->cfg.max_cost, &j->cost, &field, why, sizeof why) != 0) {
-        lc_metrics_refused(srv->metrics, "cost");
-        reply_error(m, out, 400, "too_expensive", field, "%s", why);
+    /* Every frame has this request's fields and size (the cameras differ): admitted once. */
+    if (lc_request_admit(srv, NULL, req, j->ds, j->layers, &j->cost, &pe) != 0) {
+        reply_error(m, out, 400, pe.code, pe.field, "%s", pe.message);
         free(j);
         return;
     }

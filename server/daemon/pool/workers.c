@@ -277,6 +277,7 @@ static void render_job(worker *wk, lc_render_job *job)
     lc_frame_info info;
     wk->large = w->nworkers > 1 && lc_yield_large(job->cost, atomic_load(&w->cost_rate));
     bool tiled = w->nworkers > 1 && !w->srv->mpi && !layer_count && /* not collective: every rank must tile alike */
+                 !(p->time.markers && p->time.has_window) && /* drawn once over the whole image */
                  (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
     lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "admit.h"
 #include "auth.h"
 #include "messages.h"
 #include "metrics.h"
@@ -54,7 +55,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
         return;
     }
     const lc_dataset *layers[LC_MAX_LAYERS];
-    if (lc_session_resolve_layers(srv, &req, layers, &pe) != 0) {
+    if (lc_admit_resolve_layers(srv, &req, layers, &pe) != 0) {
         answer_proto_error(srv, out, &pe);
         return;
     }
@@ -72,7 +73,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
      * session's request size from here on. */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &req.render.width,
                          &req.render.height);
-    if (lc_session_check_frame_budget(srv, ds, layers, &req, NULL, &pe) != 0) {
+    if (lc_request_admit(srv, m->update, &req, ds, layers, NULL, &pe) != 0) {
         answer_proto_error(srv, out, &pe);
         return;
     }
@@ -141,7 +142,9 @@ static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double no
     double dpr = m->has_device_pixel_ratio ? m->device_pixel_ratio : s->stream.device_pixel_ratio;
     lc_request req = s->req; /* a larger frame costs more (wider ribbons) */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req.render.width, &req.render.height);
-    int rc = lc_session_check_frame_budget(srv, s->dataset, s->layer_ds, &req, NULL, &pe);
+    json_t *none = json_object(); /* no field changes: the size's own refusals (tiles, cost) */
+    int rc = lc_request_admit(srv, none, &req, s->dataset, s->layer_ds, NULL, &pe);
+    json_decref(none);
     if (rc == 0) {
         s->stream.css_width = m->width;
         s->stream.css_height = m->height;

@@ -1,0 +1,93 @@
+/* Judges a parsed request against the scope table (request_check.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "request_check.h"
+#include "request_scope.h"
+
+/* One field: refused when it holds a non-default value where it does not apply. */
+static int check_field(const char *section, const char *name, const lc_request *r, const lc_request *def,
+                       unsigned prims, lc_proto_error *err)
+{
+    unsigned ms, ps;
+    lc_proto_field_scope(section, name, &ms, &ps);
+    bool method_ok = (ms >> r->render.method) & 1u;
+    bool prims_ok = prims == 0 || (ps & prims) != 0;
+    if (method_ok && prims_ok)
+        return 0;
+    json_t *v = lc_proto_field_json(r, section, name), *d = lc_proto_field_json(def, section, name);
+    bool is_default = v == NULL || (d != NULL && json_equal(v, d));
+    json_decref(v);
+    json_decref(d);
+    if (is_default)
+        return 0;
+    char path[96];
+    snprintf(path, sizeof path, "%s%s%s", section ? section : "", section ? "." : "", name);
+    if (!method_ok) {
+        char list[160];
+        lc_proto_method_list(ms, list, sizeof list);
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path,
+                                  "applies to method %s, not %s: leave it at its default or change method in the "
+                                  "same request",
+                                  list, lc_method_name(r->render.method));
+    }
+    char kinds[64] = "";
+    for (int k = 0; k < 3; k++)
+        if (ps & (1u << k)) {
+            size_t len = strlen(kinds);
+            snprintf(kinds + len, sizeof kinds - len, "%s%s", len ? " and " : "", lc_proto_prim_name(k));
+        }
+    char drawn[64] = "";
+    for (int k = 0; k < 3; k++)
+        if (prims & (1u << k)) {
+            size_t len = strlen(drawn);
+            snprintf(drawn + len, sizeof drawn - len, "%s%s", len ? " and " : "", lc_proto_prim_name(k));
+        }
+    return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path,
+                              "applies to %s; this frame draws %s: leave it at its default", kinds, drawn);
+}
+
+int lc_proto_check_scope(const json_t *given, const lc_request *r, unsigned prims, lc_proto_error *err)
+{
+    lc_request *def = malloc(sizeof *def); /* lc_request holds its layers inline: off the stack */
+    if (!def)
+        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "out of memory");
+    lc_request_default(def);
+    int rc = 0;
+    if (given == NULL) {
+        json_t *schema = lc_proto_schema(NULL);
+        size_t i;
+        json_t *f;
+        json_array_foreach(schema, i, f)
+        {
+            const json_t *sec = json_object_get(f, "section");
+            rc = check_field(json_is_string(sec) ? json_string_value(sec) : NULL,
+                             json_string_value(json_object_get(f, "name")), r, def, prims, err);
+            if (rc)
+                break;
+        }
+        json_decref(schema);
+    } else if (json_is_object(given)) {
+        const char *key;
+        const json_t *v;
+        json_object_foreach((json_t *)given, key, v)
+        {
+            if (json_is_object(v) && strcmp(key, "camera") != 0) { /* a section; layers are an array */
+                const char *name;
+                const json_t *m;
+                json_object_foreach((json_t *)v, name, m)
+                {
+                    if ((rc = check_field(key, name, r, def, prims, err)) != 0)
+                        break;
+                }
+            } else if (strcmp(key, "camera") != 0) {
+                rc = check_field(NULL, key, r, def, prims, err);
+            }
+            if (rc)
+                break;
+        }
+    }
+    free(def);
+    return rc;
+}

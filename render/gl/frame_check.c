@@ -1,0 +1,194 @@
+/* The renderer's refusals, without GL (frame_check.h says who calls it). Each
+ * names the request field to change, and says how. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cluster.h"
+#include "frame_check.h"
+#include "renderer.h" /* lc_pass_plan_tiles */
+
+/* What a layered frame leaves out, each refused naming its field. */
+static int check_layered(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
+                         lc_error *err)
+{
+    if (n < 1 || n > LC_MAX_LAYERS)
+        return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", n, LC_MAX_LAYERS);
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_EXACT && p->method != LC_METHOD_DIRECT)
+        return lc_err_field(err, LC_ERR_INVALID, "method", "layers render with fourier, exact or direct, not %s",
+                            lc_method_name(p->method));
+    if (p->filter_count > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "filter", "filters apply to one dataset, not to layers");
+    if (p->time.has_window)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "time windows apply to one dataset, not to layers");
+    if (p->clusters.count > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "line clusters apply to one dataset, not to layers");
+    if (p->color.equalize)
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "not with layers");
+    if (p->foo.guard_band > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "params.guardBand", "not with layers");
+    uint64_t elements = 0;
+    for (int i = 0; i < n; i++) {
+        if (layers[i].role == LC_LAYER_CONTEXT && scenes[i]->type == LC_PRIM_POINTS) {
+            char field[32];
+            snprintf(field, sizeof field, "layers[%d].role", i);
+            return lc_err_field(err, LC_ERR_INVALID, field, "a context layer is lines or a surface; %s is points",
+                                scenes[i]->name);
+        }
+        elements += scenes[i]->elements.count;
+    }
+    if (elements > (1u << 24)) /* the elements of all layers share the renderer's buffers */
+        return lc_err_field(err, LC_ERR_INVALID, "layers", "the layers hold %llu elements, more than %u",
+                            (unsigned long long)elements, 1u << 24);
+    return 0;
+}
+
+/* Attribute names of the importance and colour mapping (prefix: "" or "layers[i]."). */
+static int check_mapping(const lc_scene *s, const lc_importance_map *imp, const lc_color_map *col, const char *prefix,
+                         lc_error *err)
+{
+    char field[64];
+    double sum_abs = 0;
+    for (int i = 0; i < imp->term_count && i < LC_MAX_IMPORTANCE_TERMS; i++) {
+        snprintf(field, sizeof field, "%simportance.terms[%d].attribute", prefix, i);
+        if (lc_scene_find_attribute(s, imp->terms[i].attribute) < 0)
+            return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name,
+                                imp->terms[i].attribute);
+        sum_abs += imp->terms[i].weight < 0 ? -imp->terms[i].weight : imp->terms[i].weight;
+    }
+    if (imp->term_count > 0 && !(sum_abs > 0)) {
+        snprintf(field, sizeof field, "%simportance.terms", prefix);
+        return lc_err_field(err, LC_ERR_INVALID, field, "every weight is 0");
+    }
+    const char *a = imp->attribute[0] ? imp->attribute : s->default_importance;
+    if (imp->term_count == 0 && a[0] && lc_scene_find_attribute(s, a) < 0) {
+        snprintf(field, sizeof field, "%simportance.attribute", prefix);
+        return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, a);
+    }
+    const char *c = col->attribute[0] ? col->attribute : s->default_color;
+    snprintf(field, sizeof field, "%scolor.attribute", prefix);
+    if (strcmp(c, "rgb") == 0 && !lc_scene_has_rgb(s))
+        return lc_err_field(err, LC_ERR_INVALID, field, "%s has no per-vertex RGB", s->name);
+    if (c[0] && strcmp(c, "rgb") != 0 && strcmp(c, "importance") != 0 && lc_scene_find_attribute(s, c) < 0)
+        return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, c);
+    return 0;
+}
+
+/* color.equalize on one dataset (fields that apply to other methods: protocol's scope table). */
+static int check_equalize(const lc_scene *s, const lc_render_params *p, lc_error *err)
+{
+    if (!p->color.equalize)
+        return 0;
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_EXACT)
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
+                            "equalized colour needs method \"fourier\", \"direct\" or \"exact\", not \"%s\"",
+                            lc_method_name(p->method));
+    const char *c = p->color.attribute[0] ? p->color.attribute : s->default_color;
+    if (strcmp(c, "rgb") == 0)
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "per-vertex RGB colour has no colormap to equalize");
+    if (p->color.fixed_count > 0 && p->color.curve.count > 0)
+        return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "fixed ranges cannot be combined with color.curve");
+    return 0;
+}
+
+/* Hard filters and the time window, on the one dataset. */
+static int check_filters(const lc_scene *s, const lc_render_params *p, lc_error *err)
+{
+    for (int i = 0; i < p->filter_count; i++) {
+        const lc_filter *f = &p->filters[i];
+        char field[40];
+        snprintf(field, sizeof field, "filter[%d].attribute", i);
+        if (lc_scene_find_attribute(s, f->attribute) < 0)
+            return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, f->attribute);
+        snprintf(field, sizeof field, "filter[%d].over", i);
+        if (s->type == LC_PRIM_TRIANGLES)
+            return lc_err_field(err, LC_ERR_INVALID, field, "%s is a surface: only lines and points can be filtered",
+                                s->name);
+        if (s->type == LC_PRIM_POINTS && f->over != LC_FILTER_VERTEX)
+            return lc_err_field(err, LC_ERR_INVALID, field, "%s has points, not lines: use \"vertex\"", s->name);
+        if (s->type == LC_PRIM_LINES && f->over == LC_FILTER_VERTEX)
+            return lc_err_field(err, LC_ERR_INVALID, field,
+                                "%s has lines: filter them by min, max, mean, first, last or change", s->name);
+        if (s->type == LC_PRIM_LINES && !s->line_offsets)
+            return lc_err_field(err, LC_ERR_INVALID, field, "%s keeps no line offsets", s->name);
+    }
+    const lc_time_window *t = &p->time;
+    if (!t->has_window)
+        return 0;
+    if (!(t->window[0] <= t->window[1]))
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "t0 %g is after t1 %g", t->window[0], t->window[1]);
+    if (s->type == LC_PRIM_TRIANGLES)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window",
+                            "%s is a surface: time windows apply to lines and points", s->name);
+    if (s->type == LC_PRIM_LINES && !s->line_offsets)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "%s keeps no line offsets", s->name);
+    if (p->filter_count >= LC_MAX_FILTERS)
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "at most %d filters with a time window",
+                            LC_MAX_FILTERS - 1);
+    if (t->attribute[0]) {
+        if (lc_scene_find_attribute(s, t->attribute) < 0)
+            return lc_err_field(err, LC_ERR_INVALID, "time.attribute", "%s has no attribute \"%s\"", s->name,
+                                t->attribute);
+        return 0;
+    }
+    static const char *const names[] = {"time", "t", "frame", "timestep"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (lc_scene_find_attribute(s, names[i]) >= 0)
+            return 0;
+    return lc_err_field(err, LC_ERR_INVALID, "time.attribute",
+                        "%s has no time: no attribute time, t, frame or timestep (name one in time.attribute)",
+                        s->name);
+}
+
+static int check_clusters(const lc_scene *s, const lc_render_params *p, lc_error *err)
+{
+    if (p->clusters.count <= 0 || s->type != LC_PRIM_LINES)
+        return 0; /* other kinds: protocol's scope table refuses lines.* */
+    if (s->line_count > LC_CLUSTER_MAX_LINES)
+        return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
+                            "%s has %u lines; clustering is limited to %u lines", s->name, s->line_count,
+                            LC_CLUSTER_MAX_LINES);
+    if (s->part_of > 0 || s->vertex_base > 0)
+        return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
+                            "%s is split across processes; clustering needs every line in one process", s->name);
+    return 0;
+}
+
+int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
+                    int tile_size, lc_error *err)
+{
+    if (p->method == LC_METHOD_SURFACE_LAYERS) /* a field's surface: lc_surface_render checks its own */
+        return 0;
+    int rc = 0, context = 0;
+    if (layers) {
+        if ((rc = check_layered(scenes, layers, n, p, err)) != 0)
+            return rc;
+        for (int i = 0; i < n; i++) {
+            char prefix[24];
+            snprintf(prefix, sizeof prefix, "layers[%d].", i);
+            if ((rc = check_mapping(scenes[i], &layers[i].importance, &layers[i].color, prefix, err)) != 0)
+                return rc;
+            context |= layers[i].visible && layers[i].role == LC_LAYER_CONTEXT;
+        }
+    } else {
+        const lc_scene *s = scenes[0];
+        if ((rc = check_mapping(s, &p->importance, &p->color, "", err)) != 0 || (rc = check_equalize(s, p, err)) != 0 ||
+            (rc = check_filters(s, p, err)) != 0 || (rc = check_clusters(s, p, err)) != 0)
+            return rc;
+    }
+    int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
+    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
+    int jittered = composites && p->style.antialias > 1;
+    if (context && (tiles || jittered)) /* drawn once, unjittered, untiled */
+        return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",
+                            "a context layer is drawn in one untiled, unjittered frame: %s",
+                            tiles ? "render at most 4096x4096" : "antialias 1");
+    if (p->time.markers && p->time.has_window && (tiles || jittered)) /* drawn once over the image */
+        return lc_err_field(err, LC_ERR_INVALID, "time.markers",
+                            "markers are drawn over one untiled, unjittered image: %s",
+                            tiles ? "render at most 4096x4096" : "antialias 1");
+    if (p->foo.guard_band > 0 && p->foo.depth_range == LC_DEPTH_RANGE_PIXEL)
+        return lc_err_field(err, LC_ERR_INVALID, "params.guardBand",
+                            "the optimization's wider view needs depthRange \"global\", \"moments\" or \"auto\", "
+                            "not \"pixel\"");
+    return 0;
+}

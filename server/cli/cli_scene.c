@@ -5,7 +5,9 @@
 #include <string.h>
 
 #include "cli.h"
+#include "frame_check.h"
 #include "memory.h"
+#include "request_check.h"
 
 /* Loads layer i's dataset spec (demo:NAME[?count=N&seed=S] or a file) with
  * --elements applied; errors name layers[i].dataset, as the daemon's 404. */
@@ -40,6 +42,28 @@ static int check_memory(const lc_cli_scene *s, const lc_cli_common *common, lc_e
                         need / 1e6, common->max_memory / 1e6);
 }
 
+/* What the daemon refuses of a request when it arrives (admit.h), refused
+ * here before the first frame: a field where it does not apply, what the
+ * renderer refuses of it on these scenes. */
+static int admit(const char *cmd, const lc_request *req, const lc_cli_scene *s)
+{
+    unsigned prims = 0;
+    for (int i = 0; i < s->count; i++)
+        prims |= 1u << s->scenes[i]->type;
+    lc_proto_error pe;
+    if (lc_proto_check_scope(NULL, req, prims, &pe) != 0) {
+        fprintf(stderr, "lucent %s: %s\n", cmd, pe.message);
+        return 1;
+    }
+    lc_error err = {0};
+    if (lc_render_check((const lc_scene *const *)s->scenes, s->layer_count ? s->layers : NULL,
+                        s->layer_count ? s->layer_count : 1, &req->render, 0, &err) != 0) {
+        fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
+        return 1;
+    }
+    return 0;
+}
+
 int lc_cli_scene_open(const char *cmd, const lc_request *req, const lc_cli_common *common, lc_cli_scene *out,
                       lc_cli_gl *g)
 {
@@ -49,7 +73,7 @@ int lc_cli_scene_open(const char *cmd, const lc_request *req, const lc_cli_commo
         if (lc_cli_open(cmd, req, common, &out->scenes[0], g) != 0)
             return 1;
         out->count = 1;
-        if (lc_cli_upload(cmd, common, out->scenes[0], &out->gpu[0]) == 0)
+        if (admit(cmd, req, out) == 0 && lc_cli_upload(cmd, common, out->scenes[0], &out->gpu[0]) == 0)
             return 0;
         lc_cli_scene_close(out, g);
         return 1;
@@ -67,6 +91,10 @@ int lc_cli_scene_open(const char *cmd, const lc_request *req, const lc_cli_commo
     }
     if (rc == 0)
         rc = check_memory(out, common, &err);
+    if (rc == 0 && admit(cmd, req, out) != 0) {
+        lc_cli_scene_close(out, g);
+        return 1;
+    }
     if (rc == 0)
         rc = lc_cli_gl_open(common->device, g, &err);
     if (rc != 0) {

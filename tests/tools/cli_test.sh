@@ -68,7 +68,9 @@ cat >"$tmp/req.json" <<'JSON'
 JSON
 expect_ok "render request" "$LUCENT" render --request "$tmp/req.json" --out "$tmp/r.png"
 [ "$(image_size "$tmp/r.png")" = "256 192" ] && ok || bad "request size: $(image_size "$tmp/r.png")"
-expect_ok "flags override request" "$LUCENT" render --request "$tmp/req.json" --size 64x48 --bands 3 --method opaque --out "$tmp/r2.png"
+expect_ok "flags override request" "$LUCENT" render --request "$tmp/req.json" --size 64x48 --bands 3 --method direct --out "$tmp/r2.png"
+expect_fail "a field where it does not apply (bands with opaque)" "params.bands: applies to method" \
+  "$LUCENT" render --request "$tmp/req.json" --size 64x48 --bands 3 --method opaque --out "$tmp/r3.png"
 [ "$(image_size "$tmp/r2.png")" = "64 48" ] && ok || bad "override size: $(image_size "$tmp/r2.png")"
 for m in fourier opaque direct wboit; do
   expect_ok "method $m" "$LUCENT" render --dataset demo:abc --size 96x96 --method "$m" --out "$tmp/m_$m.png"

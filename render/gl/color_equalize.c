@@ -10,6 +10,8 @@
 
 _Static_assert(LC_EQUALIZE_BINS == 256, "shader colour histogram bins");
 
+#define EQUALIZE_SETTLED (0.25f / LC_EQUALIZE_BINS) /* F's largest step left when a session's colours have settled */
+
 int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err)
 {
     const lc_render_params *p = fs->params;
@@ -168,6 +170,15 @@ int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
         r->eq_valid = 1;
         color_ticks(fs, r->eq_knots);
         lc_frame_state_equalize(state, target, dt, c->fade_half_life);
+        /* The stream goes on until F has reached this view's (a session sends no
+         * frame once a frame reports converged): within a quarter of one of the
+         * colormap's 256 steps. */
+        const float *next = lc_frame_state_equalize_knots(state);
+        for (int i = 0; next && fs->info && i <= LC_EQUALIZE_BINS; i++)
+            if (fabsf(next[i] - target[i]) > EQUALIZE_SETTLED) {
+                fs->info->converged = 0;
+                break;
+            }
         return 0;
     }
     /* One-shot frames and a session's first: composite again with this view's F. */

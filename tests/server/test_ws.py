@@ -348,6 +348,30 @@ async def detail(srv):
                                                                               if k != "image"})
 
 
+async def colors_settle(srv):
+    """color.equalize in a session: after a jump of the camera the colour map keeps approaching the new view's
+    (frames keep coming though the opacities settled) until it is that view's: the last frame's legend ticks
+    are the one-shot render's of the same request."""
+    cam = {"position": [9, 3, 2], "focalPoint": [3.1, 3.1, 3.1], "viewUp": [0, 0, 1], "viewAngle": 30}
+    color = {"equalize": True, "fadeHalfLife": 0.25}
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "dataset": "demo:abc", "width": 64, "height": 48,
+                                  "devicePixelRatio": 1, "color": color}))
+        first = await wait_for_stream_done(ws)
+        await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": cam}))
+        got = await wait_for_stream_done(ws, lambda h: h.get("cameraSeq") == 1)
+    frames = [m for m in got if m.get("type") == "frame"]
+    st, h, _ = srv.request("POST", "/api/v1/render", {"dataset": "demo:abc", "width": 64, "height": 48,
+                                                     "camera": cam, "color": color, "format": "jpeg"})
+    want = [float(x) for x in h.get("x-lucent-color-ticks", "").split(",") if x]
+    last = frames[-1].get("colorTicks") if frames else None
+    span = (want[4] - want[0]) if len(want) == 5 else 1
+    check(first.reached and got.reached and st == 200 and last and len(want) == 5 and
+          max(abs(a - b) for a, b in zip(last, want)) <= 0.02 * span,
+          "after a camera jump the session's colours settle on the view's own (%d frames; ticks %s, one-shot %s)" %
+          (len(frames), last, want))
+
+
 async def main():
     # --still-delay 1000: frames begun within a second of the last input are
     # interactive ones, so that the burst's moving frames are moving frames
@@ -358,6 +382,8 @@ async def main():
         await bad_input(srv)
         await stats(srv)
         await shutdown(srv)
+    with Server(binary, data=("demo:abc",), demo_size=100) as srv:
+        await colors_settle(srv)
     with Server(binary, "--still-delay", "150", "--frame-budget", "5", data=("demo:tornado",), demo_size=60) as srv:
         await detail(srv)
 

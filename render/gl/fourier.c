@@ -164,6 +164,8 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, t->width, t->height, subset);
         lc_uniform_f(prog, "u_weight", lc_renderer_subset(lf, subset));
+        if (kind == PROG_P1_LIST)
+            lc_uniform_u(prog, "u_fragment_capacity", (unsigned)r->fragment_capacity);
         lc_renderer_draw_geometry(lf, subset);
     }
     r->draw_yields = 0;
@@ -224,6 +226,29 @@ int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     return 0;
 }
 
+/* P2's uniforms (opacity_common.glsl), drawn or over P1's fragment list. */
+static void set_opacity_uniforms(GLuint prog, const lc_render_params *p)
+{
+    lc_uniform_f(prog, "u_q", p->foo.q);
+    lc_uniform_f(prog, "u_r", p->foo.r);
+    lc_uniform_f(prog, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
+    lc_uniform_f(prog, "u_norm_mass", lc_foo_norm_mass(&p->foo));
+    lc_uniform_i(prog, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    lc_uniform_f(prog, "u_target_opacity", lc_foo_target_opacity(&p->foo));
+}
+
+/* P3 smoothing and fading after P2, and the visibility report. */
+static int smooth_and_report(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt,
+                             lc_frame_info *info, lc_error *err)
+{
+    lc_mass_report(r, fs, info);
+    int rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
+    if (!rc && !fs->layer_count) /* the report ranks one dataset's elements by importance */
+        rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
+    lc_renderer_timestamp(r, LC_PASS_SMOOTH);
+    return rc;
+}
+
 /* P1 + P2 (+ P3): element opacities for the frame. */
 int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
                         lc_error *err)
@@ -238,22 +263,37 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     info->p1_subset = fs->p1_subset > 0 ? fs->p1_subset : p->foo.subset;
     int rc = 0;
     if (!fs->p1_done) {
-        rc = draw_summed(r, fs, PROG_P1, bands, info->p1_subset, &r->coef_low, err);
+        /* P1 records its fragments for P2 where that is allowed (fragment_list.c). */
+        int record = lc_fragment_list_wanted(r, info->p1_subset);
+        r->fragments_ready = 0;
+        if (record)
+            lc_fragment_list_begin(r, fs);
+        rc = draw_summed(r, fs, record ? PROG_P1_LIST : PROG_P1, bands, info->p1_subset, &r->coef_low, err);
+        if (!rc && record)
+            lc_fragment_list_end(r);
         if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)
             return rc;
         fs->p1_done = 1;
         info->importance_passes++;
+        /* Stamped only when P1 ran: the clarity loop's later tries would
+         * otherwise restart P1's slot after the earlier tries' P2 and P3, and
+         * report their time as P1's. "opacity" then spans every try's P2. */
+        lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
     }
-    lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
     if ((rc = lc_renderer_yield_point(r, err)) != 0)
         return rc;
 
-    /* P2 optimal opacity into the element minimum buffer. The element
+    /* P2 optimal opacity into the element minimum buffer: over P1's
+     * fragment list when P1 recorded one, else drawn. The element
      * importance of its emphasis on patches (a dispatch of its own, once per
      * mapping) comes first; layered frames go without (it ranks one
      * dataset's elements, as the visibility report does). */
+    GLuint listed = r->fragments_ready ? lc_fragment_list_program(r, bands, err) : 0;
+    if (r->fragments_ready && !listed)
+        return LC_ERR_GL;
+    info->opacity_from_list = listed != 0;
     if (!fs->layer_count) {
-        GLuint p2 = lc_renderer_geometry_program(r, PROG_P2, fs->gs->scene->type, bands, 1, err);
+        GLuint p2 = listed ? listed : lc_renderer_geometry_program(r, PROG_P2, fs->gs->scene->type, bands, 1, err);
         if (!p2)
             return LC_ERR_GL;
         if ((rc = lc_element_emphasis_bind(r, fs, p2, err)) != 0)
@@ -264,6 +304,23 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_occluders_clear(r);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT);
+    if (listed) {
+        if (fs->layer_count) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_G, r->dummy_buffer);
+            lc_uniform_i(listed, "u_element_emphasis", 0);
+        }
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
+        lc_bind_coefficients(&r->coef_low);
+        set_opacity_uniforms(listed, p);
+        lc_fragment_list_dispatch(r, listed);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        if ((rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err)) != 0)
+            return rc;
+        lc_renderer_timestamp(r, LC_PASS_OPACITY);
+        if ((rc = lc_renderer_yield_point(r, err)) != 0)
+            return rc;
+        return smooth_and_report(r, fs, state, dt, info, err);
+    }
     glDisable(GL_BLEND);
     if (r->nofb_w != lw || r->nofb_h != lh) {
         glNamedFramebufferParameteri(r->nofb, GL_FRAMEBUFFER_DEFAULT_WIDTH, lw);
@@ -286,12 +343,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             lc_uniform_i(p2, "u_element_emphasis", 0);
         }
         lc_bind_coefficients(&r->coef_low);
-        lc_uniform_f(p2, "u_q", p->foo.q);
-        lc_uniform_f(p2, "u_r", p->foo.r);
-        lc_uniform_f(p2, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
-        lc_uniform_f(p2, "u_norm_mass", lc_foo_norm_mass(&p->foo));
-        lc_uniform_i(p2, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
-        lc_uniform_f(p2, "u_target_opacity", lc_foo_target_opacity(&p->foo));
+        set_opacity_uniforms(p2, p);
         lc_renderer_draw_geometry(lf, 1);
     }
     r->draw_yields = 0;
@@ -302,13 +354,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     if ((rc = lc_renderer_yield_point(r, err)) != 0)
         return rc;
 
-    /* P3 smoothing and fading. */
-    lc_mass_report(r, fs, info);
-    rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
-    if (!rc && !fs->layer_count) /* the report ranks one dataset's elements by importance */
-        rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
-    lc_renderer_timestamp(r, LC_PASS_SMOOTH);
-    return rc;
+    return smooth_and_report(r, fs, state, dt, info, err);
 }
 
 /* P4..P6 with the element opacities (or alpha = g^k when direct). */

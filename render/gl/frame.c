@@ -27,6 +27,7 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
     if (desc)
         r->desc = *desc;
     lc_pipeline_configure((const char *)glGetString(GL_RENDERER));
+    lc_fragment_list_configure((const char *)glGetString(GL_RENDERER));
     glCreateVertexArrays(1, &r->vao);
     /* Line ribbons are strips separated by LC_STRIP_RESTART (gpu_scene.c);
      * triangle index buffers never hold that index. */
@@ -74,6 +75,7 @@ void lc_renderer_destroy(lc_renderer *r)
         return;
     lc_exact_destroy(r);
     lc_context_destroy(r);
+    lc_fragment_list_release(r);
     if (r->marker_program)
         glDeleteProgram(r->marker_program);
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
@@ -83,6 +85,12 @@ void lc_renderer_destroy(lc_renderer *r)
                     for (int c = 0; c < 2; c++)
                         if (r->geometry_programs[k][p][b][v][c])
                             glDeleteProgram(r->geometry_programs[k][p][b][v][c]);
+    for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
+        for (int p = 0; p < 3; p++)
+            for (int b = 0; b <= LC_MAX_BANDS; b++)
+                for (int v = 0; v < 2; v++)
+                    if (r->floor_programs[k][p][b][v])
+                        glDeleteProgram(r->floor_programs[k][p][b][v]);
     for (int k = 0; k < PROG_FIXED_KINDS - PROG_GEOMETRY_KINDS; k++)
         if (r->fixed_programs[k])
             glDeleteProgram(r->fixed_programs[k]);
@@ -120,7 +128,12 @@ uint64_t lc_renderer_bytes(const lc_renderer *r)
 {
     uint64_t points = r->point_histogram ? POINT_BINS * 4 + ((uint64_t)r->point_list_capacity + 1) * 4 : 0;
     uint64_t filter = r->filter.mask ? ((uint64_t)r->filter.mask_words + r->filter.offset_words) * 4 : 0;
-    return r->bytes_targets + r->bytes_elements + points + filter + r->line_select_bytes + r->line_kept_bytes;
+    /* P1's fragment list: the entries frames wrote (the rest of its capacity
+     * is address space that llvmpipe never touches; fragment_list.c). */
+    uint64_t seen = r->fragment_seen < r->fragment_capacity ? r->fragment_seen : r->fragment_capacity;
+    uint64_t fragments = r->fragment_list ? 16 + 16 * seen : 0;
+    return r->bytes_targets + r->bytes_elements + points + filter + r->line_select_bytes + r->line_kept_bytes +
+           fragments;
 }
 
 uint64_t lc_renderer_element_bytes(const lc_renderer *r)
@@ -697,6 +710,10 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
      * Fourier passes, so that the next exact frame allocates them anew. */
     lc_exact_release(r);
     lc_render_params tiny = *p;
+    /* P1's fragment list, sized by this frame: the 8x8 frames would not
+     * shrink it (fragment_list.c keeps the largest count seen). */
+    lc_fragment_list_release(r);
+    r->fragment_seen = 0;
     tiny.width = tiny.height = 8;
     if (tiny.method == LC_METHOD_EXACT)
         tiny.method = LC_METHOD_FOURIER;

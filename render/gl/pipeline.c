@@ -464,6 +464,9 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
         per_batch = share < SOFTWARE_BATCH_MIN ? SOFTWARE_BATCH_MIN : share < per_batch ? share : per_batch;
     }
     GLsync in_flight[2] = {0, 0};
+    int no_raster = fs->renderer && fs->renderer->floor == LC_FLOOR_NO_RASTER; /* lc_renderer_set_floor */
+    if (no_raster)
+        glEnable(GL_RASTERIZER_DISCARD);
     if (prim == LC_PRIM_LINES && subset <= 1 && fs->kept_line_indices[0] + fs->kept_line_indices[1]) {
         draw_kept_lines(fs, pulled, per_batch, in_flight);
     } else if (prim == LC_PRIM_LINES && !pulled) {
@@ -484,6 +487,8 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     for (int i = 0; i < 2; i++)
         if (in_flight[i])
             glDeleteSync(in_flight[i]);
+    if (no_raster)
+        glDisable(GL_RASTERIZER_DISCARD);
 }
 
 void lc_bind_coefficients(const lc_targets *t)

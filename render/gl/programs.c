@@ -126,14 +126,20 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     int pulled = lc_pulls_primitives(prim, subset, r->pull_lines);
     int sprites = prim == LC_PRIM_POINTS && r->point_sprites; /* points never pull: the variant slots share */
     int context = r->context_layers != 0;
-    GLuint *slot = &r->geometry_programs[kind][prim][bands][pulled | sprites][context];
+    /* lc_renderer_set_floor's empty shaders: a variant of their own, never
+     * with a context layer (the floor is measured on plain frames). */
+    int floor = r->floor == LC_FLOOR_EMPTY_SHADER && !context;
+    GLuint *slot = floor ? &r->floor_programs[kind][prim][bands][pulled | sprites]
+                         : &r->geometry_programs[kind][prim][bands][pulled | sprites][context];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
     static const char *const fs_p1[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
                                         "p1_importance.frag.glsl", NULL};
-    static const char *const fs_p2[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
-                                        "occluders.glsl", "p2_opacity.frag.glsl", NULL};
+    static const char *const fs_p1_list[] = {"common.glsl",           "fragment_common.glsl",    "coefficient_output.glsl",
+                                             "fragment_list.glsl",    "p1_importance.frag.glsl", NULL};
+    static const char *const fs_p2[] = {"common.glsl",    "fragment_common.glsl",  "coefficients.glsl",
+                                        "occluders.glsl", "opacity_common.glsl", "p2_opacity.frag.glsl", NULL};
     static const char *const fs_p4[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
                                         "p4_optical_depth.frag.glsl", NULL};
     static const char *const fs_p5[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
@@ -145,17 +151,19 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_hist[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                           "color_histogram.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
-        fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist};
+        fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist,
+        fs_p1_list};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
-        "colour histogram", "colour histogram (direct)"};
+        "colour histogram", "colour histogram (direct)", "P1 (recording)"};
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT || kind == PROG_COLOR_HISTOGRAM;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
-    char defines[256];
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s", (int)prim, bands,
+    char defines[320];
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s", (int)prim, bands,
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
              pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
-             context ? "#define CONTEXT_DEPTH 1\n" : "");
+             context ? "#define CONTEXT_DEPTH 1\n" : "", floor ? "#define FLOOR_EMPTY 1\n" : "",
+             kind == PROG_P1_LIST ? "#define RECORD_FRAGMENTS 1\n" : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,
              pulled    ? ", subset"
@@ -163,7 +171,20 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                        : "",
              context ? ", context" : "");
     *slot = lc_renderer_build_program(defines, vs, fs_by_kind[kind], NULL, label, err);
+    if (*slot && floor) /* fragment_common.glsl's FLOOR_RETURN: taken at run time, so nothing is compiled away */
+        lc_uniform_i(*slot, "u_floor_empty", 1);
     return *slot;
+}
+
+void lc_renderer_set_floor(lc_renderer *r, lc_floor_mode mode)
+{
+    r->floor = mode >= LC_FLOOR_FULL && mode < LC_FLOOR_COUNT ? mode : LC_FLOOR_FULL;
+}
+
+const char *lc_floor_mode_name(lc_floor_mode mode)
+{
+    static const char *names[LC_FLOOR_COUNT] = {"shaded", "empty shader", "no raster"};
+    return mode >= LC_FLOOR_FULL && mode < LC_FLOOR_COUNT ? names[mode] : "unknown";
 }
 
 GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error *err)

@@ -203,6 +203,7 @@ typedef struct lc_frame_info {
     double clarity_lambda, clarity_penalty;
     int clarity_tries;     /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
     int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
+    int opacity_from_list; /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;
@@ -341,6 +342,17 @@ void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
 /* Sets desc.tile_size for the frames that follow (0 = the default rule), e.g.
  * to give a large frame a yield point every tile. */
 void lc_renderer_set_tile_size(lc_renderer *r, int tile_size);
+
+/* What the geometry passes (P0, P1, P2, P4, P5 and the baselines' passes) run,
+ * for `lucent bench --floor` (docs/EVALUATION.md, "The geometry path"):
+ * everything (the default), the same vertex shader and coverage with a
+ * fragment shader that returns zeros at its first instruction (the cost of
+ * vertex shading, set-up, binning, rasterization and blending), or nothing
+ * after the vertex shader (GL_RASTERIZER_DISCARD: vertex shading, primitive
+ * assembly and clipping). Images are meaningless outside LC_FLOOR_FULL. */
+typedef enum { LC_FLOOR_FULL = 0, LC_FLOOR_EMPTY_SHADER, LC_FLOOR_NO_RASTER, LC_FLOOR_COUNT } lc_floor_mode;
+void lc_renderer_set_floor(lc_renderer *r, lc_floor_mode mode);
+const char *lc_floor_mode_name(lc_floor_mode mode);
 
 /* After a frame of params p above LC_LARGE_FRAME_PIXELS (a 4096^2 still; no
  * stream frame is that large): renders p once more at 8x8 (so that the

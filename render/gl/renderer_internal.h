@@ -51,6 +51,7 @@
     X(BIND_SURFACE_PIXELS, 29) /* surface_layers.c: counters, list heads, layer counts, output */                      \
     X(BIND_SURFACE_LAYERS, 30) /* surface_layers.c: the persistent per-pixel layers */                                 \
     X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */  \
+    X(BIND_FRAGMENT_LIST, 14) /* fragment_list.c: P1's fragments for P2 (never in a program of the exact method) */   \
     X(BIND_LINE_RUNS, 9)    /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */         \
     X(BIND_LINE_SELECT, 10) /* line_subset.c: the kept strip's two counts and each run's importance bin */            \
     X(BIND_LINE_KEPT, 20)   /* line_subset.c: the kept strip (lines never bind the point list) */                     \
@@ -174,6 +175,7 @@ typedef enum {
     PROG_DEPTH_MOMENTS,
     PROG_COLOR_HISTOGRAM, /* color_equalize.c, after P5 */
     PROG_COLOR_HISTOGRAM_DIRECT,
+    PROG_P1_LIST, /* P1 that also records its fragments (fragment_list.c) */
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -183,7 +185,8 @@ typedef enum {
     PROG_POINT_SELECT,
     PROG_LINE_SELECT,
     PROG_FILTER_MASK,
-    PROG_FIXED_KINDS
+    PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
+    PROG_FIXED_KINDS = PROG_P2_LIST_FIRST + LC_MAX_BANDS
 } lc_program_kind;
 
 struct lc_renderer {
@@ -195,6 +198,17 @@ struct lc_renderer {
      * pulled (the unindexed subset variant), points 1 = GL point sprites;
      * context 1 = with the opaque context's depth test (r->context_layers) */
     GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2][2];
+    /* lc_renderer_set_floor: the mode, and the FLOOR_EMPTY variants of the
+     * geometry programs ([kind][primitive][bands][variant]), built on use. */
+    lc_floor_mode floor;
+    GLuint floor_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2];
+    /* fragment_list.c: P1's fragments (16 bytes each after a 16-byte count),
+     * the capacity allocated, the largest count seen, and whether this
+     * frame's P1 filled it (fragment_count of them). */
+    GLuint fragment_list;
+    uint64_t fragment_capacity, fragment_seen;
+    uint32_t fragment_count;
+    int fragments_ready;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -607,6 +621,29 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
                                 lc_frame_info *info, lc_error *err);
 /* P4..P6 with the element opacities (or alpha = g^k when direct). */
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
+
+/* ---- fragment_list.c (docs/ALGORITHM.md "The geometry path"): P1 records
+ * its fragments so that P2 runs as a compute pass over them instead of a
+ * second traversal of the geometry (every try of the clarity loop). */
+/* Whether this frame's P1, drawn with stride p1_subset, records its
+ * fragments: where the driver's choice allows (lc_fragment_list_configure) and P1 draws exactly P2's fragments (no stride). */
+int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset);
+/* Before P1: makes room, zeroes the count, binds the list for P1's program. */
+void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs);
+/* After P1: reads the count; r->fragments_ready when every fragment fit
+ * (otherwise the list grows for later frames and this frame's P2 draws). */
+void lc_fragment_list_end(lc_renderer *r);
+/* P2's compute program over the list for m bands (cached; 0 on error), and
+ * its dispatch over this frame's fragments once the caller has set the
+ * opacity uniforms and bound the minima, coefficients and element buffers. */
+GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err);
+void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog);
+/* Frees the list (lc_renderer_release_after, destroy). */
+void lc_fragment_list_release(lc_renderer *r);
+/* Chooses for the driver named gl_renderer (GL_RENDERER), process-wide:
+ * lists on software rasterizers; LUCENT_FRAGMENT_LISTS=0/1 overrides. */
+void lc_fragment_list_configure(const char *gl_renderer);
+int lc_fragment_list_enabled(void);
 
 /* ---- reduce.c (a no-op returning 0 without a reducer or with one process) */
 /* Combines every texture of t over the processes (op; root_only as in lc_reducer). */

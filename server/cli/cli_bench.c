@@ -9,7 +9,7 @@
 
 /* The flags of `lucent bench` besides the shared ones (cli.c). */
 typedef struct bench_args {
-    int frames, warmup, memory, interactive, point_stride, uniform_points, line_stride;
+    int frames, warmup, memory, interactive, point_stride, uniform_points, line_stride, floor;
     const char *datasets;
 } bench_args;
 
@@ -29,6 +29,10 @@ static const lc_option bench_options[] = {
              "every N-th of the rest"},
     {"--uniform-points", NULL, LC_OPT_BOOL, BENCH(uniform_points),
      .help = "with --point-stride: every N-th of all points"},
+    {"--floor", NULL, LC_OPT_BOOL, BENCH(floor),
+     .help = "per geometry pass, one-shot stills timed three ways, alternated\n"
+             "frame by frame: shaded, with an empty fragment shader and with\n"
+             "GL_RASTERIZER_DISCARD (medians; docs/EVALUATION.md, the geometry path)"},
     {"--line-stride", "N", LC_OPT_INT, BENCH(line_stride), 1, 1024,
      .help = "with --interactive, lines: the most important 1/(4N) in full,\n"
              "every N-th of the rest (whole lines)"},
@@ -38,13 +42,85 @@ static void bench_usage(FILE *f, const lc_opt_set *sets, int nsets)
 {
     fprintf(f,
             "usage: lucent bench [--size WxH] [--frames N] [--warmup N] [--datasets a,b,...] [--memory] [--device N]\n"
-            "                    [--interactive [--point-stride N [--uniform-points]]] [flags]\n"
+            "                    [--interactive [--point-stride N [--uniform-points]]] [--floor] [flags]\n"
             "Renders every demo dataset (default 1024x1024, 10 timed frames after 2 warm-up frames) with a\n"
             "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n"
             "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n"
             "With --interactive, --lod PX (lines) and --point-stride N (points) set the coarser detail\n"
             "of those frames.\n");
     lc_opt_usage(f, sets, nsets);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n ? (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])) : 0.0;
+}
+
+/* --floor: where a geometry pass's time goes. One-shot stills (no frame
+ * state: what a still costs), the three modes of lc_renderer_set_floor
+ * alternated frame by frame so that a busy host spreads over all three;
+ * medians of `frames` rounds after one warm-up frame per mode (which also
+ * compiles the empty shaders). */
+static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, const lc_render_params *params,
+                       int frames, uint8_t *rgba, lc_error *err)
+{
+    enum { MODES = LC_FLOOR_COUNT, COLS = LC_PASS_COUNT + 2 }; /* passes, gpu, wall */
+    double *t = calloc((size_t)MODES * COLS * (size_t)frames, sizeof *t);
+    if (!t)
+        return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    lc_frame_info info = {0};
+    int rc = 0, ran[LC_PASS_COUNT] = {0}, tries[LC_FLOOR_COUNT] = {0}, listed[LC_FLOOR_COUNT] = {0};
+    for (int f = -1; f < frames && !rc; f++)
+        for (int m = 0; m < MODES && !rc; m++) {
+            lc_renderer_set_floor(g->renderer, (lc_floor_mode)m);
+            rc = lc_render_frame(g->renderer, gs, params, NULL, 0.0, rgba, &info, err);
+            if (rc || f < 0)
+                continue;
+            tries[m] = info.clarity_tries;
+            listed[m] = info.opacity_from_list;
+            double *row = t + ((size_t)m * COLS) * frames;
+            /* Per traversal: the clarity loop runs P2 (and P3) once a try. */
+            int per = info.clarity_tries > 1 ? info.clarity_tries : 1;
+            for (int p = 0; p < LC_PASS_COUNT; p++) {
+                row[(size_t)p * frames + f] = info.pass_ms[p] / (p == LC_PASS_OPACITY ? per : 1);
+                ran[p] |= info.pass_ms[p] >= 0;
+            }
+            row[(size_t)LC_PASS_COUNT * frames + f] = info.gpu_ms;
+            row[(size_t)(LC_PASS_COUNT + 1) * frames + f] = info.wall_ms;
+        }
+    lc_renderer_set_floor(g->renderer, LC_FLOOR_FULL);
+    if (!rc) {
+        printf("%s: %llu primitives, %dx%d, medians of %d rounds (ms)\n", s->name,
+               (unsigned long long)lc_scene_primitive_count(s), params->width, params->height, frames);
+        printf("  %-14s", "pass");
+        for (int m = 0; m < MODES; m++)
+            printf(" %13s", lc_floor_mode_name((lc_floor_mode)m));
+        printf(" %9s\n", "shading");
+        for (int c = 0; c < COLS; c++) {
+            if (c < LC_PASS_COUNT && !ran[c])
+                continue;
+            double med[MODES];
+            for (int m = 0; m < MODES; m++)
+                med[m] = median(t + ((size_t)m * COLS + c) * frames, frames);
+            printf("  %-14s", c < LC_PASS_COUNT ? lc_pass_name(c) : c == LC_PASS_COUNT ? "gpu total" : "wall");
+            for (int m = 0; m < MODES; m++)
+                printf(" %13.1f", med[m]);
+            printf(" %8.0f%%\n", med[0] > 0 ? 100.0 * (med[0] - med[1]) / med[0] : 0.0);
+        }
+        printf("  (shading: the share of the shaded time above the empty shader's; opacity: one P2, the mean\n"
+               "  over the clarity loop's tries, %d, %d and %d a frame)\n",
+               tries[0], tries[1], tries[2]);
+        printf("  P2: %s\n\n", listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
+    }
+    free(t);
+    return rc;
 }
 
 int lc_cli_bench(int argc, char **argv)
@@ -89,6 +165,10 @@ int lc_cli_bench(int argc, char **argv)
                 point_stride > 1 ? "point" : "line");
         return 2;
     }
+    if (args.floor && interactive) {
+        fprintf(stderr, "lucent bench: --floor times one-shot stills, not --interactive frames\n");
+        return 2;
+    }
     if (uniform_points && point_stride <= 1) {
         fprintf(stderr, "lucent bench: --uniform-points applies to --point-stride N > 1 only\n");
         return 2;
@@ -111,11 +191,13 @@ int lc_cli_bench(int argc, char **argv)
            req.render.width, req.render.height, lc_method_name(req.render.method), req.render.foo.bands,
            lc_estimator_name(req.render.foo.estimator), req.render.foo.smoothing, req.render.foo.resolution_scale,
            req.render.detail.lod_pixels, frames, warmup, interactive ? ", interactive (opacities reused)" : "");
-    printf("%-16s %10s %9s", "dataset", "primitives", "elements");
-    for (int p = 0; p < LC_PASS_COUNT; p++)
-        printf(" %12s", lc_pass_name(p));
-    printf(" %9s %8s %7s %11s %11s %10s %8s %9s %10s\n", "gpu ms", "wall ms", "fps", "pipeline MB", "scene MB",
-           "drawn", "load s", "rss MB", "rss B/vtx");
+    if (!args.floor) {
+        printf("%-16s %10s %9s", "dataset", "primitives", "elements");
+        for (int p = 0; p < LC_PASS_COUNT; p++)
+            printf(" %12s", lc_pass_name(p));
+        printf(" %9s %8s %7s %11s %11s %10s %8s %9s %10s\n", "gpu ms", "wall ms", "fps", "pipeline MB", "scene MB",
+               "drawn", "load s", "rss MB", "rss B/vtx");
+    }
 
     int status = 0;
     uint8_t *rgba = malloc((size_t)req.render.width * req.render.height * 4);
@@ -138,6 +220,16 @@ int lc_cli_bench(int argc, char **argv)
             status = 1;
         } else {
             t_load = lc_now() - t_load;
+            if (args.floor) {
+                if (bench_floor(&g, gs, s, &req.render, frames, rgba, &err) != 0) {
+                    fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);
+                    status = 1;
+                }
+                lc_frame_state_destroy(st);
+                lc_gpu_scene_destroy(gs);
+                lc_scene_destroy(s);
+                continue;
+            }
             double pass_sum[LC_PASS_COUNT] = {0}, gpu = 0, wall = 0;
             lc_frame_info info;
             int ok = 1;
@@ -182,7 +274,8 @@ int lc_cli_bench(int argc, char **argv)
         lc_gpu_scene_destroy(gs);
         lc_scene_destroy(s);
     }
-    printf("\npipeline MB: render targets and per-element buffers the method holds (FOO: O(W*H*m));\n"
+    if (!args.floor)
+        printf("\npipeline MB: render targets and per-element buffers the method holds (FOO: O(W*H*m));\n"
            "scene MB: the dataset's GPU buffers (levels of detail included), shared by all workers.\n"
            "fps = 1000 / mean wall ms incl. readback. drawn: primitives a geometry pass drew (its level of detail).\n"
            "load s: generate or read, finalize and upload; rss MB: the process's resident memory after the frames;\n"

@@ -11,6 +11,7 @@ void main()
 {
     if (outside_primitive() || halo_position() >= 0.0)
         discard;
+    FLOOR_RETURN
     ivec2 p = ivec2(gl_FragCoord.xy);
     float sum_w = texelFetch(u_eq_accum, p, 0).a;
     if (!(sum_w > 0.0))

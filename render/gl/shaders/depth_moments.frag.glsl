@@ -13,6 +13,7 @@ void main()
 {
     if (outside_primitive())
         discard;
+    FLOOR_RETURN
     float g = fragment_importance();
     float w = g * g * draw_weight(u_weight);
     float u = normalized_depth(v_zview) - 0.5;

@@ -6,5 +6,6 @@ void main()
 {
     if (outside_primitive())
         discard;
+    FLOOR_RETURN
     o_range = vec2(v_zview, -v_zview);
 }

@@ -72,6 +72,18 @@ bool outside_primitive()
 #endif
 }
 
+// `lucent bench --floor` (lc_renderer_set_floor): the FLOOR_EMPTY programs
+// return right after the coverage test, leaving their outputs unwritten, so
+// blending and every fixed stage still run. The branch is taken at run time
+// (u_floor_empty is always 1), so the inputs stay live and the vertex shader
+// is the pass's own. Production programs compile it to nothing.
+#ifdef FLOOR_EMPTY
+uniform int u_floor_empty;
+#define FLOOR_RETURN if (u_floor_empty != 0) return;
+#else
+#define FLOOR_RETURN
+#endif
+
 uint fragment_element() { return v_primary.x; }
 
 float fragment_importance() { return clamp(v_g, 0.0, 1.0); }

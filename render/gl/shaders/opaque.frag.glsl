@@ -5,5 +5,6 @@ void main()
 {
     if (outside_primitive())
         discard;
+    FLOOR_RETURN
     o_color = vec4(fragment_color(), 1.0);
 }

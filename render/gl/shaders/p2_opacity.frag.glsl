@@ -1,39 +1,14 @@
-// P2 optimal opacity (FOO Eq. 10; r weighs importance in front, q behind) from
-// the reconstructed importance sum; atomic-min into the fragment's element.
-
-layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint element_alpha_min[]; };
-
-uniform float u_q;
-uniform float u_r;
-uniform float u_lambda;
-uniform int u_estimator; // 0 foo, 1 midpoint
-uniform float u_norm_mass; // normalize auto: reference mass (docs/ALGORITHM.md "Density normalization"); 0 = off
-uniform float u_target_opacity; // t of OOS Eq. 7 (lc_foo_target_opacity); 1 = the paper's
+// P2 optimal opacity drawn as a geometry pass: each fragment's opacity
+// (opacity_common.glsl) from the coefficients P1 summed at its pixel. Frames
+// whose P1 recorded its fragments run p2_list.comp.glsl instead.
 
 void main()
 {
     if (outside_primitive())
         discard;
+    FLOOR_RETURN
     float g = fragment_importance();
     float c[NTARGETS * 4];
     read_coefficients(ivec2(gl_FragCoord.xy), c);
-    float G = fourier_eval(c, series_depth(v_zview));
-    float g2 = g * g;
-    // The midpoint estimator removes the half of the fragment's own step that
-    // the truncated series attributes to F(d_i) (docs/ALGORITHM.md).
-    float own = u_estimator == 1 ? 0.5 * g2 : g2;
-    float front = max(G - own, 0.0);
-    float behind = max(c[0] - G - (u_estimator == 1 ? 0.5 * g2 : 0.0), 0.0);
-    // Density normalization: in a pixel whose total mass exceeds the reference
-    // the sums count as fractions of it, so the layer count stops mattering,
-    // and the emphasis exponent grows with the density (foo_math.h).
-    float k = u_norm_mass > 0.0 && c[0] > u_norm_mass ? u_norm_mass / c[0] : 1.0;
-    float lambda = u_norm_mass > 0.0 ? (1.0 + 3.0 * (1.0 - k) * (1.0 - k)) * u_lambda : u_lambda;
-    float ge = emphasis_importance(fragment_element(), g);
-    float emphasis = lambda > 0.0 ? pow(max(1.0 - ge, 0.0), 2.0 * lambda) : 1.0;
-    float alpha = 1.0 / (1.0 + k * emphasis * (u_r * front + u_q * behind));
-    alpha *= u_target_opacity;
-    // Non-negative floats order like their bit patterns.
-    atomicMin(element_alpha_min[fragment_element()], floatBitsToUint(alpha));
-    add_behind(fragment_element(), behind);
+    fragment_opacity(fragment_element(), g, series_depth(v_zview), c);
 }

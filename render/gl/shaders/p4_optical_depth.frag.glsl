@@ -7,6 +7,7 @@ void main()
 {
     if (outside_primitive())
         discard;
+    FLOOR_RETURN
     float c[NTARGETS * 4];
     fourier_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
     write_coefficients(c);

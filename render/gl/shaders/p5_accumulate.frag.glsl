@@ -9,6 +9,7 @@ void main()
 {
     if (outside_primitive())
         discard;
+    FLOOR_RETURN
     float alpha = fragment_alpha();
     float c[NTARGETS * 4];
     read_coefficients(ivec2(gl_FragCoord.xy), c);

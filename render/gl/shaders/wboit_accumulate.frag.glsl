@@ -8,6 +8,7 @@ void main()
 {
     if (outside_primitive())
         discard;
+    FLOOR_RETURN
     float alpha = fragment_alpha();
     float d = normalized_depth(v_zview);
     float w = alpha * clamp(3e3 * pow(1.0 - d, 3.0), 1e-2, 3e3);

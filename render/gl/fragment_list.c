@@ -1,0 +1,128 @@
+/* P1's fragment list (docs/ALGORITHM.md "The geometry path"): P1 appends
+ * every fragment it draws, (pixel, element, g, series depth), and P2 becomes a
+ * compute pass over that list instead of a second traversal of the geometry.
+ *
+ * Why: on llvmpipe a geometry pass costs what its vertex shading, triangle
+ * set-up, binning and rasterization cost, nearly whatever its fragments
+ * compute (`lucent bench --floor`: on the 891k-segment MD trajectories at
+ * 1024^2, P2 with an empty fragment shader took 696 of its 765 ms), and a
+ * one-shot still runs P2 once per try of the clarity loop (three on that
+ * file). A fragment of P2 reads nothing but its own g, depth and element and
+ * its pixel's final P1 sums, and P2 draws exactly P1's fragments (same
+ * resolution, primitives and coverage) whenever P1 draws every primitive,
+ * so evaluating the recorded fragments gives the same element minima, bit
+ * for bit (an atomic minimum does not depend on order; the occluder sums are
+ * integers).
+ *
+ * The list is sized from the fragments seen before (a first frame guesses);
+ * a frame whose fragments do not fit draws P2 as before and the list grows
+ * for the next one. Pages of the buffer that no frame wrote are not resident
+ * on llvmpipe, so a generous guess costs address space, not memory. */
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "renderer_internal.h"
+
+/* Entries: 16 bytes each; 2^24 of them, 256 MB, at most. */
+#define FRAGMENT_LIST_MAX (1ull << 24)
+/* A first frame's guess: per pixel of the optimization resolution, or per
+ * primitive, whichever is larger (the MD trajectories have about 13 per
+ * pixel at 512^2, a million points about 3 per point at 486x381). */
+#define FRAGMENTS_PER_PIXEL_GUESS 16
+#define FRAGMENTS_PER_PRIMITIVE_GUESS 4
+
+static atomic_int fragment_lists = 0; /* lc_fragment_list_configure */
+
+/* On software rasterizers, where a traversal costs its set-up and
+ * rasterization whatever it shades; GPUs draw P2 until measured otherwise. */
+void lc_fragment_list_configure(const char *gl_renderer)
+{
+    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
+                                   strstr(gl_renderer, "swrast"));
+    const char *e = getenv("LUCENT_FRAGMENT_LISTS"); /* 0 / 1: force off / on (comparisons, tests) */
+    atomic_store(&fragment_lists, e && (e[0] == '0' || e[0] == '1') ? e[0] == '1' : software);
+}
+
+int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
+
+int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset)
+{
+    (void)r;
+    return lc_fragment_list_enabled() && p1_subset <= 1;
+}
+
+static void ensure_capacity(lc_renderer *r, uint64_t want)
+{
+    want = want < 4096 ? 4096 : want > FRAGMENT_LIST_MAX ? FRAGMENT_LIST_MAX : want;
+    if (r->fragment_list && r->fragment_capacity >= want)
+        return;
+    lc_fragment_list_release(r);
+    glCreateBuffers(1, &r->fragment_list);
+    glNamedBufferStorage(r->fragment_list, (GLsizeiptr)(16 + 16 * want), NULL, GL_DYNAMIC_STORAGE_BIT);
+    r->fragment_capacity = want;
+}
+
+void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs)
+{
+    uint64_t prims = 0;
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (lf)
+            prims += lf->gs->levels[lf->level].primitive_count;
+    }
+    uint64_t guess = (uint64_t)fs->low_width * (uint64_t)fs->low_height * FRAGMENTS_PER_PIXEL_GUESS;
+    if (guess < prims * FRAGMENTS_PER_PRIMITIVE_GUESS)
+        guess = prims * FRAGMENTS_PER_PRIMITIVE_GUESS;
+    /* After a frame: what it needed, with room for a view that covers more. */
+    if (guess < r->fragment_seen + r->fragment_seen / 4)
+        guess = r->fragment_seen + r->fragment_seen / 4;
+    ensure_capacity(r, guess);
+    const uint32_t zero = 0;
+    glClearNamedBufferSubData(r->fragment_list, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
+    r->fragments_ready = 0;
+}
+
+void lc_fragment_list_end(lc_renderer *r)
+{
+    uint32_t count = 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glGetNamedBufferSubData(r->fragment_list, 0, 4, &count); /* waits for P1, which P2 would wait for too */
+    r->fragment_seen = count > r->fragment_seen ? count : r->fragment_seen;
+    r->fragment_count = count;
+    r->fragments_ready = count <= r->fragment_capacity;
+}
+
+GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err)
+{
+    GLuint *slot = &r->fixed_programs[PROG_P2_LIST_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
+    if (!*slot) {
+        static const char *const cs[] = {"common.glsl",        "coefficients.glsl",   "occluders.glsl",
+                                         "fragment_list.glsl", "opacity_common.glsl", "p2_list.comp.glsl",
+                                         NULL};
+        char defines[64];
+        snprintf(defines, sizeof defines, "#define BANDS %d\n", bands);
+        *slot = lc_renderer_build_program(defines, NULL, NULL, cs, "P2 over P1's fragments", err);
+    }
+    return *slot;
+}
+
+void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog)
+{
+    glUseProgram(prog);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
+    lc_uniform_u(prog, "u_fragments", r->fragment_count);
+    lc_dispatch_linear((r->fragment_count + 255u) / 256u);
+}
+
+void lc_fragment_list_release(lc_renderer *r)
+{
+    if (r->fragment_list)
+        glDeleteBuffers(1, &r->fragment_list);
+    r->fragment_list = 0;
+    r->fragment_capacity = 0;
+    r->fragments_ready = 0;
+}

@@ -35,25 +35,6 @@ static double diagonal(const double b[6])
     return sqrt(d);
 }
 
-/* The curves' bounding box; the field's bounds when no curve has a vertex. */
-static void curve_bounds(const lc_field *f, const lc_trace_curve *c, uint32_t n, double b[6], uint64_t *vertices)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    *vertices = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        *vertices += c[i].n;
-        for (uint32_t v = 0; v < c[i].n; v++)
-            for (int a = 0; a < 3; a++) {
-                lo[a] = fmin(lo[a], c[i].xyz[3 * v + a]);
-                hi[a] = fmax(hi[a], c[i].xyz[3 * v + a]);
-            }
-    }
-    for (int a = 0; a < 3; a++) {
-        b[a] = lo[a] <= hi[a] ? lo[a] : f->bounds[a];
-        b[3 + a] = lo[a] <= hi[a] ? hi[a] : f->bounds[3 + a];
-    }
-}
-
 static int check_params(const lc_surface_params *sp, lc_error *err)
 {
     if (sp->particles < 1)
@@ -164,10 +145,9 @@ int lc_surface_render(const lc_field *field, const lc_seed *seed_in, const lc_su
         free(curves);
         return rc;
     }
-    double box[6];
-    uint64_t vertices;
-    curve_bounds(field, curves, (uint32_t)sp->particles, box, &vertices);
-    rc = lc_surface_draw(field, curves, (uint32_t)sp->particles, sp, p, box, rgba, info, camera_out, err);
+    /* Framed and clipped by the field's bounds, as a session's frames are from
+     * their first curves on: the one-shot image is a session's last. */
+    rc = lc_surface_draw(field, curves, (uint32_t)sp->particles, sp, p, field->bounds, rgba, info, camera_out, err);
     lc_trace_curves_free(curves, (uint32_t)sp->particles);
     free(curves);
     return rc;

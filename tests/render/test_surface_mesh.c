@@ -94,10 +94,28 @@ int main(void)
     lc_seed seed;
     CHECK(lc_seed_parse(SEED, &seed, f, &err) == 0, "seed: %s", err.msg);
 
-    /* Surface layers, converged: all curves, camera fitted to them. */
+    /* The meshed reference with the same curves' length and step. */
+    double split = 0.02;
+    lc_stream_mesh m;
+    lc_stream_mesh_desc md = {.trace = {.max_length = LENGTH}, .split = split};
+    double t0 = lc_now();
+    CHECK(lc_stream_mesh_build(f, &seed, &md, &m, &err) == 0, "mesh: %s", err.msg);
+    printf("mesh: %u particles, %u vertices, %u triangles in %.0f ms\n", m.particles, m.vertex_count, m.triangle_count,
+           (lc_now() - t0) * 1e3);
+    check_mesh(&m, split);
+
+    /* Surface layers, converged: all curves, the camera fitted to the surface
+     * (the default frames the field's box, where the surface is small). */
     lc_render_params p;
     lc_render_params_default(&p);
     p.width = p.height = SIZE;
+    double fit[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < m.vertex_count; i++)
+        for (int a = 0; a < 3; a++)
+            fit[a] = fmin(fit[a], m.xyz[3 * i + a]), fit[3 + a] = fmax(fit[3 + a], m.xyz[3 * i + a]);
+    const double dir[3] = {-1.0, 1.5, -0.8};
+    lc_camera_fit(&p.camera, fit, dir, NULL);
+    p.has_camera = true;
     p.style.background[0] = p.style.background[1] = p.style.background[2] = 1;
     lc_surface_params sp = {
         .particles = CURVES, .length = LENGTH, .epsilon = EPSILON, .opacity = OPACITY, .max_layers = 16};
@@ -112,15 +130,6 @@ int main(void)
     sp.composite = LC_SURFACE_COMPOSITE_WEIGHTED_AVERAGE;
     CHECK(lc_surface_render(f, &seed, &sp, &p, 2, wavg, &si, NULL, &err) == 0, "weighted average: %s", err.msg);
 
-    /* The meshed reference with the same curves' length and step. */
-    double split = 0.02;
-    lc_stream_mesh m;
-    lc_stream_mesh_desc md = {.trace = {.max_length = LENGTH}, .split = split};
-    double t0 = lc_now();
-    CHECK(lc_stream_mesh_build(f, &seed, &md, &m, &err) == 0, "mesh: %s", err.msg);
-    printf("mesh: %u particles, %u vertices, %u triangles in %.0f ms\n", m.particles, m.vertex_count, m.triangle_count,
-           (lc_now() - t0) * 1e3);
-    check_mesh(&m, split);
 
     /* Exact method, one opacity for every fragment: q = r = 0 leave alpha = t. */
     p.method = LC_METHOD_EXACT;

@@ -233,6 +233,19 @@ def png_size(data):
     return w, h
 
 
+def ssim(binary, a, b):
+    """`lucent ssim` of two encoded images (bytes); -1 when it cannot tell."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        pa, pb = os.path.join(d, "a.img"), os.path.join(d, "b.img")
+        with open(pa, "wb") as f:
+            f.write(a)
+        with open(pb, "wb") as f:
+            f.write(b)
+        out = subprocess.run([binary, "ssim", pa, pb], capture_output=True, text=True).stdout.split()
+    return float(out[1]) if len(out) > 1 and out[0].lower() == "ssim" else -1.0
+
+
 def unpack_frame(msg):
     """Binary frame message: uint32 LE header length N, N bytes JSON header, image."""
     assert isinstance(msg, (bytes, bytearray)), "expected a binary frame, got %r" % (msg,)

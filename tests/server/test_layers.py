@@ -22,6 +22,7 @@ import tempfile
 import time
 import urllib.parse
 
+from lucent_server import ssim as lucent_ssim
 from lucent_server import (DEADLINE, Check, Server, jpeg_size, listen, png_size, skip, wait_for_message,
                            wait_for_stream_done, websockets)
 
@@ -48,15 +49,7 @@ def error(srv, body, status, field, what, path="/api/v1/render"):
 
 
 def ssim(a, b):
-    """lucent ssim of two encoded images (-1 when it cannot tell)."""
-    with tempfile.TemporaryDirectory() as d:
-        pa, pb = os.path.join(d, "a.jpg"), os.path.join(d, "b.jpg")
-        with open(pa, "wb") as f:
-            f.write(a)
-        with open(pb, "wb") as f:
-            f.write(b)
-        out = subprocess.run([binary, "ssim", pa, pb], capture_output=True, text=True).stdout.split()
-    return float(out[1]) if len(out) > 1 and out[0].lower() == "ssim" else -1.0
+    return lucent_ssim(binary, a, b)
 
 
 CAMERA = {"position": [2.2, 1.4, 2.0], "focalPoint": [0.5, 0.5, 0.5], "viewUp": [0, 1, 0]}

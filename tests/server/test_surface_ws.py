@@ -10,7 +10,7 @@ import json
 import sys
 import time
 
-from lucent_server import Check, Server, jpeg_size, skip, wait_for_message, wait_for_stream_done, websockets
+from lucent_server import Check, Server, jpeg_size, skip, ssim, wait_for_message, wait_for_stream_done, websockets
 
 if websockets is None:
     skip("python3-websockets is not installed")
@@ -122,8 +122,24 @@ async def refused_layers(srv):
         check(err is not None and err.get("field") == "layers", "params: surface-layers over layers -> %r" % err)
 
 
+async def default_camera(srv):
+    """Without a camera a session frames the surface as the one-shot render does: its last frame is the HTTP
+    render of the same request."""
+    surface = {"field": "demo:abc-flow", "seed": SEED, "particles": 300, "curvesPerFrame": 150}
+    async with websockets.connect(srv.ws_url, max_size=None) as ws:
+        await ws.send(json.dumps({"type": "hello", "width": 96, "height": 80, "devicePixelRatio": 1,
+                                  "method": "surface-layers", "surface": surface, "quality": 95}))
+        got = await frames(ws)
+    last = [img for h, img in got if h != "text"]
+    st, _, ref = srv.request("POST", "/api/v1/render", {"width": 96, "height": 80, "method": "surface-layers",
+                                                       "surface": surface, "format": "jpeg", "quality": 95})
+    s = ssim(binary, last[-1], ref) if last and st == 200 else -1
+    check(s >= 0.99, "a session without a camera ends on the one-shot render's picture (SSIM %.4f)" % s)
+
+
 with Server(binary, data=("demo:points", "demo:abc-flow")) as srv:
     asyncio.run(main(srv))
+    asyncio.run(default_camera(srv))
     asyncio.run(refused_layers(srv))
     st, _, data = srv.request("POST", "/api/v1/sessions", json.dumps(
         {"method": "surface-layers", "surface": {"field": "demo:abc-flow", "seed": SEED}}))

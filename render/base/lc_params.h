@@ -229,6 +229,8 @@ typedef struct lc_detail {
     bool reuse_opacities; /* skip P1-P3: draw with the frame state's opacities when it has them */
     bool still;           /* a session's still: optimized as a one-shot render of its request is (the clarity
                              loop from the paper's strength, targets taken whole), whatever frames came before */
+    double pixel_scale;   /* a frame drawn at a fraction of its view's size (a moving frame): that fraction, so
+                             that sizes given in the view's pixels (time markers) keep their size; 0 = 1 */
 } lc_detail;
 
 /* Line clustering (docs/ALGORITHM.md "Line clustering"): count 0 = off;

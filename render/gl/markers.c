@@ -9,7 +9,7 @@
 
 #include "renderer_internal.h"
 
-/* Splat radius in output pixels: a few pixels, as issue 27 asks. */
+/* Splat radius in the view's pixels (docs/GUIDE.md: 3 px). */
 #define MARKER_RADIUS_PX 3.0f
 
 static int time_attribute(const lc_scene *s, const char *name)
@@ -52,7 +52,10 @@ int lc_markers_draw(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
     lc_renderer_bind_geometry(r, prog, fs, fs->width, fs->height, 1);
     glProgramUniform1i(prog, glGetUniformLocation(prog, "u_marker_attr"), attr);
     glProgramUniform1f(prog, glGetUniformLocation(prog, "u_marker_t1"), (float)p->time.window[1]);
-    glProgramUniform1f(prog, glGetUniformLocation(prog, "u_point_radius_px"), MARKER_RADIUS_PX);
+    /* In the view's pixels: a moving frame drawn at a fraction of the view's size draws them smaller. */
+    double scale = p->detail.pixel_scale > 0 && p->detail.pixel_scale < 1 ? p->detail.pixel_scale : 1.0;
+    float radius = (float)(MARKER_RADIUS_PX * scale);
+    glProgramUniform1f(prog, glGetUniformLocation(prog, "u_point_radius_px"), radius > 1.0f ? radius : 1.0f);
     glProgramUniform1i(prog, glGetUniformLocation(prog, "u_context_depth"), 0); /* over everything */
     lc_frame_setup every = *fs; /* a marker for every line, also where a moving frame thinned them */
     every.kept_line_indices[0] = every.kept_line_indices[1] = 0;

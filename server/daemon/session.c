@@ -416,6 +416,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     out->req.render.detail.still = !interactive && out->stage != 1;
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);
+    out->req.render.detail.pixel_scale = scale;
     out->req.format = LC_FORMAT_JPEG;
     out->quality = interactive ? st->interactive_quality : st->quality;
     out->req.quality = out->quality;

@@ -257,7 +257,22 @@ static void check_markers(test_gl *t, const lc_scene *s)
         CHECK(differing(with, without) < SIZE * SIZE * 4 / 20, "markers change a few pixels only (%d bytes)",
               differing(with, without));
     }
+    /* A moving frame drawn at half its view's size (detail.pixel_scale) draws
+     * its markers at half the radius: they keep their size in the view. */
     lc_render_params p;
+    lc_error err = {0};
+    params(&p, LC_METHOD_OPAQUE, 1);
+    p.style.shading = LC_SHADING_NONE;
+    int rc = render(t, s, &p, without, &err);
+    p.time.markers = true;
+    rc |= render(t, s, &p, with, &err);
+    int full = differing(with, without);
+    p.detail.pixel_scale = 0.5;
+    rc |= render(t, s, &p, with, &err);
+    int half = differing(with, without);
+    printf("marker pixels (bytes changed): %d at full size, %d at pixel_scale 0.5\n", full, half);
+    CHECK(rc == 0 && half > 0 && half < 0.6 * full, "markers at pixel_scale 0.5 cover less: %d against %d bytes",
+          half, full);
     params(&p, LC_METHOD_FOURIER, 1);
     p.time.markers = true;
     p.style.antialias = 2;

@@ -12,22 +12,6 @@ _Static_assert(LC_EQUALIZE_BINS == 256, "shader colour histogram bins");
 
 #define EQUALIZE_SETTLED (0.25f / LC_EQUALIZE_BINS) /* F's largest step left when a session's colours have settled */
 
-int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err)
-{
-    const lc_render_params *p = fs->params;
-    if (!p->color.equalize)
-        return 0;
-    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_EXACT)
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
-                            "equalized colour needs method \"fourier\", \"direct\" or \"exact\", not \"%s\"",
-                            lc_method_name(p->method));
-    if (fs->color_mode == 2)
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "per-vertex RGB colour has no colormap to equalize");
-    if (p->color.fixed_count > 0 && p->color.curve.count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "fixed ranges cannot be combined with color.curve");
-    return 0;
-}
-
 /* The request's fixed ranges in colormap coordinates (through color.range). */
 static int fixed_ranges(const lc_frame_setup *fs, double (*out)[2])
 {

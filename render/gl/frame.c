@@ -8,6 +8,7 @@
 #include "colormap.h"
 #include "exact.h"
 #include "foo_math.h"
+#include "frame_check.h"
 #include "memory.h"
 #include "renderer_internal.h"
 
@@ -436,27 +437,6 @@ static int render_tiles(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
 static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *state, double dt, uint8_t *rgba,
                          double t0, lc_error *err);
 
-/* What a layered frame (lc_render_layers) leaves out, each refused naming its field. */
-static int check_layered(const lc_render_params *p, int n, lc_error *err)
-{
-    if (n < 1 || n > LC_MAX_LAYERS)
-        return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", n, LC_MAX_LAYERS);
-    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_EXACT && p->method != LC_METHOD_DIRECT)
-        return lc_err_field(err, LC_ERR_INVALID, "method", "layers render with fourier, exact or direct, not %s",
-                            lc_method_name(p->method));
-    if (p->filter_count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "filter", "filters apply to one dataset, not to layers");
-    if (p->time.has_window)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "time windows apply to one dataset, not to layers");
-    if (p->clusters.count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "line clusters apply to one dataset, not to layers");
-    if (p->color.equalize)
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "not with layers");
-    if (p->foo.guard_band > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "params.guardBand", "not with layers");
-    return 0;
-}
-
 /* One frame of gs alone (layers NULL) or of the n layers over scenes. */
 static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
                   const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba,
@@ -471,7 +451,11 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     for (int i = 0; i < LC_PASS_COUNT; i++)
         info->pass_ms[i] = -1;
     int rc = check_trusted_params(params, err);
-    if (rc || (layers && (rc = check_layered(params, n, err)) != 0))
+    /* What the server checked when the request arrived (frame_check.h), checked again for callers that did not. */
+    const lc_scene *checked[LC_MAX_LAYERS];
+    for (int i = 0; i < (layers ? n : 1); i++)
+        checked[i] = scenes[i]->scene;
+    if (rc || (rc = lc_render_check(checked, layers, layers ? n : 1, params, r->desc.tile_size, err)) != 0)
         return rc;
     const lc_scene *s = gs->scene;
     uint32_t elements = s->elements.count;
@@ -504,7 +488,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
             rc = lc_line_clusters_prepare(r, &fs, err);
         if (rc)
             return rc;
-        if ((rc = lc_filter_prepare(r, &fs, err)) != 0 || (rc = lc_color_equalize_check(&fs, err)) != 0)
+        if ((rc = lc_filter_prepare(r, &fs, err)) != 0)
             return rc;
     }
     lc_camera_view(&p.camera, bounds, (double)p.width / p.height, p.height, &fs.view);
@@ -571,14 +555,6 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
                          : 1;
     if ((rc = lc_line_subset_prepare(r, &fs, err)) != 0)
         return rc;
-    if (lc_frame_has_context(&fs) && (tiles || antialias_samples(&p) > 1)) /* drawn once, unjittered, untiled */
-        return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",
-                            "a context layer is drawn in one untiled, unjittered frame: %s",
-                            tiles ? "render at most 4096x4096" : "antialias 1");
-    if (p.time.markers && p.time.has_window && (tiles || antialias_samples(&p) > 1)) /* drawn once over the image */
-        return lc_err_field(err, LC_ERR_INVALID, "time.markers",
-                            "markers are drawn over one untiled, unjittered image: %s",
-                            tiles ? "render at most 4096x4096" : "antialias 1");
     r->progress_planned = r->progress_done = 0;
     for (int i = 0; i < LC_PASS_COUNT; i++)
         if (plan.run[pass_order[i]] != LC_RUN_NONE)

@@ -593,12 +593,11 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low
  * resolution; sets fs->depth_moments. */
 int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 /* P1 + P2 + P3: this frame's element opacities (faded into state when given). */
-/* ---- color_equalize.c (color.equalize): _check refuses what it cannot do,
- * naming the field; _begin before the compositing passes puts the session's
+/* ---- color_equalize.c (color.equalize; frame_check.c refuses what it
+ * cannot do): _begin before the compositing passes puts the session's
  * equalized colormap in place; _end after them measures the frame's colour
  * histogram and either moves the session's transfer or (one-shot, first
  * frame) composites again with this view's. */
-int lc_color_equalize_check(const lc_frame_setup *fs, lc_error *err);
 int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_state *state);
 int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
                           lc_error *err);

@@ -35,7 +35,7 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'], methods: ['fourier', 'wboit'] },
   { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit'] },
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'], methods: DATASET_METHODS },
-  { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines', 'surfaces'] },
   { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'] },
   { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: DATASET_METHODS },
   { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit'] },

@@ -34,27 +34,6 @@ typedef struct filter_list {
     int n, time; /* time: the window is f[n - 1] */
 } filter_list;
 
-/* The time attribute: the request's, else the first of the usual names. */
-static int time_attribute(const lc_time_window *t, const lc_scene *s, lc_error *err)
-{
-    if (t->attribute[0]) {
-        int a = lc_scene_find_attribute(s, t->attribute);
-        if (a < 0)
-            return lc_err_field(err, LC_ERR_INVALID, "time.attribute", "%s has no attribute \"%s\"", s->name,
-                                t->attribute);
-        return a;
-    }
-    static const char *const names[] = {"time", "t", "frame", "timestep"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        int a = lc_scene_find_attribute(s, names[i]);
-        if (a >= 0)
-            return a;
-    }
-    return lc_err_field(err, LC_ERR_INVALID, "time.attribute",
-                        "%s has no time: no attribute time, t, frame or timestep (name one in time.attribute)",
-                        s->name);
-}
-
 static int add_time(const lc_frame_setup *fs, filter_list *L, lc_error *err)
 {
     const lc_time_window *t = &fs->params->time;
@@ -62,19 +41,9 @@ static int add_time(const lc_frame_setup *fs, filter_list *L, lc_error *err)
     L->time = 0;
     if (!t->has_window)
         return 0;
-    if (!(t->window[0] <= t->window[1]))
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "t0 %g is after t1 %g", t->window[0], t->window[1]);
-    if (s->type == LC_PRIM_TRIANGLES)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window",
-                            "%s is a surface: time windows apply to lines and points", s->name);
-    if (s->type == LC_PRIM_LINES && !s->line_offsets)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "%s keeps no line offsets", s->name);
-    if (L->n >= LC_MAX_FILTERS)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "at most %d filters with a time window",
-                            LC_MAX_FILTERS - 1);
-    int a = time_attribute(t, s, err);
-    if (a < 0)
-        return a;
+    int a = lc_scene_time_attribute(s, t->attribute);
+    if (a < 0 || L->n >= LC_MAX_FILTERS) /* lc_render_check refuses both */
+        return lc_err_field(err, LC_ERR_INTERNAL, "time.window", "the time window was not checked");
     lc_filter *f = &L->f[L->n];
     memset(f, 0, sizeof *f);
     snprintf(f->attribute, sizeof f->attribute, "%s", s->attributes[a].name);
@@ -89,32 +58,16 @@ static int add_time(const lc_frame_setup *fs, filter_list *L, lc_error *err)
     return 0;
 }
 
-/* Resolves attribute names and checks that each predicate suits the scene. */
+/* Resolves attribute names (lc_render_check refused what does not suit the scene). */
 static int resolve(const lc_frame_setup *fs, filter_list *L, lc_error *err)
 {
     const lc_render_params *p = fs->params;
     const lc_scene *s = fs->gs->scene;
     L->n = p->filter_count;
     memcpy(L->f, p->filters, sizeof(lc_filter) * (size_t)L->n);
-    for (int i = 0; i < p->filter_count; i++) {
-        const lc_filter *f = &p->filters[i];
-        char field[40];
-        snprintf(field, sizeof field, "filter[%d].attribute", i);
-        L->attr[i] = lc_scene_find_attribute(s, f->attribute);
-        if (L->attr[i] < 0)
-            return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, f->attribute);
-        snprintf(field, sizeof field, "filter[%d].over", i);
-        if (s->type == LC_PRIM_TRIANGLES)
-            return lc_err_field(err, LC_ERR_INVALID, field, "%s is a surface: only lines and points can be filtered",
-                                s->name);
-        if (s->type == LC_PRIM_POINTS && f->over != LC_FILTER_VERTEX)
-            return lc_err_field(err, LC_ERR_INVALID, field, "%s has points, not lines: use \"vertex\"", s->name);
-        if (s->type == LC_PRIM_LINES && f->over == LC_FILTER_VERTEX)
-            return lc_err_field(err, LC_ERR_INVALID, field,
-                                "%s has lines: filter them by min, max, mean, first, last or change", s->name);
-        if (s->type == LC_PRIM_LINES && !s->line_offsets)
-            return lc_err_field(err, LC_ERR_INVALID, field, "%s keeps no line offsets", s->name);
-    }
+    for (int i = 0; i < p->filter_count; i++)
+        if ((L->attr[i] = lc_scene_find_attribute(s, p->filters[i].attribute)) < 0)
+            return lc_err_field(err, LC_ERR_INTERNAL, "filter", "the filters were not checked");
     return add_time(fs, L, err);
 }
 

@@ -124,16 +124,11 @@ static int check_filters(const lc_scene *s, const lc_render_params *p, lc_error 
     if (p->filter_count >= LC_MAX_FILTERS)
         return lc_err_field(err, LC_ERR_INVALID, "time.window", "at most %d filters with a time window",
                             LC_MAX_FILTERS - 1);
-    if (t->attribute[0]) {
-        if (lc_scene_find_attribute(s, t->attribute) < 0)
-            return lc_err_field(err, LC_ERR_INVALID, "time.attribute", "%s has no attribute \"%s\"", s->name,
-                                t->attribute);
+    if (lc_scene_time_attribute(s, t->attribute) >= 0)
         return 0;
-    }
-    static const char *const names[] = {"time", "t", "frame", "timestep"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-        if (lc_scene_find_attribute(s, names[i]) >= 0)
-            return 0;
+    if (t->attribute[0])
+        return lc_err_field(err, LC_ERR_INVALID, "time.attribute", "%s has no attribute \"%s\"", s->name,
+                            t->attribute);
     return lc_err_field(err, LC_ERR_INVALID, "time.attribute",
                         "%s has no time: no attribute time, t, frame or timestep (name one in time.attribute)",
                         s->name);

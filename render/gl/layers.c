@@ -115,12 +115,6 @@ int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scene
         l->gs = scenes[i];
         l->visible = in->visible ? 1 : 0;
         l->context = in->role == LC_LAYER_CONTEXT;
-        if (l->context && s->type == LC_PRIM_POINTS) {
-            char field[32];
-            snprintf(field, sizeof field, "layers[%d].role", i);
-            return lc_err_field(err, LC_ERR_INVALID, field, "a context layer is lines or a surface; %s is points",
-                                s->name);
-        }
         l->params = *fs->params;
         l->params.importance = in->importance;
         l->params.color = in->color;
@@ -148,10 +142,7 @@ int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scene
         l->line_half_width = 0.5 * (in->style.line_width > 0 ? in->style.line_width : 0.004 * sqrt(diag));
         l->level = lc_frame_pick_level(&tmp);
         l->element_offset = (uint32_t)offset;
-        offset += s->elements.count;
-        if (offset > (1u << 24)) /* the elements of all layers share the renderer's buffers */
-            return lc_err_field(err, LC_ERR_INVALID, "layers", "the layers hold %llu elements, more than %u",
-                                (unsigned long long)offset, 1u << 24);
+        offset += s->elements.count; /* at most 2^24 in all (lc_render_check) */
     }
     fs->layers = out;
     fs->layer_count = n;

@@ -17,6 +17,13 @@ static void default_range(const lc_render_params *p, const lc_attribute *a, doub
     out[1] = robust ? a->auto_hi : a->max;
 }
 
+/* lc_render_check (frame_check.c) refuses a mapping the scene cannot resolve,
+ * naming the field; reaching one here means a caller skipped it. */
+static int unchecked(lc_error *err, const char *field)
+{
+    return lc_err_field(err, LC_ERR_INTERNAL, field, "the mapping was not checked against the scene");
+}
+
 /* The weighted terms (docs/ALGORITHM.md "Importance terms"); the first
  * term's attribute also stands in importance_attr, so "g = 1" stays off. */
 static int resolve_terms(lc_frame_setup *fs, lc_error *err)
@@ -27,11 +34,8 @@ static int resolve_terms(lc_frame_setup *fs, lc_error *err)
     double sum = 0, sum_abs = 0;
     for (int i = 0; i < m->term_count && i < LC_MAX_IMPORTANCE_TERMS; i++) {
         const lc_importance_term *in = &m->terms[i];
-        char field[48];
-        snprintf(field, sizeof field, "importance.terms[%d].attribute", i);
-        t->attr[i] = lc_scene_find_attribute(s, in->attribute);
-        if (t->attr[i] < 0)
-            return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, in->attribute);
+        if ((t->attr[i] = lc_scene_find_attribute(s, in->attribute)) < 0)
+            return unchecked(err, "importance.terms");
         if (in->has_range)
             t->range[i][0] = in->range[0], t->range[i][1] = in->range[1];
         else
@@ -43,7 +47,7 @@ static int resolve_terms(lc_frame_setup *fs, lc_error *err)
         t->count = i + 1;
     }
     if (!(sum_abs > 0))
-        return lc_err_field(err, LC_ERR_INVALID, "importance.terms", "every weight is 0");
+        return unchecked(err, "importance.terms");
     t->norm = 1.0 / sum_abs;
     t->penalty = sum < 0;
     fs->importance_attr = t->attr[0];
@@ -64,10 +68,8 @@ int lc_frame_resolve_mapping(lc_frame_setup *fs, lc_error *err)
         if (rc)
             return rc;
     } else if (imp[0]) {
-        fs->importance_attr = lc_scene_find_attribute(s, imp);
-        if (fs->importance_attr < 0)
-            return lc_err_field(err, LC_ERR_INVALID, "importance.attribute", "%s has no attribute \"%s\"", s->name,
-                                imp);
+        if ((fs->importance_attr = lc_scene_find_attribute(s, imp)) < 0)
+            return unchecked(err, "importance.attribute");
         default_range(p, &s->attributes[fs->importance_attr], fs->importance_range);
         if (p->importance.has_range)
             fs->importance_range[0] = p->importance.range[0], fs->importance_range[1] = p->importance.range[1];
@@ -91,14 +93,13 @@ int lc_frame_resolve_mapping(lc_frame_setup *fs, lc_error *err)
     fs->color_range[0] = 0, fs->color_range[1] = 1;
     if (strcmp(col, "rgb") == 0) {
         if (!lc_scene_has_rgb(s))
-            return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no per-vertex RGB", s->name);
+            return unchecked(err, "color.attribute");
         fs->color_mode = 2;
     } else if (strcmp(col, "importance") == 0) {
         fs->color_mode = 1;
     } else {
-        fs->color_attr = lc_scene_find_attribute(s, col);
-        if (fs->color_attr < 0)
-            return lc_err_field(err, LC_ERR_INVALID, "color.attribute", "%s has no attribute \"%s\"", s->name, col);
+        if ((fs->color_attr = lc_scene_find_attribute(s, col)) < 0)
+            return unchecked(err, "color.attribute");
         fs->color_mode = 0;
         /* The same range as importance: auto drops the outliers, so one
          * extreme value cannot turn the picture one colour. */

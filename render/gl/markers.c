@@ -12,26 +12,13 @@
 /* Splat radius in the view's pixels (docs/GUIDE.md: 3 px). */
 #define MARKER_RADIUS_PX 3.0f
 
-static int time_attribute(const lc_scene *s, const char *name)
-{
-    if (name[0])
-        return lc_scene_find_attribute(s, name);
-    static const char *const names[] = {"time", "t", "frame", "timestep"}; /* filter.c's order */
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        int a = lc_scene_find_attribute(s, names[i]);
-        if (a >= 0)
-            return a;
-    }
-    return -1;
-}
-
 int lc_markers_draw(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
 {
     const lc_render_params *p = fs->params;
     const lc_scene *s = fs->gs->scene;
     if (!p->time.markers || !p->time.has_window || s->type != LC_PRIM_LINES || fs->layer_count > 0 || !fs->pull_lines)
         return 0;
-    int attr = time_attribute(s, p->time.attribute);
+    int attr = lc_scene_time_attribute(s, p->time.attribute);
     if (attr < 0) /* filter.c refused the window already */
         return lc_err_field(err, LC_ERR_INVALID, "time.attribute", "%s has no time attribute", s->name);
     if (!r->marker_program) {

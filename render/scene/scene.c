@@ -91,6 +91,19 @@ int lc_scene_find_attribute(const lc_scene *s, const char *name)
     return -1;
 }
 
+int lc_scene_time_attribute(const lc_scene *s, const char *name)
+{
+    if (name && name[0])
+        return lc_scene_find_attribute(s, name);
+    static const char *const usual[] = {"time", "t", "frame", "timestep"};
+    for (size_t i = 0; i < sizeof usual / sizeof usual[0]; i++) {
+        int a = lc_scene_find_attribute(s, usual[i]);
+        if (a >= 0)
+            return a;
+    }
+    return -1;
+}
+
 void lc_scene_unique_attribute_name(const lc_scene *s, const char *want, char out[LC_NAME_LEN])
 {
     snprintf(out, LC_NAME_LEN, "%s", want && want[0] ? want : "attribute");

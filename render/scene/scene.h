@@ -161,6 +161,9 @@ float lc_scene_percentile(const float *v, uint32_t n, float lo, float hi, double
 void lc_attribute_update_range(lc_attribute *a, uint32_t n);
 /* Index of the attribute named name, or -1. */
 int lc_scene_find_attribute(const lc_scene *s, const char *name);
+/* The time of time windows and markers: the attribute named name, else
+ * (name empty) the first of time, t, frame and timestep; -1 = none. */
+int lc_scene_time_attribute(const lc_scene *s, const char *name);
 /* A name for a new attribute that no attribute of s has: want itself when
  * free, else want_2, want_3, ... (shortened to fit LC_NAME_LEN). Readers use it
  * for names from a file, which may repeat: lc_scene_add_attribute replaces an

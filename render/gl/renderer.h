@@ -346,8 +346,9 @@ void lc_renderer_set_tile_size(lc_renderer *r, int tile_size);
 /* What the geometry passes (P0, P1, P2, P4, P5 and the baselines' passes) run,
  * for `lucent bench --floor` (docs/EVALUATION.md, "The geometry path"):
  * everything (the default), the same vertex shader and coverage with a
- * fragment shader that returns zeros at its first instruction (the cost of
- * vertex shading, set-up, binning, rasterization and blending), or nothing
+ * fragment shader that returns right after its coverage test, its outputs
+ * unwritten (the cost of vertex shading, set-up, binning, rasterization and
+ * blending), or nothing
  * after the vertex shader (GL_RASTERIZER_DISCARD: vertex shading, primitive
  * assembly and clipping). Images are meaningless outside LC_FLOOR_FULL. */
 typedef enum { LC_FLOOR_FULL = 0, LC_FLOOR_EMPTY_SHADER, LC_FLOOR_NO_RASTER, LC_FLOOR_COUNT } lc_floor_mode;

@@ -503,10 +503,18 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
             json_decref(o);
             return LC_ERR_INVALID;
         }
-        json_object_set_new(o, "visibility",
-                            json_pack("{s:f, s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
-                                      h->bottom_half_alpha, "coveredFraction", h->covered_fraction, "occluderAlpha",
-                                      h->occluder_alpha));
+        json_t *vis = json_pack("{s:f, s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
+                                h->bottom_half_alpha, "coveredFraction", h->covered_fraction, "occluderAlpha",
+                                h->occluder_alpha);
+        if (vis && h->layer_count > 0 && h->layer_count <= LC_MAX_LAYERS) {
+            json_t *layers = json_array();
+            for (int i = 0; i < h->layer_count; i++)
+                json_array_append_new(layers, json_pack("{s:f, s:f, s:f}", "topDecileAlpha", h->layer_visibility[i][0],
+                                                        "bottomHalfAlpha", h->layer_visibility[i][1], "occluderAlpha",
+                                                        h->layer_visibility[i][2]));
+            json_object_set_new(vis, "layers", layers);
+        }
+        json_object_set_new(o, "visibility", vis);
     }
     if (o && h->has_detail) {
         if (!isfinite(h->lod_pixels) || !isfinite(h->render_ms) || h->level < 0 || h->point_stride < 1 ||
@@ -654,6 +662,25 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             }
             *dst[i] = x;
         }
+        const json_t *layers = json_object_get(vis, "layers");
+        size_t n = json_is_array(layers) ? json_array_size(layers) : 0;
+        if (layers && (!json_is_array(layers) || n > LC_MAX_LAYERS)) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility.layers", "expected an array of at most %d",
+                                        LC_MAX_LAYERS);
+            goto done;
+        }
+        for (size_t i = 0; i < n; i++)
+            for (int k = 0; k < 3; k++) {
+                const json_t *v = json_object_get(json_array_get(layers, i), keys[k == 2 ? 3 : k]);
+                double x = json_is_number(v) ? json_number_value(v) : -1;
+                if (!(x >= 0 && x <= 1)) {
+                    status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility.layers",
+                                                "expected objects of numbers in [0, 1] (%s)", keys[k == 2 ? 3 : k]);
+                    goto done;
+                }
+                h->layer_visibility[i][k] = x;
+            }
+        h->layer_count = (int)n;
         h->has_visibility = true;
     }
     const json_t *det = json_object_get(o, "detail");

@@ -143,6 +143,10 @@ typedef struct lc_frame_header {
     bool has_visibility;
     double top_decile_alpha, bottom_half_alpha, covered_fraction;
     double occluder_alpha; /* "occluderAlpha"; 0 when a sender omits it */
+    /* "visibility.layers" (layered frames): each layer's topDecileAlpha,
+     * bottomHalfAlpha and occluderAlpha, in the request's layer order. */
+    int layer_count;
+    double layer_visibility[LC_MAX_LAYERS][3];
     /* "detail" (optional): what the frame drew (docs/ALGORITHM.md "Level of
      * detail and interactive frames"). */
     bool has_detail;

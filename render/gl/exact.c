@@ -364,7 +364,7 @@ static int exact_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     /* P3 exactly as the Fourier path, so the two differ only in P1/P2 and compositing. */
     lc_mass_report(r, fs, info);
     rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
-    if (!rc && !fs->layer_count) /* the report ranks one dataset's elements by importance */
+    if (!rc) /* layered frames: per layer and over the transparent layers together */
         rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
     lc_renderer_timestamp(r, LC_PASS_SMOOTH);
     return rc;

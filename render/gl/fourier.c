@@ -243,7 +243,7 @@ static int smooth_and_report(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
 {
     lc_mass_report(r, fs, info);
     int rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
-    if (!rc && !fs->layer_count) /* the report ranks one dataset's elements by importance */
+    if (!rc) /* layered frames: per layer and over the transparent layers together */
         rc = lc_visibility_measure(r, fs, state ? state->alpha : NULL, info, err);
     lc_renderer_timestamp(r, LC_PASS_SMOOTH);
     return rc;

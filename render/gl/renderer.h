@@ -187,6 +187,14 @@ typedef struct lc_frame_info {
     /* Mean opacity of the least important half, each element weighted by the
      * importance mass behind its fragments (0 when they hide nothing). */
     double occluder_alpha;
+    /* Layered frames: the same report for each layer (the totals above are
+     * over the transparent layers' elements together; a context layer, drawn
+     * opaque, has visible_elements 0). */
+    int layer_count;
+    struct {
+        uint32_t visible_elements;
+        double top_decile_alpha, bottom_half_alpha, occluder_alpha;
+    } layers[LC_MAX_LAYERS];
     /* Exact method only (0 otherwise): */
     uint64_t fragments;         /* fragments rasterized at full resolution (stored + dropped) */
     uint64_t dropped_fragments; /* fragments lost because the node pool was full */

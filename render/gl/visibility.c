@@ -92,10 +92,13 @@ void lc_occluders_clear(lc_renderer *r)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_BEHIND, r->element_behind);
 }
 
+/* Each element's importance (the mean of its vertices'), in r->importance_cache:
+ * kept while the scene and the mapping stay; a layered frame's is computed
+ * for every layer's elements at their offsets, each layer with its mapping. */
 static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
 {
-    uint32_t count = fs->gs->scene->elements.count;
-    if (r->importance_cache && r->importance_key.scene == fs->gs->serial &&
+    uint32_t count = fs->layer_count ? fs->element_total : fs->gs->scene->elements.count;
+    if (fs->layer_count == 0 && r->importance_cache && r->importance_key.scene == fs->gs->serial &&
         r->importance_key.attr == fs->importance_attr && r->importance_key.range[0] == fs->importance_range[0] &&
         r->importance_key.range[1] == fs->importance_range[1] &&
         r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count &&
@@ -120,14 +123,21 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     const uint32_t zero = 0;
     glClearNamedBufferData(r->element_importance, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    /* The geometry bindings give the shader the attributes and the mapping. */
-    lc_renderer_bind_geometry(r, prog, fs, fs->low_width, fs->low_height, 1);
-    glUseProgram(prog);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_IMPORTANCE, r->element_importance);
-    uint32_t vertices = fs->gs->scene->vertex_count;
-    if (vertices)
-        lc_dispatch_linear((vertices + 255) / 256);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    /* The geometry bindings give the shader the attributes, the mapping and
+     * (layers) the layer's first element. */
+    for (int i = 0; i < (fs->layer_count ? fs->layer_count : 1); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *l = fs->layer_count ? lc_frame_layer(fs, i, &tmp) : fs;
+        if (!l)
+            continue;
+        lc_renderer_bind_geometry(r, prog, l, fs->low_width, fs->low_height, 1);
+        glUseProgram(prog);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_IMPORTANCE, r->element_importance);
+        uint32_t vertices = l->gs->scene->vertex_count;
+        if (vertices)
+            lc_dispatch_linear((vertices + 255) / 256);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
     glGetNamedBufferSubData(r->element_importance, 0, (GLsizeiptr)count * 8, sums);
     int rc = lc_reduce_counts(r, sums, 2 * (size_t)count, err); /* an element's vertices may lie on several ranks */
     if (rc) {
@@ -140,7 +150,7 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     glDeleteBuffers(1, &r->element_importance);
     r->element_importance = 0;
     r->importance_cache_count = count;
-    r->importance_key.scene = fs->gs->serial;
+    r->importance_key.scene = fs->layer_count ? 0 : fs->gs->serial; /* a layered cache matches no one scene */
     r->importance_key.attr = fs->importance_attr;
     r->importance_key.range[0] = fs->importance_range[0];
     r->importance_key.range[1] = fs->importance_range[1];
@@ -219,10 +229,24 @@ static double take_weighted(const double *count, const double *w, const double *
     return acc_w > 0 ? acc_wa / acc_w : 0.0;
 }
 
+/* The report's sums per importance bin, for one layer or the whole frame. */
+typedef struct vis_bins {
+    double n[VIS_BINS], sum[VIS_BINS], w[VIS_BINS], wa[VIS_BINS];
+    uint32_t visible;
+} vis_bins;
+
+static void report(const vis_bins *b, uint32_t *visible, double *top, double *bottom, double *occluder)
+{
+    *visible = b->visible;
+    *top = take_mean(b->n, b->sum, ceil(0.1 * b->visible), -1);
+    *bottom = take_mean(b->n, b->sum, ceil(0.5 * b->visible), +1);
+    *occluder = take_weighted(b->n, b->w, b->wa, ceil(0.5 * b->visible));
+}
+
 int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float *alphas, lc_frame_info *info,
                           lc_error *err)
 {
-    uint32_t count = fs->gs->scene->elements.count;
+    uint32_t count = fs->layer_count ? fs->element_total : fs->gs->scene->elements.count;
     if (count == 0)
         return 0;
     int rc = ensure_importance(r, fs, err);
@@ -233,18 +257,17 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
     uint32_t chunk = count < VIS_CHUNK ? count : VIS_CHUNK;
     uint32_t *seen = malloc((size_t)chunk * 4), *behind = malloc((size_t)chunk * 4);
     float *own = alphas ? NULL : malloc((size_t)chunk * 4);
-    if (!seen || !behind || (!alphas && !own)) {
+    int nl = fs->layer_count; /* bins[0]: the frame; bins[1 + i]: layer i */
+    vis_bins *bins = calloc((size_t)(1 + nl), sizeof *bins);
+    if (!seen || !behind || (!alphas && !own) || !bins) {
         free(seen);
         free(behind);
         free(own);
+        free(bins);
         return lc_err(err, LC_ERR_NOMEM, "out of memory (visibility of %u elements)", count);
     }
-    static _Thread_local double n[VIS_BINS], sum[VIS_BINS], w[VIS_BINS], wa[VIS_BINS];
-    memset(n, 0, sizeof n);
-    memset(sum, 0, sizeof sum);
-    memset(w, 0, sizeof w);
-    memset(wa, 0, sizeof wa);
-    uint32_t visible = 0;
+    int layer = -1;
+    uint32_t layer_end = 0;
     for (uint32_t first = 0; first < count; first += chunk) {
         uint32_t m = count - first < chunk ? count - first : chunk;
         glGetNamedBufferSubData(r->element_alpha_min, (GLintptr)first * 4, (GLsizeiptr)m * 4, seen);
@@ -255,29 +278,42 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
             break;
         const float *cur = alphas ? alphas + first : own;
         for (uint32_t i = 0; i < m; i++) {
+            uint32_t e = first + i;
+            while (nl && e >= layer_end && layer + 1 < nl) { /* layers hold consecutive element ranges */
+                layer++;
+                layer_end = fs->layers[layer].element_offset + fs->layers[layer].gs->scene->elements.count;
+            }
+            if (nl && fs->layers[layer].context) /* opaque context: not optimized, not reported */
+                continue;
             float a_min;
             memcpy(&a_min, &seen[i], 4);
             if (!(a_min <= 1.0f)) /* no fragment this frame (the P2 sentinel is 2) */
                 continue;
-            float g = r->importance_cache[first + i];
+            float g = r->importance_cache[e];
             int k = (int)(g * VIS_BINS);
             k = k < 0 ? 0 : k >= VIS_BINS ? VIS_BINS - 1 : k;
-            n[k] += 1;
-            sum[k] += cur[i];
-            w[k] += behind[i] / 4096.0; /* occluders.glsl's units */
-            wa[k] += behind[i] / 4096.0 * cur[i];
-            visible++;
+            vis_bins *into[2] = {&bins[0], nl ? &bins[1 + layer] : NULL};
+            for (int j = 0; j < 2 && into[j]; j++) {
+                into[j]->n[k] += 1;
+                into[j]->sum[k] += cur[i];
+                into[j]->w[k] += behind[i] / 4096.0; /* occluders.glsl's units */
+                into[j]->wa[k] += behind[i] / 4096.0 * cur[i];
+                into[j]->visible++;
+            }
         }
     }
     free(seen);
     free(behind);
     free(own);
-    if (rc)
-        return rc;
-    info->has_visibility = 1;
-    info->visible_elements = visible;
-    info->top_decile_alpha = take_mean(n, sum, ceil(0.1 * visible), -1);
-    info->bottom_half_alpha = take_mean(n, sum, ceil(0.5 * visible), +1);
-    info->occluder_alpha = take_weighted(n, w, wa, ceil(0.5 * visible));
-    return 0;
+    if (!rc) {
+        info->has_visibility = 1;
+        report(&bins[0], &info->visible_elements, &info->top_decile_alpha, &info->bottom_half_alpha,
+               &info->occluder_alpha);
+        info->layer_count = nl;
+        for (int i = 0; i < nl; i++)
+            report(&bins[1 + i], &info->layers[i].visible_elements, &info->layers[i].top_decile_alpha,
+                   &info->layers[i].bottom_half_alpha, &info->layers[i].occluder_alpha);
+    }
+    free(bins);
+    return rc;
 }

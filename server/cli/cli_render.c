@@ -83,6 +83,15 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
                                       "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
                                       info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements,
                                       "occluderAlpha", info->occluder_alpha));
+        json_t *layers = info->layer_count > 0 ? json_array() : NULL;
+        for (int i = 0; layers && i < info->layer_count; i++)
+            json_array_append_new(layers, json_pack("{s:I, s:f, s:f, s:f}", "visibleElements",
+                                                    (json_int_t)info->layers[i].visible_elements, "topDecileAlpha",
+                                                    info->layers[i].top_decile_alpha, "bottomHalfAlpha",
+                                                    info->layers[i].bottom_half_alpha, "occluderAlpha",
+                                                    info->layers[i].occluder_alpha));
+        if (layers)
+            json_object_set_new(json_object_get(o, "visibility"), "layers", layers);
         if (info->clarity_lambda > 0) /* params.clarity: the factors the loop settled on */
             json_object_set_new(
                 o, "clarity",

@@ -115,6 +115,9 @@ async def stream(srv):
               "the session's first still is the HTTP render of the same layers, byte for byte (SSIM %.4f)"
               % (ssim(first, ref) if first else -1))
         check(frames and h.get("timings") is not None and frames[-1][0]["converged"], "the stream converges")
+        lv = (frames[-1][0].get("visibility") or {}).get("layers") if frames else None
+        check(isinstance(lv, list) and len(lv) == 2 and all("topDecileAlpha" in x for x in lv),
+              "the session's frames carry visibility per layer (%s)" % lv)
 
         await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": CAMERA}))
         frames, errors = await until_done(ws, lambda h: h["cameraSeq"] == 1)
@@ -156,6 +159,18 @@ with Server(binary, "--still-delay", "1000", data=("demo:points", "demo:tornado"
             demo_size=300) as srv:
     st, hdrs, both = render(srv, {"layers": LAYERS})
     check(st == 200 and png_size(both) == (96, 80), "two-layer render -> 200, a 96x80 PNG (%d)" % st)
+    # Visibility over the transparent layers together and per layer; the clarity loop acts on it.
+    per = [x.split("/") for x in hdrs.get("x-lucent-layer-visibility", "").split(";") if x]
+    check("x-lucent-visibility" in hdrs and len(per) == 2 and all(len(x) == 3 for x in per),
+          "a layered frame reports visibility in total and per layer (%s | %s)" %
+          (hdrs.get("x-lucent-visibility"), hdrs.get("x-lucent-layer-visibility")))
+    tops = []
+    for clarity in (0, 0.95):
+        st, h, _ = render(srv, {"layers": LAYERS, "params": {"clarity": clarity}})
+        vis = dict(kv.split("=") for kv in h.get("x-lucent-visibility", "").split(",") if "=" in kv)
+        tops.append(float(vis.get("topDecileAlpha", -1)))
+    check(tops[0] >= 0 and tops[1] > tops[0] + 0.02,
+          "clarity on a layered frame lifts the most important tenth (%.3f at 0, %.3f at 0.95)" % tuple(tops))
     alone = []
     for i in range(2):
         hidden = [dict(l, visible=(k == i)) for k, l in enumerate(LAYERS)]

@@ -81,6 +81,11 @@ export class FrameStats {
       out.push(['state', h.converged ? 'converged' : 'fading']);
       const v = visibilityText(h.visibility);
       if (v) out.push(['visibility', v]);
+      const layers = Array.isArray(h.visibility?.layers) ? h.visibility.layers : [];
+      layers.forEach((l, i) => {
+        const lv = visibilityText(l);
+        if (lv) out.push([`  layer ${i + 1}`, lv]);
+      });
     }
     if (this.bytes != null) out.push(['bytes/frame', `${formatBytes(this.bytes)} (avg ${formatBytes(this.bytesAvg)})`]);
     if (this.renderer) out.push(['renderer', this.renderer]);

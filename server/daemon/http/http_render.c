@@ -92,6 +92,15 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
         snprintf(vis, sizeof vis, "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f,occluderAlpha=%.4f",
                  info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction, info->occluder_alpha);
         MHD_add_response_header(r, "X-Lucent-Visibility", vis);
+        char layers[LC_MAX_LAYERS * 48] = "";
+        for (int i = 0; i < info->layer_count && i < LC_MAX_LAYERS; i++) { /* layered frames: "top/bottom/occluder;..." */
+            size_t len = strlen(layers);
+            snprintf(layers + len, sizeof layers - len, "%s%.4f/%.4f/%.4f", i ? ";" : "",
+                     info->layers[i].top_decile_alpha, info->layers[i].bottom_half_alpha,
+                     info->layers[i].occluder_alpha);
+        }
+        if (layers[0])
+            MHD_add_response_header(r, "X-Lucent-Layer-Visibility", layers);
     }
     if (info->has_color_ticks) { /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */
         char ticks[160];

@@ -129,6 +129,12 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.bottom_half_alpha = e->info.bottom_half_alpha;
         h.occluder_alpha = e->info.occluder_alpha;
         h.covered_fraction = e->info.covered_fraction;
+        h.layer_count = e->info.layer_count;
+        for (int i = 0; i < e->info.layer_count && i < LC_MAX_LAYERS; i++) {
+            h.layer_visibility[i][0] = e->info.layers[i].top_decile_alpha;
+            h.layer_visibility[i][1] = e->info.layers[i].bottom_half_alpha;
+            h.layer_visibility[i][2] = e->info.layers[i].occluder_alpha;
+        }
     }
     if (e->info.has_color_ticks) {
         h.has_color_ticks = true;

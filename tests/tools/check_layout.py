@@ -8,7 +8,13 @@
   a macro or a header's inline wrapper counts too: module A calls B when A's
   object file needs a global symbol that B's object file defines);
 - no C file there is longer than 900 lines, none in server/ longer than 700;
-- no tracked text file cites a path outside the repository (../shared, /work/).
+- no tracked text file cites a path outside the repository (../shared, /work/);
+- docs/ARCHITECTURE.md "File map" is the one file map: every C file and header
+  of render/, protocol/ and server/, every shader, the page's files (web/*.html,
+  .css, .js and web/js/*.js), the Python package's modules, scripts/*.sh and
+  scripts/*.py and every folder of tests/ stands in the first column of one of
+  its table rows, exactly once; and every repository path the section names in
+  backticks exists.
 Usage: check_layout.py SOURCE_DIR [FOLDER=LIBRARY.a ...]
 (each FOLDER=LIBRARY.a names the static library built from that folder; the
 call circles are checked over the libraries given)"""
@@ -186,6 +192,69 @@ for rel in tracked:
     m = outside.search(data.decode("utf-8", "replace"))
     if m:
         fail("%s cites a path outside the repository (%s)" % (rel, m.group(0)))
+
+# The file map: docs/ARCHITECTURE.md's section "## File map" up to the next "## ".
+MAP_DOC = "docs/ARCHITECTURE.md"
+MAP_TOPS = ("render/", "protocol/", "server/", "web/", "clients/", "scripts/", "tests/", "docker/", "cmake/", "docs/",
+            ".ci/", "CMakeLists.txt", ".clang-format")
+
+
+def map_required():
+    """The source files (and tests/ folders) the file map must list, as repository paths."""
+    out = set()
+
+    def add(folder, ends, recurse=True):
+        top = os.path.join(src, folder)
+        for root, dirs, names in os.walk(top):
+            dirs[:] = sorted(d for d in dirs if not d.startswith((".", "__")) and d != "node_modules") if recurse else []
+            for name in names:
+                if name.endswith(ends) and not name.startswith("."):
+                    out.add(os.path.relpath(os.path.join(root, name), src))
+
+    add("render", (".c", ".h", ".glsl"))
+    add("protocol", (".c", ".h"))
+    add("server", (".c", ".h"))
+    add("web", (".html", ".css", ".js"), recurse=False)
+    add("web/js", (".js",))
+    add("clients/python/lucent", (".py",))
+    add("scripts", (".sh", ".py"), recurse=False)
+    tests = os.path.join(src, "tests")
+    out.update("tests/%s/" % d for d in os.listdir(tests)
+               if os.path.isdir(os.path.join(tests, d)) and not d.startswith((".", "__")))
+    return out
+
+
+with open(os.path.join(src, MAP_DOC), encoding="utf-8") as f:
+    doc = f.read().split("\n")
+start = next((i for i, line in enumerate(doc) if line.strip() == "## File map"), None)
+checks += 1
+if start is None:
+    fail('%s has no section "## File map"' % MAP_DOC)
+else:
+    end = next((i for i in range(start + 1, len(doc)) if doc[i].startswith("## ")), len(doc))
+    listed, named = {}, set()
+    for line in doc[start:end]:
+        for p in re.findall(r"`([^`\s]+)`", line):
+            if p.startswith(MAP_TOPS) and "*" not in p:
+                named.add(p)
+        cells = line.split("|")
+        if line.startswith("|") and len(cells) > 2 and not set(cells[1].strip()) <= set("-: "):
+            for p in re.findall(r"`([^`\s]+)`", cells[1]):
+                if p.startswith(MAP_TOPS):
+                    listed[p] = listed.get(p, 0) + 1
+    for p in sorted(map_required()):
+        checks += 1
+        if p not in listed:
+            fail("%s is missing from the file map (%s \"File map\"): add a row with its role" % (p, MAP_DOC))
+    for p, n in sorted(listed.items()):
+        checks += 1
+        if n > 1:
+            fail("%s is listed %d times in the file map (%s): once" % (p, n, MAP_DOC))
+    for p in sorted(named):
+        checks += 1
+        full = os.path.join(src, p)
+        if not (os.path.isdir(full) if p.endswith("/") else os.path.exists(full)):
+            fail("the file map (%s) names %s, which does not exist" % (MAP_DOC, p))
 
 print("%d passed, %d failed" % (checks - len(failures), len(failures)))
 sys.exit(1 if failures else 0)

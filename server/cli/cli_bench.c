@@ -76,7 +76,8 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
     if (!t)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     lc_frame_info info = {0};
-    int rc = 0, ran[LC_PASS_COUNT] = {0}, tries[LC_FLOOR_COUNT] = {0}, listed[LC_FLOOR_COUNT] = {0};
+    int rc = 0, ran[LC_PASS_COUNT] = {0}, tries[LC_FLOOR_COUNT] = {0}, listed[LC_FLOOR_COUNT] = {0},
+        summed[LC_FLOOR_COUNT] = {0};
     for (int f = -1; f < frames && !rc; f++)
         for (int m = 0; m < MODES && !rc; m++) {
             lc_renderer_set_floor(g->renderer, (lc_floor_mode)m);
@@ -85,6 +86,7 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
                 continue;
             tries[m] = info.clarity_tries;
             listed[m] = info.opacity_from_list;
+            summed[m] = info.importance_from_list;
             double *row = t + ((size_t)m * COLS) * frames;
             /* Per traversal: the clarity loop runs P2 (and P3) once a try. */
             int per = info.clarity_tries > 1 ? info.clarity_tries : 1;
@@ -117,6 +119,7 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
         printf("  (shading: the share of the shaded time above the empty shader's; opacity: one P2, the mean\n"
                "  over the clarity loop's tries, %d, %d and %d a frame)\n",
                tries[0], tries[1], tries[2]);
+        printf("  P1: %s\n", summed[0] ? "a compute pass over P0's fragments (no traversal)" : "drawn (a traversal)");
         printf("  P2: %s\n\n", listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
     }
     free(t);

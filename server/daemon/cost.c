@@ -214,6 +214,38 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
            equalize_cost(st, p, frags);
 }
 
+/* The smallest params.subset (a power of two up to 64) whose frame fits the
+ * budget, or 0: the optimization and compositing passes then draw every n-th
+ * primitive of the methods that weight a stride, at full picture size. */
+static int subset_for(const lc_scene_measures *st, const lc_render_params *p, double budget)
+{
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_WBOIT)
+        return 0;
+    lc_render_params q = *p;
+    for (int n = 2 * (p->foo.subset > 1 ? p->foo.subset : 1); n <= 64; n *= 2) {
+        q.foo.subset = n;
+        if (lc_cost_estimate(st, &q) <= budget)
+            return n;
+    }
+    return 0;
+}
+
+/* The largest frame of p's aspect that fits the budget (0 x 0: none down to 16 pixels a side). */
+static void size_for(const lc_scene_measures *st, const lc_render_params *p, double budget, int *w, int *h)
+{
+    lc_render_params q = *p;
+    double lo = 0, hi = 1;
+    *w = *h = 0;
+    for (int i = 0; i < 20; i++) {
+        double k = 0.5 * (lo + hi);
+        q.width = (int)(p->width * k), q.height = (int)(p->height * k);
+        if (q.width < 16 || q.height < 16 || lc_cost_estimate(st, &q) > budget)
+            hi = k;
+        else
+            lo = k, *w = q.width, *h = q.height;
+    }
+}
+
 const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p, double budget)
 {
     lc_render_params q = *p;
@@ -253,6 +285,8 @@ const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p
     }
     if (st->type == LC_PRIM_POINTS && p->style.point_size > defaults.point_size)
         return "style.pointSize";
+    if (subset_for(st, p, budget) > 0)
+        return "params.subset";
     return "width";
 }
 
@@ -263,10 +297,26 @@ int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double
     if (budget <= 0 || *cost <= budget)
         return 0;
     *field = lc_cost_field(st, p, budget);
+    /* Advice that works: the value that fits, not only the field to change. */
+    char advice[160];
+    int w = 0, h = 0, k = strcmp(*field, "params.subset") == 0 ? subset_for(st, p, budget) : 0;
+    if (k > 0)
+        snprintf(advice, sizeof advice,
+                 "set params.subset to %d (the optimization draws one primitive in %d, "
+                 "weighted %d; the picture keeps its size)",
+                 k, k, k);
+    else if (strcmp(*field, "width") == 0 && (size_for(st, p, budget, &w, &h), w > 0))
+        snprintf(advice, sizeof advice, "a frame of at most %dx%d fits", w, h);
+    else if (strcmp(*field, "width") == 0)
+        snprintf(advice, sizeof advice,
+                 "no frame size fits: filter the data (filter, time.window) or ask for a "
+                 "server with a larger --max-cost");
+    else
+        snprintf(advice, sizeof advice, "lower %s", *field);
     snprintf(msg, n,
-             "estimated cost %.3g exceeds this server's budget of %.3g per frame (--max-cost); lower %s "
-             "(%dx%d, %s, %.0f primitives)",
-             *cost, budget, *field, p->width, p->height, lc_method_name(p->method), st->primitives);
+             "estimated cost %.3g exceeds this server's budget of %.3g per frame (--max-cost) for %dx%d, %s, "
+             "%.0f primitives: %s",
+             *cost, budget, p->width, p->height, lc_method_name(p->method), st->primitives, advice);
     return -1;
 }
 

@@ -107,6 +107,30 @@ with Server(binary, demo_size=200000) as srv:
     check(metric(srv, 'lucent_renders_refused_total{reason="cost"}') >= 5, "refusals counted by reason=cost")
     check(srv.stop() == 0, "clean exit")
 
+# Advice that works: the refusal names the value that fits, and that value is served.
+TORNADO = "/api/v1/render?dataset=demo:tornado&width=256&height=256&format=jpeg"
+with Server(binary, "--max-cost", "0", data=("demo:tornado",), demo_size=2000) as srv:
+    costs = {n: float(srv.request("GET", TORNADO + "&subset=%d" % n)[1].get("x-lucent-cost", "0")) for n in (1, 8)}
+with Server(binary, "--max-cost", "%.6g" % (0.5 * (costs[1] + costs[8])), data=("demo:tornado",),
+            demo_size=2000) as srv:
+    st, _, e = srv.json("GET", TORNADO)
+    msg = e.get("error", {}).get("message", "") if st == 400 else ""
+    n = int(msg.split("set params.subset to ")[1].split()[0]) if "set params.subset to " in msg else 0
+    check(st == 400 and e["error"]["field"] == "params.subset" and 1 < n <= 8,
+          "over budget, the tornado is refused naming params.subset with a value (%d, %s)" % (st, msg))
+    st, _, _ = srv.request("GET", TORNADO + "&subset=%d" % n)
+    check(st == 200, "the advised subset %d renders (%d)" % (n, st))
+    st, _, e = srv.json("GET", TORNADO + "&method=opaque&width=4096&height=4096")
+    msg = e.get("error", {}).get("message", "") if st == 400 else ""
+    size = msg.split("a frame of at most ")[1].split()[0] if "a frame of at most " in msg else ""
+    check(st == 400 and e["error"]["field"] == "width" and "x" in size,
+          "an opaque 4096x4096 frame is refused naming width with a size that fits (%s)" % msg)
+    if "x" in size:
+        w, h = size.split("x")
+        st, _, _ = srv.request("GET", TORNADO.replace("width=256&height=256", "width=%s&height=%s" % (w, h)) +
+                               "&method=opaque")
+        check(st == 200, "the advised %sx%s frame renders (%d)" % (w, h, st))
+
 with Server(binary, "--pass-delay", PASS_DELAY) as srv:
 
     # Fairness: client A queues 8 renders, then client B asks for one. Round

@@ -93,6 +93,13 @@ static void set_uniforms(lc_surface_layers *sl)
     lc_uniform_i(sl->composite, "u_composite", d->composite);
 }
 
+long long lc_surface_layers_block_bytes(void)
+{
+    GLint64 max_block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    return max_block > 0 ? (long long)max_block : 0;
+}
+
 int lc_surface_layers_create(const lc_surface_layers_desc *desc, lc_surface_layers **out, lc_error *err)
 {
     *out = NULL;

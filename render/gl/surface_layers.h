@@ -55,6 +55,9 @@ typedef struct lc_surface_layers_stats {
 /* Builds programs and buffers on the current context. Errors name the field
  * of desc ("epsilon", "max_layers", ...). */
 int lc_surface_layers_create(const lc_surface_layers_desc *desc, lc_surface_layers **out, lc_error *err);
+/* The largest storage block the current context's driver addresses (bytes;
+ * 0 = not known): a frame's layers must fit one. */
+long long lc_surface_layers_block_bytes(void);
 void lc_surface_layers_destroy(lc_surface_layers *sl);
 
 /* Empties the layers and statistics (a new seed or camera). */

@@ -107,6 +107,21 @@ int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_
                                 .pool_fragments = LC_SURFACE_POOL_FRAGMENTS,
                                 .composite = sp->composite};
     lc_surface_bytes(p->width, p->height, sp->max_layers, &info->k);
+    /* A pixel's layers live in one storage block: where the driver's block is
+     * smaller than the budget (llvmpipe: 128 MiB), fewer layers, not a failure. */
+    long long block = lc_surface_layers_block_bytes();
+    uint64_t per_layer = (uint64_t)p->width * (uint64_t)p->height * LAYER_BYTES;
+    if (block > 0 && (uint64_t)info->k * per_layer > (uint64_t)block) {
+        uint64_t fit = (uint64_t)block / per_layer;
+        if (fit < 1) {
+            int side = (int)sqrt((double)block / LAYER_BYTES);
+            return lc_err_field(err, LC_ERR_INVALID, "width",
+                                "a %dx%d surface frame needs more than one storage block (%lld MiB) holds even at "
+                                "one layer a pixel: render at most about %dx%d pixels",
+                                p->width, p->height, (long long)(block >> 20), side, side);
+        }
+        info->k = (int)fit;
+    }
     d.max_layers = info->k;
     memcpy(d.background, p->style.background, sizeof d.background);
     memcpy(d.view, v.view, sizeof d.view);

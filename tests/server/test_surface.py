@@ -134,6 +134,14 @@ with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as
     st, _, h = srv.json("GET", "/api/v1/health")
     check(st == 200, "the daemon still serves: %d" % st)
 
+    # The page's sizes: where a frame's layers would not fit one storage block, fewer layers, not a failure.
+    for w, h in ((972, 761), (1920, 1080)):
+        req = dict(surface_request(particles=100), width=w, height=h, format="jpeg")
+        st, headers, data = render(srv, req)
+        k = int(header_fields(headers).get("k", "0")) if st == 200 else 0
+        check(st == 200 and 1 <= k <= 8, "a %dx%d surface renders with %d layers a pixel (%d %s)" %
+              (w, h, k, st, data[:200] if st != 200 else ""))
+
 with Server(binary, "--max-cost", "1e6", data=("demo:points", "demo:shear-flow")) as srv:
     st, _, data = render(srv, surface_request(particles=5000))
     e = json.loads(data).get("error", {}) if st != 200 else {}

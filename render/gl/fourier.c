@@ -164,8 +164,12 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, t->width, t->height, subset);
         lc_uniform_f(prog, "u_weight", lc_renderer_subset(lf, subset));
-        if (kind == PROG_P1_LIST)
+        if (kind == PROG_P1_LIST || kind == PROG_DEPTH_MOMENTS_LIST)
             lc_uniform_u(prog, "u_fragment_capacity", (unsigned)r->fragment_capacity);
+        if (kind == PROG_DEPTH_MOMENTS_LIST) {
+            lc_uniform_u(prog, "u_chain_pixels", r->chain_pixels);
+            lc_uniform_u(prog, "u_chain_width", r->chain_width);
+        }
         lc_renderer_draw_geometry(lf, subset);
     }
     r->draw_yields = 0;
@@ -213,12 +217,23 @@ static int choose_p1_subset(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 /* P0 "moments": sum g^2 (1, u, u^2) per pixel at the optimization resolution
  * (docs/ALGORITHM.md "Depth normalization"), drawn with P1's subset and
  * weights, summed over MPI ranks like P1. Afterwards P1, P2, P4 and P5 warp
- * depth by it (series_depth in common.glsl). */
+ * depth by it (series_depth in common.glsl). Where the frame allows, it
+ * records its fragments for P1 (fragment_list.c), which the pass plan runs
+ * in every frame that runs this one. */
 int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     lc_targets_ensure(&r->moments, fs->low_width, fs->low_height, 1, GL_RGBA32F, &r->bytes_targets);
     fs->depth_moments = 0; /* this pass itself normalizes by the bounds */
-    int rc = draw_summed(r, fs, PROG_DEPTH_MOMENTS, 1, fs->params->foo.subset, &r->moments, err);
+    int record = lc_fragment_chains_wanted(r, fs);
+    fs->p0_chained = 0;
+    if (record)
+        lc_fragment_chains_begin(r, fs, fs->low_width, fs->low_height);
+    int rc = draw_summed(r, fs, record ? PROG_DEPTH_MOMENTS_LIST : PROG_DEPTH_MOMENTS, 1, fs->params->foo.subset,
+                         &r->moments, err);
+    if (!rc && record) {
+        lc_fragment_chains_end(r);
+        fs->p0_chained = r->fragments_chained;
+    }
     if (rc || (rc = choose_p1_subset(r, fs, err)) != 0)
         return rc;
     fs->depth_moments = 1;
@@ -263,12 +278,24 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     info->p1_subset = fs->p1_subset > 0 ? fs->p1_subset : p->foo.subset;
     int rc = 0;
     if (!fs->p1_done) {
-        /* P1 records its fragments for P2 where that is allowed (fragment_list.c). */
-        int record = lc_fragment_list_wanted(r, info->p1_subset);
+        /* P1 over P0's fragments where P0 recorded them, else drawn, recording
+         * its fragments for P2 where that is allowed (fragment_list.c). */
+        int chained = fs->p0_chained && r->fragments_chained && info->p1_subset <= 1;
+        int record = !chained && lc_fragment_list_wanted(r, info->p1_subset);
+        info->importance_from_list = chained;
+        fs->p0_chained = 0;
         r->fragments_ready = 0;
-        if (record)
-            lc_fragment_list_begin(r, fs);
-        rc = draw_summed(r, fs, record ? PROG_P1_LIST : PROG_P1, bands, info->p1_subset, &r->coef_low, err);
+        if (chained) {
+            lc_targets_clear(&r->coef_low, NULL);
+            rc = lc_fragment_chains_p1(r, fs, &r->coef_low, bands, err);
+            if (!rc)
+                rc = lc_reduce_targets(r, &r->coef_low, LC_REDUCE_SUM, 0, fs->info, err);
+        } else {
+            r->fragments_chained = 0;
+            if (record)
+                lc_fragment_list_begin(r, fs);
+            rc = draw_summed(r, fs, record ? PROG_P1_LIST : PROG_P1, bands, info->p1_subset, &r->coef_low, err);
+        }
         if (!rc && record)
             lc_fragment_list_end(r);
         if (rc || (rc = lc_mass_histogram_fourier(r, fs, err)) != 0)

@@ -17,7 +17,18 @@
  * The list is sized from the fragments seen before (a first frame guesses);
  * a frame whose fragments do not fit draws P2 as before and the list grows
  * for the next one. Pages of the buffer that no frame wrote are not resident
- * on llvmpipe, so a generous guess costs address space, not memory. */
+ * on llvmpipe, so a generous guess costs address space, not memory.
+ *
+ * P1 over P0's fragments (FRAGMENT_CHAINS): where P0 "moments" runs, it
+ * records the same list (with the normalized depth where P1 leaves the
+ * series depth) and chains each pixel's entries in the order its fragment
+ * shader ran them; P1 is then a compute pass that walks each pixel's chain
+ * and adds the projections in that order (p1_list.comp.glsl). Additive
+ * blending adds a pixel's fragments in primitive order, and llvmpipe shades
+ * a pixel's fragments on one thread in that order, so the sums are the drawn
+ * P1's bit for bit (render.test_references checks it); P2 then runs over the
+ * list as after a recording P1. A frame traverses the geometry three times
+ * (P0, P4, P5). */
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,6 +57,20 @@ void lc_fragment_list_configure(const char *gl_renderer)
 }
 
 int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
+
+int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs)
+{
+    (void)r;
+    /* Layers draw with their own parameters (a depth margin each); a tile's
+     * full-resolution optimization shifts its window (bind_geometry); a
+     * stride weighs fragments, which the list does not keep (params.subset,
+     * a moving frame's point stride or strided lines). Those frames record
+     * in P1 as before. */
+    int tile_low = fs->tiled && fs->low_width == fs->width && fs->low_height == fs->height;
+    int weighted = fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 ||
+                   (fs->kept_line_indices[1] > 0 && fs->line_stride > 1);
+    return lc_fragment_list_enabled() && !weighted && fs->layer_count == 0 && !tile_low;
+}
 
 int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset)
 {
@@ -96,6 +121,90 @@ void lc_fragment_list_end(lc_renderer *r)
     r->fragments_ready = count <= r->fragment_capacity;
 }
 
+void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h)
+{
+    lc_fragment_list_begin(r, fs);
+    uint64_t pixels = (uint64_t)w * (uint64_t)h;
+    uint64_t words = 2 * pixels;
+    if (!r->fragment_chains || r->chain_words < words) {
+        if (r->fragment_chains)
+            glDeleteBuffers(1, &r->fragment_chains);
+        glCreateBuffers(1, &r->fragment_chains);
+        glNamedBufferStorage(r->fragment_chains, (GLsizeiptr)(4 * words), NULL, GL_DYNAMIC_STORAGE_BIT);
+        r->chain_words = words;
+    }
+    const uint32_t none = 0xFFFFFFFFu; /* FRAGMENT_NONE: no entry yet */
+    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(8 * pixels), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &none);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
+    r->chain_pixels = (uint32_t)pixels;
+    r->chain_width = (uint32_t)w;
+    r->fragments_chained = 0;
+}
+
+void lc_fragment_chains_end(lc_renderer *r)
+{
+    lc_fragment_list_end(r);
+    r->fragments_chained = r->fragments_ready; /* every fragment is in the list and its chain */
+    r->fragments_ready = 0;                    /* P2's depths come with P1 */
+}
+
+static GLuint chains_program(lc_renderer *r, int bands, lc_error *err)
+{
+    GLuint *slot = &r->fixed_programs[PROG_P1_CHAINS_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
+    if (!*slot) {
+        static const char *const cs[] = {"common.glsl", "fragment_list.glsl", "p1_list.comp.glsl", NULL};
+        char defines[96];
+        snprintf(defines, sizeof defines, "#define BANDS %d\n#define FRAGMENT_CHAINS 1\n#define SERIES_DEPTH_AT 1\n",
+                 bands);
+        *slot = lc_renderer_build_program(defines, NULL, NULL, cs, "P1 over P0's fragments", err);
+    }
+    return *slot;
+}
+
+int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, int bands, lc_error *err)
+{
+    GLuint prog = chains_program(r, bands, err);
+    if (!prog)
+        return LC_ERR_GL;
+    glUseProgram(prog);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
+    lc_uniform_u(prog, "u_chain_pixels", r->chain_pixels);
+    lc_uniform_u(prog, "u_chain_width", r->chain_width);
+    lc_uniform_f(prog, "u_weight", 1.0);
+    /* series_depth_at's uniforms as lc_renderer_bind_geometry sets them for
+     * P1 at t's size (no tile: lc_fragment_chains_wanted). */
+    lc_uniform_f(prog, "u_depth_margin", fs->pixel_depth_range ? LC_PIXEL_DEPTH_MARGIN : fs->params->foo.depth_margin);
+    lc_uniform_i(prog, "u_depth_moments", fs->depth_moments);
+    if (fs->depth_moments) {
+        glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
+        lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / t->width, (double)fs->low_height / t->height);
+        lc_uniform_v2(prog, "u_moments_offset", fs->moments_guard[0], fs->moments_guard[1]);
+        lc_uniform_v2(prog, "u_pixel_origin", 0, 0);
+    }
+    for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
+        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT);
+    r->fragments_chained = 0;
+    r->fragments_ready = 1; /* the list now holds P1's fragments with their series depths */
+    return 0;
+}
+
+uint64_t lc_fragment_list_bytes(const lc_renderer *r)
+{
+    /* The entries frames wrote (the rest of the capacity is address space
+     * that llvmpipe never touches), and the chains' first and last entries. */
+    uint64_t seen = r->fragment_seen < r->fragment_capacity ? r->fragment_seen : r->fragment_capacity;
+    uint64_t list = r->fragment_list ? 16 + 16 * seen : 0;
+    uint64_t chains = r->fragment_chains ? 8 * (uint64_t)r->chain_pixels : 0;
+    return list + chains;
+}
+
 GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err)
 {
     GLuint *slot = &r->fixed_programs[PROG_P2_LIST_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
@@ -125,4 +234,9 @@ void lc_fragment_list_release(lc_renderer *r)
     r->fragment_list = 0;
     r->fragment_capacity = 0;
     r->fragments_ready = 0;
+    if (r->fragment_chains)
+        glDeleteBuffers(1, &r->fragment_chains);
+    r->fragment_chains = 0;
+    r->chain_words = 0;
+    r->fragments_chained = 0;
 }

@@ -129,10 +129,7 @@ uint64_t lc_renderer_bytes(const lc_renderer *r)
 {
     uint64_t points = r->point_histogram ? POINT_BINS * 4 + ((uint64_t)r->point_list_capacity + 1) * 4 : 0;
     uint64_t filter = r->filter.mask ? ((uint64_t)r->filter.mask_words + r->filter.offset_words) * 4 : 0;
-    /* P1's fragment list: the entries frames wrote (the rest of its capacity
-     * is address space that llvmpipe never touches; fragment_list.c). */
-    uint64_t seen = r->fragment_seen < r->fragment_capacity ? r->fragment_seen : r->fragment_capacity;
-    uint64_t fragments = r->fragment_list ? 16 + 16 * seen : 0;
+    uint64_t fragments = lc_fragment_list_bytes(r); /* P0's and P1's lists (fragment_list.c) */
     return r->bytes_targets + r->bytes_elements + points + filter + r->line_select_bytes + r->line_kept_bytes +
            fragments;
 }

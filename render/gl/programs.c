@@ -148,14 +148,17 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_wboit[] = {"common.glsl", "fragment_common.glsl", "wboit_accumulate.frag.glsl", NULL};
     static const char *const fs_range[] = {"common.glsl", "fragment_common.glsl", "depth_range.frag.glsl", NULL};
     static const char *const fs_moments[] = {"common.glsl", "fragment_common.glsl", "depth_moments.frag.glsl", NULL};
+    static const char *const fs_moments_list[] = {"common.glsl", "fragment_common.glsl", "fragment_list.glsl",
+                                                  "depth_moments.frag.glsl", NULL};
     static const char *const fs_hist[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                           "color_histogram.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
         fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist,
-        fs_p1_list};
+        fs_p1_list, fs_moments_list};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
-        "colour histogram", "colour histogram (direct)", "P1 (recording)"};
+        "colour histogram", "colour histogram (direct)", "P1 (recording)",
+        "depth moments (recording)"};
     int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT || kind == PROG_COLOR_HISTOGRAM;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
     char defines[320];
@@ -163,7 +166,9 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
              pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
              context ? "#define CONTEXT_DEPTH 1\n" : "", floor ? "#define FLOOR_EMPTY 1\n" : "",
-             kind == PROG_P1_LIST ? "#define RECORD_FRAGMENTS 1\n" : "");
+             kind == PROG_P1_LIST              ? "#define RECORD_FRAGMENTS 1\n"
+             : kind == PROG_DEPTH_MOMENTS_LIST ? "#define RECORD_FRAGMENTS 1\n#define FRAGMENT_CHAINS 1\n"
+                                               : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,
              pulled    ? ", subset"

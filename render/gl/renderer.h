@@ -212,6 +212,7 @@ typedef struct lc_frame_info {
     int clarity_tries;     /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
     int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
     int opacity_from_list; /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
+    int importance_from_list; /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;

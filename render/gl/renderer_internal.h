@@ -52,6 +52,7 @@
     X(BIND_SURFACE_LAYERS, 30) /* surface_layers.c: the persistent per-pixel layers */                                 \
     X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */  \
     X(BIND_FRAGMENT_LIST, 14) /* fragment_list.c: P1's fragments for P2 (never in a program of the exact method) */   \
+    X(BIND_FRAGMENT_CHAINS, 15) /* fragment_list.c: P0's per-pixel chains for P1 (never in the exact method's) */     \
     X(BIND_LINE_RUNS, 9)    /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */         \
     X(BIND_LINE_SELECT, 10) /* line_subset.c: the kept strip's two counts and each run's importance bin */            \
     X(BIND_LINE_KEPT, 20)   /* line_subset.c: the kept strip (lines never bind the point list) */                     \
@@ -176,6 +177,7 @@ typedef enum {
     PROG_COLOR_HISTOGRAM, /* color_equalize.c, after P5 */
     PROG_COLOR_HISTOGRAM_DIRECT,
     PROG_P1_LIST, /* P1 that also records its fragments (fragment_list.c) */
+    PROG_DEPTH_MOMENTS_LIST, /* P0 "moments" that also records its fragments and chains (fragment_list.c) */
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -186,7 +188,8 @@ typedef enum {
     PROG_LINE_SELECT,
     PROG_FILTER_MASK,
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
-    PROG_FIXED_KINDS = PROG_P2_LIST_FIRST + LC_MAX_BANDS
+    PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS, /* P1 over P0's fragments, per band count */
+    PROG_FIXED_KINDS = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS
 } lc_program_kind;
 
 struct lc_renderer {
@@ -209,6 +212,14 @@ struct lc_renderer {
     uint64_t fragment_capacity, fragment_seen;
     uint32_t fragment_count;
     int fragments_ready;
+    /* P0's recording (FRAGMENT_CHAINS): the chains' buffer (a pixel's first
+     * and last entry, 2 words a pixel of the optimization resolution), its size in
+     * words, the pixels and width of the frame's chains, and whether this
+     * frame's P0 recorded every fragment for P1 (fragment_list.c). */
+    GLuint fragment_chains;
+    uint64_t chain_words;
+    uint32_t chain_pixels, chain_width;
+    int fragments_chained;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -377,6 +388,7 @@ typedef struct lc_frame_setup {
     int p1_subset;     /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
     int p1_done;       /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
                           change only the strength P2 applies, keep them (lc_fourier_optimize) */
+    int p0_chained;    /* this frame's P0 recorded its fragments for P1 (fragment_list.c) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
@@ -637,6 +649,18 @@ void lc_fragment_list_end(lc_renderer *r);
  * opacity uniforms and bound the minima, coefficients and element buffers. */
 GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err);
 void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog);
+/* P0 "moments" records its fragments and per-pixel chains when the frame
+ * allows (lists on, no stride, one dataset, not a tile's full-resolution
+ * optimization) and P1 then sums them in a compute pass instead of drawing:
+ * wanted before P0, begin/end around it (end sets r->fragments_chained). */
+int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs);
+void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h);
+void lc_fragment_chains_end(lc_renderer *r);
+/* P1 into t (cleared by the caller) from the chains; the list then holds
+ * P1's fragments as a recording P1 leaves them (r->fragments_ready). */
+int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, int bands, lc_error *err);
+/* Bytes the lists hold (lc_renderer_bytes). */
+uint64_t lc_fragment_list_bytes(const lc_renderer *r);
 /* Frees the list (lc_renderer_release_after, destroy). */
 void lc_fragment_list_release(lc_renderer *r);
 /* Chooses for the driver named gl_renderer (GL_RENDERER), process-wide:

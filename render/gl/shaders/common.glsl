@@ -208,22 +208,23 @@ float normalized_depth(float z_view)
     return clamp(u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t, 0.0, 1.0);
 }
 
-#ifdef FRAGMENT_STAGE
+#if defined(FRAGMENT_STAGE) || defined(SERIES_DEPTH_AT)
 uniform int u_depth_moments;   // 1: P0 "moments" ran, warp the series' depth
 uniform vec2 u_moments_scale;  // moments texels per pixel of this pass
 uniform vec2 u_moments_offset; // params.guardBand: texels of the moments beyond the view (0 in P0-P2)
 uniform vec2 u_pixel_origin;   // tiled stills: the frame's pixel at this target's (0, 0); else 0
 layout(binding = TEX_DEPTH_MOMENTS) uniform sampler2D u_moments; // sum g^2 (1, u, u^2), u = d - 1/2
 
-// The depth the Fourier series of P1, P2, P4 and P5 use: normalized_depth,
+// The depth the Fourier series of P1, P2, P4 and P5 use: the normalized
+// depth d of the fragment at window position frag_xy (gl_FragCoord.xy),
 // warped per pixel around its importance mass when P0 "moments" ran
-// (lc_foo_moment_depth in foo_math.h is the CPU reference).
-float series_depth(float z_view)
+// (lc_foo_moment_depth in foo_math.h is the CPU reference). P1 over P0's
+// fragments (p1_list.comp.glsl) calls it with the recorded d.
+float series_depth_at(vec2 frag_xy, float d)
 {
-    float d = normalized_depth(z_view);
     if (u_depth_moments == 0)
         return d;
-    vec4 m = texelFetch(u_moments, ivec2((gl_FragCoord.xy + u_pixel_origin) * u_moments_scale + u_moments_offset), 0);
+    vec4 m = texelFetch(u_moments, ivec2((frag_xy + u_pixel_origin) * u_moments_scale + u_moments_offset), 0);
     if (!(m.x > 0.0))
         return d;
     float mu = m.y / m.x;
@@ -231,6 +232,10 @@ float series_depth(float z_view)
     float t = 1.0 / (1.0 + exp(-((d - 0.5) - mu) / s));
     return u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t;
 }
+#endif
+
+#ifdef FRAGMENT_STAGE
+float series_depth(float z_view) { return series_depth_at(gl_FragCoord.xy, normalized_depth(z_view)); }
 #endif
 
 #ifdef BANDS

@@ -11,3 +11,36 @@ layout(std430, binding = BIND_FRAGMENT_LIST) buffer FragmentList
     uvec4 fragments[];
 };
 uniform uint u_fragment_capacity;
+
+// P0's list (FRAGMENT_CHAINS): per pixel of the optimization resolution a
+// chain of its entries in the order the fragment shader ran them. Words 2p
+// and 2p + 1 of the chains' buffer hold pixel p's (p = x + y * width) first
+// and last entry (the last cleared to FRAGMENT_NONE before P0); an entry's x
+// holds the entry after it in its chain (written by that fragment: no entry
+// writes its own x) until P1's compute pass replaces it by the pixel, and
+// its w holds the normalized depth until P1 replaces it by the series depth.
+// On llvmpipe one thread shades a pixel's fragments, in primitive order,
+// which is the order blending adds them in; P1 adds them in chain order.
+#ifdef FRAGMENT_CHAINS
+#define FRAGMENT_NONE 0xFFFFFFFFu
+layout(std430, binding = BIND_FRAGMENT_CHAINS) buffer FragmentChains { uint chain_words[]; };
+uniform uint u_chain_pixels; // width * height of the pass
+uniform uint u_chain_width;
+
+#ifdef FRAGMENT_STAGE
+void record_chained_fragment(uint element, float g, float d)
+{
+    uint i = atomicAdd(fragment_count, 1u);
+    if (i >= u_fragment_capacity)
+        return; // the frame draws P1 instead (fragment_list.c)
+    fragments[i].yzw = uvec3(element, floatBitsToUint(g), floatBitsToUint(d));
+    uvec2 xy = uvec2(gl_FragCoord.xy);
+    uint p = xy.x + xy.y * u_chain_width;
+    uint prev = atomicExchange(chain_words[2u * p + 1u], i);
+    if (prev == FRAGMENT_NONE)
+        chain_words[2u * p] = i;
+    else
+        fragments[prev].x = i;
+}
+#endif
+#endif

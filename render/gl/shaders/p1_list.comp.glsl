@@ -1,0 +1,61 @@
+// P1 over P0's fragments (fragment_list.glsl, FRAGMENT_CHAINS): one invocation
+// a pixel of the optimization resolution walks its chain of fragments in the
+// order P0's fragment shader ran them, projects each as p1_importance.frag.glsl
+// does (the same series_depth_at and fourier_project) and adds them up in that
+// order, starting from the cleared 0, as additive blending would: the sums are
+// the drawn P1's, bit for bit, without a traversal of the geometry. Each entry's
+// link becomes its pixel and its normalized depth its series depth, so that P2
+// over the list (p2_list.comp.glsl) reads what it reads after a recording P1.
+layout(local_size_x = 64) in;
+uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u + gl_GlobalInvocationID.x; }
+
+uniform float u_weight; // 1: P0 and P1 draw every primitive
+
+layout(binding = IMG_COEF_FIRST, rgba32f) writeonly uniform image2D u_out0;
+layout(binding = IMG_COEF_FIRST + 1, rgba32f) writeonly uniform image2D u_out1;
+layout(binding = IMG_COEF_FIRST + 2, rgba32f) writeonly uniform image2D u_out2;
+layout(binding = IMG_COEF_FIRST + 3, rgba32f) writeonly uniform image2D u_out3;
+layout(binding = IMG_COEF_FIRST + 4, rgba32f) writeonly uniform image2D u_out4;
+
+void main()
+{
+    uint p = linear_invocation();
+    if (p >= u_chain_pixels)
+        return;
+    uint last = chain_words[2u * p + 1u];
+    if (last == FRAGMENT_NONE)
+        return; // no fragment: the target keeps its cleared 0
+    ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
+    vec2 frag_xy = vec2(xy) + 0.5;
+    uint packed_xy = uint(xy.x) | (uint(xy.y) << 16);
+    float sum[NTARGETS * 4];
+    for (int j = 0; j < NTARGETS * 4; j++)
+        sum[j] = 0.0;
+    uint i = chain_words[2u * p];
+    for (;;) {
+        uvec4 f = fragments[i];
+        float g = uintBitsToFloat(f.z);
+        float d = series_depth_at(frag_xy, uintBitsToFloat(f.w));
+        float c[NTARGETS * 4];
+        fourier_project(d, g * g * u_weight, c);
+        for (int j = 0; j < NTARGETS * 4; j++)
+            sum[j] += c[j];
+        fragments[i] = uvec4(packed_xy, f.y, f.z, floatBitsToUint(d));
+        if (i == last)
+            break;
+        i = f.x;
+    }
+    imageStore(u_out0, xy, vec4(sum[0], sum[1], sum[2], sum[3]));
+#if NTARGETS > 1
+    imageStore(u_out1, xy, vec4(sum[4], sum[5], sum[6], sum[7]));
+#endif
+#if NTARGETS > 2
+    imageStore(u_out2, xy, vec4(sum[8], sum[9], sum[10], sum[11]));
+#endif
+#if NTARGETS > 3
+    imageStore(u_out3, xy, vec4(sum[12], sum[13], sum[14], sum[15]));
+#endif
+#if NTARGETS > 4
+    imageStore(u_out4, xy, vec4(sum[16], sum[17], sum[18], sum[19]));
+#endif
+}

@@ -541,6 +541,15 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
         }
         json_object_set_new(o, "colorTicks", ticks);
     }
+    if (o && h->has_clarity) {
+        if (!isfinite(h->clarity_lambda) || !isfinite(h->clarity_penalty)) {
+            json_decref(o);
+            return LC_ERR_INVALID;
+        }
+        json_object_set_new(o, "clarity",
+                            json_pack("{s:f, s:f, s:b}", "lambdaFactor", h->clarity_lambda, "penaltyFactor",
+                                      h->clarity_penalty, "reached", (int)h->clarity_reached));
+    }
     if (o && h->has_surface) {
         if (!isfinite(h->surface_layers)) {
             json_decref(o);
@@ -597,7 +606,7 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
     lc_proto_limits lim;
     lc_proto_limits_default(&lim);
     lim.max_text = LC_PROTO_MAX_FRAME_HEADER;
-    lim.max_depth = 3;
+    lim.max_depth = 4; /* header { visibility { layers [ { } ] } } */
     json_t *o = lc_proto_load((const char *)msg + 4, n, &lim, err);
     if (!o)
         return LC_ERR_INVALID;
@@ -726,6 +735,20 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             goto done;
         }
         h->has_color_ticks = true;
+    }
+    const json_t *cl = json_object_get(o, "clarity");
+    if (cl) {
+        const json_t *lf = json_object_get(cl, "lambdaFactor"), *pf = json_object_get(cl, "penaltyFactor"),
+                     *re = json_object_get(cl, "reached");
+        if (!json_is_number(lf) || !json_is_number(pf) || !json_is_boolean(re) || !(json_number_value(lf) >= 1) ||
+            !(json_number_value(pf) >= 1)) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "clarity",
+                                        "expected lambdaFactor and penaltyFactor >= 1 and reached");
+            goto done;
+        }
+        h->clarity_lambda = json_number_value(lf), h->clarity_penalty = json_number_value(pf);
+        h->clarity_reached = json_is_true(re);
+        h->has_clarity = true;
     }
     const json_t *surf = json_object_get(o, "surface");
     if (surf) {

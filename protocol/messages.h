@@ -162,6 +162,10 @@ typedef struct lc_frame_header {
      * 1/4, 1/2, 3/4 and 1 of the colormap's bar (docs/ALGORITHM.md §19). */
     bool has_color_ticks;
     double color_ticks[5];
+    /* "clarity" (optional, params.clarity on): the factors on λ and on q and r
+     * the frame used, and whether it met the goal (false: where it stopped). */
+    bool has_clarity, clarity_reached;
+    double clarity_lambda, clarity_penalty;
     /* "surface" (optional; method surface-layers): curves traced so far, the
      * particles asked for, mean layers per covered pixel, fragments dropped
      * beyond k layers, k (docs/ALGORITHM.md §23). */

@@ -12,12 +12,12 @@
 import { ackMessage, resizeMessage, tokenSubprotocols } from './js/protocol.js';
 import { cloneCamera, roundCamera, DEFAULT_CAMERA, fitCamera, flatBounds } from './js/camera.js';
 import { parseHash, tokenFromLocation } from './js/url-state.js';
-import { getPath, merge, UPDATE_SECTIONS } from './js/schema.js';
+import { getPath, merge, UPDATE_SECTIONS, applies, fieldByPath } from './js/schema.js';
 import { Connection } from './js/connection.js';
 import { FrameView } from './js/view.js';
 import { Navigation } from './js/navigation.js';
 import { Panel, GROUPS, attributeRange, rgbToHex } from './js/ui.js';
-import { FrameStats, renderStats, formatBytes, visibilityText } from './js/stats.js';
+import { FrameStats, renderStats, formatBytes, visibilityText, clarityNote } from './js/stats.js';
 import { Api, ApiError } from './js/api.js';
 import { Legend, invertNote } from './js/legend.js';
 import { AxesTriad } from './js/axes.js';
@@ -92,6 +92,7 @@ export function createApp(doc = document, win = window) {
 
   // ---------------------------------------------------------------- view, triad, legend
   const canvas = $('canvas');
+  let clarityOutcome = ''; // the last optimizing frame's clarity note (moving frames reuse its opacities)
   const view = new FrameView(canvas, {
     ack: (id) => conn.send(ackMessage(id)),
     onDrawn: (f) => {
@@ -100,7 +101,8 @@ export function createApp(doc = document, win = window) {
       if (f.header.cameraSeq > state.confirmedSeq) state.confirmedSeq = f.header.cameraSeq;
       stats.frameDrawn(f.header, f.bytes, f.drawnAt);
       const seen = visibilityText(f.header.visibility);
-      if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.`);
+      if (seen && f.header.clarity) clarityOutcome = clarityNote(f.header.clarity);
+      if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.${clarityOutcome}`);
       legend.setColorTicks(f.header.colorTicks);
       surface.frame(f.header);
       seeds?.update();
@@ -243,10 +245,17 @@ export function createApp(doc = document, win = window) {
       panel.setValue('camera.viewAngle', state.camera.viewAngle);
       panel.setValue('camera.parallelProjection', state.camera.parallelProjection);
     }
-    panel.setVisible('params.directExponent', v.method === 'direct');
+    // the controls of fields this method and kind of data read (the server refuses the others)
+    const prim = v.layers?.length ? null : state.info?.type ?? null;
+    for (const path of panel.controls.keys()) {
+      const f = fieldByPath(path);
+      if (f) panel.setVisible(path, applies(f, v.method, prim));
+    }
     const colorBy = v.color?.attribute;
-    panel.setVisible('color.colormap', colorBy !== 'rgb');
-    panel.setVisible('color.range', colorBy !== 'rgb');
+    if (colorBy === 'rgb') {
+      panel.setVisible('color.colormap', false);
+      panel.setVisible('color.range', false);
+    }
     panel.setFeedback('importance.invert', invertNote(v, state.info));
     legend.update(v, state.info);
     time.show(v, state.info);

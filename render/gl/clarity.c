@@ -136,6 +136,7 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         st = next;
     }
     fs->params = given;
+    info->clarity_reached = rc == 0 && lc_clarity_miss(target, info) == 0;
     if (state)
         state->clarity = st;
     return rc;

@@ -173,6 +173,16 @@ with Server(binary, data=("demo:abc", "demo:points"), demo_size=40) as srv:
     st, _, s = srv.json("POST", "/api/v1/sessions", dict(eq, color={"equalize": True, "fadeHalfLife": 0.4}))
     frames = [srv.request("POST", "/api/v1/sessions/%s/render" % s.get("session"), {"dt": 0.1})[0] for _ in range(2)]
     check(st == 201 and frames == [200, 200], "an equalized session renders (%s, %s)" % (st, frames))
+    # params.clarity's outcome: the strength used and whether the goal was met (X-Lucent-Clarity).
+    outcome = {}
+    for target in (0.5, 1.0):
+        st, h, _ = srv.request("POST", "/api/v1/render", {"dataset": "demo:abc", "width": 64, "height": 48,
+                                                         "params": {"clarity": target}})
+        outcome[target] = dict(kv.split("=") for kv in h.get("x-lucent-clarity", "").split(",") if "=" in kv)
+    check(outcome[0.5].get("reached") == "true" and float(outcome[0.5].get("lambdaFactor", 0)) >= 1,
+          "clarity 0.5 on demo:abc is reached (%s)" % outcome[0.5])
+    check(outcome[1.0].get("reached") == "false" and float(outcome[1.0].get("lambdaFactor", 0)) > 1,
+          "clarity 1 is out of reach and says where it stopped (%s)" % outcome[1.0])
     # A render whose colormap's highest values are lost in its background says so (X-Lucent-Warning).
     base = {"dataset": "demo:abc", "width": 32, "height": 32}
     for extra, warned in (({}, True), ({"style": {"background": [0.1, 0.1, 0.1]}}, False),

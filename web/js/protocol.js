@@ -408,7 +408,7 @@ export function unpackFrame(buf) {
   } catch {
     fail('bad_json', '', 'frame header is not UTF-8');
   }
-  const header = loadJson(text, { maxText: MAX_FRAME_HEADER, maxDepth: 3 });
+  const header = loadJson(text, { maxText: MAX_FRAME_HEADER, maxDepth: 4 }); // visibility.layers[] objects
   if (!isObj(header)) fail('bad_field', '', 'frame header is not a JSON object');
   needs(getUint(header, 'frame'), 'frame');
   needs(getInt(header, 'width', 1, 1 << 30), 'width');

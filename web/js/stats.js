@@ -105,6 +105,13 @@ export function visibilityText(v) {
   return `most important tenth ${f(v.topDecileAlpha)}, occluders ${f(v.occluderAlpha)}, least important half ${f(v.bottomHalfAlpha)} opaque`;
 }
 
+/** params.clarity's outcome (frame header "clarity") in words: '' when the goal was met or the loop was off. */
+export function clarityNote(c) {
+  if (!c || c.reached !== false || typeof c.lambdaFactor !== 'number') return '';
+  return ` The goal is out of reach on these data: the optimization stopped at λ ×${c.lambdaFactor.toFixed(1)}, ` +
+    `q and r ×${c.penaltyFactor.toFixed(1)}, the strength that came closest.`;
+}
+
 export function formatBytes(n) {
   if (n == null) return '–';
   if (n < 1024) return `${Math.round(n)} B`;

@@ -102,6 +102,12 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
         if (layers[0])
             MHD_add_response_header(r, "X-Lucent-Layer-Visibility", layers);
     }
+    if (info->clarity_tries > 0) { /* params.clarity: the strength used, and whether it met the goal */
+        char cl[128];
+        snprintf(cl, sizeof cl, "lambdaFactor=%.4g,penaltyFactor=%.4g,reached=%s", info->clarity_lambda,
+                 info->clarity_penalty, info->clarity_reached ? "true" : "false");
+        MHD_add_response_header(r, "X-Lucent-Clarity", cl);
+    }
     if (info->has_color_ticks) { /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */
         char ticks[160];
         snprintf(ticks, sizeof ticks, "%.6g,%.6g,%.6g,%.6g,%.6g", info->color_ticks[0], info->color_ticks[1],

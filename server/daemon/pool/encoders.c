@@ -136,6 +136,12 @@ static void encode_one(lc_encoders *w, encode_item *e)
             h.layer_visibility[i][2] = e->info.layers[i].occluder_alpha;
         }
     }
+    if (e->info.clarity_tries > 0 && e->info.clarity_lambda >= 1 && e->info.clarity_penalty >= 1) {
+        h.has_clarity = true;
+        h.clarity_lambda = e->info.clarity_lambda;
+        h.clarity_penalty = e->info.clarity_penalty;
+        h.clarity_reached = e->info.clarity_reached != 0;
+    }
     if (e->info.has_color_ticks) {
         h.has_color_ticks = true;
         memcpy(h.color_ticks, e->info.color_ticks, sizeof h.color_ticks);

@@ -212,9 +212,17 @@ int lc_proto_parse_movie(const char *json, size_t len, const lc_proto_limits *li
             rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, dims[i], "%d is odd; video (4:2:0) needs even sizes",
                                     size[i]);
     }
-    if (rc == 0 && (long long)size[0] * size[1] > lim->max_pixels)
-        rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "width", "%d x %d = %lld pixels exceeds the limit %lld",
-                                size[0], size[1], (long long)size[0] * size[1], lim->max_pixels);
+    long long pixels = (long long)size[0] * size[1];
+    long long cap = lim->max_pixels < LC_MOVIE_MAX_PIXELS ? lim->max_pixels : LC_MOVIE_MAX_PIXELS;
+    if (rc == 0 && pixels > cap)
+        rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "width", "%d x %d = %lld pixels exceeds the limit %lld "
+                                "of a movie frame", size[0], size[1], pixels, cap);
+    if (rc == 0 && pixels * m->frames > LC_MOVIE_MAX_PIXEL_FRAMES)
+        rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, json_object_get(o, "frames") ? "frames" : "duration",
+                                "%d frames of %d x %d exceed a job's limit of %.3g pixel-frames (a minute of 4K at "
+                                "30 fps): at most %lld frames at this size",
+                                m->frames, size[0], size[1], (double)LC_MOVIE_MAX_PIXEL_FRAMES,
+                                LC_MOVIE_MAX_PIXEL_FRAMES / pixels);
     m->request.render.width = size[0];
     m->request.render.height = size[1];
     const json_t *codec = json_object_get(o, "codec");

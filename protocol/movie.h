@@ -15,6 +15,12 @@ extern "C" {
 #define LC_MOVIE_MAX_KEYFRAMES 64
 #define LC_MOVIE_MAX_FRAMES 18000 /* 10 minutes at 30 fps */
 #define LC_MOVIE_MAX_DURATION 600.0
+/* A video frame at most 4K UHD: the encoders' memory grows with it (an
+ * 8192 x 4608 H.264 job held 2.7 GB, VP9 4.2 GB). */
+#define LC_MOVIE_MAX_PIXELS (3840LL * 2160LL)
+/* Frames x pixels at most a minute of 4K at 30 fps (10 minutes at 960 x 540;
+ * 4 minutes at 1920 x 1080): a job holds one worker for its whole length. */
+#define LC_MOVIE_MAX_PIXEL_FRAMES (3840LL * 2160LL * 1800LL)
 
 typedef enum { LC_MOVIE_TURNTABLE = 0, LC_MOVIE_ORBIT = 1, LC_MOVIE_KEYFRAMES = 2 } lc_movie_path;
 

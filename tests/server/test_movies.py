@@ -90,6 +90,13 @@ with Server(binary, data=("demo:points", "demo:tornado"), demo_size=150) as srv:
     check(st == 400 and e.get("field") == "layers[0].role",
           "a context layer of points is refused when the movie is asked for, naming layers[0].role (%d %s)" %
           (st, data[:300]))
+    # Bounded jobs: a frame at most 4K, frames x pixels at most a minute of 4K at 30 fps.
+    for body, field, what in (({"width": 8192, "height": 4608, "frames": 2}, "width", "an 8192x4608 movie frame"),
+                              ({"width": 1920, "height": 1080, "frames": 18000}, "frames", "18,000 frames of 1080p"),
+                              ({"width": 3840, "height": 2160, "duration": 120}, "duration", "two minutes of 4K")):
+        st, _, data = srv.request("POST", "/api/v1/movies", dict(body, request={"dataset": "demo:points"}))
+        e = json.loads(data).get("error", {}) if data else {}
+        check(st == 400 and e.get("field") == field, "%s is refused naming %s (%d %s)" % (what, field, st, data[:200]))
     st, hdrs, _ = srv.request("POST", "/api/v1/render", dict(SIZE, layers=LAYERS))
     check(st == 200, "the daemon goes on serving (%d)" % st)
     cost = float(hdrs.get("x-lucent-cost", 0))
@@ -100,10 +107,10 @@ with Server(binary, "--max-cost", "%g" % (2 * cost), data=("demo:points", "demo:
     check(st == 202, "under --max-cost of twice its frame, the small movie of layers is queued (%d)" % st)
     wait(srv, json.loads(data).get("id", "none") if st == 202 else "none")
     st, _, data = srv.request("POST", "/api/v1/movies", {"request": {"layers": LAYERS}, "frames": 1,
-                                                         "width": 4096, "height": 4096})
+                                                         "width": 3840, "height": 2160})
     e = json.loads(data).get("error", {}) if data else {}
     check(st == 400 and e.get("code") == "too_expensive" and e.get("field") == "layers",
-          "a 4096x4096 movie of the layers is too expensive, naming layers (%d %s)" % (st, data[:200]))
+          "a 3840x2160 movie of the layers is too expensive, naming layers (%d %s)" % (st, data[:200]))
 
 shutil.rmtree(tmp, ignore_errors=True)
 check.done()

@@ -101,7 +101,9 @@ static void test_parse(void)
                {"{\"duration\":0}", "duration"},
                {"{\"duration\":0.001}", "duration"},
                {"{\"width\":16384,\"height\":8640}", "width"},
-               {"{\"width\":4096,\"height\":4096,\"fps\":1}", ""},
+               {"{\"width\":4096,\"height\":4096,\"fps\":1}", "width"}, /* over a movie frame's 4K cap */
+               {"{\"width\":3840,\"height\":2160,\"fps\":1}", ""},
+               {"{\"width\":3840,\"height\":2160,\"frames\":1801}", "frames"},
                {"{\"height\":541}", "height"},
                {"{\"codec\":\"av1\"}", "codec"},
                {"{\"keyframes\":[{\"position\":[0,0,5]}]}", "keyframes"},
@@ -119,8 +121,8 @@ static void test_parse(void)
         int rc = parse(bad[i].json, &m, &e);
         bool ok = rc != 0 && strcmp(e.field, bad[i].field) == 0 &&
                   (!bad[i].field[0] || strncmp(e.message, bad[i].field, strlen(bad[i].field)) == 0);
-        if (strcmp(bad[i].json, "{\"width\":4096,\"height\":4096,\"fps\":1}") == 0)
-            ok = rc == 0; /* 4096 x 4096 is within the default pixel cap */
+        if (strcmp(bad[i].json, "{\"width\":3840,\"height\":2160,\"fps\":1}") == 0)
+            ok = rc == 0; /* 4K, 10 frames: within both caps */
         CHECK(ok, "%s -> rc %d field \"%s\": %s", bad[i].json, rc, e.field, e.message);
     }
 }

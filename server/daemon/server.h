@@ -93,6 +93,7 @@ typedef struct lc_serve_config {
     size_t max_body;                /* HTTP request body bytes (413 beyond) */
     size_t max_ws_message;          /* WebSocket message bytes (close 1009 beyond) */
     int max_sessions;               /* HTTP + WebSocket sessions together */
+    int max_client_sessions;        /* of them, from one client address (--max-sessions-per-client) */
     int max_queue;                  /* queued HTTP render jobs (503 beyond) */
     int max_connections;            /* HTTP connections held by MHD */
     double idle_timeout;            /* seconds without use before a session is dropped */

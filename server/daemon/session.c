@@ -92,8 +92,8 @@ static void random_id(char out[LC_SESSION_ID_LEN])
         snprintf(out + 2 * i, 3, "%02x", b[i]);
 }
 
-int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *ds, const lc_request *initial,
-                      lc_session **out, lc_error *err)
+int lc_session_create(lc_sessions *reg, lc_session_kind kind, uint64_t client, const lc_dataset *ds,
+                      const lc_request *initial, lc_session **out, lc_error *err)
 {
     *out = NULL;
     lc_session *s = calloc(1, sizeof *s);
@@ -111,6 +111,7 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     }
     random_id(s->id);
     s->kind = kind;
+    s->client = client;
     s->dataset = ds;
     s->srv = reg->srv;
     atomic_init(&s->refs, 2); /* registry + caller */
@@ -128,11 +129,18 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *
     s->stream.converged = true;
 
     pthread_mutex_lock(&reg->lock);
-    if (reg->count >= reg->max) {
+    int mine = 0, cap = reg->srv->cfg.max_client_sessions > 0 ? reg->srv->cfg.max_client_sessions : reg->max;
+    for (int i = 0; client && i < reg->count; i++)
+        mine += reg->items[i]->client == client;
+    if (reg->count >= reg->max || mine >= cap) {
         pthread_mutex_unlock(&reg->lock);
         lc_frame_state_destroy(s->frame_state);
         pthread_mutex_destroy(&s->lock);
         free(s);
+        if (mine >= cap) /* field "client": the caller's own share, not the server's */
+            return lc_err_field(err, LC_ERR_LIMIT, "client",
+                                "this client has %d sessions open (--max-sessions-per-client %d); close one", mine,
+                                cap);
         return lc_err(err, LC_ERR_LIMIT, "too many sessions (%d open, the limit is %d)", reg->max, reg->max);
     }
     reg->items[reg->count++] = s;
@@ -371,7 +379,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
             /* What stage 1 costs at full detail: measured by the last stage 1, else at most the whole still. */
             double full_ms = st->reused_ms > 0 ? st->reused_ms : st->still_ms;
             int coarsest = lc_detail_rung_at(LC_DETAIL_RUNGS - 1)->line_stride;
-            st->preview_stride = full_ms > 0         ? lc_still_preview_stride(full_ms, budget, st->moving_stride)
+            st->preview_stride = full_ms > 0             ? lc_still_preview_stride(full_ms, budget, st->moving_stride)
                                  : st->moving_stride > 1 ? st->moving_stride
                                                          : coarsest;
         }
@@ -400,8 +408,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         d->line_stride = rung->line_stride;
         d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
-        bool points = !s->req.layer_count && s->dataset && s->dataset->scene &&
-                      s->dataset->scene->type == LC_PRIM_POINTS;
+        bool points =
+            !s->req.layer_count && s->dataset && s->dataset->scene && s->dataset->scene->type == LC_PRIM_POINTS;
         scale *= points || st->lines_thinned ? rung->thinned_scale : rung->scale;
     }
     if (out->stage == 1) {

@@ -94,6 +94,7 @@ struct lc_session {
     /* Immutable after creation. */
     char id[LC_SESSION_ID_LEN];
     lc_session_kind kind;
+    uint64_t client; /* the client address's key (lc_conn_client_key): its sessions' fair share and limit */
     const lc_dataset *dataset;
     lc_server *srv;
     atomic_int refs;
@@ -149,8 +150,8 @@ void lc_sessions_destroy(lc_sessions *reg);
  * its layers' datasets must be loaded: lc_session_resolve_layers first).
  * *out gets a reference for the caller. LC_ERR_LIMIT when max_sessions are open,
  * LC_ERR_NOMEM. Any thread. */
-int lc_session_create(lc_sessions *reg, lc_session_kind kind, const lc_dataset *ds, const lc_request *initial,
-                      lc_session **out, lc_error *err);
+int lc_session_create(lc_sessions *reg, lc_session_kind kind, uint64_t client, const lc_dataset *ds,
+                      const lc_request *initial, lc_session **out, lc_error *err);
 /* Finds an open session by id and kind, refreshing its idle clock; returns a
  * reference (unref it) or NULL. */
 lc_session *lc_session_find(lc_sessions *reg, const char *id, lc_session_kind kind);

@@ -356,7 +356,7 @@ static void test_budget(lc_stream_conn *conn)
     lc_request req;
     lc_request_default(&req);
     snprintf(req.dataset, sizeof req.dataset, "demo:points");
-    CHECK(lc_session_create(srv.sessions, LC_SESSION_HTTP, s->dataset, &req, &h, &err) == 0, "an HTTP session");
+    CHECK(lc_session_create(srv.sessions, LC_SESSION_HTTP, 0, s->dataset, &req, &h, &err) == 0, "an HTTP session");
     if (!h)
         return;
     lc_proto_error pe;

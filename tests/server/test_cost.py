@@ -107,6 +107,32 @@ with Server(binary, demo_size=200000) as srv:
     check(metric(srv, 'lucent_renders_refused_total{reason="cost"}') >= 5, "refusals counted by reason=cost")
     check(srv.stop() == 0, "clean exit")
 
+def post(srv, path, body, source="127.0.0.1"):
+    conn = http.client.HTTPConnection(srv.host, srv.port, timeout=60, source_address=(source, 0))
+    conn.request("POST", path, json.dumps(body), {"Content-Type": "application/json"})
+    r = conn.getresponse()
+    data = r.read()
+    conn.close()
+    return r.status, data
+
+
+# Sessions by client: one address holds at most --max-sessions-per-client of them; another still gets its own.
+with Server(binary, "--max-sessions-per-client", "4", "--max-sessions", "64", demo_size=300) as srv:
+    got = [post(srv, "/api/v1/sessions", {"width": 32, "height": 32})[0] for _ in range(6)]
+    check(got == [201] * 4 + [429] * 2, "one client's 5th and 6th sessions are refused with 429 (%s)" % got)
+    st, data = post(srv, "/api/v1/sessions", {"width": 32, "height": 32}, source="127.0.0.2")
+    check(st == 201, "another client still opens a session (%d %s)" % (st, data[:160]))
+
+    async def ws_refused():
+        async with websockets.connect(srv.ws_url) as ws:
+            await ws.send(json.dumps({"type": "hello", "width": 32, "height": 32}))
+            m = await wait_for_message(ws, lambda m: m.get("type") in ("error", "ready"))
+            return m[-1] if m.reached else {}
+    m = asyncio.run(ws_refused())
+    check(m.get("type") == "error" and m.get("code") == "too_many_sessions" and "client" in m.get("message", ""),
+          "the same client's WebSocket hello is refused too, saying why (%s)" % m)
+
+
 # Advice that works: the refusal names the value that fits, and that value is served.
 TORNADO = "/api/v1/render?dataset=demo:tornado&width=256&height=256&format=jpeg"
 with Server(binary, "--max-cost", "0", data=("demo:tornado",), demo_size=2000) as srv:

@@ -390,8 +390,8 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
         return lc_http_proto_error(srv, c, &pe);
     lc_session *s = NULL;
     lc_error err = {0};
-    if (lc_session_create(srv->sessions, LC_SESSION_HTTP, ds, &req, &s, &err) != 0)
-        return lc_http_error(srv, c, 503, "overloaded", NULL, "%s", err.msg);
+    if (lc_session_create(srv->sessions, LC_SESSION_HTTP, lc_conn_client_key(c), ds, &req, &s, &err) != 0)
+        return lc_http_error(srv, c, strcmp(err.field, "client") == 0 ? 429 : 503, "overloaded", NULL, "%s", err.msg);
     json_t *o = json_object();
     json_object_set_new(o, "session", json_string(s->id));
     json_object_set_new(o, "dataset", lc_dataset_info(ds));

@@ -7,6 +7,7 @@
 #include <strings.h>
 
 #include "auth.h"
+#include "conn_limits.h"
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
@@ -15,10 +16,9 @@
 static void upgrade_handler(void *cls, struct MHD_Connection *connection, void *con_cls, const char *extra_in,
                             size_t extra_in_size, MHD_socket sock, struct MHD_UpgradeResponseHandle *urh)
 {
-    (void)connection;
     lc_server *srv = cls;
     lc_http_req *ctx = con_cls;
-    lc_ws_adopt(srv->ws, sock, urh, extra_in, extra_in_size, ctx && ctx->ws_authed);
+    lc_ws_adopt(srv->ws, sock, urh, extra_in, extra_in_size, ctx && ctx->ws_authed, lc_conn_client_key(connection));
 }
 
 static bool header_has_token(const char *value, const char *token)

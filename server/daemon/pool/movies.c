@@ -250,7 +250,7 @@ static void run_job(lc_movies *m, movie_job *j)
     lc_error err = {0};
     lc_session *s = NULL;
     lc_video *v = NULL;
-    int rc = lc_session_create(m->srv->sessions, LC_SESSION_HTTP, j->ds, &j->spec.request, &s, &err);
+    int rc = lc_session_create(m->srv->sessions, LC_SESSION_HTTP, j->owner, j->ds, &j->spec.request, &s, &err);
     if (rc == 0)
         rc = lc_video_open(j->path, j->codec, j->spec.request.render.width, j->spec.request.render.height,
                            j->spec.fps, &v, &err);

@@ -23,11 +23,14 @@
 
 /* ---------------------------------------------------------------- queues */
 
+/* One flow per client address: its sessions and one-shot renders share it, so
+ * many sessions of one client get one share (keys | 1: never a pointer). */
 static uint64_t task_key(const lc_task *t)
 {
-    if (t->session)
-        return (uint64_t)(uintptr_t)t->session;
-    return t->job->session ? (uint64_t)(uintptr_t)t->job->session : t->job->client;
+    const lc_session *s = t->session ? t->session : t->job->session;
+    if (s)
+        return s->client ? s->client | 1 : (uint64_t)(uintptr_t)s;
+    return t->job->client;
 }
 
 /* Queues t for its client and wakes a worker; pool lock held. -1 when out of memory. */

@@ -208,6 +208,8 @@ static const lc_option serve_options[] = {
     {"--max-json-depth", "N", LC_OPT_INT, CFG(limits.max_depth), 2, 1000, .help = "max JSON nesting (default 16)"},
     {"--max-sessions", "N", LC_OPT_INT, CFG(max_sessions), 1, 100000,
      .help = "max open sessions, HTTP and WebSocket (default 64)"},
+    {"--max-sessions-per-client", "N", LC_OPT_INT, CFG(max_client_sessions), 1, 100000,
+     .help = "max open sessions from one client address (default 16)"},
     {"--max-queue", "N", LC_OPT_INT, CFG(max_queue), 1, 100000,
      .help = "max queued HTTP renders, 503 beyond (default 32)"},
     {"--max-connections", "N", LC_OPT_INT, CFG(max_connections), 4, 100000,
@@ -283,6 +285,7 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->max_body = 64 * 1024;
     cfg->max_ws_message = 64 * 1024;
     cfg->max_sessions = 64;
+    cfg->max_client_sessions = 16;
     cfg->max_queue = 32;
     cfg->max_connections = 256;
     cfg->idle_timeout = 300;

@@ -82,7 +82,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     lc_proto_stream_apply(&ss, m);
     lc_error err = {0};
     lc_session *s = NULL;
-    if (lc_session_create(srv->sessions, LC_SESSION_WS, ds, &req, &s, &err) != 0) {
+    if (lc_session_create(srv->sessions, LC_SESSION_WS, conn->client, ds, &req, &s, &err) != 0) {
         answer_error(srv, out, err.code == LC_ERR_LIMIT ? "too_many_sessions" : "internal", err.msg, NULL, true, 1013);
         return;
     }

@@ -7,6 +7,7 @@
 #define LC_SERVER_STREAM_H
 
 #include <stdbool.h>
+#include <stdint.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -17,6 +18,7 @@
 typedef struct lc_stream_conn {
     lc_session *session; /* after hello; holds a reference */
     bool authed;         /* the handshake or the hello carried the token (or none is configured) */
+    uint64_t client;     /* the peer's address key (lc_conn_client_key): its sessions' share and limit */
 } lc_stream_conn;
 
 /* What the transport does after a message. */

@@ -458,7 +458,7 @@ static void conn_register(lc_ws *ws, conn *c)
         conn_flush(ws, c);
 }
 
-void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra_len, bool authed)
+void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra_len, bool authed, uint64_t client)
 {
     conn *c = calloc(1, sizeof *c);
     inbox_item *it = calloc(1, sizeof *it);
@@ -485,6 +485,7 @@ void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra
     c->urh = urh;
     c->extra_len = extra_len;
     c->proto.authed = authed;
+    c->proto.client = client;
     it->adopt = c;
     push_inbox(ws, it);
 }

@@ -35,7 +35,7 @@ void lc_ws_destroy(lc_ws *ws);
 /* Takes over an upgraded socket (called from MHD's upgrade handler). extra
  * holds bytes MHD read past the HTTP header (copied). authed: the handshake
  * carried a valid token (or none is configured); otherwise hello must. */
-void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra_len, bool authed);
+void lc_ws_adopt(lc_ws *ws, int sock, void *urh, const char *extra, size_t extra_len, bool authed, uint64_t client);
 
 /* Queues a message for s's connection; takes ownership of msg (malloc'd).
  * Dropped silently when the connection is gone. Any thread. */

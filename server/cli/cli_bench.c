@@ -7,17 +7,82 @@
 #include "cli.h"
 #include "demo.h"
 
+#define BENCH_MAX_LIST 8 /* sizes or methods of --sizes, --methods */
+
 /* The flags of `lucent bench` besides the shared ones (cli.c). */
 typedef struct bench_args {
     int frames, warmup, memory, interactive, point_stride, uniform_points, line_stride, floor;
     const char *datasets;
+    int sizes[BENCH_MAX_LIST][2], nsizes, methods[BENCH_MAX_LIST], nmethods; /* --sizes, --methods */
 } bench_args;
+
+/* --sizes W1xH1,W2xH2,...: each side an integer in [1, 16384], as --size takes. */
+static int set_sizes(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    (void)o;
+    bench_args *a = target;
+    a->nsizes = 0;
+    for (const char *p = arg;; p++) {
+        size_t n = strcspn(p, ",");
+        char item[48], *x = NULL;
+        long long w, h;
+        if (a->nsizes < BENCH_MAX_LIST && n > 0 && n < sizeof item) {
+            memcpy(item, p, n);
+            item[n] = '\0';
+            x = strchr(item, 'x');
+        }
+        if (x)
+            *x = '\0';
+        if (!x || lc_opt_parse_int(item, 1, 16384, &w) != 0 || lc_opt_parse_int(x + 1, 1, 16384, &h) != 0) {
+            snprintf(why, why_len, "\"%s\": expected 1 to %d sizes WxH,WxH,..., each side an integer in [1, 16384]",
+                     arg, BENCH_MAX_LIST);
+            return -1;
+        }
+        a->sizes[a->nsizes][0] = (int)w, a->sizes[a->nsizes][1] = (int)h;
+        a->nsizes++;
+        p += n;
+        if (!*p)
+            return 0;
+    }
+}
+
+/* --methods a,b,...: names as --method takes them. */
+static int set_methods(void *target, const lc_option *o, const char *arg, char *why, size_t why_len)
+{
+    (void)o;
+    bench_args *a = target;
+    a->nmethods = 0;
+    for (const char *p = arg;; p++) {
+        size_t n = strcspn(p, ",");
+        char item[32];
+        int m = -1;
+        if (a->nmethods < BENCH_MAX_LIST && n > 0 && n < sizeof item) {
+            memcpy(item, p, n);
+            item[n] = '\0';
+            m = lc_method_from_name(item);
+        }
+        if (m < 0) {
+            snprintf(why, why_len, "\"%s\": expected 1 to %d methods a,b,... (fourier, exact, opaque, direct, wboit)",
+                     arg, BENCH_MAX_LIST);
+            return -1;
+        }
+        a->methods[a->nmethods++] = m;
+        p += n;
+        if (!*p)
+            return 0;
+    }
+}
 
 #define BENCH(member) LC_OPT_AT(bench_args, member)
 static const lc_option bench_options[] = {
     {"--frames", "N", LC_OPT_INT, BENCH(frames), 1, 100000, .help = "timed frames per dataset (default 10)"},
     {"--warmup", "N", LC_OPT_INT, BENCH(warmup), 0, 100000, .help = "untimed frames before them (default 2)"},
     {"--datasets", "A,B,...", LC_OPT_TEXT, BENCH(datasets), .help = "the datasets (default: every demo)"},
+    {"--sizes", "WxH,...", LC_OPT_CALL, .call = set_sizes, .numeric = 1,
+     .help = "image sizes (instead of --size): a row per dataset, size and\n"
+             "method, each dataset loaded once"},
+    {"--methods", "A,B,...", LC_OPT_CALL, .call = set_methods,
+     .help = "methods (instead of --method), e.g. fourier,exact,opaque"},
     {"--memory", NULL, LC_OPT_BOOL, BENCH(memory),
      .help = "print each dataset's bytes per vertex by kind (CPU arrays, GPU\n"
              "buffers, state)"},
@@ -47,7 +112,7 @@ static void bench_usage(FILE *f, const lc_opt_set *sets, int nsets)
             "fading frame state, as an interactive session would, and prints the mean per-pass GPU times.\n"
             "--dataset SPEC (or a --request file's dataset) benches that one; --datasets a,b,... a list.\n"
             "With --interactive, --lod PX (lines) and --point-stride N (points) set the coarser detail\n"
-            "of those frames.\n");
+            "of those frames. --sizes and --methods time every size and method on each dataset loaded once.\n");
     lc_opt_usage(f, sets, nsets);
 }
 
@@ -176,6 +241,33 @@ int lc_cli_bench(int argc, char **argv)
         fprintf(stderr, "lucent bench: --uniform-points applies to --point-stride N > 1 only\n");
         return 2;
     }
+    int method_flag = 0;
+    for (int i = 1; i < argc; i++)
+        method_flag |= strcmp(argv[i], "--method") == 0 || strncmp(argv[i], "--method=", 9) == 0;
+    const char *twice = args.nmethods && method_flag                             ? "method"
+                        : args.nsizes && (common.width_set || common.height_set) ? "size"
+                                                                                 : NULL;
+    if (twice) {
+        fprintf(stderr, "lucent bench: give --%s or --%ss, not both\n", twice, twice);
+        return 2;
+    }
+    if (args.floor && (args.nsizes || args.nmethods)) {
+        fprintf(stderr, "lucent bench: --floor times one size and method (--size, --method), not --%s\n",
+                args.nsizes ? "sizes" : "methods");
+        return 2;
+    }
+    /* A row per dataset, size and method: the lists, or the request's size and method. */
+    int lists = args.nsizes || args.nmethods;
+    if (!args.nsizes) {
+        args.sizes[0][0] = req.render.width, args.sizes[0][1] = req.render.height;
+        args.nsizes = 1;
+    }
+    if (!args.nmethods)
+        args.methods[args.nmethods++] = (int)req.render.method;
+    size_t max_pixels = 0;
+    for (int i = 0; i < args.nsizes; i++)
+        if ((size_t)args.sizes[i][0] * args.sizes[i][1] > max_pixels)
+            max_pixels = (size_t)args.sizes[i][0] * args.sizes[i][1];
     lc_error err = {0};
     lc_cli_gl g;
     /* One dataset named by --input, --dataset or the request file, unless a list was given. */
@@ -190,12 +282,26 @@ int lc_cli_bench(int argc, char **argv)
     printf("renderer: %s | %s | %s\n", lc_gl_renderer(g.gl), lc_gl_version(g.gl), lc_gl_platform(g.gl));
     if (interactive && warmup < 1)
         warmup = 1; /* the frame whose opacities the timed ones reuse */
-    printf("%dx%d, method %s, m=%d, %s estimator, s=%d, P1/P2 scale %.2f, lod %.2g px, %d frames (+%d warm-up)%s\n\n",
-           req.render.width, req.render.height, lc_method_name(req.render.method), req.render.foo.bands,
-           lc_estimator_name(req.render.foo.estimator), req.render.foo.smoothing, req.render.foo.resolution_scale,
-           req.render.detail.lod_pixels, frames, warmup, interactive ? ", interactive (opacities reused)" : "");
+    if (lists) {
+        printf("sizes");
+        for (int i = 0; i < args.nsizes; i++)
+            printf("%s%dx%d", i ? "," : " ", args.sizes[i][0], args.sizes[i][1]);
+        printf(", methods");
+        for (int i = 0; i < args.nmethods; i++)
+            printf("%s%s", i ? "," : " ", lc_method_name((lc_method)args.methods[i]));
+        printf(", ");
+    } else {
+        printf("%dx%d, method %s, ", req.render.width, req.render.height, lc_method_name(req.render.method));
+    }
+    printf("m=%d, %s estimator, s=%d, P1/P2 scale %.2f, lod %.2g px, %d frames (+%d warm-up)%s\n\n",
+           req.render.foo.bands, lc_estimator_name(req.render.foo.estimator), req.render.foo.smoothing,
+           req.render.foo.resolution_scale, req.render.detail.lod_pixels, frames, warmup,
+           interactive ? ", interactive (opacities reused)" : "");
     if (!args.floor) {
-        printf("%-16s %10s %9s", "dataset", "primitives", "elements");
+        printf("%-16s", "dataset");
+        if (lists)
+            printf(" %-9s %-8s", "size", "method");
+        printf(" %10s %9s", "primitives", "elements");
         for (int p = 0; p < LC_PASS_COUNT; p++)
             printf(" %12s", lc_pass_name(p));
         printf(" %9s %8s %7s %11s %11s %10s %8s %9s %10s\n", "gpu ms", "wall ms", "fps", "pipeline MB", "scene MB",
@@ -203,7 +309,7 @@ int lc_cli_bench(int argc, char **argv)
     }
 
     int status = 0;
-    uint8_t *rgba = malloc((size_t)req.render.width * req.render.height * 4);
+    uint8_t *rgba = malloc(max_pixels * 4);
     char *list = strdup(datasets), *save = NULL;
     for (char *spec = strtok_r(list, ",", &save); spec && rgba; spec = strtok_r(NULL, ",", &save)) {
         lc_scene *s = NULL;
@@ -233,44 +339,62 @@ int lc_cli_bench(int argc, char **argv)
                 lc_scene_destroy(s);
                 continue;
             }
-            double pass_sum[LC_PASS_COUNT] = {0}, gpu = 0, wall = 0;
-            lc_frame_info info;
-            int ok = 1;
-            for (int f = 0; f < warmup + frames && ok; f++) {
-                lc_render_params p = req.render;
-                if (interactive && f > 0) {
-                    p.detail.reuse_opacities = true;
-                    p.detail.point_stride = point_stride;
-                    p.detail.uniform_points = uniform_points;
-                    p.detail.line_stride = line_stride;
+            for (int c = 0; c < args.nsizes * args.nmethods; c++) {
+                lc_render_params base = req.render;
+                base.width = args.sizes[c / args.nmethods][0];
+                base.height = args.sizes[c / args.nmethods][1];
+                base.method = (lc_method)args.methods[c % args.nmethods];
+                lc_frame_state_reset(st); /* each row fades from the start, as one run would */
+                double pass_sum[LC_PASS_COUNT] = {0}, gpu = 0, wall = 0;
+                lc_frame_info info;
+                int ok = 1;
+                for (int f = 0; f < warmup + frames && ok; f++) {
+                    lc_render_params p = base;
+                    if (interactive && f > 0) {
+                        p.detail.reuse_opacities = true;
+                        p.detail.point_stride = point_stride;
+                        p.detail.uniform_points = uniform_points;
+                        p.detail.line_stride = line_stride;
+                    }
+                    if (lc_render_frame(g.renderer, gs, &p, st, 1.0 / 30.0, rgba, &info, &err) != 0) {
+                        if (lists)
+                            fprintf(stderr, "lucent bench: %s, %dx%d, %s: %s\n", spec, p.width, p.height,
+                                    lc_method_name(p.method), err.msg);
+                        else
+                            fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);
+                        ok = 0, status = 1;
+                        break;
+                    }
+                    if (f < warmup)
+                        continue;
+                    for (int p = 0; p < LC_PASS_COUNT; p++)
+                        pass_sum[p] += info.pass_ms[p];
+                    gpu += info.gpu_ms;
+                    wall += info.wall_ms;
                 }
-                if (lc_render_frame(g.renderer, gs, &p, st, 1.0 / 30.0, rgba, &info, &err) != 0) {
-                    fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);
-                    ok = 0, status = 1;
-                    break;
+                if (ok) {
+                    printf("%-16s", s->name);
+                    if (lists) {
+                        char size[24];
+                        snprintf(size, sizeof size, "%dx%d", base.width, base.height);
+                        printf(" %-9s %-8s", size, lc_method_name(base.method));
+                    }
+                    printf(" %10llu %9u", (unsigned long long)lc_scene_primitive_count(s), s->elements.count);
+                    for (int p = 0; p < LC_PASS_COUNT; p++)
+                        if (info.pass_ms[p] >= 0)
+                            printf(" %12.2f", pass_sum[p] / frames);
+                        else
+                            printf(" %12s", "-");
+                    uint64_t rss = lc_cli_resident_bytes();
+                    double grown = rss > rss_before ? (double)(rss - rss_before) : 0.0;
+                    printf(" %9.2f %8.2f %7.1f %11.1f %11.1f %10llu %8.2f %9.1f %10.1f\n", gpu / frames, wall / frames,
+                           1000.0 * frames / wall, info.pipeline_bytes / 1048576.0, lc_gpu_scene_bytes(gs) / 1048576.0,
+                           (unsigned long long)info.primitives_drawn, t_load, rss / 1048576.0,
+                           s->vertex_count ? grown / s->vertex_count : 0.0);
+                    if (show_memory)
+                        lc_cli_print_memory(s, gs, &common);
+                    fflush(stdout); /* a row is whole when it appears, even if a later one never comes */
                 }
-                if (f < warmup)
-                    continue;
-                for (int p = 0; p < LC_PASS_COUNT; p++)
-                    pass_sum[p] += info.pass_ms[p];
-                gpu += info.gpu_ms;
-                wall += info.wall_ms;
-            }
-            if (ok) {
-                printf("%-16s %10llu %9u", s->name, (unsigned long long)lc_scene_primitive_count(s), s->elements.count);
-                for (int p = 0; p < LC_PASS_COUNT; p++)
-                    if (info.pass_ms[p] >= 0)
-                        printf(" %12.2f", pass_sum[p] / frames);
-                    else
-                        printf(" %12s", "-");
-                uint64_t rss = lc_cli_resident_bytes();
-                double grown = rss > rss_before ? (double)(rss - rss_before) : 0.0;
-                printf(" %9.2f %8.2f %7.1f %11.1f %11.1f %10llu %8.2f %9.1f %10.1f\n", gpu / frames, wall / frames,
-                       1000.0 * frames / wall, info.pipeline_bytes / 1048576.0, lc_gpu_scene_bytes(gs) / 1048576.0,
-                       (unsigned long long)info.primitives_drawn, t_load, rss / 1048576.0,
-                       s->vertex_count ? grown / s->vertex_count : 0.0);
-                if (show_memory)
-                    lc_cli_print_memory(s, gs, &common);
             }
         }
         lc_frame_state_destroy(st);
@@ -278,12 +402,13 @@ int lc_cli_bench(int argc, char **argv)
         lc_scene_destroy(s);
     }
     if (!args.floor)
-        printf("\npipeline MB: render targets and per-element buffers the method holds (FOO: O(W*H*m));\n"
-           "scene MB: the dataset's GPU buffers (levels of detail included), shared by all workers.\n"
-           "fps = 1000 / mean wall ms incl. readback. drawn: primitives a geometry pass drew (its level of detail).\n"
-           "load s: generate or read, finalize and upload; rss MB: the process's resident memory after the frames;\n"
-           "rss B/vtx: its growth since before the dataset was loaded, per vertex (on llvmpipe GPU buffers are\n"
-           "resident memory too; the first dataset also pays for the render targets and programs).\n");
+        printf(
+            "\npipeline MB: render targets and per-element buffers the method holds (FOO: O(W*H*m));\n"
+            "scene MB: the dataset's GPU buffers (levels of detail included), shared by all workers.\n"
+            "fps = 1000 / mean wall ms incl. readback. drawn: primitives a geometry pass drew (its level of detail).\n"
+            "load s: generate or read, finalize and upload; rss MB: the process's resident memory after the frames;\n"
+            "rss B/vtx: its growth since before the dataset was loaded, per vertex (on llvmpipe GPU buffers are\n"
+            "resident memory too; the first dataset also pays for the render targets and programs).\n");
     free(list);
     free(rgba);
     lc_cli_gl_close(&g);

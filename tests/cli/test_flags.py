@@ -14,7 +14,8 @@ import sys
 lucent = sys.argv[1]
 COMMANDS = ["render", "bench", "compare", "gen", "info", "serve", "movie"]
 # Valid values of the numeric flags whose value is not a plain number.
-SAMPLES = {"--size": "64x48", "--max-memory": "1G", "--listen": "127.0.0.1:0", "--background": "0,0.5,1"}
+SAMPLES = {"--size": "64x48", "--sizes": "64x48,32x24", "--max-memory": "1G", "--listen": "127.0.0.1:0",
+           "--background": "0,0.5,1"}
 failures = []
 checks = 0
 

@@ -18,6 +18,9 @@ along an orbit, an ack for every frame, then release. It reports:
   pause           with --pause S: the orbit stops for S seconds mid-drag and resumes; the delay from
                   the first update after the pause to its frame (a still started in the pause must
                   not hold it up)
+  per frame       render, read-back and JPEG encode milliseconds of the moving frames and of the
+                  still (from the frame headers: detail.renderMs, timings.readback, encodeMs)
+--json FILE also writes the figures as JSON (scripts/gpu_check.sh reads it).
 With --contend N, N other clients render --contend-size stills over HTTP in a loop
 during the orbit (the fairness case: another user's 4K render must not stall the drag); the
 orbit's p95 input-to-frame is the figure, and the daemon's yield counters (/metrics) say how
@@ -104,6 +107,26 @@ def timings_text(h):
     return ", ".join("%s %.0f" % kv for kv in (h.get("timings") or {}).items())
 
 
+def frame_costs(h):
+    """A frame header's costs: size, render ms (wall), GPU ms of its passes, read-back ms, encode ms."""
+    t = h.get("timings") or {}
+    return {"size": "%dx%d" % (h["width"], h["height"]), "render_ms": (h.get("detail") or {}).get("renderMs"),
+            "gpu_ms": sum(v for v in t.values() if isinstance(v, (int, float))), "readback_ms": t.get("readback"),
+            "encode_ms": h.get("encodeMs")}
+
+
+def cost_summary(frames):
+    """Mean and median of each cost over frames, and the most common size."""
+    out = {"count": len(frames)}
+    if frames:
+        sizes = [f["size"] for f in frames]
+        out["size"] = max(set(sizes), key=sizes.count)
+    for k in ("render_ms", "gpu_ms", "readback_ms", "encode_ms"):
+        v = [f[k] for f in frames if isinstance(f.get(k), (int, float))]
+        out[k] = {"mean": sum(v) / len(v), "p50": pct(v, 50)} if v else None
+    return out
+
+
 def pct(values, p):
     if not values:
         return float("nan")
@@ -148,7 +171,7 @@ def contender(base, token, args, stop, out):
 
 
 async def browse(ws_url, token, args):
-    r = {"lat": [], "moving": 0, "pause_delay": None}
+    r = {"lat": [], "moving": 0, "pause_delay": None, "moving_frames": []}
     async with websockets.connect(ws_url, max_size=None) as ws:
         name = served_name(args.dataset)
         hello = {"type": "hello", "dataset": name, "width": args.width, "height": args.height,
@@ -228,6 +251,7 @@ async def browse(ws_url, token, args):
             if img is None:
                 continue
             r["moving"] += 1
+            r["moving_frames"].append(frame_costs(h))
             if args.verbose:
                 d = h.get("detail") or {}
                 print(f"  frame {h['frame']} {h['width']}x{h['height']} seq {h['cameraSeq']}/{seq} "
@@ -264,6 +288,7 @@ async def browse(ws_url, token, args):
                 if still is None:
                     r["still"] = time.time() - t_last
                 still = (h, img)
+                r["still_frame"] = frame_costs(h)
                 stages.append(still)
                 if h.get("final", True) and "full" not in r:  # a staged still's last stage, or an unstaged one
                     r["full"] = time.time() - t_last
@@ -338,11 +363,27 @@ def run(base, ws_url, token, args, launched=None, listening=None):
         ok = [t for s, t in cout if s == "ok"]
         print("contending stills           %d done (median %.1f s), %d refused" % (
             len(ok), pct(ok, 50) if ok else float("nan"), len(cout) - len(ok)))
+    moving = cost_summary(r["moving_frames"])
+    ms = lambda c, k: "%.1f" % c[k]["mean"] if c.get(k) else "-"  # noqa: E731
+    print("moving frames, mean ms      render %s, GPU passes %s, read-back %s, JPEG encode %s (%s, %d frames)" % (
+        ms(moving, "render_ms"), ms(moving, "gpu_ms"), ms(moving, "readback_ms"), ms(moving, "encode_ms"),
+        moving.get("size", "-"), moving["count"]))
     y1 = yield_metrics(base, token)
     if y1:
         d = {k: y1.get(k, 0) - y0.get(k, 0) for k in YIELD_METRICS}
         print("yielding                    %d stills pre-empted by input, %d waits of large renders (%.1f s)" % (
             d["lucent_frames_yielded_total"], d["lucent_yield_waits_total"], d["lucent_yield_wait_seconds_total"]))
+    if args.json:
+        out = {"dataset": args.dataset, "width": args.width, "height": args.height, "rate": args.rate,
+               "seconds": args.seconds, "window": args.window,
+               "frames_per_s": r["moving"] / r["orbit_s"], "input_to_frame_ms": {
+                   "p50": 1000 * pct(r["lat"], 50) if r["lat"] else None,
+                   "p95": 1000 * pct(r["lat"], 95) if r["lat"] else None, "samples": len(r["lat"])},
+               "moving": moving, "still_frame": r.get("still_frame")}
+        for k in ("first", "first_still", "first_final", "still", "full", "converged", "ssim", "pause_delay"):
+            out[k + ("" if k == "ssim" else "_s")] = r.get(k)
+        with open(args.json, "w") as f:
+            json.dump(out, f, indent=1)
 
 
 def main():
@@ -364,6 +405,7 @@ def main():
     ap.add_argument("--timeout", type=float, default=120, help="seconds to wait for a first frame or a still")
     ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
     ap.add_argument("--save", metavar="DIR", help="write the last moving frame and the still to DIR (moving.jpg, still.jpg)")
+    ap.add_argument("--json", metavar="FILE", help="also write the figures to FILE as JSON")
     args = ap.parse_args()
     if websockets is None:
         sys.exit("python3-websockets is required")

@@ -9,7 +9,8 @@ the render time and primitives of the interactive frames and the detail they
 used (frame header "detail"), and whether the frame after the orbit stops is a
 full-size still of the last camera. Then JPEG encode throughput in
 megapixels/s, from the daemon's /metrics counters during the streams and from
-1024x1024 HTTP renders (X-Lucent-Timings encode=).
+1024x1024 HTTP renders (X-Lucent-Timings encode=). --json FILE also writes the
+figures as JSON (scripts/gpu_check.sh reads it).
 
   tests/bench/server_bench.py --binary build/lucent --sessions 1,2,4 --seconds 10
   tests/bench/server_bench.py --binary build/lucent --dataset demo:tornado --sessions 1 \
@@ -21,6 +22,7 @@ import asyncio
 import json
 import os
 import re
+import signal
 import statistics
 import sys
 import time
@@ -123,6 +125,17 @@ def pct(values, p):
 
 
 def run(base, ws_url, token, args):
+    report = {"dataset": args.dataset, "width": args.width, "height": args.height, "dpr": args.dpr,
+              "rate": args.rate, "seconds": args.seconds, "window": args.window, "runs": [], "jpeg_encode": []}
+    try:
+        measure(base, ws_url, token, args, report)
+    finally:
+        if args.json:
+            with open(args.json, "w") as f:
+                json.dump(report, f, indent=1)
+
+
+def measure(base, ws_url, token, args, report):
     print("dataset %s, viewport %dx%d x dpr %g, window %d, camera at %g Hz (one orbit per %g s), %g s per run" %
           (args.dataset, args.width, args.height, args.dpr, args.window, args.rate, args.orbit_seconds, args.seconds))
     print("%8s %10s %12s %14s %14s %12s %12s %10s %12s  %s" % (
@@ -159,6 +172,11 @@ def run(base, ws_url, token, args):
             m1["lucent_frames_coalesced_total"] - m0["lucent_frames_coalesced_total"],
             px / es / 1e6 if es > 0 else float("nan"), pct(rms, 50), int(pct(prims, 50)) if prims else 0,
             ",".join(sorted(set(stills)))))
+        report["runs"].append({
+            "sessions": n, "frames_per_s": frames / el, "per_session_frames_per_s": frames / el / n,
+            "latency_ms": {"p50": 1000 * pct(lat, 50), "p99": 1000 * pct(lat, 99)} if lat else None,
+            "render_ms_p50": pct(rms, 50) if rms else None,
+            "encode_mp_per_s": px / es / 1e6 if es > 0 else None, "stills": sorted(set(stills))})
         print("%8s interactive detail used (line px / point stride: frames): %s" % (
             "", ", ".join("%s: %d" % kv for kv in sorted(steps.items()))))
         time.sleep(1.0)
@@ -178,8 +196,10 @@ def run(base, ws_url, token, args):
             enc = float(re.search(r"encode=([0-9.]+)", r.headers["X-Lucent-Timings"]).group(1))
             rates.append((q, 1024 * 1024 / (enc / 1000.0) / 1e6))
     for q in (70, 90):
-        print("JPEG encode 1024x1024 quality %d: %.1f MP/s (median of 3)" %
-              (q, statistics.median(r for qq, r in rates if qq == q)))
+        mps = statistics.median(r for qq, r in rates if qq == q)
+        report["jpeg_encode"].append({"size": "1024x1024", "quality": q, "mp_per_s": mps,
+                                      "ms": 1024 * 1024 / 1e6 / mps * 1000})
+        print("JPEG encode 1024x1024 quality %d: %.1f MP/s (median of 3)" % (q, mps))
 
 
 def main():
@@ -198,7 +218,10 @@ def main():
     ap.add_argument("--orbit-seconds", type=float, default=8, help="seconds per full orbit of the camera")
     ap.add_argument("--no-encode", action="store_true", help="skip the JPEG encode throughput runs")
     ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
+    ap.add_argument("--json", metavar="FILE", help="also write the figures to FILE as JSON")
     args = ap.parse_args()
+    # SIGTERM (a time limit) ends the runs like an error: --json gets the figures so far, the daemon is stopped.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     if websockets is None:
         sys.exit("python3-websockets is required")
     if args.binary:

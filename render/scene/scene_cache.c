@@ -432,33 +432,23 @@ static int read_arrays(io *r, const meta *m, const level_meta *lv, lc_scene *s, 
     return nomem ? LC_ERR_NOMEM : r->failed ? LC_ERR_INVALID : 0;
 }
 
-static int read_file(FILE *f, const char *path, const lc_scene_cache_key *key, lc_scene **out, lc_error *err)
+/* The payload after header h: counts checked against h and the file before
+ * anything is allocated, then every array read into a new scene and levels
+ * (*s, *lod; the caller frees them), its chained hash and length in *r. */
+static int read_body(FILE *f, const char *path, const header *h, io *r, lc_scene **s_out, lc_lod **lod_out,
+                     lc_error *err)
 {
     struct stat st;
-    header h;
-    if (fstat(fileno(f), &st) != 0 || fread(&h, sizeof h, 1, f) != 1)
-        return corrupt(err, path, "shorter than its header");
-    if (memcmp(h.magic, MAGIC, sizeof MAGIC) != 0 || h.header_bytes != sizeof h)
-        return corrupt(err, path, "not a scene cache");
-    if (h.version != CACHE_VERSION)
-        return lc_err(err, LC_ERR_INVALID, "%s: stale: cache version %u, this build writes %u", path, h.version,
-                      CACHE_VERSION);
-    if (h.key.file_size != key->file_size || h.key.mtime_sec != key->mtime_sec || h.key.mtime_nsec != key->mtime_nsec)
-        return lc_err(err, LC_ERR_INVALID, "%s: stale: the data file's size or modification time changed", path);
-    if (h.key.content_hash != key->content_hash)
-        return lc_err(err, LC_ERR_INVALID, "%s: stale: the data file's content changed", path);
-    if (h.key.settings_hash != key->settings_hash)
-        return lc_err(err, LC_ERR_INVALID, "%s: stale: made with other settings", path);
-    if ((uint64_t)st.st_size != sizeof h + h.payload_bytes)
+    *s_out = NULL, *lod_out = NULL;
+    if (fstat(fileno(f), &st) != 0 || (uint64_t)st.st_size != sizeof *h + h->payload_bytes)
         return corrupt(err, path, "its length differs from its header's");
-    io r = {.f = f};
     meta m;
     level_meta lv[LC_LOD_MAX_LEVELS];
-    get(&r, &m, sizeof m);
-    if (r.failed || m.lod_count < 1 || m.lod_count > LC_LOD_MAX_LEVELS)
+    get(r, &m, sizeof m);
+    if (r->failed || m.lod_count < 1 || m.lod_count > LC_LOD_MAX_LEVELS)
         return corrupt(err, path, "bad counts");
-    get(&r, lv, m.lod_count * sizeof *lv);
-    if (r.failed || payload_size(&m, lv) != h.payload_bytes)
+    get(r, lv, m.lod_count * sizeof *lv);
+    if (r->failed || payload_size(&m, lv) != h->payload_bytes)
         return corrupt(err, path, "its counts do not match its length");
     lc_scene *s = lc_scene_create(m.name, (lc_prim_type)m.type);
     lc_lod *lod = calloc(1, sizeof *lod);
@@ -467,15 +457,10 @@ static int read_file(FILE *f, const char *path, const lc_scene_cache_key *key, l
         free(lod);
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", path);
     }
-    int rc = read_arrays(&r, &m, lv, s, lod);
-    const char *why = rc == LC_ERR_NOMEM                                             ? NULL
-                      : rc || r.hash != h.payload_hash || r.bytes != h.payload_bytes ? "its payload hash differs"
-                                                                                     : check_scene(s, lod);
-    if (rc == LC_ERR_NOMEM || why) {
-        lc_scene_destroy(s);
-        free_lod(lod);
-        return rc == LC_ERR_NOMEM ? lc_err(err, LC_ERR_NOMEM, "%s: out of memory", path) : corrupt(err, path, why);
-    }
+    *s_out = s, *lod_out = lod;
+    int rc = read_arrays(r, &m, lv, s, lod);
+    if (rc == LC_ERR_NOMEM)
+        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory", path);
     snprintf(s->default_importance, sizeof s->default_importance, "%s", m.default_importance);
     snprintf(s->default_color, sizeof s->default_color, "%s", m.default_color);
     memcpy(s->bounds, m.bounds, sizeof m.bounds);
@@ -484,11 +469,77 @@ static int read_file(FILE *f, const char *path, const lc_scene_cache_key *key, l
     memcpy(s->view_up, m.view_up, sizeof m.view_up);
     s->lod_steps = m.lod_steps;
     s->trajectory = (lc_trajectory_info){.geographic = m.geographic, .step_hours = m.step_hours};
+    return rc ? corrupt(err, path, "shorter than its counts") : 0;
+}
+
+static int read_header(FILE *f, const char *path, header *h, lc_error *err)
+{
+    if (fread(h, sizeof *h, 1, f) != 1)
+        return corrupt(err, path, "shorter than its header");
+    if (memcmp(h->magic, MAGIC, sizeof MAGIC) != 0 || h->header_bytes != sizeof *h)
+        return corrupt(err, path, "not a scene cache");
+    if (h->version != CACHE_VERSION)
+        return lc_err(err, LC_ERR_INVALID, "%s: stale: cache version %u, this build writes %u", path, h->version,
+                      CACHE_VERSION);
+    return 0;
+}
+
+static int read_file(FILE *f, const char *path, const lc_scene_cache_key *key, lc_scene **out, lc_error *err)
+{
+    header h;
+    int rc = read_header(f, path, &h, err);
+    if (rc)
+        return rc;
+    if (h.key.file_size != key->file_size || h.key.mtime_sec != key->mtime_sec || h.key.mtime_nsec != key->mtime_nsec)
+        return lc_err(err, LC_ERR_INVALID, "%s: stale: the data file's size or modification time changed", path);
+    if (h.key.content_hash != key->content_hash)
+        return lc_err(err, LC_ERR_INVALID, "%s: stale: the data file's content changed", path);
+    if (h.key.settings_hash != key->settings_hash)
+        return lc_err(err, LC_ERR_INVALID, "%s: stale: made with other settings", path);
+    io r = {.f = f};
+    lc_scene *s = NULL;
+    lc_lod *lod = NULL;
+    rc = read_body(f, path, &h, &r, &s, &lod, err);
+    const char *why = rc                                                   ? NULL
+                      : r.hash != h.payload_hash || r.bytes != h.payload_bytes ? "its payload hash differs"
+                                                                           : check_scene(s, lod);
+    if (rc || why) {
+        lc_scene_destroy(s);
+        if (lod)
+            free_lod(lod);
+        return rc ? rc : corrupt(err, path, why);
+    }
     s->lod = lod;
     s->lod_free = free_lod;
     s->finalized = 1;
     *out = s;
     return 0;
+}
+
+int lc_scene_cache_seal(const char *cache_path, lc_scene_cache_key *key, lc_error *err)
+{
+    FILE *f = fopen(cache_path, "r+b");
+    if (!f)
+        return lc_err(err, errno == ENOENT ? LC_ERR_NOT_FOUND : LC_ERR_IO, "%s: %s", cache_path, strerror(errno));
+    header h;
+    io r = {.f = f};
+    lc_scene *s = NULL;
+    lc_lod *lod = NULL;
+    int rc = read_header(f, cache_path, &h, err);
+    if (!rc)
+        rc = read_body(f, cache_path, &h, &r, &s, &lod, err);
+    lc_scene_destroy(s);
+    if (lod)
+        free_lod(lod);
+    if (!rc) {
+        h.payload_hash = r.hash;
+        if (fseek(f, 0, SEEK_SET) != 0 || fwrite(&h, sizeof h, 1, f) != 1)
+            rc = lc_err(err, LC_ERR_IO, "%s: cannot write its header", cache_path);
+        if (key)
+            *key = h.key;
+    }
+    fclose(f);
+    return rc;
 }
 
 int lc_scene_cache_read(const char *cache_path, const lc_scene_cache_key *key, lc_scene **out, lc_error *err)

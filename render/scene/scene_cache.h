@@ -51,6 +51,13 @@ int lc_scene_cache_write(const char *cache_path, const lc_scene_cache_key *key, 
  * file LC_ERR_INVALID "corrupt: ...". *out is NULL on every error. */
 int lc_scene_cache_read(const char *cache_path, const lc_scene_cache_key *key, lc_scene **out, lc_error *err);
 
+/* Tests and the fuzz harness: recomputes the payload hash of a cache file
+ * whose header and counts are consistent, so that an edited or generated
+ * file reaches the reader's structural checks; *key (may be NULL) gets the
+ * key the file claims. LC_ERR_INVALID when the file is not a cache with
+ * consistent counts. */
+int lc_scene_cache_seal(const char *cache_path, lc_scene_cache_key *key, lc_error *err);
+
 #ifdef __cplusplus
 }
 #endif

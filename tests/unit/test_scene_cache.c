@@ -218,6 +218,53 @@ static void round_trip(const char *demo, uint64_t count)
     lc_scene_destroy(s);
 }
 
+/* A crafted, self-consistent cache (sealed after the edit, so its hash
+ * matches): a point scene whose one level claims 3e8 primitives without
+ * indices, which once crashed serve at every start. The reader refuses it. */
+static void crafted_level(void)
+{
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_demo_desc desc = {.count = 4000};
+    CHECK(lc_demo_create("points", &desc, &s, &err) == 0, "points: %s", err.msg);
+    if (!s)
+        return;
+    char data[256], cache[256];
+    snprintf(data, sizeof data, "%s/crafted.data", dir);
+    snprintf(cache, sizeof cache, "%s/crafted.lcscene", dir);
+    write_bytes(data, "crafted", 7);
+    lc_scene_cache_key key;
+    CHECK(lc_scene_cache_key_of(data, NULL, NULL, &key, &err) == 0 && lc_scene_cache_write(cache, &key, s, &err) == 0,
+          "crafted: write: %s", err.msg);
+    size_t n = 0;
+    unsigned char *b = read_all(cache, &n);
+    /* The level record: error 0.0, primitives = the point count, no indices. */
+    unsigned char want[24] = {0};
+    uint64_t count = s->vertex_count, huge = 300000000ull;
+    memcpy(want + 8, &count, 8);
+    size_t at = 0;
+    for (size_t i = 0; b && i + 24 <= n && !at; i++)
+        if (memcmp(b + i, want, 24) == 0)
+            at = i;
+    CHECK(at > 0, "crafted: the level record is in the file");
+    if (b && at) {
+        memcpy(b + at + 8, &huge, 8);
+        write_bytes(cache, b, n);
+        lc_scene_cache_key sealed;
+        CHECK(lc_scene_cache_seal(cache, &sealed, &err) == 0 && memcmp(&sealed, &key, sizeof key) == 0,
+              "crafted: sealed: %s", err.msg);
+        lc_scene *r = NULL;
+        int rc = lc_scene_cache_read(cache, &key, &r, &err);
+        CHECK(rc != 0 && !r && strstr(err.msg, "corrupt") && strstr(err.msg, "level"),
+              "crafted: a level of 3e8 primitives is refused: %s", err.msg);
+        lc_scene_destroy(r);
+    }
+    free(b);
+    unlink(cache);
+    unlink(data);
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
     if (!mkdtemp(dir)) {
@@ -227,6 +274,7 @@ int main(void)
     round_trip("tornado", 24);  /* lines with tangents and levels of detail */
     round_trip("points", 4000); /* points, one element each */
     round_trip("surface", 48);  /* triangles with normals and simplified levels */
+    crafted_level();
     /* The hash sees every byte and its position. */
     unsigned char a[100] = {0}, b[100] = {0};
     b[99] = 1;

@@ -217,7 +217,7 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
 /* The smallest params.subset (a power of two up to 64) whose frame fits the
  * budget, or 0: the optimization and compositing passes then draw every n-th
  * primitive of the methods that weight a stride, at full picture size. */
-static int subset_for(const lc_scene_measures *st, const lc_render_params *p, double budget)
+int lc_cost_subset_for(const lc_scene_measures *st, const lc_render_params *p, double budget)
 {
     if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_WBOIT)
         return 0;
@@ -285,7 +285,7 @@ const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p
     }
     if (st->type == LC_PRIM_POINTS && p->style.point_size > defaults.point_size)
         return "style.pointSize";
-    if (subset_for(st, p, budget) > 0)
+    if (lc_cost_subset_for(st, p, budget) > 0)
         return "params.subset";
     return "width";
 }
@@ -299,7 +299,7 @@ int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double
     *field = lc_cost_field(st, p, budget);
     /* Advice that works: the value that fits, not only the field to change. */
     char advice[160];
-    int w = 0, h = 0, k = strcmp(*field, "params.subset") == 0 ? subset_for(st, p, budget) : 0;
+    int w = 0, h = 0, k = strcmp(*field, "params.subset") == 0 ? lc_cost_subset_for(st, p, budget) : 0;
     if (k > 0)
         snprintf(advice, sizeof advice,
                  "set params.subset to %d (the optimization draws one primitive in %d, "

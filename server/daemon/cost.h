@@ -48,6 +48,9 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p);
  * size, the method or a parameter when the defaults would fit, else "width"),
  * for the 4xx that names it. */
 const char *lc_cost_field(const lc_scene_measures *st, const lc_render_params *p, double budget);
+/* The smallest params.subset (a power of two up to 64) at which a frame of p
+ * fits budget, for the methods that weight a stride; 0 when none does. */
+int lc_cost_subset_for(const lc_scene_measures *st, const lc_render_params *p, double budget);
 
 /* The check of a request against a budget (<= 0: none): 0 with *cost set, or
  * -1 with *field (lc_cost_field) and a message for the client in msg. */

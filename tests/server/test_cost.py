@@ -151,6 +151,19 @@ with Server(binary, "--max-cost", "%.6g" % (0.5 * (costs[1] + costs[8])), data=(
     size = msg.split("a frame of at most ")[1].split()[0] if "a frame of at most " in msg else ""
     check(st == 400 and e["error"]["field"] == "width" and "x" in size,
           "an opaque 4096x4096 frame is refused naming width with a size that fits (%s)" % msg)
+    # A session opens the file anyway: at the stride that fits, which its ready message shows.
+    async def opens():
+        async with websockets.connect(srv.ws_url) as ws:
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:tornado", "width": 256, "height": 256,
+                                      "devicePixelRatio": 1}))
+            got = await wait_for_message(ws, lambda m: m.get("type") in ("error", "frame"))
+            ready = next((m for m in got if m.get("type") == "ready"), {})
+            return ready, got[-1] if got.reached else {}
+    ready, last = asyncio.run(opens())
+    subset = ready.get("defaults", {}).get("params", {}).get("subset")
+    check(last.get("type") == "frame" and subset == n,
+          "a hello over the budget opens with params.subset %s (advised %d) and frames flow (%s)" %
+          (subset, n, last.get("type")))
     if "x" in size:
         w, h = size.split("x")
         st, _, _ = srv.request("GET", TORNADO.replace("width=256&height=256", "width=%s&height=%s" % (w, h)) +

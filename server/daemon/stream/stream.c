@@ -8,6 +8,7 @@
 
 #include "admit.h"
 #include "auth.h"
+#include "cost.h"
 #include "messages.h"
 #include "metrics.h"
 
@@ -73,7 +74,23 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
      * session's request size from here on. */
     lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &req.render.width,
                          &req.render.height);
-    if (lc_request_admit(srv, m->update, &req, ds, layers, NULL, &pe) != 0) {
+    int rc = lc_request_admit(srv, m->update, &req, ds, layers, NULL, &pe);
+    /* A file the daemon holds opens at defaults: where a full-size frame is
+     * over --max-cost but the optimization's stride brings it within, the
+     * session starts with that params.subset (ready's defaults show it; the
+     * client may change it), unless the hello chose a subset itself. */
+    const json_t *given = m->update ? json_object_get(json_object_get(m->update, "params"), "subset") : NULL;
+    int n = rc && strcmp(pe.code, "too_expensive") == 0 && !req.layer_count && !given
+                ? lc_cost_subset_for(&ds->cost, &req.render, srv->cfg.max_cost)
+                : 0;
+    if (n > 0) {
+        req.render.foo.subset = n;
+        rc = lc_request_admit(srv, m->update, &req, ds, layers, NULL, &pe);
+        if (rc == 0)
+            LC_INFO(MOD, "%s opens with params.subset %d: a full frame of %dx%d is over --max-cost", ds->name, n,
+                    req.render.width, req.render.height);
+    }
+    if (rc != 0) {
         answer_proto_error(srv, out, &pe);
         return;
     }

@@ -382,6 +382,40 @@ test('unknown dataset shows a readable message', async () => {
   await page.close();
 });
 
+test('a dense file on the page settles on the one-shot render: its visibility readout is the HTTP render\'s', async () => {
+  // 1000 tornado lines (about 524k segments): the session starts with a coarse, thinned frame and stages its
+  // still, where the page once settled on fog that the one-shot render did not show
+  const d = await startDaemon(['--demo-size', '1000']);
+  try {
+    const page = await newPage(`${d.url}/#dataset=demo:tornado`);
+    await page.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 120000 });
+    await settled(page, 240000);
+    const seen = await page.evaluate(() => {
+      const s = window.lucent.state;
+      const c = document.getElementById('canvas');
+      return {
+        top: s.lastFrame.visibility?.topDecileAlpha, camera: s.camera, width: c.width, height: c.height,
+        background: (s.pageDefaults?.style ?? {}).background, update: s.update,
+        readout: [...document.querySelectorAll('.feedback')].map((e) => e.textContent).join(' | '),
+      };
+    });
+    const body = { dataset: 'demo:tornado', width: seen.width, height: seen.height, camera: seen.camera, format: 'png',
+      ...seen.update, style: { ...(seen.background ? { background: seen.background } : {}), ...(seen.update.style ?? {}) } };
+    const r = await fetch(`${d.url}/api/v1/render`, { method: 'POST', body: JSON.stringify(body) });
+    await r.arrayBuffer();
+    const vis = Object.fromEntries((r.headers.get('x-lucent-visibility') ?? '').split(',').map((kv) => kv.split('=')));
+    const http = Number(vis.topDecileAlpha);
+    log(`dense tornado: page still top decile ${seen.top}, HTTP ${http}; readout: ${seen.readout}`);
+    check(r.status === 200 && typeof seen.top === 'number' && Math.abs(seen.top - http) <= 0.05,
+      `the page's still and the HTTP render agree on the most important tenth's opacity (${seen.top} vs ${http}, ${r.status})`);
+    check(seen.readout.includes(`most important tenth ${seen.top.toFixed(2)}`),
+      `the Clarity readout shows the still's measured visibility (${seen.readout})`);
+    await page.close();
+  } finally {
+    await stopDaemon(d);
+  }
+});
+
 test('a dataset too costly to open: back to the last one with a lasting message, no reconnect loop', async () => {
   // the costs of both datasets at this page's size, from the shared daemon's X-Lucent-Cost; a second
   // daemon whose --max-cost lies between them opens demo:points and refuses demo:tornado

@@ -21,6 +21,13 @@ along an orbit, an ack for every frame, then release. It reports:
   per frame       render, read-back and JPEG encode milliseconds of the moving frames and of the
                   still (from the frame headers: detail.renderMs, timings.readback, encodeMs)
 --json FILE also writes the figures as JSON (scripts/gpu_check.sh reads it).
+With --link RTT,MBIT (repeatable; "loopback" for none) the orbit runs once through each emulated
+wide-area link (tests/bench/link_proxy.py: RTT/2 each way, MBIT Mbit/s each way with a 100 ms
+queue, 0 = no rate limit) and a table compares them: frames/s, input-to-frame p50/p95, still after
+release, mean bytes of a moving frame, the link's use while orbiting (Mbit/s received and the share
+of the rate), and the session's flow-control window and round trip from its last stats message.
+The issue 46 table:
+  tests/bench/browse_bench.py --binary build/lucent --seconds 6 --link loopback --link 50,20 --link 100,5
 With --contend N, N other clients render --contend-size stills over HTTP in a loop
 during the orbit (the fairness case: another user's 4K render must not stall the drag); the
 orbit's p95 input-to-frame is the figure, and the daemon's yield counters (/metrics) say how
@@ -47,6 +54,7 @@ import urllib.request
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "server"))
 from lucent_server import Server, served_name, unpack_frame, websockets  # noqa: E402
+from link_proxy import Link  # noqa: E402
 
 try:
     import numpy as np
@@ -171,11 +179,14 @@ def contender(base, token, args, stop, out):
 
 
 async def browse(ws_url, token, args):
-    r = {"lat": [], "moving": 0, "pause_delay": None, "moving_frames": []}
+    r = {"lat": [], "moving": 0, "pause_delay": None, "moving_frames": [], "moving_bytes": [], "rx": 0,
+         "stats": None}
     async with websockets.connect(ws_url, max_size=None) as ws:
         name = served_name(args.dataset)
         hello = {"type": "hello", "dataset": name, "width": args.width, "height": args.height,
-                 "devicePixelRatio": 1, "window": args.window}
+                 "devicePixelRatio": 1}
+        if args.window:
+            hello["window"] = args.window
         if token:
             hello["token"] = token
         t_hello = time.time()
@@ -193,8 +204,12 @@ async def browse(ws_url, token, args):
                 m = await asyncio.wait_for(ws.recv(), timeout)
             except asyncio.TimeoutError:
                 return None, None
+            r["rx"] += len(m)
             if isinstance(m, str):
-                return json.loads(m), None
+                m = json.loads(m)
+                if m.get("type") == "stats":
+                    r["stats"] = m
+                return m, None
             h, img = unpack_frame(m)
             await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
             return h, img
@@ -230,6 +245,7 @@ async def browse(ws_url, token, args):
         # Orbit: updates at args.rate per second for args.seconds (with an optional pause half-way).
         sent, seq, answered, angle = {}, 0, 0, 0.0
         t0 = time.time()
+        rx0 = r["rx"]
         next_send = t0
         paused = not args.pause
         resume_seq = None
@@ -252,6 +268,8 @@ async def browse(ws_url, token, args):
                 continue
             r["moving"] += 1
             r["moving_frames"].append(frame_costs(h))
+            if (h.get("detail") or {}).get("interactive", False):
+                r["moving_bytes"].append(len(img))
             if args.verbose:
                 d = h.get("detail") or {}
                 print(f"  frame {h['frame']} {h['width']}x{h['height']} seq {h['cameraSeq']}/{seq} "
@@ -267,6 +285,8 @@ async def browse(ws_url, token, args):
             if h["cameraSeq"] == seq and (h.get("detail") or {}).get("interactive", False):
                 last_moving = (h, img)
         r["orbit_s"] = args.seconds
+        r["orbit_rx"] = r["rx"] - rx0
+        r["orbit_stats"] = r["stats"]
         t_last = sent[seq]
         # Release: the still of the last camera, then convergence.
         deadline = time.time() + args.timeout
@@ -341,7 +361,7 @@ def run(base, ws_url, token, args, launched=None, listening=None):
         stop.set()
     f = lambda k, fmt="%.2f s": (fmt % r[k]) if k in r and r[k] is not None else "-"  # noqa: E731
     print("dataset %s, %dx%d, camera updates at %g/s for %g s, window %d%s" % (
-        args.dataset, args.width, args.height, args.rate, args.seconds, args.window,
+        args.dataset, args.width, args.height, args.rate, args.seconds, args.window or 0,
         ", %d client(s) rendering %s stills" % (args.contend, args.contend_size) if args.contend else ""))
     print("first frame after hello     %s (first still %s, its final stage %s)" % (
         f("first"), f("first_still"), f("first_final")))
@@ -386,6 +406,56 @@ def run(base, ws_url, token, args, launched=None, listening=None):
             json.dump(out, f, indent=1)
 
 
+def parse_link(text):
+    """"RTT,MBIT" (ms, Mbit/s; MBIT 0 = no rate limit) or "loopback" -> (rtt_ms, mbit)."""
+    if text == "loopback":
+        return 0.0, 0.0
+    rtt, _, mbit = text.partition(",")
+    return float(rtt), float(mbit or 0)
+
+
+def run_links(ws_url, token, args):
+    """The orbit once per --link, each through its own emulated link; prints a table (and --json)."""
+    host, port = ws_url.split("//", 1)[1].split("/", 1)[0].rsplit(":", 1)
+    rows = []
+    for spec in args.link:
+        rtt, mbit = parse_link(spec)
+        link = Link(rtt, mbit)
+        proxied = "ws://127.0.0.1:%d/api/v1/ws" % link.start(host, int(port))
+        try:
+            r = asyncio.run(browse(proxied, token, args))
+        finally:
+            link.stop()
+        mb = r["moving_bytes"]
+        use = r["orbit_rx"] * 8 / r["orbit_s"] / 1e6
+        st = r.get("orbit_stats") or {}
+        rows.append({"link": link.label(), "rtt_ms": rtt, "mbit": mbit, "frames_per_s": r["moving"] / r["orbit_s"],
+                     "p50_ms": 1000 * pct(r["lat"], 50), "p95_ms": 1000 * pct(r["lat"], 95),
+                     "still_s": r.get("still"), "full_s": r.get("full"),
+                     "moving_kb": sum(mb) / len(mb) / 1000 if mb else None,
+                     "moving_size": cost_summary(r["moving_frames"]).get("size"),
+                     "link_mbit": use, "link_share": use / mbit if mbit else None,
+                     "window": st.get("window"), "rtt_est_ms": st.get("rttMs")})
+        print("  %s: %.1f frames/s" % (link.label(), rows[-1]["frames_per_s"]), flush=True)
+    print("dataset %s, %dx%d, camera updates at %g/s for %g s%s; load %s" % (
+        args.dataset, args.width, args.height, args.rate, args.seconds,
+        ", window %d" % args.window if args.window else "", os.getloadavg()[0]))
+    print("| link | frames/s | input-to-frame p50 / p95 | still after release | moving frame | link used | "
+          "window, RTT (stats) |")
+    print("|---|---|---|---|---|---|---|")
+    for w in rows:
+        print("| %s | %.1f | %.0f / %.0f ms | %s | %s | %s | %s |" % (
+            w["link"], w["frames_per_s"], w["p50_ms"], w["p95_ms"],
+            "%.2f s" % w["still_s"] if w["still_s"] is not None else "-",
+            "%.1f KB (%s)" % (w["moving_kb"], w["moving_size"]) if w["moving_kb"] else "-",
+            "%.2f Mbit/s%s" % (w["link_mbit"], " (%.0f %%)" % (100 * w["link_share"]) if w["link_share"] else ""),
+            "%s, %s ms" % (w["window"], w["rtt_est_ms"]) if w["window"] else "-"))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"dataset": args.dataset, "width": args.width, "height": args.height, "rate": args.rate,
+                       "seconds": args.seconds, "window": args.window, "links": rows}, f, indent=1)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--binary", help="start this lucent binary (default: --url)")
@@ -395,7 +465,7 @@ def main():
     ap.add_argument("--seconds", type=float, default=8, help="seconds of orbiting input")
     ap.add_argument("--width", type=int, default=972)
     ap.add_argument("--height", type=int, default=761)
-    ap.add_argument("--window", type=int, default=2)
+    ap.add_argument("--window", type=int, default=0, help="the hello's window (default: none sent, the server's)")
     ap.add_argument("--verbose", action="store_true", help="print each frame received while orbiting (size, detail, render time)")
     ap.add_argument("--rate", type=float, default=30, help="camera updates per second")
     ap.add_argument("--orbit-seconds", type=float, default=12, help="seconds per full orbit")
@@ -406,6 +476,8 @@ def main():
     ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
     ap.add_argument("--save", metavar="DIR", help="write the last moving frame and the still to DIR (moving.jpg, still.jpg)")
     ap.add_argument("--json", metavar="FILE", help="also write the figures to FILE as JSON")
+    ap.add_argument("--link", action="append", metavar="RTT,MBIT",
+                    help="run through an emulated link of RTT ms and MBIT Mbit/s ('loopback': none); repeatable")
     args = ap.parse_args()
     if websockets is None:
         sys.exit("python3-websockets is required")
@@ -413,11 +485,17 @@ def main():
         extra = args.server_args.split() if args.server_args else []
         launched = time.time()
         with Server(args.binary, *extra, data=(args.dataset,), demo_size=0, timeout=600) as srv:
-            run(srv.base, srv.ws_url, args.token, args, launched, time.time())
+            if args.link:
+                run_links(srv.ws_url, args.token, args)
+            else:
+                run(srv.base, srv.ws_url, args.token, args, launched, time.time())
             srv.stop()
     else:
         ws_url = args.url.replace("http://", "ws://").rstrip("/") + "/api/v1/ws"
-        run(args.url.rstrip("/"), ws_url, args.token, args)
+        if args.link:
+            run_links(ws_url, args.token, args)
+        else:
+            run(args.url.rstrip("/"), ws_url, args.token, args)
 
 
 if __name__ == "__main__":

@@ -119,7 +119,8 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, uint64_t client, c
     pthread_mutex_init(&s->lock, NULL);
     s->created = s->last_used = lc_now();
     s->req = *initial;
-    s->stream.window = LC_PROTO_DEFAULT_WINDOW;
+    lc_stream_flow_init(&s->stream.flow, LC_PROTO_DEFAULT_WINDOW);
+    s->stream.window = s->stream.flow.window;
     s->stream.quality = LC_PROTO_DEFAULT_QUALITY;
     s->stream.interactive_quality = LC_PROTO_DEFAULT_INTERACTIVE_QUALITY;
     s->stream.interactive_scale = LC_PROTO_DEFAULT_INTERACTIVE_SCALE;
@@ -435,6 +436,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     s->last_frame_time = now;
     st->outstanding[st->unacked++] = out->frame;
     st->rendering = true;
+    st->render_began = now;
     st->dirty = false;
     if (st->updates_since_frame > 1) {
         lc_metrics_coalesced(s->srv->metrics, st->updates_since_frame - 1);
@@ -463,6 +465,10 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     pthread_mutex_lock(&s->lock);
     lc_stream *st = &s->stream;
     st->rendering = false;
+    if (ok && f->interactive) { /* the moving frames' rate is the one the window covers the round trip at */
+        lc_stream_flow_rendered(&st->flow, lc_now() - st->render_began);
+        st->window = st->flow.window;
+    }
     if (ok && f->stage > 0 && f->stage < f->stages) { /* the next stage is due: still_due holds on */
         st->still_stage = f->stage;
         st->frames++;
@@ -548,23 +554,28 @@ int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *re
     return lc_surface_stream_frame(&s->surface, field, &req->surface, &req->render, rgba, info, err);
 }
 
-bool lc_session_stream_ack(lc_session *s, uint64_t frame)
+bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now)
 {
     pthread_mutex_lock(&s->lock);
     bool ok = frame <= s->stream.last_sent;
     if (ok) {
         drop_outstanding(&s->stream, frame, false);
+        lc_stream_flow_acked(&s->stream.flow, frame, now);
+        s->stream.window = s->stream.flow.window;
         s->last_used = lc_now();
     }
     pthread_mutex_unlock(&s->lock);
     return ok;
 }
 
+bool lc_session_stream_ack(lc_session *s, uint64_t frame) { return lc_session_stream_client_ack(s, frame, -1); }
+
 void lc_session_stream_sent(lc_session *s, uint64_t frame)
 {
     pthread_mutex_lock(&s->lock);
     if (frame > s->stream.last_sent)
         s->stream.last_sent = frame;
+    lc_stream_flow_sent(&s->stream.flow, frame, lc_now());
     pthread_mutex_unlock(&s->lock);
 }
 

@@ -26,6 +26,7 @@
 #include "renderer.h"
 #include "request.h"
 #include "server.h"
+#include "stream_flow.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -37,7 +38,9 @@ typedef enum { LC_SESSION_HTTP = 0, LC_SESSION_WS = 1 } lc_session_kind;
 
 /* WebSocket stream state (all guarded by the session lock). */
 typedef struct lc_stream {
-    int window;                /* max unacknowledged frames, 1..8 */
+    int window;                /* max unacknowledged frames now, 1..8 (flow.window) */
+    lc_stream_flow flow;       /* what the window follows: round trip, render time, the hello's ceiling */
+    double render_began;       /* lc_now() when the frame being rendered was taken (stream_next) */
     int quality;               /* still-frame JPEG quality */
     int interactive_quality;   /* JPEG quality while input is active */
     double interactive_scale;  /* resolution factor while input is active */
@@ -192,6 +195,9 @@ int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *re
  * false (and changes nothing) for an id that was never sent: a blind ack must
  * not open the window. */
 bool lc_session_stream_ack(lc_session *s, uint64_t frame);
+/* I/O side: the client acked frames up to `frame` at now: as lc_session_stream_ack,
+ * and the round trip of the newest of them moves the window (stream_flow.h). */
+bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now);
 /* Encoder side: frame `frame` goes to the connection now (acks may cover it). */
 void lc_session_stream_sent(lc_session *s, uint64_t frame);
 /* I/O side: the connection's socket stopped taking data (blocked) or drained.

@@ -1,8 +1,10 @@
 /* The stream's flow control in process (session.c, stream.c): hello through
  * the stream protocol, the window of unacknowledged frames, latest-wins
  * coalescing of updates, convergence and the still frame, staged stills and
- * their preview stage, blind acks, and one update path with its budget check
- * for HTTP sessions and streams. */
+ * their preview stage, blind acks, one update path with its budget check
+ * for HTTP sessions and streams, and the window that follows the round trip
+ * (stream_flow.h). */
+#include <math.h>
 #include <stdlib.h>
 
 #include "daemon_test_util.h"
@@ -10,6 +12,7 @@
 #include "lc_test.h"
 #include "still_stages.h"
 #include "stream.h"
+#include "stream_flow.h"
 
 static lc_server srv;
 
@@ -383,6 +386,112 @@ static void test_budget(lc_stream_conn *conn)
     lc_session_unref(h);
 }
 
+/* n frames of render time frame_s, each acked rtt after it was sent (simulated clock from *t). */
+static void flow_frames(lc_stream_flow *f, int n, double frame_s, double rtt, double *t, uint64_t *id)
+{
+    for (int i = 0; i < n; i++) {
+        lc_stream_flow_rendered(f, frame_s);
+        *t += frame_s;
+        lc_stream_flow_sent(f, ++*id, *t);
+        lc_stream_flow_acked(f, *id, *t + rtt);
+    }
+}
+
+/* The window module alone, on a simulated clock: it grows with the round
+ * trip, keeps to the ceiling, shrinks back at once when the round trip does,
+ * and one late ack (a frame queued on the link) does not widen it. */
+static void test_flow_window(void)
+{
+    lc_stream_flow f;
+    double t = 100;
+    uint64_t id = 0;
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    CHECK(f.window == LC_PROTO_DEFAULT_WINDOW, "before any ack: the default window (%d)", f.window);
+    flow_frames(&f, 4, 0.030, 0.005, &t, &id);
+    CHECK(f.window == 2, "loopback, 30 ms frames: 2 (%d)", f.window);
+    flow_frames(&f, 1, 0.030, 0.400, &t, &id);
+    CHECK(f.window == 2, "one late ack does not widen it (%d, rtt %.3f)", f.window, f.rtt);
+    flow_frames(&f, LC_FLOW_RTT_SAMPLES, 0.030, 0.100, &t, &id);
+    CHECK(fabs(f.rtt - 0.100) < 1e-9 && f.window == 5, "100 ms round trip, 30 ms frames: 5 (%d, rtt %.3f)",
+          f.window, f.rtt);
+    flow_frames(&f, LC_FLOW_RTT_SAMPLES, 0.030, 0.300, &t, &id);
+    CHECK(f.window == LC_PROTO_MAX_WINDOW, "300 ms: the ceiling %d (%d)", LC_PROTO_MAX_WINDOW, f.window);
+    flow_frames(&f, 1, 0.030, 0.010, &t, &id);
+    CHECK(f.window == 2, "back to 10 ms: 2 at once (%d)", f.window);
+    flow_frames(&f, 8, 0.100, 0.100, &t, &id);
+    CHECK(f.window == 2, "slower frames need fewer: 2 (%d, frame %.3f s)", f.window, f.frame_s);
+    lc_stream_flow_init(&f, 3);
+    flow_frames(&f, LC_FLOW_RTT_SAMPLES, 0.030, 0.300, &t, &id);
+    CHECK(f.window == 3, "the hello's window is the ceiling (%d)", f.window);
+    lc_stream_flow_init(&f, 1);
+    CHECK(f.window == 1, "a ceiling of 1 holds from the start (%d)", f.window);
+    /* Two frames out, the older acked: its own round trip, not the newer one's. */
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    lc_stream_flow_sent(&f, 10, 1.0);
+    lc_stream_flow_sent(&f, 11, 1.09);
+    lc_stream_flow_acked(&f, 10, 1.1);
+    CHECK(fabs(f.rtt - 0.1) < 1e-9 && f.nsent == 1 && f.sent_id[0] == 11, "the older frame's round trip (%.3f)",
+          f.rtt);
+    /* A frame that never goes out is forgotten; an ack the server makes itself is no sample. */
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    lc_stream_flow_sent(&f, 7, 1.0);
+    lc_stream_flow_acked(&f, 7, -1);
+    CHECK(f.nsent == 0 && f.nsamples == 0, "an ack without a time takes no sample (%d, %d)", f.nsent, f.nsamples);
+}
+
+/* A session's window through the protocol: no window in the hello (the
+ * maximum is the ceiling), frames of 50 ms acked 200 ms after they went out
+ * widen it to 5 and five frames go out unacked; acks at once shrink it to 2. */
+static void test_session_window(void)
+{
+    lc_stream_conn conn = {.authed = true};
+    char reply[4096];
+    lc_stream_outcome o = send_text(
+        &conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":100,\"height\":80}", reply,
+        sizeof reply);
+    CHECK(o.opened && strstr(reply, "\"window\":8"), "a hello without window: ceiling 8 (%s)", reply);
+    lc_session *s = conn.session;
+    if (!s)
+        return;
+    lc_stream_frame f;
+    double wake = 0;
+    CHECK(s->stream.window == 2, "it starts at 2 (%d)", s->stream.window);
+    for (int i = 0; i < LC_FLOW_RTT_SAMPLES + 1; i++) {
+        lc_session_stream_input(s, lc_now());
+        /* Taken 50 ms ago: a moving frame of 50 ms. */
+        if (lc_session_stream_next(s, lc_now() - 0.050, &f, &wake) != 1) {
+            CHECK(0, "frame %d due", i);
+            break;
+        }
+        finish(s, &f, true);
+        CHECK(lc_session_stream_client_ack(s, f.frame, lc_now() + 0.200), "ack of %llu",
+              (unsigned long long)f.frame);
+    }
+    CHECK(s->stream.window == 5, "200 ms round trip, 50 ms frames: window 5 (%d, rtt %.3f, frame %.3f)",
+          s->stream.window, s->stream.flow.rtt, s->stream.flow.frame_s);
+    int out = 0;
+    uint64_t last = 0;
+    for (int i = 0; i < 8; i++) {
+        lc_session_stream_input(s, lc_now());
+        if (lc_session_stream_next(s, lc_now() - 0.050, &f, &wake) != 1)
+            break;
+        finish(s, &f, true);
+        out++, last = f.frame;
+    }
+    CHECK(out == 5 && s->stream.unacked == 5, "five frames in flight, no sixth (%d, %d)", out, s->stream.unacked);
+    CHECK(lc_session_stream_client_ack(s, last, lc_now()), "ack of the five");
+    CHECK(s->stream.window == 2 && s->stream.unacked == 0, "a short round trip: back to 2 (%d)", s->stream.window);
+    lc_stream_stats st;
+    memset(&st, 0, sizeof st);
+    lc_stream_stats_frame(&st, lc_now(), 1, 1);
+    char *text = lc_stream_stats_message(&st, s, 0, lc_now());
+    CHECK(text && strstr(text, "\"window\":2") && strstr(text, "\"rttMs\":") && !strstr(text, "\"rttMs\":null"),
+          "stats carry the window and the round trip (%s)", text ? text : "");
+    free(text);
+    lc_session_close(srv.sessions, s);
+    lc_session_unref(s);
+}
+
 int main(void)
 {
     if (test_daemon(&srv, 3000) != 0)
@@ -414,6 +523,8 @@ int main(void)
     test_staged(s);
     test_ladder(s);
     test_budget(&conn);
+    test_flow_window();
+    test_session_window();
     lc_session_close(srv.sessions, s);
     lc_session_unref(s);
     test_daemon_free(&srv);

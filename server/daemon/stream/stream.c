@@ -103,8 +103,14 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
         answer_error(srv, out, err.code == LC_ERR_LIMIT ? "too_many_sessions" : "internal", err.msg, NULL, true, 1013);
         return;
     }
+    /* The hello's window is the most the client takes; the server keeps
+     * fewer in flight while fewer cover the round trip (stream_flow.h).
+     * Without one, the protocol's maximum. */
+    if (!m->has_window)
+        ss.window = LC_PROTO_MAX_WINDOW;
     pthread_mutex_lock(&s->lock);
-    s->stream.window = ss.window;
+    lc_stream_flow_init(&s->stream.flow, ss.window);
+    s->stream.window = s->stream.flow.window;
     s->stream.quality = ss.quality;
     s->stream.interactive_quality = ss.interactive_quality;
     s->stream.interactive_scale = ss.interactive_scale;
@@ -202,7 +208,7 @@ void lc_stream_on_text(lc_server *srv, const lc_proto_limits *lim, lc_stream_con
     case LC_MSG_PARAMS: on_update(srv, lim, s, &m, now, out); break;
     case LC_MSG_RESIZE: on_resize(srv, s, &m, now, out); break;
     case LC_MSG_ACK:
-        if (!lc_session_stream_ack(s, m.frame)) {
+        if (!lc_session_stream_client_ack(s, m.frame, now)) {
             char msg[128];
             snprintf(msg, sizeof msg, "frame %llu has not been sent", (unsigned long long)m.frame);
             answer_error(srv, out, LC_PROTO_OUT_OF_RANGE, msg, "frame", false, 0);
@@ -264,6 +270,7 @@ char *lc_stream_stats_message(lc_stream_stats *st, lc_session *s, int render_que
     pthread_mutex_lock(&s->lock);
     uint64_t dropped = s->stream.coalesced;
     int unacked = s->stream.unacked, window = s->stream.window;
+    double rtt = s->stream.flow.rtt, frame_s = s->stream.flow.frame_s;
     pthread_mutex_unlock(&s->lock);
 
     json_t *f = json_object();
@@ -276,6 +283,8 @@ char *lc_stream_stats_message(lc_stream_stats *st, lc_session *s, int render_que
     json_object_set_new(f, "queue", json_integer(render_queue));
     json_object_set_new(f, "unacked", json_integer(unacked));
     json_object_set_new(f, "window", json_integer(window));
+    json_object_set_new(f, "rttMs", rtt > 0 ? ms_json(1000.0 * rtt) : json_null());
+    json_object_set_new(f, "frameMs", frame_s > 0 ? ms_json(1000.0 * frame_s) : json_null());
     json_object_set_new(f, "bytesSent", json_integer((json_int_t)st->bytes));
     json_object_set_new(f, "interval", json_real(round((now - st->last_report) * 1000.0) / 1000.0));
     char *text = lc_proto_stats_json(f);

@@ -21,9 +21,9 @@
 #                   the download fails and no earlier download is cached, the folder is absent and the host's
 #                   own glvnd is used (manifest.json says so)
 #   egl_vendor.d/   a glvnd vendor file for libEGL_nvidia.so.0, for hosts whose driver has none registered
-#   python/         tests/bench/browse_bench.py and server_bench.py, tests/server/lucent_server.py, the Python
-#                   client (clients/python/lucent) and python3-websockets (site/, used where the host's python3
-#                   has no websockets module)
+#   python/         tests/bench/*.py (browse_bench.py and server_bench.py run in the check), the helpers of
+#                   tests/server (lucent_server.py), the Python client (clients/python/lucent) and
+#                   python3-websockets (site/, used where the host's python3 has no websockets module)
 #   data/           small files of four formats (NetCDF, TRX, TrackVis, PLY); the demos are generated
 #   reference/      `lucent compare` of every demo on this host, at the check's size (full: the default request,
 #                   1024x768) and at --quick's (256x192): the SSIMs the check compares against (--reference: which)
@@ -265,8 +265,11 @@ EOF
 chmod +x "$out/lucent"
 
 # ---- 5. Python clients, the check, data
-cp "$src/tests/bench/browse_bench.py" "$src/tests/bench/server_bench.py" "$out/python/tests/bench/"
-cp "$src/tests/server/lucent_server.py" "$out/python/tests/server/"
+# The benchmark clients with their helpers: every module of tests/bench, the helpers (not the tests) of tests/server.
+cp "$src"/tests/bench/*.py "$out/python/tests/bench/"
+for f in "$src"/tests/server/*.py; do
+  case "$(basename "$f")" in test_*) ;; *) cp "$f" "$out/python/tests/server/" ;; esac
+done
 cp -r "$src/clients/python/lucent" "$out/python/clients/"
 cp "$src/scripts/gpu_check.sh" "$out/"
 ws_dir=""

@@ -397,22 +397,32 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
 
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
+    /* P4 records what P5 needs of its fragments where the frame allows (fragment_list.c). */
+    int record = lc_composite_list_wanted(r, fs, direct);
+    if (record)
+        lc_composite_list_begin(r, fs);
     r->draw_yields = 1; /* P4 and P5: yield points follow, and the image is all they make */
     for (int i = 0; i < lc_frame_layer_count(fs); i++) {
         lc_frame_setup tmp;
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : PROG_P4, lf->gs->scene->type, bands,
-                                                 p->foo.subset, err);
+        GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : record ? PROG_P4_LIST : PROG_P4,
+                                                 lf->gs->scene->type, bands, p->foo.subset, err);
         if (!p4)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
         lc_uniform_f(p4, "u_weight", lc_renderer_subset(lf, p->foo.subset));
         lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
         lc_renderer_bind_halo(p4, lf);
+        if (record) {
+            lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
+            lc_uniform_u(p4, "u_chain_pixels", r->chain_pixels);
+            lc_uniform_u(p4, "u_chain_width", r->chain_width);
+        }
         lc_renderer_draw_geometry(lf, p->foo.subset);
     }
+    int listed = record && lc_composite_list_end(r);
     int rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err);
     if (rc)
         return rc;
@@ -422,7 +432,13 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
-    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+    if (listed) {
+        lc_bind_coefficients(&r->coef_full);
+        rc = lc_composite_list_p5(r, fs, &r->accum, err);
+        if (rc)
+            return rc;
+    }
+    for (int i = 0; i < lc_frame_layer_count(fs) && !listed; i++) {
         lc_frame_setup tmp;
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)

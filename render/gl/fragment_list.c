@@ -44,7 +44,8 @@
 #define FRAGMENTS_PER_PIXEL_GUESS 16
 #define FRAGMENTS_PER_PRIMITIVE_GUESS 4
 
-static atomic_int fragment_lists = 0; /* lc_fragment_list_configure */
+static atomic_int fragment_lists = 0;  /* lc_fragment_list_configure */
+static atomic_int composite_lists = 0; /* P5 over P4's fragments: LUCENT_P5_LIST=1 (off by default, below) */
 
 /* On software rasterizers, where a traversal costs its set-up and
  * rasterization whatever it shades; GPUs draw P2 until measured otherwise. */
@@ -54,6 +55,8 @@ void lc_fragment_list_configure(const char *gl_renderer)
                                    strstr(gl_renderer, "swrast"));
     const char *e = getenv("LUCENT_FRAGMENT_LISTS"); /* 0 / 1: force off / on (comparisons, tests) */
     atomic_store(&fragment_lists, e && (e[0] == '0' || e[0] == '1') ? e[0] == '1' : software);
+    const char *p5 = getenv("LUCENT_P5_LIST");
+    atomic_store(&composite_lists, p5 && p5[0] == '1');
 }
 
 int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
@@ -195,14 +198,109 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
     return 0;
 }
 
+/* ---- P5 over P4's fragments (COMPOSITE_LIST; docs/ALGORITHM.md §27): P4
+ * records each fragment's opacity, series depth and lit colour (24 bytes),
+ * chained per pixel as P0's, and P5 walks each chain adding (w C, w) as
+ * blending into the RGBA16F target does, rounding toward zero to half
+ * precision after every addition: the images stay bit for bit. Off by
+ * default (LUCENT_P5_LIST=1 turns it on where lists are on): on llvmpipe the
+ * recording P4 costs more than the drawn P5 it replaces on the MD
+ * trajectories (P4 1.2 -> 3.2 s, P5 1.7 -> 0.5 s; docs/EVALUATION.md §23), and
+ * its list holds about 11 M fragments (270 MB) there at 1024^2. */
+
+/* Entries: 24 bytes each; 2^24 of them, 384 MB, at most. */
+#define COMPOSITE_LIST_MAX (1ull << 24)
+#define COMPOSITE_PER_PIXEL_GUESS 12
+
+int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct)
+{
+    (void)r;
+    /* P4 draws a stride that P5 does not (params.subset); layers and tiles as
+     * for P0's chains; the direct baseline keeps its own programs. */
+    return lc_fragment_list_enabled() && atomic_load(&composite_lists) && !direct && fs->params->foo.subset <= 1 &&
+           fs->layer_count == 0 && !fs->tiled;
+}
+
+void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
+{
+    uint64_t pixels = (uint64_t)fs->width * (uint64_t)fs->height;
+    uint64_t want = pixels * COMPOSITE_PER_PIXEL_GUESS;
+    if (want < r->composite_seen + r->composite_seen / 4)
+        want = r->composite_seen + r->composite_seen / 4;
+    want = want > COMPOSITE_LIST_MAX ? COMPOSITE_LIST_MAX : want;
+    if (!r->composite_list || r->composite_capacity < want) {
+        if (r->composite_list)
+            glDeleteBuffers(1, &r->composite_list);
+        glCreateBuffers(1, &r->composite_list);
+        glNamedBufferStorage(r->composite_list, (GLsizeiptr)(16 + 24 * want), NULL, GL_DYNAMIC_STORAGE_BIT);
+        r->composite_capacity = want;
+    }
+    if (!r->fragment_chains || r->chain_words < 2 * pixels) {
+        if (r->fragment_chains)
+            glDeleteBuffers(1, &r->fragment_chains);
+        glCreateBuffers(1, &r->fragment_chains);
+        glNamedBufferStorage(r->fragment_chains, (GLsizeiptr)(8 * pixels), NULL, GL_DYNAMIC_STORAGE_BIT);
+        r->chain_words = 2 * pixels;
+    }
+    const uint32_t zero = 0, none = 0xFFFFFFFFu;
+    glClearNamedBufferSubData(r->composite_list, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(8 * pixels), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &none);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->composite_list);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
+    r->chain_pixels = (uint32_t)pixels;
+    r->chain_width = (uint32_t)fs->width;
+    r->fragments_chained = 0;
+}
+
+int lc_composite_list_end(lc_renderer *r)
+{
+    uint32_t count = 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glGetNamedBufferSubData(r->composite_list, 0, 4, &count);
+    r->composite_seen = count > r->composite_seen ? count : r->composite_seen;
+    r->fragment_count = count;
+    return count <= r->composite_capacity;
+}
+
+int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
+{
+    int bands = fs->params->foo.bands;
+    GLuint *slot = &r->fixed_programs[PROG_P5_CHAINS_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
+    if (!*slot) {
+        static const char *const cs[] = {"common.glsl", "coefficients.glsl", "fragment_list.glsl", "p5_list.comp.glsl",
+                                         NULL};
+        char defines[64];
+        snprintf(defines, sizeof defines, "#define BANDS %d\n#define COMPOSITE_LIST 1\n", bands);
+        *slot = lc_renderer_build_program(defines, NULL, NULL, cs, "P5 over P4's fragments", err);
+        if (!*slot)
+            return LC_ERR_GL;
+    }
+    GLuint prog = *slot;
+    glUseProgram(prog);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->composite_list);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
+    lc_uniform_u(prog, "u_chain_pixels", r->chain_pixels);
+    lc_uniform_u(prog, "u_chain_width", r->chain_width);
+    lc_uniform_i(prog, "u_estimator", fs->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    glBindImageTexture(IMG_EXACT_OUTPUT, t->tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    return 0;
+}
+
 uint64_t lc_fragment_list_bytes(const lc_renderer *r)
 {
     /* The entries frames wrote (the rest of the capacity is address space
      * that llvmpipe never touches), and the chains' first and last entries. */
     uint64_t seen = r->fragment_seen < r->fragment_capacity ? r->fragment_seen : r->fragment_capacity;
     uint64_t list = r->fragment_list ? 16 + 16 * seen : 0;
-    uint64_t chains = r->fragment_chains ? 8 * (uint64_t)r->chain_pixels : 0;
-    return list + chains;
+    uint64_t chains = r->fragment_chains ? 4 * r->chain_words : 0;
+    uint64_t cseen = r->composite_seen < r->composite_capacity ? r->composite_seen : r->composite_capacity;
+    uint64_t composite = r->composite_list ? 16 + 24 * cseen : 0;
+    return list + chains + composite;
 }
 
 GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err)
@@ -239,4 +337,8 @@ void lc_fragment_list_release(lc_renderer *r)
     r->fragment_chains = 0;
     r->chain_words = 0;
     r->fragments_chained = 0;
+    if (r->composite_list)
+        glDeleteBuffers(1, &r->composite_list);
+    r->composite_list = 0;
+    r->composite_capacity = 0;
 }

@@ -683,10 +683,10 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
      * Fourier passes, so that the next exact frame allocates them anew. */
     lc_exact_release(r);
     lc_render_params tiny = *p;
-    /* P1's fragment list, sized by this frame: the 8x8 frames would not
-     * shrink it (fragment_list.c keeps the largest count seen). */
+    /* The fragment lists, sized by this frame: the 8x8 frames would not
+     * shrink them (fragment_list.c keeps the largest counts seen). */
     lc_fragment_list_release(r);
-    r->fragment_seen = 0;
+    r->fragment_seen = r->composite_seen = 0;
     tiny.width = tiny.height = 8;
     if (tiny.method == LC_METHOD_EXACT)
         tiny.method = LC_METHOD_FOURIER;

@@ -150,16 +150,19 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_moments[] = {"common.glsl", "fragment_common.glsl", "depth_moments.frag.glsl", NULL};
     static const char *const fs_moments_list[] = {"common.glsl", "fragment_common.glsl", "fragment_list.glsl",
                                                   "depth_moments.frag.glsl", NULL};
+    static const char *const fs_p4_list[] = {"common.glsl",        "fragment_common.glsl",       "coefficient_output.glsl",
+                                             "fragment_list.glsl", "p4_optical_depth.frag.glsl", NULL};
     static const char *const fs_hist[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                           "color_histogram.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
         fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist,
-        fs_p1_list, fs_moments_list};
+        fs_p1_list, fs_moments_list, fs_p4_list};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
         "colour histogram", "colour histogram (direct)", "P1 (recording)",
-        "depth moments (recording)"};
-    int reads_alpha = kind == PROG_P4 || kind == PROG_P5 || kind == PROG_WBOIT || kind == PROG_COLOR_HISTOGRAM;
+        "depth moments (recording)", "P4 (recording)"};
+    int reads_alpha = kind == PROG_P4 || kind == PROG_P4_LIST || kind == PROG_P5 || kind == PROG_WBOIT ||
+                      kind == PROG_COLOR_HISTOGRAM;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
     char defines[320];
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s", (int)prim, bands,
@@ -168,6 +171,7 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
              context ? "#define CONTEXT_DEPTH 1\n" : "", floor ? "#define FLOOR_EMPTY 1\n" : "",
              kind == PROG_P1_LIST              ? "#define RECORD_FRAGMENTS 1\n"
              : kind == PROG_DEPTH_MOMENTS_LIST ? "#define RECORD_FRAGMENTS 1\n#define FRAGMENT_CHAINS 1\n"
+             : kind == PROG_P4_LIST            ? "#define COMPOSITE_LIST 1\n"
                                                : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,

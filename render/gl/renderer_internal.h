@@ -178,6 +178,7 @@ typedef enum {
     PROG_COLOR_HISTOGRAM_DIRECT,
     PROG_P1_LIST, /* P1 that also records its fragments (fragment_list.c) */
     PROG_DEPTH_MOMENTS_LIST, /* P0 "moments" that also records its fragments and chains (fragment_list.c) */
+    PROG_P4_LIST,            /* P4 that also records what P5 needs of its fragments, chained (fragment_list.c) */
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -189,7 +190,8 @@ typedef enum {
     PROG_FILTER_MASK,
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
     PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS, /* P1 over P0's fragments, per band count */
-    PROG_FIXED_KINDS = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS
+    PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS, /* P5 over P4's fragments, per band count */
+    PROG_FIXED_KINDS = PROG_P5_CHAINS_FIRST + LC_MAX_BANDS
 } lc_program_kind;
 
 struct lc_renderer {
@@ -220,6 +222,10 @@ struct lc_renderer {
     uint64_t chain_words;
     uint32_t chain_pixels, chain_width;
     int fragments_chained;
+    /* P4's list for P5 (COMPOSITE_LIST; 24 bytes an entry after a 16-byte
+     * count), as the list above; its chains share fragment_chains. */
+    GLuint composite_list;
+    uint64_t composite_capacity, composite_seen;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -659,6 +665,14 @@ void lc_fragment_chains_end(lc_renderer *r);
 /* P1 into t (cleared by the caller) from the chains; the list then holds
  * P1's fragments as a recording P1 leaves them (r->fragments_ready). */
 int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, int bands, lc_error *err);
+/* P4 records what P5 needs of its fragments, chained per pixel, where the
+ * frame allows, and P5 is then a compute pass over them: wanted before P4,
+ * begin before it (binds the list for PROG_P4_LIST), end after it (1: every
+ * fragment fit), then lc_composite_list_p5 into t (cleared by the caller). */
+int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct);
+void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs);
+int lc_composite_list_end(lc_renderer *r);
+int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 /* Bytes the lists hold (lc_renderer_bytes). */
 uint64_t lc_fragment_list_bytes(const lc_renderer *r);
 /* Frees the list (lc_renderer_release_after, destroy). */

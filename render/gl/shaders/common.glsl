@@ -234,6 +234,17 @@ float series_depth_at(vec2 frag_xy, float d)
 }
 #endif
 
+// P5's weight of a fragment with opacity alpha behind optical depth tau (FOO
+// Eq. 17: alpha/(1-alpha) exp(-tau); midpoint, estimator 1: alpha exp(-max(tau
+// - f/2, 0)) with f = -ln(1 - alpha)). The colour histogram measures shares of
+// it; P5 over P4's fragments (p5_list.comp.glsl) computes it too.
+float composite_weight(float alpha, float tau, int estimator)
+{
+    if (estimator == 1)
+        return alpha * exp(-max(tau + 0.5 * log(1.0 - alpha), 0.0));
+    return alpha / (1.0 - alpha) * exp(-tau);
+}
+
 #ifdef FRAGMENT_STAGE
 float series_depth(float z_view) { return series_depth_at(gl_FragCoord.xy, normalized_depth(z_view)); }
 #endif

@@ -159,12 +159,3 @@ vec3 fragment_color()
     return clamp(base * (0.3 + 0.7 * ndotl) + vec3(0.25 * spec), 0.0, 1.0);
 }
 
-// P5's weight of a fragment with opacity alpha behind optical depth tau (FOO
-// Eq. 17: alpha/(1-alpha) exp(-tau); midpoint, estimator 1: alpha exp(-max(tau
-// - f/2, 0)) with f = -ln(1 - alpha)). The colour histogram measures shares of it.
-float composite_weight(float alpha, float tau, int estimator)
-{
-    if (estimator == 1)
-        return alpha * exp(-max(tau + 0.5 * log(1.0 - alpha), 0.0));
-    return alpha / (1.0 - alpha) * exp(-tau);
-}

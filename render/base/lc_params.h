@@ -110,6 +110,9 @@ typedef struct lc_foo_params {
      * draw with where P0 measured dense data; 1 = P1 draws what params.subset says. */
     int auto_subset;
     bool strength_given;
+    /* Set by the clarity loop only (render/gl/clarity.c), never parsed: lines
+     * take their elements' mean importance in the emphasis, as patches do. */
+    bool element_emphasis;
 } lc_foo_params;
 
 /* One weighted criterion of the importance (docs/ALGORITHM.md "Importance

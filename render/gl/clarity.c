@@ -25,7 +25,11 @@ double lc_clarity_miss(double target, const lc_frame_info *info)
     return miss > 1 ? miss - 1 : 0;
 }
 
-void lc_clarity_next(lc_clarity_strength *st, double target, const lc_frame_info *info, double max_step)
+/* gain: how steeply the top decile answers the emphasis, measured by the last
+ * two tries (1 when unknown): the step toward the top decile's aim is the aim's
+ * ratio to the power 1/gain. */
+static void next_strength(lc_clarity_strength *st, double target, const lc_frame_info *info, double max_step,
+                          double gain, double fade)
 {
     if (!info->has_visibility || info->visible_elements < 10)
         return;
@@ -41,10 +45,18 @@ void lc_clarity_next(lc_clarity_strength *st, double target, const lc_frame_info
     double need_occ = info->occluder_alpha / (0.45 * t);
     if (info->bottom_half_alpha - 0.05 > t)
         need_occ = fmax(need_occ, info->bottom_half_alpha / t);
-    double up = need_occ > 1 ? fmin(pow(need_occ, 1.5), max_step * max_step) : 1;
+    /* fade: how much the occluders' share o/t answered the penalty between the
+     * last two tries (d ln(o/t) / d ln b, negated; 0 when unknown): where it is
+     * weak (dense lines, 0.2), the step is the one that answer asks for. */
+    double up = 1;
+    if (need_occ > 1)
+        up = fmin(fmax(pow(need_occ, 1.5), fade > 0.05 ? pow(need_occ, 1 / fade) : 1), max_step * max_step);
+    /* No more than the cap leaves (λ must not make up for a penalty not applied). */
+    up = fmax(fmin(up, LC_CLARITY_MAX_STRENGTH * LC_CLARITY_MAX_STRENGTH / st->penalty), 1);
     /* λ follows the penalty only as far as the top decile needs: above its
-     * aim it has room to drop, and more λ would lift the occluders with it. */
-    double lift = (up > 1 ? need_top : fmax(need_top, 1)) * sqrt(up);
+     * aim it has room to drop and keeps λ (more would lift the occluders with
+     * it); below, λ makes up for the stronger penalty. */
+    double lift = pow(up > 1 ? (need_top < 1 ? 1 : need_top * sqrt(up)) : fmax(need_top, 1), 1 / gain);
     double step = lift > 1 ? fmin(lift, max_step) : 1;
     /* Well past the goal: ease off, toward the paper's strength. */
     if (lift <= 1 && t > target + 0.2 && info->occluder_alpha < 0.4 * t) {
@@ -55,6 +67,25 @@ void lc_clarity_next(lc_clarity_strength *st, double target, const lc_frame_info
     st->penalty = fmin(fmax(st->penalty * up, 1), LC_CLARITY_MAX_STRENGTH * LC_CLARITY_MAX_STRENGTH);
 }
 
+void lc_clarity_next(lc_clarity_strength *st, double target, const lc_frame_info *info, double max_step)
+{
+    next_strength(st, target, info, max_step, 1, 0);
+}
+
+/* The top decile's answer to the strength between two tries: d ln t / d ln(a / √b),
+ * the drive the step assumes (a follows b by √(b's step)); 1 when the tries
+ * say nothing, at most 4. On dense data the answer is steep (ka_liquid: t 0.25
+ * at (3, 2.8), 0.85 at (7.3, 3.5)), and an undamped step overshoots into a
+ * picture where everything is opaque. */
+static double top_gain(lc_clarity_strength a0, double t0, lc_clarity_strength a1, double t1)
+{
+    double drive = log(a1.lambda / a0.lambda) - 0.5 * log(a1.penalty / a0.penalty);
+    if (t0 < 0.01 || t1 < 0.01 || fabs(drive) < 0.05)
+        return 1;
+    double g = log(t1 / t0) / drive;
+    return g > 1 ? fmin(g, 4) : 1;
+}
+
 /* One optimization at strength st (p: the frame's parameters it scales). */
 static int try_strength(lc_renderer *r, lc_frame_setup *fs, lc_render_params *p, const lc_render_params *given,
                         lc_clarity_strength st, lc_frame_state *state, double dt, lc_frame_info *info, int moments,
@@ -63,6 +94,11 @@ static int try_strength(lc_renderer *r, lc_frame_setup *fs, lc_render_params *p,
     p->foo.lambda = given->foo.lambda * st.lambda;
     p->foo.q = given->foo.q * st.penalty;
     p->foo.r = given->foo.r * st.penalty;
+    /* Beyond the paper's strength, a line's fragments take its element's mean
+     * importance in the emphasis (docs/ALGORITHM.md §25): noise-like importance
+     * (speed in a liquid) varies along each element, and its opacity, its
+     * least emphasized fragment's, followed the element's slowest moment. */
+    p->foo.element_emphasis = st.lambda > 1 || st.penalty > 1;
     int rc = optimize(r, fs, state, dt, info, moments, err);
     info->clarity_tries++;
     info->clarity_lambda = st.lambda;
@@ -94,6 +130,8 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     fs->params = &p;
     lc_clarity_strength best = st;
     double best_miss = -1;
+    lc_clarity_strength prev = st;
+    double prev_top = 0, prev_share = 0;
     int rc = 0;
     for (int i = 0;; i++) {
         if (i > 0 && state)
@@ -120,7 +158,12 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             st = next;
             break;
         }
-        lc_clarity_next(&next, target, info, 3.0);
+        double gain = i > 0 ? top_gain(prev, prev_top, st, info->top_decile_alpha) : 1;
+        double share = info->occluder_alpha / fmax(info->top_decile_alpha, 0.01), fade = 0;
+        if (i > 0 && prev_share > 0 && share > 0 && fabs(log(st.penalty / prev.penalty)) > 0.05)
+            fade = fmin(fmax(-log(share / prev_share) / log(st.penalty / prev.penalty), 0), 1);
+        prev = st, prev_top = info->top_decile_alpha, prev_share = share;
+        next_strength(&next, target, info, 3.0, gain, fade);
         int same = next.lambda == st.lambda && next.penalty == st.penalty;
         if (miss == 0 || same || stalled || i + 1 == LC_CLARITY_ITERATIONS) {
             if (best.lambda != st.lambda || best.penalty != st.penalty) { /* the last try was not the best: redo it */

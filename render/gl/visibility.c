@@ -163,8 +163,12 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
 int lc_element_emphasis(const lc_frame_setup *fs)
 {
     /* Not on layered frames: the element importance ranks one dataset's elements. */
-    return !fs->layer_count && fs->gs->scene->type == LC_PRIM_TRIANGLES &&
-           fs->params->foo.normalize == LC_NORMALIZE_AUTO;
+    /* Lines only where the clarity loop asks (params.foo.element_emphasis: a
+     * strength beyond the paper's, clarity.c): at (1, 1) lines keep the
+     * paper's per-fragment emphasis. */
+    lc_prim_type type = fs->gs->scene->type;
+    int kind = type == LC_PRIM_TRIANGLES || (type == LC_PRIM_LINES && fs->params->foo.element_emphasis);
+    return !fs->layer_count && kind && fs->params->foo.normalize == LC_NORMALIZE_AUTO;
 }
 
 int lc_element_emphasis_bind(lc_renderer *r, const lc_frame_setup *fs, GLuint prog, lc_error *err)

@@ -575,7 +575,7 @@ void lc_session_stream_sent(lc_session *s, uint64_t frame)
     pthread_mutex_lock(&s->lock);
     if (frame > s->stream.last_sent)
         s->stream.last_sent = frame;
-    lc_stream_flow_sent(&s->stream.flow, frame, lc_now());
+    lc_stream_flow_sent(&s->stream.flow, frame, s->stream.last_interactive, lc_now());
     pthread_mutex_unlock(&s->lock);
 }
 

@@ -24,7 +24,7 @@ along an orbit, an ack for every frame, then release. It reports:
 With --link RTT,MBIT (repeatable; "loopback" for none) the orbit runs once through each emulated
 wide-area link (tests/bench/link_proxy.py: RTT/2 each way, MBIT Mbit/s each way with a 100 ms
 queue, 0 = no rate limit) and a table compares them: frames/s, input-to-frame p50/p95, still after
-release, mean bytes of a moving frame, the link's use while orbiting (Mbit/s received and the share
+release, mean bytes of a moving frame (its most common size, its mean JPEG quality), the link's use while orbiting (Mbit/s received and the share
 of the rate), and the session's flow-control window and round trip from its last stats message.
 The issue 46 table:
   tests/bench/browse_bench.py --binary build/lucent --seconds 6 --link loopback --link 50,20 --link 100,5
@@ -120,7 +120,7 @@ def frame_costs(h):
     t = h.get("timings") or {}
     return {"size": "%dx%d" % (h["width"], h["height"]), "render_ms": (h.get("detail") or {}).get("renderMs"),
             "gpu_ms": sum(v for v in t.values() if isinstance(v, (int, float))), "readback_ms": t.get("readback"),
-            "encode_ms": h.get("encodeMs")}
+            "encode_ms": h.get("encodeMs"), "quality": h.get("quality")}
 
 
 def cost_summary(frames):
@@ -179,7 +179,7 @@ def contender(base, token, args, stop, out):
 
 
 async def browse(ws_url, token, args):
-    r = {"lat": [], "moving": 0, "pause_delay": None, "moving_frames": [], "moving_bytes": [], "rx": 0,
+    r = {"lat": [], "moving": 0, "pause_delay": None, "moving_frames": [], "moving_bytes": [], "moving_q": [], "rx": 0,
          "stats": None}
     async with websockets.connect(ws_url, max_size=None) as ws:
         name = served_name(args.dataset)
@@ -270,6 +270,7 @@ async def browse(ws_url, token, args):
             r["moving_frames"].append(frame_costs(h))
             if (h.get("detail") or {}).get("interactive", False):
                 r["moving_bytes"].append(len(img))
+                r["moving_q"].append(h.get("quality", 0))
             if args.verbose:
                 d = h.get("detail") or {}
                 print(f"  frame {h['frame']} {h['width']}x{h['height']} seq {h['cameraSeq']}/{seq} "
@@ -434,6 +435,8 @@ def run_links(ws_url, token, args):
                      "still_s": r.get("still"), "full_s": r.get("full"),
                      "moving_kb": sum(mb) / len(mb) / 1000 if mb else None,
                      "moving_size": cost_summary(r["moving_frames"]).get("size"),
+                     "moving_quality": sum(r["moving_q"]) / len(r["moving_q"]) if r["moving_q"] else None,
+                     "still_quality": (r.get("still_frame") or {}).get("quality"),
                      "link_mbit": use, "link_share": use / mbit if mbit else None,
                      "window": st.get("window"), "rtt_est_ms": st.get("rttMs")})
         print("  %s: %.1f frames/s" % (link.label(), rows[-1]["frames_per_s"]), flush=True)
@@ -447,7 +450,7 @@ def run_links(ws_url, token, args):
         print("| %s | %.1f | %.0f / %.0f ms | %s | %s | %s | %s |" % (
             w["link"], w["frames_per_s"], w["p50_ms"], w["p95_ms"],
             "%.2f s" % w["still_s"] if w["still_s"] is not None else "-",
-            "%.1f KB (%s)" % (w["moving_kb"], w["moving_size"]) if w["moving_kb"] else "-",
+            "%.1f KB (%s, q %.0f)" % (w["moving_kb"], w["moving_size"], w["moving_quality"]) if w["moving_kb"] else "-",
             "%.2f Mbit/s%s" % (w["link_mbit"], " (%.0f %%)" % (100 * w["link_share"]) if w["link_share"] else ""),
             "%s, %s ms" % (w["window"], w["rtt_est_ms"]) if w["window"] else "-"))
     if args.json:

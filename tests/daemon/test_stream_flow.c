@@ -392,7 +392,7 @@ static void flow_frames(lc_stream_flow *f, int n, double frame_s, double rtt, do
     for (int i = 0; i < n; i++) {
         lc_stream_flow_rendered(f, frame_s);
         *t += frame_s;
-        lc_stream_flow_sent(f, ++*id, *t);
+        lc_stream_flow_sent(f, ++*id, true, *t);
         lc_stream_flow_acked(f, *id, *t + rtt);
     }
 }
@@ -411,36 +411,59 @@ static void test_flow_window(void)
     CHECK(f.window == 2, "loopback, 30 ms frames: 2 (%d)", f.window);
     flow_frames(&f, 1, 0.030, 0.400, &t, &id);
     CHECK(f.window == 2, "one late ack does not widen it (%d, rtt %.3f)", f.window, f.rtt);
-    flow_frames(&f, LC_FLOW_RTT_SAMPLES, 0.030, 0.100, &t, &id);
+    flow_frames(&f, 16, 0.030, 0.100, &t, &id);
+    CHECK(f.window == 2, "a longer round trip waits for the lower one to age (%d, rtt %.3f)", f.window, f.rtt);
+    t += LC_FLOW_RTT_HORIZON;
+    flow_frames(&f, 1, 0.030, 0.100, &t, &id);
     CHECK(fabs(f.rtt - 0.100) < 1e-9 && f.window == 5, "100 ms round trip, 30 ms frames: 5 (%d, rtt %.3f)",
           f.window, f.rtt);
-    flow_frames(&f, LC_FLOW_RTT_SAMPLES, 0.030, 0.300, &t, &id);
+    t += LC_FLOW_RTT_HORIZON;
+    flow_frames(&f, 1, 0.030, 0.300, &t, &id);
     CHECK(f.window == LC_PROTO_MAX_WINDOW, "300 ms: the ceiling %d (%d)", LC_PROTO_MAX_WINDOW, f.window);
     flow_frames(&f, 1, 0.030, 0.010, &t, &id);
     CHECK(f.window == 2, "back to 10 ms: 2 at once (%d)", f.window);
     flow_frames(&f, 8, 0.100, 0.100, &t, &id);
     CHECK(f.window == 2, "slower frames need fewer: 2 (%d, frame %.3f s)", f.window, f.frame_s);
     lc_stream_flow_init(&f, 3);
-    flow_frames(&f, LC_FLOW_RTT_SAMPLES, 0.030, 0.300, &t, &id);
+    flow_frames(&f, 4, 0.030, 0.300, &t, &id);
     CHECK(f.window == 3, "the hello's window is the ceiling (%d)", f.window);
     lc_stream_flow_init(&f, 1);
     CHECK(f.window == 1, "a ceiling of 1 holds from the start (%d)", f.window);
+    /* A link narrower than the frames: 30 ms frames, but acks 150 ms apart
+     * (a frame's transfer), the first 260 ms after it went out and the rest
+     * behind one more frame on the link: the window holds what the link
+     * carries in a round trip, 2, not 8 by the render time. */
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    for (int i = 0; i < 16; i++, t += 0.150) {
+        lc_stream_flow_rendered(&f, 0.030);
+        lc_stream_flow_sent(&f, ++id, true, t);
+        lc_stream_flow_acked(&f, id, t + (i ? 0.410 : 0.260));
+    }
+    CHECK(fabs(f.ack_s - 0.150) < 0.01 && f.window == 2, "narrow link: 2 (%d, acks %.3f s apart)", f.window, f.ack_s);
+    /* A still's ack is no sample: its transfer is no round trip of the drag. */
+    lc_stream_flow_sent(&f, ++id, false, t);
+    lc_stream_flow_acked(&f, id, t + 2.0);
+    t += LC_FLOW_RTT_HORIZON + 1;
+    lc_stream_flow_sent(&f, ++id, false, t);
+    lc_stream_flow_acked(&f, id, t + 2.0);
+    CHECK(fabs(f.rtt - 0.260) < 1e-9 && f.window == 2, "stills leave the round trip as it was (%.3f, %d)", f.rtt,
+          f.window);
     /* Two frames out, the older acked: its own round trip, not the newer one's. */
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
-    lc_stream_flow_sent(&f, 10, 1.0);
-    lc_stream_flow_sent(&f, 11, 1.09);
+    lc_stream_flow_sent(&f, 10, true, 1.0);
+    lc_stream_flow_sent(&f, 11, true, 1.09);
     lc_stream_flow_acked(&f, 10, 1.1);
     CHECK(fabs(f.rtt - 0.1) < 1e-9 && f.nsent == 1 && f.sent_id[0] == 11, "the older frame's round trip (%.3f)",
           f.rtt);
     /* A frame that never goes out is forgotten; an ack the server makes itself is no sample. */
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
-    lc_stream_flow_sent(&f, 7, 1.0);
+    lc_stream_flow_sent(&f, 7, true, 1.0);
     lc_stream_flow_acked(&f, 7, -1);
     CHECK(f.nsent == 0 && f.nsamples == 0, "an ack without a time takes no sample (%d, %d)", f.nsent, f.nsamples);
 }
 
 /* A session's window through the protocol: no window in the hello (the
- * maximum is the ceiling), frames of 50 ms acked 200 ms after they went out
+ * maximum is the ceiling), frames of 50 ms acked 190 ms after they went out
  * widen it to 5 and five frames go out unacked; acks at once shrink it to 2. */
 static void test_session_window(void)
 {
@@ -456,7 +479,7 @@ static void test_session_window(void)
     lc_stream_frame f;
     double wake = 0;
     CHECK(s->stream.window == 2, "it starts at 2 (%d)", s->stream.window);
-    for (int i = 0; i < LC_FLOW_RTT_SAMPLES + 1; i++) {
+    for (int i = 0; i < 16; i++) {
         lc_session_stream_input(s, lc_now());
         /* Taken 50 ms ago: a moving frame of 50 ms. */
         if (lc_session_stream_next(s, lc_now() - 0.050, &f, &wake) != 1) {
@@ -464,10 +487,10 @@ static void test_session_window(void)
             break;
         }
         finish(s, &f, true);
-        CHECK(lc_session_stream_client_ack(s, f.frame, lc_now() + 0.200), "ack of %llu",
+        CHECK(lc_session_stream_client_ack(s, f.frame, lc_now() + 0.190), "ack of %llu",
               (unsigned long long)f.frame);
     }
-    CHECK(s->stream.window == 5, "200 ms round trip, 50 ms frames: window 5 (%d, rtt %.3f, frame %.3f)",
+    CHECK(s->stream.window == 5, "190 ms round trip, 50 ms frames: window 5 (%d, rtt %.3f, frame %.3f)",
           s->stream.window, s->stream.flow.rtt, s->stream.flow.frame_s);
     int out = 0;
     uint64_t last = 0;
@@ -479,8 +502,13 @@ static void test_session_window(void)
         out++, last = f.frame;
     }
     CHECK(out == 5 && s->stream.unacked == 5, "five frames in flight, no sixth (%d, %d)", out, s->stream.unacked);
-    CHECK(lc_session_stream_client_ack(s, last, lc_now()), "ack of the five");
-    CHECK(s->stream.window == 2 && s->stream.unacked == 0, "a short round trip: back to 2 (%d)", s->stream.window);
+    CHECK(lc_session_stream_client_ack(s, last, lc_now()) && s->stream.unacked == 0, "ack of the five");
+    CHECK(s->stream.window == 5, "frames that went out behind others give no round trip (%d)", s->stream.window);
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now() - 0.050, &f, &wake) == 1, "one more frame");
+    finish(s, &f, true);
+    CHECK(lc_session_stream_client_ack(s, f.frame, lc_now()), "acked at once");
+    CHECK(s->stream.window == 2, "a short round trip: back to 2 (%d)", s->stream.window);
     lc_stream_stats st;
     memset(&st, 0, sizeof st);
     lc_stream_stats_frame(&st, lc_now(), 1, 1);

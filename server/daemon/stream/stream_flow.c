@@ -11,8 +11,10 @@ static void update_window(lc_stream_flow *f)
         f->window = f->ceiling < LC_PROTO_DEFAULT_WINDOW ? f->ceiling : LC_PROTO_DEFAULT_WINDOW;
         return;
     }
-    double frames = ceil(f->rtt / f->frame_s - 1e-9) + 1;
-    f->window = frames < 1 ? 1 : frames > f->ceiling ? f->ceiling : (int)frames;
+    bool link_bound = f->link_s > f->frame_s && f->last_ack - f->link_at < LC_FLOW_RTT_HORIZON;
+    double frames = link_bound ? ceil(f->rtt / f->link_s - 1e-9) : ceil(f->rtt / f->frame_s - 1e-9) + 1;
+    int floor = f->ceiling < LC_PROTO_DEFAULT_WINDOW ? f->ceiling : LC_PROTO_DEFAULT_WINDOW;
+    f->window = frames < floor ? floor : frames > f->ceiling ? f->ceiling : (int)frames;
 }
 
 void lc_stream_flow_init(lc_stream_flow *f, int ceiling)
@@ -22,43 +24,62 @@ void lc_stream_flow_init(lc_stream_flow *f, int ceiling)
     update_window(f);
 }
 
-void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, double now)
+void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, bool moving, double now)
 {
     if (f->nsent == LC_PROTO_MAX_WINDOW) { /* cannot happen under the window; keep the newest */
         memmove(f->sent_id, f->sent_id + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_id[0]);
         memmove(f->sent_at, f->sent_at + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_at[0]);
+        memmove(f->sent_moving, f->sent_moving + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_moving[0]);
+        memmove(f->sent_alone, f->sent_alone + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_alone[0]);
         f->nsent--;
     }
     f->sent_id[f->nsent] = id;
+    f->sent_moving[f->nsent] = moving;
+    f->sent_alone[f->nsent] = f->nsent == 0;
     f->sent_at[f->nsent++] = now;
 }
 
 void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
 {
-    bool found = false;
+    bool found = false, moving = false, alone = false;
     double sent = 0;
     int k = 0;
     for (int i = 0; i < f->nsent; i++) {
         if (f->sent_id[i] <= id) { /* oldest first: the last of these is the newest acked */
             found = true;
             sent = f->sent_at[i];
+            moving = f->sent_moving[i];
+            alone = f->sent_alone[i];
             continue;
         }
         f->sent_id[k] = f->sent_id[i];
+        f->sent_moving[k] = f->sent_moving[i];
+        f->sent_alone[k] = f->sent_alone[i];
         f->sent_at[k++] = f->sent_at[i];
     }
     f->nsent = k;
-    if (!found || now < 0)
+    if (!found || !moving || now < 0)
         return;
+    /* The spacing of acks within a gesture: what the link delivers. */
+    double gap = now - f->last_ack;
+    if (f->last_ack > 0 && gap >= 0 && gap < LC_FLOW_ACK_GAP_MAX) {
+        f->ack_s = f->ack_s > 0 ? f->ack_s + LC_FLOW_FRAME_GAIN * (gap - f->ack_s) : gap;
+        /* Frames wait on the link: the acks' spacing is its time per frame. */
+        if (f->srtt > f->rtt + 0.5 * f->ack_s) {
+            f->link_s = f->link_s > 0 ? f->link_s + LC_FLOW_FRAME_GAIN * (gap - f->link_s) : gap;
+            f->link_at = now;
+        }
+    }
+    f->last_ack = now;
     double sample = now - sent;
     if (sample < 0)
         sample = 0;
-    f->rtt_sample[f->nsamples++ % LC_FLOW_RTT_SAMPLES] = sample;
-    int held = f->nsamples < LC_FLOW_RTT_SAMPLES ? f->nsamples : LC_FLOW_RTT_SAMPLES;
-    double lo = f->rtt_sample[0];
-    for (int i = 1; i < held; i++)
-        lo = f->rtt_sample[i] < lo ? f->rtt_sample[i] : lo;
-    f->rtt = lo > 0 ? lo : 1e-6;
+    f->nsamples++;
+    f->srtt = f->srtt > 0 ? f->srtt + LC_FLOW_FRAME_GAIN * (sample - f->srtt) : sample;
+    if (alone && (f->rtt <= 0 || sample <= f->rtt || now - f->rtt_at > LC_FLOW_RTT_HORIZON)) {
+        f->rtt = sample > 0 ? sample : 1e-6;
+        f->rtt_at = now;
+    }
     update_window(f);
 }
 
@@ -68,6 +89,8 @@ void lc_stream_flow_forget(lc_stream_flow *f, uint64_t id)
     for (int i = 0; i < f->nsent; i++)
         if (f->sent_id[i] != id) {
             f->sent_id[k] = f->sent_id[i];
+            f->sent_moving[k] = f->sent_moving[i];
+            f->sent_alone[k] = f->sent_alone[i];
             f->sent_at[k++] = f->sent_at[i];
         }
     f->nsent = k;

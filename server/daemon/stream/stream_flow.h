@@ -1,46 +1,73 @@
 /* The stream's flow-control window (protocol/websocket.md "Flow control"):
  * how many frames a session may have rendering, in flight and unacknowledged.
- * The window covers the round trip at the rate the renderer sustains,
+ * A frame holds its place from its render's start to its ack. Where the
+ * renderer sets the pace, frames start a render apart and the window covers
+ * the round trip and the frame being rendered; where the link does (it takes
+ * longer per frame than the renderer), the window is what the link carries
+ * in a round trip, which includes one frame's transfer:
  *
- *     window = clamp(ceil(rtt / frame_s) + 1, 1, ceiling)
+ *     window = clamp(ceil(rtt / frame_s) + 1, 2, ceiling)   renderer-bound
+ *     window = clamp(ceil(rtt / link_s), 2, ceiling)        link-bound
  *
- * rtt: the lowest send-to-ack time of the latest LC_FLOW_RTT_SAMPLES frames
- * (a frame handed to the connection until the client's ack of it: the link's
- * round trip, the frame's transmission and the client's decode); frame_s: the
- * smoothed render time of a frame; ceiling: the hello's window. The lowest
- * sample, not the mean, so that frames queued behind each other on a narrow
- * link do not lengthen the round trip they are measured by and widen the
- * window further (the queue would feed itself). Before any ack the window is
- * LC_PROTO_DEFAULT_WINDOW (or the ceiling when lower).
+ * Only moving frames count (a still's transfer is no round trip of a drag).
+ * - rtt: the lowest send-to-ack time (a frame handed to the connection until
+ *   the client's ack of it: the link's round trip, the frame's transmission
+ *   and the client's decode) of frames handed over while no other was
+ *   unacknowledged, seen within LC_FLOW_RTT_HORIZON seconds; a lower sample
+ *   replaces it at once, a higher one once the lowest is that old. Such
+ *   frames, and the lowest of them, so that frames queued behind each other
+ *   on a narrow link (or behind a still) do not lengthen the round trip they
+ *   are measured by and widen the window further (the queue would feed
+ *   itself). A gesture's first frame is such a frame.
+ * - frame_s: the smoothed render time of a moving frame.
+ * - link_s: the link's time per frame, where longer than frame_s: the
+ *   smoothed spacing of acks at times when frames wait on the link (the smoothed
+ *   send-to-ack time, srtt, exceeds rtt by half the smoothed ack spacing
+ *   ack_s or more). It holds for
+ *   LC_FLOW_RTT_HORIZON seconds after it was last measured, since a window
+ *   that fits the link drains the queue that measured it.
+ * - 2 at least (LC_PROTO_DEFAULT_WINDOW, or the ceiling where that is lower):
+ *   one frame rendering while one crosses. Before the first ack of a moving
+ *   frame the window is that too.
+ * - ceiling: the hello's window (LC_PROTO_MAX_WINDOW without one).
  *
  * No locking and no clock here: the session calls these under its lock with
  * lc_now(), and the unit test with simulated times. */
 #ifndef LC_SERVER_STREAM_FLOW_H
 #define LC_SERVER_STREAM_FLOW_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "messages.h"
 
-#define LC_FLOW_RTT_SAMPLES 16 /* send-to-ack samples the round trip is the lowest of */
-#define LC_FLOW_FRAME_GAIN 0.25 /* weight of a new render time in frame_s */
+#define LC_FLOW_RTT_HORIZON 10.0 /* seconds the lowest send-to-ack time holds against higher ones */
+#define LC_FLOW_FRAME_GAIN 0.25 /* weight of a new render time in frame_s, of a new ack gap in ack_s */
+#define LC_FLOW_ACK_GAP_MAX 1.0 /* seconds between acks beyond which the next starts a new gesture */
 
 typedef struct lc_stream_flow {
     int ceiling;                             /* the most frames unacknowledged (the hello's window) */
-    int window;                              /* frames allowed unacknowledged now, 1..ceiling */
+    int window;                              /* frames allowed unacknowledged now, 2..ceiling (the ceiling if lower) */
     uint64_t sent_id[LC_PROTO_MAX_WINDOW];   /* frames handed to the connection and not yet acked, oldest first */
     double sent_at[LC_PROTO_MAX_WINDOW];     /* when each was */
+    bool sent_moving[LC_PROTO_MAX_WINDOW];   /* whether it was a moving frame */
+    bool sent_alone[LC_PROTO_MAX_WINDOW];    /* whether no other frame was unacknowledged then */
     int nsent;
-    double rtt_sample[LC_FLOW_RTT_SAMPLES];  /* the latest send-to-ack times, seconds (a ring) */
-    int nsamples;                            /* samples taken (the ring holds the latest of them) */
-    double rtt;                              /* the lowest of the ring, seconds (0: none yet) */
-    double frame_s;                          /* smoothed render time of a frame, seconds (0: none yet) */
+    int nsamples;                            /* send-to-ack samples taken */
+    double rtt;                              /* the lowest within the horizon, seconds (0: none yet) */
+    double rtt_at;                           /* when it was seen */
+    double ack_s;                            /* smoothed seconds between acks of moving frames (0: none yet) */
+    double srtt;                             /* smoothed send-to-ack time of moving frames */
+    double link_s;                           /* smoothed spacing of acks while frames waited on the link (0: none) */
+    double link_at;                          /* when it was last measured */
+    double last_ack;                         /* when the latest such ack came */
+    double frame_s;                          /* smoothed render time of a moving frame, seconds (0: none yet) */
 } lc_stream_flow;
 
 /* A flow before any frame, under the client's ceiling (1..LC_PROTO_MAX_WINDOW). */
 void lc_stream_flow_init(lc_stream_flow *f, int ceiling);
-/* Frame id was handed to the connection at now. */
-void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, double now);
+/* Frame id (moving: a moving frame) was handed to the connection at now. */
+void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, bool moving, double now);
 /* Frames up to id were acked at now: the newest of them sent gives a
  * round-trip sample and the window follows (now < 0: no sample, an ack the
  * server makes itself for a frame that never went out). */

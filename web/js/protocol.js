@@ -5,7 +5,6 @@
 
 import { FIELDS, STREAM_FIELDS, REQUEST_TOP_FIELDS, UPDATE_SECTIONS, checkField } from './schema.js';
 
-export const DEFAULT_WINDOW = 2;
 export const MAX_WINDOW = 8;
 export const MAX_DEVICE_PIXEL_RATIO = 8;
 export const MAX_SEQ = Number.MAX_SAFE_INTEGER; // 2^53 - 1, as protocol/messages.h

@@ -3,7 +3,7 @@
 // messages do to the page: ready, frames, statistics, errors, the
 // connection's state.
 
-import { helloMessage, describeError, DEFAULT_WINDOW } from './protocol.js';
+import { helloMessage, describeError } from './protocol.js';
 import { cloneCamera, validateCamera, roundCamera } from './camera.js';
 import { UPDATE_SECTIONS, STREAM_FIELDS, merge, applicableUpdate } from './schema.js';
 import { datasetInfo, pageDefaults } from './app-state.js';
@@ -85,7 +85,8 @@ export function createSessionController(ctx) {
     state.viewport = ctx.measure();
     const v = state.viewport;
     ctx.view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
-    const msg = { dataset: state.dataset ?? undefined, width: v.width, height: v.height, devicePixelRatio: v.dpr, window: DEFAULT_WINDOW, token: state.token ?? undefined };
+    // no window: the server keeps as many frames in flight as cover the round trip (up to its maximum)
+    const msg = { dataset: state.dataset ?? undefined, width: v.width, height: v.height, devicePixelRatio: v.dpr, token: state.token ?? undefined };
     if (state.camera) msg.camera = roundCamera(state.camera, 12);
     // the page's own defaults (a contrasting background) go first: the user's changes win
     state.pageDefaults = pageDefaults(state.update);

@@ -45,14 +45,16 @@ class Session:
     """Opened by Client.session(dataset, size=(w, h), camera=..., params=...,
     window=..., quality=...). Use as a context manager or call close()."""
 
-    def __init__(self, client, dataset=None, size=(640, 480), window=2, timeout=120, **request):
+    def __init__(self, client, dataset=None, size=(640, 480), window=None, timeout=120, **request):
         self.client = client
         self.timeout = timeout
         self.seq = 0
         self.stats = None  # the last `stats` message
         self.last = None   # the last Frame received
         self._dirty = True  # input sent since the last settled frame
-        hello = {"type": "hello", "width": int(size[0]), "height": int(size[1]), "window": window}
+        hello = {"type": "hello", "width": int(size[0]), "height": int(size[1])}
+        if window is not None:  # a ceiling; without one the server covers the round trip (up to 8 frames)
+            hello["window"] = window
         if dataset is not None:
             hello["dataset"] = dataset
         self._check_update(request, allow_camera=True)

@@ -165,7 +165,7 @@ export function createApp(doc = document, win = window) {
     onEnd: () => surface.send(),
   });
   const layers = createLayersController({ doc, state, values: () => values(), apply: (path, value) => params.applyChange(path, value) });
-  const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id) });
+  const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id), framesDrawn: () => state.framesDrawn, now: () => win.performance.now() });
   const datasets = createDatasetController({
     state,
     camera,

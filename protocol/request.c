@@ -751,6 +751,14 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
         json_object_set_new(obj, name, v);
 }
 
+int lc_proto_field_at(size_t i, const char **section, const char **name)
+{
+    if (i >= NFIELDS)
+        return 0;
+    *section = fields[i].section, *name = fields[i].name;
+    return 1;
+}
+
 json_t *lc_proto_field_json(const lc_request *r, const char *section, const char *name)
 {
     if (!find_field(section, name))

@@ -135,6 +135,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim);
 /* One field's value as the request emits it (a new reference), or NULL when
  * it is unset (an optional value, an empty list). */
 json_t *lc_proto_field_json(const lc_request *r, const char *section, const char *name);
+/* The i-th field of the table (0 past its end): its section (NULL = top level) and name. */
+int lc_proto_field_at(size_t i, const char **section, const char **name);
 
 /* Dumps JSON for the wire: compact, reals with 15 significant digits (so 0.1
  * prints as 0.1). Returns malloc'd text (free()) or NULL on allocation failure. */

@@ -55,19 +55,10 @@ int lc_proto_check_scope(const json_t *given, const lc_request *r, unsigned prim
         return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "out of memory");
     lc_request_default(def);
     int rc = 0;
-    if (given == NULL) {
-        json_t *schema = lc_proto_schema(NULL);
-        size_t i;
-        json_t *f;
-        json_array_foreach(schema, i, f)
-        {
-            const json_t *sec = json_object_get(f, "section");
-            rc = check_field(json_is_string(sec) ? json_string_value(sec) : NULL,
-                             json_string_value(json_object_get(f, "name")), r, def, prims, err);
-            if (rc)
-                break;
-        }
-        json_decref(schema);
+    if (given == NULL) { /* every field of the table */
+        const char *section, *name;
+        for (size_t i = 0; rc == 0 && lc_proto_field_at(i, &section, &name); i++)
+            rc = check_field(section, name, r, def, prims, err);
     } else if (json_is_object(given)) {
         const char *key;
         const json_t *v;

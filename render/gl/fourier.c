@@ -264,6 +264,21 @@ static int smooth_and_report(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
     return rc;
 }
 
+/* After P2, drawn or over the fragment list: the opacities combined across
+ * ranks, then P3 and the report. */
+static int finish_opacities(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt,
+                            lc_frame_info *info, lc_error *err)
+{
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    int rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err);
+    if (rc)
+        return rc;
+    lc_renderer_timestamp(r, LC_PASS_OPACITY);
+    if ((rc = lc_renderer_yield_point(r, err)) != 0)
+        return rc;
+    return smooth_and_report(r, fs, state, dt, info, err);
+}
+
 /* P1 + P2 (+ P3): element opacities for the frame. */
 int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
                         lc_error *err)
@@ -340,13 +355,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         lc_bind_coefficients(&r->coef_low);
         set_opacity_uniforms(listed, p);
         lc_fragment_list_dispatch(r, listed);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        if ((rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err)) != 0)
-            return rc;
-        lc_renderer_timestamp(r, LC_PASS_OPACITY);
-        if ((rc = lc_renderer_yield_point(r, err)) != 0)
-            return rc;
-        return smooth_and_report(r, fs, state, dt, info, err);
+        return finish_opacities(r, fs, state, dt, info, err);
     }
     glDisable(GL_BLEND);
     if (r->nofb_w != lw || r->nofb_h != lh) {
@@ -374,14 +383,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         lc_renderer_draw_geometry(lf, 1);
     }
     r->draw_yields = 0;
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    if ((rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err)) != 0)
-        return rc;
-    lc_renderer_timestamp(r, LC_PASS_OPACITY);
-    if ((rc = lc_renderer_yield_point(r, err)) != 0)
-        return rc;
-
-    return smooth_and_report(r, fs, state, dt, info, err);
+    return finish_opacities(r, fs, state, dt, info, err);
 }
 
 /* P4..P6 with the element opacities (or alpha = g^k when direct). */

@@ -228,17 +228,12 @@ int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     if (p->clusters.count <= 0)
         return 0;
     lc_line_clusters *lc = fs->gs->clusters;
-    /* Points and surfaces ignore it, as lines ignore style.pointSize: a
-     * session that switches datasets keeps its settings without errors. */
+    /* Other kinds of data: a value kept in a session for when it applies
+     * again (request_scope.c refuses one given where it does not). */
     if (fs->gs->scene->type != LC_PRIM_LINES || !lc)
         return 0;
-    if (!lc->samples)
-        return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
-                            "%s has %u lines; clustering is limited to %u lines", fs->gs->scene->name,
-                            fs->gs->scene->line_count, MAX_CLUSTER_LINES);
-    if (fs->gs->scene->part_of > 0 || fs->gs->scene->vertex_base > 0)
-        return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
-                            "%s is split across processes; clustering needs every line in one process",
+    if (!lc->samples || fs->gs->scene->part_of > 0 || fs->gs->scene->vertex_base > 0) /* lc_render_check refuses */
+        return lc_err_field(err, LC_ERR_INTERNAL, "lines.clusters", "the clustering was not checked against %s",
                             fs->gs->scene->name);
     double t0 = lc_now();
     pthread_mutex_lock(&lc->lock);

@@ -251,7 +251,8 @@ struct lc_renderer {
     float *importance_cache;
     uint32_t importance_cache_count;
     struct {
-        uint64_t scene; /* lc_gpu_scene.serial */
+        uint64_t scene;   /* lc_gpu_scene.serial */
+        uint64_t layered; /* a layered frame's layers and mappings, hashed (0: one dataset) */
         int attr;
         double range[2], exponent;
         lc_importance_terms terms;

@@ -95,10 +95,38 @@ void lc_occluders_clear(lc_renderer *r)
 /* Each element's importance (the mean of its vertices'), in r->importance_cache:
  * kept while the scene and the mapping stay; a layered frame's is computed
  * for every layer's elements at their offsets, each layer with its mapping. */
+/* A layered frame's key: each layer's scene, visibility, offset and mapping (FNV-1a). */
+static uint64_t layered_key(const lc_frame_setup *fs)
+{
+    uint64_t h = 1469598103934665603ULL;
+    for (int i = 0; i < fs->layer_count; i++) {
+        const lc_layer_setup *l = &fs->layers[i];
+        struct {
+            uint64_t serial;
+            int visible, attr;
+            uint32_t offset;
+            double range[2], exponent;
+        } k;
+        memset(&k, 0, sizeof k); /* padding too: it is hashed */
+        k.serial = l->gs->serial, k.visible = l->visible, k.attr = l->importance_attr, k.offset = l->element_offset;
+        k.range[0] = l->importance_range[0], k.range[1] = l->importance_range[1], k.exponent = l->importance_exponent;
+        const unsigned char *b = (const unsigned char *)&k;
+        for (size_t j = 0; j < sizeof k; j++)
+            h = (h ^ b[j]) * 1099511628211ULL;
+        b = (const unsigned char *)&l->terms;
+        for (size_t j = 0; j < sizeof l->terms; j++)
+            h = (h ^ b[j]) * 1099511628211ULL;
+    }
+    return h | 1; /* never 0, the key of one dataset */
+}
+
 static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
 {
     uint32_t count = fs->layer_count ? fs->element_total : fs->gs->scene->elements.count;
-    if (fs->layer_count == 0 && r->importance_cache && r->importance_key.scene == fs->gs->serial &&
+    uint64_t layered = fs->layer_count ? layered_key(fs) : 0;
+    if (layered && r->importance_cache && r->importance_key.layered == layered && r->importance_cache_count == count)
+        return 0;
+    if (!layered && r->importance_key.layered == 0 && r->importance_cache && r->importance_key.scene == fs->gs->serial &&
         r->importance_key.attr == fs->importance_attr && r->importance_key.range[0] == fs->importance_range[0] &&
         r->importance_key.range[1] == fs->importance_range[1] &&
         r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count &&
@@ -151,6 +179,7 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     r->element_importance = 0;
     r->importance_cache_count = count;
     r->importance_key.scene = fs->layer_count ? 0 : fs->gs->serial; /* a layered cache matches no one scene */
+    r->importance_key.layered = layered;
     r->importance_key.attr = fs->importance_attr;
     r->importance_key.range[0] = fs->importance_range[0];
     r->importance_key.range[1] = fs->importance_range[1];

@@ -12,6 +12,7 @@
 #include "colormap.h"
 #include "conn_limits.h"
 #include "datasets.h"
+#include "fields.h"
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
@@ -208,12 +209,12 @@ static enum MHD_Result start_surface(lc_http_req *ctx, struct MHD_Connection *c,
         return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "method",
                              "method: surface-layers is not served under --mpi");
     double cost = 0;
-    const lc_field *field = NULL;
     lc_proto_error pe;
-    if (lc_request_admit(srv, NULL, req, NULL, NULL, NULL, &pe) != 0 ||
-        lc_admit_surface(srv, req, &cost, &field, &pe) != 0) /* admitted; the field and cost to queue it */
+    if (lc_request_admit(srv, NULL, req, NULL, NULL, &cost, &pe) != 0)
         return strcmp(pe.code, "not_found") == 0 ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
                                                  : lc_http_proto_error(srv, c, &pe);
+    /* admitted, so the field is loaded (lc_admit_surface found it) */
+    const lc_field *field = lc_fields_find(lc_datasets_fields(srv->datasets), req->surface.field)->field;
     return queue_job(ctx, c, req, NULL, NULL, NULL, 0.0, cost, field);
 }
 

@@ -41,6 +41,7 @@ typedef struct movie_job {
     double cost;
     job_state state;
     bool cancel;
+    bool over_disk; /* its file outgrew --movie-disk (check_disk) */
     int frames_done;
     double created, started, finished;
     char path[600];
@@ -237,8 +238,48 @@ static int render_frame(lc_movies *m, movie_job *j, lc_session *s, int i, lc_ima
     return rc;
 }
 
+static void forget(lc_movies *m, int i);
+
+/* Holds the folder to --movie-disk while job j's file grows to bytes: finished
+ * movies are deleted oldest first to make room; false when j alone outgrows
+ * it. m->lock held. */
+static bool fits_disk(lc_movies *m, const movie_job *j, long long bytes)
+{
+    unsigned long long budget = m->srv->cfg.movie_disk, used = (unsigned long long)bytes;
+    for (int i = 0; i < m->count; i++)
+        if (m->jobs[i] != j && m->jobs[i]->state == DONE)
+            used += (unsigned long long)m->jobs[i]->bytes;
+    for (int i = 0; i < m->count && used > budget; i++)
+        if (m->jobs[i] != j && m->jobs[i]->state == DONE) {
+            LC_INFO(MOD, "movie %s deleted to keep the folder under --movie-disk", m->jobs[i]->id);
+            used -= (unsigned long long)m->jobs[i]->bytes;
+            forget(m, i--);
+        }
+    return used <= budget;
+}
+
+/* The size of the file being written, checked against the folder's budget. */
+static int check_disk(lc_movies *m, movie_job *j, lc_error *err)
+{
+    struct stat st;
+    long long bytes = stat(j->path, &st) == 0 ? (long long)st.st_size : 0;
+    pthread_mutex_lock(&m->lock);
+    bool fits = fits_disk(m, j, bytes);
+    pthread_mutex_unlock(&m->lock);
+    if (!fits) {
+        j->over_disk = true;
+        return lc_err(err, LC_ERR_LIMIT, "the movie outgrew the movie folder's budget (--movie-disk %llu bytes)",
+                      m->srv->cfg.movie_disk);
+    }
+    return 0;
+}
+
 static void set_failed(movie_job *j, int rc, const lc_error *err)
 {
+    if (j->over_disk) {
+        lc_proto_set_error(&j->error, LC_PROTO_TOO_LARGE, NULL, "%s", err->msg);
+        return;
+    }
     const char *code = rc == LC_ERR_INVALID || rc == LC_ERR_NOT_FOUND ? LC_PROTO_BAD_FIELD : "render_failed";
     lc_proto_set_error(&j->error, code, err->field, "%s", err->msg);
     if (err->field[0]) /* lc_proto_set_error prefixed the field; the renderer's message already starts with it */
@@ -268,6 +309,8 @@ static void run_job(lc_movies *m, movie_job *j)
             rc = lc_err(&err, LC_ERR_INTERNAL, "frame %d came back %dx%d", i, img.width, img.height);
         if (rc == 0)
             rc = lc_video_write(v, img.rgba, &err);
+        if (rc == 0)
+            rc = check_disk(m, j, &err);
         lc_image_free(&img);
         pthread_mutex_lock(&m->lock);
         if (rc == 0)
@@ -277,6 +320,8 @@ static void run_job(lc_movies *m, movie_job *j)
     if (rc == 0 && !stopped && v) {
         rc = lc_video_close(v, &err);
         v = NULL;
+        if (rc == 0)
+            rc = check_disk(m, j, &err); /* the container's trailer */
     }
     if (v)
         lc_video_abort(v); /* deletes the partial file */

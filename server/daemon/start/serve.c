@@ -181,6 +181,9 @@ static const lc_option serve_options[] = {
     {"--max-memory", "BYTES", LC_OPT_CALL, CFG(max_memory), .call = opt_bytes, .numeric = 1,
      .help = "refuse a dataset whose estimated resident size, with the ones before it,\n"
              "exceeds BYTES (k, M, G, T suffixes; default: no limit)"},
+    {"--movie-disk", "BYTES", LC_OPT_CALL, CFG(movie_disk), .call = opt_bytes, .numeric = 1,
+     .help = "bytes of movie files kept at once: finished movies are deleted oldest first\n"
+             "to make room, a movie that alone outgrows it fails (default 4G)"},
     {"--load-timeout", "SEC", LC_OPT_INT, CFG(load_timeout), 0, 86400, 1,
      .help = "give up on a dataset that takes longer than this to load (logged; a folder\n"
              "skips it, an explicit --data file stops the start-up); 0 = none (default 600)"},
@@ -286,6 +289,7 @@ static void config_defaults(lc_serve_config *cfg)
     cfg->max_ws_message = 64 * 1024;
     cfg->max_sessions = 64;
     cfg->max_client_sessions = 16;
+    cfg->movie_disk = 4ULL << 30;
     cfg->max_queue = 32;
     cfg->max_connections = 256;
     cfg->idle_timeout = 300;

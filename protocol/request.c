@@ -429,17 +429,24 @@ static int apply(const json_t *obj, const lc_proto_limits *lim, lc_request *r, b
     return rc;
 }
 
-/* A layer's importance, colour or style object (request_layers.c), field
- * checks only, on a scratch request that holds the layer's mapping and style. */
+/* A default request with a layer's sections: what the request's own field
+ * table checks and emits them on. */
+static void layer_request(lc_request *r, const lc_layer_params *p)
+{
+    lc_request_default(r);
+    r->render.importance = p->importance, r->render.color = p->color, r->render.style = p->style;
+    r->render.filter_count = p->filter_count, r->render.time = p->time;
+    memcpy(r->render.filters, p->filters, sizeof p->filters);
+}
+
+/* A layer's importance, colour, style, filter or time object (request_layers.c),
+ * field checks only, on a scratch request that holds the layer's sections. */
 static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p, lc_layer_error *err)
 {
     lc_request *scratch = malloc(sizeof *scratch);
     if (!scratch)
         return -1;
-    lc_request_default(scratch);
-    scratch->render.importance = p->importance;
-    scratch->render.color = p->color;
-    scratch->render.style = p->style;
+    layer_request(scratch, p);
     lc_proto_error pe;
     int rc = apply(obj, lim, scratch, false, &pe);
     if (rc) {
@@ -451,26 +458,26 @@ static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p,
                                                                                             : pe.message;
         snprintf(err->reason, sizeof err->reason, "%s", reason);
     } else {
-        p->importance = scratch->render.importance;
-        p->color = scratch->render.color;
-        p->style = scratch->render.style;
+        p->importance = scratch->render.importance, p->color = scratch->render.color, p->style = scratch->render.style;
+        p->filter_count = scratch->render.filter_count, p->time = scratch->render.time;
+        memcpy(p->filters, scratch->render.filters, sizeof p->filters);
     }
     free(scratch);
     return rc ? -1 : 0;
 }
 
-/* A layer's importance or colour as the request's own section emits it. */
+/* A layer's importance, colour, time window or filter list as the request's
+ * own section (or, for filter, field) emits it. */
 static json_t *emit_layer_section(const lc_layer_params *p, const char *section)
 {
     lc_request *scratch = malloc(sizeof *scratch);
     if (!scratch)
         return json_object();
-    lc_request_default(scratch);
-    scratch->render.importance = p->importance;
-    scratch->render.color = p->color;
-    json_t *o = emit_section(scratch, section);
+    layer_request(scratch, p);
+    json_t *o = strcmp(section, "filter") == 0 ? lc_proto_field_json(scratch, NULL, section)
+                                               : emit_section(scratch, section);
     free(scratch);
-    return o;
+    return o ? o : json_array();
 }
 
 int lc_proto_apply_request(const json_t *obj, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)

@@ -50,8 +50,9 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
             if (!json_is_boolean(m))
                 return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected true or false");
             out->p.visible = json_is_true(m);
-        } else if (strcmp(key, "importance") == 0 || strcmp(key, "color") == 0 || strcmp(key, "style") == 0) {
-            if (!json_is_object(m))
+        } else if (strcmp(key, "importance") == 0 || strcmp(key, "color") == 0 || strcmp(key, "style") == 0 ||
+                   strcmp(key, "time") == 0 || strcmp(key, "filter") == 0) {
+            if (strcmp(key, "filter") != 0 && !json_is_object(m)) /* filter: an array, the request's own check */
                 return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected an object");
             const char *sk;
             json_t *sv;
@@ -76,7 +77,7 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
             }
         } else {
             return lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, field,
-                             "unknown field (a layer has dataset, role, visible, importance, color, style)");
+                             "unknown field (a layer has dataset, role, visible, importance, color, style, filter, time)");
         }
     }
     if (!out->dataset[0]) {
@@ -125,6 +126,10 @@ json_t *lc_proto_layers_json(const lc_request_layer *layers, int n, lc_layer_emi
         json_object_set_new(style, "pointSize", json_real(l->p.style.point_size));
         json_object_set_new(style, "shading", json_string(l->p.style.shading == LC_SHADING_NONE ? "none" : "phong"));
         json_object_set_new(o, "style", style);
+        if (l->p.filter_count > 0)
+            json_object_set_new(o, "filter", emit(&l->p, "filter"));
+        if (l->p.time.has_window)
+            json_object_set_new(o, "time", emit(&l->p, "time"));
         json_array_append_new(arr, o);
     }
     return arr;

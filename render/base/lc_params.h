@@ -280,6 +280,9 @@ typedef struct lc_layer_params {
     lc_importance_map importance;
     lc_color_map color;
     lc_style style; /* line_width, min_line_pixels, point_size and shading are the layer's */
+    int filter_count; /* the layer's filters and time window, as a frame of its dataset alone has them */
+    lc_filter filters[LC_MAX_FILTERS];
+    lc_time_window time;
 } lc_layer_params;
 /* The defaults of a layer: visible, transparent, lc_render_params_default's mapping and style. */
 void lc_layer_params_default(lc_layer_params *l);

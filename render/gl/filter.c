@@ -6,7 +6,9 @@
  * place a hidden vertex outside the clip volume, so a filtered line draws
  * nothing, and the compute passes that sum importance skip it. No uploaded
  * buffer changes: a new filter costs one pass over the vertices, not a reload.
- * The mask is kept while the scene and the filters stay the same. */
+ * A mask is kept while its scene and filters stay the same; a layered frame
+ * holds one per filtered layer (the same dataset twice with two filter lists
+ * included). */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -14,16 +16,31 @@
 
 #include "renderer_internal.h"
 
+typedef struct lc_filter_mask filter_mask;
+
+static void release_mask(filter_mask *m)
+{
+    if (m->offsets)
+        glDeleteBuffers(1, &m->offsets);
+    if (m->mask)
+        glDeleteBuffers(1, &m->mask);
+    memset(m, 0, sizeof *m);
+    m->count = -1;
+}
+
 void lc_filter_release(lc_renderer *r)
 {
-    if (r->filter.offsets)
-        glDeleteBuffers(1, &r->filter.offsets);
-    if (r->filter.mask)
-        glDeleteBuffers(1, &r->filter.mask);
-    r->filter.offsets = r->filter.mask = 0;
-    r->filter.mask_words = r->filter.offset_words = 0;
-    r->filter.scene = 0;
-    r->filter.count = -1;
+    for (int i = 0; i < LC_MAX_LAYERS; i++)
+        release_mask(&r->filter[i]);
+}
+
+uint64_t lc_filter_bytes(const lc_renderer *r)
+{
+    uint64_t bytes = 0;
+    for (int i = 0; i < LC_MAX_LAYERS; i++)
+        if (r->filter[i].mask)
+            bytes += ((uint64_t)r->filter[i].mask_words + r->filter[i].offset_words) * 4;
+    return bytes;
 }
 
 /* The frame's filters: the request's, then its time window as a vertex-level
@@ -71,37 +88,59 @@ static int resolve(const lc_frame_setup *fs, filter_list *L, lc_error *err)
     return add_time(fs, L, err);
 }
 
-static int same_filters(const lc_renderer *r, const lc_frame_setup *fs, const filter_list *L)
+static int same_filters(const filter_mask *m, const lc_frame_setup *fs, const filter_list *L)
 {
-    return r->filter.scene == fs->gs->serial && r->filter.count == L->n &&
-           memcmp(r->filter.attr, L->attr, sizeof(int) * (size_t)L->n) == 0 &&
-           memcmp(r->filter.filters, L->f, sizeof(lc_filter) * (size_t)L->n) == 0;
+    return m->scene == fs->gs->serial && m->count == L->n && memcmp(m->attr, L->attr, sizeof(int) * (size_t)L->n) == 0 &&
+           memcmp(m->filters, L->f, sizeof(lc_filter) * (size_t)L->n) == 0;
+}
+
+/* The mask for fs's scene and filters L: the one built for them; else one of
+ * the scene's not drawn with this frame (its offsets kept), an empty one, or
+ * the least recently used, to rebuild. */
+static filter_mask *pick(lc_renderer *r, const lc_frame_setup *fs, const filter_list *L, int *fresh)
+{
+    filter_mask *best = NULL;
+    int rank = 0;
+    for (int i = 0; i < LC_MAX_LAYERS; i++) {
+        filter_mask *m = &r->filter[i];
+        if (same_filters(m, fs, L)) {
+            *fresh = 0;
+            return m;
+        }
+        if (m->used == r->filter_frame && m->scene) /* another layer of this frame draws with it */
+            continue;
+        int k = m->scene == fs->gs->serial ? 3 : !m->scene ? 2 : 1;
+        if (k > rank || (k == rank && m->used < best->used))
+            best = m, rank = k;
+    }
+    *fresh = 1;
+    return best;
 }
 
 static float bound(double v) { return v > FLT_MAX ? FLT_MAX : v < -FLT_MAX ? -FLT_MAX : (float)v; }
 
-static int build(lc_renderer *r, lc_frame_setup *fs, const filter_list *L, lc_error *err)
+static int build(lc_renderer *r, filter_mask *m, lc_frame_setup *fs, const filter_list *L, lc_error *err)
 {
     const int *attr = L->attr;
     const lc_scene *s = fs->gs->scene;
     GLuint prog = lc_renderer_fixed_program(r, PROG_FILTER_MASK, err);
     if (!prog)
         return LC_ERR_GL;
-    if (r->filter.scene != fs->gs->serial) {
-        lc_filter_release(r);
+    if (m->scene != fs->gs->serial) {
+        release_mask(m);
         uint64_t bytes = 0;
         if (s->type == LC_PRIM_LINES) {
-            r->filter.offsets = lc_gl_buffer(s->line_offsets, ((size_t)s->line_count + 1) * sizeof(uint32_t), &bytes);
-            r->filter.offset_words = s->line_count + 1;
+            m->offsets = lc_gl_buffer(s->line_offsets, ((size_t)s->line_count + 1) * sizeof(uint32_t), &bytes);
+            m->offset_words = s->line_count + 1;
         }
-        r->filter.mask_words = (s->vertex_count + 31) / 32;
-        glCreateBuffers(1, &r->filter.mask);
-        glNamedBufferStorage(r->filter.mask, (GLsizeiptr)(r->filter.mask_words ? r->filter.mask_words : 1) * 4, NULL,
+        m->mask_words = (s->vertex_count + 31) / 32;
+        glCreateBuffers(1, &m->mask);
+        glNamedBufferStorage(m->mask, (GLsizeiptr)(m->mask_words ? m->mask_words : 1) * 4, NULL,
                              GL_DYNAMIC_STORAGE_BIT);
-        r->filter.scene = fs->gs->serial;
+        m->scene = fs->gs->serial;
     }
     const uint32_t ones = 0xffffffffu;
-    glClearNamedBufferData(r->filter.mask, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &ones);
+    glClearNamedBufferData(m->mask, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &ones);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
     lc_frame_setup plain = *fs;
@@ -124,35 +163,43 @@ static int build(lc_renderer *r, lc_frame_setup *fs, const filter_list *L, lc_er
     lc_uniform_i(prog, "u_per_line", lines);
     lc_uniform_u(prog, "u_items", items);
     if (lines)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_OFFSETS, r->filter.offsets);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VISIBLE_OUT, r->filter.mask);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_OFFSETS, m->offsets);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VISIBLE_OUT, m->mask);
     lc_dispatch_linear((items + 255) / 256);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-    memcpy(r->filter.filters, L->f, sizeof(lc_filter) * (size_t)n);
-    memcpy(r->filter.attr, attr, sizeof(int) * (size_t)n);
-    r->filter.count = n;
-    r->filter.serial++;
+    memcpy(m->filters, L->f, sizeof(lc_filter) * (size_t)n);
+    memcpy(m->attr, attr, sizeof(int) * (size_t)n);
+    m->count = n;
+    m->serial = ++r->filter_serial;
     return 0;
 }
 
 int lc_filter_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     fs->filtered = 0;
+    fs->filter_mask = 0;
     fs->terms.mask_serial = 0;
     fs->pull_lines = r->pull_lines = 0;
     if (fs->params->filter_count <= 0 && !fs->params->time.has_window)
         return 0;
     filter_list L;
-    int rc = resolve(fs, &L, err);
+    int rc = resolve(fs, &L, err), fresh = 0;
     if (rc)
         return rc;
-    if (!same_filters(r, fs, &L) && (rc = build(r, fs, &L, err)) != 0)
+    filter_mask *m = pick(r, fs, &L, &fresh);
+    if (!m) /* more filtered layers than masks: lc_render_check allows at most LC_MAX_LAYERS */
+        return lc_err(err, LC_ERR_INTERNAL, "more filtered layers than filter masks");
+    if (fresh && (rc = build(r, m, fs, &L, err)) != 0)
         return rc;
+    m->used = r->filter_frame;
     fs->filtered = 1;
-    fs->terms.mask_serial = r->filter.serial;
+    fs->filter_mask = m->mask;
+    fs->terms.mask_serial = m->serial;
     /* A window hides single segments of a line: ribbon strips share each
      * vertex between two segments, so lines are drawn segment by segment. */
     fs->pull_lines = r->pull_lines = L.time && fs->gs->scene->type == LC_PRIM_LINES;
     return 0;
 }
+
+void lc_filter_frame_begin(lc_renderer *r) { r->filter_frame++; }

@@ -128,7 +128,7 @@ void lc_renderer_destroy(lc_renderer *r)
 uint64_t lc_renderer_bytes(const lc_renderer *r)
 {
     uint64_t points = r->point_histogram ? POINT_BINS * 4 + ((uint64_t)r->point_list_capacity + 1) * 4 : 0;
-    uint64_t filter = r->filter.mask ? ((uint64_t)r->filter.mask_words + r->filter.offset_words) * 4 : 0;
+    uint64_t filter = lc_filter_bytes(r);
     uint64_t fragments = lc_fragment_list_bytes(r); /* P0's and P1's lists (fragment_list.c) */
     return r->bytes_targets + r->bytes_elements + points + filter + r->line_select_bytes + r->line_kept_bytes +
            fragments;
@@ -476,6 +476,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     fs.renderer = r;
     r->draw_yields = r->yield_cut = 0;
     r->pull_lines = 0;     /* lc_filter_prepare sets it for a time window */
+    lc_filter_frame_begin(r);
     r->context_layers = 0; /* lc_context_draw sets it */
     if (!p.has_camera) /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
         lc_render_fit_camera(scenes, layers ? n : 1, &p.camera);

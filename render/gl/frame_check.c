@@ -17,9 +17,9 @@ static int check_layered(const lc_scene *const *scenes, const lc_layer_params *l
         return lc_err_field(err, LC_ERR_INVALID, "method", "layers render with fourier, exact or direct, not %s",
                             lc_method_name(p->method));
     if (p->filter_count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "filter", "filters apply to one dataset, not to layers");
+        return lc_err_field(err, LC_ERR_INVALID, "filter", "a layered frame's filters are its layers': layers[i].filter");
     if (p->time.has_window)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "time windows apply to one dataset, not to layers");
+        return lc_err_field(err, LC_ERR_INVALID, "time.window", "a layered frame's time windows are its layers': layers[i].time");
     if (p->clusters.count > 0)
         return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "line clusters apply to one dataset, not to layers");
     if (p->color.equalize)
@@ -90,16 +90,17 @@ static int check_equalize(const lc_scene *s, const lc_render_params *p, lc_error
     return 0;
 }
 
-/* Hard filters and the time window, on the one dataset. */
-static int check_filters(const lc_scene *s, const lc_render_params *p, lc_error *err)
+/* Hard filters and the time window of one dataset (prefix: "" or "layers[i]."). */
+static int check_filters(const lc_scene *s, const lc_filter *filters, int count, const lc_time_window *t,
+                         const char *prefix, lc_error *err)
 {
-    for (int i = 0; i < p->filter_count; i++) {
-        const lc_filter *f = &p->filters[i];
-        char field[40];
-        snprintf(field, sizeof field, "filter[%d].attribute", i);
+    char field[64];
+    for (int i = 0; i < count; i++) {
+        const lc_filter *f = &filters[i];
+        snprintf(field, sizeof field, "%sfilter[%d].attribute", prefix, i);
         if (lc_scene_find_attribute(s, f->attribute) < 0)
             return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, f->attribute);
-        snprintf(field, sizeof field, "filter[%d].over", i);
+        snprintf(field, sizeof field, "%sfilter[%d].over", prefix, i);
         if (s->type == LC_PRIM_TRIANGLES)
             return lc_err_field(err, LC_ERR_INVALID, field, "%s is a surface: only lines and points can be filtered",
                                 s->name);
@@ -111,27 +112,26 @@ static int check_filters(const lc_scene *s, const lc_render_params *p, lc_error 
         if (s->type == LC_PRIM_LINES && !s->line_offsets)
             return lc_err_field(err, LC_ERR_INVALID, field, "%s keeps no line offsets", s->name);
     }
-    const lc_time_window *t = &p->time;
     if (!t->has_window)
         return 0;
+    snprintf(field, sizeof field, "%stime.window", prefix);
     if (!(t->window[0] <= t->window[1]))
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "t0 %g is after t1 %g", t->window[0], t->window[1]);
+        return lc_err_field(err, LC_ERR_INVALID, field, "t0 %g is after t1 %g", t->window[0], t->window[1]);
     if (s->type == LC_PRIM_TRIANGLES)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window",
-                            "%s is a surface: time windows apply to lines and points", s->name);
+        return lc_err_field(err, LC_ERR_INVALID, field, "%s is a surface: time windows apply to lines and points",
+                            s->name);
     if (s->type == LC_PRIM_LINES && !s->line_offsets)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "%s keeps no line offsets", s->name);
-    if (p->filter_count >= LC_MAX_FILTERS)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "at most %d filters with a time window",
-                            LC_MAX_FILTERS - 1);
+        return lc_err_field(err, LC_ERR_INVALID, field, "%s keeps no line offsets", s->name);
+    if (count >= LC_MAX_FILTERS)
+        return lc_err_field(err, LC_ERR_INVALID, field, "at most %d filters with a time window", LC_MAX_FILTERS - 1);
     if (lc_scene_time_attribute(s, t->attribute) >= 0)
         return 0;
+    snprintf(field, sizeof field, "%stime.attribute", prefix);
     if (t->attribute[0])
-        return lc_err_field(err, LC_ERR_INVALID, "time.attribute", "%s has no attribute \"%s\"", s->name,
-                            t->attribute);
-    return lc_err_field(err, LC_ERR_INVALID, "time.attribute",
-                        "%s has no time: no attribute time, t, frame or timestep (name one in time.attribute)",
-                        s->name);
+        return lc_err_field(err, LC_ERR_INVALID, field, "%s has no attribute \"%s\"", s->name, t->attribute);
+    return lc_err_field(err, LC_ERR_INVALID, field,
+                        "%s has no time: no attribute time, t, frame or timestep (name one in %stime.attribute)",
+                        s->name, prefix);
 }
 
 static int check_clusters(const lc_scene *s, const lc_render_params *p, lc_error *err)
@@ -158,16 +158,23 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
         if ((rc = check_layered(scenes, layers, n, p, err)) != 0)
             return rc;
         for (int i = 0; i < n; i++) {
-            char prefix[24];
+            char prefix[40];
             snprintf(prefix, sizeof prefix, "layers[%d].", i);
-            if ((rc = check_mapping(scenes[i], &layers[i].importance, &layers[i].color, prefix, err)) != 0)
+            if ((rc = check_mapping(scenes[i], &layers[i].importance, &layers[i].color, prefix, err)) != 0 ||
+                (rc = check_filters(scenes[i], layers[i].filters, layers[i].filter_count, &layers[i].time, prefix,
+                                    err)) != 0)
                 return rc;
+            if (layers[i].time.markers && layers[i].time.has_window) {
+                snprintf(prefix, sizeof prefix, "layers[%d].time.markers", i);
+                return lc_err_field(err, LC_ERR_INVALID, prefix, "markers are drawn for a frame of one dataset");
+            }
             context |= layers[i].visible && layers[i].role == LC_LAYER_CONTEXT;
         }
     } else {
         const lc_scene *s = scenes[0];
         if ((rc = check_mapping(s, &p->importance, &p->color, "", err)) != 0 || (rc = check_equalize(s, p, err)) != 0 ||
-            (rc = check_filters(s, p, err)) != 0 || (rc = check_clusters(s, p, err)) != 0)
+            (rc = check_filters(s, p->filters, p->filter_count, &p->time, "", err)) != 0 ||
+            (rc = check_clusters(s, p, err)) != 0)
             return rc;
     }
     int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);

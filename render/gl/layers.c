@@ -55,10 +55,15 @@ static const lc_frame_setup *layer_setup(const lc_frame_setup *fs, const lc_laye
     tmp->line_half_width = l->line_half_width;
     tmp->level = l->level;
     tmp->element_offset = l->element_offset;
+    tmp->filtered = l->filtered;
+    tmp->filter_mask = l->filter_mask;
+    tmp->pull_lines = l->pull_lines;
+    /* The programs the caller picks next draw this layer: pulled segments
+     * where its time window hides single ones (lc_renderer_geometry_program). */
+    fs->renderer->pull_lines = l->pull_lines;
     /* Per-dataset aids that a layered frame does not offer (lc_render_layers refuses them). */
     tmp->point_stride = 1;
     tmp->kept_points = 0;
-    tmp->filtered = 0;
     tmp->line_mask = 0;
     tmp->colormap_texture = 0;
     return tmp;
@@ -122,12 +127,20 @@ int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scene
         l->params.style.min_line_pixels = in->style.min_line_pixels;
         l->params.style.point_size = in->style.point_size;
         l->params.style.shading = in->style.shading;
+        l->params.filter_count = in->filter_count;
+        memcpy(l->params.filters, in->filters, sizeof l->params.filters);
+        l->params.time = in->time;
         lc_frame_setup tmp = *fs;
         tmp.gs = l->gs;
         tmp.params = &l->params;
         int rc = lc_frame_resolve_mapping(&tmp, err);
+        if (rc == 0 && l->visible)
+            rc = lc_filter_prepare(fs->renderer, &tmp, err);
         if (rc)
             return layer_error(err, i, rc);
+        l->filtered = tmp.filtered;
+        l->filter_mask = tmp.filter_mask;
+        l->pull_lines = tmp.pull_lines;
         l->importance_attr = tmp.importance_attr;
         l->color_mode = tmp.color_mode;
         l->color_attr = tmp.color_attr;
@@ -144,6 +157,7 @@ int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scene
         l->element_offset = (uint32_t)offset;
         offset += s->elements.count; /* at most 2^24 in all (lc_render_check) */
     }
+    fs->renderer->pull_lines = 0; /* lc_frame_layer sets it for each layer drawn */
     fs->layers = out;
     fs->layer_count = n;
     fs->element_total = (uint32_t)offset;

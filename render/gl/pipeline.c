@@ -243,7 +243,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_renderer_bind_terms(prog, &fs->terms);
     lc_renderer_bind_curves(prog, &fs->terms, &p->color.curve);
     lc_uniform_i(prog, "u_filtered", fs->filtered);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VISIBLE, fs->filtered ? r->filter.mask : r->dummy_buffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_VISIBLE, fs->filtered ? fs->filter_mask : r->dummy_buffer);
     lc_uniform_i(prog, "u_color_mode", fs->color_mode);
     lc_uniform_i(prog, "u_color_attr", fs->color_attr);
     lc_uniform_v2(prog, "u_color_range", fs->color_range[0], fs->color_range[1]);

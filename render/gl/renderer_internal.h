@@ -288,17 +288,21 @@ struct lc_renderer {
         uint32_t full, strided;     /* its indices: full runs from 0, strided ones ending at total */
         uint64_t total;
     } line_sel;
-    /* filter.c: the per-vertex visibility mask of the filters in its key and
-     * the line offsets of the scene it was built for. */
-    struct {
+    /* filter.c: per-vertex visibility masks, one per scene and filter list a
+     * frame draws (a layered frame's layers each have their own), kept while
+     * they match: the line offsets of the scene each was built for, the mask
+     * of the filters in its key. */
+    struct lc_filter_mask {
         uint64_t scene; /* lc_gpu_scene.serial of the scene it was built for; 0: none */
         GLuint offsets, mask;
         uint32_t mask_words, offset_words;
         lc_filter filters[LC_MAX_FILTERS];
         int attr[LC_MAX_FILTERS];
-        int count; /* -1: no mask built */
-        uint64_t serial;
-    } filter;
+        int count;       /* -1: no mask built */
+        uint64_t serial; /* of the mask's contents (fs->terms.mask_serial) */
+        uint64_t used;   /* the frame that last drew with it (r->filter_frame) */
+    } filter[LC_MAX_LAYERS];
+    uint64_t filter_frame, filter_serial;
     /* filter.c: this frame's lines draw as pulled segments (a time window hides
      * single segments, which shared ribbon strip vertices cannot). */
     int pull_lines;
@@ -388,8 +392,9 @@ typedef struct lc_frame_setup {
     int line_stride;
     uint64_t kept_line_indices[2], kept_line_total;
     GLuint kept_line_buffer;
-    /* filter.c: the visibility mask r->filter.mask applies (0: every vertex draws). */
+    /* filter.c: the visibility mask filter_mask applies (0: every vertex draws). */
     int filtered;
+    GLuint filter_mask;
     int pull_lines;    /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
     int point_sprites; /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
     int p1_subset;     /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
@@ -429,6 +434,8 @@ typedef struct lc_layer_setup {
     int level;
     uint32_t element_offset;
     int context; /* role "context": drawn opaque by context.c, in no transparent pass */
+    int filtered, pull_lines; /* the layer's filters and time window (lc_filter_prepare) */
+    GLuint filter_mask;
 } lc_layer_setup;
 /* Geometry passes loop i over 0..lc_frame_layer_count(fs)-1: lc_frame_layer
  * returns the setup to draw layer i with (fs itself for a frame of one
@@ -464,7 +471,10 @@ int lc_frame_pick_level(const lc_frame_setup *fs);
  * the per-vertex visibility mask they define; sets fs->filtered and the mask
  * serial the importance caches key on. Errors name filter[i]. */
 int lc_filter_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* A new frame: the masks its layers draw with are picked afresh. */
+void lc_filter_frame_begin(lc_renderer *r);
 void lc_filter_release(lc_renderer *r);
+uint64_t lc_filter_bytes(const lc_renderer *r);
 /* ---- line_clusters.c */
 typedef struct lc_line_clusters lc_line_clusters;
 /* Resamples a line scene's lines for clustering (before its vertex arrays

@@ -31,15 +31,16 @@ static double vertex_t(int i, int k) { return k + 0.7 * i; }
 static int inside(int i, int k) { return vertex_t(i, k) >= T0 && vertex_t(i, k) <= T1; }
 static int segment_kept(int i, int k) { return inside(i, k) && inside(i, k + 1); }
 
-/* The lines; reduced: only each line's run of vertices inside the window (a
- * line with no kept segment is left out). time_name: the time attribute's name. */
-static lc_scene *lines_scene(int reduced, const char *time_name)
+/* The lines from first_line on, dz nearer the camera; reduced: only each
+ * line's run of vertices inside the window (a line with no kept segment is
+ * left out). time_name: the time attribute's name. */
+static lc_scene *lines_scene_from(int reduced, const char *time_name, int first_line, double dz)
 {
     lc_error err = {0};
     int first[LINES], count[LINES], n = 0, lines = 0;
     for (int i = 0; i < LINES; i++) {
-        first[i] = 0, count[i] = PER_LINE;
-        if (reduced) {
+        first[i] = 0, count[i] = i >= first_line ? PER_LINE : 0;
+        if (reduced && i >= first_line) {
             first[i] = -1, count[i] = 0;
             for (int k = 0; k < PER_LINE; k++)
                 if (inside(i, k)) {
@@ -67,7 +68,7 @@ static lc_scene *lines_scene(int reduced, const char *time_name)
         for (int k = first[i]; k < first[i] + count[i]; k++, v++) {
             s->positions[3 * v] = (float)vertex_x(k);
             s->positions[3 * v + 1] = (float)line_y(i);
-            s->positions[3 * v + 2] = (float)line_z(i);
+            s->positions[3 * v + 2] = (float)(line_z(i) + dz);
             t[v] = (float)vertex_t(i, k);
             g[v] = (float)(0.2 + 0.1 * i); /* constant along a line */
         }
@@ -83,6 +84,8 @@ static lc_scene *lines_scene(int reduced, const char *time_name)
     }
     return s;
 }
+
+static lc_scene *lines_scene(int reduced, const char *time_name) { return lines_scene_from(reduced, time_name, 0, 0); }
 
 static void params(lc_render_params *p, lc_method method, int window)
 {
@@ -301,6 +304,112 @@ static void check_errors(test_gl *t, const lc_scene *timed)
     lc_scene_destroy(untimed);
 }
 
+/* A layer of the lines: g for importance and colour over [0, 1]. */
+static void lines_layer(lc_layer_params *l, const lc_render_params *p)
+{
+    lc_layer_params_default(l);
+    l->importance = p->importance;
+    l->color = p->color;
+    l->style = p->style;
+}
+
+static int render_layers(test_gl *t, const lc_scene *const *scenes, const lc_layer_params *layers, int n,
+                         const lc_render_params *p, uint8_t *rgba, lc_error *err)
+{
+    lc_gpu_scene *gs[4] = {0};
+    lc_gpu_scene_desc desc = {.exact_positions = 1};
+    int rc = 0;
+    for (int i = 0; i < n && rc == 0; i++) /* the same scene twice: one upload */
+        rc = i > 0 && scenes[i] == scenes[i - 1] ? (gs[i] = gs[i - 1], 0) : lc_gpu_scene_create_ex(scenes[i], &desc, &gs[i], err);
+    if (rc == 0)
+        rc = lc_render_layers(t->renderer, (const lc_gpu_scene *const *)gs, layers, n, p, NULL, 0, rgba, NULL, err);
+    for (int i = 0; i < n; i++)
+        if (gs[i] && !(i > 0 && gs[i] == gs[i - 1]))
+            lc_gpu_scene_destroy(gs[i]);
+    return rc;
+}
+
+/* Layers with their own sections: the lines under a time window, the lines
+ * again nearer the camera under a filter (g of the line >= 0.45: lines 3 on),
+ * and an opaque floor behind both as context, against the same layers built
+ * of the kept segments and lines alone (exact: byte for byte; Fourier: SSIM
+ * >= 0.999); then the same scene twice in one frame with two filters (two
+ * masks of one dataset). */
+static void check_layered(test_gl *t, const lc_scene *all, const lc_scene *part)
+{
+    static uint8_t want[SIZE * SIZE * 4], got[SIZE * SIZE * 4], open[SIZE * SIZE * 4];
+    const test_quad q = {.z = -1.5, .g = 0.5, .rgb = {0.35, 0.3, 0.25}, .half = 1.3};
+    lc_scene *near = lines_scene_from(0, "time", 0, 0.2), *near_kept = lines_scene_from(0, "time", 3, 0.2);
+    lc_scene *floor_scene = test_quad_scene(&q, 1);
+    CHECK(near && near_kept && floor_scene, "layer scenes");
+    lc_method methods[2] = {LC_METHOD_EXACT, LC_METHOD_FOURIER};
+    for (int m = 0; near && near_kept && floor_scene && m < 2; m++) {
+        lc_render_params p;
+        lc_error err = {0};
+        params(&p, methods[m], 0);
+        lc_layer_params layers[3];
+        lines_layer(&layers[0], &p);
+        lines_layer(&layers[1], &p);
+        lc_layer_params_default(&layers[2]);
+        layers[2].role = LC_LAYER_CONTEXT;
+        snprintf(layers[2].color.attribute, sizeof layers[2].color.attribute, "rgb");
+        const lc_scene *kept[3] = {part, near_kept, floor_scene}, *whole[3] = {all, near, floor_scene};
+        int rc = render_layers(t, kept, layers, 3, &p, want, &err);
+        rc = rc ? rc : render_layers(t, whole, layers, 3, &p, open, &err);
+        layers[0].time.has_window = true;
+        layers[0].time.window[0] = T0, layers[0].time.window[1] = T1;
+        layers[1].filter_count = 1;
+        snprintf(layers[1].filters[0].attribute, sizeof layers[1].filters[0].attribute, "g");
+        layers[1].filters[0].over = LC_FILTER_MEAN;
+        layers[1].filters[0].lo = 0.45, layers[1].filters[0].hi = INFINITY;
+        rc = rc ? rc : render_layers(t, whole, layers, 3, &p, got, &err);
+        CHECK(rc == 0, "%s layered frames: %s", lc_method_name(methods[m]), err.msg);
+        if (rc)
+            continue;
+        int d = differing(want, got);
+        double ssim = lc_image_ssim(want, got, SIZE, SIZE);
+        printf("%s layers with a window, a filter and a context floor: %d differing bytes, SSIM %.6f against the kept "
+               "lines alone (%d bytes differ without the sections)\n",
+               lc_method_name(methods[m]), d, ssim, differing(want, open));
+        CHECK(differing(want, open) > 0, "%s: the sections change nothing", lc_method_name(methods[m]));
+        if (methods[m] == LC_METHOD_EXACT)
+            CHECK(d == 0, "exact: the layers' sections differ from the kept lines alone in %d bytes", d);
+        else
+            CHECK(ssim >= 0.999, "fourier: SSIM %.5f of the layers' sections against the kept lines", ssim);
+    }
+    /* One dataset twice, two masks: the window on one layer, the filter on the other. */
+    lc_render_params p;
+    lc_error err = {0};
+    params(&p, LC_METHOD_FOURIER, 0);
+    lc_layer_params twice[2];
+    lines_layer(&twice[0], &p);
+    lines_layer(&twice[1], &p);
+    lc_scene *kept_lines = lines_scene_from(0, "time", 3, 0);
+    const lc_scene *kept2[2] = {part, kept_lines}, *same[2] = {all, all};
+    int rc = kept_lines ? render_layers(t, kept2, twice, 2, &p, want, &err) : -1;
+    twice[0].time = (lc_time_window){.has_window = true, .window = {T0, T1}};
+    twice[1].filter_count = 1;
+    snprintf(twice[1].filters[0].attribute, sizeof twice[1].filters[0].attribute, "g");
+    twice[1].filters[0].over = LC_FILTER_MEAN;
+    twice[1].filters[0].lo = 0.45, twice[1].filters[0].hi = INFINITY;
+    rc = rc ? rc : render_layers(t, same, twice, 2, &p, got, &err);
+    double ssim = rc ? 0 : lc_image_ssim(want, got, SIZE, SIZE);
+    printf("one dataset as two layers with a window and a filter: SSIM %.6f against the kept lines\n", ssim);
+    CHECK(rc == 0 && ssim >= 0.999, "the same dataset twice with two filter lists: SSIM %.5f (%s)", ssim, err.msg);
+    /* Errors name the layer's field. */
+    twice[1].filters[0].over = LC_FILTER_VERTEX;
+    rc = render_layers(t, same, twice, 2, &p, got, &err);
+    CHECK(rc != 0 && strcmp(err.field, "layers[1].filter[0].over") == 0, "a vertex filter on lines: %s", err.field);
+    twice[1].filter_count = 0;
+    twice[0].time.markers = true;
+    rc = render_layers(t, same, twice, 2, &p, got, &err);
+    CHECK(rc != 0 && strcmp(err.field, "layers[0].time.markers") == 0, "markers on a layer: %s", err.field);
+    lc_scene_destroy(kept_lines);
+    lc_scene_destroy(near);
+    lc_scene_destroy(near_kept);
+    lc_scene_destroy(floor_scene);
+}
+
 int main(void)
 {
     test_gl t;
@@ -312,6 +421,7 @@ int main(void)
         check_methods(&t, all, part);
         check_errors(&t, all);
         check_markers(&t, all);
+        check_layered(&t, all, part);
     }
     lc_scene_destroy(all);
     lc_scene_destroy(part);

@@ -12,7 +12,8 @@ same request; after a camera move its last still matches the HTTP render of
 that camera (SSIM >= 0.99: the fading may leave a trace); a change of the
 layer set (one layer, then the points alone) renders on fresh opacities; an
 unknown layer dataset in an update is refused naming layers[i].dataset and the
-session goes on. A scripted HTTP session of the two layers renders the
+session goes on. A layer's own filter changes the image, by POST and GET alike,
+beside a context surface too, and its errors name layers[i].filter[k].*, layers[i].time.*. A scripted HTTP session of the two layers renders the
 one-shot image."""
 import json
 import os
@@ -201,6 +202,24 @@ with Server(binary, "--still-delay", "1000", data=("demo:points", "demo:tornado"
     check(st == 200 and st2 == 200 and with_context != transparent,
           "a surface as opaque context renders, unlike the same surface transparent (%d, %d)" % (st, st2))
     error(srv, {"layers": LAYERS, "method": "opaque"}, 400, "method", "the opaque method with layers")
+    # A layer's own filter and time window, beside a context surface.
+    long_lines = [{"attribute": "line_length", "over": "max", "gt": 1.5}]
+    st, _, filtered = render(srv, {"layers": [LAYERS[0], dict(LAYERS[1], filter=long_lines)]})
+    check(st == 200 and filtered != both, "a layer's filter renders and changes the image (%d)" % st)
+    st, _, _ = render(srv, {"layers": [ctx[0], dict(LAYERS[1], filter=long_lines)]})
+    check(st == 200, "a filtered layer beside a context surface renders (%d)" % st)
+    st, _, again = srv.request("GET", "/api/v1/render?width=96&height=80&layers=" + urllib.parse.quote(
+        json.dumps([LAYERS[0], dict(LAYERS[1], filter=long_lines)])))
+    check(st == 200 and again == filtered, "the GET form carries the layer's filter (%d)" % st)
+    error(srv, {"layers": [dict(LAYERS[1], filter=[{"attribute": "nope", "over": "max", "gt": 1}])]}, 400,
+          "layers[0].filter[0].attribute", "a layer's filter on an attribute its dataset lacks")
+    error(srv, {"layers": [dict(LAYERS[1], filter=[{"attribute": "line_length", "over": "vertex", "gt": 1}])]}, 400,
+          "layers[0].filter[0].over", "a vertex filter on a layer of lines")
+    error(srv, {"layers": [ctx[0], dict(LAYERS[1], time={"window": [0, 1]})]}, 400, "layers[1].time.attribute",
+          "a time window on a layer without time")
+    error(srv, {"layers": [dict(ctx[0], filter=long_lines), LAYERS[1]]}, 400, "layers[0].filter[0].attribute",
+          "a filter on a surface layer")
+    error(srv, {"layers": LAYERS, "filter": long_lines}, 400, "filter", "the request's own filter with layers")
     sessions(srv)
     if websockets is not None:
         import asyncio

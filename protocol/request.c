@@ -835,6 +835,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         if (f->type == T_TERMS || f->type == T_FILTERS || f->type == T_CURVE || f->type == T_RANGES ||
             f->type == T_LAYERS || f->type == T_SEED)
             json_object_set_new(o, "maxItems", json_integer((json_int_t)f->hi));
+        if (f->type == T_LAYERS)
+            json_object_set_new(o, "keys", lc_proto_layer_keys_json());
         unsigned ms, ps;
         lc_proto_field_scope(f->section, f->name, &ms, &ps);
         if (ms != LC_PROTO_ALL_METHODS) {

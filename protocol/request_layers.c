@@ -9,6 +9,8 @@
 
 
 static const char *const role_names[] = {"transparent", "context", NULL}; /* lc_layer_role */
+static const char *const layer_keys[] = {"dataset", "role", "visible", "importance", "color", "style",
+                                         "filter", "time", NULL};
 
 /* The style keys that belong to a layer; the rest (background, halos,
  * antialias, silhouettes) are the frame's. */
@@ -107,6 +109,14 @@ int lc_proto_parse_layers(const json_t *v, lc_request_layer *out, int *count, co
     }
     *count = (int)n;
     return 0;
+}
+
+json_t *lc_proto_layer_keys_json(void)
+{
+    json_t *keys = json_array();
+    for (int k = 0; layer_keys[k]; k++)
+        json_array_append_new(keys, json_string(layer_keys[k]));
+    return keys;
 }
 
 json_t *lc_proto_layers_json(const lc_request_layer *layers, int n, lc_layer_emit_fn emit)

@@ -1,7 +1,7 @@
 /* The request's layers[] (protocol/README.md "Layers"): parsed, validated
  * (errors name layers[i].key) and emitted. request.c's field table routes the
  * field here and lends its section parser and emitter for a layer's
- * importance, colour and style, so this module sits below request.c. */
+ * importance, colour, style, filter and time window, so this module sits below request.c. */
 #ifndef LC_PROTOCOL_REQUEST_LAYERS_H
 #define LC_PROTOCOL_REQUEST_LAYERS_H
 
@@ -31,6 +31,8 @@ typedef json_t *(*lc_layer_emit_fn)(const lc_layer_params *p, const char *sectio
  * 0 layers). Returns 0, or -1 with err filled (out then unspecified). */
 int lc_proto_parse_layers(const json_t *v, lc_request_layer *out, int *count, const char *path, lc_layer_apply_fn apply,
                           void *ctx, lc_layer_error *err);
+/* The keys a layer takes, as an array (the schema publishes them). */
+json_t *lc_proto_layer_keys_json(void);
 /* The n layers as an array, each with every field. */
 json_t *lc_proto_layers_json(const lc_request_layer *layers, int n, lc_layer_emit_fn emit);
 

@@ -5,8 +5,9 @@
 // a link with timeWindow reopens the bar at that t.
 // Layers: adding the dump to the points makes a two-layer session (the points stay layer 1) whose
 // frames differ from the points alone, with a legend line per layer; hiding the dump brings the
-// points' picture back; a layer's colour attribute and role go to the server (the legend follows);
-// the link reopens both layers in a new session; removing them returns to the single dataset.
+// points' picture back; a layer's colour attribute and role go to the server (the legend follows); a time
+// window and a filter typed into the dump's row go as layers[1].time / layers[1].filter (the window changes
+// the picture) and into the link; the link reopens both layers in a new session; removing them returns to the single dataset.
 //
 //   node tests/browser/scenes.mjs --binary build/lucent
 //
@@ -256,6 +257,32 @@ try {
   check(!mapped.err, `colour by timestep and opaque context: no error (${JSON.stringify(mapped.err)})`);
   check(/\(context\): timestep/.test(mapped.legend) && /190/.test(mapped.legend), `the legend line says context, timestep and its range (${mapped.legend})`);
   check(/"role":"context"/.test(mapped.hash) && /"attribute":"timestep"/.test(mapped.hash), 'the link carries the role and the colour attribute');
+
+  // The dump's own time window and filter, typed into its row: each goes to the server as layers[1].time /
+  // layers[1].filter, changes the picture, and the link carries it.
+  const row1 = '.layer-row[data-index="1"]';
+  const typed = async (label, value) => {
+    await page3.fill(`${row1} input[aria-label^="${label}"]`, value);
+    await page3.dispatchEvent(`${row1} input[aria-label^="${label}"]`, 'change');
+  };
+  const beforeWindow = await sig3();
+  f = await lastFrame();
+  await typed('Time window start', '0');
+  await typed('Time window end', '40');
+  await page3.waitForFunction(() => /"time":\{"window":\[0,40\]\}/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await settled3(f).catch(async (e) => { throw new Error(`${e.message}: ${await page3.evaluate(() => JSON.stringify({ hash: decodeURIComponent(location.hash), err: window.lucent.state.error, last: window.lucent.state.lastFrame, toast: document.getElementById('toast').textContent }))}`); });
+  const windowed = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
+  const afterWindow = await sig3();
+  check(!windowed.err && /"window":\[0,40\]/.test(windowed.hash), `a time window on the dump layer: no error, in the link (${JSON.stringify(windowed.err)})`);
+  check(diff(beforeWindow, afterWindow) > 0.05, `the window changes the picture (${diff(beforeWindow, afterWindow).toFixed(3)})`);
+  f = await lastFrame();
+  await page3.selectOption(`${row1} select[aria-label^="Filter attribute"]`, 'timestep');
+  await page3.selectOption(`${row1} select[aria-label^="Filter statistic"]`, 'min');
+  await typed('Filter value', '5');
+  await page3.waitForFunction(() => /"filter":\[\{"attribute":"timestep"/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await settled3(f);
+  const filteredLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
+  check(!filteredLayer.err && /"over":"min","gt":5/.test(filteredLayer.hash), `a filter on the dump layer: no error, in the link (${JSON.stringify(filteredLayer.err)}; ${filteredLayer.hash.slice(0, 300)})`);
 
   // The screenshot's and the movie's request (renderRequest, the Record group's too) carries the layers shown.
   await page3.locator('#shot-size').selectOption('custom');

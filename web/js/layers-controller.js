@@ -1,6 +1,8 @@
 // The layer list (issue 27; docs/ALGORITHM.md §24): several of the server's datasets in one view. Adding a
 // layer turns the view into a layered scene whose first layer is the dataset shown so far; each layer can be
-// hidden, drawn as opaque context (lines and surfaces) and given its own importance and colour attribute.
+// hidden, drawn as opaque context (lines and surfaces), given its own importance and colour attribute, and
+// its own time window (datasets with a time attribute) and filter (lines and points), as the request's
+// layers[i].time and layers[i].filter.
 // Every edit sends the whole list as `layers` through the params controller, so the session draws it in its
 // next frame (a change of the layers' datasets starts its opacities afresh) and the link carries it
 // (layers=[...]). Removing every layer but none (the last one's ×) goes back to the single dataset. The legend
@@ -12,6 +14,9 @@ import { attributeRange } from './ui.js';
 export const MAX_LAYERS = 8;
 const ROLE_LABELS = [['transparent', 'Transparent'], ['context', 'Opaque context']];
 const attrName = (a) => (typeof a === 'string' ? a : a?.name);
+// The server's time attribute when time.attribute is "" (lc_scene_time_attribute): the first of these.
+export const TIME_NAMES = ['time', 't', 'frame', 'timestep'];
+const LINE_OVER = [['max', 'max'], ['min', 'min'], ['mean', 'mean'], ['first', 'first'], ['last', 'last'], ['change', 'change']];
 
 /** The list with a layer of dataset `name` added; the first addition keeps `current` (the shown dataset) as layer 0. */
 export function addLayer(layers, current, name) {
@@ -21,13 +26,19 @@ export function addLayer(layers, current, name) {
   return list;
 }
 
-/** The list with layer i's field set: visible, role, importance.attribute or color.attribute ('' = the dataset's default). */
+/**
+ * The list with layer i's field set: visible, role, importance.attribute or color.attribute ('' = the
+ * dataset's default), time ({window: [t0, t1]}, undefined = none) or filter (an array, [] or undefined = none).
+ */
 export function setLayer(layers, i, path, value) {
   return layers.map((l, k) => {
     if (k !== i) return l;
     const out = { ...l, importance: l.importance && { ...l.importance }, color: l.color && { ...l.color } };
     if (path === 'visible' || path === 'role') out[path] = value;
-    else {
+    else if (path === 'time' || path === 'filter') {
+      if (value === undefined || (Array.isArray(value) && !value.length)) delete out[path];
+      else out[path] = value;
+    } else {
       const [section, key] = path.split('.');
       out[section] = { ...(out[section] ?? {}) };
       if (value === '' || value === undefined) delete out[section][key];
@@ -40,6 +51,19 @@ export function setLayer(layers, i, path, value) {
     if (!out.color || !Object.keys(out.color).length) delete out.color;
     return out;
   });
+}
+
+/** The time window of two typed bounds (numbers or ''): {window: [t0, t1]} when both are numbers, else undefined. */
+export function timeWindow(t0, t1) {
+  const a = Number.parseFloat(t0), b = Number.parseFloat(t1);
+  return Number.isFinite(a) && Number.isFinite(b) ? { window: [Math.min(a, b), Math.max(a, b)] } : undefined;
+}
+
+/** A one-predicate filter list ({attribute, over, gt|lt: value}), [] without an attribute or a number. */
+export function layerFilter(attribute, over, op, value) {
+  const v = Number.parseFloat(value);
+  if (!attribute || !Number.isFinite(v)) return [];
+  return [{ attribute, over, [op === 'lt' ? 'lt' : 'gt']: v }];
 }
 
 /** The list without layer i ([] when none is left: the single dataset again). */
@@ -115,6 +139,40 @@ export function createLayersController(ctx) {
       remove.setAttribute('aria-label', `Remove layer ${i + 1} (${l.dataset})`);
       remove.addEventListener('click', () => ctx.apply('layers', removeLayer(current(), i)));
       const row = el('div', { className: 'layer-row' }, el('label', { className: 'layer-name' }, vis, ` ${l.dataset}`), role, imp, col, remove);
+      const sections = el('div', { className: 'layer-sections' });
+      const timeAttr = TIME_NAMES.find((n) => attrs.includes(n));
+      if (timeAttr && info?.type !== 'triangles') {
+        const range = attributeRange(info, timeAttr, 'off') ?? [];
+        const bound = (k, label) => {
+          const input = el('input', { type: 'number', step: 'any', placeholder: fmt(range[k]), title: label, value: l.time?.window?.[k] ?? '' });
+          input.setAttribute('aria-label', `${label} of layer ${i + 1}`);
+          return input;
+        };
+        const t0 = bound(0, 'Time window start'), t1 = bound(1, 'Time window end');
+        const send = () => {
+          const w = timeWindow(t0.value, t1.value);
+          if (w || (t0.value === '' && t1.value === '')) ctx.apply('layers', setLayer(current(), i, 'time', w)); // else: the other bound comes
+        };
+        t0.addEventListener('change', send);
+        t1.addEventListener('change', send);
+        sections.append(el('label', { className: 'layer-time' }, `${timeAttr} `, t0, ' – ', t1));
+      }
+      if (info?.type === 'lines' || info?.type === 'points') {
+        const f = l.filter?.[0];
+        const overs = info.type === 'points' ? [['vertex', 'value']] : LINE_OVER;
+        const fAttr = select(`Filter attribute of layer ${i + 1}`, [['', 'filter: none'], ...attrs.map((a) => [a, `filter: ${a}`])], f?.attribute ?? '', () => send());
+        const fOver = select(`Filter statistic of layer ${i + 1}`, overs, f?.over ?? overs[0][0], () => send());
+        const fOp = select(`Filter comparison of layer ${i + 1}`, [['gt', '>'], ['lt', '<']], f && 'lt' in f && !('gt' in f) ? 'lt' : 'gt', () => send());
+        const fValue = el('input', { type: 'number', step: 'any', title: 'Filter value', value: f?.gt ?? f?.lt ?? '' });
+        fValue.setAttribute('aria-label', `Filter value of layer ${i + 1}`);
+        fValue.addEventListener('change', () => send());
+        const send = () => {
+          const list = layerFilter(fAttr.value, fOver.value, fOp.value, fValue.value);
+          if (list.length || !fAttr.value) ctx.apply('layers', setLayer(current(), i, 'filter', list)); // else: the value comes
+        };
+        sections.append(el('span', { className: 'layer-filter' }, fAttr, fOver, fOp, fValue));
+      }
+      if (sections.childNodes.length) row.append(sections);
       row.dataset.index = String(i);
       list.append(row);
     });

@@ -113,7 +113,7 @@ export const REQUEST_TOP_FIELDS = Object.freeze([
   { section: null, name: 'format', alias: 'format', type: 'enum', values: ['png', 'jpeg', 'jpg'] },
   { section: null, name: 'quality', alias: 'quality', type: 'int', min: 1, max: 100 },
   { section: null, name: 'dt', alias: 'dt', type: 'num', min: 0, max: 3600 },
-  { section: null, name: 'layers', alias: 'layers', type: 'layers', maxItems: 8 },
+  { section: null, name: 'layers', alias: 'layers', type: 'layers', maxItems: 8, keys: ['dataset', 'role', 'visible', 'importance', 'color', 'style', 'filter', 'time'] },
 ]);
 
 // Stream settings of the WebSocket session (hello/params top level), not part of a render request.
@@ -277,12 +277,12 @@ function checkList(f, v) {
   return null;
 }
 
-/** layers[] (protocol/request_layers.c): the shape only; each layer's importance, colour and style keys are the
- * server's to check against the layer's dataset. */
+/** layers[] (protocol/request_layers.c): the shape only; each layer's importance, colour, style, filter and time
+ * keys are the server's to check against the layer's dataset. */
 function checkLayers(f, v) {
   if (!Array.isArray(v)) return { code: 'bad_field', reason: 'expected an array of layers' };
   if (v.length > f.maxItems) return { code: 'out_of_range', reason: `at most ${f.maxItems} layers` };
-  const keys = ['dataset', 'role', 'visible', 'importance', 'color', 'style'];
+  const keys = f.keys;
   for (let i = 0; i < v.length; i++) {
     const at = `[${i}]`, l = v[i];
     if (!isObject(l)) return { code: 'bad_field', reason: 'expected an object with a dataset', at };

@@ -2,7 +2,7 @@
 // layer, removing the last layer goes back to the single dataset, and the legend's line per visible layer.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { addLayer, setLayer, removeLayer, layerLegend, MAX_LAYERS } from '../js/layers-controller.js';
+import { addLayer, setLayer, removeLayer, layerLegend, layerFilter, timeWindow, MAX_LAYERS } from '../js/layers-controller.js';
 
 test('adding: the first addition keeps the shown dataset as layer 1; at most 8', () => {
   assert.deepEqual(addLayer([], 'demo:points', 'demo:tornado'), [{ dataset: 'demo:points' }, { dataset: 'demo:tornado' }]);
@@ -22,6 +22,24 @@ test('editing one layer: visible, role, attributes (a new one drops its range; "
   assert.deepEqual(l[1].color, { attribute: 'x', range: [0, 1] }); // the input is left alone
   assert.deepEqual(removeLayer(l, 0), [l[1]]);
   assert.deepEqual(removeLayer([l[0]], 0), []);
+});
+
+test("a layer's time window and filter: set from typed values, cleared when incomplete", () => {
+  assert.deepEqual(timeWindow('10', '40'), { window: [10, 40] });
+  assert.deepEqual(timeWindow('40', '10'), { window: [10, 40] }); // the bounds in order
+  assert.equal(timeWindow('10', ''), undefined);
+  assert.deepEqual(layerFilter('speed', 'max', 'gt', '2.5'), [{ attribute: 'speed', over: 'max', gt: 2.5 }]);
+  assert.deepEqual(layerFilter('speed', 'vertex', 'lt', '1'), [{ attribute: 'speed', over: 'vertex', lt: 1 }]);
+  assert.deepEqual(layerFilter('', 'max', 'gt', '1'), []);
+  assert.deepEqual(layerFilter('speed', 'max', 'gt', ''), []);
+  const l = [{ dataset: 'a' }, { dataset: 'b' }];
+  const timed = setLayer(l, 1, 'time', timeWindow('1', '2'));
+  assert.deepEqual(timed[1], { dataset: 'b', time: { window: [1, 2] } });
+  assert.deepEqual(setLayer(timed, 1, 'time', undefined)[1], { dataset: 'b' });
+  const filtered = setLayer(l, 0, 'filter', layerFilter('g', 'mean', 'gt', '0.5'));
+  assert.deepEqual(filtered[0].filter, [{ attribute: 'g', over: 'mean', gt: 0.5 }]);
+  assert.deepEqual(setLayer(filtered, 0, 'filter', [])[0], { dataset: 'a' });
+  assert.equal(l[1].time, undefined); // the input is left alone
 });
 
 test('the legend: visible layers, their colour attribute, colormap and range', () => {

@@ -4,7 +4,10 @@
  * Every transparent pass then discards its fragments behind that depth (as a
  * depth test with writes off would, but before the fragment shader's atomic
  * side effects of P2 and the exact lists), and P6 composites over the
- * context's colour instead of the background. */
+ * context's colour instead of the background. A tiled still draws the
+ * optimization resolution once and the output resolution per tile, and an
+ * antialiased one per jittered sample, so that each composite meets the
+ * context of its own view. */
 #include <stdlib.h>
 
 #include "renderer_internal.h"
@@ -52,9 +55,12 @@ static void ensure(lc_renderer *r, context_state *st, int k, int w, int h)
     st->w[k] = w, st->h[k] = h;
 }
 
-int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, int which, lc_error *err)
 {
-    fs->context_depth[0] = fs->context_depth[1] = fs->context_color = 0;
+    if (which & LC_CONTEXT_FULL)
+        fs->context_depth[0] = fs->context_color = 0;
+    if (which & LC_CONTEXT_LOW)
+        fs->context_depth[1] = 0;
     if (!lc_frame_has_context(fs))
         return 0;
     context_state *st = r->context;
@@ -66,7 +72,11 @@ int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
+    GLint scissor = glIsEnabled(GL_SCISSOR_TEST);
+    glDisable(GL_SCISSOR_TEST); /* a tile's scissor is the output's; the targets here are cleared whole */
     for (int k = 0; k < 2; k++) {
+        if (!(which & (k == 0 ? LC_CONTEXT_FULL : LC_CONTEXT_LOW)))
+            continue;
         ensure(r, st, k, size[k][0], size[k][1]);
         static const float clear[4] = {0, 0, 0, 0}; /* alpha 0: no context at this pixel */
         if (k == 0)
@@ -87,17 +97,24 @@ int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
             lc_renderer_draw_geometry(lf, 1);
         }
     }
+    if (scissor)
+        glEnable(GL_SCISSOR_TEST);
     glDisable(GL_DEPTH_TEST);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     /* Over MPI each process drew its shard of the context: the ranks combine
      * the nearest depth (every rank's transparent passes test against the
-     * whole context) and the colour once, on rank 0 (reduce.c). */
-    int rc = lc_reduce_context(r, st->depth, st->w, st->h, st->color, fs->info, err);
+     * whole context) and the colour once, on rank 0 (reduce.c); of the
+     * resolutions drawn now only. */
+    int w[2] = {which & LC_CONTEXT_FULL ? st->w[0] : 0, which & LC_CONTEXT_LOW ? st->w[1] : 0};
+    int h[2] = {which & LC_CONTEXT_FULL ? st->h[0] : 0, which & LC_CONTEXT_LOW ? st->h[1] : 0};
+    int rc = lc_reduce_context(r, st->depth, w, h, st->color, fs->info, err);
     if (rc)
         return rc;
-    fs->context_depth[0] = st->depth[0], fs->context_depth[1] = st->depth[1];
+    if (which & LC_CONTEXT_FULL)
+        fs->context_depth[0] = st->depth[0], fs->context_color = st->color;
+    if (which & LC_CONTEXT_LOW)
+        fs->context_depth[1] = st->depth[1];
     r->context_layers = 1; /* the later passes' programs test the context's depth */
-    fs->context_color = st->color;
     return 0;
 }
 

@@ -308,7 +308,9 @@ static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *r
         /* The shift is in pixels of the whole frame, which a tile's projection covers. */
         jitter_view(&fs->view, halton(i + 1, 2) - 0.5, halton(i + 1, 3) - 0.5, fs->tiled ? fs->frame_width : fs->width,
                     fs->tiled ? fs->frame_height : fs->height);
-        rc = composite(r, fs, err);
+        rc = lc_context_draw(r, fs, LC_CONTEXT_FULL, err); /* the context of this sample's view */
+        if (!rc)
+            rc = composite(r, fs, err);
         if (!rc) {
             lc_renderer_readback(r, fs, rgba);
             for (size_t j = 0; j < n; j++)
@@ -368,7 +370,8 @@ static int equalize_tiles_first(lc_renderer *r, lc_frame_setup *fs, lc_frame_sta
         for (int i = 0; i < nx && !rc; i++) {
             select_tile(r, fs, W, H, nx, ny, i, j, &x0, &y0);
             int ignored = 1;
-            if (pixel_range)
+            rc = lc_context_draw(r, fs, LC_CONTEXT_FULL, err);
+            if (!rc && pixel_range)
                 rc = lc_fourier_depth_range(r, fs, 1, 0, err);
             if (!rc)
                 rc = lc_fourier_composite(r, fs, direct, err);
@@ -403,7 +406,8 @@ static int render_tiles(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             int x0, y0;
             select_tile(r, fs, W, H, nx, ny, i, j, &x0, &y0);
             int tw = fs->width, th = fs->height;
-            if (pixel_range)
+            rc = lc_context_draw(r, fs, LC_CONTEXT_FULL, err); /* the tile's part of the context */
+            if (!rc && pixel_range)
                 rc = lc_fourier_depth_range(r, fs, 1, 0, err);
             if (!rc)
                 rc = composite(r, fs, err);
@@ -561,7 +565,7 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     lc_renderer_timestamp(r, LC_PASS_COUNT);
     info->converged = 1;
     /* Opaque context layers first: every later pass tests against their depth. */
-    if ((rc = lc_context_draw(r, &fs, err)) != 0)
+    if ((rc = lc_context_draw(r, &fs, tiles ? LC_CONTEXT_LOW : LC_CONTEXT_FULL | LC_CONTEXT_LOW, err)) != 0)
         return rc;
     /* P0 as the plan says (pass_plan.c says why the moments skip a reusing frame). */
     if (plan.pixel_range && (rc = lc_fourier_depth_range(r, &fs, !tiles, 1, err)) != 0)

@@ -153,7 +153,7 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
 {
     if (p->method == LC_METHOD_SURFACE_LAYERS) /* a field's surface: lc_surface_render checks its own */
         return 0;
-    int rc = 0, context = 0;
+    int rc = 0;
     if (layers) {
         if ((rc = check_layered(scenes, layers, n, p, err)) != 0)
             return rc;
@@ -168,7 +168,6 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
                 snprintf(prefix, sizeof prefix, "layers[%d].time.markers", i);
                 return lc_err_field(err, LC_ERR_INVALID, prefix, "markers are drawn for a frame of one dataset");
             }
-            context |= layers[i].visible && layers[i].role == LC_LAYER_CONTEXT;
         }
     } else {
         const lc_scene *s = scenes[0];
@@ -180,10 +179,6 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
     int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
     int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
     int jittered = composites && p->style.antialias > 1;
-    if (context && (tiles || jittered)) /* drawn once, unjittered, untiled */
-        return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",
-                            "a context layer is drawn in one untiled, unjittered frame: %s",
-                            tiles ? "render at most 4096x4096" : "antialias 1");
     if (p->time.markers && p->time.has_window && (tiles || jittered)) /* drawn once over the image */
         return lc_err_field(err, LC_ERR_INVALID, "time.markers",
                             "markers are drawn over one untiled, unjittered image: %s",

@@ -134,6 +134,8 @@ int lc_reduce_context(lc_renderer *r, const GLuint depth[2], const int w[2], con
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     for (int k = 1; k >= 0; k--) { /* the full resolution last: its own depth stays in mine for the colour */
         size_t n = k ? n1 : n0;
+        if (!n) /* not drawn this time (lc_context_draw's which) */
+            continue;
         glGetTextureImage(depth[k], 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(n * sizeof(float)), nearest);
         memcpy(mine, nearest, n * sizeof(float));
         /* A depth test keeps the nearest fragment: the same fragment wins
@@ -147,6 +149,8 @@ int lc_reduce_context(lc_renderer *r, const GLuint depth[2], const int w[2], con
      * nearest (alpha 1 there, 0 where it drew nothing), the sums go to process
      * 0, and alpha counts the processes that held it. The context enters the
      * picture once, as in one process. */
+    if (!n0)
+        return 0;
     glGetTextureImage(color, 0, GL_RGBA, GL_FLOAT, (GLsizei)(4 * n0 * sizeof(float)), rgba);
     for (size_t i = 0; i < n0; i++)
         if (mine[i] != nearest[i] || rgba[4 * i + 3] <= 0.0f)

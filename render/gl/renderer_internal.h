@@ -446,9 +446,12 @@ const lc_frame_setup *lc_frame_layer(const lc_frame_setup *fs, int i, lc_frame_s
 /* The same for the visible context layers (NULL for the others), and whether there is one. */
 const lc_frame_setup *lc_frame_context_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp);
 int lc_frame_has_context(const lc_frame_setup *fs);
-/* ---- context.c: draws the context layers' depth at both resolutions and
- * colour (sets fs->context_*; nothing without a context layer). */
-int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* ---- context.c: draws the context layers' depth at the output (LC_CONTEXT_FULL,
+ * with their colour) and the optimization resolution (LC_CONTEXT_LOW), for fs's
+ * view and size (a tile's, a jittered sample's), and sets fs->context_* of
+ * those; nothing without a context layer. */
+enum { LC_CONTEXT_FULL = 1, LC_CONTEXT_LOW = 2 };
+int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, int which, lc_error *err);
 void lc_context_destroy(lc_renderer *r);
 /* ---- markers.c: time.markers, drawn opaque over the frame's output (docs/ALGORITHM.md §26); nothing unless the
  * request asks for them on lines under a window. */

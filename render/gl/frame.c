@@ -298,11 +298,11 @@ static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *r
     float *sum = malloc(n * sizeof *sum);
     if (!sum)
         return lc_err(err, LC_ERR_NOMEM, "out of memory (antialias sums)");
+    int rc = lc_markers_draw(r, fs, err); /* over every sample: the markers are smoothed as the lines are */
     lc_renderer_readback(r, fs, rgba);
     for (size_t i = 0; i < n; i++)
         sum[i] = rgba[i];
     const lc_view base = fs->view;
-    int rc = 0;
     for (int i = 1; i < samples && !rc; i++) {
         fs->view = base;
         /* The shift is in pixels of the whole frame, which a tile's projection covers. */
@@ -311,6 +311,8 @@ static int antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *r
         rc = lc_context_draw(r, fs, LC_CONTEXT_FULL, err); /* the context of this sample's view */
         if (!rc)
             rc = composite(r, fs, err);
+        if (!rc)
+            rc = lc_markers_draw(r, fs, err);
         if (!rc) {
             lc_renderer_readback(r, fs, rgba);
             for (size_t j = 0; j < n; j++)
@@ -415,6 +417,8 @@ static int render_tiles(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
                 int ignored = 0;
                 rc = lc_color_equalize_measure(r, fs, direct, &ignored, err);
             }
+            if (!rc && samples <= 1)
+                rc = lc_markers_draw(r, fs, err); /* the tile's part of them (antialias draws its own) */
             if (!rc && samples > 1)
                 rc = antialias(r, fs, samples, tile, err);
             else if (!rc)
@@ -456,7 +460,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     const lc_scene *checked[LC_MAX_LAYERS];
     for (int i = 0; i < (layers ? n : 1); i++)
         checked[i] = scenes[i]->scene;
-    if (rc || (rc = lc_render_check(checked, layers, layers ? n : 1, params, r->desc.tile_size, err)) != 0)
+    if (rc || (rc = lc_render_check(checked, layers, layers ? n : 1, params, err)) != 0)
         return rc;
     const lc_scene *s = gs->scene;
     uint32_t elements = s->elements.count;

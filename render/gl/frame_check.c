@@ -149,7 +149,7 @@ static int check_clusters(const lc_scene *s, const lc_render_params *p, lc_error
 }
 
 int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
-                    int tile_size, lc_error *err)
+                    lc_error *err)
 {
     if (p->method == LC_METHOD_SURFACE_LAYERS) /* a field's surface: lc_surface_render checks its own */
         return 0;
@@ -176,13 +176,6 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
             (rc = check_clusters(s, p, err)) != 0)
             return rc;
     }
-    int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
-    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
-    int jittered = composites && p->style.antialias > 1;
-    if (p->time.markers && p->time.has_window && (tiles || jittered)) /* drawn once over the image */
-        return lc_err_field(err, LC_ERR_INVALID, "time.markers",
-                            "markers are drawn over one untiled, unjittered image: %s",
-                            tiles ? "render at most 4096x4096" : "antialias 1");
     if (p->foo.guard_band > 0 && p->foo.depth_range == LC_DEPTH_RANGE_PIXEL)
         return lc_err_field(err, LC_ERR_INVALID, "params.guardBand",
                             "the optimization's wider view needs depthRange \"global\", \"moments\" or \"auto\", "

@@ -11,8 +11,8 @@
  * - time.markers: where each front line leaves the window, its position at
  *   t1 (interpolated on the segment that crosses t1, beyond the last drawn
  *   vertex) is lit with markers and dark without, in the line's colour, with
- *   the opaque and the Fourier method; markers with antialias are refused
- *   naming time.markers. */
+ *   the opaque and the Fourier method; antialiased and tiled stills draw them
+ *   over every sample and tile (a tiled frame equals the untiled one). */
 #include <math.h>
 
 #include "colormap.h"
@@ -276,10 +276,34 @@ static void check_markers(test_gl *t, const lc_scene *s)
     printf("marker pixels (bytes changed): %d at full size, %d at pixel_scale 0.5\n", full, half);
     CHECK(rc == 0 && half > 0 && half < 0.6 * full, "markers at pixel_scale 0.5 cover less: %d against %d bytes",
           half, full);
+    /* Antialiased and tiled stills draw the markers over every sample and tile:
+     * the antialiased markers light their pixels, the tiled frame equals the untiled one. */
+    static uint8_t tiled[SIZE * SIZE * 4];
     params(&p, LC_METHOD_FOURIER, 1);
     p.time.markers = true;
-    p.style.antialias = 2;
-    expect_error(t, s, &p, "time.markers");
+    p.style.shading = LC_SHADING_NONE;
+    rc = render(t, s, &p, with, &err);
+    p.style.antialias = 4;
+    rc |= render(t, s, &p, tiled, &err);
+    double frac;
+    const uint8_t *on = pixel(tiled, marker_x(2, &frac), line_y(2)), *plain = pixel(with, marker_x(2, &frac), line_y(2));
+    printf("antialias 4: marker of line 2 at %d %d %d (one sample: %d %d %d)\n", on[0], on[1], on[2], plain[0],
+           plain[1], plain[2]);
+    CHECK(rc == 0 && on[0] + on[1] + on[2] > 0, "markers with antialias 4 light the marker's pixel (%s)", err.msg);
+    p.style.antialias = 1;
+    lc_renderer *tiler = NULL;
+    lc_renderer_desc desc = {.tile_size = 48};
+    lc_gpu_scene *gs = NULL;
+    lc_gpu_scene_desc gdesc = {.exact_positions = 1};
+    lc_frame_info info = {0};
+    rc = lc_renderer_create(&desc, &tiler, &err) || lc_gpu_scene_create_ex(s, &gdesc, &gs, &err) ||
+         lc_render_frame(tiler, gs, &p, NULL, 0, tiled, &info, &err);
+    double ssim = rc ? 0 : lc_image_ssim(with, tiled, SIZE, SIZE);
+    printf("markers on %d tiles of 48: SSIM %.6f against the untiled frame\n", info.tiles, ssim);
+    CHECK(rc == 0 && info.tiles > 1 && ssim >= 0.999, "tiled markers: %d tiles, SSIM %.6f (%s)", info.tiles, ssim,
+          err.msg);
+    lc_gpu_scene_destroy(gs);
+    lc_renderer_destroy(tiler);
 }
 
 static void check_errors(test_gl *t, const lc_scene *timed)

@@ -9,7 +9,7 @@ field's default is answered 400 naming the field, and a WebSocket session's
 before any frame of that update (the session's request unchanged: the next
 update renders). The same value where the field applies passes that check
 (no 400 saying it does not apply). Refusals the renderer used to raise from a
-frame (a context layer with antialiasing, a guard band with depthRange
+frame (a context layer of points, a guard band with depthRange
 "pixel", an attribute a dataset lacks) are answered the same way."""
 import asyncio
 import json
@@ -135,8 +135,8 @@ with Server(binary, data=tuple(KIND_DATASET.values()) + ("demo:abc-flow",), demo
 
     # The renderer's own refusals, now answered when the request arrives.
     for body, field in (
-            ({"layers": [{"dataset": "demo:tornado"}, {"dataset": "demo:surface", "role": "context"}],
-              "style": {"antialias": 2}}, "style.antialias"),
+            ({"layers": [{"dataset": "demo:tornado"}, {"dataset": "demo:points", "role": "context"}]},
+             "layers[1].role"),
             ({"dataset": "demo:tornado", "params": {"guardBand": 0.1, "depthRange": "pixel"}}, "params.guardBand"),
             ({"dataset": "demo:tornado", "color": {"attribute": "nope"}}, "color.attribute"),
             ({"dataset": "demo:points", "time": {"window": [0, 1], "attribute": "nope"}}, "time.attribute")):

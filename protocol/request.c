@@ -435,7 +435,7 @@ static void layer_request(lc_request *r, const lc_layer_params *p)
 {
     lc_request_default(r);
     r->render.importance = p->importance, r->render.color = p->color, r->render.style = p->style;
-    r->render.filter_count = p->filter_count, r->render.time = p->time;
+    r->render.filter_count = p->filter_count, r->render.time = p->time, r->render.clusters = p->clusters;
     memcpy(r->render.filters, p->filters, sizeof p->filters);
 }
 
@@ -460,6 +460,7 @@ static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p,
     } else {
         p->importance = scratch->render.importance, p->color = scratch->render.color, p->style = scratch->render.style;
         p->filter_count = scratch->render.filter_count, p->time = scratch->render.time;
+        p->clusters = scratch->render.clusters;
         memcpy(p->filters, scratch->render.filters, sizeof p->filters);
     }
     free(scratch);

@@ -10,7 +10,7 @@
 
 static const char *const role_names[] = {"transparent", "context", NULL}; /* lc_layer_role */
 static const char *const layer_keys[] = {"dataset", "role", "visible", "importance", "color", "style",
-                                         "filter", "time", NULL};
+                                         "filter", "time", "lines", NULL};
 
 /* The style keys that belong to a layer; the rest (background, halos,
  * antialias, silhouettes) are the frame's. */
@@ -53,7 +53,7 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
                 return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected true or false");
             out->p.visible = json_is_true(m);
         } else if (strcmp(key, "importance") == 0 || strcmp(key, "color") == 0 || strcmp(key, "style") == 0 ||
-                   strcmp(key, "time") == 0 || strcmp(key, "filter") == 0) {
+                   strcmp(key, "time") == 0 || strcmp(key, "filter") == 0 || strcmp(key, "lines") == 0) {
             if (strcmp(key, "filter") != 0 && !json_is_object(m)) /* filter: an array, the request's own check */
                 return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected an object");
             const char *sk;
@@ -79,7 +79,8 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
             }
         } else {
             return lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, field,
-                             "unknown field (a layer has dataset, role, visible, importance, color, style, filter, time)");
+                             "unknown field (a layer has dataset, role, visible, importance, color, style, filter, time, "
+                                      "lines)");
         }
     }
     if (!out->dataset[0]) {
@@ -140,6 +141,8 @@ json_t *lc_proto_layers_json(const lc_request_layer *layers, int n, lc_layer_emi
             json_object_set_new(o, "filter", emit(&l->p, "filter"));
         if (l->p.time.has_window)
             json_object_set_new(o, "time", emit(&l->p, "time"));
+        if (l->p.clusters.count > 0)
+            json_object_set_new(o, "lines", emit(&l->p, "lines"));
         json_array_append_new(arr, o);
     }
     return arr;

@@ -283,6 +283,7 @@ typedef struct lc_layer_params {
     int filter_count; /* the layer's filters and time window, as a frame of its dataset alone has them */
     lc_filter filters[LC_MAX_FILTERS];
     lc_time_window time;
+    lc_line_cluster_params clusters; /* lines: the layer's own clustering (count 0 = off) */
 } lc_layer_params;
 /* The defaults of a layer: visible, transparent, lc_render_params_default's mapping and style. */
 void lc_layer_params_default(lc_layer_params *l);

@@ -108,7 +108,7 @@ void lc_renderer_destroy(lc_renderer *r)
     glDeleteFramebuffers(1, &r->nofb);
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
-                     r->point_histogram,   r->point_list,         r->line_mask,
+                     r->point_histogram,   r->point_list,
                      r->element_behind,      r->color_histogram, r->element_g,
                      r->line_select,       r->line_kept};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
@@ -120,6 +120,9 @@ void lc_renderer_destroy(lc_renderer *r)
     glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
     glDeleteVertexArrays(1, &r->vao);
     lc_filter_release(r);
+    for (int i = 0; i < LC_MAX_LAYERS; i++)
+        if (r->line_masks[i].buffer)
+            glDeleteBuffers(1, &r->line_masks[i].buffer);
     free(r->importance_cache);
     free(r->reduce_buf);
     free(r);

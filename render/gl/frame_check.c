@@ -21,7 +21,7 @@ static int check_layered(const lc_scene *const *scenes, const lc_layer_params *l
     if (p->time.has_window)
         return lc_err_field(err, LC_ERR_INVALID, "time.window", "a layered frame's time windows are its layers': layers[i].time");
     if (p->clusters.count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "line clusters apply to one dataset, not to layers");
+        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "a layered frame's clusters are its layers': layers[i].lines");
     if (p->color.equalize)
         return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "not with layers");
     if (p->foo.guard_band > 0)
@@ -134,16 +134,20 @@ static int check_filters(const lc_scene *s, const lc_filter *filters, int count,
                         s->name, prefix);
 }
 
-static int check_clusters(const lc_scene *s, const lc_render_params *p, lc_error *err)
+/* lines.clusters of one dataset (prefix: "" or "layers[i]."). */
+static int check_clusters(const lc_scene *s, const lc_line_cluster_params *c, const char *prefix, lc_error *err)
 {
-    if (p->clusters.count <= 0 || s->type != LC_PRIM_LINES)
-        return 0; /* other kinds: protocol's scope table refuses lines.* */
+    char field[48];
+    snprintf(field, sizeof field, "%slines.clusters", prefix);
+    if (c->count > 0 && s->type != LC_PRIM_LINES && prefix[0]) /* one dataset: protocol's scope table refuses lines.* */
+        return lc_err_field(err, LC_ERR_INVALID, field, "%s is not lines: clusters group lines", s->name);
+    if (c->count <= 0 || s->type != LC_PRIM_LINES)
+        return 0;
     if (s->line_count > LC_CLUSTER_MAX_LINES)
-        return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
-                            "%s has %u lines; clustering is limited to %u lines", s->name, s->line_count,
-                            LC_CLUSTER_MAX_LINES);
+        return lc_err_field(err, LC_ERR_UNSUPPORTED, field, "%s has %u lines; clustering is limited to %u lines",
+                            s->name, s->line_count, LC_CLUSTER_MAX_LINES);
     if (s->part_of > 0 || s->vertex_base > 0)
-        return lc_err_field(err, LC_ERR_UNSUPPORTED, "lines.clusters",
+        return lc_err_field(err, LC_ERR_UNSUPPORTED, field,
                             "%s is split across processes; clustering needs every line in one process", s->name);
     return 0;
 }
@@ -162,7 +166,8 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
             snprintf(prefix, sizeof prefix, "layers[%d].", i);
             if ((rc = check_mapping(scenes[i], &layers[i].importance, &layers[i].color, prefix, err)) != 0 ||
                 (rc = check_filters(scenes[i], layers[i].filters, layers[i].filter_count, &layers[i].time, prefix,
-                                    err)) != 0)
+                                    err)) != 0 ||
+                (rc = check_clusters(scenes[i], &layers[i].clusters, prefix, err)) != 0)
                 return rc;
             if (layers[i].time.markers && layers[i].time.has_window) {
                 snprintf(prefix, sizeof prefix, "layers[%d].time.markers", i);
@@ -173,7 +178,7 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
         const lc_scene *s = scenes[0];
         if ((rc = check_mapping(s, &p->importance, &p->color, "", err)) != 0 || (rc = check_equalize(s, p, err)) != 0 ||
             (rc = check_filters(s, p->filters, p->filter_count, &p->time, "", err)) != 0 ||
-            (rc = check_clusters(s, p, err)) != 0)
+            (rc = check_clusters(s, &p->clusters, "", err)) != 0)
             return rc;
     }
     if (p->foo.guard_band > 0 && p->foo.depth_range == LC_DEPTH_RANGE_PIXEL)

@@ -58,13 +58,14 @@ static const lc_frame_setup *layer_setup(const lc_frame_setup *fs, const lc_laye
     tmp->filtered = l->filtered;
     tmp->filter_mask = l->filter_mask;
     tmp->pull_lines = l->pull_lines;
+    tmp->line_mask = l->line_mask;
+    tmp->line_mask_buffer = l->line_mask_buffer;
     /* The programs the caller picks next draw this layer: pulled segments
      * where its time window hides single ones (lc_renderer_geometry_program). */
     fs->renderer->pull_lines = l->pull_lines;
     /* Per-dataset aids that a layered frame does not offer (lc_render_layers refuses them). */
     tmp->point_stride = 1;
     tmp->kept_points = 0;
-    tmp->line_mask = 0;
     tmp->colormap_texture = 0;
     return tmp;
 }
@@ -130,17 +131,22 @@ int lc_frame_layers_prepare(lc_frame_setup *fs, const lc_gpu_scene *const *scene
         l->params.filter_count = in->filter_count;
         memcpy(l->params.filters, in->filters, sizeof l->params.filters);
         l->params.time = in->time;
+        l->params.clusters = in->clusters;
         lc_frame_setup tmp = *fs;
         tmp.gs = l->gs;
         tmp.params = &l->params;
         int rc = lc_frame_resolve_mapping(&tmp, err);
         if (rc == 0 && l->visible)
             rc = lc_filter_prepare(fs->renderer, &tmp, err);
+        if (rc == 0 && l->visible)
+            rc = lc_line_clusters_prepare(fs->renderer, &tmp, err);
         if (rc)
             return layer_error(err, i, rc);
         l->filtered = tmp.filtered;
         l->filter_mask = tmp.filter_mask;
         l->pull_lines = tmp.pull_lines;
+        l->line_mask = tmp.line_mask;
+        l->line_mask_buffer = tmp.line_mask_buffer;
         l->importance_attr = tmp.importance_attr;
         l->color_mode = tmp.color_mode;
         l->color_attr = tmp.color_attr;

@@ -221,10 +221,33 @@ out:
     return rc;
 }
 
+/* The mask slot for scene gs's current cut: the one holding it; else one not
+ * drawn with this frame, preferring gs's own, an empty one, the least recently used. */
+static struct lc_line_mask *pick_mask(lc_renderer *r, const lc_gpu_scene *gs, uint64_t stamp, int *fresh)
+{
+    struct lc_line_mask *best = NULL;
+    int rank = 0;
+    for (int i = 0; i < LC_MAX_LAYERS; i++) {
+        struct lc_line_mask *m = &r->line_masks[i];
+        if (m->buffer && m->scene == gs && m->stamp == stamp) {
+            *fresh = 0;
+            return m;
+        }
+        if (m->buffer && m->used == r->filter_frame) /* another layer of this frame draws with it */
+            continue;
+        int k = m->scene == gs ? 3 : !m->buffer ? 2 : 1;
+        if (k > rank || (k == rank && m->used < best->used))
+            best = m, rank = k;
+    }
+    *fresh = 1;
+    return best;
+}
+
 int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     const lc_render_params *p = fs->params;
     fs->line_mask = 0;
+    fs->line_mask_buffer = 0;
     if (p->clusters.count <= 0)
         return 0;
     lc_line_clusters *lc = fs->gs->clusters;
@@ -239,17 +262,24 @@ int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     pthread_mutex_lock(&lc->lock);
     int rc = cut_locked(lc, fs, err);
     fs->info->clusters_ms = (lc_now() - t0) * 1e3;
-    if (rc == 0 && (r->line_mask_scene != fs->gs || r->line_mask_stamp != lc->stamp)) {
+    int fresh = 0;
+    struct lc_line_mask *m = rc == 0 ? pick_mask(r, fs->gs, lc->stamp, &fresh) : NULL;
+    if (rc == 0 && !m) /* more clustered layers than masks: there are LC_MAX_LAYERS of both */
+        rc = lc_err(err, LC_ERR_INTERNAL, "more clustered layers than line masks");
+    if (m && fresh) {
         size_t bytes = ((size_t)lc->vertex_count + 31) / 32 * 4;
-        if (!r->line_mask)
-            glCreateBuffers(1, &r->line_mask);
-        glNamedBufferData(r->line_mask, (GLsizeiptr)bytes, lc->bits, GL_DYNAMIC_DRAW);
-        r->bytes_targets += bytes - r->line_mask_bytes;
-        r->line_mask_bytes = bytes;
-        r->line_mask_scene = fs->gs;
-        r->line_mask_stamp = lc->stamp;
+        if (!m->buffer)
+            glCreateBuffers(1, &m->buffer);
+        glNamedBufferData(m->buffer, (GLsizeiptr)bytes, lc->bits, GL_DYNAMIC_DRAW);
+        r->bytes_targets += bytes - m->bytes;
+        m->bytes = bytes;
+        m->scene = fs->gs;
+        m->stamp = lc->stamp;
     }
     pthread_mutex_unlock(&lc->lock);
-    fs->line_mask = rc == 0;
+    if (m)
+        m->used = r->filter_frame;
+    fs->line_mask = m != NULL;
+    fs->line_mask_buffer = m ? m->buffer : 0;
     return rc;
 }

@@ -234,7 +234,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_i(prog, "u_keep_bin", fs->kept_points ? fs->keep_bin : POINT_BINS + 1);
     lc_uniform_i(prog, "u_point_list", 0);
     lc_uniform_i(prog, "u_line_mask", fs->line_mask);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_MASK, fs->line_mask ? r->line_mask : r->dummy_buffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_LINE_MASK, fs->line_mask ? fs->line_mask_buffer : r->dummy_buffer);
     if (fs->kept_points)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POINT_LIST, r->point_list);
     lc_uniform_i(prog, "u_importance_attr", fs->importance_attr);

@@ -333,10 +333,13 @@ struct lc_renderer {
     float *reduce_buf;
     size_t reduce_cap;
     uint64_t bytes_targets, bytes_elements;
-    /* line_clusters.c: the uploaded mask, and whose cut it holds. */
-    GLuint line_mask;
-    uint64_t line_mask_bytes, line_mask_stamp;
-    const lc_gpu_scene *line_mask_scene;
+    /* line_clusters.c: the uploaded masks (one per clustered layer a frame
+     * draws), whose cut each holds and the frame that last drew with it. */
+    struct lc_line_mask {
+        GLuint buffer;
+        uint64_t bytes, stamp, used;
+        const lc_gpu_scene *scene;
+    } line_masks[LC_MAX_LAYERS];
     /* color_equalize.c: the histogram buffer, the equalized colormap, and the
      * last equalized frame's histogram and transfer (lc_renderer_color_histogram). */
     GLuint color_histogram, equalized_tex;
@@ -404,6 +407,7 @@ typedef struct lc_frame_setup {
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
+    GLuint line_mask_buffer;
     GLuint colormap_texture; /* color_equalize.c: the equalized colormap; 0 = fs->colormap's */
     /* Tiled stills (frame.c): while tiled, width x height is the tile, whose
      * lower-left pixel sits at tile_origin (GL's bottom-up pixels) of the
@@ -436,6 +440,8 @@ typedef struct lc_layer_setup {
     int context; /* role "context": drawn opaque by context.c, in no transparent pass */
     int filtered, pull_lines; /* the layer's filters and time window (lc_filter_prepare) */
     GLuint filter_mask;
+    int line_mask; /* the layer's lines.clusters (lc_line_clusters_prepare) */
+    GLuint line_mask_buffer;
 } lc_layer_setup;
 /* Geometry passes loop i over 0..lc_frame_layer_count(fs)-1: lc_frame_layer
  * returns the setup to draw layer i with (fs itself for a frame of one
@@ -485,9 +491,10 @@ typedef struct lc_line_clusters lc_line_clusters;
 int lc_line_clusters_create(const lc_scene *s, lc_line_clusters **out, lc_error *err);
 void lc_line_clusters_destroy(lc_line_clusters *lc);
 uint64_t lc_line_clusters_bytes(const lc_line_clusters *lc);
-/* The frame's lines.clusters: builds the dendrogram on first use (cached with
- * the GPU scene for one linkage, lift and mapping), cuts it, uploads the
- * mask to r->line_mask and sets fs->line_mask. Thread-safe across renderers. */
+/* The frame's (or a layer's) lines.clusters: builds the dendrogram on first
+ * use (cached with the GPU scene for one linkage, lift and mapping), cuts it,
+ * uploads the mask to one of r->line_masks and sets fs->line_mask and
+ * fs->line_mask_buffer. Thread-safe across renderers. */
 int lc_line_clusters_prepare(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 /* ---- point_subset.c */

@@ -6,8 +6,8 @@
 // Layers: adding the dump to the points makes a two-layer session (the points stay layer 1) whose
 // frames differ from the points alone, with a legend line per layer; hiding the dump brings the
 // points' picture back; a layer's colour attribute and role go to the server (the legend follows); a time
-// window and a filter typed into the dump's row go as layers[1].time / layers[1].filter (the window changes
-// the picture) and into the link; the link reopens both layers in a new session; removing them returns to the single dataset.
+// window, a filter and a cluster count typed into the dump's row go as layers[1].time / .filter / .lines
+// (the window changes the picture) and into the link; the link reopens both layers in a new session; removing them returns to the single dataset.
 //
 //   node tests/browser/scenes.mjs --binary build/lucent
 //
@@ -283,6 +283,12 @@ try {
   await settled3(f);
   const filteredLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
   check(!filteredLayer.err && /"over":"min","gt":5/.test(filteredLayer.hash), `a filter on the dump layer: no error, in the link (${JSON.stringify(filteredLayer.err)}; ${filteredLayer.hash.slice(0, 300)})`);
+  f = await lastFrame();
+  await typed('Clusters', '3');
+  await page3.waitForFunction(() => /"lines":\{"clusters":3\}/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await settled3(f);
+  const clusteredLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
+  check(!clusteredLayer.err && /"lines":\{"clusters":3\}/.test(clusteredLayer.hash), `clusters on the dump layer: no error, in the link (${JSON.stringify(clusteredLayer.err)})`);
 
   // The screenshot's and the movie's request (renderRequest, the Record group's too) carries the layers shown.
   await page3.locator('#shot-size').selectOption('custom');

@@ -1,7 +1,10 @@
 /* lines.clusters: a frame with the dendrogram cut into k clusters equals a
  * frame of a scene holding only the k representative lines (opaque method,
  * same camera, width and mappings); the cut changes per frame without a
- * reload; scenes without lines ignore it. */
+ * reload; scenes without lines ignore it. Layers take their own cut: one
+ * layer with clusters is the plain clustered frame byte for byte, the same
+ * lines as two layers with two counts draw each with its own mask, and a
+ * layer of points with clusters is refused naming layers[i].lines.clusters. */
 #include <math.h>
 
 #include "camera.h"
@@ -173,6 +176,35 @@ int main(void)
         CHECK(render(&t, gs, &p, other, &err) == 0, "%s with clusters: %s", lc_method_name(methods[m]), err.msg);
     }
 
+    /* Layers with their own cuts (Fourier). */
+    p.method = LC_METHOD_FOURIER;
+    uint8_t *two = malloc(SIZE * SIZE * 4), *same = malloc(SIZE * SIZE * 4);
+    lc_layer_params lp[2];
+    lc_layer_params_default(&lp[0]);
+    lp[0].importance = p.importance, lp[0].color = p.color, lp[0].style = p.style;
+    lp[0].clusters = p.clusters;
+    lc_render_params lq = p;
+    lq.clusters.count = 0;
+    const lc_gpu_scene *pair[2] = {gs, gs};
+    CHECK(render(&t, gs, &p, ref, &err) == 0 &&
+              lc_render_layers(t.renderer, pair, lp, 1, &lq, NULL, 0, other, NULL, &err) == 0,
+          "one clustered layer: %s", err.msg);
+    CHECK(memcmp(ref, other, SIZE * SIZE * 4) == 0, "one layer with clusters equals the plain clustered frame");
+    lp[1] = lp[0];
+    lp[1].clusters.count = 3 * CLUSTERS;
+    int rc = lc_render_layers(t.renderer, pair, lp, 2, &lq, NULL, 0, two, NULL, &err);
+    lp[1].clusters.count = CLUSTERS;
+    rc |= lc_render_layers(t.renderer, pair, lp, 2, &lq, NULL, 0, same, NULL, &err);
+    int differ_low = memcmp(two, same, SIZE * SIZE * 4) != 0;
+    lp[0].clusters.count = lp[1].clusters.count = 3 * CLUSTERS;
+    rc |= lc_render_layers(t.renderer, pair, lp, 2, &lq, NULL, 0, same, NULL, &err);
+    int differ_high = memcmp(two, same, SIZE * SIZE * 4) != 0;
+    CHECK(rc == 0 && differ_low && differ_high,
+          "one dataset as two layers with %d and %d clusters differs from both with either count (%d, %d): %s",
+          CLUSTERS, 3 * CLUSTERS, differ_low, differ_high, err.msg);
+    free(two);
+    free(same);
+
     /* A point cloud has no lines to cluster: it ignores the field, as lines
      * ignore style.pointSize, and draws the same frame. */
     lc_scene *pts = NULL;
@@ -186,6 +218,16 @@ int main(void)
     pp.clusters.count = 5;
     CHECK(render(&t, gpts, &pp, other, &err) == 0 && memcmp(ref, other, 64 * 64 * 4) == 0,
           "points ignore lines.clusters: %s", err.msg);
+    /* ... but a layer of points says so: its clusters are the layer's own field. */
+    const lc_gpu_scene *mixed[2] = {gs, gpts};
+    lc_layer_params ml[2];
+    lc_layer_params_default(&ml[0]);
+    lc_layer_params_default(&ml[1]);
+    ml[1].clusters.count = 5;
+    pp.clusters.count = 0;
+    CHECK(lc_render_layers(t.renderer, mixed, ml, 2, &pp, NULL, 0, other, NULL, &err) != 0 &&
+              strcmp(err.field, "layers[1].lines.clusters") == 0,
+          "clusters on a layer of points are refused naming layers[1].lines.clusters (\"%s\")", err.field);
 
     lc_gpu_scene_destroy(gpts);
     lc_scene_destroy(pts);

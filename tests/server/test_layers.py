@@ -12,7 +12,7 @@ same request; after a camera move its last still matches the HTTP render of
 that camera (SSIM >= 0.99: the fading may leave a trace); a change of the
 layer set (one layer, then the points alone) renders on fresh opacities; an
 unknown layer dataset in an update is refused naming layers[i].dataset and the
-session goes on. A layer's own filter changes the image, by POST and GET alike,
+session goes on. A layer's own filter (and its own clustering) changes the image, by POST and GET alike,
 beside a context surface too, and its errors name layers[i].filter[k].*, layers[i].time.*. A scripted HTTP session of the two layers renders the
 one-shot image."""
 import json
@@ -220,6 +220,13 @@ with Server(binary, "--still-delay", "1000", data=("demo:points", "demo:tornado"
     error(srv, {"layers": [dict(ctx[0], filter=long_lines), LAYERS[1]]}, 400, "layers[0].filter[0].attribute",
           "a filter on a surface layer")
     error(srv, {"layers": LAYERS, "filter": long_lines}, 400, "filter", "the request's own filter with layers")
+    st, _, clustered = render(srv, {"layers": [LAYERS[0], dict(LAYERS[1], lines={"clusters": 10})]})
+    check(st == 200 and clustered not in (both, filtered), "a layer's own clustering renders and changes the image "
+          "(%d)" % st)
+    error(srv, {"layers": [dict(LAYERS[0], lines={"clusters": 10}), LAYERS[1]]}, 400, "layers[0].lines.clusters",
+          "clusters on a layer of points")
+    error(srv, {"layers": LAYERS, "lines": {"clusters": 10}}, 400, "lines.clusters",
+          "the request's own clusters with layers")
     sessions(srv)
     if websockets is not None:
         import asyncio

@@ -1,8 +1,8 @@
 // The layer list (issue 27; docs/ALGORITHM.md §24): several of the server's datasets in one view. Adding a
 // layer turns the view into a layered scene whose first layer is the dataset shown so far; each layer can be
 // hidden, drawn as opaque context (lines and surfaces), given its own importance and colour attribute, and
-// its own time window (datasets with a time attribute) and filter (lines and points), as the request's
-// layers[i].time and layers[i].filter.
+// its own time window (datasets with a time attribute), filter (lines and points) and clustering (lines), as
+// the request's layers[i].time, layers[i].filter and layers[i].lines.
 // Every edit sends the whole list as `layers` through the params controller, so the session draws it in its
 // next frame (a change of the layers' datasets starts its opacities afresh) and the link carries it
 // (layers=[...]). Removing every layer but none (the last one's ×) goes back to the single dataset. The legend
@@ -28,14 +28,15 @@ export function addLayer(layers, current, name) {
 
 /**
  * The list with layer i's field set: visible, role, importance.attribute or color.attribute ('' = the
- * dataset's default), time ({window: [t0, t1]}, undefined = none) or filter (an array, [] or undefined = none).
+ * dataset's default), time ({window: [t0, t1]}, undefined = none), filter (an array, [] or undefined = none) or
+ * lines ({clusters: n}, undefined = every line).
  */
 export function setLayer(layers, i, path, value) {
   return layers.map((l, k) => {
     if (k !== i) return l;
     const out = { ...l, importance: l.importance && { ...l.importance }, color: l.color && { ...l.color } };
     if (path === 'visible' || path === 'role') out[path] = value;
-    else if (path === 'time' || path === 'filter') {
+    else if (path === 'time' || path === 'filter' || path === 'lines') {
       if (value === undefined || (Array.isArray(value) && !value.length)) delete out[path];
       else out[path] = value;
     } else {
@@ -171,6 +172,15 @@ export function createLayersController(ctx) {
           if (list.length || !fAttr.value) ctx.apply('layers', setLayer(current(), i, 'filter', list)); // else: the value comes
         };
         sections.append(el('span', { className: 'layer-filter' }, fAttr, fOver, fOp, fValue));
+      }
+      if (info?.type === 'lines') {
+        const n = el('input', { type: 'number', min: 0, step: 1, placeholder: 'all', title: 'Clusters (one representative line each; empty: every line)', value: l.lines?.clusters ?? '' });
+        n.setAttribute('aria-label', `Clusters of layer ${i + 1}`);
+        n.addEventListener('change', () => {
+          const k = Number.parseInt(n.value, 10);
+          ctx.apply('layers', setLayer(current(), i, 'lines', Number.isFinite(k) && k > 0 ? { clusters: k } : undefined));
+        });
+        sections.append(el('label', { className: 'layer-clusters' }, 'clusters ', n));
       }
       if (sections.childNodes.length) row.append(sections);
       row.dataset.index = String(i);

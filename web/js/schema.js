@@ -113,7 +113,7 @@ export const REQUEST_TOP_FIELDS = Object.freeze([
   { section: null, name: 'format', alias: 'format', type: 'enum', values: ['png', 'jpeg', 'jpg'] },
   { section: null, name: 'quality', alias: 'quality', type: 'int', min: 1, max: 100 },
   { section: null, name: 'dt', alias: 'dt', type: 'num', min: 0, max: 3600 },
-  { section: null, name: 'layers', alias: 'layers', type: 'layers', maxItems: 8, keys: ['dataset', 'role', 'visible', 'importance', 'color', 'style', 'filter', 'time'] },
+  { section: null, name: 'layers', alias: 'layers', type: 'layers', maxItems: 8, keys: ['dataset', 'role', 'visible', 'importance', 'color', 'style', 'filter', 'time', 'lines'] },
 ]);
 
 // Stream settings of the WebSocket session (hello/params top level), not part of a render request.

@@ -39,6 +39,8 @@ test("a layer's time window and filter: set from typed values, cleared when inco
   const filtered = setLayer(l, 0, 'filter', layerFilter('g', 'mean', 'gt', '0.5'));
   assert.deepEqual(filtered[0].filter, [{ attribute: 'g', over: 'mean', gt: 0.5 }]);
   assert.deepEqual(setLayer(filtered, 0, 'filter', [])[0], { dataset: 'a' });
+  assert.deepEqual(setLayer(l, 1, 'lines', { clusters: 12 })[1], { dataset: 'b', lines: { clusters: 12 } });
+  assert.deepEqual(setLayer(setLayer(l, 1, 'lines', { clusters: 12 }), 1, 'lines', undefined)[1], { dataset: 'b' });
   assert.equal(l[1].time, undefined); // the input is left alone
 });
 

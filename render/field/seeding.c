@@ -100,9 +100,9 @@ int lc_seeding_check(const lc_field *f, const lc_seeding_desc *d, lc_error *err)
 typedef struct occupancy {
     double lo[3], cell, sep2;
     int dims[3];
-    int32_t *head;      /* first vertex of each cell, -1 = none */
-    int32_t *next;      /* the next vertex of the same cell */
-    double *xyz;        /* 3 per vertex */
+    int32_t *head; /* first vertex of each cell, -1 = none */
+    int32_t *next; /* the next vertex of the same cell */
+    double *xyz;   /* 3 per vertex */
     uint32_t n, cap;
 } occupancy;
 
@@ -218,8 +218,8 @@ static int trace_density(const lc_field *f, const lc_seeding_desc *d, lc_trace_c
         double p[3], v[3];
         lc_seeding_halton(lo, hi, k, p);
         st->candidates++;
-        if (!lc_field_sample(f, p, d->trace.t0 != 0 ? d->trace.t0 : f->t0, v) || (v[0] == 0 && v[1] == 0 && v[2] == 0) ||
-            occupied(&o, p))
+        if (!lc_field_sample(f, p, d->trace.t0 != 0 ? d->trace.t0 : f->t0, v) ||
+            (v[0] == 0 && v[1] == 0 && v[2] == 0) || occupied(&o, p))
             continue;
         lc_trace_curve *c = &curves[*kept];
         rc = lc_trace_points(f, p, 1, &d->trace, 1, c, err);

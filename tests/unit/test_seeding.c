@@ -106,8 +106,7 @@ static void test_rake_and_box(void)
               "curve %u starts at (%g %g %g), want (%g %g %g)", i, c[i].xyz[0], c[i].xyz[1], c[i].xyz[2], want[0],
               want[1], want[2]);
         /* uniform flow along x: the curve runs from the seed to the face x = 1 */
-        CHECK(c[i].n > 2 && fabs(c[i].xyz[3 * (c[i].n - 1) + 1] - want[1]) < 1e-6 &&
-                  c[i].xyz[3 * (c[i].n - 1)] > 0.98f,
+        CHECK(c[i].n > 2 && fabs(c[i].xyz[3 * (c[i].n - 1) + 1] - want[1]) < 1e-6 && c[i].xyz[3 * (c[i].n - 1)] > 0.98f,
               "curve %u runs along x to the face", i);
     }
     lc_trace_curves_free(c, n);

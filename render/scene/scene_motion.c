@@ -102,7 +102,7 @@ int lc_scene_derive_motion(lc_scene *s, int *applied, lc_error *err)
     size_t bytes = (n ? n : 1) * sizeof(float);
     /* sources of rates: chosen before anything is added (attribute pointers move) */
     int src[LC_MOTION_MAX_RATES], nsrc = 0;
-    for (int i = 0; i < s->attribute_count && nsrc < LC_MOTION_MAX_RATES; i++) {
+    for (int i = 0; !s->trajectory.no_rates && i < s->attribute_count && nsrc < LC_MOTION_MAX_RATES; i++) {
         const lc_attribute *at = &s->attributes[i];
         if (i == ti || at->categorical || is_derived_name(at->name) || strlen(at->name) + 7 > LC_NAME_LEN)
             continue;

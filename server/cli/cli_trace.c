@@ -10,79 +10,9 @@
 #include "cli.h"
 #include "seeding.h"
 #include "stream_mesh.h"
+#include "streamlines.h"
 #include "trace.h"
 #include "vtk_field.h"
-
-/* Moves count curves into a line scene with their time, speed, seed
- * parameter and ghost normal as attributes; frees the curves' arrays. */
-static int curves_to_scene(const char *name, lc_trace_curve *c, uint32_t count, lc_scene **out, lc_error *err)
-{
-    uint64_t nv = 0;
-    uint32_t lines = 0;
-    for (uint32_t i = 0; i < count; i++)
-        if (c[i].n >= 2)
-            nv += c[i].n, lines++;
-    if (lines == 0)
-        return lc_err(err, LC_ERR_INVALID,
-                      "%s: no curve has two vertices (does the seed line lie in a stalled region?)", name);
-    if (nv > LC_MAX_VERTICES)
-        return lc_err(err, LC_ERR_LIMIT, "%s: %llu vertices exceed the limit of %u", name, (unsigned long long)nv,
-                      (unsigned)LC_MAX_VERTICES);
-    static const char *const names[] = {"time", "speed", "seed_u", "normal_x", "normal_y", "normal_z"};
-    lc_scene *s = lc_scene_create(name, LC_PRIM_LINES);
-    float *attr[6] = {0};
-    if (s) {
-        s->positions = malloc(3 * nv * sizeof *s->positions);
-        s->line_offsets = malloc(((size_t)lines + 1) * sizeof *s->line_offsets);
-        for (int k = 0; k < 6; k++)
-            attr[k] = malloc(nv * sizeof *attr[k]);
-    }
-    int ok = s && s->positions && s->line_offsets;
-    for (int k = 0; k < 6; k++)
-        ok = ok && attr[k];
-    if (!ok) {
-        for (int k = 0; k < 6; k++)
-            free(attr[k]);
-        lc_scene_destroy(s);
-        return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %llu vertices", name, (unsigned long long)nv);
-    }
-    uint32_t v = 0, l = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        if (c[i].n < 2)
-            continue;
-        s->line_offsets[l++] = v;
-        memcpy(s->positions + 3 * (size_t)v, c[i].xyz, 3 * (size_t)c[i].n * sizeof(float));
-        for (uint32_t k = 0; k < c[i].n; k++, v++) {
-            attr[0][v] = c[i].time[k];
-            attr[1][v] = c[i].speed[k];
-            attr[2][v] = (float)c[i].u;
-            for (int a = 0; a < 3; a++)
-                attr[3 + a][v] = c[i].normal[3 * k + a];
-        }
-    }
-    s->line_offsets[lines] = v;
-    s->vertex_count = v;
-    s->line_count = lines;
-    int rc = 0;
-    for (int k = 0; k < 6; k++) {
-        if (rc == 0) {
-            int idx = lc_scene_add_attribute(s, names[k], attr[k], err);
-            rc = idx < 0 ? idx : 0;
-        } else {
-            free(attr[k]);
-        }
-    }
-    if (rc == 0) {
-        snprintf(s->default_importance, sizeof s->default_importance, "speed");
-        rc = lc_scene_finalize(s, NULL, err);
-    }
-    if (rc) {
-        lc_scene_destroy(s);
-        return rc;
-    }
-    *out = s;
-    return 0;
-}
 
 /* Opens the field spec and parses the --seed-line text against it; *f is
  * NULL when the field did not open, else the caller's (also when the seed
@@ -206,7 +136,7 @@ int lc_cli_trace_scene(const char *spec, const char *seed_text, const lc_cli_str
     if (!rc) {
         char name[160];
         snprintf(name, sizeof name, "%s-%s", f->name, set ? "streamlines" : "curves");
-        rc = curves_to_scene(name, c, curves, out, err);
+        rc = lc_streamlines_scene(name, c, curves, out, err);
     }
     if (c)
         lc_trace_curves_free(c, curves);

@@ -148,6 +148,11 @@ grep -q "^lines       5 " "$tmp/out" && grep -q "^bounds *\[-0.90[0-9]*, -0.0" "
 expect_ok "gen density" "$LUCENT" gen demo:abc-flow --seeding density --count 20 -o "$tmp/dense.vtk"
 grep -q "^density seeding: 20 of [0-9]* candidates kept at separation" "$tmp/out" &&
   ok || bad "density seeding reports its candidates: $(head -3 "$tmp/out")"
+expect_ok "render a streamline set" "$LUCENT" render \
+  --dataset "streamlines:demo:shear-flow?seeding=rake&seeds=-0.5,-0.5,0;-0.5,0.5,0&count=5&length=0.4" \
+  --size 64x64 --out "$tmp/rake.png"
+expect_fail "streamline set key" "streamlines.direction: 'up' is not one of forward" "$LUCENT" info \
+  "streamlines:demo:shear-flow?direction=up"
 expect_fail "rake without ends" "gen: --seeding rake needs --seeds" "$LUCENT" gen demo:abc-flow --seeding rake -o "$tmp/x.vtk"
 expect_fail "bad direction" "gen: --direction: 'up' is not forward, backward or both" "$LUCENT" gen demo:abc-flow \
   --seed-line "1,1,1;2,2,2" --direction up -o "$tmp/x.vtk"

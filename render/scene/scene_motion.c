@@ -76,7 +76,7 @@ static void derive_rate(const float *v, const float *t, uint32_t a, uint32_t b, 
         }
         double dv = (double)v[from + 1] - v[from], dt = (double)t[from + 1] - t[from];
         delta[i] = (float)dv;
-        rate[i] = dt != 0 ? (float)(dv / dt) : 0.0f;
+        rate[i] = isfinite(dt) && dt != 0 ? (float)(dv / dt) : 0.0f;
     }
 }
 

@@ -19,10 +19,10 @@
  * outgoing segment over the xy plane, the last vertex: the incoming one) and,
  * for up to LC_MOTION_MAX_RATES measured file attributes A, "A_delta" (A of
  * the next vertex minus A here; the last vertex: the incoming segment's) and
- * "A_rate" (A_delta / Δt of that segment; 0 where Δt = 0; none when
- * s->trajectory.no_rates). *applied says
- * whether the scene qualified. Expects validated line offsets and categories
- * marked (a second finalize recomputes the same values). */
+ * "A_rate" (A_delta / Δt of that segment; 0 where Δt is 0 or not finite;
+ * none when s->trajectory.no_rates). *applied says whether the scene
+ * qualified. Expects validated line offsets and categories marked (a second
+ * finalize recomputes the same values). */
 int lc_scene_derive_motion(lc_scene *s, int *applied, lc_error *err);
 
 #endif

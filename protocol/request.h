@@ -43,6 +43,7 @@ typedef struct lc_surface_request {
     lc_surface_composite composite; /* layers (default), or a count-based OIT baseline */
     double color[3];                /* the surface's base colour */
     int curves_per_frame;           /* WebSocket sessions: curves traced and added per frame (default 200) */
+    int direction;                  /* lc_trace_direction: forward (default), backward, or both from the seed */
 } lc_surface_request;
 
 /* One render: which data, how big, which camera and parameters, which image. */

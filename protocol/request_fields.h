@@ -72,6 +72,7 @@ static const enum_name composite_names[] = {{"layers", LC_SURFACE_LAYERS},
                                             {"weighted-average", LC_SURFACE_WEIGHTED_AVERAGE},
                                             {"weighted-sum", LC_SURFACE_WEIGHTED_SUM},
                                             {NULL, 0}};
+static const enum_name direction_names[] = {{"forward", 0}, {"backward", 1}, {"both", 2}, {NULL, 0}};
 static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
@@ -191,6 +192,7 @@ static const field fields[] = {
     {"surface", "particles", "surfaceParticles", T_INT, 1, 100000, 0, OFF(surface.particles), 0, NOFLAG, NULL},
     {"surface", "step", "surfaceStep", T_NUM, 0, BIG, 0, OFF(surface.step), 0, NOFLAG, NULL},
     {"surface", "length", "surfaceLength", T_NUM, 0, BIG, 0, OFF(surface.length), 0, NOFLAG, NULL},
+    {"surface", "direction", "surfaceDirection", T_ENUM, 0, 0, 0, OFF(surface.direction), 0, NOFLAG, direction_names},
     {"surface", "epsilon", "surfaceEpsilon", T_NUM, 0, 1, 0, OFF(surface.epsilon), 0, NOFLAG, NULL},
     {"surface", "opacity", "surfaceOpacity", T_NUM, 0, 1, LO_OPEN, OFF(surface.opacity), 0, NOFLAG, NULL},
     {"surface", "maxLayers", "surfaceMaxLayers", T_INT, 1, 64, 0, OFF(surface.max_layers), 0, NOFLAG, NULL},

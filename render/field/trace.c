@@ -1,5 +1,6 @@
-/* Particle tracing for integral surfaces: seed sampling, RK4 with ghost
- * particles for normals, curves traced on CPU threads (trace.h). */
+/* Particle tracing for integral surfaces and streamline sets: seed sampling,
+ * RK4 forward, backward or both ways with ghost particles for normals, curves
+ * traced on CPU threads (trace.h). */
 #include "trace.h"
 
 #include <math.h>
@@ -99,6 +100,12 @@ void lc_trace_resolve(const lc_field *field, const lc_trace_desc *desc, lc_trace
 {
     *out = desc ? *desc : (lc_trace_desc){0};
     double diag = diagonal(field), vmax = field->mag_max > 0 ? field->mag_max : 1.0;
+    if (out->step < 0) { /* a negative step integrates into the past */
+        out->step = -out->step;
+        out->direction = out->direction == LC_TRACE_BACKWARD ? LC_TRACE_FORWARD
+                         : out->direction == LC_TRACE_FORWARD ? LC_TRACE_BACKWARD
+                                                               : LC_TRACE_BOTH;
+    }
     if (!(out->step > 0))
         out->step = diag / (200.0 * vmax);
     if (!(out->max_length > 0))
@@ -181,39 +188,39 @@ static void normal_at(const double v[3], const double d[3], double n[3])
             n[a] = c[a] / len;
 }
 
-/* Traces the particle at seed parameter u (and its ghost) into c. */
-static int trace_one(const lc_field *f, const lc_seed *seed, const lc_trace_desc *d, double u, lc_trace_curve *c)
+/* One direction of a particle from p (ghost offset along `across`, unit):
+ * RK4 steps of sign * d->step appended to c after its seed vertex, which is
+ * pushed first. The ghost's normal is cross(v, offset) with the field's v in
+ * both directions, so the halves of a two-way curve agree at the seed. */
+static int trace_half(const lc_field *f, const double seed_p[3], const double across[3], const lc_trace_desc *d,
+                      double sign, lc_trace_curve *c, uint32_t *cap)
 {
-    double p[3], tangent[3], g[3], v[3], n[3] = {0, 0, 1}, off[3];
-    uint32_t cap = 0;
-    memset(c, 0, sizeof *c);
-    c->u = u;
-    lc_seed_at(seed, u, p, tangent);
+    double p[3] = {seed_p[0], seed_p[1], seed_p[2]}, g[3], v[3], n[3] = {0, 0, 1}, off[3];
     const double delta = d->ghost_delta;
     for (int a = 0; a < 3; a++)
-        g[a] = p[a] + delta * tangent[a];
+        g[a] = p[a] + delta * across[a];
     double t = d->t0, length = 0.0;
     int inside = lc_field_sample(f, p, t, v);
     for (int a = 0; a < 3; a++)
         off[a] = g[a] - p[a];
     normal_at(v, off, n);
-    if (push(c, &cap, p, n, t, norm3(v)))
+    if (push(c, cap, p, n, t, norm3(v)))
         return LC_ERR_NOMEM;
     if (!inside)
         return 0;
     for (int step = 0; step < d->max_steps; step++) {
         double prev[3] = {p[0], p[1], p[2]};
-        double h = d->step;
-        if (t + h - d->t0 > d->max_time)
-            h = d->t0 + d->max_time - t;
-        if (!(h > 1e-9 * d->step) || !rk4(f, p, t, h)) /* a remainder of rounding is no step */
+        double h = d->step, elapsed = fabs(t - d->t0);
+        if (elapsed + h > d->max_time)
+            h = d->max_time - elapsed;
+        if (!(h > 1e-9 * d->step) || !rk4(f, p, t, sign * h)) /* a remainder of rounding is no step */
             break;
         double moved[3] = {p[0] - prev[0], p[1] - prev[1], p[2] - prev[2]};
         length += norm3(moved);
-        if (!rk4(f, g, t, h)) /* the ghost left the domain: put it back beside the particle */
+        if (!rk4(f, g, t, sign * h)) /* the ghost left the domain: put it back beside the particle */
             for (int a = 0; a < 3; a++)
                 g[a] = p[a] + off[a];
-        t += h;
+        t += sign * h;
         lc_field_sample(f, p, t, v);
         for (int a = 0; a < 3; a++)
             off[a] = g[a] - p[a];
@@ -222,12 +229,12 @@ static int trace_one(const lc_field *f, const lc_seed *seed, const lc_trace_desc
             /* Pulled back to Δ, keeping only its offset across the flow: the
              * normal depends on that part alone, and a ghost left to drift
              * along the flow would make cross(v, d) ill-conditioned. */
-            double speed = norm3(v), across[3];
+            double speed = norm3(v), acr[3];
             double along = speed > 0 ? dot3(off, v) / (speed * speed) : 0.0;
             for (int a = 0; a < 3; a++)
-                across[a] = off[a] - along * v[a];
-            double la = norm3(across);
-            const double *dir = la > 1e-12 * dist ? across : off;
+                acr[a] = off[a] - along * v[a];
+            double la = norm3(acr);
+            const double *dir = la > 1e-12 * dist ? acr : off;
             double ld = la > 1e-12 * dist ? la : dist;
             for (int a = 0; a < 3; a++) {
                 off[a] = delta * dir[a] / ld;
@@ -236,12 +243,71 @@ static int trace_one(const lc_field *f, const lc_seed *seed, const lc_trace_desc
             c->ghost_resets++;
         }
         normal_at(v, off, n);
-        if (push(c, &cap, p, n, t, norm3(v)))
+        if (push(c, cap, p, n, t, norm3(v)))
             return LC_ERR_NOMEM;
-        if (length >= d->max_length || t - d->t0 >= d->max_time || norm3(v) < 1e-12 * (f->mag_max + 1e-300))
+        if (length >= d->max_length || fabs(t - d->t0) >= d->max_time || norm3(v) < 1e-12 * (f->mag_max + 1e-300))
             break;
     }
     return 0;
+}
+
+/* Reverses vertices [0, n) of c in place (a backward half runs from the seed
+ * into the past; the joined curve runs from the past to the future). */
+static void reverse_curve(lc_trace_curve *c)
+{
+    for (uint32_t i = 0, j = c->n ? c->n - 1 : 0; i < j; i++, j--) {
+        for (int a = 0; a < 3; a++) {
+            float x = c->xyz[3 * i + a];
+            c->xyz[3 * i + a] = c->xyz[3 * j + a], c->xyz[3 * j + a] = x;
+            x = c->normal[3 * i + a];
+            c->normal[3 * i + a] = c->normal[3 * j + a], c->normal[3 * j + a] = x;
+        }
+        float x = c->time[i];
+        c->time[i] = c->time[j], c->time[j] = x;
+        x = c->speed[i];
+        c->speed[i] = c->speed[j], c->speed[j] = x;
+    }
+}
+
+/* A particle at p with its ghost along `across` into c (zeroed here), in
+ * d->direction: forward, backward (ordered from the seed's past, the seed
+ * last), or both (the backward half reversed, then the forward half without
+ * its repeated seed vertex). */
+static int trace_point(const lc_field *f, const double p[3], const double across[3], const lc_trace_desc *d,
+                       lc_trace_curve *c)
+{
+    uint32_t cap = 0;
+    memset(c, 0, sizeof *c);
+    if (d->direction == LC_TRACE_FORWARD)
+        return trace_half(f, p, across, d, 1.0, c, &cap);
+    int rc = trace_half(f, p, across, d, -1.0, c, &cap);
+    if (rc)
+        return rc;
+    reverse_curve(c);
+    if (d->direction == LC_TRACE_BACKWARD)
+        return 0;
+    lc_trace_curve fwd;
+    uint32_t fcap = 0;
+    memset(&fwd, 0, sizeof fwd);
+    rc = trace_half(f, p, across, d, 1.0, &fwd, &fcap);
+    for (uint32_t i = 1; rc == 0 && i < fwd.n; i++) {
+        double q[3] = {fwd.xyz[3 * i], fwd.xyz[3 * i + 1], fwd.xyz[3 * i + 2]};
+        double nn[3] = {fwd.normal[3 * i], fwd.normal[3 * i + 1], fwd.normal[3 * i + 2]};
+        rc = push(c, &cap, q, nn, fwd.time[i], fwd.speed[i]);
+    }
+    c->ghost_resets += fwd.ghost_resets;
+    lc_trace_curves_free(&fwd, 1);
+    return rc;
+}
+
+/* Traces the particle at seed parameter u (and its ghost) into c. */
+static int trace_one(const lc_field *f, const lc_seed *seed, const lc_trace_desc *d, double u, lc_trace_curve *c)
+{
+    double p[3], tangent[3];
+    lc_seed_at(seed, u, p, tangent);
+    int rc = trace_point(f, p, tangent, d, c);
+    c->u = u;
+    return rc;
 }
 
 int lc_trace_curve_at(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, double u,
@@ -258,7 +324,8 @@ int lc_trace_curve_at(const lc_field *field, const lc_seed *seed, const lc_trace
 
 typedef struct trace_job {
     const lc_field *field;
-    const lc_seed *seed;
+    const lc_seed *seed;   /* particles along a seed polyline, or */
+    const double *points;  /* one particle per seed point (lc_trace_points) */
     const lc_trace_desc *desc;
     uint64_t first;
     uint32_t count;
@@ -267,18 +334,41 @@ typedef struct trace_job {
     int rc;
 } trace_job;
 
+/* Seed point i of count: its ghost starts across the flow (any direction
+ * normal to v: a lone streamline has no seed curve to step along). */
+static int trace_seed_point(const lc_field *f, const double p[3], const lc_trace_desc *d, uint32_t count, uint32_t i,
+                            lc_trace_curve *c)
+{
+    double v[3], across[3] = {1, 0, 0};
+    lc_field_sample(f, p, d->t0, v);
+    int least = fabs(v[0]) <= fabs(v[1]) && fabs(v[0]) <= fabs(v[2]) ? 0 : fabs(v[1]) <= fabs(v[2]) ? 1 : 2;
+    double e[3] = {0, 0, 0}, x[3];
+    e[least] = 1;
+    cross3(v, e, x);
+    double len = norm3(x);
+    if (len > 0 && isfinite(len))
+        for (int a = 0; a < 3; a++)
+            across[a] = x[a] / len;
+    int rc = trace_point(f, p, across, d, c);
+    c->u = count > 1 ? (double)i / (count - 1) : 0.0;
+    return rc;
+}
+
 static void *run_job(void *arg)
 {
     trace_job *j = arg;
     for (uint32_t i = (uint32_t)j->offset; i < j->count && !j->rc; i += (uint32_t)j->stride)
-        j->rc = trace_one(j->field, j->seed, j->desc, lc_seed_param(j->first + i), &j->curves[i]);
+        j->rc = j->points ? trace_seed_point(j->field, &j->points[3 * (size_t)i], j->desc, j->count, i, &j->curves[i])
+                          : trace_one(j->field, j->seed, j->desc, lc_seed_param(j->first + i), &j->curves[i]);
     return NULL;
 }
 
 #define MAX_TRACE_THREADS 64
 
-int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, uint64_t first,
-                    uint32_t count, int threads, lc_trace_curve *curves, lc_error *err)
+/* Traces count curves on threads: particles of seed (from lc_seed_param(first))
+ * or, with points, one per seed point. */
+static int trace_many(const lc_field *field, const lc_seed *seed, const double *points, const lc_trace_desc *desc,
+                      uint64_t first, uint32_t count, int threads, lc_trace_curve *curves, lc_error *err)
 {
     memset(curves, 0, (size_t)count * sizeof *curves);
     lc_trace_desc d;
@@ -290,7 +380,7 @@ int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_d
     pthread_t tid[MAX_TRACE_THREADS];
     int started[MAX_TRACE_THREADS] = {0};
     for (int k = 0; k < nt; k++) {
-        jobs[k] = (trace_job){field, seed, &d, first, count, nt, k, curves, 0};
+        jobs[k] = (trace_job){field, seed, points, &d, first, count, nt, k, curves, 0};
         if (k > 0)
             started[k] = pthread_create(&tid[k], NULL, run_job, &jobs[k]) == 0;
     }
@@ -309,6 +399,18 @@ int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_d
         return lc_err(err, rc, "%s: out of memory tracing %u curves", field->name, count);
     }
     return 0;
+}
+
+int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, uint64_t first,
+                    uint32_t count, int threads, lc_trace_curve *curves, lc_error *err)
+{
+    return trace_many(field, seed, NULL, desc, first, count, threads, curves, err);
+}
+
+int lc_trace_points(const lc_field *field, const double *points, uint32_t count, const lc_trace_desc *desc,
+                    int threads, lc_trace_curve *curves, lc_error *err)
+{
+    return trace_many(field, NULL, points, desc, 0, count, threads, curves, err);
 }
 
 void lc_trace_curves_free(lc_trace_curve *curves, uint32_t count)

@@ -1,7 +1,9 @@
-/* Particle tracing for integral surfaces: particles seeded along a seed
- * polyline, integrated with RK4 through a field (stream lines of steady
- * fields, path lines of time-dependent ones), each with a ghost particle
- * beside it whose offset gives the surface normal (docs/ALGORITHM.md §22).
+/* Particle tracing for integral surfaces and streamline sets: particles
+ * seeded along a seed polyline or at seed points (seeding.h), integrated
+ * with RK4 through a field (stream lines of steady fields, path lines of
+ * time-dependent ones) forward, backward or both ways, each with a ghost
+ * particle beside it whose offset gives the surface normal
+ * (docs/ALGORITHM.md §22).
  * Threading: lc_trace_curves runs on the caller's thread and `threads` more;
  * it only reads the field and the seed. */
 #ifndef LC_FIELD_TRACE_H
@@ -27,11 +29,21 @@ typedef struct lc_seed {
     double cumulative[LC_SEED_MAX_POINTS]; /* arc length at each point */
 } lc_seed;
 
+/* Which way a particle is integrated from its seed (docs/ALGORITHM.md §22). */
+typedef enum {
+    LC_TRACE_FORWARD = 0, /* along v: the seed is the curve's first vertex */
+    LC_TRACE_BACKWARD,    /* against v (a negative step): the seed is the last vertex */
+    LC_TRACE_BOTH         /* the backward half reversed, the seed, then the forward half */
+} lc_trace_direction;
+
 /* How curves are traced; zero = defaults. */
 typedef struct lc_trace_desc {
-    double step;        /* RK4 time step; 0 = 1/200 of the field's diagonal over its largest |v| */
-    double max_length;  /* arc length at which a curve ends; 0 = 2 field diagonals */
-    double max_time;    /* integration time at which a curve ends; 0 = none (steady) or t1 - t0 (unsteady) */
+    /* RK4 time step; 0 = 1/200 of the field's diagonal over its largest |v|;
+     * negative = |step| against the direction (forward <-> backward). */
+    double step;
+    lc_trace_direction direction;
+    double max_length;  /* arc length at which a curve (each half of a two-way one) ends; 0 = 2 field diagonals */
+    double max_time;    /* |integration time| at which a curve (half) ends; 0 = none (steady) or t1 - t0 */
     int max_steps;      /* 0 = LC_TRACE_MAX_STEPS */
     double ghost_delta; /* Δ of the ghost particle; 0 = 1e-5 times the field's diagonal */
     double t0;          /* seeding time of path surfaces; NaN/0 = the field's t0 */
@@ -74,6 +86,11 @@ void lc_trace_resolve(const lc_field *field, const lc_trace_desc *desc, lc_trace
  * outside the field gives a curve of 1 vertex. */
 int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, uint64_t first,
                     uint32_t count, int threads, lc_trace_curve *curves, lc_error *err);
+/* Traces one curve from each of count seed points (3 doubles each) into
+ * curves[0 .. count-1], as lc_trace_curves does; curve i has u = i/(count-1)
+ * and its ghost starts across the flow. */
+int lc_trace_points(const lc_field *field, const double *points, uint32_t count, const lc_trace_desc *desc,
+                    int threads, lc_trace_curve *curves, lc_error *err);
 void lc_trace_curves_free(lc_trace_curve *curves, uint32_t count);
 /* Traces the one particle at seed parameter u in [0, 1] (the meshed
  * reference's particles, stream_mesh.c) into *curve (free with

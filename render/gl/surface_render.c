@@ -46,6 +46,8 @@ static int check_params(const lc_surface_params *sp, lc_error *err)
     if (sp->max_layers < 1 || sp->max_layers > LC_SURFACE_LAYERS_MAX_K)
         return lc_err_field(err, LC_ERR_INVALID, "surface.maxLayers", "surface.maxLayers must lie in 1..%d",
                             LC_SURFACE_LAYERS_MAX_K);
+    if (sp->direction < LC_TRACE_FORWARD || sp->direction > LC_TRACE_BOTH)
+        return lc_err_field(err, LC_ERR_INVALID, "surface.direction", "surface.direction must be forward, backward or both");
     if (!(sp->step >= 0 && isfinite(sp->step)) || !(sp->length >= 0 && isfinite(sp->length)))
         return lc_err_field(err, LC_ERR_INVALID, "surface.step", "surface.step and length must be finite and >= 0");
     return 0;
@@ -153,7 +155,7 @@ int lc_surface_render(const lc_field *field, const lc_seed *seed_in, const lc_su
     if (!curves)
         return lc_err(err, LC_ERR_NOMEM, "out of memory for %d curves", sp->particles);
     double t0 = lc_now();
-    lc_trace_desc td = {.step = sp->step, .max_length = sp->length};
+    lc_trace_desc td = {.step = sp->step, .max_length = sp->length, .direction = (lc_trace_direction)sp->direction};
     rc = lc_trace_curves(field, &seed, &td, 0, (uint32_t)sp->particles, threads, curves, err);
     info->trace_ms = (lc_now() - t0) * 1000.0;
     if (rc) {

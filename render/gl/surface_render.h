@@ -27,7 +27,8 @@ extern "C" {
 typedef struct lc_surface_params {
     int particles;   /* curves traced along the seed, >= 1 */
     double step;     /* RK4 step, 0 = the tracer's default */
-    double length;   /* arc length of a curve, 0 = the tracer's default */
+    double length;   /* arc length of a curve (each half of a two-way one), 0 = the tracer's default */
+    int direction;   /* lc_trace_direction: forward, backward or both ways from the seed */
     double epsilon;  /* merge distance, a fraction of the field's diagonal, >= 0 */
     double opacity;  /* every layer's alpha in (0, 1] */
     int max_layers;  /* K asked for (1..LC_SURFACE_LAYERS_MAX_K), lowered to the budget */

@@ -11,6 +11,7 @@
 #include <strings.h>
 
 #include "csv.h"
+#include "csv_tracks.h"
 #include "io_util.h"
 #include "scene_shard.h"
 
@@ -357,6 +358,13 @@ static int load_csv(const void *data, size_t size, const char *name, lc_io_part 
     }
     s->vertex_count = v; /* the arrays keep room for the dropped rows */
     lc_io_set_defaults(s);
+    int track = lc_csv_track_column(s);
+    if (track >= 0 && lc_io_part_active(part)) /* a track's rows may lie in any share */
+        rc = lc_err(err, LC_ERR_UNSUPPORTED, "%s: a track table (column '%s') is read whole, not in shares", name,
+                    s->attributes[track].name);
+    else if (track >= 0 && (rc = lc_csv_group_tracks(&s, track, err)) == 0 &&
+             lc_scene_find_attribute(s, "importance") < 0)
+        snprintf(s->default_importance, sizeof s->default_importance, "speed"); /* derived at finalize */
 done:
     if (rc) {
         lc_scene_destroy(s);

@@ -1,5 +1,7 @@
 /* Wavefront OBJ: v, vt, f, l; vt carries one per-vertex attribute as in the
- * small-doo and LineVis line files. The writer puts the default importance in vt. */
+ * small-doo and LineVis line files, named "vt" or by a comment line
+ * "# vt: NAME" ("# vt: time" makes lines timed: docs/ALGORITHM.md §16). The
+ * writer puts the default importance in vt. */
 #ifndef LC_IO_OBJ_H
 #define LC_IO_OBJ_H
 

@@ -1,5 +1,6 @@
 /* Wavefront OBJ reader (v, vt, f, l; vt carries a per-vertex attribute as in
- * the small-doo and LineVis line files). */
+ * the small-doo and LineVis line files, named by a "# vt: NAME" comment). */
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -26,6 +27,7 @@ typedef struct obj_load {
     lc_io_u32vec poly, poly_vt;
     uint64_t short_lines;
     int rgb_warned;
+    char vt_name[LC_NAME_LEN]; /* "# vt: NAME" names the vt attribute; "" = "vt" */
 } obj_load;
 
 static int fail(obj_load *L, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -189,9 +191,27 @@ static int add_line(obj_load *L)
     return 0;
 }
 
+/* "# vt: NAME": the name of the attribute vt carries (a time column, say);
+ * the first such comment counts. */
+static void read_vt_name(obj_load *L, const char *p, const char *le)
+{
+    p = skip_blank(p + 1, le);
+    if (L->vt_name[0] || le - p < 3 || memcmp(p, "vt:", 3) != 0)
+        return;
+    p = skip_blank(p + 3, le);
+    size_t n = 0;
+    while (p + n < le && n + 1 < LC_NAME_LEN &&
+           (isalnum((unsigned char)p[n]) || p[n] == '_' || p[n] == '-' || p[n] == '.'))
+        n++;
+    memcpy(L->vt_name, p, n);
+    L->vt_name[n] = '\0';
+}
+
 static int parse_line(obj_load *L, const char *p, const char *le)
 {
     p = skip_blank(p, le);
+    if (p < le && *p == '#')
+        read_vt_name(L, p, le);
     if (at_end(p, le))
         return 0;
     const char *kw = p;
@@ -324,7 +344,7 @@ static int assemble(obj_load *L)
                     values[tri[k]] = L->vt[L->tri_vt.v[k]];
         }
     }
-    if (values && (rc = lc_scene_add_attribute(L->s, "vt", values, L->err)) < 0)
+    if (values && (rc = lc_scene_add_attribute(L->s, L->vt_name[0] ? L->vt_name : "vt", values, L->err)) < 0)
         return rc;
     if (L->short_lines)
         LC_WARN(LC_IO_LOG, "%s: %llu lines with fewer than 2 vertices skipped", L->file,

@@ -68,6 +68,9 @@ typedef struct lc_attribute {
 typedef struct lc_trajectory_info {
     int geographic;
     double step_hours;
+    /* Timed lines (scene_motion.h): 1 = no A_delta / A_rate, for attributes
+     * that are no data along a line (a tracer's seed parameter and normals). */
+    int no_rates;
 } lc_trajectory_info;
 
 typedef struct lc_scene {

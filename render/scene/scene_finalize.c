@@ -10,6 +10,7 @@
 #include "lod.h"
 #include "scene.h"
 #include "scene_derive.h"
+#include "scene_motion.h"
 #include "scene_part.h"
 
 /* Structural checks: everything later steps index with must be in range. */
@@ -471,6 +472,9 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
         rc = lc_scene_derive_lines(s, err);
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err);
+        int timed;
+        if (!rc)
+            rc = lc_scene_derive_motion(s, &timed, err);
     } else if (s->type == LC_PRIM_TRIANGLES)
         rc = lc_scene_derive_triangles(s, err);
     else if (!measured) /* no attribute, or only class labels */
@@ -668,6 +672,9 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err); /* per line */
+        int timed; /* per line; every part has the same attributes, so the same names */
+        if (!rc)
+            rc = lc_scene_derive_motion(s, &timed, err);
     } else if (!measured)                              /* the same on every part (agreed above) */
         rc = lc_scene_derive_points(s, total, c, err); /* collective */
     if ((rc = c->agree(c->ctx, rc, err)) != 0)

@@ -5,16 +5,22 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "demo.h"
 #include "loaders.h"
 #include "memory.h"
+#include "streamlines.h"
 
 #define MAX_REQUEST_BYTES (1 << 20)
 
 int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err)
 {
     *out = NULL;
+    if (lc_streamlines_is_spec(spec)) {
+        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        return lc_streamlines_load(spec, cpus > 0 ? (int)cpus : 1, out, err);
+    }
     if (strncmp(spec, "demo:", 5) != 0)
         return lc_scene_load_file(spec, out, err);
     return lc_demo_create_spec(spec + 5, NULL, out, err);
@@ -147,7 +153,8 @@ static const lc_option common_options[] = {
     {"--request", "REQ.json", LC_OPT_TEXT, COMMON(request),
      .help = "a render request (protocol/README.md); flags override its fields"},
     {"--dataset", "SPEC", LC_OPT_CALL, .call = set_dataset,
-     .help = "demo:NAME[?count=N&seed=S] or a file (" LC_DATASET_EXTENSIONS ")"},
+     .help = "demo:NAME[?count=N&seed=S], a file (" LC_DATASET_EXTENSIONS "),\n"
+             "or streamlines:FIELD?seeding=...&seeds=...&count=N (a traced streamline set)"},
     {"--input", "SPEC", LC_OPT_TEXT, COMMON(input), .help = "the same, over the request's dataset"},
     {"--elements", "N", LC_OPT_INT, COMMON(elements), 1, 1 << 24,
      .help = "line elements or surface patches (default: derived from the data)"},

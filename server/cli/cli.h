@@ -113,12 +113,22 @@ void lc_cli_print_timings(const lc_frame_info *info);
 int lc_cli_render(int argc, char **argv);
 int lc_cli_info(int argc, char **argv);
 int lc_cli_gen(int argc, char **argv);
-/* The curves particles seeded along seed_text ("x,y,z;x,y,z...") trace through
- * the field spec (lc_field_open), as a finalized line scene with attributes
- * time, speed, seed_u and normal_x/y/z; step and length 0 = the tracer's
- * defaults (cli_trace.c). */
-int lc_cli_trace_scene(const char *spec, const char *seed_text, uint32_t curves, double step, double length,
-                       lc_scene **out, lc_error *err);
+/* `lucent gen FIELD`'s tracing flags: step and length 0 = the tracer's
+ * defaults; seeding NULL = the curves of --seed-line. */
+typedef struct lc_cli_streamlines {
+    uint32_t curves;       /* --count */
+    double step, length;   /* --step (negative: backward), --length */
+    const char *seeding;   /* --seeding points|rake|box|density */
+    const char *seeds;     /* --seeds: the points, or a rake's ends / a box's corners */
+    const char *direction; /* --direction forward|backward|both; NULL = forward */
+    double separation;     /* --separation: density seeding's d_sep; 0 = default */
+} lc_cli_streamlines;
+/* The curves particles seeded along seed_text ("x,y,z;x,y,z...") or, with
+ * sl->seeding, a streamline set (render/field/seeding.h), trace through the
+ * field spec (lc_field_open), as a finalized line scene with attributes
+ * time, speed, seed_u and normal_x/y/z (cli_trace.c). */
+int lc_cli_trace_scene(const char *spec, const char *seed_text, const lc_cli_streamlines *sl, lc_scene **out,
+                       lc_error *err);
 /* `lucent gen FIELD --seed-line ... --mesh`: the meshed reference of the
  * surface (render/field/stream_mesh.h) as a triangle scene; split 0 = the
  * default insertion distance. */

@@ -495,6 +495,8 @@ typedef struct gen_args {
     const char *out;
     long long count, seed;
     const char *seed_line; /* vector fields: the seed polyline */
+    const char *seeding, *seeds, *direction; /* ... or a streamline set, and the way curves run */
+    double separation;
     double step, length;
     int mesh;     /* vector fields: the meshed reference instead of curves */
     double split; /* ... its insertion distance */
@@ -510,7 +512,16 @@ static const lc_option gen_options[] = {
      .help = "random seed of a demo (default: the demo's)"},
     {"--seed-line", "X,Y,Z;X,Y,Z", LC_OPT_TEXT, GEN(seed_line),
      .help = "vector fields: the seed polyline the curves start from (--count curves, default 64)"},
-    {"--step", "H", LC_OPT_REAL, GEN(step), 1e-9, 1e9, .help = "vector fields: RK4 time step (default: automatic)"},
+    {"--seeding", "KIND", LC_OPT_TEXT, GEN(seeding),
+     .help = "vector fields: a streamline set seeded at points, a rake, a box or density (evenly spaced)"},
+    {"--seeds", "X,Y,Z;...", LC_OPT_TEXT, GEN(seeds),
+     .help = "with --seeding: the points, a rake's two ends, or a box's two corners (default: the field's box)"},
+    {"--separation", "D", LC_OPT_REAL, GEN(separation), 1e-12, 1e12,
+     .help = "with --seeding density: the least distance of a new seed to the lines so far (default: automatic)"},
+    {"--direction", "DIR", LC_OPT_TEXT, GEN(direction),
+     .help = "vector fields: forward (default), backward or both (two-way curves through the seeds)"},
+    {"--step", "H", LC_OPT_REAL, GEN(step), -1e9, 1e9,
+     .help = "vector fields: RK4 time step, negative = backward (default: automatic)"},
     {"--length", "L", LC_OPT_REAL, GEN(length), 1e-9, 1e12,
      .help = "vector fields: arc length of a curve (default: 2 domain diagonals)"},
     {"--mesh", NULL, LC_OPT_BOOL, GEN(mesh),
@@ -538,6 +549,8 @@ int lc_cli_gen(int argc, char **argv)
             "       lucent gen DATASET -o FILE.ply|FILE.obj|FILE.vtk   (a file or demo:NAME?count=N: converts)\n"
             "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z -o FILE.vtk [--count CURVES] [--step H] [--length L]\n"
             "         (the curves of an integral surface: FIELD is demo:abc-flow, ... or a grid .vtk)\n"
+            "       lucent gen FIELD --seeding points|rake|box|density [--seeds X,Y,Z;...] -o FILE.vtk [--count N]\n"
+            "         [--direction forward|backward|both] [--separation D]   (a streamline set)\n"
             "       lucent gen FIELD --seed-line X,Y,Z;X,Y,Z --mesh -o FILE.obj [--split D] [--step H] [--length L]\n"
             "         (the surface as a triangle mesh, front refinement: the meshed reference)\n");
         lc_opt_usage(f, &set, 1);
@@ -556,13 +569,29 @@ int lc_cli_gen(int argc, char **argv)
      * Lucent reads, demo:NAME?count=N) is loaded and written: a converter. */
     int rc =
         lc_field_is_source(name)
-            ? (args.mesh ? lc_cli_mesh_scene(name, args.seed_line, args.split, args.step, args.length, &s, &err)
+            ? (args.mesh && (args.seeding || args.seeds || args.direction || args.separation || args.step < 0)
+                   ? lc_err(&err, LC_ERR_INVALID,
+                            "--mesh meshes the forward surface of --seed-line: --seeding, --seeds, --direction, "
+                            "--separation and a negative --step do not apply")
+               : args.mesh ? lc_cli_mesh_scene(name, args.seed_line, args.split, args.step, args.length, &s, &err)
                : args.count > 100000 ? lc_err(&err, LC_ERR_LIMIT, "--count: at most 100000 curves")
-                                     : lc_cli_trace_scene(name, args.seed_line, args.count ? (uint32_t)args.count : 64,
-                                                          args.step, args.length, &s, &err))
-        : args.seed_line || args.step || args.length || args.mesh || args.split
+               : (args.seeds || args.separation) && !args.seeding
+                   ? lc_err(&err, LC_ERR_INVALID, "--seeds and --separation need --seeding")
+                   : lc_cli_trace_scene(name, args.seed_line,
+                                        &(lc_cli_streamlines){.curves = args.count ? (uint32_t)args.count : 64,
+                                                              .step = args.step,
+                                                              .length = args.length,
+                                                              .seeding = args.seeding,
+                                                              .seeds = args.seeds,
+                                                              .direction = args.direction,
+                                                              .separation = args.separation},
+                                        &s, &err))
+        : args.seed_line || args.step || args.length || args.mesh || args.split || args.seeding || args.seeds ||
+                args.direction || args.separation
             ? lc_err(&err, LC_ERR_INVALID,
-                     "%s: --seed-line, --step, --length, --mesh and --split apply to vector fields only", name)
+                     "%s: --seed-line, --seeding, --seeds, --direction, --separation, --step, --length, --mesh and "
+                     "--split apply to vector fields only",
+                     name)
         : lc_demo_description(bare) ? lc_demo_create(bare, &desc, &s, &err)
         : desc.count || desc.seed
             ? lc_err(&err, LC_ERR_INVALID, "%s: --count and --seed apply to demo names only", name)

@@ -32,6 +32,8 @@ int lc_admit_surface(lc_server *srv, const lc_request *req, double *cost_out, co
     int k = 1;
     lc_surface_bytes(req->render.width, req->render.height, s->max_layers, &k);
     double steps = lc_cost_surface_steps(diag, fe->field->mag_max, s->step, s->length), cost = 0;
+    if (s->direction == LC_TRACE_BOTH) /* two halves, each up to the length */
+        steps *= 2;
     const char *field = NULL;
     char why[320];
     int rc =

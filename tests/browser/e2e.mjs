@@ -992,6 +992,15 @@ test('stream surface: pick a field, place the seed line, watch it grow; a new se
   check(curves.some((c) => c < 400), `the dragged seed restarts the surface: ${curves}`);
   const dragged = await signature(page);
   check(meanDiff(moved, dragged) > 0.1, `the dragged seed's surface looks different (mean diff ${meanDiff(moved, dragged).toFixed(2)})`);
+  // two-way curves: the direction goes to the session and restarts the surface, which now reaches upstream too
+  after = await newest();
+  await page.locator('#surface-direction').selectOption('both');
+  check(await page.evaluate(() => window.lucent.state.update.surface?.direction) === 'both', 'the direction is the session\'s');
+  await complete(after);
+  curves = await curvesSince(after);
+  check(curves.some((c) => c < 400), `a new direction restarts the surface: ${curves}`);
+  const twoWay = await signature(page);
+  check(meanDiff(dragged, twoWay) > 0.1, `the two-way surface looks different (mean diff ${meanDiff(dragged, twoWay).toFixed(2)})`);
   // off the handles the canvas still orbits
   const vb = await page.locator('#view').boundingBox();
   await page.mouse.move(vb.x + vb.width * 0.15, vb.y + vb.height * 0.85);

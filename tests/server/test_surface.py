@@ -3,7 +3,8 @@ for a field's stream surface. On the linear shear field a straight seed line
 across the flow gives a planar surface, seen face-on: every covered pixel holds
 one layer and shows exactly opacity * colour + (1 - opacity) * background; the
 weighted-average baseline of the same curves saturates towards the surface
-colour (PRT Fig. 5). Bad surface objects are refused naming the field."""
+colour (PRT Fig. 5); surface.direction extends the surface downstream, upstream
+or both ways from the seed. Bad surface objects are refused naming the field."""
 import json
 import sys
 import urllib.parse
@@ -79,6 +80,19 @@ with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as
     st, headers, la = render(srv, surface_request(particles=2000))
     lc = pixel(decode_png(la), SIZE // 2, SIZE // 2) if st == 200 else (0, 0, 0)
     check(all(abs(a - b) <= 1 for a, b in zip(lc, want)), "the layers stay at one layer's colour: %r" % (lc,))
+
+    # surface.direction: from a seed across the middle (x = 0) the forward surface covers x > 0, the backward one
+    # x < 0, and both ways cover both sides (half-width 3 tan 20 deg = 1.09 at z = 0: x = +-0.4 is 48 +- 18 px).
+    seen = {}
+    for direction in ("forward", "backward", "both"):
+        st, headers, data = render(srv, surface_request(seed=[[0, -0.6, 0], [0, 0.6, 0]], length=0.8,
+                                                        direction=direction))
+        img = decode_png(data) if st == 200 else None
+        seen[direction] = tuple(pixel(img, SIZE // 2 + dx, SIZE // 2) != (255, 255, 255) for dx in (-18, 18)) \
+            if img else None
+    check(seen == {"forward": (False, True), "backward": (True, False), "both": (True, True)},
+          "direction covers downstream, upstream or both sides of the seed (left, right covered): %r" % seen)
+    error(srv, surface_request(direction="sideways"), 400, "surface.direction", "an unknown direction")
 
     # The flat query form reaches the same fields.
     q = urllib.parse.urlencode({"method": "surface-layers", "surfaceField": "demo:abc-flow",

@@ -131,8 +131,33 @@ expect_fail "seed outside" "seed.points: point 0 \(5, 0, 0\) lies outside demo:s
 expect_fail "seed syntax" "seed.points: point 1: expected x,y,z" "$LUCENT" gen demo:abc-flow --seed-line "1,1,1;2,2" \
   -o "$tmp/x.vtk"
 expect_fail "no seed" "seed.points: demo:abc-flow is a vector field" "$LUCENT" gen demo:abc-flow -o "$tmp/x.vtk"
-expect_fail "seed on lines" "tornado: .*seed-line, --step, --length, --mesh and --split apply to vector fields only" \
+expect_fail "seed on lines" "tornado: .*seed-line, --seeding, .*--mesh and --split apply to vector fields only" \
   "$LUCENT" gen tornado --seed-line "0,0,0;1,1,1" -o "$tmp/x.vtk"
+# Streamline sets (docs/ALGORITHM.md §22): a rake of 5 in the shear flow gives 5 lines along x from x = -0.5;
+# two ways they reach back upstream to x = -0.9.
+expect_ok "gen rake" "$LUCENT" gen demo:shear-flow --seeding rake --seeds "-0.5,-0.5,0;-0.5,0.5,0" --count 5 \
+  --length 0.4 -o "$tmp/rake.vtk"
+expect_ok "info rake" "$LUCENT" info "$tmp/rake.vtk"
+grep -q "^lines       5 " "$tmp/out" && grep -q "^bounds *\[-0.5, -0.0" "$tmp/out" &&
+  ok || bad "5 rake lines from x = -0.5 to -0.1: $(grep -E '^lines|^bounds' "$tmp/out")"
+expect_ok "gen rake both ways" "$LUCENT" gen demo:shear-flow --seeding rake --seeds "-0.5,-0.5,0;-0.5,0.5,0" \
+  --count 5 --length 0.4 --direction both -o "$tmp/rake2.vtk"
+expect_ok "info rake both ways" "$LUCENT" info "$tmp/rake2.vtk"
+grep -q "^lines       5 " "$tmp/out" && grep -q "^bounds *\[-0.90[0-9]*, -0.0" "$tmp/out" &&
+  ok || bad "5 two-way lines from x = -0.9 to -0.1 (a step past each half's length): $(grep -E '^lines|^bounds' "$tmp/out")"
+expect_ok "gen density" "$LUCENT" gen demo:abc-flow --seeding density --count 20 -o "$tmp/dense.vtk"
+grep -q "^density seeding: 20 of [0-9]* candidates kept at separation" "$tmp/out" &&
+  ok || bad "density seeding reports its candidates: $(head -3 "$tmp/out")"
+expect_ok "render a streamline set" "$LUCENT" render \
+  --dataset "streamlines:demo:shear-flow?seeding=rake&seeds=-0.5,-0.5,0;-0.5,0.5,0&count=5&length=0.4" \
+  --size 64x64 --out "$tmp/rake.png"
+expect_fail "streamline set key" "streamlines.direction: 'up' is not one of forward" "$LUCENT" info \
+  "streamlines:demo:shear-flow?direction=up"
+expect_fail "rake without ends" "gen: --seeding rake needs --seeds" "$LUCENT" gen demo:abc-flow --seeding rake -o "$tmp/x.vtk"
+expect_fail "bad direction" "gen: --direction: 'up' is not forward, backward or both" "$LUCENT" gen demo:abc-flow \
+  --seed-line "1,1,1;2,2,2" --direction up -o "$tmp/x.vtk"
+expect_fail "flat box" "seeding.box: axis y" "$LUCENT" gen demo:abc-flow --seeding box \
+  --seeds "1,1,1;2,1,2" -o "$tmp/x.vtk"
 # The meshed reference: the shear flow's surface from a straight seed line is the plane z = 0.
 expect_ok "gen meshed surface" "$LUCENT" gen demo:shear-flow --seed-line "-0.9,-0.5,0;-0.9,0.5,0" --length 1 --mesh \
   -o "$tmp/sheet.obj"

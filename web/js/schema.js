@@ -93,6 +93,10 @@ export const FIELDS = Object.freeze([
   { section: 'surface', name: 'particles', alias: 'surfaceParticles', type: 'int', min: 1, max: 100000, methods: ['surface-layers'] },
   { section: 'surface', name: 'step', alias: 'surfaceStep', type: 'num', min: 0, methods: ['surface-layers'] },
   { section: 'surface', name: 'length', alias: 'surfaceLength', type: 'num', min: 0, methods: ['surface-layers'] },
+  {
+    section: 'surface', name: 'direction', alias: 'surfaceDirection', type: 'enum',
+    values: ['forward', 'backward', 'both'], methods: ['surface-layers'],
+  },
   { section: 'surface', name: 'epsilon', alias: 'surfaceEpsilon', type: 'num', min: 0, max: 1, methods: ['surface-layers'] },
   { section: 'surface', name: 'opacity', alias: 'surfaceOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: ['surface-layers'] },
   { section: 'surface', name: 'maxLayers', alias: 'surfaceMaxLayers', type: 'int', min: 1, max: 64, methods: ['surface-layers'] },

@@ -15,9 +15,9 @@ export function defaultSeed(bounds) {
  * The request changes that show the surface (on) or go back to the dataset
  * (off, to previousMethod): a list of [path, value] for the params controller.
  */
-export function surfaceChanges(on, { field, seed, particles, curvesPerFrame }, previousMethod = 'fourier') {
+export function surfaceChanges(on, { field, seed, particles, curvesPerFrame, direction }, previousMethod = 'fourier') {
   if (!on) return [['method', previousMethod]];
-  return [['surface', { field, seed, particles, curvesPerFrame }], ['method', 'surface-layers']];
+  return [['surface', { field, seed, particles, curvesPerFrame, direction }], ['method', 'surface-layers']];
 }
 
 /** "curves 450 / 600 · 1.10 layers per pixel" from a frame header's surface object. */
@@ -58,6 +58,9 @@ export class SurfacePanel {
       title: 'Where the seed line starts: three numbers x, y, z inside the field. Changing it starts the surface again.' }));
     this.b = row('Seed end x,y,z', el('input', { type: 'text', id: 'surface-b', size: 18,
       title: 'Where the seed line ends: three numbers x, y, z. Changing it starts the surface again.' }));
+    this.direction = row('Direction', el('select', { id: 'surface-direction',
+      title: 'Which way the flow lines run from the seed: downstream, upstream, or both ways. Changing it starts the surface again.' }));
+    this.direction.append(...['forward', 'backward', 'both'].map((d) => el('option', { value: d, textContent: d })));
     this.particles = row('Curves', el('input', { type: 'number', id: 'surface-particles', min: 1, max: 100000, value: 2000,
       title: 'How many flow lines make up the finished surface. More: a smoother surface, slower to finish.' }));
     this.perFrame = row('Curves per frame', el('input', { type: 'number', id: 'surface-per-frame', min: 1, max: 100000, value: 200,
@@ -73,7 +76,7 @@ export class SurfacePanel {
       this.send();
     });
     this.on.addEventListener('change', () => this.send());
-    for (const input of [this.a, this.b, this.particles, this.perFrame]) input.addEventListener('change', () => this.send());
+    for (const input of [this.a, this.b, this.direction, this.particles, this.perFrame]) input.addEventListener('change', () => this.send());
   }
 
   /** The server's fields (GET /api/v1/datasets "fields"). */
@@ -104,7 +107,10 @@ export class SurfacePanel {
     };
     const a = point(this.a, 'Seed start'), b = point(this.b, 'Seed end');
     if (!a || !b) return null;
-    return { field: this.field.value, seed: [a, b], particles: Number(this.particles.value), curvesPerFrame: Number(this.perFrame.value) };
+    return {
+      field: this.field.value, seed: [a, b], particles: Number(this.particles.value),
+      curvesPerFrame: Number(this.perFrame.value), direction: this.direction.value,
+    };
   }
 
   /**

@@ -11,7 +11,7 @@ test('default seed: across the middle along y, a tenth in from the faces', () =>
 });
 
 test('showing the surface sends surface then method; hiding goes back to the previous method', () => {
-  const v = { field: 'demo:abc-flow', seed: [[1, 2, 3], [1, 4, 3]], particles: 600, curvesPerFrame: 150 };
+  const v = { field: 'demo:abc-flow', seed: [[1, 2, 3], [1, 4, 3]], particles: 600, curvesPerFrame: 150, direction: 'both' };
   assert.deepEqual(surfaceChanges(true, v), [['surface', v], ['method', 'surface-layers']]);
   assert.deepEqual(surfaceChanges(false, v, 'exact'), [['method', 'exact']]);
 });

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "data_paths.h"
 #include "dataset_cache.h"
@@ -17,6 +18,7 @@
 #include "fields.h"
 #include "loaders.h"
 #include "request.h"
+#include "streamlines.h"
 #include "vtk_field.h"
 
 #define MOD "datasets"
@@ -203,7 +205,7 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     unsigned long long demo_size = d->opts.demo_size;
     if (lc_cancelled()) /* a signal during start-up: no further dataset */
         return lc_err_cancelled(err, source);
-    if (lc_field_is_source(source)) { /* a vector field (demo or grid .vtk/.nc): fields.h */
+    if (!lc_streamlines_is_spec(source) && lc_field_is_source(source)) { /* a vector field: fields.h */
         /* Its grid counts against --max-memory as a dataset does: the reader
          * refuses before allocating beyond what is left. */
         uint64_t left = d->opts.max_memory > d->estimated ? d->opts.max_memory - d->estimated : 1;
@@ -227,7 +229,12 @@ static int add_source(lc_datasets *d, const char *source, lc_error *err)
     lc_load_budget(d->opts.read_part ? 0 : d->opts.load_timeout);
     int rc;
     char base[128];
-    if (strncmp(source, "demo:", 5) == 0) {
+    if (lc_streamlines_is_spec(source)) { /* a streamline set traced from a field */
+        LC_INFO(MOD, "tracing %s ...", source);
+        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        rc = lc_streamlines_load(source, cpus > 0 ? (int)cpus : 1, &ds->scene, err);
+        snprintf(base, sizeof base, "%s", rc ? source : ds->scene->name);
+    } else if (strncmp(source, "demo:", 5) == 0) {
         lc_demo_desc desc = {.seed = 0, .count = demo_size}; /* "?count=N&seed=S" overrides */
         LC_INFO(MOD, "generating %s ...", source);
         rc = lc_demo_create_spec(source + 5, &desc, &ds->scene, err);

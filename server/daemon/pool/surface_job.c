@@ -28,6 +28,7 @@ static int to_params(const lc_surface_request *s, lc_surface_params *sp, lc_seed
     *sp = (lc_surface_params){.particles = s->particles,
                               .step = s->step,
                               .length = s->length,
+                              .direction = s->direction,
                               .epsilon = s->epsilon,
                               .opacity = s->opacity,
                               .max_layers = s->max_layers,
@@ -101,7 +102,7 @@ static int same_surface(const lc_surface_stream *st, const lc_field *field, cons
     const lc_surface_request *t = &st->traced_for;
     return st->field == field && t->seed_count == s->seed_count &&
            memcmp(t->seed, s->seed, (size_t)s->seed_count * sizeof s->seed[0]) == 0 && t->step == s->step &&
-           t->length == s->length;
+           t->length == s->length && t->direction == s->direction;
 }
 
 int lc_surface_stream_frame(lc_surface_stream **stp, const lc_field *field, const lc_surface_request *s,
@@ -138,7 +139,7 @@ int lc_surface_stream_frame(lc_surface_stream **stp, const lc_field *field, cons
         st->curves = c, st->cap = cap;
     }
     lc_surface_info si = {0};
-    lc_trace_desc td = {.step = s->step, .max_length = s->length};
+    lc_trace_desc td = {.step = s->step, .max_length = s->length, .direction = (lc_trace_direction)s->direction};
     if (add && (rc = lc_trace_curves(field, &seed, &td, st->count, add, trace_threads(), st->curves + st->count, err)))
         return rc;
     st->count += add;

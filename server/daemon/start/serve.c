@@ -168,8 +168,9 @@ static const lc_option serve_options[] = {
              "IPv6 as [::1]:8080). Anything but loopback exposes the server."},
     {"--data", "PATH|DIR...", LC_OPT_CALL, .call = opt_data,
      .help = "datasets to load before the port opens: files (" LC_DATASET_EXTENSIONS "),\n"
-             "folders (every such file in it) or demo:NAME (repeatable; several paths may\n"
-             "follow one --data). None = all demos."},
+             "folders (every such file in it), demo:NAME, or streamlines:FIELD?seeding=...\n"
+             "(a streamline set traced at start; repeatable; several paths may follow one\n"
+             "--data). None = all demos."},
     {"--demo", NULL, LC_OPT_BOOL, CFG(demo), .help = "also serve every built-in demo next to --data"},
     {"--demo-size", "N", LC_OPT_INT, CFG(demo_size), 1, 100000000,
      .help = "size of generated demos (lines/points/grid; default: the generator's)"},

@@ -730,6 +730,38 @@ test('grayscale on a white background: warning, and one click flips the colours'
   await settled(page);
 });
 
+test('equalized colours from the panel: the half-life and a fixed range reach the session', async () => {
+  const page = ctx.desk;
+  await settled(page);
+  await page.locator('#ctl-color-equalize').check();
+  const half = page.locator('.row[data-path="color.fadeHalfLife"] .num');
+  await half.fill('2');
+  await half.press('Enter');
+  await page.locator('.row[data-path="color.fixed"] .list-editor > button').click(); // + range: [0, 1]
+  const hiBox = page.locator('.row[data-path="color.fixed"] input[aria-label="fixed range maximum"]');
+  await hiBox.fill('0.25');
+  await hiBox.dispatchEvent('change');
+  await page.waitForFunction(() => {
+    const c = window.lucent.values().color;
+    return c.equalize === true && c.fadeHalfLife === 2 && JSON.stringify(c.fixed) === '[[0,0.25]]';
+  }, null, { timeout: 30000 }).catch(() => {});
+  const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);
+  await settled(page, 60000, f0);
+  const st = await page.evaluate(() => ({ color: window.lucent.values().color, err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
+  check(st.color.equalize === true && st.color.fadeHalfLife === 2 && JSON.stringify(st.color.fixed) === '[[0,0.25]]' && !st.err,
+    `equalize with half-life 2 and the fixed range [0, 0.25]: ${JSON.stringify(st.color)} ${JSON.stringify(st.err)}`);
+  check(/colorFadeHalfLife=2/.test(st.hash) && /colorFixed=\[\[0,0.25\]\]/.test(st.hash), `the link carries both (${st.hash.slice(0, 400)})`);
+  // back to the page's defaults for the tests after this one
+  await page.locator('.row[data-path="color.fixed"] .list-editor .list-row button').dispatchEvent('click');
+  await half.fill('0.8');
+  await half.press('Enter');
+  await page.locator('#ctl-color-equalize').uncheck();
+  await page.waitForFunction(() => { const c = window.lucent.values().color; return !c.equalize && !(c.fixed?.length); }, null, { timeout: 30000 }).catch(async (e) => {
+    throw new Error(`${e.message}: ${await page.evaluate(() => JSON.stringify(window.lucent.values().color))}`);
+  });
+  await settled(page);
+});
+
 test('bug 2: a changed hash clears an old error banner and reports ignored values', async () => {
   const page = await newPage(`${ctx.d.url}/#dataset=demo:nope`);
   await page.waitForFunction(() => !document.getElementById('banner').hidden, null, { timeout: 30000 });

@@ -54,11 +54,18 @@ const select = (options, value, label) => {
   return s;
 };
 
-/** Rows of items with a remove button each and an add button; build(item) returns {row, read()}. */
+const ITEM_NAMES = { terms: 'term', filters: 'filter', ranges: 'range' };
+
+/**
+ * Rows of items with a remove button each and an add button; build(item) returns {row, read()}. Terms and
+ * filters name attributes (no row until the dataset's are known); ranges do not.
+ */
 function listEditor(kind, max, blank, build, onChange) {
   const root = el('div', { className: `list-editor ${kind}` });
   const rows = el('div');
-  const add = el('button', { type: 'button', textContent: `+ ${kind === 'terms' ? 'term' : 'filter'}` });
+  const item = ITEM_NAMES[kind];
+  const needsNames = kind !== 'ranges';
+  const add = el('button', { type: 'button', textContent: `+ ${item}` });
   root.append(rows, add);
   let items = [];
   let names = [];
@@ -66,7 +73,7 @@ function listEditor(kind, max, blank, build, onChange) {
   const render = (values) => {
     items = values.map((v) => {
       const it = build(v, names, fire);
-      const del = el('button', { type: 'button', textContent: '×', ariaLabel: `remove this ${kind === 'terms' ? 'term' : 'filter'}` });
+      const del = el('button', { type: 'button', textContent: '×', ariaLabel: `remove this ${item}` });
       del.addEventListener('click', () => {
         const next = items.filter((x) => x !== it).map((x) => x.read()).filter(Boolean);
         render(next);
@@ -76,7 +83,7 @@ function listEditor(kind, max, blank, build, onChange) {
       return it;
     });
     rows.replaceChildren(...items.map((it) => it.row));
-    add.disabled = items.length >= max || !names.length;
+    add.disabled = items.length >= max || (needsNames && !names.length);
   };
   add.addEventListener('click', () => {
     const next = [...items.map((x) => x.read()).filter(Boolean), blank(names)];
@@ -145,6 +152,23 @@ function filterRow(f, names, fire) {
   };
 }
 
+/** A fixed range of color.fixed: [lo, hi] in data units, kept as the identity by equalization. */
+function rangeRow(r, names, fire) {
+  const lo = num(r?.[0], 'fixed range minimum');
+  const hi = num(r?.[1], 'fixed range maximum');
+  const row = el('div', { className: 'list-row' }, lo, '–', hi);
+  for (const e of [lo, hi]) e.addEventListener('change', fire);
+  return {
+    row,
+    read: () => {
+      const a = Number(lo.value), b = Number(hi.value);
+      if (lo.value === '' || hi.value === '' || !Number.isFinite(a) || !Number.isFinite(b)) return null;
+      return [Math.min(a, b), Math.max(a, b)];
+    },
+  };
+}
+
+export const rangesEditor = (onChange) => listEditor('ranges', 4, () => [0, 1], rangeRow, onChange);
 export const termsEditor = (onChange) =>
   listEditor('terms', 4, (names) => ({ attribute: names[0], weight: 1 }), termRow, onChange);
 export const filtersEditor = (onChange) =>

@@ -5,9 +5,9 @@
 
 import { fieldByPath, checkField } from './schema.js';
 import { flatBounds } from './camera.js';
-import { termsEditor, filtersEditor, curveEditor } from './criteria.js';
+import { termsEditor, filtersEditor, curveEditor, rangesEditor } from './criteria.js';
 
-const EDITORS = { terms: termsEditor, filters: filtersEditor, curve: curveEditor };
+const EDITORS = { terms: termsEditor, filters: filtersEditor, curve: curveEditor, ranges: rangesEditor };
 
 const METHOD_LABELS = {
   fourier: 'Fourier (FOO)',
@@ -62,6 +62,8 @@ export const GROUPS = [
       { path: 'color.colormap', label: 'Colormap', kind: 'select', options: fieldByPath('color.colormap').values.map((v) => [v, v]), help: 'Colours from the lowest to the highest value; the legend over the view shows them.' },
       { path: 'color.range', label: 'Range', kind: 'range2', dynamic: 'colorRange', help: 'The values at the two ends of the colormap. Minimum above maximum flips the colours.' },
       { path: 'color.equalize', label: 'Equalize colours', kind: 'check', help: 'Spread the colormap evenly over the colour values you can see in this view (weighted by how visible they are); the colours follow the view smoothly. Fourier, direct and exact methods.' },
+      { path: 'color.fadeHalfLife', label: 'Colour half-life (s)', kind: 'range', min: 0, max: 10, step: 0.1, help: 'Equalized colours: how quickly the colours follow a change of view, in seconds (half the way in this time). 0: they jump at once.' },
+      { path: 'color.fixed', label: 'Fixed ranges', kind: 'ranges', help: 'Equalized colours: value ranges (in the colour attribute\'s units) that keep the plain colormap, so a threshold you know keeps its colour while the rest is spread over what you see. Up to 4.' },
     ],
   },
   {

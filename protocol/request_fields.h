@@ -54,6 +54,8 @@ typedef struct field {
 static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
                                          {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
                                          {"wboit", LC_METHOD_WBOIT},     {"surface-layers", LC_METHOD_SURFACE_LAYERS},
+                                         {"weighted-average", LC_METHOD_WEIGHTED_AVERAGE},
+                                         {"binning", LC_METHOD_BINNING},
                                          {NULL, 0}};
 static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};

@@ -11,9 +11,10 @@
 #define M(x) (1u << LC_METHOD_##x)
 #define P(x) (1u << LC_PRIM_##x)
 #define DATASET_METHODS (LC_PROTO_ALL_METHODS & ~M(SURFACE_LAYERS)) /* everything that draws a dataset */
-#define OPTIMIZED (M(FOURIER) | M(EXACT) | M(WBOIT))                /* P1-P3: the opacity optimization */
-#define FOURIER_PASSES (M(FOURIER) | M(WBOIT))                      /* P1/P2 at resolutionScale */
-#define SERIES (M(FOURIER) | M(DIRECT) | M(WBOIT))                  /* a Fourier transmittance in P4/P5 */
+#define BLENDS (M(WBOIT) | M(WEIGHTED_AVERAGE) | M(BINNING))        /* FOO opacities, another compositing */
+#define OPTIMIZED (M(FOURIER) | M(EXACT) | BLENDS)                  /* P1-P3: the opacity optimization */
+#define FOURIER_PASSES (M(FOURIER) | BLENDS)                        /* P1/P2 at resolutionScale */
+#define SERIES (M(FOURIER) | M(DIRECT) | BLENDS)                    /* a Fourier series in P1/P2 or P4/P5 */
 #define EQUALIZING (M(FOURIER) | M(DIRECT) | M(EXACT))              /* color.equalize's histogram */
 #define NOT_SURFACES (P(POINTS) | P(LINES))
 

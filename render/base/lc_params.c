@@ -70,7 +70,7 @@ void lc_layer_params_default(lc_layer_params *l)
 }
 
 static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit",
-                                                    "surface-layers"};
+                                                    "surface-layers", "weighted-average", "binning"};
 
 const char *lc_method_name(lc_method m) { return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown"; }
 

@@ -26,6 +26,8 @@ typedef enum {
     /* A vector field's integral surface (the request's surface object,
      * render/gl/surface_render.c), not a dataset's elements: lc_render_frame refuses it. */
     LC_METHOD_SURFACE_LAYERS,
+    LC_METHOD_WEIGHTED_AVERAGE, /* Bavoil & Myers 2008 with the FOO opacities */
+    LC_METHOD_BINNING,          /* tau(d) in 11 depth bins (FOO §5.3) with the FOO opacities */
     LC_METHOD_COUNT
 } lc_method;
 

@@ -156,7 +156,7 @@ static const lc_option common_options[] = {
     REQ("--width", "N", "width", ""),
     REQ("--height", "N", "height", ""),
     {"--size", "WxH", LC_OPT_CALL, .call = set_size, .numeric = 1, .help = "image size in pixels"},
-    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit"),
+    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit | weighted-average | binning"),
     REQ("--bands", "M", "bands", "Fourier bands 1..8"),
     REQ("--q", "X", "q", ""),
     REQ("--r", "X", "r", ""),

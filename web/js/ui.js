@@ -15,6 +15,8 @@ const METHOD_LABELS = {
   opaque: 'Opaque',
   direct: 'Direct (α = gᵏ)',
   wboit: 'Weighted blended OIT',
+  'weighted-average': 'Weighted average OIT',
+  binning: 'Binning (τ in 11 bins)',
 };
 
 /**
@@ -26,7 +28,7 @@ const METHOD_LABELS = {
 export const GROUPS = [
   {
     id: 'optimization', legend: 'Optimization', controls: [
-      { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS), help: 'How transparency is computed. Fourier: the fast optimization (default). Exact: the slow reference. Opaque: no transparency. Direct: opacity from importance alone. WBOIT: another way to blend the optimized opacities.' },
+      { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS), help: 'How transparency is computed. Fourier: the fast optimization (default). Exact: the slow reference. Opaque: no transparency. Direct: opacity from importance alone. WBOIT, weighted average, binning: cheaper ways to blend the optimized opacities, for comparison (they lose more of the depth order).' },
       { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1, help: 'How strongly a part fades where importance lies behind it. Higher: what hides important parts fades more, but on dense data the important parts fade too (they hide each other: q 300 on a dense trajectory file, the most important tenth 5% opaque). By default Clarity sets the strength for you; setting q, r or λ here, even to the value shown, turns Clarity off and uses these values: on dense data the picture falls back to the paper\'s strength (the same file: its most important tenth 8% opaque instead of 52%).' },
       { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1, help: 'How strongly a part fades where importance lies in front of it. Higher: less clutter behind what matters. Setting it turns Clarity off (see Clarity).' },
       { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1, help: 'How much important parts are protected from fading: their penalty is scaled by (1 − importance)^(2λ). Higher: the important parts stay more opaque, and the rest grows more opaque too, less so (a dense trajectory file at λ 4: the most important tenth 65% opaque, the least important half 27%; at λ 1: 8% and 2%). Clarity raises it for you; setting it turns Clarity off.' },

@@ -837,6 +837,9 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
                     json_array_append_new(a, json_string(n->name));
             json_object_set_new(o, "methods", a);
         }
+        const char *when_path, *when_value;
+        if (lc_proto_field_condition(f->section, f->name, &when_path, &when_value))
+            json_object_set_new(o, "when", json_pack("[ss]", when_path, when_value));
         if (ps != LC_PROTO_ALL_PRIMS) {
             json_t *a = json_array();
             for (int k = 0; k < 3; k++)

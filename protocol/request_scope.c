@@ -43,6 +43,9 @@ static const scope_rule rules[] = {
     {"params", "autoSubset", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "guardBand", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "directExponent", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "alphaSource", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "alphaConstant", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "gamma", M(DIRECT), LC_PROTO_ALL_PRIMS},
     {"params", "lod", DATASET_METHODS, P(LINES) | P(TRIANGLES)}, /* simplified polylines and meshes */
     {"params", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
     {"importance", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
@@ -66,6 +69,25 @@ static const scope_rule rules[] = {
     {"time", NULL, DATASET_METHODS, NOT_SURFACES},
     {"surface", NULL, M(SURFACE_LAYERS), LC_PROTO_ALL_PRIMS},
 };
+
+/* Fields that apply under one value of another field (docs/ALGORITHM.md §12). */
+static const struct {
+    const char *section, *name, *when_path, *when_value;
+} conditions[] = {
+    {"params", "directExponent", "params.alphaSource", "importance"},
+    {"params", "alphaConstant", "params.alphaSource", "constant"},
+    {"params", "gamma", "params.alphaSource", "normalVariation"},
+};
+
+int lc_proto_field_condition(const char *section, const char *name, const char **when_path, const char **when_value)
+{
+    for (size_t i = 0; i < sizeof conditions / sizeof conditions[0]; i++)
+        if (section && strcmp(conditions[i].section, section) == 0 && strcmp(conditions[i].name, name) == 0) {
+            *when_path = conditions[i].when_path, *when_value = conditions[i].when_value;
+            return 1;
+        }
+    return 0;
+}
 
 static bool same(const char *a, const char *b) { return (a == NULL && b == NULL) || (a && b && strcmp(a, b) == 0); }
 

@@ -20,6 +20,9 @@ void lc_foo_params_default(lc_foo_params *p)
     p->estimator = LC_ESTIMATOR_MIDPOINT;
     p->depth_range = LC_DEPTH_RANGE_AUTO;
     p->direct_exponent = 2;
+    p->alpha_source = LC_ALPHA_IMPORTANCE;
+    p->alpha_constant = 0.3;
+    p->gamma = 1;
     p->normalize = LC_NORMALIZE_AUTO;
     p->target_opacity = 1;
 }

@@ -419,7 +419,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
         lc_uniform_f(p4, "u_weight", lc_renderer_subset(lf, p->foo.subset));
-        lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
+        lc_renderer_bind_direct_alpha(p4, p);
         lc_renderer_bind_halo(p4, lf);
         if (record) {
             lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
@@ -455,7 +455,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         lc_renderer_bind_geometry(r, p5, lf, fs->width, fs->height, 1);
         lc_bind_coefficients(&r->coef_full);
         lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
-        lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
+        lc_renderer_bind_direct_alpha(p5, p);
         lc_renderer_bind_halo(p5, lf);
         lc_renderer_draw_geometry(lf, 1);
     }

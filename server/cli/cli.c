@@ -164,6 +164,8 @@ static const lc_option common_options[] = {
     REQ("--smoothing", "S", "smoothing", "Laplacian smoothing iterations of the element opacities"),
     REQ("--fade", "T", "fadeHalfLife", "fading half-life of the opacities (s)"),
     REQ("--estimator", "NAME", "estimator", "foo | midpoint"),
+    REQ("--alpha-source", "NAME", "alphaSource",
+        "method direct's opacity: importance (g^k) | constant | angle | normalVariation"),
     REQ("--depth-range", "MODE", "depthRange",
         "auto|global|pixel|moments: depth normalization by the data bounds,\n"
         "each pixel's range, or the bounds warped around each pixel's\n"

@@ -7,6 +7,8 @@
 // Types: int, num, bool, str, enum, vec3, range (two numbers), color (three in [0,1]).
 // methods / primitives: where a field applies (protocol/request_scope.c); absent = everywhere.
 // The server refuses a field with a value other than its default elsewhere.
+// when: [path, value]: the field applies only while that field has that value
+// (the direct method's opacity parameters, render/gl/frame_check.c refuses them otherwise).
 const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit', 'weighted-average', 'binning']);
 export const FIELDS = Object.freeze([
   { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
@@ -36,7 +38,10 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'], methods: DATASET_METHODS },
   { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines', 'surfaces'] },
-  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'] },
+  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'], when: ['params.alphaSource', 'importance'] },
+  { section: 'params', name: 'alphaSource', alias: 'alphaSource', type: 'enum', values: ['importance', 'constant', 'angle', 'normalVariation'], methods: ['direct'] },
+  { section: 'params', name: 'alphaConstant', alias: 'alphaConstant', type: 'num', min: 0, max: 1, methods: ['direct'], when: ['params.alphaSource', 'constant'] },
+  { section: 'params', name: 'gamma', alias: 'gamma', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'], when: ['params.alphaSource', 'normalVariation'] },
   { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: DATASET_METHODS },
   { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
@@ -377,6 +382,8 @@ export function merge(base, update) {
   return out;
 }
 
+// The default of each field a `when` names (the server's).
+const WHEN_DEFAULTS = Object.freeze({ 'params.alphaSource': 'importance' });
 const scopeByPath = new Map([...FIELDS, ...REQUEST_TOP_FIELDS].map((f) => [fieldPath(f), f]));
 const PRIMITIVE_NAMES = { points: 'points', lines: 'lines', triangles: 'surfaces', surfaces: 'surfaces' };
 
@@ -392,6 +399,11 @@ export function applies(f, method, prim) {
  *  given where it does not apply). */
 export function applicableUpdate(update, prim) {
   const method = update?.method ?? 'fourier';
+  const holds = (f) => {
+    if (!f?.when) return true; // when: [path, value], as the schema's
+    const [section, name] = f.when[0].split('.');
+    return (update?.[section]?.[name] ?? WHEN_DEFAULTS[f.when[0]]) === f.when[1];
+  };
   const out = {};
   for (const [k, v] of Object.entries(update ?? {})) {
     const top = scopeByPath.get(k);
@@ -400,7 +412,7 @@ export function applicableUpdate(update, prim) {
     } else if (v && typeof v === 'object' && !Array.isArray(v) && k !== 'camera') {
       const kept = Object.fromEntries(Object.entries(v).filter(([n]) => {
         const f = scopeByPath.get(`${k}.${n}`);
-        return !f || applies(f, method, prim);
+        return !f || (applies(f, method, prim) && holds(f));
       }));
       if (Object.keys(kept).length) out[k] = kept;
     } else {

@@ -176,11 +176,17 @@ with Server(binary, data=tuple(KIND_DATASET.values()) + ("demo:abc-flow",), demo
             check(last.get("type") == "error" and last.get("field") == "params.alphaConstant",
                   "conditional: alphaConstant without alphaSource constant is refused naming it (%s)" %
                   {k: v for k, v in last.items() if k != "image"})
-            for update in ({"alphaSource": "constant", "alphaConstant": 0.5}, {"alphaSource": "angle"}):
-                await ws.send(json.dumps({"type": "params", "params": update}))
+            for update in ({"params": {"alphaSource": "constant", "alphaConstant": 0.5}},
+                           {"params": {"alphaSource": "angle"}},
+                           # the baselines at equal memory in a session, and a moving frame that reuses their opacities
+                           {"method": "weighted-average"}, {"method": "binning", "params": {"q": 10}}):
+                await ws.send(json.dumps(dict({"type": "params"}, **update)))
                 done = await wait_for_stream_done(ws)
                 check(done.reached and not [x for x in done if x.get("type") == "error"],
                       "conditional: the update %s renders" % update)
+            await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": {"position": [0.5, 3, 4]}}))
+            done = await wait_for_stream_done(ws)
+            check(done.reached and not [x for x in done if x.get("type") == "error"], "binning: a camera move renders")
 
     asyncio.run(conditional_session())
 

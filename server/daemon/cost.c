@@ -231,7 +231,7 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
 int lc_cost_subset_for(const lc_scene_measures *st, const lc_render_params *p, double budget)
 {
     if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_WBOIT &&
-        p->method != LC_METHOD_BINNING)
+        p->method != LC_METHOD_WEIGHTED_AVERAGE && p->method != LC_METHOD_BINNING)
         return 0;
     lc_render_params q = *p;
     for (int n = 2 * (p->foo.subset > 1 ? p->foo.subset : 1); n <= 64; n *= 2) {

@@ -1,7 +1,8 @@
 /* The baselines at equal memory (FOO §5.3) on stacked quads: methods
  * "weighted-average" and "binning" composite the optimized opacities, and
  * every pixel covered by all quads equals the CPU formula on the same
- * fragments (foo_math.c: FOO opacities, then the baseline's compositing). */
+ * fragments (foo_math.c: FOO opacities, then the baseline's compositing;
+ * binning also under the moments warp). */
 #include <math.h>
 
 #include "camera.h"
@@ -22,12 +23,19 @@ static void expected_pixel(const test_quad *q, int n, const lc_render_params *p,
         }
     }
     lc_fragment frags[16];
+    double moments[3] = {0, 0, 0};
     for (int i = 0; i < n; i++) {
         frags[i].depth = lc_foo_normalize_depth(p->camera.position[2] - q[i].z, zmin, zmax, margin);
         frags[i].importance = q[i].g;
         for (int c = 0; c < 3; c++)
             frags[i].color[c] = q[i].rgb[c];
+        double w = q[i].g * q[i].g, u = frags[i].depth - 0.5;
+        moments[0] += w, moments[1] += w * u, moments[2] += w * u * u;
     }
+    /* Binning shares the Fourier method's moments warp (P0 at the optimization resolution). */
+    if (p->method == LC_METHOD_BINNING && lc_foo_depth_range(&p->foo) == LC_DEPTH_RANGE_MOMENTS)
+        for (int i = 0; i < n; i++)
+            frags[i].depth = lc_foo_moment_depth(frags[i].depth, moments, margin);
     lc_foo_alpha_fourier(frags, (size_t)n, &p->foo);
     if (p->method == LC_METHOD_WEIGHTED_AVERAGE)
         lc_foo_composite_weighted_average(frags, (size_t)n, p->style.background, out);
@@ -63,7 +71,11 @@ static double check_stack(test_gl *t, const test_quad *q, int n, lc_method m, lc
     CHECK(worst <= 2.0 / 255.0, "%s, %d quads, %s: worst pixel error %.4f (want %.3f %.3f %.3f, got %d %d %d)",
           lc_method_name(m), n, lc_estimator_name(est), worst, want[0], want[1], want[2], rgba[0], rgba[1], rgba[2]);
     printf("%-16s %d quads %-8s %s range: expected (%.4f %.4f %.4f), worst error %.4f\n", lc_method_name(m), n,
-           lc_estimator_name(est), range == LC_DEPTH_RANGE_PIXEL ? "pixel " : "global", want[0], want[1], want[2],
+           lc_estimator_name(est),
+           range == LC_DEPTH_RANGE_PIXEL     ? "pixel  "
+           : range == LC_DEPTH_RANGE_MOMENTS ? "moments"
+                                             : "global ",
+           want[0], want[1], want[2],
            worst);
     free(rgba);
     lc_scene_destroy(s);
@@ -92,6 +104,8 @@ int main(void)
         check_stack(&t, five, 5, methods[k], LC_ESTIMATOR_MIDPOINT, LC_DEPTH_RANGE_GLOBAL);
         check_stack(&t, five, 5, methods[k], LC_ESTIMATOR_FOO, LC_DEPTH_RANGE_PIXEL);
     }
+    check_stack(&t, three, 3, LC_METHOD_BINNING, LC_ESTIMATOR_MIDPOINT, LC_DEPTH_RANGE_MOMENTS);
+    check_stack(&t, five, 5, LC_METHOD_BINNING, LC_ESTIMATOR_MIDPOINT, LC_DEPTH_RANGE_MOMENTS);
 
     /* The order matters to binning, not to the weighted average: swapping the
      * colours of the two-quad stack's layers changes the first only. */

@@ -37,8 +37,8 @@ typedef enum { LC_ESTIMATOR_FOO = 0, LC_ESTIMATOR_MIDPOINT = 1 } lc_estimator;
  * depth range of the data bounds this frame; each pixel's own min/max fragment
  * depth (one extra geometry pass at each resolution); or the data bounds'
  * range warped per pixel around the mean and spread of its importance mass
- * (one extra geometry pass at the optimization resolution; Fourier method
- * only). Auto (the default) is moments with density normalization and the
+ * (one extra geometry pass at the optimization resolution; the Fourier and
+ * binning methods). Auto (the default) is moments with density normalization and the
  * bounds with the paper's formula (normalize "off"), so "off" stays the paper's. */
 typedef enum {
     LC_DEPTH_RANGE_GLOBAL = 0,

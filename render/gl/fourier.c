@@ -386,7 +386,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     return finish_opacities(r, fs, state, dt, info, err);
 }
 
-/* P4..P6 with the element opacities (or alpha = g^k when direct); bins: the
+/* P4..P6 with the element opacities (or the direct baseline's, params.alphaSource); bins: the
  * binning baseline's depth bins in place of the series (their total in the
  * first channel, where P6 reads A0). */
 static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int bins, lc_error *err)

@@ -649,7 +649,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
 /* P3 alone on element_alpha_min -> element_alpha (uploads state first). */
 int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_frame_state *state, double dt,
                                 lc_frame_info *info, lc_error *err);
-/* P4..P6 with the element opacities (or alpha = g^k when direct). */
+/* P4..P6 with the element opacities (or, direct, the opacity of params.alphaSource). */
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
 /* P4..P6 of the binning baseline (FOO §5.3): P4 sums -ln(1 - alpha) into
  * LC_TAU_BINS depth bins, P5 weighs by tau(d) interpolated in them. */

@@ -1,5 +1,5 @@
 /* The local transparency baselines (OOS §2.1) as the direct method's opacity
- * (params.alphaSource) on an analytic sphere and a slanted line, black on white
+ * (params.alphaSource) on an analytic sphere, slanted lines and a point splat, black on white
  * under an orthographic camera: a black fragment adds no colour, so a pixel is
  * the exact transmittance P6 composites, prod (1 - alpha_i), and its expected
  * value follows from the sphere's normal at the pixel. */
@@ -69,6 +69,29 @@ static lc_scene *line_scene(double theta)
         s->rgb[3 * v] = s->rgb[3 * v + 1] = s->rgb[3 * v + 2] = 0;
         g[v] = 1;
     }
+    lc_scene_add_attribute(s, "importance", g, &err);
+    snprintf(s->default_importance, sizeof s->default_importance, "importance");
+    snprintf(s->default_color, sizeof s->default_color, "rgb");
+    lc_elements_desc desc = {0};
+    if (lc_scene_finalize(s, &desc, &err) != 0) {
+        fprintf(stderr, "finalize: %s\n", err.msg);
+        lc_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+/* One black point at the origin. */
+static lc_scene *point_scene(void)
+{
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("point", LC_PRIM_POINTS);
+    if (!s || lc_scene_alloc_vertices(s, 1, 1, &err) != 0)
+        return NULL;
+    float *g = malloc(sizeof(float));
+    g[0] = 1;
+    s->positions[0] = s->positions[1] = s->positions[2] = 0;
+    s->rgb[0] = s->rgb[1] = s->rgb[2] = 0;
     lc_scene_add_attribute(s, "importance", g, &err);
     snprintf(s->default_importance, sizeof s->default_importance, "importance");
     snprintf(s->default_color, sizeof s->default_color, "rgb");
@@ -211,6 +234,35 @@ static void test_line(test_gl *t)
     }
 }
 
+/* A point splat is a sphere: at disc radius u, <n, v> = sqrt(1 - u^2) and alpha = (2/pi) arcsin u; one layer. */
+static void test_point(test_gl *t)
+{
+    lc_scene *s = point_scene();
+    CHECK(s != NULL, "point scene");
+    if (!s)
+        return;
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    lc_render_params p;
+    direct_params(&p, LC_ALPHA_ANGLE);
+    p.style.point_size = 60; /* diameter in pixels */
+    render(t, s, &p, rgba);
+    double worst = 0, worst_u = 0, r;
+    for (int y = 0; y < SIZE; y++)
+        for (int x = 0; x < SIZE; x++) {
+            double px = x + 0.5 - SIZE / 2, py = y + 0.5 - SIZE / 2, u = sqrt(px * px + py * py) / 30;
+            if (u > 0.95)
+                continue;
+            double got = pixel_at(rgba, x, y, &r), want = 1 - 2 / M_PI * asin(u);
+            if (fabs(got - want) > worst)
+                worst = fabs(got - want), worst_u = u;
+        }
+    CHECK(worst <= 0.02, "point splat: pixels against 1 - (2/pi) arcsin u: worst error %.4f at u = %.3f", worst,
+          worst_u);
+    printf("point splat: worst pixel error %.4f at u %.3f\n", worst, worst_u);
+    free(rgba);
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
     test_gl t;
@@ -218,6 +270,7 @@ int main(void)
     printf("renderer: %s\n", lc_gl_renderer(t.gl));
     test_sphere(&t);
     test_line(&t);
+    test_point(&t);
     test_gl_close(&t);
     return lc_test_finish();
 }

@@ -26,6 +26,14 @@ void lc_proto_limits_default(lc_proto_limits *l)
     l->max_text = 64 * 1024;
 }
 
+/* lim, or the defaults in *dl when NULL. */
+static const lc_proto_limits *limits_or_default(const lc_proto_limits *lim, lc_proto_limits *dl)
+{
+    if (!lim)
+        lc_proto_limits_default(dl);
+    return lim ? lim : dl;
+}
+
 void lc_request_default(lc_request *r)
 {
     memset(r, 0, sizeof *r);
@@ -387,10 +395,7 @@ static int check_camera(const lc_camera *c, bool check_up, lc_proto_error *err)
 int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, lc_proto_error *err)
 {
     lc_proto_limits dl;
-    if (!lim) {
-        lc_proto_limits_default(&dl);
-        lim = &dl;
-    }
+    lim = limits_or_default(lim, &dl);
     long long px = (long long)r->render.width * r->render.height;
     if (px > lim->max_pixels)
         return lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "width", "%d x %d = %lld pixels exceeds the limit %lld",
@@ -414,10 +419,7 @@ int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, l
 static int apply(const json_t *obj, const lc_proto_limits *lim, lc_request *r, bool cross_checks, lc_proto_error *err)
 {
     lc_proto_limits dl;
-    if (!lim) {
-        lc_proto_limits_default(&dl);
-        lim = &dl;
-    }
+    lim = limits_or_default(lim, &dl);
     if (!json_is_object(obj))
         return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
     lc_request tmp = *r; /* all or nothing */
@@ -534,10 +536,7 @@ static int nesting_depth(const char *s, size_t len, int max)
 json_t *lc_proto_load(const char *text, size_t len, const lc_proto_limits *lim, lc_proto_error *err)
 {
     lc_proto_limits dl;
-    if (!lim) {
-        lc_proto_limits_default(&dl);
-        lim = &dl;
-    }
+    lim = limits_or_default(lim, &dl);
     if (!text)
         len = 0;
     if (len > lim->max_text) {
@@ -674,10 +673,7 @@ int lc_proto_apply_query(lc_request *r, const char *key, const char *value, cons
                          lc_proto_error *err)
 {
     lc_proto_limits dl;
-    if (!lim) {
-        lc_proto_limits_default(&dl);
-        lim = &dl;
-    }
+    lim = limits_or_default(lim, &dl);
     if (!key || !key[0] || key[0] == '_' || strcmp(key, "token") == 0)
         return 0;
     if (!value)
@@ -800,10 +796,7 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         [T_NAME] = "enum",       [T_VEC3] = "vec3",   [T_COLOR] = "color",   [T_RANGE] = "range",   [T_TERMS] = "terms",
         [T_FILTERS] = "filters", [T_CURVE] = "curve", [T_RANGES] = "ranges", [T_LAYERS] = "layers", [T_SEED] = "seed"};
     lc_proto_limits dl;
-    if (!lim) {
-        lc_proto_limits_default(&dl);
-        lim = &dl;
-    }
+    lim = limits_or_default(lim, &dl);
     json_t *arr = json_array();
     lc_request *def = malloc(sizeof *def); /* off the stack: lc_request holds its layers */
     if (def)
@@ -847,6 +840,9 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
                     json_array_append_new(a, json_string(n->name));
             json_object_set_new(o, "methods", a);
         }
+        const char *when_path, *when_value;
+        if (lc_proto_field_condition(f->section, f->name, &when_path, &when_value))
+            json_object_set_new(o, "when", json_pack("[ss]", when_path, when_value));
         if (ps != LC_PROTO_ALL_PRIMS) {
             json_t *a = json_array();
             for (int k = 0; k < 3; k++)

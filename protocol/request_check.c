@@ -14,16 +14,40 @@ static int check_field(const char *section, const char *name, const lc_request *
     lc_proto_field_scope(section, name, &ms, &ps);
     bool method_ok = (ms >> r->render.method) & 1u;
     bool prims_ok = prims == 0 || (ps & prims) != 0;
-    if (method_ok && prims_ok)
+    const char *when_path = NULL, *when_value = NULL;
+    const char *held = NULL;
+    json_t *w = NULL;
+    if (method_ok && prims_ok && lc_proto_field_condition(section, name, &when_path, &when_value)) {
+        char wsec[32];
+        const char *dot = strchr(when_path, '.');
+        snprintf(wsec, sizeof wsec, "%.*s", (int)(dot - when_path), when_path);
+        w = lc_proto_field_json(r, wsec, dot + 1);
+        held = json_is_string(w) ? json_string_value(w) : "";
+        if (strcmp(held, when_value) == 0) {
+            json_decref(w);
+            return 0;
+        }
+    } else if (method_ok && prims_ok) {
         return 0;
+    }
     json_t *v = lc_proto_field_json(r, section, name), *d = lc_proto_field_json(def, section, name);
     bool is_default = v == NULL || (d != NULL && json_equal(v, d));
     json_decref(v);
     json_decref(d);
-    if (is_default)
+    if (is_default) {
+        json_decref(w);
         return 0;
+    }
     char path[96];
     snprintf(path, sizeof path, "%s%s%s", section ? section : "", section ? "." : "", name);
+    if (method_ok && prims_ok) { /* its condition does not hold */
+        int rc = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, path,
+                                    "applies with %s \"%s\", not \"%s\": leave it at its default or change %s in "
+                                    "the same request",
+                                    when_path, when_value, held, when_path);
+        json_decref(w);
+        return rc;
+    }
     if (!method_ok) {
         char list[160];
         lc_proto_method_list(ms, list, sizeof list);

@@ -54,10 +54,17 @@ typedef struct field {
 static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
                                          {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
                                          {"wboit", LC_METHOD_WBOIT},     {"surface-layers", LC_METHOD_SURFACE_LAYERS},
+                                         {"weighted-average", LC_METHOD_WEIGHTED_AVERAGE},
+                                         {"binning", LC_METHOD_BINNING},
                                          {NULL, 0}};
 static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
 static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
+static const enum_name alpha_source_names[] = {{"importance", LC_ALPHA_IMPORTANCE},
+                                               {"constant", LC_ALPHA_CONSTANT},
+                                               {"angle", LC_ALPHA_ANGLE},
+                                               {"normalVariation", LC_ALPHA_NORMAL_VARIATION},
+                                               {NULL, 0}};
 static const enum_name estimator_names[] = {{"foo", LC_ESTIMATOR_FOO}, {"midpoint", LC_ESTIMATOR_MIDPOINT}, {NULL, 0}};
 static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
                                               {"global", LC_DEPTH_RANGE_GLOBAL},
@@ -126,6 +133,11 @@ static const field fields[] = {
     {"params", "lod", "lod", T_NUM, 0, 16, 0, OFF(render.detail.lod_pixels), 0, NOFLAG, NULL},
     {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
      NULL},
+    /* The direct method's opacity source: the local transparency baselines (OOS §2.1) */
+    {"params", "alphaSource", "alphaSource", T_ENUM, 0, 0, 0, OFF(render.foo.alpha_source), 0, NOFLAG,
+     alpha_source_names},
+    {"params", "alphaConstant", "alphaConstant", T_NUM, 0, 1, 0, OFF(render.foo.alpha_constant), 0, NOFLAG, NULL},
+    {"params", "gamma", "gamma", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.gamma), 0, NOFLAG, NULL},
     {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
     {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
      smoothing_weights_names},

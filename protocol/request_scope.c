@@ -11,9 +11,10 @@
 #define M(x) (1u << LC_METHOD_##x)
 #define P(x) (1u << LC_PRIM_##x)
 #define DATASET_METHODS (LC_PROTO_ALL_METHODS & ~M(SURFACE_LAYERS)) /* everything that draws a dataset */
-#define OPTIMIZED (M(FOURIER) | M(EXACT) | M(WBOIT))                /* P1-P3: the opacity optimization */
-#define FOURIER_PASSES (M(FOURIER) | M(WBOIT))                      /* P1/P2 at resolutionScale */
-#define SERIES (M(FOURIER) | M(DIRECT) | M(WBOIT))                  /* a Fourier transmittance in P4/P5 */
+#define BLENDS (M(WBOIT) | M(WEIGHTED_AVERAGE) | M(BINNING))        /* FOO opacities, another compositing */
+#define OPTIMIZED (M(FOURIER) | M(EXACT) | BLENDS)                  /* P1-P3: the opacity optimization */
+#define FOURIER_PASSES (M(FOURIER) | BLENDS)                        /* P1/P2 at resolutionScale */
+#define SERIES (M(FOURIER) | M(DIRECT) | BLENDS)                    /* a Fourier series in P1/P2 or P4/P5 */
 #define EQUALIZING (M(FOURIER) | M(DIRECT) | M(EXACT))              /* color.equalize's histogram */
 #define NOT_SURFACES (P(POINTS) | P(LINES))
 
@@ -42,6 +43,9 @@ static const scope_rule rules[] = {
     {"params", "autoSubset", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "guardBand", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "directExponent", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "alphaSource", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "alphaConstant", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "gamma", M(DIRECT), LC_PROTO_ALL_PRIMS},
     {"params", "lod", DATASET_METHODS, P(LINES) | P(TRIANGLES)}, /* simplified polylines and meshes */
     {"params", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
     {"importance", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
@@ -65,6 +69,25 @@ static const scope_rule rules[] = {
     {"time", NULL, DATASET_METHODS, NOT_SURFACES},
     {"surface", NULL, M(SURFACE_LAYERS), LC_PROTO_ALL_PRIMS},
 };
+
+/* Fields that apply under one value of another field (docs/ALGORITHM.md §12). */
+static const struct {
+    const char *section, *name, *when_path, *when_value;
+} conditions[] = {
+    {"params", "directExponent", "params.alphaSource", "importance"},
+    {"params", "alphaConstant", "params.alphaSource", "constant"},
+    {"params", "gamma", "params.alphaSource", "normalVariation"},
+};
+
+int lc_proto_field_condition(const char *section, const char *name, const char **when_path, const char **when_value)
+{
+    for (size_t i = 0; i < sizeof conditions / sizeof conditions[0]; i++)
+        if (section && strcmp(conditions[i].section, section) == 0 && strcmp(conditions[i].name, name) == 0) {
+            *when_path = conditions[i].when_path, *when_value = conditions[i].when_value;
+            return 1;
+        }
+    return 0;
+}
 
 static bool same(const char *a, const char *b) { return (a == NULL && b == NULL) || (a && b && strcmp(a, b) == 0); }
 

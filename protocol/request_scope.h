@@ -14,6 +14,12 @@
  * whose frames read the field section.name (section NULL = top level). */
 void lc_proto_field_scope(const char *section, const char *name, unsigned *methods, unsigned *prims);
 
+/* A field that applies only while another field of the request holds one
+ * value (the direct method's opacity parameters under params.alphaSource):
+ * returns 1 with *when_path ("params.alphaSource") and *when_value
+ * ("constant"); 0 for every other field. */
+int lc_proto_field_condition(const char *section, const char *name, const char **when_path, const char **when_value);
+
 /* "points", "lines" or "surfaces". */
 const char *lc_proto_prim_name(int prim);
 

@@ -20,6 +20,9 @@ void lc_foo_params_default(lc_foo_params *p)
     p->estimator = LC_ESTIMATOR_MIDPOINT;
     p->depth_range = LC_DEPTH_RANGE_AUTO;
     p->direct_exponent = 2;
+    p->alpha_source = LC_ALPHA_IMPORTANCE;
+    p->alpha_constant = 0.3;
+    p->gamma = 1;
     p->normalize = LC_NORMALIZE_AUTO;
     p->target_opacity = 1;
 }
@@ -70,7 +73,7 @@ void lc_layer_params_default(lc_layer_params *l)
 }
 
 static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit",
-                                                    "surface-layers"};
+                                                    "surface-layers", "weighted-average", "binning"};
 
 const char *lc_method_name(lc_method m) { return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown"; }
 

@@ -26,6 +26,8 @@ typedef enum {
     /* A vector field's integral surface (the request's surface object,
      * render/gl/surface_render.c), not a dataset's elements: lc_render_frame refuses it. */
     LC_METHOD_SURFACE_LAYERS,
+    LC_METHOD_WEIGHTED_AVERAGE, /* Bavoil & Myers 2008 with the FOO opacities */
+    LC_METHOD_BINNING,          /* tau(d) in 11 depth bins (FOO §5.3) with the FOO opacities */
     LC_METHOD_COUNT
 } lc_method;
 
@@ -35,8 +37,8 @@ typedef enum { LC_ESTIMATOR_FOO = 0, LC_ESTIMATOR_MIDPOINT = 1 } lc_estimator;
  * depth range of the data bounds this frame; each pixel's own min/max fragment
  * depth (one extra geometry pass at each resolution); or the data bounds'
  * range warped per pixel around the mean and spread of its importance mass
- * (one extra geometry pass at the optimization resolution; Fourier method
- * only). Auto (the default) is moments with density normalization and the
+ * (one extra geometry pass at the optimization resolution; the Fourier and
+ * binning methods). Auto (the default) is moments with density normalization and the
  * bounds with the paper's formula (normalize "off"), so "off" stays the paper's. */
 typedef enum {
     LC_DEPTH_RANGE_GLOBAL = 0,
@@ -44,6 +46,14 @@ typedef enum {
     LC_DEPTH_RANGE_MOMENTS = 2,
     LC_DEPTH_RANGE_AUTO = 3
 } lc_depth_range;
+/* The direct method's fragment opacity (params.alphaSource; docs/ALGORITHM.md
+ * §12): importance g^k, or the local transparency baselines of OOS §2.1. */
+typedef enum {
+    LC_ALPHA_IMPORTANCE = 0,   /* g^k, params.directExponent */
+    LC_ALPHA_CONSTANT = 1,     /* params.alphaConstant */
+    LC_ALPHA_ANGLE = 2,        /* (2/pi) arccos |<n, v>| */
+    LC_ALPHA_NORMAL_VARIATION = 3 /* ((d n_z/du)^2 + (d n_z/dv)^2)^(gamma/2), per pixel */
+} lc_alpha_source;
 /* Density-aware opacity (docs/ALGORITHM.md "Density normalization"): auto
  * scales a pixel's front and behind sums down where its importance mass
  * exceeds a reference, raises the emphasis there, and maps importance from the
@@ -97,6 +107,9 @@ typedef struct lc_foo_params {
     lc_estimator estimator;
     lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
     double direct_exponent;     /* k of the "direct" baseline, alpha = g^k */
+    lc_alpha_source alpha_source; /* the direct baseline's opacity; importance = g^k */
+    double alpha_constant;        /* alpha of alphaSource constant */
+    double gamma;                 /* exponent of alphaSource normalVariation */
     lc_normalize normalize;
     /* Perception aids (docs/ALGORITHM.md "Perception aids"): */
     double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */

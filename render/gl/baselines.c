@@ -1,6 +1,8 @@
-/* Baseline methods for comparison: depth-tested opaque geometry and weighted
- * blended OIT (McGuire & Bavoil 2013) with the optimized opacities. The
- * "direct" baseline is the Fourier compositing without optimization (fourier.c). */
+/* Baseline methods for comparison: depth-tested opaque geometry, weighted
+ * blended OIT (McGuire & Bavoil 2013) and weighted average OIT (Bavoil & Myers
+ * 2008) with the optimized opacities. The "direct" baseline is the Fourier
+ * compositing without optimization and "binning" its variant with tau(d) in
+ * depth bins (fourier.c). */
 #include "renderer_internal.h"
 
 int lc_render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
@@ -44,6 +46,34 @@ int lc_render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     lc_renderer_resolve(r, fs, PROG_WBOIT_RESOLVE, &r->accum, r->accum.tex[1], err);
+    lc_renderer_timestamp(r, LC_PASS_RESOLVE);
+    return 0;
+}
+
+int lc_render_weighted_average(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+{
+    GLuint prog = lc_renderer_geometry_program(r, PROG_WEIGHTED_AVERAGE, fs->gs->scene->type, 1, 1, err);
+    if (!prog)
+        return LC_ERR_GL;
+    /* Bavoil & Myers keep (sum a c, sum a) in RGBA32F and the count beside it:
+     * half floats would stop counting at 2048 fragments. */
+    lc_targets_ensure(&r->accum, fs->width, fs->height, 2, GL_RGBA32F, &r->bytes_targets);
+    lc_targets_clear(&r->accum, NULL);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
+    glDisable(GL_DEPTH_TEST);
+    lc_additive_blending();
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        lc_renderer_bind_geometry(r, prog, lf, fs->width, fs->height, 1);
+        lc_renderer_bind_halo(prog, lf);
+        lc_renderer_draw_geometry(lf, 1);
+    }
+    lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    lc_renderer_resolve(r, fs, PROG_WEIGHTED_AVERAGE_RESOLVE, &r->accum, r->accum.tex[1], err);
     lc_renderer_timestamp(r, LC_PASS_RESOLVE);
     return 0;
 }

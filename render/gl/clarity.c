@@ -12,7 +12,8 @@ int lc_clarity_active(const lc_render_params *p)
 {
     const lc_foo_params *f = &p->foo;
     return f->clarity > 0 && f->normalize == LC_NORMALIZE_AUTO && !f->strength_given &&
-           (p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_WBOIT || p->method == LC_METHOD_EXACT);
+           (p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_WBOIT || p->method == LC_METHOD_EXACT ||
+            p->method == LC_METHOD_WEIGHTED_AVERAGE || p->method == LC_METHOD_BINNING);
 }
 
 double lc_clarity_miss(double target, const lc_frame_info *info)

@@ -108,7 +108,7 @@ int lc_color_equalize_measure(lc_renderer *r, lc_frame_setup *fs, int direct, in
     glBindTextureUnit(TEX_EQUALIZE_ACCUM, r->accum.tex[0]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_COLOR_HISTOGRAM, r->color_histogram);
     lc_uniform_i(prog, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
-    lc_uniform_f(prog, "u_direct_exponent", p->foo.direct_exponent);
+    lc_renderer_bind_direct_alpha(prog, p);
     lc_uniform_f(prog, "u_eq_scale", scale);
     lc_renderer_bind_halo(prog, fs);
     lc_renderer_draw_geometry(fs, 1);

@@ -386,11 +386,15 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     return finish_opacities(r, fs, state, dt, info, err);
 }
 
-/* P4..P6 with the element opacities (or alpha = g^k when direct). */
-int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err)
+/* P4..P6 with the element opacities (or the direct baseline's, params.alphaSource); bins: the
+ * binning baseline's depth bins in place of the series (their total in the
+ * first channel, where P6 reads A0). */
+static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int bins, lc_error *err)
 {
     const lc_render_params *p = fs->params;
-    int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
+    int bands = bins ? LC_TAU_BINS_BANDS : p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
+    lc_program_kind kind4 = bins ? PROG_P4_BINS : direct ? PROG_P4_DIRECT : PROG_P4;
+    lc_program_kind kind5 = bins ? PROG_P5_BINS : direct ? PROG_P5_DIRECT : PROG_P5;
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
     /* Half floats suffice for the weighted sums: the image is their ratio. */
     lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
@@ -400,7 +404,7 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
     /* P4 records what P5 needs of its fragments where the frame allows (fragment_list.c). */
-    int record = lc_composite_list_wanted(r, fs, direct);
+    int record = !bins && lc_composite_list_wanted(r, fs, direct); /* its P5 evaluates a series */
     if (record)
         lc_composite_list_begin(r, fs);
     r->draw_yields = 1; /* P4 and P5: yield points follow, and the image is all they make */
@@ -409,13 +413,13 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : record ? PROG_P4_LIST : PROG_P4,
-                                                 lf->gs->scene->type, bands, p->foo.subset, err);
+        GLuint p4 = lc_renderer_geometry_program(r, record ? PROG_P4_LIST : kind4, lf->gs->scene->type, bands,
+                                                 p->foo.subset, err);
         if (!p4)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
         lc_uniform_f(p4, "u_weight", lc_renderer_subset(lf, p->foo.subset));
-        lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
+        lc_renderer_bind_direct_alpha(p4, p);
         lc_renderer_bind_halo(p4, lf);
         if (record) {
             lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
@@ -445,14 +449,13 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p5 =
-            lc_renderer_geometry_program(r, direct ? PROG_P5_DIRECT : PROG_P5, lf->gs->scene->type, bands, 1, err);
+        GLuint p5 = lc_renderer_geometry_program(r, kind5, lf->gs->scene->type, bands, 1, err);
         if (!p5)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p5, lf, fs->width, fs->height, 1);
         lc_bind_coefficients(&r->coef_full);
         lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
-        lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
+        lc_renderer_bind_direct_alpha(p5, p);
         lc_renderer_bind_halo(p5, lf);
         lc_renderer_draw_geometry(lf, 1);
     }
@@ -469,4 +472,14 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
     lc_renderer_resolve(r, fs, PROG_RESOLVE, &r->accum, r->coef_full.tex[0], err);
     lc_renderer_timestamp(r, LC_PASS_RESOLVE);
     return 0;
+}
+
+int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err)
+{
+    return composite_series(r, fs, direct, 0, err);
+}
+
+int lc_binning_composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
+{
+    return composite_series(r, fs, 0, 1, err);
 }

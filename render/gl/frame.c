@@ -276,7 +276,7 @@ static void jitter_view(lc_view *v, double dx, double dy, int w, int h)
 static int antialias_samples(const lc_render_params *p)
 {
     int k = p->style.antialias;
-    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
+    int composites = p->method != LC_METHOD_EXACT && p->method != LC_METHOD_OPAQUE;
     return composites && k > 1 ? (k > LC_MAX_ANTIALIAS ? LC_MAX_ANTIALIAS : k) : 1;
 }
 
@@ -288,6 +288,8 @@ static int composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     case LC_METHOD_DIRECT: return lc_fourier_composite(r, fs, 1, err);
     case LC_METHOD_OPAQUE: return lc_render_opaque(r, fs, err);
     case LC_METHOD_WBOIT: return lc_render_wboit(r, fs, err);
+    case LC_METHOD_WEIGHTED_AVERAGE: return lc_render_weighted_average(r, fs, err);
+    case LC_METHOD_BINNING: return lc_binning_composite(r, fs, err);
     default: return lc_err(err, LC_ERR_INVALID, "unknown method");
     }
 }
@@ -586,6 +588,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     switch (p.method) {
     case LC_METHOD_FOURIER:
     case LC_METHOD_WBOIT:
+    case LC_METHOD_WEIGHTED_AVERAGE:
+    case LC_METHOD_BINNING:
         rc = plan.reuse ? reuse_opacities(r, state, info)
                         : lc_clarity_optimize(r, &fs, state, dt, info, plan.moments, optimize_frame, err);
         break;

@@ -13,8 +13,9 @@ static int check_layered(const lc_scene *const *scenes, const lc_layer_params *l
 {
     if (n < 1 || n > LC_MAX_LAYERS)
         return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", n, LC_MAX_LAYERS);
-    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_EXACT && p->method != LC_METHOD_DIRECT)
-        return lc_err_field(err, LC_ERR_INVALID, "method", "layers render with fourier, exact or direct, not %s",
+    if (p->method == LC_METHOD_OPAQUE || p->method == LC_METHOD_WBOIT)
+        return lc_err_field(err, LC_ERR_INVALID, "method",
+                            "layers render with fourier, exact, direct, weighted-average or binning, not %s",
                             lc_method_name(p->method));
     if (p->filter_count > 0)
         return lc_err_field(err, LC_ERR_INVALID, "filter", "a layered frame's filters are its layers': layers[i].filter");

@@ -556,6 +556,14 @@ void lc_renderer_resolve(lc_renderer *r, const lc_frame_setup *fs, lc_program_ki
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
+void lc_renderer_bind_direct_alpha(GLuint prog, const lc_render_params *p)
+{
+    lc_uniform_f(prog, "u_direct_exponent", p->foo.direct_exponent);
+    lc_uniform_i(prog, "u_alpha_source", (int)p->foo.alpha_source);
+    lc_uniform_f(prog, "u_alpha_constant", p->foo.alpha_constant);
+    lc_uniform_f(prog, "u_gamma", p->foo.gamma);
+}
+
 void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs)
 {
     const lc_style *st = &fs->params->style;

@@ -154,18 +154,22 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                                              "fragment_list.glsl", "p4_optical_depth.frag.glsl", NULL};
     static const char *const fs_hist[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                           "color_histogram.frag.glsl", NULL};
+    static const char *const fs_wavg[] = {"common.glsl", "fragment_common.glsl", "weighted_average_accumulate.frag.glsl",
+                                          NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
-        fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist,
-        fs_p1_list, fs_moments_list, fs_p4_list};
+        fs_p1,      fs_p2,           fs_p4,      fs_p5,  fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist,
+        fs_hist,    fs_p1_list,      fs_moments_list, fs_p4_list, fs_p4, fs_p5, fs_wavg};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
         "colour histogram", "colour histogram (direct)", "P1 (recording)",
-        "depth moments (recording)", "P4 (recording)"};
+        "depth moments (recording)", "P4 (recording)", "P4-binning", "P5-binning", "weighted average"};
+    int bins = kind == PROG_P4_BINS || kind == PROG_P5_BINS;
     int reads_alpha = kind == PROG_P4 || kind == PROG_P4_LIST || kind == PROG_P5 || kind == PROG_WBOIT ||
-                      kind == PROG_COLOR_HISTOGRAM;
+                      kind == PROG_COLOR_HISTOGRAM || bins || kind == PROG_WEIGHTED_AVERAGE;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
-    char defines[320];
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s", (int)prim, bands,
+    char defines[360];
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s", (int)prim, bands,
+             bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "",
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
              pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
              context ? "#define CONTEXT_DEPTH 1\n" : "", floor ? "#define FLOOR_EMPTY 1\n" : "",
@@ -205,6 +209,7 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
     static const char *const vs_full[] = {"fullscreen.vert.glsl", NULL};
     static const char *const fs_resolve[] = {"p6_resolve.frag.glsl", NULL};
     static const char *const fs_wboit[] = {"wboit_resolve.frag.glsl", NULL};
+    static const char *const fs_wavg[] = {"weighted_average.glsl", "weighted_average_resolve.frag.glsl", NULL};
     static const char *const cs_mass[] = {"mass_common.glsl", "mass_histogram.comp.glsl", NULL};
     static const char *const cs_importance[] = {"common.glsl", "element_importance.comp.glsl", NULL};
     static const char *const cs_points[] = {"common.glsl", "point_select.comp.glsl", NULL};
@@ -224,6 +229,8 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
         *slot = lc_renderer_build_program("", NULL, NULL, cs_filter, "filter mask", err);
     else if (kind == PROG_RESOLVE)
         *slot = lc_renderer_build_program("", vs_full, fs_resolve, NULL, "P6 resolve", err);
+    else if (kind == PROG_WEIGHTED_AVERAGE_RESOLVE)
+        *slot = lc_renderer_build_program("", vs_full, fs_wavg, NULL, "weighted average resolve", err);
     else
         *slot = lc_renderer_build_program("", vs_full, fs_wboit, NULL, "WBOIT resolve", err);
     return *slot;

@@ -14,6 +14,11 @@
 #include "vertex_pack.h"
 
 #define LC_MAX_COEF_TARGETS 5 /* (2 * 8 + 1 + 3) / 4 */
+/* The binning baseline's depth bins (FOO §5.3): with the total they fill the
+ * 12 channels of the three targets that 5 bands' 11 coefficients take. */
+#define LC_TAU_BINS 11
+#define LC_TAU_BINS_TEXT "11"
+#define LC_TAU_BINS_BANDS 5
 
 /* Binding points of shader storage buffers (SSBO), texture units and image
  * units. Shaders name them (BIND_POSITIONS, TEX_COLORMAP, ...): programs.c
@@ -179,10 +184,14 @@ typedef enum {
     PROG_P1_LIST, /* P1 that also records its fragments (fragment_list.c) */
     PROG_DEPTH_MOMENTS_LIST, /* P0 "moments" that also records its fragments and chains (fragment_list.c) */
     PROG_P4_LIST,            /* P4 that also records what P5 needs of its fragments, chained (fragment_list.c) */
+    PROG_P4_BINS,            /* P4 and P5 of the binning baseline (tau in depth bins, baselines.c) */
+    PROG_P5_BINS,
+    PROG_WEIGHTED_AVERAGE, /* the weighted average baseline's accumulation (baselines.c) */
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
     PROG_WBOIT_RESOLVE,
+    PROG_WEIGHTED_AVERAGE_RESOLVE,
     PROG_MASS_HISTOGRAM,
     PROG_ELEMENT_IMPORTANCE,
     PROG_POINT_SELECT,
@@ -578,6 +587,9 @@ void lc_renderer_bind_curves(GLuint prog, const lc_importance_terms *t, const lc
  * P5, the exact method's full-resolution lists): none unless lines with a
  * halo width. Other passes leave them 0, so halos never reach P0-P2. */
 void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs);
+/* Sets the direct baseline's opacity uniforms (params.directExponent,
+ * alphaSource, alphaConstant, gamma) of a DIRECT_ALPHA program. */
+void lc_renderer_bind_direct_alpha(GLuint prog, const lc_render_params *p);
 /* Chooses how large draws are issued for the driver named gl_renderer
  * (GL_RENDERER): in batches on software rasterizers. Process-wide. */
 void lc_pipeline_configure(const char *gl_renderer);
@@ -657,8 +669,11 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
 /* P3 alone on element_alpha_min -> element_alpha (uploads state first). */
 int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_frame_state *state, double dt,
                                 lc_frame_info *info, lc_error *err);
-/* P4..P6 with the element opacities (or alpha = g^k when direct). */
+/* P4..P6 with the element opacities (or, direct, the opacity of params.alphaSource). */
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
+/* P4..P6 of the binning baseline (FOO §5.3): P4 sums -ln(1 - alpha) into
+ * LC_TAU_BINS depth bins, P5 weighs by tau(d) interpolated in them. */
+int lc_binning_composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 /* ---- fragment_list.c (docs/ALGORITHM.md "The geometry path"): P1 records
  * its fragments so that P2 runs as a compute pass over them instead of a
@@ -766,5 +781,7 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
 /* ---- baselines.c */
 int lc_render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 int lc_render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* Weighted average (Bavoil & Myers 2008) with the frame's opacities. */
+int lc_render_weighted_average(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 
 #endif

@@ -64,7 +64,8 @@ static int build_programs(lc_surface_layers *sl, lc_error *err)
     static const char *const vs[] = {"surface_layers_build.vert.glsl", NULL};
     static const char *const fs[] = {"surface_layers_common.glsl", "surface_layers_build.frag.glsl", NULL};
     static const char *const merge[] = {"surface_layers_common.glsl", "surface_layers_merge.comp.glsl", NULL};
-    static const char *const comp[] = {"surface_layers_common.glsl", "surface_layers_composite.comp.glsl", NULL};
+    static const char *const comp[] = {"surface_layers_common.glsl", "weighted_average.glsl",
+                                         "surface_layers_composite.comp.glsl", NULL};
     sl->build = lc_renderer_build_program("", vs, fs, NULL, "surface layers: lists", err);
     if (sl->build)
         sl->merge = lc_renderer_build_program("", NULL, NULL, merge, "surface layers: merge", err);

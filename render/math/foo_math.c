@@ -277,6 +277,53 @@ void lc_foo_composite_fourier(const lc_fragment *frags, size_t n, int m, lc_esti
         *transmittance = T;
 }
 
+/* P5's weight of a fragment behind optical depth tau (composite_weight in common.glsl). */
+static double composite_weight(double alpha, double tau, lc_estimator est)
+{
+    if (est == LC_ESTIMATOR_MIDPOINT)
+        return alpha * exp(-fmax(tau + 0.5 * log1p(-alpha), 0.0));
+    return alpha / (1.0 - alpha) * exp(-tau);
+}
+
+void lc_foo_composite_weighted_average(const lc_fragment *frags, size_t n, const double bg[3], double out[3])
+{
+    double sum_color[3] = {0, 0, 0}, sum_alpha = 0;
+    for (size_t i = 0; i < n; i++) {
+        double a = clamped_alpha(frags[i].alpha);
+        for (int c = 0; c < 3; c++)
+            sum_color[c] += a * frags[i].color[c];
+        sum_alpha += a;
+    }
+    double T = n > 0 ? pow(1.0 - sum_alpha / (double)n, (double)n) : 1.0;
+    resolve(sum_color, sum_alpha, T, bg, out);
+}
+
+void lc_foo_composite_binned(const lc_fragment *frags, size_t n, int bins, lc_estimator est, const double bg[3],
+                             double out[3])
+{
+    double bin[64] = {0}, total = 0;
+    bins = bins < 1 ? 1 : bins > 64 ? 64 : bins;
+    for (size_t i = 0; i < n; i++) {
+        double f = -log1p(-clamped_alpha(frags[i].alpha));
+        int k = (int)(fmin(fmax(frags[i].depth, 0.0), 1.0) * bins);
+        bin[k < bins ? k : bins - 1] += f;
+        total += f;
+    }
+    double weighted_color[3] = {0, 0, 0}, weight_sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        double x = fmin(fmax(frags[i].depth, 0.0), 1.0) * bins, tau = 0;
+        int k = (int)x < bins ? (int)x : bins - 1;
+        for (int j = 0; j < k; j++)
+            tau += bin[j];
+        tau += (x - k) * bin[k];
+        double w = composite_weight(clamped_alpha(frags[i].alpha), tau, est);
+        for (int c = 0; c < 3; c++)
+            weighted_color[c] += w * frags[i].color[c];
+        weight_sum += w;
+    }
+    resolve(weighted_color, weight_sum, exp(-total), bg, out);
+}
+
 void lc_foo_composite_normalized_exact_tau(const lc_fragment *frags, size_t n, const double bg[3], double out[3])
 {
     /* Eq. 19 with the exact optical depth. With tau_i = sum_{j<i} f_j (strictly in front), the FOO weight over

@@ -96,6 +96,16 @@ void lc_foo_composite_exact(const lc_fragment *frags, size_t n, const double bg[
  * to [0, 0.9999]. Writes the background transmittance to *transmittance if not NULL. */
 void lc_foo_composite_fourier(const lc_fragment *frags, size_t n, int m, lc_estimator est, const double bg[3],
                               double out[3], double *transmittance);
+/* The baselines at equal memory (FOO §5.3), alpha clamped as above.
+ * Weighted average (Bavoil & Myers 2008): C = (sum a c / sum a)(1 - (1 - a_mean)^n) + (1 - a_mean)^n bg,
+ * a_mean = sum a / n (weighted_average.glsl). */
+void lc_foo_composite_weighted_average(const lc_fragment *frags, size_t n, const double bg[3], double out[3]);
+/* Binning: f = -ln(1 - alpha) summed into `bins` equal bins of depth [0, 1]; tau(d) = the bins before d's plus
+ * its own bin times d's position in it; then the weights of estimator and the resolve of
+ * lc_foo_composite_fourier, the background transmittance exp(-sum f) exact (method "binning"). */
+void lc_foo_composite_binned(const lc_fragment *frags, size_t n, int bins, lc_estimator est, const double bg[3],
+                             double out[3]);
+
 /* Same normalized compositing but with the exact tau(d_i) (sum of -ln(1-alpha)
  * of fragments strictly in front): equals lc_foo_composite_exact. */
 void lc_foo_composite_normalized_exact_tau(const lc_fragment *frags, size_t n, const double bg[3], double out[3]);

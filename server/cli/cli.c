@@ -163,7 +163,7 @@ static const lc_option common_options[] = {
     REQ("--width", "N", "width", ""),
     REQ("--height", "N", "height", ""),
     {"--size", "WxH", LC_OPT_CALL, .call = set_size, .numeric = 1, .help = "image size in pixels"},
-    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit"),
+    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit | weighted-average | binning"),
     REQ("--bands", "M", "bands", "Fourier bands 1..8"),
     REQ("--q", "X", "q", ""),
     REQ("--r", "X", "r", ""),
@@ -171,6 +171,8 @@ static const lc_option common_options[] = {
     REQ("--smoothing", "S", "smoothing", "Laplacian smoothing iterations of the element opacities"),
     REQ("--fade", "T", "fadeHalfLife", "fading half-life of the opacities (s)"),
     REQ("--estimator", "NAME", "estimator", "foo | midpoint"),
+    REQ("--alpha-source", "NAME", "alphaSource",
+        "method direct's opacity: importance (g^k) | constant | angle | normalVariation"),
     REQ("--depth-range", "MODE", "depthRange",
         "auto|global|pixel|moments: depth normalization by the data bounds,\n"
         "each pixel's range, or the bounds warped around each pixel's\n"

@@ -67,7 +67,8 @@ static double level_share(const lc_scene_measures *st, const lc_render_params *p
 /* The work the perception aids add (docs/ALGORITHM.md "Perception aids"):
  * halos widen every line ribbon of the full-resolution compositing passes by
  * twice their width, and style.antialias K runs those passes (P4-P6 of the
- * fourier and direct methods, the blended pass of wboit) K times. */
+ * fourier, direct and binning methods, the blended pass of wboit and
+ * weighted-average) K times. */
 static double perception_aids_cost(const lc_scene_measures *st, const lc_render_params *p, double frags, double ppu)
 {
     const lc_foo_params *f = &p->foo;
@@ -76,7 +77,9 @@ static double perception_aids_cost(const lc_scene_measures *st, const lc_render_
     switch (p->method) {
     case LC_METHOD_FOURIER:
     case LC_METHOD_DIRECT: geometry = targets / subset + 1.0, screens = targets + 2.0; break;
-    case LC_METHOD_WBOIT: geometry = 2.0, screens = 3.0; break;
+    case LC_METHOD_WBOIT:
+    case LC_METHOD_WEIGHTED_AVERAGE: geometry = 2.0, screens = 3.0; break;
+    case LC_METHOD_BINNING: geometry = 3.0 / subset + 1.0, screens = 5.0; break;
     case LC_METHOD_EXACT: geometry = 2.0, screens = 2.0; break;
     default: geometry = screens = 0; break;
     }
@@ -165,13 +168,21 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         sc[LC_PASS_IMPORTANCE] = sc[LC_PASS_OPACITY] = sc[LC_PASS_OPTICAL_DEPTH] = sc[LC_PASS_ACCUMULATE] = 1.0;
         break;
     case LC_METHOD_OPAQUE: g[LC_PASS_ACCUMULATE] = sc[LC_PASS_ACCUMULATE] = 1.0; break;
+    case LC_METHOD_BINNING: /* P1, P2 at s^2 as fourier; P4 into 3 targets (11 bins and the total), P5 one */
+        g[LC_PASS_IMPORTANCE] = targets / subset;
+        g[LC_PASS_OPACITY] = 1.0;
+        g[LC_PASS_OPTICAL_DEPTH] = 3.0 / subset;
+        g[LC_PASS_ACCUMULATE] = 1.0;
+        sc[LC_PASS_OPTICAL_DEPTH] = 3.0;
+        sc[LC_PASS_ACCUMULATE] = sc[LC_PASS_RESOLVE] = 1.0;
+        break;
     case LC_METHOD_DIRECT:
         g[LC_PASS_OPTICAL_DEPTH] = targets;
         g[LC_PASS_ACCUMULATE] = 1.0;
         sc[LC_PASS_OPTICAL_DEPTH] = targets;
         sc[LC_PASS_ACCUMULATE] = sc[LC_PASS_RESOLVE] = 1.0;
         break;
-    default: /* wboit: P1, P2 at s^2, one blended pass into two targets */
+    default: /* wboit, weighted-average: P1, P2 at s^2, one blended pass into two targets */
         g[LC_PASS_IMPORTANCE] = targets;
         g[LC_PASS_OPACITY] = 1.0;
         g[LC_PASS_ACCUMULATE] = 2.0;
@@ -219,7 +230,8 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
  * primitive of the methods that weight a stride, at full picture size. */
 int lc_cost_subset_for(const lc_scene_measures *st, const lc_render_params *p, double budget)
 {
-    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_WBOIT)
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_WBOIT &&
+        p->method != LC_METHOD_WEIGHTED_AVERAGE && p->method != LC_METHOD_BINNING)
         return 0;
     lc_render_params q = *p;
     for (int n = 2 * (p->foo.subset > 1 ? p->foo.subset : 1); n <= 64; n *= 2) {

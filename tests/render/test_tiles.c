@@ -49,6 +49,8 @@ int main(void)
         /* the guard band widens the moments' view (with a pixel range it has none to widen: refused) */
         {"fourier (moments), guard band", LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO, 1, 0.1, 512, 4, 0},
         {"wboit", LC_METHOD_WBOIT, LC_DEPTH_RANGE_AUTO, 1, 0, 512, 4, 0},
+        {"weighted-average", LC_METHOD_WEIGHTED_AVERAGE, LC_DEPTH_RANGE_AUTO, 1, 0, 512, 4, 0},
+        {"binning, pixel range, antialias 2", LC_METHOD_BINNING, LC_DEPTH_RANGE_PIXEL, 2, 0, 512, 4, 0},
         {"opaque", LC_METHOD_OPAQUE, LC_DEPTH_RANGE_AUTO, 1, 0, 400, 6, 0},
         {"fourier, color.equalize", LC_METHOD_FOURIER, LC_DEPTH_RANGE_AUTO, 1, 0, 400, 6, 1},
         {"direct, color.equalize, antialias 2", LC_METHOD_DIRECT, LC_DEPTH_RANGE_AUTO, 2, 0, 512, 4, 1},

@@ -23,7 +23,7 @@ check = Check()
 
 KIND_DATASET = {"points": "demo:points", "lines": "demo:tornado", "surfaces": "demo:surface"}
 DATASET_KIND = {v: k for k, v in KIND_DATASET.items()}
-ALL_METHODS = ["fourier", "exact", "opaque", "direct", "wboit", "surface-layers"]
+ALL_METHODS = ["fourier", "exact", "opaque", "direct", "wboit", "surface-layers", "weighted-average", "binning"]
 
 
 def path(f):
@@ -143,6 +143,52 @@ with Server(binary, data=tuple(KIND_DATASET.values()) + ("demo:abc-flow",), demo
         st, _, data = srv.request("POST", "/api/v1/render", dict({"width": 32, "height": 32}, **body))
         check(st == 400 and refusal(data)[0] == field,
               "the renderer's refusal of %s is a 400 naming it (%d %s)" % (field, st, data[:160]))
+
+    # Fields that apply under one value of another field ("when", the direct method's opacity parameters under
+    # params.alphaSource): refused naming them under another value, rendered under theirs.
+    conditional = [f for f in schema if f.get("when")]
+    check(len(conditional) >= 3, "the schema names the conditional fields (%d)" % len(conditional))
+    for f in conditional:
+        when_section, when_name = f["when"][0].split(".")
+        m = next(x for x in f.get("methods", ALL_METHODS))
+        other = next(v for v in next(g for g in schema if path(g) == f["when"][0])["values"] if v != f["when"][1])
+        value = other_value(f, default_of(f))
+        body = with_field(base(m, "demo:surface"), f, value)
+        body.setdefault(when_section, {})[when_name] = other
+        st, _, data = srv.request("POST", "/api/v1/render", body)
+        check(st == 400 and refusal(data)[0] == path(f) and f["when"][0] in refusal(data)[1],
+              "%s with %s %s: a 400 naming it (%d %s)" % (path(f), f["when"][0], other, st, data[:160]))
+        body[when_section][when_name] = f["when"][1]
+        st, _, data = srv.request("POST", "/api/v1/render", body)
+        check(st == 200, "%s with %s %s: rendered (%d %s)" % (path(f), f["when"][0], f["when"][1], st,
+                                                               data[:160] if st != 200 else ""))
+
+    async def conditional_session():
+        """A session's update: the constant opacity without its source is refused naming it; a later update that
+        gives both renders, and changing the source alone keeps the session rendering."""
+        async with websockets.connect(srv.ws_url, max_size=None) as ws:
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:surface", "width": 48, "height": 40,
+                                      "devicePixelRatio": 1, "method": "direct"}))
+            check((await wait_for_stream_done(ws)).reached, "conditional: the first picture is done")
+            await ws.send(json.dumps({"type": "params", "params": {"alphaConstant": 0.5}}))
+            got = await wait_for_message(ws, lambda x: x.get("type") in ("error", "frame"))
+            last = got[-1] if got.reached else {}
+            check(last.get("type") == "error" and last.get("field") == "params.alphaConstant",
+                  "conditional: alphaConstant without alphaSource constant is refused naming it (%s)" %
+                  {k: v for k, v in last.items() if k != "image"})
+            for update in ({"params": {"alphaSource": "constant", "alphaConstant": 0.5}},
+                           {"params": {"alphaSource": "angle"}},
+                           # the baselines at equal memory in a session, and a moving frame that reuses their opacities
+                           {"method": "weighted-average"}, {"method": "binning", "params": {"q": 10}}):
+                await ws.send(json.dumps(dict({"type": "params"}, **update)))
+                done = await wait_for_stream_done(ws)
+                check(done.reached and not [x for x in done if x.get("type") == "error"],
+                      "conditional: the update %s renders" % update)
+            await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": {"position": [0.5, 3, 4]}}))
+            done = await wait_for_stream_done(ws)
+            check(done.reached and not [x for x in done if x.get("type") == "error"], "binning: a camera move renders")
+
+    asyncio.run(conditional_session())
 
     async def session():
         """One session per dataset kind: each refused update answered with an error naming its field before any

@@ -33,7 +33,7 @@ for k in sorted(set(c_fields) | set(web_fields), key=str):
         fail("%s: only in %s" % (".".join(x for x in k if x), "the C table" if c else "web/js/schema.js"))
         continue
     for prop in ("alias", "type", "min", "max", "loOpen", "hiOpen", "values", "maxLength", "sizeLimit", "methods",
-                 "primitives", "keys"):
+                 "primitives", "keys", "when"):
         cv, wv = c.get(prop), w.get(prop)
         if prop in ("loOpen", "hiOpen", "sizeLimit"):
             cv, wv = bool(cv), bool(wv)

@@ -35,7 +35,13 @@ export function legendModel(values, info) {
   const { top, clash } = rgb ? { top: null, clash: false } : topColorClash(colormap, colorRange, background);
   let opacity;
   if (method === 'opaque') opacity = 'Opaque: importance does not change opacity.';
-  else if (method === 'direct') opacity = `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)}: important parts are more opaque.`;
+  else if (method === 'direct') {
+    const source = values?.params?.alphaSource ?? 'importance';
+    if (source === 'constant') opacity = `Constant opacity α = ${fmt(values?.params?.alphaConstant ?? 0.3)}: importance does not change opacity.`;
+    else if (source === 'angle') opacity = 'Opacity from the angle to the view: parts seen edge-on are opaque, parts facing you clear; importance does not change opacity.';
+    else if (source === 'normalVariation') opacity = 'Opacity from the normal\'s change per pixel: contours are opaque, flat parts clear; importance does not change opacity.';
+    else opacity = `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)}: important parts are more opaque.`;
+  }
   else
     opacity = 'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
       'Values below the range minimum get g = 0; if little is important, little is cleared, so clutter stays opaque.';

@@ -49,8 +49,8 @@ export function createParamsController(ctx) {
     }
     state.update = merge(state.update, change);
     pending = merge(pending ?? {}, change);
-    // a new method: the fields kept in the page's state that apply again go with it
-    if (path === 'method') pending = merge(pending, applicableUpdate(state.update, state.update.layers?.length ? null : state.info?.type ?? null));
+    // a new method (or opacity source): the fields kept in the page's state that apply again go with it
+    if (path === 'method' || path === 'params.alphaSource') pending = merge(pending, applicableUpdate(state.update, state.update.layers?.length ? null : state.info?.type ?? null));
     if (!frame) frame = ctx.frame(flush);
     ctx.changed();
   }

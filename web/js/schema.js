@@ -7,12 +7,14 @@
 // Types: int, num, bool, str, enum, vec3, range (two numbers), color (three in [0,1]).
 // methods / primitives: where a field applies (protocol/request_scope.c); absent = everywhere.
 // The server refuses a field with a value other than its default elsewhere.
-const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit']);
+// when: [path, value]: the field applies only while that field has that value
+// (the direct method's opacity parameters, render/gl/frame_check.c refuses them otherwise).
+const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit', 'weighted-average', 'binning']);
 export const FIELDS = Object.freeze([
   { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
   {
     section: null, name: 'method', alias: 'method', type: 'enum',
-    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers'],
+    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers', 'weighted-average', 'binning'],
   },
 
   { section: 'camera', name: 'position', alias: 'position', type: 'vec3' },
@@ -22,26 +24,29 @@ export const FIELDS = Object.freeze([
   { section: 'camera', name: 'parallelProjection', alias: 'parallelProjection', type: 'bool' },
   { section: 'camera', name: 'parallelScale', alias: 'parallelScale', type: 'num', min: 0, loOpen: true },
 
-  { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit'] },
-  { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true, methods: ['fourier', 'wboit'] },
-  { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024, methods: ['fourier', 'direct', 'wboit'] },
-  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit'] },
-  { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'], methods: ['fourier', 'wboit'] },
-  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'], methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'], methods: DATASET_METHODS },
   { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines', 'surfaces'] },
-  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'] },
+  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'], when: ['params.alphaSource', 'importance'] },
+  { section: 'params', name: 'alphaSource', alias: 'alphaSource', type: 'enum', values: ['importance', 'constant', 'angle', 'normalVariation'], methods: ['direct'] },
+  { section: 'params', name: 'alphaConstant', alias: 'alphaConstant', type: 'num', min: 0, max: 1, methods: ['direct'], when: ['params.alphaSource', 'constant'] },
+  { section: 'params', name: 'gamma', alias: 'gamma', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'], when: ['params.alphaSource', 'normalVariation'] },
   { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: DATASET_METHODS },
-  { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit'] },
-  { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'autoSubset', alias: 'autoSubset', type: 'int', min: 1, max: 64, methods: ['fourier', 'wboit'] },
+  { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'autoSubset', alias: 'autoSubset', type: 'int', min: 1, max: 64, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
 
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63, methods: DATASET_METHODS },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range', methods: DATASET_METHODS },
@@ -70,7 +75,7 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'haloWidth', alias: 'haloWidth', type: 'num', min: 0, max: 64, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
 
   { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
 
@@ -381,6 +386,8 @@ export function merge(base, update) {
   return out;
 }
 
+// The default of each field a `when` names (the server's).
+const WHEN_DEFAULTS = Object.freeze({ 'params.alphaSource': 'importance' });
 const scopeByPath = new Map([...FIELDS, ...REQUEST_TOP_FIELDS].map((f) => [fieldPath(f), f]));
 const PRIMITIVE_NAMES = { points: 'points', lines: 'lines', triangles: 'surfaces', surfaces: 'surfaces' };
 
@@ -396,6 +403,11 @@ export function applies(f, method, prim) {
  *  given where it does not apply). */
 export function applicableUpdate(update, prim) {
   const method = update?.method ?? 'fourier';
+  const holds = (f) => {
+    if (!f?.when) return true; // when: [path, value], as the schema's
+    const [section, name] = f.when[0].split('.');
+    return (update?.[section]?.[name] ?? WHEN_DEFAULTS[f.when[0]]) === f.when[1];
+  };
   const out = {};
   for (const [k, v] of Object.entries(update ?? {})) {
     const top = scopeByPath.get(k);
@@ -404,7 +416,7 @@ export function applicableUpdate(update, prim) {
     } else if (v && typeof v === 'object' && !Array.isArray(v) && k !== 'camera') {
       const kept = Object.fromEntries(Object.entries(v).filter(([n]) => {
         const f = scopeByPath.get(`${k}.${n}`);
-        return !f || applies(f, method, prim);
+        return !f || (applies(f, method, prim) && holds(f));
       }));
       if (Object.keys(kept).length) out[k] = kept;
     } else {

@@ -22,6 +22,18 @@ test('a hello keeps what applies; the rest stays out', () => {
     { dataset: 'a', width: 10, camera: { viewAngle: 30 } });
 });
 
+test('the direct method\'s opacity parameters go only with their alphaSource (schema "when")', () => {
+  const update = { method: 'direct', params: { directExponent: 3, alphaConstant: 0.5, gamma: 2 } };
+  assert.deepEqual(applicableUpdate(update, 'triangles'), { method: 'direct', params: { directExponent: 3 } });
+  update.params.alphaSource = 'constant';
+  assert.deepEqual(applicableUpdate(update, 'triangles'),
+    { method: 'direct', params: { alphaConstant: 0.5, alphaSource: 'constant' } });
+  update.params.alphaSource = 'normalVariation';
+  assert.deepEqual(applicableUpdate(update, 'triangles'),
+    { method: 'direct', params: { gamma: 2, alphaSource: 'normalVariation' } });
+  assert.deepEqual(applicableUpdate({ method: 'fourier', params: { alphaSource: 'angle' } }, 'triangles'), { method: 'fourier' });
+});
+
 test('changing method sends the kept fields that apply again', () => {
   const sent = [];
   let queued = null;

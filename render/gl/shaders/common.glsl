@@ -285,4 +285,29 @@ float fourier_eval(float c[NTARGETS * 4], float d)
     }
     return sum;
 }
+
+// The binning baseline (method "binning", FOO §5.3) in the same three targets
+// as 5 bands: c[0] = the pixel's total optical depth (P6 reads it as A0),
+// c[1 + k] = the optical depth of the fragments in depth bin k of TAU_BINS.
+#ifdef TAU_BINS
+void bins_project(float d, float f, out float c[NTARGETS * 4])
+{
+    for (int j = 0; j < NTARGETS * 4; j++)
+        c[j] = 0.0;
+    c[0] = f;
+    c[1 + min(int(d * float(TAU_BINS)), TAU_BINS - 1)] = f;
+}
+
+// tau(d): the bins before d's in full, d's own bin linearly in d (the running
+// sum interpolated linearly between the bins' boundaries).
+float bins_eval(float c[NTARGETS * 4], float d)
+{
+    float x = clamp(d, 0.0, 1.0) * float(TAU_BINS);
+    int k = min(int(x), TAU_BINS - 1);
+    float sum = 0.0;
+    for (int j = 0; j < k; j++)
+        sum += c[1 + j];
+    return sum + (x - float(k)) * c[1 + k];
+}
+#endif
 #endif

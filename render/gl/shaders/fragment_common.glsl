@@ -96,12 +96,50 @@ float draw_weight(float stride_weight) { return u_point_list != 0 ? 1.0 : stride
 uniform float u_direct_exponent;
 uniform float u_silhouette_exponent; // eta of OOS Eq. 8 (style.silhouetteExponent); <= 1 off
 
+#ifdef DIRECT_ALPHA
+uniform int u_alpha_source; // params.alphaSource: 0 importance, 1 constant, 2 angle, 3 normal variation
+uniform float u_alpha_constant;
+uniform float u_gamma;
+
+// |<n, v>| at the fragment, n its unit normal and v the unit vector to the eye:
+// surfaces their normal; points the splat's sphere; lines the normal in the
+// plane of tangent and view, so |<n, v>| = sqrt(1 - <t, v>^2) (v_quad.y = |<t, v>|).
+float view_cosine()
+{
+#if PRIM == PRIM_POINTS
+    return sqrt(max(1.0 - dot(SPLAT, SPLAT), 0.0));
+#elif PRIM == PRIM_LINES
+    return sqrt(max(1.0 - v_quad.y * v_quad.y, 0.0));
+#else
+    float len = length(v_normal);
+    vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - v_wpos);
+    return len > 0.0 ? abs(dot(v_normal / len, to_cam)) : 1.0;
+#endif
+}
+
+// The direct baseline's opacity (docs/ALGORITHM.md §12): g^k, a constant, or
+// the local transparency of OOS §2.1: angle-based (2/pi) arccos <n, v> (Eq. 1),
+// normal variation ((d n_z/du)^2 + (d n_z/dv)^2)^(gamma/2) per pixel (Eq. 2).
+float direct_alpha()
+{
+    if (u_alpha_source == 1)
+        return u_alpha_constant;
+    if (u_alpha_source == 0)
+        return pow(fragment_importance(), u_direct_exponent);
+    float c = view_cosine();
+    vec2 grad = vec2(dFdx(c), dFdy(c)); // in uniform control flow (u_alpha_source)
+    if (u_alpha_source == 2)
+        return (2.0 / PI) * acos(clamp(c, 0.0, 1.0));
+    return pow(dot(grad, grad), 0.5 * u_gamma);
+}
+#endif
+
 // Opacity of the fragment in the compositing passes: the blended element
-// opacity, or g^k for the "direct" baseline; clamped so -ln(1 - alpha) stays finite.
+// opacity, or the "direct" baseline's (direct_alpha); clamped so -ln(1 - alpha) stays finite.
 float fragment_alpha()
 {
 #ifdef DIRECT_ALPHA
-    float alpha = clamp(pow(fragment_importance(), u_direct_exponent), 0.0, 0.9999);
+    float alpha = clamp(direct_alpha(), 0.0, 0.9999);
 #else
     float alpha = clamp(v_alpha, 0.0, 0.9999);
 #endif

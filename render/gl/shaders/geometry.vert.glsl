@@ -10,7 +10,7 @@ out float v_alpha;    // blended element opacity (passes that read them)
 out float v_zview;    // view-space depth (distance along the view direction)
 out vec3 v_wpos;
 out vec3 v_normal;    // triangles: normal; lines: ribbon side vector
-out vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], along in [0,1])
+out vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], |<tangent, view>|)
 flat out uvec3 v_primary; // primary elements of the primitive's vertices
 out vec2 v_halo;      // lines: (signed distance from the centre, ribbon half width), output pixels
 uniform float u_halo_px; // lines, compositing passes with style.haloWidth: halo band width in pixels; 0 = none
@@ -62,7 +62,8 @@ void ribbon_vertex(uint v, float side_sign)
 {
     vec3 p = vertex_position(v);
     vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - p);
-    vec3 side = cross(vertex_frame(v), to_cam);
+    vec3 tangent = vertex_frame(v);
+    vec3 side = cross(tangent, to_cam);
     if (dot(side, side) < 1e-12) // tangent along the view ray: any perpendicular works
         side = cross(abs(to_cam.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0), to_cam);
     side = normalize(side);
@@ -79,7 +80,10 @@ void ribbon_vertex(uint v, float side_sign)
     // centres would sample the tube profile unevenly along the line (a dotted
     // look), so the profile flattens as the ribbon narrows.
     float width_px = 2.0 * half_width / pixel;
-    v_quad = vec2(side_sign * clamp((width_px - 1.0) / 4.0, 0.0, 0.85), 0.0);
+    // .y: |<t, v>|, the direct method's angle-based opacities (fragment_common.glsl's view_cosine).
+    float tlen = length(tangent);
+    v_quad = vec2(side_sign * clamp((width_px - 1.0) / 4.0, 0.0, 0.85),
+                  tlen > 0.0 ? abs(dot(tangent / tlen, to_cam)) : 0.0);
     if (u_halo_px > 0.0) {
         v_quad.x *= outer / half_width; // the same profile across the core
         v_halo = vec2(side_sign * outer / pixel, half_width / pixel);

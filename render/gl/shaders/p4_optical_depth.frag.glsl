@@ -1,5 +1,6 @@
 // P4 optical-depth projection: f = -ln(1 - alpha) of the fragment's blended
-// element opacity (or alpha = g^k for the "direct" baseline), full resolution.
+// element opacity (or alpha = g^k for the "direct" baseline), full resolution;
+// TAU_BINS: into depth bins instead of a Fourier series (method "binning").
 // COMPOSITE_LIST: also records what P5 needs of the fragment (fragment_list.glsl).
 
 uniform float u_weight; // subset stride
@@ -10,7 +11,11 @@ void main()
         discard;
     FLOOR_RETURN
     float c[NTARGETS * 4];
+#ifdef TAU_BINS
+    bins_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
+#else
     fourier_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
+#endif
     write_coefficients(c);
 #ifdef COMPOSITE_LIST
     record_composite_fragment(fragment_alpha(), fragment_series_depth(), fragment_color());

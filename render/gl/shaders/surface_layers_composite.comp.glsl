@@ -3,7 +3,8 @@
 // each layer shaded two-sided by a headlight on its mean normal.
 // u_composite 1 and 2 are the count-based OIT baselines of PRT Fig. 5 over the
 // same fragments (a layer of m merged fragments stands for m fragments of its
-// mean colour): weighted average C = avg(c) (1 - (1 - a)^N) + (1 - a)^N C_bg
+// mean colour): weighted average (weighted_average.glsl, the datasets' method
+// "weighted-average" too) C = avg(c) (1 - (1 - a)^N) + (1 - a)^N C_bg
 // and weighted sum C = sum a c + max(0, 1 - N a) C_bg, N = fragments in the pixel.
 layout(local_size_x = 64) in;
 
@@ -35,9 +36,9 @@ void main()
         fragments += l.normal_count.w;
     }
     if (u_composite == 1 && fragments > 0.0) {
-        float t = pow(1.0 - u_opacity, fragments);
-        color = sum / fragments * (1.0 - t);
-        transmittance = t;
+        // Every fragment has opacity a: the mean opacity is a, the mean colour avg(c).
+        color = weighted_average_blend(u_opacity * sum, u_opacity * fragments, fragments, u_background);
+        transmittance = 0.0;
     } else if (u_composite == 2) {
         color = u_opacity * sum;
         transmittance = max(0.0, 1.0 - fragments * u_opacity);

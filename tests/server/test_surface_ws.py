@@ -13,7 +13,8 @@ import json
 import sys
 import time
 
-from lucent_server import Check, Server, jpeg_size, skip, ssim, wait_for_message, wait_for_stream_done, websockets
+from lucent_server import (Check, Server, jpeg_size, skip, ssim, wait_for_frame, wait_for_message, wait_for_stream_done,
+                           websockets)
 
 if websockets is None:
     skip("python3-websockets is not installed")
@@ -43,12 +44,31 @@ async def recv(ws, timeout):
 QUIET = ("stats", "progress")
 
 
+newest = {}  # per connection: the highest frame id seen by frames()
+
+
 async def frames(ws):
     """(header, image) of the frames until the stream ends (converged, however
-    long that takes); text messages as ("text", msg)."""
+    long that takes) in frame id order, then text messages as ("text", msg).
+    Two encoder threads may send a session's frames out of order (the page
+    draws the newest id): frames older than the newest one an earlier call
+    returned belong to that earlier stretch and are dropped."""
     got = await wait_for_stream_done(ws, skip=QUIET)
     check(got.reached, "the stream ends with a converged frame")
-    return [(m, m["image"]) if m["type"] == "frame" else ("text", m) for m in got]
+    last = newest.get(id(ws), 0)
+    ids = {m["frame"] for m in got if m["type"] == "frame"}
+    top = max(ids, default=last)
+    # Frame ids are consecutive: wait for the ones of this stretch still on their way.
+    while got.reached and any(i not in ids for i in range(last + 1, top)):
+        more = await wait_for_frame(ws, skip=QUIET)
+        if not more.reached:
+            break
+        got += more
+        ids |= {m["frame"] for m in more if m["type"] == "frame"}
+    fs = sorted((m for m in got if m["type"] == "frame" and last < m["frame"] <= top), key=lambda m: m["frame"])
+    if fs:
+        newest[id(ws)] = fs[-1]["frame"]
+    return [(m, m["image"]) for m in fs] + [("text", m) for m in got if m["type"] != "frame"]
 
 
 async def error(ws):

@@ -3,10 +3,14 @@
  * lc_surface_keep, must each draw only the new curves (the fragments
  * rasterized per frame stay those of one batch while the total grows), and
  * the last frame must equal the one-shot image of all the curves; a camera
- * change, other parameters or another curve set must draw every curve again. */
+ * change, other parameters or another curve set must draw every curve again;
+ * frames alternating between two contexts of a share group (the daemon's
+ * render workers) must continue the same layers. */
 #include <math.h>
+#include <pthread.h>
 
 #include "field.h"
+#include "gl_context.h"
 #include "image.h"
 #include "render_util.h"
 #include "surface_render.h"
@@ -22,6 +26,35 @@ static lc_surface_params params(void)
     lc_surface_params sp = {.particles = CURVES, .length = 4.0, .epsilon = 1e-2, .opacity = 0.3, .max_layers = 8};
     sp.color[0] = 0.95, sp.color[1] = 0.6, sp.color[2] = 0.2;
     return sp;
+}
+
+/* One frame through keep, on gl made current on the calling thread (NULL: the current context). */
+typedef struct frame_job {
+    const lc_field *f;
+    const lc_trace_curve *curves;
+    uint32_t n;
+    lc_surface_keep *keep;
+    lc_surface_params sp;
+    const lc_render_params *p;
+    uint8_t *img;
+    lc_gl *gl;
+    lc_surface_info si;
+    lc_error err;
+    int rc;
+} frame_job;
+
+static void *draw_frame(void *arg)
+{
+    frame_job *j = arg;
+    memset(&j->si, 0, sizeof j->si);
+    memset(&j->err, 0, sizeof j->err);
+    j->rc = j->gl ? lc_gl_make_current(j->gl, &j->err) : 0;
+    if (!j->rc)
+        j->rc = lc_surface_draw(j->f, j->curves, j->n, 9, j->keep, &j->sp, j->p, j->f->bounds, j->img, &j->si, NULL,
+                                &j->err);
+    if (j->gl)
+        lc_gl_release_current(j->gl);
+    return NULL;
 }
 
 /* Largest channel difference and the SSIM of a and b. */
@@ -122,7 +155,35 @@ int main(void)
     CHECK(lc_surface_keep_holds(keep), "the keep holds layers");
     lc_surface_keep_release(keep);
     CHECK(!lc_surface_keep_holds(keep), "released");
-    lc_surface_keep_destroy(keep);
+
+    /* The daemon's frames of one session land on any render worker: frames
+     * alternating between this thread's context and another thread's context
+     * of the same share group continue the same layers (each context with
+     * its own programs) to the same image. */
+    lc_gl *other = NULL;
+    lc_gl_desc od = {.device = -1, .share = t.gl};
+    CHECK(lc_gl_create(&od, &other, &err) == 0, "second context: %s", err.msg);
+    CHECK(lc_gl_make_current(t.gl, &err) == 0, "make current: %s", err.msg); /* creating one left none current */
+    frame_job job = {.f = f, .curves = curves, .keep = keep, .sp = params(), .p = &p, .img = img};
+    for (int k = 1; other && k <= FRAMES; k++) {
+        job.n = (uint32_t)(k * BATCH);
+        job.gl = k % 2 ? NULL : other;
+        pthread_t th;
+        if (job.gl) { /* the other worker's thread */
+            CHECK(pthread_create(&th, NULL, draw_frame, &job) == 0, "thread");
+            pthread_join(th, NULL);
+        } else {
+            draw_frame(&job);
+        }
+        CHECK(job.rc == 0, "frame %d on context %d: %s", k, 2 - k % 2, job.err.msg);
+        CHECK(job.si.drawn_curves == BATCH && job.si.kept == (k > 1),
+              "frame %d on context %d draws its %d new curves (%llu)", k, 2 - k % 2, BATCH,
+              (unsigned long long)job.si.drawn_curves);
+    }
+    compare(img, once, &diff, &s);
+    CHECK(diff == 0, "frames on alternating contexts end on the one-shot image (max difference %d)", diff);
+    lc_surface_keep_destroy(keep); /* shared buffers: freed from either context */
+    lc_gl_destroy(other);
 
     lc_trace_curves_free(curves, CURVES);
     free(curves);

@@ -556,9 +556,12 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
             return LC_ERR_INVALID;
         }
         json_object_set_new(o, "surface",
-                            json_pack("{s:I, s:I, s:f, s:I, s:i}", "curves", (json_int_t)h->surface_curves, "particles",
-                                      (json_int_t)h->surface_particles, "layersPerPixel", h->surface_layers,
-                                      "overflow", (json_int_t)h->surface_overflow, "k", h->surface_k));
+                            json_pack("{s:I, s:I, s:f, s:I, s:i, s:I, s:I, s:b}", "curves",
+                                      (json_int_t)h->surface_curves, "particles", (json_int_t)h->surface_particles,
+                                      "layersPerPixel", h->surface_layers, "overflow", (json_int_t)h->surface_overflow,
+                                      "k", h->surface_k, "drawnCurves", (json_int_t)h->surface_drawn_curves,
+                                      "drawnFragments", (json_int_t)h->surface_drawn_fragments, "kept",
+                                      (int)h->surface_kept));
     }
     if (o && h->stages > 0) {
         if (h->stage < 1 || h->stage > h->stages) {
@@ -766,6 +769,10 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         h->surface_layers = json_number_value(l);
         h->surface_overflow = (uint64_t)json_integer_value(ov);
         h->surface_k = (int)json_integer_value(k);
+        const json_t *dc = json_object_get(surf, "drawnCurves"), *df = json_object_get(surf, "drawnFragments");
+        h->surface_drawn_curves = json_is_integer(dc) ? (uint64_t)json_integer_value(dc) : 0;
+        h->surface_drawn_fragments = json_is_integer(df) ? (uint64_t)json_integer_value(df) : 0;
+        h->surface_kept = json_is_true(json_object_get(surf, "kept"));
         h->has_surface = true;
     }
     const json_t *stage = json_object_get(o, "stage"), *stages = json_object_get(o, "stages");

@@ -171,6 +171,10 @@ typedef struct lc_frame_header {
      * beyond k layers, k (docs/ALGORITHM.md §23). */
     bool has_surface;
     uint64_t surface_curves, surface_particles, surface_overflow;
+    /* "drawnCurves", "drawnFragments", "kept": this frame's work on the
+     * layers (only the new curves when the frame before's layers were kept). */
+    uint64_t surface_drawn_curves, surface_drawn_fragments;
+    bool surface_kept;
     double surface_layers;
     int surface_k;
     /* "stage", "stages", "final" (optional): a staged still's stage (1..stages);

@@ -4,6 +4,7 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,7 +20,11 @@ struct lc_gl {
     char version[256];
     char platform[128];
     int software;
+    uint64_t serial; /* lc_gl_current_serial: never reused within the process */
 };
+
+static _Atomic uint64_t next_serial;
+static _Thread_local uint64_t current_serial; /* of the lc_gl current on this thread, 0 = none */
 
 /* eglInitialize/eglTerminate are not reference counted per display, and every
  * context of one device shares one display handle: count users ourselves. */
@@ -235,6 +240,7 @@ int lc_gl_create(const lc_gl_desc *desc, lc_gl **out, lc_error *err)
     lc_gl *gl = calloc(1, sizeof *gl);
     if (!gl)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
+    gl->serial = atomic_fetch_add(&next_serial, 1) + 1;
     int debug = desc && desc->debug;
     int rc;
     if (desc && desc->share) {
@@ -311,6 +317,8 @@ void lc_gl_destroy(lc_gl *gl)
 {
     if (!gl)
         return;
+    if (gl->serial == current_serial) /* its objects go with it: no cache may find them under its number */
+        current_serial = 0;
     if (gl->context != EGL_NO_CONTEXT)
         eglDestroyContext(gl->display, gl->context);
     if (gl->display != EGL_NO_DISPLAY)
@@ -322,10 +330,17 @@ int lc_gl_make_current(lc_gl *gl, lc_error *err)
 {
     if (!eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, gl->context))
         return lc_err(err, LC_ERR_GL, "eglMakeCurrent failed (%s)", lc_egl_error_name(eglGetError()));
+    current_serial = gl->serial;
     return 0;
 }
 
-void lc_gl_release_current(lc_gl *gl) { eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
+void lc_gl_release_current(lc_gl *gl)
+{
+    eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    current_serial = 0;
+}
+
+uint64_t lc_gl_current_serial(void) { return current_serial; }
 
 const char *lc_gl_renderer(const lc_gl *gl) { return gl->renderer; }
 const char *lc_gl_version(const lc_gl *gl) { return gl->version; }

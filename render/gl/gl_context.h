@@ -4,6 +4,8 @@
 #ifndef LC_GL_CONTEXT_H
 #define LC_GL_CONTEXT_H
 
+#include <stdint.h>
+
 #include "lc_base.h"
 
 #ifdef __cplusplus
@@ -33,6 +35,11 @@ void lc_gl_destroy(lc_gl *gl);
  * thread at a time). */
 int lc_gl_make_current(lc_gl *gl, lc_error *err);
 void lc_gl_release_current(lc_gl *gl);
+/* A number naming the context made current on this thread by
+ * lc_gl_make_current (0 = none), never given to another context of the
+ * process: for per-context caches of objects a share group does not share
+ * safely (programs, whose compiled variants a driver may keep per context). */
+uint64_t lc_gl_current_serial(void);
 
 const char *lc_gl_renderer(const lc_gl *gl); /* GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)" */
 const char *lc_gl_version(const lc_gl *gl);  /* GL_VERSION */

@@ -231,6 +231,11 @@ typedef struct lc_frame_info {
     int surface_k;
     uint32_t surface_max_layers;
     double surface_mean_layers, surface_trace_ms;
+    /* This frame's work on the layers: curves drawn and fragments rasterized
+     * (only the new curves when surface_kept: the layers of the frame before
+     * were kept), the measure of PRT's progressive insertion. */
+    uint64_t surface_drawn_curves, surface_drawn_fragments;
+    int surface_kept;
     /* params.autoSubset: the stride P1 drew with (1: every primitive) and the
      * median effective fragment count per covered pixel that P0 measured to
      * choose it ((sum g^2)^2 / sum g^4; 0 when the rule did not run). */

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_context.h"
 #include "renderer_internal.h"
 #include "surface_layers.h"
 
@@ -28,14 +29,28 @@
 
 enum { COUNTER_NODES = 0, COUNTER_POOL_DROP = 1, COUNTER_MERGED = 2, COUNTER_OVERFLOW = 3 };
 
+/* The three programs of a context. Buffers are shared by a share group, but
+ * programs are used only on the context that built them (Mesa keeps compiled
+ * variants per context; llvmpipe crashed drawing with another context's): a
+ * thread keeps those of the context current on it, and rebuilds when another
+ * context is made current there (the old ones go with their context). */
+typedef struct programs {
+    uint64_t serial; /* lc_gl_current_serial of their context (0: a context made current outside lc_gl) */
+    GLuint build, merge, composite;
+} programs;
+
+static _Thread_local programs thread_programs;
+
 struct lc_surface_layers {
     lc_surface_layers_desc desc;
     uint32_t pixel_count;
     uint32_t pool_capacity;
-    GLuint build, merge, composite;
+    programs own; /* under a context lc_gl does not know (serial 0): this object's own, deleted with it */
+    /* Programs and buffers only: objects a context's share group shares, so
+     * that the layers may grow on any of the group's contexts (the vertex
+     * array and framebuffer of a batch are made per batch). */
     GLuint nodes, pixels, layers, vertices;
     GLsizeiptr vertex_bytes;
-    GLuint vao, fbo;
     uint64_t fragments, merged, overflow, pool_dropped, curves;
 };
 
@@ -59,39 +74,61 @@ static int check_desc(const lc_surface_layers_desc *d, lc_error *err)
     return 0;
 }
 
-static int build_programs(lc_surface_layers *sl, lc_error *err)
+static int build_programs(programs *p, lc_error *err)
 {
     static const char *const vs[] = {"surface_layers_build.vert.glsl", NULL};
     static const char *const fs[] = {"surface_layers_common.glsl", "surface_layers_build.frag.glsl", NULL};
     static const char *const merge[] = {"surface_layers_common.glsl", "surface_layers_merge.comp.glsl", NULL};
     static const char *const comp[] = {"surface_layers_common.glsl", "weighted_average.glsl",
-                                         "surface_layers_composite.comp.glsl", NULL};
-    sl->build = lc_renderer_build_program("", vs, fs, NULL, "surface layers: lists", err);
-    if (sl->build)
-        sl->merge = lc_renderer_build_program("", NULL, NULL, merge, "surface layers: merge", err);
-    if (sl->merge)
-        sl->composite = lc_renderer_build_program("", NULL, NULL, comp, "surface layers: composite", err);
-    return sl->composite ? 0 : LC_ERR_GL;
+                                       "surface_layers_composite.comp.glsl", NULL};
+    p->build = lc_renderer_build_program("", vs, fs, NULL, "surface layers: lists", err);
+    if (p->build)
+        p->merge = lc_renderer_build_program("", NULL, NULL, merge, "surface layers: merge", err);
+    if (p->merge)
+        p->composite = lc_renderer_build_program("", NULL, NULL, comp, "surface layers: composite", err);
+    if (p->composite)
+        return 0;
+    GLuint progs[3] = {p->build, p->merge, p->composite};
+    for (int i = 0; i < 3; i++)
+        if (progs[i])
+            glDeleteProgram(progs[i]);
+    return LC_ERR_GL;
 }
 
-static void set_uniforms(lc_surface_layers *sl)
+static void set_uniforms(const lc_surface_layers *sl, const programs *p)
 {
     const lc_surface_layers_desc *d = &sl->desc;
-    GLuint progs[3] = {sl->build, sl->merge, sl->composite};
+    GLuint progs[3] = {p->build, p->merge, p->composite};
     for (int i = 0; i < 3; i++) {
         lc_uniform_u(progs[i], "u_pixel_count", sl->pixel_count);
         lc_uniform_u(progs[i], "u_pool_capacity", sl->pool_capacity);
     }
-    glProgramUniformMatrix4fv(sl->build, glGetUniformLocation(sl->build, "u_view"), 1, GL_FALSE, d->view);
-    glProgramUniformMatrix4fv(sl->build, glGetUniformLocation(sl->build, "u_projection"), 1, GL_FALSE, d->projection);
-    lc_uniform_i(sl->build, "u_width", d->width);
-    lc_uniform_u(sl->merge, "u_max_layers", (unsigned)d->max_layers);
-    lc_uniform_f(sl->merge, "u_epsilon", d->epsilon);
-    lc_uniform_u(sl->composite, "u_max_layers", (unsigned)d->max_layers);
-    lc_uniform_f(sl->composite, "u_opacity", d->opacity);
-    lc_uniform_f(sl->composite, "u_ambient", AMBIENT);
-    lc_uniform_v3(sl->composite, "u_background", d->background);
-    lc_uniform_i(sl->composite, "u_composite", d->composite);
+    glProgramUniformMatrix4fv(p->build, glGetUniformLocation(p->build, "u_view"), 1, GL_FALSE, d->view);
+    glProgramUniformMatrix4fv(p->build, glGetUniformLocation(p->build, "u_projection"), 1, GL_FALSE, d->projection);
+    lc_uniform_i(p->build, "u_width", d->width);
+    lc_uniform_u(p->merge, "u_max_layers", (unsigned)d->max_layers);
+    lc_uniform_f(p->merge, "u_epsilon", d->epsilon);
+    lc_uniform_u(p->composite, "u_max_layers", (unsigned)d->max_layers);
+    lc_uniform_f(p->composite, "u_opacity", d->opacity);
+    lc_uniform_f(p->composite, "u_ambient", AMBIENT);
+    lc_uniform_v3(p->composite, "u_background", d->background);
+    lc_uniform_i(p->composite, "u_composite", d->composite);
+}
+
+/* The current context's programs with this object's uniforms (several
+ * objects share a thread's programs, so they are set at every use). */
+static const programs *use_programs(lc_surface_layers *sl, lc_error *err)
+{
+    uint64_t serial = lc_gl_current_serial();
+    programs *p = serial ? &thread_programs : &sl->own;
+    if (!p->composite || p->serial != serial) {
+        programs fresh = {.serial = serial};
+        if (build_programs(&fresh, err) != 0)
+            return NULL;
+        *p = fresh;
+    }
+    set_uniforms(sl, p);
+    return p;
 }
 
 long long lc_surface_layers_block_bytes(void)
@@ -132,9 +169,9 @@ int lc_surface_layers_create(const lc_surface_layers_desc *desc, lc_surface_laye
                       "block may hold (%llu MiB)",
                       (unsigned long long)(layer_bytes >> 20), (unsigned long long)(max_block >> 20));
     }
-    if ((rc = build_programs(sl, err)) != 0) {
+    if (!use_programs(sl, err)) { /* built now: shader errors show at creation */
         lc_surface_layers_destroy(sl);
-        return rc;
+        return LC_ERR_GL;
     }
     while (glGetError() != GL_NO_ERROR) {
     }
@@ -145,24 +182,12 @@ int lc_surface_layers_create(const lc_surface_layers_desc *desc, lc_surface_laye
                          GL_DYNAMIC_STORAGE_BIT);
     glCreateBuffers(1, &sl->layers);
     glNamedBufferStorage(sl->layers, (GLsizeiptr)layer_bytes, NULL, 0);
-    glCreateVertexArrays(1, &sl->vao);
-    glCreateFramebuffers(1, &sl->fbo);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         lc_surface_layers_destroy(sl);
         return lc_err(err, LC_ERR_GL, "surface layers: allocating %llu MiB of fragments and layers failed (GL 0x%04x)",
                       (unsigned long long)((pool * FRAGMENT_BYTES + layer_bytes) >> 20), e);
     }
-    glNamedFramebufferParameteri(sl->fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, desc->width);
-    glNamedFramebufferParameteri(sl->fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, desc->height);
-    /* Interleaved (position, normal) floats, binding 0. */
-    glEnableVertexArrayAttrib(sl->vao, 0);
-    glEnableVertexArrayAttrib(sl->vao, 1);
-    glVertexArrayAttribFormat(sl->vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribFormat(sl->vao, 1, 3, GL_FLOAT, GL_FALSE, 12);
-    glVertexArrayAttribBinding(sl->vao, 0, 0);
-    glVertexArrayAttribBinding(sl->vao, 1, 0);
-    set_uniforms(sl);
     lc_surface_layers_reset(sl);
     *out = sl;
     return 0;
@@ -172,7 +197,7 @@ void lc_surface_layers_destroy(lc_surface_layers *sl)
 {
     if (!sl)
         return;
-    GLuint progs[3] = {sl->build, sl->merge, sl->composite};
+    GLuint progs[3] = {sl->own.build, sl->own.merge, sl->own.composite};
     for (int i = 0; i < 3; i++)
         if (progs[i])
             glDeleteProgram(progs[i]);
@@ -180,10 +205,6 @@ void lc_surface_layers_destroy(lc_surface_layers *sl)
     for (int i = 0; i < 4; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
-    if (sl->vao)
-        glDeleteVertexArrays(1, &sl->vao);
-    if (sl->fbo)
-        glDeleteFramebuffers(1, &sl->fbo);
     free(sl);
 }
 
@@ -230,7 +251,6 @@ static int upload_curves(lc_surface_layers *sl, const lc_trace_curve *curves, ui
         glCreateBuffers(1, &sl->vertices);
         glNamedBufferStorage(sl->vertices, bytes, NULL, GL_DYNAMIC_STORAGE_BIT);
         sl->vertex_bytes = bytes;
-        glVertexArrayVertexBuffer(sl->vao, 0, sl->vertices, 0, 6 * sizeof(float));
     }
     glNamedBufferSubData(sl->vertices, 0, bytes, v);
     free(v);
@@ -245,6 +265,9 @@ int lc_surface_layers_add(lc_surface_layers *sl, const lc_trace_curve *curves, u
     for (int c = 0; c < 3; c++)
         if (!(rgb[c] >= 0.0f && rgb[c] <= 1.0f))
             return lc_err(err, LC_ERR_INVALID, "surface layers: colour components must lie in [0, 1]");
+    const programs *pg = use_programs(sl, err);
+    if (!pg)
+        return LC_ERR_GL;
     GLint *first = malloc(count * sizeof *first);
     GLsizei *n = malloc(count * sizeof *n), draws = 0;
     int rc = first && n ? upload_curves(sl, curves, count, first, n, &draws, err)
@@ -260,15 +283,29 @@ int lc_surface_layers_add(lc_surface_layers *sl, const lc_trace_curve *curves, u
     glClearNamedBufferSubData(sl->pixels, GL_R32UI, 0, HEADS_OFFSET * 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glClearNamedBufferSubData(sl->pixels, GL_R32UI, HEADS_OFFSET * 4, (GLsizeiptr)sl->pixel_count * 4, GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &end);
-    glProgramUniform3f(sl->build, glGetUniformLocation(sl->build, "u_color"), rgb[0], rgb[1], rgb[2]);
+    glProgramUniform3f(pg->build, glGetUniformLocation(pg->build, "u_color"), rgb[0], rgb[1], rgb[2]);
 
+    /* This context's vertex array and framebuffer (not shared: made per batch). */
+    GLuint vao = 0, fbo = 0;
+    glCreateVertexArrays(1, &vao);
+    glCreateFramebuffers(1, &fbo);
+    glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, sl->desc.width);
+    glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, sl->desc.height);
+    /* Interleaved (position, normal) floats, binding 0. */
+    glEnableVertexArrayAttrib(vao, 0);
+    glEnableVertexArrayAttrib(vao, 1);
+    glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, 12);
+    glVertexArrayAttribBinding(vao, 0, 0);
+    glVertexArrayAttribBinding(vao, 1, 0);
+    glVertexArrayVertexBuffer(vao, 0, sl->vertices, 0, 6 * sizeof(float));
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, sl->fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     glViewport(0, 0, sl->desc.width, sl->desc.height);
-    glUseProgram(sl->build);
-    glBindVertexArray(sl->vao);
+    glUseProgram(pg->build);
+    glBindVertexArray(vao);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SURFACE_NODES, sl->nodes);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SURFACE_PIXELS, sl->pixels);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SURFACE_LAYERS, sl->layers);
@@ -276,11 +313,14 @@ int lc_surface_layers_add(lc_surface_layers *sl, const lc_trace_curve *curves, u
     if (draws)
         glMultiDrawArrays(GL_LINE_STRIP, first, n, draws);
     glBindVertexArray(0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteFramebuffers(1, &fbo);
     free(first);
     free(n);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-    glUseProgram(sl->merge);
+    glUseProgram(pg->merge);
     glDispatchCompute((sl->pixel_count + GROUP - 1) / GROUP, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
@@ -316,7 +356,10 @@ static int read_section(lc_surface_layers *sl, uint32_t offset, void *out, lc_er
 
 int lc_surface_layers_composite(lc_surface_layers *sl, uint8_t *rgba, lc_error *err)
 {
-    glUseProgram(sl->composite);
+    const programs *pg = use_programs(sl, err);
+    if (!pg)
+        return LC_ERR_GL;
+    glUseProgram(pg->composite);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SURFACE_PIXELS, sl->pixels);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SURFACE_LAYERS, sl->layers);
     glDispatchCompute((sl->pixel_count + GROUP - 1) / GROUP, 1, 1);
@@ -351,5 +394,8 @@ int lc_surface_layers_read(lc_surface_layers *sl, uint32_t *layer_counts, lc_sur
     }
     if (!layer_counts)
         free(counts);
+    /* The read-back waited for the layers; finishing the rest makes them safe
+     * to continue on another context of the share group (GL 4.5 §5.3). */
+    glFinish();
     return rc;
 }

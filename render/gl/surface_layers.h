@@ -3,8 +3,11 @@
  * pixel into a persistent, depth-sorted list of at most K surface layers
  * (fragments within epsilon of a layer's view depth are averaged into it),
  * composited front to back with a fixed layer opacity.
- * Threading: every call runs on the thread whose GL 4.5 context was current
- * at lc_surface_layers_create; the object belongs to that context. */
+ * Threading: one thread at a time, with a GL 4.5 context current that is
+ * the creating one or shares its objects: the object holds buffers only (the
+ * programs are the current context's, kept per thread; the vertex array and
+ * framebuffer are made per batch), and lc_surface_layers_read finishes the
+ * context's work, so that another context of the share group may continue. */
 #ifndef LC_GL_SURFACE_LAYERS_H
 #define LC_GL_SURFACE_LAYERS_H
 

@@ -53,21 +53,81 @@ static int check_params(const lc_surface_params *sp, lc_error *err)
     return 0;
 }
 
-/* Draws the curves in batches (bounding the fragment pool) and composites. */
-static int draw(const lc_surface_layers_desc *d, const lc_trace_curve *curves, uint32_t n, const float rgb[3],
-                uint8_t *rgba, lc_surface_info *info, lc_error *err)
+struct lc_surface_keep {
+    lc_surface_layers *sl;
+    lc_surface_layers_desc desc; /* what sl was made for (zeroed padding: compared whole) */
+    float rgb[3];
+    uint64_t curves_id; /* the curves drawn into sl: the first `drawn` of that sequence */
+    uint32_t drawn;
+    uint64_t fragments; /* sl's fragment count after the last frame */
+};
+
+lc_surface_keep *lc_surface_keep_create(void) { return calloc(1, sizeof(lc_surface_keep)); }
+
+void lc_surface_keep_release(lc_surface_keep *keep)
 {
-    lc_surface_layers *sl = NULL;
-    int rc = lc_surface_layers_create(d, &sl, err);
-    for (uint32_t i = 0; !rc && i < n; i += LC_SURFACE_BATCH) {
-        uint32_t c = n - i < LC_SURFACE_BATCH ? n - i : LC_SURFACE_BATCH;
-        rc = lc_surface_layers_add(sl, curves + i, c, rgb, err);
+    if (!keep)
+        return;
+    lc_surface_layers_destroy(keep->sl);
+    memset(keep, 0, sizeof *keep);
+}
+
+int lc_surface_keep_holds(const lc_surface_keep *keep) { return keep && keep->sl; }
+
+uint64_t lc_surface_keep_id(const lc_surface_keep *keep) { return keep && keep->sl ? keep->curves_id : 0; }
+
+void lc_surface_keep_destroy(lc_surface_keep *keep)
+{
+    lc_surface_keep_release(keep);
+    free(keep);
+}
+
+/* Brings k's layers to curves [0, n) of sequence id: kept layers of the same
+ * view and sequence take the curves they lack, others start empty. */
+static int prepare(lc_surface_keep *k, const lc_surface_layers_desc *d, const float rgb[3], uint64_t id, uint32_t n,
+                   lc_surface_info *info, lc_error *err)
+{
+    if (k->sl && memcmp(&k->desc, d, sizeof *d) == 0 && memcmp(k->rgb, rgb, sizeof k->rgb) == 0) {
+        if (k->curves_id == id && k->drawn <= n) {
+            info->kept = 1;
+            return 0;
+        }
+        lc_surface_layers_reset(k->sl); /* same view, other curves: empty, not reallocated */
+    } else {
+        lc_surface_keep_release(k);
+        int rc = lc_surface_layers_create(d, &k->sl, err);
+        if (rc)
+            return rc;
+        k->desc = *d;
+        memcpy(k->rgb, rgb, sizeof k->rgb);
+    }
+    k->curves_id = id, k->drawn = 0, k->fragments = 0;
+    return 0;
+}
+
+/* Draws the curves the layers lack in batches (bounding the fragment pool) and composites. */
+static int draw(const lc_surface_layers_desc *d, const lc_trace_curve *curves, uint32_t n, uint64_t id,
+                lc_surface_keep *keep, const float rgb[3], uint8_t *rgba, lc_surface_info *info, lc_error *err)
+{
+    lc_surface_keep local = {0};
+    lc_surface_keep *k = keep && id ? keep : &local;
+    int rc = prepare(k, d, rgb, id, n, info, err);
+    info->drawn_curves = rc ? 0 : n - k->drawn;
+    while (!rc && k->drawn < n) {
+        uint32_t c = n - k->drawn < LC_SURFACE_BATCH ? n - k->drawn : LC_SURFACE_BATCH;
+        rc = lc_surface_layers_add(k->sl, curves + k->drawn, c, rgb, err);
+        k->drawn += c;
     }
     if (!rc)
-        rc = lc_surface_layers_composite(sl, rgba, err);
+        rc = lc_surface_layers_composite(k->sl, rgba, err);
     if (!rc)
-        rc = lc_surface_layers_read(sl, NULL, &info->stats, err);
-    lc_surface_layers_destroy(sl);
+        rc = lc_surface_layers_read(k->sl, NULL, &info->stats, err);
+    if (!rc) {
+        info->drawn_fragments = info->stats.fragments - k->fragments;
+        k->fragments = info->stats.fragments;
+    }
+    if (rc || k == &local) /* a failed batch leaves the layers unknown */
+        lc_surface_keep_release(k);
     return rc;
 }
 
@@ -79,9 +139,9 @@ static int check_color(const lc_surface_params *sp, lc_error *err)
     return 0;
 }
 
-int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_t n, const lc_surface_params *sp,
-                    const lc_render_params *p, const double fit_box[6], uint8_t *rgba, lc_surface_info *info,
-                    lc_camera *camera_out, lc_error *err)
+int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_t n, uint64_t curves_id,
+                    lc_surface_keep *keep, const lc_surface_params *sp, const lc_render_params *p,
+                    const double fit_box[6], uint8_t *rgba, lc_surface_info *info, lc_camera *camera_out, lc_error *err)
 {
     double trace_ms = info->trace_ms;
     memset(info, 0, sizeof *info);
@@ -102,12 +162,13 @@ int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_
         *camera_out = cam;
     lc_view v;
     lc_camera_view(&cam, fit_box, (double)p->width / p->height, p->height, &v);
-    lc_surface_layers_desc d = {.width = p->width,
-                                .height = p->height,
-                                .epsilon = sp->epsilon * diagonal(field->bounds),
-                                .opacity = sp->opacity,
-                                .pool_fragments = LC_SURFACE_POOL_FRAGMENTS,
-                                .composite = sp->composite};
+    lc_surface_layers_desc d;
+    memset(&d, 0, sizeof d); /* compared whole with the kept layers' (padding included) */
+    d.width = p->width, d.height = p->height;
+    d.epsilon = sp->epsilon * diagonal(field->bounds);
+    d.opacity = sp->opacity;
+    d.pool_fragments = LC_SURFACE_POOL_FRAGMENTS;
+    d.composite = sp->composite;
     lc_surface_bytes(p->width, p->height, sp->max_layers, &info->k);
     /* A pixel's layers live in one storage block: where the driver's block is
      * smaller than the budget (llvmpipe: 128 MiB), fewer layers, not a failure. */
@@ -130,7 +191,7 @@ int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_
     memcpy(d.projection, v.proj, sizeof d.projection);
     const float rgb[3] = {(float)sp->color[0], (float)sp->color[1], (float)sp->color[2]};
     double t0 = lc_now();
-    rc = draw(&d, curves, n, rgb, rgba, info, err);
+    rc = draw(&d, curves, n, curves_id, keep, rgb, rgba, info, err);
     info->draw_ms = (lc_now() - t0) * 1000.0;
     return rc;
 }
@@ -164,7 +225,8 @@ int lc_surface_render(const lc_field *field, const lc_seed *seed_in, const lc_su
     }
     /* Framed and clipped by the field's bounds, as a session's frames are from
      * their first curves on: the one-shot image is a session's last. */
-    rc = lc_surface_draw(field, curves, (uint32_t)sp->particles, sp, p, field->bounds, rgba, info, camera_out, err);
+    rc = lc_surface_draw(field, curves, (uint32_t)sp->particles, 0, NULL, sp, p, field->bounds, rgba, info, camera_out,
+                         err);
     lc_trace_curves_free(curves, (uint32_t)sp->particles);
     free(curves);
     return rc;

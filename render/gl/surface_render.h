@@ -42,7 +42,29 @@ typedef struct lc_surface_info {
     double trace_ms;   /* CPU tracing */
     double draw_ms;    /* batches and composite, read back */
     uint64_t vertices; /* of all curves */
+    /* This frame's work: curves drawn and fragments rasterized into the
+     * layers (all curves unless kept layers held the others), and whether
+     * the layers came from the frame before (lc_surface_keep). */
+    uint64_t drawn_curves, drawn_fragments;
+    int kept;
 } lc_surface_info;
+
+/* A surface's layers kept across a session's frames (PRT §2.2, progressive
+ * insertion; docs/ALGORITHM.md §23): a frame whose camera, size and surface
+ * parameters equal the kept layers' and whose curves extend the ones drawn
+ * into them adds only the new curves; anything else empties them and draws
+ * every curve. Holds one surface's layers (the GPU memory of one frame).
+ * Threading: one thread at a time, with a context of the share group of the
+ * one current at its first frame (lc_surface_layers.h). */
+typedef struct lc_surface_keep lc_surface_keep;
+lc_surface_keep *lc_surface_keep_create(void);
+/* Frees the layers (GL objects: a context of the group current), keeps the object. */
+void lc_surface_keep_release(lc_surface_keep *keep);
+/* Whether it holds layers now. */
+int lc_surface_keep_holds(const lc_surface_keep *keep);
+/* The curves_id of the layers it holds (0 = none). */
+uint64_t lc_surface_keep_id(const lc_surface_keep *keep);
+void lc_surface_keep_destroy(lc_surface_keep *keep);
 
 /* Bytes a frame of w x h with K layers holds on the GPU (layers, pixel words,
  * fragment pool), and the K it would use for max_layers. */
@@ -51,10 +73,14 @@ uint64_t lc_surface_bytes(int width, int height, int max_layers, int *k_used);
 /* Draws n traced curves at p's size with p's camera (when p->has_camera;
  * else one fitted to fit_box, in *camera_out when not NULL) over p's
  * background into rgba (top row first); info->trace_ms is kept, the rest set.
- * A session's frame: the curves traced so far. */
-int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_t n, const lc_surface_params *sp,
-                    const lc_render_params *p, const double fit_box[6], uint8_t *rgba, lc_surface_info *info,
-                    lc_camera *camera_out, lc_error *err);
+ * A session's frame: the curves traced so far. With keep (may be NULL) and
+ * curves_id != 0 (names this sequence of curves: the same id promises the
+ * same first curves), layers kept from an earlier frame of the same id and
+ * view take only the curves they lack. */
+int lc_surface_draw(const lc_field *field, const lc_trace_curve *curves, uint32_t n, uint64_t curves_id,
+                    lc_surface_keep *keep, const lc_surface_params *sp, const lc_render_params *p,
+                    const double fit_box[6], uint8_t *rgba, lc_surface_info *info, lc_camera *camera_out,
+                    lc_error *err);
 
 /* Traces sp->particles curves of field from seed (checked by lc_seed_check)
  * on `threads` threads and renders them at p's size with p's camera (when

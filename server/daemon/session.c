@@ -546,15 +546,17 @@ void lc_session_progress_begin(lc_session *s, uint64_t frame)
     atomic_store(&s->progress.frame, (unsigned long long)frame);
 }
 
-int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *req, uint8_t *rgba, lc_frame_info *info,
-                             lc_error *err)
+int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *req, lc_surface_keep *keep, uint8_t *rgba,
+                             lc_frame_info *info, lc_error *err)
 {
     const lc_field *field = NULL; /* looked up again: the session's request may have changed since it was checked */
     lc_proto_error pe;
     if (lc_admit_surface(srv, req, NULL, &field, &pe) != 0)
         return lc_err_field(err, LC_ERR_INVALID, pe.field, "%s", pe.message);
-    return lc_surface_stream_frame(&s->surface, field, &req->surface, &req->render, rgba, info, err);
+    return lc_surface_stream_frame(&s->surface, keep, field, &req->surface, &req->render, rgba, info, err);
 }
+
+uint64_t lc_session_surface_id(const lc_session *s) { return lc_surface_stream_id(s->surface); }
 
 bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now)
 {

@@ -32,6 +32,8 @@
 extern "C" {
 #endif
 
+typedef struct lc_surface_keep lc_surface_keep; /* surface_render.h */
+
 typedef enum { LC_SESSION_HTTP = 0, LC_SESSION_WS = 1 } lc_session_kind;
 
 #define LC_SESSION_ID_LEN 33 /* 32 hex digits + NUL */
@@ -188,9 +190,13 @@ void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f);
 /* Worker side: a frame of s begins (its progress starts at "prepare"). */
 void lc_session_progress_begin(lc_session *s, uint64_t frame);
 /* Worker side: one frame of method surface-layers for s (the next batch of
- * curves of req's surface, drawn with req's camera); errors name the field. */
-int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *req, uint8_t *rgba, lc_frame_info *info,
-                             lc_error *err);
+ * curves of req's surface, drawn with req's camera into the worker's kept
+ * layers `keep`, lc_surface_keep, may be NULL); errors name the field. */
+int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *req, lc_surface_keep *keep,
+                             uint8_t *rgba, lc_frame_info *info, lc_error *err);
+/* Worker side: the id of the curves s's surface frames draw (0 = none yet;
+ * lc_surface_draw's curves_id), to find the layers kept from its last frame. */
+uint64_t lc_session_surface_id(const lc_session *s);
 /* I/O side: the client acknowledged every frame up to id `frame`. Returns
  * false (and changes nothing) for an id that was never sent: a blind ack must
  * not open the window. */

@@ -59,6 +59,7 @@ with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as
           "a shear surface renders: %d %s" % (st, data[:200] if st != 200 else ""))
     hf = header_fields(headers)
     check(hf.get("curves") == "200", "X-Lucent-Surface counts the 200 curves traced: %r" % hf)
+    check(int(hf.get("drawnFragments", "0")) > 200, "a one-shot render draws all its curves' fragments: %r" % hf)
     lpp = float(hf.get("layersPerPixel", "0"))
     check(1.0 <= lpp <= 1.02 and hf.get("maxLayers") in ("1", "2") and hf.get("overflow") == "0",
           "a planar surface is one layer per covered pixel: %r" % hf)

@@ -20,12 +20,17 @@ export function surfaceChanges(on, { field, seed, particles, curvesPerFrame, dir
   return [['surface', { field, seed, particles, curvesPerFrame, direction }], ['method', 'surface-layers']];
 }
 
-/** "curves 450 / 600 · 1.10 layers per pixel" from a frame header's surface object. */
+/**
+ * "curves 450 / 600 · 1.10 layers per pixel · 150 added" from a frame header's surface object: the
+ * frame's own work is the curves it added to the layers kept from the frame before, or all of them
+ * drawn again (a camera or parameter change).
+ */
 export function surfaceStatus(s) {
   if (!s) return '';
   const done = s.curves >= s.particles ? ' (complete)' : '';
+  const drawn = s.drawnCurves === undefined ? '' : s.kept ? ` · ${s.drawnCurves} added` : ` · ${s.drawnCurves} drawn anew`;
   return `curves ${s.curves} / ${s.particles}${done} · ${Number(s.layersPerPixel).toFixed(2)} layers per pixel` +
-    (s.overflow ? ` · ${s.overflow} fragments beyond ${s.k} layers` : '');
+    (s.overflow ? ` · ${s.overflow} fragments beyond ${s.k} layers` : '') + drawn;
 }
 
 /**

@@ -20,6 +20,10 @@ test('status line from the frame header', () => {
   assert.equal(surfaceStatus({ curves: 450, particles: 600, layersPerPixel: 1.104, overflow: 0, k: 8 }),
     'curves 450 / 600 · 1.10 layers per pixel');
   assert.match(surfaceStatus({ curves: 600, particles: 600, layersPerPixel: 2, overflow: 12, k: 4 }), /complete.*12 fragments beyond 4 layers/);
+  assert.equal(surfaceStatus({ curves: 450, particles: 600, layersPerPixel: 1.104, overflow: 0, k: 8, drawnCurves: 150,
+    drawnFragments: 9000, kept: true }), 'curves 450 / 600 · 1.10 layers per pixel · 150 added');
+  assert.match(surfaceStatus({ curves: 450, particles: 600, layersPerPixel: 1, overflow: 0, k: 8, drawnCurves: 450,
+    drawnFragments: 27000, kept: false }), /450 drawn anew$/);
   assert.equal(surfaceStatus(undefined), '');
 });
 

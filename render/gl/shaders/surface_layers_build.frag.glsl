@@ -2,6 +2,7 @@
 // this batch (no colour output); the merge pass sorts them into layers.
 in float v_depth;
 in vec3 v_normal;
+flat in uint v_order;
 
 uniform vec3 u_color;
 uniform int u_width;
@@ -17,7 +18,7 @@ void main()
     uint pix = uint(p.y * u_width + p.x);
     frags[i].depth = v_depth;
     frags[i].color = packUnorm4x8(vec4(u_color, 1.0));
-    frags[i].pad = 0u;
+    frags[i].order = v_order;
     frags[i].normal = vec4(v_normal, 0.0);
     frags[i].next = atomicExchange(pixels[heads_at(pix)], i);
 }

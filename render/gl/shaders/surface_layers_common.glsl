@@ -13,7 +13,7 @@ struct SurfaceFragment {
     uint next;
     float depth;   // view depth (-z in view space)
     uint color;    // packUnorm4x8
-    uint pad;
+    uint order;    // the segment's place in the batch (its last vertex): merges follow the drawing order
     vec4 normal;   // view space, xyz
 };
 

@@ -117,9 +117,11 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
     }
     if (info->has_surface) { /* method surface-layers: what the layers hold */
         char surf[256];
-        snprintf(surf, sizeof surf, "curves=%llu,layersPerPixel=%.3f,maxLayers=%u,k=%d,overflow=%llu,traceMs=%.1f",
+        snprintf(surf, sizeof surf,
+                 "curves=%llu,layersPerPixel=%.3f,maxLayers=%u,k=%d,overflow=%llu,traceMs=%.1f,drawnFragments=%llu",
                  (unsigned long long)info->surface_curves, info->surface_mean_layers, info->surface_max_layers,
-                 info->surface_k, (unsigned long long)info->surface_overflow, info->surface_trace_ms);
+                 info->surface_k, (unsigned long long)info->surface_overflow, info->surface_trace_ms,
+                 (unsigned long long)info->surface_drawn_fragments);
         MHD_add_response_header(r, "X-Lucent-Surface", surf);
     }
     if (info->tiles > 0) { /* composited in tiles (a large one-shot frame) */

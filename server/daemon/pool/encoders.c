@@ -153,6 +153,9 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.surface_layers = e->info.surface_mean_layers;
         h.surface_overflow = e->info.surface_overflow;
         h.surface_k = e->info.surface_k;
+        h.surface_drawn_curves = e->info.surface_drawn_curves;
+        h.surface_drawn_fragments = e->info.surface_drawn_fragments;
+        h.surface_kept = e->info.surface_kept != 0;
     }
     unsigned char *msg = NULL;
     size_t len = 0;

@@ -2,6 +2,7 @@
  * (surface_job.h). */
 #include "surface_job.h"
 
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,6 +51,9 @@ static void fill_info(lc_frame_info *info, const lc_surface_info *si)
     info->surface_trace_ms = si->trace_ms;
     info->fragments = si->stats.fragments;
     info->dropped_fragments = si->stats.pool_dropped;
+    info->surface_drawn_curves = si->drawn_curves;
+    info->surface_drawn_fragments = si->drawn_fragments;
+    info->surface_kept = si->kept;
 }
 
 static void reset_info(lc_frame_info *info, const lc_render_params *p)
@@ -83,6 +87,7 @@ int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, co
 struct lc_surface_stream {
     const lc_field *field;
     lc_surface_request traced_for; /* seed, step and length of the curves below */
+    uint64_t curves_id;            /* names the curves below for kept layers (lc_surface_keep); unique */
     lc_trace_curve *curves;
     uint32_t count, cap;
 };
@@ -96,6 +101,8 @@ void lc_surface_stream_free(lc_surface_stream *st)
     free(st);
 }
 
+uint64_t lc_surface_stream_id(const lc_surface_stream *st) { return st ? st->curves_id : 0; }
+
 /* Whether the curves traced so far belong to s's surface. */
 static int same_surface(const lc_surface_stream *st, const lc_field *field, const lc_surface_request *s)
 {
@@ -105,8 +112,9 @@ static int same_surface(const lc_surface_stream *st, const lc_field *field, cons
            t->length == s->length && t->direction == s->direction;
 }
 
-int lc_surface_stream_frame(lc_surface_stream **stp, const lc_field *field, const lc_surface_request *s,
-                            const lc_render_params *p, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, const lc_field *field,
+                            const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba, lc_frame_info *info,
+                            lc_error *err)
 {
     reset_info(info, p);
     lc_surface_params sp;
@@ -124,6 +132,8 @@ int lc_surface_stream_frame(lc_surface_stream **stp, const lc_field *field, cons
         st->count = 0;
         st->field = field;
         st->traced_for = *s;
+        static atomic_ullong next_id;
+        st->curves_id = (uint64_t)atomic_fetch_add(&next_id, 1) + 1;
     }
     double t0 = lc_now();
     uint32_t want = (uint32_t)s->particles, add = want - st->count;
@@ -144,7 +154,8 @@ int lc_surface_stream_frame(lc_surface_stream **stp, const lc_field *field, cons
         return rc;
     st->count += add;
     si.trace_ms = (lc_now() - t0) * 1000.0;
-    rc = lc_surface_draw(field, st->curves, st->count, &sp, p, field->bounds, rgba, &si, &info->camera, err);
+    rc = lc_surface_draw(field, st->curves, st->count, st->curves_id, keep, &sp, p, field->bounds, rgba, &si,
+                         &info->camera, err);
     info->wall_ms = (lc_now() - t0) * 1000.0;
     if (rc)
         return rc;

@@ -9,6 +9,7 @@
 #include "field.h"
 #include "renderer.h"
 #include "request.h"
+#include "surface_render.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -25,15 +26,21 @@ int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, co
  * by the worker rendering its frame. */
 typedef struct lc_surface_stream lc_surface_stream;
 void lc_surface_stream_free(lc_surface_stream *st);
+/* The id naming its curves (lc_surface_draw's curves_id); 0 for NULL. */
+uint64_t lc_surface_stream_id(const lc_surface_stream *st);
 
 /* One session frame: traces the next s->curves_per_frame particles (all
  * traced ones are dropped first when the field, seed, step or length
- * changed: a new surface) and draws every curve traced so far with p's
+ * changed: a new surface) and shows every curve traced so far with p's
  * camera (no camera: fitted to the field's bounds, so that the view stays
- * put while the surface grows). info->converged once all s->particles are
- * in. *st is created on the first frame. */
-int lc_surface_stream_frame(lc_surface_stream **st, const lc_field *field, const lc_surface_request *s,
-                            const lc_render_params *p, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+ * put while the surface grows). keep (the worker's, may be NULL) holds the
+ * layers of an earlier frame: with the same camera and parameters only the
+ * new curves are drawn into them (PRT's progressive insertion), else all
+ * are. info->converged once all s->particles are in. *st is created on the
+ * first frame. */
+int lc_surface_stream_frame(lc_surface_stream **st, lc_surface_keep *keep, const lc_field *field,
+                            const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba, lc_frame_info *info,
+                            lc_error *err);
 
 #ifdef __cplusplus
 }

@@ -364,6 +364,17 @@ static int on_yield(void *ctx)
     return on_preempted(wk); /* input may have come while it waited */
 }
 
+/* A surface-layers frame of s, continuing the layers of its frame before
+ * when a slot of the pool's kept layers still holds them. */
+static int surface_frame(lc_workers *w, lc_session *s, const lc_request *req, uint8_t *rgba, lc_frame_info *info,
+                         lc_error *err)
+{
+    lc_surface_keep *keep = lc_surface_keeps_take(w->surface_keeps, lc_session_surface_id(s));
+    int rc = lc_session_surface_frame(w->srv, s, req, keep, rgba, info, err);
+    lc_surface_keeps_give(w->surface_keeps, keep, lc_now());
+    return rc;
+}
+
 /* One frame of a WebSocket session, if it needs one. */
 static void render_session(worker *wk, lc_session *s)
 {
@@ -400,7 +411,7 @@ static void render_session(worker *wk, lc_session *s)
                  ? lc_session_prepare_state(s, f.layers, n, &err)
                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     if (rc == 0)
-        rc = p->method == LC_METHOD_SURFACE_LAYERS ? lc_session_surface_frame(w->srv, s, &f.req, rgba, &info, &err)
+        rc = p->method == LC_METHOD_SURFACE_LAYERS ? surface_frame(w, s, &f.req, rgba, &info, &err)
              : n ? render_layers(w, wk->renderer, f.layers, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info,
                                  &err)
                  : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
@@ -482,8 +493,17 @@ static void *worker_main(void *arg)
                 pthread_mutex_lock(&w->lock);
                 continue;
             }
+            double keep_due = lc_surface_keeps_due(w->surface_keeps);
+            if (keep_due > 0 && now >= keep_due) { /* a surface session's layers no frame continued */
+                pthread_mutex_unlock(&w->lock);
+                lc_surface_keeps_trim(w->surface_keeps, now);
+                pthread_mutex_lock(&w->lock);
+                continue;
+            }
             if (wk->trim_at > 0 && (next <= 0 || wk->trim_at < next))
                 next = wk->trim_at;
+            if (keep_due > 0 && (next <= 0 || keep_due < next))
+                next = keep_due;
             if (next > 0)
                 lc_cond_wait_until(&w->work, &w->lock, next);
             else
@@ -544,6 +564,7 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     pthread_condattr_destroy(&ca);
     pthread_cond_init(&w->ready, NULL);
     lc_yield_gate_init(&w->gate, srv->cfg.still_delay, LC_YIELD_MAX_WAIT);
+    w->surface_keeps = lc_surface_keeps_create(w->nworkers); /* NULL: surface frames draw all their curves */
     w->workers[0].gl = primary;
     for (int i = 0; i < w->nworkers; i++) {
         worker *wk = &w->workers[i];

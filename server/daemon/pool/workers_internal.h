@@ -14,6 +14,7 @@
 #include "renderer.h"
 #include "server.h"
 #include "session.h"
+#include "surface_keeps.h"
 #include "yield.h"
 
 typedef struct lc_workers lc_workers;
@@ -62,6 +63,7 @@ struct lc_workers {
     _Atomic double cost_rate; /* learned cost units per second of render (0 = none yet); written under lock */
     lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
     lc_yield_gate gate; /* large renders wait here for other sessions' moving frames (yield.h) */
+    lc_surface_keeps *surface_keeps; /* surface sessions' layers across frames (surface_keeps.h); NULL: none kept */
 };
 
 /* workers_stop.c: removes s from the timer list if present (pool lock

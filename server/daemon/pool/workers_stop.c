@@ -136,6 +136,8 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
     lc_error err = {0};
     if (primary && lc_gl_make_current(primary, &err) == 0) {
         lc_datasets_release_gpu(datasets);
+        lc_surface_keeps_destroy(w->surface_keeps); /* GL buffers of the share group */
+        w->surface_keeps = NULL;
         lc_gl_release_current(primary);
     }
     for (int i = w->nworkers - 1; i >= 0; i--)
@@ -145,6 +147,7 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
     pthread_cond_destroy(&w->work);
     pthread_cond_destroy(&w->ready);
     lc_yield_gate_destroy(&w->gate);
+    lc_surface_keeps_destroy(w->surface_keeps); /* still here: no GL context started, so no layers either */
     free(w->workers);
     lc_encoders_destroy(w->encoders);
     free(w);

@@ -54,7 +54,7 @@ typedef struct field {
 static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
                                          {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
                                          {"wboit", LC_METHOD_WBOIT},     {"surface-layers", LC_METHOD_SURFACE_LAYERS},
-                                         {NULL, 0}};
+                                         {"kanzler", LC_METHOD_KANZLER},  {NULL, 0}};
 static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
 static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
@@ -125,6 +125,15 @@ static const field fields[] = {
     {"params", "lod", "lod", T_NUM, 0, 16, 0, OFF(render.detail.lod_pixels), 0, NOFLAG, NULL},
     {"params", "directExponent", "directExponent", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.direct_exponent), 0, NOFLAG,
      NULL},
+    /* method "kanzler": the weights of Kanzler's occlusion penalty (render/gl/kanzler.c) */
+    {"params", "kanzlerImportance", "kanzlerImportance", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_importance), 0,
+     NOFLAG, NULL},
+    {"params", "kanzlerCoverage", "kanzlerCoverage", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_coverage), 0, NOFLAG,
+     NULL},
+    {"params", "kanzlerVariance", "kanzlerVariance", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_variance), 0, NOFLAG,
+     NULL},
+    {"params", "kanzlerDepth", "kanzlerDepth", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_depth), 0, NOFLAG, NULL},
+    {"params", "kanzlerLambda", "kanzlerLambda", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_lambda), 0, NOFLAG, NULL},
     {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
     {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
      smoothing_weights_names},

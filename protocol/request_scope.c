@@ -13,7 +13,8 @@
 #define DATASET_METHODS (LC_PROTO_ALL_METHODS & ~M(SURFACE_LAYERS)) /* everything that draws a dataset */
 #define OPTIMIZED (M(FOURIER) | M(EXACT) | M(WBOIT))                /* P1-P3: the opacity optimization */
 #define FOURIER_PASSES (M(FOURIER) | M(WBOIT))                      /* P1/P2 at resolutionScale */
-#define SERIES (M(FOURIER) | M(DIRECT) | M(WBOIT))                  /* a Fourier transmittance in P4/P5 */
+#define SERIES (M(FOURIER) | M(DIRECT) | M(WBOIT) | M(KANZLER))     /* a Fourier transmittance in P4/P5 */
+#define STRIDED (M(FOURIER) | M(DIRECT) | M(WBOIT))                 /* params.subset: P4 weights a stride */
 #define EQUALIZING (M(FOURIER) | M(DIRECT) | M(EXACT))              /* color.equalize's histogram */
 #define NOT_SURFACES (P(POINTS) | P(LINES))
 
@@ -36,12 +37,17 @@ static const scope_rule rules[] = {
     {"params", "bands", SERIES, LC_PROTO_ALL_PRIMS},
     {"params", "depthMargin", SERIES, LC_PROTO_ALL_PRIMS},
     {"params", "depthRange", SERIES, LC_PROTO_ALL_PRIMS},
-    {"params", "subset", SERIES, LC_PROTO_ALL_PRIMS},
+    {"params", "subset", STRIDED, LC_PROTO_ALL_PRIMS}, /* kanzler: its maps count every fragment */
     {"params", "resolutionScale", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "estimator", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "autoSubset", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "guardBand", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
-    {"params", "directExponent", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "directExponent", M(DIRECT) | M(KANZLER), LC_PROTO_ALL_PRIMS},
+    {"params", "kanzlerImportance", M(KANZLER), NOT_SURFACES},
+    {"params", "kanzlerCoverage", M(KANZLER), NOT_SURFACES},
+    {"params", "kanzlerVariance", M(KANZLER), P(LINES)}, /* points have no direction */
+    {"params", "kanzlerDepth", M(KANZLER), NOT_SURFACES},
+    {"params", "kanzlerLambda", M(KANZLER), NOT_SURFACES},
     {"params", "lod", DATASET_METHODS, P(LINES) | P(TRIANGLES)}, /* simplified polylines and meshes */
     {"params", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
     {"importance", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},

@@ -26,6 +26,9 @@ typedef enum {
     /* A vector field's integral surface (the request's surface object,
      * render/gl/surface_render.c), not a dataset's elements: lc_render_frame refuses it. */
     LC_METHOD_SURFACE_LAYERS,
+    /* alpha = g^k times Kanzler's occlusion penalty on the view-dependent
+     * per-pixel maps (render/gl/kanzler.c; docs/ALGORITHM.md §28) */
+    LC_METHOD_KANZLER,
     LC_METHOD_COUNT
 } lc_method;
 
@@ -96,7 +99,14 @@ typedef struct lc_foo_params {
     double depth_margin;     /* delta (the bounds' depth range and the moments) */
     lc_estimator estimator;
     lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
-    double direct_exponent;     /* k of the "direct" baseline, alpha = g^k */
+    double direct_exponent;     /* k of the "direct" baseline, alpha = g^k (and of "kanzler") */
+    /* Method "kanzler" (M3D Eq. 3.2-3.3): rho = 1/(1 + (1 - g^lambda) P),
+     * P = m M + c C + v V + d less(i, D) on the per-pixel maps. */
+    double kanzler_importance; /* m: weight of the maximum importance M */
+    double kanzler_coverage;   /* c: weight of the coverage C (fragments in the pixel) */
+    double kanzler_variance;   /* v: weight of the directional variance V */
+    double kanzler_depth;      /* d: weight of less(i, D), the fragment in front of M's depth */
+    double kanzler_lambda;     /* lambda: how little the penalty touches important fragments */
     lc_normalize normalize;
     /* Perception aids (docs/ALGORITHM.md "Perception aids"): */
     double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */

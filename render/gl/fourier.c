@@ -386,10 +386,18 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     return finish_opacities(r, fs, state, dt, info, err);
 }
 
-/* P4..P6 with the element opacities (or alpha = g^k when direct). */
+/* P4..P6 with the element opacities, alpha = g^k when direct, times
+ * Kanzler's penalty on this frame's maps when kanzler (drawn first, so that
+ * every antialias sample has maps of its own view). */
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err)
 {
     const lc_render_params *p = fs->params;
+    int kanzler = direct == LC_ALPHA_KANZLER;
+    if (kanzler) {
+        int rc = lc_kanzler_maps(r, fs, err);
+        if (rc)
+            return rc;
+    }
     int bands = p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
     /* Half floats suffice for the weighted sums: the image is their ratio. */
@@ -409,13 +417,16 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p4 = lc_renderer_geometry_program(r, direct ? PROG_P4_DIRECT : record ? PROG_P4_LIST : PROG_P4,
-                                                 lf->gs->scene->type, bands, p->foo.subset, err);
+        GLuint p4 = lc_renderer_geometry_program(
+            r, kanzler ? PROG_P4_KANZLER : direct ? PROG_P4_DIRECT : record ? PROG_P4_LIST : PROG_P4,
+            lf->gs->scene->type, bands, p->foo.subset, err);
         if (!p4)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
         lc_uniform_f(p4, "u_weight", lc_renderer_subset(lf, p->foo.subset));
         lc_uniform_f(p4, "u_direct_exponent", p->foo.direct_exponent);
+        if (kanzler)
+            lc_kanzler_bind(r, p4, &p->foo);
         lc_renderer_bind_halo(p4, lf);
         if (record) {
             lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
@@ -445,14 +456,16 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p5 =
-            lc_renderer_geometry_program(r, direct ? PROG_P5_DIRECT : PROG_P5, lf->gs->scene->type, bands, 1, err);
+        GLuint p5 = lc_renderer_geometry_program(r, kanzler ? PROG_P5_KANZLER : direct ? PROG_P5_DIRECT : PROG_P5,
+                                                 lf->gs->scene->type, bands, 1, err);
         if (!p5)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p5, lf, fs->width, fs->height, 1);
         lc_bind_coefficients(&r->coef_full);
         lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
         lc_uniform_f(p5, "u_direct_exponent", p->foo.direct_exponent);
+        if (kanzler)
+            lc_kanzler_bind(r, p5, &p->foo);
         lc_renderer_bind_halo(p5, lf);
         lc_renderer_draw_geometry(lf, 1);
     }

@@ -76,6 +76,7 @@ void lc_renderer_destroy(lc_renderer *r)
         return;
     lc_exact_destroy(r);
     lc_context_destroy(r);
+    lc_kanzler_destroy(r);
     lc_fragment_list_release(r);
     if (r->marker_program)
         glDeleteProgram(r->marker_program);
@@ -273,7 +274,8 @@ static void jitter_view(lc_view *v, double dx, double dy, int w, int h)
 static int antialias_samples(const lc_render_params *p)
 {
     int k = p->style.antialias;
-    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
+    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT ||
+                     p->method == LC_METHOD_KANZLER;
     return composites && k > 1 ? (k > LC_MAX_ANTIALIAS ? LC_MAX_ANTIALIAS : k) : 1;
 }
 
@@ -282,7 +284,8 @@ static int composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     switch (fs->params->method) {
     case LC_METHOD_FOURIER: return lc_fourier_composite(r, fs, 0, err);
-    case LC_METHOD_DIRECT: return lc_fourier_composite(r, fs, 1, err);
+    case LC_METHOD_DIRECT: return lc_fourier_composite(r, fs, LC_ALPHA_DIRECT, err);
+    case LC_METHOD_KANZLER: return lc_fourier_composite(r, fs, LC_ALPHA_KANZLER, err);
     case LC_METHOD_OPAQUE: return lc_render_opaque(r, fs, err);
     case LC_METHOD_WBOIT: return lc_render_wboit(r, fs, err);
     default: return lc_err(err, LC_ERR_INVALID, "unknown method");
@@ -578,6 +581,7 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
                         : lc_clarity_optimize(r, &fs, state, dt, info, plan.moments, optimize_frame, err);
         break;
     case LC_METHOD_DIRECT:
+    case LC_METHOD_KANZLER:
     case LC_METHOD_OPAQUE: break;
     case LC_METHOD_EXACT: rc = lc_render_exact(r, &fs, state, dt, rgba, info, err); break;
     default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
@@ -682,6 +686,7 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
      * pages its fragments touched: freed, and the small frames drawn by the
      * Fourier passes, so that the next exact frame allocates them anew. */
     lc_exact_release(r);
+    lc_kanzler_release(r);
     lc_render_params tiny = *p;
     /* The fragment lists, sized by this frame: the 8x8 frames would not
      * shrink them (fragment_list.c keeps the largest counts seen). */

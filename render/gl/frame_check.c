@@ -148,6 +148,19 @@ static int check_clusters(const lc_scene *s, const lc_render_params *p, lc_error
     return 0;
 }
 
+/* Method kanzler (docs/ALGORITHM.md §28): its maps are a dataset's lines or
+ * points at one resolution; layers are refused with the other methods. */
+static int check_kanzler(const lc_scene *s, int tiles, lc_error *err)
+{
+    if (s->type == LC_PRIM_TRIANGLES)
+        return lc_err_field(err, LC_ERR_INVALID, "method",
+                            "%s is a surface: method \"kanzler\" applies to lines and points", s->name);
+    if (tiles)
+        return lc_err_field(err, LC_ERR_INVALID, "width",
+                            "method \"kanzler\" blurs its maps over the whole frame: render at most 4096x4096");
+    return 0;
+}
+
 int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
                     int tile_size, lc_error *err)
 {
@@ -171,7 +184,10 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
             return rc;
     }
     int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
-    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT;
+    if (p->method == LC_METHOD_KANZLER && (rc = check_kanzler(scenes[0], tiles, err)) != 0)
+        return rc;
+    int composites = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT || p->method == LC_METHOD_WBOIT ||
+                     p->method == LC_METHOD_KANZLER;
     int jittered = composites && p->style.antialias > 1;
     if (context && (tiles || jittered)) /* drawn once, unjittered, untiled */
         return lc_err_field(err, LC_ERR_INVALID, tiles ? "width" : "style.antialias",

@@ -62,7 +62,7 @@ static int set_methods(void *target, const lc_option *o, const char *arg, char *
             m = lc_method_from_name(item);
         }
         if (m < 0) {
-            snprintf(why, why_len, "\"%s\": expected 1 to %d methods a,b,... (fourier, exact, opaque, direct, wboit)",
+            snprintf(why, why_len, "\"%s\": expected 1 to %d methods a,b,... (fourier, exact, opaque, direct, wboit, kanzler)",
                      arg, BENCH_MAX_LIST);
             return -1;
         }

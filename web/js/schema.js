@@ -7,12 +7,12 @@
 // Types: int, num, bool, str, enum, vec3, range (two numbers), color (three in [0,1]).
 // methods / primitives: where a field applies (protocol/request_scope.c); absent = everywhere.
 // The server refuses a field with a value other than its default elsewhere.
-const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit']);
+const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit', 'kanzler']);
 export const FIELDS = Object.freeze([
   { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
   {
     section: null, name: 'method', alias: 'method', type: 'enum',
-    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers'],
+    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers', 'kanzler'],
   },
 
   { section: 'camera', name: 'position', alias: 'position', type: 'vec3' },
@@ -25,18 +25,23 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit'] },
   { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit'] },
   { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit'] },
-  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit', 'kanzler'] },
   { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit'] },
   { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit'] },
   { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'wboit'] },
   { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true, methods: ['fourier', 'wboit'] },
   { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024, methods: ['fourier', 'direct', 'wboit'] },
-  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit', 'kanzler'] },
   { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'], methods: ['fourier', 'wboit'] },
-  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit', 'kanzler'] },
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'], methods: DATASET_METHODS },
   { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines', 'surfaces'] },
-  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'] },
+  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct', 'kanzler'] },
+  { section: 'params', name: 'kanzlerImportance', alias: 'kanzlerImportance', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
+  { section: 'params', name: 'kanzlerCoverage', alias: 'kanzlerCoverage', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
+  { section: 'params', name: 'kanzlerVariance', alias: 'kanzlerVariance', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['lines'] },
+  { section: 'params', name: 'kanzlerDepth', alias: 'kanzlerDepth', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
+  { section: 'params', name: 'kanzlerLambda', alias: 'kanzlerLambda', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
   { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: DATASET_METHODS },
   { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit'] },
   { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit'] },
@@ -70,7 +75,7 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'haloWidth', alias: 'haloWidth', type: 'num', min: 0, max: 64, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit'] },
+  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit', 'kanzler'] },
 
   { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
 

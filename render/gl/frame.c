@@ -589,6 +589,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     int samples = antialias_samples(&p);
     if (!rc && p.method != LC_METHOD_EXACT)
         rc = lc_renderer_yield_point(r, err);
+    if (!rc && p.method == LC_METHOD_KANZLER)
+        lc_kanzler_report_begin(r);
     if (!rc && tiles)
         rc = render_tiles(r, &fs, state, dt, nx, ny, samples, plan.pixel_range, rgba, err);
     else if (!rc && p.method != LC_METHOD_EXACT)
@@ -601,6 +603,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         rc = antialias(r, &fs, samples, rgba, err);
     else if (!rc && !tiles)
         lc_renderer_readback(r, &fs, rgba);
+    if (!rc && p.method == LC_METHOD_KANZLER) /* after every sample's P4 (tiles are refused) */
+        rc = lc_kanzler_report(r, &fs, info, err);
     if (rc)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_READBACK);

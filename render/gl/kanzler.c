@@ -70,6 +70,34 @@ int lc_kanzler_maps(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     return 0;
 }
 
+void lc_kanzler_report_begin(lc_renderer *r)
+{
+    const float sentinel = 2.0f; /* > 1: "no fragment this frame", as P2's */
+    glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
+    lc_occluders_clear(r);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+int lc_kanzler_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info, lc_error *err)
+{
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    /* The report reads an element's opacity from element_alpha (P3's buffer,
+     * unused by this method): here its least fragment opacity. */
+    glCopyNamedBufferSubData(r->element_alpha_min, r->element_alpha, 0, 0, (GLsizeiptr)fs->element_total * 4);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    int rc = lc_visibility_measure(r, fs, NULL, info, err);
+    /* Covered pixels from the coverage map (at the output resolution: the
+     * method has no other); no importance mass is summed (no P1). */
+    kanzler_state *st = r->kanzler;
+    if (!rc && st && st->valid) {
+        double covered = lc_covered_fraction(r, st->maps.tex[0], st->maps.width, st->maps.height, err);
+        if (covered < 0)
+            return LC_ERR_GL;
+        info->covered_fraction = covered;
+    }
+    return rc;
+}
+
 void lc_kanzler_bind(lc_renderer *r, GLuint prog, const lc_foo_params *f)
 {
     kanzler_state *st = r->kanzler;

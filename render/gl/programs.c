@@ -155,9 +155,11 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_hist[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                           "color_histogram.frag.glsl", NULL};
     static const char *const fs_kanzler[] = {"common.glsl", "fragment_common.glsl", "kanzler_maps.frag.glsl", NULL};
+    static const char *const fs_p4_kanzler[] = {"common.glsl",    "fragment_common.glsl",       "coefficient_output.glsl",
+                                                "occluders.glsl", "p4_optical_depth.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
         fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist,
-        fs_p1_list, fs_moments_list, fs_p4_list, fs_kanzler, fs_p4, fs_p5};
+        fs_p1_list, fs_moments_list, fs_p4_list, fs_kanzler, fs_p4_kanzler, fs_p5};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
         "colour histogram", "colour histogram (direct)", "P1 (recording)",

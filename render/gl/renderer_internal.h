@@ -656,6 +656,11 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
  * P4/P5 program; the textures freed (release) or everything (destroy). */
 int lc_kanzler_maps(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
 void lc_kanzler_bind(lc_renderer *r, GLuint prog, const lc_foo_params *f);
+/* The frame's visibility report (docs/ALGORITHM.md §8, §28): _begin clears
+ * what P4 records (before the frame's compositing runs, all its samples);
+ * lc_kanzler_report measures after them. */
+void lc_kanzler_report_begin(lc_renderer *r);
+int lc_kanzler_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info, lc_error *err);
 void lc_kanzler_release(lc_renderer *r);
 void lc_kanzler_destroy(lc_renderer *r);
 
@@ -728,6 +733,9 @@ void lc_mass_clear(lc_renderer *r);
 /* Zeroes the occluder weights and binds them for P2 or the exact opacity pass
  * (occluders.glsl). */
 void lc_occluders_clear(lc_renderer *r);
+/* The share of the w x h pixels of tex whose red channel is positive (the
+ * mass histogram's count; method kanzler's coverage map). -1: GL error. */
+double lc_covered_fraction(lc_renderer *r, GLuint tex, int w, int h, lc_error *err);
 /* Counts the P1 zeroth coefficients of coef_low into the histogram. */
 int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* Reads the histogram back into the mass fields of info. */

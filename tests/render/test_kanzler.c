@@ -9,6 +9,9 @@
  *   with rho from lc_foo_kanzler_rho on the read maps: at the crossing (both
  *   fragments, the front one penalized by less(i, D)) and where a line is alone;
  *   the penalty darkens the crossing against method "direct";
+ * - two stacked point splats: C = 2, V = 0, M and D of the more important,
+ *   the pixel against the CPU penalty;
+ * - the visibility report of a line alone: its least fragment opacity;
  * - refusals: a surface (naming method), a tiled frame (naming width). */
 #include <math.h>
 
@@ -182,6 +185,69 @@ static void crossing_lines(test_gl *t)
     lc_scene_destroy(s);
 }
 
+/* Points: two splats over each other count twice, have no direction (V = 0)
+ * and give M and D of the more important one. */
+static void stacked_points(test_gl *t)
+{
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("points", LC_PRIM_POINTS);
+    CHECK(s && lc_scene_alloc_vertices(s, 2, 1, &err) == 0, "points: %s", err.msg);
+    float *g = malloc(2 * sizeof(float)); /* the scene takes it */
+    g[0] = 0.8f, g[1] = 0.4f;
+    for (int v = 0; v < 2; v++) {
+        s->positions[3 * v] = s->positions[3 * v + 1] = 0;
+        s->positions[3 * v + 2] = (float)v; /* the more important point behind */
+        s->rgb[3 * v] = s->rgb[3 * v + 1] = s->rgb[3 * v + 2] = 1;
+    }
+    lc_scene_add_attribute(s, "importance", g, &err);
+    lc_elements_desc desc = {0};
+    CHECK(lc_scene_finalize(s, &desc, &err) == 0, "points: %s", err.msg);
+    lc_render_params p;
+    params(&p, LC_METHOD_KANZLER);
+    p.style.point_size = 24;
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    float *maps = malloc(sizeof(float) * SIZE * SIZE * 4);
+    CHECK(render(t, s, &p, rgba, maps, &err) == 0, "points: %s", err.msg);
+    const float *m = map_at(maps, SIZE / 2, SIZE / 2);
+    CHECK_NEAR(m[0], 2, 0, "stacked points: coverage");
+    CHECK_NEAR(m[3], 0, 0, "stacked points: no directional variance");
+    CHECK_NEAR(m[1], 0.8, 1e-4, "stacked points: maximum importance");
+    CHECK_NEAR(m[2], depth_of(0, 0, 1), 1e-4, "stacked points: depth of the maximum");
+    double gs[2] = {0.4, 0.8}, d[2] = {depth_of(1, 0, 1), depth_of(0, 0, 1)};
+    CHECK_NEAR(rgba[4 * ((SIZE / 2) * SIZE + SIZE / 2)], expected_pixel(&p.foo, m, gs, d, 2, 1), 1.5,
+               "stacked points: pixel against the CPU penalty");
+    free(rgba);
+    free(maps);
+    lc_scene_destroy(s);
+}
+
+/* The visibility report of one line alone (g 0.5): its opacity is its least
+ * fragment opacity, where the maps hold M = g: g^k / (1 + (1 - g)(m g + c)). */
+static void report(test_gl *t)
+{
+    test_line l[1] = {{{-1, 0, 0}, {1, 0, 0}, 0.5}};
+    lc_scene *s = line_scene(l, 1);
+    lc_gpu_scene *gs = NULL;
+    lc_error err = {0};
+    lc_gpu_scene_desc desc = {.exact_positions = 1};
+    CHECK(lc_gpu_scene_create_ex(s, &desc, &gs, &err) == 0, "report: %s", err.msg);
+    lc_render_params p;
+    params(&p, LC_METHOD_KANZLER);
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    lc_frame_info info;
+    test_render_frame(t, gs, &p, NULL, rgba, &info);
+    const lc_foo_params *f = &p.foo;
+    double want = pow(0.5, f->direct_exponent) / (1 + 0.5 * (f->kanzler_importance * 0.5 + f->kanzler_coverage));
+    CHECK(info.has_visibility && info.visible_elements == 1, "report: %d, %u elements", info.has_visibility,
+          info.visible_elements);
+    CHECK_NEAR(info.top_decile_alpha, want, 1e-3, "report: the line's least opacity");
+    CHECK_NEAR(info.occluder_alpha, 0, 0, "report: a line alone hides nothing");
+    CHECK(info.covered_fraction > 0.05 && info.covered_fraction < 0.2, "report: covered %g", info.covered_fraction);
+    free(rgba);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
 static void refusals(test_gl *t)
 {
     test_quad q[1] = {{0, 0.5, {1, 1, 1}, 0.5}};
@@ -211,6 +277,8 @@ int main(void)
     test_gl_open(&t);
     parallel_lines(&t);
     crossing_lines(&t);
+    stacked_points(&t);
+    report(&t);
     refusals(&t);
     test_gl_close(&t);
     return lc_test_finish();

@@ -78,7 +78,7 @@ void ribbon_vertex(uint v, float side_sign)
         outer += u_halo_px * pixel;
     emit(v, p + side * (outer * side_sign));
     v_normal = side;
-#ifdef KANZLER_MAPS
+#if defined(KANZLER_MAPS) && PRIM == PRIM_LINES
     v_tangent = vertex_frame(v);
 #endif
     // Tube shading needs a few pixels across; on thinner ribbons the pixel

@@ -56,6 +56,7 @@ static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact
                                          {"wboit", LC_METHOD_WBOIT},     {"surface-layers", LC_METHOD_SURFACE_LAYERS},
                                          {"weighted-average", LC_METHOD_WEIGHTED_AVERAGE},
                                          {"binning", LC_METHOD_BINNING},
+                                         {"kanzler", LC_METHOD_KANZLER},
                                          {NULL, 0}};
 static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
@@ -138,6 +139,15 @@ static const field fields[] = {
      alpha_source_names},
     {"params", "alphaConstant", "alphaConstant", T_NUM, 0, 1, 0, OFF(render.foo.alpha_constant), 0, NOFLAG, NULL},
     {"params", "gamma", "gamma", T_NUM, 0, 100, LO_OPEN, OFF(render.foo.gamma), 0, NOFLAG, NULL},
+    /* method "kanzler": the weights of Kanzler's occlusion penalty (render/gl/kanzler.c) */
+    {"params", "kanzlerImportance", "kanzlerImportance", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_importance), 0,
+     NOFLAG, NULL},
+    {"params", "kanzlerCoverage", "kanzlerCoverage", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_coverage), 0, NOFLAG,
+     NULL},
+    {"params", "kanzlerVariance", "kanzlerVariance", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_variance), 0, NOFLAG,
+     NULL},
+    {"params", "kanzlerDepth", "kanzlerDepth", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_depth), 0, NOFLAG, NULL},
+    {"params", "kanzlerLambda", "kanzlerLambda", T_NUM, 0, 1000, 0, OFF(render.foo.kanzler_lambda), 0, NOFLAG, NULL},
     {"params", "targetOpacity", "targetOpacity", T_NUM, 0, 1, LO_OPEN, OFF(render.foo.target_opacity), 0, NOFLAG, NULL},
     {"params", "smoothingWeights", "smoothingWeights", T_ENUM, 0, 0, 0, OFF(render.foo.smoothing_weights), 0, NOFLAG,
      smoothing_weights_names},

@@ -14,7 +14,8 @@
 #define BLENDS (M(WBOIT) | M(WEIGHTED_AVERAGE) | M(BINNING))        /* FOO opacities, another compositing */
 #define OPTIMIZED (M(FOURIER) | M(EXACT) | BLENDS)                  /* P1-P3: the opacity optimization */
 #define FOURIER_PASSES (M(FOURIER) | BLENDS)                        /* P1/P2 at resolutionScale */
-#define SERIES (M(FOURIER) | M(DIRECT) | BLENDS)                    /* a Fourier series in P1/P2 or P4/P5 */
+#define SERIES (M(FOURIER) | M(DIRECT) | BLENDS | M(KANZLER))       /* a Fourier series in P1/P2 or P4/P5 */
+#define STRIDED (M(FOURIER) | M(DIRECT) | BLENDS)                   /* params.subset: P4 weights a stride */
 #define EQUALIZING (M(FOURIER) | M(DIRECT) | M(EXACT))              /* color.equalize's histogram */
 #define NOT_SURFACES (P(POINTS) | P(LINES))
 
@@ -37,15 +38,20 @@ static const scope_rule rules[] = {
     {"params", "bands", SERIES, LC_PROTO_ALL_PRIMS},
     {"params", "depthMargin", SERIES, LC_PROTO_ALL_PRIMS},
     {"params", "depthRange", SERIES, LC_PROTO_ALL_PRIMS},
-    {"params", "subset", SERIES, LC_PROTO_ALL_PRIMS},
+    {"params", "subset", STRIDED, LC_PROTO_ALL_PRIMS}, /* kanzler: its maps count every fragment */
     {"params", "resolutionScale", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "estimator", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "autoSubset", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "guardBand", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
-    {"params", "directExponent", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "directExponent", M(DIRECT) | M(KANZLER), LC_PROTO_ALL_PRIMS},
     {"params", "alphaSource", M(DIRECT), LC_PROTO_ALL_PRIMS},
     {"params", "alphaConstant", M(DIRECT), LC_PROTO_ALL_PRIMS},
     {"params", "gamma", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "kanzlerImportance", M(KANZLER), NOT_SURFACES},
+    {"params", "kanzlerCoverage", M(KANZLER), NOT_SURFACES},
+    {"params", "kanzlerVariance", M(KANZLER), P(LINES)}, /* points have no direction */
+    {"params", "kanzlerDepth", M(KANZLER), NOT_SURFACES},
+    {"params", "kanzlerLambda", M(KANZLER), NOT_SURFACES},
     {"params", "lod", DATASET_METHODS, P(LINES) | P(TRIANGLES)}, /* simplified polylines and meshes */
     {"params", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
     {"importance", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},

@@ -23,6 +23,12 @@ void lc_foo_params_default(lc_foo_params *p)
     p->alpha_source = LC_ALPHA_IMPORTANCE;
     p->alpha_constant = 0.3;
     p->gamma = 1;
+    /* Kanzler's weights: the thesis gives none, these are ours (docs/ALGORITHM.md §28). */
+    p->kanzler_importance = 1;
+    p->kanzler_coverage = 0.05;
+    p->kanzler_variance = 1;
+    p->kanzler_depth = 2;
+    p->kanzler_lambda = 1;
     p->normalize = LC_NORMALIZE_AUTO;
     p->target_opacity = 1;
 }
@@ -73,7 +79,7 @@ void lc_layer_params_default(lc_layer_params *l)
 }
 
 static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit",
-                                                    "surface-layers", "weighted-average", "binning"};
+                                                    "surface-layers", "weighted-average", "binning", "kanzler"};
 
 const char *lc_method_name(lc_method m) { return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown"; }
 

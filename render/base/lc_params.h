@@ -28,6 +28,9 @@ typedef enum {
     LC_METHOD_SURFACE_LAYERS,
     LC_METHOD_WEIGHTED_AVERAGE, /* Bavoil & Myers 2008 with the FOO opacities */
     LC_METHOD_BINNING,          /* tau(d) in 11 depth bins (FOO §5.3) with the FOO opacities */
+    /* alpha = g^k times Kanzler's occlusion penalty on the view-dependent
+     * per-pixel maps (render/gl/kanzler.c; docs/ALGORITHM.md §28) */
+    LC_METHOD_KANZLER,
     LC_METHOD_COUNT
 } lc_method;
 
@@ -106,10 +109,17 @@ typedef struct lc_foo_params {
     double depth_margin;     /* delta (the bounds' depth range and the moments) */
     lc_estimator estimator;
     lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
-    double direct_exponent;     /* k of the "direct" baseline, alpha = g^k */
+    double direct_exponent;     /* k of the "direct" baseline, alpha = g^k (and of "kanzler") */
     lc_alpha_source alpha_source; /* the direct baseline's opacity; importance = g^k */
     double alpha_constant;        /* alpha of alphaSource constant */
     double gamma;                 /* exponent of alphaSource normalVariation */
+    /* Method "kanzler" (M3D Eq. 3.2-3.3): rho = 1/(1 + (1 - g^lambda) P),
+     * P = m M + c C + v V + d less(i, D) on the per-pixel maps. */
+    double kanzler_importance; /* m: weight of the maximum importance M */
+    double kanzler_coverage;   /* c: weight of the coverage C (fragments in the pixel) */
+    double kanzler_variance;   /* v: weight of the directional variance V */
+    double kanzler_depth;      /* d: weight of less(i, D), the fragment in front of M's depth */
+    double kanzler_lambda;     /* lambda: how little the penalty touches important fragments */
     lc_normalize normalize;
     /* Perception aids (docs/ALGORITHM.md "Perception aids"): */
     double target_opacity; /* t of OOS Eq. 7, alpha = t / (1 + ...); (0, 1], 0 = 1 (lc_foo_target_opacity) */

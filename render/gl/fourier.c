@@ -386,15 +386,23 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     return finish_opacities(r, fs, state, dt, info, err);
 }
 
-/* P4..P6 with the element opacities (or the direct baseline's, params.alphaSource); bins: the
- * binning baseline's depth bins in place of the series (their total in the
- * first channel, where P6 reads A0). */
+/* P4..P6 with the element opacities, the direct baseline's (params.alphaSource),
+ * or, kanzler, g^k times Kanzler's penalty on this frame's maps (drawn first,
+ * so that every antialias sample has maps of its own view); bins: the binning
+ * baseline's depth bins in place of the series (their total in the first
+ * channel, where P6 reads A0). */
 static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int bins, lc_error *err)
 {
     const lc_render_params *p = fs->params;
+    int kanzler = direct == LC_ALPHA_KANZLER;
+    if (kanzler) {
+        int rc = lc_kanzler_maps(r, fs, err);
+        if (rc)
+            return rc;
+    }
     int bands = bins ? LC_TAU_BINS_BANDS : p->foo.bands, ntargets = (2 * bands + 1 + 3) / 4;
-    lc_program_kind kind4 = bins ? PROG_P4_BINS : direct ? PROG_P4_DIRECT : PROG_P4;
-    lc_program_kind kind5 = bins ? PROG_P5_BINS : direct ? PROG_P5_DIRECT : PROG_P5;
+    lc_program_kind kind4 = bins ? PROG_P4_BINS : kanzler ? PROG_P4_KANZLER : direct ? PROG_P4_DIRECT : PROG_P4;
+    lc_program_kind kind5 = bins ? PROG_P5_BINS : kanzler ? PROG_P5_KANZLER : direct ? PROG_P5_DIRECT : PROG_P5;
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
     /* Half floats suffice for the weighted sums: the image is their ratio. */
     lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
@@ -420,6 +428,8 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
         lc_uniform_f(p4, "u_weight", lc_renderer_subset(lf, p->foo.subset));
         lc_renderer_bind_direct_alpha(p4, p);
+        if (kanzler)
+            lc_kanzler_bind(r, p4, &p->foo);
         lc_renderer_bind_halo(p4, lf);
         if (record) {
             lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
@@ -456,6 +466,8 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         lc_bind_coefficients(&r->coef_full);
         lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
         lc_renderer_bind_direct_alpha(p5, p);
+        if (kanzler)
+            lc_kanzler_bind(r, p5, &p->foo);
         lc_renderer_bind_halo(p5, lf);
         lc_renderer_draw_geometry(lf, 1);
     }

@@ -76,6 +76,7 @@ void lc_renderer_destroy(lc_renderer *r)
         return;
     lc_exact_destroy(r);
     lc_context_destroy(r);
+    lc_kanzler_destroy(r);
     lc_fragment_list_release(r);
     if (r->marker_program)
         glDeleteProgram(r->marker_program);
@@ -285,7 +286,8 @@ static int composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     switch (fs->params->method) {
     case LC_METHOD_FOURIER: return lc_fourier_composite(r, fs, 0, err);
-    case LC_METHOD_DIRECT: return lc_fourier_composite(r, fs, 1, err);
+    case LC_METHOD_DIRECT: return lc_fourier_composite(r, fs, LC_ALPHA_DIRECT, err);
+    case LC_METHOD_KANZLER: return lc_fourier_composite(r, fs, LC_ALPHA_KANZLER, err);
     case LC_METHOD_OPAQUE: return lc_render_opaque(r, fs, err);
     case LC_METHOD_WBOIT: return lc_render_wboit(r, fs, err);
     case LC_METHOD_WEIGHTED_AVERAGE: return lc_render_weighted_average(r, fs, err);
@@ -465,7 +467,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     const lc_scene *checked[LC_MAX_LAYERS];
     for (int i = 0; i < (layers ? n : 1); i++)
         checked[i] = scenes[i]->scene;
-    if (rc || (rc = lc_render_check(checked, layers, layers ? n : 1, params, err)) != 0)
+    if (rc || (rc = lc_render_check(checked, layers, layers ? n : 1, params, r->desc.tile_size, err)) != 0)
         return rc;
     const lc_scene *s = gs->scene;
     uint32_t elements = s->elements.count;
@@ -594,6 +596,7 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
                         : lc_clarity_optimize(r, &fs, state, dt, info, plan.moments, optimize_frame, err);
         break;
     case LC_METHOD_DIRECT:
+    case LC_METHOD_KANZLER:
     case LC_METHOD_OPAQUE: break;
     case LC_METHOD_EXACT: rc = lc_render_exact(r, &fs, state, dt, rgba, info, err); break;
     default: rc = lc_err(err, LC_ERR_INVALID, "unknown method");
@@ -601,6 +604,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
     int samples = antialias_samples(&p);
     if (!rc && p.method != LC_METHOD_EXACT)
         rc = lc_renderer_yield_point(r, err);
+    if (!rc && p.method == LC_METHOD_KANZLER)
+        lc_kanzler_report_begin(r);
     if (!rc && tiles)
         rc = render_tiles(r, &fs, state, dt, nx, ny, samples, plan.pixel_range, rgba, err);
     else if (!rc && p.method != LC_METHOD_EXACT)
@@ -613,6 +618,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         rc = antialias(r, &fs, samples, rgba, err);
     else if (!rc && !tiles)
         lc_renderer_readback(r, &fs, rgba);
+    if (!rc && p.method == LC_METHOD_KANZLER) /* after every sample's P4 (tiles are refused) */
+        rc = lc_kanzler_report(r, &fs, info, err);
     if (rc)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_READBACK);
@@ -698,6 +705,7 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
      * pages its fragments touched: freed, and the small frames drawn by the
      * Fourier passes, so that the next exact frame allocates them anew. */
     lc_exact_release(r);
+    lc_kanzler_release(r);
     lc_render_params tiny = *p;
     /* The fragment lists, sized by this frame: the 8x8 frames would not
      * shrink them (fragment_list.c keeps the largest counts seen). */

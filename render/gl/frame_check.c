@@ -13,7 +13,7 @@ static int check_layered(const lc_scene *const *scenes, const lc_layer_params *l
 {
     if (n < 1 || n > LC_MAX_LAYERS)
         return lc_err_field(err, LC_ERR_INVALID, "layers", "%d layers; 1 to %d are allowed", n, LC_MAX_LAYERS);
-    if (p->method == LC_METHOD_OPAQUE || p->method == LC_METHOD_WBOIT)
+    if (p->method == LC_METHOD_OPAQUE || p->method == LC_METHOD_WBOIT || p->method == LC_METHOD_KANZLER)
         return lc_err_field(err, LC_ERR_INVALID, "method",
                             "layers render with fourier, exact, direct, weighted-average or binning, not %s",
                             lc_method_name(p->method));
@@ -153,8 +153,21 @@ static int check_clusters(const lc_scene *s, const lc_line_cluster_params *c, co
     return 0;
 }
 
+/* Method kanzler (docs/ALGORITHM.md §28): its maps are a dataset's lines or
+ * points at one resolution; layers are refused with the other methods. */
+static int check_kanzler(const lc_scene *s, int tiles, lc_error *err)
+{
+    if (s->type == LC_PRIM_TRIANGLES)
+        return lc_err_field(err, LC_ERR_INVALID, "method",
+                            "%s is a surface: method \"kanzler\" applies to lines and points", s->name);
+    if (tiles)
+        return lc_err_field(err, LC_ERR_INVALID, "width",
+                            "method \"kanzler\" blurs its maps over the whole frame: render at most 4096x4096");
+    return 0;
+}
+
 int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
-                    lc_error *err)
+                    int tile_size, lc_error *err)
 {
     if (p->method == LC_METHOD_SURFACE_LAYERS) /* a field's surface: lc_surface_render checks its own */
         return 0;
@@ -182,6 +195,9 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
             (rc = check_clusters(s, &p->clusters, "", err)) != 0)
             return rc;
     }
+    int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
+    if (p->method == LC_METHOD_KANZLER && (rc = check_kanzler(scenes[0], tiles, err)) != 0)
+        return rc;
     if (p->foo.guard_band > 0 && p->foo.depth_range == LC_DEPTH_RANGE_PIXEL)
         return lc_err_field(err, LC_ERR_INVALID, "params.guardBand",
                             "the optimization's wider view needs depthRange \"global\", \"moments\" or \"auto\", "

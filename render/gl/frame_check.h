@@ -14,10 +14,11 @@
 extern "C" {
 #endif
 
-/* The frame of p over scenes[0] alone (layers NULL, n 1) or over the n layers.
- * Returns 0 or LC_ERR_INVALID/LC_ERR_UNSUPPORTED with err->field naming the field. */
+/* The frame of p over scenes[0] alone (layers NULL, n 1) or over the n layers;
+ * tile_size as lc_renderer_set_tile_size (0 = the default tiling). Returns 0
+ * or LC_ERR_INVALID/LC_ERR_UNSUPPORTED with err->field naming the field. */
 int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
-                    lc_error *err);
+                    int tile_size, lc_error *err);
 
 #ifdef __cplusplus
 }

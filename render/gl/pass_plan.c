@@ -20,16 +20,23 @@ void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out)
      * the bounds: the pass would cost it 18-29% (tornado at 972x761, llvmpipe). */
     lc_depth_range range = lc_foo_depth_range(&p->foo);
     out->pixel_range =
-        range == LC_DEPTH_RANGE_PIXEL && (m == LC_METHOD_FOURIER || m == LC_METHOD_DIRECT || blends);
+        range == LC_DEPTH_RANGE_PIXEL && (m == LC_METHOD_FOURIER || m == LC_METHOD_DIRECT || blends ||
+                                          m == LC_METHOD_KANZLER);
     out->moments =
         range == LC_DEPTH_RANGE_MOMENTS && (m == LC_METHOD_FOURIER || m == LC_METHOD_BINNING) && !out->reuse;
-    out->run[LC_PASS_DEPTH_RANGE] = out->pixel_range ? LC_RUN_BOTH : out->moments ? LC_RUN_LOW : LC_RUN_NONE;
+    /* kanzler's per-pixel maps (kanzler.c) run and are timed as part of P0, at full resolution. */
+    out->kanzler_maps = m == LC_METHOD_KANZLER;
+    out->run[LC_PASS_DEPTH_RANGE] = out->pixel_range    ? LC_RUN_BOTH
+                                    : out->moments      ? LC_RUN_LOW
+                                    : out->kanzler_maps ? LC_RUN_FULL
+                                                        : LC_RUN_NONE;
     if (opacities && !out->reuse) {
         out->run[LC_PASS_IMPORTANCE] = LC_RUN_LOW;
         out->run[LC_PASS_OPACITY] = LC_RUN_LOW;
         out->run[LC_PASS_SMOOTH] = LC_RUN_ONCE;
     }
-    if (m == LC_METHOD_FOURIER || m == LC_METHOD_DIRECT || m == LC_METHOD_EXACT || m == LC_METHOD_BINNING)
+    if (m == LC_METHOD_FOURIER || m == LC_METHOD_DIRECT || m == LC_METHOD_EXACT || m == LC_METHOD_BINNING ||
+        m == LC_METHOD_KANZLER)
         out->run[LC_PASS_OPTICAL_DEPTH] = LC_RUN_FULL;
     out->run[LC_PASS_ACCUMULATE] = LC_RUN_FULL;
     out->run[LC_PASS_RESOLVE] = m != LC_METHOD_OPAQUE ? LC_RUN_FULL : LC_RUN_NONE;

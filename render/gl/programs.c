@@ -156,18 +156,23 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                                           "color_histogram.frag.glsl", NULL};
     static const char *const fs_wavg[] = {"common.glsl", "fragment_common.glsl", "weighted_average_accumulate.frag.glsl",
                                           NULL};
+    static const char *const fs_kanzler[] = {"common.glsl", "fragment_common.glsl", "kanzler_maps.frag.glsl", NULL};
+    static const char *const fs_p4_kanzler[] = {"common.glsl",    "fragment_common.glsl",       "coefficient_output.glsl",
+                                                "occluders.glsl", "p4_optical_depth.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
         fs_p1,      fs_p2,           fs_p4,      fs_p5,  fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist,
-        fs_hist,    fs_p1_list,      fs_moments_list, fs_p4_list, fs_p4, fs_p5, fs_wavg};
+        fs_hist,    fs_p1_list,      fs_moments_list, fs_p4_list, fs_p4, fs_p5, fs_wavg, fs_kanzler, fs_p4_kanzler, fs_p5};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
         "colour histogram", "colour histogram (direct)", "P1 (recording)",
-        "depth moments (recording)", "P4 (recording)", "P4-binning", "P5-binning", "weighted average"};
+        "depth moments (recording)", "P4 (recording)", "P4-binning", "P5-binning", "weighted average",
+        "kanzler maps", "P4-kanzler", "P5-kanzler"};
     int bins = kind == PROG_P4_BINS || kind == PROG_P5_BINS;
     int reads_alpha = kind == PROG_P4 || kind == PROG_P4_LIST || kind == PROG_P5 || kind == PROG_WBOIT ||
                       kind == PROG_COLOR_HISTOGRAM || bins || kind == PROG_WEIGHTED_AVERAGE;
-    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
-    char defines[360];
+    int kanzler = kind == PROG_P4_KANZLER || kind == PROG_P5_KANZLER;
+    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT || kanzler;
+    char defines[400];
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s", (int)prim, bands,
              bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "",
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
@@ -176,6 +181,8 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
              kind == PROG_P1_LIST              ? "#define RECORD_FRAGMENTS 1\n"
              : kind == PROG_DEPTH_MOMENTS_LIST ? "#define RECORD_FRAGMENTS 1\n#define FRAGMENT_CHAINS 1\n"
              : kind == PROG_P4_LIST            ? "#define COMPOSITE_LIST 1\n"
+             : kind == PROG_KANZLER_MAPS       ? "#define KANZLER_MAPS 1\n"
+             : kanzler                         ? "#define KANZLER_PENALTY 1\n"
                                                : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,
@@ -215,6 +222,7 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
     static const char *const cs_points[] = {"common.glsl", "point_select.comp.glsl", NULL};
     static const char *const cs_lines[] = {"common.glsl", "line_select.comp.glsl", NULL};
     static const char *const cs_filter[] = {"common.glsl", "filter_mask.comp.glsl", NULL};
+    static const char *const cs_kanzler[] = {"kanzler_blur.comp.glsl", NULL};
     if (kind == PROG_P3)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_p3, "P3 smoothing", err);
     else if (kind == PROG_MASS_HISTOGRAM)
@@ -227,6 +235,8 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
         *slot = lc_renderer_build_program("", NULL, NULL, cs_lines, "line subset", err);
     else if (kind == PROG_FILTER_MASK)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_filter, "filter mask", err);
+    else if (kind == PROG_KANZLER_BLUR)
+        *slot = lc_renderer_build_program("", NULL, NULL, cs_kanzler, "kanzler maps blur", err);
     else if (kind == PROG_RESOLVE)
         *slot = lc_renderer_build_program("", vs_full, fs_resolve, NULL, "P6 resolve", err);
     else if (kind == PROG_WEIGHTED_AVERAGE_RESOLVE)

@@ -123,6 +123,7 @@ typedef struct lc_pass_plan {
     int reuse;       /* P1-P3 skipped: the frame state's opacities are reused */
     int pixel_range; /* P0 as the per-pixel depth range (depthRange "pixel") */
     int moments;     /* P0 as the depth moments (depthRange "moments") */
+    int kanzler_maps; /* P0 includes method kanzler's per-pixel maps (full resolution) */
     lc_pass_run run[LC_PASS_COUNT];
 } lc_pass_plan;
 /* The plan of a frame of p. reuse: the caller holds a frame state with
@@ -388,6 +389,10 @@ int lc_renderer_color_histogram(const lc_renderer *r, double *hist, float *knots
  * cover (left out of the histogram, so sum H_b + halo = cover exactly).
  * -1: no such frame (other methods do not measure it). */
 int lc_renderer_color_coverage(const lc_renderer *r, double *cover, double *halo);
+/* The last method "kanzler" frame's per-pixel maps (docs/ALGORITHM.md §28),
+ * for tests and debugging: width x height x 4 floats (C, M, D, V) in GL's
+ * row order (bottom row first). -1: no such frame at that size. Renderer thread. */
+int lc_kanzler_read_maps(lc_renderer *r, float *out, int width, int height);
 
 /* GPU memory currently held by the renderer's targets and buffers. */
 uint64_t lc_renderer_bytes(const lc_renderer *r);

@@ -70,6 +70,10 @@
     X(TEX_RESOLVE_B, 1)     /* ... and optical depth (P6) or revealage (WBOIT) */                                      \
     X(TEX_CONTEXT_DEPTH, 8) /* context.c: the opaque context's depth, tested by every transparent pass */             \
     X(TEX_CONTEXT_COLOR, 9) /* context.c: its colour, under P6 and the exact blend */                                  \
+    X(TEX_KANZLER_MAPS, 10) /* kanzler.c: (C, M, D, V) per pixel, read by the kanzler P4/P5 */                         \
+    X(TEX_KANZLER_SUMS, 11) /* kanzler.c: tangent sums and counts, read by the blur */                                 \
+    X(IMG_KANZLER_MAX, 7)   /* kanzler.c: packed maximum importance and depth (R32UI) */                              \
+    X(IMG_KANZLER_MAPS, 1)  /* kanzler.c: the blur's output (the exact method's output unit is free there) */         \
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
     X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
     X(IMG_COEF_FIRST, 2)    /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
@@ -187,6 +191,9 @@ typedef enum {
     PROG_P4_BINS,            /* P4 and P5 of the binning baseline (tau in depth bins, baselines.c) */
     PROG_P5_BINS,
     PROG_WEIGHTED_AVERAGE, /* the weighted average baseline's accumulation (baselines.c) */
+    PROG_KANZLER_MAPS,       /* kanzler.c: the per-pixel maps */
+    PROG_P4_KANZLER,         /* P4 with alpha = g^k times Kanzler's penalty */
+    PROG_P5_KANZLER,
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -197,6 +204,7 @@ typedef enum {
     PROG_POINT_SELECT,
     PROG_LINE_SELECT,
     PROG_FILTER_MASK,
+    PROG_KANZLER_BLUR, /* kanzler.c: C, V and the 5x5 mean of M and D */
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
     PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS, /* P1 over P0's fragments, per band count */
     PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS, /* P5 over P4's fragments, per band count */
@@ -337,6 +345,7 @@ struct lc_renderer {
     GLuint dummy_buffer;
     void *exact;   /* exact.c's state */
     void *context; /* context.c's state */
+    void *kanzler; /* kanzler.c's state */
     GLuint marker_program; /* markers.c's (lines, pulled), built on first use */
     /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */
     float *reduce_buf;
@@ -674,6 +683,23 @@ int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_erro
 /* P4..P6 of the binning baseline (FOO §5.3): P4 sums -ln(1 - alpha) into
  * LC_TAU_BINS depth bins, P5 weighs by tau(d) interpolated in them. */
 int lc_binning_composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+/* How P4/P5 take a fragment's alpha: the element opacities, g^k (method
+ * "direct"), or g^k times Kanzler's penalty (method "kanzler"). */
+enum { LC_ALPHA_ELEMENTS = 0, LC_ALPHA_DIRECT = 1, LC_ALPHA_KANZLER = 2 };
+/* P4..P6 with alpha as `direct` (LC_ALPHA_*) says; kanzler first draws its maps. */
+int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
+/* kanzler.c: the maps of the frame at fs's full resolution (a geometry pass
+ * and the blur; timed as P0); the maps' binding and weights for a kanzler
+ * P4/P5 program; the textures freed (release) or everything (destroy). */
+int lc_kanzler_maps(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+void lc_kanzler_bind(lc_renderer *r, GLuint prog, const lc_foo_params *f);
+/* The frame's visibility report (docs/ALGORITHM.md §8, §28): _begin clears
+ * what P4 records (before the frame's compositing runs, all its samples);
+ * lc_kanzler_report measures after them. */
+void lc_kanzler_report_begin(lc_renderer *r);
+int lc_kanzler_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info, lc_error *err);
+void lc_kanzler_release(lc_renderer *r);
+void lc_kanzler_destroy(lc_renderer *r);
 
 /* ---- fragment_list.c (docs/ALGORITHM.md "The geometry path"): P1 records
  * its fragments so that P2 runs as a compute pass over them instead of a
@@ -744,6 +770,9 @@ void lc_mass_clear(lc_renderer *r);
 /* Zeroes the occluder weights and binds them for P2 or the exact opacity pass
  * (occluders.glsl). */
 void lc_occluders_clear(lc_renderer *r);
+/* The share of the w x h pixels of tex whose red channel is positive (the
+ * mass histogram's count; method kanzler's coverage map). -1: GL error. */
+double lc_covered_fraction(lc_renderer *r, GLuint tex, int w, int h, lc_error *err);
 /* Counts the P1 zeroth coefficients of coef_low into the histogram. */
 int lc_mass_histogram_fourier(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* Reads the histogram back into the mass fields of info. */

@@ -85,6 +85,18 @@ double lc_moments_effective_median(lc_renderer *r, GLuint tex, int w, int h, lc_
     return covered ? mass_rank(hist, covered, 0.5) : 0.0;
 }
 
+double lc_covered_fraction(lc_renderer *r, GLuint tex, int w, int h, lc_error *err)
+{
+    if (histogram_of(r, tex, w, h, 0, err) != 0)
+        return -1;
+    uint32_t hist[MASS_BINS];
+    glGetNamedBufferSubData(r->mass_histogram, 0, sizeof hist, hist);
+    uint64_t covered = 0;
+    for (int k = 0; k < MASS_BINS; k++)
+        covered += hist[k];
+    return (double)covered / ((double)w * h);
+}
+
 void lc_occluders_clear(lc_renderer *r)
 {
     const uint32_t zero = 0;

@@ -149,6 +149,24 @@ double lc_foo_target_opacity(const lc_foo_params *p)
     return p->target_opacity > 0 && p->target_opacity <= 1 ? p->target_opacity : 1.0;
 }
 
+double lc_foo_kanzler_rho(const lc_foo_params *p, double g, double d, double C, double M, double D, double V)
+{
+    double less = d < D - 1.0 / 65535.0 ? 1.0 : 0.0;
+    double P = p->kanzler_importance * M + p->kanzler_coverage * C + p->kanzler_variance * V + p->kanzler_depth * less;
+    return 1.0 / (1.0 + (1.0 - pow(clamp01(g), p->kanzler_lambda)) * P);
+}
+
+double lc_foo_direction_variance(const double *t, int n)
+{
+    if (n <= 0)
+        return 0;
+    double s[3] = {0, 0, 0};
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            s[k] += t[3 * i + k];
+    return 1.0 - sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / n;
+}
+
 double lc_foo_silhouette_alpha(double alpha, double eta, double s)
 {
     if (!(eta > 1))

@@ -74,6 +74,16 @@ double lc_foo_target_opacity(const lc_foo_params *p);
  * alpha)^(1 + (eta - 1) s), so eta applies in full on silhouettes (s = 1) and
  * not at all facing the viewer (s = 0). eta <= 1 returns alpha unchanged. */
 double lc_foo_silhouette_alpha(double alpha, double eta, double s);
+/* Kanzler's occlusion penalty (M3D Eq. 3.2-3.3; docs/ALGORITHM.md §28) of a
+ * fragment of importance g at normalized depth d in a pixel whose maps hold
+ * coverage C, maximum importance M at depth D and directional variance V:
+ * rho = 1/(1 + (1 - g^lambda) P), P = m M + c C + v V + d' less, less = 1
+ * where the fragment lies in front of D by more than one 16-bit step (D is
+ * kept rounded to half a step, so the maximum's own fragment is never in front
+ * of itself). The shaders' reference (fragment_common.glsl). */
+double lc_foo_kanzler_rho(const lc_foo_params *p, double g, double d, double C, double M, double D, double V);
+/* V = 1 - |sum t|/n of n unit tangents (xyz triples). */
+double lc_foo_direction_variance(const double *t, int n);
 
 /* One fragment of a pixel. alpha and color are outputs/inputs as documented below. */
 typedef struct lc_fragment {

@@ -163,7 +163,7 @@ static const lc_option common_options[] = {
     REQ("--width", "N", "width", ""),
     REQ("--height", "N", "height", ""),
     {"--size", "WxH", LC_OPT_CALL, .call = set_size, .numeric = 1, .help = "image size in pixels"},
-    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit | weighted-average | binning"),
+    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit | weighted-average | binning | kanzler"),
     REQ("--bands", "M", "bands", "Fourier bands 1..8"),
     REQ("--q", "X", "q", ""),
     REQ("--r", "X", "r", ""),
@@ -181,6 +181,13 @@ static const lc_option common_options[] = {
     REQ("--clarity", "C", "clarity",
         "target opacity of the most important tenth, 0..1 (default 0.5;\n"
         "0 = off): a loop on the emphasis while q, r and lambda are not given"),
+    REQ("--kanzler-m", "X", "kanzlerImportance", ""),
+    REQ("--kanzler-c", "X", "kanzlerCoverage", ""),
+    REQ("--kanzler-v", "X", "kanzlerVariance", ""),
+    REQ("--kanzler-d", "X", "kanzlerDepth", ""),
+    REQ("--kanzler-lambda", "X", "kanzlerLambda",
+        "method kanzler: weights of the maximum importance, coverage,\n"
+        "directional variance and in-front term, and the emphasis lambda"),
     REQ("--importance", "ATTR", "importance", "importance attribute"),
     REQ("--color", "ATTR", "color", "colour by an attribute, importance or rgb"),
     REQ("--colormap", "NAME", "colormap", "viridis, coolwarm, grayscale, inferno, plasma, ..."),

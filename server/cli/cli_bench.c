@@ -64,7 +64,7 @@ static int set_methods(void *target, const lc_option *o, const char *arg, char *
         if (m < 0) {
             snprintf(why, why_len,
                      "\"%s\": expected 1 to %d methods a,b,... (fourier, exact, opaque, direct, wboit, "
-                     "weighted-average, binning)",
+                     "weighted-average, binning, kanzler)",
                      arg, BENCH_MAX_LIST);
             return -1;
         }

@@ -25,7 +25,8 @@ static int set_method(void *target, const lc_option *o, const char *arg, char *w
     int m = lc_method_from_name(arg);
     if (m < 0) {
         snprintf(why, why_len,
-                 "\"%s\": unknown method (fourier | exact | opaque | direct | wboit | weighted-average | binning)",
+                 "\"%s\": unknown method (fourier | exact | opaque | direct | wboit | weighted-average | binning | "
+                 "kanzler)",
                  arg);
         return -1;
     }
@@ -36,7 +37,7 @@ static int set_method(void *target, const lc_option *o, const char *arg, char *w
 #define COMPARE(member) LC_OPT_AT(compare_args, member)
 static const lc_option compare_options[] = {{"--against", "METHOD", LC_OPT_CALL, COMPARE(against), .call = set_method,
                                              .help = "reference method (fourier | exact | opaque | direct | wboit |\n"
-                                                     "weighted-average | binning)"},
+                                                     "weighted-average | binning | kanzler)"},
                                             {"--out-dir", "DIR", LC_OPT_TEXT, COMPARE(out_dir),
                                              .help = "write METHOD.png, AGAINST.png and difference.png (|a - b| x 4)"},
                                             {"--repeat", "N", LC_OPT_INT, COMPARE(repeat), 0, 1000,

@@ -57,7 +57,7 @@ static int admit(const char *cmd, const lc_request *req, const lc_cli_scene *s)
     }
     lc_error err = {0};
     if (lc_render_check((const lc_scene *const *)s->scenes, s->layer_count ? s->layers : NULL,
-                        s->layer_count ? s->layer_count : 1, &req->render, &err) != 0) {
+                        s->layer_count ? s->layer_count : 1, &req->render, 0, &err) != 0) {
         fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);
         return 1;
     }

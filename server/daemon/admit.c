@@ -123,7 +123,7 @@ static int check_render(const lc_request *req, const lc_dataset *ds, const lc_da
         scenes[0] = ds->scene;
     }
     lc_error err = {0};
-    int rc = lc_render_check(scenes, lp, n > 0 ? n : 1, &req->render, &err);
+    int rc = lc_render_check(scenes, lp, n > 0 ? n : 1, &req->render, 0, &err);
     free(lp);
     if (rc == 0)
         return 0;

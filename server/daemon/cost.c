@@ -77,6 +77,7 @@ static double perception_aids_cost(const lc_scene_measures *st, const lc_render_
     switch (p->method) {
     case LC_METHOD_FOURIER:
     case LC_METHOD_DIRECT: geometry = targets / subset + 1.0, screens = targets + 2.0; break;
+    case LC_METHOD_KANZLER: geometry = targets + 2.0, screens = targets + 5.0; break; /* + its maps */
     case LC_METHOD_WBOIT:
     case LC_METHOD_WEIGHTED_AVERAGE: geometry = 2.0, screens = 3.0; break;
     case LC_METHOD_BINNING: geometry = 3.0 / subset + 1.0, screens = 5.0; break;
@@ -177,6 +178,7 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         sc[LC_PASS_ACCUMULATE] = sc[LC_PASS_RESOLVE] = 1.0;
         break;
     case LC_METHOD_DIRECT:
+    case LC_METHOD_KANZLER:
         g[LC_PASS_OPTICAL_DEPTH] = targets;
         g[LC_PASS_ACCUMULATE] = 1.0;
         sc[LC_PASS_OPTICAL_DEPTH] = targets;
@@ -201,6 +203,12 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     /* P0: the per-pixel range draws everything once at each resolution, the
      * moments one target of every subset-th element at s^2. */
     g[LC_PASS_DEPTH_RANGE] = plan.moments ? 1.0 / subset : 1.0;
+    /* kanzler's maps: one full-resolution geometry pass (atomic max, two
+     * sums) and three screens (clears and the 25-texel blur), within P0. */
+    if (plan.kanzler_maps) {
+        g[LC_PASS_DEPTH_RANGE] += plan.pixel_range ? 1.0 : 0.0;
+        sc[LC_PASS_DEPTH_RANGE] = 3.0;
+    }
     double geometry = 0, screens = 0;
     for (int k = 0; k < LC_PASS_COUNT; k++) {
         double at = plan.run[k] == LC_RUN_LOW    ? s2

@@ -110,6 +110,14 @@ static void test_estimates(void)
     lc_render_params d = params(LC_METHOD_DIRECT, LC_DEPTH_RANGE_GLOBAL), dp = d;
     dp.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
     CHECK(lc_cost_estimate(&st, &dp) > lc_cost_estimate(&st, &d), "direct with the pixel range costs more");
+    /* Kanzler: direct's passes plus its maps, one geometry pass of the frame's fragments and three screens in P0. */
+    lc_render_params k = params(LC_METHOD_KANZLER, LC_DEPTH_RANGE_GLOBAL);
+    double dk = lc_cost_estimate(&st, &k) - lc_cost_estimate(&st, &d), want_k = frags + image * 3 + 101000.0;
+    CHECK_NEAR(dk, want_k, 1e-9 * want_k, "kanzler: direct's cost and its maps");
+    lc_pass_plan kp;
+    lc_pass_plan_make(&k, 0, &kp);
+    CHECK(kp.kanzler_maps && kp.run[LC_PASS_DEPTH_RANGE] == LC_RUN_FULL && kp.run[LC_PASS_IMPORTANCE] == LC_RUN_NONE,
+          "kanzler's plan: the maps in P0 at full resolution, no optimization");
 
     /* Larger images cost more; a refusal names the field to lower. */
     lc_render_params big = p;

@@ -23,7 +23,7 @@ check = Check()
 
 KIND_DATASET = {"points": "demo:points", "lines": "demo:tornado", "surfaces": "demo:surface"}
 DATASET_KIND = {v: k for k, v in KIND_DATASET.items()}
-ALL_METHODS = ["fourier", "exact", "opaque", "direct", "wboit", "surface-layers", "weighted-average", "binning"]
+ALL_METHODS = ["fourier", "exact", "opaque", "direct", "wboit", "surface-layers", "weighted-average", "binning", "kanzler"]
 
 
 def path(f):

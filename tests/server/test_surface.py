@@ -130,7 +130,7 @@ with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as
     kinds = {"dataset": {"dataset": "demo:points"}, "layers": {"layers": [{"dataset": "demo:points"}]},
              "field": {"surface": surface},
              "layers+field": {"layers": [{"dataset": "demo:points"}], "surface": surface}}
-    for method in ("fourier", "exact", "opaque", "direct", "wboit", "surface-layers", "weighted-average", "binning"):
+    for method in ("fourier", "exact", "opaque", "direct", "wboit", "surface-layers", "weighted-average", "binning", "kanzler"):
         for kind, extra in kinds.items():
             body = dict({"method": method, "width": 32, "height": 32}, **extra)
             flat = {k: json.dumps(v) if isinstance(v, (list, dict)) else v for k, v in body.items()}

@@ -72,7 +72,7 @@ expect_ok "flags override request" "$LUCENT" render --request "$tmp/req.json" --
 expect_fail "a field where it does not apply (bands with opaque)" "params.bands: applies to method" \
   "$LUCENT" render --request "$tmp/req.json" --size 64x48 --bands 3 --method opaque --out "$tmp/r3.png"
 [ "$(image_size "$tmp/r2.png")" = "64 48" ] && ok || bad "override size: $(image_size "$tmp/r2.png")"
-for m in fourier opaque direct wboit; do
+for m in fourier opaque direct wboit kanzler; do
   expect_ok "method $m" "$LUCENT" render --dataset demo:abc --size 96x96 --method "$m" --out "$tmp/m_$m.png"
 done
 

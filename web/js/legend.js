@@ -42,6 +42,9 @@ export function legendModel(values, info) {
     else if (source === 'normalVariation') opacity = 'Opacity from the normal\'s change per pixel: contours are opaque, flat parts clear; importance does not change opacity.';
     else opacity = `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)}: important parts are more opaque.`;
   }
+  else if (method === 'kanzler')
+    opacity = `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)} times Kanzler's penalty: a part fades where it lies in front of ` +
+      'the most important part of its pixel, where layers pile up and where directions cross; important parts are spared.';
   else
     opacity = 'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
       'Values below the range minimum get g = 0; if little is important, little is cleared, so clutter stays opaque.';

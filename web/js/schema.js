@@ -9,12 +9,12 @@
 // The server refuses a field with a value other than its default elsewhere.
 // when: [path, value]: the field applies only while that field has that value
 // (the direct method's opacity parameters, render/gl/frame_check.c refuses them otherwise).
-const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit', 'weighted-average', 'binning']);
+const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler']);
 export const FIELDS = Object.freeze([
   { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
   {
     section: null, name: 'method', alias: 'method', type: 'enum',
-    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers', 'weighted-average', 'binning'],
+    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers', 'weighted-average', 'binning', 'kanzler'],
   },
 
   { section: 'camera', name: 'position', alias: 'position', type: 'vec3' },
@@ -27,21 +27,26 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
   { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
   { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'], methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
   { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'], methods: DATASET_METHODS },
   { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines', 'surfaces'] },
-  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'], when: ['params.alphaSource', 'importance'] },
+  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct', 'kanzler'], when: ['params.alphaSource', 'importance'] },
   { section: 'params', name: 'alphaSource', alias: 'alphaSource', type: 'enum', values: ['importance', 'constant', 'angle', 'normalVariation'], methods: ['direct'] },
   { section: 'params', name: 'alphaConstant', alias: 'alphaConstant', type: 'num', min: 0, max: 1, methods: ['direct'], when: ['params.alphaSource', 'constant'] },
   { section: 'params', name: 'gamma', alias: 'gamma', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'], when: ['params.alphaSource', 'normalVariation'] },
+  { section: 'params', name: 'kanzlerImportance', alias: 'kanzlerImportance', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
+  { section: 'params', name: 'kanzlerCoverage', alias: 'kanzlerCoverage', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
+  { section: 'params', name: 'kanzlerVariance', alias: 'kanzlerVariance', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['lines'] },
+  { section: 'params', name: 'kanzlerDepth', alias: 'kanzlerDepth', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
+  { section: 'params', name: 'kanzlerLambda', alias: 'kanzlerLambda', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
   { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: DATASET_METHODS },
   { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
@@ -75,7 +80,7 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'haloWidth', alias: 'haloWidth', type: 'num', min: 0, max: 64, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
 
   { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
 

@@ -88,3 +88,11 @@ test('contrast: the warning measures luminance contrast; the page opens on a bac
   state.update = { style: { background: [0, 0, 1] } };
   assert.deepEqual(currentValues(state).style.background, [0, 0, 1], 'the user wins');
 });
+
+test('legend opacity sentence: method kanzler names its base g^k and the penalty', () => {
+  const m = legendModel({ method: 'kanzler', params: { directExponent: 1.5 } }, stars);
+  assert.equal(m.method, 'kanzler');
+  assert.match(m.opacity, /g\^1\.5/);
+  assert.match(m.opacity, /Kanzler's penalty/);
+  assert.doesNotMatch(legendModel({ method: 'direct' }, stars).opacity, /Kanzler/);
+});

@@ -252,7 +252,8 @@ def _url_value(v):
 _URL_KEYS = {k: ("camera", k) for k in CAMERA_KEYS}
 _URL_KEYS.update({k: ("params", k) for k in ("q", "r", "lambda", "bands", "smoothing", "smoothingWeight", "fadeHalfLife",
                                              "resolutionScale", "subset", "depthMargin", "estimator", "depthRange",
-                                             "normalize", "lod", "directExponent")})
+                                             "normalize", "lod", "directExponent", "kanzlerImportance",
+                                             "kanzlerCoverage", "kanzlerVariance", "kanzlerDepth", "kanzlerLambda")})
 _URL_KEYS.update({"importance": ("importance", "attribute"), "importanceRange": ("importance", "range"),
                   "importanceExponent": ("importance", "exponent"), "color": ("color", "attribute"),
                   "colormap": ("color", "colormap"), "colorRange": ("color", "range")})

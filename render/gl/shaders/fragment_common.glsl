@@ -134,12 +134,20 @@ float direct_alpha()
 }
 #endif
 
+#ifdef KANZLER_PENALTY
+float kanzler_rho();
+#endif
+
 // Opacity of the fragment in the compositing passes: the blended element
-// opacity, or the "direct" baseline's (direct_alpha); clamped so -ln(1 - alpha) stays finite.
+// opacity, or the "direct" baseline's (direct_alpha; times Kanzler's penalty
+// for the "kanzler" method); clamped so -ln(1 - alpha) stays finite.
 float fragment_alpha()
 {
 #ifdef DIRECT_ALPHA
     float alpha = clamp(direct_alpha(), 0.0, 0.9999);
+#ifdef KANZLER_PENALTY
+    alpha *= kanzler_rho();
+#endif
 #else
     float alpha = clamp(v_alpha, 0.0, 0.9999);
 #endif
@@ -166,6 +174,27 @@ float fragment_series_depth()
 {
     float d = series_depth(fragment_zview());
     return halo_position() >= 0.0 ? min(d, 1.0 - max(u_depth_margin, 0.01)) : d;
+}
+#endif
+
+#ifdef KANZLER_PENALTY
+// Kanzler's occlusion penalty (M3D Eq. 3.2-3.3) from the pixel's maps
+// (kanzler_blur.comp.glsl): rho = 1/(1 + (1 - g^lambda) P), P = m M + c C +
+// v V + d less(i, D), less = 1 in front of the maximum's depth by more than
+// one 16-bit step (D is rounded to half a step: the maximum's own fragment
+// never counts as in front of itself). lc_foo_kanzler_rho is the CPU reference.
+layout(binding = TEX_KANZLER_MAPS) uniform sampler2D u_kanzler_maps; // (C, M, D, V)
+uniform vec4 u_kanzler_weights;                                      // m, c, v, d
+uniform float u_kanzler_lambda;
+
+float kanzler_rho()
+{
+    vec4 s = texelFetch(u_kanzler_maps, ivec2(gl_FragCoord.xy), 0);
+    float less = fragment_series_depth() < s.z - 1.0 / 65535.0 ? 1.0 : 0.0;
+    float p = dot(u_kanzler_weights, vec4(s.y, s.x, s.w, less));
+    float g = fragment_importance();
+    float gl = u_kanzler_lambda > 0.0 ? pow(g, u_kanzler_lambda) : 1.0;
+    return 1.0 / (1.0 + (1.0 - gl) * p);
 }
 #endif
 

@@ -12,7 +12,10 @@ out vec3 v_wpos;
 out vec3 v_normal;    // triangles: normal; lines: ribbon side vector
 out vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], |<tangent, view>|)
 flat out uvec3 v_primary; // primary elements of the primitive's vertices
-out vec2 v_halo;      // lines: (signed distance from the centre, ribbon half width), output pixels
+out vec2 v_halo;
+#if defined(KANZLER_MAPS) && PRIM == PRIM_LINES
+out vec3 v_tangent;   // lines: the vertex tangent (kanzler_maps.frag.glsl)
+#endif      // lines: (signed distance from the centre, ribbon half width), output pixels
 uniform float u_halo_px; // lines, compositing passes with style.haloWidth: halo band width in pixels; 0 = none
 
 #ifdef READ_ALPHA
@@ -76,6 +79,9 @@ void ribbon_vertex(uint v, float side_sign)
         outer += u_halo_px * pixel;
     emit(v, p + side * (outer * side_sign));
     v_normal = side;
+#if defined(KANZLER_MAPS) && PRIM == PRIM_LINES
+    v_tangent = vertex_frame(v);
+#endif
     // Tube shading needs a few pixels across; on thinner ribbons the pixel
     // centres would sample the tube profile unevenly along the line (a dotted
     // look), so the profile flattens as the ribbon narrows.

@@ -5,6 +5,23 @@
 
 uniform float u_weight; // subset stride
 
+#ifdef KANZLER_PENALTY
+// Method "kanzler"'s visibility report (docs/ALGORITHM.md §28): each element's
+// least opacity over its fragments, and as the importance a fragment hides the
+// pixel's maximum M where it lies in front of M's depth (occluders.glsl).
+layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint element_alpha_min[]; };
+
+void kanzler_report(float alpha)
+{
+    if (halo_position() >= 0.0)
+        return;
+    uint e = fragment_element();
+    atomicMin(element_alpha_min[e], floatBitsToUint(alpha));
+    vec4 s = texelFetch(u_kanzler_maps, ivec2(gl_FragCoord.xy), 0);
+    add_behind(e, fragment_series_depth() < s.z - 1.0 / 65535.0 ? s.y : 0.0);
+}
+#endif
+
 void main()
 {
     if (outside_primitive())
@@ -17,6 +34,9 @@ void main()
     fourier_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
 #endif
     write_coefficients(c);
+#ifdef KANZLER_PENALTY
+    kanzler_report(fragment_alpha());
+#endif
 #ifdef COMPOSITE_LIST
     record_composite_fragment(fragment_alpha(), fragment_series_depth(), fragment_color());
 #endif

@@ -23,7 +23,7 @@
 /* The statistics of a render as response headers (protocol/openapi.yaml
  * "Image"): X-Lucent-Timings, Server-Timing, X-Lucent-Converged,
  * X-Lucent-Max-Alpha-Change, X-Lucent-Elements, X-Lucent-Visibility (methods
- * with element opacities), X-Lucent-Cost and X-Lucent-Frame (session renders). */
+ * with element opacities, and kanzler), X-Lucent-Cost and X-Lucent-Frame (session renders). */
 /* X-Lucent-Warning: a scripted render chooses no background for its client,
  * so say when the colour of the highest values (with colour by importance,
  * the most important structures) is lost in the one asked for, e.g.

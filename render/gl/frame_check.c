@@ -148,6 +148,43 @@ static int check_clusters(const lc_scene *s, const lc_render_params *p, lc_error
     return 0;
 }
 
+int lc_render_ground_drawn(const lc_render_params *p, int has_context)
+{
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
+        return 0;
+    return p->style.ground == LC_GROUND_ON ||
+           (p->style.ground == LC_GROUND_AUTO && p->style.shadow > 0 && !has_context);
+}
+
+/* Ground shadows and smart transparency (docs/ALGORITHM.md §28): where they
+ * have something to work on, and frames they cannot be drawn in. */
+static int check_shadows(const lc_render_params *p, int context, int tiles, int jittered, lc_error *err)
+{
+    const lc_style *st = &p->style;
+    int composited = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT;
+    if ((st->shadow > 0 || st->ground == LC_GROUND_ON || st->smart > 0) && !composited)
+        return lc_err_field(err, LC_ERR_INVALID,
+                            st->shadow > 0  ? "style.shadow"
+                            : st->smart > 0 ? "style.smartTransparency"
+                                            : "style.ground",
+                            "drawn by the fourier and direct methods, not %s", lc_method_name(p->method));
+    int ground = lc_render_ground_drawn(p, context);
+    if (st->shadow > 0 && !context && !ground)
+        return lc_err_field(err, LC_ERR_INVALID, "style.shadow",
+                            "nothing receives the shadow: set style.ground \"auto\" or \"on\", or add a context layer");
+    const char *field = st->ground == LC_GROUND_ON ? "style.ground" : "style.shadow";
+    if (ground && (tiles || jittered)) /* the ground is context: drawn once, unjittered, untiled */
+        return lc_err_field(err, LC_ERR_INVALID, field,
+                            "the ground plane is drawn in one untiled, unjittered frame: %s",
+                            tiles ? "render at most 4096x4096" : "antialias 1");
+    if (ground && p->foo.guard_band > 0) /* the context is drawn for the view, the optimization sees a wider one */
+        return lc_err_field(err, LC_ERR_INVALID, field, "not with params.guardBand");
+    if (st->smart > 0 && tiles) /* the diffusion would stop at every tile's edge */
+        return lc_err_field(err, LC_ERR_INVALID, "style.smartTransparency",
+                            "drawn over one untiled image: render at most 4096x4096");
+    return 0;
+}
+
 int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
                     int tile_size, lc_error *err)
 {
@@ -185,5 +222,5 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
         return lc_err_field(err, LC_ERR_INVALID, "params.guardBand",
                             "the optimization's wider view needs depthRange \"global\", \"moments\" or \"auto\", "
                             "not \"pixel\"");
-    return 0;
+    return check_shadows(p, context, tiles, jittered, err);
 }

@@ -156,14 +156,15 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                                           "color_histogram.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
         fs_p1, fs_p2, fs_p4, fs_p5, fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist, fs_hist,
-        fs_p1_list, fs_moments_list, fs_p4_list};
+        fs_p1_list, fs_moments_list, fs_p4_list, fs_p4, fs_p4};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
         "colour histogram", "colour histogram (direct)", "P1 (recording)",
-        "depth moments (recording)", "P4 (recording)"};
+        "depth moments (recording)", "P4 (recording)", "shadow map", "shadow map (direct)"};
     int reads_alpha = kind == PROG_P4 || kind == PROG_P4_LIST || kind == PROG_P5 || kind == PROG_WBOIT ||
-                      kind == PROG_COLOR_HISTOGRAM;
-    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT;
+                      kind == PROG_COLOR_HISTOGRAM || kind == PROG_SHADOW;
+    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT ||
+                 kind == PROG_SHADOW_DIRECT;
     char defines[320];
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s", (int)prim, bands,
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
@@ -172,6 +173,7 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
              kind == PROG_P1_LIST              ? "#define RECORD_FRAGMENTS 1\n"
              : kind == PROG_DEPTH_MOMENTS_LIST ? "#define RECORD_FRAGMENTS 1\n#define FRAGMENT_CHAINS 1\n"
              : kind == PROG_P4_LIST            ? "#define COMPOSITE_LIST 1\n"
+             : kind == PROG_SHADOW || kind == PROG_SHADOW_DIRECT ? "#define SHADOW_MAP 1\n"
                                                : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,

@@ -3,6 +3,10 @@
 // COMPOSITE_LIST: also records what P5 needs of the fragment (fragment_list.glsl).
 
 uniform float u_weight; // subset stride
+#ifdef SHADOW_MAP
+// shadow.c's light pass: also the colour weighted by optical depth, (sum f C, sum f).
+layout(location = NTARGETS) out vec4 o_shadow_color;
+#endif
 
 void main()
 {
@@ -10,8 +14,12 @@ void main()
         discard;
     FLOOR_RETURN
     float c[NTARGETS * 4];
-    fourier_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
+    float f = -log(1.0 - fragment_alpha()) * draw_weight(u_weight);
+    fourier_project(fragment_series_depth(), f, c);
     write_coefficients(c);
+#ifdef SHADOW_MAP
+    o_shadow_color = vec4(f * fragment_color(), f);
+#endif
 #ifdef COMPOSITE_LIST
     record_composite_fragment(fragment_alpha(), fragment_series_depth(), fragment_color());
 #endif

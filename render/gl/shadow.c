@@ -180,7 +180,27 @@ static int invert4(const float m[16], double out[16])
     return 1;
 }
 
-/* The light's view: parallel, along -shadowLight, fitted to the bounds' sphere. */
+/* The bounds of what casts shadows: the visible transparent layers (a context
+ * layer only receives), so that a context floor lies beyond their far end. */
+static void caster_bounds(const lc_frame_setup *fs, double b[6])
+{
+    memcpy(b, fs->bounds, 6 * sizeof *b);
+    int first = 1;
+    for (int i = 0; i < fs->layer_count; i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        const double *sb = lf->gs->scene->bounds;
+        for (int k = 0; k < 3; k++) {
+            b[k] = first || sb[k] < b[k] ? sb[k] : b[k];
+            b[k + 3] = first || sb[k + 3] > b[k + 3] ? sb[k + 3] : b[k + 3];
+        }
+        first = 0;
+    }
+}
+
+/* The light's view: parallel, along -shadowLight, fitted to the casters' bounding sphere. */
 static void light_view(const lc_frame_setup *fs, lc_render_params *lp, lc_view *out)
 {
     double l[3], dir[3], up[3] = {0, 0, 1};
@@ -189,9 +209,11 @@ static void light_view(const lc_frame_setup *fs, lc_render_params *lp, lc_view *
         dir[i] = -l[i];
     if (fabs(l[2]) > 0.9)
         up[1] = 1, up[2] = 0;
-    lc_camera_fit(&lp->camera, fs->bounds, dir, up);
+    double b[6];
+    caster_bounds(fs, b);
+    lc_camera_fit(&lp->camera, b, dir, up);
     lp->camera.parallel_projection = true;
-    lc_camera_view(&lp->camera, fs->bounds, 1.0, SHADOW_MAP_SIZE, out);
+    lc_camera_view(&lp->camera, b, 1.0, SHADOW_MAP_SIZE, out);
 }
 
 static int ensure_targets(lc_renderer *r, shadow_state *st, int ntargets, int w, int h)

@@ -9,7 +9,9 @@
  *    changes the image exactly as the CPU's injection, diffusion and blend of
  *    the two quads' coverage give (every pixel within 1 of 255), and a frame
  *    with strength 0 is bit for bit the plain frame.
- * 3. Refusals name their fields. */
+ * 3. A flat context layer as the floor receives the shadow the same way: s = 1
+ *    halves it under the slab, and leaves it beside the shadow.
+ * Refusals name their fields. */
 #include <math.h>
 
 #include "lc_base.h"
@@ -120,6 +122,53 @@ static void shadows(test_gl *t)
     lc_gpu_scene_destroy(gr);
     lc_scene_destroy(sg);
     lc_scene_destroy(sr);
+}
+
+/* A context layer receives the shadow: a flat grey floor at z = 0 under the
+ * slab (the ground plane then not drawn); its pixel under the slab is the
+ * unshadowed render's times 1 - s/2. */
+static void context_receiver(test_gl *t)
+{
+    test_quad floor_q = {.z = 0, .g = 1, .rgb = {0.5, 0.5, 0.5}, .half = 1.2},
+              slab = {.z = 1, .g = 1, .rgb = {0.5, 0.5, 0.5}, .half = 0.5};
+    lc_scene *sf = test_quad_scene(&floor_q, 1), *ss = test_quad_scene(&slab, 1);
+    lc_gpu_scene *gf = NULL, *gs = NULL;
+    lc_error err = {0};
+    CHECK(sf && ss && lc_gpu_scene_create(sf, &gf, &err) == 0 && lc_gpu_scene_create(ss, &gs, &err) == 0, "scenes: %s",
+          err.msg);
+    if (!gf || !gs)
+        return;
+    const lc_gpu_scene *scenes[2] = {gf, gs};
+    lc_layer_params layers[2];
+    for (int i = 0; i < 2; i++) {
+        lc_layer_params_default(&layers[i]);
+        snprintf(layers[i].color.attribute, sizeof layers[i].color.attribute, "rgb");
+        snprintf(layers[i].importance.attribute, sizeof layers[i].importance.attribute, "importance");
+        layers[i].importance.has_range = true;
+        layers[i].importance.range[1] = 1;
+    }
+    layers[0].role = LC_LAYER_CONTEXT;
+    layers[0].style.shading = LC_SHADING_NONE;
+    uint8_t *lit = malloc(SIZE * SIZE * 4), *shadowed = malloc(SIZE * SIZE * 4);
+    lc_render_params p;
+    slab_params(&p);
+    int rc = lc_render_layers(t->renderer, scenes, layers, 2, &p, NULL, 0, lit, NULL, &err);
+    CHECK(rc == 0, "render: %s", err.msg);
+    p.style.shadow = 1;
+    rc = lc_render_layers(t->renderer, scenes, layers, 2, &p, NULL, 0, shadowed, NULL, &err);
+    CHECK(rc == 0, "render: %s", err.msg);
+    const double under[3] = {0, 0, 0}, beside[3] = {1.0, 0, 0};
+    int ux, uy, bx, by;
+    project(under, &ux, &uy);
+    project(beside, &bx, &by);
+    int c = px(lit, ux, uy, 1), d = px(shadowed, ux, uy, 1);
+    printf("context floor under the slab (%d, %d): %d unshadowed, %d with shadow 1 (CPU %.1f); beside it %d and %d\n",
+           ux, uy, c, d, c * 0.5, px(lit, bx, by, 1), px(shadowed, bx, by, 1));
+    CHECK(fabs(d - c * 0.5) <= 1, "a context layer receives the shadow: %d against %.1f", d, c * 0.5);
+    CHECK(px(lit, bx, by, 1) == px(shadowed, bx, by, 1), "and none beside it");
+    free(lit), free(shadowed);
+    lc_gpu_scene_destroy(gf), lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(sf), lc_scene_destroy(ss);
 }
 
 static void head_on(lc_render_params *p)
@@ -246,6 +295,7 @@ int main(void)
     test_gl t;
     test_gl_open(&t);
     shadows(&t);
+    context_receiver(&t);
     smart(&t);
     test_gl_close(&t);
     return lc_test_finish();

@@ -156,18 +156,16 @@ int lc_render_ground_drawn(const lc_render_params *p, int has_context)
            (p->style.ground == LC_GROUND_AUTO && p->style.shadow > 0 && !has_context);
 }
 
-/* Ground shadows and smart transparency (docs/ALGORITHM.md §28): where they
+/* Ground shadows and smart transparency (docs/ALGORITHM.md §28): whether they
  * have something to work on, and frames they cannot be drawn in. */
 static int check_shadows(const lc_render_params *p, int context, int tiles, int jittered, lc_error *err)
 {
     const lc_style *st = &p->style;
-    int composited = p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_DIRECT;
-    if ((st->shadow > 0 || st->ground == LC_GROUND_ON || st->smart > 0) && !composited)
-        return lc_err_field(err, LC_ERR_INVALID,
-                            st->shadow > 0  ? "style.shadow"
-                            : st->smart > 0 ? "style.smartTransparency"
-                                            : "style.ground",
-                            "drawn by the fourier and direct methods, not %s", lc_method_name(p->method));
+    /* Other methods draw none of them: a request that gives them there is
+     * refused by the scope table; a session that keeps them from an earlier
+     * method's update draws without them until it returns. */
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
+        return 0;
     int ground = lc_render_ground_drawn(p, context);
     if (st->shadow > 0 && !context && !ground)
         return lc_err_field(err, LC_ERR_INVALID, "style.shadow",

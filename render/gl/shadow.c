@@ -12,16 +12,17 @@
 #include "frame_check.h"
 #include "renderer_internal.h"
 
-/* OOS §6: a 512² map, read through a 7×7 Gaussian (binomial weights here). */
+/* OOS §6: a 512² map, blurred by a 7×7 Gaussian (binomial weights here). */
 #define SHADOW_MAP_SIZE 512
 
 typedef struct shadow_state {
     lc_targets coef, color; /* the light's optical-depth sums and (sum f C, sum f) */
+    lc_targets blur;        /* one target: the blur's intermediate direction */
     GLuint map_fbo;         /* both, for the light pass */
     int map_targets;
     GLuint shadowed, shadowed_fbo; /* the shadowed context colour at the output's size */
     int w, h;
-    GLuint ground_prog, apply_prog[LC_MAX_BANDS + 1];
+    GLuint ground_prog, blur_prog, apply_prog[LC_MAX_BANDS + 1];
 } shadow_state;
 
 static shadow_state *state_of(lc_renderer *r, lc_error *err)
@@ -220,6 +221,7 @@ static int ensure_targets(lc_renderer *r, shadow_state *st, int ntargets, int w,
 {
     lc_targets_ensure(&st->coef, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, ntargets, GL_RGBA32F, &r->bytes_targets);
     lc_targets_ensure(&st->color, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, 1, GL_RGBA32F, &r->bytes_targets);
+    lc_targets_ensure(&st->blur, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, 1, GL_RGBA32F, &r->bytes_targets);
     if (st->map_fbo && st->map_targets != ntargets) {
         glDeleteFramebuffers(1, &st->map_fbo);
         st->map_fbo = 0;
@@ -290,6 +292,35 @@ static int light_pass(lc_renderer *r, shadow_state *st, const lc_frame_setup *fs
     return rc;
 }
 
+/* The map's 7x7 binomial blur (OOS §6: a 7x7 Gaussian), separable: each
+ * target across into st->blur and down back into itself. */
+static int blur_map(shadow_state *st, lc_error *err)
+{
+    if (!st->blur_prog) {
+        static const char *const cs[] = {"shadow_blur.comp.glsl", NULL};
+        if (!(st->blur_prog = lc_renderer_build_program("", NULL, NULL, cs, "shadow map blur", err)))
+            return LC_ERR_GL;
+    }
+    GLuint prog = st->blur_prog;
+    glUseProgram(prog);
+    glProgramUniform2i(prog, glGetUniformLocation(prog, "u_size"), SHADOW_MAP_SIZE, SHADOW_MAP_SIZE);
+    GLuint groups = (SHADOW_MAP_SIZE + 7) / 8;
+    for (int i = 0; i <= st->coef.count; i++) {
+        GLuint tex = i < st->coef.count ? st->coef.tex[i] : st->color.tex[0];
+        for (int pass = 0; pass < 2; pass++) {
+            glProgramUniform2i(prog, glGetUniformLocation(prog, "u_step"), pass == 0, pass == 1);
+            glBindImageTexture(IMG_SMART_SRC, pass == 0 ? tex : st->blur.tex[0], 0, GL_FALSE, 0, GL_READ_ONLY,
+                               GL_RGBA32F);
+            glBindImageTexture(IMG_SMART_DST, pass == 0 ? st->blur.tex[0] : tex, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                               GL_RGBA32F);
+            glDispatchCompute(groups, groups, 1);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
+    }
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    return 0;
+}
+
 int lc_shadow_apply(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     const lc_render_params *p = fs->params;
@@ -310,6 +341,8 @@ int lc_shadow_apply(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     light.tiled = 0, light.depth_moments = 0, light.pixel_depth_range = 0;
     light.context_depth[0] = light.context_depth[1] = light.context_color = 0;
     int rc = light_pass(r, st, fs, &light, err);
+    if (!rc)
+        rc = blur_map(st, err);
     if (rc)
         return rc;
 
@@ -360,6 +393,7 @@ void lc_shadow_destroy(lc_renderer *r)
         return;
     lc_targets_free(&st->coef, &r->bytes_targets);
     lc_targets_free(&st->color, &r->bytes_targets);
+    lc_targets_free(&st->blur, &r->bytes_targets);
     if (st->map_fbo)
         glDeleteFramebuffers(1, &st->map_fbo);
     if (st->shadowed) {
@@ -369,6 +403,8 @@ void lc_shadow_destroy(lc_renderer *r)
     }
     if (st->ground_prog)
         glDeleteProgram(st->ground_prog);
+    if (st->blur_prog)
+        glDeleteProgram(st->blur_prog);
     for (int i = 0; i <= LC_MAX_BANDS; i++)
         if (st->apply_prog[i])
             glDeleteProgram(st->apply_prog[i]);

@@ -2,8 +2,7 @@
 // context pixel finds its world position from the context depth, its place in
 // the light's map and its depth along the light, and takes the transmittance
 // T = exp(-F(d)) of the transparent layers in front of it from the map's
-// optical-depth series (summed over a 7x7 binomial footprint first; the sums
-// are linear, so this is the blurred map's series). Its colour becomes
+// optical-depth series (blurred 7x7 by shadow_blur.comp.glsl). Its colour becomes
 // C (1 - s (1 - T) (1 - K)): s = style.shadow, K the occluders' colour (their
 // optical-depth-weighted mean) with style.shadowColored, else black.
 layout(binding = TEX_CONTEXT_DEPTH) uniform sampler2D u_receiver_depth;
@@ -33,22 +32,14 @@ void main()
     vec4 lc = u_light_view_proj * world;
     ivec2 t = ivec2(floor((lc.xy / lc.w * 0.5 + 0.5) * float(u_map_size)));
     float s = (-(u_light_view * world).z - u_light_depth.x) / max(u_light_depth.y - u_light_depth.x, 1e-20);
-    float c[NTARGETS * 4], ci[NTARGETS * 4];
+    float c[NTARGETS * 4];
     for (int j = 0; j < NTARGETS * 4; j++)
         c[j] = 0.0;
     vec4 col = vec4(0.0);
-    const float b[7] = float[7](1.0, 6.0, 15.0, 20.0, 15.0, 6.0, 1.0);
-    for (int dy = -3; dy <= 3; dy++)
-        for (int dx = -3; dx <= 3; dx++) {
-            ivec2 q = t + ivec2(dx, dy);
-            if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(u_map_size))))
-                continue;
-            float wt = b[dx + 3] * b[dy + 3] / 4096.0;
-            read_coefficients(q, ci);
-            for (int j = 0; j < NTARGETS * 4; j++)
-                c[j] += wt * ci[j];
-            col += wt * texelFetch(u_shadow_color, q, 0);
-        }
+    if (all(greaterThanEqual(t, ivec2(0))) && all(lessThan(t, ivec2(u_map_size)))) {
+        read_coefficients(t, c);
+        col = texelFetch(u_shadow_color, t, 0);
+    }
     // Behind the data's far end along the light every caster is in front: F = A0
     // exactly, where the truncated series would ring; in front of its near end none is.
     float tau = s >= 1.0 ? c[0] : s <= 0.0 ? 0.0 : fourier_eval(c, u_margin + (1.0 - 2.0 * u_margin) * s);

@@ -92,7 +92,8 @@ static double perception_aids_cost(const lc_scene_measures *st, const lc_render_
 /* Ground shadows and smart transparency (docs/ALGORITHM.md §28): the light's
  * pass draws the transparent geometry once more into the 512² map (its
  * coefficient targets and one colour target, at the view's coverage), the
- * shadowed context reads 7x7 texels of every target per output pixel; smart
+ * map's separable 7x7 blur reads 14 texels of every target per map texel, and
+ * the shadowed context one texel of every target per output pixel; smart
  * transparency reads five texels of P4's targets per pixel, then one screen
  * pass per diffusion step and one to apply. */
 static double shadows_cost(const lc_scene_measures *st, const lc_render_params *p, double frags)
@@ -100,8 +101,8 @@ static double shadows_cost(const lc_scene_measures *st, const lc_render_params *
     const lc_style *sty = &p->style;
     double targets = ceil((2.0 * p->foo.bands + 1.0) / 4.0), image = p->width * (double)p->height, cost = 0;
     if (sty->shadow > 0)
-        cost += frags * (512.0 * 512.0 / image) * (targets + 1.0) + image * 49.0 * (targets + 1.0) / 8.0 +
-                st->vertices + PRIMITIVE_UNITS * st->primitives;
+        cost += (frags / image + 14.0) * 512.0 * 512.0 * (targets + 1.0) + image * (targets + 1.0) + st->vertices +
+                PRIMITIVE_UNITS * st->primitives;
     if (sty->ground == LC_GROUND_ON || sty->shadow > 0)
         cost += image * 2.0; /* the ground's two draws, at each resolution */
     if (sty->smart > 0)

@@ -1,7 +1,7 @@
 """Ground shadows and smart transparency (docs/ALGORITHM.md §28) in every path
 of the real daemon: an HTTP render of the tornado with style.shadow and
 style.smartTransparency answers an image that differs from the plain one and
-from each alone; a scripted HTTP session's frame is that image byte for byte; a
+from each alone, and the GET form's flat names draw the POST render; a scripted HTTP session's frame is that image byte for byte; a
 WebSocket session whose hello asks for them streams as its first still the
 HTTP render's JPEG byte for byte, and an update that turns them off streams the
 plain render; a movie of the request renders and its first frame is the HTTP
@@ -16,6 +16,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import urllib.parse
 
 from lucent_server import DEADLINE, Check, Server, wait_for_stream_done, wait_for_message, websockets
 
@@ -117,6 +118,13 @@ with Server(binary, data=("demo:tornado",), demo_size=150) as srv:
     st3, _, smart = render(srv, {"smartTransparency": 0.7})
     check(st == st1 == st2 == st3 == 200 and len({plain, both, shadow, smart}) == 4,
           "HTTP renders: the shadow, the outlines and both each change the image (%d %d %d %d)" % (st, st1, st2, st3))
+    query = urllib.parse.urlencode({"dataset": "demo:tornado", "width": 96, "height": 80, "shadow": 0.8,
+                                    "shadowColored": "true", "smartTransparency": 0.7, "shadowLight": "1,0,1"})
+    st, _, got = srv.request("GET", "/api/v1/render?" + query)
+    st2, _, ref = render(srv, dict(AIDS, shadowLight=[1, 0, 1]))
+    check(st == 200 and got == ref and got != both,
+          "the GET form with flat names (shadowLight=1,0,1) is the POST render, not the default light's (%d, %d)"
+          % (st, st2))
     st, _, data = srv.request("POST", "/api/v1/sessions", dict(SIZE, **BASE, style=AIDS))
     if st == 201:
         sid = json.loads(data)["session"]

@@ -75,6 +75,8 @@ static const enum_name depth_range_names[] = {{"auto", LC_DEPTH_RANGE_AUTO},
 static const enum_name smoothing_weights_names[] = {
     {"uniform", LC_SMOOTHING_UNIFORM}, {"distance", LC_SMOOTHING_DISTANCE}, {NULL, 0}};
 static const enum_name shading_names[] = {{"phong", LC_SHADING_PHONG}, {"none", LC_SHADING_NONE}, {NULL, 0}};
+static const enum_name ground_names[] = {
+    {"auto", LC_GROUND_AUTO}, {"on", LC_GROUND_ON}, {"off", LC_GROUND_OFF}, {NULL, 0}};
 static const enum_name representative_names[] = {{"important", 0}, {"mean", 1}, {"leastDistance", 2}, {NULL, 0}};
 static const enum_name composite_names[] = {{"layers", LC_SURFACE_LAYERS},
                                             {"weighted-average", LC_SURFACE_WEIGHTED_AVERAGE},
@@ -189,6 +191,15 @@ static const field fields[] = {
     {"style", "haloDepth", "haloDepth", T_NUM, 0, 1, 0, OFF(render.style.halo_depth), 0, NOFLAG, NULL},
     {"style", "haloStrength", "haloStrength", T_NUM, 0, 1, 0, OFF(render.style.halo_strength), 0, NOFLAG, NULL},
     {"style", "antialias", "antialias", T_INT, 1, LC_MAX_ANTIALIAS, 0, OFF(render.style.antialias), 0, NOFLAG, NULL},
+    {"style", "shadow", "shadow", T_NUM, 0, 1, 0, OFF(render.style.shadow), 0, NOFLAG, NULL},
+    {"style", "shadowLight", "shadowLight", T_VEC3, 0, 0, 0, OFF(render.style.shadow_light), 0, NOFLAG, NULL},
+    {"style", "shadowColored", "shadowColored", T_BOOL, 0, 0, 0, OFF(render.style.shadow_colored), 0, NOFLAG, NULL},
+    {"style", "ground", "ground", T_ENUM, 0, 0, 0, OFF(render.style.ground), 0, NOFLAG, ground_names},
+    {"style", "groundColor", "groundColor", T_COLOR, 0, 0, 0, OFF(render.style.ground_color), 0, NOFLAG, NULL},
+    {"style", "groundOffset", "groundOffset", T_NUM, 0, 1, 0, OFF(render.style.ground_offset), 0, NOFLAG, NULL},
+    {"style", "smartTransparency", "smartTransparency", T_NUM, 0, 1, 0, OFF(render.style.smart), 0, NOFLAG, NULL},
+    {"style", "smartIterations", "smartIterations", T_INT, 0, LC_MAX_SMART_ITERATIONS, 0,
+     OFF(render.style.smart_iterations), 0, NOFLAG, NULL},
 
     {NULL, "filter", "filter", T_FILTERS, 0, LC_MAX_FILTERS, 0, OFF(render), 0, NOFLAG, NULL},
 

@@ -18,6 +18,7 @@
 #define STRIDED (M(FOURIER) | M(DIRECT) | BLENDS)                   /* params.subset: P4 weights a stride */
 #define EQUALIZING (M(FOURIER) | M(DIRECT) | M(EXACT))              /* color.equalize's histogram */
 #define NOT_SURFACES (P(POINTS) | P(LINES))
+#define COMPOSITED (M(FOURIER) | M(DIRECT)) /* P4-P6: ground shadows, smart transparency */
 
 typedef struct scope_rule {
     const char *section; /* NULL = top level */
@@ -68,6 +69,14 @@ static const scope_rule rules[] = {
     {"style", "pointSize", DATASET_METHODS, P(POINTS)},
     {"style", "silhouetteExponent", DATASET_METHODS, P(TRIANGLES)},
     {"style", "antialias", SERIES, LC_PROTO_ALL_PRIMS},
+    {"style", "shadow", COMPOSITED, LC_PROTO_ALL_PRIMS},
+    {"style", "shadowLight", COMPOSITED, LC_PROTO_ALL_PRIMS},
+    {"style", "shadowColored", COMPOSITED, LC_PROTO_ALL_PRIMS},
+    {"style", "ground", COMPOSITED, LC_PROTO_ALL_PRIMS},
+    {"style", "groundColor", COMPOSITED, LC_PROTO_ALL_PRIMS},
+    {"style", "groundOffset", COMPOSITED, LC_PROTO_ALL_PRIMS},
+    {"style", "smartTransparency", COMPOSITED, LC_PROTO_ALL_PRIMS},
+    {"style", "smartIterations", COMPOSITED, LC_PROTO_ALL_PRIMS},
     {"style", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
     {NULL, "filter", DATASET_METHODS, NOT_SURFACES},
     {"lines", NULL, DATASET_METHODS, P(LINES)},

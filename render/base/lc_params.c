@@ -45,6 +45,10 @@ void lc_style_default(lc_style *s)
     s->halo_depth = 0.02;
     s->halo_strength = 1;
     s->antialias = 1;
+    /* shadow_light 0: the up vector of the dataset's suggested view (shadow.c) */
+    s->ground_color[0] = s->ground_color[1] = s->ground_color[2] = 0.8;
+    s->ground_offset = 0.02;
+    s->smart_iterations = 5; /* OOS §6 */
 }
 
 void lc_render_params_default(lc_render_params *p)

@@ -216,6 +216,8 @@ typedef struct lc_color_map {
     double fade_half_life; /* seconds: sessions' CDF approaches the frame's (DLS Eq. 10) */
 } lc_color_map;
 
+typedef enum { LC_GROUND_AUTO = 0, LC_GROUND_ON, LC_GROUND_OFF } lc_ground;
+
 typedef struct lc_style {
     double background[3];
     double line_width;      /* world units */
@@ -228,7 +230,19 @@ typedef struct lc_style {
     double halo_depth;          /* their depth offset at the ribbon's edge, fraction of the data's diagonal */
     double halo_strength;       /* their opacity, [0, 1] */
     int antialias;              /* still frames: K jittered compositing samples averaged; <= 1 = one */
+    /* Ground shadows (docs/ALGORITHM.md §29): the context receives the
+     * transmittance of the transparent layers from a directional light. */
+    double shadow;          /* the shadow's opacity s in [0, 1]; 0 = off */
+    double shadow_light[3]; /* toward the light (the ground faces it); 0: the suggested view's up, else +Y */
+    bool shadow_colored;    /* tinted by the occluders' colour instead of grey */
+    lc_ground ground;       /* the ground plane: LC_GROUND_AUTO draws it for shadows without a context layer */
+    double ground_color[3]; /* its (unlit) colour */
+    double ground_offset;   /* its distance beyond the data along the light, fraction of the data's diagonal */
+    /* Smart transparency (docs/ALGORITHM.md §29, after Carnecky et al.): */
+    double smart;         /* strength of the silhouettes and halos in [0, 1]; 0 = off */
+    int smart_iterations; /* diffusion steps (each spreads them one pixel) */
 } lc_style;
+#define LC_MAX_SMART_ITERATIONS 32
 #define LC_MAX_ANTIALIAS 16
 
 /* Level of detail and the shortcuts of interactive frames (docs/ALGORITHM.md

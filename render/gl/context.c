@@ -61,7 +61,8 @@ int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, int which, lc_error *err
         fs->context_depth[0] = fs->context_color = 0;
     if (which & LC_CONTEXT_LOW)
         fs->context_depth[1] = 0;
-    if (!lc_frame_has_context(fs))
+    int ground = lc_shadow_ground(fs); /* shadow.c's ground plane is context too */
+    if (!lc_frame_has_context(fs) && !ground)
         return 0;
     context_state *st = r->context;
     if (!st && !(st = r->context = calloc(1, sizeof *st)))
@@ -95,6 +96,11 @@ int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, int which, lc_error *err
             }
             lc_renderer_bind_geometry(r, prog, lf, size[k][0], size[k][1], 1);
             lc_renderer_draw_geometry(lf, 1);
+        }
+        int rc = ground ? lc_shadow_draw_ground(r, fs, size[k][0], size[k][1], err) : 0;
+        if (rc) {
+            glDisable(GL_DEPTH_TEST);
+            return rc;
         }
     }
     if (scissor)

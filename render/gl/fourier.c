@@ -482,6 +482,9 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     lc_renderer_resolve(r, fs, PROG_RESOLVE, &r->accum, r->coef_full.tex[0], err);
+    /* style.smartTransparency over the resolved image, from P4's sums (smart.c). */
+    if ((rc = lc_smart_apply(r, fs, err)) != 0)
+        return rc;
     lc_renderer_timestamp(r, LC_PASS_RESOLVE);
     return 0;
 }

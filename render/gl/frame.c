@@ -77,6 +77,8 @@ void lc_renderer_destroy(lc_renderer *r)
     lc_exact_destroy(r);
     lc_context_destroy(r);
     lc_kanzler_destroy(r);
+    lc_shadow_destroy(r);
+    lc_smart_destroy(r);
     lc_fragment_list_release(r);
     if (r->marker_program)
         glDeleteProgram(r->marker_program);
@@ -505,6 +507,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
             return rc;
     }
     lc_camera_view(&p.camera, bounds, (double)p.width / p.height, p.height, &fs.view);
+    memcpy(fs.bounds, bounds, sizeof bounds);
     double diag = 0;
     for (int i = 0; i < 3; i++)
         diag += (s->bounds[i + 3] - s->bounds[i]) * (s->bounds[i + 3] - s->bounds[i]);
@@ -534,6 +537,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
             return rc;
         }
     }
+    lc_shadow_clip_ground(&fs, &fs.view); /* the ground may lie beyond the data's clip planes */
     rc = render_passes(r, &fs, state, dt, rgba, t0, err);
     free(setups);
     return rc;
@@ -606,6 +610,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         rc = lc_renderer_yield_point(r, err);
     if (!rc && p.method == LC_METHOD_KANZLER)
         lc_kanzler_report_begin(r);
+    if (!rc) /* the light's map needs this frame's opacities; P6 composites over the shadowed context */
+        rc = lc_shadow_apply(r, &fs, err);
     if (!rc && tiles)
         rc = render_tiles(r, &fs, state, dt, nx, ny, samples, plan.pixel_range, rgba, err);
     else if (!rc && p.method != LC_METHOD_EXACT)

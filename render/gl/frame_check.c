@@ -166,12 +166,48 @@ static int check_kanzler(const lc_scene *s, int tiles, lc_error *err)
     return 0;
 }
 
+int lc_render_ground_drawn(const lc_render_params *p, int has_context)
+{
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
+        return 0;
+    return p->style.ground == LC_GROUND_ON ||
+           (p->style.ground == LC_GROUND_AUTO && p->style.shadow > 0 && !has_context);
+}
+
+/* Ground shadows and smart transparency (docs/ALGORITHM.md §29): whether they
+ * have something to work on, and frames they cannot be drawn in. */
+static int check_shadows(const lc_render_params *p, int context, int tiles, int jittered, lc_error *err)
+{
+    const lc_style *st = &p->style;
+    /* Other methods draw none of them: a request that gives them there is
+     * refused by the scope table; a session that keeps them from an earlier
+     * method's update draws without them until it returns. */
+    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
+        return 0;
+    int ground = lc_render_ground_drawn(p, context);
+    if (st->shadow > 0 && !context && !ground)
+        return lc_err_field(err, LC_ERR_INVALID, "style.shadow",
+                            "nothing receives the shadow: set style.ground \"auto\" or \"on\", or add a context layer");
+    const char *field = st->ground == LC_GROUND_ON ? "style.ground" : "style.shadow";
+    /* The shadows shade the context once, for the frame's own view: a tile or
+     * a jittered sample that draws its context anew would lose them. */
+    if ((ground || st->shadow > 0) && (tiles || jittered))
+        return lc_err_field(err, LC_ERR_INVALID, field, "shadows and the ground plane are drawn in one untiled, "
+                            "unjittered frame: %s", tiles ? "render at most 4096x4096" : "antialias 1");
+    if (ground && p->foo.guard_band > 0) /* the context is drawn for the view, the optimization sees a wider one */
+        return lc_err_field(err, LC_ERR_INVALID, field, "not with params.guardBand");
+    if (st->smart > 0 && tiles) /* the diffusion would stop at every tile's edge */
+        return lc_err_field(err, LC_ERR_INVALID, "style.smartTransparency",
+                            "drawn over one untiled image: render at most 4096x4096");
+    return 0;
+}
+
 int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
                     int tile_size, lc_error *err)
 {
     if (p->method == LC_METHOD_SURFACE_LAYERS) /* a field's surface: lc_surface_render checks its own */
         return 0;
-    int rc = 0;
+    int rc = 0, context = 0;
     if (layers) {
         if ((rc = check_layered(scenes, layers, n, p, err)) != 0)
             return rc;
@@ -183,6 +219,7 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
                                     err)) != 0 ||
                 (rc = check_clusters(scenes[i], &layers[i].clusters, prefix, err)) != 0)
                 return rc;
+            context |= layers[i].visible && layers[i].role == LC_LAYER_CONTEXT;
             if (layers[i].time.markers && layers[i].time.has_window) {
                 snprintf(prefix, sizeof prefix, "layers[%d].time.markers", i);
                 return lc_err_field(err, LC_ERR_INVALID, prefix, "markers are drawn for a frame of one dataset");
@@ -198,9 +235,10 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
     int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
     if (p->method == LC_METHOD_KANZLER && (rc = check_kanzler(scenes[0], tiles, err)) != 0)
         return rc;
+    int jittered = p->method != LC_METHOD_EXACT && p->method != LC_METHOD_OPAQUE && p->style.antialias > 1;
     if (p->foo.guard_band > 0 && p->foo.depth_range == LC_DEPTH_RANGE_PIXEL)
         return lc_err_field(err, LC_ERR_INVALID, "params.guardBand",
                             "the optimization's wider view needs depthRange \"global\", \"moments\" or \"auto\", "
                             "not \"pixel\"");
-    return 0;
+    return check_shadows(p, context, tiles, jittered, err);
 }

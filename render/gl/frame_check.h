@@ -20,6 +20,10 @@ extern "C" {
 int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers, int n, const lc_render_params *p,
                     int tile_size, lc_error *err);
 
+/* Whether a frame of p draws the ground plane (style.ground; "auto": for
+ * style.shadow when no visible context layer receives it). */
+int lc_render_ground_drawn(const lc_render_params *p, int has_context);
+
 #ifdef __cplusplus
 }
 #endif

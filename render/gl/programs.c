@@ -161,17 +161,19 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                                                 "occluders.glsl", "p4_optical_depth.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
         fs_p1,      fs_p2,           fs_p4,      fs_p5,  fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist,
-        fs_hist,    fs_p1_list,      fs_moments_list, fs_p4_list, fs_p4, fs_p5, fs_wavg, fs_kanzler, fs_p4_kanzler, fs_p5};
+        fs_hist,    fs_p1_list,      fs_moments_list, fs_p4_list, fs_p4, fs_p5, fs_wavg, fs_kanzler, fs_p4_kanzler, fs_p5,
+        fs_p4,      fs_p4};
     static const char *kind_names[PROG_GEOMETRY_KINDS] = {
         "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
         "colour histogram", "colour histogram (direct)", "P1 (recording)",
         "depth moments (recording)", "P4 (recording)", "P4-binning", "P5-binning", "weighted average",
-        "kanzler maps", "P4-kanzler", "P5-kanzler"};
+        "kanzler maps", "P4-kanzler", "P5-kanzler", "shadow map", "shadow map (direct)"};
     int bins = kind == PROG_P4_BINS || kind == PROG_P5_BINS;
     int reads_alpha = kind == PROG_P4 || kind == PROG_P4_LIST || kind == PROG_P5 || kind == PROG_WBOIT ||
-                      kind == PROG_COLOR_HISTOGRAM || bins || kind == PROG_WEIGHTED_AVERAGE;
+                      kind == PROG_COLOR_HISTOGRAM || bins || kind == PROG_WEIGHTED_AVERAGE || kind == PROG_SHADOW;
     int kanzler = kind == PROG_P4_KANZLER || kind == PROG_P5_KANZLER;
-    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT || kanzler;
+    int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT || kanzler ||
+                 kind == PROG_SHADOW_DIRECT;
     char defines[400];
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s", (int)prim, bands,
              bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "",
@@ -183,6 +185,7 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
              : kind == PROG_P4_LIST            ? "#define COMPOSITE_LIST 1\n"
              : kind == PROG_KANZLER_MAPS       ? "#define KANZLER_MAPS 1\n"
              : kanzler                         ? "#define KANZLER_PENALTY 1\n"
+             : kind == PROG_SHADOW || kind == PROG_SHADOW_DIRECT ? "#define SHADOW_MAP 1\n"
                                                : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,

@@ -74,6 +74,11 @@
     X(TEX_KANZLER_SUMS, 11) /* kanzler.c: tangent sums and counts, read by the blur */                                 \
     X(IMG_KANZLER_MAX, 7)   /* kanzler.c: packed maximum importance and depth (R32UI) */                              \
     X(IMG_KANZLER_MAPS, 1)  /* kanzler.c: the blur's output (the exact method's output unit is free there) */         \
+    X(TEX_SHADOW_COLOR, 10) /* shadow.c: the light's optical-depth-weighted colour */                                 \
+    X(IMG_SMART_SRC, 7)     /* smart.c: silhouette and halo intensities being diffused */                            \
+    X(IMG_SMART_DST, 8)                                                                                                \
+    X(IMG_SMART_OUTPUT, 9)  /* smart.c: the image they modulate */                                                     \
+    X(IMG_SMART_INJECT, 10) /* smart.c: the injected intensities and each pixel's optical depth */                    \
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
     X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
     X(IMG_COEF_FIRST, 2)    /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
@@ -194,6 +199,8 @@ typedef enum {
     PROG_KANZLER_MAPS,       /* kanzler.c: the per-pixel maps */
     PROG_P4_KANZLER,         /* P4 with alpha = g^k times Kanzler's penalty */
     PROG_P5_KANZLER,
+    PROG_SHADOW,             /* P4 from the light, with the optical-depth-weighted colour (shadow.c) */
+    PROG_SHADOW_DIRECT,
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
     PROG_RESOLVE,
@@ -347,6 +354,8 @@ struct lc_renderer {
     void *context; /* context.c's state */
     void *kanzler; /* kanzler.c's state */
     GLuint marker_program; /* markers.c's (lines, pulled), built on first use */
+    struct shadow_state *shadow; /* shadow.c's targets and programs (NULL until a frame has shadows or a ground) */
+    struct smart_state *smart;   /* smart.c's */
     /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */
     float *reduce_buf;
     size_t reduce_cap;
@@ -442,6 +451,7 @@ typedef struct lc_frame_setup {
      * optimization [1] resolution and its colour (0: no context layer). */
     GLuint context_depth[2], context_color;
     lc_renderer *renderer; /* the frame's renderer: a draw's yield points between batches (pipeline.c) */
+    double bounds[6];      /* the frame's bounds (of every layer): the camera's, the ground's and the light's */
 } lc_frame_setup;
 
 /* ---- layers.c (docs/ALGORITHM.md "Layers"): what differs per layer. */
@@ -477,6 +487,21 @@ int lc_frame_has_context(const lc_frame_setup *fs);
 enum { LC_CONTEXT_FULL = 1, LC_CONTEXT_LOW = 2 };
 int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, int which, lc_error *err);
 void lc_context_destroy(lc_renderer *r);
+/* ---- shadow.c (docs/ALGORITHM.md §29): whether the frame draws the ground
+ * plane, which context.c draws into the context at w x h; the light's
+ * Fourier opacity map and the shadowed context colour (after the opacities,
+ * before P6: sets fs->context_color to it; nothing when style.shadow is 0). */
+int lc_shadow_ground(const lc_frame_setup *fs);
+/* Widens the clip planes of fs->view (fs->bounds, params, gs set) to hold the
+ * ground; the depth range of the series stays the data's. */
+void lc_shadow_clip_ground(const lc_frame_setup *fs, lc_view *view);
+int lc_shadow_draw_ground(lc_renderer *r, const lc_frame_setup *fs, int w, int h, lc_error *err);
+int lc_shadow_apply(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+void lc_shadow_destroy(lc_renderer *r);
+/* ---- smart.c (docs/ALGORITHM.md §29): silhouettes and halos from P4's sums,
+ * diffused, over the resolved image (after P6; nothing when style.smartTransparency is 0). */
+int lc_smart_apply(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
+void lc_smart_destroy(lc_renderer *r);
 /* ---- markers.c: time.markers, drawn opaque over the frame's output (docs/ALGORITHM.md §26); nothing unless the
  * request asks for them on lines under a window. */
 int lc_markers_draw(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);

@@ -93,6 +93,27 @@ static double perception_aids_cost(const lc_scene_measures *st, const lc_render_
                                             (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes);
 }
 
+/* Ground shadows and smart transparency (docs/ALGORITHM.md §29): the light's
+ * pass draws the transparent geometry once more into the 512² map (its
+ * coefficient targets and one colour target, at the view's coverage), the
+ * map's separable 7x7 blur reads 14 texels of every target per map texel, and
+ * the shadowed context one texel of every target per output pixel; smart
+ * transparency reads five texels of P4's targets per pixel, then one screen
+ * pass per diffusion step and one to apply. */
+static double shadows_cost(const lc_scene_measures *st, const lc_render_params *p, double frags)
+{
+    const lc_style *sty = &p->style;
+    double targets = ceil((2.0 * p->foo.bands + 1.0) / 4.0), image = p->width * (double)p->height, cost = 0;
+    if (sty->shadow > 0)
+        cost += (frags / image + 14.0) * 512.0 * 512.0 * (targets + 1.0) + image * (targets + 1.0) + st->vertices +
+                PRIMITIVE_UNITS * st->primitives;
+    if (sty->ground == LC_GROUND_ON || sty->shadow > 0)
+        cost += image * 2.0; /* the ground's two draws, at each resolution */
+    if (sty->smart > 0)
+        cost += image * (5.0 * targets + 2.0 + sty->smart_iterations);
+    return cost;
+}
+
 /* color.equalize (docs/ALGORITHM.md §19) on fourier/direct: one full-resolution
  * geometry pass for the colour histogram, and a one-shot frame composites
  * again (P4-P6) with the equalized colormap; a tiled still draws those three
@@ -230,7 +251,7 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     }
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +
            st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
-           equalize_cost(st, p, frags);
+           equalize_cost(st, p, frags) + shadows_cost(st, p, frags);
 }
 
 /* The smallest params.subset (a power of two up to 64) whose frame fits the

@@ -81,6 +81,14 @@ export const FIELDS = Object.freeze([
   { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
   { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
+  { section: 'style', name: 'shadow', alias: 'shadow', type: 'num', min: 0, max: 1, methods: ['fourier', 'direct'] },
+  { section: 'style', name: 'shadowLight', alias: 'shadowLight', type: 'vec3', methods: ['fourier', 'direct'] },
+  { section: 'style', name: 'shadowColored', alias: 'shadowColored', type: 'bool', methods: ['fourier', 'direct'] },
+  { section: 'style', name: 'ground', alias: 'ground', type: 'enum', values: ['auto', 'on', 'off'], methods: ['fourier', 'direct'] },
+  { section: 'style', name: 'groundColor', alias: 'groundColor', type: 'color', methods: ['fourier', 'direct'] },
+  { section: 'style', name: 'groundOffset', alias: 'groundOffset', type: 'num', min: 0, max: 1, methods: ['fourier', 'direct'] },
+  { section: 'style', name: 'smartTransparency', alias: 'smartTransparency', type: 'num', min: 0, max: 1, methods: ['fourier', 'direct'] },
+  { section: 'style', name: 'smartIterations', alias: 'smartIterations', type: 'int', min: 0, max: 32, methods: ['fourier', 'direct'] },
 
   { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
 

@@ -91,6 +91,14 @@ export const GROUPS = [
       { path: 'style.haloDepth', label: 'Halo depth offset', kind: 'range', min: 0, max: 0.2, step: 0.005, help: 'How far behind a line (fraction of the data size) another line must pass to be cut by its halo; lines closer than this (a bundle) are not cut.' },
       { path: 'style.haloStrength', label: 'Halo strength', kind: 'range', min: 0, max: 1, step: 0.05, help: 'Opacity of the halo relative to its line: 1 cuts fully, lower values only dim.' },
       { path: 'style.antialias', label: 'Anti-aliasing (still)', kind: 'range', min: 1, max: 16, step: 1, help: 'The sharp frame shown once you stop moving averages this many slightly shifted images, so thin lines and points do not flicker or stair-step. Costs that many compositing passes. 1: off.' },
+      { path: 'style.shadow', label: 'Ground shadow', kind: 'range', min: 0, max: 1, step: 0.05, help: 'Transparent, see-through shadows of the data on a ground plane (or on a context layer): the ground darkens by this much under fully opaque parts and by less under faint ones. Without a context layer a ground plane is drawn. 0: off.' },
+      { path: 'style.shadowLight', label: 'Light from (x, y, z)', kind: 'vec3', help: "Direction toward the light in data coordinates; the ground plane faces it. 0, 0, 0: the data's own up direction (else +y)." },
+      { path: 'style.shadowColored', label: 'Coloured shadow', kind: 'check', help: 'The shadow takes the colour of what casts it, as light through coloured glass; off: grey.' },
+      { path: 'style.ground', label: 'Ground plane', kind: 'select', options: [['auto', 'With shadows'], ['on', 'Always'], ['off', 'Never']], help: 'An opaque plane beyond the data, facing the light. With shadows: drawn when a shadow is asked for and no context layer receives it.' },
+      { path: 'style.groundColor', label: 'Ground colour', kind: 'color', help: 'Colour of the ground plane (unlit; the shadow alone darkens it).' },
+      { path: 'style.groundOffset', label: 'Ground distance', kind: 'range', min: 0, max: 1, step: 0.01, help: 'Gap between the data and the ground plane, as a fraction of the data size.' },
+      { path: 'style.smartTransparency', label: 'Smart transparency', kind: 'range', min: 0, max: 1, step: 0.05, help: 'Dark outlines where a transparent layer ends and light halos on what lies behind its edge, stronger the more opaque the layer, so the order of layers reads at their edges. 0: off.' },
+      { path: 'style.smartIterations', label: 'Outline spread (px)', kind: 'range', min: 0, max: 32, step: 1, help: 'How many pixels the outlines and halos spread from the edge (diffusion steps; 5 in the paper).' },
     ],
   },
   {
@@ -306,10 +314,28 @@ export class Panel {
       span.append(lo, document.createTextNode('–'), hi);
       row.append(span);
       Object.assign(ctl, { el: lo, num2: hi });
+    } else if (spec.kind === 'vec3') {
+      const inputs = [0, 1, 2].map((i) => {
+        const n = document.createElement('input');
+        n.type = 'number';
+        n.step = 'any';
+        n.className = 'num';
+        n.name = `${spec.path}.${i}`;
+        n.setAttribute('aria-label', `${spec.label} ${'xyz'[i]}`);
+        return n;
+      });
+      inputs[0].id = id;
+      const fire = () => this.#emit(spec.path, inputs.map((n) => parseNum(n.value)), true);
+      for (const n of inputs) n.addEventListener('change', fire);
+      const span = document.createElement('span');
+      span.className = 'pair';
+      span.append(...inputs);
+      row.append(span);
+      Object.assign(ctl, { el: inputs[0], vec: inputs });
     }
     if (ctl.hint) {
       row.append(ctl.hint);
-      for (const el of [ctl.el, ctl.num, ctl.num2]) el?.setAttribute('aria-describedby', ctl.hint.id);
+      for (const el of [ctl.el, ctl.num, ctl.num2, ...(ctl.vec ?? [])]) el?.setAttribute('aria-describedby', ctl.hint.id);
     }
     row.append(msg);
     this.controls.set(spec.path, ctl);
@@ -342,6 +368,10 @@ export class Panel {
     } else if (spec.kind === 'range2') {
       if (document.activeElement !== ctl.el) ctl.el.value = formatNumber(v[0]);
       if (document.activeElement !== ctl.num2) ctl.num2.value = formatNumber(v[1]);
+    } else if (spec.kind === 'vec3') {
+      ctl.vec.forEach((n, i) => {
+        if (document.activeElement !== n) n.value = formatNumber(v[i]);
+      });
     }
   }
 

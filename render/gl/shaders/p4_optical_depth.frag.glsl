@@ -4,6 +4,10 @@
 // COMPOSITE_LIST: also records what P5 needs of the fragment (fragment_list.glsl).
 
 uniform float u_weight; // subset stride
+#ifdef SHADOW_MAP
+// shadow.c's light pass: also the colour weighted by optical depth, (sum f C, sum f).
+layout(location = NTARGETS) out vec4 o_shadow_color;
+#endif
 
 #ifdef KANZLER_PENALTY
 // Method "kanzler"'s visibility report (docs/ALGORITHM.md §28): each element's
@@ -28,14 +32,18 @@ void main()
         discard;
     FLOOR_RETURN
     float c[NTARGETS * 4];
+    float f = -log(1.0 - fragment_alpha()) * draw_weight(u_weight);
 #ifdef TAU_BINS
-    bins_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
+    bins_project(fragment_series_depth(), f, c);
 #else
-    fourier_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);
+    fourier_project(fragment_series_depth(), f, c);
 #endif
     write_coefficients(c);
 #ifdef KANZLER_PENALTY
     kanzler_report(fragment_alpha());
+#endif
+#ifdef SHADOW_MAP
+    o_shadow_color = vec4(f * fragment_color(), f);
 #endif
 #ifdef COMPOSITE_LIST
     record_composite_fragment(fragment_alpha(), fragment_series_depth(), fragment_color());

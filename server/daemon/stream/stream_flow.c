@@ -72,12 +72,12 @@ void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
          * one that waited sample = wait + base + transfer with gap =
          * transfer, so sample - gap exceeds rtt (base + one frame's
          * transfer) only where it waited longer than a frame's transfer, and
-         * a late ack of this frame (jitter) moves both alike. Smoothed bytes
-         * over smoothed gaps, so acks that bunch do not count as rate. */
-        /* Few frames on the link (window 2): they wait less than a transfer,
-         * but the acks' pace, slower than the renderer's, is the link's. */
-        bool paced = f->srtt > f->rtt + 0.5 * f->ack_s && f->frame_s > 0 && gap > LC_FLOW_LINK_PACE * f->frame_s;
-        if (f->rtt > 0 && (sample - gap > f->rtt || paced)) {
+         * a late ack of this frame (jitter) moves both alike. Acks that
+         * come slower than frames are rendered are no such test: where the
+         * window holds the renderer back they do too, and a rate read from
+         * them shrinks the frames that set it. Smoothed bytes over smoothed
+         * gaps, so acks that bunch do not count as rate. */
+        if (f->rtt > 0 && sample - gap > f->rtt) {
             bool fresh = f->wait_at > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
             f->wait_s = fresh ? f->wait_s + LC_FLOW_FRAME_GAIN * (gap - f->wait_s) : gap;
             f->wait_bytes = fresh ? f->wait_bytes + LC_FLOW_FRAME_GAIN * (bytes - f->wait_bytes) : bytes;

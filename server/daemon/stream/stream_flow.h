@@ -39,9 +39,7 @@
  *   waited, wait + base + transfer against a spacing of its transfer, as the
  *   link carried the frame before it until its own began; so the test holds
  *   where it waited longer than one frame's transfer, and the spacing is its
- *   transfer); or, where the window keeps few frames on the link, frames wait
- *   by the link_s test above and acks come LC_FLOW_LINK_PACE times slower than
- *   frames are rendered.
+ *   transfer).
  *   It holds for LC_FLOW_RTT_HORIZON seconds after the last such ack; a new
  *   measurement after that starts afresh.
  * - carried: the same over every ack of a moving frame within a gesture, what
@@ -59,7 +57,6 @@
 
 #define LC_FLOW_RTT_HORIZON 10.0 /* seconds the lowest send-to-ack time holds against higher ones */
 #define LC_FLOW_FRAME_GAIN 0.25 /* weight of a new render time in frame_s, of a new ack gap in ack_s */
-#define LC_FLOW_LINK_PACE 1.25 /* acks this much slower than renders, frames waiting: the link sets the pace */
 #define LC_FLOW_ACK_GAP_MAX 1.0 /* seconds between acks beyond which the next starts a new gesture */
 
 typedef struct lc_stream_flow {

@@ -44,12 +44,13 @@ void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, bool moving, double byt
 void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
 {
     bool found = false, moving = false, alone = false;
-    double sent = 0, bytes = 0;
+    double sent = 0, bytes = 0, newest = 0;
     int k = 0;
     for (int i = 0; i < f->nsent; i++) {
         if (f->sent_id[i] <= id) { /* oldest first: the last of these is the newest acked */
             found = true;
             bytes += f->sent_moving[i] ? f->sent_bytes[i] : 0;
+            newest = f->sent_bytes[i];
             sent = f->sent_at[i];
             moving = f->sent_moving[i];
             alone = f->sent_alone[i];
@@ -62,7 +63,17 @@ void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
         f->sent_at[k++] = f->sent_at[i];
     }
     f->nsent = k;
-    if (!found || !moving || now < 0)
+    if (!found || now < 0)
+        return;
+    /* Any frame, a still too: its bytes crossed the link before its ack left,
+     * so bytes / send-to-ack is at most the link's rate; a large frame's is
+     * close to it. The highest within the horizon. */
+    double bound = now > sent ? newest / (now - sent) : 0;
+    if (bound >= f->bound || now - f->bound_at > LC_FLOW_RTT_HORIZON) {
+        f->bound = bound;
+        f->bound_at = now;
+    }
+    if (!moving)
         return;
     /* The spacing of acks within a gesture: what the link delivers. */
     double gap = now - f->last_ack, sample = now - sent;
@@ -130,5 +141,6 @@ double lc_stream_flow_link_rate(const lc_stream_flow *f, bool *measured)
     *measured = f->wait_at > 0 && f->wait_s > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
     if (*measured)
         return f->wait_bytes / f->wait_s;
-    return f->ack_s > 0 ? f->ack_bytes / f->ack_s : 0;
+    double carried = f->ack_s > 0 ? f->ack_bytes / f->ack_s : 0;
+    return carried > f->bound ? carried : f->bound;
 }

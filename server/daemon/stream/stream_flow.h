@@ -43,7 +43,10 @@
  *   It holds for LC_FLOW_RTT_HORIZON seconds after the last such ack; a new
  *   measurement after that starts afresh.
  * - carried: the same over every ack of a moving frame within a gesture, what
- *   the link was seen to carry: a lower bound of its rate where no frame waited.
+ *   the link was seen to carry, or where higher the most bytes over
+ *   send-to-ack time of one frame within the horizon, a still too (its bytes
+ *   crossed the link before its ack left): lower bounds of the rate, which is
+ *   all that is known where no frame waited.
  *
  * No locking and no clock here: the session calls these under its lock with
  * lc_now(), and the unit test with simulated times. */
@@ -80,6 +83,7 @@ typedef struct lc_stream_flow {
     double ack_bytes;                        /* smoothed bytes of moving frames an ack covers (with ack_s) */
     double wait_bytes, wait_s;               /* the same and the acks' spacing, of frames that waited on the link */
     double wait_at;                          /* when such an ack last came (0: never) */
+    double bound, bound_at;                  /* the highest bytes / send-to-ack of one frame, and when */
 } lc_stream_flow;
 
 /* A flow before any frame, under the client's ceiling (1..LC_PROTO_MAX_WINDOW). */
@@ -96,7 +100,7 @@ void lc_stream_flow_forget(lc_stream_flow *f, uint64_t id);
 void lc_stream_flow_rendered(lc_stream_flow *f, double seconds);
 /* The link's throughput in bytes per second: *measured true where frames
  * waited on it within the horizon (its rate), false where none did (what it
- * carried, a lower bound; 0 before two acks of a gesture). */
+ * carried, a lower bound; 0 before an ack). */
 double lc_stream_flow_link_rate(const lc_stream_flow *f, bool *measured);
 
 #endif

@@ -429,8 +429,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         bool measured;
         double rate = lc_stream_flow_link_rate(&st->flow, &measured);
         lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &w, &h);
-        lc_stream_fit(measured ? rate : 0, cfg->frame_budget_ms / 1000.0, &st->fit_ref, (double)w * h,
-                      st->interactive_quality, &st->fit);
+        lc_stream_fit(measured ? rate : 0, measured ? 0 : rate, cfg->frame_budget_ms / 1000.0, &st->fit_ref,
+                      (double)w * h, st->interactive_quality, &st->fit);
         out->quality = st->fit.quality;
         scale *= st->fit.scale;
     }
@@ -589,8 +589,8 @@ bool lc_session_stream_sent(lc_session *s, uint64_t frame, size_t bytes, int qua
     }
     s->stream.last_sent = frame;
     bool moving = s->stream.last_interactive;
-    if (moving && bytes > 0 && pixels > 0)
-        s->stream.fit_ref = (lc_fit_ref){(double)bytes, quality, (double)pixels};
+    if (bytes > 0 && pixels > 0 && (moving || s->stream.fit_ref.bytes <= 0 || s->stream.fit_ref.still))
+        s->stream.fit_ref = (lc_fit_ref){(double)bytes, quality, (double)pixels, !moving};
     lc_stream_flow_sent(&s->stream.flow, frame, moving, (double)bytes, lc_now());
     pthread_mutex_unlock(&s->lock);
     return true;

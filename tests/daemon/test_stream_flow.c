@@ -605,14 +605,14 @@ static void test_link_fit(void)
 
     /* The rule. No moving frame yet: the ceiling. */
     lc_fit fit;
-    lc_fit_ref ref = {0, 0, 0};
-    lc_stream_fit(0, 0.070, &ref, 1e5, 85, &fit);
+    lc_fit_ref ref = {0, 0, 0, false};
+    lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
     CHECK(fit.quality == 85 && fit.scale == 1, "no reference: the ceiling (%d)", fit.quality);
     /* Not measured (a wide link): quality climbs a quarter more bytes a frame to the ceiling. */
-    ref = (lc_fit_ref){10000, 50, 1e5};
+    ref = (lc_fit_ref){10000, 50, 1e5, false};
     int steps = 0;
     while (steps < 10 && ref.quality < 85) {
-        lc_stream_fit(0, 0.070, &ref, 1e5, 85, &fit);
+        lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
         CHECK(fit.scale == 1 && fit.target == 1.25 * ref.bytes && ref.bytes / lc_fit_jpeg_share(ref.quality) *
                                                                          lc_fit_jpeg_share(fit.quality) <=
                                                                      fit.target + 1e-9,
@@ -622,26 +622,39 @@ static void test_link_fit(void)
     }
     CHECK(ref.quality == 85 && steps >= 2 && steps <= 4, "the ceiling after %d frames", steps);
     /* A larger rung of the ladder (twice the pixels) is no probe: its quality stays. */
-    lc_stream_fit(0, 0.070, &ref, 2e5, 85, &fit);
+    lc_stream_fit(0, 0, 0.070, &ref, 2e5, 85, &fit);
     CHECK(fit.quality == 85 && fit.scale == 1, "twice the pixels, not measured: 85 (%d)", fit.quality);
     /* Measured 2 Mbit/s against a 70 ms budget: 14 kB a frame. 20 kB at 85 -> quality drops, size stays. */
-    ref = (lc_fit_ref){20000, 85, 1e5};
-    lc_stream_fit(250000, 0.070, &ref, 1e5, 85, &fit);
+    ref = (lc_fit_ref){20000, 85, 1e5, false};
+    lc_stream_fit(250000, 0, 0.070, &ref, 1e5, 85, &fit);
     double per_share = 20000 / lc_fit_jpeg_share(85);
     CHECK(fabs(fit.target - 14000) < 1e-6 && fit.scale == 1 && fit.quality > LC_FIT_MIN_QUALITY && fit.quality < 70 &&
               per_share * lc_fit_jpeg_share(fit.quality) <= 14000 &&
               per_share * lc_fit_jpeg_share(fit.quality + 1) > 14000,
           "2 Mbit/s: the highest quality that fits, full size (%d)", fit.quality);
     /* 0.5 Mbit/s: 3.5 kB; quality 30 does not fit: the floor, and the side by the square root. */
-    lc_stream_fit(62500, 0.070, &ref, 1e5, 85, &fit);
+    lc_stream_fit(62500, 0, 0.070, &ref, 1e5, 85, &fit);
     double want = sqrt(3500 / (per_share * lc_fit_jpeg_share(LC_FIT_MIN_QUALITY)));
     CHECK(fit.quality == LC_FIT_MIN_QUALITY && fabs(fit.scale - want) < 1e-9 && fit.scale < 1,
           "0.5 Mbit/s: quality %d, side x %.3f (%.3f)", fit.quality, fit.scale, want);
-    lc_stream_fit(12500, 0.070, &ref, 1e5, 85, &fit);
+    lc_stream_fit(12500, 0, 0.070, &ref, 1e5, 85, &fit);
     CHECK(fit.quality == LC_FIT_MIN_QUALITY && fit.scale == LC_FIT_MIN_SCALE, "0.1 Mbit/s: the least side (%.3f)",
           fit.scale);
-    lc_stream_fit(62500, 0.070, &ref, 1e5, 20, &fit);
+    lc_stream_fit(62500, 0, 0.070, &ref, 1e5, 20, &fit);
     CHECK(fit.quality == 20, "a ceiling under the floor holds (%d)", fit.quality);
+    /* Not measured, a lower bound of 2 Mbit/s: probing never aims under the 14 kB it surely carries. */
+    ref = (lc_fit_ref){5000, 40, 1e5, false};
+    lc_stream_fit(0, 250000, 0.070, &ref, 1e5, 85, &fit);
+    CHECK(fabs(fit.target - 14000) < 1e-6, "the lower bound over the probe: %.0f B", fit.target);
+    /* Before any moving frame: from the still (150 kB at 90, 972x761) and the bound the still gave. */
+    ref = (lc_fit_ref){150000, 90, 972.0 * 761, true};
+    lc_stream_fit(0, 0, 0.070, &ref, 243.0 * 190, 85, &fit);
+    CHECK(fit.quality == 85 && fit.scale == 1, "a still and no bound: the ceiling (%d)", fit.quality);
+    lc_stream_fit(0, 62500, 0.070, &ref, 243.0 * 190, 85, &fit);
+    per_share = 150000 / lc_fit_jpeg_share(90) * (243.0 * 190) / (972.0 * 761);
+    CHECK(fabs(fit.target - 3500) < 1e-6 && fit.quality < 85 && per_share * lc_fit_jpeg_share(fit.quality) <= 3500 &&
+              per_share * lc_fit_jpeg_share(fit.quality + 1) > 3500,
+          "a still's bound of 0.5 Mbit/s: the first moving frame at quality %d, not the ceiling", fit.quality);
 
     /* Through a session: acks of a narrow link make the moving frames
      * smaller and coarser; the still keeps full quality and size. */

@@ -25,7 +25,8 @@ double lc_fit_jpeg_share(int q)
     return table[n - 1].share;
 }
 
-void lc_stream_fit(double rate, double budget_s, const lc_fit_ref *ref, double pixels, int ceiling, lc_fit *out)
+void lc_stream_fit(double rate, double bound, double budget_s, const lc_fit_ref *ref, double pixels, int ceiling,
+                   lc_fit *out)
 {
     out->quality = ceiling;
     out->scale = 1.0;
@@ -33,7 +34,10 @@ void lc_stream_fit(double rate, double budget_s, const lc_fit_ref *ref, double p
     if (!ref || ref->bytes <= 0 || ref->pixels <= 0 || ref->quality < 1 || pixels <= 0)
         return;
     double grown = pixels > ref->pixels ? pixels / ref->pixels : 1.0; /* a larger rung of the ladder is no probe */
-    out->target = rate > 0 ? rate * budget_s * LC_FIT_SHARE : ref->bytes * LC_FIT_PROBE * grown;
+    double sure = bound * budget_s * LC_FIT_SHARE, probe = ref->bytes * LC_FIT_PROBE * grown;
+    if (ref->still && sure <= 0)
+        return; /* nothing known of the link: the ceiling */
+    out->target = rate > 0 ? rate * budget_s * LC_FIT_SHARE : ref->still ? sure : probe > sure ? probe : sure;
     double per_share = ref->bytes / lc_fit_jpeg_share(ref->quality) * pixels / ref->pixels;
     int floor = ceiling < LC_FIT_MIN_QUALITY ? ceiling : LC_FIT_MIN_QUALITY;
     for (int q = ceiling; q >= floor; q--)

@@ -7,10 +7,16 @@
  * (stream_flow.h) and the latest moving frame, the unit test explicit ones.
  *
  *     target = rate * budget * LC_FIT_SHARE            the link's rate measured
- *     target = ref.bytes * LC_FIT_PROBE * max(1, pixels / ref.pixels)   not measured
+ *     target = max(ref.bytes * LC_FIT_PROBE * max(1, pixels / ref.pixels),
+ *                  bound * budget * LC_FIT_SHARE)      not measured
+ *     target = bound * budget * LC_FIT_SHARE           ref a still (no moving frame yet)
  *     bytes(q, pixels) = ref.bytes * share(q) / share(ref.quality) * pixels / ref.pixels
  *
- * ref is the latest moving frame sent. quality: the highest in
+ * ref is the latest moving frame sent, or before any the latest still, and
+ * bound a lower bound of the rate (stream_flow.h "carried"): frames of that
+ * size cross within the budget for certain, so a session's first moving
+ * frames start there, not at the ceiling, and probing never goes below it.
+ * quality: the highest in
  * [LC_FIT_MIN_QUALITY, ceiling] whose bytes fit the target; where none does,
  * the floor and a side scale of sqrt(target / bytes(floor)), at least
  * LC_FIT_MIN_SCALE. Where the rate is not measured (no frame waited on the
@@ -20,6 +26,8 @@
  * is measured. */
 #ifndef LC_SERVER_STREAM_FIT_H
 #define LC_SERVER_STREAM_FIT_H
+
+#include <stdbool.h>
 
 #define LC_FIT_SHARE 0.8      /* share of the frame budget a moving frame's transfer may take */
 #define LC_FIT_PROBE 1.25     /* growth of a moving frame's bytes per frame while the rate is not measured */
@@ -31,6 +39,7 @@ typedef struct lc_fit_ref {
     double bytes;  /* its message's bytes (0: none yet) */
     int quality;   /* its JPEG quality */
     double pixels; /* its width x height */
+    bool still;    /* a still: no moving frame was sent yet */
 } lc_fit_ref;
 
 typedef struct lc_fit {
@@ -44,8 +53,9 @@ typedef struct lc_fit {
 double lc_fit_jpeg_share(int q);
 
 /* The next moving frame of `pixels` pixels: rate is the link's measured
- * bytes per second (0: not measured), budget_s the frame budget, ceiling the
- * session's interactiveQuality. */
-void lc_stream_fit(double rate, double budget_s, const lc_fit_ref *ref, double pixels, int ceiling, lc_fit *out);
+ * bytes per second (0: not measured), bound a lower bound of it (0: none),
+ * budget_s the frame budget, ceiling the session's interactiveQuality. */
+void lc_stream_fit(double rate, double bound, double budget_s, const lc_fit_ref *ref, double pixels, int ceiling,
+                   lc_fit *out);
 
 #endif

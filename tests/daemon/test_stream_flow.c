@@ -581,6 +581,15 @@ static void test_link_fit(void)
     rate = lc_stream_flow_link_rate(&f, &measured);
     CHECK(!measured && fabs(rate - 20000 / 0.058) < 0.01 * 20000 / 0.058,
           "20 Mbit/s: not measured, %.0f B/s carried at least", rate);
+    /* One stall on that link (a frame acked 350 ms late, the next one, sent
+     * 10 ms after it, just behind): one frame that seems to have waited is no
+     * queue, and no rate. */
+    lc_stream_flow_sent(&f, ++id, true, 20000, t + 0.060);
+    lc_stream_flow_sent(&f, ++id, true, 20000, t + 0.070);
+    lc_stream_flow_acked(&f, id - 1, t + 0.410);
+    lc_stream_flow_acked(&f, id, t + 0.420);
+    lc_stream_flow_link_rate(&f, &measured);
+    CHECK(!measured && f.waits == 1, "one stall measures nothing (%d waits)", f.waits);
     /* A still of 200 kB acked 0.9 s after it went out: the link carries 222 kB/s at least. */
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
     lc_stream_flow_sent(&f, ++id, false, 200000, t);

@@ -90,6 +90,7 @@ void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
          * gaps, so acks that bunch do not count as rate. */
         if (f->rtt > 0 && sample - gap > f->rtt) {
             bool fresh = f->wait_at > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
+            f->waits = fresh ? f->waits + 1 : 1;
             f->wait_s = fresh ? f->wait_s + LC_FLOW_FRAME_GAIN * (gap - f->wait_s) : gap;
             f->wait_bytes = fresh ? f->wait_bytes + LC_FLOW_FRAME_GAIN * (bytes - f->wait_bytes) : bytes;
             f->wait_at = now;
@@ -138,7 +139,7 @@ void lc_stream_flow_rendered(lc_stream_flow *f, double seconds)
 
 double lc_stream_flow_link_rate(const lc_stream_flow *f, bool *measured)
 {
-    *measured = f->wait_at > 0 && f->wait_s > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
+    *measured = f->waits >= LC_FLOW_WAITS && f->wait_s > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
     if (*measured)
         return f->wait_bytes / f->wait_s;
     double carried = f->ack_s > 0 ? f->ack_bytes / f->ack_s : 0;

@@ -40,8 +40,10 @@
  *   link carried the frame before it until its own began; so the test holds
  *   where it waited longer than one frame's transfer, and the spacing is its
  *   transfer).
- *   It holds for LC_FLOW_RTT_HORIZON seconds after the last such ack; a new
- *   measurement after that starts afresh.
+ *   It counts from the LC_FLOW_WAITS-th such ack (one late ack, a stall of
+ *   the client or of a loaded host, is no queue) and holds for
+ *   LC_FLOW_RTT_HORIZON seconds after the last; a new measurement after that
+ *   starts afresh.
  * - carried: the same over every ack of a moving frame within a gesture, what
  *   the link was seen to carry, or where higher the most bytes over
  *   send-to-ack time of one frame within the horizon, a still too (its bytes
@@ -60,6 +62,7 @@
 
 #define LC_FLOW_RTT_HORIZON 10.0 /* seconds the lowest send-to-ack time holds against higher ones */
 #define LC_FLOW_FRAME_GAIN 0.25 /* weight of a new render time in frame_s, of a new ack gap in ack_s */
+#define LC_FLOW_WAITS 3 /* acks of frames that waited before their spacing counts as the link's rate */
 #define LC_FLOW_ACK_GAP_MAX 1.0 /* seconds between acks beyond which the next starts a new gesture */
 
 typedef struct lc_stream_flow {
@@ -83,6 +86,7 @@ typedef struct lc_stream_flow {
     double ack_bytes;                        /* smoothed bytes of moving frames an ack covers (with ack_s) */
     double wait_bytes, wait_s;               /* the same and the acks' spacing, of frames that waited on the link */
     double wait_at;                          /* when such an ack last came (0: never) */
+    int waits;                               /* such acks since the measurement began */
     double bound, bound_at;                  /* the highest bytes / send-to-ack of one frame, and when */
 } lc_stream_flow;
 

@@ -35,7 +35,7 @@ void lc_stream_fit(double rate, double bound, double budget_s, const lc_fit_ref 
         return;
     double grown = pixels > ref->pixels ? pixels / ref->pixels : 1.0; /* a larger rung of the ladder is no probe */
     double sure = bound * budget_s * LC_FIT_SHARE, probe = ref->bytes * LC_FIT_PROBE * grown;
-    if (ref->still && sure <= 0)
+    if (ref->still && rate <= 0 && sure <= 0)
         return; /* nothing known of the link: the ceiling */
     out->target = rate > 0 ? rate * budget_s * LC_FIT_SHARE : ref->still ? sure : probe > sure ? probe : sure;
     double per_share = ref->bytes / lc_fit_jpeg_share(ref->quality) * pixels / ref->pixels;

@@ -425,11 +425,21 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         out->req.render.foo.fade_half_life = 0;
     /* The still (the last stage) is the one-shot render of the session's request. */
     out->req.render.detail.still = !interactive && out->stage != 1;
+    out->quality = interactive ? st->interactive_quality : st->quality;
+    if (interactive) { /* quality, then size, so that the link carries the frame within the budget (stream_fit.h) */
+        int w, h;
+        bool measured;
+        double rate = lc_stream_flow_link_rate(&st->flow, &measured);
+        lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &w, &h);
+        lc_stream_fit(measured ? rate : 0, measured ? 0 : rate, cfg->frame_budget_ms / 1000.0, &st->fit_ref,
+                      (double)w * h, st->interactive_quality, &st->fit);
+        out->quality = st->fit.quality;
+        scale *= st->fit.scale;
+    }
     lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &out->req.render.width,
                          &out->req.render.height);
     out->req.render.detail.pixel_scale = scale;
     out->req.format = LC_FORMAT_JPEG;
-    out->quality = interactive ? st->interactive_quality : st->quality;
     out->req.quality = out->quality;
     out->interactive = interactive;
     out->frame = st->next_frame++;
@@ -574,13 +584,20 @@ bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now)
 
 bool lc_session_stream_ack(lc_session *s, uint64_t frame) { return lc_session_stream_client_ack(s, frame, -1); }
 
-void lc_session_stream_sent(lc_session *s, uint64_t frame)
+bool lc_session_stream_sent(lc_session *s, uint64_t frame, size_t bytes, int quality, long pixels)
 {
     pthread_mutex_lock(&s->lock);
-    if (frame > s->stream.last_sent)
-        s->stream.last_sent = frame;
-    lc_stream_flow_sent(&s->stream.flow, frame, s->stream.last_interactive, lc_now());
+    if (frame <= s->stream.last_sent) {
+        pthread_mutex_unlock(&s->lock);
+        return false;
+    }
+    s->stream.last_sent = frame;
+    bool moving = s->stream.last_interactive;
+    if (bytes > 0 && pixels > 0 && (moving || s->stream.fit_ref.bytes <= 0 || s->stream.fit_ref.still))
+        s->stream.fit_ref = (lc_fit_ref){(double)bytes, quality, (double)pixels, !moving};
+    lc_stream_flow_sent(&s->stream.flow, frame, moving, (double)bytes, lc_now());
     pthread_mutex_unlock(&s->lock);
+    return true;
 }
 
 bool lc_session_stream_blocked(lc_session *s, bool blocked)

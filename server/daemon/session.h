@@ -26,6 +26,7 @@
 #include "renderer.h"
 #include "request.h"
 #include "server.h"
+#include "stream_fit.h"
 #include "stream_flow.h"
 
 #ifdef __cplusplus
@@ -44,8 +45,10 @@ typedef struct lc_stream {
     lc_stream_flow flow;       /* what the window follows: round trip, render time, the hello's ceiling */
     double render_began;       /* lc_now() when the frame being rendered was taken (stream_next) */
     int quality;               /* still-frame JPEG quality */
-    int interactive_quality;   /* JPEG quality while input is active */
+    int interactive_quality;   /* JPEG quality while input is active: the most; lower where the link needs (stream_fit.h) */
     double interactive_scale;  /* resolution factor while input is active */
+    lc_fit_ref fit_ref;        /* the latest moving frame sent: what the next one's fit predicts from */
+    lc_fit fit;                /* the latest moving frame's fit (stats) */
     int css_width, css_height; /* viewport in CSS pixels */
     double device_pixel_ratio;
     uint64_t outstanding[LC_PROTO_MAX_WINDOW]; /* frame ids sent or in flight, not acked */
@@ -204,8 +207,12 @@ bool lc_session_stream_ack(lc_session *s, uint64_t frame);
 /* I/O side: the client acked frames up to `frame` at now: as lc_session_stream_ack,
  * and the round trip of the newest of them moves the window (stream_flow.h). */
 bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now);
-/* Encoder side: frame `frame` goes to the connection now (acks may cover it). */
-void lc_session_stream_sent(lc_session *s, uint64_t frame);
+/* Encoder side: frame `frame` goes to the connection now (acks may cover it),
+ * a message of `bytes` (0: none goes out) at JPEG quality and of pixels:
+ * a moving frame's are what the next one's fit is predicted from. Returns
+ * false, and records nothing, for a frame older than one already handed
+ * over: it must not go out (it would show an older camera last). */
+bool lc_session_stream_sent(lc_session *s, uint64_t frame, size_t bytes, int quality, long pixels);
 /* I/O side: the connection's socket stopped taking data (blocked) or drained.
  * Returns true when it drained and a frame may be due (wake the workers). */
 bool lc_session_stream_blocked(lc_session *s, bool blocked);

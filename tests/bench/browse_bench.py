@@ -25,7 +25,8 @@ With --link RTT,MBIT (repeatable; "loopback" for none) the orbit runs once throu
 wide-area link (tests/bench/link_proxy.py: RTT/2 each way, MBIT Mbit/s each way with a 100 ms
 queue, 0 = no rate limit) and a table compares them: frames/s, input-to-frame p50/p95, still after
 release, mean bytes of a moving frame (its most common size, its mean JPEG quality), the link's use while orbiting (Mbit/s received and the share
-of the rate), and the session's flow-control window and round trip from its last stats message.
+of the rate), and the session's flow-control window, round trip and link estimate (linkMbps: the link's rate where
+frames waited on it, else what it carried) from its last stats message.
 The issue 46 table:
   tests/bench/browse_bench.py --binary build/lucent --seconds 6 --link loopback --link 50,20 --link 100,5
 With --contend N, N other clients render --contend-size stills over HTTP in a loop
@@ -438,21 +439,24 @@ def run_links(ws_url, token, args):
                      "moving_quality": sum(r["moving_q"]) / len(r["moving_q"]) if r["moving_q"] else None,
                      "still_quality": (r.get("still_frame") or {}).get("quality"),
                      "link_mbit": use, "link_share": use / mbit if mbit else None,
-                     "window": st.get("window"), "rtt_est_ms": st.get("rttMs")})
+                     "window": st.get("window"), "rtt_est_ms": st.get("rttMs"),
+                     "link_est_mbit": st.get("linkMbps"), "link_measured": st.get("linkMeasured")})
         print("  %s: %.1f frames/s" % (link.label(), rows[-1]["frames_per_s"]), flush=True)
     print("dataset %s, %dx%d, camera updates at %g/s for %g s%s; load %s" % (
         args.dataset, args.width, args.height, args.rate, args.seconds,
         ", window %d" % args.window if args.window else "", os.getloadavg()[0]))
     print("| link | frames/s | input-to-frame p50 / p95 | still after release | moving frame | link used | "
-          "window, RTT (stats) |")
-    print("|---|---|---|---|---|---|---|")
+          "window, RTT (stats) | link estimate (stats) |")
+    print("|---|---|---|---|---|---|---|---|")
     for w in rows:
-        print("| %s | %.1f | %.0f / %.0f ms | %s | %s | %s | %s |" % (
+        est = w["link_est_mbit"]
+        print("| %s | %.1f | %.0f / %.0f ms | %s | %s | %s | %s | %s |" % (
             w["link"], w["frames_per_s"], w["p50_ms"], w["p95_ms"],
-            "%.2f s" % w["still_s"] if w["still_s"] is not None else "-",
+            "%.2f s (q %s)" % (w["still_s"], w["still_quality"]) if w["still_s"] is not None else "-",
             "%.1f KB (%s, q %.0f)" % (w["moving_kb"], w["moving_size"], w["moving_quality"]) if w["moving_kb"] else "-",
             "%.2f Mbit/s%s" % (w["link_mbit"], " (%.0f %%)" % (100 * w["link_share"]) if w["link_share"] else ""),
-            "%s, %s ms" % (w["window"], w["rtt_est_ms"]) if w["window"] else "-"))
+            "%s, %s ms" % (w["window"], w["rtt_est_ms"]) if w["window"] else "-",
+            "-" if est is None else "%.2f Mbit/s %s" % (est, "measured" if w["link_measured"] else "carried (at least)")))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"dataset": args.dataset, "width": args.width, "height": args.height, "rate": args.rate,

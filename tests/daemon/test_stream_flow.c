@@ -2,8 +2,9 @@
  * the stream protocol, the window of unacknowledged frames, latest-wins
  * coalescing of updates, convergence and the still frame, staged stills and
  * their preview stage, blind acks, one update path with its budget check
- * for HTTP sessions and streams, and the window that follows the round trip
- * (stream_flow.h). */
+ * for HTTP sessions and streams, the window that follows the round trip
+ * (stream_flow.h), and the link's throughput from acks with the moving
+ * frames' quality and size that follow it (stream_fit.h). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -12,6 +13,7 @@
 #include "lc_test.h"
 #include "still_stages.h"
 #include "stream.h"
+#include "stream_fit.h"
 #include "stream_flow.h"
 
 static lc_server srv;
@@ -35,7 +37,7 @@ static void finish(lc_session *s, const lc_stream_frame *f, bool converged)
     info.converged = converged;
     info.wall_ms = 10;
     lc_session_stream_done(s, f, true, &info);
-    lc_session_stream_sent(s, f->frame);
+    lc_session_stream_sent(s, f->frame, 1000, f->quality, (long)f->req.render.width * f->req.render.height);
 }
 
 static void test_window(lc_session *s)
@@ -137,7 +139,7 @@ static void finish_timed(lc_session *s, const lc_stream_frame *f, double wall_ms
     info.point_stride = 1;
     info.reused_opacities = f->req.render.detail.reuse_opacities;
     lc_session_stream_done(s, f, true, &info);
-    lc_session_stream_sent(s, f->frame);
+    lc_session_stream_sent(s, f->frame, 1000, f->quality, (long)f->req.render.width * f->req.render.height);
     lc_session_stream_ack(s, f->frame);
 }
 
@@ -392,7 +394,7 @@ static void flow_frames(lc_stream_flow *f, int n, double frame_s, double rtt, do
     for (int i = 0; i < n; i++) {
         lc_stream_flow_rendered(f, frame_s);
         *t += frame_s;
-        lc_stream_flow_sent(f, ++*id, true, *t);
+        lc_stream_flow_sent(f, ++*id, true, 10000, *t);
         lc_stream_flow_acked(f, *id, *t + rtt);
     }
 }
@@ -436,28 +438,28 @@ static void test_flow_window(void)
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
     for (int i = 0; i < 16; i++, t += 0.150) {
         lc_stream_flow_rendered(&f, 0.030);
-        lc_stream_flow_sent(&f, ++id, true, t);
+        lc_stream_flow_sent(&f, ++id, true, 10000, t);
         lc_stream_flow_acked(&f, id, t + (i ? 0.410 : 0.260));
     }
     CHECK(fabs(f.ack_s - 0.150) < 0.01 && f.window == 2, "narrow link: 2 (%d, acks %.3f s apart)", f.window, f.ack_s);
     /* A still's ack is no sample: its transfer is no round trip of the drag. */
-    lc_stream_flow_sent(&f, ++id, false, t);
+    lc_stream_flow_sent(&f, ++id, false, 10000, t);
     lc_stream_flow_acked(&f, id, t + 2.0);
     t += LC_FLOW_RTT_HORIZON + 1;
-    lc_stream_flow_sent(&f, ++id, false, t);
+    lc_stream_flow_sent(&f, ++id, false, 10000, t);
     lc_stream_flow_acked(&f, id, t + 2.0);
     CHECK(fabs(f.rtt - 0.260) < 1e-9 && f.window == 2, "stills leave the round trip as it was (%.3f, %d)", f.rtt,
           f.window);
     /* Two frames out, the older acked: its own round trip, not the newer one's. */
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
-    lc_stream_flow_sent(&f, 10, true, 1.0);
-    lc_stream_flow_sent(&f, 11, true, 1.09);
+    lc_stream_flow_sent(&f, 10, true, 10000, 1.0);
+    lc_stream_flow_sent(&f, 11, true, 10000, 1.09);
     lc_stream_flow_acked(&f, 10, 1.1);
     CHECK(fabs(f.rtt - 0.1) < 1e-9 && f.nsent == 1 && f.sent_id[0] == 11, "the older frame's round trip (%.3f)",
           f.rtt);
     /* A frame that never goes out is forgotten; an ack the server makes itself is no sample. */
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
-    lc_stream_flow_sent(&f, 7, true, 1.0);
+    lc_stream_flow_sent(&f, 7, true, 10000, 1.0);
     lc_stream_flow_acked(&f, 7, -1);
     CHECK(f.nsent == 0 && f.nsamples == 0, "an ack without a time takes no sample (%d, %d)", f.nsent, f.nsamples);
 }
@@ -520,6 +522,201 @@ static void test_session_window(void)
     lc_session_unref(s);
 }
 
+
+/* A FIFO link on a simulated clock: one-way delay d, rate bytes/s. Frames of
+ * `bytes` are made every `interval` (once the window lets them) and handed
+ * over at once, each acked d after it arrives; n frames, then every ack. */
+static void link_run(lc_stream_flow *f, int n, double interval, double bytes, double d, double rate, double *t,
+                     uint64_t *id)
+{
+    double ack_at[64], link_free = 0;
+    uint64_t ack_id[64];
+    int head = 0, tail = 0;
+    for (int i = 0; i < n && tail < 64; i++) {
+        double ready = *t + interval;
+        while (head < tail && (ack_at[head] <= ready || f->nsent >= f->window)) {
+            if (ack_at[head] > ready)
+                ready = ack_at[head];
+            lc_stream_flow_acked(f, ack_id[head], ack_at[head]);
+            head++;
+        }
+        *t = ready;
+        lc_stream_flow_rendered(f, interval);
+        lc_stream_flow_sent(f, ++*id, true, bytes, *t);
+        double start = *t > link_free ? *t : link_free;
+        link_free = start + bytes / rate;
+        ack_at[tail] = link_free + 2 * d;
+        ack_id[tail++] = *id;
+    }
+    for (; head < tail; head++)
+        lc_stream_flow_acked(f, ack_id[head], ack_at[head]);
+    *t = ack_at[tail - 1];
+}
+
+/* The link's throughput from explicit ack sequences, and the rule that fits
+ * the moving frames to it (quality first, then size; stills untouched). */
+static void test_link_fit(void)
+{
+    bool rising = true;
+    for (int q = 2; q <= 100; q++)
+        rising = rising && lc_fit_jpeg_share(q) > lc_fit_jpeg_share(q - 1);
+    CHECK(rising && fabs(lc_fit_jpeg_share(70) - 1) < 1e-12, "JPEG bytes rise with quality, 1 at 70");
+
+    /* 2 Mbit/s (250 kB/s), 100 ms round trip, frames of 20 kB every 60 ms: each
+     * takes 80 ms on the link, so frames wait and the acks' spacing is the link's. */
+    lc_stream_flow f;
+    double t = 10;
+    uint64_t id = 0;
+    bool measured = false;
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    link_run(&f, 40, 0.060, 20000, 0.050, 250000, &t, &id);
+    double rate = lc_stream_flow_link_rate(&f, &measured);
+    CHECK(measured && fabs(rate - 250000) < 0.03 * 250000, "2 Mbit/s: measured %.0f B/s (%d)", rate, measured);
+    /* 20 Mbit/s, 50 ms: a frame takes 8 ms, none waits: a lower bound, the
+     * higher of frames over their spacing (20 kB / 60 ms) and one frame's
+     * bytes over its send-to-ack time (20 kB / 58 ms). */
+    t += 5;
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    link_run(&f, 40, 0.060, 20000, 0.025, 2500000, &t, &id);
+    rate = lc_stream_flow_link_rate(&f, &measured);
+    CHECK(!measured && fabs(rate - 20000 / 0.058) < 0.01 * 20000 / 0.058,
+          "20 Mbit/s: not measured, %.0f B/s carried at least", rate);
+    /* One stall on that link (a frame acked 350 ms late, the next one, sent
+     * 10 ms after it, just behind): one frame that seems to have waited is no
+     * queue, and no rate. */
+    lc_stream_flow_sent(&f, ++id, true, 20000, t + 0.060);
+    lc_stream_flow_sent(&f, ++id, true, 20000, t + 0.070);
+    lc_stream_flow_acked(&f, id - 1, t + 0.410);
+    lc_stream_flow_acked(&f, id, t + 0.420);
+    lc_stream_flow_link_rate(&f, &measured);
+    CHECK(!measured && f.waits == 1, "one stall measures nothing (%d waits)", f.waits);
+    /* A still of 200 kB acked 0.9 s after it went out: the link carries 222 kB/s at least. */
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    lc_stream_flow_sent(&f, ++id, false, 200000, t);
+    lc_stream_flow_acked(&f, id, t + 0.9);
+    rate = lc_stream_flow_link_rate(&f, &measured);
+    CHECK(!measured && fabs(rate - 200000 / 0.9) < 1, "a still's bytes over its send-to-ack: %.0f B/s", rate);
+    /* A window of 2 that holds the renderer back (30 kB frames, 120 ms on a
+     * 2 Mbit/s link, 100 ms base): acks come 2.3 times slower than renders,
+     * yet no frame waits on the link, and no rate is read from their pace. */
+    lc_stream_flow_init(&f, 2);
+    link_run(&f, 40, 0.060, 30000, 0.050, 250000, &t, &id);
+    rate = lc_stream_flow_link_rate(&f, &measured);
+    CHECK(!measured && f.ack_s > 2 * 0.060, "window-bound: not measured (acks %.0f ms apart, %.0f B/s carried)",
+          1000 * f.ack_s, rate);
+    /* A wait measured 10 s ago no longer counts. */
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    link_run(&f, 40, 0.060, 20000, 0.050, 250000, &t, &id);
+    t += LC_FLOW_RTT_HORIZON + 1;
+    link_run(&f, 4, 0.060, 2000, 0.050, 250000, &t, &id);
+    lc_stream_flow_link_rate(&f, &measured);
+    CHECK(!measured, "a measurement older than the horizon lapses");
+
+    /* The rule. No moving frame yet: the ceiling. */
+    lc_fit fit;
+    lc_fit_ref ref = {0, 0, 0, false};
+    lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
+    CHECK(fit.quality == 85 && fit.scale == 1, "no reference: the ceiling (%d)", fit.quality);
+    /* Not measured (a wide link): quality climbs a quarter more bytes a frame to the ceiling. */
+    ref = (lc_fit_ref){10000, 50, 1e5, false};
+    int steps = 0;
+    while (steps < 10 && ref.quality < 85) {
+        lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
+        CHECK(fit.scale == 1 && fit.target == 1.25 * ref.bytes && ref.bytes / lc_fit_jpeg_share(ref.quality) *
+                                                                         lc_fit_jpeg_share(fit.quality) <=
+                                                                     fit.target + 1e-9,
+              "a probe step stays within a quarter more bytes (%d -> %d)", ref.quality, fit.quality);
+        ref.bytes *= lc_fit_jpeg_share(fit.quality) / lc_fit_jpeg_share(ref.quality);
+        ref.quality = fit.quality, steps++;
+    }
+    CHECK(ref.quality == 85 && steps >= 2 && steps <= 4, "the ceiling after %d frames", steps);
+    /* A larger rung of the ladder (twice the pixels) is no probe: its quality stays. */
+    lc_stream_fit(0, 0, 0.070, &ref, 2e5, 85, &fit);
+    CHECK(fit.quality == 85 && fit.scale == 1, "twice the pixels, not measured: 85 (%d)", fit.quality);
+    /* Measured 2 Mbit/s against a 70 ms budget: 14 kB a frame. 20 kB at 85 -> quality drops, size stays. */
+    ref = (lc_fit_ref){20000, 85, 1e5, false};
+    lc_stream_fit(250000, 0, 0.070, &ref, 1e5, 85, &fit);
+    double per_share = 20000 / lc_fit_jpeg_share(85);
+    CHECK(fabs(fit.target - 14000) < 1e-6 && fit.scale == 1 && fit.quality > LC_FIT_MIN_QUALITY && fit.quality < 70 &&
+              per_share * lc_fit_jpeg_share(fit.quality) <= 14000 &&
+              per_share * lc_fit_jpeg_share(fit.quality + 1) > 14000,
+          "2 Mbit/s: the highest quality that fits, full size (%d)", fit.quality);
+    /* 0.5 Mbit/s: 3.5 kB; quality 30 does not fit: the floor, and the side by the square root. */
+    lc_stream_fit(62500, 0, 0.070, &ref, 1e5, 85, &fit);
+    double want = sqrt(3500 / (per_share * lc_fit_jpeg_share(LC_FIT_MIN_QUALITY)));
+    CHECK(fit.quality == LC_FIT_MIN_QUALITY && fabs(fit.scale - want) < 1e-9 && fit.scale < 1,
+          "0.5 Mbit/s: quality %d, side x %.3f (%.3f)", fit.quality, fit.scale, want);
+    lc_stream_fit(12500, 0, 0.070, &ref, 1e5, 85, &fit);
+    CHECK(fit.quality == LC_FIT_MIN_QUALITY && fit.scale == LC_FIT_MIN_SCALE, "0.1 Mbit/s: the least side (%.3f)",
+          fit.scale);
+    lc_stream_fit(62500, 0, 0.070, &ref, 1e5, 20, &fit);
+    CHECK(fit.quality == 20, "a ceiling under the floor holds (%d)", fit.quality);
+    /* Not measured, a lower bound of 2 Mbit/s: probing never aims under the 14 kB it surely carries. */
+    ref = (lc_fit_ref){5000, 40, 1e5, false};
+    lc_stream_fit(0, 250000, 0.070, &ref, 1e5, 85, &fit);
+    CHECK(fabs(fit.target - 14000) < 1e-6, "the lower bound over the probe: %.0f B", fit.target);
+    /* Before any moving frame: from the still (150 kB at 90, 972x761) and the bound the still gave. */
+    ref = (lc_fit_ref){150000, 90, 972.0 * 761, true};
+    lc_stream_fit(0, 0, 0.070, &ref, 243.0 * 190, 85, &fit);
+    CHECK(fit.quality == 85 && fit.scale == 1, "a still and no bound: the ceiling (%d)", fit.quality);
+    lc_stream_fit(0, 62500, 0.070, &ref, 243.0 * 190, 85, &fit);
+    per_share = 150000 / lc_fit_jpeg_share(90) * (243.0 * 190) / (972.0 * 761);
+    CHECK(fabs(fit.target - 3500) < 1e-6 && fit.quality < 85 && per_share * lc_fit_jpeg_share(fit.quality) <= 3500 &&
+              per_share * lc_fit_jpeg_share(fit.quality + 1) > 3500,
+          "a still's bound of 0.5 Mbit/s: the first moving frame at quality %d, not the ceiling", fit.quality);
+
+    /* Through a session: acks of a narrow link make the moving frames
+     * smaller and coarser; the still keeps full quality and size. */
+    lc_stream_conn conn = {.authed = true};
+    char reply[4096];
+    lc_stream_outcome o = send_text(
+        &conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":200,\"height\":160}", reply, sizeof reply);
+    lc_session *s = conn.session;
+    CHECK(o.opened && s, "a session (%s)", reply);
+    if (!s)
+        return;
+    lc_stream_frame g;
+    double wake = 0, ack = lc_now() + 0.2, first_w = 0;
+    int first_q = 0;
+    for (int i = 0; i < 12; i++, ack += 0.080) {
+        lc_session_stream_input(s, lc_now());
+        if (lc_session_stream_next(s, lc_now(), &g, &wake) != 1 || !g.interactive) {
+            CHECK(0, "moving frame %d due", i);
+            break;
+        }
+        if (i == 0)
+            first_q = g.quality, first_w = g.req.render.width;
+        finish(s, &g, true); /* 1000 bytes each, acked 80 ms apart after a 200 ms first: 12.5 kB/s */
+        lc_session_stream_client_ack(s, g.frame, ack);
+    }
+    bool m = false;
+    double r = lc_stream_flow_link_rate(&s->stream.flow, &m);
+    CHECK(m && fabs(r - 12500) < 0.03 * 12500, "the session measured the link (%.0f B/s)", r);
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &g, &wake) == 1 && g.interactive, "one more moving frame");
+    CHECK(first_q == LC_PROTO_DEFAULT_INTERACTIVE_QUALITY && g.quality == LC_FIT_MIN_QUALITY &&
+              g.req.render.width < first_w,
+          "moving: quality %d -> %d, width %.0f -> %d", first_q, g.quality, first_w, g.req.render.width);
+    finish(s, &g, true);
+    lc_session_stream_client_ack(s, g.frame, ack);
+    CHECK(lc_session_stream_next(s, lc_now() + 2 * srv.cfg.still_delay + 1, &g, &wake) == 1 && !g.interactive,
+          "then the still");
+    CHECK(g.quality == LC_PROTO_DEFAULT_QUALITY && g.req.render.width == 200 && g.req.render.height == 160,
+          "the still: full quality and size (%d, %dx%d)", g.quality, g.req.render.width, g.req.render.height);
+    finish(s, &g, true);
+    CHECK(!lc_session_stream_sent(s, g.frame - 1, 500, 90, 100) && s->stream.last_sent == g.frame,
+          "a frame older than one already handed over does not go out");
+    lc_stream_stats st;
+    memset(&st, 0, sizeof st);
+    lc_stream_stats_frame(&st, lc_now(), 1, 1);
+    char *text = lc_stream_stats_message(&st, s, 0, lc_now());
+    CHECK(text && strstr(text, "\"linkMbps\":0.1,") && strstr(text, "\"linkMeasured\":true"),
+          "stats carry the link's rate, measured (%s)", text ? text : "");
+    free(text);
+    lc_session_close(srv.sessions, s);
+    lc_session_unref(s);
+}
+
 int main(void)
 {
     if (test_daemon(&srv, 3000) != 0)
@@ -553,6 +750,7 @@ int main(void)
     test_budget(&conn);
     test_flow_window();
     test_session_window();
+    test_link_fit();
     lc_session_close(srv.sessions, s);
     lc_session_unref(s);
     test_daemon_free(&srv);

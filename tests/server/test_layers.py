@@ -122,7 +122,7 @@ async def stream(srv):
 
         await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": CAMERA}))
         frames, errors = await until_done(ws, lambda h: h["cameraSeq"] == 1)
-        inter = [f for f in frames if f[0]["quality"] == 70]
+        inter = [f for f in frames if (f[0].get("detail") or {}).get("interactive")]
         h, img = still(frames)
         st, _, ref = render(srv, {"layers": LAYERS, "format": "jpeg", "quality": 90, "camera": CAMERA})
         s = ssim(img, ref) if img else -1

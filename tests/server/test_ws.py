@@ -101,8 +101,9 @@ async def basic(srv):
             seqs = [h["cameraSeq"] for h in imgs]
             check(seqs == sorted(seqs), "cameraSeq never goes backwards")
             check(imgs[-1]["converged"], "stream stops once converged")
-            inter = [h for h in imgs if h["quality"] == 70]
-            check(len(inter) >= 1 and inter[0]["width"] == 48, "interactive frames at quality 70 and half size")
+            inter = [h for h in imgs if h.get("detail", {}).get("interactive")]
+            check(len(inter) >= 1 and inter[0]["width"] == 48 and inter[0]["quality"] == 85,
+                  "interactive frames at quality 85 (loopback carries them) and half size")
             check(imgs[-1]["quality"] == 90 and imgs[-1]["width"] == 96, "a full-quality still frame ends the stream")
         check(not [m for m in got if m["type"] != "frame"], "no error messages during the burst")
 

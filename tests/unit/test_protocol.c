@@ -511,7 +511,7 @@ static void test_messages(void)
     lc_stream_settings s;
     lc_proto_stream_default(&s);
     lc_proto_stream_apply(&s, &m);
-    CHECK(s.quality == 95 && s.window == 2 && s.interactive_quality == 70, "stream settings");
+    CHECK(s.quality == 95 && s.window == 2 && s.interactive_quality == LC_PROTO_DEFAULT_INTERACTIVE_QUALITY, "stream settings");
     lc_client_msg_free(&m);
     lc_client_msg_free(&m); /* idempotent */
 

@@ -89,13 +89,23 @@ export class FrameStats {
     }
     if (this.bytes != null) out.push(['bytes/frame', `${formatBytes(this.bytes)} (avg ${formatBytes(this.bytesAvg)})`]);
     if (this.renderer) out.push(['renderer', this.renderer]);
+    const link = linkText(this.server);
+    if (link) out.push(['link', link]);
     const have = new Set(out.map(([k]) => k));
     for (const [k, v] of Object.entries(this.server)) {
-      if (k === 'type' || v === null || typeof v === 'object') continue;
+      if (k === 'type' || k === 'linkMbps' || k === 'linkMeasured' || v === null || typeof v === 'object') continue;
       out.push([have.has(k) ? `server ${k}` : k, typeof v === 'number' ? String(Number(v.toPrecision(4))) : String(v)]);
     }
     return out;
   }
+}
+
+/** The stats message's link estimate in words (null without one): the link's rate where frames waited on it
+ * (what the moving frames' quality and size follow), else what it carried, a lower bound. */
+export function linkText(s) {
+  if (!s || typeof s.linkMbps !== 'number') return null;
+  const v = Number(s.linkMbps.toPrecision(3));
+  return s.linkMeasured ? `${v} Mbit/s (measured)` : `≥ ${v} Mbit/s (carried; no frame waited)`;
 }
 
 /** The frame's visibility report in words (null without one): what params.clarity aims at. */

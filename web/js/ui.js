@@ -112,7 +112,7 @@ export const GROUPS = [
   {
     id: 'quality', legend: 'Quality', controls: [
       { path: 'quality', label: 'JPEG quality (still)', kind: 'range', min: 10, max: 100, step: 1, help: 'JPEG quality of the sharp frame shown once you stop moving.' },
-      { path: 'interactiveQuality', label: 'JPEG quality (moving)', kind: 'range', min: 10, max: 100, step: 1, help: 'JPEG quality of the frames while you move the view.' },
+      { path: 'interactiveQuality', label: 'JPEG quality (moving)', kind: 'range', min: 10, max: 100, step: 1, help: 'The most JPEG quality of the frames while you move the view; the server lowers it (then their size) where the link cannot carry them in time.' },
       { path: 'interactiveScale', label: 'Resolution while moving', kind: 'range', min: 0.25, max: 1, step: 0.05, help: 'Image resolution while you move the view (fraction per side). Lower: smoother motion.' },
     ],
   },

@@ -48,6 +48,14 @@ test('frame stats: fps over the last second, latency from camera seq to drawn fr
   assert.equal(l2['server fps'], '12.35');
   assert.equal(l2.framesDropped, '3');
   assert.equal(l2.nested, undefined);
+  s.server = { linkMbps: 1.98765, linkMeasured: true };
+  const l3 = Object.fromEntries(s.lines(200));
+  assert.equal(l3.link, '1.99 Mbit/s (measured)');
+  assert.equal(l3.linkMbps, undefined);
+  s.server = { linkMbps: 2.5, linkMeasured: false };
+  assert.equal(Object.fromEntries(s.lines(200)).link, '≥ 2.5 Mbit/s (carried; no frame waited)');
+  s.server = { linkMbps: null, linkMeasured: false };
+  assert.equal(Object.fromEntries(s.lines(200)).link, undefined);
   s.frameDrawn(h(4, 2, { converged: true }), 10, 300);
   assert.equal(Object.fromEntries(s.lines(300)).state, 'converged');
 });

@@ -32,6 +32,7 @@ struct lc_encoders {
     pthread_t *threads;
     int count, started;
     pthread_mutex_t enc_lock;
+    pthread_mutex_t send_lock; /* a session's frame handed over and queued to its connection as one step */
     pthread_cond_t enc_work;
     encode_item *enc_head, *enc_tail;
     int enc_depth;
@@ -97,7 +98,7 @@ static void encode_one(lc_encoders *w, encode_item *e)
     if (rc != 0) {
         LC_WARN(MOD, "session %s: encode failed: %s", s->id, err.msg);
         lc_stream_error(srv, s, "render_failed", err.msg, NULL);
-        lc_session_stream_sent(s, e->frame.frame);
+        lc_session_stream_sent(s, e->frame.frame, 0, 0, 0);
         lc_session_stream_ack(s, e->frame.frame); /* nothing to ack for this id */
         w->wake(w->wake_ctx, s);
         return;
@@ -161,9 +162,17 @@ static void encode_one(lc_encoders *w, encode_item *e)
     size_t len = 0;
     rc = lc_proto_pack_frame(&h, img, size, &msg, &len);
     free(img);
+    /* Two encoder threads may finish a session's frames out of order (a
+     * still behind the moving frame after it): a frame older than one that
+     * already went out would show an older camera last, so it is dropped
+     * (the newer frame's ack covers its id). */
     if (rc == 0) {
-        lc_session_stream_sent(s, e->frame.frame);
-        srv->sink.send_frame(srv->sink.ctx, s, msg, len, e->info.wall_ms, ms);
+        pthread_mutex_lock(&w->send_lock);
+        if (lc_session_stream_sent(s, e->frame.frame, len, e->quality, (long)e->width * e->height))
+            srv->sink.send_frame(srv->sink.ctx, s, msg, len, e->info.wall_ms, ms);
+        else
+            free(msg);
+        pthread_mutex_unlock(&w->send_lock);
     }
 }
 
@@ -208,6 +217,7 @@ int lc_encoders_create(lc_server *srv, int n, void (*wake)(void *ctx, lc_session
     w->wake_ctx = wake_ctx;
     w->count = n > 0 ? n : 1;
     pthread_mutex_init(&w->enc_lock, NULL);
+    pthread_mutex_init(&w->send_lock, NULL);
     pthread_cond_init(&w->enc_work, NULL);
     for (int i = 0; i < w->count; i++)
         if (pthread_create(&w->threads[i], NULL, encoder_main, w) == 0)
@@ -237,6 +247,7 @@ void lc_encoders_destroy(lc_encoders *w)
         return;
     lc_encoders_stop(w);
     pthread_mutex_destroy(&w->enc_lock);
+    pthread_mutex_destroy(&w->send_lock);
     pthread_cond_destroy(&w->enc_work);
     free(w->threads);
     free(w);

@@ -271,6 +271,8 @@ char *lc_stream_stats_message(lc_stream_stats *st, lc_session *s, int render_que
     uint64_t dropped = s->stream.coalesced;
     int unacked = s->stream.unacked, window = s->stream.window;
     double rtt = s->stream.flow.rtt, frame_s = s->stream.flow.frame_s;
+    bool measured;
+    double rate = lc_stream_flow_link_rate(&s->stream.flow, &measured);
     pthread_mutex_unlock(&s->lock);
 
     json_t *f = json_object();
@@ -285,6 +287,9 @@ char *lc_stream_stats_message(lc_stream_stats *st, lc_session *s, int render_que
     json_object_set_new(f, "window", json_integer(window));
     json_object_set_new(f, "rttMs", rtt > 0 ? ms_json(1000.0 * rtt) : json_null());
     json_object_set_new(f, "frameMs", frame_s > 0 ? ms_json(1000.0 * frame_s) : json_null());
+    /* Megabits per second to the kilobit: the link's rate, or what it carried. */
+    json_object_set_new(f, "linkMbps", rate > 0 ? json_real(round(rate * 8e-3) / 1000.0) : json_null());
+    json_object_set_new(f, "linkMeasured", json_boolean(measured));
     json_object_set_new(f, "bytesSent", json_integer((json_int_t)st->bytes));
     json_object_set_new(f, "interval", json_real(round((now - st->last_report) * 1000.0) / 1000.0));
     char *text = lc_proto_stats_json(f);

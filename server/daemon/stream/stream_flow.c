@@ -24,29 +24,33 @@ void lc_stream_flow_init(lc_stream_flow *f, int ceiling)
     update_window(f);
 }
 
-void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, bool moving, double now)
+void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, bool moving, double bytes, double now)
 {
     if (f->nsent == LC_PROTO_MAX_WINDOW) { /* cannot happen under the window; keep the newest */
         memmove(f->sent_id, f->sent_id + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_id[0]);
         memmove(f->sent_at, f->sent_at + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_at[0]);
         memmove(f->sent_moving, f->sent_moving + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_moving[0]);
         memmove(f->sent_alone, f->sent_alone + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_alone[0]);
+        memmove(f->sent_bytes, f->sent_bytes + 1, (LC_PROTO_MAX_WINDOW - 1) * sizeof f->sent_bytes[0]);
         f->nsent--;
     }
     f->sent_id[f->nsent] = id;
     f->sent_moving[f->nsent] = moving;
     f->sent_alone[f->nsent] = f->nsent == 0;
+    f->sent_bytes[f->nsent] = bytes > 0 ? bytes : 0;
     f->sent_at[f->nsent++] = now;
 }
 
 void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
 {
     bool found = false, moving = false, alone = false;
-    double sent = 0;
+    double sent = 0, bytes = 0, newest = 0;
     int k = 0;
     for (int i = 0; i < f->nsent; i++) {
         if (f->sent_id[i] <= id) { /* oldest first: the last of these is the newest acked */
             found = true;
+            bytes += f->sent_moving[i] ? f->sent_bytes[i] : 0;
+            newest = f->sent_bytes[i];
             sent = f->sent_at[i];
             moving = f->sent_moving[i];
             alone = f->sent_alone[i];
@@ -55,14 +59,43 @@ void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
         f->sent_id[k] = f->sent_id[i];
         f->sent_moving[k] = f->sent_moving[i];
         f->sent_alone[k] = f->sent_alone[i];
+        f->sent_bytes[k] = f->sent_bytes[i];
         f->sent_at[k++] = f->sent_at[i];
     }
     f->nsent = k;
-    if (!found || !moving || now < 0)
+    if (!found || now < 0)
+        return;
+    /* Any frame, a still too: its bytes crossed the link before its ack left,
+     * so bytes / send-to-ack is at most the link's rate; a large frame's is
+     * close to it. The highest within the horizon. */
+    double bound = now > sent ? newest / (now - sent) : 0;
+    if (bound >= f->bound || now - f->bound_at > LC_FLOW_RTT_HORIZON) {
+        f->bound = bound;
+        f->bound_at = now;
+    }
+    if (!moving)
         return;
     /* The spacing of acks within a gesture: what the link delivers. */
-    double gap = now - f->last_ack;
+    double gap = now - f->last_ack, sample = now - sent;
     if (f->last_ack > 0 && gap >= 0 && gap < LC_FLOW_ACK_GAP_MAX) {
+        /* This frame waited on the link: the gap is its transfer. A frame
+         * taken at once has sample = base + transfer with gap >= transfer,
+         * one that waited sample = wait + base + transfer with gap =
+         * transfer, so sample - gap exceeds rtt (base + one frame's
+         * transfer) only where it waited longer than a frame's transfer, and
+         * a late ack of this frame (jitter) moves both alike. Acks that
+         * come slower than frames are rendered are no such test: where the
+         * window holds the renderer back they do too, and a rate read from
+         * them shrinks the frames that set it. Smoothed bytes over smoothed
+         * gaps, so acks that bunch do not count as rate. */
+        if (f->rtt > 0 && sample - gap > f->rtt) {
+            bool fresh = f->wait_at > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
+            f->waits = fresh ? f->waits + 1 : 1;
+            f->wait_s = fresh ? f->wait_s + LC_FLOW_FRAME_GAIN * (gap - f->wait_s) : gap;
+            f->wait_bytes = fresh ? f->wait_bytes + LC_FLOW_FRAME_GAIN * (bytes - f->wait_bytes) : bytes;
+            f->wait_at = now;
+        }
+        f->ack_bytes = f->ack_s > 0 ? f->ack_bytes + LC_FLOW_FRAME_GAIN * (bytes - f->ack_bytes) : bytes;
         f->ack_s = f->ack_s > 0 ? f->ack_s + LC_FLOW_FRAME_GAIN * (gap - f->ack_s) : gap;
         /* Frames wait on the link: the acks' spacing is its time per frame. */
         if (f->srtt > f->rtt + 0.5 * f->ack_s) {
@@ -71,7 +104,6 @@ void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
         }
     }
     f->last_ack = now;
-    double sample = now - sent;
     if (sample < 0)
         sample = 0;
     f->nsamples++;
@@ -91,6 +123,7 @@ void lc_stream_flow_forget(lc_stream_flow *f, uint64_t id)
             f->sent_id[k] = f->sent_id[i];
             f->sent_moving[k] = f->sent_moving[i];
             f->sent_alone[k] = f->sent_alone[i];
+            f->sent_bytes[k] = f->sent_bytes[i];
             f->sent_at[k++] = f->sent_at[i];
         }
     f->nsent = k;
@@ -102,4 +135,13 @@ void lc_stream_flow_rendered(lc_stream_flow *f, double seconds)
         return;
     f->frame_s = f->frame_s > 0 ? f->frame_s + LC_FLOW_FRAME_GAIN * (seconds - f->frame_s) : seconds;
     update_window(f);
+}
+
+double lc_stream_flow_link_rate(const lc_stream_flow *f, bool *measured)
+{
+    *measured = f->waits >= LC_FLOW_WAITS && f->wait_s > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
+    if (*measured)
+        return f->wait_bytes / f->wait_s;
+    double carried = f->ack_s > 0 ? f->ack_bytes / f->ack_s : 0;
+    return carried > f->bound ? carried : f->bound;
 }

@@ -31,6 +31,25 @@
  *   frame the window is that too.
  * - ceiling: the hello's window (LC_PROTO_MAX_WINDOW without one).
  *
+ * The link's throughput comes from the same acks (stream_fit.h spends it):
+ * - measured: the smoothed bytes per ack over the smoothed ack spacing, of
+ *   acks of frames that waited on the link: their send-to-ack time less the
+ *   spacing from the ack before exceeds rtt (a frame sent to an idle link
+ *   has base + transfer against a spacing of at least its transfer; one that
+ *   waited, wait + base + transfer against a spacing of its transfer, as the
+ *   link carried the frame before it until its own began; so the test holds
+ *   where it waited longer than one frame's transfer, and the spacing is its
+ *   transfer).
+ *   It counts from the LC_FLOW_WAITS-th such ack (one late ack, a stall of
+ *   the client or of a loaded host, is no queue) and holds for
+ *   LC_FLOW_RTT_HORIZON seconds after the last; a new measurement after that
+ *   starts afresh.
+ * - carried: the same over every ack of a moving frame within a gesture, what
+ *   the link was seen to carry, or where higher the most bytes over
+ *   send-to-ack time of one frame within the horizon, a still too (its bytes
+ *   crossed the link before its ack left): lower bounds of the rate, which is
+ *   all that is known where no frame waited.
+ *
  * No locking and no clock here: the session calls these under its lock with
  * lc_now(), and the unit test with simulated times. */
 #ifndef LC_SERVER_STREAM_FLOW_H
@@ -43,6 +62,7 @@
 
 #define LC_FLOW_RTT_HORIZON 10.0 /* seconds the lowest send-to-ack time holds against higher ones */
 #define LC_FLOW_FRAME_GAIN 0.25 /* weight of a new render time in frame_s, of a new ack gap in ack_s */
+#define LC_FLOW_WAITS 3 /* acks of frames that waited before their spacing counts as the link's rate */
 #define LC_FLOW_ACK_GAP_MAX 1.0 /* seconds between acks beyond which the next starts a new gesture */
 
 typedef struct lc_stream_flow {
@@ -52,6 +72,7 @@ typedef struct lc_stream_flow {
     double sent_at[LC_PROTO_MAX_WINDOW];     /* when each was */
     bool sent_moving[LC_PROTO_MAX_WINDOW];   /* whether it was a moving frame */
     bool sent_alone[LC_PROTO_MAX_WINDOW];    /* whether no other frame was unacknowledged then */
+    double sent_bytes[LC_PROTO_MAX_WINDOW];  /* its message's bytes */
     int nsent;
     int nsamples;                            /* send-to-ack samples taken */
     double rtt;                              /* the lowest within the horizon, seconds (0: none yet) */
@@ -62,12 +83,17 @@ typedef struct lc_stream_flow {
     double link_at;                          /* when it was last measured */
     double last_ack;                         /* when the latest such ack came */
     double frame_s;                          /* smoothed render time of a moving frame, seconds (0: none yet) */
+    double ack_bytes;                        /* smoothed bytes of moving frames an ack covers (with ack_s) */
+    double wait_bytes, wait_s;               /* the same and the acks' spacing, of frames that waited on the link */
+    double wait_at;                          /* when such an ack last came (0: never) */
+    int waits;                               /* such acks since the measurement began */
+    double bound, bound_at;                  /* the highest bytes / send-to-ack of one frame, and when */
 } lc_stream_flow;
 
 /* A flow before any frame, under the client's ceiling (1..LC_PROTO_MAX_WINDOW). */
 void lc_stream_flow_init(lc_stream_flow *f, int ceiling);
-/* Frame id (moving: a moving frame) was handed to the connection at now. */
-void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, bool moving, double now);
+/* Frame id (moving: a moving frame) of `bytes` was handed to the connection at now. */
+void lc_stream_flow_sent(lc_stream_flow *f, uint64_t id, bool moving, double bytes, double now);
 /* Frames up to id were acked at now: the newest of them sent gives a
  * round-trip sample and the window follows (now < 0: no sample, an ack the
  * server makes itself for a frame that never went out). */
@@ -76,5 +102,9 @@ void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now);
 void lc_stream_flow_forget(lc_stream_flow *f, uint64_t id);
 /* A frame took seconds to render: the window follows. */
 void lc_stream_flow_rendered(lc_stream_flow *f, double seconds);
+/* The link's throughput in bytes per second: *measured true where frames
+ * waited on it within the horizon (its rate), false where none did (what it
+ * carried, a lower bound; 0 before an ack). */
+double lc_stream_flow_link_rate(const lc_stream_flow *f, bool *measured);
 
 #endif

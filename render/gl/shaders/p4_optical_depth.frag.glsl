@@ -7,7 +7,7 @@ uniform float u_weight; // subset stride
 void main()
 {
     if (outside_primitive())
-        discard;
+        DISCARD;
     FLOOR_RETURN
     float c[NTARGETS * 4];
     fourier_project(fragment_series_depth(), -log(1.0 - fragment_alpha()) * draw_weight(u_weight), c);

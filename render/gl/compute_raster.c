@@ -33,11 +33,13 @@ void lc_compute_raster_configure(const char *gl_renderer)
 
 /* The rule, per pass and primitive type: on a software rasterizer each
  * traversal's vertex shading, set-up and binning run on the calling thread,
- * while a dispatch spreads over the worker threads; there P4 and P5 of point
- * splats measured 3-7 times faster computed, and of dense thin lines 2-5 times
- * slower (about ten fragments a segment, each a dozen atomic adds, against
- * the fixed pipeline's blending; docs/EVALUATION.md §26). A GPU's hardware
- * rasterizer keeps both. Surfaces always draw. */
+ * while a dispatch spreads over the worker threads; there P5 of point splats
+ * measured about twice as fast computed and P4 as fast or a little faster,
+ * while both of dense thin lines were several times slower (about ten
+ * fragments a segment, each a dozen atomic adds in P4, four corners' vertex
+ * work a segment against the strips' two; docs/EVALUATION.md §26). A GPU's
+ * hardware rasterizer keeps both until one measures otherwise. Surfaces
+ * always draw. */
 static int rule(int software, int override, lc_raster_pass pass, lc_prim_type prim)
 {
     (void)pass;
@@ -158,6 +160,7 @@ void lc_compute_raster_bind(lc_renderer *r, GLuint prog, const lc_frame_setup *f
     glProgramUniform4f(prog, glGetUniformLocation(prog, "u_raster_viewport"), (float)vp[0], (float)vp[1], (float)vp[2],
                        (float)vp[3]);
     glProgramUniform2i(prog, glGetUniformLocation(prog, "u_raster_size"), r->raster_width, r->raster_height);
+    lc_uniform_i(prog, "u_raster_planes", r->raster_planes);
     lc_uniform_u(prog, "u_first_primitive", 0);
     lc_uniform_i(prog, "u_raster_pulled", lc_pulls_primitives(fs->gs->scene->type, subset, fs->pull_lines));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_RASTER_SUMS, r->raster_sums);

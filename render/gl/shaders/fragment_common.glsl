@@ -8,7 +8,8 @@
 #undef main
 #define main raster_fragment_main
 #define DISCARD return
-// The pass's sums, one plane of u_raster_size pixels per output channel, in
+// The pass's sums, per pixel of u_raster_size its u_raster_planes output
+// channels side by side (a fragment's adds share a cache line or two), in
 // 64-bit fixed point as (low, high) word pairs: the sum is high * 4096 +
 // low / 2^20 with low a signed word, so that integer atomic adds give the same
 // sums in any order and a frame is the same bit for bit on every run (float
@@ -18,12 +19,13 @@
 // into the pass's targets afterwards.
 layout(std430, binding = BIND_RASTER_SUMS) buffer RasterSums { int raster_sums[]; };
 uniform ivec2 u_raster_size;
+uniform int u_raster_planes;
 void raster_add(int plane, float value)
 {
     if (value == 0.0 || isnan(value))
         return;
     ivec2 p = ivec2(FRAG_COORD.xy);
-    int i = 2 * ((plane * u_raster_size.y + p.y) * u_raster_size.x + p.x);
+    int i = 2 * ((p.y * u_raster_size.x + p.x) * u_raster_planes + plane);
     int high = 0;
     if (abs(value) >= 2047.0) { // whole units of 4096 go to the high word
         float whole = round(clamp(value, -1e12, 1e12) / 4096.0);

@@ -1,8 +1,8 @@
 // Stores the compute rasterizer's sums (raster.comp.glsl; 64-bit fixed point
 // as (low, high) word pairs, high * 4096 + low / 2^20: fragment_common.glsl
 // raster_add) into the pass's
-// targets, which the later passes read as the fixed pipeline left them: plane
-// 4i + j becomes channel j of target i (compute_raster.c binds the targets).
+// targets, which the later passes read as the fixed pipeline left them: channel
+// 4i + j of a pixel's sums becomes channel j of target i (compute_raster.c binds the targets).
 layout(local_size_x = 64) in;
 
 layout(std430, binding = BIND_RASTER_SUMS) readonly buffer RasterSums { int raster_sums[]; };
@@ -20,7 +20,7 @@ vec4 target_value(int t, int pixel, int n)
     vec4 v = vec4(0.0);
     for (int j = 0; j < 4; j++)
         if (4 * t + j < u_planes) {
-            int i = 2 * ((4 * t + j) * n + pixel);
+            int i = 2 * (pixel * u_planes + 4 * t + j);
             v[j] = float(double(raster_sums[i + 1]) * 4096.0lf + double(raster_sums[i]) * (1.0lf / 1048576.0lf));
         }
     return v;

@@ -34,12 +34,11 @@ void lc_compute_raster_configure(const char *gl_renderer)
 /* The rule, per pass and primitive type: on a software rasterizer each
  * traversal's vertex shading, set-up and binning run on the calling thread,
  * while a dispatch spreads over the worker threads; there P5 of point splats
- * measured about twice as fast computed and P4 as fast or a little faster,
- * while both of dense thin lines were several times slower (about ten
- * fragments a segment, each a dozen atomic adds in P4, four corners' vertex
- * work a segment against the strips' two; docs/EVALUATION.md §26). A GPU's
- * hardware rasterizer keeps both until one measures otherwise. Surfaces
- * always draw. */
+ * measured 1.4-3 times as fast computed and P4 as fast, while both of dense
+ * thin lines were 1.2-14 times slower (about ten fragments a segment, each a
+ * dozen atomic adds in P4, and four corners' vertex work a segment against
+ * the strips' two; docs/EVALUATION.md §26). A GPU's hardware rasterizer keeps
+ * both until one measures otherwise. Surfaces always draw. */
 static int rule(int software, int override, lc_raster_pass pass, lc_prim_type prim)
 {
     (void)pass;

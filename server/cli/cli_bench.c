@@ -95,9 +95,10 @@ static const lc_option bench_options[] = {
     {"--uniform-points", NULL, LC_OPT_BOOL, BENCH(uniform_points),
      .help = "with --point-stride: every N-th of all points"},
     {"--floor", NULL, LC_OPT_BOOL, BENCH(floor),
-     .help = "per geometry pass, one-shot stills timed three ways, alternated\n"
-             "frame by frame: shaded, with an empty fragment shader and with\n"
-             "GL_RASTERIZER_DISCARD (medians; docs/EVALUATION.md, the geometry path)"},
+     .help = "per geometry pass, one-shot stills timed four ways, alternated\n"
+             "frame by frame: shaded (P4, P5 drawn), with an empty fragment shader,\n"
+             "with GL_RASTERIZER_DISCARD and with P4, P5 through the compute\n"
+             "rasterizer (medians; docs/EVALUATION.md, the geometry path)"},
     {"--line-stride", "N", LC_OPT_INT, BENCH(line_stride), 1, 1024,
      .help = "with --interactive, lines: the most important 1/(4N) in full,\n"
              "every N-th of the rest (whole lines)"},

@@ -15,6 +15,10 @@
  * few rows, a segment across the view hundreds. */
 #define RASTER_LARGE_ROWS 32u
 #define RASTER_LARGE_CAPACITY 65535u /* one dispatch's groups along x */
+/* Primitives a dispatch: pre-emption (desc.preempted) may end a pass between
+ * two, as between the batches of a draw (pipeline.c); llvmpipe runs a
+ * dispatch before the call returns. */
+#define RASTER_CHUNK (1u << 18)
 
 static atomic_int raster_software = 0; /* llvmpipe and the like: the fixed pipeline's set-up is serial */
 static atomic_int raster_override = -1; /* LUCENT_COMPUTE_RASTER: -1 the rule, 0 drawn, 1 compute */
@@ -179,11 +183,17 @@ void lc_compute_raster_dispatch(lc_renderer *r, GLuint prog, const lc_frame_setu
     const uint32_t header[4] = {0, 1, 1, 0}; /* the second dispatch's groups, and the entries taken */
     glNamedBufferSubData(r->raster_large, 0, sizeof header, header);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    lc_uniform_u(prog, "u_raster_count", (unsigned)count);
     lc_uniform_u(prog, "u_raster_large_px", RASTER_LARGE_ROWS);
     lc_uniform_u(prog, "u_raster_large_capacity", RASTER_LARGE_CAPACITY);
     lc_uniform_i(prog, "u_raster_large_pass", 0);
-    lc_dispatch_linear((GLuint)((count + 63) / 64));
+    for (uint64_t first = 0; first < count; first += RASTER_CHUNK) {
+        uint64_t end = count - first < RASTER_CHUNK ? count : first + RASTER_CHUNK;
+        lc_uniform_u(prog, "u_raster_first", (unsigned)first);
+        lc_uniform_u(prog, "u_raster_count", (unsigned)end);
+        lc_dispatch_linear((GLuint)((end - first + 63) / 64));
+        if (count > RASTER_CHUNK && lc_renderer_batch_yield(fs))
+            return; /* the frame ends at the pass's yield point */
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     lc_uniform_i(prog, "u_raster_large_pass", 1);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, r->raster_large);

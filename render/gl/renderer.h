@@ -295,7 +295,8 @@ typedef struct lc_renderer_desc {
     void *yield_ctx;
     /* Pre-emption inside a pass (NULL = none): called with yield_ctx between
      * the batches of a draw of P0, P1, P2, P4 and P5 on a software rasterizer
-     * (pipeline.c), where a pass of a large still can take seconds. It must
+     * (pipeline.c) and between the dispatches of a computed P4 or P5
+     * (compute_raster.c), where a pass of a large still can take seconds. It must
      * not block. Nonzero ends the draw; the frame ends at its next yield
      * point as if desc.yield had said so there. */
     int (*preempted)(void *ctx);

@@ -650,6 +650,10 @@ int lc_renderer_smooth_and_fade(lc_renderer *r, const lc_frame_setup *fs, lc_fra
 /* P4..P6 with the element opacities (or alpha = g^k when direct). */
 int lc_fourier_composite(lc_renderer *r, lc_frame_setup *fs, int direct, lc_error *err);
 
+/* ---- pipeline.c: pre-emption between two batches of a pass (desc.preempted,
+ * where fourier.c allows it): nonzero ends the pass (r->yield_cut). */
+int lc_renderer_batch_yield(const lc_frame_setup *fs);
+
 /* ---- compute_raster.c (docs/ALGORITHM.md "Compute rasterization"): P4 and
  * P5 as compute passes, each invocation a point splat or a line segment that
  * covers its pixels itself and adds into per-pixel sums with float atomics. */

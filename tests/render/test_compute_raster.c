@@ -14,7 +14,10 @@
  *   SSIM >= 0.998;
  * - the same frame computed twice is the same bit for bit (the sums are
  *   integer atomics, so their order does not matter);
- * - a frame the compute path does not cover (surfaces) draws and says so. */
+ * - a frame the compute path does not cover (surfaces) draws and says so;
+ * - pre-emption (desc.preempted) between the dispatches of a computed pass of
+ *   300k points, as at every other stopping point of the frame, ends it with
+ *   LC_ERR_CANCELLED, and the next frame is byte for byte the frame before. */
 #include <math.h>
 
 #include "demo.h"
@@ -73,6 +76,16 @@ static void check_case(test_gl *t, const lc_gpu_scene *gs, const lc_render_param
     CHECK(d.covered > 0.1, "%s: the scene covers the image (%.2f)", name, d.covered);
     CHECK(d.ssim >= min_ssim, "%s: SSIM %.6f against the drawn passes (>= %.3f)", name, d.ssim, min_ssim);
     CHECK(d.off <= max_off, "%s: %.4f of the pixels more than 3/255 off (<= %.4f)", name, d.off, max_off);
+}
+
+typedef struct stopper {
+    int calls, stop_at; /* preempted calls this frame; the one that says stop (0: none) */
+} stopper;
+
+static int preempted(void *ctx)
+{
+    stopper *st = ctx;
+    return ++st->calls == st->stop_at;
 }
 
 static lc_gpu_scene *demo(const char *name, uint64_t count, lc_scene **s)
@@ -169,6 +182,44 @@ int main(void)
         lc_gpu_scene_destroy(gs);
         lc_scene_destroy(s);
     }
+
+    /* Pre-emption inside the computed passes: 300k points make two dispatches a pass. */
+    s = NULL;
+    gs = demo("points", 300000, &s);
+    stopper st = {0, 0};
+    test_gl pre = {.gl = t.gl};
+    lc_renderer_desc pd = {.preempted = preempted, .yield_ctx = &st};
+    lc_gl_release_current(t.gl);
+    CHECK(lc_gl_make_current(pre.gl, &err) == 0 && lc_renderer_create(&pd, &pre.renderer, &err) == 0,
+          "pre-empted renderer: %s", err.msg);
+    if (gs && pre.renderer) {
+        lc_render_params p;
+        lc_render_params_default(&p);
+        p.width = W, p.height = H;
+        render(&pre, gs, &p, 1, drawn, &info);
+        int calls = st.calls, stopped = 0, same = 0;
+        CHECK(info.computed_passes == 3 && calls >= 4, "computed (%d) with %d pre-emption points", info.computed_passes,
+              calls);
+        for (int at = 1; at <= calls; at++) {
+            st.calls = 0, st.stop_at = at;
+            lc_renderer_set_raster_path(pre.renderer, 1);
+            int rc = lc_render_frame(pre.renderer, gs, &p, NULL, 0.0, computed, &info, &err);
+            stopped += rc == LC_ERR_CANCELLED;
+            st.calls = 0, st.stop_at = 0;
+            render(&pre, gs, &p, 1, again, &info);
+            same += memcmp(drawn, again, (size_t)W * H * 4) == 0;
+        }
+        printf("pre-emption: %d points in a computed frame, %d stopped it, the next frame identical after %d\n", calls,
+               stopped, same);
+        CHECK(stopped == calls && same == calls, "pre-emption: %d of %d stopped, %d identical after", stopped, calls,
+              same);
+    }
+    if (pre.renderer)
+        lc_renderer_destroy(pre.renderer);
+    lc_gl_release_current(pre.gl);
+    CHECK(lc_gl_make_current(t.gl, &err) == 0, "context: %s", err.msg);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
 
     /* Surfaces stay drawn whatever the path asks. */
     s = NULL;

@@ -13,7 +13,8 @@
 #undef main
 layout(local_size_x = 64) in;
 
-uniform uint u_raster_count;    // primitives of this dispatch (splats or ribbon slots)
+uniform uint u_raster_first;    // the first primitive (splat or ribbon slot) of this dispatch
+uniform uint u_raster_count;    // and the end of its primitives
 uniform vec4 u_raster_viewport; // the viewport of the fixed pipeline's draw: x, y, width, height
 uniform uint u_raster_large_px; // a quad of more pixel rows than this goes to the large list (0: none)
 uniform uint u_raster_large_capacity; // entries of large_list
@@ -196,7 +197,8 @@ void main()
         raster_primitive(large_list[gl_WorkGroupID.x], int(gl_LocalInvocationID.x), 64, false);
         return;
     }
-    uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint k = u_raster_first + gl_GlobalInvocationID.x +
+             gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     if (k < u_raster_count)
         raster_primitive(k, 0, 1, true);
 }

@@ -386,6 +386,52 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     return finish_opacities(r, fs, state, dt, info, err);
 }
 
+/* P4's uniforms beyond the geometry's, drawn or computed (kanzler: its maps' binding and weights). */
+static void set_p4_uniforms(GLuint prog, lc_renderer *r, const lc_frame_setup *lf, int subset, int kanzler)
+{
+    lc_uniform_f(prog, "u_weight", lc_renderer_subset(lf, subset));
+    lc_renderer_bind_direct_alpha(prog, lf->params);
+    if (kanzler)
+        lc_kanzler_bind(r, prog, &lf->params->foo);
+    lc_renderer_bind_halo(prog, lf);
+}
+
+/* P5's, drawn or computed: it reads P4's sums at full resolution. */
+static void set_p5_uniforms(GLuint prog, lc_renderer *r, const lc_frame_setup *lf, int kanzler)
+{
+    lc_bind_coefficients(&r->coef_full);
+    lc_uniform_i(prog, "u_estimator", lf->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    lc_renderer_bind_direct_alpha(prog, lf->params);
+    if (kanzler)
+        lc_kanzler_bind(r, prog, &lf->params->foo);
+    lc_renderer_bind_halo(prog, lf);
+}
+
+/* Which path P4 or P5 took this frame (lc_frame_info.computed_passes). */
+static void info_paths(lc_frame_setup *fs, lc_raster_pass pass, int computed)
+{
+    if (fs->info && computed)
+        fs->info->computed_passes |= 1 << pass;
+}
+
+/* P4 or P5 through the compute rasterizer (compute_raster.c): `planes` sums
+ * per pixel of t, stored into t's targets once every primitive is in. */
+static int compute_pass(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, lc_targets *t, int planes,
+                        int subset, lc_error *err)
+{
+    int rc = lc_compute_raster_begin(r, t->width, t->height, planes, err);
+    GLuint prog = rc ? 0 : lc_compute_raster_program(r, kind, fs->gs->scene->type, fs->params->foo.bands, err);
+    if (!prog)
+        return rc ? rc : LC_ERR_GL;
+    lc_compute_raster_bind(r, prog, fs, subset);
+    if (kind == PROG_P4 || kind == PROG_P4_DIRECT)
+        set_p4_uniforms(prog, r, fs, subset, 0);
+    else
+        set_p5_uniforms(prog, r, fs, 0);
+    lc_compute_raster_dispatch(r, prog, fs, subset);
+    return lc_compute_raster_end(r, t, err);
+}
+
 /* P4..P6 with the element opacities, the direct baseline's (params.alphaSource),
  * or, kanzler, g^k times Kanzler's penalty on this frame's maps (drawn first,
  * so that every antialias sample has maps of its own view); bins: the binning
@@ -416,7 +462,18 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     if (record)
         lc_composite_list_begin(r, fs);
     r->draw_yields = 1; /* P4 and P5: yield points follow, and the image is all they make */
-    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+    /* The compute rasterizer has the series and the direct opacities but no depth bins, Kanzler maps or
+     * screen-space derivatives (alphaSource normalVariation): those draw. */
+    int computable = !bins && !kanzler && !(direct && p->foo.alpha_source == LC_ALPHA_NORMAL_VARIATION);
+    int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, p->foo.subset);
+    info_paths(fs, LC_RASTER_P4, computed);
+    if (computed) {
+        int rc = compute_pass(r, fs, direct ? PROG_P4_DIRECT : PROG_P4, &r->coef_full, 2 * bands + 1, p->foo.subset,
+                              err);
+        if (rc)
+            return rc;
+    }
+    for (int i = 0; i < lc_frame_layer_count(fs) && !computed; i++) {
         lc_frame_setup tmp;
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
@@ -426,11 +483,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         if (!p4)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
-        lc_uniform_f(p4, "u_weight", lc_renderer_subset(lf, p->foo.subset));
-        lc_renderer_bind_direct_alpha(p4, p);
-        if (kanzler)
-            lc_kanzler_bind(r, p4, &p->foo);
-        lc_renderer_bind_halo(p4, lf);
+        set_p4_uniforms(p4, r, lf, p->foo.subset, kanzler);
         if (record) {
             lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
             lc_uniform_u(p4, "u_chain_pixels", r->chain_pixels);
@@ -454,7 +507,11 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         if (rc)
             return rc;
     }
-    for (int i = 0; i < lc_frame_layer_count(fs) && !listed; i++) {
+    int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5, 1);
+    info_paths(fs, LC_RASTER_P5, p5_computed);
+    if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)
+        return rc;
+    for (int i = 0; i < lc_frame_layer_count(fs) && !listed && !p5_computed; i++) {
         lc_frame_setup tmp;
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
@@ -463,12 +520,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         if (!p5)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p5, lf, fs->width, fs->height, 1);
-        lc_bind_coefficients(&r->coef_full);
-        lc_uniform_i(p5, "u_estimator", p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
-        lc_renderer_bind_direct_alpha(p5, p);
-        if (kanzler)
-            lc_kanzler_bind(r, p5, &p->foo);
-        lc_renderer_bind_halo(p5, lf);
+        set_p5_uniforms(p5, r, lf, kanzler);
         lc_renderer_draw_geometry(lf, 1);
     }
     r->draw_yields = 0;

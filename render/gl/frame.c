@@ -29,6 +29,8 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
         r->desc = *desc;
     lc_pipeline_configure((const char *)glGetString(GL_RENDERER));
     lc_fragment_list_configure((const char *)glGetString(GL_RENDERER));
+    lc_compute_raster_configure((const char *)glGetString(GL_RENDERER));
+    r->raster_path = -1;
     glCreateVertexArrays(1, &r->vao);
     /* Line ribbons are strips separated by LC_STRIP_RESTART (gpu_scene.c);
      * triangle index buffers never hold that index. */
@@ -80,6 +82,7 @@ void lc_renderer_destroy(lc_renderer *r)
     lc_shadow_destroy(r);
     lc_smart_destroy(r);
     lc_fragment_list_release(r);
+    lc_compute_raster_release(r);
     if (r->marker_program)
         glDeleteProgram(r->marker_program);
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
@@ -716,6 +719,7 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
     /* The fragment lists, sized by this frame: the 8x8 frames would not
      * shrink them (fragment_list.c keeps the largest counts seen). */
     lc_fragment_list_release(r);
+    lc_compute_raster_release_sums(r); /* sized by this frame too */
     r->fragment_seen = r->composite_seen = 0;
     tiny.width = tiny.height = 8;
     if (tiny.method == LC_METHOD_EXACT)

@@ -347,7 +347,7 @@ static void end_batch(GLsync in_flight[2], uint64_t k)
  * the frame's next yield point ends the frame. Large renders wait for other
  * sessions only at the passes' yield points: waiting between batches as well
  * starved them behind a steady orbit. */
-static int batch_yield(const lc_frame_setup *fs)
+int lc_renderer_batch_yield(const lc_frame_setup *fs)
 {
     lc_renderer *r = fs->renderer;
     if (!r || !r->draw_yields || !r->desc.preempted || (r->desc.reducer && r->desc.reducer->size > 1))
@@ -371,7 +371,7 @@ static void draw_strips(const lc_frame_setup *fs, const lc_gpu_level *lv, uint64
         start = end;
         if (batch < lv->index_count) {
             end_batch(in_flight, k++);
-            if (batch_yield(fs))
+            if (lc_renderer_batch_yield(fs))
                 return;
         }
     }
@@ -390,7 +390,7 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
         draw_range(LC_PRIM_POINTS, 0, fs->point_sprites, first, n - first < batch ? n - first : batch);
         if (n > batch) {
             end_batch(in_flight, k);
-            if (batch_yield(fs))
+            if (lc_renderer_batch_yield(fs))
                 break;
         }
     }
@@ -431,7 +431,7 @@ static void draw_kept_lines(const lc_frame_setup *fs, int pulled, uint64_t batch
                                (const void *)(uintptr_t)(s * sizeof(uint32_t)));
             if (batch && fs->kept_line_indices[0] + fs->kept_line_indices[1] > batch) {
                 end_batch(in_flight, k++);
-                cut = batch_yield(fs);
+                cut = lc_renderer_batch_yield(fs);
             }
         }
     }
@@ -477,7 +477,7 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
             draw_range(prim, pulled, fs->point_sprites, first, drawn - first < batch ? drawn - first : batch);
             if (drawn > batch) {
                 end_batch(in_flight, k);
-                if (batch_yield(fs))
+                if (lc_renderer_batch_yield(fs))
                     break;
             }
         }

@@ -55,7 +55,7 @@ static GLuint compile_stage(GLenum type, const char *defines, const char *const 
                             lc_error *err)
 {
     /* normalized_depth() reads the per-pixel range only where gl_FragCoord exists. */
-    char stage_defines[512];
+    char stage_defines[1024];
     snprintf(stage_defines, sizeof stage_defines, "%s%s", defines,
              type == GL_FRAGMENT_SHADER ? "#define FRAGMENT_STAGE 1\n" : "");
     char *src = concat_sources(stage_defines, files, err);
@@ -206,7 +206,7 @@ void lc_renderer_set_floor(lc_renderer *r, lc_floor_mode mode)
 
 const char *lc_floor_mode_name(lc_floor_mode mode)
 {
-    static const char *names[LC_FLOOR_COUNT] = {"shaded", "empty shader", "no raster"};
+    static const char *names[LC_FLOOR_COUNT] = {"shaded", "empty shader", "no raster", "compute"};
     return mode >= LC_FLOOR_FULL && mode < LC_FLOOR_COUNT ? names[mode] : "unknown";
 }
 

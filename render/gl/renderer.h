@@ -215,6 +215,7 @@ typedef struct lc_frame_info {
     int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
     int opacity_from_list; /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
     int importance_from_list; /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
+    int computed_passes; /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;
@@ -300,7 +301,8 @@ typedef struct lc_renderer_desc {
     void *yield_ctx;
     /* Pre-emption inside a pass (NULL = none): called with yield_ctx between
      * the batches of a draw of P0, P1, P2, P4 and P5 on a software rasterizer
-     * (pipeline.c), where a pass of a large still can take seconds. It must
+     * (pipeline.c) and between the dispatches of a computed P4 or P5
+     * (compute_raster.c), where a pass of a large still can take seconds. It must
      * not block. Nonzero ends the draw; the frame ends at its next yield
      * point as if desc.yield had said so there. */
     int (*preempted)(void *ctx);
@@ -367,9 +369,30 @@ void lc_renderer_set_tile_size(lc_renderer *r, int tile_size);
  * blending), or nothing
  * after the vertex shader (GL_RASTERIZER_DISCARD: vertex shading, primitive
  * assembly and clipping). Images are meaningless outside LC_FLOOR_FULL. */
-typedef enum { LC_FLOOR_FULL = 0, LC_FLOOR_EMPTY_SHADER, LC_FLOOR_NO_RASTER, LC_FLOOR_COUNT } lc_floor_mode;
+/* LC_FLOOR_COMPUTE: P4 and P5 through the compute rasterizer wherever it
+ * applies, whatever the device's rule (images as meaningful as FULL's). */
+typedef enum {
+    LC_FLOOR_FULL = 0,
+    LC_FLOOR_EMPTY_SHADER,
+    LC_FLOOR_NO_RASTER,
+    LC_FLOOR_COMPUTE,
+    LC_FLOOR_COUNT
+} lc_floor_mode;
 void lc_renderer_set_floor(lc_renderer *r, lc_floor_mode mode);
 const char *lc_floor_mode_name(lc_floor_mode mode);
+
+/* The additive passes that may run as compute passes instead of drawn
+ * (docs/ALGORITHM.md "Compute rasterization"). */
+typedef enum { LC_RASTER_P4 = 0, LC_RASTER_P5, LC_RASTER_PASSES } lc_raster_pass;
+/* The path pass takes for primitives of type prim on the device whose
+ * GL_RENDERER string is gl_renderer, LUCENT_COMPUTE_RASTER (0 drawn, 1 compute)
+ * included: "compute" or "drawn" (lucent bench, the health endpoint). A frame
+ * where the compute rasterizer does not apply draws (compute_raster.c). No GL
+ * calls; any thread. */
+const char *lc_raster_path_name(const char *gl_renderer, lc_raster_pass pass, lc_prim_type prim);
+/* Forces the path of P4 and P5 for the frames that follow: 0 drawn, 1 computed
+ * where the compute rasterizer applies, -1 the device's rule (the default). */
+void lc_renderer_set_raster_path(lc_renderer *r, int path);
 
 /* After a frame of params p above LC_LARGE_FRAME_PIXELS (a 4096^2 still; no
  * stream frame is that large): renders p once more at 8x8 (so that the

@@ -61,6 +61,8 @@
     X(BIND_LINE_RUNS, 9)    /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */         \
     X(BIND_LINE_SELECT, 10) /* line_subset.c: the kept strip's two counts and each run's importance bin */            \
     X(BIND_LINE_KEPT, 20)   /* line_subset.c: the kept strip (lines never bind the point list) */                     \
+    X(BIND_RASTER_SUMS, 9)  /* compute_raster.c: per-pixel sums, a plane per channel (P3's bindings are free there) */ \
+    X(BIND_RASTER_LARGE, 10) /* compute_raster.c: the primitives left to the second dispatch */                       \
     X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
     X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
     X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
@@ -360,6 +362,14 @@ struct lc_renderer {
     float *reduce_buf;
     size_t reduce_cap;
     uint64_t bytes_targets, bytes_elements;
+    /* compute_raster.c: its programs ([P4, P5, P4 direct, P5 direct][points,
+     * lines][bands]), the store program, the per-pixel sums (bytes allocated)
+     * and the large-primitive list; the pass's size and planes; the path
+     * lc_renderer_set_raster_path forces (-1: the rule). */
+    GLuint raster_programs[4][2][LC_MAX_BANDS + 1], raster_store_program;
+    GLuint raster_sums, raster_large;
+    uint64_t raster_sums_bytes;
+    int raster_width, raster_height, raster_planes, raster_path;
     /* line_clusters.c: the uploaded masks (one per clustered layer a frame
      * draws), whose cut each holds and the frame that last drew with it. */
     struct lc_line_mask {
@@ -725,6 +735,31 @@ void lc_kanzler_report_begin(lc_renderer *r);
 int lc_kanzler_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *info, lc_error *err);
 void lc_kanzler_release(lc_renderer *r);
 void lc_kanzler_destroy(lc_renderer *r);
+
+/* ---- pipeline.c: pre-emption between two batches of a pass (desc.preempted,
+ * where fourier.c allows it): nonzero ends the pass (r->yield_cut). */
+int lc_renderer_batch_yield(const lc_frame_setup *fs);
+
+/* ---- compute_raster.c (docs/ALGORITHM.md "Compute rasterization"): P4 and
+ * P5 as compute passes, each invocation a point splat or a line segment that
+ * covers its pixels itself and adds into per-pixel sums with float atomics. */
+/* Reads the device's float atomics and the LUCENT_COMPUTE_RASTER override
+ * (0 drawn, 1 compute where supported); at renderer creation. */
+void lc_compute_raster_configure(const char *gl_renderer);
+/* Whether pass `pass` of frame fs with the given subset stride runs computed. */
+int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass, int subset);
+/* The program of P4, P5 or their direct variants for points or lines; 0 on error. */
+GLuint lc_compute_raster_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, lc_error *err);
+/* A pass: begin clears `planes` sums of width x height; per layer, bind sets
+ * the geometry's uniforms (then the caller its pass's own) and dispatch adds
+ * its primitives; end stores the sums into t's targets (t->count of them). */
+int lc_compute_raster_begin(lc_renderer *r, int width, int height, int planes, lc_error *err);
+void lc_compute_raster_bind(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int subset);
+void lc_compute_raster_dispatch(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int subset);
+int lc_compute_raster_end(lc_renderer *r, const lc_targets *t, lc_error *err);
+/* Frees the sums (a large frame's: lc_renderer_release_after), or everything. */
+void lc_compute_raster_release_sums(lc_renderer *r);
+void lc_compute_raster_release(lc_renderer *r);
 
 /* ---- fragment_list.c (docs/ALGORITHM.md "The geometry path"): P1 records
  * its fragments so that P2 runs as a compute pass over them instead of a

@@ -97,9 +97,10 @@ static const lc_option bench_options[] = {
     {"--uniform-points", NULL, LC_OPT_BOOL, BENCH(uniform_points),
      .help = "with --point-stride: every N-th of all points"},
     {"--floor", NULL, LC_OPT_BOOL, BENCH(floor),
-     .help = "per geometry pass, one-shot stills timed three ways, alternated\n"
-             "frame by frame: shaded, with an empty fragment shader and with\n"
-             "GL_RASTERIZER_DISCARD (medians; docs/EVALUATION.md, the geometry path)"},
+     .help = "per geometry pass, one-shot stills timed four ways, alternated\n"
+             "frame by frame: shaded (P4, P5 drawn), with an empty fragment shader,\n"
+             "with GL_RASTERIZER_DISCARD and with P4, P5 through the compute\n"
+             "rasterizer (medians; docs/EVALUATION.md, the geometry path)"},
     {"--line-stride", "N", LC_OPT_INT, BENCH(line_stride), 1, 1024,
      .help = "with --interactive, lines: the most important 1/(4N) in full,\n"
              "every N-th of the rest (whole lines)"},
@@ -131,8 +132,10 @@ static double median(double *v, int n)
 }
 
 /* --floor: where a geometry pass's time goes. One-shot stills (no frame
- * state: what a still costs), the three modes of lc_renderer_set_floor
- * alternated frame by frame so that a busy host spreads over all three;
+ * state: what a still costs), the four modes of lc_renderer_set_floor
+ * alternated frame by frame so that a busy host spreads over all of them
+ * ("shaded" draws P4 and P5 whatever the device's rule, "compute" computes
+ * them wherever the compute rasterizer applies);
  * medians of `frames` rounds after one warm-up frame per mode (which also
  * compiles the empty shaders). */
 static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, const lc_render_params *params,
@@ -144,16 +147,19 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     lc_frame_info info = {0};
     int rc = 0, ran[LC_PASS_COUNT] = {0}, tries[LC_FLOOR_COUNT] = {0}, listed[LC_FLOOR_COUNT] = {0},
-        summed[LC_FLOOR_COUNT] = {0};
+        summed[LC_FLOOR_COUNT] = {0}, computed = 0;
     for (int f = -1; f < frames && !rc; f++)
         for (int m = 0; m < MODES && !rc; m++) {
             lc_renderer_set_floor(g->renderer, (lc_floor_mode)m);
+            lc_renderer_set_raster_path(g->renderer, 0);
             rc = lc_render_frame(g->renderer, gs, params, NULL, 0.0, rgba, &info, err);
             if (rc || f < 0)
                 continue;
             tries[m] = info.clarity_tries;
             listed[m] = info.opacity_from_list;
             summed[m] = info.importance_from_list;
+            if (m == LC_FLOOR_COMPUTE)
+                computed = info.computed_passes;
             double *row = t + ((size_t)m * COLS) * frames;
             /* Per traversal: the clarity loop runs P2 (and P3) once a try. */
             int per = info.clarity_tries > 1 ? info.clarity_tries : 1;
@@ -165,6 +171,7 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
             row[(size_t)(LC_PASS_COUNT + 1) * frames + f] = info.wall_ms;
         }
     lc_renderer_set_floor(g->renderer, LC_FLOOR_FULL);
+    lc_renderer_set_raster_path(g->renderer, -1);
     if (!rc) {
         printf("%s: %llu primitives, %dx%d, medians of %d rounds (ms)\n", s->name,
                (unsigned long long)lc_scene_primitive_count(s), params->width, params->height, frames);
@@ -187,7 +194,12 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
                "  over the clarity loop's tries, %d, %d and %d a frame)\n",
                tries[0], tries[1], tries[2]);
         printf("  P1: %s\n", summed[0] ? "a compute pass over P0's fragments (no traversal)" : "drawn (a traversal)");
-        printf("  P2: %s\n\n", listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
+        printf("  P2: %s\n", listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
+        printf("  P4, P5 in \"compute\": %s, %s (this device's rule: %s, %s)\n\n",
+               computed & (1 << LC_RASTER_P4) ? "compute rasterizer" : "drawn (not applicable)",
+               computed & (1 << LC_RASTER_P5) ? "compute rasterizer" : "drawn (not applicable)",
+               lc_raster_path_name(lc_gl_renderer(g->gl), LC_RASTER_P4, s->type),
+               lc_raster_path_name(lc_gl_renderer(g->gl), LC_RASTER_P5, s->type));
     }
     free(t);
     return rc;

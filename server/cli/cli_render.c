@@ -464,6 +464,12 @@ int lc_cli_info(int argc, char **argv)
            s->bounds[2], s->bounds[5]);
     printf("elements    %u (adjacency %u)\n", s->elements.count, s->elements.adjacency_count);
     print_detail_levels(s);
+    /* Which path the additive passes take (compute_raster.c's rule; the
+     * device is known only once a context exists, so both kinds are named). */
+    printf("P4, P5      %s / %s on a software rasterizer (llvmpipe), %s / %s on a GPU%s\n",
+           lc_raster_path_name("llvmpipe", LC_RASTER_P4, s->type), lc_raster_path_name("llvmpipe", LC_RASTER_P5, s->type),
+           lc_raster_path_name("GPU", LC_RASTER_P4, s->type), lc_raster_path_name("GPU", LC_RASTER_P5, s->type),
+           getenv("LUCENT_COMPUTE_RASTER") ? " (LUCENT_COMPUTE_RASTER)" : "");
     printf("rgb         %s\n", lc_scene_has_rgb(s) ? "yes" : "no");
     printf("importance  %s (default)\n", s->default_importance[0] ? s->default_importance : "(none: g = 1)");
     printf("color       %s (default)\n", s->default_color);

@@ -2,6 +2,7 @@
 images of the requested size), scripted sessions with dt fading, static files,
 metrics, errors, a dataset's suggested view, and a clean SIGTERM exit."""
 import json
+import os
 import sys
 
 from lucent_server import Check, Server, jpeg_size, png_size, ws_connect
@@ -14,6 +15,16 @@ with Server(binary) as srv:
     check(st == 200 and health["status"] == "ok", "health answers ok")
     check(health.get("renderer") and health.get("glVersion"), "health names renderer and GL version: %s" % health.get("renderer"))
     check(health.get("datasets") == 1 and health.get("uptime", -1) >= 0, "health counts datasets and uptime")
+    # Which path P4 and P5 take per primitive type: on a software rasterizer the
+    # compute rasterizer for points, drawn lines and surfaces (compute_raster.c).
+    paths = health.get("rasterPaths", {})
+    software = any(w in health.get("renderer", "") for w in ("llvmpipe", "softpipe", "swrast"))
+    want = {"points": "compute" if software else "drawn", "lines": "drawn", "triangles": "drawn"}
+    forced = os.environ.get("LUCENT_COMPUTE_RASTER", "")
+    if forced in ("0", "1"):  # the override, where the rasterizer applies
+        want["points"] = want["lines"] = "compute" if forced == "1" else "drawn"
+    check(all(paths.get(k) == {"opticalDepth": v, "accumulate": v} for k, v in want.items()),
+          "health says the path of P4 and P5 per primitive type: %s" % paths)
 
     st, _, ds = srv.json("GET", "/api/v1/datasets")
     d = ds["datasets"][0] if st == 200 and ds["datasets"] else {}

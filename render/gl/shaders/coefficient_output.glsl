@@ -1,5 +1,13 @@
 // Render targets of the passes that accumulate Fourier coefficients (P1, P4):
-// NTARGETS RGBA32F attachments, additively blended.
+// NTARGETS RGBA32F attachments, additively blended; in the compute
+// rasterizer (RASTER_STAGE) one plane of sums per coefficient.
+#ifdef RASTER_STAGE
+void write_coefficients(float c[NTARGETS * 4])
+{
+    for (int j = 0; j < NCOEF; j++)
+        raster_add(j, c[j]);
+}
+#else
 layout(location = 0) out vec4 o_coef0;
 #if NTARGETS > 1
 layout(location = 1) out vec4 o_coef1;
@@ -30,3 +38,4 @@ void write_coefficients(float c[NTARGETS * 4])
     o_coef4 = vec4(c[16], c[17], c[18], c[19]);
 #endif
 }
+#endif

@@ -8,6 +8,19 @@
 #define STRIP_RESTART 0xFFFFFFFFu // LC_STRIP_RESTART (renderer_internal.h): between line ribbon strips
 #define PI 3.14159265358979
 
+// The window position of the fragment being shaded: gl_FragCoord, or in the
+// compute rasterizer (RASTER_STAGE, raster.comp.glsl) the pixel centre it is
+// shading, with z the window depth and w 1/w_clip as gl_FragCoord's.
+#ifdef RASTER_STAGE
+vec4 raster_frag_coord;
+#define FRAG_COORD raster_frag_coord
+// and what the vertex stage reads and writes, as globals (geometry.vert.glsl)
+vec4 raster_position;
+int raster_vertex_id, raster_instance_id;
+#else
+#define FRAG_COORD gl_FragCoord
+#endif
+
 // Scene buffers as 32-bit words, in one of two layouts (docs/MEMORY.md):
 // exact (u_compact = 0) holds the floats as uploaded before the compact layout,
 // compact packs them (render/gl/vertex_pack.c encodes, the functions below decode).
@@ -198,7 +211,7 @@ float normalized_depth(float z_view)
     vec2 range = u_depth_range;
 #ifdef FRAGMENT_STAGE
     if (u_pixel_depth_range != 0) {
-        vec2 r = texelFetch(u_pixel_range, ivec2(gl_FragCoord.xy), 0).xy;
+        vec2 r = texelFetch(u_pixel_range, ivec2(FRAG_COORD.xy), 0).xy;
         // A pixel the range pass missed (sub-pixel geometry) keeps the global range.
         if (r.x <= -r.y)
             range = vec2(r.x, -r.y);
@@ -246,7 +259,7 @@ float composite_weight(float alpha, float tau, int estimator)
 }
 
 #ifdef FRAGMENT_STAGE
-float series_depth(float z_view) { return series_depth_at(gl_FragCoord.xy, normalized_depth(z_view)); }
+float series_depth(float z_view) { return series_depth_at(FRAG_COORD.xy, normalized_depth(z_view)); }
 #endif
 
 #ifdef BANDS

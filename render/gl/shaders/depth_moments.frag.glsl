@@ -15,7 +15,7 @@ layout(location = 0) out vec4 o_moments;
 void main()
 {
     if (outside_primitive())
-        discard;
+        DISCARD;
     FLOOR_RETURN
     float g = fragment_importance();
     float w = g * g * draw_weight(u_weight);

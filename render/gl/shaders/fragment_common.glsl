@@ -1,6 +1,48 @@
 // Fragment-side helpers shared by all geometry passes: splat discard, the
 // fragment's element (primary of the nearest vertex) and lit colour.
 
+// The compute rasterizer (RASTER_STAGE) has the vertex stage's outputs as
+// globals (geometry.vert.glsl), interpolated into them per pixel, and runs
+// the pass's main() as a function: DISCARD ends it without adding anything.
+#ifdef RASTER_STAGE
+#undef main
+#define main raster_fragment_main
+#define DISCARD return
+// The pass's sums, per pixel of u_raster_size its u_raster_planes output
+// channels side by side (a fragment's adds share a cache line or two), in
+// 64-bit fixed point as (low, high) word pairs: the sum is high * 4096 +
+// low / 2^20 with low a signed word, so that integer atomic adds give the same
+// sums in any order and a frame is the same bit for bit on every run (float
+// atomics would round in the order the threads came). A value adds its part
+// below 2048 in magnitude to low, one atomic add; the high word takes the
+// rest and low's overflows, both rare. raster_store.comp.glsl turns the sums
+// into the pass's targets afterwards.
+layout(std430, binding = BIND_RASTER_SUMS) buffer RasterSums { int raster_sums[]; };
+uniform ivec2 u_raster_size;
+uniform int u_raster_planes;
+void raster_add(int plane, float value)
+{
+    if (value == 0.0 || isnan(value))
+        return;
+    ivec2 p = ivec2(FRAG_COORD.xy);
+    int i = 2 * ((p.y * u_raster_size.x + p.x) * u_raster_planes + plane);
+    int high = 0;
+    if (abs(value) >= 2047.0) { // whole units of 4096 go to the high word
+        float whole = round(clamp(value, -1e12, 1e12) / 4096.0);
+        value -= whole * 4096.0;
+        high = int(whole);
+    }
+    int low = int(clamp(round(value * 1048576.0), -2147483647.0, 2147483647.0));
+    int old = atomicAdd(raster_sums[i], low);
+    if (low > 0 && old > 2147483647 - low) // low wrapped past its top: 2^32 / 2^20 = 4096 more
+        high += 1;
+    else if (low < 0 && old < -2147483647 - 1 - low)
+        high -= 1;
+    if (high != 0)
+        atomicAdd(raster_sums[i + 1], high);
+}
+#else
+#define DISCARD discard
 in float v_g;
 in float v_cscalar;
 in vec3 v_rgb;
@@ -9,6 +51,7 @@ in float v_zview;
 in vec3 v_wpos;
 in vec3 v_normal;
 in vec2 v_quad;
+#endif
 // Points: the disc coordinate of the fragment, from the quad's corners or, for
 // GL point sprites (POINT_SPRITES), from gl_PointCoord.
 #ifdef POINT_SPRITES
@@ -16,8 +59,10 @@ in vec2 v_quad;
 #else
 #define SPLAT v_quad
 #endif
+#ifndef RASTER_STAGE
 flat in uvec3 v_primary;
 in vec2 v_halo;
+#endif
 
 // Depth-dependent halos (style.halo*, Everts et al. 2009; docs/ALGORITHM.md
 // "Perception aids"): in the compositing passes a line's ribbon is widened by
@@ -26,7 +71,9 @@ in vec2 v_halo;
 // u_halo_depth at the ribbon's edge, growing linearly to twice that at the
 // band's outer edge. The depth order then lets it hide only lines far enough
 // behind. The optimization passes never see halos (u_halo_px = 0 there).
-uniform float u_halo_px;
+#ifndef RASTER_STAGE
+uniform float u_halo_px; // declared by geometry.vert.glsl in the compute rasterizer
+#endif
 uniform float u_halo_depth;    // view-space units
 uniform float u_halo_strength; // [0, 1]
 uniform vec3 u_halo_color;     // the background
@@ -62,7 +109,7 @@ bool outside_primitive()
     // Compiled only into the programs of frames with a context layer: on
     // llvmpipe the test cost every pass about a third more even when its
     // uniform switched it off (docs/EVALUATION.md §21).
-    if (u_context_depth != 0 && gl_FragCoord.z > texelFetch(u_context_depth_tex, ivec2(gl_FragCoord.xy), 0).r)
+    if (u_context_depth != 0 && FRAG_COORD.z > texelFetch(u_context_depth_tex, ivec2(FRAG_COORD.xy), 0).r)
         return true;
 #endif
 #if PRIM == PRIM_POINTS
@@ -127,7 +174,11 @@ float direct_alpha()
     if (u_alpha_source == 0)
         return pow(fragment_importance(), u_direct_exponent);
     float c = view_cosine();
+#ifdef RASTER_STAGE
+    vec2 grad = vec2(0.0); // no derivatives in a compute invocation: normalVariation draws (fourier.c)
+#else
     vec2 grad = vec2(dFdx(c), dFdy(c)); // in uniform control flow (u_alpha_source)
+#endif
     if (u_alpha_source == 2)
         return (2.0 / PI) * acos(clamp(c, 0.0, 1.0));
     return pow(dot(grad, grad), 0.5 * u_gamma);

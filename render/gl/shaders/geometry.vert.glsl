@@ -3,19 +3,29 @@
 // and triangles. One draw covers every pass. Each fragment's element is the
 // primary element of its primitive's provoking (last) vertex.
 
-out float v_g;        // importance g
-out float v_cscalar;  // colour scalar in colormap coordinates
-out vec3 v_rgb;       // per-vertex colour (colour mode 2)
-out float v_alpha;    // blended element opacity (passes that read them)
-out float v_zview;    // view-space depth (distance along the view direction)
-out vec3 v_wpos;
-out vec3 v_normal;    // triangles: normal; lines: ribbon side vector
-out vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], |<tangent, view>|)
-flat out uvec3 v_primary; // primary elements of the primitive's vertices
-out vec2 v_halo;
+// In the compute rasterizer (RASTER_STAGE, raster.comp.glsl) main() runs as a
+// function per corner and the outputs are plain globals it reads back.
+#ifdef RASTER_STAGE
+#define VARYING
+#define FLAT_VARYING
+#else
+#define VARYING out
+#define FLAT_VARYING flat out
+#endif
+
+VARYING float v_g;        // importance g
+VARYING float v_cscalar;  // colour scalar in colormap coordinates
+VARYING vec3 v_rgb;       // per-vertex colour (colour mode 2)
+VARYING float v_alpha;    // blended element opacity (passes that read them)
+VARYING float v_zview;    // view-space depth (distance along the view direction)
+VARYING vec3 v_wpos;
+VARYING vec3 v_normal;    // triangles: normal; lines: ribbon side vector
+VARYING vec2 v_quad;      // points: disc coordinates; lines: (across in [-1,1], |<tangent, view>|)
+FLAT_VARYING uvec3 v_primary; // primary elements of the primitive's vertices
+VARYING vec2 v_halo;      // lines: (signed distance from the centre, ribbon half width), output pixels
 #if defined(KANZLER_MAPS) && PRIM == PRIM_LINES
-out vec3 v_tangent;   // lines: the vertex tangent (kanzler_maps.frag.glsl)
-#endif      // lines: (signed distance from the centre, ribbon half width), output pixels
+VARYING vec3 v_tangent;   // lines: the vertex tangent (kanzler_maps.frag.glsl)
+#endif
 uniform float u_halo_px; // lines, compositing passes with style.haloWidth: halo band width in pixels; 0 = none
 
 #ifdef READ_ALPHA

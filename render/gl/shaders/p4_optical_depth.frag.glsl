@@ -29,7 +29,7 @@ void kanzler_report(float alpha)
 void main()
 {
     if (outside_primitive())
-        discard;
+        DISCARD;
     FLOOR_RETURN
     float c[NTARGETS * 4];
     float f = -log(1.0 - fragment_alpha()) * draw_weight(u_weight);

@@ -21,6 +21,15 @@ enum MHD_Result lc_http_health(lc_server *srv, struct MHD_Connection *c)
     json_object_set_new(o, "renderer", json_string(srv->gl_renderer));
     json_object_set_new(o, "glVersion", json_string(srv->gl_version));
     json_object_set_new(o, "platform", json_string(srv->gl_platform));
+    /* Which path P4 and P5 take per primitive type on this device (compute_raster.c). */
+    json_t *paths = json_object();
+    static const lc_prim_type prims[] = {LC_PRIM_POINTS, LC_PRIM_LINES, LC_PRIM_TRIANGLES};
+    for (int i = 0; i < 3; i++)
+        json_object_set_new(paths, lc_prim_type_name(prims[i]),
+                            json_pack("{s:s, s:s}", "opticalDepth",
+                                      lc_raster_path_name(srv->gl_renderer, LC_RASTER_P4, prims[i]), "accumulate",
+                                      lc_raster_path_name(srv->gl_renderer, LC_RASTER_P5, prims[i])));
+    json_object_set_new(o, "rasterPaths", paths);
     json_object_set_new(o, "uptime", json_real(lc_now() - srv->start_time));
     json_object_set_new(o, "datasets", json_integer(lc_datasets_count(srv->datasets)));
     json_object_set_new(o, "workers", json_integer(lc_workers_count(srv->workers)));

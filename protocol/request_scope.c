@@ -42,6 +42,7 @@ static const scope_rule rules[] = {
     {"params", "autoSubset", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "guardBand", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "directExponent", M(DIRECT), LC_PROTO_ALL_PRIMS},
+    {"params", "excludeSelf", M(EXACT), LC_PROTO_ALL_PRIMS}, /* the exact sums know each fragment's element */
     {"params", "lod", DATASET_METHODS, P(LINES) | P(TRIANGLES)}, /* simplified polylines and meshes */
     {"params", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
     {"importance", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},

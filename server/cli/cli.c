@@ -172,6 +172,8 @@ static const lc_option common_options[] = {
     REQ("--clarity", "C", "clarity",
         "target opacity of the most important tenth, 0..1 (default 0.5;\n"
         "0 = off): a loop on the emphasis while q, r and lambda are not given"),
+    REQ("--exclude-self", "true|false", "excludeSelf",
+        "exact method: a fragment's sums leave out its own element's fragments (no self-occlusion)"),
     REQ("--importance", "ATTR", "importance", "importance attribute"),
     REQ("--color", "ATTR", "color", "colour by an attribute, importance or rgb"),
     REQ("--colormap", "NAME", "colormap", "viridis, coolwarm, grayscale, inferno, plasma, ..."),

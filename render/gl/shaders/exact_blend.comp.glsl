@@ -36,11 +36,14 @@ uint coverage_units(float transmittance) { return uint((1.0 - transmittance) * u
 
 // Blends the n entries of the list front to back into color and
 // transmittance, from the queue or from the sorted list, until the pixel
-// saturates. A pop that comes out of order (the heap's loops on Mesa 22
-// llvmpipe, see heap_sort) stops the queue and returns false; nothing of the
-// pixel is kept then (the caller blends it again, sorted).
-bool blend_list(int n, bool queue, out vec3 color, out float transmittance)
+// saturates. A pop that is not strictly after the one before, or a queue
+// that does not hold the entries it was given (checksum: what was popped and
+// what is left; the heap's loops on Mesa 22 llvmpipe, see sort_list), returns
+// false; nothing of the pixel is kept then (the caller blends it again, sorted).
+bool blend_list(int n, bool queue, uvec2 checksum, out vec3 color, out float transmittance)
 {
+    uvec2 popped_sum = uvec2(0u);
+    int popped = 0;
     color = vec3(0.0);
     transmittance = 1.0;
 #ifdef EXACT_EQUALIZE
@@ -51,11 +54,13 @@ bool blend_list(int n, bool queue, out vec3 color, out float transmittance)
     for (int i = 0; i < n; i++) {
         uint index;
         if (queue) {
-            if (i > 0 && before(list_z[0], list_node[0], last_z, last_node))
+            if (i > 0 && !before(last_z, last_node, list_z[0], list_node[0]))
                 return false;
             last_z = list_z[0];
             last_node = list_node[0];
             index = queue_pop(n - i);
+            popped_sum += uvec2(index, index * 2654435761u + (index >> 7)); // as list_checksum
+            popped++;
         } else {
             index = list_node[i];
         }
@@ -84,7 +89,7 @@ bool blend_list(int n, bool queue, out vec3 color, out float transmittance)
 #ifdef EXACT_EQUALIZE
     add_units(EXACT_NO_BIN + 1u, covered);
 #endif
-    return true;
+    return !queue || popped_sum + list_checksum(n - popped) == checksum;
 }
 
 void main()
@@ -101,17 +106,18 @@ void main()
 #ifdef EXACT_EQUALIZE
     queue = false;
 #endif
+    uvec2 checksum = queue ? list_checksum(n) : uvec2(0u);
     if (queue)
         queue_build(n);
     else
-        sort_list(n);
+        sort_list(p, n);
     vec3 color;
     float transmittance;
-    if (!blend_list(n, queue, color, transmittance)) {
+    if (!blend_list(n, queue, checksum, color, transmittance)) {
         atomicAdd(counters[COUNTER_SORT_REPAIRS + u_list_pass], 1u);
         n = gather_list(p, list_length, false);
         insertion_sort(n);
-        blend_list(n, false, color, transmittance);
+        blend_list(n, false, checksum, color, transmittance);
     }
     vec3 bg = u_background;
     if (u_context != 0) {

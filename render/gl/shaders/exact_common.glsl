@@ -164,12 +164,19 @@ bool is_sorted(int n)
     return true;
 }
 
-// O(n log n) in place, no recursion (Met.3D thesis A.2.4). On Mesa 22
-// llvmpipe the heap's loops leave a few pixels' lists out of order where
-// neighbouring pixels' lists differ (about 90 of 65536 pixels of demo:points
-// at 256x256, binary and 4-ary heap alike; the insertion sort never did):
-// an O(n) check finds them and the insertion sort finishes them, which costs
-// little on a list that is nearly in order (docs/EVALUATION.md).
+// A checksum of the first n entries' node indices (two wrapping sums), to
+// tell whether the heap kept the entries it was given (sort_list).
+uvec2 list_checksum(int n)
+{
+    uvec2 c = uvec2(0u);
+    for (int k = 0; k < n; k++) {
+        uint v = list_node[k];
+        c += uvec2(v, v * 2654435761u + (v >> 7));
+    }
+    return c;
+}
+
+// O(n log n) in place, no recursion (Met.3D thesis A.2.4).
 void heap_sort(int n, int arity)
 {
     for (int i = (n - 2) / arity; i >= 0; i--)
@@ -178,23 +185,32 @@ void heap_sort(int n, int arity)
         swap_entries(0, end);
         heap_sink(0, end, arity, false);
     }
-    if (!is_sorted(n)) {
-        atomicAdd(counters[COUNTER_SORT_REPAIRS + u_list_pass], 1u);
-        insertion_sort(n);
-    }
 }
 
 // Sort modes (u_sort_mode, exact.c): 0 auto (insertion sort up to
 // u_insertion_max, 4-ary heap sort above), 1 insertion only, 2 binary heap
 // only, 3 4-ary heap only, 4 auto with the binary heap (the sort before the
-// 4-ary heap).
-void sort_list(int n)
+// 4-ary heap). On Mesa 22 llvmpipe the heap's loops corrupt a few long lists
+// (entries out of order, or one entry in place of another: about 350 lists
+// of demo:points at 256x256, binary and 4-ary heap alike; the insertion sort
+// never did), so the heap's result is checked in O(n), order and checksum,
+// and a list that fails is gathered again from pixel p and insertion-sorted
+// (counted; docs/EVALUATION.md).
+void sort_list(ivec2 p, int n)
 {
     int mode = u_sort_mode;
-    if (mode == 1 || ((mode == 0 || mode == 4) && n <= u_insertion_max))
+    if (mode == 1 || ((mode == 0 || mode == 4) && n <= u_insertion_max)) {
         insertion_sort(n);
-    else
-        heap_sort(n, mode == 2 || mode == 4 ? 2 : 4);
+        return;
+    }
+    uvec2 sum = list_checksum(n);
+    heap_sort(n, mode == 2 || mode == 4 ? 2 : 4);
+    if (!is_sorted(n) || list_checksum(n) != sum) {
+        atomicAdd(counters[COUNTER_SORT_REPAIRS + u_list_pass], 1u);
+        uint list_length;
+        n = gather_list(p, list_length, false);
+        insertion_sort(n);
+    }
 }
 
 // The front-to-back queue (Met.3D thesis §2.4.4): a 4-ary min-heap over the

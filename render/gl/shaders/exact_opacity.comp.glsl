@@ -108,7 +108,7 @@ void main()
     if (n == 0)
         return;
     mass_count(list_importance); // the same normalization as the Fourier path
-    sort_list(n);
+    sort_list(p, n);
     // Kept fragments are the nearest ones, so their front sums are exact;
     // far_fragments handles the rest.
     float total = list_importance;

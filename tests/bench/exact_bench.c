@@ -180,6 +180,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "exact_bench: --rounds 1..%d, --size >= 8\n", MAX_ROUNDS);
         return 2;
     }
+    lc_log_set_level(LC_LOG_WARN); /* figures on stdout, no progress lines among them */
     lc_gl *gl = NULL;
     lc_error err = {0};
     if (lc_gl_create(&(lc_gl_desc){.device = -1}, &gl, &err) != 0 || lc_gl_make_current(gl, &err) != 0) {

@@ -499,13 +499,13 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
                           "timings", timings, "encodeMs", h->encode_ms);
     if (o && h->has_visibility) {
         if (!isfinite(h->top_decile_alpha) || !isfinite(h->bottom_half_alpha) || !isfinite(h->covered_fraction) ||
-            !isfinite(h->occluder_alpha)) {
+            !isfinite(h->occluder_alpha) || !isfinite(h->important_occluded)) {
             json_decref(o);
             return LC_ERR_INVALID;
         }
-        json_t *vis = json_pack("{s:f, s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
+        json_t *vis = json_pack("{s:f, s:f, s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
                                 h->bottom_half_alpha, "coveredFraction", h->covered_fraction, "occluderAlpha",
-                                h->occluder_alpha);
+                                h->occluder_alpha, "importantOccluded", h->important_occluded);
         if (vis && h->layer_count > 0 && h->layer_count <= LC_MAX_LAYERS) {
             json_t *layers = json_array();
             for (int i = 0; i < h->layer_count; i++)
@@ -662,11 +662,14 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
     }
     const json_t *vis = json_object_get(o, "visibility");
     if (vis) {
-        static const char *const keys[] = {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction", "occluderAlpha"};
-        double *dst[] = {&h->top_decile_alpha, &h->bottom_half_alpha, &h->covered_fraction, &h->occluder_alpha};
-        for (int i = 0; i < 4; i++) {
+        static const char *const keys[] = {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction", "occluderAlpha",
+                                           "importantOccluded"};
+        double *dst[] = {&h->top_decile_alpha, &h->bottom_half_alpha, &h->covered_fraction, &h->occluder_alpha,
+                         &h->important_occluded};
+        for (int i = 0; i < 5; i++) {
             const json_t *v = json_is_object(vis) ? json_object_get(vis, keys[i]) : NULL;
-            double x = json_is_number(v) ? json_number_value(v) : i == 3 && !v ? 0 : -1; /* occluderAlpha came later */
+            /* occluderAlpha and importantOccluded came later: 0 when absent */
+            double x = json_is_number(v) ? json_number_value(v) : i >= 3 && !v ? 0 : -1;
             if (!(x >= 0 && x <= 1)) {
                 status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility",
                                             "expected an object of numbers in [0, 1] (%s)", keys[i]);

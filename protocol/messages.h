@@ -143,6 +143,7 @@ typedef struct lc_frame_header {
     bool has_visibility;
     double top_decile_alpha, bottom_half_alpha, covered_fraction;
     double occluder_alpha; /* "occluderAlpha"; 0 when a sender omits it */
+    double important_occluded; /* "importantOccluded"; 0 when a sender omits it */
     /* "visibility.layers" (layered frames): each layer's topDecileAlpha,
      * bottomHalfAlpha and occluderAlpha, in the request's layer order. */
     int layer_count;

@@ -17,7 +17,7 @@ import { Connection } from './js/connection.js';
 import { FrameView } from './js/view.js';
 import { Navigation } from './js/navigation.js';
 import { Panel, GROUPS, attributeRange, rgbToHex } from './js/ui.js';
-import { FrameStats, renderStats, formatBytes, visibilityText, clarityNote } from './js/stats.js';
+import { FrameStats, renderStats, formatBytes, visibilityText, clarityNote, occlusionWarning } from './js/stats.js';
 import { Api, ApiError } from './js/api.js';
 import { Legend, invertNote } from './js/legend.js';
 import { AxesTriad } from './js/axes.js';
@@ -103,6 +103,11 @@ export function createApp(doc = document, win = window) {
       const seen = visibilityText(f.header.visibility);
       if (seen && f.header.clarity) clarityOutcome = clarityNote(f.header.clarity);
       if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.${clarityOutcome}`);
+      if (seen) { // frames without a report (moving frames reusing opacities) keep the last word
+        const warn = occlusionWarning(f.header.visibility);
+        $('occlusion-warning').textContent = warn;
+        $('occlusion-warning').hidden = !warn;
+      }
       legend.setColorTicks(f.header.colorTicks);
       surface.frame(f.header);
       seeds?.update();

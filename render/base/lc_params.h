@@ -132,6 +132,9 @@ typedef struct lc_foo_params {
     /* params.autoSubset (docs/ALGORITHM.md §10): the largest stride P1 may
      * draw with where P0 measured dense data; 1 = P1 draws what params.subset says. */
     int auto_subset;
+    /* params.excludeSelf (OOS §4.3, exact method only): a fragment's sums of
+     * Eq. 10 leave out its own element's fragments. */
+    bool exclude_self;
     bool strength_given;
     /* Set by the clarity loop only (render/gl/clarity.c), never parsed: lines
      * take their elements' mean importance in the emphasis, as patches do. */

@@ -13,9 +13,17 @@
  * node pool of fixed size; fragments that do not fit (pool full, or beyond the
  * per-pixel layer cap) are counted and reported, never written out of bounds.
  *
- * Sorting (Met.3D thesis §2.4.2): insertion sort for short lists, heap sort
- * above INSERTION_MAX. LUCENT_EXACT_SORT=insertion|heap forces one algorithm
- * (for measurements only). */
+ * Sorting (Met.3D thesis §2.4.2-2.4.4): insertion sort for short lists, a
+ * 4-ary heap sort above INSERTION_MAX in the opacity pass; the blend pops
+ * long lists from a 4-ary min-heap front to back until the pixel saturates
+ * (transmittance below SATURATION). Fragment reduction (§2.4.1): list pass 1
+ * leaves out fragments below REDUCE_BELOW opacity while their pixel's sum of
+ * left-out opacity stays within REDUCE_BUDGET. Both bounds together keep
+ * every channel within one grey level of full compositing (docs/ALGORITHM.md
+ * §12). For measurements only (tests/bench/exact_bench.c):
+ * LUCENT_EXACT_SORT=auto|insertion|heap|heap2|auto2 (heap2: the binary heap,
+ * auto2: the sort before the 4-ary heap), LUCENT_EXACT_QUEUE=0 (sort whole
+ * lists), LUCENT_EXACT_SATURATION=T, LUCENT_EXACT_REDUCE=0. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +39,10 @@
 #define MAX_LAYERS 256                    /* per-pixel local array of the sort passes */
 #define INSERTION_MAX 16                  /* longer lists are heap-sorted */
 #define END_OF_LIST 0xFFFFFFFFu
+#define SATURATION (0.5 / 255.0)    /* the blend stops below this transmittance */
+#define REDUCE_BELOW (1.0 / 255.0)  /* list pass 1 may leave out fragments below this opacity ... */
+#define REDUCE_BUDGET (0.5 / 255.0) /* ... while their pixel's left-out opacity stays within this */
+#define REDUCE_SCALE 16777216.0     /* fixed-point units of opacity in the per-pixel budget: 2^24 */
 
 /* Counter slots (+ list pass 0/1), must match exact_common.glsl. */
 enum {
@@ -39,6 +51,8 @@ enum {
     COUNTER_DROP_LAYERS = 4,
     COUNTER_MAX_LAYERS = 6,
     COUNTER_COVERED = 8,
+    COUNTER_REDUCED = 10,
+    COUNTER_SORT_REPAIRS = 12,
     COUNTER_SLOTS = 16
 };
 
@@ -61,10 +75,14 @@ typedef struct exact_state {
     GLuint opacity, blend, blend_eq;
     GLuint eq_counts; /* EQ_SLOTS x 2 uints */
     GLuint nodes, counters, heads, fbo;
+    GLuint reduced; /* r32ui per output pixel: opacity left out of list pass 1, REDUCE_SCALE units */
     uint32_t capacity; /* nodes in the pool */
     uint64_t pool_bytes;
     int heads_w, heads_h;
-    int sort_mode; /* 0 auto, 1 insertion, 2 heap */
+    int sort_mode;     /* sort_list in exact_common.glsl: 0 auto, 1 insertion, 2 binary heap, 3 4-ary, 4 auto2 */
+    int queue;         /* the blend pops long lists from the front-to-back queue */
+    float saturation;  /* the blend's transmittance floor */
+    int reduce;        /* list pass 1 leaves out fragments below REDUCE_BELOW */
 } exact_state;
 
 static exact_state *get_state(lc_renderer *r)
@@ -74,8 +92,15 @@ static exact_state *get_state(lc_renderer *r)
     exact_state *st = calloc(1, sizeof *st);
     if (!st)
         return NULL;
-    const char *sort = getenv("LUCENT_EXACT_SORT");
-    st->sort_mode = sort && strcmp(sort, "insertion") == 0 ? 1 : sort && strcmp(sort, "heap") == 0 ? 2 : 0;
+    static const char *const sorts[] = {"auto", "insertion", "heap2", "heap", "auto2"};
+    const char *sort = getenv("LUCENT_EXACT_SORT"), *queue = getenv("LUCENT_EXACT_QUEUE");
+    const char *saturation = getenv("LUCENT_EXACT_SATURATION"), *reduce = getenv("LUCENT_EXACT_REDUCE");
+    for (int i = 0; sort && i < 5; i++)
+        if (strcmp(sort, sorts[i]) == 0)
+            st->sort_mode = i;
+    st->queue = !(queue && strcmp(queue, "0") == 0);
+    st->saturation = saturation ? (float)atof(saturation) : (float)SATURATION;
+    st->reduce = !(reduce && strcmp(reduce, "0") == 0);
     glCreateFramebuffers(1, &st->fbo);
     r->exact = st;
     return st;
@@ -182,6 +207,25 @@ static int ensure_pool(lc_renderer *r, exact_state *st, lc_error *err)
     return 0;
 }
 
+/* The per-pixel budget of fragment reduction, sized like the heads. */
+static void ensure_reduced(lc_renderer *r, exact_state *st)
+{
+    if (st->reduced)
+        return;
+    glCreateTextures(GL_TEXTURE_2D, 1, &st->reduced);
+    glTextureStorage2D(st->reduced, 1, GL_R32UI, st->heads_w, st->heads_h);
+    r->bytes_targets += (uint64_t)st->heads_w * st->heads_h * 4;
+}
+
+static void free_reduced(lc_renderer *r, exact_state *st)
+{
+    if (!st->reduced)
+        return;
+    glDeleteTextures(1, &st->reduced);
+    r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * 4;
+    st->reduced = 0;
+}
+
 /* One r32ui head pointer per output pixel; the optimization-resolution pass
  * uses its lower-left corner. Grows to the largest frame seen. */
 static void ensure_heads(lc_renderer *r, exact_state *st, int w, int h)
@@ -189,6 +233,7 @@ static void ensure_heads(lc_renderer *r, exact_state *st, int w, int h)
     if (st->heads && st->heads_w >= w && st->heads_h >= h)
         return;
     if (st->heads) {
+        free_reduced(r, st); /* sized like the heads */
         glDeleteTextures(1, &st->heads);
         r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * 4;
     }
@@ -209,6 +254,8 @@ static void bind_lists(const exact_state *st, GLuint prog, int pass)
     lc_uniform_i(prog, "u_list_pass", pass);
     lc_uniform_i(prog, "u_sort_mode", st->sort_mode);
     lc_uniform_i(prog, "u_insertion_max", INSERTION_MAX);
+    lc_uniform_i(prog, "u_queue", st->queue);
+    lc_uniform_f(prog, "u_saturation", st->saturation);
 }
 
 static void clear_heads(const exact_state *st)
@@ -243,8 +290,13 @@ static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
-        if (pass == 1)
+        if (pass == 1) {
             lc_renderer_bind_halo(prog, lf);
+            glBindImageTexture(IMG_EXACT_REDUCED, st->reduced, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+            lc_uniform_f(prog, "u_reduce_below", st->reduce ? (float)REDUCE_BELOW : 0.0f);
+            lc_uniform_u(prog, "u_reduce_budget", (GLuint)(REDUCE_BUDGET * REDUCE_SCALE));
+            lc_uniform_f(prog, "u_reduce_scale", (float)REDUCE_SCALE);
+        }
         bind_lists(st, prog, pass);
         lc_renderer_draw_geometry(lf, 1);
     }
@@ -274,10 +326,15 @@ static void report(const exact_state *st, lc_frame_info *info)
     glGetNamedBufferSubData(st->counters, 0, sizeof c, c);
     uint64_t dropped =
         (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1] + c[COUNTER_DROP_LAYERS] + c[COUNTER_DROP_LAYERS + 1];
-    info->fragments = c[COUNTER_NODES + 1];
+    info->fragments = (uint64_t)c[COUNTER_NODES + 1] + c[COUNTER_REDUCED + 1];
+    info->reduced_fragments = c[COUNTER_REDUCED + 1];
     info->dropped_fragments = dropped;
     info->max_layers = c[COUNTER_MAX_LAYERS + 1];
     info->mean_layers = c[COUNTER_COVERED + 1] ? (double)c[COUNTER_NODES + 1] / c[COUNTER_COVERED + 1] : 0.0;
+    if (c[COUNTER_SORT_REPAIRS] || c[COUNTER_SORT_REPAIRS + 1])
+        LC_DEBUG(MODULE, "lists the heap left out of order, finished by insertion sort: %u (opacity), %u (blend)",
+                 c[COUNTER_SORT_REPAIRS], c[COUNTER_SORT_REPAIRS + 1]);
+    info->sort_repairs = (uint64_t)c[COUNTER_SORT_REPAIRS] + c[COUNTER_SORT_REPAIRS + 1];
     if (dropped)
         LC_DEBUG(MODULE, "%llu fragments dropped (pool: %u + %u of %u nodes, layer cap %d: %u + %u)",
                  (unsigned long long)dropped, c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity, MAX_LAYERS,
@@ -297,6 +354,9 @@ static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int me
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
         glClearNamedBufferSubData(st->counters, GL_R32UI, slot * 4, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    ensure_reduced(r, st);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glClearTexImage(st->reduced, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     int rc = build_lists(r, st, fs, 1, measure, fs->width, fs->height, err);
     if (rc)
         return rc;
@@ -357,6 +417,7 @@ static int exact_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     lc_uniform_f(st->opacity, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
     lc_uniform_f(st->opacity, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     lc_uniform_f(st->opacity, "u_target_opacity", lc_foo_target_opacity(&p->foo));
+    lc_uniform_i(st->opacity, "u_exclude_self", p->foo.exclude_self);
     glDispatchCompute((GLuint)(lw + 7) / 8, (GLuint)(lh + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
@@ -425,6 +486,7 @@ void lc_exact_release(lc_renderer *r)
         st->pool_bytes = 0;
     }
     if (st->heads) {
+        free_reduced(r, st);
         glDeleteTextures(1, &st->heads);
         r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * 4;
         st->heads = 0;

@@ -115,7 +115,7 @@ void lc_renderer_destroy(lc_renderer *r)
     GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
                      r->point_histogram,   r->point_list,
-                     r->element_behind,      r->color_histogram, r->element_g,
+                     r->element_behind,      r->color_histogram, r->element_g,           r->important_occluded,
                      r->line_select,       r->line_kept};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])

@@ -138,6 +138,11 @@ void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out);
 int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *ny);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
+/* importantOccluded (docs/ALGORITHM.md §8): a fragment is important above
+ * this g, and hidden by importance when the mass of g^2 in front reaches
+ * that of one fragment at the threshold; occluders.glsl uses the same. */
+#define LC_IMPORTANT_G 0.8
+#define LC_IMPORTANT_MASS 0.64
 
 /* params.clarity (render/gl/clarity.c): a one-shot frame tries up to this
  * many strengths (P1-P3 each); the cost model charges LC_CLARITY_CHARGED_TRIES
@@ -188,6 +193,11 @@ typedef struct lc_frame_info {
     /* Mean opacity of the least important half, each element weighted by the
      * importance mass behind its fragments (0 when they hide nothing). */
     double occluder_alpha;
+    /* Share of the important fragments (g > LC_IMPORTANT_G) that have at
+     * least LC_IMPORTANT_MASS of importance mass in front (docs/ALGORITHM.md
+     * §8), at the optimization resolution; 0 when there are none. */
+    double important_occluded;
+    uint64_t important_fragments; /* the share's denominator */
     /* Layered frames: the same report for each layer (the totals above are
      * over the transparent layers' elements together; a context layer, drawn
      * opaque, has visible_elements 0). */
@@ -199,6 +209,8 @@ typedef struct lc_frame_info {
     /* Exact method only (0 otherwise): */
     uint64_t fragments;         /* fragments rasterized at full resolution (stored + dropped) */
     uint64_t dropped_fragments; /* fragments lost because the node pool was full */
+    uint64_t reduced_fragments; /* of fragments: left out below 1/255 opacity (M3D §2.4.1), not stored */
+    uint64_t sort_repairs;      /* lists the heap left out of order, finished by insertion sort (exact.c) */
     double mean_layers;         /* mean fragments per covered pixel */
     uint32_t max_layers;
     /* With a reducer (lc_renderer_desc.reducer): time spent combining the

@@ -56,6 +56,8 @@
     X(BIND_SURFACE_PIXELS, 29) /* surface_layers.c: counters, list heads, layer counts, output */                      \
     X(BIND_SURFACE_LAYERS, 30) /* surface_layers.c: the persistent per-pixel layers */                                 \
     X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */  \
+    X(BIND_IMPORTANT_OCCLUDED, 28) /* visibility.c: importantOccluded's two counts (P2, exact opacity; never with  \
+                                      surface_layers.c's nodes) */                                                     \
     X(BIND_FRAGMENT_LIST, 14) /* fragment_list.c: P1's fragments for P2 (never in a program of the exact method) */   \
     X(BIND_FRAGMENT_CHAINS, 15) /* fragment_list.c: P0's per-pixel chains for P1 (never in the exact method's) */     \
     X(BIND_LINE_RUNS, 9)    /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */         \
@@ -83,6 +85,7 @@
     X(IMG_SMART_INJECT, 10) /* smart.c: the injected intensities and each pixel's optical depth */                    \
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
     X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
+    X(IMG_EXACT_REDUCED, 1) /* exact list pass 1: per-pixel opacity left out (never with the blend's output) */       \
     X(IMG_COEF_FIRST, 2)    /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
 
 /* Constants that the host and the shaders must agree on, injected the same
@@ -267,6 +270,7 @@ struct lc_renderer {
     /* per-element buffers, grown to the largest scene */
     GLuint element_alpha_min, element_alpha, smooth_a, smooth_b, stats;
     GLuint element_behind; /* per element: importance mass behind its fragments (visibility report) */
+    GLuint important_occluded; /* 2 uints: important fragments, and those with important mass in front */
     uint32_t element_capacity;
     GLuint mass_histogram;     /* MASS_BINS counts (visibility.c) */
     GLuint element_importance; /* 2 uints per element: fixed-point sum, count */
@@ -827,8 +831,8 @@ int lc_reduce_check_method(const lc_renderer *r, lc_method method, lc_error *err
 /* Clears the mass histogram; the passes that know each pixel's total sum of
  * g^2 fill it (lc_mass_histogram_fourier, the exact opacity pass). */
 void lc_mass_clear(lc_renderer *r);
-/* Zeroes the occluder weights and binds them for P2 or the exact opacity pass
- * (occluders.glsl). */
+/* Zeroes the occluder weights and importantOccluded's counts and binds them
+ * for P2 or the exact opacity pass (occluders.glsl). */
 void lc_occluders_clear(lc_renderer *r);
 /* The share of the w x h pixels of tex whose red channel is positive (the
  * mass histogram's count; method kanzler's coverage map). -1: GL error. */

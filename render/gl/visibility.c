@@ -102,6 +102,13 @@ void lc_occluders_clear(lc_renderer *r)
     const uint32_t zero = 0;
     glClearNamedBufferData(r->element_behind, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_BEHIND, r->element_behind);
+    if (!r->important_occluded) {
+        glCreateBuffers(1, &r->important_occluded);
+        glNamedBufferStorage(r->important_occluded, 8, NULL, GL_DYNAMIC_STORAGE_BIT);
+        r->bytes_elements += 8;
+    }
+    glClearNamedBufferData(r->important_occluded, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_IMPORTANT_OCCLUDED, r->important_occluded);
 }
 
 /* Each element's importance (the mean of its vertices'), in r->importance_cache:
@@ -350,7 +357,15 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
     free(seen);
     free(behind);
     free(own);
+    uint32_t counts[2] = {0, 0};
+    if (!rc && r->important_occluded) {
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(r->important_occluded, 0, sizeof counts, counts);
+        rc = lc_reduce_counts(r, counts, 2, err); /* summed over MPI ranks */
+    }
     if (!rc) {
+        info->important_fragments = counts[0];
+        info->important_occluded = counts[0] ? (double)counts[1] / counts[0] : 0.0;
         info->has_visibility = 1;
         report(&bins[0], &info->visible_elements, &info->top_decile_alpha, &info->bottom_half_alpha,
                &info->occluder_alpha);

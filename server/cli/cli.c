@@ -188,6 +188,8 @@ static const lc_option common_options[] = {
     REQ("--kanzler-lambda", "X", "kanzlerLambda",
         "method kanzler: weights of the maximum importance, coverage,\n"
         "directional variance and in-front term, and the emphasis lambda"),
+    REQ("--exclude-self", "true|false", "excludeSelf",
+        "exact method: a fragment's sums leave out its own element's fragments (no self-occlusion)"),
     REQ("--importance", "ATTR", "importance", "importance attribute"),
     REQ("--color", "ATTR", "color", "colour by an attribute, importance or rgb"),
     REQ("--colormap", "NAME", "colormap", "viridis, coolwarm, grayscale, inferno, plasma, ..."),

@@ -79,10 +79,12 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
                             json_pack("{s:s, s:f, s:f}", "mode", p->foo.normalize == LC_NORMALIZE_OFF ? "off" : "auto",
                                       "massMedian", info->mass_median, "massP95", info->mass_p95));
         json_object_set_new(o, "visibility",
-                            json_pack("{s:f, s:f, s:f, s:I, s:f}", "topDecileAlpha", info->top_decile_alpha,
+                            json_pack("{s:f, s:f, s:f, s:I, s:f, s:f, s:I}", "topDecileAlpha", info->top_decile_alpha,
                                       "bottomHalfAlpha", info->bottom_half_alpha, "coveredFraction",
                                       info->covered_fraction, "visibleElements", (json_int_t)info->visible_elements,
-                                      "occluderAlpha", info->occluder_alpha));
+                                      "occluderAlpha", info->occluder_alpha, "importantOccluded",
+                                      info->important_occluded, "importantFragments",
+                                      (json_int_t)info->important_fragments));
         json_t *layers = info->layer_count > 0 ? json_array() : NULL;
         for (int i = 0; layers && i < info->layer_count; i++)
             json_array_append_new(layers, json_pack("{s:I, s:f, s:f, s:f}", "visibleElements",
@@ -347,9 +349,11 @@ int lc_cli_render(int argc, char **argv)
     }
     if (info.has_visibility)
         printf("  visibility: top decile alpha %.3f, bottom half alpha %.3f, %.1f%% of pixels covered; "
-               "importance mass per pixel: median %.3g, p95 %.3g; occluder alpha %.3f\n",
+               "importance mass per pixel: median %.3g, p95 %.3g; occluder alpha %.3f; important fragments hidden "
+               "by importance %.1f%% (of %llu)\n",
                info.top_decile_alpha, info.bottom_half_alpha, 100.0 * info.covered_fraction, info.mass_median,
-               info.mass_p95, info.occluder_alpha);
+               info.mass_p95, info.occluder_alpha, 100.0 * info.important_occluded,
+               (unsigned long long)info.important_fragments);
     if (info.p0_fragments_median > 0 || info.p1_subset > 1)
         printf("  importance pass (P1): every %d-th primitive, weighted %d (P0's median effective fragments per "
                "pixel %.3g; params.autoSubset)\n",

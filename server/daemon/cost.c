@@ -215,6 +215,8 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     }
     /* params.clarity: a one-shot frame may optimize again at other strengths. */
     double tries = lc_clarity_active(p) ? LC_CLARITY_CHARGED_TRIES : 1.0;
+    if (p->method == LC_METHOD_EXACT && p->foo.exclude_self) /* a walk over the pixel's list per fragment */
+        sc[LC_PASS_OPACITY] *= 4.0;
     if (p->method == LC_METHOD_EXACT) { /* its lists are built once; each try repeats the opacity pass over them */
         sc[LC_PASS_OPACITY] *= tries;
     } else {

@@ -1,7 +1,9 @@
 /* Image tests of the exact (linked-list) method on stacked quads: GPU pixels
  * against the CPU reference of decoupled opacity optimization (exact sums,
  * exact compositing in foo_math.c), and the reports of a pool or a per-pixel
- * list that is too small. */
+ * list that is too small; fragment reduction and the front-to-back queue
+ * within their bound of one grey level; params.excludeSelf on a line folding
+ * over itself. */
 #include <math.h>
 
 #include "camera.h"
@@ -179,6 +181,135 @@ static void check_layer_cap(test_gl *t)
     free(q);
 }
 
+/* Fragment reduction: a stack of faint quads (opacity below 1/255 by a
+ * strong q) in front of an opaque important one. Some of the faint fragments
+ * are left out, never more than their pixel's budget (0.5/255 of opacity),
+ * and the image stays within one grey level of the CPU's composite of every
+ * fragment. */
+static void check_reduction(test_gl *t)
+{
+    enum { SIZE = 16, N = 12 };
+    test_quad q[N];
+    for (int i = 0; i < N; i++)
+        q[i] = (test_quad){0.5 - 0.05 * i, i == N - 1 ? 1.0 : 0.0, {(double)(i % 2), 0.3, (double)(i % 3) / 2}, 2};
+    lc_scene *s = test_quad_scene(q, N);
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    p.method = LC_METHOD_EXACT;
+    p.foo.normalize = LC_NORMALIZE_OFF;
+    p.foo.q = 5000, p.foo.r = 0, p.foo.lambda = 1; /* the faint quads hide the important one: alpha ~ 1/5001 */
+    uint8_t rgba[SIZE * SIZE * 4];
+    lc_frame_info info;
+    if (render(t->renderer, s, &p, rgba, &info) == 0) {
+        double want[3];
+        expected_pixel(q, N, &p, s, want);
+        double worst = 0;
+        for (int i = 0; i < SIZE * SIZE; i++)
+            for (int c = 0; c < 3; c++)
+                worst = fmax(worst, fabs(rgba[4 * i + c] / 255.0 - want[c]));
+        lc_fragment f[N];
+        quad_fragments(q, N, &p, s, f);
+        lc_foo_alpha_exact(f, N, &p.foo);
+        /* Per pixel at most floor(budget / alpha) faint fragments fit the budget. */
+        uint64_t most = (uint64_t)floor(0.5 / 255.0 / f[0].alpha) * SIZE * SIZE;
+        CHECK(f[0].alpha < 1.0 / 255.0, "the faint quads' opacity %g is below 1/255", f[0].alpha);
+        CHECK(info.reduced_fragments > 0 && info.reduced_fragments <= most,
+              "reduced %llu fragments, want 1..%llu", (unsigned long long)info.reduced_fragments,
+              (unsigned long long)most);
+        CHECK(info.fragments == (uint64_t)N * SIZE * SIZE, "fragments %llu count the reduced too",
+              (unsigned long long)info.fragments);
+        CHECK(worst <= 1.0 / 255.0, "reduction: worst pixel error %.5f (%.2f grey levels)", worst, worst * 255);
+        printf("reduction: %llu of %llu fragments left out (at most %llu fit the budget), worst error %.2f grey "
+               "levels\n",
+               (unsigned long long)info.reduced_fragments, (unsigned long long)info.fragments,
+               (unsigned long long)most, worst * 255);
+    }
+    lc_scene_destroy(s);
+}
+
+/* A hairpin line (one element) whose two legs overlap exactly in an
+ * orthographic view: front leg at z = 0, back leg at z = -0.5. By default
+ * each leg's fragments count the other's (DOO), so the element fades for
+ * hiding itself; with params.excludeSelf they do not (OOS h_ii = 0) and it
+ * stays opaque. A second line (another element) crossing in front still
+ * counts: the hairpin's opacity is then Eq. 10 with that line alone. */
+static lc_scene *hairpin_scene(int crossing)
+{
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("hairpin", LC_PRIM_LINES);
+    int nv = 4 + (crossing ? 2 : 0);
+    if (!s || lc_scene_alloc_vertices(s, (uint32_t)nv, 1, &err) != 0)
+        return NULL;
+    const float pts[6][3] = {{-0.8f, 0, 0}, {0.8f, 0, 0}, {0.8f, 0, -0.5f}, {-0.8f, 0, -0.5f}, {0.2f, -0.8f, 0.5f},
+                             {0.2f, 0.8f, 0.5f}};
+    float *g = malloc(sizeof(float) * 6); /* the scene takes it */
+    for (int v = 0; v < nv; v++) {
+        memcpy(s->positions + 3 * v, pts[v], sizeof pts[v]);
+        s->rgb[3 * v] = s->rgb[3 * v + 1] = s->rgb[3 * v + 2] = 0.4f;
+        g[v] = 0.5f;
+    }
+    s->line_count = crossing ? 2 : 1;
+    s->line_offsets = malloc(3 * sizeof(uint32_t));
+    s->line_offsets[0] = 0, s->line_offsets[1] = 4, s->line_offsets[2] = 6;
+    lc_scene_add_attribute(s, "importance", g, &err);
+    snprintf(s->default_importance, sizeof s->default_importance, "importance");
+    snprintf(s->default_color, sizeof s->default_color, "rgb");
+    lc_elements_desc desc = {.line_budget = (uint32_t)s->line_count};
+    if (lc_scene_finalize(s, &desc, &err) != 0) {
+        lc_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void check_exclude_self(test_gl *t)
+{
+    enum { SIZE = 48 };
+    for (int crossing = 0; crossing < 2; crossing++) {
+        lc_scene *s = hairpin_scene(crossing);
+        CHECK(s != NULL, "hairpin scene");
+        if (!s)
+            return;
+        double alpha[2] = {0, 0};
+        for (int exclude = 0; exclude < 2; exclude++) {
+            lc_render_params p;
+            test_quad_params(&p, SIZE);
+            p.method = LC_METHOD_EXACT;
+            p.foo.normalize = LC_NORMALIZE_OFF;
+            p.foo.q = 60, p.foo.r = 500, p.foo.lambda = 1;
+            p.foo.smoothing = 0;
+            p.style.line_width = 0.1;
+            p.foo.exclude_self = exclude;
+            uint8_t *rgba = malloc(SIZE * SIZE * 4);
+            lc_frame_info info;
+            lc_error err = {0};
+            lc_gpu_scene *gs = NULL;
+            lc_frame_state *st = lc_frame_state_create(s->elements.count);
+            CHECK(lc_gpu_scene_create(s, &gs, &err) == 0 && st, "gpu scene: %s", err.msg);
+            if (gs && st && lc_render_frame(t->renderer, gs, &p, st, 0, rgba, &info, &err) == 0)
+                alpha[exclude] = lc_frame_state_alphas(st)[s->elements.vertex_elements[3]];
+            else
+                CHECK(0, "render: %s", err.msg);
+            lc_frame_state_destroy(st);
+            lc_gpu_scene_destroy(gs);
+            free(rgba);
+        }
+        /* Eq. 10 at g = 0.5 over the hairpin's overlap: one leg's g^2 = 0.25 in front of the back leg (r) and
+         * behind the front leg (q); the crossing line (g = 0.5, in front of both legs) adds 0.25 in front. */
+        double c = crossing ? 0.25 : 0.0;
+        double with_self = fmin(lc_foo_optimal_alpha(0.5, 0.25 + c, 0, 60, 500, 1),
+                                lc_foo_optimal_alpha(0.5, c, 0.25, 60, 500, 1));
+        double without = lc_foo_optimal_alpha(0.5, c, 0, 60, 500, 1);
+        printf("hairpin%s: alpha %.4f (cpu %.4f) summing itself, %.4f (cpu %.4f) with excludeSelf\n",
+               crossing ? " under a crossing line" : "", alpha[0], with_self, alpha[1], without);
+        CHECK(fabs(alpha[0] - with_self) < 2e-3, "hairpin%s: alpha %g, want %g", crossing ? " crossed" : "", alpha[0],
+              with_self);
+        CHECK(fabs(alpha[1] - without) < 2e-3, "hairpin%s, excludeSelf: alpha %g, want %g", crossing ? " crossed" : "",
+              alpha[1], without);
+        lc_scene_destroy(s);
+    }
+}
+
 int main(void)
 {
     test_gl t;
@@ -207,6 +338,8 @@ int main(void)
     check_stack(&t, twenty, 20, 2, 3, 0.5);
 
     check_pool_overflow(three, 3);
+    check_reduction(&t);
+    check_exclude_self(&t);
     check_layer_cap(&t);
 
     test_gl_close(&t);

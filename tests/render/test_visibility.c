@@ -4,7 +4,10 @@
  * opacities (foo_math.c) and the exact importance behind each quad; the
  * Fourier path against the same figures within its estimate's error. An
  * unimportant quad in front of nothing weighs nothing in occluderAlpha.
- * importance.invert gives the image of the range given max first. */
+ * importance.invert gives the image of the range given max first.
+ * importantOccluded (important fragments with important mass in front) on
+ * stacked quads against the count of the quads, and on two crossing lines
+ * where one important line hides another, and where it does not. */
 #include <math.h>
 
 #include "camera.h"
@@ -118,6 +121,124 @@ static void check_invert(test_gl *t, const test_quad *q, int n)
     lc_scene_destroy(s);
 }
 
+/* importantOccluded on full-screen quads: every pixel alike, so the share is
+ * the share of the important quads (g > 0.8) with >= 0.64 of g^2 in front,
+ * and the important fragments are their count times the optimization
+ * resolution's pixels (half the output's width and height). */
+static void check_important_quads(test_gl *t, const char *what, const test_quad *q, int n, lc_method method)
+{
+    enum { SIZE = 32 };
+    int important = 0, hidden = 0;
+    for (int i = 0; i < n; i++) {
+        if (q[i].g <= LC_IMPORTANT_G)
+            continue;
+        important++;
+        double front = 0; /* the quads nearer the camera (higher z) */
+        for (int j = 0; j < n; j++)
+            if (q[j].z > q[i].z)
+                front += q[j].g * q[j].g;
+        hidden += front >= LC_IMPORTANT_MASS;
+    }
+    double want = important ? (double)hidden / important : 0.0;
+    lc_scene *s = test_quad_scene(q, n);
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    p.method = method;
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    lc_frame_info info = {0};
+    CHECK(s && lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
+    if (gs && lc_render_frame(t->renderer, gs, &p, NULL, 0, rgba, &info, &err) == 0) {
+        const char *m = lc_method_name(method);
+        printf("%s, %s: importantOccluded %.4f (cpu %.4f) of %llu important fragments\n", what, m,
+               info.important_occluded, want, (unsigned long long)info.important_fragments);
+        CHECK(info.important_occluded == want, "%s %s: importantOccluded %g, want %g", what, m,
+              info.important_occluded, want);
+        uint64_t low = (uint64_t)(SIZE / 2) * (SIZE / 2);
+        CHECK(info.important_fragments == (uint64_t)important * low, "%s %s: %llu important fragments, want %llu", what,
+              m, (unsigned long long)info.important_fragments, (unsigned long long)important * low);
+    } else {
+        CHECK(0, "%s: render: %s", what, err.msg);
+    }
+    free(rgba);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
+/* Two crossing lines, one element each: a (horizontal, z = 0, importance ga)
+ * in front of b (vertical, z = -1, importance gb). */
+static lc_scene *crossing_lines(double ga, double gb)
+{
+    enum { PER = 9 };
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("crossing", LC_PRIM_LINES);
+    if (!s || lc_scene_alloc_vertices(s, 2 * PER, 1, &err) != 0)
+        return NULL;
+    float *g = malloc(sizeof(float) * 2 * PER);
+    s->line_count = 2;
+    s->line_offsets = malloc(3 * sizeof(uint32_t));
+    for (int l = 0; l < 2; l++) {
+        s->line_offsets[l] = (uint32_t)(l * PER);
+        for (int i = 0; i < PER; i++) {
+            int v = l * PER + i;
+            float u = (float)(-0.9 + 1.8 * i / (PER - 1)), *P = s->positions + 3 * v;
+            P[0] = l ? 0 : u, P[1] = l ? u : 0, P[2] = l ? -1.0f : 0.0f;
+            s->rgb[3 * v] = s->rgb[3 * v + 1] = s->rgb[3 * v + 2] = 0.5f;
+            g[v] = (float)(l ? gb : ga);
+        }
+    }
+    s->line_offsets[2] = 2 * PER;
+    lc_scene_add_attribute(s, "importance", g, &err);
+    snprintf(s->default_importance, sizeof s->default_importance, "importance");
+    snprintf(s->default_color, sizeof s->default_color, "rgb");
+    lc_elements_desc desc = {.line_budget = 2};
+    if (lc_scene_finalize(s, &desc, &err) != 0) {
+        lc_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+/* An important line hides another only where they cross: a share above 0
+ * (the back line's fragments under the front one) and below a half (the
+ * front line is never hidden); none when either line is unimportant. */
+static void check_important_lines(test_gl *t, lc_method method)
+{
+    enum { SIZE = 48 };
+    const double cases[3][2] = {{1.0, 1.0}, {0.3, 1.0}, {1.0, 0.5}};
+    for (int k = 0; k < 3; k++) {
+        lc_scene *s = crossing_lines(cases[k][0], cases[k][1]);
+        lc_render_params p;
+        test_quad_params(&p, SIZE);
+        p.method = method;
+        p.style.line_width = 0.1;
+        lc_error err = {0};
+        lc_gpu_scene *gs = NULL;
+        uint8_t *rgba = malloc(SIZE * SIZE * 4);
+        lc_frame_info info = {0};
+        CHECK(s && lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
+        if (gs && lc_render_frame(t->renderer, gs, &p, NULL, 0, rgba, &info, &err) == 0) {
+            printf("lines g %.1f over g %.1f, %s: importantOccluded %.4f of %llu important fragments\n",
+                   cases[k][0], cases[k][1], lc_method_name(method), info.important_occluded,
+                   (unsigned long long)info.important_fragments);
+            CHECK(info.important_fragments > 0, "%s: important fragments counted", lc_method_name(method));
+            if (k == 0)
+                CHECK(info.important_occluded > 0 && info.important_occluded < 0.5,
+                      "%s: an important line over another: importantOccluded %g, want in (0, 0.5)",
+                      lc_method_name(method), info.important_occluded);
+            else
+                CHECK(info.important_occluded == 0, "%s: g %.1f over g %.1f hides no importance: importantOccluded %g",
+                      lc_method_name(method), cases[k][0], cases[k][1], info.important_occluded);
+        } else {
+            CHECK(0, "render: %s", err.msg);
+        }
+        free(rgba);
+        lc_gpu_scene_destroy(gs);
+        lc_scene_destroy(s);
+    }
+}
+
 int main(void)
 {
     test_gl t;
@@ -139,6 +260,15 @@ int main(void)
         {0.4, 0.9, {1, 0, 0}, 2}, {0.2, 0.7, {0, 1, 0}, 2}, {0.0, 0.1, {0, 0, 1}, 2}, {-0.2, 0.0, {1, 1, 0}, 2}};
     check(&t, "context behind", context, 4, LC_METHOD_EXACT, 2e-3);
     check_invert(&t, hiding, 5);
+    /* importantOccluded: the 0.9 quad has 0.01 in front (nothing important);
+     * two important quads stacked: the back one has 0.95^2 in front. */
+    const test_quad stacked[3] = {{0.4, 0.95, {1, 0, 0}, 2}, {0.0, 0.9, {0, 1, 0}, 2}, {-0.4, 0.1, {0, 0, 1}, 2}};
+    for (int m = 0; m < 2; m++) {
+        lc_method method = m ? LC_METHOD_FOURIER : LC_METHOD_EXACT;
+        check_important_quads(&t, "occluders in front", hiding, 5, method);
+        check_important_quads(&t, "two important stacked", stacked, 3, method);
+        check_important_lines(&t, method);
+    }
     test_gl_close(&t);
     return lc_test_finish();
 }

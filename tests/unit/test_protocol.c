@@ -569,6 +569,28 @@ static void test_messages(void)
     CHECK(strstr((const char *)out + 4, "\"colorTicks\":[-1.5,0.25,2.0,3.125,1000.0]") != NULL, "colorTicks JSON: %.*s",
           (int)out_len - 4, (const char *)out + 4);
     free(out);
+    /* visibility.importantOccluded round trips; a header without it (an older server) reads 0. */
+    lc_frame_header v = {.frame = 5, .width = 4, .height = 2, .has_visibility = true, .top_decile_alpha = 0.75,
+                         .bottom_half_alpha = 0.125, .covered_fraction = 0.5, .occluder_alpha = 0.25,
+                         .important_occluded = 0.375};
+    CHECK(lc_proto_pack_frame(&v, NULL, 0, &out, &out_len) == 0, "pack visibility");
+    CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_visibility &&
+              tb.important_occluded == 0.375 && tb.occluder_alpha == 0.25,
+          "importantOccluded round trip");
+    CHECK(strstr((const char *)out + 4, "\"importantOccluded\":0.375") != NULL, "importantOccluded JSON: %.*s",
+          (int)out_len - 4, (const char *)out + 4);
+    free(out);
+    {
+        char text[200];
+        int n = snprintf(text + 4, sizeof text - 4,
+                         "{\"frame\":1,\"width\":1,\"height\":1,\"format\":\"jpeg\",\"quality\":80,\"cameraSeq\":0,"
+                         "\"converged\":true,\"visibility\":{\"topDecileAlpha\":0.5,\"bottomHalfAlpha\":0.1,"
+                         "\"coveredFraction\":0.2}}");
+        text[0] = (char)n, text[1] = text[2] = text[3] = 0; /* little-endian length, n < 256 */
+        CHECK(lc_proto_unpack_frame((const unsigned char *)text, (size_t)n + 4, &tb, &img, &img_len, &perr) == 0 &&
+                  tb.important_occluded == 0 && tb.occluder_alpha == 0,
+              "a visibility without occluderAlpha and importantOccluded reads 0: %s", perr.message);
+    }
     t.color_ticks[2] = NAN;
     CHECK(lc_proto_pack_frame(&t, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "a non-finite tick is refused");
     static const char *const bad[] = {"[1,2,3,4]", "[1,2,3,4,\"5\"]", "{}"};

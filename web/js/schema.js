@@ -52,6 +52,7 @@ export const FIELDS = Object.freeze([
   { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
   { section: 'params', name: 'autoSubset', alias: 'autoSubset', type: 'int', min: 1, max: 64, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
+  { section: 'params', name: 'excludeSelf', alias: 'excludeSelf', type: 'bool', methods: ['exact'] },
 
   { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63, methods: DATASET_METHODS },
   { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range', methods: DATASET_METHODS },

@@ -112,7 +112,19 @@ export function linkText(s) {
 export function visibilityText(v) {
   if (!v || typeof v.topDecileAlpha !== 'number') return null;
   const f = (x) => (typeof x === 'number' ? x.toFixed(2) : '–');
-  return `most important tenth ${f(v.topDecileAlpha)}, occluders ${f(v.occluderAlpha)}, least important half ${f(v.bottomHalfAlpha)} opaque`;
+  const hidden = typeof v.importantOccluded === 'number' ? `; ${Math.round(100 * v.importantOccluded)}% of the important fragments hidden by importance` : '';
+  return `most important tenth ${f(v.topDecileAlpha)}, occluders ${f(v.occluderAlpha)}, least important half ${f(v.bottomHalfAlpha)} opaque${hidden}`;
+}
+
+/** Share of the important fragments with important mass in front above which the page warns (docs/ALGORITHM.md §8). */
+export const IMPORTANT_OCCLUDED_WARN = 0.25;
+
+/** The warning when important structures hide each other (OOS §7.2), '' otherwise: no opacity can show both. */
+export function occlusionWarning(v) {
+  const x = v?.importantOccluded;
+  if (typeof x !== 'number' || !(x >= IMPORTANT_OCCLUDED_WARN)) return '';
+  return `${Math.round(100 * x)}% of the important fragments lie behind other important ones: ` +
+    'no opacity can show both. Turn the view, or narrow the importance (filter, importance range).';
 }
 
 /** params.clarity's outcome (frame header "clarity") in words: '' when the goal was met or the loop was off. */

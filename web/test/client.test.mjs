@@ -108,3 +108,13 @@ test('the token travels as a WebSocket subprotocol: base64url without padding, n
   assert.match(p, /^lucent\.token\.[A-Za-z0-9_-]+$/); // only characters a subprotocol name may hold
   assert.equal(Buffer.from(p.slice('lucent.token.'.length), 'base64url').toString('utf8'), 'ä?>~ x');
 });
+
+test('visibility text and the warning when important structures hide each other (importantOccluded)', async () => {
+  const { visibilityText, occlusionWarning, IMPORTANT_OCCLUDED_WARN } = await import('../js/stats.js');
+  const v = { topDecileAlpha: 0.9, bottomHalfAlpha: 0.1, coveredFraction: 0.3, occluderAlpha: 0.05, importantOccluded: 0.4 };
+  assert.match(visibilityText(v), /40% of the important fragments hidden by importance/);
+  assert.match(occlusionWarning(v), /^40% of the important fragments lie behind other important ones/);
+  assert.equal(occlusionWarning({ ...v, importantOccluded: IMPORTANT_OCCLUDED_WARN - 0.01 }), '');
+  assert.equal(occlusionWarning({ ...v, importantOccluded: undefined }), ''); // an older server
+  assert.doesNotMatch(visibilityText({ ...v, importantOccluded: undefined }), /hidden/);
+});

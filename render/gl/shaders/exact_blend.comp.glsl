@@ -11,6 +11,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba8, binding = IMG_EXACT_OUTPUT) writeonly uniform image2D u_output;
 uniform ivec2 u_size;
 uniform vec3 u_background;
+uniform int u_queue;         // 1: pop from the front-to-back queue instead of sorting the whole list
+uniform float u_saturation;  // stop once the transmittance is below this (exact.c)
 uniform int u_context; // layers: the opaque context's colour replaces the background (p6_resolve.frag.glsl)
 layout(binding = TEX_CONTEXT_COLOR) uniform sampler2D u_context_color;
 
@@ -32,21 +34,37 @@ void add_units(uint slot, uint units)
 uint coverage_units(float transmittance) { return uint((1.0 - transmittance) * u_eq_scale + 0.5); }
 #endif
 
-void main()
+// Blends the n entries of the list front to back into color and
+// transmittance, from the queue or from the sorted list, until the pixel
+// saturates. A pop that is not strictly after the one before, or a queue
+// that does not hold the entries it was given (checksum: what was popped and
+// what is left; the heap's loops on Mesa 22 llvmpipe, see sort_list), returns
+// false; nothing of the pixel is kept then (the caller blends it again, sorted).
+bool blend_list(int n, bool queue, uvec2 checksum, out vec3 color, out float transmittance)
 {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= u_size.x || p.y >= u_size.y)
-        return;
-    uint list_length;
-    int n = gather_list(p, list_length);
-    sort_list(n);
-    vec3 color = vec3(0.0);
-    float transmittance = 1.0;
+    uvec2 popped_sum = uvec2(0u);
+    int popped = 0;
+    color = vec3(0.0);
+    transmittance = 1.0;
 #ifdef EXACT_EQUALIZE
     uint covered = 0u; // coverage_units(transmittance) so far
 #endif
+    float last_z = 0.0;
+    uint last_node = 0u;
     for (int i = 0; i < n; i++) {
-        uvec4 node = nodes[list[i].y];
+        uint index;
+        if (queue) {
+            if (i > 0 && !before(last_z, last_node, list_z[0], list_node[0]))
+                return false;
+            last_z = list_z[0];
+            last_node = list_node[0];
+            index = queue_pop(n - i);
+            popped_sum += uvec2(index, index * 2654435761u + (index >> 7)); // as list_checksum
+            popped++;
+        } else {
+            index = list_node[i];
+        }
+        uvec4 node = nodes[index];
 #ifdef EXACT_EQUALIZE
         vec3 c = vec3(uvec3(node.z, node.z >> 10, node.z >> 20) & 1023u) / 1023.0;
         float a = unpackUnorm2x16(node.w & 0xFFFFu).x;
@@ -63,17 +81,48 @@ void main()
         add_units(node.w >> 16, now - covered);
         covered = now;
 #endif
-        // What remains is far below one 8-bit step of the output.
-        if (transmittance < 1e-6)
+        // What remains changes no channel by u_saturation or more: every
+        // colour and the background are within [0, 1].
+        if (transmittance < u_saturation)
             break;
+    }
+#ifdef EXACT_EQUALIZE
+    add_units(EXACT_NO_BIN + 1u, covered);
+#endif
+    return !queue || popped_sum + list_checksum(n - popped) == checksum;
+}
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= u_size.x || p.y >= u_size.y)
+        return;
+    uint list_length;
+    int n = gather_list(p, list_length, true);
+    // Long lists go through the queue: the blend pops the nearest fragment
+    // until the pixel saturates; short ones are insertion-sorted (cheaper
+    // there). color.equalize sorts (its histogram takes each share once).
+    bool queue = u_queue != 0 && n > u_insertion_max;
+#ifdef EXACT_EQUALIZE
+    queue = false;
+#endif
+    uvec2 checksum = queue ? list_checksum(n) : uvec2(0u);
+    if (queue)
+        queue_build(n);
+    else
+        sort_list(p, n);
+    vec3 color;
+    float transmittance;
+    if (!blend_list(n, queue, checksum, color, transmittance)) {
+        atomicAdd(counters[COUNTER_SORT_REPAIRS + u_list_pass], 1u);
+        n = gather_list(p, list_length, false);
+        insertion_sort(n);
+        blend_list(n, false, checksum, color, transmittance);
     }
     vec3 bg = u_background;
     if (u_context != 0) {
         vec4 k = texelFetch(u_context_color, p, 0);
         bg = k.a > 0.0 ? k.rgb : bg;
     }
-#ifdef EXACT_EQUALIZE
-    add_units(EXACT_NO_BIN + 1u, covered);
-#endif
     imageStore(u_output, p, vec4(color + bg * transmittance, 1.0));
 }

@@ -14,6 +14,21 @@ void add_behind(uint element, float behind)
         atomicMax(element_behind[element], 0xFFFFFFFFu);
 }
 
+// importantOccluded (docs/ALGORITHM.md §8): [0] fragments with g above
+// LC_IMPORTANT_G, [1] those of them with at least LC_IMPORTANT_MASS (one
+// important fragment's g^2) of mass in front, the sum r weighs in Eq. 10.
+// Values as in renderer.h.
+layout(std430, binding = BIND_IMPORTANT_OCCLUDED) buffer ImportantOccluded { uint important_occluded[2]; };
+
+void count_important(float g, float front)
+{
+    if (g <= 0.8)
+        return;
+    atomicAdd(important_occluded[0], 1u);
+    if (front >= 0.64)
+        atomicAdd(important_occluded[1], 1u);
+}
+
 // Patches (docs/ALGORITHM.md §6): with u_element_emphasis the emphasis of Eq. 10
 // reads the element's mean importance instead of the fragment's own, so that
 // a patch's opacity is not set by its least important fragment.

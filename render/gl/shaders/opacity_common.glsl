@@ -34,4 +34,5 @@ void fragment_opacity(uint element, float g, float d, float c[NTARGETS * 4])
     // Non-negative floats order like their bit patterns.
     atomicMin(element_alpha_min[element], floatBitsToUint(alpha));
     add_behind(element, behind);
+    count_important(g, front);
 }

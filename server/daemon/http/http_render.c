@@ -89,9 +89,12 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
     snprintf(buf, sizeof buf, "%u", info->element_count);
     MHD_add_response_header(r, "X-Lucent-Elements", buf);
     if (info->has_visibility) {
-        char vis[192];
-        snprintf(vis, sizeof vis, "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f,occluderAlpha=%.4f",
-                 info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction, info->occluder_alpha);
+        char vis[224];
+        snprintf(vis, sizeof vis,
+                 "topDecileAlpha=%.4f,bottomHalfAlpha=%.4f,coveredFraction=%.4f,occluderAlpha=%.4f,"
+                 "importantOccluded=%.4f",
+                 info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction, info->occluder_alpha,
+                 info->important_occluded);
         MHD_add_response_header(r, "X-Lucent-Visibility", vis);
         char layers[LC_MAX_LAYERS * 48] = "";
         for (int i = 0; i < info->layer_count && i < LC_MAX_LAYERS; i++) { /* layered frames: "top/bottom/occluder;..." */

@@ -532,6 +532,17 @@ void lc_layers_bounds(const lc_gpu_scene *const *scenes, int n, double out[6]);
 int lc_frame_resolve_mapping(lc_frame_setup *fs, lc_error *err);
 int lc_frame_pick_level(const lc_frame_setup *fs);
 
+/* ---- frame_compose.c: P4-P6 (or the baselines' single pass) of the frame's
+ * method with its opacities; the output target (RGBA8, a depth buffer for the
+ * opaque baseline); the antialias samples a frame's method takes (1: none);
+ * samples 1..K-1 after the composite in the output, averaged into rgba; a
+ * tiled still's tiles (each possibly antialiased) into rgba. */
+int lc_frame_composite(lc_renderer *r, lc_frame_setup *fs, lc_error *err);
+void lc_frame_ensure_output(lc_renderer *r, int w, int h, int with_depth);
+int lc_frame_antialias_samples(const lc_render_params *p);
+int lc_frame_antialias(lc_renderer *r, lc_frame_setup *fs, int samples, uint8_t *rgba, lc_error *err);
+int lc_frame_render_tiles(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int nx, int ny,
+                          int samples, int pixel_range, uint8_t *rgba, lc_error *err);
 /* ---- filter.c */
 /* Resolves the request's filters against the scene and builds (or reuses)
  * the per-vertex visibility mask they define; sets fs->filtered and the mask

@@ -98,6 +98,43 @@ int lc_field_sample(const lc_field *f, const double p[3], double t, double v[3])
     return 1;
 }
 
+/* d v / d x_a at p: central where both neighbours lie inside, else one-sided. */
+static void derivative(const lc_field *f, const double p[3], double t, int a, double h, double dv[3])
+{
+    double lo[3] = {p[0], p[1], p[2]}, hi[3] = {p[0], p[1], p[2]}, vl[3], vh[3];
+    lo[a] = p[a] - h > f->bounds[a] ? p[a] - h : f->bounds[a];
+    hi[a] = p[a] + h < f->bounds[a + 3] ? p[a] + h : f->bounds[a + 3];
+    double d = hi[a] - lo[a];
+    lc_field_sample(f, lo, t, vl);
+    lc_field_sample(f, hi, t, vh);
+    for (int k = 0; k < 3; k++)
+        dv[k] = d > 0 ? (vh[k] - vl[k]) / d : 0.0;
+}
+
+int lc_field_curl(const lc_field *f, const double p[3], double t, double w[3])
+{
+    w[0] = w[1] = w[2] = 0.0;
+    if (!lc_field_contains(f, p))
+        return 0;
+    double diag = 0, d[3][3];
+    for (int a = 0; a < 3; a++)
+        diag += (f->bounds[a + 3] - f->bounds[a]) * (f->bounds[a + 3] - f->bounds[a]);
+    for (int a = 0; a < 3; a++) {
+        double h = 1e-3 * sqrt(diag);
+        if (f->kind != LC_FIELD_ANALYTIC) {
+            uint32_t c;
+            double frac;
+            locate(f, a, p[a], &c, &frac);
+            h = 0.5 * (f->coords[a][c + 1] - f->coords[a][c]);
+        }
+        derivative(f, p, t, a, h, d[a]); /* d[a][k] = d v_k / d x_a */
+    }
+    w[0] = d[1][2] - d[2][1];
+    w[1] = d[2][0] - d[0][2];
+    w[2] = d[0][1] - d[1][0];
+    return 1;
+}
+
 static lc_field *field_new(const char *name)
 {
     lc_field *f = calloc(1, sizeof *f);

@@ -67,6 +67,12 @@ int lc_field_create_grid(const char *name, lc_field_kind kind, const uint32_t di
  * between the 8 nodes of the cell around p. */
 int lc_field_sample(const lc_field *f, const double p[3], double t, double v[3]);
 
+/* The curl of the velocity at p and time t (vorticity ω = ∇ × v) by central
+ * differences: over h = 1/1000 of the domain's diagonal for analytic fields,
+ * half the cell around p per axis for gridded ones; one-sided at the domain's
+ * faces. Returns 1 inside the domain, 0 outside (w set to 0). */
+int lc_field_curl(const lc_field *f, const double p[3], double t, double w[3]);
+
 /* 1 when p lies within the field's bounds. */
 int lc_field_contains(const lc_field *f, const double p[3]);
 

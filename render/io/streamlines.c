@@ -15,7 +15,8 @@ int lc_streamlines_is_spec(const char *spec)
     return spec && strncmp(spec, LC_STREAMLINES_PREFIX, strlen(LC_STREAMLINES_PREFIX)) == 0;
 }
 
-int lc_streamlines_scene(const char *name, const lc_trace_curve *c, uint32_t count, lc_scene **out, lc_error *err)
+int lc_streamlines_scene(const char *name, const lc_trace_curve *c, uint32_t count, const lc_field *f, lc_scene **out,
+                         lc_error *err)
 {
     uint64_t nv = 0;
     uint32_t lines = 0;
@@ -28,20 +29,21 @@ int lc_streamlines_scene(const char *name, const lc_trace_curve *c, uint32_t cou
     if (nv > LC_MAX_VERTICES)
         return lc_err(err, LC_ERR_LIMIT, "%s: %llu vertices exceed the limit of %u", name, (unsigned long long)nv,
                       (unsigned)LC_MAX_VERTICES);
-    static const char *const names[] = {"time", "speed", "seed_u", "normal_x", "normal_y", "normal_z"};
+    static const char *const names[] = {"time", "speed", "seed_u", "normal_x", "normal_y", "normal_z", "vorticity"};
+    const int nattr = f ? 7 : 6; /* the vorticity |curl v| where the field is at hand */
     lc_scene *s = lc_scene_create(name, LC_PRIM_LINES);
-    float *attr[6] = {0};
+    float *attr[7] = {0};
     if (s) {
         s->positions = malloc(3 * nv * sizeof *s->positions);
         s->line_offsets = malloc(((size_t)lines + 1) * sizeof *s->line_offsets);
-        for (int k = 0; k < 6; k++)
+        for (int k = 0; k < nattr; k++)
             attr[k] = malloc(nv * sizeof *attr[k]);
     }
     int ok = s && s->positions && s->line_offsets;
-    for (int k = 0; k < 6; k++)
+    for (int k = 0; k < nattr; k++)
         ok = ok && attr[k];
     if (!ok) {
-        for (int k = 0; k < 6; k++)
+        for (int k = 0; k < nattr; k++)
             free(attr[k]);
         lc_scene_destroy(s);
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory for %llu vertices", name, (unsigned long long)nv);
@@ -58,13 +60,19 @@ int lc_streamlines_scene(const char *name, const lc_trace_curve *c, uint32_t cou
             attr[2][v] = (float)c[i].u;
             for (int a = 0; a < 3; a++)
                 attr[3 + a][v] = c[i].normal[3 * k + a];
+            if (f) { /* FOO §5.5.5's vorticity: |curl v| where the particle is, at its time */
+                const double p[3] = {c[i].xyz[3 * k], c[i].xyz[3 * k + 1], c[i].xyz[3 * k + 2]};
+                double w[3];
+                lc_field_curl(f, p, c[i].time[k], w);
+                attr[6][v] = (float)sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+            }
         }
     }
     s->line_offsets[lines] = v;
     s->vertex_count = v;
     s->line_count = lines;
     int rc = 0;
-    for (int k = 0; k < 6; k++) {
+    for (int k = 0; k < nattr; k++) {
         if (rc == 0) {
             int idx = lc_scene_add_attribute(s, names[k], attr[k], err);
             rc = idx < 0 ? idx : 0;
@@ -263,7 +271,7 @@ int lc_streamlines_load(const char *spec, int threads, lc_scene **out, lc_error 
         char name[LC_NAME_LEN];
         snprintf(name, sizeof name, LC_STREAMLINES_PREFIX "%.*s", (int)(sizeof name - sizeof LC_STREAMLINES_PREFIX),
                  f->name);
-        rc = lc_streamlines_scene(name, c, n, out, err);
+        rc = lc_streamlines_scene(name, c, n, f, out, err);
     }
     if (c)
         lc_trace_curves_free(c, n);

@@ -37,9 +37,12 @@ int lc_streamlines_load(const char *spec, int threads, lc_scene **out, lc_error 
 
 /* Moves count curves into a finalized line scene named name with their time,
  * speed, seed parameter and ghost normal as attributes (time, speed, seed_u,
- * normal_x/y/z; default importance speed); curves of one vertex are left out.
- * The curves keep their arrays (free them with lc_trace_curves_free). */
-int lc_streamlines_scene(const char *name, const lc_trace_curve *curves, uint32_t count, lc_scene **out, lc_error *err);
+ * normal_x/y/z; default importance speed) and, given the field f they were
+ * traced in, the vorticity |curl v| at each vertex (lc_field_curl); curves of
+ * one vertex are left out. The curves keep their arrays (free them with
+ * lc_trace_curves_free). */
+int lc_streamlines_scene(const char *name, const lc_trace_curve *curves, uint32_t count, const lc_field *f,
+                         lc_scene **out, lc_error *err);
 
 #ifdef __cplusplus
 }

@@ -136,7 +136,7 @@ int lc_cli_trace_scene(const char *spec, const char *seed_text, const lc_cli_str
     if (!rc) {
         char name[160];
         snprintf(name, sizeof name, "%s-%s", f->name, set ? "streamlines" : "curves");
-        rc = lc_streamlines_scene(name, c, curves, out, err);
+        rc = lc_streamlines_scene(name, c, curves, f, out, err);
     }
     if (c)
         lc_trace_curves_free(c, curves);

@@ -1,7 +1,10 @@
 /* Vector fields (render/field, render/io/vtk_field_read.c): the case table
  * tests/data/fields/cases.txt, trilinear sampling against the formulas the
  * files were written from, uniform = rectilinear, the demo fields against
- * their formulas, truncated inputs and the field-source opener. */
+ * their formulas, truncated inputs and the field-source opener; the curl
+ * (vorticity) of the ABC flow, a Beltrami flow whose curl is the velocity
+ * itself, analytic and sampled on a grid, and as the vorticity attribute of a
+ * streamline set traced in it. */
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -302,8 +305,58 @@ static void test_demos(void)
     }
 }
 
+/* curl v = v for the ABC flow: by central differences (analytic) and over a
+ * 97^3 grid of it (trilinear, half-cell steps: the grid's own error). */
+static void test_curl(void)
+{
+    lc_field *f = NULL;
+    lc_error err = {0};
+    CHECK(lc_field_demo_create("abc-flow", &f, &err) == 0, "demo:abc-flow: %s", err.msg);
+    if (!f)
+        return;
+    double worst = 0, worst_grid = 0;
+    enum { N = 97 };
+    uint32_t dims[3] = {N, N, N};
+    double *c[3];
+    float *v = malloc(sizeof(float) * 3 * N * N * N);
+    for (int a = 0; a < 3; a++) {
+        c[a] = malloc(sizeof(double) * N);
+        for (int i = 0; i < N; i++)
+            c[a][i] = f->bounds[a] + (f->bounds[a + 3] - f->bounds[a]) * i / (N - 1);
+    }
+    for (int k = 0; k < N; k++)
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < N; i++) {
+                double p[3] = {c[0][i], c[1][j], c[2][k]}, w[3];
+                lc_field_abc(p, 0, w);
+                for (int a = 0; a < 3; a++)
+                    v[3 * ((size_t)i + N * ((size_t)j + (size_t)N * k)) + a] = (float)w[a];
+            }
+    lc_field *g = NULL;
+    CHECK(lc_field_create_grid("abc-grid", LC_FIELD_UNIFORM, dims, c, v, &g, &err) == 0, "grid: %s", err.msg);
+    for (int s = 0; s < 200 && g; s++) {
+        double p[3], w[3], want[3], wg[3];
+        for (int a = 0; a < 3; a++) /* inside, away from the faces (one-sided there) */
+            p[a] = f->bounds[a] + (f->bounds[a + 3] - f->bounds[a]) * (0.05 + 0.9 * ((s * (a + 3) * 7919) % 1000) / 1000.0);
+        lc_field_abc(p, 0, want);
+        CHECK(lc_field_curl(f, p, 0, w) == 1 && lc_field_curl(g, p, 0, wg) == 1, "curl inside the domain");
+        for (int a = 0; a < 3; a++) {
+            worst = fmax(worst, fabs(w[a] - want[a]));
+            worst_grid = fmax(worst_grid, fabs(wg[a] - want[a]));
+        }
+    }
+    printf("ABC flow: curl v - v at most %.2g analytic, %.2g on a %d^3 grid\n", worst, worst_grid, N);
+    CHECK(worst < 1e-4, "analytic curl off by %g", worst);
+    CHECK(worst_grid < 0.02, "gridded curl off by %g", worst_grid);
+    double out[3] = {f->bounds[3] + 1, 0, 0}, w[3];
+    CHECK(lc_field_curl(f, out, 0, w) == 0 && w[0] == 0, "outside: 0");
+    lc_field_destroy(g);
+    lc_field_destroy(f);
+}
+
 int main(void)
 {
+    test_curl();
     test_cases();
     test_uniform_equals_rectilinear();
     test_bad_grids();

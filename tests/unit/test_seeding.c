@@ -3,7 +3,9 @@
  * half, vertex for vertex; a negative step traces backward; a rake of n seeds
  * gives n curves starting at the evenly spaced seeds; box seeds follow the
  * Halton sequence; density-driven seeds obey the separation rule, checked
- * against a brute-force replay of the candidates; bad settings name their field. */
+ * against a brute-force replay of the candidates; bad settings name their field;
+ * a streamline set of the ABC flow carries the vorticity |curl v|, which that
+ * Beltrami flow makes equal to its speed. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,7 +13,9 @@
 
 #include "field.h"
 #include "lc_test.h"
+#include "scene.h"
 #include "seeding.h"
+#include "streamlines.h"
 #include "trace.h"
 
 static void rotation_flow(const double p[3], double t, double v[3])
@@ -194,8 +198,29 @@ static void test_density_rule(void)
     lc_field_destroy(f);
 }
 
+static void test_vorticity(void)
+{
+    lc_scene *s = NULL;
+    lc_error err = {0};
+    int rc = lc_streamlines_load("streamlines:demo:abc-flow?seeding=rake&seeds=1,1,1;5,5,5&count=5", 1, &s, &err);
+    CHECK(rc == 0 && s, "ABC streamline set: %s", err.msg);
+    if (!s)
+        return;
+    int w = lc_scene_find_attribute(s, "vorticity"), v = lc_scene_find_attribute(s, "speed");
+    CHECK(w >= 0 && v >= 0, "vorticity and speed attributes (%d, %d)", w, v);
+    double worst = 0;
+    for (uint32_t i = 0; w >= 0 && v >= 0 && i < s->vertex_count; i++) {
+        double a = s->attributes[w].values[i], b = s->attributes[v].values[i];
+        worst = fmax(worst, fabs(a - b) / fmax(b, 1e-6));
+    }
+    printf("ABC streamlines: %u vertices, vorticity against speed at most %.2g relative\n", s->vertex_count, worst);
+    CHECK(worst < 1e-3, "vorticity off the speed by %g", worst);
+    lc_scene_destroy(s);
+}
+
 int main(void)
 {
+    test_vorticity();
     test_two_way();
     test_rake_and_box();
     test_density_rule();

@@ -16,7 +16,7 @@
 
 /* Bump when the layout below or what finalize and the level build derive
  * changes: an old cache is then stale, never misread. */
-#define CACHE_VERSION 2u /* 2: timed lines derive motion attributes (scene_motion.c) */
+#define CACHE_VERSION 3u /* 2: timed lines derive motion attributes (scene_motion.c); 3: lines their measures (scene_measures.c) */
 static const char MAGIC[8] = {'L', 'C', 'S', 'C', 'E', 'N', 'E', '\n'};
 
 /* ---- Hashing: four lanes of xxHash-style rounds over 32-byte blocks. */

@@ -9,6 +9,13 @@
 /* Lines: fills s->tangents and adds "arc_length", "curvature", "line_length".
  * Expects validated line offsets. */
 int lc_scene_derive_lines(lc_scene *s, lc_error *err);
+/* Lines (scene_measures.c, after lc_scene_derive_lines): adds FOO's importance
+ * measures "boundary_distance", "direction_variance", "linear_entropy" and
+ * "angular_entropy" (docs/ALGORITHM.md "Derived attributes"); total = the
+ * vertices of the whole scene; with c (a part) the directions' grid is summed
+ * over the processes (collective). Adds nothing when they would pass
+ * LC_MAX_ATTRIBUTES. */
+int lc_scene_derive_line_measures(lc_scene *s, uint64_t total, const lc_scene_collective *c, lc_error *err);
 /* Trajectories (s->trajectory.geographic): adds, from metric distances
  * (docs/ALGORITHM.md "Derived trajectory attributes"), "pressure" (hPa),
  * "pressure_change" (last - first over the line), "pressure_change_48h" (to

@@ -470,6 +470,8 @@ int lc_scene_finalize(lc_scene *s, const lc_elements_desc *desc, lc_error *err)
         return rc;
     if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err);
+        if (!rc)
+            rc = lc_scene_derive_line_measures(s, s->vertex_count, NULL, err);
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err);
         int timed;
@@ -670,6 +672,8 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
         return LC_ERR_INTERNAL;
     if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
+        if (!rc) /* collective: the directions' grid is summed over the processes */
+            rc = lc_scene_derive_line_measures(s, total, c, err);
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err); /* per line */
         int timed; /* per line; every part has the same attributes, so the same names */

@@ -1033,6 +1033,21 @@ test('stream surface: pick a field, place the seed line, watch it grow; a new se
   check(curves.some((c) => c < 400), `a new direction restarts the surface: ${curves}`);
   const twoWay = await signature(page);
   check(meanDiff(dragged, twoWay) > 0.1, `the two-way surface looks different (mean diff ${meanDiff(dragged, twoWay).toFixed(2)})`);
+  // a bent seed (a point between the ends) and the surface's look: each goes to the session, the surface restarts
+  after = await newest();
+  await page.locator('#surface-via').fill('3.14, 3.14, 2.5');
+  await page.locator('#surface-opacity').fill('0.6');
+  await page.locator('#surface-composite').selectOption('weighted-average');
+  await page.locator('#surface-via').dispatchEvent('change');
+  await page.locator('#surface-opacity').dispatchEvent('change');
+  const look = await page.evaluate(() => window.lucent.state.update.surface);
+  check(look?.seed?.length === 3 && JSON.stringify(look.seed[1]) === '[3.14,3.14,2.5]' && look.opacity === 0.6 &&
+    look.composite === 'weighted-average' && look.epsilon === 0.01 && look.maxLayers === 8,
+    `a seed through a third point and the surface's look are the session's: ${JSON.stringify(look)}`);
+  await complete(after);
+  const bent = await signature(page);
+  const bentErr = await page.evaluate(() => window.lucent.state.error);
+  check(!bentErr && meanDiff(twoWay, bent) > 0.1, `the bent, more opaque, averaged surface renders and differs (mean diff ${meanDiff(twoWay, bent).toFixed(2)}; ${JSON.stringify(bentErr)})`);
   // off the handles the canvas still orbits
   const vb = await page.locator('#view').boundingBox();
   await page.mouse.move(vb.x + vb.width * 0.15, vb.y + vb.height * 0.85);

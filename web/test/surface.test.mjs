@@ -2,7 +2,7 @@
 // check in the protocol mirror, without a browser.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { defaultSeed, surfaceChanges, surfaceStatus } from '../js/surface-panel.js';
+import { defaultSeed, surfaceChanges, surfaceStatus, parsePoints, SURFACE_LOOK } from '../js/surface-panel.js';
 import { fieldByPath, checkField } from '../js/schema.js';
 import { checkClientMessage, paramsMessage } from '../js/protocol.js';
 
@@ -14,6 +14,21 @@ test('showing the surface sends surface then method; hiding goes back to the pre
   const v = { field: 'demo:abc-flow', seed: [[1, 2, 3], [1, 4, 3]], particles: 600, curvesPerFrame: 150, direction: 'both' };
   assert.deepEqual(surfaceChanges(true, v), [['surface', v], ['method', 'surface-layers']]);
   assert.deepEqual(surfaceChanges(false, v, 'exact'), [['method', 'exact']]);
+});
+
+test("the seed's points between its ends and the look of the surface go with the surface object", () => {
+  assert.deepEqual(parsePoints(''), []);
+  assert.deepEqual(parsePoints('1,2,3; 4, 5, 6'), [[1, 2, 3], [4, 5, 6]]);
+  assert.equal(parsePoints('1,2; 4,5,6'), null);
+  assert.equal(parsePoints('1,2,x'), null);
+  const v = { field: 'f', seed: [[0, 0, 0], [1, 1, 1], [2, 0, 0]], particles: 10, curvesPerFrame: 5, direction: 'forward',
+    epsilon: 0.02, opacity: 0.5, maxLayers: 4, composite: 'weighted-sum', color: [1, 0, 0] };
+  assert.deepEqual(surfaceChanges(true, v)[0], ['surface', v]);
+  for (const [k, val] of Object.entries(SURFACE_LOOK)) {
+    const f = fieldByPath(`surface.${k}`);
+    assert.ok(f, `surface.${k} is a field`);
+    assert.equal(checkField(f, val), null, `the page's default ${k} is valid`);
+  }
 });
 
 test('status line from the frame header', () => {

@@ -4,7 +4,8 @@
 // the window; play steps t (the window's end grows, frames keep coming, no error) and pause stops it;
 // a link with timeWindow reopens the bar at that t.
 // Layers: adding the dump to the points makes a two-layer session (the points stay layer 1) whose
-// frames differ from the points alone, with a legend line per layer; hiding the dump brings the
+// frames differ from the points alone, with a legend line per layer; the rows' controls keep a readable width
+// (>= 60 px, no row wider than the panel) at 1280x800 and on a phone (390x844); hiding the dump brings the
 // points' picture back; a layer's colour attribute and role go to the server (the legend follows); a time
 // window, a filter and a cluster count typed into the dump's row go as layers[1].time / .filter / .lines
 // (the window changes the picture) and into the link; the link reopens both layers in a new session; removing them returns to the single dataset.
@@ -234,6 +235,20 @@ try {
   check(!two.err, `the session draws the two layers (${JSON.stringify(two.err)})`);
   const both = await sig3();
   check(diff(pointsAlone, both) > 0.3, `the two-layer frame differs from the points alone (${diff(pointsAlone, both).toFixed(2)})`);
+  // The layer rows fit a desktop (1280x800) and a phone (390x844): every select and box wide enough to read, no row
+  // wider than the panel.
+  for (const [w, h] of [[1280, 800], [390, 844]]) {
+    await page3.setViewportSize({ width: w, height: h });
+    const fit = await page3.evaluate(() => {
+      const rows = [...document.querySelectorAll('.layer-row')];
+      const widths = rows.flatMap((r) => [...r.querySelectorAll('select, input[type=number]')].map((e) => Math.round(e.getBoundingClientRect().width)));
+      const over = rows.filter((r) => r.scrollWidth > r.clientWidth + 1).length;
+      return { narrowest: Math.min(...widths), over, count: widths.length };
+    });
+    console.log(`layer rows at ${w}x${h}: ${fit.count} controls, the narrowest ${fit.narrowest} px, ${fit.over} rows overflow`);
+    check(fit.count > 0 && fit.narrowest >= 60 && fit.over === 0, `layer rows at ${w}x${h}: narrowest control ${fit.narrowest} px, ${fit.over} rows overflow`);
+  }
+  await page3.setViewportSize({ width: 640, height: 480 });
 
   f = await lastFrame();
   await page3.click('.layer-row[data-index="1"] input[type=checkbox]');

@@ -87,10 +87,6 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
         snprintf(field, sizeof field, "%s.dataset", path);
         return lc_proto_list_fail(err, LC_PROTO_MISSING_FIELD, field, "every layer names its dataset");
     }
-    if (out->p.color.equalize) {
-        snprintf(field, sizeof field, "%s.color.equalize", path);
-        return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "not with layers");
-    }
     return 0;
 }
 

@@ -121,9 +121,12 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
      * coarse first frame, thinned lines), and one gentle step a frame would
      * stop wherever the opacities converge. */
     if (given->detail.still && state && !state->fresh) {
-        int eq_valid = state->eq_valid; /* the colour map keeps its own half-life */
+        int eq_valid[LC_MAX_LAYERS]; /* the colour maps keep their own half-life */
+        for (int i = 0; i < LC_MAX_LAYERS; i++)
+            eq_valid[i] = state->eq[i].valid;
         lc_frame_state_reset(state);
-        state->eq_valid = eq_valid;
+        for (int i = 0; i < LC_MAX_LAYERS; i++)
+            state->eq[i].valid = eq_valid[i];
     }
     if (state && !state->fresh && state->clarity.lambda >= 1 && state->clarity.penalty >= 1)
         st = state->clarity;

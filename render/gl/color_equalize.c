@@ -47,23 +47,46 @@ void lc_color_equalize_use_table(lc_renderer *r, lc_frame_setup *fs, const float
         }
         rgba[4 * k + 3] = 255;
     }
-    if (!r->equalized_tex) {
-        glCreateTextures(GL_TEXTURE_2D, 1, &r->equalized_tex);
-        glTextureStorage2D(r->equalized_tex, 1, GL_RGBA8, 256, 1);
-        glTextureParameteri(r->equalized_tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(r->equalized_tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTextureParameteri(r->equalized_tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTextureParameteri(r->equalized_tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    GLuint *tex = &r->equalized_tex[fs->eq_slot];
+    if (!*tex) {
+        glCreateTextures(GL_TEXTURE_2D, 1, tex);
+        glTextureStorage2D(*tex, 1, GL_RGBA8, 256, 1);
+        glTextureParameteri(*tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(*tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(*tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(*tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
-    glTextureSubImage2D(r->equalized_tex, 0, 0, 0, 256, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-    fs->colormap_texture = r->equalized_tex;
+    glTextureSubImage2D(*tex, 0, 0, 0, 256, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    fs->colormap_texture = *tex;
+}
+
+/* Each equalized layer of a layered frame with its own transfer (layers.c
+ * keeps the texture in the layer's setup). */
+static void begin_layers(lc_renderer *r, lc_frame_setup *fs, const lc_frame_state *state)
+{
+    for (int i = 0; i < fs->layer_count; i++) {
+        lc_layer_setup *l = lc_frame_layer_setup(fs, i);
+        l->colormap_texture = 0;
+        if (!l->params.color.equalize || !state || !state->eq[i].valid)
+            continue;
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        lc_color_equalize_use_table(r, &tmp, state->eq[i].knots);
+        l->colormap_texture = tmp.colormap_texture;
+    }
 }
 
 int lc_color_equalize_begin(lc_renderer *r, lc_frame_setup *fs, const lc_frame_state *state)
 {
     fs->colormap_texture = 0;
-    if (fs->params->color.equalize && state && state->eq_valid)
-        lc_color_equalize_use_table(r, fs, state->eq_knots);
+    if (fs->layer_count > 0) {
+        begin_layers(r, fs, state);
+        return 0;
+    }
+    if (fs->params->color.equalize && state && state->eq[0].valid)
+        lc_color_equalize_use_table(r, fs, state->eq[0].knots);
     return 0;
 }
 
@@ -131,6 +154,8 @@ int lc_color_equalize_measure(lc_renderer *r, lc_frame_setup *fs, int direct, in
 static void color_ticks(lc_frame_setup *fs, const float *knots)
 {
     lc_frame_info *info = fs->info;
+    if (fs->layer_count > 0) /* the frame's ticks are one mapping's: a layered frame's legend keeps its ranges */
+        return;
     info->has_color_ticks = fs->params->color.curve.count == 0; /* u would need the curve's inverse */
     for (int i = 0; i < 5 && info->has_color_ticks; i++) {
         double u = lc_equalize_inverse(knots, LC_EQUALIZE_BINS, (float)i / 4.0f);
@@ -148,16 +173,17 @@ int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
     float target[LC_EQUALIZE_BINS + 1];
     if (lc_equalize_target(r->eq_hist, LC_EQUALIZE_BINS, (const double(*)[2])fixed, nfixed, target) != 0)
         return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "a fixed range is invalid");
+    int slot = fs->eq_slot;
     if (!fresh) {
         /* This frame drew with the session's F; the next one draws with F moved toward this view's. */
-        memcpy(r->eq_knots, state->eq_knots, sizeof r->eq_knots);
+        memcpy(r->eq_knots, state->eq[slot].knots, sizeof r->eq_knots);
         r->eq_valid = 1;
         color_ticks(fs, r->eq_knots);
-        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
+        lc_frame_state_equalize_slot(state, slot, target, dt, c->fade_half_life);
         /* The stream goes on until F has reached this view's (a session sends no
          * frame once a frame reports converged): within a quarter of one of the
          * colormap's 256 steps. */
-        const float *next = lc_frame_state_equalize_knots(state);
+        const float *next = lc_frame_state_equalize_knots_slot(state, slot);
         for (int i = 0; next && fs->info && i <= LC_EQUALIZE_BINS; i++)
             if (fabsf(next[i] - target[i]) > EQUALIZE_SETTLED) {
                 fs->info->converged = 0;
@@ -167,8 +193,8 @@ int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
     }
     /* One-shot frames and a session's first: composite again with this view's F. */
     if (state) {
-        state->eq_valid = 0;
-        lc_frame_state_equalize(state, target, dt, c->fade_half_life);
+        state->eq[slot].valid = 0;
+        lc_frame_state_equalize_slot(state, slot, target, dt, c->fade_half_life);
     }
     memcpy(r->eq_knots, target, sizeof r->eq_knots);
     r->eq_valid = 1;
@@ -178,12 +204,38 @@ int lc_color_equalize_finish(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
     return 0;
 }
 
+/* A layered frame: each equalized layer's histogram of its own fragments'
+ * visibility in the whole frame, its own transfer; one composite again when
+ * any of them had none yet. */
+static int end_layers(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct, lc_error *err)
+{
+    int again = 0, rc = 0;
+    for (int i = 0; i < fs->layer_count && !rc; i++) {
+        lc_layer_setup *l = lc_frame_layer_setup(fs, i);
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = l->params.color.equalize ? lc_frame_layer(fs, i, &tmp) : NULL;
+        if (!lf)
+            continue;
+        int fresh = !(state && state->eq[i].valid), more = 0;
+        lc_color_equalize_reset(r);
+        rc = lc_color_equalize_measure(r, &tmp, direct, &fresh, err);
+        if (!rc)
+            rc = lc_color_equalize_finish(r, &tmp, state, dt, fresh, &more, err);
+        if (more)
+            l->colormap_texture = tmp.colormap_texture;
+        again |= more;
+    }
+    return rc || !again ? rc : lc_fourier_composite(r, fs, direct, err);
+}
+
 int lc_color_equalize_end(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, int direct,
                           lc_error *err)
 {
+    if (fs->layer_count > 0)
+        return end_layers(r, fs, state, dt, direct, err);
     if (!fs->params->color.equalize)
         return 0;
-    int fresh = !(state && state->eq_valid), again = 0;
+    int fresh = !(state && state->eq[0].valid), again = 0;
     lc_color_equalize_reset(r);
     int rc = lc_color_equalize_measure(r, fs, direct, &fresh, err);
     if (!rc)

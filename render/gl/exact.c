@@ -468,7 +468,7 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
         return rc;
     read_histogram(r, st);
     int again = 0;
-    rc = lc_color_equalize_finish(r, fs, state, dt, !(state && state->eq_valid), &again, err);
+    rc = lc_color_equalize_finish(r, fs, state, dt, !(state && state->eq[0].valid), &again, err);
     return rc || !again ? rc : composite(r, st, fs, 0, info, err); /* full-precision colour */
 }
 

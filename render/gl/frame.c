@@ -123,8 +123,9 @@ void lc_renderer_destroy(lc_renderer *r)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
     glDeleteTextures(r->colormap_count, r->colormap_tex);
-    if (r->equalized_tex)
-        glDeleteTextures(1, &r->equalized_tex);
+    for (int i = 0; i < LC_MAX_LAYERS; i++)
+        if (r->equalized_tex[i])
+            glDeleteTextures(1, &r->equalized_tex[i]);
     glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
     glDeleteVertexArrays(1, &r->vao);
     lc_filter_release(r);

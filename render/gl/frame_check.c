@@ -24,7 +24,8 @@ static int check_layered(const lc_scene *const *scenes, const lc_layer_params *l
     if (p->clusters.count > 0)
         return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "a layered frame's clusters are its layers': layers[i].lines");
     if (p->color.equalize)
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "not with layers");
+        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
+                            "a layered frame's equalization is its layers': layers[i].color.equalize");
     if (p->foo.guard_band > 0)
         return lc_err_field(err, LC_ERR_INVALID, "params.guardBand", "not with layers");
     uint64_t elements = 0;
@@ -74,20 +75,27 @@ static int check_mapping(const lc_scene *s, const lc_importance_map *imp, const 
     return 0;
 }
 
-/* color.equalize on one dataset (fields that apply to other methods: protocol's scope table). */
-static int check_equalize(const lc_scene *s, const lc_render_params *p, lc_error *err)
+/* color.equalize of one mapping (prefix: "" or "layers[i]."; a layer's with
+ * fourier or direct, untiled: exact_ok and tiles say which frame it is in). */
+static int check_equalize(const lc_scene *s, const lc_color_map *col, lc_method m, const char *prefix, int exact_ok,
+                          int tiles, lc_error *err)
 {
-    if (!p->color.equalize)
+    if (!col->equalize)
         return 0;
-    if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT && p->method != LC_METHOD_EXACT)
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
-                            "equalized colour needs method \"fourier\", \"direct\" or \"exact\", not \"%s\"",
-                            lc_method_name(p->method));
-    const char *c = p->color.attribute[0] ? p->color.attribute : s->default_color;
+    char field[48];
+    snprintf(field, sizeof field, "%scolor.equalize", prefix);
+    if (m != LC_METHOD_FOURIER && m != LC_METHOD_DIRECT && !(exact_ok && m == LC_METHOD_EXACT))
+        return lc_err_field(err, LC_ERR_INVALID, field, "equalized colour needs method \"fourier\", \"direct\"%s, not \"%s\"",
+                            exact_ok ? " or \"exact\"" : " (a layer's)", lc_method_name(m));
+    if (!exact_ok && tiles)
+        return lc_err_field(err, LC_ERR_INVALID, field, "a layer's equalized colour is measured on one untiled frame: "
+                            "render at most 4096x4096");
+    const char *c = col->attribute[0] ? col->attribute : s->default_color;
     if (strcmp(c, "rgb") == 0)
-        return lc_err_field(err, LC_ERR_INVALID, "color.equalize", "per-vertex RGB colour has no colormap to equalize");
-    if (p->color.fixed_count > 0 && p->color.curve.count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "color.fixed", "fixed ranges cannot be combined with color.curve");
+        return lc_err_field(err, LC_ERR_INVALID, field, "per-vertex RGB colour has no colormap to equalize");
+    snprintf(field, sizeof field, "%scolor.fixed", prefix);
+    if (col->fixed_count > 0 && col->curve.count > 0)
+        return lc_err_field(err, LC_ERR_INVALID, field, "fixed ranges cannot be combined with color.curve");
     return 0;
 }
 
@@ -207,7 +215,7 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
 {
     if (p->method == LC_METHOD_SURFACE_LAYERS) /* a field's surface: lc_surface_render checks its own */
         return 0;
-    int rc = 0, context = 0;
+    int rc = 0, context = 0, nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
     if (layers) {
         if ((rc = check_layered(scenes, layers, n, p, err)) != 0)
             return rc;
@@ -217,9 +225,16 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
             if ((rc = check_mapping(scenes[i], &layers[i].importance, &layers[i].color, prefix, err)) != 0 ||
                 (rc = check_filters(scenes[i], layers[i].filters, layers[i].filter_count, &layers[i].time, prefix,
                                     err)) != 0 ||
-                (rc = check_clusters(scenes[i], &layers[i].clusters, prefix, err)) != 0)
+                (rc = check_clusters(scenes[i], &layers[i].clusters, prefix, err)) != 0 ||
+                (rc = check_equalize(scenes[i], &layers[i].color, p->method, prefix, 0, tiles, err)) != 0)
                 return rc;
             context |= layers[i].visible && layers[i].role == LC_LAYER_CONTEXT;
+            if (layers[i].color.equalize && layers[i].role == LC_LAYER_CONTEXT) {
+                snprintf(prefix, sizeof prefix, "layers[%d].color.equalize", i);
+                return lc_err_field(err, LC_ERR_INVALID, prefix,
+                                    "a context layer is drawn opaque before any visibility is measured: equalize "
+                                    "transparent layers");
+            }
             if (layers[i].time.markers && layers[i].time.has_window) {
                 snprintf(prefix, sizeof prefix, "layers[%d].time.markers", i);
                 return lc_err_field(err, LC_ERR_INVALID, prefix, "markers are drawn for a frame of one dataset");
@@ -227,12 +242,12 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
         }
     } else {
         const lc_scene *s = scenes[0];
-        if ((rc = check_mapping(s, &p->importance, &p->color, "", err)) != 0 || (rc = check_equalize(s, p, err)) != 0 ||
+        if ((rc = check_mapping(s, &p->importance, &p->color, "", err)) != 0 ||
+            (rc = check_equalize(s, &p->color, p->method, "", 1, tiles, err)) != 0 ||
             (rc = check_filters(s, p->filters, p->filter_count, &p->time, "", err)) != 0 ||
             (rc = check_clusters(s, &p->clusters, "", err)) != 0)
             return rc;
     }
-    int nx, ny, tiles = lc_pass_plan_tiles(p, tile_size, &nx, &ny);
     if (p->method == LC_METHOD_KANZLER && (rc = check_kanzler(scenes[0], tiles, err)) != 0)
         return rc;
     int jittered = p->method != LC_METHOD_EXACT && p->method != LC_METHOD_OPAQUE && p->style.antialias > 1;

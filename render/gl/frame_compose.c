@@ -147,7 +147,7 @@ static int equalize_tiles_first(lc_renderer *r, lc_frame_setup *fs, lc_frame_sta
                                 int pixel_range, int *measure, lc_error *err)
 {
     int direct = fs->params->method == LC_METHOD_DIRECT;
-    float fresh = !(state && state->eq_valid);
+    float fresh = !(state && state->eq[0].valid);
     int rc = lc_reduce_sums(r, &fresh, 1, fs->info, err); /* all processes take the same branch */
     lc_color_equalize_reset(r);
     *measure = !rc && !(fresh > 0);

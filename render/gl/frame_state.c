@@ -46,7 +46,8 @@ void lc_frame_state_destroy(lc_frame_state *st)
 void lc_frame_state_reset(lc_frame_state *st)
 {
     st->fresh = 1;
-    st->eq_valid = 0;
+    for (int i = 0; i < LC_MAX_LAYERS; i++)
+        st->eq[i].valid = 0;
     for (uint32_t i = 0; i < st->count; i++) {
         if (st->alpha)
             st->alpha[i] = 1.0f;
@@ -114,14 +115,24 @@ void lc_frame_state_copy(const lc_frame_state *st, float *out)
         out[i] = st->alpha ? st->alpha[i] : st->alpha16[i] * (1.0f / 65535.0f);
 }
 
-void lc_frame_state_equalize(lc_frame_state *st, const float *target, double dt, double half_life)
+void lc_frame_state_equalize_slot(lc_frame_state *st, int slot, const float *target, double dt, double half_life)
 {
-    if (!st->eq_valid) {
-        memcpy(st->eq_knots, target, sizeof st->eq_knots);
-        st->eq_valid = 1;
+    if (!st->eq[slot].valid) {
+        memcpy(st->eq[slot].knots, target, sizeof st->eq[slot].knots);
+        st->eq[slot].valid = 1;
         return;
     }
-    lc_equalize_approach(st->eq_knots, target, LC_EQUALIZE_BINS, dt, half_life);
+    lc_equalize_approach(st->eq[slot].knots, target, LC_EQUALIZE_BINS, dt, half_life);
 }
 
-const float *lc_frame_state_equalize_knots(const lc_frame_state *st) { return st->eq_valid ? st->eq_knots : NULL; }
+const float *lc_frame_state_equalize_knots_slot(const lc_frame_state *st, int slot)
+{
+    return st->eq[slot].valid ? st->eq[slot].knots : NULL;
+}
+
+void lc_frame_state_equalize(lc_frame_state *st, const float *target, double dt, double half_life)
+{
+    lc_frame_state_equalize_slot(st, 0, target, dt, half_life);
+}
+
+const float *lc_frame_state_equalize_knots(const lc_frame_state *st) { return lc_frame_state_equalize_knots_slot(st, 0); }

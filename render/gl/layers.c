@@ -23,6 +23,12 @@ const lc_frame_setup *lc_frame_layer(const lc_frame_setup *fs, int i, lc_frame_s
     return layer_setup(fs, l, tmp);
 }
 
+lc_layer_setup *lc_frame_layer_setup(lc_frame_setup *fs, int i)
+{
+    /* The set-ups are the frame's own (render() allocates them); fs holds them const for the passes that only read. */
+    return (lc_layer_setup *)&fs->layers[i];
+}
+
 const lc_frame_setup *lc_frame_context_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp)
 {
     if (fs->layer_count <= 0 || !fs->layers[i].visible || !fs->layers[i].context)
@@ -60,13 +66,14 @@ static const lc_frame_setup *layer_setup(const lc_frame_setup *fs, const lc_laye
     tmp->pull_lines = l->pull_lines;
     tmp->line_mask = l->line_mask;
     tmp->line_mask_buffer = l->line_mask_buffer;
+    tmp->colormap_texture = l->colormap_texture;
+    tmp->eq_slot = (int)(l - fs->layers);
     /* The programs the caller picks next draw this layer: pulled segments
      * where its time window hides single ones (lc_renderer_geometry_program). */
     fs->renderer->pull_lines = l->pull_lines;
     /* Per-dataset aids that a layered frame does not offer (lc_render_layers refuses them). */
     tmp->point_stride = 1;
     tmp->kept_points = 0;
-    tmp->colormap_texture = 0;
     return tmp;
 }
 

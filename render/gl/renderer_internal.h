@@ -383,7 +383,7 @@ struct lc_renderer {
     } line_masks[LC_MAX_LAYERS];
     /* color_equalize.c: the histogram buffer, the equalized colormap, and the
      * last equalized frame's histogram and transfer (lc_renderer_color_histogram). */
-    GLuint color_histogram, equalized_tex;
+    GLuint color_histogram, equalized_tex[LC_MAX_LAYERS]; /* a texture per layer's mapping ([0]: one dataset's) */
     double eq_hist[256];
     float eq_knots[257];
     int eq_valid;
@@ -397,13 +397,19 @@ struct lc_frame_state {
     int fresh;
     float *alpha;      /* full precision, or NULL when compact */
     uint16_t *alpha16; /* compact: unorm16 */
-    /* color.equalize: the transfer F the session's frames use (DLS Eq. 10). */
-    int eq_valid;
-    float eq_knots[257];
+    /* color.equalize: the transfer F the session's frames use (DLS Eq. 10),
+     * one per colour mapping: [0] a dataset's or layer 0's, [i] layer i's. */
+    struct {
+        int valid;
+        float knots[257];
+    } eq[LC_MAX_LAYERS];
     lc_clarity_strength clarity; /* params.clarity: the factors the next frame starts from (clarity.c) */
 };
 
-/* ---- frame_state.c: the state's opacities to and from a float GPU buffer. */
+/* ---- frame_state.c: the state's opacities to and from a float GPU buffer; a
+ * colour mapping's transfer by slot (lc_frame_setup.eq_slot). */
+void lc_frame_state_equalize_slot(lc_frame_state *st, int slot, const float *target, double dt, double half_life);
+const float *lc_frame_state_equalize_knots_slot(const lc_frame_state *st, int slot);
 void lc_frame_state_upload(const lc_frame_state *st, GLuint buffer);
 void lc_frame_state_download(lc_frame_state *st, GLuint buffer);
 
@@ -458,6 +464,7 @@ typedef struct lc_frame_setup {
     /* Layers (layers.c): 0 for a frame of one dataset; otherwise every
      * geometry pass draws each visible layer with lc_frame_layer's setup. */
     int layer_count;
+    int eq_slot; /* color.equalize: the mapping's slot in the state and the textures (a layer's index, else 0) */
     const struct lc_layer_setup *layers;
     uint32_t element_offset; /* this setup's first element id (u_element_offset) */
     uint32_t element_total;  /* elements of the frame: of every layer, or of gs */
@@ -484,6 +491,7 @@ typedef struct lc_layer_setup {
     GLuint filter_mask;
     int line_mask; /* the layer's lines.clusters (lc_line_clusters_prepare) */
     GLuint line_mask_buffer;
+    GLuint colormap_texture; /* the layer's equalized colormap this frame (color_equalize.c); 0: its colormap */
 } lc_layer_setup;
 /* Geometry passes loop i over 0..lc_frame_layer_count(fs)-1: lc_frame_layer
  * returns the setup to draw layer i with (fs itself for a frame of one
@@ -491,6 +499,8 @@ typedef struct lc_layer_setup {
  * and element offset), or NULL for a hidden layer. */
 int lc_frame_layer_count(const lc_frame_setup *fs);
 const lc_frame_setup *lc_frame_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp);
+/* Layer i's set-up itself, for the passes that keep per-layer results in it (color_equalize.c). */
+lc_layer_setup *lc_frame_layer_setup(lc_frame_setup *fs, int i);
 /* The same for the visible context layers (NULL for the others), and whether there is one. */
 const lc_frame_setup *lc_frame_context_layer(const lc_frame_setup *fs, int i, lc_frame_setup *tmp);
 int lc_frame_has_context(const lc_frame_setup *fs);

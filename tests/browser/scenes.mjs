@@ -304,6 +304,14 @@ try {
   await settled3(f);
   const clusteredLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
   check(!clusteredLayer.err && /"lines":\{"clusters":3\}/.test(clusteredLayer.hash), `clusters on the dump layer: no error, in the link (${JSON.stringify(clusteredLayer.err)})`);
+  // the points' own equalized colours (the dump is context: its row has no such box)
+  check(await page3.locator(`${row1} input[aria-label^="Equalize"]`).count() === 0, 'a context layer offers no equalization');
+  f = await lastFrame();
+  await page3.click('.layer-row[data-index="0"] input[aria-label^="Equalize"]');
+  await page3.waitForFunction(() => /"equalize":true/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await settled3(f);
+  const eqLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
+  check(!eqLayer.err && /"equalize":true/.test(eqLayer.hash), `the points layer's equalized colours: no error, in the link (${JSON.stringify(eqLayer.err)})`);
 
   // The screenshot's and the movie's request (renderRequest, the Record group's too) carries the layers shown.
   await page3.locator('#shot-size').selectOption('custom');

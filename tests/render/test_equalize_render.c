@@ -359,6 +359,64 @@ static void test_refusals(test_gl *t, const lc_gpu_scene *gs)
     free(rgba);
 }
 
+/* Layers take their own equalization: one equalized layer is the plain
+ * equalized frame byte for byte (one-shot and a session's first two frames);
+ * the tornado twice, one copy equalized and the other not, differs from both
+ * plain and both equalized; exact and tiles refuse a layer's, naming it. */
+static void test_layers(test_gl *t, const lc_gpu_scene *gs)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *plain = malloc(n), *layered = malloc(n), *mixed = malloc(n), *both = malloc(n), *none = malloc(n);
+    lc_render_params p;
+    base_params(&p, 0);
+    p.color.equalize = true;
+    lc_error err = {0};
+    lc_layer_params l[2];
+    lc_layer_params_default(&l[0]);
+    l[0].color = p.color;
+    l[0].style.shading = LC_SHADING_NONE;
+    lc_render_params q = p;
+    q.color.equalize = false; /* the frame's own: a layered frame's is its layers' */
+    const lc_gpu_scene *scenes[2] = {gs, gs};
+    int rc = lc_render_frame(t->renderer, gs, &p, NULL, 0, plain, NULL, &err);
+    rc = rc ? rc : lc_render_layers(t->renderer, scenes, l, 1, &q, NULL, 0, layered, NULL, &err);
+    CHECK(rc == 0 && memcmp(plain, layered, n) == 0, "one equalized layer equals the plain equalized frame (%s)", err.msg);
+    lc_frame_state *sa, *sb;
+    uint32_t elements = 0;
+    {
+        lc_frame_info info = {0};
+        rc = lc_render_frame(t->renderer, gs, &p, NULL, 0, plain, &info, &err);
+        elements = info.element_count;
+    }
+    sa = lc_frame_state_create(elements), sb = lc_frame_state_create(elements);
+    for (int k = 0; k < 2 && rc == 0; k++) { /* the second frame draws with the transfer the first left */
+        rc = lc_render_frame(t->renderer, gs, &p, sa, 0.1, plain, NULL, &err);
+        rc = rc ? rc : lc_render_layers(t->renderer, scenes, l, 1, &q, sb, 0.1, layered, NULL, &err);
+        CHECK(rc == 0 && memcmp(plain, layered, n) == 0, "session frame %d: the equalized layer equals the plain frame", k);
+    }
+    lc_frame_state_destroy(sa);
+    lc_frame_state_destroy(sb);
+    l[1] = l[0];
+    l[1].color.equalize = false;
+    rc = lc_render_layers(t->renderer, scenes, l, 2, &q, NULL, 0, mixed, NULL, &err);
+    l[1].color.equalize = true;
+    rc = rc ? rc : lc_render_layers(t->renderer, scenes, l, 2, &q, NULL, 0, both, NULL, &err);
+    l[0].color.equalize = l[1].color.equalize = false;
+    rc = rc ? rc : lc_render_layers(t->renderer, scenes, l, 2, &q, NULL, 0, none, NULL, &err);
+    CHECK(rc == 0 && memcmp(mixed, both, n) != 0 && memcmp(mixed, none, n) != 0 && memcmp(both, none, n) != 0,
+          "one of two layers equalized differs from both and from neither (%s)", err.msg);
+    l[0].color.equalize = true;
+    q.method = LC_METHOD_EXACT;
+    CHECK(lc_render_layers(t->renderer, scenes, l, 1, &q, NULL, 0, mixed, NULL, &err) != 0 &&
+              strcmp(err.field, "layers[0].color.equalize") == 0,
+          "exact refuses a layer's equalization naming layers[0].color.equalize (%s)", err.field);
+    free(plain);
+    free(layered);
+    free(mixed);
+    free(both);
+    free(none);
+}
+
 int main(void)
 {
     test_decay_cpu();
@@ -374,6 +432,7 @@ int main(void)
         test_session(&t, gs, s);
         test_exact(&t, gs, s);
         test_refusals(&t, gs);
+        test_layers(&t, gs);
         lc_gpu_scene_destroy(gs);
     } else {
         CHECK(0, "gpu scene: %s", err.msg);

@@ -227,6 +227,17 @@ with Server(binary, "--still-delay", "1000", data=("demo:points", "demo:tornado"
           "clusters on a layer of points")
     error(srv, {"layers": LAYERS, "lines": {"clusters": 10}}, 400, "lines.clusters",
           "the request's own clusters with layers")
+    st, _, equalized = render(srv, {"layers": [LAYERS[0], dict(LAYERS[1], color={"attribute": "velocity",
+                                                                                  "equalize": True})]})
+    st2, _, unequalized = render(srv, {"layers": [LAYERS[0], dict(LAYERS[1], color={"attribute": "velocity"})]})
+    check(st == 200 and st2 == 200 and equalized != unequalized, "a layer's own equalized colour renders and changes "
+          "the image (%d, %d)" % (st, st2))
+    error(srv, {"layers": [LAYERS[0], dict(LAYERS[1], color={"equalize": True})], "method": "exact"}, 400,
+          "layers[1].color.equalize", "a layer's equalization with the exact method")
+    error(srv, {"layers": LAYERS, "color": {"equalize": True}}, 400, "color.equalize",
+          "the request's own equalization with layers")
+    error(srv, {"layers": [dict(ctx[0], color={"equalize": True}), LAYERS[1]]}, 400, "layers[0].color.equalize",
+          "equalization of a context layer")
     sessions(srv)
     if websockets is not None:
         import asyncio

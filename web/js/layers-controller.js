@@ -35,7 +35,10 @@ export function setLayer(layers, i, path, value) {
   return layers.map((l, k) => {
     if (k !== i) return l;
     const out = { ...l, importance: l.importance && { ...l.importance }, color: l.color && { ...l.color } };
-    if (path === 'visible' || path === 'role') out[path] = value;
+    if (path === 'visible' || path === 'role') {
+      out[path] = value;
+      if (path === 'role' && value === 'context' && out.color) delete out.color.equalize; // drawn before any visibility
+    }
     else if (path === 'time' || path === 'filter' || path === 'lines') {
       if (value === undefined || (Array.isArray(value) && !value.length)) delete out[path];
       else out[path] = value;
@@ -172,6 +175,12 @@ export function createLayersController(ctx) {
           if (list.length || !fAttr.value) ctx.apply('layers', setLayer(current(), i, 'filter', list)); // else: the value comes
         };
         sections.append(el('span', { className: 'layer-filter' }, fAttr, fOver, fOp, fValue));
+      }
+      if (l.role !== 'context') {
+        const eq = el('input', { type: 'checkbox', checked: l.color?.equalize === true, title: 'Equalize this layer\'s colours over what is visible of it (Fourier and direct methods)' });
+        eq.setAttribute('aria-label', `Equalize the colours of layer ${i + 1}`);
+        eq.addEventListener('change', () => ctx.apply('layers', setLayer(current(), i, 'color.equalize', eq.checked || undefined)));
+        sections.append(el('label', { className: 'layer-equalize' }, eq, ' equalize'));
       }
       if (info?.type === 'lines') {
         const n = el('input', { type: 'number', min: 0, step: 1, placeholder: 'all', title: 'Clusters (one representative line each; empty: every line)', value: l.lines?.clusters ?? '' });

@@ -41,6 +41,9 @@ test("a layer's time window and filter: set from typed values, cleared when inco
   assert.deepEqual(setLayer(filtered, 0, 'filter', [])[0], { dataset: 'a' });
   assert.deepEqual(setLayer(l, 1, 'lines', { clusters: 12 })[1], { dataset: 'b', lines: { clusters: 12 } });
   assert.deepEqual(setLayer(setLayer(l, 1, 'lines', { clusters: 12 }), 1, 'lines', undefined)[1], { dataset: 'b' });
+  assert.deepEqual(setLayer(l, 0, 'color.equalize', true)[0], { dataset: 'a', color: { equalize: true } });
+  assert.deepEqual(setLayer(setLayer(l, 0, 'color.equalize', true), 0, 'color.equalize', undefined)[0], { dataset: 'a' });
+  assert.deepEqual(setLayer(setLayer(l, 0, 'color.equalize', true), 0, 'role', 'context')[0], { dataset: 'a', role: 'context' });
   assert.equal(l[1].time, undefined); // the input is left alone
 });
 

@@ -357,7 +357,9 @@ static int render_layers(test_gl *t, const lc_scene *const *scenes, const lc_lay
  * again nearer the camera under a filter (g of the line >= 0.45: lines 3 on),
  * and an opaque floor behind both as context, against the same layers built
  * of the kept segments and lines alone (exact: byte for byte; Fourier: SSIM
- * >= 0.999); then the same scene twice in one frame with two filters (two
+ * >= 0.999); every section at once (window, clusters and equalized colours
+ * on the lines, the filter on the copy, the context floor, antialias 2) in
+ * one frame; then the same scene twice in one frame with two filters (two
  * masks of one dataset). */
 static void check_layered(test_gl *t, const lc_scene *all, const lc_scene *part)
 {
@@ -400,6 +402,35 @@ static void check_layered(test_gl *t, const lc_scene *all, const lc_scene *part)
             CHECK(d == 0, "exact: the layers' sections differ from the kept lines alone in %d bytes", d);
         else
             CHECK(ssim >= 0.999, "fourier: SSIM %.5f of the layers' sections against the kept lines", ssim);
+    }
+    /* All together over the context floor: the window, two clusters and equalized colours on the lines, the
+     * filter on the nearer copy, antialias 2: one frame, unlike the frame without any of them. */
+    if (near && floor_scene) {
+        static uint8_t together[SIZE * SIZE * 4];
+        lc_render_params p;
+        lc_error err = {0};
+        params(&p, LC_METHOD_FOURIER, 0);
+        lc_layer_params layers[3];
+        lines_layer(&layers[0], &p);
+        lines_layer(&layers[1], &p);
+        lc_layer_params_default(&layers[2]);
+        layers[2].role = LC_LAYER_CONTEXT;
+        snprintf(layers[2].color.attribute, sizeof layers[2].color.attribute, "rgb");
+        const lc_scene *whole[3] = {all, near, floor_scene};
+        int rc = render_layers(t, whole, layers, 3, &p, open, &err);
+        layers[0].time = (lc_time_window){.has_window = true, .window = {T0, T1}};
+        layers[0].clusters.count = 2;
+        layers[0].color.equalize = true;
+        layers[0].color.has_range = false;
+        layers[1].filter_count = 1;
+        snprintf(layers[1].filters[0].attribute, sizeof layers[1].filters[0].attribute, "g");
+        layers[1].filters[0].over = LC_FILTER_MEAN;
+        layers[1].filters[0].lo = 0.45, layers[1].filters[0].hi = INFINITY;
+        p.style.antialias = 2;
+        rc = rc ? rc : render_layers(t, whole, layers, 3, &p, together, &err);
+        printf("window, clusters, equalize, filter, context and antialias in one layered frame: %d bytes differ from "
+               "the plain layers\n", rc ? -1 : differing(open, together));
+        CHECK(rc == 0 && differing(open, together) > 0, "every section together: %s", err.msg);
     }
     /* One dataset twice, two masks: the window on one layer, the filter on the other. */
     lc_render_params p;

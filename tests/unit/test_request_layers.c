@@ -1,6 +1,7 @@
 /* layers[] of a render request (protocol/request_layers.c): each layer's
  * fields land in lc_request, the normalized form parses back to the same
- * layers, and bad layer specifications are refused naming layers[i].key. */
+ * layers, and bad layer specifications are refused naming layers[i].key;
+ * a layer's own sections (filter, time, lines, color.equalize) parse. */
 #include <string.h>
 
 #include "lc_test.h"
@@ -67,7 +68,15 @@ int main(void)
     refused("{\"layers\": [{\"dataset\": \"a\", \"style\": {\"pointSize\": 0}}]}", "layers[0].style.pointSize");
     refused("{\"layers\": [{\"dataset\": \"a\", \"importance\": {\"exponent\": \"x\"}}]}",
             "layers[0].importance.exponent");
-    refused("{\"layers\": [{\"dataset\": \"a\", \"color\": {\"equalize\": true}}]}", "layers[0].color.equalize");
+    /* A layer's own sections: filter, time window, clustering, equalized colour. */
+    const char *sections = "{\"layers\": [{\"dataset\": \"a\", \"color\": {\"equalize\": true}, \"lines\": {\"clusters\": 7}, "
+                           "\"time\": {\"window\": [1, 2]}, \"filter\": [{\"attribute\": \"g\", \"over\": \"max\", \"gt\": 0.5}]}]}";
+    CHECK(parse(sections, r, &e) == 0 && r->layers[0].p.color.equalize && r->layers[0].p.clusters.count == 7 &&
+              r->layers[0].p.time.has_window && r->layers[0].p.time.window[1] == 2 && r->layers[0].p.filter_count == 1 &&
+              r->layers[0].p.filters[0].lo == 0.5,
+          "a layer's equalize, clusters, time window and filter parse: %s", e.message);
+    refused("{\"layers\": [{\"dataset\": \"a\", \"lines\": {\"clusters\": -1}}]}", "layers[0].lines.clusters");
+    refused("{\"layers\": [{\"dataset\": \"a\", \"time\": {\"window\": [1]}}]}", "layers[0].time.window");
     refused("{\"layers\": [{\"dataset\": \"a\", \"color\": {\"colormap\": \"nope\"}}]}", "layers[0].color.colormap");
     refused("{\"layers\": [{\"dataset\": \"\"}]}", "layers[0].dataset");
     char many[1024] = "{\"layers\": [";

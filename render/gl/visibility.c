@@ -73,28 +73,31 @@ void lc_mass_report(lc_renderer *r, const lc_frame_setup *fs, lc_frame_info *inf
     info->covered_fraction = (double)covered / ((double)fs->low_width * fs->low_height);
 }
 
-double lc_moments_effective_median(lc_renderer *r, GLuint tex, int w, int h, lc_error *err)
+/* The histogram of tex (histogram_of's `effective` mode) read back into hist;
+ * returns the covered pixels it counts, or -1. */
+static int64_t read_histogram(lc_renderer *r, GLuint tex, int w, int h, int effective, uint32_t *hist, lc_error *err)
 {
-    if (histogram_of(r, tex, w, h, 1, err) != 0)
+    if (histogram_of(r, tex, w, h, effective, err) != 0)
         return -1;
-    uint32_t hist[MASS_BINS];
-    glGetNamedBufferSubData(r->mass_histogram, 0, sizeof hist, hist);
-    uint64_t covered = 0;
+    glGetNamedBufferSubData(r->mass_histogram, 0, sizeof(uint32_t) * MASS_BINS, hist);
+    int64_t covered = 0;
     for (int k = 0; k < MASS_BINS; k++)
         covered += hist[k];
-    return covered ? mass_rank(hist, covered, 0.5) : 0.0;
+    return covered;
+}
+
+double lc_moments_effective_median(lc_renderer *r, GLuint tex, int w, int h, lc_error *err)
+{
+    uint32_t hist[MASS_BINS];
+    int64_t covered = read_histogram(r, tex, w, h, 1, hist, err);
+    return covered < 0 ? -1 : covered ? mass_rank(hist, (uint64_t)covered, 0.5) : 0.0;
 }
 
 double lc_covered_fraction(lc_renderer *r, GLuint tex, int w, int h, lc_error *err)
 {
-    if (histogram_of(r, tex, w, h, 0, err) != 0)
-        return -1;
     uint32_t hist[MASS_BINS];
-    glGetNamedBufferSubData(r->mass_histogram, 0, sizeof hist, hist);
-    uint64_t covered = 0;
-    for (int k = 0; k < MASS_BINS; k++)
-        covered += hist[k];
-    return (double)covered / ((double)w * h);
+    int64_t covered = read_histogram(r, tex, w, h, 0, hist, err);
+    return covered < 0 ? -1 : (double)covered / ((double)w * h);
 }
 
 void lc_occluders_clear(lc_renderer *r)

@@ -337,6 +337,15 @@ static void lines_layer(lc_layer_params *l, const lc_render_params *p)
     l->style = p->style;
 }
 
+/* The layer's filter that keeps lines 3 on (g of the line >= 0.45). */
+static void keep_lines_from_3(lc_layer_params *l)
+{
+    l->filter_count = 1;
+    snprintf(l->filters[0].attribute, sizeof l->filters[0].attribute, "g");
+    l->filters[0].over = LC_FILTER_MEAN;
+    l->filters[0].lo = 0.45, l->filters[0].hi = INFINITY;
+}
+
 static int render_layers(test_gl *t, const lc_scene *const *scenes, const lc_layer_params *layers, int n,
                          const lc_render_params *p, uint8_t *rgba, lc_error *err)
 {
@@ -384,10 +393,7 @@ static void check_layered(test_gl *t, const lc_scene *all, const lc_scene *part)
         rc = rc ? rc : render_layers(t, whole, layers, 3, &p, open, &err);
         layers[0].time.has_window = true;
         layers[0].time.window[0] = T0, layers[0].time.window[1] = T1;
-        layers[1].filter_count = 1;
-        snprintf(layers[1].filters[0].attribute, sizeof layers[1].filters[0].attribute, "g");
-        layers[1].filters[0].over = LC_FILTER_MEAN;
-        layers[1].filters[0].lo = 0.45, layers[1].filters[0].hi = INFINITY;
+        keep_lines_from_3(&layers[1]);
         rc = rc ? rc : render_layers(t, whole, layers, 3, &p, got, &err);
         CHECK(rc == 0, "%s layered frames: %s", lc_method_name(methods[m]), err.msg);
         if (rc)
@@ -422,10 +428,7 @@ static void check_layered(test_gl *t, const lc_scene *all, const lc_scene *part)
         layers[0].clusters.count = 2;
         layers[0].color.equalize = true;
         layers[0].color.has_range = false;
-        layers[1].filter_count = 1;
-        snprintf(layers[1].filters[0].attribute, sizeof layers[1].filters[0].attribute, "g");
-        layers[1].filters[0].over = LC_FILTER_MEAN;
-        layers[1].filters[0].lo = 0.45, layers[1].filters[0].hi = INFINITY;
+        keep_lines_from_3(&layers[1]);
         p.style.antialias = 2;
         rc = rc ? rc : render_layers(t, whole, layers, 3, &p, together, &err);
         printf("window, clusters, equalize, filter, context and antialias in one layered frame: %d bytes differ from "
@@ -443,10 +446,7 @@ static void check_layered(test_gl *t, const lc_scene *all, const lc_scene *part)
     const lc_scene *kept2[2] = {part, kept_lines}, *same[2] = {all, all};
     int rc = kept_lines ? render_layers(t, kept2, twice, 2, &p, want, &err) : -1;
     twice[0].time = (lc_time_window){.has_window = true, .window = {T0, T1}};
-    twice[1].filter_count = 1;
-    snprintf(twice[1].filters[0].attribute, sizeof twice[1].filters[0].attribute, "g");
-    twice[1].filters[0].over = LC_FILTER_MEAN;
-    twice[1].filters[0].lo = 0.45, twice[1].filters[0].hi = INFINITY;
+    keep_lines_from_3(&twice[1]);
     rc = rc ? rc : render_layers(t, same, twice, 2, &p, got, &err);
     double ssim = rc ? 0 : lc_image_ssim(want, got, SIZE, SIZE);
     printf("one dataset as two layers with a window and a filter: SSIM %.6f against the kept lines\n", ssim);

@@ -3,10 +3,13 @@
 #ifndef LC_RENDER_UTIL_H
 #define LC_RENDER_UTIL_H
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "camera.h"
+#include "foo_math.h"
 #include "gl_context.h"
 #include "lc_test.h"
 #include "renderer.h"
@@ -50,6 +53,22 @@ static inline void test_gl_close(test_gl *t)
     lc_gl_destroy(t->gl);
 }
 
+/* Finishes a test scene whose importance is g (the scene takes it) and whose
+ * colour is its per-vertex rgb: finalized with desc, or NULL (destroyed). */
+static inline lc_scene *test_finish_scene(lc_scene *s, float *g, lc_elements_desc desc)
+{
+    lc_error err = {0};
+    lc_scene_add_attribute(s, "importance", g, &err);
+    snprintf(s->default_importance, sizeof s->default_importance, "importance");
+    snprintf(s->default_color, sizeof s->default_color, "rgb");
+    if (lc_scene_finalize(s, &desc, &err) != 0) {
+        fprintf(stderr, "finalize: %s\n", err.msg);
+        lc_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
 typedef struct test_quad {
     double z; /* world z of the quad (camera looks down -Z) */
     double g; /* importance */
@@ -83,16 +102,38 @@ static inline lc_scene *test_quad_scene(const test_quad *q, int n)
         uint32_t tri[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
         memcpy(s->triangles + 6 * i, tri, sizeof tri);
     }
-    lc_scene_add_attribute(s, "importance", g, &err);
-    snprintf(s->default_importance, sizeof s->default_importance, "importance");
-    snprintf(s->default_color, sizeof s->default_color, "rgb");
-    lc_elements_desc desc = {.patch_count = (uint32_t)n};
-    if (lc_scene_finalize(s, &desc, &err) != 0) {
-        fprintf(stderr, "finalize: %s\n", err.msg);
-        lc_scene_destroy(s);
-        return NULL;
+    return test_finish_scene(s, g, (lc_elements_desc){.patch_count = (uint32_t)n});
+}
+
+/* The fragments a pixel covered by every quad of q gets (n <= 16), as the
+ * renderer sees them: depth normalized over the view's range (or, with
+ * depthRange "pixel", the nearest to the farthest quad), warped by the
+ * importance moments when `warp` (the moments' P0, which every quad covers at
+ * the optimization resolution too), with the quads' importance and colour. */
+static inline void test_quad_fragments(const test_quad *q, int n, const lc_render_params *p, const lc_scene *s,
+                                       int warp, lc_fragment *frags)
+{
+    lc_view view;
+    lc_camera_view(&p->camera, s->bounds, 1.0, p->height, &view);
+    double zmin = view.depth_min, zmax = view.depth_max, margin = p->foo.depth_margin;
+    if (p->foo.depth_range == LC_DEPTH_RANGE_PIXEL) {
+        zmin = 1e30, zmax = -1e30, margin = LC_PIXEL_DEPTH_MARGIN;
+        for (int i = 0; i < n; i++) {
+            zmin = fmin(zmin, p->camera.position[2] - q[i].z);
+            zmax = fmax(zmax, p->camera.position[2] - q[i].z);
+        }
     }
-    return s;
+    double moments[3] = {0, 0, 0};
+    for (int i = 0; i < n; i++) {
+        frags[i].depth = lc_foo_normalize_depth(p->camera.position[2] - q[i].z, zmin, zmax, margin);
+        frags[i].importance = q[i].g;
+        for (int c = 0; c < 3; c++)
+            frags[i].color[c] = q[i].rgb[c];
+        double w = q[i].g * q[i].g, u = frags[i].depth - 0.5;
+        moments[0] += w, moments[1] += w * u, moments[2] += w * u * u;
+    }
+    for (int i = 0; warp && i < n; i++)
+        frags[i].depth = lc_foo_moment_depth(frags[i].depth, moments, margin);
 }
 
 /* Orthographic view down -Z onto [-1,1]^2, unlit, rgb colours, importance range [0,1]. */

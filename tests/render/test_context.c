@@ -39,16 +39,7 @@ static lc_scene *plane(double z0, double x0, double x1, double y0, double y1)
         s->positions[3 * v + 2] = (float)z0;
         s->rgb[3 * v] = 0.8f, s->rgb[3 * v + 1] = 0.45f, s->rgb[3 * v + 2] = 0.2f;
     }
-    lc_scene_add_attribute(s, "importance", g, &err);
-    snprintf(s->default_importance, sizeof s->default_importance, "importance");
-    snprintf(s->default_color, sizeof s->default_color, "rgb");
-    lc_elements_desc desc = {.patch_count = 1};
-    if (lc_scene_finalize(s, &desc, &err) != 0) {
-        fprintf(stderr, "finalize: %s\n", err.msg);
-        lc_scene_destroy(s);
-        return NULL;
-    }
-    return s;
+    return test_finish_scene(s, g, (lc_elements_desc){.patch_count = 1});
 }
 
 static int draw(test_gl *t, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, const lc_render_params *p,

@@ -37,16 +37,7 @@ static lc_scene *sphere_scene(int slices, int stacks)
             uint32_t a = (uint32_t)(j * (slices + 1) + i), b = a + 1, c = a + (uint32_t)(slices + 1), d = c + 1;
             *t++ = a, *t++ = c, *t++ = b, *t++ = b, *t++ = c, *t++ = d;
         }
-    lc_scene_add_attribute(s, "importance", g, &err);
-    snprintf(s->default_importance, sizeof s->default_importance, "importance");
-    snprintf(s->default_color, sizeof s->default_color, "rgb");
-    lc_elements_desc desc = {0};
-    if (lc_scene_finalize(s, &desc, &err) != 0) {
-        fprintf(stderr, "finalize: %s\n", err.msg);
-        lc_scene_destroy(s);
-        return NULL;
-    }
-    return s;
+    return test_finish_scene(s, g, (lc_elements_desc){0});
 }
 
 /* One black straight line through the origin in the x-z plane at angle theta to the view axis (z). */
@@ -69,16 +60,7 @@ static lc_scene *line_scene(double theta)
         s->rgb[3 * v] = s->rgb[3 * v + 1] = s->rgb[3 * v + 2] = 0;
         g[v] = 1;
     }
-    lc_scene_add_attribute(s, "importance", g, &err);
-    snprintf(s->default_importance, sizeof s->default_importance, "importance");
-    snprintf(s->default_color, sizeof s->default_color, "rgb");
-    lc_elements_desc desc = {0};
-    if (lc_scene_finalize(s, &desc, &err) != 0) {
-        fprintf(stderr, "finalize: %s\n", err.msg);
-        lc_scene_destroy(s);
-        return NULL;
-    }
-    return s;
+    return test_finish_scene(s, g, (lc_elements_desc){0});
 }
 
 /* One black point at the origin. */
@@ -92,16 +74,7 @@ static lc_scene *point_scene(void)
     g[0] = 1;
     s->positions[0] = s->positions[1] = s->positions[2] = 0;
     s->rgb[0] = s->rgb[1] = s->rgb[2] = 0;
-    lc_scene_add_attribute(s, "importance", g, &err);
-    snprintf(s->default_importance, sizeof s->default_importance, "importance");
-    snprintf(s->default_color, sizeof s->default_color, "rgb");
-    lc_elements_desc desc = {0};
-    if (lc_scene_finalize(s, &desc, &err) != 0) {
-        fprintf(stderr, "finalize: %s\n", err.msg);
-        lc_scene_destroy(s);
-        return NULL;
-    }
-    return s;
+    return test_finish_scene(s, g, (lc_elements_desc){0});
 }
 
 static void render(test_gl *t, const lc_scene *s, const lc_render_params *p, uint8_t *rgba)

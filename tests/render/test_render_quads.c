@@ -9,32 +9,8 @@
 /* CPU evaluation of one pixel covered by every quad. */
 static void expected_pixel(const test_quad *q, int n, const lc_render_params *p, const lc_scene *s, double out[3])
 {
-    lc_view view;
-    lc_camera_view(&p->camera, s->bounds, 1.0, p->height, &view);
-    double zmin = view.depth_min, zmax = view.depth_max, margin = p->foo.depth_margin;
-    if (p->foo.depth_range == LC_DEPTH_RANGE_PIXEL) {
-        /* The pixel's own range: nearest to farthest quad. */
-        zmin = 1e30, zmax = -1e30, margin = LC_PIXEL_DEPTH_MARGIN;
-        for (int i = 0; i < n; i++) {
-            zmin = fmin(zmin, p->camera.position[2] - q[i].z);
-            zmax = fmax(zmax, p->camera.position[2] - q[i].z);
-        }
-    }
     lc_fragment frags[16];
-    double moments[3] = {0, 0, 0};
-    for (int i = 0; i < n; i++) {
-        double zview = p->camera.position[2] - q[i].z;
-        frags[i].depth = lc_foo_normalize_depth(zview, zmin, zmax, margin);
-        frags[i].importance = q[i].g;
-        for (int c = 0; c < 3; c++)
-            frags[i].color[c] = q[i].rgb[c];
-        double w = q[i].g * q[i].g, u = frags[i].depth - 0.5;
-        moments[0] += w, moments[1] += w * u, moments[2] += w * u * u;
-    }
-    /* Moments (P0 at the optimization resolution, which every quad covers too). */
-    if (lc_foo_depth_range(&p->foo) == LC_DEPTH_RANGE_MOMENTS)
-        for (int i = 0; i < n; i++)
-            frags[i].depth = lc_foo_moment_depth(frags[i].depth, moments, margin);
+    test_quad_fragments(q, n, p, s, lc_foo_depth_range(&p->foo) == LC_DEPTH_RANGE_MOMENTS, frags);
     lc_foo_alpha_fourier(frags, (size_t)n, &p->foo);
     lc_foo_composite_fourier(frags, (size_t)n, p->foo.bands, p->foo.estimator, p->style.background, out, NULL);
 }

@@ -12,6 +12,7 @@
 #include "datasets.h"
 #include "detail_ladder.h"
 #include "fields.h"
+#include "memory.h"
 #include "metrics.h"
 #include "still_stages.h"
 #include "surface_job.h"
@@ -203,6 +204,9 @@ void lc_session_unref(lc_session *s)
     lc_surface_stream_free(s->surface);
     pthread_mutex_destroy(&s->lock);
     free(s);
+    /* A session's frames were built on several threads' heaps; hand what they
+     * leave free back to the system now rather than at the next large frame. */
+    lc_memory_trim();
 }
 
 void lc_sessions_count(lc_sessions *reg, int *http, int *ws)

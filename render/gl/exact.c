@@ -6,16 +6,16 @@
  * element); a compute pass sorts each pixel's list and atomic-mins FOO Eq. 10
  * with exact sums into the element opacities; P3 smooths and fades as for
  * Fourier; list pass 1 at full resolution stores (depth, alpha, colour); a
- * compute pass sorts and blends into r->output. (Both per-pixel passes are
- * compute shaders: on Mesa 22 llvmpipe a full-screen fragment pass sorted
- * identical lists differently in some 4x4 blocks; the compute pass is also
- * faster there.) Both list passes share one
- * node pool of fixed size; fragments that do not fit (pool full, or beyond the
- * per-pixel layer cap) are counted and reported, never written out of bounds.
+ * compute pass sorts and blends into r->output. Both per-pixel passes are
+ * compute shaders that take each list in rounds of one chunk (MAX_LAYERS
+ * entries, nearest first; dispatch_rounds), so no list is capped and no
+ * invocation runs into llvmpipe's loop limit (docs/ALGORITHM.md §12). Both
+ * list passes share one node pool of fixed size; fragments that do not fit
+ * are counted and reported, never written out of bounds.
  *
- * Sorting (Met.3D thesis §2.4.2-2.4.4): insertion sort for short lists, a
+ * Sorting (Met.3D thesis §2.4.2-2.4.4): insertion sort for short chunks, a
  * 4-ary heap sort above INSERTION_MAX in the opacity pass; the blend pops
- * long lists from a 4-ary min-heap front to back until the pixel saturates
+ * long chunks from a 4-ary min-heap front to back until the pixel saturates
  * (transmittance below SATURATION). Fragment reduction (§2.4.1): list pass 1
  * leaves out fragments below REDUCE_BELOW opacity while their pixel's sum of
  * left-out opacity stays within REDUCE_BUDGET. Both bounds together keep
@@ -23,7 +23,7 @@
  * §12). For measurements only (tests/bench/exact_bench.c):
  * LUCENT_EXACT_SORT=auto|insertion|heap|heap2|auto2 (heap2: the binary heap,
  * auto2: the sort before the 4-ary heap), LUCENT_EXACT_QUEUE=0 (sort whole
- * lists), LUCENT_EXACT_SATURATION=T, LUCENT_EXACT_REDUCE=0. */
+ * chunks), LUCENT_EXACT_SATURATION=T, LUCENT_EXACT_REDUCE=0. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,9 +36,10 @@
 
 #define NODE_BYTES 16u                    /* uvec4 per node, see exact_common.glsl */
 #define DEFAULT_POOL_BYTES (256ull << 20) /* lc_renderer_desc.exact_pool_bytes = 0 */
-#define MAX_LAYERS 256                    /* per-pixel local array of the sort passes */
+#define MAX_LAYERS 64                     /* a chunk of a pixel's list: the sort passes' local arrays */
 #define INSERTION_MAX 16                  /* longer lists are heap-sorted */
 #define END_OF_LIST 0xFFFFFFFFu
+#define HEADS_BYTES 28u /* a pixel's head (4) and its state between rounds (16 + 8) */
 #define SATURATION (0.5 / 255.0)    /* the blend stops below this transmittance */
 #define REDUCE_BELOW (1.0 / 255.0)  /* list pass 1 may leave out fragments below this opacity ... */
 #define REDUCE_BUDGET (0.5 / 255.0) /* ... while their pixel's left-out opacity stays within this */
@@ -48,11 +49,10 @@
 enum {
     COUNTER_NODES = 0,
     COUNTER_DROP_POOL = 2,
-    COUNTER_DROP_LAYERS = 4,
     COUNTER_MAX_LAYERS = 6,
     COUNTER_COVERED = 8,
     COUNTER_REDUCED = 10,
-    COUNTER_SORT_REPAIRS = 12,
+    COUNTER_LIMITED = 12,
     COUNTER_SLOTS = 16
 };
 
@@ -83,6 +83,7 @@ typedef struct exact_state {
     int queue;         /* the blend pops long lists from the front-to-back queue */
     float saturation;  /* the blend's transmittance floor */
     int reduce;        /* list pass 1 leaves out fragments below REDUCE_BELOW */
+    GLuint state, bound; /* per pixel between the sort passes' rounds (rgba32ui, rg32ui), sized like the heads */
 } exact_state;
 
 static exact_state *get_state(lc_renderer *r)
@@ -235,13 +236,19 @@ static void ensure_heads(lc_renderer *r, exact_state *st, int w, int h)
     if (st->heads) {
         free_reduced(r, st); /* sized like the heads */
         glDeleteTextures(1, &st->heads);
-        r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * 4;
+        glDeleteTextures(1, &st->state);
+        glDeleteTextures(1, &st->bound);
+        r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * HEADS_BYTES;
     }
     st->heads_w = w > st->heads_w ? w : st->heads_w;
     st->heads_h = h > st->heads_h ? h : st->heads_h;
     glCreateTextures(GL_TEXTURE_2D, 1, &st->heads);
     glTextureStorage2D(st->heads, 1, GL_R32UI, st->heads_w, st->heads_h);
-    r->bytes_targets += (uint64_t)st->heads_w * st->heads_h * 4;
+    glCreateTextures(GL_TEXTURE_2D, 1, &st->state);
+    glTextureStorage2D(st->state, 1, GL_RGBA32UI, st->heads_w, st->heads_h);
+    glCreateTextures(GL_TEXTURE_2D, 1, &st->bound);
+    glTextureStorage2D(st->bound, 1, GL_RG32UI, st->heads_w, st->heads_h);
+    r->bytes_targets += (uint64_t)st->heads_w * st->heads_h * HEADS_BYTES;
 }
 
 /* Bindings and uniforms every exact program shares. */
@@ -256,6 +263,9 @@ static void bind_lists(const exact_state *st, GLuint prog, int pass)
     lc_uniform_i(prog, "u_insertion_max", INSERTION_MAX);
     lc_uniform_i(prog, "u_queue", st->queue);
     lc_uniform_f(prog, "u_saturation", st->saturation);
+    lc_uniform_i(prog, "u_two", 2);
+    glBindImageTexture(IMG_EXACT_STATE, st->state, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+    glBindImageTexture(IMG_EXACT_BOUND, st->bound, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
 }
 
 static void clear_heads(const exact_state *st)
@@ -318,6 +328,26 @@ static void read_histogram(lc_renderer *r, const exact_state *st)
     r->eq_cover = v[LC_EQUALIZE_BINS + 1];
 }
 
+/* Dispatches a sort pass over w x h pixels in rounds of one chunk of each
+ * pixel's list (exact_common.glsl u_round): the first round takes every
+ * list's nearest MAX_LAYERS fragments and counts the longest list, which says
+ * how many rounds follow. */
+static void dispatch_rounds(const exact_state *st, GLuint prog, int pass, int w, int h)
+{
+    GLuint gx = (GLuint)(w + 7) / 8, gy = (GLuint)(h + 7) / 8;
+    lc_uniform_i(prog, "u_round", 0);
+    glDispatchCompute(gx, gy, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    uint32_t longest = 0;
+    glGetNamedBufferSubData(st->counters, (GLintptr)(COUNTER_MAX_LAYERS + pass) * 4, 4, &longest);
+    uint32_t rounds = (longest + MAX_LAYERS - 1) / MAX_LAYERS;
+    for (uint32_t k = 1; k < rounds; k++) {
+        lc_uniform_i(prog, "u_round", (int)k);
+        glDispatchCompute(gx, gy, 1);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+}
+
 /* The list counters into info (the last composite's full-resolution pass). */
 static void report(const exact_state *st, lc_frame_info *info)
 {
@@ -325,20 +355,19 @@ static void report(const exact_state *st, lc_frame_info *info)
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(st->counters, 0, sizeof c, c);
     uint64_t dropped =
-        (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1] + c[COUNTER_DROP_LAYERS] + c[COUNTER_DROP_LAYERS + 1];
+        (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1];
     info->fragments = (uint64_t)c[COUNTER_NODES + 1] + c[COUNTER_REDUCED + 1];
     info->reduced_fragments = c[COUNTER_REDUCED + 1];
     info->dropped_fragments = dropped;
     info->max_layers = c[COUNTER_MAX_LAYERS + 1];
     info->mean_layers = c[COUNTER_COVERED + 1] ? (double)c[COUNTER_NODES + 1] / c[COUNTER_COVERED + 1] : 0.0;
-    if (c[COUNTER_SORT_REPAIRS] || c[COUNTER_SORT_REPAIRS + 1])
-        LC_DEBUG(MODULE, "lists the heap left out of order, finished by insertion sort: %u (opacity), %u (blend)",
-                 c[COUNTER_SORT_REPAIRS], c[COUNTER_SORT_REPAIRS + 1]);
-    info->sort_repairs = (uint64_t)c[COUNTER_SORT_REPAIRS] + c[COUNTER_SORT_REPAIRS + 1];
+    info->cut_lists = (uint64_t)c[COUNTER_LIMITED] + c[COUNTER_LIMITED + 1];
+    if (c[COUNTER_LIMITED] || c[COUNTER_LIMITED + 1])
+        LC_DEBUG(MODULE, "the driver's loop limit stopped %u + %u list invocations part way (their pixels are not exact)",
+                 c[COUNTER_LIMITED], c[COUNTER_LIMITED + 1]);
     if (dropped)
-        LC_DEBUG(MODULE, "%llu fragments dropped (pool: %u + %u of %u nodes, layer cap %d: %u + %u)",
-                 (unsigned long long)dropped, c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity, MAX_LAYERS,
-                 c[COUNTER_DROP_LAYERS], c[COUNTER_DROP_LAYERS + 1]);
+        LC_DEBUG(MODULE, "%llu fragments dropped (pool full: %u + %u of %u nodes)", (unsigned long long)dropped,
+                 c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity);
 }
 
 /* List pass 1 (full resolution: depth, opacity, colour; the pool is reused
@@ -379,7 +408,7 @@ static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int me
     lc_uniform_i(blend, "u_context", fs->context_color ? 1 : 0);
     if (fs->context_color)
         glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
-    glDispatchCompute((GLuint)(fs->width + 7) / 8, (GLuint)(fs->height + 7) / 8, 1);
+    dispatch_rounds(st, blend, 1, fs->width, fs->height);
     /* lc_render_frame reads the output back through its framebuffer. */
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
@@ -418,8 +447,7 @@ static int exact_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     lc_uniform_f(st->opacity, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     lc_uniform_f(st->opacity, "u_target_opacity", lc_foo_target_opacity(&p->foo));
     lc_uniform_i(st->opacity, "u_exclude_self", p->foo.exclude_self);
-    glDispatchCompute((GLuint)(lw + 7) / 8, (GLuint)(lh + 7) / 8, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    dispatch_rounds(st, st->opacity, 0, lw, lh);
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
 
     /* P3 exactly as the Fourier path, so the two differ only in P1/P2 and compositing. */
@@ -488,7 +516,9 @@ void lc_exact_release(lc_renderer *r)
     if (st->heads) {
         free_reduced(r, st);
         glDeleteTextures(1, &st->heads);
-        r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * 4;
+        glDeleteTextures(1, &st->state);
+        glDeleteTextures(1, &st->bound);
+        r->bytes_targets -= (uint64_t)st->heads_w * st->heads_h * HEADS_BYTES;
         st->heads = 0;
         st->heads_w = st->heads_h = 0;
     }

@@ -208,9 +208,10 @@ typedef struct lc_frame_info {
     } layers[LC_MAX_LAYERS];
     /* Exact method only (0 otherwise): */
     uint64_t fragments;         /* fragments rasterized at full resolution (stored + dropped) */
-    uint64_t dropped_fragments; /* fragments lost because the node pool was full */
+    uint64_t dropped_fragments; /* fragments lost: the node pool was full, or a loop budget cut their list */
     uint64_t reduced_fragments; /* of fragments: left out below 1/255 opacity (M3D §2.4.1), not stored */
-    uint64_t sort_repairs;      /* lists the heap left out of order, finished by insertion sort (exact.c) */
+    uint64_t cut_lists;         /* lists a sort pass left unfinished: at its loop budget, or stopped by the
+                                   driver's loop limit (exact.c) */
     double mean_layers;         /* mean fragments per covered pixel */
     uint32_t max_layers;
     /* With a reducer (lc_renderer_desc.reducer): time spent combining the

@@ -86,6 +86,8 @@
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
     X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
     X(IMG_EXACT_REDUCED, 1) /* exact list pass 1: per-pixel opacity left out (never with the blend's output) */       \
+    X(IMG_EXACT_STATE, 2)   /* exact sort passes: a pixel's sums between chunks (no coefficient targets bound there) */ \
+    X(IMG_EXACT_BOUND, 3)   /* exact blend: the last fragment blended, where the next chunk starts */                  \
     X(IMG_COEF_FIRST, 2)    /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
 
 /* Constants that the host and the shaders must agree on, injected the same

@@ -114,7 +114,7 @@ static int bench(const char *spec, double strength, int size, int rounds)
     printf("%s, %dx%d, q=%g r=%g: %llu fragments at full resolution, max %u layers, mean %.1f\n", spec, size, size,
            p.foo.q, p.foo.r, (unsigned long long)info[0].fragments, info[0].max_layers, info[0].mean_layers);
     printf("  %-8s %10s %10s %10s %10s %8s %8s %12s %9s %8s %8s %8s\n", "variant", "opacity", "blend", "lists", "gpu",
-           "blend", "gpu", "nodes", "nodes", "max diff", "to ins.", "repairs");
+           "blend", "gpu", "nodes", "nodes", "max diff", "to ins.", "cut");
     printf("  %-8s %10s %10s %10s %10s %8s %8s %12s %9s %8s %8s\n", "", "ms", "ms", "ms", "ms", "x before", "x before",
            "stored", "x before", "grey lvl", "grey lvl");
     double base_sort = median(sort_ms[0], rounds), base_blend = median(blend_ms[0], rounds);
@@ -136,7 +136,7 @@ static int bench(const char *spec, double strength, int size, int rounds)
         printf("  %-8s %10.2f %10.2f %10.2f %10.2f %8.2f %8.2f %12llu %9.3f %8d %8d %8llu\n", VARIANTS[v].name, so, bl,
                bu, g, base_blend / bl, base_gpu / g, (unsigned long long)nodes,
                base_nodes ? (double)nodes / base_nodes : 0, worst, to_insertion,
-               (unsigned long long)info[v].sort_repairs);
+               (unsigned long long)info[v].cut_lists);
         if (worst > 1 && before_exact) {
             fprintf(stderr, "%s: %d grey levels off \"before\", more than the bound of one\n", VARIANTS[v].name, worst);
             rc = 1;
@@ -147,8 +147,8 @@ static int bench(const char *spec, double strength, int size, int rounds)
            median(sort_ms[2], rounds) / median(sort_ms[3], rounds), base_sort / median(sort_ms[4], rounds),
            median(blend_ms[4], rounds) / median(blend_ms[5], rounds), base_blend / median(blend_ms[NV - 1], rounds));
     if (!before_exact)
-        printf("  \"before\" differs from the insertion sort's image: the heap's lists on this driver (see the "
-               "repairs column)\n");
+        printf("  \"before\" differs from the insertion sort's image: lists cut at the loop budget (the cut "
+               "column) end where each sort's budget ran out\n");
     for (int v = 0; v < NV; v++) {
         lc_renderer_destroy(r[v]);
         free(img[v]);

@@ -34,37 +34,28 @@ void add_units(uint slot, uint units)
 uint coverage_units(float transmittance) { return uint((1.0 - transmittance) * u_eq_scale + 0.5); }
 #endif
 
-// Blends the n entries of the list front to back into color and
-// transmittance, from the queue or from the sorted list, until the pixel
-// saturates. A pop that is not strictly after the one before, or a queue
-// that does not hold the entries it was given (checksum: what was popped and
-// what is left; the heap's loops on Mesa 22 llvmpipe, see sort_list), returns
-// false; nothing of the pixel is kept then (the caller blends it again, sorted).
-bool blend_list(int n, bool queue, uvec2 checksum, out vec3 color, out float transmittance)
-{
-    uvec2 popped_sum = uvec2(0u);
-    int popped = 0;
-    color = vec3(0.0);
-    transmittance = 1.0;
 #ifdef EXACT_EQUALIZE
-    uint covered = 0u; // coverage_units(transmittance) so far
+uint covered = 0u; // coverage_units(transmittance) so far, over the pixel's chunks
 #endif
-    float last_z = 0.0;
-    uint last_node = 0u;
+
+// Blends the n entries of a chunk front to back into color and transmittance,
+// popped from the queue or in the sorted order, until the pixel saturates
+// (returns true then). last_z/last_node: the last entry blended, the bound of
+// the next chunk.
+bool blend_chunk(int n, bool queue, inout vec3 color, inout float transmittance, out float last_z, out uint last_node)
+{
+    last_z = 0.0;
+    last_node = 0u;
     for (int i = 0; i < n; i++) {
-        uint index;
         if (queue) {
-            if (i > 0 && !before(last_z, last_node, list_z[0], list_node[0]))
-                return false;
             last_z = list_z[0];
             last_node = list_node[0];
-            index = queue_pop(n - i);
-            popped_sum += uvec2(index, index * 2654435761u + (index >> 7)); // as list_checksum
-            popped++;
+            queue_pop(n - i);
         } else {
-            index = list_node[i];
+            last_z = list_z[i];
+            last_node = list_node[i];
         }
-        uvec4 node = nodes[index];
+        uvec4 node = nodes[last_node];
 #ifdef EXACT_EQUALIZE
         vec3 c = vec3(uvec3(node.z, node.z >> 10, node.z >> 20) & 1023u) / 1023.0;
         float a = unpackUnorm2x16(node.w & 0xFFFFu).x;
@@ -84,45 +75,72 @@ bool blend_list(int n, bool queue, uvec2 checksum, out vec3 color, out float tra
         // What remains changes no channel by u_saturation or more: every
         // colour and the background are within [0, 1].
         if (transmittance < u_saturation)
-            break;
+            return true;
     }
-#ifdef EXACT_EQUALIZE
-    add_units(EXACT_NO_BIN + 1u, covered);
-#endif
-    return !queue || popped_sum + list_checksum(n - popped) == checksum;
+    return false;
 }
+
+// A pixel's composite between rounds: colour and transmittance (float bits),
+// and its bound (the last fragment blended: depth bits and node; EXACT_END:
+// the pixel is done).
+layout(rgba32ui, binding = IMG_EXACT_STATE) uniform uimage2D u_state;
+layout(rg32ui, binding = IMG_EXACT_BOUND) uniform uimage2D u_bound;
 
 void main()
 {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (p.x >= u_size.x || p.y >= u_size.y)
         return;
-    uint list_length;
-    int n = gather_list(p, list_length, true);
-    // Long lists go through the queue: the blend pops the nearest fragment
-    // until the pixel saturates; short ones are insertion-sorted (cheaper
-    // there). color.equalize sorts (its histogram takes each share once).
-    bool queue = u_queue != 0 && n > u_insertion_max;
-#ifdef EXACT_EQUALIZE
-    queue = false;
-#endif
-    uvec2 checksum = queue ? list_checksum(n) : uvec2(0u);
-    if (queue)
-        queue_build(n);
-    else
-        sort_list(p, n);
-    vec3 color;
-    float transmittance;
-    if (!blend_list(n, queue, checksum, color, transmittance)) {
-        atomicAdd(counters[COUNTER_SORT_REPAIRS + u_list_pass], 1u);
-        n = gather_list(p, list_length, false);
-        insertion_sort(n);
-        blend_list(n, false, checksum, color, transmittance);
+    bool first = u_round == 0;
+    vec3 color = vec3(0.0);
+    float transmittance = 1.0, after_z = 0.0;
+    uint after_node = 0u;
+    if (!first) {
+        uvec2 b = imageLoad(u_bound, p).xy;
+        if (b.y == EXACT_END)
+            return;
+        after_z = uintBitsToFloat(b.x);
+        after_node = b.y;
+        uvec4 s = imageLoad(u_state, p);
+        color = uintBitsToFloat(s.xyz);
+        transmittance = uintBitsToFloat(s.w);
     }
+#ifdef EXACT_EQUALIZE
+    covered = coverage_units(transmittance);
+#endif
+    uint list_length, beyond;
+    int n = gather_chunk(p, first, after_z, after_node, list_length, beyond);
+    if (first)
+        count_list(list_length);
+    bool more = false;
+    float last_z = 0.0;
+    uint last_node = 0u;
+    if (n > 0) {
+        // Long chunks go through the queue: the blend pops the nearest
+        // fragment until the pixel saturates; short ones are insertion-sorted
+        // (cheaper there). color.equalize sorts (its histogram takes each
+        // share once).
+        bool queue = u_queue != 0 && n > u_insertion_max;
+#ifdef EXACT_EQUALIZE
+        queue = false;
+#endif
+        if (queue)
+            queue_build(n);
+        else
+            sort_chunk(n);
+        more = !blend_chunk(n, queue, color, transmittance, last_z, last_node) && beyond > uint(n);
+    }
+#ifdef EXACT_EQUALIZE
+    if (!more)
+        add_units(EXACT_NO_BIN + 1u, covered);
+#endif
+    imageStore(u_state, p, uvec4(floatBitsToUint(color), floatBitsToUint(transmittance)));
+    imageStore(u_bound, p, uvec2(floatBitsToUint(last_z), more ? last_node : EXACT_END).xyyy);
     vec3 bg = u_background;
     if (u_context != 0) {
         vec4 k = texelFetch(u_context_color, p, 0);
         bg = k.a > 0.0 ? k.rgb : bg;
     }
     imageStore(u_output, p, vec4(color + bg * transmittance, 1.0));
+    check_limit();
 }

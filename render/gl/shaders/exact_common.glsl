@@ -195,7 +195,7 @@ void heap_sort(int n, int arity)
 // of demo:points at 256x256, binary and 4-ary heap alike; the insertion sort
 // never did), so the heap's result is checked in O(n), order and checksum,
 // and a list that fails is gathered again from pixel p and insertion-sorted
-// (counted; docs/EVALUATION.md).
+// (counted; docs/EVALUATION.md, "The exact method's sort").
 void sort_list(ivec2 p, int n)
 {
     int mode = u_sort_mode;

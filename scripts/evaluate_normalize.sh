@@ -163,28 +163,18 @@ on the 896k-segment peer file at 1024x1024 (`lucent bench --frames 4 --warmup 1`
 1030-1094 ms against 861-879 ms with the bounds' range (+19-25%): P0 93-104 ms, P4 and P5 together +35-70 ms, P1 and
 P2 +5-20 ms. Interactive frames that reuse opacities skip the pass; `depthRange: "global"` keeps the faster frame.
 
-**Real files.** On the real point sets auto meets the goal where the paper's formula does not (the building)
-or keeps it (the ball). radar.xyz has no attribute: a point cloud without one gets a derived `density`
-(points per grid cell over their neighbourhood), with which auto meets the goal and the paper's formula nearly does (top decile 0.458). It cannot on
-b9_training.ply, whatever the mode: its importance is a class label of four values on sparse points (5% of the
-pixels covered), so its unimportant points hide nothing and FOO keeps them opaque (bottom half 0.98). The real
-meshes with their curvature as importance miss the goal in both modes: curvature is high on thin features (the
-bunny's ears, the armadillo's claws), whose front and back sides are both important and cover each other, and
-with the paper's r = 500 a fragment behind an important one fades whatever its own importance; the flat, unimportant
-patches in between stay opaque. Auto lowers both figures there: the auto range cuts the curvature's spikes
-(the bunny's reach 267 against a 98th percentile of 68), so more of the surface counts as important and fades.
-Smoothing the curvature over 5 or 20 one-ring iterations did not change that
-(top decile 0.23-0.24 against bottom half 0.33-0.37 in auto, with the bounds' depth range). Finer patches lift
-both figures: with one patch per vertex (`lucent render --elements` set to the vertex count) auto gives
-the bunny 0.507 / 0.449, the elephant 0.478 / 0.455 and the armadillo 0.273 / 0.238, against the default
-patches' figures in the table. An element's opacity is the lowest of its fragments', and the emphasis (1 - g)^2λ
-protects the least important fragments least, so a large patch over a field as noisy as curvature is held down by
-its least important points; smaller patches free the important ones, and the flat ones with them. With a smooth
-attribute on the same surface (the bunny's height) auto meets the goal and the paper's formula does not. The
-clarity loop (the corpus below, and "The corpus and the clarity loop") is what lifts the curvature meshes.
-
-The tractograms of nibabel's test data (Debian's python3-nibabel, `nibabel/tests/data`) are too small to say
-anything: `standard.trk` and `standard.tck` hold 120 straight lines of 3 points (curvature 0 everywhere, so the
-default importance is constant and every element stays at opacity 1.000 in both modes, the goal does not apply),
-`complex.trk` 3 tracks; they load, and render as the lines they are.
+**Real files.** On the real point sets auto meets the goal where the paper's formula does not (the building) or
+keeps it (the ball). radar.xyz has no attribute and gets a derived `density` (points per grid cell over their
+neighbourhood), with which auto meets the goal. b9_training.ply cannot in either mode with its class label as the
+importance: four values on sparse points (5% of the pixels covered), so its unimportant points hide nothing and
+stay opaque (bottom half 0.98); section 10 has the class-label rule that fixes its default. The meshes with their
+curvature as importance miss the goal in both modes: curvature is high on thin features (the bunny's ears, the
+armadillo's claws) whose front and back sides cover each other, and a patch's opacity is its least important
+fragment's, so the flat, unimportant patches stay opaque. Smoothing the curvature (5 or 20 one-ring iterations)
+does not change that; one patch per vertex (`lucent render --elements` at the vertex count) lifts both figures
+(auto: bunny 0.507 / 0.449, elephant 0.478 / 0.455, armadillo 0.273 / 0.238). With a smooth attribute on the same
+surface (the bunny's height) auto meets the goal and the paper's formula does not. The clarity loop (the corpus
+below, and section 10) is what lifts the curvature meshes. nibabel's test tractograms (`standard.trk`,
+`standard.tck`: 120 straight lines of 3 points, constant importance; `complex.trk`: 3 tracks) load and render but
+are too small to say anything.
 MD

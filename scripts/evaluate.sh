@@ -117,7 +117,7 @@ line) and what they mean. The history of earlier figures is in git.
 | interactive frames, the ladder, stills after release | 12 | \`tests/bench/browse_bench.py\`, \`lucent bench --interactive\` |
 | sessions: first image, restart, playing, parity with one-shot | 13 | \`tests/bench/browse_bench.py\`, \`play_bench.py\`, \`parity_bench.py\` |
 | the guard band | 14 | \`build/tests/test_aids\` |
-| lines: clustering, tracing, seeding | 15 | \`tests/bench/cluster_bench\`, \`lucent gen\` |
+| lines: clustering, tracing, seeding, motion attributes | 15 | \`tests/bench/cluster_bench\`, \`lucent gen\` |
 | surfaces | 16 | \`tests/bench/surface_bench\`, \`surface_progress_bench\`, \`surface_session_bench.py\` |
 | the link | 17 | \`tests/bench/browse_bench.py --link\` |
 | baselines at equal memory, Kanzler's penalty | 18 | \`scripts/evaluate_baselines.sh\`, \`lucent render --stats\` |

@@ -213,7 +213,7 @@ resolution) before they composite, and opaque is Lucent's plain depth-tested rib
 geometry cost. Both run on a CPU rasterizer here; on a GPU the ratio may differ (the FOO paper's timings are
 GPU timings). Lucent draws its default level of detail (\`params.lod\` 0.2 px: on the tornado file 205k of its
 896k segments, SSIM 0.993 against every segment; section 9), so its frame is bound by the full-resolution
-fragment work of P4 and P5 rather than by the geometry. Section 10 says what was measured to close the gap to
+fragment work of P4 and P5 rather than by the geometry. Section 11 ("The geometry path") says what was measured to close the gap to
 the goal of 5.
 
 | | |

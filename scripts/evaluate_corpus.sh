@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Prints the real-data corpus subsection of docs/EVALUATION.md §7 (scripts/evaluate.sh
+# Prints the real-data corpus subsection of docs/EVALUATION.md "Density normalization" (scripts/evaluate.sh
 # includes it): every file of scripts/real_data.sh, the LAMMPS simulations of
 # scripts/lammps_corpus.sh (generated here when missing: about ten minutes on one core) and the
 # demos, rendered with defaults (fourier, and exact) at 512x512, or 256x256 for files above
@@ -107,11 +107,11 @@ CGAL's point sets and meshes, the thiophene LAMMPS dump of votca-tutorials, the 
 a terrain (matplotlib's Jacksboro elevation model as a height field), a protein's atoms (PDB 1TII of
 pymol-data, importance its B-factor), and ten LAMMPS simulations generated here (`scripts/lammps_corpus.sh`,
 inputs in `scripts/lammps/`; each dump holds unwrapped positions and velocities and is read as it is, its
-importance the derived `speed`). The goal (issues 26 and 43): topDecileAlpha >= 0.5, no inversion
+importance the derived `speed`). The goal: topDecileAlpha >= 0.5, no inversion
 (topDecileAlpha >= bottomHalfAlpha - 0.05) and the unimportant elements that hide importance faded
 (occluderAlpha <= 0.5 x topDecileAlpha; docs/ALGORITHM.md §8).
 
-The corpus is split in two halves by kind (issue 43): files are paired by the kind of data they are and each
+The corpus is split in two halves by kind: files are paired by the kind of data they are and each
 pair gives one file to each half, so both halves hold every kind (the pairs are listed at the top of
 `scripts/evaluate_corpus.sh`). The clarity loop's rules (docs/ALGORITHM.md §25) were chosen on half A
 (`CORPUS_HALF=A scripts/evaluate_corpus.sh` prints that table alone); half B is the held-out half, rendered
@@ -146,3 +146,5 @@ for f in $gallery; do
     fi
 done
 [ "$n" = 0 ] || printf '%s|\n%s|\n%s|\n' "$heads" "$rule" "$cells"
+if [ "$n" != 0 ]; then echo; fi
+echo 'What these tables say is read in section 10, "The corpus and the clarity loop".'

@@ -86,8 +86,7 @@ cat <<'MD'
 
 Fourier against exact (`lucent compare --size 512x512 --repeat 0`; both methods use the same normalization).
 "off" is the paper's method (its formula, the bounds' depth range); "auto" the defaults (density normalization,
-depth warped by the moments); the last column auto with the bounds' range (`--depth-range global`), the
-default before 2026-11-25:
+depth warped by the moments); the last column auto with the bounds' range (`--depth-range global`):
 
 | data | SSIM off | SSIM auto | SSIM auto, bounds' range |
 |---|---|---|---|
@@ -115,29 +114,15 @@ MD
 [ -n "$real" ] && echo '| building.ply (real, 100k points) | ![](normalize-building-off.jpg) | ![](normalize-building-auto.jpg) |'
 cat <<'MD'
 
-**How it was chosen.** q and r scaled by one global factor (from the 95th percentile of the per-pixel mass)
-could not lift the point demos: their important points sit in dense clusters while the unimportant noise is
-alone in its pixels, so with λ = 1 the noise stayed more opaque than the clusters at every factor tried
-(top decile 0.12-0.45 against bottom half 0.18-0.62). Scaling each pixel's sums by its own mass (k = min(1,
-M_ref / M)) lifts the clusters without lifting the sparse noise; a stronger emphasis then separates the
-important from the unimportant in the dense pixels. Two aims constrain the constants: the goal above on all six
-data sets, and SSIM ≥ 0.95 of auto against the paper's image on the sparse line demos (tornado, abc), which
-should keep their look. A sweep with temporary switches (not in the code), at 512x512, gave (SSIM auto/off, top
-decile; "fails" where the goal is missed):
-
-| importance range | M_ref | λ' | tornado | abc | points | a million points | verdict |
-|---|---|---|---|---|---|---|---|
-| 2nd-98th percentiles | 0.35 | (2 - k) λ | 0.940, 0.518 | 0.908, 0.918 | 0.952, 0.626 | 0.929, 0.515 | SSIM low (the previous default) |
-| min/max | 0.35 | (2 - k) λ | 0.960, 0.541 | 0.925, 0.634 | 0.953, 0.594 | 0.946, 0.326 fails | the clusters need the top cut |
-| auto range | 0.35 | (2 - k) λ | 0.960, 0.541 | 0.925, 0.634 | 0.953, 0.594 | 0.928, 0.515 | abc SSIM low |
-| auto range | 0.5 | (2 - k) λ | 0.976, 0.496 fails | 0.956, 0.513 | 0.958, 0.562 | 0.932, 0.491 fails | |
-| auto range | 0.5 | (1 + 2(1-k)²) λ | 0.973, 0.515 | 0.957, 0.521 | 0.955, 0.716 | 0.929, 0.605 | small margins |
-| auto range | 0.55 | (1 + 3(1-k)²) λ | 0.972, 0.533 | 0.956, 0.541 | 0.952, 0.849 | 0.927, 0.714 | chosen with the bounds' depth range |
-| auto range | 0.6 | (1 + 4(1-k)²) λ | 0.972, 0.539 | 0.958, 0.537 | 0.951, 0.937 | 0.926, 0.820 | as good; stronger emphasis |
-
-With the moments pass as the default depth mapping (2026-11-25; the Fourier image moves closer to the exact
-one, and so further from the paper's Fourier image, whose own error auto no longer shares), the same criteria
-at 512x512 with the emphasis (1 + 3(1-k)²) λ gave:
+**How the constants were chosen.** q and r scaled by one global factor (from the 95th percentile of the per-pixel
+mass) could not lift the point demos: their important points sit in dense clusters while the unimportant noise is
+alone in its pixels, so with λ = 1 the noise stayed more opaque than the clusters at every factor tried (top decile
+0.12-0.45 against bottom half 0.18-0.62). Scaling each pixel's sums by its own mass (k = min(1, M_ref / M)) lifts
+the clusters without lifting the sparse noise; a stronger emphasis (1 + 3(1-k)²) λ then separates the important from
+the unimportant in the dense pixels, while the squared term keeps it near the paper's in moderately dense pixels.
+Two aims constrain the constants: the goal above on all six data sets, and SSIM ≥ 0.95 of auto against the paper's
+image on the sparse line demos (tornado, abc), which should keep their look. A sweep with temporary switches at
+512x512, depth warped by the moments (SSIM auto/off, top decile; "fails" where the goal is missed):
 
 | M_ref | tornado | abc | points | a million points | verdict |
 |---|---|---|---|---|---|
@@ -147,91 +132,49 @@ at 512x512 with the emphasis (1 + 3(1-k)²) λ gave:
 | 0.65 | 0.970, 0.498 fails | 0.961, 0.471 fails | 0.952, 0.833 | 0.931, 0.705 | |
 | 0.8 | 0.978, 0.460 fails | 0.976, 0.380 fails | 0.955, 0.807 | 0.933, 0.684 | |
 
-The exact method's own images with and without normalization are 0.955 apart on abc, as auto and off are with
-the moments in both (0.955): the look that normalization changes is the same either way; the paper's Fourier
-image differs from both by its own series error. The margins are narrow on the line demos in both directions.
+The margins are narrow on the line demos in both directions. The importance range is the auto range: it cuts only
+outliers (beyond both the 2nd-98th percentile and Tukey's far-out fence), which is min/max on the tornado and abc
+and the 98th percentile on the million points; the percentiles alone cut the tornado's lower end (line_curvature
+from 0.078 to 0.148) and moved its image to SSIM 0.940, min/max alone let the million points' top end squash the
+clusters (top decile 0.326). `"normalize": "off"` keeps the paper's images bit for bit (the reference renders check
+it). On the 3,000 tornado lines the paper's formula isolates the vortex core more sharply, while auto shows more of
+the surrounding flow: the report favours auto, the eye may not.
 
-The 2nd-98th percentiles had cut the tornado's lower end (line_curvature from 0.078 to 0.148), which alone moved
-its image to SSIM 0.940; min/max keeps the look but lets the million points' top end squash the clusters. The auto
-range cuts only outliers (beyond both the percentile and Tukey's far-out fence), which is min/max on the
-tornado and abc and the 98th percentile on the million points. The squared term keeps the emphasis near the
-paper's in moderately dense pixels (the line demos) and strong in the densest (the point clusters).
-`"normalize": "off"` keeps the paper's images bit for bit (the reference renders check it). On the 3,000
-tornado lines the paper's formula isolates the vortex core more sharply, while auto shows more of the surrounding
-flow: the report favours auto, the eye may not.
+**Fourier against exact.** With the bounds' depth range auto agrees with the exact method slightly less than the
+paper's formula (last column of the table above, by 0.001-0.004): it makes the layers of dense pixels semi-opaque,
+and the series of the optical depth cannot tell apart semi-opaque layers closer than about 1/(2m) of the depth
+range (a temporary build that gave the exact method's opacities to the Fourier compositing kept most of the gap:
+points 0.9950 against exact, 0.9994 with the paper's formula). More bands, the per-pixel range and σ-factors did
+not close it on the points. The moments pass (`depthRange: "moments"`, docs/ALGORITHM.md §2), the default with
+density normalization, does: with it auto agrees with exact better than the paper's formula on every row of the
+table above; it lifts the paper's formula too (`--normalize off --depth-range moments`: tornado 0.9909, abc 0.9993,
+points 0.9990, surface 0.9992, the 3,000 tornado lines 0.9638 against 0.9546), but "off" keeps the bounds so that it
+stays the paper's method bit for bit. On the real files at 512x512 (auto: bounds' range → moments): building.ply
+0.9573 → 0.9889, ball.ply 0.9853 → 0.9946, radar.xyz 0.9737 → 0.9979, bunny.ply 0.9940 → 0.9971, armadillo.ply
+0.9978 → 0.9990; on the 896k-segment peer file 0.9572 → 0.9689. Against the paper's formula on the same files (off
+0.9580, 0.9811, 0.9766, 0.9977, 0.9987) auto is higher on four and lower on the bunny (0.9971 against 0.9977); the
+other case measured where auto stays below it is 50,000 points at 256x256 (0.9937 against 0.9950), where 2-pixel
+splats leave clusters of layers that even the warped series does not resolve. `tests/render/test_demo_ssim.c` holds
+the defaults to the paper's agreement at 512x512 on the four demos. The warp's choices, each measured against
+alternatives on the demos: the spread scale s = σ (0.55σ, 0.7σ and 1.4σ were each lower on some demo), weights g²
+(1, g and g⁴ lower on some demo), the warp spanning the bounds' margins, moments at the optimization resolution only
+(within 0.0003 of both resolutions, one pass fewer; at a quarter of it the line demos lose, tornado 0.9625). Cost:
+on the 896k-segment peer file at 1024x1024 (`lucent bench --frames 4 --warmup 1`, alternated) a still took
+1030-1094 ms against 861-879 ms with the bounds' range (+19-25%): P0 93-104 ms, P4 and P5 together +35-70 ms, P1 and
+P2 +5-20 ms. Interactive frames that reuse opacities skip the pass; `depthRange: "global"` keeps the faster frame.
 
-**Fourier against exact.** With the bounds' depth range, auto agreed with the exact method slightly less than
-the paper's formula on the tornado, abc and points (last column), by 0.001-0.004 in SSIM. With k = 1 everywhere
-and only the auto range the agreement equalled the paper's (0.9803 / 0.9906 / 0.9961), and without the stronger
-emphasis it was as low as with it (0.9778 / 0.9901 / 0.9946; runs of 2026-11-23): the per-pixel scaling moved
-it. It makes the layers of dense pixels semi-opaque, where the paper's formula leaves them all near 0 and both
-methods agree on a washed-out pixel. Most of that gap was in compositing (P4-P6), not in the opacities (P2): a
-temporary build (2026-11-25, reverted) gave the exact method's element opacities to P4-P6 instead of its sorted
-blend, so that the image differed from the exact one only by the Fourier compositing (SSIM against exact, 512x512,
-bounds' range):
-
-| demo | Fourier, off | Fourier, auto | exact opacities + Fourier compositing, off | same, auto | same at m = 8, off | same at m = 8, auto |
-|---|---|---|---|---|---|---|
-| tornado | 0.9803 | 0.9777 | 0.9871 | 0.9848 | 0.9891 | 0.9872 |
-| abc | 0.9906 | 0.9896 | 1.0000 | 0.9996 | 1.0000 | 0.9998 |
-| points | 0.9963 | 0.9919 | 0.9994 | 0.9950 | 0.9996 | 0.9964 |
-
-The series of the optical depth cannot tell apart semi-opaque layers closer than about 1/(2m) of the depth
-range, and auto creates such layers in the clusters. More bands and the per-pixel range did not close it on the
-points (m = 8: 0.9946, off 0.9975; per-pixel range 0.9930; both 0.9951); neither did smoothing P2's series with
-Lanczos σ-factors (lifts the tornado, abc and surface, lowers the points to 0.9901 and the 3,000 tornado lines
-to 0.9739; Fejér and raised-cosine weights do the same, σ in P5 lowers all).
-
-What closes it is to give the series more of its period where a pixel's layers sit: the moments pass
-(`depthRange: "moments"`, docs/ALGORITHM.md §2), the default with density normalization since 2026-11-25. With
-it auto agrees with exact better than the paper's formula does on every row of the table above, and better than
-auto did with the bounds' range on every row; it lifts the paper's formula too (`--normalize off
---depth-range moments`: tornado 0.9909, abc 0.9993, points 0.9990, surface 0.9992, the 3,000 tornado lines
-0.9638 against 0.9546), but "off" keeps the bounds so that it stays the paper's method bit for bit. On the real
-files at 512x512 (auto: bounds' range → moments): building.ply 0.9573 → 0.9889, ball.ply 0.9853 → 0.9946,
-radar.xyz 0.9737 → 0.9979, bunny.ply 0.9940 → 0.9971, armadillo.ply 0.9978 → 0.9990; on the 896k-segment peer
-file 0.9572 → 0.9689. Against the paper's formula on the same files (off 0.9580, 0.9811, 0.9766, 0.9977,
-0.9987) auto is higher on four and lower on the bunny (0.9971 against 0.9977). The other case measured where
-auto stays below the paper's formula is 50,000 points at 256x256 (0.9937 against 0.9950, m = 8: 0.9960 against
-0.9964), where 2-pixel splats leave clusters of layers that even the warped series does not resolve;
-`tests/render/test_demo_ssim.c` holds the defaults to the paper's agreement at 512x512 on the four demos. Choices, measured with temporary switches on the demos at
-512x512 (with M_ref 0.55): the spread scale s = σ (0.55σ, 0.7σ and 1.4σ were each lower on some demo: 0.55σ
-on the surface 0.9976, 0.7σ on abc 0.9987, 1.4σ on the tornado 0.9870); weights g² (1 and g lower on the
-tornado and the points; g⁴ higher on the tornado, 0.9906, but lower on abc, 0.9981); the warp spanning the
-bounds' margins δ (a margin of 0.05-0.25 instead was lower on the line demos); moments at the optimization
-resolution only (within 0.0003 of moments drawn at both resolutions, one pass fewer). Cost: the pass draws
-the geometry once more at the optimization resolution, and P1, P2, P4 and P5 read one texel and evaluate one
-exponential more per fragment. On the 896k-segment peer file
-at 1024x1024 (llvmpipe, 2 cores, `lucent bench --frames 4 --warmup 1`, alternated) a still frame took
-1030-1094 ms against 861-879 ms with the bounds' range (+19-25%, 2026-11-25): P0 93-104 ms, P4 and P5 together
-+35-70 ms, P1 and P2 +5-20 ms. At a quarter of the optimization resolution P0 took 84 ms and the line demos lost
-(tornado 0.9625): ribbons a texel misses get no moments. On a GPU the pass is one more cheap geometry draw.
-Interactive frames that reuse opacities skip it (docs/ALGORITHM.md §2); `depthRange: "global"` keeps the
-faster frame where the agreement matters less.
-
-**Real files.** On the real point sets auto meets the goal where the paper's formula does not (the building)
-or keeps it (the ball). radar.xyz has no attribute: a point cloud without one gets a derived `density`
-(points per grid cell over their neighbourhood; before 2026-11-25 every point had g = 1 and both figures were
-1.000), with which auto meets the goal and the paper's formula nearly does (top decile 0.458). It cannot on
-b9_training.ply, whatever the mode: its importance is a class label of four values on sparse points (5% of the
-pixels covered), so its unimportant points hide nothing and FOO keeps them opaque (bottom half 0.98). The real
-meshes with their curvature as importance miss the goal in both modes: curvature is high on thin features (the
-bunny's ears, the armadillo's claws), whose front and back sides are both important and cover each other, and
-with the paper's r = 500 a fragment behind an important one fades whatever its own importance; the flat, unimportant
-patches in between stay opaque. Auto lowers both figures there: the auto range cuts the curvature's spikes
-(the bunny's reach 267 against a 98th percentile of 68), so more of the surface counts as important and fades.
-Smoothing the curvature over 5 or 20 one-ring iterations did not change that
-(top decile 0.23-0.24 against bottom half 0.33-0.37 in auto, with the bounds' depth range). Finer patches lift
-both figures: with one patch per vertex (`lucent render --elements` set to the vertex count) auto gives
-the bunny 0.507 / 0.449, the elephant 0.478 / 0.455 and the armadillo 0.273 / 0.238 (earlier on 2026-11-25,
-with the bounds' range and M_ref 0.55: 0.492 / 0.443, 0.452 / 0.450, 0.259 / 0.226), against the default
-patches' figures in the table. An element's opacity is the lowest of its fragments', and the emphasis (1 - g)^2λ
-protects the least important fragments least, so a large patch over a field as noisy as curvature is held down by
-its least important points; smaller patches free the important ones, and the flat ones with them. With a smooth
-attribute on the same surface (the bunny's height) auto meets the goal and the paper's formula does not.
-
-The tractograms of nibabel's test data (Debian's python3-nibabel, `nibabel/tests/data`) are too small to say
-anything: `standard.trk` and `standard.tck` hold 120 straight lines of 3 points (curvature 0 everywhere, so the
-default importance is constant and every element stays at opacity 1.000 in both modes, the goal does not apply),
-`complex.trk` 3 tracks; they load, and render as the lines they are.
+**Real files.** On the real point sets auto meets the goal where the paper's formula does not (the building) or
+keeps it (the ball). radar.xyz has no attribute and gets a derived `density` (points per grid cell over their
+neighbourhood), with which auto meets the goal. b9_training.ply cannot in either mode with its class label as the
+importance: four values on sparse points (5% of the pixels covered), so its unimportant points hide nothing and
+stay opaque (bottom half 0.98); section 10 has the class-label rule that fixes its default. The meshes with their
+curvature as importance miss the goal in both modes: curvature is high on thin features (the bunny's ears, the
+armadillo's claws) whose front and back sides cover each other, and a patch's opacity is its least important
+fragment's, so the flat, unimportant patches stay opaque. Smoothing the curvature (5 or 20 one-ring iterations)
+does not change that; one patch per vertex (`lucent render --elements` at the vertex count) lifts both figures
+(auto: bunny 0.507 / 0.449, elephant 0.478 / 0.455, armadillo 0.273 / 0.238). With a smooth attribute on the same
+surface (the bunny's height) auto meets the goal and the paper's formula does not. The clarity loop (the corpus
+below, and section 10) is what lifts the curvature meshes. nibabel's test tractograms (`standard.trk`,
+`standard.tck`: 120 straight lines of 3 points, constant importance; `complex.trk`: 3 tracks) load and render but
+are too small to say anything.
 MD

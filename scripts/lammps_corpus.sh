@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Generates the LAMMPS simulations of the real-data corpus (docs/EVALUATION.md
-# §7, "The real-data corpus with defaults") into DIR (default
+# "The real-data corpus with defaults") into DIR (default
 # build/real-data/lammps): one dump per input of scripts/lammps/, each with
 # unwrapped positions (xu yu zu) and velocities, 1-3 M segments (atoms x
 # (frames - 1)); the inputs' headers say the physics and the sizes.

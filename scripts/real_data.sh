@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fetches the real-data corpus that docs/EVALUATION.md §7 renders with
+# Fetches the real-data corpus that docs/EVALUATION.md "Density normalization" renders with
 # defaults: scans and reconstructions from CGAL's demo data (Debian package
 # libcgal-demo), a molecular-dynamics trajectory from votca-tutorials, the
 # Hipparcos star catalogue of kstars-data, a terrain from matplotlib's sample

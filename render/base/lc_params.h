@@ -253,7 +253,7 @@ typedef struct lc_style {
  * others on the frames it renders while the camera moves. */
 #define LC_DEFAULT_LOD_PIXELS 0.2
 /* params.clarity by default: the most important tenth at least half opaque
- * (chosen on the corpus, docs/EVALUATION.md §7). */
+ * (chosen on the corpus, docs/EVALUATION.md "Density normalization"). */
 #define LC_DEFAULT_CLARITY 0.5
 #define LC_LINE_SUBSET_FLOOR 4096
 #define LC_LINE_SUBSET_PIXELS 8

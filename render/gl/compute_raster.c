@@ -41,7 +41,7 @@ void lc_compute_raster_configure(const char *gl_renderer)
  * measured 1.4-3 times as fast computed and P4 as fast, while both of dense
  * thin lines were 1.2-14 times slower (about ten fragments a segment, each a
  * dozen atomic adds in P4, and four corners' vertex work a segment against
- * the strips' two; docs/EVALUATION.md §26). A GPU's hardware rasterizer keeps
+ * the strips' two; docs/EVALUATION.md, "The geometry path"). A GPU's hardware rasterizer keeps
  * both until one measures otherwise. Surfaces always draw. */
 static int rule(int software, int override, lc_raster_pass pass, lc_prim_type prim)
 {

@@ -187,12 +187,12 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
  * P2 derives from the sums is a ratio over the same pixel's sums and a
  * minimum over an element's many pixels, and on the MD trajectories a stride
  * of 4 measured SSIM against exact no lower than every primitive
- * (docs/EVALUATION.md §16).
+ * (docs/EVALUATION.md, "The geometry path").
  * A stride below 4 is not taken: lines then draw segment by segment (six
  * vertices each, against two in a strip), which would cost more vertex work
  * than the stride saves. P4 keeps every primitive: its stride lowered SSIM.
  * Off by default (LC_AUTO_SUBSET_DEFAULT): on the MD trajectories it saves
- * 8-11 % of the frame on a quiet host (docs/EVALUATION.md §18), but a rank's
+ * 8-11 % of the frame on a quiet host (docs/EVALUATION.md, "The geometry path"), but a rank's
  * every n-th primitive is not the whole file's, so MPI frames would no
  * longer equal one process's; ranks skip it. */
 static int choose_p1_subset(lc_renderer *r, lc_frame_setup *fs, lc_error *err)

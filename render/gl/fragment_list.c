@@ -205,7 +205,7 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
  * precision after every addition: the images stay bit for bit. Off by
  * default (LUCENT_P5_LIST=1 turns it on where lists are on): on llvmpipe the
  * recording P4 costs more than the drawn P5 it replaces on the MD
- * trajectories (P4 1.2 -> 3.2 s, P5 1.7 -> 0.5 s; docs/EVALUATION.md §23), and
+ * trajectories (P4 1.2 -> 3.2 s, P5 1.7 -> 0.5 s; docs/EVALUATION.md, "The geometry path"), and
  * its list holds about 11 M fragments (270 MB) there at 1024^2. */
 
 /* Entries: 24 bytes each; 2^24 of them, 384 MB, at most. */

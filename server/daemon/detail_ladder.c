@@ -9,13 +9,13 @@
  * trajectories, and the renderer keeps a segment per LC_LINE_SUBSET_PIXELS
  * pixels, so sparse lines keep every line. Lines that it thins lower the
  * resolution later (thinned_scale): a thinned frame at a larger size looks more
- * like the still than a small one stretched (docs/EVALUATION.md §19); sparse
+ * like the still than a small one stretched (docs/EVALUATION.md, "Interactive frames"); sparse
  * lines, which it does not thin, shrink as before. Point clouds take the
  * thinned scales too, and a steeper stride at the coarse end: on llvmpipe a
  * splat costs about the same at any size of frame (it shades a block of
  * pixels however small it is), so only fewer splats make a frame cheaper,
  * and the renderer keeps a point per LC_POINT_SUBSET_PIXELS pixels
- * (docs/EVALUATION.md §20). */
+ * (docs/EVALUATION.md, "The geometry path"). */
 static const lc_detail_rung rungs[LC_DETAIL_RUNGS] = {
     {0.5, 1, 1, 1.0, 1.0}, {1, 2, 2, 1.0, 1.0}, {2, 4, 4, 0.85, 1.0}, {4, 16, 8, 0.7, 0.85}, {8, 64, 16, 0.5, 0.7}};
 

@@ -1,5 +1,5 @@
 /* Surface layers benchmark (not a pass/fail test; docs/EVALUATION.md
- * "Surface layers: epsilon sweep and time to a recognizable surface"): on a
+ * "Surfaces": the epsilon sweep and the time to a recognizable surface): on a
  * demo field with a fixed seed line and camera, (1) the layers per covered
  * pixel and the overflow against epsilon after N curves (PRT Fig. 6/7), and
  * (2) batches of B curves traced, added and composited until the composite

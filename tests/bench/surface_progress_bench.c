@@ -1,5 +1,5 @@
 /* Progressive surface frames benchmark (not a pass/fail test;
- * docs/EVALUATION.md "Progressive surfaces"): the frames of a surface
+ * docs/EVALUATION.md "Surfaces"): the frames of a surface
  * session with the camera still, B more curves each, drawn two ways side by
  * side in one run — adding the new curves to kept layers (lc_surface_keep,
  * today's session frame) and drawing every curve traced so far into fresh

@@ -7,7 +7,7 @@ the curves and fragments the frame drew (`drawnCurves`, `drawnFragments`; absent
 layers were kept between frames, printed as -) and its render time (detail.renderMs: tracing the frame's
 new curves, drawing and compositing). A daemon whose frames
 draw every traced curve anew shows the frame cost growing with the surface; one that adds each frame's
-curves to kept layers shows it flat (docs/EVALUATION.md "Progressive surfaces").
+curves to kept layers shows it flat (docs/EVALUATION.md "Surfaces").
 
   tests/bench/surface_session_bench.py --binary build/lucent [--particles 4000] [--per-frame 200] [--size 512]
 """

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Points as GL point sprites (LUCENT_POINT_SPRITES=1, docs/EVALUATION.md §16): the
+"""Points as GL point sprites (LUCENT_POINT_SPRITES=1, docs/EVALUATION.md "The geometry path"): the
 points demo renders what the instanced quads render (SSIM >= 0.99 for the opaque and
 the Fourier method at 256x256), and the switch really changes the draw (the two images
 are not byte-identical in every method, else the test proves nothing).

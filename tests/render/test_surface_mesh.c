@@ -1,4 +1,4 @@
-/* The meshed reference (docs/ALGORITHM.md §23, EVALUATION §15): on the ABC
+/* The meshed reference (docs/ALGORITHM.md §23, EVALUATION.md "Surfaces"): on the ABC
  * flow, the converged surface-layers image of a stream surface must match the
  * same surface integrated as a triangle mesh with front refinement
  * (stream_mesh.c) and rendered by the exact method with the same fixed
@@ -158,7 +158,7 @@ int main(void)
     printf("SSIM to the exact-rendered mesh: surface layers %.4f, weighted average %.4f\n", s_layers, s_wavg);
     CHECK(s_layers >= 0.95, "surface layers match the meshed reference: SSIM %.4f", s_layers);
     CHECK(s_wavg < 0.95 && s_wavg < s_layers - 0.02, "weighted average does not: SSIM %.4f", s_wavg);
-    if (getenv("LUCENT_SURFACE_MESH_PNG")) { /* the figure of EVALUATION §15 */
+    if (getenv("LUCENT_SURFACE_MESH_PNG")) { /* the figure of EVALUATION.md "Surfaces" */
         const char *dir = getenv("LUCENT_SURFACE_MESH_PNG");
         char path[512];
         const uint8_t *imgs[3] = {layers, wavg, ref};

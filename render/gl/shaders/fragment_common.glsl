@@ -108,7 +108,7 @@ bool outside_primitive()
 #ifdef CONTEXT_DEPTH
     // Compiled only into the programs of frames with a context layer: on
     // llvmpipe the test cost every pass about a third more even when its
-    // uniform switched it off (docs/EVALUATION.md §21).
+    // uniform switched it off (docs/EVALUATION.md, "The geometry path").
     if (u_context_depth != 0 && FRAG_COORD.z > texelFetch(u_context_depth_tex, ivec2(FRAG_COORD.xy), 0).r)
         return true;
 #endif

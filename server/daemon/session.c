@@ -290,27 +290,22 @@ int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int
     return 0;
 }
 
-int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto_limits *lim, lc_request *out,
+int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim, lc_request *out,
                              lc_proto_error *pe)
 {
-    lc_request req = s->req;
-    int rc = update ? lc_proto_apply_request(update, lim, &req, pe) : 0;
-    const lc_dataset *layers[LC_MAX_LAYERS];
-    if (rc == 0)
-        rc = lc_admit_resolve_layers(s->srv, &req, layers, pe);
-    if (rc == 0 && strcmp(req.dataset, s->dataset->name) != 0 &&
-        lc_datasets_find(s->srv->datasets, req.dataset) != s->dataset)
-        rc = lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset", "cannot change within a session (it is \"%s\")",
-                                s->dataset->name);
-    if (rc == 0)
-        rc = lc_request_admit(s->srv, update, &req, s->dataset, layers, NULL, pe);
-    if (rc != 0)
-        return rc;
-    s->req = req;
-    memcpy(s->layer_ds, layers, (size_t)req.layer_count * sizeof *layers);
-    if (out)
-        *out = req;
-    return 0;
+    const lc_dataset *layers[LC_MAX_LAYERS], *ds = s->dataset;
+    lc_request *req = malloc(sizeof *req); /* a request is large: off the stack */
+    if (!req)
+        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "", "out of memory");
+    int rc = lc_admit_update(s->srv, &s->req, patch, lim, &ds, req, layers, pe);
+    if (rc == 0) { /* every rule passed: the candidate replaces the request whole */
+        s->req = *req;
+        memcpy(s->layer_ds, layers, (size_t)req->layer_count * sizeof *layers);
+        if (out)
+            *out = *req;
+    }
+    free(req);
+    return rc;
 }
 
 /* Whether the still frame is due: the last frame was interactive and input has

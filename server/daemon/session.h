@@ -25,6 +25,7 @@
 #include "messages.h"
 #include "renderer.h"
 #include "request.h"
+#include "request_patch.h"
 #include "server.h"
 #include "stream_fit.h"
 #include "stream_flow.h"
@@ -233,14 +234,15 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
  * those of the session's dataset). A change of that set starts a new state,
  * so fading begins afresh; the same set keeps it. LC_ERR_NOMEM keeps the old. */
 int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int n, lc_error *err);
-/* Applies a JSON update (NULL = none) to s's request, latest wins: a copy of
- * the request takes the update, a change of dataset is refused (layers[] may
- * change: their datasets go to s->layer_ds), and the frame
- * it asks for (at the request's size) must fit --max-cost; only then is it
- * committed, and *out (if given) is the new request. On failure s is
- * unchanged and pe names the field. Caller holds s->lock. */
-int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto_limits *lim, lc_request *out,
-                             lc_proto_error *pe);
+/* The one update function of a session (HTTP session renders and stream
+ * camera/params alike): patch (NULL = none) is admitted once against s's
+ * request by lc_admit_update (admit.h: the cross-field rules, a change of
+ * dataset refused, layers[] resolved into s->layer_ds, scope, what the
+ * renderer would refuse, the budget at the request's size) and only then
+ * replaces it, latest wins; *out (if given) is the new request. On failure s
+ * is unchanged and pe names the field. Caller holds s->lock. */
+int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim,
+                             lc_request *out, lc_proto_error *pe);
 
 #ifdef __cplusplus
 }

@@ -420,9 +420,9 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
 {
     lc_server *srv = ctx->srv;
     lc_proto_error pe;
-    json_t *update = NULL;
+    lc_request_patch *patch = NULL; /* the body's fields, checked once as parsed */
     if (ctx->len > 0) {
-        update = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
+        json_t *update = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
         if (!update) {
             lc_session_unref(s);
             return lc_http_proto_error(srv, c, &pe);
@@ -432,21 +432,27 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
             lc_session_unref(s);
             return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
         }
+        int rc = lc_proto_patch_parse(update, &srv->cfg.limits, &patch, &pe);
+        json_decref(update);
+        if (rc != 0) {
+            lc_session_unref(s);
+            return lc_http_proto_error(srv, c, &pe);
+        }
     }
     pthread_mutex_lock(&s->lock);
     if (s->http_busy) {
         pthread_mutex_unlock(&s->lock);
-        json_decref(update);
+        lc_proto_patch_free(patch);
         lc_session_unref(s);
         return lc_http_error(srv, c, 429, "overloaded", NULL,
                              "session %s is rendering a frame; send the next one after it", s->id);
     }
     lc_request req; /* s->req never keeps a dt: without one in the update, req has none */
     lc_request before = s->req;
-    int rc = lc_session_update_locked(s, update, &srv->cfg.limits, &req, &pe);
+    int rc = lc_session_update_locked(s, patch, &srv->cfg.limits, &req, &pe);
     if (rc == 0 && (rc = refuse_surface(&req, &pe)) != 0)
         s->req = before;
-    json_decref(update);
+    lc_proto_patch_free(patch);
     if (rc != 0) {
         pthread_mutex_unlock(&s->lock);
         lc_session_unref(s);

@@ -12,6 +12,7 @@
 #include "detail_ladder.h"
 #include "lc_test.h"
 #include "still_stages.h"
+#include "stream_session.h"
 #include "stream.h"
 #include "stream_fit.h"
 #include "stream_flow.h"

@@ -11,6 +11,7 @@
 #include "cost.h"
 #include "messages.h"
 #include "metrics.h"
+#include "stream_session.h"
 
 #define MOD "ws"
 

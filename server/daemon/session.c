@@ -249,6 +249,15 @@ int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int
     return 0;
 }
 
+int lc_session_kind_check(lc_session_kind kind, const lc_request *req, lc_proto_error *pe)
+{
+    if (kind != LC_SESSION_HTTP || req->render.method != LC_METHOD_SURFACE_LAYERS)
+        return 0;
+    return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method",
+                              "HTTP sessions do not render surface-layers; POST /api/v1/render draws it in one "
+                              "request, a WebSocket session streams it");
+}
+
 int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim, lc_request *out,
                              lc_proto_error *pe)
 {
@@ -257,6 +266,8 @@ int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const
     if (!req)
         return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "", "out of memory");
     int rc = lc_admit_update(s->srv, &s->req, patch, lim, &ds, req, layers, pe);
+    if (rc == 0)
+        rc = lc_session_kind_check(s->kind, req, pe);
     if (rc == 0) { /* every rule passed: the candidate replaces the request whole */
         s->req = *req;
         memcpy(s->layer_ds, layers, (size_t)req->layer_count * sizeof *layers);

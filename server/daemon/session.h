@@ -183,11 +183,17 @@ int lc_sessions_sweep(lc_sessions *reg, double now, double idle);
  * those of the session's dataset). A change of that set starts a new state,
  * so fading begins afresh; the same set keeps it. LC_ERR_NOMEM keeps the old. */
 int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int n, lc_error *err);
+/* What a session of this kind cannot render, whatever its request allows:
+ * HTTP sessions render one frame per request with the dataset's frame state,
+ * so method surface-layers (which a WebSocket session streams) is refused
+ * naming method. 0 otherwise. */
+int lc_session_kind_check(lc_session_kind kind, const lc_request *req, lc_proto_error *pe);
 /* The one update function of a session (HTTP session renders and stream
  * camera/params alike): patch (NULL = none) is admitted once against s's
  * request by lc_admit_update (admit.h: the cross-field rules, a change of
  * dataset refused, layers[] resolved into s->layer_ds, scope, what the
- * renderer would refuse, the budget at the request's size) and only then
+ * renderer would refuse, the budget at the request's size), then
+ * lc_session_kind_check, and only then
  * replaces it, latest wins; *out (if given) is the new request. On failure s
  * is unchanged and pe names the field. Caller holds s->lock. */
 int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim,

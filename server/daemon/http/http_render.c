@@ -360,17 +360,6 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
     return start_render(ctx, c, &req, ds, NULL, NULL, 0.0);
 }
 
-/* HTTP sessions render one frame per request with the dataset's frame
- * state; method surface-layers streams over WebSocket sessions instead. */
-static int refuse_surface(const lc_request *req, lc_proto_error *pe)
-{
-    if (req->render.method != LC_METHOD_SURFACE_LAYERS)
-        return 0;
-    return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method",
-                              "HTTP sessions do not render surface-layers; POST /api/v1/render draws it in one "
-                              "request, a WebSocket session streams it");
-}
-
 enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c)
 {
     lc_server *srv = ctx->srv;
@@ -383,7 +372,7 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
         lc_request_default(&req);
     }
     const lc_dataset *layers[LC_MAX_LAYERS];
-    if (refuse_surface(&req, &pe) != 0 || lc_admit_resolve_layers(srv, &req, layers, &pe) != 0)
+    if (lc_session_kind_check(LC_SESSION_HTTP, &req, &pe) != 0 || lc_admit_resolve_layers(srv, &req, layers, &pe) != 0)
         return lc_http_proto_error(srv, c, &pe);
     /* With layers[] the request may leave dataset out: the session's is layers[0]'s. */
     const lc_dataset *ds =
@@ -448,10 +437,7 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
                              "session %s is rendering a frame; send the next one after it", s->id);
     }
     lc_request req; /* s->req never keeps a dt: without one in the update, req has none */
-    lc_request before = s->req;
     int rc = lc_session_update_locked(s, patch, &srv->cfg.limits, &req, &pe);
-    if (rc == 0 && (rc = refuse_surface(&req, &pe)) != 0)
-        s->req = before;
     lc_proto_patch_free(patch);
     if (rc != 0) {
         pthread_mutex_unlock(&s->lock);

@@ -363,26 +363,27 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
 enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c)
 {
     lc_server *srv = ctx->srv;
-    lc_request req;
     lc_proto_error pe;
+    lc_request_patch *patch = NULL; /* the body's fields, checked once as parsed; none: the defaults */
     if (ctx->len > 0) {
-        if (lc_proto_parse_request(ctx->body, ctx->len, &srv->cfg.limits, &req, &pe) != 0)
+        json_t *body = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
+        int rc = body ? lc_proto_patch_parse(body, &srv->cfg.limits, &patch, &pe) : -1;
+        json_decref(body);
+        if (rc != 0)
             return lc_http_proto_error(srv, c, &pe);
-    } else {
-        lc_request_default(&req);
     }
-    const lc_dataset *layers[LC_MAX_LAYERS];
-    if (lc_session_kind_check(LC_SESSION_HTTP, &req, &pe) != 0 || lc_admit_resolve_layers(srv, &req, layers, &pe) != 0)
+    /* The session's one validation, as its updates will have (admit.h); with
+     * layers[] the request may leave dataset out: the session's is layers[0]'s. */
+    lc_request base, req;
+    lc_request_default(&base);
+    const lc_dataset *layers[LC_MAX_LAYERS], *ds = NULL;
+    int rc = lc_admit_update(srv, &base, patch, &srv->cfg.limits, &ds, &req, layers, &pe);
+    lc_proto_patch_free(patch);
+    if (rc == 0)
+        rc = lc_session_kind_check(LC_SESSION_HTTP, &req, &pe);
+    if (rc != 0)
         return lc_http_proto_error(srv, c, &pe);
-    /* With layers[] the request may leave dataset out: the session's is layers[0]'s. */
-    const lc_dataset *ds =
-        !req.dataset[0] && req.layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, req.dataset);
-    if (!ds)
-        return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
-    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
     req.has_dt = false;
-    if (lc_request_admit(srv, NULL, &req, ds, layers, NULL, &pe) != 0)
-        return lc_http_proto_error(srv, c, &pe);
     lc_session *s = NULL;
     lc_error err = {0};
     if (lc_session_create(srv->sessions, LC_SESSION_HTTP, lc_conn_client_key(c), ds, &req, &s, &err) != 0)

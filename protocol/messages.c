@@ -240,7 +240,7 @@ int lc_proto_parse_client_message(const char *text, size_t len, const lc_proto_l
 
     /* The render-request parts are checked by the request schema, so their
      * errors carry the same dotted paths as in POST /api/v1/render. */
-    if (update && (status = lc_proto_check_update(update, lim, err)) != 0)
+    if (update && (status = lc_proto_patch_parse(update, lim, &m->patch, err)) != 0)
         goto fail;
     m->update = update;
     json_decref(root);
@@ -259,6 +259,8 @@ void lc_client_msg_free(lc_client_msg *m)
         return;
     json_decref(m->update);
     m->update = NULL;
+    lc_proto_patch_free(m->patch);
+    m->patch = NULL;
 }
 
 json_t *lc_proto_client_message_to_json(const lc_client_msg *m)

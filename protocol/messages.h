@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "request.h"
+#include "request_patch.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,11 +56,13 @@ typedef struct lc_client_msg {
     double interactive_scale; /* resolution factor while input is active, [0.25, 1], default 0.5 */
     bool has_interactive_scale;
     /* hello, params, camera: an object holding only the render-request fields the
-     * message gave (camera, params, importance, color, style, method), already
-     * field-validated; apply it with lc_proto_apply_request() to the session's
-     * request (which also runs the cross-field checks). NULL when none given.
-     * Owned by the message; freed by lc_client_msg_free(). */
+     * message gave (camera, params, importance, color, style, method), and the
+     * same parsed once into a typed patch whose field checks have run; merge it
+     * into the session's request with lc_proto_patch_apply() (request_patch.h, which runs the
+     * cross-field checks). Both NULL when none given. Owned by the message;
+     * freed by lc_client_msg_free(). */
     json_t *update;
+    lc_request_patch *patch;
 } lc_client_msg;
 
 /* Parses and validates one client text message. On success m owns update; on

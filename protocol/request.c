@@ -7,24 +7,12 @@
 
 #include <float.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "request_scope.h"
 #include "request_fields.h" /* after request.h: the table is of lc_request */
-
-void lc_proto_limits_default(lc_proto_limits *l)
-{
-    l->min_size = 16;
-    /* 8K stills (8192 x 4608, 16:9); above 4096^2 pixels the renderer
-     * composites in tiles (render/gl/frame.c), so GPU memory stays bounded. */
-    l->max_size = 8192;
-    l->max_pixels = 8192LL * 4608LL;
-    l->max_depth = 16;
-    l->max_text = 64 * 1024;
-}
 
 /* lim, or the defaults in *dl when NULL. */
 static const lc_proto_limits *limits_or_default(const lc_proto_limits *lim, lc_proto_limits *dl)
@@ -58,32 +46,6 @@ static void copy_str(char *dst, size_t size, const char *src)
         n = size - 1;
     memcpy(dst, src, n);
     dst[n] = '\0';
-}
-
-int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field, const char *fmt, ...)
-{
-    int status =
-        (strcmp(code, LC_PROTO_TOO_LARGE) == 0 || strcmp(code, LC_PROTO_TOO_DEEP) == 0) ? LC_ERR_LIMIT : LC_ERR_INVALID;
-    if (!err)
-        return status;
-    char reason[256];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    copy_str(err->code, sizeof err->code, code);
-    copy_str(err->field, sizeof err->field, field ? field : "");
-    if (err->field[0]) {
-        size_t n = strlen(err->field);
-        copy_str(err->message, sizeof err->message, err->field);
-        if (n + 2 < sizeof err->message) {
-            memcpy(err->message + n, ": ", 3);
-            copy_str(err->message + n + 2, sizeof err->message - n - 2, reason);
-        }
-    } else {
-        copy_str(err->message, sizeof err->message, reason);
-    }
-    return status;
 }
 
 /* ---- the schema */
@@ -488,77 +450,62 @@ int lc_proto_apply_request(const json_t *obj, const lc_proto_limits *lim, lc_req
     return apply(obj, lim, r, true, err);
 }
 
-int lc_proto_check_update(const json_t *obj, const lc_proto_limits *lim, lc_proto_error *err)
+/* ---- partial updates (request_patch.c keeps them as typed patches) */
+
+int lc_proto_check_fields(const json_t *obj, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)
 {
-    lc_request scratch;
-    lc_request_default(&scratch);
-    int rc = apply(obj, lim, &scratch, false, err);
-    if (rc)
-        return rc;
+    int rc = apply(obj, lim, r, false, err);
     /* The state the update will meet is unknown, so check the camera only as far
      * as the update itself pins it down. */
-    const json_t *cam = json_is_object(obj) ? json_object_get(obj, "camera") : NULL;
+    const json_t *cam = rc ? NULL : json_object_get(obj, "camera");
     if (json_is_object(cam) && json_object_get(cam, "position") && json_object_get(cam, "focalPoint"))
-        return check_camera(&scratch.render.camera, json_object_get(cam, "viewUp") != NULL, err);
+        rc = check_camera(&r->render.camera, json_object_get(cam, "viewUp") != NULL, err);
+    return rc;
+}
+
+int lc_proto_copy_field(const char *section, const char *name, lc_request *dst, const lc_request *src)
+{
+    const field *f = find_field(section, name);
+    if (!f)
+        return -1;
+    const char *s = (const char *)src + f->offset;
+    char *d = (char *)dst + f->offset;
+    switch (f->type) {
+    case T_INT:
+    case T_ENUM: memcpy(d, s, (f->bounds & CHECK_ONLY) ? 0 : sizeof(int)); break;
+    case T_NUM: memcpy(d, s, sizeof(double)); break;
+    case T_BOOL: memcpy(d, s, sizeof(bool)); break;
+    case T_STR:
+    case T_NAME: memcpy(d, s, f->size); break;
+    case T_VEC3:
+    case T_COLOR: memcpy(d, s, 3 * sizeof(double)); break;
+    case T_RANGE: memcpy(d, s, 2 * sizeof(double)); break;
+    case T_CURVE: memcpy(d, s, sizeof(lc_curve)); break;
+    /* The list types, one field each, replace their whole list. */
+    case T_TERMS:
+        dst->render.importance.term_count = src->render.importance.term_count;
+        memcpy(dst->render.importance.terms, src->render.importance.terms, sizeof src->render.importance.terms);
+        break;
+    case T_FILTERS:
+        dst->render.filter_count = src->render.filter_count;
+        memcpy(dst->render.filters, src->render.filters, sizeof src->render.filters);
+        break;
+    case T_RANGES:
+        dst->render.color.fixed_count = src->render.color.fixed_count;
+        memcpy(dst->render.color.fixed, src->render.color.fixed, sizeof src->render.color.fixed);
+        break;
+    case T_LAYERS:
+        dst->layer_count = src->layer_count;
+        memcpy(dst->layers, src->layers, (size_t)src->layer_count * sizeof src->layers[0]);
+        break;
+    case T_SEED:
+        dst->surface.seed_count = src->surface.seed_count;
+        memcpy(dst->surface.seed, src->surface.seed, sizeof src->surface.seed);
+        break;
+    }
+    if (f->flag >= 0)
+        *((bool *)((char *)dst + f->flag)) = true;
     return 0;
-}
-
-/* ---- loading text under limits */
-
-/* Deepest {}/[] nesting of raw JSON text, ignoring brackets inside strings; stops
- * counting once past max (the exact depth of a hostile document is irrelevant). */
-static int nesting_depth(const char *s, size_t len, int max)
-{
-    int depth = 0, deepest = 0;
-    bool in_string = false;
-    for (size_t i = 0; i < len; i++) {
-        char c = s[i];
-        if (in_string) {
-            if (c == '\\')
-                i++;
-            else if (c == '"')
-                in_string = false;
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '{' || c == '[') {
-            if (++depth > deepest) {
-                deepest = depth;
-                if (deepest > max)
-                    return deepest;
-            }
-        } else if (c == '}' || c == ']') {
-            depth--;
-        }
-    }
-    return deepest;
-}
-
-json_t *lc_proto_load(const char *text, size_t len, const lc_proto_limits *lim, lc_proto_error *err)
-{
-    lc_proto_limits dl;
-    lim = limits_or_default(lim, &dl);
-    if (!text)
-        len = 0;
-    if (len > lim->max_text) {
-        lc_proto_set_error(err, LC_PROTO_TOO_LARGE, "", "document of %zu bytes exceeds the limit of %zu bytes", len,
-                           lim->max_text);
-        return NULL;
-    }
-    /* Checked before jansson, whose recursion is bounded only at 2048 levels. */
-    if (nesting_depth(text, len, lim->max_depth) > lim->max_depth) {
-        lc_proto_set_error(err, LC_PROTO_TOO_DEEP, "", "nesting deeper than %d levels", lim->max_depth);
-        return NULL;
-    }
-    json_error_t je;
-    json_t *root = json_loadb(text ? text : "", len, JSON_REJECT_DUPLICATES | JSON_DECODE_ANY, &je);
-    if (!root) {
-        /* jansson already rejects NaN/Infinity (not JSON) and numbers that
-         * overflow a double or a 64-bit integer. */
-        lc_proto_set_error(err, LC_PROTO_BAD_JSON, "", "invalid JSON at line %d, column %d: %s", je.line, je.column,
-                           je.text);
-        return NULL;
-    }
-    return root;
 }
 
 int lc_proto_parse_request(const char *json, size_t len, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)
@@ -888,9 +835,4 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     if (r->render.method == LC_METHOD_SURFACE_LAYERS || r->surface.field[0] || r->surface.seed_count)
         json_object_set_new(o, "surface", emit_section(r, "surface"));
     return o;
-}
-
-char *lc_proto_dump(const json_t *value)
-{
-    return json_dumps(value, JSON_COMPACT | JSON_ENCODE_ANY | JSON_REAL_PRECISION(15));
 }

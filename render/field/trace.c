@@ -2,9 +2,9 @@
  * RK4 forward, backward or both ways with ghost particles for normals, curves
  * traced on CPU threads (trace.h). */
 #include "trace.h"
+#include "lc_parallel.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -354,16 +354,15 @@ static int trace_seed_point(const lc_field *f, const double p[3], const lc_trace
     return rc;
 }
 
-static void *run_job(void *arg)
+static void run_job(void *arg)
 {
     trace_job *j = arg;
     for (uint32_t i = (uint32_t)j->offset; i < j->count && !j->rc; i += (uint32_t)j->stride)
         j->rc = j->points ? trace_seed_point(j->field, &j->points[3 * (size_t)i], j->desc, j->count, i, &j->curves[i])
                           : trace_one(j->field, j->seed, j->desc, lc_seed_param(j->first + i), &j->curves[i]);
-    return NULL;
 }
 
-#define MAX_TRACE_THREADS 64
+#define MAX_TRACE_THREADS LC_PARALLEL_MAX
 
 /* Traces count curves on threads: particles of seed (from lc_seed_param(first))
  * or, with points, one per seed point. */
@@ -377,23 +376,12 @@ static int trace_many(const lc_field *field, const lc_seed *seed, const double *
     if ((uint32_t)nt > count)
         nt = count ? (int)count : 1;
     trace_job jobs[MAX_TRACE_THREADS];
-    pthread_t tid[MAX_TRACE_THREADS];
-    int started[MAX_TRACE_THREADS] = {0};
-    for (int k = 0; k < nt; k++) {
+    for (int k = 0; k < nt; k++)
         jobs[k] = (trace_job){field, seed, points, &d, first, count, nt, k, curves, 0};
-        if (k > 0)
-            started[k] = pthread_create(&tid[k], NULL, run_job, &jobs[k]) == 0;
-    }
-    run_job(&jobs[0]);
-    int rc = jobs[0].rc;
-    for (int k = 1; k < nt; k++) {
-        if (started[k])
-            pthread_join(tid[k], NULL);
-        else
-            run_job(&jobs[k]); /* no thread to spare: the caller does its share */
-        if (!rc)
-            rc = jobs[k].rc;
-    }
+    lc_parallel_for((uint32_t)nt, run_job, jobs, sizeof jobs[0]);
+    int rc = 0;
+    for (int k = 0; k < nt && !rc; k++)
+        rc = jobs[k].rc;
     if (rc) {
         lc_trace_curves_free(curves, count);
         return lc_err(err, rc, "%s: out of memory tracing %u curves", field->name, count);

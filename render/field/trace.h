@@ -4,8 +4,8 @@
  * time-dependent ones) forward, backward or both ways, each with a ghost
  * particle beside it whose offset gives the surface normal
  * (docs/ALGORITHM.md §22).
- * Threading: lc_trace_curves runs on the caller's thread and `threads` more;
- * it only reads the field and the seed. */
+ * Threading: lc_trace_curves runs on the caller's thread and threads - 1 more
+ * (lc_parallel_for); it only reads the field and the seed. */
 #ifndef LC_FIELD_TRACE_H
 #define LC_FIELD_TRACE_H
 

@@ -4,14 +4,13 @@
 #include "cluster_distance.h"
 #include "cluster_internal.h"
 #include "cluster_sample.h"
+#include "lc_parallel.h"
 
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #define DEFAULT_NEIGHBOURS 96u
 #define DEFAULT_TOP_CLUSTERS 2048u
@@ -417,28 +416,10 @@ static float prune_radius(const lc_dendrogram *dg, const float *soa, const box *
     return (float)(sum / s);
 }
 
-/* Runs fn on jobs[0..n) (each `size` bytes), job t >= 1 in a thread of its
- * own and job 0 (and any whose thread could not start) in this one. */
-static void run_jobs(void *(*fn)(void *), void *jobs, size_t size, uint32_t n)
-{
-    pthread_t tid[MAX_THREADS];
-    int started[MAX_THREADS] = {0};
-    for (uint32_t t = 1; t < n; t++)
-        started[t] = pthread_create(&tid[t], NULL, fn, (char *)jobs + t * size) == 0;
-    for (uint32_t t = 0; t < n; t++)
-        if (!started[t])
-            fn((char *)jobs + t * size);
-    for (uint32_t t = 1; t < n; t++)
-        if (started[t])
-            pthread_join(tid[t], NULL);
-}
-
 /* Threads for a stage of `work` items: one per online core, at most MAX_THREADS, one for small work. */
 static uint32_t thread_count(uint32_t work)
 {
-    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-    uint32_t threads = cpus < 1 ? 1 : cpus > MAX_THREADS ? MAX_THREADS : (uint32_t)cpus;
-    return work < 256 ? 1 : threads;
+    return work < 256 ? 1 : lc_parallel_cores(MAX_THREADS);
 }
 
 /* The sparse stage: every pair whose boxes come closer than r is measured; an
@@ -460,7 +441,7 @@ typedef struct sweep {
     int failed;
 } sweep;
 
-static void *sweep_run(void *arg)
+static void sweep_run(void *arg)
 {
     sweep *w = arg;
     const lc_dendrogram *dg = w->dg;
@@ -495,7 +476,6 @@ static void *sweep_run(void *arg)
             w->edges[w->count++] = (edge){d, i, j};
         }
     }
-    return NULL;
 }
 
 static int link_pruned(engine *g, lc_dendrogram *dg, const float *soa, const box *bx, float r)
@@ -525,7 +505,7 @@ static int link_pruned(engine *g, lc_dendrogram *dg, const float *soa, const box
     for (uint32_t t = 0; t < threads; t++)
         w[t] =
             (sweep){.dg = dg, .soa = soa, .bx = bx, .order = order, .r = r, .axis = axis, .first = t, .step = threads};
-    run_jobs(sweep_run, w, sizeof w[0], threads);
+    lc_parallel_for(threads, sweep_run, w, sizeof w[0]);
     int rc = 0;
     for (uint32_t t = 0; t < threads; t++) {
         rc |= w[t].failed;
@@ -548,7 +528,7 @@ typedef struct top_job {
     float *d;
 } top_job;
 
-static void *top_run(void *arg)
+static void top_run(void *arg)
 {
     top_job *j = arg;
     size_t stride = (size_t)j->k * DIM;
@@ -558,7 +538,6 @@ static void *top_run(void *arg)
             row[t - s - 1] =
                 lc_cluster_rmcpd_soa(j->soa + j->stand_in[s] * stride, j->soa + j->stand_in[t] * stride, j->k);
     }
-    return NULL;
 }
 
 /* The dense top stage: each remaining cluster is stood in for by its line
@@ -623,7 +602,7 @@ static int link_top(engine *g, lc_dendrogram *dg, const float *soa, float r)
     top_job jobs[MAX_THREADS];
     for (uint32_t t = 0; t < threads; t++)
         jobs[t] = (top_job){soa, stand_in, roots, t, threads, dg->k, pair_d};
-    run_jobs(top_run, jobs, sizeof jobs[0], threads);
+    lc_parallel_for(threads, top_run, jobs, sizeof jobs[0]);
     rc = 0; /* edges in the order of the pairs: the merges do not depend on the threads */
     for (uint32_t s = 0, e = 0; s < roots && !rc; s++)
         for (uint32_t t = s + 1; t < roots && !rc; t++, e++) {

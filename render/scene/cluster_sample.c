@@ -7,11 +7,11 @@
 
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cluster_distance.h"
+#include "lc_parallel.h"
 
 #define CANDIDATES 32 /* sampled lines gathered by centroid before the search stops widening */
 #define MEASURED 64   /* of those, the nearest by centroid are measured by rMCPD */
@@ -89,7 +89,7 @@ typedef struct attach_job {
     uint64_t pairs;
 } attach_job;
 
-static void *attach_run(void *arg)
+static void attach_run(void *arg)
 {
     attach_job *w = arg;
     const grid *gr = w->gr;
@@ -140,7 +140,6 @@ static void *attach_run(void *arg)
         w->nearest[i] = best_s;
         w->dist[i] = best;
     }
-    return NULL;
 }
 
 int lc_cluster_attach(const float *soa, uint32_t lines, int k, const uint32_t *pick, uint32_t samples, uint32_t threads,
@@ -189,22 +188,13 @@ int lc_cluster_attach(const float *soa, uint32_t lines, int k, const uint32_t *p
         slot[pick[s]] = s;
     enum { MAX_JOBS = 8 };
     attach_job jobs[MAX_JOBS];
-    pthread_t tid[MAX_JOBS];
-    int started[MAX_JOBS] = {0};
     threads = threads < 1 ? 1 : threads > MAX_JOBS ? MAX_JOBS : threads;
     for (uint32_t t = 0; t < threads; t++)
         jobs[t] = (attach_job){soa, k, lines, t, threads, pick, slot, samples, &gr, cent, nearest, dist, 0};
-    for (uint32_t t = 1; t < threads; t++)
-        started[t] = pthread_create(&tid[t], NULL, attach_run, &jobs[t]) == 0;
-    for (uint32_t t = 0; t < threads; t++)
-        if (!started[t])
-            attach_run(&jobs[t]);
+    lc_parallel_for(threads, attach_run, jobs, sizeof jobs[0]);
     *pairs = 0;
-    for (uint32_t t = 0; t < threads; t++) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
+    for (uint32_t t = 0; t < threads; t++)
         *pairs += jobs[t].pairs;
-    }
     rc = 0;
 out:
     free(cent);

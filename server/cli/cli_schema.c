@@ -1,6 +1,7 @@
 /* `lucent schema`: prints the render request schema (protocol/'s field table)
- * as JSON, the one source that the web client's table and the OpenAPI file are
- * checked against (tests/tools/check_schema.py). */
+ * as JSON, the one source: the page's table is generated from the same function
+ * at build time (protocol/gen/schema_js.c), and tests/tools/check_schema.py
+ * checks the page and the OpenAPI file against this output. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

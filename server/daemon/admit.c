@@ -149,3 +149,31 @@ int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req,
         rc = lc_admit_frame_budget(srv, ds, layers, req, cost, pe);
     return rc;
 }
+
+int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_patch *patch, const lc_proto_limits *lim,
+                    const lc_dataset **ds, lc_request *out, const lc_dataset **layers, lc_proto_error *pe)
+{
+    *out = *base;
+    int rc = lc_proto_patch_apply(patch, lim, out, pe);
+    if (rc == 0)
+        rc = lc_admit_resolve_layers(srv, out, layers, pe);
+    if (rc != 0)
+        return rc;
+    if (*ds) { /* a session's: the update may name it (or another name of it), not change it */
+        if (strcmp(out->dataset, (*ds)->name) != 0 && lc_datasets_find(srv->datasets, out->dataset) != *ds)
+            return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset",
+                                      "cannot change within a session (it is \"%s\")", (*ds)->name);
+    } else {
+        /* A new session's: the one named, or with layers[] and none named layers[0]'s. */
+        *ds = !out->dataset[0] && out->layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, out->dataset);
+        if (!*ds)
+            return lc_proto_set_error(pe, "not_found", "dataset", "unknown dataset \"%.300s\"", out->dataset);
+        snprintf(out->dataset, sizeof out->dataset, "%s", (*ds)->name);
+    }
+    json_t *none = patch ? NULL : json_object(); /* no field given: only the request's own refusals (size, cost) */
+    const json_t *given = patch ? lc_proto_patch_json(patch) : none;
+    rc = given ? lc_request_admit(srv, given, out, *ds, layers, NULL, pe)
+               : lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "", "out of memory");
+    json_decref(none);
+    return rc;
+}

@@ -1,6 +1,7 @@
 /* Admission of a parsed request: everything that can refuse it before a frame
  * is queued, run once where a request or an update arrives (a one-shot
- * render, a session's creation and each update, a movie): where each given
+ * render and a movie by lc_request_admit; a session's creation, each update
+ * and a resize by lc_admit_update): where each given
  * field applies (protocol's scope table), what the renderer would refuse of
  * it on these datasets (lc_render_check), and the cost budget (cost.h). A
  * refusal is the answer to that request, never a later frame's error. */
@@ -11,6 +12,7 @@
 
 #include "datasets.h"
 #include "request.h"
+#include "request_patch.h"
 #include "server.h"
 
 /* 0 when a frame of req on ds fits --max-cost (cost.h); else too_expensive
@@ -42,5 +44,19 @@ int lc_admit_resolve_layers(lc_server *srv, const lc_request *req, const lc_data
  * (may be NULL): the budget's estimate. 0 or a protocol error naming the field. */
 int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req, const lc_dataset *ds,
                      const lc_dataset *const *layers, double *cost, lc_proto_error *pe);
+
+/* The one validation of a session's update, a new session's request or a
+ * resize, before anything changes: patch (NULL = no field given) merged into
+ * a copy of base with the cross-field rules (lc_proto_patch_apply; its field
+ * rules ran once when it was parsed), the layers' datasets resolved into
+ * layers[], the dataset checked, then lc_request_admit (scope, what the
+ * renderer would refuse, the budget). *ds: a session's dataset, which the
+ * update may not change; NULL for a new session, which takes the one base
+ * names (or layers[0]'s when it names none) and returns it in *ds. *out holds
+ * the candidate however it ends (the caller commits it by swapping on 0). 0 or
+ * a protocol error naming the field (not_found naming dataset or
+ * layers[i].dataset). */
+int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_patch *patch, const lc_proto_limits *lim,
+                    const lc_dataset **ds, lc_request *out, const lc_dataset **layers, lc_proto_error *pe);
 
 #endif

@@ -25,6 +25,7 @@
 #include "messages.h"
 #include "renderer.h"
 #include "request.h"
+#include "request_patch.h"
 #include "server.h"
 #include "stream_fit.h"
 #include "stream_flow.h"
@@ -113,9 +114,11 @@ struct lc_session {
     lc_request req;              /* the latest requested state (latest wins) */
     const lc_dataset *layer_ds[LC_MAX_LAYERS]; /* the datasets of req.layers (req.layer_count of them) */
     lc_frame_state *frame_state; /* element opacities; see "Locking" above */
-    /* Method surface-layers: the curves traced so far (surface_job.h); only
-     * the worker rendering the session's frame touches it. */
+    /* Method surface-layers: the curves traced so far (pool/surface_job.h);
+     * only the worker rendering the session's frame touches it, and it sets
+     * surface_free, so the session frees them without knowing the pool. */
     struct lc_surface_stream *surface;
+    void (*surface_free)(struct lc_surface_stream *surface);
     /* The datasets frame_state's elements belong to, in order (state_layers
      * of them; 0 = the session's dataset alone): owned like frame_state. */
     const lc_dataset *state_ds[LC_MAX_LAYERS];
@@ -173,59 +176,6 @@ void lc_sessions_count(lc_sessions *reg, int *http, int *ws);
 /* Closes HTTP sessions unused for longer than idle seconds; returns how many. */
 int lc_sessions_sweep(lc_sessions *reg, double now, double idle);
 
-/* ---- WebSocket streams (flow control). */
-
-/* Worker side: decides whether s needs a frame now. Returns 1 with *out filled
- * and the frame state reserved (stream.rendering), 0 when nothing is due; then
- * *wake_at > 0 asks to be reconsidered at that lc_now() time (the still frame). */
-int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at);
-/* Worker side: the frame reserved by stream_next finished (ok = rendered). */
-void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, const lc_frame_info *info);
-/* Worker side, during a still or refinement (not interactive) frame: whether
- * it should be abandoned for newer input (a camera/params/resize update came
- * since stream_next took it) or because the session closed. */
-bool lc_session_stream_preempted(lc_session *s);
-/* Worker side: the frame reserved by stream_next was abandoned at a yield
- * point (nothing goes out for it, and its id goes to the next frame); the
- * session stays as it was before that frame, so its still is due again once
- * input is quiet, and the next frame is a moving one. */
-void lc_session_stream_yielded(lc_session *s, const lc_stream_frame *f);
-/* Worker side: a frame of s begins (its progress starts at "prepare"). */
-void lc_session_progress_begin(lc_session *s, uint64_t frame);
-/* Worker side: one frame of method surface-layers for s (the next batch of
- * curves of req's surface, drawn with req's camera into the worker's kept
- * layers `keep`, lc_surface_keep, may be NULL); errors name the field. */
-int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *req, lc_surface_keep *keep,
-                             uint8_t *rgba, lc_frame_info *info, lc_error *err);
-/* Worker side: the id of the curves s's surface frames draw (0 = none yet;
- * lc_surface_draw's curves_id), to find the layers kept from its last frame. */
-uint64_t lc_session_surface_id(const lc_session *s);
-/* I/O side: the client acknowledged every frame up to id `frame`. Returns
- * false (and changes nothing) for an id that was never sent: a blind ack must
- * not open the window. */
-bool lc_session_stream_ack(lc_session *s, uint64_t frame);
-/* I/O side: the client acked frames up to `frame` at now: as lc_session_stream_ack,
- * and the round trip of the newest of them moves the window (stream_flow.h). */
-bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now);
-/* Encoder side: frame `frame` goes to the connection now (acks may cover it),
- * a message of `bytes` (0: none goes out) at JPEG quality and of pixels:
- * a moving frame's are what the next one's fit is predicted from. Returns
- * false, and records nothing, for a frame older than one already handed
- * over: it must not go out (it would show an older camera last). */
-bool lc_session_stream_sent(lc_session *s, uint64_t frame, size_t bytes, int quality, long pixels);
-/* I/O side: the connection's socket stopped taking data (blocked) or drained.
- * Returns true when it drained and a frame may be due (wake the workers). */
-bool lc_session_stream_blocked(lc_session *s, bool blocked);
-/* I/O side: records input (camera, params, resize): marks the stream dirty and
- * counts a coalesced update if the previous one was not rendered yet. */
-void lc_session_stream_input(lc_session *s, double now);
-/* The pixel size of a stream frame for a viewport of css_w x css_h CSS pixels
- * at devicePixelRatio dpr: capped by cfg's --max-stream-pixels and image
- * limits, times scale (interactive frames). Every stream frame's size comes
- * from here: hello and resize check the full-size frame's cost with it, and
- * lc_session_stream_next sizes each frame. */
-void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, double dpr, double scale, int *w, int *h);
-
 /* ---- Updates (HTTP session renders and stream camera/params alike). */
 
 /* Worker side, before a frame of s (the caller owns frame_state): makes
@@ -233,14 +183,21 @@ void lc_stream_frame_size(const lc_serve_config *cfg, int css_w, int css_h, doub
  * those of the session's dataset). A change of that set starts a new state,
  * so fading begins afresh; the same set keeps it. LC_ERR_NOMEM keeps the old. */
 int lc_session_prepare_state(lc_session *s, const lc_dataset *const *layers, int n, lc_error *err);
-/* Applies a JSON update (NULL = none) to s's request, latest wins: a copy of
- * the request takes the update, a change of dataset is refused (layers[] may
- * change: their datasets go to s->layer_ds), and the frame
- * it asks for (at the request's size) must fit --max-cost; only then is it
- * committed, and *out (if given) is the new request. On failure s is
- * unchanged and pe names the field. Caller holds s->lock. */
-int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto_limits *lim, lc_request *out,
-                             lc_proto_error *pe);
+/* What a session of this kind cannot render, whatever its request allows:
+ * HTTP sessions render one frame per request with the dataset's frame state,
+ * so method surface-layers (which a WebSocket session streams) is refused
+ * naming method. 0 otherwise. */
+int lc_session_kind_check(lc_session_kind kind, const lc_request *req, lc_proto_error *pe);
+/* The one update function of a session (HTTP session renders and stream
+ * camera/params alike): patch (NULL = none) is admitted once against s's
+ * request by lc_admit_update (admit.h: the cross-field rules, a change of
+ * dataset refused, layers[] resolved into s->layer_ds, scope, what the
+ * renderer would refuse, the budget at the request's size), then
+ * lc_session_kind_check, and only then
+ * replaces it, latest wins; *out (if given) is the new request. On failure s
+ * is unchanged and pe names the field. Caller holds s->lock. */
+int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim,
+                             lc_request *out, lc_proto_error *pe);
 
 #ifdef __cplusplus
 }

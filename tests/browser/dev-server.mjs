@@ -1,6 +1,7 @@
 // Development helper: serves web/ from disk (no rebuild of the daemon after each
 // edit) and forwards /api/*, /metrics and the WebSocket upgrade to a running
 // daemon.   node tests/browser/dev-server.mjs [--port 8081] [--backend 127.0.0.1:8080]
+//                                            [--generated BUILD/generated/web]
 import http from 'node:http';
 import net from 'node:net';
 import { readFile } from 'node:fs/promises';
@@ -14,6 +15,8 @@ const arg = (name, dflt) => {
 const port = Number(arg('--port', 8081));
 const [bhost, bport] = arg('--backend', '127.0.0.1:8080').split(':');
 const root = fileURLToPath(new URL('../../web/', import.meta.url));
+// Modules the build generates (js/schema_fields.js) are served from the build tree.
+const generated = path.resolve(arg('--generated', fileURLToPath(new URL('../../build/generated/web/', import.meta.url))));
 const types = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.css': 'text/css', '.svg': 'image/svg+xml', '.png': 'image/png' };
 
 const server = http.createServer(async (req, res) => {
@@ -37,7 +40,7 @@ const server = http.createServer(async (req, res) => {
     return;
   }
   try {
-    const body = await readFile(file);
+    const body = await readFile(file).catch(() => readFile(path.join(generated, rel)));
     res.writeHead(200, { 'Content-Type': types[path.extname(file)] ?? 'application/octet-stream', 'Cache-Control': 'no-cache' });
     res.end(body);
   } catch {

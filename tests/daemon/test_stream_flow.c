@@ -12,6 +12,7 @@
 #include "detail_ladder.h"
 #include "lc_test.h"
 #include "still_stages.h"
+#include "stream_session.h"
 #include "stream.h"
 #include "stream_fit.h"
 #include "stream_flow.h"
@@ -366,9 +367,15 @@ static void test_budget(lc_stream_conn *conn)
         return;
     lc_proto_error pe;
     json_error_t je;
-    json_t *bad = json_loads("{\"dataset\":\"demo:other\"}", 0, &je);
-    json_t *wide = json_loads("{\"width\":4096,\"height\":4096}", 0, &je);
-    json_t *ok = json_loads("{\"params\":{\"bands\":5}}", 0, &je);
+    const char *texts[3] = {"{\"dataset\":\"demo:other\"}", "{\"width\":4096,\"height\":4096}",
+                            "{\"params\":{\"bands\":5}}"};
+    lc_request_patch *patches[3] = {NULL, NULL, NULL};
+    for (int i = 0; i < 3; i++) {
+        json_t *u = json_loads(texts[i], 0, &je);
+        CHECK(u && lc_proto_patch_parse(u, &srv.cfg.limits, &patches[i], &pe) == 0, "update %d parses", i);
+        json_decref(u);
+    }
+    lc_request_patch *bad = patches[0], *wide = patches[1], *ok = patches[2];
     srv.cfg.max_cost = lc_cost_estimate(&s->dataset->cost, &h->req.render) * 2;
     pthread_mutex_lock(&h->lock);
     int rc_bad = lc_session_update_locked(h, bad, &srv.cfg.limits, NULL, &pe);
@@ -383,7 +390,7 @@ static void test_budget(lc_stream_conn *conn)
     CHECK(costly && w == req.render.width, "an HTTP update beyond --max-cost is refused, nothing committed (%d)", w);
     CHECK(rc_ok == 0 && h->req.render.foo.bands == 5 && out.render.foo.bands == 5, "a fitting update is committed");
     srv.cfg.max_cost = LC_COST_DEFAULT_BUDGET;
-    json_decref(bad), json_decref(wide), json_decref(ok);
+    lc_proto_patch_free(bad), lc_proto_patch_free(wide), lc_proto_patch_free(ok);
     lc_session_close(srv.sessions, h);
     lc_session_unref(h);
 }

@@ -12,7 +12,9 @@ same request; after a camera move its last still matches the HTTP render of
 that camera (SSIM >= 0.99: the fading may leave a trace); a change of the
 layer set (one layer, then the points alone) renders on fresh opacities; an
 unknown layer dataset in an update is refused naming layers[i].dataset and the
-session goes on. A layer's own filter (and its own clustering) changes the image, by POST and GET alike,
+session goes on; an update only the renderer refuses (a layer's equalize with
+exact) gets the error as its reply, naming the field, and the session keeps its
+parameters. A layer's own filter (and its own clustering) changes the image, by POST and GET alike,
 beside a context surface too, and its errors name layers[i].filter[k].*, layers[i].time.*. A scripted HTTP session of the two layers renders the
 one-shot image."""
 import json
@@ -151,6 +153,27 @@ async def stream(srv):
         await ws.send(json.dumps({"type": "params", "layers": LAYERS}))
         frames, errors = await until_done(ws)
         check(frames and not errors, "the session goes on with both layers (%d frames)" % len(frames))
+
+        # What only the renderer refuses (a layer's equalize under exact) is the
+        # reply to that update: the first message after it (the stream had
+        # ended), naming the field; no frame of it follows, and the session
+        # keeps its parameters: a camera move then renders the layers as before.
+        refused = [LAYERS[0], dict(LAYERS[1], color={"attribute": "velocity", "equalize": True})]
+        await ws.send(json.dumps({"type": "params", "method": "exact", "layers": refused}))
+        got = await wait_for_message(ws, lambda m: True, skip=("stats", "progress"))
+        more, _ = split(await listen(ws, 1.0, skip=("stats", "progress")))
+        check(got.reached and got[-1]["type"] == "error" and got[-1].get("field") == "layers[1].color.equalize"
+              and not more, "params the renderer refuses (a layer's equalize with exact) -> the reply is an error "
+              "naming layers[1].color.equalize, no frame follows (%r)" % list(got)[:1])
+        camera = dict(CAMERA, position=[2.0, 1.6, 2.2])
+        await ws.send(json.dumps({"type": "camera", "seq": 2, "camera": camera}))
+        frames, errors = await until_done(ws, lambda h: h["cameraSeq"] == 2)
+        h, img = still(frames)
+        st, _, ref = render(srv, {"layers": LAYERS, "format": "jpeg", "quality": 90, "camera": camera})
+        s = ssim(img, ref) if img else -1
+        check(not errors and img and s >= 0.99, "after the refusal the session renders its previous parameters: "
+              "a camera move's still has SSIM %.4f >= 0.99 to the HTTP render of the layers before (%r)"
+              % (s, errors[:1]))
 
 
 # --still-delay 1000: a session's frames begun within a second of its last

@@ -121,6 +121,18 @@ with Server(binary, data=("demo:points", "demo:shear-flow", "demo:abc-flow")) as
     st, _, data = srv.request("POST", "/api/v1/sessions", json.dumps(surface_request()))
     check(st == 400 and json.loads(data).get("error", {}).get("field") == "method",
           "HTTP sessions refuse surface-layers naming method: %d" % st)
+    # ... and so does an update of one: refused by the session's one update function, the session unchanged.
+    st, _, data = srv.request("POST", "/api/v1/sessions", json.dumps({"dataset": "demo:points", "width": 64,
+                                                                       "height": 48}))
+    sid = json.loads(data).get("session") if st == 201 else None
+    path = "/api/v1/sessions/%s/render" % sid
+    st, _, before = srv.request("POST", path, json.dumps({"format": "png"}))
+    st2, _, data = srv.request("POST", path, json.dumps({"method": "surface-layers", "surface": surface_request()["surface"]}))
+    st3, _, after = srv.request("POST", path, json.dumps({"format": "png"}))
+    check(sid and st == 200 and st2 == 400 and json.loads(data).get("error", {}).get("field") == "method"
+          and st3 == 200 and after == before,
+          "an HTTP session's update to surface-layers is refused naming method and changes nothing: %s %d %d %d"
+          % (sid, st, st2, st3))
     st, _, data = srv.request("POST", "/api/v1/render", json.dumps(dict(surface_request(), **{"dataset": "demo:points"})))
     check(st == 200, "the request's dataset does not matter to the method: %d" % st)
 

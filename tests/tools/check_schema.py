@@ -1,15 +1,19 @@
 """The render request schema has one source, protocol/request_fields.h (the field table)
-(printed by `lucent schema`). This checks the two hand-written copies against
-it: the web client's table (web/js/schema.js, read through node) and the
-OpenAPI description (protocol/openapi.yaml): names, aliases, types, ranges and
-enum values; and the settings panel (web/js/ui.js): every control edits a field
-that exists, sliders stay inside its range, selects offer exactly its values. Usage: check_schema.py LUCENT SOURCE_DIR"""
+(printed by `lucent schema`). The page's table is generated from it at build time
+(BUILD/generated/web/js/schema_fields.js, protocol/gen/schema_js.c); this checks that
+the page as built reads exactly that table (web/js/schema.js's FIELDS and
+REQUEST_TOP_FIELDS, read through node, are `lucent schema`'s fields in its order),
+and the hand-written copies against it: the OpenAPI description
+(protocol/openapi.yaml): names, aliases, types, ranges and enum values; and the
+settings panel (web/js/ui.js): every control edits a field that exists, sliders stay
+inside its range, selects offer exactly its values.
+Usage: check_schema.py LUCENT SOURCE_DIR GENERATED_WEB_DIR"""
 import json
 import os
 import subprocess
 import sys
 
-lucent, src = sys.argv[1], sys.argv[2]
+lucent, src, generated = sys.argv[1], sys.argv[2], sys.argv[3]
 failures = []
 
 
@@ -22,33 +26,30 @@ schema = json.loads(subprocess.check_output([lucent, "schema"], text=True))
 key = lambda f: (f["section"], f["name"])
 c_fields = {key(f): f for f in schema}
 
-# ---- web/js/schema.js
+# Node resolves the page's generated modules in the build tree (tests/browser/web-generated.mjs).
+node = ["node", "--import", os.path.join(src, "tests", "browser", "web-generated.mjs"), "--input-type=module", "-e"]
+node_env = dict(os.environ, LUCENT_WEB_GENERATED=generated)
+
+# ---- the page's schema (web/js/schema.js over the generated schema_fields.js) is `lucent schema`
 js = ("import('%s').then((m) => console.log(JSON.stringify([...m.FIELDS, ...m.REQUEST_TOP_FIELDS])))"
       % os.path.join(src, "web", "js", "schema.js"))
-web = json.loads(subprocess.check_output(["node", "--input-type=module", "-e", js], text=True))
-web_fields = {key(f): f for f in web}
-for k in sorted(set(c_fields) | set(web_fields), key=str):
-    c, w = c_fields.get(k), web_fields.get(k)
-    if not c or not w:
-        fail("%s: only in %s" % (".".join(x for x in k if x), "the C table" if c else "web/js/schema.js"))
-        continue
-    for prop in ("alias", "type", "min", "max", "loOpen", "hiOpen", "values", "maxLength", "sizeLimit", "methods",
-                 "primitives", "keys", "when"):
-        cv, wv = c.get(prop), w.get(prop)
-        if prop in ("loOpen", "hiOpen", "sizeLimit"):
-            cv, wv = bool(cv), bool(wv)
-        if isinstance(cv, float) and isinstance(wv, (int, float)):
-            same = abs(cv - wv) <= 1e-12 * max(1.0, abs(cv))
-        else:
-            same = cv == wv
-        if not same:
-            fail("%s.%s: C table says %r, web/js/schema.js %r" % (".".join(x for x in k if x), prop, cv, wv))
+web = json.loads(subprocess.check_output(node + [js], text=True, env=node_env))
+order = {key(f): i for i, f in enumerate(schema)}
+web.sort(key=lambda f: order.get(key(f), len(order)))
+if web != schema:
+    for c, w in zip(schema, web):
+        if c != w:
+            fail("the page's schema differs from `lucent schema` at %s: %r vs %r (rebuild?)" % (
+                ".".join(x for x in key(c) if x), w, c))
+            break
+    else:
+        fail("the page's schema has %d fields, `lucent schema` %d" % (len(web), len(schema)))
 
 # ---- web/js/ui.js: the controls only (labels and slider steps are the panel's own)
 js = ("import('%s').then((m) => console.log(JSON.stringify(m.GROUPS.flatMap((g) => g.controls))))"
       % os.path.join(src, "web", "js", "ui.js"))
 by_path = {".".join(x for x in k if x): f for k, f in c_fields.items()}
-for ctl in json.loads(subprocess.check_output(["node", "--input-type=module", "-e", js], text=True)):
+for ctl in json.loads(subprocess.check_output(node + [js], text=True, env=node_env)):
     if ctl["path"] in ("interactiveQuality", "interactiveScale"):
         continue  # WebSocket session settings (protocol/messages.c), not render request fields
     f = by_path.get(ctl["path"])

@@ -8,6 +8,7 @@
 #include "lc_test.h"
 #include "messages.h"
 #include "request.h"
+#include "request_patch.h"
 
 #define VECTORS LUCENT_SOURCE_DIR "/protocol/vectors/"
 
@@ -636,6 +637,92 @@ static void test_clarity(void)
           "clarity 1.5 refused naming the field (%s)", err.field);
 }
 
+/* A typed patch (request_patch.h) merges exactly as lc_proto_apply_request
+ * applies the same update: equal requests (as emitted) or the same refused
+ * field, on a request without a camera and on one with a camera and lists set.
+ * The updates: every valid client message of the vectors that carries one, and
+ * explicit ones for each kind of field (lists, flags, layers, camera merge and
+ * drop, a camera that only the merged state refuses). */
+static int patch_case(const char *name, json_t *update, const lc_request *base)
+{
+    lc_request *a = malloc(2 * sizeof *a), *b = a + 1;
+    if (!a)
+        return 0;
+    *a = *base, *b = *base;
+    lc_proto_error ea = {0}, eb = {0};
+    int ra = lc_proto_apply_request(update, NULL, a, &ea);
+    lc_request_patch *p = NULL;
+    int rb = lc_proto_patch_parse(update, NULL, &p, &eb);
+    if (rb == 0)
+        rb = lc_proto_patch_apply(p, NULL, b, &eb);
+    lc_proto_patch_free(p);
+    json_t *ja = lc_proto_request_to_json(a), *jb = lc_proto_request_to_json(b);
+    CHECK((ra == 0) == (rb == 0), "%s: apply %d, patch %d (%s | %s)", name, ra, rb, ea.message, eb.message);
+    if (ra == 0 && rb == 0)
+        CHECK(json_equal(ja, jb), "%s: the patched request differs from the applied one", name);
+    else if (ra != 0 && rb != 0)
+        CHECK(strcmp(ea.field, eb.field) == 0, "%s: refused naming %s, the patch %s", name, ea.field, eb.field);
+    json_decref(ja), json_decref(jb);
+    free(a);
+    return 1;
+}
+
+static void test_patch(void)
+{
+    lc_request *base = malloc(2 * sizeof *base);
+    if (!base)
+        return;
+    lc_request_default(&base[0]);
+    const char *setup = "{\"camera\":{\"position\":[0,0,5],\"focalPoint\":[0,0,0],\"viewUp\":[0,1,0]},"
+                        "\"importance\":{\"range\":[0,1],\"terms\":[{\"attribute\":\"a\"}]},"
+                        "\"filter\":[{\"attribute\":\"b\",\"gt\":1}],\"color\":{\"fixed\":[[0,1]]}}";
+    lc_proto_error err;
+    CHECK(lc_proto_parse_request(setup, strlen(setup), NULL, &base[1], &err) == 0, "patch base: %s", err.message);
+    static const char *const updates[] = {
+        "{\"params\":{\"q\":3,\"bands\":7},\"method\":\"direct\"}",
+        "{\"camera\":{\"viewAngle\":40}}",
+        "{\"camera\":{\"position\":[1,2,3]}}",
+        "{\"camera\":null}",
+        "{\"camera\":{\"position\":[0,5,0],\"focalPoint\":[0,0,0]}}",
+        "{\"importance\":{\"range\":[2,3],\"terms\":[]},\"filter\":[]}",
+        "{\"importance\":{\"curve\":[[0,0],[0.5,0.8],[1,1]]},\"color\":{\"fixed\":[[1,2],[3,4]]}}",
+        "{\"filter\":[{\"attribute\":\"c\",\"range\":[0,2]}],\"time\":{\"window\":[0,1]}}",
+        "{\"layers\":[{\"dataset\":\"demo:points\",\"color\":{\"equalize\":true}},{\"dataset\":\"x\"}]}",
+        "{\"surface\":{\"seed\":[[0,0,0],[1,1,1]],\"field\":\"demo:abc-flow\"},\"method\":\"surface-layers\"}",
+        "{\"style\":{\"background\":[0.1,0.2,0.3],\"shadowLight\":[1,1,0]},\"lines\":{\"clusters\":4}}",
+        "{\"params\":{\"bands\":9}}",
+    };
+    int n = 0;
+    for (size_t i = 0; i < sizeof updates / sizeof updates[0]; i++) {
+        json_error_t je;
+        json_t *u = json_loads(updates[i], 0, &je);
+        CHECK(u != NULL, "update %zu: %s", i, je.text);
+        for (int k = 0; u && k < 2; k++)
+            n += patch_case(updates[i], u, &base[k]);
+        json_decref(u);
+    }
+    json_t *man = load_manifest("client_messages.json");
+    json_t *cases = json_object_get(man, "cases");
+    size_t i;
+    json_t *c;
+    json_array_foreach(cases, i, c)
+    {
+        size_t len;
+        char *text = case_text(c, &len);
+        lc_client_msg m;
+        if (lc_proto_parse_client_message(text, len, NULL, &m, &err) == 0 && m.update) {
+            CHECK(m.patch != NULL, "%s: a parsed update carries its patch", opt_str(c, "name"));
+            for (int k = 0; k < 2; k++)
+                n += patch_case(opt_str(c, "name"), m.update, &base[k]);
+        }
+        lc_client_msg_free(&m);
+        free(text);
+    }
+    printf("patches: %d cases merged as lc_proto_apply_request applies them\n", n);
+    json_decref(man);
+    free(base);
+}
+
 int main(void)
 {
     int nreq = replay_requests();
@@ -649,5 +736,6 @@ int main(void)
     test_clarity();
     test_partial_update();
     test_messages();
+    test_patch();
     return lc_test_finish();
 }

@@ -1,143 +1,22 @@
-// The render request's fields (protocol/README.md; mirrors the table in
-// protocol/request_fields.h): where each lives in the JSON, its flat alias (the key of
-// GET /api/v1/render query parameters, reused for the page's URL hash), its type
-// and its range. Client-side checks use it to refuse what the server would
-// refuse, with the same field names in the messages.
+// The render request's fields, generated at build time from protocol/'s field table
+// (schema_fields.js, the fields `lucent schema` prints): where each lives in the JSON,
+// its flat alias (the key of GET /api/v1/render query parameters, reused for the page's
+// URL hash), its type and its range. Client-side checks use it to refuse what the server
+// would refuse, with the same field names in the messages.
 
 // Types: int, num, bool, str, enum, vec3, range (two numbers), color (three in [0,1]).
 // methods / primitives: where a field applies (protocol/request_scope.c); absent = everywhere.
 // The server refuses a field with a value other than its default elsewhere.
 // when: [path, value]: the field applies only while that field has that value
 // (the direct method's opacity parameters, render/gl/frame_check.c refuses them otherwise).
-const DATASET_METHODS = Object.freeze(['fourier', 'exact', 'opaque', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler']);
-export const FIELDS = Object.freeze([
-  { section: null, name: 'dataset', alias: 'dataset', type: 'str', maxLength: 511 },
-  {
-    section: null, name: 'method', alias: 'method', type: 'enum',
-    values: ['fourier', 'exact', 'opaque', 'direct', 'wboit', 'surface-layers', 'weighted-average', 'binning', 'kanzler'],
-  },
+import { SCHEMA } from './schema_fields.js';
 
-  { section: 'camera', name: 'position', alias: 'position', type: 'vec3' },
-  { section: 'camera', name: 'focalPoint', alias: 'focalPoint', type: 'vec3' },
-  { section: 'camera', name: 'viewUp', alias: 'viewUp', type: 'vec3' },
-  { section: 'camera', name: 'viewAngle', alias: 'viewAngle', type: 'num', min: 0, max: 180, loOpen: true, hiOpen: true },
-  { section: 'camera', name: 'parallelProjection', alias: 'parallelProjection', type: 'bool' },
-  { section: 'camera', name: 'parallelScale', alias: 'parallelScale', type: 'num', min: 0, loOpen: true },
-
-  { section: 'params', name: 'q', alias: 'q', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'r', alias: 'r', type: 'num', min: 0, max: 1e6, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'lambda', alias: 'lambda', type: 'num', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'bands', alias: 'bands', type: 'int', min: 1, max: 8, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
-  { section: 'params', name: 'smoothing', alias: 'smoothing', type: 'int', min: 0, max: 1000, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'smoothingWeight', alias: 'smoothingWeight', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'fadeHalfLife', alias: 'fadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'resolutionScale', alias: 'resolutionScale', type: 'num', min: 0, max: 1, loOpen: true, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'subset', alias: 'subset', type: 'int', min: 1, max: 1024, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'depthMargin', alias: 'depthMargin', type: 'num', min: 0, max: 0.25, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
-  { section: 'params', name: 'estimator', alias: 'estimator', type: 'enum', values: ['foo', 'midpoint'], methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'depthRange', alias: 'depthRange', type: 'enum', values: ['auto', 'global', 'pixel', 'moments'], methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
-  { section: 'params', name: 'normalize', alias: 'normalize', type: 'enum', values: ['auto', 'off'], methods: DATASET_METHODS },
-  { section: 'params', name: 'lod', alias: 'lod', type: 'num', min: 0, max: 16, methods: DATASET_METHODS, primitives: ['lines', 'surfaces'] },
-  { section: 'params', name: 'directExponent', alias: 'directExponent', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct', 'kanzler'], when: ['params.alphaSource', 'importance'] },
-  { section: 'params', name: 'alphaSource', alias: 'alphaSource', type: 'enum', values: ['importance', 'constant', 'angle', 'normalVariation'], methods: ['direct'] },
-  { section: 'params', name: 'alphaConstant', alias: 'alphaConstant', type: 'num', min: 0, max: 1, methods: ['direct'], when: ['params.alphaSource', 'constant'] },
-  { section: 'params', name: 'gamma', alias: 'gamma', type: 'num', min: 0, max: 100, loOpen: true, methods: ['direct'], when: ['params.alphaSource', 'normalVariation'] },
-  { section: 'params', name: 'kanzlerImportance', alias: 'kanzlerImportance', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
-  { section: 'params', name: 'kanzlerCoverage', alias: 'kanzlerCoverage', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
-  { section: 'params', name: 'kanzlerVariance', alias: 'kanzlerVariance', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['lines'] },
-  { section: 'params', name: 'kanzlerDepth', alias: 'kanzlerDepth', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
-  { section: 'params', name: 'kanzlerLambda', alias: 'kanzlerLambda', type: 'num', min: 0, max: 1000, methods: ['kanzler'], primitives: ['points', 'lines'] },
-  { section: 'params', name: 'targetOpacity', alias: 'targetOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: DATASET_METHODS },
-  { section: 'params', name: 'smoothingWeights', alias: 'smoothingWeights', type: 'enum', values: ['uniform', 'distance'], methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'guardBand', alias: 'guardBand', type: 'num', min: 0, max: 1, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'clarity', alias: 'clarity', type: 'num', min: 0, max: 1, methods: ['fourier', 'exact', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'autoSubset', alias: 'autoSubset', type: 'int', min: 1, max: 64, methods: ['fourier', 'wboit', 'weighted-average', 'binning'] },
-  { section: 'params', name: 'excludeSelf', alias: 'excludeSelf', type: 'bool', methods: ['exact'] },
-
-  { section: 'importance', name: 'attribute', alias: 'importance', type: 'str', maxLength: 63, methods: DATASET_METHODS },
-  { section: 'importance', name: 'range', alias: 'importanceRange', type: 'range', methods: DATASET_METHODS },
-  { section: 'importance', name: 'exponent', alias: 'importanceExponent', type: 'num', min: 0, max: 1000, loOpen: true, methods: DATASET_METHODS },
-  { section: 'importance', name: 'terms', alias: 'importanceTerms', type: 'terms', maxItems: 4, methods: DATASET_METHODS },
-  { section: 'importance', name: 'curve', alias: 'importanceCurve', type: 'curve', maxItems: 64, methods: DATASET_METHODS },
-  { section: 'importance', name: 'invert', alias: 'importanceInvert', type: 'bool', methods: DATASET_METHODS },
-
-  { section: 'color', name: 'attribute', alias: 'color', type: 'str', maxLength: 63, methods: DATASET_METHODS },
-  {
-    section: 'color', name: 'colormap', alias: 'colormap', type: 'enum',
-    values: ['viridis', 'coolwarm', 'grayscale', 'inferno', 'plasma', 'turbo'], methods: DATASET_METHODS,
-  },
-  { section: 'color', name: 'range', alias: 'colorRange', type: 'range', methods: DATASET_METHODS },
-  { section: 'color', name: 'curve', alias: 'colorCurve', type: 'curve', maxItems: 64, methods: DATASET_METHODS },
-  { section: 'color', name: 'equalize', alias: 'equalize', type: 'bool', methods: ['fourier', 'exact', 'direct'] },
-  { section: 'color', name: 'fixed', alias: 'colorFixed', type: 'ranges', maxItems: 4, methods: ['fourier', 'exact', 'direct'] },
-  { section: 'color', name: 'fadeHalfLife', alias: 'colorFadeHalfLife', type: 'num', min: 0, max: 60, methods: ['fourier', 'exact', 'direct'] },
-
-  { section: 'style', name: 'background', alias: 'background', type: 'color' },
-  { section: 'style', name: 'lineWidth', alias: 'lineWidth', type: 'num', min: 0, max: 1e9, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'minLinePixels', alias: 'minLinePixels', type: 'num', min: 0, max: 64, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'pointSize', alias: 'pointSize', type: 'num', min: 0, max: 256, loOpen: true, methods: DATASET_METHODS, primitives: ['points'] },
-  { section: 'style', name: 'shading', alias: 'shading', type: 'enum', values: ['phong', 'none'], methods: DATASET_METHODS },
-  { section: 'style', name: 'silhouetteExponent', alias: 'silhouetteExponent', type: 'num', min: 1, max: 100, methods: DATASET_METHODS, primitives: ['surfaces'] },
-  { section: 'style', name: 'haloWidth', alias: 'haloWidth', type: 'num', min: 0, max: 64, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'haloDepth', alias: 'haloDepth', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'haloStrength', alias: 'haloStrength', type: 'num', min: 0, max: 1, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'style', name: 'antialias', alias: 'antialias', type: 'int', min: 1, max: 16, methods: ['fourier', 'direct', 'wboit', 'weighted-average', 'binning', 'kanzler'] },
-  { section: 'style', name: 'shadow', alias: 'shadow', type: 'num', min: 0, max: 1, methods: ['fourier', 'direct'] },
-  { section: 'style', name: 'shadowLight', alias: 'shadowLight', type: 'vec3', methods: ['fourier', 'direct'] },
-  { section: 'style', name: 'shadowColored', alias: 'shadowColored', type: 'bool', methods: ['fourier', 'direct'] },
-  { section: 'style', name: 'ground', alias: 'ground', type: 'enum', values: ['auto', 'on', 'off'], methods: ['fourier', 'direct'] },
-  { section: 'style', name: 'groundColor', alias: 'groundColor', type: 'color', methods: ['fourier', 'direct'] },
-  { section: 'style', name: 'groundOffset', alias: 'groundOffset', type: 'num', min: 0, max: 1, methods: ['fourier', 'direct'] },
-  { section: 'style', name: 'smartTransparency', alias: 'smartTransparency', type: 'num', min: 0, max: 1, methods: ['fourier', 'direct'] },
-  { section: 'style', name: 'smartIterations', alias: 'smartIterations', type: 'int', min: 0, max: 32, methods: ['fourier', 'direct'] },
-
-  { section: null, name: 'filter', alias: 'filter', type: 'filters', maxItems: 8, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
-
-  { section: 'lines', name: 'clusters', alias: 'clusters', type: 'int', min: 0, max: 1000000, methods: DATASET_METHODS, primitives: ['lines'] },
-  {
-    section: 'lines', name: 'representative', alias: 'representative', type: 'enum',
-    values: ['important', 'mean', 'leastDistance'], methods: DATASET_METHODS, primitives: ['lines'],
-  },
-  { section: 'lines', name: 'linkage', alias: 'linkage', type: 'enum', values: ['complete', 'single', 'average'], methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'lines', name: 'liftImportance', alias: 'liftImportance', type: 'num', min: 0, max: 1000, methods: DATASET_METHODS, primitives: ['lines'] },
-  { section: 'lines', name: 'liftColor', alias: 'liftColor', type: 'num', min: 0, max: 1000, methods: DATASET_METHODS, primitives: ['lines'] },
-
-  { section: 'time', name: 'window', alias: 'timeWindow', type: 'range', methods: DATASET_METHODS, primitives: ['points', 'lines'] },
-  { section: 'time', name: 'attribute', alias: 'timeAttribute', type: 'str', maxLength: 63, methods: DATASET_METHODS, primitives: ['points', 'lines'] },
-  { section: 'time', name: 'markers', alias: 'timeMarkers', type: 'bool', methods: DATASET_METHODS, primitives: ['lines'] },
-
-  // surface: method "surface-layers" (a vector field's integral surface)
-  { section: 'surface', name: 'field', alias: 'surfaceField', type: 'str', maxLength: 127, methods: ['surface-layers'] },
-  { section: 'surface', name: 'seed', alias: 'surfaceSeed', type: 'seed', maxItems: 64, methods: ['surface-layers'] },
-  { section: 'surface', name: 'particles', alias: 'surfaceParticles', type: 'int', min: 1, max: 100000, methods: ['surface-layers'] },
-  { section: 'surface', name: 'step', alias: 'surfaceStep', type: 'num', min: 0, methods: ['surface-layers'] },
-  { section: 'surface', name: 'length', alias: 'surfaceLength', type: 'num', min: 0, methods: ['surface-layers'] },
-  {
-    section: 'surface', name: 'direction', alias: 'surfaceDirection', type: 'enum',
-    values: ['forward', 'backward', 'both'], methods: ['surface-layers'],
-  },
-  { section: 'surface', name: 'epsilon', alias: 'surfaceEpsilon', type: 'num', min: 0, max: 1, methods: ['surface-layers'] },
-  { section: 'surface', name: 'opacity', alias: 'surfaceOpacity', type: 'num', min: 0, max: 1, loOpen: true, methods: ['surface-layers'] },
-  { section: 'surface', name: 'maxLayers', alias: 'surfaceMaxLayers', type: 'int', min: 1, max: 64, methods: ['surface-layers'] },
-  {
-    section: 'surface', name: 'composite', alias: 'surfaceComposite', type: 'enum',
-    values: ['layers', 'weighted-average', 'weighted-sum'], methods: ['surface-layers'],
-  },
-  { section: 'surface', name: 'color', alias: 'surfaceColor', type: 'color', methods: ['surface-layers'] },
-  { section: 'surface', name: 'curvesPerFrame', alias: 'surfaceCurvesPerFrame', type: 'int', min: 1, max: 100000, methods: ['surface-layers'] },
-]);
-
-// Top-level fields of a whole render request (POST /api/v1/render) besides
-// dataset and method; sizes follow the server's limits (16..8192 by default).
-export const REQUEST_TOP_FIELDS = Object.freeze([
-  { section: null, name: 'version', alias: 'version', type: 'int', min: 1, max: 1 },
-  { section: null, name: 'width', alias: 'width', type: 'int', min: 16, max: 8192, sizeLimit: true },
-  { section: null, name: 'height', alias: 'height', type: 'int', min: 16, max: 8192, sizeLimit: true },
-  { section: null, name: 'format', alias: 'format', type: 'enum', values: ['png', 'jpeg', 'jpg'] },
-  { section: null, name: 'quality', alias: 'quality', type: 'int', min: 1, max: 100 },
-  { section: null, name: 'dt', alias: 'dt', type: 'num', min: 0, max: 3600 },
-  { section: null, name: 'layers', alias: 'layers', type: 'layers', maxItems: 8, keys: ['dataset', 'role', 'visible', 'importance', 'color', 'style', 'filter', 'time', 'lines'] },
-]);
+// Top-level fields of a whole render request (POST /api/v1/render) that a session's
+// params cannot change; sizes follow the server's limits (16..8192 by default).
+const REQUEST_ONLY = new Set(['version', 'width', 'height', 'format', 'quality', 'dt', 'layers']);
+const requestOnly = (f) => f.section === null && REQUEST_ONLY.has(f.name);
+export const FIELDS = Object.freeze(SCHEMA.filter((f) => !requestOnly(f)));
+export const REQUEST_TOP_FIELDS = Object.freeze(SCHEMA.filter(requestOnly));
 
 // Stream settings of the WebSocket session (hello/params top level), not part of a render request.
 export const STREAM_FIELDS = Object.freeze([

@@ -360,40 +360,30 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
     return start_render(ctx, c, &req, ds, NULL, NULL, 0.0);
 }
 
-/* HTTP sessions render one frame per request with the dataset's frame
- * state; method surface-layers streams over WebSocket sessions instead. */
-static int refuse_surface(const lc_request *req, lc_proto_error *pe)
-{
-    if (req->render.method != LC_METHOD_SURFACE_LAYERS)
-        return 0;
-    return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "method",
-                              "HTTP sessions do not render surface-layers; POST /api/v1/render draws it in one "
-                              "request, a WebSocket session streams it");
-}
-
 enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c)
 {
     lc_server *srv = ctx->srv;
-    lc_request req;
     lc_proto_error pe;
+    lc_request_patch *patch = NULL; /* the body's fields, checked once as parsed; none: the defaults */
     if (ctx->len > 0) {
-        if (lc_proto_parse_request(ctx->body, ctx->len, &srv->cfg.limits, &req, &pe) != 0)
+        json_t *body = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
+        int rc = body ? lc_proto_patch_parse(body, &srv->cfg.limits, &patch, &pe) : -1;
+        json_decref(body);
+        if (rc != 0)
             return lc_http_proto_error(srv, c, &pe);
-    } else {
-        lc_request_default(&req);
     }
-    const lc_dataset *layers[LC_MAX_LAYERS];
-    if (refuse_surface(&req, &pe) != 0 || lc_admit_resolve_layers(srv, &req, layers, &pe) != 0)
+    /* The session's one validation, as its updates will have (admit.h); with
+     * layers[] the request may leave dataset out: the session's is layers[0]'s. */
+    lc_request base, req;
+    lc_request_default(&base);
+    const lc_dataset *layers[LC_MAX_LAYERS], *ds = NULL;
+    int rc = lc_admit_update(srv, &base, patch, &srv->cfg.limits, &ds, &req, layers, &pe);
+    lc_proto_patch_free(patch);
+    if (rc == 0)
+        rc = lc_session_kind_check(LC_SESSION_HTTP, &req, &pe);
+    if (rc != 0)
         return lc_http_proto_error(srv, c, &pe);
-    /* With layers[] the request may leave dataset out: the session's is layers[0]'s. */
-    const lc_dataset *ds =
-        !req.dataset[0] && req.layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, req.dataset);
-    if (!ds)
-        return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
-    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
     req.has_dt = false;
-    if (lc_request_admit(srv, NULL, &req, ds, layers, NULL, &pe) != 0)
-        return lc_http_proto_error(srv, c, &pe);
     lc_session *s = NULL;
     lc_error err = {0};
     if (lc_session_create(srv->sessions, LC_SESSION_HTTP, lc_conn_client_key(c), ds, &req, &s, &err) != 0)
@@ -420,9 +410,9 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
 {
     lc_server *srv = ctx->srv;
     lc_proto_error pe;
-    json_t *update = NULL;
+    lc_request_patch *patch = NULL; /* the body's fields, checked once as parsed */
     if (ctx->len > 0) {
-        update = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
+        json_t *update = lc_proto_load(ctx->body, ctx->len, &srv->cfg.limits, &pe);
         if (!update) {
             lc_session_unref(s);
             return lc_http_proto_error(srv, c, &pe);
@@ -432,21 +422,24 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
             lc_session_unref(s);
             return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
         }
+        int rc = lc_proto_patch_parse(update, &srv->cfg.limits, &patch, &pe);
+        json_decref(update);
+        if (rc != 0) {
+            lc_session_unref(s);
+            return lc_http_proto_error(srv, c, &pe);
+        }
     }
     pthread_mutex_lock(&s->lock);
     if (s->http_busy) {
         pthread_mutex_unlock(&s->lock);
-        json_decref(update);
+        lc_proto_patch_free(patch);
         lc_session_unref(s);
         return lc_http_error(srv, c, 429, "overloaded", NULL,
                              "session %s is rendering a frame; send the next one after it", s->id);
     }
     lc_request req; /* s->req never keeps a dt: without one in the update, req has none */
-    lc_request before = s->req;
-    int rc = lc_session_update_locked(s, update, &srv->cfg.limits, &req, &pe);
-    if (rc == 0 && (rc = refuse_surface(&req, &pe)) != 0)
-        s->req = before;
-    json_decref(update);
+    int rc = lc_session_update_locked(s, patch, &srv->cfg.limits, &req, &pe);
+    lc_proto_patch_free(patch);
     if (rc != 0) {
         pthread_mutex_unlock(&s->lock);
         lc_session_unref(s);

@@ -9,6 +9,7 @@
 #include "image.h"
 #include "messages.h"
 #include "metrics.h"
+#include "stream_session.h"
 
 #define MOD "encoders"
 

@@ -8,6 +8,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "admit.h"
+#include "session.h"
 #include "surface_render.h"
 
 #define TRACE_THREADS_MAX 8
@@ -163,3 +165,16 @@ int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, cons
     info->converged = st->count >= want;
     return 0;
 }
+
+int lc_surface_job_session_frame(lc_server *srv, lc_session *s, const lc_request *req, lc_surface_keep *keep,
+                                 uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    const lc_field *field = NULL; /* looked up again: the session's request may have changed since it was checked */
+    lc_proto_error pe;
+    if (lc_admit_surface(srv, req, NULL, &field, &pe) != 0)
+        return lc_err_field(err, LC_ERR_INVALID, pe.field, "%s", pe.message);
+    s->surface_free = lc_surface_stream_free;
+    return lc_surface_stream_frame(&s->surface, keep, field, &req->surface, &req->render, rgba, info, err);
+}
+
+uint64_t lc_surface_job_session_id(const lc_session *s) { return lc_surface_stream_id(s->surface); }

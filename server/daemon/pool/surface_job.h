@@ -9,6 +9,7 @@
 #include "field.h"
 #include "renderer.h"
 #include "request.h"
+#include "server.h"
 #include "surface_render.h"
 
 #ifdef __cplusplus
@@ -41,6 +42,16 @@ uint64_t lc_surface_stream_id(const lc_surface_stream *st);
 int lc_surface_stream_frame(lc_surface_stream **st, lc_surface_keep *keep, const lc_field *field,
                             const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba, lc_frame_info *info,
                             lc_error *err);
+
+/* Worker side: one frame of method surface-layers for session s (the next
+ * batch of curves of req's surface, drawn with req's camera into the worker's
+ * kept layers `keep`, may be NULL): the field is looked up again (admit.h),
+ * then lc_surface_stream_frame on the session's curves. Errors name the field. */
+int lc_surface_job_session_frame(lc_server *srv, lc_session *s, const lc_request *req, lc_surface_keep *keep,
+                                 uint8_t *rgba, lc_frame_info *info, lc_error *err);
+/* Worker side: the id of the curves s's surface frames draw (0 = none yet;
+ * lc_surface_draw's curves_id), to find the layers kept from its last frame. */
+uint64_t lc_surface_job_session_id(const lc_session *s);
 
 #ifdef __cplusplus
 }

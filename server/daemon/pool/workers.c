@@ -16,6 +16,7 @@
 #include "memory.h"
 #include "messages.h"
 #include "metrics.h"
+#include "stream_session.h"
 #include "surface_job.h"
 #include "yield.h"
 
@@ -369,8 +370,8 @@ static int on_yield(void *ctx)
 static int surface_frame(lc_workers *w, lc_session *s, const lc_request *req, uint8_t *rgba, lc_frame_info *info,
                          lc_error *err)
 {
-    lc_surface_keep *keep = lc_surface_keeps_take(w->surface_keeps, lc_session_surface_id(s));
-    int rc = lc_session_surface_frame(w->srv, s, req, keep, rgba, info, err);
+    lc_surface_keep *keep = lc_surface_keeps_take(w->surface_keeps, lc_surface_job_session_id(s));
+    int rc = lc_surface_job_session_frame(w->srv, s, req, keep, rgba, info, err);
     lc_surface_keeps_give(w->surface_keeps, keep, lc_now());
     return rc;
 }

@@ -11,6 +11,7 @@
 #include "cost.h"
 #include "messages.h"
 #include "metrics.h"
+#include "stream_session.h"
 
 #define MOD "ws"
 
@@ -46,35 +47,17 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
         }
         conn->authed = true;
     }
-    lc_request req;
-    lc_request_default(&req);
-    snprintf(req.dataset, sizeof req.dataset, "%s", m->dataset);
-    req.format = LC_FORMAT_JPEG;
-    lc_proto_error pe;
-    if (m->update && lc_proto_apply_request(m->update, lim, &req, &pe) != 0) {
-        answer_proto_error(srv, out, &pe);
-        return;
-    }
-    const lc_dataset *layers[LC_MAX_LAYERS];
-    if (lc_admit_resolve_layers(srv, &req, layers, &pe) != 0) {
-        answer_proto_error(srv, out, &pe);
-        return;
-    }
-    /* With layers[] the hello may leave dataset out: the session's is layers[0]'s. */
-    const lc_dataset *ds =
-        !m->has_dataset && req.layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, m->dataset);
-    if (!ds) {
-        char msg[700];
-        snprintf(msg, sizeof msg, "unknown dataset \"%s\"", m->dataset);
-        answer_error(srv, out, "not_found", msg, "dataset", false, 0);
-        return;
-    }
-    snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
     /* The full-size frame of the viewport: its cost decides, and it is the
-     * session's request size from here on. */
-    lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &req.render.width,
-                         &req.render.height);
-    int rc = lc_request_admit(srv, m->update, &req, ds, layers, NULL, &pe);
+     * session's request size from here on (an update cannot set the size). */
+    lc_request base, req;
+    lc_request_default(&base);
+    snprintf(base.dataset, sizeof base.dataset, "%s", m->dataset);
+    base.format = LC_FORMAT_JPEG;
+    lc_stream_frame_size(&srv->cfg, m->width, m->height, m->device_pixel_ratio, 1.0, &base.render.width,
+                         &base.render.height);
+    const lc_dataset *layers[LC_MAX_LAYERS], *ds = NULL;
+    lc_proto_error pe;
+    int rc = lc_admit_update(srv, &base, m->patch, lim, &ds, &req, layers, &pe);
     /* A file the daemon holds opens at defaults: where a full-size frame is
      * over --max-cost but the optimization's stride brings it within, the
      * session starts with that params.subset (ready's defaults show it; the
@@ -84,8 +67,9 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
                 ? lc_cost_subset_for(&ds->cost, &req.render, srv->cfg.max_cost)
                 : 0;
     if (n > 0) {
-        req.render.foo.subset = n;
-        rc = lc_request_admit(srv, m->update, &req, ds, layers, NULL, &pe);
+        base.render.foo.subset = n;
+        ds = NULL;
+        rc = lc_admit_update(srv, &base, m->patch, lim, &ds, &req, layers, &pe);
         if (rc == 0)
             LC_INFO(MOD, "%s opens with params.subset %d: a full frame of %dx%d is over --max-cost", ds->name, n,
                     req.render.width, req.render.height);
@@ -137,7 +121,7 @@ static void on_update(lc_server *srv, const lc_proto_limits *lim, lc_session *s,
 {
     lc_proto_error pe;
     pthread_mutex_lock(&s->lock);
-    int rc = lc_session_update_locked(s, m->update, lim, NULL, &pe);
+    int rc = lc_session_update_locked(s, m->patch, lim, NULL, &pe);
     if (rc == 0 && m->type == LC_MSG_CAMERA && m->seq > s->stream.camera_seq)
         s->stream.camera_seq = m->seq;
     if (rc == 0 && m->type == LC_MSG_PARAMS) {
@@ -163,11 +147,15 @@ static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double no
     lc_proto_error pe;
     pthread_mutex_lock(&s->lock);
     double dpr = m->has_device_pixel_ratio ? m->device_pixel_ratio : s->stream.device_pixel_ratio;
-    lc_request req = s->req; /* a larger frame costs more (wider ribbons) */
-    lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req.render.width, &req.render.height);
-    json_t *none = json_object(); /* no field changes: the size's own refusals (tiles, cost) */
-    int rc = lc_request_admit(srv, none, &req, s->dataset, s->layer_ds, NULL, &pe);
-    json_decref(none);
+    lc_request *req = malloc(2 * sizeof *req); /* the size as base, the candidate; large: off the stack */
+    const lc_dataset *layers[LC_MAX_LAYERS], *ds = s->dataset;
+    int rc = req ? 0 : lc_proto_set_error(&pe, LC_PROTO_BAD_FIELD, "", "out of memory");
+    if (rc == 0) { /* no field changes: the size's own refusals (a larger frame costs more: wider ribbons) */
+        req[0] = s->req;
+        lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req[0].render.width, &req[0].render.height);
+        rc = lc_admit_update(srv, &req[0], NULL, &srv->cfg.limits, &ds, &req[1], layers, &pe);
+    }
+    free(req);
     if (rc == 0) {
         s->stream.css_width = m->width;
         s->stream.css_height = m->height;

@@ -19,6 +19,7 @@
 
 #include "messages.h"
 #include "metrics.h"
+#include "stream_session.h"
 #include "stream.h"
 #include "workers.h"
 

@@ -11,6 +11,7 @@
 #include "metrics.h"
 #include "request_check.h"
 #include "surface_render.h"
+#include "traced.h"
 
 int lc_admit_surface(lc_server *srv, const lc_request *req, double *cost_out, const lc_field **field_out,
                      lc_proto_error *pe)
@@ -143,6 +144,8 @@ int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req,
             prims = 1u << ds->scene->type;
     }
     int rc = lc_proto_check_scope(given, req, prims, pe);
+    if (rc == 0) /* the streamlines section: a field's set only, its seeding checked and priced */
+        rc = lc_traced_check(srv, req, ds, pe);
     if (rc == 0 && req->render.method != LC_METHOD_SURFACE_LAYERS)
         rc = check_render(req, ds, layers, pe);
     if (rc == 0)

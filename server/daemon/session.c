@@ -15,6 +15,7 @@
 #include "metrics.h"
 #include "still_stages.h"
 #include "surface_job.h"
+#include "traced.h"
 #include "surface_render.h"
 
 /* A session's first frame on a dataset of this many primitives or more is
@@ -201,6 +202,7 @@ void lc_session_unref(lc_session *s)
         return;
     lc_frame_state_destroy(s->frame_state);
     lc_surface_stream_free(s->surface);
+    lc_traced_free(s->traced);
     pthread_mutex_destroy(&s->lock);
     free(s);
 }
@@ -304,6 +306,8 @@ int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto
                                 s->dataset->name);
     if (rc == 0)
         rc = lc_request_admit(s->srv, update, &req, s->dataset, layers, NULL, pe);
+    if (rc == 0) /* a field's set: a changed streamlines section traces the new one */
+        rc = lc_traced_update(s->srv, s->dataset, &req, pe);
     if (rc != 0)
         return rc;
     s->req = req;

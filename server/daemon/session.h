@@ -116,6 +116,9 @@ struct lc_session {
     /* Method surface-layers: the curves traced so far (surface_job.h); only
      * the worker rendering the session's frame touches it. */
     struct lc_surface_stream *surface;
+    /* A field's streamline set (traced.h) that `dataset` points into, owned;
+     * NULL for a loaded dataset. */
+    struct lc_traced *traced;
     /* The datasets frame_state's elements belong to, in order (state_layers
      * of them; 0 = the session's dataset alone): owned like frame_state. */
     const lc_dataset *state_ds[LC_MAX_LAYERS];

@@ -125,6 +125,24 @@ export const FIELDS = Object.freeze([
   },
   { section: 'surface', name: 'color', alias: 'surfaceColor', type: 'color', methods: ['surface-layers'] },
   { section: 'surface', name: 'curvesPerFrame', alias: 'surfaceCurvesPerFrame', type: 'int', min: 1, max: 100000, methods: ['surface-layers'] },
+
+  // streamlines: a dataset that names a vector field, traced as a streamline set
+  {
+    section: 'streamlines', name: 'seeding', alias: 'streamlinesSeeding', type: 'enum',
+    values: ['points', 'rake', 'box', 'density'], methods: DATASET_METHODS, primitives: ['lines'],
+  },
+  { section: 'streamlines', name: 'seeds', alias: 'streamlinesSeeds', type: 'seed', minItems: 1, maxItems: 64, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'streamlines', name: 'count', alias: 'streamlinesCount', type: 'int', min: 1, max: 100000, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'streamlines', name: 'step', alias: 'streamlinesStep', type: 'num', min: 0, methods: DATASET_METHODS, primitives: ['lines'] },
+  { section: 'streamlines', name: 'length', alias: 'streamlinesLength', type: 'num', min: 0, methods: DATASET_METHODS, primitives: ['lines'] },
+  {
+    section: 'streamlines', name: 'direction', alias: 'streamlinesDirection', type: 'enum',
+    values: ['forward', 'backward', 'both'], methods: DATASET_METHODS, primitives: ['lines'],
+  },
+  {
+    section: 'streamlines', name: 'separation', alias: 'streamlinesSeparation', type: 'num', min: 0,
+    methods: DATASET_METHODS, primitives: ['lines'], when: ['streamlines.seeding', 'density'],
+  },
 ]);
 
 // Top-level fields of a whole render request (POST /api/v1/render) besides
@@ -213,10 +231,12 @@ export function checkField(f, v) {
   }
 }
 
-/** surface.seed (protocol/request_lists.c lc_proto_parse_seed): 2..maxItems finite [x, y, z], no repeats in a row. */
+/** surface.seed, streamlines.seeds (protocol/request_lists.c lc_proto_parse_seed): minItems (default 2)..maxItems
+ * finite [x, y, z], no repeats in a row. */
 function checkSeed(f, v) {
+  const min = f.minItems ?? 2;
   if (!Array.isArray(v)) return { code: 'bad_field', reason: 'expected an array of [x, y, z] points' };
-  if (v.length < 2 || v.length > f.maxItems) return { code: 'out_of_range', reason: `2 to ${f.maxItems} points (got ${v.length})` };
+  if (v.length < min || v.length > f.maxItems) return { code: 'out_of_range', reason: `${min} to ${f.maxItems} points (got ${v.length})` };
   for (let i = 0; i < v.length; i++) {
     const p = v[i], at = `[${i}]`;
     if (!(Array.isArray(p) && p.length === 3 && p.every(isNum)))

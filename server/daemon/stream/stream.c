@@ -11,6 +11,7 @@
 #include "cost.h"
 #include "messages.h"
 #include "metrics.h"
+#include "traced.h"
 
 #define MOD "ws"
 
@@ -60,13 +61,13 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
         answer_proto_error(srv, out, &pe);
         return;
     }
-    /* With layers[] the hello may leave dataset out: the session's is layers[0]'s. */
+    /* With layers[] the hello may leave dataset out: the session's is layers[0]'s. A vector
+     * field's streamline set is traced now and kept by the session (traced.h). */
+    lc_traced *traced = NULL;
     const lc_dataset *ds =
-        !m->has_dataset && req.layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, m->dataset);
+        !m->has_dataset && req.layer_count > 0 ? layers[0] : lc_traced_resolve(srv, &req, &traced, &pe);
     if (!ds) {
-        char msg[700];
-        snprintf(msg, sizeof msg, "unknown dataset \"%s\"", m->dataset);
-        answer_error(srv, out, "not_found", msg, "dataset", false, 0);
+        answer_proto_error(srv, out, &pe);
         return;
     }
     snprintf(req.dataset, sizeof req.dataset, "%s", ds->name);
@@ -91,6 +92,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
                     req.render.width, req.render.height);
     }
     if (rc != 0) {
+        lc_traced_free(traced);
         answer_proto_error(srv, out, &pe);
         return;
     }
@@ -100,6 +102,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     lc_error err = {0};
     lc_session *s = NULL;
     if (lc_session_create(srv->sessions, LC_SESSION_WS, conn->client, ds, &req, &s, &err) != 0) {
+        lc_traced_free(traced);
         answer_error(srv, out, err.code == LC_ERR_LIMIT ? "too_many_sessions" : "internal", err.msg, NULL, true, 1013);
         return;
     }
@@ -109,6 +112,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     if (!m->has_window)
         ss.window = LC_PROTO_MAX_WINDOW;
     pthread_mutex_lock(&s->lock);
+    s->traced = traced;
     lc_stream_flow_init(&s->stream.flow, ss.window);
     s->stream.window = s->stream.flow.window;
     s->stream.quality = ss.quality;

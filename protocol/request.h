@@ -160,6 +160,11 @@ static inline int lc_proto_streamlines_given(const lc_request *r, const char **f
         *field = f;
     return f != 0;
 }
+/* A session's update that holds a streamlines object describes the whole
+ * set: r's section goes back to its defaults before the update applies, so
+ * that a key it leaves out (count, when it turns to point seeding) takes its
+ * default rather than the value of an earlier update (request_streamlines.c). */
+void lc_proto_streamlines_replace(const json_t *update, lc_request *r);
 /* The section as a streamline-set spec of the field named field_name
  * ("streamlines:FIELD?seeding=...", render/io/streamlines.h): the same keys
  * and checks as a set named at load time, numbers written to round-trip.

@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <jansson.h>
+
 #include "request.h"
 
 /* Appends to out at *at; false once it no longer fits. */
@@ -40,4 +42,12 @@ int lc_proto_streamlines_spec(const lc_request *r, const char *field_name, char 
     if (ok && s->separation != 0)
         ok = put(out, n, &at, "&separation=%.17g", s->separation);
     return ok ? (int)at : -1;
+}
+
+void lc_proto_streamlines_replace(const json_t *update, lc_request *r)
+{
+    if (!json_is_object(json_object_get(update, "streamlines")))
+        return;
+    memset(&r->streamlines, 0, sizeof r->streamlines);
+    r->streamlines.seeding = 3, r->streamlines.count = 64; /* lc_request_default's */
 }

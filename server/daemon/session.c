@@ -296,6 +296,7 @@ int lc_session_update_locked(lc_session *s, const json_t *update, const lc_proto
                              lc_proto_error *pe)
 {
     lc_request req = s->req;
+    lc_proto_streamlines_replace(update, &req); /* a streamlines object is the whole set */
     int rc = update ? lc_proto_apply_request(update, lim, &req, pe) : 0;
     const lc_dataset *layers[LC_MAX_LAYERS];
     if (rc == 0)

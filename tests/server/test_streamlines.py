@@ -116,9 +116,9 @@ with Server(binary, data=(SPEC, "demo:shear-flow", "demo:points"), demo_size=500
     sid = sess.get("session", "none")
     path = "/api/v1/sessions/%s/render" % sid
     images = []
+    three = dict(SECTION, count=3)  # an update's streamlines object is the whole set
     for update in ({}, {"camera": dict(CAM, position=[-0.4, 0.1, 3])}, {"params": {"q": 5}},
-                   {"streamlines": {"count": 3}}, {"camera": CAM}, {"streamlines": {"count": 3}},
-                   {"streamlines": {"count": 5}}):
+                   {"streamlines": three}, {"camera": CAM}, {"streamlines": three}, {"streamlines": SECTION}):
         st, _, data = srv.request("POST", path, json.dumps(update))
         images.append(data if st == 200 else None)
         check(st == 200, "session frame after %s: %d %s" % (json.dumps(update), st, data[:150] if st != 200 else ""))
@@ -137,6 +137,10 @@ with Server(binary, data=(SPEC, "demo:shear-flow", "demo:points"), demo_size=500
           "layers beside a field's set are refused naming layers: %d %r" % (st, e))
     st, _, data = srv.request("POST", path, json.dumps({}))
     check(st == 200 and data == images[6], "the session still serves its set after refusals (%d)" % st)
+    st, _, data = srv.request("POST", path, json.dumps({"streamlines": {"seeding": "points", "seeds": [[-0.5, 0, 0]],
+                                                                        "length": 0.4}}))
+    check(st == 200 and data != images[6], "an update's object replaces the whole set: point seeding leaves the "
+          "earlier count out (%d %s)" % (st, data[:150] if st != 200 else ""))
     srv.request("DELETE", "/api/v1/sessions/" + sid)
 
     # A WebSocket session: re-traces on a seeding change only. Its set has a length of its own, so
@@ -159,7 +163,7 @@ with Server(binary, data=(SPEC, "demo:shear-flow", "demo:points"), demo_size=500
                 await ws.send(json.dumps({"type": "camera", "seq": 1, "camera": dict(CAM, position=[-0.3, 0, 3])}))
                 got = await wait_for_frame(ws, lambda h: h.get("cameraSeq", 0) >= 1)
                 check(got.reached, "a camera move renders")
-                await ws.send(json.dumps({"type": "params", "streamlines": {"count": 3}}))
+                await ws.send(json.dumps({"type": "params", "streamlines": dict(SECTION, length=0.5, count=3)}))
                 got = await wait_for_frame(ws)
                 check(got.reached, "a count change renders")
                 lines = wait_until(lambda: [x for x in ws_lines() if "count=3&" in x] and ws_lines())

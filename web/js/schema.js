@@ -344,7 +344,7 @@ export function checkValue(f, v) {
 
 /** Text of a value for a URL (vectors comma-separated, terms and filters as JSON), as GET /api/v1/render reads it. */
 export function valueToText(f, v) {
-  if (f.type === 'terms' || f.type === 'filters' || f.type === 'curve' || f.type === 'ranges' || f.type === 'layers') return JSON.stringify(v);
+  if (['terms', 'filters', 'curve', 'ranges', 'layers', 'seed'].includes(f.type)) return JSON.stringify(v); // JSON text, as request.c reads lists
   if (Array.isArray(v)) return v.map((x) => String(x)).join(',');
   return String(v);
 }
@@ -376,6 +376,7 @@ export function valueFromText(f, text) {
     case 'curve':
     case 'ranges':
     case 'layers':
+    case 'seed':
       try {
         const v = JSON.parse(text);
         return Array.isArray(v) ? v : undefined;

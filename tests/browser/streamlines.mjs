@@ -3,7 +3,8 @@
 // shows the Streamlines group and the server's traced lines (the picture is not the empty background);
 // choosing a rake fills in its two ends, draws them as the view's seed handles and sends the whole
 // streamlines object (the link carries it, the picture changes, no error); five curves instead of the
-// rake's 64 change it again; dragging a handle moves the rake's end; a loaded dataset hides the group
+// rake's 64 change it again; the importance menu offers the set's vorticity and line measures and the vorticity
+// renders; two-way curves change the picture; dragging a handle moves the rake's end; a loaded dataset hides the group
 // and streams without an error (the section stays out of its requests).
 //
 //   node tests/browser/streamlines.mjs --binary build/lucent
@@ -126,6 +127,43 @@ try {
   const five = await sig();
   check(!(await page.evaluate(() => window.lucent.state.error)) && diff(rake, five) > 0.1,
     `five curves change the picture again (${diff(rake, five).toFixed(2)})`);
+
+  // Issue 44's techniques on a field's set: vorticity and a line measure as importance, two-way tracing.
+  const offeredAttrs = await page.evaluate(() => [...document.getElementById('ctl-importance-attribute').options].map((o) => o.value));
+  check(offeredAttrs.includes('vorticity') && offeredAttrs.includes('angular_entropy') && offeredAttrs.includes('speed'),
+    `the importance menu offers the traced set's vorticity, speed and line measures (${offeredAttrs.join(', ')})`);
+  f0 = await newest();
+  await page.selectOption('#ctl-importance-attribute', 'vorticity');
+  await page.waitForFunction(() => /importance=vorticity/.test(location.hash), null, { timeout: 30000 });
+  await settled(f0);
+  check(!(await page.evaluate(() => window.lucent.state.error)), 'importance from the vorticity renders (the shear flow\'s is uniform)');
+  f0 = await newest();
+  await page.selectOption('#ctl-importance-attribute', 'speed');
+  await page.waitForFunction(() => /importance=speed/.test(location.hash), null, { timeout: 30000 });
+  await settled(f0);
+  const bySpeed = await sig();
+  // the rake runs across the middle and the shear flow along +x: only two-way curves reach the left part
+  const leftInk = () => page.evaluate(() => {
+    const src = document.getElementById('canvas');
+    const c = document.createElement('canvas');
+    c.width = src.width;
+    c.height = src.height;
+    const g = c.getContext('2d');
+    g.drawImage(src, 0, 0); // full resolution: the lines are a pixel wide
+    const d = g.getImageData(0, 0, Math.floor(0.4 * c.width), c.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) > 30) n++;
+    return n;
+  });
+  const leftForward = await leftInk();
+  f0 = await newest();
+  await page.selectOption('#streamlines-direction', 'both');
+  await page.waitForFunction(() => /streamlinesDirection=both/.test(location.hash), null, { timeout: 30000 });
+  await settled(f0);
+  const both = await sig();
+  const leftBoth = await leftInk();
+  check(!(await page.evaluate(() => window.lucent.state.error)) && leftForward === 0 && leftBoth > 50,
+    `two-way curves from the rake reach the part upstream of it (${leftForward} inked pixels there forward, ${leftBoth} both ways)`);
 
   const box = await page.locator('[data-testid="seed-end"]').boundingBox();
   if (box) {

@@ -416,4 +416,4 @@ int lc_cost_check_surface(const lc_render_params *p, int particles, double steps
     return -1;
 }
 
-double lc_cost_trace(double vertices) { return 16.0 * (vertices > 0 ? vertices : 0); }
+double lc_cost_trace(double vertices) { return 100.0 * (vertices > 0 ? vertices : 0); }

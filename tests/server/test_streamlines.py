@@ -135,6 +135,9 @@ with Server(binary, data=(SPEC, "demo:shear-flow", "demo:points"), demo_size=500
     st, _, e = srv.json("POST", path, json.dumps({"layers": [{"dataset": "demo:points"}]}))
     check(st == 400 and e.get("error", {}).get("field") == "layers",
           "layers beside a field's set are refused naming layers: %d %r" % (st, e))
+    st, _, e = srv.json("POST", path, json.dumps({"layers": [{"dataset": "demo:shear-flow"}]}))
+    check(st == 400 and e.get("error", {}).get("field") == "layers[0].dataset" and "vector field" in
+          e.get("error", {}).get("message", ""), "a field as a layer is refused naming layers[0].dataset: %d %r" % (st, e))
     st, _, data = srv.request("POST", path, json.dumps({}))
     check(st == 200 and data == images[6], "the session still serves its set after refusals (%d)" % st)
     st, _, data = srv.request("POST", path, json.dumps({"streamlines": {"seeding": "points", "seeds": [[-0.5, 0, 0]],

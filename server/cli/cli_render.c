@@ -368,7 +368,8 @@ int lc_cli_render(int argc, char **argv)
         json_decref(o);
     }
     if (info.dropped_fragments)
-        printf("  WARNING: %llu fragments did not fit the exact method's node pool\n",
+        printf("  WARNING: %llu fragments left out of the exact method's lists (its node pool full, or past 256 "
+               "layers of a pixel)\n",
                (unsigned long long)info.dropped_fragments);
     status = 0;
 done:

@@ -190,12 +190,11 @@ void heap_sort(int n, int arity)
 // Sort modes (u_sort_mode, exact.c): 0 auto (insertion sort up to
 // u_insertion_max, 4-ary heap sort above), 1 insertion only, 2 binary heap
 // only, 3 4-ary heap only, 4 auto with the binary heap (the sort before the
-// 4-ary heap). On Mesa 22 llvmpipe the heap's loops corrupt a few long lists
-// (entries out of order, or one entry in place of another: about 350 lists
-// of demo:points at 256x256, binary and 4-ary heap alike; the insertion sort
-// never did), so the heap's result is checked in O(n), order and checksum,
-// and a list that fails is gathered again from pixel p and insertion-sorted
-// (counted; docs/EVALUATION.md).
+// 4-ary heap). The heap's result is checked in O(n), order and checksum, and
+// a list that fails is gathered again from pixel p and insertion-sorted
+// (counted): on Mesa 22 llvmpipe an invocation runs 65,535 loop iterations in
+// all, and a pixel past the layer cap spends them in gather_list, so its later
+// loops stop after one iteration (docs/ALGORITHM.md §12, tests/bench/loop_budget).
 void sort_list(ivec2 p, int n)
 {
     int mode = u_sort_mode;

@@ -15,8 +15,8 @@
 #include "metrics.h"
 #include "still_stages.h"
 #include "surface_job.h"
-#include "traced.h"
 #include "surface_render.h"
+#include "traced.h"
 
 /* A session's first frame on a dataset of this many primitives or more is
  * rendered at the coarse end of the ladder, as a moving frame would be, and

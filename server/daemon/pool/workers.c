@@ -13,11 +13,11 @@
 #include "cost.h"
 #include "encoders.h"
 #include "fair_queue.h"
-#include "traced.h"
 #include "memory.h"
 #include "messages.h"
 #include "metrics.h"
 #include "surface_job.h"
+#include "traced.h"
 #include "yield.h"
 
 #define MOD "workers"
@@ -289,7 +289,7 @@ static void render_job(worker *wk, lc_render_job *job)
     /* A field's streamline set: uploaded here, a session's re-trace swapped in (its opacities start again). */
     bool retraced = false;
     int rc = field ? 0 : lc_traced_ready(dataset, session ? &session->lock : NULL, &retraced, &err);
-    if (retraced)
+    if (retraced && session)
         session->state_layers = -1;
     /* A session's opacities span its layers (lc_session_prepare_state). */
     lc_frame_state *state = NULL;

@@ -210,4 +210,13 @@ with Server(binary, "--max-cost", "2e6", data=("demo:shear-flow",)) as srv:
           "tracing over --max-cost is refused naming streamlines.count: %d %r" % (st, e))
     st, data = render(srv, {"dataset": "demo:shear-flow", "streamlines": SECTION})
     check(st == 200, "a small set fits: %d %s" % (st, data[:200] if st != 200 else ""))
+# --max-memory counts the sets alive beside the datasets: a set over what is left is refused naming streamlines.count.
+with Server(binary, "--max-memory", "3M", data=("demo:shear-flow",)) as srv:
+    st, data = render(srv, {"dataset": "demo:shear-flow", "streamlines": {"count": 300}})
+    e = error_of(data)
+    check(st == 400 and e.get("code") == "too_expensive" and e.get("field") == "streamlines.count"
+          and "--max-memory" in e.get("message", ""), "a set over --max-memory is refused naming streamlines.count: %d %r"
+          % (st, e))
+    st, data = render(srv, {"dataset": "demo:shear-flow", "streamlines": SECTION})
+    check(st == 200, "a small set fits: %d %s" % (st, data[:200] if st != 200 else ""))
 check.done()

@@ -1,6 +1,7 @@
 /* Streamline sets that requests ask for (traced.h). */
 #include "traced.h"
 
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +9,7 @@
 
 #include "cost.h"
 #include "fields.h"
+#include "memory.h"
 #include "metrics.h"
 #include "streamlines.h"
 
@@ -20,9 +22,14 @@ struct lc_traced {
     char spec[SPEC_LEN]; /* the set ds holds (ds.source: its first 511 characters) */
     lc_scene *pending;   /* a re-trace the next frame swaps in (owner's lock) */
     lc_scene_measures pending_cost;
+    uint64_t bytes, pending_bytes; /* their resident estimates, counted in `alive` */
     char pending_spec[SPEC_LEN];
     uint64_t traces;
 };
+
+/* The resident estimate of every set alive (scenes and pending re-traces),
+ * counted with the loaded datasets' against --max-memory. */
+static _Atomic uint64_t alive;
 
 /* GPU copies of freed sets, for the next worker (any thread adds). */
 static pthread_mutex_t grave_lock = PTHREAD_MUTEX_INITIALIZER;
@@ -58,14 +65,37 @@ static int spec_of(lc_server *srv, const lc_field_entry *fe, const lc_request *r
     return 0;
 }
 
-/* Traces spec through fe's field: the load-time code path. */
-static int trace(lc_traced *t, const char *spec, lc_scene **out, lc_scene_measures *cost, lc_proto_error *pe)
+/* Traces spec through fe's field (the load-time code path) and counts its
+ * resident estimate in *bytes: refused naming streamlines.count when it does
+ * not fit --max-memory beside the loaded datasets and the sets alive. */
+static int trace(lc_server *srv, lc_traced *t, const char *spec, lc_scene **out, lc_scene_measures *cost,
+                 uint64_t *bytes, lc_proto_error *pe)
 {
     long cpus = sysconf(_SC_NPROCESSORS_ONLN);
     lc_error e = {0};
     double t0 = lc_now();
     if (lc_streamlines_load_field(spec, t->fe->field, cpus > 0 ? (int)cpus : 1, out, &e) != 0)
         return refusal(pe, &e);
+    /* GPU buffers and one session's state (lc_memory_estimate) and the vertex arrays the set keeps */
+    lc_gpu_scene_desc desc = {.exact_positions = t->ds.exact_positions};
+    const lc_scene *s = *out;
+    uint64_t need = lc_memory_estimate(s, &desc, srv->cfg.workers > 0 ? srv->cfg.workers : 1, 1) +
+                    (uint64_t)s->vertex_count * (3 + (uint64_t)s->attribute_count) * sizeof(float);
+    uint64_t estimated = 0, limit = 0;
+    lc_datasets_budget(srv->datasets, &estimated, &limit);
+    uint64_t held = atomic_load(&alive);
+    if (limit && estimated + held + need > limit) {
+        lc_scene_destroy(*out);
+        *out = NULL;
+        lc_metrics_refused(srv->metrics, "memory");
+        return lc_proto_set_error(pe, "too_expensive", "streamlines.count",
+                                  "the set needs an estimated %.1f MB resident; with the datasets (%.1f MB) and the "
+                                  "sets other renders hold (%.1f MB) it exceeds --max-memory %.1f MB: trace fewer or "
+                                  "shorter curves",
+                                  need / 1e6, estimated / 1e6, held / 1e6, limit / 1e6);
+    }
+    atomic_fetch_add(&alive, need);
+    *bytes = need;
     lc_scene_measure(*out, cost);
     t->traces++;
     LC_INFO(MOD, "traced %s: %u lines, %u vertices in %.3f s", spec, (*out)->line_count, (*out)->vertex_count,
@@ -99,9 +129,11 @@ const lc_dataset *lc_traced_resolve(lc_server *srv, const lc_request *req, lc_tr
     }
     t->fe = fe;
     lc_dataset *d = &t->ds;
+    const lc_dataset *first = lc_datasets_at(srv->datasets, 0);
+    d->exact_positions = first ? first->exact_positions : 0; /* the daemon's layout (--exact-positions) */
     int rc = spec_of(srv, fe, req, spec, pe);
     if (rc == 0)
-        rc = trace(t, spec, &d->scene, &d->cost, pe);
+        rc = trace(srv, t, spec, &d->scene, &d->cost, &t->bytes, pe);
     if (rc != 0) {
         free(spec), free(t);
         return NULL;
@@ -109,8 +141,6 @@ const lc_dataset *lc_traced_resolve(lc_server *srv, const lc_request *req, lc_tr
     snprintf(d->name, sizeof d->name, "%s", fe->field->name);
     snprintf(t->spec, sizeof t->spec, "%s", spec);
     snprintf(d->source, sizeof d->source, "%.511s", spec);
-    const lc_dataset *first = lc_datasets_at(srv->datasets, 0);
-    d->exact_positions = first ? first->exact_positions : 0; /* the daemon's layout (--exact-positions) */
     d->traced = t;
     free(spec);
     *owned = t;
@@ -153,14 +183,17 @@ int lc_traced_update(lc_server *srv, const lc_dataset *ds, const lc_request *req
     const char *now = t->pending ? t->pending_spec : t->spec;
     if (rc == 0 && strcmp(spec, now) != 0 && strcmp(spec, t->spec) == 0) { /* back to the set it draws */
         lc_scene_destroy(t->pending);
-        t->pending = NULL;
+        atomic_fetch_sub(&alive, t->pending_bytes);
+        t->pending = NULL, t->pending_bytes = 0;
     } else if (rc == 0 && strcmp(spec, now) != 0) { /* the seeding changed: a new set */
         lc_scene *scene = NULL;
         lc_scene_measures cost;
-        rc = trace(t, spec, &scene, &cost, pe);
+        uint64_t bytes = 0;
+        rc = trace(srv, t, spec, &scene, &cost, &bytes, pe);
         if (rc == 0) {
             lc_scene_destroy(t->pending);
-            t->pending = scene, t->pending_cost = cost;
+            atomic_fetch_sub(&alive, t->pending_bytes);
+            t->pending = scene, t->pending_cost = cost, t->pending_bytes = bytes;
             snprintf(t->pending_spec, sizeof t->pending_spec, "%s", spec);
         }
     }
@@ -211,6 +244,8 @@ int lc_traced_ready(const lc_dataset *ds, pthread_mutex_t *lock, bool *replaced,
         pthread_mutex_lock(lock);
     if (t->pending) {
         old_scene = t->ds.scene, old_gpu = t->ds.gpu;
+        atomic_fetch_sub(&alive, t->bytes);
+        t->bytes = t->pending_bytes, t->pending_bytes = 0;
         t->ds.scene = t->pending, t->ds.gpu = NULL, t->ds.cost = t->pending_cost;
         snprintf(t->spec, sizeof t->spec, "%s", t->pending_spec);
         snprintf(t->ds.source, sizeof t->ds.source, "%.511s", t->spec);
@@ -247,5 +282,6 @@ void lc_traced_free(lc_traced *t)
     bury(t->ds.gpu);
     lc_scene_destroy(t->ds.scene);
     lc_scene_destroy(t->pending);
+    atomic_fetch_sub(&alive, t->bytes + t->pending_bytes);
     free(t);
 }

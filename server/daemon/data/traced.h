@@ -42,7 +42,9 @@ const lc_dataset *lc_traced_resolve(lc_server *srv, const lc_request *req, lc_tr
  * away from its defaults is refused naming its first field; on a traced set
  * the section is checked against the field (its keys, the seeds, the trace
  * budget) and its tracing priced (lc_cost_trace) against --max-cost, refused
- * naming "streamlines.count". */
+ * naming "streamlines.count". A traced set's resident estimate counts with the
+ * loaded datasets' and every set alive against --max-memory (refused, also
+ * naming "streamlines.count", once traced). */
 int lc_traced_check(lc_server *srv, const lc_request *req, const lc_dataset *ds, lc_proto_error *pe);
 
 /* A session's update (under lock): when req's section differs from the set

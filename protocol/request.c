@@ -36,6 +36,7 @@ void lc_request_default(lc_request *r)
     r->surface.max_layers = 8;
     r->surface.curves_per_frame = 200;
     r->surface.color[0] = 0.95, r->surface.color[1] = 0.6, r->surface.color[2] = 0.2;
+    r->streamlines.seeding = 3, r->streamlines.count = 64; /* density, as a load-time set's defaults */
 }
 
 /* Copies with truncation; snprintf("%s") would trip -Wformat-truncation. */
@@ -250,10 +251,10 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
         free(layers);
         break;
     }
-    case T_SEED: {
+    case T_SEED: { /* offset: the point count; size: the offset of the points */
         lc_list_error le;
-        lc_surface_request *sr = (lc_surface_request *)base;
-        if (lc_proto_parse_seed(v, sr->seed, &sr->seed_count, LC_SURFACE_SEED_MAX, path, &le) != 0)
+        if (lc_proto_parse_seed(v, (double (*)[3])((char *)r + f->size), (int *)base, (int)f->lo, (int)f->hi, path,
+                                &le) != 0)
             return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
         break;
     }
@@ -498,9 +499,9 @@ int lc_proto_copy_field(const char *section, const char *name, lc_request *dst, 
         dst->layer_count = src->layer_count;
         memcpy(dst->layers, src->layers, (size_t)src->layer_count * sizeof src->layers[0]);
         break;
-    case T_SEED:
-        dst->surface.seed_count = src->surface.seed_count;
-        memcpy(dst->surface.seed, src->surface.seed, sizeof src->surface.seed);
+    case T_SEED: /* offset: the point count; size: the offset of the points (surface.seed, streamlines.seeds) */
+        memcpy(d, s, sizeof(int));
+        memcpy((char *)dst + f->size, (const char *)src + f->size, (size_t)f->hi * 3 * sizeof(double));
         break;
     }
     if (f->flag >= 0)
@@ -694,8 +695,8 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
             v = lc_proto_layers_json(r->layers, r->layer_count, emit_layer_section);
         break;
     case T_SEED:
-        if (r->surface.seed_count > 0)
-            v = lc_proto_seed_json(r->surface.seed, r->surface.seed_count);
+        if (*(const int *)base > 0)
+            v = lc_proto_seed_json((const double (*)[3])((const char *)r + f->size), *(const int *)base);
         break;
     }
     if (v)
@@ -834,5 +835,7 @@ json_t *lc_proto_request_to_json(const lc_request *r)
     json_object_set_new(o, "time", emit_section(r, "time"));
     if (r->render.method == LC_METHOD_SURFACE_LAYERS || r->surface.field[0] || r->surface.seed_count)
         json_object_set_new(o, "surface", emit_section(r, "surface"));
+    if (lc_proto_streamlines_given(r, NULL))
+        json_object_set_new(o, "streamlines", emit_section(r, "streamlines"));
     return o;
 }

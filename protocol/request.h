@@ -47,6 +47,24 @@ typedef struct lc_surface_request {
     int direction;                  /* lc_trace_direction: forward (default), backward, or both from the seed */
 } lc_surface_request;
 
+#define LC_STREAMLINES_SEEDS_MAX 64 /* points of streamlines.seeds */
+
+/* A streamline set asked for by a request whose dataset names a vector field
+ * (docs/ALGORITHM.md §22): traced by the daemon with the load-time tracer and
+ * drawn as the request's line dataset. Zero step/length/separation mean the
+ * tracer's defaults. */
+typedef struct lc_streamlines_request {
+    int seeding;    /* lc_seeding_kind: points, rake, box, density (default) */
+    int seed_count; /* points: 1 .. LC_STREAMLINES_SEEDS_MAX; rake: its 2 ends; box, density: 2 corners or 0 */
+    double seeds[LC_STREAMLINES_SEEDS_MAX][3];
+    int count;         /* curves of a rake, box or density set (default 64) */
+    bool has_count;    /* count was given (seeding points takes none) */
+    double step;       /* RK4 time step, 0 = 1/200 of the diagonal over the largest |v| */
+    double length;     /* arc length of a curve (each half of a two-way one), 0 = 2 field diagonals */
+    double separation; /* density's d_sep, 0 = from the box and the count */
+    int direction;     /* lc_trace_direction: forward (default), backward, both */
+} lc_streamlines_request;
+
 /* One render: which data, how big, which camera and parameters, which image. */
 typedef struct lc_request {
     char dataset[LC_PROTO_DATASET_LEN]; /* "demo:NAME", a path (CLI only) or a loaded
@@ -62,6 +80,7 @@ typedef struct lc_request {
     int layer_count;
     lc_request_layer layers[LC_MAX_LAYERS];
     lc_surface_request surface; /* method "surface-layers" only */
+    lc_streamlines_request streamlines; /* a dataset that names a vector field only */
 } lc_request;
 
 /* lc_render_params_default() plus format png, quality 90, dataset "", no dt. */
@@ -92,6 +111,36 @@ int lc_proto_apply_query(lc_request *r, const char *key, const char *value, cons
 /* Cross-field checks: pixel cap, camera (position != focalPoint, viewUp not
  * parallel to the view direction). apply/parse already call it. */
 int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, lc_proto_error *err);
+
+/* The streamlines section: 1 when any of its fields holds a value other than
+ * its default (lc_request_default: density seeding, 64 curves, the tracer's
+ * own step, length and separation), *field (may be NULL) naming the first
+ * ("streamlines.count"); 0 otherwise. */
+static inline int lc_proto_streamlines_given(const lc_request *r, const char **field)
+{
+    const lc_streamlines_request *a = &r->streamlines;
+    const char *f = a->seeding != 3        ? "streamlines.seeding"
+                    : a->seed_count > 0    ? "streamlines.seeds"
+                    : a->has_count         ? "streamlines.count"
+                    : a->step != 0         ? "streamlines.step"
+                    : a->length != 0       ? "streamlines.length"
+                    : a->direction != 0    ? "streamlines.direction"
+                    : a->separation != 0   ? "streamlines.separation"
+                                           : (const char *)0;
+    if (field)
+        *field = f;
+    return f != 0;
+}
+/* A session's update that holds a streamlines object describes the whole
+ * set: r's section goes back to its defaults before the update applies, so
+ * that a key it leaves out (count, when it turns to point seeding) takes its
+ * default rather than the value of an earlier update (request_streamlines.c). */
+void lc_proto_streamlines_replace(const json_t *update, lc_request *r);
+/* The section as a streamline-set spec of the field named field_name
+ * ("streamlines:FIELD?seeding=...", render/io/streamlines.h): the same keys
+ * and checks as a set named at load time, numbers written to round-trip.
+ * The spec's length, or -1 when it does not fit n. */
+int lc_proto_streamlines_spec(const lc_request *r, const char *field_name, char *out, size_t n);
 
 /* The full request as a new JSON object (caller json_decref()s); parsing it gives
  * back an equal lc_request. camera/ranges/dt appear only when set. */

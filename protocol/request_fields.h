@@ -83,6 +83,7 @@ static const enum_name composite_names[] = {{"layers", LC_SURFACE_LAYERS},
                                             {"weighted-sum", LC_SURFACE_WEIGHTED_SUM},
                                             {NULL, 0}};
 static const enum_name direction_names[] = {{"forward", 0}, {"backward", 1}, {"both", 2}, {NULL, 0}};
+static const enum_name seeding_names[] = {{"points", 0}, {"rake", 1}, {"box", 2}, {"density", 3}, {NULL, 0}};
 static const enum_name linkage_names[] = {{"complete", 0}, {"single", 1}, {"average", 2}, {NULL, 0}};
 #define COLORMAP_ENUM_NAME(n) {#n, 0},
 static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){NULL, 0}};
@@ -223,7 +224,8 @@ static const field fields[] = {
     /* surface: method "surface-layers" (a field's integral surface) */
     {"surface", "field", "surfaceField", T_STR, 0, 0, 0, OFF(surface.field), sizeof(((lc_request *)0)->surface.field),
      NOFLAG, NULL},
-    {"surface", "seed", "surfaceSeed", T_SEED, 0, LC_SURFACE_SEED_MAX, 0, OFF(surface), 0, NOFLAG, NULL},
+    {"surface", "seed", "surfaceSeed", T_SEED, 2, LC_SURFACE_SEED_MAX, 0, OFF(surface.seed_count), OFF(surface.seed),
+     NOFLAG, NULL},
     {"surface", "particles", "surfaceParticles", T_INT, 1, 100000, 0, OFF(surface.particles), 0, NOFLAG, NULL},
     {"surface", "step", "surfaceStep", T_NUM, 0, BIG, 0, OFF(surface.step), 0, NOFLAG, NULL},
     {"surface", "length", "surfaceLength", T_NUM, 0, BIG, 0, OFF(surface.length), 0, NOFLAG, NULL},
@@ -235,11 +237,25 @@ static const field fields[] = {
     {"surface", "color", "surfaceColor", T_COLOR, 0, 0, 0, OFF(surface.color), 0, NOFLAG, NULL},
     {"surface", "curvesPerFrame", "surfaceCurvesPerFrame", T_INT, 1, 100000, 0, OFF(surface.curves_per_frame), 0,
      NOFLAG, NULL},
+
+    /* streamlines: a dataset that names a vector field, traced as a streamline set (docs/ALGORITHM.md §22) */
+    {"streamlines", "seeding", "streamlinesSeeding", T_ENUM, 0, 0, 0, OFF(streamlines.seeding), 0, NOFLAG,
+     seeding_names},
+    {"streamlines", "seeds", "streamlinesSeeds", T_SEED, 1, LC_STREAMLINES_SEEDS_MAX, 0, OFF(streamlines.seed_count),
+     OFF(streamlines.seeds), NOFLAG, NULL},
+    {"streamlines", "count", "streamlinesCount", T_INT, 1, 100000, 0, OFF(streamlines.count), 0,
+     (long)OFF(streamlines.has_count), NULL},
+    {"streamlines", "step", "streamlinesStep", T_NUM, 0, BIG, 0, OFF(streamlines.step), 0, NOFLAG, NULL},
+    {"streamlines", "length", "streamlinesLength", T_NUM, 0, BIG, 0, OFF(streamlines.length), 0, NOFLAG, NULL},
+    {"streamlines", "direction", "streamlinesDirection", T_ENUM, 0, 0, 0, OFF(streamlines.direction), 0, NOFLAG,
+     direction_names},
+    {"streamlines", "separation", "streamlinesSeparation", T_NUM, 0, BIG, 0, OFF(streamlines.separation), 0, NOFLAG,
+     NULL},
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
 static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines", "time",
-                                        "surface"};
+                                        "surface", "streamlines"};
 #define NSECTIONS (sizeof sections / sizeof sections[0])
 
 #endif

@@ -222,15 +222,16 @@ int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list
 
 #define SEED_CAP 256 /* points a seed may have at most, whatever max says */
 
-int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int max, const char *path, lc_list_error *err)
+int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int min, int max, const char *path,
+                        lc_list_error *err)
 {
     if (!json_is_array(v))
         return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of [x, y, z] points");
     size_t n = json_array_size(v);
     if (max > SEED_CAP)
         max = SEED_CAP;
-    if (n < 2 || n > (size_t)max)
-        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "2 to %d points (got %zu)", max, n);
+    if (n < (size_t)min || n > (size_t)max)
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "%d to %d points (got %zu)", min, max, n);
     double tmp[SEED_CAP][3];
     for (size_t i = 0; i < n; i++) {
         char at[96];

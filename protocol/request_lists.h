@@ -41,9 +41,9 @@ int lc_proto_parse_fixed(const json_t *v, lc_color_map *c, const char *path, lc_
 json_t *lc_proto_fixed_json(const lc_color_map *c);
 json_t *lc_proto_terms_json(const lc_importance_map *m);
 json_t *lc_proto_filters_json(const lc_render_params *p);
-/* surface.seed: 2..max finite [x, y, z] points, consecutive points distinct;
- * points holds max. Untouched on error. */
-int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int max, const char *path,
+/* surface.seed, streamlines.seeds: min..max finite [x, y, z] points,
+ * consecutive points distinct; points holds max. Untouched on error. */
+int lc_proto_parse_seed(const json_t *v, double (*points)[3], int *count, int min, int max, const char *path,
                         lc_list_error *err);
 json_t *lc_proto_seed_json(const double (*points)[3], int count);
 /* "vertex", "min", "max", "mean", "first", "last" or "change". */

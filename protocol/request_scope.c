@@ -84,6 +84,7 @@ static const scope_rule rules[] = {
     {"time", "markers", DATASET_METHODS, P(LINES)},
     {"time", NULL, DATASET_METHODS, NOT_SURFACES},
     {"surface", NULL, M(SURFACE_LAYERS), LC_PROTO_ALL_PRIMS},
+    {"streamlines", NULL, DATASET_METHODS, P(LINES)}, /* the set a field's dataset traces (request_streamlines.c) */
 };
 
 /* Fields that apply under one value of another field (docs/ALGORITHM.md §12). */
@@ -93,6 +94,7 @@ static const struct {
     {"params", "directExponent", "params.alphaSource", "importance"},
     {"params", "alphaConstant", "params.alphaSource", "constant"},
     {"params", "gamma", "params.alphaSource", "normalVariation"},
+    {"streamlines", "separation", "streamlines.seeding", "density"},
 };
 
 int lc_proto_field_condition(const char *section, const char *name, const char **when_path, const char **when_value)

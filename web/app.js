@@ -32,6 +32,7 @@ import { createDatasetController, datasetView } from './js/dataset-controller.js
 import { createRecordController } from './js/record-controller.js';
 import { SurfacePanel } from './js/surface-panel.js';
 import { SeedOverlay } from './js/seed-handles.js';
+import { StreamlinesPanel } from './js/streamlines-panel.js';
 
 const TOKEN_KEY = 'lucent.token';
 
@@ -161,13 +162,21 @@ export function createApp(doc = document, win = window) {
     params.applyChange(path, value);
     seeds?.update();
   }, (text) => toast(text), (bounds) => camera.setCamera(fitCamera(DEFAULT_CAMERA, flatBounds(bounds), [-1, 1.5, -0.8], [0, 0, 1], aspect())));
+  // a vector field's streamline set: the whole streamlines object goes with each change (the server re-traces)
+  const streamlines = new StreamlinesPanel($('generated'), doc, (value) => {
+    delete state.update.streamlines;
+    params.applyChange('streamlines', value);
+    seeds?.update();
+  }, (text) => toast(text));
+  // the seed handles: the stream surface's seed line, else a streamline rake's ends
+  const seedOwner = () => (surface.shownSeed() ? surface : streamlines.shownSeed() ? streamlines : null);
   seeds = new SeedOverlay($('seed-overlay'), {
     get: () => {
-      const s = surface.shownSeed();
+      const s = seedOwner()?.shownSeed();
       return s && state.camera ? { ...s, cam: state.camera } : null;
     },
-    onMove: (i, p) => surface.setPoint(i, p),
-    onEnd: () => surface.send(),
+    onMove: (i, p) => seedOwner()?.setPoint(i, p),
+    onEnd: () => seedOwner()?.send(),
   });
   const layers = createLayersController({ doc, state, values: () => values(), apply: (path, value) => params.applyChange(path, value) });
   const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id), framesDrawn: () => state.framesDrawn, now: () => win.performance.now() });
@@ -311,6 +320,9 @@ export function createApp(doc = document, win = window) {
   // ---------------------------------------------------------------- dataset picker
   function showDataset() {
     const m = datasetView(state);
+    const field = datasetInfo(state);
+    streamlines.show(field?.kind === 'field' ? field : null, state.update.streamlines);
+    seeds?.update();
     const sel = $('dataset');
     const same = sel.options.length === m.options.length && m.options.every(([v, t], i) => sel.options[i].value === v && sel.options[i].text === t);
     if (!same) sel.replaceChildren(...m.options.map(([v, t]) => new Option(t, v)));

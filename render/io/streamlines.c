@@ -210,7 +210,8 @@ static int parse_spec(const char *spec, spec_args *a, lc_error *err)
     if (a->d.count && a->d.kind == LC_SEEDING_POINTS)
         return lc_err_field(err, LC_ERR_INVALID, "streamlines.count", "seeding=points traces one curve per seed");
     if (a->d.separation > 0 && a->d.kind != LC_SEEDING_DENSITY)
-        return lc_err_field(err, LC_ERR_INVALID, "streamlines.separation", "applies to seeding=density only");
+        return lc_err_field(err, LC_ERR_INVALID, "streamlines.separation",
+                            "applies to seeding=density only (streamlines.seeding density)");
     if (a->d.kind == LC_SEEDING_POINTS) {
         if (!a->has_seeds)
             return lc_err_field(err, LC_ERR_INVALID, "streamlines.seeds", "seeding=points needs seeds=x,y,z;...");
@@ -226,6 +227,19 @@ static int parse_spec(const char *spec, spec_args *a, lc_error *err)
     return 0;
 }
 
+double lc_streamlines_estimate(const lc_field *f, const lc_seeding_desc *d, double *steps)
+{
+    lc_trace_desc t;
+    lc_trace_resolve(f, &d->trace, &t);
+    uint32_t curves = d->kind == LC_SEEDING_POINTS ? d->point_count : d->count ? d->count : 64;
+    double halves = t.direction == LC_TRACE_BOTH ? 2.0 : 1.0;
+    double vmax = f->mag_max > 0 ? f->mag_max : 1.0;
+    double s = fmin(t.max_length / (fabs(t.step) * vmax), (double)t.max_steps);
+    if (steps)
+        *steps = halves * s;
+    return curves * halves * (s + 1);
+}
+
 /* The trace budget: refuses a set whose curves would hold more than
  * LC_STREAMLINES_MAX_VERTICES by the step estimate, and caps each curve's
  * steps so that no set can exceed it. */
@@ -235,17 +249,83 @@ static int budget(const lc_field *f, lc_seeding_desc *d, lc_error *err)
     lc_trace_resolve(f, &d->trace, &t);
     uint32_t curves = d->kind == LC_SEEDING_POINTS ? d->point_count : d->count ? d->count : 64;
     double halves = t.direction == LC_TRACE_BOTH ? 2.0 : 1.0;
-    double vmax = f->mag_max > 0 ? f->mag_max : 1.0;
-    double steps = fmin(t.max_length / (t.step * vmax), (double)t.max_steps);
-    double vertices = curves * halves * (steps + 1);
+    double steps = 0;
+    double vertices = lc_streamlines_estimate(f, d, &steps);
     if (vertices > LC_STREAMLINES_MAX_VERTICES)
         return lc_err_field(err, LC_ERR_LIMIT, "streamlines.count",
                             "%u curves of up to %.0f steps (%.3g vertices) exceed the trace budget of %u vertices; "
                             "trace fewer or shorter curves (count, length) or a larger step",
-                            curves, halves * steps, vertices, (unsigned)LC_STREAMLINES_MAX_VERTICES);
+                            curves, steps, vertices, (unsigned)LC_STREAMLINES_MAX_VERTICES);
     double cap = floor(LC_STREAMLINES_MAX_VERTICES / (curves * halves)) - 1;
     d->trace.max_steps = cap < t.max_steps ? (int)fmax(1, cap) : t.max_steps;
     return 0;
+}
+
+int lc_streamlines_trace(const lc_field *f, const lc_seeding_desc *desc, int threads, const char *name,
+                         lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    lc_seeding_desc d = *desc;
+    int rc = budget(f, &d, err);
+    lc_trace_curve *c = NULL;
+    uint32_t n = 0;
+    if (!rc)
+        rc = lc_seeding_trace(f, &d, threads, &c, &n, NULL, NULL, err);
+    if (!rc)
+        rc = lc_streamlines_scene(name, c, n, f, out, err);
+    if (c)
+        lc_trace_curves_free(c, n);
+    free(c);
+    return rc;
+}
+
+/* Parses spec and checks its seeding against f (the keys of the spec named
+ * in errors): *d points into a->points (free it after). */
+static int open_spec(const char *spec, spec_args *a, const lc_field *f, lc_seeding_desc *d, lc_error *err)
+{
+    int rc = parse_spec(spec, a, err);
+    if (rc)
+        return rc;
+    *d = a->d;
+    lc_error e = {0};
+    if (lc_seeding_check(f, d, &e) != 0) { /* the seeding's names turned into the spec's keys */
+        const char *key = strcmp(e.field, "seeding.count") == 0        ? "streamlines.count"
+                          : strcmp(e.field, "seeding.separation") == 0 ? "streamlines.separation"
+                                                                       : "streamlines.seeds";
+        return lc_err_field(err, e.code, key, "%s", e.msg);
+    }
+    return 0;
+}
+
+int lc_streamlines_check(const char *spec, const lc_field *f, double *vertices, double *steps, lc_error *err)
+{
+    spec_args a;
+    lc_seeding_desc d;
+    int rc = open_spec(spec, &a, f, &d, err);
+    if (!rc) {
+        double v = lc_streamlines_estimate(f, &d, steps);
+        if (vertices)
+            *vertices = v;
+        rc = budget(f, &d, err);
+    }
+    free(a.points);
+    return rc;
+}
+
+int lc_streamlines_load_field(const char *spec, const lc_field *f, int threads, lc_scene **out, lc_error *err)
+{
+    *out = NULL;
+    spec_args a;
+    lc_seeding_desc d;
+    int rc = open_spec(spec, &a, f, &d, err);
+    if (!rc) {
+        char name[LC_NAME_LEN];
+        snprintf(name, sizeof name, LC_STREAMLINES_PREFIX "%.*s", (int)(sizeof name - sizeof LC_STREAMLINES_PREFIX),
+                 f->name);
+        rc = lc_streamlines_trace(f, &d, threads, name, out, err);
+    }
+    free(a.points);
+    return rc;
 }
 
 int lc_streamlines_load(const char *spec, int threads, lc_scene **out, lc_error *err)
@@ -261,22 +341,9 @@ int lc_streamlines_load(const char *spec, int threads, lc_scene **out, lc_error 
                           a.field);
     if (!rc)
         rc = lc_field_open(a.field, &f, err);
-    if (!rc)
-        rc = budget(f, &a.d, err);
-    lc_trace_curve *c = NULL;
-    uint32_t n = 0;
-    if (!rc)
-        rc = lc_seeding_trace(f, &a.d, threads, &c, &n, NULL, NULL, err);
-    if (!rc) {
-        char name[LC_NAME_LEN];
-        snprintf(name, sizeof name, LC_STREAMLINES_PREFIX "%.*s", (int)(sizeof name - sizeof LC_STREAMLINES_PREFIX),
-                 f->name);
-        rc = lc_streamlines_scene(name, c, n, f, out, err);
-    }
-    if (c)
-        lc_trace_curves_free(c, n);
-    free(c);
     free(a.points);
+    if (!rc)
+        rc = lc_streamlines_load_field(spec, f, threads, out, err);
     lc_field_destroy(f);
     return rc;
 }

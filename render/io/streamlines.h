@@ -10,6 +10,7 @@
 
 #include "lc_base.h"
 #include "scene.h"
+#include "seeding.h"
 #include "trace.h"
 
 #ifdef __cplusplus
@@ -34,6 +35,29 @@ int lc_streamlines_is_spec(const char *spec);
  * "streamlines.count"; the tracer's step cap keeps any set within it.
  * Errors name "streamlines.KEY" or the field. */
 int lc_streamlines_load(const char *spec, int threads, lc_scene **out, lc_error *err);
+
+/* Traces the set spec names through the open field f (the spec's own field
+ * name is not looked up: the daemon passes the field it loaded), as
+ * lc_streamlines_load does. */
+int lc_streamlines_load_field(const char *spec, const lc_field *f, int threads, lc_scene **out, lc_error *err);
+/* Checks spec against f without tracing: its keys, the seeding (a box of
+ * positive extent, finite points) and the trace budget; *vertices and *steps
+ * (each may be NULL) get lc_streamlines_estimate's figures. Errors name
+ * "streamlines.KEY" as lc_streamlines_load's do. */
+int lc_streamlines_check(const char *spec, const lc_field *f, double *vertices, double *steps, lc_error *err);
+
+/* Traces the set desc describes through f into a finalized line scene named
+ * name (lc_streamlines_scene): the one code path of sets named at load time
+ * (lc_streamlines_load) and sets a render request asks for (the daemon's
+ * streamlines section). A set whose estimated vertices exceed
+ * LC_STREAMLINES_MAX_VERTICES is refused naming "streamlines.count"; each
+ * curve's steps are capped so that no set exceeds it. */
+int lc_streamlines_trace(const lc_field *f, const lc_seeding_desc *desc, int threads, const char *name,
+                         lc_scene **out, lc_error *err);
+/* The estimated vertices of the set desc describes through f (curves times
+ * the steps of each, both halves of two-way curves), and in *steps (may be
+ * NULL) the RK4 steps of one curve: what pricing a set needs. */
+double lc_streamlines_estimate(const lc_field *f, const lc_seeding_desc *desc, double *steps);
 
 /* Moves count curves into a finalized line scene named name with their time,
  * speed, seed parameter and ghost normal as attributes (time, speed, seed_u,

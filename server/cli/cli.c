@@ -11,6 +11,7 @@
 #include "loaders.h"
 #include "memory.h"
 #include "streamlines.h"
+#include "vtk_field.h"
 
 #define MAX_REQUEST_BYTES (1 << 20)
 
@@ -271,6 +272,22 @@ int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *com
     lc_error err = {0};
     const char *spec = lc_cli_dataset_spec(req, common);
     *scene = NULL;
+    /* A vector field draws the streamline set of the request's streamlines
+     * section, traced as a load-time set of the same spec (docs/ALGORITHM.md
+     * §22); elsewhere the section is refused, naming its field. */
+    char traced[8192];
+    const char *given = NULL;
+    if (!lc_streamlines_is_spec(spec) && lc_field_is_source(spec)) {
+        if (lc_proto_streamlines_spec(req, spec, traced, sizeof traced) < 0) {
+            fprintf(stderr, "lucent %s: streamlines.seeds: the set's settings are too long\n", cmd);
+            return 1;
+        }
+        spec = traced;
+    } else if (lc_proto_streamlines_given(req, &given)) {
+        fprintf(stderr, "lucent %s: %s: applies when the dataset names a vector field (demo:abc-flow, a grid .vtk "
+                        "or .nc), not %s\n", cmd, given, spec);
+        return 1;
+    }
     if (lc_cli_open_dataset(spec, scene, &err) != 0 ||
         (common->elements && lc_scene_set_element_budget(*scene, (uint32_t)common->elements, &err) != 0)) {
         fprintf(stderr, "lucent %s: %s\n", cmd, err.msg);

@@ -371,6 +371,9 @@ int lc_cli_render(int argc, char **argv)
     if (info.dropped_fragments)
         printf("  WARNING: %llu fragments did not fit the exact method's node pool\n",
                (unsigned long long)info.dropped_fragments);
+    if (info.cut_lists)
+        printf("  WARNING: the driver's loop limit stopped %llu of the exact method's list invocations part way\n",
+               (unsigned long long)info.cut_lists);
     status = 0;
 done:
     free(rgba);

@@ -11,6 +11,7 @@
 #include "metrics.h"
 #include "request_check.h"
 #include "surface_render.h"
+#include "traced.h"
 
 int lc_admit_surface(lc_server *srv, const lc_request *req, double *cost_out, const lc_field **field_out,
                      lc_proto_error *pe)
@@ -71,6 +72,10 @@ int lc_admit_resolve_layers(lc_server *srv, const lc_request *req, const lc_data
         if (!out[i]) {
             char field[32];
             snprintf(field, sizeof field, "layers[%d].dataset", i);
+            if (req->layers[i].dataset[0] && lc_fields_find(lc_datasets_fields(srv->datasets), req->layers[i].dataset))
+                return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, field,
+                                          "\"%.300s\" is a vector field: its streamline set draws alone, not as a layer",
+                                          req->layers[i].dataset);
             return lc_proto_set_error(pe, "not_found", field, "unknown dataset \"%.300s\"", req->layers[i].dataset);
         }
     }
@@ -143,6 +148,8 @@ int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req,
             prims = 1u << ds->scene->type;
     }
     int rc = lc_proto_check_scope(given, req, prims, pe);
+    if (rc == 0) /* the streamlines section: a field's set only, its seeding checked and priced */
+        rc = lc_traced_check(srv, req, ds, pe);
     if (rc == 0 && req->render.method != LC_METHOD_SURFACE_LAYERS)
         rc = check_render(req, ds, layers, pe);
     if (rc == 0)
@@ -151,23 +158,35 @@ int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req,
 }
 
 int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_patch *patch, const lc_proto_limits *lim,
-                    const lc_dataset **ds, lc_request *out, const lc_dataset **layers, lc_proto_error *pe)
+                    const lc_dataset **ds, lc_request *out, const lc_dataset **layers, lc_traced **traced,
+                    lc_proto_error *pe)
 {
     *out = *base;
+    if (patch) /* a streamlines object is the whole set: keys it leaves out go back to their defaults */
+        lc_proto_streamlines_replace(lc_proto_patch_json(patch), out);
     int rc = lc_proto_patch_apply(patch, lim, out, pe);
     if (rc == 0)
         rc = lc_admit_resolve_layers(srv, out, layers, pe);
     if (rc != 0)
         return rc;
-    if (*ds) { /* a session's: the update may name it (or another name of it), not change it */
+    bool existing = *ds != NULL;
+    if (existing) { /* a session's: the update may name it (or another name of it), not change it */
         if (strcmp(out->dataset, (*ds)->name) != 0 && lc_datasets_find(srv->datasets, out->dataset) != *ds)
             return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "dataset",
                                       "cannot change within a session (it is \"%s\")", (*ds)->name);
     } else {
-        /* A new session's: the one named, or with layers[] and none named layers[0]'s. */
-        *ds = !out->dataset[0] && out->layer_count > 0 ? layers[0] : lc_datasets_find(srv->datasets, out->dataset);
+        /* A new session's: the one named, or with layers[] and none named layers[0]'s; where
+         * the caller keeps one, a vector field's streamline set traced now (traced.h). */
+        if (!out->dataset[0] && out->layer_count > 0)
+            *ds = layers[0];
+        else if (traced)
+            *ds = lc_traced_resolve(srv, out, traced, pe);
+        else
+            *ds = lc_datasets_find(srv->datasets, out->dataset);
         if (!*ds)
-            return lc_proto_set_error(pe, "not_found", "dataset", "unknown dataset \"%.300s\"", out->dataset);
+            return traced && !(!out->dataset[0] && out->layer_count > 0)
+                       ? -1
+                       : lc_proto_set_error(pe, "not_found", "dataset", "unknown dataset \"%.300s\"", out->dataset);
         snprintf(out->dataset, sizeof out->dataset, "%s", (*ds)->name);
     }
     json_t *none = patch ? NULL : json_object(); /* no field given: only the request's own refusals (size, cost) */
@@ -175,5 +194,7 @@ int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_pat
     rc = given ? lc_request_admit(srv, given, out, *ds, layers, NULL, pe)
                : lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "", "out of memory");
     json_decref(none);
+    if (rc == 0 && existing) /* a session's set: a changed streamlines section traces the new one */
+        rc = lc_traced_update(srv, *ds, out, pe);
     return rc;
 }

@@ -55,8 +55,13 @@ int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req,
  * names (or layers[0]'s when it names none) and returns it in *ds. *out holds
  * the candidate however it ends (the caller commits it by swapping on 0). 0 or
  * a protocol error naming the field (not_found naming dataset or
- * layers[i].dataset). */
+ * layers[i].dataset). A new session's dataset may be a vector field where
+ * traced is given: its streamline set is traced into *traced (the caller's,
+ * however it ends: lc_traced_free); a session's update re-traces a changed
+ * set (lc_traced_update, under the session's lock). */
+struct lc_traced;
 int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_patch *patch, const lc_proto_limits *lim,
-                    const lc_dataset **ds, lc_request *out, const lc_dataset **layers, lc_proto_error *pe);
+                    const lc_dataset **ds, lc_request *out, const lc_dataset **layers, struct lc_traced **traced,
+                    lc_proto_error *pe);
 
 #endif

@@ -415,3 +415,5 @@ int lc_cost_check_surface(const lc_render_params *p, int particles, double steps
              *cost, budget, particles, steps, p->width, p->height);
     return -1;
 }
+
+double lc_cost_trace(double vertices) { return 100.0 * (vertices > 0 ? vertices : 0); }

@@ -76,6 +76,15 @@ double lc_cost_surface(const lc_render_params *p, int particles, double steps, i
 /* Steps of one curve: length (0 = 2 diagonals) over step (0 = diagonal / (200
  * max |v|)) times the largest speed, in 1 .. 1e5. */
 double lc_cost_surface_steps(double diagonal, double max_speed, double step, double length);
+/* A streamline set a request traces (docs/ALGORITHM.md §22): about
+ * `vertices` RK4 steps (lc_streamlines_estimate, within 4% of the vertices
+ * traced on demo:abc-flow), 100 units each: measured 4.2 µs a vertex with
+ * its ghost, curl and scene set-up on the loaded 2-core llvmpipe machine
+ * (density seeding, which is sequential), against the renderer's 2e7..5e7
+ * units a second, i.e. 80..210 units a vertex. Paid once per set: a session
+ * re-traces only when its seeding changes. Over --max-cost (the default 1e9:
+ * 1e7 vertices) the set is refused naming "streamlines.count". */
+double lc_cost_trace(double vertices);
 int lc_cost_check_surface(const lc_render_params *p, int particles, double steps, int k, double budget, double *cost,
                           const char **field, char *msg, size_t n);
 

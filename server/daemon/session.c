@@ -10,6 +10,7 @@
 #include "datasets.h"
 #include "detail_ladder.h"
 #include "memory.h"
+#include "traced.h"
 
 #define MOD "session"
 
@@ -181,6 +182,7 @@ void lc_session_unref(lc_session *s)
     lc_frame_state_destroy(s->frame_state);
     if (s->surface_free)
         s->surface_free(s->surface);
+    lc_traced_free(s->traced);
     pthread_mutex_destroy(&s->lock);
     free(s);
     /* A session's frames were built on several threads' heaps; hand what they
@@ -269,7 +271,7 @@ int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const
     lc_request *req = malloc(sizeof *req); /* a request is large: off the stack */
     if (!req)
         return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "", "out of memory");
-    int rc = lc_admit_update(s->srv, &s->req, patch, lim, &ds, req, layers, pe);
+    int rc = lc_admit_update(s->srv, &s->req, patch, lim, &ds, req, layers, NULL, pe);
     if (rc == 0)
         rc = lc_session_kind_check(s->kind, req, pe);
     if (rc == 0) { /* every rule passed: the candidate replaces the request whole */

@@ -119,6 +119,9 @@ struct lc_session {
      * surface_free, so the session frees them without knowing the pool. */
     struct lc_surface_stream *surface;
     void (*surface_free)(struct lc_surface_stream *surface);
+    /* A field's streamline set (data/traced.h) that `dataset` points into,
+     * owned; NULL for a loaded dataset. */
+    struct lc_traced *traced;
     /* The datasets frame_state's elements belong to, in order (state_layers
      * of them; 0 = the session's dataset alone): owned like frame_state. */
     const lc_dataset *state_ds[LC_MAX_LAYERS];

@@ -153,7 +153,8 @@ with Server(binary, data=tuple(KIND_DATASET.values()) + ("demo:abc-flow",), demo
         m = next(x for x in f.get("methods", ALL_METHODS))
         other = next(v for v in next(g for g in schema if path(g) == f["when"][0])["values"] if v != f["when"][1])
         value = other_value(f, default_of(f))
-        body = with_field(base(m, "demo:surface"), f, value)
+        # streamlines.*: a field's traced set (a dataset that names the field); the others on the surface
+        body = with_field(base(m, field_name if path(f).startswith("streamlines.") else "demo:surface"), f, value)
         body.setdefault(when_section, {})[when_name] = other
         st, _, data = srv.request("POST", "/api/v1/render", body)
         check(st == 400 and refusal(data)[0] == path(f) and f["when"][0] in refusal(data)[1],

@@ -49,9 +49,12 @@ export class Api {
   }
 
   /** The dataset descriptions: an array of {name, ...} whatever the body's wrapper. */
+  /** The datasets, then the vector fields (kind "field": a request on one draws a traced streamline set). */
   async datasets() {
     const body = await this.#get('api/v1/datasets');
-    return Array.isArray(body) ? body : Array.isArray(body?.datasets) ? body.datasets : [];
+    const list = Array.isArray(body) ? body : Array.isArray(body?.datasets) ? body.datasets : [];
+    const fields = Array.isArray(body?.fields) ? body.fields.map((f) => ({ ...f, kind: 'field' })) : [];
+    return [...list, ...fields];
   }
 
   /** The vector fields (GET /api/v1/datasets "fields"): an array of {name, bounds, ...}. */

@@ -10,6 +10,7 @@ import { datasetInfo } from './app-state.js';
 export function describeDataset(d) {
   if (!d) return '';
   const n = (x) => (typeof x === 'number' ? x.toLocaleString('en-US') : x);
+  if (d.kind === 'field') return 'vector field: the streamline set of the Streamlines group, traced by the server';
   const parts = [];
   if (d.type && !d.lines && !d.triangles && !d.vertices) parts.push(d.type);
   if (d.lines) parts.push(`${n(d.lines)} lines`);
@@ -23,6 +24,7 @@ export function describeDataset(d) {
 /** "12k lines": short enough for a phone's picker. */
 export function shortSize(d) {
   const k = (x) => (x >= 1e6 ? `${Number((x / 1e6).toPrecision(2))}M` : x >= 1e4 ? `${Math.round(x / 1e3)}k` : String(x));
+  if (d.kind === 'field') return 'vector field';
   if (d.lines) return `${k(d.lines)} lines`;
   if (d.triangles) return `${k(d.triangles)} triangles`;
   if (d.vertices) return `${k(d.vertices)} points`;
@@ -108,6 +110,7 @@ export function createDatasetController(ctx) {
     // attributes belong to the old dataset, and so does the old preset
     delete state.update.importance;
     delete state.update.color;
+    delete state.update.streamlines; // a field's seeding (the new dataset's, if a field, starts at the defaults)
     if (state.preset) state.update = removePreset(state.update, state.preset.preset, state.preset.applied);
     state.error = null;
     usePreset({ update: state.update, camera: null });

@@ -217,7 +217,7 @@ export function createLayersController(ctx) {
     /** The values shown and the server's datasets: the list, the add menu and the legends. */
     show(values) {
       const layers = values.layers ?? [];
-      const names = state.datasets.map((d) => d.name);
+      const names = state.datasets.filter((d) => d.kind !== 'field').map((d) => d.name); // a field's set draws alone
       const have = [...add.options].slice(1).map((o) => o.value);
       if (have.join('\n') !== names.join('\n')) add.replaceChildren(new Option('Add a layer…', ''), ...names.map((n) => new Option(n, n)));
       add.disabled = layers.length >= MAX_LAYERS;

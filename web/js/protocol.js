@@ -160,7 +160,7 @@ const throwField = (path, problem) => fail(problem.code, `${path}${problem.at ??
 function checkMembers(obj, section, lim, top) {
   for (const [key, v] of Object.entries(obj)) {
     const path = section ? `${section}.${key}` : key;
-    if (!section && ['camera', ...UPDATE_SECTIONS, 'surface'].includes(key)) {
+    if (!section && ['camera', ...UPDATE_SECTIONS, 'surface', 'streamlines'].includes(key)) {
       if (key === 'camera' && v === null) continue; // sessions: back to fitting the data
       if (!isObj(v)) fail('bad_field', path, 'expected an object');
       checkMembers(v, key, lim, top);
@@ -219,13 +219,13 @@ export function checkRequest(req, limits = DEFAULT_LIMITS) {
 
 // ---- client messages (lc_proto_parse_client_message)
 
-// surface: method surface-layers (a field's surface), not one of the page's panel sections
-const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method', 'filter', 'surface', 'layers'];
+// surface: method surface-layers (a field's surface); streamlines: a field's traced set; not panel sections
+const UPDATE_KEYS = ['camera', ...UPDATE_SECTIONS, 'method', 'filter', 'surface', 'streamlines', 'layers'];
 const STREAM_KEYS = STREAM_FIELDS.map((f) => f.name);
 const ALLOWED = {
   hello: ['dataset', 'width', 'height', 'devicePixelRatio', 'window', 'token', ...STREAM_KEYS, ...UPDATE_KEYS],
   camera: ['seq', 'camera'],
-  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method', 'filter', 'surface', 'layers'],
+  params: [...STREAM_KEYS, ...UPDATE_SECTIONS, 'method', 'filter', 'surface', 'streamlines', 'layers'],
   resize: ['width', 'height', 'devicePixelRatio'],
   ack: ['frame'],
 };

@@ -92,10 +92,12 @@ export function checkField(f, v) {
   }
 }
 
-/** surface.seed (protocol/request_lists.c lc_proto_parse_seed): 2..maxItems finite [x, y, z], no repeats in a row. */
+/** surface.seed, streamlines.seeds (protocol/request_lists.c lc_proto_parse_seed): minItems (default 2)..maxItems
+ * finite [x, y, z], no repeats in a row. */
 function checkSeed(f, v) {
+  const min = f.minItems ?? 2;
   if (!Array.isArray(v)) return { code: 'bad_field', reason: 'expected an array of [x, y, z] points' };
-  if (v.length < 2 || v.length > f.maxItems) return { code: 'out_of_range', reason: `2 to ${f.maxItems} points (got ${v.length})` };
+  if (v.length < min || v.length > f.maxItems) return { code: 'out_of_range', reason: `${min} to ${f.maxItems} points (got ${v.length})` };
   for (let i = 0; i < v.length; i++) {
     const p = v[i], at = `[${i}]`;
     if (!(Array.isArray(p) && p.length === 3 && p.every(isNum)))
@@ -203,7 +205,7 @@ export function checkValue(f, v) {
 
 /** Text of a value for a URL (vectors comma-separated, terms and filters as JSON), as GET /api/v1/render reads it. */
 export function valueToText(f, v) {
-  if (f.type === 'terms' || f.type === 'filters' || f.type === 'curve' || f.type === 'ranges' || f.type === 'layers') return JSON.stringify(v);
+  if (['terms', 'filters', 'curve', 'ranges', 'layers', 'seed'].includes(f.type)) return JSON.stringify(v); // JSON text, as request.c reads lists
   if (Array.isArray(v)) return v.map((x) => String(x)).join(',');
   return String(v);
 }
@@ -235,6 +237,7 @@ export function valueFromText(f, text) {
     case 'curve':
     case 'ranges':
     case 'layers':
+    case 'seed':
       try {
         const v = JSON.parse(text);
         return Array.isArray(v) ? v : undefined;

@@ -56,6 +56,7 @@ export function queryValue(f, text) {
     case 'filters':
     case 'curve':
     case 'ranges':
+    case 'seed':
     case 'layers': // list fields travel as JSON text, as the server reads them
       try {
         const v = JSON.parse(text);
@@ -176,7 +177,7 @@ export function formatHash({ dataset, camera, update }, defaults = null) {
     if (v === undefined || v === null) continue;
     if (defaults && sameValue(v, getPath(defaults, path))) continue;
     if (f.name === 'layers' && Array.isArray(v) && !v.length) continue; // [] = the single dataset, the default
-    const list = ['terms', 'filters', 'curve', 'ranges', 'layers'].includes(f.type); // JSON text, as it is
+    const list = ['terms', 'filters', 'curve', 'ranges', 'layers', 'seed'].includes(f.type); // JSON text, as it is
     const r = typeof v === 'number' ? Number(v.toPrecision(7)) : Array.isArray(v) && !list ? v.map((x) => Number(Number(x).toPrecision(7))) : v;
     parts.push(`${f.alias}=${enc(valueToText(f, r))}`);
   }

@@ -37,6 +37,7 @@ typedef struct lc_dataset {
     int exact_positions;     /* float GPU buffers and session opacities (--exact-positions) */
     lc_memory_report memory; /* bytes by kind once uploaded (one worker's and one session's state) */
     int from_cache;          /* the scene came from the scene cache (dataset_cache.h) */
+    struct lc_traced *traced; /* a streamline set a request traced (traced.h); NULL for loaded datasets */
 } lc_dataset;
 
 /* How datasets are loaded and held (lucent serve flags); zero = defaults. */

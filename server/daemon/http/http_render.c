@@ -16,6 +16,7 @@
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
+#include "traced.h"
 #include "workers.h"
 
 #define MOD "http"
@@ -161,6 +162,7 @@ void lc_http_free_job(lc_render_job *job)
     if (!job)
         return;
     free(job->image);
+    lc_traced_free(job->traced);
     if (job->session)
         lc_session_unref(job->session);
     free(job);
@@ -238,6 +240,8 @@ static enum MHD_Result queue_job(lc_http_req *ctx, struct MHD_Connection *c, con
     job->req = *req;
     job->dataset = ds;
     job->field = field;
+    job->traced = ctx->traced; /* freed with the job (lc_http_free_job) */
+    ctx->traced = NULL;
     for (int i = 0; layers && i < req->layer_count; i++)
         job->layers[i] = layers[i];
     job->session = session;
@@ -354,10 +358,15 @@ enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c,
         return start_surface(ctx, c, &req);
     if (req.layer_count > 0)
         return start_layers(ctx, c, &req);
-    const lc_dataset *ds = lc_datasets_find(srv->datasets, req.dataset);
+    /* a loaded dataset, or a vector field's streamline set traced for this render (traced.h) */
+    const lc_dataset *ds = lc_traced_resolve(srv, &req, &ctx->traced, &pe);
     if (!ds)
-        return lc_http_error(srv, c, 404, "not_found", "dataset", "unknown dataset \"%.300s\"", req.dataset);
-    return start_render(ctx, c, &req, ds, NULL, NULL, 0.0);
+        return strcmp(pe.code, "not_found") == 0 ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
+                                                 : lc_http_proto_error(srv, c, &pe);
+    enum MHD_Result r = start_render(ctx, c, &req, ds, NULL, NULL, 0.0);
+    lc_traced_free(ctx->traced); /* refused before its job took it */
+    ctx->traced = NULL;
+    return r;
 }
 
 enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connection *c)
@@ -373,21 +382,29 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
             return lc_http_proto_error(srv, c, &pe);
     }
     /* The session's one validation, as its updates will have (admit.h); with
-     * layers[] the request may leave dataset out: the session's is layers[0]'s. */
+     * layers[] the request may leave dataset out: the session's is layers[0]'s.
+     * A vector field's streamline set is traced now and kept by the session. */
     lc_request base, req;
     lc_request_default(&base);
     const lc_dataset *layers[LC_MAX_LAYERS], *ds = NULL;
-    int rc = lc_admit_update(srv, &base, patch, &srv->cfg.limits, &ds, &req, layers, &pe);
+    lc_traced *traced = NULL;
+    int rc = lc_admit_update(srv, &base, patch, &srv->cfg.limits, &ds, &req, layers, &traced, &pe);
     lc_proto_patch_free(patch);
     if (rc == 0)
         rc = lc_session_kind_check(LC_SESSION_HTTP, &req, &pe);
-    if (rc != 0)
-        return lc_http_proto_error(srv, c, &pe);
+    if (rc != 0) {
+        lc_traced_free(traced);
+        return strcmp(pe.code, "not_found") == 0 ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
+                                                 : lc_http_proto_error(srv, c, &pe);
+    }
     req.has_dt = false;
     lc_session *s = NULL;
     lc_error err = {0};
-    if (lc_session_create(srv->sessions, LC_SESSION_HTTP, lc_conn_client_key(c), ds, &req, &s, &err) != 0)
+    if (lc_session_create(srv->sessions, LC_SESSION_HTTP, lc_conn_client_key(c), ds, &req, &s, &err) != 0) {
+        lc_traced_free(traced);
         return lc_http_error(srv, c, strcmp(err.field, "client") == 0 ? 429 : 503, "overloaded", NULL, "%s", err.msg);
+    }
+    s->traced = traced;
     json_t *o = json_object();
     json_object_set_new(o, "session", json_string(s->id));
     json_object_set_new(o, "dataset", lc_dataset_info(ds));
@@ -491,6 +508,8 @@ enum MHD_Result lc_http_route_session(lc_http_req *ctx, struct MHD_Connection *c
     json_object_set_new(o, "session", json_string(s->id));
     json_object_set_new(o, "dataset", json_string(s->dataset->name));
     json_object_set_new(o, "frames", json_integer((json_int_t)s->http_frames));
+    if (s->traced) /* a field's streamline set: how often it was traced (only seeding changes re-trace) */
+        json_object_set_new(o, "traces", json_integer((json_int_t)lc_traced_traces(s->dataset)));
     json_object_set_new(o, "request", lc_proto_request_to_json(&s->req));
     pthread_mutex_unlock(&s->lock);
     lc_session_unref(s);

@@ -24,6 +24,7 @@ typedef struct lc_http_req {
     struct MHD_Connection *conn;
     struct lc_render_job *job; /* a render in flight or finished */
     atomic_int job_finished;   /* set by job_done before the connection resumes */
+    struct lc_traced *traced;  /* a one-shot render's streamline set until its job takes it (traced.h) */
 } lc_http_req;
 
 /* Queues response r with status and releases it; counts the status. */

@@ -25,6 +25,7 @@ struct lc_render_job {
     uint64_t client;     /* fairness key: jobs of one client take turns with other clients' */
     double cost;         /* estimated cost units (cost.h); 0 = unknown */
     const lc_field *field; /* method surface-layers: req.surface.field's field (dataset is NULL then) */
+    struct lc_traced *traced; /* a one-shot render's own streamline set (traced.h) that dataset points into */
     void (*done)(lc_render_job *job);
     void *user;
     /* output, valid in done() */

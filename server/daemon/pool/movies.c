@@ -23,6 +23,7 @@
 #include "metrics.h"
 #include "movie.h"
 #include "session.h"
+#include "traced.h"
 #include "video.h"
 #include "workers.h"
 
@@ -36,6 +37,7 @@ typedef struct movie_job {
     lc_movie_spec spec;
     const lc_dataset *ds;                    /* the request's dataset, or its first layer's */
     const lc_dataset *layers[LC_MAX_LAYERS]; /* request.layers' datasets (spec.request.layer_count of them) */
+    lc_traced *traced; /* a vector field's streamline set that ds points into, owned; NULL otherwise */
     lc_video_codec codec;
     uint64_t owner; /* the client that made it (lc_movies_route) */
     double cost;
@@ -157,7 +159,10 @@ static void frame_camera(const movie_job *j, int i, lc_camera *out)
 {
     const lc_movie_spec *s = &j->spec;
     lc_camera start = s->request.render.camera;
-    if (!s->request.render.has_camera) {
+    if (!s->request.render.has_camera && j->ds->traced && !j->ds->gpu) { /* a traced set, not uploaded yet */
+        start.view_angle = start.view_angle > 0 ? start.view_angle : 30; /* as lc_render_fit_camera fits */
+        lc_camera_fit(&start, j->ds->scene->bounds, NULL, NULL);
+    } else if (!s->request.render.has_camera) {
         int n = s->request.layer_count;
         const lc_gpu_scene *scenes[LC_MAX_LAYERS] = {j->ds->gpu};
         for (int k = 0; k < n; k++)
@@ -420,6 +425,7 @@ void lc_movies_destroy(lc_movies *m)
     lc_movies_stop(m);
     for (int i = 0; i < m->count; i++) {
         unlink(m->jobs[i]->path);
+        lc_traced_free(m->jobs[i]->traced);
         free(m->jobs[i]);
     }
     rmdir(m->dir);
@@ -451,10 +457,17 @@ static int find(lc_movies *m, uint64_t owner, const char *id, size_t len)
     return -1;
 }
 
+/* Frees j and the streamline set it traced. */
+static void drop(movie_job *j)
+{
+    lc_traced_free(j->traced);
+    free(j);
+}
+
 static void forget(lc_movies *m, int i)
 {
     unlink(m->jobs[i]->path);
-    free(m->jobs[i]);
+    drop(m->jobs[i]);
     memmove(&m->jobs[i], &m->jobs[i + 1], (size_t)(m->count - i - 1) * sizeof m->jobs[0]);
     m->count--;
 }
@@ -483,11 +496,13 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
         free(j);
         return;
     }
-    j->ds = req->layer_count > 0 ? j->layers[0] : lc_datasets_find(srv->datasets, req->dataset);
+    /* a loaded dataset, or a vector field's streamline set traced for the movie (traced.h) */
+    j->ds = req->layer_count > 0 ? j->layers[0] : lc_traced_resolve(srv, req, &j->traced, &pe);
     if (!j->ds) {
-        reply_error(m, out, 404, "not_found", "request.dataset", "request.dataset: unknown dataset \"%.300s\"",
-                    req->dataset);
-        free(j);
+        char field[sizeof pe.field + 8];
+        snprintf(field, sizeof field, "request.%s", pe.field);
+        reply_error(m, out, strcmp(pe.code, "not_found") == 0 ? 404 : 400, pe.code, field, "request.%s", pe.message);
+        drop(j);
         return;
     }
     snprintf(req->dataset, sizeof req->dataset, "%s", j->ds->name);
@@ -495,13 +510,13 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
     if (!lc_video_available(j->codec)) {
         reply_error(m, out, 400, LC_PROTO_BAD_FIELD, "codec", "codec: this server cannot encode %s (%s)",
                     j->spec.codec, "no libavcodec encoder for it");
-        free(j);
+        drop(j);
         return;
     }
     /* Every frame has this request's fields and size (the cameras differ): admitted once. */
     if (lc_request_admit(srv, NULL, req, j->ds, j->layers, &j->cost, &pe) != 0) {
         reply_error(m, out, 400, pe.code, pe.field, "%s", pe.message);
-        free(j);
+        drop(j);
         return;
     }
     random_id(j->id);
@@ -518,7 +533,7 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
                     m->stopping ? "the server is shutting down"
                                 : "%d movie jobs are queued or running (the limit); retry when one is done",
                     active);
-        free(j);
+        drop(j);
         return;
     }
     for (int i = 0; i < m->count && m->count >= LC_MOVIES_KEPT; i++)

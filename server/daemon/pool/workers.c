@@ -18,6 +18,7 @@
 #include "metrics.h"
 #include "stream_session.h"
 #include "surface_job.h"
+#include "traced.h"
 #include "yield.h"
 
 #define MOD "workers"
@@ -286,9 +287,15 @@ static void render_job(worker *wk, lc_render_job *job)
     lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;
     in_hand(wk, job, NULL);
+    /* A field's streamline set: uploaded here, a session's re-trace swapped in (its opacities start again). */
+    bool retraced = false;
+    int rc = field ? 0 : lc_traced_ready(dataset, session ? &session->lock : NULL, &retraced, &err);
+    if (retraced && session)
+        session->state_layers = -1;
     /* A session's opacities span its layers (lc_session_prepare_state). */
     lc_frame_state *state = NULL;
-    int rc = session ? lc_session_prepare_state(session, layer_ds, layer_count, &err) : 0;
+    if (rc == 0)
+        rc = session ? lc_session_prepare_state(session, layer_ds, layer_count, &err) : 0;
     if (session && rc == 0)
         state = session->frame_state;
     if (rc == 0)
@@ -408,7 +415,13 @@ static void render_session(worker *wk, lc_session *s)
     int n = p->method == LC_METHOD_SURFACE_LAYERS ? 0 : f.req.layer_count; /* validation refuses both */
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
     lc_layer_params *layers = n ? copy_layers(&f.req, n, f.layers, scenes) : NULL;
-    int rc = rgba && (layers || !n)
+    /* A field's streamline set: uploaded here, an update's re-trace swapped in (its opacities start again). */
+    bool retraced = false;
+    int rc = p->method == LC_METHOD_SURFACE_LAYERS ? 0 : lc_traced_ready(s->dataset, &s->lock, &retraced, &err);
+    if (retraced)
+        s->state_layers = -1;
+    if (rc == 0)
+        rc = rgba && (layers || !n)
                  ? lc_session_prepare_state(s, f.layers, n, &err)
                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     if (rc == 0)

@@ -12,6 +12,7 @@
 #include "messages.h"
 #include "metrics.h"
 #include "stream_session.h"
+#include "traced.h"
 
 #define MOD "ws"
 
@@ -57,7 +58,8 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
                          &base.render.height);
     const lc_dataset *layers[LC_MAX_LAYERS], *ds = NULL;
     lc_proto_error pe;
-    int rc = lc_admit_update(srv, &base, m->patch, lim, &ds, &req, layers, &pe);
+    lc_traced *traced = NULL; /* a vector field's streamline set, traced now and kept by the session (traced.h) */
+    int rc = lc_admit_update(srv, &base, m->patch, lim, &ds, &req, layers, &traced, &pe);
     /* A file the daemon holds opens at defaults: where a full-size frame is
      * over --max-cost but the optimization's stride brings it within, the
      * session starts with that params.subset (ready's defaults show it; the
@@ -69,12 +71,15 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     if (n > 0) {
         base.render.foo.subset = n;
         ds = NULL;
-        rc = lc_admit_update(srv, &base, m->patch, lim, &ds, &req, layers, &pe);
+        lc_traced_free(traced);
+        traced = NULL;
+        rc = lc_admit_update(srv, &base, m->patch, lim, &ds, &req, layers, &traced, &pe);
         if (rc == 0)
             LC_INFO(MOD, "%s opens with params.subset %d: a full frame of %dx%d is over --max-cost", ds->name, n,
                     req.render.width, req.render.height);
     }
     if (rc != 0) {
+        lc_traced_free(traced);
         answer_proto_error(srv, out, &pe);
         return;
     }
@@ -84,6 +89,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     lc_error err = {0};
     lc_session *s = NULL;
     if (lc_session_create(srv->sessions, LC_SESSION_WS, conn->client, ds, &req, &s, &err) != 0) {
+        lc_traced_free(traced);
         answer_error(srv, out, err.code == LC_ERR_LIMIT ? "too_many_sessions" : "internal", err.msg, NULL, true, 1013);
         return;
     }
@@ -93,6 +99,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     if (!m->has_window)
         ss.window = LC_PROTO_MAX_WINDOW;
     pthread_mutex_lock(&s->lock);
+    s->traced = traced;
     lc_stream_flow_init(&s->stream.flow, ss.window);
     s->stream.window = s->stream.flow.window;
     s->stream.quality = ss.quality;
@@ -153,7 +160,7 @@ static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double no
     if (rc == 0) { /* no field changes: the size's own refusals (a larger frame costs more: wider ribbons) */
         req[0] = s->req;
         lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req[0].render.width, &req[0].render.height);
-        rc = lc_admit_update(srv, &req[0], NULL, &srv->cfg.limits, &ds, &req[1], layers, &pe);
+        rc = lc_admit_update(srv, &req[0], NULL, &srv->cfg.limits, &ds, &req[1], layers, NULL, &pe);
     }
     free(req);
     if (rc == 0) {

@@ -450,6 +450,9 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     st->rendering = true;
     st->render_began = now;
     st->dirty = false;
+    LC_DEBUG(MOD, "flow %s begin %llu seq %llu moving %d at %.4f unacked %d window %d q %d", s->id,
+             (unsigned long long)out->frame, (unsigned long long)out->camera_seq, interactive, now, st->unacked,
+             st->window, out->quality);
     if (st->updates_since_frame > 1) {
         lc_metrics_coalesced(s->srv->metrics, st->updates_since_frame - 1);
         st->coalesced += st->updates_since_frame - 1;
@@ -477,6 +480,7 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     pthread_mutex_lock(&s->lock);
     lc_stream *st = &s->stream;
     st->rendering = false;
+    LC_DEBUG(MOD, "flow %s done %llu at %.4f", s->id, (unsigned long long)f->frame, lc_now());
     if (ok && f->interactive) { /* the moving frames' rate is the one the window covers the round trip at */
         lc_stream_flow_rendered(&st->flow, lc_now() - st->render_began);
         st->window = st->flow.window;
@@ -576,6 +580,9 @@ bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now)
         drop_outstanding(&s->stream, frame, false);
         lc_stream_flow_acked(&s->stream.flow, frame, now);
         s->stream.window = s->stream.flow.window;
+        LC_DEBUG(MOD, "flow %s ack %llu at %.4f window %d rtt %.4f link_s %.4f frame_s %.4f", s->id,
+                 (unsigned long long)frame, now, s->stream.window, s->stream.flow.rtt, s->stream.flow.link_s,
+                 s->stream.flow.frame_s);
         s->last_used = lc_now();
     }
     pthread_mutex_unlock(&s->lock);
@@ -596,6 +603,8 @@ bool lc_session_stream_sent(lc_session *s, uint64_t frame, size_t bytes, int qua
     if (bytes > 0 && pixels > 0 && (moving || s->stream.fit_ref.bytes <= 0 || s->stream.fit_ref.still))
         s->stream.fit_ref = (lc_fit_ref){(double)bytes, quality, (double)pixels, !moving};
     lc_stream_flow_sent(&s->stream.flow, frame, moving, (double)bytes, lc_now());
+    LC_DEBUG(MOD, "flow %s sent %llu at %.4f bytes %zu moving %d", s->id, (unsigned long long)frame, lc_now(), bytes,
+             moving);
     pthread_mutex_unlock(&s->lock);
     return true;
 }

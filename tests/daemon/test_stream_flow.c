@@ -664,12 +664,20 @@ static void test_link_fit(void)
     /* A larger rung of the ladder (twice the pixels) is no probe: its quality stays. */
     lc_stream_fit(0, 0, 0.070, &ref, 2e5, 85, &fit);
     CHECK(fit.quality == 85 && fit.scale == 1, "twice the pixels, not measured: 85 (%d)", fit.quality);
+    /* A smaller rung after a gesture's first frame (10 kB at 45, then half the
+     * pixels): the probe is a quarter more bytes per pixel, not the ceiling. */
+    ref = (lc_fit_ref){10000, 45, 2e5, false};
+    lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
+    double per_share = 10000 / lc_fit_jpeg_share(45) * 0.5;
+    CHECK(fabs(fit.target - 6250) < 1e-6 && fit.quality > 45 && fit.quality < 70 &&
+              per_share * lc_fit_jpeg_share(fit.quality) <= 6250 && per_share * lc_fit_jpeg_share(fit.quality + 1) > 6250,
+          "half the pixels: quality %d, %.0f B", fit.quality, fit.target);
     /* Measured 2 Mbit/s against a 70 ms budget: 7 kB a frame (28 ms of it).
      * 10 kB at 85 -> quality drops, size stays. */
     double t2 = 250000 * 0.070 * LC_FIT_SHARE;
     ref = (lc_fit_ref){10000, 85, 1e5, false};
     lc_stream_fit(250000, 0, 0.070, &ref, 1e5, 85, &fit);
-    double per_share = 10000 / lc_fit_jpeg_share(85);
+    per_share = 10000 / lc_fit_jpeg_share(85);
     CHECK(fabs(fit.target - t2) < 1e-6 && fabs(t2 - 7000) < 1e-6 && fit.scale == 1 &&
               fit.quality > LC_FIT_MIN_QUALITY && fit.quality < 70 && per_share * lc_fit_jpeg_share(fit.quality) <= t2 &&
               per_share * lc_fit_jpeg_share(fit.quality + 1) > t2,

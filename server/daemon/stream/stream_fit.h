@@ -7,7 +7,7 @@
  * (stream_flow.h) and the latest moving frame, the unit test explicit ones.
  *
  *     target = rate * budget * LC_FIT_SHARE            the link's rate measured
- *     target = max(ref.bytes * LC_FIT_PROBE * max(1, pixels / ref.pixels),
+ *     target = max(ref.bytes * LC_FIT_PROBE * pixels / ref.pixels,
  *                  bound * budget * LC_FIT_SHARE)      not measured
  *     target = bound * budget * LC_FIT_SHARE           ref a still (no moving frame yet)
  *     bytes(q, pixels) = ref.bytes * share(q) / share(ref.quality) * pixels / ref.pixels

@@ -759,6 +759,56 @@ static void test_link_fit(void)
     lc_session_unref(s);
 }
 
+/* Until a moving frame has gone out, fits come from the still and never
+ * climb: a session's first moving frame starts with the still in flight (the
+ * ceiling: nothing known), the still's slow ack brings the next one down, and
+ * the one after, at a coarser rung (fewer pixels, which the still's bytes per
+ * pixel would fill at a higher quality), keeps that quality. */
+static void test_fit_from_still(void)
+{
+    lc_stream_conn conn = {.authed = true};
+    char reply[4096];
+    lc_stream_outcome o = send_text(
+        &conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":200,\"height\":160}", reply, sizeof reply);
+    lc_session *s = conn.session;
+    CHECK(o.opened && s, "a session (%s)", reply);
+    if (!s)
+        return;
+    lc_stream_frame still, a, b, c;
+    double wake = 0;
+    lc_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.converged = 1;
+    info.wall_ms = 10;
+    CHECK(lc_session_stream_next(s, lc_now(), &still, &wake) == 1 && !still.interactive, "the first still");
+    lc_session_stream_done(s, &still, true, &info);
+    lc_session_stream_sent(s, still.frame, 1000, still.quality, 200L * 160);
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &a, &wake) == 1 && a.interactive, "a moving frame");
+    CHECK(a.quality == LC_PROTO_DEFAULT_INTERACTIVE_QUALITY, "the still not acked yet: the ceiling (%d)", a.quality);
+    info.reused_opacities = 1;
+    lc_session_stream_done(s, &a, false, &info); /* it failed: its place in the window is free, nothing went out */
+    lc_session_stream_client_ack(s, still.frame, lc_now() + 0.2); /* 1000 bytes in 0.2 s: 5 kB/s at least */
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &b, &wake) == 1 && b.interactive, "a second moving frame");
+    CHECK(b.quality < a.quality, "the still's bound brings it down (%d -> %d)", a.quality, b.quality);
+    info.wall_ms = 1000; /* over the budget: the ladder goes coarser */
+    lc_session_stream_done(s, &b, true, &info);
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &c, &wake) == 1 && c.interactive, "a third moving frame");
+    double pb = (double)b.req.render.width * b.req.render.height, pc = (double)c.req.render.width * c.req.render.height;
+    bool measured;
+    double rate = lc_stream_flow_link_rate(&s->stream.flow, &measured);
+    lc_fit again;
+    lc_stream_fit(measured ? rate : 0, measured ? 0 : rate, srv.cfg.frame_budget_ms / 1000.0, &s->stream.fit_ref,
+                  pc / (s->stream.fit.scale * s->stream.fit.scale), LC_PROTO_DEFAULT_INTERACTIVE_QUALITY, &again);
+    CHECK(pc < pb && again.quality > b.quality && c.quality == b.quality,
+          "fewer pixels (%.0f -> %.0f) would take %d from the still; it keeps %d (%d)", pb, pc, again.quality,
+          b.quality, c.quality);
+    lc_session_close(srv.sessions, s);
+    lc_session_unref(s);
+}
+
 int main(void)
 {
     if (test_daemon(&srv, 3000) != 0)
@@ -793,6 +843,7 @@ int main(void)
     test_flow_window();
     test_session_window();
     test_link_fit();
+    test_fit_from_still();
     lc_session_close(srv.sessions, s);
     lc_session_unref(s);
     test_daemon_free(&srv);

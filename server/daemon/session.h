@@ -50,6 +50,7 @@ typedef struct lc_stream {
     double interactive_scale;  /* resolution factor while input is active */
     lc_fit_ref fit_ref;        /* the latest moving frame sent: what the next one's fit predicts from */
     lc_fit fit;                /* the latest moving frame's fit (stats) */
+    bool fit_from_still;       /* a moving frame was fitted from fit_ref, a still, and none has gone out since */
     int css_width, css_height; /* viewport in CSS pixels */
     double device_pixel_ratio;
     uint64_t outstanding[LC_PROTO_MAX_WINDOW]; /* frame ids sent or in flight, not acked */

@@ -29,6 +29,11 @@ of the rate), and the session's flow-control window, round trip and link estimat
 frames waited on it, else what it carried) from its last stats message.
 The issue 46 table:
   tests/bench/browse_bench.py --binary build/lucent --seconds 6 --link loopback --link 50,20 --link 100,5
+With --trace FILE (and --binary, --link) the daemon runs with --log-level debug, and a second table says where
+each link's input-to-frame time went, per frame that showed a newer camera, from the client's times and the
+daemon's per-frame "flow" lines (render start, end, hand-over to the connection, ack): the wait for a render to
+start, the render, the encode, and the link (transfer, queue and the proxy's and client's own time); all frames and
+the tail (>= 97 % of the p95). FILE keeps both sides' times as JSON.
 With --contend N, N other clients render --contend-size stills over HTTP in a loop
 during the orbit (the fairness case: another user's 4K render must not stall the drag); the
 orbit's p95 input-to-frame is the figure, and the daemon's yield counters (/metrics) say how
@@ -48,6 +53,7 @@ import io
 import json
 import math
 import os
+import re
 import sys
 import threading
 import time
@@ -181,7 +187,7 @@ def contender(base, token, args, stop, out):
 
 async def browse(ws_url, token, args):
     r = {"lat": [], "moving": 0, "pause_delay": None, "moving_frames": [], "moving_bytes": [], "moving_q": [], "rx": 0,
-         "stats": None}
+         "stats": None, "trace": []}
     async with websockets.connect(ws_url, max_size=None) as ws:
         name = served_name(args.dataset)
         hello = {"type": "hello", "dataset": name, "width": args.width, "height": args.height,
@@ -195,6 +201,7 @@ async def browse(ws_url, token, args):
         while True:
             m = json.loads(await ws.recv())
             if m.get("type") == "ready":
+                r["session"] = m.get("session")
                 break
             if m.get("type") == "error":
                 raise RuntimeError(m)
@@ -212,6 +219,12 @@ async def browse(ws_url, token, args):
                     r["stats"] = m
                 return m, None
             h, img = unpack_frame(m)
+            if args.trace:  # the client's side of a frame's way (the daemon's: its "flow" debug lines)
+                d = h.get("detail") or {}
+                r["trace"].append({"ev": "frame", "t": time.monotonic(), "frame": h["frame"], "seq": h["cameraSeq"],
+                                   "bytes": len(m), "moving": d.get("interactive", False), "q": h.get("quality"),
+                                   "size": "%dx%d" % (h["width"], h["height"]), "renderMs": d.get("renderMs"),
+                                   "encodeMs": h.get("encodeMs"), "reused": d.get("reusedOpacities")})
             await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
             return h, img
 
@@ -262,6 +275,8 @@ async def browse(ws_url, token, args):
                     resume_seq = seq
                 angle += 2 * math.pi / (args.rate * args.orbit_seconds)
                 sent[seq] = time.time()
+                if args.trace:
+                    r["trace"].append({"ev": "camera", "t": time.monotonic(), "seq": seq})
                 await ws.send(json.dumps({"type": "camera", "seq": seq, "camera": orbit_camera(bounds, angle)}))
                 next_send += 1.0 / args.rate
             h, img = await recv(max(0.001, next_send - time.time()))
@@ -287,6 +302,8 @@ async def browse(ws_url, token, args):
             if h["cameraSeq"] == seq and (h.get("detail") or {}).get("interactive", False):
                 last_moving = (h, img)
         r["orbit_s"] = args.seconds
+        if args.trace:
+            r["trace"].append({"ev": "release", "t": time.monotonic(), "seq": seq})
         r["orbit_rx"] = r["rx"] - rx0
         r["orbit_stats"] = r["stats"]
         t_last = sent[seq]
@@ -408,6 +425,57 @@ def run(base, ws_url, token, args, launched=None, listening=None):
             json.dump(out, f, indent=1)
 
 
+FLOW_LINE = re.compile(r"flow (\S+) (begin|done|sent|ack) (\d+)(.*)")
+
+
+def trace_breakdown(traces, daemon):
+    """Where each orbit frame's input-to-frame time went, from the client's times and the daemon's "flow" lines
+    (one clock: both on this host, CLOCK_MONOTONIC). For each frame that showed a newer camera: wait (the camera's
+    arrival, RTT/2 after it was sent, to its frame's render start), render, encode (render end to the hand-over to
+    the connection), link (hand-over to arrival at the client less RTT/2: the transfer, any queue, the proxy's and
+    client's own time). Prints the mean over all such frames and over those at or above 97 % of the p95 (the tail),
+    with the moving frames' render times of reused against re-optimized opacities (a re-optimization each second)."""
+    srv = {}
+    for line in daemon:
+        m = FLOW_LINE.search(line)
+        if m:
+            kv = m.group(4).split()
+            srv.setdefault(m.group(1), {}).setdefault(int(m.group(3)), {})[m.group(2)] = {
+                k: float(v) for k, v in zip(kv[0::2], kv[1::2])}
+    print("| link | frames | part | input-to-frame | wait | render | encode | link (less RTT/2) | bytes |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for tr in traces:
+        frames, ev = srv.get(tr["session"], {}), tr["events"]
+        half = tr["rtt_ms"] / 2000.0
+        cam = {e["seq"]: e["t"] for e in ev if e["ev"] == "camera"}
+        end = min([e["t"] for e in ev if e["ev"] == "release"] or [float("inf")])
+        rows, answered = [], 0
+        for e in ev:
+            if e["ev"] != "frame" or e["t"] > end or e["seq"] <= answered or e["seq"] not in cam:
+                continue
+            answered = e["seq"]
+            f = frames.get(e["frame"], {})
+            if not all(k in f for k in ("begin", "done", "sent")):
+                continue
+            tb, td, ts = f["begin"]["at"], f["done"]["at"], f["sent"]["at"]
+            rows.append({"lat": e["t"] - cam[e["seq"]], "wait": tb - cam[e["seq"]] - half, "render": td - tb,
+                         "encode": ts - td, "link": e["t"] - ts - half, "bytes": e["bytes"]})
+        if not rows:
+            continue
+        p95 = pct([r["lat"] for r in rows], 95)
+        for part, sel in (("all", rows), ("tail", [r for r in rows if r["lat"] >= 0.97 * p95])):
+            mean = lambda k: sum(r[k] for r in sel) / len(sel)  # noqa: E731
+            print("| %s | %d | %s | %.0f ms | %.0f | %.0f | %.0f | %.0f | %.1f KB |" % (
+                tr["link"], len(sel), part, 1000 * mean("lat"), 1000 * mean("wait"), 1000 * mean("render"),
+                1000 * mean("encode"), 1000 * mean("link"), mean("bytes") / 1000))
+        moving = [e for e in ev if e["ev"] == "frame" and e["moving"] and e["t"] <= end]
+        for name, sel in (("reused", [e for e in moving if e.get("reused")]),
+                          ("re-optimized", [e for e in moving if e.get("reused") is False])):
+            if sel:
+                print("  %s: %d moving frames with %s opacities, render %.0f ms mean" % (
+                    tr["link"], len(sel), name, sum(e["renderMs"] for e in sel) / len(sel)))
+
+
 def parse_link(text):
     """"RTT,MBIT" (ms, Mbit/s; MBIT 0 = no rate limit) or "loopback" -> (rtt_ms, mbit)."""
     if text == "loopback":
@@ -419,7 +487,7 @@ def parse_link(text):
 def run_links(ws_url, token, args):
     """The orbit once per --link, each through its own emulated link; prints a table (and --json)."""
     host, port = ws_url.split("//", 1)[1].split("/", 1)[0].rsplit(":", 1)
-    rows = []
+    rows, traces = [], []
     for spec in args.link:
         rtt, mbit = parse_link(spec)
         link = Link(rtt, mbit)
@@ -442,6 +510,7 @@ def run_links(ws_url, token, args):
                      "window": st.get("window"), "rtt_est_ms": st.get("rttMs"),
                      "link_est_mbit": st.get("linkMbps"), "link_measured": st.get("linkMeasured")})
         print("  %s: %.1f frames/s" % (link.label(), rows[-1]["frames_per_s"]), flush=True)
+        traces.append({"link": link.label(), "rtt_ms": rtt, "session": r.get("session"), "events": r["trace"]})
     print("dataset %s, %dx%d, camera updates at %g/s for %g s%s; load %s" % (
         args.dataset, args.width, args.height, args.rate, args.seconds,
         ", window %d" % args.window if args.window else "", os.getloadavg()[0]))
@@ -461,6 +530,7 @@ def run_links(ws_url, token, args):
         with open(args.json, "w") as f:
             json.dump({"dataset": args.dataset, "width": args.width, "height": args.height, "rate": args.rate,
                        "seconds": args.seconds, "window": args.window, "links": rows}, f, indent=1)
+    return traces
 
 
 def main():
@@ -483,6 +553,8 @@ def main():
     ap.add_argument("--server-args", default="", help="extra flags for the started daemon")
     ap.add_argument("--save", metavar="DIR", help="write the last moving frame and the still to DIR (moving.jpg, still.jpg)")
     ap.add_argument("--json", metavar="FILE", help="also write the figures to FILE as JSON")
+    ap.add_argument("--trace", metavar="FILE", help="with --link and --binary: write each frame's client times "
+                    "and the daemon's per-frame flow lines (started with --log-level debug) to FILE as JSON")
     ap.add_argument("--link", action="append", metavar="RTT,MBIT",
                     help="run through an emulated link of RTT ms and MBIT Mbit/s ('loopback': none); repeatable")
     args = ap.parse_args()
@@ -490,10 +562,17 @@ def main():
         sys.exit("python3-websockets is required")
     if args.binary:
         extra = args.server_args.split() if args.server_args else []
+        if args.trace:
+            extra += ["--log-level", "debug"]
         launched = time.time()
         with Server(args.binary, *extra, data=(args.dataset,), demo_size=0, timeout=600) as srv:
             if args.link:
-                run_links(srv.ws_url, args.token, args)
+                traces = run_links(srv.ws_url, args.token, args)
+                if args.trace:  # the daemon's per-frame lines (--log-level debug) beside the client's
+                    daemon = [line.rstrip() for line in srv.log if " flow " in line]
+                    with open(args.trace, "w") as f:
+                        json.dump({"links": traces, "daemon": daemon}, f)
+                    trace_breakdown(traces, daemon)
             else:
                 run(srv.base, srv.ws_url, args.token, args, launched, time.time())
             srv.stop()

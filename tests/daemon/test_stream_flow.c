@@ -618,6 +618,37 @@ static void test_link_fit(void)
     link_run(&f, 4, 0.060, 2000, 0.050, 250000, &t, &id);
     lc_stream_flow_link_rate(&f, &measured);
     CHECK(!measured, "a measurement older than the horizon lapses");
+    /* 5 Mbit/s (625 kB/s), 100 ms: a still of 136 kB on the idle link, then
+     * 12 kB moving frames every 65 ms (19 ms each on the link): none waits,
+     * and the larger frame's longer transfer gives the rate,
+     * (136 - 12) kB / (317.6 - 119.2) ms. */
+    t += LC_FLOW_RTT_HORIZON + 1;
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    lc_stream_flow_sent(&f, ++id, false, 136000, t);
+    lc_stream_flow_acked(&f, id, t + 0.100 + 136000 / 625000.0);
+    t += 1;
+    link_run(&f, 20, 0.065, 12000, 0.050, 625000, &t, &id);
+    rate = lc_stream_flow_link_rate(&f, &measured);
+    CHECK(measured && f.waits == 0 && fabs(rate - 625000) < 1e-6 * 625000,
+          "5 Mbit/s, no frame waited: %.0f B/s from sizes (%d waits)", rate, f.waits);
+    /* The still had waited 40 ms behind other frames: a lower figure, never a higher one. */
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    lc_stream_flow_sent(&f, ++id, false, 136000, t);
+    lc_stream_flow_acked(&f, id, t + 0.140 + 136000 / 625000.0);
+    t += 1;
+    link_run(&f, 20, 0.065, 12000, 0.050, 625000, &t, &id);
+    rate = lc_stream_flow_link_rate(&f, &measured);
+    CHECK(measured && rate < 625000 && rate > 0.8 * 625000, "a still that waited: %.0f B/s, under the rate", rate);
+    /* Frames of one size tell nothing (the 20 Mbit/s run above); nor does a
+     * larger frame acked sooner than the smaller one (timing noise on a wide
+     * link): the lower bound, not measured. */
+    lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
+    lc_stream_flow_sent(&f, ++id, false, 136000, t);
+    lc_stream_flow_acked(&f, id, t + 0.004);
+    t += 1;
+    link_run(&f, 20, 0.065, 12000, 0.0025, 1e9, &t, &id);
+    rate = lc_stream_flow_link_rate(&f, &measured);
+    CHECK(!measured && fabs(rate - 136000 / 0.004) < 1, "noise orders the sizes wrong: %.0f B/s at least", rate);
 
     /* The rule. No moving frame yet: the ceiling. */
     lc_fit fit;
@@ -640,17 +671,27 @@ static void test_link_fit(void)
     /* A larger rung of the ladder (twice the pixels) is no probe: its quality stays. */
     lc_stream_fit(0, 0, 0.070, &ref, 2e5, 85, &fit);
     CHECK(fit.quality == 85 && fit.scale == 1, "twice the pixels, not measured: 85 (%d)", fit.quality);
-    /* Measured 2 Mbit/s against a 70 ms budget: 14 kB a frame. 20 kB at 85 -> quality drops, size stays. */
-    ref = (lc_fit_ref){20000, 85, 1e5, false};
+    /* A smaller rung after a gesture's first frame (10 kB at 45, then half the
+     * pixels): the probe is a quarter more bytes per pixel, not the ceiling. */
+    ref = (lc_fit_ref){10000, 45, 2e5, false};
+    lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
+    double per_share = 10000 / lc_fit_jpeg_share(45) * 0.5;
+    CHECK(fabs(fit.target - 6250) < 1e-6 && fit.quality > 45 && fit.quality < 70 &&
+              per_share * lc_fit_jpeg_share(fit.quality) <= 6250 && per_share * lc_fit_jpeg_share(fit.quality + 1) > 6250,
+          "half the pixels: quality %d, %.0f B", fit.quality, fit.target);
+    /* Measured 2 Mbit/s against a 70 ms budget: 7 kB a frame (28 ms of it).
+     * 10 kB at 85 -> quality drops, size stays. */
+    double t2 = 250000 * 0.070 * LC_FIT_SHARE;
+    ref = (lc_fit_ref){10000, 85, 1e5, false};
     lc_stream_fit(250000, 0, 0.070, &ref, 1e5, 85, &fit);
-    double per_share = 20000 / lc_fit_jpeg_share(85);
-    CHECK(fabs(fit.target - 14000) < 1e-6 && fit.scale == 1 && fit.quality > LC_FIT_MIN_QUALITY && fit.quality < 70 &&
-              per_share * lc_fit_jpeg_share(fit.quality) <= 14000 &&
-              per_share * lc_fit_jpeg_share(fit.quality + 1) > 14000,
+    per_share = 10000 / lc_fit_jpeg_share(85);
+    CHECK(fabs(fit.target - t2) < 1e-6 && fabs(t2 - 7000) < 1e-6 && fit.scale == 1 &&
+              fit.quality > LC_FIT_MIN_QUALITY && fit.quality < 70 && per_share * lc_fit_jpeg_share(fit.quality) <= t2 &&
+              per_share * lc_fit_jpeg_share(fit.quality + 1) > t2,
           "2 Mbit/s: the highest quality that fits, full size (%d)", fit.quality);
-    /* 0.5 Mbit/s: 3.5 kB; quality 30 does not fit: the floor, and the side by the square root. */
+    /* 0.5 Mbit/s: 1.75 kB; quality 30 does not fit: the floor, and the side by the square root. */
     lc_stream_fit(62500, 0, 0.070, &ref, 1e5, 85, &fit);
-    double want = sqrt(3500 / (per_share * lc_fit_jpeg_share(LC_FIT_MIN_QUALITY)));
+    double want = sqrt(62500 * 0.070 * LC_FIT_SHARE / (per_share * lc_fit_jpeg_share(LC_FIT_MIN_QUALITY)));
     CHECK(fit.quality == LC_FIT_MIN_QUALITY && fabs(fit.scale - want) < 1e-9 && fit.scale < 1,
           "0.5 Mbit/s: quality %d, side x %.3f (%.3f)", fit.quality, fit.scale, want);
     lc_stream_fit(12500, 0, 0.070, &ref, 1e5, 85, &fit);
@@ -658,19 +699,20 @@ static void test_link_fit(void)
           fit.scale);
     lc_stream_fit(62500, 0, 0.070, &ref, 1e5, 20, &fit);
     CHECK(fit.quality == 20, "a ceiling under the floor holds (%d)", fit.quality);
-    /* Not measured, a lower bound of 2 Mbit/s: probing never aims under the 14 kB it surely carries. */
+    /* Not measured, a lower bound of 2 Mbit/s: probing never aims under the 7 kB it surely carries. */
     ref = (lc_fit_ref){5000, 40, 1e5, false};
     lc_stream_fit(0, 250000, 0.070, &ref, 1e5, 85, &fit);
-    CHECK(fabs(fit.target - 14000) < 1e-6, "the lower bound over the probe: %.0f B", fit.target);
+    CHECK(fabs(fit.target - t2) < 1e-6, "the lower bound over the probe: %.0f B", fit.target);
     /* Before any moving frame: from the still (150 kB at 90, 972x761) and the bound the still gave. */
     ref = (lc_fit_ref){150000, 90, 972.0 * 761, true};
     lc_stream_fit(0, 0, 0.070, &ref, 243.0 * 190, 85, &fit);
     CHECK(fit.quality == 85 && fit.scale == 1, "a still and no bound: the ceiling (%d)", fit.quality);
-    lc_stream_fit(0, 62500, 0.070, &ref, 243.0 * 190, 85, &fit);
+    lc_stream_fit(0, 125000, 0.070, &ref, 243.0 * 190, 85, &fit);
     per_share = 150000 / lc_fit_jpeg_share(90) * (243.0 * 190) / (972.0 * 761);
-    CHECK(fabs(fit.target - 3500) < 1e-6 && fit.quality < 85 && per_share * lc_fit_jpeg_share(fit.quality) <= 3500 &&
-              per_share * lc_fit_jpeg_share(fit.quality + 1) > 3500,
-          "a still's bound of 0.5 Mbit/s: the first moving frame at quality %d, not the ceiling", fit.quality);
+    double t1 = 125000 * 0.070 * LC_FIT_SHARE;
+    CHECK(fabs(fit.target - t1) < 1e-6 && fit.quality < 85 && per_share * lc_fit_jpeg_share(fit.quality) <= t1 &&
+              per_share * lc_fit_jpeg_share(fit.quality + 1) > t1,
+          "a still's bound of 1 Mbit/s: the first moving frame at quality %d, not the ceiling", fit.quality);
 
     /* Through a session: acks of a narrow link make the moving frames
      * smaller and coarser; the still keeps full quality and size. */
@@ -724,6 +766,56 @@ static void test_link_fit(void)
     lc_session_unref(s);
 }
 
+/* Until a moving frame has gone out, fits come from the still and never
+ * climb: a session's first moving frame starts with the still in flight (the
+ * ceiling: nothing known), the still's slow ack brings the next one down, and
+ * the one after, at a coarser rung (fewer pixels, which the still's bytes per
+ * pixel would fill at a higher quality), keeps that quality. */
+static void test_fit_from_still(void)
+{
+    lc_stream_conn conn = {.authed = true};
+    char reply[4096];
+    lc_stream_outcome o = send_text(
+        &conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":200,\"height\":160}", reply, sizeof reply);
+    lc_session *s = conn.session;
+    CHECK(o.opened && s, "a session (%s)", reply);
+    if (!s)
+        return;
+    lc_stream_frame still, a, b, c;
+    double wake = 0;
+    lc_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.converged = 1;
+    info.wall_ms = 10;
+    CHECK(lc_session_stream_next(s, lc_now(), &still, &wake) == 1 && !still.interactive, "the first still");
+    lc_session_stream_done(s, &still, true, &info);
+    lc_session_stream_sent(s, still.frame, 1000, still.quality, 200L * 160);
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &a, &wake) == 1 && a.interactive, "a moving frame");
+    CHECK(a.quality == LC_PROTO_DEFAULT_INTERACTIVE_QUALITY, "the still not acked yet: the ceiling (%d)", a.quality);
+    info.reused_opacities = 1;
+    lc_session_stream_done(s, &a, false, &info); /* it failed: its place in the window is free, nothing went out */
+    lc_session_stream_client_ack(s, still.frame, lc_now() + 0.2); /* 1000 bytes in 0.2 s: 5 kB/s at least */
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &b, &wake) == 1 && b.interactive, "a second moving frame");
+    CHECK(b.quality < a.quality, "the still's bound brings it down (%d -> %d)", a.quality, b.quality);
+    info.wall_ms = 1000; /* over the budget: the ladder goes coarser */
+    lc_session_stream_done(s, &b, true, &info);
+    lc_session_stream_input(s, lc_now());
+    CHECK(lc_session_stream_next(s, lc_now(), &c, &wake) == 1 && c.interactive, "a third moving frame");
+    double pb = (double)b.req.render.width * b.req.render.height, pc = (double)c.req.render.width * c.req.render.height;
+    bool measured;
+    double rate = lc_stream_flow_link_rate(&s->stream.flow, &measured);
+    lc_fit again;
+    lc_stream_fit(measured ? rate : 0, measured ? 0 : rate, srv.cfg.frame_budget_ms / 1000.0, &s->stream.fit_ref,
+                  pc / (s->stream.fit.scale * s->stream.fit.scale), LC_PROTO_DEFAULT_INTERACTIVE_QUALITY, &again);
+    CHECK(pc < pb && again.quality > b.quality && c.quality == b.quality,
+          "fewer pixels (%.0f -> %.0f) would take %d from the still; it keeps %d (%d)", pb, pc, again.quality,
+          b.quality, c.quality);
+    lc_session_close(srv.sessions, s);
+    lc_session_unref(s);
+}
+
 int main(void)
 {
     if (test_daemon(&srv, 3000) != 0)
@@ -758,6 +850,7 @@ int main(void)
     test_flow_window();
     test_session_window();
     test_link_fit();
+    test_fit_from_still();
     lc_session_close(srv.sessions, s);
     lc_session_unref(s);
     test_daemon_free(&srv);

@@ -33,8 +33,10 @@ void lc_stream_fit(double rate, double bound, double budget_s, const lc_fit_ref 
     out->target = 0;
     if (!ref || ref->bytes <= 0 || ref->pixels <= 0 || ref->quality < 1 || pixels <= 0)
         return;
-    double grown = pixels > ref->pixels ? pixels / ref->pixels : 1.0; /* a larger rung of the ladder is no probe */
-    double sure = bound * budget_s * LC_FIT_SHARE, probe = ref->bytes * LC_FIT_PROBE * grown;
+    /* The probe grows bytes per pixel: a larger rung of the ladder is no
+     * probe, nor is a smaller one a leap in quality (the frame after a
+     * gesture's first, larger one would take the ceiling). */
+    double sure = bound * budget_s * LC_FIT_SHARE, probe = ref->bytes * LC_FIT_PROBE * pixels / ref->pixels;
     if (ref->still && rate <= 0 && sure <= 0)
         return; /* nothing known of the link: the ceiling */
     out->target = rate > 0 ? rate * budget_s * LC_FIT_SHARE : ref->still ? sure : probe > sure ? probe : sure;

@@ -72,9 +72,17 @@ void lc_stream_flow_acked(lc_stream_flow *f, uint64_t id, double now)
     if (bound >= f->bound || now - f->bound_at > LC_FLOW_RTT_HORIZON) {
         f->bound = bound;
         f->bound_at = now;
+        f->bound_bytes = newest;
+        f->bound_s = now - sent;
     }
     if (!moving)
         return;
+    /* The least-waiting moving frame: the small end of the rate from sizes. */
+    if (f->small_at <= 0 || now - sent <= f->small_s || now - f->small_at > LC_FLOW_RTT_HORIZON) {
+        f->small_bytes = newest;
+        f->small_s = now - sent > 0 ? now - sent : 0;
+        f->small_at = now;
+    }
     /* The spacing of acks within a gesture: what the link delivers. */
     double gap = now - f->last_ack, sample = now - sent;
     if (f->last_ack > 0 && gap >= 0 && gap < LC_FLOW_ACK_GAP_MAX) {
@@ -137,11 +145,26 @@ void lc_stream_flow_rendered(lc_stream_flow *f, double seconds)
     update_window(f);
 }
 
+/* The rate from a larger frame's longer transfer (stream_flow.h "from
+ * sizes"), 0 where the two frames tell none: no pair within the horizon of
+ * each other, sizes too alike, or times the noise could order either way. */
+static double size_rate(const lc_stream_flow *f)
+{
+    if (f->small_at <= 0 || f->bound_at <= 0 || fabs(f->small_at - f->bound_at) > LC_FLOW_RTT_HORIZON)
+        return 0;
+    if (f->bound_bytes < LC_FLOW_SIZE_RATIO * f->small_bytes || f->bound_s <= f->small_s)
+        return 0;
+    return (f->bound_bytes - f->small_bytes) / (f->bound_s - f->small_s);
+}
+
 double lc_stream_flow_link_rate(const lc_stream_flow *f, bool *measured)
 {
     *measured = f->waits >= LC_FLOW_WAITS && f->wait_s > 0 && f->last_ack - f->wait_at < LC_FLOW_RTT_HORIZON;
     if (*measured)
         return f->wait_bytes / f->wait_s;
     double carried = f->ack_s > 0 ? f->ack_bytes / f->ack_s : 0;
-    return carried > f->bound ? carried : f->bound;
+    carried = carried > f->bound ? carried : f->bound;
+    double sizes = size_rate(f);
+    *measured = sizes > 0;
+    return sizes > carried ? sizes : carried;
 }

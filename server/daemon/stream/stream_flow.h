@@ -44,11 +44,24 @@
  *   the client or of a loaded host, is no queue) and holds for
  *   LC_FLOW_RTT_HORIZON seconds after the last; a new measurement after that
  *   starts afresh.
+ * - from sizes, where no frame waited: a frame's send-to-ack time is the
+ *   round trip plus its bytes over the rate (plus any wait), so two frames of
+ *   different sizes give the rate by their difference,
+ *       rate = (B - b) / (T - t)
+ *   with b, t the moving frame of the lowest send-to-ack time within the
+ *   horizon (the least waiting) and B, T the frame of the most bytes per
+ *   send-to-ack time within it (a still, or a gesture's first, larger moving
+ *   frame: the largest that did not wait), where B is at least
+ *   LC_FLOW_SIZE_RATIO times b and T exceeds t. A wait of either frame
+ *   lengthens T - t and lowers the figure, never raises it past the rate
+ *   (up to the timing noise of t). It is what fits the moving frames on a
+ *   link that carries them with room to spare, where none waits.
  * - carried: the same over every ack of a moving frame within a gesture, what
  *   the link was seen to carry, or where higher the most bytes over
  *   send-to-ack time of one frame within the horizon, a still too (its bytes
  *   crossed the link before its ack left): lower bounds of the rate, which is
- *   all that is known where no frame waited.
+ *   all that is known where no frame waited and the sizes tell nothing (a
+ *   wide link, whose transfers vanish in the timing noise).
  *
  * No locking and no clock here: the session calls these under its lock with
  * lc_now(), and the unit test with simulated times. */
@@ -64,6 +77,7 @@
 #define LC_FLOW_FRAME_GAIN 0.25 /* weight of a new render time in frame_s, of a new ack gap in ack_s */
 #define LC_FLOW_WAITS 3 /* acks of frames that waited before their spacing counts as the link's rate */
 #define LC_FLOW_ACK_GAP_MAX 1.0 /* seconds between acks beyond which the next starts a new gesture */
+#define LC_FLOW_SIZE_RATIO 2.0 /* bytes of the larger frame over the smaller's for a rate from sizes */
 
 typedef struct lc_stream_flow {
     int ceiling;                             /* the most frames unacknowledged (the hello's window) */
@@ -88,6 +102,8 @@ typedef struct lc_stream_flow {
     double wait_at;                          /* when such an ack last came (0: never) */
     int waits;                               /* such acks since the measurement began */
     double bound, bound_at;                  /* the highest bytes / send-to-ack of one frame, and when */
+    double bound_bytes, bound_s;             /* that frame's bytes and send-to-ack time */
+    double small_bytes, small_s, small_at;   /* the moving frame of the lowest send-to-ack: bytes, time, when */
 } lc_stream_flow;
 
 /* A flow before any frame, under the client's ceiling (1..LC_PROTO_MAX_WINDOW). */
@@ -103,8 +119,9 @@ void lc_stream_flow_forget(lc_stream_flow *f, uint64_t id);
 /* A frame took seconds to render: the window follows. */
 void lc_stream_flow_rendered(lc_stream_flow *f, double seconds);
 /* The link's throughput in bytes per second: *measured true where frames
- * waited on it within the horizon (its rate), false where none did (what it
- * carried, a lower bound; 0 before an ack). */
+ * waited on it within the horizon, or a larger frame's transfer told it from
+ * a smaller's (its rate), false otherwise (what it carried, a lower bound; 0
+ * before an ack). */
 double lc_stream_flow_link_rate(const lc_stream_flow *f, bool *measured);
 
 #endif

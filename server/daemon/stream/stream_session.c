@@ -10,6 +10,8 @@
 #include "metrics.h"
 #include "still_stages.h"
 
+#define MOD "session"
+
 /* A session's first frame on a dataset of this many primitives or more is
  * rendered at the coarse end of the ladder, as a moving frame would be, and
  * the full-quality still follows at once: an image within a fraction of the
@@ -163,8 +165,19 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         bool measured;
         double rate = lc_stream_flow_link_rate(&st->flow, &measured);
         lc_stream_frame_size(cfg, st->css_width, st->css_height, st->device_pixel_ratio, scale, &w, &h);
+        lc_fit before = st->fit;
         lc_stream_fit(measured ? rate : 0, measured ? 0 : rate, cfg->frame_budget_ms / 1000.0, &st->fit_ref,
                       (double)w * h, st->interactive_quality, &st->fit);
+        /* Until a moving frame has gone out, frames are fitted from the still,
+         * whose bytes per pixel (antialiased, full detail) are less than half a
+         * moving frame's: a smaller rung after the first would leap in quality
+         * (the tornado over 2 Mbit/s: 388x304 at 30, then 243x190 at 85 and
+         * 12 kB where 5 kB was predicted). So such fits never climb. */
+        if (st->fit_ref.still && st->fit_from_still) {
+            st->fit.quality = before.quality < st->fit.quality ? before.quality : st->fit.quality;
+            st->fit.scale = before.scale < st->fit.scale ? before.scale : st->fit.scale;
+        }
+        st->fit_from_still = st->fit_ref.still;
         out->quality = st->fit.quality;
         scale *= st->fit.scale;
     }
@@ -182,6 +195,9 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     st->rendering = true;
     st->render_began = now;
     st->dirty = false;
+    LC_DEBUG(MOD, "flow %s begin %llu seq %llu moving %d at %.4f unacked %d window %d q %d", s->id,
+             (unsigned long long)out->frame, (unsigned long long)out->camera_seq, interactive, now, st->unacked,
+             st->window, out->quality);
     if (st->updates_since_frame > 1) {
         lc_metrics_coalesced(s->srv->metrics, st->updates_since_frame - 1);
         st->coalesced += st->updates_since_frame - 1;
@@ -209,6 +225,7 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
     pthread_mutex_lock(&s->lock);
     lc_stream *st = &s->stream;
     st->rendering = false;
+    LC_DEBUG(MOD, "flow %s done %llu at %.4f", s->id, (unsigned long long)f->frame, lc_now());
     if (ok && f->interactive) { /* the moving frames' rate is the one the window covers the round trip at */
         lc_stream_flow_rendered(&st->flow, lc_now() - st->render_began);
         st->window = st->flow.window;
@@ -296,6 +313,9 @@ bool lc_session_stream_client_ack(lc_session *s, uint64_t frame, double now)
         drop_outstanding(&s->stream, frame, false);
         lc_stream_flow_acked(&s->stream.flow, frame, now);
         s->stream.window = s->stream.flow.window;
+        LC_DEBUG(MOD, "flow %s ack %llu at %.4f window %d rtt %.4f link_s %.4f frame_s %.4f", s->id,
+                 (unsigned long long)frame, now, s->stream.window, s->stream.flow.rtt, s->stream.flow.link_s,
+                 s->stream.flow.frame_s);
         s->last_used = lc_now();
     }
     pthread_mutex_unlock(&s->lock);
@@ -313,9 +333,13 @@ bool lc_session_stream_sent(lc_session *s, uint64_t frame, size_t bytes, int qua
     }
     s->stream.last_sent = frame;
     bool moving = s->stream.last_interactive;
-    if (bytes > 0 && pixels > 0 && (moving || s->stream.fit_ref.bytes <= 0 || s->stream.fit_ref.still))
+    if (bytes > 0 && pixels > 0 && (moving || s->stream.fit_ref.bytes <= 0 || s->stream.fit_ref.still)) {
         s->stream.fit_ref = (lc_fit_ref){(double)bytes, quality, (double)pixels, !moving};
+        s->stream.fit_from_still = false;
+    }
     lc_stream_flow_sent(&s->stream.flow, frame, moving, (double)bytes, lc_now());
+    LC_DEBUG(MOD, "flow %s sent %llu at %.4f bytes %zu moving %d", s->id, (unsigned long long)frame, lc_now(), bytes,
+             moving);
     pthread_mutex_unlock(&s->lock);
     return true;
 }

@@ -26,12 +26,15 @@ void lc_line_primitive_configure(lc_renderer *r)
     r->line_path = -1;
 }
 
-/* The rule: ribbons on every device. On llvmpipe the line strips draw the
- * opaque pass of the 891k-segment MD file about 1.2 times as fast (half the
- * vertex shading: one vertex a line vertex where a ribbon has two), but a
- * wide line ends square to its major axis where a ribbon is mitred, and the
- * images move further from the ribbons' than the SSIM 0.999 that a change of
- * primitive may cost (docs/EVALUATION.md, lines as one primitive). */
+/* The rule: ribbons on every device. On llvmpipe the line strips cost the
+ * geometry front end less (one vertex a line vertex where a ribbon has two,
+ * one primitive a segment where it has two), but each shades the fragments
+ * of the frame's widest ribbon at its worst angle, and alternated stills of
+ * the MD file ranged from 0.6 to 2.5 times the ribbons' time on the shared
+ * host; and a wide line ends square to its major axis where a ribbon ends
+ * square to the line and is mitred at joins, so the images move further
+ * from the ribbons' (SSIM 0.90-0.98 on real data) than the 0.999 that a
+ * change of primitive may cost (docs/EVALUATION.md, lines as one primitive). */
 static int rule(int override) { return override >= 0 ? override : 0; }
 
 const char *lc_line_path_name(void) { return rule(env_override()) ? "lines" : "ribbons"; }
@@ -72,12 +75,14 @@ static double widest_half_px(const lc_frame_setup *fs, int h, int out_h)
 
 /* A wide line that is not antialiased covers its width along the minor axis
  * (x for a steep segment, y for a flat one), which is the perpendicular width
- * times 1/cos of the angle to the major axis, at most sqrt(2); a pixel more
- * on each side takes the rounding of the line's edges. */
+ * times 1/cos of the angle to the major axis, at most sqrt(2). Both decide
+ * coverage at pixel centres, so that covers every centre of the ribbon; a
+ * quarter pixel each side takes rounding. Every pixel beyond costs a
+ * fragment that is shaded only to be discarded. */
 double lc_line_primitive_width(const lc_frame_setup *fs, int h, int out_h)
 {
     double half = widest_half_px(fs, h, out_h);
-    return half > 0 ? 2.0 * (half * sqrt(2.0) + 1.0) : 0.0;
+    return half > 0 ? 2.0 * (half * sqrt(2.0) + 0.25) : 0.0;
 }
 
 int lc_frame_line_primitive(const lc_renderer *r, const lc_frame_setup *fs)

@@ -10,7 +10,9 @@ then the time from hello to the first picture and to the final still (issue 49: 
 segments).
 
   tests/bench/still_bench.py build/lucent build/real-data/lammps/lj_melt.dump [--size 972x761]
-        [--server-args "..."] [--env NAME=VALUE ...]
+        [--server-args "..."] [--env NAME=VALUE ...] [--one-shot]
+With --one-shot it then renders the same request (dataset and size) over HTTP and prints the X-Lucent headers
+(the passes' times), side by side with the session's still.
 """
 import argparse
 import asyncio
@@ -75,12 +77,23 @@ def main():
     ap.add_argument("--server-args", default="")
     ap.add_argument("--env", action="append", default=[], help="NAME=VALUE for the daemon")
     ap.add_argument("--timeout", type=float, default=300)
+    ap.add_argument("--one-shot", action="store_true", help="then render the same request over HTTP")
     args = ap.parse_args()
     w, h = (int(x) for x in args.size.split("x"))
     env = dict(e.split("=", 1) for e in args.env)
     with Server(args.binary, *args.server_args.split(), data=(args.dataset,), demo_size=0, env=env,
                 timeout=600) as srv:
         rows = asyncio.run(session(srv, served_name(args.dataset), w, h, args.timeout))
+        if args.one_shot:  # the same request over HTTP, for the passes' times side by side
+            t0 = time.monotonic()
+            st, hdrs, body = srv.request("POST", "/api/v1/render",
+                                         {"dataset": served_name(args.dataset), "width": w, "height": h,
+                                          "format": "png"}, timeout=args.timeout)
+            print("one-shot POST /api/v1/render: %d in %.2f s%s" %
+                  (st, time.monotonic() - t0, "" if st == 200 else ": " + body[:300].decode(errors="replace")))
+            for k, v in sorted(hdrs.items()):
+                if k.startswith("x-lucent"):
+                    print("  %s: %s" % (k, v[:400]))
     if rows:
         print("first picture %.2f s after hello, final still %.2f s (%d frames)" % (rows[0][0], rows[-1][0], len(rows)))
     print("load: %s" % open("/proc/loadavg").read().strip())

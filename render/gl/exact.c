@@ -67,6 +67,7 @@ typedef struct build_programs {
     GLuint build[2][3];      /* [list pass][primitive type] */
     GLuint build_eq[3];      /* list pass 1 keeping colour bins (color.equalize) */
     GLuint build_pulled[3];  /* lines segment by segment (a time window), [list pass + equalize] */
+    GLuint build_lines[3];   /* lines as wide line strips (line_primitive.c), the same */
     GLuint build_sprites[3]; /* points as GL points (lc_frame_point_sprites), [list pass + equalize] */
 } build_programs;
 
@@ -107,11 +108,12 @@ static exact_state *get_state(lc_renderer *r)
     return st;
 }
 
-static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, int pulled, int sprites,
-                            int context, lc_error *err)
+static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_type prim, int pulled, int lines,
+                            int sprites, int context, lc_error *err)
 {
     build_programs *set = &st->programs[context != 0];
     GLuint *slot = sprites    ? &set->build_sprites[pass + equalize]
+                   : lines    ? &set->build_lines[pass + equalize]
                    : pulled   ? &set->build_pulled[pass + equalize]
                    : equalize ? &set->build_eq[prim]
                               : &set->build[pass][prim];
@@ -122,13 +124,15 @@ static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_typ
                                      "exact_build.frag.glsl", NULL};
     char defines[224], label[64];
     /* Pass 1 reads the element opacities in the vertex shader (v_alpha). */
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s%s%s",
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s%s%s%s",
              (int)prim, pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "",
-             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
+             pulled ? "#define PULL_PRIMITIVES 1\n" : "", lines ? "#define LINE_PRIMITIVE 1\n" : "",
+             sprites ? "#define POINT_SPRITES 1\n" : "",
              context ? "#define CONTEXT_DEPTH 1\n" : "");
     snprintf(label, sizeof label, "exact list pass %d%s (%s%s%s)", pass, equalize ? " equalize" : "",
              lc_prim_type_name(prim),
-             pulled    ? ", pulled"
+             lines     ? ", lines"
+             : pulled  ? ", pulled"
              : sprites ? ", sprites"
                        : "",
              context ? ", context" : "");
@@ -296,6 +300,7 @@ static int build_lists(lc_renderer *r, exact_state *st, const lc_frame_setup *fs
             continue;
         lc_prim_type prim = lf->gs->scene->type;
         GLuint prog = build_program(st, pass, equalize, prim, lc_pulls_primitives(prim, 1, lf->pull_lines),
+                                    prim == LC_PRIM_LINES && lf->line_primitive && !lf->pull_lines,
                                     prim == LC_PRIM_POINTS && lf->point_sprites, r->context_layers, err);
         if (!prog)
             return LC_ERR_GL;
@@ -539,6 +544,8 @@ void lc_exact_destroy(lc_renderer *r)
                 glDeleteProgram(set->build_eq[prim]);
             if (set->build_pulled[prim])
                 glDeleteProgram(set->build_pulled[prim]);
+            if (set->build_lines[prim])
+                glDeleteProgram(set->build_lines[prim]);
             if (set->build_sprites[prim])
                 glDeleteProgram(set->build_sprites[prim]);
         }

@@ -32,6 +32,7 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
     lc_pipeline_configure((const char *)glGetString(GL_RENDERER));
     lc_fragment_list_configure((const char *)glGetString(GL_RENDERER));
     lc_compute_raster_configure((const char *)glGetString(GL_RENDERER));
+    lc_line_primitive_configure(r);
     r->raster_path = -1;
     glCreateVertexArrays(1, &r->vao);
     /* Line ribbons are strips separated by LC_STRIP_RESTART (gpu_scene.c);
@@ -90,14 +91,14 @@ void lc_renderer_destroy(lc_renderer *r)
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
         for (int p = 0; p < 3; p++)
             for (int b = 0; b <= LC_MAX_BANDS; b++)
-                for (int v = 0; v < 2; v++)
+                for (int v = 0; v < 3; v++)
                     for (int c = 0; c < 2; c++)
                         if (r->geometry_programs[k][p][b][v][c])
                             glDeleteProgram(r->geometry_programs[k][p][b][v][c]);
     for (int k = 0; k < PROG_GEOMETRY_KINDS; k++)
         for (int p = 0; p < 3; p++)
             for (int b = 0; b <= LC_MAX_BANDS; b++)
-                for (int v = 0; v < 2; v++)
+                for (int v = 0; v < 3; v++)
                     if (r->floor_programs[k][p][b][v])
                         glDeleteProgram(r->floor_programs[k][p][b][v]);
     for (int k = 0; k < PROG_FIXED_KINDS - PROG_GEOMETRY_KINDS; k++)
@@ -286,6 +287,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     fs.renderer = r;
     r->draw_yields = r->yield_cut = 0;
     r->pull_lines = 0;     /* lc_filter_prepare sets it for a time window */
+    r->line_primitive = 0; /* set below for a frame of one line dataset */
     lc_filter_frame_begin(r);
     r->context_layers = 0; /* lc_context_draw sets it */
     if (!p.has_camera) /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
@@ -365,6 +367,14 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
                          : 1;
     if ((rc = lc_line_subset_prepare(r, &fs, err)) != 0)
         return rc;
+    /* Wide line strips stand for the ribbons where they can (line_primitive.c):
+     * on frames that draw every segment of one dataset's strips (no layers, no
+     * time window's segment-by-segment draw, no moving frame's kept lines). */
+    if (!fs.layer_count && !fs.pull_lines && !(fs.kept_line_indices[0] + fs.kept_line_indices[1]) &&
+        lc_frame_line_primitive(r, &fs))
+        fs.line_primitive = r->line_primitive = 1;
+    if (info)
+        info->line_primitive = fs.line_primitive;
     r->progress_planned = r->progress_done = 0;
     for (int i = 0; i < LC_PASS_COUNT; i++)
         if (plan.run[pass_order[i]] != LC_RUN_NONE)

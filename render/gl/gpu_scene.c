@@ -50,10 +50,10 @@ static void layout_bytes(const lc_scene *s, const lc_gpu_scene_desc *desc, lc_bl
     m->vertex_elements = lc_pack_blend_bytes(blend, n);
     uint64_t prims = lc_scene_primitive_count(s);
     /* Lines: ribbon strips (renderer_internal.h; the pulled subset path reads
-     * the same buffer); triangles: the scene's own index buffer. The coarser
+     * the same buffer) and the line strips of half their length; triangles: the scene's own index buffer. The coarser
      * levels of detail hold at most as much again (lod.h), which an estimate
      * counts in full. */
-    m->indices = s->type == LC_PRIM_LINES       ? strip_indices(prims, s->line_count) * 4
+    m->indices = s->type == LC_PRIM_LINES       ? strip_indices(prims, s->line_count) * 4 * 3 / 2
                  : s->type == LC_PRIM_TRIANGLES ? prims * 12
                                                 : 0;
     if (!built)
@@ -209,6 +209,11 @@ static int upload_line_level(lc_gpu_scene *gs, const uint32_t *pairs, uint64_t k
         runs[2 * nr - 1] = (uint32_t)(n - runs[2 * nr - 2]);
     lc_gpu_level *lv = &gs->levels[gs->level_count++];
     lv->indices = lc_gl_buffer(strip, n * sizeof(uint32_t), &gs->bytes);
+    /* The line strip (one wide line a segment, line_primitive.c): strip
+     * entry 2k is side -1 of a line vertex, or a restart. */
+    for (uint64_t i = 0; i < n / 2; i++)
+        strip[i] = strip[2 * i] == LC_STRIP_RESTART ? LC_STRIP_RESTART : strip[2 * i] >> 1;
+    lv->line_indices = lc_gl_buffer(strip, n / 2 * sizeof(uint32_t), &gs->bytes);
     lv->runs = lc_gl_buffer(runs, (size_t)nr * 2 * sizeof(uint32_t), &gs->bytes);
     lv->run_count = nr;
     free(runs);
@@ -332,6 +337,8 @@ void lc_gpu_scene_destroy(lc_gpu_scene *gs)
     for (int i = 0; i < gs->level_count; i++) {
         lc_gpu_level *lv = &gs->levels[i];
         glDeleteBuffers(1, &lv->indices);
+        if (lv->line_indices)
+            glDeleteBuffers(1, &lv->line_indices);
         glDeleteBuffers(1, &lv->runs);
         free(lv->breaks);
     }

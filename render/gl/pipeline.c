@@ -175,7 +175,8 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     int out_h = fs->tiled ? fs->frame_height : fs->height;
     glUseProgram(prog);
     glBindVertexArray(r->vao);
-    glVertexArrayElementBuffer(r->vao, level->indices);
+    int line_strips = fs->line_primitive && gs->scene->type == LC_PRIM_LINES; /* line_primitive.c */
+    glVertexArrayElementBuffer(r->vao, line_strips ? level->line_indices : level->indices);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_POSITIONS, gs->positions);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAMES, gs->frames);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ATTRIBUTES, gs->attributes);
@@ -274,6 +275,12 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     if (fs->pixel_depth_range)
         glBindTextureUnit(TEX_PIXEL_RANGE,
                           tile || (w == fs->width && h == fs->height) ? r->range_full.tex[0] : r->range_low.tex[0]);
+    /* Wide lines (line_primitive.c) as wide as this pass's widest ribbon;
+     * the fragments find their distance from the segment in window pixels. */
+    if (line_strips) {
+        glLineWidth((GLfloat)lc_line_primitive_width(fs, h, out_h));
+        lc_uniform_v2(prog, "u_window_origin", vx, vy);
+    }
     glViewport(vx - guard, vy - guard, w + 2 * guard, h + 2 * guard);
 }
 
@@ -366,8 +373,12 @@ static void draw_strips(const lc_frame_setup *fs, const lc_gpu_level *lv, uint64
         uint64_t end = i < lv->break_count ? lv->breaks[i] : lv->index_count;
         if (end - start < batch && i < lv->break_count)
             continue;
-        glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(end - start), GL_UNSIGNED_INT,
-                       (const void *)(uintptr_t)(start * sizeof(uint32_t)));
+        if (fs->line_primitive) /* the line strip holds every other index of the ribbon strip */
+            glDrawElements(GL_LINE_STRIP, (GLsizei)((end - start) / 2), GL_UNSIGNED_INT,
+                           (const void *)(uintptr_t)(start / 2 * sizeof(uint32_t)));
+        else
+            glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(end - start), GL_UNSIGNED_INT,
+                           (const void *)(uintptr_t)(start * sizeof(uint32_t)));
         start = end;
         if (batch < lv->index_count) {
             end_batch(in_flight, k++);

@@ -129,8 +129,10 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     /* lc_renderer_set_floor's empty shaders: a variant of their own, never
      * with a context layer (the floor is measured on plain frames). */
     int floor = r->floor == LC_FLOOR_EMPTY_SHADER && !context;
-    GLuint *slot = floor ? &r->floor_programs[kind][prim][bands][pulled | sprites]
-                         : &r->geometry_programs[kind][prim][bands][pulled | sprites][context];
+    int lines = prim == LC_PRIM_LINES && r->line_primitive && !pulled; /* wide line strips (line_primitive.c) */
+    int variant = lines ? 2 : pulled | sprites;
+    GLuint *slot = floor ? &r->floor_programs[kind][prim][bands][variant]
+                         : &r->geometry_programs[kind][prim][bands][variant][context];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -175,11 +177,12 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT || kanzler ||
                  kind == PROG_SHADOW_DIRECT;
     char defines[400];
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s", (int)prim, bands,
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s%s", (int)prim, bands,
              bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "",
              reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
              pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
-             context ? "#define CONTEXT_DEPTH 1\n" : "", floor ? "#define FLOOR_EMPTY 1\n" : "",
+             lines ? "#define LINE_PRIMITIVE 1\n" : "", context ? "#define CONTEXT_DEPTH 1\n" : "",
+             floor ? "#define FLOOR_EMPTY 1\n" : "",
              kind == PROG_P1_LIST              ? "#define RECORD_FRAGMENTS 1\n"
              : kind == PROG_DEPTH_MOMENTS_LIST ? "#define RECORD_FRAGMENTS 1\n#define FRAGMENT_CHAINS 1\n"
              : kind == PROG_P4_LIST            ? "#define COMPOSITE_LIST 1\n"
@@ -189,7 +192,8 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                                                : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,
-             pulled    ? ", subset"
+             lines     ? ", lines"
+             : pulled  ? ", subset"
              : sprites ? ", sprites"
                        : "",
              context ? ", context" : "");

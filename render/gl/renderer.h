@@ -229,6 +229,7 @@ typedef struct lc_frame_info {
     int opacity_from_list; /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
     int importance_from_list; /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
     int computed_passes; /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
+    int line_primitive;  /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;
@@ -406,6 +407,17 @@ const char *lc_raster_path_name(const char *gl_renderer, lc_raster_pass pass, lc
 /* Forces the path of P4 and P5 for the frames that follow: 0 drawn, 1 computed
  * where the compute rasterizer applies, -1 the device's rule (the default). */
 void lc_renderer_set_raster_path(lc_renderer *r, int path);
+/* The form line segments draw in, LUCENT_LINE_PRIMITIVE (0 ribbons, 1 lines)
+ * included: "lines" (wide line strips, one primitive a segment, where a frame
+ * draws every segment of one dataset and its ribbons are no wider than the
+ * device's lines) or "ribbons" (triangle strips, two triangles a segment).
+ * No GL calls; any thread. */
+const char *lc_line_path_name(void);
+/* Forces the form of the frames that follow: 0 ribbons, 1 lines where they
+ * fit, -1 the device's rule (the default). */
+void lc_renderer_set_line_path(lc_renderer *r, int path);
+/* The widest line the device draws (GL_ALIASED_LINE_WIDTH_RANGE), pixels. */
+float lc_renderer_line_width_max(const lc_renderer *r);
 
 /* After a frame of params p above LC_LARGE_FRAME_PIXELS (a 4096^2 still; no
  * stream frame is that large): renders p once more at 8x8 (so that the

@@ -140,6 +140,9 @@ typedef struct lc_gpu_level {
                                  draws, and the SSBO that subset draws pull from */
     uint64_t primitive_count; /* points, segments or triangles */
     double error;             /* world units (0 for level 0) */
+    /* Lines: the same runs as line strips, one index a line vertex (every
+     * other index of the ribbon strip, halved; line_primitive.c). */
+    GLuint line_indices;
     /* Lines: the strip's length in indices, and offsets of run starts at least
      * STRIP_BREAK_SPACING indices apart where a batched draw may split it. */
     uint64_t index_count;
@@ -231,13 +234,14 @@ struct lc_renderer {
     GLuint colormap_tex[16];
     int colormap_count;
     /* [kind][primitive][bands][variant][context]: lines and triangles 1 =
-     * pulled (the unindexed subset variant), points 1 = GL point sprites;
-     * context 1 = with the opaque context's depth test (r->context_layers) */
-    GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2][2];
+     * pulled (the unindexed subset variant), points 1 = GL point sprites,
+     * lines 2 = one GL_LINES primitive a segment (r->line_primitive); context
+     * 1 = with the opaque context's depth test (r->context_layers) */
+    GLuint geometry_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][3][2];
     /* lc_renderer_set_floor: the mode, and the FLOOR_EMPTY variants of the
      * geometry programs ([kind][primitive][bands][variant]), built on use. */
     lc_floor_mode floor;
-    GLuint floor_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][2];
+    GLuint floor_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][3];
     /* fragment_list.c: P1's fragments (16 bytes each after a 16-byte count),
      * the capacity allocated, the largest count seen, and whether this
      * frame's P1 filled it (fragment_count of them). */
@@ -338,6 +342,12 @@ struct lc_renderer {
     /* filter.c: this frame's lines draw as pulled segments (a time window hides
      * single segments, which shared ribbon strip vertices cannot). */
     int pull_lines;
+    /* line_primitive.c: this frame's line segments draw as wide GL_LINES
+     * (pulled, so pull_lines is set too); the driver's widest line; the path
+     * lc_renderer_set_line_path forces (-1: the rule). */
+    int line_primitive;
+    float line_width_max;
+    int line_path;
     /* This frame has an opaque context layer whose depth the transparent
      * passes test (context.c): their programs are the CONTEXT_DEPTH variants. */
     int context_layers;
@@ -448,6 +458,7 @@ typedef struct lc_frame_setup {
     int filtered;
     GLuint filter_mask;
     int pull_lines;    /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
+    int line_primitive; /* segments draw as wide GL_LINES (line_primitive.c; r->line_primitive) */
     int point_sprites; /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
     int p1_subset;     /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
     int p1_done;       /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
@@ -773,6 +784,18 @@ int lc_renderer_batch_yield(const lc_frame_setup *fs);
 /* Reads the device's float atomics and the LUCENT_COMPUTE_RASTER override
  * (0 drawn, 1 compute where supported); at renderer creation. */
 void lc_compute_raster_configure(const char *gl_renderer);
+
+/* ---- line_primitive.c: lines as one primitive a segment */
+/* Reads the device's line width range and LUCENT_LINE_PRIMITIVE (0 ribbons,
+ * 1 lines where they fit); at renderer creation, its context current. */
+void lc_line_primitive_configure(lc_renderer *r);
+/* Whether frame fs (its view set) draws its line segments as wide lines:
+ * the rule or the forced path, and a bounded ribbon width the device's
+ * lines reach. */
+int lc_frame_line_primitive(const lc_renderer *r, const lc_frame_setup *fs);
+/* The GL line width that covers every ribbon of fs in a pass of height h
+ * whose output is out_h pixels high; 0 where no bound exists. */
+double lc_line_primitive_width(const lc_frame_setup *fs, int h, int out_h);
 /* Whether pass `pass` of frame fs with the given subset stride runs computed. */
 int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass, int subset);
 /* The program of P4, P5 or their direct variants for points or lines; 0 on error. */

@@ -142,16 +142,20 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
                        int frames, uint8_t *rgba, lc_error *err)
 {
     enum { MODES = LC_FLOOR_COUNT, COLS = LC_PASS_COUNT + 2 }; /* passes, gpu, wall */
-    double *t = calloc((size_t)MODES * COLS * (size_t)frames, sizeof *t);
+    /* Lines: every mode with ribbons and with wide line strips, alternated too. */
+    int forms = s->type == LC_PRIM_LINES ? 2 : 1;
+    double *t = calloc((size_t)MODES * COLS * (size_t)frames * (size_t)forms, sizeof *t);
     if (!t)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     lc_frame_info info = {0};
     int rc = 0, ran[LC_PASS_COUNT] = {0}, tries[LC_FLOOR_COUNT] = {0}, listed[LC_FLOOR_COUNT] = {0},
         summed[LC_FLOOR_COUNT] = {0}, computed = 0;
     for (int f = -1; f < frames && !rc; f++)
-        for (int m = 0; m < MODES && !rc; m++) {
+        for (int k = 0; k < forms * MODES && !rc; k++) {
+            int form = k / MODES, m = k % MODES;
             lc_renderer_set_floor(g->renderer, (lc_floor_mode)m);
             lc_renderer_set_raster_path(g->renderer, 0);
+            lc_renderer_set_line_path(g->renderer, forms > 1 ? form : -1);
             rc = lc_render_frame(g->renderer, gs, params, NULL, 0.0, rgba, &info, err);
             if (rc || f < 0)
                 continue;
@@ -160,7 +164,7 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
             summed[m] = info.importance_from_list;
             if (m == LC_FLOOR_COMPUTE)
                 computed = info.computed_passes;
-            double *row = t + ((size_t)m * COLS) * frames;
+            double *row = t + ((size_t)(form * MODES + m) * COLS) * frames;
             /* Per traversal: the clarity loop runs P2 (and P3) once a try. */
             int per = info.clarity_tries > 1 ? info.clarity_tries : 1;
             for (int p = 0; p < LC_PASS_COUNT; p++) {
@@ -172,9 +176,13 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
         }
     lc_renderer_set_floor(g->renderer, LC_FLOOR_FULL);
     lc_renderer_set_raster_path(g->renderer, -1);
-    if (!rc) {
-        printf("%s: %llu primitives, %dx%d, medians of %d rounds (ms)\n", s->name,
-               (unsigned long long)lc_scene_primitive_count(s), params->width, params->height, frames);
+    lc_renderer_set_line_path(g->renderer, -1);
+    for (int form = 0; form < forms && !rc; form++) {
+        printf("%s: %llu primitives, %dx%d, medians of %d rounds (ms)%s\n", s->name,
+               (unsigned long long)lc_scene_primitive_count(s), params->width, params->height, frames,
+               forms < 2     ? ""
+               : form == 0 ? ", lines as ribbons (two triangles a segment)"
+                           : ", lines as wide line strips (one primitive a segment, where they fit)");
         printf("  %-14s", "pass");
         for (int m = 0; m < MODES; m++)
             printf(" %13s", lc_floor_mode_name((lc_floor_mode)m));
@@ -184,7 +192,7 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
                 continue;
             double med[MODES];
             for (int m = 0; m < MODES; m++)
-                med[m] = median(t + ((size_t)m * COLS + c) * frames, frames);
+                med[m] = median(t + ((size_t)(form * MODES + m) * COLS + c) * frames, frames);
             printf("  %-14s", c < LC_PASS_COUNT ? lc_pass_name(c) : c == LC_PASS_COUNT ? "gpu total" : "wall");
             for (int m = 0; m < MODES; m++)
                 printf(" %13.1f", med[m]);
@@ -200,6 +208,9 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
                computed & (1 << LC_RASTER_P5) ? "compute rasterizer" : "drawn (not applicable)",
                lc_raster_path_name(lc_gl_renderer(g->gl), LC_RASTER_P4, s->type),
                lc_raster_path_name(lc_gl_renderer(g->gl), LC_RASTER_P5, s->type));
+        if (forms > 1 && form == 1)
+            printf("  lines: this device's rule: %s; widest line %.0f px (GL_ALIASED_LINE_WIDTH_RANGE)\n\n",
+                   lc_line_path_name(), lc_renderer_line_width_max(g->renderer));
     }
     free(t);
     return rc;

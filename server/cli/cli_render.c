@@ -478,6 +478,8 @@ int lc_cli_info(int argc, char **argv)
            lc_raster_path_name("llvmpipe", LC_RASTER_P4, s->type), lc_raster_path_name("llvmpipe", LC_RASTER_P5, s->type),
            lc_raster_path_name("GPU", LC_RASTER_P4, s->type), lc_raster_path_name("GPU", LC_RASTER_P5, s->type),
            getenv("LUCENT_COMPUTE_RASTER") ? " (LUCENT_COMPUTE_RASTER)" : "");
+    if (s->type == LC_PRIM_LINES)
+        printf("segments    %s%s\n", lc_line_path_name(), getenv("LUCENT_LINE_PRIMITIVE") ? " (LUCENT_LINE_PRIMITIVE)" : "");
     printf("rgb         %s\n", lc_scene_has_rgb(s) ? "yes" : "no");
     printf("importance  %s (default)\n", s->default_importance[0] ? s->default_importance : "(none: g = 1)");
     printf("color       %s (default)\n", s->default_color);

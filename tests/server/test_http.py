@@ -23,8 +23,11 @@ with Server(binary) as srv:
     forced = os.environ.get("LUCENT_COMPUTE_RASTER", "")
     if forced in ("0", "1"):  # the override, where the rasterizer applies
         want["points"] = want["lines"] = "compute" if forced == "1" else "drawn"
-    check(all(paths.get(k) == {"opticalDepth": v, "accumulate": v} for k, v in want.items()),
-          "health says the path of P4 and P5 per primitive type: %s" % paths)
+    # Drawn segments are ribbons unless LUCENT_LINE_PRIMITIVE=1 (line_primitive.c).
+    form = "lines" if os.environ.get("LUCENT_LINE_PRIMITIVE", "") == "1" else "ribbons"
+    check(all(paths.get(k) == dict({"opticalDepth": v, "accumulate": v}, **({"primitive": form} if k == "lines" else {}))
+              for k, v in want.items()),
+          "health says the path of P4 and P5 per primitive type and the lines' primitive: %s" % paths)
 
     st, _, ds = srv.json("GET", "/api/v1/datasets")
     d = ds["datasets"][0] if st == 200 and ds["datasets"] else {}

@@ -64,6 +64,37 @@ flat in uvec3 v_primary;
 in vec2 v_halo;
 #endif
 
+// One-primitive lines (LINE_PRIMITIVE, geometry.vert.glsl): the wide line
+// covers more than the ribbon; a fragment's across coordinate is its distance
+// from the segment's centre line over the ribbon's outer half width, and the
+// ribbon's across-varying outputs (.x of v_quad and v_halo, which the vertices
+// give for the ribbon's +1 side) scale by it. Beyond 1 it is not part of the line.
+#ifdef LINE_PRIMITIVE
+noperspective in vec2 v_centre_px;
+noperspective in float v_outer_px;
+float line_across_cached = -1.0;
+float line_across()
+{
+    // Computed once, at outside_primitive's call on entry to main (in
+    // uniform control flow, where derivatives are defined).
+    if (line_across_cached >= 0.0)
+        return line_across_cached;
+    // The centre line's point the rasterizer interpolated here lies on the
+    // segment, beside the fragment or straight above it (a rasterizer may
+    // interpolate lines along their major axis only); its change per pixel
+    // gives the segment's direction either way.
+    vec2 dx = dFdx(v_centre_px), dy = dFdy(v_centre_px);
+    vec2 t = dot(dx, dx) >= dot(dy, dy) ? dx : dy;
+    vec2 r = FRAG_COORD.xy - v_centre_px;
+    float len2 = dot(t, t);
+    float dist = len2 > 0.0 ? abs(t.x * r.y - t.y * r.x) * inversesqrt(len2) : length(r);
+    line_across_cached = v_outer_px > 0.0 ? dist / v_outer_px : 2.0;
+    return line_across_cached;
+}
+#define v_quad vec2(v_quad.x * line_across(), v_quad.y)
+#define v_halo vec2(v_halo.x * line_across(), v_halo.y)
+#endif
+
 // Depth-dependent halos (style.halo*, Everts et al. 2009; docs/ALGORITHM.md
 // "Perception aids"): in the compositing passes a line's ribbon is widened by
 // a band of u_halo_px pixels whose fragments carry the background colour, the
@@ -114,6 +145,8 @@ bool outside_primitive()
 #endif
 #if PRIM == PRIM_POINTS
     return dot(SPLAT, SPLAT) > 1.0;
+#elif defined(LINE_PRIMITIVE)
+    return line_across() > 1.0;
 #else
     return false;
 #endif

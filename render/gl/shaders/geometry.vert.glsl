@@ -69,24 +69,34 @@ void emit(uint v, vec3 wpos)
     v_halo = vec2(0.0);
 }
 
-// One side of a screen-facing ribbon at line vertex v: offset along
-// cross(tangent, view ray) by the half width (never under the pixel minimum).
-void ribbon_vertex(uint v, float side_sign)
+// The ribbon at line vertex v: its centre p, side vector (cross(tangent, view
+// ray), unit), half width (never under the pixel minimum), outer half width
+// (with the halo band) and the world size of a pixel at its depth.
+void ribbon_frame(uint v, out vec3 p, out vec3 to_cam, out vec3 side, out float half_width, out float outer,
+                  out float pixel)
 {
-    vec3 p = vertex_position(v);
-    vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - p);
+    p = vertex_position(v);
+    to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - p);
     vec3 tangent = vertex_frame(v);
-    vec3 side = cross(tangent, to_cam);
+    side = cross(tangent, to_cam);
     if (dot(side, side) < 1e-12) // tangent along the view ray: any perpendicular works
         side = cross(abs(to_cam.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0), to_cam);
     side = normalize(side);
     float depth = u_ortho != 0 ? u_focal_dist : max(dot(p - u_eye, u_view_dir), 1e-6 * u_focal_dist);
-    float pixel = u_pixel_world * depth / u_focal_dist;
-    float half_width = max(u_line_half_width, u_min_half_pixels * pixel);
+    pixel = u_pixel_world * depth / u_focal_dist;
+    half_width = max(u_line_half_width, u_min_half_pixels * pixel);
     // Depth-dependent halos widen the ribbon by a band beside it (fragment_common.glsl).
-    float outer = half_width;
+    outer = half_width;
     if (u_halo_px > 0.0)
         outer += u_halo_px * pixel;
+}
+
+// The varyings of the ribbon's side side_sign at line vertex v (side_sign 0:
+// its centre, for one-primitive lines, whose fragments scale the across
+// profile and the halo position by their own distance from the centre line).
+void ribbon_outputs(uint v, vec3 p, vec3 to_cam, vec3 side, float half_width, float outer, float pixel,
+                    float side_sign)
+{
     emit(v, p + side * (outer * side_sign));
     v_normal = side;
 #if defined(KANZLER_MAPS) && PRIM == PRIM_LINES
@@ -97,15 +107,38 @@ void ribbon_vertex(uint v, float side_sign)
     // look), so the profile flattens as the ribbon narrows.
     float width_px = 2.0 * half_width / pixel;
     // .y: |<t, v>|, the direct method's angle-based opacities (fragment_common.glsl's view_cosine).
+    vec3 tangent = vertex_frame(v);
     float tlen = length(tangent);
-    v_quad = vec2(side_sign * clamp((width_px - 1.0) / 4.0, 0.0, 0.85),
+    float sign_or_one = side_sign == 0.0 ? 1.0 : side_sign;
+    v_quad = vec2(sign_or_one * clamp((width_px - 1.0) / 4.0, 0.0, 0.85),
                   tlen > 0.0 ? abs(dot(tangent / tlen, to_cam)) : 0.0);
     if (u_halo_px > 0.0) {
         v_quad.x *= outer / half_width; // the same profile across the core
-        v_halo = vec2(side_sign * outer / pixel, half_width / pixel);
+        v_halo = vec2(sign_or_one * outer / pixel, half_width / pixel);
     }
 }
 
+// One side of a screen-facing ribbon at line vertex v: offset along
+// cross(tangent, view ray) by the half width.
+void ribbon_vertex(uint v, float side_sign)
+{
+    vec3 p, to_cam, side;
+    float half_width, outer, pixel;
+    ribbon_frame(v, p, to_cam, side, half_width, outer, pixel);
+    ribbon_outputs(v, p, to_cam, side, half_width, outer, pixel, side_sign);
+}
+
+#ifdef LINE_PRIMITIVE
+// Lines as one wide GL_LINES primitive a segment (docs/ALGORITHM.md, "Lines as
+// one primitive"): the line's width covers the widest ribbon of the frame, and
+// the fragment shader keeps the pixels within the ribbon's half width of the
+// segment's centre line, in window pixels (fragment_common.glsl).
+uniform vec2 u_window_origin;          // the viewport's lower left corner
+noperspective out vec2 v_centre_px;    // the centre line on screen (window pixels)
+noperspective out float v_outer_px;    // the ribbon's outer half width in pixels
+
+vec2 window_of(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * u_viewport + u_window_origin; }
+#endif
 // Cluster representatives (line_clusters.c): a vertex whose bit is clear
 // belongs to a hidden line; its ribbon corners leave the clip volume.
 layout(std430, binding = BIND_LINE_MASK) readonly buffer LineMask { uint line_mask[]; };
@@ -203,6 +236,20 @@ void main()
     ribbon_vertex(v, q.y);
     v_primary = uvec3(vertex_primary(b));
 #endif
+#elif PRIM == PRIM_LINES && defined(LINE_PRIMITIVE)
+    // Indexed line strips: one vertex a line vertex, on the centre line.
+    uint v = uint(gl_VertexID);
+    if (line_hidden(v)) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
+    vec3 p, to_cam, side;
+    float half_width, outer, pixel;
+    ribbon_frame(v, p, to_cam, side, half_width, outer, pixel);
+    ribbon_outputs(v, p, to_cam, side, half_width, outer, pixel, 0.0);
+    v_outer_px = outer / pixel;
+    v_centre_px = window_of(gl_Position);
+    v_primary = uvec3(vertex_primary(v));
 #elif PRIM == PRIM_LINES
     // Indexed ribbon strips: two vertices (sides) per line vertex, shared by the
     // two segments that meet there, so each is shaded once.

@@ -24,11 +24,15 @@ enum MHD_Result lc_http_health(lc_server *srv, struct MHD_Connection *c)
     /* Which path P4 and P5 take per primitive type on this device (compute_raster.c). */
     json_t *paths = json_object();
     static const lc_prim_type prims[] = {LC_PRIM_POINTS, LC_PRIM_LINES, LC_PRIM_TRIANGLES};
-    for (int i = 0; i < 3; i++)
-        json_object_set_new(paths, lc_prim_type_name(prims[i]),
-                            json_pack("{s:s, s:s}", "opticalDepth",
-                                      lc_raster_path_name(srv->gl_renderer, LC_RASTER_P4, prims[i]), "accumulate",
-                                      lc_raster_path_name(srv->gl_renderer, LC_RASTER_P5, prims[i])));
+    for (int i = 0; i < 3; i++) {
+        json_t *path =
+            json_pack("{s:s, s:s}", "opticalDepth", lc_raster_path_name(srv->gl_renderer, LC_RASTER_P4, prims[i]),
+                      "accumulate", lc_raster_path_name(srv->gl_renderer, LC_RASTER_P5, prims[i]));
+        /* and the form drawn segments take (line_primitive.c) */
+        if (prims[i] == LC_PRIM_LINES)
+            json_object_set_new(path, "primitive", json_string(lc_line_path_name()));
+        json_object_set_new(paths, lc_prim_type_name(prims[i]), path);
+    }
     json_object_set_new(o, "rasterPaths", paths);
     json_object_set_new(o, "uptime", json_real(lc_now() - srv->start_time));
     json_object_set_new(o, "datasets", json_integer(lc_datasets_count(srv->datasets)));

@@ -157,6 +157,9 @@ typedef struct lc_clarity_strength {
     double lambda, penalty;
     int stalled; /* a step did not bring the goal nearer: no more steps until the state resets */
     double miss; /* how far the last frame was from the goal (lc_clarity_miss; -1: none yet) */
+    /* Factor on params.smoothing's iterations (1: as given; clarity.c halves
+     * it while smoothing is what keeps the frame from the goal). */
+    double smoothing;
 } lc_clarity_strength;
 
 typedef struct lc_frame_info {
@@ -198,6 +201,9 @@ typedef struct lc_frame_info {
      * §8), at the optimization resolution; 0 when there are none. */
     double important_occluded;
     uint64_t important_fragments; /* the share's denominator */
+    /* The same three opacities over P2's targets before P3's smoothing (the
+     * clarity loop weighs what smoothing cost the goal; clarity.c). */
+    double raw_top_decile_alpha, raw_bottom_half_alpha, raw_occluder_alpha;
     /* Layered frames: the same report for each layer (the totals above are
      * over the transparent layers' elements together; a context layer, drawn
      * opaque, has visible_elements 0). */
@@ -222,6 +228,7 @@ typedef struct lc_frame_info {
     /* params.clarity: the factors on λ and on q and r the frame's opacities
      * used (0: the loop was off; render/gl/clarity.c). */
     double clarity_lambda, clarity_penalty;
+    int clarity_smoothing; /* the smoothing iterations the frame's opacities used (params.smoothing, or fewer) */
     int clarity_tries;     /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
     int clarity_reached;   /* the frame met params.clarity's goal (lc_clarity_miss 0); else the factors are where it stopped */
     int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */

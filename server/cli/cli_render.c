@@ -97,8 +97,9 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
         if (info->clarity_lambda > 0) /* params.clarity: the factors the loop settled on */
             json_object_set_new(
                 o, "clarity",
-                json_pack("{s:f, s:f, s:i, s:b}", "lambdaFactor", info->clarity_lambda, "penaltyFactor",
-                          info->clarity_penalty, "tries", info->clarity_tries, "reached", info->clarity_reached));
+                json_pack("{s:f, s:f, s:i, s:i, s:b}", "lambdaFactor", info->clarity_lambda, "penaltyFactor",
+                          info->clarity_penalty, "smoothing", info->clarity_smoothing, "tries", info->clarity_tries,
+                          "reached", info->clarity_reached));
     }
     if (info->has_color_ticks) /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */
         json_object_set_new(o, "colorTicks",

@@ -201,6 +201,16 @@ typedef struct lc_frame_info {
      * §8), at the optimization resolution; 0 when there are none. */
     double important_occluded;
     uint64_t important_fragments; /* the share's denominator */
+    /* topDecileReach (docs/ALGORITHM.md §8): the top decile's share of the
+     * importance the final composite shows (sum of g alpha T, T the
+     * transmittance in front) over its share of the importance drawn (sum of
+     * g alpha); below 1 hidden behind the rest, above 1 in front of it.
+     * has_reach 0 where not measured (methods other than fourier).
+     * top_decile_g: the lowest importance counted as the top decile's (its
+     * lowest bin); reach_sums: all g w, all g alpha, top g w, top g alpha,
+     * added over a frame's tiles. */
+    int has_reach;
+    double top_decile_reach, top_decile_g, reach_sums[4];
     /* The same three opacities over P2's targets before P3's smoothing (the
      * clarity loop weighs what smoothing cost the goal; clarity.c). */
     double raw_top_decile_alpha, raw_bottom_half_alpha, raw_occluder_alpha;

@@ -114,6 +114,54 @@ void lc_occluders_clear(lc_renderer *r)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_IMPORTANT_OCCLUDED, r->important_occluded);
 }
 
+#define REACH_SLOTS 64 /* p5_accumulate.frag.glsl: four 64-bit sums a slot */
+
+void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs)
+{
+    if (!r->top_reach) {
+        glCreateBuffers(1, &r->top_reach);
+        glNamedBufferStorage(r->top_reach, REACH_SLOTS * 8 * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
+        r->bytes_elements += REACH_SLOTS * 8 * 4;
+    }
+    const uint32_t zero = 0;
+    glClearNamedBufferData(r->top_reach, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_TOP_REACH, r->top_reach);
+    r->reach_g = fs->info && fs->info->has_visibility && fs->info->visible_elements > 0 ? (float)fs->info->top_decile_g
+                                                                                          : 2.0f;
+}
+
+int lc_reach_end(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
+{
+    if (r->reach_g > 1.0f || !fs->info)
+        return 0;
+    uint32_t words[REACH_SLOTS * 8];
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(r->top_reach, 0, sizeof words, words);
+    /* Each sum as 20-bit pieces, so that adding them over MPI ranks cannot
+     * wrap a 32-bit count. */
+    uint32_t parts[4][3];
+    for (int k = 0; k < 4; k++) {
+        uint64_t v = 0;
+        for (int slot = 0; slot < REACH_SLOTS; slot++)
+            v += ((uint64_t)words[8 * slot + 2 * k + 1] << 32) + words[8 * slot + 2 * k];
+        parts[k][0] = (uint32_t)(v & 0xFFFFF), parts[k][1] = (uint32_t)((v >> 20) & 0xFFFFF);
+        parts[k][2] = (uint32_t)(v >> 40);
+    }
+    int rc = lc_reduce_counts(r, &parts[0][0], 12, err);
+    if (rc)
+        return rc;
+    lc_frame_info *info = fs->info;
+    for (int k = 0; k < 4; k++)
+        info->reach_sums[k] += (parts[k][0] + parts[k][1] * 1048576.0 + parts[k][2] * 1099511627776.0) / 65536.0;
+    /* (top's share of the shown importance) / (its share of the drawn importance) */
+    double shown = info->reach_sums[0] > 0 ? info->reach_sums[2] / info->reach_sums[0] : 0.0;
+    double drawn = info->reach_sums[1] > 0 ? info->reach_sums[3] / info->reach_sums[1] : 0.0;
+    info->has_reach = drawn > 0;
+    info->top_decile_reach = drawn > 0 ? shown / drawn : 0.0;
+    return 0;
+}
+
 /* Each element's importance (the mean of its vertices'), in r->importance_cache:
  * kept while the scene and the mapping stay; a layered frame's is computed
  * for every layer's elements at their offsets, each layer with its mapping. */
@@ -340,6 +388,21 @@ static void report(const vis_bins *b, uint32_t *visible, double *top, double *bo
     *occluder = take_weighted(b->n, b->w, b->wa, ceil(0.5 * b->visible));
 }
 
+/* topDecileReach's threshold: the lower edge of the bin where the top decile
+ * starts, less one bin (an element's importance is its vertices' mean summed
+ * in 1/1024 steps, a fragment's is interpolated: they differ by that much). */
+static double top_bin(const vis_bins *b)
+{
+    double want = ceil(0.1 * b->visible), taken = 0;
+    int k = VIS_BINS - 1;
+    for (; k > 0; k--) {
+        taken += b->n[k];
+        if (taken >= want)
+            break;
+    }
+    return (double)(k > 0 ? k - 1 : 0) / VIS_BINS;
+}
+
 int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float *alphas, lc_frame_info *info,
                           lc_error *err)
 {
@@ -416,6 +479,7 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
         info->has_visibility = 1;
         report(&bins[0], &info->visible_elements, &info->top_decile_alpha, &info->bottom_half_alpha,
                &info->occluder_alpha);
+        info->top_decile_g = top_bin(&bins[0]);
         uint32_t visible;
         vis_bins *b = &bins[0];
         memcpy(b->sum, b->raw, sizeof b->sum), memcpy(b->wa, b->wraw, sizeof b->wa);

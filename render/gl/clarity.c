@@ -159,6 +159,7 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_clarity_strength prev = st;
     double prev_top = 0, prev_share = 0;
     int rc = 0;
+    int smoothing_steps = 0; /* tries that only halved the smoothing: not counted in LC_CLARITY_ITERATIONS */
     for (int i = 0;; i++) {
         if (i > 0 && state)
             lc_frame_state_reset(state); /* each try takes its targets whole, as a first frame does */
@@ -193,12 +194,14 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
          * the next try halves its iterations at the same strength (a
          * stronger λ would only be smoothed away again). */
         int smoothed = smoothing_costs(target, info, miss) && p.foo.smoothing > 0;
-        if (smoothed)
-            next.smoothing = given->foo.smoothing * st.smoothing >= 2 ? 0.5 * st.smoothing : 0;
+        if (smoothed) /* at most LC_CLARITY_SMOOTHING_STEPS, the last to none (15, 7, 3, 1, 0) */
+            next.smoothing = given->foo.smoothing * st.smoothing >= 2 && smoothing_steps + 1 < LC_CLARITY_SMOOTHING_STEPS
+                                 ? 0.5 * st.smoothing
+                                 : 0;
         else
             next_strength(&next, target, info, 3.0, gain, fade);
         int same = next.lambda == st.lambda && next.penalty == st.penalty && next.smoothing == st.smoothing;
-        if (miss == 0 || same || stalled || i + 1 == LC_CLARITY_ITERATIONS) {
+        if (miss == 0 || same || stalled || i + 1 - smoothing_steps == LC_CLARITY_ITERATIONS) {
             if (best.lambda != st.lambda || best.penalty != st.penalty || best.smoothing != st.smoothing) {
                 /* the last try was not the best: redo it */
                 if (state)
@@ -210,6 +213,7 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             st.miss = best_miss;
             break;
         }
+        smoothing_steps += smoothed;
         st = next;
     }
     fs->params = given;

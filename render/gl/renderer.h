@@ -148,6 +148,9 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
  * many strengths (P1-P3 each); the cost model charges LC_CLARITY_CHARGED_TRIES
  * (most data meet the goal at the first). */
 #define LC_CLARITY_ITERATIONS 6
+/* Tries that only halve params.smoothing (clarity.c), besides those: the
+ * last of them takes it to none. */
+#define LC_CLARITY_SMOOTHING_STEPS 4
 #define LC_CLARITY_CHARGED_TRIES 2
 /* Whether the loop runs for p: clarity > 0, normalize auto, no explicit q/r/λ,
  * a method whose opacities are optimized (fourier, wboit; exact on its lists). */

@@ -144,6 +144,10 @@ typedef struct lc_frame_header {
     double top_decile_alpha, bottom_half_alpha, covered_fraction;
     double occluder_alpha; /* "occluderAlpha"; 0 when a sender omits it */
     double important_occluded; /* "importantOccluded"; 0 when a sender omits it */
+    /* "topDecileReach" (optional, >= 0): the top decile's share of the
+     * importance shown over its share of the importance drawn. */
+    bool has_reach;
+    double top_decile_reach;
     /* "visibility.layers" (layered frames): each layer's topDecileAlpha,
      * bottomHalfAlpha and occluderAlpha, in the request's layer order. */
     int layer_count;

@@ -580,6 +580,16 @@ static void test_messages(void)
     CHECK(strstr((const char *)out + 4, "\"importantOccluded\":0.375") != NULL, "importantOccluded JSON: %.*s",
           (int)out_len - 4, (const char *)out + 4);
     free(out);
+    /* visibility.topDecileReach (fourier frames) round trips, may pass 1, and is absent without it. */
+    CHECK(!tb.has_reach && !strstr((const char *)out, "topDecileReach"), "no topDecileReach unless measured");
+    v.has_reach = true, v.top_decile_reach = 1.375;
+    CHECK(lc_proto_pack_frame(&v, NULL, 0, &out, &out_len) == 0, "pack topDecileReach");
+    CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_reach &&
+              tb.top_decile_reach == 1.375,
+          "topDecileReach round trip");
+    free(out);
+    v.top_decile_reach = -0.5;
+    CHECK(lc_proto_pack_frame(&v, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "a negative topDecileReach is refused");
     {
         char text[200];
         int n = snprintf(text + 4, sizeof text - 4,

@@ -95,6 +95,8 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
                  "importantOccluded=%.4f",
                  info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction, info->occluder_alpha,
                  info->important_occluded);
+        if (info->has_reach) /* the fourier method measures it (docs/ALGORITHM.md §8) */
+            snprintf(vis + strlen(vis), sizeof vis - strlen(vis), ",topDecileReach=%.4f", info->top_decile_reach);
         MHD_add_response_header(r, "X-Lucent-Visibility", vis);
         char layers[LC_MAX_LAYERS * 48] = "";
         for (int i = 0; i < info->layer_count && i < LC_MAX_LAYERS; i++) { /* layered frames: "top/bottom/occluder;..." */

@@ -130,6 +130,8 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.bottom_half_alpha = e->info.bottom_half_alpha;
         h.occluder_alpha = e->info.occluder_alpha;
         h.important_occluded = e->info.important_occluded;
+        h.has_reach = e->info.has_reach != 0;
+        h.top_decile_reach = e->info.top_decile_reach;
         h.covered_fraction = e->info.covered_fraction;
         h.layer_count = e->info.layer_count;
         for (int i = 0; i < e->info.layer_count && i < LC_MAX_LAYERS; i++) {

@@ -554,9 +554,11 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
             json_decref(o);
             return LC_ERR_INVALID;
         }
-        json_object_set_new(o, "clarity",
-                            json_pack("{s:f, s:f, s:b}", "lambdaFactor", h->clarity_lambda, "penaltyFactor",
-                                      h->clarity_penalty, "reached", (int)h->clarity_reached));
+        json_t *c = json_pack("{s:f, s:f, s:b}", "lambdaFactor", h->clarity_lambda, "penaltyFactor",
+                              h->clarity_penalty, "reached", (int)h->clarity_reached);
+        if (c && h->has_clarity_smoothing)
+            json_object_set_new(c, "smoothing", json_integer(h->clarity_smoothing));
+        json_object_set_new(o, "clarity", c);
     }
     if (o && h->has_surface) {
         if (!isfinite(h->surface_layers)) {
@@ -772,6 +774,13 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         }
         h->clarity_lambda = json_number_value(lf), h->clarity_penalty = json_number_value(pf);
         h->clarity_reached = json_is_true(re);
+        const json_t *sm = json_object_get(cl, "smoothing");
+        if (sm && !(json_is_integer(sm) && json_integer_value(sm) >= 0 && json_integer_value(sm) <= 1000)) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "clarity.smoothing", "expected an integer in [0, 1000]");
+            goto done;
+        }
+        h->has_clarity_smoothing = sm != NULL;
+        h->clarity_smoothing = sm ? (int)json_integer_value(sm) : 0;
         h->has_clarity = true;
     }
     const json_t *surf = json_object_get(o, "surface");

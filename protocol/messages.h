@@ -171,6 +171,8 @@ typedef struct lc_frame_header {
      * the frame used, and whether it met the goal (false: where it stopped). */
     bool has_clarity, clarity_reached;
     double clarity_lambda, clarity_penalty;
+    bool has_clarity_smoothing; /* "clarity.smoothing" (optional): the iterations the loop cut smoothing to */
+    int clarity_smoothing;
     /* "surface" (optional; method surface-layers): curves traced so far, the
      * particles asked for, mean layers per covered pixel, fragments dropped
      * beyond k layers, k (docs/ALGORITHM.md §23). */

@@ -125,6 +125,7 @@ static int try_strength(lc_renderer *r, lc_frame_setup *fs, lc_render_params *p,
     info->clarity_lambda = st.lambda;
     info->clarity_penalty = st.penalty;
     info->clarity_smoothing = p->foo.smoothing;
+    info->clarity_smoothing_cut = p->foo.smoothing < given->foo.smoothing;
     return rc;
 }
 

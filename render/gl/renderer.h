@@ -242,6 +242,7 @@ typedef struct lc_frame_info {
      * used (0: the loop was off; render/gl/clarity.c). */
     double clarity_lambda, clarity_penalty;
     int clarity_smoothing; /* the smoothing iterations the frame's opacities used (params.smoothing, or fewer) */
+    int clarity_smoothing_cut; /* the loop used fewer than params.smoothing (clarity.c) */
     int clarity_tries;     /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
     int clarity_reached;   /* the frame met params.clarity's goal (lc_clarity_miss 0); else the factors are where it stopped */
     int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */

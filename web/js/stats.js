@@ -134,8 +134,9 @@ export function occlusionWarning(v) {
 /** params.clarity's outcome (frame header "clarity") in words: '' when the goal was met or the loop was off. */
 export function clarityNote(c) {
   if (!c || c.reached !== false || typeof c.lambdaFactor !== 'number') return '';
+  const smoothing = typeof c.smoothing === 'number' ? `, smoothing ${c.smoothing} iterations` : '';
   return ` The goal is out of reach on these data: the optimization stopped at λ ×${c.lambdaFactor.toFixed(1)}, ` +
-    `q and r ×${c.penaltyFactor.toFixed(1)}, the strength that came closest.`;
+    `q and r ×${c.penaltyFactor.toFixed(1)}${smoothing}, the strength that came closest.`;
 }
 
 export function formatBytes(n) {

@@ -122,3 +122,11 @@ test('visibility text and the warning when important structures hide each other 
   assert.match(visibilityText({ ...v, topDecileReach: 1.3 }), /×1\.30 \(in front of the rest\)/);
   assert.doesNotMatch(visibilityText(v), /×/); // methods other than fourier, older servers
 });
+
+test('the clarity note names the smoothing the loop cut to, where it did', async () => {
+  const { clarityNote } = await import('../js/stats.js');
+  const c = { lambdaFactor: 3, penaltyFactor: 2.5, reached: false };
+  assert.match(clarityNote({ ...c, smoothing: 7 }), /q and r ×2\.5, smoothing 7 iterations, the strength/);
+  assert.doesNotMatch(clarityNote(c), /smoothing/);
+  assert.equal(clarityNote({ ...c, reached: true, smoothing: 0 }), '');
+});

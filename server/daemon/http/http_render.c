@@ -112,6 +112,8 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
         char cl[128];
         snprintf(cl, sizeof cl, "lambdaFactor=%.4g,penaltyFactor=%.4g,reached=%s", info->clarity_lambda,
                  info->clarity_penalty, info->clarity_reached ? "true" : "false");
+        if (info->clarity_smoothing_cut) /* the loop cut params.smoothing (docs/ALGORITHM.md §25) */
+            snprintf(cl + strlen(cl), sizeof cl - strlen(cl), ",smoothing=%d", info->clarity_smoothing);
         MHD_add_response_header(r, "X-Lucent-Clarity", cl);
     }
     if (info->has_color_ticks) { /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */

@@ -145,6 +145,8 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.clarity_lambda = e->info.clarity_lambda;
         h.clarity_penalty = e->info.clarity_penalty;
         h.clarity_reached = e->info.clarity_reached != 0;
+        h.has_clarity_smoothing = e->info.clarity_smoothing_cut != 0;
+        h.clarity_smoothing = e->info.clarity_smoothing;
     }
     if (e->info.has_color_ticks) {
         h.has_color_ticks = true;

@@ -152,6 +152,11 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
  * last of them takes it to none. */
 #define LC_CLARITY_SMOOTHING_STEPS 4
 #define LC_CLARITY_CHARGED_TRIES 2
+/* Lines' element emphasis beyond the paper's strength (docs/ALGORITHM.md
+ * §25, render/gl/visibility.c): each of the n element importances g (in
+ * [0, 1]) as its rank above the median, max(0, 2 rank - 1), rank its mid-rank
+ * in [0, 1]; malloc'ed, NULL when out of memory. */
+float *lc_emphasis_ranks(const float *g, uint32_t n);
 /* Whether the loop runs for p: clarity > 0, normalize auto, no explicit q/r/λ,
  * a method whose opacities are optimized (fourier, wboit; exact on its lists). */
 int lc_clarity_active(const lc_render_params *p);

@@ -280,7 +280,7 @@ int lc_element_emphasis(const lc_frame_setup *fs)
  * the least important half gets no protection, the top decile g >= 0.8.
  * NULL when out of memory (the means are used). */
 #define RANK_BINS 65536
-static float *emphasis_ranks(const float *g, uint32_t n)
+float *lc_emphasis_ranks(const float *g, uint32_t n)
 {
     uint64_t *hist = calloc(RANK_BINS, sizeof *hist);
     float *out = malloc((size_t)(n ? n : 1) * sizeof *out);
@@ -324,7 +324,7 @@ int lc_element_emphasis_bind(lc_renderer *r, const lc_frame_setup *fs, GLuint pr
             uint32_t count = r->importance_cache_count;
             r->element_g_count = count;
             glCreateBuffers(1, &r->element_g);
-            float *ranked = fs->gs->scene->type == LC_PRIM_LINES ? emphasis_ranks(r->importance_cache, count) : NULL;
+            float *ranked = fs->gs->scene->type == LC_PRIM_LINES ? lc_emphasis_ranks(r->importance_cache, count) : NULL;
             glNamedBufferStorage(r->element_g, (GLsizeiptr)count * 4, ranked ? ranked : r->importance_cache, 0);
             free(ranked);
             r->bytes_elements += (uint64_t)count * 4;

@@ -222,6 +222,26 @@ static double check_reach(test_gl *t, const char *what, const test_quad *q, int 
     return got;
 }
 
+/* The rank emphasis of lines beyond the paper's strength: ten distinct
+ * importances (heavy-tailed, as speeds are) give max(0, 2 (i + 1/2) / 10 - 1)
+ * by their order whatever their values; ties share their mid-rank. */
+static void check_emphasis_ranks(void)
+{
+    const float g[10] = {0.01f, 0.02f, 0.03f, 0.04f, 0.05f, 0.06f, 0.08f, 0.12f, 0.3f, 1.0f};
+    float *e = lc_emphasis_ranks(g, 10);
+    CHECK(e != NULL, "emphasis ranks");
+    for (int i = 0; e && i < 10; i++) {
+        double want = fmax(0, 2 * (i + 0.5) / 10 - 1);
+        CHECK(fabs(e[i] - want) < 1e-6, "element %d: rank emphasis %g, want %g", i, e[i], want);
+    }
+    free(e);
+    const float tied[4] = {0.5f, 0.5f, 0.9f, 0.9f}; /* mid-ranks 1/4 and 3/4 */
+    e = lc_emphasis_ranks(tied, 4);
+    CHECK(e && e[0] == 0 && e[1] == 0 && fabs(e[2] - 0.5) < 1e-6 && fabs(e[3] - 0.5) < 1e-6,
+          "ties share their mid-rank: %g %g %g %g", e ? e[0] : -1, e ? e[1] : -1, e ? e[2] : -1, e ? e[3] : -1);
+    free(e);
+}
+
 /* Two crossing lines, one element each: a (horizontal, z = 0, importance ga)
  * in front of b (vertical, z = -1, importance gb). */
 static lc_scene *crossing_lines(double ga, double gb)
@@ -333,6 +353,7 @@ int main(void)
     double behind = check_reach(&t, "important behind", fog, 3, 0.03);
     double ahead = check_reach(&t, "important in front", front, 3, 0.03);
     CHECK(behind < 1 && ahead > 1, "topDecileReach tells them apart: %g behind, %g in front", behind, ahead);
+    check_emphasis_ranks();
     test_gl_close(&t);
     return lc_test_finish();
 }

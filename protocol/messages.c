@@ -508,6 +508,14 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
         json_t *vis = json_pack("{s:f, s:f, s:f, s:f, s:f}", "topDecileAlpha", h->top_decile_alpha, "bottomHalfAlpha",
                                 h->bottom_half_alpha, "coveredFraction", h->covered_fraction, "occluderAlpha",
                                 h->occluder_alpha, "importantOccluded", h->important_occluded);
+        if (vis && h->has_reach) {
+            if (!isfinite(h->top_decile_reach) || h->top_decile_reach < 0) {
+                json_decref(vis);
+                json_decref(o);
+                return LC_ERR_INVALID;
+            }
+            json_object_set_new(vis, "topDecileReach", json_real(h->top_decile_reach));
+        }
         if (vis && h->layer_count > 0 && h->layer_count <= LC_MAX_LAYERS) {
             json_t *layers = json_array();
             for (int i = 0; i < h->layer_count; i++)
@@ -548,9 +556,11 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
             json_decref(o);
             return LC_ERR_INVALID;
         }
-        json_object_set_new(o, "clarity",
-                            json_pack("{s:f, s:f, s:b}", "lambdaFactor", h->clarity_lambda, "penaltyFactor",
-                                      h->clarity_penalty, "reached", (int)h->clarity_reached));
+        json_t *c = json_pack("{s:f, s:f, s:b}", "lambdaFactor", h->clarity_lambda, "penaltyFactor",
+                              h->clarity_penalty, "reached", (int)h->clarity_reached);
+        if (c && h->has_clarity_smoothing)
+            json_object_set_new(c, "smoothing", json_integer(h->clarity_smoothing));
+        json_object_set_new(o, "clarity", c);
     }
     if (o && h->has_surface) {
         if (!isfinite(h->surface_layers)) {
@@ -679,6 +689,16 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             }
             *dst[i] = x;
         }
+        const json_t *reach = json_object_get(vis, "topDecileReach");
+        if (reach) {
+            double x = json_is_number(reach) ? json_number_value(reach) : -1;
+            if (!(x >= 0 && isfinite(x))) {
+                status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility.topDecileReach",
+                                            "expected a number >= 0");
+                goto done;
+            }
+            h->has_reach = true, h->top_decile_reach = x;
+        }
         const json_t *layers = json_object_get(vis, "layers");
         size_t n = json_is_array(layers) ? json_array_size(layers) : 0;
         if (layers && (!json_is_array(layers) || n > LC_MAX_LAYERS)) {
@@ -756,6 +776,13 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         }
         h->clarity_lambda = json_number_value(lf), h->clarity_penalty = json_number_value(pf);
         h->clarity_reached = json_is_true(re);
+        const json_t *sm = json_object_get(cl, "smoothing");
+        if (sm && !(json_is_integer(sm) && json_integer_value(sm) >= 0 && json_integer_value(sm) <= 1000)) {
+            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "clarity.smoothing", "expected an integer in [0, 1000]");
+            goto done;
+        }
+        h->has_clarity_smoothing = sm != NULL;
+        h->clarity_smoothing = sm ? (int)json_integer_value(sm) : 0;
         h->has_clarity = true;
     }
     const json_t *surf = json_object_get(o, "surface");

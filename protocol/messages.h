@@ -147,6 +147,10 @@ typedef struct lc_frame_header {
     double top_decile_alpha, bottom_half_alpha, covered_fraction;
     double occluder_alpha; /* "occluderAlpha"; 0 when a sender omits it */
     double important_occluded; /* "importantOccluded"; 0 when a sender omits it */
+    /* "topDecileReach" (optional, >= 0): the top decile's share of the
+     * importance shown over its share of the importance drawn. */
+    bool has_reach;
+    double top_decile_reach;
     /* "visibility.layers" (layered frames): each layer's topDecileAlpha,
      * bottomHalfAlpha and occluderAlpha, in the request's layer order. */
     int layer_count;
@@ -170,6 +174,8 @@ typedef struct lc_frame_header {
      * the frame used, and whether it met the goal (false: where it stopped). */
     bool has_clarity, clarity_reached;
     double clarity_lambda, clarity_penalty;
+    bool has_clarity_smoothing; /* "clarity.smoothing" (optional): the iterations the loop cut smoothing to */
+    int clarity_smoothing;
     /* "surface" (optional; method surface-layers): curves traced so far, the
      * particles asked for, mean layers per covered pixel, fragments dropped
      * beyond k layers, k (docs/ALGORITHM.md §23). */

@@ -16,14 +16,33 @@ int lc_clarity_active(const lc_render_params *p)
             p->method == LC_METHOD_WEIGHTED_AVERAGE || p->method == LC_METHOD_BINNING);
 }
 
+static double miss_of(double target, double top, double bottom, double occluder)
+{
+    double t = top > 0.01 ? top : 0.01;
+    double miss = fmax(target / t, occluder / (0.5 * t));
+    miss = fmax(miss, (bottom - 0.05) / t);
+    return miss > 1 ? miss - 1 : 0;
+}
+
 double lc_clarity_miss(double target, const lc_frame_info *info)
 {
     if (!info->has_visibility || info->visible_elements < 10)
         return 0;
-    double t = info->top_decile_alpha > 0.01 ? info->top_decile_alpha : 0.01;
-    double miss = fmax(target / t, info->occluder_alpha / (0.5 * t));
-    miss = fmax(miss, (info->bottom_half_alpha - 0.05) / t);
-    return miss > 1 ? miss - 1 : 0;
+    return miss_of(target, info->top_decile_alpha, info->bottom_half_alpha, info->occluder_alpha);
+}
+
+/* Whether P3's smoothing is what keeps the frame from the goal: P2's own
+ * opacities, before smoothing, come at least twice as near. Smoothing
+ * averages an element's opacity with its neighbours' along the line; where
+ * importance changes from one element to the next (a grain that falls, then
+ * rests in the pile; an atom's speed), it gives the fast moments the opacity
+ * of the slow ones and the slow ones the opacity of the fast ones. */
+static int smoothing_costs(double target, const lc_frame_info *info, double miss)
+{
+    if (!info->has_visibility || info->visible_elements < 10 || miss <= 0)
+        return 0;
+    return miss_of(target, info->raw_top_decile_alpha, info->raw_bottom_half_alpha, info->raw_occluder_alpha) <
+           0.5 * miss;
 }
 
 /* gain: how steeply the top decile answers the emphasis, measured by the last
@@ -95,6 +114,7 @@ static int try_strength(lc_renderer *r, lc_frame_setup *fs, lc_render_params *p,
     p->foo.lambda = given->foo.lambda * st.lambda;
     p->foo.q = given->foo.q * st.penalty;
     p->foo.r = given->foo.r * st.penalty;
+    p->foo.smoothing = (int)(given->foo.smoothing * st.smoothing);
     /* Beyond the paper's strength, a line's fragments take its element's mean
      * importance in the emphasis (docs/ALGORITHM.md §25): noise-like importance
      * (speed in a liquid) varies along each element, and its opacity, its
@@ -104,6 +124,8 @@ static int try_strength(lc_renderer *r, lc_frame_setup *fs, lc_render_params *p,
     info->clarity_tries++;
     info->clarity_lambda = st.lambda;
     info->clarity_penalty = st.penalty;
+    info->clarity_smoothing = p->foo.smoothing;
+    info->clarity_smoothing_cut = p->foo.smoothing < given->foo.smoothing;
     return rc;
 }
 
@@ -115,7 +137,7 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         return optimize(r, fs, state, dt, info, moments, err);
     lc_render_params p = *given;
     double target = p.foo.clarity;
-    lc_clarity_strength st = {1, 1, 0, -1};
+    lc_clarity_strength st = {1, 1, 0, -1, 1};
     /* A session's still settles as the one-shot render of its request does:
      * the strength the moving frames stepped to came from other pictures (a
      * coarse first frame, thinned lines), and one gentle step a frame would
@@ -128,7 +150,8 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         for (int i = 0; i < LC_MAX_LAYERS; i++)
             state->eq[i].valid = eq_valid[i];
     }
-    if (state && !state->fresh && state->clarity.lambda >= 1 && state->clarity.penalty >= 1)
+    if (state && !state->fresh && state->clarity.lambda >= 1 && state->clarity.penalty >= 1 &&
+        state->clarity.smoothing > 0)
         st = state->clarity;
     int iterate = !state || state->fresh;
     fs->params = &p;
@@ -137,6 +160,7 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     lc_clarity_strength prev = st;
     double prev_top = 0, prev_share = 0;
     int rc = 0;
+    int smoothing_steps = 0; /* tries that only halved the smoothing: not counted in LC_CLARITY_ITERATIONS */
     for (int i = 0;; i++) {
         if (i > 0 && state)
             lc_frame_state_reset(state); /* each try takes its targets whole, as a first frame does */
@@ -167,10 +191,20 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         if (i > 0 && prev_share > 0 && share > 0 && fabs(log(st.penalty / prev.penalty)) > 0.05)
             fade = fmin(fmax(-log(share / prev_share) / log(st.penalty / prev.penalty), 0), 1);
         prev = st, prev_top = info->top_decile_alpha, prev_share = share;
-        next_strength(&next, target, info, 3.0, gain, fade);
-        int same = next.lambda == st.lambda && next.penalty == st.penalty;
-        if (miss == 0 || same || stalled || i + 1 == LC_CLARITY_ITERATIONS) {
-            if (best.lambda != st.lambda || best.penalty != st.penalty) { /* the last try was not the best: redo it */
+        /* Smoothing first: while it is what keeps the frame from the goal,
+         * the next try halves its iterations at the same strength (a
+         * stronger λ would only be smoothed away again). */
+        int smoothed = smoothing_costs(target, info, miss) && p.foo.smoothing > 0;
+        if (smoothed) /* at most LC_CLARITY_SMOOTHING_STEPS, the last to none (15, 7, 3, 1, 0) */
+            next.smoothing = given->foo.smoothing * st.smoothing >= 2 && smoothing_steps + 1 < LC_CLARITY_SMOOTHING_STEPS
+                                 ? 0.5 * st.smoothing
+                                 : 0;
+        else
+            next_strength(&next, target, info, 3.0, gain, fade);
+        int same = next.lambda == st.lambda && next.penalty == st.penalty && next.smoothing == st.smoothing;
+        if (miss == 0 || same || stalled || i + 1 - smoothing_steps == LC_CLARITY_ITERATIONS) {
+            if (best.lambda != st.lambda || best.penalty != st.penalty || best.smoothing != st.smoothing) {
+                /* the last try was not the best: redo it */
                 if (state)
                     lc_frame_state_reset(state);
                 st = best;
@@ -180,6 +214,7 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             st.miss = best_miss;
             break;
         }
+        smoothing_steps += smoothed;
         st = next;
     }
     fs->params = given;

@@ -401,6 +401,7 @@ static void set_p5_uniforms(GLuint prog, lc_renderer *r, const lc_frame_setup *l
 {
     lc_bind_coefficients(&r->coef_full);
     lc_uniform_i(prog, "u_estimator", lf->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    lc_uniform_f(prog, "u_reach_g", r->reach_g);
     lc_renderer_bind_direct_alpha(prog, lf->params);
     if (kanzler)
         lc_kanzler_bind(r, prog, &lf->params->foo);
@@ -507,6 +508,10 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         if (rc)
             return rc;
     }
+    /* topDecileReach: the optimized opacities' P5 (not the list's, the baselines' or the bins'). */
+    int reach = !direct && !bins && !listed;
+    if (reach)
+        lc_reach_begin(r, fs);
     int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5, 1);
     info_paths(fs, LC_RASTER_P5, p5_computed);
     if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)
@@ -524,6 +529,8 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         lc_renderer_draw_geometry(lf, 1);
     }
     r->draw_yields = 0;
+    if (reach && (rc = lc_reach_end(r, fs, err)) != 0)
+        return rc;
     /* color.equalize's histogram pass needs every pixel's sum w on every process. */
     int root_only = fs->params->color.equalize ? 0 : 1;
     if ((rc = lc_reduce_targets(r, &r->accum, LC_REDUCE_SUM, root_only, fs->info, err)) != 0)

@@ -119,7 +119,7 @@ void lc_renderer_destroy(lc_renderer *r)
                      r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
                      r->point_histogram,   r->point_list,
                      r->element_behind,      r->color_histogram, r->element_g,           r->important_occluded,
-                     r->line_select,       r->line_kept};
+                     r->line_select,       r->line_kept,       r->top_reach};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);

@@ -148,7 +148,15 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
  * many strengths (P1-P3 each); the cost model charges LC_CLARITY_CHARGED_TRIES
  * (most data meet the goal at the first). */
 #define LC_CLARITY_ITERATIONS 6
+/* Tries that only halve params.smoothing (clarity.c), besides those: the
+ * last of them takes it to none. */
+#define LC_CLARITY_SMOOTHING_STEPS 4
 #define LC_CLARITY_CHARGED_TRIES 2
+/* Lines' element emphasis beyond the paper's strength (docs/ALGORITHM.md
+ * §25, render/gl/visibility.c): each of the n element importances g (in
+ * [0, 1]) as its rank above the median, max(0, 2 rank - 1), rank its mid-rank
+ * in [0, 1]; malloc'ed, NULL when out of memory. */
+float *lc_emphasis_ranks(const float *g, uint32_t n);
 /* Whether the loop runs for p: clarity > 0, normalize auto, no explicit q/r/λ,
  * a method whose opacities are optimized (fourier, wboit; exact on its lists). */
 int lc_clarity_active(const lc_render_params *p);
@@ -157,6 +165,9 @@ typedef struct lc_clarity_strength {
     double lambda, penalty;
     int stalled; /* a step did not bring the goal nearer: no more steps until the state resets */
     double miss; /* how far the last frame was from the goal (lc_clarity_miss; -1: none yet) */
+    /* Factor on params.smoothing's iterations (1: as given; clarity.c halves
+     * it while smoothing is what keeps the frame from the goal). */
+    double smoothing;
 } lc_clarity_strength;
 
 typedef struct lc_frame_info {
@@ -198,6 +209,19 @@ typedef struct lc_frame_info {
      * §8), at the optimization resolution; 0 when there are none. */
     double important_occluded;
     uint64_t important_fragments; /* the share's denominator */
+    /* topDecileReach (docs/ALGORITHM.md §8): the top decile's share of the
+     * importance the final composite shows (sum of g alpha T, T the
+     * transmittance in front) over its share of the importance drawn (sum of
+     * g alpha); below 1 hidden behind the rest, above 1 in front of it.
+     * has_reach 0 where not measured (methods other than fourier).
+     * top_decile_g: the lowest importance counted as the top decile's (its
+     * lowest bin); reach_sums: all g w, all g alpha, top g w, top g alpha,
+     * added over a frame's tiles. */
+    int has_reach;
+    double top_decile_reach, top_decile_g, reach_sums[4];
+    /* The same three opacities over P2's targets before P3's smoothing (the
+     * clarity loop weighs what smoothing cost the goal; clarity.c). */
+    double raw_top_decile_alpha, raw_bottom_half_alpha, raw_occluder_alpha;
     /* Layered frames: the same report for each layer (the totals above are
      * over the transparent layers' elements together; a context layer, drawn
      * opaque, has visible_elements 0). */
@@ -223,6 +247,8 @@ typedef struct lc_frame_info {
     /* params.clarity: the factors on λ and on q and r the frame's opacities
      * used (0: the loop was off; render/gl/clarity.c). */
     double clarity_lambda, clarity_penalty;
+    int clarity_smoothing; /* the smoothing iterations the frame's opacities used (params.smoothing, or fewer) */
+    int clarity_smoothing_cut; /* the loop used fewer than params.smoothing (clarity.c) */
     int clarity_tries;     /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
     int clarity_reached;   /* the frame met params.clarity's goal (lc_clarity_miss 0); else the factors are where it stopped */
     int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */

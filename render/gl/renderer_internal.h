@@ -58,6 +58,7 @@
     X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */  \
     X(BIND_IMPORTANT_OCCLUDED, 28) /* visibility.c: importantOccluded's two counts (P2, exact opacity; never with  \
                                       surface_layers.c's nodes) */                                                     \
+    X(BIND_TOP_REACH, 26) /* fourier.c: topDecileReach's sums in P5 (element_behind is P2's) */                     \
     X(BIND_FRAGMENT_LIST, 14) /* fragment_list.c: P1's fragments for P2 (never in a program of the exact method) */   \
     X(BIND_FRAGMENT_CHAINS, 15) /* fragment_list.c: P0's per-pixel chains for P1 (never in the exact method's) */     \
     X(BIND_LINE_RUNS, 9)    /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */         \
@@ -277,6 +278,8 @@ struct lc_renderer {
     GLuint element_alpha_min, element_alpha, smooth_a, smooth_b, stats;
     GLuint element_behind; /* per element: importance mass behind its fragments (visibility report) */
     GLuint important_occluded; /* 2 uints: important fragments, and those with important mass in front */
+    GLuint top_reach;          /* topDecileReach's P5 sums: 64 slots of four 64-bit sums (visibility.c) */
+    float reach_g;             /* the importance P5 counts from (the top decile's lowest bin); > 1: none */
     uint32_t element_capacity;
     GLuint mass_histogram;     /* MASS_BINS counts (visibility.c) */
     GLuint element_importance; /* 2 uints per element: fixed-point sum, count */
@@ -880,6 +883,12 @@ void lc_mass_clear(lc_renderer *r);
 /* Zeroes the occluder weights and importantOccluded's counts and binds them
  * for P2 or the exact opacity pass (occluders.glsl). */
 void lc_occluders_clear(lc_renderer *r);
+/* topDecileReach (docs/ALGORITHM.md §8) around the Fourier path's P5:
+ * begin zeroes and binds the sums and sets r->reach_g from this frame's
+ * visibility report (none: P5 counts nothing); end reads them back into
+ * fs->info (added over a frame's tiles). */
+void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs);
+int lc_reach_end(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* The share of the w x h pixels of tex whose red channel is positive (the
  * mass histogram's count; method kanzler's coverage map). -1: GL error. */
 double lc_covered_fraction(lc_renderer *r, GLuint tex, int w, int h, lc_error *err);

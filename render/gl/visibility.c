@@ -114,6 +114,54 @@ void lc_occluders_clear(lc_renderer *r)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_IMPORTANT_OCCLUDED, r->important_occluded);
 }
 
+#define REACH_SLOTS 64 /* p5_accumulate.frag.glsl: four 64-bit sums a slot */
+
+void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs)
+{
+    if (!r->top_reach) {
+        glCreateBuffers(1, &r->top_reach);
+        glNamedBufferStorage(r->top_reach, REACH_SLOTS * 8 * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
+        r->bytes_elements += REACH_SLOTS * 8 * 4;
+    }
+    const uint32_t zero = 0;
+    glClearNamedBufferData(r->top_reach, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_TOP_REACH, r->top_reach);
+    r->reach_g = fs->info && fs->info->has_visibility && fs->info->visible_elements > 0 ? (float)fs->info->top_decile_g
+                                                                                          : 2.0f;
+}
+
+int lc_reach_end(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
+{
+    if (r->reach_g > 1.0f || !fs->info)
+        return 0;
+    uint32_t words[REACH_SLOTS * 8];
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(r->top_reach, 0, sizeof words, words);
+    /* Each sum as 20-bit pieces, so that adding them over MPI ranks cannot
+     * wrap a 32-bit count. */
+    uint32_t parts[4][3];
+    for (int k = 0; k < 4; k++) {
+        uint64_t v = 0;
+        for (int slot = 0; slot < REACH_SLOTS; slot++)
+            v += ((uint64_t)words[8 * slot + 2 * k + 1] << 32) + words[8 * slot + 2 * k];
+        parts[k][0] = (uint32_t)(v & 0xFFFFF), parts[k][1] = (uint32_t)((v >> 20) & 0xFFFFF);
+        parts[k][2] = (uint32_t)(v >> 40);
+    }
+    int rc = lc_reduce_counts(r, &parts[0][0], 12, err);
+    if (rc)
+        return rc;
+    lc_frame_info *info = fs->info;
+    for (int k = 0; k < 4; k++)
+        info->reach_sums[k] += (parts[k][0] + parts[k][1] * 1048576.0 + parts[k][2] * 1099511627776.0) / 65536.0;
+    /* (top's share of the shown importance) / (its share of the drawn importance) */
+    double shown = info->reach_sums[0] > 0 ? info->reach_sums[2] / info->reach_sums[0] : 0.0;
+    double drawn = info->reach_sums[1] > 0 ? info->reach_sums[3] / info->reach_sums[1] : 0.0;
+    info->has_reach = drawn > 0;
+    info->top_decile_reach = drawn > 0 ? shown / drawn : 0.0;
+    return 0;
+}
+
 /* Each element's importance (the mean of its vertices'), in r->importance_cache:
  * kept while the scene and the mapping stay; a layered frame's is computed
  * for every layer's elements at their offsets, each layer with its mapping. */
@@ -222,6 +270,45 @@ int lc_element_emphasis(const lc_frame_setup *fs)
     return !fs->layer_count && kind && fs->params->foo.normalize == LC_NORMALIZE_AUTO;
 }
 
+/* Lines' element emphasis (docs/ALGORITHM.md §25): each element's rank above
+ * the median of the elements' importance, max(0, 2 rank - 1), rank the
+ * element's mid-rank in [0, 1] (from a histogram of RANK_BINS bins). An
+ * element's importance is a mean over its segments, and of noise-like values
+ * (an atom's speed in a liquid) the means crowd around the mean (the LAMMPS
+ * melt: the 10th to 90th percentile within 0.29..0.38), where (1 - g)^(2λ)
+ * hardly tells them apart; the rank spreads them whatever the distribution:
+ * the least important half gets no protection, the top decile g >= 0.8.
+ * NULL when out of memory (the means are used). */
+#define RANK_BINS 65536
+float *lc_emphasis_ranks(const float *g, uint32_t n)
+{
+    uint64_t *hist = calloc(RANK_BINS, sizeof *hist);
+    float *out = malloc((size_t)(n ? n : 1) * sizeof *out);
+    if (!hist || !out) {
+        free(hist);
+        free(out);
+        return NULL;
+    }
+    for (uint32_t e = 0; e < n; e++) {
+        int k = (int)(g[e] * (RANK_BINS - 1) + 0.5f);
+        hist[k < 0 ? 0 : k >= RANK_BINS ? RANK_BINS - 1 : k]++;
+    }
+    /* hist[k] becomes the bin's mid-rank x 2n: 2 (elements below) + (its own). */
+    uint64_t below = 0;
+    for (int k = 0; k < RANK_BINS; k++) {
+        uint64_t c = hist[k];
+        hist[k] = 2 * below + c;
+        below += c;
+    }
+    for (uint32_t e = 0; e < n; e++) {
+        int k = (int)(g[e] * (RANK_BINS - 1) + 0.5f);
+        double rank = hist[k < 0 ? 0 : k >= RANK_BINS ? RANK_BINS - 1 : k] / (2.0 * n);
+        out[e] = (float)(rank > 0.5 ? 2 * rank - 1 : 0);
+    }
+    free(hist);
+    return out;
+}
+
 int lc_element_emphasis_bind(lc_renderer *r, const lc_frame_setup *fs, GLuint prog, lc_error *err)
 {
     int use = lc_element_emphasis(fs) && fs->gs->scene->elements.count > 0;
@@ -237,7 +324,9 @@ int lc_element_emphasis_bind(lc_renderer *r, const lc_frame_setup *fs, GLuint pr
             uint32_t count = r->importance_cache_count;
             r->element_g_count = count;
             glCreateBuffers(1, &r->element_g);
-            glNamedBufferStorage(r->element_g, (GLsizeiptr)count * 4, r->importance_cache, 0);
+            float *ranked = fs->gs->scene->type == LC_PRIM_LINES ? lc_emphasis_ranks(r->importance_cache, count) : NULL;
+            glNamedBufferStorage(r->element_g, (GLsizeiptr)count * 4, ranked ? ranked : r->importance_cache, 0);
+            free(ranked);
             r->bytes_elements += (uint64_t)count * 4;
             r->element_g_serial = r->importance_serial;
         }
@@ -287,6 +376,7 @@ static double take_weighted(const double *count, const double *w, const double *
 /* The report's sums per importance bin, for one layer or the whole frame. */
 typedef struct vis_bins {
     double n[VIS_BINS], sum[VIS_BINS], w[VIS_BINS], wa[VIS_BINS];
+    double raw[VIS_BINS], wraw[VIS_BINS]; /* sum and wa of P2's opacities, before P3 */
     uint32_t visible;
 } vis_bins;
 
@@ -296,6 +386,21 @@ static void report(const vis_bins *b, uint32_t *visible, double *top, double *bo
     *top = take_mean(b->n, b->sum, ceil(0.1 * b->visible), -1);
     *bottom = take_mean(b->n, b->sum, ceil(0.5 * b->visible), +1);
     *occluder = take_weighted(b->n, b->w, b->wa, ceil(0.5 * b->visible));
+}
+
+/* topDecileReach's threshold: the lower edge of the bin where the top decile
+ * starts, less one bin (an element's importance is its vertices' mean summed
+ * in 1/1024 steps, a fragment's is interpolated: they differ by that much). */
+static double top_bin(const vis_bins *b)
+{
+    double want = ceil(0.1 * b->visible), taken = 0;
+    int k = VIS_BINS - 1;
+    for (; k > 0; k--) {
+        taken += b->n[k];
+        if (taken >= want)
+            break;
+    }
+    return (double)(k > 0 ? k - 1 : 0) / VIS_BINS;
 }
 
 int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float *alphas, lc_frame_info *info,
@@ -353,6 +458,8 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
                 into[j]->sum[k] += cur[i];
                 into[j]->w[k] += behind[i] / 4096.0; /* occluders.glsl's units */
                 into[j]->wa[k] += behind[i] / 4096.0 * cur[i];
+                into[j]->raw[k] += a_min;
+                into[j]->wraw[k] += behind[i] / 4096.0 * a_min;
                 into[j]->visible++;
             }
         }
@@ -372,6 +479,11 @@ int lc_visibility_measure(lc_renderer *r, const lc_frame_setup *fs, const float 
         info->has_visibility = 1;
         report(&bins[0], &info->visible_elements, &info->top_decile_alpha, &info->bottom_half_alpha,
                &info->occluder_alpha);
+        info->top_decile_g = top_bin(&bins[0]);
+        uint32_t visible;
+        vis_bins *b = &bins[0];
+        memcpy(b->sum, b->raw, sizeof b->sum), memcpy(b->wa, b->wraw, sizeof b->wa);
+        report(b, &visible, &info->raw_top_decile_alpha, &info->raw_bottom_half_alpha, &info->raw_occluder_alpha);
         info->layer_count = nl;
         for (int i = 0; i < nl; i++)
             report(&bins[1 + i], &info->layers[i].visible_elements, &info->layers[i].top_decile_alpha,

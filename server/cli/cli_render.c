@@ -85,6 +85,9 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
                                       "occluderAlpha", info->occluder_alpha, "importantOccluded",
                                       info->important_occluded, "importantFragments",
                                       (json_int_t)info->important_fragments));
+        if (info->has_reach) /* the fourier method's P5 measured it */
+            json_object_set_new(json_object_get(o, "visibility"), "topDecileReach",
+                                json_real(info->top_decile_reach));
         json_t *layers = info->layer_count > 0 ? json_array() : NULL;
         for (int i = 0; layers && i < info->layer_count; i++)
             json_array_append_new(layers, json_pack("{s:I, s:f, s:f, s:f}", "visibleElements",
@@ -97,8 +100,9 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
         if (info->clarity_lambda > 0) /* params.clarity: the factors the loop settled on */
             json_object_set_new(
                 o, "clarity",
-                json_pack("{s:f, s:f, s:i, s:b}", "lambdaFactor", info->clarity_lambda, "penaltyFactor",
-                          info->clarity_penalty, "tries", info->clarity_tries, "reached", info->clarity_reached));
+                json_pack("{s:f, s:f, s:i, s:i, s:b}", "lambdaFactor", info->clarity_lambda, "penaltyFactor",
+                          info->clarity_penalty, "smoothing", info->clarity_smoothing, "tries", info->clarity_tries,
+                          "reached", info->clarity_reached));
     }
     if (info->has_color_ticks) /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */
         json_object_set_new(o, "colorTicks",
@@ -355,6 +359,9 @@ int lc_cli_render(int argc, char **argv)
                info.top_decile_alpha, info.bottom_half_alpha, 100.0 * info.covered_fraction, info.mass_median,
                info.mass_p95, info.occluder_alpha, 100.0 * info.important_occluded,
                (unsigned long long)info.important_fragments);
+    if (info.has_visibility && info.has_reach)
+        printf("  top decile reach: %.3f (its share of the importance shown over its share of the importance drawn)\n",
+               info.top_decile_reach);
     if (info.p0_fragments_median > 0 || info.p1_subset > 1)
         printf("  importance pass (P1): every %d-th primitive, weighted %d (P0's median effective fragments per "
                "pixel %.3g; params.autoSubset)\n",

@@ -7,7 +7,10 @@
  * importance.invert gives the image of the range given max first.
  * importantOccluded (important fragments with important mass in front) on
  * stacked quads against the count of the quads, and on two crossing lines
- * where one important line hides another, and where it does not. */
+ * where one important line hides another, and where it does not.
+ * topDecileReach (the top decile's share of the importance shown over its
+ * share of the importance drawn) against a CPU composite of the frame's own
+ * opacities, with the important quad behind and in front of the others. */
 #include <math.h>
 
 #include "camera.h"
@@ -166,6 +169,79 @@ static void check_important_quads(test_gl *t, const char *what, const test_quad 
     lc_scene_destroy(s);
 }
 
+/* topDecileReach on full-screen quads (every pixel alike), fourier: from the
+ * frame's own element opacities (the state's), the CPU composite in depth
+ * order, T the product of (1 - alpha) in front: (top decile's share of
+ * sum g alpha T) / (its share of sum g alpha); the Fourier estimate of T
+ * within tol. Returns the measured value. */
+static double check_reach(test_gl *t, const char *what, const test_quad *q, int n, double tol)
+{
+    enum { SIZE = 32 };
+    lc_scene *s = test_quad_scene(q, n);
+    lc_render_params p;
+    test_quad_params(&p, SIZE);
+    /* The paper's formula without emphasis, so that every quad keeps an
+     * opacity near a half and what lies in front matters. */
+    p.foo.normalize = LC_NORMALIZE_OFF;
+    p.foo.q = p.foo.r = 1, p.foo.lambda = 0;
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    lc_frame_state *st = s ? lc_frame_state_create(s->elements.count) : NULL;
+    uint8_t *rgba = malloc(SIZE * SIZE * 4);
+    lc_frame_info info = {0};
+    double got = -1;
+    CHECK(s && st && lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
+    if (gs && lc_render_frame(t->renderer, gs, &p, st, 0, rgba, &info, &err) == 0) {
+        const float *alpha = lc_frame_state_alphas(st);
+        double gmax = 0;
+        for (int i = 0; i < n; i++)
+            gmax = q[i].g > gmax ? q[i].g : gmax;
+        double sums[4] = {0, 0, 0, 0}; /* all g w, all g alpha, top g w, top g alpha */
+        for (int i = 0; i < n; i++) {
+            double a = alpha[i], T = 1;
+            for (int j = 0; j < n; j++)
+                if (q[j].z > q[i].z) /* nearer the camera */
+                    T *= 1 - alpha[j];
+            int top = q[i].g == gmax; /* the top decile of n <= 10 quads: the most important */
+            sums[0] += q[i].g * a * T, sums[1] += q[i].g * a;
+            sums[2] += top * q[i].g * a * T, sums[3] += top * q[i].g * a;
+        }
+        double want = (sums[2] / sums[0]) / (sums[3] / sums[1]);
+        got = info.top_decile_reach;
+        printf("%s: topDecileReach %.4f (cpu %.4f; opacities %.3f %.3f %.3f)\n", what, got, want, alpha[0], alpha[1],
+               alpha[2]);
+        CHECK(info.has_reach, "%s: topDecileReach measured", what);
+        CHECK(fabs(got - want) <= tol * want, "%s: topDecileReach %g, want %g", what, got, want);
+    } else {
+        CHECK(0, "%s: render: %s", what, err.msg);
+    }
+    free(rgba);
+    lc_frame_state_destroy(st);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+    return got;
+}
+
+/* The rank emphasis of lines beyond the paper's strength: ten distinct
+ * importances (heavy-tailed, as speeds are) give max(0, 2 (i + 1/2) / 10 - 1)
+ * by their order whatever their values; ties share their mid-rank. */
+static void check_emphasis_ranks(void)
+{
+    const float g[10] = {0.01f, 0.02f, 0.03f, 0.04f, 0.05f, 0.06f, 0.08f, 0.12f, 0.3f, 1.0f};
+    float *e = lc_emphasis_ranks(g, 10);
+    CHECK(e != NULL, "emphasis ranks");
+    for (int i = 0; e && i < 10; i++) {
+        double want = fmax(0, 2 * (i + 0.5) / 10 - 1);
+        CHECK(fabs(e[i] - want) < 1e-6, "element %d: rank emphasis %g, want %g", i, e[i], want);
+    }
+    free(e);
+    const float tied[4] = {0.5f, 0.5f, 0.9f, 0.9f}; /* mid-ranks 1/4 and 3/4 */
+    e = lc_emphasis_ranks(tied, 4);
+    CHECK(e && e[0] == 0 && e[1] == 0 && fabs(e[2] - 0.5) < 1e-6 && fabs(e[3] - 0.5) < 1e-6,
+          "ties share their mid-rank: %g %g %g %g", e ? e[0] : -1, e ? e[1] : -1, e ? e[2] : -1, e ? e[3] : -1);
+    free(e);
+}
+
 /* Two crossing lines, one element each: a (horizontal, z = 0, importance ga)
  * in front of b (vertical, z = -1, importance gb). */
 static lc_scene *crossing_lines(double ga, double gb)
@@ -269,6 +345,15 @@ int main(void)
         check_important_quads(&t, "two important stacked", stacked, 3, method);
         check_important_lines(&t, method);
     }
+    /* topDecileReach: the important quad behind two unimportant ones ("fog
+     * with bright specks") reads below 1, in front of them ("structure in
+     * front of context") above 1; the exact method does not measure it. */
+    const test_quad fog[3] = {{0.4, 0.3, {1, 0, 0}, 2}, {0.0, 0.2, {0, 1, 0}, 2}, {-0.4, 0.9, {0, 0, 1}, 2}};
+    const test_quad front[3] = {{0.4, 0.9, {1, 0, 0}, 2}, {0.0, 0.2, {0, 1, 0}, 2}, {-0.4, 0.3, {0, 0, 1}, 2}};
+    double behind = check_reach(&t, "important behind", fog, 3, 0.03);
+    double ahead = check_reach(&t, "important in front", front, 3, 0.03);
+    CHECK(behind < 1 && ahead > 1, "topDecileReach tells them apart: %g behind, %g in front", behind, ahead);
+    check_emphasis_ranks();
     test_gl_close(&t);
     return lc_test_finish();
 }

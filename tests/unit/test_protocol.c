@@ -581,6 +581,28 @@ static void test_messages(void)
     CHECK(strstr((const char *)out + 4, "\"importantOccluded\":0.375") != NULL, "importantOccluded JSON: %.*s",
           (int)out_len - 4, (const char *)out + 4);
     free(out);
+    /* visibility.topDecileReach (fourier frames) round trips, may pass 1, and is absent without it. */
+    CHECK(!tb.has_reach && !strstr((const char *)out, "topDecileReach"), "no topDecileReach unless measured");
+    v.has_reach = true, v.top_decile_reach = 1.375;
+    CHECK(lc_proto_pack_frame(&v, NULL, 0, &out, &out_len) == 0, "pack topDecileReach");
+    CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_reach &&
+              tb.top_decile_reach == 1.375,
+          "topDecileReach round trip");
+    free(out);
+    /* clarity.smoothing: only where the loop cut the smoothing. */
+    lc_frame_header c = {.frame = 6, .width = 4, .height = 2, .has_clarity = true, .clarity_lambda = 3,
+                         .clarity_penalty = 2.5, .has_clarity_smoothing = true, .clarity_smoothing = 7};
+    CHECK(lc_proto_pack_frame(&c, NULL, 0, &out, &out_len) == 0, "pack clarity.smoothing");
+    CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_clarity_smoothing &&
+              tb.clarity_smoothing == 7 && tb.clarity_penalty == 2.5,
+          "clarity.smoothing round trip");
+    free(out);
+    c.has_clarity_smoothing = false;
+    CHECK(lc_proto_pack_frame(&c, NULL, 0, &out, &out_len) == 0 && !strstr((const char *)out + 4, "smoothing"),
+          "no clarity.smoothing unless cut");
+    free(out);
+    v.top_decile_reach = -0.5;
+    CHECK(lc_proto_pack_frame(&v, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "a negative topDecileReach is refused");
     {
         char text[200];
         int n = snprintf(text + 4, sizeof text - 4,

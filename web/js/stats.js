@@ -113,7 +113,11 @@ export function visibilityText(v) {
   if (!v || typeof v.topDecileAlpha !== 'number') return null;
   const f = (x) => (typeof x === 'number' ? x.toFixed(2) : '–');
   const hidden = typeof v.importantOccluded === 'number' ? `; ${Math.round(100 * v.importantOccluded)}% of the important fragments hidden by importance` : '';
-  return `most important tenth ${f(v.topDecileAlpha)}, occluders ${f(v.occluderAlpha)}, least important half ${f(v.bottomHalfAlpha)} opaque${hidden}`;
+  // topDecileReach: the top tenth's share of the importance shown over its share of the importance drawn.
+  const reach = typeof v.topDecileReach === 'number'
+    ? `; the image shows the most important tenth ×${v.topDecileReach.toFixed(2)} ${v.topDecileReach < 1 ? '(behind the rest)' : '(in front of the rest)'}`
+    : '';
+  return `most important tenth ${f(v.topDecileAlpha)}, occluders ${f(v.occluderAlpha)}, least important half ${f(v.bottomHalfAlpha)} opaque${hidden}${reach}`;
 }
 
 /** Share of the important fragments with important mass in front above which the page warns (docs/ALGORITHM.md §8). */
@@ -130,8 +134,9 @@ export function occlusionWarning(v) {
 /** params.clarity's outcome (frame header "clarity") in words: '' when the goal was met or the loop was off. */
 export function clarityNote(c) {
   if (!c || c.reached !== false || typeof c.lambdaFactor !== 'number') return '';
+  const smoothing = typeof c.smoothing === 'number' ? `, smoothing ${c.smoothing} iterations` : '';
   return ` The goal is out of reach on these data: the optimization stopped at λ ×${c.lambdaFactor.toFixed(1)}, ` +
-    `q and r ×${c.penaltyFactor.toFixed(1)}, the strength that came closest.`;
+    `q and r ×${c.penaltyFactor.toFixed(1)}${smoothing}, the strength that came closest.`;
 }
 
 export function formatBytes(n) {

@@ -117,4 +117,16 @@ test('visibility text and the warning when important structures hide each other 
   assert.equal(occlusionWarning({ ...v, importantOccluded: IMPORTANT_OCCLUDED_WARN - 0.01 }), '');
   assert.equal(occlusionWarning({ ...v, importantOccluded: undefined }), ''); // an older server
   assert.doesNotMatch(visibilityText({ ...v, importantOccluded: undefined }), /hidden/);
+  // topDecileReach: below 1 the top tenth is shown less than it is drawn (behind the rest), above 1 more.
+  assert.match(visibilityText({ ...v, topDecileReach: 0.58 }), /most important tenth ×0\.58 \(behind the rest\)/);
+  assert.match(visibilityText({ ...v, topDecileReach: 1.3 }), /×1\.30 \(in front of the rest\)/);
+  assert.doesNotMatch(visibilityText(v), /×/); // methods other than fourier, older servers
+});
+
+test('the clarity note names the smoothing the loop cut to, where it did', async () => {
+  const { clarityNote } = await import('../js/stats.js');
+  const c = { lambdaFactor: 3, penaltyFactor: 2.5, reached: false };
+  assert.match(clarityNote({ ...c, smoothing: 7 }), /q and r ×2\.5, smoothing 7 iterations, the strength/);
+  assert.doesNotMatch(clarityNote(c), /smoothing/);
+  assert.equal(clarityNote({ ...c, reached: true, smoothing: 0 }), '');
 });

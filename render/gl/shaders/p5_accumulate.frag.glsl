@@ -4,6 +4,41 @@
 
 uniform int u_estimator;
 
+#if defined(READ_ALPHA) && !defined(DIRECT_ALPHA) && !defined(TAU_BINS)
+// topDecileReach (docs/ALGORITHM.md §8): the sums of g w (w = alpha T, T the
+// transmittance in front: composite_weight is that with either estimator)
+// and of g alpha, over every fragment and over those at or above the top
+// decile's importance u_reach_g (> 1: not measured), in 1/65536 units, each
+// 64-bit as a low word and its carries, spread over 64 slots by pixel so that
+// the atomics do not all meet on one word.
+layout(std430, binding = BIND_TOP_REACH) buffer TopReach { uint top_reach[64 * 8]; };
+uniform float u_reach_g;
+
+void reach_add(uint at, float value)
+{
+    uint add = uint(clamp(value, 0.0, 1.0) * 65536.0 + 0.5);
+    uint old = atomicAdd(top_reach[at], add);
+    if (old > 0xFFFFFFFFu - add)
+        atomicAdd(top_reach[at + 1u], 1u);
+}
+
+void reach(float alpha, float w)
+{
+    if (u_reach_g > 1.0)
+        return;
+    float g = fragment_importance();
+    uint at = 8u * ((uint(FRAG_COORD.x) + 7u * uint(FRAG_COORD.y)) & 63u);
+    reach_add(at, g * w);
+    reach_add(at + 2u, g * alpha);
+    if (g >= u_reach_g) {
+        reach_add(at + 4u, g * w);
+        reach_add(at + 6u, g * alpha);
+    }
+}
+#else
+void reach(float alpha, float w) {}
+#endif
+
 #ifndef RASTER_STAGE
 layout(location = 0) out vec4 o_accum;
 #endif
@@ -22,6 +57,7 @@ void main()
     float tau = max(fourier_eval(c, fragment_series_depth()), 0.0);
 #endif
     float w = composite_weight(alpha, tau, u_estimator);
+    reach(alpha, w);
 #ifdef RASTER_STAGE
     vec3 cw = fragment_color() * w;
     raster_add(0, cw.r);

@@ -96,6 +96,8 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
                  "importantOccluded=%.4f",
                  info->top_decile_alpha, info->bottom_half_alpha, info->covered_fraction, info->occluder_alpha,
                  info->important_occluded);
+        if (info->has_reach) /* the fourier method measures it (docs/ALGORITHM.md §8) */
+            snprintf(vis + strlen(vis), sizeof vis - strlen(vis), ",topDecileReach=%.4f", info->top_decile_reach);
         MHD_add_response_header(r, "X-Lucent-Visibility", vis);
         char layers[LC_MAX_LAYERS * 48] = "";
         for (int i = 0; i < info->layer_count && i < LC_MAX_LAYERS; i++) { /* layered frames: "top/bottom/occluder;..." */
@@ -111,6 +113,8 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
         char cl[128];
         snprintf(cl, sizeof cl, "lambdaFactor=%.4g,penaltyFactor=%.4g,reached=%s", info->clarity_lambda,
                  info->clarity_penalty, info->clarity_reached ? "true" : "false");
+        if (info->clarity_smoothing_cut) /* the loop cut params.smoothing (docs/ALGORITHM.md §25) */
+            snprintf(cl + strlen(cl), sizeof cl - strlen(cl), ",smoothing=%d", info->clarity_smoothing);
         MHD_add_response_header(r, "X-Lucent-Clarity", cl);
     }
     if (info->has_color_ticks) { /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */

@@ -131,6 +131,8 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.bottom_half_alpha = e->info.bottom_half_alpha;
         h.occluder_alpha = e->info.occluder_alpha;
         h.important_occluded = e->info.important_occluded;
+        h.has_reach = e->info.has_reach != 0;
+        h.top_decile_reach = e->info.top_decile_reach;
         h.covered_fraction = e->info.covered_fraction;
         h.layer_count = e->info.layer_count;
         for (int i = 0; i < e->info.layer_count && i < LC_MAX_LAYERS; i++) {
@@ -144,6 +146,8 @@ static void encode_one(lc_encoders *w, encode_item *e)
         h.clarity_lambda = e->info.clarity_lambda;
         h.clarity_penalty = e->info.clarity_penalty;
         h.clarity_reached = e->info.clarity_reached != 0;
+        h.has_clarity_smoothing = e->info.clarity_smoothing_cut != 0;
+        h.clarity_smoothing = e->info.clarity_smoothing;
     }
     if (e->info.has_color_ticks) {
         h.has_color_ticks = true;

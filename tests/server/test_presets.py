@@ -55,8 +55,11 @@ with Server(binary, data=(ply, "demo:tornado"), demo_size=20) as srv:
 
     st, headers, _ = srv.request("GET", "/api/v1/render?dataset=flow&width=96&height=64")
     vis = dict(kv.split("=") for kv in headers.get("x-lucent-visibility", "").split(",") if "=" in kv)
-    check(st == 200 and set(vis) == {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction", "occluderAlpha", "importantOccluded"}
-          and all(0 <= float(v) <= 1 for v in vis.values()), "X-Lucent-Visibility: %r" % vis)
+    # The shares lie in [0, 1]; topDecileReach (fourier) is a ratio, 1 where the top decile shows as drawn.
+    check(st == 200 and set(vis) == {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction", "occluderAlpha",
+                                     "importantOccluded", "topDecileReach"}
+          and all(0 <= float(v) <= 1 for k, v in vis.items() if k != "topDecileReach")
+          and float(vis["topDecileReach"]) > 0, "X-Lucent-Visibility: %r" % vis)
     st, headers, _ = srv.request("GET", "/api/v1/render?dataset=flow&width=96&height=64&method=opaque")
     check(st == 200 and "x-lucent-visibility" not in headers, "no visibility for the opaque method")
 
@@ -72,7 +75,8 @@ with Server(binary, data=(ply, "demo:tornado"), demo_size=20) as srv:
     if websockets:
         header = asyncio.run(session())
         v = header.get("visibility", {})
-        check(set(v) == {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction", "occluderAlpha", "importantOccluded"},
+        check(set(v) == {"topDecileAlpha", "bottomHalfAlpha", "coveredFraction", "occluderAlpha", "importantOccluded",
+                         "topDecileReach"},
               "the first frame's header carries visibility: %r" % header)
 
 with Server(binary, "--elements", "120", data=(ply,), demo_size=0) as srv:

@@ -7,6 +7,7 @@
 
 #include "foo_math.h"
 #include "renderer.h"
+#include "trace.h"
 
 #define PI 3.14159265358979323846
 /* Set-up of one primitive in one pass, in fragment units: on llvmpipe 200,000
@@ -396,10 +397,29 @@ double lc_cost_surface_steps(double diagonal, double max_speed, double step, dou
     return steps < 1 ? 1 : steps > 1e5 ? 1e5 : steps;
 }
 
-double lc_cost_surface(const lc_render_params *p, int particles, double steps, int k)
+double lc_cost_surface_step_units(const lc_render_params *p)
 {
     double segment = fmax(1.0, p->height / 400.0);
-    return (double)particles * steps * (10.0 + 2.0 * segment) + (double)p->width * p->height * (k + 3.0);
+    return LC_TRACE_STEP_UNITS + 2.0 * segment;
+}
+
+double lc_cost_surface(const lc_render_params *p, int particles, double steps, int k)
+{
+    return (double)particles * steps * lc_cost_surface_step_units(p) + (double)p->width * p->height * (k + 3.0);
+}
+
+double lc_cost_grant(double cost) { return fmax(LC_COST_GRANT_FACTOR * cost, LC_COST_GRANT_FLOOR); }
+
+void lc_cost_surface_budget(lc_work_budget *b, double cost, double max_cost)
+{
+    lc_work_init(b, max_cost > 0 ? lc_cost_grant(cost) : 0, "surface.particles");
+}
+
+void lc_cost_frame_budget(lc_work_budget *b, double cost, double rate, double max_cost, const char *field)
+{
+    bool on = max_cost > 0 && rate > 0;
+    lc_work_init(b, on ? fmax(LC_COST_TIME_FACTOR * cost, LC_COST_TIME_FLOOR_S * rate) : 0, field);
+    lc_work_time(b, on ? rate : 0);
 }
 
 int lc_cost_check_surface(const lc_render_params *p, int particles, double steps, int k, double budget, double *cost,

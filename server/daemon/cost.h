@@ -32,6 +32,7 @@
 #include <stdint.h>
 
 #include "lc_params.h"
+#include "lc_work.h"
 #include "scene_measure.h"
 
 #ifdef __cplusplus
@@ -78,6 +79,31 @@ double lc_cost_surface(const lc_render_params *p, int particles, double steps, i
 double lc_cost_surface_steps(double diagonal, double max_speed, double step, double length);
 int lc_cost_check_surface(const lc_render_params *p, int particles, double steps, int k, double budget, double *cost,
                           const char **field, char *msg, size_t n);
+
+/* Work budgets (render/base lc_work.h; docs/ALGORITHM.md "Work budgets"):
+ * what a request admitted at estimate `cost` may spend while it runs.
+ * Counted work (RK4 steps) may reach LC_COST_GRANT_FACTOR times the
+ * estimate; measured time, converted by the pool's learned rate (units per
+ * second), LC_COST_TIME_FACTOR times, since the rate itself moves with the
+ * host's load; counted work at least LC_COST_GRANT_FLOOR units, so that a
+ * cheap request's fixed costs never trip it. */
+#define LC_COST_GRANT_FACTOR 4.0
+#define LC_COST_TIME_FACTOR 8.0
+#define LC_COST_GRANT_FLOOR 2.5e7
+#define LC_COST_TIME_FLOOR_S 10.0
+double lc_cost_grant(double cost);
+/* A surface-layers frame's budget: RK4 steps counted at the model's price
+ * (lc_cost_surface_step_units), limit lc_cost_grant(cost), naming
+ * surface.particles. max_cost <= 0 (no --max-cost): b counts but never stops. */
+void lc_cost_surface_budget(lc_work_budget *b, double cost, double max_cost);
+/* The units of one traced RK4 step (with its ghost) and its drawn segment. */
+double lc_cost_surface_step_units(const lc_render_params *p);
+/* A frame's budget against measured time: limit LC_COST_TIME_FACTOR x cost
+ * (at least LC_COST_TIME_FLOOR_S seconds' worth: a busy host's stall is no
+ * reason to stop a frame), elapsed seconds charged at `rate` units
+ * per second, naming field. rate <= 0 (nothing learned yet) or max_cost <= 0:
+ * b counts nothing and never stops. */
+void lc_cost_frame_budget(lc_work_budget *b, double cost, double rate, double max_cost, const char *field);
 
 #ifdef __cplusplus
 }

@@ -561,9 +561,12 @@ int lc_session_surface_frame(lc_server *srv, lc_session *s, const lc_request *re
 {
     const lc_field *field = NULL; /* looked up again: the session's request may have changed since it was checked */
     lc_proto_error pe;
-    if (lc_admit_surface(srv, req, NULL, &field, &pe) != 0)
+    double cost = 0;
+    if (lc_admit_surface(srv, req, &cost, &field, &pe) != 0)
         return lc_err_field(err, LC_ERR_INVALID, pe.field, "%s", pe.message);
-    return lc_surface_stream_frame(&s->surface, keep, field, &req->surface, &req->render, rgba, info, err);
+    lc_work_budget work; /* this frame's tracing, against what its estimate was granted */
+    lc_cost_surface_budget(&work, cost, srv->cfg.max_cost);
+    return lc_surface_stream_frame(&s->surface, keep, field, &req->surface, &req->render, &work, rgba, info, err);
 }
 
 uint64_t lc_session_surface_id(const lc_session *s) { return lc_surface_stream_id(s->surface); }

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cost.h"
 #include "surface_render.h"
 
 #define TRACE_THREADS_MAX 8
@@ -64,8 +65,8 @@ static void reset_info(lc_frame_info *info, const lc_render_params *p)
     info->width = p->width, info->height = p->height;
 }
 
-int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba,
-                          lc_frame_info *info, lc_error *err)
+int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
+                          lc_work_budget *work, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
     reset_info(info, p);
     lc_surface_params sp;
@@ -73,6 +74,7 @@ int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, co
     int rc = to_params(s, &sp, &seed, err);
     if (rc)
         return rc;
+    sp.work = work, sp.step_units = lc_cost_surface_step_units(p);
     lc_surface_info si;
     double t0 = lc_now();
     rc = lc_surface_render(field, &seed, &sp, p, trace_threads(), rgba, &si, &info->camera, err);
@@ -113,8 +115,8 @@ static int same_surface(const lc_surface_stream *st, const lc_field *field, cons
 }
 
 int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, const lc_field *field,
-                            const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba, lc_frame_info *info,
-                            lc_error *err)
+                            const lc_surface_request *s, const lc_render_params *p, lc_work_budget *work,
+                            uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
     reset_info(info, p);
     lc_surface_params sp;
@@ -149,7 +151,11 @@ int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, cons
         st->curves = c, st->cap = cap;
     }
     lc_surface_info si = {0};
-    lc_trace_desc td = {.step = s->step, .max_length = s->length, .direction = (lc_trace_direction)s->direction};
+    lc_trace_desc td = {.step = s->step,
+                        .max_length = s->length,
+                        .direction = (lc_trace_direction)s->direction,
+                        .work = work,
+                        .step_units = lc_cost_surface_step_units(p)};
     if (add && (rc = lc_trace_curves(field, &seed, &td, st->count, add, trace_threads(), st->curves + st->count, err)))
         return rc;
     st->count += add;

@@ -215,6 +215,13 @@ static int job_layer_count(const lc_render_job *job)
     return job->req.layer_count;
 }
 
+/* The field a frame over its measured budget names: the one whose lowering
+ * helps its estimate most (cost.h lc_cost_field), "layers" for layers[]. */
+static const char *budget_field(const lc_dataset *ds, const lc_render_params *p, double cost)
+{
+    return ds ? lc_cost_field(&ds->cost, p, 0.5 * cost) : "layers";
+}
+
 /* The frame a worker renders is "in hand" while the renderer runs: under MPI
  * that is where a dead rank leaves it waiting, and lc_workers_abandon answers
  * it from another thread. */
@@ -284,6 +291,14 @@ static void render_job(worker *wk, lc_render_job *job)
                  (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
     lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;
+    /* What the job may spend as it runs (cost.h): tracing's counted steps, or the frame's measured time. */
+    lc_work_budget work;
+    if (field)
+        lc_cost_surface_budget(&work, job->cost, w->srv->cfg.max_cost);
+    else
+        lc_cost_frame_budget(&work, job->cost, atomic_load(&w->cost_rate), w->srv->cfg.max_cost,
+                             budget_field(dataset, p, job->cost));
+    lc_renderer_set_work(wk->renderer, field ? NULL : &work);
     in_hand(wk, job, NULL);
     /* A session's opacities span its layers (lc_session_prepare_state). */
     lc_frame_state *state = NULL;
@@ -291,11 +306,12 @@ static void render_job(worker *wk, lc_render_job *job)
     if (session && rc == 0)
         state = session->frame_state;
     if (rc == 0)
-        rc = field         ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
+        rc = field         ? lc_surface_job_render(field, &surface, p, &work, rgba, &info, &err)
              : layer_count ? render_layers(w, wk->renderer, layer_ds, scenes, layers, layer_count, p, state, dt, rgba,
                                            &info, &err)
                            : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
     free(layers);
+    lc_renderer_set_work(wk->renderer, NULL);
     wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
     if (!w->srv->mpi && dataset) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
@@ -400,6 +416,13 @@ static void render_session(worker *wk, lc_session *s)
     wk->preempt = f.interactive ? NULL : s;
     double cost = lc_cost_estimate(&s->dataset->cost, p);
     wk->large = !f.interactive && w->nworkers > 1 && lc_yield_large(cost, atomic_load(&w->cost_rate)), wk->owner = s;
+    /* A still's measured budget (cost.h); moving frames are short and surfaces count their own. */
+    lc_work_budget work;
+    bool budgeted = !f.interactive && p->method != LC_METHOD_SURFACE_LAYERS;
+    if (budgeted)
+        lc_cost_frame_budget(&work, cost, atomic_load(&w->cost_rate), w->srv->cfg.max_cost,
+                             budget_field(f.req.layer_count ? NULL : s->dataset, p, cost));
+    lc_renderer_set_work(wk->renderer, budgeted ? &work : NULL);
     if (f.interactive)
         lc_yield_interactive_begin(&w->gate, s);
     in_hand(wk, NULL, s);
@@ -416,6 +439,7 @@ static void render_session(worker *wk, lc_session *s)
                                  &err)
                  : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
     free(layers);
+    lc_renderer_set_work(wk->renderer, NULL);
     out_of_hand(wk);
     if (f.interactive)
         lc_yield_interactive_end(&w->gate, s);
@@ -434,6 +458,8 @@ static void render_session(worker *wk, lc_session *s)
         LC_WARN(MOD, "session %s: frame %llu failed: %s", s->id, (unsigned long long)f.frame, err.msg);
         if (rc == LC_ERR_INVALID)
             lc_stream_error(w->srv, s, LC_PROTO_BAD_FIELD, err.msg, err.field[0] ? err.field : NULL);
+        else if (rc == LC_ERR_BUDGET) /* ran past what its estimate was granted (cost.h) */
+            lc_stream_error(w->srv, s, "too_expensive", err.msg, err.field[0] ? err.field : NULL);
         else
             lc_stream_error(w->srv, s, "render_failed", err.msg, NULL);
         return;

@@ -21,7 +21,7 @@ extern "C" {
 
 #define LC_SEED_MAX_POINTS 256    /* vertices of a seed polyline */
 #define LC_TRACE_MAX_STEPS 100000 /* RK4 steps of one curve */
-#define LC_TRACE_STEP_UNITS 10.0  /* work units of one RK4 step with its ghost (lc_work.h) */
+#define LC_TRACE_STEP_UNITS 30.0  /* work units of one RK4 step with its ghost (lc_work.h; measured, cost_bench) */
 #define LC_TRACE_CHARGE_STEPS 256 /* steps between two charges to a work budget */
 
 /* A seed polyline: at least 2 points, consecutive points distinct. */

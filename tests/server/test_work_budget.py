@@ -112,7 +112,7 @@ with Server(binary, data=("demo:points", os.path.join(tmp, "steady.vtk"), os.pat
     check(m is not None, "the message gives the work used and granted: %r" % e.get("message"))
     if m:
         used, granted = float(m.group(1)), float(m.group(2))
-        step = 10 + 2 * 1  # LC_TRACE_STEP_UNITS and a segment at 256 pixels high (cost.c)
+        step = 30 + 20 * 1  # LC_TRACE_STEP_UNITS and a segment at 256 pixels high (cost.c)
         check(granted >= 4 * cost * 0.99 and used <= granted + THREADS * BATCH * step,
               "work used %g within the grant %g (estimate %g) and one batch per thread" % (used, granted, cost))
         # Without the budget: 200 curves crossing a band 0.4 wide at SLOW of the top speed, each step

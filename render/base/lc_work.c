@@ -19,6 +19,12 @@ void lc_work_time(lc_work_budget *b, double rate)
     b->started = lc_now();
 }
 
+void lc_work_exclude(lc_work_budget *b, double seconds)
+{
+    if (b && seconds > 0)
+        b->started += seconds;
+}
+
 /* used += units, lock-free (doubles have no atomic add). */
 static double add(_Atomic double *x, double units)
 {

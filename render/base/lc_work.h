@@ -40,6 +40,10 @@ void lc_work_init(lc_work_budget *b, double limit, const char *field);
  * (now - started) * rate units in all (rate <= 0: never). */
 void lc_work_time(lc_work_budget *b, double rate);
 
+/* Leaves `seconds` out of the elapsed time (a wait that did no work, e.g. a
+ * yield point giving the cores to another session). Same thread as the charges' owner. */
+void lc_work_exclude(lc_work_budget *b, double seconds);
+
 /* Adds units (b may be NULL: nothing to count). 0 while used <= limit, else
  * LC_ERR_BUDGET; once exceeded it stays exceeded. */
 int lc_work_charge(lc_work_budget *b, double units);

@@ -112,9 +112,9 @@ int lc_cost_check_surface(const lc_render_params *p, int particles, double steps
  * host's load; counted work at least LC_COST_GRANT_FLOOR units, so that a
  * cheap request's fixed costs never trip it. */
 #define LC_COST_GRANT_FACTOR 4.0
-#define LC_COST_TIME_FACTOR 8.0
+#define LC_COST_TIME_FACTOR 16.0
 #define LC_COST_GRANT_FLOOR 2.5e7
-#define LC_COST_TIME_FLOOR_S 10.0
+#define LC_COST_TIME_FLOOR_S 30.0
 double lc_cost_grant(double cost);
 /* A surface-layers frame's budget: RK4 steps counted at the model's price
  * (lc_cost_surface_step_units), limit lc_cost_grant(cost), naming

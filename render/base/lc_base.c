@@ -64,6 +64,7 @@ const char *lc_status_name(int code)
     case LC_ERR_NOT_FOUND: return "not_found";
     case LC_ERR_UNSUPPORTED: return "unsupported";
     case LC_ERR_CANCELLED: return "cancelled";
+    case LC_ERR_BUDGET: return "budget";
     default: return "internal";
     }
 }

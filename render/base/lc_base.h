@@ -21,7 +21,8 @@ enum {
     LC_ERR_NOT_FOUND = -6,   /* unknown dataset, attribute, name */
     LC_ERR_UNSUPPORTED = -7, /* feature not available here */
     LC_ERR_INTERNAL = -8,
-    LC_ERR_CANCELLED = -9 /* stopped by lc_cancel (a signal during start-up), or a frame stopped at a yield point */
+    LC_ERR_CANCELLED = -9, /* stopped by lc_cancel (a signal during start-up), or a frame stopped at a yield point */
+    LC_ERR_BUDGET = -10    /* the work exceeded the budget granted to the request (lc_work.h) */
 };
 
 #define LC_ERROR_MSG_LEN 256

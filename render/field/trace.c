@@ -118,6 +118,14 @@ void lc_trace_resolve(const lc_field *field, const lc_trace_desc *desc, lc_trace
         out->ghost_delta = 1e-5 * diag;
     if (!isfinite(out->t0) || out->t0 == 0)
         out->t0 = field->t0;
+    if (!(out->step_units > 0))
+        out->step_units = LC_TRACE_STEP_UNITS;
+}
+
+/* Charges steps to d->work; nonzero once the budget is exceeded (by any thread). */
+static int charge_steps(const lc_trace_desc *d, int steps)
+{
+    return d->work ? lc_work_charge(d->work, steps * d->step_units) : 0;
 }
 
 /* One RK4 step of h from (p, t); 0 when a stage leaves the domain. */
@@ -208,7 +216,15 @@ static int trace_half(const lc_field *f, const double seed_p[3], const double ac
         return LC_ERR_NOMEM;
     if (!inside)
         return 0;
-    for (int step = 0; step < d->max_steps; step++) {
+    int step = 0, charged = 0;
+    for (; step < d->max_steps; step++) {
+        /* Counted as it happens: a curve slower than the estimate assumed
+         * (slow regions of the field) stops at the request's budget. */
+        if (step - charged == LC_TRACE_CHARGE_STEPS) {
+            if (charge_steps(d, step - charged))
+                return LC_ERR_BUDGET;
+            charged = step;
+        }
         double prev[3] = {p[0], p[1], p[2]};
         double h = d->step, elapsed = fabs(t - d->t0);
         if (elapsed + h > d->max_time)
@@ -245,10 +261,12 @@ static int trace_half(const lc_field *f, const double seed_p[3], const double ac
         normal_at(v, off, n);
         if (push(c, cap, p, n, t, norm3(v)))
             return LC_ERR_NOMEM;
-        if (length >= d->max_length || fabs(t - d->t0) >= d->max_time || norm3(v) < 1e-12 * (f->mag_max + 1e-300))
+        if (length >= d->max_length || fabs(t - d->t0) >= d->max_time || norm3(v) < 1e-12 * (f->mag_max + 1e-300)) {
+            step++;
             break;
+        }
     }
-    return 0;
+    return charge_steps(d, step - charged) ? LC_ERR_BUDGET : 0;
 }
 
 /* Reverses vertices [0, n) of c in place (a backward half runs from the seed
@@ -315,8 +333,11 @@ int lc_trace_curve_at(const lc_field *field, const lc_seed *seed, const lc_trace
 {
     lc_trace_desc d;
     lc_trace_resolve(field, desc, &d);
-    if (trace_one(field, seed, &d, u, curve) != 0) {
+    int rc = trace_one(field, seed, &d, u, curve);
+    if (rc != 0) {
         lc_trace_curves_free(curve, 1);
+        if (rc == LC_ERR_BUDGET)
+            return lc_work_err(d.work, err, "tracing a curve");
         return lc_err(err, LC_ERR_NOMEM, "%s: out of memory tracing a curve", field->name);
     }
     return 0;
@@ -380,10 +401,16 @@ static int trace_many(const lc_field *field, const lc_seed *seed, const double *
         jobs[k] = (trace_job){field, seed, points, &d, first, count, nt, k, curves, 0};
     lc_parallel_for((uint32_t)nt, run_job, jobs, sizeof jobs[0]);
     int rc = 0;
-    for (int k = 0; k < nt && !rc; k++)
-        rc = jobs[k].rc;
+    for (int k = 0; k < nt; k++)
+        if (!rc || rc == LC_ERR_BUDGET) /* out of memory says more than the budget another thread saw */
+            rc = jobs[k].rc ? jobs[k].rc : rc;
     if (rc) {
         lc_trace_curves_free(curves, count);
+        if (rc == LC_ERR_BUDGET) {
+            char what[64];
+            snprintf(what, sizeof what, "tracing %u curves", count);
+            return lc_work_err(d.work, err, what);
+        }
         return lc_err(err, rc, "%s: out of memory tracing %u curves", field->name, count);
     }
     return 0;

@@ -13,6 +13,7 @@
 
 #include "field.h"
 #include "lc_base.h"
+#include "lc_work.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -20,6 +21,8 @@ extern "C" {
 
 #define LC_SEED_MAX_POINTS 256    /* vertices of a seed polyline */
 #define LC_TRACE_MAX_STEPS 100000 /* RK4 steps of one curve */
+#define LC_TRACE_STEP_UNITS 30.0  /* work units of one RK4 step with its ghost (lc_work.h; measured, cost_bench) */
+#define LC_TRACE_CHARGE_STEPS 256 /* steps between two charges to a work budget */
 
 /* A seed polyline: at least 2 points, consecutive points distinct. */
 typedef struct lc_seed {
@@ -47,6 +50,12 @@ typedef struct lc_trace_desc {
     int max_steps;      /* 0 = LC_TRACE_MAX_STEPS */
     double ghost_delta; /* Δ of the ghost particle; 0 = 1e-5 times the field's diagonal */
     double t0;          /* seeding time of path surfaces; NaN/0 = the field's t0 */
+    /* Work budget (NULL = none; borrowed for the call): every
+     * LC_TRACE_CHARGE_STEPS steps of a curve charge step_units each (0 =
+     * LC_TRACE_STEP_UNITS); once the budget is exceeded every thread stops and
+     * the call fails with LC_ERR_BUDGET naming the budget's field. */
+    lc_work_budget *work;
+    double step_units;
 } lc_trace_desc;
 
 /* One traced curve: n vertices with position, normal (unit; cross(v, ghost
@@ -83,7 +92,8 @@ void lc_trace_resolve(const lc_field *field, const lc_trace_desc *desc, lc_trace
 /* Traces particles first .. first + count - 1 (lc_seed_param order) into
  * curves[0 .. count-1] on threads threads (0 or 1 = the caller only). Curves
  * own malloc'd arrays: free them with lc_trace_curves_free. A particle seeded
- * outside the field gives a curve of 1 vertex. */
+ * outside the field gives a curve of 1 vertex. Errors: LC_ERR_NOMEM,
+ * LC_ERR_BUDGET (desc->work exceeded; no curves are kept). */
 int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_desc *desc, uint64_t first,
                     uint32_t count, int threads, lc_trace_curve *curves, lc_error *err);
 /* Traces one curve from each of count seed points (3 doubles each) into

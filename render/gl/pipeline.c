@@ -2,6 +2,7 @@
  * binding and draw of a pass, blending set-ups, resolve and readback. */
 #include <math.h>
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,8 +85,15 @@ void lc_renderer_timestamp(lc_renderer *r, int slot)
 
 void lc_renderer_set_tile_size(lc_renderer *r, int tile_size) { r->desc.tile_size = tile_size > 0 ? tile_size : 0; }
 
+void lc_renderer_set_work(lc_renderer *r, lc_work_budget *work) { r->work = work; }
+
 int lc_renderer_yield_point(lc_renderer *r, lc_error *err)
 {
+    bool collective = r->desc.reducer && r->desc.reducer->size > 1;
+    if (r->work && !collective && lc_work_charge_elapsed(r->work)) { /* the work ran past its budget */
+        r->yield_cut = 0;
+        return lc_work_err(r->work, err, "the frame");
+    }
     if (r->yield_cut) { /* a draw of this pass ended at a batch (batch_yield) */
         r->yield_cut = 0;
         return lc_err(err, LC_ERR_CANCELLED, "the frame yielded (pre-empted during a pass)");
@@ -357,10 +365,11 @@ static void end_batch(GLsync in_flight[2], uint64_t k)
 int lc_renderer_batch_yield(const lc_frame_setup *fs)
 {
     lc_renderer *r = fs->renderer;
-    if (!r || !r->draw_yields || !r->desc.preempted || (r->desc.reducer && r->desc.reducer->size > 1))
+    if (!r || !r->draw_yields || (!r->desc.preempted && !r->work) || (r->desc.reducer && r->desc.reducer->size > 1))
         return r && r->yield_cut;
-    if (!r->yield_cut && r->desc.preempted(r->desc.yield_ctx))
-        r->yield_cut = 1;
+    if (!r->yield_cut && ((r->desc.preempted && r->desc.preempted(r->desc.yield_ctx)) ||
+                          (r->work && lc_work_charge_elapsed(r->work))))
+        r->yield_cut = 1; /* past the budget: the yield point that follows says so */
     return r->yield_cut;
 }
 

@@ -9,6 +9,7 @@
 #include "camera.h"
 #include "lc_base.h"
 #include "lc_params.h"
+#include "lc_work.h"
 #include "scene.h"
 
 #ifdef __cplusplus
@@ -397,6 +398,13 @@ size_t lc_renderer_read_targets(lc_renderer *r, int which, float *out, size_t n)
 
 /* Sets the reduction hook after creation (same contract as the desc field). */
 void lc_renderer_set_reducer(lc_renderer *r, const lc_reducer *reducer);
+/* The work budget of the frames that follow (NULL = none; borrowed until
+ * set again; lc_work.h): every yield point and every batch where a draw may
+ * yield charges the time elapsed (lc_work_charge_elapsed); once exceeded the
+ * frame ends at its next yield point with LC_ERR_BUDGET naming the budget's
+ * field, as a pre-empted frame ends (no image; the renderer stays usable).
+ * Checked with a reducer of one process only, as yield points are. */
+void lc_renderer_set_work(lc_renderer *r, lc_work_budget *work);
 /* Sets desc.tile_size for the frames that follow (0 = the default rule), e.g.
  * to give a large frame a yield point every tile. */
 void lc_renderer_set_tile_size(lc_renderer *r, int tile_size);

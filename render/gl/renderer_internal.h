@@ -363,6 +363,9 @@ struct lc_renderer {
      * draw ended early, so the frame's other draws are skipped and the next
      * yield point ends the frame. */
     int draw_yields, yield_cut;
+    /* The frame's work budget (lc_renderer_set_work; NULL = none): elapsed
+     * time charged at every yield point and between batches. */
+    lc_work_budget *work;
     float point_size_max;
     int max_viewport[2];
     GLuint timer_queries[LC_PASS_COUNT + 1];

@@ -216,7 +216,11 @@ int lc_surface_render(const lc_field *field, const lc_seed *seed_in, const lc_su
     if (!curves)
         return lc_err(err, LC_ERR_NOMEM, "out of memory for %d curves", sp->particles);
     double t0 = lc_now();
-    lc_trace_desc td = {.step = sp->step, .max_length = sp->length, .direction = (lc_trace_direction)sp->direction};
+    lc_trace_desc td = {.step = sp->step,
+                        .max_length = sp->length,
+                        .direction = (lc_trace_direction)sp->direction,
+                        .work = sp->work,
+                        .step_units = sp->step_units};
     rc = lc_trace_curves(field, &seed, &td, 0, (uint32_t)sp->particles, threads, curves, err);
     info->trace_ms = (lc_now() - t0) * 1000.0;
     if (rc) {

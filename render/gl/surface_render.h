@@ -34,6 +34,10 @@ typedef struct lc_surface_params {
     int max_layers;  /* K asked for (1..LC_SURFACE_LAYERS_MAX_K), lowered to the budget */
     int composite;   /* LC_SURFACE_COMPOSITE_* */
     double color[3]; /* base colour in [0, 1] */
+    /* Tracing's work budget (NULL = none; lc_trace_desc.work): each RK4 step
+     * charges step_units (0 = LC_TRACE_STEP_UNITS). Borrowed for the call. */
+    lc_work_budget *work;
+    double step_units;
 } lc_surface_params;
 
 typedef struct lc_surface_info {

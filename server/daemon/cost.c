@@ -7,11 +7,23 @@
 
 #include "foo_math.h"
 #include "renderer.h"
+#include "trace.h"
+#include "yield.h"
 
 #define PI 3.14159265358979323846
 /* Set-up of one primitive in one pass, in fragment units: on llvmpipe 200,000
  * small splats cost about as much as 2e7 fragments per pass. */
 #define PRIMITIVE_UNITS 100.0
+
+/* The tiles a still of p composites in: the pool tiles frames above
+ * LC_LARGE_FRAME_PIXELS at LC_YIELD_TILE (workers.c; with one worker it does
+ * not, and the estimate is then on the safe side), the renderer larger ones
+ * at its own size. */
+static int frame_tiles(const lc_render_params *p, int *nx, int *ny)
+{
+    long long pixels = (long long)p->width * p->height;
+    return lc_pass_plan_tiles(p, pixels > LC_LARGE_FRAME_PIXELS ? LC_YIELD_TILE : 0, nx, ny);
+}
 
 /* Output pixels per world unit at the data centre. */
 static double pixels_per_unit(const lc_scene_measures *st, const lc_render_params *p)
@@ -89,8 +101,10 @@ static double perception_aids_cost(const lc_scene_measures *st, const lc_render_
     if (st->type == LC_PRIM_LINES && p->style.halo_width > 0 && p->method != LC_METHOD_WBOIT)
         halo = fmin(st->line_length * ppu * 2.0 * p->style.halo_width, st->primitives * p->width * (double)p->height);
     double passes = ceil(geometry);
-    return halo * geometry * k + (k - 1) * ((frags * geometry + p->width * (double)p->height * screens) +
-                                            (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes);
+    return LC_COST_HALO_FACTOR * halo * geometry * k +
+           LC_COST_ANTIALIAS_FACTOR * (k - 1) *
+               ((frags * geometry + p->width * (double)p->height * screens) +
+                (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes);
 }
 
 /* Ground shadows and smart transparency (docs/ALGORITHM.md §29): the light's
@@ -111,7 +125,7 @@ static double shadows_cost(const lc_scene_measures *st, const lc_render_params *
         cost += image * 2.0; /* the ground's two draws, at each resolution */
     if (sty->smart > 0)
         cost += image * (5.0 * targets + 2.0 + sty->smart_iterations);
-    return cost;
+    return LC_COST_SHADOW_FACTOR * cost;
 }
 
 /* color.equalize (docs/ALGORITHM.md §19) on fourier/direct: one full-resolution
@@ -125,14 +139,14 @@ static double equalize_cost(const lc_scene_measures *st, const lc_render_params 
         return 0;
     double vertex = st->vertices + PRIMITIVE_UNITS * st->primitives, image = p->width * (double)p->height;
     if (p->method == LC_METHOD_EXACT)
-        return frags * 4.0 + image * 2.0 + vertex;
+        return LC_COST_EQUALIZE_FACTOR * (frags * 4.0 + image * 2.0 + vertex);
     if (p->method != LC_METHOD_FOURIER && p->method != LC_METHOD_DIRECT)
         return 0;
     const lc_foo_params *f = &p->foo;
     double targets = ceil((2.0 * f->bands + 1.0) / 4.0), subset = f->subset > 1 ? f->subset : 1;
     double geometry = 1.0 + targets / subset + 1.0, screens = targets + 2.0;
-    int nx, ny, tiles = lc_pass_plan_tiles(p, 0, &nx, &ny);
-    return frags * geometry + image * screens + vertex * 3.0 * (tiles > 1 ? tiles : 1);
+    int nx, ny, tiles = frame_tiles(p, &nx, &ny);
+    return LC_COST_EQUALIZE_FACTOR * (frags * geometry + image * screens + vertex * 3.0 * (tiles > 1 ? tiles : 1));
 }
 
 double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
@@ -244,14 +258,15 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
     double passes = ceil(geometry);
     /* A tiled still draws every full-resolution pass's geometry once per tile
      * (its fragments are the same: each lands in one tile). */
-    int nx, ny, tiles = lc_pass_plan_tiles(p, 0, &nx, &ny);
+    int nx, ny, tiles = frame_tiles(p, &nx, &ny);
     if (tiles > 1) {
         double full = 0;
         for (int k = 0; k < LC_PASS_COUNT; k++)
             full += plan.run[k] == LC_RUN_FULL || plan.run[k] == LC_RUN_BOTH ? g[k] : 0.0;
         passes += ceil(full) * (tiles - 1);
     }
-    return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes +
+    double clusters = p->clusters.count > 0 && st->type == LC_PRIM_LINES ? LC_COST_CLUSTER_BUILD_UNITS_PER_LINE * st->lines : 0;
+    return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes + clusters +
            st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
            equalize_cost(st, p, frags) + shadows_cost(st, p, frags);
 }
@@ -396,10 +411,30 @@ double lc_cost_surface_steps(double diagonal, double max_speed, double step, dou
     return steps < 1 ? 1 : steps > 1e5 ? 1e5 : steps;
 }
 
-double lc_cost_surface(const lc_render_params *p, int particles, double steps, int k)
+double lc_cost_surface_step_units(const lc_render_params *p)
 {
     double segment = fmax(1.0, p->height / 400.0);
-    return (double)particles * steps * (10.0 + 2.0 * segment) + (double)p->width * p->height * (k + 3.0);
+    return LC_TRACE_STEP_UNITS + 20.0 * segment;
+}
+
+double lc_cost_surface(const lc_render_params *p, int particles, double steps, int k)
+{
+    return (double)particles * steps * lc_cost_surface_step_units(p) +
+           LC_COST_SURFACE_SCREEN_UNITS * (double)p->width * p->height * (k + 3.0);
+}
+
+double lc_cost_grant(double cost) { return fmax(LC_COST_GRANT_FACTOR * cost, LC_COST_GRANT_FLOOR); }
+
+void lc_cost_surface_budget(lc_work_budget *b, double cost, double max_cost)
+{
+    lc_work_init(b, max_cost > 0 ? lc_cost_grant(cost) : 0, "surface.particles");
+}
+
+void lc_cost_frame_budget(lc_work_budget *b, double cost, double rate, double max_cost, const char *field)
+{
+    bool on = max_cost > 0 && rate > 0;
+    lc_work_init(b, on ? fmax(LC_COST_TIME_FACTOR * cost, LC_COST_TIME_FLOOR_S * rate) : 0, field);
+    lc_work_time(b, on ? rate : 0);
 }
 
 int lc_cost_check_surface(const lc_render_params *p, int particles, double steps, int k, double budget, double *cost,

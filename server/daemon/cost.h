@@ -32,6 +32,7 @@
 #include <stdint.h>
 
 #include "lc_params.h"
+#include "lc_work.h"
 #include "scene_measure.h"
 
 #ifdef __cplusplus
@@ -39,6 +40,28 @@ extern "C" {
 #endif
 
 #define LC_COST_DEFAULT_BUDGET 1e9
+
+/* Calibration factors (tests/bench/cost_bench.py; docs/ALGORITHM.md "Work
+ * budgets"): what a feature's work costs on llvmpipe against the plain
+ * frames' rate, where the terms below under-priced it by more than 2x. A halo
+ * fragment is a widened ribbon's, blended with a depth test against the line
+ * (8-12x); the shadow map's pass and blur (6x) and equalization's extra geometry
+ * pass and histogram read-back (6x) stall on their read-backs; antialias
+ * samples each resolve and blend again (2.5x). Tiled stills were priced as
+ * one tile (6x under) until the estimate counted the pool's tiles (cost.c frame_tiles). */
+#define LC_COST_HALO_FACTOR 12.0
+#define LC_COST_SHADOW_FACTOR 6.0
+#define LC_COST_EQUALIZE_FACTOR 6.0
+#define LC_COST_ANTIALIAS_FACTOR 2.5
+/* Building a line-cluster tree (lines.clusters with a new linkage or lift):
+ * about 4e4 units a line on llvmpipe's host (0.42 s for 500 tornado lines,
+ * 1.4 s for 2000). Charged on every clustered frame: the estimate cannot know
+ * whether the tree is cached. */
+#define LC_COST_CLUSTER_BUILD_UNITS_PER_LINE 4e4
+/* Surface-layers' screen passes (clears, merge, composite over K layers, the
+ * read-back) per pixel and layer: 8x the one unit first assumed (about 0.45 s
+ * fixed at 512^2, K = 8). */
+#define LC_COST_SURFACE_SCREEN_UNITS 8.0
 
 
 /* The estimate for one frame of p on a dataset with stats st. */
@@ -66,12 +89,14 @@ int lc_cost_check_layers(const lc_scene_measures *const *st, const lc_layer_para
                          size_t size);
 
 /* Method surface-layers (render/gl/surface_render.h): particles curves of
- * about `steps` RK4 steps each (lc_cost_surface_steps), each step traced (10
- * units: RK4 with its ghost particle) and drawn as a segment of about
- * H / 400 pixels under the fitted camera, every fragment written and merged
- * (2 units); plus W*H*(K + 3) for the clears, the merge and composite passes
- * over the K layers and the read-back. Not calibrated against the renderer
- * yet; over the budget, *field is "surface.particles". */
+ * about `steps` RK4 steps each (lc_cost_surface_steps), each step traced (30
+ * units, LC_TRACE_STEP_UNITS: RK4 with its ghost particle) and drawn as a
+ * segment of about H / 400 pixels under the fitted camera, every fragment
+ * written and merged (20 units a pixel); plus 8 W*H*(K + 3) for the clears,
+ * the merge and composite passes over the K layers and the read-back.
+ * Calibrated by tests/bench/cost_bench.py (at 512^2, 400 and 1600 curves of
+ * the ABC flow: 0.09 and 0.41 s of tracing, 0.58 and 0.81 s of drawing);
+ * over the budget, *field is "surface.particles". */
 double lc_cost_surface(const lc_render_params *p, int particles, double steps, int k);
 /* Steps of one curve: length (0 = 2 diagonals) over step (0 = diagonal / (200
  * max |v|)) times the largest speed, in 1 .. 1e5. */
@@ -87,6 +112,31 @@ double lc_cost_surface_steps(double diagonal, double max_speed, double step, dou
 double lc_cost_trace(double vertices);
 int lc_cost_check_surface(const lc_render_params *p, int particles, double steps, int k, double budget, double *cost,
                           const char **field, char *msg, size_t n);
+
+/* Work budgets (render/base lc_work.h; docs/ALGORITHM.md "Work budgets"):
+ * what a request admitted at estimate `cost` may spend while it runs.
+ * Counted work (RK4 steps) may reach LC_COST_GRANT_FACTOR times the
+ * estimate; measured time, converted by the pool's learned rate (units per
+ * second), LC_COST_TIME_FACTOR times, since the rate itself moves with the
+ * host's load; counted work at least LC_COST_GRANT_FLOOR units, so that a
+ * cheap request's fixed costs never trip it. */
+#define LC_COST_GRANT_FACTOR 4.0
+#define LC_COST_TIME_FACTOR 16.0
+#define LC_COST_GRANT_FLOOR 2.5e7
+#define LC_COST_TIME_FLOOR_S 30.0
+double lc_cost_grant(double cost);
+/* A surface-layers frame's budget: RK4 steps counted at the model's price
+ * (lc_cost_surface_step_units), limit lc_cost_grant(cost), naming
+ * surface.particles. max_cost <= 0 (no --max-cost): b counts but never stops. */
+void lc_cost_surface_budget(lc_work_budget *b, double cost, double max_cost);
+/* The units of one traced RK4 step (with its ghost) and its drawn segment. */
+double lc_cost_surface_step_units(const lc_render_params *p);
+/* A frame's budget against measured time: limit LC_COST_TIME_FACTOR x cost
+ * (at least LC_COST_TIME_FLOOR_S seconds' worth: a busy host's stall is no
+ * reason to stop a frame), elapsed seconds charged at `rate` units
+ * per second, naming field. rate <= 0 (nothing learned yet) or max_cost <= 0:
+ * b counts nothing and never stops. */
+void lc_cost_frame_budget(lc_work_budget *b, double cost, double rate, double max_cost, const char *field);
 
 #ifdef __cplusplus
 }

@@ -96,13 +96,13 @@ static void test_estimates(void)
     p.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
     p.color.equalize = true;
     double eg = 1.0 + t / sub + 1.0;
-    double eq = base + frags * eg + image * screens + (1000 + 100.0 * 1000) * 3.0;
+    double eq = base + LC_COST_EQUALIZE_FACTOR * (frags * eg + image * screens + (1000 + 100.0 * 1000) * 3.0);
     CHECK_NEAR(lc_cost_estimate(&st, &p), eq, 1e-9 * eq, "fourier, color.equalize");
     p.color.equalize = false;
     /* exact: list pass 1 (2 units a fragment) and the blend (2) once more, one more draw. */
     lc_render_params ex = params(LC_METHOD_EXACT, LC_DEPTH_RANGE_GLOBAL), exq = ex;
     exq.color.equalize = true;
-    double de = lc_cost_estimate(&st, &exq) - lc_cost_estimate(&st, &ex), want_eq = frags * 4 + image * 2 + 101000.0;
+    double de = lc_cost_estimate(&st, &exq) - lc_cost_estimate(&st, &ex), want_eq = LC_COST_EQUALIZE_FACTOR * (frags * 4 + image * 2 + 101000.0);
     CHECK_NEAR(de, want_eq, 1e-9 * want_eq, "exact, color.equalize: list pass 1 and the blend again");
     p.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
 

@@ -20,6 +20,12 @@ static lc_task *task(uint64_t key, bool job)
     return t;
 }
 
+static bool is_session(const lc_task *t, void *ctx)
+{
+    (void)ctx;
+    return t->job == NULL;
+}
+
 int main(void)
 {
     lc_fair_queue q = {0};
@@ -60,5 +66,30 @@ int main(void)
           (unsigned long long)seq[3]);
     while (lc_fair_pop(&q))
         ;
+
+    /* Popping only some tasks (the pool's short ones while every other worker
+     * holds a long job): the first client in ring order with such a task gives
+     * its oldest one and goes to the end; the clients passed over keep their
+     * places and their tasks, and the counts stay right. Here sessions are
+     * the tasks taken (not jobs). */
+    used = 0;
+    lc_fair_push(&q, task(1, true));
+    lc_fair_push(&q, task(1, true));
+    lc_task *s1 = task(1, false);
+    lc_fair_push(&q, s1);
+    lc_fair_push(&q, task(2, true));
+    lc_task *s3 = task(3, false);
+    lc_fair_push(&q, s3);
+    lc_task *a = lc_fair_pop_where(&q, is_session, NULL), *b = lc_fair_pop_where(&q, is_session, NULL);
+    CHECK(a == s1 && b == s3, "client 1's session, then client 3's (%p %p)", (void *)a, (void *)b);
+    CHECK(!lc_fair_pop_where(&q, is_session, NULL), "no session left: none taken");
+    CHECK(q.tasks == 3 && q.jobs == 3 && q.clients == 2 && lc_fair_jobs_of(&q, 1) == 2,
+          "3 jobs of clients 1 and 2 stay (%d %d %d)", q.tasks, q.jobs, q.clients);
+    uint64_t rest[3];
+    for (int i = 0; i < 3; i++)
+        rest[i] = lc_fair_pop(&q)->key;
+    CHECK(rest[0] == 2 && rest[1] == 1 && rest[2] == 1, "then 2 (passed over, first), 1, 1 (got %llu %llu %llu)",
+          (unsigned long long)rest[0], (unsigned long long)rest[1], (unsigned long long)rest[2]);
+    CHECK(q.tasks == 0 && q.clients == 0 && !lc_fair_pop(&q), "empty afterwards");
     return lc_test_finish();
 }

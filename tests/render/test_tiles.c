@@ -1,6 +1,7 @@
 /* Tiled stills (frame.c "Tiled stills"): a frame composited in tiles after one
  * optimization of the whole view is the image of one untiled frame. */
 #include <math.h>
+#include <string.h>
 
 #include "demo.h"
 #include "equalize.h"
@@ -120,6 +121,40 @@ int main(void)
         }
         lc_frame_state_destroy(sa);
         lc_frame_state_destroy(sb);
+        lc_renderer_destroy(small);
+    }
+    /* A work budget (lc_work.h): the renderer charges the time elapsed at its
+     * yield points, here every tile. Counting only, it charges the frame's
+     * time at the rate and no more; over its limit the frame ends with
+     * LC_ERR_BUDGET naming the budget's field, writes no image, and the
+     * renderer's next frame renders as before. */
+    {
+        lc_renderer *small = NULL;
+        lc_renderer_desc desc = {.tile_size = 400};
+        CHECK(lc_renderer_create(&desc, &small, &err) == 0, "renderer: %s", err.msg);
+        lc_render_params p;
+        lc_render_params_default(&p);
+        p.width = W, p.height = H;
+        lc_work_budget count, tight;
+        lc_work_init(&count, 0, "width");
+        lc_work_time(&count, 1e6);
+        lc_renderer_set_work(small, &count);
+        double t0 = lc_now();
+        CHECK(small && render(small, gs, &p, NULL, tiled, NULL) == 0, "a counted frame renders");
+        double elapsed = lc_now() - t0;
+        CHECK(lc_work_used(&count) > 0 && lc_work_used(&count) <= elapsed * 1e6 + 1,
+              "the frame's %.3f s charged at 1e6 units/s: %g", elapsed, lc_work_used(&count));
+        lc_work_init(&tight, 1000, "width");
+        lc_work_time(&tight, 1e12);
+        lc_renderer_set_work(small, &tight);
+        memset(tiled, 7, (size_t)W * H * 4);
+        lc_error e = {0};
+        int rc = small ? lc_render_frame(small, gs, &p, NULL, 0.1, tiled, NULL, &e) : 0;
+        CHECK(rc == LC_ERR_BUDGET && strcmp(e.field, "width") == 0 && strstr(e.msg, "granted"),
+              "over its budget the frame stops naming width: %d %s", rc, e.msg);
+        CHECK(tiled[0] == 7 && tiled[(size_t)W * H * 4 - 1] == 7, "and writes no image");
+        lc_renderer_set_work(small, NULL);
+        CHECK(small && render(small, gs, &p, NULL, tiled, NULL) == 0, "the next frame renders");
         lc_renderer_destroy(small);
     }
     free(whole);

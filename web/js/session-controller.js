@@ -199,7 +199,8 @@ export function createSessionController(ctx) {
   }
 
   function onError(msg, { fatal }) {
-    if (msg.code === 'render_failed' || msg.code === 'bad_field' || fatal) endProgress(); // no frame is coming
+    if (msg.code === 'render_failed' || msg.code === 'bad_field' || msg.code === 'too_expensive' || fatal)
+      endProgress(); // no frame is coming
     state.error = { code: msg.code, message: msg.message, field: msg.field ?? '' };
     ui.body('lastError', msg.code);
     if (msg.code === 'unauthorized') {

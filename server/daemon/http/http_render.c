@@ -289,6 +289,10 @@ enum MHD_Result lc_http_finish_render(lc_http_req *ctx, struct MHD_Connection *c
         case LC_ERR_UNSUPPORTED:
         case LC_ERR_NOMEM: return lc_http_error(srv, c, 503, "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_NOT_FOUND: return lc_http_error(srv, c, 404, "not_found", NULL, "%s", job->err.msg);
+        case LC_ERR_BUDGET: /* the work ran past what its estimate was granted (cost.h) */
+            lc_metrics_refused(srv->metrics, "cost");
+            return lc_http_error(srv, c, 400, "too_expensive", job->err.field[0] ? job->err.field : NULL, "%s",
+                                 job->err.msg);
         case LC_ERR_INVALID: /* a value only the renderer can check, e.g. an attribute name */
             return lc_http_error(srv, c, 400, LC_PROTO_BAD_FIELD, job->err.field[0] ? job->err.field : NULL, "%s",
                                  job->err.msg);

@@ -1,6 +1,7 @@
 /* The render queue's order: per-client FIFOs served round robin (fair_queue.h). */
 #include "fair_queue.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 
 struct lc_flow {
@@ -53,23 +54,38 @@ int lc_fair_push(lc_fair_queue *q, lc_task *t)
     return 0;
 }
 
-lc_task *lc_fair_pop(lc_fair_queue *q)
+lc_task *lc_fair_pop(lc_fair_queue *q) { return lc_fair_pop_where(q, NULL, NULL); }
+
+lc_task *lc_fair_pop_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx)
 {
-    lc_flow *f = q->ring_head;
-    if (!f)
+    lc_flow *fp = NULL, *f = q->ring_head; /* fp: the flow before f in the ring */
+    lc_task *tp = NULL, *t = NULL;         /* tp: the task before t in f */
+    for (; f; fp = f, f = f->next) {
+        for (tp = NULL, t = f->head; t && take && !take(t, ctx); tp = t, t = t->next)
+            ;
+        if (t)
+            break;
+    }
+    if (!t)
         return NULL;
-    lc_task *t = f->head;
-    f->head = t->next;
-    if (!f->head)
-        f->tail = NULL;
+    if (tp)
+        tp->next = t->next;
+    else
+        f->head = t->next;
+    if (f->tail == t)
+        f->tail = tp;
     if (t->job) {
         f->jobs--;
         q->jobs--;
     }
     q->tasks--;
-    q->ring_head = f->next;
-    if (!q->ring_head)
-        q->ring_tail = NULL;
+    /* f leaves its place in the ring: to the end when it has more, else gone */
+    if (fp)
+        fp->next = f->next;
+    else
+        q->ring_head = f->next;
+    if (q->ring_tail == f)
+        q->ring_tail = fp;
     if (f->head) {
         ring_append(q, f);
     } else {

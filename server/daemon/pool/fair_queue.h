@@ -6,6 +6,7 @@
 #ifndef LC_SERVER_FAIR_QUEUE_H
 #define LC_SERVER_FAIR_QUEUE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 struct lc_render_job;
@@ -31,6 +32,12 @@ typedef struct lc_fair_queue {
 int lc_fair_push(lc_fair_queue *q, lc_task *t);
 /* The next client's oldest task, or NULL; that client moves to the end of the ring. */
 lc_task *lc_fair_pop(lc_fair_queue *q);
+/* The same among the tasks for which take(t, ctx) holds (take NULL: all):
+ * the first client in ring order with such a task gives its oldest one and
+ * moves to the end of the ring; clients passed over keep their places. The
+ * pool takes only short tasks this way when every other worker holds a long
+ * one (workers.c). */
+lc_task *lc_fair_pop_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx);
 /* Jobs queued by the client `key`. */
 int lc_fair_jobs_of(const lc_fair_queue *q, uint64_t key);
 

@@ -285,7 +285,9 @@ static void set_failed(movie_job *j, int rc, const lc_error *err)
         lc_proto_set_error(&j->error, LC_PROTO_TOO_LARGE, NULL, "%s", err->msg);
         return;
     }
-    const char *code = rc == LC_ERR_INVALID || rc == LC_ERR_NOT_FOUND ? LC_PROTO_BAD_FIELD : "render_failed";
+    const char *code = rc == LC_ERR_INVALID || rc == LC_ERR_NOT_FOUND ? LC_PROTO_BAD_FIELD
+                       : rc == LC_ERR_BUDGET                          ? "too_expensive" /* cost.h work budgets */
+                                                                      : "render_failed";
     lc_proto_set_error(&j->error, code, err->field, "%s", err->msg);
     if (err->field[0]) /* lc_proto_set_error prefixed the field; the renderer's message already starts with it */
         snprintf(j->error.message, sizeof j->error.message, "%s", err->msg);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "admit.h"
+#include "cost.h"
 #include "session.h"
 #include "surface_render.h"
 
@@ -66,8 +67,8 @@ static void reset_info(lc_frame_info *info, const lc_render_params *p)
     info->width = p->width, info->height = p->height;
 }
 
-int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba,
-                          lc_frame_info *info, lc_error *err)
+int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
+                          lc_work_budget *work, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
     reset_info(info, p);
     lc_surface_params sp;
@@ -75,6 +76,7 @@ int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, co
     int rc = to_params(s, &sp, &seed, err);
     if (rc)
         return rc;
+    sp.work = work, sp.step_units = lc_cost_surface_step_units(p);
     lc_surface_info si;
     double t0 = lc_now();
     rc = lc_surface_render(field, &seed, &sp, p, trace_threads(), rgba, &si, &info->camera, err);
@@ -115,8 +117,8 @@ static int same_surface(const lc_surface_stream *st, const lc_field *field, cons
 }
 
 int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, const lc_field *field,
-                            const lc_surface_request *s, const lc_render_params *p, uint8_t *rgba, lc_frame_info *info,
-                            lc_error *err)
+                            const lc_surface_request *s, const lc_render_params *p, lc_work_budget *work,
+                            uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
     reset_info(info, p);
     lc_surface_params sp;
@@ -151,7 +153,11 @@ int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, cons
         st->curves = c, st->cap = cap;
     }
     lc_surface_info si = {0};
-    lc_trace_desc td = {.step = s->step, .max_length = s->length, .direction = (lc_trace_direction)s->direction};
+    lc_trace_desc td = {.step = s->step,
+                        .max_length = s->length,
+                        .direction = (lc_trace_direction)s->direction,
+                        .work = work,
+                        .step_units = lc_cost_surface_step_units(p)};
     if (add && (rc = lc_trace_curves(field, &seed, &td, st->count, add, trace_threads(), st->curves + st->count, err)))
         return rc;
     st->count += add;
@@ -171,10 +177,13 @@ int lc_surface_job_session_frame(lc_server *srv, lc_session *s, const lc_request
 {
     const lc_field *field = NULL; /* looked up again: the session's request may have changed since it was checked */
     lc_proto_error pe;
-    if (lc_admit_surface(srv, req, NULL, &field, &pe) != 0)
+    double cost = 0;
+    if (lc_admit_surface(srv, req, &cost, &field, &pe) != 0)
         return lc_err_field(err, LC_ERR_INVALID, pe.field, "%s", pe.message);
     s->surface_free = lc_surface_stream_free;
-    return lc_surface_stream_frame(&s->surface, keep, field, &req->surface, &req->render, rgba, info, err);
+    lc_work_budget work; /* this frame's tracing, against what its estimate was granted */
+    lc_cost_surface_budget(&work, cost, srv->cfg.max_cost);
+    return lc_surface_stream_frame(&s->surface, keep, field, &req->surface, &req->render, &work, rgba, info, err);
 }
 
 uint64_t lc_surface_job_session_id(const lc_session *s) { return lc_surface_stream_id(s->surface); }

@@ -217,6 +217,45 @@ static int job_layer_count(const lc_render_job *job)
     return job->req.layer_count;
 }
 
+/* The field a frame over its measured budget names: the one whose lowering
+ * helps its estimate most (cost.h lc_cost_field), "layers" for layers[]. */
+static const char *budget_field(const lc_dataset *ds, const lc_render_params *p, double cost)
+{
+    return ds ? lc_cost_field(&ds->cost, p, 0.5 * cost) : "layers";
+}
+
+/* A long job: LC_LONG_JOB_SECONDS or more by the learned rate (without one,
+ * LC_LONG_JOB_COST units or more). Long jobs may hold every worker but one,
+ * so that a drag's frames and other short work always find a worker and wait
+ * at most for one short job. */
+static bool long_job(lc_workers *w, const lc_render_job *job)
+{
+    if (!job)
+        return false;
+    double rate = atomic_load(&w->cost_rate);
+    return rate > 0 ? job->cost / rate >= LC_LONG_JOB_SECONDS : job->cost >= LC_LONG_JOB_COST;
+}
+
+static bool short_task(const lc_task *t, void *ctx) { return !long_job(ctx, t->job); }
+static bool stream_task(const lc_task *t, void *ctx)
+{
+    (void)ctx;
+    return t->session && !t->job;
+}
+
+/* The next task for a free worker (pool lock held): any, unless every other
+ * worker holds a long job; then this is the worker kept for short work, and
+ * it serves WebSocket frames first (a drag's next frame waits for no HTTP
+ * job), then other short tasks (NULL: none queued). */
+static lc_task *next_task(lc_workers *w)
+{
+    if (w->nworkers > 1 && w->long_running >= w->nworkers - 1) {
+        lc_task *t = lc_fair_pop_where(&w->queue, stream_task, w);
+        return t ? t : lc_fair_pop_where(&w->queue, short_task, w);
+    }
+    return lc_fair_pop(&w->queue);
+}
+
 /* The frame a worker renders is "in hand" while the renderer runs: under MPI
  * that is where a dead rank leaves it waiting, and lc_workers_abandon answers
  * it from another thread. */
@@ -280,13 +319,28 @@ static void render_job(worker *wk, lc_render_job *job)
     if (session)
         lc_session_ref(session);
     lc_frame_info info;
-    wk->large = w->nworkers > 1 && lc_yield_large(job->cost, atomic_load(&w->cost_rate));
+    /* A long job gives the cores to other sessions' moving frames at its yield points (yield.h). */
+    wk->large = w->nworkers > 1 && long_job(w, job);
     bool tiled = w->nworkers > 1 && !w->srv->mpi && !layer_count && /* not collective: every rank must tile alike */
                  !(p->time.markers && p->time.has_window) && /* drawn once over the whole image */
                  (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
     lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;
+    /* What the job may spend as it runs (cost.h): tracing's counted steps, or the frame's measured time. */
+    lc_work_budget work;
+    if (field)
+        lc_cost_surface_budget(&work, job->cost, w->srv->cfg.max_cost);
+    else
+        lc_cost_frame_budget(&work, job->cost, atomic_load(&w->cost_rate), w->srv->cfg.max_cost,
+                             budget_field(dataset, p, job->cost));
+    lc_renderer_set_work(wk->renderer, field ? NULL : &work);
+    wk->work = field ? NULL : &work;
     in_hand(wk, job, NULL);
+    if (wk->large) { /* its start is a yield point too: a drag's frame under way keeps the cores */
+        double waited = lc_yield_wait(&w->gate, wk->owner);
+        if (waited > 0)
+            lc_metrics_yield_wait(w->srv->metrics, waited);
+    }
     /* A field's streamline set: uploaded here, a session's re-trace swapped in (its opacities start again). */
     bool retraced = false;
     int rc = field ? 0 : lc_traced_ready(dataset, session ? &session->lock : NULL, &retraced, &err);
@@ -299,11 +353,13 @@ static void render_job(worker *wk, lc_render_job *job)
     if (session && rc == 0)
         state = session->frame_state;
     if (rc == 0)
-        rc = field         ? lc_surface_job_render(field, &surface, p, rgba, &info, &err)
+        rc = field         ? lc_surface_job_render(field, &surface, p, &work, rgba, &info, &err)
              : layer_count ? render_layers(w, wk->renderer, layer_ds, scenes, layers, layer_count, p, state, dt, rgba,
                                            &info, &err)
                            : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
     free(layers);
+    lc_renderer_set_work(wk->renderer, NULL);
+    wk->work = NULL;
     wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
     if (!w->srv->mpi && dataset) /* a large frame keeps no targets (collective frames under MPI keep them) */
         lc_renderer_release_after(wk->renderer, dataset->gpu, p);
@@ -367,8 +423,10 @@ static int on_yield(void *ctx)
     worker *wk = ctx;
     lc_workers *w = wk->pool;
     double waited = wk->large ? lc_yield_wait(&w->gate, wk->owner) : 0;
-    if (waited > 0)
+    if (waited > 0) {
         lc_metrics_yield_wait(w->srv->metrics, waited);
+        lc_work_exclude(wk->work, waited); /* waiting is no work of the frame's */
+    }
     return on_preempted(wk); /* input may have come while it waited */
 }
 
@@ -408,6 +466,14 @@ static void render_session(worker *wk, lc_session *s)
     wk->preempt = f.interactive ? NULL : s;
     double cost = lc_cost_estimate(&s->dataset->cost, p);
     wk->large = !f.interactive && w->nworkers > 1 && lc_yield_large(cost, atomic_load(&w->cost_rate)), wk->owner = s;
+    /* A still's measured budget (cost.h); moving frames are short and surfaces count their own. */
+    lc_work_budget work;
+    bool budgeted = !f.interactive && p->method != LC_METHOD_SURFACE_LAYERS;
+    if (budgeted)
+        lc_cost_frame_budget(&work, cost, atomic_load(&w->cost_rate), w->srv->cfg.max_cost,
+                             budget_field(f.req.layer_count ? NULL : s->dataset, p, cost));
+    lc_renderer_set_work(wk->renderer, budgeted ? &work : NULL);
+    wk->work = budgeted ? &work : NULL;
     if (f.interactive)
         lc_yield_interactive_begin(&w->gate, s);
     in_hand(wk, NULL, s);
@@ -430,6 +496,8 @@ static void render_session(worker *wk, lc_session *s)
                                  &err)
                  : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
     free(layers);
+    lc_renderer_set_work(wk->renderer, NULL);
+    wk->work = NULL;
     out_of_hand(wk);
     if (f.interactive)
         lc_yield_interactive_end(&w->gate, s);
@@ -448,6 +516,8 @@ static void render_session(worker *wk, lc_session *s)
         LC_WARN(MOD, "session %s: frame %llu failed: %s", s->id, (unsigned long long)f.frame, err.msg);
         if (rc == LC_ERR_INVALID)
             lc_stream_error(w->srv, s, LC_PROTO_BAD_FIELD, err.msg, err.field[0] ? err.field : NULL);
+        else if (rc == LC_ERR_BUDGET) /* ran past what its estimate was granted (cost.h) */
+            lc_stream_error(w->srv, s, "too_expensive", err.msg, err.field[0] ? err.field : NULL);
         else
             lc_stream_error(w->srv, s, "render_failed", err.msg, NULL);
         return;
@@ -497,7 +567,7 @@ static void *worker_main(void *arg)
         lc_task *t = NULL;
         while (!w->stopping) {
             double now = lc_now(), next = run_timers(w, now);
-            t = lc_fair_pop(&w->queue);
+            t = next_task(w);
             if (t)
                 break;
             if (wk->trim_at > 0 && now >= wk->trim_at) { /* idle after a large frame */
@@ -527,6 +597,8 @@ static void *worker_main(void *arg)
             break; /* stopping: queued leftovers are failed by lc_workers_stop */
         if (t->session)
             t->session->sched_queued = false;
+        bool is_long = long_job(w, t->job);
+        w->long_running += is_long;
         pthread_mutex_unlock(&w->lock);
         if (t->job) {
             const lc_render_params *p = &t->job->req.render;
@@ -540,6 +612,10 @@ static void *worker_main(void *arg)
         }
         free(t);
         pthread_mutex_lock(&w->lock);
+        if (is_long) { /* a worker held back for short tasks may take a long one now */
+            w->long_running--;
+            pthread_cond_broadcast(&w->work);
+        }
     }
     pthread_mutex_unlock(&w->lock);
 out:

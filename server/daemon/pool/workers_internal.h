@@ -20,6 +20,10 @@
 typedef struct lc_workers lc_workers;
 
 #define LC_IDLE_TRIM_DELAY 1.0 /* seconds after a large frame (worker.trim_at) */
+/* Jobs this long (seconds by the learned rate; without one, units of cost.h)
+ * never hold every worker (workers.c long_job): about two frames of a drag. */
+#define LC_LONG_JOB_SECONDS 0.1
+#define LC_LONG_JOB_COST 5e6
 
 typedef struct worker {
     lc_workers *pool;
@@ -37,6 +41,7 @@ typedef struct worker {
     /* The frame's yield points (render thread only, yield.h): the session whose input pre-empts
      * it; large: it waits for other sessions' moving frames (owner: whose frame it is). */
     lc_session *preempt;
+    lc_work_budget *work; /* the frame's measured budget (cost.h), its waits left out (render thread only) */
     bool large;
     const void *owner;
     /* After a large frame: when the idle worker returns the heap to the
@@ -61,6 +66,9 @@ struct lc_workers {
     bool abandoned; /* lc_workers_abandon ran (the watchdog and mpirun's signal may both call it) */
     lc_fair_queue queue; /* the render tasks, by client (fair_queue.h) */
     _Atomic double cost_rate; /* learned cost units per second of render (0 = none yet); written under lock */
+    /* Workers rendering a long job now (under lock): with two or more workers,
+     * a long job never takes the last one (workers.c long_job). */
+    int long_running;
     lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
     lc_yield_gate gate; /* large renders wait here for other sessions' moving frames (yield.h) */
     lc_surface_keeps *surface_keeps; /* surface sessions' layers across frames (surface_keeps.h); NULL: none kept */

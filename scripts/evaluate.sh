@@ -122,7 +122,7 @@ line) and what they mean. The history of earlier figures is in git.
 | the link | 17 | \`tests/bench/browse_bench.py --link\` |
 | baselines at equal memory, Kanzler's penalty | 18 | \`scripts/evaluate_baselines.sh\`, \`lucent render --stats\` |
 | ground shadows and smart transparency | 20 | \`lucent bench --request\` |
-| the cost model's calibration | 21 | not yet measured |
+| the cost model's calibration, work budgets, the victim's drag | 21 | `tests/bench/cost_bench.py`, `ctest -R 'server.work_budget\|soak.victim' -V` |
 
 Sections 1-7 and the Machine table are written by \`scripts/evaluate.sh\` (do not edit them by hand; rerun it),
 section 8 by \`scripts/bench_peers.sh --doc\` and section 9 by \`scripts/evaluate_detail.sh --doc\`; evaluate.sh

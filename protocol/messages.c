@@ -12,19 +12,49 @@ static const char *const type_names[] = {"hello", "camera", "params", "resize", 
 const char *lc_proto_msg_type_name(lc_msg_type t) { return (unsigned)t < NTYPES ? type_names[t] : "unknown"; }
 
 /* Keys of the render request that hello/params/camera pass on in m->update. */
-static const char *const update_keys[] = {"camera", "params", "importance", "color",  "style",      "method",
+static const char *const update_keys[] = {"camera", "params", "importance", "color",   "style",       "method",
                                           "filter", "lines",  "time",       "surface", "streamlines", "layers"};
 #define NUPDATE (sizeof update_keys / sizeof update_keys[0])
 
 /* Which keys each message type allows, besides "type". */
-static const char *const hello_keys[] = {
-    "dataset",          "width",  "height", "devicePixelRatio", "window", "token", "quality", "interactiveQuality",
-    "interactiveScale", "camera", "params", "importance",       "color",  "style", "method",  "filter", "lines",
-    "time",             "surface", "streamlines", "layers", NULL};
+static const char *const hello_keys[] = {"dataset",
+                                         "width",
+                                         "height",
+                                         "devicePixelRatio",
+                                         "window",
+                                         "token",
+                                         "quality",
+                                         "interactiveQuality",
+                                         "interactiveScale",
+                                         "camera",
+                                         "params",
+                                         "importance",
+                                         "color",
+                                         "style",
+                                         "method",
+                                         "filter",
+                                         "lines",
+                                         "time",
+                                         "surface",
+                                         "streamlines",
+                                         "layers",
+                                         NULL};
 static const char *const camera_keys[] = {"seq", "camera", NULL};
-static const char *const params_keys[] = {
-    "quality", "interactiveQuality", "interactiveScale", "params", "importance", "color", "style", "method", "filter", "lines",
-    "time", "surface", "streamlines", "layers", NULL};
+static const char *const params_keys[] = {"quality",
+                                          "interactiveQuality",
+                                          "interactiveScale",
+                                          "params",
+                                          "importance",
+                                          "color",
+                                          "style",
+                                          "method",
+                                          "filter",
+                                          "lines",
+                                          "time",
+                                          "surface",
+                                          "streamlines",
+                                          "layers",
+                                          NULL};
 static const char *const resize_keys[] = {"width", "height", "devicePixelRatio", NULL};
 static const char *const ack_keys[] = {"frame", NULL};
 static const char *const *const allowed_keys[] = {hello_keys, camera_keys, params_keys, resize_keys, ack_keys};
@@ -536,8 +566,8 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
                             json_pack("{s:b, s:b, s:i, s:f, s:i, s:i, s:I, s:f}", "interactive", (int)h->interactive,
                                       "reusedOpacities", (int)h->reused, "level", h->level, "lodPixels", h->lod_pixels,
                                       "pointStride", h->point_stride, "lineStride",
-                                      h->line_stride > 1 ? h->line_stride : 1, "primitives",
-                                      (json_int_t)h->primitives, "renderMs", h->render_ms));
+                                      h->line_stride > 1 ? h->line_stride : 1, "primitives", (json_int_t)h->primitives,
+                                      "renderMs", h->render_ms));
     }
     if (o && h->has_color_ticks) {
         json_t *ticks = json_array();
@@ -556,8 +586,8 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
             json_decref(o);
             return LC_ERR_INVALID;
         }
-        json_t *c = json_pack("{s:f, s:f, s:b}", "lambdaFactor", h->clarity_lambda, "penaltyFactor",
-                              h->clarity_penalty, "reached", (int)h->clarity_reached);
+        json_t *c = json_pack("{s:f, s:f, s:b}", "lambdaFactor", h->clarity_lambda, "penaltyFactor", h->clarity_penalty,
+                              "reached", (int)h->clarity_reached);
         if (c && h->has_clarity_smoothing)
             json_object_set_new(c, "smoothing", json_integer(h->clarity_smoothing));
         json_object_set_new(o, "clarity", c);
@@ -693,8 +723,8 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         if (reach) {
             double x = json_is_number(reach) ? json_number_value(reach) : -1;
             if (!(x >= 0 && isfinite(x))) {
-                status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility.topDecileReach",
-                                            "expected a number >= 0");
+                status =
+                    lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "visibility.topDecileReach", "expected a number >= 0");
                 goto done;
             }
             h->has_reach = true, h->top_decile_reach = x;
@@ -731,10 +761,10 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             goto done;
         }
         if (!json_is_object(det) || !json_is_integer(lv) || json_integer_value(lv) < 0 ||
-            json_integer_value(lv) > 255 || !json_is_number(px) || json_number_value(px) < 0 ||
-            !json_is_integer(st) || json_integer_value(st) < 1 || json_integer_value(st) > 1 << 20 ||
-            !json_is_integer(pr) || json_integer_value(pr) < 0 || !json_is_number(ms) || json_number_value(ms) < 0 ||
-            !json_is_boolean(in) || !json_is_boolean(re)) {
+            json_integer_value(lv) > 255 || !json_is_number(px) || json_number_value(px) < 0 || !json_is_integer(st) ||
+            json_integer_value(st) < 1 || json_integer_value(st) > 1 << 20 || !json_is_integer(pr) ||
+            json_integer_value(pr) < 0 || !json_is_number(ms) || json_number_value(ms) < 0 || !json_is_boolean(in) ||
+            !json_is_boolean(re)) {
             status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "detail",
                                         "expected interactive, reusedOpacities (booleans), level, pointStride, "
                                         "primitives (integers) and lodPixels, renderMs (numbers >= 0)");
@@ -778,7 +808,8 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
         h->clarity_reached = json_is_true(re);
         const json_t *sm = json_object_get(cl, "smoothing");
         if (sm && !(json_is_integer(sm) && json_integer_value(sm) >= 0 && json_integer_value(sm) <= 1000)) {
-            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "clarity.smoothing", "expected an integer in [0, 1000]");
+            status =
+                lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "clarity.smoothing", "expected an integer in [0, 1000]");
             goto done;
         }
         h->has_clarity_smoothing = sm != NULL;

@@ -145,7 +145,7 @@ typedef struct lc_frame_header {
      * elements are in this frame (docs/ALGORITHM.md "Visibility report"). */
     bool has_visibility;
     double top_decile_alpha, bottom_half_alpha, covered_fraction;
-    double occluder_alpha; /* "occluderAlpha"; 0 when a sender omits it */
+    double occluder_alpha;     /* "occluderAlpha"; 0 when a sender omits it */
     double important_occluded; /* "importantOccluded"; 0 when a sender omits it */
     /* "topDecileReach" (optional, >= 0): the top decile's share of the
      * importance shown over its share of the importance drawn. */
@@ -158,14 +158,14 @@ typedef struct lc_frame_header {
     /* "detail" (optional): what the frame drew (docs/ALGORITHM.md "Level of
      * detail and interactive frames"). */
     bool has_detail;
-    bool interactive;      /* rendered while input was active */
-    bool reused;           /* P1-P3 skipped: the opacities of an earlier frame */
-    int level;             /* level of detail, 0 = every segment */
-    double lod_pixels;     /* the pixel bound it was chosen for */
-    int point_stride;      /* points: every n-th drawn */
-    int line_stride;       /* lines: one in n of the less important lines drawn (0 from a sender without it: 1) */
-    uint64_t primitives;   /* primitives drawn per geometry pass */
-    double render_ms;      /* wall time of the render */
+    bool interactive;    /* rendered while input was active */
+    bool reused;         /* P1-P3 skipped: the opacities of an earlier frame */
+    int level;           /* level of detail, 0 = every segment */
+    double lod_pixels;   /* the pixel bound it was chosen for */
+    int point_stride;    /* points: every n-th drawn */
+    int line_stride;     /* lines: one in n of the less important lines drawn (0 from a sender without it: 1) */
+    uint64_t primitives; /* primitives drawn per geometry pass */
+    double render_ms;    /* wall time of the render */
     /* "colorTicks" (optional): with color.equalize, the data values at 0,
      * 1/4, 1/2, 3/4 and 1 of the colormap's bar (docs/ALGORITHM.md §19). */
     bool has_color_ticks;

@@ -82,7 +82,8 @@ static int keyframe(const json_t *v, int i, const lc_proto_limits *lim, lc_camer
             const char *value = eq ? eq + 1 : "";
             if (eq)
                 *eq = 0;
-            static const char *const skip[] = {"dataset", "method", "quality", "interactiveQuality", "interactiveScale"};
+            static const char *const skip[] = {"dataset", "method", "quality", "interactiveQuality",
+                                               "interactiveScale"};
             bool skipped = false;
             for (size_t k = 0; k < sizeof skip / sizeof skip[0]; k++)
                 skipped |= strcmp(part, skip[k]) == 0;
@@ -128,11 +129,12 @@ int lc_proto_parse_movie(const char *json, size_t len, const lc_proto_limits *li
     int rc = 0;
     if (!json_is_object(o))
         rc = bad(err, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
-    static const char *const keys[] = {"request", "path", "keyframes", "degrees", "elevation", "duration",
-                                       "fps",     "frames", "width",   "height",  "codec"};
+    static const char *const keys[] = {"request", "path",   "keyframes", "degrees", "elevation", "duration",
+                                       "fps",     "frames", "width",     "height",  "codec"};
     const char *key;
     json_t *v;
-    json_object_foreach(o, key, v) {
+    json_object_foreach(o, key, v)
+    {
         bool known = false;
         for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
             known |= strcmp(key, keys[i]) == 0;
@@ -200,8 +202,8 @@ int lc_proto_parse_movie(const char *json, size_t len, const lc_proto_limits *li
         rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "duration", "%g s at %d fps is no frame", m->duration,
                                 m->fps);
     if (rc == 0 && m->frames > LC_MOVIE_MAX_FRAMES)
-        rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "duration", "%d frames exceed the limit of %d",
-                                m->frames, LC_MOVIE_MAX_FRAMES);
+        rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "duration", "%d frames exceed the limit of %d", m->frames,
+                                LC_MOVIE_MAX_FRAMES);
     if (rc == 0 && m->path == LC_MOVIE_KEYFRAMES && m->frames < 2)
         rc = bad(err, LC_PROTO_OUT_OF_RANGE, "frames", "a keyframe path needs at least two frames");
     int size[2] = {m->request.render.width, m->request.render.height};
@@ -215,8 +217,10 @@ int lc_proto_parse_movie(const char *json, size_t len, const lc_proto_limits *li
     long long pixels = (long long)size[0] * size[1];
     long long cap = lim->max_pixels < LC_MOVIE_MAX_PIXELS ? lim->max_pixels : LC_MOVIE_MAX_PIXELS;
     if (rc == 0 && pixels > cap)
-        rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "width", "%d x %d = %lld pixels exceeds the limit %lld "
-                                "of a movie frame", size[0], size[1], pixels, cap);
+        rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, "width",
+                                "%d x %d = %lld pixels exceeds the limit %lld "
+                                "of a movie frame",
+                                size[0], size[1], pixels, cap);
     if (rc == 0 && pixels * m->frames > LC_MOVIE_MAX_PIXEL_FRAMES)
         rc = lc_proto_set_error(err, LC_PROTO_OUT_OF_RANGE, json_object_get(o, "frames") ? "frames" : "duration",
                                 "%d frames of %d x %d exceed a job's limit of %.3g pixel-frames (a minute of 4K at "

@@ -11,8 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "request_scope.h"
 #include "request_fields.h" /* after request.h: the table is of lc_request */
+#include "request_scope.h"
 
 /* lim, or the defaults in *dl when NULL. */
 static const lc_proto_limits *limits_or_default(const lc_proto_limits *lim, lc_proto_limits *dl)
@@ -253,7 +253,7 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
     }
     case T_SEED: { /* offset: the point count; size: the offset of the points */
         lc_list_error le;
-        if (lc_proto_parse_seed(v, (double (*)[3])((char *)r + f->size), (int *)base, (int)f->lo, (int)f->hi, path,
+        if (lc_proto_parse_seed(v, (double(*)[3])((char *)r + f->size), (int *)base, (int)f->lo, (int)f->hi, path,
                                 &le) != 0)
             return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
         break;
@@ -415,12 +415,13 @@ static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p,
     lc_proto_error pe;
     int rc = apply(obj, lim, scratch, false, &pe);
     if (rc) {
-        err->code = pe.code[0] == 'o' ? LC_PROTO_OUT_OF_RANGE : pe.code[0] == 'u' ? LC_PROTO_UNKNOWN_FIELD
-                                                                                   : LC_PROTO_BAD_FIELD;
+        err->code = pe.code[0] == 'o'   ? LC_PROTO_OUT_OF_RANGE
+                    : pe.code[0] == 'u' ? LC_PROTO_UNKNOWN_FIELD
+                                        : LC_PROTO_BAD_FIELD;
         snprintf(err->field, sizeof err->field, "%s", pe.field);
         size_t n = strlen(pe.field);
-        const char *reason = strncmp(pe.message, pe.field, n) == 0 && pe.message[n] == ':' ? pe.message + n + 2
-                                                                                            : pe.message;
+        const char *reason =
+            strncmp(pe.message, pe.field, n) == 0 && pe.message[n] == ':' ? pe.message + n + 2 : pe.message;
         snprintf(err->reason, sizeof err->reason, "%s", reason);
     } else {
         p->importance = scratch->render.importance, p->color = scratch->render.color, p->style = scratch->render.style;
@@ -440,8 +441,8 @@ static json_t *emit_layer_section(const lc_layer_params *p, const char *section)
     if (!scratch)
         return json_object();
     layer_request(scratch, p);
-    json_t *o = strcmp(section, "filter") == 0 ? lc_proto_field_json(scratch, NULL, section)
-                                               : emit_section(scratch, section);
+    json_t *o =
+        strcmp(section, "filter") == 0 ? lc_proto_field_json(scratch, NULL, section) : emit_section(scratch, section);
     free(scratch);
     return o ? o : json_array();
 }
@@ -696,7 +697,7 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
         break;
     case T_SEED:
         if (*(const int *)base > 0)
-            v = lc_proto_seed_json((const double (*)[3])((const char *)r + f->size), *(const int *)base);
+            v = lc_proto_seed_json((const double(*)[3])((const char *)r + f->size), *(const int *)base);
         break;
     }
     if (v)

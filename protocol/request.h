@@ -11,9 +11,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "json_input.h" /* lc_proto_limits, lc_proto_error, lc_proto_load */
 #include "lc_base.h"
 #include "lc_params.h"
-#include "json_input.h"     /* lc_proto_limits, lc_proto_error, lc_proto_load */
 #include "request_layers.h" /* lc_request_layer */
 
 #ifdef __cplusplus
@@ -79,7 +79,7 @@ typedef struct lc_request {
      * colour then apply to none of them). */
     int layer_count;
     lc_request_layer layers[LC_MAX_LAYERS];
-    lc_surface_request surface; /* method "surface-layers" only */
+    lc_surface_request surface;         /* method "surface-layers" only */
     lc_streamlines_request streamlines; /* a dataset that names a vector field only */
 } lc_request;
 
@@ -119,14 +119,14 @@ int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, l
 static inline int lc_proto_streamlines_given(const lc_request *r, const char **field)
 {
     const lc_streamlines_request *a = &r->streamlines;
-    const char *f = a->seeding != 3        ? "streamlines.seeding"
-                    : a->seed_count > 0    ? "streamlines.seeds"
-                    : a->has_count         ? "streamlines.count"
-                    : a->step != 0         ? "streamlines.step"
-                    : a->length != 0       ? "streamlines.length"
-                    : a->direction != 0    ? "streamlines.direction"
-                    : a->separation != 0   ? "streamlines.separation"
-                                           : (const char *)0;
+    const char *f = a->seeding != 3      ? "streamlines.seeding"
+                    : a->seed_count > 0  ? "streamlines.seeds"
+                    : a->has_count       ? "streamlines.count"
+                    : a->step != 0       ? "streamlines.step"
+                    : a->length != 0     ? "streamlines.length"
+                    : a->direction != 0  ? "streamlines.direction"
+                    : a->separation != 0 ? "streamlines.separation"
+                                         : (const char *)0;
     if (field)
         *field = f;
     return f != 0;

@@ -24,10 +24,10 @@ typedef enum {
 } ftype;
 
 enum {
-    LO_OPEN = 1,    /* lo excluded */
-    HI_OPEN = 2,    /* hi excluded */
-    SIZE_LIMIT = 4, /* lo/hi come from the limits */
-    CHECK_ONLY = 8, /* validated, not stored (version) */
+    LO_OPEN = 1,     /* lo excluded */
+    HI_OPEN = 2,     /* hi excluded */
+    SIZE_LIMIT = 4,  /* lo/hi come from the limits */
+    CHECK_ONLY = 8,  /* validated, not stored (version) */
     ALWAYS_EMIT = 16 /* the flag records that the field was given; emitted either way */
 };
 
@@ -51,9 +51,12 @@ typedef struct field {
 
 #define BIG 1e300 /* "any finite number"; reals from jansson are finite anyway */
 
-static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER}, {"exact", LC_METHOD_EXACT},
-                                         {"opaque", LC_METHOD_OPAQUE},   {"direct", LC_METHOD_DIRECT},
-                                         {"wboit", LC_METHOD_WBOIT},     {"surface-layers", LC_METHOD_SURFACE_LAYERS},
+static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER},
+                                         {"exact", LC_METHOD_EXACT},
+                                         {"opaque", LC_METHOD_OPAQUE},
+                                         {"direct", LC_METHOD_DIRECT},
+                                         {"wboit", LC_METHOD_WBOIT},
+                                         {"surface-layers", LC_METHOD_SURFACE_LAYERS},
                                          {"weighted-average", LC_METHOD_WEIGHTED_AVERAGE},
                                          {"binning", LC_METHOD_BINNING},
                                          {"kanzler", LC_METHOD_KANZLER},
@@ -117,10 +120,8 @@ static const field fields[] = {
     {"camera", "parallelScale", "parallelScale", T_NUM, 0, BIG, LO_OPEN, OFF(render.camera.parallel_scale), 0, NOFLAG,
      NULL},
 
-    {"params", "q", "q", T_NUM, 0, 1e6, ALWAYS_EMIT, OFF(render.foo.q), 0,
-     (long)OFF(render.foo.strength_given), NULL},
-    {"params", "r", "r", T_NUM, 0, 1e6, ALWAYS_EMIT, OFF(render.foo.r), 0,
-     (long)OFF(render.foo.strength_given), NULL},
+    {"params", "q", "q", T_NUM, 0, 1e6, ALWAYS_EMIT, OFF(render.foo.q), 0, (long)OFF(render.foo.strength_given), NULL},
+    {"params", "r", "r", T_NUM, 0, 1e6, ALWAYS_EMIT, OFF(render.foo.r), 0, (long)OFF(render.foo.strength_given), NULL},
     {"params", "lambda", "lambda", T_NUM, 0, 1000, ALWAYS_EMIT, OFF(render.foo.lambda), 0,
      (long)OFF(render.foo.strength_given), NULL},
     {"params", "bands", "bands", T_INT, LC_MIN_BANDS, LC_MAX_BANDS, 0, OFF(render.foo.bands), 0, NOFLAG, NULL},
@@ -254,8 +255,8 @@ static const field fields[] = {
 };
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
-static const char *const sections[] = {"camera", "params", "importance", "color", "style", "lines", "time",
-                                        "surface", "streamlines"};
+static const char *const sections[] = {"camera", "params", "importance", "color",      "style",
+                                       "lines",  "time",   "surface",    "streamlines"};
 #define NSECTIONS (sizeof sections / sizeof sections[0])
 
 #endif

@@ -7,10 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 
-
 static const char *const role_names[] = {"transparent", "context", NULL}; /* lc_layer_role */
-static const char *const layer_keys[] = {"dataset", "role", "visible", "importance", "color", "style",
-                                         "filter", "time", "lines", NULL};
+static const char *const layer_keys[] = {"dataset", "role",   "visible", "importance", "color",
+                                         "style",   "filter", "time",    "lines",      NULL};
 
 /* The style keys that belong to a layer; the rest (background, halos,
  * antialias, silhouettes) are the frame's. */
@@ -41,7 +40,8 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
             if (!json_is_string(m) || json_string_length(m) == 0)
                 return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, field, "expected a dataset name");
             if (json_string_length(m) >= sizeof out->dataset)
-                return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, field, "longer than %zu bytes", sizeof out->dataset - 1);
+                return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, field, "longer than %zu bytes",
+                                          sizeof out->dataset - 1);
             memcpy(out->dataset, json_string_value(m), json_string_length(m) + 1);
         } else if (strcmp(key, "role") == 0) {
             int role = json_is_string(m) ? in_list(role_names, json_string_value(m)) : -1;
@@ -63,9 +63,10 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
                 {
                     if (in_list(layer_style_keys, sk) < 0) {
                         snprintf(field, sizeof field, "%s.style.%s", path, sk);
-                        return lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, field,
-                                         "not a layer's style (a layer takes lineWidth, minLinePixels, pointSize and "
-                                         "shading; the request's style has the rest)");
+                        return lc_proto_list_fail(
+                            err, LC_PROTO_UNKNOWN_FIELD, field,
+                            "not a layer's style (a layer takes lineWidth, minLinePixels, pointSize and "
+                            "shading; the request's style has the rest)");
                     }
                 }
             json_t *wrap = json_object();
@@ -78,9 +79,10 @@ static int parse_layer(const json_t *v, lc_request_layer *out, const char *path,
                 return lc_proto_list_fail(err, inner.code, field, "%s", inner.reason);
             }
         } else {
-            return lc_proto_list_fail(err, LC_PROTO_UNKNOWN_FIELD, field,
-                             "unknown field (a layer has dataset, role, visible, importance, color, style, filter, time, "
-                                      "lines)");
+            return lc_proto_list_fail(
+                err, LC_PROTO_UNKNOWN_FIELD, field,
+                "unknown field (a layer has dataset, role, visible, importance, color, style, filter, time, "
+                "lines)");
         }
     }
     if (!out->dataset[0]) {

@@ -200,7 +200,8 @@ int lc_proto_parse_curve(const json_t *v, lc_curve *c, const char *path, lc_list
         return lc_proto_list_fail(err, LC_PROTO_BAD_FIELD, path, "expected an array of [x, y] points");
     size_t n = json_array_size(v);
     if (n == 1 || n > LC_MAX_CURVE_POINTS)
-        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "2 to %d points (none: the identity)", LC_MAX_CURVE_POINTS);
+        return lc_proto_list_fail(err, LC_PROTO_OUT_OF_RANGE, path, "2 to %d points (none: the identity)",
+                                  LC_MAX_CURVE_POINTS);
     lc_curve tmp = {0};
     for (size_t i = 0; i < n; i++) {
         char at[96];

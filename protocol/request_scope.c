@@ -53,7 +53,7 @@ static const scope_rule rules[] = {
     {"params", "kanzlerVariance", M(KANZLER), P(LINES)}, /* points have no direction */
     {"params", "kanzlerDepth", M(KANZLER), NOT_SURFACES},
     {"params", "kanzlerLambda", M(KANZLER), NOT_SURFACES},
-    {"params", "excludeSelf", M(EXACT), LC_PROTO_ALL_PRIMS}, /* the exact sums know each fragment's element */
+    {"params", "excludeSelf", M(EXACT), LC_PROTO_ALL_PRIMS},     /* the exact sums know each fragment's element */
     {"params", "lod", DATASET_METHODS, P(LINES) | P(TRIANGLES)}, /* simplified polylines and meshes */
     {"params", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},
     {"importance", NULL, DATASET_METHODS, LC_PROTO_ALL_PRIMS},

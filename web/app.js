@@ -45,7 +45,10 @@ export function createApp(doc = document, win = window) {
   };
   const { location, history } = win;
   const initial = parseHash(location.hash);
-  const state = createState(initial, tokenFromLocation(location.search, location.hash) ?? win.sessionStorage.getItem(TOKEN_KEY));
+  const state = createState(
+    initial,
+    tokenFromLocation(location.search, location.hash) ?? win.sessionStorage.getItem(TOKEN_KEY),
+  );
   const linkAtStart = { update: merge({}, initial.update), camera: state.camera }; // the preset goes under these
   const base = new URL('.', location.href);
   const wsUrl = new URL('api/v1/ws', base);
@@ -104,7 +107,8 @@ export function createApp(doc = document, win = window) {
       const seen = visibilityText(f.header.visibility);
       if (seen && f.header.clarity) clarityOutcome = clarityNote(f.header.clarity);
       if (seen) panel.setFeedback('params.clarity', `Last frame: ${seen}.${clarityOutcome}`);
-      if (seen) { // frames without a report (moving frames reusing opacities) keep the last word
+      if (seen) {
+        // frames without a report (moving frames reusing opacities) keep the last word
         const warn = occlusionWarning(f.header.visibility);
         $('occlusion-warning').textContent = warn;
         $('occlusion-warning').hidden = !warn;
@@ -131,14 +135,25 @@ export function createApp(doc = document, win = window) {
   });
 
   // ---------------------------------------------------------------- controllers
-  const url = createUrlController({ state, location, history, setTimeout: (f, ms) => win.setTimeout(f, ms), clearTimeout: (t) => win.clearTimeout(t) });
+  const url = createUrlController({
+    state,
+    location,
+    history,
+    setTimeout: (f, ms) => win.setTimeout(f, ms),
+    clearTimeout: (t) => win.clearTimeout(t),
+  });
   const camera = createCameraController({
     state,
     frame,
     now: () => win.performance.now(),
     isOpen: () => conn.isOpen,
     send: (msg) => conn.send(msg),
-    axes: { update: (c) => { axes.update(c); seeds?.update(); } },
+    axes: {
+      update: (c) => {
+        axes.update(c);
+        seeds?.update();
+      },
+    },
     view,
     stats,
     aspect,
@@ -156,18 +171,33 @@ export function createApp(doc = document, win = window) {
     sent: () => body('paramsSent', Number(doc.body.dataset.paramsSent ?? 0) + 1),
     toast,
   });
-  const panel = new Panel($('generated'), (path, value) => params.applyChange(path, value), (text) => toast(text));
-  const surface = new SurfacePanel($('generated'), doc, (path, value) => {
-    if (path === 'method' || path === 'surface') surface.setMethod(values().method);
-    params.applyChange(path, value);
-    seeds?.update();
-  }, (text) => toast(text), (bounds) => camera.setCamera(fitCamera(DEFAULT_CAMERA, flatBounds(bounds), [-1, 1.5, -0.8], [0, 0, 1], aspect())));
+  const panel = new Panel(
+    $('generated'),
+    (path, value) => params.applyChange(path, value),
+    (text) => toast(text),
+  );
+  const surface = new SurfacePanel(
+    $('generated'),
+    doc,
+    (path, value) => {
+      if (path === 'method' || path === 'surface') surface.setMethod(values().method);
+      params.applyChange(path, value);
+      seeds?.update();
+    },
+    (text) => toast(text),
+    (bounds) => camera.setCamera(fitCamera(DEFAULT_CAMERA, flatBounds(bounds), [-1, 1.5, -0.8], [0, 0, 1], aspect())),
+  );
   // a vector field's streamline set: the whole streamlines object goes with each change (the server re-traces)
-  const streamlines = new StreamlinesPanel($('generated'), doc, (value) => {
-    delete state.update.streamlines;
-    params.applyChange('streamlines', value);
-    seeds?.update();
-  }, (text) => toast(text));
+  const streamlines = new StreamlinesPanel(
+    $('generated'),
+    doc,
+    (value) => {
+      delete state.update.streamlines;
+      params.applyChange('streamlines', value);
+      seeds?.update();
+    },
+    (text) => toast(text),
+  );
   // the seed handles: the stream surface's seed line, else a streamline rake's ends
   const seedOwner = () => (surface.shownSeed() ? surface : streamlines.shownSeed() ? streamlines : null);
   seeds = new SeedOverlay($('seed-overlay'), {
@@ -178,8 +208,20 @@ export function createApp(doc = document, win = window) {
     onMove: (i, p) => seedOwner()?.setPoint(i, p),
     onEnd: () => seedOwner()?.send(),
   });
-  const layers = createLayersController({ doc, state, values: () => values(), apply: (path, value) => params.applyChange(path, value) });
-  const time = createTimeController({ doc, apply: (path, value) => params.applyChange(path, value), setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (id) => win.clearInterval(id), framesDrawn: () => state.framesDrawn, now: () => win.performance.now() });
+  const layers = createLayersController({
+    doc,
+    state,
+    values: () => values(),
+    apply: (path, value) => params.applyChange(path, value),
+  });
+  const time = createTimeController({
+    doc,
+    apply: (path, value) => params.applyChange(path, value),
+    setInterval: (f, ms) => win.setInterval(f, ms),
+    clearInterval: (id) => win.clearInterval(id),
+    framesDrawn: () => state.framesDrawn,
+    now: () => win.performance.now(),
+  });
   const datasets = createDatasetController({
     state,
     camera,
@@ -206,7 +248,11 @@ export function createApp(doc = document, win = window) {
     api,
     conn: () => conn,
     measure,
-    timers: { setInterval: (f, ms) => win.setInterval(f, ms), clearInterval: (t) => win.clearInterval(t), now: () => win.performance.now() },
+    timers: {
+      setInterval: (f, ms) => win.setInterval(f, ms),
+      clearInterval: (t) => win.clearInterval(t),
+      now: () => win.performance.now(),
+    },
     ui: {
       connection(s, text) {
         const el = $('connection');
@@ -218,7 +264,8 @@ export function createApp(doc = document, win = window) {
         box.hidden = !p;
         if (!p) return;
         const bar = $('progress-bar');
-        if (p.fraction === null) bar.removeAttribute('value'); // indeterminate
+        if (p.fraction === null)
+          bar.removeAttribute('value'); // indeterminate
         else bar.value = p.fraction;
         $('progress-text').textContent = p.text;
       },
@@ -247,7 +294,8 @@ export function createApp(doc = document, win = window) {
         let x = getPath(v, c.path);
         if (c.path === 'importance.attribute' && !x) x = state.info?.defaultImportance;
         if (c.path === 'color.attribute' && !x) x = state.info?.defaultColor ?? 'importance';
-        if (x === undefined && c.path === 'importance.range') x = attributeRange(state.info, v.importance?.attribute || state.info?.defaultImportance, v.params?.normalize);
+        if (x === undefined && c.path === 'importance.range')
+          x = attributeRange(state.info, v.importance?.attribute || state.info?.defaultImportance, v.params?.normalize);
         if (x === undefined && c.path === 'color.range') {
           const by = v.color?.attribute || state.info?.defaultColor || 'importance';
           x = by === 'importance' ? [0, 1] : attributeRange(state.info, by, v.params?.normalize);
@@ -260,7 +308,7 @@ export function createApp(doc = document, win = window) {
       panel.setValue('camera.parallelProjection', state.camera.parallelProjection);
     }
     // the controls of fields this method and kind of data read (the server refuses the others)
-    const prim = v.layers?.length ? null : state.info?.type ?? null;
+    const prim = v.layers?.length ? null : (state.info?.type ?? null);
     for (const path of panel.controls.keys()) {
       const f = fieldByPath(path);
       if (f) panel.setVisible(path, applies(f, v.method, prim));
@@ -313,7 +361,10 @@ export function createApp(doc = document, win = window) {
   }
   function toggleFullscreen() {
     if (doc.fullscreenElement) doc.exitFullscreen?.().catch(() => {});
-    else $('view').requestFullscreen?.().catch((e) => toast(`Fullscreen is not available: ${e.message}`));
+    else
+      $('view')
+        .requestFullscreen?.()
+        .catch((e) => toast(`Fullscreen is not available: ${e.message}`));
   }
   const command = (name) => (name === 'fullscreen' ? toggleFullscreen() : camera.command(name));
 
@@ -324,7 +375,9 @@ export function createApp(doc = document, win = window) {
     streamlines.show(field?.kind === 'field' ? field : null, state.update.streamlines);
     seeds?.update();
     const sel = $('dataset');
-    const same = sel.options.length === m.options.length && m.options.every(([v, t], i) => sel.options[i].value === v && sel.options[i].text === t);
+    const same =
+      sel.options.length === m.options.length &&
+      m.options.every(([v, t], i) => sel.options[i].value === v && sel.options[i].text === t);
     if (!same) sel.replaceChildren(...m.options.map(([v, t]) => new Option(t, v)));
     if (m.selected) sel.value = m.selected;
     $('dataset-title').textContent = m.title;
@@ -388,7 +441,8 @@ export function createApp(doc = document, win = window) {
     const btn = $('screenshot');
     const [w, h] = screenshotSize();
     const lim = state.limits ?? {};
-    const lo = lim.minSize ?? 16, hi = lim.maxSize ?? 8192;
+    const lo = lim.minSize ?? 16,
+      hi = lim.maxSize ?? 8192;
     if (!(Number.isInteger(w) && Number.isInteger(h) && w >= lo && h >= lo && w <= hi && h <= hi)) {
       toast(`Screenshot size must be whole numbers between ${lo} and ${hi}.`);
       return;
@@ -468,7 +522,13 @@ export function createApp(doc = document, win = window) {
   }
   function recordOptions() {
     const num = (id) => Number($(id).value);
-    return { duration: num('record-duration'), fps: num('record-fps'), width: num('record-width'), height: num('record-height'), codec: $('record-codec').value };
+    return {
+      duration: num('record-duration'),
+      fps: num('record-fps'),
+      width: num('record-width'),
+      height: num('record-height'),
+      codec: $('record-codec').value,
+    };
   }
 
   // ---------------------------------------------------------------- the page's events
@@ -477,7 +537,8 @@ export function createApp(doc = document, win = window) {
     $('record-preview').addEventListener('click', () => record.preview(recordOptions().duration));
     $('record-render').addEventListener('click', () => record.render(recordOptions()));
     new Navigation(canvas, { getCamera: () => state.camera, onCamera: camera.setCamera, onCommand: command });
-    for (const btn of doc.querySelectorAll('[data-view]')) btn.addEventListener('click', () => command(btn.dataset.view));
+    for (const btn of doc.querySelectorAll('[data-view]'))
+      btn.addEventListener('click', () => command(btn.dataset.view));
     new ResizeObserver(onResize).observe($('view'));
     watchDpr();
     win.addEventListener('hashchange', () => {
@@ -582,13 +643,19 @@ export function createApp(doc = document, win = window) {
       // the WebSocket may still work (or will report the problem itself)
       toast(`Dataset list unavailable: ${e.message}`);
     }
-    api.fields().then((f) => surface.setFields(f), () => {});
-    api.health().then((h) => {
-      state.health = h;
-      const r = h?.renderer ?? h?.gl?.renderer;
-      if (typeof r === 'string') stats.renderer = r;
-      if (Array.isArray(h?.methods)) panel.setMethods(h.methods);
-    }, () => {});
+    api.fields().then(
+      (f) => surface.setFields(f),
+      () => {},
+    );
+    api.health().then(
+      (h) => {
+        state.health = h;
+        const r = h?.renderer ?? h?.gl?.renderer;
+        if (typeof r === 'string') stats.renderer = r;
+        if (Array.isArray(h?.methods)) panel.setMethods(h.methods);
+      },
+      () => {},
+    );
     datasets.checkDataset();
     if (!state.dataset && state.datasets.length) state.dataset = state.datasets[0].name;
     datasets.usePreset(linkAtStart);

@@ -82,8 +82,8 @@ void lc_layer_params_default(lc_layer_params *l)
     l->style = p.style;
 }
 
-static const char *method_names[LC_METHOD_COUNT] = {"fourier", "exact", "opaque", "direct", "wboit",
-                                                    "surface-layers", "weighted-average", "binning", "kanzler"};
+static const char *method_names[LC_METHOD_COUNT] = {
+    "fourier", "exact", "opaque", "direct", "wboit", "surface-layers", "weighted-average", "binning", "kanzler"};
 
 const char *lc_method_name(lc_method m) { return (unsigned)m < LC_METHOD_COUNT ? method_names[m] : "unknown"; }
 

@@ -52,9 +52,9 @@ typedef enum {
 /* The direct method's fragment opacity (params.alphaSource; docs/ALGORITHM.md
  * §12): importance g^k, or the local transparency baselines of OOS §2.1. */
 typedef enum {
-    LC_ALPHA_IMPORTANCE = 0,   /* g^k, params.directExponent */
-    LC_ALPHA_CONSTANT = 1,     /* params.alphaConstant */
-    LC_ALPHA_ANGLE = 2,        /* (2/pi) arccos |<n, v>| */
+    LC_ALPHA_IMPORTANCE = 0,      /* g^k, params.directExponent */
+    LC_ALPHA_CONSTANT = 1,        /* params.alphaConstant */
+    LC_ALPHA_ANGLE = 2,           /* (2/pi) arccos |<n, v>| */
     LC_ALPHA_NORMAL_VARIATION = 3 /* ((d n_z/du)^2 + (d n_z/dv)^2)^(gamma/2), per pixel */
 } lc_alpha_source;
 /* Density-aware opacity (docs/ALGORITHM.md "Density normalization"): auto
@@ -108,8 +108,8 @@ typedef struct lc_foo_params {
     int subset;              /* P1/P4 use every n-th primitive, weights x n */
     double depth_margin;     /* delta (the bounds' depth range and the moments) */
     lc_estimator estimator;
-    lc_depth_range depth_range; /* as requested; lc_foo_depth_range resolves auto */
-    double direct_exponent;     /* k of the "direct" baseline, alpha = g^k (and of "kanzler") */
+    lc_depth_range depth_range;   /* as requested; lc_foo_depth_range resolves auto */
+    double direct_exponent;       /* k of the "direct" baseline, alpha = g^k (and of "kanzler") */
     lc_alpha_source alpha_source; /* the direct baseline's opacity; importance = g^k */
     double alpha_constant;        /* alpha of alphaSource constant */
     double gamma;                 /* exponent of alphaSource normalVariation */
@@ -171,7 +171,7 @@ typedef struct lc_importance_map {
     int term_count; /* 0: the single form above */
     lc_importance_term terms[LC_MAX_IMPORTANCE_TERMS];
     lc_curve curve; /* transfer function of clamp(t) before the exponent; no points = identity */
-    bool invert; /* g of 1 - the mapped value: smaller values matter more (the range stays as given) */
+    bool invert;    /* g of 1 - the mapped value: smaller values matter more (the range stays as given) */
 } lc_importance_map;
 
 /* Hard filters (docs/ALGORITHM.md "Filters"): a line (or, for points, a point)
@@ -319,7 +319,7 @@ typedef struct lc_layer_params {
     bool visible; /* false: the layer draws nothing and its elements get no fragments */
     lc_importance_map importance;
     lc_color_map color;
-    lc_style style; /* line_width, min_line_pixels, point_size and shading are the layer's */
+    lc_style style;   /* line_width, min_line_pixels, point_size and shading are the layer's */
     int filter_count; /* the layer's filters and time window, as a frame of its dataset alone has them */
     lc_filter filters[LC_MAX_FILTERS];
     lc_time_window time;

@@ -102,9 +102,9 @@ void lc_trace_resolve(const lc_field *field, const lc_trace_desc *desc, lc_trace
     double diag = diagonal(field), vmax = field->mag_max > 0 ? field->mag_max : 1.0;
     if (out->step < 0) { /* a negative step integrates into the past */
         out->step = -out->step;
-        out->direction = out->direction == LC_TRACE_BACKWARD ? LC_TRACE_FORWARD
+        out->direction = out->direction == LC_TRACE_BACKWARD  ? LC_TRACE_FORWARD
                          : out->direction == LC_TRACE_FORWARD ? LC_TRACE_BACKWARD
-                                                               : LC_TRACE_BOTH;
+                                                              : LC_TRACE_BOTH;
     }
     if (!(out->step > 0))
         out->step = diag / (200.0 * vmax);
@@ -345,8 +345,8 @@ int lc_trace_curve_at(const lc_field *field, const lc_seed *seed, const lc_trace
 
 typedef struct trace_job {
     const lc_field *field;
-    const lc_seed *seed;   /* particles along a seed polyline, or */
-    const double *points;  /* one particle per seed point (lc_trace_points) */
+    const lc_seed *seed;  /* particles along a seed polyline, or */
+    const double *points; /* one particle per seed point (lc_trace_points) */
     const lc_trace_desc *desc;
     uint64_t first;
     uint32_t count;
@@ -422,8 +422,8 @@ int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_d
     return trace_many(field, seed, NULL, desc, first, count, threads, curves, err);
 }
 
-int lc_trace_points(const lc_field *field, const double *points, uint32_t count, const lc_trace_desc *desc,
-                    int threads, lc_trace_curve *curves, lc_error *err)
+int lc_trace_points(const lc_field *field, const double *points, uint32_t count, const lc_trace_desc *desc, int threads,
+                    lc_trace_curve *curves, lc_error *err)
 {
     return trace_many(field, NULL, points, desc, 0, count, threads, curves, err);
 }

@@ -99,8 +99,8 @@ int lc_trace_curves(const lc_field *field, const lc_seed *seed, const lc_trace_d
 /* Traces one curve from each of count seed points (3 doubles each) into
  * curves[0 .. count-1], as lc_trace_curves does; curve i has u = i/(count-1)
  * and its ghost starts across the flow. */
-int lc_trace_points(const lc_field *field, const double *points, uint32_t count, const lc_trace_desc *desc,
-                    int threads, lc_trace_curve *curves, lc_error *err);
+int lc_trace_points(const lc_field *field, const double *points, uint32_t count, const lc_trace_desc *desc, int threads,
+                    lc_trace_curve *curves, lc_error *err);
 void lc_trace_curves_free(lc_trace_curve *curves, uint32_t count);
 /* Traces the one particle at seed parameter u in [0, 1] (the meshed
  * reference's particles, stream_mesh.c) into *curve (free with

@@ -196,9 +196,10 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
          * stronger λ would only be smoothed away again). */
         int smoothed = smoothing_costs(target, info, miss) && p.foo.smoothing > 0;
         if (smoothed) /* at most LC_CLARITY_SMOOTHING_STEPS, the last to none (15, 7, 3, 1, 0) */
-            next.smoothing = given->foo.smoothing * st.smoothing >= 2 && smoothing_steps + 1 < LC_CLARITY_SMOOTHING_STEPS
-                                 ? 0.5 * st.smoothing
-                                 : 0;
+            next.smoothing =
+                given->foo.smoothing * st.smoothing >= 2 && smoothing_steps + 1 < LC_CLARITY_SMOOTHING_STEPS
+                    ? 0.5 * st.smoothing
+                    : 0;
         else
             next_strength(&next, target, info, 3.0, gain, fade);
         int same = next.lambda == st.lambda && next.penalty == st.penalty && next.smoothing == st.smoothing;

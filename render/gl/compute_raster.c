@@ -20,7 +20,7 @@
  * dispatch before the call returns. */
 #define RASTER_CHUNK (1u << 18)
 
-static atomic_int raster_software = 0; /* llvmpipe and the like: the fixed pipeline's set-up is serial */
+static atomic_int raster_software = 0;  /* llvmpipe and the like: the fixed pipeline's set-up is serial */
 static atomic_int raster_override = -1; /* LUCENT_COMPUTE_RASTER: -1 the rule, 0 drawn, 1 compute */
 
 /* The sums are integer atomics on a storage buffer (fragment_common.glsl
@@ -69,8 +69,10 @@ void lc_renderer_set_raster_path(lc_renderer *r, int path) { r->raster_path = pa
 
 int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass, int subset)
 {
-    int want = r->floor == LC_FLOOR_COMPUTE ? 1 : r->floor != LC_FLOOR_FULL ? 0 : r->raster_path >= 0 ? r->raster_path
-                                                                         : rule_path(pass, fs->gs->scene->type);
+    int want = r->floor == LC_FLOOR_COMPUTE ? 1
+               : r->floor != LC_FLOOR_FULL  ? 0
+               : r->raster_path >= 0        ? r->raster_path
+                                            : rule_path(pass, fs->gs->scene->type);
     if (!want)
         return 0;
     /* What the compute path does not cover draws as before: surfaces, layered
@@ -119,8 +121,7 @@ GLuint lc_compute_raster_program(lc_renderer *r, lc_program_kind kind, lc_prim_t
              (int)prim, bands, k >= 2 ? "#define DIRECT_ALPHA 1\n" : "",
              prim == LC_PRIM_LINES ? "#define PULL_PRIMITIVES 1\n" : "");
     char label[80];
-    snprintf(label, sizeof label, "%s compute rasterizer (%s, m=%d)", p4 ? "P4" : "P5", lc_prim_type_name(prim),
-             bands);
+    snprintf(label, sizeof label, "%s compute rasterizer (%s, m=%d)", p4 ? "P4" : "P5", lc_prim_type_name(prim), bands);
     *slot = lc_renderer_build_program(defines, NULL, NULL, files, label, err);
     return *slot;
 }
@@ -135,14 +136,12 @@ int lc_compute_raster_begin(lc_renderer *r, int width, int height, int planes, l
         r->raster_sums_bytes = 0;
         r->raster_sums = lc_gl_buffer(NULL, (size_t)bytes, &r->bytes_targets);
         if (!r->raster_sums)
-            return lc_err(err, LC_ERR_NOMEM, "compute rasterizer: no buffer of %llu bytes",
-                          (unsigned long long)bytes);
+            return lc_err(err, LC_ERR_NOMEM, "compute rasterizer: no buffer of %llu bytes", (unsigned long long)bytes);
         r->raster_sums_bytes = bytes;
     }
     if (!r->raster_large) {
         glCreateBuffers(1, &r->raster_large); /* its header is written before each dispatch */
-        glNamedBufferStorage(r->raster_large, 16 + 4 * (GLsizeiptr)RASTER_LARGE_CAPACITY, NULL,
-                             GL_DYNAMIC_STORAGE_BIT);
+        glNamedBufferStorage(r->raster_large, 16 + 4 * (GLsizeiptr)RASTER_LARGE_CAPACITY, NULL, GL_DYNAMIC_STORAGE_BIT);
         r->bytes_targets += 16 + 4 * (uint64_t)RASTER_LARGE_CAPACITY;
     }
     const uint32_t zero = 0;

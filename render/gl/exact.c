@@ -39,7 +39,7 @@
 #define MAX_LAYERS 64                     /* a chunk of a pixel's list: the sort passes' local arrays */
 #define INSERTION_MAX 16                  /* longer lists are heap-sorted */
 #define END_OF_LIST 0xFFFFFFFFu
-#define HEADS_BYTES 28u /* a pixel's head (4) and its state between rounds (16 + 8) */
+#define HEADS_BYTES 28u             /* a pixel's head (4) and its state between rounds (16 + 8) */
 #define SATURATION (0.5 / 255.0)    /* the blend stops below this transmittance */
 #define REDUCE_BELOW (1.0 / 255.0)  /* list pass 1 may leave out fragments below this opacity ... */
 #define REDUCE_BUDGET (0.5 / 255.0) /* ... while their pixel's left-out opacity stays within this */
@@ -76,14 +76,14 @@ typedef struct exact_state {
     GLuint opacity, blend, blend_eq;
     GLuint eq_counts; /* EQ_SLOTS x 2 uints */
     GLuint nodes, counters, heads, fbo;
-    GLuint reduced; /* r32ui per output pixel: opacity left out of list pass 1, REDUCE_SCALE units */
+    GLuint reduced;    /* r32ui per output pixel: opacity left out of list pass 1, REDUCE_SCALE units */
     uint32_t capacity; /* nodes in the pool */
     uint64_t pool_bytes;
     int heads_w, heads_h;
-    int sort_mode;     /* sort_list in exact_common.glsl: 0 auto, 1 insertion, 2 binary heap, 3 4-ary, 4 auto2 */
-    int queue;         /* the blend pops long lists from the front-to-back queue */
-    float saturation;  /* the blend's transmittance floor */
-    int reduce;        /* list pass 1 leaves out fragments below REDUCE_BELOW */
+    int sort_mode;       /* sort_list in exact_common.glsl: 0 auto, 1 insertion, 2 binary heap, 3 4-ary, 4 auto2 */
+    int queue;           /* the blend pops long lists from the front-to-back queue */
+    float saturation;    /* the blend's transmittance floor */
+    int reduce;          /* list pass 1 leaves out fragments below REDUCE_BELOW */
     GLuint state, bound; /* per pixel between the sort passes' rounds (rgba32ui, rg32ui), sized like the heads */
 } exact_state;
 
@@ -127,8 +127,7 @@ static GLuint build_program(exact_state *st, int pass, int equalize, lc_prim_typ
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define EXACT_BUILD 1\n#define EXACT_PASS %d\n%s%s%s%s%s%s",
              (int)prim, pass, pass ? "#define READ_ALPHA 1\n" : "", equalize ? "#define EXACT_EQUALIZE 1\n" : "",
              pulled ? "#define PULL_PRIMITIVES 1\n" : "", lines ? "#define LINE_PRIMITIVE 1\n" : "",
-             sprites ? "#define POINT_SPRITES 1\n" : "",
-             context ? "#define CONTEXT_DEPTH 1\n" : "");
+             sprites ? "#define POINT_SPRITES 1\n" : "", context ? "#define CONTEXT_DEPTH 1\n" : "");
     snprintf(label, sizeof label, "exact list pass %d%s (%s%s%s)", pass, equalize ? " equalize" : "",
              lc_prim_type_name(prim),
              lines     ? ", lines"
@@ -359,8 +358,7 @@ static void report(const exact_state *st, lc_frame_info *info)
     uint32_t c[COUNTER_SLOTS];
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(st->counters, 0, sizeof c, c);
-    uint64_t dropped =
-        (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1];
+    uint64_t dropped = (uint64_t)c[COUNTER_DROP_POOL] + c[COUNTER_DROP_POOL + 1];
     info->fragments = (uint64_t)c[COUNTER_NODES + 1] + c[COUNTER_REDUCED + 1];
     info->reduced_fragments = c[COUNTER_REDUCED + 1];
     info->dropped_fragments = dropped;
@@ -368,7 +366,8 @@ static void report(const exact_state *st, lc_frame_info *info)
     info->mean_layers = c[COUNTER_COVERED + 1] ? (double)c[COUNTER_NODES + 1] / c[COUNTER_COVERED + 1] : 0.0;
     info->cut_lists = (uint64_t)c[COUNTER_LIMITED] + c[COUNTER_LIMITED + 1];
     if (c[COUNTER_LIMITED] || c[COUNTER_LIMITED + 1])
-        LC_DEBUG(MODULE, "the driver's loop limit stopped %u + %u list invocations part way (their pixels are not exact)",
+        LC_DEBUG(MODULE,
+                 "the driver's loop limit stopped %u + %u list invocations part way (their pixels are not exact)",
                  c[COUNTER_LIMITED], c[COUNTER_LIMITED + 1]);
     if (dropped)
         LC_DEBUG(MODULE, "%llu fragments dropped (pool full: %u + %u of %u nodes)", (unsigned long long)dropped,

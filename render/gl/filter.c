@@ -90,7 +90,8 @@ static int resolve(const lc_frame_setup *fs, filter_list *L, lc_error *err)
 
 static int same_filters(const filter_mask *m, const lc_frame_setup *fs, const filter_list *L)
 {
-    return m->scene == fs->gs->serial && m->count == L->n && memcmp(m->attr, L->attr, sizeof(int) * (size_t)L->n) == 0 &&
+    return m->scene == fs->gs->serial && m->count == L->n &&
+           memcmp(m->attr, L->attr, sizeof(int) * (size_t)L->n) == 0 &&
            memcmp(m->filters, L->f, sizeof(lc_filter) * (size_t)L->n) == 0;
 }
 

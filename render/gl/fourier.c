@@ -253,8 +253,8 @@ static void set_opacity_uniforms(GLuint prog, const lc_render_params *p)
 }
 
 /* P3 smoothing and fading after P2, and the visibility report. */
-static int smooth_and_report(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt,
-                             lc_frame_info *info, lc_error *err)
+static int smooth_and_report(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                             lc_error *err)
 {
     lc_mass_report(r, fs, info);
     int rc = lc_renderer_smooth_and_fade(r, fs, state, dt, info, err);
@@ -266,8 +266,8 @@ static int smooth_and_report(lc_renderer *r, lc_frame_setup *fs, lc_frame_state 
 
 /* After P2, drawn or over the fragment list: the opacities combined across
  * ranks, then P3 and the report. */
-static int finish_opacities(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt,
-                            lc_frame_info *info, lc_error *err)
+static int finish_opacities(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
+                            lc_error *err)
 {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     int rc = lc_reduce_element_minima(r, fs->element_total, fs->info, err);
@@ -417,8 +417,8 @@ static void info_paths(lc_frame_setup *fs, lc_raster_pass pass, int computed)
 
 /* P4 or P5 through the compute rasterizer (compute_raster.c): `planes` sums
  * per pixel of t, stored into t's targets once every primitive is in. */
-static int compute_pass(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, lc_targets *t, int planes,
-                        int subset, lc_error *err)
+static int compute_pass(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, lc_targets *t, int planes, int subset,
+                        lc_error *err)
 {
     int rc = lc_compute_raster_begin(r, t->width, t->height, planes, err);
     GLuint prog = rc ? 0 : lc_compute_raster_program(r, kind, fs->gs->scene->type, fs->params->foo.bands, err);
@@ -469,8 +469,8 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, p->foo.subset);
     info_paths(fs, LC_RASTER_P4, computed);
     if (computed) {
-        int rc = compute_pass(r, fs, direct ? PROG_P4_DIRECT : PROG_P4, &r->coef_full, 2 * bands + 1, p->foo.subset,
-                              err);
+        int rc =
+            compute_pass(r, fs, direct ? PROG_P4_DIRECT : PROG_P4, &r->coef_full, 2 * bands + 1, p->foo.subset, err);
         if (rc)
             return rc;
     }

@@ -307,8 +307,12 @@ GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err)
 {
     GLuint *slot = &r->fixed_programs[PROG_P2_LIST_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
     if (!*slot) {
-        static const char *const cs[] = {"common.glsl",        "coefficients.glsl",   "occluders.glsl",
-                                         "fragment_list.glsl", "opacity_common.glsl", "p2_list.comp.glsl",
+        static const char *const cs[] = {"common.glsl",
+                                         "coefficients.glsl",
+                                         "occluders.glsl",
+                                         "fragment_list.glsl",
+                                         "opacity_common.glsl",
+                                         "p2_list.comp.glsl",
                                          NULL};
         char defines[64];
         snprintf(defines, sizeof defines, "#define BANDS %d\n", bands);

@@ -115,11 +115,11 @@ void lc_renderer_destroy(lc_renderer *r)
     if (r->output_depth)
         glDeleteRenderbuffers(1, &r->output_depth);
     glDeleteFramebuffers(1, &r->nofb);
-    GLuint bufs[] = {r->element_alpha_min, r->element_alpha,      r->smooth_a,        r->smooth_b,
-                     r->stats,             r->dummy_buffer,       r->mass_histogram,  r->element_importance,
-                     r->point_histogram,   r->point_list,
-                     r->element_behind,      r->color_histogram, r->element_g,           r->important_occluded,
-                     r->line_select,       r->line_kept,       r->top_reach};
+    GLuint bufs[] = {
+        r->element_alpha_min, r->element_alpha,   r->smooth_a,           r->smooth_b,           r->stats,
+        r->dummy_buffer,      r->mass_histogram,  r->element_importance, r->point_histogram,    r->point_list,
+        r->element_behind,    r->color_histogram, r->element_g,          r->important_occluded, r->line_select,
+        r->line_kept,         r->top_reach};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         if (bufs[i])
             glDeleteBuffers(1, &bufs[i]);
@@ -247,8 +247,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
 
 /* One frame of gs alone (layers NULL) or of the n layers over scenes. */
 static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,
-                  const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba,
-                  lc_frame_info *info, lc_error *err)
+                  const lc_render_params *params, lc_frame_state *state, double dt, uint8_t *rgba, lc_frame_info *info,
+                  lc_error *err)
 {
     double t0 = lc_now();
     const lc_gpu_scene *gs = scenes[0];
@@ -290,7 +290,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     r->line_primitive = 0; /* set below for a frame of one line dataset */
     lc_filter_frame_begin(r);
     r->context_layers = 0; /* lc_context_draw sets it */
-    if (!p.has_camera) /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
+    if (!p.has_camera)     /* the dataset's suggested view, else ParaView's default (-Z, +Y up), fitted to the bounds */
         lc_render_fit_camera(scenes, layers ? n : 1, &p.camera);
     if (!layers) {
         rc = lc_frame_resolve_mapping(&fs, err);

@@ -18,11 +18,14 @@ static int check_layered(const lc_scene *const *scenes, const lc_layer_params *l
                             "layers render with fourier, exact, direct, weighted-average or binning, not %s",
                             lc_method_name(p->method));
     if (p->filter_count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "filter", "a layered frame's filters are its layers': layers[i].filter");
+        return lc_err_field(err, LC_ERR_INVALID, "filter",
+                            "a layered frame's filters are its layers': layers[i].filter");
     if (p->time.has_window)
-        return lc_err_field(err, LC_ERR_INVALID, "time.window", "a layered frame's time windows are its layers': layers[i].time");
+        return lc_err_field(err, LC_ERR_INVALID, "time.window",
+                            "a layered frame's time windows are its layers': layers[i].time");
     if (p->clusters.count > 0)
-        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters", "a layered frame's clusters are its layers': layers[i].lines");
+        return lc_err_field(err, LC_ERR_INVALID, "lines.clusters",
+                            "a layered frame's clusters are its layers': layers[i].lines");
     if (p->color.equalize)
         return lc_err_field(err, LC_ERR_INVALID, "color.equalize",
                             "a layered frame's equalization is its layers': layers[i].color.equalize");
@@ -85,10 +88,12 @@ static int check_equalize(const lc_scene *s, const lc_color_map *col, lc_method 
     char field[48];
     snprintf(field, sizeof field, "%scolor.equalize", prefix);
     if (m != LC_METHOD_FOURIER && m != LC_METHOD_DIRECT && !(exact_ok && m == LC_METHOD_EXACT))
-        return lc_err_field(err, LC_ERR_INVALID, field, "equalized colour needs method \"fourier\", \"direct\"%s, not \"%s\"",
+        return lc_err_field(err, LC_ERR_INVALID, field,
+                            "equalized colour needs method \"fourier\", \"direct\"%s, not \"%s\"",
                             exact_ok ? " or \"exact\"" : " (a layer's)", lc_method_name(m));
     if (!exact_ok && tiles)
-        return lc_err_field(err, LC_ERR_INVALID, field, "a layer's equalized colour is measured on one untiled frame: "
+        return lc_err_field(err, LC_ERR_INVALID, field,
+                            "a layer's equalized colour is measured on one untiled frame: "
                             "render at most 4096x4096");
     const char *c = col->attribute[0] ? col->attribute : s->default_color;
     if (strcmp(c, "rgb") == 0)
@@ -200,8 +205,10 @@ static int check_shadows(const lc_render_params *p, int context, int tiles, int 
     /* The shadows shade the context once, for the frame's own view: a tile or
      * a jittered sample that draws its context anew would lose them. */
     if ((ground || st->shadow > 0) && (tiles || jittered))
-        return lc_err_field(err, LC_ERR_INVALID, field, "shadows and the ground plane are drawn in one untiled, "
-                            "unjittered frame: %s", tiles ? "render at most 4096x4096" : "antialias 1");
+        return lc_err_field(err, LC_ERR_INVALID, field,
+                            "shadows and the ground plane are drawn in one untiled, "
+                            "unjittered frame: %s",
+                            tiles ? "render at most 4096x4096" : "antialias 1");
     if (ground && p->foo.guard_band > 0) /* the context is drawn for the view, the optimization sees a wider one */
         return lc_err_field(err, LC_ERR_INVALID, field, "not with params.guardBand");
     if (st->smart > 0 && tiles) /* the diffusion would stop at every tile's edge */

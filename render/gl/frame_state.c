@@ -135,4 +135,7 @@ void lc_frame_state_equalize(lc_frame_state *st, const float *target, double dt,
     lc_frame_state_equalize_slot(st, 0, target, dt, half_life);
 }
 
-const float *lc_frame_state_equalize_knots(const lc_frame_state *st) { return lc_frame_state_equalize_knots_slot(st, 0); }
+const float *lc_frame_state_equalize_knots(const lc_frame_state *st)
+{
+    return lc_frame_state_equalize_knots_slot(st, 0);
+}

@@ -44,8 +44,8 @@ int lc_kanzler_maps(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint prog = lc_renderer_geometry_program(r, PROG_KANZLER_MAPS, lf->gs->scene->type, fs->params->foo.bands,
-                                                   1, err);
+        GLuint prog =
+            lc_renderer_geometry_program(r, PROG_KANZLER_MAPS, lf->gs->scene->type, fs->params->foo.bands, 1, err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
@@ -63,8 +63,7 @@ int lc_kanzler_maps(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     glProgramUniform2i(blur, glGetUniformLocation(blur, "u_size"), w, h);
     lc_uniform_i(blur, "u_has_tangents", prim == LC_PRIM_LINES);
     glDispatchCompute((GLuint)(w + 7) / 8, (GLuint)(h + 7) / 8, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                    GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     st->valid = 1;
     lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
     return 0;

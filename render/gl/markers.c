@@ -25,7 +25,8 @@ int lc_markers_draw(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
         static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
         static const char *const fsrc[] = {"common.glsl", "fragment_common.glsl", "opaque.frag.glsl", NULL};
         char defines[160];
-        snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS 1\n#define PULL_PRIMITIVES 1\n#define MARKERS 1\n",
+        snprintf(defines, sizeof defines,
+                 "#define PRIM %d\n#define BANDS 1\n#define PULL_PRIMITIVES 1\n#define MARKERS 1\n",
                  (int)LC_PRIM_LINES);
         r->marker_program = lc_renderer_build_program(defines, vs, fsrc, NULL, "time markers", err);
         if (!r->marker_program)

@@ -19,11 +19,9 @@ void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out)
      * that reuses the opacities (P1-P3 skipped, the camera moving) composites by
      * the bounds: the pass would cost it 18-29% (tornado at 972x761, llvmpipe). */
     lc_depth_range range = lc_foo_depth_range(&p->foo);
-    out->pixel_range =
-        range == LC_DEPTH_RANGE_PIXEL && (m == LC_METHOD_FOURIER || m == LC_METHOD_DIRECT || blends ||
-                                          m == LC_METHOD_KANZLER);
-    out->moments =
-        range == LC_DEPTH_RANGE_MOMENTS && (m == LC_METHOD_FOURIER || m == LC_METHOD_BINNING) && !out->reuse;
+    out->pixel_range = range == LC_DEPTH_RANGE_PIXEL &&
+                       (m == LC_METHOD_FOURIER || m == LC_METHOD_DIRECT || blends || m == LC_METHOD_KANZLER);
+    out->moments = range == LC_DEPTH_RANGE_MOMENTS && (m == LC_METHOD_FOURIER || m == LC_METHOD_BINNING) && !out->reuse;
     /* kanzler's per-pixel maps (kanzler.c) run and are timed as part of P0, at full resolution. */
     out->kanzler_maps = m == LC_METHOD_KANZLER;
     out->run[LC_PASS_DEPTH_RANGE] = out->pixel_range    ? LC_RUN_BOTH

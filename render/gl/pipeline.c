@@ -367,8 +367,8 @@ int lc_renderer_batch_yield(const lc_frame_setup *fs)
     lc_renderer *r = fs->renderer;
     if (!r || !r->draw_yields || (!r->desc.preempted && !r->work) || (r->desc.reducer && r->desc.reducer->size > 1))
         return r && r->yield_cut;
-    if (!r->yield_cut && ((r->desc.preempted && r->desc.preempted(r->desc.yield_ctx)) ||
-                          (r->work && lc_work_charge_elapsed(r->work))))
+    if (!r->yield_cut &&
+        ((r->desc.preempted && r->desc.preempted(r->desc.yield_ctx)) || (r->work && lc_work_charge_elapsed(r->work))))
         r->yield_cut = 1; /* past the budget: the yield point that follows says so */
     return r->yield_cut;
 }
@@ -479,7 +479,7 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     if (per_batch) {
         uint64_t kept = fs->kept_line_indices[0] + fs->kept_line_indices[1];
         uint64_t triangles = prim == LC_PRIM_LINES && !pulled ? (kept ? kept : lv->index_count)
-                                                               : drawn * (prim == LC_PRIM_TRIANGLES ? 1 : 2);
+                                                              : drawn * (prim == LC_PRIM_TRIANGLES ? 1 : 2);
         uint64_t share = triangles / SOFTWARE_BATCH_SPLIT;
         per_batch = share < SOFTWARE_BATCH_MIN ? SOFTWARE_BATCH_MIN : share < per_batch ? share : per_batch;
     }

@@ -138,10 +138,15 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
     static const char *const fs_p1[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
                                         "p1_importance.frag.glsl", NULL};
-    static const char *const fs_p1_list[] = {"common.glsl",           "fragment_common.glsl",    "coefficient_output.glsl",
-                                             "fragment_list.glsl",    "p1_importance.frag.glsl", NULL};
-    static const char *const fs_p2[] = {"common.glsl",    "fragment_common.glsl",  "coefficients.glsl",
-                                        "occluders.glsl", "opacity_common.glsl", "p2_opacity.frag.glsl", NULL};
+    static const char *const fs_p1_list[] = {"common.glsl",        "fragment_common.glsl",    "coefficient_output.glsl",
+                                             "fragment_list.glsl", "p1_importance.frag.glsl", NULL};
+    static const char *const fs_p2[] = {"common.glsl",
+                                        "fragment_common.glsl",
+                                        "coefficients.glsl",
+                                        "occluders.glsl",
+                                        "opacity_common.glsl",
+                                        "p2_opacity.frag.glsl",
+                                        NULL};
     static const char *const fs_p4[] = {"common.glsl", "fragment_common.glsl", "coefficient_output.glsl",
                                         "p4_optical_depth.frag.glsl", NULL};
     static const char *const fs_p5[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
@@ -152,24 +157,44 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     static const char *const fs_moments[] = {"common.glsl", "fragment_common.glsl", "depth_moments.frag.glsl", NULL};
     static const char *const fs_moments_list[] = {"common.glsl", "fragment_common.glsl", "fragment_list.glsl",
                                                   "depth_moments.frag.glsl", NULL};
-    static const char *const fs_p4_list[] = {"common.glsl",        "fragment_common.glsl",       "coefficient_output.glsl",
-                                             "fragment_list.glsl", "p4_optical_depth.frag.glsl", NULL};
+    static const char *const fs_p4_list[] = {
+        "common.glsl",        "fragment_common.glsl",       "coefficient_output.glsl",
+        "fragment_list.glsl", "p4_optical_depth.frag.glsl", NULL};
     static const char *const fs_hist[] = {"common.glsl", "fragment_common.glsl", "coefficients.glsl",
                                           "color_histogram.frag.glsl", NULL};
-    static const char *const fs_wavg[] = {"common.glsl", "fragment_common.glsl", "weighted_average_accumulate.frag.glsl",
-                                          NULL};
+    static const char *const fs_wavg[] = {"common.glsl", "fragment_common.glsl",
+                                          "weighted_average_accumulate.frag.glsl", NULL};
     static const char *const fs_kanzler[] = {"common.glsl", "fragment_common.glsl", "kanzler_maps.frag.glsl", NULL};
-    static const char *const fs_p4_kanzler[] = {"common.glsl",    "fragment_common.glsl",       "coefficient_output.glsl",
-                                                "occluders.glsl", "p4_optical_depth.frag.glsl", NULL};
+    static const char *const fs_p4_kanzler[] = {
+        "common.glsl",    "fragment_common.glsl",       "coefficient_output.glsl",
+        "occluders.glsl", "p4_optical_depth.frag.glsl", NULL};
     static const char *const *fs_by_kind[PROG_GEOMETRY_KINDS] = {
-        fs_p1,      fs_p2,           fs_p4,      fs_p5,  fs_p4, fs_p5, fs_opaque, fs_wboit, fs_range, fs_moments, fs_hist,
-        fs_hist,    fs_p1_list,      fs_moments_list, fs_p4_list, fs_p4, fs_p5, fs_wavg, fs_kanzler, fs_p4_kanzler, fs_p5,
-        fs_p4,      fs_p4};
-    static const char *kind_names[PROG_GEOMETRY_KINDS] = {
-        "P1", "P2", "P4", "P5", "P4-direct", "P5-direct", "opaque", "wboit", "depth range", "depth moments",
-        "colour histogram", "colour histogram (direct)", "P1 (recording)",
-        "depth moments (recording)", "P4 (recording)", "P4-binning", "P5-binning", "weighted average",
-        "kanzler maps", "P4-kanzler", "P5-kanzler", "shadow map", "shadow map (direct)"};
+        fs_p1,    fs_p2,      fs_p4,      fs_p5,         fs_p4,      fs_p5,           fs_opaque,  fs_wboit,
+        fs_range, fs_moments, fs_hist,    fs_hist,       fs_p1_list, fs_moments_list, fs_p4_list, fs_p4,
+        fs_p5,    fs_wavg,    fs_kanzler, fs_p4_kanzler, fs_p5,      fs_p4,           fs_p4};
+    static const char *kind_names[PROG_GEOMETRY_KINDS] = {"P1",
+                                                          "P2",
+                                                          "P4",
+                                                          "P5",
+                                                          "P4-direct",
+                                                          "P5-direct",
+                                                          "opaque",
+                                                          "wboit",
+                                                          "depth range",
+                                                          "depth moments",
+                                                          "colour histogram",
+                                                          "colour histogram (direct)",
+                                                          "P1 (recording)",
+                                                          "depth moments (recording)",
+                                                          "P4 (recording)",
+                                                          "P4-binning",
+                                                          "P5-binning",
+                                                          "weighted average",
+                                                          "kanzler maps",
+                                                          "P4-kanzler",
+                                                          "P5-kanzler",
+                                                          "shadow map",
+                                                          "shadow map (direct)"};
     int bins = kind == PROG_P4_BINS || kind == PROG_P5_BINS;
     int reads_alpha = kind == PROG_P4 || kind == PROG_P4_LIST || kind == PROG_P5 || kind == PROG_WBOIT ||
                       kind == PROG_COLOR_HISTOGRAM || bins || kind == PROG_WEIGHTED_AVERAGE || kind == PROG_SHADOW;
@@ -178,18 +203,17 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                  kind == PROG_SHADOW_DIRECT;
     char defines[400];
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s%s", (int)prim, bands,
-             bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "",
-             reads_alpha ? "#define READ_ALPHA 1\n" : "", direct ? "#define DIRECT_ALPHA 1\n" : "",
-             pulled ? "#define PULL_PRIMITIVES 1\n" : "", sprites ? "#define POINT_SPRITES 1\n" : "",
-             lines ? "#define LINE_PRIMITIVE 1\n" : "", context ? "#define CONTEXT_DEPTH 1\n" : "",
-             floor ? "#define FLOOR_EMPTY 1\n" : "",
+             bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "", reads_alpha ? "#define READ_ALPHA 1\n" : "",
+             direct ? "#define DIRECT_ALPHA 1\n" : "", pulled ? "#define PULL_PRIMITIVES 1\n" : "",
+             sprites ? "#define POINT_SPRITES 1\n" : "", lines ? "#define LINE_PRIMITIVE 1\n" : "",
+             context ? "#define CONTEXT_DEPTH 1\n" : "", floor ? "#define FLOOR_EMPTY 1\n" : "",
              kind == PROG_P1_LIST              ? "#define RECORD_FRAGMENTS 1\n"
              : kind == PROG_DEPTH_MOMENTS_LIST ? "#define RECORD_FRAGMENTS 1\n#define FRAGMENT_CHAINS 1\n"
              : kind == PROG_P4_LIST            ? "#define COMPOSITE_LIST 1\n"
              : kind == PROG_KANZLER_MAPS       ? "#define KANZLER_MAPS 1\n"
              : kanzler                         ? "#define KANZLER_PENALTY 1\n"
              : kind == PROG_SHADOW || kind == PROG_SHADOW_DIRECT ? "#define SHADOW_MAP 1\n"
-                                               : "");
+                                                                 : "");
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,
              lines     ? ", lines"

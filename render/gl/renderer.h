@@ -121,9 +121,9 @@ typedef enum {
 } lc_pass_run;
 typedef struct lc_pass_plan {
     lc_method method;
-    int reuse;       /* P1-P3 skipped: the frame state's opacities are reused */
-    int pixel_range; /* P0 as the per-pixel depth range (depthRange "pixel") */
-    int moments;     /* P0 as the depth moments (depthRange "moments") */
+    int reuse;        /* P1-P3 skipped: the frame state's opacities are reused */
+    int pixel_range;  /* P0 as the per-pixel depth range (depthRange "pixel") */
+    int moments;      /* P0 as the depth moments (depthRange "moments") */
     int kanzler_maps; /* P0 includes method kanzler's per-pixel maps (full resolution) */
     lc_pass_run run[LC_PASS_COUNT];
 } lc_pass_plan;
@@ -248,15 +248,16 @@ typedef struct lc_frame_info {
     /* params.clarity: the factors on λ and on q and r the frame's opacities
      * used (0: the loop was off; render/gl/clarity.c). */
     double clarity_lambda, clarity_penalty;
-    int clarity_smoothing; /* the smoothing iterations the frame's opacities used (params.smoothing, or fewer) */
+    int clarity_smoothing;     /* the smoothing iterations the frame's opacities used (params.smoothing, or fewer) */
     int clarity_smoothing_cut; /* the loop used fewer than params.smoothing (clarity.c) */
-    int clarity_tries;     /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
-    int clarity_reached;   /* the frame met params.clarity's goal (lc_clarity_miss 0); else the factors are where it stopped */
-    int importance_passes; /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
-    int opacity_from_list; /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
-    int importance_from_list; /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
-    int computed_passes; /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
-    int line_primitive;  /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
+    int clarity_tries;         /* optimizations the loop ran this frame (1 for a session's frame; 0 when off) */
+    int clarity_reached;       /* the frame met params.clarity's goal (lc_clarity_miss 0); else the factors are where it
+                                  stopped */
+    int importance_passes;     /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
+    int opacity_from_list;     /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
+    int importance_from_list;  /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
+    int computed_passes;       /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
+    int line_primitive;        /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;

@@ -45,51 +45,51 @@
     X(BIND_POSITION_CHUNKS, 18)                                                                                        \
     X(BIND_POINT_HISTOGRAM, 19)                                                                                        \
     X(BIND_POINT_LIST, 20)                                                                                             \
-    X(BIND_VISIBLE, 21)      /* filter.c: one visibility bit per vertex, read by the geometry passes */                \
-    X(BIND_LINE_OFFSETS, 22) /* filter.c: the lines' first vertices */                                                \
-    X(BIND_VISIBLE_OUT, 23)  /* filter.c: the mask being written */                                                   \
-    X(BIND_ADJ_WEIGHTS, 24) /* params.smoothingWeights "distance" */                                                  \
-    X(BIND_LINE_MASK, 25)   /* line_clusters.c: one bit per vertex, 1 = drawn */                                       \
-    X(BIND_ELEMENT_BEHIND, 26) /* importance mass behind each element's fragments (occluders.glsl) */                 \
-    X(BIND_COLOR_HISTOGRAM, 27) /* color_equalize.c: visibility-weighted colour bins */                               \
-    X(BIND_SURFACE_NODES, 28)  /* surface_layers.c: the batch's fragment lists */                                      \
-    X(BIND_SURFACE_PIXELS, 29) /* surface_layers.c: counters, list heads, layer counts, output */                      \
-    X(BIND_SURFACE_LAYERS, 30) /* surface_layers.c: the persistent per-pixel layers */                                 \
-    X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */  \
-    X(BIND_IMPORTANT_OCCLUDED, 28) /* visibility.c: importantOccluded's two counts (P2, exact opacity; never with  \
+    X(BIND_VISIBLE, 21)         /* filter.c: one visibility bit per vertex, read by the geometry passes */             \
+    X(BIND_LINE_OFFSETS, 22)    /* filter.c: the lines' first vertices */                                              \
+    X(BIND_VISIBLE_OUT, 23)     /* filter.c: the mask being written */                                                 \
+    X(BIND_ADJ_WEIGHTS, 24)     /* params.smoothingWeights "distance" */                                               \
+    X(BIND_LINE_MASK, 25)       /* line_clusters.c: one bit per vertex, 1 = drawn */                                   \
+    X(BIND_ELEMENT_BEHIND, 26)  /* importance mass behind each element's fragments (occluders.glsl) */                 \
+    X(BIND_COLOR_HISTOGRAM, 27) /* color_equalize.c: visibility-weighted colour bins */                                \
+    X(BIND_SURFACE_NODES, 28)   /* surface_layers.c: the batch's fragment lists */                                     \
+    X(BIND_SURFACE_PIXELS, 29)  /* surface_layers.c: counters, list heads, layer counts, output */                     \
+    X(BIND_SURFACE_LAYERS, 30)  /* surface_layers.c: the persistent per-pixel layers */                                \
+    X(BIND_ELEMENT_G, 31)       /* visibility.c: each element's mean importance, read by P2's emphasis on patches */   \
+    X(BIND_IMPORTANT_OCCLUDED, 28) /* visibility.c: importantOccluded's two counts (P2, exact opacity; never with      \
                                       surface_layers.c's nodes) */                                                     \
-    X(BIND_TOP_REACH, 26) /* fourier.c: topDecileReach's sums in P5 (element_behind is P2's) */                     \
-    X(BIND_FRAGMENT_LIST, 14) /* fragment_list.c: P1's fragments for P2 (never in a program of the exact method) */   \
-    X(BIND_FRAGMENT_CHAINS, 15) /* fragment_list.c: P0's per-pixel chains for P1 (never in the exact method's) */     \
-    X(BIND_LINE_RUNS, 9)    /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */         \
-    X(BIND_LINE_SELECT, 10) /* line_subset.c: the kept strip's two counts and each run's importance bin */            \
-    X(BIND_LINE_KEPT, 20)   /* line_subset.c: the kept strip (lines never bind the point list) */                     \
-    X(BIND_RASTER_SUMS, 9)  /* compute_raster.c: per-pixel sums, a plane per channel (P3's bindings are free there) */ \
-    X(BIND_RASTER_LARGE, 10) /* compute_raster.c: the primitives left to the second dispatch */                       \
-    X(TEX_COLORMAP, 0)      /* geometry passes */                                                                      \
-    X(TEX_COEF_FIRST, 1)    /* first coefficient target sampled by the mass histogram */                               \
-    X(TEX_PIXEL_RANGE, 6)   /* P0 output read by later passes */                                                       \
-    X(TEX_DEPTH_MOMENTS, 7) /* P0 "moments" output read by P1, P2, P4 and P5 */                                        \
-    X(TEX_EQUALIZE_ACCUM, 3) /* color_equalize.c: P5's sums read by the colour histogram */                           \
-    X(TEX_RESOLVE_A, 0)     /* full-screen resolves: accumulation */                                                   \
-    X(TEX_RESOLVE_B, 1)     /* ... and optical depth (P6) or revealage (WBOIT) */                                      \
-    X(TEX_CONTEXT_DEPTH, 8) /* context.c: the opaque context's depth, tested by every transparent pass */             \
-    X(TEX_CONTEXT_COLOR, 9) /* context.c: its colour, under P6 and the exact blend */                                  \
-    X(TEX_KANZLER_MAPS, 10) /* kanzler.c: (C, M, D, V) per pixel, read by the kanzler P4/P5 */                         \
-    X(TEX_KANZLER_SUMS, 11) /* kanzler.c: tangent sums and counts, read by the blur */                                 \
-    X(IMG_KANZLER_MAX, 7)   /* kanzler.c: packed maximum importance and depth (R32UI) */                              \
-    X(IMG_KANZLER_MAPS, 1)  /* kanzler.c: the blur's output (the exact method's output unit is free there) */         \
-    X(TEX_SHADOW_COLOR, 10) /* shadow.c: the light's optical-depth-weighted colour */                                 \
-    X(IMG_SMART_SRC, 7)     /* smart.c: silhouette and halo intensities being diffused */                            \
+    X(BIND_TOP_REACH, 26)          /* fourier.c: topDecileReach's sums in P5 (element_behind is P2's) */               \
+    X(BIND_FRAGMENT_LIST, 14)   /* fragment_list.c: P1's fragments for P2 (never in a program of the exact method) */  \
+    X(BIND_FRAGMENT_CHAINS, 15) /* fragment_list.c: P0's per-pixel chains for P1 (never in the exact method's) */      \
+    X(BIND_LINE_RUNS, 9)        /* line_subset.c (a compute pass; P3's bindings are free there): a level's runs */     \
+    X(BIND_LINE_SELECT, 10)     /* line_subset.c: the kept strip's two counts and each run's importance bin */         \
+    X(BIND_LINE_KEPT, 20)       /* line_subset.c: the kept strip (lines never bind the point list) */                  \
+    X(BIND_RASTER_SUMS, 9) /* compute_raster.c: per-pixel sums, a plane per channel (P3's bindings are free there) */  \
+    X(BIND_RASTER_LARGE, 10) /* compute_raster.c: the primitives left to the second dispatch */                        \
+    X(TEX_COLORMAP, 0)       /* geometry passes */                                                                     \
+    X(TEX_COEF_FIRST, 1)     /* first coefficient target sampled by the mass histogram */                              \
+    X(TEX_PIXEL_RANGE, 6)    /* P0 output read by later passes */                                                      \
+    X(TEX_DEPTH_MOMENTS, 7)  /* P0 "moments" output read by P1, P2, P4 and P5 */                                       \
+    X(TEX_EQUALIZE_ACCUM, 3) /* color_equalize.c: P5's sums read by the colour histogram */                            \
+    X(TEX_RESOLVE_A, 0)      /* full-screen resolves: accumulation */                                                  \
+    X(TEX_RESOLVE_B, 1)      /* ... and optical depth (P6) or revealage (WBOIT) */                                     \
+    X(TEX_CONTEXT_DEPTH, 8)  /* context.c: the opaque context's depth, tested by every transparent pass */             \
+    X(TEX_CONTEXT_COLOR, 9)  /* context.c: its colour, under P6 and the exact blend */                                 \
+    X(TEX_KANZLER_MAPS, 10)  /* kanzler.c: (C, M, D, V) per pixel, read by the kanzler P4/P5 */                        \
+    X(TEX_KANZLER_SUMS, 11)  /* kanzler.c: tangent sums and counts, read by the blur */                                \
+    X(IMG_KANZLER_MAX, 7)    /* kanzler.c: packed maximum importance and depth (R32UI) */                              \
+    X(IMG_KANZLER_MAPS, 1)   /* kanzler.c: the blur's output (the exact method's output unit is free there) */         \
+    X(TEX_SHADOW_COLOR, 10)  /* shadow.c: the light's optical-depth-weighted colour */                                 \
+    X(IMG_SMART_SRC, 7)      /* smart.c: silhouette and halo intensities being diffused */                             \
     X(IMG_SMART_DST, 8)                                                                                                \
     X(IMG_SMART_OUTPUT, 9)  /* smart.c: the image they modulate */                                                     \
-    X(IMG_SMART_INJECT, 10) /* smart.c: the injected intensities and each pixel's optical depth */                    \
+    X(IMG_SMART_INJECT, 10) /* smart.c: the injected intensities and each pixel's optical depth */                     \
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
     X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
-    X(IMG_EXACT_REDUCED, 1) /* exact list pass 1: per-pixel opacity left out (never with the blend's output) */       \
-    X(IMG_EXACT_STATE, 2)   /* exact sort passes: a pixel's sums between chunks (no coefficient targets bound there) */ \
-    X(IMG_EXACT_BOUND, 3)   /* exact blend: the last fragment blended, where the next chunk starts */                  \
-    X(IMG_COEF_FIRST, 2)    /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
+    X(IMG_EXACT_REDUCED, 1) /* exact list pass 1: per-pixel opacity left out (never with the blend's output) */        \
+    X(IMG_EXACT_STATE, 2) /* exact sort passes: a pixel's sums between chunks (no coefficient targets bound there) */  \
+    X(IMG_EXACT_BOUND, 3) /* exact blend: the last fragment blended, where the next chunk starts */                    \
+    X(IMG_COEF_FIRST, 2)  /* 2..1+LC_MAX_COEF_TARGETS: coefficient targets read by P2 and P5 */
 
 /* Constants that the host and the shaders must agree on, injected the same
  * way: the mass histogram's layout (mass_common.glsl), the attribute table size. */
@@ -97,10 +97,10 @@
     X(MASS_BINS, 1024)                                                                                                 \
     X(MASS_BINS_PER_OCTAVE, 16)                                                                                        \
     X(MASS_LOG2_MIN, -24)                                                                                              \
-    X(POINT_BINS, 1024)   /* importance bins of the point subsets (point_subset.c) */                                  \
-    X(MAX_ATTRIBUTES, 32) /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */                   \
-    X(MAX_IMPORTANCE_TERMS, 4) /* LC_MAX_IMPORTANCE_TERMS (common.glsl vertex_importance) */                  \
-    X(MAX_FILTERS, 8)          /* LC_MAX_FILTERS (filter_mask.comp.glsl) */                                  \
+    X(POINT_BINS, 1024)        /* importance bins of the point subsets (point_subset.c) */                             \
+    X(MAX_ATTRIBUTES, 32)      /* LC_MAX_ATTRIBUTES: the compact layout's per-attribute uniforms */                    \
+    X(MAX_IMPORTANCE_TERMS, 4) /* LC_MAX_IMPORTANCE_TERMS (common.glsl vertex_importance) */                           \
+    X(MAX_FILTERS, 8)          /* LC_MAX_FILTERS (filter_mask.comp.glsl) */                                            \
     X(MAX_CURVE_POINTS, 64)    /* LC_MAX_CURVE_POINTS (common.glsl curve_eval) */
 
 #define LC_GL_BINDING_ENUM(name, value) name = value,
@@ -117,15 +117,15 @@ _Static_assert(MAX_CURVE_POINTS == LC_MAX_CURVE_POINTS, "shader curves");
 typedef struct lc_importance_terms {
     double range[LC_MAX_IMPORTANCE_TERMS][2];
     double weight[LC_MAX_IMPORTANCE_TERMS];
-    double norm;          /* 1 / sum |w| */
-    uint64_t mask_serial; /* the filter mask the caches saw (filter.c); 0: none */
+    double norm;                         /* 1 / sum |w| */
+    uint64_t mask_serial;                /* the filter mask the caches saw (filter.c); 0: none */
     float curve[LC_MAX_CURVE_POINTS][2]; /* importance.curve */
     int curve_count;
-    int count;            /* 0: the single form */
+    int count; /* 0: the single form */
     int attr[LC_MAX_IMPORTANCE_TERMS];
     int invert[LC_MAX_IMPORTANCE_TERMS];
     int penalty; /* sum w < 0 */
-    int unused; /* no tail padding: memcmp sees every byte */
+    int unused;  /* no tail padding: memcmp sees every byte */
 } lc_importance_terms;
 
 /* One level of detail: the primitives a pass draws. Level 0 is the whole
@@ -201,16 +201,16 @@ typedef enum {
     PROG_DEPTH_MOMENTS,
     PROG_COLOR_HISTOGRAM, /* color_equalize.c, after P5 */
     PROG_COLOR_HISTOGRAM_DIRECT,
-    PROG_P1_LIST, /* P1 that also records its fragments (fragment_list.c) */
+    PROG_P1_LIST,            /* P1 that also records its fragments (fragment_list.c) */
     PROG_DEPTH_MOMENTS_LIST, /* P0 "moments" that also records its fragments and chains (fragment_list.c) */
     PROG_P4_LIST,            /* P4 that also records what P5 needs of its fragments, chained (fragment_list.c) */
     PROG_P4_BINS,            /* P4 and P5 of the binning baseline (tau in depth bins, baselines.c) */
     PROG_P5_BINS,
     PROG_WEIGHTED_AVERAGE, /* the weighted average baseline's accumulation (baselines.c) */
-    PROG_KANZLER_MAPS,       /* kanzler.c: the per-pixel maps */
-    PROG_P4_KANZLER,         /* P4 with alpha = g^k times Kanzler's penalty */
+    PROG_KANZLER_MAPS,     /* kanzler.c: the per-pixel maps */
+    PROG_P4_KANZLER,       /* P4 with alpha = g^k times Kanzler's penalty */
     PROG_P5_KANZLER,
-    PROG_SHADOW,             /* P4 from the light, with the optical-depth-weighted colour (shadow.c) */
+    PROG_SHADOW, /* P4 from the light, with the optical-depth-weighted colour (shadow.c) */
     PROG_SHADOW_DIRECT,
     PROG_GEOMETRY_KINDS, /* per primitive type and band count */
     PROG_P3 = PROG_GEOMETRY_KINDS,
@@ -222,9 +222,9 @@ typedef enum {
     PROG_POINT_SELECT,
     PROG_LINE_SELECT,
     PROG_FILTER_MASK,
-    PROG_KANZLER_BLUR, /* kanzler.c: C, V and the 5x5 mean of M and D */
+    PROG_KANZLER_BLUR,  /* kanzler.c: C, V and the 5x5 mean of M and D */
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
-    PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS, /* P1 over P0's fragments, per band count */
+    PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS,   /* P1 over P0's fragments, per band count */
     PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS, /* P5 over P4's fragments, per band count */
     PROG_FIXED_KINDS = PROG_P5_CHAINS_FIRST + LC_MAX_BANDS
 } lc_program_kind;
@@ -276,7 +276,7 @@ struct lc_renderer {
     int nofb_w, nofb_h;
     /* per-element buffers, grown to the largest scene */
     GLuint element_alpha_min, element_alpha, smooth_a, smooth_b, stats;
-    GLuint element_behind; /* per element: importance mass behind its fragments (visibility report) */
+    GLuint element_behind;     /* per element: importance mass behind its fragments (visibility report) */
     GLuint important_occluded; /* 2 uints: important fragments, and those with important mass in front */
     GLuint top_reach;          /* topDecileReach's P5 sums: 64 slots of four 64-bit sums (visibility.c) */
     float reach_g;             /* the importance P5 counts from (the top decile's lowest bin); > 1: none */
@@ -323,8 +323,8 @@ struct lc_renderer {
         lc_importance_terms terms;
         int bins_valid;
         uint32_t bins[POINT_BINS];
-        int keep_bin, stride;       /* the kept strip's cut; keep_bin -1: none built */
-        uint32_t full, strided;     /* its indices: full runs from 0, strided ones ending at total */
+        int keep_bin, stride;   /* the kept strip's cut; keep_bin -1: none built */
+        uint32_t full, strided; /* its indices: full runs from 0, strided ones ending at total */
         uint64_t total;
     } line_sel;
     /* filter.c: per-vertex visibility masks, one per scene and filter list a
@@ -374,10 +374,10 @@ struct lc_renderer {
     int progress_planned, progress_done;
     double progress_t0; /* lc_now() at the frame's start */
     GLuint dummy_buffer;
-    void *exact;   /* exact.c's state */
-    void *context; /* context.c's state */
-    void *kanzler; /* kanzler.c's state */
-    GLuint marker_program; /* markers.c's (lines, pulled), built on first use */
+    void *exact;                 /* exact.c's state */
+    void *context;               /* context.c's state */
+    void *kanzler;               /* kanzler.c's state */
+    GLuint marker_program;       /* markers.c's (lines, pulled), built on first use */
     struct shadow_state *shadow; /* shadow.c's targets and programs (NULL until a frame has shadows or a ground) */
     struct smart_state *smart;   /* smart.c's */
     /* reduce.c: host copy of a target or buffer being reduced, capacity in floats */
@@ -463,13 +463,13 @@ typedef struct lc_frame_setup {
     /* filter.c: the visibility mask filter_mask applies (0: every vertex draws). */
     int filtered;
     GLuint filter_mask;
-    int pull_lines;    /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
+    int pull_lines;     /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
     int line_primitive; /* segments draw as wide GL_LINES (line_primitive.c; r->line_primitive) */
-    int point_sprites; /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
-    int p1_subset;     /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
-    int p1_done;       /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
-                          change only the strength P2 applies, keep them (lc_fourier_optimize) */
-    int p0_chained;    /* this frame's P0 recorded its fragments for P1 (fragment_list.c) */
+    int point_sprites;  /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
+    int p1_subset;      /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
+    int p1_done;        /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
+                           change only the strength P2 applies, keep them (lc_fourier_optimize) */
+    int p0_chained;     /* this frame's P0 recorded its fragments for P1 (fragment_list.c) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */
@@ -505,7 +505,7 @@ typedef struct lc_layer_setup {
     double line_half_width;
     int level;
     uint32_t element_offset;
-    int context; /* role "context": drawn opaque by context.c, in no transparent pass */
+    int context;              /* role "context": drawn opaque by context.c, in no transparent pass */
     int filtered, pull_lines; /* the layer's filters and time window (lc_filter_prepare) */
     GLuint filter_mask;
     int line_mask; /* the layer's lines.clusters (lc_line_clusters_prepare) */
@@ -821,7 +821,8 @@ void lc_compute_raster_release(lc_renderer *r);
  * its fragments so that P2 runs as a compute pass over them instead of a
  * second traversal of the geometry (every try of the clarity loop). */
 /* Whether this frame's P1, drawn with stride p1_subset, records its
- * fragments: where the driver's choice allows (lc_fragment_list_configure) and P1 draws exactly P2's fragments (no stride). */
+ * fragments: where the driver's choice allows (lc_fragment_list_configure) and P1 draws exactly P2's fragments (no
+ * stride). */
 int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset);
 /* Before P1: makes room, zeroes the count, binds the list for P1's program. */
 void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs);

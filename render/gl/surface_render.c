@@ -47,7 +47,8 @@ static int check_params(const lc_surface_params *sp, lc_error *err)
         return lc_err_field(err, LC_ERR_INVALID, "surface.maxLayers", "surface.maxLayers must lie in 1..%d",
                             LC_SURFACE_LAYERS_MAX_K);
     if (sp->direction < LC_TRACE_FORWARD || sp->direction > LC_TRACE_BOTH)
-        return lc_err_field(err, LC_ERR_INVALID, "surface.direction", "surface.direction must be forward, backward or both");
+        return lc_err_field(err, LC_ERR_INVALID, "surface.direction",
+                            "surface.direction must be forward, backward or both");
     if (!(sp->step >= 0 && isfinite(sp->step)) || !(sp->length >= 0 && isfinite(sp->length)))
         return lc_err_field(err, LC_ERR_INVALID, "surface.step", "surface.step and length must be finite and >= 0");
     return 0;

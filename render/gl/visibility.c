@@ -127,8 +127,8 @@ void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs)
     glClearNamedBufferData(r->top_reach, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_TOP_REACH, r->top_reach);
-    r->reach_g = fs->info && fs->info->has_visibility && fs->info->visible_elements > 0 ? (float)fs->info->top_decile_g
-                                                                                          : 2.0f;
+    r->reach_g =
+        fs->info && fs->info->has_visibility && fs->info->visible_elements > 0 ? (float)fs->info->top_decile_g : 2.0f;
 }
 
 int lc_reach_end(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
@@ -196,8 +196,9 @@ static int ensure_importance(lc_renderer *r, const lc_frame_setup *fs, lc_error 
     uint64_t layered = fs->layer_count ? layered_key(fs) : 0;
     if (layered && r->importance_cache && r->importance_key.layered == layered && r->importance_cache_count == count)
         return 0;
-    if (!layered && r->importance_key.layered == 0 && r->importance_cache && r->importance_key.scene == fs->gs->serial &&
-        r->importance_key.attr == fs->importance_attr && r->importance_key.range[0] == fs->importance_range[0] &&
+    if (!layered && r->importance_key.layered == 0 && r->importance_cache &&
+        r->importance_key.scene == fs->gs->serial && r->importance_key.attr == fs->importance_attr &&
+        r->importance_key.range[0] == fs->importance_range[0] &&
         r->importance_key.range[1] == fs->importance_range[1] &&
         r->importance_key.exponent == fs->importance_exponent && r->importance_cache_count == count &&
         memcmp(&r->importance_key.terms, &fs->terms, sizeof fs->terms) == 0)

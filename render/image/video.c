@@ -25,20 +25,11 @@ int lc_video_codec_from_name(const char *name)
     return -1;
 }
 
-const char *lc_video_codec_name(lc_video_codec c)
-{
-    return CODECS[c].name;
-}
+const char *lc_video_codec_name(lc_video_codec c) { return CODECS[c].name; }
 
-const char *lc_video_extension(lc_video_codec c)
-{
-    return CODECS[c].ext;
-}
+const char *lc_video_extension(lc_video_codec c) { return CODECS[c].ext; }
 
-const char *lc_video_mime(lc_video_codec c)
-{
-    return CODECS[c].mime;
-}
+const char *lc_video_mime(lc_video_codec c) { return CODECS[c].mime; }
 
 #ifndef LUCENT_VIDEO
 
@@ -48,8 +39,7 @@ bool lc_video_available(lc_video_codec c)
     return false;
 }
 
-int lc_video_open(const char *path, lc_video_codec codec, int width, int height, int fps, lc_video **out,
-                  lc_error *err)
+int lc_video_open(const char *path, lc_video_codec codec, int width, int height, int fps, lc_video **out, lc_error *err)
 {
     (void)path, (void)codec, (void)width, (void)height, (void)fps;
     *out = NULL;
@@ -68,10 +58,7 @@ int lc_video_close(lc_video *v, lc_error *err)
     return lc_err(err, LC_ERR_UNSUPPORTED, "built without libavcodec: no video encoding");
 }
 
-void lc_video_abort(lc_video *v)
-{
-    (void)v;
-}
+void lc_video_abort(lc_video *v) { (void)v; }
 
 #else
 
@@ -88,10 +75,7 @@ struct lc_video {
     char path[4096];
 };
 
-bool lc_video_available(lc_video_codec c)
-{
-    return avcodec_find_encoder_by_name(CODECS[c].encoder) != NULL;
-}
+bool lc_video_available(lc_video_codec c) { return avcodec_find_encoder_by_name(CODECS[c].encoder) != NULL; }
 
 static int av_fail(lc_error *err, int code, const char *what, int averr)
 {
@@ -136,15 +120,14 @@ static int encode(lc_video *v, AVFrame *frame, lc_error *err)
     }
 }
 
-int lc_video_open(const char *path, lc_video_codec codec, int width, int height, int fps, lc_video **out,
-                  lc_error *err)
+int lc_video_open(const char *path, lc_video_codec codec, int width, int height, int fps, lc_video **out, lc_error *err)
 {
     *out = NULL;
     if ((int)codec < 0 || (int)codec > 1)
         return lc_err_field(err, LC_ERR_INVALID, "codec", "codec: unknown codec");
     if (width < 16 || height < 16 || width % 2 || height % 2)
-        return lc_err_field(err, LC_ERR_INVALID, "width", "width, height: %d x %d; both must be even and >= 16",
-                            width, height);
+        return lc_err_field(err, LC_ERR_INVALID, "width", "width, height: %d x %d; both must be even and >= 16", width,
+                            height);
     if (fps < 1 || fps > 240)
         return lc_err_field(err, LC_ERR_INVALID, "fps", "fps: %d is outside [1, 240]", fps);
     av_log_set_level(AV_LOG_ERROR); /* the encoders' statistics would fill the daemon's log */

@@ -164,8 +164,7 @@ static int row_position(csv_load *C, int m, float p[3])
     return 0;
 }
 
-static int load_csv(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
-                    lc_error *err)
+static int load_csv(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     if (!name)

@@ -89,8 +89,7 @@ int lc_io_load_path(const char *path, lc_io_memory_loader load, lc_scene **out, 
     return rc;
 }
 
-int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int size, lc_scene **out,
-                         lc_error *err)
+int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int size, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     lc_io_file f;

@@ -99,8 +99,7 @@ int lc_io_file_test(const char *path, int (*test)(const char *data, size_t size,
 /* Maps path and runs a part reader on it, as lc_io_load_path does. */
 typedef int (*lc_io_part_loader)(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
                                  lc_error *err);
-int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int size, lc_scene **out,
-                         lc_error *err);
+int lc_io_load_path_part(const char *path, lc_io_part_loader load, int rank, int size, lc_scene **out, lc_error *err);
 
 /* Turns the points scene *sp into a LINES scene whose line i holds the source
  * vertices idx[offsets[i] .. offsets[i+1]) (duplicated where lines share

@@ -13,10 +13,10 @@ static const struct {
     const char *ext;
     path_loader load;
 } readers[] = {
-    {".ply", lc_load_ply}, {".obj", lc_load_obj},           {".vtk", lc_load_vtk},   {".trk", lc_load_trk},
-    {".tck", lc_load_tck}, {".binlines", lc_load_binlines}, {".csv", lc_load_csv},   {".tsv", lc_load_csv},
-    {".xyz", lc_load_csv}, {".trx", lc_load_trx},           {".nc", lc_load_netcdf},
-    {".dump", lc_load_dump}, {".lammpstrj", lc_load_dump},
+    {".ply", lc_load_ply},        {".obj", lc_load_obj},           {".vtk", lc_load_vtk},   {".trk", lc_load_trk},
+    {".tck", lc_load_tck},        {".binlines", lc_load_binlines}, {".csv", lc_load_csv},   {".tsv", lc_load_csv},
+    {".xyz", lc_load_csv},        {".trx", lc_load_trx},           {".nc", lc_load_netcdf}, {".dump", lc_load_dump},
+    {".lammpstrj", lc_load_dump},
 };
 
 static path_loader reader_for(const char *path)

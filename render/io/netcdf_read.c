@@ -83,7 +83,8 @@ static void inspect_trajectory(nc_load *L, int time_dim)
     static const struct {
         const char *prefix;
         double hours;
-    } scale[] = {{"day", 24}, {"hour", 1}, {"h ", 1}, {"minute", 1 / 60.0}, {"min", 1 / 60.0}, {"second", 1 / 3600.0},
+    } scale[] = {{"day", 24},          {"hour", 1},       {"h ", 1},
+                 {"minute", 1 / 60.0}, {"min", 1 / 60.0}, {"second", 1 / 3600.0},
                  {"s ", 1 / 3600.0}};
     double hours = units[0] ? 0 : 1;
     for (size_t i = 0; i < sizeof scale / sizeof scale[0] && !hours; i++)
@@ -406,8 +407,7 @@ done:
     return rc;
 }
 
-static int load_netcdf(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
-                       lc_error *err)
+static int load_netcdf(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     nc_load L = {.file = name ? name : "<memory>", .file_bytes = size, .err = err, .part = part};

@@ -31,8 +31,16 @@ int lc_nc_scalar_att(int ncid, int varid, const char *name, double *out)
     if (nc_inq_att(ncid, varid, name, &type, &len) != NC_NOERR || len != 1)
         return 0;
     switch (type) {
-    case NC_BYTE: case NC_UBYTE: case NC_SHORT: case NC_USHORT: case NC_INT: case NC_UINT:
-    case NC_INT64: case NC_UINT64: case NC_FLOAT: case NC_DOUBLE: break;
+    case NC_BYTE:
+    case NC_UBYTE:
+    case NC_SHORT:
+    case NC_USHORT:
+    case NC_INT:
+    case NC_UINT:
+    case NC_INT64:
+    case NC_UINT64:
+    case NC_FLOAT:
+    case NC_DOUBLE: break;
     default: return 0;
     }
     return nc_get_att_double(ncid, varid, name, out) == NC_NOERR;

@@ -365,9 +365,9 @@ static uint64_t min_record_size(const ply_reader *r, const element *e)
 typedef struct ply_load {
     ply_reader r;
     lc_scene *s;
-    uint32_t vertex_count;   /* in the file */
-    uint32_t first, kept;    /* the vertices this process keeps (all, or its share of a point cloud) */
-    const lc_io_part *part;  /* NULL or size 0: the whole file */
+    uint32_t vertex_count;  /* in the file */
+    uint32_t first, kept;   /* the vertices this process keeps (all, or its share of a point cloud) */
+    const lc_io_part *part; /* NULL or size 0: the whole file */
     float *attr[LC_MAX_ATTRIBUTES];
     float rgb_scale[3];
     lc_io_u32vec triangles;
@@ -705,7 +705,8 @@ static int load_body(ply_load *L)
         if (c)
             return lc_err(r->err, LC_ERR_UNSUPPORTED,
                           "%.80s: has %s: only point clouds are read in parts (surfaces and polylines are split "
-                          "after loading)", r->file, c->name);
+                          "after loading)",
+                          r->file, c->name);
         L->first = lc_scene_split_points(L->vertex_count, L->part->rank, L->part->size);
         L->kept = lc_scene_split_points(L->vertex_count, L->part->rank + 1, L->part->size) - L->first;
     }
@@ -784,8 +785,7 @@ static int assemble(ply_load *L)
     return 0;
 }
 
-static int load_ply(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
-                    lc_error *err)
+static int load_ply(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     if (!name)

@@ -261,8 +261,8 @@ static int budget(const lc_field *f, lc_seeding_desc *d, lc_error *err)
     return 0;
 }
 
-int lc_streamlines_trace(const lc_field *f, const lc_seeding_desc *desc, int threads, const char *name,
-                         lc_scene **out, lc_error *err)
+int lc_streamlines_trace(const lc_field *f, const lc_seeding_desc *desc, int threads, const char *name, lc_scene **out,
+                         lc_error *err)
 {
     *out = NULL;
     lc_seeding_desc d = *desc;

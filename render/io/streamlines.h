@@ -52,8 +52,8 @@ int lc_streamlines_check(const char *spec, const lc_field *f, double *vertices, 
  * streamlines section). A set whose estimated vertices exceed
  * LC_STREAMLINES_MAX_VERTICES is refused naming "streamlines.count"; each
  * curve's steps are capped so that no set exceeds it. */
-int lc_streamlines_trace(const lc_field *f, const lc_seeding_desc *desc, int threads, const char *name,
-                         lc_scene **out, lc_error *err);
+int lc_streamlines_trace(const lc_field *f, const lc_seeding_desc *desc, int threads, const char *name, lc_scene **out,
+                         lc_error *err);
 /* The estimated vertices of the set desc describes through f (curves times
  * the steps of each, both halves of two-way curves), and in *steps (may be
  * NULL) the RK4 steps of one curve: what pricing a set needs. */

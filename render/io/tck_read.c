@@ -242,8 +242,7 @@ static int walk(tck_load *T, lc_scene *s, uint64_t *points_out, uint64_t *lines_
     return 0;
 }
 
-static int load_tck(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
-                    lc_error *err)
+static int load_tck(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     if (!name)

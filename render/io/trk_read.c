@@ -210,8 +210,7 @@ static int fill(trk_load *T, lc_scene *s, uint32_t tracks, float **attr, int nat
     return 0;
 }
 
-static int load_trk(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
-                    lc_error *err)
+static int load_trk(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     if (!name)

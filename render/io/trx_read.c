@@ -38,7 +38,7 @@ typedef struct trx_load {
     size_t zsize;
     trx_entry *e;
     int n;
-    uint64_t nv, ns; /* NB_VERTICES, NB_STREAMLINES */
+    uint64_t nv, ns;  /* NB_VERTICES, NB_STREAMLINES */
     lc_io_part *part; /* the streamlines this process keeps (the second pass) */
 } trx_load;
 
@@ -480,8 +480,8 @@ static int trx_build(trx_load *T, lc_scene **out)
         }
     }
     if (points > LC_MAX_VERTICES || lines > LC_MAX_PRIMITIVES) {
-        rc = fail(T, LC_ERR_LIMIT, pe->name, "%llu points in %llu streamlines exceed the limits", (unsigned long long)points,
-                  (unsigned long long)lines);
+        rc = fail(T, LC_ERR_LIMIT, pe->name, "%llu points in %llu streamlines exceed the limits",
+                  (unsigned long long)points, (unsigned long long)lines);
         goto done;
     }
     if (dropped && lc_io_part_speaks(T->part))

@@ -588,8 +588,7 @@ static int assemble(vtk_load *L)
     return 0;
 }
 
-static int load_vtk(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out,
-                    lc_error *err)
+static int load_vtk(const void *data, size_t size, const char *name, lc_io_part *part, lc_scene **out, lc_error *err)
 {
     *out = NULL;
     if (!name)

@@ -134,8 +134,7 @@ double lc_foo_norm_mass(const lc_foo_params *p)
 
 double lc_foo_effective_lambda(const lc_foo_params *p, double k)
 {
-    return p->normalize == LC_NORMALIZE_AUTO ? (1.0 + LC_NORM_EMPHASIS * (1.0 - k) * (1.0 - k)) * p->lambda
-                                          : p->lambda;
+    return p->normalize == LC_NORMALIZE_AUTO ? (1.0 + LC_NORM_EMPHASIS * (1.0 - k) * (1.0 - k)) * p->lambda : p->lambda;
 }
 
 double lc_foo_norm_factor(const lc_foo_params *p, double total)

@@ -417,10 +417,7 @@ static float prune_radius(const lc_dendrogram *dg, const float *soa, const box *
 }
 
 /* Threads for a stage of `work` items: one per online core, at most MAX_THREADS, one for small work. */
-static uint32_t thread_count(uint32_t work)
-{
-    return work < 256 ? 1 : lc_parallel_cores(MAX_THREADS);
-}
+static uint32_t thread_count(uint32_t work) { return work < 256 ? 1 : lc_parallel_cores(MAX_THREADS); }
 
 /* The sparse stage: every pair whose boxes come closer than r is measured; an
  * rMCPD under r becomes an edge (a sweep along the widest spatial axis).

@@ -123,8 +123,8 @@ static void line_blends(lc_elements *e, const float *P, uint32_t a, uint32_t b, 
 /* The element counts of all lines of g (lengths line_len) and the per-vertex
  * arrays for e's vertices, every vertex first on element 0 (vertices outside
  * every line, allowed by the offsets, are never drawn). */
-static int line_elements_start(const lc_element_geometry *g, uint32_t budget, const float *line_len,
-                               uint32_t vertices, lc_elements *e, uint32_t **cnt_out, lc_error *err)
+static int line_elements_start(const lc_element_geometry *g, uint32_t budget, const float *line_len, uint32_t vertices,
+                               lc_elements *e, uint32_t **cnt_out, lc_error *err)
 {
     uint64_t total = 0;
     uint32_t *cnt = line_element_counts(g, budget, line_len, &total);
@@ -272,4 +272,3 @@ int lc_elements_build_points_part(const lc_element_geometry *part, uint64_t firs
     e->adjacency_count = 0;
     return 0;
 }
-

@@ -16,7 +16,8 @@
 
 /* Bump when the layout below or what finalize and the level build derive
  * changes: an old cache is then stale, never misread. */
-#define CACHE_VERSION 3u /* 2: timed lines derive motion attributes (scene_motion.c); 3: lines their measures (scene_measures.c) */
+#define CACHE_VERSION                                                                                                  \
+    3u /* 2: timed lines derive motion attributes (scene_motion.c); 3: lines their measures (scene_measures.c) */
 static const char MAGIC[8] = {'L', 'C', 'S', 'C', 'E', 'N', 'E', '\n'};
 
 /* ---- Hashing: four lanes of xxHash-style rounds over 32-byte blocks. */
@@ -500,9 +501,9 @@ static int read_file(FILE *f, const char *path, const lc_scene_cache_key *key, l
     lc_scene *s = NULL;
     lc_lod *lod = NULL;
     rc = read_body(f, path, &h, &r, &s, &lod, err);
-    const char *why = rc                                                   ? NULL
+    const char *why = rc                                                       ? NULL
                       : r.hash != h.payload_hash || r.bytes != h.payload_bytes ? "its payload hash differs"
-                                                                           : check_scene(s, lod);
+                                                                               : check_scene(s, lod);
     if (rc || why) {
         lc_scene_destroy(s);
         if (lod)

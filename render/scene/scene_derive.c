@@ -308,8 +308,8 @@ int lc_scene_derive_points(lc_scene *s, uint64_t total, const lc_scene_collectiv
 
 /* ---- trajectories (docs/ALGORITHM.md "Derived trajectory attributes") */
 
-#define KM_PER_DEGREE 111.195    /* mean Earth radius 6371 km */
-#define KM_PER_LOG_HEIGHT 0.7    /* z = 10 ln(p0/p): one unit is a tenth of a 7 km scale height */
+#define KM_PER_DEGREE 111.195 /* mean Earth radius 6371 km */
+#define KM_PER_LOG_HEIGHT 0.7 /* z = 10 ln(p0/p): one unit is a tenth of a 7 km scale height */
 #define HPA_AT_ZERO 1013.25
 #define WINDOW_HOURS 48.0
 
@@ -322,10 +322,7 @@ static dvec metric_step(const float *p, uint32_t i, uint32_t j)
     return (dvec){(b.x - a.x) * KM_PER_DEGREE * coslat, (b.y - a.y) * KM_PER_DEGREE, (b.z - a.z) * KM_PER_LOG_HEIGHT};
 }
 
-static double degrees_between(dvec u, dvec v)
-{
-    return atan2(vlen(vcross(u, v)), vdot(u, v)) * 180.0 / M_PI;
-}
+static double degrees_between(dvec u, dvec v) { return atan2(vlen(vcross(u, v)), vdot(u, v)) * 180.0 / M_PI; }
 
 /* One trajectory [a, b): values at every vertex into out[0..5] (pressure,
  * line change, 48 h change, speed, turning angle, ascent angle). */
@@ -356,8 +353,8 @@ static void derive_trajectory(const float *p, uint32_t a, uint32_t b, double ste
 
 int lc_scene_derive_trajectories(lc_scene *s, lc_error *err)
 {
-    static const char *const names[6] = {"pressure",      "pressure_change", "pressure_change_48h",
-                                         "speed",         "turning_angle",   "ascent_angle"};
+    static const char *const names[6] = {"pressure", "pressure_change", "pressure_change_48h",
+                                         "speed",    "turning_angle",   "ascent_angle"};
     double step = s->trajectory.step_hours;
     uint32_t n = s->vertex_count;
     float *out[6];

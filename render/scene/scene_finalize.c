@@ -395,8 +395,8 @@ static lc_element_geometry element_geometry(const lc_scene *s)
                                  .triangles = s->triangles};
 }
 
-static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c,
-                         double *line_length, lc_error *err);
+static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c, double *line_length,
+                         lc_error *err);
 static int part_lod_steps(lc_scene *s, const lc_scene_collective *c, lc_error *err);
 
 /* Levels of detail kept from a scene cache (scene.h lod) follow the elements'
@@ -597,8 +597,8 @@ static int part_lod_steps(lc_scene *s, const lc_scene_collective *c, lc_error *e
 /* The elements of a part in the whole scene's numbering: every process
  * contributes its lines' vertex counts and lengths (8 bytes a line) or its
  * point count, and each builds the same budget split from the same table. */
-static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c,
-                         double *line_length, lc_error *err)
+static int part_elements(lc_scene *s, const lc_elements_desc *desc, const lc_scene_collective *c, double *line_length,
+                         lc_error *err)
 {
     lc_element_geometry g = element_geometry(s);
     lc_elements fresh = {0}; /* replaces the part's elements only when every step succeeded */
@@ -672,7 +672,7 @@ int lc_scene_finalize_part(lc_scene *s, const lc_elements_desc *desc, const lc_s
         return LC_ERR_INTERNAL;
     if (s->type == LC_PRIM_LINES) {
         rc = lc_scene_derive_lines(s, err); /* per line, with the whole's bounds */
-        if (!rc) /* collective: the directions' grid is summed over the processes */
+        if (!rc)                            /* collective: the directions' grid is summed over the processes */
             rc = lc_scene_derive_line_measures(s, total, c, err);
         if (!rc && s->trajectory.geographic)
             rc = lc_scene_derive_trajectories(s, err); /* per line */

@@ -9,9 +9,9 @@
 #include "scene_derive.h"
 
 #define MEASURES 4
-#define GRID_MAX 32            /* cells along an axis of the directions' grid */
-#define VERTICES_PER_CELL 512  /* about this many vertices a cell, on average over the bounding box */
-#define FIXED_ONE 65536.0      /* the grid's sums summed over processes in 16.16 fixed point */
+#define GRID_MAX 32           /* cells along an axis of the directions' grid */
+#define VERTICES_PER_CELL 512 /* about this many vertices a cell, on average over the bounding box */
+#define FIXED_ONE 65536.0     /* the grid's sums summed over processes in 16.16 fixed point */
 
 /* Distance to the nearest face of the bounds over half the thinnest non-flat
  * extent: 0 on the boundary, 1 at the centre of the thinnest direction. */

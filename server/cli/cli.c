@@ -164,7 +164,8 @@ static const lc_option common_options[] = {
     REQ("--width", "N", "width", ""),
     REQ("--height", "N", "height", ""),
     {"--size", "WxH", LC_OPT_CALL, .call = set_size, .numeric = 1, .help = "image size in pixels"},
-    REQ("--method", "NAME", "method", "fourier | exact | opaque | direct | wboit | weighted-average | binning | kanzler"),
+    REQ("--method", "NAME", "method",
+        "fourier | exact | opaque | direct | wboit | weighted-average | binning | kanzler"),
     REQ("--bands", "M", "bands", "Fourier bands 1..8"),
     REQ("--q", "X", "q", ""),
     REQ("--r", "X", "r", ""),
@@ -284,8 +285,10 @@ int lc_cli_open(const char *cmd, const lc_request *req, const lc_cli_common *com
         }
         spec = traced;
     } else if (lc_proto_streamlines_given(req, &given)) {
-        fprintf(stderr, "lucent %s: %s: applies when the dataset names a vector field (demo:abc-flow, a grid .vtk "
-                        "or .nc), not %s\n", cmd, given, spec);
+        fprintf(stderr,
+                "lucent %s: %s: applies when the dataset names a vector field (demo:abc-flow, a grid .vtk "
+                "or .nc), not %s\n",
+                cmd, given, spec);
         return 1;
     }
     if (lc_cli_open_dataset(spec, scene, &err) != 0 ||

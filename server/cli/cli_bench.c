@@ -180,7 +180,7 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
     for (int form = 0; form < forms && !rc; form++) {
         printf("%s: %llu primitives, %dx%d, medians of %d rounds (ms)%s\n", s->name,
                (unsigned long long)lc_scene_primitive_count(s), params->width, params->height, frames,
-               forms < 2     ? ""
+               forms < 2   ? ""
                : form == 0 ? ", lines as ribbons (two triangles a segment)"
                            : ", lines as wide line strips (one primitive a segment, where they fit)");
         printf("  %-14s", "pass");
@@ -202,7 +202,8 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
                "  over the clarity loop's tries, %d, %d and %d a frame)\n",
                tries[0], tries[1], tries[2]);
         printf("  P1: %s\n", summed[0] ? "a compute pass over P0's fragments (no traversal)" : "drawn (a traversal)");
-        printf("  P2: %s\n", listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
+        printf("  P2: %s\n",
+               listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
         printf("  P4, P5 in \"compute\": %s, %s (this device's rule: %s, %s)\n\n",
                computed & (1 << LC_RASTER_P4) ? "compute rasterizer" : "drawn (not applicable)",
                computed & (1 << LC_RASTER_P5) ? "compute rasterizer" : "drawn (not applicable)",

@@ -19,7 +19,8 @@ typedef struct movie_args {
 
 #define MOVIE(member) LC_OPT_AT(movie_args, member)
 static const lc_option movie_options[] = {
-    {"--out", "OUT.mp4|OUT.webm", LC_OPT_TEXT, MOVIE(out), .help = "the movie file (its extension must match the codec)"},
+    {"--out", "OUT.mp4|OUT.webm", LC_OPT_TEXT, MOVIE(out),
+     .help = "the movie file (its extension must match the codec)"},
     {"-o", "OUT", LC_OPT_TEXT, MOVIE(out), .help = NULL}, /* alias of --out */
     {"--input", "FILE|demo:NAME", LC_OPT_TEXT, MOVIE(input), .help = "a dataset file instead of the request's dataset"},
     {"--device", "N", LC_OPT_INT, MOVIE(device), 0, 255,
@@ -109,8 +110,12 @@ int lc_cli_movie(int argc, char **argv)
     lc_camera start = m.request.render.camera;
     if (!m.request.render.has_camera) /* as a request without camera: the suggested view, fitted (to every layer) */
         lc_cli_scene_camera(&cs, &start);
-    lc_camera_path_desc path = {.kind = (int)m.path, .degrees = m.degrees, .elevation = m.elevation,
-                                .keys = m.keyframes, .key_count = m.keyframe_count, .frames = m.frames};
+    lc_camera_path_desc path = {.kind = (int)m.path,
+                                .degrees = m.degrees,
+                                .elevation = m.elevation,
+                                .keys = m.keyframes,
+                                .key_count = m.keyframe_count,
+                                .frames = m.frames};
     lc_render_params p = m.request.render;
     p.has_camera = true;
     for (int i = 0; i < m.frames; i++) {

@@ -86,8 +86,7 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
                                       info->important_occluded, "importantFragments",
                                       (json_int_t)info->important_fragments));
         if (info->has_reach) /* the fourier method's P5 measured it */
-            json_object_set_new(json_object_get(o, "visibility"), "topDecileReach",
-                                json_real(info->top_decile_reach));
+            json_object_set_new(json_object_get(o, "visibility"), "topDecileReach", json_real(info->top_decile_reach));
         json_t *layers = info->layer_count > 0 ? json_array() : NULL;
         for (int i = 0; layers && i < info->layer_count; i++)
             json_array_append_new(layers, json_pack("{s:I, s:f, s:f, s:f}", "visibleElements",
@@ -98,11 +97,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
         if (layers)
             json_object_set_new(json_object_get(o, "visibility"), "layers", layers);
         if (info->clarity_lambda > 0) /* params.clarity: the factors the loop settled on */
-            json_object_set_new(
-                o, "clarity",
-                json_pack("{s:f, s:f, s:i, s:i, s:b}", "lambdaFactor", info->clarity_lambda, "penaltyFactor",
-                          info->clarity_penalty, "smoothing", info->clarity_smoothing, "tries", info->clarity_tries,
-                          "reached", info->clarity_reached));
+            json_object_set_new(o, "clarity",
+                                json_pack("{s:f, s:f, s:i, s:i, s:b}", "lambdaFactor", info->clarity_lambda,
+                                          "penaltyFactor", info->clarity_penalty, "smoothing", info->clarity_smoothing,
+                                          "tries", info->clarity_tries, "reached", info->clarity_reached));
     }
     if (info->has_color_ticks) /* color.equalize: the legend's data values at 0, 1/4, ..., 1 of the bar */
         json_object_set_new(o, "colorTicks",
@@ -114,10 +112,9 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
                                       "reduceBytes", (json_int_t)info->reduce_bytes));
     if (p->method == LC_METHOD_EXACT)
         json_object_set_new(o, "exact",
-                            json_pack("{s:I, s:I, s:f, s:I, s:I}", "fragments", (json_int_t)info->fragments,
-                                      "dropped", (json_int_t)info->dropped_fragments, "meanLayers", info->mean_layers,
-                                      "maxLayers", (json_int_t)info->max_layers, "cutLists",
-                                      (json_int_t)info->cut_lists));
+                            json_pack("{s:I, s:I, s:f, s:I, s:I}", "fragments", (json_int_t)info->fragments, "dropped",
+                                      (json_int_t)info->dropped_fragments, "meanLayers", info->mean_layers, "maxLayers",
+                                      (json_int_t)info->max_layers, "cutLists", (json_int_t)info->cut_lists));
     return o;
 }
 
@@ -246,9 +243,8 @@ int lc_cli_render(int argc, char **argv)
         if (open_rc == 0 && parts) { /* the GL context first, as lc_cli_open: the memory reports compare */
             open_rc = lc_mpi_agree(mpi, lc_cli_gl_open(common.device, &g, &err), &err);
             if (open_rc == 0)
-                open_rc = lc_mpi_finalize_part(
-                    mpi, lc_scene_read_file_part(spec, rank, lc_mpi_size(mpi), &scene, &err), &scene,
-                    (uint32_t)common.elements, stdout, &err);
+                open_rc = lc_mpi_finalize_part(mpi, lc_scene_read_file_part(spec, rank, lc_mpi_size(mpi), &scene, &err),
+                                               &scene, (uint32_t)common.elements, stdout, &err);
         } else if (open_rc == 0) {
             open_rc = lc_cli_open("render", &req, &common, &scene, &g);
             lc_err(&err, open_rc, "cannot open the dataset or a GL context (its message is above)");
@@ -482,11 +478,13 @@ int lc_cli_info(int argc, char **argv)
     /* Which path the additive passes take (compute_raster.c's rule; the
      * device is known only once a context exists, so both kinds are named). */
     printf("P4, P5      %s / %s on a software rasterizer (llvmpipe), %s / %s on a GPU%s\n",
-           lc_raster_path_name("llvmpipe", LC_RASTER_P4, s->type), lc_raster_path_name("llvmpipe", LC_RASTER_P5, s->type),
-           lc_raster_path_name("GPU", LC_RASTER_P4, s->type), lc_raster_path_name("GPU", LC_RASTER_P5, s->type),
+           lc_raster_path_name("llvmpipe", LC_RASTER_P4, s->type),
+           lc_raster_path_name("llvmpipe", LC_RASTER_P5, s->type), lc_raster_path_name("GPU", LC_RASTER_P4, s->type),
+           lc_raster_path_name("GPU", LC_RASTER_P5, s->type),
            getenv("LUCENT_COMPUTE_RASTER") ? " (LUCENT_COMPUTE_RASTER)" : "");
     if (s->type == LC_PRIM_LINES)
-        printf("segments    %s%s\n", lc_line_path_name(), getenv("LUCENT_LINE_PRIMITIVE") ? " (LUCENT_LINE_PRIMITIVE)" : "");
+        printf("segments    %s%s\n", lc_line_path_name(),
+               getenv("LUCENT_LINE_PRIMITIVE") ? " (LUCENT_LINE_PRIMITIVE)" : "");
     printf("rgb         %s\n", lc_scene_has_rgb(s) ? "yes" : "no");
     printf("importance  %s (default)\n", s->default_importance[0] ? s->default_importance : "(none: g = 1)");
     printf("color       %s (default)\n", s->default_color);
@@ -517,7 +515,7 @@ int lc_cli_info(int argc, char **argv)
 typedef struct gen_args {
     const char *out;
     long long count, seed;
-    const char *seed_line; /* vector fields: the seed polyline */
+    const char *seed_line;                   /* vector fields: the seed polyline */
     const char *seeding, *seeds, *direction; /* ... or a streamline set, and the way curves run */
     double separation;
     double step, length;

@@ -44,11 +44,10 @@ static int parse_points(const char *text, const char *flag, uint32_t max, double
         }
         double *q = &pts[3 * (size_t)*n];
         int used = 0;
-        if (sscanf(p, " %lf , %lf , %lf %n", &q[0], &q[1], &q[2], &used) != 3 ||
-            (p[used] != ';' && p[used] != '\0')) {
+        if (sscanf(p, " %lf , %lf , %lf %n", &q[0], &q[1], &q[2], &used) != 3 || (p[used] != ';' && p[used] != '\0')) {
             free(pts);
-            return lc_err(err, LC_ERR_INVALID, "%s: point %u: expected x,y,z numbers separated by ';' at '%.20s'",
-                          flag, *n, p);
+            return lc_err(err, LC_ERR_INVALID, "%s: point %u: expected x,y,z numbers separated by ';' at '%.20s'", flag,
+                          *n, p);
         }
         (*n)++;
         p += used + (p[used] == ';');
@@ -103,8 +102,8 @@ int lc_cli_trace_scene(const char *spec, const char *seed_text, const lc_cli_str
             rc = parse_points(sl->seeds, "--seeds", LC_SEEDING_MAX_LINES, &pts, &npts, err);
         if (!rc && sd.kind != LC_SEEDING_POINTS && sl->seeds && npts != 2)
             rc = lc_err(err, LC_ERR_INVALID, "--seeds: %s takes two points (%s), not %u",
-                        sd.kind == LC_SEEDING_RAKE ? "a rake" : "a box", sd.kind == LC_SEEDING_RAKE ? "its ends" : "its corners",
-                        npts);
+                        sd.kind == LC_SEEDING_RAKE ? "a rake" : "a box",
+                        sd.kind == LC_SEEDING_RAKE ? "its ends" : "its corners", npts);
         if (!rc && sd.kind == LC_SEEDING_POINTS)
             sd.points = pts, sd.point_count = npts;
         else if (!rc && pts)

@@ -73,9 +73,10 @@ int lc_admit_resolve_layers(lc_server *srv, const lc_request *req, const lc_data
             char field[32];
             snprintf(field, sizeof field, "layers[%d].dataset", i);
             if (req->layers[i].dataset[0] && lc_fields_find(lc_datasets_fields(srv->datasets), req->layers[i].dataset))
-                return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, field,
-                                          "\"%.300s\" is a vector field: its streamline set draws alone, not as a layer",
-                                          req->layers[i].dataset);
+                return lc_proto_set_error(
+                    pe, LC_PROTO_BAD_FIELD, field,
+                    "\"%.300s\" is a vector field: its streamline set draws alone, not as a layer",
+                    req->layers[i].dataset);
             return lc_proto_set_error(pe, "not_found", field, "unknown dataset \"%.300s\"", req->layers[i].dataset);
         }
     }

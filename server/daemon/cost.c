@@ -265,7 +265,8 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
             full += plan.run[k] == LC_RUN_FULL || plan.run[k] == LC_RUN_BOTH ? g[k] : 0.0;
         passes += ceil(full) * (tiles - 1);
     }
-    double clusters = p->clusters.count > 0 && st->type == LC_PRIM_LINES ? LC_COST_CLUSTER_BUILD_UNITS_PER_LINE * st->lines : 0;
+    double clusters =
+        p->clusters.count > 0 && st->type == LC_PRIM_LINES ? LC_COST_CLUSTER_BUILD_UNITS_PER_LINE * st->lines : 0;
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes + clusters +
            st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
            equalize_cost(st, p, frags) + shadows_cost(st, p, frags);

@@ -63,7 +63,6 @@ extern "C" {
  * fixed at 512^2, K = 8). */
 #define LC_COST_SURFACE_SCREEN_UNITS 8.0
 
-
 /* The estimate for one frame of p on a dataset with stats st. */
 double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p);
 
@@ -77,8 +76,8 @@ int lc_cost_subset_for(const lc_scene_measures *st, const lc_render_params *p, d
 
 /* The check of a request against a budget (<= 0: none): 0 with *cost set, or
  * -1 with *field (lc_cost_field) and a message for the client in msg. */
-int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double budget, double *cost, const char **field,
-                  char *msg, size_t n);
+int lc_cost_check(const lc_scene_measures *st, const lc_render_params *p, double budget, double *cost,
+                  const char **field, char *msg, size_t n);
 
 /* layers[] (docs/ALGORITHM.md "Layers"): the sum of each layer's frame on its
  * dataset (st[i]) with the layer's style; the screen passes are counted per

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 #define NBUCKETS 14
 /* Milliseconds: from a small GPU frame to a big llvmpipe one. */
 static const double bucket_ms[NBUCKETS] = {0.5, 1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000};
@@ -30,7 +29,7 @@ struct lc_metrics {
     uint64_t encoded_pixels, encoded_bytes;
     uint64_t bytes_sent;
     uint64_t coalesced;
-    uint64_t yielded; /* stills pre-empted by newer input */
+    uint64_t yielded;     /* stills pre-empted by newer input */
     uint64_t yield_waits; /* large renders' waits for other sessions' moving frames */
     double yield_wait_seconds;
     int code_count;
@@ -271,11 +270,13 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
     for (int i = 0; i < 4; i++)
         put(&t, "lucent_renders_refused_total{reason=\"%s\"} %llu\n", refusal_reasons[i],
             (unsigned long long)m->refused[i]);
-    put(&t, "# HELP lucent_render_cost_units_total Estimated cost of the HTTP renders that ran.\n"
-            "# TYPE lucent_render_cost_units_total counter\nlucent_render_cost_units_total %.0f\n",
+    put(&t,
+        "# HELP lucent_render_cost_units_total Estimated cost of the HTTP renders that ran.\n"
+        "# TYPE lucent_render_cost_units_total counter\nlucent_render_cost_units_total %.0f\n",
         m->cost_total);
-    put(&t, "# HELP lucent_render_cost_rate Cost units rendered per second (moving average).\n"
-            "# TYPE lucent_render_cost_rate gauge\nlucent_render_cost_rate %.0f\n",
+    put(&t,
+        "# HELP lucent_render_cost_rate Cost units rendered per second (moving average).\n"
+        "# TYPE lucent_render_cost_rate gauge\nlucent_render_cost_rate %.0f\n",
         m->cost_rate);
     put(&t,
         "# HELP lucent_http_responses_total HTTP responses, by status.\n# TYPE lucent_http_responses_total counter\n");
@@ -296,25 +297,30 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
         put(&t, "lucent_ws_connections %d\n", g->ws_connections);
         put(&t, "# TYPE lucent_datasets gauge\nlucent_datasets %d\n", g->datasets);
         put(&t, "# TYPE lucent_workers gauge\nlucent_workers %d\n", g->workers);
-        put(&t, "# HELP lucent_queue_clients Clients with queued renders (served round robin).\n"
-                "# TYPE lucent_queue_clients gauge\nlucent_queue_clients %d\n",
+        put(&t,
+            "# HELP lucent_queue_clients Clients with queued renders (served round robin).\n"
+            "# TYPE lucent_queue_clients gauge\nlucent_queue_clients %d\n",
             g->queue_clients);
-        put(&t, "# HELP lucent_memory_budget_bytes --max-memory (0 = no limit).\n"
-                "# TYPE lucent_memory_budget_bytes gauge\nlucent_memory_budget_bytes %llu\n",
+        put(&t,
+            "# HELP lucent_memory_budget_bytes --max-memory (0 = no limit).\n"
+            "# TYPE lucent_memory_budget_bytes gauge\nlucent_memory_budget_bytes %llu\n",
             (unsigned long long)g->memory_budget);
-        put(&t, "# HELP lucent_memory_estimated_bytes Estimated resident bytes of the datasets with their state.\n"
-                "# TYPE lucent_memory_estimated_bytes gauge\nlucent_memory_estimated_bytes %llu\n",
+        put(&t,
+            "# HELP lucent_memory_estimated_bytes Estimated resident bytes of the datasets with their state.\n"
+            "# TYPE lucent_memory_estimated_bytes gauge\nlucent_memory_estimated_bytes %llu\n",
             (unsigned long long)g->memory_estimated);
-        put(&t, "# HELP lucent_resident_bytes Resident memory of the process.\n"
-                "# TYPE lucent_resident_bytes gauge\nlucent_resident_bytes %llu\n",
+        put(&t,
+            "# HELP lucent_resident_bytes Resident memory of the process.\n"
+            "# TYPE lucent_resident_bytes gauge\nlucent_resident_bytes %llu\n",
             (unsigned long long)g->resident);
     }
     if (g)
-        put(&t, "# HELP lucent_http_unfinished_closed_total Connections closed before a whole request header: past the "
-                "header deadline, or the oldest beyond the caps.\n"
-                "# TYPE lucent_http_unfinished_closed_total counter\n"
-                "lucent_http_unfinished_closed_total{reason=\"deadline\"} %llu\n"
-                "lucent_http_unfinished_closed_total{reason=\"cap\"} %llu\n",
+        put(&t,
+            "# HELP lucent_http_unfinished_closed_total Connections closed before a whole request header: past the "
+            "header deadline, or the oldest beyond the caps.\n"
+            "# TYPE lucent_http_unfinished_closed_total counter\n"
+            "lucent_http_unfinished_closed_total{reason=\"deadline\"} %llu\n"
+            "lucent_http_unfinished_closed_total{reason=\"cap\"} %llu\n",
             (unsigned long long)g->unfinished_deadline, (unsigned long long)g->unfinished_evicted);
     return t.s;
 }

@@ -41,8 +41,8 @@ void lc_metrics_frame(lc_metrics *m, const char *kind, const lc_frame_info *info
 void lc_metrics_encode(lc_metrics *m, double ms, long long pixels, size_t bytes);
 void lc_metrics_bytes_sent(lc_metrics *m, size_t bytes);
 void lc_metrics_coalesced(lc_metrics *m, uint64_t frames); /* requests overwritten while pending */
-void lc_metrics_yielded(lc_metrics *m);                       /* a still pre-empted by newer input */
-void lc_metrics_yield_wait(lc_metrics *m, double seconds);    /* a large render waited at a yield point */
+void lc_metrics_yielded(lc_metrics *m);                    /* a still pre-empted by newer input */
+void lc_metrics_yield_wait(lc_metrics *m, double seconds); /* a large render waited at a yield point */
 void lc_metrics_error(lc_metrics *m, const char *code);    /* errors answered, by code */
 void lc_metrics_http_request(lc_metrics *m, int status);
 /* A render refused before it ran: "cost" (over --max-cost), "deadline",

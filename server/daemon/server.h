@@ -110,7 +110,7 @@ typedef struct lc_serve_config {
     unsigned long long max_memory;  /* --max-memory: estimated resident bytes of all datasets; 0 = no limit */
     double load_timeout;            /* --load-timeout: seconds one dataset may take to load; 0 = none */
     const char *cache;              /* --cache: scene cache folder, "off" = none; NULL = the XDG default */
-    unsigned long long movie_disk;  /* --movie-disk: bytes of movie files kept at once (finished evicted oldest first) */
+    unsigned long long movie_disk; /* --movie-disk: bytes of movie files kept at once (finished evicted oldest first) */
 } lc_serve_config;
 
 /* The daemon: one per process, created by start/serve.c. Modules keep a pointer to

@@ -42,15 +42,16 @@ typedef enum { LC_SESSION_HTTP = 0, LC_SESSION_WS = 1 } lc_session_kind;
 
 /* WebSocket stream state (all guarded by the session lock). */
 typedef struct lc_stream {
-    int window;                /* max unacknowledged frames now, 1..8 (flow.window) */
-    lc_stream_flow flow;       /* what the window follows: round trip, render time, the hello's ceiling */
-    double render_began;       /* lc_now() when the frame being rendered was taken (stream_next) */
-    int quality;               /* still-frame JPEG quality */
-    int interactive_quality;   /* JPEG quality while input is active: the most; lower where the link needs (stream_fit.h) */
-    double interactive_scale;  /* resolution factor while input is active */
-    lc_fit_ref fit_ref;        /* the latest moving frame sent: what the next one's fit predicts from */
-    lc_fit fit;                /* the latest moving frame's fit (stats) */
-    bool fit_from_still;       /* a moving frame was fitted from fit_ref, a still, and none has gone out since */
+    int window;               /* max unacknowledged frames now, 1..8 (flow.window) */
+    lc_stream_flow flow;      /* what the window follows: round trip, render time, the hello's ceiling */
+    double render_began;      /* lc_now() when the frame being rendered was taken (stream_next) */
+    int quality;              /* still-frame JPEG quality */
+    int interactive_quality;  /* JPEG quality while input is active: the most; lower where the link needs (stream_fit.h)
+                               */
+    double interactive_scale; /* resolution factor while input is active */
+    lc_fit_ref fit_ref;       /* the latest moving frame sent: what the next one's fit predicts from */
+    lc_fit fit;               /* the latest moving frame's fit (stats) */
+    bool fit_from_still;      /* a moving frame was fitted from fit_ref, a still, and none has gone out since */
     int css_width, css_height; /* viewport in CSS pixels */
     double device_pixel_ratio;
     uint64_t outstanding[LC_PROTO_MAX_WINDOW]; /* frame ids sent or in flight, not acked */
@@ -76,8 +77,8 @@ typedef struct lc_stream {
     bool step_measured; /* a moving frame has moved detail_step; until then a drag starts where the still predicts */
     double last_optimized;
     bool lines_thinned; /* moving frames draw line subsets (dense lines): the ladder's line_scale applies */
-    uint64_t yielded; /* still/refinement frames abandoned for newer input (stats) */
-    bool moving_next; /* after such a frame: the next frame is a moving one, however long the pass took */
+    uint64_t yielded;   /* still/refinement frames abandoned for newer input (stats) */
+    bool moving_next;   /* after such a frame: the next frame is a moving one, however long the pass took */
     int still_stage;    /* staged stills: 1 = stage 1 sent, stage 2 due (0 otherwise) */
     int preview_stride; /* the still under way: its stage 1's line/point stride (1: no preview; still_stages.h) */
     double still_ms;    /* render time of the last still (not interactive, not a stage 1), 0 = none yet */
@@ -110,11 +111,11 @@ struct lc_session {
     atomic_int refs;
 
     pthread_mutex_t lock;
-    bool closed;                 /* removed from the registry; render nothing more */
-    double created, last_used;   /* lc_now() */
-    lc_request req;              /* the latest requested state (latest wins) */
+    bool closed;                               /* removed from the registry; render nothing more */
+    double created, last_used;                 /* lc_now() */
+    lc_request req;                            /* the latest requested state (latest wins) */
     const lc_dataset *layer_ds[LC_MAX_LAYERS]; /* the datasets of req.layers (req.layer_count of them) */
-    lc_frame_state *frame_state; /* element opacities; see "Locking" above */
+    lc_frame_state *frame_state;               /* element opacities; see "Locking" above */
     /* Method surface-layers: the curves traced so far (pool/surface_job.h);
      * only the worker rendering the session's frame touches it, and it sets
      * surface_free, so the session frees them without knowing the pool. */
@@ -127,8 +128,8 @@ struct lc_session {
      * of them; 0 = the session's dataset alone): owned like frame_state. */
     const lc_dataset *state_ds[LC_MAX_LAYERS];
     int state_layers;
-    double last_frame_time;      /* lc_now() of the previous frame, 0 = none */
-    bool http_busy;              /* an HTTP session render is queued or running */
+    double last_frame_time; /* lc_now() of the previous frame, 0 = none */
+    bool http_busy;         /* an HTTP session render is queued or running */
     uint64_t http_frames;
     lc_stream stream;
     lc_stream_progress progress;
@@ -144,7 +145,7 @@ struct lc_session {
 
 /* One WebSocket frame to render: a snapshot taken by the worker. */
 typedef struct lc_stream_frame {
-    lc_request req; /* with width/height already set for this frame */
+    lc_request req;                          /* with width/height already set for this frame */
     const lc_dataset *layers[LC_MAX_LAYERS]; /* the datasets of req.layers */
     uint64_t frame;
     uint64_t camera_seq;
@@ -200,8 +201,8 @@ int lc_session_kind_check(lc_session_kind kind, const lc_request *req, lc_proto_
  * lc_session_kind_check, and only then
  * replaces it, latest wins; *out (if given) is the new request. On failure s
  * is unchanged and pe names the field. Caller holds s->lock. */
-int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim,
-                             lc_request *out, lc_proto_error *pe);
+int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim, lc_request *out,
+                             lc_proto_error *pe);
 
 #ifdef __cplusplus
 }

@@ -304,8 +304,7 @@ int lc_mpi_check_same(lc_mpi *m, const char *what, const char *text, lc_error *e
  * against the whole (whole = 0: the shares' sum, with the element numbering
  * and adjacency, which every rank holds, counted once) and the peak resident
  * size so far, to report (one line per rank) or the log. */
-static void report_shares(lc_mpi *m, const lc_scene *shard, size_t whole, const char *how, FILE *report,
-                          lc_error *err)
+static void report_shares(lc_mpi *m, const lc_scene *shard, size_t whole, const char *how, FILE *report, lc_error *err)
 {
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);

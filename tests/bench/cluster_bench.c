@@ -14,8 +14,8 @@
 
 #include "cluster.h"
 #include "demo.h"
-#include "loaders.h"
 #include "gl_context.h"
+#include "loaders.h"
 #include "renderer.h"
 
 static double now(void)
@@ -64,7 +64,8 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--no-gpu"))
             gpu = 0;
         else {
-            fprintf(stderr, "usage: cluster_bench [--demo NAME | --file PATH] [--lines N,N] [--clusters K] [--size PX] [--no-gpu]\n");
+            fprintf(stderr, "usage: cluster_bench [--demo NAME | --file PATH] [--lines N,N] [--clusters K] [--size PX] "
+                            "[--no-gpu]\n");
             return 2;
         }
     }

@@ -28,13 +28,13 @@ typedef struct variant {
 } variant;
 
 static const variant VARIANTS[] = {
-    {"before", "auto2", "0", "1e-6", "0"},     /* insertion <= 16, binary heap above, full sort, T < 1e-6 */
-    {"insert", "insertion", "0", "1e-6", "0"}, /* insertion sort on every list: O(n^2), in order by construction */
-    {"heap2", "heap2", "0", "1e-6", "0"},      /* binary heap sort on every list */
-    {"heap4", "heap", "0", "1e-6", "0"},       /* 4-ary heap sort on every list */
-    {"auto4", "auto", "0", "1e-6", "0"},       /* insertion <= 16, 4-ary heap above */
-    {"queue", "auto", "1", "0.00196078", "0"}, /* + the front-to-back queue, stop at T < 0.5/255 */
-    {"reduce", "auto2", "0", "1e-6", "1"},     /* before + fragment reduction */
+    {"before", "auto2", "0", "1e-6", "0"},      /* insertion <= 16, binary heap above, full sort, T < 1e-6 */
+    {"insert", "insertion", "0", "1e-6", "0"},  /* insertion sort on every list: O(n^2), in order by construction */
+    {"heap2", "heap2", "0", "1e-6", "0"},       /* binary heap sort on every list */
+    {"heap4", "heap", "0", "1e-6", "0"},        /* 4-ary heap sort on every list */
+    {"auto4", "auto", "0", "1e-6", "0"},        /* insertion <= 16, 4-ary heap above */
+    {"queue", "auto", "1", "0.00196078", "0"},  /* + the front-to-back queue, stop at T < 0.5/255 */
+    {"reduce", "auto2", "0", "1e-6", "1"},      /* before + fragment reduction */
     {"default", "auto", "1", "0.00196078", "1"} /* what the method does now */
 };
 #define NV ((int)(sizeof VARIANTS / sizeof VARIANTS[0]))
@@ -135,8 +135,7 @@ static int bench(const char *spec, double strength, int size, int rounds)
             before_exact = to_insertion == 0;
         printf("  %-8s %10.2f %10.2f %10.2f %10.2f %8.2f %8.2f %12llu %9.3f %8d %8d %8llu\n", VARIANTS[v].name, so, bl,
                bu, g, base_blend / bl, base_gpu / g, (unsigned long long)nodes,
-               base_nodes ? (double)nodes / base_nodes : 0, worst, to_insertion,
-               (unsigned long long)info[v].cut_lists);
+               base_nodes ? (double)nodes / base_nodes : 0, worst, to_insertion, (unsigned long long)info[v].cut_lists);
         if (worst > 1 && before_exact) {
             fprintf(stderr, "%s: %d grey levels off \"before\", more than the bound of one\n", VARIANTS[v].name, worst);
             rc = 1;

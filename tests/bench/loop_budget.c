@@ -15,19 +15,18 @@
 
 #include "gl_context.h"
 
-static const char *const SOURCE =
-    "#version 450\n"
-    "layout(local_size_x = 1) in;\n"
-    "layout(std430, binding = 0) buffer Out { uint counts[2]; };\n"
-    "uniform int u_burn;\n"
-    "uniform int u_ten;\n"
-    "void main()\n"
-    "{\n"
-    "    for (int i = 0; i < u_burn; i++)\n"
-    "        counts[0] = uint(i) + 1u;\n"
-    "    for (int k = 0; k < u_ten; k++)\n"
-    "        counts[1] = uint(k) + 1u;\n"
-    "}\n";
+static const char *const SOURCE = "#version 450\n"
+                                  "layout(local_size_x = 1) in;\n"
+                                  "layout(std430, binding = 0) buffer Out { uint counts[2]; };\n"
+                                  "uniform int u_burn;\n"
+                                  "uniform int u_ten;\n"
+                                  "void main()\n"
+                                  "{\n"
+                                  "    for (int i = 0; i < u_burn; i++)\n"
+                                  "        counts[0] = uint(i) + 1u;\n"
+                                  "    for (int k = 0; k < u_ten; k++)\n"
+                                  "        counts[1] = uint(k) + 1u;\n"
+                                  "}\n";
 
 int main(int argc, char **argv)
 {

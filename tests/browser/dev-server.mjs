@@ -16,16 +16,27 @@ const port = Number(arg('--port', 8081));
 const [bhost, bport] = arg('--backend', '127.0.0.1:8080').split(':');
 const root = fileURLToPath(new URL('../../web/', import.meta.url));
 // Modules the build generates (js/schema_fields.js) are served from the build tree.
-const generated = path.resolve(arg('--generated', fileURLToPath(new URL('../../build/generated/web/', import.meta.url))));
-const types = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.css': 'text/css', '.svg': 'image/svg+xml', '.png': 'image/png' };
+const generated = path.resolve(
+  arg('--generated', fileURLToPath(new URL('../../build/generated/web/', import.meta.url))),
+);
+const types = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript',
+  '.css': 'text/css',
+  '.svg': 'image/svg+xml',
+  '.png': 'image/png',
+};
 
 const server = http.createServer(async (req, res) => {
   const url = new URL(req.url, 'http://x');
   if (url.pathname.startsWith('/api/') || url.pathname === '/metrics') {
-    const up = http.request({ host: bhost, port: bport, method: req.method, path: req.url, headers: req.headers }, (r) => {
-      res.writeHead(r.statusCode, r.headers);
-      r.pipe(res);
-    });
+    const up = http.request(
+      { host: bhost, port: bport, method: req.method, path: req.url, headers: req.headers },
+      (r) => {
+        res.writeHead(r.statusCode, r.headers);
+        r.pipe(res);
+      },
+    );
     up.on('error', (e) => {
       res.writeHead(502, { 'Content-Type': 'application/json' });
       res.end(JSON.stringify({ error: { code: 'unreachable', message: e.message } }));
@@ -41,7 +52,10 @@ const server = http.createServer(async (req, res) => {
   }
   try {
     const body = await readFile(file).catch(() => readFile(path.join(generated, rel)));
-    res.writeHead(200, { 'Content-Type': types[path.extname(file)] ?? 'application/octet-stream', 'Cache-Control': 'no-cache' });
+    res.writeHead(200, {
+      'Content-Type': types[path.extname(file)] ?? 'application/octet-stream',
+      'Cache-Control': 'no-cache',
+    });
     res.end(body);
   } catch {
     res.writeHead(404).end('not found');

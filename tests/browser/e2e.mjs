@@ -55,7 +55,16 @@ const T0 = Date.now();
 const log = (...a) => console.log(`[${((Date.now() - T0) / 1000).toFixed(1)}s]`, ...a);
 
 // ------------------------------------------------------------------ daemon
-const DAEMON_ARGS = ['--data', 'demo:tornado', 'demo:points', 'demo:abc-flow', '--demo-size', env.LUCENT_E2E_DEMO_SIZE ?? '80', '--workers', '1'];
+const DAEMON_ARGS = [
+  '--data',
+  'demo:tornado',
+  'demo:points',
+  'demo:abc-flow',
+  '--demo-size',
+  env.LUCENT_E2E_DEMO_SIZE ?? '80',
+  '--workers',
+  '1',
+];
 const daemons = new Set();
 
 /** Starts `lucent serve` on a free port (port 0, read back from the log); resolves {proc, url, port, lines}. */
@@ -122,8 +131,16 @@ const PHONE = { width: 390, height: 844 };
 const browser = await chromium.launch({
   executablePath: chromiumPath,
   headless: true,
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-quic',
-    '--no-first-run', '--disable-component-update', '--disable-sync'],
+  args: [
+    '--headless',
+    '--no-sandbox',
+    '--disable-gpu',
+    '--disable-background-networking',
+    '--disable-quic',
+    '--no-first-run',
+    '--disable-component-update',
+    '--disable-sync',
+  ],
 });
 const context = await browser.newContext({ viewport: VIEWPORT, acceptDownloads: true });
 // a phone: touch input, mobile viewport rules (device pixel ratio 1 keeps llvmpipe's frames small)
@@ -134,7 +151,8 @@ async function newPage(url, ctxt = context) {
   const page = await ctxt.newPage();
   page.on('pageerror', (e) => pageErrors.push(`${page.url()}: ${e.message}`));
   page.on('console', (m) => {
-    if (m.type() === 'error' && !/WebSocket|Failed to load resource|ERR_CONNECTION_REFUSED/.test(m.text())) pageErrors.push(`console: ${m.text()}`);
+    if (m.type() === 'error' && !/WebSocket|Failed to load resource|ERR_CONNECTION_REFUSED/.test(m.text()))
+      pageErrors.push(`console: ${m.text()}`);
   });
   if (url) await page.goto(url);
   return page;
@@ -152,12 +170,25 @@ async function docShot(page, name) {
 /** Waits until the newest frame reflects the last camera sent, is a converged still (the final stage of a staged
  * one: stage 1 reuses the moving frames' opacities and reports converged too) and full size. */
 async function settled(page, timeout = 60000, minFrame = -1) {
-  await page.waitForFunction((min) => {
-    const s = window.lucent?.state;
-    const f = s?.lastFrame;
-    const c = document.getElementById('canvas');
-    return !!f && f.frame > min && f.converged && !f.detail?.interactive && f.final !== false && s.confirmedSeq >= s.seq && f.width === c.width && f.height === c.height;
-  }, minFrame, { timeout, polling: 100 });
+  await page.waitForFunction(
+    (min) => {
+      const s = window.lucent?.state;
+      const f = s?.lastFrame;
+      const c = document.getElementById('canvas');
+      return (
+        !!f &&
+        f.frame > min &&
+        f.converged &&
+        !f.detail?.interactive &&
+        f.final !== false &&
+        s.confirmedSeq >= s.seq &&
+        f.width === c.width &&
+        f.height === c.height
+      );
+    },
+    minFrame,
+    { timeout, polling: 100 },
+  );
 }
 
 /** Waits for a state of the page (a DOM or window.lucent condition): a generous deadline, not a guess at speed. */
@@ -182,7 +213,8 @@ const spread = (a) => {
   const m = a.reduce((s, x) => s + x, 0) / a.length;
   return Math.sqrt(a.reduce((s, x) => s + (x - m) ** 2, 0) / a.length);
 };
-const camDiff = (a, b) => Math.max(...['position', 'focalPoint', 'viewUp'].flatMap((k) => a[k].map((x, i) => Math.abs(x - b[k][i]))));
+const camDiff = (a, b) =>
+  Math.max(...['position', 'focalPoint', 'viewUp'].flatMap((k) => a[k].map((x, i) => Math.abs(x - b[k][i]))));
 
 function check(cond, what) {
   if (!cond) throw new Error(what);
@@ -200,7 +232,12 @@ test('first frame', async () => {
   await settled(page);
   const sig = await signature(page);
   check(spread(sig) > 3, `the first frame looks blank (spread ${spread(sig).toFixed(2)})`);
-  const st = await page.evaluate(() => ({ conn: document.body.dataset.connection, ds: document.getElementById('dataset').value, q: document.getElementById('ctl-params-q').value, stats: document.getElementById('stats').textContent }));
+  const st = await page.evaluate(() => ({
+    conn: document.body.dataset.connection,
+    ds: document.getElementById('dataset').value,
+    q: document.getElementById('ctl-params-q').value,
+    stats: document.getElementById('stats').textContent,
+  }));
   check(st.conn === 'open', `connection state ${st.conn}`);
   check(st.ds === 'demo:tornado', `dataset picker shows ${st.ds}`);
   check(st.q === '60', `q slider shows ${st.q}, not the server default 60`);
@@ -208,7 +245,9 @@ test('first frame', async () => {
   check(await page.locator('#stats-full').isHidden(), 'the full statistics table is shown by default');
   // the full table on demand
   await page.locator('#stats').click();
-  await page.waitForFunction(() => /encode/.test(document.getElementById('stats-full').textContent), null, { timeout: 30000 });
+  await page.waitForFunction(() => /encode/.test(document.getElementById('stats-full').textContent), null, {
+    timeout: 30000,
+  });
   const full = await page.locator('#stats-full').textContent();
   check(/fps/.test(full) && /encode/.test(full) && /llvmpipe|renderer/i.test(full), `stats table incomplete: ${full}`);
   await page.locator('#stats').click();
@@ -218,10 +257,15 @@ test('first frame', async () => {
 
 test('drag rotates: new camera, newer frames, different image', async () => {
   const page = ctx.page;
-  const before = await page.evaluate(() => ({ cam: window.lucent.camera, frame: window.lucent.state.lastFrame.frame, seq: window.lucent.state.seq }));
+  const before = await page.evaluate(() => ({
+    cam: window.lucent.camera,
+    frame: window.lucent.state.lastFrame.frame,
+    seq: window.lucent.state.seq,
+  }));
   const sig0 = await signature(page);
   const box = await page.locator('#canvas').boundingBox();
-  const x = box.x + box.width / 2, y = box.y + box.height / 2;
+  const x = box.x + box.width / 2,
+    y = box.y + box.height / 2;
   await page.mouse.move(x, y);
   await page.mouse.down();
   for (let i = 1; i <= 12; i++) await page.mouse.move(x + i * 9, y + i * 3, { steps: 1 });
@@ -230,10 +274,17 @@ test('drag rotates: new camera, newer frames, different image', async () => {
   check(mid > before.seq, 'dragging sent no camera message');
   check(mid - before.seq <= 12, `${mid - before.seq} camera messages for 12 pointer moves: not throttled`);
   await settled(page, 60000, before.frame);
-  const after = await page.evaluate(() => ({ cam: window.lucent.camera, frame: window.lucent.state.lastFrame, seq: window.lucent.state.seq }));
+  const after = await page.evaluate(() => ({
+    cam: window.lucent.camera,
+    frame: window.lucent.state.lastFrame,
+    seq: window.lucent.state.seq,
+  }));
   check(camDiff(after.cam, before.cam) > 1e-3, 'camera did not change');
   check(after.frame.frame > before.frame, 'no newer frame');
-  check(after.frame.cameraSeq === after.seq, `last frame reflects seq ${after.frame.cameraSeq}, last sent ${after.seq}`);
+  check(
+    after.frame.cameraSeq === after.seq,
+    `last frame reflects seq ${after.frame.cameraSeq}, last sent ${after.seq}`,
+  );
   const d = meanDiff(sig0, await signature(page));
   check(d > 1, `image barely changed after the drag (mean diff ${d.toFixed(2)})`);
   await shot(page, '02-after-drag');
@@ -242,7 +293,10 @@ test('drag rotates: new camera, newer frames, different image', async () => {
   await page.keyboard.press('x');
   const cx = await page.evaluate(() => window.lucent.camera);
   const dir = cx.focalPoint.map((f, i) => f - cx.position[i]);
-  check(dir[0] > 0 && Math.abs(dir[1]) < 1e-9 && Math.abs(dir[2]) < 1e-9 && cx.viewUp[2] === 1, `X key: ${JSON.stringify(cx)}`);
+  check(
+    dir[0] > 0 && Math.abs(dir[1]) < 1e-9 && Math.abs(dir[2]) < 1e-9 && cx.viewUp[2] === 1,
+    `X key: ${JSON.stringify(cx)}`,
+  );
   await page.keyboard.press('ArrowLeft');
   await page.keyboard.press('r');
   await settled(page);
@@ -257,10 +311,23 @@ test('resize follows the window at CSS size × devicePixelRatio', async () => {
   const st = await page.evaluate(() => {
     const c = document.getElementById('canvas');
     const r = c.getBoundingClientRect();
-    return { w: c.width, h: c.height, cssW: r.width, cssH: r.height, dpr: devicePixelRatio, frame: window.lucent.state.lastFrame };
+    return {
+      w: c.width,
+      h: c.height,
+      cssW: r.width,
+      cssH: r.height,
+      dpr: devicePixelRatio,
+      frame: window.lucent.state.lastFrame,
+    };
   });
-  check(st.w === Math.round(st.cssW * st.dpr) && st.h === Math.round(st.cssH * st.dpr), `canvas ${st.w}x${st.h} for ${st.cssW}x${st.cssH} CSS px`);
-  check(st.frame.width === st.w && st.frame.height === st.h, `frame ${st.frame.width}x${st.frame.height}, canvas ${st.w}x${st.h}`);
+  check(
+    st.w === Math.round(st.cssW * st.dpr) && st.h === Math.round(st.cssH * st.dpr),
+    `canvas ${st.w}x${st.h} for ${st.cssW}x${st.cssH} CSS px`,
+  );
+  check(
+    st.frame.width === st.w && st.frame.height === st.h,
+    `frame ${st.frame.width}x${st.frame.height}, canvas ${st.w}x${st.h}`,
+  );
   await page.setViewportSize(VIEWPORT);
   await settled(page);
 });
@@ -286,7 +353,9 @@ test('slider changes the image; the server confirms the value', async () => {
   const sigBefore = await signature(page);
   const session0 = await page.evaluate(() => window.lucent.state.session);
   await page.evaluate(() => window.lucent.reconnect());
-  await page.waitForFunction((s) => window.lucent.state.session && window.lucent.state.session !== s, session0, { timeout: 30000 });
+  await page.waitForFunction((s) => window.lucent.state.session && window.lucent.state.session !== s, session0, {
+    timeout: 30000,
+  });
   await settled(page);
   const ready = await page.evaluate(() => window.lucent.state.lastReady);
   check(ready.defaults.params.q === 1000, `server reports q = ${ready.defaults.params.q}`);
@@ -303,7 +372,10 @@ test('reloading the copied URL restores dataset, camera and parameters', async (
   for (const end = Date.now() + 30000; Date.now() < end && !link.startsWith(ctx.d.url); await page.waitForTimeout(50)) {
     link = await page.evaluate(() => navigator.clipboard.readText());
   }
-  check(link.startsWith(ctx.d.url) && /dataset=demo:tornado/.test(link) && /q=1000/.test(link) && /position=/.test(link), `copied link: ${link}`);
+  check(
+    link.startsWith(ctx.d.url) && /dataset=demo:tornado/.test(link) && /q=1000/.test(link) && /position=/.test(link),
+    `copied link: ${link}`,
+  );
   // the background the page chose (dark, against viridis' pale top) travels with the link: the picture depends on it
   check(/background=/.test(link), `the copied link carries the background: ${link}`);
   const before = await page.evaluate(() => window.lucent.camera);
@@ -311,12 +383,18 @@ test('reloading the copied URL restores dataset, camera and parameters', async (
   const page2 = await newPage(link);
   await settled(page2);
   const st = await page2.evaluate(() => ({
-    cam: window.lucent.camera, ds: document.getElementById('dataset').value, q: document.getElementById('ctl-params-q').value,
-    serverQ: window.lucent.state.lastReady.defaults.params.q, serverCam: window.lucent.state.lastReady.defaults.camera,
+    cam: window.lucent.camera,
+    ds: document.getElementById('dataset').value,
+    q: document.getElementById('ctl-params-q').value,
+    serverQ: window.lucent.state.lastReady.defaults.params.q,
+    serverCam: window.lucent.state.lastReady.defaults.camera,
   }));
   check(st.ds === 'demo:tornado', `dataset ${st.ds}`);
   check(st.q === '1000' && st.serverQ === 1000, `q page ${st.q}, server ${st.serverQ}`);
-  check(camDiff(st.cam, before) < 1e-5 && camDiff(st.serverCam, before) < 1e-5, `camera not restored: ${JSON.stringify(st.cam)} vs ${JSON.stringify(before)}`);
+  check(
+    camDiff(st.cam, before) < 1e-5 && camDiff(st.serverCam, before) < 1e-5,
+    `camera not restored: ${JSON.stringify(st.cam)} vs ${JSON.stringify(before)}`,
+  );
   const d = meanDiff(sig0, await signature(page2));
   check(d < 3, `reloaded image differs (mean diff ${d.toFixed(2)})`);
   await shot(page2, '04-reloaded-link');
@@ -328,7 +406,10 @@ test('screenshot button downloads a PNG of the chosen size', async () => {
   await page.locator('#shot-size').selectOption('custom');
   await page.locator('#shot-width').fill('400');
   await page.locator('#shot-height').fill('300');
-  const [download] = await Promise.all([page.waitForEvent('download', { timeout: 60000 }), page.locator('#screenshot').click()]);
+  const [download] = await Promise.all([
+    page.waitForEvent('download', { timeout: 60000 }),
+    page.locator('#screenshot').click(),
+  ]);
   const file = path.join(artifacts, '05-download.png');
   await download.saveAs(file);
   const b = fs.readFileSync(file);
@@ -343,7 +424,11 @@ test('record: two keyframes, a 6-frame movie with progress, and its download is 
   const first = await page.evaluate(() => window.lucent.camera);
   await page.locator('#record-add').click();
   await page.locator('[data-view="+x"]').click();
-  await page.waitForFunction((c) => ['position', 'viewUp'].some((k) => window.lucent.camera[k].some((x, i) => Math.abs(x - c[k][i]) > 1e-3)), first, { timeout: 30000 });
+  await page.waitForFunction(
+    (c) => ['position', 'viewUp'].some((k) => window.lucent.camera[k].some((x, i) => Math.abs(x - c[k][i]) > 1e-3)),
+    first,
+    { timeout: 30000 },
+  );
   await page.locator('#record-add').click();
   check((await page.locator('#record-keys li').count()) === 2, 'two keyframes listed');
   check(!(await page.locator('#record-preview').isDisabled()), 'preview enabled with two keyframes');
@@ -359,7 +444,12 @@ test('record: two keyframes, a 6-frame movie with progress, and its download is 
   const got = await page.evaluate(async () => {
     const res = await fetch(document.getElementById('record-download').href);
     const b = new Uint8Array(await res.arrayBuffer());
-    return { status: res.status, type: res.headers.get('content-type'), size: b.length, box: String.fromCharCode(...b.subarray(4, 8)) };
+    return {
+      status: res.status,
+      type: res.headers.get('content-type'),
+      size: b.length,
+      box: String.fromCharCode(...b.subarray(4, 8)),
+    };
   });
   check(got.status === 200 && got.box === 'ftyp' && got.size > 1000, `download: ${JSON.stringify(got)}`);
   check(/video/.test(got.type ?? ''), `content type ${got.type}`);
@@ -367,9 +457,16 @@ test('record: two keyframes, a 6-frame movie with progress, and its download is 
 
 test('unknown dataset shows a readable message', async () => {
   const page = await newPage(`${ctx.d.url}/#dataset=demo:nope`);
-  await page.waitForFunction(() => !document.getElementById('banner').hidden && window.lucent.state.error, null, { timeout: 30000 });
+  await page.waitForFunction(() => !document.getElementById('banner').hidden && window.lucent.state.error, null, {
+    timeout: 30000,
+  });
   // the banner once it names the dataset and the choices (the server's answer to hello is in: state.error)
-  await until(page, () => /demo:nope/.test(document.getElementById('banner-text').textContent) && /not available/.test(document.getElementById('banner-text').textContent)).catch(() => {});
+  await until(
+    page,
+    () =>
+      /demo:nope/.test(document.getElementById('banner-text').textContent) &&
+      /not available/.test(document.getElementById('banner-text').textContent),
+  ).catch(() => {});
   const text = await page.locator('#banner-text').textContent();
   check(/demo:nope/.test(text) && /not available/.test(text) && /demo:tornado/.test(text), `banner: ${text}`);
   const code = await page.evaluate(() => window.lucent.state.error.code ?? null);
@@ -382,7 +479,7 @@ test('unknown dataset shows a readable message', async () => {
   await page.close();
 });
 
-test('a dense file on the page settles on the one-shot render: its visibility readout is the HTTP render\'s', async () => {
+test("a dense file on the page settles on the one-shot render: its visibility readout is the HTTP render's", async () => {
   // 1000 tornado lines (about 524k segments): the session starts with a coarse, thinned frame and stages its
   // still, where the page once settled on fog that the one-shot render did not show
   const d = await startDaemon(['--demo-size', '1000']);
@@ -394,22 +491,37 @@ test('a dense file on the page settles on the one-shot render: its visibility re
       const s = window.lucent.state;
       const c = document.getElementById('canvas');
       return {
-        top: s.lastFrame.visibility?.topDecileAlpha, camera: s.camera, width: c.width, height: c.height,
-        background: (s.pageDefaults?.style ?? {}).background, update: s.update,
+        top: s.lastFrame.visibility?.topDecileAlpha,
+        camera: s.camera,
+        width: c.width,
+        height: c.height,
+        background: (s.pageDefaults?.style ?? {}).background,
+        update: s.update,
         readout: [...document.querySelectorAll('.feedback')].map((e) => e.textContent).join(' | '),
       };
     });
-    const body = { dataset: 'demo:tornado', width: seen.width, height: seen.height, camera: seen.camera, format: 'png',
-      ...seen.update, style: { ...(seen.background ? { background: seen.background } : {}), ...(seen.update.style ?? {}) } };
+    const body = {
+      dataset: 'demo:tornado',
+      width: seen.width,
+      height: seen.height,
+      camera: seen.camera,
+      format: 'png',
+      ...seen.update,
+      style: { ...(seen.background ? { background: seen.background } : {}), ...(seen.update.style ?? {}) },
+    };
     const r = await fetch(`${d.url}/api/v1/render`, { method: 'POST', body: JSON.stringify(body) });
     await r.arrayBuffer();
     const vis = Object.fromEntries((r.headers.get('x-lucent-visibility') ?? '').split(',').map((kv) => kv.split('=')));
     const http = Number(vis.topDecileAlpha);
     log(`dense tornado: page still top decile ${seen.top}, HTTP ${http}; readout: ${seen.readout}`);
-    check(r.status === 200 && typeof seen.top === 'number' && Math.abs(seen.top - http) <= 0.05,
-      `the page's still and the HTTP render agree on the most important tenth's opacity (${seen.top} vs ${http}, ${r.status})`);
-    check(seen.readout.includes(`most important tenth ${seen.top.toFixed(2)}`),
-      `the Clarity readout shows the still's measured visibility (${seen.readout})`);
+    check(
+      r.status === 200 && typeof seen.top === 'number' && Math.abs(seen.top - http) <= 0.05,
+      `the page's still and the HTTP render agree on the most important tenth's opacity (${seen.top} vs ${http}, ${r.status})`,
+    );
+    check(
+      seen.readout.includes(`most important tenth ${seen.top.toFixed(2)}`),
+      `the Clarity readout shows the still's measured visibility (${seen.readout})`,
+    );
     await page.close();
   } finally {
     await stopDaemon(d);
@@ -421,10 +533,16 @@ test('a dataset too costly to open: back to the last one with a lasting message,
   // daemon whose --max-cost lies between them opens demo:points and refuses demo:tornado
   const probe = await newPage(`${ctx.d.url}/#dataset=demo:points`);
   await settled(probe);
-  const size = await probe.evaluate(() => [document.getElementById('canvas').width, document.getElementById('canvas').height]);
+  const size = await probe.evaluate(() => [
+    document.getElementById('canvas').width,
+    document.getElementById('canvas').height,
+  ]);
   await probe.close();
   const cost = async (dataset) => {
-    const r = await fetch(`${ctx.d.url}/api/v1/render`, { method: 'POST', body: JSON.stringify({ dataset, width: size[0], height: size[1] }) });
+    const r = await fetch(`${ctx.d.url}/api/v1/render`, {
+      method: 'POST',
+      body: JSON.stringify({ dataset, width: size[0], height: size[1] }),
+    });
     await r.arrayBuffer();
     return Number(r.headers.get('x-lucent-cost'));
   };
@@ -436,14 +554,26 @@ test('a dataset too costly to open: back to the last one with a lasting message,
     await settled(page);
     await page.locator('#dataset').selectOption('demo:tornado');
     await until(page, () => /was not opened/.test(document.getElementById('banner-text').textContent));
-    await until(page, () => document.body.dataset.connection === 'open' && window.lucent.state.lastReady?.dataset?.name === 'demo:points');
+    await until(
+      page,
+      () =>
+        document.body.dataset.connection === 'open' && window.lucent.state.lastReady?.dataset?.name === 'demo:points',
+    );
     await settled(page);
     const st = await page.evaluate(() => ({
-      ds: window.lucent.state.dataset, picker: document.getElementById('dataset').value, retries: window.lucent.state.retryDelays.length,
+      ds: window.lucent.state.dataset,
+      picker: document.getElementById('dataset').value,
+      retries: window.lucent.state.retryDelays.length,
       banner: document.getElementById('banner').hidden ? '' : document.getElementById('banner-text').textContent,
     }));
-    check(st.ds === 'demo:points' && st.picker === 'demo:points', `back on demo:points (state ${st.ds}, picker ${st.picker})`);
-    check(/demo:tornado/.test(st.banner) && /budget|cost/.test(st.banner), `a lasting message names the dataset and the reason: ${st.banner}`);
+    check(
+      st.ds === 'demo:points' && st.picker === 'demo:points',
+      `back on demo:points (state ${st.ds}, picker ${st.picker})`,
+    );
+    check(
+      /demo:tornado/.test(st.banner) && /budget|cost/.test(st.banner),
+      `a lasting message names the dataset and the reason: ${st.banner}`,
+    );
     check(st.retries === 0, `no reconnect loop: ${st.retries} retries`);
     log(`  refused dataset: ${st.banner}`);
     await page.close();
@@ -460,7 +590,16 @@ const overlayCoverage = (page) =>
     const v = document.getElementById('view').getBoundingClientRect();
     const area = v.width * v.height;
     const out = {};
-    for (const sel of ['#stats', '#stats-full', '#legend', '#axes', '.view-buttons', '#preset-note', '#banner', '#toast']) {
+    for (const sel of [
+      '#stats',
+      '#stats-full',
+      '#legend',
+      '#axes',
+      '.view-buttons',
+      '#preset-note',
+      '#banner',
+      '#toast',
+    ]) {
       const el = document.querySelector(sel);
       if (!el || el.hidden || getComputedStyle(el).display === 'none') continue;
       const r = el.getBoundingClientRect();
@@ -481,8 +620,10 @@ const overlayOverlaps = (page) =>
     const out = [];
     for (let i = 0; i < els.length; i++)
       for (let j = i + 1; j < els.length; j++) {
-        const [a, ra] = els[i], [b, rb] = els[j];
-        if (ra.left < rb.right && rb.left < ra.right && ra.top < rb.bottom && rb.top < ra.bottom) out.push(`${a} × ${b}`);
+        const [a, ra] = els[i],
+          [b, rb] = els[j];
+        if (ra.left < rb.right && rb.left < ra.right && ra.top < rb.bottom && rb.top < ra.bottom)
+          out.push(`${a} × ${b}`);
       }
     return out;
   });
@@ -510,7 +651,13 @@ const quantile = (xs, q) => {
 const legendState = (page) =>
   page.evaluate(() => {
     const el = document.getElementById('legend');
-    return { text: el.textContent.replace(/\s+/g, ' ').trim(), attr: el.dataset.colorAttribute, range: el.dataset.colorRange, clash: el.dataset.clash === 'true', visible: !el.hidden && el.getBoundingClientRect().width > 0 };
+    return {
+      text: el.textContent.replace(/\s+/g, ' ').trim(),
+      attr: el.dataset.colorAttribute,
+      range: el.dataset.colorRange,
+      clash: el.dataset.clash === 'true',
+      visible: !el.hidden && el.getBoundingClientRect().width > 0,
+    };
   });
 
 test('desktop: legend, triad, one-line stats, help, tooltips; overlays cover ≤ 5 % of the view', async () => {
@@ -521,7 +668,10 @@ test('desktop: legend, triad, one-line stats, help, tooltips; overlays cover ≤
   await settled(page);
   const lg = await legendState(page);
   check(lg.visible && lg.attr === 'importance' && lg.range === '0,1', `legend: ${JSON.stringify(lg)}`);
-  check(/line_curvature/.test(lg.text) && /viridis/.test(lg.text), `legend names the importance attribute and colormap: ${lg.text}`);
+  check(
+    /line_curvature/.test(lg.text) && /viridis/.test(lg.text),
+    `legend names the importance attribute and colormap: ${lg.text}`,
+  );
   const axes = await page.locator('[data-testid="axes"] line').count();
   check(axes === 3, `triad has ${axes} axes`);
   const stats = await page.locator('[data-testid="stats"]').textContent();
@@ -538,12 +688,14 @@ test('desktop: legend, triad, one-line stats, help, tooltips; overlays cover ≤
   await docShot(page, 'web-desktop');
   await page.locator('#legend .legend-more').click();
   // every parameter explains itself: a tooltip, and an info line on request
-  const rows = await page.evaluate(() => [...document.querySelectorAll('#generated .row')].map((r) => ({ path: r.dataset.path, title: r.title })));
+  const rows = await page.evaluate(() =>
+    [...document.querySelectorAll('#generated .row')].map((r) => ({ path: r.dataset.path, title: r.title })),
+  );
   const bare = rows.filter((r) => !r.title || r.title.length < 20);
   check(rows.length >= 25 && !bare.length, `controls without a plain-words tooltip: ${JSON.stringify(bare)}`);
   await page.locator('#show-help').check();
   const hint = await page.locator('.row[data-path="params.q"] .hint');
-  check(await hint.isVisible() && /behind/.test(await hint.textContent()), 'q has no visible info line');
+  check((await hint.isVisible()) && /behind/.test(await hint.textContent()), 'q has no visible info line');
   await page.locator('#group-optimization').evaluate((el) => el.scrollIntoView());
   await docShot(page, 'web-explain');
   await page.locator('#show-help').uncheck();
@@ -552,11 +704,16 @@ test('desktop: legend, triad, one-line stats, help, tooltips; overlays cover ≤
   await page.keyboard.press('?');
   await page.locator('[data-testid="help"]').waitFor({ state: 'visible', timeout: 30000 });
   const helpText = await page.locator('[data-testid="help"]').textContent();
-  check(/Mouse/.test(helpText) && /Touch/.test(helpText) && /Keyboard/.test(helpText) && /fullscreen/.test(helpText), `help: ${helpText}`);
+  check(
+    /Mouse/.test(helpText) && /Touch/.test(helpText) && /Keyboard/.test(helpText) && /fullscreen/.test(helpText),
+    `help: ${helpText}`,
+  );
   await docShot(page, 'web-help');
   await page.keyboard.press('Escape');
   await page.locator('[data-testid="help"]').waitFor({ state: 'hidden', timeout: 30000 });
-  const pct = Object.entries(cov).map(([k, v]) => `${k} ${(v * 100).toFixed(1)} %`).join(', ');
+  const pct = Object.entries(cov)
+    .map(([k, v]) => `${k} ${(v * 100).toFixed(1)} %`)
+    .join(', ');
   return `coverage ${pct}`;
 });
 
@@ -575,12 +732,29 @@ test('drag: the triad and the warped last frame answer before the next frame; in
       return [...g.getImageData(0, 0, 48, 32).data].filter((_, i) => i % 4 !== 3);
     };
     const rect = c.getBoundingClientRect();
-    const x = rect.left + rect.width / 2, y = rect.top + rect.height / 2;
-    const ev = (type, dx, dy) => c.dispatchEvent(new PointerEvent(type, { pointerId: 7, clientX: x + dx, clientY: y + dy, button: 0, buttons: 1, pointerType: 'mouse', bubbles: true, cancelable: true }));
-    const f0 = window.lucent.state.lastFrame.frame, a0 = document.getElementById('axes').dataset.axes, s0 = small();
+    const x = rect.left + rect.width / 2,
+      y = rect.top + rect.height / 2;
+    const ev = (type, dx, dy) =>
+      c.dispatchEvent(
+        new PointerEvent(type, {
+          pointerId: 7,
+          clientX: x + dx,
+          clientY: y + dy,
+          button: 0,
+          buttons: 1,
+          pointerType: 'mouse',
+          bubbles: true,
+          cancelable: true,
+        }),
+      );
+    const f0 = window.lucent.state.lastFrame.frame,
+      a0 = document.getElementById('axes').dataset.axes,
+      s0 = small();
     ev('pointerdown', 0, 0);
     ev('pointermove', 80, 20);
-    const f1 = window.lucent.state.lastFrame.frame, a1 = document.getElementById('axes').dataset.axes, s1 = small();
+    const f1 = window.lucent.state.lastFrame.frame,
+      a1 = document.getElementById('axes').dataset.axes,
+      s1 = small();
     const warped = window.lucent.view.warped;
     window.__endDrag = () => ev('pointerup', 80, 20);
     const diff = s0.reduce((acc, v, i) => acc + Math.abs(v - s1[i]), 0) / s0.length;
@@ -590,7 +764,10 @@ test('drag: the triad and the warped last frame answer before the next frame; in
   await page.evaluate(() => window.__endDrag());
   check(r.sameFrame, 'a frame arrived during a synchronous drag (test assumption)');
   check(r.axesTurned, 'the triad did not turn with the drag');
-  check(r.warped && r.diff > 1, `the last frame was not warped toward the new camera (warped ${r.warped}, mean diff ${r.diff.toFixed(2)})`);
+  check(
+    r.warped && r.diff > 1,
+    `the last frame was not warped toward the new camera (warped ${r.warped}, mean diff ${r.diff.toFixed(2)})`,
+  );
   await settled(page);
   // input → visible response (the warped picture and triad on screen) for real mouse input, on both demos
   const figures = [];
@@ -601,14 +778,16 @@ test('drag: the triad and the warped last frame answer before the next frame; in
     }
     await page.evaluate(() => window.lucent.state.responses.splice(0));
     const box = await page.locator('#canvas').boundingBox();
-    const x = box.x + box.width / 2, y = box.y + box.height / 2;
+    const x = box.x + box.width / 2,
+      y = box.y + box.height / 2;
     await page.mouse.move(x, y);
     await page.mouse.down();
     // 30 moves 25 ms apart (the pace of a drag), and on (back and forth) until 10 responses are on screen:
     // a busy page paints less often, so the samples are waited for, not counted in a time window
     const samples = () => page.evaluate(() => window.lucent.responses.length);
     for (let i = 1, end = Date.now() + 60000; i <= 30 || ((await samples()) < 10 && Date.now() < end); i++) {
-      const k = ((i - 1) % 60) + 1, j = k <= 30 ? k : 60 - k;
+      const k = ((i - 1) % 60) + 1,
+        j = k <= 30 ? k : 60 - k;
       await page.mouse.move(x + j * 6, y + j * 2);
       await page.waitForTimeout(25);
     }
@@ -616,9 +795,12 @@ test('drag: the triad and the warped last frame answer before the next frame; in
     await until(page, () => window.lucent.responses.length >= 10).catch(() => {});
     const xs = await page.evaluate(() => window.lucent.responses);
     check(xs.length >= 10, `${xs.length} response samples on ${ds}`);
-    const med = quantile(xs, 0.5), p95 = quantile(xs, 0.95);
+    const med = quantile(xs, 0.5),
+      p95 = quantile(xs, 0.95);
     // a figure (the goal is < 50 ms), not a check: a loaded CI machine cannot promise a latency
-    log(`  input → visible response on ${ds}: median ${med.toFixed(1)} ms, p95 ${p95.toFixed(1)} ms, max ${Math.max(...xs).toFixed(1)} ms (${xs.length} moves)`);
+    log(
+      `  input → visible response on ${ds}: median ${med.toFixed(1)} ms, p95 ${p95.toFixed(1)} ms, max ${Math.max(...xs).toFixed(1)} ms (${xs.length} moves)`,
+    );
     figures.push(`${ds} median ${med.toFixed(1)} ms p95 ${p95.toFixed(1)} ms`);
     await settled(page);
   }
@@ -639,13 +821,21 @@ test('home view, fit, fullscreen', async () => {
   if (home?.direction) {
     const hd = Math.hypot(...home.direction);
     const cos = dir.reduce((s, v, i) => s + (v / n) * (home.direction[i] / hd), 0);
-    check(cos > 0.9999, `H does not look along the dataset's suggested view (${JSON.stringify(dir)} vs ${JSON.stringify(home.direction)})`);
+    check(
+      cos > 0.9999,
+      `H does not look along the dataset's suggested view (${JSON.stringify(dir)} vs ${JSON.stringify(home.direction)})`,
+    );
   } else {
     check(Math.abs(dir[2] / n + 1) < 1e-9, `H without a suggested view should look down −Z: ${JSON.stringify(dir)}`);
   }
   check((await cornersInside(page)).inside, 'home view clips the data');
   await page.locator('.view-buttons [data-view="fullscreen"]').click();
-  const fs1 = await page.waitForFunction(() => document.fullscreenElement?.id === 'view', null, { timeout: 30000 }).then(() => true, () => false);
+  const fs1 = await page
+    .waitForFunction(() => document.fullscreenElement?.id === 'view', null, { timeout: 30000 })
+    .then(
+      () => true,
+      () => false,
+    );
   check(fs1, 'the fullscreen button did not put the view into fullscreen');
   await page.evaluate(() => document.exitFullscreen());
   await page.waitForFunction(() => !document.fullscreenElement, null, { timeout: 30000 });
@@ -657,14 +847,22 @@ test('bug 1: colour by velocity and back to importance restores range, image and
   const sig0 = await signature(page);
   const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);
   await page.locator('#ctl-color-attribute').selectOption('velocity');
-  await page.waitForFunction(() => document.getElementById('legend').dataset.colorAttribute === 'velocity', null, { timeout: 30000 });
+  await page.waitForFunction(() => document.getElementById('legend').dataset.colorAttribute === 'velocity', null, {
+    timeout: 30000,
+  });
   await settled(page, 60000, f0);
   const f1 = await page.evaluate(() => window.lucent.state.lastFrame.frame);
   await page.locator('#ctl-color-attribute').selectOption('importance');
   await settled(page, 60000, f1);
   // the hash is written 200 ms after a change: wait for it to say importance again
-  await until(page, () => /color=importance/.test(location.hash) && /colorRange=0,1/.test(location.hash)).catch(() => {});
-  const st = await page.evaluate(() => ({ lo: document.getElementById('ctl-color-range').value, hi: document.querySelector('.row[data-path="color.range"] input[name="color.range.1"]').value, hash: location.hash }));
+  await until(page, () => /color=importance/.test(location.hash) && /colorRange=0,1/.test(location.hash)).catch(
+    () => {},
+  );
+  const st = await page.evaluate(() => ({
+    lo: document.getElementById('ctl-color-range').value,
+    hi: document.querySelector('.row[data-path="color.range"] input[name="color.range.1"]').value,
+    hash: location.hash,
+  }));
   const lg = await legendState(page);
   check(st.lo === '0' && st.hi === '1', `range boxes show ${st.lo}–${st.hi} after going back to importance`);
   check(lg.range === '0,1' && lg.attr === 'importance', `legend: ${JSON.stringify(lg)}`);
@@ -691,13 +889,19 @@ test('bug 3: an out-of-range value is brought into range everywhere and said so'
   await msg.waitFor({ state: 'visible', timeout: 30000 });
   const text = await msg.textContent();
   check(/20 is outside \[1, 8\]/.test(text) && /set to 8/.test(text), `message: ${text}`);
-  const st = await page.evaluate(() => ({ box: document.querySelector('.row[data-path="params.bands"] .num').value, slider: document.getElementById('ctl-params-bands').value, value: window.lucent.values().params.bands }));
+  const st = await page.evaluate(() => ({
+    box: document.querySelector('.row[data-path="params.bands"] .num').value,
+    slider: document.getElementById('ctl-params-bands').value,
+    value: window.lucent.values().params.bands,
+  }));
   check(st.box === '8' && st.slider === '8' && st.value === 8, `box ${st.box}, slider ${st.slider}, page ${st.value}`);
   await until(page, (n) => Number(document.body.dataset.paramsSent ?? 0) > n, sent0); // the update has gone out
   await settled(page);
   const session0 = await page.evaluate(() => window.lucent.state.session);
   await page.evaluate(() => window.lucent.reconnect());
-  await page.waitForFunction((s) => window.lucent.state.session && window.lucent.state.session !== s, session0, { timeout: 30000 });
+  await page.waitForFunction((s) => window.lucent.state.session && window.lucent.state.session !== s, session0, {
+    timeout: 30000,
+  });
   const server = await page.evaluate(() => window.lucent.state.lastReady.defaults.params.bands);
   check(server === 8, `the server has bands = ${server}`);
   await settled(page);
@@ -708,16 +912,22 @@ test('grayscale on a white background: warning, and one click flips the colours'
   await settled(page);
   // the page opens viridis on a dark background (docs/GUIDE.md "Contrast by default"): choose white first
   await page.locator('#ctl-style-background').fill('#ffffff');
-  await page.waitForFunction(() => String(window.lucent.values().style.background) === '1,1,1', null, { timeout: 30000 });
+  await page.waitForFunction(() => String(window.lucent.values().style.background) === '1,1,1', null, {
+    timeout: 30000,
+  });
   const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);
   await page.locator('#ctl-color-colormap').selectOption('grayscale');
-  await page.waitForFunction(() => document.getElementById('legend').dataset.clash === 'true', null, { timeout: 30000 });
+  await page.waitForFunction(() => document.getElementById('legend').dataset.clash === 'true', null, {
+    timeout: 30000,
+  });
   const warn = await page.locator('#legend .legend-warn').textContent();
   check(/matches the background/.test(warn), `warning: ${warn}`);
   await settled(page, 60000, f0);
   await docShot(page, 'web-grayscale-warning');
   await page.locator('#legend [data-role="flip"]').click();
-  await page.waitForFunction(() => document.getElementById('legend').dataset.clash === 'false', null, { timeout: 30000 });
+  await page.waitForFunction(() => document.getElementById('legend').dataset.clash === 'false', null, {
+    timeout: 30000,
+  });
   const r = await page.evaluate(() => window.lucent.values().color.range);
   check(r[0] === 1 && r[1] === 0, `colour range after flipping: ${JSON.stringify(r)}`);
   await page.locator('#ctl-color-colormap').selectOption('viridis');
@@ -725,7 +935,9 @@ test('grayscale on a white background: warning, and one click flips the colours'
   const hi = page.locator('input[name="color.range.1"]');
   await hi.fill('1');
   await hi.press('Enter');
-  await page.waitForFunction(() => document.getElementById('legend').dataset.colorRange === '0,1', null, { timeout: 30000 });
+  await page.waitForFunction(() => document.getElementById('legend').dataset.colorRange === '0,1', null, {
+    timeout: 30000,
+  });
   await page.locator('#ctl-style-background').fill('#1a1a1a'); // back to the page's default
   await settled(page);
 });
@@ -741,24 +953,51 @@ test('equalized colours from the panel: the half-life and a fixed range reach th
   const hiBox = page.locator('.row[data-path="color.fixed"] input[aria-label="fixed range maximum"]');
   await hiBox.fill('0.25');
   await hiBox.dispatchEvent('change');
-  await page.waitForFunction(() => {
-    const c = window.lucent.values().color;
-    return c.equalize === true && c.fadeHalfLife === 2 && JSON.stringify(c.fixed) === '[[0,0.25]]';
-  }, null, { timeout: 30000 }).catch(() => {});
+  await page
+    .waitForFunction(
+      () => {
+        const c = window.lucent.values().color;
+        return c.equalize === true && c.fadeHalfLife === 2 && JSON.stringify(c.fixed) === '[[0,0.25]]';
+      },
+      null,
+      { timeout: 30000 },
+    )
+    .catch(() => {});
   const f0 = await page.evaluate(() => window.lucent.state.lastFrame.frame);
   await settled(page, 60000, f0);
-  const st = await page.evaluate(() => ({ color: window.lucent.values().color, err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
-  check(st.color.equalize === true && st.color.fadeHalfLife === 2 && JSON.stringify(st.color.fixed) === '[[0,0.25]]' && !st.err,
-    `equalize with half-life 2 and the fixed range [0, 0.25]: ${JSON.stringify(st.color)} ${JSON.stringify(st.err)}`);
-  check(/colorFadeHalfLife=2/.test(st.hash) && /colorFixed=\[\[0,0.25\]\]/.test(st.hash), `the link carries both (${st.hash.slice(0, 400)})`);
+  const st = await page.evaluate(() => ({
+    color: window.lucent.values().color,
+    err: window.lucent.state.error,
+    hash: decodeURIComponent(location.hash),
+  }));
+  check(
+    st.color.equalize === true &&
+      st.color.fadeHalfLife === 2 &&
+      JSON.stringify(st.color.fixed) === '[[0,0.25]]' &&
+      !st.err,
+    `equalize with half-life 2 and the fixed range [0, 0.25]: ${JSON.stringify(st.color)} ${JSON.stringify(st.err)}`,
+  );
+  check(
+    /colorFadeHalfLife=2/.test(st.hash) && /colorFixed=\[\[0,0.25\]\]/.test(st.hash),
+    `the link carries both (${st.hash.slice(0, 400)})`,
+  );
   // back to the page's defaults for the tests after this one
   await page.locator('.row[data-path="color.fixed"] .list-editor .list-row button').dispatchEvent('click');
   await half.fill('0.8');
   await half.press('Enter');
   await page.locator('#ctl-color-equalize').uncheck();
-  await page.waitForFunction(() => { const c = window.lucent.values().color; return !c.equalize && !(c.fixed?.length); }, null, { timeout: 30000 }).catch(async (e) => {
-    throw new Error(`${e.message}: ${await page.evaluate(() => JSON.stringify(window.lucent.values().color))}`);
-  });
+  await page
+    .waitForFunction(
+      () => {
+        const c = window.lucent.values().color;
+        return !c.equalize && !c.fixed?.length;
+      },
+      null,
+      { timeout: 30000 },
+    )
+    .catch(async (e) => {
+      throw new Error(`${e.message}: ${await page.evaluate(() => JSON.stringify(window.lucent.values().color))}`);
+    });
   await settled(page);
 });
 
@@ -770,7 +1009,10 @@ test('bug 2: a changed hash clears an old error banner and reports ignored value
   await settled(page);
   check(await page.locator('#banner').isHidden(), 'the error banner stays after the hash names a valid dataset');
   const toastText = await page.locator('#toast').textContent();
-  check(/Ignored in the link/.test(toastText) && /q:/.test(toastText) && /bands:/.test(toastText), `toast: ${toastText}`);
+  check(
+    /Ignored in the link/.test(toastText) && /q:/.test(toastText) && /bands:/.test(toastText),
+    `toast: ${toastText}`,
+  );
   const ds = await page.evaluate(() => window.lucent.state.dataset);
   check(ds === 'demo:points', `dataset ${ds}`);
   await page.close();
@@ -797,23 +1039,49 @@ test('presets: applied on dataset switch under the link, with a working undo', a
   await page.locator('#dataset').selectOption('demo:points');
   await settled(page);
   await page.locator('[data-testid="preset-note"]').waitFor({ state: 'visible', timeout: 30000 });
-  let st = await page.evaluate(() => ({ note: document.getElementById('preset-note').textContent, title: document.getElementById('preset-note').title, q: document.querySelector('.row[data-path="params.q"] .num').value, cmap: document.getElementById('ctl-color-colormap').value, server: window.lucent.state.lastReady.defaults }));
-  check(/Preset applied/.test(st.note) && /undo/.test(st.note) && /demo:points/.test(st.title), `note: ${st.note} (${st.title})`);
+  let st = await page.evaluate(() => ({
+    note: document.getElementById('preset-note').textContent,
+    title: document.getElementById('preset-note').title,
+    q: document.querySelector('.row[data-path="params.q"] .num').value,
+    cmap: document.getElementById('ctl-color-colormap').value,
+    server: window.lucent.state.lastReady.defaults,
+  }));
+  check(
+    /Preset applied/.test(st.note) && /undo/.test(st.note) && /demo:points/.test(st.title),
+    `note: ${st.note} (${st.title})`,
+  );
   check(st.q === '80' && st.cmap === 'plasma', `panel shows q ${st.q}, colormap ${st.cmap}`);
-  check(st.server.params.q === 80 && st.server.params.r === 40 && st.server.color.colormap === 'plasma' && st.server.style.pointSize === 3, `server: ${JSON.stringify(st.server.params)}`);
+  check(
+    st.server.params.q === 80 &&
+      st.server.params.r === 40 &&
+      st.server.color.colormap === 'plasma' &&
+      st.server.style.pointSize === 3,
+    `server: ${JSON.stringify(st.server.params)}`,
+  );
   check(/plasma/.test((await legendState(page)).text), 'the legend does not show the preset colormap');
   await docShot(page, 'web-preset');
   // undo: the server's defaults again
   await page.locator('#preset-undo').click();
   await page.waitForFunction(() => window.lucent.state.lastReady.defaults.params.q === 60, null, { timeout: 30000 });
   await settled(page);
-  st = await page.evaluate(() => ({ hidden: document.getElementById('preset-note').hidden, q: document.querySelector('.row[data-path="params.q"] .num').value, cmap: document.getElementById('ctl-color-colormap').value, hash: location.hash }));
-  check(st.hidden && st.q === '60' && st.cmap === 'viridis' && !/q=80/.test(st.hash), `after undo: ${JSON.stringify(st)}`);
+  st = await page.evaluate(() => ({
+    hidden: document.getElementById('preset-note').hidden,
+    q: document.querySelector('.row[data-path="params.q"] .num').value,
+    cmap: document.getElementById('ctl-color-colormap').value,
+    hash: location.hash,
+  }));
+  check(
+    st.hidden && st.q === '60' && st.cmap === 'viridis' && !/q=80/.test(st.hash),
+    `after undo: ${JSON.stringify(st)}`,
+  );
   // a link's own fields win over the preset
   await page.goto(`${ctx.d.url}/#dataset=demo:points&q=5`);
   await settled(page);
   st = await page.evaluate(() => window.lucent.state.lastReady.defaults);
-  check(st.params.q === 5 && st.params.r === 40 && st.color.colormap === 'plasma', `link + preset: q ${st.params.q}, r ${st.params.r}, ${st.color.colormap}`);
+  check(
+    st.params.q === 5 && st.params.r === 40 && st.color.colormap === 'plasma',
+    `link + preset: q ${st.params.q}, r ${st.params.r}, ${st.color.colormap}`,
+  );
   await page.close();
 });
 
@@ -828,11 +1096,21 @@ test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refi
     const cs = getComputedStyle(sel);
     const g = document.createElement('canvas').getContext('2d');
     g.font = `${cs.fontWeight} ${cs.fontSize} ${cs.fontFamily}`;
-    return { text: sel.selectedOptions[0].text, textWidth: g.measureText(sel.selectedOptions[0].text).width, box: sel.clientWidth };
+    return {
+      text: sel.selectedOptions[0].text,
+      textWidth: g.measureText(sel.selectedOptions[0].text).width,
+      box: sel.clientWidth,
+    };
   });
-  check(pick.textWidth + 30 <= pick.box, `the dataset picker cuts "${pick.text}" (${pick.textWidth.toFixed(0)} px text in ${pick.box} px)`);
+  check(
+    pick.textWidth + 30 <= pick.box,
+    `the dataset picker cuts "${pick.text}" (${pick.textWidth.toFixed(0)} px text in ${pick.box} px)`,
+  );
   const cov = await overlayCoverage(page);
-  check(Math.max(...Object.values(cov)) <= 0.1, `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov)}`);
+  check(
+    Math.max(...Object.values(cov)) <= 0.1,
+    `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov)}`,
+  );
   const ov = await overlayOverlaps(page);
   check(!ov.length, `overlays overlap on the phone: ${ov.join(', ')}`);
   const lg = await legendState(page);
@@ -845,7 +1123,10 @@ test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refi
   const fit2 = await cornersInside(page);
   check(fit2.inside && fit2.height > fit.height, `after folding the panel: ${JSON.stringify(fit2)}`);
   const cov2 = await overlayCoverage(page);
-  check(Math.max(...Object.values(cov2)) <= 0.1, `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov2)}`);
+  check(
+    Math.max(...Object.values(cov2)) <= 0.1,
+    `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov2)}`,
+  );
   await docShot(page, 'web-phone-panel-folded');
   // help on the phone
   await page.locator('#help-button').tap();
@@ -857,9 +1138,11 @@ test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refi
   const a0 = await page.locator('#axes').getAttribute('data-axes');
   const cdp = await phone.newCDPSession(page);
   const box = await page.locator('#canvas').boundingBox();
-  const x = box.x + box.width / 2, y = box.y + box.height / 2;
+  const x = box.x + box.width / 2,
+    y = box.y + box.height / 2;
   await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x, y }] });
-  for (let i = 1; i <= 5; i++) await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: x + i * 12, y }] });
+  for (let i = 1; i <= 5; i++)
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: x + i * 12, y }] });
   await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
   const a1 = await page.locator('#axes').getAttribute('data-axes');
   check(a0 !== a1, 'a one-finger drag did not turn the triad');
@@ -878,16 +1161,23 @@ test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refi
   await page2.route('**/api/v1/datasets', async (route) => {
     const res = await route.fetch();
     const body = await res.json();
-    for (const d of Array.isArray(body) ? body : body.datasets) if (d.name === 'demo:points') d.preset = { params: { q: 80 }, color: { colormap: 'plasma' } };
+    for (const d of Array.isArray(body) ? body : body.datasets)
+      if (d.name === 'demo:points') d.preset = { params: { q: 80 }, color: { colormap: 'plasma' } };
     await route.fulfill({ response: res, json: body });
   });
   await page2.goto(`${ctx.d.url}/#dataset=demo:points`);
   await settled(page2);
   await page2.locator('[data-testid="preset-note"]').waitFor({ state: 'visible', timeout: 30000 });
   const pst = await page2.evaluate(() => window.lucent.state.lastReady.defaults);
-  check(pst.params.q === 80 && pst.color.colormap === 'plasma', `phone preset: q ${pst.params.q}, ${pst.color.colormap}`);
+  check(
+    pst.params.q === 80 && pst.color.colormap === 'plasma',
+    `phone preset: q ${pst.params.q}, ${pst.color.colormap}`,
+  );
   const cov3 = await overlayCoverage(page2);
-  check(Math.max(...Object.values(cov3)) <= 0.1, `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov3)}`);
+  check(
+    Math.max(...Object.values(cov3)) <= 0.1,
+    `an overlay covers more than 10 % of the phone view: ${JSON.stringify(cov3)}`,
+  );
   const ov3 = await overlayOverlaps(page2);
   check(!ov3.length, `overlays overlap on the phone: ${ov3.join(', ')}`);
   await docShot(page2, 'web-phone-preset');
@@ -895,7 +1185,9 @@ test('phone: fitted view, picker text, overlays ≤ 10 %, folding the panel refi
   await page2.waitForFunction(() => window.lucent.state.lastReady.defaults.params.q === 60, null, { timeout: 30000 });
   await settled(page2);
   await page2.close();
-  return `phone coverage ${Object.entries(cov).map(([k, v]) => `${k} ${(v * 100).toFixed(1)} %`).join(', ')}`;
+  return `phone coverage ${Object.entries(cov)
+    .map(([k, v]) => `${k} ${(v * 100).toFixed(1)} %`)
+    .join(', ')}`;
 });
 
 test('access token: prompt on 401, and ?token= in the URL', async () => {
@@ -921,7 +1213,9 @@ test('docs screenshot', async () => {
   if (!docsShot) return 'skipped (no --docs-screenshot)';
   const page = await context.newPage();
   await page.setViewportSize({ width: 1000, height: 600 });
-  await page.goto(`${ctx.d.url}/#dataset=demo:tornado&position=0.5,-2.3,0.75&focalPoint=0.5,0.5,0.45&viewUp=0,0,1&viewAngle=30&quality=100`);
+  await page.goto(
+    `${ctx.d.url}/#dataset=demo:tornado&position=0.5,-2.3,0.75&focalPoint=0.5,0.5,0.45&viewUp=0,0,1&viewAngle=30&quality=100`,
+  );
   await settled(page, 90000);
   await page.waitForTimeout(400); // the overlay refreshes 4 times a second
   await page.screenshot({ path: docsShot });
@@ -936,7 +1230,11 @@ test('stopped server: visible state, then reconnection restores the view', async
   const sig0 = await signature(page);
   const port = ctx.d.port;
   await stopDaemon(ctx.d);
-  await page.waitForFunction(() => document.body.dataset.connection === 'waiting' && !document.getElementById('banner').hidden, null, { timeout: 60000 });
+  await page.waitForFunction(
+    () => document.body.dataset.connection === 'waiting' && !document.getElementById('banner').hidden,
+    null,
+    { timeout: 60000 },
+  );
   // a server that stays down: probes keep coming every 1–2 s; wait for two beyond the first two
   await until(page, () => window.lucent.state.retryDelays.length >= 4, null, 60000).catch(() => {});
   const text = await page.locator('#banner-text').textContent();
@@ -945,7 +1243,10 @@ test('stopped server: visible state, then reconnection restores the view', async
   check(/retrying/.test(label), `status: ${label}`);
   await shot(page, '08-server-stopped');
   const delays = await page.evaluate(() => window.lucent.state.retryDelays.slice(2));
-  check(delays.length >= 2 && delays.every((d) => d >= 1000 && d <= 2000), `probe delays once the server is down: ${JSON.stringify(delays)}`);
+  check(
+    delays.length >= 2 && delays.every((d) => d >= 1000 && d <= 2000),
+    `probe delays once the server is down: ${JSON.stringify(delays)}`,
+  );
   ctx.d = await startDaemon([], port);
   const back = Date.now();
   await page.waitForFunction(() => document.body.dataset.connection === 'open', null, { timeout: 45000 });
@@ -954,7 +1255,10 @@ test('stopped server: visible state, then reconnection restores the view', async
   // the probe policy is checked by its chosen delays above; how soon a busy machine reconnects is a figure, not a check
   await settled(page);
   const st = await page.evaluate(() => ({ cam: window.lucent.camera, server: window.lucent.state.lastReady.defaults }));
-  check(camDiff(st.cam, cam) < 1e-9 && camDiff(st.server.camera, cam) < 1e-5 && st.server.params.q === 1000, 'view not restored after reconnecting');
+  check(
+    camDiff(st.cam, cam) < 1e-9 && camDiff(st.server.camera, cam) < 1e-5 && st.server.params.q === 1000,
+    'view not restored after reconnecting',
+  );
   check(await page.locator('#banner').isHidden(), 'banner still shown after reconnecting');
   const d = meanDiff(sig0, await signature(page));
   check(d < 3, `image after reconnect differs (mean diff ${d.toFixed(2)})`);
@@ -971,18 +1275,32 @@ test('stream surface: pick a field, place the seed line, watch it grow; a new se
   await page.locator('#surface-particles').fill('400');
   await page.locator('#surface-per-frame').fill('100');
   // the curve count of every frame received after `after` (received, not drawn: a busy page draws only the newest)
-  const curvesSince = (after) => page.evaluate((a) => window.lucent.state.received
-    .filter((h) => h.frame > a && h.surface?.curves !== undefined).map((h) => h.surface.curves), after);
+  const curvesSince = (after) =>
+    page.evaluate(
+      (a) =>
+        window.lucent.state.received
+          .filter((h) => h.frame > a && h.surface?.curves !== undefined)
+          .map((h) => h.surface.curves),
+      after,
+    );
   const newest = () => page.evaluate(() => window.lucent.state.received.at(-1)?.frame ?? -1);
   let after = await newest();
   await page.locator('#surface-on').check();
   // complete after a restart: a frame of fewer curves after `a`, then one of all 400
-  const complete = (a) => page.waitForFunction((a) => {
-    const r = window.lucent.state.received.filter((h) => h.frame > a && h.surface?.curves !== undefined);
-    const first = r.findIndex((h) => h.surface.curves < 400);
-    return /curves 400 \/ 400 \(complete\)/.test(document.getElementById('surface-status').textContent) &&
-      first >= 0 && r.slice(first).some((h) => h.surface.curves === 400);
-  }, a, { timeout: 60000 });
+  const complete = (a) =>
+    page.waitForFunction(
+      (a) => {
+        const r = window.lucent.state.received.filter((h) => h.frame > a && h.surface?.curves !== undefined);
+        const first = r.findIndex((h) => h.surface.curves < 400);
+        return (
+          /curves 400 \/ 400 \(complete\)/.test(document.getElementById('surface-status').textContent) &&
+          first >= 0 &&
+          r.slice(first).some((h) => h.surface.curves === 400)
+        );
+      },
+      a,
+      { timeout: 60000 },
+    );
   await complete(after);
   let curves = await curvesSince(after);
   check(curves.length >= 2 && curves[0] < 400 && curves.includes(400), `the surface grows frame by frame: ${curves}`);
@@ -993,12 +1311,21 @@ test('stream surface: pick a field, place the seed line, watch it grow; a new se
   await complete(after);
   curves = await curvesSince(after);
   // a frame of the old surface may still be on its way when the seed changes: the restart is a count under 400 after it
-  check(curves.some((c) => c < 400), `a new seed restarts the surface: ${curves}`);
+  check(
+    curves.some((c) => c < 400),
+    `a new seed restarts the surface: ${curves}`,
+  );
   const moved = await signature(page);
-  check(meanDiff(grown, moved) > 0.1, `the new seed's surface looks different (mean diff ${meanDiff(grown, moved).toFixed(2)})`);
+  check(
+    meanDiff(grown, moved) > 0.1,
+    `the new seed's surface looks different (mean diff ${meanDiff(grown, moved).toFixed(2)})`,
+  );
   await shot(page, '10-stream-surface');
   // the seed line is drawn over the view; dragging its end handle moves that endpoint and restarts the surface
-  check(await page.locator('#seed-overlay').isVisible(), 'the seed line is drawn over the view while the surface is shown');
+  check(
+    await page.locator('#seed-overlay').isVisible(),
+    'the seed line is drawn over the view while the surface is shown',
+  );
   const handle = page.locator('[data-testid="seed-end"]');
   const box0 = await handle.boundingBox();
   check(box0 && box0.width > 4, `the seed's end handle is on the page: ${JSON.stringify(box0)}`);
@@ -1013,26 +1340,50 @@ test('stream surface: pick a field, place the seed line, watch it grow; a new se
   await page.mouse.up();
   const seedB2 = await page.locator('#surface-b').inputValue();
   const p2 = seedB2.split(',').map(Number);
-  check(seedB2 !== seedB && p2.length === 3 && p2.every(Number.isFinite), `dragging the end handle changes the typed seed end: ${seedB} -> ${seedB2}`);
+  check(
+    seedB2 !== seedB && p2.length === 3 && p2.every(Number.isFinite),
+    `dragging the end handle changes the typed seed end: ${seedB} -> ${seedB2}`,
+  );
   const box1 = await handle.boundingBox();
-  check(Math.abs(box1.x - box0.x + 60) < 3 && Math.abs(box1.y - box0.y - 40) < 3, `the handle follows the pointer: ${box0.x},${box0.y} -> ${box1.x},${box1.y}`);
-  check(await page.evaluate(() => JSON.stringify(window.lucent.state.camera)) === cam0, 'dragging a handle does not orbit the view');
+  check(
+    Math.abs(box1.x - box0.x + 60) < 3 && Math.abs(box1.y - box0.y - 40) < 3,
+    `the handle follows the pointer: ${box0.x},${box0.y} -> ${box1.x},${box1.y}`,
+  );
+  check(
+    (await page.evaluate(() => JSON.stringify(window.lucent.state.camera))) === cam0,
+    'dragging a handle does not orbit the view',
+  );
   const sent = await page.evaluate(() => window.lucent.state.update.surface?.seed?.[1]);
   check(JSON.stringify(sent) === JSON.stringify(p2), `the dragged seed is the session's seed: ${JSON.stringify(sent)}`);
   await complete(after);
   curves = await curvesSince(after);
-  check(curves.some((c) => c < 400), `the dragged seed restarts the surface: ${curves}`);
+  check(
+    curves.some((c) => c < 400),
+    `the dragged seed restarts the surface: ${curves}`,
+  );
   const dragged = await signature(page);
-  check(meanDiff(moved, dragged) > 0.1, `the dragged seed's surface looks different (mean diff ${meanDiff(moved, dragged).toFixed(2)})`);
+  check(
+    meanDiff(moved, dragged) > 0.1,
+    `the dragged seed's surface looks different (mean diff ${meanDiff(moved, dragged).toFixed(2)})`,
+  );
   // two-way curves: the direction goes to the session and restarts the surface, which now reaches upstream too
   after = await newest();
   await page.locator('#surface-direction').selectOption('both');
-  check(await page.evaluate(() => window.lucent.state.update.surface?.direction) === 'both', 'the direction is the session\'s');
+  check(
+    (await page.evaluate(() => window.lucent.state.update.surface?.direction)) === 'both',
+    "the direction is the session's",
+  );
   await complete(after);
   curves = await curvesSince(after);
-  check(curves.some((c) => c < 400), `a new direction restarts the surface: ${curves}`);
+  check(
+    curves.some((c) => c < 400),
+    `a new direction restarts the surface: ${curves}`,
+  );
   const twoWay = await signature(page);
-  check(meanDiff(dragged, twoWay) > 0.1, `the two-way surface looks different (mean diff ${meanDiff(dragged, twoWay).toFixed(2)})`);
+  check(
+    meanDiff(dragged, twoWay) > 0.1,
+    `the two-way surface looks different (mean diff ${meanDiff(dragged, twoWay).toFixed(2)})`,
+  );
   // a bent seed (a point between the ends) and the surface's look: each goes to the session, the surface restarts
   after = await newest();
   await page.locator('#surface-via').fill('3.14, 3.14, 2.5');
@@ -1041,30 +1392,51 @@ test('stream surface: pick a field, place the seed line, watch it grow; a new se
   await page.locator('#surface-via').dispatchEvent('change');
   await page.locator('#surface-opacity').dispatchEvent('change');
   const look = await page.evaluate(() => window.lucent.state.update.surface);
-  check(look?.seed?.length === 3 && JSON.stringify(look.seed[1]) === '[3.14,3.14,2.5]' && look.opacity === 0.6 &&
-    look.composite === 'weighted-average' && look.epsilon === 0.01 && look.maxLayers === 8,
-    `a seed through a third point and the surface's look are the session's: ${JSON.stringify(look)}`);
+  check(
+    look?.seed?.length === 3 &&
+      JSON.stringify(look.seed[1]) === '[3.14,3.14,2.5]' &&
+      look.opacity === 0.6 &&
+      look.composite === 'weighted-average' &&
+      look.epsilon === 0.01 &&
+      look.maxLayers === 8,
+    `a seed through a third point and the surface's look are the session's: ${JSON.stringify(look)}`,
+  );
   await complete(after);
   const bent = await signature(page);
   const bentErr = await page.evaluate(() => window.lucent.state.error);
-  check(!bentErr && meanDiff(twoWay, bent) > 0.1, `the bent, more opaque, averaged surface renders and differs (mean diff ${meanDiff(twoWay, bent).toFixed(2)}; ${JSON.stringify(bentErr)})`);
+  check(
+    !bentErr && meanDiff(twoWay, bent) > 0.1,
+    `the bent, more opaque, averaged surface renders and differs (mean diff ${meanDiff(twoWay, bent).toFixed(2)}; ${JSON.stringify(bentErr)})`,
+  );
   // off the handles the canvas still orbits
   const vb = await page.locator('#view').boundingBox();
   await page.mouse.move(vb.x + vb.width * 0.15, vb.y + vb.height * 0.85);
   await page.mouse.down();
   await page.mouse.move(vb.x + vb.width * 0.25, vb.y + vb.height * 0.85, { steps: 5 });
   await page.mouse.up();
-  check(await page.evaluate(() => JSON.stringify(window.lucent.state.camera)) !== cam0, 'a drag off the handles still orbits');
+  check(
+    (await page.evaluate(() => JSON.stringify(window.lucent.state.camera))) !== cam0,
+    'a drag off the handles still orbits',
+  );
   const box2 = await handle.boundingBox();
   check(Math.abs(box2.x - box1.x) > 1 || Math.abs(box2.y - box1.y) > 1, 'the seed line follows the camera');
   await page.locator('#surface-on').uncheck();
-  await page.waitForFunction(() => { const f = window.lucent.state.lastFrame; return f && !f.surface && f.converged; }, null, { timeout: 60000 });
+  await page.waitForFunction(
+    () => {
+      const f = window.lucent.state.lastFrame;
+      return f && !f.surface && f.converged;
+    },
+    null,
+    { timeout: 60000 },
+  );
   const method = await page.evaluate(() => window.lucent.state.update.method);
   check(method === 'fourier', `hiding the surface goes back to the dataset's method: ${method}`);
 });
 
 // ------------------------------------------------------------------ runner
-let passed = 0, failed = 0, skipped = 0;
+let passed = 0,
+  failed = 0,
+  skipped = 0;
 try {
   ctx.d = await startDaemon();
   log(`daemon at ${ctx.d.url}`);
@@ -1080,7 +1452,12 @@ try {
       log(`ok - ${t.name} (${Date.now() - t1} ms)${note ? ` # ${note}` : ''}`);
     } catch (e) {
       failed++;
-      log(`not ok - ${t.name} (${Date.now() - t1} ms)\n    ${String(e.stack ?? e).split('\n').slice(0, 6).join('\n    ')}`);
+      log(
+        `not ok - ${t.name} (${Date.now() - t1} ms)\n    ${String(e.stack ?? e)
+          .split('\n')
+          .slice(0, 6)
+          .join('\n    ')}`,
+      );
       if (ctx.page) await shot(ctx.page, `fail-${t.name.replace(/\W+/g, '-')}`).catch(() => {});
     }
   }

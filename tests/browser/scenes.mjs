@@ -60,7 +60,25 @@ for (let fr = 0; fr < 20; fr++) {
 }
 fs.writeFileSync(dumpPath, text);
 
-const proc = spawn(binary, ['serve', '--listen', '127.0.0.1:0', '--data', dumpPath, '--data', 'demo:points', '--demo-size', '80', '--workers', '1', '--cache', 'off'], { stdio: ['ignore', 'pipe', 'pipe'] });
+const proc = spawn(
+  binary,
+  [
+    'serve',
+    '--listen',
+    '127.0.0.1:0',
+    '--data',
+    dumpPath,
+    '--data',
+    'demo:points',
+    '--demo-size',
+    '80',
+    '--workers',
+    '1',
+    '--cache',
+    'off',
+  ],
+  { stdio: ['ignore', 'pipe', 'pipe'] },
+);
 const lines = [];
 const url = await new Promise((resolve, reject) => {
   const timer = setTimeout(() => reject(new Error(`daemon did not start:\n${lines.join('\n')}`)), 90000);
@@ -83,7 +101,11 @@ process.on('exit', () => {
   fs.rmSync(tmp, { recursive: true, force: true });
 });
 
-const browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: ['--headless', '--no-sandbox', '--disable-gpu'] });
+const browser = await chromium.launch({
+  executablePath: chromiumPath,
+  headless: true,
+  args: ['--headless', '--no-sandbox', '--disable-gpu'],
+});
 const pageErrors = [];
 try {
   const list = await (await fetch(`${url}/api/v1/datasets`)).json();
@@ -95,29 +117,46 @@ try {
   const frames = () => page.evaluate(() => Number(document.body.dataset.frames ?? 0));
   // A still newer than frame `min` (a change's own), converged, and the final stage of a staged still: not a
   // moving frame that a still follows, nor a stage 1 that reuses the moving frames' opacities.
-  const settled = (min = -1) => page.waitForFunction((m) => {
-    const f = window.lucent?.state?.lastFrame;
-    return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
-  }, min, { timeout: 60000, polling: 100 });
+  const settled = (min = -1) =>
+    page.waitForFunction(
+      (m) => {
+        const f = window.lucent?.state?.lastFrame;
+        return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
+      },
+      min,
+      { timeout: 60000, polling: 100 },
+    );
   const newest = () => page.evaluate(() => window.lucent.state.lastFrame?.frame ?? -1);
-  const sig = () => page.evaluate(() => {
-    const c = document.createElement('canvas');
-    c.width = 48;
-    c.height = 32;
-    const g = c.getContext('2d');
-    g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
-    return Array.from(g.getImageData(0, 0, 48, 32).data);
-  });
+  const sig = () =>
+    page.evaluate(() => {
+      const c = document.createElement('canvas');
+      c.width = 48;
+      c.height = 32;
+      const g = c.getContext('2d');
+      g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
+      return Array.from(g.getImageData(0, 0, 48, 32).data);
+    });
   const diff = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
 
   await page.goto(`${url}/#dataset=demo:points`);
   await page.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
-  check(await page.evaluate(() => document.getElementById('time').hidden), 'no time bar on the points demo (no time attribute)');
+  check(
+    await page.evaluate(() => document.getElementById('time').hidden),
+    'no time bar on the points demo (no time attribute)',
+  );
 
   await page.goto(`${url}/#dataset=${encodeURIComponent(name)}`);
-  await page.waitForFunction(() => !document.getElementById('time').hidden && Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
+  await page.waitForFunction(
+    () => !document.getElementById('time').hidden && Number(document.body.dataset.frames ?? 0) >= 1,
+    null,
+    { timeout: 60000 },
+  );
   await settled();
-  const st = await page.evaluate(() => ({ min: document.getElementById('time-t').min, max: document.getElementById('time-t').max, label: document.getElementById('time-label').textContent }));
+  const st = await page.evaluate(() => ({
+    min: document.getElementById('time-t').min,
+    max: document.getElementById('time-t').max,
+    label: document.getElementById('time-label').textContent,
+  }));
   check(st.min === '0' && st.max === '190', `the bar spans the dump's timesteps [${st.min}, ${st.max}] (${st.label})`);
   const whole = await sig();
 
@@ -133,23 +172,39 @@ try {
   const upTo60 = await sig();
   const err1 = await page.evaluate(() => window.lucent.state.error);
   check(!err1, `the server took time.window [0, 60] (${JSON.stringify(err1)})`);
-  check(diff(whole, upTo60) > 0.5, `the window up to t = 60 changes the image (mean difference ${diff(whole, upTo60).toFixed(2)})`);
-  check(/≤ 60/.test(await page.evaluate(() => document.getElementById('time-label').textContent)), 'the label says timestep ≤ 60');
+  check(
+    diff(whole, upTo60) > 0.5,
+    `the window up to t = 60 changes the image (mean difference ${diff(whole, upTo60).toFixed(2)})`,
+  );
+  check(
+    /≤ 60/.test(await page.evaluate(() => document.getElementById('time-label').textContent)),
+    'the label says timestep ≤ 60',
+  );
 
   // a window of length 30: [30, 60]
   f0 = await newest();
   await page.fill('#time-length', '30');
   await page.dispatchEvent('#time-length', 'change');
-  await page.waitForFunction(() => /timeWindow=30,60/.test(location.hash), null, { timeout: 30000 }).catch(async (e) => {
-    throw new Error(`${e.message}: ${await page.evaluate(() => location.hash + ' ' + document.getElementById('time-length').value)}`);
-  });
+  await page
+    .waitForFunction(() => /timeWindow=30,60/.test(location.hash), null, { timeout: 30000 })
+    .catch(async (e) => {
+      throw new Error(
+        `${e.message}: ${await page.evaluate(() => location.hash + ' ' + document.getElementById('time-length').value)}`,
+      );
+    });
   await settled(f0);
   const win = await sig();
   // the stream has ended (a final, converged still): nothing more may change the picture, however long one looks
   await page.waitForTimeout(500);
   const again = await sig();
-  check(diff(win, again) < 0.05, `the settled image holds still (${diff(win, again).toFixed(3)}): the differences measure the windows`);
-  check(diff(upTo60, win) > 0.2, `a window of length 30 draws less than everything up to 60 (${diff(upTo60, win).toFixed(2)})`);
+  check(
+    diff(win, again) < 0.05,
+    `the settled image holds still (${diff(win, again).toFixed(3)}): the differences measure the windows`,
+  );
+  check(
+    diff(upTo60, win) > 0.2,
+    `a window of length 30 draws less than everything up to 60 (${diff(upTo60, win).toFixed(2)})`,
+  );
 
   // markers: a dot at each line's position at t, over the picture; the link carries them
   f0 = await newest();
@@ -169,11 +224,34 @@ try {
   await page.click('#time-play');
   // Waited for, not timed (a loaded CI host renders slower): five more frames while t is past 60 and the link
   // follows, all read in one go (play starts over at the range's end, so t is sampled with the frame count).
-  const during = await page.waitForFunction((n) => {
-    const t = Number(document.getElementById('time-t').value), m = /timeWindow=([\d.]+),([\d.]+)/.exec(location.hash);
-    const st = { pressed: document.getElementById('time-play').getAttribute('aria-pressed'), t, hash: location.hash, err: window.lucent.state.error, frames: Number(document.body.dataset.frames ?? 0) };
-    return st.frames >= n && t > 60 && m && Number(m[2]) > 60 ? st : null;
-  }, n0 + 5, { timeout: 120000, polling: 50 }).then((h) => h.jsonValue(), async () => page.evaluate(() => ({ pressed: document.getElementById('time-play').getAttribute('aria-pressed'), t: Number(document.getElementById('time-t').value), hash: location.hash, err: window.lucent.state.error, frames: Number(document.body.dataset.frames ?? 0) })));
+  const during = await page
+    .waitForFunction(
+      (n) => {
+        const t = Number(document.getElementById('time-t').value),
+          m = /timeWindow=([\d.]+),([\d.]+)/.exec(location.hash);
+        const st = {
+          pressed: document.getElementById('time-play').getAttribute('aria-pressed'),
+          t,
+          hash: location.hash,
+          err: window.lucent.state.error,
+          frames: Number(document.body.dataset.frames ?? 0),
+        };
+        return st.frames >= n && t > 60 && m && Number(m[2]) > 60 ? st : null;
+      },
+      n0 + 5,
+      { timeout: 120000, polling: 50 },
+    )
+    .then(
+      (h) => h.jsonValue(),
+      async () =>
+        page.evaluate(() => ({
+          pressed: document.getElementById('time-play').getAttribute('aria-pressed'),
+          t: Number(document.getElementById('time-t').value),
+          hash: location.hash,
+          err: window.lucent.state.error,
+          frames: Number(document.body.dataset.frames ?? 0),
+        })),
+    );
   check(during.pressed === 'true' && during.t > 60, `play steps t on (t = ${during.t})`);
   check(during.frames - n0 >= 5, `frames keep coming while playing (${during.frames - n0})`);
   check(!during.err, `no error while playing (${JSON.stringify(during.err)})`);
@@ -190,39 +268,67 @@ try {
   const page2 = await context.newPage();
   page2.on('pageerror', (e) => pageErrors.push(e.message));
   await page2.goto(`${url}/#dataset=${encodeURIComponent(name)}&timeWindow=100,150`);
-  await page2.waitForFunction(() => !document.getElementById('time').hidden && Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
-  const st2 = await page2.evaluate(() => ({ t: document.getElementById('time-t').value, len: document.getElementById('time-length').value, defaults: window.lucent.state.lastReady?.defaults?.time }));
-  check(st2.t === '150' && st2.len === '50', `a link with timeWindow=100,150 opens at t = 150, length 50 (${st2.t}, ${st2.len})`);
-  check(JSON.stringify(st2.defaults?.window) === '[100,150]', `the session has the link's window (${JSON.stringify(st2.defaults)})`);
+  await page2.waitForFunction(
+    () => !document.getElementById('time').hidden && Number(document.body.dataset.frames ?? 0) >= 1,
+    null,
+    { timeout: 60000 },
+  );
+  const st2 = await page2.evaluate(() => ({
+    t: document.getElementById('time-t').value,
+    len: document.getElementById('time-length').value,
+    defaults: window.lucent.state.lastReady?.defaults?.time,
+  }));
+  check(
+    st2.t === '150' && st2.len === '50',
+    `a link with timeWindow=100,150 opens at t = 150, length 50 (${st2.t}, ${st2.len})`,
+  );
+  check(
+    JSON.stringify(st2.defaults?.window) === '[100,150]',
+    `the session has the link's window (${JSON.stringify(st2.defaults)})`,
+  );
 
   // ---- layers
   const page3 = await context.newPage();
   page3.on('pageerror', (e) => pageErrors.push(e.message));
-  const sig3 = () => page3.evaluate(() => {
-    const c = document.createElement('canvas');
-    c.width = 48;
-    c.height = 32;
-    const g = c.getContext('2d');
-    g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
-    return Array.from(g.getImageData(0, 0, 48, 32).data);
-  });
+  const sig3 = () =>
+    page3.evaluate(() => {
+      const c = document.createElement('canvas');
+      c.width = 48;
+      c.height = 32;
+      const g = c.getContext('2d');
+      g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
+      return Array.from(g.getImageData(0, 0, 48, 32).data);
+    });
   const settled3 = async (min) => {
-    await page3.waitForFunction((m) => {
-      const f = window.lucent?.state?.lastFrame;
-      return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
-    }, min, { timeout: 60000, polling: 100 });
+    await page3.waitForFunction(
+      (m) => {
+        const f = window.lucent?.state?.lastFrame;
+        return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
+      },
+      min,
+      { timeout: 60000, polling: 100 },
+    );
   };
   const lastFrame = () => page3.evaluate(() => window.lucent.state.lastFrame?.frame ?? 0);
   await page3.goto(`${url}/#dataset=demo:points&position=0,0,60&focalPoint=0,0,0&viewUp=0,1,0`);
   await page3.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
   await settled3(0);
   const pointsAlone = await sig3();
-  check(await page3.evaluate(() => document.querySelectorAll('.layer-row').length === 0 && document.querySelector('.legend-layers').hidden), 'no layers at first');
+  check(
+    await page3.evaluate(
+      () => document.querySelectorAll('.layer-row').length === 0 && document.querySelector('.legend-layers').hidden,
+    ),
+    'no layers at first',
+  );
   let f = await lastFrame();
   await page3.selectOption('#layer-add', name);
-  await page3.waitForFunction(() => /layers=/.test(location.hash), null, { timeout: 30000 }).catch(async (e) => {
-    throw new Error(`${e.message}: ${await page3.evaluate(() => JSON.stringify({ hash: location.hash, update: window.lucent.state.update, toast: document.getElementById('toast').textContent, err: window.lucent.state.error }))}`);
-  });
+  await page3
+    .waitForFunction(() => /layers=/.test(location.hash), null, { timeout: 30000 })
+    .catch(async (e) => {
+      throw new Error(
+        `${e.message}: ${await page3.evaluate(() => JSON.stringify({ hash: location.hash, update: window.lucent.state.update, toast: document.getElementById('toast').textContent, err: window.lucent.state.error }))}`,
+      );
+    });
   await settled3(f);
   const two = await page3.evaluate(() => ({
     rows: [...document.querySelectorAll('.layer-row .layer-name')].map((e) => e.textContent.trim()),
@@ -230,23 +336,42 @@ try {
     layered: document.getElementById('legend').classList.contains('layered'),
     err: window.lucent.state.error,
   }));
-  check(JSON.stringify(two.rows) === JSON.stringify(['demo:points', name]), `adding ${name}: the points stay layer 1 (${two.rows})`);
-  check(JSON.stringify(two.legend) === JSON.stringify(['demo:points', name]) && two.layered, `a legend line per layer (${two.legend})`);
+  check(
+    JSON.stringify(two.rows) === JSON.stringify(['demo:points', name]),
+    `adding ${name}: the points stay layer 1 (${two.rows})`,
+  );
+  check(
+    JSON.stringify(two.legend) === JSON.stringify(['demo:points', name]) && two.layered,
+    `a legend line per layer (${two.legend})`,
+  );
   check(!two.err, `the session draws the two layers (${JSON.stringify(two.err)})`);
   const both = await sig3();
-  check(diff(pointsAlone, both) > 0.3, `the two-layer frame differs from the points alone (${diff(pointsAlone, both).toFixed(2)})`);
+  check(
+    diff(pointsAlone, both) > 0.3,
+    `the two-layer frame differs from the points alone (${diff(pointsAlone, both).toFixed(2)})`,
+  );
   // The layer rows fit a desktop (1280x800) and a phone (390x844): every select and box wide enough to read, no row
   // wider than the panel.
-  for (const [w, h] of [[1280, 800], [390, 844]]) {
+  for (const [w, h] of [
+    [1280, 800],
+    [390, 844],
+  ]) {
     await page3.setViewportSize({ width: w, height: h });
     const fit = await page3.evaluate(() => {
       const rows = [...document.querySelectorAll('.layer-row')];
-      const widths = rows.flatMap((r) => [...r.querySelectorAll('select, input[type=number]')].map((e) => Math.round(e.getBoundingClientRect().width)));
+      const widths = rows.flatMap((r) =>
+        [...r.querySelectorAll('select, input[type=number]')].map((e) => Math.round(e.getBoundingClientRect().width)),
+      );
       const over = rows.filter((r) => r.scrollWidth > r.clientWidth + 1).length;
       return { narrowest: Math.min(...widths), over, count: widths.length };
     });
-    console.log(`layer rows at ${w}x${h}: ${fit.count} controls, the narrowest ${fit.narrowest} px, ${fit.over} rows overflow`);
-    check(fit.count > 0 && fit.narrowest >= 60 && fit.over === 0, `layer rows at ${w}x${h}: narrowest control ${fit.narrowest} px, ${fit.over} rows overflow`);
+    console.log(
+      `layer rows at ${w}x${h}: ${fit.count} controls, the narrowest ${fit.narrowest} px, ${fit.over} rows overflow`,
+    );
+    check(
+      fit.count > 0 && fit.narrowest >= 60 && fit.over === 0,
+      `layer rows at ${w}x${h}: narrowest control ${fit.narrowest} px, ${fit.over} rows overflow`,
+    );
   }
   await page3.setViewportSize({ width: 640, height: 480 });
 
@@ -254,15 +379,29 @@ try {
   await page3.click('.layer-row[data-index="1"] input[type=checkbox]');
   await settled3(f);
   const hidden = await sig3();
-  check(diff(pointsAlone, hidden) < 0.25 * diff(pointsAlone, both), `hiding the dump brings the points' picture back (${diff(pointsAlone, hidden).toFixed(2)} against ${diff(pointsAlone, both).toFixed(2)})`);
-  check(await page3.evaluate(() => document.querySelectorAll('.legend-layer').length === 1), 'the legend lists the visible layer only');
+  check(
+    diff(pointsAlone, hidden) < 0.25 * diff(pointsAlone, both),
+    `hiding the dump brings the points' picture back (${diff(pointsAlone, hidden).toFixed(2)} against ${diff(pointsAlone, both).toFixed(2)})`,
+  );
+  check(
+    await page3.evaluate(() => document.querySelectorAll('.legend-layer').length === 1),
+    'the legend lists the visible layer only',
+  );
   await page3.click('.layer-row[data-index="1"] input[type=checkbox]');
 
   f = await lastFrame();
   await page3.selectOption('.layer-row[data-index="1"] select[aria-label^="Colour attribute"]', 'timestep');
   await page3.selectOption('.layer-row[data-index="1"] select[aria-label^="Role"]', 'context');
   // the link (written 200 ms after a change) carries both changes, and a still newer than both is there
-  await page3.waitForFunction(() => /"role":"context"/.test(decodeURIComponent(location.hash)) && /"attribute":"timestep"/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await page3
+    .waitForFunction(
+      () =>
+        /"role":"context"/.test(decodeURIComponent(location.hash)) &&
+        /"attribute":"timestep"/.test(decodeURIComponent(location.hash)),
+      null,
+      { timeout: 30000 },
+    )
+    .catch(() => {});
   await settled3(f);
   const mapped = await page3.evaluate(() => ({
     legend: document.querySelector(`.legend-layer[data-dataset]:last-child`)?.textContent,
@@ -270,8 +409,14 @@ try {
     hash: decodeURIComponent(location.hash),
   }));
   check(!mapped.err, `colour by timestep and opaque context: no error (${JSON.stringify(mapped.err)})`);
-  check(/\(context\): timestep/.test(mapped.legend) && /190/.test(mapped.legend), `the legend line says context, timestep and its range (${mapped.legend})`);
-  check(/"role":"context"/.test(mapped.hash) && /"attribute":"timestep"/.test(mapped.hash), 'the link carries the role and the colour attribute');
+  check(
+    /\(context\): timestep/.test(mapped.legend) && /190/.test(mapped.legend),
+    `the legend line says context, timestep and its range (${mapped.legend})`,
+  );
+  check(
+    /"role":"context"/.test(mapped.hash) && /"attribute":"timestep"/.test(mapped.hash),
+    'the link carries the role and the colour attribute',
+  );
 
   // The dump's own time window and filter, typed into its row: each goes to the server as layers[1].time /
   // layers[1].filter, changes the picture, and the link carries it.
@@ -284,62 +429,127 @@ try {
   f = await lastFrame();
   await typed('Time window start', '0');
   await typed('Time window end', '40');
-  await page3.waitForFunction(() => /"time":\{"window":\[0,40\]\}/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
-  await settled3(f).catch(async (e) => { throw new Error(`${e.message}: ${await page3.evaluate(() => JSON.stringify({ hash: decodeURIComponent(location.hash), err: window.lucent.state.error, last: window.lucent.state.lastFrame, toast: document.getElementById('toast').textContent }))}`); });
-  const windowed = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
+  await page3
+    .waitForFunction(() => /"time":\{"window":\[0,40\]\}/.test(decodeURIComponent(location.hash)), null, {
+      timeout: 30000,
+    })
+    .catch(() => {});
+  await settled3(f).catch(async (e) => {
+    throw new Error(
+      `${e.message}: ${await page3.evaluate(() => JSON.stringify({ hash: decodeURIComponent(location.hash), err: window.lucent.state.error, last: window.lucent.state.lastFrame, toast: document.getElementById('toast').textContent }))}`,
+    );
+  });
+  const windowed = await page3.evaluate(() => ({
+    err: window.lucent.state.error,
+    hash: decodeURIComponent(location.hash),
+  }));
   const afterWindow = await sig3();
-  check(!windowed.err && /"window":\[0,40\]/.test(windowed.hash), `a time window on the dump layer: no error, in the link (${JSON.stringify(windowed.err)})`);
-  check(diff(beforeWindow, afterWindow) > 0.05, `the window changes the picture (${diff(beforeWindow, afterWindow).toFixed(3)})`);
+  check(
+    !windowed.err && /"window":\[0,40\]/.test(windowed.hash),
+    `a time window on the dump layer: no error, in the link (${JSON.stringify(windowed.err)})`,
+  );
+  check(
+    diff(beforeWindow, afterWindow) > 0.05,
+    `the window changes the picture (${diff(beforeWindow, afterWindow).toFixed(3)})`,
+  );
   f = await lastFrame();
   await page3.selectOption(`${row1} select[aria-label^="Filter attribute"]`, 'timestep');
   await page3.selectOption(`${row1} select[aria-label^="Filter statistic"]`, 'min');
   await typed('Filter value', '5');
-  await page3.waitForFunction(() => /"filter":\[\{"attribute":"timestep"/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await page3
+    .waitForFunction(() => /"filter":\[\{"attribute":"timestep"/.test(decodeURIComponent(location.hash)), null, {
+      timeout: 30000,
+    })
+    .catch(() => {});
   await settled3(f);
-  const filteredLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
-  check(!filteredLayer.err && /"over":"min","gt":5/.test(filteredLayer.hash), `a filter on the dump layer: no error, in the link (${JSON.stringify(filteredLayer.err)}; ${filteredLayer.hash.slice(0, 300)})`);
+  const filteredLayer = await page3.evaluate(() => ({
+    err: window.lucent.state.error,
+    hash: decodeURIComponent(location.hash),
+  }));
+  check(
+    !filteredLayer.err && /"over":"min","gt":5/.test(filteredLayer.hash),
+    `a filter on the dump layer: no error, in the link (${JSON.stringify(filteredLayer.err)}; ${filteredLayer.hash.slice(0, 300)})`,
+  );
   f = await lastFrame();
   await typed('Clusters', '3');
-  await page3.waitForFunction(() => /"lines":\{"clusters":3\}/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await page3
+    .waitForFunction(() => /"lines":\{"clusters":3\}/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 })
+    .catch(() => {});
   await settled3(f);
-  const clusteredLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
-  check(!clusteredLayer.err && /"lines":\{"clusters":3\}/.test(clusteredLayer.hash), `clusters on the dump layer: no error, in the link (${JSON.stringify(clusteredLayer.err)})`);
+  const clusteredLayer = await page3.evaluate(() => ({
+    err: window.lucent.state.error,
+    hash: decodeURIComponent(location.hash),
+  }));
+  check(
+    !clusteredLayer.err && /"lines":\{"clusters":3\}/.test(clusteredLayer.hash),
+    `clusters on the dump layer: no error, in the link (${JSON.stringify(clusteredLayer.err)})`,
+  );
   // the points' own equalized colours (the dump is context: its row has no such box)
-  check(await page3.locator(`${row1} input[aria-label^="Equalize"]`).count() === 0, 'a context layer offers no equalization');
+  check(
+    (await page3.locator(`${row1} input[aria-label^="Equalize"]`).count()) === 0,
+    'a context layer offers no equalization',
+  );
   f = await lastFrame();
   await page3.click('.layer-row[data-index="0"] input[aria-label^="Equalize"]');
-  await page3.waitForFunction(() => /"equalize":true/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 }).catch(() => {});
+  await page3
+    .waitForFunction(() => /"equalize":true/.test(decodeURIComponent(location.hash)), null, { timeout: 30000 })
+    .catch(() => {});
   await settled3(f);
-  const eqLayer = await page3.evaluate(() => ({ err: window.lucent.state.error, hash: decodeURIComponent(location.hash) }));
-  check(!eqLayer.err && /"equalize":true/.test(eqLayer.hash), `the points layer's equalized colours: no error, in the link (${JSON.stringify(eqLayer.err)})`);
+  const eqLayer = await page3.evaluate(() => ({
+    err: window.lucent.state.error,
+    hash: decodeURIComponent(location.hash),
+  }));
+  check(
+    !eqLayer.err && /"equalize":true/.test(eqLayer.hash),
+    `the points layer's equalized colours: no error, in the link (${JSON.stringify(eqLayer.err)})`,
+  );
 
   // The screenshot's and the movie's request (renderRequest, the Record group's too) carries the layers shown.
   await page3.locator('#shot-size').selectOption('custom');
   await page3.locator('#shot-width').fill('64');
   await page3.locator('#shot-height').fill('48');
-  const [shotRequest] = await Promise.all([page3.waitForRequest('**/api/v1/render', { timeout: 30000 }), page3.locator('#screenshot').click()]);
+  const [shotRequest] = await Promise.all([
+    page3.waitForRequest('**/api/v1/render', { timeout: 30000 }),
+    page3.locator('#screenshot').click(),
+  ]);
   await page3.waitForFunction(() => !document.getElementById('screenshot').disabled, null, { timeout: 30000 });
   const shotBody = shotRequest.postData() ?? '{}';
   const shot = JSON.parse(shotBody);
   const shotAnswer = await shotRequest.response();
-  check(shot.layers?.length === 2 && shot.layers[1].role === 'context' && shotAnswer?.status() === 200, `the screenshot's (and the movie's) request draws both layers (${shotAnswer?.status()}: ${shotBody.slice(0, 200)})`);
+  check(
+    shot.layers?.length === 2 && shot.layers[1].role === 'context' && shotAnswer?.status() === 200,
+    `the screenshot's (and the movie's) request draws both layers (${shotAnswer?.status()}: ${shotBody.slice(0, 200)})`,
+  );
 
   const page4 = await context.newPage();
   page4.on('pageerror', (e) => pageErrors.push(e.message));
   await page4.goto(await page3.evaluate(() => location.href));
   await page4.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
-  const reopened = await page4.evaluate(() => ({ rows: document.querySelectorAll('.layer-row').length, server: window.lucent.state.lastReady?.defaults?.layers }));
-  check(reopened.rows === 2 && reopened.server?.length === 2 && reopened.server[1].role === 'context', `the link reopens both layers in a new session (${JSON.stringify(reopened.server?.map((l) => [l.dataset, l.role]))})`);
+  const reopened = await page4.evaluate(() => ({
+    rows: document.querySelectorAll('.layer-row').length,
+    server: window.lucent.state.lastReady?.defaults?.layers,
+  }));
+  check(
+    reopened.rows === 2 && reopened.server?.length === 2 && reopened.server[1].role === 'context',
+    `the link reopens both layers in a new session (${JSON.stringify(reopened.server?.map((l) => [l.dataset, l.role]))})`,
+  );
   await page4.close();
 
   f = await lastFrame();
   await page3.click('.layer-row[data-index="1"] .layer-remove');
   await page3.click('.layer-row[data-index="0"] .layer-remove');
   await settled3(f);
-  const none = await page3.evaluate(() => ({ rows: document.querySelectorAll('.layer-row').length, layered: document.getElementById('legend').classList.contains('layered'), err: window.lucent.state.error }));
+  const none = await page3.evaluate(() => ({
+    rows: document.querySelectorAll('.layer-row').length,
+    layered: document.getElementById('legend').classList.contains('layered'),
+    err: window.lucent.state.error,
+  }));
   const back = await sig3();
   check(none.rows === 0 && !none.layered && !none.err, 'removing both layers returns to the single dataset');
-  check(diff(pointsAlone, back) < 0.25 * diff(pointsAlone, both), `and its picture (${diff(pointsAlone, back).toFixed(2)})`);
+  check(
+    diff(pointsAlone, back) < 0.25 * diff(pointsAlone, both),
+    `and its picture (${diff(pointsAlone, back).toFixed(2)})`,
+  );
   check(pageErrors.length === 0, `no page errors (${pageErrors.join('; ')})`);
 } catch (e) {
   check(false, `exception: ${e.stack ?? e}`);

@@ -41,7 +41,23 @@ function check(cond, what) {
   return cond;
 }
 
-const proc = spawn(binary, ['serve', '--listen', '127.0.0.1:0', '--data', 'demo:tornado', '--demo-size', '150', '--workers', '1', '--cache', 'off'], { stdio: ['ignore', 'pipe', 'pipe'] });
+const proc = spawn(
+  binary,
+  [
+    'serve',
+    '--listen',
+    '127.0.0.1:0',
+    '--data',
+    'demo:tornado',
+    '--demo-size',
+    '150',
+    '--workers',
+    '1',
+    '--cache',
+    'off',
+  ],
+  { stdio: ['ignore', 'pipe', 'pipe'] },
+);
 const lines = [];
 const url = await new Promise((resolve, reject) => {
   const timer = setTimeout(() => reject(new Error(`daemon did not start:\n${lines.join('\n')}`)), 90000);
@@ -61,25 +77,35 @@ const url = await new Promise((resolve, reject) => {
 });
 process.on('exit', () => proc.kill('SIGKILL'));
 
-const browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: ['--headless', '--no-sandbox', '--disable-gpu'] });
+const browser = await chromium.launch({
+  executablePath: chromiumPath,
+  headless: true,
+  args: ['--headless', '--no-sandbox', '--disable-gpu'],
+});
 const pageErrors = [];
 try {
   const context = await browser.newContext({ viewport: { width: 900, height: 700 } });
   const page = await context.newPage();
   page.on('pageerror', (e) => pageErrors.push(e.message));
-  const settled = (min = -1) => page.waitForFunction((m) => {
-    const f = window.lucent?.state?.lastFrame;
-    return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
-  }, min, { timeout: 60000, polling: 100 });
+  const settled = (min = -1) =>
+    page.waitForFunction(
+      (m) => {
+        const f = window.lucent?.state?.lastFrame;
+        return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
+      },
+      min,
+      { timeout: 60000, polling: 100 },
+    );
   const newest = () => page.evaluate(() => window.lucent.state.lastFrame?.frame ?? -1);
-  const sig = () => page.evaluate(() => {
-    const c = document.createElement('canvas');
-    c.width = 48;
-    c.height = 32;
-    const g = c.getContext('2d');
-    g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
-    return Array.from(g.getImageData(0, 0, 48, 32).data);
-  });
+  const sig = () =>
+    page.evaluate(() => {
+      const c = document.createElement('canvas');
+      c.width = 48;
+      c.height = 32;
+      const g = c.getContext('2d');
+      g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
+      return Array.from(g.getImageData(0, 0, 48, 32).data);
+    });
   const diff = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
   const rowHidden = (id) => page.evaluate((i) => document.getElementById(i)?.closest('.row')?.hidden ?? null, id);
   // Typed, then left (the blur fires the box's change event once, as a user's Tab does).
@@ -92,9 +118,18 @@ try {
   await page.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
   await settled();
   const plain = await sig();
-  const ids = ['ctl-style-shadow', 'ctl-style-shadowLight', 'ctl-style-shadowColored', 'ctl-style-ground', 'ctl-style-smartTransparency'];
+  const ids = [
+    'ctl-style-shadow',
+    'ctl-style-shadowLight',
+    'ctl-style-shadowColored',
+    'ctl-style-ground',
+    'ctl-style-smartTransparency',
+  ];
   const shown = await Promise.all(ids.map(rowHidden));
-  check(shown.every((h) => h === false), `the Style panel shows the shadow and smart transparency controls (hidden: ${JSON.stringify(shown)})`);
+  check(
+    shown.every((h) => h === false),
+    `the Style panel shows the shadow and smart transparency controls (hidden: ${JSON.stringify(shown)})`,
+  );
 
   let f0 = await newest();
   await setNumber('#ctl-style-shadow ~ input.num', 0.8);
@@ -102,7 +137,10 @@ try {
   await settled(f0);
   const shadowed = await sig();
   check(!(await page.evaluate(() => window.lucent.state.error)), 'the server takes style.shadow');
-  check(diff(plain, shadowed) > 0.5, `the shadow on the ground changes the picture (mean difference ${diff(plain, shadowed).toFixed(2)})`);
+  check(
+    diff(plain, shadowed) > 0.5,
+    `the shadow on the ground changes the picture (mean difference ${diff(plain, shadowed).toFixed(2)})`,
+  );
 
   f0 = await newest();
   await setNumber('input[name="style.shadowLight.0"]', 0);
@@ -112,7 +150,10 @@ try {
   await settled(f0);
   const tilted = await sig();
   check(!(await page.evaluate(() => window.lucent.state.error)), 'the server takes style.shadowLight');
-  check(diff(shadowed, tilted) > 0.5, `another light moves the ground and its shadow (${diff(shadowed, tilted).toFixed(2)})`);
+  check(
+    diff(shadowed, tilted) > 0.5,
+    `another light moves the ground and its shadow (${diff(shadowed, tilted).toFixed(2)})`,
+  );
 
   f0 = await newest();
   await setNumber('#ctl-style-smartTransparency ~ input.num', 1);
@@ -124,9 +165,15 @@ try {
   f0 = await newest();
   await page.selectOption('#ctl-method', 'exact');
   await settled(f0);
-  const exact = await page.evaluate(() => ({ err: window.lucent.state.error, method: window.lucent.state.lastFrame?.method }));
+  const exact = await page.evaluate(() => ({
+    err: window.lucent.state.error,
+    method: window.lucent.state.lastFrame?.method,
+  }));
   const hidden = await Promise.all(ids.map(rowHidden));
-  check(hidden.every((h) => h === true), `under the exact method their rows are hidden (${JSON.stringify(hidden)})`);
+  check(
+    hidden.every((h) => h === true),
+    `under the exact method their rows are hidden (${JSON.stringify(hidden)})`,
+  );
   check(!exact.err, `and the exact method streams without an error (${JSON.stringify(exact.err)})`);
   f0 = await newest();
   await page.selectOption('#ctl-method', 'fourier');
@@ -136,9 +183,15 @@ try {
   page2.on('pageerror', (e) => pageErrors.push(e.message));
   await page2.goto(`${url}/#dataset=demo:tornado&shadow=0.6&shadowColored=true`);
   await page2.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });
-  const st2 = await page2.evaluate(() => ({ v: document.querySelector('#ctl-style-shadow ~ input.num')?.value, colored: document.getElementById('ctl-style-shadowColored')?.checked, defaults: window.lucent.state.lastReady?.defaults?.style }));
-  check(st2.v === '0.6' && st2.colored === true && st2.defaults?.shadow === 0.6 && st2.defaults?.shadowColored === true,
-    `a link with shadow=0.6 reopens with the slider and the session there (${JSON.stringify(st2)})`);
+  const st2 = await page2.evaluate(() => ({
+    v: document.querySelector('#ctl-style-shadow ~ input.num')?.value,
+    colored: document.getElementById('ctl-style-shadowColored')?.checked,
+    defaults: window.lucent.state.lastReady?.defaults?.style,
+  }));
+  check(
+    st2.v === '0.6' && st2.colored === true && st2.defaults?.shadow === 0.6 && st2.defaults?.shadowColored === true,
+    `a link with shadow=0.6 reopens with the slider and the session there (${JSON.stringify(st2)})`,
+  );
   check(pageErrors.length === 0, `no page errors (${pageErrors.join('; ')})`);
 } catch (e) {
   check(false, `exception: ${e.stack ?? e}`);

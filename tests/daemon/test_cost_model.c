@@ -102,7 +102,8 @@ static void test_estimates(void)
     /* exact: list pass 1 (2 units a fragment) and the blend (2) once more, one more draw. */
     lc_render_params ex = params(LC_METHOD_EXACT, LC_DEPTH_RANGE_GLOBAL), exq = ex;
     exq.color.equalize = true;
-    double de = lc_cost_estimate(&st, &exq) - lc_cost_estimate(&st, &ex), want_eq = LC_COST_EQUALIZE_FACTOR * (frags * 4 + image * 2 + 101000.0);
+    double de = lc_cost_estimate(&st, &exq) - lc_cost_estimate(&st, &ex),
+           want_eq = LC_COST_EQUALIZE_FACTOR * (frags * 4 + image * 2 + 101000.0);
     CHECK_NEAR(de, want_eq, 1e-9 * want_eq, "exact, color.equalize: list pass 1 and the blend again");
     p.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
 

@@ -12,10 +12,10 @@
 #include "detail_ladder.h"
 #include "lc_test.h"
 #include "still_stages.h"
-#include "stream_session.h"
 #include "stream.h"
 #include "stream_fit.h"
 #include "stream_flow.h"
+#include "stream_session.h"
 
 static lc_server srv;
 
@@ -210,8 +210,10 @@ static void test_staged(lc_session *s)
           "then the full still");
     /* That preview took 100 ms at stride `want`: full detail would be 100 / share, within the budget. */
     n = move_and_settle(s, 16, 600, 6000, st);
-    CHECK(n == 2 && d0->reuse_opacities && d0->line_stride <= 1, "a stage 1 whose full detail fits is not "
-          "thinned (stride %d)", n > 0 ? d0->line_stride : -1);
+    CHECK(n == 2 && d0->reuse_opacities && d0->line_stride <= 1,
+          "a stage 1 whose full detail fits is not "
+          "thinned (stride %d)",
+          n > 0 ? d0->line_stride : -1);
     /* Full detail at 600 ms measured; now 4 s: the stride follows, and never thinner than the moving frames. */
     n = move_and_settle(s, 16, 4000, 6000, st);
     n = move_and_settle(s, 2, 100, 6000, st);
@@ -223,8 +225,10 @@ static void test_staged(lc_session *s)
     pthread_mutex_unlock(&s->lock);
     want = expected_stride(6000, budget);
     n = move_and_settle(s, 64, 100, 6000, st);
-    CHECK(n == 2 && d0->line_stride == want, "without a measured stage 1 the whole still's time picks the stride "
-          "(%d, want %d)", n > 0 ? d0->line_stride : -1, want);
+    CHECK(n == 2 && d0->line_stride == want,
+          "without a measured stage 1 the whole still's time picks the stride "
+          "(%d, want %d)",
+          n > 0 ? d0->line_stride : -1, want);
     /* A still within the budget comes whole. */
     n = move_and_settle(s, 16, 100, 0.5 * budget, st);
     n = move_and_settle(s, 16, 100, 0.5 * budget, st);
@@ -424,8 +428,8 @@ static void test_flow_window(void)
     CHECK(f.window == 2, "a longer round trip waits for the lower one to age (%d, rtt %.3f)", f.window, f.rtt);
     t += LC_FLOW_RTT_HORIZON;
     flow_frames(&f, 1, 0.030, 0.100, &t, &id);
-    CHECK(fabs(f.rtt - 0.100) < 1e-9 && f.window == 5, "100 ms round trip, 30 ms frames: 5 (%d, rtt %.3f)",
-          f.window, f.rtt);
+    CHECK(fabs(f.rtt - 0.100) < 1e-9 && f.window == 5, "100 ms round trip, 30 ms frames: 5 (%d, rtt %.3f)", f.window,
+          f.rtt);
     t += LC_FLOW_RTT_HORIZON;
     flow_frames(&f, 1, 0.030, 0.300, &t, &id);
     CHECK(f.window == LC_PROTO_MAX_WINDOW, "300 ms: the ceiling %d (%d)", LC_PROTO_MAX_WINDOW, f.window);
@@ -462,8 +466,7 @@ static void test_flow_window(void)
     lc_stream_flow_sent(&f, 10, true, 10000, 1.0);
     lc_stream_flow_sent(&f, 11, true, 10000, 1.09);
     lc_stream_flow_acked(&f, 10, 1.1);
-    CHECK(fabs(f.rtt - 0.1) < 1e-9 && f.nsent == 1 && f.sent_id[0] == 11, "the older frame's round trip (%.3f)",
-          f.rtt);
+    CHECK(fabs(f.rtt - 0.1) < 1e-9 && f.nsent == 1 && f.sent_id[0] == 11, "the older frame's round trip (%.3f)", f.rtt);
     /* A frame that never goes out is forgotten; an ack the server makes itself is no sample. */
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
     lc_stream_flow_sent(&f, 7, true, 10000, 1.0);
@@ -479,8 +482,7 @@ static void test_session_window(void)
     lc_stream_conn conn = {.authed = true};
     char reply[4096];
     lc_stream_outcome o = send_text(
-        &conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":100,\"height\":80}", reply,
-        sizeof reply);
+        &conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":100,\"height\":80}", reply, sizeof reply);
     CHECK(o.opened && strstr(reply, "\"window\":8"), "a hello without window: ceiling 8 (%s)", reply);
     lc_session *s = conn.session;
     if (!s)
@@ -496,8 +498,7 @@ static void test_session_window(void)
             break;
         }
         finish(s, &f, true);
-        CHECK(lc_session_stream_client_ack(s, f.frame, lc_now() + 0.190), "ack of %llu",
-              (unsigned long long)f.frame);
+        CHECK(lc_session_stream_client_ack(s, f.frame, lc_now() + 0.190), "ack of %llu", (unsigned long long)f.frame);
     }
     CHECK(s->stream.window == 5, "190 ms round trip, 50 ms frames: window 5 (%d, rtt %.3f, frame %.3f)",
           s->stream.window, s->stream.flow.rtt, s->stream.flow.frame_s);
@@ -528,7 +529,6 @@ static void test_session_window(void)
     lc_session_close(srv.sessions, s);
     lc_session_unref(s);
 }
-
 
 /* A FIFO link on a simulated clock: one-way delay d, rate bytes/s. Frames of
  * `bytes` are made every `interval` (once the window lets them) and handed
@@ -660,9 +660,8 @@ static void test_link_fit(void)
     int steps = 0;
     while (steps < 10 && ref.quality < 85) {
         lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
-        CHECK(fit.scale == 1 && fit.target == 1.25 * ref.bytes && ref.bytes / lc_fit_jpeg_share(ref.quality) *
-                                                                         lc_fit_jpeg_share(fit.quality) <=
-                                                                     fit.target + 1e-9,
+        CHECK(fit.scale == 1 && fit.target == 1.25 * ref.bytes &&
+                  ref.bytes / lc_fit_jpeg_share(ref.quality) * lc_fit_jpeg_share(fit.quality) <= fit.target + 1e-9,
               "a probe step stays within a quarter more bytes (%d -> %d)", ref.quality, fit.quality);
         ref.bytes *= lc_fit_jpeg_share(fit.quality) / lc_fit_jpeg_share(ref.quality);
         ref.quality = fit.quality, steps++;
@@ -677,7 +676,8 @@ static void test_link_fit(void)
     lc_stream_fit(0, 0, 0.070, &ref, 1e5, 85, &fit);
     double per_share = 10000 / lc_fit_jpeg_share(45) * 0.5;
     CHECK(fabs(fit.target - 6250) < 1e-6 && fit.quality > 45 && fit.quality < 70 &&
-              per_share * lc_fit_jpeg_share(fit.quality) <= 6250 && per_share * lc_fit_jpeg_share(fit.quality + 1) > 6250,
+              per_share * lc_fit_jpeg_share(fit.quality) <= 6250 &&
+              per_share * lc_fit_jpeg_share(fit.quality + 1) > 6250,
           "half the pixels: quality %d, %.0f B", fit.quality, fit.target);
     /* Measured 2 Mbit/s against a 70 ms budget: 7 kB a frame (28 ms of it).
      * 10 kB at 85 -> quality drops, size stays. */
@@ -686,8 +686,8 @@ static void test_link_fit(void)
     lc_stream_fit(250000, 0, 0.070, &ref, 1e5, 85, &fit);
     per_share = 10000 / lc_fit_jpeg_share(85);
     CHECK(fabs(fit.target - t2) < 1e-6 && fabs(t2 - 7000) < 1e-6 && fit.scale == 1 &&
-              fit.quality > LC_FIT_MIN_QUALITY && fit.quality < 70 && per_share * lc_fit_jpeg_share(fit.quality) <= t2 &&
-              per_share * lc_fit_jpeg_share(fit.quality + 1) > t2,
+              fit.quality > LC_FIT_MIN_QUALITY && fit.quality < 70 &&
+              per_share * lc_fit_jpeg_share(fit.quality) <= t2 && per_share * lc_fit_jpeg_share(fit.quality + 1) > t2,
           "2 Mbit/s: the highest quality that fits, full size (%d)", fit.quality);
     /* 0.5 Mbit/s: 1.75 kB; quality 30 does not fit: the floor, and the side by the square root. */
     lc_stream_fit(62500, 0, 0.070, &ref, 1e5, 85, &fit);

@@ -51,8 +51,7 @@ int main(void)
     pthread_create(&th, NULL, end_later, &e);
     waited = lc_yield_wait(&g, &B);
     pthread_join(th, NULL);
-    CHECK(waited >= 0.1 + GAP - 0.02 && waited < MAX_WAIT - 0.5, "waits for the frame and the gap: %.3f s",
-          waited);
+    CHECK(waited >= 0.1 + GAP - 0.02 && waited < MAX_WAIT - 0.5, "waits for the frame and the gap: %.3f s", waited);
     double now = lc_now();
     CHECK(!lc_yield_busy(&g, &B, now), "quiet after the gap");
 

@@ -71,8 +71,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     memcpy(file, base[b], base_len[b]);
     for (size_t i = 1; i + 5 <= size; i += 5) {
-        uint32_t at = (uint32_t)data[i] | (uint32_t)data[i + 1] << 8 | (uint32_t)data[i + 2] << 16 |
-                      (uint32_t)data[i + 3] << 24;
+        uint32_t at =
+            (uint32_t)data[i] | (uint32_t)data[i + 1] << 8 | (uint32_t)data[i + 2] << 16 | (uint32_t)data[i + 3] << 24;
         file[at % base_len[b]] = data[i + 4];
     }
     FILE *f = fopen(path, "wb");

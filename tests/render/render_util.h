@@ -38,8 +38,8 @@ static inline void test_gl_open(test_gl *t)
 }
 
 /* One frame of gs at dt = 1/30 s with the state st (NULL: none); a failure fails the test. */
-static inline void test_render_frame(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p,
-                                     lc_frame_state *st, uint8_t *rgba, lc_frame_info *info)
+static inline void test_render_frame(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, lc_frame_state *st,
+                                     uint8_t *rgba, lc_frame_info *info)
 {
     lc_error err = {0};
     int rc = lc_render_frame(t->renderer, gs, p, st, 1.0 / 30, rgba, info, &err);

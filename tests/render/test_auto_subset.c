@@ -112,8 +112,10 @@ static void check_stack(test_gl *t, int n, double hi, double lo)
      * once: the sums below must still be the whole frame's after the last try. */
     render_clarity(t, gs, 8, LC_NORMALIZE_AUTO, 1, 0.99, &info, a);
     printf("%d quads, clarity 0.99: %d tries, P1 drawn %d time(s)\n", n, info.clarity_tries, info.importance_passes);
-    CHECK(info.clarity_tries >= 1 && info.importance_passes == 1, "%d quads: the loop tried %d strengths and P1 ran "
-          "%d times (once)", n, info.clarity_tries, info.importance_passes);
+    CHECK(info.clarity_tries >= 1 && info.importance_passes == 1,
+          "%d quads: the loop tried %d strengths and P1 ran "
+          "%d times (once)",
+          n, info.clarity_tries, info.importance_passes);
     most_tries = info.clarity_tries > most_tries ? info.clarity_tries : most_tries;
     int stride = info.p1_subset;
     size_t count = lc_renderer_read_targets(t->renderer, 0, NULL, 0);

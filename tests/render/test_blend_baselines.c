@@ -24,8 +24,7 @@ static void expected_pixel(const test_quad *q, int n, const lc_render_params *p,
 }
 
 /* Renders the stack with method m and returns the worst channel error of the image. */
-static double check_stack(test_gl *t, const test_quad *q, int n, lc_method m, lc_estimator est,
-                          lc_depth_range range)
+static double check_stack(test_gl *t, const test_quad *q, int n, lc_method m, lc_estimator est, lc_depth_range range)
 {
     lc_scene *s = test_quad_scene(q, n);
     CHECK(s != NULL, "scene");
@@ -55,8 +54,7 @@ static double check_stack(test_gl *t, const test_quad *q, int n, lc_method m, lc
            range == LC_DEPTH_RANGE_PIXEL     ? "pixel  "
            : range == LC_DEPTH_RANGE_MOMENTS ? "moments"
                                              : "global ",
-           want[0], want[1], want[2],
-           worst);
+           want[0], want[1], want[2], worst);
     free(rgba);
     lc_scene_destroy(s);
     return worst;

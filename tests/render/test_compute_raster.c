@@ -62,8 +62,8 @@ static void render(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p
 }
 
 /* Renders p drawn and computed; checks which path each took and the images. */
-static void check_case(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, const char *name,
-                       double min_ssim, double max_off, uint8_t *drawn, uint8_t *computed)
+static void check_case(test_gl *t, const lc_gpu_scene *gs, const lc_render_params *p, const char *name, double min_ssim,
+                       double max_off, uint8_t *drawn, uint8_t *computed)
 {
     lc_frame_info di, ci;
     render(t, gs, p, 0, drawn, &di);

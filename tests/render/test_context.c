@@ -203,7 +203,8 @@ int main(void)
         p.style.antialias = k ? 4 : 1;
         if (draw(&t, scenes, layers, &p, img, NULL) != 0)
             continue;
-        const uint8_t *bg = img + 4 * (SIZE - 1), *fill = img + 4 * ((SIZE * 3 / 4) * SIZE + SIZE / 4); /* top right; in the plane */
+        const uint8_t *bg = img + 4 * (SIZE - 1),
+                      *fill = img + 4 * ((SIZE * 3 / 4) * SIZE + SIZE / 4); /* top right; in the plane */
         for (int i = 0; i < SIZE * SIZE; i++)
             between[k] += memcmp(img + 4 * i, bg, 3) != 0 && memcmp(img + 4 * i, fill, 3) != 0;
     }

@@ -40,9 +40,9 @@ static void still_frames(test_gl *t, const char *name, uint8_t *a, uint8_t *b)
     p.detail.lod_pixels = LC_DEFAULT_LOD_PIXELS;
     test_render_frame(t, gs, &p, NULL, b, &lod);
     double ssim = lc_image_ssim(a, b, SIZE, SIZE);
-    printf("demo:%-8s %d levels; default %.2g px: level %d, %llu of %llu segments, SSIM %.4f vs every segment\n",
-           name, lc_gpu_scene_levels(gs), LC_DEFAULT_LOD_PIXELS, lod.lod_level,
-           (unsigned long long)lod.primitives_drawn, (unsigned long long)full.primitives_drawn, ssim);
+    printf("demo:%-8s %d levels; default %.2g px: level %d, %llu of %llu segments, SSIM %.4f vs every segment\n", name,
+           lc_gpu_scene_levels(gs), LC_DEFAULT_LOD_PIXELS, lod.lod_level, (unsigned long long)lod.primitives_drawn,
+           (unsigned long long)full.primitives_drawn, ssim);
     CHECK(full.lod_level == 0 && full.primitives_drawn == lc_scene_primitive_count(s), "lod 0 drew level %d",
           full.lod_level);
     CHECK(lod.lod_level > 0 && lod.primitives_drawn * 2 < full.primitives_drawn,
@@ -173,8 +173,8 @@ static void point_stride(test_gl *t, uint8_t *a, uint8_t *b)
            ssim_uniform, some.kept_points);
     CHECK(ssim_uniform > 0.5 && ssim_uniform < 0.9999, "stride 4 SSIM %.4f (expected a thinner but similar picture)",
           ssim_uniform);
-    CHECK(ssim >= ssim_uniform - 1e-3 && ssim < 0.9999, "keeping the important points: SSIM %.4f vs %.4f uniform",
-          ssim, ssim_uniform);
+    CHECK(ssim >= ssim_uniform - 1e-3 && ssim < 0.9999, "keeping the important points: SSIM %.4f vs %.4f uniform", ssim,
+          ssim_uniform);
     /* The floor: a point per LC_POINT_SUBSET_PIXELS pixels (8192 at 256x256).
      * Stride 16 would leave 2500 of the 40000: it halves to 4 (10000). */
     p.detail.point_stride = 16;
@@ -242,7 +242,8 @@ static void important_cluster(test_gl *t, uint8_t *a, uint8_t *b)
     }
     double s_uniform = lc_image_ssim(all, a, 256, 256), s_kept = lc_image_ssim(all, b, 256, 256);
     printf("important cluster, every %dth point: %d pixels show it (all points), %d kept in full, %d thinned "
-           "uniformly; SSIM %.4f vs %.4f\n", STRIDE, n_all, n_kept, n_uniform, s_kept, s_uniform);
+           "uniformly; SSIM %.4f vs %.4f\n",
+           STRIDE, n_all, n_kept, n_uniform, s_kept, s_uniform);
     CHECK(n_all > 20 && abs(n_kept - n_all) * 5 <= n_all, "kept in full, the cluster shows in %d pixels, all in %d",
           n_kept, n_all);
     CHECK(n_uniform * 2 < n_all, "thinned uniformly, the cluster shows in %d pixels, all in %d", n_uniform, n_all);

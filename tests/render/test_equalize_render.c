@@ -380,7 +380,8 @@ static void test_layers(test_gl *t, const lc_gpu_scene *gs)
     const lc_gpu_scene *scenes[2] = {gs, gs};
     int rc = lc_render_frame(t->renderer, gs, &p, NULL, 0, plain, NULL, &err);
     rc = rc ? rc : lc_render_layers(t->renderer, scenes, l, 1, &q, NULL, 0, layered, NULL, &err);
-    CHECK(rc == 0 && memcmp(plain, layered, n) == 0, "one equalized layer equals the plain equalized frame (%s)", err.msg);
+    CHECK(rc == 0 && memcmp(plain, layered, n) == 0, "one equalized layer equals the plain equalized frame (%s)",
+          err.msg);
     lc_frame_state *sa, *sb;
     uint32_t elements = 0;
     {
@@ -392,7 +393,8 @@ static void test_layers(test_gl *t, const lc_gpu_scene *gs)
     for (int k = 0; k < 2 && rc == 0; k++) { /* the second frame draws with the transfer the first left */
         rc = lc_render_frame(t->renderer, gs, &p, sa, 0.1, plain, NULL, &err);
         rc = rc ? rc : lc_render_layers(t->renderer, scenes, l, 1, &q, sb, 0.1, layered, NULL, &err);
-        CHECK(rc == 0 && memcmp(plain, layered, n) == 0, "session frame %d: the equalized layer equals the plain frame", k);
+        CHECK(rc == 0 && memcmp(plain, layered, n) == 0, "session frame %d: the equalized layer equals the plain frame",
+              k);
     }
     lc_frame_state_destroy(sa);
     lc_frame_state_destroy(sb);

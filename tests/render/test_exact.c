@@ -225,16 +225,15 @@ static void check_reduction(test_gl *t)
         /* Per pixel at most floor(budget / alpha) faint fragments fit the budget. */
         uint64_t most = (uint64_t)floor(0.5 / 255.0 / f[0].alpha) * SIZE * SIZE;
         CHECK(f[0].alpha < 1.0 / 255.0, "the faint quads' opacity %g is below 1/255", f[0].alpha);
-        CHECK(info.reduced_fragments > 0 && info.reduced_fragments <= most,
-              "reduced %llu fragments, want 1..%llu", (unsigned long long)info.reduced_fragments,
-              (unsigned long long)most);
+        CHECK(info.reduced_fragments > 0 && info.reduced_fragments <= most, "reduced %llu fragments, want 1..%llu",
+              (unsigned long long)info.reduced_fragments, (unsigned long long)most);
         CHECK(info.fragments == (uint64_t)N * SIZE * SIZE, "fragments %llu count the reduced too",
               (unsigned long long)info.fragments);
         CHECK(worst <= 1.0 / 255.0, "reduction: worst pixel error %.5f (%.2f grey levels)", worst, worst * 255);
         printf("reduction: %llu of %llu fragments left out (at most %llu fit the budget), worst error %.2f grey "
                "levels\n",
-               (unsigned long long)info.reduced_fragments, (unsigned long long)info.fragments,
-               (unsigned long long)most, worst * 255);
+               (unsigned long long)info.reduced_fragments, (unsigned long long)info.fragments, (unsigned long long)most,
+               worst * 255);
     }
     lc_scene_destroy(s);
 }
@@ -252,8 +251,8 @@ static lc_scene *hairpin_scene(int crossing)
     int nv = 4 + (crossing ? 2 : 0);
     if (!s || lc_scene_alloc_vertices(s, (uint32_t)nv, 1, &err) != 0)
         return NULL;
-    const float pts[6][3] = {{-0.8f, 0, 0}, {0.8f, 0, 0}, {0.8f, 0, -0.5f}, {-0.8f, 0, -0.5f}, {0.2f, -0.8f, 0.5f},
-                             {0.2f, 0.8f, 0.5f}};
+    const float pts[6][3] = {{-0.8f, 0, 0},     {0.8f, 0, 0},        {0.8f, 0, -0.5f},
+                             {-0.8f, 0, -0.5f}, {0.2f, -0.8f, 0.5f}, {0.2f, 0.8f, 0.5f}};
     float *g = malloc(sizeof(float) * 6); /* the scene takes it */
     for (int v = 0; v < nv; v++) {
         memcpy(s->positions + 3 * v, pts[v], sizeof pts[v]);
@@ -309,8 +308,8 @@ static void check_exclude_self(test_gl *t)
         /* Eq. 10 at g = 0.5 over the hairpin's overlap: one leg's g^2 = 0.25 in front of the back leg (r) and
          * behind the front leg (q); the crossing line (g = 0.5, in front of both legs) adds 0.25 in front. */
         double c = crossing ? 0.25 : 0.0;
-        double with_self = fmin(lc_foo_optimal_alpha(0.5, 0.25 + c, 0, 60, 500, 1),
-                                lc_foo_optimal_alpha(0.5, c, 0.25, 60, 500, 1));
+        double with_self =
+            fmin(lc_foo_optimal_alpha(0.5, 0.25 + c, 0, 60, 500, 1), lc_foo_optimal_alpha(0.5, c, 0.25, 60, 500, 1));
         double without = lc_foo_optimal_alpha(0.5, c, 0, 60, 500, 1);
         printf("hairpin%s: alpha %.4f (cpu %.4f) summing itself, %.4f (cpu %.4f) with excludeSelf\n",
                crossing ? " under a crossing line" : "", alpha[0], with_self, alpha[1], without);

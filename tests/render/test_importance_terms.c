@@ -215,8 +215,8 @@ static void check_filter(test_gl *t, const lc_scene *all)
             break;
         int d = differing(want, got);
         double ssim = lc_image_ssim(want, got, SIZE, SIZE);
-        printf("%s filter (%d of %d lines kept): %d differing bytes, SSIM %.6f\n", lc_method_name(method), kept,
-               LINES, d, ssim);
+        printf("%s filter (%d of %d lines kept): %d differing bytes, SSIM %.6f\n", lc_method_name(method), kept, LINES,
+               d, ssim);
         if (method == LC_METHOD_EXACT)
             CHECK(d == 0, "exact: the filtered scene differs from the reduced file in %d bytes", d);
         else

@@ -206,9 +206,12 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
             w_right += x > SIZE * 3 / 4 && pb[0] + pb[1] + pb[2] < 3 * 250; /* the window's far end: nothing */
         }
     printf("  under the time window [0, %d]: stride %d, the bundle shows in %d pixels (every line: %d), %d pixels "
-           "drawn past the window\n", SEGS / 2, info.line_stride, w_kept, w_all, w_right);
-    CHECK(info.line_stride == STRIDE && w_all > 50 && abs(w_kept - w_all) * 10 <= w_all && w_kept < n_kept && w_right == 0,
-          "time window: stride %d, the bundle in %d pixels thinned, %d with every line, %d without the window; %d past it",
+           "drawn past the window\n",
+           SEGS / 2, info.line_stride, w_kept, w_all, w_right);
+    CHECK(info.line_stride == STRIDE && w_all > 50 && abs(w_kept - w_all) * 10 <= w_all && w_kept < n_kept &&
+              w_right == 0,
+          "time window: stride %d, the bundle in %d pixels thinned, %d with every line, %d without the window; %d past "
+          "it",
           info.line_stride, w_kept, w_all, n_kept, w_right);
     p.time.has_window = false;
     lc_frame_state_destroy(st);

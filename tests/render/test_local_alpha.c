@@ -133,11 +133,9 @@ static void test_sphere(test_gl *t)
         }
     CHECK(centre <= 0.015, "angle: alpha at the centre %.4f, want 0 (0.012 at the central pixels)", centre);
     CHECK(rim >= 0.79, "angle: alpha toward the rim %.3f, want -> 1 (0.80 at u 0.95)", rim);
-    CHECK(worst <= 0.03, "angle: pixels against (1 - (2/pi) arcsin u)^2: worst error %.4f at u = %.3f", worst,
-          worst_u);
-    printf("angle: alpha at the centre %.4f, at u 0.95..0.98 at least %.3f, worst pixel error %.4f at u %.3f\n",
-           centre, rim, worst,
-           worst_u);
+    CHECK(worst <= 0.03, "angle: pixels against (1 - (2/pi) arcsin u)^2: worst error %.4f at u = %.3f", worst, worst_u);
+    printf("angle: alpha at the centre %.4f, at u 0.95..0.98 at least %.3f, worst pixel error %.4f at u %.3f\n", centre,
+           rim, worst, worst_u);
 
     /* Constant: every covered pixel is (1 - c)^2. */
     direct_params(&p, LC_ALPHA_CONSTANT);

@@ -130,7 +130,6 @@ int main(void)
     sp.composite = LC_SURFACE_COMPOSITE_WEIGHTED_AVERAGE;
     CHECK(lc_surface_render(f, &seed, &sp, &p, 2, wavg, &si, NULL, &err) == 0, "weighted average: %s", err.msg);
 
-
     /* Exact method, one opacity for every fragment: q = r = 0 leave alpha = t. */
     p.method = LC_METHOD_EXACT;
     p.has_camera = true;

@@ -274,8 +274,8 @@ static void check_markers(test_gl *t, const lc_scene *s)
     rc |= render(t, s, &p, with, &err);
     int half = differing(with, without);
     printf("marker pixels (bytes changed): %d at full size, %d at pixel_scale 0.5\n", full, half);
-    CHECK(rc == 0 && half > 0 && half < 0.6 * full, "markers at pixel_scale 0.5 cover less: %d against %d bytes",
-          half, full);
+    CHECK(rc == 0 && half > 0 && half < 0.6 * full, "markers at pixel_scale 0.5 cover less: %d against %d bytes", half,
+          full);
     /* Antialiased and tiled stills draw the markers over every sample and tile:
      * the antialiased markers light their pixels, the tiled frame equals the untiled one. */
     static uint8_t tiled[SIZE * SIZE * 4];
@@ -286,7 +286,8 @@ static void check_markers(test_gl *t, const lc_scene *s)
     p.style.antialias = 4;
     rc |= render(t, s, &p, tiled, &err);
     double frac;
-    const uint8_t *on = pixel(tiled, marker_x(2, &frac), line_y(2)), *plain = pixel(with, marker_x(2, &frac), line_y(2));
+    const uint8_t *on = pixel(tiled, marker_x(2, &frac), line_y(2)),
+                  *plain = pixel(with, marker_x(2, &frac), line_y(2));
     printf("antialias 4: marker of line 2 at %d %d %d (one sample: %d %d %d)\n", on[0], on[1], on[2], plain[0],
            plain[1], plain[2]);
     CHECK(rc == 0 && on[0] + on[1] + on[2] > 0, "markers with antialias 4 light the marker's pixel (%s)", err.msg);
@@ -353,7 +354,8 @@ static int render_layers(test_gl *t, const lc_scene *const *scenes, const lc_lay
     lc_gpu_scene_desc desc = {.exact_positions = 1};
     int rc = 0;
     for (int i = 0; i < n && rc == 0; i++) /* the same scene twice: one upload */
-        rc = i > 0 && scenes[i] == scenes[i - 1] ? (gs[i] = gs[i - 1], 0) : lc_gpu_scene_create_ex(scenes[i], &desc, &gs[i], err);
+        rc = i > 0 && scenes[i] == scenes[i - 1] ? (gs[i] = gs[i - 1], 0)
+                                                 : lc_gpu_scene_create_ex(scenes[i], &desc, &gs[i], err);
     if (rc == 0)
         rc = lc_render_layers(t->renderer, (const lc_gpu_scene *const *)gs, layers, n, p, NULL, 0, rgba, NULL, err);
     for (int i = 0; i < n; i++)
@@ -432,7 +434,8 @@ static void check_layered(test_gl *t, const lc_scene *all, const lc_scene *part)
         p.style.antialias = 2;
         rc = rc ? rc : render_layers(t, whole, layers, 3, &p, together, &err);
         printf("window, clusters, equalize, filter, context and antialias in one layered frame: %d bytes differ from "
-               "the plain layers\n", rc ? -1 : differing(open, together));
+               "the plain layers\n",
+               rc ? -1 : differing(open, together));
         CHECK(rc == 0 && differing(open, together) > 0, "every section together: %s", err.msg);
     }
     /* One dataset twice, two masks: the window on one layer, the filter on the other. */

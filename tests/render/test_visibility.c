@@ -156,8 +156,8 @@ static void check_important_quads(test_gl *t, const char *what, const test_quad 
         const char *m = lc_method_name(method);
         printf("%s, %s: importantOccluded %.4f (cpu %.4f) of %llu important fragments\n", what, m,
                info.important_occluded, want, (unsigned long long)info.important_fragments);
-        CHECK(info.important_occluded == want, "%s %s: importantOccluded %g, want %g", what, m,
-              info.important_occluded, want);
+        CHECK(info.important_occluded == want, "%s %s: importantOccluded %g, want %g", what, m, info.important_occluded,
+              want);
         uint64_t low = (uint64_t)(SIZE / 2) * (SIZE / 2);
         CHECK(info.important_fragments == (uint64_t)important * low, "%s %s: %llu important fragments, want %llu", what,
               m, (unsigned long long)info.important_fragments, (unsigned long long)important * low);
@@ -295,8 +295,8 @@ static void check_important_lines(test_gl *t, lc_method method)
         lc_frame_info info = {0};
         CHECK(s && lc_gpu_scene_create(s, &gs, &err) == 0, "gpu scene: %s", err.msg);
         if (gs && lc_render_frame(t->renderer, gs, &p, NULL, 0, rgba, &info, &err) == 0) {
-            printf("lines g %.1f over g %.1f, %s: importantOccluded %.4f of %llu important fragments\n",
-                   cases[k][0], cases[k][1], lc_method_name(method), info.important_occluded,
+            printf("lines g %.1f over g %.1f, %s: importantOccluded %.4f of %llu important fragments\n", cases[k][0],
+                   cases[k][1], lc_method_name(method), info.important_occluded,
                    (unsigned long long)info.important_fragments);
             CHECK(info.important_fragments > 0, "%s: important fragments counted", lc_method_name(method));
             if (k == 0)

@@ -80,8 +80,8 @@ int main(void)
         /* The session's first frame, from elsewhere. */
         lc_render_params first = p;
         first.has_camera = true;
-        first.camera = (lc_camera){.position = {3.5, 0.5, 0.5}, .focal_point = {0.5, 0.5, 0.5}, .view_up = {0, 0, 1},
-                                   .view_angle = 30};
+        first.camera = (lc_camera){
+            .position = {3.5, 0.5, 0.5}, .focal_point = {0.5, 0.5, 0.5}, .view_up = {0, 0, 1}, .view_angle = 30};
         /* The references: a one-shot frame, and a session's second and third frames. */
         lc_frame_state *sa = lc_frame_state_create(s->elements.count);
         CHECK(lc_render_frame(plain, gs, &p, NULL, 0.1, ref, NULL, &err) == 0, "%s: reference: %s", k->name, err.msg);
@@ -119,12 +119,15 @@ int main(void)
                k->name, points, k->points, stopped, same, same_state, first_moved);
         CHECK(stopped == points, "%s: %d of %d yield points stopped the frame", k->name, stopped, points);
         CHECK(same == points, "%s: the next frame differs after %d of %d stops", k->name, points - same, points);
-        CHECK(same_state == points, "%s: the session's next frame is neither the second nor the third after %d of "
-              "%d stops", k->name, points - same_state, points);
+        CHECK(same_state == points,
+              "%s: the session's next frame is neither the second nor the third after %d of "
+              "%d stops",
+              k->name, points - same_state, points);
         /* As many stops leave it moved on as there are yield points from the one after P3 on. */
         CHECK(k->p3 ? moved >= k->points - k->p3 + 1 && first_moved > k->p3 - 1 : moved == 0,
               "%s: %d stops left the state moved on, from stop %d (the point after P3 is the %d-th of %d between "
-              "passes)", k->name, moved, first_moved, k->p3, k->points);
+              "passes)",
+              k->name, moved, first_moved, k->p3, k->points);
         lc_frame_state_destroy(sa);
         lc_renderer_destroy(plain);
         lc_renderer_destroy(r);

@@ -337,7 +337,8 @@ static void test_curl(void)
     for (int s = 0; s < 200 && g; s++) {
         double p[3], w[3], want[3], wg[3];
         for (int a = 0; a < 3; a++) /* inside, away from the faces (one-sided there) */
-            p[a] = f->bounds[a] + (f->bounds[a + 3] - f->bounds[a]) * (0.05 + 0.9 * ((s * (a + 3) * 7919) % 1000) / 1000.0);
+            p[a] = f->bounds[a] +
+                   (f->bounds[a + 3] - f->bounds[a]) * (0.05 + 0.9 * ((s * (a + 3) * 7919) % 1000) / 1000.0);
         lc_field_abc(p, 0, want);
         CHECK(lc_field_curl(f, p, 0, w) == 1 && lc_field_curl(g, p, 0, wg) == 1, "curl inside the domain");
         for (int a = 0; a < 3; a++) {

@@ -412,7 +412,8 @@ static void test_density_normalization(void)
             if (j != i && (frags[j].depth < frags[i].depth || (frags[j].depth == frags[i].depth && j < i)))
                 front += frags[j].importance * frags[j].importance;
         behind = total - front - g * g;
-        double expect = 1.0 / (1.0 + pow(1 - g, 2 * (1 + 3 * (1 - k) * (1 - k)) * 1.25) * k * (7 * front + 3 * fmax(behind, 0)));
+        double expect =
+            1.0 / (1.0 + pow(1 - g, 2 * (1 + 3 * (1 - k) * (1 - k)) * 1.25) * k * (7 * front + 3 * fmax(behind, 0)));
         CHECK_NEAR(frags[i].alpha, expect, 1e-9, "normalized exact alpha");
     }
     /* The same stack with normalize off is the paper's formula: never more opaque. */

@@ -25,10 +25,7 @@ static void put_i16(unsigned char *p, int16_t v) { memcpy(p, &v, 2); }
 static void put_i32(unsigned char *p, int32_t v) { memcpy(p, &v, 4); }
 static void put_f32(unsigned char *p, float v) { memcpy(p, &v, 4); }
 
-static int attr_index(const lc_scene *s, const char *name)
-{
-    return lc_scene_find_attribute(s, name);
-}
+static int attr_index(const lc_scene *s, const char *name) { return lc_scene_find_attribute(s, name); }
 
 /* A little-endian .trk with one 3-point track, n_scalars scalars named by
  * `scalar_names` (20-byte slots) and n_properties properties named likewise;
@@ -153,7 +150,8 @@ static void test_ply_duplicate_names(void)
     if (si >= 0 && ti >= 0) {
         CHECK(s->attributes[si].values[0] == 1 && s->attributes[si].values[2] == 7, "first 's' kept: %g %g",
               s->attributes[si].values[0], s->attributes[si].values[2]);
-        CHECK(s->attributes[ti].values[1] == 6, "'t' after the duplicate read in place: %g", s->attributes[ti].values[1]);
+        CHECK(s->attributes[ti].values[1] == 6, "'t' after the duplicate read in place: %g",
+              s->attributes[ti].values[1]);
     }
     lc_scene_destroy(s);
     unlink(path);
@@ -178,8 +176,10 @@ static void test_fifo(void)
     }
     int status = 0;
     waitpid(pid, &status, 0);
-    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, "FIFO refused as 'not a regular file' without blocking "
-          "(status %d)", status);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0,
+          "FIFO refused as 'not a regular file' without blocking "
+          "(status %d)",
+          status);
     unlink(path);
 }
 
@@ -188,10 +188,10 @@ static void test_fifo(void)
 static void test_infinite_line_length(void)
 {
     const float P[] = {-3e38f, 0, 0, 3e38f, 0, 0, -3e38f, 1, 0, 3e38f, 1, 0, /* line 0: 4 points */
-                       0,      2, 0, 1,     2, 0, 2,      2, 0};            /* line 1: 3 points */
+                       0,      2, 0, 1,     2, 0, 2,      2, 0};             /* line 1: 3 points */
     const uint32_t off[] = {0, 4, 7};
-    lc_element_geometry g = {.name = "huge", .type = LC_PRIM_LINES, .vertex_count = 7, .positions = P,
-                             .line_count = 2, .line_offsets = off};
+    lc_element_geometry g = {
+        .name = "huge", .type = LC_PRIM_LINES, .vertex_count = 7, .positions = P, .line_count = 2, .line_offsets = off};
     lc_elements_desc desc = {.line_budget = 5};
     lc_elements e = {0};
     lc_error err = {0};

@@ -80,7 +80,8 @@ int main(void)
         double ae = off(values(s, "angular_entropy"), 0, s->vertex_count, 0);
         double le = off(values(s, "linear_entropy"), 0, s->vertex_count, 1);
         printf("parallel lines: direction variance off 0 by %.2g, angular entropy off 0 by %.2g, linear entropy off "
-               "1 by %.2g\n", dv, ae, le);
+               "1 by %.2g\n",
+               dv, ae, le);
         CHECK(dv < 1e-4 && ae < 1e-6 && le < 1e-5, "parallel straight even lines: %g %g %g", dv, ae, le);
         /* boundary distance: the box's faces are y = +-1 and z = +-1 (thinnest half extent 1) */
         const float *bd = values(s, "boundary_distance");

@@ -105,8 +105,8 @@ static void check_levels(const lc_scene *s)
                 worst = fmax(worst, d);
             }
         }
-        CHECK(worst <= lv->error * (1 + 1e-5) + 1e-7, "level %d: a vertex lies %g from its segment, bound %g", i,
-              worst, lv->error);
+        CHECK(worst <= lv->error * (1 + 1e-5) + 1e-7, "level %d: a vertex lies %g from its segment, bound %g", i, worst,
+              lv->error);
         for (uint32_t l = 0; l < s->line_count; l++) {
             uint32_t first = s->line_offsets[l], end = s->line_offsets[l + 1];
             if (end - first < 2)
@@ -229,8 +229,8 @@ int main(void)
     CHECK(lc_scene_finalize(m, NULL, &err) == 0, "finalize field: %s", err.msg);
     lc_lod sl;
     CHECK(lc_lod_build(m, &sl, &err) == 0, "field levels: %s", err.msg);
-    CHECK(sl.count >= 3 && sl.levels[0].primitives == m->triangle_count && !sl.levels[0].indices,
-          "field: %d levels", sl.count);
+    CHECK(sl.count >= 3 && sl.levels[0].primitives == m->triangle_count && !sl.levels[0].indices, "field: %d levels",
+          sl.count);
     printf("field levels:");
     for (int i = 0; i < sl.count; i++) {
         printf(" %llu (%.3g)", (unsigned long long)sl.levels[i].primitives, sl.levels[i].error);

@@ -22,7 +22,10 @@ static void test_turntable(void)
 {
     /* Looking from +y down at the origin with z up, tilted: up (0, 0.3, 1) is
      * not orthogonal to the view and must come out orthogonalized. */
-    lc_camera start = {.position = {0, -4, 1}, .focal_point = {0, 0, 0}, .view_up = {0, 0.3, 1}, .view_angle = 30,
+    lc_camera start = {.position = {0, -4, 1},
+                       .focal_point = {0, 0, 0},
+                       .view_up = {0, 0.3, 1},
+                       .view_angle = 30,
                        .parallel_scale = 1};
     lc_camera c0, c90, c180;
     lc_camera_turn(&start, 0, &c0);
@@ -31,7 +34,8 @@ static void test_turntable(void)
     double d[3] = {0, 4, -1}, up0 = dot(c0.view_up, d);
     CHECK(fabs(up0) < 1e-12, "the up vector is orthogonalized to the view (%g)", up0);
     CHECK_NEAR(dist(c0.position, start.position), 0, 1e-12, "0 degrees is the start");
-    CHECK(dist(c90.view_up, c0.view_up) < 1e-12 && dist(c180.view_up, c0.view_up) < 1e-12, "the up vector never changes");
+    CHECK(dist(c90.view_up, c0.view_up) < 1e-12 && dist(c180.view_up, c0.view_up) < 1e-12,
+          "the up vector never changes");
     double h0 = dot(c0.position, c0.view_up), h90 = dot(c90.position, c0.view_up);
     CHECK_NEAR(h0, h90, 1e-12, "the height along the up axis stays (no pole crossing)");
     CHECK_NEAR(dist(c90.position, c90.focal_point), sqrt(17.0), 1e-12, "the distance stays");
@@ -48,15 +52,16 @@ static void test_turntable(void)
 
 static void test_interpolate(void)
 {
-    lc_camera a = {.position = {0, 0, 8}, .focal_point = {0, 0, 0}, .view_up = {0, 1, 0}, .view_angle = 30,
-                   .parallel_scale = 1};
-    lc_camera b = {.position = {2, 0, 0}, .focal_point = {0, 0, 0}, .view_up = {0, 1, 0}, .view_angle = 50,
-                   .parallel_scale = 4};
+    lc_camera a = {
+        .position = {0, 0, 8}, .focal_point = {0, 0, 0}, .view_up = {0, 1, 0}, .view_angle = 30, .parallel_scale = 1};
+    lc_camera b = {
+        .position = {2, 0, 0}, .focal_point = {0, 0, 0}, .view_up = {0, 1, 0}, .view_angle = 50, .parallel_scale = 4};
     lc_camera m, e0, e1;
     lc_camera_interpolate(&a, &b, 0.5, &m);
     lc_camera_interpolate(&a, &b, 0, &e0);
     lc_camera_interpolate(&a, &b, 1, &e1);
-    CHECK(dist(e0.position, a.position) < 1e-9 && dist(e1.position, b.position) < 1e-9, "t = 0 and 1 are the keyframes");
+    CHECK(dist(e0.position, a.position) < 1e-9 && dist(e1.position, b.position) < 1e-9,
+          "t = 0 and 1 are the keyframes");
     CHECK_NEAR(dist(m.position, m.focal_point), 4, 1e-9, "distance: geometric mean of 8 and 2");
     double dir[3] = {m.position[0] / 4, m.position[1] / 4, m.position[2] / 4};
     CHECK_NEAR(dir[0], sqrt(0.5), 1e-9, "slerp: halfway between +z and +x is at 45 degrees (x)");
@@ -84,11 +89,12 @@ static void test_parse(void)
     CHECK(parse("{}", &m, &e) == 0 && m.frames == 300 && m.fps == 30 && m.request.render.width == 960 &&
               m.request.render.height == 540 && strcmp(m.codec, "h264") == 0 && m.path == LC_MOVIE_TURNTABLE,
           "defaults: 10 s turntable, 30 fps, 960x540, h264");
-    CHECK(parse("{\"duration\":2.5,\"fps\":24,\"codec\":\"vp9\",\"request\":{\"dataset\":\"demo:abc\",\"params\":{\"q\":"
-                "80}}}",
-                &m, &e) == 0 &&
-              m.frames == 60 && strcmp(m.request.dataset, "demo:abc") == 0 && m.request.render.foo.q == 80,
-          "duration x fps frames, the nested render request: %s", e.message);
+    CHECK(
+        parse("{\"duration\":2.5,\"fps\":24,\"codec\":\"vp9\",\"request\":{\"dataset\":\"demo:abc\",\"params\":{\"q\":"
+              "80}}}",
+              &m, &e) == 0 &&
+            m.frames == 60 && strcmp(m.request.dataset, "demo:abc") == 0 && m.request.render.foo.q == 80,
+        "duration x fps frames, the nested render request: %s", e.message);
     CHECK(parse("{\"keyframes\":[{\"position\":[0,0,5]},\"#position=1,0,5&focalPoint=0,0,0&viewUp=0,1,0&q=80\"],"
                 "\"frames\":10}",
                 &m, &e) == 0 &&

@@ -34,10 +34,10 @@ enum {
     F_STD = 8,        /* variables named a/b/c with CF standard names */
     F_NO_COORDS = 16, /* no coordinate variables */
     F_NO_V = 32,
-    F_BAD_AXIS = 64, /* y coordinates not monotone */
-    F_SHAPE = 128,   /* v has one x node fewer */
-    F_FILL = 256,    /* node (1, 0, 0) of u is _FillValue */
-    F_PACKED = 512,  /* u stored as short with scale_factor / add_offset */
+    F_BAD_AXIS = 64,    /* y coordinates not monotone */
+    F_SHAPE = 128,      /* v has one x node fewer */
+    F_FILL = 256,       /* node (1, 0, 0) of u is _FillValue */
+    F_PACKED = 512,     /* u stored as short with scale_factor / add_offset */
     F_LONG_ATTS = 1024, /* u: missing_value, v: scale_factor and add_offset of 16 values each */
 };
 
@@ -362,8 +362,9 @@ int main(void)
     /* Memory form: empty input. */
     CHECK(lc_load_nc_field_memory("", 0, "empty.nc", &g, &err) == LC_ERR_INVALID && strstr(err.msg, "empty"),
           "empty: '%s'", err.msg);
-    static const char *const files[] = {"rect.nc",   "time.nc", "flat.nc", "surface_time.nc", "std.nc",   "no_w.nc",
-                                        "packed.nc", "fill.nc", "no_v.nc", "bad_axis.nc",     "shape.nc", "junk.nc",
+    static const char *const files[] = {"rect.nc",      "time.nc",      "flat.nc",           "surface_time.nc",
+                                        "std.nc",       "no_w.nc",      "packed.nc",         "fill.nc",
+                                        "no_v.nc",      "bad_axis.nc",  "shape.nc",          "junk.nc",
                                         "long_atts.nc", "unwritten.nc", "unwritten_small.nc"};
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         snprintf(path, sizeof path, "%s/%s", dir, files[i]);

@@ -512,7 +512,8 @@ static void test_messages(void)
     lc_stream_settings s;
     lc_proto_stream_default(&s);
     lc_proto_stream_apply(&s, &m);
-    CHECK(s.quality == 95 && s.window == 2 && s.interactive_quality == LC_PROTO_DEFAULT_INTERACTIVE_QUALITY, "stream settings");
+    CHECK(s.quality == 95 && s.window == 2 && s.interactive_quality == LC_PROTO_DEFAULT_INTERACTIVE_QUALITY,
+          "stream settings");
     lc_client_msg_free(&m);
     lc_client_msg_free(&m); /* idempotent */
 
@@ -571,8 +572,14 @@ static void test_messages(void)
           (int)out_len - 4, (const char *)out + 4);
     free(out);
     /* visibility.importantOccluded round trips; a header without it (an older server) reads 0. */
-    lc_frame_header v = {.frame = 5, .width = 4, .height = 2, .has_visibility = true, .top_decile_alpha = 0.75,
-                         .bottom_half_alpha = 0.125, .covered_fraction = 0.5, .occluder_alpha = 0.25,
+    lc_frame_header v = {.frame = 5,
+                         .width = 4,
+                         .height = 2,
+                         .has_visibility = true,
+                         .top_decile_alpha = 0.75,
+                         .bottom_half_alpha = 0.125,
+                         .covered_fraction = 0.5,
+                         .occluder_alpha = 0.25,
                          .important_occluded = 0.375};
     CHECK(lc_proto_pack_frame(&v, NULL, 0, &out, &out_len) == 0, "pack visibility");
     CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_visibility &&
@@ -590,8 +597,14 @@ static void test_messages(void)
           "topDecileReach round trip");
     free(out);
     /* clarity.smoothing: only where the loop cut the smoothing. */
-    lc_frame_header c = {.frame = 6, .width = 4, .height = 2, .has_clarity = true, .clarity_lambda = 3,
-                         .clarity_penalty = 2.5, .has_clarity_smoothing = true, .clarity_smoothing = 7};
+    lc_frame_header c = {.frame = 6,
+                         .width = 4,
+                         .height = 2,
+                         .has_clarity = true,
+                         .clarity_lambda = 3,
+                         .clarity_penalty = 2.5,
+                         .has_clarity_smoothing = true,
+                         .clarity_smoothing = 7};
     CHECK(lc_proto_pack_frame(&c, NULL, 0, &out, &out_len) == 0, "pack clarity.smoothing");
     CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_clarity_smoothing &&
               tb.clarity_smoothing == 7 && tb.clarity_penalty == 2.5,

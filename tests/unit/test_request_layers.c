@@ -69,11 +69,12 @@ int main(void)
     refused("{\"layers\": [{\"dataset\": \"a\", \"importance\": {\"exponent\": \"x\"}}]}",
             "layers[0].importance.exponent");
     /* A layer's own sections: filter, time window, clustering, equalized colour. */
-    const char *sections = "{\"layers\": [{\"dataset\": \"a\", \"color\": {\"equalize\": true}, \"lines\": {\"clusters\": 7}, "
-                           "\"time\": {\"window\": [1, 2]}, \"filter\": [{\"attribute\": \"g\", \"over\": \"max\", \"gt\": 0.5}]}]}";
+    const char *sections =
+        "{\"layers\": [{\"dataset\": \"a\", \"color\": {\"equalize\": true}, \"lines\": {\"clusters\": 7}, "
+        "\"time\": {\"window\": [1, 2]}, \"filter\": [{\"attribute\": \"g\", \"over\": \"max\", \"gt\": 0.5}]}]}";
     CHECK(parse(sections, r, &e) == 0 && r->layers[0].p.color.equalize && r->layers[0].p.clusters.count == 7 &&
-              r->layers[0].p.time.has_window && r->layers[0].p.time.window[1] == 2 && r->layers[0].p.filter_count == 1 &&
-              r->layers[0].p.filters[0].lo == 0.5,
+              r->layers[0].p.time.has_window && r->layers[0].p.time.window[1] == 2 &&
+              r->layers[0].p.filter_count == 1 && r->layers[0].p.filters[0].lo == 0.5,
           "a layer's equalize, clusters, time window and filter parse: %s", e.message);
     refused("{\"layers\": [{\"dataset\": \"a\", \"lines\": {\"clusters\": -1}}]}", "layers[0].lines.clusters");
     refused("{\"layers\": [{\"dataset\": \"a\", \"time\": {\"window\": [1]}}]}", "layers[0].time.window");

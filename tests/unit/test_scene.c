@@ -384,8 +384,8 @@ static void test_percentiles_and_budget(void)
         v[i] = i < N - 300 ? (float)(i % 100) / 100.0f : 1.0f + (float)(i - (N - 300)) * 0.004f;
     lc_attribute_update_range(&a, N);
     CHECK(a.p98 < a.max && a.max > 2.19f, "the tail lies beyond the 98th percentile (%g)", a.p98);
-    CHECK(a.auto_lo == a.min && a.auto_hi == a.max, "a tail inside the fence: [%g, %g] is min/max [%g, %g]",
-          a.auto_lo, a.auto_hi, a.min, a.max);
+    CHECK(a.auto_lo == a.min && a.auto_hi == a.max, "a tail inside the fence: [%g, %g] is min/max [%g, %g]", a.auto_lo,
+          a.auto_hi, a.min, a.max);
     for (int i = N - 300; i < N; i++)
         v[i] = 1.0f + (float)(i - (N - 300)) * 0.03f; /* up to 9.97 */
     lc_attribute_update_range(&a, N);
@@ -396,8 +396,7 @@ static void test_percentiles_and_budget(void)
     v[17] = 1e6f, v[18] = -5e3f, v[19] = NAN;
     lc_attribute_update_range(&a, N);
     CHECK(a.min == -5e3f && a.max == 1e6f, "min/max keep the outliers");
-    CHECK(a.auto_lo == 0.0f && a.auto_hi == 0.99f,
-          "outliers cut off on both ends: [%g, %g]", a.auto_lo, a.auto_hi);
+    CHECK(a.auto_lo == 0.0f && a.auto_hi == 0.99f, "outliers cut off on both ends: [%g, %g]", a.auto_lo, a.auto_hi);
     free(v);
 
     lc_scene *s = lc_scene_create("budget", LC_PRIM_LINES);

@@ -133,8 +133,8 @@ static void compare(const char *what, const lc_scene *part, const lc_scene *shar
           "%s: line offsets", what);
     CHECK(!shard->tangents || same_floats(part->tangents, shard->tangents, 3 * (size_t)n), "%s: tangents", what);
     CHECK(memcmp(part->bounds, shard->bounds, sizeof part->bounds) == 0, "%s: bounds", what);
-    CHECK(part->attribute_count == shard->attribute_count, "%s: %d attributes (shard %d)", what,
-          part->attribute_count, shard->attribute_count);
+    CHECK(part->attribute_count == shard->attribute_count, "%s: %d attributes (shard %d)", what, part->attribute_count,
+          shard->attribute_count);
     for (int i = 0; i < part->attribute_count && i < shard->attribute_count; i++) {
         const lc_attribute *a = &part->attributes[i], *b = &shard->attributes[i];
         CHECK(strcmp(a->name, b->name) == 0 && same_floats(a->values, b->values, n), "%s: attribute %s values", what,
@@ -170,8 +170,8 @@ static void compare(const char *what, const lc_scene *part, const lc_scene *shar
 
 typedef struct job {
     member m;
-    const char *path;        /* read this share of the file, or */
-    lc_scene *points;        /* finalize this un-finalized share */
+    const char *path;         /* read this share of the file, or */
+    lc_scene *points;         /* finalize this un-finalized share */
     uint32_t budget, rebuild; /* elements at finalize; then a collective rebuild (0: none) */
     lc_scene *out;
     int rc;
@@ -272,8 +272,8 @@ static void write_tck(const char *path, int lines)
     char head[128];
     int off = 0, len;
     for (;;) { /* the offset's own digits move the offset */
-        len = snprintf(head, sizeof head, "mrtrix tracks\ncount: %d\ndatatype: Float32LE\nfile: . %d\nEND\n", lines,
-                       off);
+        len =
+            snprintf(head, sizeof head, "mrtrix tracks\ncount: %d\ndatatype: Float32LE\nfile: . %d\nEND\n", lines, off);
         if (len == off)
             break;
         off = len;
@@ -327,8 +327,9 @@ static void write_trx(const char *dir, int lines)
     fclose(pos), fclose(off), fclose(dpv), fclose(dps);
     snprintf(path, sizeof path, "%s/header.json", dir);
     FILE *h = fopen(path, "w");
-    fprintf(h, "{\"NB_VERTICES\": %llu, \"NB_STREAMLINES\": %d, \"DIMENSIONS\": [1, 1, 1], "
-               "\"VOXEL_TO_RASMM\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}\n",
+    fprintf(h,
+            "{\"NB_VERTICES\": %llu, \"NB_STREAMLINES\": %d, \"DIMENSIONS\": [1, 1, 1], "
+            "\"VOXEL_TO_RASMM\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}\n",
             (unsigned long long)nv, lines);
     fclose(h);
 }
@@ -399,14 +400,16 @@ static void write_dump(const char *path, int atoms, int frames)
         int count = 0;
         for (int a = 0; a < atoms; a++)
             count += (a + t) % 17 != 0 && !(a % 23 == 0 && t > 0);
-        fprintf(f, "ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n%d\nITEM: BOX BOUNDS pp pp pp\n0 8\n0 8\n0 8\n"
-                   "ITEM: ATOMS type x y z id\n",
+        fprintf(f,
+                "ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n%d\nITEM: BOX BOUNDS pp pp pp\n0 8\n0 8\n0 8\n"
+                "ITEM: ATOMS type x y z id\n",
                 t, count);
         for (int k = 0; k < atoms; k++) {
             int a = (k * 7 + t) % atoms; /* atoms and 7 coprime: a permutation */
             if ((a + t) % 17 == 0 || (a % 23 == 0 && t > 0))
                 continue;
-            double x = fmod(0.37 * a + 0.3 * t, 8), y = fmod(0.11 * a * a, 8), z = fmod(0.05 * a + 0.7 * t * (a % 3), 8);
+            double x = fmod(0.37 * a + 0.3 * t, 8), y = fmod(0.11 * a * a, 8),
+                   z = fmod(0.05 * a + 0.7 * t * (a % 3), 8);
             fprintf(f, "%d %.4f %.4f %.4f %d\n", 1 + a % 4, x, y, z, 1000 + a);
         }
     }

@@ -54,7 +54,9 @@ export function pageDefaults(update) {
 /** The values shown: defaults + the page's defaults + stream settings + the user's changes. */
 export function currentValues(state) {
   const s = state.stream;
-  const streamDefaults = s ? { quality: s.quality, interactiveQuality: s.interactiveQuality, interactiveScale: s.interactiveScale } : {};
+  const streamDefaults = s
+    ? { quality: s.quality, interactiveQuality: s.interactiveQuality, interactiveScale: s.interactiveScale }
+    : {};
   return merge(merge(merge(state.defaults ?? {}, state.pageDefaults ?? {}), streamDefaults), state.update);
 }
 

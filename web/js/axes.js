@@ -39,14 +39,16 @@ export class AxesTriad {
   update(cam) {
     this.svg.style.visibility = cam ? '' : 'hidden';
     if (!cam) return;
-    const c = this.size / 2, len = this.size / 2 - 10;
+    const c = this.size / 2,
+      len = this.size / 2 - 10;
     const dirs = axesDirections(cam);
     this.directions = dirs;
     // farther axes first, so the one pointing at the viewer is on top
     const order = [...dirs].sort((a, b) => a.toward - b.toward);
     for (const d of order) {
       const it = this.items.find((x) => x.axis === d.axis);
-      const x2 = c + d.x * len, y2 = c - d.y * len;
+      const x2 = c + d.x * len,
+        y2 = c - d.y * len;
       it.line.setAttribute('x1', String(c));
       it.line.setAttribute('y1', String(c));
       it.line.setAttribute('x2', x2.toFixed(2));

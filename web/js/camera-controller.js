@@ -3,7 +3,16 @@
 // gets one camera message per animation frame, the latest.
 
 import { cameraMessage } from './protocol.js';
-import { DEFAULT_CAMERA, flatBounds, cloneCamera, fitCamera, refitCamera, viewAlongAxis, validateCamera, roundCamera } from './camera.js';
+import {
+  DEFAULT_CAMERA,
+  flatBounds,
+  cloneCamera,
+  fitCamera,
+  refitCamera,
+  viewAlongAxis,
+  validateCamera,
+  roundCamera,
+} from './camera.js';
 
 /** Cameras sent and remembered to warp the frames that reflect them. */
 export const CAMERAS_KEPT = 64;
@@ -90,7 +99,13 @@ export function createCameraController(ctx) {
       if (!cam) return;
       cam.viewAngle = state.camera.viewAngle;
       cam.parallelProjection = state.camera.parallelProjection;
-      cam = fitCamera(cam, b, cam.focalPoint.map((f, i) => f - cam.position[i]), cam.viewUp, ctx.aspect());
+      cam = fitCamera(
+        cam,
+        b,
+        cam.focalPoint.map((f, i) => f - cam.position[i]),
+        cam.viewUp,
+        ctx.aspect(),
+      );
     } else if (name === 'reset') cam = refitCamera(state.camera, b, ctx.aspect());
     else cam = viewAlongAxis(state.camera, b, name, ctx.aspect());
     setCamera(cam, { fitted: true });

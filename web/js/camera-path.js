@@ -49,8 +49,10 @@ function slerp(a, b0, t) {
   for (let i = 0; i < 4; i++) d += a[i] * b0[i];
   const b = b0.map((x) => (d < 0 ? -x : x));
   d = Math.abs(d);
-  let s0 = 1 - t, s1 = t;
-  if (d < 0.9995) { // otherwise linear, then normalized: sin(th) would vanish
+  let s0 = 1 - t,
+    s1 = t;
+  if (d < 0.9995) {
+    // otherwise linear, then normalized: sin(th) would vanish
     const th = Math.acos(d);
     s0 = Math.sin((1 - t) * th) / Math.sin(th);
     s1 = Math.sin(t * th) / Math.sin(th);

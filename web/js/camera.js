@@ -17,7 +17,8 @@ export function normalize(a) {
 
 /** Rotates v about the unit axis by angle radians (Rodrigues). */
 export function rotate(v, axis, angle) {
-  const c = Math.cos(angle), s = Math.sin(angle);
+  const c = Math.cos(angle),
+    s = Math.sin(angle);
   const k = normalize(axis);
   const kxv = cross(k, v);
   const kdv = dot(k, v);

@@ -3,12 +3,84 @@
 // for the legend's colour bar and the background contrast check. Pure.
 
 export const COLORMAP_STOPS = Object.freeze({
-  viridis: ['#440154', '#482575', '#414487', '#345f8d', '#2a788e', '#21908c', '#22a884', '#43bf71', '#7ad151', '#bcdf27', '#fde725'],
-  coolwarm: ['#3b4cc0', '#5978e3', '#7b9ff9', '#9fbeff', '#c0d4f5', '#dddddd', '#f2cbb7', '#f7ad8f', '#ee8468', '#d75344', '#b40426'],
-  grayscale: ['#000000', '#1a1a1a', '#333333', '#4c4c4c', '#666666', '#808080', '#999999', '#b2b2b2', '#cccccc', '#e6e6e6', '#ffffff'],
-  inferno: ['#000004', '#170b3b', '#420a68', '#6b176e', '#932667', '#bb3755', '#dd513a', '#f3771a', '#fca50a', '#f6d644', '#fcffa4'],
-  plasma: ['#0d0887', '#42039d', '#6a00a8', '#900ea3', '#b12a90', '#cb4778', '#e16462', '#f2834c', '#fca636', '#fcce25', '#f0f921'],
-  turbo: ['#23171b', '#4958dd', '#2f9ef5', '#27d7c3', '#4ef983', '#96fa50', '#dfdc32', '#ffa323', '#f45c17', '#b82008', '#900d00'],
+  viridis: [
+    '#440154',
+    '#482575',
+    '#414487',
+    '#345f8d',
+    '#2a788e',
+    '#21908c',
+    '#22a884',
+    '#43bf71',
+    '#7ad151',
+    '#bcdf27',
+    '#fde725',
+  ],
+  coolwarm: [
+    '#3b4cc0',
+    '#5978e3',
+    '#7b9ff9',
+    '#9fbeff',
+    '#c0d4f5',
+    '#dddddd',
+    '#f2cbb7',
+    '#f7ad8f',
+    '#ee8468',
+    '#d75344',
+    '#b40426',
+  ],
+  grayscale: [
+    '#000000',
+    '#1a1a1a',
+    '#333333',
+    '#4c4c4c',
+    '#666666',
+    '#808080',
+    '#999999',
+    '#b2b2b2',
+    '#cccccc',
+    '#e6e6e6',
+    '#ffffff',
+  ],
+  inferno: [
+    '#000004',
+    '#170b3b',
+    '#420a68',
+    '#6b176e',
+    '#932667',
+    '#bb3755',
+    '#dd513a',
+    '#f3771a',
+    '#fca50a',
+    '#f6d644',
+    '#fcffa4',
+  ],
+  plasma: [
+    '#0d0887',
+    '#42039d',
+    '#6a00a8',
+    '#900ea3',
+    '#b12a90',
+    '#cb4778',
+    '#e16462',
+    '#f2834c',
+    '#fca636',
+    '#fcce25',
+    '#f0f921',
+  ],
+  turbo: [
+    '#23171b',
+    '#4958dd',
+    '#2f9ef5',
+    '#27d7c3',
+    '#4ef983',
+    '#96fa50',
+    '#dfdc32',
+    '#ffa323',
+    '#f45c17',
+    '#b82008',
+    '#900d00',
+  ],
 });
 
 const hexRgb = (h) => [1, 3, 5].map((i) => parseInt(h.slice(i, i + 2), 16) / 255);
@@ -18,7 +90,8 @@ export function colorAt(name, t) {
   const stops = COLORMAP_STOPS[name] ?? COLORMAP_STOPS.viridis;
   const x = Math.min(1, Math.max(0, Number.isFinite(t) ? t : 0.5)) * (stops.length - 1);
   const i = Math.min(stops.length - 2, Math.floor(x));
-  const a = hexRgb(stops[i]), b = hexRgb(stops[i + 1]);
+  const a = hexRgb(stops[i]),
+    b = hexRgb(stops[i + 1]);
   return a.map((v, k) => v + (b[k] - v) * (x - i));
 }
 
@@ -40,7 +113,8 @@ export function relativeLuminance(rgb) {
 
 /** WCAG contrast ratio of two colours: 1 (same luminance) to 21 (black on white). */
 export function contrastRatio(a, b) {
-  const la = relativeLuminance(a), lb = relativeLuminance(b);
+  const la = relativeLuminance(a),
+    lb = relativeLuminance(b);
   return (Math.max(la, lb) + 0.05) / (Math.min(la, lb) + 0.05);
 }
 

@@ -18,8 +18,18 @@ export function backoffDelay(attempt, random = Math.random) {
 }
 
 /** Error codes after which reconnecting with the same hello cannot succeed. */
-export const TERMINAL_CODES = new Set(['unauthorized', 'forbidden', 'unknown_dataset', 'not_found', 'bad_field',
-  'unknown_field', 'missing_field', 'out_of_range', 'bad_json', 'too_expensive']);
+export const TERMINAL_CODES = new Set([
+  'unauthorized',
+  'forbidden',
+  'unknown_dataset',
+  'not_found',
+  'bad_field',
+  'unknown_field',
+  'missing_field',
+  'out_of_range',
+  'bad_json',
+  'too_expensive',
+]);
 
 export class Connection {
   /**
@@ -153,7 +163,10 @@ export class Connection {
     try {
       msg = parseServerMessage(data);
     } catch (e) {
-      this.h.onError?.({ code: e instanceof ProtocolError ? e.code : 'bad_json', message: e.message }, { fatal: false });
+      this.h.onError?.(
+        { code: e instanceof ProtocolError ? e.code : 'bad_json', message: e.message },
+        { fatal: false },
+      );
       return;
     }
     if (msg.type === 'ready') {

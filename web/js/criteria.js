@@ -43,7 +43,8 @@ const el = (tag, props = {}, ...kids) => {
   e.append(...kids);
   return e;
 };
-const num = (value, label, step = 'any') => el('input', { type: 'number', className: 'num', step, value: String(value ?? ''), ariaLabel: label });
+const num = (value, label, step = 'any') =>
+  el('input', { type: 'number', className: 'num', step, value: String(value ?? ''), ariaLabel: label });
 const select = (options, value, label) => {
   const s = el('select', { ariaLabel: label });
   for (const [v, t] of options) s.append(new Option(t, v));
@@ -75,7 +76,10 @@ function listEditor(kind, max, blank, build, onChange) {
       const it = build(v, names, fire);
       const del = el('button', { type: 'button', textContent: '×', ariaLabel: `remove this ${item}` });
       del.addEventListener('click', () => {
-        const next = items.filter((x) => x !== it).map((x) => x.read()).filter(Boolean);
+        const next = items
+          .filter((x) => x !== it)
+          .map((x) => x.read())
+          .filter(Boolean);
         render(next);
         onChange(next, true);
       });
@@ -103,7 +107,11 @@ function listEditor(kind, max, blank, build, onChange) {
 }
 
 function termRow(t, names, fire) {
-  const attr = select(names.map((n) => [n, n]), t.attribute, 'term attribute');
+  const attr = select(
+    names.map((n) => [n, n]),
+    t.attribute,
+    'term attribute',
+  );
   const weight = num(t.weight ?? 1, 'term weight (−1 to 1)');
   Object.assign(weight, { min: -1, max: 1, step: 0.05 });
   const invert = el('input', { type: 'checkbox', checked: !!t.invert, ariaLabel: 'invert the term' });
@@ -124,11 +132,19 @@ function termRow(t, names, fire) {
 }
 
 function filterRow(f, names, fire) {
-  const attr = select(names.map((n) => [n, n]), f.attribute, 'filter attribute');
-  const over = select(['vertex', 'min', 'max', 'mean', 'first', 'last', 'change'].map((o) => [o, o]), f.over ?? 'change', 'over the line');
+  const attr = select(
+    names.map((n) => [n, n]),
+    f.attribute,
+    'filter attribute',
+  );
+  const over = select(
+    ['vertex', 'min', 'max', 'mean', 'first', 'last', 'change'].map((o) => [o, o]),
+    f.over ?? 'change',
+    'over the line',
+  );
   const op0 = Array.isArray(f.range) ? 'range' : f.lt !== undefined && f.gt === undefined ? 'lt' : 'gt';
   const op = select(Object.entries(OPS), op0, 'comparison');
-  const a = num(op0 === 'range' ? f.range[0] : op0 === 'lt' ? f.lt : f.gt ?? 0, 'filter value');
+  const a = num(op0 === 'range' ? f.range[0] : op0 === 'lt' ? f.lt : (f.gt ?? 0), 'filter value');
   const b = num(op0 === 'range' ? f.range[1] : '', 'filter upper bound');
   b.hidden = op0 !== 'range';
   const row = el('div', { className: 'list-row' }, attr, over, op, a, b);
@@ -161,7 +177,8 @@ function rangeRow(r, names, fire) {
   return {
     row,
     read: () => {
-      const a = Number(lo.value), b = Number(hi.value);
+      const a = Number(lo.value),
+        b = Number(hi.value);
       if (lo.value === '' || hi.value === '' || !Number.isFinite(a) || !Number.isFinite(b)) return null;
       return [Math.min(a, b), Math.max(a, b)];
     },
@@ -193,7 +210,8 @@ const SVG = 'http://www.w3.org/2000/svg';
  * point to remove it, "reset" for the identity. Values as the request's curve.
  */
 export function curveEditor(onChange) {
-  const W = 120, H = 60;
+  const W = 120,
+    H = 60;
   const root = el('div', { className: 'curve-editor' });
   const svg = document.createElementNS(SVG, 'svg');
   svg.setAttribute('viewBox', `-4 -4 ${W + 8} ${H + 8}`);
@@ -201,18 +219,24 @@ export function curveEditor(onChange) {
   svg.setAttribute('height', String(H + 8));
   svg.setAttribute('role', 'img');
   const box = document.createElementNS(SVG, 'rect');
-  Object.entries({ x: 0, y: 0, width: W, height: H, class: 'legend-curve-box' }).forEach(([k, v]) => box.setAttribute(k, String(v)));
+  Object.entries({ x: 0, y: 0, width: W, height: H, class: 'legend-curve-box' }).forEach(([k, v]) =>
+    box.setAttribute(k, String(v)),
+  );
   const path = document.createElementNS(SVG, 'path');
   path.setAttribute('fill', 'none');
   path.setAttribute('stroke', 'currentColor');
   svg.append(box, path);
   const reset = el('button', { type: 'button', textContent: 'reset' });
   root.append(svg, reset);
-  let pts = [[0, 0], [1, 1]];
+  let pts = [
+    [0, 0],
+    [1, 1],
+  ];
   let drag = -1;
   const toXY = (e) => {
     const r = svg.getBoundingClientRect();
-    const x = ((e.clientX - r.left) / r.width) * (W + 8) - 4, y = ((e.clientY - r.top) / r.height) * (H + 8) - 4;
+    const x = ((e.clientX - r.left) / r.width) * (W + 8) - 4,
+      y = ((e.clientY - r.top) / r.height) * (H + 8) - 4;
     return [Math.min(1, Math.max(0, x / W)), Math.min(1, Math.max(0, 1 - y / H))];
   };
   const draw = () => {
@@ -257,7 +281,10 @@ export function curveEditor(onChange) {
     commit();
   });
   reset.addEventListener('click', () => {
-    pts = [[0, 0], [1, 1]];
+    pts = [
+      [0, 0],
+      [1, 1],
+    ];
     commit();
   });
   draw();
@@ -265,7 +292,13 @@ export function curveEditor(onChange) {
     el: root,
     set: (v) => {
       if (drag >= 0) return;
-      pts = Array.isArray(v) && v.length >= 2 ? v.map((p) => [...p]) : [[0, 0], [1, 1]];
+      pts =
+        Array.isArray(v) && v.length >= 2
+          ? v.map((p) => [...p])
+          : [
+              [0, 0],
+              [1, 1],
+            ];
       draw();
     },
     setAttributes: () => {},

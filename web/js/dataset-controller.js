@@ -23,7 +23,8 @@ export function describeDataset(d) {
 
 /** "12k lines": short enough for a phone's picker. */
 export function shortSize(d) {
-  const k = (x) => (x >= 1e6 ? `${Number((x / 1e6).toPrecision(2))}M` : x >= 1e4 ? `${Math.round(x / 1e3)}k` : String(x));
+  const k = (x) =>
+    x >= 1e6 ? `${Number((x / 1e6).toPrecision(2))}M` : x >= 1e4 ? `${Math.round(x / 1e3)}k` : String(x);
   if (d.kind === 'field') return 'vector field';
   if (d.lines) return `${k(d.lines)} lines`;
   if (d.triangles) return `${k(d.triangles)} triangles`;
@@ -48,7 +49,11 @@ export function datasetView(state) {
   const details = d && {
     description: d.description ?? null,
     summary: describeDataset(d),
-    attributes: (d.attributes ?? []).map((a) => (typeof a === 'string' ? a : `${a.name}${Array.isArray(a.range) ? ` [${a.range.map((x) => Number(x.toPrecision(3))).join(', ')}]` : ''}`)),
+    attributes: (d.attributes ?? []).map((a) =>
+      typeof a === 'string'
+        ? a
+        : `${a.name}${Array.isArray(a.range) ? ` [${a.range.map((x) => Number(x.toPrecision(3))).join(', ')}]` : ''}`,
+    ),
   };
   return { options, selected: state.dataset ?? null, title: state.dataset ?? '', details };
 }
@@ -85,7 +90,9 @@ export function createDatasetController(ctx) {
     }
     state.preset = { dataset: state.dataset, preset, applied: r.applied, cameraApplied: r.cameraApplied };
     const what = [...r.applied, ...(r.cameraApplied ? ['camera'] : [])];
-    ui.showPresetNote(`The preset of ${state.dataset} set ${what.join(', ')}; “undo” goes back to the server's defaults`);
+    ui.showPresetNote(
+      `The preset of ${state.dataset} set ${what.join(', ')}; “undo” goes back to the server's defaults`,
+    );
     ui.body('preset', state.dataset);
   }
 
@@ -119,7 +126,10 @@ export function createDatasetController(ctx) {
   /** An unknown dataset in the link is said at once (the server's answer to hello confirms it). Returns true when shown. */
   function checkDataset() {
     if (state.dataset && state.datasets.length && !state.datasets.some((d) => d.name === state.dataset)) {
-      ui.showBanner(`Dataset “${state.dataset}” is not available on this server. Available: ${state.datasets.map((d) => d.name).join(', ')}.`, { kind: 'error' });
+      ui.showBanner(
+        `Dataset “${state.dataset}” is not available on this server. Available: ${state.datasets.map((d) => d.name).join(', ')}.`,
+        { kind: 'error' },
+      );
       ui.showDataset();
       return true;
     }

@@ -21,12 +21,14 @@ export function legendModel(values, info) {
   const imp = values?.importance ?? {};
   const colorAttr = color.attribute || info?.defaultColor || 'importance';
   const impAttr = imp.attribute || info?.defaultImportance || '';
-  const colorRange = color.range ?? (colorAttr === 'importance' ? [0, 1] : attributeRange(info, colorAttr, values?.params?.normalize)) ?? [0, 1];
+  const colorRange = color.range ??
+    (colorAttr === 'importance' ? [0, 1] : attributeRange(info, colorAttr, values?.params?.normalize)) ?? [0, 1];
   // Without an explicit range the server maps importance from the attribute's
   // auto range, min/max without the outliers (params.normalize "auto", the default), else min/max.
   const auto = (info?.attributes ?? []).find((x) => x?.name === impAttr)?.autoRange;
   const robust = values?.params?.normalize !== 'off' && Array.isArray(auto) && auto[1] > auto[0];
-  const impRange = imp.range ?? (robust ? [...auto] : attributeRange(info, impAttr, values?.params?.normalize)) ?? [0, 1];
+  const impRange = imp.range ??
+    (robust ? [...auto] : attributeRange(info, impAttr, values?.params?.normalize)) ?? [0, 1];
   const exponent = imp.exponent ?? 1;
   const colormap = color.colormap ?? 'viridis';
   const background = values?.style?.background ?? [1, 1, 1];
@@ -37,33 +39,44 @@ export function legendModel(values, info) {
   if (method === 'opaque') opacity = 'Opaque: importance does not change opacity.';
   else if (method === 'direct') {
     const source = values?.params?.alphaSource ?? 'importance';
-    if (source === 'constant') opacity = `Constant opacity α = ${fmt(values?.params?.alphaConstant ?? 0.3)}: importance does not change opacity.`;
-    else if (source === 'angle') opacity = 'Opacity from the angle to the view: parts seen edge-on are opaque, parts facing you clear; importance does not change opacity.';
-    else if (source === 'normalVariation') opacity = 'Opacity from the normal\'s change per pixel: contours are opaque, flat parts clear; importance does not change opacity.';
+    if (source === 'constant')
+      opacity = `Constant opacity α = ${fmt(values?.params?.alphaConstant ?? 0.3)}: importance does not change opacity.`;
+    else if (source === 'angle')
+      opacity =
+        'Opacity from the angle to the view: parts seen edge-on are opaque, parts facing you clear; importance does not change opacity.';
+    else if (source === 'normalVariation')
+      opacity =
+        "Opacity from the normal's change per pixel: contours are opaque, flat parts clear; importance does not change opacity.";
     else opacity = `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)}: important parts are more opaque.`;
-  }
-  else if (method === 'kanzler')
-    opacity = `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)} times Kanzler's penalty: a part fades where it lies in front of ` +
+  } else if (method === 'kanzler')
+    opacity =
+      `Opacity α = g^${fmt(values?.params?.directExponent ?? 2)} times Kanzler's penalty: a part fades where it lies in front of ` +
       'the most important part of its pixel, where layers pile up and where directions cross; important parts are spared.';
   else
-    opacity = 'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
+    opacity =
+      'Opacity is optimized: a part fades where it hides parts more important than itself (r: in front, q: behind). ' +
       'Values below the range minimum get g = 0; if little is important, little is cleared, so clutter stays opaque.';
   // Direction: the server maps an attribute where smaller matters (smallerMatters,
   // a magnitude) inverted by default; importance.invert and a range given max
   // first each flip it once more.
   const impInfo = (info?.attributes ?? []).find((x) => x?.name === impAttr);
   const smallerMatters = !imp.terms?.length && !!impInfo?.smallerMatters;
-  const smallerFirst = !imp.terms?.length && (!!imp.invert !== smallerMatters) !== (impRange[0] > impRange[1]);
+  const smallerFirst = !imp.terms?.length && (!!imp.invert !== smallerMatters) !== impRange[0] > impRange[1];
   // Ticks in data units under the bar: linear over the colour range unless the
   // colours are equalized (then the frames' warped colorTicks take the row).
   const ticks = rgb || color.equalize ? null : linearTicks(colorRange);
   return {
     color: { attribute: colorAttr, colormap, range: colorRange, rgb },
-    ticks, equalize: !!color.equalize,
+    ticks,
+    equalize: !!color.equalize,
     direction: { smallerMatters, smallerFirst, text: smallerFirst ? 'smaller = more important' : '' },
     importance: { attribute: impAttr, range: impRange, exponent },
     criteria: { terms: termsSummary(imp.terms), filters: filtersSummary(values?.filter) },
-    method, opacity, clash, top, background,
+    method,
+    opacity,
+    clash,
+    top,
+    background,
   };
 }
 
@@ -101,7 +114,12 @@ export function importanceCurvePath(exponent, w = 36, h = 18, n = 16) {
  * first), so the values run right to left as the colours do.
  */
 export function equalizedTicks(colorTicks, inverted = false) {
-  if (!Array.isArray(colorTicks) || colorTicks.length !== 5 || !colorTicks.every((v) => typeof v === 'number' && Number.isFinite(v))) return null;
+  if (
+    !Array.isArray(colorTicks) ||
+    colorTicks.length !== 5 ||
+    !colorTicks.every((v) => typeof v === 'number' && Number.isFinite(v))
+  )
+    return null;
   return colorTicks.map((v, i) => ({ at: inverted ? 100 - 25 * i : 25 * i, text: fmt(v) }));
 }
 
@@ -112,9 +130,14 @@ export function equalizedTicks(colorTicks, inverted = false) {
  * null for a range that is not two finite numbers.
  */
 export function linearTicks(range) {
-  if (!Array.isArray(range) || range.length !== 2 || !range.every((v) => typeof v === 'number' && Number.isFinite(v))) return null;
-  const lo = Math.min(range[0], range[1]), hi = Math.max(range[0], range[1]);
-  return equalizedTicks([0, 1, 2, 3, 4].map((i) => (i === 4 ? hi : lo + ((hi - lo) * i) / 4)), range[0] > range[1]);
+  if (!Array.isArray(range) || range.length !== 2 || !range.every((v) => typeof v === 'number' && Number.isFinite(v)))
+    return null;
+  const lo = Math.min(range[0], range[1]),
+    hi = Math.max(range[0], range[1]);
+  return equalizedTicks(
+    [0, 1, 2, 3, 4].map((i) => (i === 4 ? hi : lo + ((hi - lo) * i) / 4)),
+    range[0] > range[1],
+  );
 }
 
 const NS = 'http://www.w3.org/2000/svg';
@@ -157,7 +180,8 @@ export class Legend {
     bar.hidden = c.rgb;
     const inverted = c.range[0] > c.range[1];
     bar.style.background = gradientCss(c.colormap, inverted);
-    const lo = Math.min(c.range[0], c.range[1]), hi = Math.max(c.range[0], c.range[1]);
+    const lo = Math.min(c.range[0], c.range[1]),
+      hi = Math.max(c.range[0], c.range[1]);
     // min and max stand beside the colormap's name only when the tick row is empty (equalized, awaiting a frame)
     this.q('cmin').textContent = c.rgb || m.ticks ? '' : fmt(lo);
     this.q('cmax').textContent = c.rgb || m.ticks ? '' : fmt(hi);
@@ -165,7 +189,8 @@ export class Legend {
     const i = m.importance;
     this.q('imp-attr').textContent = i.attribute || 'default';
     const dir = m.direction.text ? ` (${m.direction.text})` : '';
-    this.q('imp-range').textContent = `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}${dir}`;
+    this.q('imp-range').textContent =
+      `[${fmt(i.range[0])}, ${fmt(i.range[1])}]${i.exponent !== 1 ? ` ^${fmt(i.exponent)}` : ''}${dir}`;
     this.q('curve').setAttribute('d', importanceCurvePath(i.exponent));
     // the curve falls from left to right when the smaller values are the important ones
     this.q('curve').setAttribute('transform', m.direction.smallerFirst ? 'translate(36 0) scale(-1 1)' : '');
@@ -176,9 +201,11 @@ export class Legend {
     if (k.terms) this.q('imp-range').textContent = i.exponent !== 1 ? `^${fmt(i.exponent)}` : '';
     this.q('criteria').hidden = !k.filters;
     this.q('criteria').textContent = k.filters ? `shown: ${k.filters}` : '';
-        this.q('note').textContent = m.opacity;
+    this.q('note').textContent = m.opacity;
     this.q('warn').hidden = !m.clash;
-    this.q('warn-text').textContent = m.clash ? `The colour of the highest values (${c.colormap}) matches the background: they are invisible.` : '';
+    this.q('warn-text').textContent = m.clash
+      ? `The colour of the highest values (${c.colormap}) matches the background: they are invisible.`
+      : '';
     this.el.dataset.colorAttribute = c.attribute;
     this.el.dataset.colorRange = c.range.map(fmt).join(',');
     this.el.dataset.clash = String(m.clash);
@@ -199,15 +226,19 @@ export class Legend {
     if (row.dataset.ticks === key) return; // every frame carries them: touch the DOM on change only
     row.dataset.ticks = key;
     row.dataset.kind = warped ? 'equalized' : 'linear';
-    row.title = warped ? 'Equalized colours: the data value at each mark of the bar in this view' : 'The data value at each mark of the bar (the colour range, in the attribute\'s units)';
+    row.title = warped
+      ? 'Equalized colours: the data value at each mark of the bar in this view'
+      : "The data value at each mark of the bar (the colour range, in the attribute's units)";
     row.hidden = !ticks;
-    row.replaceChildren(...(ticks ?? []).map((t) => {
-      const span = document.createElement('span');
-      span.style.left = `${t.at}%`;
-      span.style.transform = `translateX(${-t.at}%)`; // the ends stay inside the bar
-      span.textContent = t.text;
-      return span;
-    }));
+    row.replaceChildren(
+      ...(ticks ?? []).map((t) => {
+        const span = document.createElement('span');
+        span.style.left = `${t.at}%`;
+        span.style.transform = `translateX(${-t.at}%)`; // the ends stay inside the bar
+        span.textContent = t.text;
+        return span;
+      }),
+    );
     this.el.dataset.colorTicks = ticks ? ticks.map((t) => t.text).join(',') : '';
   }
 }

@@ -78,7 +78,8 @@ export class Navigation {
     const p = this.pointers.get(e.pointerId);
     if (!p) return;
     e.preventDefault();
-    const dx = e.clientX - p.x, dy = e.clientY - p.y;
+    const dx = e.clientX - p.x,
+      dy = e.clientY - p.y;
     if (this.mode === 'touch' && this.pointers.size >= 2) {
       p.x = e.clientX;
       p.y = e.clientY;

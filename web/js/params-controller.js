@@ -42,7 +42,10 @@ export function createParamsController(ctx) {
     // attribute's range would not fit, and the server would keep it); importance is [0, 1]
     if (path === 'importance.attribute' || path === 'color.attribute') {
       const section = path.split('.')[0];
-      let r = value === 'importance' && section === 'color' ? [0, 1] : attributeRange(state.info, value, currentValues(state).params?.normalize);
+      let r =
+        value === 'importance' && section === 'color'
+          ? [0, 1]
+          : attributeRange(state.info, value, currentValues(state).params?.normalize);
       if (r && r[0] === r[1]) r = [r[0] - 0.5, r[1] + 0.5];
       if (r) setPath(change, `${section}.range`, r);
       else if (state.update[section]) delete state.update[section].range;
@@ -50,7 +53,11 @@ export function createParamsController(ctx) {
     state.update = merge(state.update, change);
     pending = merge(pending ?? {}, change);
     // a new method (or opacity source): the fields kept in the page's state that apply again go with it
-    if (path === 'method' || path === 'params.alphaSource') pending = merge(pending, applicableUpdate(state.update, state.update.layers?.length ? null : state.info?.type ?? null));
+    if (path === 'method' || path === 'params.alphaSource')
+      pending = merge(
+        pending,
+        applicableUpdate(state.update, state.update.layers?.length ? null : (state.info?.type ?? null)),
+      );
     if (!frame) frame = ctx.frame(flush);
     ctx.changed();
   }

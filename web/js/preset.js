@@ -71,7 +71,13 @@ export function applyPreset(preset, linkUpdate = {}, linkCamera = null) {
   const linkPaths = new Set(updatePaths(linkUpdate));
   const applied = updatePaths(p.update).filter((path) => !linkPaths.has(path));
   const cameraApplied = !!p.camera && !linkCamera;
-  return { update: merge(p.update, linkUpdate), camera: cameraApplied ? p.camera : null, applied, cameraApplied, errors: p.errors };
+  return {
+    update: merge(p.update, linkUpdate),
+    camera: cameraApplied ? p.camera : null,
+    applied,
+    cameraApplied,
+    errors: p.errors,
+  };
 }
 
 const same = (a, b) => JSON.stringify(a) === JSON.stringify(b);

@@ -53,13 +53,21 @@ const g15 = (x) => String(Number(x.toPrecision(15)));
 const utf8Length = (s) => new TextEncoder().encode(s).length;
 
 /** Default caps (lc_proto_limits_default); ready.limits reports a server's own. */
-export const DEFAULT_LIMITS = Object.freeze({ minSize: 16, maxSize: 8192, maxPixels: 8192 * 4608, maxDepth: 16, maxText: 65536 });
+export const DEFAULT_LIMITS = Object.freeze({
+  minSize: 16,
+  maxSize: 8192,
+  maxPixels: 8192 * 4608,
+  maxDepth: 16,
+  maxText: 65536,
+});
 
 // ---- text loading under limits (lc_proto_load)
 
 /** Deepest {}/[] nesting of raw JSON text, brackets inside strings ignored. */
 export function nestingDepth(text, max = Infinity) {
-  let depth = 0, deepest = 0, inString = false;
+  let depth = 0,
+    deepest = 0,
+    inString = false;
   for (let i = 0; i < text.length; i++) {
     const c = text[i];
     if (inString) {
@@ -81,7 +89,8 @@ export function nestingDepth(text, max = Infinity) {
 export function scanJson(text) {
   const stack = []; // per open container: a Set of keys (objects) or null (arrays)
   let expectKey = false;
-  let duplicate = null, bigInteger = false;
+  let duplicate = null,
+    bigInteger = false;
   for (let i = 0; i < text.length; i++) {
     const c = text[i];
     if (c === '"') {
@@ -125,7 +134,8 @@ export function loadJson(text, limits = DEFAULT_LIMITS) {
   const lim = { ...DEFAULT_LIMITS, ...limits };
   if (typeof text !== 'string') {
     const bytes = asBytes(text);
-    if (bytes.length > lim.maxText) fail('too_large', '', `document of ${bytes.length} bytes exceeds the limit of ${lim.maxText} bytes`);
+    if (bytes.length > lim.maxText)
+      fail('too_large', '', `document of ${bytes.length} bytes exceeds the limit of ${lim.maxText} bytes`);
     try {
       text = utf8.decode(bytes);
     } catch {
@@ -133,8 +143,10 @@ export function loadJson(text, limits = DEFAULT_LIMITS) {
     }
   }
   const bytes = utf8Length(text);
-  if (bytes > lim.maxText) fail('too_large', '', `document of ${bytes} bytes exceeds the limit of ${lim.maxText} bytes`);
-  if (nestingDepth(text, lim.maxDepth) > lim.maxDepth) fail('too_deep', '', `nesting deeper than ${lim.maxDepth} levels`);
+  if (bytes > lim.maxText)
+    fail('too_large', '', `document of ${bytes} bytes exceeds the limit of ${lim.maxText} bytes`);
+  if (nestingDepth(text, lim.maxDepth) > lim.maxDepth)
+    fail('too_deep', '', `nesting deeper than ${lim.maxDepth} levels`);
   let value;
   let overflow = false;
   try {
@@ -179,7 +191,8 @@ export function checkCameraPose(cam, checkUp = true) {
   const d = [0, 1, 2].map((i) => cam.focalPoint[i] - cam.position[i]);
   const u = cam.viewUp;
   const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  const dd = dot(d, d), uu = dot(u, u);
+  const dd = dot(d, d),
+    uu = dot(u, u);
   if (!(dd > 0) || !Number.isFinite(dd)) fail('bad_field', 'camera.focalPoint', 'must differ from camera.position');
   if (!checkUp) return;
   if (!(uu > 0) || !Number.isFinite(uu)) fail('bad_field', 'camera.viewUp', 'must not be zero');
@@ -212,8 +225,10 @@ export function checkRequest(req, limits = DEFAULT_LIMITS) {
   if (!isObj(req)) fail('bad_field', '', 'expected a JSON object');
   const lim = { ...DEFAULT_LIMITS, ...limits };
   checkMembers(req, null, lim, [...FIELDS, ...REQUEST_TOP_FIELDS]);
-  const w = req.width ?? 1024, h = req.height ?? 768;
-  if (w * h > lim.maxPixels) fail('out_of_range', 'width', `${w} x ${h} = ${w * h} pixels exceeds the limit ${lim.maxPixels}`);
+  const w = req.width ?? 1024,
+    h = req.height ?? 768;
+  if (w * h > lim.maxPixels)
+    fail('out_of_range', 'width', `${w} x ${h} = ${w * h} pixels exceeds the limit ${lim.maxPixels}`);
   if (isObj(req.camera)) checkCameraPose({ ...DEFAULT_POSE, ...req.camera }, true);
 }
 
@@ -233,14 +248,16 @@ const ALLOWED = {
 function getInt(obj, key, lo, hi) {
   const v = obj[key];
   if (v === undefined) return false;
-  if (typeof v !== 'number' || !Number.isFinite(v) || !Number.isInteger(v)) fail('bad_field', key, 'expected an integer');
+  if (typeof v !== 'number' || !Number.isFinite(v) || !Number.isInteger(v))
+    fail('bad_field', key, 'expected an integer');
   if (v < lo || v > hi) fail('out_of_range', key, `${g15(v)} is outside [${lo}, ${hi}]`);
   return true;
 }
 function getUint(obj, key) {
   const v = obj[key];
   if (v === undefined) return false;
-  if (typeof v !== 'number' || !Number.isFinite(v) || !Number.isInteger(v)) fail('bad_field', key, 'expected a non-negative integer');
+  if (typeof v !== 'number' || !Number.isFinite(v) || !Number.isInteger(v))
+    fail('bad_field', key, 'expected a non-negative integer');
   if (v < 0 || v > MAX_SEQ) fail('out_of_range', key, 'must be in [0, 2^53-1]');
   return true;
 }
@@ -248,7 +265,8 @@ function getNum(obj, key, lo, loOpen, hi) {
   const v = obj[key];
   if (v === undefined) return false;
   if (typeof v !== 'number' || !Number.isFinite(v)) fail('bad_field', key, 'expected a number');
-  if ((loOpen ? !(v > lo) : !(v >= lo)) || !(v <= hi)) fail('out_of_range', key, `${g15(v)} is outside ${loOpen ? '(' : '['}${g15(lo)}, ${g15(hi)}]`);
+  if ((loOpen ? !(v > lo) : !(v >= lo)) || !(v <= hi))
+    fail('out_of_range', key, `${g15(v)} is outside ${loOpen ? '(' : '['}${g15(lo)}, ${g15(hi)}]`);
   return true;
 }
 function getStr(obj, key, maxBytes) {
@@ -320,10 +338,16 @@ const defined = (o) => Object.fromEntries(Object.entries(o).filter(([, v]) => v 
  */
 export function helloMessage(o) {
   const msg = defined({
-    type: 'hello', dataset: o.dataset, width: o.width, height: o.height, devicePixelRatio: o.devicePixelRatio,
-    window: o.window, token: o.token || undefined,
+    type: 'hello',
+    dataset: o.dataset,
+    width: o.width,
+    height: o.height,
+    devicePixelRatio: o.devicePixelRatio,
+    window: o.window,
+    token: o.token || undefined,
   });
-  for (const k of [...STREAM_KEYS, ...UPDATE_KEYS]) if (o[k] !== undefined && o[k] !== null) msg[k] = structuredClone(o[k]);
+  for (const k of [...STREAM_KEYS, ...UPDATE_KEYS])
+    if (o[k] !== undefined && o[k] !== null) msg[k] = structuredClone(o[k]);
   return checkClientMessage(msg);
 }
 
@@ -366,14 +390,16 @@ export function parseServerMessage(text) {
   if (!isObj(obj)) fail('bad_json', '', 'server message is not a JSON object');
   if (typeof obj.type !== 'string') fail('missing_field', 'type', 'server message without a type');
   if (obj.type === 'ready') {
-    if (typeof obj.session !== 'string' && typeof obj.session !== 'number') fail('missing_field', 'session', 'required');
+    if (typeof obj.session !== 'string' && typeof obj.session !== 'number')
+      fail('missing_field', 'session', 'required');
     if (obj.defaults !== undefined && !isObj(obj.defaults)) fail('bad_field', 'defaults', 'expected a JSON object');
   } else if (obj.type === 'error') {
     if (typeof obj.code !== 'string') fail('missing_field', 'code', 'required');
     if (typeof obj.message !== 'string') fail('missing_field', 'message', 'required');
   } else if (obj.type === 'progress') {
     if (typeof obj.stage !== 'string') fail('missing_field', 'stage', 'required');
-    if (obj.fraction !== null && typeof obj.fraction !== 'number') fail('bad_field', 'fraction', 'expected a number or null');
+    if (obj.fraction !== null && typeof obj.fraction !== 'number')
+      fail('bad_field', 'fraction', 'expected a number or null');
     if (typeof obj.elapsed !== 'number') fail('missing_field', 'elapsed', 'required');
   }
   return obj;
@@ -420,7 +446,10 @@ export function unpackFrame(buf) {
   if (header.timings !== undefined) {
     if (!isObj(header.timings)) fail('bad_field', 'timings', 'expected an object');
     const entries = Object.entries(header.timings);
-    if (entries.length > MAX_TIMINGS || entries.some(([k, v]) => typeof v !== 'number' || !Number.isFinite(v) || utf8Length(k) >= 32))
+    if (
+      entries.length > MAX_TIMINGS ||
+      entries.some(([k, v]) => typeof v !== 'number' || !Number.isFinite(v) || utf8Length(k) >= 32)
+    )
       fail('bad_field', 'timings', `expected at most ${MAX_TIMINGS} pass names with numbers`);
   }
   return { header, image: bytes.subarray(4 + n) };
@@ -440,8 +469,11 @@ export function realText(x) {
  */
 export function packFrame(header, image) {
   const h = header;
-  const timings = Object.entries(h.timings ?? {}).map(([k, v]) => `${JSON.stringify(k)}:${realText(v)}`).join(',');
-  const text = `{"frame":${h.frame},"width":${h.width},"height":${h.height},"format":${JSON.stringify(h.format)},` +
+  const timings = Object.entries(h.timings ?? {})
+    .map(([k, v]) => `${JSON.stringify(k)}:${realText(v)}`)
+    .join(',');
+  const text =
+    `{"frame":${h.frame},"width":${h.width},"height":${h.height},"format":${JSON.stringify(h.format)},` +
     `"quality":${h.quality ?? 0},"cameraSeq":${h.cameraSeq ?? 0},"converged":${!!h.converged},` +
     `"timings":{${timings}},"encodeMs":${realText(h.encodeMs ?? 0)}}`;
   const hb = utf8enc.encode(text);
@@ -469,7 +501,9 @@ export function httpErrorText(code, message, field) {
 
 /** {"type":"stats",...fields} as lc_proto_stats_json writes it (a "type" key in fields is ignored). */
 export function statsText(fields) {
-  const parts = Object.entries(fields).filter(([k]) => k !== 'type').map(([k, v]) => `${JSON.stringify(k)}:${jsonValue(v)}`);
+  const parts = Object.entries(fields)
+    .filter(([k]) => k !== 'type')
+    .map(([k, v]) => `${JSON.stringify(k)}:${jsonValue(v)}`);
   return `{"type":"stats"${parts.length ? ',' : ''}${parts.join(',')}}`;
 }
 

@@ -45,7 +45,16 @@ export function createRecordController(deps) {
     delete request.height;
     delete request.camera;
     delete request.format;
-    return { request, path: 'keyframes', keyframes: keys.map((k) => roundCamera(k, 12)), duration, fps, width, height, codec };
+    return {
+      request,
+      path: 'keyframes',
+      keyframes: keys.map((k) => roundCamera(k, 12)),
+      duration,
+      fps,
+      width,
+      height,
+      codec,
+    };
   }
 
   /** Moves the view through the keyframes over `seconds` (the movie's camera at each moment); resolves when done. */

@@ -55,7 +55,8 @@ export function checkField(f, v) {
     case 'num': {
       if (!isNum(v) || (f.type === 'int' && !Number.isInteger(v)))
         return bad(f.type === 'int' ? 'expected an integer' : 'expected a number');
-      const lo = f.min ?? -Infinity, hi = f.max ?? Infinity;
+      const lo = f.min ?? -Infinity,
+        hi = f.max ?? Infinity;
       const loBad = f.loOpen ? !(v > lo) : !(v >= lo);
       const hiBad = f.hiOpen ? !(v < hi) : !(v <= hi);
       if (loBad || hiBad) {
@@ -68,9 +69,13 @@ export function checkField(f, v) {
       return typeof v === 'boolean' ? null : bad('expected true or false');
     case 'str':
       if (typeof v !== 'string') return bad('expected a string');
-      return f.maxLength !== undefined && utf8Length(v) > f.maxLength ? range(`longer than ${f.maxLength} bytes`) : null;
+      return f.maxLength !== undefined && utf8Length(v) > f.maxLength
+        ? range(`longer than ${f.maxLength} bytes`)
+        : null;
     case 'enum':
-      return typeof v === 'string' && f.values.includes(v) ? null : bad(`expected one of ${f.values.map((x) => `"${x}"`).join(', ')}`);
+      return typeof v === 'string' && f.values.includes(v)
+        ? null
+        : bad(`expected one of ${f.values.map((x) => `"${x}"`).join(', ')}`);
     case 'vec3':
     case 'color':
       if (!(Array.isArray(v) && v.length === 3 && v.every(isNum))) return bad('expected an array of 3 numbers');
@@ -97,9 +102,11 @@ export function checkField(f, v) {
 function checkSeed(f, v) {
   const min = f.minItems ?? 2;
   if (!Array.isArray(v)) return { code: 'bad_field', reason: 'expected an array of [x, y, z] points' };
-  if (v.length < min || v.length > f.maxItems) return { code: 'out_of_range', reason: `${min} to ${f.maxItems} points (got ${v.length})` };
+  if (v.length < min || v.length > f.maxItems)
+    return { code: 'out_of_range', reason: `${min} to ${f.maxItems} points (got ${v.length})` };
   for (let i = 0; i < v.length; i++) {
-    const p = v[i], at = `[${i}]`;
+    const p = v[i],
+      at = `[${i}]`;
     if (!(Array.isArray(p) && p.length === 3 && p.every(isNum)))
       return { code: 'bad_field', reason: 'expected an array of 3 finite numbers', at };
     if (i > 0 && p.every((x, k) => x === v[i - 1][k]))
@@ -116,7 +123,9 @@ const OVERS = ['vertex', 'min', 'max', 'mean', 'first', 'last', 'change'];
 function checkElement(kind, o, at) {
   const err = (code, where, reason) => ({ code, reason, at: where });
   if (!isObject(o)) return err('bad_field', at, 'expected an object');
-  let attribute = false, bounds = 0, weight = 1;
+  let attribute = false,
+    bounds = 0,
+    weight = 1;
   for (const [k, v] of Object.entries(o)) {
     const here = `${at}.${k}`;
     if (k === 'attribute') {
@@ -126,7 +135,8 @@ function checkElement(kind, o, at) {
       attribute = true;
     } else if (k === 'range') {
       if (!isPair(v)) return err('bad_field', here, 'expected an array of 2 numbers');
-      if (kind === 'filters' && v[0] > v[1]) return err('bad_field', here, `range [${g15(v[0])}, ${g15(v[1])}] is empty`);
+      if (kind === 'filters' && v[0] > v[1])
+        return err('bad_field', here, `range [${g15(v[0])}, ${g15(v[1])}] is empty`);
       bounds |= 4;
     } else if (kind === 'terms' && k === 'weight') {
       if (!isNum(v)) return err('bad_field', here, 'expected a number');
@@ -141,15 +151,21 @@ function checkElement(kind, o, at) {
       bounds |= k === 'gt' ? 1 : 2;
     } else return err('unknown_field', here, 'unknown field');
   }
-  if (!attribute) return err('missing_field', `${at}.attribute`, `every ${kind === 'terms' ? 'term' : 'filter'} names an attribute`);
-  if (kind === 'filters' && (!bounds || ((bounds & 4) && (bounds & 3)))) return err('bad_field', at, 'give "gt" and/or "lt", or "range"');
+  if (!attribute)
+    return err('missing_field', `${at}.attribute`, `every ${kind === 'terms' ? 'term' : 'filter'} names an attribute`);
+  if (kind === 'filters' && (!bounds || (bounds & 4 && bounds & 3)))
+    return err('bad_field', at, 'give "gt" and/or "lt", or "range"');
   return { weight };
 }
 
 /** terms, filters and curves (protocol/request_lists.c); a problem's "at" extends the field's path ("[1].weight"). */
 function checkList(f, v) {
-  const what = { terms: 'an array of terms', filters: 'an array of filters', curve: 'an array of [x, y] points',
-    ranges: 'an array of [lo, hi] ranges' }[f.type];
+  const what = {
+    terms: 'an array of terms',
+    filters: 'an array of filters',
+    curve: 'an array of [x, y] points',
+    ranges: 'an array of [lo, hi] ranges',
+  }[f.type];
   if (!Array.isArray(v)) return { code: 'bad_field', reason: `expected ${what}` };
   if (f.type === 'ranges') {
     if (v.length > f.maxItems) return { code: 'out_of_range', reason: `at most ${f.maxItems} ranges` };
@@ -161,11 +177,13 @@ function checkList(f, v) {
     return null;
   }
   if (f.type === 'curve') {
-    if (v.length === 1 || v.length > f.maxItems) return { code: 'out_of_range', reason: `2 to ${f.maxItems} points (none: the identity)` };
+    if (v.length === 1 || v.length > f.maxItems)
+      return { code: 'out_of_range', reason: `2 to ${f.maxItems} points (none: the identity)` };
     for (let i = 0; i < v.length; i++) {
       const at = `[${i}]`;
       if (!isPair(v[i])) return { code: 'bad_field', reason: 'expected an array of 2 numbers', at };
-      if (!v[i].every((x) => x >= 0 && x <= 1)) return { code: 'out_of_range', reason: 'x and y must lie in [0, 1]', at };
+      if (!v[i].every((x) => x >= 0 && x <= 1))
+        return { code: 'out_of_range', reason: 'x and y must lie in [0, 1]', at };
       if (i > 0 && !(v[i][0] >= v[i - 1][0])) return { code: 'bad_field', reason: 'x must not decrease', at };
     }
     return null;
@@ -177,7 +195,8 @@ function checkList(f, v) {
     if (r.code) return r;
     sumAbs += Math.abs(r.weight);
   }
-  if (f.type === 'terms' && v.length && !(sumAbs > 0)) return { code: 'bad_field', reason: 'at least one weight must be non-zero' };
+  if (f.type === 'terms' && v.length && !(sumAbs > 0))
+    return { code: 'bad_field', reason: 'at least one weight must be non-zero' };
   return null;
 }
 
@@ -188,12 +207,17 @@ function checkLayers(f, v) {
   if (v.length > f.maxItems) return { code: 'out_of_range', reason: `at most ${f.maxItems} layers` };
   const keys = f.keys;
   for (let i = 0; i < v.length; i++) {
-    const at = `[${i}]`, l = v[i];
+    const at = `[${i}]`,
+      l = v[i];
     if (!isObject(l)) return { code: 'bad_field', reason: 'expected an object with a dataset', at };
-    for (const k of Object.keys(l)) if (!keys.includes(k)) return { code: 'unknown_field', reason: 'unknown field', at: `${at}.${k}` };
-    if (typeof l.dataset !== 'string' || !l.dataset.length) return { code: 'missing_field', reason: 'every layer names its dataset', at: `${at}.dataset` };
-    if (l.role !== undefined && l.role !== 'transparent' && l.role !== 'context') return { code: 'bad_field', reason: 'expected "transparent" or "context"', at: `${at}.role` };
-    if (l.visible !== undefined && typeof l.visible !== 'boolean') return { code: 'bad_field', reason: 'expected true or false', at: `${at}.visible` };
+    for (const k of Object.keys(l))
+      if (!keys.includes(k)) return { code: 'unknown_field', reason: 'unknown field', at: `${at}.${k}` };
+    if (typeof l.dataset !== 'string' || !l.dataset.length)
+      return { code: 'missing_field', reason: 'every layer names its dataset', at: `${at}.dataset` };
+    if (l.role !== undefined && l.role !== 'transparent' && l.role !== 'context')
+      return { code: 'bad_field', reason: 'expected "transparent" or "context"', at: `${at}.role` };
+    if (l.visible !== undefined && typeof l.visible !== 'boolean')
+      return { code: 'bad_field', reason: 'expected true or false', at: `${at}.visible` };
   }
   return null;
 }
@@ -275,7 +299,14 @@ export function setPath(obj, path, value) {
 export function merge(base, update) {
   const out = { ...(base ?? {}) };
   for (const [k, v] of Object.entries(update ?? {})) {
-    if (v && typeof v === 'object' && !Array.isArray(v) && out[k] && typeof out[k] === 'object' && !Array.isArray(out[k]))
+    if (
+      v &&
+      typeof v === 'object' &&
+      !Array.isArray(v) &&
+      out[k] &&
+      typeof out[k] === 'object' &&
+      !Array.isArray(out[k])
+    )
       out[k] = merge(out[k], v);
     else out[k] = Array.isArray(v) ? [...v] : v && typeof v === 'object' ? merge({}, v) : v;
   }
@@ -310,10 +341,12 @@ export function applicableUpdate(update, prim) {
     if (top) {
       if (applies(top, method, prim)) out[k] = v;
     } else if (v && typeof v === 'object' && !Array.isArray(v) && k !== 'camera') {
-      const kept = Object.fromEntries(Object.entries(v).filter(([n]) => {
-        const f = scopeByPath.get(`${k}.${n}`);
-        return !f || (applies(f, method, prim) && holds(f));
-      }));
+      const kept = Object.fromEntries(
+        Object.entries(v).filter(([n]) => {
+          const f = scopeByPath.get(`${k}.${n}`);
+          return !f || (applies(f, method, prim) && holds(f));
+        }),
+      );
       if (Object.keys(kept).length) out[k] = kept;
     } else {
       out[k] = v;

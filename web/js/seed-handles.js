@@ -35,7 +35,8 @@ export function unprojectAt(cam, w, h, [x, y], through) {
 
 /** The handle (0 start, 1 end) within radius pixels of [x, y], the nearer one; -1 when none. */
 export function hitHandle(points, [x, y], radius = HANDLE_RADIUS) {
-  let best = -1, bestD = radius;
+  let best = -1,
+    bestD = radius;
   points.forEach((p, i) => {
     if (!p) return;
     const d = Math.hypot(p[0] - x, p[1] - y);
@@ -55,7 +56,8 @@ const round6 = (x) => Number(x.toPrecision(6));
  */
 export function dragSeed(cam, w, h, seed, index, from, to, bounds = null) {
   const p = seed[index];
-  const a = unprojectAt(cam, w, h, from, p), b = unprojectAt(cam, w, h, to, p);
+  const a = unprojectAt(cam, w, h, from, p),
+    b = unprojectAt(cam, w, h, to, p);
   if (!a || !b) return seed.map((q) => [...q]);
   let q = add(p, sub(b, a));
   if (bounds) q = q.map((v, i) => Math.min(Math.max(v, bounds[0][i]), bounds[1][i]));

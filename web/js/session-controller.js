@@ -12,9 +12,17 @@ export const RETRY_DELAYS_KEPT = 50;
 
 /** Words for the stages of the server's progress messages (protocol/websocket.md "progress"). */
 export const PROGRESS_STAGES = Object.freeze({
-  queued: 'Waiting for a render worker', prepare: 'Preparing the frame', depthRange: 'Depth range',
-  importance: 'Importance', opacity: 'Opacities', smooth: 'Smoothing', opticalDepth: 'Optical depth',
-  accumulate: 'Accumulating', resolve: 'Resolving', readback: 'Reading back', encode: 'Encoding',
+  queued: 'Waiting for a render worker',
+  prepare: 'Preparing the frame',
+  depthRange: 'Depth range',
+  importance: 'Importance',
+  opacity: 'Opacities',
+  smooth: 'Smoothing',
+  opticalDepth: 'Optical depth',
+  accumulate: 'Accumulating',
+  resolve: 'Resolving',
+  readback: 'Reading back',
+  encode: 'Encoding',
 });
 
 /** The line under the progress bar: stage, per cent when known, time so far; while a staged
@@ -65,8 +73,10 @@ export function createSessionController(ctx) {
     const h = frame.header ?? {};
     state.received.push(h);
     if (state.received.length > 64) state.received.shift();
-    refining = Number.isInteger(h.stages) && Number.isInteger(h.stage) && h.stage < h.stages && h.final === false
-      ? { stage: h.stage + 1, stages: h.stages } : null;
+    refining =
+      Number.isInteger(h.stages) && Number.isInteger(h.stage) && h.stage < h.stages && h.final === false
+        ? { stage: h.stage + 1, stages: h.stages }
+        : null;
     ctx.view.push(frame);
   }
 
@@ -86,7 +96,13 @@ export function createSessionController(ctx) {
     const v = state.viewport;
     ctx.view.setSize(Math.round(v.width * v.dpr), Math.round(v.height * v.dpr));
     // no window: the server keeps as many frames in flight as cover the round trip (up to its maximum)
-    const msg = { dataset: state.dataset ?? undefined, width: v.width, height: v.height, devicePixelRatio: v.dpr, token: state.token ?? undefined };
+    const msg = {
+      dataset: state.dataset ?? undefined,
+      width: v.width,
+      height: v.height,
+      devicePixelRatio: v.dpr,
+      token: state.token ?? undefined,
+    };
     if (state.camera) msg.camera = roundCamera(state.camera, 12);
     // the page's own defaults (a contrasting background) go first: the user's changes win
     state.pageDefaults = pageDefaults(state.update);
@@ -100,7 +116,7 @@ export function createSessionController(ctx) {
     ctx.params.drop(); // the hello carries them
     ctx.camera.drop();
     // fields that do not apply to this method or kind of data stay in the page's state, not in the hello
-    const prim = state.update.layers?.length ? null : datasetInfo(state)?.type ?? null;
+    const prim = state.update.layers?.length ? null : (datasetInfo(state)?.type ?? null);
     return helloMessage(applicableUpdate(msg, prim));
   }
 
@@ -131,7 +147,10 @@ export function createSessionController(ctx) {
       const tick = () => {
         const left = Math.max(0, Math.ceil((until - ctx.timers.now()) / 1000));
         ui.connection(s, `Disconnected — retrying in ${left} s`);
-        ui.showBanner(`Connection to the server lost: ${detail.reason}. Reconnecting in ${left} s (attempt ${detail.attempt})…`, { retry: true, kind: 'connection' });
+        ui.showBanner(
+          `Connection to the server lost: ${detail.reason}. Reconnecting in ${left} s (attempt ${detail.attempt})…`,
+          { retry: true, kind: 'connection' },
+        );
       };
       tick();
       countdown = ctx.timers.setInterval(tick, 1000);
@@ -149,7 +168,10 @@ export function createSessionController(ctx) {
   // cannot succeed or leaving the picker on a dataset the view does not show.
   function backToLastDataset(msg) {
     const last = state.lastReady?.dataset?.name ?? state.lastReady?.defaults?.dataset;
-    const refusal = msg.code === 'too_expensive' || msg.code === 'not_found' || msg.code === 'unknown_dataset' ||
+    const refusal =
+      msg.code === 'too_expensive' ||
+      msg.code === 'not_found' ||
+      msg.code === 'unknown_dataset' ||
       msg.field === 'dataset';
     if (!refusal || ctx.conn().ready || !last || last === state.dataset) return false;
     const refused = state.dataset;

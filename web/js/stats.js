@@ -112,11 +112,15 @@ export function linkText(s) {
 export function visibilityText(v) {
   if (!v || typeof v.topDecileAlpha !== 'number') return null;
   const f = (x) => (typeof x === 'number' ? x.toFixed(2) : '–');
-  const hidden = typeof v.importantOccluded === 'number' ? `; ${Math.round(100 * v.importantOccluded)}% of the important fragments hidden by importance` : '';
+  const hidden =
+    typeof v.importantOccluded === 'number'
+      ? `; ${Math.round(100 * v.importantOccluded)}% of the important fragments hidden by importance`
+      : '';
   // topDecileReach: the top tenth's share of the importance shown over its share of the importance drawn.
-  const reach = typeof v.topDecileReach === 'number'
-    ? `; the image shows the most important tenth ×${v.topDecileReach.toFixed(2)} ${v.topDecileReach < 1 ? '(behind the rest)' : '(in front of the rest)'}`
-    : '';
+  const reach =
+    typeof v.topDecileReach === 'number'
+      ? `; the image shows the most important tenth ×${v.topDecileReach.toFixed(2)} ${v.topDecileReach < 1 ? '(behind the rest)' : '(in front of the rest)'}`
+      : '';
   return `most important tenth ${f(v.topDecileAlpha)}, occluders ${f(v.occluderAlpha)}, least important half ${f(v.bottomHalfAlpha)} opaque${hidden}${reach}`;
 }
 
@@ -127,16 +131,20 @@ export const IMPORTANT_OCCLUDED_WARN = 0.25;
 export function occlusionWarning(v) {
   const x = v?.importantOccluded;
   if (typeof x !== 'number' || !(x >= IMPORTANT_OCCLUDED_WARN)) return '';
-  return `${Math.round(100 * x)}% of the important fragments lie behind other important ones: ` +
-    'no opacity can show both. Turn the view, or narrow the importance (filter, importance range).';
+  return (
+    `${Math.round(100 * x)}% of the important fragments lie behind other important ones: ` +
+    'no opacity can show both. Turn the view, or narrow the importance (filter, importance range).'
+  );
 }
 
 /** params.clarity's outcome (frame header "clarity") in words: '' when the goal was met or the loop was off. */
 export function clarityNote(c) {
   if (!c || c.reached !== false || typeof c.lambdaFactor !== 'number') return '';
   const smoothing = typeof c.smoothing === 'number' ? `, smoothing ${c.smoothing} iterations` : '';
-  return ` The goal is out of reach on these data: the optimization stopped at λ ×${c.lambdaFactor.toFixed(1)}, ` +
-    `q and r ×${c.penaltyFactor.toFixed(1)}${smoothing}, the strength that came closest.`;
+  return (
+    ` The goal is out of reach on these data: the optimization stopped at λ ×${c.lambdaFactor.toFixed(1)}, ` +
+    `q and r ×${c.penaltyFactor.toFixed(1)}${smoothing}, the strength that came closest.`
+  );
 }
 
 export function formatBytes(n) {

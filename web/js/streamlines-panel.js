@@ -10,7 +10,14 @@
 import { defaultSeed, parsePoints } from './surface-panel.js';
 
 /** The server's defaults (lc_request_default): density seeding, 64 curves, the tracer's own step and length. */
-export const STREAMLINE_DEFAULTS = Object.freeze({ seeding: 'density', count: 64, step: 0, length: 0, direction: 'forward', separation: 0 });
+export const STREAMLINE_DEFAULTS = Object.freeze({
+  seeding: 'density',
+  count: 64,
+  step: 0,
+  length: 0,
+  direction: 'forward',
+  separation: 0,
+});
 
 /**
  * The streamlines object of the form's values: every key the seeding reads
@@ -23,7 +30,7 @@ export function streamlinesObject({ seeding, seeds, count, step, length, directi
   if (seeding === 'points' && points.length < 1) return { error: 'Seeds: point seeding needs at least one point' };
   if (seeding === 'rake' && points.length !== 2) return { error: 'Seeds: a rake takes its two ends' };
   if ((seeding === 'box' || seeding === 'density') && points.length !== 0 && points.length !== 2)
-    return { error: 'Seeds: a box takes two corners (none: the field\'s bounds)' };
+    return { error: "Seeds: a box takes two corners (none: the field's bounds)" };
   const o = { seeding, direction };
   if (points.length) o.seeds = points;
   if (seeding !== 'points') o.count = count;
@@ -55,23 +62,82 @@ export class StreamlinesPanel {
       box.append(r);
       return input;
     };
-    this.seeding = row('Seeding', el('select', { id: 'streamlines-seeding',
-      title: 'Where the curves start: the typed points, evenly along a rake between two points, spread through a box, or density-driven (a new seed only where no curve runs nearby).' }));
-    this.seeding.append(...[['points', 'points'], ['rake', 'rake'], ['box', 'box'], ['density', 'density-driven']]
-      .map(([v, t]) => el('option', { value: v, textContent: t })));
-    this.seeds = row('Seeds x,y,z; …', el('input', { type: 'text', id: 'streamlines-seeds', size: 22,
-      title: 'Points: the seed points. Rake: its two ends (drag the handles in the view). Box and density: its two corners; empty: the whole field.' }));
-    this.count = row('Curves', el('input', { type: 'number', id: 'streamlines-count', min: 1, max: 100000, value: 64,
-      title: 'How many curves a rake, box or density seeding traces (points: one per point).' }));
-    this.step = row('Step', el('input', { type: 'number', id: 'streamlines-step', min: 0, step: 'any', value: 0,
-      title: 'The RK4 time step; 0: the field\'s size over 200 times its largest speed.' }));
-    this.length = row('Length', el('input', { type: 'number', id: 'streamlines-length', min: 0, step: 'any', value: 0,
-      title: 'Arc length of a curve (each half of a two-way curve); 0: twice the field\'s diagonal.' }));
-    this.direction = row('Direction', el('select', { id: 'streamlines-direction',
-      title: 'Downstream, upstream, or both ways from each seed.' }));
+    this.seeding = row(
+      'Seeding',
+      el('select', {
+        id: 'streamlines-seeding',
+        title:
+          'Where the curves start: the typed points, evenly along a rake between two points, spread through a box, or density-driven (a new seed only where no curve runs nearby).',
+      }),
+    );
+    this.seeding.append(
+      ...[
+        ['points', 'points'],
+        ['rake', 'rake'],
+        ['box', 'box'],
+        ['density', 'density-driven'],
+      ].map(([v, t]) => el('option', { value: v, textContent: t })),
+    );
+    this.seeds = row(
+      'Seeds x,y,z; …',
+      el('input', {
+        type: 'text',
+        id: 'streamlines-seeds',
+        size: 22,
+        title:
+          'Points: the seed points. Rake: its two ends (drag the handles in the view). Box and density: its two corners; empty: the whole field.',
+      }),
+    );
+    this.count = row(
+      'Curves',
+      el('input', {
+        type: 'number',
+        id: 'streamlines-count',
+        min: 1,
+        max: 100000,
+        value: 64,
+        title: 'How many curves a rake, box or density seeding traces (points: one per point).',
+      }),
+    );
+    this.step = row(
+      'Step',
+      el('input', {
+        type: 'number',
+        id: 'streamlines-step',
+        min: 0,
+        step: 'any',
+        value: 0,
+        title: "The RK4 time step; 0: the field's size over 200 times its largest speed.",
+      }),
+    );
+    this.length = row(
+      'Length',
+      el('input', {
+        type: 'number',
+        id: 'streamlines-length',
+        min: 0,
+        step: 'any',
+        value: 0,
+        title: "Arc length of a curve (each half of a two-way curve); 0: twice the field's diagonal.",
+      }),
+    );
+    this.direction = row(
+      'Direction',
+      el('select', { id: 'streamlines-direction', title: 'Downstream, upstream, or both ways from each seed.' }),
+    );
     this.direction.append(...['forward', 'backward', 'both'].map((d) => el('option', { value: d, textContent: d })));
-    this.separation = row('Separation', el('input', { type: 'number', id: 'streamlines-separation', min: 0, step: 'any', value: 0,
-      title: 'Density-driven seeding: how close a new seed may come to the curves so far; 0: from the box and the curve count.' }));
+    this.separation = row(
+      'Separation',
+      el('input', {
+        type: 'number',
+        id: 'streamlines-separation',
+        min: 0,
+        step: 'any',
+        value: 0,
+        title:
+          'Density-driven seeding: how close a new seed may come to the curves so far; 0: from the box and the curve count.',
+      }),
+    );
     box.hidden = true; // until the dataset is a field
     this.box = box;
     parent.append(box);
@@ -113,15 +179,22 @@ export class StreamlinesPanel {
   suggestSeeds() {
     this.separationShown();
     const n = (parsePoints(this.seeds.value) ?? []).length;
-    if (this.seeding.value === 'rake' && n !== 2 && this.field?.bounds) this.seeds.value = pointsText(defaultSeed(this.field.bounds));
-    if (this.seeding.value === 'points' && n === 0 && this.field?.bounds) this.seeds.value = pointsText(defaultSeed(this.field.bounds));
+    if (this.seeding.value === 'rake' && n !== 2 && this.field?.bounds)
+      this.seeds.value = pointsText(defaultSeed(this.field.bounds));
+    if (this.seeding.value === 'points' && n === 0 && this.field?.bounds)
+      this.seeds.value = pointsText(defaultSeed(this.field.bounds));
   }
 
   /** The form's streamlines object, or null (with a toast) when it does not suit the seeding. */
   values() {
     const o = streamlinesObject({
-      seeding: this.seeding.value, seeds: this.seeds.value, count: Number(this.count.value), step: Number(this.step.value),
-      length: Number(this.length.value), direction: this.direction.value, separation: Number(this.separation.value),
+      seeding: this.seeding.value,
+      seeds: this.seeds.value,
+      count: Number(this.count.value),
+      step: Number(this.step.value),
+      length: Number(this.length.value),
+      direction: this.direction.value,
+      separation: Number(this.separation.value),
     });
     if (o.error) {
       this.toast(o.error);

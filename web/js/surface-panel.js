@@ -5,11 +5,20 @@
 // a new seed or field restarts it.
 
 /** The defaults of the surface's look (the request's surface.* defaults, protocol/README.md). */
-export const SURFACE_LOOK = Object.freeze({ epsilon: 0.01, opacity: 0.3, maxLayers: 8, composite: 'layers', color: [0.95, 0.6, 0.2] });
+export const SURFACE_LOOK = Object.freeze({
+  epsilon: 0.01,
+  opacity: 0.3,
+  maxLayers: 8,
+  composite: 'layers',
+  color: [0.95, 0.6, 0.2],
+});
 
 /** Points typed as "x,y,z; x,y,z; ..." (empty: none), or null when one is not three numbers. */
 export function parsePoints(text) {
-  const parts = String(text ?? '').split(';').map((s) => s.trim()).filter(Boolean);
+  const parts = String(text ?? '')
+    .split(';')
+    .map((s) => s.trim())
+    .filter(Boolean);
   const points = parts.map((s) => s.split(',').map((x) => Number(x.trim())));
   return points.every((p) => p.length === 3 && p.every(Number.isFinite)) ? points : null;
 }
@@ -20,16 +29,26 @@ export function defaultSeed(bounds) {
   const c = [0, 1, 2].map((i) => (lo[i] + hi[i]) / 2);
   const ey = hi[1] - lo[1];
   const r = (x) => Number(x.toPrecision(6));
-  return [[r(c[0]), r(lo[1] + 0.1 * ey), r(c[2])], [r(c[0]), r(hi[1] - 0.1 * ey), r(c[2])]];
+  return [
+    [r(c[0]), r(lo[1] + 0.1 * ey), r(c[2])],
+    [r(c[0]), r(hi[1] - 0.1 * ey), r(c[2])],
+  ];
 }
 
 /**
  * The request changes that show the surface (on) or go back to the dataset
  * (off, to previousMethod): a list of [path, value] for the params controller.
  */
-export function surfaceChanges(on, { field, seed, particles, curvesPerFrame, direction, ...look }, previousMethod = 'fourier') {
+export function surfaceChanges(
+  on,
+  { field, seed, particles, curvesPerFrame, direction, ...look },
+  previousMethod = 'fourier',
+) {
   if (!on) return [['method', previousMethod]];
-  return [['surface', { field, seed, particles, curvesPerFrame, direction, ...look }], ['method', 'surface-layers']];
+  return [
+    ['surface', { field, seed, particles, curvesPerFrame, direction, ...look }],
+    ['method', 'surface-layers'],
+  ];
 }
 
 /**
@@ -40,9 +59,13 @@ export function surfaceChanges(on, { field, seed, particles, curvesPerFrame, dir
 export function surfaceStatus(s) {
   if (!s) return '';
   const done = s.curves >= s.particles ? ' (complete)' : '';
-  const drawn = s.drawnCurves === undefined ? '' : s.kept ? ` · ${s.drawnCurves} added` : ` · ${s.drawnCurves} drawn anew`;
-  return `curves ${s.curves} / ${s.particles}${done} · ${Number(s.layersPerPixel).toFixed(2)} layers per pixel` +
-    (s.overflow ? ` · ${s.overflow} fragments beyond ${s.k} layers` : '') + drawn;
+  const drawn =
+    s.drawnCurves === undefined ? '' : s.kept ? ` · ${s.drawnCurves} added` : ` · ${s.drawnCurves} drawn anew`;
+  return (
+    `curves ${s.curves} / ${s.particles}${done} · ${Number(s.layersPerPixel).toFixed(2)} layers per pixel` +
+    (s.overflow ? ` · ${s.overflow} fragments beyond ${s.k} layers` : '') +
+    drawn
+  );
 }
 
 /**
@@ -68,32 +91,138 @@ export class SurfacePanel {
       box.append(r);
       return input;
     };
-    this.on = row('Show', el('input', { type: 'checkbox', id: 'surface-on',
-      title: 'Show the stream surface of the vector field instead of the dataset; it fills in frame by frame.' }));
+    this.on = row(
+      'Show',
+      el('input', {
+        type: 'checkbox',
+        id: 'surface-on',
+        title: 'Show the stream surface of the vector field instead of the dataset; it fills in frame by frame.',
+      }),
+    );
     this.field = row('Vector field', el('select', { id: 'surface-field', title: 'The flow the surface follows.' }));
-    this.a = row('Seed start x,y,z', el('input', { type: 'text', id: 'surface-a', size: 18,
-      title: 'Where the seed line starts: three numbers x, y, z inside the field. Changing it starts the surface again.' }));
-    this.b = row('Seed end x,y,z', el('input', { type: 'text', id: 'surface-b', size: 18,
-      title: 'Where the seed line ends: three numbers x, y, z. Changing it starts the surface again.' }));
-    this.via = row('Seed via x,y,z; …', el('input', { type: 'text', id: 'surface-via', size: 18, placeholder: 'none (a straight seed)',
-      title: 'Points the seed passes through between start and end, "x,y,z; x,y,z" (up to 62): a bent seed line. Empty: straight. Changing it starts the surface again.' }));
-    this.direction = row('Direction', el('select', { id: 'surface-direction',
-      title: 'Which way the flow lines run from the seed: downstream, upstream, or both ways. Changing it starts the surface again.' }));
+    this.a = row(
+      'Seed start x,y,z',
+      el('input', {
+        type: 'text',
+        id: 'surface-a',
+        size: 18,
+        title:
+          'Where the seed line starts: three numbers x, y, z inside the field. Changing it starts the surface again.',
+      }),
+    );
+    this.b = row(
+      'Seed end x,y,z',
+      el('input', {
+        type: 'text',
+        id: 'surface-b',
+        size: 18,
+        title: 'Where the seed line ends: three numbers x, y, z. Changing it starts the surface again.',
+      }),
+    );
+    this.via = row(
+      'Seed via x,y,z; …',
+      el('input', {
+        type: 'text',
+        id: 'surface-via',
+        size: 18,
+        placeholder: 'none (a straight seed)',
+        title:
+          'Points the seed passes through between start and end, "x,y,z; x,y,z" (up to 62): a bent seed line. Empty: straight. Changing it starts the surface again.',
+      }),
+    );
+    this.direction = row(
+      'Direction',
+      el('select', {
+        id: 'surface-direction',
+        title:
+          'Which way the flow lines run from the seed: downstream, upstream, or both ways. Changing it starts the surface again.',
+      }),
+    );
     this.direction.append(...['forward', 'backward', 'both'].map((d) => el('option', { value: d, textContent: d })));
-    this.particles = row('Curves', el('input', { type: 'number', id: 'surface-particles', min: 1, max: 100000, value: 2000,
-      title: 'How many flow lines make up the finished surface. More: a smoother surface, slower to finish.' }));
-    this.perFrame = row('Curves per frame', el('input', { type: 'number', id: 'surface-per-frame', min: 1, max: 100000, value: 200,
-      title: 'How many flow lines each new frame adds. More: the surface appears in fewer, slower frames.' }));
-    this.epsilon = row('Layer merge ε', el('input', { type: 'number', id: 'surface-epsilon', min: 0, max: 1, step: 0.001, value: SURFACE_LOOK.epsilon,
-      title: 'Fragments of the surface closer than this in depth (fraction of the field\'s size) count as one layer. Larger: fewer, merged layers.' }));
-    this.opacity = row('Layer opacity', el('input', { type: 'number', id: 'surface-opacity', min: 0.01, max: 1, step: 0.05, value: SURFACE_LOOK.opacity,
-      title: 'The opacity of every layer of the surface.' }));
-    this.maxLayers = row('Layers kept', el('input', { type: 'number', id: 'surface-max-layers', min: 1, max: 64, step: 1, value: SURFACE_LOOK.maxLayers,
-      title: 'How many layers a pixel keeps (the server may keep fewer on large views: the status line says how many).' }));
-    this.composite = row('Compositing', el('select', { id: 'surface-composite',
-      title: 'Layers: blend the kept layers front to back. Weighted average / weighted sum: the order-independent baselines of the same fragments, for comparison.' }));
-    this.composite.append(...[['layers', 'layers'], ['weighted-average', 'weighted average'], ['weighted-sum', 'weighted sum']].map(([v, t]) => el('option', { value: v, textContent: t })));
-    this.color = row('Colour', el('input', { type: 'color', id: 'surface-color', value: '#f29933', title: 'The surface\'s base colour, shaded by a headlight.' }));
+    this.particles = row(
+      'Curves',
+      el('input', {
+        type: 'number',
+        id: 'surface-particles',
+        min: 1,
+        max: 100000,
+        value: 2000,
+        title: 'How many flow lines make up the finished surface. More: a smoother surface, slower to finish.',
+      }),
+    );
+    this.perFrame = row(
+      'Curves per frame',
+      el('input', {
+        type: 'number',
+        id: 'surface-per-frame',
+        min: 1,
+        max: 100000,
+        value: 200,
+        title: 'How many flow lines each new frame adds. More: the surface appears in fewer, slower frames.',
+      }),
+    );
+    this.epsilon = row(
+      'Layer merge ε',
+      el('input', {
+        type: 'number',
+        id: 'surface-epsilon',
+        min: 0,
+        max: 1,
+        step: 0.001,
+        value: SURFACE_LOOK.epsilon,
+        title:
+          "Fragments of the surface closer than this in depth (fraction of the field's size) count as one layer. Larger: fewer, merged layers.",
+      }),
+    );
+    this.opacity = row(
+      'Layer opacity',
+      el('input', {
+        type: 'number',
+        id: 'surface-opacity',
+        min: 0.01,
+        max: 1,
+        step: 0.05,
+        value: SURFACE_LOOK.opacity,
+        title: 'The opacity of every layer of the surface.',
+      }),
+    );
+    this.maxLayers = row(
+      'Layers kept',
+      el('input', {
+        type: 'number',
+        id: 'surface-max-layers',
+        min: 1,
+        max: 64,
+        step: 1,
+        value: SURFACE_LOOK.maxLayers,
+        title:
+          'How many layers a pixel keeps (the server may keep fewer on large views: the status line says how many).',
+      }),
+    );
+    this.composite = row(
+      'Compositing',
+      el('select', {
+        id: 'surface-composite',
+        title:
+          'Layers: blend the kept layers front to back. Weighted average / weighted sum: the order-independent baselines of the same fragments, for comparison.',
+      }),
+    );
+    this.composite.append(
+      ...[
+        ['layers', 'layers'],
+        ['weighted-average', 'weighted average'],
+        ['weighted-sum', 'weighted sum'],
+      ].map(([v, t]) => el('option', { value: v, textContent: t })),
+    );
+    this.color = row(
+      'Colour',
+      el('input', {
+        type: 'color',
+        id: 'surface-color',
+        value: '#f29933',
+        title: "The surface's base colour, shaded by a headlight.",
+      }),
+    );
     this.status = el('p', { className: 'info', id: 'surface-status' });
     this.status.setAttribute('role', 'status');
     box.append(this.status);
@@ -105,14 +234,30 @@ export class SurfacePanel {
       this.send();
     });
     this.on.addEventListener('change', () => this.send());
-    for (const input of [this.a, this.b, this.via, this.direction, this.particles, this.perFrame, this.epsilon, this.opacity,
-      this.maxLayers, this.composite, this.color]) input.addEventListener('change', () => this.send());
+    for (const input of [
+      this.a,
+      this.b,
+      this.via,
+      this.direction,
+      this.particles,
+      this.perFrame,
+      this.epsilon,
+      this.opacity,
+      this.maxLayers,
+      this.composite,
+      this.color,
+    ])
+      input.addEventListener('change', () => this.send());
   }
 
   /** The server's fields (GET /api/v1/datasets "fields"). */
   setFields(fields) {
     this.fields = Array.isArray(fields) ? fields : [];
-    this.field.replaceChildren(...this.fields.map((f) => Object.assign(this.field.ownerDocument.createElement('option'), { value: f.name, textContent: f.name })));
+    this.field.replaceChildren(
+      ...this.fields.map((f) =>
+        Object.assign(this.field.ownerDocument.createElement('option'), { value: f.name, textContent: f.name }),
+      ),
+    );
     this.box.hidden = this.fields.length === 0;
     if (this.fields.length) this.resetSeed();
   }
@@ -136,17 +281,24 @@ export class SurfacePanel {
       }
       return p;
     };
-    const a = point(this.a, 'Seed start'), b = point(this.b, 'Seed end');
+    const a = point(this.a, 'Seed start'),
+      b = point(this.b, 'Seed end');
     const via = parsePoints(this.via.value);
     if (!via) this.toast('Seed via: expected points x, y, z separated by ";"');
     if (!a || !b || !via) return null;
     const hex = /^#([0-9a-f]{2})([0-9a-f]{2})([0-9a-f]{2})$/i.exec(this.color.value);
     const color = hex ? [1, 2, 3].map((i) => Number((parseInt(hex[i], 16) / 255).toFixed(4))) : [...SURFACE_LOOK.color];
     return {
-      field: this.field.value, seed: [a, ...via, b], particles: Number(this.particles.value),
-      curvesPerFrame: Number(this.perFrame.value), direction: this.direction.value,
-      epsilon: Number(this.epsilon.value), opacity: Number(this.opacity.value), maxLayers: Number(this.maxLayers.value),
-      composite: this.composite.value, color,
+      field: this.field.value,
+      seed: [a, ...via, b],
+      particles: Number(this.particles.value),
+      curvesPerFrame: Number(this.perFrame.value),
+      direction: this.direction.value,
+      epsilon: Number(this.epsilon.value),
+      opacity: Number(this.opacity.value),
+      maxLayers: Number(this.maxLayers.value),
+      composite: this.composite.value,
+      color,
     };
   }
 
@@ -161,7 +313,8 @@ export class SurfacePanel {
       const p = input.value.split(',').map((x) => Number(x.trim()));
       return p.length === 3 && p.every(Number.isFinite) ? p : null;
     };
-    const a = point(this.a), b = point(this.b);
+    const a = point(this.a),
+      b = point(this.b);
     const f = this.fields.find((x) => x.name === this.field.value);
     return a && b ? { seed: [a, b], bounds: f?.bounds ?? null } : null; // the handles: the seed's two ends
   }

@@ -19,7 +19,9 @@ const attrName = (a) => (typeof a === 'string' ? a : a?.name);
 export function timeAttribute(info, name = '') {
   if (!info || info.type === 'triangles') return null; // windows are for lines and points
   const attrs = info.attributes ?? [];
-  const pick = name ? attrs.find((a) => attrName(a) === name) : TIME_NAMES.map((n) => attrs.find((a) => attrName(a) === n)).find(Boolean);
+  const pick = name
+    ? attrs.find((a) => attrName(a) === name)
+    : TIME_NAMES.map((n) => attrs.find((a) => attrName(a) === n)).find(Boolean);
   if (!pick || typeof pick === 'string' || !Array.isArray(pick.range)) return null;
   const [lo, hi] = pick.range;
   return Number.isFinite(lo) && Number.isFinite(hi) && hi >= lo ? { name: pick.name, range: [lo, hi] } : null;
@@ -55,10 +57,15 @@ export function nextT(t, range, steps = PLAY_STEPS) {
  */
 export function createTimeController(ctx) {
   const $ = (id) => ctx.doc.getElementById(id);
-  const bar = $('time'), slider = $('time-t'), lengthBox = $('time-length'), play = $('time-play'), label = $('time-label');
+  const bar = $('time'),
+    slider = $('time-t'),
+    lengthBox = $('time-length'),
+    play = $('time-play'),
+    label = $('time-label');
   const markers = $('time-markers');
   let attr = null;
-  let t = 0, length = 0;
+  let t = 0,
+    length = 0;
   let timer = 0;
   let shownAt = -1; // ctx.framesDrawn() when the last step went out: the next waits for a frame after it
   let steps = []; // times of the recent steps, for the rate the label shows while playing
@@ -67,7 +74,8 @@ export function createTimeController(ctx) {
   function showLabel() {
     const w = windowAt(t, length, attr.range);
     const rate = timer && steps.length > 2 ? (1000 * (steps.length - 1)) / (steps[steps.length - 1] - steps[0]) : 0;
-    label.textContent = (length > 0 ? `${attr.name} ${fmt(w[0])}–${fmt(w[1])}` : `${attr.name} ≤ ${fmt(w[1])}`) +
+    label.textContent =
+      (length > 0 ? `${attr.name} ${fmt(w[0])}–${fmt(w[1])}` : `${attr.name} ≤ ${fmt(w[1])}`) +
       (rate > 0 ? ` · ${rate.toFixed(1)} steps/s` : '');
   }
   function send() {

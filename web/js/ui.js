@@ -28,102 +28,650 @@ const METHOD_LABELS = {
  */
 export const GROUPS = [
   {
-    id: 'optimization', legend: 'Optimization', controls: [
-      { path: 'method', label: 'Method', kind: 'select', options: Object.entries(METHOD_LABELS), help: 'How transparency is computed. Fourier: the fast optimization (default). Exact: the slow reference. Opaque: no transparency. Direct: opacity from importance alone. WBOIT, weighted average, binning: cheaper ways to blend the optimized opacities, for comparison (they lose more of the depth order). Kanzler: opacity from importance, lowered where a part hides a more important one, covers many layers or crosses other directions (lines and points).' },
-      { path: 'params.q', label: 'q (importance behind)', kind: 'range', min: 0, max: 1000, step: 1, help: 'How strongly a part fades where importance lies behind it. Higher: what hides important parts fades more, but on dense data the important parts fade too (they hide each other: q 300 on a dense trajectory file, the most important tenth 5% opaque). By default Clarity sets the strength for you; setting q, r or λ here, even to the value shown, turns Clarity off and uses these values: on dense data the picture falls back to the paper\'s strength (the same file: its most important tenth 8% opaque instead of 52%).' },
-      { path: 'params.r', label: 'r (importance in front)', kind: 'range', min: 0, max: 2000, step: 1, help: 'How strongly a part fades where importance lies in front of it. Higher: less clutter behind what matters. Setting it turns Clarity off (see Clarity).' },
-      { path: 'params.lambda', label: 'λ (emphasis)', kind: 'range', min: 0, max: 20, step: 0.1, help: 'How much important parts are protected from fading: their penalty is scaled by (1 − importance)^(2λ). Higher: the important parts stay more opaque, and the rest grows more opaque too, less so (a dense trajectory file at λ 4: the most important tenth 65% opaque, the least important half 27%; at λ 1: 8% and 2%). Clarity raises it for you; setting it turns Clarity off.' },
-      { path: 'params.bands', label: 'Bands m', kind: 'range', min: 1, max: 8, step: 1, help: 'Accuracy of the depth approximation, 1 to 8. More bands: closer to the exact result, but slower.' },
-      { path: 'params.smoothing', label: 'Smoothing iterations', kind: 'range', min: 0, max: 100, step: 1, help: 'How often opacities are averaged with their neighbours along a line or surface, so that neighbours fade together. 0: no smoothing.' },
-      { path: 'params.smoothingWeight', label: 'Smoothing weight ω', kind: 'range', min: 0, max: 1, step: 0.01, help: 'How far each averaging step pulls a part toward its neighbours (0 to 1).' },
-      { path: 'params.fadeHalfLife', label: 'Fade half-life (s)', kind: 'range', min: 0, max: 2, step: 0.01, help: 'How quickly opacities follow a change of view, in seconds. 0: they jump at once.' },
-      { path: 'params.estimator', label: 'Estimator', kind: 'select', options: [['midpoint', 'Midpoint'], ['foo', 'FOO (paper)']], help: "How the depth sums are evaluated: Midpoint (default, more accurate) or the paper's original." },
-      { path: 'params.resolutionScale', label: 'Optimization resolution', kind: 'range', min: 0.1, max: 1, step: 0.05, help: 'Resolution of the optimization relative to the image. Lower: faster but coarser.' },
-      { path: 'params.subset', label: 'Subset (every n-th)', kind: 'range', min: 1, max: 64, step: 1, help: 'Use every n-th primitive for the optimization (for dense point clouds). 1: all of them.' },
-      { path: 'params.depthMargin', label: 'Depth margin δ', kind: 'range', min: 0, max: 0.25, step: 0.005, help: 'Keeps depths away from the ends of the periodic depth range. Rarely needs changing.' },
-      { path: 'params.depthRange', label: 'Depth range', kind: 'select', options: [['auto', 'Auto'], ['global', 'Data bounds'], ['pixel', 'Per pixel'], ['moments', 'Around the important layers']], help: "How depth maps onto the Fourier series' period: over the whole data, over each pixel's own depth range, or spread around where each pixel's importance sits (closest to the exact method, one more pass at half resolution). Auto: around the important layers with density normalization, the whole data with it off (the paper's)." },
-      { path: 'params.normalize', label: 'Density normalization', kind: 'select', options: [['auto', 'Auto (adapts to density)'], ['off', 'Off (paper formula)']], help: 'Auto: dense data does not wash out (opacities adapt to how many layers a pixel has, importance maps from min to max without outliers). Off: the paper\'s formula unchanged, and Clarity off with it; dense data then turns to fog (a dense trajectory file: its most important tenth 0.2% opaque).' },
-      { path: 'params.lod', label: 'Line detail (px)', kind: 'range', min: 0, max: 4, step: 0.05, help: 'Lines: how far, in pixels, simplified lines may stray from the full ones in still frames. 0: draw every segment.' },
-      { path: 'params.alphaSource', label: 'Opacity source', kind: 'select', options: [['importance', 'Importance (gᵏ)'], ['constant', 'Constant'], ['angle', 'Angle to the view'], ['normalVariation', 'Normal variation']], help: 'Direct method only: where each fragment\'s opacity comes from, without optimization. Importance: importance to the power k. Constant: one opacity for everything. Angle to the view: parts seen edge-on are opaque, parts facing you clear (the rims of a surface; for lines, lines pointing at you). Normal variation: opaque where the surface bends fast on screen (its contours). The local baselines the optimization is compared against.' },
-      { path: 'params.directExponent', label: 'Direct exponent k', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Direct method with opacity source importance, and the Kanzler method: opacity = importance to the power k (Kanzler then lowers it by its penalty).' },
-      { path: 'params.alphaConstant', label: 'Constant opacity', kind: 'range', min: 0, max: 1, step: 0.01, help: 'Direct method, opacity source constant: the opacity of every fragment.' },
-      { path: 'params.gamma', label: 'Normal variation γ', kind: 'range', min: 0.1, max: 4, step: 0.05, help: 'Direct method, opacity source normal variation: opacity = (change of the normal per pixel)^γ; below 1 shows more contour.' },
-      { path: 'params.kanzlerImportance', label: 'Kanzler m (max importance)', kind: 'range', min: 0, max: 5, step: 0.05, help: 'Kanzler method only: how much a part fades where the pixel holds something important (the most important part there is spared).' },
-      { path: 'params.kanzlerCoverage', label: 'Kanzler c (coverage)', kind: 'range', min: 0, max: 0.5, step: 0.005, help: 'Kanzler method only: how much a part fades per layer in its pixel. Sensitive: dense data have hundreds of layers.' },
-      { path: 'params.kanzlerVariance', label: 'Kanzler v (directions)', kind: 'range', min: 0, max: 5, step: 0.05, help: 'Kanzler method only, lines: how much a part fades where lines of different directions cross (0 where they run alike).' },
-      { path: 'params.kanzlerDepth', label: 'Kanzler d (in front)', kind: 'range', min: 0, max: 10, step: 0.1, help: 'Kanzler method only: how much a part fades when it lies in front of the most important part of its pixel.' },
-      { path: 'params.kanzlerLambda', label: 'Kanzler λ', kind: 'range', min: 0, max: 10, step: 0.1, help: 'Kanzler method only: how much importance protects a part from the penalty (it is scaled by 1 − importance^λ; 0 turns the penalty off).' },
-      { path: 'params.targetOpacity', label: 'Target opacity t', kind: 'range', min: 0.05, max: 1, step: 0.05, help: 'Upper bound of every opacity: even parts that hide nothing let this much of what lies behind through (0.9 in the surface paper). 1: the paper\'s method.' },
-      { path: 'params.smoothingWeights', label: 'Smoothing neighbours', kind: 'select', options: [['uniform', 'Equal (FOO)'], ['distance', 'By distance (surface paper)']], help: 'How the smoothing averages a part with its neighbours: all equally, or nearer neighbours more (by the distance of their centres).' },
-      { path: 'params.clarity', label: 'Clarity', kind: 'range', min: 0, max: 1, step: 0.05, help: 'How opaque the most important tenth of what you see should be (0.5: at least half). The server strengthens the optimization (λ, and q and r together) frame by frame until the important parts reach it and the unimportant parts in front of them have faded to at most half of it; the line below shows what the last frame measured. Data that already meet it keep the paper\'s strength. Fourier, WBOIT and exact methods; setting q, r or λ yourself, or density normalization off, turns it off. It cannot help an importance that points the wrong way or a high exponent on dense data. 0: off.' },
-      { path: 'params.excludeSelf', label: 'No self-occlusion', kind: 'check', help: 'Exact method: a part does not fade for hiding itself (a line folding over itself, a surface seen at a grazing angle), only for hiding other parts (the surface paper\'s rule). Off: the paper\'s sums over every fragment.' },
-      { path: 'params.guardBand', label: 'Guard band', kind: 'range', min: 0, max: 0.5, step: 0.05, help: 'The optimization also looks this far (fraction of the view) beyond each edge, so parts entering the view while you turn it already have their transparency instead of popping in opaque. 0: off.' },
+    id: 'optimization',
+    legend: 'Optimization',
+    controls: [
+      {
+        path: 'method',
+        label: 'Method',
+        kind: 'select',
+        options: Object.entries(METHOD_LABELS),
+        help: 'How transparency is computed. Fourier: the fast optimization (default). Exact: the slow reference. Opaque: no transparency. Direct: opacity from importance alone. WBOIT, weighted average, binning: cheaper ways to blend the optimized opacities, for comparison (they lose more of the depth order). Kanzler: opacity from importance, lowered where a part hides a more important one, covers many layers or crosses other directions (lines and points).',
+      },
+      {
+        path: 'params.q',
+        label: 'q (importance behind)',
+        kind: 'range',
+        min: 0,
+        max: 1000,
+        step: 1,
+        help: "How strongly a part fades where importance lies behind it. Higher: what hides important parts fades more, but on dense data the important parts fade too (they hide each other: q 300 on a dense trajectory file, the most important tenth 5% opaque). By default Clarity sets the strength for you; setting q, r or λ here, even to the value shown, turns Clarity off and uses these values: on dense data the picture falls back to the paper's strength (the same file: its most important tenth 8% opaque instead of 52%).",
+      },
+      {
+        path: 'params.r',
+        label: 'r (importance in front)',
+        kind: 'range',
+        min: 0,
+        max: 2000,
+        step: 1,
+        help: 'How strongly a part fades where importance lies in front of it. Higher: less clutter behind what matters. Setting it turns Clarity off (see Clarity).',
+      },
+      {
+        path: 'params.lambda',
+        label: 'λ (emphasis)',
+        kind: 'range',
+        min: 0,
+        max: 20,
+        step: 0.1,
+        help: 'How much important parts are protected from fading: their penalty is scaled by (1 − importance)^(2λ). Higher: the important parts stay more opaque, and the rest grows more opaque too, less so (a dense trajectory file at λ 4: the most important tenth 65% opaque, the least important half 27%; at λ 1: 8% and 2%). Clarity raises it for you; setting it turns Clarity off.',
+      },
+      {
+        path: 'params.bands',
+        label: 'Bands m',
+        kind: 'range',
+        min: 1,
+        max: 8,
+        step: 1,
+        help: 'Accuracy of the depth approximation, 1 to 8. More bands: closer to the exact result, but slower.',
+      },
+      {
+        path: 'params.smoothing',
+        label: 'Smoothing iterations',
+        kind: 'range',
+        min: 0,
+        max: 100,
+        step: 1,
+        help: 'How often opacities are averaged with their neighbours along a line or surface, so that neighbours fade together. 0: no smoothing.',
+      },
+      {
+        path: 'params.smoothingWeight',
+        label: 'Smoothing weight ω',
+        kind: 'range',
+        min: 0,
+        max: 1,
+        step: 0.01,
+        help: 'How far each averaging step pulls a part toward its neighbours (0 to 1).',
+      },
+      {
+        path: 'params.fadeHalfLife',
+        label: 'Fade half-life (s)',
+        kind: 'range',
+        min: 0,
+        max: 2,
+        step: 0.01,
+        help: 'How quickly opacities follow a change of view, in seconds. 0: they jump at once.',
+      },
+      {
+        path: 'params.estimator',
+        label: 'Estimator',
+        kind: 'select',
+        options: [
+          ['midpoint', 'Midpoint'],
+          ['foo', 'FOO (paper)'],
+        ],
+        help: "How the depth sums are evaluated: Midpoint (default, more accurate) or the paper's original.",
+      },
+      {
+        path: 'params.resolutionScale',
+        label: 'Optimization resolution',
+        kind: 'range',
+        min: 0.1,
+        max: 1,
+        step: 0.05,
+        help: 'Resolution of the optimization relative to the image. Lower: faster but coarser.',
+      },
+      {
+        path: 'params.subset',
+        label: 'Subset (every n-th)',
+        kind: 'range',
+        min: 1,
+        max: 64,
+        step: 1,
+        help: 'Use every n-th primitive for the optimization (for dense point clouds). 1: all of them.',
+      },
+      {
+        path: 'params.depthMargin',
+        label: 'Depth margin δ',
+        kind: 'range',
+        min: 0,
+        max: 0.25,
+        step: 0.005,
+        help: 'Keeps depths away from the ends of the periodic depth range. Rarely needs changing.',
+      },
+      {
+        path: 'params.depthRange',
+        label: 'Depth range',
+        kind: 'select',
+        options: [
+          ['auto', 'Auto'],
+          ['global', 'Data bounds'],
+          ['pixel', 'Per pixel'],
+          ['moments', 'Around the important layers'],
+        ],
+        help: "How depth maps onto the Fourier series' period: over the whole data, over each pixel's own depth range, or spread around where each pixel's importance sits (closest to the exact method, one more pass at half resolution). Auto: around the important layers with density normalization, the whole data with it off (the paper's).",
+      },
+      {
+        path: 'params.normalize',
+        label: 'Density normalization',
+        kind: 'select',
+        options: [
+          ['auto', 'Auto (adapts to density)'],
+          ['off', 'Off (paper formula)'],
+        ],
+        help: "Auto: dense data does not wash out (opacities adapt to how many layers a pixel has, importance maps from min to max without outliers). Off: the paper's formula unchanged, and Clarity off with it; dense data then turns to fog (a dense trajectory file: its most important tenth 0.2% opaque).",
+      },
+      {
+        path: 'params.lod',
+        label: 'Line detail (px)',
+        kind: 'range',
+        min: 0,
+        max: 4,
+        step: 0.05,
+        help: 'Lines: how far, in pixels, simplified lines may stray from the full ones in still frames. 0: draw every segment.',
+      },
+      {
+        path: 'params.alphaSource',
+        label: 'Opacity source',
+        kind: 'select',
+        options: [
+          ['importance', 'Importance (gᵏ)'],
+          ['constant', 'Constant'],
+          ['angle', 'Angle to the view'],
+          ['normalVariation', 'Normal variation'],
+        ],
+        help: "Direct method only: where each fragment's opacity comes from, without optimization. Importance: importance to the power k. Constant: one opacity for everything. Angle to the view: parts seen edge-on are opaque, parts facing you clear (the rims of a surface; for lines, lines pointing at you). Normal variation: opaque where the surface bends fast on screen (its contours). The local baselines the optimization is compared against.",
+      },
+      {
+        path: 'params.directExponent',
+        label: 'Direct exponent k',
+        kind: 'range',
+        min: 0.1,
+        max: 10,
+        step: 0.1,
+        help: 'Direct method with opacity source importance, and the Kanzler method: opacity = importance to the power k (Kanzler then lowers it by its penalty).',
+      },
+      {
+        path: 'params.alphaConstant',
+        label: 'Constant opacity',
+        kind: 'range',
+        min: 0,
+        max: 1,
+        step: 0.01,
+        help: 'Direct method, opacity source constant: the opacity of every fragment.',
+      },
+      {
+        path: 'params.gamma',
+        label: 'Normal variation γ',
+        kind: 'range',
+        min: 0.1,
+        max: 4,
+        step: 0.05,
+        help: 'Direct method, opacity source normal variation: opacity = (change of the normal per pixel)^γ; below 1 shows more contour.',
+      },
+      {
+        path: 'params.kanzlerImportance',
+        label: 'Kanzler m (max importance)',
+        kind: 'range',
+        min: 0,
+        max: 5,
+        step: 0.05,
+        help: 'Kanzler method only: how much a part fades where the pixel holds something important (the most important part there is spared).',
+      },
+      {
+        path: 'params.kanzlerCoverage',
+        label: 'Kanzler c (coverage)',
+        kind: 'range',
+        min: 0,
+        max: 0.5,
+        step: 0.005,
+        help: 'Kanzler method only: how much a part fades per layer in its pixel. Sensitive: dense data have hundreds of layers.',
+      },
+      {
+        path: 'params.kanzlerVariance',
+        label: 'Kanzler v (directions)',
+        kind: 'range',
+        min: 0,
+        max: 5,
+        step: 0.05,
+        help: 'Kanzler method only, lines: how much a part fades where lines of different directions cross (0 where they run alike).',
+      },
+      {
+        path: 'params.kanzlerDepth',
+        label: 'Kanzler d (in front)',
+        kind: 'range',
+        min: 0,
+        max: 10,
+        step: 0.1,
+        help: 'Kanzler method only: how much a part fades when it lies in front of the most important part of its pixel.',
+      },
+      {
+        path: 'params.kanzlerLambda',
+        label: 'Kanzler λ',
+        kind: 'range',
+        min: 0,
+        max: 10,
+        step: 0.1,
+        help: 'Kanzler method only: how much importance protects a part from the penalty (it is scaled by 1 − importance^λ; 0 turns the penalty off).',
+      },
+      {
+        path: 'params.targetOpacity',
+        label: 'Target opacity t',
+        kind: 'range',
+        min: 0.05,
+        max: 1,
+        step: 0.05,
+        help: "Upper bound of every opacity: even parts that hide nothing let this much of what lies behind through (0.9 in the surface paper). 1: the paper's method.",
+      },
+      {
+        path: 'params.smoothingWeights',
+        label: 'Smoothing neighbours',
+        kind: 'select',
+        options: [
+          ['uniform', 'Equal (FOO)'],
+          ['distance', 'By distance (surface paper)'],
+        ],
+        help: 'How the smoothing averages a part with its neighbours: all equally, or nearer neighbours more (by the distance of their centres).',
+      },
+      {
+        path: 'params.clarity',
+        label: 'Clarity',
+        kind: 'range',
+        min: 0,
+        max: 1,
+        step: 0.05,
+        help: "How opaque the most important tenth of what you see should be (0.5: at least half). The server strengthens the optimization (λ, and q and r together) frame by frame until the important parts reach it and the unimportant parts in front of them have faded to at most half of it; the line below shows what the last frame measured. Data that already meet it keep the paper's strength. Fourier, WBOIT and exact methods; setting q, r or λ yourself, or density normalization off, turns it off. It cannot help an importance that points the wrong way or a high exponent on dense data. 0: off.",
+      },
+      {
+        path: 'params.excludeSelf',
+        label: 'No self-occlusion',
+        kind: 'check',
+        help: "Exact method: a part does not fade for hiding itself (a line folding over itself, a surface seen at a grazing angle), only for hiding other parts (the surface paper's rule). Off: the paper's sums over every fragment.",
+      },
+      {
+        path: 'params.guardBand',
+        label: 'Guard band',
+        kind: 'range',
+        min: 0,
+        max: 0.5,
+        step: 0.05,
+        help: 'The optimization also looks this far (fraction of the view) beyond each edge, so parts entering the view while you turn it already have their transparency instead of popping in opaque. 0: off.',
+      },
     ],
   },
   {
-    id: 'importance', legend: 'Importance', controls: [
-      { path: 'importance.attribute', label: 'Attribute', kind: 'select', dynamic: 'attributes', help: 'The data value that says what matters. Important parts stay visible; unimportant parts fade where they hide important ones. By default: an attribute named importance, vt or scalar, else the file\'s first one that is not a class label (whole numbers with fewer than 64 values never are the default), else one derived from the shape (curvature, density).' },
-      { path: 'importance.range', label: 'Range', kind: 'range2', dynamic: 'importanceRange', help: 'Values at or below the minimum get importance 0, at or above the maximum 1. Minimum above maximum inverts.' },
-      { path: 'importance.exponent', label: 'Exponent', kind: 'range', min: 0.1, max: 10, step: 0.1, help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads. On dense data a high exponent can leave almost nothing visible (3 on a dense trajectory file: the most important tenth under 1% opaque), and Clarity cannot make up for it there: keep it near 1. On a mesh Clarity can (3 on a scanned mesh: the most important tenth 51% opaque).' },
-      { path: 'importance.invert', label: 'Invert', kind: 'check', help: 'Flips which end of the range matters. Attributes named as a magnitude, rank or p-value (smaller matters: a star\'s magnitude is larger when fainter) already map inverted; checking this makes their larger values important instead. The range stays as it is.' },
+    id: 'importance',
+    legend: 'Importance',
+    controls: [
+      {
+        path: 'importance.attribute',
+        label: 'Attribute',
+        kind: 'select',
+        dynamic: 'attributes',
+        help: "The data value that says what matters. Important parts stay visible; unimportant parts fade where they hide important ones. By default: an attribute named importance, vt or scalar, else the file's first one that is not a class label (whole numbers with fewer than 64 values never are the default), else one derived from the shape (curvature, density).",
+      },
+      {
+        path: 'importance.range',
+        label: 'Range',
+        kind: 'range2',
+        dynamic: 'importanceRange',
+        help: 'Values at or below the minimum get importance 0, at or above the maximum 1. Minimum above maximum inverts.',
+      },
+      {
+        path: 'importance.exponent',
+        label: 'Exponent',
+        kind: 'range',
+        min: 0.1,
+        max: 10,
+        step: 0.1,
+        help: 'Shapes the mapping: above 1 only the highest values count as important, below 1 importance spreads. On dense data a high exponent can leave almost nothing visible (3 on a dense trajectory file: the most important tenth under 1% opaque), and Clarity cannot make up for it there: keep it near 1. On a mesh Clarity can (3 on a scanned mesh: the most important tenth 51% opaque).',
+      },
+      {
+        path: 'importance.invert',
+        label: 'Invert',
+        kind: 'check',
+        help: "Flips which end of the range matters. Attributes named as a magnitude, rank or p-value (smaller matters: a star's magnitude is larger when fainter) already map inverted; checking this makes their larger values important instead. The range stays as it is.",
+      },
     ],
   },
   {
-    id: 'color', legend: 'Colour', controls: [
-      { path: 'color.attribute', label: 'Colour by', kind: 'select', dynamic: 'colorAttributes', help: "The data value shown by colour: the importance, an attribute, or the file's own RGB colours. By default: the file's own colours if it has them, else its class label (kinds by colour, importance by opacity), else the importance." },
-      { path: 'color.colormap', label: 'Colormap', kind: 'select', options: fieldByPath('color.colormap').values.map((v) => [v, v]), help: 'Colours from the lowest to the highest value; the legend over the view shows them.' },
-      { path: 'color.range', label: 'Range', kind: 'range2', dynamic: 'colorRange', help: 'The values at the two ends of the colormap. Minimum above maximum flips the colours.' },
-      { path: 'color.equalize', label: 'Equalize colours', kind: 'check', help: 'Spread the colormap evenly over the colour values you can see in this view (weighted by how visible they are); the colours follow the view smoothly. Fourier, direct and exact methods.' },
-      { path: 'color.fadeHalfLife', label: 'Colour half-life (s)', kind: 'range', min: 0, max: 10, step: 0.1, help: 'Equalized colours: how quickly the colours follow a change of view, in seconds (half the way in this time). 0: they jump at once.' },
-      { path: 'color.fixed', label: 'Fixed ranges', kind: 'ranges', help: 'Equalized colours: value ranges (in the colour attribute\'s units) that keep the plain colormap, so a threshold you know keeps its colour while the rest is spread over what you see. Up to 4.' },
+    id: 'color',
+    legend: 'Colour',
+    controls: [
+      {
+        path: 'color.attribute',
+        label: 'Colour by',
+        kind: 'select',
+        dynamic: 'colorAttributes',
+        help: "The data value shown by colour: the importance, an attribute, or the file's own RGB colours. By default: the file's own colours if it has them, else its class label (kinds by colour, importance by opacity), else the importance.",
+      },
+      {
+        path: 'color.colormap',
+        label: 'Colormap',
+        kind: 'select',
+        options: fieldByPath('color.colormap').values.map((v) => [v, v]),
+        help: 'Colours from the lowest to the highest value; the legend over the view shows them.',
+      },
+      {
+        path: 'color.range',
+        label: 'Range',
+        kind: 'range2',
+        dynamic: 'colorRange',
+        help: 'The values at the two ends of the colormap. Minimum above maximum flips the colours.',
+      },
+      {
+        path: 'color.equalize',
+        label: 'Equalize colours',
+        kind: 'check',
+        help: 'Spread the colormap evenly over the colour values you can see in this view (weighted by how visible they are); the colours follow the view smoothly. Fourier, direct and exact methods.',
+      },
+      {
+        path: 'color.fadeHalfLife',
+        label: 'Colour half-life (s)',
+        kind: 'range',
+        min: 0,
+        max: 10,
+        step: 0.1,
+        help: 'Equalized colours: how quickly the colours follow a change of view, in seconds (half the way in this time). 0: they jump at once.',
+      },
+      {
+        path: 'color.fixed',
+        label: 'Fixed ranges',
+        kind: 'ranges',
+        help: "Equalized colours: value ranges (in the colour attribute's units) that keep the plain colormap, so a threshold you know keeps its colour while the rest is spread over what you see. Up to 4.",
+      },
     ],
   },
   {
-    id: 'style', legend: 'Style', controls: [
-      { path: 'style.lineWidth', label: 'Line width (0 = auto)', kind: 'range', min: 0, max: 0.05, step: 0.0005, dynamic: 'lineWidth', help: 'Width of lines in data units. 0: automatic from the size of the data.' },
-      { path: 'style.minLinePixels', label: 'Minimum line pixels', kind: 'range', min: 0, max: 8, step: 0.5, help: 'Lines are never drawn thinner than this many pixels.' },
-      { path: 'style.pointSize', label: 'Point size (px)', kind: 'range', min: 0.5, max: 20, step: 0.5, help: 'Diameter of points in pixels.' },
-      { path: 'style.background', label: 'Background', kind: 'color', help: 'Background colour of the image. The page opens on one that contrasts with the colormap\'s highest values: dark grey for viridis, inferno, plasma and grayscale, white for turbo and coolwarm.' },
-      { path: 'style.shading', label: 'Shading', kind: 'select', options: [['phong', 'Phong'], ['none', 'None (flat)']], help: 'Phong: lit like tubes and surfaces. None: flat colours.' },
-      { path: 'camera.viewAngle', label: 'View angle (°)', kind: 'range', min: 5, max: 120, step: 1, help: 'Vertical field of view in degrees (perspective projection).' },
-      { path: 'camera.parallelProjection', label: 'Parallel projection', kind: 'check', help: 'Orthographic view: sizes do not shrink with distance.' },
-      { path: 'style.silhouetteExponent', label: 'Silhouette emphasis η', kind: 'range', min: 1, max: 20, step: 0.5, help: 'Surfaces: where a surface turns away from you (its outline) it becomes more opaque, as if seen through η layers (10 in the paper). 1: off.' },
-      { path: 'style.haloWidth', label: 'Halo width (px)', kind: 'range', min: 0, max: 16, step: 0.5, help: 'Lines: a band in the background colour beside each line that cuts lines passing far enough behind it, so crossings read in depth. 0: off.' },
-      { path: 'style.haloDepth', label: 'Halo depth offset', kind: 'range', min: 0, max: 0.2, step: 0.005, help: 'How far behind a line (fraction of the data size) another line must pass to be cut by its halo; lines closer than this (a bundle) are not cut.' },
-      { path: 'style.haloStrength', label: 'Halo strength', kind: 'range', min: 0, max: 1, step: 0.05, help: 'Opacity of the halo relative to its line: 1 cuts fully, lower values only dim.' },
-      { path: 'style.antialias', label: 'Anti-aliasing (still)', kind: 'range', min: 1, max: 16, step: 1, help: 'The sharp frame shown once you stop moving averages this many slightly shifted images, so thin lines and points do not flicker or stair-step. Costs that many compositing passes. 1: off.' },
-      { path: 'style.shadow', label: 'Ground shadow', kind: 'range', min: 0, max: 1, step: 0.05, help: 'Transparent, see-through shadows of the data on a ground plane (or on a context layer): the ground darkens by this much under fully opaque parts and by less under faint ones. Without a context layer a ground plane is drawn. 0: off.' },
-      { path: 'style.shadowLight', label: 'Light from (x, y, z)', kind: 'vec3', help: "Direction toward the light in data coordinates; the ground plane faces it. 0, 0, 0: the data's own up direction (else +y)." },
-      { path: 'style.shadowColored', label: 'Coloured shadow', kind: 'check', help: 'The shadow takes the colour of what casts it, as light through coloured glass; off: grey.' },
-      { path: 'style.ground', label: 'Ground plane', kind: 'select', options: [['auto', 'With shadows'], ['on', 'Always'], ['off', 'Never']], help: 'An opaque plane beyond the data, facing the light. With shadows: drawn when a shadow is asked for and no context layer receives it.' },
-      { path: 'style.groundColor', label: 'Ground colour', kind: 'color', help: 'Colour of the ground plane (unlit; the shadow alone darkens it).' },
-      { path: 'style.groundOffset', label: 'Ground distance', kind: 'range', min: 0, max: 1, step: 0.01, help: 'Gap between the data and the ground plane, as a fraction of the data size.' },
-      { path: 'style.smartTransparency', label: 'Smart transparency', kind: 'range', min: 0, max: 1, step: 0.05, help: 'Dark outlines where a transparent layer ends and light halos on what lies behind its edge, stronger the more opaque the layer, so the order of layers reads at their edges. 0: off.' },
-      { path: 'style.smartIterations', label: 'Outline spread (px)', kind: 'range', min: 0, max: 32, step: 1, help: 'How many pixels the outlines and halos spread from the edge (diffusion steps; 5 in the paper).' },
+    id: 'style',
+    legend: 'Style',
+    controls: [
+      {
+        path: 'style.lineWidth',
+        label: 'Line width (0 = auto)',
+        kind: 'range',
+        min: 0,
+        max: 0.05,
+        step: 0.0005,
+        dynamic: 'lineWidth',
+        help: 'Width of lines in data units. 0: automatic from the size of the data.',
+      },
+      {
+        path: 'style.minLinePixels',
+        label: 'Minimum line pixels',
+        kind: 'range',
+        min: 0,
+        max: 8,
+        step: 0.5,
+        help: 'Lines are never drawn thinner than this many pixels.',
+      },
+      {
+        path: 'style.pointSize',
+        label: 'Point size (px)',
+        kind: 'range',
+        min: 0.5,
+        max: 20,
+        step: 0.5,
+        help: 'Diameter of points in pixels.',
+      },
+      {
+        path: 'style.background',
+        label: 'Background',
+        kind: 'color',
+        help: "Background colour of the image. The page opens on one that contrasts with the colormap's highest values: dark grey for viridis, inferno, plasma and grayscale, white for turbo and coolwarm.",
+      },
+      {
+        path: 'style.shading',
+        label: 'Shading',
+        kind: 'select',
+        options: [
+          ['phong', 'Phong'],
+          ['none', 'None (flat)'],
+        ],
+        help: 'Phong: lit like tubes and surfaces. None: flat colours.',
+      },
+      {
+        path: 'camera.viewAngle',
+        label: 'View angle (°)',
+        kind: 'range',
+        min: 5,
+        max: 120,
+        step: 1,
+        help: 'Vertical field of view in degrees (perspective projection).',
+      },
+      {
+        path: 'camera.parallelProjection',
+        label: 'Parallel projection',
+        kind: 'check',
+        help: 'Orthographic view: sizes do not shrink with distance.',
+      },
+      {
+        path: 'style.silhouetteExponent',
+        label: 'Silhouette emphasis η',
+        kind: 'range',
+        min: 1,
+        max: 20,
+        step: 0.5,
+        help: 'Surfaces: where a surface turns away from you (its outline) it becomes more opaque, as if seen through η layers (10 in the paper). 1: off.',
+      },
+      {
+        path: 'style.haloWidth',
+        label: 'Halo width (px)',
+        kind: 'range',
+        min: 0,
+        max: 16,
+        step: 0.5,
+        help: 'Lines: a band in the background colour beside each line that cuts lines passing far enough behind it, so crossings read in depth. 0: off.',
+      },
+      {
+        path: 'style.haloDepth',
+        label: 'Halo depth offset',
+        kind: 'range',
+        min: 0,
+        max: 0.2,
+        step: 0.005,
+        help: 'How far behind a line (fraction of the data size) another line must pass to be cut by its halo; lines closer than this (a bundle) are not cut.',
+      },
+      {
+        path: 'style.haloStrength',
+        label: 'Halo strength',
+        kind: 'range',
+        min: 0,
+        max: 1,
+        step: 0.05,
+        help: 'Opacity of the halo relative to its line: 1 cuts fully, lower values only dim.',
+      },
+      {
+        path: 'style.antialias',
+        label: 'Anti-aliasing (still)',
+        kind: 'range',
+        min: 1,
+        max: 16,
+        step: 1,
+        help: 'The sharp frame shown once you stop moving averages this many slightly shifted images, so thin lines and points do not flicker or stair-step. Costs that many compositing passes. 1: off.',
+      },
+      {
+        path: 'style.shadow',
+        label: 'Ground shadow',
+        kind: 'range',
+        min: 0,
+        max: 1,
+        step: 0.05,
+        help: 'Transparent, see-through shadows of the data on a ground plane (or on a context layer): the ground darkens by this much under fully opaque parts and by less under faint ones. Without a context layer a ground plane is drawn. 0: off.',
+      },
+      {
+        path: 'style.shadowLight',
+        label: 'Light from (x, y, z)',
+        kind: 'vec3',
+        help: "Direction toward the light in data coordinates; the ground plane faces it. 0, 0, 0: the data's own up direction (else +y).",
+      },
+      {
+        path: 'style.shadowColored',
+        label: 'Coloured shadow',
+        kind: 'check',
+        help: 'The shadow takes the colour of what casts it, as light through coloured glass; off: grey.',
+      },
+      {
+        path: 'style.ground',
+        label: 'Ground plane',
+        kind: 'select',
+        options: [
+          ['auto', 'With shadows'],
+          ['on', 'Always'],
+          ['off', 'Never'],
+        ],
+        help: 'An opaque plane beyond the data, facing the light. With shadows: drawn when a shadow is asked for and no context layer receives it.',
+      },
+      {
+        path: 'style.groundColor',
+        label: 'Ground colour',
+        kind: 'color',
+        help: 'Colour of the ground plane (unlit; the shadow alone darkens it).',
+      },
+      {
+        path: 'style.groundOffset',
+        label: 'Ground distance',
+        kind: 'range',
+        min: 0,
+        max: 1,
+        step: 0.01,
+        help: 'Gap between the data and the ground plane, as a fraction of the data size.',
+      },
+      {
+        path: 'style.smartTransparency',
+        label: 'Smart transparency',
+        kind: 'range',
+        min: 0,
+        max: 1,
+        step: 0.05,
+        help: 'Dark outlines where a transparent layer ends and light halos on what lies behind its edge, stronger the more opaque the layer, so the order of layers reads at their edges. 0: off.',
+      },
+      {
+        path: 'style.smartIterations',
+        label: 'Outline spread (px)',
+        kind: 'range',
+        min: 0,
+        max: 32,
+        step: 1,
+        help: 'How many pixels the outlines and halos spread from the edge (diffusion steps; 5 in the paper).',
+      },
     ],
   },
   {
-    id: 'criteria', legend: 'Criteria, filters, transfer functions', controls: [
-      { path: 'importance.terms', label: 'Importance terms', kind: 'terms', help: 'Up to four weighted criteria instead of one attribute: each maps its attribute from its range (empty: auto) to [0, 1], weight −1 to 1; g = Σ w·t / Σ|w|, and when the weights sum below 0, g = 1 + that sum (a penalty). Remove every term for the single attribute above.' },
-      { path: 'filter', label: 'Filters', kind: 'filters', help: 'Lines (points) draw only where every filter holds: a statistic of the attribute over the line (min, max, mean, first, last, change = last − first; points: vertex) compared with a value. Changing a filter costs one frame, not a reload.' },
-      { path: 'importance.curve', label: 'Importance curve', kind: 'curve', help: 'Transfer function of the importance before the exponent: drag the points, click to add one, double-click to remove one.' },
-      { path: 'color.curve', label: 'Colour curve', kind: 'curve', help: 'Transfer function of the colormap coordinate: drag the points, click to add one, double-click to remove one.' },
+    id: 'criteria',
+    legend: 'Criteria, filters, transfer functions',
+    controls: [
+      {
+        path: 'importance.terms',
+        label: 'Importance terms',
+        kind: 'terms',
+        help: 'Up to four weighted criteria instead of one attribute: each maps its attribute from its range (empty: auto) to [0, 1], weight −1 to 1; g = Σ w·t / Σ|w|, and when the weights sum below 0, g = 1 + that sum (a penalty). Remove every term for the single attribute above.',
+      },
+      {
+        path: 'filter',
+        label: 'Filters',
+        kind: 'filters',
+        help: 'Lines (points) draw only where every filter holds: a statistic of the attribute over the line (min, max, mean, first, last, change = last − first; points: vertex) compared with a value. Changing a filter costs one frame, not a reload.',
+      },
+      {
+        path: 'importance.curve',
+        label: 'Importance curve',
+        kind: 'curve',
+        help: 'Transfer function of the importance before the exponent: drag the points, click to add one, double-click to remove one.',
+      },
+      {
+        path: 'color.curve',
+        label: 'Colour curve',
+        kind: 'curve',
+        help: 'Transfer function of the colormap coordinate: drag the points, click to add one, double-click to remove one.',
+      },
     ],
   },
   {
-    id: 'quality', legend: 'Quality', controls: [
-      { path: 'quality', label: 'JPEG quality (still)', kind: 'range', min: 10, max: 100, step: 1, help: 'JPEG quality of the sharp frame shown once you stop moving.' },
-      { path: 'interactiveQuality', label: 'JPEG quality (moving)', kind: 'range', min: 10, max: 100, step: 1, help: 'The most JPEG quality of the frames while you move the view; the server lowers it (then their size) where the link cannot carry them in time.' },
-      { path: 'interactiveScale', label: 'Resolution while moving', kind: 'range', min: 0.25, max: 1, step: 0.05, help: 'Image resolution while you move the view (fraction per side). Lower: smoother motion.' },
+    id: 'quality',
+    legend: 'Quality',
+    controls: [
+      {
+        path: 'quality',
+        label: 'JPEG quality (still)',
+        kind: 'range',
+        min: 10,
+        max: 100,
+        step: 1,
+        help: 'JPEG quality of the sharp frame shown once you stop moving.',
+      },
+      {
+        path: 'interactiveQuality',
+        label: 'JPEG quality (moving)',
+        kind: 'range',
+        min: 10,
+        max: 100,
+        step: 1,
+        help: 'The most JPEG quality of the frames while you move the view; the server lowers it (then their size) where the link cannot carry them in time.',
+      },
+      {
+        path: 'interactiveScale',
+        label: 'Resolution while moving',
+        kind: 'range',
+        min: 0.25,
+        max: 1,
+        step: 0.05,
+        help: 'Image resolution while you move the view (fraction per side). Lower: smoother motion.',
+      },
     ],
   },
   {
-    id: 'lines', legend: 'Line clusters', controls: [
-      { path: 'lines.clusters', label: 'Clusters (0 = all lines)', kind: 'range', min: 0, max: 1000, step: 1, help: 'Lines: group similar lines and draw one line per group. 0 draws every line. The first use clusters the lines (seconds for large sets); then a new count costs one frame.' },
-      { path: 'lines.representative', label: 'Representative', kind: 'select', options: [['important', 'Most important'], ['mean', 'Closest to the mean'], ['leastDistance', 'Least distance to the rest']], help: 'Which line stands in for its group: the most important one, the one closest to the group\'s average line, or the one nearest to all the others.' },
-      { path: 'lines.linkage', label: 'Linkage', kind: 'select', options: [['complete', 'Complete'], ['single', 'Single'], ['average', 'Average']], help: 'How groups are merged: complete keeps groups compact (recommended), single chains neighbours, average is in between.' },
-      { path: 'lines.liftImportance', label: 'Importance weight λg', kind: 'range', min: 0, max: 2, step: 0.05, help: 'How much differences in importance separate lines, besides their position. Above 0.5: important lines form groups of their own.' },
-      { path: 'lines.liftColor', label: 'Colour weight λc', kind: 'range', min: 0, max: 2, step: 0.05, help: 'How much differences in the colour value separate lines, besides their position.' },
+    id: 'lines',
+    legend: 'Line clusters',
+    controls: [
+      {
+        path: 'lines.clusters',
+        label: 'Clusters (0 = all lines)',
+        kind: 'range',
+        min: 0,
+        max: 1000,
+        step: 1,
+        help: 'Lines: group similar lines and draw one line per group. 0 draws every line. The first use clusters the lines (seconds for large sets); then a new count costs one frame.',
+      },
+      {
+        path: 'lines.representative',
+        label: 'Representative',
+        kind: 'select',
+        options: [
+          ['important', 'Most important'],
+          ['mean', 'Closest to the mean'],
+          ['leastDistance', 'Least distance to the rest'],
+        ],
+        help: "Which line stands in for its group: the most important one, the one closest to the group's average line, or the one nearest to all the others.",
+      },
+      {
+        path: 'lines.linkage',
+        label: 'Linkage',
+        kind: 'select',
+        options: [
+          ['complete', 'Complete'],
+          ['single', 'Single'],
+          ['average', 'Average'],
+        ],
+        help: 'How groups are merged: complete keeps groups compact (recommended), single chains neighbours, average is in between.',
+      },
+      {
+        path: 'lines.liftImportance',
+        label: 'Importance weight λg',
+        kind: 'range',
+        min: 0,
+        max: 2,
+        step: 0.05,
+        help: 'How much differences in importance separate lines, besides their position. Above 0.5: important lines form groups of their own.',
+      },
+      {
+        path: 'lines.liftColor',
+        label: 'Colour weight λc',
+        kind: 'range',
+        min: 0,
+        max: 2,
+        step: 0.05,
+        help: 'How much differences in the colour value separate lines, besides their position.',
+      },
     ],
   },
 ];
@@ -133,7 +681,10 @@ const decimals = (step) => (String(step).includes('.') ? String(step).split('.')
 
 /** [0,1] RGB ↔ #rrggbb. */
 export function rgbToHex(rgb) {
-  const h = (x) => Math.round(Math.min(1, Math.max(0, x)) * 255).toString(16).padStart(2, '0');
+  const h = (x) =>
+    Math.round(Math.min(1, Math.max(0, x)) * 255)
+      .toString(16)
+      .padStart(2, '0');
   return `#${h(rgb[0])}${h(rgb[1])}${h(rgb[2])}`;
 }
 export function hexToRgb(hex) {
@@ -252,7 +803,9 @@ export class Panel {
         num.value = formatNumber(v);
         this.#emit(spec.path, v, false);
       });
-      range.addEventListener('change', () => this.#emit(spec.path, int ? Math.round(Number(range.value)) : Number(range.value), true));
+      range.addEventListener('change', () =>
+        this.#emit(spec.path, int ? Math.round(Number(range.value)) : Number(range.value), true),
+      );
       num.addEventListener('change', () => {
         const v = parseNum(num.value);
         if (Number.isFinite(v)) range.value = String(v);
@@ -326,7 +879,12 @@ export class Panel {
         return n;
       });
       inputs[0].id = id;
-      const fire = () => this.#emit(spec.path, inputs.map((n) => parseNum(n.value)), true);
+      const fire = () =>
+        this.#emit(
+          spec.path,
+          inputs.map((n) => parseNum(n.value)),
+          true,
+        );
       for (const n of inputs) n.addEventListener('change', fire);
       const span = document.createElement('span');
       span.className = 'pair';
@@ -336,7 +894,8 @@ export class Panel {
     }
     if (ctl.hint) {
       row.append(ctl.hint);
-      for (const el of [ctl.el, ctl.num, ctl.num2, ...(ctl.vec ?? [])]) el?.setAttribute('aria-describedby', ctl.hint.id);
+      for (const el of [ctl.el, ctl.num, ctl.num2, ...(ctl.vec ?? [])])
+        el?.setAttribute('aria-describedby', ctl.hint.id);
     }
     row.append(msg);
     this.controls.set(spec.path, ctl);
@@ -423,14 +982,20 @@ export class Panel {
   /** The methods the server offers, when it says (ready/health may list them). */
   setMethods(names) {
     if (!Array.isArray(names) || !names.length) return;
-    this.setOptions('method', names.map((n) => [n, METHOD_LABELS[n] ?? n]));
+    this.setOptions(
+      'method',
+      names.map((n) => [n, METHOD_LABELS[n] ?? n]),
+    );
   }
 
   /** Fills the dataset-dependent choices from a dataset description. */
   setDataset(info) {
     const attrs = Array.isArray(info?.attributes) ? info.attributes : [];
     const names = attrs.map((a) => (typeof a === 'string' ? a : a.name)).filter(Boolean);
-    this.setOptions('importance.attribute', names.map((n) => [n, n]));
+    this.setOptions(
+      'importance.attribute',
+      names.map((n) => [n, n]),
+    );
     const colorOpts = [['importance', 'importance'], ...names.map((n) => [n, n])];
     if (info?.hasRgb) colorOpts.push(['rgb', 'RGB (per vertex)']);
     this.setOptions('color.attribute', colorOpts);
@@ -449,8 +1014,8 @@ export class Panel {
  * the slider's end instead, integers are rounded.
  */
 export function clampToField(f, spec, value) {
-  const lo = f.loOpen ? Math.max(f.min ?? -Infinity, spec.min) : f.min ?? -Infinity;
-  const hi = f.hiOpen ? Math.min(f.max ?? Infinity, spec.max) : f.max ?? Infinity;
+  const lo = f.loOpen ? Math.max(f.min ?? -Infinity, spec.min) : (f.min ?? -Infinity);
+  const hi = f.hiOpen ? Math.min(f.max ?? Infinity, spec.max) : (f.max ?? Infinity);
   const v = Math.min(hi, Math.max(lo, value));
   return f.type === 'int' ? Math.round(v) : v;
 }

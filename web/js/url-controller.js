@@ -20,7 +20,8 @@ export function createUrlController(ctx) {
     // depends on as much: the link reproduces the picture wherever it is opened or turned into a render request
     const update = merge(state.pageDefaults ?? {}, state.update);
     const hash = formatHash({ dataset: state.dataset, camera: state.camera, update });
-    if (hash !== location.hash) history.replaceState(history.state, '', `${location.pathname}${location.search}${hash}`);
+    if (hash !== location.hash)
+      history.replaceState(history.state, '', `${location.pathname}${location.search}${hash}`);
     last = location.hash;
   }
 

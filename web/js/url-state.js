@@ -5,7 +5,18 @@
 // so a link reopens the same view and its keys can be pasted into an <img> URL.
 // Pure functions: no window access; the page passes location.hash / location.search.
 
-import { FIELDS, STREAM_FIELDS, REQUEST_TOP_FIELDS, fieldByAlias, fieldByPath, fieldPath, checkField, valueToText, getPath, setPath } from './schema.js';
+import {
+  FIELDS,
+  STREAM_FIELDS,
+  REQUEST_TOP_FIELDS,
+  fieldByAlias,
+  fieldByPath,
+  fieldPath,
+  checkField,
+  valueToText,
+  getPath,
+  setPath,
+} from './schema.js';
 import { ProtocolError, checkCameraPose, DEFAULT_LIMITS } from './protocol.js';
 import { roundCamera } from './camera.js';
 
@@ -74,11 +85,20 @@ export function queryValue(f, text) {
 }
 
 const ALL_FIELDS = [...FIELDS, ...REQUEST_TOP_FIELDS, ...STREAM_FIELDS];
-const DEFAULT_CAMERA_FIELDS = { position: [0, 0, 0], focalPoint: [0, 0, 0], viewUp: [0, 1, 0], viewAngle: 30, parallelProjection: false, parallelScale: 1 };
+const DEFAULT_CAMERA_FIELDS = {
+  position: [0, 0, 0],
+  focalPoint: [0, 0, 0],
+  viewUp: [0, 1, 0],
+  viewAngle: 30,
+  parallelProjection: false,
+  parallelScale: 1,
+};
 
 /** The field a query key names: a flat alias or a dotted path; stream settings only when allowed. */
 function queryField(key, stream) {
-  const f = key.includes('.') ? ALL_FIELDS.find((x) => x.section && fieldPath(x) === key) : ALL_FIELDS.find((x) => x.alias === key && (x.section || !STREAM_FIELDS.includes(x)));
+  const f = key.includes('.')
+    ? ALL_FIELDS.find((x) => x.section && fieldPath(x) === key)
+    : ALL_FIELDS.find((x) => x.alias === key && (x.section || !STREAM_FIELDS.includes(x)));
   if (f) return f;
   if (stream) return STREAM_FIELDS.find((x) => x.alias === key && x.name !== 'quality');
   return undefined;
@@ -107,8 +127,14 @@ export function applyQueryParam(req, key, text, { limits = DEFAULT_LIMITS, strea
 /** Cross-field checks after the last parameter (lc_proto_validate_request): pixel cap, camera. */
 export function validateQueryRequest(req, limits = DEFAULT_LIMITS) {
   const lim = { ...DEFAULT_LIMITS, ...limits };
-  const w = req.width ?? 1024, h = req.height ?? 768;
-  if (w * h > lim.maxPixels) throw new ProtocolError('out_of_range', `${w} x ${h} = ${w * h} pixels exceeds the limit ${lim.maxPixels}`, 'width');
+  const w = req.width ?? 1024,
+    h = req.height ?? 768;
+  if (w * h > lim.maxPixels)
+    throw new ProtocolError(
+      'out_of_range',
+      `${w} x ${h} = ${w * h} pixels exceeds the limit ${lim.maxPixels}`,
+      'width',
+    );
   if (req.camera) checkCameraPose(req.camera, true);
   return req;
 }
@@ -178,7 +204,12 @@ export function formatHash({ dataset, camera, update }, defaults = null) {
     if (defaults && sameValue(v, getPath(defaults, path))) continue;
     if (f.name === 'layers' && Array.isArray(v) && !v.length) continue; // [] = the single dataset, the default
     const list = ['terms', 'filters', 'curve', 'ranges', 'layers', 'seed'].includes(f.type); // JSON text, as it is
-    const r = typeof v === 'number' ? Number(v.toPrecision(7)) : Array.isArray(v) && !list ? v.map((x) => Number(Number(x).toPrecision(7))) : v;
+    const r =
+      typeof v === 'number'
+        ? Number(v.toPrecision(7))
+        : Array.isArray(v) && !list
+          ? v.map((x) => Number(Number(x).toPrecision(7)))
+          : v;
     parts.push(`${f.alias}=${enc(valueToText(f, r))}`);
   }
   return parts.length ? `#${parts.join('&')}` : '';
@@ -186,7 +217,8 @@ export function formatHash({ dataset, camera, update }, defaults = null) {
 
 function sameValue(a, b) {
   if (Array.isArray(a) && Array.isArray(b)) return a.length === b.length && a.every((x, i) => sameValue(x, b[i]));
-  if (typeof a === 'number' && typeof b === 'number') return Math.abs(a - b) <= 1e-9 * Math.max(1, Math.abs(a), Math.abs(b));
+  if (typeof a === 'number' && typeof b === 'number')
+    return Math.abs(a - b) <= 1e-9 * Math.max(1, Math.abs(a), Math.abs(b));
   return a === b;
 }
 

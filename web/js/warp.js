@@ -13,7 +13,8 @@ import { cameraFrame, sub, add, scale, dot } from './camera.js';
  */
 export function projector(cam, width, height) {
   const { dir, right, up } = cameraFrame(cam);
-  const h2 = height / 2, w2 = width / 2;
+  const h2 = height / 2,
+    w2 = width / 2;
   if (cam.parallelProjection) {
     const k = h2 / (cam.parallelScale || 1);
     return (p) => {
@@ -40,25 +41,33 @@ export function projector(cam, width, height) {
  */
 export function warpTransform(from, to, width, height) {
   const { right, up, distance } = cameraFrame(from);
-  const s = cam => (cam.parallelProjection ? cam.parallelScale : distance * Math.tan((cam.viewAngle * Math.PI) / 360)) * 0.5;
+  const s = (cam) =>
+    (cam.parallelProjection ? cam.parallelScale : distance * Math.tan((cam.viewAngle * Math.PI) / 360)) * 0.5;
   const step = s(from) || 1;
   const pts = [from.focalPoint, add(from.focalPoint, scale(right, step)), add(from.focalPoint, scale(up, step))];
-  const P = projector(from, width, height), Q = projector(to, width, height);
-  const a = pts.map(P), b = pts.map(Q);
+  const P = projector(from, width, height),
+    Q = projector(to, width, height);
+  const a = pts.map(P),
+    b = pts.map(Q);
   if (a.some((x) => !x) || b.some((x) => !x)) return null;
   // solve for M (2×2) and t: b_i = M a_i + t, with a_1 - a_0 and a_2 - a_0 as the basis
-  const u1 = [a[1][0] - a[0][0], a[1][1] - a[0][1]], u2 = [a[2][0] - a[0][0], a[2][1] - a[0][1]];
-  const v1 = [b[1][0] - b[0][0], b[1][1] - b[0][1]], v2 = [b[2][0] - b[0][0], b[2][1] - b[0][1]];
+  const u1 = [a[1][0] - a[0][0], a[1][1] - a[0][1]],
+    u2 = [a[2][0] - a[0][0], a[2][1] - a[0][1]];
+  const v1 = [b[1][0] - b[0][0], b[1][1] - b[0][1]],
+    v2 = [b[2][0] - b[0][0], b[2][1] - b[0][1]];
   const det = u1[0] * u2[1] - u2[0] * u1[1];
   if (Math.abs(det) < 1e-9) return null;
   // M = [v1 v2] · [u1 u2]^-1
   const inv = [u2[1] / det, -u2[0] / det, -u1[1] / det, u1[0] / det]; // rows of the inverse
-  const m00 = v1[0] * inv[0] + v2[0] * inv[2], m01 = v1[0] * inv[1] + v2[0] * inv[3];
-  const m10 = v1[1] * inv[0] + v2[1] * inv[2], m11 = v1[1] * inv[1] + v2[1] * inv[3];
+  const m00 = v1[0] * inv[0] + v2[0] * inv[2],
+    m01 = v1[0] * inv[1] + v2[0] * inv[3];
+  const m10 = v1[1] * inv[0] + v2[1] * inv[2],
+    m11 = v1[1] * inv[1] + v2[1] * inv[3];
   const e = b[0][0] - (m00 * a[0][0] + m01 * a[0][1]);
   const f = b[0][1] - (m10 * a[0][0] + m11 * a[0][1]);
   const m = [m00, m10, m01, m11, e, f];
-  const sx = Math.hypot(m00, m10), sy = Math.hypot(m01, m11);
+  const sx = Math.hypot(m00, m10),
+    sy = Math.hypot(m01, m11);
   if (!m.every(Number.isFinite) || sx > 50 || sy > 50 || sx < 0.02 || sy < 0.02) return null;
   return m;
 }
@@ -67,7 +76,14 @@ export function warpTransform(from, to, width, height) {
 export function isIdentity(m, width = 1000) {
   if (!m) return true;
   const eps = 0.1 / Math.max(width, 1);
-  return Math.abs(m[0] - 1) < eps && Math.abs(m[1]) < eps && Math.abs(m[2]) < eps && Math.abs(m[3] - 1) < eps && Math.abs(m[4]) < 0.1 && Math.abs(m[5]) < 0.1;
+  return (
+    Math.abs(m[0] - 1) < eps &&
+    Math.abs(m[1]) < eps &&
+    Math.abs(m[2]) < eps &&
+    Math.abs(m[3] - 1) < eps &&
+    Math.abs(m[4]) < 0.1 &&
+    Math.abs(m[5]) < 0.1
+  );
 }
 
 /**
@@ -77,5 +93,9 @@ export function isIdentity(m, width = 1000) {
  */
 export function axesDirections(cam) {
   const { dir, right, up } = cameraFrame(cam);
-  return [[1, 0, 0], [0, 1, 0], [0, 0, 1]].map((e, i) => ({ axis: 'XYZ'[i], x: dot(e, right), y: dot(e, up), toward: -dot(e, dir) }));
+  return [
+    [1, 0, 0],
+    [0, 1, 0],
+    [0, 0, 1],
+  ].map((e, i) => ({ axis: 'XYZ'[i], x: dot(e, right), y: dot(e, up), toward: -dot(e, dir) }));
 }

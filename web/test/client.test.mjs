@@ -10,9 +10,16 @@ import { fieldByPath, checkField } from '../js/schema.js';
 test('back-off: 0.5 s, 1 s, then a probe every 1.5 s (1.2–1.8 s with ±20 % jitter)', () => {
   const mid = (a) => backoffDelay(a, () => 0.5);
   assert.deepEqual([0, 1, 2, 3, 4, 5, 6].map(mid), [500, 1000, 1500, 1500, 1500, 1500, 1500]);
-  for (let a = 2; a < 60; a++) assert.ok(backoffDelay(a, () => 0) >= 1000 && backoffDelay(a, () => 1) <= 2000, `attempt ${a}`);
-  assert.equal(backoffDelay(0, () => 0), BACKOFF_MIN_MS * 0.8);
-  assert.equal(backoffDelay(50, () => 1), BACKOFF_MAX_MS * 1.2);
+  for (let a = 2; a < 60; a++)
+    assert.ok(backoffDelay(a, () => 0) >= 1000 && backoffDelay(a, () => 1) <= 2000, `attempt ${a}`);
+  assert.equal(
+    backoffDelay(0, () => 0),
+    BACKOFF_MIN_MS * 0.8,
+  );
+  assert.equal(
+    backoffDelay(50, () => 1),
+    BACKOFF_MAX_MS * 1.2,
+  );
   for (const code of ['unauthorized', 'not_found']) assert.ok(TERMINAL_CODES.has(code), code);
   for (const code of ['overloaded', 'internal', 'too_many_sessions']) assert.ok(!TERMINAL_CODES.has(code), code);
 });
@@ -24,7 +31,18 @@ test('frame stats: fps over the last second, latency from camera seq to drawn fr
   now = 40;
   s.cameraSent(2);
   now = 100;
-  const h = (frame, cameraSeq, extra = {}) => ({ frame, width: 640, height: 480, format: 'jpeg', quality: 70, cameraSeq, converged: false, timings: { importance: 1.5, resolve: 0.5 }, encodeMs: 2, ...extra });
+  const h = (frame, cameraSeq, extra = {}) => ({
+    frame,
+    width: 640,
+    height: 480,
+    format: 'jpeg',
+    quality: 70,
+    cameraSeq,
+    converged: false,
+    timings: { importance: 1.5, resolve: 0.5 },
+    encodeMs: 2,
+    ...extra,
+  });
   s.frameDrawn(h(1, 1), 1000, 100);
   assert.equal(s.latency, 100);
   s.frameDrawn(h(2, 1), 1000, 150); // same seq: no new latency sample
@@ -91,12 +109,32 @@ test('every panel control edits a request field whose slider range is valid for 
           if (p && !(f.loOpen && v === f.min)) assert.fail(`${c.path}: slider end ${v}: ${p.reason}`);
         }
       }
-      if (c.kind === 'select' && c.options) for (const [v] of c.options) assert.equal(checkField(f, v), null, `${c.path}: ${v}`);
+      if (c.kind === 'select' && c.options)
+        for (const [v] of c.options) assert.equal(checkField(f, v), null, `${c.path}: ${v}`);
     }
   }
-  for (const p of ['params.q', 'params.r', 'params.lambda', 'params.bands', 'params.smoothing', 'params.fadeHalfLife', 'params.estimator', 'method',
-    'importance.attribute', 'importance.range', 'importance.exponent', 'color.attribute', 'color.colormap', 'color.range',
-    'style.lineWidth', 'style.pointSize', 'style.background', 'style.shading', 'quality', 'interactiveScale'])
+  for (const p of [
+    'params.q',
+    'params.r',
+    'params.lambda',
+    'params.bands',
+    'params.smoothing',
+    'params.fadeHalfLife',
+    'params.estimator',
+    'method',
+    'importance.attribute',
+    'importance.range',
+    'importance.exponent',
+    'color.attribute',
+    'color.colormap',
+    'color.range',
+    'style.lineWidth',
+    'style.pointSize',
+    'style.background',
+    'style.shading',
+    'quality',
+    'interactiveScale',
+  ])
     assert.ok(paths.has(p), `the panel lacks ${p}`);
 });
 
@@ -111,7 +149,13 @@ test('the token travels as a WebSocket subprotocol: base64url without padding, n
 
 test('visibility text and the warning when important structures hide each other (importantOccluded)', async () => {
   const { visibilityText, occlusionWarning, IMPORTANT_OCCLUDED_WARN } = await import('../js/stats.js');
-  const v = { topDecileAlpha: 0.9, bottomHalfAlpha: 0.1, coveredFraction: 0.3, occluderAlpha: 0.05, importantOccluded: 0.4 };
+  const v = {
+    topDecileAlpha: 0.9,
+    bottomHalfAlpha: 0.1,
+    coveredFraction: 0.3,
+    occluderAlpha: 0.05,
+    importantOccluded: 0.4,
+  };
   assert.match(visibilityText(v), /40% of the important fragments hidden by importance/);
   assert.match(occlusionWarning(v), /^40% of the important fragments lie behind other important ones/);
   assert.equal(occlusionWarning({ ...v, importantOccluded: IMPORTANT_OCCLUDED_WARN - 0.01 }), '');

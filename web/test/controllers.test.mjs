@@ -14,14 +14,28 @@ import { fitCamera, cloneCamera } from '../js/camera.js';
 
 const BOUNDS = [0, 0, 0, 1, 2, 3]; // flat: x0 y0 z0 x1 y1 z1
 const INFO = {
-  name: 'demo:a', type: 'lines', lines: 12000, vertices: 3000000, elements: 2000, bounds: BOUNDS,
-  attributes: [{ name: 'speed', range: [2, 10] }, { name: 'flat', range: [4, 4] }],
+  name: 'demo:a',
+  type: 'lines',
+  lines: 12000,
+  vertices: 3000000,
+  elements: 2000,
+  bounds: BOUNDS,
+  attributes: [
+    { name: 'speed', range: [2, 10] },
+    { name: 'flat', range: [4, 4] },
+  ],
 };
 
 /** Animation frames that run only when the test says so. */
 function frames() {
   const queue = [];
-  return { frame: (fn) => (queue.push(fn), queue.length), run: () => queue.splice(0).forEach((fn) => fn()), get size() { return queue.length; } };
+  return {
+    frame: (fn) => (queue.push(fn), queue.length),
+    run: () => queue.splice(0).forEach((fn) => fn()),
+    get size() {
+      return queue.length;
+    },
+  };
 }
 
 function newState(hash = '') {
@@ -31,9 +45,18 @@ function newState(hash = '') {
 test('params: edits merge into the state at once and go out as one message per frame', () => {
   const state = newState();
   state.info = INFO;
-  const f = frames(), sent = [];
-  let changed = 0, counted = 0;
-  const params = createParamsController({ state, frame: f.frame, send: (m) => (sent.push(m), true), changed: () => changed++, sent: () => counted++, toast: assert.fail });
+  const f = frames(),
+    sent = [];
+  let changed = 0,
+    counted = 0;
+  const params = createParamsController({
+    state,
+    frame: f.frame,
+    send: (m) => (sent.push(m), true),
+    changed: () => changed++,
+    sent: () => counted++,
+    toast: assert.fail,
+  });
   params.applyChange('params.q', 80);
   params.applyChange('params.r', 300);
   assert.deepEqual(state.update.params, { q: 80, r: 300 });
@@ -56,20 +79,40 @@ test('params: edits merge into the state at once and go out as one message per f
   assert.equal(sent.length, 2);
   assert.deepEqual(sent[1].color, { attribute: 'importance', range: [0, 1] }, 'the latest colour edit wins');
   // a closed socket: the edit stays in the state for the next hello, nothing counted
-  const closed = createParamsController({ state, frame: f.frame, send: () => false, changed() {}, sent: assert.fail, toast: assert.fail });
+  const closed = createParamsController({
+    state,
+    frame: f.frame,
+    send: () => false,
+    changed() {},
+    sent: assert.fail,
+    toast: assert.fail,
+  });
   closed.applyChange('params.lambda', 2);
   f.run();
   assert.equal(state.update.params.lambda, 2);
   // camera fields go to the camera
   const seen = [];
-  createParamsController({ state, frame: f.frame, send: assert.fail, setCameraField: (p, v) => seen.push([p, v]), changed: assert.fail }).applyChange('camera.viewAngle', 45);
+  createParamsController({
+    state,
+    frame: f.frame,
+    send: assert.fail,
+    setCameraField: (p, v) => seen.push([p, v]),
+    changed: assert.fail,
+  }).applyChange('camera.viewAngle', 45);
   assert.deepEqual(seen, [['camera.viewAngle', 45]]);
 });
 
 test('params: a value the protocol refuses is toasted, not sent', () => {
   const state = newState();
-  const f = frames(), toasts = [];
-  const params = createParamsController({ state, frame: f.frame, send: assert.fail, changed() {}, toast: (t) => toasts.push(t) });
+  const f = frames(),
+    toasts = [];
+  const params = createParamsController({
+    state,
+    frame: f.frame,
+    send: assert.fail,
+    changed() {},
+    toast: (t) => toasts.push(t),
+  });
   params.applyChange('params', 5); // not an object: paramsMessage throws
   f.run();
   assert.equal(toasts.length, 1);
@@ -79,19 +122,31 @@ function cameraRig({ open = true } = {}) {
   const state = newState();
   state.info = INFO;
   state.viewport = { width: 400, height: 300, dpr: 1 };
-  const f = frames(), sent = [], seqs = [], shown = [];
-  let clock = 100, changed = 0;
+  const f = frames(),
+    sent = [],
+    seqs = [],
+    shown = [];
+  let clock = 100,
+    changed = 0;
   const camera = createCameraController({
-    state, frame: f.frame, now: () => clock, isOpen: () => open, send: (m) => sent.push(m),
-    axes: { update: (c) => shown.push(c) }, view: { setCamera: () => true }, stats: { cameraSent: (s) => seqs.push(s) },
-    aspect: () => 4 / 3, changed: () => changed++,
+    state,
+    frame: f.frame,
+    now: () => clock,
+    isOpen: () => open,
+    send: (m) => sent.push(m),
+    axes: { update: (c) => shown.push(c) },
+    view: { setCamera: () => true },
+    stats: { cameraSent: (s) => seqs.push(s) },
+    aspect: () => 4 / 3,
+    changed: () => changed++,
   });
   return { state, f, sent, seqs, shown, camera, tick: (ms) => (clock += ms), changes: () => changed };
 }
 
 test('camera: latest wins, one message per animation frame, sequence numbers grow', () => {
   const r = cameraRig();
-  const a = r.camera.initial(INFO), b = cloneCamera(a);
+  const a = r.camera.initial(INFO),
+    b = cloneCamera(a);
   b.position = b.position.map((x) => x * 1.5);
   r.camera.setCamera(a);
   r.camera.setCamera(b);
@@ -102,7 +157,10 @@ test('camera: latest wins, one message per animation frame, sequence numbers gro
   r.f.run();
   assert.equal(r.sent.length, 1, 'two changes in one frame: one message');
   assert.equal(r.sent[0].seq, 1);
-  assert.deepEqual(r.sent[0].camera.position, b.position.map((x) => Number(x.toPrecision(12))));
+  assert.deepEqual(
+    r.sent[0].camera.position,
+    b.position.map((x) => Number(x.toPrecision(12))),
+  );
   assert.deepEqual(r.seqs, [1]);
   assert.equal(r.state.responses.length, 1, 'the painted response is measured');
   assert.equal(r.state.responses[0], 10);
@@ -111,7 +169,11 @@ test('camera: latest wins, one message per animation frame, sequence numbers gro
   r.camera.setCamera(a);
   r.f.run();
   assert.equal(r.sent[1].seq, 2);
-  assert.equal(r.state.cameras.get(2).position[0], r.sent[1].camera.position[0], 'the camera sent is kept to warp its frames');
+  assert.equal(
+    r.state.cameras.get(2).position[0],
+    r.sent[1].camera.position[0],
+    'the camera sent is kept to warp its frames',
+  );
   // a degenerate camera is ignored
   const bad = cloneCamera(a);
   bad.position = [...bad.focalPoint];
@@ -144,7 +206,10 @@ test('camera: commands fit the data; a fitted view is refitted when it changes s
   r.camera.command('+x');
   assert.equal(r.state.fitted, true);
   const dir = r.state.camera.focalPoint.map((f, i) => f - r.state.camera.position[i]);
-  assert.ok(Math.abs(dir[0]) > 0 && Math.abs(dir[1]) < 1e-9 && Math.abs(dir[2]) < 1e-9, `an axis view looks along x: ${dir}`);
+  assert.ok(
+    Math.abs(dir[0]) > 0 && Math.abs(dir[1]) < 1e-9 && Math.abs(dir[2]) < 1e-9,
+    `an axis view looks along x: ${dir}`,
+  );
   const before = cloneCamera(r.state.camera);
   r.camera.viewResized();
   assert.equal(r.state.fitted, true);
@@ -160,9 +225,18 @@ test('url: the link is written once, after the last change, and a pasted link is
   const state = newState('#dataset=demo:a');
   const location = { hash: '#dataset=demo:a', pathname: '/', search: '' };
   const writes = [];
-  const history = { state: null, replaceState: (s, t, u) => (writes.push(u), (location.hash = u.slice(u.indexOf('#')))) };
+  const history = {
+    state: null,
+    replaceState: (s, t, u) => (writes.push(u), (location.hash = u.slice(u.indexOf('#')))),
+  };
   const timers = [];
-  const url = createUrlController({ state, location, history, setTimeout: (fn, ms) => timers.push({ fn, ms }) && timers.length, clearTimeout: (id) => id && (timers[id - 1].fn = null) });
+  const url = createUrlController({
+    state,
+    location,
+    history,
+    setTimeout: (fn, ms) => timers.push({ fn, ms }) && timers.length,
+    clearTimeout: (id) => id && (timers[id - 1].fn = null),
+  });
   state.update = { params: { q: 80 } };
   url.schedule();
   url.schedule();
@@ -186,18 +260,43 @@ function sessionRigWith(conn) {
   const state = newState('#dataset=demo:a&q=80');
   state.datasets = [INFO, { name: 'demo:b', type: 'points', vertices: 5 }];
   const log = [];
-  const ui = new Proxy({}, { get: (_, k) => (...a) => log.push([k, ...a]) });
+  const ui = new Proxy(
+    {},
+    {
+      get:
+        (_, k) =>
+        (...a) =>
+          log.push([k, ...a]),
+    },
+  );
   const marked = [];
-  const panel = { setMethods() {}, setDataset() {}, markInvalid: (field, text) => (marked.push([field, text]), field.startsWith('params.')) };
+  const panel = {
+    setMethods() {},
+    setDataset() {},
+    markInvalid: (field, text) => (marked.push([field, text]), field.startsWith('params.')),
+  };
   const adopted = [];
   let dropped = 0;
-  const camera = { initial: (info) => fitCamera(cloneCamera(), info.bounds), adopt: (c) => ((state.camera = c), adopted.push(c)), setCamera: (c) => (state.camera = c), drop: () => dropped++ };
+  const camera = {
+    initial: (info) => fitCamera(cloneCamera(), info.bounds),
+    adopt: (c) => ((state.camera = c), adopted.push(c)),
+    setCamera: (c) => (state.camera = c),
+    drop: () => dropped++,
+  };
   const view = { setSize() {}, reset() {}, push() {} };
   const stats = { sent: new Map(), lastMeasuredSeq: 0 };
   const s = createSessionController({
-    state, stats, view, camera, panel, params: { drop: () => dropped++ }, api: { datasets: () => Promise.resolve([]) },
-    conn: () => conn, measure: () => ({ width: 320, height: 200, dpr: 2 }),
-    timers: { setInterval: () => 1, clearInterval() {}, now: () => 0 }, ui,
+    state,
+    stats,
+    view,
+    camera,
+    panel,
+    params: { drop: () => dropped++ },
+    api: { datasets: () => Promise.resolve([]) },
+    conn: () => conn,
+    measure: () => ({ width: 320, height: 200, dpr: 2 }),
+    timers: { setInterval: () => 1, clearInterval() {}, now: () => 0 },
+    ui,
   });
   return { state, s, log, marked, adopted, dropped: () => dropped };
 }
@@ -217,7 +316,13 @@ test('session: the hello restores dataset, camera, viewport and changes', () => 
 test('session: ready takes the server defaults and camera; errors go to the field, the banner or the token', () => {
   const r = sessionRig();
   const cam = fitCamera(cloneCamera(), BOUNDS, [1, 0, 0]);
-  r.s.handlers.onReady({ session: 's1', dataset: INFO, defaults: { params: { q: 60 }, camera: cam }, stream: { quality: 80 }, limits: { maxSize: 4096 } });
+  r.s.handlers.onReady({
+    session: 's1',
+    dataset: INFO,
+    defaults: { params: { q: 60 }, camera: cam },
+    stream: { quality: 80 },
+    limits: { maxSize: 4096 },
+  });
   assert.equal(r.state.session, 's1');
   assert.equal(r.state.dataset, 'demo:a');
   assert.deepEqual(r.adopted[0], cam);
@@ -226,7 +331,10 @@ test('session: ready takes the server defaults and camera; errors go to the fiel
   assert.ok(r.log.some(([k, key, v]) => k === 'body' && key === 'session' && v === 's1'));
   r.log.length = 0;
   r.s.handlers.onError({ code: 'out_of_range', message: 'params.q: too large', field: 'params.q' }, { fatal: false });
-  assert.deepEqual(r.marked.map((m) => m[0]), ['params.q']);
+  assert.deepEqual(
+    r.marked.map((m) => m[0]),
+    ['params.q'],
+  );
   assert.equal(r.log.filter(([k]) => k === 'toast').length, 1);
   r.log.length = 0;
   r.s.handlers.onError({ code: 'unknown_dataset', message: 'no such dataset', field: 'dataset' }, { fatal: true });
@@ -234,7 +342,10 @@ test('session: ready takes the server defaults and camera; errors go to the fiel
   assert.match(banner[1], /“demo:a” is not available: no such dataset\. Available: demo:a, demo:b\./);
   r.log.length = 0;
   r.s.handlers.onError({ code: 'unauthorized', message: 'token' }, { fatal: true });
-  assert.deepEqual(r.log.map(([k]) => k), ['body', 'askToken']);
+  assert.deepEqual(
+    r.log.map(([k]) => k),
+    ['body', 'askToken'],
+  );
   // a ready for the dataset clears the old "not available"
   r.state.error = { code: 'not_found', field: 'dataset' };
   r.s.handlers.onReady({ session: 's2', dataset: INFO, defaults: {} });
@@ -247,11 +358,20 @@ test('session: a dataset the server refuses to open takes the page back to the l
   rig.s.handlers.onReady({ session: 's1', dataset: INFO, defaults: {} });
   rig.state.dataset = 'demo:b'; // the picker chose it; its hello is refused before ready
   rig.log.length = 0;
-  rig.s.handlers.onError({ code: 'too_expensive', message: 'width: estimated cost 2e9 exceeds the budget', field: 'width' }, { fatal: true });
+  rig.s.handlers.onError(
+    { code: 'too_expensive', message: 'width: estimated cost 2e9 exceeds the budget', field: 'width' },
+    { fatal: true },
+  );
   assert.equal(rig.state.dataset, 'demo:a', 'back to the dataset that last opened');
   const banner = rig.log.find(([k]) => k === 'showBanner');
-  assert.match(banner[1], /“demo:b” was not opened: width: estimated cost 2e9 exceeds the budget\. Showing “demo:a” again\./);
-  assert.ok(rig.log.some(([k]) => k === 'showDataset'), 'the picker shows the dataset in view');
+  assert.match(
+    banner[1],
+    /“demo:b” was not opened: width: estimated cost 2e9 exceeds the budget\. Showing “demo:a” again\./,
+  );
+  assert.ok(
+    rig.log.some(([k]) => k === 'showDataset'),
+    'the picker shows the dataset in view',
+  );
   assert.equal(started, 0, 'no reconnect before this connection has ended');
   rig.s.handlers.onState('stopped', { reason: 'refused' });
   assert.equal(started, 1, 'one new session for the last dataset');
@@ -344,7 +464,10 @@ test('datasets: the picker model, descriptions and sizes', () => {
   const state = newState('#dataset=demo:x');
   state.datasets = [INFO];
   let m = datasetView(state);
-  assert.deepEqual(m.options, [['demo:x', 'demo:x (unknown)'], ['demo:a', 'demo:a · 12k lines']]);
+  assert.deepEqual(m.options, [
+    ['demo:x', 'demo:x (unknown)'],
+    ['demo:a', 'demo:a · 12k lines'],
+  ]);
   assert.equal(m.details, null);
   state.dataset = 'demo:a';
   m = datasetView(state);
@@ -353,9 +476,20 @@ test('datasets: the picker model, descriptions and sizes', () => {
 
 test('datasets: a preset goes under the link, says so, and undo takes it back out', () => {
   const state = newState('#dataset=demo:a&r=100');
-  state.datasets = [{ ...INFO, preset: { params: { q: 70, r: 900 }, color: { colormap: 'plasma' } } }, { name: 'demo:b' }];
+  state.datasets = [
+    { ...INFO, preset: { params: { q: 70, r: 900 }, color: { colormap: 'plasma' } } },
+    { name: 'demo:b' },
+  ];
   const log = [];
-  const ui = new Proxy({}, { get: (_, k) => (...a) => log.push([k, ...a]) });
+  const ui = new Proxy(
+    {},
+    {
+      get:
+        (_, k) =>
+        (...a) =>
+          log.push([k, ...a]),
+    },
+  );
   const d = createDatasetController({ state, camera: { initial: () => null }, ui });
   d.usePreset({ update: state.update, camera: null });
   assert.deepEqual(state.update.params, { q: 70, r: 100 }, "the link's r wins over the preset's");

@@ -2,10 +2,21 @@
 // layer, removing the last layer goes back to the single dataset, and the legend's line per visible layer.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { addLayer, setLayer, removeLayer, layerLegend, layerFilter, timeWindow, MAX_LAYERS } from '../js/layers-controller.js';
+import {
+  addLayer,
+  setLayer,
+  removeLayer,
+  layerLegend,
+  layerFilter,
+  timeWindow,
+  MAX_LAYERS,
+} from '../js/layers-controller.js';
 
 test('adding: the first addition keeps the shown dataset as layer 1; at most 8', () => {
-  assert.deepEqual(addLayer([], 'demo:points', 'demo:tornado'), [{ dataset: 'demo:points' }, { dataset: 'demo:tornado' }]);
+  assert.deepEqual(addLayer([], 'demo:points', 'demo:tornado'), [
+    { dataset: 'demo:points' },
+    { dataset: 'demo:tornado' },
+  ]);
   assert.deepEqual(addLayer([{ dataset: 'a' }], 'x', 'b'), [{ dataset: 'a' }, { dataset: 'b' }]);
   let l = [];
   for (let i = 0; i < 12; i++) l = addLayer(l, 'a', `d${i}`);
@@ -14,11 +25,18 @@ test('adding: the first addition keeps the shown dataset as layer 1; at most 8',
 
 test('editing one layer: visible, role, attributes (a new one drops its range; "" = the default)', () => {
   const l = [{ dataset: 'a' }, { dataset: 'b', color: { attribute: 'x', range: [0, 1] } }];
-  assert.deepEqual(setLayer(l, 1, 'visible', false)[1], { dataset: 'b', visible: false, color: { attribute: 'x', range: [0, 1] } });
+  assert.deepEqual(setLayer(l, 1, 'visible', false)[1], {
+    dataset: 'b',
+    visible: false,
+    color: { attribute: 'x', range: [0, 1] },
+  });
   assert.equal(setLayer(l, 0, 'role', 'context')[0].role, 'context');
   assert.deepEqual(setLayer(l, 1, 'color.attribute', 'y')[1].color, { attribute: 'y' });
   assert.equal(setLayer(l, 1, 'color.attribute', '')[1].color, undefined);
-  assert.deepEqual(setLayer(l, 0, 'importance.attribute', 'speed')[0], { dataset: 'a', importance: { attribute: 'speed' } });
+  assert.deepEqual(setLayer(l, 0, 'importance.attribute', 'speed')[0], {
+    dataset: 'a',
+    importance: { attribute: 'speed' },
+  });
   assert.deepEqual(l[1].color, { attribute: 'x', range: [0, 1] }); // the input is left alone
   assert.deepEqual(removeLayer(l, 0), [l[1]]);
   assert.deepEqual(removeLayer([l[0]], 0), []);
@@ -42,14 +60,29 @@ test("a layer's time window and filter: set from typed values, cleared when inco
   assert.deepEqual(setLayer(l, 1, 'lines', { clusters: 12 })[1], { dataset: 'b', lines: { clusters: 12 } });
   assert.deepEqual(setLayer(setLayer(l, 1, 'lines', { clusters: 12 }), 1, 'lines', undefined)[1], { dataset: 'b' });
   assert.deepEqual(setLayer(l, 0, 'color.equalize', true)[0], { dataset: 'a', color: { equalize: true } });
-  assert.deepEqual(setLayer(setLayer(l, 0, 'color.equalize', true), 0, 'color.equalize', undefined)[0], { dataset: 'a' });
-  assert.deepEqual(setLayer(setLayer(l, 0, 'color.equalize', true), 0, 'role', 'context')[0], { dataset: 'a', role: 'context' });
+  assert.deepEqual(setLayer(setLayer(l, 0, 'color.equalize', true), 0, 'color.equalize', undefined)[0], {
+    dataset: 'a',
+  });
+  assert.deepEqual(setLayer(setLayer(l, 0, 'color.equalize', true), 0, 'role', 'context')[0], {
+    dataset: 'a',
+    role: 'context',
+  });
   assert.equal(l[1].time, undefined); // the input is left alone
 });
 
 test('the legend: visible layers, their colour attribute, colormap and range', () => {
-  const infos = { a: { defaultColor: 'speed', attributes: [{ name: 'speed', range: [2, 9] }] }, b: { attributes: [{ name: 't', range: [0, 5] }] } };
-  const rows = layerLegend([{ dataset: 'a' }, { dataset: 'b', visible: false }, { dataset: 'b', role: 'context', color: { attribute: 't', colormap: 'turbo' } }], (n) => infos[n]);
+  const infos = {
+    a: { defaultColor: 'speed', attributes: [{ name: 'speed', range: [2, 9] }] },
+    b: { attributes: [{ name: 't', range: [0, 5] }] },
+  };
+  const rows = layerLegend(
+    [
+      { dataset: 'a' },
+      { dataset: 'b', visible: false },
+      { dataset: 'b', role: 'context', color: { attribute: 't', colormap: 'turbo' } },
+    ],
+    (n) => infos[n],
+  );
   assert.deepEqual(rows, [
     { dataset: 'a', role: 'transparent', attribute: 'speed', rgb: false, colormap: 'viridis', range: [2, 9] },
     { dataset: 'b', role: 'context', attribute: 't', rgb: false, colormap: 'turbo', range: [0, 5] },
@@ -59,7 +92,10 @@ test('the legend: visible layers, their colour attribute, colormap and range', (
 
 test('the link carries layers as JSON text and reads them back; [] is left out', async () => {
   const { formatHash, parseHash } = await import('../js/url-state.js');
-  const layers = [{ dataset: 'demo:points' }, { dataset: 'demo:tornado', role: 'context', color: { attribute: 'speed' } }];
+  const layers = [
+    { dataset: 'demo:points' },
+    { dataset: 'demo:tornado', role: 'context', color: { attribute: 'speed' } },
+  ];
   const hash = formatHash({ dataset: 'demo:points', update: { layers } });
   assert.match(hash, /&layers=/);
   const back = parseHash(hash);

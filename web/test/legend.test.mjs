@@ -4,7 +4,14 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { legendModel, linearTicks, invertNote } from '../js/legend.js';
-import { colorAt, contrastRatio, topColorClash, contrastBackground, COLORMAP_STOPS, DARK_BACKGROUND } from '../js/colormaps.js';
+import {
+  colorAt,
+  contrastRatio,
+  topColorClash,
+  contrastBackground,
+  COLORMAP_STOPS,
+  DARK_BACKGROUND,
+} from '../js/colormaps.js';
 import { pageDefaults, currentValues } from '../js/app-state.js';
 
 const DARK = [...DARK_BACKGROUND];
@@ -58,7 +65,10 @@ test('smaller matters: the legend says so, the curve falls, the Invert box has a
   m = legendModel({ importance: { attribute: 'bv' } }, stars);
   assert.deepEqual(m.direction, { smallerMatters: false, smallerFirst: false, text: '' });
   assert.equal(invertNote({ importance: { attribute: 'bv' } }, stars), '');
-  assert.equal(legendModel({ importance: { attribute: 'bv', invert: true } }, stars).direction.text, 'smaller = more important');
+  assert.equal(
+    legendModel({ importance: { attribute: 'bv', invert: true } }, stars).direction.text,
+    'smaller = more important',
+  );
   // terms replace the single attribute: their own 1−t flags say the direction
   const terms = { importance: { terms: [{ attribute: 'magnitude', weight: 1 }] } };
   assert.equal(legendModel(terms, stars).direction.smallerFirst, false);
@@ -74,7 +84,14 @@ test('contrast: the warning measures luminance contrast; the page opens on a bac
   assert.equal(topColorClash('viridis', [0, 1], [1, 1, 1]).clash, true);
   // the rule: white when the top colour has ≥ 3:1 against white, else the dark background
   const bg = Object.fromEntries(Object.keys(COLORMAP_STOPS).map((c) => [c, contrastBackground(c)]));
-  assert.deepEqual(bg, { viridis: DARK, coolwarm: [1, 1, 1], grayscale: DARK, inferno: DARK, plasma: DARK, turbo: [1, 1, 1] });
+  assert.deepEqual(bg, {
+    viridis: DARK,
+    coolwarm: [1, 1, 1],
+    grayscale: DARK,
+    inferno: DARK,
+    plasma: DARK,
+    turbo: [1, 1, 1],
+  });
   for (const [c, b] of Object.entries(bg)) {
     assert.ok(contrastRatio(colorAt(c, 1), b) >= 3, `${c}: the most important colour stands out`);
     assert.equal(legendModel({ color: { colormap: c }, style: { background: b } }, stars).clash, false, c);
@@ -83,7 +100,12 @@ test('contrast: the warning measures luminance contrast; the page opens on a bac
   assert.deepEqual(pageDefaults({}), { style: { background: DARK } });
   assert.deepEqual(pageDefaults({ color: { colormap: 'turbo' } }), { style: { background: [1, 1, 1] } });
   assert.deepEqual(pageDefaults({ style: { background: [1, 1, 1] } }), {});
-  const state = { defaults: { style: { background: [1, 1, 1], lineWidth: 0 } }, pageDefaults: pageDefaults({}), stream: null, update: {} };
+  const state = {
+    defaults: { style: { background: [1, 1, 1], lineWidth: 0 } },
+    pageDefaults: pageDefaults({}),
+    stream: null,
+    update: {},
+  };
   assert.deepEqual(currentValues(state).style, { background: DARK, lineWidth: 0 });
   state.update = { style: { background: [0, 0, 1] } };
   assert.deepEqual(currentValues(state).style.background, [0, 0, 1], 'the user wins');

@@ -12,7 +12,8 @@ import { clampToField, GROUPS, attributeRange } from '../js/ui.js';
 import { fieldByPath } from '../js/schema.js';
 
 const BOUNDS = [0, 0, 0, 1, 1, 1];
-const W = 640, H = 480;
+const W = 640,
+  H = 480;
 const cam0 = fitCamera(cloneCamera(), BOUNDS, [0, 1, 0], [0, 0, 1]);
 const apply = (m, p) => [m[0] * p[0] + m[2] * p[1] + m[4], m[1] * p[0] + m[3] * p[1] + m[5]];
 const close = (a, b, eps) => a.every((x, i) => Math.abs(x - b[i]) <= eps);
@@ -25,8 +26,12 @@ test('warp: identity for the same camera, exact for pan and dolly, close for sma
   assert.ok(close(z, [2, 0, 0, 2, -W / 2, -H / 2], 1e-6), `a 2× dolly doubles about the centre: ${z}`);
   const turned = orbit(cam0, 30, 10, W, H);
   const o = warpTransform(cam0, turned, W, H);
-  const P = projector(cam0, W, H), Q = projector(turned, W, H);
-  assert.ok(close(apply(o, P(cam0.focalPoint)), Q(cam0.focalPoint), 1e-6), 'the focal point stays where the new camera sees it');
+  const P = projector(cam0, W, H),
+    Q = projector(turned, W, H);
+  assert.ok(
+    close(apply(o, P(cam0.focalPoint)), Q(cam0.focalPoint), 1e-6),
+    'the focal point stays where the new camera sees it',
+  );
   const side = [cam0.focalPoint[0] + 0.2, cam0.focalPoint[1], cam0.focalPoint[2] + 0.1]; // in from's focal plane
   // other points of the focal plane: a first-order approximation (a rotation is a homography, not affine)
   const err = Math.hypot(...apply(o, P(side)).map((x, i) => x - Q(side)[i]));
@@ -49,34 +54,61 @@ test('colormaps: stops, interpolation, the top colour against the background', (
     assert.equal(stops.length, 11, name);
     assert.match(gradientCss(name), /^linear-gradient\(to right, #/);
   }
-  assert.deepEqual(colorAt('grayscale', 0.5).map((x) => Math.round(x * 255)), [128, 128, 128]);
+  assert.deepEqual(
+    colorAt('grayscale', 0.5).map((x) => Math.round(x * 255)),
+    [128, 128, 128],
+  );
   assert.equal(topColorClash('grayscale', [0, 1], [1, 1, 1]).clash, true, 'white on white');
   assert.equal(topColorClash('grayscale', [1, 0], [1, 1, 1]).clash, false, 'flipped: black on white');
   assert.equal(topColorClash('grayscale', [0, 1], [0, 0, 0]).clash, false, 'white on black');
-  assert.equal(topColorClash('viridis', [0, 1], [1, 1, 1]).clash, true, "viridis' yellow on white: luminance contrast 1.26");
+  assert.equal(
+    topColorClash('viridis', [0, 1], [1, 1, 1]).clash,
+    true,
+    "viridis' yellow on white: luminance contrast 1.26",
+  );
   assert.equal(topColorClash('viridis', [1, 0], [1, 1, 1]).clash, false, 'flipped: purple on white');
   assert.equal(topColorClash('inferno', [1, 0], [0, 0, 0]).clash, true, 'inferno flipped on black');
 });
 
 test('legend model: names, ranges, importance mapping and the opacity sentence', () => {
-  const info = { defaultImportance: 'line_curvature', attributes: [{ name: 'velocity', range: [0.03, 0.31] }, { name: 'line_curvature', range: [0.08, 1] }] };
+  const info = {
+    defaultImportance: 'line_curvature',
+    attributes: [
+      { name: 'velocity', range: [0.03, 0.31] },
+      { name: 'line_curvature', range: [0.08, 1] },
+    ],
+  };
   let m = legendModel({}, info);
   assert.deepEqual(m.color, { attribute: 'importance', colormap: 'viridis', range: [0, 1], rgb: false });
   assert.deepEqual(m.importance, { attribute: 'line_curvature', range: [0.08, 1], exponent: 1 });
   assert.match(m.opacity, /optimized/);
-  m = legendModel({ color: { attribute: 'velocity', colormap: 'plasma' }, importance: { range: [0.5, 1], exponent: 2 }, method: 'direct', params: { directExponent: 3 } }, info);
+  m = legendModel(
+    {
+      color: { attribute: 'velocity', colormap: 'plasma' },
+      importance: { range: [0.5, 1], exponent: 2 },
+      method: 'direct',
+      params: { directExponent: 3 },
+    },
+    info,
+  );
   assert.deepEqual(m.color.range, [0.03, 0.31]);
   assert.deepEqual(m.importance.range, [0.5, 1]);
   assert.match(m.opacity, /g\^3/);
   assert.equal(legendModel({ color: { attribute: 'rgb' } }, info).clash, false);
   // normalize auto (default) maps importance from the auto range the server reports; off from min/max.
-  const robust = { ...info, attributes: [{ name: 'line_curvature', range: [0.08, 1], percentiles: [0.1, 0.9], autoRange: [0.15, 0.97] }] };
+  const robust = {
+    ...info,
+    attributes: [{ name: 'line_curvature', range: [0.08, 1], percentiles: [0.1, 0.9], autoRange: [0.15, 0.97] }],
+  };
   assert.deepEqual(legendModel({}, robust).importance.range, [0.15, 0.97]);
   assert.deepEqual(legendModel({ params: { normalize: 'off' } }, robust).importance.range, [0.08, 1]);
   // colour by an attribute takes the same robust range, and so does the panel (attributeRange)
   const stars = { attributes: [{ name: 'bv', range: [-0.4, 5.46], autoRange: [-0.4, 2.1] }] };
   assert.deepEqual(legendModel({ color: { attribute: 'bv' } }, stars).color.range, [-0.4, 2.1]);
-  assert.deepEqual(legendModel({ color: { attribute: 'bv' }, params: { normalize: 'off' } }, stars).color.range, [-0.4, 5.46]);
+  assert.deepEqual(
+    legendModel({ color: { attribute: 'bv' }, params: { normalize: 'off' } }, stars).color.range,
+    [-0.4, 5.46],
+  );
   assert.deepEqual(attributeRange(stars, 'bv'), [-0.4, 2.1]);
   assert.deepEqual(attributeRange(stars, 'bv', 'off'), [-0.4, 5.46]);
   assert.deepEqual(attributeRange({ attributes: [{ name: 'c', range: [2, 2], autoRange: [2, 2] }] }, 'c'), [2, 2]);
@@ -84,7 +116,12 @@ test('legend model: names, ranges, importance mapping and the opacity sentence',
 });
 
 test('presets: validated, under the link, undone without touching later edits', () => {
-  const preset = { params: { q: 80, r: 40, bands: 99 }, color: { colormap: 'plasma' }, camera: { viewAngle: 20 }, extra: {} };
+  const preset = {
+    params: { q: 80, r: 40, bands: 99 },
+    color: { colormap: 'plasma' },
+    camera: { viewAngle: 20 },
+    extra: {},
+  };
   const p = readPreset(preset);
   assert.deepEqual(p.update, { params: { q: 80, r: 40 }, color: { colormap: 'plasma' } });
   assert.deepEqual(p.camera, { viewAngle: 20 });
@@ -105,7 +142,8 @@ test('out-of-range numbers are brought inside the field (slider end for open bou
   assert.equal(clampToField(fieldByPath('params.bands'), spec('params.bands'), -3), 1);
   assert.equal(clampToField(fieldByPath('params.resolutionScale'), spec('params.resolutionScale'), 0), 0.1);
   assert.equal(clampToField(fieldByPath('params.q'), spec('params.q'), 5e6), 1e6);
-  for (const c of GROUPS.flatMap((g) => g.controls)) assert.ok(c.help && c.help.length > 20, `${c.path} has a plain-words help text`);
+  for (const c of GROUPS.flatMap((g) => g.controls))
+    assert.ok(c.help && c.help.length > 20, `${c.path} has a plain-words help text`);
 });
 
 test('portrait views fit the bounding sphere into the horizontal angle', () => {
@@ -115,18 +153,30 @@ test('portrait views fit the bounding sphere into the horizontal angle', () => {
   assert.ok(Math.abs(dist(wide) - dist(cam0)) < 1e-12, 'landscape: as lc_camera_fit');
   assert.ok(dist(tall) > 1.9 * dist(cam0), 'portrait 1:2 backs off');
   const P = projector(tall, 100, 200);
-  for (const x of [0, 1]) for (const y of [0, 1]) for (const z of [0, 1]) {
-    const [u, v] = P([x, y, z]);
-    assert.ok(u >= 0 && u <= 100 && v >= 0 && v <= 200, `corner ${x}${y}${z} at ${u}, ${v}`);
-  }
+  for (const x of [0, 1])
+    for (const y of [0, 1])
+      for (const z of [0, 1]) {
+        const [u, v] = P([x, y, z]);
+        assert.ok(u >= 0 && u <= 100 && v >= 0 && v <= 200, `corner ${x}${y}${z} at ${u}, ${v}`);
+      }
 });
 
-test('legend: an equalized frame\'s colorTicks become warped ticks along the bar', () => {
+test("legend: an equalized frame's colorTicks become warped ticks along the bar", () => {
   const t = equalizedTicks([0.1, 1.234567, 2.5, 4, 10]);
-  assert.deepEqual(t.map((x) => x.at), [0, 25, 50, 75, 100]);
-  assert.deepEqual(t.map((x) => x.text), ['0.1', '1.23', '2.5', '4', '10']);
+  assert.deepEqual(
+    t.map((x) => x.at),
+    [0, 25, 50, 75, 100],
+  );
+  assert.deepEqual(
+    t.map((x) => x.text),
+    ['0.1', '1.23', '2.5', '4', '10'],
+  );
   // a flipped bar (range max first) runs the values right to left, as the colours
-  assert.deepEqual(equalizedTicks([0, 1, 2, 3, 4], true).map((x) => x.at), [100, 75, 50, 25, 0]);
+  assert.deepEqual(
+    equalizedTicks([0, 1, 2, 3, 4], true).map((x) => x.at),
+    [100, 75, 50, 25, 0],
+  );
   // frames without equalization (or a malformed header) have none
-  for (const bad of [undefined, null, [1, 2, 3], [0, 1, 2, 3, 'x'], [0, 1, 2, 3, NaN]]) assert.equal(equalizedTicks(bad), null);
+  for (const bad of [undefined, null, [1, 2, 3], [0, 1, 2, 3, 'x'], [0, 1, 2, 3, NaN]])
+    assert.equal(equalizedTicks(bad), null);
 });

@@ -4,11 +4,23 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { timeAttribute, windowAt, fromWindow, nextT, createTimeController } from '../js/time-controller.js';
 
-const dump = { type: 'lines', attributes: [{ name: 'type', range: [1, 3] }, { name: 'timestep', range: [0, 190] }] };
+const dump = {
+  type: 'lines',
+  attributes: [
+    { name: 'type', range: [1, 3] },
+    { name: 'timestep', range: [0, 190] },
+  ],
+};
 
-test('the time attribute: the server\'s names in its order, a named one, none on surfaces', () => {
+test("the time attribute: the server's names in its order, a named one, none on surfaces", () => {
   assert.deepEqual(timeAttribute(dump), { name: 'timestep', range: [0, 190] });
-  const both = { type: 'lines', attributes: [{ name: 'timestep', range: [0, 9] }, { name: 't', range: [0, 1] }] };
+  const both = {
+    type: 'lines',
+    attributes: [
+      { name: 'timestep', range: [0, 9] },
+      { name: 't', range: [0, 1] },
+    ],
+  };
   assert.equal(timeAttribute(both).name, 't'); // t comes before timestep, as in render/gl/filter.c
   assert.deepEqual(timeAttribute(dump, 'type'), { name: 'type', range: [1, 3] });
   assert.equal(timeAttribute(dump, 'nope'), null);
@@ -38,20 +50,46 @@ test('play steps on a grid of a hundredth of the range and wraps', () => {
 });
 
 test('play steps only once the last step is on screen, and the label says the rate', () => {
-  const el = () => ({ listeners: {}, addEventListener(k, f) { this.listeners[k] = f; }, setAttribute() {}, value: '', textContent: '', hidden: false, checked: false, disabled: false });
-  const els = Object.fromEntries(['time', 'time-t', 'time-length', 'time-play', 'time-markers', 'time-label'].map((id) => [id, el()]));
-  let frames = 0, now = 0, tick = null;
+  const el = () => ({
+    listeners: {},
+    addEventListener(k, f) {
+      this.listeners[k] = f;
+    },
+    setAttribute() {},
+    value: '',
+    textContent: '',
+    hidden: false,
+    checked: false,
+    disabled: false,
+  });
+  const els = Object.fromEntries(
+    ['time', 'time-t', 'time-length', 'time-play', 'time-markers', 'time-label'].map((id) => [id, el()]),
+  );
+  let frames = 0,
+    now = 0,
+    tick = null;
   const sent = [];
   const ctl = createTimeController({
-    doc: { getElementById: (id) => els[id] }, apply: (path, v) => sent.push(v), setInterval: (f) => ((tick = f), 1),
-    clearInterval() {}, framesDrawn: () => frames, now: () => now,
+    doc: { getElementById: (id) => els[id] },
+    apply: (path, v) => sent.push(v),
+    setInterval: (f) => ((tick = f), 1),
+    clearInterval() {},
+    framesDrawn: () => frames,
+    now: () => now,
   });
   ctl.show({ time: { window: [0, 10] } }, { type: 'lines', attributes: [{ name: 'time', range: [0, 100] }] });
   els['time-play'].listeners.click(); // the first step goes out at once
   const first = sent.length;
-  now += 200; tick(); now += 200; tick(); // no frame of it yet: no step
+  now += 200;
+  tick();
+  now += 200;
+  tick(); // no frame of it yet: no step
   assert.equal(sent.length, first);
-  for (let i = 0; i < 4; i++) { frames++; now += 400; tick(); } // a frame every 400 ms: a step each
+  for (let i = 0; i < 4; i++) {
+    frames++;
+    now += 400;
+    tick();
+  } // a frame every 400 ms: a step each
   assert.equal(sent.length, first + 4);
   assert.match(els['time-label'].textContent, / · 2\.[0-9] steps\/s$/);
   ctl.stop();

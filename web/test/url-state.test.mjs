@@ -3,7 +3,14 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { parseHash, formatHash, tokenFromLocation } from '../js/url-state.js';
 
-const cam = { position: [1.5, -2, 30], focalPoint: [0, 0.25, 0], viewUp: [0, 1, 0], viewAngle: 30, parallelProjection: false, parallelScale: 1 };
+const cam = {
+  position: [1.5, -2, 30],
+  focalPoint: [0, 0.25, 0],
+  viewUp: [0, 1, 0],
+  viewAngle: 30,
+  parallelProjection: false,
+  parallelScale: 1,
+};
 
 test('round trip of dataset, camera and parameters', () => {
   const update = {
@@ -21,7 +28,12 @@ test('round trip of dataset, camera and parameters', () => {
   const back = parseHash(hash);
   assert.deepEqual(back.errors, []);
   assert.equal(back.dataset, 'demo:tornado');
-  assert.deepEqual(back.camera, { position: cam.position, focalPoint: cam.focalPoint, viewUp: cam.viewUp, viewAngle: 30 });
+  assert.deepEqual(back.camera, {
+    position: cam.position,
+    focalPoint: cam.focalPoint,
+    viewUp: cam.viewUp,
+    viewAngle: 30,
+  });
   assert.deepEqual(back.update, update);
 });
 
@@ -34,7 +46,10 @@ test('parallel projection is kept', () => {
 
 test('values equal to the defaults are left out', () => {
   const defaults = { params: { q: 60, r: 500 }, style: { background: [1, 1, 1] } };
-  const hash = formatHash({ dataset: 'x', update: { params: { q: 60, r: 40 }, style: { background: [1, 1, 1] } } }, defaults);
+  const hash = formatHash(
+    { dataset: 'x', update: { params: { q: 60, r: 40 }, style: { background: [1, 1, 1] } } },
+    defaults,
+  );
   assert.equal(hash, '#dataset=x&r=40');
 });
 

@@ -12,7 +12,8 @@ const dir = new URL('../../protocol/vectors/', import.meta.url);
 const load = (name) => JSON.parse(readFileSync(fileURLToPath(new URL(name, dir)), 'utf8'));
 const hex = (h) => Uint8Array.from(h.match(/../g) ?? [], (x) => parseInt(x, 16));
 const toHex = (b) => Buffer.from(b).toString('hex');
-const caseText = (c) => (c.inputHex !== undefined ? hex(c.inputHex) : c.input !== undefined ? c.input : JSON.stringify(c.json));
+const caseText = (c) =>
+  c.inputHex !== undefined ? hex(c.inputHex) : c.input !== undefined ? c.input : JSON.stringify(c.json);
 
 /** expect is a subset of actual: objects by key, numbers within 1e-9 relative. */
 function subset(actual, expect, path = '') {
@@ -49,7 +50,14 @@ function expectError(fn, c) {
 // a camera merged onto the default camera, "jpg" emitted as "jpeg".
 const requests = load('requests.json');
 const DEFAULTS = requests.cases[0].expect;
-const DEFAULT_CAMERA = { position: [0, 0, 0], focalPoint: [0, 0, 0], viewUp: [0, 1, 0], viewAngle: 30, parallelProjection: false, parallelScale: 1 };
+const DEFAULT_CAMERA = {
+  position: [0, 0, 0],
+  focalPoint: [0, 0, 0],
+  viewUp: [0, 1, 0],
+  viewAngle: 30,
+  parallelProjection: false,
+  parallelScale: 1,
+};
 function normalize(req) {
   const out = merge(DEFAULTS, { ...req, camera: undefined });
   delete out.camera;
@@ -57,7 +65,11 @@ function normalize(req) {
   if (out.format === 'jpg') out.format = 'jpeg';
   delete out.version;
   // list fields are emitted only when they hold something
-  for (const [section, key] of [['importance', 'terms'], ['importance', 'curve'], ['color', 'curve']])
+  for (const [section, key] of [
+    ['importance', 'terms'],
+    ['importance', 'curve'],
+    ['color', 'curve'],
+  ])
     if (out[section]?.[key]?.length === 0) delete out[section][key];
   if (out.filter?.length === 0) delete out.filter;
   return out;
@@ -74,7 +86,7 @@ const builders = {
   ack: (m) => P.ackMessage(m.frame),
 };
 
-test('client_messages.json: every case gives the C parser\'s result', () => {
+test("client_messages.json: every case gives the C parser's result", () => {
   const v = load('client_messages.json');
   assert.ok(v.cases.length >= 70);
   for (const c of v.cases) {
@@ -156,7 +168,7 @@ test('requests.json: the page checks a render request as the server does', () =>
   }
 });
 
-test('query.json: URL parameters (the keys of the page\'s share links) as the server reads them', () => {
+test("query.json: URL parameters (the keys of the page's share links) as the server reads them", () => {
   const v = load('query.json');
   for (const c of v.cases) {
     if (c.valid) {

@@ -56,8 +56,7 @@ static int check_folder(const char *root, const char *path, lc_error *err)
     if (rc > 0 && walk.entries > WALK_MAX_ENTRIES)
         return lc_err(err, LC_ERR_INVALID, "%s", walk.bad);
     if (rc > 0)
-        return lc_err(err, LC_ERR_INVALID, "%s: links outside the data folder (--follow-symlinks allows it)",
-                      walk.bad);
+        return lc_err(err, LC_ERR_INVALID, "%s: links outside the data folder (--follow-symlinks allows it)", walk.bad);
     if (rc < 0)
         return lc_err(err, LC_ERR_IO, "%s: cannot list (%s)", path, strerror(errno));
     return 0;

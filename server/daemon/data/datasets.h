@@ -34,9 +34,9 @@ typedef struct lc_dataset {
     /* serve --mpi: the description of the whole dataset, taken before the
      * scene became this rank's shard (lc_datasets_shard); NULL otherwise. */
     json_t *whole_info;
-    int exact_positions;     /* float GPU buffers and session opacities (--exact-positions) */
-    lc_memory_report memory; /* bytes by kind once uploaded (one worker's and one session's state) */
-    int from_cache;          /* the scene came from the scene cache (dataset_cache.h) */
+    int exact_positions;      /* float GPU buffers and session opacities (--exact-positions) */
+    lc_memory_report memory;  /* bytes by kind once uploaded (one worker's and one session's state) */
+    int from_cache;           /* the scene came from the scene cache (dataset_cache.h) */
     struct lc_traced *traced; /* a streamline set a request traced (traced.h); NULL for loaded datasets */
 } lc_dataset;
 

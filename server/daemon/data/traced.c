@@ -109,8 +109,7 @@ const lc_dataset *lc_traced_resolve(lc_server *srv, const lc_request *req, lc_tr
     const lc_dataset *ds = lc_datasets_find(srv->datasets, req->dataset);
     if (ds)
         return ds;
-    const lc_field_entry *fe =
-        req->dataset[0] ? lc_fields_find(lc_datasets_fields(srv->datasets), req->dataset) : NULL;
+    const lc_field_entry *fe = req->dataset[0] ? lc_fields_find(lc_datasets_fields(srv->datasets), req->dataset) : NULL;
     if (!fe) {
         lc_proto_set_error(pe, "not_found", "dataset", "unknown dataset \"%.300s\"", req->dataset);
         return NULL;

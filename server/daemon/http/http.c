@@ -318,13 +318,12 @@ int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     h->srv = srv;
     h->quiesced = MHD_INVALID_SOCKET;
-    h->daemon = MHD_start_daemon(flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
-                                 MHD_OPTION_NOTIFY_COMPLETED, request_completed, srv, MHD_OPTION_URI_LOG_CALLBACK,
-                                 uri_log, srv, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2, MHD_OPTION_CONNECTION_LIMIT,
-                                 (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30,
-                                 MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER,
-                                 mhd_log, NULL, MHD_OPTION_NOTIFY_CONNECTION, lc_conn_limits_notify, NULL,
-                                 MHD_OPTION_END);
+    h->daemon = MHD_start_daemon(
+        flags, 0, NULL, NULL, handler, srv, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss, MHD_OPTION_NOTIFY_COMPLETED,
+        request_completed, srv, MHD_OPTION_URI_LOG_CALLBACK, uri_log, srv, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2,
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30,
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(64 * 1024), MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL,
+        MHD_OPTION_NOTIFY_CONNECTION, lc_conn_limits_notify, NULL, MHD_OPTION_END);
     if (!h->daemon) {
         int e = errno;
         free(h);

@@ -100,7 +100,8 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
             snprintf(vis + strlen(vis), sizeof vis - strlen(vis), ",topDecileReach=%.4f", info->top_decile_reach);
         MHD_add_response_header(r, "X-Lucent-Visibility", vis);
         char layers[LC_MAX_LAYERS * 48] = "";
-        for (int i = 0; i < info->layer_count && i < LC_MAX_LAYERS; i++) { /* layered frames: "top/bottom/occluder;..." */
+        for (int i = 0; i < info->layer_count && i < LC_MAX_LAYERS;
+             i++) { /* layered frames: "top/bottom/occluder;..." */
             size_t len = strlen(layers);
             snprintf(layers + len, sizeof layers - len, "%s%.4f/%.4f/%.4f", i ? ";" : "",
                      info->layers[i].top_decile_alpha, info->layers[i].bottom_half_alpha,

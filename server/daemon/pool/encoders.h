@@ -20,11 +20,11 @@ struct lc_render_job {
     lc_request req;
     const lc_dataset *dataset;
     const lc_dataset *layers[LC_MAX_LAYERS]; /* the datasets of req.layers (req.layer_count of them) */
-    lc_session *session; /* HTTP session (the job holds a reference) or NULL */
-    double dt;           /* fading step for sessions */
-    uint64_t client;     /* fairness key: jobs of one client take turns with other clients' */
-    double cost;         /* estimated cost units (cost.h); 0 = unknown */
-    const lc_field *field; /* method surface-layers: req.surface.field's field (dataset is NULL then) */
+    lc_session *session;                     /* HTTP session (the job holds a reference) or NULL */
+    double dt;                               /* fading step for sessions */
+    uint64_t client;                         /* fairness key: jobs of one client take turns with other clients' */
+    double cost;                             /* estimated cost units (cost.h); 0 = unknown */
+    const lc_field *field;    /* method surface-layers: req.surface.field's field (dataset is NULL then) */
     struct lc_traced *traced; /* a one-shot render's own streamline set (traced.h) that dataset points into */
     void (*done)(lc_render_job *job);
     void *user;

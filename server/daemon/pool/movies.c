@@ -54,7 +54,7 @@ typedef struct movie_job {
 struct lc_movies {
     lc_server *srv;
     pthread_mutex_t lock;
-    pthread_cond_t cond; /* a job queued, a frame finished, or stopping */
+    pthread_cond_t cond;             /* a job queued, a frame finished, or stopping */
     movie_job *jobs[LC_MOVIES_KEPT]; /* oldest first */
     int count;
     bool stopping;
@@ -169,8 +169,12 @@ static void frame_camera(const movie_job *j, int i, lc_camera *out)
             scenes[k] = j->layers[k]->gpu;
         lc_render_fit_camera(scenes, n ? n : 1, &start);
     }
-    lc_camera_path_desc d = {.kind = (int)s->path, .degrees = s->degrees, .elevation = s->elevation,
-                             .keys = s->keyframes, .key_count = s->keyframe_count, .frames = s->frames};
+    lc_camera_path_desc d = {.kind = (int)s->path,
+                             .degrees = s->degrees,
+                             .elevation = s->elevation,
+                             .keys = s->keyframes,
+                             .key_count = s->keyframe_count,
+                             .frames = s->frames};
     lc_camera_path_frame(&d, &start, i, out);
 }
 
@@ -300,8 +304,8 @@ static void run_job(lc_movies *m, movie_job *j)
     lc_video *v = NULL;
     int rc = lc_session_create(m->srv->sessions, LC_SESSION_HTTP, j->owner, j->ds, &j->spec.request, &s, &err);
     if (rc == 0)
-        rc = lc_video_open(j->path, j->codec, j->spec.request.render.width, j->spec.request.render.height,
-                           j->spec.fps, &v, &err);
+        rc = lc_video_open(j->path, j->codec, j->spec.request.render.width, j->spec.request.render.height, j->spec.fps,
+                           &v, &err);
     LC_INFO(MOD, "movie %s: %d frames of %dx%d at %d fps, %s, %s", j->id, j->spec.frames, j->spec.request.render.width,
             j->spec.request.render.height, j->spec.fps, j->spec.codec, j->ds->name);
     bool stopped = false;
@@ -484,8 +488,7 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
     }
     lc_proto_error pe;
     if (lc_proto_parse_movie(body ? body : "", len, &srv->cfg.limits, &j->spec, &pe) != 0) {
-        reply_error(m, out, strcmp(pe.code, LC_PROTO_TOO_LARGE) == 0 ? 413 : 400, pe.code, pe.field, "%s",
-                    pe.message);
+        reply_error(m, out, strcmp(pe.code, LC_PROTO_TOO_LARGE) == 0 ? 413 : 400, pe.code, pe.field, "%s", pe.message);
         free(j);
         return;
     }
@@ -510,8 +513,8 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
     snprintf(req->dataset, sizeof req->dataset, "%s", j->ds->name);
     j->codec = (lc_video_codec)lc_video_codec_from_name(j->spec.codec);
     if (!lc_video_available(j->codec)) {
-        reply_error(m, out, 400, LC_PROTO_BAD_FIELD, "codec", "codec: this server cannot encode %s (%s)",
-                    j->spec.codec, "no libavcodec encoder for it");
+        reply_error(m, out, 400, LC_PROTO_BAD_FIELD, "codec", "codec: this server cannot encode %s (%s)", j->spec.codec,
+                    "no libavcodec encoder for it");
         drop(j);
         return;
     }
@@ -654,9 +657,9 @@ int lc_movies_answer(lc_movies *m, struct MHD_Connection *c, uint64_t owner, con
     lc_movie_reply rep;
     lc_movies_route(m, owner, method, rest, body, len, &rep);
     struct MHD_Response *r = rep.fd >= 0 ? MHD_create_response_from_fd(rep.size, rep.fd)
-                             : rep.body   ? MHD_create_response_from_buffer(strlen(rep.body), rep.body,
-                                                                            MHD_RESPMEM_MUST_FREE)
-                                          : NULL;
+                             : rep.body
+                                 ? MHD_create_response_from_buffer(strlen(rep.body), rep.body, MHD_RESPMEM_MUST_FREE)
+                                 : NULL;
     if (!r) {
         if (rep.fd >= 0)
             close(rep.fd);

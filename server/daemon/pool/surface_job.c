@@ -117,8 +117,8 @@ static int same_surface(const lc_surface_stream *st, const lc_field *field, cons
 }
 
 int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, const lc_field *field,
-                            const lc_surface_request *s, const lc_render_params *p, lc_work_budget *work,
-                            uint8_t *rgba, lc_frame_info *info, lc_error *err)
+                            const lc_surface_request *s, const lc_render_params *p, lc_work_budget *work, uint8_t *rgba,
+                            lc_frame_info *info, lc_error *err)
 {
     reset_info(info, p);
     lc_surface_params sp;

@@ -43,8 +43,8 @@ uint64_t lc_surface_stream_id(const lc_surface_stream *st);
  * first frame. work: this frame's tracing budget, as lc_surface_job_render's
  * (a frame over it keeps the curves of the frames before and adds none). */
 int lc_surface_stream_frame(lc_surface_stream **st, lc_surface_keep *keep, const lc_field *field,
-                            const lc_surface_request *s, const lc_render_params *p, lc_work_budget *work,
-                            uint8_t *rgba, lc_frame_info *info, lc_error *err);
+                            const lc_surface_request *s, const lc_render_params *p, lc_work_budget *work, uint8_t *rgba,
+                            lc_frame_info *info, lc_error *err);
 
 /* Worker side: one frame of method surface-layers for session s (the next
  * batch of curves of req's surface, drawn with req's camera into the worker's

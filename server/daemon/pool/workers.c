@@ -322,7 +322,7 @@ static void render_job(worker *wk, lc_render_job *job)
     /* A long job gives the cores to other sessions' moving frames at its yield points (yield.h). */
     wk->large = w->nworkers > 1 && long_job(w, job);
     bool tiled = w->nworkers > 1 && !w->srv->mpi && !layer_count && /* not collective: every rank must tile alike */
-                 !(p->time.markers && p->time.has_window) && /* drawn once over the whole image */
+                 !(p->time.markers && p->time.has_window) &&        /* drawn once over the whole image */
                  (long long)p->width * p->height > LC_LARGE_FRAME_PIXELS;
     lc_renderer_set_tile_size(wk->renderer, tiled ? LC_YIELD_TILE : 0);
     wk->owner = session ? (const void *)session : (const void *)job;

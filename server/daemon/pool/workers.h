@@ -20,12 +20,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "encoders.h"
 #include "gl_context.h"
 #include "lc_base.h"
 #include "renderer.h"
 #include "request.h"
 #include "server.h"
-#include "encoders.h"
 #include "session.h"
 #include "workers_stop.h"
 
@@ -51,7 +51,6 @@ int lc_workers_submit(lc_workers *w, lc_render_job *job, lc_error *err);
 /* Asks the pool to consider WebSocket session s for a frame (after input, an
  * ack, or a finished frame). Cheap and idempotent. Any thread. */
 void lc_workers_wake(lc_workers *w, lc_session *s);
-
 
 #ifdef __cplusplus
 }

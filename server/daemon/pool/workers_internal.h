@@ -63,14 +63,14 @@ struct lc_workers {
     int ready_count, failed;
     lc_error start_err;
     bool stopping;
-    bool abandoned; /* lc_workers_abandon ran (the watchdog and mpirun's signal may both call it) */
-    lc_fair_queue queue; /* the render tasks, by client (fair_queue.h) */
+    bool abandoned;           /* lc_workers_abandon ran (the watchdog and mpirun's signal may both call it) */
+    lc_fair_queue queue;      /* the render tasks, by client (fair_queue.h) */
     _Atomic double cost_rate; /* learned cost units per second of render (0 = none yet); written under lock */
     /* Workers rendering a long job now (under lock): with two or more workers,
      * a long job never takes the last one (workers.c long_job). */
     int long_running;
-    lc_session *timed; /* sessions waiting for their still frame (linked by sched_next) */
-    lc_yield_gate gate; /* large renders wait here for other sessions' moving frames (yield.h) */
+    lc_session *timed;               /* sessions waiting for their still frame (linked by sched_next) */
+    lc_yield_gate gate;              /* large renders wait here for other sessions' moving frames (yield.h) */
     lc_surface_keeps *surface_keeps; /* surface sessions' layers across frames (surface_keeps.h); NULL: none kept */
 };
 

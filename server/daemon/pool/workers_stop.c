@@ -137,7 +137,7 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
     lc_error err = {0};
     if (primary && lc_gl_make_current(primary, &err) == 0) {
         lc_datasets_release_gpu(datasets);
-        lc_traced_collect(); /* the GPU copies of streamline sets freed since the last frame */
+        lc_traced_collect();                        /* the GPU copies of streamline sets freed since the last frame */
         lc_surface_keeps_destroy(w->surface_keeps); /* GL buffers of the share group */
         w->surface_keeps = NULL;
         lc_gl_release_current(primary);

@@ -7,7 +7,6 @@
 #define LC_SERVER_STREAM_H
 
 #include <stdbool.h>
-#include <stdint.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -34,9 +33,9 @@ typedef struct lc_stream_outcome {
 
 /* ---- The stats messages (websocket.md "stats"): about once a second while
  * frames flow, and once more after they stop. */
-#define LC_STREAM_STATS_INTERVAL 1.0 /* seconds between stats messages while frames flow */
-#define LC_STREAM_STATS_SAMPLES 256  /* latest frames remembered for fps and timing figures */
-#define LC_STREAM_PROGRESS_AFTER 0.3 /* seconds a frame is awaited before progress messages start */
+#define LC_STREAM_STATS_INTERVAL 1.0     /* seconds between stats messages while frames flow */
+#define LC_STREAM_STATS_SAMPLES 256      /* latest frames remembered for fps and timing figures */
+#define LC_STREAM_PROGRESS_AFTER 0.3     /* seconds a frame is awaited before progress messages start */
 #define LC_STREAM_PROGRESS_INTERVAL 0.25 /* seconds between progress messages of a connection */
 
 /* What a connection's stats messages report (I/O thread only). The rings hold

@@ -74,36 +74,36 @@
 #include "messages.h"
 
 #define LC_FLOW_RTT_HORIZON 10.0 /* seconds the lowest send-to-ack time holds against higher ones */
-#define LC_FLOW_FRAME_GAIN 0.25 /* weight of a new render time in frame_s, of a new ack gap in ack_s */
-#define LC_FLOW_WAITS 3 /* acks of frames that waited before their spacing counts as the link's rate */
-#define LC_FLOW_ACK_GAP_MAX 1.0 /* seconds between acks beyond which the next starts a new gesture */
-#define LC_FLOW_SIZE_RATIO 2.0 /* bytes of the larger frame over the smaller's for a rate from sizes */
+#define LC_FLOW_FRAME_GAIN 0.25  /* weight of a new render time in frame_s, of a new ack gap in ack_s */
+#define LC_FLOW_WAITS 3          /* acks of frames that waited before their spacing counts as the link's rate */
+#define LC_FLOW_ACK_GAP_MAX 1.0  /* seconds between acks beyond which the next starts a new gesture */
+#define LC_FLOW_SIZE_RATIO 2.0   /* bytes of the larger frame over the smaller's for a rate from sizes */
 
 typedef struct lc_stream_flow {
-    int ceiling;                             /* the most frames unacknowledged (the hello's window) */
-    int window;                              /* frames allowed unacknowledged now, 2..ceiling (the ceiling if lower) */
-    uint64_t sent_id[LC_PROTO_MAX_WINDOW];   /* frames handed to the connection and not yet acked, oldest first */
-    double sent_at[LC_PROTO_MAX_WINDOW];     /* when each was */
-    bool sent_moving[LC_PROTO_MAX_WINDOW];   /* whether it was a moving frame */
-    bool sent_alone[LC_PROTO_MAX_WINDOW];    /* whether no other frame was unacknowledged then */
-    double sent_bytes[LC_PROTO_MAX_WINDOW];  /* its message's bytes */
+    int ceiling;                            /* the most frames unacknowledged (the hello's window) */
+    int window;                             /* frames allowed unacknowledged now, 2..ceiling (the ceiling if lower) */
+    uint64_t sent_id[LC_PROTO_MAX_WINDOW];  /* frames handed to the connection and not yet acked, oldest first */
+    double sent_at[LC_PROTO_MAX_WINDOW];    /* when each was */
+    bool sent_moving[LC_PROTO_MAX_WINDOW];  /* whether it was a moving frame */
+    bool sent_alone[LC_PROTO_MAX_WINDOW];   /* whether no other frame was unacknowledged then */
+    double sent_bytes[LC_PROTO_MAX_WINDOW]; /* its message's bytes */
     int nsent;
-    int nsamples;                            /* send-to-ack samples taken */
-    double rtt;                              /* the lowest within the horizon, seconds (0: none yet) */
-    double rtt_at;                           /* when it was seen */
-    double ack_s;                            /* smoothed seconds between acks of moving frames (0: none yet) */
-    double srtt;                             /* smoothed send-to-ack time of moving frames */
-    double link_s;                           /* smoothed spacing of acks while frames waited on the link (0: none) */
-    double link_at;                          /* when it was last measured */
-    double last_ack;                         /* when the latest such ack came */
-    double frame_s;                          /* smoothed render time of a moving frame, seconds (0: none yet) */
-    double ack_bytes;                        /* smoothed bytes of moving frames an ack covers (with ack_s) */
-    double wait_bytes, wait_s;               /* the same and the acks' spacing, of frames that waited on the link */
-    double wait_at;                          /* when such an ack last came (0: never) */
-    int waits;                               /* such acks since the measurement began */
-    double bound, bound_at;                  /* the highest bytes / send-to-ack of one frame, and when */
-    double bound_bytes, bound_s;             /* that frame's bytes and send-to-ack time */
-    double small_bytes, small_s, small_at;   /* the moving frame of the lowest send-to-ack: bytes, time, when */
+    int nsamples;                          /* send-to-ack samples taken */
+    double rtt;                            /* the lowest within the horizon, seconds (0: none yet) */
+    double rtt_at;                         /* when it was seen */
+    double ack_s;                          /* smoothed seconds between acks of moving frames (0: none yet) */
+    double srtt;                           /* smoothed send-to-ack time of moving frames */
+    double link_s;                         /* smoothed spacing of acks while frames waited on the link (0: none) */
+    double link_at;                        /* when it was last measured */
+    double last_ack;                       /* when the latest such ack came */
+    double frame_s;                        /* smoothed render time of a moving frame, seconds (0: none yet) */
+    double ack_bytes;                      /* smoothed bytes of moving frames an ack covers (with ack_s) */
+    double wait_bytes, wait_s;             /* the same and the acks' spacing, of frames that waited on the link */
+    double wait_at;                        /* when such an ack last came (0: never) */
+    int waits;                             /* such acks since the measurement began */
+    double bound, bound_at;                /* the highest bytes / send-to-ack of one frame, and when */
+    double bound_bytes, bound_s;           /* that frame's bytes and send-to-ack time */
+    double small_bytes, small_s, small_at; /* the moving frame of the lowest send-to-ack: bytes, time, when */
 } lc_stream_flow;
 
 /* A flow before any frame, under the client's ceiling (1..LC_PROTO_MAX_WINDOW). */

@@ -98,10 +98,9 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
     st->moving_next = false;
     /* A staged still: stage 1 reuses the opacities the moving frames drew with (methods that have them). */
     lc_method method = s->req.render.method;
-    bool reusable = (method == LC_METHOD_FOURIER || method == LC_METHOD_WBOIT ||
-                     method == LC_METHOD_WEIGHTED_AVERAGE || method == LC_METHOD_BINNING) &&
-                    s->frame_state &&
-                    !lc_frame_state_is_fresh(s->frame_state);
+    bool reusable = (method == LC_METHOD_FOURIER || method == LC_METHOD_WBOIT || method == LC_METHOD_WEIGHTED_AVERAGE ||
+                     method == LC_METHOD_BINNING) &&
+                    s->frame_state && !lc_frame_state_is_fresh(s->frame_state);
     out->stages = 0, out->stage = 0;
     /* Until a still has finished, a session that began with a coarse first
      * frame (a large dataset) stages its stills though no time is known:

@@ -19,8 +19,8 @@
 
 #include "messages.h"
 #include "metrics.h"
-#include "stream_session.h"
 #include "stream.h"
+#include "stream_session.h"
 #include "workers.h"
 
 #define MOD "ws"

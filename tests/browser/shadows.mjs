@@ -9,79 +9,22 @@
 //
 // Exit codes: 0 passed, 1 a failure, 77 skipped (chromium or node_modules missing, outside CI).
 
-import { spawn } from 'node:child_process';
-import fs from 'node:fs';
-import path from 'node:path';
-import { fileURLToPath, pathToFileURL } from 'node:url';
+import { check, finish, launch, setup, startDaemon } from './harness.mjs';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const env = process.env;
-const CI = /^(1|true|yes)$/i.test(env.CI ?? '');
-const argv = process.argv.slice(2);
-const opt = (name) => (argv.indexOf(name) >= 0 ? argv[argv.indexOf(name) + 1] : undefined);
-function skip(why) {
-  if (CI) {
-    console.error(`FAIL: ${why} (CI=true)`);
-    process.exit(1);
-  }
-  console.log(`SKIP: ${why}`);
-  process.exit(77);
-}
-const chromiumPath = env.CHROMIUM ?? '/usr/bin/chromium';
-if (!fs.existsSync(chromiumPath)) skip(`${chromiumPath} not found (apt-get install chromium)`);
-const pwEntry = path.join(here, 'node_modules', 'playwright-core', 'index.mjs');
-if (!fs.existsSync(pwEntry)) skip('playwright-core not installed (cd tests/browser && npm ci)');
-const binary = opt('--binary') ?? env.LUCENT_BINARY ?? path.join(here, '..', '..', 'build', 'lucent');
-const { chromium } = await import(pathToFileURL(pwEntry).href);
+const { chromium, binary } = await setup();
 
-let failures = 0;
-function check(cond, what) {
-  console.log(`${cond ? 'ok  ' : 'FAIL'} ${what}`);
-  if (!cond) failures++;
-  return cond;
-}
+const { url } = await startDaemon(binary, [
+  '--data',
+  'demo:tornado',
+  '--demo-size',
+  '150',
+  '--workers',
+  '1',
+  '--cache',
+  'off',
+]);
 
-const proc = spawn(
-  binary,
-  [
-    'serve',
-    '--listen',
-    '127.0.0.1:0',
-    '--data',
-    'demo:tornado',
-    '--demo-size',
-    '150',
-    '--workers',
-    '1',
-    '--cache',
-    'off',
-  ],
-  { stdio: ['ignore', 'pipe', 'pipe'] },
-);
-const lines = [];
-const url = await new Promise((resolve, reject) => {
-  const timer = setTimeout(() => reject(new Error(`daemon did not start:\n${lines.join('\n')}`)), 90000);
-  const onData = (buf) => {
-    for (const line of buf.toString().split('\n')) {
-      if (line) lines.push(line);
-      const m = /listening on (http:\/\/[^\s/]+)\//.exec(line);
-      if (m) {
-        clearTimeout(timer);
-        resolve(m[1]);
-      }
-    }
-  };
-  proc.stdout.on('data', onData);
-  proc.stderr.on('data', onData);
-  proc.on('exit', (code) => reject(new Error(`daemon exited (${code}):\n${lines.join('\n')}`)));
-});
-process.on('exit', () => proc.kill('SIGKILL'));
-
-const browser = await chromium.launch({
-  executablePath: chromiumPath,
-  headless: true,
-  args: ['--headless', '--no-sandbox', '--disable-gpu'],
-});
+const browser = await launch(chromium);
 const pageErrors = [];
 try {
   const context = await browser.newContext({ viewport: { width: 900, height: 700 } });
@@ -198,5 +141,4 @@ try {
 } finally {
   await browser.close();
 }
-console.log(`${failures} failed`);
-process.exit(failures ? 1 : 0);
+finish();

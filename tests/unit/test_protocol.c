@@ -496,6 +496,14 @@ static void test_partial_update(void)
           "NULL err, limit");
 }
 
+/* Whether a packed frame's header text holds needle (the frame is not NUL-terminated). */
+static bool frame_text_has(const unsigned char *out, size_t out_len, const char *needle)
+{
+    char json[2048];
+    snprintf(json, sizeof json, "%.*s", out_len > 4 ? (int)(out_len - 4) : 0, (const char *)out + 4);
+    return strstr(json, needle) != NULL;
+}
+
 static void test_messages(void)
 {
     lc_client_msg m;
@@ -568,7 +576,7 @@ static void test_messages(void)
     CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_color_ticks &&
               memcmp(tb.color_ticks, t.color_ticks, sizeof t.color_ticks) == 0,
           "colorTicks round trip");
-    CHECK(strstr((const char *)out + 4, "\"colorTicks\":[-1.5,0.25,2.0,3.125,1000.0]") != NULL, "colorTicks JSON: %.*s",
+    CHECK(frame_text_has(out, out_len, "\"colorTicks\":[-1.5,0.25,2.0,3.125,1000.0]"), "colorTicks JSON: %.*s",
           (int)out_len - 4, (const char *)out + 4);
     free(out);
     /* visibility.importantOccluded round trips; a header without it (an older server) reads 0. */
@@ -585,11 +593,11 @@ static void test_messages(void)
     CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_visibility &&
               tb.important_occluded == 0.375 && tb.occluder_alpha == 0.25,
           "importantOccluded round trip");
-    CHECK(strstr((const char *)out + 4, "\"importantOccluded\":0.375") != NULL, "importantOccluded JSON: %.*s",
-          (int)out_len - 4, (const char *)out + 4);
-    free(out);
+    CHECK(frame_text_has(out, out_len, "\"importantOccluded\":0.375"), "importantOccluded JSON: %.*s", (int)out_len - 4,
+          (const char *)out + 4);
     /* visibility.topDecileReach (fourier frames) round trips, may pass 1, and is absent without it. */
-    CHECK(!tb.has_reach && !strstr((const char *)out, "topDecileReach"), "no topDecileReach unless measured");
+    CHECK(!tb.has_reach && !frame_text_has(out, out_len, "topDecileReach"), "no topDecileReach unless measured");
+    free(out);
     v.has_reach = true, v.top_decile_reach = 1.375;
     CHECK(lc_proto_pack_frame(&v, NULL, 0, &out, &out_len) == 0, "pack topDecileReach");
     CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.has_reach &&
@@ -611,7 +619,7 @@ static void test_messages(void)
           "clarity.smoothing round trip");
     free(out);
     c.has_clarity_smoothing = false;
-    CHECK(lc_proto_pack_frame(&c, NULL, 0, &out, &out_len) == 0 && !strstr((const char *)out + 4, "smoothing"),
+    CHECK(lc_proto_pack_frame(&c, NULL, 0, &out, &out_len) == 0 && !frame_text_has(out, out_len, "smoothing"),
           "no clarity.smoothing unless cut");
     free(out);
     v.top_decile_reach = -0.5;

@@ -1,6 +1,6 @@
 // What the page's browser tests share (shadows.mjs, scenes.mjs, streamlines.mjs): the environment's checks
 // (Chromium and playwright-core present, or a skip that fails under CI=true), the check counter and exit code,
-// the daemon started on a free loopback port, and headless Chromium.
+// the daemon started on a free loopback port, headless Chromium, and the helpers a test asks of a page.
 
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
@@ -80,4 +80,37 @@ export function launch(chromium) {
     headless: true,
     args: ['--headless', '--no-sandbox', '--disable-gpu'],
   });
+}
+
+/** What the page tests ask of a page: a converged final still newer than frame `min` (not a moving frame, nor a
+ * stage 1 that reuses the moving frames' opacities), the newest frame's number, a 48x32 signature of the view
+ * and the mean difference of two, whether a control's row is hidden, and a number typed then left (the blur
+ * fires the box's change event once, as a user's Tab does). */
+export function pageHelpers(page) {
+  const settled = (min = -1) =>
+    page.waitForFunction(
+      (m) => {
+        const f = window.lucent?.state?.lastFrame;
+        return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
+      },
+      min,
+      { timeout: 60000, polling: 100 },
+    );
+  const newest = () => page.evaluate(() => window.lucent.state.lastFrame?.frame ?? -1);
+  const sig = () =>
+    page.evaluate(() => {
+      const c = document.createElement('canvas');
+      c.width = 48;
+      c.height = 32;
+      const g = c.getContext('2d');
+      g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
+      return Array.from(g.getImageData(0, 0, 48, 32).data);
+    });
+  const diff = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
+  const rowHidden = (id) => page.evaluate((i) => document.getElementById(i)?.closest('.row')?.hidden ?? null, id);
+  const setNumber = async (selector, value) => {
+    await page.fill(selector, String(value));
+    await page.locator(selector).blur();
+  };
+  return { settled, newest, sig, diff, rowHidden, setNumber };
 }

@@ -17,7 +17,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { check, finish, launch, setup, startDaemon } from './harness.mjs';
+import { check, finish, launch, pageHelpers, setup, startDaemon } from './harness.mjs';
 
 const { chromium, binary } = await setup();
 
@@ -60,28 +60,7 @@ try {
   const page = await context.newPage();
   page.on('pageerror', (e) => pageErrors.push(e.message));
   const frames = () => page.evaluate(() => Number(document.body.dataset.frames ?? 0));
-  // A still newer than frame `min` (a change's own), converged, and the final stage of a staged still: not a
-  // moving frame that a still follows, nor a stage 1 that reuses the moving frames' opacities.
-  const settled = (min = -1) =>
-    page.waitForFunction(
-      (m) => {
-        const f = window.lucent?.state?.lastFrame;
-        return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
-      },
-      min,
-      { timeout: 60000, polling: 100 },
-    );
-  const newest = () => page.evaluate(() => window.lucent.state.lastFrame?.frame ?? -1);
-  const sig = () =>
-    page.evaluate(() => {
-      const c = document.createElement('canvas');
-      c.width = 48;
-      c.height = 32;
-      const g = c.getContext('2d');
-      g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
-      return Array.from(g.getImageData(0, 0, 48, 32).data);
-    });
-  const diff = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
+  const { settled, newest, sig, diff } = pageHelpers(page);
 
   await page.goto(`${url}/#dataset=demo:points`);
   await page.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });

@@ -11,7 +11,7 @@
 //
 // Exit codes: 0 passed, 1 a failure, 77 skipped (chromium or node_modules missing, outside CI).
 
-import { check, finish, launch, setup, startDaemon } from './harness.mjs';
+import { check, finish, launch, pageHelpers, setup, startDaemon } from './harness.mjs';
 
 const { chromium, binary } = await setup();
 
@@ -34,32 +34,7 @@ try {
   const context = await browser.newContext({ viewport: { width: 900, height: 700 } });
   const page = await context.newPage();
   page.on('pageerror', (e) => pageErrors.push(e.message));
-  const settled = (min = -1) =>
-    page.waitForFunction(
-      (m) => {
-        const f = window.lucent?.state?.lastFrame;
-        return !!f && f.frame > m && f.converged && !f.detail?.interactive && f.final !== false;
-      },
-      min,
-      { timeout: 60000, polling: 100 },
-    );
-  const newest = () => page.evaluate(() => window.lucent.state.lastFrame?.frame ?? -1);
-  const sig = () =>
-    page.evaluate(() => {
-      const c = document.createElement('canvas');
-      c.width = 48;
-      c.height = 32;
-      const g = c.getContext('2d');
-      g.drawImage(document.getElementById('canvas'), 0, 0, 48, 32);
-      return Array.from(g.getImageData(0, 0, 48, 32).data);
-    });
-  const diff = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
-  const rowHidden = (id) => page.evaluate((i) => document.getElementById(i)?.closest('.row')?.hidden ?? null, id);
-  // Typed, then left (the blur fires the box's change event once, as a user's Tab does).
-  const setNumber = async (selector, value) => {
-    await page.fill(selector, String(value));
-    await page.locator(selector).blur();
-  };
+  const { settled, newest, sig, diff, setNumber } = pageHelpers(page);
 
   await page.goto(`${url}/#dataset=demo:shear-flow`);
   await page.waitForFunction(() => Number(document.body.dataset.frames ?? 0) >= 1, null, { timeout: 60000 });

@@ -220,6 +220,8 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     }
     fs->params = given;
     info->clarity_reached = rc == 0 && lc_clarity_miss(target, info) == 0;
+    LC_DEBUG("clarity", "clarity: %d tries (%s, %dx%d), lambda x%.3g, penalty x%.3g, miss %.3g", info->clarity_tries,
+             iterate ? "loop" : "one step", fs->width, fs->height, st.lambda, st.penalty, best_miss);
     if (state)
         state->clarity = st;
     return rc;

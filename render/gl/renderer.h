@@ -137,6 +137,12 @@ void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out);
  * renderer's forced lc_renderer_desc.tile_size tiles any larger frame);
  * returns nx * ny, or 0 when the frame is one tile. */
 int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *ny);
+/* Whether P1 and P2 may run over recorded fragments instead of drawing
+ * (fragment_list.c: on software rasterizers, chosen process-wide when the
+ * first renderer is created), for the cost model; configure sets it for the
+ * driver named gl_renderer (LUCENT_FRAGMENT_LISTS=0/1 overrides). */
+int lc_fragment_list_enabled(void);
+void lc_fragment_list_configure(const char *gl_renderer);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
 /* importantOccluded (docs/ALGORITHM.md §8): a fragment is important above

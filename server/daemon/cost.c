@@ -2,6 +2,7 @@
 #include "cost.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -149,7 +150,33 @@ static double equalize_cost(const lc_scene_measures *st, const lc_render_params 
     return LC_COST_EQUALIZE_FACTOR * (frags * geometry + image * screens + vertex * 3.0 * (tiles > 1 ? tiles : 1));
 }
 
-double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
+/* The largest fragment list (render/gl/fragment_list.c FRAGMENT_LIST_MAX):
+ * a frame whose optimization draws more fragments draws P2 instead. */
+#define LIST_MAX_FRAGMENTS 16777216.0
+
+/* Whether P1 and P2 of a full frame of p run as compute passes over recorded
+ * fragments rather than as traversals of the geometry (render/gl
+ * fragment_list.c, on software rasterizers): P1 walks P0's chains where P0
+ * "moments" records them (no stride, no layers, not a tile's optimization at
+ * full resolution), and P2 reads P1's list wherever P1 draws every primitive.
+ * A stride (params.subset, params.autoSubset) turns both off: it weights
+ * fragments the list does not keep, so P1 and P2 draw again. low_frags: the
+ * optimization's fragments (more than the list holds: P2 draws). */
+static void lists_plan(const lc_render_params *p, const lc_pass_plan *plan, double low_frags, bool tile_low,
+                       bool layered, bool *p1, bool *p2)
+{
+    *p1 = *p2 = false;
+    if (!lc_fragment_list_enabled() || p->method == LC_METHOD_EXACT || plan->run[LC_PASS_IMPORTANCE] == LC_RUN_NONE)
+        return;
+    if (p->foo.subset > 1 || p->foo.auto_subset > 1 || p->detail.point_stride > 1 || p->detail.line_stride > 1 ||
+        low_frags > LIST_MAX_FRAGMENTS)
+        return;
+    *p2 = true;
+    *p1 = plan->moments && !tile_low && !layered;
+}
+
+/* layered: one layer's share of a frame of layers (lc_cost_check_layers). */
+static double estimate(const lc_scene_measures *st, const lc_render_params *p, bool layered)
 {
     double w = p->width, h = p->height, image = w * h;
     double ppu = pixels_per_unit(st, p);
@@ -227,16 +254,16 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         sc[LC_PASS_RESOLVE] = 1.0;
         break;
     }
-    /* params.clarity: a one-shot frame may optimize again at other strengths. */
+    /* params.clarity: a one-shot frame may optimize again at other strengths;
+     * P1's sums do not depend on the strength and run once a frame
+     * (fourier.c), each try repeats P2 and P3. */
     double tries = lc_clarity_active(p) ? LC_CLARITY_CHARGED_TRIES : 1.0;
     if (p->method == LC_METHOD_EXACT && p->foo.exclude_self) /* a walk over the pixel's list per fragment */
         sc[LC_PASS_OPACITY] *= 4.0;
-    if (p->method == LC_METHOD_EXACT) { /* its lists are built once; each try repeats the opacity pass over them */
+    if (p->method == LC_METHOD_EXACT) /* its lists are built once; each try repeats the opacity pass over them */
         sc[LC_PASS_OPACITY] *= tries;
-    } else {
-        g[LC_PASS_IMPORTANCE] *= tries;
+    else
         g[LC_PASS_OPACITY] *= tries;
-    }
     /* P0: the per-pixel range draws everything once at each resolution, the
      * moments one target of every subset-th element at s^2. */
     g[LC_PASS_DEPTH_RANGE] = plan.moments ? 1.0 / subset : 1.0;
@@ -246,31 +273,58 @@ double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p)
         g[LC_PASS_DEPTH_RANGE] += plan.pixel_range ? 1.0 : 0.0;
         sc[LC_PASS_DEPTH_RANGE] = 3.0;
     }
-    double geometry = 0, screens = 0;
+    /* Traversals of the geometry, which pay the vertex and primitive set-up
+     * however many targets a pass writes (P1 and P4 write theirs in one draw):
+     * one per pass and resolution it runs at, P2 once per try, kanzler's maps
+     * one more. P1 and P2 computed over recorded fragments (lists_plan) cost
+     * their fragments' work but no traversal. A pass drawn with the stride
+     * (P0's moments, P1, P4) sets up one primitive in n, but lines then draw
+     * segment by segment, six vertices each against two in a strip
+     * (render/gl/fourier.c): their set-up shrinks only as 3/n. */
+    double tv[LC_PASS_COUNT] = {0};
+    for (int k = 0; k < LC_PASS_COUNT; k++)
+        tv[k] = g[k] > 0 ? 1.0 : 0.0;
+    if (p->method != LC_METHOD_EXACT)
+        tv[LC_PASS_OPACITY] *= tries;
+    if (plan.kanzler_maps && plan.pixel_range)
+        tv[LC_PASS_DEPTH_RANGE] += 0.5; /* the maps: one more at full resolution (BOTH counts two below) */
+    double strided = subset <= 1 ? 1.0 : st->type == LC_PRIM_LINES ? fmin(1.0, 3.0 / subset) : 1.0 / subset;
+    if (p->method == LC_METHOD_FOURIER || p->method == LC_METHOD_BINNING) {
+        tv[LC_PASS_IMPORTANCE] *= strided;
+        tv[LC_PASS_OPTICAL_DEPTH] *= strided;
+    }
+    if (plan.moments)
+        tv[LC_PASS_DEPTH_RANGE] *= strided;
+    bool listed[LC_PASS_COUNT] = {false};
+    int nx, ny, tiles = frame_tiles(p, &nx, &ny);
+    lists_plan(p, &plan, frags * s2, tiles > 1 && f->resolution_scale >= 1.0, layered, &listed[LC_PASS_IMPORTANCE],
+               &listed[LC_PASS_OPACITY]);
+    double geometry = 0, passes = 0, full = 0, screens = 0;
     for (int k = 0; k < LC_PASS_COUNT; k++) {
         double at = plan.run[k] == LC_RUN_LOW    ? s2
                     : plan.run[k] == LC_RUN_FULL ? 1.0
                     : plan.run[k] == LC_RUN_BOTH ? s2 + 1.0
                                                  : 0.0;
+        double runs = plan.run[k] == LC_RUN_LOW || plan.run[k] == LC_RUN_FULL ? 1.0
+                      : plan.run[k] == LC_RUN_BOTH                            ? 2.0
+                                                                              : 0.0;
         geometry += g[k] * at;
+        passes += listed[k] ? 0.0 : tv[k] * runs;
+        full += plan.run[k] == LC_RUN_FULL || plan.run[k] == LC_RUN_BOTH ? tv[k] : 0.0;
         screens += plan.run[k] == LC_RUN_NONE ? 0.0 : sc[k];
     }
-    double passes = ceil(geometry);
     /* A tiled still draws every full-resolution pass's geometry once per tile
      * (its fragments are the same: each lands in one tile). */
-    int nx, ny, tiles = frame_tiles(p, &nx, &ny);
-    if (tiles > 1) {
-        double full = 0;
-        for (int k = 0; k < LC_PASS_COUNT; k++)
-            full += plan.run[k] == LC_RUN_FULL || plan.run[k] == LC_RUN_BOTH ? g[k] : 0.0;
-        passes += ceil(full) * (tiles - 1);
-    }
+    if (tiles > 1)
+        passes += full * (tiles - 1);
     double clusters =
         p->clusters.count > 0 && st->type == LC_PRIM_LINES ? LC_COST_CLUSTER_BUILD_UNITS_PER_LINE * st->lines : 0;
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes + clusters +
            st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
            equalize_cost(st, p, frags) + shadows_cost(st, p, frags);
 }
+
+double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p) { return estimate(st, p, false); }
 
 /* The smallest params.subset (a power of two up to 64) whose frame fits the
  * budget, or 0: the optimization and compositing passes then draw every n-th
@@ -391,7 +445,7 @@ int lc_cost_check_layers(const lc_scene_measures *const *st, const lc_layer_para
         q.style.line_width = layers[i]->style.line_width;
         q.style.min_line_pixels = layers[i]->style.min_line_pixels;
         q.style.point_size = layers[i]->style.point_size;
-        *cost += lc_cost_estimate(st[i], &q);
+        *cost += estimate(st[i], &q, true);
     }
     if (budget <= 0 || *cost <= budget)
         return 0;

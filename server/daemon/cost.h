@@ -13,7 +13,11 @@
  *   passes              by method, bands m (ceil((2m+1)/4) targets in P1/P4),
  *                       resolutionScale s (P1/P2 at s^2), subset, depthRange
  *   plus W*H per target for clears and resolve, elements x smoothing for P3
- *   and (vertices + 100 x primitives) x passes for vertex and primitive set-up.
+ *   and (vertices + 100 x primitives) per traversal of the geometry for vertex
+ *   and primitive set-up: one per pass and resolution it runs at whatever
+ *   targets it writes, P2 once per clarity try, none for P1 and P2 where they
+ *   run over recorded fragments (software rasterizers, no stride); a stride n
+ *   sets up 1/n of a strided pass, 3/n for lines (drawn segment by segment).
  * Measured against it on llvmpipe: 2e7..5e7 units per second (a 4096^2
  * tornado, 3.9e8 units: 19 s; the 64^2 points with 256-pixel splats of the
  * issue, 4.1e9 units: 80-90 s).

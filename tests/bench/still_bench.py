@@ -48,7 +48,9 @@ async def session(srv, name, w, h, timeout):
                 if msg.get("type") == "error":
                     print("error: %s" % msg)
                     break
-                if msg.get("type") in ("ready", "warning", "notice"):
+                if msg.get("type") == "ready":
+                    print("%7.2f s  ready: params %s" % (t, json.dumps(pick(msg, "defaults", "params"))[:400]))
+                elif msg.get("type") in ("warning", "notice"):
                     print("%7.2f s  %s: %s" % (t, msg["type"], json.dumps(msg)[:600]))
                 continue
             hd, img = unpack_frame(m)
@@ -81,9 +83,13 @@ def main():
     args = ap.parse_args()
     w, h = (int(x) for x in args.size.split("x"))
     env = dict(e.split("=", 1) for e in args.env)
+    env.setdefault("LUCENT_LOG_LEVEL", "debug")  # the clarity loop's tries per frame (render/gl/clarity.c)
     with Server(args.binary, *args.server_args.split(), data=(args.dataset,), demo_size=0, env=env,
                 timeout=600) as srv:
         rows = asyncio.run(session(srv, served_name(args.dataset), w, h, args.timeout))
+        for line in srv.log:  # what the daemon chose for the session (params.subset) and the clarity loop's tries
+            if "opens with params.subset" in line or "clarity:" in line:
+                print("  log: %s" % line.strip()[:300])
         if args.one_shot:  # the same request over HTTP, for the passes' times side by side
             t0 = time.monotonic()
             st, hdrs, body = srv.request("POST", "/api/v1/render",

@@ -2,6 +2,7 @@
  * pass_plan.c): an opaque frame of splats computed by hand, the passes the
  * plan adds for each depth range and method, and the field a refusal names. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cost.h"
@@ -74,22 +75,28 @@ static void test_estimates(void)
     CHECK_NEAR(lc_cost_estimate(&st, &p), want, 1e-9 * want, "opaque splats");
 
     /* Fourier by hand: P1 (targets / subset) and P2 at s^2, P4 and P5 at full,
-     * plus P0 by the depth range. */
+     * plus P0 by the depth range; the set-up once per traversal (P1 and P4
+     * write their targets in one draw). */
     p = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_GLOBAL);
+    p.foo.clarity = 0; /* one try */
     double s2 = p.foo.resolution_scale * p.foo.resolution_scale, t = ceil((2.0 * p.foo.bands + 1.0) / 4.0);
-    double sub = p.foo.subset > 1 ? p.foo.subset : 1;
+    double sub = p.foo.subset > 1 ? p.foo.subset : 1, setup = 1000 + 100.0 * 1000;
     double geometry = (s2 + 1.0) * (t / sub + 1.0), screens = t + 2.0;
-    double base =
-        frags * geometry + image * screens + (1000 + 100.0 * 1000) * ceil(geometry) + 1000 * (p.foo.smoothing + 1.0);
-    CHECK_NEAR(lc_cost_estimate(&st, &p), base, 1e-9 * base, "fourier, global range");
+    double base = frags * geometry + image * screens + setup * 4 + 1000 * (p.foo.smoothing + 1.0);
+    CHECK_NEAR(lc_cost_estimate(&st, &p), base, 1e-9 * base, "fourier, global range: four traversals");
     p.foo.depth_range = LC_DEPTH_RANGE_MOMENTS;
     double g2 = geometry + s2 / sub;
-    double m = frags * g2 + image * screens + (1000 + 100.0 * 1000) * ceil(g2) + 1000 * (p.foo.smoothing + 1.0);
-    CHECK_NEAR(lc_cost_estimate(&st, &p), m, 1e-9 * m, "fourier, moments: one more target at s^2");
+    double m = frags * g2 + image * screens + setup * 5 + 1000 * (p.foo.smoothing + 1.0);
+    CHECK_NEAR(lc_cost_estimate(&st, &p), m, 1e-9 * m, "fourier, moments: one more target at s^2, one more traversal");
     p.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
     double g3 = geometry + s2 + 1.0;
-    double px = frags * g3 + image * screens + (1000 + 100.0 * 1000) * ceil(g3) + 1000 * (p.foo.smoothing + 1.0);
+    double px = frags * g3 + image * screens + setup * 6 + 1000 * (p.foo.smoothing + 1.0);
     CHECK_NEAR(lc_cost_estimate(&st, &p), px, 1e-9 * px, "fourier, pixel range: a pass at both resolutions");
+    /* params.clarity: each try repeats P2 (and P3), never P1, whose sums do not depend on the strength. */
+    lc_render_params cl = p;
+    cl.foo.clarity = 0.5;
+    double more = (LC_CLARITY_CHARGED_TRIES - 1.0) * (frags * s2 + setup + 1000 * (p.foo.smoothing + 1.0));
+    CHECK_NEAR(lc_cost_estimate(&st, &cl) - px, more, 1e-9 * px, "clarity: P2 and P3 once more per try, not P1");
 
     /* color.equalize: the histogram pass (one geometry pass at full resolution)
      * and P4-P6 once more. */
@@ -182,8 +189,68 @@ static void test_levels(void)
     CHECK(lc_cost_estimate(&st, &p) == lc_cost_estimate(&full, &p), "a camera inside the data: full detail");
 }
 
+/* Fragment lists (software rasterizers, render/gl/fragment_list.c): P1 sums
+ * P0's recorded fragments and P2 reads P1's list, so neither traverses the
+ * geometry; a stride turns the lists off and, on lines, draws segment by
+ * segment: a stride then costs more than none, and is neither advised nor
+ * imposed. */
+static void test_lists(void)
+{
+    lc_scene_measures st;
+    memset(&st, 0, sizeof st);
+    st.type = LC_PRIM_LINES;
+    st.primitives = st.vertices = 2e6;
+    st.elements = 6e4;
+    st.lines = 16000;
+    st.line_length = 400;
+    st.radius = 20.0;
+    lc_render_params p = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_MOMENTS);
+    p.width = 972, p.height = 761;
+    p.foo.clarity = 0.5;
+    double setup = 2e6 + 100.0 * 2e6, tries = LC_CLARITY_CHARGED_TRIES;
+    lc_fragment_list_configure("none");
+    double drawn = lc_cost_estimate(&st, &p);
+    lc_render_params s2 = p;
+    s2.foo.subset = 2;
+    double drawn2 = lc_cost_estimate(&st, &s2);
+    lc_fragment_list_configure("llvmpipe (LLVM 15.0.6, 256 bits)");
+    CHECK(lc_fragment_list_enabled(), "lists on for llvmpipe");
+    double listed = lc_cost_estimate(&st, &p);
+    CHECK(fabs(drawn - listed - setup * (1.0 + tries)) <= 1e-9 * drawn,
+          "lists: P1 and every try's P2 leave the set-up (%g -> %g)", drawn, listed);
+    CHECK(lc_cost_estimate(&st, &s2) == drawn2, "a stride turns the lists off: P1 and P2 draw");
+    CHECK(drawn2 > listed, "lines at params.subset 2 cost more than every primitive over the lists (%g > %g)", drawn2,
+          listed);
+    /* Lines with a stride: one segment in n, six vertices each against two in
+     * a strip: P0's moments, P1 and P4 set up 3/n of a traversal (none saved at 2). */
+    lc_fragment_list_configure("none");
+    lc_render_params s4 = p;
+    s4.foo.subset = 4;
+    double four = lc_cost_estimate(&st, &s4), g4 = 0;
+    s4.foo.subset = 2;
+    g4 = lc_cost_estimate(&st, &s4);
+    CHECK(drawn2 == g4 && four < drawn2, "lines: subset 2 sets up as much as 1 in its strided passes, 4 less");
+    lc_fragment_list_configure("llvmpipe (LLVM 15.0.6, 256 bits)");
+    /* Over a budget the lists' frame misses by little, no stride is imposed or advised. */
+    double budget = 0.9 * listed, cost = 0;
+    const char *field = NULL;
+    char why[320];
+    CHECK(lc_cost_subset_for(&st, &p, budget) == 0, "no stride fits where every stride costs more (%d)",
+          lc_cost_subset_for(&st, &p, budget));
+    CHECK(lc_cost_check(&st, &p, budget, &cost, &field, why, sizeof why) != 0 && field &&
+              strcmp(field, "params.subset") != 0 && !strstr(why, "params.subset"),
+          "the advice is not a stride (%s: %s)", field ? field : "-", why);
+    CHECK(lc_cost_check(&st, &p, listed * 1.01, &cost, &field, why, sizeof why) == 0,
+          "a budget the lists' frame fits admits it at params.subset 1");
+    lc_fragment_list_configure("none");
+    CHECK(lc_cost_check(&st, &p, listed * 1.01, &cost, &field, why, sizeof why) != 0,
+          "the same budget refuses the frame where P1 and P2 draw");
+}
+
 int main(void)
 {
+    unsetenv("LUCENT_FRAGMENT_LISTS"); /* the driver's choice, set below as the tests need it */
+    test_lists();
     test_plan();
     test_estimates();
     test_levels();

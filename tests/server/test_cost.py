@@ -134,11 +134,15 @@ with Server(binary, "--max-sessions-per-client", "4", "--max-sessions", "64", de
 
 
 # Advice that works: the refusal names the value that fits, and that value is served.
+# Where P1 and P2 draw the geometry (a GPU; here forced with LUCENT_FRAGMENT_LISTS=0),
+# a stride saves their traversals and is advised, and a hello opens at it.
 TORNADO = "/api/v1/render?dataset=demo:tornado&width=256&height=256&format=jpeg"
-with Server(binary, "--max-cost", "0", data=("demo:tornado",), demo_size=2000) as srv:
+DRAWN = {"LUCENT_FRAGMENT_LISTS": "0"}
+with Server(binary, "--max-cost", "0", data=("demo:tornado",), demo_size=2000, env=DRAWN) as srv:
     costs = {n: float(srv.request("GET", TORNADO + "&subset=%d" % n)[1].get("x-lucent-cost", "0")) for n in (1, 8)}
-with Server(binary, "--max-cost", "%.6g" % (0.5 * (costs[1] + costs[8])), data=("demo:tornado",),
-            demo_size=2000) as srv:
+# A budget nearer stride 8's cost than the full frame's: no other field (the depth range) fits it.
+with Server(binary, "--max-cost", "%.6g" % (0.25 * costs[1] + 0.75 * costs[8]), data=("demo:tornado",),
+            demo_size=2000, env=DRAWN) as srv:
     st, _, e = srv.json("GET", TORNADO)
     msg = e.get("error", {}).get("message", "") if st == 400 else ""
     n = int(msg.split("set params.subset to ")[1].split()[0]) if "set params.subset to " in msg else 0
@@ -169,6 +173,36 @@ with Server(binary, "--max-cost", "%.6g" % (0.5 * (costs[1] + costs[8])), data=(
         st, _, _ = srv.request("GET", TORNADO.replace("width=256&height=256", "width=%s&height=%s" % (w, h)) +
                                "&method=opaque")
         check(st == 200, "the advised %sx%s frame renders (%d)" % (w, h, st))
+
+# Where P1 and P2 run over recorded fragments (llvmpipe's default; forced here),
+# a stride turns the lists off and lines then draw segment by segment: it costs
+# more than every primitive, so it is neither imposed on a hello nor advised.
+LISTS = {"LUCENT_FRAGMENT_LISTS": "1"}
+with Server(binary, "--max-cost", "0", data=("demo:tornado",), demo_size=2000, env=LISTS) as srv:
+    listed = {n: float(srv.request("GET", TORNADO + "&subset=%d" % n)[1].get("x-lucent-cost", "0")) for n in (1, 2, 8)}
+check(listed[2] > listed[1] and listed[8] > listed[1],
+      "with fragment lists, strided lines cost more than every primitive (%s)" % listed)
+check(listed[1] < costs[1], "the lists' frame costs less than the drawn one (%g < %g)" % (listed[1], costs[1]))
+with Server(binary, "--max-cost", "%.6g" % (1.05 * listed[1]), data=("demo:tornado",), demo_size=2000,
+            env=LISTS) as srv:
+    async def opens_plain():
+        async with websockets.connect(srv.ws_url) as ws:
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:tornado", "width": 256, "height": 256,
+                                      "devicePixelRatio": 1}))
+            got = await wait_for_message(ws, lambda m: m.get("type") in ("error", "frame"))
+            ready = next((m for m in got if m.get("type") == "ready"), {})
+            return ready, got[-1] if got.reached else {}
+    ready, last = asyncio.run(opens_plain())
+    subset = ready.get("defaults", {}).get("params", {}).get("subset")
+    check(last.get("type") == "frame" and subset in (None, 1),
+          "within the budget at every primitive, a hello opens without a stride (subset %s, %s)" %
+          (subset, last.get("type")))
+with Server(binary, "--max-cost", "%.6g" % (0.9 * listed[1]), data=("demo:tornado",), demo_size=2000,
+            env=LISTS) as srv:
+    st, _, e = srv.json("GET", TORNADO)
+    msg = e.get("error", {}).get("message", "") if st == 400 else ""
+    check(st == 400 and e["error"]["field"] != "params.subset" and "params.subset" not in msg,
+          "just over the budget, the refusal advises no stride (%d, %s)" % (st, msg))
 
 with Server(binary, "--pass-delay", PASS_DELAY) as srv:
 

@@ -4,6 +4,7 @@
  * a layer's own sections (filter, time, lines, color.equalize) parse. The
  * layers are one shared snapshot: copies and patches reference it, a change
  * of layers makes a new one and leaves the old one as it was. */
+#include <pthread.h>
 #include <string.h>
 
 #include "lc_test.h"
@@ -11,6 +12,42 @@
 #include "request_patch.h"
 
 static int refs(const lc_request_layers *l) { return l ? atomic_load(&((lc_request_layers *)l)->refs) : 0; }
+
+/* Threads that copy and drop one request's layers at once (a session's
+ * request, its frames on the workers, the encoder): every pair leaves the
+ * count where it was, and the snapshot reads the same throughout. */
+static void *copy_drop(void *arg)
+{
+    const lc_request *shared = arg;
+    long bad = 0;
+    for (int i = 0; i < 100000; i++) {
+        lc_request mine;
+        lc_request_copy(&mine, shared);
+        bad += lc_request_layer_count(&mine) != 1 || mine.layers->p[0].style.point_size != 4;
+        lc_request_release(&mine);
+    }
+    return (void *)bad;
+}
+
+static void check_threads(void)
+{
+    lc_request r;
+    lc_proto_error e;
+    const char *one = "{\"layers\": [{\"dataset\": \"demo:points\", \"style\": {\"pointSize\": 4}}]}";
+    CHECK(lc_proto_parse_request(one, strlen(one), NULL, &r, &e) == 0, "one layer parses: %s", e.message);
+    pthread_t t[4];
+    for (int i = 0; i < 4; i++)
+        pthread_create(&t[i], NULL, copy_drop, &r);
+    long bad = 0;
+    for (int i = 0; i < 4; i++) {
+        void *b;
+        pthread_join(t[i], &b);
+        bad += (long)b;
+    }
+    CHECK(bad == 0 && refs(r.layers) == 1,
+          "4 threads x 100000 copies and releases: the count is back to 1 (%d), %ld bad reads", refs(r.layers), bad);
+    lc_request_release(&r);
+}
 
 /* Copies share the snapshot; an update of layers replaces it (copy on write). */
 static void check_sharing(void)
@@ -142,5 +179,6 @@ int main(void)
           "query layers=[...]: %s", e.message);
     lc_request_release(r);
     check_sharing();
+    check_threads();
     return lc_test_finish();
 }

@@ -98,6 +98,7 @@ static int keyframe(const json_t *v, int i, const lc_proto_limits *lim, lc_camer
     } else {
         return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, field, "expected a camera object or a URL state string");
     }
+    lc_request_release(&r); /* a page link may name layers */
     if (rc != 0)
         return nest(err, field, &pe);
     *out = r.render.camera;
@@ -238,5 +239,7 @@ int lc_proto_parse_movie(const char *json, size_t len, const lc_proto_limits *li
             snprintf(m->codec, sizeof m->codec, "%s", c);
     }
     json_decref(o);
+    if (rc)
+        lc_request_release(&m->request);
     return rc;
 }

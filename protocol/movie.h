@@ -39,7 +39,8 @@ typedef struct lc_movie_spec {
 
 /* Parses a movie request (JSON text). Returns 0, or LC_ERR_INVALID / LC_ERR_LIMIT
  * with err naming the field ("keyframes", "fps", "width", "request.params.q",
- * "keyframes[1].position"). Sizes obey lim (side and pixel caps) and must be even. */
+ * "keyframes[1].position"). Sizes obey lim (side and pixel caps) and must be even.
+ * On success m->request holds its layers: lc_request_release it when done. */
 int lc_proto_parse_movie(const char *json, size_t len, const lc_proto_limits *lim, lc_movie_spec *m,
                          lc_proto_error *err);
 

@@ -39,6 +39,33 @@ void lc_request_default(lc_request *r)
     r->streamlines.seeding = 3, r->streamlines.count = 64; /* density, as a load-time set's defaults */
 }
 
+void lc_request_copy(lc_request *dst, const lc_request *src)
+{
+    *dst = *src;
+    lc_request_layers_retain(src->layers);
+}
+
+void lc_request_assign(lc_request *dst, const lc_request *src)
+{
+    const lc_request_layers *old = dst->layers; /* after the retain: dst may be src */
+    lc_request_copy(dst, src);
+    lc_request_layers_release(old);
+}
+
+void lc_request_release(lc_request *r)
+{
+    lc_request_layers_release(r->layers);
+    r->layers = NULL;
+}
+
+/* *r = *tmp, taking over tmp's reference and dropping r's (the all-or-nothing
+ * commit of a change worked on a copy). */
+static void commit(lc_request *r, lc_request *tmp)
+{
+    lc_request_layers_release(r->layers);
+    *r = *tmp;
+}
+
 /* Copies with truncation; snprintf("%s") would trip -Wformat-truncation. */
 static void copy_str(char *dst, size_t size, const char *src)
 {
@@ -236,19 +263,13 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
         memcpy(base, vec, sizeof vec);
         break;
     }
-    case T_LAYERS: {
+    case T_LAYERS: { /* a new snapshot replaces r's reference (copy on write) */
         lc_layer_error le = {0};
-        lc_request_layer *layers = calloc(LC_MAX_LAYERS, sizeof *layers); /* 32 KiB: off the stack */
-        int n = 0;
-        if (!layers)
-            return lc_proto_set_error(err, LC_PROTO_TOO_LARGE, path, "out of memory");
-        if (lc_proto_parse_layers(v, layers, &n, path, apply_layer_section, (void *)lim, &le) != 0) {
-            free(layers);
+        const lc_request_layers *layers;
+        if (lc_proto_parse_layers(v, &layers, path, apply_layer_section, (void *)lim, &le) != 0)
             return lc_proto_set_error(err, le.code, le.field, "%s", le.reason);
-        }
-        memcpy(r->layers, layers, (size_t)n * sizeof *layers);
-        r->layer_count = n;
-        free(layers);
+        lc_request_layers_release(r->layers);
+        r->layers = layers;
         break;
     }
     case T_SEED: { /* offset: the point count; size: the offset of the points */
@@ -370,7 +391,7 @@ int lc_proto_validate_request(const lc_request *r, const lc_proto_limits *lim, l
         return lc_proto_set_error(err, LC_PROTO_MISSING_FIELD, "surface.seed",
                                   "method surface-layers needs a seed polyline of 2 or more [x, y, z] points");
     /* The surface is the frame's only geometry: no path draws datasets beside it. */
-    if (r->render.method == LC_METHOD_SURFACE_LAYERS && r->layer_count > 0)
+    if (r->render.method == LC_METHOD_SURFACE_LAYERS && r->layers)
         return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "layers",
                                   "method surface-layers draws the field's surface alone; drop layers or choose "
                                   "another method");
@@ -385,12 +406,15 @@ static int apply(const json_t *obj, const lc_proto_limits *lim, lc_request *r, b
     lim = limits_or_default(lim, &dl);
     if (!json_is_object(obj))
         return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "expected a JSON object");
-    lc_request tmp = *r; /* all or nothing */
+    lc_request tmp; /* all or nothing */
+    lc_request_copy(&tmp, r);
     int rc = apply_members(obj, NULL, lim, &tmp, err);
     if (!rc && cross_checks)
         rc = lc_proto_validate_request(&tmp, lim, err);
     if (!rc)
-        *r = tmp;
+        commit(r, &tmp);
+    else
+        lc_request_release(&tmp);
     return rc;
 }
 
@@ -408,9 +432,7 @@ static void layer_request(lc_request *r, const lc_layer_params *p)
  * field checks only, on a scratch request that holds the layer's sections. */
 static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p, lc_layer_error *err)
 {
-    lc_request *scratch = malloc(sizeof *scratch);
-    if (!scratch)
-        return -1;
+    lc_request s, *scratch = &s; /* no layers: nothing to release */
     layer_request(scratch, p);
     lc_proto_error pe;
     int rc = apply(obj, lim, scratch, false, &pe);
@@ -429,7 +451,6 @@ static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p,
         p->clusters = scratch->render.clusters;
         memcpy(p->filters, scratch->render.filters, sizeof p->filters);
     }
-    free(scratch);
     return rc ? -1 : 0;
 }
 
@@ -437,13 +458,10 @@ static int apply_layer_section(void *lim, const json_t *obj, lc_layer_params *p,
  * own section (or, for filter, field) emits it. */
 static json_t *emit_layer_section(const lc_layer_params *p, const char *section)
 {
-    lc_request *scratch = malloc(sizeof *scratch);
-    if (!scratch)
-        return json_object();
+    lc_request s, *scratch = &s;
     layer_request(scratch, p);
     json_t *o =
         strcmp(section, "filter") == 0 ? lc_proto_field_json(scratch, NULL, section) : emit_section(scratch, section);
-    free(scratch);
     return o ? o : json_array();
 }
 
@@ -496,9 +514,10 @@ int lc_proto_copy_field(const char *section, const char *name, lc_request *dst, 
         dst->render.color.fixed_count = src->render.color.fixed_count;
         memcpy(dst->render.color.fixed, src->render.color.fixed, sizeof src->render.color.fixed);
         break;
-    case T_LAYERS:
-        dst->layer_count = src->layer_count;
-        memcpy(dst->layers, src->layers, (size_t)src->layer_count * sizeof src->layers[0]);
+    case T_LAYERS: /* the snapshot is shared, never copied */
+        lc_request_layers_retain(src->layers);
+        lc_request_layers_release(dst->layers);
+        dst->layers = src->layers;
         break;
     case T_SEED: /* offset: the point count; size: the offset of the points (surface.seed, streamlines.seeds) */
         memcpy(d, s, sizeof(int));
@@ -635,7 +654,8 @@ int lc_proto_apply_query(lc_request *r, const char *key, const char *value, cons
         /* A JSON null fails every type check with the right "expected ..." text. */
         v = json_null();
     }
-    lc_request tmp = *r;
+    lc_request tmp;
+    lc_request_copy(&tmp, r);
     if (f->section && strcmp(f->section, "camera") == 0 && !tmp.render.has_camera) {
         lc_render_params def;
         lc_render_params_default(&def);
@@ -645,7 +665,9 @@ int lc_proto_apply_query(lc_request *r, const char *key, const char *value, cons
     int rc = set_field(f, v, lim, &tmp, key, err);
     json_decref(v);
     if (!rc)
-        *r = tmp;
+        commit(r, &tmp);
+    else
+        lc_request_release(&tmp);
     return rc;
 }
 
@@ -692,8 +714,8 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
             v = lc_proto_fixed_json((const lc_color_map *)base);
         break;
     case T_LAYERS:
-        if (r->layer_count > 0)
-            v = lc_proto_layers_json(r->layers, r->layer_count, emit_layer_section);
+        if (r->layers)
+            v = lc_proto_layers_json(r->layers, emit_layer_section);
         break;
     case T_SEED:
         if (*(const int *)base > 0)
@@ -747,13 +769,12 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
     lc_proto_limits dl;
     lim = limits_or_default(lim, &dl);
     json_t *arr = json_array();
-    lc_request *def = malloc(sizeof *def); /* off the stack: lc_request holds its layers */
-    if (def)
-        lc_request_default(def);
+    lc_request d, *def = &d;
+    lc_request_default(def);
     for (size_t i = 0; arr && i < NFIELDS; i++) {
         const field *f = &fields[i];
         json_t *o = json_object();
-        json_t *dv = def && !(f->bounds & CHECK_ONLY) ? lc_proto_field_json(def, f->section, f->name) : NULL;
+        json_t *dv = !(f->bounds & CHECK_ONLY) ? lc_proto_field_json(def, f->section, f->name) : NULL;
         if (dv)
             json_object_set_new(o, "default", dv);
         json_object_set_new(o, "section", f->section ? json_string(f->section) : json_null());
@@ -807,7 +828,6 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         }
         json_array_append_new(arr, o);
     }
-    free(def);
     return arr;
 }
 

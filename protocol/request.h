@@ -14,7 +14,7 @@
 #include "json_input.h" /* lc_proto_limits, lc_proto_error, lc_proto_load */
 #include "lc_base.h"
 #include "lc_params.h"
-#include "request_layers.h" /* lc_request_layer */
+#include "request_layers.h" /* lc_request_layers */
 
 #ifdef __cplusplus
 extern "C" {
@@ -65,7 +65,9 @@ typedef struct lc_streamlines_request {
     int direction;     /* lc_trace_direction: forward (default), backward, both */
 } lc_streamlines_request;
 
-/* One render: which data, how big, which camera and parameters, which image. */
+/* One render: which data, how big, which camera and parameters, which image.
+ * A request owns a reference to its layers' snapshot: copy one with
+ * lc_request_copy (not `=`), drop it with lc_request_release. */
 typedef struct lc_request {
     char dataset[LC_PROTO_DATASET_LEN]; /* "demo:NAME", a path (CLI only) or a loaded
                                            dataset's name; "" = the server's default */
@@ -74,17 +76,26 @@ typedef struct lc_request {
     int quality;                        /* JPEG quality 1..100, default 90 */
     double dt;                          /* sessions: seconds since the previous frame */
     bool has_dt;
-    /* layers[]: 0 = the one dataset above; else these datasets in one view,
-     * each with its own mapping and style (the request's own importance and
-     * colour then apply to none of them). */
-    int layer_count;
-    lc_request_layer layers[LC_MAX_LAYERS];
+    /* layers[]: NULL = the one dataset above; else these datasets in one
+     * view, each with its own mapping and style (the request's own importance
+     * and colour then apply to none of them). Shared and immutable: a change
+     * of layers makes a new snapshot (request_layers.h). */
+    const lc_request_layers *layers;
     lc_surface_request surface;         /* method "surface-layers" only */
     lc_streamlines_request streamlines; /* a dataset that names a vector field only */
 } lc_request;
 
-/* lc_render_params_default() plus format png, quality 90, dataset "", no dt. */
+/* lc_render_params_default() plus format png, quality 90, dataset "", no dt,
+ * no layers. r holds no reference before (release a used request first). */
 void lc_request_default(lc_request *r);
+/* dst = src, sharing src's layers (one more reference); dst holds none before. */
+void lc_request_copy(lc_request *dst, const lc_request *src);
+/* dst = src where dst holds a request already (its layers are released). */
+void lc_request_assign(lc_request *dst, const lc_request *src);
+/* Drops r's reference to its layers (r then has none); r stays a valid request. */
+void lc_request_release(lc_request *r);
+/* The number of layers (0: the one dataset). */
+static inline int lc_request_layer_count(const lc_request *r) { return r->layers ? r->layers->count : 0; }
 
 /* Parses a whole request: r = defaults + the fields given. lim NULL = defaults,
  * err may be NULL. Returns 0, LC_ERR_INVALID (malformed/invalid) or LC_ERR_LIMIT

@@ -1,6 +1,5 @@
 /* Judges a parsed request against the scope table (request_check.h). */
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "request_check.h"
@@ -74,9 +73,7 @@ static int check_field(const char *section, const char *name, const lc_request *
 
 int lc_proto_check_scope(const json_t *given, const lc_request *r, unsigned prims, lc_proto_error *err)
 {
-    lc_request *def = malloc(sizeof *def); /* lc_request holds its layers inline: off the stack */
-    if (!def)
-        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "out of memory");
+    lc_request d, *def = &d;
     lc_request_default(def);
     int rc = 0;
     if (given == NULL) { /* every field of the table */
@@ -103,6 +100,5 @@ int lc_proto_check_scope(const json_t *given, const lc_request *r, unsigned prim
                 break;
         }
     }
-    free(def);
     return rc;
 }

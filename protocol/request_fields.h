@@ -215,7 +215,7 @@ static const field fields[] = {
      NULL},
     {"lines", "liftColor", "liftColor", T_NUM, 0, 1000, 0, OFF(render.clusters.lift_color), 0, NOFLAG, NULL},
 
-    {NULL, "layers", "layers", T_LAYERS, 0, LC_MAX_LAYERS, 0, OFF(layer_count), 0, NOFLAG, NULL},
+    {NULL, "layers", "layers", T_LAYERS, 0, LC_MAX_LAYERS, 0, OFF(layers), 0, NOFLAG, NULL},
 
     {"time", "window", "timeWindow", T_RANGE, 0, 0, 0, OFF(render.time.window), 0, (long)OFF(render.time.has_window),
      NULL},

@@ -7,18 +7,13 @@
 
 #include <jansson.h>
 
+#include "json_input.h" /* the protocol's error codes: the base of protocol/, below this module */
 #include "lc_params.h"
-
-/* request.h's error codes (this module and request_layers.c sit below it). */
-#define LC_PROTO_BAD_FIELD "bad_field"
-#define LC_PROTO_UNKNOWN_FIELD "unknown_field"
-#define LC_PROTO_MISSING_FIELD "missing_field"
-#define LC_PROTO_OUT_OF_RANGE "out_of_range"
 
 /* What went wrong (here and in request_layers.c): request.c turns it into an
  * lc_proto_error. */
 typedef struct lc_list_error {
-    const char *code; /* the codes above */
+    const char *code; /* LC_PROTO_BAD_FIELD, LC_PROTO_UNKNOWN_FIELD, LC_PROTO_MISSING_FIELD or LC_PROTO_OUT_OF_RANGE */
     char field[128];
     char reason[256];
 } lc_list_error;

@@ -6,7 +6,7 @@
 
 struct lc_request_patch {
     json_t *given;     /* the update object: which fields it gives */
-    lc_request values; /* their values, checked, on a default request */
+    lc_request values; /* their values, checked, on a default request (layers: their snapshot, shared) */
 };
 
 /* The members obj gives, copied from values (lc_proto_apply_request's merge
@@ -35,12 +35,13 @@ static void merge_members(const json_t *obj, const char *section, lc_request *r,
 int lc_proto_patch_parse(json_t *obj, const lc_proto_limits *lim, lc_request_patch **out, lc_proto_error *err)
 {
     *out = NULL;
-    lc_request_patch *p = malloc(sizeof *p); /* a request is large: off the stack */
+    lc_request_patch *p = malloc(sizeof *p);
     if (!p)
         return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "out of memory");
     lc_request_default(&p->values);
     int rc = lc_proto_check_fields(obj, lim, &p->values, err);
     if (rc) {
+        lc_request_release(&p->values);
         free(p);
         return rc;
     }
@@ -51,16 +52,17 @@ int lc_proto_patch_parse(json_t *obj, const lc_proto_limits *lim, lc_request_pat
 
 int lc_proto_patch_apply(const lc_request_patch *p, const lc_proto_limits *lim, lc_request *r, lc_proto_error *err)
 {
-    lc_request *tmp = malloc(sizeof *tmp); /* all or nothing; large: off the stack */
-    if (!tmp)
-        return lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "", "out of memory");
-    *tmp = *r;
+    lc_request tmp; /* all or nothing; the layers are shared, not copied */
+    lc_request_copy(&tmp, r);
     if (p)
-        merge_members(p->given, NULL, tmp, &p->values);
-    int rc = lc_proto_validate_request(tmp, lim, err);
-    if (!rc)
-        *r = *tmp;
-    free(tmp);
+        merge_members(p->given, NULL, &tmp, &p->values);
+    int rc = lc_proto_validate_request(&tmp, lim, err);
+    if (!rc) {
+        lc_request_release(r);
+        *r = tmp; /* takes over tmp's reference */
+    } else {
+        lc_request_release(&tmp);
+    }
     return rc;
 }
 
@@ -68,7 +70,9 @@ const json_t *lc_proto_patch_json(const lc_request_patch *p) { return p ? p->giv
 
 void lc_proto_patch_free(lc_request_patch *p)
 {
-    if (p)
+    if (p) {
         json_decref(p->given);
+        lc_request_release(&p->values);
+    }
     free(p);
 }

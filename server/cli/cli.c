@@ -48,6 +48,7 @@ int lc_cli_read_request(const char *path, lc_request *req, lc_error *err)
     lim.max_text = MAX_REQUEST_BYTES;
     lc_proto_error perr;
     memset(&perr, 0, sizeof perr);
+    lc_request_release(req); /* a second --request replaces the first */
     int rc = lc_proto_parse_request(buf, n, &lim, req, &perr);
     free(buf);
     if (rc)
@@ -63,7 +64,7 @@ static int check_layer_flags(const char *cmd, const lc_request *req, const lc_re
 {
     const lc_render_params *p = &req->render;
     const lc_style *a = &before->style, *b = &p->style;
-    if (req->layer_count == 0 ||
+    if (lc_request_layer_count(req) == 0 ||
         (memcmp(&before->importance, &p->importance, sizeof p->importance) == 0 &&
          memcmp(&before->color, &p->color, sizeof p->color) == 0 && a->line_width == b->line_width &&
          a->min_line_pixels == b->min_line_pixels && a->point_size == b->point_size && a->shading == b->shading))

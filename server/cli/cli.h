@@ -14,7 +14,8 @@
  * the caller destroys it. */
 int lc_cli_open_dataset(const char *spec, lc_scene **out, lc_error *err);
 
-/* Reads and parses a render request file (CLI limits: up to 16384 px a side). */
+/* Reads and parses a render request file (CLI limits: up to 16384 px a side) into
+ * req, a request whose layers it releases first. */
 int lc_cli_read_request(const char *path, lc_request *req, lc_error *err);
 
 /* A headless context with a renderer, current on the calling thread. */
@@ -77,11 +78,11 @@ void lc_cli_print_memory(const lc_scene *scene, const lc_gpu_scene *gs, const lc
  * takes (demo:NAME[?count=N&seed=S] or a file), drawn in one frame as POST
  * /api/v1/render draws them. */
 typedef struct lc_cli_scene {
-    int layer_count;                       /* req->layer_count; 0: one dataset, scenes[0] */
-    int count;                             /* scenes held: 1, or layer_count once open */
-    lc_scene *scenes[LC_MAX_LAYERS];       /* finalized; their vertex arrays released after the upload */
-    lc_gpu_scene *gpu[LC_MAX_LAYERS];      /* their GPU copies */
-    lc_layer_params layers[LC_MAX_LAYERS]; /* req->layers[i].p, the renderer's copy */
+    int layer_count;                  /* lc_request_layer_count(req); 0: one dataset, scenes[0] */
+    int count;                        /* scenes held: 1, or layer_count once open */
+    lc_scene *scenes[LC_MAX_LAYERS];  /* finalized; their vertex arrays released after the upload */
+    lc_gpu_scene *gpu[LC_MAX_LAYERS]; /* their GPU copies */
+    const lc_layer_params *layers;    /* req->layers->p: the request's snapshot, which outlives the scene */
 } lc_cli_scene;
 
 /* Opens req's scene and a GL renderer, and uploads the scene in the layout

@@ -217,23 +217,23 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
     return rc;
 }
 
-int lc_cli_bench(int argc, char **argv)
+/* lc_cli_bench with its request, which the caller releases (layers are a shared snapshot). */
+static int bench_main(int argc, char **argv, lc_request *req)
 {
-    lc_request req;
     lc_cli_common common;
     bench_args args = {.frames = 10, .warmup = 2, .point_stride = 1, .line_stride = 1};
-    int pr = lc_cli_parse("bench", bench_options, &args, argc, argv, &req, &common, bench_usage);
+    int pr = lc_cli_parse("bench", bench_options, &args, argc, argv, req, &common, bench_usage);
     if (pr != 0)
         return pr == 1 ? 0 : 2;
-    if (req.layer_count > 0) { /* a row a dataset: a layered frame is no dataset's */
+    if (lc_request_layer_count(req) > 0) { /* a row a dataset: a layered frame is no dataset's */
         fprintf(stderr,
                 "lucent bench: layers: bench times one dataset a row; `lucent render --request FILE --frames N` "
                 "or `lucent compare --request FILE` time a layered request\n");
         return 2;
     }
     if (!common.request) { /* the benchmark's own default size, unless a flag gave one */
-        req.render.width = common.width_set ? req.render.width : 1024;
-        req.render.height = common.height_set ? req.render.height : 1024;
+        req->render.width = common.width_set ? req->render.width : 1024;
+        req->render.height = common.height_set ? req->render.height : 1024;
     }
     int frames = args.frames, warmup = args.warmup, show_memory = args.memory, interactive = args.interactive,
         point_stride = args.point_stride, uniform_points = args.uniform_points, line_stride = args.line_stride;
@@ -285,11 +285,11 @@ int lc_cli_bench(int argc, char **argv)
     /* A row per dataset, size and method: the lists, or the request's size and method. */
     int lists = args.nsizes || args.nmethods;
     if (!args.nsizes) {
-        args.sizes[0][0] = req.render.width, args.sizes[0][1] = req.render.height;
+        args.sizes[0][0] = req->render.width, args.sizes[0][1] = req->render.height;
         args.nsizes = 1;
     }
     if (!args.nmethods)
-        args.methods[args.nmethods++] = (int)req.render.method;
+        args.methods[args.nmethods++] = (int)req->render.method;
     size_t max_pixels = 0;
     for (int i = 0; i < args.nsizes; i++)
         if ((size_t)args.sizes[i][0] * args.sizes[i][1] > max_pixels)
@@ -299,8 +299,8 @@ int lc_cli_bench(int argc, char **argv)
     /* One dataset named by --input, --dataset or the request file, unless a list was given. */
     if (common.input)
         snprintf(datasets, sizeof datasets, "%s", common.input);
-    else if (req.dataset[0] && !have_list)
-        snprintf(datasets, sizeof datasets, "%s", req.dataset);
+    else if (req->dataset[0] && !have_list)
+        snprintf(datasets, sizeof datasets, "%s", req->dataset);
     if (lc_cli_gl_open(common.device, &g, &err) != 0) {
         fprintf(stderr, "lucent bench: %s\n", err.msg);
         return 1;
@@ -317,11 +317,11 @@ int lc_cli_bench(int argc, char **argv)
             printf("%s%s", i ? "," : " ", lc_method_name((lc_method)args.methods[i]));
         printf(", ");
     } else {
-        printf("%dx%d, method %s, ", req.render.width, req.render.height, lc_method_name(req.render.method));
+        printf("%dx%d, method %s, ", req->render.width, req->render.height, lc_method_name(req->render.method));
     }
     printf("m=%d, %s estimator, s=%d, P1/P2 scale %.2f, lod %.2g px, %d frames (+%d warm-up)%s\n\n",
-           req.render.foo.bands, lc_estimator_name(req.render.foo.estimator), req.render.foo.smoothing,
-           req.render.foo.resolution_scale, req.render.detail.lod_pixels, frames, warmup,
+           req->render.foo.bands, lc_estimator_name(req->render.foo.estimator), req->render.foo.smoothing,
+           req->render.foo.resolution_scale, req->render.detail.lod_pixels, frames, warmup,
            interactive ? ", interactive (opacities reused)" : "");
     if (!args.floor) {
         printf("%-16s", "dataset");
@@ -356,7 +356,7 @@ int lc_cli_bench(int argc, char **argv)
         } else {
             t_load = lc_now() - t_load;
             if (args.floor) {
-                if (bench_floor(&g, gs, s, &req.render, frames, rgba, &err) != 0) {
+                if (bench_floor(&g, gs, s, &req->render, frames, rgba, &err) != 0) {
                     fprintf(stderr, "lucent bench: %s: %s\n", spec, err.msg);
                     status = 1;
                 }
@@ -366,7 +366,7 @@ int lc_cli_bench(int argc, char **argv)
                 continue;
             }
             for (int c = 0; c < args.nsizes * args.nmethods; c++) {
-                lc_render_params base = req.render;
+                lc_render_params base = req->render;
                 base.width = args.sizes[c / args.nmethods][0];
                 base.height = args.sizes[c / args.nmethods][1];
                 base.method = (lc_method)args.methods[c % args.nmethods];
@@ -439,4 +439,13 @@ int lc_cli_bench(int argc, char **argv)
     free(rgba);
     lc_cli_gl_close(&g);
     return status;
+}
+
+int lc_cli_bench(int argc, char **argv)
+{
+    lc_request req;
+    lc_request_default(&req);
+    int rc = bench_main(argc, argv, &req);
+    lc_request_release(&req);
+    return rc;
 }

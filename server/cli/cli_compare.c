@@ -133,13 +133,13 @@ static int write_image(const char *dir, const char *name, const uint8_t *rgba, i
     return 0;
 }
 
-int lc_cli_compare(int argc, char **argv)
+/* lc_cli_compare with its request, which the caller releases (layers are a shared snapshot). */
+static int compare_main(int argc, char **argv, lc_request *req)
 {
-    lc_request req;
     lc_cli_common common;
     compare_args args = {.against = LC_METHOD_EXACT, .repeat = 3, .pool_mib = 256};
     lc_error err = {0};
-    int pr = lc_cli_parse("compare", compare_options, &args, argc, argv, &req, &common, compare_usage);
+    int pr = lc_cli_parse("compare", compare_options, &args, argc, argv, req, &common, compare_usage);
     if (pr != 0)
         return pr == 1 ? 0 : 2;
     const char *out_dir = args.out_dir;
@@ -149,11 +149,11 @@ int lc_cli_compare(int argc, char **argv)
         fprintf(stderr, "lucent compare: %s: %s\n", out_dir, strerror(errno));
         return 1;
     }
-    static lc_cli_scene cs; /* one dataset, or the request's layers (16 KiB of their parameters: off the stack) */
+    lc_cli_scene cs = {0}; /* one dataset, or the request's layers */
     lc_cli_gl g;
-    if (lc_cli_scene_open("compare", &req, &common, &cs, &g) != 0)
+    if (lc_cli_scene_open("compare", req, &common, &cs, &g) != 0)
         return 1;
-    int status = 1, w = req.render.width, h = req.render.height;
+    int status = 1, w = req->render.width, h = req->render.height;
     size_t bytes = (size_t)w * h * 4;
     method_run runs[2] = {{.rgba = malloc(bytes)}, {.rgba = malloc(bytes)}};
     uint8_t *diff = NULL;
@@ -162,9 +162,9 @@ int lc_cli_compare(int argc, char **argv)
         fprintf(stderr, "lucent compare: out of memory\n");
         goto done;
     }
-    const lc_method methods[2] = {req.render.method, (lc_method)against};
+    const lc_method methods[2] = {req->render.method, (lc_method)against};
     for (int k = 0; k < 2; k++)
-        if (run_method(&desc, &cs, req.render, methods[k], repeat, &runs[k], &err) != 0) {
+        if (run_method(&desc, &cs, req->render, methods[k], repeat, &runs[k], &err) != 0) {
             fprintf(stderr, "lucent compare: %s: %s\n", lc_method_name(methods[k]), err.msg);
             goto done;
         }
@@ -179,8 +179,8 @@ int lc_cli_compare(int argc, char **argv)
     printf("size %dx%d\n", w, h);
     printf("method %s\n", lc_method_name(methods[0]));
     printf("against %s\n", lc_method_name(methods[1]));
-    printf("bands %d\n", req.render.foo.bands);
-    printf("estimator %s\n", lc_estimator_name(req.render.foo.estimator));
+    printf("bands %d\n", req->render.foo.bands);
+    printf("estimator %s\n", lc_estimator_name(req->render.foo.estimator));
     printf("repeat %d\n", repeat);
     printf("SSIM %.4f\n", lc_image_ssim(runs[0].rgba, runs[1].rgba, w, h));
     printf("RMSE %.4f\n", lc_image_rmse(runs[0].rgba, runs[1].rgba, w, h));
@@ -208,6 +208,15 @@ done:
     free(runs[1].rgba);
     lc_cli_scene_close(&cs, &g);
     return status;
+}
+
+int lc_cli_compare(int argc, char **argv)
+{
+    lc_request req;
+    lc_request_default(&req);
+    int rc = compare_main(argc, argv, &req);
+    lc_request_release(&req);
+    return rc;
 }
 
 int lc_cli_ssim(int argc, char **argv)

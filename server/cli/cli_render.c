@@ -134,9 +134,10 @@ static int open_mpi_layers(lc_mpi *mpi, const lc_request *req, const lc_cli_comm
     int rank = lc_mpi_rank(mpi), size = lc_mpi_size(mpi);
     const char *how = getenv("LUCENT_MPI_READ");
     int rc = lc_mpi_agree(mpi, lc_cli_gl_open(common->device, g, err), err);
-    cs->layer_count = req->layer_count;
-    for (int i = 0; rc == 0 && i < req->layer_count; i++) {
-        const char *spec = req->layers[i].dataset;
+    cs->layer_count = lc_request_layer_count(req);
+    cs->layers = req->layers ? req->layers->p : NULL;
+    for (int i = 0; rc == 0 && i < lc_request_layer_count(req); i++) {
+        const char *spec = req->layers->dataset[i];
         int parts = lc_scene_can_read_part(spec) && !(how && strcmp(how, "whole") == 0);
         char way[1100];
         snprintf(way, sizeof way, "layers[%d]: %s%s", i, parts ? "in parts: " : "whole", parts ? spec : "");
@@ -164,7 +165,6 @@ static int open_mpi_layers(lc_mpi *mpi, const lc_request *req, const lc_cli_comm
         }
         if (rc == 0)
             cs->scenes[cs->count++] = s;
-        cs->layers[i] = req->layers[i].p;
     }
     for (int i = 0; rc == 0 && i < cs->count; i++) {
         if ((rc = lc_cli_upload("render", common, cs->scenes[i], &cs->gpu[i])) != 0) /* prints its reason */
@@ -175,13 +175,13 @@ static int open_mpi_layers(lc_mpi *mpi, const lc_request *req, const lc_cli_comm
     return rc;
 }
 
-int lc_cli_render(int argc, char **argv)
+/* lc_cli_render with its request, which the caller releases (layers are a shared snapshot). */
+static int render_main(int argc, char **argv, lc_request *req)
 {
-    lc_request req;
     lc_cli_common common;
     render_args args = {.frames = 1, .point_stride = 1, .line_stride = 0, .dt = 1.0 / 30.0};
     lc_error err = {0};
-    int pr = lc_cli_parse("render", render_options, &args, argc, argv, &req, &common, render_usage);
+    int pr = lc_cli_parse("render", render_options, &args, argc, argv, req, &common, render_usage);
     if (pr != 0)
         return pr == 1 ? 0 : 2;
     if (!args.out) {
@@ -200,9 +200,10 @@ int lc_cli_render(int argc, char **argv)
     int frames = args.frames, use_mpi = args.mpi, point_stride = args.point_stride,
         uniform_points = args.uniform_points;
     double dt = args.dt;
-    req.render.detail.point_stride = point_stride;
-    req.render.detail.uniform_points = uniform_points;
-    if (req.layer_count > 0 && (point_stride > 1 || args.line_stride > 1)) { /* every flag used or refused */
+    req->render.detail.point_stride = point_stride;
+    req->render.detail.uniform_points = uniform_points;
+    if (lc_request_layer_count(req) > 0 &&
+        (point_stride > 1 || args.line_stride > 1)) { /* every flag used or refused */
         fprintf(stderr, "lucent render: layers: %s\n",
                 point_stride > 1 ? "not with --point-stride (a layered frame draws every point of its layers)"
                                  : "not with --line-stride (a layered frame draws every line of its layers)");
@@ -210,7 +211,7 @@ int lc_cli_render(int argc, char **argv)
     }
     lc_scene *scene = NULL;
     lc_cli_gl g = {0};
-    static lc_cli_scene cs; /* the scene (or layers) rendered; 16 KiB of layer parameters: off the stack */
+    lc_cli_scene cs = {0}; /* the scene (or layers) rendered */
     lc_mpi *mpi = NULL;
     if (use_mpi && lc_mpi_init(&mpi, &err) != 0) {
         fprintf(stderr, "lucent render: --mpi: %s\n", err.msg);
@@ -218,8 +219,8 @@ int lc_cli_render(int argc, char **argv)
     }
     int rank = mpi ? lc_mpi_rank(mpi) : 0;
     int open_rc;
-    if (mpi && req.layer_count > 0) { /* layers: each rank keeps its shard of every layer */
-        if ((open_rc = open_mpi_layers(mpi, &req, &common, &cs, &g, &err)) != 0) {
+    if (mpi && lc_request_layer_count(req) > 0) { /* layers: each rank keeps its shard of every layer */
+        if ((open_rc = open_mpi_layers(mpi, req, &common, &cs, &g, &err)) != 0) {
             if (rank == 0)
                 fprintf(stderr, "lucent render: --mpi: %s; every rank exits\n", err.msg);
             lc_cli_scene_close(&cs, &g);
@@ -234,7 +235,7 @@ int lc_cli_render(int argc, char **argv)
          * datasets: every rank loads the whole (global bounds, ranges,
          * percentiles and elements come out the same), then keeps its shard.
          * LUCENT_MPI_READ=whole forces the second way (for comparisons). */
-        const char *spec = lc_cli_dataset_spec(&req, &common), *how = getenv("LUCENT_MPI_READ");
+        const char *spec = lc_cli_dataset_spec(req, &common), *how = getenv("LUCENT_MPI_READ");
         int parts = lc_scene_can_read_part(spec) && !(how && strcmp(how, "whole") == 0);
         /* Parts of different files would combine into nonsense: the same file on every rank. */
         char way[1100];
@@ -246,7 +247,7 @@ int lc_cli_render(int argc, char **argv)
                 open_rc = lc_mpi_finalize_part(mpi, lc_scene_read_file_part(spec, rank, lc_mpi_size(mpi), &scene, &err),
                                                &scene, (uint32_t)common.elements, stdout, &err);
         } else if (open_rc == 0) {
-            open_rc = lc_cli_open("render", &req, &common, &scene, &g);
+            open_rc = lc_cli_open("render", req, &common, &scene, &g);
             lc_err(&err, open_rc, "cannot open the dataset or a GL context (its message is above)");
             if (lc_mpi_agree(mpi, open_rc, &err) == 0)
                 open_rc = lc_mpi_shard(mpi, &scene, stdout, &err);
@@ -262,13 +263,13 @@ int lc_cli_render(int argc, char **argv)
             return 1;
         }
         lc_renderer_set_reducer(g.renderer, lc_mpi_reducer(mpi));
-    } else if (lc_cli_scene_open("render", &req, &common, &cs, &g) != 0) {
+    } else if (lc_cli_scene_open("render", req, &common, &cs, &g) != 0) {
         return 1;
     }
     int status = 1;
     lc_gpu_scene *gs = NULL;
     lc_frame_state *state = NULL;
-    size_t bytes = (size_t)req.render.width * req.render.height * 4;
+    size_t bytes = (size_t)req->render.width * req->render.height * 4;
     uint8_t *rgba = malloc(bytes);
     lc_frame_info info;
     if (!rgba) {
@@ -290,7 +291,7 @@ int lc_cli_render(int argc, char **argv)
     for (int f = 0; f < frames; f++) {
         if (mpi) /* the figures of the last frame */
             lc_mpi_profile(mpi, &wait_ms, &transfer_ms);
-        lc_render_params p = req.render;
+        lc_render_params p = req->render;
         if (args.line_stride > 0 && f == frames - 1) /* a moving frame after the stills */
             p.detail.reuse_opacities = true, p.detail.line_stride = args.line_stride;
         if (lc_cli_scene_render(g.renderer, &cs, &p, state, dt, rgba, &info, &err) != 0) {
@@ -302,19 +303,19 @@ int lc_cli_render(int argc, char **argv)
         status = 0;
         goto done;
     }
-    int quality = req.quality;
+    int quality = req->quality;
     if (!has_suffix(out, ".png") && !has_suffix(out, ".jpg") && !has_suffix(out, ".jpeg")) {
         fprintf(stderr, "lucent render: %s: the output must end in .png, .jpg or .jpeg\n", out);
         goto done;
     }
-    if (lc_image_write_file(out, rgba, req.render.width, req.render.height, quality, &err) != 0) {
+    if (lc_image_write_file(out, rgba, req->render.width, req->render.height, quality, &err) != 0) {
         fprintf(stderr, "lucent render: %s\n", err.msg);
         goto done;
     }
     char names[1200];
     lc_cli_scene_name(&cs, names, sizeof names);
     printf("%s: %dx%d, %s, method %s, m=%d, %s estimator, %u elements\n", out, info.width, info.height, names,
-           lc_method_name(req.render.method), req.render.foo.bands, lc_estimator_name(req.render.foo.estimator),
+           lc_method_name(req->render.method), req->render.foo.bands, lc_estimator_name(req->render.foo.estimator),
            info.element_count);
     lc_cli_print_timings(&info);
     for (int i = 0; i < cs.layer_count; i++) /* a layered frame: what each layer is */
@@ -327,7 +328,7 @@ int lc_cli_render(int argc, char **argv)
                cs.layers[i].visible ? "" : ", hidden");
     if (cs.layer_count == 0 && scene->type != LC_PRIM_POINTS) /* (a layer's level of detail is its own) */
         printf("  detail: level %d of %d (lod %.3g px), %llu of %llu %s\n", info.lod_level, lc_gpu_scene_levels(gs),
-               req.render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
+               req->render.detail.lod_pixels, (unsigned long long)info.primitives_drawn,
                (unsigned long long)lc_scene_primitive_count(scene),
                scene->type == LC_PRIM_LINES ? "segments" : "triangles");
     if (info.line_stride > 1)
@@ -363,7 +364,7 @@ int lc_cli_render(int argc, char **argv)
                "pixel %.3g; params.autoSubset)\n",
                info.p1_subset, info.p1_subset, info.p0_fragments_median);
     if (stats_path) {
-        json_t *o = frame_stats_json(&info, names, &req.render);
+        json_t *o = frame_stats_json(&info, names, &req->render);
         if (!o || json_dump_file(o, stats_path, JSON_INDENT(2) | JSON_REAL_PRECISION(6)) != 0) {
             fprintf(stderr, "lucent render: %s: cannot write the statistics\n", stats_path);
             json_decref(o);
@@ -388,6 +389,15 @@ done:
     lc_cli_scene_close(&cs, &g);
     lc_mpi_finalize(mpi);
     return status;
+}
+
+int lc_cli_render(int argc, char **argv)
+{
+    lc_request req;
+    lc_request_default(&req);
+    int rc = render_main(argc, argv, &req);
+    lc_request_release(&req);
+    return rc;
 }
 
 /* The level-of-detail ladder of a line or surface scene and what its GPU

@@ -13,7 +13,7 @@
  * --elements applied; errors name layers[i].dataset, as the daemon's 404. */
 static int open_layer(const lc_request *req, const lc_cli_common *common, int i, lc_scene **out, lc_error *err)
 {
-    const char *spec = req->layers[i].dataset;
+    const char *spec = req->layers->dataset[i];
     lc_error e = {0};
     int rc = lc_cli_open_dataset(spec, out, &e);
     if (rc == 0 && common->elements)
@@ -69,7 +69,7 @@ int lc_cli_scene_open(const char *cmd, const lc_request *req, const lc_cli_commo
 {
     memset(out, 0, sizeof *out);
     memset(g, 0, sizeof *g);
-    if (req->layer_count == 0) { /* one dataset: --input, the request's, or demo:tornado */
+    if (lc_request_layer_count(req) == 0) { /* one dataset: --input, the request's, or demo:tornado */
         if (lc_cli_open(cmd, req, common, &out->scenes[0], g) != 0)
             return 1;
         out->count = 1;
@@ -83,11 +83,11 @@ int lc_cli_scene_open(const char *cmd, const lc_request *req, const lc_cli_commo
     if (common->input || common->dataset_set) /* every flag used or refused */
         rc = lc_err_field(&err, LC_ERR_INVALID, "layers", "%s names one dataset; the request's layers name theirs",
                           common->input ? "--input" : "--dataset");
-    out->layer_count = req->layer_count;
-    for (int i = 0; rc == 0 && i < req->layer_count; i++) {
+    out->layer_count = lc_request_layer_count(req);
+    out->layers = req->layers ? req->layers->p : NULL;
+    for (int i = 0; rc == 0 && i < lc_request_layer_count(req); i++) {
         rc = open_layer(req, common, i, &out->scenes[i], &err);
         out->count += rc == 0;
-        out->layers[i] = req->layers[i].p;
     }
     if (rc == 0)
         rc = check_memory(out, common, &err);

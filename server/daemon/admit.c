@@ -67,17 +67,18 @@ int lc_admit_budget(lc_server *srv, const lc_dataset *ds, const lc_request *req,
 
 int lc_admit_resolve_layers(lc_server *srv, const lc_request *req, const lc_dataset **out, lc_proto_error *pe)
 {
-    for (int i = 0; i < req->layer_count; i++) {
-        out[i] = lc_datasets_find(srv->datasets, req->layers[i].dataset);
+    for (int i = 0; i < lc_request_layer_count(req); i++) {
+        out[i] = lc_datasets_find(srv->datasets, req->layers->dataset[i]);
         if (!out[i]) {
             char field[32];
             snprintf(field, sizeof field, "layers[%d].dataset", i);
-            if (req->layers[i].dataset[0] && lc_fields_find(lc_datasets_fields(srv->datasets), req->layers[i].dataset))
+            if (req->layers->dataset[i][0] &&
+                lc_fields_find(lc_datasets_fields(srv->datasets), req->layers->dataset[i]))
                 return lc_proto_set_error(
                     pe, LC_PROTO_BAD_FIELD, field,
                     "\"%.300s\" is a vector field: its streamline set draws alone, not as a layer",
-                    req->layers[i].dataset);
-            return lc_proto_set_error(pe, "not_found", field, "unknown dataset \"%.300s\"", req->layers[i].dataset);
+                    req->layers->dataset[i]);
+            return lc_proto_set_error(pe, "not_found", field, "unknown dataset \"%.300s\"", req->layers->dataset[i]);
         }
     }
     return 0;
@@ -86,8 +87,8 @@ int lc_admit_resolve_layers(lc_server *srv, const lc_request *req, const lc_data
 int lc_admit_frame_budget(lc_server *srv, const lc_dataset *ds, const lc_dataset *const *layers, const lc_request *req,
                           double *cost, lc_proto_error *pe)
 {
-    return req->layer_count > 0 && layers ? lc_admit_layers_budget(srv, layers, req, cost, pe)
-                                          : lc_admit_budget(srv, ds, req, cost, pe);
+    return lc_request_layer_count(req) > 0 && layers ? lc_admit_layers_budget(srv, layers, req, cost, pe)
+                                                     : lc_admit_budget(srv, ds, req, cost, pe);
 }
 
 int lc_admit_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc_request *req, double *cost,
@@ -95,13 +96,13 @@ int lc_admit_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc
 {
     const lc_scene_measures *st[LC_MAX_LAYERS];
     const lc_layer_params *layers[LC_MAX_LAYERS];
-    for (int i = 0; i < req->layer_count; i++)
-        st[i] = &ds[i]->cost, layers[i] = &req->layers[i].p;
+    for (int i = 0; i < lc_request_layer_count(req); i++)
+        st[i] = &ds[i]->cost, layers[i] = &req->layers->p[i];
     const char *field = NULL;
     char why[320];
     double c = 0;
-    int rc = lc_cost_check_layers(st, layers, req->layer_count, &req->render, srv->cfg.max_cost, &c, &field, why,
-                                  sizeof why);
+    int rc = lc_cost_check_layers(st, layers, lc_request_layer_count(req), &req->render, srv->cfg.max_cost, &c, &field,
+                                  why, sizeof why);
     if (cost)
         *cost = c;
     if (rc == 0)
@@ -114,7 +115,7 @@ int lc_admit_layers_budget(lc_server *srv, const lc_dataset *const *ds, const lc
 static int check_render(const lc_request *req, const lc_dataset *ds, const lc_dataset *const *layers,
                         lc_proto_error *pe)
 {
-    int n = req->layer_count;
+    int n = lc_request_layer_count(req);
     const lc_scene *scenes[LC_MAX_LAYERS];
     lc_layer_params *lp = NULL;
     if (n > 0) {
@@ -122,7 +123,7 @@ static int check_render(const lc_request *req, const lc_dataset *ds, const lc_da
         if (!lp)
             return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers", "out of memory");
         for (int i = 0; i < n; i++)
-            scenes[i] = layers[i]->scene, lp[i] = req->layers[i].p;
+            scenes[i] = layers[i]->scene, lp[i] = req->layers->p[i];
     } else {
         if (!ds || !ds->scene)
             return 0; /* a field without a scene: the surface path checks its own */
@@ -143,9 +144,9 @@ int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req,
 {
     unsigned prims = 0;
     if (req->render.method != LC_METHOD_SURFACE_LAYERS) {
-        for (int i = 0; i < req->layer_count; i++)
+        for (int i = 0; i < lc_request_layer_count(req); i++)
             prims |= 1u << layers[i]->scene->type;
-        if (req->layer_count == 0 && ds && ds->scene)
+        if (lc_request_layer_count(req) == 0 && ds && ds->scene)
             prims = 1u << ds->scene->type;
     }
     int rc = lc_proto_check_scope(given, req, prims, pe);
@@ -162,7 +163,7 @@ int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_pat
                     const lc_dataset **ds, lc_request *out, const lc_dataset **layers, lc_traced **traced,
                     lc_proto_error *pe)
 {
-    *out = *base;
+    lc_request_copy(out, base); /* shares base's layers */
     if (patch) /* a streamlines object is the whole set: keys it leaves out go back to their defaults */
         lc_proto_streamlines_replace(lc_proto_patch_json(patch), out);
     int rc = lc_proto_patch_apply(patch, lim, out, pe);
@@ -178,14 +179,14 @@ int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_pat
     } else {
         /* A new session's: the one named, or with layers[] and none named layers[0]'s; where
          * the caller keeps one, a vector field's streamline set traced now (traced.h). */
-        if (!out->dataset[0] && out->layer_count > 0)
+        if (!out->dataset[0] && lc_request_layer_count(out) > 0)
             *ds = layers[0];
         else if (traced)
             *ds = lc_traced_resolve(srv, out, traced, pe);
         else
             *ds = lc_datasets_find(srv->datasets, out->dataset);
         if (!*ds)
-            return traced && !(!out->dataset[0] && out->layer_count > 0)
+            return traced && !(!out->dataset[0] && lc_request_layer_count(out) > 0)
                        ? -1
                        : lc_proto_set_error(pe, "not_found", "dataset", "unknown dataset \"%.300s\"", out->dataset);
         snprintf(out->dataset, sizeof out->dataset, "%s", (*ds)->name);

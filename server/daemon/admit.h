@@ -40,7 +40,7 @@ int lc_admit_resolve_layers(lc_server *srv, const lc_request *req, const lc_data
 
 /* req as merged (an update applied to the session's request); given: the JSON
  * as received (NULL = every field, for requests from query parameters); ds the
- * request's dataset, layers[i] its layers' (req->layer_count of them). *cost
+ * request's dataset, layers[i] its layers' (lc_request_layer_count(req) of them). *cost
  * (may be NULL): the budget's estimate. 0 or a protocol error naming the field. */
 int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req, const lc_dataset *ds,
                      const lc_dataset *const *layers, double *cost, lc_proto_error *pe);
@@ -53,7 +53,8 @@ int lc_request_admit(lc_server *srv, const json_t *given, const lc_request *req,
  * renderer would refuse, the budget). *ds: a session's dataset, which the
  * update may not change; NULL for a new session, which takes the one base
  * names (or layers[0]'s when it names none) and returns it in *ds. *out holds
- * the candidate however it ends (the caller commits it by swapping on 0). 0 or
+ * the candidate however it ends, with a reference to its layers (the caller
+ * commits it by swapping on 0, else lc_request_release). 0 or
  * a protocol error naming the field (not_found naming dataset or
  * layers[i].dataset). A new session's dataset may be a vector field where
  * traced is given: its streamline set is traced into *traced (the caller's,

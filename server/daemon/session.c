@@ -81,10 +81,10 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, uint64_t client, c
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     s->dataset = ds;
     /* The callers resolved the layers' datasets already (lc_admit_resolve_layers). */
-    for (int i = 0; i < initial->layer_count; i++)
-        s->layer_ds[i] = lc_datasets_find(reg->srv->datasets, initial->layers[i].dataset);
+    for (int i = 0; i < lc_request_layer_count(initial); i++)
+        s->layer_ds[i] = lc_datasets_find(reg->srv->datasets, initial->layers->dataset[i]);
     s->state_layers = -1; /* no state yet */
-    int rc = lc_session_prepare_state(s, s->layer_ds, initial->layer_count, err);
+    int rc = lc_session_prepare_state(s, s->layer_ds, lc_request_layer_count(initial), err);
     if (rc != 0) {
         free(s);
         return rc;
@@ -98,7 +98,7 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, uint64_t client, c
     atomic_init(&s->progress.stage, LC_PROGRESS_NONE);
     pthread_mutex_init(&s->lock, NULL);
     s->created = s->last_used = lc_now();
-    s->req = *initial;
+    lc_request_copy(&s->req, initial);
     lc_stream_flow_init(&s->stream.flow, LC_PROTO_DEFAULT_WINDOW);
     s->stream.window = s->stream.flow.window;
     s->stream.quality = LC_PROTO_DEFAULT_QUALITY;
@@ -117,6 +117,7 @@ int lc_session_create(lc_sessions *reg, lc_session_kind kind, uint64_t client, c
         pthread_mutex_unlock(&reg->lock);
         lc_frame_state_destroy(s->frame_state);
         pthread_mutex_destroy(&s->lock);
+        lc_request_release(&s->req);
         free(s);
         if (mine >= cap) /* field "client": the caller's own share, not the server's */
             return lc_err_field(err, LC_ERR_LIMIT, "client",
@@ -183,6 +184,7 @@ void lc_session_unref(lc_session *s)
     if (s->surface_free)
         s->surface_free(s->surface);
     lc_traced_free(s->traced);
+    lc_request_release(&s->req);
     pthread_mutex_destroy(&s->lock);
     free(s);
     /* A session's frames were built on several threads' heaps; hand what they
@@ -268,18 +270,18 @@ int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const
                              lc_proto_error *pe)
 {
     const lc_dataset *layers[LC_MAX_LAYERS], *ds = s->dataset;
-    lc_request *req = malloc(sizeof *req); /* a request is large: off the stack */
-    if (!req)
-        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "", "out of memory");
-    int rc = lc_admit_update(s->srv, &s->req, patch, lim, &ds, req, layers, NULL, pe);
+    lc_request req; /* the candidate; its layers are shared with s->req or the patch */
+    int rc = lc_admit_update(s->srv, &s->req, patch, lim, &ds, &req, layers, NULL, pe);
     if (rc == 0)
-        rc = lc_session_kind_check(s->kind, req, pe);
+        rc = lc_session_kind_check(s->kind, &req, pe);
     if (rc == 0) { /* every rule passed: the candidate replaces the request whole */
-        s->req = *req;
-        memcpy(s->layer_ds, layers, (size_t)req->layer_count * sizeof *layers);
+        lc_request_release(&s->req);
+        s->req = req; /* takes over req's reference */
+        memcpy(s->layer_ds, layers, (size_t)lc_request_layer_count(&req) * sizeof *layers);
         if (out)
-            *out = *req;
+            lc_request_copy(out, &s->req);
+    } else {
+        lc_request_release(&req);
     }
-    free(req);
     return rc;
 }

@@ -114,7 +114,7 @@ struct lc_session {
     bool closed;                               /* removed from the registry; render nothing more */
     double created, last_used;                 /* lc_now() */
     lc_request req;                            /* the latest requested state (latest wins) */
-    const lc_dataset *layer_ds[LC_MAX_LAYERS]; /* the datasets of req.layers (req.layer_count of them) */
+    const lc_dataset *layer_ds[LC_MAX_LAYERS]; /* the datasets of req.layers (lc_request_layer_count(&req) of them) */
     lc_frame_state *frame_state;               /* element opacities; see "Locking" above */
     /* Method surface-layers: the curves traced so far (pool/surface_job.h);
      * only the worker rendering the session's frame touches it, and it sets
@@ -199,7 +199,7 @@ int lc_session_kind_check(lc_session_kind kind, const lc_request *req, lc_proto_
  * dataset refused, layers[] resolved into s->layer_ds, scope, what the
  * renderer would refuse, the budget at the request's size), then
  * lc_session_kind_check, and only then
- * replaces it, latest wins; *out (if given) is the new request. On failure s
+ * replaces it, latest wins; *out (if given) is a copy of the new request (lc_request_release it). On failure s
  * is unchanged and pe names the field. Caller holds s->lock. */
 int lc_session_update_locked(lc_session *s, const lc_request_patch *patch, const lc_proto_limits *lim, lc_request *out,
                              lc_proto_error *pe);

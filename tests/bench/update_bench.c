@@ -27,6 +27,7 @@ int main(int argc, char **argv)
     };
     const char *names[] = {"camera", "params", "layers (2)"};
     lc_request *base = malloc(sizeof *base), *work = malloc(sizeof *work), *scratch = malloc(sizeof *scratch);
+    lc_request_default(work), lc_request_default(scratch);
     const char *b = "{\"layers\":[{\"dataset\":\"a\"},{\"dataset\":\"b\"}]}";
     lc_proto_error err;
     if (lc_proto_parse_request(b, strlen(b), NULL, base, &err))
@@ -42,10 +43,11 @@ int main(int argc, char **argv)
         for (int rep = 0; rep < 5; rep++) {
             double t0 = now();
             for (int i = 0; i < n; i++) {
+                lc_request_release(scratch); /* an update of layers left a snapshot */
                 lc_request_default(scratch);
                 if (lc_proto_check_fields(j, NULL, scratch, &err))
                     return 2;
-                *work = *base;
+                lc_request_assign(work, base);
                 if (lc_proto_apply_request(j, NULL, work, &err))
                     return 3;
             }
@@ -54,7 +56,7 @@ int main(int argc, char **argv)
                 lc_request_patch *p;
                 if (lc_proto_patch_parse(j, NULL, &p, &err))
                     return 4;
-                *work = *base;
+                lc_request_assign(work, base);
                 if (lc_proto_patch_apply(p, NULL, work, &err))
                     return 5;
                 lc_proto_patch_free(p);
@@ -69,5 +71,6 @@ int main(int argc, char **argv)
         json_decref(j);
     }
     printf("sizeof(lc_request) = %zu bytes\n", sizeof(lc_request));
+    lc_request_release(work), lc_request_release(base);
     return 0;
 }

@@ -393,6 +393,8 @@ static void test_budget(lc_stream_conn *conn)
     CHECK(named, "a change of dataset is refused naming it");
     CHECK(costly && w == req.render.width, "an HTTP update beyond --max-cost is refused, nothing committed (%d)", w);
     CHECK(rc_ok == 0 && h->req.render.foo.bands == 5 && out.render.foo.bands == 5, "a fitting update is committed");
+    if (rc_ok == 0)
+        lc_request_release(&out);
     srv.cfg.max_cost = LC_COST_DEFAULT_BUDGET;
     lc_proto_patch_free(bad), lc_proto_patch_free(wide), lc_proto_patch_free(ok);
     lc_session_close(srv.sessions, h);

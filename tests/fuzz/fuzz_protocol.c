@@ -26,6 +26,7 @@ static void round_trip(const lc_request *r)
     lc_proto_error err;
     if (!text || lc_proto_parse_request(text, strlen(text), NULL, &back, &err) != 0)
         abort();
+    lc_request_release(&back);
     free(text);
     json_decref(j);
 }
@@ -51,6 +52,7 @@ static void fuzz_query(const char *s, size_t n)
     check_error(rc, &err);
     if (!rc)
         round_trip(&r);
+    lc_request_release(&r); /* its layers, if a key set them */
     free(copy);
 }
 
@@ -68,6 +70,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         check_error(rc, &err);
         if (!rc)
             round_trip(&r);
+        lc_request_release(&r);
         break;
     }
     case 1: {
@@ -79,6 +82,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             lc_request_default(&r);
             rc = lc_proto_apply_request(m.update, NULL, &r, &err);
             check_error(rc, &err);
+            lc_request_release(&r);
         }
         lc_client_msg_free(&m);
         break;

@@ -688,10 +688,8 @@ static void test_clarity(void)
  * drop, a camera that only the merged state refuses). */
 static int patch_case(const char *name, json_t *update, const lc_request *base)
 {
-    lc_request *a = malloc(2 * sizeof *a), *b = a + 1;
-    if (!a)
-        return 0;
-    *a = *base, *b = *base;
+    lc_request ra_req, rb_req, *a = &ra_req, *b = &rb_req; /* copies share base's layers */
+    lc_request_copy(a, base), lc_request_copy(b, base);
     lc_proto_error ea = {0}, eb = {0};
     int ra = lc_proto_apply_request(update, NULL, a, &ea);
     lc_request_patch *p = NULL;
@@ -706,15 +704,13 @@ static int patch_case(const char *name, json_t *update, const lc_request *base)
     else if (ra != 0 && rb != 0)
         CHECK(strcmp(ea.field, eb.field) == 0, "%s: refused naming %s, the patch %s", name, ea.field, eb.field);
     json_decref(ja), json_decref(jb);
-    free(a);
+    lc_request_release(a), lc_request_release(b);
     return 1;
 }
 
 static void test_patch(void)
 {
-    lc_request *base = malloc(2 * sizeof *base);
-    if (!base)
-        return;
+    lc_request base[2];
     lc_request_default(&base[0]);
     const char *setup = "{\"camera\":{\"position\":[0,0,5],\"focalPoint\":[0,0,0],\"viewUp\":[0,1,0]},"
                         "\"importance\":{\"range\":[0,1],\"terms\":[{\"attribute\":\"a\"}]},"
@@ -763,7 +759,7 @@ static void test_patch(void)
     }
     printf("patches: %d cases merged as lc_proto_apply_request applies them\n", n);
     json_decref(man);
-    free(base);
+    lc_request_release(&base[0]), lc_request_release(&base[1]);
 }
 
 int main(void)

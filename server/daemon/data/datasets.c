@@ -131,6 +131,7 @@ int lc_dataset_read_sidecar(const char *path, bool follow_symlinks, lc_scene *sc
     memset(&pe, 0, sizeof pe);
     int bad = !text || lc_proto_parse_request(text, strlen(text), &lim, &req, &pe) != 0;
     free(text);
+    lc_request_release(&req); /* what follows reads its mapping and style */
     if (bad) {
         rc = lc_err_field(err, LC_ERR_INVALID, pe.field, "%s: %s", side, pe.message[0] ? pe.message : "invalid");
         goto done;

@@ -157,7 +157,7 @@ int lc_traced_check(lc_server *srv, const lc_request *req, const lc_dataset *ds,
                                   "\"fields\"); %s%.200s%s is not one",
                                   ds ? "\"" : "", ds ? ds->name : "this render", ds ? "\"" : "");
     }
-    if (req->layer_count > 0) /* layers draw loaded datasets; the set would be left out */
+    if (lc_request_layer_count(req) > 0) /* layers draw loaded datasets; the set would be left out */
         return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "layers",
                                   "%.200s is a vector field whose streamline set draws alone: drop layers, or name "
                                   "loaded datasets in them",

@@ -32,7 +32,7 @@
 static void add_contrast_warning(struct MHD_Response *r, const lc_render_job *job)
 {
     const lc_color_map *c = &job->req.render.color;
-    if (job->field || job->req.layer_count > 0 || !job->dataset || !job->dataset->scene)
+    if (job->field || lc_request_layer_count(&job->req) > 0 || !job->dataset || !job->dataset->scene)
         return;
     const char *attr = c->attribute[0] ? c->attribute : job->dataset->scene->default_color;
     if (strcmp(attr, "rgb") == 0)
@@ -168,6 +168,7 @@ void lc_http_free_job(lc_render_job *job)
         return;
     free(job->image);
     lc_traced_free(job->traced);
+    lc_request_release(&job->req);
     if (job->session)
         lc_session_unref(job->session);
     free(job);
@@ -242,12 +243,12 @@ static enum MHD_Result queue_job(lc_http_req *ctx, struct MHD_Connection *c, con
             lc_session_unref(session);
         return lc_http_error(srv, c, 503, "overloaded", NULL, "out of memory");
     }
-    job->req = *req;
+    lc_request_copy(&job->req, req); /* the layers by reference (lc_http_free_job drops it) */
     job->dataset = ds;
     job->field = field;
     job->traced = ctx->traced; /* freed with the job (lc_http_free_job) */
     ctx->traced = NULL;
-    for (int i = 0; layers && i < req->layer_count; i++)
+    for (int i = 0; layers && i < lc_request_layer_count(req); i++)
         job->layers[i] = layers[i];
     job->session = session;
     job->dt = dt;
@@ -334,47 +335,56 @@ static enum MHD_Result start_layers(lc_http_req *ctx, struct MHD_Connection *c, 
 {
     lc_server *srv = ctx->srv;
     const lc_dataset *layers[LC_MAX_LAYERS];
-    for (int i = 0; i < req->layer_count; i++) {
-        layers[i] = lc_datasets_find(srv->datasets, req->layers[i].dataset);
+    for (int i = 0; i < lc_request_layer_count(req); i++) {
+        layers[i] = lc_datasets_find(srv->datasets, req->layers->dataset[i]);
         if (!layers[i]) {
             char field[48];
             snprintf(field, sizeof field, "layers[%d].dataset", i);
             return lc_http_error(srv, c, 404, "not_found", field, "%s: unknown dataset \"%.300s\"", field,
-                                 req->layers[i].dataset);
+                                 req->layers->dataset[i]);
         }
     }
     return start_render(ctx, c, req, layers[0], layers, NULL, 0.0);
 }
 
-enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c, const char *method)
+/* A one-shot render of *req, which the caller releases. */
+static enum MHD_Result route_render(lc_http_req *ctx, struct MHD_Connection *c, const char *method, lc_request *req)
 {
     lc_server *srv = ctx->srv;
-    lc_request req;
     lc_proto_error pe;
     if (strcmp(method, "POST") == 0) {
-        if (lc_proto_parse_request(ctx->body ? ctx->body : "", ctx->len, &srv->cfg.limits, &req, &pe) != 0)
+        if (lc_proto_parse_request(ctx->body ? ctx->body : "", ctx->len, &srv->cfg.limits, req, &pe) != 0)
             return lc_http_proto_error(srv, c, &pe);
     } else {
-        lc_request_default(&req);
-        query_state q = {.req = &req, .lim = &srv->cfg.limits};
+        lc_request_default(req);
+        query_state q = {.req = req, .lim = &srv->cfg.limits};
         MHD_get_connection_values(c, MHD_GET_ARGUMENT_KIND, query_arg, &q);
         if (q.rc != 0)
             return lc_http_proto_error(srv, c, &q.err);
-        if (lc_proto_validate_request(&req, &srv->cfg.limits, &pe) != 0)
+        if (lc_proto_validate_request(req, &srv->cfg.limits, &pe) != 0)
             return lc_http_proto_error(srv, c, &pe);
     }
-    if (req.render.method == LC_METHOD_SURFACE_LAYERS)
-        return start_surface(ctx, c, &req);
-    if (req.layer_count > 0)
-        return start_layers(ctx, c, &req);
+    if (req->render.method == LC_METHOD_SURFACE_LAYERS)
+        return start_surface(ctx, c, req);
+    if (lc_request_layer_count(req) > 0)
+        return start_layers(ctx, c, req);
     /* a loaded dataset, or a vector field's streamline set traced for this render (traced.h) */
-    const lc_dataset *ds = lc_traced_resolve(srv, &req, &ctx->traced, &pe);
+    const lc_dataset *ds = lc_traced_resolve(srv, req, &ctx->traced, &pe);
     if (!ds)
         return strcmp(pe.code, "not_found") == 0 ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
                                                  : lc_http_proto_error(srv, c, &pe);
-    enum MHD_Result r = start_render(ctx, c, &req, ds, NULL, NULL, 0.0);
+    enum MHD_Result r = start_render(ctx, c, req, ds, NULL, NULL, 0.0);
     lc_traced_free(ctx->traced); /* refused before its job took it */
     ctx->traced = NULL;
+    return r;
+}
+
+enum MHD_Result lc_http_route_render(lc_http_req *ctx, struct MHD_Connection *c, const char *method)
+{
+    lc_request req;
+    lc_request_default(&req);
+    enum MHD_Result r = route_render(ctx, c, method, &req);
+    lc_request_release(&req); /* a queued job holds its own reference */
     return r;
 }
 
@@ -403,6 +413,7 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
         rc = lc_session_kind_check(LC_SESSION_HTTP, &req, &pe);
     if (rc != 0) {
         lc_traced_free(traced);
+        lc_request_release(&req);
         return strcmp(pe.code, "not_found") == 0 ? lc_http_error(srv, c, 404, "not_found", pe.field, "%s", pe.message)
                                                  : lc_http_proto_error(srv, c, &pe);
     }
@@ -411,6 +422,7 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
     lc_error err = {0};
     if (lc_session_create(srv->sessions, LC_SESSION_HTTP, lc_conn_client_key(c), ds, &req, &s, &err) != 0) {
         lc_traced_free(traced);
+        lc_request_release(&req);
         return lc_http_error(srv, c, strcmp(err.field, "client") == 0 ? 429 : 503, "overloaded", NULL, "%s", err.msg);
     }
     s->traced = traced;
@@ -418,6 +430,7 @@ enum MHD_Result lc_http_route_session_create(lc_http_req *ctx, struct MHD_Connec
     json_object_set_new(o, "session", json_string(s->id));
     json_object_set_new(o, "dataset", lc_dataset_info(ds));
     json_object_set_new(o, "defaults", lc_proto_request_to_json(&req));
+    lc_request_release(&req);
     char location[128];
     snprintf(location, sizeof location, "/api/v1/sessions/%s", s->id);
     LC_INFO(MOD, "session %s: scripted, %s", s->id, ds->name);
@@ -478,9 +491,11 @@ static enum MHD_Result route_session_render(lc_http_req *ctx, struct MHD_Connect
     s->http_busy = true;
     s->last_frame_time = lc_now();
     const lc_dataset *layers[LC_MAX_LAYERS];
-    memcpy(layers, s->layer_ds, (size_t)req.layer_count * sizeof *layers);
+    memcpy(layers, s->layer_ds, (size_t)lc_request_layer_count(&req) * sizeof *layers);
     pthread_mutex_unlock(&s->lock);
-    return start_render(ctx, c, &req, s->dataset, req.layer_count ? layers : NULL, s, dt);
+    enum MHD_Result r = start_render(ctx, c, &req, s->dataset, lc_request_layer_count(&req) ? layers : NULL, s, dt);
+    lc_request_release(&req); /* a queued job holds its own reference */
+    return r;
 }
 
 enum MHD_Result lc_http_route_session(lc_http_req *ctx, struct MHD_Connection *c, const char *method, const char *rest)

@@ -291,6 +291,7 @@ void lc_encoders_frame(lc_encoders *w, uint8_t *rgba, lc_session *s, const lc_st
     e->format = LC_FORMAT_JPEG;
     e->quality = f->quality;
     e->frame = *f;
+    e->frame.req.layers = NULL; /* the frame's numbers are read, not its layers: no reference kept */
     e->info = *info;
     lc_session_ref(s);
     e->session = s;

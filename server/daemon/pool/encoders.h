@@ -19,7 +19,7 @@ struct lc_render_job {
     /* input */
     lc_request req;
     const lc_dataset *dataset;
-    const lc_dataset *layers[LC_MAX_LAYERS]; /* the datasets of req.layers (req.layer_count of them) */
+    const lc_dataset *layers[LC_MAX_LAYERS]; /* the datasets of req.layers (lc_request_layer_count(&req) of them) */
     lc_session *session;                     /* HTTP session (the job holds a reference) or NULL */
     double dt;                               /* fading step for sessions */
     uint64_t client;                         /* fairness key: jobs of one client take turns with other clients' */

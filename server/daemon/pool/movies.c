@@ -35,9 +35,10 @@ static const char *const STATE_NAMES[] = {"queued", "running", "done", "failed",
 typedef struct movie_job {
     char id[LC_SESSION_ID_LEN];
     lc_movie_spec spec;
-    const lc_dataset *ds;                    /* the request's dataset, or its first layer's */
-    const lc_dataset *layers[LC_MAX_LAYERS]; /* request.layers' datasets (spec.request.layer_count of them) */
-    lc_traced *traced; /* a vector field's streamline set that ds points into, owned; NULL otherwise */
+    const lc_dataset *ds; /* the request's dataset, or its first layer's */
+    const lc_dataset
+        *layers[LC_MAX_LAYERS]; /* request.layers' datasets (lc_request_layer_count(&spec.request) of them) */
+    lc_traced *traced;          /* a vector field's streamline set that ds points into, owned; NULL otherwise */
     lc_video_codec codec;
     uint64_t owner; /* the client that made it (lc_movies_route) */
     double cost;
@@ -107,9 +108,9 @@ static json_t *job_json(const movie_job *j)
     json_object_set_new(o, "height", json_integer(s->request.render.height));
     json_object_set_new(o, "codec", json_string(s->codec));
     json_object_set_new(o, "dataset", json_string(j->ds->name));
-    if (s->request.layer_count > 0) { /* a movie of layers: every frame draws them all */
+    if (lc_request_layer_count(&s->request) > 0) { /* a movie of layers: every frame draws them all */
         json_t *names = json_array();
-        for (int i = 0; i < s->request.layer_count; i++)
+        for (int i = 0; i < lc_request_layer_count(&s->request); i++)
             json_array_append_new(names, json_string(j->layers[i]->name));
         json_object_set_new(o, "layers", names);
     }
@@ -163,7 +164,7 @@ static void frame_camera(const movie_job *j, int i, lc_camera *out)
         start.view_angle = start.view_angle > 0 ? start.view_angle : 30; /* as lc_render_fit_camera fits */
         lc_camera_fit(&start, j->ds->scene->bounds, NULL, NULL);
     } else if (!s->request.render.has_camera) {
-        int n = s->request.layer_count;
+        int n = lc_request_layer_count(&s->request);
         const lc_gpu_scene *scenes[LC_MAX_LAYERS] = {j->ds->gpu};
         for (int k = 0; k < n; k++)
             scenes[k] = j->layers[k]->gpu;
@@ -184,7 +185,7 @@ static int render_frame(lc_movies *m, movie_job *j, lc_session *s, int i, lc_ima
     lc_render_job *rj = calloc(1, sizeof *rj);
     if (!rj)
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
-    rj->req = j->spec.request;
+    lc_request_copy(&rj->req, &j->spec.request); /* the layers by reference */
     rj->req.format = LC_FORMAT_PNG;
     rj->req.has_dt = false;
     rj->req.render.has_camera = true;
@@ -219,6 +220,7 @@ static int render_frame(lc_movies *m, movie_job *j, lc_session *s, int i, lc_ima
             if (rc != LC_ERR_LIMIT || should_stop(m, j)) {
                 *err = serr;
                 lc_session_unref(s);
+                lc_request_release(&rj->req);
                 free(rj);
                 return rc;
             }
@@ -243,6 +245,7 @@ static int render_frame(lc_movies *m, movie_job *j, lc_session *s, int i, lc_ima
         rc = lc_image_decode(rj->image, rj->image_size, img, err);
     free(rj->image);
     lc_session_unref(s);
+    lc_request_release(&rj->req);
     free(rj);
     return rc;
 }
@@ -432,6 +435,7 @@ void lc_movies_destroy(lc_movies *m)
     for (int i = 0; i < m->count; i++) {
         unlink(m->jobs[i]->path);
         lc_traced_free(m->jobs[i]->traced);
+        lc_request_release(&m->jobs[i]->spec.request);
         free(m->jobs[i]);
     }
     rmdir(m->dir);
@@ -463,10 +467,11 @@ static int find(lc_movies *m, uint64_t owner, const char *id, size_t len)
     return -1;
 }
 
-/* Frees j and the streamline set it traced. */
+/* Frees j, the streamline set it traced and its request's layers. */
 static void drop(movie_job *j)
 {
     lc_traced_free(j->traced);
+    lc_request_release(&j->spec.request);
     free(j);
 }
 
@@ -498,11 +503,11 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
         char field[sizeof pe.field + 8];
         snprintf(field, sizeof field, "request.%s", pe.field);
         reply_error(m, out, strcmp(pe.code, "not_found") == 0 ? 404 : 400, pe.code, field, "request.%s", pe.message);
-        free(j);
+        drop(j);
         return;
     }
     /* a loaded dataset, or a vector field's streamline set traced for the movie (traced.h) */
-    j->ds = req->layer_count > 0 ? j->layers[0] : lc_traced_resolve(srv, req, &j->traced, &pe);
+    j->ds = lc_request_layer_count(req) > 0 ? j->layers[0] : lc_traced_resolve(srv, req, &j->traced, &pe);
     if (!j->ds) {
         char field[sizeof pe.field + 8];
         snprintf(field, sizeof field, "request.%s", pe.field);

@@ -191,17 +191,11 @@ static int render_layers(lc_workers *w, lc_renderer *r, const lc_dataset *const 
     return rc ? rc : lc_render_layers(r, scenes, layers, n, p, state, dt, rgba, info, err);
 }
 
-/* layers[] (docs/ALGORITHM.md "Layers"): the renderer's copy of req's
- * layer parameters (malloc'd, 2 KiB a layer: off the stack) and the scenes
- * of their datasets ds, so the frame reads nothing of its job or snapshot.
- * NULL when out of memory. */
-static lc_layer_params *copy_layers(const lc_request *req, int n, const lc_dataset *const *ds,
-                                    const lc_gpu_scene **scenes)
+/* layers[] (docs/ALGORITHM.md "Layers"): the scenes of their datasets ds. */
+static void layer_scenes(int n, const lc_dataset *const *ds, const lc_gpu_scene **scenes)
 {
-    lc_layer_params *lp = malloc((size_t)n * sizeof *lp);
-    for (int i = 0; lp && i < n; i++)
-        scenes[i] = ds[i]->gpu, lp[i] = req->layers[i].p;
-    return lp;
+    for (int i = 0; i < n; i++)
+        scenes[i] = ds[i]->gpu;
 }
 
 /* How many layers the job carries: its request's count only when the
@@ -210,11 +204,11 @@ static lc_layer_params *copy_layers(const lc_request *req, int n, const lc_datas
 static int job_layer_count(const lc_render_job *job)
 {
     if (job->field)
-        return job->req.layer_count ? -1 : 0;
-    for (int i = 0; i < job->req.layer_count; i++)
+        return lc_request_layer_count(&job->req) ? -1 : 0;
+    for (int i = 0; i < lc_request_layer_count(&job->req); i++)
         if (!job->layers[i] || !job->layers[i]->gpu)
             return -1;
-    return job->req.layer_count;
+    return lc_request_layer_count(&job->req);
 }
 
 /* The field a frame over its measured budget names: the one whose lowering
@@ -298,7 +292,7 @@ static void render_job(worker *wk, lc_render_job *job)
     const lc_surface_request surface = job->req.surface;
     double dt = job->dt;
     lc_session *session = job->session;
-    /* layers[], copied like the rest */
+    /* layers[]: the request's snapshot by reference (immutable; the job may be handed back meanwhile) */
     int layer_count = job_layer_count(job);
     if (layer_count < 0 || (!field && !layer_count && !dataset)) {
         job->rc = lc_err(&job->err, LC_ERR_INVALID, "the render names data it does not carry");
@@ -308,10 +302,11 @@ static void render_job(worker *wk, lc_render_job *job)
     const lc_dataset *layer_ds[LC_MAX_LAYERS];
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
     memcpy(layer_ds, job->layers, (size_t)layer_count * sizeof *layer_ds);
-    lc_layer_params *layers = layer_count ? copy_layers(&job->req, layer_count, layer_ds, scenes) : NULL;
-    uint8_t *rgba = layer_count && !layers ? NULL : malloc((size_t)p->width * (size_t)p->height * 4);
+    layer_scenes(layer_count, layer_ds, scenes);
+    const lc_request_layers *layers = layer_count ? lc_request_layers_retain(job->req.layers) : NULL;
+    uint8_t *rgba = malloc((size_t)p->width * (size_t)p->height * 4);
     if (!rgba) {
-        free(layers);
+        lc_request_layers_release(layers);
         job->rc = lc_err(&job->err, LC_ERR_NOMEM, "out of memory for a %dx%d image", p->width, p->height);
         lc_workers_finish_job(job);
         return;
@@ -354,10 +349,10 @@ static void render_job(worker *wk, lc_render_job *job)
         state = session->frame_state;
     if (rc == 0)
         rc = field         ? lc_surface_job_render(field, &surface, p, &work, rgba, &info, &err)
-             : layer_count ? render_layers(w, wk->renderer, layer_ds, scenes, layers, layer_count, p, state, dt, rgba,
-                                           &info, &err)
+             : layer_count ? render_layers(w, wk->renderer, layer_ds, scenes, layers->p, layer_count, p, state, dt,
+                                           rgba, &info, &err)
                            : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
-    free(layers);
+    lc_request_layers_release(layers);
     lc_renderer_set_work(wk->renderer, NULL);
     wk->work = NULL;
     wk->large = false, wk->owner = NULL, lc_renderer_set_tile_size(wk->renderer, 0);
@@ -471,31 +466,30 @@ static void render_session(worker *wk, lc_session *s)
     bool budgeted = !f.interactive && p->method != LC_METHOD_SURFACE_LAYERS;
     if (budgeted)
         lc_cost_frame_budget(&work, cost, atomic_load(&w->cost_rate), w->srv->cfg.max_cost,
-                             budget_field(f.req.layer_count ? NULL : s->dataset, p, cost));
+                             budget_field(lc_request_layer_count(&f.req) ? NULL : s->dataset, p, cost));
     lc_renderer_set_work(wk->renderer, budgeted ? &work : NULL);
     wk->work = budgeted ? &work : NULL;
     if (f.interactive)
         lc_yield_interactive_begin(&w->gate, s);
     in_hand(wk, NULL, s);
-    /* layers[]: their parameters copied, the opacities spanning them (lc_session_prepare_state) */
-    int n = p->method == LC_METHOD_SURFACE_LAYERS ? 0 : f.req.layer_count; /* validation refuses both */
+    /* layers[]: the frame's snapshot by reference, the opacities spanning them (lc_session_prepare_state) */
+    int n = p->method == LC_METHOD_SURFACE_LAYERS ? 0 : lc_request_layer_count(&f.req); /* validation refuses both */
     const lc_gpu_scene *scenes[LC_MAX_LAYERS];
-    lc_layer_params *layers = n ? copy_layers(&f.req, n, f.layers, scenes) : NULL;
+    layer_scenes(n, f.layers, scenes);
     /* A field's streamline set: uploaded here, an update's re-trace swapped in (its opacities start again). */
     bool retraced = false;
     int rc = p->method == LC_METHOD_SURFACE_LAYERS ? 0 : lc_traced_ready(s->dataset, &s->lock, &retraced, &err);
     if (retraced)
         s->state_layers = -1;
     if (rc == 0)
-        rc = rgba && (layers || !n)
-                 ? lc_session_prepare_state(s, f.layers, n, &err)
-                 : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
+        rc = rgba ? lc_session_prepare_state(s, f.layers, n, &err)
+                  : lc_err(&err, LC_ERR_NOMEM, "out of memory for a %dx%d frame", p->width, p->height);
     if (rc == 0)
         rc = p->method == LC_METHOD_SURFACE_LAYERS ? surface_frame(w, s, &f.req, rgba, &info, &err)
-             : n ? render_layers(w, wk->renderer, f.layers, scenes, layers, n, p, s->frame_state, f.dt, rgba, &info,
-                                 &err)
+             : n ? render_layers(w, wk->renderer, f.layers, scenes, f.req.layers->p, n, p, s->frame_state, f.dt, rgba,
+                                 &info, &err)
                  : render_frame(w, wk->renderer, s->dataset, p, s->frame_state, f.dt, rgba, &info, &err);
-    free(layers);
+    lc_request_release(&f.req); /* what follows reads the frame's numbers, not its layers */
     lc_renderer_set_work(wk->renderer, NULL);
     wk->work = NULL;
     out_of_hand(wk);

@@ -65,7 +65,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
      * session starts with that params.subset (ready's defaults show it; the
      * client may change it), unless the hello chose a subset itself. */
     const json_t *given = m->update ? json_object_get(json_object_get(m->update, "params"), "subset") : NULL;
-    int n = rc && strcmp(pe.code, "too_expensive") == 0 && !req.layer_count && !given
+    int n = rc && strcmp(pe.code, "too_expensive") == 0 && !lc_request_layer_count(&req) && !given
                 ? lc_cost_subset_for(&ds->cost, &req.render, srv->cfg.max_cost)
                 : 0;
     if (n > 0) {
@@ -73,6 +73,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
         ds = NULL;
         lc_traced_free(traced);
         traced = NULL;
+        lc_request_release(&req);
         rc = lc_admit_update(srv, &base, m->patch, lim, &ds, &req, layers, &traced, &pe);
         if (rc == 0)
             LC_INFO(MOD, "%s opens with params.subset %d: a full frame of %dx%d is over --max-cost", ds->name, n,
@@ -80,6 +81,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     }
     if (rc != 0) {
         lc_traced_free(traced);
+        lc_request_release(&req);
         answer_proto_error(srv, out, &pe);
         return;
     }
@@ -90,6 +92,7 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     lc_session *s = NULL;
     if (lc_session_create(srv->sessions, LC_SESSION_WS, conn->client, ds, &req, &s, &err) != 0) {
         lc_traced_free(traced);
+        lc_request_release(&req);
         answer_error(srv, out, err.code == LC_ERR_LIMIT ? "too_many_sessions" : "internal", err.msg, NULL, true, 1013);
         return;
     }
@@ -109,13 +112,14 @@ static void on_hello(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn 
     s->stream.css_height = m->height;
     s->stream.device_pixel_ratio = m->device_pixel_ratio;
     s->stream.dirty = true; /* the first frame */
-    req = s->req;
+    lc_request_assign(&req, &s->req);
     pthread_mutex_unlock(&s->lock);
     conn->session = s;
     out->opened = true;
     json_t *info = lc_dataset_info(ds);
     out->reply = lc_proto_ready_json(s->id, info, &req, lim, &ss);
     json_decref(info);
+    lc_request_release(&req);
     LC_INFO(MOD, "session %s: %s, %dx%d css px x %.2f, window %d", s->id, ds->name, m->width, m->height,
             m->device_pixel_ratio, ss.window);
     out->wake = true;
@@ -154,15 +158,14 @@ static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double no
     lc_proto_error pe;
     pthread_mutex_lock(&s->lock);
     double dpr = m->has_device_pixel_ratio ? m->device_pixel_ratio : s->stream.device_pixel_ratio;
-    lc_request *req = malloc(2 * sizeof *req); /* the size as base, the candidate; large: off the stack */
+    lc_request req[2]; /* the size as base, the candidate; both share the session's layers */
     const lc_dataset *layers[LC_MAX_LAYERS], *ds = s->dataset;
-    int rc = req ? 0 : lc_proto_set_error(&pe, LC_PROTO_BAD_FIELD, "", "out of memory");
-    if (rc == 0) { /* no field changes: the size's own refusals (a larger frame costs more: wider ribbons) */
-        req[0] = s->req;
-        lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req[0].render.width, &req[0].render.height);
-        rc = lc_admit_update(srv, &req[0], NULL, &srv->cfg.limits, &ds, &req[1], layers, NULL, &pe);
-    }
-    free(req);
+    /* no field changes: the size's own refusals (a larger frame costs more: wider ribbons) */
+    lc_request_copy(&req[0], &s->req);
+    lc_stream_frame_size(&srv->cfg, m->width, m->height, dpr, 1.0, &req[0].render.width, &req[0].render.height);
+    int rc = lc_admit_update(srv, &req[0], NULL, &srv->cfg.limits, &ds, &req[1], layers, NULL, &pe);
+    lc_request_release(&req[0]);
+    lc_request_release(&req[1]);
     if (rc == 0) {
         s->stream.css_width = m->width;
         s->stream.css_height = m->height;

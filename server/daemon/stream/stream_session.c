@@ -88,9 +88,9 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         return 0;
     }
     uint64_t primitives = 0;
-    for (int i = 0; i < s->req.layer_count; i++)
+    for (int i = 0; i < lc_request_layer_count(&s->req); i++)
         primitives += lc_scene_primitive_count(s->layer_ds[i]->scene);
-    if (!s->req.layer_count && s->dataset && s->dataset->scene)
+    if (!lc_request_layer_count(&s->req) && s->dataset && s->dataset->scene)
         primitives = lc_scene_primitive_count(s->dataset->scene);
     bool first_coarse = st->frames == 0 && !st->any_input && primitives >= FIRST_COARSE_PRIMITIVES;
     bool interactive = first_coarse || st->moving_next ||
@@ -122,8 +122,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         out->stages = 2, out->stage = st->still_stage + 1;
     }
     double scale = interactive ? st->interactive_scale : 1.0;
-    out->req = s->req;
-    memcpy(out->layers, s->layer_ds, (size_t)s->req.layer_count * sizeof *out->layers);
+    lc_request_copy(&out->req, &s->req); /* the layers by reference: the worker releases them */
+    memcpy(out->layers, s->layer_ds, (size_t)lc_request_layer_count(&s->req) * sizeof *out->layers);
     out->detail_step = first_coarse ? LC_DETAIL_RUNGS - 1 : st->detail_step; /* not the controller's step */
     if (first_coarse)
         st->coarse_first = true;
@@ -144,8 +144,8 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         d->line_stride = rung->line_stride;
         d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
         out->req.render.style.antialias = 1; /* frames while moving stay single */
-        bool points =
-            !s->req.layer_count && s->dataset && s->dataset->scene && s->dataset->scene->type == LC_PRIM_POINTS;
+        bool points = !lc_request_layer_count(&s->req) && s->dataset && s->dataset->scene &&
+                      s->dataset->scene->type == LC_PRIM_POINTS;
         scale *= points || st->lines_thinned ? rung->thinned_scale : rung->scale;
     }
     if (out->stage == 1) {

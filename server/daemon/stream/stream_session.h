@@ -17,7 +17,8 @@ extern "C" {
 #endif
 
 /* Worker side: decides whether s needs a frame now. Returns 1 with *out filled
- * and the frame state reserved (stream.rendering), 0 when nothing is due; then
+ * and the frame state reserved (stream.rendering; out->req holds a reference to
+ * the session's layers: lc_request_release it), 0 when nothing is due; then
  * *wake_at > 0 asks to be reconsidered at that lc_now() time (the still frame). */
 int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, double *wake_at);
 /* Worker side: the frame reserved by stream_next finished (ok = rendered). */

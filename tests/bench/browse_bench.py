@@ -224,7 +224,8 @@ async def browse(ws_url, token, args):
                 r["trace"].append({"ev": "frame", "t": time.monotonic(), "frame": h["frame"], "seq": h["cameraSeq"],
                                    "bytes": len(m), "moving": d.get("interactive", False), "q": h.get("quality"),
                                    "size": "%dx%d" % (h["width"], h["height"]), "renderMs": d.get("renderMs"),
-                                   "encodeMs": h.get("encodeMs"), "reused": d.get("reusedOpacities")})
+                                   "encodeMs": h.get("encodeMs"), "reused": d.get("reusedOpacities"),
+                                   "step": d.get("detailStep"), "timings": h.get("timings")})
             await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
             return h, img
 

@@ -71,7 +71,7 @@ static double effective_still_delay(const lc_stream *st, double delay)
 /* How long a drag's moving frames reuse opacities before P1-P3 run again.
  * A re-optimizing frame costs its P0-P3 more than the frames around it (the
  * tornado at 243x190 on llvmpipe: 30-110 ms over 60-180), and at once a
- * second those frames were the top 5 % of input-to-frame: spacing them by
+ * second those frames were a third of an orbit's slowest 5 %: spacing them by
  * their measured cost keeps that cost to a share of the motion's time (40 ms:
  * every 2 s), while cheap data re-optimizes once a second as before. */
 static double reoptimize_seconds(const lc_stream *st)

@@ -74,8 +74,13 @@ typedef struct lc_stream {
      * frames"): a step of the session's ladder, moved by the render times of
      * the frames that reused opacities, and when P1-P3 last ran. */
     int detail_step;
-    bool step_measured; /* a moving frame has moved detail_step; until then a drag starts where the still predicts */
+    bool step_measured; /* a moving frame has moved detail_step; until then a drag starts from the still's time */
     double last_optimized;
+    /* Re-optimization while moving (stream_session.c reoptimize_seconds): the
+     * mean time of the moving frames that reused opacities at rung moving_step,
+     * and the mean extra time of those that ran P1-P3 at that rung; 0 = none. */
+    double moving_ms, reoptimize_ms;
+    int moving_step;
     bool lines_thinned; /* moving frames draw line subsets (dense lines): the ladder's line_scale applies */
     uint64_t yielded;   /* still/refinement frames abandoned for newer input (stats) */
     bool moving_next;   /* after such a frame: the next frame is a moving one, however long the pass took */

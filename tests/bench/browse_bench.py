@@ -33,7 +33,8 @@ With --trace FILE (and --binary, --link) the daemon runs with --log-level debug,
 each link's input-to-frame time went, per frame that showed a newer camera, from the client's times and the
 daemon's per-frame "flow" lines (render start, end, hand-over to the connection, ack): the wait for a render to
 start, the render, the encode, and the link (transfer, queue and the proxy's and client's own time); all frames and
-the tail (>= 97 % of the p95). FILE keeps both sides' times as JSON.
+the tail (>= 97 % of the p95), and what the tail's frames were (the drag's first moving frame, one that ran P1-P3
+again, another). FILE keeps both sides' times, and each frame's pass timings, as JSON.
 With --contend N, N other clients render --contend-size stills over HTTP in a loop
 during the orbit (the fairness case: another user's 4K render must not stall the drag); the
 orbit's p95 input-to-frame is the figure, and the daemon's yield counters (/metrics) say how
@@ -224,7 +225,8 @@ async def browse(ws_url, token, args):
                 r["trace"].append({"ev": "frame", "t": time.monotonic(), "frame": h["frame"], "seq": h["cameraSeq"],
                                    "bytes": len(m), "moving": d.get("interactive", False), "q": h.get("quality"),
                                    "size": "%dx%d" % (h["width"], h["height"]), "renderMs": d.get("renderMs"),
-                                   "encodeMs": h.get("encodeMs"), "reused": d.get("reusedOpacities")})
+                                   "encodeMs": h.get("encodeMs"), "reused": d.get("reusedOpacities"),
+                                   "step": d.get("detailStep"), "timings": h.get("timings")})
             await ws.send(json.dumps({"type": "ack", "frame": h["frame"]}))
             return h, img
 
@@ -434,7 +436,8 @@ def trace_breakdown(traces, daemon):
     arrival, RTT/2 after it was sent, to its frame's render start), render, encode (render end to the hand-over to
     the connection), link (hand-over to arrival at the client less RTT/2: the transfer, any queue, the proxy's and
     client's own time). Prints the mean over all such frames and over those at or above 97 % of the p95 (the tail),
-    with the moving frames' render times of reused against re-optimized opacities (a re-optimization each second)."""
+    with the moving frames' render times of reused against re-optimized opacities (P1-P3 run again every 1-3 s), and
+    what the tail's frames were: the drag's first moving frame, one that re-optimized, or another."""
     srv = {}
     for line in daemon:
         m = FLOW_LINE.search(line)
@@ -450,6 +453,7 @@ def trace_breakdown(traces, daemon):
         cam = {e["seq"]: e["t"] for e in ev if e["ev"] == "camera"}
         end = min([e["t"] for e in ev if e["ev"] == "release"] or [float("inf")])
         rows, answered = [], 0
+        first = next((e["frame"] for e in ev if e["ev"] == "frame" and e["moving"]), None)
         for e in ev:
             if e["ev"] != "frame" or e["t"] > end or e["seq"] <= answered or e["seq"] not in cam:
                 continue
@@ -459,7 +463,9 @@ def trace_breakdown(traces, daemon):
                 continue
             tb, td, ts = f["begin"]["at"], f["done"]["at"], f["sent"]["at"]
             rows.append({"lat": e["t"] - cam[e["seq"]], "wait": tb - cam[e["seq"]] - half, "render": td - tb,
-                         "encode": ts - td, "link": e["t"] - ts - half, "bytes": e["bytes"]})
+                         "encode": ts - td, "link": e["t"] - ts - half, "bytes": e["bytes"],
+                         "kind": "first" if e["frame"] == first else "re-optimized" if e.get("reused") is False
+                         else "other"})
         if not rows:
             continue
         p95 = pct([r["lat"] for r in rows], 95)
@@ -468,6 +474,9 @@ def trace_breakdown(traces, daemon):
             print("| %s | %d | %s | %.0f ms | %.0f | %.0f | %.0f | %.0f | %.1f KB |" % (
                 tr["link"], len(sel), part, 1000 * mean("lat"), 1000 * mean("wait"), 1000 * mean("render"),
                 1000 * mean("encode"), 1000 * mean("link"), mean("bytes") / 1000))
+        tail = [r["kind"] for r in rows if r["lat"] >= 0.97 * p95]
+        print("  %s: the tail's frames: %d the drag's first, %d re-optimized, %d other" % (
+            tr["link"], tail.count("first"), tail.count("re-optimized"), tail.count("other")))
         moving = [e for e in ev if e["ev"] == "frame" and e["moving"] and e["t"] <= end]
         for name, sel in (("reused", [e for e in moving if e.get("reused")]),
                           ("re-optimized", [e for e in moving if e.get("reused") is False])):

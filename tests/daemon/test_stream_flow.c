@@ -317,28 +317,52 @@ static void test_ladder(lc_session *s)
     for (int n = 0; n < 3 && lc_session_stream_next(s, later, &f, &wake) == 1; n++)
         finish_timed(s, &f, 10, 1);
 
-    /* A session's first drag starts where its last still predicts: still_ms x interactiveScale^2 x the start
-     * rung's share (1/2), as an overrun of the budget; never finer than the start. */
-    static const double stills[] = {3000, 100};
-    for (int i = 0; i < 2; i++) {
+    /* A session's first drag reads its last still's time as the first moving frame's, an overrun of the budget
+     * (lc_detail_rung_next from the start rung); never finer than the session's rung. */
+    static const double stills[] = {3000, 300, 100, 50};
+    for (int i = 0; i < 4; i++) {
         pthread_mutex_lock(&s->lock);
         s->stream.step_measured = false;
         s->stream.detail_step = LC_DETAIL_START;
         s->stream.still_ms = stills[i];
-        double sc = s->stream.interactive_scale;
         pthread_mutex_unlock(&s->lock);
-        double k = stills[i] * sc * sc * 0.5 / srv.cfg.frame_budget_ms;
+        double k = stills[i] / srv.cfg.frame_budget_ms;
         int want = LC_DETAIL_START;
         for (double m = 1; k > m && want < LC_DETAIL_RUNGS - 1; m *= 2)
             want++;
         double t1 = later + 2.0 + i;
         lc_session_stream_input(s, t1);
         CHECK(lc_session_stream_next(s, t1, &f, &wake) == 1 && f.interactive && f.detail_step == want,
-              "still of %g ms, interactiveScale %g: the first drag starts at rung %d (%d)", stills[i], sc, want,
-              f.detail_step);
+              "still of %g ms: the first drag starts at rung %d (%d)", stills[i], want, f.detail_step);
         finish_timed(s, &f, 10, 1);
         for (int n = 0; n < 3 && lc_session_stream_next(s, t1 + 1.0, &f, &wake) == 1; n++)
             finish_timed(s, &f, 10, 1);
+    }
+
+    /* Re-optimizing while moving: frames that reuse opacities take 60 ms, one that runs P1-P3 100 ms; its
+     * extra 40 ms spaces the next re-optimization 40 ms / 2 % = 2 s after it instead of 1 s. */
+    pthread_mutex_lock(&s->lock);
+    s->stream.step_measured = true, s->stream.detail_step = LC_DETAIL_RUNGS - 1;
+    s->stream.moving_ms = s->stream.reoptimize_ms = 0;
+    pthread_mutex_unlock(&s->lock);
+    static const struct {
+        double at, wall_ms;
+        bool reuse;
+    } drag[] = {{0, 60, true}, {0.5, 60, true}, {1.1, 100, false}, {2.9, 60, true}, {3.2, 60, false}};
+    double t2 = later + 10.0;
+    for (int i = 0; i < 5; i++) {
+        if (i == 3) { /* P1-P3 ran at t2 + 1.1 */
+            pthread_mutex_lock(&s->lock);
+            s->stream.last_optimized = t2 + 1.1;
+            pthread_mutex_unlock(&s->lock);
+        }
+        lc_session_stream_input(s, t2 + drag[i].at);
+        CHECK(lc_session_stream_next(s, t2 + drag[i].at, &f, &wake) == 1 && f.interactive &&
+                  f.req.render.detail.reuse_opacities == drag[i].reuse,
+              "moving frame at %g s: %s", drag[i].at, drag[i].reuse ? "reuses the opacities" : "runs P1-P3");
+        finish_timed(s, &f, drag[i].wall_ms, 1);
+        if (i == 2)
+            CHECK(fabs(s->stream.reoptimize_ms - 40) < 1e-9, "P1-P3 add 40 ms (%g)", s->stream.reoptimize_ms);
     }
 }
 

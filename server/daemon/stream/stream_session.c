@@ -17,9 +17,13 @@
  * the full-quality still follows at once: an image within a fraction of the
  * still's time instead of a black canvas (issue 35, coarse to fine). */
 #define FIRST_COARSE_PRIMITIVES 500000
-/* While the camera keeps moving, P1-P3 run again this often (seconds) so the
- * reused opacities follow the view. */
+/* While the camera keeps moving, P1-P3 run again so the reused opacities
+ * follow the view: at most once a REOPTIMIZE_SECONDS, and no more often than
+ * keeps their measured extra time within REOPTIMIZE_SHARE of the motion's
+ * (reoptimize_seconds), but at least once a REOPTIMIZE_MAX_SECONDS. */
 #define REOPTIMIZE_SECONDS 1.0
+#define REOPTIMIZE_SHARE 0.02
+#define REOPTIMIZE_MAX_SECONDS 3.0
 /* Staged stills (protocol/websocket.md): when the session's last full still
  * took longer than this, a still comes in two stages, the moving frames'
  * opacities at full size first, then the full optimization. On data the
@@ -62,6 +66,18 @@ static double effective_still_delay(const lc_stream *st, double delay)
     double paced = 1.5 * st->input_interval;
     paced = paced < STILL_DELAY_MAX ? paced : STILL_DELAY_MAX;
     return paced > delay ? paced : delay;
+}
+
+/* How long a drag's moving frames reuse opacities before P1-P3 run again.
+ * A re-optimizing frame costs its P0-P3 more than the frames around it (the
+ * tornado at 243x190 on llvmpipe: 30-110 ms over 60-180), and at once a
+ * second those frames were a third of an orbit's slowest 5 %: spacing them by
+ * their measured cost keeps that cost to a share of the motion's time (40 ms:
+ * every 2 s), while cheap data re-optimizes once a second as before. */
+static double reoptimize_seconds(const lc_stream *st)
+{
+    double s = st->reoptimize_ms / 1000.0 / REOPTIMIZE_SHARE;
+    return s < REOPTIMIZE_SECONDS ? REOPTIMIZE_SECONDS : s > REOPTIMIZE_MAX_SECONDS ? REOPTIMIZE_MAX_SECONDS : s;
 }
 
 static bool still_due(const lc_session *s, double now, double delay)
@@ -131,10 +147,18 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         lc_detail *d = &out->req.render.detail;
         if (!st->last_interactive && !first_coarse) {
             st->last_optimized = now; /* the still frame's opacities start the interaction */
-            /* The session's first drag: no moving frame measured yet, so start where the last still predicts. */
+            /* The session's first drag: no moving frame measured yet, so it
+             * starts where the still's time, read as the first moving frame's,
+             * puts it (lc_detail_rung_next). Data that a still overruns the
+             * budget on are geometry-bound, and a moving frame's smaller size
+             * and reused opacities save less than its share of the pixels (the
+             * tornado: a 413x323 frame took a quarter of the 972x761 still's
+             * time, not the 0.18 its pixels predict, and 160-250 ms where the
+             * ladder settles at 243x190 and 60-80 ms). Too coarse a start costs
+             * a frame or two at the coarse end; too fine, the drag's slowest
+             * frame (docs/ALGORITHM.md "Interactive frames"). */
             if (!st->step_measured && st->still_ms > 0) {
-                int step = lc_detail_rung_predict(st->still_ms, st->interactive_scale * st->interactive_scale,
-                                                  cfg->frame_budget_ms);
+                int step = lc_detail_rung_next(LC_DETAIL_START, st->still_ms, cfg->frame_budget_ms);
                 st->detail_step = out->detail_step = step > st->detail_step ? step : st->detail_step;
             }
         }
@@ -142,7 +166,7 @@ int lc_session_stream_next(lc_session *s, double now, lc_stream_frame *out, doub
         d->lod_pixels = d->lod_pixels > rung->lod_pixels ? d->lod_pixels : rung->lod_pixels;
         d->point_stride = rung->point_stride;
         d->line_stride = rung->line_stride;
-        d->reuse_opacities = !first_coarse && now - st->last_optimized < REOPTIMIZE_SECONDS;
+        d->reuse_opacities = !first_coarse && now - st->last_optimized < reoptimize_seconds(st);
         out->req.render.style.antialias = 1; /* frames while moving stay single */
         bool points = !lc_request_layer_count(&s->req) && s->dataset && s->dataset->scene &&
                       s->dataset->scene->type == LC_PRIM_POINTS;
@@ -219,6 +243,22 @@ static void drop_outstanding(lc_stream *st, uint64_t upto, bool only_exact)
     st->unacked = k;
 }
 
+/* The moving frames' mean time at the ladder's rung, and what running P1-P3
+ * adds to it (reoptimize_seconds): means over recent frames, begun again at a
+ * new rung; an extra measured before any reusing frame at that rung (a
+ * session's coarse first frame) is not one. */
+static void measure_reoptimize(lc_stream *st, int step, const lc_frame_info *info)
+{
+    if (step != st->moving_step)
+        st->moving_ms = 0, st->moving_step = step;
+    if (info->reused_opacities) {
+        st->moving_ms = st->moving_ms > 0 ? 0.7 * st->moving_ms + 0.3 * info->wall_ms : info->wall_ms;
+    } else if (st->moving_ms > 0) {
+        double extra = info->wall_ms > st->moving_ms ? info->wall_ms - st->moving_ms : 0;
+        st->reoptimize_ms = st->reoptimize_ms > 0 ? 0.5 * st->reoptimize_ms + 0.5 * extra : extra;
+    }
+}
+
 void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, const lc_frame_info *info)
 {
     pthread_mutex_lock(&s->lock);
@@ -260,6 +300,8 @@ void lc_session_stream_done(lc_session *s, const lc_stream_frame *f, bool ok, co
          * one step at a time. Only frames that reused opacities count: the
          * periodic re-optimized ones cost more by design. */
         double budget = s->srv->cfg.frame_budget_ms;
+        if (info && f->interactive && f->detail_step == st->detail_step)
+            measure_reoptimize(st, f->detail_step, info);
         if (info && f->interactive && info->reused_opacities && budget > 0 && f->detail_step == st->detail_step) {
             st->detail_step = lc_detail_rung_next(st->detail_step, info->wall_ms, budget);
             st->step_measured = true;

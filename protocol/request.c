@@ -11,8 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "request_fields.h" /* after request.h: the table is of lc_request */
 #include "request_scope.h"
+#include "request_table.h"
 
 /* lim, or the defaults in *dl when NULL. */
 static const lc_proto_limits *limits_or_default(const lc_proto_limits *lim, lc_proto_limits *dl)
@@ -77,22 +77,22 @@ static void copy_str(char *dst, size_t size, const char *src)
 }
 
 /* ---- the schema */
-/* The field table and its types: request_fields.h (included above). */
+/* The field table and its types: request_table.c, request_table.h. */
 
 static bool same(const char *a, const char *b) { return (a == NULL && b == NULL) || (a && b && strcmp(a, b) == 0); }
 
 static const field *find_field(const char *section, const char *name)
 {
-    for (size_t i = 0; i < NFIELDS; i++)
-        if (same(fields[i].section, section) && strcmp(fields[i].name, name) == 0)
-            return &fields[i];
+    for (size_t i = 0; i < lc_request_nfields; i++)
+        if (same(lc_request_fields[i].section, section) && strcmp(lc_request_fields[i].name, name) == 0)
+            return &lc_request_fields[i];
     return NULL;
 }
 
 static bool is_section(const char *key)
 {
-    for (size_t i = 0; i < NSECTIONS; i++)
-        if (strcmp(sections[i], key) == 0)
+    for (size_t i = 0; i < lc_request_nsections; i++)
+        if (strcmp(lc_request_sections[i], key) == 0)
             return true;
     return false;
 }
@@ -560,9 +560,9 @@ static const field *find_query_field(const char *key)
     const field *f = find_field(NULL, key);
     if (f)
         return f;
-    for (size_t i = 0; i < NFIELDS; i++)
-        if (fields[i].alias && strcmp(fields[i].alias, key) == 0)
-            return &fields[i];
+    for (size_t i = 0; i < lc_request_nfields; i++)
+        if (lc_request_fields[i].alias && strcmp(lc_request_fields[i].alias, key) == 0)
+            return &lc_request_fields[i];
     return NULL;
 }
 
@@ -728,9 +728,9 @@ static void emit(json_t *obj, const lc_request *r, const char *section, const ch
 
 int lc_proto_field_at(size_t i, const char **section, const char **name)
 {
-    if (i >= NFIELDS)
+    if (i >= lc_request_nfields)
         return 0;
-    *section = fields[i].section, *name = fields[i].name;
+    *section = lc_request_fields[i].section, *name = lc_request_fields[i].name;
     return 1;
 }
 
@@ -749,8 +749,8 @@ json_t *lc_proto_field_json(const lc_request *r, const char *section, const char
 static json_t *emit_section(const lc_request *r, const char *section)
 {
     json_t *obj = json_object();
-    for (size_t i = 0; i < NFIELDS; i++) {
-        const field *f = &fields[i];
+    for (size_t i = 0; i < lc_request_nfields; i++) {
+        const field *f = &lc_request_fields[i];
         if (!same(f->section, section))
             continue;
         if (f->flag >= 0 && !(f->bounds & ALWAYS_EMIT) && !*(const bool *)((const char *)r + f->flag))
@@ -771,8 +771,8 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
     json_t *arr = json_array();
     lc_request d, *def = &d;
     lc_request_default(def);
-    for (size_t i = 0; arr && i < NFIELDS; i++) {
-        const field *f = &fields[i];
+    for (size_t i = 0; arr && i < lc_request_nfields; i++) {
+        const field *f = &lc_request_fields[i];
         json_t *o = json_object();
         json_t *dv = !(f->bounds & CHECK_ONLY) ? lc_proto_field_json(def, f->section, f->name) : NULL;
         if (dv)
@@ -805,7 +805,7 @@ json_t *lc_proto_schema(const lc_proto_limits *lim)
         lc_proto_field_scope(f->section, f->name, &ms, &ps);
         if (ms != LC_PROTO_ALL_METHODS) {
             json_t *a = json_array();
-            for (const enum_name *n = method_names; n->name; n++)
+            for (const enum_name *n = lc_request_method_names; n->name; n++)
                 if (ms & (1u << n->value))
                     json_array_append_new(a, json_string(n->name));
             json_object_set_new(o, "methods", a);

@@ -3,7 +3,7 @@
 - docs/CLI.md from `lucent --help` and each subcommand's `lucent COMMAND --help`
   (the commands are the ones `lucent --help` lists; each flag table is the
   option table the command parses with, render/base/lc_options.h);
-- docs/REQUEST.md from `lucent schema` (protocol/request_fields.h, the field
+- docs/REQUEST.md from `lucent schema` (protocol/request_table.c, the field
   table, and protocol/request_scope.c, where each field applies).
 ctest `unit.reference` (tests/tools/check_reference.py) regenerates both and
 fails when the committed files differ. Standard library only.

@@ -1,4 +1,4 @@
-"""The render request schema has one source, protocol/request_fields.h (the field table)
+"""The render request schema has one source, protocol/request_table.c (the field table)
 (printed by `lucent schema`). The page's table is generated from it at build time
 (BUILD/generated/web/js/schema_fields.js, protocol/gen/schema_js.c); this checks that
 the page as built reads exactly that table (web/js/schema.js's FIELDS and

@@ -1,66 +1,20 @@
-/* The render request's field table: the one source of the request schema
- * that request.c parses, emits and prints. Included by request.c alone (its
- * own file so that request.c stays under the line cap); it relies on
- * request.c's includes and defines static tables. */
-#ifndef LC_PROTOCOL_REQUEST_FIELDS_H
-#define LC_PROTOCOL_REQUEST_FIELDS_H
+/* The render request's field table: every field's section, name, query
+ * alias, type, bounds and place in lc_request; the one source of the request
+ * schema, which request.c parses, checks, emits and prints. */
+#include "request_table.h"
 
-typedef enum {
-    T_INT,     /* int */
-    T_NUM,     /* double */
-    T_BOOL,    /* bool */
-    T_STR,     /* char[size], any text shorter than size */
-    T_ENUM,    /* int-sized enum, from a name table */
-    T_NAME,    /* char[size], one of a name table (colormap) */
-    T_VEC3,    /* double[3], finite */
-    T_COLOR,   /* double[3] in [0,1] */
-    T_RANGE,   /* double[2], finite; sets a bool */
-    T_TERMS,   /* lc_importance_map's terms, an array of objects (request_lists.c) */
-    T_FILTERS, /* lc_render_params' filters, an array of objects (request_lists.c) */
-    T_CURVE,   /* lc_curve, an array of [x, y] points (request_lists.c) */
-    T_RANGES,  /* lc_color_map's fixed ranges, an array of [lo, hi] (request_lists.c) */
-    T_LAYERS,  /* lc_request's layers, an array of objects (request_layers.c) */
-    T_SEED,    /* lc_surface_request's seed, an array of [x, y, z] points (request_lists.c) */
-} ftype;
+#include <stddef.h>
 
-enum {
-    LO_OPEN = 1,     /* lo excluded */
-    HI_OPEN = 2,     /* hi excluded */
-    SIZE_LIMIT = 4,  /* lo/hi come from the limits */
-    CHECK_ONLY = 8,  /* validated, not stored (version) */
-    ALWAYS_EMIT = 16 /* the flag records that the field was given; emitted either way */
-};
-
-typedef struct enum_name {
-    const char *name;
-    int value;
-} enum_name;
-
-typedef struct field {
-    const char *section; /* NULL = top level */
-    const char *name;    /* JSON key */
-    const char *alias;   /* flat query-parameter name, NULL = dotted path only */
-    ftype type;
-    double lo, hi;
-    int bounds;
-    size_t offset; /* into lc_request */
-    size_t size;   /* T_STR/T_NAME buffer size */
-    long flag;     /* offset of a bool set when the field is given, -1 = none */
-    const enum_name *names;
-} field;
-
-#define BIG 1e300 /* "any finite number"; reals from jansson are finite anyway */
-
-static const enum_name method_names[] = {{"fourier", LC_METHOD_FOURIER},
-                                         {"exact", LC_METHOD_EXACT},
-                                         {"opaque", LC_METHOD_OPAQUE},
-                                         {"direct", LC_METHOD_DIRECT},
-                                         {"wboit", LC_METHOD_WBOIT},
-                                         {"surface-layers", LC_METHOD_SURFACE_LAYERS},
-                                         {"weighted-average", LC_METHOD_WEIGHTED_AVERAGE},
-                                         {"binning", LC_METHOD_BINNING},
-                                         {"kanzler", LC_METHOD_KANZLER},
-                                         {NULL, 0}};
+const enum_name lc_request_method_names[] = {{"fourier", LC_METHOD_FOURIER},
+                                             {"exact", LC_METHOD_EXACT},
+                                             {"opaque", LC_METHOD_OPAQUE},
+                                             {"direct", LC_METHOD_DIRECT},
+                                             {"wboit", LC_METHOD_WBOIT},
+                                             {"surface-layers", LC_METHOD_SURFACE_LAYERS},
+                                             {"weighted-average", LC_METHOD_WEIGHTED_AVERAGE},
+                                             {"binning", LC_METHOD_BINNING},
+                                             {"kanzler", LC_METHOD_KANZLER},
+                                             {NULL, 0}};
 static const enum_name format_names[] = {
     {"png", LC_FORMAT_PNG}, {"jpeg", LC_FORMAT_JPEG}, {"jpg", LC_FORMAT_JPEG}, {NULL, 0}};
 static const enum_name normalize_names[] = {{"auto", LC_NORMALIZE_AUTO}, {"off", LC_NORMALIZE_OFF}, {NULL, 0}};
@@ -100,12 +54,12 @@ static const enum_name colormap_names[] = {LC_COLORMAP_LIST(COLORMAP_ENUM_NAME){
 #define LINE_WIDTH_MAX 1e9
 /* Caps beyond the useful ranges (q, r, λ, exponents, dt) keep values in float
  * range for the shaders; the documented ranges in README.md match. */
-static const field fields[] = {
+const field lc_request_fields[] = {
     {NULL, "version", "version", T_INT, 1, 1, CHECK_ONLY, 0, 0, NOFLAG, NULL},
     {NULL, "dataset", "dataset", T_STR, 0, 0, 0, OFF(dataset), LC_PROTO_DATASET_LEN, NOFLAG, NULL},
     {NULL, "width", "width", T_INT, 0, 0, SIZE_LIMIT, OFF(render.width), 0, NOFLAG, NULL},
     {NULL, "height", "height", T_INT, 0, 0, SIZE_LIMIT, OFF(render.height), 0, NOFLAG, NULL},
-    {NULL, "method", "method", T_ENUM, 0, 0, 0, OFF(render.method), 0, NOFLAG, method_names},
+    {NULL, "method", "method", T_ENUM, 0, 0, 0, OFF(render.method), 0, NOFLAG, lc_request_method_names},
     {NULL, "format", "format", T_ENUM, 0, 0, 0, OFF(format), 0, NOFLAG, format_names},
     {NULL, "quality", "quality", T_INT, 1, 100, 0, OFF(quality), 0, NOFLAG, NULL},
     {NULL, "dt", "dt", T_NUM, 0, 3600, 0, OFF(dt), 0, (long)OFF(has_dt), NULL},
@@ -253,10 +207,8 @@ static const field fields[] = {
     {"streamlines", "separation", "streamlinesSeparation", T_NUM, 0, BIG, 0, OFF(streamlines.separation), 0, NOFLAG,
      NULL},
 };
-#define NFIELDS (sizeof fields / sizeof fields[0])
+const size_t lc_request_nfields = sizeof lc_request_fields / sizeof lc_request_fields[0];
 
-static const char *const sections[] = {"camera", "params", "importance", "color",      "style",
-                                       "lines",  "time",   "surface",    "streamlines"};
-#define NSECTIONS (sizeof sections / sizeof sections[0])
-
-#endif
+const char *const lc_request_sections[] = {"camera", "params", "importance", "color",      "style",
+                                           "lines",  "time",   "surface",    "streamlines"};
+const size_t lc_request_nsections = sizeof lc_request_sections / sizeof lc_request_sections[0];

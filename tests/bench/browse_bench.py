@@ -14,7 +14,11 @@ along an orbit, an ack for every frame, then release. It reports:
   moving vs still SSIM between the last moving frame (stretched to the still's size, as the page
                   stretches it) and the still of the same camera; with a staged still, also
                   between its first stage and its final one; each also with both images halved
-                  and quartered (2x2 box averages), the scales of structure rather than of pixels
+                  and quartered (2x2 box averages), the scales of structure rather than of pixels;
+                  and what that moving frame drew (primitives, level of detail, strides;
+                  tests/bench/moving_fidelity.py scores other settings at the same camera)
+  targets         issue 42's: >= 10 frames/s orbiting, the full (final-stage) still <= 1.5 s after
+                  the last input, moving vs still SSIM >= 0.7; each met or not
   pause           with --pause S: the orbit stops for S seconds mid-drag and resumes; the delay from
                   the first update after the pause to its frame (a still started in the pause must
                   not hold it up)
@@ -364,7 +368,27 @@ async def browse(ws_url, token, args):
                 r["ssim_first_coarse"] = ssim_coarse(first_l, still_l)
                 r["first_stage"] = "stage %s of %s" % (first_head.get("stage"), first_head.get("stages"))
             r["moving_size"] = "%dx%d" % (last_moving[0]["width"], last_moving[0]["height"])
+            d = last_moving[0].get("detail") or {}
+            r["moving_detail"] = {k: d.get(k) for k in ("level", "lodPixels", "lineStride", "pointStride", "primitives",
+                                                        "reusedOpacities", "renderMs")}
     return r
+
+
+TARGET_FPS, TARGET_FULL_S, TARGET_SSIM = 10.0, 1.5, 0.7  # issue 42, at 972x761 on the 2-core host
+
+
+def targets(r):
+    """The browsing targets of issue 42, each "met" or "not met" with its figure: frames/s orbiting, the full
+    (final-stage) still after the last input, SSIM of the last moving frame against that still."""
+    fps = r["moving"] / r["orbit_s"]
+    out = ["%.1f frames/s %s" % (fps, "met" if fps >= TARGET_FPS else "not met")]
+    full = r.get("full")
+    out.append("full still %s %s" % ("%.2f s" % full if full is not None else "none",
+                                      "met" if full is not None and full <= TARGET_FULL_S else "not met"))
+    s = r.get("ssim")
+    out.append("SSIM %s %s" % ("%.3f" % s if s is not None else "n/a",
+                               "met" if s is not None and s >= TARGET_SSIM else "not met"))
+    return out
 
 
 def run(base, ws_url, token, args, launched=None, listening=None):
@@ -395,6 +419,11 @@ def run(base, ws_url, token, args, launched=None, listening=None):
     print("moving vs still SSIM        %s%s" % (f("ssim", "%.3f"),
           " (moving frame %s; halved %.3f, quartered %.3f)" % ((r["moving_size"],) + r["ssim_coarse"])
           if "moving_size" in r else "" if np is not None else " (n/a: needs python3-numpy, python3-pil)"))
+    if "moving_detail" in r:
+        d = r["moving_detail"]
+        print("last moving frame drew      %s primitives (level %s, lod %s px, lines 1/%s, points 1/%s), render %s ms" % (
+            d["primitives"], d["level"], d["lodPixels"], d["lineStride"] or 1, d["pointStride"] or 1,
+            "%.0f" % d["renderMs"] if isinstance(d["renderMs"], (int, float)) else "-"))
     if "ssim_first" in r:
         print("first stage vs still SSIM   %.3f (%s; halved %.3f, quartered %.3f)" % (
             (r["ssim_first"], r["first_stage"]) + r["ssim_first_coarse"]))
@@ -404,6 +433,7 @@ def run(base, ws_url, token, args, launched=None, listening=None):
         ok = [t for s, t in cout if s == "ok"]
         print("contending stills           %d done (median %.1f s), %d refused" % (
             len(ok), pct(ok, 50) if ok else float("nan"), len(cout) - len(ok)))
+    print("issue 42 targets            %s" % "; ".join(targets(r)))
     moving = cost_summary(r["moving_frames"])
     ms = lambda c, k: "%.1f" % c[k]["mean"] if c.get(k) else "-"  # noqa: E731
     print("moving frames, mean ms      render %s, GPU passes %s, read-back %s, JPEG encode %s (%s, %d frames)" % (
@@ -420,7 +450,8 @@ def run(base, ws_url, token, args, launched=None, listening=None):
                "frames_per_s": r["moving"] / r["orbit_s"], "input_to_frame_ms": {
                    "p50": 1000 * pct(r["lat"], 50) if r["lat"] else None,
                    "p95": 1000 * pct(r["lat"], 95) if r["lat"] else None, "samples": len(r["lat"])},
-               "moving": moving, "still_frame": r.get("still_frame")}
+               "moving": moving, "still_frame": r.get("still_frame"), "moving_detail": r.get("moving_detail"),
+               "ssim_coarse": r.get("ssim_coarse"), "ssim_first": r.get("ssim_first"), "targets": targets(r)}
         for k in ("first", "first_still", "first_final", "still", "full", "converged", "ssim", "pause_delay"):
             out[k + ("" if k == "ssim" else "_s")] = r.get(k)
         with open(args.json, "w") as f:

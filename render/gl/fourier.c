@@ -125,6 +125,12 @@ static int draw_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_targets *t, i
  * ends). Afterwards every geometry pass normalizes depth by its pixel's range. */
 int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low, lc_error *err)
 {
+    lc_progressive_pass(fs, LC_PASS_DEPTH_RANGE);
+    if (fs->keep_sums) { /* params.progressive: the first batch's ranges, drawn over every primitive */
+        fs->pixel_depth_range = 1;
+        lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
+        return 0;
+    }
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
@@ -150,7 +156,8 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low
 static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset, lc_targets *t,
                        lc_error *err)
 {
-    lc_targets_clear(t, NULL);
+    if (!fs->keep_sums) /* params.progressive adds a batch to the sums kept */
+        lc_targets_clear(t, NULL);
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
     r->draw_yields = 1; /* P0 and P1: a yield point follows before anything keeps the sums */
@@ -223,6 +230,12 @@ static int choose_p1_subset(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     lc_targets_ensure(&r->moments, fs->low_width, fs->low_height, 1, GL_RGBA32F, &r->bytes_targets);
+    lc_progressive_pass(fs, LC_PASS_DEPTH_RANGE);
+    if (fs->keep_sums) { /* params.progressive: the first batch's moments, drawn over every primitive */
+        fs->p1_subset = 1, fs->p0_chained = 0, fs->depth_moments = 1;
+        lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
+        return 0;
+    }
     fs->depth_moments = 0; /* this pass itself normalizes by the bounds */
     int record = lc_fragment_chains_wanted(r, fs);
     fs->p0_chained = 0;
@@ -295,8 +308,9 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     if (!fs->p1_done) {
         /* P1 over P0's fragments where P0 recorded them, else drawn, recording
          * its fragments for P2 where that is allowed (fragment_list.c). */
-        int chained = fs->p0_chained && r->fragments_chained && info->p1_subset <= 1;
-        int record = !chained && lc_fragment_list_wanted(r, info->p1_subset);
+        lc_progressive_pass(fs, LC_PASS_IMPORTANCE);
+        int chained = fs->p0_chained && r->fragments_chained && info->p1_subset <= 1 && !fs->batch_count;
+        int record = !chained && !fs->batch_count && lc_fragment_list_wanted(r, info->p1_subset);
         info->importance_from_list = chained;
         fs->p0_chained = 0;
         r->fragments_ready = 0;
@@ -330,6 +344,9 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
      * importance of its emphasis on patches (a dispatch of its own, once per
      * mapping) comes first; layered frames go without (it ranks one
      * dataset's elements, as the visibility report does). */
+    lc_progressive_pass(fs, LC_PASS_OPACITY);
+    if (fs->batch_count || p->foo.progressive > 1) /* P1's list holds one batch, or none */
+        r->fragments_ready = 0;
     GLuint listed = r->fragments_ready ? lc_fragment_list_program(r, bands, err) : 0;
     if (r->fragments_ready && !listed)
         return LC_ERR_GL;
@@ -342,7 +359,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             return rc;
     }
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" */
-    glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
+    if (!fs->keep_sums) /* params.progressive: the elements of earlier batches keep their minima */
+        glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
     lc_occluders_clear(r);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT);
@@ -453,19 +471,23 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
     /* Half floats suffice for the weighted sums: the image is their ratio. */
     lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
-    lc_targets_clear(&r->coef_full, NULL);
-    lc_targets_clear(&r->accum, NULL);
+    lc_progressive_pass(fs, LC_PASS_OPTICAL_DEPTH); /* P5 draws the same batches */
+    if (!fs->keep_sums) { /* params.progressive adds a batch to the sums kept */
+        lc_targets_clear(&r->coef_full, NULL);
+        lc_targets_clear(&r->accum, NULL);
+    }
 
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
     /* P4 records what P5 needs of its fragments where the frame allows (fragment_list.c). */
-    int record = !bins && lc_composite_list_wanted(r, fs, direct); /* its P5 evaluates a series */
+    int record = !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct); /* its P5 evaluates a series */
     if (record)
         lc_composite_list_begin(r, fs);
     r->draw_yields = 1; /* P4 and P5: yield points follow, and the image is all they make */
     /* The compute rasterizer has the series and the direct opacities but no depth bins, Kanzler maps or
      * screen-space derivatives (alphaSource normalVariation): those draw. */
     int computable = !bins && !kanzler && !(direct && p->foo.alpha_source == LC_ALPHA_NORMAL_VARIATION);
+    computable = computable && !fs->batch_count; /* it stores its sums over the targets' */
     int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, p->foo.subset);
     info_paths(fs, LC_RASTER_P4, computed);
     if (computed) {

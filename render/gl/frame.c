@@ -135,6 +135,7 @@ void lc_renderer_destroy(lc_renderer *r)
             glDeleteBuffers(1, &r->line_masks[i].buffer);
     free(r->importance_cache);
     free(r->reduce_buf);
+    free(r->progressive_params);
     free(r);
 }
 
@@ -285,6 +286,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
         return rc;
     fs.point_sprites = r->point_sprites = lc_frame_point_sprites(r, &p, p.width, p.height);
     fs.renderer = r;
+    if ((rc = lc_progressive_begin(r, &fs, err)) != 0)
+        return rc;
     r->draw_yields = r->yield_cut = 0;
     r->pull_lines = 0;     /* lc_filter_prepare sets it for a time window */
     r->line_primitive = 0; /* set below for a frame of one line dataset */
@@ -477,6 +480,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         info->kept_line_segments[1] = (uint64_t)(fs.kept_line_indices[1] * per + 0.5);
         info->primitives_drawn = info->kept_line_segments[0] + info->kept_line_segments[1];
     }
+    if (p.foo.progressive > 1 && !p.foo.batch_prefix)
+        info->batch = p.foo.batch, info->batches = p.foo.progressive;
     info->pipeline_bytes = lc_renderer_bytes(r);
     info->wall_ms = (lc_now() - t0) * 1e3;
     GLenum e = glGetError();
@@ -487,6 +492,14 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
 
 int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
                     double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
+{
+    if (params->foo.progressive <= 1 || params->foo.batch != 0 || params->foo.batch_prefix)
+        return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
+    return lc_progressive_all(r, gs, params, state, dt, rgba, info, err);
+}
+
+int lc_render_frame_one(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
+                        double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
     return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
 }

@@ -345,6 +345,11 @@ struct lc_renderer {
     /* filter.c: this frame's lines draw as pulled segments (a time window hides
      * single segments, which shared ribbon strip vertices cannot). */
     int pull_lines;
+    /* progressive.c: the batch the next frame of the progressive still may
+     * add (0: none under way) and the request it belongs to. */
+    int progressive_next;
+    lc_render_params *progressive_params;
+    const lc_gpu_scene *progressive_scene;
     /* line_primitive.c: this frame's line segments draw as wide GL_LINES
      * (pulled, so pull_lines is set too); the driver's widest line; the path
      * lc_renderer_set_line_path forces (-1: the rule). */
@@ -492,7 +497,26 @@ typedef struct lc_frame_setup {
     GLuint context_depth[2], context_color;
     lc_renderer *renderer; /* the frame's renderer: a draw's yield points between batches (pipeline.c) */
     double bounds[6];      /* the frame's bounds (of every layer): the camera's, the ground's and the light's */
+    /* params.progressive (progressive.c): the pass under way draws batches
+     * [batch_first, batch_end) of batch_count (0: every primitive), and with
+     * keep_sums adds to its targets as the frame before left them. */
+    int batch_count, batch_first, batch_end, keep_sums;
 } lc_frame_setup;
+
+/* ---- progressive.c (params.progressive): whether the frame may run as batch
+ * k of its still (the previous batch ran last on this renderer, same request),
+ * and the batches and kept sums of each pass (P0, P1, P2, P4; P5 as P4). */
+int lc_progressive_begin(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
+void lc_progressive_pass(lc_frame_setup *fs, lc_pass pass);
+/* Every batch of a params.progressive request in one call (lc_render_frame
+ * with batch 0): the last batch's image, its report, and in it the time to
+ * the first batch's picture; lc_render_frame_one renders one frame as asked. */
+int lc_progressive_all(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
+                       double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+int lc_render_frame_one(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
+                        double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+/* Primitives [*lo, *hi) of n that the setup's batches cover. */
+void lc_progressive_range(const lc_frame_setup *fs, uint64_t n, uint64_t *lo, uint64_t *hi);
 
 /* ---- layers.c (docs/ALGORITHM.md "Layers"): what differs per layer. */
 typedef struct lc_layer_setup {

@@ -495,13 +495,23 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
 {
     if (params->foo.progressive <= 1 || params->foo.batch != 0 || params->foo.batch_prefix)
         return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
-    return lc_progressive_all(r, gs, params, state, dt, rgba, info, err);
-}
-
-int lc_render_frame_one(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
-                        double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
-{
-    return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
+    /* params.progressive with batch 0: every batch in this call, the image
+     * the last one's (progressive.c), and the time to the first picture. */
+    double t0 = lc_now(), first = 0;
+    lc_render_params p = *params;
+    lc_frame_info local;
+    if (!info)
+        info = &local;
+    int rc = 0;
+    for (int k = 1; k <= params->foo.progressive && !rc; k++) {
+        p.foo.batch = k;
+        rc = render(r, &gs, NULL, 1, &p, state, k == 1 ? dt : 0.0, rgba, info, err);
+        if (k == 1)
+            first = (lc_now() - t0) * 1e3;
+    }
+    if (!rc)
+        info->first_batch_ms = first, info->wall_ms = (lc_now() - t0) * 1e3;
+    return rc;
 }
 
 int lc_render_layers(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,

@@ -204,8 +204,6 @@ static int check_progressive(const lc_render_params *p, int layered, int tiles, 
         why = "the sums are kept for one untiled frame: render at most 4096x4096";
     else if (foo->subset > 1 || foo->auto_subset > 1)
         why = "batches draw every primitive once: not with params.subset or params.autoSubset";
-    else if (foo->clarity > 0)
-        why = "the clarity loop re-optimizes the whole frame: not with params.clarity";
     else if (foo->guard_band > 0)
         why = "not with params.guardBand";
     else if (p->style.antialias > 1)

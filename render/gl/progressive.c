@@ -89,23 +89,3 @@ void lc_progressive_range(const lc_frame_setup *fs, uint64_t n, uint64_t *lo, ui
     *lo = n * (uint64_t)fs->batch_first / (uint64_t)fs->batch_count;
     *hi = n * (uint64_t)fs->batch_end / (uint64_t)fs->batch_count;
 }
-
-int lc_progressive_all(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
-                       double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
-{
-    double t0 = lc_now(), first = 0;
-    lc_render_params p = *params;
-    lc_frame_info local;
-    if (!info)
-        info = &local;
-    int rc = 0;
-    for (int k = 1; k <= params->foo.progressive && !rc; k++) {
-        p.foo.batch = k;
-        rc = lc_render_frame_one(r, gs, &p, state, k == 1 ? dt : 0.0, rgba, info, err);
-        if (k == 1)
-            first = (lc_now() - t0) * 1e3;
-    }
-    if (!rc)
-        info->first_batch_ms = first, info->wall_ms = (lc_now() - t0) * 1e3;
-    return rc;
-}

@@ -508,13 +508,6 @@ typedef struct lc_frame_setup {
  * and the batches and kept sums of each pass (P0, P1, P2, P4; P5 as P4). */
 int lc_progressive_begin(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 void lc_progressive_pass(lc_frame_setup *fs, lc_pass pass);
-/* Every batch of a params.progressive request in one call (lc_render_frame
- * with batch 0): the last batch's image, its report, and in it the time to
- * the first batch's picture; lc_render_frame_one renders one frame as asked. */
-int lc_progressive_all(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
-                       double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
-int lc_render_frame_one(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
-                        double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err);
 /* Primitives [*lo, *hi) of n that the setup's batches cover. */
 void lc_progressive_range(const lc_frame_setup *fs, uint64_t n, uint64_t *lo, uint64_t *hi);
 

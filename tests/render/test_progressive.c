@@ -14,6 +14,8 @@
  *   frame gives them; 0.84-0.94 on the tornado), the first one equals it
  *   where P0 does not see the later batches (depthRange "global"), and the
  *   pictures come no further from the whole one as batches arrive;
+ * - with params.clarity the last batch runs the loop over every primitive:
+ *   the image is the one-shot's again;
  * - a batch that does not follow its predecessor on the renderer, and a
  *   method other than fourier, are refused naming params.progressive. */
 #include <math.h>
@@ -129,6 +131,16 @@ static void check_dataset(test_gl *t, const char *spec, uint64_t count, lc_depth
     printf("  %s all %d batches: sums vs one-shot %.2e, image SSIM %.5f, max diff %d\n", spec, BATCHES, e, ssim, md);
     CHECK(e < 1e-5, "%s: the batches' sums differ from the one-shot sums by %.2e", spec, e);
     CHECK(ssim >= 0.999 && md <= 1, "%s: last batch SSIM %.5f, max diff %d vs one-shot", spec, ssim, md);
+
+    /* The clarity loop: the batches before the last run one try, the last
+     * the loop over every primitive, so the image is still the one-shot's. */
+    p.foo.clarity = q.foo.clarity = 0.5;
+    CHECK(frame(t, gs, &p, whole, &err) == 0, "one-shot with clarity: %s", err.msg);
+    q.foo.batch = 0;
+    CHECK(frame(t, gs, &q, img, &err) == 0, "%s batches with clarity: %s", spec, err.msg);
+    md = max_diff(img, whole);
+    CHECK(md <= 1, "%s: batches with params.clarity 0.5: max diff %d vs one-shot", spec, md);
+    p.foo.clarity = q.foo.clarity = 0;
 
     /* Refusals: a batch out of order, another method. */
     q.foo.batch = 3;

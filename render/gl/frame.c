@@ -496,16 +496,20 @@ int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_para
     if (params->foo.progressive <= 1 || params->foo.batch != 0 || params->foo.batch_prefix)
         return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
     /* params.progressive with batch 0: every batch in this call, the image
-     * the last one's (progressive.c), and the time to the first picture. */
+     * the last one's (progressive.c), and the time to the first picture. Each
+     * batch is a frame dt after the one before; a fresh state takes every
+     * batch's targets whole, as a one-shot frame takes its own. */
     double t0 = lc_now(), first = 0;
     lc_render_params p = *params;
     lc_frame_info local;
     if (!info)
         info = &local;
-    int rc = 0;
+    int rc = 0, fresh = state && lc_frame_state_is_fresh(state);
     for (int k = 1; k <= params->foo.progressive && !rc; k++) {
         p.foo.batch = k;
-        rc = render(r, &gs, NULL, 1, &p, state, k == 1 ? dt : 0.0, rgba, info, err);
+        if (fresh && k > 1)
+            lc_frame_state_reset(state);
+        rc = render(r, &gs, NULL, 1, &p, state, dt, rgba, info, err);
         if (k == 1)
             first = (lc_now() - t0) * 1e3;
     }

@@ -14,6 +14,7 @@
  *   frame gives them; 0.84-0.94 on the tornado), the first one equals it
  *   where P0 does not see the later batches (depthRange "global"), and the
  *   pictures come no further from the whole one as batches arrive;
+ * - with a fresh frame state too (each batch takes its targets whole);
  * - with params.clarity the last batch runs the loop over every primitive:
  *   the image is the one-shot's again;
  * - a batch that does not follow its predecessor on the renderer, and a
@@ -131,6 +132,17 @@ static void check_dataset(test_gl *t, const char *spec, uint64_t count, lc_depth
     printf("  %s all %d batches: sums vs one-shot %.2e, image SSIM %.5f, max diff %d\n", spec, BATCHES, e, ssim, md);
     CHECK(e < 1e-5, "%s: the batches' sums differ from the one-shot sums by %.2e", spec, e);
     CHECK(ssim >= 0.999 && md <= 1, "%s: last batch SSIM %.5f, max diff %d vs one-shot", spec, ssim, md);
+
+    /* A fresh frame state: every batch takes its targets whole, so the last
+     * image is the one-shot image of a fresh state. */
+    lc_frame_state *st = lc_frame_state_create(s->elements.count);
+    q.foo.batch = 0;
+    memset(&err, 0, sizeof err);
+    CHECK(lc_render_frame(t->renderer, gs, &q, st, 1.0 / 30, img, NULL, &err) == 0, "%s batches with a state: %s",
+          spec, err.msg);
+    md = max_diff(img, whole);
+    CHECK(md <= 1, "%s: batches with a fresh frame state: max diff %d vs one-shot", spec, md);
+    lc_frame_state_destroy(st);
 
     /* The clarity loop: the batches before the last run one try, the last
      * the loop over every primitive, so the image is still the one-shot's. */

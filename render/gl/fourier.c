@@ -310,7 +310,9 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
          * its fragments for P2 where that is allowed (fragment_list.c). */
         lc_progressive_pass(fs, LC_PASS_IMPORTANCE);
         int chained = fs->p0_chained && r->fragments_chained && info->p1_subset <= 1 && !fs->batch_count;
-        int record = !chained && !fs->batch_count && lc_fragment_list_wanted(r, info->p1_subset);
+        /* params.progressive: a batch's P1 appends to the list of the batches before (fragment_list.c). */
+        int record = !chained && lc_fragment_list_wanted(r, info->p1_subset) && (!fs->keep_sums || r->progressive_listed);
+        r->progressive_listed = record;
         info->importance_from_list = chained;
         fs->p0_chained = 0;
         r->fragments_ready = 0;
@@ -321,7 +323,9 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
                 rc = lc_reduce_targets(r, &r->coef_low, LC_REDUCE_SUM, 0, fs->info, err);
         } else {
             r->fragments_chained = 0;
-            if (record)
+            if (record && fs->keep_sums)
+                lc_fragment_list_resume(r);
+            else if (record)
                 lc_fragment_list_begin(r, fs);
             rc = draw_summed(r, fs, record ? PROG_P1_LIST : PROG_P1, bands, info->p1_subset, &r->coef_low, err);
         }
@@ -345,8 +349,13 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
      * mapping) comes first; layered frames go without (it ranks one
      * dataset's elements, as the visibility report does). */
     lc_progressive_pass(fs, LC_PASS_OPACITY);
-    if (fs->batch_count || p->foo.progressive > 1) /* P1's list holds one batch, or none */
-        r->fragments_ready = 0;
+    /* params.progressive: P1's list holds every fragment of the batches so far
+     * (it appends), so P2 over it gives every element that has arrived its
+     * opacity against the sums so far, the minima cleared; without a list
+     * (one that overflowed, GPUs) batch k's elements are drawn into the kept
+     * minima (progressive.c). */
+    if (r->fragments_ready && p->foo.progressive > 1)
+        fs->keep_sums = fs->batch_count = 0;
     GLuint listed = r->fragments_ready ? lc_fragment_list_program(r, bands, err) : 0;
     if (r->fragments_ready && !listed)
         return LC_ERR_GL;
@@ -531,9 +540,11 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
             return rc;
     }
     /* topDecileReach: the optimized opacities' P5 (not the list's, the baselines' or the bins'). */
-    int reach = !direct && !bins && !listed;
+    int reach = !direct && !bins && !listed && !fs->batch_count; /* (not over one batch of params.progressive) */
     if (reach)
         lc_reach_begin(r, fs);
+    else if (fs->batch_count)
+        r->reach_g = 2.0f; /* > 1: P5 measures nothing */
     int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5, 1);
     info_paths(fs, LC_RASTER_P5, p5_computed);
     if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)

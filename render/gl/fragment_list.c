@@ -116,6 +116,12 @@ void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     r->fragments_ready = 0;
 }
 
+void lc_fragment_list_resume(lc_renderer *r)
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
+    r->fragments_ready = 0;
+}
+
 void lc_fragment_list_end(lc_renderer *r)
 {
     uint32_t count = 0;

@@ -348,6 +348,7 @@ struct lc_renderer {
     /* progressive.c: the batch the next frame of the progressive still may
      * add (0: none under way) and the request it belongs to. */
     int progressive_next;
+    int progressive_listed; /* P1's fragment list holds every fragment of the batches so far (fourier.c) */
     lc_render_params *progressive_params;
     const lc_gpu_scene *progressive_scene;
     /* line_primitive.c: this frame's line segments draw as wide GL_LINES
@@ -843,6 +844,9 @@ void lc_compute_raster_release(lc_renderer *r);
 int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset);
 /* Before P1: makes room, zeroes the count, binds the list for P1's program. */
 void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs);
+/* params.progressive: P1 of a later batch appends to the list the batches
+ * before it left (not cleared, not resized). */
+void lc_fragment_list_resume(lc_renderer *r);
 /* After P1: reads the count; r->fragments_ready when every fragment fit
  * (otherwise the list grows for later frames and this frame's P2 draws). */
 void lc_fragment_list_end(lc_renderer *r);

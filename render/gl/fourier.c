@@ -457,7 +457,7 @@ static int compute_pass(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind
     else
         set_p5_uniforms(prog, r, fs, 0);
     lc_compute_raster_dispatch(r, prog, fs, subset);
-    return lc_compute_raster_end(r, t, err);
+    return fs->keep_sums ? lc_compute_raster_end_add(r, t, err) : lc_compute_raster_end(r, t, err);
 }
 
 /* P4..P6 with the element opacities, the direct baseline's (params.alphaSource),
@@ -496,7 +496,10 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     /* The compute rasterizer has the series and the direct opacities but no depth bins, Kanzler maps or
      * screen-space derivatives (alphaSource normalVariation): those draw. */
     int computable = !bins && !kanzler && !(direct && p->foo.alpha_source == LC_ALPHA_NORMAL_VARIATION);
-    computable = computable && !fs->batch_count; /* it stores its sums over the targets' */
+    /* params.progressive: a batch of points is a range of splats in both paths,
+     * so it may compute (adding to the kept sums); a batch of lines is whole
+     * strip runs when drawn and ribbon slots when computed, so it draws. */
+    computable = computable && (!fs->batch_count || fs->gs->scene->type == LC_PRIM_POINTS);
     int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, p->foo.subset);
     info_paths(fs, LC_RASTER_P4, computed);
     if (computed) {

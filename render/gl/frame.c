@@ -337,6 +337,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     }
     lc_shadow_clip_ground(&fs, &fs.view); /* the ground may lie beyond the data's clip planes */
     rc = render_passes(r, &fs, state, dt, rgba, t0, err);
+    if (rc) /* a batch cut short (a yield, an error) leaves partial sums: the still starts again at batch 1 */
+        r->progressive_next = 0;
     free(setups);
     return rc;
 }

@@ -395,6 +395,7 @@ struct lc_renderer {
      * and the large-primitive list; the pass's size and planes; the path
      * lc_renderer_set_raster_path forces (-1: the rule). */
     GLuint raster_programs[4][2][LC_MAX_BANDS + 1], raster_store_program;
+    GLuint raster_add_programs[2]; /* the store adding to RGBA32F / RGBA16F targets (params.progressive) */
     GLuint raster_sums, raster_large;
     uint64_t raster_sums_bytes;
     int raster_width, raster_height, raster_planes, raster_path;
@@ -831,6 +832,8 @@ int lc_compute_raster_begin(lc_renderer *r, int width, int height, int planes, l
 void lc_compute_raster_bind(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int subset);
 void lc_compute_raster_dispatch(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int subset);
 int lc_compute_raster_end(lc_renderer *r, const lc_targets *t, lc_error *err);
+/* The same, adding the sums to what t holds (params.progressive's later batches). */
+int lc_compute_raster_end_add(lc_renderer *r, const lc_targets *t, lc_error *err);
 /* Frees the sums (a large frame's: lc_renderer_release_after), or everything. */
 void lc_compute_raster_release_sums(lc_renderer *r);
 void lc_compute_raster_release(lc_renderer *r);

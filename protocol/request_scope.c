@@ -44,6 +44,7 @@ static const scope_rule rules[] = {
     {"params", "estimator", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "autoSubset", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
     {"params", "guardBand", FOURIER_PASSES, LC_PROTO_ALL_PRIMS},
+    {"params", "progressive", M(FOURIER), NOT_SURFACES}, /* its batches add into the Fourier sums */
     {"params", "directExponent", M(DIRECT) | M(KANZLER), LC_PROTO_ALL_PRIMS},
     {"params", "alphaSource", M(DIRECT), LC_PROTO_ALL_PRIMS},
     {"params", "alphaConstant", M(DIRECT), LC_PROTO_ALL_PRIMS},

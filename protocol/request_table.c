@@ -114,6 +114,8 @@ const field lc_request_fields[] = {
     {"params", "clarity", "clarity", T_NUM, 0, 1, 0, OFF(render.foo.clarity), 0, NOFLAG, NULL},
     /* params.autoSubset: P1's stride from P0's measured density (render/gl/fourier.c) */
     {"params", "autoSubset", "autoSubset", T_INT, 1, 64, 0, OFF(render.foo.auto_subset), 0, NOFLAG, NULL},
+    /* params.progressive: a still in batches added to kept sums (render/gl/progressive.c) */
+    {"params", "progressive", "progressive", T_INT, 1, 256, 0, OFF(render.foo.progressive), 0, NOFLAG, NULL},
     /* params.excludeSelf: no self-occlusion in the exact sums (render/gl/shaders/exact_opacity.comp.glsl) */
     {"params", "excludeSelf", "excludeSelf", T_BOOL, 0, 0, 0, OFF(render.foo.exclude_self), 0, NOFLAG, NULL},
 

@@ -16,6 +16,7 @@ void lc_foo_params_default(lc_foo_params *p)
     p->resolution_scale = 0.5;
     p->subset = 1;
     p->auto_subset = LC_AUTO_SUBSET_DEFAULT;
+    p->progressive = 1; /* one frame */
     p->depth_margin = 0.02;
     p->estimator = LC_ESTIMATOR_MIDPOINT;
     p->depth_range = LC_DEPTH_RANGE_AUTO;

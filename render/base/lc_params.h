@@ -135,6 +135,16 @@ typedef struct lc_foo_params {
     /* params.excludeSelf (OOS §4.3, exact method only): a fragment's sums of
      * Eq. 10 leave out its own element's fragments. */
     bool exclude_self;
+    /* params.progressive (docs/ALGORITHM.md §34, render/gl/progressive.c):
+     * a still drawn in this many batches of the primitives, one a frame, each
+     * added to the sums kept from the batches before; 0 or 1 = one frame. */
+    int progressive;
+    /* Set by the caller per frame, never parsed: the batch this frame adds
+     * (1 .. progressive), 0 = every batch in one call (the image is the last
+     * batch's); with batch_prefix, a one-shot frame of batches 1 .. batch
+     * alone (the reference the progressive frames are measured against). */
+    int batch;
+    bool batch_prefix;
     bool strength_given;
     /* Set by the clarity loop only (render/gl/clarity.c), never parsed: lines
      * take their elements' mean importance in the emphasis, as patches do. */

@@ -133,7 +133,14 @@ int lc_clarity_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
                         int moments, lc_clarity_step optimize, lc_error *err)
 {
     const lc_render_params *given = fs->params;
-    if (!lc_clarity_active(given))
+    /* params.progressive (progressive.c): a batch before the last adds its
+     * elements' minima to the kept ones, which a second try would mix with
+     * the first's; those frames run the paper's strength once, and the last
+     * batch, whose P2 covers every primitive, runs the loop as a one-shot
+     * frame does. */
+    int batch = given->foo.progressive > 1 && given->foo.batch > 0 && given->foo.batch < given->foo.progressive &&
+                !given->foo.batch_prefix;
+    if (!lc_clarity_active(given) || batch)
         return optimize(r, fs, state, dt, info, moments, err);
     lc_render_params p = *given;
     double target = p.foo.clarity;

@@ -176,8 +176,9 @@ void lc_compute_raster_dispatch(lc_renderer *r, GLuint prog, const lc_frame_setu
     if (fs->gs->scene->type == LC_PRIM_LINES)
         n = lv->index_count >= 4 ? lv->index_count / 2 - 1 : 0; /* ribbon slots of the strip */
     uint64_t step = lc_renderer_subset(fs, subset);
-    uint64_t count = (n + step - 1) / step;
-    if (!count || (r->yield_cut))
+    uint64_t count = (n + step - 1) / step, lo, hi;
+    lc_progressive_range(fs, count, &lo, &hi); /* params.progressive: the batch's splats (points only, fourier.c) */
+    if (lo >= hi || (r->yield_cut))
         return;
     const uint32_t header[4] = {0, 1, 1, 0}; /* the second dispatch's groups, and the entries taken */
     glNamedBufferSubData(r->raster_large, 0, sizeof header, header);
@@ -185,12 +186,12 @@ void lc_compute_raster_dispatch(lc_renderer *r, GLuint prog, const lc_frame_setu
     lc_uniform_u(prog, "u_raster_large_px", RASTER_LARGE_ROWS);
     lc_uniform_u(prog, "u_raster_large_capacity", RASTER_LARGE_CAPACITY);
     lc_uniform_i(prog, "u_raster_large_pass", 0);
-    for (uint64_t first = 0; first < count; first += RASTER_CHUNK) {
-        uint64_t end = count - first < RASTER_CHUNK ? count : first + RASTER_CHUNK;
+    for (uint64_t first = lo; first < hi; first += RASTER_CHUNK) {
+        uint64_t end = hi - first < RASTER_CHUNK ? hi : first + RASTER_CHUNK;
         lc_uniform_u(prog, "u_raster_first", (unsigned)first);
         lc_uniform_u(prog, "u_raster_count", (unsigned)end);
         lc_dispatch_linear((GLuint)((end - first + 63) / 64));
-        if (count > RASTER_CHUNK && lc_renderer_batch_yield(fs))
+        if (hi - lo > RASTER_CHUNK && lc_renderer_batch_yield(fs))
             return; /* the frame ends at the pass's yield point */
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
@@ -201,12 +202,14 @@ void lc_compute_raster_dispatch(lc_renderer *r, GLuint prog, const lc_frame_setu
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-int lc_compute_raster_end(lc_renderer *r, const lc_targets *t, lc_error *err)
+static int store(lc_renderer *r, const lc_targets *t, int add, lc_error *err)
 {
-    GLuint *slot = &r->raster_store_program;
+    int half = t->format == GL_RGBA16F;
+    GLuint *slot = add ? &r->raster_add_programs[half] : &r->raster_store_program;
     if (!*slot) {
         static const char *const files[] = {"raster_store.comp.glsl", NULL};
-        *slot = lc_renderer_build_program("", NULL, NULL, files, "compute rasterizer store", err);
+        const char *defines = !add ? "" : half ? "#define ADD_FORMAT rgba16f\n" : "#define ADD_FORMAT rgba32f\n";
+        *slot = lc_renderer_build_program(defines, NULL, NULL, files, "compute rasterizer store", err);
         if (!*slot)
             return LC_ERR_GL;
     }
@@ -216,11 +219,20 @@ int lc_compute_raster_end(lc_renderer *r, const lc_targets *t, lc_error *err)
     lc_uniform_i(*slot, "u_targets", t->count);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_RASTER_SUMS, r->raster_sums);
     for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
-        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY, t->format);
+        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0,
+                           add ? GL_READ_WRITE : GL_WRITE_ONLY, t->format);
     uint64_t pixels = (uint64_t)r->raster_width * (uint64_t)r->raster_height;
     lc_dispatch_linear((GLuint)((pixels + 63) / 64));
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     return 0;
+}
+
+int lc_compute_raster_end(lc_renderer *r, const lc_targets *t, lc_error *err) { return store(r, t, 0, err); }
+
+int lc_compute_raster_end_add(lc_renderer *r, const lc_targets *t, lc_error *err)
+{
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    return store(r, t, 1, err);
 }
 
 void lc_compute_raster_release_sums(lc_renderer *r)
@@ -241,6 +253,9 @@ void lc_compute_raster_release(lc_renderer *r)
                     glDeleteProgram(r->raster_programs[k][p][b]);
     if (r->raster_store_program)
         glDeleteProgram(r->raster_store_program);
+    for (int k = 0; k < 2; k++)
+        if (r->raster_add_programs[k])
+            glDeleteProgram(r->raster_add_programs[k]);
     if (r->raster_sums)
         glDeleteBuffers(1, &r->raster_sums);
     if (r->raster_large)

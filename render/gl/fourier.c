@@ -125,6 +125,12 @@ static int draw_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_targets *t, i
  * ends). Afterwards every geometry pass normalizes depth by its pixel's range. */
 int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low, lc_error *err)
 {
+    lc_progressive_pass(fs, LC_PASS_DEPTH_RANGE);
+    if (fs->keep_sums) { /* params.progressive: the first batch's ranges, drawn over every primitive */
+        fs->pixel_depth_range = 1;
+        lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
+        return 0;
+    }
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
@@ -150,7 +156,8 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low
 static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset, lc_targets *t,
                        lc_error *err)
 {
-    lc_targets_clear(t, NULL);
+    if (!fs->keep_sums) /* params.progressive adds a batch to the sums kept */
+        lc_targets_clear(t, NULL);
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
     r->draw_yields = 1; /* P0 and P1: a yield point follows before anything keeps the sums */
@@ -223,6 +230,12 @@ static int choose_p1_subset(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
     lc_targets_ensure(&r->moments, fs->low_width, fs->low_height, 1, GL_RGBA32F, &r->bytes_targets);
+    lc_progressive_pass(fs, LC_PASS_DEPTH_RANGE);
+    if (fs->keep_sums) { /* params.progressive: the first batch's moments, drawn over every primitive */
+        fs->p1_subset = 1, fs->p0_chained = 0, fs->depth_moments = 1;
+        lc_renderer_timestamp(r, LC_PASS_DEPTH_RANGE);
+        return 0;
+    }
     fs->depth_moments = 0; /* this pass itself normalizes by the bounds */
     int record = lc_fragment_chains_wanted(r, fs);
     fs->p0_chained = 0;
@@ -295,8 +308,11 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
     if (!fs->p1_done) {
         /* P1 over P0's fragments where P0 recorded them, else drawn, recording
          * its fragments for P2 where that is allowed (fragment_list.c). */
-        int chained = fs->p0_chained && r->fragments_chained && info->p1_subset <= 1;
-        int record = !chained && lc_fragment_list_wanted(r, info->p1_subset);
+        lc_progressive_pass(fs, LC_PASS_IMPORTANCE);
+        int chained = fs->p0_chained && r->fragments_chained && info->p1_subset <= 1 && !fs->batch_count;
+        /* params.progressive: a batch's P1 appends to the list of the batches before (fragment_list.c). */
+        int record = !chained && lc_fragment_list_wanted(r, info->p1_subset) && (!fs->keep_sums || r->progressive_listed);
+        r->progressive_listed = record;
         info->importance_from_list = chained;
         fs->p0_chained = 0;
         r->fragments_ready = 0;
@@ -307,7 +323,9 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
                 rc = lc_reduce_targets(r, &r->coef_low, LC_REDUCE_SUM, 0, fs->info, err);
         } else {
             r->fragments_chained = 0;
-            if (record)
+            if (record && fs->keep_sums)
+                lc_fragment_list_resume(r);
+            else if (record)
                 lc_fragment_list_begin(r, fs);
             rc = draw_summed(r, fs, record ? PROG_P1_LIST : PROG_P1, bands, info->p1_subset, &r->coef_low, err);
         }
@@ -330,6 +348,14 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
      * importance of its emphasis on patches (a dispatch of its own, once per
      * mapping) comes first; layered frames go without (it ranks one
      * dataset's elements, as the visibility report does). */
+    lc_progressive_pass(fs, LC_PASS_OPACITY);
+    /* params.progressive: P1's list holds every fragment of the batches so far
+     * (it appends), so P2 over it gives every element that has arrived its
+     * opacity against the sums so far, the minima cleared; without a list
+     * (one that overflowed, GPUs) batch k's elements are drawn into the kept
+     * minima (progressive.c). */
+    if (r->fragments_ready && p->foo.progressive > 1)
+        fs->keep_sums = fs->batch_count = 0;
     GLuint listed = r->fragments_ready ? lc_fragment_list_program(r, bands, err) : 0;
     if (r->fragments_ready && !listed)
         return LC_ERR_GL;
@@ -342,7 +368,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             return rc;
     }
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" */
-    glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
+    if (!fs->keep_sums) /* params.progressive: the elements of earlier batches keep their minima */
+        glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
     lc_occluders_clear(r);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT);
@@ -430,7 +457,7 @@ static int compute_pass(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind
     else
         set_p5_uniforms(prog, r, fs, 0);
     lc_compute_raster_dispatch(r, prog, fs, subset);
-    return lc_compute_raster_end(r, t, err);
+    return fs->keep_sums ? lc_compute_raster_end_add(r, t, err) : lc_compute_raster_end(r, t, err);
 }
 
 /* P4..P6 with the element opacities, the direct baseline's (params.alphaSource),
@@ -453,19 +480,26 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     lc_targets_ensure(&r->coef_full, fs->width, fs->height, ntargets, GL_RGBA32F, &r->bytes_targets);
     /* Half floats suffice for the weighted sums: the image is their ratio. */
     lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
-    lc_targets_clear(&r->coef_full, NULL);
-    lc_targets_clear(&r->accum, NULL);
+    lc_progressive_pass(fs, LC_PASS_OPTICAL_DEPTH); /* P5 draws the same batches */
+    if (!fs->keep_sums) { /* params.progressive adds a batch to the sums kept */
+        lc_targets_clear(&r->coef_full, NULL);
+        lc_targets_clear(&r->accum, NULL);
+    }
 
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
     /* P4 records what P5 needs of its fragments where the frame allows (fragment_list.c). */
-    int record = !bins && lc_composite_list_wanted(r, fs, direct); /* its P5 evaluates a series */
+    int record = !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct); /* its P5 evaluates a series */
     if (record)
         lc_composite_list_begin(r, fs);
     r->draw_yields = 1; /* P4 and P5: yield points follow, and the image is all they make */
     /* The compute rasterizer has the series and the direct opacities but no depth bins, Kanzler maps or
      * screen-space derivatives (alphaSource normalVariation): those draw. */
     int computable = !bins && !kanzler && !(direct && p->foo.alpha_source == LC_ALPHA_NORMAL_VARIATION);
+    /* params.progressive: a batch of points is a range of splats in both paths,
+     * so it may compute (adding to the kept sums); a batch of lines is whole
+     * strip runs when drawn and ribbon slots when computed, so it draws. */
+    computable = computable && (!fs->batch_count || fs->gs->scene->type == LC_PRIM_POINTS);
     int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, p->foo.subset);
     info_paths(fs, LC_RASTER_P4, computed);
     if (computed) {
@@ -509,9 +543,11 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
             return rc;
     }
     /* topDecileReach: the optimized opacities' P5 (not the list's, the baselines' or the bins'). */
-    int reach = !direct && !bins && !listed;
+    int reach = !direct && !bins && !listed && !fs->batch_count; /* (not over one batch of params.progressive) */
     if (reach)
         lc_reach_begin(r, fs);
+    else if (fs->batch_count)
+        r->reach_g = 2.0f; /* > 1: P5 measures nothing */
     int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5, 1);
     info_paths(fs, LC_RASTER_P5, p5_computed);
     if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)

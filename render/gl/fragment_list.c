@@ -72,7 +72,9 @@ int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs)
     int tile_low = fs->tiled && fs->low_width == fs->width && fs->low_height == fs->height;
     int weighted = fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 ||
                    (fs->kept_line_indices[1] > 0 && fs->line_stride > 1);
-    return lc_fragment_list_enabled() && !weighted && fs->layer_count == 0 && !tile_low;
+    /* params.progressive: P0 runs whole in its first frame, P1 one batch. */
+    return lc_fragment_list_enabled() && !weighted && fs->layer_count == 0 && !tile_low &&
+           fs->params->foo.progressive <= 1;
 }
 
 int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset)
@@ -110,6 +112,12 @@ void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     ensure_capacity(r, guess);
     const uint32_t zero = 0;
     glClearNamedBufferSubData(r->fragment_list, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
+    r->fragments_ready = 0;
+}
+
+void lc_fragment_list_resume(lc_renderer *r)
+{
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
     r->fragments_ready = 0;
 }

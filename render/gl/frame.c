@@ -135,6 +135,7 @@ void lc_renderer_destroy(lc_renderer *r)
             glDeleteBuffers(1, &r->line_masks[i].buffer);
     free(r->importance_cache);
     free(r->reduce_buf);
+    free(r->progressive_params);
     free(r);
 }
 
@@ -285,6 +286,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
         return rc;
     fs.point_sprites = r->point_sprites = lc_frame_point_sprites(r, &p, p.width, p.height);
     fs.renderer = r;
+    if ((rc = lc_progressive_begin(r, &fs, err)) != 0)
+        return rc;
     r->draw_yields = r->yield_cut = 0;
     r->pull_lines = 0;     /* lc_filter_prepare sets it for a time window */
     r->line_primitive = 0; /* set below for a frame of one line dataset */
@@ -334,6 +337,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     }
     lc_shadow_clip_ground(&fs, &fs.view); /* the ground may lie beyond the data's clip planes */
     rc = render_passes(r, &fs, state, dt, rgba, t0, err);
+    if (rc) /* a batch cut short (a yield, an error) leaves partial sums: the still starts again at batch 1 */
+        r->progressive_next = 0;
     free(setups);
     return rc;
 }
@@ -477,6 +482,8 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         info->kept_line_segments[1] = (uint64_t)(fs.kept_line_indices[1] * per + 0.5);
         info->primitives_drawn = info->kept_line_segments[0] + info->kept_line_segments[1];
     }
+    if (p.foo.progressive > 1 && !p.foo.batch_prefix)
+        info->batch = p.foo.batch, info->batches = p.foo.progressive;
     info->pipeline_bytes = lc_renderer_bytes(r);
     info->wall_ms = (lc_now() - t0) * 1e3;
     GLenum e = glGetError();
@@ -488,7 +495,29 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
 int lc_render_frame(lc_renderer *r, const lc_gpu_scene *gs, const lc_render_params *params, lc_frame_state *state,
                     double dt, uint8_t *rgba, lc_frame_info *info, lc_error *err)
 {
-    return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
+    if (params->foo.progressive <= 1 || params->foo.batch != 0 || params->foo.batch_prefix)
+        return render(r, &gs, NULL, 1, params, state, dt, rgba, info, err);
+    /* params.progressive with batch 0: every batch in this call, the image
+     * the last one's (progressive.c), and the time to the first picture. Each
+     * batch is a frame dt after the one before; a fresh state takes every
+     * batch's targets whole, as a one-shot frame takes its own. */
+    double t0 = lc_now(), first = 0;
+    lc_render_params p = *params;
+    lc_frame_info local;
+    if (!info)
+        info = &local;
+    int rc = 0, fresh = state && lc_frame_state_is_fresh(state);
+    for (int k = 1; k <= params->foo.progressive && !rc; k++) {
+        p.foo.batch = k;
+        if (fresh && k > 1)
+            lc_frame_state_reset(state);
+        rc = render(r, &gs, NULL, 1, &p, state, dt, rgba, info, err);
+        if (k == 1)
+            first = (lc_now() - t0) * 1e3;
+    }
+    if (!rc)
+        info->first_batch_ms = first, info->wall_ms = (lc_now() - t0) * 1e3;
+    return rc;
 }
 
 int lc_render_layers(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_layer_params *layers, int n,

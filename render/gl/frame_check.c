@@ -187,6 +187,36 @@ int lc_render_ground_drawn(const lc_render_params *p, int has_context)
            (p->style.ground == LC_GROUND_AUTO && p->style.shadow > 0 && !has_context);
 }
 
+/* params.progressive (progressive.c): the Fourier method's sums, kept by one
+ * renderer frame to frame for one dataset drawn in full; what would draw other
+ * primitives, or only some, in a pass is refused naming its field. */
+static int check_progressive(const lc_render_params *p, int layered, int tiles, lc_error *err)
+{
+    const lc_foo_params *foo = &p->foo;
+    if (foo->progressive <= 1)
+        return 0;
+    const char *f = "params.progressive", *why = NULL;
+    if (p->method != LC_METHOD_FOURIER)
+        why = "batches add into the Fourier method's sums: use method \"fourier\"";
+    else if (layered)
+        why = "one dataset's batches, not layers";
+    else if (tiles)
+        why = "the sums are kept for one untiled frame: render at most 4096x4096";
+    else if (foo->subset > 1 || foo->auto_subset > 1)
+        why = "batches draw every primitive once: not with params.subset or params.autoSubset";
+    else if (foo->guard_band > 0)
+        why = "not with params.guardBand";
+    else if (p->style.antialias > 1)
+        why = "a still's jittered samples each draw every primitive: style.antialias 1";
+    else if (p->style.shadow > 0 || p->style.ground == LC_GROUND_ON)
+        why = "the light's map draws every primitive: no style.shadow or style.ground";
+    else if (p->detail.point_stride > 1 || p->detail.line_stride > 1)
+        why = "a moving frame's strides draw some primitives: batches are for the still";
+    else if (foo->batch < 0 || foo->batch > foo->progressive)
+        return lc_err_field(err, LC_ERR_INVALID, f, "batch %d of %d", foo->batch, foo->progressive);
+    return why ? lc_err_field(err, LC_ERR_INVALID, f, "%s", why) : 0;
+}
+
 /* Ground shadows and smart transparency (docs/ALGORITHM.md §29): whether they
  * have something to work on, and frames they cannot be drawn in. */
 static int check_shadows(const lc_render_params *p, int context, int tiles, int jittered, lc_error *err)
@@ -256,6 +286,8 @@ int lc_render_check(const lc_scene *const *scenes, const lc_layer_params *layers
             return rc;
     }
     if (p->method == LC_METHOD_KANZLER && (rc = check_kanzler(scenes[0], tiles, err)) != 0)
+        return rc;
+    if ((rc = check_progressive(p, layers != NULL, tiles, err)) != 0)
         return rc;
     int jittered = p->method != LC_METHOD_EXACT && p->method != LC_METHOD_OPAQUE && p->style.antialias > 1;
     if (p->foo.guard_band > 0 && p->foo.depth_range == LC_DEPTH_RANGE_PIXEL)

@@ -12,7 +12,7 @@ void lc_pass_plan_make(const lc_render_params *p, int reuse, lc_pass_plan *out)
     /* The baselines at equal memory (wboit, weighted-average, binning) composite the FOO opacities. */
     int blends = m == LC_METHOD_WBOIT || m == LC_METHOD_WEIGHTED_AVERAGE || m == LC_METHOD_BINNING;
     int opacities = m == LC_METHOD_FOURIER || blends || m == LC_METHOD_EXACT; /* P1-P3 */
-    out->reuse = reuse && p->detail.reuse_opacities && (m == LC_METHOD_FOURIER || blends);
+    out->reuse = reuse && p->detail.reuse_opacities && (m == LC_METHOD_FOURIER || blends) && p->foo.progressive <= 1;
     /* The per-pixel depth range serves every method that normalizes depth; the
      * moments serve the Fourier method's optimization and compositing (and the
      * binning baseline's, whose bins then lie in the same warped depth). A frame

@@ -377,10 +377,22 @@ int lc_renderer_batch_yield(const lc_frame_setup *fs)
  * takes whole runs until it holds about `batch` triangles. */
 static void draw_strips(const lc_frame_setup *fs, const lc_gpu_level *lv, uint64_t batch, GLsync in_flight[2])
 {
-    uint64_t start = 0, k = 0;
-    for (uint32_t i = 1; i <= lv->break_count; i++) {
-        uint64_t end = i < lv->break_count ? lv->breaks[i] : lv->index_count;
-        if (end - start < batch && i < lv->break_count)
+    /* params.progressive: the runs that start in the batches' share of the
+     * strip (whole runs from break to break, so lines stay whole). */
+    uint64_t lo, hi;
+    lc_progressive_range(fs, lv->index_count, &lo, &hi);
+    uint32_t b0 = 0, b1 = lv->break_count;
+    while (b0 < lv->break_count && lv->breaks[b0] < lo)
+        b0++;
+    while (b1 > b0 && lv->breaks[b1 - 1] >= hi)
+        b1--;
+    if (fs->batch_count > 0 && b1 <= b0)
+        return;
+    uint64_t stop = b1 < lv->break_count ? lv->breaks[b1] : lv->index_count;
+    uint64_t start = fs->batch_count > 0 ? lv->breaks[b0] : 0, k = 0;
+    for (uint32_t i = fs->batch_count > 0 ? b0 + 1 : 1; i <= b1; i++) {
+        uint64_t end = i < b1 ? lv->breaks[i] : stop;
+        if (end - start < batch && i < b1)
             continue;
         if (fs->line_primitive) /* the line strip holds every other index of the ribbon strip */
             glDrawElements(GL_LINE_STRIP, (GLsizei)((end - start) / 2), GL_UNSIGNED_INT,
@@ -389,7 +401,7 @@ static void draw_strips(const lc_frame_setup *fs, const lc_gpu_level *lv, uint64
             glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(end - start), GL_UNSIGNED_INT,
                            (const void *)(uintptr_t)(start * sizeof(uint32_t)));
         start = end;
-        if (batch < lv->index_count) {
+        if (batch < stop - (fs->batch_count > 0 ? lv->breaks[b0] : 0)) {
             end_batch(in_flight, k++);
             if (lc_renderer_batch_yield(fs))
                 return;
@@ -493,9 +505,11 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
         draw_strips(fs, lv, per_batch ? per_batch : lv->index_count, in_flight);
     } else {
         uint64_t batch = per_batch ? per_batch / (prim == LC_PRIM_TRIANGLES ? 1 : 2) : drawn;
-        for (uint64_t first = 0, k = 0; first < drawn; first += batch, k++) {
-            draw_range(prim, pulled, fs->point_sprites, first, drawn - first < batch ? drawn - first : batch);
-            if (drawn > batch) {
+        uint64_t lo, hi; /* params.progressive: the batches' primitives */
+        lc_progressive_range(fs, drawn, &lo, &hi);
+        for (uint64_t first = lo, k = 0; first < hi; first += batch, k++) {
+            draw_range(prim, pulled, fs->point_sprites, first, hi - first < batch ? hi - first : batch);
+            if (hi - lo > batch) {
                 end_batch(in_flight, k);
                 if (lc_renderer_batch_yield(fs))
                     break;

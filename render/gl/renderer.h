@@ -291,6 +291,13 @@ typedef struct lc_frame_info {
      * choose it ((sum g^2)^2 / sum g^4; 0 when the rule did not run). */
     int p1_subset;
     double p0_fragments_median;
+    /* params.progressive: the batch this frame added (1 .. n) and n; 0 and 0
+     * for a frame of every primitive. The last batch's image is the one-shot
+     * frame's (render/gl/progressive.c). A call that ran every batch (batch
+     * 0) reports the last and, in first_batch_ms, the wall time until the
+     * first batch's picture was read back (wall_ms: until the last's). */
+    int batch, batches;
+    double first_batch_ms;
 } lc_frame_info;
 
 /* ---- Reduction hook: renders one image from a dataset split over several

@@ -345,6 +345,12 @@ struct lc_renderer {
     /* filter.c: this frame's lines draw as pulled segments (a time window hides
      * single segments, which shared ribbon strip vertices cannot). */
     int pull_lines;
+    /* progressive.c: the batch the next frame of the progressive still may
+     * add (0: none under way) and the request it belongs to. */
+    int progressive_next;
+    int progressive_listed; /* P1's fragment list holds every fragment of the batches so far (fourier.c) */
+    lc_render_params *progressive_params;
+    const lc_gpu_scene *progressive_scene;
     /* line_primitive.c: this frame's line segments draw as wide GL_LINES
      * (pulled, so pull_lines is set too); the driver's widest line; the path
      * lc_renderer_set_line_path forces (-1: the rule). */
@@ -389,6 +395,7 @@ struct lc_renderer {
      * and the large-primitive list; the pass's size and planes; the path
      * lc_renderer_set_raster_path forces (-1: the rule). */
     GLuint raster_programs[4][2][LC_MAX_BANDS + 1], raster_store_program;
+    GLuint raster_add_programs[2]; /* the store adding to RGBA32F / RGBA16F targets (params.progressive) */
     GLuint raster_sums, raster_large;
     uint64_t raster_sums_bytes;
     int raster_width, raster_height, raster_planes, raster_path;
@@ -492,7 +499,19 @@ typedef struct lc_frame_setup {
     GLuint context_depth[2], context_color;
     lc_renderer *renderer; /* the frame's renderer: a draw's yield points between batches (pipeline.c) */
     double bounds[6];      /* the frame's bounds (of every layer): the camera's, the ground's and the light's */
+    /* params.progressive (progressive.c): the pass under way draws batches
+     * [batch_first, batch_end) of batch_count (0: every primitive), and with
+     * keep_sums adds to its targets as the frame before left them. */
+    int batch_count, batch_first, batch_end, keep_sums;
 } lc_frame_setup;
+
+/* ---- progressive.c (params.progressive): whether the frame may run as batch
+ * k of its still (the previous batch ran last on this renderer, same request),
+ * and the batches and kept sums of each pass (P0, P1, P2, P4; P5 as P4). */
+int lc_progressive_begin(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
+void lc_progressive_pass(lc_frame_setup *fs, lc_pass pass);
+/* Primitives [*lo, *hi) of n that the setup's batches cover. */
+void lc_progressive_range(const lc_frame_setup *fs, uint64_t n, uint64_t *lo, uint64_t *hi);
 
 /* ---- layers.c (docs/ALGORITHM.md "Layers"): what differs per layer. */
 typedef struct lc_layer_setup {
@@ -813,6 +832,8 @@ int lc_compute_raster_begin(lc_renderer *r, int width, int height, int planes, l
 void lc_compute_raster_bind(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int subset);
 void lc_compute_raster_dispatch(lc_renderer *r, GLuint prog, const lc_frame_setup *fs, int subset);
 int lc_compute_raster_end(lc_renderer *r, const lc_targets *t, lc_error *err);
+/* The same, adding the sums to what t holds (params.progressive's later batches). */
+int lc_compute_raster_end_add(lc_renderer *r, const lc_targets *t, lc_error *err);
 /* Frees the sums (a large frame's: lc_renderer_release_after), or everything. */
 void lc_compute_raster_release_sums(lc_renderer *r);
 void lc_compute_raster_release(lc_renderer *r);
@@ -826,6 +847,9 @@ void lc_compute_raster_release(lc_renderer *r);
 int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset);
 /* Before P1: makes room, zeroes the count, binds the list for P1's program. */
 void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs);
+/* params.progressive: P1 of a later batch appends to the list the batches
+ * before it left (not cleared, not resized). */
+void lc_fragment_list_resume(lc_renderer *r);
 /* After P1: reads the count; r->fragments_ready when every fragment fit
  * (otherwise the list grows for later frames and this frame's P2 draws). */
 void lc_fragment_list_end(lc_renderer *r);

@@ -209,6 +209,9 @@ static const lc_option common_options[] = {
     REQ("--auto-subset", "N", "autoSubset",
         "largest stride P1 draws with where P0 measured dense data\n"
         "(default 1 = off; e.g. 8)"),
+    REQ("--progressive", "N", "progressive",
+        "draw the still in N batches added to kept sums; the last\n"
+        "batch's image is the one-shot image (default 1 = one frame)"),
     REQ("--background", "R,G,B", "background", "background colour, each in [0, 1]"),
     {"--exact-positions", NULL, LC_OPT_BOOL, COMMON(exact_positions),
      .help = "float vertex buffers and session opacities (images bit for bit\n"

@@ -359,6 +359,9 @@ static int render_main(int argc, char **argv, lc_request *req)
     if (info.has_visibility && info.has_reach)
         printf("  top decile reach: %.3f (its share of the importance shown over its share of the importance drawn)\n",
                info.top_decile_reach);
+    if (info.batches > 0) /* params.progressive: the timings above are the last batch's */
+        printf("  progressive: %d batches, first picture after %.1f ms, complete after %.1f ms (wall)\n", info.batches,
+               info.first_batch_ms, info.wall_ms);
     if (info.p0_fragments_median > 0 || info.p1_subset > 1)
         printf("  importance pass (P1): every %d-th primitive, weighted %d (P0's median effective fragments per "
                "pixel %.3g; params.autoSubset)\n",

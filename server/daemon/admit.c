@@ -191,6 +191,10 @@ int lc_admit_update(lc_server *srv, const lc_request *base, const lc_request_pat
                        : lc_proto_set_error(pe, "not_found", "dataset", "unknown dataset \"%.300s\"", out->dataset);
         snprintf(out->dataset, sizeof out->dataset, "%s", (*ds)->name);
     }
+    if (out->render.foo.progressive > 1) /* not connected to the sessions' still stages yet (docs/ALGORITHM.md §34) */
+        return lc_proto_set_error(pe, LC_PROTO_BAD_FIELD, "params.progressive",
+                                  "a session's frames do not draw in batches yet; POST /api/v1/render and lucent "
+                                  "render do (leave it 1 here)");
     json_t *none = patch ? NULL : json_object(); /* no field given: only the request's own refusals (size, cost) */
     const json_t *given = patch ? lc_proto_patch_json(patch) : none;
     rc = given ? lc_request_admit(srv, given, out, *ds, layers, NULL, pe)

@@ -1,7 +1,8 @@
 /* Admission of a parsed request: everything that can refuse it before a frame
  * is queued, run once where a request or an update arrives (a one-shot
  * render and a movie by lc_request_admit; a session's creation, each update
- * and a resize by lc_admit_update): where each given
+ * and a resize by lc_admit_update, which refuses params.progressive until the
+ * sessions' stills draw in batches): where each given
  * field applies (protocol's scope table), what the renderer would refuse of
  * it on these datasets (lc_render_check), and the cost budget (cost.h). A
  * refusal is the answer to that request, never a later frame's error. */

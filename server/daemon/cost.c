@@ -319,9 +319,18 @@ static double estimate(const lc_scene_measures *st, const lc_render_params *p, b
         passes += full * (tiles - 1);
     double clusters =
         p->clusters.count > 0 && st->type == LC_PRIM_LINES ? LC_COST_CLUSTER_BUILD_UNITS_PER_LINE * st->lines : 0;
+    /* params.progressive n (render/gl/progressive.c): the batches draw the
+     * frame's geometry once between them, then the last batch's P2, P4 and P5
+     * draw all of it again, and every batch runs P3 and the screen passes. */
+    double progressive = 0;
+    if (f->progressive > 1 && p->method == LC_METHOD_FOURIER) {
+        double n = f->progressive, again = g[LC_PASS_OPACITY] * s2 + g[LC_PASS_OPTICAL_DEPTH] + g[LC_PASS_ACCUMULATE];
+        progressive = frags * again * (n - 1) / n + (n - 1) * (image * screens + st->elements * (f->smoothing + 1.0)) +
+                      (st->vertices + PRIMITIVE_UNITS * st->primitives) * ceil(again);
+    }
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes + clusters +
            st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
-           equalize_cost(st, p, frags) + shadows_cost(st, p, frags);
+           equalize_cost(st, p, frags) + shadows_cost(st, p, frags) + progressive;
 }
 
 double lc_cost_estimate(const lc_scene_measures *st, const lc_render_params *p) { return estimate(st, p, false); }

@@ -9,11 +9,21 @@ layout(std430, binding = BIND_RASTER_SUMS) readonly buffer RasterSums { int rast
 uniform ivec2 u_raster_size;
 uniform int u_planes;  // planes summed; the rest of the last target's channels are 0
 uniform int u_targets; // 1..5
+#ifdef ADD_FORMAT // params.progressive: a later batch adds its sums to the targets' (compute_raster.c)
+layout(ADD_FORMAT, binding = IMG_COEF_FIRST) uniform image2D u_out0;
+layout(ADD_FORMAT, binding = IMG_COEF_FIRST + 1) uniform image2D u_out1;
+layout(ADD_FORMAT, binding = IMG_COEF_FIRST + 2) uniform image2D u_out2;
+layout(ADD_FORMAT, binding = IMG_COEF_FIRST + 3) uniform image2D u_out3;
+layout(ADD_FORMAT, binding = IMG_COEF_FIRST + 4) uniform image2D u_out4;
+#define STORE(img, p, v) imageStore(img, p, imageLoad(img, p) + (v))
+#else
 layout(binding = IMG_COEF_FIRST) writeonly uniform image2D u_out0;
 layout(binding = IMG_COEF_FIRST + 1) writeonly uniform image2D u_out1;
 layout(binding = IMG_COEF_FIRST + 2) writeonly uniform image2D u_out2;
 layout(binding = IMG_COEF_FIRST + 3) writeonly uniform image2D u_out3;
 layout(binding = IMG_COEF_FIRST + 4) writeonly uniform image2D u_out4;
+#define STORE(img, p, v) imageStore(img, p, v)
+#endif
 
 vec4 target_value(int t, int pixel, int n)
 {
@@ -33,13 +43,13 @@ void main()
     if (pixel >= n)
         return;
     ivec2 p = ivec2(pixel % u_raster_size.x, pixel / u_raster_size.x);
-    imageStore(u_out0, p, target_value(0, pixel, n));
+    STORE(u_out0, p, target_value(0, pixel, n));
     if (u_targets > 1)
-        imageStore(u_out1, p, target_value(1, pixel, n));
+        STORE(u_out1, p, target_value(1, pixel, n));
     if (u_targets > 2)
-        imageStore(u_out2, p, target_value(2, pixel, n));
+        STORE(u_out2, p, target_value(2, pixel, n));
     if (u_targets > 3)
-        imageStore(u_out3, p, target_value(3, pixel, n));
+        STORE(u_out3, p, target_value(3, pixel, n));
     if (u_targets > 4)
-        imageStore(u_out4, p, target_value(4, pixel, n));
+        STORE(u_out4, p, target_value(4, pixel, n));
 }

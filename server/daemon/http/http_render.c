@@ -23,7 +23,8 @@
 
 /* The statistics of a render as response headers (protocol/openapi.yaml
  * "Image"): X-Lucent-Timings, Server-Timing, X-Lucent-Converged,
- * X-Lucent-Max-Alpha-Change, X-Lucent-Elements, X-Lucent-Visibility (methods
+ * X-Lucent-Max-Alpha-Change, X-Lucent-Elements, X-Lucent-Progressive
+ * (params.progressive), X-Lucent-Visibility (methods
  * with element opacities, and kanzler), X-Lucent-Cost and X-Lucent-Frame (session renders). */
 /* X-Lucent-Warning: a scripted render chooses no background for its client,
  * so say when the colour of the highest values (with colour by importance,
@@ -89,6 +90,12 @@ static void add_frame_headers(struct MHD_Response *r, const lc_render_job *job)
     MHD_add_response_header(r, "X-Lucent-Max-Alpha-Change", buf);
     snprintf(buf, sizeof buf, "%u", info->element_count);
     MHD_add_response_header(r, "X-Lucent-Elements", buf);
+    if (info->batches > 0) { /* params.progressive: batch n of n, and when the first batch's picture was ready */
+        char prog[128];
+        snprintf(prog, sizeof prog, "batch=%d,of=%d,firstMs=%.3f,wallMs=%.3f", info->batch, info->batches,
+                 info->first_batch_ms, info->wall_ms);
+        MHD_add_response_header(r, "X-Lucent-Progressive", prog);
+    }
     if (info->has_visibility) {
         char vis[224];
         snprintf(vis, sizeof vis,

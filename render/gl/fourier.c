@@ -311,7 +311,8 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         lc_progressive_pass(fs, LC_PASS_IMPORTANCE);
         int chained = fs->p0_chained && r->fragments_chained && info->p1_subset <= 1 && !fs->batch_count;
         /* params.progressive: a batch's P1 appends to the list of the batches before (fragment_list.c). */
-        int record = !chained && lc_fragment_list_wanted(r, info->p1_subset) && (!fs->keep_sums || r->progressive_listed);
+        int record =
+            !chained && lc_fragment_list_wanted(r, info->p1_subset) && (!fs->keep_sums || r->progressive_listed);
         r->progressive_listed = record;
         info->importance_from_list = chained;
         fs->p0_chained = 0;
@@ -368,7 +369,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
             return rc;
     }
     const float sentinel = 2.0f; /* > 1: "no fragment this frame" */
-    if (!fs->keep_sums) /* params.progressive: the elements of earlier batches keep their minima */
+    if (!fs->keep_sums)          /* params.progressive: the elements of earlier batches keep their minima */
         glClearNamedBufferData(r->element_alpha_min, GL_R32F, GL_RED, GL_FLOAT, &sentinel);
     lc_occluders_clear(r);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
@@ -481,7 +482,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     /* Half floats suffice for the weighted sums: the image is their ratio. */
     lc_targets_ensure(&r->accum, fs->width, fs->height, 1, GL_RGBA16F, &r->bytes_targets);
     lc_progressive_pass(fs, LC_PASS_OPTICAL_DEPTH); /* P5 draws the same batches */
-    if (!fs->keep_sums) { /* params.progressive adds a batch to the sums kept */
+    if (!fs->keep_sums) {                           /* params.progressive adds a batch to the sums kept */
         lc_targets_clear(&r->coef_full, NULL);
         lc_targets_clear(&r->accum, NULL);
     }

@@ -96,14 +96,14 @@ static void check_dataset(test_gl *t, const char *spec, uint64_t count, lc_depth
         read_sums(t, prefix, n);
         double e = sums_error(sums, prefix, n), ssim = lc_image_ssim(img, ref, SIZE, SIZE);
         double to_whole = lc_image_ssim(img, whole, SIZE, SIZE);
-        printf("  %s batch %d/%d: sums vs first %d batches %.2e, SSIM %.4f vs them (max diff %d), %.4f vs all\n",
-               spec, k + 1, BATCHES, k + 1, e, ssim, max_diff(img, ref), to_whole);
+        printf("  %s batch %d/%d: sums vs first %d batches %.2e, SSIM %.4f vs them (max diff %d), %.4f vs all\n", spec,
+               k + 1, BATCHES, k + 1, e, ssim, max_diff(img, ref), to_whole);
         if (range == LC_DEPTH_RANGE_GLOBAL)
             CHECK(e < 1e-5, "%s: P1's sums after batch %d differ from the first %d batches' by %.2e", spec, k, k + 1,
                   e);
         if (k == 0)
-            CHECK(ssim >= min_first_ssim, "%s: first batch SSIM %.4f vs its one-shot frame (want >= %.3f)", spec,
-                  ssim, min_first_ssim);
+            CHECK(ssim >= min_first_ssim, "%s: first batch SSIM %.4f vs its one-shot frame (want >= %.3f)", spec, ssim,
+                  min_first_ssim);
         else if (k < BATCHES - 1)
             CHECK(ssim > 0.8, "%s: batch %d SSIM %.4f vs the first %d batches' frame", spec, k, ssim, k + 1);
         CHECK(to_whole >= prev_ssim - 0.02, "%s: batch %d's picture moved away from the whole (%.4f after %.4f)", spec,
@@ -138,8 +138,8 @@ static void check_dataset(test_gl *t, const char *spec, uint64_t count, lc_depth
     lc_frame_state *st = lc_frame_state_create(s->elements.count);
     q.foo.batch = 0;
     memset(&err, 0, sizeof err);
-    CHECK(lc_render_frame(t->renderer, gs, &q, st, 1.0 / 30, img, NULL, &err) == 0, "%s batches with a state: %s",
-          spec, err.msg);
+    CHECK(lc_render_frame(t->renderer, gs, &q, st, 1.0 / 30, img, NULL, &err) == 0, "%s batches with a state: %s", spec,
+          err.msg);
     md = max_diff(img, whole);
     CHECK(md <= 1, "%s: batches with a fresh frame state: max diff %d vs one-shot", spec, md);
     lc_frame_state_destroy(st);

@@ -526,7 +526,8 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
     /* Every frame has this request's fields and size (the cameras differ): admitted once; a
      * frame of a moving camera is never a still to build up in batches. */
     if (req->render.foo.progressive > 1)
-        lc_proto_set_error(&pe, LC_PROTO_BAD_FIELD, "params.progressive", "a movie's frames are drawn whole; leave it 1");
+        lc_proto_set_error(&pe, LC_PROTO_BAD_FIELD, "params.progressive",
+                           "a movie's frames are drawn whole; leave it 1");
     if (req->render.foo.progressive > 1 || lc_request_admit(srv, NULL, req, j->ds, j->layers, &j->cost, &pe) != 0) {
         reply_error(m, out, 400, pe.code, pe.field, "%s", pe.message);
         drop(j);

@@ -34,10 +34,3 @@ int lc_detail_rung_next(int step, double wall_ms, double budget_ms)
     }
     return clamp_rung(next);
 }
-
-int lc_detail_rung_predict(double full_ms, double pixel_share, double budget_ms)
-{
-    double predicted = full_ms * pixel_share * ldexp(1.0, -LC_DETAIL_START);
-    int next = lc_detail_rung_next(LC_DETAIL_START, predicted, budget_ms);
-    return next > LC_DETAIL_START ? next : LC_DETAIL_START;
-}

@@ -25,12 +25,4 @@ const lc_detail_rung *lc_detail_rung_at(int i);
  * of the budget, else the same; clamped to the ladder. */
 int lc_detail_rung_next(int step, double wall_ms, double budget_ms);
 
-/* The rung a session's first drag starts at, before any moving frame is
- * measured: a full-size frame's time full_ms (the last still's) times the
- * moving frame's share of its pixels and the start rung's share of the work
- * (1/2), read as an overrun of budget_ms by lc_detail_rung_next; never finer
- * than LC_DETAIL_START. On dense data, which is geometry-bound, this
- * underestimates the moving frame. */
-int lc_detail_rung_predict(double full_ms, double pixel_share, double budget_ms);
-
 #endif

@@ -383,6 +383,9 @@ static int render_main(int argc, char **argv, lc_request *req)
                (unsigned long long)info.cut_lists);
     status = 0;
 done:
+    /* The report reaches a pipe even when the process ends in _exit (a
+     * sanitizer's leak report at exit flushes no stdio buffer). */
+    fflush(stdout);
     free(rgba);
     lc_frame_state_destroy(state);
     if (mpi && !cs.count) { /* the upload failed: the shard is not in cs */

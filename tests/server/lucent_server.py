@@ -29,6 +29,25 @@ except ImportError:  # pragma: no cover
     websockets = None
 
 
+def foreign_leaks_only(text, binary):
+    """True when text (a process's output) holds a LeakSanitizer report (and
+    no other sanitizer error) in which no leaked block has a frame in lucent's
+    own code (its binary or its source tree): the GL driver (Mesa, LLVM) keeps
+    allocations for the life of the process, sometimes from modules that are
+    already unloaded (<unknown module>)."""
+    if "ERROR: LeakSanitizer" not in text or "ERROR: AddressSanitizer" in text or "runtime error:" in text:
+        return False
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    binary = os.path.abspath(binary)
+    blocks = text.split("leak of")[1:]
+    for b in blocks:
+        frames = re.findall(r"#(\d+) 0x[0-9a-f]+ +(.*)", b.split("\n\n")[0])
+        for num, where in frames:
+            if num != "0" and (root + os.sep in where or binary in where):
+                return False
+    return bool(blocks)
+
+
 class Server:
     """`lucent serve --listen 127.0.0.1:0 ...`; the port comes from the log line
     "listening on http://127.0.0.1:PORT/"."""
@@ -136,23 +155,9 @@ class Server:
         return rc
 
     def only_foreign_leaks(self):
-        """True when the log holds a LeakSanitizer report (and no other
-        sanitizer error) in which no leaked block has a frame in lucent's own
-        code (its binary or its source tree): the GL driver (Mesa, LLVM) keeps
-        allocations for the life of the process, sometimes from modules that
-        are already unloaded (<unknown module>)."""
-        text = "\n".join(self.log)
-        if "ERROR: LeakSanitizer" not in text or "ERROR: AddressSanitizer" in text or "runtime error:" in text:
-            return False
-        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-        binary = os.path.abspath(self.binary)
-        blocks = text.split("leak of")[1:]
-        for b in blocks:
-            frames = re.findall(r"#(\d+) 0x[0-9a-f]+ +(.*)", b.split("\n\n")[0])
-            for num, where in frames:
-                if num != "0" and (root + os.sep in where or binary in where):
-                    return False
-        return bool(blocks)
+        """True when the daemon's log holds only leaks inside the GL driver
+        (foreign_leaks_only)."""
+        return foreign_leaks_only("\n".join(self.log), self.binary)
 
     def __enter__(self):
         return self

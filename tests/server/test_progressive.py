@@ -14,7 +14,7 @@ import sys
 import tempfile
 import urllib.parse
 
-from lucent_server import Check, Server, ssim, wait_for_message, wait_for_stream_done, websockets
+from lucent_server import Check, Server, foreign_leaks_only, ssim, wait_for_message, wait_for_stream_done, websockets
 
 binary = sys.argv[1]
 check = Check()
@@ -71,7 +71,9 @@ with tempfile.TemporaryDirectory() as d:
     out = os.path.join(d, "p.png")
     run = subprocess.run([binary, "render", "--input", "demo:tornado", "--out", out, "--width", "96", "--height", "80",
                           "--progressive", "4"], capture_output=True, text=True)
-    check(run.returncode == 0 and "progressive: 4 batches" in run.stdout,
+    # Under LeakSanitizer the CLI exits non-zero for the GL driver's own leaks alone (as the daemon would).
+    ok = run.returncode == 0 or foreign_leaks_only(run.stderr, binary)
+    check(ok and "progressive: 4 batches" in run.stdout,
           "lucent render --progressive 4 reports its batches (%d: %s %s)" % (run.returncode, run.stdout[-300:],
                                                                              run.stderr[-300:]))
 check.done()

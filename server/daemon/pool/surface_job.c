@@ -203,8 +203,11 @@ int lc_surface_stream_frame(lc_surface_stream **stp, lc_surface_keep *keep, cons
                         .direction = (lc_trace_direction)s->direction,
                         .work = work,
                         .step_units = lc_cost_surface_step_units(p)};
-    if (add && (rc = lc_trace_curves(field, &seed, &td, st->count, add, trace_threads(), st->curves + st->count, err)))
+    if (add &&
+        (rc = lc_trace_curves(field, &seed, &td, st->count, add, trace_threads(), st->curves + st->count, err))) {
+        lc_surface_memory_reserve(&st->reserved, st->bytes, NULL, NULL); /* the batch is gone: hold what is kept */
         return rc;
+    }
     for (uint32_t i = st->count; i < st->count + add; i++)
         st->bytes += lc_surface_curve_bytes(st->curves[i].n);
     st->count += add;

@@ -3,8 +3,8 @@
 
 #include <stdatomic.h>
 
-static _Atomic uint64_t total;                    /* every kind's: the one checks compare */
-static _Atomic uint64_t by_kind[LC_HELD_KINDS];   /* for the status figures */
+static _Atomic uint64_t total;                  /* every kind's: the one checks compare */
+static _Atomic uint64_t by_kind[LC_HELD_KINDS]; /* for the status figures */
 
 void lc_held_add(lc_held_kind k, int64_t bytes)
 {

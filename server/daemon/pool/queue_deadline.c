@@ -22,16 +22,16 @@ static void oldest_job(const lc_task *t, void *ctx)
 }
 
 /* Answers t's job: it waited `limit` seconds and no worker took it. */
-static void answer(lc_task *t, double limit, int ahead)
+static void answer(lc_task *t, double limit, int others)
 {
     lc_render_job *job = t->job;
     free(t);
     job->queue_ms = (lc_now() - job->submitted) * 1000.0;
     job->refused = "deadline";
     job->rc = lc_err(&job->err, LC_ERR_LIMIT,
-                     "waited %.1f s for a worker with %d render%s queued, beyond its %.0f s deadline: the server is "
+                     "waited %.1f s for a worker (%d other render%s queued), beyond its %.0f s deadline: the server is "
                      "busy, retry later",
-                     job->queue_ms / 1000.0, ahead, ahead == 1 ? "" : "s", limit);
+                     job->queue_ms / 1000.0, others, others == 1 ? "" : "s", limit);
     if (job->done)
         job->done(job); /* the job belongs to its submitter again from here */
 }
@@ -45,9 +45,9 @@ static void *deadline_main(void *arg)
         double cut = lc_now() - limit;
         lc_task *t = lc_fair_remove_where(&w->queue, waited_out, &cut);
         if (t) {
-            int ahead = w->queue.jobs;
+            int others = w->queue.jobs;
             pthread_mutex_unlock(&w->lock);
-            answer(t, limit, ahead);
+            answer(t, limit, others);
             pthread_mutex_lock(&w->lock);
             continue;
         }

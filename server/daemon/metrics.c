@@ -306,7 +306,8 @@ char *lc_metrics_render(lc_metrics *m, const lc_metrics_gauges *g)
             "# TYPE lucent_memory_budget_bytes gauge\nlucent_memory_budget_bytes %llu\n",
             (unsigned long long)g->memory_budget);
         put(&t,
-            "# HELP lucent_memory_estimated_bytes Estimated resident bytes of the datasets with their state.\n"
+            "# HELP lucent_memory_estimated_bytes Estimated resident bytes of the datasets with their state and what "
+            "requests hold (--max-memory counts them).\n"
             "# TYPE lucent_memory_estimated_bytes gauge\nlucent_memory_estimated_bytes %llu\n",
             (unsigned long long)g->memory_estimated);
         put(&t,

@@ -25,9 +25,10 @@ typedef struct lc_metrics_gauges {
     int ws_connections;
     int datasets;
     int workers;
-    int queue_clients;                        /* clients with queued work (fair queueing) */
-    uint64_t memory_estimated, memory_budget; /* datasets' estimated resident bytes; --max-memory (0 = none) */
-    uint64_t resident;                        /* the process's resident bytes */
+    int queue_clients; /* clients with queued work (fair queueing) */
+    uint64_t memory_estimated,
+        memory_budget; /* the datasets' estimate and what requests hold; --max-memory (0 = none) */
+    uint64_t resident; /* the process's resident bytes */
     /* HTTP connections closed before a whole request header: past the header
      * deadline, or the oldest beyond the caps (http/conn_limits.h). */
     uint64_t unfinished_deadline, unfinished_evicted;

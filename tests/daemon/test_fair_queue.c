@@ -26,6 +26,14 @@ static bool is_session(const lc_task *t, void *ctx)
     return t->job == NULL;
 }
 
+static bool is_task(const lc_task *t, void *ctx) { return t == ctx; }
+
+static void count_task(const lc_task *t, void *ctx)
+{
+    (void)t;
+    ++*(int *)ctx;
+}
+
 int main(void)
 {
     lc_fair_queue q = {0};
@@ -91,5 +99,27 @@ int main(void)
     CHECK(rest[0] == 2 && rest[1] == 1 && rest[2] == 1, "then 2 (passed over, first), 1, 1 (got %llu %llu %llu)",
           (unsigned long long)rest[0], (unsigned long long)rest[1], (unsigned long long)rest[2]);
     CHECK(q.tasks == 0 && q.clients == 0 && !lc_fair_pop(&q), "empty afterwards");
+
+    /* Removing without serving (a render past its queue deadline): the task
+     * leaves, its client keeps its place in the ring while it has more, and
+     * lc_fair_each sees every task left. */
+    used = 0;
+    lc_fair_push(&q, task(1, true));
+    lc_task *late = task(1, true);
+    lc_fair_push(&q, late);
+    lc_fair_push(&q, task(2, true));
+    lc_task *first1 = lc_fair_remove_where(&q, is_task, late);
+    CHECK(first1 == late, "the late job is removed (%p %p)", (void *)first1, (void *)late);
+    int seen = 0;
+    lc_fair_each(&q, count_task, &seen);
+    CHECK(seen == 2 && q.tasks == 2 && q.jobs == 2 && lc_fair_jobs_of(&q, 1) == 1, "2 tasks left, each seen (%d)",
+          seen);
+    uint64_t k1 = lc_fair_pop(&q)->key, k2 = lc_fair_pop(&q)->key;
+    CHECK(k1 == 1 && k2 == 2, "client 1 kept its turn: 1, then 2 (got %llu %llu)", (unsigned long long)k1,
+          (unsigned long long)k2);
+    lc_task *only = task(5, true);
+    lc_fair_push(&q, only);
+    CHECK(lc_fair_remove_where(&q, is_task, only) == only && q.clients == 0 && q.tasks == 0 && !lc_fair_pop(&q),
+          "a client's last task removed: the client leaves the ring");
     return lc_test_finish();
 }

@@ -5,8 +5,8 @@ frame is the HTTP render of the same layered request (the camera path starts whe
 camera looks: fitted to both layers), not the tornado's alone. An unknown layer dataset is a 404 naming
 request.layers[1].dataset; a context layer of points fails the job with an error naming layers[0].role;
 the daemon goes on serving. Under --max-cost a movie's layered frame is charged as the HTTP render of the
-layers: under twice its cost, 800 times its pixels is refused naming layers.
-Frames are counted and decoded with ffprobe/ffmpeg where installed (scripts/packages/test.txt)."""
+layers: under twice its cost, 800 times its pixels is refused naming layers. A movie of method
+surface-layers is refused naming request.method. Frames are counted and decoded with ffprobe/ffmpeg where installed (scripts/packages/test.txt)."""
 import json
 import os
 import shutil
@@ -90,6 +90,12 @@ with Server(binary, data=("demo:points", "demo:tornado"), demo_size=150) as srv:
     check(st == 400 and e.get("field") == "layers[0].role",
           "a context layer of points is refused when the movie is asked for, naming layers[0].role (%d %s)" %
           (st, data[:300]))
+    # A movie of method surface-layers (a field's surface, no dataset) is refused when asked for, not at its first frame.
+    st, _, data = srv.request("POST", "/api/v1/movies", dict(SIZE, frames=2, request={
+        "method": "surface-layers", "surface": {"field": "demo:abc-flow", "seed": [[3, 1, 3], [3, 5, 3]]}}))
+    e = json.loads(data).get("error", {}) if data else {}
+    check(st == 400 and e.get("field") == "request.method",
+          "a surface-layers movie is refused naming request.method (%d %s)" % (st, data[:200]))
     # Bounded jobs: a frame at most 4K, frames x pixels at most a minute of 4K at 30 fps.
     for body, field, what in (({"width": 8192, "height": 4608, "frames": 2}, "width", "an 8192x4608 movie frame"),
                               ({"width": 1920, "height": 1080, "frames": 18000}, "frames", "18,000 frames of 1080p"),

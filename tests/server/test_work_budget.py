@@ -84,6 +84,9 @@ async def session(srv):
         check(e.get("code") == "too_expensive" and e.get("field") == "surface.particles" and "granted" in
               e.get("message", ""), "a session's surface frame over its budget: an error naming surface.particles: %r"
               % e)
+        st, _, h = srv.json("GET", "/api/v1/health")
+        check(st == 200 and h.get("memory", {}).get("held", {}).get("surfaces") == 0,
+              "the stopped batch's curves are gone and nothing stays reserved for them: %r" % h.get("memory"))
         # the session keeps serving: a fast field's surface renders
         await ws.send(json.dumps({"type": "params", "surface": {"field": "steady"}}))
         while True:

@@ -9,6 +9,7 @@
 
 #include "cost.h"
 #include "fields.h"
+#include "held.h"
 #include "memory.h"
 #include "metrics.h"
 #include "streamlines.h"
@@ -22,14 +23,10 @@ struct lc_traced {
     char spec[SPEC_LEN]; /* the set ds holds (ds.source: its first 511 characters) */
     lc_scene *pending;   /* a re-trace the next frame swaps in (owner's lock) */
     lc_scene_measures pending_cost;
-    uint64_t bytes, pending_bytes; /* their resident estimates, counted in `alive` */
+    uint64_t bytes, pending_bytes; /* their resident estimates, held (held.h) */
     char pending_spec[SPEC_LEN];
     uint64_t traces;
 };
-
-/* The resident estimate of every set alive (scenes and pending re-traces),
- * counted with the loaded datasets' against --max-memory. */
-static _Atomic uint64_t alive;
 
 /* GPU copies of freed sets, for the next worker (any thread adds). */
 static pthread_mutex_t grave_lock = PTHREAD_MUTEX_INITIALIZER;
@@ -67,7 +64,8 @@ static int spec_of(lc_server *srv, const lc_field_entry *fe, const lc_request *r
 
 /* Traces spec through fe's field (the load-time code path) and counts its
  * resident estimate in *bytes: refused naming streamlines.count when it does
- * not fit --max-memory beside the loaded datasets and the sets alive. */
+ * not fit --max-memory beside the loaded datasets and what requests hold
+ * (held.h: the sets alive, surfaces' curves). */
 static int trace(lc_server *srv, lc_traced *t, const char *spec, lc_scene **out, lc_scene_measures *cost,
                  uint64_t *bytes, lc_proto_error *pe)
 {
@@ -83,18 +81,19 @@ static int trace(lc_server *srv, lc_traced *t, const char *spec, lc_scene **out,
                     (uint64_t)s->vertex_count * (3 + (uint64_t)s->attribute_count) * sizeof(float);
     uint64_t estimated = 0, limit = 0;
     lc_datasets_budget(srv->datasets, &estimated, &limit);
-    uint64_t held = atomic_load(&alive);
+    uint64_t held = lc_held_total();
     if (limit && estimated + held + need > limit) {
         lc_scene_destroy(*out);
         *out = NULL;
         lc_metrics_refused(srv->metrics, "memory");
-        return lc_proto_set_error(pe, "too_expensive", "streamlines.count",
-                                  "the set needs an estimated %.1f MB resident; with the datasets (%.1f MB) and the "
-                                  "sets other renders hold (%.1f MB) it exceeds --max-memory %.1f MB: trace fewer or "
-                                  "shorter curves",
-                                  need / 1e6, estimated / 1e6, held / 1e6, limit / 1e6);
+        return lc_proto_set_error(
+            pe, "too_expensive", "streamlines.count",
+            "the set needs an estimated %.1f MB resident; with the datasets (%.1f MB) and the "
+            "sets and surfaces other renders hold (%.1f MB) it exceeds --max-memory %.1f MB: trace fewer or "
+            "shorter curves",
+            need / 1e6, estimated / 1e6, held / 1e6, limit / 1e6);
     }
-    atomic_fetch_add(&alive, need);
+    lc_held_add(LC_HELD_STREAMLINE_SETS, (int64_t)need);
     *bytes = need;
     lc_scene_measure(*out, cost);
     t->traces++;
@@ -182,7 +181,7 @@ int lc_traced_update(lc_server *srv, const lc_dataset *ds, const lc_request *req
     const char *now = t->pending ? t->pending_spec : t->spec;
     if (rc == 0 && strcmp(spec, now) != 0 && strcmp(spec, t->spec) == 0) { /* back to the set it draws */
         lc_scene_destroy(t->pending);
-        atomic_fetch_sub(&alive, t->pending_bytes);
+        lc_held_add(LC_HELD_STREAMLINE_SETS, -(int64_t)t->pending_bytes);
         t->pending = NULL, t->pending_bytes = 0;
     } else if (rc == 0 && strcmp(spec, now) != 0) { /* the seeding changed: a new set */
         lc_scene *scene = NULL;
@@ -191,7 +190,7 @@ int lc_traced_update(lc_server *srv, const lc_dataset *ds, const lc_request *req
         rc = trace(srv, t, spec, &scene, &cost, &bytes, pe);
         if (rc == 0) {
             lc_scene_destroy(t->pending);
-            atomic_fetch_sub(&alive, t->pending_bytes);
+            lc_held_add(LC_HELD_STREAMLINE_SETS, -(int64_t)t->pending_bytes);
             t->pending = scene, t->pending_cost = cost, t->pending_bytes = bytes;
             snprintf(t->pending_spec, sizeof t->pending_spec, "%s", spec);
         }
@@ -243,7 +242,7 @@ int lc_traced_ready(const lc_dataset *ds, pthread_mutex_t *lock, bool *replaced,
         pthread_mutex_lock(lock);
     if (t->pending) {
         old_scene = t->ds.scene, old_gpu = t->ds.gpu;
-        atomic_fetch_sub(&alive, t->bytes);
+        lc_held_add(LC_HELD_STREAMLINE_SETS, -(int64_t)t->bytes);
         t->bytes = t->pending_bytes, t->pending_bytes = 0;
         t->ds.scene = t->pending, t->ds.gpu = NULL, t->ds.cost = t->pending_cost;
         snprintf(t->spec, sizeof t->spec, "%s", t->pending_spec);
@@ -281,6 +280,6 @@ void lc_traced_free(lc_traced *t)
     bury(t->ds.gpu);
     lc_scene_destroy(t->ds.scene);
     lc_scene_destroy(t->pending);
-    atomic_fetch_sub(&alive, t->bytes + t->pending_bytes);
+    lc_held_add(LC_HELD_STREAMLINE_SETS, -(int64_t)(t->bytes + t->pending_bytes));
     free(t);
 }

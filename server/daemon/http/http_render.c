@@ -293,6 +293,10 @@ enum MHD_Result lc_http_finish_render(lc_http_req *ctx, struct MHD_Connection *c
             lc_metrics_refused(srv->metrics, job->refused);
         switch (job->rc) {
         case LC_ERR_LIMIT:
+            if (!job->refused && job->err.field[0]) { /* the memory budget, naming what to lower (surface_memory.h) */
+                lc_metrics_refused(srv->metrics, "memory");
+                return lc_http_error(srv, c, 400, "too_expensive", job->err.field, "%s", job->err.msg);
+            }
             return lc_http_error(srv, c, job->refused && strcmp(job->refused, "client_queue") == 0 ? 429 : 503,
                                  "overloaded", NULL, "%s", job->err.msg);
         case LC_ERR_UNSUPPORTED:

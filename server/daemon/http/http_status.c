@@ -5,12 +5,27 @@
 
 #include "conn_limits.h"
 #include "datasets.h"
+#include "held.h"
 #include "memory.h"
 #include "messages.h"
 #include "metrics.h"
 #include "session.h"
 #include "workers.h"
 #include "ws.h"
+
+/* The one memory budget (--max-memory): the datasets' and fields' estimate,
+ * and what requests hold beside them (streamline sets, surfaces' curves). */
+static json_t *memory_json(lc_server *srv)
+{
+    json_t *o = lc_datasets_memory_json(srv->datasets);
+    uint64_t estimated = 0, limit = 0, sets = lc_held(LC_HELD_STREAMLINE_SETS), curves = lc_held(LC_HELD_SURFACES);
+    lc_datasets_budget(srv->datasets, &estimated, &limit);
+    json_object_set_new(o, "datasets", json_integer((json_int_t)estimated));
+    json_object_set_new(o, "held",
+                        json_pack("{s:I, s:I}", "streamlineSets", (json_int_t)sets, "surfaces", (json_int_t)curves));
+    json_object_set_new(o, "estimated", json_integer((json_int_t)(estimated + sets + curves)));
+    return o;
+}
 
 enum MHD_Result lc_http_health(lc_server *srv, struct MHD_Connection *c)
 {
@@ -38,6 +53,7 @@ enum MHD_Result lc_http_health(lc_server *srv, struct MHD_Connection *c)
     json_object_set_new(o, "datasets", json_integer(lc_datasets_count(srv->datasets)));
     json_object_set_new(o, "workers", json_integer(lc_workers_count(srv->workers)));
     json_object_set_new(o, "sessions", json_pack("{s:i, s:i}", "http", http, "ws", ws));
+    json_object_set_new(o, "memory", memory_json(srv));
     json_object_set_new(o, "protocolVersion", json_integer(LC_PROTO_VERSION));
     return lc_http_json(srv, c, 200, o);
 }
@@ -59,7 +75,7 @@ enum MHD_Result lc_http_datasets(lc_server *srv, struct MHD_Connection *c, const
     json_t *o = json_object();
     json_object_set_new(o, "datasets", arr);
     json_object_set_new(o, "fields", lc_fields_json(lc_datasets_fields(srv->datasets)));
-    json_object_set_new(o, "memory", lc_datasets_memory_json(srv->datasets));
+    json_object_set_new(o, "memory", memory_json(srv));
     return lc_http_json(srv, c, 200, o);
 }
 
@@ -73,6 +89,7 @@ enum MHD_Result lc_http_metrics(lc_server *srv, struct MHD_Connection *c)
     g.workers = lc_workers_count(srv->workers);
     g.queue_clients = lc_workers_clients(srv->workers);
     lc_datasets_budget(srv->datasets, &g.memory_estimated, &g.memory_budget);
+    g.memory_estimated += lc_held_total(); /* the one budget's whole estimate */
     g.resident = lc_memory_resident_bytes();
     lc_conn_limits_counts(&g.unfinished_deadline, &g.unfinished_evicted);
     return lc_http_text(srv, c, 200, lc_metrics_render(srv->metrics, &g), "text/plain; version=0.0.4; charset=utf-8");

@@ -56,7 +56,9 @@ int lc_fair_push(lc_fair_queue *q, lc_task *t)
 
 lc_task *lc_fair_pop(lc_fair_queue *q) { return lc_fair_pop_where(q, NULL, NULL); }
 
-lc_task *lc_fair_pop_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx)
+/* The first task for which take holds, out of the queue; its client goes to
+ * the end of the ring (served) or keeps its place (not served: removed). */
+static lc_task *take_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx, bool served)
 {
     lc_flow *fp = NULL, *f = q->ring_head; /* fp: the flow before f in the ring */
     lc_task *tp = NULL, *t = NULL;         /* tp: the task before t in f */
@@ -80,6 +82,9 @@ lc_task *lc_fair_pop_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void
     }
     q->tasks--;
     /* f leaves its place in the ring: to the end when it has more, else gone */
+    t->next = NULL;
+    if (f->head && !served)
+        return t;
     if (fp)
         fp->next = f->next;
     else
@@ -92,8 +97,24 @@ lc_task *lc_fair_pop_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void
         free(f);
         q->clients--;
     }
-    t->next = NULL;
     return t;
+}
+
+lc_task *lc_fair_pop_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx)
+{
+    return take_where(q, take, ctx, true);
+}
+
+lc_task *lc_fair_remove_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx)
+{
+    return take_where(q, take, ctx, false);
+}
+
+void lc_fair_each(const lc_fair_queue *q, void (*fn)(const lc_task *t, void *ctx), void *ctx)
+{
+    for (const lc_flow *f = q->ring_head; f; f = f->next)
+        for (const lc_task *t = f->head; t; t = t->next)
+            fn(t, ctx);
 }
 
 int lc_fair_jobs_of(const lc_fair_queue *q, uint64_t key)

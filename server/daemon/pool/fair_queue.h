@@ -38,6 +38,11 @@ lc_task *lc_fair_pop(lc_fair_queue *q);
  * pool takes only short tasks this way when every other worker holds a long
  * one (workers.c). */
 lc_task *lc_fair_pop_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx);
+/* The same without serving: the task leaves the queue, its client keeps its
+ * place in the ring (queued work that will not run, e.g. past its deadline). */
+lc_task *lc_fair_remove_where(lc_fair_queue *q, bool (*take)(const lc_task *t, void *ctx), void *ctx);
+/* Calls fn for every queued task (ring order, each client's oldest first). */
+void lc_fair_each(const lc_fair_queue *q, void (*fn)(const lc_task *t, void *ctx), void *ctx);
 /* Jobs queued by the client `key`. */
 int lc_fair_jobs_of(const lc_fair_queue *q, uint64_t key);
 

@@ -498,6 +498,12 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
         return;
     }
     lc_request *req = &j->spec.request;
+    if (req->render.method == LC_METHOD_SURFACE_LAYERS) { /* its frames draw a field's surface, not a dataset */
+        reply_error(m, out, 400, LC_PROTO_BAD_FIELD, "request.method",
+                    "request.method: a movie draws a dataset; surface-layers is served by renders and sessions");
+        free(j);
+        return;
+    }
     /* layers[] (docs/ALGORITHM.md §24): their datasets resolved as a session's; the first is the movie's dataset. */
     if (lc_admit_resolve_layers(srv, req, j->layers, &pe) != 0) {
         char field[sizeof pe.field + 8];

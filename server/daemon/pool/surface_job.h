@@ -10,6 +10,7 @@
 #include "renderer.h"
 #include "request.h"
 #include "server.h"
+#include "surface_memory.h"
 #include "surface_render.h"
 
 #ifdef __cplusplus
@@ -20,9 +21,13 @@ extern "C" {
  * rgba (p's width x height, top row first) on the calling worker's GL context. Errors name the
  * request field. work (NULL = none; cost.h lc_cost_surface_budget): the
  * tracing's RK4 steps are charged to it at lc_cost_surface_step_units each,
- * and past its limit the frame fails with LC_ERR_BUDGET naming its field. */
+ * and past its limit the frame fails with LC_ERR_BUDGET naming its field.
+ * mem (NULL = none): the memory budget its curves are reserved in while it
+ * renders (surface_memory.h); short of it the frame fails with LC_ERR_LIMIT
+ * naming surface.particles and how many fit, before tracing. */
 int lc_surface_job_render(const lc_field *field, const lc_surface_request *s, const lc_render_params *p,
-                          lc_work_budget *work, uint8_t *rgba, lc_frame_info *info, lc_error *err);
+                          const lc_surface_budget *mem, lc_work_budget *work, uint8_t *rgba, lc_frame_info *info,
+                          lc_error *err);
 
 /* A WebSocket session's surface (method surface-layers): the curves traced
  * so far, kept on the CPU between frames. Owned by the session, touched only
@@ -41,10 +46,14 @@ uint64_t lc_surface_stream_id(const lc_surface_stream *st);
  * new curves are drawn into them (PRT's progressive insertion), else all
  * are. info->converged once all s->particles are in. *st is created on the
  * first frame. work: this frame's tracing budget, as lc_surface_job_render's
- * (a frame over it keeps the curves of the frames before and adds none). */
+ * (a frame over it keeps the curves of the frames before and adds none).
+ * mem (NULL = none): before a batch is traced the whole surface's curves are
+ * reserved in it (surface_memory.h), and held until the surface changes or
+ * the stream is freed; short of it the frame fails with LC_ERR_LIMIT naming
+ * surface.particles and how many fit, keeping the curves traced so far. */
 int lc_surface_stream_frame(lc_surface_stream **st, lc_surface_keep *keep, const lc_field *field,
-                            const lc_surface_request *s, const lc_render_params *p, lc_work_budget *work, uint8_t *rgba,
-                            lc_frame_info *info, lc_error *err);
+                            const lc_surface_request *s, const lc_render_params *p, const lc_surface_budget *mem,
+                            lc_work_budget *work, uint8_t *rgba, lc_frame_info *info, lc_error *err);
 
 /* Worker side: one frame of method surface-layers for session s (the next
  * batch of curves of req's surface, drawn with req's camera into the worker's

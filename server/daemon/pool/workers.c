@@ -16,8 +16,10 @@
 #include "memory.h"
 #include "messages.h"
 #include "metrics.h"
+#include "queue_deadline.h"
 #include "stream_session.h"
 #include "surface_job.h"
+#include "surface_memory.h"
 #include "traced.h"
 #include "yield.h"
 
@@ -347,8 +349,10 @@ static void render_job(worker *wk, lc_render_job *job)
         rc = session ? lc_session_prepare_state(session, layer_ds, layer_count, &err) : 0;
     if (session && rc == 0)
         state = session->frame_state;
+    lc_surface_budget mem; /* a surface's curves, reserved in the memory budget while it renders */
+    lc_surface_budget_of(w->srv, &mem);
     if (rc == 0)
-        rc = field         ? lc_surface_job_render(field, &surface, p, &work, rgba, &info, &err)
+        rc = field         ? lc_surface_job_render(field, &surface, p, &mem, &work, rgba, &info, &err)
              : layer_count ? render_layers(w, wk->renderer, layer_ds, scenes, layers->p, layer_count, p, state, dt,
                                            rgba, &info, &err)
                            : render_frame(w, wk->renderer, dataset, p, state, dt, rgba, &info, &err);
@@ -510,7 +514,8 @@ static void render_session(worker *wk, lc_session *s)
         LC_WARN(MOD, "session %s: frame %llu failed: %s", s->id, (unsigned long long)f.frame, err.msg);
         if (rc == LC_ERR_INVALID)
             lc_stream_error(w->srv, s, LC_PROTO_BAD_FIELD, err.msg, err.field[0] ? err.field : NULL);
-        else if (rc == LC_ERR_BUDGET) /* ran past what its estimate was granted (cost.h) */
+        else if (rc == LC_ERR_BUDGET || (rc == LC_ERR_LIMIT && err.field[0])) /* past its grant (cost.h), or
+                                                                               * short of memory (surface_memory.h) */
             lc_stream_error(w->srv, s, "too_expensive", err.msg, err.field[0] ? err.field : NULL);
         else
             lc_stream_error(w->srv, s, "render_failed", err.msg, NULL);
@@ -645,6 +650,7 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     pthread_condattr_init(&ca);
     pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
     pthread_cond_init(&w->work, &ca);
+    pthread_cond_init(&w->deadline_wake, &ca);
     pthread_condattr_destroy(&ca);
     pthread_cond_init(&w->ready, NULL);
     lc_yield_gate_init(&w->gate, srv->cfg.still_delay, LC_YIELD_MAX_WAIT);
@@ -672,6 +678,8 @@ int lc_workers_create(lc_server *srv, lc_gl *primary, int nworkers, int nencoder
     pthread_mutex_unlock(&w->lock);
     if (!failed && lc_encoders_create(w->srv, nencoders, wake_cb, w, &w->encoders, &w->start_err) != 0)
         failed = 1;
+    if (!failed && lc_queue_deadline_start(w) != 0)
+        failed = 1, lc_err(&w->start_err, LC_ERR_INTERNAL, "cannot start the render queue's deadline thread");
     if (failed) {
         if (err)
             *err = w->start_err;

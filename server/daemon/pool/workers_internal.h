@@ -72,6 +72,10 @@ struct lc_workers {
     lc_session *timed;               /* sessions waiting for their still frame (linked by sched_next) */
     lc_yield_gate gate;              /* large renders wait here for other sessions' moving frames (yield.h) */
     lc_surface_keeps *surface_keeps; /* surface sessions' layers across frames (surface_keeps.h); NULL: none kept */
+    /* The queue's deadline thread (queue_deadline.h), woken to stop. */
+    pthread_t deadline_thread;
+    pthread_cond_t deadline_wake;
+    bool deadline_started;
 };
 
 /* workers_stop.c: removes s from the timer list if present (pool lock

@@ -9,6 +9,7 @@
 
 #include "encoders.h"
 #include "fair_queue.h"
+#include "queue_deadline.h"
 #include "traced.h"
 
 void lc_workers_untime(lc_workers *w, lc_session *s)
@@ -108,6 +109,7 @@ void lc_workers_stop(lc_workers *w)
     pthread_cond_broadcast(&w->ready);
     pthread_mutex_unlock(&w->lock);
     lc_yield_release(&w->gate); /* the frames in hand finish without waiting */
+    lc_queue_deadline_stop(w);  /* what is queued now fails below */
     for (int i = 0; i < w->nworkers; i++) {
         if (w->workers[i].started)
             pthread_join(w->workers[i].thread, NULL);
@@ -147,6 +149,7 @@ void lc_workers_destroy(lc_workers *w, lc_datasets *datasets)
             lc_gl_destroy(w->workers[i].gl);
     pthread_mutex_destroy(&w->lock);
     pthread_cond_destroy(&w->work);
+    pthread_cond_destroy(&w->deadline_wake);
     pthread_cond_destroy(&w->ready);
     lc_yield_gate_destroy(&w->gate);
     lc_surface_keeps_destroy(w->surface_keeps); /* still here: no GL context started, so no layers either */

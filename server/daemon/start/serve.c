@@ -222,8 +222,8 @@ static const lc_option serve_options[] = {
      .help = "estimated cost of one frame (fragments over all passes), 400 too_expensive\n"
              "naming the field beyond; 0 = no limit (default 1e9: 20-50 s on llvmpipe)"},
     {"--render-deadline", "SEC", LC_OPT_INT, CFG(render_deadline), 0, 86400, 1,
-     .help = "an HTTP render that waited this long for a worker, or would take longer by\n"
-             "the measured rate, gets 503; 0 = none (default 60)"},
+     .help = "an HTTP render that waited this long for a worker (at most 25 s, answered while\n"
+             "queued), or would take longer by the measured rate, gets 503; 0 = none (default 60)"},
     {"--max-queue-per-client", "N", LC_OPT_INT, CFG(max_queue_per_client), 1, 100000,
      .help = "queued HTTP renders of one client address or session, 429 beyond\n"
              "(default 8; clients are served round robin)"},

@@ -259,6 +259,15 @@ int lc_cli_parse(const char *cmd, const lc_option *own, void *own_target, int ar
     return rc < 0 ? 2 : rc > 0 ? 1 : 0;
 }
 
+int lc_cli_with_request(int argc, char **argv, int (*body)(int argc, char **argv, lc_request *req))
+{
+    lc_request req;
+    lc_request_default(&req);
+    int rc = body(argc, argv, &req);
+    lc_request_release(&req);
+    return rc;
+}
+
 int lc_cli_has_flag(int argc, char **argv, const char *flag)
 {
     for (int i = 1; i < argc; i++)

@@ -52,6 +52,10 @@ int lc_cli_parse(const char *cmd, const lc_option *own, void *own_target, int ar
 /* True if argv holds flag (e.g. "--request"). */
 int lc_cli_has_flag(int argc, char **argv, const char *flag);
 
+/* Runs a subcommand's body on a default request it owns, releasing the
+ * request (its layers' reference) whatever the body returns. */
+int lc_cli_with_request(int argc, char **argv, int (*body)(int argc, char **argv, lc_request *req));
+
 /* Opens the dataset (common->input, else the request's, else demo:tornado) and
  * a GL renderer. Prints "lucent CMD: reason" and returns non-zero on error;
  * on success the caller destroys *scene and closes g. */

@@ -441,11 +441,4 @@ static int bench_main(int argc, char **argv, lc_request *req)
     return status;
 }
 
-int lc_cli_bench(int argc, char **argv)
-{
-    lc_request req;
-    lc_request_default(&req);
-    int rc = bench_main(argc, argv, &req);
-    lc_request_release(&req);
-    return rc;
-}
+int lc_cli_bench(int argc, char **argv) { return lc_cli_with_request(argc, argv, bench_main); }

@@ -210,14 +210,7 @@ done:
     return status;
 }
 
-int lc_cli_compare(int argc, char **argv)
-{
-    lc_request req;
-    lc_request_default(&req);
-    int rc = compare_main(argc, argv, &req);
-    lc_request_release(&req);
-    return rc;
-}
+int lc_cli_compare(int argc, char **argv) { return lc_cli_with_request(argc, argv, compare_main); }
 
 int lc_cli_ssim(int argc, char **argv)
 {

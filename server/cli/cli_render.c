@@ -397,14 +397,7 @@ done:
     return status;
 }
 
-int lc_cli_render(int argc, char **argv)
-{
-    lc_request req;
-    lc_request_default(&req);
-    int rc = render_main(argc, argv, &req);
-    lc_request_release(&req);
-    return rc;
-}
+int lc_cli_render(int argc, char **argv) { return lc_cli_with_request(argc, argv, render_main); }
 
 /* The level-of-detail ladder of a line or surface scene and what its GPU
  * buffers cost next to the scene's own arrays. */

@@ -53,6 +53,20 @@ def burst(srv, n, source, results, tag, path=SLOW):
     return threads
 
 
+
+def hello_256(srv):
+    """A WebSocket hello on demo:tornado at 256x256: the ready message and the
+    first frame (or error) after it."""
+    async def opens():
+        async with websockets.connect(srv.ws_url) as ws:
+            await ws.send(json.dumps({"type": "hello", "dataset": "demo:tornado", "width": 256, "height": 256,
+                                      "devicePixelRatio": 1}))
+            got = await wait_for_message(ws, lambda m: m.get("type") in ("error", "frame"))
+            ready = next((m for m in got if m.get("type") == "ready"), {})
+            return ready, got[-1] if got.reached else {}
+    return asyncio.run(opens())
+
+
 with Server(binary, demo_size=200000) as srv:
     # The issue's request: 64x64 with 256-pixel splats over the default
     # 200,000 points held the renderer for 80-92 s. Now it is refused at once.
@@ -156,14 +170,7 @@ with Server(binary, "--max-cost", "%.6g" % (0.25 * costs[1] + 0.75 * costs[8]), 
     check(st == 400 and e["error"]["field"] == "width" and "x" in size,
           "an opaque 4096x4096 frame is refused naming width with a size that fits (%s)" % msg)
     # A session opens the file anyway: at the stride that fits, which its ready message shows.
-    async def opens():
-        async with websockets.connect(srv.ws_url) as ws:
-            await ws.send(json.dumps({"type": "hello", "dataset": "demo:tornado", "width": 256, "height": 256,
-                                      "devicePixelRatio": 1}))
-            got = await wait_for_message(ws, lambda m: m.get("type") in ("error", "frame"))
-            ready = next((m for m in got if m.get("type") == "ready"), {})
-            return ready, got[-1] if got.reached else {}
-    ready, last = asyncio.run(opens())
+    ready, last = hello_256(srv)
     subset = ready.get("defaults", {}).get("params", {}).get("subset")
     check(last.get("type") == "frame" and subset == n,
           "a hello over the budget opens with params.subset %s (advised %d) and frames flow (%s)" %
@@ -185,14 +192,7 @@ check(listed[2] > listed[1] and listed[8] > listed[1],
 check(listed[1] < costs[1], "the lists' frame costs less than the drawn one (%g < %g)" % (listed[1], costs[1]))
 with Server(binary, "--max-cost", "%.6g" % (1.05 * listed[1]), data=("demo:tornado",), demo_size=2000,
             env=LISTS) as srv:
-    async def opens_plain():
-        async with websockets.connect(srv.ws_url) as ws:
-            await ws.send(json.dumps({"type": "hello", "dataset": "demo:tornado", "width": 256, "height": 256,
-                                      "devicePixelRatio": 1}))
-            got = await wait_for_message(ws, lambda m: m.get("type") in ("error", "frame"))
-            ready = next((m for m in got if m.get("type") == "ready"), {})
-            return ready, got[-1] if got.reached else {}
-    ready, last = asyncio.run(opens_plain())
+    ready, last = hello_256(srv)
     subset = ready.get("defaults", {}).get("params", {}).get("subset")
     check(last.get("type") == "frame" and subset in (None, 1),
           "within the budget at every primitive, a hello opens without a stride (subset %s, %s)" %

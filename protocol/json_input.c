@@ -19,7 +19,7 @@ void lc_proto_limits_default(lc_proto_limits *l)
     l->max_text = 64 * 1024;
 }
 
-static void copy_str(char *dst, size_t size, const char *src)
+void lc_proto_copy_str(char *dst, size_t size, const char *src)
 {
     size_t n = strlen(src);
     if (n >= size)
@@ -39,17 +39,17 @@ int lc_proto_set_error(lc_proto_error *err, const char *code, const char *field,
     va_start(ap, fmt);
     vsnprintf(reason, sizeof reason, fmt, ap);
     va_end(ap);
-    copy_str(err->code, sizeof err->code, code);
-    copy_str(err->field, sizeof err->field, field ? field : "");
+    lc_proto_copy_str(err->code, sizeof err->code, code);
+    lc_proto_copy_str(err->field, sizeof err->field, field ? field : "");
     if (err->field[0]) {
         size_t n = strlen(err->field);
-        copy_str(err->message, sizeof err->message, err->field);
+        lc_proto_copy_str(err->message, sizeof err->message, err->field);
         if (n + 2 < sizeof err->message) {
             memcpy(err->message + n, ": ", 3);
-            copy_str(err->message + n + 2, sizeof err->message - n - 2, reason);
+            lc_proto_copy_str(err->message + n + 2, sizeof err->message - n - 2, reason);
         }
     } else {
-        copy_str(err->message, sizeof err->message, reason);
+        lc_proto_copy_str(err->message, sizeof err->message, reason);
     }
     return status;
 }

@@ -43,6 +43,10 @@ typedef struct lc_proto_error {
 
 void lc_proto_limits_default(lc_proto_limits *l);
 
+/* Copies src into dst[size], truncated to fit and terminated (snprintf("%s")
+ * would trip -Wformat-truncation). */
+void lc_proto_copy_str(char *dst, size_t size, const char *src);
+
 /* Fills err (may be NULL): code, field, and message = "field: reason" (just the
  * reason when field is empty). Returns LC_ERR_LIMIT for too_large/too_deep,
  * LC_ERR_INVALID otherwise, so callers can `return lc_proto_set_error(...)`. */

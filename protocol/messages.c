@@ -11,50 +11,22 @@ static const char *const type_names[] = {"hello", "camera", "params", "resize", 
 
 const char *lc_proto_msg_type_name(lc_msg_type t) { return (unsigned)t < NTYPES ? type_names[t] : "unknown"; }
 
+/* The render request's sections a message may carry (after camera): one list
+ * for what hello and params pass on in m->update and what each allows. */
+#define REQUEST_SECTIONS                                                                                               \
+    "params", "importance", "color", "style", "method", "filter", "lines", "time", "surface", "streamlines", "layers"
+
 /* Keys of the render request that hello/params/camera pass on in m->update. */
-static const char *const update_keys[] = {"camera", "params", "importance", "color",   "style",       "method",
-                                          "filter", "lines",  "time",       "surface", "streamlines", "layers"};
+static const char *const update_keys[] = {"camera", REQUEST_SECTIONS};
 #define NUPDATE (sizeof update_keys / sizeof update_keys[0])
 
 /* Which keys each message type allows, besides "type". */
-static const char *const hello_keys[] = {"dataset",
-                                         "width",
-                                         "height",
-                                         "devicePixelRatio",
-                                         "window",
-                                         "token",
-                                         "quality",
-                                         "interactiveQuality",
-                                         "interactiveScale",
-                                         "camera",
-                                         "params",
-                                         "importance",
-                                         "color",
-                                         "style",
-                                         "method",
-                                         "filter",
-                                         "lines",
-                                         "time",
-                                         "surface",
-                                         "streamlines",
-                                         "layers",
-                                         NULL};
+static const char *const hello_keys[] = {"dataset",          "width",          "height",
+                                         "devicePixelRatio", "window",         "token",
+                                         "camera",           "quality",        "interactiveQuality",
+                                         "interactiveScale", REQUEST_SECTIONS, NULL};
 static const char *const camera_keys[] = {"seq", "camera", NULL};
-static const char *const params_keys[] = {"quality",
-                                          "interactiveQuality",
-                                          "interactiveScale",
-                                          "params",
-                                          "importance",
-                                          "color",
-                                          "style",
-                                          "method",
-                                          "filter",
-                                          "lines",
-                                          "time",
-                                          "surface",
-                                          "streamlines",
-                                          "layers",
-                                          NULL};
+static const char *const params_keys[] = {"quality", "interactiveQuality", "interactiveScale", REQUEST_SECTIONS, NULL};
 static const char *const resize_keys[] = {"width", "height", "devicePixelRatio", NULL};
 static const char *const ack_keys[] = {"frame", NULL};
 static const char *const *const allowed_keys[] = {hello_keys, camera_keys, params_keys, resize_keys, ack_keys};

@@ -66,16 +66,6 @@ static void commit(lc_request *r, lc_request *tmp)
     *r = *tmp;
 }
 
-/* Copies with truncation; snprintf("%s") would trip -Wformat-truncation. */
-static void copy_str(char *dst, size_t size, const char *src)
-{
-    size_t n = strlen(src);
-    if (n >= size)
-        n = size - 1;
-    memcpy(dst, src, n);
-    dst[n] = '\0';
-}
-
 /* ---- the schema */
 /* The field table and its types: request_table.c, request_table.h. */
 
@@ -101,14 +91,14 @@ static bool is_section(const char *key)
 static void join_path(char *out, size_t size, const char *prefix, const char *key)
 {
     if (!prefix || !prefix[0]) {
-        copy_str(out, size, key);
+        lc_proto_copy_str(out, size, key);
         return;
     }
-    copy_str(out, size, prefix);
+    lc_proto_copy_str(out, size, prefix);
     size_t n = strlen(out);
     if (n + 1 < size) {
         out[n] = '.';
-        copy_str(out + n + 1, size - n - 1, key);
+        lc_proto_copy_str(out + n + 1, size - n - 1, key);
     }
 }
 
@@ -239,7 +229,7 @@ static int set_field(const field *f, const json_t *v, const lc_proto_limits *lim
         if (f->type == T_ENUM)
             *(int *)base = e->value;
         else
-            copy_str(base, f->size, e->name);
+            lc_proto_copy_str(base, f->size, e->name);
         break;
     }
     case T_VEC3:

@@ -73,7 +73,9 @@ async def main(srv, sid):
         check(got.reached, "then the session's frame arrives")
 
 
-with Server(binary, "--workers", "1", "--render-deadline", "1", "--pass-delay", "600") as srv:
+# The frame in hand takes seven passes of at least 1.5 s: the two renders queued
+# behind it reach their 1 s deadline with seconds to spare however busy the host.
+with Server(binary, "--workers", "1", "--render-deadline", "1", "--pass-delay", "1500") as srv:
     st, _, s = srv.json("POST", "/api/v1/sessions", {"dataset": "demo:points", "width": 32, "height": 32})
     check(st == 201, "an HTTP session")
     asyncio.run(main(srv, s.get("session", "")))

@@ -586,14 +586,6 @@ int lc_proto_pack_frame(const lc_frame_header *h, const unsigned char *image, si
         json_object_set_new(o, "stages", json_integer(h->stages));
         json_object_set_new(o, "final", json_boolean(h->stage == h->stages));
     }
-    if (o && h->batches > 0) {
-        if (h->batch < 1 || h->batch > h->batches) {
-            json_decref(o);
-            return LC_ERR_INVALID;
-        }
-        json_object_set_new(o, "batch", json_integer(h->batch));
-        json_object_set_new(o, "batches", json_integer(h->batches));
-    }
     char *text = dump_and_free(o);
     if (!text)
         return LC_ERR_NOMEM;
@@ -826,15 +818,6 @@ int lc_proto_unpack_frame(const unsigned char *msg, size_t len, lc_frame_header 
             goto done;
         }
         h->stage = (int)json_integer_value(stage), h->stages = (int)json_integer_value(stages);
-    }
-    const json_t *batch = json_object_get(o, "batch"), *batches = json_object_get(o, "batches");
-    if (batch || batches) {
-        if (!json_is_integer(batch) || !json_is_integer(batches) || json_integer_value(batch) < 1 ||
-            json_integer_value(batch) > json_integer_value(batches) || json_integer_value(batches) > 256) {
-            status = lc_proto_set_error(err, LC_PROTO_BAD_FIELD, "batch", "expected batch 1..batches (at most 256)");
-            goto done;
-        }
-        h->batch = (int)json_integer_value(batch), h->batches = (int)json_integer_value(batches);
     }
     *image = msg + 4 + n;
     *image_len = len - 4 - n;

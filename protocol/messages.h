@@ -190,9 +190,6 @@ typedef struct lc_frame_header {
     /* "stage", "stages", "final" (optional): a staged still's stage (1..stages);
      * stages 0 = not staged (a still without them is final). */
     int stage, stages;
-    /* "batch", "batches" (optional): params.progressive's batch 1..batches
-     * that this frame added (docs/ALGORITHM.md §34); batches 0 = none. */
-    int batch, batches;
 } lc_frame_header;
 
 /* Packs header + image into one malloc'd binary message (*out, free()).

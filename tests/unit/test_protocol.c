@@ -604,19 +604,6 @@ static void test_messages(void)
               tb.top_decile_reach == 1.375,
           "topDecileReach round trip");
     free(out);
-    /* batch, batches (params.progressive): round trip; absent without batches; batch 0 or past batches refused. */
-    lc_frame_header pb = {.frame = 7, .width = 4, .height = 2, .batch = 3, .batches = 8};
-    CHECK(lc_proto_pack_frame(&pb, NULL, 0, &out, &out_len) == 0, "pack batch");
-    CHECK(lc_proto_unpack_frame(out, out_len, &tb, &img, &img_len, &perr) == 0 && tb.batch == 3 && tb.batches == 8,
-          "batch round trip");
-    CHECK(frame_text_has(out, out_len, "\"batch\":3,\"batches\":8"), "batch JSON: %.*s", (int)out_len - 4,
-          (const char *)out + 4);
-    free(out);
-    CHECK(lc_proto_pack_frame(&t, NULL, 0, &out, &out_len) == 0 && !frame_text_has(out, out_len, "batch"),
-          "no batch keys without batches");
-    free(out);
-    pb.batch = 9;
-    CHECK(lc_proto_pack_frame(&pb, NULL, 0, &out, &out_len) == LC_ERR_INVALID, "batch 9 of 8 refused");
     /* clarity.smoothing: only where the loop cut the smoothing. */
     lc_frame_header c = {.frame = 6,
                          .width = 4,

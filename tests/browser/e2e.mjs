@@ -66,6 +66,8 @@ const DAEMON_ARGS = [
   '1',
 ];
 const daemons = new Set();
+const stopping = new Set(); // daemons stopped on purpose (by stopDaemon)
+const died = []; // daemons that exited while the tests still needed them
 
 /** Starts `lucent serve` on a free port (port 0, read back from the log); resolves {proc, url, port, lines}. */
 function startDaemon(extra = [], port = 0) {
@@ -101,6 +103,13 @@ function startDaemon(extra = [], port = 0) {
     proc.stderr.on('data', onData);
     proc.on('exit', (code, sig) => {
       daemons.delete(proc);
+      // a daemon that dies after listening is a failure of its own: say so with its last words, whoever stopped it
+      if (done && !stopping.has(proc)) {
+        died.push(
+          `daemon ${args.join(' ')} exited (code ${code}, signal ${sig}):\n      ${lines.slice(-30).join('\n      ')}`,
+        );
+        log(`daemon exited unexpectedly (code ${code}, signal ${sig})`);
+      }
       fail(new Error(`daemon exited early (code ${code}, signal ${sig})`));
     });
     proc.on('error', fail);
@@ -115,6 +124,7 @@ function stopDaemon(d, signal = 'SIGTERM') {
       clearTimeout(t);
       resolve();
     });
+    stopping.add(d.proc);
     d.proc.kill(signal);
   });
 }
@@ -1460,6 +1470,10 @@ try {
       );
       if (ctx.page) await shot(ctx.page, `fail-${t.name.replace(/\W+/g, '-')}`).catch(() => {});
     }
+  }
+  if (died.length) {
+    failed++;
+    log(`not ok - a daemon died:\n    ${died.join('\n    ')}`);
   }
   if (pageErrors.length) {
     failed++;

@@ -290,9 +290,19 @@ static void mhd_log(void *cls, const char *fmt, va_list ap)
     LC_DEBUG(MOD, "libmicrohttpd: %s", msg);
 }
 
+/* libmicrohttpd found its own state inconsistent: it cannot go on, but the
+ * log says where before the abort (whose stack start/crash.c prints). */
+static void mhd_panic(void *cls, const char *file, unsigned int line, const char *reason)
+{
+    (void)cls;
+    LC_ERROR(MOD, "libmicrohttpd panic at %s:%u: %s", file ? file : "?", line, reason ? reason : "no reason given");
+    abort();
+}
+
 int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
 {
     *out = NULL;
+    MHD_set_panic_func(mhd_panic, NULL);
     const lc_serve_config *cfg = &srv->cfg;
     struct sockaddr_storage ss;
     memset(&ss, 0, sizeof ss);

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cost.h"
+#include "crash.h"
 #include "dataset_cache.h"
 #include "datasets.h"
 #include "gl_context.h"
@@ -343,6 +344,7 @@ static int serve_main(int argc, char **argv)
     }
     srv.start_time = lc_now();
     signal(SIGPIPE, SIG_IGN);
+    lc_crash_report_install();
 
     char cache_dir[PATH_MAX] = "";
     if (!cfg->cache)

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <microhttpd.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -71,7 +72,7 @@ struct lc_ws {
     pthread_t thread;
     bool started;
     conn *conns;          /* I/O thread only */
-    int nconns;           /* I/O thread writes; read racily for metrics */
+    atomic_int nconns;    /* I/O thread writes; /metrics reads */
     pthread_mutex_t lock; /* guards inbox and shutting_down */
     inbox_item *inbox_head, *inbox_tail;
     bool shutting_down;
@@ -131,7 +132,7 @@ void lc_ws_send_frame(lc_ws *ws, lc_session *s, unsigned char *msg, size_t len, 
     push_inbox(ws, it);
 }
 
-int lc_ws_connections(lc_ws *ws) { return ws ? ws->nconns : 0; }
+int lc_ws_connections(lc_ws *ws) { return ws ? atomic_load(&ws->nconns) : 0; }
 
 /* ---------------------------------------------------------------- wslay glue */
 

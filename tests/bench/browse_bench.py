@@ -31,8 +31,10 @@ queue, 0 = no rate limit) and a table compares them: frames/s, input-to-frame p5
 release, mean bytes of a moving frame (its most common size, its mean JPEG quality), the link's use while orbiting (Mbit/s received and the share
 of the rate), and the session's flow-control window, round trip and link estimate (linkMbps: the link's rate where
 frames waited on it, else what it carried) from its last stats message.
+With --rounds N the links run in turn N times: the table gives each link's medians, and a line per link its
+frames/s as a share of the same round's first link (orbits seconds apart, so a busy host moves both alike).
 The issue 46 table:
-  tests/bench/browse_bench.py --binary build/lucent --seconds 6 --link loopback --link 50,20 --link 100,5
+  tests/bench/browse_bench.py --binary build/lucent --seconds 6 --link loopback --link 50,20 --link 100,5 --rounds 3
 With --trace FILE (and --binary, --link) the daemon runs with --log-level debug, and a second table says where
 each link's input-to-frame time went, per frame that showed a newer camera, from the client's times and the
 daemon's per-frame "flow" lines (render start, end, hand-over to the connection, ack): the wait for a render to
@@ -59,6 +61,7 @@ import json
 import math
 import os
 import re
+import statistics
 import sys
 import threading
 import time
@@ -524,36 +527,58 @@ def parse_link(text):
     return float(rtt), float(mbit or 0)
 
 
+def link_row(link, rtt, mbit, r):
+    """One orbit's figures through one link."""
+    mb = r["moving_bytes"]
+    use = r["orbit_rx"] * 8 / r["orbit_s"] / 1e6
+    st = r.get("orbit_stats") or {}
+    return {"link": link.label(), "rtt_ms": rtt, "mbit": mbit, "frames_per_s": r["moving"] / r["orbit_s"],
+            "p50_ms": 1000 * pct(r["lat"], 50), "p95_ms": 1000 * pct(r["lat"], 95),
+            "still_s": r.get("still"), "full_s": r.get("full"),
+            "moving_kb": sum(mb) / len(mb) / 1000 if mb else None,
+            "moving_size": cost_summary(r["moving_frames"]).get("size"),
+            "moving_quality": sum(r["moving_q"]) / len(r["moving_q"]) if r["moving_q"] else None,
+            "still_quality": (r.get("still_frame") or {}).get("quality"),
+            "link_mbit": use, "link_share": use / mbit if mbit else None,
+            "window": st.get("window"), "rtt_est_ms": st.get("rttMs"),
+            "link_est_mbit": st.get("linkMbps"), "link_measured": st.get("linkMeasured")}
+
+
+def median_row(runs):
+    """A link's rounds as one row: the median of each figure (the last round's for what is not a number)."""
+    row = dict(runs[-1])
+    for k, v in row.items():
+        vals = [x[k] for x in runs if isinstance(x.get(k), (int, float)) and not isinstance(x.get(k), bool)]
+        if vals and isinstance(v, (int, float)) and not isinstance(v, bool):
+            row[k] = statistics.median(vals)
+    return row
+
+
 def run_links(ws_url, token, args):
-    """The orbit once per --link, each through its own emulated link; prints a table (and --json)."""
+    """The orbit once per --link, each through its own emulated link, --rounds times in turn (the links of
+    a round side by side, so a ratio to loopback compares orbits a few seconds apart); prints a table of each
+    link's medians over the rounds, and each round's frames/s as a share of that round's first link."""
     host, port = ws_url.split("//", 1)[1].split("/", 1)[0].rsplit(":", 1)
-    rows, traces = [], []
-    for spec in args.link:
-        rtt, mbit = parse_link(spec)
-        link = Link(rtt, mbit)
-        proxied = "ws://127.0.0.1:%d/api/v1/ws" % link.start(host, int(port))
-        try:
-            r = asyncio.run(browse(proxied, token, args))
-        finally:
-            link.stop()
-        mb = r["moving_bytes"]
-        use = r["orbit_rx"] * 8 / r["orbit_s"] / 1e6
-        st = r.get("orbit_stats") or {}
-        rows.append({"link": link.label(), "rtt_ms": rtt, "mbit": mbit, "frames_per_s": r["moving"] / r["orbit_s"],
-                     "p50_ms": 1000 * pct(r["lat"], 50), "p95_ms": 1000 * pct(r["lat"], 95),
-                     "still_s": r.get("still"), "full_s": r.get("full"),
-                     "moving_kb": sum(mb) / len(mb) / 1000 if mb else None,
-                     "moving_size": cost_summary(r["moving_frames"]).get("size"),
-                     "moving_quality": sum(r["moving_q"]) / len(r["moving_q"]) if r["moving_q"] else None,
-                     "still_quality": (r.get("still_frame") or {}).get("quality"),
-                     "link_mbit": use, "link_share": use / mbit if mbit else None,
-                     "window": st.get("window"), "rtt_est_ms": st.get("rttMs"),
-                     "link_est_mbit": st.get("linkMbps"), "link_measured": st.get("linkMeasured")})
-        print("  %s: %.1f frames/s" % (link.label(), rows[-1]["frames_per_s"]), flush=True)
-        traces.append({"link": link.label(), "rtt_ms": rtt, "session": r.get("session"), "events": r["trace"]})
-    print("dataset %s, %dx%d, camera updates at %g/s for %g s%s; load %s" % (
+    runs, traces = {}, []
+    for rnd in range(args.rounds):
+        for spec in args.link:
+            rtt, mbit = parse_link(spec)
+            link = Link(rtt, mbit)
+            proxied = "ws://127.0.0.1:%d/api/v1/ws" % link.start(host, int(port))
+            try:
+                r = asyncio.run(browse(proxied, token, args))
+            finally:
+                link.stop()
+            row = link_row(link, rtt, mbit, r)
+            runs.setdefault(row["link"], []).append(row)
+            print("  round %d, %s: %.1f frames/s" % (rnd + 1, row["link"], row["frames_per_s"]), flush=True)
+            traces.append({"link": link.label(), "rtt_ms": rtt, "round": rnd + 1, "session": r.get("session"),
+                           "events": r["trace"]})
+    rows = [median_row(v) for v in runs.values()]
+    print("dataset %s, %dx%d, camera updates at %g/s for %g s%s%s; load %s" % (
         args.dataset, args.width, args.height, args.rate, args.seconds,
-        ", window %d" % args.window if args.window else "", os.getloadavg()[0]))
+        ", window %d" % args.window if args.window else "",
+        ", medians of %d rounds" % args.rounds if args.rounds > 1 else "", os.getloadavg()[0]))
     print("| link | frames/s | input-to-frame p50 / p95 | still after release | moving frame | link used | "
           "window, RTT (stats) | link estimate (stats) |")
     print("|---|---|---|---|---|---|---|---|")
@@ -566,10 +591,18 @@ def run_links(ws_url, token, args):
             "%.2f Mbit/s%s" % (w["link_mbit"], " (%.0f %%)" % (100 * w["link_share"]) if w["link_share"] else ""),
             "%s, %s ms" % (w["window"], w["rtt_est_ms"]) if w["window"] else "-",
             "-" if est is None else "%.2f Mbit/s %s" % (est, "measured" if w["link_measured"] else "carried (at least)")))
+    base = list(runs)[0]
+    if len(runs) > 1:
+        print("frames/s as a share of the same round's %s:" % base)
+        for label, rs in list(runs.items())[1:]:
+            shares = [100 * x["frames_per_s"] / b["frames_per_s"] for x, b in zip(rs, runs[base]) if b["frames_per_s"]]
+            print("  %s: %s (median %.0f %%)" % (label, ", ".join("%.0f %%" % v for v in shares),
+                                                  statistics.median(shares) if shares else float("nan")))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"dataset": args.dataset, "width": args.width, "height": args.height, "rate": args.rate,
-                       "seconds": args.seconds, "window": args.window, "links": rows}, f, indent=1)
+                       "seconds": args.seconds, "window": args.window, "rounds": args.rounds, "links": rows,
+                       "runs": runs}, f, indent=1)
     return traces
 
 
@@ -597,6 +630,8 @@ def main():
                     "and the daemon's per-frame flow lines (started with --log-level debug) to FILE as JSON")
     ap.add_argument("--link", action="append", metavar="RTT,MBIT",
                     help="run through an emulated link of RTT ms and MBIT Mbit/s ('loopback': none); repeatable")
+    ap.add_argument("--rounds", type=int, default=1, help="with --link: run the links in turn this many times; "
+                    "the table gives medians, and each round's share of the first link's frames/s")
     args = ap.parse_args()
     if websockets is None:
         sys.exit("python3-websockets is required")

@@ -443,20 +443,20 @@ static void test_flow_window(void)
     lc_stream_flow_init(&f, LC_PROTO_MAX_WINDOW);
     CHECK(f.window == LC_PROTO_DEFAULT_WINDOW, "before any ack: the default window (%d)", f.window);
     flow_frames(&f, 4, 0.030, 0.005, &t, &id);
-    CHECK(f.window == 2, "loopback, 30 ms frames: 2 (%d)", f.window);
+    CHECK(f.window == 3, "loopback, 30 ms frames: 3, a frame of headroom included (%d)", f.window);
     flow_frames(&f, 1, 0.030, 0.400, &t, &id);
-    CHECK(f.window == 2, "one late ack does not widen it (%d, rtt %.3f)", f.window, f.rtt);
+    CHECK(f.window == 3, "one late ack does not widen it (%d, rtt %.3f)", f.window, f.rtt);
     flow_frames(&f, 16, 0.030, 0.100, &t, &id);
     CHECK(f.window == 2, "a longer round trip waits for the lower one to age (%d, rtt %.3f)", f.window, f.rtt);
     t += LC_FLOW_RTT_HORIZON;
     flow_frames(&f, 1, 0.030, 0.100, &t, &id);
-    CHECK(fabs(f.rtt - 0.100) < 1e-9 && f.window == 5, "100 ms round trip, 30 ms frames: 5 (%d, rtt %.3f)", f.window,
+    CHECK(fabs(f.rtt - 0.100) < 1e-9 && f.window == 6, "100 ms round trip, 30 ms frames: 6 (%d, rtt %.3f)", f.window,
           f.rtt);
     t += LC_FLOW_RTT_HORIZON;
     flow_frames(&f, 1, 0.030, 0.300, &t, &id);
     CHECK(f.window == LC_PROTO_MAX_WINDOW, "300 ms: the ceiling %d (%d)", LC_PROTO_MAX_WINDOW, f.window);
     flow_frames(&f, 1, 0.030, 0.010, &t, &id);
-    CHECK(f.window == 2, "back to 10 ms: 2 at once (%d)", f.window);
+    CHECK(f.window == 3, "back to 10 ms: 3 at once (%d)", f.window);
     flow_frames(&f, 8, 0.100, 0.100, &t, &id);
     CHECK(f.window == 2, "slower frames need fewer: 2 (%d, frame %.3f s)", f.window, f.frame_s);
     lc_stream_flow_init(&f, 3);
@@ -498,7 +498,7 @@ static void test_flow_window(void)
 
 /* A session's window through the protocol: no window in the hello (the
  * maximum is the ceiling), frames of 50 ms acked 190 ms after they went out
- * widen it to 5 and five frames go out unacked; acks at once shrink it to 2. */
+ * widen it to 6 and six frames go out unacked; acks at once shrink it to 3. */
 static void test_session_window(void)
 {
     lc_stream_conn conn = {.authed = true};
@@ -522,7 +522,7 @@ static void test_session_window(void)
         finish(s, &f, true);
         CHECK(lc_session_stream_client_ack(s, f.frame, lc_now() + 0.190), "ack of %llu", (unsigned long long)f.frame);
     }
-    CHECK(s->stream.window == 5, "190 ms round trip, 50 ms frames: window 5 (%d, rtt %.3f, frame %.3f)",
+    CHECK(s->stream.window == 6, "190 ms round trip, 50 ms frames: window 6 (%d, rtt %.3f, frame %.3f)",
           s->stream.window, s->stream.flow.rtt, s->stream.flow.frame_s);
     int out = 0;
     uint64_t last = 0;
@@ -533,19 +533,19 @@ static void test_session_window(void)
         finish(s, &f, true);
         out++, last = f.frame;
     }
-    CHECK(out == 5 && s->stream.unacked == 5, "five frames in flight, no sixth (%d, %d)", out, s->stream.unacked);
-    CHECK(lc_session_stream_client_ack(s, last, lc_now()) && s->stream.unacked == 0, "ack of the five");
-    CHECK(s->stream.window == 5, "frames that went out behind others give no round trip (%d)", s->stream.window);
+    CHECK(out == 6 && s->stream.unacked == 6, "six frames in flight, no seventh (%d, %d)", out, s->stream.unacked);
+    CHECK(lc_session_stream_client_ack(s, last, lc_now()) && s->stream.unacked == 0, "ack of the six");
+    CHECK(s->stream.window == 6, "frames that went out behind others give no round trip (%d)", s->stream.window);
     lc_session_stream_input(s, lc_now());
     CHECK(lc_session_stream_next(s, lc_now() - 0.050, &f, &wake) == 1, "one more frame");
     finish(s, &f, true);
     CHECK(lc_session_stream_client_ack(s, f.frame, lc_now()), "acked at once");
-    CHECK(s->stream.window == 2, "a short round trip: back to 2 (%d)", s->stream.window);
+    CHECK(s->stream.window == 3, "a short round trip: back to 3 (%d)", s->stream.window);
     lc_stream_stats st;
     memset(&st, 0, sizeof st);
     lc_stream_stats_frame(&st, lc_now(), 1, 1);
     char *text = lc_stream_stats_message(&st, s, 0, lc_now());
-    CHECK(text && strstr(text, "\"window\":2") && strstr(text, "\"rttMs\":") && !strstr(text, "\"rttMs\":null"),
+    CHECK(text && strstr(text, "\"window\":3") && strstr(text, "\"rttMs\":") && !strstr(text, "\"rttMs\":null"),
           "stats carry the window and the round trip (%s)", text ? text : "");
     free(text);
     lc_session_close(srv.sessions, s);

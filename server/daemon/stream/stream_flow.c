@@ -12,7 +12,7 @@ static void update_window(lc_stream_flow *f)
         return;
     }
     bool link_bound = f->link_s > f->frame_s && f->last_ack - f->link_at < LC_FLOW_RTT_HORIZON;
-    double frames = link_bound ? ceil(f->rtt / f->link_s - 1e-9) : ceil(f->rtt / f->frame_s - 1e-9) + 1;
+    double frames = link_bound ? ceil(f->rtt / f->link_s - 1e-9) : ceil(f->rtt / f->frame_s - 1e-9) + 2;
     int floor = f->ceiling < LC_PROTO_DEFAULT_WINDOW ? f->ceiling : LC_PROTO_DEFAULT_WINDOW;
     f->window = frames < floor ? floor : frames > f->ceiling ? f->ceiling : (int)frames;
 }

@@ -2,11 +2,13 @@
  * how many frames a session may have rendering, in flight and unacknowledged.
  * A frame holds its place from its render's start to its ack. Where the
  * renderer sets the pace, frames start a render apart and the window covers
- * the round trip and the frame being rendered; where the link does (it takes
+ * the round trip, the frame being rendered and one frame of headroom (rtt is
+ * the lowest round trip and frame_s a mean: without it, a quicker frame or a
+ * later ack idles the renderer); where the link does (it takes
  * longer per frame than the renderer), the window is what the link carries
  * in a round trip, which includes one frame's transfer:
  *
- *     window = clamp(ceil(rtt / frame_s) + 1, 2, ceiling)   renderer-bound
+ *     window = clamp(ceil(rtt / frame_s) + 2, 2, ceiling)   renderer-bound
  *     window = clamp(ceil(rtt / link_s), 2, ceiling)        link-bound
  *
  * Only moving frames count (a still's transfer is no round trip of a drag).

@@ -306,7 +306,15 @@ int lc_http_start(lc_server *srv, lc_http **out, int *port_out, lc_error *err)
     const lc_serve_config *cfg = &srv->cfg;
     struct sockaddr_storage ss;
     memset(&ss, 0, sizeof ss);
-    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_ALLOW_SUSPEND_RESUME | MHD_ALLOW_UPGRADE |
+    /* poll(), not epoll (which MHD_USE_AUTO picks on Linux): with epoll and
+     * internal threads, MHD_quiesce_daemon (the shutdown's first step)
+     * races each worker's own removal of the listening socket from its epoll
+     * set, and the loser's epoll_ctl fails and panics (libmicrohttpd 0.9.75:
+     * a shutdown aborted with "Failed to remove listen FD from epoll set").
+     * Under poll a quiesce is a message to each worker. The daemon holds at
+     * most --max-connections HTTP connections (WebSockets move to ws.c's own
+     * epoll loop), which poll serves as well. */
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_POLL | MHD_ALLOW_SUSPEND_RESUME | MHD_ALLOW_UPGRADE |
                      MHD_USE_ERROR_LOG;
     if (strchr(cfg->listen_host, ':')) {
         struct sockaddr_in6 *a = (struct sockaddr_in6 *)&ss;

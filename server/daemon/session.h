@@ -67,6 +67,7 @@ typedef struct lc_stream {
     bool any_input;               /* camera/params/resize seen since hello */
     double last_input;            /* lc_now() of the latest input */
     double input_interval;        /* recent spacing of input, seconds (0: none yet); stills wait 1.5x it */
+    bool input_split;             /* the last gap was taken for a burst split in two (lc_session_stream_input) */
     uint64_t frames;              /* frames rendered */
     uint64_t last_sent;           /* newest frame id handed to the connection; acks beyond it are refused */
     bool send_blocked;            /* the socket does not take more: render nothing until it drains */

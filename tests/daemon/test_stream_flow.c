@@ -23,7 +23,7 @@ static lc_server srv;
 static lc_stream_outcome send_text(lc_stream_conn *conn, const char *text, char *reply, size_t n)
 {
     lc_stream_outcome o;
-    lc_stream_on_text(&srv, &srv.cfg.limits, conn, text, strlen(text), &o);
+    lc_stream_on_text(&srv, &srv.cfg.limits, conn, text, strlen(text), lc_now(), &o);
     if (reply)
         snprintf(reply, n, "%s", o.reply ? o.reply : "");
     free(o.reply);
@@ -838,6 +838,40 @@ static void test_fit_from_still(void)
     lc_session_unref(s);
 }
 
+/* The pace of input on the session's own clock: steps 200 ms apart whose
+ * params and camera arrive 15 ms apart (a busy client) keep a pace of about
+ * 200 ms, so the still waits about 300 ms, past the next step; a drag that
+ * follows at 30 ms a message takes its faster pace within a few messages. */
+static void test_input_pace(lc_session *s)
+{
+    pthread_mutex_lock(&s->lock);
+    lc_stream saved = s->stream; /* the tests after this one start from the session as hello left it */
+    double used = s->last_used, t = lc_now() - 10.0;
+    s->stream.any_input = false;
+    pthread_mutex_unlock(&s->lock);
+    lc_session_stream_input(s, t - 2.0); /* the still before the steps */
+    for (int k = 0; k < 12; k++, t += 0.200) {
+        lc_session_stream_input(s, t);         /* params */
+        lc_session_stream_input(s, t + 0.015); /* camera */
+        if (k == 1)
+            CHECK(s->stream.input_interval > 0.18 && s->stream.input_interval < 0.22,
+                  "the first two split steps give their 200 ms pace (%.3f s)", s->stream.input_interval);
+    }
+    CHECK(s->stream.input_interval > 0.18 && s->stream.input_interval < 0.22,
+          "split steps keep their 200 ms pace (%.3f s)", s->stream.input_interval);
+    for (int k = 0; k < 16; k++, t += 0.030)
+        lc_session_stream_input(s, t);
+    CHECK(s->stream.input_interval < 0.06, "a 30 ms drag after them takes its own pace (%.3f s)",
+          s->stream.input_interval);
+    for (int k = 0; k < 12; k++, t += 0.016)
+        lc_session_stream_input(s, t);
+    CHECK(s->stream.input_interval < 0.025, "and a 60 Hz drag its own (%.3f s)", s->stream.input_interval);
+    pthread_mutex_lock(&s->lock);
+    s->stream = saved;
+    s->last_used = used;
+    pthread_mutex_unlock(&s->lock);
+}
+
 int main(void)
 {
     if (test_daemon(&srv, 3000) != 0)
@@ -863,6 +897,7 @@ int main(void)
     o = send_text(&conn, "{\"type\":\"hello\",\"dataset\":\"demo:points\",\"width\":10,\"height\":10}", reply,
                   sizeof reply);
     CHECK(!o.opened && strstr(reply, "bad_state"), "a second hello is refused");
+    test_input_pace(s);
     test_window(s);
     test_latest_wins(&conn);
     test_convergence(s);

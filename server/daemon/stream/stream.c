@@ -148,6 +148,8 @@ static void on_update(lc_server *srv, const lc_proto_limits *lim, lc_session *s,
         answer_proto_error(srv, out, &pe);
         return;
     }
+    LC_DEBUG(MOD, "flow %s input %s seq %llu at %.4f", s->id, m->type == LC_MSG_CAMERA ? "camera" : "params",
+             (unsigned long long)(m->type == LC_MSG_CAMERA ? m->seq : 0), now);
     lc_session_stream_input(s, now);
     out->wake = true;
 }
@@ -181,7 +183,7 @@ static void on_resize(lc_server *srv, lc_session *s, lc_client_msg *m, double no
 }
 
 void lc_stream_on_text(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn *conn, const char *data, size_t len,
-                       lc_stream_outcome *out)
+                       double arrived, lc_stream_outcome *out)
 {
     memset(out, 0, sizeof *out);
     lc_client_msg m;
@@ -199,7 +201,7 @@ void lc_stream_on_text(lc_server *srv, const lc_proto_limits *lim, lc_stream_con
     }
     out->valid = true;
     lc_session *s = conn->session;
-    double now = lc_now();
+    double now = arrived;
     switch (m.type) {
     case LC_MSG_HELLO: on_hello(srv, lim, conn, &m, out); break;
     case LC_MSG_CAMERA:

@@ -76,8 +76,11 @@ bool lc_stream_stats_due(const lc_stream_stats *st, double now);
 char *lc_stream_stats_message(lc_stream_stats *st, lc_session *s, int render_queue, double now);
 
 /* Handles one text message (len bytes, not NUL-terminated) of conn under the
- * WebSocket limits lim; fills out (free out->reply). */
+ * WebSocket limits lim, read from the socket at `arrived` (lc_now's clock):
+ * the pace of input is measured in arrival times, so messages read together
+ * (a time step's params and camera) stay one burst however long the first
+ * takes to apply; fills out (free out->reply). */
 void lc_stream_on_text(lc_server *srv, const lc_proto_limits *lim, lc_stream_conn *conn, const char *data, size_t len,
-                       lc_stream_outcome *out);
+                       double arrived, lc_stream_outcome *out);
 
 #endif

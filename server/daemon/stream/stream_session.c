@@ -394,6 +394,11 @@ bool lc_session_stream_blocked(lc_session *s, bool blocked)
     return drained;
 }
 
+/* The longest gap within one burst of input while no spacing is known: a
+ * step's params and camera from a busy client, not a drag's next move (a
+ * drag this fast waits --still-delay whatever its pace). */
+#define INPUT_SPLIT_MAX 0.050
+
 void lc_session_stream_input(lc_session *s, double now)
 {
     pthread_mutex_lock(&s->lock);
@@ -401,12 +406,22 @@ void lc_session_stream_input(lc_session *s, double now)
     s->stream.still_stage = 0; /* a still begins again from stage 1 */
     /* The recent spacing of input (effective_still_delay): messages within
      * 10 ms are one burst (a time step's params and camera), and a gap of a
-     * second or more starts a new gesture. */
-    double gap = now - s->stream.last_input;
-    if (!s->stream.any_input || gap < 0 || gap >= 1.0)
+     * second or more starts a new gesture. A burst's two messages can also
+     * arrive further apart (a busy client sends them 10-16 ms apart): one gap
+     * under a quarter of the spacing (under INPUT_SPLIT_MAX while none is
+     * known) after a full one is such a split, not a pace, which would shrink
+     * the spacing and start a still between two steps (server.play); two such
+     * gaps in a row are a faster pace. */
+    double gap = now - s->stream.last_input, iv = s->stream.input_interval;
+    if (!s->stream.any_input || gap < 0 || gap >= 1.0) {
         s->stream.input_interval = 0;
-    else if (gap >= 0.010)
-        s->stream.input_interval = s->stream.input_interval > 0 ? 0.7 * s->stream.input_interval + 0.3 * gap : gap;
+        s->stream.input_split = false;
+    } else if (gap >= 0.010) {
+        bool split = gap < (iv > 0 ? 0.25 * iv : INPUT_SPLIT_MAX) && !s->stream.input_split;
+        s->stream.input_split = split;
+        if (!split)
+            s->stream.input_interval = iv > 0 ? 0.7 * iv + 0.3 * gap : gap;
+    }
     s->stream.any_input = true;
     s->stream.last_input = now;
     s->stream.updates_since_frame++;

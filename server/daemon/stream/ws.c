@@ -274,7 +274,7 @@ static void on_text(conn *c, const uint8_t *data, size_t len)
 {
     lc_server *srv = c->ws->srv;
     lc_stream_outcome o;
-    lc_stream_on_text(srv, &c->ws->limits, &c->proto, (const char *)data, len, &o);
+    lc_stream_on_text(srv, &c->ws->limits, &c->proto, (const char *)data, len, c->last_rx, &o);
     if (o.opened) {
         c->proto.session->ws_conn = c;
         c->stats.last_report = c->progress.hello_at = lc_now();

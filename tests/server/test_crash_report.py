@@ -16,9 +16,7 @@ for sig, name in ((signal.SIGSEGV, "SIGSEGV"), (signal.SIGABRT, "SIGABRT")):
     srv = Server(binary)
     status, _, _ = srv.request("GET", "/api/v1/health")
     check(status == 200, "the daemon serves before the signal (%d)" % status)
-    srv.proc.send_signal(sig)
-    rc = srv.proc.wait(60)
-    srv._drainer.join(60)
+    rc = srv.stop(sig)  # the exit status, once the log's last lines are in
     log = "\n".join(srv.log)
     if sanitized(binary):
         check(name[3:] in log or "DEADLYSIGNAL" in log or rc == -sig,

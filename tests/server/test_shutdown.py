@@ -13,7 +13,6 @@ shows only now and then."""
 import asyncio
 import http.client
 import json
-import os
 import sys
 
 from lucent_server import DEADLINE, Check, Server, skip, websockets
@@ -26,21 +25,10 @@ check = Check()
 ROUNDS = 12
 
 
-def epoll_instances(pid):
-    n = 0
-    for fd in os.listdir("/proc/%d/fd" % pid):
-        try:
-            if os.readlink("/proc/%d/fd/%s" % (pid, fd)) == "anon_inode:[eventpoll]":
-                n += 1
-        except FileNotFoundError:
-            pass
-    return n
-
-
 async def round_(r):
     srv = Server(binary)
     if r == 0:
-        n = epoll_instances(srv.proc.pid)
+        n = srv.open_files().count("anon_inode:[eventpoll]")
         check(n == 1, "libmicrohttpd runs on poll: one epoll instance, the WebSocket loop's (%d)" % n)
     idle = []
     for _ in range(3):  # keep-alive connections that have had an answer and stay open

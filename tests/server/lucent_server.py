@@ -120,6 +120,22 @@ class Server:
                     return int(line.split()[1])
         return 0
 
+    def memory_map(self, n=6):
+        """Where the daemon's resident memory lies, for a failure's message:
+        the n largest mappings by resident size (path, or [anon]/[heap]) in MB,
+        so that a held texture (one large anonymous mapping) reads apart from a
+        heap that was not given back (many arenas)."""
+        maps = []
+        with open("/proc/%d/smaps" % self.proc.pid) as f:
+            for line in f:
+                head = line.split()
+                if head and "-" in head[0] and not head[0].endswith(":"):
+                    maps.append([head[5] if len(head) > 5 else "[anon]", 0])
+                elif head and head[0] == "Rss:" and maps:
+                    maps[-1][1] = int(head[1])
+        maps.sort(key=lambda m: -m[1])
+        return ", ".join("%s %.0f MB" % (name.rsplit("/", 1)[-1], kb / 1024.0) for name, kb in maps[:n])
+
     def open_files(self):
         """The paths of the daemon's open descriptors. The daemon opens and
         closes files meanwhile: a descriptor gone between the listing and

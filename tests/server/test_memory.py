@@ -76,7 +76,8 @@ with Server(binary, "--render-deadline", "0", data=("demo:points",), demo_size=3
               "AddressSanitizer, whose quarantine keeps freed memory)" % (after, before))
     else:
         check(st == 200 and after <= before + 100,
-              "resident memory after a 4096^2 render: %.0f MB, before %.0f MB (tolerance +100 MB)" % (after, before))
+              "resident memory after a 4096^2 render (%d): %.0f MB, before %.0f MB (tolerance +100 MB)%s" %
+              (st, after, before, "" if after <= before + 100 else "; largest mappings: " + srv.memory_map()))
 
 # The exact method's list heads grow to the frame and its node pool keeps the
 # pages a large frame's fragments touched: both go after a large frame too.
@@ -90,8 +91,8 @@ with Server(binary, "--render-deadline", "0", data=("demo:points",), demo_size=3
               "AddressSanitizer)" % (after, before))
     else:
         check(st == 200 and after <= before + 100,
-              "resident memory after an exact 4096^2 render: %.0f MB, before %.0f MB (tolerance +100 MB)" %
-              (after, before))
+              "resident memory after an exact 4096^2 render (%d): %.0f MB, before %.0f MB (tolerance +100 MB)%s" %
+              (st, after, before, "" if after <= before + 100 else "; largest mappings: " + srv.memory_map()))
     st, _, body = srv.request("GET", "/api/v1/render?width=256&height=256&format=jpeg&method=exact")
     check(st == 200 and len(body) > 0, "the next exact frame allocates its pool again: %d" % st)
 

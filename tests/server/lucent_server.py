@@ -2,6 +2,7 @@
 loopback port, talk HTTP with urllib/http.client, read frame messages and image
 sizes. Standard library plus Debian's python3-websockets only."""
 import base64
+import ctypes
 import http.client
 import json
 import os
@@ -149,9 +150,14 @@ class Server:
                 pass
         return paths
 
-    def stop(self, sig=signal.SIGTERM, timeout=60):
-        """Signals the daemon and returns its exit status."""
-        if self.proc.poll() is None:
+    def stop(self, sig=signal.SIGTERM, timeout=60, main_thread=False):
+        """Signals the daemon and returns its exit status. main_thread: to
+        its main thread (tgkill), as a fault is delivered to the thread that
+        faulted; a kill() goes to any thread that does not block the signal."""
+        if self.proc.poll() is None and main_thread:
+            if ctypes.CDLL(None, use_errno=True).tgkill(self.proc.pid, self.proc.pid, int(sig)) != 0:
+                raise OSError(ctypes.get_errno(), "tgkill")
+        elif self.proc.poll() is None:
             self.proc.send_signal(sig)
         try:
             rc = self.proc.wait(timeout)

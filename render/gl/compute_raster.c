@@ -67,7 +67,7 @@ const char *lc_raster_path_name(const char *gl_renderer, lc_raster_pass pass, lc
 
 void lc_renderer_set_raster_path(lc_renderer *r, int path) { r->raster_path = path < 0 ? -1 : path > 0; }
 
-int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass, int subset)
+int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass)
 {
     int want = r->floor == LC_FLOOR_COMPUTE ? 1
                : r->floor != LC_FLOOR_FULL  ? 0
@@ -82,7 +82,7 @@ int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_
     lc_prim_type prim = fs->gs->scene->type;
     if (prim == LC_PRIM_TRIANGLES || fs->layer_count || r->context_layers || fs->kept_points)
         return 0;
-    if (prim == LC_PRIM_LINES && subset <= 1 && fs->kept_line_indices[0] + fs->kept_line_indices[1])
+    if (prim == LC_PRIM_LINES && fs->kept_line_indices[0] + fs->kept_line_indices[1])
         return 0;
     return 1;
 }

@@ -501,7 +501,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
      * so it may compute (adding to the kept sums); a batch of lines is whole
      * strip runs when drawn and ribbon slots when computed, so it draws. */
     computable = computable && (!fs->batch_count || fs->gs->scene->type == LC_PRIM_POINTS);
-    int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, p->foo.subset);
+    int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4);
     info_paths(fs, LC_RASTER_P4, computed);
     if (computed) {
         int rc =
@@ -549,7 +549,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         lc_reach_begin(r, fs);
     else if (fs->batch_count)
         r->reach_g = 2.0f; /* > 1: P5 measures nothing */
-    int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5, 1);
+    int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5);
     info_paths(fs, LC_RASTER_P5, p5_computed);
     if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)
         return rc;

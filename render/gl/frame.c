@@ -454,6 +454,7 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
             prev = t;
         }
     }
+    memcpy(info->pass_vertices, r->pass_vertices, sizeof info->pass_vertices);
     info->width = p.width, info->height = p.height;
     info->camera = p.camera;
     info->element_count = fs.element_total;

@@ -80,6 +80,13 @@ void lc_renderer_timestamp(lc_renderer *r, int slot)
 {
     if (!r->desc.no_timer_queries)
         glQueryCounter(r->timer_queries[slot], GL_TIMESTAMP);
+    /* The draws since the last timestamp were this pass's (a pass that runs
+     * again, per tile or sample, adds); the frame's start begins the count. */
+    if (slot < LC_PASS_COUNT)
+        r->pass_vertices[slot] += r->vertices_issued - r->vertices_mark;
+    else
+        memset(r->pass_vertices, 0, sizeof r->pass_vertices);
+    r->vertices_mark = r->vertices_issued;
     report_progress(r, slot);
 }
 
@@ -323,7 +330,15 @@ void lc_pipeline_configure(const char *gl_renderer)
 /* Issues primitives [first, first + count) of the current program: points
  * (GL points when sprites, else instances), pulled primitives (six or three
  * corners each) or triangles of the index buffer. */
-static void draw_range(lc_prim_type prim, int pulled, int sprites, uint64_t first, uint64_t count)
+/* Counts what a draw issues for the frame's report (lc_frame_info.pass_vertices). */
+static void issued(const lc_frame_setup *fs, uint64_t vertices)
+{
+    if (fs->renderer)
+        fs->renderer->vertices_issued += vertices;
+}
+
+static void draw_range(const lc_frame_setup *fs, lc_prim_type prim, int pulled, int sprites, uint64_t first,
+                       uint64_t count)
 {
     if (prim == LC_PRIM_POINTS) {
         GLint prog = 0;
@@ -333,9 +348,11 @@ static void draw_range(lc_prim_type prim, int pulled, int sprites, uint64_t firs
             glDrawArrays(GL_POINTS, 0, (GLsizei)count);
         else
             glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)count);
+        issued(fs, sprites ? count : 4 * count);
         return;
     }
     uint64_t corners = prim == LC_PRIM_TRIANGLES ? 3u : 6u;
+    issued(fs, count * corners);
     if (pulled)
         glDrawArrays(GL_TRIANGLES, (GLint)(first * corners), (GLsizei)(count * corners));
     else
@@ -400,6 +417,7 @@ static void draw_strips(const lc_frame_setup *fs, const lc_gpu_level *lv, uint64
         else
             glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(end - start), GL_UNSIGNED_INT,
                            (const void *)(uintptr_t)(start * sizeof(uint32_t)));
+        issued(fs, fs->line_primitive ? (end - start) / 2 : end - start);
         start = end;
         if (batch < stop - (fs->batch_count > 0 ? lv->breaks[b0] : 0)) {
             end_batch(in_flight, k++);
@@ -419,7 +437,7 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
     lc_uniform_i((GLuint)prog, "u_point_list", 1);
     uint64_t n = fs->kept_points;
     for (uint64_t first = 0, k = 0; first < n; first += batch, k++) {
-        draw_range(LC_PRIM_POINTS, 0, fs->point_sprites, first, n - first < batch ? n - first : batch);
+        draw_range(fs, LC_PRIM_POINTS, 0, fs->point_sprites, first, n - first < batch ? n - first : batch);
         if (n > batch) {
             end_batch(in_flight, k);
             if (lc_renderer_batch_yield(fs))
@@ -433,8 +451,11 @@ static void draw_point_list(const lc_frame_setup *fs, uint64_t batch, GLsync in_
  * full runs with the pass's weight, the strided ones with line_stride times
  * it (P4's u_weight; other passes have none). Batches split at even offsets
  * and overlap by one vertex pair: a strip resumes at any pair without losing
- * or repeating a segment. */
-static void draw_kept_lines(const lc_frame_setup *fs, int pulled, uint64_t batch, GLsync in_flight[2])
+ * or repeating a segment. A subset stride (params.subset in P0, P1 and P4,
+ * which weight it in u_weight) pulls every step-th ribbon slot of the kept
+ * strip: the shader reads slot (first + i) * u_subset, so a batch's first is
+ * its first slot's multiple of step. */
+static void draw_kept_lines(const lc_frame_setup *fs, int pulled, uint64_t step, uint64_t batch, GLsync in_flight[2])
 {
     GLint prog = 0;
     glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
@@ -456,11 +477,16 @@ static void draw_kept_lines(const lc_frame_setup *fs, int pulled, uint64_t batch
             glProgramUniform1f((GLuint)prog, loc, part ? weight * (float)fs->line_stride : weight);
         for (uint64_t s = start; s + 2 < end && !cut; s += batch ? batch : end) {
             uint64_t e = batch && s + batch + 2 < end ? s + batch + 2 : end;
-            if (pulled) /* slot q spans indices 2q .. 2q + 3: (e - s) / 2 - 1 slots from s / 2 */
-                glDrawArrays(GL_TRIANGLES, (GLint)(s / 2 * 6), (GLsizei)((e - s) / 2 - 1) * 6);
-            else
+            if (pulled) { /* slot q spans indices 2q .. 2q + 3: (e - s) / 2 - 1 slots from s / 2 */
+                uint64_t first = (s / 2 + step - 1) / step, last = (s / 2 + (e - s) / 2 - 1 + step - 1) / step;
+                if (last > first)
+                    glDrawArrays(GL_TRIANGLES, (GLint)(first * 6), (GLsizei)((last - first) * 6));
+                issued(fs, last > first ? (last - first) * 6 : 0);
+            } else {
                 glDrawElements(GL_TRIANGLE_STRIP, (GLsizei)(e - s), GL_UNSIGNED_INT,
                                (const void *)(uintptr_t)(s * sizeof(uint32_t)));
+                issued(fs, e - s);
+            }
             if (batch && fs->kept_line_indices[0] + fs->kept_line_indices[1] > batch) {
                 end_batch(in_flight, k++);
                 cut = lc_renderer_batch_yield(fs);
@@ -499,8 +525,8 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
     int no_raster = fs->renderer && fs->renderer->floor == LC_FLOOR_NO_RASTER; /* lc_renderer_set_floor */
     if (no_raster)
         glEnable(GL_RASTERIZER_DISCARD);
-    if (prim == LC_PRIM_LINES && subset <= 1 && fs->kept_line_indices[0] + fs->kept_line_indices[1]) {
-        draw_kept_lines(fs, pulled, per_batch, in_flight);
+    if (prim == LC_PRIM_LINES && fs->kept_line_indices[0] + fs->kept_line_indices[1]) {
+        draw_kept_lines(fs, pulled, step, per_batch, in_flight);
     } else if (prim == LC_PRIM_LINES && !pulled) {
         draw_strips(fs, lv, per_batch ? per_batch : lv->index_count, in_flight);
     } else {
@@ -508,7 +534,7 @@ void lc_renderer_draw_geometry(const lc_frame_setup *fs, int subset)
         uint64_t lo, hi; /* params.progressive: the batches' primitives */
         lc_progressive_range(fs, drawn, &lo, &hi);
         for (uint64_t first = lo, k = 0; first < hi; first += batch, k++) {
-            draw_range(prim, pulled, fs->point_sprites, first, hi - first < batch ? hi - first : batch);
+            draw_range(fs, prim, pulled, fs->point_sprites, first, hi - first < batch ? hi - first : batch);
             if (hi - lo > batch) {
                 end_batch(in_flight, k);
                 if (lc_renderer_batch_yield(fs))

@@ -180,10 +180,15 @@ typedef struct lc_clarity_strength {
 typedef struct lc_frame_info {
     int width, height;
     double pass_ms[LC_PASS_COUNT]; /* GPU time per pass (timer queries); -1 = pass not run */
-    double gpu_ms;                 /* sum of the passes */
-    double wall_ms;                /* CPU wall time of lc_render_frame */
-    uint64_t pipeline_bytes;       /* GPU memory the method's targets/buffers hold */
-    lc_camera camera;              /* the camera used (fitted when the request had none) */
+    /* Vertices of the data's geometry each pass's draws issued (a ribbon
+     * segment pulled is 6, in a strip about 2; a sprite 1): what it set up,
+     * counted at the draw calls; 0 for a pass that draws no geometry (computed
+     * over lists or by the compute rasterizer, full-screen passes). */
+    uint64_t pass_vertices[LC_PASS_COUNT];
+    double gpu_ms;           /* sum of the passes */
+    double wall_ms;          /* CPU wall time of lc_render_frame */
+    uint64_t pipeline_bytes; /* GPU memory the method's targets/buffers hold */
+    lc_camera camera;        /* the camera used (fitted when the request had none) */
     uint32_t element_count;
     /* Detail drawn (params.detail): the level of detail (0 = every segment)
      * and the primitives of a pass, the point stride, and whether P1-P3 were

@@ -369,6 +369,9 @@ struct lc_renderer {
      * draw ended early, so the frame's other draws are skipped and the next
      * yield point ends the frame. */
     int draw_yields, yield_cut;
+    /* Vertices the frame's draws issued (pipeline.c), and by pass from the
+     * timestamps (lc_renderer_timestamp): lc_frame_info.pass_vertices. */
+    uint64_t vertices_issued, vertices_mark, pass_vertices[LC_PASS_COUNT];
     /* The frame's work budget (lc_renderer_set_work; NULL = none): elapsed
      * time charged at every yield point and between batches. */
     lc_work_budget *work;
@@ -821,8 +824,8 @@ int lc_frame_line_primitive(const lc_renderer *r, const lc_frame_setup *fs);
 /* The GL line width that covers every ribbon of fs in a pass of height h
  * whose output is out_h pixels high; 0 where no bound exists. */
 double lc_line_primitive_width(const lc_frame_setup *fs, int h, int out_h);
-/* Whether pass `pass` of frame fs with the given subset stride runs computed. */
-int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass, int subset);
+/* Whether pass `pass` of frame fs runs computed. */
+int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass);
 /* The program of P4, P5 or their direct variants for points or lines; 0 on error. */
 GLuint lc_compute_raster_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, lc_error *err);
 /* A pass: begin clears `planes` sums of width x height; per layer, bind sets

@@ -353,7 +353,10 @@ void lc_cli_print_timings(const lc_frame_info *info)
     /* In execution order: the optional depth-range pass runs first. */
     for (int k = 0; k < LC_PASS_COUNT; k++) {
         int i = k == 0 ? LC_PASS_DEPTH_RANGE : k - 1;
-        if (info->pass_ms[i] >= 0)
+        if (info->pass_ms[i] >= 0 && info->pass_vertices[i])
+            printf("  %-13s %8.2f ms, %llu geometry vertices\n", lc_pass_name(i), info->pass_ms[i],
+                   (unsigned long long)info->pass_vertices[i]);
+        else if (info->pass_ms[i] >= 0)
             printf("  %-13s %8.2f ms\n", lc_pass_name(i), info->pass_ms[i]);
     }
     printf("  %-13s %8.2f ms (GPU), %.2f ms wall\n", "total", info->gpu_ms, info->wall_ms);

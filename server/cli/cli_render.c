@@ -66,14 +66,17 @@ static void render_usage(FILE *f, const lc_opt_set *sets, int nsets)
 /* The frame's statistics as JSON (what --stats writes). */
 static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, const lc_render_params *p)
 {
-    json_t *passes = json_object();
+    json_t *passes = json_object(), *vertices = json_object();
     for (int i = 0; i < LC_PASS_COUNT; i++)
-        if (info->pass_ms[i] >= 0)
+        if (info->pass_ms[i] >= 0) {
             json_object_set_new(passes, lc_pass_name(i), json_real(info->pass_ms[i]));
+            json_object_set_new(vertices, lc_pass_name(i), json_integer((json_int_t)info->pass_vertices[i]));
+        }
     json_t *o = json_pack("{s:s, s:s, s:i, s:i, s:I, s:o, s:f, s:f, s:b, s:f}", "dataset", dataset, "method",
                           lc_method_name(p->method), "width", info->width, "height", info->height, "elements",
                           (json_int_t)info->element_count, "passMs", passes, "gpuMs", info->gpu_ms, "wallMs",
                           info->wall_ms, "converged", info->converged, "maxAlphaChange", info->max_alpha_change);
+    json_object_set_new(o, "passVertices", vertices); /* what each pass's draws issued (lc_frame_info) */
     if (info->has_visibility) {
         json_object_set_new(o, "normalize",
                             json_pack("{s:s, s:f, s:f}", "mode", p->foo.normalize == LC_NORMALIZE_OFF ? "off" : "auto",

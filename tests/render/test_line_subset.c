@@ -11,7 +11,10 @@
  * - a frame that re-optimizes thinned keeps the opacities of the elements it
  *   drops and looks like the one that re-optimizes with every line;
  * - a fresh state's frame draws every line, and a coarse level is thinned
- *   only as far as a segment per LC_LINE_SUBSET_PIXELS pixels. */
+ *   only as far as a segment per LC_LINE_SUBSET_PIXELS pixels;
+ * - with params.subset n as well, P4 draws every n-th segment of the kept
+ *   lines (the vertices its draws issue, lc_frame_info.pass_vertices), not
+ *   every n-th of all the lines. */
 #include <math.h>
 
 #include "demo.h"
@@ -95,6 +98,38 @@ static void tornado(test_gl *t, uint8_t *a, uint8_t *b)
           (unsigned long long)some.kept_line_segments[1], (unsigned long long)n);
     CHECK(ssim > 0.75 && ssim < 0.9999, "stride 4: SSIM %.4f vs every line", ssim);
     CHECK(fabs(cb - ca) < 0.25 * ca, "stride 4 covers the background %.2f, every line %.2f", cb, ca);
+
+    /* With params.subset 2 as well, P4 takes every other segment of the
+     * kept lines (weighted 2), not every other segment of all of them; P5
+     * draws the kept lines as without the subset. The subset costs the
+     * thinned frame about what it costs the frame of every line. */
+    lc_frame_info sub_all, sub_some;
+    uint8_t *every = malloc((size_t)SIZE * SIZE * 4), *c = malloc((size_t)SIZE * SIZE * 4);
+    p.detail.line_stride = 1;
+    test_render_frame(t, gs, &p, st, every, NULL);
+    p.foo.subset = 2;
+    test_render_frame(t, gs, &p, st, c, &sub_all);
+    p.detail.line_stride = 4;
+    test_render_frame(t, gs, &p, st, a, &sub_some);
+    p.foo.subset = 1;
+    double ssim_sub = lc_image_ssim(a, b, SIZE, SIZE), ssim_alone = lc_image_ssim(c, every, SIZE, SIZE);
+    free(every);
+    free(c);
+    uint64_t p4_all = sub_all.pass_vertices[LC_PASS_OPTICAL_DEPTH], p4 = sub_some.pass_vertices[LC_PASS_OPTICAL_DEPTH];
+    printf("subset 2: P4 issued %llu vertices with line stride 4, %llu with every line (%.2f); P5 %llu, %llu "
+           "without the subset; SSIM %.4f vs the stride without it (every line: %.4f vs without it)\n",
+           (unsigned long long)p4, (unsigned long long)p4_all, p4_all ? (double)p4 / (double)p4_all : 0,
+           (unsigned long long)sub_some.pass_vertices[LC_PASS_ACCUMULATE],
+           (unsigned long long)some.pass_vertices[LC_PASS_ACCUMULATE], ssim_sub, ssim_alone);
+    CHECK(sub_some.line_stride == 4 && p4 > 0 && p4 * 2 < p4_all,
+          "subset 2 with line stride 4: P4 issued %llu vertices, %llu with every line", (unsigned long long)p4,
+          (unsigned long long)p4_all);
+    CHECK(sub_some.pass_vertices[LC_PASS_ACCUMULATE] == some.pass_vertices[LC_PASS_ACCUMULATE],
+          "subset 2 changed P5's draw: %llu vertices against %llu",
+          (unsigned long long)sub_some.pass_vertices[LC_PASS_ACCUMULATE],
+          (unsigned long long)some.pass_vertices[LC_PASS_ACCUMULATE]);
+    CHECK(ssim_sub > ssim_alone - 0.05 && ssim_sub < 0.9999,
+          "subset 2 with line stride 4: SSIM %.4f vs without the subset (every line: %.4f)", ssim_sub, ssim_alone);
 
     /* A coarse level keeps a segment per LC_LINE_SUBSET_PIXELS pixels: the
      * stride halves until it does, down to every line. */

@@ -327,9 +327,6 @@ void lc_pipeline_configure(const char *gl_renderer)
     atomic_store(&draw_batch_triangles, software ? SOFTWARE_BATCH_TRIANGLES : 0);
 }
 
-/* Issues primitives [first, first + count) of the current program: points
- * (GL points when sprites, else instances), pulled primitives (six or three
- * corners each) or triangles of the index buffer. */
 /* Counts what a draw issues for the frame's report (lc_frame_info.pass_vertices). */
 static void issued(const lc_frame_setup *fs, uint64_t vertices)
 {
@@ -337,6 +334,9 @@ static void issued(const lc_frame_setup *fs, uint64_t vertices)
         fs->renderer->vertices_issued += vertices;
 }
 
+/* Issues primitives [first, first + count) of the current program: points
+ * (GL points when sprites, else instances), pulled primitives (six or three
+ * corners each) or triangles of the index buffer. */
 static void draw_range(const lc_frame_setup *fs, lc_prim_type prim, int pulled, int sprites, uint64_t first,
                        uint64_t count)
 {

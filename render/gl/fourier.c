@@ -545,11 +545,11 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     }
     /* topDecileReach: the optimized opacities' P5 (not the list's, the baselines' or the bins'). */
     int reach = !direct && !bins && !listed && !fs->batch_count; /* (not over one batch of params.progressive) */
+    int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5);
     if (reach)
-        lc_reach_begin(r, fs);
+        lc_reach_begin(r, fs, !p5_computed);
     else if (fs->batch_count)
         r->reach_g = 2.0f; /* > 1: P5 measures nothing */
-    int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5);
     info_paths(fs, LC_RASTER_P5, p5_computed);
     if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)
         return rc;

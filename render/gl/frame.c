@@ -112,6 +112,9 @@ void lc_renderer_destroy(lc_renderer *r)
     lc_targets_free(&r->range_full, &b);
     lc_targets_free(&r->range_low, &b);
     lc_targets_free(&r->moments, &b);
+    lc_targets_free(&r->reach_sums, &b);
+    if (r->reach_fbo)
+        glDeleteFramebuffers(1, &r->reach_fbo);
     if (r->output_depth)
         glDeleteRenderbuffers(1, &r->output_depth);
     glDeleteFramebuffers(1, &r->nofb);
@@ -558,10 +561,14 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
     lc_error ignored = {0};
     for (int k = 0; k < 2; k++) /* llvmpipe's scenes hold references for one frame more */
         lc_render_frame(r, gs, &tiny, NULL, 0.0, rgba, NULL, &ignored);
-    lc_targets *sets[] = {&r->coef_low,   &r->coef_full, &r->accum,  &r->output,
-                          &r->range_full, &r->range_low, &r->moments};
+    lc_targets *sets[] = {&r->coef_low,   &r->coef_full, &r->accum,   &r->output,
+                          &r->range_full, &r->range_low, &r->moments, &r->reach_sums};
     for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++)
         lc_targets_free(sets[k], &r->bytes_targets);
+    if (r->reach_fbo) { /* its attachments would keep the freed targets (a frame that ended inside P5) */
+        glDeleteFramebuffers(1, &r->reach_fbo);
+        r->reach_fbo = 0;
+    }
     if (r->output_depth) { /* attached to the output's framebuffer: goes with it */
         glDeleteRenderbuffers(1, &r->output_depth);
         r->bytes_targets -= (uint64_t)r->depth_width * (uint64_t)r->depth_height * 4;

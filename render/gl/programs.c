@@ -254,6 +254,7 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
     static const char *const cs_lines[] = {"common.glsl", "line_select.comp.glsl", NULL};
     static const char *const cs_filter[] = {"common.glsl", "filter_mask.comp.glsl", NULL};
     static const char *const cs_kanzler[] = {"kanzler_blur.comp.glsl", NULL};
+    static const char *const cs_reach[] = {"reach_reduce.comp.glsl", NULL};
     if (kind == PROG_P3)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_p3, "P3 smoothing", err);
     else if (kind == PROG_MASS_HISTOGRAM)
@@ -268,6 +269,8 @@ GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error 
         *slot = lc_renderer_build_program("", NULL, NULL, cs_filter, "filter mask", err);
     else if (kind == PROG_KANZLER_BLUR)
         *slot = lc_renderer_build_program("", NULL, NULL, cs_kanzler, "kanzler maps blur", err);
+    else if (kind == PROG_REACH_REDUCE)
+        *slot = lc_renderer_build_program("", NULL, NULL, cs_reach, "topDecileReach sums", err);
     else if (kind == PROG_RESOLVE)
         *slot = lc_renderer_build_program("", vs_full, fs_resolve, NULL, "P6 resolve", err);
     else if (kind == PROG_WEIGHTED_AVERAGE_RESOLVE)

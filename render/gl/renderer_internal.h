@@ -77,6 +77,7 @@
     X(TEX_CONTEXT_COLOR, 9)  /* context.c: its colour, under P6 and the exact blend */                                 \
     X(TEX_KANZLER_MAPS, 10)  /* kanzler.c: (C, M, D, V) per pixel, read by the kanzler P4/P5 */                        \
     X(TEX_KANZLER_SUMS, 11)  /* kanzler.c: tangent sums and counts, read by the blur */                                \
+    X(TEX_REACH_SUMS, 3)     /* visibility.c: P5's per-pixel topDecileReach sums, read by their reduction */           \
     X(IMG_KANZLER_MAX, 7)    /* kanzler.c: packed maximum importance and depth (R32UI) */                              \
     X(IMG_KANZLER_MAPS, 1)   /* kanzler.c: the blur's output (the exact method's output unit is free there) */         \
     X(TEX_SHADOW_COLOR, 10)  /* shadow.c: the light's optical-depth-weighted colour */                                 \
@@ -223,6 +224,7 @@ typedef enum {
     PROG_LINE_SELECT,
     PROG_FILTER_MASK,
     PROG_KANZLER_BLUR,  /* kanzler.c: C, V and the 5x5 mean of M and D */
+    PROG_REACH_REDUCE,  /* visibility.c: the per-pixel topDecileReach sums into their 64 slots */
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
     PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS,   /* P1 over P0's fragments, per band count */
     PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS, /* P5 over P4's fragments, per band count */
@@ -279,7 +281,13 @@ struct lc_renderer {
     GLuint element_behind;     /* per element: importance mass behind its fragments (visibility report) */
     GLuint important_occluded; /* 2 uints: important fragments, and those with important mass in front */
     GLuint top_reach;          /* topDecileReach's P5 sums: 64 slots of four 64-bit sums (visibility.c) */
-    float reach_g;             /* the importance P5 counts from (the top decile's lowest bin); > 1: none */
+    /* A drawn P5 blends the sums per pixel into reach_sums (RGBA32F, the
+     * pass's size) beside the accumulation, through reach_fbo, and a compute
+     * pass adds them into top_reach; reach_drawn says this P5 does. */
+    lc_targets reach_sums;
+    GLuint reach_fbo;
+    int reach_drawn;
+    float reach_g; /* the importance P5 counts from (the top decile's lowest bin); > 1: none */
     uint32_t element_capacity;
     GLuint mass_histogram;     /* MASS_BINS counts (visibility.c) */
     GLuint element_importance; /* 2 uints per element: fixed-point sum, count */
@@ -916,9 +924,11 @@ void lc_mass_clear(lc_renderer *r);
 void lc_occluders_clear(lc_renderer *r);
 /* topDecileReach (docs/ALGORITHM.md §8) around the Fourier path's P5:
  * begin zeroes and binds the sums and sets r->reach_g from this frame's
- * visibility report (none: P5 counts nothing); end reads them back into
- * fs->info (added over a frame's tiles). */
-void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs);
+ * visibility report (none: P5 counts nothing); a drawn P5 (drawn nonzero)
+ * then draws into a framebuffer of the accumulation and the per-pixel sums,
+ * which begin binds. end adds those up (drawn), reads the sums back into
+ * fs->info (added over a frame's tiles) and leaves the accumulation bound. */
+void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs, int drawn);
 int lc_reach_end(lc_renderer *r, const lc_frame_setup *fs, lc_error *err);
 /* The share of the w x h pixels of tex whose red channel is positive (the
  * mass histogram's count; method kanzler's coverage map). -1: GL error. */

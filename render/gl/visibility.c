@@ -116,7 +116,7 @@ void lc_occluders_clear(lc_renderer *r)
 
 #define REACH_SLOTS 64 /* p5_accumulate.frag.glsl: four 64-bit sums a slot */
 
-void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs)
+void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs, int drawn)
 {
     if (!r->top_reach) {
         glCreateBuffers(1, &r->top_reach);
@@ -129,10 +129,49 @@ void lc_reach_begin(lc_renderer *r, const lc_frame_setup *fs)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_TOP_REACH, r->top_reach);
     r->reach_g =
         fs->info && fs->info->has_visibility && fs->info->visible_elements > 0 ? (float)fs->info->top_decile_g : 2.0f;
+    r->reach_drawn = drawn && r->reach_g <= 1.0f;
+    if (!r->reach_drawn)
+        return;
+    /* The drawn P5 writes the accumulation and these sums through one
+     * framebuffer of both (the accumulation's own keeps its one target). */
+    lc_targets_ensure(&r->reach_sums, fs->width, fs->height, 1, GL_RGBA32F, &r->bytes_targets);
+    if (!r->reach_fbo)
+        glCreateFramebuffers(1, &r->reach_fbo);
+    glNamedFramebufferTexture(r->reach_fbo, GL_COLOR_ATTACHMENT0, r->accum.tex[0], 0);
+    glNamedFramebufferTexture(r->reach_fbo, GL_COLOR_ATTACHMENT1, r->reach_sums.tex[0], 0);
+    static const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(r->reach_fbo, 2, both);
+    static const float none[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(r->reach_fbo, GL_COLOR, 1, none);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->reach_fbo);
+}
+
+/* The drawn P5's per-pixel sums into top_reach's slots (reach_reduce.comp.glsl). */
+static int reduce_drawn(lc_renderer *r, lc_error *err)
+{
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
+    GLuint prog = lc_renderer_fixed_program(r, PROG_REACH_REDUCE, err);
+    if (!prog)
+        return LC_ERR_GL;
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glUseProgram(prog);
+    glBindTextureUnit(TEX_REACH_SUMS, r->reach_sums.tex[0]);
+    glProgramUniform2i(prog, glGetUniformLocation(prog, "u_size"), r->reach_sums.width, r->reach_sums.height);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_TOP_REACH, r->top_reach);
+    glDispatchCompute(((GLuint)r->reach_sums.height + 63u) / 64u, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    /* An attached texture outlives its deletion: the targets go when freed. */
+    glNamedFramebufferTexture(r->reach_fbo, GL_COLOR_ATTACHMENT0, 0, 0);
+    glNamedFramebufferTexture(r->reach_fbo, GL_COLOR_ATTACHMENT1, 0, 0);
+    return 0;
 }
 
 int lc_reach_end(lc_renderer *r, const lc_frame_setup *fs, lc_error *err)
 {
+    int pixels = r->reach_drawn;
+    r->reach_drawn = 0;
+    if (pixels && reduce_drawn(r, err) != 0)
+        return err->code;
     if (r->reach_g > 1.0f || !fs->info)
         return 0;
     uint32_t words[REACH_SLOTS * 8];

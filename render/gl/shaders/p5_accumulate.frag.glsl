@@ -8,11 +8,23 @@ uniform int u_estimator;
 // topDecileReach (docs/ALGORITHM.md §8): the sums of g w (w = alpha T, T the
 // transmittance in front: composite_weight is that with either estimator)
 // and of g alpha, over every fragment and over those at or above the top
-// decile's importance u_reach_g (> 1: not measured), in 1/65536 units, each
-// 64-bit as a low word and its carries, spread over 64 slots by pixel so that
-// the atomics do not all meet on one word.
-layout(std430, binding = BIND_TOP_REACH) buffer TopReach { uint top_reach[64 * 8]; };
+// decile's importance u_reach_g (> 1: not measured). Drawn, they blend per
+// pixel into a second target (reach_reduce.comp.glsl adds its pixels up);
+// computed, they go in 1/65536 units, each 64-bit as a low word and its
+// carries, into 64 slots by pixel so that the atomics do not all meet on one
+// word. Atomics per fragment cost a drawn P5 a fifth of its time on lines.
 uniform float u_reach_g;
+#ifndef RASTER_STAGE
+layout(location = 1) out vec4 o_reach;
+
+void reach(float alpha, float w)
+{
+    float g = u_reach_g > 1.0 ? 0.0 : fragment_importance();
+    float top = g >= u_reach_g ? 1.0 : 0.0;
+    o_reach = vec4(g * w, g * alpha, top * g * w, top * g * alpha);
+}
+#else
+layout(std430, binding = BIND_TOP_REACH) buffer TopReach { uint top_reach[64 * 8]; };
 
 void reach_add(uint at, float value)
 {
@@ -35,6 +47,7 @@ void reach(float alpha, float w)
         reach_add(at + 6u, g * alpha);
     }
 }
+#endif
 #else
 void reach(float alpha, float w) {}
 #endif

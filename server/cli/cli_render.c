@@ -36,8 +36,8 @@ static const lc_option render_options[] = {
      .help = "render N frames with fading, dt = --dt, keep the last"},
     {"--dt", "S", LC_OPT_REAL, RENDER(dt), 0, 86400, .help = "time step between those frames (default 1/30 s)"},
     {"--stats", "FILE.json", LC_OPT_TEXT, RENDER(stats),
-     .help = "write the (last) frame's statistics: pass times, normalization,\n"
-             "visibility"},
+     .help = "write the (last) frame's statistics: pass times, the vertices each\n"
+             "pass drew, normalization, visibility"},
     {"--mpi", NULL, LC_OPT_BOOL, RENDER(mpi),
      .help = "under mpirun/srun: each rank renders its shard, rank 0 writes the\n"
              "image (docs/MPI.md; methods fourier and direct); of line files,\n"

@@ -7,7 +7,7 @@
 
 int lc_render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
-    GLuint prog = lc_renderer_geometry_program(r, PROG_OPAQUE, fs->gs->scene->type, 1, 1, err);
+    GLuint prog = lc_renderer_geometry_program(r, fs, PROG_OPAQUE, fs->gs->scene->type, 1, 1, err);
     if (!prog)
         return LC_ERR_GL;
     const double *bg = fs->params->style.background;
@@ -27,7 +27,7 @@ int lc_render_opaque(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 
 int lc_render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
-    GLuint prog = lc_renderer_geometry_program(r, PROG_WBOIT, fs->gs->scene->type, 1, 1, err);
+    GLuint prog = lc_renderer_geometry_program(r, fs, PROG_WBOIT, fs->gs->scene->type, 1, 1, err);
     if (!prog)
         return LC_ERR_GL;
     lc_targets_ensure(&r->accum, fs->width, fs->height, 2, GL_RGBA16F, &r->bytes_targets);
@@ -52,7 +52,7 @@ int lc_render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 
 int lc_render_weighted_average(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
-    GLuint prog = lc_renderer_geometry_program(r, PROG_WEIGHTED_AVERAGE, fs->gs->scene->type, 1, 1, err);
+    GLuint prog = lc_renderer_geometry_program(r, fs, PROG_WEIGHTED_AVERAGE, fs->gs->scene->type, 1, 1, err);
     if (!prog)
         return LC_ERR_GL;
     /* Bavoil & Myers keep (sum a c, sum a) in RGBA32F and the count beside it:

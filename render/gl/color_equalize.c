@@ -103,7 +103,7 @@ void lc_color_equalize_reset(lc_renderer *r)
 int lc_color_equalize_measure(lc_renderer *r, lc_frame_setup *fs, int direct, int *fresh, lc_error *err)
 {
     const lc_render_params *p = fs->params;
-    GLuint prog = lc_renderer_geometry_program(r, direct ? PROG_COLOR_HISTOGRAM_DIRECT : PROG_COLOR_HISTOGRAM,
+    GLuint prog = lc_renderer_geometry_program(r, fs, direct ? PROG_COLOR_HISTOGRAM_DIRECT : PROG_COLOR_HISTOGRAM,
                                                fs->gs->scene->type, p->foo.bands, 1, err);
     if (!prog)
         return LC_ERR_GL;

@@ -89,7 +89,7 @@ int lc_context_draw(lc_renderer *r, lc_frame_setup *fs, int which, lc_error *err
             const lc_frame_setup *lf = lc_frame_context_layer(fs, i, &tmp);
             if (!lf)
                 continue;
-            GLuint prog = lc_renderer_geometry_program(r, PROG_OPAQUE, lf->gs->scene->type, 1, 1, err);
+            GLuint prog = lc_renderer_geometry_program(r, lf, PROG_OPAQUE, lf->gs->scene->type, 1, 1, err);
             if (!prog) {
                 glDisable(GL_DEPTH_TEST);
                 return LC_ERR_GL;

@@ -109,7 +109,7 @@ static int draw_depth_range(lc_renderer *r, lc_frame_setup *fs, lc_targets *t, i
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint prog = lc_renderer_geometry_program(r, PROG_DEPTH_RANGE, lf->gs->scene->type, 1, 1, err);
+        GLuint prog = lc_renderer_geometry_program(r, lf, PROG_DEPTH_RANGE, lf->gs->scene->type, 1, 1, err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);
@@ -166,7 +166,7 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint prog = lc_renderer_geometry_program(r, kind, lf->gs->scene->type, bands, subset, err);
+        GLuint prog = lc_renderer_geometry_program(r, lf, kind, lf->gs->scene->type, bands, subset, err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, t->width, t->height, subset);
@@ -362,7 +362,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         return LC_ERR_GL;
     info->opacity_from_list = listed != 0;
     if (!fs->layer_count) {
-        GLuint p2 = listed ? listed : lc_renderer_geometry_program(r, PROG_P2, fs->gs->scene->type, bands, 1, err);
+        GLuint p2 = listed ? listed : lc_renderer_geometry_program(r, fs, PROG_P2, fs->gs->scene->type, bands, 1, err);
         if (!p2)
             return LC_ERR_GL;
         if ((rc = lc_element_emphasis_bind(r, fs, p2, err)) != 0)
@@ -398,7 +398,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p2 = lc_renderer_geometry_program(r, PROG_P2, lf->gs->scene->type, bands, 1, err);
+        GLuint p2 = lc_renderer_geometry_program(r, lf, PROG_P2, lf->gs->scene->type, bands, 1, err);
         if (!p2)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p2, lf, lw, lh, 1);
@@ -514,7 +514,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p4 = lc_renderer_geometry_program(r, record ? PROG_P4_LIST : kind4, lf->gs->scene->type, bands,
+        GLuint p4 = lc_renderer_geometry_program(r, lf, record ? PROG_P4_LIST : kind4, lf->gs->scene->type, bands,
                                                  p->foo.subset, err);
         if (!p4)
             return LC_ERR_GL;
@@ -558,7 +558,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
-        GLuint p5 = lc_renderer_geometry_program(r, kind5, lf->gs->scene->type, bands, 1, err);
+        GLuint p5 = lc_renderer_geometry_program(r, lf, kind5, lf->gs->scene->type, bands, 1, err);
         if (!p5)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, p5, lf, fs->width, fs->height, 1);

@@ -33,6 +33,8 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
     lc_fragment_list_configure((const char *)glGetString(GL_RENDERER));
     lc_compute_raster_configure((const char *)glGetString(GL_RENDERER));
     lc_line_primitive_configure(r);
+    lc_programs_configure((const char *)glGetString(GL_RENDERER));
+    r->specialize = 1;
     r->raster_path = -1;
     glCreateVertexArrays(1, &r->vao);
     /* Line ribbons are strips separated by LC_STRIP_RESTART (gpu_scene.c);
@@ -101,6 +103,9 @@ void lc_renderer_destroy(lc_renderer *r)
                 for (int v = 0; v < 3; v++)
                     if (r->floor_programs[k][p][b][v])
                         glDeleteProgram(r->floor_programs[k][p][b][v]);
+    for (int i = 0; i < LC_SPEC_PROGRAMS; i++)
+        if (r->spec_programs[i].prog)
+            glDeleteProgram(r->spec_programs[i].prog);
     for (int k = 0; k < PROG_FIXED_KINDS - PROG_GEOMETRY_KINDS; k++)
         if (r->fixed_programs[k])
             glDeleteProgram(r->fixed_programs[k]);

@@ -45,7 +45,7 @@ int lc_kanzler_maps(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
         if (!lf)
             continue;
         GLuint prog =
-            lc_renderer_geometry_program(r, PROG_KANZLER_MAPS, lf->gs->scene->type, fs->params->foo.bands, 1, err);
+            lc_renderer_geometry_program(r, lf, PROG_KANZLER_MAPS, lf->gs->scene->type, fs->params->foo.bands, 1, err);
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, w, h, 1);

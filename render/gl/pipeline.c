@@ -188,6 +188,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     if (tile)
         w = fs->frame_width, h = fs->frame_height;
     int out_h = fs->tiled ? fs->frame_height : fs->height;
+    lc_renderer_check_spec(r, prog, fs);
     glUseProgram(prog);
     glBindVertexArray(r->vao);
     int line_strips = fs->line_primitive && gs->scene->type == LC_PRIM_LINES; /* line_primitive.c */

@@ -1,5 +1,6 @@
 /* Shader programs: embedded GLSL sources joined with #defines (band count,
  * primitive, binding points), compiled once per variant and cached. */
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,9 +24,13 @@ static const char binding_defines[] = LC_GL_BINDINGS(LC_GL_BINDING_DEFINE) LC_GL
 #undef LC_GL_FLOAT_DEFINE
 #undef LC_GL_BINDING_DEFINE
 
+/* What every program of this device compiles with: SOFTWARE_GL on llvmpipe
+ * (common.glsl's turn_cos_sin). */
+static const char *device_defines = "";
+
 static char *concat_sources(const char *defines, const char *const *files, lc_error *err)
 {
-    size_t total = sizeof binding_defines + strlen(defines) + 64;
+    size_t total = sizeof binding_defines + strlen(device_defines) + strlen(defines) + 64;
     for (int i = 0; files[i]; i++) {
         const lc_embedded_file *f = lc_embedded_find(lc_shader_files, files[i]);
         if (!f) {
@@ -39,7 +44,7 @@ static char *concat_sources(const char *defines, const char *const *files, lc_er
         lc_err(err, LC_ERR_NOMEM, "out of memory");
         return NULL;
     }
-    size_t off = (size_t)sprintf(src, "#version 450 core\n%s%s", binding_defines, defines);
+    size_t off = (size_t)sprintf(src, "#version 450 core\n%s%s%s", binding_defines, device_defines, defines);
     for (int i = 0; files[i]; i++) {
         const lc_embedded_file *f = lc_embedded_find(lc_shader_files, files[i]);
         off += (size_t)sprintf(src + off, "#line 1 %d\n", i + 1);
@@ -120,8 +125,99 @@ fail:
     return 0;
 }
 
-GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
-                                    lc_error *err)
+/* Specialized programs (docs/ALGORITHM.md "Specialized programs"): llvmpipe
+ * runs both sides of a branch on a uniform under masks, so the frame's values
+ * that the shaders branch on are compiled in as macros named like the
+ * uniforms they replace (the declarations step aside, common.glsl). The
+ * values come from the frame setup the program is bound with, so that
+ * lc_renderer_bind_geometry's uniforms and the macros agree (checked there). */
+enum {
+    SPEC_ON = 1u << 0,
+    SPEC_MIDPOINT = 1u << 1,
+    SPEC_ORTHO = 1u << 2,
+    SPEC_UNSHADED = 1u << 3,
+    SPEC_NO_HALO = 1u << 4,
+    SPEC_NO_SILHOUETTE = 1u << 5,
+    SPEC_PIXEL_RANGE = 1u << 6,
+    SPEC_MOMENTS = 1u << 7,
+    SPEC_BITS = 8
+};
+
+static atomic_int specialize_override = -1; /* LUCENT_SPECIALIZE: 0 off (comparisons); else on */
+
+void lc_programs_configure(const char *gl_renderer)
+{
+    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
+                                   strstr(gl_renderer, "swrast"));
+    device_defines = software ? "#define SOFTWARE_GL 1\n" : "";
+    const char *e = getenv("LUCENT_SPECIALIZE");
+    atomic_store(&specialize_override, e && e[0] == '0' ? 0 : -1);
+}
+
+void lc_renderer_set_specialize(lc_renderer *r, int on) { r->specialize = on ? 1 : 0; }
+
+/* The spec bits of kind bound with fs; 0: the kind keeps its uniforms (the
+ * shadow passes set their own camera and shading after the geometry's). */
+static unsigned program_spec(const lc_renderer *r, lc_program_kind kind, const lc_frame_setup *fs)
+{
+    if (!fs || !r->specialize || atomic_load(&specialize_override) == 0 || kind == PROG_SHADOW ||
+        kind == PROG_SHADOW_DIRECT)
+        return 0;
+    const lc_render_params *p = fs->params;
+    return SPEC_ON | (p->foo.estimator == LC_ESTIMATOR_MIDPOINT ? SPEC_MIDPOINT : 0) |
+           (p->camera.parallel_projection ? SPEC_ORTHO : 0) |
+           (p->style.shading == LC_SHADING_NONE ? SPEC_UNSHADED : 0) | (p->style.halo_width > 0 ? 0 : SPEC_NO_HALO) |
+           (p->style.silhouette_exponent > 1 ? 0 : SPEC_NO_SILHOUETTE) |
+           (fs->pixel_depth_range ? SPEC_PIXEL_RANGE : 0) | (fs->depth_moments ? SPEC_MOMENTS : 0);
+}
+
+static void spec_defines(unsigned spec, char *out, size_t n)
+{
+    out[0] = '\0';
+    if (!spec)
+        return;
+    snprintf(out, n,
+             "#define u_estimator %d\n#define u_ortho %d\n#define u_shading %d\n#define u_pixel_depth_range %d\n"
+             "#define u_depth_moments %d\n%s%s",
+             !!(spec & SPEC_MIDPOINT), !!(spec & SPEC_ORTHO), !!(spec & SPEC_UNSHADED), !!(spec & SPEC_PIXEL_RANGE),
+             !!(spec & SPEC_MOMENTS), spec & SPEC_NO_HALO ? "#define u_halo_px 0.0\n" : "",
+             spec & SPEC_NO_SILHOUETTE ? "#define u_silhouette_exponent 1.0\n" : "");
+}
+
+/* The slot of a specialized program: the least recently used one is
+ * replaced (a frame binds a handful; sessions change few of the values). */
+static lc_spec_program *spec_slot(lc_renderer *r, uint32_t key)
+{
+    lc_spec_program *oldest = &r->spec_programs[0];
+    for (int i = 0; i < LC_SPEC_PROGRAMS; i++) {
+        lc_spec_program *e = &r->spec_programs[i];
+        if (e->prog && e->key == key) {
+            e->used = ++r->spec_clock;
+            return e;
+        }
+        if (!e->prog || (oldest->prog && e->used < oldest->used))
+            oldest = e;
+    }
+    if (oldest->prog)
+        glDeleteProgram(oldest->prog);
+    *oldest = (lc_spec_program){.key = key, .prog = 0, .used = ++r->spec_clock};
+    return oldest;
+}
+
+void lc_renderer_check_spec(const lc_renderer *r, GLuint prog, const lc_frame_setup *fs)
+{
+    for (int i = 0; i < LC_SPEC_PROGRAMS; i++)
+        if (r->spec_programs[i].prog == prog) {
+            unsigned want = program_spec(r, r->spec_programs[i].kind, fs);
+            unsigned built = r->spec_programs[i].key & ((1u << SPEC_BITS) - 1);
+            if (want != built) /* a caller chose the program with another frame setup: fix the caller */
+                LC_ERROR(MODULE, "a specialized program (spec %#x) bound with a frame of spec %#x", built, want);
+            return;
+        }
+}
+
+GLuint lc_renderer_geometry_program(lc_renderer *r, const lc_frame_setup *fs, lc_program_kind kind, lc_prim_type prim,
+                                    int bands, int subset, lc_error *err)
 {
     int pulled = lc_pulls_primitives(prim, subset, r->pull_lines);
     int sprites = prim == LC_PRIM_POINTS && r->point_sprites; /* points never pull: the variant slots share */
@@ -131,8 +227,20 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     int floor = r->floor == LC_FLOOR_EMPTY_SHADER && !context;
     int lines = prim == LC_PRIM_LINES && r->line_primitive && !pulled; /* wide line strips (line_primitive.c) */
     int variant = lines ? 2 : pulled | sprites;
-    GLuint *slot = floor ? &r->floor_programs[kind][prim][bands][variant]
-                         : &r->geometry_programs[kind][prim][bands][variant][context];
+    unsigned spec = program_spec(r, kind, fs);
+    GLuint *slot = NULL;
+    if (spec) {
+        uint32_t key =
+            ((((((uint32_t)kind * 3 + prim) * (LC_MAX_BANDS + 1) + (uint32_t)bands) * 3 + variant) * 2 + context) * 2 +
+             floor)
+                << SPEC_BITS |
+            spec;
+        lc_spec_program *e = spec_slot(r, key);
+        e->kind = kind;
+        slot = &e->prog;
+    } else
+        slot = floor ? &r->floor_programs[kind][prim][bands][variant]
+                     : &r->geometry_programs[kind][prim][bands][variant][context];
     if (*slot)
         return *slot;
     static const char *const vs[] = {"common.glsl", "geometry.vert.glsl", NULL};
@@ -201,8 +309,9 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
     int kanzler = kind == PROG_P4_KANZLER || kind == PROG_P5_KANZLER;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT || kanzler ||
                  kind == PROG_SHADOW_DIRECT;
-    char defines[400];
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s%s", (int)prim, bands,
+    char specialized[300], defines[700];
+    spec_defines(spec, specialized, sizeof specialized);
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s%s%s", (int)prim, bands,
              bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "", reads_alpha ? "#define READ_ALPHA 1\n" : "",
              direct ? "#define DIRECT_ALPHA 1\n" : "", pulled ? "#define PULL_PRIMITIVES 1\n" : "",
              sprites ? "#define POINT_SPRITES 1\n" : "", lines ? "#define LINE_PRIMITIVE 1\n" : "",
@@ -213,7 +322,8 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
              : kind == PROG_KANZLER_MAPS       ? "#define KANZLER_MAPS 1\n"
              : kanzler                         ? "#define KANZLER_PENALTY 1\n"
              : kind == PROG_SHADOW || kind == PROG_SHADOW_DIRECT ? "#define SHADOW_MAP 1\n"
-                                                                 : "");
+                                                                 : "",
+             specialized);
     char label[80];
     snprintf(label, sizeof label, "%s program (%s, m=%d%s%s)", kind_names[kind], lc_prim_type_name(prim), bands,
              lines     ? ", lines"
@@ -222,8 +332,6 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_pri
                        : "",
              context ? ", context" : "");
     *slot = lc_renderer_build_program(defines, vs, fs_by_kind[kind], NULL, label, err);
-    if (*slot && floor) /* fragment_common.glsl's FLOOR_RETURN: taken at run time, so nothing is compiled away */
-        lc_uniform_i(*slot, "u_floor_empty", 1);
     return *slot;
 }
 

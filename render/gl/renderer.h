@@ -446,6 +446,10 @@ typedef enum {
     LC_FLOOR_COUNT
 } lc_floor_mode;
 void lc_renderer_set_floor(lc_renderer *r, lc_floor_mode mode);
+/* Whether geometry programs compile the frame's branch values in (1, the
+ * default; LUCENT_SPECIALIZE=0 turns it off in every renderer): the images are
+ * the same either way (docs/ALGORITHM.md "Specialized programs"). */
+void lc_renderer_set_specialize(lc_renderer *r, int on);
 const char *lc_floor_mode_name(lc_floor_mode mode);
 
 /* The additive passes that may run as compute passes instead of drawn

@@ -231,6 +231,14 @@ typedef enum {
     PROG_FIXED_KINDS = PROG_P5_CHAINS_FIRST + LC_MAX_BANDS
 } lc_program_kind;
 
+#define LC_SPEC_PROGRAMS 48
+typedef struct lc_spec_program {
+    uint32_t key;
+    lc_program_kind kind;
+    GLuint prog;
+    uint64_t used;
+} lc_spec_program;
+
 struct lc_renderer {
     lc_renderer_desc desc;
     GLuint vao;
@@ -245,6 +253,11 @@ struct lc_renderer {
      * geometry programs ([kind][primitive][bands][variant]), built on use. */
     lc_floor_mode floor;
     GLuint floor_programs[PROG_GEOMETRY_KINDS][3][LC_MAX_BANDS + 1][3];
+    /* Specialized geometry programs (programs.c), by key: the slots above
+     * and the frame values compiled in; the least recently used is replaced. */
+    lc_spec_program spec_programs[LC_SPEC_PROGRAMS];
+    uint64_t spec_clock;
+    int specialize; /* lc_renderer_set_specialize: 1 (the default) or 0 */
     /* fragment_list.c: P1's fragments (16 bytes each after a 16-byte count),
      * the capacity allocated, the largest count seen, and whether this
      * frame's P1 filled it (fragment_count of them). */
@@ -678,8 +691,13 @@ static inline int lc_pulls_primitives(lc_prim_type prim, int subset, int pull_li
  * which pulls every n-th primitive unindexed (#define PULL_PRIMITIVES); points
  * always draw instanced. Programs built elsewhere from geometry.vert.glsl
  * without PULL_PRIMITIVES match subset 1. */
-GLuint lc_renderer_geometry_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, int subset,
-                                    lc_error *err);
+GLuint lc_renderer_geometry_program(lc_renderer *r, const lc_frame_setup *fs, lc_program_kind kind, lc_prim_type prim,
+                                    int bands, int subset, lc_error *err);
+/* Specialized programs compile fs's values in (programs.c); the binding
+ * checks that the program it binds was built for fs's values. fs NULL: the
+ * kind's unspecialized program. */
+void lc_programs_configure(const char *gl_renderer);
+void lc_renderer_check_spec(const lc_renderer *r, GLuint prog, const lc_frame_setup *fs);
 /* The full-screen and compute programs (P3, P6, WBOIT resolve), cached. */
 GLuint lc_renderer_fixed_program(lc_renderer *r, lc_program_kind kind, lc_error *err);
 /* Compiles a program from embedded shader files; defines is a "#define ..\n"

@@ -275,8 +275,8 @@ static int light_pass(lc_renderer *r, shadow_state *st, const lc_frame_setup *fs
         const lc_frame_setup *lf = lc_frame_layer(light, i, &tmp);
         if (!lf)
             continue;
-        GLuint prog = lc_renderer_geometry_program(r, direct ? PROG_SHADOW_DIRECT : PROG_SHADOW, lf->gs->scene->type,
-                                                   bands, 1, err);
+        GLuint prog = lc_renderer_geometry_program(r, lf, direct ? PROG_SHADOW_DIRECT : PROG_SHADOW,
+                                                   lf->gs->scene->type, bands, 1, err);
         if (!prog) {
             r->context_layers = context_layers;
             return LC_ERR_GL;

@@ -4,7 +4,9 @@
 // colormap coordinate. Halo fragments carry no colour value and add nothing.
 layout(std430, binding = BIND_COLOR_HISTOGRAM) buffer ColorHistogram { uint color_histogram[]; };
 layout(binding = TEX_EQUALIZE_ACCUM) uniform sampler2D u_eq_accum; // P5's sums: .a = sum w
+#ifndef u_estimator
 uniform int u_estimator;
+#endif
 uniform float u_eq_scale; // fixed-point units per unit of visible share
 
 void main()

@@ -77,7 +77,9 @@ uniform mat4 u_view;
 uniform mat4 u_view_proj;
 uniform vec3 u_eye;
 uniform vec3 u_view_dir;
+#ifndef u_ortho
 uniform int u_ortho;
+#endif
 uniform vec2 u_viewport;         // this pass's resolution in pixels
 uniform float u_pixel_world;     // world size of one pixel at the focal distance, this pass
 uniform float u_focal_dist;
@@ -97,10 +99,14 @@ uniform int u_color_mode;        // 0: attribute through colormap, 1: importance
 uniform int u_color_attr;
 uniform vec2 u_color_range;
 layout(binding = TEX_COLORMAP) uniform sampler2D u_colormap; // 256x1 RGBA8
+#ifndef u_shading
 uniform int u_shading;           // 0 phong, 1 none
+#endif
 uniform vec2 u_depth_range;      // view-space [z_min, z_max] of the bounds this frame
 uniform float u_depth_margin;    // delta of docs/ALGORITHM.md
+#ifndef u_pixel_depth_range
 uniform int u_pixel_depth_range; // 1: normalize by this pixel's own fragment range (P0)
+#endif
 layout(binding = TEX_PIXEL_RANGE) uniform sampler2D u_pixel_range; // (z_min, -z_max) per pixel of this pass
 
 float attribute_value(int a, uint v)
@@ -222,7 +228,9 @@ float normalized_depth(float z_view)
 }
 
 #if defined(FRAGMENT_STAGE) || defined(SERIES_DEPTH_AT)
+#ifndef u_depth_moments
 uniform int u_depth_moments;   // 1: P0 "moments" ran, warp the series' depth
+#endif
 uniform vec2 u_moments_scale;  // moments texels per pixel of this pass
 uniform vec2 u_moments_offset; // params.guardBand: texels of the moments beyond the view (0 in P0-P2)
 uniform vec2 u_pixel_origin;   // tiled stills: the frame's pixel at this target's (0, 0); else 0
@@ -267,13 +275,35 @@ float series_depth(float z_view) { return series_depth_at(FRAG_COORD.xy, normali
 #define NCOEF (2 * BANDS + 1)
 #define NTARGETS ((NCOEF + 3) / 4)
 
+// (cos, sin) of 2 pi d for d in [0, 1]. On llvmpipe (SOFTWARE_GL) sin() and
+// cos() each reduce the angle and evaluate two polynomials, per fragment of
+// P4 and P5; here one reduction to the nearest quarter turn serves both, and
+// the remainder |x| <= pi/4 takes Cephes' single-precision polynomials (the
+// ones llvmpipe's own sin and cos evaluate; errors about 1e-7). GPUs have
+// both as instructions.
+vec2 turn_cos_sin(float d)
+{
+#ifdef SOFTWARE_GL
+    float q = round(4.0 * d);
+    float x = (2.0 * PI) * (d - 0.25 * q), x2 = x * x;
+    float s = x + x * x2 * (-1.6666654611e-1 + x2 * (8.3321608736e-3 + x2 * -1.9515295891e-4));
+    float c = 1.0 - 0.5 * x2 + x2 * x2 * (4.166664568298827e-2 + x2 * (-1.388731625493765e-3 + x2 * 2.443315711809948e-5));
+    int k = int(q) & 3; // 2 pi d = x + k quarter turns
+    vec2 r = (k & 1) != 0 ? vec2(-s, c) : vec2(c, s);
+    return (k & 2) != 0 ? -r : r;
+#else
+    return vec2(cos(2.0 * PI * d), sin(2.0 * PI * d));
+#endif
+}
+
 // Projects value f at depth d: c[j] = f cos / f sin of 2 pi k d (FOO Eq. 11).
 void fourier_project(float d, float f, out float c[NTARGETS * 4])
 {
     for (int j = 0; j < NTARGETS * 4; j++)
         c[j] = 0.0;
     c[0] = f;
-    float c1 = cos(2.0 * PI * d), s1 = sin(2.0 * PI * d);
+    vec2 cs = turn_cos_sin(d);
+    float c1 = cs.x, s1 = cs.y;
     float ck = c1, sk = s1; // cos/sin(2 pi k d) by angle addition
     for (int k = 1; k <= BANDS; k++) {
         c[2 * k - 1] = f * ck;
@@ -288,7 +318,8 @@ void fourier_project(float d, float f, out float c[NTARGETS * 4])
 float fourier_eval(float c[NTARGETS * 4], float d)
 {
     float sum = c[0] * d;
-    float c1 = cos(2.0 * PI * d), s1 = sin(2.0 * PI * d);
+    vec2 cs = turn_cos_sin(d);
+    float c1 = cs.x, s1 = cs.y;
     float ck = c1, sk = s1;
     for (int k = 1; k <= BANDS; k++) {
         sum += (c[2 * k - 1] * sk + c[2 * k] * (1.0 - ck)) / (PI * float(k));

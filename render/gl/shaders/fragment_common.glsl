@@ -102,7 +102,7 @@ float line_across()
 // u_halo_depth at the ribbon's edge, growing linearly to twice that at the
 // band's outer edge. The depth order then lets it hide only lines far enough
 // behind. The optimization passes never see halos (u_halo_px = 0 there).
-#ifndef RASTER_STAGE
+#if !defined(RASTER_STAGE) && !defined(u_halo_px)
 uniform float u_halo_px; // declared by geometry.vert.glsl in the compute rasterizer
 #endif
 uniform float u_halo_depth;    // view-space units
@@ -154,12 +154,13 @@ bool outside_primitive()
 
 // `lucent bench --floor` (lc_renderer_set_floor): the FLOOR_EMPTY programs
 // return right after the coverage test, leaving their outputs unwritten, so
-// blending and every fixed stage still run. The branch is taken at run time
-// (u_floor_empty is always 1), so the inputs stay live and the vertex shader
-// is the pass's own. Production programs compile it to nothing.
+// blending and every fixed stage still run. The return is compiled in:
+// llvmpipe runs both sides of a branch on a uniform under masks, so a branch
+// taken at run time would still run the whole shader. The linker then drops
+// the inputs nothing reads, and the vertex stage writes fewer outputs.
+// Production programs compile it to nothing.
 #ifdef FLOOR_EMPTY
-uniform int u_floor_empty;
-#define FLOOR_RETURN if (u_floor_empty != 0) return;
+#define FLOOR_RETURN return;
 #else
 #define FLOOR_RETURN
 #endif
@@ -174,7 +175,9 @@ float fragment_importance() { return clamp(v_g, 0.0, 1.0); }
 float draw_weight(float stride_weight) { return u_point_list != 0 ? 1.0 : stride_weight; }
 
 uniform float u_direct_exponent;
+#ifndef u_silhouette_exponent
 uniform float u_silhouette_exponent; // eta of OOS Eq. 8 (style.silhouetteExponent); <= 1 off
+#endif
 
 #ifdef DIRECT_ALPHA
 uniform int u_alpha_source; // params.alphaSource: 0 importance, 1 constant, 2 angle, 3 normal variation

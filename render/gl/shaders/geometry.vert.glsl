@@ -26,7 +26,9 @@ VARYING vec2 v_halo;      // lines: (signed distance from the centre, ribbon hal
 #if defined(KANZLER_MAPS) && PRIM == PRIM_LINES
 VARYING vec3 v_tangent;   // lines: the vertex tangent (kanzler_maps.frag.glsl)
 #endif
+#ifndef u_halo_px
 uniform float u_halo_px; // lines, compositing passes with style.haloWidth: halo band width in pixels; 0 = none
+#endif
 
 #ifdef READ_ALPHA
 layout(std430, binding = BIND_ELEMENT_ALPHA) readonly buffer ElementAlpha { float element_alpha[]; };

@@ -9,7 +9,9 @@ layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint e
 uniform float u_q;
 uniform float u_r;
 uniform float u_lambda;
+#ifndef u_estimator
 uniform int u_estimator; // 0 foo, 1 midpoint
+#endif
 uniform float u_norm_mass; // normalize auto: reference mass (docs/ALGORITHM.md "Density normalization"); 0 = off
 uniform float u_target_opacity; // t of OOS Eq. 7 (lc_foo_target_opacity); 1 = the paper's
 

@@ -2,7 +2,9 @@
 // FOO weight: alpha/(1-alpha) exp(-tau(d_i)); midpoint: alpha exp(-max(tau - f/2, 0)).
 // TAU_BINS: tau(d) from P4's depth bins (method "binning").
 
+#ifndef u_estimator
 uniform int u_estimator;
+#endif
 
 #if defined(READ_ALPHA) && !defined(DIRECT_ALPHA) && !defined(TAU_BINS)
 // topDecileReach (docs/ALGORITHM.md §8): the sums of g w (w = alpha T, T the

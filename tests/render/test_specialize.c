@@ -1,0 +1,110 @@
+/* Specialized programs (programs.c, docs/ALGORITHM.md "Specialized programs"):
+ * the frame's branch values compiled in as macros give the same image, byte
+ * for byte, as the programs that read them as uniforms. Every value the
+ * specialization covers is switched at least once (estimator, projection,
+ * shading, halos, silhouettes, the per-pixel depth range and the moments),
+ * over lines, points and a surface, with each method that draws geometry
+ * programs, and a frame of each case twice in a row, so that a program
+ * specialized for one frame is never bound with the next frame's values. */
+#include "demo.h"
+#include "image.h"
+#include "render_util.h"
+
+#define SIZE 160
+
+typedef struct demo {
+    lc_scene *s;
+    lc_gpu_scene *gs;
+} demo;
+
+static demo load(const char *name)
+{
+    lc_error err = {0};
+    demo d = {0};
+    lc_demo_desc desc = {0};
+    CHECK(lc_demo_create(name, &desc, &d.s, &err) == 0, "demo %s: %s", name, err.msg);
+    CHECK(d.s && lc_gpu_scene_create(d.s, &d.gs, &err) == 0, "upload %s: %s", name, err.msg);
+    return d;
+}
+
+static void base_params(lc_render_params *p)
+{
+    lc_render_params_default(p);
+    p->width = p->height = SIZE;
+    p->foo.fade_half_life = 0;
+}
+
+/* Renders p both ways and requires the same bytes. */
+static void check_case(test_gl *t, const demo *d, const lc_render_params *p, const char *name, uint8_t *a, uint8_t *b)
+{
+    if (!d->gs)
+        return;
+    lc_frame_info info;
+    lc_renderer_set_specialize(t->renderer, 0);
+    test_render_frame(t, d->gs, p, NULL, a, &info);
+    lc_renderer_set_specialize(t->renderer, 1);
+    test_render_frame(t, d->gs, p, NULL, b, &info);
+    size_t differing = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE * 4; i++)
+        differing += a[i] != b[i];
+    long ink = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
+        ink += b[4 * i] + b[4 * i + 1] + b[4 * i + 2] != 3 * 255;
+    printf("%-34s %zu channels differ, %ld pixels drawn\n", name, differing, ink);
+    CHECK(ink > SIZE * SIZE / 50, "%s: the frame draws something (%ld pixels)", name, ink);
+    CHECK(differing == 0, "%s: %zu channels differ between the specialized and the uniform programs", name, differing);
+}
+
+int main(void)
+{
+    test_gl t;
+    test_gl_open(&t);
+    uint8_t *a = malloc((size_t)SIZE * SIZE * 4), *b = malloc((size_t)SIZE * SIZE * 4);
+    demo lines = load("tornado"), points = load("points"), surface = load("surface");
+    lc_render_params p;
+
+    base_params(&p);
+    check_case(&t, &lines, &p, "lines, defaults", a, b);
+    check_case(&t, &lines, &p, "lines, defaults again", a, b);
+    p.foo.estimator = LC_ESTIMATOR_FOO;
+    p.camera.parallel_projection = true;
+    p.style.shading = LC_SHADING_NONE;
+    check_case(&t, &lines, &p, "lines, foo, parallel, unshaded", a, b);
+    base_params(&p);
+    p.style.halo_width = 2;
+    p.foo.depth_range = LC_DEPTH_RANGE_PIXEL;
+    check_case(&t, &lines, &p, "lines, halos, per-pixel range", a, b);
+    base_params(&p);
+    p.foo.normalize = LC_NORMALIZE_OFF;
+    p.foo.depth_range = LC_DEPTH_RANGE_GLOBAL;
+    check_case(&t, &lines, &p, "lines, the paper's formula", a, b);
+    static const struct {
+        lc_method method;
+        const char *name;
+    } methods[] = {{LC_METHOD_OPAQUE, "lines, opaque"},   {LC_METHOD_DIRECT, "lines, direct"},
+                   {LC_METHOD_WBOIT, "lines, wboit"},     {LC_METHOD_WEIGHTED_AVERAGE, "lines, weighted average"},
+                   {LC_METHOD_BINNING, "lines, binning"}, {LC_METHOD_KANZLER, "lines, kanzler"}};
+    for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++) {
+        base_params(&p);
+        p.method = methods[i].method;
+        check_case(&t, &lines, &p, methods[i].name, a, b);
+    }
+    base_params(&p);
+    check_case(&t, &points, &p, "points, defaults", a, b);
+    p.camera.parallel_projection = true;
+    check_case(&t, &points, &p, "points, parallel", a, b);
+    base_params(&p);
+    check_case(&t, &surface, &p, "surface, defaults", a, b);
+    p.style.silhouette_exponent = 4;
+    check_case(&t, &surface, &p, "surface, silhouettes", a, b);
+
+    demo all[] = {lines, points, surface};
+    for (int i = 0; i < 3; i++) {
+        lc_gpu_scene_destroy(all[i].gs);
+        lc_scene_destroy(all[i].s);
+    }
+    free(a);
+    free(b);
+    test_gl_close(&t);
+    return lc_test_finish();
+}

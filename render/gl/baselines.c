@@ -52,9 +52,6 @@ int lc_render_wboit(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 
 int lc_render_weighted_average(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
 {
-    GLuint prog = lc_renderer_geometry_program(r, fs, PROG_WEIGHTED_AVERAGE, fs->gs->scene->type, 1, 1, err);
-    if (!prog)
-        return LC_ERR_GL;
     /* Bavoil & Myers keep (sum a c, sum a) in RGBA32F and the count beside it:
      * half floats would stop counting at 2048 fragments. */
     lc_targets_ensure(&r->accum, fs->width, fs->height, 2, GL_RGBA32F, &r->bytes_targets);
@@ -67,6 +64,9 @@ int lc_render_weighted_average(lc_renderer *r, lc_frame_setup *fs, lc_error *err
         const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
         if (!lf)
             continue;
+        GLuint prog = lc_renderer_geometry_program(r, lf, PROG_WEIGHTED_AVERAGE, lf->gs->scene->type, 1, 1, err);
+        if (!prog)
+            return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, fs->width, fs->height, 1);
         lc_renderer_bind_halo(prog, lf);
         lc_renderer_draw_geometry(lf, 1);

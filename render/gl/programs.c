@@ -60,7 +60,7 @@ static GLuint compile_stage(GLenum type, const char *defines, const char *const 
                             lc_error *err)
 {
     /* normalized_depth() reads the per-pixel range only where gl_FragCoord exists. */
-    char stage_defines[1024];
+    char stage_defines[1280];
     snprintf(stage_defines, sizeof stage_defines, "%s%s", defines,
              type == GL_FRAGMENT_SHADER ? "#define FRAGMENT_STAGE 1\n" : "");
     char *src = concat_sources(stage_defines, files, err);
@@ -126,9 +126,9 @@ fail:
 }
 
 /* Specialized programs (docs/ALGORITHM.md "Specialized programs"): llvmpipe
- * runs both sides of a branch on a uniform under masks, so the frame's values
- * that the shaders branch on are compiled in as macros named like the
- * uniforms they replace (the declarations step aside, common.glsl). The
+ * runs both sides of a branch on a uniform under masks, so the frame's and the
+ * scene's values that the shaders branch on are compiled in as macros named
+ * like the uniforms they replace (the declarations step aside, common.glsl). The
  * values come from the frame setup the program is bound with, so that
  * lc_renderer_bind_geometry's uniforms and the macros agree (checked there). */
 enum {
@@ -140,7 +140,14 @@ enum {
     SPEC_NO_SILHOUETTE = 1u << 5,
     SPEC_PIXEL_RANGE = 1u << 6,
     SPEC_MOMENTS = 1u << 7,
-    SPEC_BITS = 8
+    SPEC_COMPACT = 1u << 8,
+    SPEC_BLEND_SHIFT = 9, /* 2 bits: the scene's element blend (lc_gpu_scene.blend) */
+    SPEC_FILTERED = 1u << 11,
+    SPEC_LINE_MASK = 1u << 12,
+    SPEC_COLOR_SHIFT = 13, /* 2 bits: the colour mode */
+    SPEC_NO_TERMS = 1u << 15,
+    SPEC_NO_CURVES = 1u << 16,
+    SPEC_BITS = 17
 };
 
 static atomic_int specialize_override = -1; /* LUCENT_SPECIALIZE: 0 off (comparisons); else on */
@@ -168,7 +175,11 @@ static unsigned program_spec(const lc_renderer *r, lc_program_kind kind, const l
            (p->camera.parallel_projection ? SPEC_ORTHO : 0) |
            (p->style.shading == LC_SHADING_NONE ? SPEC_UNSHADED : 0) | (p->style.halo_width > 0 ? 0 : SPEC_NO_HALO) |
            (p->style.silhouette_exponent > 1 ? 0 : SPEC_NO_SILHOUETTE) |
-           (fs->pixel_depth_range ? SPEC_PIXEL_RANGE : 0) | (fs->depth_moments ? SPEC_MOMENTS : 0);
+           (fs->pixel_depth_range ? SPEC_PIXEL_RANGE : 0) | (fs->depth_moments ? SPEC_MOMENTS : 0) |
+           (fs->gs->exact ? 0 : SPEC_COMPACT) | ((unsigned)fs->gs->blend & 3u) << SPEC_BLEND_SHIFT |
+           (fs->filtered ? SPEC_FILTERED : 0) | (fs->line_mask ? SPEC_LINE_MASK : 0) |
+           ((unsigned)fs->color_mode & 3u) << SPEC_COLOR_SHIFT | (fs->terms.count > 0 ? 0 : SPEC_NO_TERMS) |
+           (fs->terms.curve_count == 0 && p->color.curve.count == 0 ? SPEC_NO_CURVES : 0);
 }
 
 static void spec_defines(unsigned spec, char *out, size_t n)
@@ -178,15 +189,20 @@ static void spec_defines(unsigned spec, char *out, size_t n)
         return;
     snprintf(out, n,
              "#define u_estimator %d\n#define u_ortho %d\n#define u_shading %d\n#define u_pixel_depth_range %d\n"
-             "#define u_depth_moments %d\n%s%s",
+             "#define u_depth_moments %d\n#define u_compact %d\n#define u_blend %u\n#define u_filtered %d\n"
+             "#define u_line_mask %d\n#define u_color_mode %u\n%s%s%s%s",
              !!(spec & SPEC_MIDPOINT), !!(spec & SPEC_ORTHO), !!(spec & SPEC_UNSHADED), !!(spec & SPEC_PIXEL_RANGE),
-             !!(spec & SPEC_MOMENTS), spec & SPEC_NO_HALO ? "#define u_halo_px 0.0\n" : "",
-             spec & SPEC_NO_SILHOUETTE ? "#define u_silhouette_exponent 1.0\n" : "");
+             !!(spec & SPEC_MOMENTS), !!(spec & SPEC_COMPACT), spec >> SPEC_BLEND_SHIFT & 3u, !!(spec & SPEC_FILTERED),
+             !!(spec & SPEC_LINE_MASK), spec >> SPEC_COLOR_SHIFT & 3u,
+             spec & SPEC_NO_HALO ? "#define u_halo_px 0.0\n" : "",
+             spec & SPEC_NO_SILHOUETTE ? "#define u_silhouette_exponent 1.0\n" : "",
+             spec & SPEC_NO_TERMS ? "#define u_importance_terms 0\n" : "",
+             spec & SPEC_NO_CURVES ? "#define u_curve_n ivec2(0, 0)\n" : "");
 }
 
 /* The slot of a specialized program: the least recently used one is
  * replaced (a frame binds a handful; sessions change few of the values). */
-static lc_spec_program *spec_slot(lc_renderer *r, uint32_t key)
+static lc_spec_program *spec_slot(lc_renderer *r, uint64_t key)
 {
     lc_spec_program *oldest = &r->spec_programs[0];
     for (int i = 0; i < LC_SPEC_PROGRAMS; i++) {
@@ -209,7 +225,7 @@ void lc_renderer_check_spec(const lc_renderer *r, GLuint prog, const lc_frame_se
     for (int i = 0; i < LC_SPEC_PROGRAMS; i++)
         if (r->spec_programs[i].prog == prog) {
             unsigned want = program_spec(r, r->spec_programs[i].kind, fs);
-            unsigned built = r->spec_programs[i].key & ((1u << SPEC_BITS) - 1);
+            unsigned built = (unsigned)(r->spec_programs[i].key & ((1u << SPEC_BITS) - 1));
             if (want != built) /* a caller chose the program with another frame setup: fix the caller */
                 LC_ERROR(MODULE, "a specialized program (spec %#x) bound with a frame of spec %#x", built, want);
             return;
@@ -230,11 +246,8 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, const lc_frame_setup *fs, lc
     unsigned spec = program_spec(r, kind, fs);
     GLuint *slot = NULL;
     if (spec) {
-        uint32_t key =
-            ((((((uint32_t)kind * 3 + prim) * (LC_MAX_BANDS + 1) + (uint32_t)bands) * 3 + variant) * 2 + context) * 2 +
-             floor)
-                << SPEC_BITS |
-            spec;
+        uint64_t config = ((((uint64_t)kind * 3 + prim) * (LC_MAX_BANDS + 1) + (uint64_t)bands) * 3 + variant) * 2;
+        uint64_t key = ((config + context) * 2 + floor) << SPEC_BITS | spec;
         lc_spec_program *e = spec_slot(r, key);
         e->kind = kind;
         slot = &e->prog;
@@ -309,7 +322,7 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, const lc_frame_setup *fs, lc
     int kanzler = kind == PROG_P4_KANZLER || kind == PROG_P5_KANZLER;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT || kanzler ||
                  kind == PROG_SHADOW_DIRECT;
-    char specialized[300], defines[700];
+    char specialized[512], defines[900];
     spec_defines(spec, specialized, sizeof specialized);
     snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s%s%s", (int)prim, bands,
              bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "", reads_alpha ? "#define READ_ALPHA 1\n" : "",

@@ -233,7 +233,7 @@ typedef enum {
 
 #define LC_SPEC_PROGRAMS 48
 typedef struct lc_spec_program {
-    uint32_t key;
+    uint64_t key;
     lc_program_kind kind;
     GLuint prog;
     uint64_t used;

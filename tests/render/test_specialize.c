@@ -17,13 +17,15 @@ typedef struct demo {
     lc_gpu_scene *gs;
 } demo;
 
-static demo load(const char *name)
+/* A demo uploaded compact, or as the float buffers (exact 1). */
+static demo load(const char *name, int exact)
 {
     lc_error err = {0};
     demo d = {0};
     lc_demo_desc desc = {0};
     CHECK(lc_demo_create(name, &desc, &d.s, &err) == 0, "demo %s: %s", name, err.msg);
-    CHECK(d.s && lc_gpu_scene_create(d.s, &d.gs, &err) == 0, "upload %s: %s", name, err.msg);
+    lc_gpu_scene_desc gd = {.exact_positions = exact};
+    CHECK(d.s && lc_gpu_scene_create_ex(d.s, &gd, &d.gs, &err) == 0, "upload %s: %s", name, err.msg);
     return d;
 }
 
@@ -60,7 +62,8 @@ int main(void)
     test_gl t;
     test_gl_open(&t);
     uint8_t *a = malloc((size_t)SIZE * SIZE * 4), *b = malloc((size_t)SIZE * SIZE * 4);
-    demo lines = load("tornado"), points = load("points"), surface = load("surface");
+    demo lines = load("tornado", 0), points = load("points", 0), surface = load("surface", 0);
+    demo exact = load("tornado", 1);
     lc_render_params p;
 
     base_params(&p);
@@ -89,6 +92,28 @@ int main(void)
         p.method = methods[i].method;
         check_case(&t, &lines, &p, methods[i].name, a, b);
     }
+    /* The vertex stage's values: the colour mode, transfer curves, importance
+     * terms, a filter, cluster representatives (the line mask), float buffers. */
+    base_params(&p);
+    snprintf(p.color.attribute, sizeof p.color.attribute, "importance");
+    p.color.curve = (lc_curve){.count = 2, .points = {{0, 0.2}, {1, 0.9}}};
+    p.importance.curve = (lc_curve){.count = 3, .points = {{0, 0}, {0.5, 0.8}, {1, 1}}};
+    check_case(&t, &lines, &p, "lines, importance colours, curves", a, b);
+    base_params(&p);
+    p.importance.term_count = 2;
+    snprintf(p.importance.terms[0].attribute, LC_NAME_LEN, "curvature");
+    p.importance.terms[0].weight = 0.7;
+    snprintf(p.importance.terms[1].attribute, LC_NAME_LEN, "velocity");
+    p.importance.terms[1].weight = 0.3;
+    p.filter_count = 1;
+    p.filters[0] = (lc_filter){.attribute = "line_length", .over = LC_FILTER_MIN, .lo = 0, .hi = 1e30};
+    check_case(&t, &lines, &p, "lines, importance terms, a filter", a, b);
+    base_params(&p);
+    p.clusters.count = 40;
+    check_case(&t, &lines, &p, "lines, 40 cluster representatives", a, b);
+    base_params(&p);
+    check_case(&t, &exact, &p, "lines, float buffers", a, b);
+
     base_params(&p);
     check_case(&t, &points, &p, "points, defaults", a, b);
     p.camera.parallel_projection = true;
@@ -98,8 +123,8 @@ int main(void)
     p.style.silhouette_exponent = 4;
     check_case(&t, &surface, &p, "surface, silhouettes", a, b);
 
-    demo all[] = {lines, points, surface};
-    for (int i = 0; i < 3; i++) {
+    demo all[] = {lines, points, surface, exact};
+    for (int i = 0; i < 4; i++) {
         lc_gpu_scene_destroy(all[i].gs);
         lc_scene_destroy(all[i].s);
     }

@@ -33,9 +33,13 @@ layout(std430, binding = BIND_VERTEX_ELEMENTS) readonly buffer VertexElements { 
 layout(std430, binding = BIND_VERTEX_WEIGHTS) readonly buffer VertexWeights { float vertex_weights[]; }; // u_blend 0: 4 per vertex
 layout(std430, binding = BIND_INDICES) readonly buffer Indices { uint indices[]; }; // line ribbon strips / 3 per triangle
 
+#ifndef u_compact
 uniform int u_compact;           // 0 exact float buffers, 1 compact
+#endif
 uniform uint u_element_offset;   // layers: the first element id of this draw's layer (0 for one dataset)
+#ifndef u_blend
 uniform int u_blend;             // 0 full (e0,e1,e2,primary + 4 weights), 1 implicit (points), 2 pair (lines), 3 triple (surfaces)
+#endif
 uniform uint u_attr_offset[MAX_ATTRIBUTES];
 uniform int u_attr_format[MAX_ATTRIBUTES];  // 0 float, 1 unorm16
 uniform vec2 u_attr_decode[MAX_ATTRIBUTES]; // unorm16: value = x + y * code
@@ -95,7 +99,9 @@ uniform int u_point_list;        // 1: this draw's instances are the point list'
 uniform int u_importance_attr;   // -1: g = 1
 uniform vec2 u_importance_range;
 uniform float u_importance_exp;
+#ifndef u_color_mode
 uniform int u_color_mode;        // 0: attribute through colormap, 1: importance through colormap, 2: rgb
+#endif
 uniform int u_color_attr;
 uniform vec2 u_color_range;
 layout(binding = TEX_COLORMAP) uniform sampler2D u_colormap; // 256x1 RGBA8
@@ -118,7 +124,9 @@ float attribute_value(int a, uint v)
 }
 
 // Weighted importance terms (docs/ALGORITHM.md "Importance terms"); u_importance_terms = 0: the single form.
+#ifndef u_importance_terms
 uniform int u_importance_terms;
+#endif
 uniform int u_term_attr[MAX_IMPORTANCE_TERMS];
 uniform vec2 u_term_range[MAX_IMPORTANCE_TERMS];
 uniform float u_term_weight[MAX_IMPORTANCE_TERMS]; // in [-1, 1]
@@ -135,7 +143,9 @@ float mapped_attribute(int a, vec2 range, uint v)
 // Transfer functions (importance.curve, color.curve): piecewise linear through
 // u_curve_n.x points u_curve[i].xy (importance) and u_curve_n.y points .zw (colour);
 // no points: identity. Exact at the points, so [[0,0],[1,1]] is the identity bit for bit.
+#ifndef u_curve_n
 uniform ivec2 u_curve_n;
+#endif
 uniform vec4 u_curve[MAX_CURVE_POINTS];
 
 float curve_eval(int c, float t)
@@ -175,7 +185,9 @@ float vertex_importance(uint v)
 
 // Per-vertex visibility of the request's filters (filter.c): a hidden vertex draws nothing and counts in no sum.
 layout(std430, binding = BIND_VISIBLE) readonly buffer Visible { uint visible_bits[]; };
+#ifndef u_filtered
 uniform int u_filtered; // 0: no filter, every vertex is visible
+#endif
 bool vertex_visible(uint v) { return u_filtered == 0 || (visible_bits[v >> 5] & (1u << (v & 31u))) != 0u; }
 
 // Importance bin of g for the point subsets (point_subset.c).

@@ -144,7 +144,9 @@ vec2 window_of(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * u_viewport +
 // Cluster representatives (line_clusters.c): a vertex whose bit is clear
 // belongs to a hidden line; its ribbon corners leave the clip volume.
 layout(std430, binding = BIND_LINE_MASK) readonly buffer LineMask { uint line_mask[]; };
+#ifndef u_line_mask
 uniform int u_line_mask;
+#endif
 bool line_hidden(uint v) { return u_line_mask != 0 && (line_mask[v >> 5] & (1u << (v & 31u))) == 0u; }
 
 #ifdef MARKERS

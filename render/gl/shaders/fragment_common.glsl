@@ -294,15 +294,18 @@ vec3 fragment_color()
     vec3 base = u_color_mode == 2 ? v_rgb : colormap_lookup(v_cscalar);
     if (u_shading != 0)
         return base;
-    vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - v_wpos);
     float ndotl;
 #if PRIM == PRIM_POINTS
     ndotl = sqrt(max(1.0 - dot(SPLAT, SPLAT), 0.0));
 #elif PRIM == PRIM_LINES
+    // The tube's normal at `across` is side * across + v * sqrt(1 - across^2),
+    // side (the ribbon's, v_normal) perpendicular to v, the unit vector to the
+    // eye, at the ribbon's vertices; so <n, v> = sqrt(1 - across^2), and the
+    // lines' programs interpolate neither the position nor the side vector.
     float across = clamp(v_quad.x, -1.0, 1.0);
-    vec3 n = normalize(v_normal * across + to_cam * sqrt(max(1.0 - across * across, 0.0)));
-    ndotl = max(dot(n, to_cam), 0.0);
+    ndotl = sqrt(max(1.0 - across * across, 0.0));
 #else
+    vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - v_wpos);
     vec3 n = v_normal;
     float len = length(n);
     ndotl = len > 0.0 ? abs(dot(n / len, to_cam)) : 1.0;

@@ -25,12 +25,13 @@ static const char binding_defines[] = LC_GL_BINDINGS(LC_GL_BINDING_DEFINE) LC_GL
 #undef LC_GL_BINDING_DEFINE
 
 /* What every program of this device compiles with: SOFTWARE_GL on llvmpipe
- * (common.glsl's turn_cos_sin). */
-static const char *device_defines = "";
+ * (common.glsl's turn_cos_sin). Every worker's renderer sets the same value. */
+static atomic_int software_gl;
+#define DEVICE_DEFINES (atomic_load(&software_gl) ? "#define SOFTWARE_GL 1\n" : "")
 
 static char *concat_sources(const char *defines, const char *const *files, lc_error *err)
 {
-    size_t total = sizeof binding_defines + strlen(device_defines) + strlen(defines) + 64;
+    size_t total = sizeof binding_defines + strlen(DEVICE_DEFINES) + strlen(defines) + 64;
     for (int i = 0; files[i]; i++) {
         const lc_embedded_file *f = lc_embedded_find(lc_shader_files, files[i]);
         if (!f) {
@@ -44,7 +45,7 @@ static char *concat_sources(const char *defines, const char *const *files, lc_er
         lc_err(err, LC_ERR_NOMEM, "out of memory");
         return NULL;
     }
-    size_t off = (size_t)sprintf(src, "#version 450 core\n%s%s%s", binding_defines, device_defines, defines);
+    size_t off = (size_t)sprintf(src, "#version 450 core\n%s%s%s", binding_defines, DEVICE_DEFINES, defines);
     for (int i = 0; files[i]; i++) {
         const lc_embedded_file *f = lc_embedded_find(lc_shader_files, files[i]);
         off += (size_t)sprintf(src + off, "#line 1 %d\n", i + 1);
@@ -156,7 +157,7 @@ void lc_programs_configure(const char *gl_renderer)
 {
     int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
                                    strstr(gl_renderer, "swrast"));
-    device_defines = software ? "#define SOFTWARE_GL 1\n" : "";
+    atomic_store(&software_gl, software);
     const char *e = getenv("LUCENT_SPECIALIZE");
     atomic_store(&specialize_override, e && e[0] == '0' ? 0 : -1);
 }

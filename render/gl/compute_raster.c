@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_context.h"
 #include "renderer_internal.h"
 
 #define MODULE "render"
@@ -28,8 +29,7 @@ static atomic_int raster_override = -1; /* LUCENT_COMPUTE_RASTER: -1 the rule, 0
  * speed, never of support. */
 void lc_compute_raster_configure(const char *gl_renderer)
 {
-    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
-                                   strstr(gl_renderer, "swrast"));
+    int software = lc_gl_renderer_is_software(gl_renderer);
     atomic_store(&raster_software, software);
     const char *e = getenv("LUCENT_COMPUTE_RASTER"); /* 0 / 1: drawn / compute (comparisons, tests) */
     atomic_store(&raster_override, e && (e[0] == '0' || e[0] == '1') ? e[0] - '0' : -1);
@@ -58,8 +58,7 @@ static int rule_path(lc_raster_pass pass, lc_prim_type prim)
 
 const char *lc_raster_path_name(const char *gl_renderer, lc_raster_pass pass, lc_prim_type prim)
 {
-    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
-                                   strstr(gl_renderer, "swrast"));
+    int software = lc_gl_renderer_is_software(gl_renderer);
     const char *e = getenv("LUCENT_COMPUTE_RASTER");
     int override = e && (e[0] == '0' || e[0] == '1') ? e[0] - '0' : -1;
     return rule(software, override, pass, prim) ? "compute" : "drawn";

@@ -34,6 +34,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_context.h"
 #include "renderer_internal.h"
 
 /* Entries: 16 bytes each; 2^24 of them, 256 MB, at most. */
@@ -51,8 +52,7 @@ static atomic_int composite_lists = 0; /* P5 over P4's fragments: LUCENT_P5_LIST
  * rasterization whatever it shades; GPUs draw P2 until measured otherwise. */
 void lc_fragment_list_configure(const char *gl_renderer)
 {
-    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
-                                   strstr(gl_renderer, "swrast"));
+    int software = lc_gl_renderer_is_software(gl_renderer);
     const char *e = getenv("LUCENT_FRAGMENT_LISTS"); /* 0 / 1: force off / on (comparisons, tests) */
     atomic_store(&fragment_lists, e && (e[0] == '0' || e[0] == '1') ? e[0] == '1' : software);
     const char *p5 = getenv("LUCENT_P5_LIST");

@@ -29,11 +29,12 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     if (desc)
         r->desc = *desc;
-    lc_pipeline_configure((const char *)glGetString(GL_RENDERER));
-    lc_fragment_list_configure((const char *)glGetString(GL_RENDERER));
-    lc_compute_raster_configure((const char *)glGetString(GL_RENDERER));
+    const char *gl_renderer = (const char *)glGetString(GL_RENDERER);
+    lc_pipeline_configure(gl_renderer);
+    lc_fragment_list_configure(gl_renderer);
+    lc_compute_raster_configure(gl_renderer);
     lc_line_primitive_configure(r);
-    lc_programs_configure((const char *)glGetString(GL_RENDERER));
+    lc_programs_configure(gl_renderer);
     r->specialize = 1;
     r->raster_path = -1;
     glCreateVertexArrays(1, &r->vao);

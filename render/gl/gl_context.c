@@ -300,8 +300,7 @@ created:
         lc_gl_destroy(gl);
         return LC_ERR_GL;
     }
-    gl->software =
-        strstr(gl->renderer, "llvmpipe") || strstr(gl->renderer, "softpipe") || strstr(gl->renderer, "swrast");
+    gl->software = lc_gl_renderer_is_software(gl->renderer);
     if (debug) {
         glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
         glDebugMessageCallback(debug_callback, NULL);
@@ -346,3 +345,9 @@ const char *lc_gl_renderer(const lc_gl *gl) { return gl->renderer; }
 const char *lc_gl_version(const lc_gl *gl) { return gl->version; }
 const char *lc_gl_platform(const lc_gl *gl) { return gl->platform; }
 int lc_gl_is_software(const lc_gl *gl) { return gl->software; }
+
+int lc_gl_renderer_is_software(const char *gl_renderer)
+{
+    return gl_renderer &&
+           (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") || strstr(gl_renderer, "swrast"));
+}

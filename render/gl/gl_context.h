@@ -45,6 +45,9 @@ const char *lc_gl_renderer(const lc_gl *gl); /* GL_RENDERER, e.g. "llvmpipe (LLV
 const char *lc_gl_version(const lc_gl *gl);  /* GL_VERSION */
 const char *lc_gl_platform(const lc_gl *gl); /* "device 0 (EGL_EXT_platform_device)" or "surfaceless" */
 int lc_gl_is_software(const lc_gl *gl);      /* llvmpipe / softpipe / swrast */
+/* Whether a GL_RENDERER string names a software rasterizer (llvmpipe, softpipe,
+ * swrast): the renderer's modules choose their paths by it. NULL: no. */
+int lc_gl_renderer_is_software(const char *gl_renderer);
 
 /* Name of an EGL error code ("EGL_BAD_ALLOC"). */
 const char *lc_egl_error_name(int code);

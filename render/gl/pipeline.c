@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_context.h"
 #include "renderer_internal.h"
 
 static uint64_t texel_bytes(GLenum format)
@@ -323,8 +324,7 @@ static _Atomic uint64_t draw_batch_triangles; /* every worker's renderer sets th
 
 void lc_pipeline_configure(const char *gl_renderer)
 {
-    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
-                                   strstr(gl_renderer, "swrast"));
+    int software = lc_gl_renderer_is_software(gl_renderer);
     atomic_store(&draw_batch_triangles, software ? SOFTWARE_BATCH_TRIANGLES : 0);
 }
 

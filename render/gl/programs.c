@@ -7,6 +7,7 @@
 
 #include "embedded.h"
 #include "foo_math.h"
+#include "gl_context.h"
 #include "renderer_internal.h"
 
 #define MODULE "render"
@@ -155,8 +156,7 @@ static atomic_int specialize_override = -1; /* LUCENT_SPECIALIZE: 0 off (compari
 
 void lc_programs_configure(const char *gl_renderer)
 {
-    int software = gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||
-                                   strstr(gl_renderer, "swrast"));
+    int software = lc_gl_renderer_is_software(gl_renderer);
     atomic_store(&software_gl, software);
     const char *e = getenv("LUCENT_SPECIALIZE");
     atomic_store(&specialize_override, e && e[0] == '0' ? 0 : -1);

@@ -129,11 +129,11 @@ int lc_compute_raster_begin(lc_renderer *r, int width, int height, int planes, l
 {
     uint64_t bytes = (uint64_t)width * (uint64_t)height * (uint64_t)planes * 8u; /* 64-bit fixed point */
     if (bytes > r->raster_sums_bytes) {
-        if (r->raster_sums)
-            glDeleteBuffers(1, &r->raster_sums);
+        lc_scratch_discard(&r->raster_sums);
         r->bytes_targets -= r->raster_sums_bytes;
         r->raster_sums_bytes = 0;
-        r->raster_sums = lc_gl_buffer(NULL, (size_t)bytes, &r->bytes_targets);
+        r->raster_sums = lc_scratch_buffer(bytes, 0);
+        r->bytes_targets += bytes;
         if (!r->raster_sums)
             return lc_err(err, LC_ERR_NOMEM, "compute rasterizer: no buffer of %llu bytes", (unsigned long long)bytes);
         r->raster_sums_bytes = bytes;
@@ -236,9 +236,7 @@ int lc_compute_raster_end_add(lc_renderer *r, const lc_targets *t, lc_error *err
 
 void lc_compute_raster_release_sums(lc_renderer *r)
 {
-    if (r->raster_sums)
-        glDeleteBuffers(1, &r->raster_sums);
-    r->raster_sums = 0;
+    lc_scratch_discard(&r->raster_sums);
     r->bytes_targets -= r->raster_sums_bytes;
     r->raster_sums_bytes = 0;
 }

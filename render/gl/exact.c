@@ -192,8 +192,7 @@ static int ensure_pool(lc_renderer *r, exact_state *st, lc_error *err)
     /* Start from a clean error state so that an out-of-memory below is the pool's (once per renderer). */
     while (glGetError() != GL_NO_ERROR) {
     }
-    glCreateBuffers(1, &st->nodes);
-    glNamedBufferStorage(st->nodes, (GLsizeiptr)(nodes * NODE_BYTES), NULL, 0);
+    st->nodes = lc_scratch_buffer(nodes * NODE_BYTES, 0);
     glCreateBuffers(1, &st->counters);
     glNamedBufferStorage(st->counters, COUNTER_SLOTS * 4, NULL, GL_DYNAMIC_STORAGE_BIT);
     GLenum e = glGetError();
@@ -510,7 +509,7 @@ void lc_exact_release(lc_renderer *r)
     if (!st)
         return;
     if (st->nodes) {
-        glDeleteBuffers(1, &st->nodes);
+        lc_scratch_discard(&st->nodes);
         glDeleteBuffers(1, &st->counters);
         r->bytes_targets -= st->pool_bytes;
         st->nodes = st->counters = 0;

@@ -89,8 +89,7 @@ static void ensure_capacity(lc_renderer *r, uint64_t want)
     if (r->fragment_list && r->fragment_capacity >= want)
         return;
     lc_fragment_list_release(r);
-    glCreateBuffers(1, &r->fragment_list);
-    glNamedBufferStorage(r->fragment_list, (GLsizeiptr)(16 + 16 * want), NULL, GL_DYNAMIC_STORAGE_BIT);
+    r->fragment_list = lc_scratch_buffer(16 + 16 * want, GL_DYNAMIC_STORAGE_BIT);
     r->fragment_capacity = want;
 }
 
@@ -138,10 +137,8 @@ void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, i
     uint64_t pixels = (uint64_t)w * (uint64_t)h;
     uint64_t words = 2 * pixels;
     if (!r->fragment_chains || r->chain_words < words) {
-        if (r->fragment_chains)
-            glDeleteBuffers(1, &r->fragment_chains);
-        glCreateBuffers(1, &r->fragment_chains);
-        glNamedBufferStorage(r->fragment_chains, (GLsizeiptr)(4 * words), NULL, GL_DYNAMIC_STORAGE_BIT);
+        lc_scratch_discard(&r->fragment_chains);
+        r->fragment_chains = lc_scratch_buffer(4 * words, GL_DYNAMIC_STORAGE_BIT);
         r->chain_words = words;
     }
     const uint32_t none = 0xFFFFFFFFu; /* FRAGMENT_NONE: no entry yet */
@@ -237,17 +234,13 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
         want = r->composite_seen + r->composite_seen / 4;
     want = want > COMPOSITE_LIST_MAX ? COMPOSITE_LIST_MAX : want;
     if (!r->composite_list || r->composite_capacity < want) {
-        if (r->composite_list)
-            glDeleteBuffers(1, &r->composite_list);
-        glCreateBuffers(1, &r->composite_list);
-        glNamedBufferStorage(r->composite_list, (GLsizeiptr)(16 + 24 * want), NULL, GL_DYNAMIC_STORAGE_BIT);
+        lc_scratch_discard(&r->composite_list);
+        r->composite_list = lc_scratch_buffer(16 + 24 * want, GL_DYNAMIC_STORAGE_BIT);
         r->composite_capacity = want;
     }
     if (!r->fragment_chains || r->chain_words < 2 * pixels) {
-        if (r->fragment_chains)
-            glDeleteBuffers(1, &r->fragment_chains);
-        glCreateBuffers(1, &r->fragment_chains);
-        glNamedBufferStorage(r->fragment_chains, (GLsizeiptr)(8 * pixels), NULL, GL_DYNAMIC_STORAGE_BIT);
+        lc_scratch_discard(&r->fragment_chains);
+        r->fragment_chains = lc_scratch_buffer(8 * pixels, GL_DYNAMIC_STORAGE_BIT);
         r->chain_words = 2 * pixels;
     }
     const uint32_t zero = 0, none = 0xFFFFFFFFu;
@@ -339,18 +332,12 @@ void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog)
 
 void lc_fragment_list_release(lc_renderer *r)
 {
-    if (r->fragment_list)
-        glDeleteBuffers(1, &r->fragment_list);
-    r->fragment_list = 0;
+    lc_scratch_discard(&r->fragment_list);
     r->fragment_capacity = 0;
     r->fragments_ready = 0;
-    if (r->fragment_chains)
-        glDeleteBuffers(1, &r->fragment_chains);
-    r->fragment_chains = 0;
+    lc_scratch_discard(&r->fragment_chains);
     r->chain_words = 0;
     r->fragments_chained = 0;
-    if (r->composite_list)
-        glDeleteBuffers(1, &r->composite_list);
-    r->composite_list = 0;
+    lc_scratch_discard(&r->composite_list);
     r->composite_capacity = 0;
 }

@@ -32,6 +32,7 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
     const char *gl_renderer = (const char *)glGetString(GL_RENDERER);
     lc_pipeline_configure(gl_renderer);
     lc_fragment_list_configure(gl_renderer);
+    lc_scratch_configure(gl_renderer);
     lc_compute_raster_configure(gl_renderer);
     lc_line_primitive_configure(r);
     lc_programs_configure(gl_renderer);

@@ -711,6 +711,18 @@ GLuint lc_renderer_build_program(const char *defines, const char *const *vertex_
  * 0, so a binding is always valid); adds its size to *bytes. */
 GLuint lc_gl_buffer(const void *data, size_t size, uint64_t *bytes);
 
+/* ---- scratch.c: buffers sized by a frame, whose pages a discard gives back
+ * where the driver would keep them (llvmpipe's idle scenes; scratch.c says why) */
+/* Chooses for the driver named gl_renderer (GL_RENDERER), process-wide. */
+void lc_scratch_configure(const char *gl_renderer);
+/* An immutable buffer of bytes bytes with the storage flags given (and those
+ * the discard needs), its contents undefined. */
+GLuint lc_scratch_buffer(uint64_t bytes, GLbitfield flags);
+/* Deletes *buf (0 is a no-op) and sets it to 0; on a software rasterizer its
+ * pages go back to the system first. Waits for the commands issued so far
+ * there: for release paths, not per frame. */
+void lc_scratch_discard(GLuint *buf);
+
 /* ---- pipeline.c */
 /* Binds the scene's buffers and sets the shared uniforms of a geometry program
  * for a pass rendered at (w, h). */

@@ -175,13 +175,11 @@ int lc_surface_layers_create(const lc_surface_layers_desc *desc, lc_surface_laye
     }
     while (glGetError() != GL_NO_ERROR) {
     }
-    glCreateBuffers(1, &sl->nodes);
-    glNamedBufferStorage(sl->nodes, (GLsizeiptr)(pool * FRAGMENT_BYTES), NULL, 0);
-    glCreateBuffers(1, &sl->pixels);
-    glNamedBufferStorage(sl->pixels, (GLsizeiptr)(HEADS_OFFSET + 3ull * sl->pixel_count) * 4, NULL,
-                         GL_DYNAMIC_STORAGE_BIT);
-    glCreateBuffers(1, &sl->layers);
-    glNamedBufferStorage(sl->layers, (GLsizeiptr)layer_bytes, NULL, 0);
+    /* Scratch (scratch.c): written by the fragment shader, so llvmpipe's idle
+     * scenes would keep them after the destroy. */
+    sl->nodes = lc_scratch_buffer(pool * FRAGMENT_BYTES, 0);
+    sl->pixels = lc_scratch_buffer((HEADS_OFFSET + 3ull * sl->pixel_count) * 4, GL_DYNAMIC_STORAGE_BIT);
+    sl->layers = lc_scratch_buffer(layer_bytes, 0);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         lc_surface_layers_destroy(sl);
@@ -201,10 +199,11 @@ void lc_surface_layers_destroy(lc_surface_layers *sl)
     for (int i = 0; i < 3; i++)
         if (progs[i])
             glDeleteProgram(progs[i]);
-    GLuint bufs[4] = {sl->nodes, sl->pixels, sl->layers, sl->vertices};
-    for (int i = 0; i < 4; i++)
-        if (bufs[i])
-            glDeleteBuffers(1, &bufs[i]);
+    lc_scratch_discard(&sl->nodes);
+    lc_scratch_discard(&sl->pixels);
+    lc_scratch_discard(&sl->layers);
+    if (sl->vertices)
+        glDeleteBuffers(1, &sl->vertices);
     free(sl);
 }
 

@@ -1,5 +1,5 @@
-/* Scratch buffers sized by a frame (fragment lists, chains, raster sums), and
- * their discard.
+/* Scratch buffers sized by a frame (fragment lists and chains, compute sums,
+ * the exact pool, surface layers), and their discard.
  *
  * On llvmpipe a deleted buffer's storage lives as long as a binned scene
  * refers to it, and a scene lets go of its references only when llvmpipe
@@ -39,7 +39,9 @@ GLuint lc_scratch_buffer(uint64_t bytes, GLbitfield flags)
     return b;
 }
 
-/* Drops the whole pages of [p, p + n): they read as zeros if touched again. */
+/* Drops the whole pages of [p, p + n): they read as zeros if touched again.
+ * The allocator's own words lie outside the range (before p), so a later free
+ * of the storage finds them intact. */
 static void drop_range(void *p, size_t n)
 {
     long page = sysconf(_SC_PAGESIZE);

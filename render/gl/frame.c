@@ -566,7 +566,7 @@ void lc_renderer_release_after(lc_renderer *r, const lc_gpu_scene *gs, const lc_
         tiny.method = LC_METHOD_FOURIER;
     uint8_t rgba[8 * 8 * 4];
     lc_error ignored = {0};
-    for (int k = 0; k < 2; k++) /* llvmpipe's scenes hold references for one frame more */
+    for (int k = 0; k < 2; k++) /* llvmpipe's scenes let go of their references only when reused (scratch.c) */
         lc_render_frame(r, gs, &tiny, NULL, 0.0, rgba, NULL, &ignored);
     lc_targets *sets[] = {&r->coef_low,   &r->coef_full, &r->accum,   &r->output,
                           &r->range_full, &r->range_low, &r->moments, &r->reach_sums};

@@ -246,6 +246,7 @@ int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     if (!rc && record) {
         lc_fragment_chains_end(r);
         fs->p0_chained = r->fragments_chained;
+        fs->p0_fragments = r->fragments_chained ? r->fragment_count : 0;
     }
     if (rc || (rc = choose_p1_subset(r, fs, err)) != 0)
         return rc;
@@ -489,10 +490,6 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
 
     lc_additive_blending();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
-    /* P4 records what P5 needs of its fragments where the frame allows (fragment_list.c). */
-    int record = !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct); /* its P5 evaluates a series */
-    if (record)
-        lc_composite_list_begin(r, fs);
     r->draw_yields = 1; /* P4 and P5: yield points follow, and the image is all they make */
     /* The compute rasterizer has the series and the direct opacities but no depth bins, Kanzler maps or
      * screen-space derivatives (alphaSource normalVariation): those draw. */
@@ -501,7 +498,11 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
      * so it may compute (adding to the kept sums); a batch of lines is whole
      * strip runs when drawn and ribbon slots when computed, so it draws. */
     computable = computable && (!fs->batch_count || fs->gs->scene->type == LC_PRIM_POINTS);
-    int computed = computable && !record && lc_compute_raster_wanted(r, fs, LC_RASTER_P4);
+    int computed = computable && lc_compute_raster_wanted(r, fs, LC_RASTER_P4);
+    /* A drawn P4 records what P5 needs of its fragments where the frame allows (fragment_list.c). */
+    int record = !computed && !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct);
+    if (record)
+        lc_composite_list_begin(r, fs);
     info_paths(fs, LC_RASTER_P4, computed);
     if (computed) {
         int rc =
@@ -528,6 +529,8 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         lc_renderer_draw_geometry(lf, p->foo.subset);
     }
     int listed = record && lc_composite_list_end(r);
+    if (fs->info)
+        fs->info->composite_from_list = listed;
     int rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err);
     if (rc)
         return rc;
@@ -537,19 +540,18 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
 
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
-    if (listed) {
-        lc_bind_coefficients(&r->coef_full);
-        rc = lc_composite_list_p5(r, fs, &r->accum, err);
-        if (rc)
-            return rc;
-    }
-    /* topDecileReach: the optimized opacities' P5 (not the list's, the baselines' or the bins'). */
-    int reach = !direct && !bins && !listed && !fs->batch_count; /* (not over one batch of params.progressive) */
+    /* topDecileReach: the optimized opacities' P5 (not the baselines' or the bins'). */
+    int reach = !direct && !bins && !fs->batch_count; /* (not over one batch of params.progressive) */
     int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5);
     if (reach)
-        lc_reach_begin(r, fs, !p5_computed);
+        lc_reach_begin(r, fs, !p5_computed); /* the list's P5 sums per pixel as the drawn one */
     else if (fs->batch_count)
         r->reach_g = 2.0f; /* > 1: P5 measures nothing */
+    if (listed) {
+        lc_bind_coefficients(&r->coef_full);
+        if ((rc = lc_composite_list_p5(r, fs, &r->accum, err)) != 0)
+            return rc;
+    }
     info_paths(fs, LC_RASTER_P5, p5_computed);
     if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)
         return rc;

@@ -46,7 +46,8 @@
 #define FRAGMENTS_PER_PRIMITIVE_GUESS 4
 
 static atomic_int fragment_lists = 0;  /* lc_fragment_list_configure */
-static atomic_int composite_lists = 0; /* P5 over P4's fragments: LUCENT_P5_LIST=1 (off by default, below) */
+#define COMPOSITE_AUTO 2               /* P5 over P4's fragments in large frames (below) */
+static atomic_int composite_lists = 0; /* 0 drawn, 1 listed, COMPOSITE_AUTO */
 
 /* On software rasterizers, where a traversal costs its set-up and
  * rasterization whatever it shades; GPUs draw P2 until measured otherwise. */
@@ -55,11 +56,19 @@ void lc_fragment_list_configure(const char *gl_renderer)
     int software = lc_gl_renderer_is_software(gl_renderer);
     const char *e = getenv("LUCENT_FRAGMENT_LISTS"); /* 0 / 1: force off / on (comparisons, tests) */
     atomic_store(&fragment_lists, e && (e[0] == '0' || e[0] == '1') ? e[0] == '1' : software);
-    const char *p5 = getenv("LUCENT_P5_LIST");
-    atomic_store(&composite_lists, p5 && p5[0] == '1');
+    const char *p5 = getenv("LUCENT_P5_LIST"); /* 0 / 1: drawn / listed wherever lists are on (comparisons, tests) */
+    atomic_store(&composite_lists, p5 && (p5[0] == '0' || p5[0] == '1') ? p5[0] - '0' : COMPOSITE_AUTO);
 }
 
 int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
+
+/* A frame whose passes draw a stride weighted by it: params.subset, a moving
+ * frame's point stride or strided lines (P4 draws the stride, P5 does not). */
+static int strided(const lc_frame_setup *fs)
+{
+    return fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 ||
+           (fs->kept_line_indices[1] > 0 && fs->line_stride > 1);
+}
 
 int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs)
 {
@@ -70,10 +79,8 @@ int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs)
      * a moving frame's point stride or strided lines). Those frames record
      * in P1 as before. */
     int tile_low = fs->tiled && fs->low_width == fs->width && fs->low_height == fs->height;
-    int weighted = fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 ||
-                   (fs->kept_line_indices[1] > 0 && fs->line_stride > 1);
     /* params.progressive: P0 runs whole in its first frame, P1 one batch. */
-    return lc_fragment_list_enabled() && !weighted && fs->layer_count == 0 && !tile_low &&
+    return lc_fragment_list_enabled() && !strided(fs) && fs->layer_count == 0 && !tile_low &&
            fs->params->foo.progressive <= 1;
 }
 
@@ -204,48 +211,72 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 }
 
 /* ---- P5 over P4's fragments (COMPOSITE_LIST; docs/ALGORITHM.md §27): P4
- * records each fragment's opacity, series depth and lit colour (24 bytes),
- * chained per pixel as P0's, and P5 walks each chain adding (w C, w) as
- * blending into the RGBA16F target does, rounding toward zero to half
- * precision after every addition: the images stay bit for bit. Off by
- * default (LUCENT_P5_LIST=1 turns it on where lists are on): on llvmpipe the
- * recording P4 costs more than the drawn P5 it replaces on the MD
- * trajectories (P4 1.2 -> 3.2 s, P5 1.7 -> 0.5 s; docs/EVALUATION.md, "The geometry path"), and
- * its list holds about 11 M fragments (270 MB) there at 1024^2. */
+ * records each fragment's series depth, opacity, importance and lit colour
+ * (16 bytes, one store), chained per pixel from its last fragment back, and
+ * P5 walks each chain in a compute pass. On llvmpipe this replaces a drawn
+ * P5 whose fragment shading costs more than the recording and the walk
+ * together (docs/EVALUATION.md, "The geometry path"). The colour's 11 bits
+ * and the walk's order of additions move a few pixels by 1/255 from the
+ * drawn P5's image, so frames whose P0 found fewer than COMPOSITE_AUTO_MIN
+ * fragments (scaled to full resolution) keep the drawn P5, where it costs
+ * little and layers, tiles and program variants give the same bytes. */
 
-/* Entries: 24 bytes each; 2^24 of them, 384 MB, at most. */
+/* Entries: 16 bytes each; 2^24 of them, 256 MB, at most. */
 #define COMPOSITE_LIST_MAX (1ull << 24)
-#define COMPOSITE_PER_PIXEL_GUESS 12
+#define COMPOSITE_PER_PIXEL_GUESS 4
+#define COMPOSITE_AUTO_MIN (2ull << 20)
+
+/* The entries P4 will offer: what this renderer saw last, or P0's fragments
+ * at the optimization resolution scaled to the full one, with a quarter more
+ * room; a frame that overflows the list draws P5 after all. */
+static uint64_t p0_scaled(const lc_frame_setup *fs)
+{
+    if (!fs->p0_fragments || fs->low_width <= 0 || fs->low_height <= 0)
+        return 0;
+    double pixels = (double)fs->width * (double)fs->height;
+    return (uint64_t)((double)fs->p0_fragments * pixels / ((double)fs->low_width * (double)fs->low_height));
+}
+
+static uint64_t composite_guess(const lc_renderer *r, const lc_frame_setup *fs)
+{
+    uint64_t want = (uint64_t)fs->width * (uint64_t)fs->height * COMPOSITE_PER_PIXEL_GUESS;
+    uint64_t p0 = p0_scaled(fs);
+    want = want > p0 ? want : p0;
+    if (want < r->composite_seen && r->composite_seen <= COMPOSITE_LIST_MAX) /* (one huge frame must not end it) */
+        want = r->composite_seen;
+    return want + want / 4;
+}
 
 int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct)
 {
-    (void)r;
-    /* P4 draws a stride that P5 does not (params.subset); layers and tiles as
-     * for P0's chains; the direct baseline keeps its own programs. */
-    return lc_fragment_list_enabled() && atomic_load(&composite_lists) && !direct && fs->params->foo.subset <= 1 &&
-           fs->layer_count == 0 && !fs->tiled;
+    /* Strides, layers and tiles as for P0's chains; the direct baseline keeps
+     * its own programs; a list past its bound would be recorded only to be
+     * drawn again. */
+    int mode = atomic_load(&composite_lists);
+    return lc_fragment_list_enabled() && mode && !direct && !strided(fs) && fs->layer_count == 0 && !fs->tiled &&
+           (mode != COMPOSITE_AUTO || p0_scaled(fs) >= COMPOSITE_AUTO_MIN) &&
+           composite_guess(r, fs) <= COMPOSITE_LIST_MAX;
 }
 
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
 {
     uint64_t pixels = (uint64_t)fs->width * (uint64_t)fs->height;
-    uint64_t want = pixels * COMPOSITE_PER_PIXEL_GUESS;
-    if (want < r->composite_seen + r->composite_seen / 4)
-        want = r->composite_seen + r->composite_seen / 4;
+    uint64_t want = composite_guess(r, fs);
     want = want > COMPOSITE_LIST_MAX ? COMPOSITE_LIST_MAX : want;
     if (!r->composite_list || r->composite_capacity < want) {
         lc_scratch_discard(&r->composite_list);
-        r->composite_list = lc_scratch_buffer(16 + 24 * want, GL_DYNAMIC_STORAGE_BIT);
+        r->composite_list = lc_scratch_buffer(16 + 16 * want, GL_DYNAMIC_STORAGE_BIT);
         r->composite_capacity = want;
     }
-    if (!r->fragment_chains || r->chain_words < 2 * pixels) {
+    /* The heads, a word a pixel, in the chains' buffer (P1 is done with it). */
+    if (!r->fragment_chains || r->chain_words < pixels) {
         lc_scratch_discard(&r->fragment_chains);
-        r->fragment_chains = lc_scratch_buffer(8 * pixels, GL_DYNAMIC_STORAGE_BIT);
-        r->chain_words = 2 * pixels;
+        r->fragment_chains = lc_scratch_buffer(4 * pixels, GL_DYNAMIC_STORAGE_BIT);
+        r->chain_words = pixels;
     }
     const uint32_t zero = 0, none = 0xFFFFFFFFu;
     glClearNamedBufferSubData(r->composite_list, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(8 * pixels), GL_RED_INTEGER,
+    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(4 * pixels), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &none);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->composite_list);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
@@ -260,7 +291,6 @@ int lc_composite_list_end(lc_renderer *r)
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glGetNamedBufferSubData(r->composite_list, 0, 4, &count);
     r->composite_seen = count > r->composite_seen ? count : r->composite_seen;
-    r->fragment_count = count;
     return count <= r->composite_capacity;
 }
 
@@ -284,7 +314,11 @@ int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
     lc_uniform_u(prog, "u_chain_pixels", r->chain_pixels);
     lc_uniform_u(prog, "u_chain_width", r->chain_width);
     lc_uniform_i(prog, "u_estimator", fs->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
+    /* topDecileReach's per-pixel sums where lc_reach_begin set their target up. */
+    lc_uniform_f(prog, "u_reach_g", r->reach_drawn ? r->reach_g : 2.0f);
     glBindImageTexture(IMG_EXACT_OUTPUT, t->tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    if (r->reach_drawn)
+        glBindImageTexture(IMG_P5_REACH, r->reach_sums.tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
@@ -300,7 +334,7 @@ uint64_t lc_fragment_list_bytes(const lc_renderer *r)
     uint64_t list = r->fragment_list ? 16 + 16 * seen : 0;
     uint64_t chains = r->fragment_chains ? 4 * r->chain_words : 0;
     uint64_t cseen = r->composite_seen < r->composite_capacity ? r->composite_seen : r->composite_capacity;
-    uint64_t composite = r->composite_list ? 16 + 24 * cseen : 0;
+    uint64_t composite = r->composite_list ? 16 + 16 * cseen : 0;
     return list + chains + composite;
 }
 

@@ -240,9 +240,11 @@ static int optimize_frame(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     if (!rc)
         rc = lc_fourier_optimize(r, fs, state, dt, info, err);
     int depth_moments = fs->depth_moments, p1_done = fs->p1_done;
+    uint64_t p0_fragments = fs->p0_fragments; /* over the guard band too: the list's guess errs large */
     *fs = saved;
     fs->depth_moments = depth_moments;
     fs->p1_done = p1_done;
+    fs->p0_fragments = p0_fragments;
     if (depth_moments)
         fs->moments_guard[0] = gx, fs->moments_guard[1] = gy;
     return rc;

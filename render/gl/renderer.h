@@ -267,8 +267,9 @@ typedef struct lc_frame_info {
     int importance_passes;     /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
     int opacity_from_list;     /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
     int importance_from_list;  /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
-    int computed_passes;       /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
-    int line_primitive;        /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
+    int composite_from_list; /* P5 ran over P4's recorded fragments (a compute pass), not as a draw (fragment_list.c) */
+    int computed_passes;     /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
+    int line_primitive;      /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;

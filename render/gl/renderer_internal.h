@@ -86,6 +86,7 @@
     X(IMG_SMART_OUTPUT, 9)  /* smart.c: the image they modulate */                                                     \
     X(IMG_SMART_INJECT, 10) /* smart.c: the injected intensities and each pixel's optical depth */                     \
     X(IMG_EXACT_HEADS, 0)   /* exact method: per-pixel list heads */                                                   \
+    X(IMG_P5_REACH, 0)      /* P5 over P4's fragments: the per-pixel topDecileReach sums */                            \
     X(IMG_EXACT_OUTPUT, 1)  /* exact method: blended image */                                                          \
     X(IMG_EXACT_REDUCED, 1) /* exact list pass 1: per-pixel opacity left out (never with the blend's output) */        \
     X(IMG_EXACT_STATE, 2) /* exact sort passes: a pixel's sums between chunks (no coefficient targets bound there) */  \
@@ -494,13 +495,14 @@ typedef struct lc_frame_setup {
     /* filter.c: the visibility mask filter_mask applies (0: every vertex draws). */
     int filtered;
     GLuint filter_mask;
-    int pull_lines;     /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
-    int line_primitive; /* segments draw as wide GL_LINES (line_primitive.c; r->line_primitive) */
-    int point_sprites;  /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
-    int p1_subset;      /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
-    int p1_done;        /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
-                           change only the strength P2 applies, keep them (lc_fourier_optimize) */
-    int p0_chained;     /* this frame's P0 recorded its fragments for P1 (fragment_list.c) */
+    int pull_lines;        /* filter.c: a time window; lines draw segment by segment (r->pull_lines) */
+    int line_primitive;    /* segments draw as wide GL_LINES (line_primitive.c; r->line_primitive) */
+    int point_sprites;     /* points draw as GL points this frame (lc_frame_point_sprites; r->point_sprites) */
+    int p1_subset;         /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
+    int p1_done;           /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
+                              change only the strength P2 applies, keep them (lc_fourier_optimize) */
+    int p0_chained;        /* this frame's P0 recorded its fragments for P1 (fragment_list.c) */
+    uint64_t p0_fragments; /* how many (0: not recorded; the composite list's guess, fragment_list.c) */
     /* The frame's report (reduce.c adds its cost). */
     lc_frame_info *info;
     int line_mask; /* line_clusters.c: geometry passes skip the vertices whose bit is clear */

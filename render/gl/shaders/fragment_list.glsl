@@ -49,45 +49,66 @@ void record_chained_fragment(uint element, float g, float d)
 
 // P4's list (COMPOSITE_LIST, render/gl/fragment_list.c): every fragment of P4
 // at full resolution with what P5's fragment shader computes of it before
-// reading P4's sums (its opacity, series depth and colour), chained per pixel
-// as P0's (FRAGMENT_CHAINS, the same buffer at full resolution), so that P5
-// is a compute pass over them (p5_list.comp.glsl).
+// reading P4's sums, so that P5 is a compute pass over them
+// (p5_list.comp.glsl). An entry is one uvec4, written by one store: on
+// llvmpipe every storage-buffer access of a fragment shader is a loop over
+// the vector's lanes, so the recording costs about as many loops as it has
+// accesses (three here: the count, the pixel's head and the entry). Each
+// pixel's entries are chained from the last back to the first (x: the entry
+// before it), its head word holding the last. The entry:
+//   y  the series depth (float bits)
+//   z  the opacity as a half float in the low 16 bits, of alpha up to 1/2
+//      and of -(1 - alpha) above (both keep 11 significant bits where P5's
+//      weight alpha / (1 - alpha) needs them), the importance g as 16-bit
+//      unorm in the high 16 bits (topDecileReach's sums)
+//   w  the lit colour as unorm 11, 11 and 10 bits (r low)
 #ifdef COMPOSITE_LIST
-struct CompositeFragment
-{
-    uint next; // the entry after it in its pixel's chain (written by that fragment)
-    float alpha, depth, r, g, b;
-};
 layout(std430, binding = BIND_FRAGMENT_LIST) buffer CompositeList
 {
     uint composite_count; // fragments offered; those past the capacity are not stored
     uint composite_pad[3];
-    CompositeFragment composites[];
+    uvec4 composites[];
 };
 uniform uint u_composite_capacity;
 #define FRAGMENT_NONE 0xFFFFFFFFu
-layout(std430, binding = BIND_FRAGMENT_CHAINS) buffer CompositeChains { uint composite_chain_words[]; };
+layout(std430, binding = BIND_FRAGMENT_CHAINS) buffer CompositeHeads { uint composite_heads[]; };
 uniform uint u_chain_pixels;
 uniform uint u_chain_width;
 
+uint pack_opacity_importance(float alpha, float g)
+{
+    float a = alpha <= 0.5 ? alpha : -(1.0 - alpha);
+    return (packHalf2x16(vec2(a, 0.0)) & 0xFFFFu) | (uint(clamp(g, 0.0, 1.0) * 65535.0 + 0.5) << 16);
+}
+
+uint pack_color(vec3 c)
+{
+    uvec3 q = uvec3(clamp(c, 0.0, 1.0) * vec3(2047.0, 2047.0, 1023.0) + 0.5);
+    return q.x | (q.y << 11) | (q.z << 22);
+}
+
+float unpack_opacity(uint z)
+{
+    float a = unpackHalf2x16(z).x;
+    return a >= 0.0 ? a : 1.0 + a;
+}
+
+float unpack_importance(uint z) { return float(z >> 16) / 65535.0; }
+
+vec3 unpack_color(uint w)
+{
+    return vec3(float(w & 0x7FFu), float((w >> 11) & 0x7FFu), float(w >> 22)) / vec3(2047.0, 2047.0, 1023.0);
+}
+
 #ifdef FRAGMENT_STAGE
-void record_composite_fragment(float alpha, float depth, vec3 color)
+void record_composite_fragment(float alpha, float g, float depth, vec3 color)
 {
     uint i = atomicAdd(composite_count, 1u);
     if (i >= u_composite_capacity)
         return; // the frame draws P5 instead (fragment_list.c)
-    composites[i].alpha = alpha;
-    composites[i].depth = depth;
-    composites[i].r = color.r;
-    composites[i].g = color.g;
-    composites[i].b = color.b;
     uvec2 xy = uvec2(gl_FragCoord.xy);
-    uint p = xy.x + xy.y * u_chain_width;
-    uint prev = atomicExchange(composite_chain_words[2u * p + 1u], i);
-    if (prev == FRAGMENT_NONE)
-        composite_chain_words[2u * p] = i;
-    else
-        composites[prev].next = i;
+    uint before = atomicExchange(composite_heads[xy.x + xy.y * u_chain_width], i);
+    composites[i] = uvec4(before, floatBitsToUint(depth), pack_opacity_importance(alpha, g), pack_color(color));
 }
 #endif
 #endif

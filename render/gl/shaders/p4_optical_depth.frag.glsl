@@ -46,6 +46,6 @@ void main()
     o_shadow_color = vec4(f * fragment_color(), f);
 #endif
 #ifdef COMPOSITE_LIST
-    record_composite_fragment(fragment_alpha(), fragment_series_depth(), fragment_color());
+    record_composite_fragment(fragment_alpha(), fragment_importance(), fragment_series_depth(), fragment_color());
 #endif
 }

@@ -1,20 +1,24 @@
 // P5 over P4's fragments (fragment_list.glsl, COMPOSITE_LIST): one invocation a
-// pixel walks its chain in the order P4's fragment shader ran them, weighs each
-// fragment as p5_accumulate.frag.glsl does (the same fourier_eval and
-// composite_weight on the recorded opacity, depth and colour) and adds
-// (w C, w) in that order as additive blending into the RGBA16F target does:
-// each sum is converted to half precision after every addition, as below.
+// pixel reads its coefficients once, walks its chain (last fragment first),
+// weighs each fragment as p5_accumulate.frag.glsl does (the same fourier_eval
+// and composite_weight) and adds (w C, w) as blending into the RGBA16F target
+// does, converting the sum to half precision after every addition (in the
+// chain's order, the reverse of the drawn P5's). With u_reach_g <= 1 it also sums the pixel's
+// topDecileReach terms as the drawn P5 blends them (p5_accumulate.frag.glsl)
+// into the reach target that reach_reduce.comp.glsl adds up.
 layout(local_size_x = 64) in;
 uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u + gl_GlobalInvocationID.x; }
 
 uniform int u_estimator;
+uniform float u_reach_g;
 layout(binding = IMG_EXACT_OUTPUT, rgba16f) writeonly uniform image2D u_accum;
+layout(binding = IMG_P5_REACH, rgba32f) writeonly uniform image2D u_reach;
 
 // The sum's conversion to half precision as llvmpipe's blending stores an
-// RGBA16F target: rounded toward zero (measured: round-to-nearest-even, the
-// rounding of packHalf2x16, changed 1.4 % of demo:abc's pixels by one 8-bit
-// step; truncation reproduces every image bit for bit), with halves below
-// 2^-14 subnormal. The fragment's (w C, w) is added unrounded.
+// RGBA16F target: rounded toward zero, with halves below 2^-14 subnormal (a
+// float sum stored once instead turns pixels whose every weight is below
+// half's least subnormal from the background to black where the drawn P5
+// leaves them empty). The fragment's (w C, w) is added unrounded.
 float half_toward_zero(float x)
 {
     float a = abs(x);
@@ -33,22 +37,28 @@ void main()
     uint p = linear_invocation();
     if (p >= u_chain_pixels)
         return;
-    uint last = composite_chain_words[2u * p + 1u];
-    if (last == FRAGMENT_NONE)
-        return; // no fragment: the target keeps its cleared 0
+    uint i = composite_heads[p];
+    if (i == FRAGMENT_NONE)
+        return; // no fragment: the targets keep their cleared 0
     ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
     float c[NTARGETS * 4];
     read_coefficients(xy, c);
-    vec4 sum = vec4(0.0);
-    uint i = composite_chain_words[2u * p];
-    for (;;) {
-        CompositeFragment f = composites[i];
-        float tau = max(fourier_eval(c, f.depth), 0.0);
-        float w = composite_weight(f.alpha, tau, u_estimator);
-        sum = half_toward_zero(sum + vec4(vec3(f.r, f.g, f.b) * w, w));
-        if (i == last)
-            break;
-        i = f.next;
+    vec4 sum = vec4(0.0), reach = vec4(0.0);
+    // The top decile's bound in g's 16 bits, so that a fragment at the bound
+    // (an element's own g, as often) stays in it.
+    uint top_q = uint(clamp(u_reach_g, 0.0, 1.0) * 65535.0 + 0.5);
+    while (i != FRAGMENT_NONE) {
+        uvec4 f = composites[i];
+        float alpha = unpack_opacity(f.z);
+        float tau = max(fourier_eval(c, uintBitsToFloat(f.y)), 0.0);
+        float w = composite_weight(alpha, tau, u_estimator);
+        sum = half_toward_zero(sum + vec4(unpack_color(f.w) * w, w));
+        float g = unpack_importance(f.z);
+        float top = f.z >> 16 >= top_q ? 1.0 : 0.0;
+        reach += vec4(g * w, g * alpha, top * g * w, top * g * alpha);
+        i = f.x;
     }
     imageStore(u_accum, xy, sum);
+    if (u_reach_g <= 1.0)
+        imageStore(u_reach, xy, reach);
 }

@@ -1,0 +1,76 @@
+/* P5 over the fragments P4 recorded (render/gl/fragment_list.c,
+ * p5_list.comp.glsl) against the drawn P5, on lines and on points: the same
+ * picture (SSIM >= 0.999, no more than 2 % of the channels apart, one in 2000
+ * by more than 2/255), topDecileReach within 1e-4 (the list keeps the opacity
+ * in 11 significant bits and g in 16), and the frame reports which path P5
+ * took. Both draw P4, the pass that records (points would compute it). LUCENT_P5_LIST picks the path for the renderer
+ * created after it is set (the default takes the list only in frames of millions of fragments, which these small frames
+ * are not). Where fragment lists are off (a GPU) both renderers draw and only the report is checked. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "demo.h"
+#include "image.h"
+#include "render_util.h"
+
+#define SIZE 256
+
+static void render_with(const char *mode, const char *name, uint8_t *rgba, lc_frame_info *info)
+{
+    setenv("LUCENT_P5_LIST", mode, 1);
+    test_gl t;
+    test_gl_open(&t);
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = NULL;
+    lc_demo_desc desc = {0};
+    CHECK(lc_demo_create(name, &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "demo %s: %s", name,
+          err.msg);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    p.foo.fade_half_life = 0;
+    test_render_frame(&t, gs, &p, NULL, rgba, info);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+    test_gl_close(&t);
+}
+
+static void compare(const char *name)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *drawn = malloc(n), *listed = malloc(n);
+    lc_frame_info a = {0}, b = {0};
+    render_with("0", name, drawn, &a);
+    render_with("1", name, listed, &b);
+    int lists = lc_fragment_list_enabled();
+    CHECK(!a.composite_from_list, "%s: LUCENT_P5_LIST=0 draws P5", name);
+    CHECK(b.composite_from_list == lists, "%s: LUCENT_P5_LIST=1 takes the list where lists are on (%d, lists %d)", name,
+          b.composite_from_list, lists);
+    size_t differ = 0, far = 0;
+    int max = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = abs((int)drawn[i] - (int)listed[i]);
+        differ += d > 0, far += d > 2;
+        max = d > max ? d : max;
+    }
+    double ssim = lc_image_ssim(drawn, listed, SIZE, SIZE);
+    printf("%-8s listed %d: %zu of %zu channels differ (%zu by more than 2, max %d), SSIM %.6f, reach %.6f / %.6f\n",
+           name, b.composite_from_list, differ, n, far, max, ssim, a.top_decile_reach, b.top_decile_reach);
+    CHECK(ssim >= 0.999, "%s: SSIM %.6f between the listed and the drawn P5", name, ssim);
+    CHECK(differ <= n / 50 && far <= n / 2000, "%s: %zu channels differ, %zu by more than 2", name, differ, far);
+    CHECK(a.has_reach && b.has_reach && fabs(a.top_decile_reach - b.top_decile_reach) <= 1e-4,
+          "%s: topDecileReach %.6f drawn, %.6f listed", name, a.top_decile_reach, b.top_decile_reach);
+    free(drawn);
+    free(listed);
+}
+
+int main(void)
+{
+    setenv("LUCENT_COMPUTE_RASTER", "0", 1); /* points too draw P4, the pass that records */
+    compare("tornado");
+    compare("points");
+    unsetenv("LUCENT_P5_LIST");
+    unsetenv("LUCENT_COMPUTE_RASTER");
+    return lc_test_finish();
+}

@@ -258,6 +258,13 @@ int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int
            composite_guess(r, fs) <= COMPOSITE_LIST_MAX;
 }
 
+int lc_composite_list_expected(double fragments)
+{
+    int mode = atomic_load(&composite_lists);
+    return lc_fragment_list_enabled() && mode && (mode != COMPOSITE_AUTO || fragments >= (double)COMPOSITE_AUTO_MIN) &&
+           fragments * 1.25 <= (double)COMPOSITE_LIST_MAX;
+}
+
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
 {
     uint64_t pixels = (uint64_t)fs->width * (uint64_t)fs->height;

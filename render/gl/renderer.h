@@ -143,6 +143,10 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
  * driver named gl_renderer (LUCENT_FRAGMENT_LISTS=0/1 overrides). */
 int lc_fragment_list_enabled(void);
 void lc_fragment_list_configure(const char *gl_renderer);
+/* Whether a Fourier frame of `fragments` full-resolution fragments (one
+ * traversal's, no stride, layer or tile) takes P5 over P4's
+ * recorded fragments instead of drawing P5, for the cost model. */
+int lc_composite_list_expected(double fragments);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
 /* importantOccluded (docs/ALGORITHM.md §8): a fragment is important above

@@ -175,6 +175,16 @@ static void lists_plan(const lc_render_params *p, const lc_pass_plan *plan, doub
     *p1 = plan->moments && !tile_low && !layered;
 }
 
+/* Whether P5 of a Fourier frame runs over the fragments its P4 recorded (no
+ * traversal: render/gl/fragment_list.c) where P0 recorded its own: lines and
+ * surfaces (P4 of points computes), no stride, layer, tile or batches. */
+static bool composite_listed(const lc_render_params *p, lc_prim_type type, double frags, bool p1_listed, int tiles,
+                             bool layered)
+{
+    return p1_listed && p->method == LC_METHOD_FOURIER && type != LC_PRIM_POINTS && tiles <= 1 && !layered &&
+           p->foo.progressive <= 1 && lc_composite_list_expected(frags);
+}
+
 /* layered: one layer's share of a frame of layers (lc_cost_check_layers). */
 static double estimate(const lc_scene_measures *st, const lc_render_params *p, bool layered)
 {
@@ -276,8 +286,9 @@ static double estimate(const lc_scene_measures *st, const lc_render_params *p, b
     /* Traversals of the geometry, which pay the vertex and primitive set-up
      * however many targets a pass writes (P1 and P4 write theirs in one draw):
      * one per pass and resolution it runs at, P2 once per try, kanzler's maps
-     * one more. P1 and P2 computed over recorded fragments (lists_plan) cost
-     * their fragments' work but no traversal. A pass drawn with the stride
+     * one more. P1 and P2 computed over recorded fragments (lists_plan), and
+     * P5 over P4's (composite_listed), cost their fragments' work but no
+     * traversal. A pass drawn with the stride
      * (P0's moments, P1, P4) sets up one primitive in n, but lines then draw
      * segment by segment, six vertices each against two in a strip
      * (render/gl/fourier.c): their set-up shrinks only as 3/n. */
@@ -299,6 +310,7 @@ static double estimate(const lc_scene_measures *st, const lc_render_params *p, b
     int nx, ny, tiles = frame_tiles(p, &nx, &ny);
     lists_plan(p, &plan, frags * s2, tiles > 1 && f->resolution_scale >= 1.0, layered, &listed[LC_PASS_IMPORTANCE],
                &listed[LC_PASS_OPACITY]);
+    listed[LC_PASS_ACCUMULATE] = composite_listed(p, st->type, frags, listed[LC_PASS_IMPORTANCE], tiles, layered);
     double geometry = 0, passes = 0, full = 0, screens = 0;
     for (int k = 0; k < LC_PASS_COUNT; k++) {
         double at = plan.run[k] == LC_RUN_LOW    ? s2

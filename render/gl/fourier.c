@@ -462,6 +462,32 @@ static int compute_pass(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind
     return fs->keep_sums ? lc_compute_raster_end_add(r, t, err) : lc_compute_raster_end(r, t, err);
 }
 
+/* P4 drawn with program kind over the frame's layers (PROG_P4_LIST records its fragments). */
+static int draw_p4(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int kanzler, lc_error *err)
+{
+    const lc_render_params *p = fs->params;
+    for (int i = 0; i < lc_frame_layer_count(fs); i++) {
+        lc_frame_setup tmp;
+        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
+        if (!lf)
+            continue;
+        GLuint p4 =
+            lc_renderer_geometry_program(r, lf, kind, lf->gs->scene->type,
+                                         kind == PROG_P4_BINS ? LC_TAU_BINS_BANDS : p->foo.bands, p->foo.subset, err);
+        if (!p4)
+            return LC_ERR_GL;
+        lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
+        set_p4_uniforms(p4, r, lf, p->foo.subset, kanzler);
+        if (kind == PROG_P4_LIST) {
+            lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
+            lc_uniform_u(p4, "u_chain_pixels", r->chain_pixels);
+            lc_uniform_u(p4, "u_chain_width", r->chain_width);
+        }
+        lc_renderer_draw_geometry(lf, p->foo.subset);
+    }
+    return 0;
+}
+
 /* P4..P6 with the element opacities, the direct baseline's (params.alphaSource),
  * or, kanzler, g^k times Kanzler's penalty on this frame's maps (drawn first,
  * so that every antialias sample has maps of its own view); bins: the binning
@@ -499,7 +525,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
      * strip runs when drawn and ribbon slots when computed, so it draws. */
     computable = computable && (!fs->batch_count || fs->gs->scene->type == LC_PRIM_POINTS);
     int computed = computable && lc_compute_raster_wanted(r, fs, LC_RASTER_P4);
-    /* A drawn P4 records what P5 needs of its fragments where the frame allows (fragment_list.c). */
+    /* A drawn P4 records what its sums and P5 need of its fragments where the frame allows (fragment_list.c). */
     int record = !computed && !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct);
     if (record)
         lc_composite_list_begin(r, fs);
@@ -510,29 +536,20 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         if (rc)
             return rc;
     }
-    for (int i = 0; i < lc_frame_layer_count(fs) && !computed; i++) {
-        lc_frame_setup tmp;
-        const lc_frame_setup *lf = lc_frame_layer(fs, i, &tmp);
-        if (!lf)
-            continue;
-        GLuint p4 = lc_renderer_geometry_program(r, lf, record ? PROG_P4_LIST : kind4, lf->gs->scene->type, bands,
-                                                 p->foo.subset, err);
-        if (!p4)
-            return LC_ERR_GL;
-        lc_renderer_bind_geometry(r, p4, lf, fs->width, fs->height, p->foo.subset);
-        set_p4_uniforms(p4, r, lf, p->foo.subset, kanzler);
-        if (record) {
-            lc_uniform_u(p4, "u_composite_capacity", (unsigned)r->composite_capacity);
-            lc_uniform_u(p4, "u_chain_pixels", r->chain_pixels);
-            lc_uniform_u(p4, "u_chain_width", r->chain_width);
-        }
-        lc_renderer_draw_geometry(lf, p->foo.subset);
-    }
-    int listed = record && lc_composite_list_end(r);
+    /* The recording P4 draws into a framebuffer of no target (lc_composite_list_begin): its sums come from the list. */
+    int rc = computed ? 0 : draw_p4(r, fs, record ? PROG_P4_LIST : kind4, kanzler, err);
+    if (record)
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
+    int listed = !rc && record && lc_composite_list_end(r);
     if (fs->info)
         fs->info->composite_from_list = listed;
-    int rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err);
+    if (!rc && listed)
+        rc = lc_composite_list_p4(r, fs, &r->coef_full, err);
+    else if (!rc && record) /* past the list's room: P4 draws its sums after all */
+        rc = draw_p4(r, fs, kind4, kanzler, err);
     if (rc)
+        return rc;
+    if ((rc = lc_reduce_targets(r, &r->coef_full, LC_REDUCE_SUM, 0, fs->info, err)) != 0)
         return rc;
     lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
     if ((rc = lc_renderer_yield_point(r, err)) != 0)

@@ -210,16 +210,18 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
     return 0;
 }
 
-/* ---- P5 over P4's fragments (COMPOSITE_LIST; docs/ALGORITHM.md §27): P4
- * records each fragment's series depth, opacity, importance and lit colour
- * (16 bytes, one store), chained per pixel from its last fragment back, and
- * P5 walks each chain in a compute pass. On llvmpipe this replaces a drawn
- * P5 whose fragment shading costs more than the recording and the walk
- * together (docs/EVALUATION.md, "The geometry path"). The colour's 11 bits
- * and the walk's order of additions move a few pixels by 1/255 from the
- * drawn P5's image, so frames whose P0 found fewer than COMPOSITE_AUTO_MIN
- * fragments (scaled to full resolution) keep the drawn P5, where it costs
- * little and layers, tiles and program variants give the same bytes. */
+/* ---- P4's sums and P5 over P4's fragments (COMPOSITE_LIST; docs/ALGORITHM.md
+ * §27): P4 draws with its colour writes masked, recording each fragment's
+ * series depth, opacity, importance and lit colour (16 bytes, one store),
+ * chained per pixel from its last fragment back; compute passes walk the
+ * chains for P4's coefficient sums and then for P5. On llvmpipe this
+ * replaces two drawn passes whose fragment shading costs more than the
+ * recording and the walks together (docs/EVALUATION.md, "The geometry
+ * path"). The quantized opacity and colour and the walk's order of additions
+ * move a few pixels by 1/255 from the drawn passes' image, so frames whose
+ * P0 found fewer than COMPOSITE_AUTO_MIN fragments (scaled to full
+ * resolution) keep the drawn passes, where they cost less and layers, tiles
+ * and program variants give the same bytes. */
 
 /* Entries: 16 bytes each; 2^24 of them, 256 MB, at most. */
 #define COMPOSITE_LIST_MAX (1ull << 24)
@@ -290,6 +292,14 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     r->chain_pixels = (uint32_t)pixels;
     r->chain_width = (uint32_t)fs->width;
     r->fragments_chained = 0;
+    /* A framebuffer without attachments: llvmpipe then generates no blending
+     * at all (masking the coefficient targets' writes still loaded and stored
+     * them: P4 took 0.2 s more on lj_melt at 972x761). */
+    if (!r->record_fbo)
+        glCreateFramebuffers(1, &r->record_fbo);
+    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, fs->width);
+    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, fs->height);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->record_fbo);
 }
 
 int lc_composite_list_end(lc_renderer *r)
@@ -301,25 +311,50 @@ int lc_composite_list_end(lc_renderer *r)
     return count <= r->composite_capacity;
 }
 
-int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
+/* A compute program over P4's list (per band count), bound with the list and its heads. */
+static GLuint use_composite_program(lc_renderer *r, int first, int bands, const char *file, const char *name,
+                                    lc_error *err)
 {
-    int bands = fs->params->foo.bands;
-    GLuint *slot = &r->fixed_programs[PROG_P5_CHAINS_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
+    GLuint *slot = &r->fixed_programs[first + bands - 1 - PROG_GEOMETRY_KINDS];
     if (!*slot) {
-        static const char *const cs[] = {"common.glsl", "coefficients.glsl", "fragment_list.glsl", "p5_list.comp.glsl",
-                                         NULL};
+        /* P5 reads the coefficients that P4's pass writes. */
+        const char *const cs[] = {"common.glsl", "fragment_list.glsl",
+                                  first == PROG_P5_CHAINS_FIRST ? "coefficients.glsl" : file,
+                                  first == PROG_P5_CHAINS_FIRST ? file : NULL, NULL};
         char defines[64];
         snprintf(defines, sizeof defines, "#define BANDS %d\n#define COMPOSITE_LIST 1\n", bands);
-        *slot = lc_renderer_build_program(defines, NULL, NULL, cs, "P5 over P4's fragments", err);
+        *slot = lc_renderer_build_program(defines, NULL, NULL, cs, name, err);
         if (!*slot)
-            return LC_ERR_GL;
+            return 0;
     }
-    GLuint prog = *slot;
-    glUseProgram(prog);
+    glUseProgram(*slot);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->composite_list);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
-    lc_uniform_u(prog, "u_chain_pixels", r->chain_pixels);
-    lc_uniform_u(prog, "u_chain_width", r->chain_width);
+    lc_uniform_u(*slot, "u_chain_pixels", r->chain_pixels);
+    lc_uniform_u(*slot, "u_chain_width", r->chain_width);
+    return *slot;
+}
+
+int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
+{
+    GLuint prog = use_composite_program(r, PROG_P4_CHAINS_FIRST, fs->params->foo.bands, "p4_list.comp.glsl",
+                                        "P4 over its fragments", err);
+    if (!prog)
+        return LC_ERR_GL;
+    for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
+        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    return 0;
+}
+
+int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
+{
+    GLuint prog = use_composite_program(r, PROG_P5_CHAINS_FIRST, fs->params->foo.bands, "p5_list.comp.glsl",
+                                        "P5 over P4's fragments", err);
+    if (!prog)
+        return LC_ERR_GL;
     lc_uniform_i(prog, "u_estimator", fs->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     /* topDecileReach's per-pixel sums where lc_reach_begin set their target up. */
     lc_uniform_f(prog, "u_reach_g", r->reach_drawn ? r->reach_g : 2.0f);
@@ -381,4 +416,7 @@ void lc_fragment_list_release(lc_renderer *r)
     r->fragments_chained = 0;
     lc_scratch_discard(&r->composite_list);
     r->composite_capacity = 0;
+    if (r->record_fbo)
+        glDeleteFramebuffers(1, &r->record_fbo);
+    r->record_fbo = 0;
 }

@@ -144,7 +144,7 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
 int lc_fragment_list_enabled(void);
 void lc_fragment_list_configure(const char *gl_renderer);
 /* Whether a Fourier frame of `fragments` full-resolution fragments (one
- * traversal's, no stride, layer or tile) takes P5 over P4's
+ * traversal's, no stride, layer or tile) takes P4's and P5's sums over P4's
  * recorded fragments instead of drawing P5, for the cost model. */
 int lc_composite_list_expected(double fragments);
 

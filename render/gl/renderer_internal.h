@@ -229,7 +229,8 @@ typedef enum {
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
     PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS,   /* P1 over P0's fragments, per band count */
     PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS, /* P5 over P4's fragments, per band count */
-    PROG_FIXED_KINDS = PROG_P5_CHAINS_FIRST + LC_MAX_BANDS
+    PROG_P4_CHAINS_FIRST = PROG_P5_CHAINS_FIRST + LC_MAX_BANDS, /* P4's sums over its fragments, per band count */
+    PROG_FIXED_KINDS = PROG_P4_CHAINS_FIRST + LC_MAX_BANDS
 } lc_program_kind;
 
 #define LC_SPEC_PROGRAMS 48
@@ -277,6 +278,7 @@ struct lc_renderer {
     /* P4's list for P5 (COMPOSITE_LIST; 24 bytes an entry after a 16-byte
      * count), as the list above; its chains share fragment_chains. */
     GLuint composite_list;
+    GLuint record_fbo; /* no attachment: the recording P4 writes no target (fragment_list.c) */
     uint64_t composite_capacity, composite_seen;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
@@ -911,13 +913,17 @@ void lc_fragment_chains_end(lc_renderer *r);
 /* P1 into t (cleared by the caller) from the chains; the list then holds
  * P1's fragments as a recording P1 leaves them (r->fragments_ready). */
 int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, int bands, lc_error *err);
-/* P4 records what P5 needs of its fragments, chained per pixel, where the
- * frame allows, and P5 is then a compute pass over them: wanted before P4,
- * begin before it (binds the list for PROG_P4_LIST), end after it (1: every
- * fragment fit), then lc_composite_list_p5 into t (cleared by the caller). */
+/* P4 records what its sums and P5 need of its fragments, chained per pixel,
+ * where the frame allows, and writes no target; both are then compute passes
+ * over them: wanted before P4, begin before it (binds the list for
+ * PROG_P4_LIST and a draw framebuffer of no attachment; the caller binds its
+ * own after the draw), end after it (1: every fragment fit, else P4 draws again),
+ * then lc_composite_list_p4 into the coefficient targets and
+ * lc_composite_list_p5 into t (each cleared by the caller). */
 int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct);
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_end(lc_renderer *r);
+int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 /* Bytes the lists hold (lc_renderer_bytes). */
 uint64_t lc_fragment_list_bytes(const lc_renderer *r);

@@ -1,5 +1,6 @@
-/* P5 over the fragments P4 recorded (render/gl/fragment_list.c,
- * p5_list.comp.glsl) against the drawn P5, on lines and on points: the same
+/* P4's sums and P5 over the fragments P4 recorded (render/gl/fragment_list.c,
+ * p4_list.comp.glsl, p5_list.comp.glsl) against the drawn passes, on lines
+ * and on points: the same
  * picture (SSIM >= 0.999, no more than 2 % of the channels apart, one in 2000
  * by more than 2/255), topDecileReach within 1e-4 (the list keeps the opacity
  * in 11 significant bits and g in 16), and the frame reports which path P5

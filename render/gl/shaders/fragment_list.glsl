@@ -48,9 +48,9 @@ void record_chained_fragment(uint element, float g, float d)
 #endif
 
 // P4's list (COMPOSITE_LIST, render/gl/fragment_list.c): every fragment of P4
-// at full resolution with what P5's fragment shader computes of it before
-// reading P4's sums, so that P5 is a compute pass over them
-// (p5_list.comp.glsl). An entry is one uvec4, written by one store: on
+// at full resolution with what P4's sums and P5's fragment shader need of it,
+// so that both are compute passes over them (p4_list.comp.glsl,
+// p5_list.comp.glsl). An entry is one uvec4, written by one store: on
 // llvmpipe every storage-buffer access of a fragment shader is a loop over
 // the vector's lanes, so the recording costs about as many loops as it has
 // accesses (three here: the count, the pixel's head and the entry). Each

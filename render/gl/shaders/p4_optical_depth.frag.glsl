@@ -1,7 +1,8 @@
 // P4 optical-depth projection: f = -ln(1 - alpha) of the fragment's blended
 // element opacity (or alpha = g^k for the "direct" baseline), full resolution;
 // TAU_BINS: into depth bins instead of a Fourier series (method "binning").
-// COMPOSITE_LIST: also records what P5 needs of the fragment (fragment_list.glsl).
+// COMPOSITE_LIST: records what P4's and P5's sums need of the fragment instead
+// (fragment_list.glsl); compute passes over the list make both.
 
 uniform float u_weight; // subset stride
 #ifdef SHADOW_MAP
@@ -31,6 +32,11 @@ void main()
     if (outside_primitive())
         DISCARD;
     FLOOR_RETURN
+#ifdef COMPOSITE_LIST
+    // The sums come from the list (p4_list.comp.glsl): nothing is blended.
+    record_composite_fragment(fragment_alpha(), fragment_importance(), fragment_series_depth(), fragment_color());
+    return;
+#endif
     float c[NTARGETS * 4];
     float f = -log(1.0 - fragment_alpha()) * draw_weight(u_weight);
 #ifdef TAU_BINS
@@ -44,8 +50,5 @@ void main()
 #endif
 #ifdef SHADOW_MAP
     o_shadow_color = vec4(f * fragment_color(), f);
-#endif
-#ifdef COMPOSITE_LIST
-    record_composite_fragment(fragment_alpha(), fragment_importance(), fragment_series_depth(), fragment_color());
 #endif
 }

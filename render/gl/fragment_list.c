@@ -272,6 +272,8 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     uint64_t pixels = (uint64_t)fs->width * (uint64_t)fs->height;
     uint64_t want = composite_guess(r, fs);
     want = want > COMPOSITE_LIST_MAX ? COMPOSITE_LIST_MAX : want;
+    if (r->composite_limit && want > r->composite_limit)
+        want = r->composite_limit;
     if (!r->composite_list || r->composite_capacity < want) {
         lc_scratch_discard(&r->composite_list);
         r->composite_list = lc_scratch_buffer(16 + 16 * want, GL_DYNAMIC_STORAGE_BIT);
@@ -300,6 +302,13 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, fs->width);
     glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, fs->height);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->record_fbo);
+}
+
+void lc_composite_list_limit(lc_renderer *r, uint64_t entries)
+{
+    r->composite_limit = entries;
+    lc_scratch_discard(&r->composite_list); /* the next frame sizes it anew */
+    r->composite_capacity = 0;
 }
 
 int lc_composite_list_end(lc_renderer *r)

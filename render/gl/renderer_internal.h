@@ -278,7 +278,8 @@ struct lc_renderer {
     /* P4's list for P5 (COMPOSITE_LIST; 24 bytes an entry after a 16-byte
      * count), as the list above; its chains share fragment_chains. */
     GLuint composite_list;
-    GLuint record_fbo; /* no attachment: the recording P4 writes no target (fragment_list.c) */
+    GLuint record_fbo;        /* no attachment: the recording P4 writes no target (fragment_list.c) */
+    uint64_t composite_limit; /* tests: the most entries a list may hold (0: the guess's) */
     uint64_t composite_capacity, composite_seen;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
@@ -925,6 +926,8 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_end(lc_renderer *r);
 int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
+/* Tests: caps P4's list at `entries` (0: as guessed), so that a frame overflows it. */
+void lc_composite_list_limit(lc_renderer *r, uint64_t entries);
 /* Bytes the lists hold (lc_renderer_bytes). */
 uint64_t lc_fragment_list_bytes(const lc_renderer *r);
 /* Frees the list (lc_renderer_release_after, destroy). */

@@ -4,7 +4,8 @@
  * picture (SSIM >= 0.999, no more than 2 % of the channels apart, one in 2000
  * by more than 2/255), topDecileReach within 1e-4 (the list keeps the opacity
  * in 11 significant bits and g in 16), and the frame reports which path P5
- * took. Both draw P4, the pass that records (points would compute it). LUCENT_P5_LIST picks the path for the renderer
+ * took; a frame that overflows the list is the drawn one. Both draw P4, the
+ * pass that records (points would compute it). LUCENT_P5_LIST picks the path for the renderer
  * created after it is set (the default takes the list only in frames of millions of fragments, which these small frames
  * are not). Where fragment lists are off (a GPU) both renderers draw and only the report is checked. */
 #include <math.h>
@@ -13,14 +14,17 @@
 #include "demo.h"
 #include "image.h"
 #include "render_util.h"
+#include "renderer_internal.h"
 
 #define SIZE 256
 
-static void render_with(const char *mode, const char *name, uint8_t *rgba, lc_frame_info *info)
+/* limit: P4's list holds at most that many entries (0: as guessed). */
+static void render_with(const char *mode, const char *name, uint64_t limit, uint8_t *rgba, lc_frame_info *info)
 {
     setenv("LUCENT_P5_LIST", mode, 1);
     test_gl t;
     test_gl_open(&t);
+    lc_composite_list_limit(t.renderer, limit);
     lc_error err = {0};
     lc_scene *s = NULL;
     lc_gpu_scene *gs = NULL;
@@ -42,8 +46,8 @@ static void compare(const char *name)
     size_t n = (size_t)SIZE * SIZE * 4;
     uint8_t *drawn = malloc(n), *listed = malloc(n);
     lc_frame_info a = {0}, b = {0};
-    render_with("0", name, drawn, &a);
-    render_with("1", name, listed, &b);
+    render_with("0", name, 0, drawn, &a);
+    render_with("1", name, 0, listed, &b);
     int lists = lc_fragment_list_enabled();
     CHECK(!a.composite_from_list, "%s: LUCENT_P5_LIST=0 draws P5", name);
     CHECK(b.composite_from_list == lists, "%s: LUCENT_P5_LIST=1 takes the list where lists are on (%d, lists %d)", name,
@@ -66,11 +70,27 @@ static void compare(const char *name)
     free(listed);
 }
 
+/* A frame whose fragments overflow the list draws P4 again and P5: the drawn image, byte for byte. */
+static void overflow(void)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *drawn = malloc(n), *over = malloc(n);
+    lc_frame_info a = {0}, b = {0};
+    render_with("0", "tornado", 0, drawn, &a);
+    render_with("1", "tornado", 1000, over, &b);
+    CHECK(!b.composite_from_list, "a list of 1000 entries overflows: P5 draws");
+    CHECK(memcmp(drawn, over, n) == 0 && a.top_decile_reach == b.top_decile_reach,
+          "the overflowing frame is the drawn one (reach %.6f / %.6f)", a.top_decile_reach, b.top_decile_reach);
+    free(drawn);
+    free(over);
+}
+
 int main(void)
 {
     setenv("LUCENT_COMPUTE_RASTER", "0", 1); /* points too draw P4, the pass that records */
     compare("tornado");
     compare("points");
+    overflow();
     unsetenv("LUCENT_P5_LIST");
     unsetenv("LUCENT_COMPUTE_RASTER");
     return lc_test_finish();

@@ -228,9 +228,10 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 #define COMPOSITE_PER_PIXEL_GUESS 4
 #define COMPOSITE_AUTO_MIN (2ull << 20)
 
-/* The entries P4 will offer: what this renderer saw last, or P0's fragments
- * at the optimization resolution scaled to the full one, with a quarter more
- * room; a frame that overflows the list draws P5 after all. */
+/* The entries P4 will offer: the most this renderer has seen, or P0's
+ * fragments at the optimization resolution scaled to the full one, with a
+ * quarter more room; a frame that overflows the list draws P4 and P5 after
+ * all. */
 static uint64_t p0_scaled(const lc_frame_setup *fs)
 {
     if (!fs->p0_fragments || fs->low_width <= 0 || fs->low_height <= 0)

@@ -168,7 +168,8 @@ static GLuint chains_program(lc_renderer *r, int bands, lc_error *err)
 {
     GLuint *slot = &r->fixed_programs[PROG_P1_CHAINS_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
     if (!*slot) {
-        static const char *const cs[] = {"common.glsl", "fragment_list.glsl", "p1_list.comp.glsl", NULL};
+        static const char *const cs[] = {"common.glsl", "fragment_list.glsl", "coefficient_store.glsl",
+                                         "p1_list.comp.glsl", NULL};
         char defines[96];
         snprintf(defines, sizeof defines, "#define BANDS %d\n#define FRAGMENT_CHAINS 1\n#define SERIES_DEPTH_AT 1\n",
                  bands);
@@ -329,8 +330,8 @@ static GLuint use_composite_program(lc_renderer *r, int first, int bands, const 
     if (!*slot) {
         /* P5 reads the coefficients that P4's pass writes. */
         const char *const cs[] = {"common.glsl", "fragment_list.glsl",
-                                  first == PROG_P5_CHAINS_FIRST ? "coefficients.glsl" : file,
-                                  first == PROG_P5_CHAINS_FIRST ? file : NULL, NULL};
+                                  first == PROG_P5_CHAINS_FIRST ? "coefficients.glsl" : "coefficient_store.glsl", file,
+                                  NULL};
         char defines[64];
         snprintf(defines, sizeof defines, "#define BANDS %d\n#define COMPOSITE_LIST 1\n", bands);
         *slot = lc_renderer_build_program(defines, NULL, NULL, cs, name, err);

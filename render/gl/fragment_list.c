@@ -212,7 +212,7 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 }
 
 /* ---- P4's sums and P5 over P4's fragments (COMPOSITE_LIST; docs/ALGORITHM.md
- * §27): P4 draws with its colour writes masked, recording each fragment's
+ * §27): P4 draws into a framebuffer without attachments, recording each fragment's
  * series depth, opacity, importance and lit colour (16 bytes, one store),
  * chained per pixel from its last fragment back; compute passes walk the
  * chains for P4's coefficient sums and then for P5. On llvmpipe this
@@ -228,6 +228,7 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 #define COMPOSITE_LIST_MAX (1ull << 24)
 #define COMPOSITE_PER_PIXEL_GUESS 4
 #define COMPOSITE_AUTO_MIN (2ull << 20)
+#define COMPOSITE_ROOM(n) ((n) + (n) / 4) /* a quarter more than expected */
 
 /* The entries P4 will offer: the most this renderer has seen, or P0's
  * fragments at the optimization resolution scaled to the full one, with a
@@ -248,7 +249,16 @@ static uint64_t composite_guess(const lc_renderer *r, const lc_frame_setup *fs)
     want = want > p0 ? want : p0;
     if (want < r->composite_seen && r->composite_seen <= COMPOSITE_LIST_MAX) /* (one huge frame must not end it) */
         want = r->composite_seen;
-    return want + want / 4;
+    return COMPOSITE_ROOM(want);
+}
+
+/* Whether this process's mode lists a frame of `fragments` (P0's, scaled to
+ * full resolution) whose list would need `entries`. */
+static int composite_takes(double fragments, double entries)
+{
+    int mode = atomic_load(&composite_lists);
+    return lc_fragment_list_enabled() && mode && (mode != COMPOSITE_AUTO || fragments >= (double)COMPOSITE_AUTO_MIN) &&
+           entries <= (double)COMPOSITE_LIST_MAX;
 }
 
 int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct)
@@ -256,18 +266,11 @@ int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int
     /* Strides, layers and tiles as for P0's chains; the direct baseline keeps
      * its own programs; a list past its bound would be recorded only to be
      * drawn again. */
-    int mode = atomic_load(&composite_lists);
-    return lc_fragment_list_enabled() && mode && !direct && !strided(fs) && fs->layer_count == 0 && !fs->tiled &&
-           (mode != COMPOSITE_AUTO || p0_scaled(fs) >= COMPOSITE_AUTO_MIN) &&
-           composite_guess(r, fs) <= COMPOSITE_LIST_MAX;
+    return !direct && !strided(fs) && fs->layer_count == 0 && !fs->tiled &&
+           composite_takes((double)p0_scaled(fs), (double)composite_guess(r, fs));
 }
 
-int lc_composite_list_expected(double fragments)
-{
-    int mode = atomic_load(&composite_lists);
-    return lc_fragment_list_enabled() && mode && (mode != COMPOSITE_AUTO || fragments >= (double)COMPOSITE_AUTO_MIN) &&
-           fragments * 1.25 <= (double)COMPOSITE_LIST_MAX;
-}
+int lc_composite_list_expected(double fragments) { return composite_takes(fragments, COMPOSITE_ROOM(fragments)); }
 
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
 {

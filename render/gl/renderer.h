@@ -144,8 +144,8 @@ int lc_pass_plan_tiles(const lc_render_params *p, int tile_size, int *nx, int *n
 int lc_fragment_list_enabled(void);
 void lc_fragment_list_configure(const char *gl_renderer);
 /* Whether a Fourier frame of `fragments` full-resolution fragments (one
- * traversal's, no stride, layer or tile) takes P4's and P5's sums over P4's
- * recorded fragments instead of drawing P5, for the cost model. */
+ * traversal's, no stride, layer or tile) sums P4 and P5 over the fragments
+ * its P4 records instead of drawing P5, for the cost model. */
 int lc_composite_list_expected(double fragments);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
@@ -271,9 +271,9 @@ typedef struct lc_frame_info {
     int importance_passes;     /* P1 draws this frame: 1 however many tries (their strength leaves P1's sums alone) */
     int opacity_from_list;     /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
     int importance_from_list;  /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
-    int composite_from_list; /* P5 ran over P4's recorded fragments (a compute pass), not as a draw (fragment_list.c) */
-    int computed_passes;     /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
-    int line_primitive;      /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
+    int composite_from_list;   /* P4's sums and P5 ran over P4's recorded fragments (compute passes; fragment_list.c) */
+    int computed_passes;       /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
+    int line_primitive;        /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram
      * (else it reused the scene's), and the time spent building and cutting. */
     int clusters_built;

@@ -275,8 +275,8 @@ struct lc_renderer {
     uint64_t chain_words;
     uint32_t chain_pixels, chain_width;
     int fragments_chained;
-    /* P4's list for P5 (COMPOSITE_LIST; 24 bytes an entry after a 16-byte
-     * count), as the list above; its chains share fragment_chains. */
+    /* P4's list for its sums and P5 (COMPOSITE_LIST; 16 bytes an entry after
+     * a 16-byte count); its per-pixel heads share fragment_chains. */
     GLuint composite_list;
     GLuint record_fbo;        /* no attachment: the recording P4 writes no target (fragment_list.c) */
     uint64_t composite_limit; /* tests: the most entries a list may hold (0: the guess's) */

@@ -205,8 +205,9 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
         printf("  P1: %s\n", summed[0] ? "a compute pass over P0's fragments (no traversal)" : "drawn (a traversal)");
         printf("  P2: %s\n",
                listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
-        printf("  P5: %s\n",
-               composited[0] ? "a compute pass over the fragments P4 recorded (no traversal)" : "drawn (a traversal)");
+        printf("  P4's sums, P5: %s\n", composited[0]
+                                            ? "compute passes over the fragments P4 recorded (P5: no traversal)"
+                                            : "drawn (a traversal each)");
         printf("  P4, P5 in \"compute\": %s, %s (this device's rule: %s, %s)\n\n",
                computed & (1 << LC_RASTER_P4) ? "compute rasterizer" : "drawn (not applicable)",
                computed & (1 << LC_RASTER_P5) ? "compute rasterizer" : "drawn (not applicable)",

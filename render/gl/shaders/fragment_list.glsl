@@ -95,6 +95,9 @@ float unpack_opacity(uint z)
 
 float unpack_importance(uint z) { return float(z >> 16) / 65535.0; }
 
+// Pixel p's last entry (FRAGMENT_NONE: no fragment, or past the last pixel).
+uint composite_head(uint p) { return p < u_chain_pixels ? composite_heads[p] : FRAGMENT_NONE; }
+
 vec3 unpack_color(uint w)
 {
     return vec3(float(w & 0x7FFu), float((w >> 11) & 0x7FFu), float(w >> 22)) / vec3(2047.0, 2047.0, 1023.0);

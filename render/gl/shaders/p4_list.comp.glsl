@@ -10,9 +10,7 @@ uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x *
 void main()
 {
     uint p = linear_invocation();
-    if (p >= u_chain_pixels)
-        return;
-    uint i = composite_heads[p];
+    uint i = composite_head(p);
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
     float sum[NTARGETS * 4];

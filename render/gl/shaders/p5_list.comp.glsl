@@ -36,9 +36,7 @@ vec4 half_toward_zero(vec4 v)
 void main()
 {
     uint p = linear_invocation();
-    if (p >= u_chain_pixels)
-        return;
-    uint i = composite_heads[p];
+    uint i = composite_head(p);
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
     ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);

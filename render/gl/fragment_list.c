@@ -28,7 +28,7 @@
  * a pixel's fragments on one thread in that order, so the sums are the drawn
  * P1's bit for bit (render.test_references checks it); P2 then runs over the
  * list as after a recording P1. A frame traverses the geometry three times
- * (P0, P4, P5). */
+ * (P0, P4, P5), twice where P4 records its fragments too (below). */
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -164,6 +164,20 @@ void lc_fragment_chains_end(lc_renderer *r)
     r->fragments_ready = 0;                    /* P2's depths come with P1 */
 }
 
+/* series_depth_at's uniforms as lc_renderer_bind_geometry sets them for a
+ * pass of w x h pixels (no tile: lists are never tiled). */
+static void bind_series_depth(lc_renderer *r, const lc_frame_setup *fs, GLuint prog, int w, int h)
+{
+    lc_uniform_f(prog, "u_depth_margin", fs->pixel_depth_range ? LC_PIXEL_DEPTH_MARGIN : fs->params->foo.depth_margin);
+    lc_uniform_i(prog, "u_depth_moments", fs->depth_moments);
+    if (fs->depth_moments) {
+        glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
+        lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / w, (double)fs->low_height / h);
+        lc_uniform_v2(prog, "u_moments_offset", fs->moments_guard[0], fs->moments_guard[1]);
+        lc_uniform_v2(prog, "u_pixel_origin", 0, 0);
+    }
+}
+
 static GLuint chains_program(lc_renderer *r, int bands, lc_error *err)
 {
     GLuint *slot = &r->fixed_programs[PROG_P1_CHAINS_FIRST + bands - 1 - PROG_GEOMETRY_KINDS];
@@ -189,16 +203,7 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
     lc_uniform_u(prog, "u_chain_pixels", r->chain_pixels);
     lc_uniform_u(prog, "u_chain_width", r->chain_width);
     lc_uniform_f(prog, "u_weight", 1.0);
-    /* series_depth_at's uniforms as lc_renderer_bind_geometry sets them for
-     * P1 at t's size (no tile: lc_fragment_chains_wanted). */
-    lc_uniform_f(prog, "u_depth_margin", fs->pixel_depth_range ? LC_PIXEL_DEPTH_MARGIN : fs->params->foo.depth_margin);
-    lc_uniform_i(prog, "u_depth_moments", fs->depth_moments);
-    if (fs->depth_moments) {
-        glBindTextureUnit(TEX_DEPTH_MOMENTS, r->moments.tex[0]);
-        lc_uniform_v2(prog, "u_moments_scale", (double)fs->low_width / t->width, (double)fs->low_height / t->height);
-        lc_uniform_v2(prog, "u_moments_offset", fs->moments_guard[0], fs->moments_guard[1]);
-        lc_uniform_v2(prog, "u_pixel_origin", 0, 0);
-    }
+    bind_series_depth(r, fs, prog, t->width, t->height);
     for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
         glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
@@ -213,7 +218,7 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 
 /* ---- P4's sums and P5 over P4's fragments (COMPOSITE_LIST; docs/ALGORITHM.md
  * §27): P4 draws into a framebuffer without attachments, recording each fragment's
- * series depth, opacity, importance and lit colour (16 bytes, one store),
+ * normalized depth, opacity, importance and lit colour (16 bytes, one store),
  * chained per pixel from its last fragment back; compute passes walk the
  * chains for P4's coefficient sums and then for P5. On llvmpipe this
  * replaces two drawn passes whose fragment shading costs more than the
@@ -326,17 +331,19 @@ int lc_composite_list_end(lc_renderer *r)
 }
 
 /* A compute program over P4's list (per band count), bound with the list and its heads. */
-static GLuint use_composite_program(lc_renderer *r, int first, int bands, const char *file, const char *name,
-                                    lc_error *err)
+static GLuint use_composite_program(lc_renderer *r, const lc_frame_setup *fs, int first, const char *file,
+                                    const char *name, lc_error *err)
 {
+    int bands = fs->params->foo.bands;
     GLuint *slot = &r->fixed_programs[first + bands - 1 - PROG_GEOMETRY_KINDS];
     if (!*slot) {
         /* P5 reads the coefficients that P4's pass writes. */
         const char *const cs[] = {"common.glsl", "fragment_list.glsl",
                                   first == PROG_P5_CHAINS_FIRST ? "coefficients.glsl" : "coefficient_store.glsl", file,
                                   NULL};
-        char defines[64];
-        snprintf(defines, sizeof defines, "#define BANDS %d\n#define COMPOSITE_LIST 1\n", bands);
+        char defines[96];
+        snprintf(defines, sizeof defines, "#define BANDS %d\n#define COMPOSITE_LIST 1\n#define SERIES_DEPTH_AT 1\n",
+                 bands);
         *slot = lc_renderer_build_program(defines, NULL, NULL, cs, name, err);
         if (!*slot)
             return 0;
@@ -346,13 +353,13 @@ static GLuint use_composite_program(lc_renderer *r, int first, int bands, const 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
     lc_uniform_u(*slot, "u_chain_pixels", r->chain_pixels);
     lc_uniform_u(*slot, "u_chain_width", r->chain_width);
+    bind_series_depth(r, fs, *slot, fs->width, fs->height); /* the entries hold normalized depths */
     return *slot;
 }
 
 int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
 {
-    GLuint prog = use_composite_program(r, PROG_P4_CHAINS_FIRST, fs->params->foo.bands, "p4_list.comp.glsl",
-                                        "P4 over its fragments", err);
+    GLuint prog = use_composite_program(r, fs, PROG_P4_CHAINS_FIRST, "p4_list.comp.glsl", "P4 over its fragments", err);
     if (!prog)
         return LC_ERR_GL;
     for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
@@ -365,8 +372,8 @@ int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
 
 int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
 {
-    GLuint prog = use_composite_program(r, PROG_P5_CHAINS_FIRST, fs->params->foo.bands, "p5_list.comp.glsl",
-                                        "P5 over P4's fragments", err);
+    GLuint prog =
+        use_composite_program(r, fs, PROG_P5_CHAINS_FIRST, "p5_list.comp.glsl", "P5 over P4's fragments", err);
     if (!prog)
         return LC_ERR_GL;
     lc_uniform_i(prog, "u_estimator", fs->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);

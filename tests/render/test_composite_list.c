@@ -18,8 +18,13 @@
 
 #define SIZE 256
 
-/* limit: P4's list holds at most that many entries (0: as guessed). */
-static void render_with(const char *mode, const char *name, uint64_t limit, uint8_t *rgba, lc_frame_info *info)
+/* limit: P4's list holds at most that many entries (0: as guessed); halo:
+ * style.haloWidth in pixels (the list marks a halo's fragments, whose series
+ * depth the walks clamp short of the far end). The frame is rendered twice:
+ * the halos' fragments overflow the first guess, and the second frame's
+ * list takes the most the first one offered. */
+static void render_with(const char *mode, const char *name, uint64_t limit, double halo, uint8_t *rgba,
+                        lc_frame_info *info)
 {
     setenv("LUCENT_P5_LIST", mode, 1);
     test_gl t;
@@ -35,19 +40,23 @@ static void render_with(const char *mode, const char *name, uint64_t limit, uint
     lc_render_params_default(&p);
     p.width = p.height = SIZE;
     p.foo.fade_half_life = 0;
+    p.style.halo_width = halo;
+    p.style.halo_depth = 0.5; /* pushes halos past their pixels' far ends, where the series depth is clamped */
     test_render_frame(&t, gs, &p, NULL, rgba, info);
+    if (halo > 0)
+        test_render_frame(&t, gs, &p, NULL, rgba, info);
     lc_gpu_scene_destroy(gs);
     lc_scene_destroy(s);
     test_gl_close(&t);
 }
 
-static void compare(const char *name)
+static void compare(const char *name, double halo)
 {
     size_t n = (size_t)SIZE * SIZE * 4;
     uint8_t *drawn = malloc(n), *listed = malloc(n);
     lc_frame_info a = {0}, b = {0};
-    render_with("0", name, 0, drawn, &a);
-    render_with("1", name, 0, listed, &b);
+    render_with("0", name, 0, halo, drawn, &a);
+    render_with("1", name, 0, halo, listed, &b);
     int lists = lc_fragment_list_enabled();
     CHECK(!a.composite_from_list, "%s: LUCENT_P5_LIST=0 draws P5", name);
     CHECK(b.composite_from_list == lists, "%s: LUCENT_P5_LIST=1 takes the list where lists are on (%d, lists %d)", name,
@@ -60,8 +69,9 @@ static void compare(const char *name)
         max = d > max ? d : max;
     }
     double ssim = lc_image_ssim(drawn, listed, SIZE, SIZE);
-    printf("%-8s listed %d: %zu of %zu channels differ (%zu by more than 2, max %d), SSIM %.6f, reach %.6f / %.6f\n",
-           name, b.composite_from_list, differ, n, far, max, ssim, a.top_decile_reach, b.top_decile_reach);
+    printf("%-8s halo %.0f listed %d: %zu of %zu channels differ (%zu by more than 2, max %d), SSIM %.6f, reach %.6f / "
+           "%.6f\n",
+           name, halo, b.composite_from_list, differ, n, far, max, ssim, a.top_decile_reach, b.top_decile_reach);
     CHECK(ssim >= 0.999, "%s: SSIM %.6f between the listed and the drawn P5", name, ssim);
     CHECK(differ <= n / 50 && far <= n / 2000, "%s: %zu channels differ, %zu by more than 2", name, differ, far);
     CHECK(a.has_reach && b.has_reach && fabs(a.top_decile_reach - b.top_decile_reach) <= 1e-4,
@@ -76,8 +86,8 @@ static void overflow(void)
     size_t n = (size_t)SIZE * SIZE * 4;
     uint8_t *drawn = malloc(n), *over = malloc(n);
     lc_frame_info a = {0}, b = {0};
-    render_with("0", "tornado", 0, drawn, &a);
-    render_with("1", "tornado", 1000, over, &b);
+    render_with("0", "tornado", 0, 0, drawn, &a);
+    render_with("1", "tornado", 1000, 0, over, &b);
     CHECK(!b.composite_from_list, "a list of 1000 entries overflows: P5 draws");
     CHECK(memcmp(drawn, over, n) == 0 && a.top_decile_reach == b.top_decile_reach,
           "the overflowing frame is the drawn one (reach %.6f / %.6f)", a.top_decile_reach, b.top_decile_reach);
@@ -88,8 +98,9 @@ static void overflow(void)
 int main(void)
 {
     setenv("LUCENT_COMPUTE_RASTER", "0", 1); /* points too draw P4, the pass that records */
-    compare("tornado");
-    compare("points");
+    compare("tornado", 0);
+    compare("tornado", 3);
+    compare("points", 0);
     overflow();
     unsetenv("LUCENT_P5_LIST");
     unsetenv("LUCENT_COMPUTE_RASTER");

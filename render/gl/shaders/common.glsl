@@ -252,12 +252,18 @@ layout(binding = TEX_DEPTH_MOMENTS) uniform sampler2D u_moments; // sum g^2 (1, 
 // depth d of the fragment at window position frag_xy (gl_FragCoord.xy),
 // warped per pixel around its importance mass when P0 "moments" ran
 // (lc_foo_moment_depth in foo_math.h is the CPU reference). P1 over P0's
-// fragments (p1_list.comp.glsl) calls it with the recorded d.
-float series_depth_at(vec2 frag_xy, float d)
+// fragments (p1_list.comp.glsl) calls it with the recorded d; the walks over
+// P4's fragments read the pixel's moments once (series_moments_at) and warp
+// each fragment's recorded d by them (series_depth_warp).
+vec4 series_moments_at(vec2 frag_xy)
 {
     if (u_depth_moments == 0)
-        return d;
-    vec4 m = texelFetch(u_moments, ivec2((frag_xy + u_pixel_origin) * u_moments_scale + u_moments_offset), 0);
+        return vec4(0.0);
+    return texelFetch(u_moments, ivec2((frag_xy + u_pixel_origin) * u_moments_scale + u_moments_offset), 0);
+}
+
+float series_depth_warp(vec4 m, float d)
+{
     if (!(m.x > 0.0))
         return d;
     float mu = m.y / m.x;
@@ -265,6 +271,8 @@ float series_depth_at(vec2 frag_xy, float d)
     float t = 1.0 / (1.0 + exp(-((d - 0.5) - mu) / s));
     return u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t;
 }
+
+float series_depth_at(vec2 frag_xy, float d) { return series_depth_warp(series_moments_at(frag_xy), d); }
 #endif
 
 // P5's weight of a fragment with opacity alpha behind optical depth tau (FOO

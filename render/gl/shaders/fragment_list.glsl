@@ -56,7 +56,10 @@ void record_chained_fragment(uint element, float g, float d)
 // accesses (three here: the count, the pixel's head and the entry). Each
 // pixel's entries are chained from the last back to the first (x: the entry
 // before it), its head word holding the last. The entry:
-//   y  the series depth (float bits)
+//   y  the normalized depth (float bits, in [0, 1]), its sign bit set for a
+//      halo's fragment; the walks warp it into the series depth once per
+//      fragment with the moments read once per pixel (composite_depth), which
+//      the fragment shader would read and warp by per fragment
 //   z  the opacity as a half float in the low 16 bits, of alpha up to 1/2
 //      and of -(1 - alpha) above (both keep 11 significant bits where P5's
 //      weight alpha / (1 - alpha) needs them), the importance g as 16-bit
@@ -95,6 +98,14 @@ float unpack_opacity(uint z)
 
 float unpack_importance(uint z) { return float(z >> 16) / 65535.0; }
 
+// The series depth of an entry's y at a pixel with depth moments m
+// (series_moments_at), as fragment_series_depth gives it in the drawn P4.
+float composite_depth(vec4 m, uint y)
+{
+    float d = series_depth_warp(m, uintBitsToFloat(y & 0x7FFFFFFFu));
+    return (y & 0x80000000u) != 0u ? min(d, 1.0 - max(u_depth_margin, 0.01)) : d;
+}
+
 // Pixel p's last entry (FRAGMENT_NONE: no fragment, or past the last pixel).
 uint composite_head(uint p) { return p < u_chain_pixels ? composite_heads[p] : FRAGMENT_NONE; }
 
@@ -104,14 +115,15 @@ vec3 unpack_color(uint w)
 }
 
 #ifdef FRAGMENT_STAGE
-void record_composite_fragment(float alpha, float g, float depth, vec3 color)
+void record_composite_fragment(float alpha, float g, float depth, bool halo, vec3 color)
 {
     uint i = atomicAdd(composite_count, 1u);
     if (i >= u_composite_capacity)
         return; // the frame draws P5 instead (fragment_list.c)
     uvec2 xy = uvec2(gl_FragCoord.xy);
     uint before = atomicExchange(composite_heads[xy.x + xy.y * u_chain_width], i);
-    composites[i] = uvec4(before, floatBitsToUint(depth), pack_opacity_importance(alpha, g), pack_color(color));
+    uint y = floatBitsToUint(depth) | (halo ? 0x80000000u : 0u);
+    composites[i] = uvec4(before, y, pack_opacity_importance(alpha, g), pack_color(color));
 }
 #endif
 #endif

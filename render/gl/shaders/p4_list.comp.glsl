@@ -13,17 +13,18 @@ void main()
     uint i = composite_head(p);
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
+    ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
+    vec4 m = series_moments_at(vec2(xy) + 0.5);
     float sum[NTARGETS * 4];
     for (int j = 0; j < NTARGETS * 4; j++)
         sum[j] = 0.0;
     while (i != FRAGMENT_NONE) {
         uvec4 f = composites[i];
         float c[NTARGETS * 4];
-        fourier_project(uintBitsToFloat(f.y), -log(1.0 - unpack_opacity(f.z)), c);
+        fourier_project(composite_depth(m, f.y), -log(1.0 - unpack_opacity(f.z)), c);
         for (int j = 0; j < NTARGETS * 4; j++)
             sum[j] += c[j];
         i = f.x;
     }
-    ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
     store_coefficients(xy, sum);
 }

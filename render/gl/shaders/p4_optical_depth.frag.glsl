@@ -34,7 +34,8 @@ void main()
     FLOOR_RETURN
 #ifdef COMPOSITE_LIST
     // The sums come from the list (p4_list.comp.glsl): nothing is blended.
-    record_composite_fragment(fragment_alpha(), fragment_importance(), fragment_series_depth(), fragment_color());
+    record_composite_fragment(fragment_alpha(), fragment_importance(), normalized_depth(fragment_zview()),
+                              halo_position() >= 0.0, fragment_color());
     return;
 #endif
     float c[NTARGETS * 4];

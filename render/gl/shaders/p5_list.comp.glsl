@@ -42,6 +42,7 @@ void main()
     ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
     float c[NTARGETS * 4];
     read_coefficients(xy, c);
+    vec4 m = series_moments_at(vec2(xy) + 0.5);
     vec4 sum = vec4(0.0), reach = vec4(0.0);
     // The top decile's bound in g's 16 bits, so that a fragment at the bound
     // (an element's own g, as often) stays in it.
@@ -49,7 +50,7 @@ void main()
     while (i != FRAGMENT_NONE) {
         uvec4 f = composites[i];
         float alpha = unpack_opacity(f.z);
-        float tau = max(fourier_eval(c, uintBitsToFloat(f.y)), 0.0);
+        float tau = max(fourier_eval(c, composite_depth(m, f.y)), 0.0);
         float w = composite_weight(alpha, tau, u_estimator);
         sum = half_toward_zero(sum + vec4(unpack_color(f.w) * w, w));
         float g = unpack_importance(f.z);

@@ -41,19 +41,23 @@ void lc_compute_raster_configure(const char *gl_renderer)
  * measured 1.4-3 times as fast computed and P4 as fast, while both of dense
  * thin lines were 1.2-14 times slower (about ten fragments a segment, each a
  * dozen atomic adds in P4, and four corners' vertex work a segment against
- * the strips' two; docs/EVALUATION.md, "The geometry path"). A GPU's hardware rasterizer keeps
- * both until one measures otherwise. Surfaces always draw. */
-static int rule(int software, int override, lc_raster_pass pass, lc_prim_type prim)
+ * the strips' two; docs/EVALUATION.md, "The geometry path"). Where a frame's
+ * P4 records its fragments (listable: fragment_list.c, frames of millions of
+ * fragments), a drawn recording P4 and the walks over its list cost less
+ * than both computed passes, points too (a million points at 972x761: 1.6-1.7
+ * s a frame against 2.3-2.5). A GPU's hardware rasterizer keeps both until
+ * one measures otherwise. Surfaces always draw. */
+static int rule(int software, int override, lc_raster_pass pass, lc_prim_type prim, int listable)
 {
     (void)pass;
     if (prim == LC_PRIM_TRIANGLES)
         return 0;
-    return override >= 0 ? override : software && prim == LC_PRIM_POINTS;
+    return override >= 0 ? override : software && prim == LC_PRIM_POINTS && !listable;
 }
 
-static int rule_path(lc_raster_pass pass, lc_prim_type prim)
+static int rule_path(lc_raster_pass pass, lc_prim_type prim, int listable)
 {
-    return rule(atomic_load(&raster_software), atomic_load(&raster_override), pass, prim);
+    return rule(atomic_load(&raster_software), atomic_load(&raster_override), pass, prim, listable);
 }
 
 const char *lc_raster_path_name(const char *gl_renderer, lc_raster_pass pass, lc_prim_type prim)
@@ -61,17 +65,17 @@ const char *lc_raster_path_name(const char *gl_renderer, lc_raster_pass pass, lc
     int software = lc_gl_renderer_is_software(gl_renderer);
     const char *e = getenv("LUCENT_COMPUTE_RASTER");
     int override = e && (e[0] == '0' || e[0] == '1') ? e[0] - '0' : -1;
-    return rule(software, override, pass, prim) ? "compute" : "drawn";
+    return rule(software, override, pass, prim, 0) ? "compute" : "drawn";
 }
 
 void lc_renderer_set_raster_path(lc_renderer *r, int path) { r->raster_path = path < 0 ? -1 : path > 0; }
 
-int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass)
+int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass, int listable)
 {
     int want = r->floor == LC_FLOOR_COMPUTE ? 1
                : r->floor != LC_FLOOR_FULL  ? 0
                : r->raster_path >= 0        ? r->raster_path
-                                            : rule_path(pass, fs->gs->scene->type);
+                                            : rule_path(pass, fs->gs->scene->type, listable);
     if (!want)
         return 0;
     /* What the compute path does not cover draws as before: surfaces, layered

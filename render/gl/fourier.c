@@ -524,9 +524,11 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
      * so it may compute (adding to the kept sums); a batch of lines is whole
      * strip runs when drawn and ribbon slots when computed, so it draws. */
     computable = computable && (!fs->batch_count || fs->gs->scene->type == LC_PRIM_POINTS);
-    int computed = computable && lc_compute_raster_wanted(r, fs, LC_RASTER_P4);
-    /* A drawn P4 records what its sums and P5 need of its fragments where the frame allows (fragment_list.c). */
-    int record = !computed && !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct);
+    /* A drawn P4 records what its sums and P5 need of its fragments where the
+     * frame allows (fragment_list.c); the rule then draws it, points too. */
+    int listable = !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct);
+    int computed = computable && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, listable);
+    int record = !computed && listable;
     if (record)
         lc_composite_list_begin(r, fs);
     info_paths(fs, LC_RASTER_P4, computed);
@@ -559,7 +561,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->accum.fbo);
     /* topDecileReach: the optimized opacities' P5 (not the baselines' or the bins'). */
     int reach = !direct && !bins && !fs->batch_count; /* (not over one batch of params.progressive) */
-    int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5);
+    int p5_computed = computable && !listed && lc_compute_raster_wanted(r, fs, LC_RASTER_P5, 0);
     if (reach)
         lc_reach_begin(r, fs, !p5_computed); /* the list's P5 sums per pixel as the drawn one */
     else if (fs->batch_count)

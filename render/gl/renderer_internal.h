@@ -867,8 +867,10 @@ int lc_frame_line_primitive(const lc_renderer *r, const lc_frame_setup *fs);
 /* The GL line width that covers every ribbon of fs in a pass of height h
  * whose output is out_h pixels high; 0 where no bound exists. */
 double lc_line_primitive_width(const lc_frame_setup *fs, int h, int out_h);
-/* Whether pass `pass` of frame fs runs computed. */
-int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass);
+/* Whether pass `pass` of frame fs runs computed; listable: its P4 could
+ * record its fragments instead (lc_composite_list_wanted), which the rule
+ * prefers. */
+int lc_compute_raster_wanted(const lc_renderer *r, const lc_frame_setup *fs, lc_raster_pass pass, int listable);
 /* The program of P4, P5 or their direct variants for points or lines; 0 on error. */
 GLuint lc_compute_raster_program(lc_renderer *r, lc_program_kind kind, lc_prim_type prim, int bands, lc_error *err);
 /* A pass: begin clears `planes` sums of width x height; per layer, bind sets

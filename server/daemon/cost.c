@@ -176,13 +176,13 @@ static void lists_plan(const lc_render_params *p, const lc_pass_plan *plan, doub
 }
 
 /* Whether P5 of a Fourier frame runs over the fragments its P4 recorded (no
- * traversal: render/gl/fragment_list.c) where P0 recorded its own: lines and
- * surfaces (P4 of points computes), no stride, layer, tile or batches. */
-static bool composite_listed(const lc_render_params *p, lc_prim_type type, double frags, bool p1_listed, int tiles,
-                             bool layered)
+ * traversal: render/gl/fragment_list.c) where P0 recorded its own: no stride,
+ * layer, tile or batches (points too: their P4 then draws to record rather
+ * than computes, render/gl/compute_raster.c). */
+static bool composite_listed(const lc_render_params *p, double frags, bool p1_listed, int tiles, bool layered)
 {
-    return p1_listed && p->method == LC_METHOD_FOURIER && type != LC_PRIM_POINTS && tiles <= 1 && !layered &&
-           p->foo.progressive <= 1 && lc_composite_list_expected(frags);
+    return p1_listed && p->method == LC_METHOD_FOURIER && tiles <= 1 && !layered && p->foo.progressive <= 1 &&
+           lc_composite_list_expected(frags);
 }
 
 /* layered: one layer's share of a frame of layers (lc_cost_check_layers). */
@@ -310,7 +310,7 @@ static double estimate(const lc_scene_measures *st, const lc_render_params *p, b
     int nx, ny, tiles = frame_tiles(p, &nx, &ny);
     lists_plan(p, &plan, frags * s2, tiles > 1 && f->resolution_scale >= 1.0, layered, &listed[LC_PASS_IMPORTANCE],
                &listed[LC_PASS_OPACITY]);
-    listed[LC_PASS_ACCUMULATE] = composite_listed(p, st->type, frags, listed[LC_PASS_IMPORTANCE], tiles, layered);
+    listed[LC_PASS_ACCUMULATE] = composite_listed(p, frags, listed[LC_PASS_IMPORTANCE], tiles, layered);
     double geometry = 0, passes = 0, full = 0, screens = 0;
     for (int k = 0; k < LC_PASS_COUNT; k++) {
         double at = plan.run[k] == LC_RUN_LOW    ? s2

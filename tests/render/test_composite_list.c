@@ -5,13 +5,14 @@
  * by more than 2/255), topDecileReach within 1e-4 (the list keeps the opacity
  * in 11 significant bits and g in 16), and the frame reports which path P5
  * took; a frame that overflows the list is the drawn one. Both draw P4, the
- * pass that records (points would compute it). LUCENT_P5_LIST picks the path for the renderer
+ * pass that records (points without a list would compute it). LUCENT_P5_LIST picks the path for the renderer
  * created after it is set (the default takes the list only in frames of millions of fragments, which these small frames
  * are not). Where fragment lists are off (a GPU) both renderers draw and only the report is checked. */
 #include <math.h>
 #include <stdlib.h>
 
 #include "demo.h"
+#include "gl_context.h"
 #include "image.h"
 #include "render_util.h"
 #include "renderer_internal.h"
@@ -95,14 +96,38 @@ static void overflow(void)
     free(over);
 }
 
+/* The device's rule (compute_raster.c): on a software rasterizer points compute
+ * P4 and P5, except in a frame whose P4 records its fragments, which draws it. */
+static void points_rule(void)
+{
+    unsetenv("LUCENT_COMPUTE_RASTER");
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *rgba = malloc(n);
+    lc_frame_info a = {0}, b = {0};
+    render_with("0", "points", 0, 0, rgba, &a);
+    render_with("1", "points", 0, 0, rgba, &b);
+    test_gl t;
+    test_gl_open(&t);
+    int software = lc_gl_renderer_is_software(lc_gl_renderer(t.gl));
+    test_gl_close(&t);
+    int lists = lc_fragment_list_enabled();
+    CHECK(!!(a.computed_passes & (1 << LC_RASTER_P4)) == software && !a.composite_from_list,
+          "points without the list: P4 %s by the rule (computed passes %#x)", software ? "computed" : "drawn",
+          a.computed_passes);
+    CHECK(b.composite_from_list == lists && !(b.computed_passes & (1 << LC_RASTER_P4)) == (lists || !software),
+          "points with the list: P4 drawn, recording (listed %d, computed passes %#x)", b.composite_from_list,
+          b.computed_passes);
+    free(rgba);
+}
+
 int main(void)
 {
-    setenv("LUCENT_COMPUTE_RASTER", "0", 1); /* points too draw P4, the pass that records */
+    setenv("LUCENT_COMPUTE_RASTER", "0", 1); /* the drawn reference of points draws P4 and P5 too */
     compare("tornado", 0);
     compare("tornado", 3);
     compare("points", 0);
     overflow();
+    points_rule();
     unsetenv("LUCENT_P5_LIST");
-    unsetenv("LUCENT_COMPUTE_RASTER");
     return lc_test_finish();
 }

@@ -80,6 +80,8 @@ try:
     # The full check renders the tornado at its default size (500 streamlines).
     with Server(binary, data=("demo:tornado",), demo_size=0 if FULL else 120, env={"TMPDIR": movie_tmp}) as srv:
         c = lucent.Client(srv.base)
+        check(not glob.glob(os.path.join(movie_tmp, "lucent-movies-*")),
+              "a daemon that has made no movie has no movie folder (a killed one leaves none)")
         start = c.fit("demo:tornado")
         cams = lucent.turntable(start, N, DEGREES)
         check(all(cam["viewUp"] == cams[0]["viewUp"] for cam in cams), "the turntable keeps one view-up vector")

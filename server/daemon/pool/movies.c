@@ -62,7 +62,11 @@ struct lc_movies {
     bool frame_finished;
     pthread_t thread;
     bool thread_started;
+    /* The jobs' files: a private temporary folder, made by the first job
+     * (a daemon that never makes a movie leaves nothing behind, even when
+     * it is killed) and removed with the last file at shutdown. */
     char dir[512];
+    bool dir_made;
 };
 
 /* ---------------------------------------------------------------- replies */
@@ -397,15 +401,7 @@ int lc_movies_create(lc_server *srv, lc_movies **out, lc_error *err)
     m->srv = srv;
     pthread_mutex_init(&m->lock, NULL);
     pthread_cond_init(&m->cond, NULL);
-    const char *tmp = getenv("TMPDIR");
-    snprintf(m->dir, sizeof m->dir, "%s/lucent-movies-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
-    if (!mkdtemp(m->dir)) {
-        int e = errno;
-        free(m);
-        return lc_err(err, LC_ERR_IO, "movies: cannot create a temporary folder: %s", strerror(e));
-    }
     if (pthread_create(&m->thread, NULL, runner, m) != 0) {
-        rmdir(m->dir);
         free(m);
         return lc_err(err, LC_ERR_INTERNAL, "movies: cannot start a thread");
     }
@@ -438,7 +434,8 @@ void lc_movies_destroy(lc_movies *m)
         lc_request_release(&m->jobs[i]->spec.request);
         free(m->jobs[i]);
     }
-    rmdir(m->dir);
+    if (m->dir_made)
+        rmdir(m->dir);
     pthread_cond_destroy(&m->cond);
     pthread_mutex_destroy(&m->lock);
     free(m);
@@ -541,9 +538,23 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
     }
     random_id(j->id);
     j->owner = owner;
-    snprintf(j->path, sizeof j->path, "%s/%s.%s", m->dir, j->id, lc_video_extension(j->codec));
     j->created = lc_now();
     pthread_mutex_lock(&m->lock);
+    if (!m->dir_made && !m->stopping) {
+        const char *tmp = getenv("TMPDIR");
+        snprintf(m->dir, sizeof m->dir, "%s/lucent-movies-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
+        if (!mkdtemp(m->dir)) {
+            int e = errno;
+            pthread_mutex_unlock(&m->lock);
+            LC_WARN(MOD, "movies: cannot create a temporary folder under %s: %s", tmp && tmp[0] ? tmp : "/tmp",
+                    strerror(e));
+            reply_error(m, out, 500, "internal", NULL, "this server cannot store movie files: %s", strerror(e));
+            drop(j);
+            return;
+        }
+        m->dir_made = true;
+    }
+    snprintf(j->path, sizeof j->path, "%s/%s.%s", m->dir, j->id, lc_video_extension(j->codec));
     int active = 0;
     for (int i = 0; i < m->count; i++)
         active += m->jobs[i]->state == QUEUED || m->jobs[i]->state == RUNNING;

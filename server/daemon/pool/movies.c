@@ -62,10 +62,7 @@ struct lc_movies {
     bool frame_finished;
     pthread_t thread;
     bool thread_started;
-    /* The jobs' files: a private temporary folder, made by the first job
-     * (a daemon that never makes a movie leaves nothing behind, even when
-     * it is killed) and removed with the last file at shutdown. */
-    char dir[512];
+    char dir[512]; /* the files' private folder, made by the first job: a killed daemon leaves none */
     bool dir_made;
 };
 
@@ -434,8 +431,7 @@ void lc_movies_destroy(lc_movies *m)
         lc_request_release(&m->jobs[i]->spec.request);
         free(m->jobs[i]);
     }
-    if (m->dir_made)
-        rmdir(m->dir);
+    rmdir(m->dir); /* ("" or the template where none was made: nothing to remove) */
     pthread_cond_destroy(&m->cond);
     pthread_mutex_destroy(&m->lock);
     free(m);
@@ -543,16 +539,14 @@ static void create(lc_movies *m, uint64_t owner, const char *body, size_t len, l
     if (!m->dir_made && !m->stopping) {
         const char *tmp = getenv("TMPDIR");
         snprintf(m->dir, sizeof m->dir, "%s/lucent-movies-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
-        if (!mkdtemp(m->dir)) {
+        if (!(m->dir_made = mkdtemp(m->dir) != NULL)) {
             int e = errno;
             pthread_mutex_unlock(&m->lock);
-            LC_WARN(MOD, "movies: cannot create a temporary folder under %s: %s", tmp && tmp[0] ? tmp : "/tmp",
-                    strerror(e));
+            LC_WARN(MOD, "cannot create %s: %s", m->dir, strerror(e));
             reply_error(m, out, 500, "internal", NULL, "this server cannot store movie files: %s", strerror(e));
             drop(j);
             return;
         }
-        m->dir_made = true;
     }
     snprintf(j->path, sizeof j->path, "%s/%s.%s", m->dir, j->id, lc_video_extension(j->codec));
     int active = 0;

@@ -151,15 +151,15 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low
     return 0;
 }
 
-/* Draws prog additively into t (cleared) at t's size with every subset-th
- * primitive weighted subset, then sums t over MPI ranks: P0 "moments" and P1. */
-static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset, lc_targets *t,
-                       lc_error *err)
+/* Draws prog additively at t's size with every subset-th primitive weighted
+ * subset, into t unless the recording P0 (PROG_DEPTH_MOMENTS_LIST) has bound
+ * its framebuffer of no attachment. */
+static int draw_layers(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset,
+                       const lc_targets *t, lc_error *err)
 {
-    if (!fs->keep_sums) /* params.progressive adds a batch to the sums kept */
-        lc_targets_clear(t, NULL);
     lc_additive_blending();
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+    if (kind != PROG_DEPTH_MOMENTS_LIST)
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
     r->draw_yields = 1; /* P0 and P1: a yield point follows before anything keeps the sums */
     for (int i = 0; i < lc_frame_layer_count(fs); i++) {
         lc_frame_setup tmp;
@@ -181,7 +181,25 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
     }
     r->draw_yields = 0;
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    return lc_reduce_targets(r, t, LC_REDUCE_SUM, 0, fs->info, err);
+    return 0;
+}
+
+/* Draws prog into t (cleared) with draw_layers, then sums t over MPI ranks:
+ * P0 "moments" and P1. A recording P0 writes no target: its moments come
+ * from the list it recorded, or where that overflowed from P0 drawn again. */
+static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset, lc_targets *t,
+                       lc_error *err)
+{
+    if (!fs->keep_sums) /* params.progressive adds a batch to the sums kept */
+        lc_targets_clear(t, NULL);
+    int rc = draw_layers(r, fs, kind, bands, subset, t, err);
+    if (!rc && kind == PROG_DEPTH_MOMENTS_LIST) {
+        lc_fragment_chains_end(r);
+        rc = r->fragments_chained ? lc_fragment_chains_moments(r, t, err)
+                                  : draw_layers(r, fs, PROG_DEPTH_MOMENTS, bands, subset, t, err);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+    }
+    return rc ? rc : lc_reduce_targets(r, t, LC_REDUCE_SUM, 0, fs->info, err);
 }
 
 /* params.autoSubset (docs/ALGORITHM.md §10): P1 draws every n-th primitive,
@@ -244,7 +262,6 @@ int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
     int rc = draw_summed(r, fs, record ? PROG_DEPTH_MOMENTS_LIST : PROG_DEPTH_MOMENTS, 1, fs->params->foo.subset,
                          &r->moments, err);
     if (!rc && record) {
-        lc_fragment_chains_end(r);
         fs->p0_chained = r->fragments_chained;
         fs->p0_fragments = r->fragments_chained ? r->fragment_count : 0;
     }

@@ -16,8 +16,9 @@
  *
  * The list is sized from the fragments seen before (a first frame guesses);
  * a frame whose fragments do not fit draws P2 as before and the list grows
- * for the next one. Pages of the buffer that no frame wrote are not resident
- * on llvmpipe, so a generous guess costs address space, not memory.
+ * for the next one. llvmpipe zeroes a buffer's whole storage when it makes
+ * it (lp_texture.c), so the capacity is resident memory, and its first
+ * frame pays the clear.
  *
  * P1 over P0's fragments (FRAGMENT_CHAINS): where P0 "moments" runs, it
  * records the same list (with the normalized depth where P1 leaves the
@@ -93,6 +94,8 @@ int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset)
 static void ensure_capacity(lc_renderer *r, uint64_t want)
 {
     want = want < 4096 ? 4096 : want > FRAGMENT_LIST_MAX ? FRAGMENT_LIST_MAX : want;
+    if (r->fragment_limit && want > r->fragment_limit)
+        want = r->fragment_limit;
     if (r->fragment_list && r->fragment_capacity >= want)
         return;
     lc_fragment_list_release(r);
@@ -138,18 +141,18 @@ void lc_fragment_list_end(lc_renderer *r)
     r->fragments_ready = count <= r->fragment_capacity;
 }
 
-void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h)
+/* A word a pixel of w x h, cleared to FRAGMENT_NONE and bound: the chains'
+ * heads of P0's list or P4's. */
+static void chain_heads(lc_renderer *r, int w, int h)
 {
-    lc_fragment_list_begin(r, fs);
     uint64_t pixels = (uint64_t)w * (uint64_t)h;
-    uint64_t words = 2 * pixels;
-    if (!r->fragment_chains || r->chain_words < words) {
+    if (!r->fragment_chains || r->chain_words < pixels) {
         lc_scratch_discard(&r->fragment_chains);
-        r->fragment_chains = lc_scratch_buffer(4 * words, GL_DYNAMIC_STORAGE_BIT);
-        r->chain_words = words;
+        r->fragment_chains = lc_scratch_buffer(4 * pixels, GL_DYNAMIC_STORAGE_BIT);
+        r->chain_words = pixels;
     }
     const uint32_t none = 0xFFFFFFFFu; /* FRAGMENT_NONE: no entry yet */
-    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(8 * pixels), GL_RED_INTEGER,
+    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(4 * pixels), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &none);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
     r->chain_pixels = (uint32_t)pixels;
@@ -157,11 +160,53 @@ void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, i
     r->fragments_chained = 0;
 }
 
+/* A framebuffer without attachments of w x h, bound for drawing: llvmpipe
+ * then generates no blending at all (masking a target's writes still loaded
+ * and stored it: P4 took 0.2 s more on lj_melt at 972x761). */
+static void bind_recording_framebuffer(lc_renderer *r, int w, int h)
+{
+    if (!r->record_fbo)
+        glCreateFramebuffers(1, &r->record_fbo);
+    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, w);
+    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->record_fbo);
+}
+
+void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h)
+{
+    lc_fragment_list_begin(r, fs);
+    chain_heads(r, w, h);
+    bind_recording_framebuffer(r, w, h);
+}
+
 void lc_fragment_chains_end(lc_renderer *r)
 {
     lc_fragment_list_end(r);
     r->fragments_chained = r->fragments_ready; /* every fragment is in the list and its chain */
     r->fragments_ready = 0;                    /* P2's depths come with P1 */
+}
+
+int lc_fragment_chains_moments(lc_renderer *r, const lc_targets *t, lc_error *err)
+{
+    GLuint *slot = &r->fixed_programs[PROG_P0_CHAINS - PROG_GEOMETRY_KINDS];
+    if (!*slot) {
+        static const char *const cs[] = {"common.glsl", "fragment_list.glsl", "p0_list.comp.glsl", NULL};
+        *slot = lc_renderer_build_program("#define FRAGMENT_CHAINS 1\n", NULL, NULL, cs,
+                                          "P0's moments over its fragments", err);
+        if (!*slot)
+            return LC_ERR_GL;
+    }
+    glUseProgram(*slot);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
+    lc_uniform_u(*slot, "u_chain_pixels", r->chain_pixels);
+    lc_uniform_u(*slot, "u_chain_width", r->chain_width);
+    glBindImageTexture(IMG_COEF_FIRST, t->tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT);
+    return 0;
 }
 
 /* series_depth_at's uniforms as lc_renderer_bind_geometry sets them for a
@@ -279,7 +324,6 @@ int lc_composite_list_expected(double fragments) { return composite_takes(fragme
 
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
 {
-    uint64_t pixels = (uint64_t)fs->width * (uint64_t)fs->height;
     uint64_t want = composite_guess(r, fs);
     want = want > COMPOSITE_LIST_MAX ? COMPOSITE_LIST_MAX : want;
     if (r->composite_limit && want > r->composite_limit)
@@ -289,29 +333,12 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
         r->composite_list = lc_scratch_buffer(16 + 16 * want, GL_DYNAMIC_STORAGE_BIT);
         r->composite_capacity = want;
     }
-    /* The heads, a word a pixel, in the chains' buffer (P1 is done with it). */
-    if (!r->fragment_chains || r->chain_words < pixels) {
-        lc_scratch_discard(&r->fragment_chains);
-        r->fragment_chains = lc_scratch_buffer(4 * pixels, GL_DYNAMIC_STORAGE_BIT);
-        r->chain_words = pixels;
-    }
-    const uint32_t zero = 0, none = 0xFFFFFFFFu;
+    const uint32_t zero = 0;
     glClearNamedBufferSubData(r->composite_list, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(4 * pixels), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &none);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->composite_list);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
-    r->chain_pixels = (uint32_t)pixels;
-    r->chain_width = (uint32_t)fs->width;
-    r->fragments_chained = 0;
-    /* A framebuffer without attachments: llvmpipe then generates no blending
-     * at all (masking the coefficient targets' writes still loaded and stored
-     * them: P4 took 0.2 s more on lj_melt at 972x761). */
-    if (!r->record_fbo)
-        glCreateFramebuffers(1, &r->record_fbo);
-    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, fs->width);
-    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, fs->height);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->record_fbo);
+    /* The heads in the chains' buffer (P1 is done with it). */
+    chain_heads(r, fs->width, fs->height);
+    bind_recording_framebuffer(r, fs->width, fs->height);
 }
 
 void lc_composite_list_limit(lc_renderer *r, uint64_t entries)
@@ -319,6 +346,12 @@ void lc_composite_list_limit(lc_renderer *r, uint64_t entries)
     r->composite_limit = entries;
     lc_scratch_discard(&r->composite_list); /* the next frame sizes it anew */
     r->composite_capacity = 0;
+}
+
+void lc_fragment_list_limit(lc_renderer *r, uint64_t entries)
+{
+    r->fragment_limit = entries;
+    lc_fragment_list_release(r); /* the next frame sizes them anew */
 }
 
 int lc_composite_list_end(lc_renderer *r)
@@ -391,13 +424,11 @@ int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
 
 uint64_t lc_fragment_list_bytes(const lc_renderer *r)
 {
-    /* The entries frames wrote (the rest of the capacity is address space
-     * that llvmpipe never touches), and the chains' first and last entries. */
-    uint64_t seen = r->fragment_seen < r->fragment_capacity ? r->fragment_seen : r->fragment_capacity;
-    uint64_t list = r->fragment_list ? 16 + 16 * seen : 0;
+    /* The capacities (llvmpipe zeroes, so touches, a buffer's whole storage
+     * when it makes it) and the chains' words. */
+    uint64_t list = r->fragment_list ? 16 + 16 * r->fragment_capacity : 0;
     uint64_t chains = r->fragment_chains ? 4 * r->chain_words : 0;
-    uint64_t cseen = r->composite_seen < r->composite_capacity ? r->composite_seen : r->composite_capacity;
-    uint64_t composite = r->composite_list ? 16 + 16 * cseen : 0;
+    uint64_t composite = r->composite_list ? 16 + 16 * r->composite_capacity : 0;
     return list + chains + composite;
 }
 

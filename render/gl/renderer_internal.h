@@ -226,6 +226,7 @@ typedef enum {
     PROG_FILTER_MASK,
     PROG_KANZLER_BLUR,  /* kanzler.c: C, V and the 5x5 mean of M and D */
     PROG_REACH_REDUCE,  /* visibility.c: the per-pixel topDecileReach sums into their 64 slots */
+    PROG_P0_CHAINS,     /* P0's moments over its fragments (fragment_list.c) */
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
     PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS,   /* P1 over P0's fragments, per band count */
     PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS, /* P5 over P4's fragments, per band count */
@@ -280,6 +281,7 @@ struct lc_renderer {
     GLuint composite_list;
     GLuint record_fbo;        /* no attachment: the recording P4 writes no target (fragment_list.c) */
     uint64_t composite_limit; /* tests: the most entries a list may hold (0: the guess's) */
+    uint64_t fragment_limit;  /* tests: the same for P0's and P1's list */
     uint64_t composite_capacity, composite_seen;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
@@ -908,11 +910,15 @@ GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err);
 void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog);
 /* P0 "moments" records its fragments and per-pixel chains when the frame
  * allows (lists on, no stride, one dataset, not a tile's full-resolution
- * optimization) and P1 then sums them in a compute pass instead of drawing:
- * wanted before P0, begin/end around it (end sets r->fragments_chained). */
+ * optimization) and writes no target; its moments and P1 are then compute
+ * passes over them: wanted before P0, begin before it (binds the list and a
+ * draw framebuffer of no attachment of w x h), end after it (sets
+ * r->fragments_chained: every fragment fit, else P0 draws its moments again
+ * and P1 draws), then lc_fragment_chains_moments into t (cleared by the caller). */
 int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs);
 void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h);
 void lc_fragment_chains_end(lc_renderer *r);
+int lc_fragment_chains_moments(lc_renderer *r, const lc_targets *t, lc_error *err);
 /* P1 into t (cleared by the caller) from the chains; the list then holds
  * P1's fragments as a recording P1 leaves them (r->fragments_ready). */
 int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, int bands, lc_error *err);
@@ -928,8 +934,10 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_end(lc_renderer *r);
 int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
-/* Tests: caps P4's list at `entries` (0: as guessed), so that a frame overflows it. */
+/* Tests: caps P4's list, or P0's and P1's, at `entries` (0: as guessed), so
+ * that a frame overflows it. */
 void lc_composite_list_limit(lc_renderer *r, uint64_t entries);
+void lc_fragment_list_limit(lc_renderer *r, uint64_t entries);
 /* Bytes the lists hold (lc_renderer_bytes). */
 uint64_t lc_fragment_list_bytes(const lc_renderer *r);
 /* Frees the list (lc_renderer_release_after, destroy). */

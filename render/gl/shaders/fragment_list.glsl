@@ -15,14 +15,18 @@ uniform uint u_fragment_capacity;
 #endif
 
 // P0's list (FRAGMENT_CHAINS): per pixel of the optimization resolution a
-// chain of its entries in the order the fragment shader ran them. Words 2p
-// and 2p + 1 of the chains' buffer hold pixel p's (p = x + y * width) first
-// and last entry (the last cleared to FRAGMENT_NONE before P0); an entry's x
-// holds the entry after it in its chain (written by that fragment: no entry
-// writes its own x) until P1's compute pass replaces it by the pixel, and
-// its w holds the normalized depth until P1 replaces it by the series depth.
-// On llvmpipe one thread shades a pixel's fragments, in primitive order,
-// which is the order blending adds them in; P1 adds them in chain order.
+// chain of its entries. P0 records each fragment as one uvec4 in one store
+// (on llvmpipe every storage access of a fragment shader is a loop over the
+// vector's lanes: three accesses, the count, the pixel's word and the
+// entry): x the entry recorded before it at its pixel, y the element, z g,
+// w the normalized depth; word p of the chains' buffer (p = x + y * width,
+// cleared to FRAGMENT_NONE before P0) holds pixel p's last entry. P0's
+// moments pass over the list (p0_list.comp.glsl) turns each chain around, so
+// that word p holds the first entry and each x the entry after it (the last:
+// FRAGMENT_NONE), in the order the fragment shader ran them; P1's pass
+// replaces x by the pixel and w by the series depth. On llvmpipe one thread
+// shades a pixel's fragments, in primitive order, which is the order blending
+// adds them in; the passes add them in chain order.
 #ifdef FRAGMENT_CHAINS
 #define FRAGMENT_NONE 0xFFFFFFFFu
 layout(std430, binding = BIND_FRAGMENT_CHAINS) buffer FragmentChains { uint chain_words[]; };
@@ -34,15 +38,10 @@ void record_chained_fragment(uint element, float g, float d)
 {
     uint i = atomicAdd(fragment_count, 1u);
     if (i >= u_fragment_capacity)
-        return; // the frame draws P1 instead (fragment_list.c)
-    fragments[i].yzw = uvec3(element, floatBitsToUint(g), floatBitsToUint(d));
+        return; // the frame draws P0's moments and P1 instead (fragment_list.c)
     uvec2 xy = uvec2(gl_FragCoord.xy);
-    uint p = xy.x + xy.y * u_chain_width;
-    uint prev = atomicExchange(chain_words[2u * p + 1u], i);
-    if (prev == FRAGMENT_NONE)
-        chain_words[2u * p] = i;
-    else
-        fragments[prev].x = i;
+    uint before = atomicExchange(chain_words[xy.x + xy.y * u_chain_width], i);
+    fragments[i] = uvec4(before, element, floatBitsToUint(g), floatBitsToUint(d));
 }
 #endif
 #endif

@@ -16,8 +16,8 @@ void main()
     uint p = linear_invocation();
     if (p >= u_chain_pixels)
         return;
-    uint last = chain_words[2u * p + 1u];
-    if (last == FRAGMENT_NONE)
+    uint i = chain_words[p]; // the first entry (p0_list.comp.glsl turned the chain around)
+    if (i == FRAGMENT_NONE)
         return; // no fragment: the target keeps its cleared 0
     ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
     vec2 frag_xy = vec2(xy) + 0.5;
@@ -25,8 +25,7 @@ void main()
     float sum[NTARGETS * 4];
     for (int j = 0; j < NTARGETS * 4; j++)
         sum[j] = 0.0;
-    uint i = chain_words[2u * p];
-    for (;;) {
+    while (i != FRAGMENT_NONE) {
         uvec4 f = fragments[i];
         float g = uintBitsToFloat(f.z);
         float d = series_depth_at(frag_xy, uintBitsToFloat(f.w));
@@ -35,8 +34,6 @@ void main()
         for (int j = 0; j < NTARGETS * 4; j++)
             sum[j] += c[j];
         fragments[i] = uvec4(packed_xy, f.y, f.z, floatBitsToUint(d));
-        if (i == last)
-            break;
         i = f.x;
     }
     store_coefficients(xy, sum);

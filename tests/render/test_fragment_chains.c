@@ -1,0 +1,80 @@
+/* P0 recording its fragments (render/gl/fragment_list.c): its depth moments
+ * (p0_list.comp.glsl, which turns each pixel's chain around), P1
+ * (p1_list.comp.glsl) and P2 over the list against every pass drawn
+ * (LUCENT_FRAGMENT_LISTS=0): the same image byte for byte and the same
+ * topDecileAlpha, on lines and on points; a frame whose fragments overflow
+ * P0's list draws P0's moments again and P1, the same bytes too. P4 and P5
+ * draw in both (LUCENT_P5_LIST=0), so that the comparison is the
+ * optimization's alone. Where fragment lists are off (a GPU) both draw. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "demo.h"
+#include "render_util.h"
+#include "renderer_internal.h"
+
+#define SIZE 256
+
+/* lists: LUCENT_FRAGMENT_LISTS for the renderer made here; limit: P0's list
+ * holds at most that many entries (0: as guessed). */
+static void render_with(const char *lists, const char *name, uint64_t limit, uint8_t *rgba, lc_frame_info *info)
+{
+    setenv("LUCENT_FRAGMENT_LISTS", lists, 1);
+    test_gl t;
+    test_gl_open(&t);
+    lc_fragment_list_limit(t.renderer, limit);
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = NULL;
+    lc_demo_desc desc = {0};
+    CHECK(lc_demo_create(name, &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "demo %s: %s", name,
+          err.msg);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    p.foo.fade_half_life = 0;
+    test_render_frame(&t, gs, &p, NULL, rgba, info);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+    test_gl_close(&t);
+}
+
+static void compare(const char *name, uint64_t limit, int software)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *drawn = malloc(n), *listed = malloc(n);
+    lc_frame_info a = {0}, b = {0};
+    render_with("0", name, 0, drawn, &a);
+    render_with(software ? "1" : "0", name, limit, listed, &b);
+    int want = software && !limit;
+    CHECK(!a.importance_from_list && b.importance_from_list == want,
+          "%s (list limit %llu): P1 over P0's fragments %d, wanted %d", name, (unsigned long long)limit,
+          b.importance_from_list, want);
+    size_t differ = 0;
+    for (size_t i = 0; i < n; i++)
+        differ += drawn[i] != listed[i];
+    printf("%-8s limit %-6llu P1 listed %d: %zu of %zu channels differ, topDecileAlpha %.9f / %.9f\n", name,
+           (unsigned long long)limit, b.importance_from_list, differ, n, a.top_decile_alpha, b.top_decile_alpha);
+    CHECK(differ == 0 && a.top_decile_alpha == b.top_decile_alpha,
+          "%s (list limit %llu): the drawn optimization's image, byte for byte (%zu channels differ)", name,
+          (unsigned long long)limit, differ);
+    free(drawn);
+    free(listed);
+}
+
+int main(void)
+{
+    setenv("LUCENT_P5_LIST", "0", 1);
+    /* Whether this device lists at all: lists follow the driver unless forced. */
+    unsetenv("LUCENT_FRAGMENT_LISTS");
+    test_gl t;
+    test_gl_open(&t);
+    int software = lc_fragment_list_enabled();
+    test_gl_close(&t);
+    compare("tornado", 0, software);
+    compare("points", 0, software);
+    compare("tornado", 1000, software);
+    unsetenv("LUCENT_P5_LIST");
+    unsetenv("LUCENT_FRAGMENT_LISTS");
+    return lc_test_finish();
+}

@@ -195,8 +195,15 @@ static int draw_summed(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
     int rc = draw_layers(r, fs, kind, bands, subset, t, err);
     if (!rc && kind == PROG_DEPTH_MOMENTS_LIST) {
         lc_fragment_chains_end(r);
-        rc = r->fragments_chained ? lc_fragment_chains_moments(r, t, err)
-                                  : draw_layers(r, fs, PROG_DEPTH_MOMENTS, bands, subset, t, err);
+        /* Past the list's room (a view denser than the guess, after a drag):
+         * P0 records again in a list of what it counted, which costs less
+         * than drawing its moments and P1. */
+        if (!r->fragments_chained && lc_fragment_chains_retry(r, fs, t->width, t->height) &&
+            (rc = draw_layers(r, fs, kind, bands, subset, t, err)) == 0)
+            lc_fragment_chains_end(r);
+        if (!rc)
+            rc = r->fragments_chained ? lc_fragment_chains_moments(r, t, err)
+                                      : draw_layers(r, fs, PROG_DEPTH_MOMENTS, bands, subset, t, err);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
     }
     return rc ? rc : lc_reduce_targets(r, t, LC_REDUCE_SUM, 0, fs->info, err);
@@ -263,7 +270,7 @@ int lc_fourier_depth_moments(lc_renderer *r, lc_frame_setup *fs, lc_error *err)
                          &r->moments, err);
     if (!rc && record) {
         fs->p0_chained = r->fragments_chained;
-        fs->p0_fragments = r->fragments_chained ? r->fragment_count : 0;
+        fs->p0_fragments = r->fragment_count; /* every fragment P0 offered, listed or not (P4's list's guess) */
     }
     if (rc || (rc = choose_p1_subset(r, fs, err)) != 0)
         return rc;
@@ -559,7 +566,14 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     int rc = computed ? 0 : draw_p4(r, fs, record ? PROG_P4_LIST : kind4, kanzler, err);
     if (record)
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
-    int listed = !rc && record && lc_composite_list_end(r);
+    int listed = !rc && record && lc_composite_list_end(r, fs);
+    /* Past the list's room: P4 records again in a list of what it counted
+     * (drawing P4 and P5 instead would cost about twice as much). */
+    if (!rc && record && !listed && lc_composite_list_retry(r, fs)) {
+        rc = draw_p4(r, fs, PROG_P4_LIST, kanzler, err);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
+        listed = !rc && lc_composite_list_end(r, fs);
+    }
     if (fs->info)
         fs->info->composite_from_list = listed;
     if (!rc && listed)

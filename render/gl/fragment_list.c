@@ -98,6 +98,8 @@ static void ensure_capacity(lc_renderer *r, uint64_t want)
         want = r->fragment_limit;
     if (r->fragment_list && r->fragment_capacity >= want)
         return;
+    if (r->fragment_limit_once)
+        r->fragment_limit = 0, r->fragment_limit_once = 0;
     lc_fragment_list_release(r);
     r->fragment_list = lc_scratch_buffer(16 + 16 * want, GL_DYNAMIC_STORAGE_BIT);
     r->fragment_capacity = want;
@@ -280,26 +282,35 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 #define COMPOSITE_AUTO_MIN (2ull << 20)
 #define COMPOSITE_ROOM(n) ((n) + (n) / 4) /* a quarter more than expected */
 
-/* The entries P4 will offer: the most this renderer has seen, or P0's
- * fragments at the optimization resolution scaled to the full one, with a
- * quarter more room; a frame that overflows the list draws P4 and P5 after
- * all. */
-static uint64_t p0_scaled(const lc_frame_setup *fs)
+/* The entries P4 will offer, from P0's fragments at the optimization
+ * resolution: times the ratio the last listed frame of the same scene
+ * measured between the two, else scaled by the pixels (an upper bound for
+ * thin lines and points, whose fragments grow with the resolution rather
+ * than with the area). */
+static uint64_t p0_scaled(const lc_renderer *r, const lc_frame_setup *fs)
 {
     if (!fs->p0_fragments || fs->low_width <= 0 || fs->low_height <= 0)
         return 0;
+    if (r->composite_ratio > 0 && r->composite_ratio_scene == fs->gs->scene && r->composite_ratio_width == fs->width &&
+        r->composite_ratio_height == fs->height)
+        return (uint64_t)((double)fs->p0_fragments * r->composite_ratio);
     double pixels = (double)fs->width * (double)fs->height;
     return (uint64_t)((double)fs->p0_fragments * pixels / ((double)fs->low_width * (double)fs->low_height));
 }
 
+/* The list's capacity: the expected entries (or 4 a pixel, or the most this
+ * renderer has seen) with a quarter more room, at most COMPOSITE_LIST_MAX; a
+ * frame that overflows it records again in a list of what it counted
+ * (lc_composite_list_retry), or draws P4 and P5 where that is past the bound. */
 static uint64_t composite_guess(const lc_renderer *r, const lc_frame_setup *fs)
 {
     uint64_t want = (uint64_t)fs->width * (uint64_t)fs->height * COMPOSITE_PER_PIXEL_GUESS;
-    uint64_t p0 = p0_scaled(fs);
+    uint64_t p0 = p0_scaled(r, fs);
     want = want > p0 ? want : p0;
     if (want < r->composite_seen && r->composite_seen <= COMPOSITE_LIST_MAX) /* (one huge frame must not end it) */
         want = r->composite_seen;
-    return COMPOSITE_ROOM(want);
+    want = COMPOSITE_ROOM(want);
+    return want < COMPOSITE_LIST_MAX ? want : COMPOSITE_LIST_MAX;
 }
 
 /* Whether this process's mode lists a frame of `fragments` (P0's, scaled to
@@ -316,22 +327,24 @@ int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int
     /* Strides, layers and tiles as for P0's chains; the direct baseline keeps
      * its own programs; a list past its bound would be recorded only to be
      * drawn again. */
+    uint64_t expected = p0_scaled(r, fs);
     return !direct && !strided(fs) && fs->layer_count == 0 && !fs->tiled &&
-           composite_takes((double)p0_scaled(fs), (double)composite_guess(r, fs));
+           composite_takes((double)expected, (double)expected);
 }
 
-int lc_composite_list_expected(double fragments) { return composite_takes(fragments, COMPOSITE_ROOM(fragments)); }
+int lc_composite_list_expected(double fragments) { return composite_takes(fragments, fragments); }
 
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
 {
     uint64_t want = composite_guess(r, fs);
-    want = want > COMPOSITE_LIST_MAX ? COMPOSITE_LIST_MAX : want;
     if (r->composite_limit && want > r->composite_limit)
         want = r->composite_limit;
     if (!r->composite_list || r->composite_capacity < want) {
         lc_scratch_discard(&r->composite_list);
         r->composite_list = lc_scratch_buffer(16 + 16 * want, GL_DYNAMIC_STORAGE_BIT);
         r->composite_capacity = want;
+        if (r->composite_limit_once)
+            r->composite_limit = 0, r->composite_limit_once = 0;
     }
     const uint32_t zero = 0;
     glClearNamedBufferSubData(r->composite_list, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -341,25 +354,57 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     bind_recording_framebuffer(r, fs->width, fs->height);
 }
 
-void lc_composite_list_limit(lc_renderer *r, uint64_t entries)
+void lc_composite_list_limit(lc_renderer *r, uint64_t entries, int once)
 {
     r->composite_limit = entries;
+    r->composite_limit_once = once && entries;
     lc_scratch_discard(&r->composite_list); /* the next frame sizes it anew */
     r->composite_capacity = 0;
 }
 
-void lc_fragment_list_limit(lc_renderer *r, uint64_t entries)
+void lc_fragment_list_limit(lc_renderer *r, uint64_t entries, int once)
 {
     r->fragment_limit = entries;
+    r->fragment_limit_once = once && entries;
     lc_fragment_list_release(r); /* the next frame sizes them anew */
 }
 
-int lc_composite_list_end(lc_renderer *r)
+/* Whether a list of `count` entries may be made (at most `max`, and a test's limit). */
+static int list_fits(uint64_t count, uint64_t max, uint64_t limit)
+{
+    return count <= max && (!limit || count <= limit);
+}
+
+int lc_fragment_chains_retry(lc_renderer *r, const lc_frame_setup *fs, int w, int h)
+{
+    /* The count is every fragment P0 offered; begin's guess takes the most
+     * seen (this count) with a quarter more. */
+    if (!list_fits(r->fragment_count, FRAGMENT_LIST_MAX, r->fragment_limit))
+        return 0;
+    lc_fragment_chains_begin(r, fs, w, h);
+    return r->fragment_capacity >= r->fragment_count;
+}
+
+int lc_composite_list_retry(lc_renderer *r, const lc_frame_setup *fs)
+{
+    if (!list_fits(r->composite_offered, COMPOSITE_LIST_MAX, r->composite_limit))
+        return 0;
+    lc_composite_list_begin(r, fs);
+    return r->composite_capacity >= r->composite_offered;
+}
+
+int lc_composite_list_end(lc_renderer *r, const lc_frame_setup *fs)
 {
     uint32_t count = 0;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glGetNamedBufferSubData(r->composite_list, 0, 4, &count);
     r->composite_seen = count > r->composite_seen ? count : r->composite_seen;
+    r->composite_offered = count;
+    if (fs->p0_fragments) { /* the next frame's estimate (p0_scaled) */
+        r->composite_ratio = (double)count / (double)fs->p0_fragments;
+        r->composite_ratio_scene = fs->gs->scene;
+        r->composite_ratio_width = fs->width, r->composite_ratio_height = fs->height;
+    }
     return count <= r->composite_capacity;
 }
 

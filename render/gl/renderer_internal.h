@@ -282,7 +282,14 @@ struct lc_renderer {
     GLuint record_fbo;        /* no attachment: the recording P4 writes no target (fragment_list.c) */
     uint64_t composite_limit; /* tests: the most entries a list may hold (0: the guess's) */
     uint64_t fragment_limit;  /* tests: the same for P0's and P1's list */
+    int composite_limit_once, fragment_limit_once; /* tests: the limit holds for the next list made only */
     uint64_t composite_capacity, composite_seen;
+    uint64_t composite_offered; /* the last recording P4's fragments, stored or not */
+    /* P4's fragments over P0's in the last recording frame of this scene and
+     * size: the next frame's estimate of its list (fragment_list.c). */
+    double composite_ratio;
+    const void *composite_ratio_scene;
+    int composite_ratio_width, composite_ratio_height;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -919,6 +926,10 @@ int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs);
 void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h);
 void lc_fragment_chains_end(lc_renderer *r);
 int lc_fragment_chains_moments(lc_renderer *r, const lc_targets *t, lc_error *err);
+/* After an end that found the list too small: 1 when a list of every
+ * fragment P0 counted can be made, made and bound as by begin (P0 then
+ * records again), 0 when it cannot (P0 draws its moments and P1 draws). */
+int lc_fragment_chains_retry(lc_renderer *r, const lc_frame_setup *fs, int w, int h);
 /* P1 into t (cleared by the caller) from the chains; the list then holds
  * P1's fragments as a recording P1 leaves them (r->fragments_ready). */
 int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, int bands, lc_error *err);
@@ -931,13 +942,16 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
  * lc_composite_list_p5 into t (each cleared by the caller). */
 int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct);
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs);
-int lc_composite_list_end(lc_renderer *r);
+int lc_composite_list_end(lc_renderer *r, const lc_frame_setup *fs);
+/* The same for P4's list: 1 when P4 can record again in a list of what it counted. */
+int lc_composite_list_retry(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 /* Tests: caps P4's list, or P0's and P1's, at `entries` (0: as guessed), so
- * that a frame overflows it. */
-void lc_composite_list_limit(lc_renderer *r, uint64_t entries);
-void lc_fragment_list_limit(lc_renderer *r, uint64_t entries);
+ * that a frame overflows it; once: only the next list made (the frame that
+ * overflows it then records again in a list of what it counted). */
+void lc_composite_list_limit(lc_renderer *r, uint64_t entries, int once);
+void lc_fragment_list_limit(lc_renderer *r, uint64_t entries, int once);
 /* Bytes the lists hold (lc_renderer_bytes). */
 uint64_t lc_fragment_list_bytes(const lc_renderer *r);
 /* Frees the list (lc_renderer_release_after, destroy). */

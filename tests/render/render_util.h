@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "camera.h"
+#include "demo.h"
 #include "foo_math.h"
 #include "gl_context.h"
 #include "lc_test.h"
@@ -44,6 +45,23 @@ static inline void test_render_frame(test_gl *t, const lc_gpu_scene *gs, const l
     lc_error err = {0};
     int rc = lc_render_frame(t->renderer, gs, p, st, 1.0 / 30, rgba, info, &err);
     CHECK(rc == 0, "render: %s", err.msg);
+}
+
+/* One frame of demo `name` (its defaults) under p without a frame state,
+ * rendered on t: the scene is made and freed around it. */
+static inline void test_render_demo(test_gl *t, const char *name, const lc_render_params *p, uint8_t *rgba,
+                                    lc_frame_info *info)
+{
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = NULL;
+    lc_demo_desc desc = {0};
+    CHECK(lc_demo_create(name, &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "demo %s: %s", name,
+          err.msg);
+    if (gs)
+        test_render_frame(t, gs, p, NULL, rgba, info);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
 }
 
 static inline void test_gl_close(test_gl *t)

@@ -31,21 +31,13 @@ static void render_with(const char *mode, const char *name, uint64_t limit, int 
     test_gl t;
     test_gl_open(&t);
     lc_composite_list_limit(t.renderer, limit, once);
-    lc_error err = {0};
-    lc_scene *s = NULL;
-    lc_gpu_scene *gs = NULL;
-    lc_demo_desc desc = {0};
-    CHECK(lc_demo_create(name, &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "demo %s: %s", name,
-          err.msg);
     lc_render_params p;
     lc_render_params_default(&p);
     p.width = p.height = SIZE;
     p.foo.fade_half_life = 0;
     p.style.halo_width = halo;
     p.style.halo_depth = 0.5; /* pushes halos past their pixels' far ends, where the series depth is clamped */
-    test_render_frame(&t, gs, &p, NULL, rgba, info);
-    lc_gpu_scene_destroy(gs);
-    lc_scene_destroy(s);
+    test_render_demo(&t, name, &p, rgba, info);
     test_gl_close(&t);
 }
 

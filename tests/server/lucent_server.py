@@ -7,11 +7,13 @@ import http.client
 import json
 import os
 import re
+import shutil
 import signal
 import socket
 import struct
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import zlib
@@ -64,6 +66,12 @@ class Server:
         cmd += list(args)
         e = dict(os.environ)
         e.pop("LUCENT_TOKEN", None)
+        # A private TMPDIR (unless the test gives one), removed once the daemon
+        # has exited: a daemon the test kills leaves its movie files there,
+        # not in /tmp.
+        self._tmp = None
+        if not (env and "TMPDIR" in env):
+            self._tmp = e["TMPDIR"] = tempfile.mkdtemp(prefix="lucent-server-")
         if env:
             e.update(env)
         self.log = []
@@ -75,6 +83,8 @@ class Server:
         self._drainer.start()
         if not self._ready.wait(timeout) or self._port is None:
             self.proc.kill()
+            self.proc.wait()
+            self._remove_tmp()
             text = "\n".join(self.log)
             if re.search(r"EGL|OpenGL 4\.5|GL 4\.5", text):
                 skip("no usable EGL/OpenGL 4.5 here:\n" + text)
@@ -166,6 +176,7 @@ class Server:
             self.proc.wait()
             raise AssertionError("server did not exit within %d s after signal %d" % (timeout, sig))
         self._drainer.join(timeout)  # the log's last lines: the pipe closes when the daemon has exited
+        self._remove_tmp()
         if rc != 0 and self.only_foreign_leaks():
             print("note: LeakSanitizer found only leaks inside the GL driver (Mesa/LLVM); "
                   "`lucent render` shows the same ones, so they are not the server's")
@@ -188,6 +199,12 @@ class Server:
         if self.proc.poll() is None:
             self.proc.kill()
             self.proc.wait()
+        self._remove_tmp()
+
+    def _remove_tmp(self):
+        if self._tmp:
+            shutil.rmtree(self._tmp, ignore_errors=True)
+            self._tmp = None
 
 
 def served_name(dataset):

@@ -108,6 +108,18 @@ float composite_depth(vec4 m, uint y)
 // Pixel p's last entry (FRAGMENT_NONE: no fragment, or past the last pixel).
 uint composite_head(uint p) { return p < u_chain_pixels ? composite_heads[p] : FRAGMENT_NONE; }
 
+#ifndef FRAGMENT_STAGE
+// A walk's start at pixel p (one invocation a pixel): its last entry, its
+// position and its depth moments for composite_depth.
+uint composite_pixel(uint p, out ivec2 xy, out vec4 m)
+{
+    xy = ivec2(p % u_chain_width, p / u_chain_width);
+    uint head = composite_head(p);
+    m = head != FRAGMENT_NONE ? series_moments_at(vec2(xy) + 0.5) : vec4(0.0); // (no fetch past the last pixel)
+    return head;
+}
+#endif
+
 vec3 unpack_color(uint w)
 {
     return vec3(float(w & 0x7FFu), float((w >> 11) & 0x7FFu), float(w >> 22)) / vec3(2047.0, 2047.0, 1023.0);

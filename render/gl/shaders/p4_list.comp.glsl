@@ -9,12 +9,11 @@ uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x *
 
 void main()
 {
-    uint p = linear_invocation();
-    uint i = composite_head(p);
+    ivec2 xy;
+    vec4 m;
+    uint i = composite_pixel(linear_invocation(), xy, m);
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
-    ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
-    vec4 m = series_moments_at(vec2(xy) + 0.5);
     float sum[NTARGETS * 4];
     for (int j = 0; j < NTARGETS * 4; j++)
         sum[j] = 0.0;

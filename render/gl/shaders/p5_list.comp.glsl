@@ -35,14 +35,13 @@ vec4 half_toward_zero(vec4 v)
 
 void main()
 {
-    uint p = linear_invocation();
-    uint i = composite_head(p);
+    ivec2 xy;
+    vec4 m;
+    uint i = composite_pixel(linear_invocation(), xy, m);
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
-    ivec2 xy = ivec2(p % u_chain_width, p / u_chain_width);
     float c[NTARGETS * 4];
     read_coefficients(xy, c);
-    vec4 m = series_moments_at(vec2(xy) + 0.5);
     vec4 sum = vec4(0.0), reach = vec4(0.0);
     // The top decile's bound in g's 16 bits, so that a fragment at the bound
     // (an element's own g, as often) stays in it.

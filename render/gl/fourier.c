@@ -170,7 +170,7 @@ static int draw_layers(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind,
         if (!prog)
             return LC_ERR_GL;
         lc_renderer_bind_geometry(r, prog, lf, t->width, t->height, subset);
-        lc_uniform_f(prog, "u_weight", lc_renderer_subset(lf, subset));
+        lc_uniform_f(prog, "u_weight", lc_renderer_weight(subset));
         if (kind == PROG_P1_LIST || kind == PROG_DEPTH_MOMENTS_LIST)
             lc_uniform_u(prog, "u_fragment_capacity", (unsigned)r->fragment_capacity);
         if (kind == PROG_DEPTH_MOMENTS_LIST) {
@@ -442,7 +442,7 @@ int lc_fourier_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *stat
 /* P4's uniforms beyond the geometry's, drawn or computed (kanzler: its maps' binding and weights). */
 static void set_p4_uniforms(GLuint prog, lc_renderer *r, const lc_frame_setup *lf, int subset, int kanzler)
 {
-    lc_uniform_f(prog, "u_weight", lc_renderer_subset(lf, subset));
+    lc_uniform_f(prog, "u_weight", lc_renderer_weight(subset));
     lc_renderer_bind_direct_alpha(prog, lf->params);
     if (kanzler)
         lc_kanzler_bind(r, prog, &lf->params->foo);

@@ -67,7 +67,7 @@ int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
  * frame's point stride or strided lines (P4 draws the stride, P5 does not). */
 static int strided(const lc_frame_setup *fs)
 {
-    return fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 ||
+    return fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 || fs->point_scale != 1 ||
            (fs->kept_line_indices[1] > 0 && fs->line_stride > 1);
 }
 

@@ -337,6 +337,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     fs.point_stride = s->type == LC_PRIM_POINTS && p.method != LC_METHOD_EXACT && p.detail.point_stride > 1 && !layers
                           ? p.detail.point_stride
                           : 1;
+    fs.point_scale = s->type == LC_PRIM_POINTS ? lc_point_scale(&p) : 1.0;
     lc_layer_setup *setups = NULL;
     if (layers) {
         setups = malloc((size_t)n * sizeof *setups);

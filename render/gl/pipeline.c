@@ -128,7 +128,10 @@ int lc_frame_point_sprites(const lc_renderer *r, const lc_render_params *p, int 
 {
     const char *e = getenv("LUCENT_POINT_SPRITES"); /* 0: quads always */
     int allowed = !(e && e[0] == '0');
-    double diameter = p->style.point_size > 1.5 ? p->style.point_size : 1.5; /* bind_geometry's floor */
+    /* The widest splat lc_point_splat draws: the frame's stride is at most the request's. */
+    double grow = lc_point_scale(p) * sqrt(p->detail.point_stride > 1 ? p->detail.point_stride : 1);
+    double diameter = p->style.point_size * (grow > 1 ? grow : 1);
+    diameter = diameter > 2 * POINT_RADIUS_FLOOR ? diameter : 2 * POINT_RADIUS_FLOOR;
     int guard = (int)ceil(0.5 * diameter) + 1;
     return allowed && diameter <= r->point_size_max && frame_width + 2 * guard <= r->max_viewport[0] &&
            frame_height + 2 * guard <= r->max_viewport[1];
@@ -138,6 +141,27 @@ unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset)
 {
     unsigned n = subset > 0 ? (unsigned)subset : 1u;
     return fs->gs->scene->type == LC_PRIM_POINTS && fs->point_stride > 1 ? n * (unsigned)fs->point_stride : n;
+}
+
+unsigned lc_renderer_weight(int subset) { return subset > 0 ? (unsigned)subset : 1u; }
+
+double lc_point_scale(const lc_render_params *p)
+{
+    double s = p->detail.pixel_scale;
+    return s > 0 && s < 1 ? s : 1.0;
+}
+
+void lc_point_splat(const lc_frame_setup *fs, int pass_h, int out_h, int listed, double *radius, double *weight)
+{
+    double still = 0.5 * fs->params->style.point_size * (double)pass_h / out_h;
+    still = still > POINT_RADIUS_FLOOR ? still : POINT_RADIUS_FLOOR; /* what the still draws */
+    double n = !listed && fs->point_stride > 1 ? fs->point_stride : 1;
+    double a = still * fs->point_scale, want = a * sqrt(n);
+    double base = a > POINT_RADIUS_FLOOR ? a : POINT_RADIUS_FLOOR;
+    double most = fs->point_scale < 1 ? SPLAT_SPREAD * base : base;
+    double r = want > POINT_RADIUS_FLOOR ? want : POINT_RADIUS_FLOOR;
+    *radius = r < most ? r : most;
+    *weight = n * (a / *radius) * (a / *radius);
 }
 
 void lc_renderer_bind_terms(GLuint prog, const lc_importance_terms *t)
@@ -229,11 +253,14 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_f(prog, "u_focal_dist", focal > 0 ? focal : 1);
     lc_uniform_f(prog, "u_line_half_width", fs->line_half_width);
     lc_uniform_f(prog, "u_min_half_pixels", 0.5 * (p->style.min_line_pixels > 0 ? p->style.min_line_pixels : 1.0));
-    /* A disc of radius >= sqrt(2)/2 px always covers a pixel centre, so every
-     * point reaches P2 even at the reduced optimization resolution. */
-    double radius = 0.5 * p->style.point_size * (double)h / out_h;
-    radius = radius > 0.75 ? radius : 0.75;
+    double radius = 1, weight = 1, listed_radius = 1, listed_weight = 1;
+    if (gs->scene->type == LC_PRIM_POINTS) {
+        lc_point_splat(fs, h, out_h, 0, &radius, &weight);
+        lc_point_splat(fs, h, out_h, 1, &listed_radius, &listed_weight);
+    }
     lc_uniform_f(prog, "u_point_radius_px", radius);
+    lc_uniform_f(prog, "u_point_list_radius_px", listed_radius);
+    lc_uniform_v2(prog, "u_point_weight", weight, listed_weight);
     /* Point sprites (lc_frame_point_sprites): GL drops a point whose centre
      * lies outside the viewport, so the viewport reaches a splat's radius and
      * a pixel beyond the target on each side and the projection shrinks to

@@ -491,6 +491,7 @@ typedef struct lc_frame_setup {
     int moments_guard[2];  /* params.guardBand: texels of r->moments beyond the view on each side */
     int level;             /* level of detail of every geometry pass (gs->levels) */
     int point_stride;      /* points: every n-th in every pass */
+    double point_scale;    /* points: lc_point_scale of the frame (lc_point_splat) */
     /* Importance-aware point subsets (point_subset.c): with a stride, the
      * points in importance bin keep_bin or above are drawn in full from the
      * renderer's point list (point_kept of them), the rest every n-th;
@@ -774,6 +775,28 @@ double lc_frame_focal_distance(const lc_frame_setup *fs);
  * interactively also skip all but every point_stride-th); also the weight
  * of P1/P4's sums. */
 unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset);
+/* The weight of P0's, P1's and P4's sums for a pass drawn with `subset`
+ * (FOO's approximation); a point stride weighs by area instead (lc_point_splat). */
+unsigned lc_renderer_weight(int subset);
+/* A disc of radius >= sqrt(2)/2 px always covers a pixel centre, so every
+ * point reaches P2 even at the reduced optimization resolution. */
+#define POINT_RADIUS_FLOOR 0.75
+/* The fraction of its view's size a frame of points is drawn at (detail.pixel_scale; 1 for a still). */
+double lc_point_scale(const lc_render_params *p);
+/* A splat's radius in a pass's pixels (pass_h of out_h rows) and the weight
+ * of its fragments in P0, P1 and P4, so that it stands for the view's area
+ * that the points it replaces cover in the still. A frame drawn at the view's
+ * size draws splats as the still does, the stride's n-th point with weight n
+ * (fs->point_stride; `listed`: the kept points, drawn in full, weight 1): its
+ * splats lie on the still's, pixel for pixel. A frame drawn at a fraction s
+ * of its view's size (a moving frame, stretched by the page) draws a splat s
+ * times as wide and, with a stride, up to SPLAT_SPREAD times wider again
+ * towards sqrt(n), so that a sparse region keeps some of the coverage the
+ * still gives it instead of one splat in n; the weight takes the rest of the
+ * area (below 1 where the floor radius is wider than the point). A still
+ * (s = 1, no stride) draws as always, with weight 1. */
+#define SPLAT_SPREAD 2.0
+void lc_point_splat(const lc_frame_setup *fs, int pass_h, int out_h, int listed, double *radius, double *weight);
 /* (Re)allocates a target set; format GL_RGBA32F, GL_RGBA16F, GL_RG32F or GL_RGBA8. */
 void lc_targets_ensure(lc_targets *t, int w, int h, int count, GLenum format, uint64_t *bytes);
 void lc_targets_free(lc_targets *t, uint64_t *bytes);

@@ -25,7 +25,7 @@ static int has_suffix(const char *s, const char *suffix)
 typedef struct render_args {
     const char *out, *stats;
     int frames, mpi, point_stride, uniform_points, line_stride;
-    double dt;
+    double dt, pixel_scale;
 } render_args;
 
 #define RENDER(member) LC_OPT_AT(render_args, member)
@@ -48,6 +48,10 @@ static const lc_option render_options[] = {
              "important 1/(4N) of the points in full, every N-th of the rest"},
     {"--uniform-points", NULL, LC_OPT_BOOL, RENDER(uniform_points),
      .help = "with --point-stride: every N-th of all points instead"},
+    {"--pixel-scale", "S", LC_OPT_REAL, RENDER(pixel_scale), 0.01, 1,
+     .help = "draw as a session's moving frame drawn at the fraction S of its\n"
+             "view's size: point splats and time markers keep their size in the\n"
+             "view's pixels (default 1, a still)"},
     {"--line-stride", "N", LC_OPT_INT, RENDER(line_stride), 1, 1024,
      .help = "lines, with --frames 2 or more: the last frame reuses the opacities\n"
              "and draws as a session does while the camera moves: the most\n"
@@ -205,6 +209,8 @@ static int render_main(int argc, char **argv, lc_request *req)
     double dt = args.dt;
     req->render.detail.point_stride = point_stride;
     req->render.detail.uniform_points = uniform_points;
+    if (args.pixel_scale > 0)
+        req->render.detail.pixel_scale = args.pixel_scale;
     if (lc_request_layer_count(req) > 0 &&
         (point_stride > 1 || args.line_stride > 1)) { /* every flag used or refused */
         fprintf(stderr, "lucent render: layers: %s\n",

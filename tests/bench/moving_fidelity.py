@@ -105,7 +105,9 @@ def main():
     for v in args.variants:
         size, lod, stride = v.split(":")
         out = os.path.join(tmp, "moving_%s.png" % v.replace(":", "_"))
-        extra = ["--input", args.dataset, "--size", size, "--frames", "2", "--line-stride", stride]
+        # Drawn at a fraction of the view's size, as the session draws it (splats and markers keep their view size).
+        extra = ["--input", args.dataset, "--size", size, "--frames", "2", "--line-stride", stride,
+                 "--pixel-scale", "%.6f" % min(1.0, int(size.split("x")[1]) / h)]
         if int(stride) > 1:
             extra += ["--point-stride", stride]
         if float(lod) > 0:

@@ -187,6 +187,64 @@ static void point_stride(test_gl *t, uint8_t *a, uint8_t *b)
     lc_scene_destroy(s);
 }
 
+/* 2x2 box average of an RGBA image (w, h even): the still as a frame of half its size shows it. */
+static void halve_rgba(const uint8_t *in, int w, int h, uint8_t *out)
+{
+    for (int y = 0; y < h / 2; y++)
+        for (int x = 0; x < w / 2; x++)
+            for (int c = 0; c < 4; c++) {
+                const uint8_t *p = in + 4 * ((size_t)2 * y * w + 2 * x) + c;
+                out[4 * ((size_t)y * (w / 2) + x) + c] =
+                    (uint8_t)((p[0] + p[4] + p[4 * (size_t)w] + p[4 * (size_t)w + 4] + 2) / 4);
+            }
+}
+
+static double mean_luma(const uint8_t *rgba, size_t n)
+{
+    double sum = 0;
+    for (size_t i = 0; i < n; i++)
+        sum += 0.2126 * rgba[4 * i] + 0.7152 * rgba[4 * i + 1] + 0.0722 * rgba[4 * i + 2];
+    return sum / (double)n;
+}
+
+/* A moving frame drawn at half its view's size (detail.pixel_scale, as a
+ * session draws it) with a stride: its splats keep their size in the view's
+ * pixels (lc_point_splat), so it looks like the still shown at that size,
+ * where splats of the still's pixel size cover four times the share of the
+ * frame and the picture darkens. */
+static void point_pixel_scale(test_gl *t, uint8_t *a, uint8_t *b)
+{
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = open_demo("points", 40000, &s);
+    if (!gs)
+        return;
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = 256;
+    test_render_frame(t, gs, &p, NULL, a, NULL);
+    uint8_t *still = malloc(128 * 128 * 4), *scaled = malloc(128 * 128 * 4);
+    halve_rgba(a, 256, 256, still);
+    p.width = p.height = 128;
+    p.detail.point_stride = 4;
+    p.detail.uniform_points = true;
+    test_render_frame(t, gs, &p, NULL, b, NULL); /* the view's size unknown: splats of the still's pixel size */
+    p.detail.pixel_scale = 0.5;
+    test_render_frame(t, gs, &p, NULL, scaled, NULL);
+    double s_plain = lc_image_ssim(still, b, 128, 128), s_scaled = lc_image_ssim(still, scaled, 128, 128);
+    double l_still = mean_luma(still, 128 * 128), l_plain = mean_luma(b, 128 * 128),
+           l_scaled = mean_luma(scaled, 128 * 128);
+    printf("demo:points every 4th point at half size: SSIM %.4f with splats of the view's size, %.4f of the frame's; "
+           "mean luminance %.1f and %.1f, the still's %.1f\n",
+           s_scaled, s_plain, l_scaled, l_plain, l_still);
+    CHECK(s_scaled > s_plain + 0.02, "half size: SSIM %.4f (view's splats) vs %.4f", s_scaled, s_plain);
+    CHECK(fabs(l_scaled - l_still) * 2 < fabs(l_plain - l_still), "mean luminance %.1f / %.1f, the still's %.1f",
+          l_scaled, l_plain, l_still);
+    free(still);
+    free(scaled);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
 /* Where it matters: a small cluster of important points (g = 0.8) in front
  * of a faint cloud. Thinned uniformly, the cluster's points each count n times in P1, so
  * they hide each other as if the cluster were n times denser and fade; kept in
@@ -263,6 +321,7 @@ int main(void)
     surface_levels(&t, a, b);
     reuse_opacities(&t, a, b);
     point_stride(&t, a, b);
+    point_pixel_scale(&t, a, b);
     important_cluster(&t, a, b);
     free(a);
     free(b);

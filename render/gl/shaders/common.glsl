@@ -89,7 +89,9 @@ uniform float u_pixel_world;     // world size of one pixel at the focal distanc
 uniform float u_focal_dist;
 uniform float u_line_half_width; // world units
 uniform float u_min_half_pixels; // ribbons never thinner than 2x this many pixels
-uniform float u_point_radius_px; // splat radius in pixels at this pass's resolution
+uniform float u_point_radius_px; // splat radius in pixels at this pass's resolution (lc_point_splat)
+uniform float u_point_list_radius_px; // the same for the point list's entries (drawn in full)
+uniform vec2 u_point_weight;     // weight of a splat's fragments in P0, P1 and P4: strided, listed
 uniform uint u_vertex_count;
 uniform uint u_subset;           // every n-th primitive (P1/P4 subset option)
 uniform uint u_first_primitive;  // points: first instance of this draw (large draws are batched)

@@ -181,11 +181,12 @@ void main()
     }
     vec2 q = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
     emit(v, vertex_position(v));
+    float radius = u_point_list != 0 ? u_point_list_radius_px : u_point_radius_px;
 #ifdef POINT_SPRITES
-    gl_PointSize = 2.0 * u_point_radius_px;
+    gl_PointSize = 2.0 * radius;
     gl_Position.xy *= u_clip_scale; // the guard band's wider viewport (lc_renderer_bind_geometry)
 #else
-    gl_Position.xy += q * (2.0 * u_point_radius_px / u_viewport) * gl_Position.w;
+    gl_Position.xy += q * (2.0 * radius / u_viewport) * gl_Position.w;
     v_quad = q;
 #endif
     v_primary = uvec3(vertex_primary(v));

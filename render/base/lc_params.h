@@ -271,7 +271,8 @@ typedef struct lc_style {
 #define LC_POINT_SUBSET_PIXELS 8
 typedef struct lc_detail {
     double lod_pixels;    /* lines: largest screen error of the simplified polylines, output pixels; 0 = full */
-    int point_stride;     /* points: every n-th point in every pass, weighted n in P1/P4; <= 1 = all. Halved
+    int point_stride;     /* points: every n-th point in every pass, weighted n in P0/P1/P4 (a frame drawn smaller
+                             than its view spreads the splats instead, lc_point_splat); <= 1 = all. Halved
                              until the frame keeps a point per LC_POINT_SUBSET_PIXELS pixels and at least
                              LC_POINT_SUBSET_FLOOR points: small clouds are not thinned. */
     bool uniform_points;  /* with a stride: thin the important points too (default: keep them, point_subset.c) */
@@ -283,7 +284,8 @@ typedef struct lc_detail {
     bool still;           /* a session's still: optimized as a one-shot render of its request is (the clarity
                              loop from the paper's strength, targets taken whole), whatever frames came before */
     double pixel_scale;   /* a frame drawn at a fraction of its view's size (a moving frame): that fraction, so
-                             that sizes given in the view's pixels (time markers) keep their size; 0 = 1 */
+                             that sizes given in the view's pixels (time markers, point splats) keep their size;
+                             0 = 1 */
 } lc_detail;
 
 /* Line clustering (docs/ALGORITHM.md "Line clustering"): count 0 = off;

@@ -170,9 +170,10 @@ uint fragment_element() { return v_primary.x; }
 float fragment_importance() { return clamp(v_g, 0.0, 1.0); }
 
 // The weight of a fragment in P0/P1/P4's sums: the subset stride's (every n-th
-// primitive counts n times) times a splat's area weight (lc_point_splat: 1 but
-// for splats held at the floor radius); the important points that a draw of
-// the point list (point_subset.c) adds in full take their area weight alone.
+// primitive counts n times) times a splat's (lc_point_splat: a point stride's
+// n where splats keep the still's size, less where they spread; 1 for lines
+// and surfaces); the important points that a draw of the point list
+// (point_subset.c) adds in full take their splat's weight alone.
 float draw_weight(float stride_weight) { return u_point_list != 0 ? u_point_weight.y : stride_weight * u_point_weight.x; }
 
 uniform float u_direct_exponent;

@@ -63,8 +63,9 @@ void lc_fragment_list_configure(const char *gl_renderer)
 
 int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
 
-/* A frame whose passes draw a stride weighted by it: params.subset, a moving
- * frame's point stride or strided lines (P4 draws the stride, P5 does not). */
+/* A frame whose passes weigh fragments: params.subset, a moving frame's
+ * point stride, splats of a frame smaller than its view (lc_point_splat) or
+ * strided lines (P4 draws the stride, P5 does not). */
 static int strided(const lc_frame_setup *fs)
 {
     return fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 || fs->point_scale != 1 ||

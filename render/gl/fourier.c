@@ -562,8 +562,12 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         if (rc)
             return rc;
     }
-    /* The recording P4 draws into a framebuffer of no target (lc_composite_list_begin): its sums come from the list. */
+    /* The recording P4 draws into a framebuffer of no target (lc_composite_list_begin): its sums come from the list.
+     * A drawn one counts its fragments for the next frame's P0 (lc_fragment_hint_begin). */
+    int counting = !computed && !record && lc_fragment_hint_begin(r, fs);
     int rc = computed ? 0 : draw_p4(r, fs, record ? PROG_P4_LIST : kind4, kanzler, err);
+    if (counting)
+        lc_fragment_hint_end(r);
     if (record)
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
     int listed = !rc && record && lc_composite_list_end(r, fs);

@@ -92,6 +92,61 @@ int lc_fragment_list_wanted(const lc_renderer *r, int p1_subset)
     return lc_fragment_list_enabled() && p1_subset <= 1;
 }
 
+static int same_camera(const lc_camera *a, const lc_camera *b)
+{
+    return memcmp(a->position, b->position, sizeof a->position) == 0 &&
+           memcmp(a->focal_point, b->focal_point, sizeof a->focal_point) == 0 &&
+           memcmp(a->view_up, b->view_up, sizeof a->view_up) == 0 && a->view_angle == b->view_angle &&
+           a->parallel_projection == b->parallel_projection && a->parallel_scale == b->parallel_scale;
+}
+
+/* The fragments P0 may expect at the optimization resolution from the state's
+ * hint of this scene and camera (0: none). */
+static uint64_t fragment_hint(const lc_frame_setup *fs)
+{
+    const lc_frame_state *st = fs->state;
+    if (!st || st->fragment_hint.per_pixel <= 0 || st->fragment_hint.scene != fs->gs ||
+        !same_camera(&st->fragment_hint.camera, &fs->params->camera))
+        return 0;
+    double n = st->fragment_hint.per_pixel * (double)fs->low_width * (double)fs->low_height;
+    return n < (double)FRAGMENT_LIST_MAX ? (uint64_t)n : FRAGMENT_LIST_MAX;
+}
+
+int lc_fragment_hint_begin(lc_renderer *r, const lc_frame_setup *fs)
+{
+    /* Frames with a state only (a session's), on software rasterizers (where
+     * P0 records); one frame of one dataset, counted once (not a tile's or an
+     * antialiasing sample's P4 again, nor a batch's). */
+    if (!lc_fragment_list_enabled() || !fs->state || r->fragment_counting || fs->layer_count || fs->tiled ||
+        fs->batch_count)
+        return 0;
+    if (!r->fragment_query)
+        glGenQueries(1, &r->fragment_query);
+    glBeginQuery(GL_SAMPLES_PASSED, r->fragment_query);
+    r->fragment_counting = 1;
+    return 1;
+}
+
+void lc_fragment_hint_end(lc_renderer *r)
+{
+    (void)r;
+    glEndQuery(GL_SAMPLES_PASSED);
+}
+
+void lc_fragment_hint_store(lc_renderer *r, const lc_frame_setup *fs, uint64_t drawn, uint64_t primitives)
+{
+    if (r->fragment_counting != 1 || !fs->state || drawn == 0)
+        return;
+    r->fragment_counting = 2; /* stored */
+    GLuint64 samples = 0;
+    glGetQueryObjectui64v(r->fragment_query, GL_QUERY_RESULT, &samples);
+    lc_frame_state *st = fs->state;
+    st->fragment_hint.scene = fs->gs;
+    st->fragment_hint.camera = fs->params->camera;
+    st->fragment_hint.per_pixel =
+        (double)samples * ((double)primitives / (double)drawn) / ((double)fs->width * (double)fs->height);
+}
+
 static void ensure_capacity(lc_renderer *r, uint64_t want)
 {
     want = want < 4096 ? 4096 : want > FRAGMENT_LIST_MAX ? FRAGMENT_LIST_MAX : want;
@@ -121,6 +176,11 @@ void lc_fragment_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     /* After a frame: what it needed, with room for a view that covers more. */
     if (guess < r->fragment_seen + r->fragment_seen / 4)
         guess = r->fragment_seen + r->fragment_seen / 4;
+    /* A frame of this camera drew P4 (a drag's last frame, a staged still's
+     * first stage): its fragments at this resolution, with the same room. */
+    uint64_t hinted = fragment_hint(fs);
+    if (guess < hinted + hinted / 4)
+        guess = hinted + hinted / 4;
     ensure_capacity(r, guess);
     const uint32_t zero = 0;
     glClearNamedBufferSubData(r->fragment_list, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

@@ -138,6 +138,8 @@ void lc_renderer_destroy(lc_renderer *r)
         if (r->equalized_tex[i])
             glDeleteTextures(1, &r->equalized_tex[i]);
     glDeleteQueries(LC_PASS_COUNT + 1, r->timer_queries);
+    if (r->fragment_query)
+        glDeleteQueries(1, &r->fragment_query);
     glDeleteVertexArrays(1, &r->vao);
     lc_filter_release(r);
     for (int i = 0; i < LC_MAX_LAYERS; i++)
@@ -301,6 +303,8 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     if ((rc = lc_progressive_begin(r, &fs, err)) != 0)
         return rc;
     r->draw_yields = r->yield_cut = 0;
+    r->fragment_counting = 0; /* lc_fragment_hint_begin */
+    fs.state = state;
     r->pull_lines = 0;     /* lc_filter_prepare sets it for a time window */
     r->line_primitive = 0; /* set below for a frame of one line dataset */
     lc_filter_frame_begin(r);
@@ -496,6 +500,7 @@ static int render_passes(lc_renderer *r, lc_frame_setup *fs_in, lc_frame_state *
         info->kept_line_segments[1] = (uint64_t)(fs.kept_line_indices[1] * per + 0.5);
         info->primitives_drawn = info->kept_line_segments[0] + info->kept_line_segments[1];
     }
+    lc_fragment_hint_store(r, &fs, info->primitives_drawn, fs.gs->levels[fs.level].primitive_count);
     if (p.foo.progressive > 1 && !p.foo.batch_prefix)
         info->batch = p.foo.batch, info->batches = p.foo.progressive;
     info->pipeline_bytes = lc_renderer_bytes(r);

@@ -290,6 +290,9 @@ struct lc_renderer {
     double composite_ratio;
     const void *composite_ratio_scene;
     int composite_ratio_width, composite_ratio_height;
+    /* A drawn P4's fragments, counted by an occlusion query (lc_fragment_hint_*). */
+    GLuint fragment_query;
+    int fragment_counting;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -466,6 +469,16 @@ struct lc_frame_state {
         float knots[257];
     } eq[LC_MAX_LAYERS];
     lc_clarity_strength clarity; /* params.clarity: the factors the next frame starts from (clarity.c) */
+    /* The fragments a frame of this camera drew in P4, per pixel of its view
+     * and scaled to every primitive of its level (a stride's frame counts
+     * one in n): the next frame of the same camera sizes P0's list by it
+     * (fragment_list.c), as a still after a drag is denser than the view the
+     * renderer last recorded. per_pixel 0: none. */
+    struct {
+        const void *scene;
+        lc_camera camera;
+        double per_pixel;
+    } fragment_hint;
 };
 
 /* ---- frame_state.c: the state's opacities to and from a float GPU buffer; a
@@ -514,6 +527,7 @@ typedef struct lc_frame_setup {
     int p1_subset;         /* P1's stride: params.subset, or params.autoSubset's choice after P0 (fourier.c) */
     int p1_done;           /* P1's sums of this frame are in r->coef_low: the clarity loop's later tries, which
                               change only the strength P2 applies, keep them (lc_fourier_optimize) */
+    lc_frame_state *state; /* the session's state (NULL: a one-shot frame) */
     int p0_chained;        /* this frame's P0 recorded its fragments for P1 (fragment_list.c) */
     uint64_t p0_fragments; /* how many (0: not recorded; the composite list's guess, fragment_list.c) */
     /* The frame's report (reduce.c adds its cost). */
@@ -946,6 +960,13 @@ void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog);
  * r->fragments_chained: every fragment fit, else P0 draws its moments again
  * and P1 draws), then lc_fragment_chains_moments into t (cleared by the caller). */
 int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs);
+/* P0's list by the frames before (lc_frame_state.fragment_hint): a drawn P4
+ * of a frame with a state counts its fragments (begin before its draw, end
+ * after it); lc_fragment_hint_store keeps the count in the state once the
+ * frame knows what it drew. */
+int lc_fragment_hint_begin(lc_renderer *r, const lc_frame_setup *fs);
+void lc_fragment_hint_end(lc_renderer *r);
+void lc_fragment_hint_store(lc_renderer *r, const lc_frame_setup *fs, uint64_t drawn, uint64_t primitives);
 void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h);
 void lc_fragment_chains_end(lc_renderer *r);
 int lc_fragment_chains_moments(lc_renderer *r, const lc_targets *t, lc_error *err);

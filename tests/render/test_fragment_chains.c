@@ -59,6 +59,70 @@ static void compare(const char *name, uint64_t limit, int once, int software)
     free(listed);
 }
 
+/* One session's frames on a renderer of its own: a still of the fitted view,
+ * then (with `drag`) a moving frame of camera x (the state's opacities, every
+ * other line: P4 drawn and counted), then the still of x. x shows the thick
+ * lines twice as large, four times the fragments the first still recorded
+ * and more than the first guess: without the moving frame P0's first list
+ * overflows and it records again. Returns the still's P0 vertices. */
+static uint64_t drag_then_still(int drag, uint8_t *rgba)
+{
+    setenv("LUCENT_FRAGMENT_LISTS", "1", 1);
+    test_gl t;
+    test_gl_open(&t);
+    lc_error err = {0};
+    lc_demo_desc desc = {.count = 300};
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = NULL;
+    CHECK(lc_demo_create("tornado", &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "tornado: %s",
+          err.msg);
+    lc_frame_state *st = lc_frame_state_create(s->elements.count);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    p.style.line_width = 0.05;
+    p.foo.fade_half_life = 0;
+    lc_frame_info info;
+    test_render_frame(&t, gs, &p, st, rgba, &info);
+    p.has_camera = true;
+    p.camera = info.camera;
+    p.camera.view_angle /= 2;
+    if (drag) {
+        p.detail.reuse_opacities = true;
+        p.detail.line_stride = 2;
+        test_render_frame(&t, gs, &p, st, rgba, &info);
+        CHECK(info.reused_opacities && info.line_stride == 2, "the moving frame: reused %d, stride %d",
+              info.reused_opacities, info.line_stride);
+        p.detail.reuse_opacities = false;
+        p.detail.line_stride = 0;
+    }
+    p.detail.still = true;
+    test_render_frame(&t, gs, &p, st, rgba, &info);
+    CHECK(info.importance_from_list, "the still's P1 ran over P0's fragments");
+    lc_frame_state_destroy(st);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+    test_gl_close(&t);
+    return info.pass_vertices[LC_PASS_DEPTH_RANGE];
+}
+
+/* A still after a drag into a denser view: P0's list is sized by what the
+ * drag's frame of that camera drew (lc_frame_state.fragment_hint), so P0
+ * records once; the same image either way. */
+static void drag_hint(void)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *a = malloc(n), *b = malloc(n);
+    uint64_t plain = drag_then_still(0, a), hinted = drag_then_still(1, b);
+    printf("still after a drag: P0 issued %llu vertices, %llu without the drag's count\n", (unsigned long long)hinted,
+           (unsigned long long)plain);
+    CHECK(hinted > 0 && plain == 2 * hinted, "P0 recorded %llu and %llu vertices: once with the hint, twice without",
+          (unsigned long long)hinted, (unsigned long long)plain);
+    CHECK(memcmp(a, b, n) == 0, "the still is the same with and without the drag before it");
+    free(a);
+    free(b);
+}
+
 int main(void)
 {
     setenv("LUCENT_P5_LIST", "0", 1);
@@ -72,6 +136,8 @@ int main(void)
     compare("points", 0, 0, software);
     compare("tornado", 1000, 0, software); /* the list may not grow: drawn */
     compare("tornado", 1000, 1, software); /* the first list overflows: P0 records again */
+    if (software)
+        drag_hint();
     unsetenv("LUCENT_P5_LIST");
     unsetenv("LUCENT_FRAGMENT_LISTS");
     return lc_test_finish();

@@ -567,7 +567,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     int counting = !computed && !record && lc_fragment_hint_begin(r, fs);
     int rc = computed ? 0 : draw_p4(r, fs, record ? PROG_P4_LIST : kind4, kanzler, err);
     if (counting)
-        lc_fragment_hint_end(r);
+        lc_fragment_hint_end();
     if (record)
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->coef_full.fbo);
     int listed = !rc && record && lc_composite_list_end(r, fs);

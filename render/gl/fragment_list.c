@@ -68,7 +68,8 @@ int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
  * strided lines (P4 draws the stride, P5 does not). */
 static int strided(const lc_frame_setup *fs)
 {
-    return fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 || fs->point_scale != 1 ||
+    int spread = fs->gs->scene->type == LC_PRIM_POINTS && lc_point_scale(fs->params) != 1;
+    return fs->params->foo.subset > 1 || lc_renderer_subset(fs, 1) > 1 || spread ||
            (fs->kept_line_indices[1] > 0 && fs->line_stride > 1);
 }
 
@@ -123,21 +124,17 @@ int lc_fragment_hint_begin(lc_renderer *r, const lc_frame_setup *fs)
     if (!r->fragment_query)
         glGenQueries(1, &r->fragment_query);
     glBeginQuery(GL_SAMPLES_PASSED, r->fragment_query);
-    r->fragment_counting = 1;
+    r->fragment_counting = true;
     return 1;
 }
 
-void lc_fragment_hint_end(lc_renderer *r)
-{
-    (void)r;
-    glEndQuery(GL_SAMPLES_PASSED);
-}
+void lc_fragment_hint_end(void) { glEndQuery(GL_SAMPLES_PASSED); }
 
 void lc_fragment_hint_store(lc_renderer *r, const lc_frame_setup *fs, uint64_t drawn, uint64_t primitives)
 {
-    if (r->fragment_counting != 1 || !fs->state || drawn == 0)
+    if (!r->fragment_counting || drawn == 0)
         return;
-    r->fragment_counting = 2; /* stored */
+    r->fragment_counting = false;
     GLuint64 samples = 0;
     glGetQueryObjectui64v(r->fragment_query, GL_QUERY_RESULT, &samples);
     lc_frame_state *st = fs->state;

@@ -303,7 +303,7 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     if ((rc = lc_progressive_begin(r, &fs, err)) != 0)
         return rc;
     r->draw_yields = r->yield_cut = 0;
-    r->fragment_counting = 0; /* lc_fragment_hint_begin */
+    r->fragment_counting = false; /* lc_fragment_hint_begin */
     fs.state = state;
     r->pull_lines = 0;     /* lc_filter_prepare sets it for a time window */
     r->line_primitive = 0; /* set below for a frame of one line dataset */
@@ -341,7 +341,6 @@ static int render(lc_renderer *r, const lc_gpu_scene *const *scenes, const lc_la
     fs.point_stride = s->type == LC_PRIM_POINTS && p.method != LC_METHOD_EXACT && p.detail.point_stride > 1 && !layers
                           ? p.detail.point_stride
                           : 1;
-    fs.point_scale = s->type == LC_PRIM_POINTS ? lc_point_scale(&p) : 1.0;
     lc_layer_setup *setups = NULL;
     if (layers) {
         setups = malloc((size_t)n * sizeof *setups);

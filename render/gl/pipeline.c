@@ -124,26 +124,46 @@ double lc_frame_focal_distance(const lc_frame_setup *fs)
     return focal;
 }
 
+/* A splat's radius and weight (lc_point_splat) from the radius the still
+ * draws in this pass, the frame's fraction s of its view and its stride n. */
+static void splat_size(double still, double s, double n, double *radius, double *weight)
+{
+    double a = still * s, want = a * sqrt(n);
+    double base = a > POINT_RADIUS_FLOOR ? a : POINT_RADIUS_FLOOR;
+    double most = s < 1 ? SPLAT_SPREAD * base : base;
+    double r = want > POINT_RADIUS_FLOOR ? want : POINT_RADIUS_FLOOR;
+    *radius = r < most ? r : most;
+    *weight = n * (a / *radius) * (a / *radius);
+}
+
+/* The radius a still draws a splat with in a pass of pass_h of out_h rows. */
+static double still_radius(const lc_render_params *p, int pass_h, int out_h)
+{
+    double r = 0.5 * p->style.point_size * (double)pass_h / out_h;
+    return r > POINT_RADIUS_FLOOR ? r : POINT_RADIUS_FLOOR;
+}
+
 int lc_frame_point_sprites(const lc_renderer *r, const lc_render_params *p, int frame_width, int frame_height)
 {
     const char *e = getenv("LUCENT_POINT_SPRITES"); /* 0: quads always */
     int allowed = !(e && e[0] == '0');
-    /* The widest splat lc_point_splat draws: the frame's stride is at most the request's. */
-    double grow = lc_point_scale(p) * sqrt(p->detail.point_stride > 1 ? p->detail.point_stride : 1);
-    double diameter = p->style.point_size * (grow > 1 ? grow : 1);
-    diameter = diameter > 2 * POINT_RADIUS_FLOOR ? diameter : 2 * POINT_RADIUS_FLOOR;
-    int guard = (int)ceil(0.5 * diameter) + 1;
-    return allowed && diameter <= r->point_size_max && frame_width + 2 * guard <= r->max_viewport[0] &&
+    /* The widest splat of the frame: at full resolution, with the request's
+     * stride (the frame's is at most that; a splat widens with its stride). */
+    double radius, weight;
+    splat_size(still_radius(p, 1, 1), lc_point_scale(p), p->detail.point_stride > 1 ? p->detail.point_stride : 1,
+               &radius, &weight);
+    int guard = (int)ceil(radius) + 1;
+    return allowed && 2 * radius <= r->point_size_max && frame_width + 2 * guard <= r->max_viewport[0] &&
            frame_height + 2 * guard <= r->max_viewport[1];
 }
 
+unsigned lc_renderer_weight(int subset) { return subset > 0 ? (unsigned)subset : 1u; }
+
 unsigned lc_renderer_subset(const lc_frame_setup *fs, int subset)
 {
-    unsigned n = subset > 0 ? (unsigned)subset : 1u;
+    unsigned n = lc_renderer_weight(subset);
     return fs->gs->scene->type == LC_PRIM_POINTS && fs->point_stride > 1 ? n * (unsigned)fs->point_stride : n;
 }
-
-unsigned lc_renderer_weight(int subset) { return subset > 0 ? (unsigned)subset : 1u; }
 
 double lc_point_scale(const lc_render_params *p)
 {
@@ -153,15 +173,8 @@ double lc_point_scale(const lc_render_params *p)
 
 void lc_point_splat(const lc_frame_setup *fs, int pass_h, int out_h, int listed, double *radius, double *weight)
 {
-    double still = 0.5 * fs->params->style.point_size * (double)pass_h / out_h;
-    still = still > POINT_RADIUS_FLOOR ? still : POINT_RADIUS_FLOOR; /* what the still draws */
     double n = !listed && fs->point_stride > 1 ? fs->point_stride : 1;
-    double a = still * fs->point_scale, want = a * sqrt(n);
-    double base = a > POINT_RADIUS_FLOOR ? a : POINT_RADIUS_FLOOR;
-    double most = fs->point_scale < 1 ? SPLAT_SPREAD * base : base;
-    double r = want > POINT_RADIUS_FLOOR ? want : POINT_RADIUS_FLOOR;
-    *radius = r < most ? r : most;
-    *weight = n * (a / *radius) * (a / *radius);
+    splat_size(still_radius(fs->params, pass_h, out_h), lc_point_scale(fs->params), n, radius, weight);
 }
 
 void lc_renderer_bind_terms(GLuint prog, const lc_importance_terms *t)

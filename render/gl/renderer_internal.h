@@ -290,9 +290,10 @@ struct lc_renderer {
     double composite_ratio;
     const void *composite_ratio_scene;
     int composite_ratio_width, composite_ratio_height;
-    /* A drawn P4's fragments, counted by an occlusion query (lc_fragment_hint_*). */
+    /* A drawn P4's fragments, counted by an occlusion query (lc_fragment_hint_*):
+     * counting from the frame's first drawn P4 until the frame stores the count. */
     GLuint fragment_query;
-    int fragment_counting;
+    bool fragment_counting;
     GLuint fixed_programs[PROG_FIXED_KINDS];
     lc_targets coef_low;   /* P1 at optimization resolution */
     lc_targets coef_full;  /* P4 */
@@ -504,7 +505,6 @@ typedef struct lc_frame_setup {
     int moments_guard[2];  /* params.guardBand: texels of r->moments beyond the view on each side */
     int level;             /* level of detail of every geometry pass (gs->levels) */
     int point_stride;      /* points: every n-th in every pass */
-    double point_scale;    /* points: lc_point_scale of the frame (lc_point_splat) */
     /* Importance-aware point subsets (point_subset.c): with a stride, the
      * points in importance bin keep_bin or above are drawn in full from the
      * renderer's point list (point_kept of them), the rest every n-th;
@@ -965,7 +965,7 @@ int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs);
  * after it); lc_fragment_hint_store keeps the count in the state once the
  * frame knows what it drew. */
 int lc_fragment_hint_begin(lc_renderer *r, const lc_frame_setup *fs);
-void lc_fragment_hint_end(lc_renderer *r);
+void lc_fragment_hint_end(void);
 void lc_fragment_hint_store(lc_renderer *r, const lc_frame_setup *fs, uint64_t drawn, uint64_t primitives);
 void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h);
 void lc_fragment_chains_end(lc_renderer *r);

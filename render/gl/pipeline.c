@@ -289,6 +289,8 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
     lc_uniform_v2(prog, "u_clip_scale", (double)w / (w + 2 * guard), (double)h / (h + 2 * guard));
     lc_uniform_u(prog, "u_vertex_count", gs->scene->vertex_count);
     lc_uniform_u(prog, "u_subset", lc_renderer_subset(fs, subset));
+    lc_uniform_u(prog, "u_point_jitter",
+                 gs->scene->type == LC_PRIM_POINTS && fs->point_stride > 1 ? lc_renderer_subset(fs, subset) : 1);
     lc_uniform_i(prog, "u_keep_bin", fs->kept_points ? fs->keep_bin : POINT_BINS + 1);
     lc_uniform_i(prog, "u_point_list", 0);
     lc_uniform_i(prog, "u_line_mask", fs->line_mask);

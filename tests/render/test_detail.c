@@ -245,6 +245,67 @@ static void point_pixel_scale(test_gl *t, uint8_t *a, uint8_t *b)
     lc_scene_destroy(s);
 }
 
+/* 32x32-pixel blocks of a 256x256 image with a pixel off the white background. */
+static int covered_blocks(const uint8_t *rgba)
+{
+    int n = 0;
+    for (int by = 0; by < 8; by++)
+        for (int bx = 0; bx < 8; bx++) {
+            int hit = 0;
+            for (int y = by * 32; y < by * 32 + 32 && !hit; y++)
+                for (int x = bx * 32; x < bx * 32 + 32 && !hit; x++)
+                    hit = rgba[4 * (y * 256 + x)] < 250 || rgba[4 * (y * 256 + x) + 1] < 250;
+            n += hit;
+        }
+    return n;
+}
+
+/* Data stored in periods (an MD dump's atoms, frame after frame): point i
+ * lies in cell i % 8 of a 4x2 grid. A stride of 8 that took every 8th point
+ * would draw one cell; each instance takes a point of its block at random,
+ * so the strided frame covers the cells the full one does. */
+static void periodic_stride(test_gl *t, uint8_t *a, uint8_t *b)
+{
+    enum { PERIOD = 8, N = PERIOD * 8192 };
+    lc_error err = {0};
+    lc_scene *s = lc_scene_create("periodic", LC_PRIM_POINTS);
+    CHECK(s && lc_scene_alloc_vertices(s, N, 0, &err) == 0, "scene: %s", err.msg);
+    uint32_t seed = 11;
+    for (int i = 0; i < N; i++) {
+        float u[3];
+        for (int k = 0; k < 3; k++) {
+            seed = seed * 1664525u + 1013904223u;
+            u[k] = (float)(seed >> 8) / 16777216.0f;
+        }
+        int c = i % PERIOD;
+        s->positions[3 * i] = (float)(c % 4) + 0.5f * u[0];
+        s->positions[3 * i + 1] = (float)(c / 4) * 2.0f + 0.5f * u[1];
+        s->positions[3 * i + 2] = 0.5f * u[2];
+    }
+    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
+    lc_gpu_scene *gs = NULL;
+    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
+    if (!gs) {
+        lc_scene_destroy(s);
+        return;
+    }
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = 256;
+    lc_frame_info info;
+    test_render_frame(t, gs, &p, NULL, a, &info);
+    p.detail.point_stride = PERIOD;
+    p.detail.uniform_points = true;
+    test_render_frame(t, gs, &p, NULL, b, &info);
+    int all = covered_blocks(a), some = covered_blocks(b);
+    printf("points stored in periods of %d, every %dth: %d of the %d blocks the full frame covers\n", PERIOD,
+           info.point_stride, some, all);
+    CHECK(info.point_stride == PERIOD, "stride %d", info.point_stride);
+    CHECK(all >= 8 && some * 10 >= all * 9, "the strided frame covers %d blocks, the full one %d", some, all);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
 /* Where it matters: a small cluster of important points (g = 0.8) in front
  * of a faint cloud. Thinned uniformly, the cluster's points each count n times in P1, so
  * they hide each other as if the cluster were n times denser and fade; kept in
@@ -323,6 +384,7 @@ int main(void)
     point_stride(&t, a, b);
     point_pixel_scale(&t, a, b);
     important_cluster(&t, a, b);
+    periodic_stride(&t, a, b);
     free(a);
     free(b);
     test_gl_close(&t);

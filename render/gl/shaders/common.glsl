@@ -94,6 +94,8 @@ uniform float u_point_list_radius_px; // the same for the point list's entries (
 uniform vec2 u_point_weight;     // weight of a splat's fragments in P0, P1 and P4: strided, listed
 uniform uint u_vertex_count;
 uniform uint u_subset;           // every n-th primitive (P1/P4 subset option)
+uniform uint u_point_jitter;     // points under a moving frame's stride: each instance takes one point of its
+                                 // block of u_subset at random (lc_renderer_bind_geometry); 1: the block's first
 uniform uint u_first_primitive;  // points: first instance of this draw (large draws are batched)
 uniform int u_keep_bin;          // points drawn with a stride: those in this importance bin or above are
                                  // drawn from the point list instead (POINT_BINS bins; > POINT_BINS: none)

@@ -174,7 +174,19 @@ void main()
 #else
     uint k = uint(gl_InstanceID); // one quad (4-vertex strip) per splat
 #endif
-    uint v = u_point_list != 0 ? point_list[u_first_primitive + k] : (u_first_primitive + k) * u_subset;
+    uint b = u_first_primitive + k;
+    uint v = u_point_list != 0 ? point_list[b] : b * u_subset;
+    if (u_point_list == 0 && u_point_jitter > 1u) {
+        // A point of the block at random (an integer hash of its number): a
+        // regular stride aliases with data stored in periods (an MD dump's
+        // atoms frame after frame: every 64th of 16384 atoms a frame is the
+        // same atoms in every frame, their paths instead of the cloud).
+        uint h = b * 0x9E3779B1u;
+        h = (h ^ (h >> 15)) * 0x85EBCA77u;
+        h ^= h >> 13;
+        uint j = v + h % u_point_jitter;
+        v = j < u_vertex_count ? j : v;
+    }
     if (u_point_list == 0 && u_keep_bin <= POINT_BINS - 1 && point_bin(vertex_importance(v)) >= u_keep_bin) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         return;

@@ -271,7 +271,7 @@ typedef struct lc_style {
 #define LC_POINT_SUBSET_PIXELS 8
 typedef struct lc_detail {
     double lod_pixels;    /* lines: largest screen error of the simplified polylines, output pixels; 0 = full */
-    int point_stride;     /* points: every n-th point in every pass, weighted n in P0/P1/P4 (a frame drawn smaller
+    int point_stride;     /* points: one point in n in every pass, weighted n in P0/P1/P4 (a frame drawn smaller
                              than its view spreads the splats instead, lc_point_splat); <= 1 = all. Halved
                              until the frame keeps a point per LC_POINT_SUBSET_PIXELS pixels and at least
                              LC_POINT_SUBSET_FLOOR points: small clouds are not thinned. */

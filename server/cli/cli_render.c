@@ -45,9 +45,9 @@ static const lc_option render_options[] = {
              "(LUCENT_MPI_READ=whole: every rank reads all, keeps its shard)"},
     {"--point-stride", "N", LC_OPT_INT, RENDER(point_stride), 1, 1024,
      .help = "points: draw as a session does while the camera moves: the most\n"
-             "important 1/(4N) of the points in full, every N-th of the rest"},
+             "important 1/(4N) of the points in full, one in N of the rest"},
     {"--uniform-points", NULL, LC_OPT_BOOL, RENDER(uniform_points),
-     .help = "with --point-stride: every N-th of all points instead"},
+     .help = "with --point-stride: one in N of all points instead"},
     {"--pixel-scale", "S", LC_OPT_REAL, RENDER(pixel_scale), 0.01, 1,
      .help = "draw as a session's moving frame drawn at the fraction S of its\n"
              "view's size: point splats and time markers keep their size in the\n"

@@ -47,6 +47,7 @@
 #define FRAGMENTS_PER_PRIMITIVE_GUESS 4
 
 static atomic_int fragment_lists = 0;  /* lc_fragment_list_configure */
+static atomic_int heads_fetch = 1;     /* LUCENT_HEADS_FETCH: 0 swaps the heads atomically (comparisons, tests) */
 #define COMPOSITE_AUTO 2               /* P5 over P4's fragments in large frames (below) */
 static atomic_int composite_lists = 0; /* 0 drawn, 1 listed, COMPOSITE_AUTO */
 
@@ -59,6 +60,20 @@ void lc_fragment_list_configure(const char *gl_renderer)
     atomic_store(&fragment_lists, e && (e[0] == '0' || e[0] == '1') ? e[0] == '1' : software);
     const char *p5 = getenv("LUCENT_P5_LIST"); /* 0 / 1: drawn / listed wherever lists are on (comparisons, tests) */
     atomic_store(&composite_lists, p5 && (p5[0] == '0' || p5[0] == '1') ? p5[0] - '0' : COMPOSITE_AUTO);
+    const char *hf = getenv("LUCENT_HEADS_FETCH");
+    atomic_store(&heads_fetch, !(hf && hf[0] == '0'));
+}
+
+bool lc_renderer_heads_fetch(const lc_renderer *r) { return r->heads_fetch; }
+
+void lc_fragment_heads_configure(lc_renderer *r)
+{
+    GLint n = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+    r->heads_fetch = false;
+    for (GLint i = 0; i < n && atomic_load(&heads_fetch); i++)
+        if (strcmp((const char *)glGetStringi(GL_EXTENSIONS, (GLuint)i), "GL_EXT_shader_framebuffer_fetch") == 0)
+            r->heads_fetch = true;
 }
 
 int lc_fragment_list_enabled(void) { return atomic_load(&fragment_lists); }
@@ -212,35 +227,69 @@ static void chain_heads(lc_renderer *r, int w, int h)
         r->chain_words = pixels;
     }
     const uint32_t none = 0xFFFFFFFFu; /* FRAGMENT_NONE: no entry yet */
-    glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(4 * pixels), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &none);
+    if (!r->heads_fetch)               /* (else the recording's target holds them: copy_heads) */
+        glClearNamedBufferSubData(r->fragment_chains, GL_R32UI, 0, (GLsizeiptr)(4 * pixels), GL_RED_INTEGER,
+                                  GL_UNSIGNED_INT, &none);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_CHAINS, r->fragment_chains);
     r->chain_pixels = (uint32_t)pixels;
     r->chain_width = (uint32_t)w;
     r->fragments_chained = 0;
 }
 
-/* A framebuffer without attachments of w x h, bound for drawing: llvmpipe
- * then generates no blending at all (masking a target's writes still loaded
- * and stored it: P4 took 0.2 s more on lj_melt at 972x761). */
-static void bind_recording_framebuffer(lc_renderer *r, int w, int h)
+/* The framebuffer a recording pass of w x h draws into, bound: without
+ * attachments, where llvmpipe generates no blending at all (masking a
+ * target's writes still loaded and stored it: P4 took 0.2 s more on lj_melt
+ * at 972x761); or, with framebuffer fetch (HEADS_FETCH in
+ * fragment_list.glsl), the R32UI target of the chains' heads, cleared to
+ * FRAGMENT_NONE (which: 0 P0's, 1 P4's, each kept at its size). */
+static void bind_recording_framebuffer(lc_renderer *r, int w, int h, int which)
 {
-    if (!r->record_fbo)
-        glCreateFramebuffers(1, &r->record_fbo);
-    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, w);
-    glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->record_fbo);
+    if (!r->heads_fetch) {
+        if (!r->record_fbo)
+            glCreateFramebuffers(1, &r->record_fbo);
+        glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, w);
+        glNamedFramebufferParameteri(r->record_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->record_fbo);
+        return;
+    }
+    lc_heads_target *t = &r->heads[which];
+    if (!t->tex || t->width != w || t->height != h) {
+        if (t->tex)
+            glDeleteTextures(1, &t->tex);
+        glCreateTextures(GL_TEXTURE_2D, 1, &t->tex);
+        glTextureStorage2D(t->tex, 1, GL_R32UI, w, h);
+        if (!t->fbo)
+            glCreateFramebuffers(1, &t->fbo);
+        glNamedFramebufferTexture(t->fbo, GL_COLOR_ATTACHMENT0, t->tex, 0);
+        t->width = w, t->height = h;
+    }
+    const GLuint none[4] = {0xFFFFFFFFu, 0, 0, 0};
+    glClearNamedFramebufferuiv(t->fbo, GL_COLOR, 0, none);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+}
+
+/* After a recording draw with framebuffer fetch: its heads into the chains'
+ * buffer, where the walks read them (a copy of 4 bytes a pixel). */
+static void copy_heads(lc_renderer *r, int which)
+{
+    if (!r->heads_fetch)
+        return;
+    const lc_heads_target *t = &r->heads[which];
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, r->fragment_chains);
+    glGetTextureImage(t->tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, (GLsizei)(4 * (uint64_t)t->width * t->height), NULL);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 }
 
 void lc_fragment_chains_begin(lc_renderer *r, const lc_frame_setup *fs, int w, int h)
 {
     lc_fragment_list_begin(r, fs);
     chain_heads(r, w, h);
-    bind_recording_framebuffer(r, w, h);
+    bind_recording_framebuffer(r, w, h, 0);
 }
 
 void lc_fragment_chains_end(lc_renderer *r)
 {
+    copy_heads(r, 0);
     lc_fragment_list_end(r);
     r->fragments_chained = r->fragments_ready; /* every fragment is in the list and its chain */
     r->fragments_ready = 0;                    /* P2's depths come with P1 */
@@ -409,7 +458,7 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->composite_list);
     /* The heads in the chains' buffer (P1 is done with it). */
     chain_heads(r, fs->width, fs->height);
-    bind_recording_framebuffer(r, fs->width, fs->height);
+    bind_recording_framebuffer(r, fs->width, fs->height, 1);
 }
 
 void lc_composite_list_limit(lc_renderer *r, uint64_t entries, int once)
@@ -454,6 +503,7 @@ int lc_composite_list_retry(lc_renderer *r, const lc_frame_setup *fs)
 int lc_composite_list_end(lc_renderer *r, const lc_frame_setup *fs)
 {
     uint32_t count = 0;
+    copy_heads(r, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glGetNamedBufferSubData(r->composite_list, 0, 4, &count);
     r->composite_seen = count > r->composite_seen ? count : r->composite_seen;
@@ -532,7 +582,10 @@ uint64_t lc_fragment_list_bytes(const lc_renderer *r)
     uint64_t list = r->fragment_list ? 16 + 16 * r->fragment_capacity : 0;
     uint64_t chains = r->fragment_chains ? 4 * r->chain_words : 0;
     uint64_t composite = r->composite_list ? 16 + 16 * r->composite_capacity : 0;
-    return list + chains + composite;
+    uint64_t heads = 0;
+    for (int i = 0; i < 2; i++)
+        heads += r->heads[i].tex ? 4 * (uint64_t)r->heads[i].width * (uint64_t)r->heads[i].height : 0;
+    return list + chains + composite + heads;
 }
 
 GLuint lc_fragment_list_program(lc_renderer *r, int bands, lc_error *err)
@@ -574,4 +627,11 @@ void lc_fragment_list_release(lc_renderer *r)
     if (r->record_fbo)
         glDeleteFramebuffers(1, &r->record_fbo);
     r->record_fbo = 0;
+    for (int i = 0; i < 2; i++) {
+        if (r->heads[i].tex)
+            glDeleteTextures(1, &r->heads[i].tex);
+        if (r->heads[i].fbo)
+            glDeleteFramebuffers(1, &r->heads[i].fbo);
+        r->heads[i] = (lc_heads_target){0};
+    }
 }

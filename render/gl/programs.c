@@ -323,9 +323,12 @@ GLuint lc_renderer_geometry_program(lc_renderer *r, const lc_frame_setup *fs, lc
     int kanzler = kind == PROG_P4_KANZLER || kind == PROG_P5_KANZLER;
     int direct = kind == PROG_P4_DIRECT || kind == PROG_P5_DIRECT || kind == PROG_COLOR_HISTOGRAM_DIRECT || kanzler ||
                  kind == PROG_SHADOW_DIRECT;
-    char specialized[512], defines[900];
+    /* The recording passes' chain heads through framebuffer fetch (fragment_list.glsl). */
+    int fetch = r->heads_fetch && (kind == PROG_P4_LIST || kind == PROG_DEPTH_MOMENTS_LIST);
+    char specialized[512], defines[1000];
     spec_defines(spec, specialized, sizeof specialized);
-    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s%s%s", (int)prim, bands,
+    snprintf(defines, sizeof defines, "#define PRIM %d\n#define BANDS %d\n%s%s%s%s%s%s%s%s%s%s%s", (int)prim, bands,
+             fetch ? "#extension GL_EXT_shader_framebuffer_fetch : enable\n#define HEADS_FETCH 1\n" : "",
              bins ? "#define TAU_BINS " LC_TAU_BINS_TEXT "\n" : "", reads_alpha ? "#define READ_ALPHA 1\n" : "",
              direct ? "#define DIRECT_ALPHA 1\n" : "", pulled ? "#define PULL_PRIMITIVES 1\n" : "",
              sprites ? "#define POINT_SPRITES 1\n" : "", lines ? "#define LINE_PRIMITIVE 1\n" : "",

@@ -480,6 +480,11 @@ const char *lc_line_path_name(void);
 void lc_renderer_set_line_path(lc_renderer *r, int path);
 /* The widest line the device draws (GL_ALIASED_LINE_WIDTH_RANGE), pixels. */
 float lc_renderer_line_width_max(const lc_renderer *r);
+/* Whether the passes that record their fragments (P0, P4 on software
+ * rasterizers) keep each pixel's chain head through framebuffer fetch
+ * (GL_EXT_shader_framebuffer_fetch; LUCENT_HEADS_FETCH=0: no) rather than an
+ * atomic exchange. */
+bool lc_renderer_heads_fetch(const lc_renderer *r);
 
 /* After a frame of params p above LC_LARGE_FRAME_PIXELS (a 4096^2 still; no
  * stream frame is that large): renders p once more at 8x8 (so that the

@@ -242,6 +242,11 @@ typedef struct lc_spec_program {
     uint64_t used;
 } lc_spec_program;
 
+typedef struct lc_heads_target {
+    GLuint tex, fbo;
+    int width, height;
+} lc_heads_target;
+
 struct lc_renderer {
     lc_renderer_desc desc;
     GLuint vao;
@@ -279,9 +284,13 @@ struct lc_renderer {
     /* P4's list for its sums and P5 (COMPOSITE_LIST; 16 bytes an entry after
      * a 16-byte count); its per-pixel heads share fragment_chains. */
     GLuint composite_list;
-    GLuint record_fbo;        /* no attachment: the recording P4 writes no target (fragment_list.c) */
-    uint64_t composite_limit; /* tests: the most entries a list may hold (0: the guess's) */
-    uint64_t fragment_limit;  /* tests: the same for P0's and P1's list */
+    GLuint record_fbo; /* no attachment: the recording P0 and P4 write no target (fragment_list.c) */
+    /* With framebuffer fetch (heads_fetch): the recording P0's and P4's
+     * chain heads as an R32UI target each (fragment_list.c). */
+    bool heads_fetch;
+    lc_heads_target heads[2];
+    uint64_t composite_limit;                      /* tests: the most entries a list may hold (0: the guess's) */
+    uint64_t fragment_limit;                       /* tests: the same for P0's and P1's list */
     int composite_limit_once, fragment_limit_once; /* tests: the limit holds for the next list made only */
     uint64_t composite_capacity, composite_seen;
     uint64_t composite_offered; /* the last recording P4's fragments, stored or not */
@@ -1003,6 +1012,9 @@ void lc_fragment_list_release(lc_renderer *r);
 /* Chooses for the driver named gl_renderer (GL_RENDERER), process-wide:
  * lists on software rasterizers; LUCENT_FRAGMENT_LISTS=0/1 overrides. */
 void lc_fragment_list_configure(const char *gl_renderer);
+/* Whether this context's recording passes keep their chain heads through
+ * framebuffer fetch (GL_EXT_shader_framebuffer_fetch; LUCENT_HEADS_FETCH=0: no). */
+void lc_fragment_heads_configure(lc_renderer *r);
 int lc_fragment_list_enabled(void);
 
 /* ---- reduce.c (a no-op returning 0 without a reducer or with one process) */

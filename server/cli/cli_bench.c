@@ -208,6 +208,9 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
         printf("  P4's sums, P5: %s\n", composited[0]
                                             ? "compute passes over the fragments P4 recorded (P5: no traversal)"
                                             : "drawn (a traversal each)");
+        if (summed[0] || composited[0])
+            printf("  recording P0, P4: each pixel's chain head %s\n",
+                   lc_renderer_heads_fetch(g->renderer) ? "through framebuffer fetch" : "by an atomic exchange");
         printf("  P4, P5 in \"compute\": %s, %s (this device's rule: %s, %s)\n\n",
                computed & (1 << LC_RASTER_P4) ? "compute rasterizer" : "drawn (not applicable)",
                computed & (1 << LC_RASTER_P5) ? "compute rasterizer" : "drawn (not applicable)",

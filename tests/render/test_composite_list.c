@@ -7,7 +7,8 @@
  * took; a frame that overflows the list is the drawn one. Both draw P4, the
  * pass that records (points without a list would compute it). LUCENT_P5_LIST picks the path for the renderer
  * created after it is set (the default takes the list only in frames of millions of fragments, which these small frames
- * are not). Where fragment lists are off (a GPU) both renderers draw and only the report is checked. */
+ * are not). Where fragment lists are off (a GPU) both renderers draw and only the report is checked. The chain
+ * heads kept through framebuffer fetch give the swapped heads' image byte for byte. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -98,6 +99,37 @@ static void overflow(void)
     free(again);
 }
 
+/* The recording passes' chain heads kept through framebuffer fetch (the
+ * default where the driver has GL_EXT_shader_framebuffer_fetch) and swapped
+ * atomically (LUCENT_HEADS_FETCH=0) give the same lists: P0's chains and P4's
+ * in the same order, the same image byte for byte. */
+static void heads_fetch(const char *name)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *fetched = malloc(n), *swapped = malloc(n);
+    lc_frame_info a = {0}, b = {0};
+    unsetenv("LUCENT_HEADS_FETCH");
+    test_gl t;
+    test_gl_open(&t);
+    bool fetch = t.renderer->heads_fetch;
+    test_gl_close(&t);
+    render_with("1", name, 0, 0, 0, fetched, &a);
+    setenv("LUCENT_HEADS_FETCH", "0", 1);
+    render_with("1", name, 0, 0, 0, swapped, &b);
+    unsetenv("LUCENT_HEADS_FETCH");
+    size_t differ = 0;
+    for (size_t i = 0; i < n; i++)
+        differ += fetched[i] != swapped[i];
+    printf("%-8s heads through framebuffer fetch %d: %zu of %zu channels differ from the swapped heads'\n", name, fetch,
+           differ, n);
+    CHECK(a.composite_from_list == b.composite_from_list && a.importance_from_list == b.importance_from_list,
+          "%s: the same paths with the heads fetched and swapped", name);
+    CHECK(differ == 0 && a.top_decile_reach == b.top_decile_reach,
+          "%s: heads fetched or swapped, the same image byte for byte (%zu channels differ)", name, differ);
+    free(fetched);
+    free(swapped);
+}
+
 /* The device's rule (compute_raster.c): on a software rasterizer points compute
  * P4 and P5, except in a frame whose P4 records its fragments, which draws it. */
 static void points_rule(void)
@@ -129,6 +161,8 @@ int main(void)
     compare("tornado", 3);
     compare("points", 0);
     overflow();
+    heads_fetch("tornado");
+    heads_fetch("points");
     points_rule();
     unsetenv("LUCENT_P5_LIST");
     return lc_test_finish();

@@ -7,6 +7,9 @@ void write_coefficients(float c[NTARGETS * 4])
     for (int j = 0; j < NCOEF; j++)
         raster_add(j, c[j]);
 }
+#elif defined(COMPOSITE_LIST)
+// The recording P4 writes no coefficient target (fragment_list.glsl).
+void write_coefficients(float c[NTARGETS * 4]) {}
 #else
 layout(location = 0) out vec4 o_coef0;
 #if NTARGETS > 1

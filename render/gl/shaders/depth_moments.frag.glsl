@@ -4,13 +4,16 @@
 // series_depth (common.glsl) warps every later Fourier pass's depth by them.
 // The fourth channel, sum g^4, gives params.autoSubset the effective number of
 // fragments in P1's sums, (sum g^2)^2 / sum g^4 (render/gl/fourier.c).
-// RECORD_FRAGMENTS: also appends the fragment (pixel, element, g, normalized
-// depth) to the fragment list and to its pixel's chain, so that P1 becomes a
-// compute pass over them (p1_list.comp.glsl, render/gl/fragment_list.c).
+// FRAGMENT_CHAINS: appends the fragment (element, g, normalized depth) to the
+// fragment list and to its pixel's chain instead, so that the moments and P1
+// become compute passes over them (p0_list.comp.glsl, p1_list.comp.glsl,
+// render/gl/fragment_list.c).
 
 uniform float u_weight; // subset stride n, as P1
 
+#ifndef FRAGMENT_CHAINS
 layout(location = 0) out vec4 o_moments;
+#endif
 
 void main()
 {
@@ -20,8 +23,10 @@ void main()
     float g = fragment_importance();
     float w = g * g * draw_weight(u_weight);
     float u = normalized_depth(v_zview) - 0.5;
-    o_moments = vec4(w, w * u, w * u * u, w * g * g);
-#ifdef RECORD_FRAGMENTS
+#ifdef FRAGMENT_CHAINS
+    // The moments come from the list (p0_list.comp.glsl): nothing is blended.
     record_chained_fragment(fragment_element(), g, normalized_depth(v_zview));
+#else
+    o_moments = vec4(w, w * u, w * u * u, w * g * g);
 #endif
 }

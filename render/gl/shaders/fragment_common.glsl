@@ -159,7 +159,14 @@ bool outside_primitive()
 // taken at run time would still run the whole shader. The linker then drops
 // the inputs nothing reads, and the vertex stage writes fewer outputs.
 // Production programs compile it to nothing.
-#ifdef FLOOR_EMPTY
+#if defined(FLOOR_EMPTY) && defined(HEADS_FETCH)
+// (A recording pass writes its chain head on every path: fragment_list.glsl.)
+#define FLOOR_RETURN                                                                                                   \
+    {                                                                                                                  \
+        drop_chain_head();                                                                                             \
+        return;                                                                                                        \
+    }
+#elif defined(FLOOR_EMPTY)
 #define FLOOR_RETURN return;
 #else
 #define FLOOR_RETURN

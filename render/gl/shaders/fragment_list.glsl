@@ -14,6 +14,26 @@ layout(std430, binding = BIND_FRAGMENT_LIST) buffer FragmentList
 uniform uint u_fragment_capacity;
 #endif
 
+// HEADS_FETCH (fragment_list.c, where GL_EXT_shader_framebuffer_fetch is
+// there): the recording passes keep their pixels' chain heads in an R32UI
+// target that the fragment shader reads and writes through framebuffer
+// fetch, in the order the pixel's fragments are shaded, instead of swapping
+// them into a storage word atomically; on llvmpipe the target's load and
+// store are vector operations where an atomic is a loop over the vector's
+// lanes. The heads are copied into the chains' buffer after the draw, so the
+// walks read them as they read the swapped ones, and the lists are the same
+// bit for bit.
+#if defined(HEADS_FETCH) && defined(FRAGMENT_STAGE)
+layout(location = 0) inout uint o_chain_head;
+// Every path of a recording fragment that is not discarded writes the head:
+// llvmpipe stores an undefined value for an inout output that the shader
+// leaves alone, or writes back as it read it (a copy onto itself, which the
+// compiler drops). The paths that record nothing write "none": their frame's
+// heads are not walked (the empty-shader floor records no entry; a frame
+// past its list's room records again or draws).
+void drop_chain_head() { o_chain_head = 0xFFFFFFFFu; }
+#endif
+
 // P0's list (FRAGMENT_CHAINS): per pixel of the optimization resolution a
 // chain of its entries. P0 records each fragment as one uvec4 in one store
 // (on llvmpipe every storage access of a fragment shader is a loop over the
@@ -34,13 +54,29 @@ uniform uint u_chain_pixels; // width * height of the pass
 uniform uint u_chain_width;
 
 #ifdef FRAGMENT_STAGE
+// The fragment's pixel's last entry, replaced by entry i.
+uint swap_chain_head(uint i)
+{
+#ifdef HEADS_FETCH
+    uint before = o_chain_head;
+    o_chain_head = i;
+    return before;
+#else
+    uvec2 xy = uvec2(gl_FragCoord.xy);
+    return atomicExchange(chain_words[xy.x + xy.y * u_chain_width], i);
+#endif
+}
+
 void record_chained_fragment(uint element, float g, float d)
 {
     uint i = atomicAdd(fragment_count, 1u);
-    if (i >= u_fragment_capacity)
-        return; // the frame draws P0's moments and P1 instead (fragment_list.c)
-    uvec2 xy = uvec2(gl_FragCoord.xy);
-    uint before = atomicExchange(chain_words[xy.x + xy.y * u_chain_width], i);
+    if (i >= u_fragment_capacity) {
+#ifdef HEADS_FETCH
+        drop_chain_head();
+#endif
+        return; // the frame records again, or draws P0's moments and P1 (fragment_list.c)
+    }
+    uint before = swap_chain_head(i);
     fragments[i] = uvec4(before, element, floatBitsToUint(g), floatBitsToUint(d));
 }
 #endif
@@ -54,7 +90,8 @@ void record_chained_fragment(uint element, float g, float d)
 // the vector's lanes, so the recording costs about as many loops as it has
 // accesses (three here: the count, the pixel's head and the entry). Each
 // pixel's entries are chained from the last back to the first (x: the entry
-// before it), its head word holding the last. The entry:
+// before it), its head word holding the last (swapped atomically, or kept
+// through framebuffer fetch: HEADS_FETCH above). The entry:
 //   y  the normalized depth (float bits, in [0, 1]), its sign bit set for a
 //      halo's fragment; the walks warp it into the series depth once per
 //      fragment with the moments read once per pixel (composite_depth), which
@@ -129,10 +166,19 @@ vec3 unpack_color(uint w)
 void record_composite_fragment(float alpha, float g, float depth, bool halo, vec3 color)
 {
     uint i = atomicAdd(composite_count, 1u);
-    if (i >= u_composite_capacity)
-        return; // the frame draws P5 instead (fragment_list.c)
+    if (i >= u_composite_capacity) {
+#ifdef HEADS_FETCH
+        drop_chain_head();
+#endif
+        return; // the frame records again, or draws P4 and P5 (fragment_list.c)
+    }
+#ifdef HEADS_FETCH
+    uint before = o_chain_head;
+    o_chain_head = i;
+#else
     uvec2 xy = uvec2(gl_FragCoord.xy);
     uint before = atomicExchange(composite_heads[xy.x + xy.y * u_chain_width], i);
+#endif
     uint y = floatBitsToUint(depth) | (halo ? 0x80000000u : 0u);
     composites[i] = uvec4(before, y, pack_opacity_importance(alpha, g), pack_color(color));
 }

@@ -153,7 +153,7 @@ int lc_fourier_depth_range(lc_renderer *r, lc_frame_setup *fs, int full, int low
 
 /* Draws prog additively at t's size with every subset-th primitive weighted
  * subset, into t unless the recording P0 (PROG_DEPTH_MOMENTS_LIST) has bound
- * its framebuffer of no attachment. */
+ * its recording framebuffer (no target but its chain heads'). */
 static int draw_layers(lc_renderer *r, lc_frame_setup *fs, lc_program_kind kind, int bands, int subset,
                        const lc_targets *t, lc_error *err)
 {

@@ -371,7 +371,8 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 }
 
 /* ---- P4's sums and P5 over P4's fragments (COMPOSITE_LIST; docs/ALGORITHM.md
- * §27): P4 draws into a framebuffer without attachments, recording each fragment's
+ * §27): P4 draws into its recording framebuffer (no target but its chain
+ * heads'), recording each fragment's
  * normalized depth, opacity, importance and lit colour (16 bytes, one store),
  * chained per pixel from its last fragment back; compute passes walk the
  * chains for P4's coefficient sums and then for P5. On llvmpipe this

@@ -284,7 +284,7 @@ struct lc_renderer {
     /* P4's list for its sums and P5 (COMPOSITE_LIST; 16 bytes an entry after
      * a 16-byte count); its per-pixel heads share fragment_chains. */
     GLuint composite_list;
-    GLuint record_fbo; /* no attachment: the recording P0 and P4 write no target (fragment_list.c) */
+    GLuint record_fbo; /* no attachment: the recording P0 and P4 without framebuffer fetch (fragment_list.c) */
     /* With framebuffer fetch (heads_fetch): the recording P0's and P4's
      * chain heads as an R32UI target each (fragment_list.c). */
     bool heads_fetch;
@@ -965,7 +965,7 @@ void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog);
  * allows (lists on, no stride, one dataset, not a tile's full-resolution
  * optimization) and writes no target; its moments and P1 are then compute
  * passes over them: wanted before P0, begin before it (binds the list and a
- * draw framebuffer of no attachment of w x h), end after it (sets
+ * recording framebuffer of w x h: no target but its chain heads'), end after it (sets
  * r->fragments_chained: every fragment fit, else P0 draws its moments again
  * and P1 draws), then lc_fragment_chains_moments into t (cleared by the caller). */
 int lc_fragment_chains_wanted(const lc_renderer *r, const lc_frame_setup *fs);

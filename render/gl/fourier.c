@@ -17,16 +17,18 @@ static void smooth_layer(GLuint prog, const lc_gpu_scene *gs, uint32_t offset, i
     lc_uniform_u(prog, "u_element_offset", offset);
     GLuint groups = (count + 255) / 256;
     GLuint src = r->smooth_a, dst = r->smooth_b;
-    /* Stage 0 writes the targets into dst; then ping-pong. */
-    lc_uniform_i(prog, "u_stage", 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, dst);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, src);
-    if (groups)
-        lc_dispatch_linear(groups);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    int iterations = smoothing > 0 && gs->scene->elements.adjacency_count > 0 ? smoothing : 0;
+    if (iterations) {
+        /* Stage 0 writes the targets into dst; then ping-pong. */
+        lc_uniform_i(prog, "u_stage", 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, dst);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, src);
+        if (groups)
+            lc_dispatch_linear(groups);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
     lc_uniform_i(prog, "u_stage", 1);
-    int iterations = smoothing > 0 ? smoothing : 0;
-    for (int i = 0; i < iterations && gs->scene->elements.adjacency_count > 0; i++) {
+    for (int i = 0; i < iterations; i++) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_DST, dst);
         if (groups)
@@ -35,10 +37,12 @@ static void smooth_layer(GLuint prog, const lc_gpu_scene *gs, uint32_t offset, i
         GLuint t = src;
         src = dst, dst = t;
     }
-    lc_uniform_i(prog, "u_stage", 2);
+    /* Fading toward the smoothed targets, or toward the targets themselves
+     * without smoothing (points, params.smoothing 0): one pass fewer. */
+    lc_uniform_i(prog, "u_stage", iterations ? 2 : 3);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SMOOTH_SRC, src);
-    if (groups)
-        lc_dispatch_linear(groups);
+    if (groups) /* FADE_PER_INVOCATION (16) elements an invocation */
+        lc_dispatch_linear((groups + 15) / 16);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 

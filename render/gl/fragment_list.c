@@ -612,7 +612,7 @@ void lc_fragment_list_dispatch(lc_renderer *r, GLuint prog)
     glUseProgram(prog);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_FRAGMENT_LIST, r->fragment_list);
     lc_uniform_u(prog, "u_fragments", r->fragment_count);
-    lc_dispatch_linear((r->fragment_count + 255u) / 256u);
+    lc_dispatch_linear((r->fragment_count + 2047u) / 2048u); /* 8 entries an invocation (P2_PER_INVOCATION) */
 }
 
 void lc_fragment_list_release(lc_renderer *r)

@@ -4,9 +4,10 @@
 // unimportant element by how much it hides.
 layout(std430, binding = BIND_ELEMENT_BEHIND) buffer ElementBehind { uint element_behind[]; };
 
-void add_behind(uint element, float behind)
+uint behind_units(float behind) { return uint(clamp(behind, 0.0, 256.0) * 4096.0 + 0.5); }
+
+void add_behind_units(uint element, uint add)
 {
-    uint add = uint(clamp(behind, 0.0, 256.0) * 4096.0 + 0.5);
     if (add == 0u)
         return;
     uint old = atomicAdd(element_behind[element], add);
@@ -14,20 +15,26 @@ void add_behind(uint element, float behind)
         atomicMax(element_behind[element], 0xFFFFFFFFu);
 }
 
+void add_behind(uint element, float behind) { add_behind_units(element, behind_units(behind)); }
+
 // importantOccluded (docs/ALGORITHM.md §8): [0] fragments with g above
 // LC_IMPORTANT_G, [1] those of them with at least LC_IMPORTANT_MASS (one
 // important fragment's g^2) of mass in front, the sum r weighs in Eq. 10.
 // Values as in renderer.h.
 layout(std430, binding = BIND_IMPORTANT_OCCLUDED) buffer ImportantOccluded { uint important_occluded[2]; };
 
-void count_important(float g, float front)
+// Adds an important fragment and whether it is occluded to counts (.x, .y).
+uvec2 important_counts(float g, float front) { return g <= 0.8 ? uvec2(0u) : uvec2(1u, front >= 0.64 ? 1u : 0u); }
+
+void add_important(uvec2 n)
 {
-    if (g <= 0.8)
-        return;
-    atomicAdd(important_occluded[0], 1u);
-    if (front >= 0.64)
-        atomicAdd(important_occluded[1], 1u);
+    if (n.x > 0u)
+        atomicAdd(important_occluded[0], n.x);
+    if (n.y > 0u)
+        atomicAdd(important_occluded[1], n.y);
 }
+
+void count_important(float g, float front) { add_important(important_counts(g, front)); }
 
 // Patches (docs/ALGORITHM.md §6): with u_element_emphasis the emphasis of Eq. 10
 // reads the element's mean importance instead of the fragment's own, so that

@@ -81,17 +81,19 @@ void main()
 
 // Stages 2 and 3, fading toward the smoothed targets or, without smoothing
 // iterations, toward the targets themselves (one pass fewer over the
-// elements, the same values): each invocation fades FADE_PER_INVOCATION
-// elements, a dispatch's width apart, and adds its largest change and gap to
-// the maxima once: an atomic per element, on two words every thread shares, cost
-// a million points 40 ms of their 80 (llvmpipe runs each as a loop over the
-// vector's lanes). The maxima are the same in any order.
-#define FADE_PER_INVOCATION 16u
+// elements, the same values). Each invocation fades u_fade_batch elements, a
+// dispatch's width apart, and adds its largest change and gap to the maxima
+// once: an atomic per element, on two words every thread shares, cost a
+// million points 40 ms of their 80 (llvmpipe runs each as a loop over the
+// vector's lanes); on tens of thousands of elements the batches' fewer work
+// groups cost more than the atomics (fourier.c picks). The maxima are the
+// same in any order.
+uniform uint u_fade_batch;
 void fade(uint invocation)
 {
-    uint stride = (u_count + FADE_PER_INVOCATION - 1u) / FADE_PER_INVOCATION;
+    uint stride = (u_count + u_fade_batch - 1u) / u_fade_batch;
     float change = 0.0, gap = 0.0;
-    for (uint k = 0u; k < FADE_PER_INVOCATION; k++) {
+    for (uint k = 0u; k < u_fade_batch; k++) {
         uint local = invocation + k * stride;
         if (invocation >= stride || local >= u_count)
             break;

@@ -1,7 +1,7 @@
 // P2 over P1's fragment list (fragment_list.glsl): the recorded fragments,
-// P2_PER_INVOCATION an invocation (below), the same opacity as the fragment shader's (opacity_common.glsl)
-// without a second traversal of the geometry. The clarity loop's tries run it
-// again on the same list.
+// P2_PER_INVOCATION an invocation (below), the same opacity as the fragment
+// shader's (opacity_common.glsl) without a second traversal of the geometry.
+// The clarity loop's tries run it again on the same list.
 layout(local_size_x = 256) in;
 uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 256u + gl_GlobalInvocationID.x; }
 

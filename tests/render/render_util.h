@@ -87,6 +87,21 @@ static inline lc_scene *test_finish_scene(lc_scene *s, float *g, lc_elements_des
     return s;
 }
 
+/* Finalizes s and uploads it: the GPU scene, or NULL after a failed check
+ * (s is then destroyed). */
+static inline lc_gpu_scene *test_upload_scene(lc_scene *s)
+{
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    int finalized = lc_scene_finalize(s, NULL, &err) == 0;
+    CHECK(finalized, "finalize: %s", err.msg);
+    if (finalized)
+        CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
+    if (!gs)
+        lc_scene_destroy(s);
+    return gs;
+}
+
 typedef struct test_quad {
     double z; /* world z of the quad (camera looks down -Z) */
     double g; /* importance */

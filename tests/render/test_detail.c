@@ -282,13 +282,9 @@ static void periodic_stride(test_gl *t, uint8_t *a, uint8_t *b)
         s->positions[3 * i + 1] = (float)(c / 4) * 2.0f + 0.5f * u[1];
         s->positions[3 * i + 2] = 0.5f * u[2];
     }
-    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
-    lc_gpu_scene *gs = NULL;
-    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
-    if (!gs) {
-        lc_scene_destroy(s);
+    lc_gpu_scene *gs = test_upload_scene(s);
+    if (!gs)
         return;
-    }
     lc_render_params p;
     lc_render_params_default(&p);
     p.width = p.height = 256;
@@ -329,13 +325,9 @@ static void important_cluster(test_gl *t, uint8_t *a, uint8_t *b)
         imp[i] = i < CLOUD ? 0.05f : 0.8f;
     }
     CHECK(lc_scene_add_attribute(s, "importance", imp, &err) >= 0, "attribute: %s", err.msg);
-    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
-    lc_gpu_scene *gs = NULL;
-    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
-    if (!gs) {
-        lc_scene_destroy(s);
+    lc_gpu_scene *gs = test_upload_scene(s);
+    if (!gs)
         return;
-    }
     lc_render_params p;
     lc_render_params_default(&p);
     p.width = p.height = 256;

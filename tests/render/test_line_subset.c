@@ -185,13 +185,9 @@ static void important_bundle(test_gl *t, uint8_t *a, uint8_t *b)
     s->line_offsets[LINES] = V;
     CHECK(lc_scene_add_attribute(s, "importance", imp, &err) >= 0, "attribute: %s", err.msg);
     CHECK(lc_scene_add_attribute(s, "time", time, &err) >= 0, "attribute: %s", err.msg);
-    CHECK(lc_scene_finalize(s, NULL, &err) == 0, "finalize: %s", err.msg);
-    lc_gpu_scene *gs = NULL;
-    CHECK(lc_gpu_scene_create(s, &gs, &err) == 0, "upload: %s", err.msg);
-    if (!gs) {
-        lc_scene_destroy(s);
+    lc_gpu_scene *gs = test_upload_scene(s);
+    if (!gs)
         return;
-    }
     lc_frame_state *st = lc_frame_state_create(s->elements.count);
     lc_render_params p;
     lc_render_params_default(&p);

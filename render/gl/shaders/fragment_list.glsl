@@ -34,20 +34,9 @@ layout(location = 0) inout uint o_chain_head;
 void drop_chain_head() { o_chain_head = 0xFFFFFFFFu; }
 #endif
 
-// P0's list (FRAGMENT_CHAINS): per pixel of the optimization resolution a
-// chain of its entries. P0 records each fragment as one uvec4 in one store
-// (on llvmpipe every storage access of a fragment shader is a loop over the
-// vector's lanes: three accesses, the count, the pixel's word and the
-// entry): x the entry recorded before it at its pixel, y the element, z g,
-// w the normalized depth; word p of the chains' buffer (p = x + y * width,
-// cleared to FRAGMENT_NONE before P0) holds pixel p's last entry. P0's
-// moments pass over the list (p0_list.comp.glsl) turns each chain around, so
-// that word p holds the first entry and each x the entry after it (the last:
-// FRAGMENT_NONE), in the order the fragment shader ran them; P1's pass
-// replaces x by the pixel and w by the series depth. On llvmpipe one thread
-// shades a pixel's fragments, in primitive order, which is the order blending
-// adds them in; the passes add them in chain order.
-#ifdef FRAGMENT_CHAINS
+// The chains' buffer of P0's list or of P4's: word p = x + y * width holds
+// pixel p's last entry (P0's moments pass turns it into the first).
+#if defined(FRAGMENT_CHAINS) || defined(COMPOSITE_LIST)
 #define FRAGMENT_NONE 0xFFFFFFFFu
 layout(std430, binding = BIND_FRAGMENT_CHAINS) buffer FragmentChains { uint chain_words[]; };
 uniform uint u_chain_pixels; // width * height of the pass
@@ -66,7 +55,23 @@ uint swap_chain_head(uint i)
     return atomicExchange(chain_words[xy.x + xy.y * u_chain_width], i);
 #endif
 }
+#endif
+#endif
 
+// P0's list (FRAGMENT_CHAINS): per pixel of the optimization resolution a
+// chain of its entries. P0 records each fragment as one uvec4 in one store
+// (on llvmpipe every storage access of a fragment shader is a loop over the
+// vector's lanes: the count and the entry, and the pixel's word where the
+// head is swapped): x the entry recorded before it at its pixel, y the
+// element, z g, w the normalized depth; word p of the chains' buffer holds
+// pixel p's last entry (FRAGMENT_NONE before P0). P0's
+// moments pass over the list (p0_list.comp.glsl) turns each chain around, so
+// that word p holds the first entry and each x the entry after it (the last:
+// FRAGMENT_NONE), in the order the fragment shader ran them; P1's pass
+// replaces x by the pixel and w by the series depth. On llvmpipe one thread
+// shades a pixel's fragments, in primitive order, which is the order blending
+// adds them in; the passes add them in chain order.
+#if defined(FRAGMENT_CHAINS) && defined(FRAGMENT_STAGE)
 void record_chained_fragment(uint element, float g, float d)
 {
     uint i = atomicAdd(fragment_count, 1u);
@@ -80,7 +85,6 @@ void record_chained_fragment(uint element, float g, float d)
     fragments[i] = uvec4(before, element, floatBitsToUint(g), floatBitsToUint(d));
 }
 #endif
-#endif
 
 // P4's list (COMPOSITE_LIST, render/gl/fragment_list.c): every fragment of P4
 // at full resolution with what P4's sums and P5's fragment shader need of it,
@@ -88,7 +92,8 @@ void record_chained_fragment(uint element, float g, float d)
 // p5_list.comp.glsl). An entry is one uvec4, written by one store: on
 // llvmpipe every storage-buffer access of a fragment shader is a loop over
 // the vector's lanes, so the recording costs about as many loops as it has
-// accesses (three here: the count, the pixel's head and the entry). Each
+// accesses (the count and the entry, and the pixel's head where it is
+// swapped). Each
 // pixel's entries are chained from the last back to the first (x: the entry
 // before it), its head word holding the last (swapped atomically, or kept
 // through framebuffer fetch: HEADS_FETCH above). The entry:
@@ -109,10 +114,6 @@ layout(std430, binding = BIND_FRAGMENT_LIST) buffer CompositeList
     uvec4 composites[];
 };
 uniform uint u_composite_capacity;
-#define FRAGMENT_NONE 0xFFFFFFFFu
-layout(std430, binding = BIND_FRAGMENT_CHAINS) buffer CompositeHeads { uint composite_heads[]; };
-uniform uint u_chain_pixels;
-uniform uint u_chain_width;
 
 uint pack_opacity_importance(float alpha, float g)
 {
@@ -143,7 +144,7 @@ float composite_depth(vec4 m, uint y)
 }
 
 // Pixel p's last entry (FRAGMENT_NONE: no fragment, or past the last pixel).
-uint composite_head(uint p) { return p < u_chain_pixels ? composite_heads[p] : FRAGMENT_NONE; }
+uint composite_head(uint p) { return p < u_chain_pixels ? chain_words[p] : FRAGMENT_NONE; }
 
 #ifndef FRAGMENT_STAGE
 // A walk's start at pixel p (one invocation a pixel): its last entry, its
@@ -172,13 +173,7 @@ void record_composite_fragment(float alpha, float g, float depth, bool halo, vec
 #endif
         return; // the frame records again, or draws P4 and P5 (fragment_list.c)
     }
-#ifdef HEADS_FETCH
-    uint before = o_chain_head;
-    o_chain_head = i;
-#else
-    uvec2 xy = uvec2(gl_FragCoord.xy);
-    uint before = atomicExchange(composite_heads[xy.x + xy.y * u_chain_width], i);
-#endif
+    uint before = swap_chain_head(i);
     uint y = floatBitsToUint(depth) | (halo ? 0x80000000u : 0u);
     composites[i] = uvec4(before, y, pack_opacity_importance(alpha, g), pack_color(color));
 }

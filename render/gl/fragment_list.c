@@ -566,6 +566,12 @@ int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
     lc_uniform_i(prog, "u_estimator", fs->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     /* topDecileReach's per-pixel sums where lc_reach_begin set their target up. */
     lc_uniform_f(prog, "u_reach_g", r->reach_drawn ? r->reach_g : 2.0f);
+    /* The entries' colours: looked up and shaded here where P4 recorded the colormap's coordinate and <n, l>
+     * (fragment_color_word in fragment_list.glsl: lines through the colormap). */
+    lc_uniform_i(prog, "u_deferred_color", fs->gs->scene->type == LC_PRIM_LINES && fs->color_mode != 2);
+    lc_uniform_i(prog, "u_shading", fs->params->style.shading == LC_SHADING_NONE ? 1 : 0);
+    lc_uniform_v3(prog, "u_halo_color", fs->params->style.background);
+    glBindTextureUnit(TEX_COLORMAP, lc_renderer_colormap_texture(r, fs));
     glBindImageTexture(IMG_EXACT_OUTPUT, t->tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     if (r->reach_drawn)
         glBindImageTexture(IMG_P5_REACH, r->reach_sums.tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);

@@ -250,9 +250,7 @@ void lc_renderer_bind_geometry(lc_renderer *r, GLuint prog, const lc_frame_setup
         glProgramUniform1iv(prog, glGetUniformLocation(prog, "u_attr_format"), na, gs->attr_format);
         glProgramUniform2fv(prog, glGetUniformLocation(prog, "u_attr_decode"), na, &gs->attr_decode[0][0]);
     }
-    glBindTextureUnit(TEX_COLORMAP, fs->colormap_texture
-                                        ? fs->colormap_texture
-                                        : r->colormap_tex[fs->colormap < r->colormap_count ? fs->colormap : 0]);
+    glBindTextureUnit(TEX_COLORMAP, lc_renderer_colormap_texture(r, fs));
 
     glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view"), 1, GL_FALSE, v->view);
     glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, "u_view_proj"), 1, GL_FALSE, v->view_proj);
@@ -665,6 +663,12 @@ void lc_renderer_bind_direct_alpha(GLuint prog, const lc_render_params *p)
     lc_uniform_i(prog, "u_alpha_source", (int)p->foo.alpha_source);
     lc_uniform_f(prog, "u_alpha_constant", p->foo.alpha_constant);
     lc_uniform_f(prog, "u_gamma", p->foo.gamma);
+}
+
+GLuint lc_renderer_colormap_texture(const lc_renderer *r, const lc_frame_setup *fs)
+{
+    return fs->colormap_texture ? fs->colormap_texture
+                                : r->colormap_tex[fs->colormap < r->colormap_count ? fs->colormap : 0];
 }
 
 void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs)

@@ -773,6 +773,8 @@ void lc_renderer_bind_curves(GLuint prog, const lc_importance_terms *t, const lc
  * P5, the exact method's full-resolution lists): none unless lines with a
  * halo width. Other passes leave them 0, so halos never reach P0-P2. */
 void lc_renderer_bind_halo(GLuint prog, const lc_frame_setup *fs);
+/* The colormap texture a frame's geometry passes sample (its equalized one, or its colormap's). */
+GLuint lc_renderer_colormap_texture(const lc_renderer *r, const lc_frame_setup *fs);
 /* Sets the direct baseline's opacity uniforms (params.directExponent,
  * alphaSource, alphaConstant, gamma) of a DIRECT_ALPHA program. */
 void lc_renderer_bind_direct_alpha(GLuint prog, const lc_render_params *p);

@@ -1,6 +1,7 @@
 /* P4's sums and P5 over the fragments P4 recorded (render/gl/fragment_list.c,
  * p4_list.comp.glsl, p5_list.comp.glsl) against the drawn passes, on lines
- * and on points: the same
+ * and on points, coloured through the colormap (lines' colours looked up in
+ * P5's walk), per vertex (RGB) and unshaded: the same
  * picture (SSIM >= 0.999, no more than 2 % of the channels apart, one in 2000
  * by more than 2/255), topDecileReach within 1e-4 (the list keeps the opacity
  * in 11 significant bits and g in 16), and the frame reports which path P5
@@ -10,6 +11,7 @@
  * are not). Where fragment lists are off (a GPU) both renderers draw and only the report is checked. The chain
  * heads kept through framebuffer fetch give the swapped heads' image byte for byte. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "demo.h"
@@ -25,8 +27,34 @@
  * style.haloWidth in pixels (the list marks a halo's fragments, whose series
  * depth the walks clamp short of the far end; their fragments overflow the
  * first guess, and the frame records again). */
-static void render_with(const char *mode, const char *name, uint64_t limit, int once, double halo, uint8_t *rgba,
-                        lc_frame_info *info)
+typedef enum { COLORS_MAP, COLORS_RGB, COLORS_UNSHADED } colors;
+
+/* The demo with per-vertex colours from its positions (color.attribute "rgb"). */
+static void render_rgb(test_gl *t, const char *name, lc_render_params *p, uint8_t *rgba, lc_frame_info *info)
+{
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = NULL;
+    lc_demo_desc desc = {0};
+    CHECK(lc_demo_create(name, &desc, &s, &err) == 0, "demo %s: %s", name, err.msg);
+    if (!s)
+        return;
+    s->rgb = malloc((size_t)s->vertex_count * 3 * sizeof *s->rgb);
+    for (uint32_t v = 0; v < s->vertex_count && s->rgb; v++)
+        for (int c = 0; c < 3; c++) {
+            double lo = s->bounds[c], hi = s->bounds[3 + c];
+            s->rgb[3 * v + c] = hi > lo ? (float)((s->positions[3 * v + c] - lo) / (hi - lo)) : 0.5f;
+        }
+    snprintf(p->color.attribute, sizeof p->color.attribute, "rgb");
+    CHECK(s->rgb && lc_gpu_scene_create(s, &gs, &err) == 0, "demo %s with rgb: %s", name, err.msg);
+    if (gs)
+        test_render_frame(t, gs, p, NULL, rgba, info);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+}
+
+static void render_colored(const char *mode, const char *name, uint64_t limit, int once, double halo, colors c,
+                           uint8_t *rgba, lc_frame_info *info)
 {
     setenv("LUCENT_P5_LIST", mode, 1);
     test_gl t;
@@ -38,17 +66,31 @@ static void render_with(const char *mode, const char *name, uint64_t limit, int 
     p.foo.fade_half_life = 0;
     p.style.halo_width = halo;
     p.style.halo_depth = 0.5; /* pushes halos past their pixels' far ends, where the series depth is clamped */
-    test_render_demo(&t, name, &p, rgba, info);
+    if (c == COLORS_UNSHADED)
+        p.style.shading = LC_SHADING_NONE;
+    if (c == COLORS_RGB)
+        render_rgb(&t, name, &p, rgba, info);
+    else
+        test_render_demo(&t, name, &p, rgba, info);
     test_gl_close(&t);
 }
 
-static void compare(const char *name, double halo)
+static void render_with(const char *mode, const char *name, uint64_t limit, int once, double halo, uint8_t *rgba,
+                        lc_frame_info *info)
+{
+    render_colored(mode, name, limit, once, halo, COLORS_MAP, rgba, info);
+}
+
+/* c: the colours through the colormap, lit (the list keeps the colormap's
+ * coordinate and <n, l>, and P5's walk shades them), per-vertex RGB (the list
+ * keeps the lit colour) or unshaded. */
+static void compare(const char *name, double halo, colors c)
 {
     size_t n = (size_t)SIZE * SIZE * 4;
     uint8_t *drawn = malloc(n), *listed = malloc(n);
     lc_frame_info a = {0}, b = {0};
-    render_with("0", name, 0, 0, halo, drawn, &a);
-    render_with("1", name, 0, 0, halo, listed, &b);
+    render_colored("0", name, 0, 0, halo, c, drawn, &a);
+    render_colored("1", name, 0, 0, halo, c, listed, &b);
     int lists = lc_fragment_list_enabled();
     CHECK(!a.composite_from_list, "%s: LUCENT_P5_LIST=0 draws P5", name);
     CHECK(b.composite_from_list == lists, "%s: LUCENT_P5_LIST=1 takes the list where lists are on (%d, lists %d)", name,
@@ -61,9 +103,11 @@ static void compare(const char *name, double halo)
         max = d > max ? d : max;
     }
     double ssim = lc_image_ssim(drawn, listed, SIZE, SIZE);
-    printf("%-8s halo %.0f listed %d: %zu of %zu channels differ (%zu by more than 2, max %d), SSIM %.6f, reach %.6f / "
-           "%.6f\n",
-           name, halo, b.composite_from_list, differ, n, far, max, ssim, a.top_decile_reach, b.top_decile_reach);
+    static const char *const color_names[] = {"colormap", "rgb", "unshaded"};
+    printf("%-8s halo %.0f %-8s listed %d: %zu of %zu channels differ (%zu by more than 2, max %d), SSIM %.6f, reach "
+           "%.6f / %.6f\n",
+           name, halo, color_names[c], b.composite_from_list, differ, n, far, max, ssim, a.top_decile_reach,
+           b.top_decile_reach);
     CHECK(ssim >= 0.999, "%s: SSIM %.6f between the listed and the drawn P5", name, ssim);
     CHECK(differ <= n / 50 && far <= n / 2000, "%s: %zu channels differ, %zu by more than 2", name, differ, far);
     CHECK(a.has_reach && b.has_reach && fabs(a.top_decile_reach - b.top_decile_reach) <= 1e-4,
@@ -157,9 +201,12 @@ static void points_rule(void)
 int main(void)
 {
     setenv("LUCENT_COMPUTE_RASTER", "0", 1); /* the drawn reference of points draws P4 and P5 too */
-    compare("tornado", 0);
-    compare("tornado", 3);
-    compare("points", 0);
+    compare("tornado", 0, COLORS_MAP);
+    compare("tornado", 3, COLORS_MAP);
+    compare("tornado", 0, COLORS_RGB);
+    compare("tornado", 0, COLORS_UNSHADED);
+    compare("points", 0, COLORS_MAP);
+    compare("points", 0, COLORS_RGB);
     overflow();
     heads_fetch("tornado");
     heads_fetch("points");

@@ -224,7 +224,24 @@ uint vertex_primary(uint v)
     return u_element_offset + vertex_elements[4u * v + (u_blend == 0 ? 3u : 0u)];
 }
 
-vec3 colormap_lookup(float t) { return texture(u_colormap, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, 0.5)).rgb; }
+// (One level, linear both ways: the explicit level is what an implicit one
+// would choose, without the derivatives; compute passes have none.)
+vec3 colormap_lookup(float t)
+{
+    return textureLod(u_colormap, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, 0.5), 0.0).rgb;
+}
+
+// Headlight shading of a base colour at <n, l> = ndotl (style.shading "none":
+// the base): fragment_color, and P5 over P4's list (fragment_list.glsl).
+vec3 shade_color(vec3 base, float ndotl)
+{
+    if (u_shading != 0)
+        return base;
+    // ndotl^40 by squaring (x^8 * x^32): pow's exp2/log2 cost more per fragment.
+    float x2 = ndotl * ndotl, x4 = x2 * x2, x8 = x4 * x4, x16 = x8 * x8;
+    float spec = x8 * x16 * x16;
+    return clamp(base * (0.3 + 0.7 * ndotl) + vec3(0.25 * spec), 0.0, 1.0);
+}
 
 // Normalized depth d in [0,1] (docs/ALGORITHM.md): the series is periodic, so the margin
 // keeps fragments away from d = 0 and d = 1.

@@ -295,33 +295,31 @@ float kanzler_rho()
 #endif
 
 // Headlight shading: lines as tubes (normal swings across the ribbon), points
-// as spheres, surfaces two-sided.
-vec3 fragment_color()
+// as spheres, surfaces two-sided. <n, l> with the light at the eye:
+float fragment_ndotl()
 {
-    if (halo_position() >= 0.0)
-        return u_halo_color;
-    vec3 base = u_color_mode == 2 ? v_rgb : colormap_lookup(v_cscalar);
-    if (u_shading != 0)
-        return base;
-    float ndotl;
 #if PRIM == PRIM_POINTS
-    ndotl = sqrt(max(1.0 - dot(SPLAT, SPLAT), 0.0));
+    return sqrt(max(1.0 - dot(SPLAT, SPLAT), 0.0));
 #elif PRIM == PRIM_LINES
     // The tube's normal at `across` is side * across + v * sqrt(1 - across^2),
     // side (the ribbon's, v_normal) perpendicular to v, the unit vector to the
     // eye, at the ribbon's vertices; so <n, v> = sqrt(1 - across^2), and the
     // lines' programs interpolate neither the position nor the side vector.
     float across = clamp(v_quad.x, -1.0, 1.0);
-    ndotl = sqrt(max(1.0 - across * across, 0.0));
+    return sqrt(max(1.0 - across * across, 0.0));
 #else
     vec3 to_cam = u_ortho != 0 ? -u_view_dir : normalize(u_eye - v_wpos);
     vec3 n = v_normal;
     float len = length(n);
-    ndotl = len > 0.0 ? abs(dot(n / len, to_cam)) : 1.0;
+    return len > 0.0 ? abs(dot(n / len, to_cam)) : 1.0;
 #endif
-    // ndotl^40 by squaring (x^8 * x^32): pow's exp2/log2 cost more per fragment.
-    float x2 = ndotl * ndotl, x4 = x2 * x2, x8 = x4 * x4, x16 = x8 * x8;
-    float spec = x8 * x16 * x16;
-    return clamp(base * (0.3 + 0.7 * ndotl) + vec3(0.25 * spec), 0.0, 1.0);
+}
+
+vec3 fragment_color()
+{
+    if (halo_position() >= 0.0)
+        return u_halo_color;
+    vec3 base = u_color_mode == 2 ? v_rgb : colormap_lookup(v_cscalar);
+    return shade_color(base, fragment_ndotl());
 }
 

@@ -105,7 +105,14 @@ void record_chained_fragment(uint element, float g, float d)
 //      and of -(1 - alpha) above (both keep 11 significant bits where P5's
 //      weight alpha / (1 - alpha) needs them), the importance g as 16-bit
 //      unorm in the high 16 bits (topDecileReach's sums)
-//   w  the lit colour as unorm 11, 11 and 10 bits (r low)
+//   w  lines through the colormap: the colormap coordinate and <n, l> as
+//      unorm 16 bits each (coordinate low), from which P5's walk looks the
+//      colour up and shades it (composite_color: a thin line's fragments
+//      leave most lanes of the fragment shader's blocks idle, and the fetch
+//      and the shading cost less in the walk); else the lit colour as unorm
+//      11, 11 and 10 bits (r low): points, whose splats fill the blocks,
+//      surfaces and per-vertex RGB. A halo's fragment takes the halo's colour
+//      in the walk.
 #ifdef COMPOSITE_LIST
 layout(std430, binding = BIND_FRAGMENT_LIST) buffer CompositeList
 {
@@ -163,8 +170,36 @@ vec3 unpack_color(uint w)
     return vec3(float(w & 0x7FFu), float((w >> 11) & 0x7FFu), float(w >> 22)) / vec3(2047.0, 2047.0, 1023.0);
 }
 
+#ifndef FRAGMENT_STAGE
+uniform int u_deferred_color; // 1: w holds the colormap coordinate and <n, l> (lc_composite_list_p5)
+uniform vec3 u_halo_color;
+
+// The colour of an entry with words y and w (see above).
+vec3 composite_color(uint y, uint w)
+{
+    if ((y & 0x80000000u) != 0u)
+        return u_halo_color;
+    if (u_deferred_color == 0)
+        return unpack_color(w);
+    vec2 c = unpackUnorm2x16(w);
+    return shade_color(colormap_lookup(c.x), c.y);
+}
+#endif
+
 #ifdef FRAGMENT_STAGE
-void record_composite_fragment(float alpha, float g, float depth, bool halo, vec3 color)
+// The entry's w (see above): the colormap's coordinate and <n, l> where the
+// fragment is a line's coloured through the colormap (the walk's
+// u_deferred_color then holds), else the lit colour.
+uint fragment_color_word()
+{
+#if PRIM == PRIM_LINES
+    if (u_color_mode != 2)
+        return packUnorm2x16(vec2(clamp(v_cscalar, 0.0, 1.0), fragment_ndotl()));
+#endif
+    return pack_color(fragment_color());
+}
+
+void record_composite_fragment(float alpha, float g, float depth, bool halo, uint color)
 {
     uint i = atomicAdd(composite_count, 1u);
     if (i >= u_composite_capacity) {
@@ -175,7 +210,7 @@ void record_composite_fragment(float alpha, float g, float depth, bool halo, vec
     }
     uint before = swap_chain_head(i);
     uint y = floatBitsToUint(depth) | (halo ? 0x80000000u : 0u);
-    composites[i] = uvec4(before, y, pack_opacity_importance(alpha, g), pack_color(color));
+    composites[i] = uvec4(before, y, pack_opacity_importance(alpha, g), color);
 }
 #endif
 #endif

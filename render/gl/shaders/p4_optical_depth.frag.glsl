@@ -35,7 +35,7 @@ void main()
 #ifdef COMPOSITE_LIST
     // The sums come from the list (p4_list.comp.glsl): nothing is blended.
     record_composite_fragment(fragment_alpha(), fragment_importance(), normalized_depth(fragment_zview()),
-                              halo_position() >= 0.0, fragment_color());
+                              halo_position() >= 0.0, fragment_color_word());
     return;
 #endif
     float c[NTARGETS * 4];

@@ -51,7 +51,7 @@ void main()
         float alpha = unpack_opacity(f.z);
         float tau = max(fourier_eval(c, composite_depth(m, f.y)), 0.0);
         float w = composite_weight(alpha, tau, u_estimator);
-        sum = half_toward_zero(sum + vec4(unpack_color(f.w) * w, w));
+        sum = half_toward_zero(sum + vec4(composite_color(f.y, f.w) * w, w));
         float g = unpack_importance(f.z);
         float top = f.z >> 16 >= top_q ? 1.0 : 0.0;
         reach += vec4(g * w, g * alpha, top * g * w, top * g * alpha);

@@ -48,6 +48,7 @@
 
 static atomic_int fragment_lists = 0;  /* lc_fragment_list_configure */
 static atomic_int heads_fetch = 1;     /* LUCENT_HEADS_FETCH: 0 swaps the heads atomically (comparisons, tests) */
+static atomic_int sums_in_walk = 1;    /* LUCENT_SUMS_IN_WALK: 0 walks P4's list twice (comparisons, tests) */
 #define COMPOSITE_AUTO 2               /* P5 over P4's fragments in large frames (below) */
 static atomic_int composite_lists = 0; /* 0 drawn, 1 listed, COMPOSITE_AUTO */
 
@@ -62,6 +63,8 @@ void lc_fragment_list_configure(const char *gl_renderer)
     atomic_store(&composite_lists, p5 && (p5[0] == '0' || p5[0] == '1') ? p5[0] - '0' : COMPOSITE_AUTO);
     const char *hf = getenv("LUCENT_HEADS_FETCH");
     atomic_store(&heads_fetch, !(hf && hf[0] == '0'));
+    const char *sw = getenv("LUCENT_SUMS_IN_WALK");
+    atomic_store(&sums_in_walk, !(sw && sw[0] == '0'));
 }
 
 bool lc_renderer_heads_fetch(const lc_renderer *r) { return r->heads_fetch; }
@@ -524,13 +527,13 @@ static GLuint use_composite_program(lc_renderer *r, const lc_frame_setup *fs, in
     int bands = fs->params->foo.bands;
     GLuint *slot = &r->fixed_programs[first + bands - 1 - PROG_GEOMETRY_KINDS];
     if (!*slot) {
-        /* P5 reads the coefficients that P4's pass writes. */
+        /* P5 reads the coefficients that P4's pass writes, or (PROG_P45_CHAINS_FIRST) makes and writes them. */
         const char *const cs[] = {"common.glsl", "fragment_list.glsl",
                                   first == PROG_P5_CHAINS_FIRST ? "coefficients.glsl" : "coefficient_store.glsl", file,
                                   NULL};
-        char defines[96];
-        snprintf(defines, sizeof defines, "#define BANDS %d\n#define COMPOSITE_LIST 1\n#define SERIES_DEPTH_AT 1\n",
-                 bands);
+        char defines[128];
+        snprintf(defines, sizeof defines, "#define BANDS %d\n#define COMPOSITE_LIST 1\n#define SERIES_DEPTH_AT 1\n%s",
+                 bands, first == PROG_P45_CHAINS_FIRST ? "#define SUMS_IN_WALK 1\n" : "");
         *slot = lc_renderer_build_program(defines, NULL, NULL, cs, name, err);
         if (!*slot)
             return 0;
@@ -557,12 +560,19 @@ int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
     return 0;
 }
 
-int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
+/* P5 over P4's fragments into t; sums: also P4's sums, made in the same walk, into those targets. */
+static int composite_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
+                        lc_error *err)
 {
     GLuint prog =
-        use_composite_program(r, fs, PROG_P5_CHAINS_FIRST, "p5_list.comp.glsl", "P5 over P4's fragments", err);
+        sums ? use_composite_program(r, fs, PROG_P45_CHAINS_FIRST, "p5_list.comp.glsl",
+                                     "P4's sums and P5 over P4's fragments", err)
+             : use_composite_program(r, fs, PROG_P5_CHAINS_FIRST, "p5_list.comp.glsl", "P5 over P4's fragments", err);
     if (!prog)
         return LC_ERR_GL;
+    for (int i = 0; sums && i < LC_MAX_COEF_TARGETS; i++)
+        glBindImageTexture(IMG_COEF_FIRST + i, sums->tex[i < sums->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_RGBA32F);
     lc_uniform_i(prog, "u_estimator", fs->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     /* topDecileReach's per-pixel sums where lc_reach_begin set their target up. */
     lc_uniform_f(prog, "u_reach_g", r->reach_drawn ? r->reach_g : 2.0f);
@@ -580,6 +590,23 @@ int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
     lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     return 0;
+}
+
+int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
+{
+    return composite_p5(r, fs, NULL, t, err);
+}
+
+int lc_composite_list_p45(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
+                          lc_error *err)
+{
+    return composite_p5(r, fs, sums, t, err);
+}
+
+/* (MPI: every rank's sums are added before any P5.) */
+int lc_composite_sums_in_walk(const lc_renderer *r)
+{
+    return atomic_load(&sums_in_walk) && !(r->desc.reducer && r->desc.reducer->size > 1);
 }
 
 uint64_t lc_fragment_list_bytes(const lc_renderer *r)

@@ -228,10 +228,11 @@ typedef enum {
     PROG_REACH_REDUCE,  /* visibility.c: the per-pixel topDecileReach sums into their 64 slots */
     PROG_P0_CHAINS,     /* P0's moments over its fragments (fragment_list.c) */
     PROG_P2_LIST_FIRST, /* P2 over P1's fragment list, per band count 1..LC_MAX_BANDS (fragment_list.c) */
-    PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS,   /* P1 over P0's fragments, per band count */
-    PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS, /* P5 over P4's fragments, per band count */
-    PROG_P4_CHAINS_FIRST = PROG_P5_CHAINS_FIRST + LC_MAX_BANDS, /* P4's sums over its fragments, per band count */
-    PROG_FIXED_KINDS = PROG_P4_CHAINS_FIRST + LC_MAX_BANDS
+    PROG_P1_CHAINS_FIRST = PROG_P2_LIST_FIRST + LC_MAX_BANDS,    /* P1 over P0's fragments, per band count */
+    PROG_P5_CHAINS_FIRST = PROG_P1_CHAINS_FIRST + LC_MAX_BANDS,  /* P5 over P4's fragments, per band count */
+    PROG_P4_CHAINS_FIRST = PROG_P5_CHAINS_FIRST + LC_MAX_BANDS,  /* P4's sums over its fragments, per band count */
+    PROG_P45_CHAINS_FIRST = PROG_P4_CHAINS_FIRST + LC_MAX_BANDS, /* P4's sums and P5 in one walk, per band count */
+    PROG_FIXED_KINDS = PROG_P45_CHAINS_FIRST + LC_MAX_BANDS
 } lc_program_kind;
 
 #define LC_SPEC_PROGRAMS 48
@@ -1002,6 +1003,12 @@ int lc_composite_list_end(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_retry(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
 int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
+/* Whether P5's walk makes P4's sums itself (one process: nothing to sum over
+ * ranks between them); then lc_composite_list_p4 is not called, and
+ * lc_composite_list_p5 also writes the coefficient targets `sums`. */
+int lc_composite_sums_in_walk(const lc_renderer *r);
+int lc_composite_list_p45(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
+                          lc_error *err);
 /* Tests: caps P4's list, or P0's and P1's, at `entries` (0: as guessed), so
  * that a frame overflows it; once: only the next list made (the frame that
  * overflows it then records again in a list of what it counted). */

@@ -9,7 +9,8 @@
  * pass that records (points without a list would compute it). LUCENT_P5_LIST picks the path for the renderer
  * created after it is set (the default takes the list only in frames of millions of fragments, which these small frames
  * are not). Where fragment lists are off (a GPU) both renderers draw and only the report is checked. The chain
- * heads kept through framebuffer fetch give the swapped heads' image byte for byte. */
+ * heads kept through framebuffer fetch give the swapped heads' image byte for byte, and P4's sums made in P5's walk
+ * the image of two walks. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -174,6 +175,29 @@ static void heads_fetch(const char *name)
     free(swapped);
 }
 
+/* P4's sums made in P5's walk (one process, the default) and in a walk of
+ * their own (LUCENT_SUMS_IN_WALK=0): the same sums from the same chains, the
+ * same image byte for byte. */
+static void sums_in_walk(const char *name)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *one = malloc(n), *two = malloc(n);
+    lc_frame_info a = {0}, b = {0};
+    render_with("1", name, 0, 0, 0, one, &a);
+    setenv("LUCENT_SUMS_IN_WALK", "0", 1);
+    render_with("1", name, 0, 0, 0, two, &b);
+    unsetenv("LUCENT_SUMS_IN_WALK");
+    size_t differ = 0;
+    for (size_t i = 0; i < n; i++)
+        differ += one[i] != two[i];
+    printf("%-8s sums in P5's walk: %zu of %zu channels differ from two walks'\n", name, differ, n);
+    CHECK(a.composite_from_list == b.composite_from_list, "%s: the same paths with the sums in one walk or two", name);
+    CHECK(differ == 0 && a.top_decile_reach == b.top_decile_reach,
+          "%s: sums in one walk or two, the same image byte for byte (%zu channels differ)", name, differ);
+    free(one);
+    free(two);
+}
+
 /* The device's rule (compute_raster.c): on a software rasterizer points compute
  * P4 and P5, except in a frame whose P4 records its fragments, which draws it. */
 static void points_rule(void)
@@ -210,6 +234,8 @@ int main(void)
     overflow();
     heads_fetch("tornado");
     heads_fetch("points");
+    sums_in_walk("tornado");
+    sums_in_walk("points");
     points_rule();
     unsetenv("LUCENT_P5_LIST");
     return lc_test_finish();

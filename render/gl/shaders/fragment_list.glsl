@@ -165,6 +165,25 @@ uint composite_pixel(uint p, out ivec2 xy, out vec4 m)
 }
 #endif
 
+#ifndef FRAGMENT_STAGE
+// P4's sums at a pixel (one invocation a pixel): what p4_optical_depth.frag.glsl
+// would have blended, f = -ln(1 - alpha) projected at the series depth, over the
+// chain from entry i (its last) in chain order.
+void composite_sums(uint i, vec4 m, out float sum[NTARGETS * 4])
+{
+    for (int j = 0; j < NTARGETS * 4; j++)
+        sum[j] = 0.0;
+    while (i != FRAGMENT_NONE) {
+        uvec4 f = composites[i];
+        float c[NTARGETS * 4];
+        fourier_project(composite_depth(m, f.y), -log(1.0 - unpack_opacity(f.z)), c);
+        for (int j = 0; j < NTARGETS * 4; j++)
+            sum[j] += c[j];
+        i = f.x;
+    }
+}
+#endif
+
 vec3 unpack_color(uint w)
 {
     return vec3(float(w & 0x7FFu), float((w >> 11) & 0x7FFu), float(w >> 22)) / vec3(2047.0, 2047.0, 1023.0);

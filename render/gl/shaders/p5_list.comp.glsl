@@ -1,5 +1,6 @@
 // P5 over P4's fragments (fragment_list.glsl, COMPOSITE_LIST): one invocation a
-// pixel reads its coefficients once, walks its chain (last fragment first),
+// pixel reads its coefficients once (SUMS_IN_WALK: sums them from its chain
+// first, as p4_list.comp.glsl does, and stores them), walks its chain (last fragment first),
 // weighs each fragment as p5_accumulate.frag.glsl does (the same fourier_eval
 // and composite_weight) and adds (w C, w) as blending into the RGBA16F target
 // does, converting the sum to half precision after every addition (in the
@@ -41,7 +42,15 @@ void main()
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
     float c[NTARGETS * 4];
+#ifdef SUMS_IN_WALK
+    // One process: P4's sums from the same chain first (what p4_list.comp.glsl
+    // stores, for the resolve and smartTransparency), so that the chain is
+    // read twice in a row where two passes streamed the whole list twice.
+    composite_sums(i, m, c);
+    store_coefficients(xy, c);
+#else
     read_coefficients(xy, c);
+#endif
     vec4 sum = vec4(0.0), reach = vec4(0.0);
     // The top decile's bound in g's 16 bits, so that a fragment at the bound
     // (an element's own g, as often) stays in it.

@@ -144,35 +144,43 @@ static void overflow(void)
     free(again);
 }
 
+/* The demo rendered with lists by default and with the switch `var` at 0:
+ * how many channels differ; a and b the two frames' reports. */
+static size_t differ_with_switch_off(const char *name, const char *var, lc_frame_info *a, lc_frame_info *b)
+{
+    size_t n = (size_t)SIZE * SIZE * 4, differ = 0;
+    uint8_t *on = malloc(n), *off = malloc(n);
+    unsetenv(var);
+    render_with("1", name, 0, 0, 0, on, a);
+    setenv(var, "0", 1);
+    render_with("1", name, 0, 0, 0, off, b);
+    unsetenv(var);
+    for (size_t i = 0; i < n; i++)
+        differ += on[i] != off[i];
+    free(on);
+    free(off);
+    return differ;
+}
+
 /* The recording passes' chain heads kept through framebuffer fetch (the
  * default where the driver has GL_EXT_shader_framebuffer_fetch) and swapped
  * atomically (LUCENT_HEADS_FETCH=0) give the same lists: P0's chains and P4's
  * in the same order, the same image byte for byte. */
 static void heads_fetch(const char *name)
 {
-    size_t n = (size_t)SIZE * SIZE * 4;
-    uint8_t *fetched = malloc(n), *swapped = malloc(n);
     lc_frame_info a = {0}, b = {0};
     unsetenv("LUCENT_HEADS_FETCH");
     test_gl t;
     test_gl_open(&t);
     bool fetch = t.renderer->heads_fetch;
     test_gl_close(&t);
-    render_with("1", name, 0, 0, 0, fetched, &a);
-    setenv("LUCENT_HEADS_FETCH", "0", 1);
-    render_with("1", name, 0, 0, 0, swapped, &b);
-    unsetenv("LUCENT_HEADS_FETCH");
-    size_t differ = 0;
-    for (size_t i = 0; i < n; i++)
-        differ += fetched[i] != swapped[i];
-    printf("%-8s heads through framebuffer fetch %d: %zu of %zu channels differ from the swapped heads'\n", name, fetch,
-           differ, n);
+    size_t differ = differ_with_switch_off(name, "LUCENT_HEADS_FETCH", &a, &b);
+    printf("%-8s heads through framebuffer fetch %d: %zu of %d channels differ from the swapped heads'\n", name, fetch,
+           differ, SIZE * SIZE * 4);
     CHECK(a.composite_from_list == b.composite_from_list && a.importance_from_list == b.importance_from_list,
           "%s: the same paths with the heads fetched and swapped", name);
     CHECK(differ == 0 && a.top_decile_reach == b.top_decile_reach,
           "%s: heads fetched or swapped, the same image byte for byte (%zu channels differ)", name, differ);
-    free(fetched);
-    free(swapped);
 }
 
 /* P4's sums made in P5's walk (one process, the default) and in a walk of
@@ -180,22 +188,12 @@ static void heads_fetch(const char *name)
  * same image byte for byte. */
 static void sums_in_walk(const char *name)
 {
-    size_t n = (size_t)SIZE * SIZE * 4;
-    uint8_t *one = malloc(n), *two = malloc(n);
     lc_frame_info a = {0}, b = {0};
-    render_with("1", name, 0, 0, 0, one, &a);
-    setenv("LUCENT_SUMS_IN_WALK", "0", 1);
-    render_with("1", name, 0, 0, 0, two, &b);
-    unsetenv("LUCENT_SUMS_IN_WALK");
-    size_t differ = 0;
-    for (size_t i = 0; i < n; i++)
-        differ += one[i] != two[i];
-    printf("%-8s sums in P5's walk: %zu of %zu channels differ from two walks'\n", name, differ, n);
+    size_t differ = differ_with_switch_off(name, "LUCENT_SUMS_IN_WALK", &a, &b);
+    printf("%-8s sums in P5's walk: %zu of %d channels differ from two walks'\n", name, differ, SIZE * SIZE * 4);
     CHECK(a.composite_from_list == b.composite_from_list, "%s: the same paths with the sums in one walk or two", name);
     CHECK(differ == 0 && a.top_decile_reach == b.top_decile_reach,
           "%s: sums in one walk or two, the same image byte for byte (%zu channels differ)", name, differ);
-    free(one);
-    free(two);
 }
 
 /* The device's rule (compute_raster.c): on a software rasterizer points compute

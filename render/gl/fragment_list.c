@@ -393,20 +393,30 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
 #define COMPOSITE_AUTO_MIN (2ull << 20)
 #define COMPOSITE_ROOM(n) ((n) + (n) / 4) /* a quarter more than expected */
 
-/* The entries P4 will offer, from P0's fragments at the optimization
- * resolution: times the ratio the last recording frame of the same scene
- * and size measured between the two, else scaled by the pixels (thin lines
- * and points need not grow with the area; the MD trajectories measured 3.99
- * at 972x761 for the pixels' 4). */
-static uint64_t p0_scaled(const lc_renderer *r, const lc_frame_setup *fs)
+/* P0's fragments at the optimization resolution scaled by the pixels to
+ * the full one: what decides whether a frame takes the list (a function of
+ * the frame alone, so that a one-shot render is the same bytes whatever its
+ * renderer drew before: the listed and the drawn images differ by 1/255 in
+ * places). */
+static uint64_t p0_pixels_scaled(const lc_frame_setup *fs)
 {
     if (!fs->p0_fragments || fs->low_width <= 0 || fs->low_height <= 0)
         return 0;
-    if (r->composite_ratio > 0 && r->composite_ratio_scene == fs->gs->scene && r->composite_ratio_width == fs->width &&
-        r->composite_ratio_height == fs->height)
-        return (uint64_t)((double)fs->p0_fragments * r->composite_ratio);
     double pixels = (double)fs->width * (double)fs->height;
     return (uint64_t)((double)fs->p0_fragments * pixels / ((double)fs->low_width * (double)fs->low_height));
+}
+
+/* The entries P4 will offer, for the list's capacity: P0's fragments times
+ * the ratio the last recording frame of the same scene and size measured
+ * between the two, else scaled by the pixels (thin lines and points need not
+ * grow with the area; the MD trajectories measured 3.99 at 972x761 for the
+ * pixels' 4). */
+static uint64_t p0_scaled(const lc_renderer *r, const lc_frame_setup *fs)
+{
+    if (fs->p0_fragments && r->composite_ratio > 0 && r->composite_ratio_scene == fs->gs->scene &&
+        r->composite_ratio_width == fs->width && r->composite_ratio_height == fs->height)
+        return (uint64_t)((double)fs->p0_fragments * r->composite_ratio);
+    return p0_pixels_scaled(fs);
 }
 
 /* The list's capacity: the expected entries (or 4 a pixel, or the most this
@@ -437,8 +447,9 @@ int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int
 {
     /* Strides, layers and tiles as for P0's chains; the direct baseline keeps
      * its own programs; a list past its bound would be recorded only to be
-     * drawn again. */
-    uint64_t expected = p0_scaled(r, fs);
+     * drawn again. The frame alone decides (p0_pixels_scaled). */
+    (void)r;
+    uint64_t expected = p0_pixels_scaled(fs);
     return !direct && !strided(fs) && fs->layer_count == 0 && !fs->tiled &&
            composite_takes((double)expected, (double)expected);
 }

@@ -196,6 +196,52 @@ static void sums_in_walk(const char *name)
           "%s: sums in one walk or two, the same image byte for byte (%zu channels differ)", name, differ);
 }
 
+/* Whether a frame takes the list is a function of the frame alone: a
+ * renderer that learned another ratio of P4's entries to P0's for the scene
+ * and size (here one that would put the frame past the list's bound) records
+ * it as a fresh one does, the same bytes (the listed and the drawn images
+ * differ in places, and a daemon's one-shot renders must not depend on what
+ * their worker drew before). */
+static void learned_ratio(void)
+{
+    size_t n = (size_t)SIZE * SIZE * 4;
+    uint8_t *first = malloc(n), *second = malloc(n);
+    lc_frame_info a = {0}, b = {0};
+    setenv("LUCENT_P5_LIST", "1", 1);
+    test_gl t;
+    test_gl_open(&t);
+    lc_render_params p;
+    lc_render_params_default(&p);
+    p.width = p.height = SIZE;
+    p.foo.fade_half_life = 0;
+    lc_error err = {0};
+    lc_scene *s = NULL;
+    lc_gpu_scene *gs = NULL;
+    lc_demo_desc desc = {0};
+    CHECK(lc_demo_create("tornado", &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "demo: %s",
+          err.msg);
+    if (gs) {
+        test_render_frame(&t, gs, &p, NULL, first, &a);
+        t.renderer->composite_ratio *= 1e9; /* (its scene and size are this frame's) */
+        test_render_frame(&t, gs, &p, NULL, second, &b);
+    }
+    int lists = lc_fragment_list_enabled();
+    size_t differ = 0;
+    for (size_t i = 0; i < n; i++)
+        differ += first[i] != second[i];
+    printf("learned ratio: listed %d then %d, %zu channels differ\n", a.composite_from_list, b.composite_from_list,
+           differ);
+    CHECK(a.composite_from_list == lists && b.composite_from_list == lists,
+          "a learned ratio does not change the path (listed %d, then %d)", a.composite_from_list,
+          b.composite_from_list);
+    CHECK(differ == 0, "a learned ratio does not change the image (%zu channels differ)", differ);
+    lc_gpu_scene_destroy(gs);
+    lc_scene_destroy(s);
+    test_gl_close(&t);
+    free(first);
+    free(second);
+}
+
 /* The device's rule (compute_raster.c): on a software rasterizer points compute
  * P4 and P5, except in a frame whose P4 records its fragments, which draws it. */
 static void points_rule(void)
@@ -234,6 +280,7 @@ int main(void)
     heads_fetch("points");
     sums_in_walk("tornado");
     sums_in_walk("points");
+    learned_ratio();
     points_rule();
     unsetenv("LUCENT_P5_LIST");
     return lc_test_finish();

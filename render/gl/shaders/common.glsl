@@ -273,9 +273,9 @@ layout(binding = TEX_DEPTH_MOMENTS) uniform sampler2D u_moments; // sum g^2 (1, 
 // depth d of the fragment at window position frag_xy (gl_FragCoord.xy),
 // warped per pixel around its importance mass when P0 "moments" ran
 // (lc_foo_moment_depth in foo_math.h is the CPU reference). P1 over P0's
-// fragments (p1_list.comp.glsl) calls it with the recorded d; the walks over
-// P4's fragments read the pixel's moments once (series_moments_at) and warp
-// each fragment's recorded d by them (series_depth_warp).
+// fragments (p1_list.comp.glsl) and the walks over P4's fragments read the
+// pixel's moments and make its warp once (series_warp_of) and warp each
+// fragment's recorded d by it (series_depth_warped).
 vec4 series_moments_at(vec2 frag_xy)
 {
     if (u_depth_moments == 0)
@@ -283,15 +283,25 @@ vec4 series_moments_at(vec2 frag_xy)
     return texelFetch(u_moments, ivec2((frag_xy + u_pixel_origin) * u_moments_scale + u_moments_offset), 0);
 }
 
-float series_depth_warp(vec4 m, float d)
+// A pixel's warp from its moments m: (mu, s, 1), or 0 where the pixel has no
+// importance mass (no warp).
+vec3 series_warp_of(vec4 m)
 {
     if (!(m.x > 0.0))
-        return d;
+        return vec3(0.0);
     float mu = m.y / m.x;
-    float s = max(sqrt(max(m.z / m.x - mu * mu, 0.0)), MOMENT_MIN_SPREAD);
-    float t = 1.0 / (1.0 + exp(-((d - 0.5) - mu) / s));
+    return vec3(mu, max(sqrt(max(m.z / m.x - mu * mu, 0.0)), MOMENT_MIN_SPREAD), 1.0);
+}
+
+float series_depth_warped(vec3 w, float d)
+{
+    if (w.z == 0.0)
+        return d;
+    float t = 1.0 / (1.0 + exp(-((d - 0.5) - w.x) / w.y));
     return u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t;
 }
+
+float series_depth_warp(vec4 m, float d) { return series_depth_warped(series_warp_of(m), d); }
 
 float series_depth_at(vec2 frag_xy, float d) { return series_depth_warp(series_moments_at(frag_xy), d); }
 #endif

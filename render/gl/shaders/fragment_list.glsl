@@ -99,7 +99,7 @@ void record_chained_fragment(uint element, float g, float d)
 // through framebuffer fetch: HEADS_FETCH above). The entry:
 //   y  the normalized depth (float bits, in [0, 1]), its sign bit set for a
 //      halo's fragment; the walks warp it into the series depth once per
-//      fragment with the moments read once per pixel (composite_depth), which
+//      fragment with the warp made once per pixel (composite_depth), which
 //      the fragment shader would read and warp by per fragment
 //   z  the opacity as a half float in the low 16 bits, of alpha up to 1/2
 //      and of -(1 - alpha) above (both keep 11 significant bits where P5's
@@ -142,11 +142,11 @@ float unpack_opacity(uint z)
 
 float unpack_importance(uint z) { return float(z >> 16) / 65535.0; }
 
-// The series depth of an entry's y at a pixel with depth moments m
-// (series_moments_at), as fragment_series_depth gives it in the drawn P4.
-float composite_depth(vec4 m, uint y)
+// The series depth of an entry's y at a pixel of warp w (series_warp_of), as
+// fragment_series_depth gives it in the drawn P4.
+float composite_depth(vec3 w, uint y)
 {
-    float d = series_depth_warp(m, uintBitsToFloat(y & 0x7FFFFFFFu));
+    float d = series_depth_warped(w, uintBitsToFloat(y & 0x7FFFFFFFu));
     return (y & 0x80000000u) != 0u ? min(d, 1.0 - max(u_depth_margin, 0.01)) : d;
 }
 
@@ -155,12 +155,13 @@ uint composite_head(uint p) { return p < u_chain_pixels ? chain_words[p] : FRAGM
 
 #ifndef FRAGMENT_STAGE
 // A walk's start at pixel p (one invocation a pixel): its last entry, its
-// position and its depth moments for composite_depth.
-uint composite_pixel(uint p, out ivec2 xy, out vec4 m)
+// position and its depth warp for composite_depth.
+uint composite_pixel(uint p, out ivec2 xy, out vec3 w)
 {
     xy = ivec2(p % u_chain_width, p / u_chain_width);
     uint head = composite_head(p);
-    m = head != FRAGMENT_NONE ? series_moments_at(vec2(xy) + 0.5) : vec4(0.0); // (no fetch past the last pixel)
+    // (no fetch past the last pixel)
+    w = head != FRAGMENT_NONE ? series_warp_of(series_moments_at(vec2(xy) + 0.5)) : vec3(0.0);
     return head;
 }
 #endif
@@ -169,14 +170,14 @@ uint composite_pixel(uint p, out ivec2 xy, out vec4 m)
 // P4's sums at a pixel (one invocation a pixel): what p4_optical_depth.frag.glsl
 // would have blended, f = -ln(1 - alpha) projected at the series depth, over the
 // chain from entry i (its last) in chain order.
-void composite_sums(uint i, vec4 m, out float sum[NTARGETS * 4])
+void composite_sums(uint i, vec3 w, out float sum[NTARGETS * 4])
 {
     for (int j = 0; j < NTARGETS * 4; j++)
         sum[j] = 0.0;
     while (i != FRAGMENT_NONE) {
         uvec4 f = composites[i];
         float c[NTARGETS * 4];
-        fourier_project(composite_depth(m, f.y), -log(1.0 - unpack_opacity(f.z)), c);
+        fourier_project(composite_depth(w, f.y), -log(1.0 - unpack_opacity(f.z)), c);
         for (int j = 0; j < NTARGETS * 4; j++)
             sum[j] += c[j];
         i = f.x;

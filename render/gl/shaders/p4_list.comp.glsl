@@ -11,11 +11,11 @@ uint linear_invocation() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x *
 void main()
 {
     ivec2 xy;
-    vec4 m;
-    uint i = composite_pixel(linear_invocation(), xy, m);
+    vec3 w;
+    uint i = composite_pixel(linear_invocation(), xy, w);
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
     float sum[NTARGETS * 4];
-    composite_sums(i, m, sum);
+    composite_sums(i, w, sum);
     store_coefficients(xy, sum);
 }

@@ -37,8 +37,8 @@ vec4 half_toward_zero(vec4 v)
 void main()
 {
     ivec2 xy;
-    vec4 m;
-    uint i = composite_pixel(linear_invocation(), xy, m);
+    vec3 warp;
+    uint i = composite_pixel(linear_invocation(), xy, warp);
     if (i == FRAGMENT_NONE)
         return; // no fragment: the targets keep their cleared 0
     float c[NTARGETS * 4];
@@ -46,7 +46,7 @@ void main()
     // One process: P4's sums from the same chain first (what p4_list.comp.glsl
     // stores, for the resolve and smartTransparency), so that the chain is
     // read twice in a row where two passes streamed the whole list twice.
-    composite_sums(i, m, c);
+    composite_sums(i, warp, c);
     store_coefficients(xy, c);
 #else
     read_coefficients(xy, c);
@@ -58,7 +58,7 @@ void main()
     while (i != FRAGMENT_NONE) {
         uvec4 f = composites[i];
         float alpha = unpack_opacity(f.z);
-        float tau = max(fourier_eval(c, composite_depth(m, f.y)), 0.0);
+        float tau = max(fourier_eval(c, composite_depth(warp, f.y)), 0.0);
         float w = composite_weight(alpha, tau, u_estimator);
         sum = half_toward_zero(sum + vec4(composite_color(f.y, f.w) * w, w));
         float g = unpack_importance(f.z);

@@ -592,10 +592,8 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     }
     if (fs->info)
         fs->info->composite_from_list = listed;
-    /* One process: P5's walk makes P4's sums as well (lc_composite_sums_in_walk). */
-    int sums_in_walk = listed && lc_composite_sums_in_walk(r);
-    if (!rc && listed)
-        rc = sums_in_walk ? 0 : lc_composite_list_p4(r, fs, &r->coef_full, err);
+    if (!rc && listed) /* (nothing with one process: P5's walk makes the sums) */
+        rc = lc_composite_list_p4(r, fs, &r->coef_full, err);
     else if (!rc && record) /* past the list's room: P4 draws its sums after all */
         rc = draw_p4(r, fs, kind4, kanzler, err);
     if (rc)
@@ -615,13 +613,8 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
         lc_reach_begin(r, fs, !p5_computed); /* the list's P5 sums per pixel as the drawn one */
     else if (fs->batch_count)
         r->reach_g = 2.0f; /* > 1: P5 measures nothing */
-    if (sums_in_walk && (rc = lc_composite_list_p45(r, fs, &r->coef_full, &r->accum, err)) != 0)
+    if (listed && (rc = lc_composite_list_p5(r, fs, &r->coef_full, &r->accum, err)) != 0)
         return rc;
-    if (listed && !sums_in_walk) {
-        lc_bind_coefficients(&r->coef_full);
-        if ((rc = lc_composite_list_p5(r, fs, &r->accum, err)) != 0)
-            return rc;
-    }
     info_paths(fs, LC_RASTER_P5, p5_computed);
     if (p5_computed && (rc = compute_pass(r, fs, direct ? PROG_P5_DIRECT : PROG_P5, &r->accum, 4, 1, err)) != 0)
         return rc;

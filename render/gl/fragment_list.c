@@ -558,32 +558,48 @@ static GLuint use_composite_program(lc_renderer *r, const lc_frame_setup *fs, in
     return *slot;
 }
 
+/* Whether P5's walk makes P4's sums as well: with one process (MPI adds
+ * every rank's sums before any P5), unless LUCENT_SUMS_IN_WALK=0. */
+static int sums_in_walk_now(const lc_renderer *r)
+{
+    return atomic_load(&sums_in_walk) && !(r->desc.reducer && r->desc.reducer->size > 1);
+}
+
+/* The coefficient targets t as the images a walk writes (coefficient_store.glsl). */
+static void bind_coefficient_images(const lc_targets *t)
+{
+    for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
+        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+}
+
 int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
 {
+    if (sums_in_walk_now(r))
+        return 0; /* lc_composite_list_p5 makes them */
     GLuint prog = use_composite_program(r, fs, PROG_P4_CHAINS_FIRST, "p4_list.comp.glsl", "P4 over its fragments", err);
     if (!prog)
         return LC_ERR_GL;
-    for (int i = 0; i < LC_MAX_COEF_TARGETS; i++)
-        glBindImageTexture(IMG_COEF_FIRST + i, t->tex[i < t->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    bind_coefficient_images(t);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     return 0;
 }
 
-/* P5 over P4's fragments into t; sums: also P4's sums, made in the same walk, into those targets. */
-static int composite_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
-                        lc_error *err)
+int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
+                         lc_error *err)
 {
-    GLuint prog =
-        sums ? use_composite_program(r, fs, PROG_P45_CHAINS_FIRST, "p5_list.comp.glsl",
-                                     "P4's sums and P5 over P4's fragments", err)
-             : use_composite_program(r, fs, PROG_P5_CHAINS_FIRST, "p5_list.comp.glsl", "P5 over P4's fragments", err);
+    int in_walk = sums_in_walk_now(r);
+    GLuint prog = in_walk ? use_composite_program(r, fs, PROG_P45_CHAINS_FIRST, "p5_list.comp.glsl",
+                                                  "P4's sums and P5 over P4's fragments", err)
+                          : use_composite_program(r, fs, PROG_P5_CHAINS_FIRST, "p5_list.comp.glsl",
+                                                  "P5 over P4's fragments", err);
     if (!prog)
         return LC_ERR_GL;
-    for (int i = 0; sums && i < LC_MAX_COEF_TARGETS; i++)
-        glBindImageTexture(IMG_COEF_FIRST + i, sums->tex[i < sums->count ? i : 0], 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                           GL_RGBA32F);
+    if (in_walk)
+        bind_coefficient_images(sums);
+    else
+        lc_bind_coefficients(sums);
     lc_uniform_i(prog, "u_estimator", fs->params->foo.estimator == LC_ESTIMATOR_MIDPOINT ? 1 : 0);
     /* topDecileReach's per-pixel sums where lc_reach_begin set their target up. */
     lc_uniform_f(prog, "u_reach_g", r->reach_drawn ? r->reach_g : 2.0f);
@@ -601,23 +617,6 @@ static int composite_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targe
     lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     return 0;
-}
-
-int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err)
-{
-    return composite_p5(r, fs, NULL, t, err);
-}
-
-int lc_composite_list_p45(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
-                          lc_error *err)
-{
-    return composite_p5(r, fs, sums, t, err);
-}
-
-/* (MPI: every rank's sums are added before any P5.) */
-int lc_composite_sums_in_walk(const lc_renderer *r)
-{
-    return atomic_load(&sums_in_walk) && !(r->desc.reducer && r->desc.reducer->size > 1);
 }
 
 uint64_t lc_fragment_list_bytes(const lc_renderer *r)

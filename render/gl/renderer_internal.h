@@ -1001,14 +1001,12 @@ void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_end(lc_renderer *r, const lc_frame_setup *fs);
 /* The same for P4's list: 1 when P4 can record again in a list of what it counted. */
 int lc_composite_list_retry(lc_renderer *r, const lc_frame_setup *fs);
+/* P5 reads the coefficient targets `sums` that P4's walk wrote (and MPI
+ * summed); with one process P5's walk makes them itself, writing `sums`, and
+ * lc_composite_list_p4 does nothing (LUCENT_SUMS_IN_WALK=0: two walks). */
 int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
-int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *t, lc_error *err);
-/* Whether P5's walk makes P4's sums itself (one process: nothing to sum over
- * ranks between them); then lc_composite_list_p4 is not called, and
- * lc_composite_list_p5 also writes the coefficient targets `sums`. */
-int lc_composite_sums_in_walk(const lc_renderer *r);
-int lc_composite_list_p45(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
-                          lc_error *err);
+int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targets *sums, const lc_targets *t,
+                         lc_error *err);
 /* Tests: caps P4's list, or P0's and P1's, at `entries` (0: as guessed), so
  * that a frame overflows it; once: only the next list made (the frame that
  * overflows it then records again in a list of what it counted). */

@@ -47,17 +47,26 @@ static inline void test_render_frame(test_gl *t, const lc_gpu_scene *gs, const l
     CHECK(rc == 0, "render: %s", err.msg);
 }
 
+/* Demo `name` (its defaults) and its GPU scene in *s and the result (NULL
+ * after a failed check); the caller destroys both. */
+static inline lc_gpu_scene *test_demo_upload(const char *name, lc_scene **s)
+{
+    lc_error err = {0};
+    lc_gpu_scene *gs = NULL;
+    lc_demo_desc desc = {0};
+    *s = NULL;
+    CHECK(lc_demo_create(name, &desc, s, &err) == 0 && lc_gpu_scene_create(*s, &gs, &err) == 0, "demo %s: %s", name,
+          err.msg);
+    return gs;
+}
+
 /* One frame of demo `name` (its defaults) under p without a frame state,
  * rendered on t: the scene is made and freed around it. */
 static inline void test_render_demo(test_gl *t, const char *name, const lc_render_params *p, uint8_t *rgba,
                                     lc_frame_info *info)
 {
-    lc_error err = {0};
-    lc_scene *s = NULL;
-    lc_gpu_scene *gs = NULL;
-    lc_demo_desc desc = {0};
-    CHECK(lc_demo_create(name, &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "demo %s: %s", name,
-          err.msg);
+    lc_scene *s;
+    lc_gpu_scene *gs = test_demo_upload(name, &s);
     if (gs)
         test_render_frame(t, gs, p, NULL, rgba, info);
     lc_gpu_scene_destroy(gs);

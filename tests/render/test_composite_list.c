@@ -214,12 +214,8 @@ static void learned_ratio(void)
     lc_render_params_default(&p);
     p.width = p.height = SIZE;
     p.foo.fade_half_life = 0;
-    lc_error err = {0};
-    lc_scene *s = NULL;
-    lc_gpu_scene *gs = NULL;
-    lc_demo_desc desc = {0};
-    CHECK(lc_demo_create("tornado", &desc, &s, &err) == 0 && lc_gpu_scene_create(s, &gs, &err) == 0, "demo: %s",
-          err.msg);
+    lc_scene *s;
+    lc_gpu_scene *gs = test_demo_upload("tornado", &s);
     if (gs) {
         test_render_frame(&t, gs, &p, NULL, first, &a);
         t.renderer->composite_ratio *= 1e9; /* (its scene and size are this frame's) */

@@ -24,6 +24,7 @@
  * LUCENT_EXACT_SORT=auto|insertion|heap|heap2|auto2 (heap2: the binary heap,
  * auto2: the sort before the 4-ary heap), LUCENT_EXACT_QUEUE=0 (sort whole
  * chunks), LUCENT_EXACT_SATURATION=T, LUCENT_EXACT_REDUCE=0. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -331,13 +332,13 @@ static void read_histogram(lc_renderer *r, const exact_state *st)
     r->eq_cover = v[LC_EQUALIZE_BINS + 1];
 }
 
-/* Dispatches a sort pass over w x h pixels in rounds of one chunk of each
+/* Dispatches a sort pass over w x rows pixels in rounds of one chunk of each
  * pixel's list (exact_common.glsl u_round): the first round takes every
  * list's nearest MAX_LAYERS fragments and counts the longest list, which says
  * how many rounds follow. */
-static void dispatch_rounds(const exact_state *st, GLuint prog, int pass, int w, int h)
+static void dispatch_rounds(const exact_state *st, GLuint prog, int pass, int w, int rows)
 {
-    GLuint gx = (GLuint)(w + 7) / 8, gy = (GLuint)(h + 7) / 8;
+    GLuint gx = (GLuint)(w + 7) / 8, gy = (GLuint)(rows + 7) / 8;
     lc_uniform_i(prog, "u_round", 0);
     glDispatchCompute(gx, gy, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -373,45 +374,126 @@ static void report(const exact_state *st, lc_frame_info *info)
                  c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity);
 }
 
-/* List pass 1 (full resolution: depth, opacity, colour; the pool is reused
- * from index 0), then the sort and blend into the output, over the opaque
- * context's colour where there is one; measure: the list pass keeps colour
- * bins and the blend counts the colour histogram. */
-static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, lc_frame_info *info,
-                     lc_error *err)
+/* List pass 1's counters (the odd slots) into c, and zeroed for the next build. */
+static void take_pass1_counters(const exact_state *st, uint32_t c[COUNTER_SLOTS])
 {
-    const lc_render_params *p = fs->params;
-    /* Counters of list pass 1 restart: a second composite reports itself, not the sum. */
+    const GLuint zero = 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glGetNamedBufferSubData(st->counters, 0, COUNTER_SLOTS * 4, c);
+    for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
+        glClearNamedBufferSubData(st->counters, GL_R32UI, slot * 4, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+}
+
+/* List pass 1 (full resolution: depth, opacity, colour; the pool is reused
+ * from index 0) over rows [y0, y1) of the frame, the others scissored away
+ * where that is not all of it; its counters start from 0. *dropped: the
+ * fragments that found the pool full. */
+static int build_rows(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, int y0, int y1,
+                      uint32_t *dropped, lc_error *err)
+{
     const GLuint zero = 0;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
         glClearNamedBufferSubData(st->counters, GL_R32UI, slot * 4, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    ensure_reduced(r, st);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glClearTexImage(st->reduced, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    int band = y0 > 0 || y1 < fs->height;
+    if (band) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(0, y0, fs->width, y1 - y0);
+    }
     int rc = build_lists(r, st, fs, 1, measure, fs->width, fs->height, err);
-    if (rc)
-        return rc;
-    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
+    if (band)
+        glDisable(GL_SCISSOR_TEST);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    *dropped = 0;
+    glGetNamedBufferSubData(st->counters, (GLintptr)(COUNTER_DROP_POOL + 1) * 4, 4, dropped);
+    return rc;
+}
 
-    /* Sort and blend front to back into the output (accumulate and resolve in one pass). */
+/* Sorts and blends rows [y0, y1) front to back into the output (accumulate
+ * and resolve in one pass), over the opaque context's colour where there is
+ * one; measure: counts the colour histogram. */
+static void blend_rows(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, int y0, int y1)
+{
+    const lc_render_params *p = fs->params;
     GLuint blend = measure ? st->blend_eq : st->blend;
     glUseProgram(blend);
     bind_lists(st, blend, 1);
     if (measure) {
-        glClearNamedBufferData(st->eq_counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_COLOR_HISTOGRAM, st->eq_counts);
         lc_uniform_f(blend, "u_eq_scale", (float)EQ_SCALE);
     }
     glBindImageTexture(IMG_EXACT_OUTPUT, r->output.tex[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    glProgramUniform2i(blend, glGetUniformLocation(blend, "u_size"), fs->width, fs->height);
+    glProgramUniform2i(blend, glGetUniformLocation(blend, "u_size"), fs->width, y1);
+    lc_uniform_i(blend, "u_first_row", y0);
     glProgramUniform3f(blend, glGetUniformLocation(blend, "u_background"), (float)p->style.background[0],
                        (float)p->style.background[1], (float)p->style.background[2]);
     lc_uniform_i(blend, "u_context", fs->context_color ? 1 : 0);
     if (fs->context_color)
         glBindTextureUnit(TEX_CONTEXT_COLOR, fs->context_color);
-    dispatch_rounds(st, blend, 1, fs->width, fs->height);
+    dispatch_rounds(st, blend, 1, fs->width, y1 - y0);
+}
+
+/* List pass 1 and the blend. A frame whose fragments the pool cannot hold at
+ * once is taken in bands of rows (the scissor keeps each band's fragments
+ * alone in the pool): a pixel's list is then the same as the whole frame's,
+ * in the same order, so the image is the one a pool large enough would give,
+ * where dropping the fragments stored last made it neither exact nor the same
+ * from run to run (which fragments come last follows the rasterizer threads).
+ * The bands are sized from the fragments the whole frame offered, with room
+ * to spare; a band that still overflows (its rows denser than the mean) is
+ * halved and built again before anything of it is blended. A single row past
+ * the pool keeps the drops, counted and reported. Each band costs a traversal
+ * of the geometry. */
+static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, lc_frame_info *info,
+                     lc_error *err)
+{
+    ensure_reduced(r, st);
+    if (measure) {
+        const GLuint zero = 0;
+        glClearNamedBufferData(st->eq_counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
+    int h = fs->height;
+    uint32_t dropped = 0;
+    int rc = build_rows(r, st, fs, measure, 0, h, &dropped, err);
+    if (rc)
+        return rc;
+    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
+    info->exact_bands = 1;
+    if (!dropped)
+        blend_rows(r, st, fs, measure, 0, h);
+    else {
+        uint32_t c[COUNTER_SLOTS], total[COUNTER_SLOTS] = {0};
+        take_pass1_counters(st, c);
+        double offered = (double)c[COUNTER_NODES + 1];
+        int bands = (int)ceil(offered / (0.8 * st->capacity));
+        int rows = (h + bands - 1) / bands;
+        info->exact_bands = 0;
+        for (int y = 0; y < h && !rc;) {
+            int y1 = y + rows < h ? y + rows : h;
+            if ((rc = build_rows(r, st, fs, measure, y, y1, &dropped, err)) != 0)
+                break;
+            if (dropped && y1 - y > 1) { /* denser than the mean: half the rows */
+                rows = (y1 - y + 1) / 2;
+                continue;
+            }
+            blend_rows(r, st, fs, measure, y, y1);
+            take_pass1_counters(st, c);
+            for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
+                total[slot] = slot == COUNTER_MAX_LAYERS + 1 ? (c[slot] > total[slot] ? c[slot] : total[slot])
+                                                             : total[slot] + c[slot];
+            info->exact_bands++;
+            y = y1;
+        }
+        if (rc)
+            return rc;
+        for (int slot = 1; slot < COUNTER_SLOTS; slot += 2) /* the whole frame's, for report() */
+            glNamedBufferSubData(st->counters, slot * 4, 4, &total[slot]);
+        LC_DEBUG(MODULE, "list pass 1 in %d bands of rows (%.0f fragments offered, a pool of %u nodes)",
+                 info->exact_bands, offered, st->capacity);
+    }
     /* lc_render_frame reads the output back through its framebuffer. */
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);

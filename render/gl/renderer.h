@@ -254,6 +254,7 @@ typedef struct lc_frame_info {
                                    driver's loop limit (exact.c) */
     double mean_layers;         /* mean fragments per covered pixel */
     uint32_t max_layers;
+    int exact_bands; /* bands of rows the full-resolution list pass took (1: the whole frame at once) */
     /* With a reducer (lc_renderer_desc.reducer): time spent combining the
      * passes' targets across processes, and the bytes each process sent. */
     double reduce_ms;

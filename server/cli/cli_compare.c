@@ -117,6 +117,7 @@ static void print_run(const method_run *m)
         printf("dropped_fragments %llu\n", (unsigned long long)m->info.dropped_fragments);
         printf("mean_layers %.2f\n", m->info.mean_layers);
         printf("max_layers %u\n", m->info.max_layers);
+        printf("bands_exact %d\n", m->info.exact_bands);
     }
 }
 

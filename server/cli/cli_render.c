@@ -119,9 +119,10 @@ static json_t *frame_stats_json(const lc_frame_info *info, const char *dataset, 
                                       "reduceBytes", (json_int_t)info->reduce_bytes));
     if (p->method == LC_METHOD_EXACT)
         json_object_set_new(o, "exact",
-                            json_pack("{s:I, s:I, s:f, s:I, s:I}", "fragments", (json_int_t)info->fragments, "dropped",
-                                      (json_int_t)info->dropped_fragments, "meanLayers", info->mean_layers, "maxLayers",
-                                      (json_int_t)info->max_layers, "cutLists", (json_int_t)info->cut_lists));
+                            json_pack("{s:I, s:I, s:f, s:I, s:I, s:i}", "fragments", (json_int_t)info->fragments,
+                                      "dropped", (json_int_t)info->dropped_fragments, "meanLayers", info->mean_layers,
+                                      "maxLayers", (json_int_t)info->max_layers, "cutLists",
+                                      (json_int_t)info->cut_lists, "bands", info->exact_bands));
     return o;
 }
 

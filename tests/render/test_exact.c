@@ -89,38 +89,82 @@ static void check_stack(test_gl *t, const test_quad *q, int n, double qw, double
     lc_scene_destroy(s);
 }
 
-/* A pool far smaller than the frame's fragments: the frame is still produced,
- * and the shortfall is reported. */
-static void check_pool_overflow(const test_quad *q, int n)
+/* Renders q with a renderer whose node pool holds `nodes` (exact_pool_bytes). */
+static int render_pool(const test_quad *q, int n, int size, uint32_t nodes, uint8_t *rgba, lc_frame_info *info)
 {
-    enum { SIZE = 32 };
     lc_error err = {0};
     lc_renderer *small = NULL;
-    lc_renderer_desc desc = {.exact_pool_bytes = 16 * 1000};
+    lc_renderer_desc desc = {.exact_pool_bytes = 16ull * nodes};
     CHECK(lc_renderer_create(&desc, &small, &err) == 0, "renderer: %s", err.msg);
     if (!small)
-        return;
+        return -1;
     lc_scene *s = test_quad_scene(q, n);
+    lc_render_params p;
+    test_quad_params(&p, size);
+    p.method = LC_METHOD_EXACT;
+    memset(rgba, 0, (size_t)size * size * 4);
+    int rc = render(small, s, &p, rgba, info);
+    lc_scene_destroy(s);
+    lc_renderer_destroy(small);
+    return rc;
+}
+
+/* A pool smaller than the frame's fragments: the full-resolution list pass
+ * takes the frame in bands of rows that each fit, so the image is the one a
+ * pool large enough gives, byte for byte, and nothing is dropped. The quads
+ * here are denser in the middle rows (small ones over three that cover the
+ * frame), so a band sized from the mean overflows and is halved. A pool
+ * smaller than one row's fragments (and than the optimization resolution's
+ * frame, which is not banded) still produces the frame and reports what it
+ * dropped. */
+static void check_pool_bands(test_gl *t, const test_quad *three)
+{
+    enum { SIZE = 32, SMALL = 12 };
+    test_quad q[3 + SMALL];
+    memcpy(q, three, 3 * sizeof *q);
+    for (int i = 0; i < SMALL; i++)
+        q[3 + i] = (test_quad){-0.45 + 0.07 * i, 0.1 + 0.07 * i, {i % 3 == 0, i % 3 == 1, i % 3 == 2}, 0.25};
+    /* 3 x 32^2 + 12 x 8^2 = 3840 fragments at full resolution, 192 in each of the 8 middle rows and 96 in the
+     * others; 3 x 16^2 + 12 x 4^2 = 960 at the optimization resolution, which 1100 nodes hold. */
+    uint8_t want[SIZE * SIZE * 4], got[SIZE * SIZE * 4];
+    lc_frame_info info, whole;
+    lc_scene *s = test_quad_scene(q, 3 + SMALL);
     lc_render_params p;
     test_quad_params(&p, SIZE);
     p.method = LC_METHOD_EXACT;
-    uint8_t rgba[SIZE * SIZE * 4];
-    lc_frame_info info;
-    memset(rgba, 0, sizeof rgba);
-    if (render(small, s, &p, rgba, &info) == 0) {
-        /* Each list pass starts the pool afresh: n SIZE^2 fragments at full resolution, n (SIZE/2)^2 at the
-         * optimization resolution, for 1000 nodes. */
-        uint64_t full = (uint64_t)n * SIZE * SIZE, low = (uint64_t)n * (SIZE / 2) * (SIZE / 2);
-        uint64_t want = (full > 1000 ? full - 1000 : 0) + (low > 1000 ? low - 1000 : 0);
-        CHECK(info.dropped_fragments == want, "pool of 1000 nodes: dropped %llu, want %llu",
-              (unsigned long long)info.dropped_fragments, (unsigned long long)want);
-        CHECK(info.fragments == (uint64_t)n * SIZE * SIZE, "fragments %llu", (unsigned long long)info.fragments);
-        CHECK(rgba[3] == 255, "the frame was produced");
-        printf("pool of 1000 nodes: %llu fragments, %llu dropped (reported)\n", (unsigned long long)info.fragments,
+    int ok = render(t->renderer, s, &p, want, &whole) == 0;
+    lc_scene_destroy(s);
+    if (ok && render_pool(q, 3 + SMALL, SIZE, 1100, got, &info) == 0) {
+        CHECK(whole.exact_bands == 1 && whole.dropped_fragments == 0, "the default pool: %d bands, %llu dropped",
+              whole.exact_bands, (unsigned long long)whole.dropped_fragments);
+        CHECK(info.dropped_fragments == 0, "1100 nodes: dropped %llu", (unsigned long long)info.dropped_fragments);
+        CHECK(info.exact_bands > 5, "1100 nodes: %d bands (5 from the mean, and the middle's halved)",
+              info.exact_bands);
+        CHECK(info.fragments == 3840 && whole.fragments == 3840, "fragments %llu and %llu, want 3840",
+              (unsigned long long)info.fragments, (unsigned long long)whole.fragments);
+        CHECK(info.max_layers == whole.max_layers && info.mean_layers == whole.mean_layers,
+              "layers: max %u mean %g in bands, %u %g whole", info.max_layers, info.mean_layers, whole.max_layers,
+              whole.mean_layers);
+        int differ = 0;
+        for (int i = 0; i < SIZE * SIZE * 4; i++)
+            differ += got[i] != want[i];
+        CHECK(differ == 0, "1100 nodes in %d bands: %d channels differ from the whole frame's", info.exact_bands,
+              differ);
+        printf("pool of 1100 nodes: %llu fragments in %d bands of rows, none dropped, the image byte for byte\n",
+               (unsigned long long)info.fragments, info.exact_bands);
+    }
+    /* 40 nodes: every row is a band of its own and still drops 96 - 40; the optimization resolution drops
+     * 768 - 40 of its 3 x 16^2. */
+    if (render_pool(three, 3, SIZE, 40, got, &info) == 0) {
+        uint64_t want_dropped = (3 * 16 * 16 - 40) + (uint64_t)SIZE * (3 * SIZE - 40);
+        CHECK(info.dropped_fragments == want_dropped, "pool of 40 nodes: dropped %llu, want %llu",
+              (unsigned long long)info.dropped_fragments, (unsigned long long)want_dropped);
+        CHECK(info.exact_bands == SIZE, "pool of 40 nodes: %d bands, want a row each", info.exact_bands);
+        CHECK(info.fragments == 3 * SIZE * SIZE, "fragments %llu", (unsigned long long)info.fragments);
+        CHECK(got[3] == 255, "the frame was produced");
+        printf("pool of 40 nodes: %llu fragments, %llu dropped (reported)\n", (unsigned long long)info.fragments,
                (unsigned long long)info.dropped_fragments);
     }
-    lc_scene_destroy(s);
-    lc_renderer_destroy(small);
 }
 
 /* More layers in one pixel than a sort pass holds at once (a chunk of 64):
@@ -348,7 +392,7 @@ int main(void)
     check_stack(&t, twenty, 20, 20, 50, 1);
     check_stack(&t, twenty, 20, 2, 3, 0.5);
 
-    check_pool_overflow(three, 3);
+    check_pool_bands(&t, three);
     check_reduction(&t);
     check_exclude_self(&t);
     check_long_lists(&t);

@@ -259,20 +259,24 @@ cat <<EOF
 
 Default parameters; more streamlines (\`demo:tornado?count=N\`) and more points (\`demo:points?count=N\`).
 Fourier's memory depends on the image size and m (plus 16 bytes per element, which grows with the point
-count since every point is an element); the exact lists grow with the fragments, and once they exceed the
-node pool (256 MiB requested; a driver may clamp it to its largest shader storage block, see \`allocated\`)
-fragments are dropped and reported: the reference itself is then no longer exact, so SSIM in those rows
-compares against a degraded reference. Times are single warm frames (\`--repeat 1\`).
+count since every point is an element) and, on a software rasterizer, on the fragment lists its passes walk
+(section 11: 16 bytes a listed fragment, up to 2^24 of them); the exact lists grow with the fragments, and once they exceed the
+node pool (256 MiB requested; a driver may clamp it to its largest shader storage block, see \`allocated\`),
+the full-resolution list pass takes the frame in bands of rows that each fit (\`bands\`; docs/ALGORITHM.md §12),
+a traversal of the geometry each, so the reference stays exact and its time grows by the bands; only the
+optimization-resolution pass (a quarter of the fragments) may still drop, reported. Times are single warm frames
+(\`--repeat 1\`).
 
-| data | fragments | mean / max layers | exact lists MiB | exact allocated MiB | dropped | Fourier MiB | exact ms | Fourier ms | SSIM |
-|---|---|---|---|---|---|---|---|---|---|
+| data | fragments | mean / max layers | exact lists MiB | exact allocated MiB | bands | dropped | Fourier MiB | exact ms | Fourier ms | SSIM |
+|---|---|---|---|---|---|---|---|---|---|---|
 EOF
 for n in $LINE_COUNTS; do echo "s_lines_$n tornado,$n lines"; done >"$TMP/scaling.txt"
 for n in $POINT_COUNTS; do echo "s_points_$n points,$n points"; done >>"$TMP/scaling.txt"
 while read -r run label; do
-    printf '| %s | %s | %s / %s | %s | %s | %s | %s | %s | %s | %s |\n' "$(echo "$label" | tr ',' ' ')" \
+    printf '| %s | %s | %s / %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$(echo "$label" | tr ',' ' ')" \
         "$(get "$run" fragments)" "$(get "$run" mean_layers)" "$(get "$run" max_layers)" \
-        "$(get "$run" list_mib.exact)" "$(get "$run" memory_mib.exact)" "$(get "$run" dropped_fragments)" \
+        "$(get "$run" list_mib.exact)" "$(get "$run" memory_mib.exact)" "$(get "$run" bands_exact)" \
+        "$(get "$run" dropped_fragments)" \
         "$(get "$run" memory_mib.fourier)" "$(get "$run" gpu_ms.exact)" "$(get "$run" gpu_ms.fourier)" \
         "$(get "$run" SSIM)"
 done <"$TMP/scaling.txt"
@@ -363,9 +367,9 @@ done <"$TMP/scaling.txt" | awk '
     $2 == "tornado" && $4 == 0 { n++; r[n] = $5 / $6; fr[n] = $7 }
     END {
       if (first != "")
-          printf "- **Dense line sets.** With more streamlines SSIM against exact falls from %s (%s fragments) to %s\n  (%s fragments, %s layers on average: the largest tornado run the pool held without drops): more layers\n  per pixel leave fewer bands per layer.\n", first, ff, last, lf, ll
+          printf "- **Dense line sets.** With more streamlines SSIM against exact falls from %s (%s fragments) to %s\n  (%s fragments, %s layers on average: the largest tornado run): more layers\n  per pixel leave fewer bands per layer.\n", first, ff, last, lf, ll
       if (n > 1)
-          printf "- **Speed as the lists grow (this machine).** Fourier / exact GPU time on the drop-free tornado runs: %.2f\n  at %s fragments, %.2f at %s. The exact sort stays cheap here because the lists stay short (section 4). On\n  GPUs the FOO paper reports Fourier up to 10x faster than the linked lists (Table 1), which also ran out\n  of memory at 1500x1500.\n", r[1], fr[1], r[n], fr[n]
+          printf "- **Speed as the lists grow (this machine).** Fourier / exact GPU time on the tornado runs: %.2f\n  at %s fragments, %.2f at %s. The exact sort stays cheap here because the lists stay short (section 4). On\n  GPUs the FOO paper reports Fourier up to 10x faster than the linked lists (Table 1), which also ran out\n  of memory at 1500x1500.\n", r[1], fr[1], r[n], fr[n]
     }'
 cat <<'EOF'
 - **No exact order.** Fourier is an approximation: the truncated series smooths importance and optical

@@ -10,8 +10,10 @@
  * compute shaders that take each list in rounds of one chunk (MAX_LAYERS
  * entries, nearest first; dispatch_rounds), so no list is capped and no
  * invocation runs into llvmpipe's loop limit (docs/ALGORITHM.md §12). Both
- * list passes share one node pool of fixed size; fragments that do not fit
- * are counted and reported, never written out of bounds.
+ * list passes share one node pool of fixed size; a pass whose frame it cannot
+ * hold runs in bands of rows (build_and_sort), and fragments that still do
+ * not fit (a single row past the pool) are counted and reported, never
+ * written out of bounds.
  *
  * Sorting (Met.3D thesis §2.4.2-2.4.4): insertion sort for short chunks, a
  * 4-ary heap sort above INSERTION_MAX in the opacity pass; the blend pops
@@ -79,6 +81,7 @@ typedef struct exact_state {
     GLuint nodes, counters, heads, fbo;
     GLuint reduced;    /* r32ui per output pixel: opacity left out of list pass 1, REDUCE_SCALE units */
     uint32_t capacity; /* nodes in the pool */
+    uint32_t offered0; /* list pass 0's fragments where the pool could not hold them (built in bands), else 0 */
     uint64_t pool_bytes;
     int heads_w, heads_h;
     int sort_mode;       /* sort_list in exact_common.glsl: 0 auto, 1 insertion, 2 binary heap, 3 4-ary, 4 auto2 */
@@ -374,47 +377,103 @@ static void report(const exact_state *st, lc_frame_info *info)
                  c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity);
 }
 
-/* List pass 1's counters (the odd slots) into c, and zeroed for the next build. */
-static void take_pass1_counters(const exact_state *st, uint32_t c[COUNTER_SLOTS])
+/* A list pass's counters (slots `pass`, pass + 2, ...) into c, and zeroed for its next build. */
+static void take_counters(const exact_state *st, int pass, uint32_t c[COUNTER_SLOTS])
 {
     const GLuint zero = 0;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glGetNamedBufferSubData(st->counters, 0, COUNTER_SLOTS * 4, c);
-    for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
+    for (int slot = pass; slot < COUNTER_SLOTS; slot += 2)
         glClearNamedBufferSubData(st->counters, GL_R32UI, slot * 4, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 }
 
-/* List pass 1 (full resolution: depth, opacity, colour; the pool is reused
- * from index 0) over rows [y0, y1) of the frame, the others scissored away
- * where that is not all of it; its counters start from 0. *dropped: the
- * fragments that found the pool full. */
-static int build_rows(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, int y0, int y1,
-                      uint32_t *dropped, lc_error *err)
+/* List pass `pass` at w x h (the pool is reused from index 0) over rows
+ * [y0, y1), the others scissored away where that is not all of them; its
+ * counters start from 0. *dropped: the fragments that found the pool full. */
+static int build_rows(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int measure, int w, int h,
+                      int y0, int y1, uint32_t *dropped, lc_error *err)
 {
-    const GLuint zero = 0;
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
-        glClearNamedBufferSubData(st->counters, GL_R32UI, slot * 4, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glClearTexImage(st->reduced, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    int band = y0 > 0 || y1 < fs->height;
+    uint32_t ignored[COUNTER_SLOTS];
+    take_counters(st, pass, ignored);
+    if (pass == 1) {
+        const GLuint zero = 0;
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        glClearTexImage(st->reduced, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    }
+    int band = y0 > 0 || y1 < h;
     if (band) {
         glEnable(GL_SCISSOR_TEST);
-        glScissor(0, y0, fs->width, y1 - y0);
+        glScissor(0, y0, w, y1 - y0);
     }
-    int rc = build_lists(r, st, fs, 1, measure, fs->width, fs->height, err);
+    int rc = build_lists(r, st, fs, pass, measure, w, h, err);
     if (band)
         glDisable(GL_SCISSOR_TEST);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     *dropped = 0;
-    glGetNamedBufferSubData(st->counters, (GLintptr)(COUNTER_DROP_POOL + 1) * 4, 4, dropped);
+    glGetNamedBufferSubData(st->counters, (GLintptr)(COUNTER_DROP_POOL + pass) * 4, 4, dropped);
     return rc;
+}
+
+/* What a list pass does with a band of rows once it is built: sorts it into
+ * the element opacities (pass 0) or blends it into the output (pass 1). */
+typedef void (*sort_rows_fn)(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int measure, int y0, int y1);
+
+/* List pass `pass` at w x h and its sort, the whole frame at once where the
+ * pool holds it. Where it does not, the pass is taken in bands of rows (the
+ * scissor keeps each band's fragments alone in the pool): a pixel's list is
+ * then the same as in the whole frame, the same fragments in the same order,
+ * so the result is the one a pool large enough would give, where dropping
+ * the fragments stored last would follow the rasterizer threads' order. The
+ * bands are sized from the fragments the whole frame offered over 0.8 of the
+ * pool; a band that still overflows (its rows denser than the mean) is halved
+ * and built again before any of it is sorted. A single row past the pool
+ * keeps its drops, counted and reported. Each band costs a traversal of the
+ * geometry. *offered: the whole frame's fragments offered to the pool, 0 to
+ * build it whole first (else it is known to need bands); *bands: how many. */
+static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int measure, int w,
+                          int h, sort_rows_fn sort, uint32_t *offered, int *bands, lc_error *err)
+{
+    uint32_t dropped = 0, c[COUNTER_SLOTS], total[COUNTER_SLOTS] = {0};
+    *bands = 1;
+    if (!*offered) {
+        int rc = build_rows(r, st, fs, pass, measure, w, h, 0, h, &dropped, err);
+        if (rc || !dropped) {
+            if (!rc)
+                sort(r, st, fs, measure, 0, h);
+            return rc;
+        }
+        take_counters(st, pass, c);
+        *offered = c[COUNTER_NODES + pass];
+    }
+    int n = (int)ceil(*offered / (0.8 * st->capacity)), rows = (h + n - 1) / n, rc = 0;
+    *bands = 0;
+    for (int y = 0; y < h;) {
+        int y1 = y + rows < h ? y + rows : h;
+        if ((rc = build_rows(r, st, fs, pass, measure, w, h, y, y1, &dropped, err)) != 0)
+            return rc;
+        if (dropped && y1 - y > 1) { /* denser than the mean: half the rows */
+            rows = (y1 - y + 1) / 2;
+            continue;
+        }
+        sort(r, st, fs, measure, y, y1);
+        take_counters(st, pass, c);
+        for (int slot = pass; slot < COUNTER_SLOTS; slot += 2)
+            total[slot] = slot == COUNTER_MAX_LAYERS + pass ? (c[slot] > total[slot] ? c[slot] : total[slot])
+                                                            : total[slot] + c[slot];
+        (*bands)++;
+        y = y1;
+    }
+    for (int slot = pass; slot < COUNTER_SLOTS; slot += 2) /* the whole frame's, for report() */
+        glNamedBufferSubData(st->counters, slot * 4, 4, &total[slot]);
+    LC_DEBUG(MODULE, "list pass %d in %d bands of rows (%u fragments offered, a pool of %u nodes)", pass, *bands,
+             *offered, st->capacity);
+    return 0;
 }
 
 /* Sorts and blends rows [y0, y1) front to back into the output (accumulate
  * and resolve in one pass), over the opaque context's colour where there is
  * one; measure: counts the colour histogram. */
-static void blend_rows(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, int y0, int y1)
+static void blend_rows(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int measure, int y0, int y1)
 {
     const lc_render_params *p = fs->params;
     GLuint blend = measure ? st->blend_eq : st->blend;
@@ -435,17 +494,8 @@ static void blend_rows(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int 
     dispatch_rounds(st, blend, 1, fs->width, y1 - y0);
 }
 
-/* List pass 1 and the blend. A frame whose fragments the pool cannot hold at
- * once is taken in bands of rows (the scissor keeps each band's fragments
- * alone in the pool): a pixel's list is then the same as the whole frame's,
- * in the same order, so the image is the one a pool large enough would give,
- * where dropping the fragments stored last made it neither exact nor the same
- * from run to run (which fragments come last follows the rasterizer threads).
- * The bands are sized from the fragments the whole frame offered, with room
- * to spare; a band that still overflows (its rows denser than the mean) is
- * halved and built again before anything of it is blended. A single row past
- * the pool keeps the drops, counted and reported. Each band costs a traversal
- * of the geometry. */
+/* List pass 1 (full resolution: depth, opacity, colour) and the blend, in
+ * bands of rows where the pool cannot hold the frame (build_and_sort). */
 static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int measure, lc_frame_info *info,
                      lc_error *err)
 {
@@ -455,64 +505,50 @@ static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int me
         glClearNamedBufferData(st->eq_counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     }
-    int h = fs->height;
-    uint32_t dropped = 0;
-    int rc = build_rows(r, st, fs, measure, 0, h, &dropped, err);
+    uint32_t offered = 0;
+    int rc =
+        build_and_sort(r, st, fs, 1, measure, fs->width, fs->height, blend_rows, &offered, &info->exact_bands, err);
     if (rc)
         return rc;
-    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
-    info->exact_bands = 1;
-    if (!dropped)
-        blend_rows(r, st, fs, measure, 0, h);
-    else {
-        uint32_t c[COUNTER_SLOTS], total[COUNTER_SLOTS] = {0};
-        take_pass1_counters(st, c);
-        double offered = (double)c[COUNTER_NODES + 1];
-        int bands = (int)ceil(offered / (0.8 * st->capacity));
-        int rows = (h + bands - 1) / bands;
-        info->exact_bands = 0;
-        for (int y = 0; y < h && !rc;) {
-            int y1 = y + rows < h ? y + rows : h;
-            if ((rc = build_rows(r, st, fs, measure, y, y1, &dropped, err)) != 0)
-                break;
-            if (dropped && y1 - y > 1) { /* denser than the mean: half the rows */
-                rows = (y1 - y + 1) / 2;
-                continue;
-            }
-            blend_rows(r, st, fs, measure, y, y1);
-            take_pass1_counters(st, c);
-            for (int slot = 1; slot < COUNTER_SLOTS; slot += 2)
-                total[slot] = slot == COUNTER_MAX_LAYERS + 1 ? (c[slot] > total[slot] ? c[slot] : total[slot])
-                                                             : total[slot] + c[slot];
-            info->exact_bands++;
-            y = y1;
-        }
-        if (rc)
-            return rc;
-        for (int slot = 1; slot < COUNTER_SLOTS; slot += 2) /* the whole frame's, for report() */
-            glNamedBufferSubData(st->counters, slot * 4, 4, &total[slot]);
-        LC_DEBUG(MODULE, "list pass 1 in %d bands of rows (%.0f fragments offered, a pool of %u nodes)",
-                 info->exact_bands, offered, st->capacity);
-    }
     /* lc_render_frame reads the output back through its framebuffer. */
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
     lc_renderer_timestamp(r, LC_PASS_RESOLVE);
     report(st, info);
     return 0;
 }
 
-/* The exact opacities at the strength of fs->params from list pass 0 (built
- * once: it does not depend on q, r or λ), P3 and the visibility report; the
- * step params.clarity's loop repeats (clarity.c). */
+/* Sorts rows [y0, y1) of list pass 0 into the element opacities: the exact
+ * sums and FOO Eq. 10, atomic-min per element (as P2), with the uniforms
+ * exact_optimize set. Bound again for every band: the list pass between
+ * binds the geometry's buffers. */
+static void opacity_rows(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int measure, int y0, int y1)
+{
+    (void)measure;
+    lc_error ignored = {0};
+    lc_element_emphasis_bind(r, fs, st->opacity, &ignored); /* made before the first band: cannot fail here */
+    glUseProgram(st->opacity);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_MASS_HISTOGRAM, r->mass_histogram);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_BEHIND, r->element_behind);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_IMPORTANT_OCCLUDED, r->important_occluded);
+    bind_lists(st, st->opacity, 0);
+    glProgramUniform2i(st->opacity, glGetUniformLocation(st->opacity, "u_size"), fs->low_width, y1);
+    lc_uniform_i(st->opacity, "u_first_row", y0);
+    dispatch_rounds(st, st->opacity, 0, fs->low_width, y1 - y0);
+}
+
+/* The exact opacities at the strength of fs->params from list pass 0, P3 and
+ * the visibility report; the step params.clarity's loop repeats (clarity.c).
+ * The list is built once (it does not depend on q, r or λ) where the pool
+ * holds it; else each try builds it again band by band (build_and_sort). */
 static int exact_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, double dt, lc_frame_info *info,
                           int moments, lc_error *err)
 {
     (void)moments; /* no Fourier moments here */
     const lc_render_params *p = fs->params;
     exact_state *st = r->exact;
-    int lw = fs->low_width, lh = fs->low_height;
-    /* Exact sums and FOO Eq. 10, atomic-min per element (as P2). */
     int rc = lc_element_emphasis_bind(r, fs, st->opacity, err);
     if (rc)
         return rc;
@@ -521,18 +557,19 @@ static int exact_optimize(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *st
     lc_occluders_clear(r);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     lc_mass_clear(r);
-    glUseProgram(st->opacity);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_ELEMENT_ALPHA_MIN, r->element_alpha_min);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_MASS_HISTOGRAM, r->mass_histogram);
-    bind_lists(st, st->opacity, 0);
-    glProgramUniform2i(st->opacity, glGetUniformLocation(st->opacity, "u_size"), lw, lh);
     lc_uniform_f(st->opacity, "u_q", p->foo.q);
     lc_uniform_f(st->opacity, "u_r", p->foo.r);
     lc_uniform_f(st->opacity, "u_lambda", p->foo.lambda); /* the shader applies lc_foo_effective_lambda */
     lc_uniform_f(st->opacity, "u_norm_mass", lc_foo_norm_mass(&p->foo));
     lc_uniform_f(st->opacity, "u_target_opacity", lc_foo_target_opacity(&p->foo));
     lc_uniform_i(st->opacity, "u_exclude_self", p->foo.exclude_self);
-    dispatch_rounds(st, st->opacity, 0, lw, lh);
+    if (st->offered0) {
+        int bands = 0;
+        rc = build_and_sort(r, st, fs, 0, 0, fs->low_width, fs->low_height, opacity_rows, &st->offered0, &bands, err);
+        if (rc)
+            return rc;
+    } else
+        opacity_rows(r, st, fs, 0, 0, fs->low_height);
     lc_renderer_timestamp(r, LC_PASS_OPACITY);
 
     /* P3 exactly as the Fourier path, so the two differ only in P1/P2 and compositing. */
@@ -561,9 +598,17 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     const GLuint zero = 0;
     glClearNamedBufferData(st->counters, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 
-    /* List pass 0 (optimization resolution): depth, importance, element. */
-    if ((rc = build_lists(r, st, fs, 0, 0, fs->low_width, fs->low_height, err)) != 0)
+    /* List pass 0 (optimization resolution): depth, importance, element;
+     * where the pool cannot hold it, each try of the loop below builds it in
+     * bands (exact_optimize). */
+    uint32_t dropped = 0, c[COUNTER_SLOTS];
+    if ((rc = build_rows(r, st, fs, 0, 0, fs->low_width, fs->low_height, 0, fs->low_height, &dropped, err)) != 0)
         return rc;
+    st->offered0 = 0;
+    if (dropped) {
+        take_counters(st, 0, c);
+        st->offered0 = c[COUNTER_NODES];
+    }
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
     /* The opacities, under params.clarity's loop when it is active. */
     if ((rc = lc_clarity_optimize(r, fs, state, dt, info, 0, exact_optimize, err)) != 0)

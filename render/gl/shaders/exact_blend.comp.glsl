@@ -9,8 +9,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(rgba8, binding = IMG_EXACT_OUTPUT) writeonly uniform image2D u_output;
-uniform ivec2 u_size;    // the frame's width and the last row (exclusive) of this dispatch
-uniform int u_first_row; // its first: a band of rows where the pool took the frame in bands (exact.c)
+uniform ivec2 u_size; // the frame's width and the last row (exclusive) of this dispatch (u_first_row)
 uniform vec3 u_background;
 uniform int u_queue;         // 1: pop from the front-to-back queue instead of sorting the whole list
 uniform float u_saturation;  // stop once the transmittance is below this (exact.c)

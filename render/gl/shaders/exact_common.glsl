@@ -46,6 +46,9 @@ uniform int u_insertion_max; // auto: insertion sort up to this length
 // have run 65535 iterations (gallivm's loop limiter, shared by the lanes of a
 // SIMD group), which a whole long list would pass, leaving it half sorted.
 uniform int u_round;
+// The first row of a sort pass's dispatch: where the pool could not hold a
+// list pass's whole frame, it is built and sorted in bands of rows (exact.c).
+uniform int u_first_row;
 
 // Whether the driver's loop limit is still intact at the end of a pass: once
 // spent, every loop stops after one iteration, so a two-iteration loop (its

@@ -7,7 +7,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = BIND_ELEMENT_ALPHA_MIN) buffer ElementAlphaMin { uint element_alpha_min[]; };
 
-uniform ivec2 u_size;
+uniform ivec2 u_size; // the width and the last row (exclusive) of this dispatch (u_first_row)
 uniform float u_q;
 uniform float u_r;
 uniform float u_lambda;
@@ -142,7 +142,7 @@ layout(rgba32ui, binding = IMG_EXACT_STATE) uniform uimage2D u_state;
 
 void main()
 {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, u_first_row);
     if (p.x >= u_size.x || p.y >= u_size.y)
         return;
     bool first = u_round == 0;

@@ -437,6 +437,8 @@ static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup 
     *bands = 1;
     if (!*offered) {
         int rc = build_rows(r, st, fs, pass, measure, w, h, 0, h, &dropped, err);
+        if (pass == 1) /* the list's time; where it takes bands, they count as the blend's */
+            lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
         if (rc || !dropped) {
             if (!rc)
                 sort(r, st, fs, measure, 0, h);
@@ -512,7 +514,6 @@ static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int me
         return rc;
     /* lc_render_frame reads the output back through its framebuffer. */
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
-    lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
     lc_renderer_timestamp(r, LC_PASS_ACCUMULATE);
     lc_renderer_timestamp(r, LC_PASS_RESOLVE);
     report(st, info);

@@ -579,6 +579,8 @@ int lc_composite_list_p4(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
     GLuint prog = use_composite_program(r, fs, PROG_P4_CHAINS_FIRST, "p4_list.comp.glsl", "P4 over its fragments", err);
     if (!prog)
         return LC_ERR_GL;
+    if (fs->info)
+        fs->info->composite_walks++;
     bind_coefficient_images(t);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     lc_dispatch_linear((r->chain_pixels + 63u) / 64u);
@@ -596,6 +598,8 @@ int lc_composite_list_p5(lc_renderer *r, const lc_frame_setup *fs, const lc_targ
                                                   "P5 over P4's fragments", err);
     if (!prog)
         return LC_ERR_GL;
+    if (fs->info)
+        fs->info->composite_walks++;
     if (in_walk)
         bind_coefficient_images(sums);
     else

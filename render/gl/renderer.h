@@ -273,6 +273,8 @@ typedef struct lc_frame_info {
     int opacity_from_list;     /* P2 ran over P1's fragment list (a compute pass), not as a draw (fragment_list.c) */
     int importance_from_list;  /* P1 ran over P0's fragments (a compute pass), not as a draw (fragment_list.c) */
     int composite_from_list;   /* P4's sums and P5 ran over P4's recorded fragments (compute passes; fragment_list.c) */
+    int composite_walks;       /* the frame's walks over those fragments: 1 a compositing run where P5's walk
+                                  makes P4's sums too, else 2 (style.antialias runs one per sample) */
     int computed_passes;       /* bit lc_raster_pass: P4 / P5 ran through the compute rasterizer (compute_raster.c) */
     int line_primitive;        /* the segments drew as wide line strips, not ribbons (line_primitive.c) */
     /* lines.clusters (line_clusters.c): whether this frame built the dendrogram

@@ -149,7 +149,7 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
         return lc_err(err, LC_ERR_NOMEM, "out of memory");
     lc_frame_info info = {0};
     int rc = 0, ran[LC_PASS_COUNT] = {0}, tries[LC_FLOOR_COUNT] = {0}, listed[LC_FLOOR_COUNT] = {0},
-        summed[LC_FLOOR_COUNT] = {0}, composited[LC_FLOOR_COUNT] = {0}, computed = 0;
+        summed[LC_FLOOR_COUNT] = {0}, composited[LC_FLOOR_COUNT] = {0}, walks = 0, computed = 0;
     for (int f = -1; f < frames && !rc; f++)
         for (int k = 0; k < forms * MODES && !rc; k++) {
             int form = k / MODES, m = k % MODES;
@@ -163,6 +163,8 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
             listed[m] = info.opacity_from_list;
             summed[m] = info.importance_from_list;
             composited[m] = info.composite_from_list;
+            if (m == 0)
+                walks = info.composite_walks;
             if (m == LC_FLOOR_COMPUTE)
                 computed = info.computed_passes;
             double *row = t + ((size_t)(form * MODES + m) * COLS) * frames;
@@ -205,9 +207,10 @@ static int bench_floor(lc_cli_gl *g, const lc_gpu_scene *gs, const lc_scene *s, 
         printf("  P1: %s\n", summed[0] ? "a compute pass over P0's fragments (no traversal)" : "drawn (a traversal)");
         printf("  P2: %s\n",
                listed[0] ? "a compute pass over P1's fragment list (no traversal)" : "drawn (a traversal)");
-        printf("  P4's sums, P5: %s\n", composited[0]
-                                            ? "compute passes over the fragments P4 recorded (P5: no traversal)"
-                                            : "drawn (a traversal each)");
+        printf("  P4's sums, P5: %s\n", !composited[0] ? "drawn (a traversal each)"
+                                        : walks == 1
+                                            ? "one compute pass over the fragments P4 recorded (P5: no traversal)"
+                                            : "compute passes over the fragments P4 recorded (P5: no traversal)");
         if (summed[0] || composited[0])
             printf("  recording P0, P4: each pixel's chain head %s\n",
                    lc_renderer_heads_fetch(g->renderer) ? "through framebuffer fetch" : "by an atomic exchange");

@@ -190,8 +190,12 @@ static void sums_in_walk(const char *name)
 {
     lc_frame_info a = {0}, b = {0};
     size_t differ = differ_with_switch_off(name, "LUCENT_SUMS_IN_WALK", &a, &b);
-    printf("%-8s sums in P5's walk: %zu of %d channels differ from two walks'\n", name, differ, SIZE * SIZE * 4);
+    printf("%-8s sums in P5's walk (%d walk, %d with the switch off): %zu of %d channels differ from two walks'\n",
+           name, a.composite_walks, b.composite_walks, differ, SIZE * SIZE * 4);
     CHECK(a.composite_from_list == b.composite_from_list, "%s: the same paths with the sums in one walk or two", name);
+    CHECK(!a.composite_from_list || (a.composite_walks == 1 && b.composite_walks == 2),
+          "%s: %d walks over P4's fragments by default, %d with the switch off (want 1 and 2)", name, a.composite_walks,
+          b.composite_walks);
     CHECK(differ == 0 && a.top_decile_reach == b.top_decile_reach,
           "%s: sums in one walk or two, the same image byte for byte (%zu channels differ)", name, differ);
 }

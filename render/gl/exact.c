@@ -27,6 +27,7 @@
  * auto2: the sort before the 4-ary heap), LUCENT_EXACT_QUEUE=0 (sort whole
  * chunks), LUCENT_EXACT_SATURATION=T, LUCENT_EXACT_REDUCE=0. */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -177,12 +178,14 @@ static int ensure_equalize(exact_state *st, lc_error *err)
     return 0;
 }
 
-/* Allocates the node pool once, at the configured size clamped to what one
- * shader storage block may address. */
-static int ensure_pool(lc_renderer *r, exact_state *st, lc_error *err)
+/* The share of the pool a band is sized to fill: room for rows denser than the mean. */
+#define BAND_FILL 0.8
+
+static _Atomic uint64_t configured_nodes = 0; /* lc_exact_pool_nodes */
+
+/* The pool's nodes: the configured size clamped to what one shader storage block may address. */
+static uint64_t pool_nodes(const lc_renderer *r)
 {
-    if (st->nodes)
-        return 0;
     uint64_t want = r->desc.exact_pool_bytes ? r->desc.exact_pool_bytes : DEFAULT_POOL_BYTES;
     GLint64 max_block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
@@ -191,8 +194,26 @@ static int ensure_pool(lc_renderer *r, exact_state *st, lc_error *err)
     uint64_t nodes = want / NODE_BYTES;
     if (nodes > END_OF_LIST - 1) /* END_OF_LIST is no index */
         nodes = END_OF_LIST - 1;
-    if (nodes < 1)
-        nodes = 1;
+    return nodes < 1 ? 1 : nodes;
+}
+
+void lc_exact_configure(const lc_renderer *r) { lc_exact_pool_configure(pool_nodes(r)); }
+
+void lc_exact_pool_configure(uint64_t nodes) { atomic_store(&configured_nodes, nodes); }
+
+uint64_t lc_exact_pool_nodes(void) { return atomic_load(&configured_nodes); }
+
+int lc_exact_bands(double fragments, uint64_t nodes)
+{
+    return nodes && fragments > (double)nodes ? (int)ceil(fragments / (BAND_FILL * (double)nodes)) : 1;
+}
+
+/* Allocates the node pool once (pool_nodes). */
+static int ensure_pool(lc_renderer *r, exact_state *st, lc_error *err)
+{
+    if (st->nodes)
+        return 0;
+    uint64_t nodes = pool_nodes(r);
     /* Start from a clean error state so that an out-of-memory below is the pool's (once per renderer). */
     while (glGetError() != GL_NO_ERROR) {
     }
@@ -447,7 +468,7 @@ static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup 
         take_counters(st, pass, c);
         *offered = c[COUNTER_NODES + pass];
     }
-    int n = (int)ceil(*offered / (0.8 * st->capacity)), rows = (h + n - 1) / n, rc = 0;
+    int n = lc_exact_bands(*offered, st->capacity), rows = (h + n - 1) / n, rc = 0;
     *bands = 0;
     for (int y = 0; y < h;) {
         int y1 = y + rows < h ? y + rows : h;

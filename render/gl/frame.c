@@ -36,6 +36,7 @@ int lc_renderer_create(const lc_renderer_desc *desc, lc_renderer **out, lc_error
     lc_compute_raster_configure(gl_renderer);
     lc_line_primitive_configure(r);
     lc_fragment_heads_configure(r);
+    lc_exact_configure(r);
     lc_programs_configure(gl_renderer);
     r->specialize = 1;
     r->raster_path = -1;

@@ -147,6 +147,15 @@ void lc_fragment_list_configure(const char *gl_renderer);
  * traversal's, no stride, layer or tile) sums P4 and P5 over the fragments
  * its P4 records instead of drawing P5, for the cost model. */
 int lc_composite_list_expected(double fragments);
+/* The nodes of the exact method's pool on this process's device (the
+ * configured size clamped to the driver's largest storage block), for the
+ * cost model: a list pass of more fragments runs in bands of rows (exact.c).
+ * A renderer's creation configures it; 0 (none yet): no bands charged. */
+uint64_t lc_exact_pool_nodes(void);
+void lc_exact_pool_configure(uint64_t nodes);
+/* The bands of rows a list pass of `fragments` takes with a pool of `nodes`
+ * (1: the whole frame at once), as exact.c sizes them from the mean. */
+int lc_exact_bands(double fragments, uint64_t nodes);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
 /* importantOccluded (docs/ALGORITHM.md §8): a fragment is important above

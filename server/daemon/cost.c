@@ -340,8 +340,22 @@ static double estimate(const lc_scene_measures *st, const lc_render_params *p, b
         progressive = frags * again * (n - 1) / n + (n - 1) * (image * screens + st->elements * (f->smoothing + 1.0)) +
                       (st->vertices + PRIMITIVE_UNITS * st->primitives) * ceil(again);
     }
+    /* The exact method past its node pool (render/gl/exact.c): a list pass
+     * whose fragments the pool cannot hold builds the whole frame once, then
+     * again band by band, a traversal each; at the optimization resolution
+     * every try of the clarity loop builds its bands again. */
+    double banded = 0;
+    if (p->method == LC_METHOD_EXACT) {
+        uint64_t nodes = lc_exact_pool_nodes();
+        int full_bands = lc_exact_bands(frags, nodes), low_bands = lc_exact_bands(frags * s2, nodes);
+        double traversal = st->vertices + PRIMITIVE_UNITS * st->primitives;
+        if (full_bands > 1)
+            banded += frags * g[LC_PASS_OPTICAL_DEPTH] + traversal * full_bands;
+        if (low_bands > 1)
+            banded += tries * (frags * s2 * g[LC_PASS_IMPORTANCE] + traversal * low_bands);
+    }
     return frags * geometry + image * screens + (st->vertices + PRIMITIVE_UNITS * st->primitives) * passes + clusters +
-           st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
+           banded + st->elements * (f->smoothing + 1.0) * tries + perception_aids_cost(st, p, frags, ppu) +
            equalize_cost(st, p, frags) + shadows_cost(st, p, frags) + progressive;
 }
 

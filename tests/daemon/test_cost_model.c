@@ -267,6 +267,41 @@ static void test_lists(void)
           "the same budget refuses the frame where P1 and P2 draw");
 }
 
+/* The exact method past its node pool (render/gl/exact.c): a list pass the
+ * pool cannot hold builds the whole frame once more (its fragments) and a
+ * traversal a band; at the optimization resolution every try does. */
+static void test_exact_bands(void)
+{
+    lc_scene_measures st = points(2e6);
+    lc_render_params p = params(LC_METHOD_EXACT, LC_DEPTH_RANGE_GLOBAL);
+    p.width = p.height = 1000;
+    double r = fmax(0.5 * p.style.point_size, 0.75), frags = 2e6 * PI * r * r;
+    double s2 = p.foo.resolution_scale * p.foo.resolution_scale, traversal = 2e6 + 100.0 * 2e6;
+    double tries = lc_clarity_active(&p) ? LC_CLARITY_CHARGED_TRIES : 1.0;
+    lc_exact_pool_configure(0);
+    double whole = lc_cost_estimate(&st, &p);
+    /* The full resolution's fragments 2.5 pools: 4 bands of 0.8 of it; the optimization resolution's fit. */
+    uint64_t nodes = (uint64_t)(frags / 2.5);
+    lc_exact_pool_configure(nodes);
+    CHECK(lc_exact_bands(frags, nodes) == 4 && lc_exact_bands(frags * s2, nodes) == 1, "bands %d and %d",
+          lc_exact_bands(frags, nodes), lc_exact_bands(frags * s2, nodes));
+    double want = frags * 2.0 + traversal * 4, got = lc_cost_estimate(&st, &p) - whole;
+    CHECK_NEAR(got, want, 1e-6 * want, "exact in 4 bands at full resolution");
+    /* A pool below the optimization resolution's fragments too: its bands for every try. */
+    nodes = (uint64_t)(frags * s2 / 1.5);
+    lc_exact_pool_configure(nodes);
+    int full = lc_exact_bands(frags, nodes), low = lc_exact_bands(frags * s2, nodes);
+    want = frags * 2.0 + traversal * full + tries * (frags * s2 * 2.0 + traversal * low);
+    got = lc_cost_estimate(&st, &p) - whole;
+    CHECK(low == 2 && full > 4, "bands %d and %d", full, low);
+    CHECK_NEAR(got, want, 1e-6 * want, "exact in bands at both resolutions");
+    lc_render_params f = params(LC_METHOD_FOURIER, LC_DEPTH_RANGE_GLOBAL);
+    f.width = f.height = 1000;
+    double fourier = lc_cost_estimate(&st, &f);
+    lc_exact_pool_configure(0);
+    CHECK(lc_cost_estimate(&st, &f) == fourier, "the pool leaves other methods' costs alone");
+}
+
 int main(void)
 {
     unsetenv("LUCENT_FRAGMENT_LISTS"); /* the driver's choice, set below as the tests need it */
@@ -274,5 +309,6 @@ int main(void)
     test_plan();
     test_estimates();
     test_levels();
+    test_exact_bands();
     return lc_test_finish();
 }

@@ -80,9 +80,10 @@ typedef struct exact_state {
     GLuint opacity, blend, blend_eq;
     GLuint eq_counts; /* EQ_SLOTS x 2 uints */
     GLuint nodes, counters, heads, fbo;
-    GLuint reduced;    /* r32ui per output pixel: opacity left out of list pass 1, REDUCE_SCALE units */
-    uint32_t capacity; /* nodes in the pool */
-    uint32_t offered0; /* list pass 0's fragments where the pool could not hold them (built in bands), else 0 */
+    GLuint reduced;       /* r32ui per output pixel: opacity left out of list pass 1, REDUCE_SCALE units */
+    uint32_t capacity;    /* nodes in the pool */
+    uint32_t offered0;    /* list pass 0's fragments where the pool could not hold them (built in bands), else 0 */
+    uint32_t low_offered; /* list pass 0's fragments, which foretell list pass 1's (composite) */
     uint64_t pool_bytes;
     int heads_w, heads_h;
     int sort_mode;       /* sort_list in exact_common.glsl: 0 auto, 1 insertion, 2 binary heap, 3 4-ary, 4 auto2 */
@@ -180,6 +181,8 @@ static int ensure_equalize(exact_state *st, lc_error *err)
 
 /* The share of the pool a band is sized to fill: room for rows denser than the mean. */
 #define BAND_FILL 0.8
+/* List pass 1 starts in bands where list pass 0 foretells this many pools (composite). */
+#define FORETOLD_MARGIN 1.25
 
 static _Atomic uint64_t configured_nodes = 0; /* lc_exact_pool_nodes */
 
@@ -202,6 +205,8 @@ void lc_exact_configure(const lc_renderer *r) { lc_exact_pool_configure(pool_nod
 void lc_exact_pool_configure(uint64_t nodes) { atomic_store(&configured_nodes, nodes); }
 
 uint64_t lc_exact_pool_nodes(void) { return atomic_load(&configured_nodes); }
+
+int lc_exact_foretold(double fragments, uint64_t nodes) { return nodes && fragments > FORETOLD_MARGIN * (double)nodes; }
 
 int lc_exact_bands(double fragments, uint64_t nodes)
 {
@@ -450,7 +455,8 @@ typedef void (*sort_rows_fn)(lc_renderer *r, exact_state *st, const lc_frame_set
  * and built again before any of it is sorted. A single row past the pool
  * keeps its drops, counted and reported. Each band costs a traversal of the
  * geometry. *offered: the whole frame's fragments offered to the pool, 0 to
- * build it whole first (else it is known to need bands); *bands: how many. */
+ * build it whole first (else it is known or foretold to need bands); *bands:
+ * how many. */
 static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int measure, int w,
                           int h, sort_rows_fn sort, uint32_t *offered, int *bands, lc_error *err)
 {
@@ -467,7 +473,8 @@ static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup 
         }
         take_counters(st, pass, c);
         *offered = c[COUNTER_NODES + pass];
-    }
+    } else if (pass == 1) /* no whole-frame build (foretold): the bands count as the blend's time */
+        lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
     int n = lc_exact_bands(*offered, st->capacity), rows = (h + n - 1) / n, rc = 0;
     *bands = 0;
     for (int y = 0; y < h;) {
@@ -528,7 +535,16 @@ static int composite(lc_renderer *r, exact_state *st, lc_frame_setup *fs, int me
         glClearNamedBufferData(st->eq_counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     }
-    uint32_t offered = 0;
+    /* List pass 0's fragments scaled by the pixels foretell this pass's: well
+     * past the pool, the bands start without building the whole frame first
+     * (on the MD trajectories at 1024², 1.2 s of 4). Near it, the whole frame
+     * is tried: lines thinner than a pixel at the optimization resolution
+     * give fewer than the scale at full resolution, and fragment reduction
+     * stores fewer still. */
+    double scale = (double)fs->width * fs->height / ((double)fs->low_width * fs->low_height);
+    double foretold = st->low_offered * scale;
+    uint32_t offered =
+        lc_exact_foretold(foretold, st->capacity) && foretold < (double)UINT32_MAX ? (uint32_t)foretold : 0;
     int rc =
         build_and_sort(r, st, fs, 1, measure, fs->width, fs->height, blend_rows, &offered, &info->exact_bands, err);
     if (rc)
@@ -627,6 +643,7 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     if ((rc = build_rows(r, st, fs, 0, 0, fs->low_width, fs->low_height, 0, fs->low_height, &dropped, err)) != 0)
         return rc;
     st->offered0 = 0;
+    glGetNamedBufferSubData(st->counters, (GLintptr)COUNTER_NODES * 4, 4, &st->low_offered);
     if (dropped) {
         take_counters(st, 0, c);
         st->offered0 = c[COUNTER_NODES];

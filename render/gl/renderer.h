@@ -156,6 +156,9 @@ void lc_exact_pool_configure(uint64_t nodes);
 /* The bands of rows a list pass of `fragments` takes with a pool of `nodes`
  * (1: the whole frame at once), as exact.c sizes them from the mean. */
 int lc_exact_bands(double fragments, uint64_t nodes);
+/* Whether the full-resolution list pass of a frame foretold to offer
+ * `fragments` starts in bands without building the whole frame first. */
+int lc_exact_foretold(double fragments, uint64_t nodes);
 
 #define LC_CONVERGED_EPSILON 1e-3 /* max |delta alpha| under which fading counts as done */
 /* importantOccluded (docs/ALGORITHM.md §8): a fragment is important above

@@ -342,15 +342,18 @@ static double estimate(const lc_scene_measures *st, const lc_render_params *p, b
     }
     /* The exact method past its node pool (render/gl/exact.c): a list pass
      * whose fragments the pool cannot hold builds the whole frame once, then
-     * again band by band, a traversal each; at the optimization resolution
-     * every try of the clarity loop builds its bands again. */
+     * again band by band, a traversal each (at full resolution the whole
+     * build is skipped where the optimization resolution's fragments foretell
+     * the bands); at the optimization resolution every try of the clarity
+     * loop builds its bands again. */
     double banded = 0;
     if (p->method == LC_METHOD_EXACT) {
         uint64_t nodes = lc_exact_pool_nodes();
         int full_bands = lc_exact_bands(frags, nodes), low_bands = lc_exact_bands(frags * s2, nodes);
         double traversal = st->vertices + PRIMITIVE_UNITS * st->primitives;
         if (full_bands > 1)
-            banded += frags * g[LC_PASS_OPTICAL_DEPTH] + traversal * full_bands;
+            banded +=
+                (lc_exact_foretold(frags, nodes) ? 0.0 : frags * g[LC_PASS_OPTICAL_DEPTH]) + traversal * full_bands;
         if (low_bands > 1)
             banded += tries * (frags * s2 * g[LC_PASS_IMPORTANCE] + traversal * low_bands);
     }

@@ -269,7 +269,8 @@ static void test_lists(void)
 
 /* The exact method past its node pool (render/gl/exact.c): a list pass the
  * pool cannot hold builds the whole frame once more (its fragments) and a
- * traversal a band; at the optimization resolution every try does. */
+ * traversal a band, at full resolution without the whole frame where that is
+ * foretold well past the pool; at the optimization resolution every try. */
 static void test_exact_bands(void)
 {
     lc_scene_measures st = points(2e6);
@@ -280,18 +281,27 @@ static void test_exact_bands(void)
     double tries = lc_clarity_active(&p) ? LC_CLARITY_CHARGED_TRIES : 1.0;
     lc_exact_pool_configure(0);
     double whole = lc_cost_estimate(&st, &p);
-    /* The full resolution's fragments 2.5 pools: 4 bands of 0.8 of it; the optimization resolution's fit. */
-    uint64_t nodes = (uint64_t)(frags / 2.5);
+    /* The full resolution's fragments 1.2 pools: tried whole first, then 2 bands of 0.8 of it; the optimization
+     * resolution's fit. */
+    uint64_t nodes = (uint64_t)(frags / 1.2);
     lc_exact_pool_configure(nodes);
-    CHECK(lc_exact_bands(frags, nodes) == 4 && lc_exact_bands(frags * s2, nodes) == 1, "bands %d and %d",
-          lc_exact_bands(frags, nodes), lc_exact_bands(frags * s2, nodes));
-    double want = frags * 2.0 + traversal * 4, got = lc_cost_estimate(&st, &p) - whole;
-    CHECK_NEAR(got, want, 1e-6 * want, "exact in 4 bands at full resolution");
+    CHECK(lc_exact_bands(frags, nodes) == 2 && !lc_exact_foretold(frags, nodes), "1.2 pools: %d bands",
+          lc_exact_bands(frags, nodes));
+    double want = frags * 2.0 + traversal * 2, got = lc_cost_estimate(&st, &p) - whole;
+    CHECK_NEAR(got, want, 1e-6 * want, "exact in 2 bands at full resolution after the whole frame");
+    /* 2.5 pools: foretold, 4 bands without the whole frame first. */
+    nodes = (uint64_t)(frags / 2.5);
+    lc_exact_pool_configure(nodes);
+    CHECK(lc_exact_bands(frags, nodes) == 4 && lc_exact_bands(frags * s2, nodes) == 1 &&
+              lc_exact_foretold(frags, nodes),
+          "bands %d and %d", lc_exact_bands(frags, nodes), lc_exact_bands(frags * s2, nodes));
+    want = traversal * 4, got = lc_cost_estimate(&st, &p) - whole;
+    CHECK_NEAR(got, want, 1e-6 * want, "exact in 4 bands at full resolution, foretold");
     /* A pool below the optimization resolution's fragments too: its bands for every try. */
     nodes = (uint64_t)(frags * s2 / 1.5);
     lc_exact_pool_configure(nodes);
     int full = lc_exact_bands(frags, nodes), low = lc_exact_bands(frags * s2, nodes);
-    want = frags * 2.0 + traversal * full + tries * (frags * s2 * 2.0 + traversal * low);
+    want = traversal * full + tries * (frags * s2 * 2.0 + traversal * low);
     got = lc_cost_estimate(&st, &p) - whole;
     CHECK(low == 2 && full > 4, "bands %d and %d", full, low);
     CHECK_NEAR(got, want, 1e-6 * want, "exact in bands at both resolutions");

@@ -452,7 +452,8 @@ typedef void (*sort_rows_fn)(lc_renderer *r, exact_state *st, const lc_frame_set
  * the fragments stored last would follow the rasterizer threads' order. The
  * bands are sized from the fragments the whole frame offered over 0.8 of the
  * pool; a band that still overflows (its rows denser than the mean) is halved
- * and built again before any of it is sorted. A single row past the pool
+ * and built again before any of it is sorted, and the bands after it grow
+ * back to the mean's size, doubling. A single row past the pool
  * keeps its drops, counted and reported. Each band costs a traversal of the
  * geometry. *offered: the whole frame's fragments offered to the pool, 0 to
  * build it whole first (else it is known or foretold to need bands); *bands:
@@ -475,7 +476,7 @@ static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup 
         *offered = c[COUNTER_NODES + pass];
     } else if (pass == 1) /* no whole-frame build (foretold): the bands count as the blend's time */
         lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
-    int n = lc_exact_bands(*offered, st->capacity), rows = (h + n - 1) / n, rc = 0;
+    int n = lc_exact_bands(*offered, st->capacity), full_rows = (h + n - 1) / n, rows = full_rows, rc = 0;
     *bands = 0;
     for (int y = 0; y < h;) {
         int y1 = y + rows < h ? y + rows : h;
@@ -492,6 +493,7 @@ static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup 
                                                             : total[slot] + c[slot];
         (*bands)++;
         y = y1;
+        rows = 2 * rows < full_rows ? 2 * rows : full_rows; /* past the dense rows, back toward the mean's size */
     }
     for (int slot = pass; slot < COUNTER_SLOTS; slot += 2) /* the whole frame's, for report() */
         glNamedBufferSubData(st->counters, slot * 4, 4, &total[slot]);

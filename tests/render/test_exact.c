@@ -145,9 +145,10 @@ static void check_pool_bands(test_gl *t, const test_quad *three)
               whole.exact_bands, (unsigned long long)whole.dropped_fragments);
         CHECK(info.dropped_fragments == 0, "%u nodes: dropped %llu", pools[k],
               (unsigned long long)info.dropped_fragments);
-        CHECK(k == 0 ? info.exact_bands == 2 : info.exact_bands > 5,
-              "%u nodes: %d bands (3200: 2; else 5 or more from the mean, and the middle's halved)", pools[k],
-              info.exact_bands);
+        /* From the mean, 1100 nodes take 5 bands of 7 rows, the third of which (rows 14-20, six of them dense)
+         * overflows and is halved: nothing is dropped only if it was. */
+        CHECK(k == 0 ? info.exact_bands == 2 : info.exact_bands >= 5,
+              "%u nodes: %d bands (3200: 2; else 5 or more from the mean)", pools[k], info.exact_bands);
         CHECK(info.fragments == 3840 && whole.fragments == 3840, "fragments %llu and %llu, want 3840",
               (unsigned long long)info.fragments, (unsigned long long)whole.fragments);
         CHECK(info.max_layers == whole.max_layers && info.mean_layers == whole.mean_layers,

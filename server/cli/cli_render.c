@@ -385,6 +385,9 @@ static int render_main(int argc, char **argv, lc_request *req)
         }
         json_decref(o);
     }
+    if (info.exact_bands > 1)
+        printf("  exact: %llu fragments at full resolution, listed in %d bands of rows (the node pool holds %llu)\n",
+               (unsigned long long)info.fragments, info.exact_bands, (unsigned long long)lc_exact_pool_nodes());
     if (info.dropped_fragments)
         printf("  WARNING: %llu fragments did not fit the exact method's node pool\n",
                (unsigned long long)info.dropped_fragments);

@@ -403,24 +403,30 @@ static void report(const exact_state *st, lc_frame_info *info)
                  c[COUNTER_DROP_POOL], c[COUNTER_DROP_POOL + 1], st->capacity);
 }
 
-/* A list pass's counters (slots `pass`, pass + 2, ...) into c, and zeroed for its next build. */
-static void take_counters(const exact_state *st, int pass, uint32_t c[COUNTER_SLOTS])
+/* Zeroes a list pass's counters (slots `pass`, pass + 2, ...) for its next build. */
+static void zero_counters(const exact_state *st, int pass)
 {
     const GLuint zero = 0;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    glGetNamedBufferSubData(st->counters, 0, COUNTER_SLOTS * 4, c);
     for (int slot = pass; slot < COUNTER_SLOTS; slot += 2)
         glClearNamedBufferSubData(st->counters, GL_R32UI, slot * 4, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 }
 
+/* Every counter into c. */
+static void read_counters(const exact_state *st, uint32_t c[COUNTER_SLOTS])
+{
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glGetNamedBufferSubData(st->counters, 0, COUNTER_SLOTS * 4, c);
+}
+
 /* List pass `pass` at w x h (the pool is reused from index 0) over rows
  * [y0, y1), the others scissored away where that is not all of them; its
- * counters start from 0. *dropped: the fragments that found the pool full. */
+ * counters start from 0. *offered: the fragments offered to the pool,
+ * *dropped: those that found it full. */
 static int build_rows(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int measure, int w, int h,
-                      int y0, int y1, uint32_t *dropped, lc_error *err)
+                      int y0, int y1, uint32_t *offered, uint32_t *dropped, lc_error *err)
 {
-    uint32_t ignored[COUNTER_SLOTS];
-    take_counters(st, pass, ignored);
+    zero_counters(st, pass);
     if (pass == 1) {
         const GLuint zero = 0;
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
@@ -434,9 +440,10 @@ static int build_rows(lc_renderer *r, exact_state *st, const lc_frame_setup *fs,
     int rc = build_lists(r, st, fs, pass, measure, w, h, err);
     if (band)
         glDisable(GL_SCISSOR_TEST);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    *dropped = 0;
-    glGetNamedBufferSubData(st->counters, (GLintptr)(COUNTER_DROP_POOL + pass) * 4, 4, dropped);
+    uint32_t c[COUNTER_SLOTS];
+    read_counters(st, c);
+    *offered = c[COUNTER_NODES + pass];
+    *dropped = c[COUNTER_DROP_POOL + pass];
     return rc;
 }
 
@@ -461,10 +468,10 @@ typedef void (*sort_rows_fn)(lc_renderer *r, exact_state *st, const lc_frame_set
 static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup *fs, int pass, int measure, int w,
                           int h, sort_rows_fn sort, uint32_t *offered, int *bands, lc_error *err)
 {
-    uint32_t dropped = 0, c[COUNTER_SLOTS], total[COUNTER_SLOTS] = {0};
+    uint32_t dropped = 0, band_offered = 0, c[COUNTER_SLOTS], total[COUNTER_SLOTS] = {0};
     *bands = 1;
     if (!*offered) {
-        int rc = build_rows(r, st, fs, pass, measure, w, h, 0, h, &dropped, err);
+        int rc = build_rows(r, st, fs, pass, measure, w, h, 0, h, offered, &dropped, err);
         if (pass == 1) /* the list's time; where it takes bands, they count as the blend's */
             lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
         if (rc || !dropped) {
@@ -472,22 +479,20 @@ static int build_and_sort(lc_renderer *r, exact_state *st, const lc_frame_setup 
                 sort(r, st, fs, measure, 0, h);
             return rc;
         }
-        take_counters(st, pass, c);
-        *offered = c[COUNTER_NODES + pass];
     } else if (pass == 1) /* no whole-frame build (foretold): the bands count as the blend's time */
         lc_renderer_timestamp(r, LC_PASS_OPTICAL_DEPTH);
     int n = lc_exact_bands(*offered, st->capacity), full_rows = (h + n - 1) / n, rows = full_rows, rc = 0;
     *bands = 0;
     for (int y = 0; y < h;) {
         int y1 = y + rows < h ? y + rows : h;
-        if ((rc = build_rows(r, st, fs, pass, measure, w, h, y, y1, &dropped, err)) != 0)
+        if ((rc = build_rows(r, st, fs, pass, measure, w, h, y, y1, &band_offered, &dropped, err)) != 0)
             return rc;
         if (dropped && y1 - y > 1) { /* denser than the mean: half the rows */
             rows = (y1 - y + 1) / 2;
             continue;
         }
         sort(r, st, fs, measure, y, y1);
-        take_counters(st, pass, c);
+        read_counters(st, c); /* the band's, with its sort's (the next build zeroes them) */
         for (int slot = pass; slot < COUNTER_SLOTS; slot += 2)
             total[slot] = slot == COUNTER_MAX_LAYERS + pass ? (c[slot] > total[slot] ? c[slot] : total[slot])
                                                             : total[slot] + c[slot];
@@ -641,15 +646,11 @@ int lc_render_exact(lc_renderer *r, lc_frame_setup *fs, lc_frame_state *state, d
     /* List pass 0 (optimization resolution): depth, importance, element;
      * where the pool cannot hold it, each try of the loop below builds it in
      * bands (exact_optimize). */
-    uint32_t dropped = 0, c[COUNTER_SLOTS];
-    if ((rc = build_rows(r, st, fs, 0, 0, fs->low_width, fs->low_height, 0, fs->low_height, &dropped, err)) != 0)
+    uint32_t dropped = 0;
+    if ((rc = build_rows(r, st, fs, 0, 0, fs->low_width, fs->low_height, 0, fs->low_height, &st->low_offered, &dropped,
+                         err)) != 0)
         return rc;
-    st->offered0 = 0;
-    glGetNamedBufferSubData(st->counters, (GLintptr)COUNTER_NODES * 4, 4, &st->low_offered);
-    if (dropped) {
-        take_counters(st, 0, c);
-        st->offered0 = c[COUNTER_NODES];
-    }
+    st->offered0 = dropped ? st->low_offered : 0;
     lc_renderer_timestamp(r, LC_PASS_IMPORTANCE);
     /* The opacities, under params.clarity's loop when it is active. */
     if ((rc = lc_clarity_optimize(r, fs, state, dt, info, 0, exact_optimize, err)) != 0)

@@ -562,7 +562,7 @@ static int composite_series(lc_renderer *r, lc_frame_setup *fs, int direct, int 
     computable = computable && (!fs->batch_count || fs->gs->scene->type == LC_PRIM_POINTS);
     /* A drawn P4 records what its sums and P5 need of its fragments where the
      * frame allows (fragment_list.c); the rule then draws it, points too. */
-    int listable = !bins && !fs->batch_count && lc_composite_list_wanted(r, fs, direct);
+    int listable = !bins && !fs->batch_count && lc_composite_list_wanted(fs, direct);
     int computed = computable && lc_compute_raster_wanted(r, fs, LC_RASTER_P4, listable);
     int record = !computed && listable;
     if (record)

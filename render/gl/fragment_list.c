@@ -443,12 +443,12 @@ static int composite_takes(double fragments, double entries)
            entries <= (double)COMPOSITE_LIST_MAX;
 }
 
-int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct)
+int lc_composite_list_wanted(const lc_frame_setup *fs, int direct)
 {
     /* Strides, layers and tiles as for P0's chains; the direct baseline keeps
      * its own programs; a list past its bound would be recorded only to be
-     * drawn again. The frame alone decides (p0_pixels_scaled). */
-    (void)r;
+     * drawn again. The frame alone decides (p0_pixels_scaled), not what the
+     * renderer learned. */
     uint64_t expected = p0_pixels_scaled(fs);
     return !direct && !strided(fs) && fs->layer_count == 0 && !fs->tiled &&
            composite_takes((double)expected, (double)expected);

@@ -996,7 +996,7 @@ int lc_fragment_chains_p1(lc_renderer *r, const lc_frame_setup *fs, const lc_tar
  * own after the draw), end after it (1: every fragment fit, else P4 draws again),
  * then lc_composite_list_p4 into the coefficient targets and
  * lc_composite_list_p5 into t (each cleared by the caller). */
-int lc_composite_list_wanted(const lc_renderer *r, const lc_frame_setup *fs, int direct);
+int lc_composite_list_wanted(const lc_frame_setup *fs, int direct);
 void lc_composite_list_begin(lc_renderer *r, const lc_frame_setup *fs);
 int lc_composite_list_end(lc_renderer *r, const lc_frame_setup *fs);
 /* The same for P4's list: 1 when P4 can record again in a list of what it counted. */

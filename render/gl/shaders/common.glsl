@@ -301,9 +301,7 @@ float series_depth_warped(vec3 w, float d)
     return u_depth_margin + (1.0 - 2.0 * u_depth_margin) * t;
 }
 
-float series_depth_warp(vec4 m, float d) { return series_depth_warped(series_warp_of(m), d); }
-
-float series_depth_at(vec2 frag_xy, float d) { return series_depth_warp(series_moments_at(frag_xy), d); }
+float series_depth_at(vec2 frag_xy, float d) { return series_depth_warped(series_warp_of(series_moments_at(frag_xy)), d); }
 #endif
 
 // P5's weight of a fragment with opacity alpha behind optical depth tau (FOO

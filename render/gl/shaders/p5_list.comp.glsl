@@ -3,8 +3,8 @@
 // first, as p4_list.comp.glsl does, and stores them), walks its chain (last
 // fragment first), weighs each fragment as p5_accumulate.frag.glsl does (the
 // same fourier_eval and composite_weight) and adds (w C, w) as blending into
-// the RGBA16F target does, converting the sum to half precision after every addition (in the
-// chain's order, the reverse of the drawn P5's). With u_reach_g <= 1 it also
+// the RGBA16F target does, converting the sum to half precision after every
+// addition (in the chain's order, the reverse of the drawn P5's). With u_reach_g <= 1 it also
 // sums the pixel's topDecileReach terms as the drawn P5 blends them
 // (p5_accumulate.frag.glsl) into the reach target that reach_reduce.comp.glsl
 // adds up.
